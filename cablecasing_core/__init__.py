@@ -1,0 +1,15 @@
+"""cablecasing_core: vibration model of a gear-shift cable inside a curved casing.
+
+Units are SI throughout (m, kg, s, N, Pa, rad; frequencies in Hz where named ``*_hz``).
+
+>>> import cablecasing_core as cc
+>>> model = cc.load_model()                  # the built-in specimen (None) or a TOML path
+>>> f = cc.natural_frequencies(model, "casing", count=5)   # Hz
+"""
+from .config import Model, default_model, load_model, model_from_dict
+from .errors import CableCasingError, ModelError, SimulationError
+from .frequency import trfam, trfam_matrix
+from .modal import modes, natural_frequencies
+
+__all__ = ["CableCasingError", "Model", "ModelError", "SimulationError", "default_model", "load_model",
+           "model_from_dict", "modes", "natural_frequencies", "trfam", "trfam_matrix"]
