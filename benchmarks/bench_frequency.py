@@ -1,0 +1,31 @@
+"""Speed of the frequency domain: full 3x3 TRFAM of the default model at 2000 lines.
+
+Run: .venv/bin/python benchmarks/bench_frequency.py   (prints name: value lines)
+"""
+import time
+
+import numpy as np
+
+import cablecasing_core as cc
+from cablecasing_core.assembly import assemble_body
+from cablecasing_core.frequency import FrequencyResponse
+
+model = cc.load_model()
+f = np.linspace(10.0, 1000.0, 2000)
+cc.trfam_matrix(model, "casing", "A", "B", f[:10])  # warm-up (imports, BLAS)
+reps = 5
+t0 = time.perf_counter()
+for _ in range(reps):
+    for damping in ("viscous",):
+        H = cc.trfam_matrix(model, "casing", "A", "B", f, damping)
+t_total = (time.perf_counter() - t0) / reps
+t0 = time.perf_counter()
+sysm = assemble_body(model, "casing")
+t_asm = time.perf_counter() - t0
+t0 = time.perf_counter()
+fr = FrequencyResponse(sysm)
+t_modal = time.perf_counter() - t0
+print(f"trfam_3x3_2000_lines_s: {t_total:.4f}")
+print(f"assembly_s: {t_asm:.4f}")
+print(f"modal_basis_s: {t_modal:.4f}")
+print(f"dofs: {sysm.ndof}")

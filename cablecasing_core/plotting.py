@@ -1,0 +1,45 @@
+"""Figures (matplotlib, Agg backend): TRFAM, geometry. Units on every axis."""
+from __future__ import annotations
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def plot_trfam(freqs_hz, curves, path, title="TRFAM"):
+    """Magnitude (kg, log) and phase (deg) of one or more TRFAM curves ``{label: complex array}``."""
+    fig, (a1, a2) = plt.subplots(2, 1, sharex=True, figsize=(7, 5))
+    for label, H in curves.items():
+        a1.semilogy(freqs_hz, np.abs(H), label=label)
+        a2.plot(freqs_hz, np.degrees(np.angle(H)), label=label)
+    a1.set_ylabel("|TRFAM| (kg)")
+    a2.set_ylabel("phase (deg)")
+    a2.set_xlabel("frequency (Hz)")
+    a1.set_title(title)
+    a1.legend()
+    a1.grid(True, which="both", alpha=0.3)
+    a2.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_geometry(centerline, path, values=None, label=None):
+    """3D view of the centerline (m); optional per-node ``values`` shown as colour."""
+    fig = plt.figure(figsize=(6, 5))
+    ax = fig.add_subplot(projection="3d")
+    P = centerline.nodes
+    ax.plot(P[:, 0], P[:, 1], P[:, 2], "-", color="0.5")
+    sc = ax.scatter(P[:, 0], P[:, 1], P[:, 2], c=values if values is not None else "k", s=14, cmap="viridis")
+    if values is not None:
+        fig.colorbar(sc, ax=ax, shrink=0.6, label=label or "")
+    ax.text(*P[0], " A")
+    ax.text(*P[-1], " B")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_zlabel("z (m)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)

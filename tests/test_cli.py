@@ -1,0 +1,34 @@
+"""The command line: modes, trfam, errors (run in-process through cli.main)."""
+import json
+
+import numpy as np
+
+from cablecasing_core import load_model, natural_frequencies, trfam
+from cablecasing_core.cli import main
+
+
+def test_modes_json(capsys):
+    assert main(["modes", "--count", "4", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    m = load_model()
+    for body in ("casing", "cable"):
+        np.testing.assert_allclose(out[body], natural_frequencies(m, body, 4), rtol=1e-12)
+
+
+def test_trfam_csv(tmp_path):
+    out = tmp_path / "t.csv"
+    png = tmp_path / "t.png"
+    assert main(["trfam", "--input", "casing.A.y", "--output", "casing.B.y", "--fmin", "10", "--fmax", "20",
+                 "--df", "0.5", "--out", str(out), "--plot", str(png), "--damping", "structural"]) == 0
+    data = np.genfromtxt(out, delimiter=",", names=True)
+    assert data.dtype.names == ("frequency_hz", "re_kg", "im_kg", "magnitude_kg", "phase_deg")
+    H = trfam(load_model(), "casing.A.y", "casing.B.y", data["frequency_hz"], "structural")
+    np.testing.assert_allclose(data["re_kg"] + 1j * data["im_kg"], H, rtol=1e-8)
+    assert png.stat().st_size > 1000
+
+
+def test_bad_model_exits_nonzero(tmp_path, capsys):
+    p = tmp_path / "m.toml"
+    p.write_text(load_model().to_toml().replace("E = 5000000000.0", "Ee = 5000000000.0"))
+    assert main(["modes", str(p)]) == 2
+    assert "casing.Ee" in capsys.readouterr().err
