@@ -31,6 +31,8 @@ SUPPORT_TYPES = ("clamped", "free")
 DIRECTIONS = ("x", "y", "z")
 CONTACT_LAWS = ("hertz", "linear")
 EXCITATION_KINDS = ("random", "harmonic", "impulse", "csv")
+# The 12 translational support channels, in the FMU's input order (m, global axes).
+CHANNELS = tuple(f"{b}.{s}.{d}" for b in BODY_NAMES for s in SUPPORT_NAMES for d in DIRECTIONS)
 
 # --------------------------------------------------------------------------------------------
 # small checkers: each raises ModelError(key, value, allowed)

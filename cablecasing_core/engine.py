@@ -1,0 +1,345 @@
+"""The single time-stepping engine: Newmark average acceleration of casing and cable coupled by
+frictional contact (Section 2.1, Eqs. 14-39). Used by :func:`simulate`, the CLI and the FMU.
+
+Each step (gamma = 1/2, beta = 1/4, Eq. 18 with C = alpha M + beta K) first predicts both bodies
+without contact forces (the supports prescribed at the new time, Eq. 13), then searches every cable
+node's normal plane for the casing axis, and solves the contact forces at the new time implicitly
+in the small space of active contacts (see ``kernels.solve_contact_forces``); the bodies respond
+to them through their effective compliance, exactly, because the structure is linear. The
+reactions (Eq. 13) follow from the partitioned equations at the prescribed DOFs.
+
+The engine can advance from any time by any step (a step that is not a multiple of ``dt`` ends
+with one shorter sub-step, whose factorisation is cached) and can copy out and restore its
+complete state (:meth:`Engine.get_state`, :meth:`Engine.set_state`).
+"""
+from __future__ import annotations
+
+import io
+
+import numpy as np
+from scipy.linalg import cho_factor, cho_solve, cholesky_banded
+
+from . import kernels as K
+from .assembly import assemble_body
+from .config import BODY_NAMES, CHANNELS, SUPPORT_NAMES
+from .errors import ModelError, SimulationError
+
+FORCE_NAMES = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
+SUPPORT_OUTPUTS = tuple(f"{b}.{s}.{c}" for b in BODY_NAMES for s in SUPPORT_NAMES for c in FORCE_NAMES)
+OUTPUTS = SUPPORT_OUTPUTS + ("contact.active", "contact.max_penetration", "contact.dissipated_energy")
+STATE_NAMES = {K.OPEN: "open", K.STICK: "stick", K.SLIP: "slip"}
+
+
+def time_model_modulus(spec):
+    """The modulus (Pa) a time-domain model uses: E itself, or with a table E(f) the value at the
+    body's first natural frequency (a linear time-domain model has one stiffness)."""
+    if not spec.frequency_dependent:
+        return spec.E_ref
+    return None  # resolved in _Body with the body's modal data
+
+
+def hertz_constant(model):
+    """4/3 E* r^1/2 of Eq. (29) in N/m^1.5: E* from both moduli and Poisson ratios (Eq. 28), r from
+    the cable radius (convex, r1 = d/2) and the casing's inner radius (concave, r2 = -d_inner/2),
+    1/r = 1/r1 + 1/r2 (Eq. 27). Hertz's point-contact law; a wire lying in a tube is closer to a line
+    contact, so the law is a stiffness model for the penalty method, as in the paper (Fig. 19)."""
+    ca, cb = model.bodies["casing"], model.bodies["cable"]
+    Es = 1.0 / ((1 - cb.nu**2) / cb.E_ref + (1 - ca.nu**2) / ca.E_ref)
+    r1, r2 = cb.d_outer / 2.0, -ca.d_inner / 2.0
+    r = 1.0 / (1.0 / r1 + 1.0 / r2)
+    return 4.0 / 3.0 * Es * np.sqrt(r)
+
+
+class _Body:
+    """Banded matrices, factorisations and state of one body (plain arrays for the kernels)."""
+
+    def __init__(self, model, name):
+        spec = model.bodies[name]
+        sysm = assemble_body(model, name)
+        if spec.frequency_dependent:
+            from .modal import natural_frequencies
+            f1 = natural_frequencies(model, name, 1)[0]
+            sysm = assemble_body(model, name, E=float(spec.modulus(f1)))
+        self.system = sysm
+        self.alpha, self.beta = spec.alpha, spec.beta
+        Kd, Md = sysm.K.toarray(), sysm.M.toarray()
+        rows, cols = np.nonzero(Kd + Md)
+        self.b = b = int(np.max(np.abs(rows - cols)))
+        n = sysm.ndof
+        self.Mb = np.zeros((n, 2 * b + 1))
+        self.Kb = np.zeros((n, 2 * b + 1))
+        for k in range(-b, b + 1):
+            i = np.arange(max(0, -k), min(n, n - k))
+            self.Mb[i, b + k] = Md[i, i + k]
+            self.Kb[i, b + k] = Kd[i, i + k]
+        self.Kd, self.Md = Kd, Md
+        free = sysm.free
+        self.f0, self.nf = (int(free[0]), len(free)) if len(free) else (0, 0)
+        if self.nf and not np.array_equal(free, np.arange(self.f0, self.f0 + self.nf)):
+            raise AssertionError("free DOFs must be contiguous (supports sit at the ends)")
+        self.pres = sysm.prescribed.astype(np.int64)
+        bi = BODY_NAMES.index(name)
+        pchan, pslot = [], []
+        for j in self.pres:
+            node, comp = divmod(int(j), 6)
+            s = 0 if node == sysm.support_nodes["A"] else 1
+            pslot.append(6 * s + comp)
+            pchan.append(6 * bi + 3 * s + comp if comp < 3 else -1)
+        self.pchan = np.array(pchan, np.int64)
+        self.pslot = np.array(pslot, np.int64)
+        self._factors = {}
+        self.U = np.zeros(n)
+        self.V = np.zeros(n)
+        self.A = np.zeros(n)
+
+    def factors(self, dt, need_inverse):
+        """Banded Cholesky factor (Lf, Lb) and, for contact, the dense inverse of the effective
+        stiffness K + 2/dt C + 4/dt^2 M on the free DOFs; cached per dt."""
+        key = (dt, need_inverse)
+        if key not in self._factors:
+            f = slice(self.f0, self.f0 + self.nf)
+            Keff = (1 + 2 * self.beta / dt) * self.Kd[f, f] + (4 / dt**2 + 2 * self.alpha / dt) * self.Md[f, f]
+            b, n = self.b, self.nf
+            ab = np.zeros((b + 1, n))
+            for k in range(b + 1):
+                ab[k, : n - k] = np.diagonal(Keff, -k)
+            lb = cholesky_banded(ab, lower=True)
+            Lf = np.zeros((n, b + 1))
+            Lb = np.zeros((n, b + 1))
+            for k in range(b + 1):
+                Lf[k:, k] = lb[k, : n - k]      # L[i, i-k]
+                Lb[: n - k, k] = lb[k, : n - k]  # L[i+k, i]
+            inv = cho_solve(cho_factor(Keff), np.eye(n)) if need_inverse else np.zeros((1, 1))
+            self._factors[key] = (Lf, Lb, inv)
+        return self._factors[key]
+
+    def energy(self):
+        """(kinetic, strain) energy in J."""
+        return 0.5 * self.V @ self.Md @ self.V, 0.5 * self.U @ self.Kd @ self.U
+
+
+_DUMMY = {
+    "Mb": np.zeros((1, 1)), "Lf": np.ones((1, 1)), "v": np.zeros(1), "i": np.zeros(0, np.int64),
+}
+
+
+class Engine:
+    """Newmark stepping engine for a :class:`~cablecasing_core.config.Model`.
+
+    Parameters
+    ----------
+    model : Model
+    dt : float, time step in s (default ``model.scenario["dt"]``).
+    contact : bool, contact between cable and casing (default ``model.contact["enabled"]``; needs
+        both bodies).
+    ledger : bool, accumulate the Rayleigh dissipation each step (one extra matrix product).
+    record : bool, keep per-step histories (support forces, contact state, normal force,
+        penetration) for :meth:`history`.
+    """
+
+    def __init__(self, model, dt=None, contact=None, ledger=True, record=False):
+        dt = model.scenario["dt"] if dt is None else dt
+        if isinstance(dt, bool) or not isinstance(dt, (int, float)) or not np.isfinite(dt) or dt <= 0:
+            raise ModelError("dt", dt, "time step must be a positive number of seconds")
+        self.model = model
+        self.dt = float(dt)
+        self.bodies = {n: _Body(model, n) for n in model.bodies}
+        both = "casing" in self.bodies and "cable" in self.bodies
+        contact = model.contact["enabled"] if contact is None else bool(contact)
+        self.contact = contact and both
+        self.ledger_on = bool(ledger)
+        self.record = bool(record)
+        c = model.contact
+        if both:
+            cab, cas = self.bodies["cable"].system, self.bodies["casing"].system
+            self.Xc = cab.centerline.nodes.copy()
+            self.Tc = cab.centerline.tangents.copy()
+            self.Xs = cas.centerline.nodes.copy()
+            self.Rs = cas.centerline.frames.copy()
+            self.Ls = cas.centerline.lengths.copy()
+            self.gap = model.radial_gap
+            self.r_in = cas.section.r_inner
+            self.r_cable = cab.section.r_outer
+            self.k_hertz = hertz_constant(model)
+        else:
+            self.Xc = np.zeros((0, 3))
+            self.Tc = self.Xs = np.zeros((0, 3))
+            self.Rs = np.zeros((0, 3, 3))
+            self.Ls = np.zeros(0)
+            self.gap = self.r_in = self.r_cable = self.k_hertz = 0.0
+        self.law = 0 if c["law"] == "hertz" else 1
+        self.k_lin, self.c_n, self.mu, self.v_stick = c["stiffness"], c["damping"], c["friction"], c["stick_velocity"]
+        self._hist = []
+        self.reset()
+
+    # -------------------------------------------------------------------------------- state
+    def reset(self):
+        """Back to t = 0 with both bodies at rest in their reference configuration."""
+        self.time = 0.0
+        for b in self.bodies.values():
+            b.U[:] = 0.0
+            b.V[:] = 0.0
+            b.A[:] = 0.0
+        nn = len(self.Xc)
+        self.cstate = np.zeros(nn, np.int64)
+        self.celem = np.clip(np.arange(nn) - 1, 0, max(len(self.Ls) - 1, 0)).astype(np.int64)
+        self.cxi = np.zeros(nn)
+        self.Pn = np.zeros((nn, 3))
+        self.Nn = np.zeros(nn)
+        self.gn = np.zeros(nn)
+        self.fcs = np.zeros(self.bodies["casing"].system.ndof if "casing" in self.bodies else 1)
+        self.fcc = np.zeros(self.bodies["cable"].system.ndof if "cable" in self.bodies else 1)
+        self.reac = np.zeros(24)
+        self.ledger = np.zeros(5)
+        self.contact_time = np.zeros(nn)
+        self._hist = []
+
+    _ARRAYS = ("cstate", "celem", "cxi", "Pn", "Nn", "gn", "fcs", "fcc", "reac", "ledger", "contact_time")
+
+    def get_state(self):
+        """The complete state as ``{name: array}`` (copies): time, U/V/A of each body, contact
+        memory (state, element, forces), last reactions and the energy ledger."""
+        s = {"time": np.array([self.time])}
+        for n, b in self.bodies.items():
+            s[f"{n}.U"], s[f"{n}.V"], s[f"{n}.A"] = b.U.copy(), b.V.copy(), b.A.copy()
+        for a in self._ARRAYS:
+            s[a] = getattr(self, a).copy()
+        return s
+
+    def set_state(self, state):
+        """Restore a state from :meth:`get_state` (continuation is bit-identical)."""
+        try:
+            self.time = float(state["time"][0])
+            for n, b in self.bodies.items():
+                for k in "UVA":
+                    arr = np.asarray(state[f"{n}.{k}"], float)
+                    if arr.shape != getattr(b, k).shape:
+                        raise ModelError(f"state.{n}.{k}", arr.shape, f"must have shape {getattr(b, k).shape}")
+                    getattr(b, k)[:] = arr
+            for a in self._ARRAYS:
+                arr = np.asarray(state[a])
+                if arr.shape != getattr(self, a).shape:
+                    raise ModelError(f"state.{a}", arr.shape, f"must have shape {getattr(self, a).shape}")
+                getattr(self, a)[...] = arr
+        except KeyError as exc:
+            raise ModelError("state", str(exc), "is missing from the state") from None
+
+    # -------------------------------------------------------------------------------- stepping
+    def _args(self, dt):
+        out = []
+        for name in ("casing", "cable"):
+            b = self.bodies.get(name)
+            if b is None or b.nf == 0:
+                d = _DUMMY
+                z = np.zeros(1)
+                out += [False, d["Mb"], d["Mb"], d["Lf"], d["Lf"], 0, 0, 0.0, 0.0,
+                        b.U if b else z, b.V if b else z.copy(), b.A if b else z.copy(),
+                        b.pres if b else d["i"], b.pchan if b else d["i"], b.pslot if b else d["i"],
+                        np.zeros((1, 1))]
+                continue
+            Lf, Lb, inv = b.factors(dt, self.contact)
+            out += [True, b.Mb, b.Kb, Lf, Lb, b.f0, b.nf, b.alpha, b.beta, b.U, b.V, b.A,
+                    b.pres, b.pchan, b.pslot, inv]
+        return out
+
+    def _run(self, dt, up, vp, ap):
+        n = len(up)
+        if self.record:
+            nn = len(self.Xc)
+            rec = (np.zeros((n, 24)), np.zeros((n, nn), np.int8), np.zeros((n, nn)), np.zeros((n, nn)))
+        else:
+            rec = (np.zeros((1, 24)), np.zeros((1, 1), np.int8), np.zeros((1, 1)), np.zeros((1, 1)))
+        info = np.zeros(3)
+        status = K.run_steps(
+            self.time, dt, up, vp, ap, *self._args(dt),
+            self.contact, self.Xc, self.Tc, self.Xs, self.Rs, self.Ls, self.gap, self.r_in, self.r_cable,
+            self.law, self.k_lin, self.k_hertz, self.c_n, self.mu, self.v_stick,
+            self.cstate, self.celem, self.cxi, self.Pn, self.Nn, self.gn, self.fcs, self.fcc, self.reac,
+            self.ledger, self.ledger_on, self.record, *rec, 0, info)
+        if status != K.OK:
+            what = {K.ERR_NAN: "the solution is no longer finite (NaN/inf): the step is unstable or the input is",
+                    K.ERR_PENETRATION: f"penetration {info[2]:.4g} m exceeds the cable radius {self.r_cable:.4g} m "
+                                       "(contact too soft for this load, or the time step too large)"}[status]
+            where = f"cable node {int(info[1])}" if info[1] >= 0 else "the support forces"
+            raise SimulationError(f"at t = {info[0]:.6g} s, {where}: {what}")
+        if self.record:
+            self._hist.append(rec)
+            self.contact_time += dt * np.count_nonzero(rec[1] != K.OPEN, axis=0)
+        else:
+            # without per-step records, contact time is sampled at the end of each advance
+            self.contact_time += dt * n * (self.cstate != K.OPEN)
+        self.time = float(info[0])
+
+    def advance(self, h, motion):
+        """Integrate from ``self.time`` to ``self.time + h`` (s) with the support ``motion``
+        (callable t -> (u, v, a), each (len(t), 12), in m, m/s, m/s2 over ``CHANNELS``)."""
+        if isinstance(h, bool) or not isinstance(h, (int, float)) or not np.isfinite(h) or h <= 0:
+            raise ModelError("h", h, "the step must be a positive number of seconds")
+        n = int(np.floor(h / self.dt * (1 + 1e-12)))
+        rest = h - n * self.dt
+        segments = []
+        if n:
+            segments.append((self.dt, n))
+        if rest > 1e-9 * self.dt:
+            segments.append((rest, 1))
+        t = self.time
+        for dt, m in segments:
+            times = t + dt * np.arange(1, m + 1)
+            u, v, a = (np.ascontiguousarray(x, dtype=float) for x in motion(times))
+            if u.shape != (m, len(CHANNELS)):
+                raise ModelError("motion", u.shape, f"must return arrays of shape ({m}, {len(CHANNELS)})")
+            for name, x in (("displacement", u), ("velocity", v), ("acceleration", a)):
+                if not np.all(np.isfinite(x)):
+                    r, c = np.argwhere(~np.isfinite(x))[0]
+                    raise ModelError(f"{CHANNELS[c]} {name}", float(x[r, c]), f"must be finite (at t = {times[r]:.6g} s)")
+            self._run(dt, u, v, a)
+            t = self.time
+
+    # -------------------------------------------------------------------------------- outputs
+    def contact_potential(self):
+        """Elastic energy stored in the contacts (J)."""
+        return float(sum(K.contact_potential(g, self.law, self.k_lin, self.k_hertz) for g in self.gn))
+
+    def energies(self):
+        """Energy ledger in J: kinetic, strain, contact potential, work done by the supports,
+        dissipated by Rayleigh damping, dissipated in the contacts (damping and friction together:
+        the work of the contact forces less the stored contact energy), and the balance residual."""
+        kin = sum(b.energy()[0] for b in self.bodies.values())
+        strain = sum(b.energy()[1] for b in self.bodies.values())
+        pot = self.contact_potential()
+        w_sup, d_ray, _, _, w_con = self.ledger
+        d_con = -w_con - pot
+        residual = kin + strain + pot - w_sup + d_ray + d_con
+        return {"kinetic": kin, "strain": strain, "contact_potential": pot, "support_work": w_sup,
+                "rayleigh_dissipation": d_ray if self.ledger_on else np.nan, "contact_dissipation": d_con,
+                "residual": residual}
+
+    def outputs(self):
+        """Current outputs ``{name: value}`` for the names in :data:`OUTPUTS` (N, N.m, m, J)."""
+        out = dict(zip(SUPPORT_OUTPUTS, self.reac.tolist()))
+        out["contact.active"] = int(np.count_nonzero(self.cstate != K.OPEN))
+        out["contact.max_penetration"] = float(self.gn.max()) if len(self.gn) else 0.0
+        out["contact.dissipated_energy"] = float(-self.ledger[4] - self.contact_potential())
+        return out
+
+    def history(self):
+        """Recorded histories (``record=True``): dict of arrays over all steps so far."""
+        if not self._hist:
+            return {}
+        return {"support_forces": np.concatenate([h[0] for h in self._hist]),
+                "contact_state": np.concatenate([h[1] for h in self._hist]),
+                "normal_force": np.concatenate([h[2] for h in self._hist]),
+                "penetration": np.concatenate([h[3] for h in self._hist])}
+
+
+def state_to_bytes(state):
+    """Serialise a state dict of arrays (np.savez, no pickle)."""
+    buf = io.BytesIO()
+    np.savez(buf, **state)
+    return buf.getvalue()
+
+
+def state_from_bytes(data):
+    """Inverse of :func:`state_to_bytes`."""
+    with np.load(io.BytesIO(bytes(data)), allow_pickle=False) as z:
+        return {k: z[k] for k in z.files}

@@ -1,0 +1,153 @@
+"""Support excitation signals of a scenario (Sections 4.1-4.2): random, harmonic, impulse, CSV.
+
+A *motion* maps times t (s) to the displacement (m), velocity (m/s) and acceleration (m/s2) of
+the 12 support channels ``config.CHANNELS``. The scenario's motion is the sum of its excitations:
+
+* ``random``: band-limited Gaussian acceleration with a flat spectrum between ``band`` (Hz) and the
+  given RMS (m/s2), generated in the frequency domain (random phases, seeded) as a periodic record
+  of length ``scenario.duration``; displacement and velocity are the exact periodic integrals
+  (division by (i omega)^2 and i omega), so the three are consistent and free of drift.
+* ``harmonic``: u = amplitude sin(2 pi f t + phase) (m).
+* ``impulse``: a Hann-shaped displacement bump of the given amplitude (m) and width (s) starting at
+  ``start`` (s); it returns to rest, so a clamped support comes back to its position.
+* ``csv``: a table ``time_s, displacement_m``; velocity and acceleration from a cubic spline.
+
+Targets ``<body>.<A|B>.axial`` act along the cable's (casing's) tangent at that end, pointing from
+A to B (the cable's longitudinal excitation of Section 4.2).
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy.interpolate import BPoly, CubicSpline
+
+from .config import CHANNELS, DIRECTIONS
+from .errors import ModelError
+from .geometry import centerline_of
+
+
+def _random_record(rms, band, duration, dt, seed):
+    """Grid (s) and (u, v, a) of a periodic band-limited random acceleration with RMS ``rms``."""
+    n = int(np.ceil(duration / dt))
+    n += n % 2
+    f = np.fft.rfftfreq(n, dt)
+    rng = np.random.default_rng(seed)
+    inband = (f >= band[0]) & (f <= band[1])
+    if not inband.any():
+        raise ModelError("scenario.excitation.band", band,
+                         f"holds no frequency line of a {n * dt:.6g} s record; widen the band or lengthen the duration")
+    A = np.zeros(len(f), complex)
+    A[inband] = np.exp(2j * np.pi * rng.random(inband.sum()))
+    w = 2 * np.pi * f
+    acc = np.fft.irfft(A, n)
+    scale = rms / np.sqrt(np.mean(acc**2))
+    A *= scale
+    iw = np.zeros_like(A)
+    iw[1:] = 1.0 / (1j * w[1:])
+    a = np.fft.irfft(A, n)
+    v = np.fft.irfft(A * iw, n)
+    u = np.fft.irfft(A * iw * iw, n)
+    t = np.arange(n + 1) * dt
+    wrap = lambda x: np.concatenate([x, x[:1]])  # noqa: E731  (periodic closure for interpolation)
+    return t, wrap(u), wrap(v), wrap(a)
+
+
+class _Signal:
+    """One scalar excitation: callable t -> (u, v, a)."""
+
+    def __init__(self, kind, params, dt, duration):
+        self.kind = kind
+        self.p = params
+        if kind == "random":
+            t, u, v, a = _random_record(params["rms"], params["band"], duration, dt, params["seed"])
+            self.period = t[-1]
+            # quintic Hermite through (u, v, a) at every sample (scipy BPoly): exact at the grid,
+            # consistent derivatives in between
+            self.poly = BPoly.from_derivatives(t, np.column_stack([u, v, a])[:, :, None].reshape(len(t), 3))
+        elif kind == "csv":
+            self._load_csv(params["file"])
+
+    def _load_csv(self, path):
+        try:
+            data = np.genfromtxt(path, delimiter=",", names=True)
+        except OSError as exc:
+            raise ModelError("scenario.excitation.file", path, f"must be a readable CSV file ({exc})") from None
+        if data.dtype.names is None or len(data.dtype.names) < 2 or data.size < 2:
+            raise ModelError("scenario.excitation.file", path,
+                             "must have a header and at least two rows of time_s, displacement_m")
+        t = np.asarray(data[data.dtype.names[0]], float)
+        u = np.asarray(data[data.dtype.names[1]], float)
+        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(u))):
+            raise ModelError("scenario.excitation.file", path, "must hold finite numbers only")
+        bad = np.nonzero(np.diff(t) <= 0)[0]
+        if bad.size:
+            i = bad[0] + 1
+            raise ModelError("scenario.excitation.file", path,
+                             f"time must increase strictly; row {i + 1} has t = {t[i]} after {t[i - 1]}")
+        self.t0, self.t1 = t[0], t[-1]
+        self.spline = CubicSpline(t, u)
+
+    def __call__(self, t):
+        p = self.p
+        if self.kind == "harmonic":
+            w = 2 * np.pi * p["frequency"]
+            ph = w * t + p["phase"]
+            A = p["amplitude"]
+            return A * np.sin(ph), A * w * np.cos(ph), -A * w * w * np.sin(ph)
+        if self.kind == "impulse":
+            tau = (t - p["start"]) / p["width"]
+            on = (tau >= 0) & (tau <= 1)
+            w = 2 * np.pi / p["width"]
+            A = p["amplitude"] / 2
+            u = np.where(on, A * (1 - np.cos(2 * np.pi * tau)), 0.0)
+            v = np.where(on, A * w * np.sin(2 * np.pi * tau), 0.0)
+            a = np.where(on, A * w * w * np.cos(2 * np.pi * tau), 0.0)
+            return u, v, a
+        if self.kind == "random":
+            tt = np.mod(t, self.period)
+            return self.poly(tt), self.poly(tt, 1), self.poly(tt, 2)
+        tc = np.clip(t, self.t0, self.t1)
+        inside = (t >= self.t0) & (t <= self.t1)
+        return self.spline(tc), np.where(inside, self.spline(tc, 1), 0.0), np.where(inside, self.spline(tc, 2), 0.0)
+
+
+class ScenarioMotion:
+    """The summed support motion of a model's scenario: callable t (s, array) -> (u, v, a), each
+    of shape (len(t), 12) in the order of ``config.CHANNELS`` (m, m/s, m/s2)."""
+
+    def __init__(self, model, dt=None, duration=None):
+        sc = model.scenario
+        dt = sc["dt"] if dt is None else dt
+        duration = sc["duration"] if duration is None else duration
+        self.terms = []
+        cl = None
+        for name, e in sc["excitation"].items():
+            body, support, direction = e["target"].split(".")
+            if direction == "axial":
+                cl = centerline_of(model) if cl is None else cl
+                tangent = cl.tangents[0] if support == "A" else cl.tangents[-1]
+                weights = tangent
+            else:
+                weights = np.eye(3)[DIRECTIONS.index(direction)]
+            col = CHANNELS.index(f"{body}.{support}.x")
+            params = dict(e)
+            self.terms.append((col, np.asarray(weights, float), _Signal(e["kind"], params, dt, duration)))
+
+    def __call__(self, t):
+        t = np.atleast_1d(np.asarray(t, float))
+        out = [np.zeros((len(t), len(CHANNELS))) for _ in range(3)]
+        for col, wts, sig in self.terms:
+            for o, s in zip(out, sig(t)):
+                o[:, col:col + 3] += s[:, None] * wts[None, :]
+        return tuple(out)
+
+
+def scenario_motion(model, dt=None, duration=None):
+    """The :class:`ScenarioMotion` of ``model``'s ``[scenario]`` (see module docstring)."""
+    return ScenarioMotion(model, dt, duration)
+
+
+def zero_motion(t):
+    """Supports at rest: (u, v, a) all zero, shape (len(t), 12)."""
+    t = np.atleast_1d(t)
+    z = np.zeros((len(t), len(CHANNELS)))
+    return z, z.copy(), z.copy()
