@@ -275,6 +275,9 @@ class Engine:
         (callable t -> (u, v, a), each (len(t), 12), in m, m/s, m/s2 over ``CHANNELS``)."""
         if isinstance(h, bool) or not isinstance(h, (int, float)) or not np.isfinite(h) or h <= 0:
             raise ModelError("h", h, "the step must be a positive number of seconds")
+        if self.time == 0.0 and not self.ledger.any():
+            kin, strain = (sum(x) for x in zip(*(b.energy() for b in self.bodies.values())))
+            self.ledger[2] = kin + strain + self.contact_potential()   # energy at the start
         n = int(np.floor(h / self.dt * (1 + 1e-12)))
         rest = h - n * self.dt
         segments = []
@@ -303,13 +306,14 @@ class Engine:
     def energies(self):
         """Energy ledger in J: kinetic, strain, contact potential, work done by the supports,
         dissipated by Rayleigh damping, dissipated in the contacts (damping and friction together:
-        the work of the contact forces less the stored contact energy), and the balance residual."""
+        the work of the contact forces less the stored contact energy), and the balance residual
+        (energy now minus the energy at the start plus supplied work less dissipation)."""
         kin = sum(b.energy()[0] for b in self.bodies.values())
         strain = sum(b.energy()[1] for b in self.bodies.values())
         pot = self.contact_potential()
-        w_sup, d_ray, _, _, w_con = self.ledger
+        w_sup, d_ray, e_start, _, w_con = self.ledger
         d_con = -w_con - pot
-        residual = kin + strain + pot - w_sup + d_ray + d_con
+        residual = kin + strain + pot - (e_start + w_sup - d_ray - d_con)
         return {"kinetic": kin, "strain": strain, "contact_potential": pot, "support_work": w_sup,
                 "rayleigh_dissipation": d_ray if self.ledger_on else np.nan, "contact_dissipation": d_con,
                 "residual": residual}

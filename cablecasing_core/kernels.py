@@ -183,11 +183,12 @@ def casing_point(Xs, Rs, Ls, Us, e, xi, H):
 
 
 @njit(cache=True)
-def search_casing(x1, t1, Xs, Rs, Ls, Us, e_guess, H):
+def search_casing(x1, t1, Xs, Rs, Ls, Us, e_guess, H, far_below):
     """Contact search (Eqs. 32-39): where the normal plane of a cable node (point x1, unit tangent
     t1) cuts the deformed casing axis. The line between two deformed casing nodes (Eq. 37) gives the
     first estimate l (Eq. 39); Newton iterations on the element's Hermite-interpolated axis refine it.
-    Returns (element, xi) or (-1, nan) when the plane misses the casing."""
+    Returns (element, xi, far): far is True when the node is certainly more than ``far_below``
+    (m) from the axis (no refinement done); element -1 when the plane misses the casing."""
     ne = Ls.shape[0]
     best_e, best_xi, best_d = -1, np.nan, 1e300
     for de in range(0, 2 * ne + 1):
@@ -211,6 +212,18 @@ def search_casing(x1, t1, Xs, Rs, Ls, Us, e_guess, H):
             if best_e >= 0 and abs(off) > 2:
                 break
             continue
+        # cheap exit: the Hermite axis departs from the chord between the deformed nodes by at most
+        # L/4 (|rot_a| + |rot_b|); a node farther inside than that cannot touch (returned as far)
+        dl = 0.0
+        for r in range(3):
+            dl += (a[r] + xi * (b[r] - a[r]) - x1[r]) ** 2
+        ra = 0.0
+        rb = 0.0
+        for r in range(3):
+            ra += Us[6 * e + 3 + r] ** 2
+            rb += Us[6 * e + 9 + r] ** 2
+        if np.sqrt(dl) + 0.25 * Ls[e] * (np.sqrt(ra) + np.sqrt(rb)) < far_below:
+            return e, xi, True
         for _ in range(3):  # Newton on phi(xi) = (x(xi) - x1) . t1
             xa = casing_point(Xs, Rs, Ls, Us, e, min(max(xi, 0.0), 1.0), H)
             h = 1e-6
@@ -232,7 +245,7 @@ def search_casing(x1, t1, Xs, Rs, Ls, Us, e_guess, H):
             best_d, best_e, best_xi = d, e, xi
         if abs(off) >= 2 and best_e >= 0:
             break
-    return best_e, best_xi
+    return best_e, best_xi, False
 
 
 @njit(cache=True)
@@ -421,8 +434,10 @@ def contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
         Nout[i] = 0.0
         gout[i] = 0.0
         x1, t1, v1, om1 = _node_kinematics(Xc, Tc, Uc, Vc, i)
-        e, xi = search_casing(x1, t1, Xs, Rs, Ls, Us, elem[i], H)
-        if e < 0:
+        e, xi, far = search_casing(x1, t1, Xs, Rs, Ls, Us, elem[i], H, gap)
+        if e >= 0:
+            elem[i] = e
+        if e < 0 or far:
             state[i] = OPEN
             continue
         elem[i] = e
