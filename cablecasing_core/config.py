@@ -104,7 +104,7 @@ _BODY_KEYS = {
 }
 _BODY_REQUIRED = {"casing": ("E", "rho", "d_outer", "d_inner"), "cable": ("E", "rho", "d")}
 _CONTACT_KEYS = {"law", "stiffness", "damping", "friction", "stick_velocity", "enabled"}
-_SCENARIO_KEYS = {"duration", "dt", "seed", "excitation"}
+_SCENARIO_KEYS = {"duration", "dt", "seed", "excitation", "ramp"}
 _EXCITATION_KEYS = {
     "random": {"target", "kind", "rms", "band", "seed"},
     "harmonic": {"target", "kind", "frequency", "amplitude", "phase"},
@@ -193,7 +193,8 @@ def _validate_scenario(s, bodies, base_dir):
     _check_keys("scenario", s, _SCENARIO_KEYS)
     out = {"duration": _number("scenario.duration", s.get("duration", 1.0), positive=True),
            "dt": _number("scenario.dt", s.get("dt", 1.0e-5), positive=True),
-           "seed": _number("scenario.seed", s.get("seed", 0), integer=True, nonneg=True)}
+           "seed": _number("scenario.seed", s.get("seed", 0), integer=True, nonneg=True),
+           "ramp": _number("scenario.ramp", s.get("ramp", 0.01), nonneg=True)}
     if out["duration"] < out["dt"]:
         raise ModelError("scenario.duration", out["duration"],
                          f"must be at least one time step (scenario.dt = {out['dt']} s)")

@@ -43,3 +43,23 @@ def plot_geometry(centerline, path, values=None, label=None):
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def plot_time_result(res, path):
+    """Support force at casing B (N) over time and the contact-time histogram over the cable's
+    nodes with the centerline curvature beside it (Fig. 22)."""
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 6))
+    for d in "xyz":
+        a1.plot(res.time, res.support_force(f"casing.B.F{d}"), lw=0.6, label=f"casing.B.F{d}")
+    a1.set_xlabel("time (s)")
+    a1.set_ylabel("support force (N)")
+    a1.legend()
+    a2.bar(res.arc_length, res.contact_time, width=0.8 * (res.arc_length[1] - res.arc_length[0]), label="contact time")
+    a2.set_xlabel("arc length from A (m)")
+    a2.set_ylabel("contact time (s)")
+    ax = a2.twinx()
+    ax.plot(res.arc_length, res.curvature, "r-", label="curvature")
+    ax.set_ylabel("curvature (1/m)", color="r")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)

@@ -12,6 +12,10 @@ the 12 support channels ``config.CHANNELS``. The scenario's motion is the sum of
   ``start`` (s); it returns to rest, so a clamped support comes back to its position.
 * ``csv``: a table ``time_s, displacement_m``; velocity and acceleration from a cubic spline.
 
+The summed motion fades in over ``scenario.ramp`` seconds (default 0.01 s; 0 switches it off) with
+a half-cosine window r(t), differentiated exactly (u r, v r + u r', a r + 2 v r' + u r''), so the
+supports start from rest instead of jumping to the signal's value at t = 0.
+
 Targets ``<body>.<A|B>.axial`` act along the cable's (casing's) tangent at that end, pointing from
 A to B (the cable's longitudinal excitation of Section 4.2).
 """
@@ -119,6 +123,7 @@ class ScenarioMotion:
         dt = sc["dt"] if dt is None else dt
         duration = sc["duration"] if duration is None else duration
         self.terms = []
+        self.ramp = sc.get("ramp", 0.0)
         cl = None
         for name, e in sc["excitation"].items():
             body, support, direction = e["target"].split(".")
@@ -138,6 +143,15 @@ class ScenarioMotion:
         for col, wts, sig in self.terms:
             for o, s in zip(out, sig(t)):
                 o[:, col:col + 3] += s[:, None] * wts[None, :]
+        if self.ramp > 0:
+            T = self.ramp
+            on = t < T
+            x = np.pi * t / T
+            r = np.where(on, 0.5 * (1 - np.cos(x)), 1.0)[:, None]
+            dr = np.where(on, 0.5 * np.pi / T * np.sin(x), 0.0)[:, None]
+            ddr = np.where(on, 0.5 * (np.pi / T) ** 2 * np.cos(x), 0.0)[:, None]
+            u, v, a = out
+            out = [r * u, r * v + dr * u, r * a + 2 * dr * v + ddr * u]
         return tuple(out)
 
 

@@ -1,0 +1,87 @@
+"""Orchestration of a time-domain run: the scenario's motion through the engine, with results.
+
+>>> import cablecasing_core as cc
+>>> res = cc.simulate(cc.load_model(), duration=0.05)
+>>> res.support_force("casing.B.Fz")       # N, one value per time step
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .engine import SUPPORT_OUTPUTS, Engine
+from .errors import ModelError
+from .scenario import scenario_motion
+
+
+@dataclass
+class SimulationResult:
+    """Histories of a run (SI units).
+
+    time (s, n); support_forces (N, N.m; n x 24 in the order of ``engine.SUPPORT_OUTPUTS``: the
+    force each body exerts on each support); contact_state (n x nodes: 0 open, 1 stick, 2 slip);
+    normal_force (N) and penetration (m) per cable node; contact_time (s per cable node: the
+    highest-contact-area histogram of Fig. 22); curvature (1/m per node); energies (J).
+    """
+
+    time: np.ndarray
+    support_forces: np.ndarray
+    contact_state: np.ndarray
+    normal_force: np.ndarray
+    penetration: np.ndarray
+    contact_time: np.ndarray
+    curvature: np.ndarray
+    arc_length: np.ndarray
+    energies: dict
+
+    def support_force(self, name):
+        """History of one support output, e.g. ``"casing.B.Fz"`` (N or N.m)."""
+        if name not in SUPPORT_OUTPUTS:
+            raise ModelError("output", name, "must be one of " + ", ".join(SUPPORT_OUTPUTS))
+        return self.support_forces[:, SUPPORT_OUTPUTS.index(name)]
+
+    def save(self, path):
+        """Write the support forces and contact summary: ``.csv`` (time and the 24 support outputs)
+        or ``.npz`` (every array)."""
+        path = str(path)
+        if path.endswith(".npz"):
+            np.savez_compressed(path, time=self.time, support_forces=self.support_forces,
+                                contact_state=self.contact_state, normal_force=self.normal_force,
+                                penetration=self.penetration, contact_time=self.contact_time,
+                                curvature=self.curvature, arc_length=self.arc_length,
+                                support_names=np.array(SUPPORT_OUTPUTS))
+        elif path.endswith(".csv"):
+            active = np.count_nonzero(self.contact_state, axis=1)
+            table = np.column_stack([self.time, self.support_forces, active, self.penetration.max(axis=1)])
+            header = ",".join(["time_s"] + [f"{n}_{'N' if '.F' in n else 'Nm'}" for n in SUPPORT_OUTPUTS]
+                              + ["contact_active", "max_penetration_m"])
+            np.savetxt(path, table, delimiter=",", header=header, comments="", fmt="%.9g")
+        else:
+            raise ModelError("--out", path, "must end in .csv or .npz")
+
+
+def simulate(model, duration=None, dt=None, contact=None, motion=None):
+    """Run the model's scenario (or ``motion``) for ``duration`` s with time step ``dt`` s.
+
+    Defaults come from ``[scenario]``; ``contact`` defaults to ``[contact] enabled``. Returns a
+    :class:`SimulationResult`. Raises :class:`~cablecasing_core.errors.SimulationError` on blow-up.
+    """
+    sc = model.scenario
+    duration = sc["duration"] if duration is None else duration
+    dt = sc["dt"] if dt is None else dt
+    for key, v in (("duration", duration), ("dt", dt)):
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v <= 0:
+            raise ModelError(key, v, "must be a positive number of seconds")
+    if duration < dt:
+        raise ModelError("duration", duration, f"must be at least one time step (dt = {dt} s)")
+    motion = scenario_motion(model, dt=dt, duration=duration) if motion is None else motion
+    eng = Engine(model, dt=dt, contact=contact, ledger=True, record=True)
+    eng.advance(duration, motion)
+    h = eng.history()
+    n = len(h["support_forces"])
+    cl = eng.bodies[next(iter(eng.bodies))].system.centerline
+    return SimulationResult(time=dt * np.arange(1, n + 1), support_forces=h["support_forces"],
+                            contact_state=h["contact_state"], normal_force=h["normal_force"],
+                            penetration=h["penetration"], contact_time=eng.contact_time.copy(),
+                            curvature=cl.curvature, arc_length=cl.s, energies=eng.energies())
