@@ -185,6 +185,7 @@ class Engine:
         self.celem = np.clip(np.arange(nn) - 1, 0, max(len(self.Ls) - 1, 0)).astype(np.int64)
         self.cxi = np.zeros(nn)
         self.Pn = np.zeros((nn, 3))
+        self.vrel = np.zeros(nn)
         self.Nn = np.zeros(nn)
         self.gn = np.zeros(nn)
         self.fcs = np.zeros(self.bodies["casing"].system.ndof if "casing" in self.bodies else 1)
@@ -194,7 +195,7 @@ class Engine:
         self.contact_time = np.zeros(nn)
         self._hist = []
 
-    _ARRAYS = ("cstate", "celem", "cxi", "Pn", "Nn", "gn", "fcs", "fcc", "reac", "ledger", "contact_time")
+    _ARRAYS = ("cstate", "celem", "cxi", "Pn", "vrel", "Nn", "gn", "fcs", "fcc", "reac", "ledger", "contact_time")
 
     def get_state(self):
         """The complete state as ``{name: array}`` (copies): time, U/V/A of each body, contact
@@ -254,7 +255,7 @@ class Engine:
             self.time, dt, up, vp, ap, *self._args(dt),
             self.contact, self.Xc, self.Tc, self.Xs, self.Rs, self.Ls, self.gap, self.r_in, self.r_cable,
             self.law, self.k_lin, self.k_hertz, self.c_n, self.mu, self.v_stick,
-            self.cstate, self.celem, self.cxi, self.Pn, self.Nn, self.gn, self.fcs, self.fcc, self.reac,
+            self.cstate, self.celem, self.cxi, self.Pn, self.vrel, self.Nn, self.gn, self.fcs, self.fcc, self.reac,
             self.ledger, self.ledger_on, self.record, *rec, 0, info)
         if status != K.OK:
             what = {K.ERR_NAN: "the solution is no longer finite (NaN/inf): the step is unstable or the input is",

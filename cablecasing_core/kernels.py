@@ -322,7 +322,9 @@ def solve_contact_forces(W, gstar, gdstar, wstar, nrm, ta, tb, mode, sdir, Pinit
                             J[3 * k + row, 3 * l + c] = mu * st * J[3 * k, 3 * l + c] - (mu * st * n[c] if l == k else 0.0)
                     for c in range(3):
                         J[3 * k + row, 3 * k + c] += t[c]
-        dP = np.linalg.solve(J, -R)
+        # minimum-norm step: a direction with no compliance (a contact at a clamped support node)
+        # leaves its stick row empty, where any force is admissible and zero is taken
+        dP = np.linalg.lstsq(J, -R, rcond=1e-12)[0]
         P += dP
         scale = 1e-30
         for i in range(3 * nk):
@@ -413,10 +415,12 @@ def _apply(H, v6, out, e, sign, P, arm):
 @njit(cache=True)
 def contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
                  gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
-                 state, elem, xi_arr, Pn, Nout, gout, fcc, fcs, diag):
+                 state, elem, xi_arr, Pn, vrel, Nout, gout, fcc, fcs, diag):
     """Contact of the cable nodes with the casing at the end of a step, from the predicted
     (contact-free) state. Writes the generalized contact forces on the cable (fcc) and the casing
-    (fcs), the per-node state (OPEN/STICK/SLIP), normal force and penetration. Returns the number
+    (fcs), the per-node state (OPEN/STICK/SLIP: the mode the forces were solved in), normal force,
+    penetration and tangential relative speed at the end of the step (vrel, m/s: the next step sticks
+    when it lies inside the band +-v_stick, Section 2.1). Returns the number
     of active contacts. diag[0] = max penetration (m), diag[1] = 1 if Newton failed."""
     nn = Xc.shape[0]
     H = np.zeros((6, 12))
@@ -538,7 +542,8 @@ def contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
         i = idx[k]
         wt = wst[k] - (wst[k] @ nrm[k]) * nrm[k]
         sp = np.sqrt(wt @ wt)
-        if state[i] == STICK or (state[i] == OPEN and sp < v_stick):
+        speed = sp if state[i] == OPEN else vrel[i]
+        if speed < v_stick:
             mode[k] = STICK
         else:
             mode[k] = SLIP
@@ -616,10 +621,8 @@ def contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
         gmax = max(gmax, g)
         w = wst[k] + c2 * d[3 * k:3 * k + 3]
         wt = w - (w @ nrm[k]) * nrm[k]
-        if mode[k] == SLIP and np.sqrt(wt @ wt) >= v_stick:
-            state[i] = SLIP
-        else:
-            state[i] = STICK
+        state[i] = mode[k]
+        vrel[i] = np.sqrt(wt @ wt)
         Pn[i] = Pk
         # generalized forces: +P at the cable node (with its moment), -P on the casing element
         for r in range(6):
@@ -646,7 +649,7 @@ def run_steps(t0, dt, up, vp, ap,
               s_on, sMb, sKb, sLf, sLb, sf0, snf, salpha, sbeta, sU, sV, sA, spres, spchan, spslot, sKinv,
               c_on, cMb, cKb, cLf, cLb, cf0, cnf, calpha, cbeta, cU, cV, cA, cpres, cpchan, cpslot, cKinv,
               contact_on, Xc, Tc, Xs, Rs, Ls, gap, r_in, r_cable, law, k_lin, k_hertz, c_n, mu, v_stick,
-              state, elem, xi_arr, Pn, Nn, gn, fcs, fcc, reac, ledger, ledger_on,
+              state, elem, xi_arr, Pn, vrel, Nn, gn, fcs, fcc, reac, ledger, ledger_on,
               rec_on, rec_F, rec_state, rec_N, rec_g, rec_off, info):
     """Advance both bodies by len(up) Newmark steps of size dt (s) from time t0 (s).
 
@@ -691,7 +694,7 @@ def run_steps(t0, dt, up, vp, ap,
                 cV[i] = 2.0 / dt * (cU[i] - cUo[i]) - cVo[i]
             nact = contact_step(Xc, Tc, cU, cV, Xs, Rs, Ls, sU, sV, cKinv, cf0, cnf, sKinv, sf0, snf,
                                 gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
-                                state, elem, xi_arr, Pn, Nn, gn, fcc_new, fcs_new, diag)
+                                state, elem, xi_arr, Pn, vrel, Nn, gn, fcc_new, fcs_new, diag)
             if nact > 0:
                 for i in range(snf):
                     sr[i] = fcs_new[sf0 + i]

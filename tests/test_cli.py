@@ -32,3 +32,12 @@ def test_bad_model_exits_nonzero(tmp_path, capsys):
     p.write_text(load_model().to_toml().replace("E = 5000000000.0", "Ee = 5000000000.0"))
     assert main(["modes", str(p)]) == 2
     assert "casing.Ee" in capsys.readouterr().err
+
+
+def test_simulate_cli_writes_csv(tmp_path, capsys):
+    out = tmp_path / "r.csv"
+    assert main(["simulate", "--duration", "0.002", "--out", str(out)]) == 0
+    data = np.genfromtxt(out, delimiter=",", names=True)
+    assert len(data) == 200 and "casingBFz_N" in data.dtype.names
+    assert main(["simulate", "--duration", "-1"]) == 2
+    assert "duration" in capsys.readouterr().err
