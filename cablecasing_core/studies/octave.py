@@ -1,0 +1,271 @@
+"""Octave-band RMS of a sampled signal (the paper's Section 4.4, Table 3, Fig. 23).
+
+The paper tracks "the RMS value of the time response of the force support in the z direction" in
+the nine octave bands of Table 3. This module computes band RMS values of any sampled signal by
+Parseval's theorem over the FFT bins:
+
+1. The record ``x`` (n samples at ``fs`` Hz) is optionally detrended (``scipy.signal.detrend``) and
+   windowed (``scipy.signal.get_window``). Defaults: no detrending and the rectangular window, for
+   which Parseval holds exactly (sum of all band mean squares over 0..fs/2 equals ``mean(x**2)``)
+   and the signal's mean (0 Hz) stays in bin 0, outside every band of Table 3. A tapering window
+   (e.g. ``"hann"``) reduces leakage of a strong tone into neighbouring bands; the spectrum is then
+   divided by ``mean(w**2)`` so band mean squares of stationary noise, and of a tone whose main lobe
+   lies inside one band, keep their level.
+2. One-sided power spectrum (mean square per bin, signal unit squared):
+   ``P_0 = |X_0|^2 / n^2``, ``P_k = 2 |X_k|^2 / n^2`` for ``0 < k < n/2``, and ``P_{n/2} = |X_{n/2}|^2 / n^2``
+   for even n, so that ``sum(P) = mean(x**2)`` (Parseval, ``numpy.fft.rfft``).
+3. Bin k stands for the frequency interval ``[f_k - df/2, f_k + df/2]`` (``df = fs / n``), clipped to
+   ``[0, fs/2]``. A bin that straddles a band edge is *split proportionally*: the band receives the
+   fraction of the bin's interval that it overlaps. Contiguous bands therefore share the power of an
+   edge bin without losing or double-counting any, and a tone on a bin centre at least ``df/2``
+   inside a band lands wholly in that band.
+4. Band RMS = sqrt(sum of the band's shares of P), in the signal's unit.
+
+Band sets (``octave_bands``):
+
+* ``"table3"`` (default): the paper's Table 3, lower edges 11, 22, 44, 88, 177, 355, 710, 1420,
+  2840 Hz, upper edges 22, ..., 5680 Hz, labels ``"oct1"`` .. ``"oct9"`` (the paper's labels 1..9).
+* ``"octave"`` and ``"third"``: base-10 bands of IEC 61260-1:2014 with exact edges: ratio
+  ``G = 10**(3/10)``, reference ``f_r = 1000`` Hz, mid-band ``f_m = f_r G**(x/b)`` (b = 1 or 3, x
+  integer), edges ``f_m G**(-1/(2b))`` and ``f_m G**(+1/(2b))``. Labels are the exact mid-band
+  frequency to four significant digits, e.g. ``"1000Hz"``, ``"1259Hz"``, ``"15850Hz"`` (not the rounded
+  nominal values of the standard).
+
+Nyquist rule: a band whose upper edge exceeds ``fs/2`` cannot be measured completely. By default
+(``beyond_nyquist="error"``) this raises :class:`~cablecasing_core.errors.ModelError` naming
+``fs``; ``"drop"`` leaves such bands out of the result, ``"nan"`` keeps them with RMS ``nan``.
+A band narrower than one bin (``df`` larger than the bandwidth: record too short) also raises.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import signal as _signal
+
+from ..errors import ModelError
+
+#: Table 3 of the paper: lower and upper edges (Hz) of the nine octave bands.
+TABLE3_LOWER = (11.0, 22.0, 44.0, 88.0, 177.0, 355.0, 710.0, 1420.0, 2840.0)
+TABLE3_UPPER = (22.0, 44.0, 88.0, 177.0, 355.0, 710.0, 1420.0, 2840.0, 5680.0)
+#: IEC 61260-1 base-10 octave ratio G = 10^(3/10) and reference frequency (Hz).
+IEC_G = 10.0 ** 0.3
+IEC_FR = 1000.0
+BAND_KINDS = ("table3", "octave", "third")
+NYQUIST_RULES = ("error", "drop", "nan")
+
+
+@dataclass(frozen=True)
+class Bands:
+    """A set of frequency bands (Hz): ``lower``, ``upper``, ``centre`` (geometric mean) and ``labels``.
+
+    Build with :func:`octave_bands` or directly with edge arrays (validated: finite, non-negative,
+    ``lower < upper``, labels unique).
+    """
+
+    lower: np.ndarray
+    upper: np.ndarray
+    labels: tuple
+
+    def __post_init__(self):
+        lo = np.atleast_1d(np.asarray(self.lower, dtype=float))
+        up = np.atleast_1d(np.asarray(self.upper, dtype=float))
+        if lo.ndim != 1 or lo.shape != up.shape or lo.size == 0:
+            raise ModelError("bands", (self.lower, self.upper), "lower and upper edges must be 1-D arrays of equal, non-zero length")
+        if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(up)) and np.all(lo >= 0) and np.all(up > lo)):
+            raise ModelError("bands", (lo.tolist(), up.tolist()), "edges must be finite, >= 0 Hz, and lower < upper for every band")
+        labels = tuple(str(s) for s in self.labels)
+        if len(labels) != lo.size or len(set(labels)) != lo.size:
+            raise ModelError("bands.labels", self.labels, f"must be {lo.size} unique names, one per band")
+        object.__setattr__(self, "lower", lo)
+        object.__setattr__(self, "upper", up)
+        object.__setattr__(self, "labels", labels)
+
+    @property
+    def centre(self):
+        """Geometric centre frequency sqrt(lower * upper) of each band (Hz)."""
+        return np.sqrt(self.lower * self.upper)
+
+    def __len__(self):
+        return self.lower.size
+
+
+@dataclass(frozen=True)
+class BandRMS:
+    """Result of :func:`octave_rms`: the bands (Hz) and the RMS in each (signal unit).
+
+    ``bins`` is the (fractional) number of FFT bins in each band, the number of degrees of freedom
+    / 2 of a noise band estimate (relative standard deviation of a band mean square of Gaussian
+    noise is about ``1/sqrt(bins)``).
+    """
+
+    lower: np.ndarray
+    upper: np.ndarray
+    centre: np.ndarray
+    labels: tuple
+    rms: np.ndarray
+    bins: np.ndarray
+    fs: float
+    n: int
+
+    @property
+    def mean_square(self):
+        """Band mean squares (signal unit squared)."""
+        return self.rms ** 2
+
+    def as_dict(self):
+        """``{label: rms}`` (signal unit), the form a study's ``evaluate`` returns (Section 4.4)."""
+        return {lab: float(v) for lab, v in zip(self.labels, self.rms)}
+
+
+def octave_bands(kind="table3", f_min=None, f_max=None):
+    """Band set of the paper's Table 3 or of IEC 61260-1 (base 10), edges in Hz.
+
+    Parameters
+    ----------
+    kind : {"table3", "octave", "third"}
+        ``"table3"``: the nine bands of Table 3 (Section 4.4), 11-22 Hz ... 2840-5680 Hz.
+        ``"octave"`` / ``"third"``: exact base-10 octave / one-third-octave bands, G = 10^(3/10),
+        reference 1000 Hz.
+    f_min, f_max : float, optional
+        Hz. Keep the bands whose mid-band frequency lies in ``[f_min, f_max]``. Defaults: all of
+        Table 3; 10 Hz and 20 kHz for the IEC sets (octaves 15.85 Hz .. 15.85 kHz, third-octaves
+        10 Hz .. 19.95 kHz).
+
+    Returns
+    -------
+    Bands
+    """
+    if kind not in BAND_KINDS:
+        raise ModelError("bands", kind, "must be one of " + ", ".join(BAND_KINDS) + " (or a Bands object)")
+    if kind == "table3":
+        lo, up = np.array(TABLE3_LOWER), np.array(TABLE3_UPPER)
+        labels = [f"oct{i + 1}" for i in range(lo.size)]
+        fmin = 0.0 if f_min is None else f_min
+        fmax = np.inf if f_max is None else f_max
+    else:
+        fmin = 10.0 if f_min is None else f_min
+        fmax = 20000.0 if f_max is None else f_max
+    for key, v in (("f_min", fmin), ("f_max", fmax)):
+        if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) or np.isnan(v) or v < 0:
+            raise ModelError(key, v, "must be a non-negative frequency in Hz")
+    if fmax <= fmin:
+        raise ModelError("f_max", fmax, f"must exceed f_min = {fmin} Hz")
+    if kind != "table3":
+        b = 1 if kind == "octave" else 3
+        # x range: f_m = f_r G^(x/b) within [fmin, fmax]; the small slack admits 10 Hz exactly.
+        x_lo = int(np.ceil(b * np.log10(max(fmin, 1e-12) / IEC_FR) / 0.3 - 1e-9))
+        x_hi = int(np.floor(b * np.log10(fmax / IEC_FR) / 0.3 + 1e-9)) if np.isfinite(fmax) else x_lo + 60
+        x = np.arange(x_lo, x_hi + 1)
+        fm = IEC_FR * IEC_G ** (x / b)
+        lo, up = fm * IEC_G ** (-1.0 / (2 * b)), fm * IEC_G ** (1.0 / (2 * b))
+        labels = [f"{float(f'{f:.4g}'):g}Hz" for f in fm]   # 4 significant digits, no exponent
+    centre = np.sqrt(lo * up)
+    keep = (centre >= fmin * (1 - 1e-12)) & (centre <= fmax * (1 + 1e-12))
+    if not keep.any():
+        raise ModelError("f_min", fmin, f"leaves no {kind} band below f_max = {fmax} Hz")
+    return Bands(lo[keep], up[keep], tuple(np.array(labels)[keep]))
+
+
+def _bands_of(bands):
+    if isinstance(bands, Bands):
+        return bands
+    if isinstance(bands, str):
+        return octave_bands(bands)
+    raise ModelError("bands", bands, "must be 'table3', 'octave', 'third' or a Bands object")
+
+
+def band_power_matrix(n, fs, bands):
+    """Fraction of each one-sided FFT bin (``numpy.fft.rfftfreq(n, 1/fs)``) that lies in each band.
+
+    Returns an array (len(bands), n//2 + 1) of overlaps in [0, 1] (dimensionless); bin k covers
+    ``[f_k - df/2, f_k + df/2]`` clipped to ``[0, fs/2]`` (proportional split of edge bins, Section 4.4).
+    """
+    bands = _bands_of(bands)
+    df = fs / n
+    f = np.arange(n // 2 + 1) * df
+    b_lo = np.clip(f - df / 2, 0.0, fs / 2)
+    b_hi = np.clip(f + df / 2, 0.0, fs / 2)
+    width = b_hi - b_lo
+    ov = (np.minimum(b_hi[None, :], bands.upper[:, None]) - np.maximum(b_lo[None, :], bands.lower[:, None]))
+    ov = np.clip(ov, 0.0, None)
+    return ov / width[None, :]
+
+
+def octave_rms(x, fs, bands="table3", *, detrend=None, window="boxcar", beyond_nyquist="error"):
+    """RMS of a sampled signal in octave bands by Parseval over FFT bins (Section 4.4, Table 3, Fig. 23).
+
+    Parameters
+    ----------
+    x : array_like, shape (n,)
+        The signal in any unit (e.g. the support force at casing end B in z, N), n >= 2 samples.
+    fs : float
+        Sample rate in Hz (e.g. ``1 / dt`` of a time-domain run).
+    bands : {"table3", "octave", "third"} or Bands
+        Band set, see :func:`octave_bands`. Default: the paper's Table 3.
+    detrend : {None, "constant", "linear"}
+        Optional detrending of the record before the FFT (``scipy.signal.detrend``). Default None:
+        the mean stays in the 0 Hz bin, which no band of Table 3 contains.
+    window : str or tuple
+        ``scipy.signal.get_window`` spec. Default ``"boxcar"`` (rectangular: Parseval exact). Other
+        windows are power-normalised by ``mean(w**2)``.
+    beyond_nyquist : {"error", "drop", "nan"}
+        What to do with a band whose upper edge exceeds fs/2 (see module docstring).
+
+    Returns
+    -------
+    BandRMS
+        Band edges and centres (Hz), labels, and RMS values in the signal's unit.
+    """
+    x = np.asarray(x, dtype=float)
+    if x.ndim != 1 or x.size < 2:
+        raise ModelError("x", f"array of shape {x.shape}", "must be a 1-D signal of at least 2 samples")
+    if not np.all(np.isfinite(x)):
+        raise ModelError("x", "non-finite samples", "must be finite (no NaN or inf)")
+    if isinstance(fs, bool) or not isinstance(fs, (int, float, np.floating, np.integer)) or not np.isfinite(fs) or fs <= 0:
+        raise ModelError("fs", fs, "must be a positive sample rate in Hz")
+    fs = float(fs)
+    if beyond_nyquist not in NYQUIST_RULES:
+        raise ModelError("beyond_nyquist", beyond_nyquist, "must be one of " + ", ".join(NYQUIST_RULES))
+    if detrend not in (None, "constant", "linear"):
+        raise ModelError("detrend", detrend, "must be None, 'constant' or 'linear'")
+    bands = _bands_of(bands)
+    n = x.size
+    nyq = fs / 2
+    over = bands.upper > nyq * (1 + 1e-12)
+    if over.any() and beyond_nyquist == "error":
+        i = int(np.argmax(over))
+        raise ModelError("fs", fs, f"must be at least 2 x {bands.upper[i]:g} Hz = {2 * bands.upper[i]:g} Hz so that band "
+                         f"'{bands.labels[i]}' ({bands.lower[i]:g}-{bands.upper[i]:g} Hz) lies below the Nyquist "
+                         f"frequency; or pass beyond_nyquist='drop' or 'nan'")
+    keep = ~over if beyond_nyquist == "drop" else np.ones(len(bands), bool)
+    if not keep.any():
+        raise ModelError("fs", fs, f"puts every band above the Nyquist frequency {nyq:g} Hz")
+    sel = Bands(bands.lower[keep], bands.upper[keep], tuple(np.array(bands.labels)[keep]))
+    df = fs / n
+    measurable = sel.upper <= nyq * (1 + 1e-12)
+    narrow = measurable & (sel.upper - sel.lower < df * (1 - 1e-12))
+    if narrow.any():
+        i = int(np.argmax(narrow))
+        raise ModelError("x", f"{n} samples ({n / fs:g} s)",
+                         f"must be long enough that band '{sel.labels[i]}' ({sel.upper[i] - sel.lower[i]:g} Hz wide) "
+                         f"spans at least one FFT bin: at least {int(np.ceil(fs / (sel.upper[i] - sel.lower[i])))} samples")
+
+    if detrend is not None:
+        x = _signal.detrend(x, type=detrend)
+    try:
+        w = _signal.get_window(window, n, fftbins=True)
+    except (ValueError, TypeError) as exc:
+        raise ModelError("window", window, f"must be a scipy.signal.get_window spec ({exc})") from None
+    X = np.fft.rfft(x * w)
+    P = np.abs(X) ** 2 / (n * n)
+    P[1:(n + 1) // 2] *= 2.0           # one-sided: double every bin except 0 and (even n) Nyquist
+    P /= np.mean(w * w)                # power normalisation of the window (1 for boxcar)
+    frac = band_power_matrix(n, fs, sel)
+    ms = frac @ P
+    rms = np.sqrt(ms)
+    bins = frac.sum(axis=1)
+    if beyond_nyquist == "nan":
+        rms = np.where(measurable, rms, np.nan)
+    return BandRMS(lower=sel.lower, upper=sel.upper, centre=sel.centre, labels=sel.labels,
+                   rms=rms, bins=bins, fs=fs, n=n)
