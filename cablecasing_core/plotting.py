@@ -32,8 +32,10 @@ def plot_geometry(centerline, path, values=None, label=None):
     ax = fig.add_subplot(projection="3d")
     P = centerline.nodes
     ax.plot(P[:, 0], P[:, 1], P[:, 2], "-", color="0.5")
-    sc = ax.scatter(P[:, 0], P[:, 1], P[:, 2], c=values if values is not None else "k", s=14, cmap="viridis")
-    if values is not None:
+    if values is None:
+        ax.scatter(P[:, 0], P[:, 1], P[:, 2], color="k", s=14)
+    else:
+        sc = ax.scatter(P[:, 0], P[:, 1], P[:, 2], c=values, s=14, cmap="viridis")
         fig.colorbar(sc, ax=ax, shrink=0.6, label=label or "")
     ax.text(*P[0], " A")
     ax.text(*P[-1], " B")
