@@ -11,10 +11,10 @@ from .montecarlo import (AXIAL_AMPLITUDE_KEY, DEFAULT_CONSTRAINTS, DEFAULT_EVALU
                          PAPER_BOUNDS, Correlation, StudyResults, check_bounds, correlations,
                          default_evaluate, gap_constraint, latin_hypercube, load_results,
                          plot_correlations, resolve_evaluate, run_study)
-from .octave import TABLE3_LOWER, TABLE3_UPPER, BandRMS, Bands, band_power_matrix, octave_bands, octave_rms
+from .octave import TABLE3_LOWER, TABLE3_UPPER, BandRMS, Bands, octave_bands, octave_rms
 
 __all__ = ["AXIAL_AMPLITUDE_KEY", "DEFAULT_CONSTRAINTS", "DEFAULT_EVALUATE", "DEFAULT_OUTPUTS", "PAPER_BOUNDS",
            "TABLE3_LOWER", "TABLE3_UPPER", "BandRMS", "Bands", "Correlation", "StudyResults",
-           "band_power_matrix", "check_bounds", "correlations", "default_evaluate", "gap_constraint",
+           "check_bounds", "correlations", "default_evaluate", "gap_constraint",
            "latin_hypercube", "load_results", "octave_bands", "octave_rms", "plot_correlations",
            "resolve_evaluate", "run_study"]

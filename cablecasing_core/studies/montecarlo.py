@@ -454,6 +454,8 @@ def run_study(path, evaluate=DEFAULT_EVALUATE, bounds=None, n_samples=300, seed=
         resolve_evaluate(evaluate)          # fail early on a bad path
     elif not callable(evaluate):
         raise ModelError("evaluate", evaluate, "must be a callable or a dotted import path 'package.module:function'")
+    if not (scheduler is None or isinstance(scheduler, str) or type(scheduler).__name__ == "Client"):
+        raise ModelError("scheduler", scheduler, "must be None, 'serial', 'local', an address 'tcp://host:8786' or a distributed.Client")
     constraints = tuple(constraints or ())
     path = str(path)
     params = tuple(bounds)

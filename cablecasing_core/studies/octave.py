@@ -175,21 +175,31 @@ def _bands_of(bands):
     raise ModelError("bands", bands, "must be 'table3', 'octave', 'third' or a Bands object")
 
 
-def band_power_matrix(n, fs, bands):
-    """Fraction of each one-sided FFT bin (``numpy.fft.rfftfreq(n, 1/fs)``) that lies in each band.
-
-    Returns an array (len(bands), n//2 + 1) of overlaps in [0, 1] (dimensionless); bin k covers
-    ``[f_k - df/2, f_k + df/2]`` clipped to ``[0, fs/2]`` (proportional split of edge bins, Section 4.4).
-    """
-    bands = _bands_of(bands)
+def _bin_edges(n, fs):
+    """Boundaries (Hz, length n//2 + 2) of the one-sided FFT bins: bin k covers [E_k, E_k+1],
+    i.e. [f_k - df/2, f_k + df/2] clipped to [0, fs/2]."""
+    nb = n // 2 + 1
     df = fs / n
-    f = np.arange(n // 2 + 1) * df
-    b_lo = np.clip(f - df / 2, 0.0, fs / 2)
-    b_hi = np.clip(f + df / 2, 0.0, fs / 2)
-    width = b_hi - b_lo
-    ov = (np.minimum(b_hi[None, :], bands.upper[:, None]) - np.maximum(b_lo[None, :], bands.lower[:, None]))
-    ov = np.clip(ov, 0.0, None)
-    return ov / width[None, :]
+    return np.concatenate([[0.0], (np.arange(1, nb) - 0.5) * df, [fs / 2]])
+
+
+def _band_sums(P, E, lower, upper):
+    """Sum of P over each band [lower, upper] with edge bins split proportionally; also the
+    (fractional) number of bins. Direct sums per band (no cumulative sum: no cancellation against
+    a large 0 Hz component)."""
+    ms = np.zeros(lower.size)
+    bins = np.zeros(lower.size)
+    nb = P.size
+    for j, (lo, up) in enumerate(zip(lower, upper)):
+        k0 = max(int(np.searchsorted(E, lo, side="right")) - 1, 0)
+        k1 = min(int(np.searchsorted(E, up, side="left")) - 1, nb - 1)
+        if k1 < k0:
+            continue
+        a, b = E[k0:k1 + 1], E[k0 + 1:k1 + 2]
+        frac = np.clip(np.minimum(b, up) - np.maximum(a, lo), 0.0, None) / (b - a)
+        ms[j] = frac @ P[k0:k1 + 1]
+        bins[j] = frac.sum()
+    return ms, bins
 
 
 def octave_rms(x, fs, bands="table3", *, detrend=None, window="boxcar", beyond_nyquist="error"):
@@ -261,10 +271,8 @@ def octave_rms(x, fs, bands="table3", *, detrend=None, window="boxcar", beyond_n
     P = np.abs(X) ** 2 / (n * n)
     P[1:(n + 1) // 2] *= 2.0           # one-sided: double every bin except 0 and (even n) Nyquist
     P /= np.mean(w * w)                # power normalisation of the window (1 for boxcar)
-    frac = band_power_matrix(n, fs, sel)
-    ms = frac @ P
+    ms, bins = _band_sums(P, _bin_edges(n, fs), sel.lower, sel.upper)
     rms = np.sqrt(ms)
-    bins = frac.sum(axis=1)
     if beyond_nyquist == "nan":
         rms = np.where(measurable, rms, np.nan)
     return BandRMS(lower=sel.lower, upper=sel.upper, centre=sel.centre, labels=sel.labels,

@@ -1,0 +1,86 @@
+"""Throughput and scaling of the Monte-Carlo study (Section 4.4) on dask.distributed LocalClusters.
+
+Runs the same study (``--samples`` Latin-hypercube samples of the paper's six parameters) on a
+LocalCluster of 1 worker and of 2 workers (processes, 1 thread each) and prints ``name: value``:
+
+    samples_per_minute_1worker, samples_per_minute_2workers, scaling_efficiency (= rate2 / (2 rate1),
+    goal > 0.85), seconds_per_sample, cpu_count
+
+The clock runs from the first submission to the last row written (cluster start-up and the workers'
+first import are excluded: each worker imports the evaluate function before timing).
+
+Evaluate function (``--evaluate``):
+  burn (default)  a fixed amount of CPU work per sample (numpy FFTs, ``_cpu_burn_evaluate``), calibrated
+                  here to about ``--seconds`` s on one core: a stand-in for the time-domain model.
+  package.module:function   any evaluate(overrides, **kwargs) -> {band: rms}, e.g. the real
+                  engine evaluation once it exists; extra keyword arguments as JSON via --kwargs.
+
+Run: .venv/bin/python benchmarks/bench_study.py [--samples 16] [--seconds 0.5] [--evaluate burn]
+"""
+import argparse
+import json
+import os
+import tempfile
+import time
+
+from distributed import Client, LocalCluster
+
+from cablecasing_core.studies import PAPER_BOUNDS, resolve_evaluate, run_study
+from cablecasing_core.studies.montecarlo import _cpu_burn_evaluate
+
+BURN = "cablecasing_core.studies.montecarlo:_cpu_burn_evaluate"
+
+
+def _timed_burn(params, repeats):
+    """Wall time (s) of one burn evaluation with ``repeats`` repetitions."""
+    t0 = time.perf_counter()
+    _cpu_burn_evaluate(params, repeats=repeats)
+    return time.perf_counter() - t0
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--evaluate", default="burn", help="'burn' or a dotted path package.module:function")
+    p.add_argument("--kwargs", default="{}", help="JSON object of extra keyword arguments of evaluate")
+    p.add_argument("--samples", type=int, default=16, help="samples per run (a multiple of 2 keeps both workers busy)")
+    p.add_argument("--seconds", type=float, default=0.5, help="target CPU time per sample of the 'burn' evaluate (s)")
+    p.add_argument("--seed", type=int, default=0)
+    args = p.parse_args()
+
+    kwargs = json.loads(args.kwargs)
+    spec = BURN if args.evaluate == "burn" else args.evaluate
+    resolve_evaluate(spec)                                           # fail early on a bad path
+    centre = {k: 0.5 * (lo + hi) for k, (lo, hi) in PAPER_BOUNDS.items()}
+
+    rates = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for workers in (1, 2):
+            with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                              dashboard_address=None) as cluster, Client(cluster) as client:
+                client.run(resolve_evaluate, spec)                 # import on every worker before timing
+                if spec == BURN and "repeats" not in kwargs:        # calibrate on a worker (its malloc settings)
+                    client.submit(_cpu_burn_evaluate, centre, repeats=2, pure=False).result()
+                    per_repeat = client.submit(_timed_burn, centre, 5, pure=False).result() / 5
+                    kwargs["repeats"] = max(1, round(args.seconds / per_repeat))
+                t0 = time.perf_counter()
+                res = run_study(os.path.join(tmp, f"w{workers}.csv"), spec, PAPER_BOUNDS, args.samples, args.seed,
+                                evaluate_kwargs=kwargs, scheduler=client, progress=False)
+                wall = time.perf_counter() - t0
+            ok = int(res.ok.sum())
+            if ok != args.samples:
+                print(f"# {args.samples - ok} samples failed: {res.error[~res.ok][0]}")
+            rates[workers] = args.samples / wall * 60.0
+            if workers == 1:
+                seconds_per_sample = wall / args.samples
+    if spec == BURN:
+        print(f"# burn evaluate: repeats = {kwargs['repeats']}")
+
+    print(f"samples_per_minute_1worker: {rates[1]:.2f}")
+    print(f"samples_per_minute_2workers: {rates[2]:.2f}")
+    print(f"scaling_efficiency: {rates[2] / (2 * rates[1]):.3f}")
+    print(f"seconds_per_sample: {seconds_per_sample:.3f}")
+    print(f"cpu_count: {os.cpu_count()}")
+
+
+if __name__ == "__main__":      # dask's worker processes are spawned: guard the entry point
+    main()
