@@ -85,6 +85,13 @@ def test_dask_two_workers_equals_serial(tmp_path):
     assert sorted(_indices_in_file(tmp_path / "dask.csv")) == list(range(24))
 
 
+def test_existing_cluster_by_address(tmp_path):
+    from distributed import LocalCluster
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        res = _run(tmp_path / "addr.csv", scheduler=cluster.scheduler_address, n_samples=6)
+    _same(res, _run(tmp_path / "serial.csv", n_samples=6))
+
+
 def test_failed_sample_is_recorded_and_study_continues(tmp_path):
     res = _run(tmp_path / "s.csv", evaluate_kwargs={"fail_above": 0.12})
     fr = res.X[:, res.parameters.index("contact.friction")]

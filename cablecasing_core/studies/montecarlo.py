@@ -127,8 +127,9 @@ def _cpu_burn_evaluate(overrides, repeats=20, n=2 ** 16, **_):
 
 
 def resolve_evaluate(spec):
-    """The callable named by ``spec``: a callable (returned as is) or ``"package.module:function"``
-    (also ``"package.module.function"``). Raises ModelError if it cannot be imported."""
+    """The per-sample function of the study (Section 4.4) named by ``spec``: a callable (returned as
+    is) or ``"package.module:function"`` (also ``"package.module.function"``). Raises ModelError if
+    it cannot be imported."""
     if callable(spec):
         return spec
     if not isinstance(spec, str) or not spec:
@@ -231,7 +232,9 @@ def latin_hypercube(bounds=None, n_samples=300, seed=0):
 
 
 def gap_constraint(params):
-    """``None`` if the cable fits in the casing, else the reason (needs both diameters sampled)."""
+    """Feasibility of a sample (Section 4.4; the radial gap of Eqs. 30-31 must be positive):
+    ``None`` if ``cable.d < casing.d_inner`` (both in m), else the reason. Only checked when both
+    diameters are sampled; the model's own validation catches the rest at evaluation."""
     if "cable.d" in params and "casing.d_inner" in params and params["cable.d"] >= params["casing.d_inner"]:
         return (f"infeasible: cable.d = {params['cable.d']!r} m is not below casing.d_inner = "
                 f"{params['casing.d_inner']!r} m")
@@ -246,7 +249,7 @@ DEFAULT_CONSTRAINTS = (gap_constraint,)
 
 @dataclass
 class StudyResults:
-    """Rows of a study, sorted by sample index.
+    """Rows of a Monte-Carlo study (Section 4.4), sorted by sample index.
 
     index (n,) int; parameters (names); X (n, d) parameter values (SI); outputs (names);
     Y (n, m) output values (NaN where not ok); status (n,) str; error (n,) str; elapsed_s (n,) s.
@@ -296,7 +299,8 @@ def _repair_tail(path):
 
 
 def load_results(path):
-    """Read a study CSV written by :func:`run_study` into :class:`StudyResults` (sorted by index).
+    """Read a study CSV written by :func:`run_study` into :class:`StudyResults` (sorted by index;
+    parameters and outputs in the units they were written in, SI). Section 4.4.
 
     The parameter and output columns are told from the sidecar ``<path>.meta.json``. If an index
     appears twice (not written by run_study), the first row wins.

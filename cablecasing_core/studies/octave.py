@@ -57,7 +57,8 @@ NYQUIST_RULES = ("error", "drop", "nan")
 
 @dataclass(frozen=True)
 class Bands:
-    """A set of frequency bands (Hz): ``lower``, ``upper``, ``centre`` (geometric mean) and ``labels``.
+    """A set of frequency bands (Hz): ``lower``, ``upper``, ``centre`` (geometric mean) and ``labels``
+    (Table 3 of the paper, or IEC 61260-1 bands, or any edges).
 
     Build with :func:`octave_bands` or directly with edge arrays (validated: finite, non-negative,
     ``lower < upper``, labels unique).
@@ -92,7 +93,7 @@ class Bands:
 
 @dataclass(frozen=True)
 class BandRMS:
-    """Result of :func:`octave_rms`: the bands (Hz) and the RMS in each (signal unit).
+    """Result of :func:`octave_rms` (Section 4.4): the bands (Hz) and the RMS in each (signal unit).
 
     ``bins`` is the (fractional) number of FFT bins in each band, the number of degrees of freedom
     / 2 of a noise band estimate (relative standard deviation of a band mean square of Gaussian
