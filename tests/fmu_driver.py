@@ -71,7 +71,7 @@ def motion_samples(model_over, duration, h):
     from cablecasing_core.scenario import scenario_motion
     m = cc.load_model().with_overrides(model_over)
     t = h * np.arange(0, int(round(duration / h)))
-    return t, scenario_motion(m, dt=m.scenario["dt"], duration=max(duration, m.scenario["duration"]))(t)
+    return t, scenario_motion(m)(t)     # the scenario's own record (periodic over scenario.duration)
 
 
 def run(inst, samples, h):
