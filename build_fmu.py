@@ -1,140 +1,265 @@
-"""Build dist/CableCasing.fmu from fmu_src/ with pythonfmu, then complete its model description.
+"""Build dist/CableCasing.fmu (FMI 2.0 co-simulation) from fmu_src/ with pythonfmu, then complete it.
 
-pythonfmu writes the variables, the co-simulation flags and the Outputs; this script adds what it
-does not: units with UnitDefinitions, InitialUnknowns, the documentation (index.html,
-externalDependencies.txt) and model.png. The package cablecasing_core goes into resources/.
+pythonfmu writes the variables, the co-simulation capability flags and the Outputs. This script
+copies the ``cablecasing_core`` package (and the numba cache locator) into ``resources/`` and then
+rewrites the archive with what pythonfmu does not write:
 
-Usage: python build_fmu.py [--out dist]
+* a unit on every Real variable and the ``UnitDefinitions`` (SI base-unit exponents);
+* ``ModelStructure``: ``Outputs`` with ``dependencies=""`` (no direct feedthrough: an output is the
+  result of the last step, not of the inputs set since) and ``InitialUnknowns`` (the outputs);
+* ``documentation/index.html`` (model, variables with units, sign conventions, geometry figure),
+  ``documentation/externalDependencies.txt`` and ``model.png``;
+* a GUID derived from the content, a generation date from the newest source file and fixed
+  timestamps in the zip, so that building twice from the same sources gives the same bytes.
+
+Usage: python build_fmu.py [--out dist/CableCasing.fmu]
 """
+from __future__ import annotations
+
 import argparse
+import datetime
+import hashlib
+import html
+import os
 import shutil
 import sys
 import tempfile
+import uuid
 import zipfile
 from pathlib import Path
 from xml.etree import ElementTree as ET
 
 ROOT = Path(__file__).resolve().parent
-UNITS = {  # unit name -> SI base exponents (kg, m, s)
-    "m": dict(m=1), "m/s": dict(m=1, s=-1), "m/s2": dict(m=1, s=-2), "N": dict(kg=1, m=1, s=-2),
-    "N.m": dict(kg=1, m=2, s=-2), "J": dict(kg=1, m=2, s=-2), "s": dict(s=1), "Pa": dict(kg=1, m=-1, s=-2),
-    "kg/m3": dict(kg=1, m=-3), "kg/s": dict(kg=1, s=-1), "N/m": dict(kg=1, s=-2), "m4": dict(m=4),
-    "1/s": dict(s=-1), "Hz": dict(s=-1), "1": {},
+SLAVE = ROOT / "fmu_src" / "CableCasing.py"
+EXTRA_RESOURCES = [ROOT / "fmu_src" / "cablecasing_fmu_cache.py"]
+PACKAGE = ROOT / "cablecasing_core"
+IGNORE = shutil.ignore_patterns("__pycache__", "*.pyc", "*.nbi", "*.nbc", ".*")
+
+# unit -> exponents of the SI base units (FMI 2.0 BaseUnit attributes)
+UNITS = {
+    "1": {}, "m": {"m": 1}, "m/s": {"m": 1, "s": -1}, "m/s2": {"m": 1, "s": -2}, "s": {"s": 1},
+    "1/s": {"s": -1}, "Hz": {"s": -1}, "rad": {"rad": 1}, "N": {"kg": 1, "m": 1, "s": -2},
+    "N.m": {"kg": 1, "m": 2, "s": -2}, "J": {"kg": 1, "m": 2, "s": -2}, "Pa": {"kg": 1, "m": -1, "s": -2},
+    "kg/m3": {"kg": 1, "m": -3}, "kg/s": {"kg": 1, "s": -1}, "N/m": {"kg": 1, "s": -2}, "m4": {"m": 4},
 }
 
 
-def unit_of(name):
-    """SI unit of a variable, from its name."""
-    last = name.split(".")[-1]
-    if name.startswith(("casing.", "cable.")) and len(name.split(".")) == 3 and name.split(".")[1] in "AB":
-        if last in ("Fx", "Fy", "Fz"):
-            return "N"
-        if last in ("Mx", "My", "Mz"):
-            return "N.m"
-        return {"v": "m/s", "a": "m/s2"}.get(last[0] if len(last) == 2 else "", "m")
-    table = {"E": "Pa", "rho": "kg/m3", "d": "m", "d_outer": "m", "d_inner": "m", "I": "m4", "alpha": "1/s",
-             "beta": "s", "stiffness": "N/m", "damping": "kg/s", "stick_velocity": "m/s", "dt": "s",
-             "duration": "s", "ramp": "s", "rms": "m/s2", "frequency": "Hz", "amplitude": "m", "width": "s",
-             "start": "s", "max_penetration": "m", "dissipated_energy": "J"}
-    return table.get(last, "1")
+def sources():
+    """Every file the FMU is built from (for the staleness check of the tests, and the date)."""
+    files = [p for p in PACKAGE.rglob("*") if p.is_file() and p.suffix in (".py", ".toml", ".csv")
+             and "__pycache__" not in p.parts]
+    return sorted(files + [SLAVE, *EXTRA_RESOURCES, Path(__file__).resolve()])
 
 
-def complete_description(xml_bytes):
+def load_slave():
+    """The slave class, imported from fmu_src (variables, units and descriptions for the docs)."""
+    sys.path.insert(0, str(SLAVE.parent))
+    try:
+        import CableCasing
+    finally:
+        sys.path.remove(str(SLAVE.parent))
+    return CableCasing
+
+
+# ------------------------------------------------------------------------------------ model description
+def complete_description(xml_bytes, units, guid, date):
+    """The modelDescription.xml with units, UnitDefinitions, ModelStructure, GUID and date."""
     root = ET.fromstring(xml_bytes)
-    units = set()
-    mv = root.find("ModelVariables")
-    for sv in mv.findall("ScalarVariable"):
+    root.set("guid", guid)
+    root.set("generationDateAndTime", date)
+    used = set()
+    for sv in root.find("ModelVariables").findall("ScalarVariable"):
         real = sv.find("Real")
         if real is not None:
-            u = unit_of(sv.get("name"))
-            real.set("unit", u)
-            units.add(u)
-    ud = ET.Element("UnitDefinitions")
-    for u in sorted(units):
-        e = ET.SubElement(ud, "Unit", name=u)
-        if UNITS[u]:
-            ET.SubElement(e, "BaseUnit", **{k: str(v) for k, v in UNITS[u].items()})
-    # UnitDefinitions comes before LogCategories / DefaultExperiment / ModelVariables
-    kids = list(root)
-    pos = next(i for i, k in enumerate(kids) if k.tag in ("LogCategories", "DefaultExperiment", "ModelVariables"))
-    root.insert(pos, ud)
+            unit = units[sv.get("name")]
+            if unit not in UNITS:
+                raise SystemExit(f"variable {sv.get('name')}: unit {unit!r} has no UnitDefinitions entry")
+            real.set("unit", unit)
+            used.add(unit)
+        if not sv.get("description"):
+            raise SystemExit(f"variable {sv.get('name')} has no description")
+    for old in root.findall("UnitDefinitions"):
+        root.remove(old)
+    defs = ET.Element("UnitDefinitions")
+    for unit in sorted(used):
+        e = ET.SubElement(defs, "Unit", name=unit)
+        ET.SubElement(e, "BaseUnit", {k: str(v) for k, v in UNITS[unit].items()})
+    kids = [k.tag for k in root]
+    root.insert(kids.index("CoSimulation") + 1, defs)
+
+    variables = root.find("ModelVariables").findall("ScalarVariable")
+    outputs = [str(i + 1) for i, sv in enumerate(variables) if sv.get("causality") == "output"]
     ms = root.find("ModelStructure")
-    outputs = ms.find("Outputs")
-    if outputs is not None and ms.find("InitialUnknowns") is None:
-        ini = ET.SubElement(ms, "InitialUnknowns")
-        for u in outputs.findall("Unknown"):
-            ET.SubElement(ini, "Unknown", index=u.get("index"))
-    ET.indent(root)
-    return ET.tostring(root, encoding="UTF-8", xml_declaration=True)
+    for child in list(ms):
+        ms.remove(child)
+    for tag in ("Outputs", "InitialUnknowns"):
+        node = ET.SubElement(ms, tag)
+        for index in outputs:
+            ET.SubElement(node, "Unknown", index=index, dependencies="")
+    ET.indent(root, space="  ")
+    return ET.tostring(root, encoding="UTF-8", xml_declaration=True) + b"\n"
 
 
-def documentation(folder, variables):
+# ------------------------------------------------------------------------------------ documentation
+def variable_rows(slave_module):
+    slave = slave_module.CableCasing(instance_name="documentation", resources=str(SLAVE.parent))
+    rows = []
+    for v in slave.vars.values():
+        start = ""
+        if v.causality.name in ("parameter", "input"):
+            start = repr(v.getter())
+        rows.append((v.name, v.causality.name, type(v).__name__, slave.units[v.name], start, v.description))
+    return rows
+
+
+def write_documentation(folder, rows):
     import cablecasing_core as cc
     from cablecasing_core.geometry import centerline_of
     from cablecasing_core.plotting import plot_geometry
 
     folder.mkdir(parents=True, exist_ok=True)
-    plot_geometry(centerline_of(cc.load_model()), folder / "geometry.png")
-    rows = "\n".join(f"<tr><td>{n}</td><td>{c}</td><td>{t}</td><td>{unit_of(n)}</td><td>{d}</td></tr>"
-                     for n, c, t, d in variables)
-    (folder / "index.html").write_text(f"""<!doctype html><html><head><meta charset="utf-8"><title>CableCasing FMU</title></head><body>
-<h1>CableCasing</h1>
-<p>Vibration model of a gear-shift cable sliding in a curved casing (Otrin and Boltezar): both bodies are
-spatially curved 3D Euler-Bernoulli beams (12-DOF elements) clamped at supports that move with the inputs;
-Newmark (average acceleration) time integration; contact across the radial gap by the penalty method (Hertz
-law), contact damping while compressing, Coulomb friction with stick-slip. SI units.</p>
-<h2>Sign conventions</h2>
-<p>Inputs are support displacements (m), velocities (m/s) and accelerations (m/s2) in global axes; support
-rotations are held at zero. Outputs are the force (N) and moment (N.m) that each body exerts <em>on</em> its
-support, in global axes (the negative of the reaction acting on the body). Inside a communication step the
-support motion is a quintic Hermite from the state reached at the step start to the Taylor extrapolation
-u + v h + a h^2/2 of the inputs; connect velocity and acceleration for accuracy.</p>
-<h2>Default geometry</h2><img src="geometry.png" alt="centerline of the built-in specimen">
-<h2>Variables</h2><table border="1"><tr><th>name</th><th>causality</th><th>type</th><th>unit</th><th>description</th></tr>
-{rows}</table></body></html>""")
-    (folder / "externalDependencies.txt").write_text(
-        "This FMU runs Python code (pythonfmu). The host needs:\n"
-        f"- CPython {sys.version_info.major}.{sys.version_info.minor} (the version the FMU was built with; "
-        "the binary links against its libpython)\n"
-        "- the packages numpy, scipy and numba installed in that Python environment\n"
-        "The model package cablecasing_core is inside resources/.\n\n"
-        "Loading from a non-Python host (e.g. a C/C++ or Java FMI importer): make the Python shared library\n"
-        "findable (LD_LIBRARY_PATH on Linux, PATH on Windows) and set PYTHONHOME/PYTHONPATH to the environment\n"
-        "that holds numpy, scipy and numba; then load the FMU like any other. The first instantiation compiles\n"
-        "the numba kernels into NUMBA_CACHE_DIR (default ~/.cache/cablecasing/numba); later ones reuse them.\n")
+    model = cc.load_model()
+    plot_geometry(centerline_of(model), folder / "geometry.png")
+    gap = model.radial_gap
+    table = "\n".join(
+        "<tr>" + "".join(f"<td>{html.escape(str(x))}</td>" for x in r) + "</tr>" for r in rows)
+    (folder / "index.html").write_text(f"""<!doctype html>
+<html lang="en"><head><meta charset="utf-8"><title>CableCasing FMU</title>
+<style>body{{font-family:sans-serif;max-width:60em;margin:auto}} td,th{{border:1px solid #999;padding:2px 6px}}
+table{{border-collapse:collapse;font-size:90%}} code{{background:#eee}}</style></head><body>
+<h1>CableCasing &mdash; gear-shift cable in a curved casing (FMI 2.0 co-simulation)</h1>
+
+<h2>The model</h2>
+<p>Vibration transmission over a spatially curved steel cable sliding inside a curved casing
+(Otrin and Boltezar). Both bodies are 3D Euler&ndash;Bernoulli beams on the same centerline, meshed
+with 12-DOF elements, with Rayleigh damping C = &alpha;M + &beta;K. They are coupled by contact across
+the radial gap (built-in specimen: {gap * 1e3:.2f} mm): penalty method with the Hertz law, contact
+damping while the penetration grows, Coulomb friction with stick and slip. Time integration: Newmark
+average acceleration with internal step <code>solver.dt</code>; the contact forces are solved
+implicitly at the end of each internal step. The four ends (casing A/B, cable A/B) are clamped
+supports whose translations follow the inputs; their rotations are held at zero.
+The FMU is a thin adapter over the Python package <code>cablecasing_core</code>, bundled in
+<code>resources/</code>. All quantities are SI.</p>
+
+<h2>Default geometry</h2>
+<p><img src="geometry.png" alt="centerline of the built-in specimen, ends A and B marked" width="480"></p>
+<p>Centerline of the built-in specimen (0.85 m; two 60&deg; bends of radius 0.15 m and 0.20 m in
+different planes). Support A is at the origin, B at the other end.</p>
+
+<h2>Sign conventions and meaning of the outputs</h2>
+<ul>
+<li>Inputs are the support displacement (m), velocity (m/s) and acceleration (m/s2) along the
+<em>global</em> axes, relative to the reference position.</li>
+<li>Outputs <code>&lt;body&gt;.&lt;A|B&gt;.F*</code> and <code>.M*</code> are the force (N) and moment
+(N.m) the body exerts <em>on</em> the support, in global axes: the negative of the reaction the
+support applies to the body (the one used by the apparent mass TRFAM). A rigid mass m moved with
+acceleration a gives F = &minus;m a.</li>
+<li><code>contact.active</code>: cable nodes in contact (stick or slip); <code>contact.max_penetration</code>
+(m): largest penetration into the wall; <code>contact.dissipated_energy</code> (J): energy dissipated
+by contact damping and friction since t = 0.</li>
+<li>Outputs are the values at the end of the last communication step; they do not depend directly
+on inputs set since (no direct feedthrough).</li>
+</ul>
+
+<h2>Motion inside a communication step</h2>
+<p>The master gives u, v, a at the start t of each step [t, t+h]. The FMU extrapolates them to t+h
+(u + v h + a h&sup2;/2, v + a h, a) and follows the quintic Hermite polynomial from the support state it
+reached at t (continuous displacement, velocity and acceleration) to that target. Connect the
+velocity and acceleration inputs: if they stay 0 the motion is held piecewise and lags. For a
+harmonic input the reconstructed motion has a gain of 1 + O((&omega;h)&sup4;) (+1.1&nbsp;% at
+&omega;h = 0.5, i.e. 800 Hz with h = 1e-4 s) and a small phase lead. Any step size works: the engine
+takes steps of <code>solver.dt</code> and a shorter last one.</p>
+
+<h2>Parameters</h2>
+<p>Every numeric key of the model is a parameter under its dotted name. A parameter whose value
+differs from its start value (the built-in specimen's) overrides the model: the built-in one, or the
+TOML file named by <code>model_file</code>. <code>scenario.*</code> keys describe the model file's own
+excitation and have no effect in the FMU. Parameters are fixed: set them before
+<code>fmi2ExitInitializationMode</code>.</p>
+
+<h2>Errors</h2>
+<p>An invalid parameter is logged at fmi2Error when initialisation ends; a non-finite input, a
+blow-up, or a step after such an error returns fmi2Discard from <code>fmi2DoStep</code>, with a log
+message naming the variable and the value; a failed step is rolled back. (The pythonfmu wrapper can
+report fmi2Discard but not fmi2Error from a step.)</p>
+
+<h2>Variables</h2>
+<table><tr><th>name</th><th>causality</th><th>type</th><th>unit</th><th>start</th><th>description</th></tr>
+{table}
+</table>
+</body></html>
+""")
+    (folder / "externalDependencies.txt").write_text(f"""CableCasing.fmu runs Python code (generated with PythonFMU 0.7).
+
+The host needs:
+- CPython {sys.version_info.major}.{sys.version_info.minor} (64-bit) with its shared library libpython{sys.version_info.major}.{sys.version_info.minor}
+  (the FMU binary links to it);
+- the packages numpy, scipy and numba installed in that Python environment (platformdirs is optional).
+The model package cablecasing_core and the pythonfmu runtime are inside resources/.
+
+Loading from a non-Python host (a C/C++/Java importer, OSP libcosim, a tool):
+- Linux: make libpython findable, e.g. LD_LIBRARY_PATH=<python prefix>/lib, and point Python to
+  the environment with the packages: PYTHONHOME=<python prefix> (and PYTHONPATH=<env>/lib/python{sys.version_info.major}.{sys.version_info.minor}/site-packages
+  for a virtual environment).
+- Windows: put the folder of python3{sys.version_info.minor}.dll on PATH and set PYTHONHOME/PYTHONPATH the same way.
+Then load the FMU like any other FMI 2.0 co-simulation FMU.
+
+The first instantiation on a machine compiles the numba kernels (about a minute) into
+NUMBA_CACHE_DIR (default: the per-user cache folder, e.g. ~/.cache/cablecasing/numba); later
+instantiations, in any process, load them from there. Set NUMBA_CACHE_DIR to a writable folder if
+the home folder is read-only.
+""")
 
 
-def build(out_dir):
+# ------------------------------------------------------------------------------------ build
+def build(out):
     from pythonfmu.builder import FmuBuilder
 
-    out_dir = Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory() as tmp:
-        pkg = Path(tmp) / "cablecasing_core"
-        shutil.copytree(ROOT / "cablecasing_core", pkg, ignore=shutil.ignore_patterns("__pycache__", "*.nbi", "*.nbc"))
-        sys.path.insert(0, str(ROOT / "fmu_src"))
-        from CableCasing import CableCasing  # noqa: E402  (only to list the variables for the docs)
+    out = Path(out).resolve()
+    out.parent.mkdir(parents=True, exist_ok=True)
+    srcs = sources()
+    digest = hashlib.sha256()
+    for p in srcs:
+        digest.update(str(p.relative_to(ROOT)).encode() + b"\0" + p.read_bytes())
+    guid = str(uuid.uuid5(uuid.NAMESPACE_URL, "cablecasing-fmu:" + digest.hexdigest()))
+    epoch = int(os.environ.get("SOURCE_DATE_EPOCH", max(p.stat().st_mtime for p in srcs)))
+    when = datetime.datetime.fromtimestamp(epoch, datetime.timezone.utc)
+    date = when.strftime("%Y-%m-%dT%H:%M:%SZ")
+    zip_time = max((1980, 1, 1, 0, 0, 0), when.timetuple()[:6])
 
-        slave = CableCasing(instance_name="doc")
-        variables = [(v.name, v.causality.name, type(v).__name__, v.description or "") for v in slave.vars.values()]
-        doc = Path(tmp) / "documentation"
-        documentation(doc, variables)
-        fmu = FmuBuilder.build_FMU(ROOT / "fmu_src" / "CableCasing.py", dest=out_dir, project_files=[pkg],
-                                   documentation_folder=doc, canGetAndSetFMUstate=True, canSerializeFMUstate=True)
-        # rewrite the archive with the completed description and model.png
-        tmp_fmu = Path(tmp) / "fmu.zip"
-        with zipfile.ZipFile(fmu) as src, zipfile.ZipFile(tmp_fmu, "w", zipfile.ZIP_DEFLATED) as dst:
-            for item in src.infolist():
-                data = src.read(item.filename)
-                if item.filename == "modelDescription.xml":
-                    data = complete_description(data)
-                dst.writestr(item.filename, data)
-            dst.write(doc / "geometry.png", "model.png")
-        shutil.copy(tmp_fmu, fmu)
-    return fmu
+    slave_module = load_slave()
+    with tempfile.TemporaryDirectory(prefix="cablecasing_fmu_") as tmp:
+        tmp = Path(tmp)
+        shutil.copytree(PACKAGE, tmp / "cablecasing_core", ignore=IGNORE)
+        doc = tmp / "documentation"
+        write_documentation(doc, variable_rows(slave_module))
+        raw = FmuBuilder.build_FMU(SLAVE, dest=tmp / "raw", project_files=[tmp / "cablecasing_core", *EXTRA_RESOURCES],
+                                   documentation_folder=doc, canGetAndSetFMUstate=True, canSerializeFMUstate=True,
+                                   canHandleVariableCommunicationStepSize=True,
+                                   canBeInstantiatedOnlyOncePerProcess=False, needsExecutionTool=True)
+        units = slave_module.CableCasing(instance_name="units", resources=str(SLAVE.parent)).units
+        with zipfile.ZipFile(raw) as src:
+            entries = {i.filename: src.read(i.filename) for i in src.infolist() if not i.is_dir()}
+        entries = {k: v for k, v in entries.items() if "__pycache__" not in k}
+        entries["modelDescription.xml"] = complete_description(entries["modelDescription.xml"], units, guid, date)
+        entries["model.png"] = (doc / "geometry.png").read_bytes()
+        part = out.with_name(out.name + ".part")
+        with zipfile.ZipFile(part, "w", zipfile.ZIP_DEFLATED) as dst:
+            for name in sorted(entries):
+                info = zipfile.ZipInfo(name, date_time=zip_time)
+                info.compress_type = zipfile.ZIP_DEFLATED
+                info.external_attr = 0o644 << 16
+                dst.writestr(info, entries[name])
+        os.replace(part, out)
+    return out
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--out", default=str(ROOT / "dist" / "CableCasing.fmu"), help="FMU file to write")
+    out = build(p.parse_args(argv).out)
+    print(f"wrote {out}")
 
 
 if __name__ == "__main__":
-    p = argparse.ArgumentParser(description=__doc__)
-    p.add_argument("--out", default=str(ROOT / "dist"))
-    print(f"wrote {build(p.parse_args().out)}")
+    main()

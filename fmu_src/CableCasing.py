@@ -1,215 +1,416 @@
-"""FMI 2.0 co-simulation slave of the cable-in-casing model: an adapter over
-``cablecasing_core.engine.Engine`` (no physics here).
+"""FMI 2.0 co-simulation slave of the cable-in-casing model (pythonfmu).
 
-Inputs at each communication point: displacement, velocity and acceleration of the 12 support
-channels; inside a step the core's ``kinematics.QuinticStep`` reconstructs the motion. Outputs: the
-force and moment each body exerts on each support, and a contact summary.
+Only an adapter over ``cablecasing_core.engine.Engine``; there is no physics here:
 
-pythonfmu turns any Python exception into fmi2Fatal, so nothing here raises: setters only store
-values, and every problem (a non-finite input, an invalid parameter, a blow-up) is logged with the
-variable and the value and reported by ``do_step`` returning False (fmi2Discard).
+* inputs: displacement (m), velocity (m/s) and acceleration (m/s2) of the 12 support channels at
+  the start of each communication step; ``cablecasing_core.kinematics`` reconstructs the motion
+  inside the step (quintic Hermite from the supports' state to the Taylor extrapolation);
+* outputs: ``engine.outputs()`` after the step (force and moment each body exerts on each support,
+  contact summary);
+* parameters: every numeric key of the built-in model under its dotted name, ``contact.enabled``,
+  ``model_file`` and ``solver.dt``, applied with ``Model.with_overrides`` when initialisation ends.
+
+pythonfmu turns a Python exception in any call into fmi2Fatal and discards the instance, and it
+offers no way to return fmi2Error. So nothing here raises: setters only store values; a problem
+(an invalid parameter, a non-finite input, a blow-up) is logged at the status it deserves, naming
+the variable and the value, and ``do_step`` returns False, which pythonfmu reports as fmi2Discard.
+A failed step is rolled back whole, so the master may retry it (for example with a smaller step).
 """
 import os
 import sys
 import traceback
 
-if "NUMBA_CACHE_DIR" not in os.environ:  # keep compiled kernels outside the unpacked FMU
-    os.environ["NUMBA_CACHE_DIR"] = os.path.join(os.path.expanduser("~"), ".cache", "cablecasing", "numba")
+# The bundled package must win over any installed copy: resources first on sys.path.
+_RESOURCES = os.path.dirname(os.path.abspath(__file__))
+if not sys.path or sys.path[0] != _RESOURCES:
+    sys.path.insert(0, _RESOURCES)
 
-_HERE = os.path.dirname(os.path.abspath(__file__))
+import cablecasing_fmu_cache  # noqa: E402  (stable numba cache; before numba is configured)
 
-
-def _stable_package_path():
-    """numba keys its cache by the source file's path, and each unpacked FMU lands in a new folder:
-    copy the bundled cablecasing_core once to a per-user folder named by its content hash and import
-    it from there, so that later instantiations reuse the compiled kernels."""
-    import hashlib
-    import shutil
-
-    src = os.path.join(_HERE, "cablecasing_core")
-    if not os.path.isdir(src):
-        return None
-    h = hashlib.sha1()
-    for dirpath, _, files in sorted(os.walk(src)):
-        for f in sorted(files):
-            if f.endswith((".py", ".toml", ".csv")):
-                with open(os.path.join(dirpath, f), "rb") as fh:
-                    h.update(f.encode() + fh.read())
-    dest = os.path.join(os.path.dirname(os.environ["NUMBA_CACHE_DIR"]), "pkg-" + h.hexdigest()[:16])
-    if not os.path.isdir(os.path.join(dest, "cablecasing_core")):
-        tmp = dest + f".tmp{os.getpid()}"
-        shutil.copytree(src, os.path.join(tmp, "cablecasing_core"))
-        try:
-            os.replace(tmp, dest)
-        except OSError:  # another process won the race; its copy is identical
-            shutil.rmtree(tmp, ignore_errors=True)
-    return dest
-
-
-try:
-    _PKG = _stable_package_path() or _HERE
-except OSError:  # read-only home: fall back to the unpacked resources (works, compiles each time)
-    _PKG = _HERE
-for _p in (_HERE, _PKG):
-    if _p not in sys.path:
-        sys.path.insert(0, _p)
+if not os.environ.get("NUMBA_CACHE_DIR"):
+    os.environ["NUMBA_CACHE_DIR"] = cablecasing_fmu_cache.default_cache_dir()
+cablecasing_fmu_cache.install(_RESOURCES)
 
 import numpy as np  # noqa: E402
-from pythonfmu import Boolean, DefaultExperiment, Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real, String  # noqa: E402
+from pythonfmu import (Boolean, DefaultExperiment, Fmi2Causality, Fmi2Slave, Fmi2Variability,  # noqa: E402
+                       Integer, Real, String)
 from pythonfmu.enums import Fmi2Status  # noqa: E402
 
 import cablecasing_core as cc  # noqa: E402
 from cablecasing_core.config import CHANNELS  # noqa: E402
 from cablecasing_core.engine import OUTPUTS, Engine, state_from_bytes, state_to_bytes  # noqa: E402
-from cablecasing_core.kinematics import QuinticStep, taylor_target  # noqa: E402
+from cablecasing_core.kinematics import SupportReconstruction  # noqa: E402
 
+NCH = len(CHANNELS)
 KINDS = (("", "displacement", "m"), ("v", "velocity", "m/s"), ("a", "acceleration", "m/s2"))
+INTEGER_OUTPUTS = ("contact.active",)
+
+# Unit and meaning of the built-in model's numeric keys (model.parameters()).
+PARAMETER_INFO = {
+    "geometry.n_elements": ("1", "number of beam elements of each body along the centerline"),
+    "E": ("Pa", "Young's (dynamic) modulus of the {body}"),
+    "nu": ("1", "Poisson ratio of the {body}"),
+    "rho": ("kg/m3", "density of the {body} (averaged over its cross-section)"),
+    "alpha": ("1/s", "Rayleigh mass-proportional damping factor of the {body} (C = alpha M + beta K)"),
+    "beta": ("s", "Rayleigh stiffness-proportional damping factor of the {body} (C = alpha M + beta K)"),
+    "loss_factor": ("1", "structural loss factor of the {body} (frequency-domain model only; no effect here)"),
+    "d_outer": ("m", "outer diameter of the casing"),
+    "d_inner": ("m", "inner diameter of the casing (the cable runs inside it)"),
+    "d": ("m", "diameter of the cable"),
+    "I": ("m4", "effective second moment of area of the {body} section (overrides the one from the diameters)"),
+    "contact.stiffness": ("N/m", "penalty stiffness of the linear contact law (used when the model's law is "
+                                 "'linear'; the built-in model uses the Hertz law)"),
+    "contact.damping": ("kg/s", "contact damping coefficient, acting while the penetration grows"),
+    "contact.friction": ("1", "Coulomb friction coefficient between cable and casing"),
+    "contact.stick_velocity": ("m/s", "tangential relative speed below which a contact sticks"),
+    "scenario.duration": ("s", "duration of the model file's own scenario (not used: the FMU's inputs drive "
+                               "the supports)"),
+    "scenario.dt": ("s", "time step of the model file's own scenario (not used: see solver.dt)"),
+    "scenario.seed": ("1", "seed of the scenario's random excitation (not used: the inputs drive the supports)"),
+    "scenario.ramp": ("s", "fade-in time of the scenario's excitation (not used: the inputs drive the supports)"),
+}
+EXCITATION_UNITS = {"rms": "m/s2", "frequency": "Hz", "amplitude": "m", "phase": "rad", "width": "s",
+                    "start": "s", "seed": "1"}
 
 
 def input_name(channel, kind):
-    """'casing.A.x' -> 'casing.A.x', 'casing.A.vx', 'casing.A.ax'."""
+    """Input variable of a channel: kind '' -> 'casing.A.x', 'v' -> 'casing.A.vx', 'a' -> 'casing.A.ax'."""
     body, support, d = channel.split(".")
     return f"{body}.{support}.{kind}{d}"
 
 
+def parameter_info(key):
+    """(unit, description) of a model key such as 'casing.E' or 'scenario.excitation.x.rms'."""
+    if key in PARAMETER_INFO:
+        return PARAMETER_INFO[key]
+    parts = key.split(".")
+    if parts[0] in ("casing", "cable") and len(parts) == 2 and parts[1] in PARAMETER_INFO:
+        unit, text = PARAMETER_INFO[parts[1]]
+        return unit, text.format(body=parts[0])
+    if parts[:2] == ["scenario", "excitation"] and len(parts) == 4:
+        return (EXCITATION_UNITS.get(parts[3], "1"),
+                f"{parts[3]} of the scenario excitation '{parts[2]}' (not used: the inputs drive the supports)")
+    return "1", f"model key {key} (see the model file documentation)"
+
+
+def output_info(name):
+    """(unit, description) of an output."""
+    if name == "contact.active":
+        return "", "number of cable nodes in contact with the casing (stick or slip)"
+    if name == "contact.max_penetration":
+        return "m", "largest penetration of a cable node into the casing wall (0 without contact)"
+    if name == "contact.dissipated_energy":
+        return "J", "energy dissipated by contact damping and friction together since t = 0"
+    body, support, comp = name.split(".")
+    kind, unit = ("force", "N") if comp[0] == "F" else ("moment", "N.m")
+    return unit, f"{kind} the {body} exerts on its support {support}, component along global {comp[1].lower()}"
+
+
 class CableCasing(Fmi2Slave):
+    """Gear-shift cable in a curved casing, driven at its four supports (see module docstring)."""
+
     author = "cablecasing developers"
-    description = "Gear-shift cable in a curved casing: 3D Euler-Bernoulli beams with frictional contact (SI units)"
+    description = ("Gear-shift cable sliding in a curved casing: two spatially curved 3D Euler-Bernoulli "
+                   "beams with frictional penalty contact, driven by support motion (SI units)")
+    version = "0.1.0"
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=1.0, step_size=1e-4)
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         base = cc.load_model()
-        self._defaults = base.parameters()
-        self._params = dict(self._defaults)
-        self.model_file = ""
-        self._contact_enabled = bool(base.contact["enabled"])
-        self._dt = float(base.scenario["dt"])
-        self._inputs = np.zeros((3, len(CHANNELS)))
-        self._outputs = {n: 0.0 for n in OUTPUTS}
+        self.units = {}                  # variable name -> unit (read by build_fmu.py)
+        self._start = dict(base.parameters())
+        self._start["contact.enabled"] = bool(base.contact["enabled"])
+        self._start["model_file"] = ""
+        self._start["solver.dt"] = float(base.scenario["dt"])
+        self._values = dict(self._start)
+        self._inputs = np.zeros(3 * NCH)             # u (m), v (m/s), a (m/s2) of CHANNELS
+        self._out = np.zeros(len(OUTPUTS))
+        self._out_dirty = False
         self._engine = None
-        self._support = tuple(np.zeros(len(CHANNELS)) for _ in range(3))
-        self._error = None
+        self._applied = None                         # the configuration the engine was built with
+        self._recon = SupportReconstruction(NCH)
+        self._start_time = 0.0
+        self._initialized = False
+        self._error = None                           # message of a problem that blocks stepping
 
-        for key, value in self._defaults.items():
-            self.register_variable(Real(key, causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed,
-                                        description=f"model parameter {key} (see the model file)",
-                                        getter=self._getter(key), setter=self._setter(key)), nested=False)
-        self.register_variable(String("model_file", causality=Fmi2Causality.parameter,
-                                      variability=Fmi2Variability.fixed,
-                                      description="path of a model TOML file; empty = built-in specimen"), nested=False)
-        self.register_variable(Real("solver.dt", causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed,
-                                    description="internal Newmark time step (s)",
-                                    getter=lambda: self._dt, setter=lambda v: setattr(self, "_dt", v)), nested=False)
-        self.register_variable(Boolean("contact.enabled", causality=Fmi2Causality.parameter,
-                                       variability=Fmi2Variability.fixed, description="contact between cable and casing",
-                                       getter=lambda: self._contact_enabled,
-                                       setter=lambda v: setattr(self, "_contact_enabled", bool(v))), nested=False)
-        for k, (prefix, what, _) in enumerate(KINDS):
+        # inputs: u, v, a of every channel
+        self._input_vr = {}
+        for k, (prefix, what, unit) in enumerate(KINDS):
             for c, ch in enumerate(CHANNELS):
-                self.register_variable(Real(input_name(ch, prefix), causality=Fmi2Causality.input,
-                                            variability=Fmi2Variability.continuous, start=0.0,
-                                            description=f"{what} of support {ch[:-2]} along global {ch[-1]}",
-                                            getter=self._in_getter(k, c), setter=self._in_setter(k, c)), nested=False)
-        for name in OUTPUTS:
-            desc = _output_description(name)
-            var, vb = (Integer, Fmi2Variability.discrete) if name == "contact.active" else (Real, Fmi2Variability.continuous)
-            self.register_variable(var(name, causality=Fmi2Causality.output, variability=vb,
-                                       description=desc, getter=self._out_getter(name)), nested=False)
+                body, support, d = ch.split(".")
+                self._add(Real(input_name(ch, prefix), causality=Fmi2Causality.input,
+                               variability=Fmi2Variability.continuous, start=0.0,
+                               description=f"{what} of the {body}'s support {support} along global {d}",
+                               getter=self._input_getter(k * NCH + c), setter=self._input_setter(k * NCH + c)),
+                          unit)
+                self._input_vr[len(self.vars) - 1] = k * NCH + c
+        # outputs
+        self._output_vr = {}
+        for i, name in enumerate(OUTPUTS):
+            unit, text = output_info(name)
+            if name in INTEGER_OUTPUTS:
+                var = Integer(name, causality=Fmi2Causality.output, variability=Fmi2Variability.discrete,
+                              description=text, getter=self._output_getter(i, int))
+            else:
+                var = Real(name, causality=Fmi2Causality.output, variability=Fmi2Variability.continuous,
+                           description=text, getter=self._output_getter(i, float))
+            self._add(var, unit)
+            self._output_vr[var.value_reference] = i
+        # parameters
+        for key, value in self._start.items():
+            if key in ("contact.enabled", "model_file", "solver.dt"):
+                continue
+            unit, text = parameter_info(key)
+            kind = Integer if isinstance(value, int) else Real
+            self._add(kind(key, causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed,
+                           description=text, getter=self._param_getter(key), setter=self._param_setter(key, kind)),
+                      unit if kind is Real else "")
+        self._add(Boolean("contact.enabled", causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed,
+                          description="contact between cable and casing on (true) or off (false: two independent "
+                                      "linear bodies)",
+                          getter=self._param_getter("contact.enabled"),
+                          setter=self._param_setter("contact.enabled", Boolean)), "")
+        self._add(String("model_file", causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed,
+                         description="path of a model TOML file; empty = the built-in specimen",
+                         getter=self._param_getter("model_file"), setter=self._param_setter("model_file", String)),
+                  "")
+        self._add(Real("solver.dt", causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed,
+                       description="internal Newmark time step; a communication step is split into steps of this "
+                                   "size and one shorter last step",
+                       getter=self._param_getter("solver.dt"), setter=self._param_setter("solver.dt", Real)), "s")
+        self._check_import_origin()
 
-    # ---------------------------------------------------------------- variable access (never raise)
-    def _getter(self, key):
-        return lambda: self._params[key]
+    # ------------------------------------------------------------------ registration helpers
+    def _add(self, var, unit):
+        self.register_variable(var, nested=False)
+        self.units[var.name] = unit
 
-    def _setter(self, key):
-        def set_(v):
-            self._params[key] = v
-        return set_
+    def _input_getter(self, i):
+        return lambda: float(self._inputs[i])
 
-    def _in_getter(self, k, c):
-        return lambda: float(self._inputs[k, c])
+    def _input_setter(self, i):
+        def set_input(value):
+            self._inputs[i] = value
+        return set_input
 
-    def _in_setter(self, k, c):
-        def set_(v):
-            self._inputs[k, c] = v
-        return set_
+    def _output_getter(self, i, kind):
+        def get_output():
+            self._refresh_outputs()
+            return kind(self._out[i])
+        return get_output
 
-    def _out_getter(self, name):
-        return lambda: self._outputs[name]
+    def _param_getter(self, key):
+        return lambda: self._values[key]
 
-    def _fail(self, msg, exc=None):
-        text = msg if exc is None else f"{msg}\n{traceback.format_exc()}"
-        self.log(text, Fmi2Status.error)
-        self._error = msg
-        return False
+    def _param_setter(self, key, kind):
+        cast = {Real: float, Integer: int, Boolean: bool, String: str}[kind]
 
-    # ---------------------------------------------------------------- life cycle
+        def set_param(value):
+            if self._initialized:
+                self.log(f"parameter {key} = {value!r} ignored: parameters are fixed after initialisation "
+                         "(reset the FMU to change them)", Fmi2Status.warning)
+                return
+            self._values[key] = cast(value)
+        return set_param
+
+    def _check_import_origin(self):
+        here = os.path.dirname(os.path.abspath(cc.__file__))
+        if not here.startswith(_RESOURCES + os.sep) and not here.startswith(os.path.realpath(_RESOURCES) + os.sep):
+            self.log(f"cablecasing_core was already imported from {here} before this FMU was loaded; that copy "
+                     f"is used, not the one in {_RESOURCES}", Fmi2Status.warning)
+
+    # ------------------------------------------------------------------ fast variable access
+    def set_real(self, vrs, values):
+        idx = self._input_vr
+        for vr, value in zip(vrs, values):
+            i = idx.get(vr)
+            if i is not None:
+                self._inputs[i] = value
+            else:
+                var = self.vars.get(vr)
+                if isinstance(var, Real) and var.setter is not None:
+                    var.setter(value)
+                else:
+                    self._refuse("set a Real", vr, value)
+
+    def get_real(self, vrs):
+        out = []
+        idx = self._output_vr
+        for vr in vrs:
+            i = idx.get(vr)
+            if i is not None:
+                self._refresh_outputs()
+                out.append(float(self._out[i]))
+            else:
+                var = self.vars.get(vr)
+                out.append(float(var.getter()) if isinstance(var, Real) else self._refuse("get a Real", vr, None))
+        return out
+
+    def get_integer(self, vrs):
+        return [int(self.vars[vr].getter()) if isinstance(self.vars.get(vr), Integer)
+                else self._refuse("get an Integer", vr, None) for vr in vrs]
+
+    def set_integer(self, vrs, values):
+        for vr, value in zip(vrs, values):
+            var = self.vars.get(vr)
+            if isinstance(var, Integer) and var.setter is not None:
+                var.setter(value)
+            else:
+                self._refuse("set an Integer", vr, value)
+
+    def set_boolean(self, vrs, values):
+        for vr, value in zip(vrs, values):
+            var = self.vars.get(vr)
+            if isinstance(var, Boolean) and var.setter is not None:
+                var.setter(value)
+            else:
+                self._refuse("set a Boolean", vr, value)
+
+    def set_string(self, vrs, values):
+        for vr, value in zip(vrs, values):
+            var = self.vars.get(vr)
+            if isinstance(var, String) and var.setter is not None:
+                var.setter(value)
+            else:
+                self._refuse("set a String", vr, value)
+
+    def _refuse(self, what, vr, value):
+        var = self.vars.get(vr)
+        name = var.name if var is not None else "<none>"
+        msg = (f"cannot {what} at value reference {vr} ({name}, {type(var).__name__ if var else 'no variable'}"
+               f"{'' if var is None or var.setter is not None or 'set' not in what else ', read-only'})"
+               + ("" if value is None else f" to {value!r}"))
+        self.log(msg, Fmi2Status.error)     # the value is not applied; pythonfmu cannot return fmi2Error here
+        return 0
+
+    def _refresh_outputs(self):
+        if self._out_dirty:
+            o = self._engine.outputs()
+            self._out[:] = [o[n] for n in OUTPUTS]
+            self._out_dirty = False
+
+    # ------------------------------------------------------------------ life cycle
+    def setup_experiment(self, start_time=0.0, *args, **kwargs):
+        self._start_time = float(start_time or 0.0)
+
     def exit_initialization_mode(self):
+        self._initialized = True
         self._build()
 
+    def _config(self):
+        """The configuration that decides the engine: the overrides of the model (parameters whose
+        value differs from their start value), the model file and the internal step."""
+        over = {k: v for k, v in self._values.items()
+                if k not in ("model_file", "solver.dt") and v != self._start[k]}
+        return self._values["model_file"], over, self._values["solver.dt"]
+
     def _build(self):
+        """Build the engine from the parameters; on a problem log it (fmi2Error) and block stepping."""
+        model_file, over, dt = self._config()
         try:
-            model = cc.load_model(self.model_file or None)
-            # parameters changed from the built-in values override the model (file or built-in)
-            over = {}
-            for k, v in self._params.items():
-                if v != self._defaults[k]:
-                    if isinstance(self._defaults[k], int) and float(v).is_integer():
-                        v = int(v)
-                    over[k] = v
-            over["contact.enabled"] = self._contact_enabled
-            model = model.with_overrides(over)
-            self._engine = Engine(model, dt=self._dt, ledger=False)
-            self._error = None
-        except Exception as exc:  # reported by do_step; raising here would be fmi2Fatal
+            if isinstance(dt, bool) or not np.isfinite(dt) or dt <= 0:
+                raise cc.ModelError("solver.dt", dt, "must be a positive number of seconds")
+            model = cc.load_model(model_file or None)
+            if over:
+                model = model.with_overrides(over)
+            self._engine = Engine(model, dt=dt, ledger=False)
+        except cc.ModelError as exc:
             self._engine = None
-            self._fail(f"invalid parameter: {exc}", exc if not isinstance(exc, cc.ModelError) else None)
+            return self._block(f"invalid parameter {exc}", Fmi2Status.error)
+        except Exception as exc:  # noqa: BLE001  (never raise into pythonfmu: that is fmi2Fatal)
+            self._engine = None
+            return self._block(f"the model cannot be built: {exc!r}\n{traceback.format_exc()}", Fmi2Status.error)
+        self._applied = (model_file, over, dt)
+        self._error = None
+        self._recon.reset()
+        self._out[:] = 0.0
+        self._out_dirty = True
+        return True
+
+    def _block(self, msg, status):
+        self._error = msg
+        self.log(msg, status)
+        return False
 
     def do_step(self, current_time, step_size):
-        if self._engine is None:
-            return self._fail(self._error or "the model is not initialised")
-        bad = ~np.isfinite(self._inputs)
-        if bad.any():
-            k, c = np.argwhere(bad)[0]
-            return self._fail(f"input {input_name(CHANNELS[c], KINDS[k][0])} = {self._inputs[k, c]!r}: "
-                              "inputs must be finite numbers")
+        if self._error is not None:
+            self.log(f"step from t = {current_time:.9g} s refused: {self._error}", Fmi2Status.discard)
+            return False
+        eng = self._engine
+        if eng is None:
+            self.log("doStep before initialisation ended (call fmi2ExitInitializationMode first)", Fmi2Status.discard)
+            return False
+        x = self._inputs
+        if not np.isfinite(x).all():
+            i = int(np.flatnonzero(~np.isfinite(x))[0])
+            k, c = divmod(i, NCH)
+            self.log(f"input {input_name(CHANNELS[c], KINDS[k][0])} = {float(x[i])!r} at t = {current_time:.9g} s: "
+                     f"must be a finite number ({KINDS[k][2]}); step discarded", Fmi2Status.discard)
+            return False
         if not (np.isfinite(step_size) and step_size > 0):
-            return self._fail(f"communication step = {step_size!r}: must be a positive number of seconds")
+            self.log(f"communication step = {step_size!r} s: must be a positive number of seconds", Fmi2Status.discard)
+            return False
+        here = self._start_time + eng.time
+        if abs(current_time - here) > 1e-6 * step_size + 1e-12 * abs(here):
+            self.log(f"doStep from t = {current_time!r} s, but the FMU is at t = {here!r} s: steps must follow "
+                     "each other (or restore an FMU state first)", Fmi2Status.discard)
+            return False
+        motion = self._recon.motion(eng.time, step_size, x[:NCH], x[NCH:2 * NCH], x[2 * NCH:])
+        saved = eng.get_state()
         try:
-            u, v, a = self._inputs
-            motion = QuinticStep(self._engine.time, step_size, self._support, taylor_target(u, v, a, step_size))
-            state = self._engine.get_state()
-            try:
-                self._engine.advance(step_size, motion)
-            except Exception:
-                self._engine.set_state(state)  # nothing half-written: the step is discarded whole
-                raise
-            self._support = motion.end_state()
-            self._outputs = self._engine.outputs()
-            return True
-        except cc.CableCasingError as exc:
-            return self._fail(f"step from t = {current_time:.6g} s failed: {exc}")
-        except Exception as exc:
-            return self._fail(f"step from t = {current_time:.6g} s failed: {exc!r}", exc)
+            eng.advance(step_size, motion)
+        except Exception as exc:  # noqa: BLE001  (never raise into pythonfmu: that is fmi2Fatal)
+            eng.set_state(saved)
+            msg = f"step from t = {current_time:.9g} s over {step_size:.6g} s discarded (state rolled back): {exc}"
+            if not isinstance(exc, cc.CableCasingError):
+                msg += "\n" + traceback.format_exc()
+            self.log(msg, Fmi2Status.discard)
+            return False
+        self._recon.accept(motion)
+        self._out_dirty = True
+        return True
 
-    # ---------------------------------------------------------------- FMU state (complete, no pickle)
+    # ------------------------------------------------------------------ FMU state (complete, no pickle)
     def _get_fmu_state(self):
-        s = {} if self._engine is None else {f"engine/{k}": v for k, v in self._engine.get_state().items()}
-        s["slave/inputs"] = self._inputs.copy()
-        s["slave/support"] = np.array(self._support)
-        s["slave/outputs"] = np.array([float(self._outputs[n]) for n in OUTPUTS])
+        """Everything that decides the continuation: the parameter values, the inputs, the support
+        state of the reconstruction, the start time, and the engine's complete state."""
+        s = {"fmu.inputs": self._inputs.copy(), "fmu.support": self._recon.state.copy(),
+             "fmu.start_time": np.array(self._start_time), "fmu.initialized": np.array(self._initialized),
+             "fmu.built": np.array(self._engine is not None), "fmu.error": np.array(self._error or ""),
+             "fmu.model_file": np.array(self._values["model_file"]),
+             "fmu.values": np.array([float(self._values[k]) for k in self._numeric_keys()])}
+        if self._engine is not None:
+            s.update({f"engine.{k}": v for k, v in self._engine.get_state().items()})
         return s
 
+    def _numeric_keys(self):
+        return [k for k in self._start if k != "model_file"]
+
     def _set_fmu_state(self, state):
-        eng = {k[len("engine/"):]: v for k, v in state.items() if k.startswith("engine/")}
-        if self._engine is None:
-            self._build()
-        if self._engine is not None and eng:
-            self._engine.set_state(eng)
-        self._inputs[:] = state["slave/inputs"]
-        self._support = tuple(np.array(x) for x in state["slave/support"])
-        vals = state["slave/outputs"]
-        self._outputs = {n: (int(x) if n == "contact.active" else float(x)) for n, x in zip(OUTPUTS, vals)}
+        try:
+            self._restore(state)
+        except Exception as exc:  # noqa: BLE001
+            self._block(f"the FMU state cannot be restored: {exc!r}\n{traceback.format_exc()}", Fmi2Status.error)
+
+    def _restore(self, state):
+        for k, v in zip(self._numeric_keys(), state["fmu.values"]):
+            start = self._start[k]
+            self._values[k] = bool(v) if isinstance(start, bool) else int(v) if isinstance(start, int) else float(v)
+        self._values["model_file"] = str(state["fmu.model_file"])
+        self._inputs[:] = state["fmu.inputs"]
+        self._start_time = float(state["fmu.start_time"])
+        self._initialized = bool(state["fmu.initialized"])
+        if bool(state["fmu.built"]):
+            if self._engine is None or self._applied != self._config():
+                if not self._build():
+                    return
+            self._engine.set_state({k[len("engine."):]: v for k, v in state.items() if k.startswith("engine.")})
+        else:
+            self._engine, self._applied = None, None
+        self._recon.state = np.array(state["fmu.support"], dtype=float)
+        self._error = str(state["fmu.error"]) or None
+        self._out_dirty = self._engine is not None
 
     @staticmethod
     def _fmu_state_to_bytes(state):
@@ -218,15 +419,3 @@ class CableCasing(Fmi2Slave):
     @staticmethod
     def _fmu_state_from_bytes(data):
         return state_from_bytes(data)
-
-
-def _output_description(name):
-    if name == "contact.active":
-        return "number of cable nodes in contact with the casing"
-    if name == "contact.max_penetration":
-        return "largest penetration of the cable into the casing wall (m)"
-    if name == "contact.dissipated_energy":
-        return "energy dissipated by contact damping and friction since t = 0 (J)"
-    body, support, comp = name.split(".")
-    kind = "force" if comp.startswith("F") else "moment"
-    return f"{kind} the {body} exerts on support {support}, global {comp[1].lower()} component"
