@@ -108,11 +108,13 @@ def _analytic_evaluate(overrides, fail_above=None, **_):
     return out
 
 
-def _cpu_burn_evaluate(overrides, repeats=20, n=2 ** 16, **_):
+def _cpu_burn_evaluate(overrides, repeats=200, n=2 ** 12, **_):
     """Benchmark stand-in for the engine: a fixed amount of CPU work per sample (not a fixed time).
 
     Builds a synthetic 'force' record of ``n`` samples at 16384 Hz from the parameters and computes
-    its Table 3 octave RMS ``repeats`` times (numpy FFTs, single-threaded). Returns band RMS (N).
+    its Table 3 octave RMS ``repeats`` times (numpy FFTs, single-threaded). The default 4096-sample
+    record keeps the working set in cache, like the engine's small banded matrices, so the work is
+    compute-bound. Returns band RMS (N).
     """
     from .octave import octave_rms
     fs = 16384.0
