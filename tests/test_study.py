@@ -101,9 +101,23 @@ def test_failed_sample_is_recorded_and_study_continues(tmp_path):
     assert np.all(np.isnan(res.Y[res.status == "failed"])) and np.all(np.isfinite(res.Y[res.ok]))
 
 
-def test_placeholder_evaluate_is_recorded_as_failed(tmp_path):
-    res = _run(tmp_path / "s.csv", evaluate=mc.DEFAULT_EVALUATE, n_samples=3)
-    assert list(res.status) == ["failed"] * 3 and "NotImplementedError" in res.error[0]
+def test_placeholder_evaluate_is_refused_before_starting(tmp_path):
+    with pytest.raises(NotImplementedError, match="placeholder"):
+        _run(tmp_path / "s.csv", evaluate=mc.DEFAULT_EVALUATE, n_samples=3)
+    assert not (tmp_path / "s.csv").exists()
+
+
+def test_evaluate_errors_are_recorded_per_sample(tmp_path):
+    def bad(overrides):
+        if overrides["casing.E"] > 6e9:
+            raise RuntimeError("line one\nline two")
+        return {"x": 1.0}
+
+    res = _run(tmp_path / "s.csv", evaluate=bad, n_samples=10, outputs=["x", "y"])
+    assert set(res.status) == {"failed"}           # "y" missing from every result, RuntimeError for some
+    big = res.X[:, 1] > 6e9
+    assert all(e == "RuntimeError: line one | line two" for e in res.error[big])
+    assert all(e.startswith("KeyError") and "'y'" in e for e in res.error[~big])
 
 
 def test_resume_after_max_samples_repeats_nothing(tmp_path):
