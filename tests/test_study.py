@@ -102,10 +102,20 @@ def test_failed_sample_is_recorded_and_study_continues(tmp_path):
 
 
 def test_placeholder_evaluate_is_refused_before_starting(tmp_path):
+    def placeholder(overrides):
+        raise NotImplementedError("placeholder")
+    placeholder.placeholder = True
     with pytest.raises(NotImplementedError, match="placeholder"):
-        _run(tmp_path / "s.csv", evaluate=mc.DEFAULT_EVALUATE, n_samples=3)
+        _run(tmp_path / "s.csv", evaluate=placeholder, n_samples=3)
     assert not (tmp_path / "s.csv").exists()
 
+
+def test_default_evaluate_runs_the_model(tmp_path):
+    """The real per-sample function: a short engine run per sample, serial, two samples."""
+    res = mc.run_study(tmp_path / "s.csv", n_samples=2, seed=1, scheduler="serial", progress=False,
+                       evaluate_kwargs={"duration": 0.12, "skip": 0.01})  # oct1 (11 Hz) needs 0.09 s
+    assert list(res.status) == ["ok", "ok"]
+    assert np.all(np.isfinite(res.Y)) and np.all(res.Y >= 0)
 
 def test_evaluate_errors_are_recorded_per_sample(tmp_path):
     def bad(overrides):

@@ -11,9 +11,8 @@ each with the RMS of the support force in z in the octave bands of Table 3. Here
 * **Per-sample function**: ``evaluate(overrides: dict[str, float], **evaluate_kwargs) ->
   dict[str, float]`` (output name -> value, e.g. band label -> RMS in N). Pass it as a dotted import
   path ``"package.module:function"`` (what dask workers import) or as a callable.
-  :func:`default_evaluate` is a placeholder until the time-domain evaluation (engine run, octave
-  RMS of ``casing.B.Fz``) is wired in; run_study raises its NotImplementedError before starting
-  (a function with the attribute ``placeholder = True`` is refused).
+  :func:`default_evaluate` is the time-domain evaluation (engine run, octave RMS of
+  ``casing.B.Fz``). A function with the attribute ``placeholder = True`` is refused before starting.
 * **Results** (:func:`run_study`): an append-only CSV, one row per sample, flushed and fsynced per
   row: ``index, status, <parameters>, <outputs>, elapsed_s, error``. Status is ``ok``, ``failed``
   (the exception is in ``error``; the study goes on) or ``infeasible`` (a constraint rejected the
@@ -46,7 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError
-from .octave import octave_bands
+from .octave import octave_bands, octave_rms
 
 #: Model key of the amplitude (m) of the cable's longitudinal (axial) excitation, \bar X_jv of Section 4.4.
 AXIAL_AMPLITUDE_KEY = "scenario.excitation.cable_axial.amplitude"
@@ -75,20 +74,26 @@ FORMAT_VERSION = 1
 # ------------------------------------------------------------------------------------------------
 # per-sample functions
 
-def default_evaluate(overrides, **kwargs):
-    """Placeholder of the real per-sample function of Section 4.4 (not yet wired).
+def default_evaluate(overrides, duration=None, skip=0.05, dt=None, model_file=None, **kwargs):
+    """The per-sample function of Section 4.4: run the time-domain model (the scenario of the model,
+    with ``overrides`` applied) and return the octave-band RMS (N, Table 3) of the force at casing end
+    B in z, ``{"oct1": N, ..., "oct9": N}``.
 
-    The real one runs the time-domain model with ``overrides`` applied (``Model.with_overrides``)
-    and returns the octave-band RMS (N, Table 3) of the support force at casing end B in z,
-    ``octave_rms(result.support_force("casing.B.Fz"), 1 / dt).as_dict()``. Until then this raises
-    NotImplementedError; pass another evaluate (dotted path or callable) to :func:`run_study`.
+    duration (s): simulated time (default ``scenario.duration``); skip (s): start of the record left
+    out of the RMS (the support fade-in and the first transient); dt (s): time step (default
+    ``scenario.dt``); model_file: a model TOML (default the built-in specimen).
     """
-    raise NotImplementedError(
-        "default_evaluate is a placeholder: the time-domain evaluation of Section 4.4 (engine run, octave "
-        "RMS of casing.B.Fz) is not wired yet; pass evaluate='package.module:function' to run_study")
+    from ..config import load_model
+    from ..simulation import simulate
 
+    model = load_model(model_file).with_overrides(overrides)
+    res = simulate(model, duration=duration, dt=dt)
+    keep = res.time > skip
+    if keep.sum() < 2:
+        raise ModelError("skip", skip, f"must leave part of the {res.time[-1]:.6g} s record for the RMS")
+    fs = 1.0 / (res.time[1] - res.time[0])
+    return octave_rms(res.support_force("casing.B.Fz")[keep], fs).as_dict()
 
-default_evaluate.placeholder = True   # run_study refuses it up front instead of recording n failures
 
 
 def _analytic_evaluate(overrides, fail_above=None, **_):
@@ -466,8 +471,9 @@ def run_study(path, evaluate=DEFAULT_EVALUATE, bounds=None, n_samples=300, seed=
         raise ModelError("evaluate_kwargs", evaluate_kwargs, f"must be JSON-serialisable ({exc})") from None
     if not (isinstance(evaluate, str) or callable(evaluate)):
         raise ModelError("evaluate", evaluate, "must be a callable or a dotted import path 'package.module:function'")
-    if getattr(resolve_evaluate(evaluate), "placeholder", False):   # fail early on a bad path or the placeholder
-        default_evaluate({})
+    fn = resolve_evaluate(evaluate)
+    if getattr(fn, "placeholder", False):   # fail early on a bad path or a placeholder
+        fn({})
     if not (scheduler is None or isinstance(scheduler, str) or type(scheduler).__name__ == "Client"):
         raise ModelError("scheduler", scheduler, "must be None, 'serial', 'local', an address 'tcp://host:8786' or a distributed.Client")
     constraints = tuple(constraints or ())
