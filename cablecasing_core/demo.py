@@ -26,7 +26,7 @@ def main(argv=None):
     out.mkdir(parents=True, exist_ok=True)
 
     import cablecasing_core as cc
-    from cablecasing_core.plotting import plot_time_result, plot_trfam
+    from cablecasing_core.plotting import plot_octave_bands, plot_scalogram, plot_time_result, plot_trfam
 
     root = Path(__file__).resolve().parent.parent
     builder = root / "build_fmu.py"
@@ -92,13 +92,7 @@ def main(argv=None):
     bands = octave_rms(F[keep], 1.0 / (tF[1] - tF[0]), beyond_nyquist="drop")
     np.savetxt(out / "octave_bands.csv", np.column_stack([bands.lower, bands.upper, bands.rms]), delimiter=",",
                header="f_low_hz,f_high_hz,rms_N", comments="", fmt="%.6g")
-    fig, ax = plt.subplots(figsize=(7, 3.5))
-    ax.bar(range(1, len(bands.rms) + 1), bands.rms)
-    ax.set_xlabel("octave band (Table 3)")
-    ax.set_ylabel("RMS casing.B.Fz (N)")
-    fig.tight_layout()
-    fig.savefig(out / "octave_bands.png", dpi=110)
-    plt.close(fig)
+    plot_octave_bands(bands, out / "octave_bands.png", "RMS casing.B.Fz (N)")
     scalogram = ""
     try:
         from .identification.wavelet import cwt_morlet
@@ -106,15 +100,7 @@ def main(argv=None):
         fr = np.geomspace(20.0, 2000.0, 80)
         W = np.abs(cwt_morlet(F, fs, fr))
         W = W if W.shape[0] == len(F) else W.T
-        fig, ax = plt.subplots(figsize=(7, 3.5))
-        ax.pcolormesh(tF, fr, W.T, shading="auto")
-        ax.set_yscale("log")
-        ax.set_xlabel("time (s)")
-        ax.set_ylabel("frequency (Hz)")
-        ax.set_title("|W| of casing.B.Fz (Fig. 21)")
-        fig.tight_layout()
-        fig.savefig(out / "scalogram.png", dpi=110)
-        plt.close(fig)
+        plot_scalogram(tF, fr, W, out / "scalogram.png", "|W| of casing.B.Fz (Fig. 21)")
         scalogram = '<h2>Wavelet scalogram of casing.B.Fz (Fig. 21)</h2><img src="scalogram.png">'
     except ImportError:
         print("scalogram skipped: the identification package is not available")

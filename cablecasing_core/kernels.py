@@ -413,6 +413,25 @@ def _apply(H, v6, out, e, sign, P, arm):
 
 
 @njit(cache=True)
+def _compliance_block(Kinv, f0, nf, dof_k, Bk, dof_l, Bl, blk):
+    """blk += Bk^T Kinv[dofs_k, dofs_l] Bl: one body's part of a 3x3 Delassus block. Bk, Bl map a
+    contact force to generalized forces on the DOFs from dof_k, dof_l; only the free DOFs
+    (f0 .. f0+nf-1, Kinv is their effective compliance) respond."""
+    for p in range(Bk.shape[0]):
+        dp = dof_k + p - f0
+        if dp < 0 or dp >= nf:
+            continue
+        for q in range(Bl.shape[0]):
+            dq = dof_l + q - f0
+            if dq < 0 or dq >= nf:
+                continue
+            kv = Kinv[dp, dq]
+            for r in range(3):
+                for c in range(3):
+                    blk[r, c] += Bk[p, r] * kv * Bl[q, c]
+
+
+@njit(cache=True)
 def contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
                  gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
                  state, elem, xi_arr, Pn, vrel, Nout, gout, fcc, fcs, diag):
@@ -505,32 +524,8 @@ def contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
             il = idx[l]
             el = elem[il]
             blk = np.zeros((3, 3))
-            # cable
-            for p in range(6):
-                dp = 6 * ik + p - fc0
-                if dp < 0 or dp >= nfc:
-                    continue
-                for q in range(6):
-                    dq = 6 * il + q - fc0
-                    if dq < 0 or dq >= nfc:
-                        continue
-                    kv = Kc[dp, dq]
-                    for r in range(3):
-                        for c in range(3):
-                            blk[r, c] += Bc[k, p, r] * kv * Bc[l, q, c]
-            # casing
-            for p in range(12):
-                dp = 6 * ek + p - fs0
-                if dp < 0 or dp >= nfs:
-                    continue
-                for q in range(12):
-                    dq = 6 * el + q - fs0
-                    if dq < 0 or dq >= nfs:
-                        continue
-                    kv = Ks[dp, dq]
-                    for r in range(3):
-                        for c in range(3):
-                            blk[r, c] += Gs[k, p, r] * kv * Gs[l, q, c]
+            _compliance_block(Kc, fc0, nfc, 6 * ik, Bc[k], 6 * il, Bc[l], blk)   # cable
+            _compliance_block(Ks, fs0, nfs, 6 * ek, Gs[k], 6 * el, Gs[l], blk)   # casing
             W[3 * k:3 * k + 3, 3 * l:3 * l + 3] = blk
     ta = np.empty((nk, 3))
     tb = np.empty((nk, 3))

@@ -65,3 +65,31 @@ def plot_time_result(res, path):
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def _save(fig, path):
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def plot_octave_bands(bands, path, ylabel="RMS"):
+    """Bar chart of octave-band RMS values (``studies.octave_rms`` result), Table 3."""
+    fig, ax = plt.subplots(figsize=(7, 3.5))
+    ax.bar(range(1, len(bands.rms) + 1), bands.rms)
+    ax.set_xticks(range(1, len(bands.rms) + 1), [f"{lo:g}-{hi:g}" for lo, hi in zip(bands.lower, bands.upper)],
+                  rotation=45, fontsize=7)
+    ax.set_xlabel("octave band (Hz)")
+    ax.set_ylabel(ylabel)
+    _save(fig, path)
+
+
+def plot_scalogram(t, freqs_hz, W, path, title="|W|"):
+    """Wavelet scalogram |W| (time s x frequency Hz), Figs. 20-21."""
+    fig, ax = plt.subplots(figsize=(7, 3.5))
+    ax.pcolormesh(t, freqs_hz, np.asarray(W).T, shading="auto")
+    ax.set_yscale("log")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("frequency (Hz)")
+    ax.set_title(title)
+    _save(fig, path)
