@@ -1,0 +1,331 @@
+"""Loss factor from the Nyquist plot: circle fit, loss-factor plane and its diagonal ridge.
+
+The paper's Section 3.2.2 (Figs. 12-13, Eq. 45), after Ewins, *Modal Testing*, Section 4.3.
+
+Method, for each resonance
+--------------------------
+1. The FRF is brought to *displacement form* (receptance-like, where a mode of the structural
+   damping model of Eq. (11) is the term ``A_r / (omega_r^2 (1 + i eta_r) - omega^2)``, an exact
+   circle): receptance and dynamic stiffness (F/x) as they are, mobility divided by ``i omega``,
+   accelerance by ``-omega^2``, apparent mass (F/a, the paper's TRFAM, Eq. 12) multiplied by
+   ``-omega^2``.
+2. Points within ``omega_r^2 (1 +- bandwidths * eta)`` (start: the half-power estimate around the
+   peak of ``|H|``) are fitted by a circle in the *geometric* least-squares sense (sum of squared
+   distances to the circle, ``scipy.optimize.least_squares``, started from the algebraic Kasa fit),
+   the "nonlinear curve-fitting technique" of the paper.
+3. The resonance is the point of fastest sweep of the angle ``phi`` (seen from the centre) per unit
+   ``omega^2``: the largest discrete sweep rate, refined by fitting the law of a hysteretic mode,
+   ``phi = phi_r + s 2 atan((omega_r^2 - omega^2) / (eta omega_r^2))`` (``s = +-1``, the sense of
+   travel), whose sweep rate peaks exactly at ``omega_r``.
+4. Loss-factor plane: for every point ``b`` below and ``a`` above the resonance, with centre angles
+   ``theta = |phi - phi_r|``,
+
+       eta(b, a) = (omega_a^2 - omega_b^2) / (omega_r^2 (tan(theta_a / 2) + tan(theta_b / 2))).
+
+   This is Ewins' formula; it is the paper's Eq. (45) with the angles of Eq. (45) seen from the
+   circle's point opposite to the resonance (half the centre angles, inscribed-angle theorem).
+   Rows and columns are ordered by increasing distance from the resonance; the *diagonal*
+   ``eta(k, k)`` pairs points at matching distances below and above (where a small error in
+   ``phi_r`` cancels to first order); the identified loss factor is its median.
+5. Neighbouring modes: a constant contribution of other modes only shifts the circle (the
+   circle's offset, the point opposite to the resonance, absorbs it), but their slope over the
+   window distorts it. After all requested modes are fitted, the fitted modal terms of the *other*
+   identified modes, ``A_k / (omega_k^2 (1 + i s eta_k) - omega^2)`` with
+   ``A_k = 2 R_k exp(i phi_rk) i s eta_k omega_k^2``, are subtracted from the FRF and each mode is
+   fitted again; this repeats until the loss factors change by less than 1e-7 (relative).
+   Modes that were not requested remain as the circle's offset.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import least_squares
+from scipy.signal import find_peaks
+
+from ..errors import ModelError
+from ._checks import signal_1d
+
+FRF_KINDS = ("displacement", "velocity", "acceleration", "apparent_mass")
+
+
+def to_displacement_form(freqs_hz, H, kind="displacement"):
+    """FRF in displacement form (see the module docstring, step 1).
+
+    ``kind``: ``"displacement"`` (receptance m/N, or dynamic stiffness N/m: unchanged),
+    ``"velocity"`` (mobility, divided by ``i omega``), ``"acceleration"`` (accelerance, divided by
+    ``-omega^2``), ``"apparent_mass"`` (F/a in kg, e.g. the TRFAM of Eq. 12, times ``-omega^2``).
+    Frequencies in Hz; ``omega = 2 pi f``.
+    """
+    if kind not in FRF_KINDS:
+        raise ModelError("kind", kind, "must be one of " + ", ".join(repr(k) for k in FRF_KINDS))
+    w = 2.0 * np.pi * np.asarray(freqs_hz, dtype=float)
+    H = np.asarray(H, dtype=complex)
+    if kind == "displacement":
+        return H.copy()
+    if np.any(w == 0.0):
+        raise ModelError("freqs_hz", 0.0, f"0 Hz cannot be converted from kind {kind!r}; leave it out")
+    if kind == "velocity":
+        return H / (1j * w)
+    if kind == "acceleration":
+        return H / (-w ** 2)
+    return H * (-w ** 2)
+
+
+def fit_circle(z):
+    """Geometric least-squares circle through complex points ``z``.
+
+    Minimises ``sum (|z_i - c| - R)^2`` over centre ``c`` and radius ``R`` with
+    ``scipy.optimize.least_squares`` (analytic Jacobian), started from the algebraic (Kasa) fit
+    ``|z|^2 + D x + E y + F = 0``. Returns ``(centre: complex, radius: float, rms: float)`` with
+    ``rms`` the root-mean-square radial residual (unit of ``z``).
+    """
+    z = np.asarray(z, dtype=complex)
+    if z.size < 3:
+        raise ModelError("points", z.size, "a circle needs at least 3 points")
+    scale = float(np.max(np.abs(z - z.mean())))
+    if scale == 0.0:
+        raise ModelError("points", "all equal", "a circle needs distinct points")
+    off = z.mean()
+    u = (z - off) / scale
+    x, y = u.real, u.imag
+    M = np.column_stack([x, y, np.ones_like(x)])
+    D, E, F = np.linalg.lstsq(M, -(x * x + y * y), rcond=None)[0]
+    c0 = complex(-D / 2.0, -E / 2.0)
+    R0 = float(np.sqrt(max(abs(c0) ** 2 - F, 1e-12)))
+
+    def res(p):
+        return np.hypot(x - p[0], y - p[1]) - p[2]
+
+    def jac(p):
+        d = np.hypot(x - p[0], y - p[1])
+        d = np.where(d == 0.0, 1e-300, d)
+        return np.column_stack([-(x - p[0]) / d, -(y - p[1]) / d, -np.ones_like(x)])
+
+    sol = least_squares(res, [c0.real, c0.imag, R0], jac=jac, method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15)
+    cx, cy, R = sol.x
+    rms = float(np.sqrt(np.mean(sol.fun ** 2))) * scale
+    return complex(cx, cy) * scale + off, abs(float(R)) * scale, rms
+
+
+@dataclass(frozen=True)
+class CircleFitResult:
+    """Loss factor of one resonance identified from the Nyquist circle (Section 3.2.2, Fig. 13).
+
+    Frequencies in Hz, angles in rad, ``centre``, ``radius``, ``offset`` in the unit of the
+    displacement-form FRF, ``modal_constant`` in that unit times rad^2/s^2. ``plane[i, j]`` is the
+    loss factor from the i-th point below and the j-th point above the resonance (nearest first),
+    ``diagonal`` its main diagonal and ``eta`` the diagonal's median (the identified loss factor);
+    ``eta_angle_fit`` is the loss factor of the angle-law fit used to refine the resonance.
+    ``points`` are the window's FRF values after the neighbouring-mode correction.
+    """
+
+    f_requested_hz: float
+    f_r_hz: float
+    eta: float
+    eta_angle_fit: float
+    centre: complex
+    radius: float
+    rms: float
+    phi_r: float
+    sense: int
+    modal_constant: complex
+    offset: complex
+    freqs_hz: np.ndarray
+    points: np.ndarray
+    f_below_hz: np.ndarray
+    f_above_hz: np.ndarray
+    plane: np.ndarray
+    diagonal: np.ndarray
+    iterations: int = 0
+    extra: dict = field(default_factory=dict)
+
+    def modal_term(self, freqs_hz):
+        """This mode's term ``A / (omega_r^2 (1 + i s eta) - omega^2)`` at ``freqs_hz`` (Hz)."""
+        w2 = (2.0 * np.pi * np.asarray(freqs_hz, dtype=float)) ** 2
+        wr2 = (2.0 * np.pi * self.f_r_hz) ** 2
+        return self.modal_constant / (wr2 * (1.0 + 1j * self.sense * self.eta) - w2)
+
+
+def find_resonances(freqs_hz, H, count=None, kind="displacement"):
+    """Frequencies (Hz, ascending) of the ``count`` most prominent peaks of ``|H|`` in displacement form."""
+    f = signal_1d("freqs_hz", freqs_hz, min_len=5)
+    Hd = np.abs(to_displacement_form(f, H, kind))
+    peaks, props = find_peaks(Hd, prominence=0.0)
+    if peaks.size == 0:
+        raise ModelError("H", "FRF without a peak", "needs at least one resonance (interior maximum of |H|)")
+    order = np.argsort(props["prominences"])[::-1]
+    if count is not None:
+        order = order[:int(count)]
+    return np.sort(f[peaks[order]])
+
+
+def _half_power_eta(f, A, j):
+    """Loss factor estimate from the half-power points around index j of |H| (None when not found)."""
+    half = A[j] / np.sqrt(2.0)
+    lo = j
+    while lo > 0 and A[lo] > half:
+        lo -= 1
+    hi = j
+    while hi < A.size - 1 and A[hi] > half:
+        hi += 1
+    if A[lo] > half or A[hi] > half:
+        return None
+    return (f[hi] ** 2 - f[lo] ** 2) / (2.0 * f[j] ** 2)
+
+
+def _fit_one(f, Hd, f0, eta_prev, fr_prev, search, bandwidths, min_side):
+    """Circle, resonance and loss-factor plane of the mode near f0 on displacement-form data Hd."""
+    A = np.abs(Hd)
+    if fr_prev is None:
+        band = np.nonzero((f >= f0 * (1.0 - search)) & (f <= f0 * (1.0 + search)))[0]
+        if band.size < 3:
+            raise ModelError("f_res_hz", float(f0), f"fewer than 3 FRF points within +-{100 * search:g} %")
+        j = band[np.argmax(A[band])]
+        if j == band[0] or j == band[-1]:
+            raise ModelError("f_res_hz", float(f0),
+                             f"no resonance in the window {f[band[0]]:g}..{f[band[-1]]:g} Hz: |H| has no "
+                             "interior maximum there (give the frequency of a peak)")
+        eta0 = _half_power_eta(f, A, j)
+        if eta0 is None or eta0 <= 0.0:
+            eta0 = search / bandwidths
+        fc = f[j]
+    else:
+        eta0, fc = eta_prev, fr_prev
+    lo2 = fc ** 2 * (1.0 - bandwidths * eta0)
+    hi2 = fc ** 2 * (1.0 + bandwidths * eta0)
+    win = np.nonzero((f ** 2 >= lo2) & (f ** 2 <= hi2))[0]
+    if win.size < 2 * min_side + 1:
+        raise ModelError("freqs_hz", f"{win.size} points near {f0:g} Hz",
+                         f"too coarse a resolution: the circle needs at least {2 * min_side + 1} points "
+                         f"within {np.sqrt(max(lo2, 0)):g}..{np.sqrt(hi2):g} Hz")
+    fw, zw = f[win], Hd[win]
+    c, R, rms = fit_circle(zw)
+    phi = np.unwrap(np.angle(zw - c))
+    w2 = (2.0 * np.pi * fw) ** 2
+    rate = np.abs(np.diff(phi)) / np.diff(w2)
+    k = int(np.argmax(rate))
+    mid = 0.5 * (w2[1:] + w2[:-1])
+    if 0 < k < rate.size - 1:
+        x0, x1, x2 = mid[k - 1:k + 2]
+        y0, y1, y2 = rate[k - 1:k + 2]
+        d01, d12, d02 = x0 - x1, x1 - x2, x0 - x2
+        a = y0 / (d01 * d02) - y1 / (d01 * d12) + y2 / (d02 * d12)
+        b = (y1 - y0) / (x1 - x0) - a * (x0 + x1)
+        wr2 = -b / (2 * a) if a < 0 else x1
+        wr2 = float(np.clip(wr2, mid[k - 1], mid[k + 1]))
+    else:
+        wr2 = float(mid[k])
+    if not (w2[0] < wr2 < w2[-1]) or k == 0 or k == rate.size - 1:
+        raise ModelError("f_res_hz", float(f0),
+                         "no resonance in the window: the angle on the fitted circle sweeps fastest at "
+                         f"its edge ({np.sqrt(wr2) / (2 * np.pi):g} Hz)")
+    sense = 1 if phi[-1] < phi[0] else -1
+    phi_r0 = float(np.interp(wr2, w2, phi))
+    spread = float(np.ptp(phi))
+    eta_init = max(eta0, 1e-6)
+
+    def law(p):
+        ph_r, wr2_, et = p
+        return ph_r + sense * 2.0 * np.arctan((wr2_ - w2) / (et * wr2_)) - phi
+
+    sol = least_squares(law, [phi_r0, wr2, eta_init], x_scale=[1.0, wr2 * eta_init, eta_init],
+                        bounds=([-np.inf, w2[0], 1e-9], [np.inf, w2[-1], np.inf]),
+                        xtol=1e-14, ftol=1e-14, gtol=1e-14)
+    phi_r, wr2, eta_fit = (float(v) for v in sol.x)
+    below = np.nonzero(w2 < wr2)[0][::-1]   # nearest first
+    above = np.nonzero(w2 > wr2)[0]
+    if below.size < min_side or above.size < min_side:
+        raise ModelError("f_res_hz", float(f0),
+                         f"the resonance at {np.sqrt(wr2) / (2 * np.pi):g} Hz has fewer than {min_side} "
+                         "circle points on one side: no resonance inside the window")
+    tb = np.tan(np.abs(phi[below] - phi_r) / 2.0)
+    ta = np.tan(np.abs(phi[above] - phi_r) / 2.0)
+    plane = (w2[above][None, :] - w2[below][:, None]) / (wr2 * (ta[None, :] + tb[:, None]))
+    m = min(below.size, above.size)
+    diag = plane[np.arange(m), np.arange(m)]
+    eta = float(np.median(diag))
+    ephi = np.exp(1j * phi_r)
+    mode_const = 2.0 * R * ephi * 1j * sense * eta * wr2
+    return dict(f_r_hz=float(np.sqrt(wr2) / (2 * np.pi)), eta=eta, eta_angle_fit=eta_fit, centre=c,
+                radius=R, rms=rms, phi_r=phi_r, sense=sense, modal_constant=mode_const,
+                offset=c - R * ephi, freqs_hz=fw, points=zw, f_below_hz=fw[below], f_above_hz=fw[above],
+                plane=plane, diagonal=diag, spread=spread)
+
+
+def loss_factor_circle(freqs_hz, H, f_res_hz=None, kind="displacement", count=None, bandwidths=2.0,
+                       search=0.1, correct_neighbours=True, max_iter=50, min_side=3):
+    """Loss factors of the resonances of an FRF from Nyquist circles (Section 3.2.2, Eq. 45, Fig. 13).
+
+    Parameters
+    ----------
+    freqs_hz : array (n,)
+        Strictly increasing frequencies (Hz).
+    H : complex array (n,)
+        The FRF (any of :data:`FRF_KINDS`; the paper's TRFAM is ``"apparent_mass"``, kg).
+    f_res_hz : array or None
+        Approximate resonance frequencies (Hz); None takes the ``count`` most prominent peaks.
+    kind : str
+        FRF type, see :func:`to_displacement_form`.
+    bandwidths : float
+        Half-width of the fitted window in half-power bandwidths: ``omega^2`` within
+        ``omega_r^2 (1 +- bandwidths * eta)`` (2: centre angles up to about 127 degrees).
+    search : float
+        Relative half-width around each ``f_res_hz`` searched for the peak of ``|H|``.
+    correct_neighbours : bool
+        Subtract the fitted terms of the other requested modes and refit (module docstring, step 5).
+    max_iter : int
+        Limit of correction sweeps.
+    min_side : int
+        Least number of circle points required below and above the resonance.
+
+    Returns
+    -------
+    list of :class:`CircleFitResult`, ascending in frequency order of ``f_res_hz``.
+
+    Raises
+    ------
+    ModelError
+        Frequencies not increasing, mismatched lengths, no resonance (interior peak / fastest angle
+        sweep) in a window, a resolution too coarse for the circle.
+    """
+    f = signal_1d("freqs_hz", freqs_hz, min_len=7)
+    Hc = signal_1d("H", H, min_len=7, complex_ok=True).astype(complex)
+    if Hc.size != f.size:
+        raise ModelError("H", f"{Hc.size} values", f"must have one value per frequency ({f.size})")
+    if np.any(np.diff(f) <= 0):
+        raise ModelError("freqs_hz", "not increasing", "frequencies must be strictly increasing")
+    if bandwidths <= 0:
+        raise ModelError("bandwidths", bandwidths, "must be positive")
+    Hd = to_displacement_form(f, Hc, kind)
+    if f_res_hz is None:
+        f_res = find_resonances(f, Hd, count=count)
+    else:
+        f_res = np.sort(np.atleast_1d(np.asarray(f_res_hz, dtype=float)))
+        bad = (f_res <= f[0]) | (f_res >= f[-1]) | ~np.isfinite(f_res)
+        if np.any(bad):
+            raise ModelError("f_res_hz", float(f_res[bad][0]),
+                             f"must lie inside the FRF's frequency range ({f[0]:g}, {f[-1]:g}) Hz")
+    fits = [_fit_one(f, Hd, f0, None, None, search, bandwidths, min_side) for f0 in f_res]
+    it = 0
+    if correct_neighbours and len(fits) > 1:
+        for it in range(1, int(max_iter) + 1):
+            terms = [_term(r, f) for r in fits]
+            total = np.sum(terms, axis=0)
+            new = [_fit_one(f, Hd - (total - terms[i]), f0, fits[i]["eta"], fits[i]["f_r_hz"], search,
+                            bandwidths, min_side) for i, f0 in enumerate(f_res)]
+            change = max(abs(a["eta"] - b["eta"]) / b["eta"] for a, b in zip(new, fits))
+            fits = new
+            if change < 1e-7:
+                break
+    out = []
+    for f0, r in zip(f_res, fits):
+        spread = r.pop("spread")
+        out.append(CircleFitResult(f_requested_hz=float(f0), iterations=it, extra={"angle_span": spread}, **r))
+    return out
+
+
+def _term(r, f):
+    w2 = (2.0 * np.pi * f) ** 2
+    wr2 = (2.0 * np.pi * r["f_r_hz"]) ** 2
+    return r["modal_constant"] / (wr2 * (1.0 + 1j * r["sense"] * r["eta"]) - w2)

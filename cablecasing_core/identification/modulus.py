@@ -1,0 +1,189 @@
+"""Frequency-dependent dynamic modulus of elasticity from measured natural frequencies.
+
+The paper's Section 3.1 (Figs. 8-9, after its Ref. [20]): for every measured natural frequency
+``f_i`` of a known mode (its index in the ascending list of computed frequencies), the model's
+modulus is adapted until the computed frequency of that mode is within half the frequency
+resolution of the measurement (0.25 Hz in the paper). The adaptive step uses that a body's
+stiffness matrix is proportional to ``E`` while the mass matrix is not, so ``f ~ sqrt(E)``:
+
+    E_{k+1} = E_k (f_measured / f_computed(E_k))^2          (Fig. 8)
+
+(exact in one step for a homogeneous body; a few steps otherwise). The pairs ``(f_i, E_i)``
+(Fig. 9, circles) are then approximated by a smooth curve, a least-squares polynomial in
+``ln(f / f_ref)`` (degree 2 by default, lower when there are fewer modes, ``f_ref`` the geometric mean
+of the measured frequencies) and tabulated as ``[[f_Hz, E_Pa], ...]`` rows, the form the model
+file accepts for ``E`` (linear interpolation between rows, held constant outside).
+
+The identification is written against a callable ``compute_frequencies(E_Pa) -> Hz (ascending)``
+so it does not depend on the FE model; :func:`identify_modulus_model` wraps the package's own
+``natural_frequencies`` for a model and a body.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ModelError
+from ._checks import positive, signal_1d
+
+
+@dataclass(frozen=True)
+class ModulusResult:
+    """Result of :func:`identify_modulus` (SI: Hz, Pa).
+
+    ``E_mode[i]`` is the modulus that reproduces ``f_measured_hz[i]`` for mode ``modes[i]``
+    (1-based), ``f_computed_hz[i]`` the frequency it gives, ``history[i]`` the list of
+    ``(E, f_computed)`` steps of the adaptive process (Fig. 8). ``coefficients`` of the smooth fit
+    ``E(f) = sum_k c_k ln(f / f_ref)^k``; ``table`` its tabulation ``[[f_Hz, E_Pa], ...]``.
+    """
+
+    f_measured_hz: np.ndarray
+    modes: np.ndarray
+    E_mode: np.ndarray
+    f_computed_hz: np.ndarray
+    history: list
+    f_ref_hz: float
+    coefficients: np.ndarray
+    table: list
+    tolerance_hz: float
+
+    def E_fit(self, f_hz):
+        """The smooth fit E(f) (Pa) at ``f_hz`` (Hz)."""
+        u = np.log(np.asarray(f_hz, dtype=float) / self.f_ref_hz)
+        return np.polynomial.polynomial.polyval(u, self.coefficients)
+
+
+def identify_modulus(compute_frequencies, f_measured_hz, modes, E_start, freq_resolution_hz=None, degree=2,
+                     table_freqs_hz=None, n_table=12, max_iter=50):
+    """Dynamic modulus per measured mode and a smooth E(f) table (Section 3.1, Figs. 8-9).
+
+    Parameters
+    ----------
+    compute_frequencies : callable
+        ``compute_frequencies(E_Pa: float) -> array of natural frequencies (Hz), ascending``.
+    f_measured_hz : array (m,)
+        Measured natural frequencies (Hz).
+    modes : array of int (m,)
+        Mode number of each measured frequency: 1-based index into the computed list.
+    E_start : float
+        Starting modulus (Pa).
+    freq_resolution_hz : float or None
+        Frequency resolution of the measurement (Hz); the iteration stops when every computed
+        frequency is within half of it (the paper: 0.5 Hz resolution, 0.25 Hz). None: to a
+        relative 1e-10.
+    degree : int or None
+        Degree of the smooth fit in ``ln f`` (reduced to m - 1 when fewer modes); None tabulates
+        the per-mode moduli themselves (interpolating table).
+    table_freqs_hz : array or None
+        Frequencies (Hz) of the table rows; default ``n_table`` points spaced geometrically
+        between the lowest and highest measured frequency.
+    max_iter : int
+        Limit of adaptive steps per mode.
+
+    Returns
+    -------
+    :class:`ModulusResult`.
+
+    Raises
+    ------
+    ModelError
+        Mismatched lengths, non-positive frequencies or moduli, a mode number beyond the computed
+        list, no convergence (the frequency cannot be reached by changing E).
+    """
+    f_m = signal_1d("f_measured_hz", f_measured_hz, min_len=1)
+    if np.any(f_m <= 0):
+        raise ModelError("f_measured_hz", float(f_m[f_m <= 0][0]), "measured frequencies must be positive (Hz)")
+    md = np.atleast_1d(np.asarray(modes))
+    if md.shape != f_m.shape:
+        raise ModelError("modes", md.tolist(), f"must give one mode number per measured frequency ({f_m.size})")
+    if not np.all(np.equal(np.mod(md, 1), 0)) or np.any(md < 1):
+        raise ModelError("modes", md.tolist(), "mode numbers are whole numbers >= 1 (1 = lowest mode)")
+    md = md.astype(int)
+    E0 = positive("E_start", E_start)
+    if freq_resolution_hz is not None:
+        positive("freq_resolution_hz", freq_resolution_hz)
+
+    def freqs(E):
+        f = np.asarray(compute_frequencies(float(E)), dtype=float)
+        if f.ndim != 1 or f.size < md.max():
+            raise ModelError("modes", int(md.max()),
+                             f"compute_frequencies returned {f.size} frequencies; mode numbers must not exceed that")
+        return f
+
+    f_start = freqs(E0)
+    E_mode = np.empty(f_m.size)
+    f_comp = np.empty(f_m.size)
+    history = []
+    for i, (fi, mi) in enumerate(zip(f_m, md)):
+        tol = 0.5 * float(freq_resolution_hz) if freq_resolution_hz is not None else 1e-10 * fi
+        E, fc = E0, f_start[mi - 1]
+        steps = [(E, fc)]
+        for _ in range(int(max_iter)):
+            if abs(fc - fi) <= tol:
+                break
+            if fc <= 0:
+                raise ModelError("f_measured_hz", float(fi), f"mode {mi} has a non-positive computed frequency")
+            E = E * (fi / fc) ** 2
+            fc = freqs(E)[mi - 1]
+            steps.append((E, fc))
+        else:
+            if abs(fc - fi) > tol:
+                raise ModelError("f_measured_hz", float(fi),
+                                 f"mode {mi}: no modulus reproduces this frequency within {tol:g} Hz "
+                                 f"after {max_iter} steps (last E = {E:g} Pa gives {fc:g} Hz)")
+        E_mode[i], f_comp[i] = E, fc
+        history.append(steps)
+    f_ref = float(np.exp(np.mean(np.log(f_m))))
+    u = np.log(f_m / f_ref)
+    if degree is None:
+        order = np.argsort(f_m)
+        fu, idx = np.unique(f_m[order], return_index=True)
+        coeffs = np.polynomial.polynomial.polyfit(u, E_mode, min(f_m.size - 1, 2)) if f_m.size > 1 \
+            else np.array([E_mode[0]])
+        table = [[float(a), float(b)] for a, b in zip(fu, E_mode[order][idx])]
+    else:
+        if int(degree) < 0:
+            raise ModelError("degree", degree, "must be a whole number >= 0 or None")
+        deg = min(int(degree), np.unique(f_m).size - 1)
+        coeffs = np.polynomial.polynomial.polyfit(u, E_mode, deg) if deg > 0 else np.array([np.mean(E_mode)])
+        if table_freqs_hz is None:
+            if f_m.min() == f_m.max():
+                tf = np.array([f_m.min()])
+            else:
+                tf = np.geomspace(f_m.min(), f_m.max(), max(2, int(n_table)))
+        else:
+            tf = np.unique(signal_1d("table_freqs_hz", table_freqs_hz, min_len=1))
+            if np.any(tf < 0):
+                raise ModelError("table_freqs_hz", float(tf[0]), "must be frequencies >= 0 Hz")
+        with np.errstate(divide="ignore"):
+            Et = np.polynomial.polynomial.polyval(np.log(np.maximum(tf, 1e-300) / f_ref), coeffs)
+        if np.any(Et <= 0):
+            raise ModelError("degree", degree, "the smooth fit gives a non-positive modulus in the table's range; "
+                             "use a lower degree")
+        table = [[float(a), float(b)] for a, b in zip(tf, Et)]
+    return ModulusResult(f_measured_hz=f_m, modes=md, E_mode=E_mode, f_computed_hz=f_comp, history=history,
+                         f_ref_hz=f_ref, coefficients=np.asarray(coeffs, dtype=float), table=table,
+                         tolerance_hz=0.5 * float(freq_resolution_hz) if freq_resolution_hz is not None else 0.0)
+
+
+def identify_modulus_model(model, body, f_measured_hz, modes, freq_resolution_hz=None, degree=2, count=None, **kw):
+    """:func:`identify_modulus` on the package's FE model of ``body`` ("casing" or "cable").
+
+    ``compute_frequencies(E) = cablecasing_core.natural_frequencies(model.with_overrides({f"{body}.E": E}),
+    body, count)`` with ``count`` defaulting to the highest mode number; the start is the model's
+    reference modulus. The identified table is put into a model by
+    ``model.with_overrides({f"{body}.E": result.table})``.
+    """
+    import cablecasing_core as cc
+
+    if body not in model.bodies:
+        raise ModelError("body", body, "must be one of " + ", ".join(repr(b) for b in model.bodies))
+    md = np.atleast_1d(np.asarray(modes))
+    n = int(count) if count is not None else int(np.max(md))
+
+    def compute(E):
+        return cc.natural_frequencies(model.with_overrides({f"{body}.E": float(E)}), body, n)
+
+    return identify_modulus(compute, f_measured_hz, modes, model.bodies[body].E_ref,
+                            freq_resolution_hz=freq_resolution_hz, degree=degree, **kw)

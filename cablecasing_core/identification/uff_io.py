@@ -1,0 +1,236 @@
+"""Measured data in and out: time records and FRFs as Universal File Format dataset 58, or CSV.
+
+UFF 58 ("function at nodal DOF") goes through ``pyuff`` (an optional dependency, imported when
+needed). Function type 1 is a time response, type 4 a frequency response function; data are
+written in binary (58b) double precision, so values round-trip exactly. The dataset's header
+stores an even abscissa's start and increment in E13.5 format (six significant digits); the exact
+values are also written, as text, into the ID line 4 (``cablecasing x0=... dx=...``) and used on
+reading when present. Unevenly spaced abscissae are stored point by point (exact in binary).
+
+CSV files have one header line. Time records: ``time_s,<channel>,...``. FRFs:
+``frequency_hz,re_<name>,im_<name>[,...]`` (the first ``re_``/``im_`` pair is read; the ``trfam``
+CLI's ``frequency_hz,re_kg,im_kg,magnitude_kg,phase_deg`` files are accepted as they are).
+Units are SI: s, Hz, and the unit of the quantity.
+"""
+from __future__ import annotations
+
+import os
+import re
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ModelError
+
+_TAG = re.compile(r"cablecasing x0=(\S+) dx=(\S+)")
+UFF_EXTENSIONS = (".uff", ".unv", ".uf")
+
+
+@dataclass(frozen=True)
+class Record:
+    """One function read from a file: ``kind`` ("time" or "frf"), abscissa ``x`` (s or Hz),
+    ``data`` (real for time, complex for an FRF), ``name``, and the UFF node/direction fields."""
+
+    kind: str
+    x: np.ndarray
+    data: np.ndarray
+    name: str = ""
+    rsp_node: int = 1
+    rsp_dir: int = 1
+    ref_node: int = 0
+    ref_dir: int = 0
+
+    @property
+    def fs(self):
+        """Sampling rate (Hz) of an evenly sampled time record."""
+        return 1.0 / float(self.x[1] - self.x[0])
+
+
+def _pyuff():
+    try:
+        import pyuff
+    except ImportError as exc:  # pragma: no cover - pyuff is installed with the 'identify' extra
+        raise ModelError("file", "UFF", "reading/writing UFF needs the optional package pyuff "
+                         "(pip install 'cablecasing[identify]')") from exc
+    return pyuff
+
+
+def _even(x):
+    d = np.diff(x)
+    return d.size > 0 and np.all(d > 0) and np.allclose(d, d[0], rtol=1e-9, atol=0.0)
+
+
+def _dataset(rec, binary):
+    pyuff = _pyuff()
+    x = np.asarray(rec.x, dtype=float)
+    even = _even(x)
+    dx = float(x[1] - x[0]) if even else 0.0
+    is_time = rec.kind == "time"
+    return pyuff.prepare_58(
+        binary=1 if binary else 0, func_type=1 if is_time else 4,
+        id1=(rec.name or ("time record" if is_time else "FRF"))[:80], id2="cablecasing", id3="NONE",
+        id4=f"cablecasing x0={float(x[0])!r} dx={dx!r}" if even else "NONE", id5="NONE",
+        rsp_node=int(rec.rsp_node), rsp_dir=int(rec.rsp_dir), ref_node=int(rec.ref_node),
+        ref_dir=int(rec.ref_dir), rsp_ent_name="cablecasing", ref_ent_name="cablecasing",
+        data=np.asarray(rec.data, dtype=float if is_time else complex), x=x,
+        abscissa_spacing=1 if even else 0, abscissa_spec_data_type=17 if is_time else 18,
+        abscissa_axis_units_lab="s" if is_time else "Hz", ordinate_spec_data_type=0,
+        orddenom_spec_data_type=0, z_axis_spec_data_type=0)
+
+
+def write_uff(path, records, binary=True):
+    """Write :class:`Record` objects to ``path`` as UFF dataset 58 (overwrites the file)."""
+    pyuff = _pyuff()
+    if os.path.exists(path):
+        os.remove(path)
+    sets = [_dataset(r, binary) for r in records]
+    pyuff.UFF(str(path)).write_sets(sets, mode="add")
+
+
+def write_uff_time(path, x, fs, name="x", t0=0.0, binary=True, **dof):
+    """Write one time record (samples ``x`` at ``fs`` Hz from ``t0`` s) as UFF 58, function type 1."""
+    x = np.asarray(x, dtype=float)
+    t = t0 + np.arange(x.size) / float(fs)
+    write_uff(path, [Record("time", t, x, name, **dof)], binary=binary)
+
+
+def write_uff_frf(path, freqs_hz, H, name="H", binary=True, **dof):
+    """Write one complex FRF (at ``freqs_hz`` Hz) as UFF 58, function type 4."""
+    write_uff(path, [Record("frf", np.asarray(freqs_hz, dtype=float), np.asarray(H, dtype=complex), name, **dof)],
+              binary=binary)
+
+
+def read_uff(path):
+    """All dataset-58 functions of a UFF file as a list of :class:`Record` (type 1 -> "time", else "frf")."""
+    pyuff = _pyuff()
+    if not os.path.exists(path):
+        raise ModelError("file", str(path), "does not exist")
+    try:
+        u = pyuff.UFF(str(path))
+        types = list(u.get_set_types())
+        idx = [i for i, ty in enumerate(types) if int(ty) == 58]
+        if not idx:
+            raise ModelError("file", str(path), "contains no UFF dataset 58 (function at nodal DOF)")
+        sets = u.read_sets(idx)
+    except ModelError:
+        raise
+    except Exception as exc:
+        raise ModelError("file", str(path), f"is not a readable UFF file ({exc})") from exc
+    if isinstance(sets, dict):
+        sets = [sets]
+    out = []
+    for s in sets:
+        x = np.asarray(s["x"], dtype=float)
+        m = _TAG.search(str(s.get("id4", "")))
+        if m and int(s.get("abscissa_spacing", 0)) == 1:
+            x = float(m.group(1)) + np.arange(x.size) * float(m.group(2))
+        kind = "time" if int(s["func_type"]) == 1 else "frf"
+        data = np.asarray(s["data"])
+        data = data.real.astype(float) if kind == "time" and not np.iscomplexobj(data) else data
+        out.append(Record(kind, x, data, str(s.get("id1", "")).strip(), int(s.get("rsp_node", 1)),
+                          int(s.get("rsp_dir", 1)), int(s.get("ref_node", 0)), int(s.get("ref_dir", 0))))
+    return out
+
+
+# ------------------------------------------------------------------------------------------- CSV
+
+def write_csv_time(path, x, fs, names=None, t0=0.0):
+    """Time record(s) to CSV: columns ``time_s`` and one per channel (``x`` of shape (n,) or (n, k))."""
+    x = np.asarray(x, dtype=float)
+    x2 = x[:, None] if x.ndim == 1 else x
+    names = names or (["x"] if x2.shape[1] == 1 else [f"x{i + 1}" for i in range(x2.shape[1])])
+    t = t0 + np.arange(x2.shape[0]) / float(fs)
+    np.savetxt(path, np.column_stack([t, x2]), delimiter=",", header=",".join(["time_s", *names]),
+               comments="", fmt="%.17g")
+
+
+def write_csv_frf(path, freqs_hz, H, name="H"):
+    """A complex FRF to CSV: ``frequency_hz,re_<name>,im_<name>``."""
+    H = np.asarray(H, dtype=complex)
+    np.savetxt(path, np.column_stack([np.asarray(freqs_hz, dtype=float), H.real, H.imag]), delimiter=",",
+               header=f"frequency_hz,re_{name},im_{name}", comments="", fmt="%.17g")
+
+
+def _read_csv(path):
+    if not os.path.exists(path):
+        raise ModelError("file", str(path), "does not exist")
+    with open(path, encoding="utf-8") as fh:
+        header = fh.readline().strip()
+    names = [h.strip() for h in header.split(",")]
+    try:
+        data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    except ValueError as exc:
+        raise ModelError("file", str(path), f"must be numeric CSV with one header line ({exc})") from exc
+    if data.shape[1] != len(names):
+        raise ModelError("file", str(path), f"header has {len(names)} columns, data {data.shape[1]}")
+    return names, data
+
+
+def read_csv_time(path, channel=None):
+    """A time record from CSV: returns ``(x, fs, name)``; ``channel`` is a column name or index
+    among the signal columns (default the first). The first column is the time (s), evenly spaced."""
+    names, data = _read_csv(path)
+    if len(names) < 2 or data.shape[0] < 2:
+        raise ModelError("file", str(path), "a time record needs columns time_s,<signal> and two rows or more")
+    t = data[:, 0]
+    if not _even(t):
+        raise ModelError(f"{path}:{names[0]}", "uneven time column", "time must be evenly spaced and increasing")
+    cols = names[1:]
+    if channel is None:
+        j = 0
+    elif isinstance(channel, str) and not channel.isdigit():
+        if channel not in cols:
+            raise ModelError("channel", channel, "must be one of " + ", ".join(cols))
+        j = cols.index(channel)
+    else:
+        j = int(channel)
+        if not 0 <= j < len(cols):
+            raise ModelError("channel", channel, f"must be 0..{len(cols) - 1} or a column name")
+    return data[:, j + 1], 1.0 / float(np.mean(np.diff(t))), cols[j]
+
+
+def read_csv_frf(path):
+    """A complex FRF from CSV: returns ``(freqs_hz, H)`` from the first column and the first
+    ``re_*``/``im_*`` column pair."""
+    names, data = _read_csv(path)
+    re_i = next((i for i, n in enumerate(names) if n.lower().startswith("re")), None)
+    im_i = next((i for i, n in enumerate(names) if n.lower().startswith("im")), None)
+    if re_i is None or im_i is None:
+        raise ModelError("file", str(path), "an FRF CSV needs columns frequency_hz,re_<name>,im_<name>")
+    return data[:, 0], data[:, re_i] + 1j * data[:, im_i]
+
+
+# ------------------------------------------------------------------------------ by file extension
+
+def _is_uff(path):
+    return os.path.splitext(str(path))[1].lower() in UFF_EXTENSIONS
+
+
+def read_time_record(path, channel=None):
+    """``(x, fs, name)`` from a CSV or UFF (.uff/.unv) file; ``channel`` selects a column or the
+    n-th time function of a UFF file."""
+    if not _is_uff(path):
+        return read_csv_time(path, channel)
+    recs = [r for r in read_uff(path) if r.kind == "time"]
+    if not recs:
+        raise ModelError("file", str(path), "contains no time record (UFF 58, function type 1)")
+    j = 0 if channel is None else int(channel)
+    if not 0 <= j < len(recs):
+        raise ModelError("channel", channel, f"must be 0..{len(recs) - 1}")
+    r = recs[j]
+    if not _even(r.x):
+        raise ModelError(f"{path}", "uneven abscissa", "a time record must be evenly sampled")
+    return np.asarray(r.data, dtype=float), r.fs, r.name
+
+
+def read_frf(path, channel=None):
+    """``(freqs_hz, H)`` from a CSV or UFF file (the n-th FRF of a UFF file, default the first)."""
+    if not _is_uff(path):
+        return read_csv_frf(path)
+    recs = [r for r in read_uff(path) if r.kind == "frf"]
+    if not recs:
+        raise ModelError("file", str(path), "contains no FRF (UFF 58, function type 4)")
+    j = 0 if channel is None else int(channel)
+    if not 0 <= j < len(recs):
+        raise ModelError("channel", channel, f"must be 0..{len(recs) - 1}")
+    return recs[j].x, np.asarray(recs[j].data, dtype=complex)

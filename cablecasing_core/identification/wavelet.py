@@ -1,0 +1,348 @@
+"""Continuous Morlet (Gabor) wavelet transform and damping identification from its ridges.
+
+Section 3.2.1 of the paper ("Identification of the damping ratio"), after Slavič, Simonovski and
+Boltežar, J. Sound Vib. 262 (2003) 291-307 (the paper's Ref. [34]).
+
+Wavelet and normalisation
+-------------------------
+The wavelet at centre frequency ``f`` (Hz, ``omega_c = 2 pi f``) is the analytic Morlet/Gabor
+wavelet, defined by its Fourier transform
+
+    G(omega) = 2 exp(-(omega - omega_c)^2 / (2 sigma_w^2))  for omega > 0,   0 for omega <= 0,
+    sigma_w = omega_c / gamma,
+
+i.e. in time ``g(t) = (2 sigma_w / sqrt(2 pi)) exp(-sigma_w^2 t^2 / 2) exp(i omega_c t)``, a Gaussian
+envelope of standard deviation ``sigma_t = gamma / omega_c`` (s) under a carrier at ``omega_c``.
+``gamma`` (dimensionless) is the classical Morlet parameter (``omega_0`` of Torrence & Compo, the
+ratio ``omega_psi / sigma`` of the Gabor wavelet): ``gamma / (2 pi)`` carrier periods fit into one
+``sigma_t``. The transform is
+
+    W(u, f) = integral x(t) conj(g(t - u)) dt,
+
+which is a constant-Q Gaussian band-pass filter (L1, "amplitude" normalisation): a harmonic
+``a cos(omega_c t + phi)`` gives ``|W| = a`` on its ridge, and a complex exponential
+``exp((-sigma + i omega_d) t)`` gives
+
+    |W(u, omega_c)| = 2 exp(-sigma u) exp((sigma^2 - (omega_d - omega_c)^2) gamma^2 / (2 omega_c^2)).
+
+Consequences used below (benchmarks.md, "Damping identification"):
+
+* along any fixed frequency, ``ln|W|`` falls with slope ``-sigma = -zeta omega_n`` (s^-1);
+* the ridge (maximum over ``omega_c``) lies at ``omega_ridge = omega_d - sigma^2 / omega_d`` for every
+  ``gamma`` ("ridge-frequency correction": ``omega_d = (omega_ridge + sqrt(omega_ridge^2 + 4 sigma^2)) / 2``,
+  ``omega_n^2 = omega_d^2 + sigma^2``);
+* ``ln|W|`` is exactly a parabola in ``1 / omega_c``, so a three-point parabola in ``1/f`` locates the
+  ridge between grid frequencies without bias.
+
+Implementation choice: the transform is computed by FFT (frequency-domain multiplication by the
+exact ``G(omega)``, all frequencies of a block in one vectorised numpy pass, zero padding of five
+``sigma_t`` against circular wrap-around). ``scipy.signal.cwt`` was removed from SciPy, and
+PyWavelets' ``cwt`` with ``cmor`` wavelets samples the wavelet on a finite grid and converts scales
+to frequencies through a tabulated centre frequency, so its amplitude and ridge location carry
+discretisation errors; the exact Gaussian filter keeps the closed-form ridge correction exact and
+needs only numpy/scipy (PyWavelets is an optional dependency of this package).
+
+Edges and noise
+---------------
+The record's start (the impulse) and end (zero padding) spoil ``W`` within a few ``sigma_t`` of
+each end: samples closer than ``edge_factor * sigma_t`` (default 3, where the missing Gaussian mass
+is about 1e-3) to either end are left out. The noise floor of ``|W|`` is the median of ``|W|`` over
+the last quarter of the usable interval (or a value given by the caller); the fit stops where the
+ridge first sinks below ``floor_factor`` (default 5) times that floor. The straight line through
+``ln|W|`` is weighted by ``|W|`` (additive noise gives ``ln|W|`` a standard deviation ~ noise / |W|).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.fft as sfft
+
+from ..errors import ModelError
+from ._checks import frequencies_in_band, positive, signal_1d
+
+#: Default Morlet parameter gamma: sigma_t = 12 / omega_c, i.e. about two carrier periods per sigma_t.
+#: It separates modes 25 % apart in frequency by more than 1e-3 in |W| and keeps the edge
+#: (3 sigma_t ~ 5.7 periods) short enough for damping ratios of a few per cent.
+DEFAULT_GAMMA = 12.0
+#: Smallest gamma accepted: below it the Gaussian reaches 0 Hz (leak 2 exp(-gamma^2/2) > 0.02).
+MIN_GAMMA = 3.0
+
+
+def wavelet_time_spread(f_hz, gamma=DEFAULT_GAMMA):
+    """Standard deviation ``sigma_t = gamma / (2 pi f)`` (s) of the wavelet's Gaussian envelope at ``f_hz`` (Hz)."""
+    return float(gamma) / (2.0 * np.pi * np.asarray(f_hz, dtype=float))
+
+
+def edge_length(f_hz, gamma=DEFAULT_GAMMA, edge_factor=3.0):
+    """Length (s) at each end of a record spoiled by edge effects at ``f_hz`` (Hz): ``edge_factor * sigma_t``."""
+    return float(edge_factor) * wavelet_time_spread(f_hz, gamma)
+
+
+def cwt_morlet(x, fs, freqs_hz, gamma=DEFAULT_GAMMA, max_block_bytes=64e6):
+    """Continuous wavelet transform with the analytic Morlet (Gabor) wavelet, computed by FFT.
+
+    Parameters
+    ----------
+    x : array (n,)
+        Sampled signal (any unit; real or complex; a complex signal keeps only its positive-frequency part).
+    fs : float
+        Sampling rate (Hz).
+    freqs_hz : array (m,)
+        Centre frequencies (Hz), each in the open interval (0, fs/2).
+    gamma : float
+        Morlet parameter (dimensionless, >= 3): envelope standard deviation ``gamma / (2 pi f)`` s,
+        bandwidth (standard deviation) ``f / gamma`` Hz.
+    max_block_bytes : float
+        Memory bound of one vectorised block of frequencies (bytes).
+
+    Returns
+    -------
+    W : complex array (n, m)
+        ``W[k, j] = sum_i x_i conj(g_j(t_i - t_k)) dt`` (time x frequency), in the unit of ``x``;
+        amplitude normalisation: ``|W| = a`` on the ridge of ``a cos(2 pi f t)``. See the module
+        docstring for the wavelet, and Section 3.2.1 / Fig. 10 of the paper for its use.
+
+    Raises
+    ------
+    ModelError
+        ``fs`` not positive, ``gamma`` below 3, a frequency outside (0, fs/2), a non-finite signal.
+    """
+    x = signal_1d("x", x, min_len=2, complex_ok=True)
+    fs = positive("fs", fs)
+    gamma = positive("gamma", gamma)
+    if gamma < MIN_GAMMA:
+        raise ModelError("gamma", gamma, f"must be at least {MIN_GAMMA:g} (the Gaussian must vanish at 0 Hz)")
+    f = frequencies_in_band("freqs_hz", freqs_hz, fs)
+    n = x.size
+    pad = int(np.ceil(5.0 * gamma / (2.0 * np.pi * f.min()) * fs))  # 5 sigma_t: exp(-12.5) wrap-around
+    nfft = sfft.next_fast_len(n + pad)
+    X = sfft.fft(x, nfft)
+    omega = 2.0 * np.pi * sfft.fftfreq(nfft, 1.0 / fs)
+    positive_bins = omega > 0.0
+    om = omega[positive_bins]
+    Xp = X[positive_bins]
+    out = np.empty((n, f.size), dtype=complex)
+    block = max(1, int(max_block_bytes // (16 * nfft)))
+    for j0 in range(0, f.size, block):
+        wc = 2.0 * np.pi * f[j0:j0 + block, None]
+        spec = np.zeros((wc.shape[0], nfft), dtype=complex)
+        spec[:, positive_bins] = Xp * (2.0 * np.exp(-0.5 * ((om - wc) * (gamma / wc)) ** 2))
+        out[:, j0:j0 + block] = sfft.ifft(spec, axis=1)[:, :n].T
+    return out
+
+
+@dataclass(frozen=True)
+class RidgeResult:
+    """Damping identified on one wavelet ridge (Section 3.2.1, Fig. 11).
+
+    Frequencies in Hz, ``slope`` in 1/s, times in s, ``noise_floor`` in the unit of the signal.
+    ``log_w`` is ``ln|W(t, f_ridge_hz)|`` over the whole record and ``ridge_hz`` the frequency of
+    the maximum of ``|W|`` at each time (nan outside the edges); ``fit_mask`` marks the samples
+    of the straight-line fit ``log_w ~ intercept + slope * t``.
+    """
+
+    f_requested_hz: float
+    f_ridge_hz: float
+    f_damped_hz: float
+    f_natural_hz: float
+    zeta: float
+    slope: float
+    intercept: float
+    edge_s: float
+    noise_floor: float
+    gamma: float
+    t: np.ndarray
+    log_w: np.ndarray
+    ridge_hz: np.ndarray
+    fit_mask: np.ndarray
+
+    @property
+    def t_fit(self):
+        """(start, end) of the fitted interval (s)."""
+        tt = self.t[self.fit_mask]
+        return float(tt[0]), float(tt[-1])
+
+
+def _parabola_vertex(xs, ys):
+    """Abscissa and value of the vertex of the parabola through three points (any spacing)."""
+    x0, x1, x2 = xs
+    y0, y1, y2 = ys
+    d01, d12, d02 = x0 - x1, x1 - x2, x0 - x2
+    a = (y0 / (d01 * d02)) - (y1 / (d01 * d12)) + (y2 / (d02 * d12))
+    b = (y1 - y0) / (x1 - x0) - a * (x0 + x1)
+    if a >= 0.0:  # not a maximum: keep the middle point
+        return x1, y1
+    xv = -b / (2.0 * a)
+    c = y1 - a * x1 * x1 - b * x1
+    return xv, a * xv * xv + b * xv + c
+
+
+def _ridge_of_profile(inv_f, logp, f0):
+    """Interior local maximum of a profile over a 1/f grid, nearest to f0; parabola in 1/f."""
+    interior = np.nonzero((logp[1:-1] > logp[:-2]) & (logp[1:-1] >= logp[2:]))[0] + 1
+    if interior.size == 0:
+        return None
+    j = interior[np.argmin(np.abs(1.0 / inv_f[interior] - f0))]
+    xv, _ = _parabola_vertex(inv_f[j - 1:j + 2], logp[j - 1:j + 2])
+    return 1.0 / xv
+
+
+def _ridge_per_time(inv_f, logA):
+    """Ridge frequency (Hz) at every row of ``logA`` (time x 1/f grid), parabola in 1/f at the arg-max."""
+    j = np.clip(np.argmax(logA, axis=1), 1, logA.shape[1] - 2)
+    rows = np.arange(logA.shape[0])
+    x0, x1, x2 = inv_f[j - 1], inv_f[j], inv_f[j + 1]
+    y0, y1, y2 = logA[rows, j - 1], logA[rows, j], logA[rows, j + 1]
+    d01, d12, d02 = x0 - x1, x1 - x2, x0 - x2
+    a = (y0 / (d01 * d02)) - (y1 / (d01 * d12)) + (y2 / (d02 * d12))
+    b = (y1 - y0) / (x1 - x0) - a * (x0 + x1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xv = np.where(a < 0.0, -b / (2.0 * a), x1)
+    return 1.0 / xv
+
+
+def _ridge_and_window(x, fs, t, A, inv_f, f0, gamma, valid, noise_floor, floor_factor, need, edge,
+                      search, min_cycles):
+    """Ridge frequency from the energy profile over the fit window, and the window from the noise
+    floor of |W| on that ridge; alternated until the ridge settles (two or three passes)."""
+    fit = valid.copy()
+    f_r = None
+    for _ in range(4):
+        with np.errstate(divide="ignore"):
+            prof = np.log(np.sum(A[fit] ** 2, axis=0))
+        f_new = _ridge_of_profile(inv_f, prof, f0)
+        if f_new is None:
+            raise ModelError("freqs_hz", float(f0),
+                             f"no ridge (local maximum of |W|) within +-{100 * search:g} % of this "
+                             "frequency: give the frequency of a mode present in the record")
+        w_r = np.abs(cwt_morlet(x, fs, [f_new], gamma)[:, 0])
+        if noise_floor is None:
+            idx = np.nonzero(valid)[0]
+            floor = float(np.median(w_r[idx[int(0.75 * idx.size):]]))
+        else:
+            floor = positive("noise_floor", noise_floor)
+        below = valid & (w_r < floor_factor * floor)
+        stop = int(np.argmax(below)) if below.any() else t.size
+        fit = valid.copy()
+        fit[stop:] = False
+        if fit.sum() < 8 or (t[fit][-1] - t[fit][0]) < need:
+            raise ModelError("x", f"record at {f0:g} Hz",
+                             f"the mode sinks into the noise floor (|W| ~ {floor:.3g}) before the edge "
+                             f"effect ends ({edge:g} s): fewer than {min_cycles:g} periods remain; "
+                             "give a cleaner or longer record, a smaller gamma or a noise_floor")
+        done = f_r is not None and abs(f_new - f_r) <= 1e-9 * f0
+        f_r = f_new
+        if done:
+            break
+    return f_r, w_r, fit, floor
+
+
+def wavelet_damping(x, fs, freqs_hz, gamma=DEFAULT_GAMMA, edge_factor=3.0, search=0.05, n_search=41,
+                    noise_floor=None, floor_factor=5.0, t_max=None, min_cycles=3.0):
+    """Damping ratios from the ridges of the Morlet wavelet transform of an impulse response.
+
+    Implements the paper's Section 3.2.1 (Figs. 10-11, Table 1) after Slavič et al. (2003): for a
+    mode ``exp(-zeta omega_n t) cos(omega_d t)``, ``ln|W|`` along the ridge falls with slope
+    ``-zeta omega_n``; the ridge frequency is corrected to the damped and undamped natural
+    frequencies (module docstring). The ``(f_natural_hz, zeta)`` pairs feed Eqs. (41)-(44)
+    (:func:`~cablecasing_core.identification.rayleigh.rayleigh_fit`).
+
+    Parameters
+    ----------
+    x : array (n,)
+        Impulse (free) response, sampled from the impulse on (any unit).
+    fs : float
+        Sampling rate (Hz).
+    freqs_hz : array
+        Approximate natural frequencies (Hz) of the modes to identify, each in (0, fs/2).
+    gamma : float
+        Morlet parameter (see :func:`cwt_morlet`).
+    edge_factor : float
+        Samples within ``edge_factor * gamma / (2 pi f)`` s of either end are left out.
+    search : float
+        Relative half-width of the frequency band searched for the ridge (0.05: +-5 %).
+    n_search : int
+        Number of wavelet frequencies (uniform in 1/f) across that band.
+    noise_floor : float or None
+        Level of ``|W|`` due to noise (signal unit); None estimates it from the record's tail.
+    floor_factor : float
+        The fit stops where ``|W|`` first falls below ``floor_factor * noise_floor``.
+    t_max : float or None
+        Optional latest time (s) used in the fit.
+    min_cycles : float
+        Least number of periods that must remain between the edges (and above the noise floor).
+
+    Returns
+    -------
+    list of :class:`RidgeResult`, one per requested frequency, in the given order.
+
+    Raises
+    ------
+    ModelError
+        A record too short for a requested frequency (edge effects and fewer than ``min_cycles``
+        periods), a frequency outside (0, fs/2), no ridge near a requested frequency, a mode that
+        sinks into the noise floor before the edge effect ends, or a response that grows.
+    """
+    x = signal_1d("x", x, min_len=8)
+    fs = positive("fs", fs)
+    gamma = positive("gamma", gamma)
+    edge_factor = positive("edge_factor", edge_factor)
+    floor_factor = positive("floor_factor", floor_factor)
+    search = positive("search", search)
+    if search >= 0.5:
+        raise ModelError("search", search, "must be a relative half-width below 0.5")
+    if int(n_search) < 5:
+        raise ModelError("n_search", n_search, "must be at least 5")
+    f_req = frequencies_in_band("freqs_hz", freqs_hz, fs)
+    n = x.size
+    T = n / fs
+    t = np.arange(n) / fs
+    results = []
+    for f0 in f_req:
+        f_hi = f0 * (1.0 + search)
+        if f_hi >= fs / 2.0:
+            raise ModelError("freqs_hz", float(f0),
+                             f"with search = +-{search:g} the band reaches fs/2 = {fs / 2:g} Hz; "
+                             "give a higher fs or a smaller search")
+        sigma_t = wavelet_time_spread(f0 * (1.0 - search), gamma)
+        inv_f = np.linspace(1.0 / (f0 * (1.0 + search)), 1.0 / (f0 * (1.0 - search)), int(n_search))
+        A = None
+        sigma = 0.0
+        for _ in range(5):  # the edge depends on the decay rate: edge_factor sigma_t + sigma sigma_t^2
+            edge = edge_factor * sigma_t + max(sigma, 0.0) * sigma_t ** 2
+            t_end = T - edge if t_max is None else min(T - edge, float(t_max))
+            need = min_cycles / f0
+            if t_end - edge < need:
+                raise ModelError("x", f"{n} samples ({T:g} s)",
+                                 f"too short for {f0:g} Hz with gamma = {gamma:g}: needs at least "
+                                 f"{2 * edge + need:g} s (edge effects of {edge:g} s at each end plus "
+                                 f"{min_cycles:g} periods)")
+            if A is None:
+                A = np.abs(cwt_morlet(x, fs, 1.0 / inv_f, gamma))
+            valid = (t >= edge) & (t <= t_end)
+            f_r, w_r, fit, floor = _ridge_and_window(x, fs, t, A, inv_f, f0, gamma, valid, noise_floor,
+                                                     floor_factor, need, edge, search, min_cycles)
+            with np.errstate(divide="ignore"):
+                log_w = np.log(w_r)
+            slope, intercept = np.polyfit(t[fit], log_w[fit], 1, w=w_r[fit])
+            sigma_new = -float(slope)
+            done = abs(sigma_new - sigma) <= 1e-6 * abs(sigma_new)
+            sigma = sigma_new
+            if done:
+                break
+        if sigma < 0.0:
+            raise ModelError("x", f"record at {f0:g} Hz",
+                             f"ln|W| grows along the ridge (slope {slope:g} 1/s): not a decaying free response")
+        w_ridge = 2.0 * np.pi * f_r
+        w_d = 0.5 * (w_ridge + np.sqrt(w_ridge ** 2 + 4.0 * sigma ** 2))
+        w_n = np.sqrt(w_d ** 2 + sigma ** 2)
+        ridge_hz = np.full(n, np.nan)
+        with np.errstate(divide="ignore"):
+            ridge_hz[valid] = _ridge_per_time(inv_f, np.log(A[valid]))
+        results.append(RidgeResult(
+            f_requested_hz=float(f0), f_ridge_hz=float(f_r), f_damped_hz=float(w_d / (2 * np.pi)),
+            f_natural_hz=float(w_n / (2 * np.pi)), zeta=float(sigma / w_n), slope=float(slope),
+            intercept=float(intercept), edge_s=float(edge), noise_floor=floor, gamma=float(gamma),
+            t=t, log_w=log_w, ridge_hz=ridge_hz, fit_mask=fit))
+    return results
