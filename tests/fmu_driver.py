@@ -1,150 +1,313 @@
-"""Drive dist/CableCasing.fmu through fmpy in this (fresh) process; used by test_fmu.py.
+"""Run dist/CableCasing.fmu in a fresh Python process (all FMUs of a process share its interpreter
+and module cache, so each test scenario gets its own process).
 
-python tests/fmu_driver.py SCENARIO OUT.npz '{"json": "args"}'
+This module does not import cablecasing_core: the FMU must load its own bundled copy. The test
+process prepares the input table (n, 36) - displacement, velocity, acceleration of the 12 support
+channels at each communication point - and reads back the outputs.
+
+    python tests/fmu_driver.py SCENARIO job.json      # writes job["out"] (npz)
+
+From a test: ``result = fmu_driver.run(tmp_path, "run", fmu=..., inputs=table, params={...})``.
 """
+from __future__ import annotations
+
 import json
+import subprocess
 import sys
+import time
+from ctypes import byref
 from pathlib import Path
 
 import numpy as np
-from fmpy import extract, read_model_description
-from fmpy.fmi2 import FMU2Slave
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "fmu_src"))
-
-from cablecasing_core.config import CHANNELS  # noqa: E402
-from cablecasing_core.engine import OUTPUTS  # noqa: E402
-from CableCasing import input_name  # noqa: E402
-
-FMU = str(ROOT / "dist" / "CableCasing.fmu")
+HERE = Path(__file__).resolve().parent
+CHANNELS = [f"{b}.{s}.{d}" for b in ("casing", "cable") for s in "AB" for d in "xyz"]
+INPUTS = [f"{b}.{s}.{k}{d}" for k in ("", "v", "a") for b, s, d in (c.split(".") for c in CHANNELS)]
+STATUS = {0: "ok", 1: "warning", 2: "discard", 3: "error", 4: "fatal"}
 
 
+# ------------------------------------------------------------------------------ called by the tests
+def run(tmp_path, scenario, fmu, inputs=None, timeout=600, **args):
+    """Run ``scenario`` of this driver in a fresh process; returns the npz content as a dict.
+
+    ``inputs``: array (n, 36) in the order of :data:`INPUTS` (m, m/s, m/s2) at t = k h."""
+    tmp_path = Path(tmp_path)
+    n = len(list(tmp_path.glob("job*.json")))
+    job = dict(args, fmu=str(fmu), out=str(tmp_path / f"out{n}.npz"))
+    if inputs is not None:
+        np.save(tmp_path / f"inputs{n}.npy", np.asarray(inputs, dtype=float))
+        job["inputs"] = str(tmp_path / f"inputs{n}.npy")
+    path = tmp_path / f"job{n}.json"
+    path.write_text(json.dumps(job))
+    proc = subprocess.run([sys.executable, str(Path(__file__)), scenario, str(path)],
+                          capture_output=True, text=True, timeout=timeout)
+    if proc.returncode != 0:
+        raise RuntimeError(f"fmu_driver {scenario} failed ({proc.returncode}):\n{proc.stdout}\n{proc.stderr}")
+    with np.load(job["out"], allow_pickle=False) as z:
+        return {k: z[k] for k in z.files}
+
+
+# ------------------------------------------------------------------------------ fmpy instance
 class Instance:
-    def __init__(self, params=None, name="inst", log=None, unzip=None):
-        self.md = read_model_description(FMU)
-        self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
-        self.unzip = unzip or extract(FMU)
-        self.log = log if log is not None else []
+    """One FMU instance through fmpy's FMU2Slave, with the log captured."""
+
+    unzip_dirs = {}
+
+    def __init__(self, fmu, name="cc", params=None, start_time=0.0, logging=True, unzip=None):
+        from fmpy import extract, read_model_description
+        from fmpy.fmi2 import FMU2Slave
+
+        self.md = read_model_description(fmu)
+        self.var = {v.name: v for v in self.md.modelVariables}
+        if unzip is None:
+            unzip = Instance.unzip_dirs.setdefault(fmu, extract(fmu))
+        self.log = []
+        self.fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=unzip,
+                             modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName=name)
+        self.fmu.instantiate(callbacks=self._callbacks(), loggingOn=logging)
+        self.t = start_time
+        self.fmu.setupExperiment(startTime=start_time)
+        self.fmu.enterInitializationMode()
+        self.status_init = self.set(params or {})
+        self.status_init = max(self.status_init, self.call(self.fmu.exitInitializationMode))
+        self.in_vr = [self.var[n].valueReference for n in INPUTS]
+
+    def _callbacks(self):
+        from fmpy import calloc, free
+        from fmpy.fmi2 import (fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE, fmi2CallbackFunctions,
+                               fmi2CallbackLoggerTYPE)
+        from fmpy.logging import addLoggerProxy
 
         def logger(env, instance, status, category, message):
-            self.log.append((status, message.decode() if isinstance(message, bytes) else message))
-        self.fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=self.unzip,
-                             modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName=name)
-        self.fmu.instantiate(loggingOn=True, callbacks=None)
-        from fmpy.fmi2 import fmi2CallbackLoggerTYPE
-        self._cb = fmi2CallbackLoggerTYPE(logger)
-        self.fmu.callbacks.logger = self._cb
-        self.fmu.setupExperiment(startTime=0.0)
-        self.fmu.enterInitializationMode()
-        for k, v in (params or {}).items():
-            if isinstance(v, bool):
-                self.fmu.setBoolean([self.vr[k]], [v])
-            elif isinstance(v, str):
-                self.fmu.setString([self.vr[k]], [v])
-            else:
-                self.fmu.setReal([self.vr[k]], [float(v)])
-        self.fmu.exitInitializationMode()
-        self.in_vr = [self.vr[input_name(ch, p)] for p in ("", "v", "a") for ch in CHANNELS]
-        self.out_vr = [self.vr[n] for n in OUTPUTS if n != "contact.active"]
-        self.t = 0.0
+            self.log.append((int(status), message.decode("utf-8", "replace") if message else ""))
+        cb = fmi2CallbackFunctions()
+        cb.logger = fmi2CallbackLoggerTYPE(logger)
+        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        addLoggerProxy(byref(cb))
+        self._cb = cb          # keep the C callbacks alive
+        return cb
 
-    def step(self, u, v, a, h):
-        self.fmu.setReal(self.in_vr, list(np.concatenate([u, v, a])))
+    @staticmethod
+    def call(f, *a):
+        """Status of an FMI call (fmpy raises on anything worse than fmi2Warning)."""
         from fmpy.fmi1 import FMICallException
         try:
-            status = self.fmu.fmi2DoStep(self.fmu.component, self.t, h, 1)
-        except FMICallException as exc:  # fmpy raises on any status but OK
-            status = exc.status
+            f(*a)
+            return 0
+        except FMICallException as exc:
+            return int(str(exc).split("status ")[1].split()[0])
+
+    def set(self, values):
+        status = 0
+        for name, value in values.items():
+            v = self.var[name]
+            vr = [v.valueReference]
+            setter = {"Real": self.fmu.setReal, "Integer": self.fmu.setInteger, "Boolean": self.fmu.setBoolean,
+                      "String": self.fmu.setString}[v.type]
+            status = max(status, self.call(setter, vr, [value]))
+        return status
+
+    def step(self, row, h):
+        self.fmu.setReal(self.in_vr, list(row))
+        status = self.call(self.fmu.doStep, self.t, h)
         if status == 0:
             self.t += h
         return status
 
-    def outputs(self):
-        r = self.fmu.getReal(self.out_vr)
-        return np.array(r + [self.fmu.getInteger([self.vr["contact.active"]])[0]])
+    def get(self, names):
+        out = np.empty(len(names))
+        for i, name in enumerate(names):
+            v = self.var[name]
+            out[i] = (self.fmu.getInteger if v.type == "Integer" else self.fmu.getReal)([v.valueReference])[0]
+        return out
+
+    def free(self):
+        self.fmu.terminate()
+        self.fmu.freeInstance()
 
 
-def motion_samples(model_over, duration, h):
-    import cablecasing_core as cc
-    from cablecasing_core.scenario import scenario_motion
-    m = cc.load_model().with_overrides(model_over)
-    t = h * np.arange(0, int(round(duration / h)))
-    return t, scenario_motion(m)(t)     # the scenario's own record (periodic over scenario.duration)
+def simulate(inst, table, h, outputs):
+    """Step through the input table; outputs after each step and the status of each step."""
+    out = np.zeros((len(table), len(outputs)))
+    status = np.zeros(len(table), int)
+    for k, row in enumerate(table):
+        status[k] = inst.step(row, h)
+        out[k] = inst.get(outputs)
+    return out, status
 
 
-def run(inst, samples, h):
-    t, (u, v, a) = samples
-    outs = []
-    for k in range(len(t)):
-        st = inst.step(u[k], v[k], a[k], h)
-        if st != 0:
-            raise RuntimeError(f"doStep status {st} at t={t[k]}: {inst.log[-3:]}")
-        outs.append(inst.outputs())
-    return np.array(outs)
+# ------------------------------------------------------------------------------ scenarios
+def scenario_run(job, table):
+    """Instantiate (parameters ``params``), step through the table; outputs after each step.
+    Also times instantiation up to the end of the first step (unzip excluded) and the rest."""
+    from fmpy import extract
+    Instance.unzip_dirs.setdefault(job["fmu"], extract(job["fmu"]))
+    t0 = time.perf_counter()
+    inst = Instance(job["fmu"], params=job.get("params"))
+    out = np.zeros((len(table), len(job["outputs"])))
+    status = np.zeros(len(table), int)
+    if len(table):
+        status[0] = inst.step(table[0], job["h"])
+        out[0] = inst.get(job["outputs"])
+    t1 = time.perf_counter()
+    out[1:], status[1:] = simulate(inst, table[1:], job["h"], job["outputs"])
+    t2 = time.perf_counter()
+    inst.free()
+    return dict(out=out, status=status, init_status=inst.status_init, log=_log(inst.log),
+                first_step_s=t1 - t0, run_s=t2 - t1)
+
+
+def scenario_steps(job, table):
+    """Varying communication steps job["steps"] (s), one input row per step."""
+    inst = Instance(job["fmu"], params=job.get("params"))
+    out = np.zeros((len(table), len(job["outputs"])))
+    status = np.zeros(len(table), int)
+    for k, (row, h) in enumerate(zip(table, job["steps"])):
+        status[k] = inst.step(row, h)
+        out[k] = inst.get(job["outputs"])
+    return dict(out=out, status=status, log=_log(inst.log))
+
+
+def scenario_state(job, table):
+    """Get the state half way; continue (A); set the state and continue again (B); serialise it and
+    continue in a new instance (C); reset the first instance and run everything again (D)."""
+    h, names = job["h"], job["outputs"]
+    inst = Instance(job["fmu"], name="first", params=job.get("params"))
+    n = len(table) // 2
+    first, _ = simulate(inst, table[:n], h, names)
+    state = inst.fmu.getFMUstate()
+    blob = inst.fmu.serializeFMUstate(state)
+    t_mid = inst.t
+    a, sa = simulate(inst, table[n:], h, names)
+    inst.fmu.setFMUstate(state)
+    inst.t = t_mid
+    b, sb = simulate(inst, table[n:], h, names)
+    inst.fmu.freeFMUstate(state)
+    other = Instance(job["fmu"], name="second", params=job.get("params"))
+    restored = other.fmu.deSerializeFMUstate(blob)
+    other.fmu.setFMUstate(restored)
+    other.t = t_mid
+    c, sc = simulate(other, table[n:], h, names)
+    inst.fmu.reset()
+    inst.t = 0.0
+    inst.fmu.setupExperiment(startTime=0.0)
+    inst.fmu.enterInitializationMode()
+    inst.set(job.get("params") or {})
+    inst.fmu.exitInitializationMode()
+    d, sd = simulate(inst, table, h, names)
+    return dict(first=first, a=a, b=b, c=c, d=d, status=np.concatenate([sa, sb, sc, sd]),
+                blob_bytes=len(blob), log=_log(inst.log + other.log))
+
+
+def scenario_two(job, table):
+    """Two instances with different parameters, stepped alternately in this process."""
+    h, names = job["h"], job["outputs"]
+    one = Instance(job["fmu"], name="one", params=job["p1"])
+    two = Instance(job["fmu"], name="two", params=job["p2"])
+    o1, o2 = np.zeros((len(table), len(names))), np.zeros((len(table), len(names)))
+    for k, row in enumerate(table):
+        assert one.step(row, h) == 0 and two.step(row, h) == 0
+        o1[k], o2[k] = one.get(names), two.get(names)
+    return dict(o1=o1, o2=o2)
+
+
+def scenario_errors(job, table):
+    """Misuse, one after the other in this process: each must give a status and a log message, and
+    the process (and where sensible the instance) must go on."""
+    h, names = job["h"], job["outputs"]
+    res = {}
+    zero = np.zeros(len(INPUTS))
+
+    def record(key, inst, status):
+        res[f"{key}_status"] = np.array(status)
+        res[f"{key}_log"] = np.array(_log(inst.log))
+        inst.log.clear()
+
+    inst = Instance(job["fmu"], name="nan")
+    bad = zero.copy()
+    bad[INPUTS.index("casing.A.z")] = np.nan
+    record("nan", inst, inst.step(bad, h))
+    bad = zero.copy()
+    bad[INPUTS.index("cable.B.vy")] = np.inf
+    record("inf", inst, inst.step(bad, h))
+    record("after_nan", inst, [inst.step(row, h) for row in table[:5]])
+    res["after_nan_out"] = inst.get(names)
+    record("wrong_time", inst, Instance.call(inst.fmu.doStep, inst.t + 1.0, h))
+    inst.free()
+
+    inst = Instance(job["fmu"], name="badparam", params={"casing.E": -1.0})
+    record("badparam_init", inst, inst.status_init)
+    record("badparam", inst, inst.step(zero, h))
+    inst = Instance(job["fmu"], name="badgap", params={"cable.d": 0.005})
+    record("badgap", inst, [inst.status_init, inst.step(zero, h)])
+    inst = Instance(job["fmu"], name="badfile", params={"model_file": "/nonexistent/model.toml"})
+    record("badfile", inst, [inst.status_init, inst.step(zero, h)])
+    inst = Instance(job["fmu"], name="baddt", params={"solver.dt": -1e-5})
+    record("baddt", inst, [inst.status_init, inst.step(zero, h)])
+
+    inst = Instance(job["fmu"], name="blowup")
+    jump = zero.copy()
+    jump[INPUTS.index("cable.A.y")] = 0.05          # 50 mm in one step: far through the casing wall
+    record("blowup", inst, inst.step(jump, h))
+    record("after_blowup", inst, [inst.step(row, h) for row in table[:5]])
+    res["after_blowup_out"] = inst.get(names)
+
+    inst = Instance(job["fmu"], name="fresh", start_time=0.25)     # the process goes on
+    out, status = simulate(inst, table[:5], h, names)
+    record("fresh", inst, status)
+    res["fresh_out"] = out
+    return res
+
+
+def scenario_libcosim(job, table):
+    """The same run under libcosimpy (Open Simulation Platform), outputs after each step."""
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimManipulator import CosimManipulator
+    from libcosimpy.CosimObserver import CosimObserver
+    from libcosimpy.CosimSlave import CosimLocalSlave
+
+    h, names = job["h"], job["outputs"]
+    step_ns = int(round(h * 1e9))
+    ex = CosimExecution.from_step_size(step_size=step_ns)
+    slave = ex.add_local_slave(CosimLocalSlave(fmu_path=job["fmu"], instance_name="cc"))
+    ref = {v.name.decode(): (v.reference, v.type) for v in ex.slave_variables(slave)}
+    for name, value in (job.get("params") or {}).items():
+        setter = {bool: ex.boolean_initial_value, str: ex.string_initial_value, int: ex.integer_initial_value}.get(
+            type(value), ex.real_initial_value)
+        setter(slave, ref[name][0], value)
+    manipulator = CosimManipulator.create_override()
+    ex.add_manipulator(manipulator)
+    observer = CosimObserver.create_last_value()
+    ex.add_observer(observer)
+    in_refs = [ref[n][0] for n in INPUTS]
+    ints = [n for n in names if n == "contact.active"]
+    reals = [n for n in names if n not in ints]
+    out = np.zeros((len(table), len(names)))
+    ok = np.zeros(len(table), bool)
+    for k, row in enumerate(table):
+        manipulator.slave_real_values(slave, in_refs, [float(x) for x in row])
+        ok[k] = ex.step(1)
+        vals = dict(zip(reals, observer.last_real_values(slave, [ref[n][0] for n in reals])))
+        vals.update(zip(ints, observer.last_integer_values(slave, [ref[n][0] for n in ints])))
+        out[k] = [vals[n] for n in names]
+    return dict(out=out, ok=ok)
+
+
+def _log(entries):
+    return [f"{STATUS.get(s, s)}: {m}" for s, m in entries]
+
+
+SCENARIOS = {"run": scenario_run, "steps": scenario_steps, "state": scenario_state, "two": scenario_two,
+             "errors": scenario_errors, "libcosim": scenario_libcosim}
 
 
 def main():
-    scen, out = sys.argv[1], sys.argv[2]
-    args = json.loads(sys.argv[3]) if len(sys.argv) > 3 else {}
-    h = args.get("h", 1e-4)
-    res = {}
-    if scen == "contact":
-        samples = motion_samples(args["model"], args["duration"], h)
-        res["out"] = run(Instance(args.get("params")), samples, h)
-    elif scen == "state":
-        samples = motion_samples(args["model"], args["duration"], h)
-        t, (u, v, a) = samples
-        inst = Instance(args.get("params"))
-        n = len(t) // 2
-        for k in range(n):
-            inst.step(u[k], v[k], a[k], h)
-        s = inst.fmu.getFMUstate()
-        blob = inst.fmu.serializeFMUstate(s)
-        t_mid = inst.t
-        first = []
-        for k in range(n, len(t)):
-            inst.step(u[k], v[k], a[k], h)
-            first.append(inst.outputs())
-        inst.fmu.setFMUstate(s)
-        inst.t = t_mid
-        second = []
-        for k in range(n, len(t)):
-            inst.step(u[k], v[k], a[k], h)
-            second.append(inst.outputs())
-        other = Instance(args.get("params"), name="other")
-        other.fmu.setFMUstate(other.fmu.deSerializeFMUstate(blob))
-        other.t = t_mid
-        third = []
-        for k in range(n, len(t)):
-            other.step(u[k], v[k], a[k], h)
-            third.append(other.outputs())
-        res.update(first=np.array(first), second=np.array(second), third=np.array(third))
-    elif scen == "two":
-        samples = motion_samples(args["model"], args["duration"], h)
-        t, (u, v, a) = samples
-        i1, i2 = Instance(args["p1"], "one"), Instance(args["p2"], "two")
-        o1, o2 = [], []
-        for k in range(len(t)):
-            i1.step(u[k], v[k], a[k], h)
-            i2.step(u[k], v[k], a[k], h)
-            o1.append(i1.outputs())
-            o2.append(i2.outputs())
-        res.update(o1=np.array(o1), o2=np.array(o2))
-    elif scen == "errors":
-        log = []
-        inst = Instance({}, log=log)
-        z = np.zeros(12)
-        bad = z.copy()
-        bad[2] = np.nan
-        res["nan_status"] = inst.step(bad, z, z, 1e-4)
-        res["after_nan_status"] = inst.step(z, z, z, 1e-4)
-        log2 = []
-        inst2 = Instance({"casing.E": -1.0}, log=log2, name="bad")
-        res["badparam_status"] = inst2.step(z, z, z, 1e-4)
-        res["log"] = np.array([m for _, m in log + log2])
-    np.savez(out, **res)
+    scenario, path = sys.argv[1], sys.argv[2]
+    job = json.loads(Path(path).read_text())
+    table = np.load(job["inputs"]) if "inputs" in job else np.zeros((0, len(INPUTS)))
+    res = SCENARIOS[scenario](job, table)
+    np.savez(job["out"], **{k: np.asarray(v) for k, v in res.items()})
 
 
 if __name__ == "__main__":
