@@ -191,7 +191,7 @@ class Engine:
         self.fcs = np.zeros(self.bodies["casing"].system.ndof if "casing" in self.bodies else 1)
         self.fcc = np.zeros(self.bodies["cable"].system.ndof if "cable" in self.bodies else 1)
         self.reac = np.zeros(24)
-        self.ledger = np.zeros(5)
+        self.ledger = np.zeros(8)
         self.contact_time = np.zeros(nn)
         self._hist = []
 
@@ -312,12 +312,12 @@ class Engine:
         kin = sum(b.energy()[0] for b in self.bodies.values())
         strain = sum(b.energy()[1] for b in self.bodies.values())
         pot = self.contact_potential()
-        w_sup, d_ray, e_start, _, w_con = self.ledger
+        w_sup, d_ray, e_start, d_fric, w_con, d_damp = self.ledger[:6]
         d_con = -w_con - pot
         residual = kin + strain + pot - (e_start + w_sup - d_ray - d_con)
         return {"kinetic": kin, "strain": strain, "contact_potential": pot, "support_work": w_sup,
                 "rayleigh_dissipation": d_ray if self.ledger_on else np.nan, "contact_dissipation": d_con,
-                "residual": residual}
+                "contact_damping_dissipation": d_damp, "friction_dissipation": d_fric, "residual": residual}
 
     def outputs(self):
         """Current outputs ``{name: value}`` for the names in :data:`OUTPUTS` (N, N.m, m, J)."""

@@ -440,7 +440,8 @@ def contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
     (fcs), the per-node state (OPEN/STICK/SLIP: the mode the forces were solved in), normal force,
     penetration and tangential relative speed at the end of the step (vrel, m/s: the next step sticks
     when it lies inside the band +-v_stick, Section 2.1). Returns the number
-    of active contacts. diag[0] = max penetration (m), diag[1] = 1 if Newton failed."""
+    of active contacts. diag[0] = max penetration (m), diag[1] = 1 if Newton failed, diag[2] and
+    diag[3] = power dissipated (W) by contact damping (N_d g_dot) and by friction (-P_t . w_t)."""
     nn = Xc.shape[0]
     H = np.zeros((6, 12))
     idx = np.empty(nn, np.int64)
@@ -496,6 +497,8 @@ def contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
         fcs[i] = 0.0
     if nk == 0:
         diag[0] = 0.0
+        diag[2] = 0.0
+        diag[3] = 0.0
         return 0
     # Delassus matrix W = Bc^T Kc^-1 Bc + Gs^T Ks^-1 Gs (only free DOFs respond)
     Bc = np.zeros((nk, 6, 3))
@@ -602,6 +605,8 @@ def contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
         if not changed:
             break
     gmax = 0.0
+    diag[2] = 0.0
+    diag[3] = 0.0
     d = W @ P
     for k in range(nk):
         i = idx[k]
@@ -618,6 +623,9 @@ def contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
         wt = w - (w @ nrm[k]) * nrm[k]
         state[i] = mode[k]
         vrel[i] = np.sqrt(wt @ wt)
+        diag[2] += Nd[k] * (w @ nrm[k])                  # damping acts only while compressing
+        Pt = Pk - (Pk @ nrm[k]) * nrm[k]
+        diag[3] -= Pt @ wt
         Pn[i] = Pk
         # generalized forces: +P at the cable node (with its moment), -P on the casing element
         for r in range(6):
@@ -650,9 +658,10 @@ def run_steps(t0, dt, up, vp, ap,
 
     up, vp, ap: (n, 12) support channel displacement (m), velocity (m/s), acceleration (m/s2) at
     t0 + (k+1) dt. reac (24): force each body exerts on each support, N and N.m, in the order
-    casing A, casing B, cable A, cable B, each [Fx Fy Fz Mx My Mz]. ledger: [work of the supports,
-    Rayleigh dissipation, contact-damping dissipation, friction dissipation, work of the contact
-    forces] in J. Returns a status code (OK or ERR_*); info = [time, node, value] of a failure.
+    casing A, casing B, cable A, cable B, each [Fx Fy Fz Mx My Mz]. ledger (J): [work of the
+    supports, Rayleigh dissipation, energy at the start (set by the engine), friction dissipation,
+    work of the contact forces, contact-damping dissipation, last friction power (W), last damping
+    power (W)]; the dissipations integrate the powers by the trapezoidal rule. Returns a status code (OK or ERR_*); info = [time, node, value] of a failure.
     """
     nsteps = up.shape[0]
     ns = sU.shape[0]
@@ -663,7 +672,7 @@ def run_steps(t0, dt, up, vp, ap,
     cy1, cy2, cr = np.zeros(nc), np.zeros(nc), np.zeros(max(cnf, 1))
     fcs_new, fcc_new = np.zeros(ns), np.zeros(nc)
     reac_new = np.zeros(24)
-    diag = np.zeros(2)
+    diag = np.zeros(4)
     nn = Xc.shape[0]
     Ne_prev = Nn.copy()
     for k in range(nsteps):
@@ -741,6 +750,11 @@ def run_steps(t0, dt, up, vp, ap,
                 for i in range(nc):
                     cy1[i] = cVo[i] + cV[i]
                 ledger[1] += 0.25 * dt * band_quadratic(cMb, cKb, calpha, cbeta, cy1, (cMb.shape[1] - 1) // 2)
+        if contact_on:
+            ledger[3] += 0.5 * dt * (ledger[6] + diag[3])
+            ledger[5] += 0.5 * dt * (ledger[7] + diag[2])
+            ledger[6] = diag[3]
+            ledger[7] = diag[2]
         reac[:] = reac_new
         fcs[:] = fcs_new
         fcc[:] = fcc_new

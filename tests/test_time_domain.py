@@ -113,6 +113,11 @@ def test_ledger_closes_with_damping_and_friction():
     assert (eng.history()["normal_force"] >= 0).all()                  # never adhesive (Eq. 16)
     assert e["contact_dissipation"] > 0 and e["rayleigh_dissipation"] > 0
     assert abs(e["residual"]) < 0.01 * E0                              # the ledger closes within 1%
+    # the two parts, integrated from their powers, add up to the work-based contact dissipation
+    # (trapezoidal rule on impacts resolved by a few steps: a few per cent)
+    parts = e["contact_damping_dissipation"] + e["friction_dissipation"]
+    assert e["friction_dissipation"] > 0 and e["contact_damping_dissipation"] > 0
+    assert abs(parts / e["contact_dissipation"] - 1) < 0.05
     assert e["kinetic"] + e["strain"] < 0.5 * E0                       # and most energy has been dissipated
 
 
