@@ -71,7 +71,7 @@ def _dataset(rec, binary):
         id1=(rec.name or ("time record" if is_time else "FRF"))[:80], id2="cablecasing", id3="NONE",
         id4=f"cablecasing x0={float(x[0])!r} dx={dx!r}" if even else "NONE", id5="NONE",
         rsp_node=int(rec.rsp_node), rsp_dir=int(rec.rsp_dir), ref_node=int(rec.ref_node),
-        ref_dir=int(rec.ref_dir), rsp_ent_name="cablecasing", ref_ent_name="cablecasing",
+        ref_dir=int(rec.ref_dir), rsp_ent_name="NONE", ref_ent_name="NONE",  # 10-character fields
         data=np.asarray(rec.data, dtype=float if is_time else complex), x=x,
         abscissa_spacing=1 if even else 0, abscissa_spec_data_type=17 if is_time else 18,
         abscissa_axis_units_lab="s" if is_time else "Hz", ordinate_spec_data_type=0,
