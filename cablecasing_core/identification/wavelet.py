@@ -35,7 +35,7 @@ Consequences used below (benchmarks.md, "Damping identification"):
   ridge between grid frequencies without bias.
 
 Implementation choice: the transform is computed by FFT (frequency-domain multiplication by the
-exact ``G(omega)``, all frequencies of a block in one vectorised numpy pass, zero padding of five
+exact ``G(omega)``, all frequencies of a block in one vectorised numpy pass, zero padding of eight
 ``sigma_t`` against circular wrap-around). ``scipy.signal.cwt`` was removed from SciPy, and
 PyWavelets' ``cwt`` with ``cmor`` wavelets samples the wavelet on a finite grid and converts scales
 to frequencies through a tabulated centre frequency, so its amplitude and ridge location carry
@@ -115,7 +115,7 @@ def cwt_morlet(x, fs, freqs_hz, gamma=DEFAULT_GAMMA, max_block_bytes=64e6):
         raise ModelError("gamma", gamma, f"must be at least {MIN_GAMMA:g} (the Gaussian must vanish at 0 Hz)")
     f = frequencies_in_band("freqs_hz", freqs_hz, fs)
     n = x.size
-    pad = int(np.ceil(5.0 * gamma / (2.0 * np.pi * f.min()) * fs))  # 5 sigma_t: exp(-12.5) wrap-around
+    pad = int(np.ceil(8.0 * gamma / (2.0 * np.pi * f.min()) * fs))  # 8 sigma_t: wrap-around below exp(-32)
     nfft = sfft.next_fast_len(n + pad)
     X = sfft.fft(x, nfft)
     omega = 2.0 * np.pi * sfft.fftfreq(nfft, 1.0 / fs)
