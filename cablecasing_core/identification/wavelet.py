@@ -46,9 +46,12 @@ Edges and noise
 ---------------
 The record's start (the impulse) and end (zero padding) spoil ``W`` within a few ``sigma_t`` of
 each end: samples closer than ``edge_factor * sigma_t`` (default 3, where the missing Gaussian mass
-is about 1e-3) to either end are left out. The noise floor of ``|W|`` is the median of ``|W|`` over
-the last quarter of the usable interval (or a value given by the caller); the fit stops where the
-ridge first sinks below ``floor_factor`` (default 5) times that floor. The straight line through
+is about 1e-3) to either end are left out. The noise floor of ``|W|`` (about the rms of the noise in
+``W``) is estimated over the last quarter of the usable interval as ``median(|W|)`` times the scatter
+of ``ln|W|`` about a straight line relative to that of pure noise (pi/sqrt(24) = 0.64), capped at 1:
+the noise level where noise dominates, the noise riding on the mode where the mode still stands out,
+nearly zero for a clean record (or a value given by the caller). The fit stops where the ridge
+first sinks below ``floor_factor`` (default 5) times that floor. The straight line through
 ``ln|W|`` is weighted by ``|W|`` (additive noise gives ``ln|W|`` a standard deviation ~ noise / |W|).
 """
 from __future__ import annotations
@@ -202,6 +205,29 @@ def _ridge_per_time(inv_f, logA):
     return 1.0 / xv
 
 
+#: Standard deviation of ln|W| for pure (complex Gaussian) noise: ln of a Rayleigh variable, pi / sqrt(24).
+_LN_RAYLEIGH_STD = np.pi / np.sqrt(24.0)
+
+
+def _tail_noise_floor(t, w, valid):
+    """Noise level of |W| on a ridge, estimated over the last quarter of the usable interval.
+
+    With complex noise of rms ``s_W`` in W: where noise dominates, |W| is Rayleigh distributed
+    (median 0.83 s_W) and ln|W| scatters about its trend with standard deviation pi/sqrt(24) = 0.64;
+    where a mode of amplitude S dominates, ln|W| scatters by s_W / (S sqrt(2)). The estimate
+    ``median(|W|) * min(1, scatter / 0.64)`` is therefore about s_W in both cases (0.83 s_W and
+    1.1 s_W) and goes to zero for a clean record; the scatter is taken about a straight line.
+    """
+    idx = np.nonzero(valid)[0]
+    tail = idx[int(0.75 * idx.size):]
+    w_tail = w[tail]
+    if tail.size < 4 or np.any(w_tail <= 0.0):
+        return float(np.median(w_tail)) if tail.size else 0.0
+    lt = np.log(w_tail)
+    scatter = float(np.std(lt - np.polyval(np.polyfit(t[tail], lt, 1), t[tail])))
+    return float(np.median(w_tail)) * min(1.0, scatter / _LN_RAYLEIGH_STD)
+
+
 def _ridge_and_window(x, fs, t, A, inv_f, f0, gamma, valid, noise_floor, floor_factor, need, edge,
                       search, min_cycles):
     """Ridge frequency from the energy profile over the fit window, and the window from the noise
@@ -218,8 +244,7 @@ def _ridge_and_window(x, fs, t, A, inv_f, f0, gamma, valid, noise_floor, floor_f
                              "frequency: give the frequency of a mode present in the record")
         w_r = np.abs(cwt_morlet(x, fs, [f_new], gamma)[:, 0])
         if noise_floor is None:
-            idx = np.nonzero(valid)[0]
-            floor = float(np.median(w_r[idx[int(0.75 * idx.size):]]))
+            floor = _tail_noise_floor(t, w_r, valid)
         else:
             floor = positive("noise_floor", noise_floor)
         below = valid & (w_r < floor_factor * floor)
