@@ -131,3 +131,14 @@ def test_bad_frf_inputs():
     with pytest.raises(ModelError) as e:
         to_displacement_form(f, H, "force")
     assert e.value.key == "kind"
+
+
+def test_noisy_frf_within_3_percent():
+    # 1 % complex noise proportional to |H| (a typical H1 estimate near resonance): over 10 seeds the
+    # error stayed below 2 %; 3 % leaves room for the seed
+    f = np.arange(DF, 400.0, DF)
+    H = hysteretic_frf(f)
+    rng = np.random.default_rng(11)
+    Hn = H * (1 + 0.01 * (rng.standard_normal(f.size) + 1j * rng.standard_normal(f.size)))
+    res = loss_factor_circle(f, Hn, F_TABLE1)
+    np.testing.assert_allclose([r.eta for r in res], ETA_TABLE1, rtol=0.03)
