@@ -50,7 +50,8 @@ FRF_KINDS = ("displacement", "velocity", "acceleration", "apparent_mass")
 
 
 def to_displacement_form(freqs_hz, H, kind="displacement"):
-    """FRF in displacement form (see the module docstring, step 1).
+    """FRF in displacement form, where a mode of the structural model (Eq. 11) is an exact circle
+    (Section 3.2.2; the module docstring, step 1).
 
     ``kind``: ``"displacement"`` (receptance m/N, or dynamic stiffness N/m: unchanged),
     ``"velocity"`` (mobility, divided by ``i omega``), ``"acceleration"`` (accelerance, divided by
@@ -73,7 +74,7 @@ def to_displacement_form(freqs_hz, H, kind="displacement"):
 
 
 def fit_circle(z):
-    """Geometric least-squares circle through complex points ``z``.
+    """Geometric least-squares circle through complex points ``z`` (the Nyquist circle of Section 3.2.2, Fig. 12).
 
     Minimises ``sum (|z_i - c| - R)^2`` over centre ``c`` and radius ``R`` with
     ``scipy.optimize.least_squares`` (analytic Jacobian), started from the algebraic (Kasa) fit
@@ -148,7 +149,8 @@ class CircleFitResult:
 
 
 def find_resonances(freqs_hz, H, count=None, kind="displacement"):
-    """Frequencies (Hz, ascending) of the ``count`` most prominent peaks of ``|H|`` in displacement form."""
+    """Frequencies (Hz, ascending) of the ``count`` most prominent peaks of ``|H|`` in displacement form
+    (``scipy.signal.find_peaks`` by prominence): starting resonances for Section 3.2.2. ``H`` of the given ``kind``."""
     f = signal_1d("freqs_hz", freqs_hz, min_len=5)
     Hd = np.abs(to_displacement_form(f, H, kind))
     peaks, props = find_peaks(Hd, prominence=0.0)

@@ -38,7 +38,8 @@ class FRFEstimate:
 
 
 def frf_estimate(x, y, fs, nperseg=None, window="hann", noverlap=None, detrend="constant"):
-    """H1 and H2 FRF estimates and the coherence from input ``x`` and output ``y``.
+    """H1 and H2 FRF estimates and the coherence from input ``x`` and output ``y`` (the measured
+    TRFAM of Eq. (12) when x is a support acceleration and y a support force).
 
     Parameters
     ----------

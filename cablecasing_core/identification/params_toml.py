@@ -39,7 +39,8 @@ def loss_factor_table(circle_results):
 
 
 def parameters_toml(body=None, alpha=None, beta=None, loss_factor=None, E=None, comment=None):
-    """TOML lines with the given identified parameters, in the model file's keys.
+    """TOML lines with the given identified parameters, in the model file's keys: Rayleigh
+    ``alpha``, ``beta`` (Eqs. 40-44), ``loss_factor`` (Eq. 11, Eq. 45), ``E`` (Section 3.1).
 
     ``body`` ("casing"/"cable") adds the section header ``[body]``; None gives lines to paste under
     an existing header. ``loss_factor`` and ``E`` are numbers or tables ``[[f_Hz, value], ...]``
