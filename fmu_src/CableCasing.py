@@ -146,7 +146,7 @@ class CableCasing(Fmi2Slave):
                           unit)
                 self._input_vr[len(self.vars) - 1] = k * NCH + c
         # outputs
-        self._output_vr = {}
+        self._output_vr = {}                          # value reference of a Real output -> index
         for i, name in enumerate(OUTPUTS):
             unit, text = output_info(name)
             if name in INTEGER_OUTPUTS:
@@ -156,7 +156,8 @@ class CableCasing(Fmi2Slave):
                 var = Real(name, causality=Fmi2Causality.output, variability=Fmi2Variability.continuous,
                            description=text, getter=self._output_getter(i, float))
             self._add(var, unit)
-            self._output_vr[var.value_reference] = i
+            if name not in INTEGER_OUTPUTS:
+                self._output_vr[var.value_reference] = i
         # parameters
         for key, value in self._start.items():
             if key in ("contact.enabled", "model_file", "solver.dt"):
@@ -244,12 +245,20 @@ class CableCasing(Fmi2Slave):
                 out.append(float(self._out[i]))
             else:
                 var = self.vars.get(vr)
-                out.append(float(var.getter()) if isinstance(var, Real) else self._refuse("get a Real", vr, None))
+                out.append(float(var.getter()) if isinstance(var, Real) else float(self._refuse("get a Real", vr, None)))
         return out
 
     def get_integer(self, vrs):
         return [int(self.vars[vr].getter()) if isinstance(self.vars.get(vr), Integer)
                 else self._refuse("get an Integer", vr, None) for vr in vrs]
+
+    def get_boolean(self, vrs):
+        return [bool(self.vars[vr].getter()) if isinstance(self.vars.get(vr), Boolean)
+                else self._refuse("get a Boolean", vr, None) for vr in vrs]
+
+    def get_string(self, vrs):
+        return [str(self.vars[vr].getter()) if isinstance(self.vars.get(vr), String)
+                else str(self._refuse("get a String", vr, None)) for vr in vrs]
 
     def set_integer(self, vrs, values):
         for vr, value in zip(vrs, values):
@@ -276,12 +285,12 @@ class CableCasing(Fmi2Slave):
                 self._refuse("set a String", vr, value)
 
     def _refuse(self, what, vr, value):
+        """A call with a value reference of the wrong type (or a read-only one): log at fmi2Error
+        and ignore it (pythonfmu cannot return fmi2Error, and raising would be fmi2Fatal)."""
         var = self.vars.get(vr)
-        name = var.name if var is not None else "<none>"
-        msg = (f"cannot {what} at value reference {vr} ({name}, {type(var).__name__ if var else 'no variable'}"
-               f"{'' if var is None or var.setter is not None or 'set' not in what else ', read-only'})"
-               + ("" if value is None else f" to {value!r}"))
-        self.log(msg, Fmi2Status.error)     # the value is not applied; pythonfmu cannot return fmi2Error here
+        which = f"{var.name} ({type(var).__name__}, {var.causality.name})" if var is not None else "no variable"
+        self.log(f"cannot {what} through value reference {vr}: {which}"
+                 + ("" if value is None else f"; value {value!r} ignored"), Fmi2Status.error)
         return 0
 
     def _refresh_outputs(self):

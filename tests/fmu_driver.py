@@ -12,6 +12,7 @@ From a test: ``result = fmu_driver.run(tmp_path, "run", fmu=..., inputs=table, p
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 import time
@@ -308,6 +309,12 @@ def main():
     table = np.load(job["inputs"]) if "inputs" in job else np.zeros((0, len(INPUTS)))
     res = SCENARIOS[scenario](job, table)
     np.savez(job["out"], **{k: np.asarray(v) for k, v in res.items()})
+    # Leave without the C-level exit handlers: a Python host that loaded a pythonfmu FMU importing
+    # numba aborts in a few percent of exits ("corrupted double-linked list" in libgfortran's
+    # finaliser), after all work is done; see docs/fmu.md, known problems.
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(0)
 
 
 if __name__ == "__main__":
