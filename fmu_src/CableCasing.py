@@ -147,6 +147,7 @@ class CableCasing(Fmi2Slave):
                 self._input_vr[len(self.vars) - 1] = k * NCH + c
         # outputs
         self._output_vr = {}                          # value reference of a Real output -> index
+        self._set_plans, self._get_plans = {}, {}     # tuple of value references -> index array
         for i, name in enumerate(OUTPUTS):
             unit, text = output_info(name)
             if name in INTEGER_OUTPUTS:
@@ -223,9 +224,15 @@ class CableCasing(Fmi2Slave):
 
     # ------------------------------------------------------------------ fast variable access
     def set_real(self, vrs, values):
-        idx = self._input_vr
+        key = tuple(vrs)
+        idx = self._set_plans.get(key)
+        if idx is None:                      # first time this list of references: plan it
+            idx = self._set_plans[key] = self._plan(key, self._input_vr)
+        if idx is not False:                 # inputs only: one vectorised assignment
+            self._inputs[idx] = values
+            return
         for vr, value in zip(vrs, values):
-            i = idx.get(vr)
+            i = self._input_vr.get(vr)
             if i is not None:
                 self._inputs[i] = value
             else:
@@ -236,10 +243,16 @@ class CableCasing(Fmi2Slave):
                     self._refuse("set a Real", vr, value)
 
     def get_real(self, vrs):
+        key = tuple(vrs)
+        idx = self._get_plans.get(key)
+        if idx is None:
+            idx = self._get_plans[key] = self._plan(key, self._output_vr)
+        if idx is not False:                 # Real outputs only
+            self._refresh_outputs()
+            return self._out[idx].tolist()
         out = []
-        idx = self._output_vr
         for vr in vrs:
-            i = idx.get(vr)
+            i = self._output_vr.get(vr)
             if i is not None:
                 self._refresh_outputs()
                 out.append(float(self._out[i]))
@@ -247,6 +260,16 @@ class CableCasing(Fmi2Slave):
                 var = self.vars.get(vr)
                 out.append(float(var.getter()) if isinstance(var, Real) else float(self._refuse("get a Real", vr, None)))
         return out
+
+    def _plan(self, key, table):
+        """Index array of value references that are all in ``table`` (else False); the cache of
+        plans is bounded, since a master normally repeats a few lists of references."""
+        if len(self._set_plans) + len(self._get_plans) > 64:
+            self._set_plans.clear()
+            self._get_plans.clear()
+        if key and all(vr in table for vr in key):
+            return np.array([table[vr] for vr in key], dtype=np.intp)
+        return False
 
     def get_integer(self, vrs):
         return [int(self.vars[vr].getter()) if isinstance(self.vars.get(vr), Integer)

@@ -72,6 +72,7 @@ class Instance:
         self.status_init = self.set(params or {})
         self.status_init = max(self.status_init, self.call(self.fmu.exitInitializationMode))
         self.in_vr = [self.var[n].valueReference for n in INPUTS]
+        self._plans = {}
 
     def _callbacks(self):
         from fmpy import calloc, free
@@ -117,10 +118,19 @@ class Instance:
         return status
 
     def get(self, names):
+        """Outputs by name: one fmi2GetReal and one fmi2GetInteger call, as a master would."""
+        key = tuple(names)
+        if key not in self._plans:
+            reals = [i for i, n in enumerate(names) if self.var[n].type == "Real"]
+            ints = [i for i, n in enumerate(names) if self.var[n].type == "Integer"]
+            self._plans[key] = (reals, [self.var[names[i]].valueReference for i in reals],
+                                ints, [self.var[names[i]].valueReference for i in ints])
+        reals, real_vr, ints, int_vr = self._plans[key]
         out = np.empty(len(names))
-        for i, name in enumerate(names):
-            v = self.var[name]
-            out[i] = (self.fmu.getInteger if v.type == "Integer" else self.fmu.getReal)([v.valueReference])[0]
+        if reals:
+            out[reals] = self.fmu.getReal(real_vr)
+        if ints:
+            out[ints] = self.fmu.getInteger(int_vr)
         return out
 
     def free(self):
