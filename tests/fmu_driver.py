@@ -305,12 +305,31 @@ def scenario_libcosim(job, table):
     return dict(out=out, ok=ok)
 
 
+def scenario_cache(job, table):
+    """Load the FMU from a fresh unpack folder, take one step, and report what numba did: cache
+    hits and misses (compilations) of every kernel, and where the cache lives."""
+    import os
+    from fmpy import extract
+    unzip = extract(job["fmu"])
+    inst = Instance(job["fmu"], unzip=unzip)
+    status = inst.step(np.zeros(len(INPUTS)), job["h"])
+    from numba.core.registry import CPUDispatcher
+
+    import cablecasing_core.kernels as kernels      # the FMU's own copy (already imported by it)
+    disp = [v for v in vars(kernels).values() if isinstance(v, CPUDispatcher)]
+    return dict(status=status, hits=sum(sum(d.stats.cache_hits.values()) for d in disp),
+                misses=sum(sum(d.stats.cache_misses.values()) for d in disp),
+                run_steps_hits=sum(kernels.run_steps.stats.cache_hits.values()),
+                cache_path=kernels.run_steps.stats.cache_path, kernels_file=kernels.__file__,
+                unzip=str(unzip), numba_cache_dir=os.environ.get("NUMBA_CACHE_DIR", ""))
+
+
 def _log(entries):
     return [f"{STATUS.get(s, s)}: {m}" for s, m in entries]
 
 
 SCENARIOS = {"run": scenario_run, "steps": scenario_steps, "state": scenario_state, "two": scenario_two,
-             "errors": scenario_errors, "libcosim": scenario_libcosim}
+             "errors": scenario_errors, "libcosim": scenario_libcosim, "cache": scenario_cache}
 
 
 def main():

@@ -335,3 +335,15 @@ def test_libcosim_gives_the_same_outputs_as_fmpy(fmu, tmp_path, contact_case):
     assert np.all(res["ok"]) and np.all(fm["status"] == 0)
     assert np.array_equal(res["out"], fm["out"])
     assert fm["out"][:, OUTPUTS.index("contact.active")].max() >= 1
+
+
+def test_numba_cache_outlives_the_unpacked_fmu(fmu, tmp_path):
+    """Two fresh processes, two fresh unpack folders: the second loads every kernel from the
+    per-user cache (no compilation), which lives outside the unpacked FMU."""
+    run(tmp_path, "cache", fmu)                  # compiles if this FMU's kernels are not cached yet
+    res = run(tmp_path, "cache", fmu)
+    assert res["status"] == 0
+    assert str(res["kernels_file"]).startswith(str(res["unzip"]))        # the bundled package ran
+    assert res["misses"] == 0 and res["run_steps_hits"] >= 1
+    cache = str(res["cache_path"])
+    assert cache.startswith(str(res["numba_cache_dir"])) and not cache.startswith(str(res["unzip"]))
