@@ -182,7 +182,8 @@ def scenario_steps(job, table):
 
 def scenario_state(job, table):
     """Get the state half way; continue (A); set the state and continue again (B); serialise it and
-    continue in a new instance (C); reset the first instance and run everything again (D)."""
+    continue in a new instance (C) and in one created with other parameters (E); reset the first
+    instance and run everything again (D)."""
     h, names = job["h"], job["outputs"]
     inst = Instance(job["fmu"], name="first", params=job.get("params"))
     n = len(table) // 2
@@ -200,6 +201,11 @@ def scenario_state(job, table):
     other.fmu.setFMUstate(restored)
     other.t = t_mid
     c, sc = simulate(other, table[n:], h, names)
+    # an instance built with other parameters (other mesh, too) takes the state's parameters along
+    third = Instance(job["fmu"], name="third", params={"contact.friction": 0.5, "geometry.n_elements": 30})
+    third.fmu.setFMUstate(third.fmu.deSerializeFMUstate(blob))
+    third.t = t_mid
+    e, se = simulate(third, table[n:], h, names)
     inst.fmu.reset()
     inst.t = 0.0
     inst.fmu.setupExperiment(startTime=0.0)
@@ -207,7 +213,7 @@ def scenario_state(job, table):
     inst.set(job.get("params") or {})
     inst.fmu.exitInitializationMode()
     d, sd = simulate(inst, table, h, names)
-    return dict(first=first, a=a, b=b, c=c, d=d, status=np.concatenate([sa, sb, sc, sd]),
+    return dict(first=first, a=a, b=b, c=c, d=d, e=e, status=np.concatenate([sa, sb, sc, sd, se]),
                 blob_bytes=len(blob), log=_log(inst.log + other.log))
 
 

@@ -237,6 +237,7 @@ def test_state_get_set_serialize_and_reset(fmu, tmp_path, contact_case):
     assert np.array_equal(res["first"], ref[:n]) or np.max(np.abs(res["first"] - ref[:n])) < 1e-9
     assert np.array_equal(res["a"], res["b"])          # set state, same steps: bit-identical
     assert np.array_equal(res["a"], res["c"])          # serialised into a new instance: bit-identical
+    assert np.array_equal(res["a"], res["e"])          # ... also one built with other parameters
     assert np.array_equal(np.vstack([res["first"], res["a"]]), res["d"])    # after fmi2Reset
     assert res["a"][:, OUTPUTS.index("contact.active")].max() >= 1        # the state includes contacts
 
