@@ -189,22 +189,28 @@ report fmi2Discard but not fmi2Error from a step.)</p>
 </table>
 </body></html>
 """)
+    ver = f"{sys.version_info.major}.{sys.version_info.minor}"
     (folder / "externalDependencies.txt").write_text(f"""CableCasing.fmu runs Python code (generated with PythonFMU 0.7).
 
 The host needs:
-- CPython {sys.version_info.major}.{sys.version_info.minor} (64-bit) with its shared library libpython{sys.version_info.major}.{sys.version_info.minor}
-  (the FMU binary links to it);
+- CPython {ver} (64-bit) with its shared library (libpython{ver}.so on Linux, python3{sys.version_info.minor}.dll on Windows);
 - the packages numpy, scipy and numba installed in that Python environment (platformdirs is optional).
 The model package cablecasing_core and the pythonfmu runtime are inside resources/.
 
-Loading from a non-Python host (a C/C++/Java importer, OSP libcosim, a tool):
-- Linux: make libpython findable, e.g. LD_LIBRARY_PATH=<python prefix>/lib, and point Python to
-  the environment with the packages: PYTHONHOME=<python prefix> (and PYTHONPATH=<env>/lib/python{sys.version_info.major}.{sys.version_info.minor}/site-packages
-  for a virtual environment).
-- Windows: put the folder of python3{sys.version_info.minor}.dll on PATH and set PYTHONHOME/PYTHONPATH the same way.
-Then load the FMU like any other FMI 2.0 co-simulation FMU.
+From Python (fmpy, libcosimpy, ...): nothing else; the FMU attaches to the running interpreter.
 
-The first instantiation on a machine compiles the numba kernels (about a minute) into
+From a non-Python host (a C/C++/Java importer, OSP cosim, a tool), Linux:
+  The binary does not link libpython; its Python symbols must already be in the process:
+    LD_PRELOAD=<python prefix>/lib/libpython{ver}.so.1.0   (or dlopen it with RTLD_GLOBAL first)
+    PYTHONHOME=<python prefix>                            (sys.base_prefix)
+    PYTHONPATH=<environment>/lib/python{ver}/site-packages  (where numpy, scipy, numba are)
+  Windows: the folder of python3{sys.version_info.minor}.dll on PATH, PYTHONHOME and PYTHONPATH as above.
+  Then load it like any FMI 2.0 co-simulation FMU.
+  When the host unloads the binary (or exits), pythonfmu finalises the embedded Python, which
+  aborts with numpy/scipy loaded; end the process without running library destructors
+  (_exit() after fmi2FreeInstance) or keep the binary loaded until then.
+
+The first instantiation on a machine compiles the numba kernels (about 30 s) into
 NUMBA_CACHE_DIR (default: the per-user cache folder, e.g. ~/.cache/cablecasing/numba); later
 instantiations, in any process, load them from there. Set NUMBA_CACHE_DIR to a writable folder if
 the home folder is read-only.

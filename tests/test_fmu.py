@@ -348,3 +348,90 @@ def test_numba_cache_outlives_the_unpacked_fmu(fmu, tmp_path):
     assert res["misses"] == 0 and res["run_steps_hits"] >= 1
     cache = str(res["cache_path"])
     assert cache.startswith(str(res["numba_cache_dir"])) and not cache.startswith(str(res["unzip"]))
+
+
+C_HOST = r"""
+/* A minimal FMI 2.0 co-simulation host in C (no Python of its own): loads the FMU's binary, drives
+   inputs in_u, in_v, in_a from a file of n x 3 doubles with steps of h, prints one output per step. */
+#include <dlfcn.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <unistd.h>
+#include "fmi2Functions.h"
+
+static void logger(fmi2ComponentEnvironment e, fmi2String name, fmi2Status s, fmi2String cat, fmi2String msg, ...) {
+    va_list ap; va_start(ap, msg); printf("log %d: ", s); vprintf(msg, ap); printf("\n"); va_end(ap);
+}
+#define LOAD(f) f##TYPE *f = (f##TYPE *)dlsym(lib, #f); if (!f) { printf("missing %s\n", #f); return 2; }
+
+int main(int argc, char **argv) {   /* so guid resources_uri inputs.bin n h in_u in_v in_a out */
+    setvbuf(stdout, NULL, _IONBF, 0);
+    void *lib = dlopen(argv[1], RTLD_NOW | RTLD_LOCAL);
+    if (!lib) { printf("dlopen failed: %s\n", dlerror()); return 1; }
+    LOAD(fmi2Instantiate) LOAD(fmi2SetupExperiment) LOAD(fmi2EnterInitializationMode)
+    LOAD(fmi2ExitInitializationMode) LOAD(fmi2SetReal) LOAD(fmi2GetReal) LOAD(fmi2DoStep)
+    LOAD(fmi2Terminate) LOAD(fmi2FreeInstance)
+    int n = atoi(argv[5]);
+    double h = atof(argv[6]), t = 0.0, y;
+    fmi2ValueReference in[3] = {atoi(argv[7]), atoi(argv[8]), atoi(argv[9])}, out = atoi(argv[10]);
+    double *u = malloc(sizeof(double) * 3 * n);
+    FILE *f = fopen(argv[4], "rb");
+    if (!f || fread(u, sizeof(double), 3 * n, f) != (size_t)(3 * n)) { printf("cannot read inputs\n"); return 3; }
+    fclose(f);
+    fmi2CallbackFunctions cb = {logger, calloc, free, NULL, NULL};
+    fmi2Component c = fmi2Instantiate("chost", fmi2CoSimulation, argv[2], argv[3], &cb, fmi2False, fmi2True);
+    if (!c) { printf("instantiate failed\n"); return 4; }
+    if (fmi2SetupExperiment(c, fmi2False, 0.0, 0.0, fmi2False, 0.0) || fmi2EnterInitializationMode(c)
+        || fmi2ExitInitializationMode(c)) { printf("initialisation failed\n"); return 5; }
+    for (int k = 0; k < n; k++) {
+        fmi2SetReal(c, in, 3, u + 3 * k);
+        fmi2Status s = fmi2DoStep(c, t, h, fmi2True);
+        if (s != fmi2OK) { printf("doStep status %d\n", s); return 6; }
+        t += h;
+        fmi2GetReal(c, &out, 1, &y);
+        printf("y %.17g\n", y);
+    }
+    fmi2Terminate(c);
+    fmi2FreeInstance(c);
+    _exit(0);   /* skip the library destructors: pythonfmu's Py_Finalize with numpy/scipy loaded aborts */
+}
+"""
+
+
+def test_non_python_host(fmu, tmp_path):
+    """The FMU driven from C, loaded as docs/fmu.md says (libpython preloaded, PYTHONHOME and
+    PYTHONPATH set): the same outputs as through fmpy, bit for bit."""
+    import os
+    import shutil
+    import site
+    import sysconfig
+    import fmpy
+    from fmpy import extract, read_model_description
+
+    cc_ = shutil.which("cc") or shutil.which("gcc")
+    if cc_ is None or not sys.platform.startswith("linux"):
+        pytest.skip("needs a C compiler on Linux")
+    (tmp_path / "host.c").write_text(C_HOST)
+    inc = Path(fmpy.__file__).parent / "c-code"
+    subprocess.run([cc_, "-O1", f"-I{inc}", "-o", str(tmp_path / "host"), str(tmp_path / "host.c"), "-ldl"],
+                   check=True, capture_output=True)
+    n = 200
+    table = multisine("casing.A.z", 0.05, H, cycles=1, ramp=0.005)[0][:n]
+    c = CHANNELS.index("casing.A.z")
+    np.ascontiguousarray(table[:, [c, NCH + c, 2 * NCH + c]]).tofile(tmp_path / "inputs.bin")
+    md = read_model_description(str(fmu))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    unzip = Path(extract(str(fmu)))
+    libpython = Path(sysconfig.get_config_var("LIBDIR")) / sysconfig.get_config_var("LDLIBRARY")
+    env = dict(os.environ, LD_PRELOAD=str(libpython), PYTHONHOME=sys.base_prefix,
+               PYTHONPATH=os.pathsep.join(site.getsitepackages()))
+    proc = subprocess.run([str(tmp_path / "host"), str(unzip / "binaries" / "linux64" / "CableCasing.so"), md.guid,
+                           (unzip / "resources").as_uri(), str(tmp_path / "inputs.bin"), str(n), repr(H),
+                           str(vr["casing.A.z"]), str(vr["casing.A.vz"]), str(vr["casing.A.az"]),
+                           str(vr["casing.B.Fz"])], capture_output=True, text=True, env=env, timeout=600)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    y = np.array([float(line.split()[1]) for line in proc.stdout.splitlines() if line.startswith("y ")])
+    ref = run(tmp_path, "run", fmu, inputs=table, outputs=["casing.B.Fz"])
+    assert len(y) == n and np.array_equal(y, ref["out"][:, 0])
+    assert np.max(np.abs(y)) > 0
