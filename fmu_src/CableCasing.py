@@ -420,12 +420,17 @@ class CableCasing(Fmi2Slave):
         return [k for k in self._start if k != "model_file"]
 
     def _set_fmu_state(self, state):
+        """Restore a state from :meth:`_get_fmu_state`; on failure log it with the traceback at
+        fmi2Error and refuse further steps (the instance may be half restored)."""
         try:
             self._restore(state)
         except Exception as exc:  # noqa: BLE001
-            self._block(f"the FMU state cannot be restored: {exc!r}\n{traceback.format_exc()}", Fmi2Status.error)
+            self._block(f"the FMU state cannot be restored ({exc}); steps are refused until a valid state is "
+                        f"set or the FMU is reset\n{traceback.format_exc()}", Fmi2Status.error)
 
     def _restore(self, state):
+        if "fmu.invalid" in state:
+            raise ValueError(str(state["fmu.invalid"]))
         for k, v in zip(self._numeric_keys(), state["fmu.values"]):
             start = self._start[k]
             self._values[k] = bool(v) if isinstance(start, bool) else int(v) if isinstance(start, int) else float(v)
@@ -450,4 +455,8 @@ class CableCasing(Fmi2Slave):
 
     @staticmethod
     def _fmu_state_from_bytes(data):
-        return state_from_bytes(data)
+        # never raise (pythonfmu would answer fmi2Fatal): an unreadable state is reported when set
+        try:
+            return state_from_bytes(data)
+        except Exception as exc:  # noqa: BLE001
+            return {"fmu.invalid": np.array(f"{len(data)} bytes are not a serialised CableCasing FMU state: {exc!r}")}

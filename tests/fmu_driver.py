@@ -270,6 +270,10 @@ def scenario_errors(job, table):
     record("after_blowup", inst, [inst.step(row, h) for row in table[:5]])
     res["after_blowup_out"] = inst.get(names)
 
+    inst = Instance(job["fmu"], name="badstate")
+    garbage = inst.fmu.deSerializeFMUstate(b"not a state at all")
+    record("badstate", inst, [Instance.call(inst.fmu.setFMUstate, garbage), inst.step(zero, h)])
+
     inst = Instance(job["fmu"], name="fresh", start_time=0.25)     # the process goes on
     out, status = simulate(inst, table[:5], h, names)
     record("fresh", inst, status)

@@ -318,6 +318,9 @@ def test_errors_are_reported_and_the_process_goes_on(fmu, tmp_path, contact_case
     assert res["blowup_status"] == discard and logged("blowup", "penetration", "rolled back")
     assert np.all(res["after_blowup_status"] == 0)       # the failed step was rolled back whole
     np.testing.assert_array_equal(res["after_blowup_out"], ref[4])
+    # an unreadable serialised state: logged at fmi2Error with the traceback, steps refused
+    assert np.all(res["badstate_status"] == [0, discard])
+    assert logged("badstate", "error:", "not a serialised CableCasing FMU state", "Traceback")
     assert np.all(res["fresh_status"] == 0)
     np.testing.assert_array_equal(res["fresh_out"], ref[:5])   # start time 0.25 s changes nothing
 
