@@ -139,16 +139,6 @@ def contact_law(g, law, k_lin, k_hertz):
 
 
 @njit(cache=True)
-def contact_potential(g, law, k_lin, k_hertz):
-    """Elastic energy (J) stored at penetration g (m): the integral of contact_law."""
-    if g <= 0.0:
-        return 0.0
-    if law == 0:
-        return 0.4 * k_hertz * g**2.5
-    return 0.5 * k_lin * g * g
-
-
-@njit(cache=True)
 def _cross(a, b):
     return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
 
