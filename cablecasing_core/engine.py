@@ -30,14 +30,6 @@ OUTPUTS = SUPPORT_OUTPUTS + ("contact.active", "contact.max_penetration", "conta
 STATE_NAMES = {K.OPEN: "open", K.STICK: "stick", K.SLIP: "slip"}
 
 
-def time_model_modulus(spec):
-    """The modulus (Pa) a time-domain model uses: E itself, or with a table E(f) the value at the
-    body's first natural frequency (a linear time-domain model has one stiffness)."""
-    if not spec.frequency_dependent:
-        return spec.E_ref
-    return None  # resolved in _Body with the body's modal data
-
-
 def hertz_constant(model):
     """4/3 E* r^1/2 of Eq. (29) in N/m^1.5: E* from both moduli and Poisson ratios (Eq. 28), r from
     the cable radius (convex, r1 = d/2) and the casing's inner radius (concave, r2 = -d_inner/2),
