@@ -17,7 +17,7 @@ from __future__ import annotations
 import io
 
 import numpy as np
-from scipy.linalg import cho_factor, cho_solve, cholesky_banded
+from scipy.linalg import cho_factor, cho_solve, cholesky, solve_triangular
 
 from . import kernels as K
 from .assembly import assemble_body
@@ -42,8 +42,45 @@ def hertz_constant(model):
     return 4.0 / 3.0 * Es * np.sqrt(r)
 
 
+def block_cholesky(A):
+    """Block Cholesky factor of a symmetric positive definite block-tridiagonal matrix A (6 x 6
+    node blocks), in the form ``kernels.block_solve`` uses: P[i] = L_ii^-1, PT[i] = P[i]^T,
+    Q[i] = P[i] L_i,i-1 and S[i] = P[i]^T L_i+1,i^T (each (nb, 6, 6))."""
+    n = A.shape[0]
+    nb = n // 6
+    blk = lambda i, j: A[6 * i:6 * i + 6, 6 * j:6 * j + 6]  # noqa: E731
+    for i in range(nb):
+        if np.any(A[6 * i:6 * i + 6, 6 * (i + 2):]):
+            raise AssertionError("the effective stiffness must be block tridiagonal in node blocks")
+    P = np.zeros((nb, 6, 6))
+    Q = np.zeros((nb, 6, 6))
+    S = np.zeros((nb, 6, 6))
+    for i in range(nb):
+        D = blk(i, i).copy()
+        if i:
+            Lsub = blk(i, i - 1) @ P[i - 1].T          # L_i,i-1 = A_i,i-1 L_i-1,i-1^-T
+            D -= Lsub @ Lsub.T
+        Lii = cholesky(D, lower=True)
+        P[i] = solve_triangular(Lii, np.eye(6), lower=True)
+        if i:
+            Q[i] = P[i] @ Lsub
+            S[i - 1] = P[i - 1].T @ Lsub.T
+    return P, np.ascontiguousarray(P.transpose(0, 2, 1)), Q, S
+
+
+def diagonal_storage(A, b):
+    """Diagonals of a square matrix of half-bandwidth b: D[k, i] = A[i, i + k - b] (zero outside)."""
+    n = A.shape[0]
+    D = np.zeros((2 * b + 1, n))
+    for k in range(-b, b + 1):
+        i = np.arange(max(0, -k), min(n, n - k))
+        D[b + k, i] = A[i, i + k]
+    return D
+
+
 class _Body:
-    """Banded matrices, factorisations and state of one body (plain arrays for the kernels)."""
+    """Matrices in diagonal storage, factorisations and state of one body (plain arrays for the
+    kernels)."""
 
     def __init__(self, model, name):
         spec = model.bodies[name]
@@ -58,17 +95,16 @@ class _Body:
         rows, cols = np.nonzero(Kd + Md)
         self.b = b = int(np.max(np.abs(rows - cols)))
         n = sysm.ndof
-        self.Mb = np.zeros((n, 2 * b + 1))
-        self.Kb = np.zeros((n, 2 * b + 1))
-        for k in range(-b, b + 1):
-            i = np.arange(max(0, -k), min(n, n - k))
-            self.Mb[i, b + k] = Md[i, i + k]
-            self.Kb[i, b + k] = Kd[i, i + k]
-        self.Kd, self.Md = Kd, Md
+        self.Md = diagonal_storage(Md, b)
+        self.Kd = diagonal_storage(Kd, b)
+        self.K_full, self.M_full = Kd, Md
         free = sysm.free
         self.f0, self.nf = (int(free[0]), len(free)) if len(free) else (0, 0)
         if self.nf and not np.array_equal(free, np.arange(self.f0, self.f0 + self.nf)):
             raise AssertionError("free DOFs must be contiguous (supports sit at the ends)")
+        # the node blocks holding the free DOFs (the block solve works on whole nodes)
+        self.g0 = 6 * (self.f0 // 6)
+        self.ng = 6 * -(-(self.f0 + self.nf) // 6) - self.g0 if self.nf else 0
         self.pres = sysm.prescribed.astype(np.int64)
         bi = BODY_NAMES.index(name)
         pchan, pslot = [], []
@@ -85,34 +121,32 @@ class _Body:
         self.A = np.zeros(n)
 
     def factors(self, dt, need_inverse):
-        """Banded Cholesky factor (Lf, Lb) and, for contact, the dense inverse of the effective
-        stiffness K + 2/dt C + 4/dt^2 M on the free DOFs; cached per dt."""
+        """Block Cholesky factor (P, PT, Q, S) of the effective stiffness K + 2/dt C + 4/dt^2 M over
+        the free node blocks (prescribed DOFs among them as identity rows) and, for contact, the
+        dense inverse (m/N) over the free DOFs; cached per dt."""
         key = (dt, need_inverse)
         if key not in self._factors:
-            f = slice(self.f0, self.f0 + self.nf)
-            Keff = (1 + 2 * self.beta / dt) * self.Kd[f, f] + (4 / dt**2 + 2 * self.alpha / dt) * self.Md[f, f]
-            b, n = self.b, self.nf
-            ab = np.zeros((b + 1, n))
-            for k in range(b + 1):
-                ab[k, : n - k] = np.diagonal(Keff, -k)
-            lb = cholesky_banded(ab, lower=True)
-            Lf = np.zeros((n, b + 1))
-            Lb = np.zeros((n, b + 1))
-            for k in range(b + 1):
-                Lf[k:, k] = lb[k, : n - k]      # L[i, i-k]
-                Lb[: n - k, k] = lb[k, : n - k]  # L[i+k, i]
-            inv = cho_solve(cho_factor(Keff), np.eye(n)) if need_inverse else np.zeros((1, 1))
-            self._factors[key] = (Lf, Lb, inv)
+            g = slice(self.g0, self.g0 + self.ng)
+            Keff = (1 + 2 * self.beta / dt) * self.K_full[g, g] + (4 / dt**2 + 2 * self.alpha / dt) * self.M_full[g, g]
+            inner = [j - self.g0 for j in self.pres if self.g0 <= j < self.g0 + self.ng]
+            Keff[inner, :] = 0.0
+            Keff[:, inner] = 0.0
+            Keff[inner, inner] = 1.0
+            P, PT, Q, S = block_cholesky(Keff)
+            if need_inverse:
+                f = slice(self.f0 - self.g0, self.f0 - self.g0 + self.nf)
+                inv = cho_solve(cho_factor(Keff[f, f]), np.eye(self.nf))
+            else:
+                inv = np.zeros((1, 1))
+            self._factors[key] = (P, PT, Q, S, inv)
         return self._factors[key]
 
     def energy(self):
         """(kinetic, strain) energy in J."""
-        return 0.5 * self.V @ self.Md @ self.V, 0.5 * self.U @ self.Kd @ self.U
+        return 0.5 * self.V @ self.M_full @ self.V, 0.5 * self.U @ self.K_full @ self.U
 
 
-_DUMMY = {
-    "Mb": np.zeros((1, 1)), "Lf": np.ones((1, 1)), "v": np.zeros(1), "i": np.zeros(0, np.int64),
-}
+_DUMMY_BLOCK = np.zeros((0, 6, 6))
 
 
 class Engine:
@@ -162,6 +196,7 @@ class Engine:
         self.law = 0 if c["law"] == "hertz" else 1
         self.k_lin, self.c_n, self.mu, self.v_stick = c["stiffness"], c["damping"], c["friction"], c["stick_velocity"]
         self._hist = []
+        self._ws = K.contact_workspace(len(self.Xc))
         self.reset()
 
     # -------------------------------------------------------------------------------- state
@@ -185,6 +220,7 @@ class Engine:
         self.reac = np.zeros(24)
         self.ledger = np.zeros(8)
         self.contact_time = np.zeros(nn)
+        self.solver_counts = np.zeros(2)   # contact Newton iterations, stick/slip passes (diagnostics)
         self._hist = []
 
     _ARRAYS = ("cstate", "celem", "cxi", "Pn", "vrel", "Nn", "gn", "fcs", "fcc", "reac", "ledger", "contact_time")
@@ -223,15 +259,15 @@ class Engine:
         for name in ("casing", "cable"):
             b = self.bodies.get(name)
             if b is None or b.nf == 0:
-                d = _DUMMY
                 z = np.zeros(1)
-                out += [False, d["Mb"], d["Mb"], d["Lf"], d["Lf"], 0, 0, 0.0, 0.0,
+                i0 = np.zeros(0, np.int64)
+                out += [False, np.zeros((1, 1)), np.zeros((1, 1)), _DUMMY_BLOCK, _DUMMY_BLOCK, _DUMMY_BLOCK,
+                        _DUMMY_BLOCK, 0, 0, 0, 0, 0.0, 0.0,
                         b.U if b else z, b.V if b else z.copy(), b.A if b else z.copy(),
-                        b.pres if b else d["i"], b.pchan if b else d["i"], b.pslot if b else d["i"],
-                        np.zeros((1, 1))]
+                        b.pres if b else i0, b.pchan if b else i0, b.pslot if b else i0, np.zeros((1, 1))]
                 continue
-            Lf, Lb, inv = b.factors(dt, self.contact)
-            out += [True, b.Mb, b.Kb, Lf, Lb, b.f0, b.nf, b.alpha, b.beta, b.U, b.V, b.A,
+            P, PT, Q, S, inv = b.factors(dt, self.contact)
+            out += [True, b.Md, b.Kd, P, PT, Q, S, b.g0, b.ng, b.f0, b.nf, b.alpha, b.beta, b.U, b.V, b.A,
                     b.pres, b.pchan, b.pslot, inv]
         return out
 
@@ -242,13 +278,14 @@ class Engine:
             rec = (np.zeros((n, 24)), np.zeros((n, nn), np.int8), np.zeros((n, nn)), np.zeros((n, nn)))
         else:
             rec = (np.zeros((1, 24)), np.zeros((1, 1), np.int8), np.zeros((1, 1)), np.zeros((1, 1)))
-        info = np.zeros(3)
+        info = np.zeros(5)
+        info[3:] = self.solver_counts
         status = K.run_steps(
             self.time, dt, up, vp, ap, *self._args(dt),
             self.contact, self.Xc, self.Tc, self.Xs, self.Rs, self.Ls, self.gap, self.r_in, self.r_cable,
             self.law, self.k_lin, self.k_hertz, self.c_n, self.mu, self.v_stick,
             self.cstate, self.celem, self.cxi, self.Pn, self.vrel, self.Nn, self.gn, self.fcs, self.fcc, self.reac,
-            self.ledger, self.ledger_on, self.record, *rec, 0, info)
+            self.ledger, self.ledger_on, self._ws, self.record, *rec, 0, info)
         if status != K.OK:
             what = {K.ERR_NAN: "the solution is no longer finite (NaN/inf): the step is unstable or the input is",
                     K.ERR_PENETRATION: f"penetration {info[2]:.4g} m exceeds the cable radius {self.r_cable:.4g} m "
@@ -262,6 +299,7 @@ class Engine:
             # without per-step records, contact time is sampled at the end of each advance
             self.contact_time += dt * n * (self.cstate != K.OPEN)
         self.time = float(info[0])
+        self.solver_counts[:] = info[3:]
 
     def advance(self, h, motion):
         """Integrate from ``self.time`` to ``self.time + h`` (s) with the support ``motion``

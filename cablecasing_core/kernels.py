@@ -1,15 +1,28 @@
-"""numba kernels of the time domain, kept together: banded linear algebra, Hermite interpolation on
-a beam element, the contact search and contact law (Eqs. 14-39), and the Newmark step loop.
+"""numba kernels of the time domain, kept together: banded products, the block-tridiagonal
+Cholesky solve, Hermite interpolation on a beam element, the contact search and contact law
+(Eqs. 14-39), the implicit contact solve and the Newmark step loop.
 
 All kernels are plain functions over arrays, compiled once with ``cache=True`` (the cache lives in
 ``NUMBA_CACHE_DIR`` when set). The orchestration (building matrices, factorising, evaluating the
-support motion, packing results) stays in plain Python in ``engine.py``.
+support motion, packing results) stays in plain Python in ``engine.py``. Nothing in a step
+allocates: the step loop owns a workspace (:func:`contact_workspace`) and scalar helpers return
+tuples.
 
-Band storage: a symmetric matrix of half-bandwidth b is stored as full rows ``Ab[i, k] = A[i, i-b+k]``,
-k = 0..2b. The Cholesky factor L of the free block is stored twice for contiguous access:
-``Lf[i, k] = L[i, i-k]`` (forward substitution) and ``Lb[i, k] = L[i+k, i]`` (back substitution).
-SciPy computes the factor (``cholesky_banded``); the substitutions are written here because SciPy's
-banded solvers cannot be called from inside a compiled time-step loop.
+Storage:
+
+* Diagonal storage of a symmetric matrix of half-bandwidth b: ``Ad[k, i] = A[i, i + k - b]``,
+  k = 0..2b (zero outside the matrix). Products loop over diagonals outside and rows inside, so the
+  inner loop is a contiguous, vectorisable multiply-add. Vectors multiplied with it are *padded*:
+  ``yp[b + j] = y[j]`` with b zeros on either side.
+* The effective stiffness of the free DOFs of a beam chain is block tridiagonal in 6 x 6 node
+  blocks (an element couples two neighbouring nodes). Its block Cholesky factor L is kept as
+  ``P[i] = L_ii^-1``, ``PT[i] = P[i]^T``, ``Q[i] = P[i] L_i,i-1`` and ``S[i] = P[i]^T L_i+1,i^T``
+  (built in ``engine.block_cholesky``); a solve is two sweeps of small dense 6 x 6 products, whose
+  chain of dependencies is 2 x (number of nodes) long instead of 2 x (number of DOFs) for a banded
+  substitution. SciPy's banded solvers cannot be called from inside a compiled step loop.
+
+``fastmath`` is limited to re-association and contraction (``FM``), which lets reductions use SIMD;
+NaN and infinity keep their IEEE meaning, so the blow-up checks still work.
 """
 from __future__ import annotations
 
@@ -21,132 +34,185 @@ OPEN, STICK, SLIP = 0, 1, 2
 # status codes of run_steps
 OK, ERR_NAN, ERR_PENETRATION, ERR_SEARCH = 0, 1, 2, 3
 
+FM = {"reassoc", "contract", "nsz", "arcp"}
+
 
 # ------------------------------------------------------------------------------------------------
-# banded linear algebra
+# banded products (diagonal storage) and the block-tridiagonal solve
 
 
-@njit(cache=True)
-def band_rhs(Mb, Kb, y1, y2, f0, nf, b, out):
-    """out[i - f0] = sum_j M[i, j] y1[j] + K[i, j] y2[j] for the free rows i = f0 .. f0+nf-1."""
-    n = Mb.shape[0]
-    for i in range(f0, f0 + nf):
-        s = 0.0
-        j0 = i - b
-        for k in range(max(0, -j0), min(2 * b + 1, n - j0)):
-            s += Mb[i, k] * y1[j0 + k] + Kb[i, k] * y2[j0 + k]
-        out[i - f0] = s
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def dia_rhs(Md, Kd, y1, y2, r0, nr, out):
+    """out[i - r0] = sum_j M[i, j] y1[j] + K[i, j] y2[j] for rows i = r0 .. r0+nr-1 (y1, y2 padded)."""
+    # slices indexed from 0 let numba drop the negative-index checks, so the loop vectorises
+    for i in range(nr):
+        out[i] = 0.0
+    for k in range(Md.shape[0]):
+        mk = Md[k, r0:r0 + nr]
+        kk = Kd[k, r0:r0 + nr]
+        u = y1[r0 + k:r0 + k + nr]
+        v = y2[r0 + k:r0 + k + nr]
+        for i in range(nr):
+            out[i] += mk[i] * u[i] + kk[i] * v[i]
 
 
-@njit(cache=True)
-def band_row(Mb, Kb, x1, x2, i, b):
-    """sum_j M[i, j] x1[j] + K[i, j] x2[j] for one row i."""
-    n = Mb.shape[0]
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def dia_row(Md, Kd, x1, x2, i):
+    """sum_j M[i, j] x1[j] + K[i, j] x2[j] for one row i (x1, x2 padded)."""
     s = 0.0
-    j0 = i - b
-    for k in range(max(0, -j0), min(2 * b + 1, n - j0)):
-        s += Mb[i, k] * x1[j0 + k] + Kb[i, k] * x2[j0 + k]
+    for k in range(Md.shape[0]):
+        s += Md[k, i] * x1[i + k] + Kd[k, i] * x2[i + k]
     return s
 
 
-@njit(cache=True)
-def band_quadratic(Mb, Kb, cm, ck, w, b):
-    """w^T (cm M + ck K) w over all DOFs (e.g. the Rayleigh dissipation rate with cm = alpha, ck = beta)."""
-    n = Mb.shape[0]
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def dia_quadratic(Md, Kd, cm, ck, wp):
+    """w^T (cm M + ck K) w (e.g. the Rayleigh dissipation rate with cm = alpha, ck = beta; wp padded)."""
+    b = (Md.shape[0] - 1) // 2
+    n = Md.shape[1]
+    w = wp[b:b + n]
     s = 0.0
-    for i in range(n):
-        r = 0.0
-        j0 = i - b
-        for k in range(max(0, -j0), min(2 * b + 1, n - j0)):
-            r += (cm * Mb[i, k] + ck * Kb[i, k]) * w[j0 + k]
-        s += w[i] * r
+    for k in range(Md.shape[0]):
+        mk = Md[k]
+        kk = Kd[k]
+        u = wp[k:k + n]
+        for i in range(n):
+            s += w[i] * (cm * mk[i] + ck * kk[i]) * u[i]
     return s
 
 
-@njit(cache=True)
-def band_cho_solve(Lf, Lb, r, x):
-    """Solve L L^T x = r with the banded Cholesky factor (see module docstring); x may alias r."""
-    n = Lf.shape[0]
-    b = Lf.shape[1] - 1
-    for i in range(n):
-        s = r[i]
-        for k in range(1, min(b, i) + 1):
-            s -= Lf[i, k] * x[i - k]
-        x[i] = s / Lf[i, 0]
-    for i in range(n - 1, -1, -1):
-        s = x[i]
-        for k in range(1, min(b, n - 1 - i) + 1):
-            s -= Lb[i, k] * x[i + k]
-        x[i] = s / Lb[i, 0]
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def block_solve(P, PT, Q, S, x, t):
+    """In place x <- A^-1 x for the block-tridiagonal SPD matrix A = L L^T whose factor is stored
+    as described in the module docstring (node blocks of 6); t is a scratch vector of 6."""
+    nb = P.shape[0]
+    for i in range(nb):                       # forward: y_i = P_i r_i - Q_i y_{i-1}
+        o = 6 * i
+        for r in range(6):
+            s = 0.0
+            for c in range(6):
+                s += P[i, r, c] * x[o + c]
+            if i > 0:
+                for c in range(6):
+                    s -= Q[i, r, c] * x[o - 6 + c]
+            t[r] = s
+        for r in range(6):
+            x[o + r] = t[r]
+    for i in range(nb - 1, -1, -1):           # backward: x_i = P_i^T y_i - S_i x_{i+1}
+        o = 6 * i
+        for r in range(6):
+            s = 0.0
+            for c in range(6):
+                s += PT[i, r, c] * x[o + c]
+            if i < nb - 1:
+                for c in range(6):
+                    s -= S[i, r, c] * x[o + 6 + c]
+            t[r] = s
+        for r in range(6):
+            x[o + r] = t[r]
 
 
 # ------------------------------------------------------------------------------------------------
 # element interpolation
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
+def _rot(R, U, o):
+    """R @ U[o:o+3] as a tuple (global -> element axes)."""
+    return (R[0, 0] * U[o] + R[0, 1] * U[o + 1] + R[0, 2] * U[o + 2],
+            R[1, 0] * U[o] + R[1, 1] * U[o + 1] + R[1, 2] * U[o + 2],
+            R[2, 0] * U[o] + R[2, 1] * U[o + 1] + R[2, 2] * U[o + 2])
+
+
+@njit(cache=True, error_model="numpy")
+def axis_point(Xs, Rs, Ls, Us, e, xi):
+    """Deformed axis point p (m) of element e at xi in [0, 1] and its derivative dp/dxi (m), as
+    (px, py, pz, dx, dy, dz): linear axial displacement and Hermite cubics for the lateral ones
+    (the shape functions of Eq. 9), in the element's axes R, back to global."""
+    R = Rs[e]
+    L = Ls[e]
+    o = 6 * e
+    ua = _rot(R, Us, o)
+    ta = _rot(R, Us, o + 3)
+    ub = _rot(R, Us, o + 6)
+    tb = _rot(R, Us, o + 9)
+    x2 = xi * xi
+    x3 = x2 * xi
+    N1, N2, N3, N4 = 1 - 3 * x2 + 2 * x3, L * (xi - 2 * x2 + x3), 3 * x2 - 2 * x3, L * (-x2 + x3)
+    D1, D2, D3, D4 = -6 * xi + 6 * x2, L * (1 - 4 * xi + 3 * x2), 6 * xi - 6 * x2, L * (-2 * xi + 3 * x2)
+    l0 = (1 - xi) * ua[0] + xi * ub[0]
+    l1 = N1 * ua[1] + N2 * ta[2] + N3 * ub[1] + N4 * tb[2]
+    l2 = N1 * ua[2] - N2 * ta[1] + N3 * ub[2] - N4 * tb[1]
+    d0 = ub[0] - ua[0]
+    d1 = D1 * ua[1] + D2 * ta[2] + D3 * ub[1] + D4 * tb[2]
+    d2 = D1 * ua[2] - D2 * ta[1] + D3 * ub[2] - D4 * tb[1]
+    px = Xs[e, 0] + xi * (Xs[e + 1, 0] - Xs[e, 0]) + R[0, 0] * l0 + R[1, 0] * l1 + R[2, 0] * l2
+    py = Xs[e, 1] + xi * (Xs[e + 1, 1] - Xs[e, 1]) + R[0, 1] * l0 + R[1, 1] * l1 + R[2, 1] * l2
+    pz = Xs[e, 2] + xi * (Xs[e + 1, 2] - Xs[e, 2]) + R[0, 2] * l0 + R[1, 2] * l1 + R[2, 2] * l2
+    dx = Xs[e + 1, 0] - Xs[e, 0] + R[0, 0] * d0 + R[1, 0] * d1 + R[2, 0] * d2
+    dy = Xs[e + 1, 1] - Xs[e, 1] + R[0, 1] * d0 + R[1, 1] * d1 + R[2, 1] * d2
+    dz = Xs[e + 1, 2] - Xs[e, 2] + R[0, 2] * d0 + R[1, 2] * d1 + R[2, 2] * d2
+    return px, py, pz, dx, dy, dz
+
+
+@njit(cache=True, error_model="numpy")
 def hermite_matrix(xi, L, R, H):
-    """Global 6x12 interpolation matrix H of a straight beam element at xi in [0, 1].
+    """Global 6x12 interpolation matrix H of a straight beam element at xi in [0, 1], written into H.
 
     Maps the element's 12 global DOFs to [ux uy uz rx ry rz] (global) at xi: Hermite cubics for
     the lateral displacements and the bending rotations (their slopes), linear for axial and twist;
-    the shape functions of Eq. (9). R (3x3) is the element's direction-cosine matrix. The consistent
-    nodal load of a point force F and moment Mo at xi is H^T [F; Mo]; it keeps the resultant and the
-    moment of the load, because the shape functions reproduce rigid-body motion exactly.
+    the shape functions of Eq. (9). R (3x3) is the element's direction-cosine matrix:
+    H = diag(R^T, R^T) H_local diag(R, R, R, R). The consistent nodal load of a point force F and
+    moment Mo at xi is H^T [F; Mo]; it keeps the resultant and the moment of the load, because the
+    shape functions reproduce rigid-body motion exactly.
     """
     x2 = xi * xi
     x3 = x2 * xi
     N1, N2, N3, N4 = 1 - 3 * x2 + 2 * x3, L * (xi - 2 * x2 + x3), 3 * x2 - 2 * x3, L * (-x2 + x3)
     D1, D2, D3, D4 = (-6 * xi + 6 * x2) / L, 1 - 4 * xi + 3 * x2, (6 * xi - 6 * x2) / L, -2 * xi + 3 * x2
-    Hl = np.zeros((6, 12))
-    Hl[0, 0], Hl[0, 6] = 1 - xi, xi
-    Hl[1, 1], Hl[1, 5], Hl[1, 7], Hl[1, 11] = N1, N2, N3, N4
-    Hl[2, 2], Hl[2, 4], Hl[2, 8], Hl[2, 10] = N1, -N2, N3, -N4
-    Hl[3, 3], Hl[3, 9] = 1 - xi, xi
-    Hl[4, 2], Hl[4, 4], Hl[4, 8], Hl[4, 10] = -D1, D2, -D3, D4
-    Hl[5, 1], Hl[5, 5], Hl[5, 7], Hl[5, 11] = D1, D2, D3, D4
-    # H = diag(R^T, R^T) Hl diag(R, R, R, R)
-    tmp = np.zeros((6, 12))
-    for blk in range(4):
-        for r in range(6):
+    H[:, :] = 0.0
+    H[0, 0], H[0, 6] = 1 - xi, xi
+    H[1, 1], H[1, 5], H[1, 7], H[1, 11] = N1, N2, N3, N4
+    H[2, 2], H[2, 4], H[2, 8], H[2, 10] = N1, -N2, N3, -N4
+    H[3, 3], H[3, 9] = 1 - xi, xi
+    H[4, 2], H[4, 4], H[4, 8], H[4, 10] = -D1, D2, -D3, D4
+    H[5, 1], H[5, 5], H[5, 7], H[5, 11] = D1, D2, D3, D4
+    for r in range(6):                        # right: each 3-column block times R
+        for blk in range(4):
+            c0 = 3 * blk
+            h0, h1, h2 = H[r, c0], H[r, c0 + 1], H[r, c0 + 2]
             for c in range(3):
-                s = 0.0
-                for m in range(3):
-                    s += Hl[r, 3 * blk + m] * R[m, c]
-                tmp[r, 3 * blk + c] = s
-    for half in range(2):
-        for r in range(3):
-            for c in range(12):
-                s = 0.0
-                for m in range(3):
-                    s += R[m, r] * tmp[3 * half + m, c]
-                H[3 * half + r, c] = s
+                H[r, c0 + c] = h0 * R[0, c] + h1 * R[1, c] + h2 * R[2, c]
+    for c in range(12):                       # left: each 3-row half by R^T
+        for half in range(2):
+            r0 = 3 * half
+            h0, h1, h2 = H[r0, c], H[r0 + 1, c], H[r0 + 2, c]
+            for r in range(3):
+                H[r0 + r, c] = R[0, r] * h0 + R[1, r] * h1 + R[2, r] * h2
 
 
 # ------------------------------------------------------------------------------------------------
 # contact geometry and laws
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def contact_law(g, law, k_lin, k_hertz):
     """Normal elastic force (N) and its slope (N/m) at penetration g (m): linear (Eq. 24) or
     Hertz (Eq. 29) with k_hertz = 4/3 E* r^1/2; zero for g <= 0 (no adhesion)."""
     if g <= 0.0:
         return 0.0, 0.0
     if law == 0:
-        return k_hertz * g**1.5, 1.5 * k_hertz * np.sqrt(g)
+        sg = np.sqrt(g)
+        return k_hertz * g * sg, 1.5 * k_hertz * sg
     return k_lin * g, k_lin
 
 
-@njit(cache=True)
-def _cross(a, b):
-    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
-
-
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def line_plane_intersection(ia, ib, p0, p1, p2):
     """Eq. (39): (l, u, v) of the intersection of the line ia + (ib - ia) l with the plane
-    p0 + (p1 - p0) u + (p2 - p0) v. Returns l = nan for a line parallel to the plane."""
+    p0 + (p1 - p0) u + (p2 - p0) v. Returns l = nan for a line parallel to the plane. (The search
+    itself uses the equivalent normal-plane form (x - x1) . t1 = 0, one division; this general form
+    is the paper's and checks it.)"""
     A = np.empty((3, 3))
     for r in range(3):
         A[r, 0] = ia[r] - ib[r]
@@ -159,26 +225,16 @@ def line_plane_intersection(ia, ib, p0, p1, p2):
     return sol[0], sol[1], sol[2]
 
 
-@njit(cache=True)
-def casing_point(Xs, Rs, Ls, Us, e, xi, H):
-    """Deformed casing axis point (m) at xi of element e, with its Hermite matrix written into H."""
-    hermite_matrix(xi, Ls[e], Rs[e], H)
-    x = Xs[e] + xi * (Xs[e + 1] - Xs[e])
-    for r in range(3):
-        s = 0.0
-        for c in range(12):
-            s += H[r, c] * Us[6 * e + c]
-        x[r] += s
-    return x
+@njit(cache=True, error_model="numpy")
+def casing_point(Xs, Rs, Ls, Us, e, xi):
+    """Deformed casing axis point (m) at xi of element e, as an array."""
+    px, py, pz, _, _, _ = axis_point(Xs, Rs, Ls, Us, e, xi)
+    return np.array([px, py, pz])
 
 
-@njit(cache=True)
-def search_casing(x1, t1, Xs, Rs, Ls, Us, e_guess, H, far_below):
-    """Contact search (Eqs. 32-39): where the normal plane of a cable node (point x1, unit tangent
-    t1) cuts the deformed casing axis. The line between two deformed casing nodes (Eq. 37) gives the
-    first estimate l (Eq. 39); Newton iterations on the element's Hermite-interpolated axis refine it.
-    Returns (element, xi, far): far is True when the node is certainly more than ``far_below``
-    (m) from the axis (no refinement done); element -1 when the plane misses the casing."""
+@njit(cache=True, error_model="numpy")
+def _search(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e_guess, far_below):
+    """Contact search of one cable node (point x, unit tangent t, as scalars); see search_casing."""
     ne = Ls.shape[0]
     best_e, best_xi, best_d = -1, np.nan, 1e300
     for de in range(0, 2 * ne + 1):
@@ -188,49 +244,39 @@ def search_casing(x1, t1, Xs, Rs, Ls, Us, e_guess, H, far_below):
             if abs(off) > ne:
                 break
             continue
-        a = Xs[e] + Us[6 * e:6 * e + 3]
-        b = Xs[e + 1] + Us[6 * e + 6:6 * e + 9]
-        den = 0.0
-        num = 0.0
-        for r in range(3):
-            den += (b[r] - a[r]) * t1[r]
-            num += (x1[r] - a[r]) * t1[r]
+        o = 6 * e
+        a0, a1, a2 = Xs[e, 0] + Us[o], Xs[e, 1] + Us[o + 1], Xs[e, 2] + Us[o + 2]
+        b0, b1, b2 = Xs[e + 1, 0] + Us[o + 6], Xs[e + 1, 1] + Us[o + 7], Xs[e + 1, 2] + Us[o + 8]
+        den = (b0 - a0) * t0 + (b1 - a1) * t1 + (b2 - a2) * t2
+        num = (x0 - a0) * t0 + (x1 - a1) * t1 + (x2 - a2) * t2
         if abs(den) < 1e-300:
             continue
-        xi = num / den
+        xi = num / den                          # Eq. (39) on the chord (Eq. 37)
         if xi < -1e-9 or xi > 1 + 1e-9:
             if best_e >= 0 and abs(off) > 2:
                 break
             continue
         # cheap exit: the Hermite axis departs from the chord between the deformed nodes by at most
         # L/4 (|rot_a| + |rot_b|); a node farther inside than that cannot touch (returned as far)
-        dl = 0.0
-        for r in range(3):
-            dl += (a[r] + xi * (b[r] - a[r]) - x1[r]) ** 2
-        ra = 0.0
-        rb = 0.0
-        for r in range(3):
-            ra += Us[6 * e + 3 + r] ** 2
-            rb += Us[6 * e + 9 + r] ** 2
-        if np.sqrt(dl) + 0.25 * Ls[e] * (np.sqrt(ra) + np.sqrt(rb)) < far_below:
+        dl = ((a0 + xi * (b0 - a0) - x0) ** 2 + (a1 + xi * (b1 - a1) - x1) ** 2
+              + (a2 + xi * (b2 - a2) - x2) ** 2)
+        ra = np.sqrt(Us[o + 3] ** 2 + Us[o + 4] ** 2 + Us[o + 5] ** 2)
+        rb = np.sqrt(Us[o + 9] ** 2 + Us[o + 10] ** 2 + Us[o + 11] ** 2)
+        if np.sqrt(dl) + 0.25 * Ls[e] * (ra + rb) < far_below:
             return e, xi, True
-        for _ in range(3):  # Newton on phi(xi) = (x(xi) - x1) . t1
-            xa = casing_point(Xs, Rs, Ls, Us, e, min(max(xi, 0.0), 1.0), H)
-            h = 1e-6
-            xb = casing_point(Xs, Rs, Ls, Us, e, min(max(xi, 0.0), 1.0) + h, H)
-            phi = 0.0
-            dphi = 0.0
-            for r in range(3):
-                phi += (xa[r] - x1[r]) * t1[r]
-                dphi += (xb[r] - xa[r]) / h * t1[r]
+        xi = min(max(xi, 0.0), 1.0)
+        px, py, pz, dx, dy, dz = axis_point(Xs, Rs, Ls, Us, e, xi)
+        for _ in range(4):  # Newton on phi(xi) = (p(xi) - x) . t on the Hermite axis
+            phi = (px - x0) * t0 + (py - x1) * t1 + (pz - x2) * t2
+            dphi = dx * t0 + dy * t1 + dz * t2
             if abs(dphi) < 1e-300:
                 break
-            xi = xi - phi / dphi
-        xi = min(max(xi, 0.0), 1.0)
-        xa = casing_point(Xs, Rs, Ls, Us, e, xi, H)
-        d = 0.0
-        for r in range(3):
-            d += (xa[r] - x1[r]) ** 2
+            xn = min(max(xi - phi / dphi, 0.0), 1.0)
+            if abs(xn - xi) <= 1e-13:       # converged: p already belongs to xi
+                break
+            xi = xn
+            px, py, pz, dx, dy, dz = axis_point(Xs, Rs, Ls, Us, e, xi)
+        d = (px - x0) ** 2 + (py - x1) ** 2 + (pz - x2) ** 2
         if d < best_d:
             best_d, best_e, best_xi = d, e, xi
         if abs(off) >= 2 and best_e >= 0:
@@ -238,176 +284,226 @@ def search_casing(x1, t1, Xs, Rs, Ls, Us, e_guess, H, far_below):
     return best_e, best_xi, False
 
 
-@njit(cache=True)
-def tangent_basis(n):
-    """Two unit vectors completing n to a right-handed orthonormal basis."""
-    ref = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    ta = ref - (ref @ n) * n
-    ta /= np.sqrt(ta @ ta)
-    tb = _cross(n, ta)
-    return ta, tb
+@njit(cache=True, error_model="numpy")
+def search_casing(x1, t1, Xs, Rs, Ls, Us, e_guess, far_below):
+    """Contact search (Eqs. 32-39): where the normal plane of a cable node (point x1, unit tangent
+    t1) cuts the deformed casing axis. The line between two deformed casing nodes (Eq. 37) gives the
+    first estimate l (Eq. 39); Newton iterations on the element's Hermite-interpolated axis refine it.
+    Elements are tried outward from ``e_guess``. Returns (element, xi, far): far is True when the
+    node is certainly more than ``far_below`` (m) from the axis (no refinement done); element -1 when
+    the plane misses the casing."""
+    return _search(x1[0], x1[1], x1[2], t1[0], t1[1], t1[2], Xs, Rs, Ls, Us, e_guess, far_below)
 
 
-@njit(cache=True)
-def solve_contact_forces(W, gstar, gdstar, wstar, nrm, ta, tb, mode, sdir, Pinit,
-                         law, k_lin, k_hertz, c_n, mu, dt):
-    """Contact forces P (3 per contact, on the cable, N) at the end of a Newmark step.
-
-    The relative displacement of each contact point responds linearly to the forces through the
-    Delassus matrix W (m/N, from the effective stiffness of both bodies): delta = W P. With the
-    predicted penetration g* and rates (contact-free step), each contact k satisfies
-      normal (Eqs. 15-17, 24/29): P.n = -N,  N = law(g) + c_n max(g_dot, 0) while g > 0, else 0;
-      stick (Eqs. 18-23): the tangential relative velocity at the end of the step is zero;
-      slip (Coulomb):    P_t = -mu N s, s the unit slip direction.
-    Solved by Newton iterations (semi-smooth at the max()), started from Pinit.
-    Returns (P, N_elastic, N_damping, converged)."""
-    nk = len(gstar)
-    P = Pinit.copy()
-    J = np.zeros((3 * nk, 3 * nk))
-    R = np.zeros(3 * nk)
-    Ne = np.zeros(nk)
-    Nd = np.zeros(nk)
-    c2 = 2.0 / dt
-    converged = False
-    for it in range(60):
-        d = W @ P
-        J[:, :] = 0.0
-        for k in range(nk):
-            n = nrm[k]
-            dk = d[3 * k:3 * k + 3]
-            g = gstar[k] + n @ dk
-            gd = gdstar[k] + c2 * (n @ dk)
-            fe, ke = contact_law(g, law, k_lin, k_hertz)
-            fd = c_n * gd if (g > 0.0 and gd > 0.0) else 0.0
-            N = fe + fd
-            gam = 0.0
-            if N > 0.0:
-                gam = ke + (c_n * c2 if (g > 0.0 and gd > 0.0) else 0.0)
-            Ne[k], Nd[k] = fe, fd
-            Pk = P[3 * k:3 * k + 3]
-            R[3 * k] = Pk @ n + N
-            # rows: dN/dP_l = gam n^T W_kl
-            for l in range(nk):
-                for c in range(3):
-                    s = 0.0
-                    for r in range(3):
-                        s += n[r] * W[3 * k + r, 3 * l + c]
-                    J[3 * k, 3 * l + c] = gam * s
-            for c in range(3):
-                J[3 * k, 3 * k + c] += n[c]
-            for row, t in ((1, ta[k]), (2, tb[k])):
-                if mode[k] == STICK:
-                    R[3 * k + row] = t @ wstar[k] + c2 * (t @ dk)
-                    for l in range(nk):
-                        for c in range(3):
-                            s = 0.0
-                            for r in range(3):
-                                s += t[r] * W[3 * k + r, 3 * l + c]
-                            J[3 * k + row, 3 * l + c] = c2 * s
-                else:
-                    st = sdir[k] @ t
-                    R[3 * k + row] = Pk @ t + mu * N * st
-                    for l in range(nk):
-                        for c in range(3):
-                            J[3 * k + row, 3 * l + c] = mu * st * J[3 * k, 3 * l + c] - (mu * st * n[c] if l == k else 0.0)
-                    for c in range(3):
-                        J[3 * k + row, 3 * k + c] += t[c]
-        # minimum-norm step: a direction with no compliance (a contact at a clamped support node)
-        # leaves its stick row empty, where any force is admissible and zero is taken
-        dP = np.linalg.lstsq(J, -R, rcond=1e-12)[0]
-        P += dP
-        scale = 1e-30
-        for i in range(3 * nk):
-            scale = max(scale, abs(P[i]))
-        if np.max(np.abs(dP)) <= 1e-12 * scale:
-            converged = True
-            break
-    # final forces consistent with P
-    d = W @ P
-    for k in range(nk):
-        n = nrm[k]
-        g = gstar[k] + n @ d[3 * k:3 * k + 3]
-        gd = gdstar[k] + c2 * (n @ d[3 * k:3 * k + 3])
-        Ne[k] = contact_law(g, law, k_lin, k_hertz)[0]
-        Nd[k] = c_n * gd if (g > 0.0 and gd > 0.0) else 0.0
-    return P, Ne, Nd, converged
+@njit(cache=True, error_model="numpy")
+def tangent_basis(n0, n1, n2, ta, tb):
+    """Write two unit vectors completing n to a right-handed orthonormal basis into ta, tb."""
+    r0, r1, r2 = (1.0, 0.0, 0.0) if abs(n0) < 0.9 else (0.0, 1.0, 0.0)
+    dn = r0 * n0 + r1 * n1 + r2 * n2
+    a0, a1, a2 = r0 - dn * n0, r1 - dn * n1, r2 - dn * n2
+    s = np.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
+    ta[0], ta[1], ta[2] = a0 / s, a1 / s, a2 / s
+    tb[0] = n1 * ta[2] - n2 * ta[1]
+    tb[1] = n2 * ta[0] - n0 * ta[2]
+    tb[2] = n0 * ta[1] - n1 * ta[0]
 
 
 # ------------------------------------------------------------------------------------------------
-# Newmark (average acceleration, gamma = 1/2, beta = 1/4) for one body
+# implicit contact forces
 
 
-@njit(cache=True)
-def _predict(Mb, Kb, Lf, Lb, f0, nf, alpha, beta, U, V, A, pres, pchan, up, vp, ap, dt, y1, y2, r):
-    """Contact-free Newmark predictor: prescribe the supports at t+dt and solve
-    (K + 2/dt C + 4/dt^2 M)_ff u_f = RHS for the free DOFs; U[free] holds the result."""
-    b = (Mb.shape[1] - 1) // 2
-    c0 = 4.0 / (dt * dt)
-    c1 = 2.0 / dt
-    for j in range(Mb.shape[0]):
-        y1[j] = c0 * U[j] + 2 * c1 * V[j] + A[j] + alpha * (c1 * U[j] + V[j])
-        y2[j] = beta * (c1 * U[j] + V[j])
-    for q in range(len(pres)):
-        j = pres[q]
-        ch = pchan[q]
-        u, v, a = (up[ch], vp[ch], ap[ch]) if ch >= 0 else (0.0, 0.0, 0.0)
-        U[j], V[j], A[j] = u, v, a
-        y1[j] = -(a + alpha * v)
-        y2[j] = -(u + beta * v)
-    band_rhs(Mb, Kb, y1, y2, f0, nf, b, r)
-    band_cho_solve(Lf, Lb, r, r)
-    for i in range(nf):
-        U[f0 + i] = r[i]
+@njit(cache=True, error_model="numpy")
+def _dense_solve(A, b, m, x):
+    """Solve A[:m, :m] x = b[:m] by Gaussian elimination with partial pivoting (A and b are
+    overwritten). Written here for the few (3 per contact) unknowns inside the step loop, where a
+    LAPACK call would cost more than the solve; an exactly zero pivot leaves its unknown at zero."""
+    for c in range(m):
+        p = c
+        big = abs(A[c, c])
+        for r in range(c + 1, m):
+            if abs(A[r, c]) > big:
+                big = abs(A[r, c])
+                p = r
+        if big == 0.0:
+            continue
+        if p != c:
+            for k in range(c, m):
+                A[c, k], A[p, k] = A[p, k], A[c, k]
+            b[c], b[p] = b[p], b[c]
+        inv = 1.0 / A[c, c]
+        for r in range(c + 1, m):
+            f = A[r, c] * inv
+            if f != 0.0:
+                for k in range(c + 1, m):
+                    A[r, k] -= f * A[c, k]
+                b[r] -= f * b[c]
+    for c in range(m - 1, -1, -1):
+        if A[c, c] == 0.0:
+            x[c] = 0.0
+            continue
+        s = b[c]
+        for k in range(c + 1, m):
+            s -= A[c, k] * x[k]
+        x[c] = s / A[c, c]
 
 
-@njit(cache=True)
-def _finish(f0, nf, U, V, A, Uo, Vo, Ao, dt):
-    c0 = 4.0 / (dt * dt)
-    for i in range(f0, f0 + nf):
-        A[i] = c0 * (U[i] - Uo[i]) - 2.0 * 2.0 / dt * Vo[i] - Ao[i]
-        V[i] = Vo[i] + 0.5 * dt * (Ao[i] + A[i])
+def contact_workspace(nn):
+    """Scratch arrays of the contact solve for nn cable nodes (allocated once per run)."""
+    m = 3 * max(nn, 1)
+    z = lambda *s: np.zeros(s)  # noqa: E731
+    return (np.zeros(max(nn, 1), np.int64), z(nn), z(nn), z(nn, 3), z(nn, 3), z(nn, 3), z(nn, 3),
+            z(nn, 6, 12), z(nn, 6, 3), z(nn, 12, 3), z(m, m), z(m, m), z(m), z(m), z(m), z(m),
+            z(nn, 3), z(nn, 3), np.zeros(max(nn, 1), np.int64), z(nn, 3), z(nn), z(nn),
+            np.zeros(max(nn, 1), np.bool_), z(12, 3), z(m))
 
 
-@njit(cache=True)
-def _reactions(Mb, Kb, alpha, beta, U, V, A, fc, pres, pslot, x1, x2, out, off):
-    """Force the body exerts on each support DOF: -(M a + C v + K u - f_contact) at the
-    prescribed DOFs (Eq. 13). Written into out[off + slot]."""
-    b = (Mb.shape[1] - 1) // 2
-    for j in range(len(U)):
-        x1[j] = A[j] + alpha * V[j]
-        x2[j] = U[j] + beta * V[j]
-    for q in range(len(pres)):
-        i = pres[q]
-        out[off + pslot[q]] = -(band_row(Mb, Kb, x1, x2, i, b) - fc[i])
-
-
-@njit(cache=True)
-def _node_kinematics(X, T0, U, V, i):
-    """Deformed position, unit tangent, velocity and angular velocity of cable node i."""
-    x = X[i] + U[6 * i:6 * i + 3]
-    th = U[6 * i + 3:6 * i + 6]
-    t = T0[i] + _cross(th, T0[i])
-    t /= np.sqrt(t @ t)
-    return x, t, V[6 * i:6 * i + 3].copy(), V[6 * i + 3:6 * i + 6].copy()
-
-
-@njit(cache=True)
-def _apply(H, v6, out, e, sign, P, arm):
-    """out[element e DOFs] += sign * H^T [P; arm x P]."""
-    m = _cross(arm, P)
-    for c in range(12):
+@njit(cache=True, error_model="numpy")
+def _residual(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, P, law, k_lin, k_hertz, c_n, mu, dt,
+              J, R, d, Ne, Nd, with_J):
+    """Residual R (and, with_J, its Jacobian J) of the contact conditions of :func:`_newton` at the
+    forces P; d = W P. Stick rows (m/s) are scaled by 1 / (2/dt W_kk) to newtons like the others.
+    Returns the norm of R (N)."""
+    m = 3 * nk
+    c2 = 2.0 / dt
+    for i in range(m):
         s = 0.0
+        for j in range(m):
+            s += W[i, j] * P[j]
+        d[i] = s
+    norm = 0.0
+    for k in range(nk):
+        o = 3 * k
+        if not active[k]:
+            for row in range(3):
+                R[o + row] = P[o + row]
+                if with_J:
+                    for col in range(m):
+                        J[o + row, col] = 0.0
+                    J[o + row, o + row] = 1.0
+            norm += P[o] ** 2 + P[o + 1] ** 2 + P[o + 2] ** 2
+            continue
+        n0, n1, n2 = nrm[k, 0], nrm[k, 1], nrm[k, 2]
+        dn = n0 * d[o] + n1 * d[o + 1] + n2 * d[o + 2]
+        g = gst[k] + dn
+        gd = gdst[k] + c2 * dn
+        fe, ke = contact_law(g, law, k_lin, k_hertz)
+        comp = g > 0.0 and gd > 0.0
+        fd = c_n * gd if comp else 0.0
+        N = fe + fd
+        gam = 0.0
+        if N > 0.0:
+            gam = ke + (c_n * c2 if comp else 0.0)
+        Ne[k], Nd[k] = fe, fd
+        R[o] = P[o] * n0 + P[o + 1] * n1 + P[o + 2] * n2 + N
+        if with_J:
+            for col in range(m):                       # dN/dP = gam n^T W
+                J[o, col] = gam * (n0 * W[o, col] + n1 * W[o + 1, col] + n2 * W[o + 2, col])
+            J[o, o] += n0
+            J[o, o + 1] += n1
+            J[o, o + 2] += n2
+        wkk = 0.0
         for r in range(3):
-            s += H[r, c] * P[r] + H[3 + r, c] * m[r]
-        out[6 * e + c] += sign * s
+            wkk = max(wkk, W[o + r, o + r])
+        for row in range(1, 3):
+            t = ta[k] if row == 1 else tb[k]
+            pt = P[o] * t[0] + P[o + 1] * t[1] + P[o + 2] * t[2]
+            if mode[k] == STICK:
+                # tangential relative velocity at the end of the step; a direction with no compliance
+                # at all (a contact at a clamped node) admits any force and zero is taken
+                ttw = 0.0
+                for r in range(3):
+                    for c in range(3):
+                        ttw += t[r] * W[o + r, o + c] * t[c]
+                if ttw <= 1e-13 * wkk or wkk == 0.0:
+                    R[o + row] = pt
+                    if with_J:
+                        for col in range(m):
+                            J[o + row, col] = 0.0
+                        for c in range(3):
+                            J[o + row, o + c] = t[c]
+                else:
+                    sc = 1.0 / (c2 * wkk)
+                    R[o + row] = sc * (t[0] * wst[k, 0] + t[1] * wst[k, 1] + t[2] * wst[k, 2]
+                                       + c2 * (t[0] * d[o] + t[1] * d[o + 1] + t[2] * d[o + 2]))
+                    if with_J:
+                        for col in range(m):
+                            J[o + row, col] = sc * c2 * (t[0] * W[o, col] + t[1] * W[o + 1, col] + t[2] * W[o + 2, col])
+            else:
+                st = sdir[k, 0] * t[0] + sdir[k, 1] * t[1] + sdir[k, 2] * t[2]
+                R[o + row] = pt + mu * N * st
+                if with_J:
+                    for col in range(m):
+                        J[o + row, col] = mu * st * J[o, col]
+                    for c in range(3):
+                        J[o + row, o + c] += t[c] - mu * st * nrm[k, c]
+        norm += R[o] ** 2 + R[o + 1] ** 2 + R[o + 2] ** 2
+    return np.sqrt(norm)
 
 
-@njit(cache=True)
-def _compliance_block(Kinv, f0, nf, dof_k, Bk, dof_l, Bl, blk):
-    """blk += Bk^T Kinv[dofs_k, dofs_l] Bl: one body's part of a 3x3 Delassus block. Bk, Bl map a
-    contact force to generalized forces on the DOFs from dof_k, dof_l; only the free DOFs
-    (f0 .. f0+nf-1, Kinv is their effective compliance) respond."""
-    for p in range(Bk.shape[0]):
+@njit(cache=True, error_model="numpy")
+def _newton(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, P, law, k_lin, k_hertz, c_n, mu, dt,
+            J, R, dP, d, Ne, Nd, Pt):
+    """Contact forces P (3 per contact, on the cable, N) at the end of a Newmark step, for fixed
+    stick/slip modes and active set.
+
+    The relative displacement of each contact point responds linearly to the forces through the
+    Delassus matrix W (m/N, from the effective stiffness of both bodies): delta = W P. With the
+    predicted penetration g* and rates (contact-free step), each active contact k satisfies
+      normal (Eqs. 15-17, 24/29): P.n = -N,  N = law(g) + c_n max(g_dot, 0) while g > 0, else 0;
+      stick (Eqs. 18-23): the tangential relative velocity at the end of the step is zero;
+      slip (Coulomb):    P_t = -mu N s, s the unit slip direction;
+    an inactive contact carries no force. Newton iterations (semi-smooth at the max()) from the
+    given P, with a backtracking line search on |R|: near g = 0 the Hertz law's slope vanishes and
+    full steps can cycle across the kink. At most 15 iterations: a stick that needs more friction
+    than mu N has no solution here, and the caller switches it to slip. Returns the number of iterations, negative when not
+    converged; Ne, Nd hold the elastic and damping parts of N at the final P."""
+    m = 3 * nk
+    its = -15
+    r0 = _residual(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, P, law, k_lin, k_hertz, c_n, mu, dt,
+                   J, R, d, Ne, Nd, True)
+    for it in range(15):
+        for i in range(m):
+            R[i] = -R[i]
+        _dense_solve(J, R, m, dP)
+        scale = 1e-30
+        step = 0.0
+        for i in range(m):
+            scale = max(scale, abs(P[i]))
+            step = max(step, abs(dP[i]))
+        alpha = 1.0
+        for ls in range(12):
+            for i in range(m):
+                Pt[i] = P[i] + alpha * dP[i]
+            r1 = _residual(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, Pt, law, k_lin, k_hertz, c_n,
+                           mu, dt, J, R, d, Ne, Nd, False)
+            if r1 <= (1.0 - 1e-4 * alpha) * r0 or r1 <= 1e-13 * max(scale, 1.0):
+                break
+            alpha *= 0.5
+        for i in range(m):
+            P[i] = Pt[i]
+        if alpha * step <= 1e-12 * max(scale, 1e-30) or r1 <= 1e-13 * max(scale, 1.0):
+            its = it + 1
+            r0 = _residual(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, P, law, k_lin, k_hertz, c_n,
+                           mu, dt, J, R, d, Ne, Nd, False)
+            break
+        r0 = _residual(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, P, law, k_lin, k_hertz, c_n,
+                       mu, dt, J, R, d, Ne, Nd, True)
+    for k in range(nk):
+        if not active[k]:
+            Ne[k] = 0.0
+            Nd[k] = 0.0
+    return its
+
+
+@njit(cache=True, error_model="numpy")
+def _compliance_block(Kinv, f0, nf, dof_k, Bk, dof_l, Bl, tmp, W, ok, ol):
+    """W[ok:ok+3, ol:ol+3] += Bk^T Kinv[dofs_k, dofs_l] Bl: one body's part of a 3x3 Delassus block.
+    Bk, Bl map a contact force to generalized forces on the DOFs from dof_k, dof_l; only the free
+    DOFs (f0 .. f0+nf-1, Kinv is their effective compliance) respond."""
+    np_ = Bk.shape[0]
+    for p in range(np_):
+        for c in range(3):
+            tmp[p, c] = 0.0
         dp = dof_k + p - f0
         if dp < 0 or dp >= nf:
             continue
@@ -416,290 +512,373 @@ def _compliance_block(Kinv, f0, nf, dof_k, Bk, dof_l, Bl, blk):
             if dq < 0 or dq >= nf:
                 continue
             kv = Kinv[dp, dq]
-            for r in range(3):
-                for c in range(3):
-                    blk[r, c] += Bk[p, r] * kv * Bl[q, c]
+            for c in range(3):
+                tmp[p, c] += kv * Bl[q, c]
+    for r in range(3):
+        for c in range(3):
+            s = 0.0
+            for p in range(np_):
+                s += Bk[p, r] * tmp[p, c]
+            W[ok + r, ol + c] += s
 
 
-@njit(cache=True)
-def contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
-                 gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
-                 state, elem, xi_arr, Pn, vrel, Nout, gout, fcc, fcs, diag):
-    """Contact of the cable nodes with the casing at the end of a step, from the predicted
-    (contact-free) state. Writes the generalized contact forces on the cable (fcc) and the casing
-    (fcs), the per-node state (OPEN/STICK/SLIP: the mode the forces were solved in), normal force,
-    penetration and tangential relative speed at the end of the step (vrel, m/s: the next step sticks
-    when it lies inside the band +-v_stick, Section 2.1). Returns the number
-    of active contacts. diag[0] = max penetration (m), diag[1] = 1 if Newton failed, diag[2] and
-    diag[3] = power dissipated (W) by contact damping (N_d g_dot) and by friction (-P_t . w_t)."""
+@njit(cache=True, error_model="numpy")
+def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
+             gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
+             state, elem, xi_arr, Pn, vrel, Nout, gout, fcc, fcs, diag, ws):
+    """contact_step with its scratch arrays ``ws`` (:func:`contact_workspace`)."""
+    (idx, gst, gdst, wst, nrm, arm_c, arm_s, Hs, Bc, Gs, W, J, R, dP, P, d,
+     ta, tb, mode, sdir, Ne, Nd, active, tmp, Pt) = ws
     nn = Xc.shape[0]
-    H = np.zeros((6, 12))
-    idx = np.empty(nn, np.int64)
     nk = 0
-    gst = np.empty(nn)
-    gdst = np.empty(nn)
-    wst = np.empty((nn, 3))
-    nrm = np.empty((nn, 3))
-    arm_c = np.empty((nn, 3))
-    arm_s = np.empty((nn, 3))
-    Hs = np.empty((nn, 6, 12))
     c2 = 2.0 / dt
     for i in range(nn):
         Nout[i] = 0.0
         gout[i] = 0.0
-        x1, t1, v1, om1 = _node_kinematics(Xc, Tc, Uc, Vc, i)
-        e, xi, far = search_casing(x1, t1, Xs, Rs, Ls, Us, elem[i], H, gap)
+        o = 6 * i
+        x0, x1, x2 = Xc[i, 0] + Uc[o], Xc[i, 1] + Uc[o + 1], Xc[i, 2] + Uc[o + 2]
+        T0, T1, T2 = Tc[i, 0], Tc[i, 1], Tc[i, 2]
+        th0, th1, th2 = Uc[o + 3], Uc[o + 4], Uc[o + 5]
+        t0, t1, t2 = T0 + th1 * T2 - th2 * T1, T1 + th2 * T0 - th0 * T2, T2 + th0 * T1 - th1 * T0
+        tn = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
+        t0, t1, t2 = t0 / tn, t1 / tn, t2 / tn
+        e, xi, far = _search(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, elem[i], gap)
         if e >= 0:
             elem[i] = e
         if e < 0 or far:
             state[i] = OPEN
             continue
-        elem[i] = e
         xi_arr[i] = xi
-        xs = casing_point(Xs, Rs, Ls, Us, e, xi, H)
-        rv = x1 - xs
-        h = np.sqrt(rv @ rv)
+        px, py, pz, _, _, _ = axis_point(Xs, Rs, Ls, Us, e, xi)
+        r0, r1, r2 = x0 - px, x1 - py, x2 - pz
+        h = np.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
         g = h - gap                                   # Eqs. (14), (30)-(31)
         if g <= 0.0 or h == 0.0:
             state[i] = OPEN
             continue
-        n = rv / h
-        cpt = xs + r_in * n                           # contact point on the casing wall
-        vs = np.zeros(3)
-        oms = np.zeros(3)
-        for r in range(3):
+        n0, n1, n2 = r0 / h, r1 / h, r2 / h
+        c0, c1, c2_ = px + r_in * n0, py + r_in * n1, pz + r_in * n2   # contact point on the wall
+        H = Hs[nk]
+        hermite_matrix(xi, Ls[e], Rs[e], H)
+        vs = tmp[:6, 0]                                       # casing velocity and spin at xi
+        for r in range(6):
+            s = 0.0
             for c in range(12):
-                vs[r] += H[r, c] * Vs[6 * e + c]
-                oms[r] += H[3 + r, c] * Vs[6 * e + c]
-        w = (v1 + _cross(om1, cpt - x1)) - (vs + _cross(oms, cpt - xs))
+                s += H[r, c] * Vs[6 * e + c]
+            vs[r] = s
+        ac0, ac1, ac2 = c0 - x0, c1 - x1, c2_ - x2            # arm from the cable node
+        as0, as1, as2 = c0 - px, c1 - py, c2_ - pz            # arm from the casing axis
+        om0, om1, om2 = Vc[o + 3], Vc[o + 4], Vc[o + 5]
+        w0 = Vc[o] + om1 * ac2 - om2 * ac1 - (vs[0] + vs[4] * as2 - vs[5] * as1)
+        w1 = Vc[o + 1] + om2 * ac0 - om0 * ac2 - (vs[1] + vs[5] * as0 - vs[3] * as2)
+        w2 = Vc[o + 2] + om0 * ac1 - om1 * ac0 - (vs[2] + vs[3] * as1 - vs[4] * as0)
         idx[nk] = i
         gst[nk] = g
-        gdst[nk] = n @ w
-        wst[nk] = w
-        nrm[nk] = n
-        arm_c[nk] = cpt - x1
-        arm_s[nk] = cpt - xs
-        Hs[nk] = H
+        gdst[nk] = n0 * w0 + n1 * w1 + n2 * w2
+        wst[nk, 0], wst[nk, 1], wst[nk, 2] = w0, w1, w2
+        nrm[nk, 0], nrm[nk, 1], nrm[nk, 2] = n0, n1, n2
+        arm_c[nk, 0], arm_c[nk, 1], arm_c[nk, 2] = ac0, ac1, ac2
+        arm_s[nk, 0], arm_s[nk, 1], arm_s[nk, 2] = as0, as1, as2
         nk += 1
-    for i in range(len(fcc)):
-        fcc[i] = 0.0
-    for i in range(len(fcs)):
-        fcs[i] = 0.0
+    fcc[:] = 0.0
+    fcs[:] = 0.0
+    diag[2] = 0.0
+    diag[3] = 0.0
     if nk == 0:
         diag[0] = 0.0
-        diag[2] = 0.0
-        diag[3] = 0.0
+        for i in range(nn):
+            Pn[i, 0], Pn[i, 1], Pn[i, 2] = 0.0, 0.0, 0.0
         return 0
     # Delassus matrix W = Bc^T Kc^-1 Bc + Gs^T Ks^-1 Gs (only free DOFs respond)
-    Bc = np.zeros((nk, 6, 3))
-    Gs = np.zeros((nk, 12, 3))
     for k in range(nk):
-        for r in range(3):
-            Bc[k, r, r] = 1.0
-        a = arm_c[k]
-        # moment (a x P): rows 3..5
-        Bc[k, 3, 1], Bc[k, 3, 2] = -a[2], a[1]
-        Bc[k, 4, 0], Bc[k, 4, 2] = a[2], -a[0]
-        Bc[k, 5, 0], Bc[k, 5, 1] = -a[1], a[0]
-        sk = arm_s[k]
-        Ax = np.zeros((6, 3))
-        for r in range(3):
-            Ax[r, r] = -1.0
-        Ax[3, 1], Ax[3, 2] = sk[2], -sk[1]
-        Ax[4, 0], Ax[4, 2] = -sk[2], sk[0]
-        Ax[5, 0], Ax[5, 1] = sk[1], -sk[0]
-        Gs[k] = Hs[k].T @ Ax
-    W = np.zeros((3 * nk, 3 * nk))
+        B = Bc[k]
+        G = Gs[k]
+        H = Hs[k]
+        B[:, :] = 0.0
+        a0, a1, a2 = arm_c[k, 0], arm_c[k, 1], arm_c[k, 2]
+        B[0, 0], B[1, 1], B[2, 2] = 1.0, 1.0, 1.0
+        B[3, 1], B[3, 2] = -a2, a1                 # moment a x P in rows 3..5
+        B[4, 0], B[4, 2] = a2, -a0
+        B[5, 0], B[5, 1] = -a1, a0
+        s0, s1, s2 = arm_s[k, 0], arm_s[k, 1], arm_s[k, 2]
+        for r in range(12):                        # G = H^T [-I; -[s]x]: -P and -(s x P) on the axis
+            G[r, 0] = -H[0, r] - (H[4, r] * s2 - H[5, r] * s1)
+            G[r, 1] = -H[1, r] - (H[5, r] * s0 - H[3, r] * s2)
+            G[r, 2] = -H[2, r] - (H[3, r] * s1 - H[4, r] * s0)
+    m = 3 * nk
+    for i in range(m):
+        for j in range(m):
+            W[i, j] = 0.0
     for k in range(nk):
         ik = idx[k]
         ek = elem[ik]
-        for l in range(nk):
+        for l in range(k, nk):
             il = idx[l]
             el = elem[il]
-            blk = np.zeros((3, 3))
-            _compliance_block(Kc, fc0, nfc, 6 * ik, Bc[k], 6 * il, Bc[l], blk)   # cable
-            _compliance_block(Ks, fs0, nfs, 6 * ek, Gs[k], 6 * el, Gs[l], blk)   # casing
-            W[3 * k:3 * k + 3, 3 * l:3 * l + 3] = blk
-    ta = np.empty((nk, 3))
-    tb = np.empty((nk, 3))
-    mode = np.empty(nk, np.int64)
-    sdir = np.zeros((nk, 3))
-    Pinit = np.zeros(3 * nk)
+            _compliance_block(Kc, fc0, nfc, 6 * ik, Bc[k], 6 * il, Bc[l], tmp, W, 3 * k, 3 * l)   # cable
+            _compliance_block(Ks, fs0, nfs, 6 * ek, Gs[k], 6 * el, Gs[l], tmp, W, 3 * k, 3 * l)   # casing
+            if l != k:
+                for r in range(3):
+                    for c in range(3):
+                        W[3 * l + c, 3 * k + r] = W[3 * k + r, 3 * l + c]
     for k in range(nk):
-        ta[k], tb[k] = tangent_basis(nrm[k])
+        tangent_basis(nrm[k, 0], nrm[k, 1], nrm[k, 2], ta[k], tb[k])
         i = idx[k]
-        wt = wst[k] - (wst[k] @ nrm[k]) * nrm[k]
-        sp = np.sqrt(wt @ wt)
+        wn = wst[k, 0] * nrm[k, 0] + wst[k, 1] * nrm[k, 1] + wst[k, 2] * nrm[k, 2]
+        wt0, wt1, wt2 = wst[k, 0] - wn * nrm[k, 0], wst[k, 1] - wn * nrm[k, 1], wst[k, 2] - wn * nrm[k, 2]
+        sp = np.sqrt(wt0 * wt0 + wt1 * wt1 + wt2 * wt2)
         speed = sp if state[i] == OPEN else vrel[i]
-        if speed < v_stick:
-            mode[k] = STICK
-        else:
-            mode[k] = SLIP
-        if sp > 0.0:
-            sdir[k] = wt / sp
-        if state[i] != OPEN:
-            Pinit[3 * k:3 * k + 3] = Pn[i]
-    active = np.ones(nk, np.bool_)
-    P = Pinit
-    Ne = np.zeros(nk)
-    Nd = np.zeros(nk)
+        mode[k] = STICK if speed < v_stick else SLIP
+        sdir[k, 0], sdir[k, 1], sdir[k, 2] = (wt0 / sp, wt1 / sp, wt2 / sp) if sp > 0.0 else (0.0, 0.0, 0.0)
+        for c in range(3):
+            P[3 * k + c] = Pn[i, c] if state[i] != OPEN else 0.0
+        active[k] = True
     for outer in range(8):
-        # solve on the active subset
-        sel = np.nonzero(active)[0]
-        m = len(sel)
-        if m == 0:
-            break
-        Wsub = np.empty((3 * m, 3 * m))
-        for a_ in range(m):
-            for b_ in range(m):
-                Wsub[3 * a_:3 * a_ + 3, 3 * b_:3 * b_ + 3] = W[3 * sel[a_]:3 * sel[a_] + 3, 3 * sel[b_]:3 * sel[b_] + 3]
-        Pi = np.empty(3 * m)
-        for a_ in range(m):
-            Pi[3 * a_:3 * a_ + 3] = P[3 * sel[a_]:3 * sel[a_] + 3]
-        Psub, Nes, Nds, ok = solve_contact_forces(Wsub, gst[sel], gdst[sel], wst[sel], nrm[sel], ta[sel], tb[sel],
-                                                  mode[sel], sdir[sel], Pi, law, k_lin, k_hertz, c_n, mu, dt)
-        if not ok:
+        its = _newton(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, P, law, k_lin, k_hertz,
+                      c_n, mu, dt, J, R, dP, d, Ne, Nd, Pt)
+        diag[4] += abs(its)
+        diag[5] += 1
+        if its < 0:
             diag[1] = 1.0
-        P = np.zeros(3 * nk)
-        for a_ in range(m):
-            P[3 * sel[a_]:3 * sel[a_] + 3] = Psub[3 * a_:3 * a_ + 3]
-            Ne[sel[a_]] = Nes[a_]
-            Nd[sel[a_]] = Nds[a_]
         changed = False
-        d = W @ P
-        for a_ in range(m):
-            k = sel[a_]
+        for k in range(nk):
+            if not active[k]:
+                continue
+            o = 3 * k
             N = Ne[k] + Nd[k]
             if N <= 0.0:
                 active[k] = False
+                P[o], P[o + 1], P[o + 2] = 0.0, 0.0, 0.0
                 changed = True
                 continue
-            Pk = P[3 * k:3 * k + 3]
-            Pt = Pk - (Pk @ nrm[k]) * nrm[k]
-            ft = np.sqrt(Pt @ Pt)
+            pn = P[o] * nrm[k, 0] + P[o + 1] * nrm[k, 1] + P[o + 2] * nrm[k, 2]
+            pt0, pt1, pt2 = P[o] - pn * nrm[k, 0], P[o + 1] - pn * nrm[k, 1], P[o + 2] - pn * nrm[k, 2]
+            ft = np.sqrt(pt0 * pt0 + pt1 * pt1 + pt2 * pt2)
             if mode[k] == STICK and ft > mu * N * (1 + 1e-12):
                 mode[k] = SLIP
-                sdir[k] = -Pt / ft
+                sdir[k, 0], sdir[k, 1], sdir[k, 2] = -pt0 / ft, -pt1 / ft, -pt2 / ft
                 changed = True
             elif mode[k] == SLIP:
-                w = wst[k] + c2 * d[3 * k:3 * k + 3]
-                wt = w - (w @ nrm[k]) * nrm[k]
-                if wt @ sdir[k] < 0.0:      # friction would reverse the slip: it sticks instead
+                w0, w1, w2 = wst[k, 0] + c2 * d[o], wst[k, 1] + c2 * d[o + 1], wst[k, 2] + c2 * d[o + 2]
+                wn = w0 * nrm[k, 0] + w1 * nrm[k, 1] + w2 * nrm[k, 2]
+                wt0, wt1, wt2 = w0 - wn * nrm[k, 0], w1 - wn * nrm[k, 1], w2 - wn * nrm[k, 2]
+                if wt0 * sdir[k, 0] + wt1 * sdir[k, 1] + wt2 * sdir[k, 2] < 0.0:
+                    # friction would reverse the slip: it sticks instead
                     if v_stick > 0.0 and outer < 4:
                         mode[k] = STICK
                     else:
-                        spd = np.sqrt(wt @ wt)
+                        spd = np.sqrt(wt0 * wt0 + wt1 * wt1 + wt2 * wt2)
                         if spd > 0.0:
-                            sdir[k] = wt / spd
+                            sdir[k, 0], sdir[k, 1], sdir[k, 2] = wt0 / spd, wt1 / spd, wt2 / spd
                     changed = True
         if not changed:
             break
+    for i in range(m):    # relative displacements of the final forces
+        s = 0.0
+        for j in range(m):
+            s += W[i, j] * P[j]
+        d[i] = s
     gmax = 0.0
-    diag[2] = 0.0
-    diag[3] = 0.0
-    d = W @ P
     for k in range(nk):
         i = idx[k]
-        Pk = P[3 * k:3 * k + 3]
+        o = 3 * k
         if not active[k] or Ne[k] + Nd[k] <= 0.0:
-            state[i] = OPEN
-            Pn[i, :] = 0.0
             continue
-        g = gst[k] + nrm[k] @ d[3 * k:3 * k + 3]
+        n0, n1, n2 = nrm[k, 0], nrm[k, 1], nrm[k, 2]
+        dn = n0 * d[o] + n1 * d[o + 1] + n2 * d[o + 2]
+        g = gst[k] + dn
         gout[i] = g
         Nout[i] = Ne[k] + Nd[k]
         gmax = max(gmax, g)
-        w = wst[k] + c2 * d[3 * k:3 * k + 3]
-        wt = w - (w @ nrm[k]) * nrm[k]
+        w0, w1, w2 = wst[k, 0] + c2 * d[o], wst[k, 1] + c2 * d[o + 1], wst[k, 2] + c2 * d[o + 2]
+        wn = w0 * n0 + w1 * n1 + w2 * n2
+        wt0, wt1, wt2 = w0 - wn * n0, w1 - wn * n1, w2 - wn * n2
         state[i] = mode[k]
-        vrel[i] = np.sqrt(wt @ wt)
-        diag[2] += Nd[k] * (w @ nrm[k])                  # damping acts only while compressing
-        Pt = Pk - (Pk @ nrm[k]) * nrm[k]
-        diag[3] -= Pt @ wt
-        Pn[i] = Pk
+        vrel[i] = np.sqrt(wt0 * wt0 + wt1 * wt1 + wt2 * wt2)
+        diag[2] += Nd[k] * wn                         # damping acts only while compressing
+        pn = P[o] * n0 + P[o + 1] * n1 + P[o + 2] * n2
+        diag[3] -= (P[o] - pn * n0) * wt0 + (P[o + 1] - pn * n1) * wt1 + (P[o + 2] - pn * n2) * wt2
+        Pn[i, 0], Pn[i, 1], Pn[i, 2] = P[o], P[o + 1], P[o + 2]
         # generalized forces: +P at the cable node (with its moment), -P on the casing element
         for r in range(6):
-            s = 0.0
-            for c in range(3):
-                s += Bc[k, r, c] * Pk[c]
-            fcc[6 * i + r] += s
+            fcc[6 * i + r] += Bc[k, r, 0] * P[o] + Bc[k, r, 1] * P[o + 1] + Bc[k, r, 2] * P[o + 2]
         e = elem[i]
         for r in range(12):
-            s = 0.0
-            for c in range(3):
-                s += Gs[k, r, c] * Pk[c]
-            fcs[6 * e + r] += s
+            fcs[6 * e + r] += Gs[k, r, 0] * P[o] + Gs[k, r, 1] * P[o + 1] + Gs[k, r, 2] * P[o + 2]
     for i in range(nn):
         if Nout[i] == 0.0:
             state[i] = OPEN
-            Pn[i, :] = 0.0
+            Pn[i, 0], Pn[i, 1], Pn[i, 2] = 0.0, 0.0, 0.0
     diag[0] = gmax
     return nk
 
 
-@njit(cache=True)
+def contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
+                 gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
+                 state, elem, xi_arr, Pn, vrel, Nout, gout, fcc, fcs, diag):
+    """Contact of the cable nodes with the casing at the end of a step, from the predicted
+    (contact-free) state (Eqs. 14-39). Writes the generalized contact forces on the cable (fcc, N
+    and N.m) and the casing (fcs), the per-node state (OPEN/STICK/SLIP: the mode the forces were
+    solved in), normal force (N), penetration (m) and tangential relative speed at the end of the
+    step (vrel, m/s: the next step sticks when it lies inside the band +-v_stick, Section 2.1).
+    Kc, Ks: effective compliances (m/N) of the free DOFs fc0.., fs0... Returns the number of
+    contacts examined (penetrating before the solve). diag[0] = max penetration (m), diag[1] = 1
+    if Newton failed, diag[2] and diag[3] = power dissipated (W) by contact damping (N_d g_dot) and
+    by friction (-P_t . w_t); diag[4] and diag[5] count Newton iterations and stick/slip passes. Allocates its scratch arrays; the step loop reuses one set."""
+    return _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
+                    gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
+                    state, elem, xi_arr, Pn, vrel, Nout, gout, fcc, fcs, diag, contact_workspace(len(Xc)))
+
+
+# ------------------------------------------------------------------------------------------------
+# Newmark (average acceleration, gamma = 1/2, beta = 1/4) for one body
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def _predict(Md, Kd, P, PT, Q, S, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan, up, vp, ap, dt, y1, y2, r, t6):
+    """Contact-free Newmark predictor: prescribe the supports at t+dt (Eq. 13) and solve
+    (K + 2/dt C + 4/dt^2 M)_ff u_f = M (4/dt^2 u + 4/dt v + a) + C (2/dt u + v) - (coupling to the
+    prescribed DOFs), C = alpha M + beta K, for the free DOFs; U[free] holds the result. The solve
+    runs over the node blocks g0 .. g0+ng-1 that hold the free DOFs (prescribed DOFs among them
+    are identity rows with zero right-hand side). y1, y2 are padded scratch vectors, r has ng, t6 6."""
+    b = (Md.shape[0] - 1) // 2
+    n = U.shape[0]
+    c0 = 4.0 / (dt * dt)
+    c1 = 2.0 / dt
+    z1 = y1[b:b + n]
+    z2 = y2[b:b + n]
+    for j in range(n):
+        z1[j] = c0 * U[j] + 2 * c1 * V[j] + A[j] + alpha * (c1 * U[j] + V[j])
+        z2[j] = beta * (c1 * U[j] + V[j])
+    for q in range(len(pres)):
+        j = pres[q]
+        ch = pchan[q]
+        u, v, a = (up[ch], vp[ch], ap[ch]) if ch >= 0 else (0.0, 0.0, 0.0)
+        U[j], V[j], A[j] = u, v, a
+        y1[b + j] = -(a + alpha * v)
+        y2[b + j] = -(u + beta * v)
+    dia_rhs(Md, Kd, y1, y2, g0, ng, r)
+    for q in range(len(pres)):
+        if g0 <= pres[q] < g0 + ng:
+            r[pres[q] - g0] = 0.0
+    block_solve(P, PT, Q, S, r, t6)
+    for i in range(f0, f0 + nf):
+        U[i] = r[i - g0]
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def _correct(P, PT, Q, S, g0, ng, f0, nf, fc, U, r, t6):
+    """U[free] += Keff^-1 fc: the bodies' exact response to the contact forces fc (linear structure)."""
+    for i in range(ng):
+        r[i] = 0.0
+    for i in range(f0, f0 + nf):
+        r[i - g0] = fc[i]
+    block_solve(P, PT, Q, S, r, t6)
+    for i in range(f0, f0 + nf):
+        U[i] += r[i - g0]
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def _finish(f0, nf, U, V, A, Uo, Vo, Ao, dt):
+    """Newmark update of the free DOFs' acceleration and velocity from the new displacement."""
+    c0 = 4.0 / (dt * dt)
+    c2 = 4.0 / dt
+    u, v, a = U[f0:f0 + nf], V[f0:f0 + nf], A[f0:f0 + nf]
+    uo, vo, ao = Uo[f0:f0 + nf], Vo[f0:f0 + nf], Ao[f0:f0 + nf]
+    for i in range(nf):
+        a[i] = c0 * (u[i] - uo[i]) - c2 * vo[i] - ao[i]
+        v[i] = vo[i] + 0.5 * dt * (ao[i] + a[i])
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def _reactions(Md, Kd, alpha, beta, U, V, A, fc, pres, pslot, x1, x2, out, off):
+    """Force the body exerts on each support DOF: -(M a + C v + K u - f_contact) at the
+    prescribed DOFs (Eq. 13). Written into out[off + slot]; x1, x2 padded scratch."""
+    b = (Md.shape[0] - 1) // 2
+    n = U.shape[0]
+    z1 = x1[b:b + n]
+    z2 = x2[b:b + n]
+    for j in range(n):
+        z1[j] = A[j] + alpha * V[j]
+        z2[j] = U[j] + beta * V[j]
+    for q in range(len(pres)):
+        i = pres[q]
+        out[off + pslot[q]] = -(dia_row(Md, Kd, x1, x2, i) - fc[i])
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def _work(U, Uo, f, fn, lo, hi):
+    """Trapezoidal work (J) of the forces f (old) and fn (new) over U - Uo on DOFs lo..hi-1."""
+    s = 0.0
+    u, uo, a, an = U[lo:hi], Uo[lo:hi], f[lo:hi], fn[lo:hi]
+    for i in range(hi - lo):
+        s += 0.5 * (a[i] + an[i]) * (u[i] - uo[i])
+    return s
+
+
+@njit(cache=True, error_model="numpy")
 def run_steps(t0, dt, up, vp, ap,
-              s_on, sMb, sKb, sLf, sLb, sf0, snf, salpha, sbeta, sU, sV, sA, spres, spchan, spslot, sKinv,
-              c_on, cMb, cKb, cLf, cLb, cf0, cnf, calpha, cbeta, cU, cV, cA, cpres, cpchan, cpslot, cKinv,
+              s_on, sMd, sKd, sP, sPT, sQ, sS, sg0, sng, sf0, snf, salpha, sbeta, sU, sV, sA, spres, spchan,
+              spslot, sKinv,
+              c_on, cMd, cKd, cP, cPT, cQ, cS, cg0, cng, cf0, cnf, calpha, cbeta, cU, cV, cA, cpres, cpchan,
+              cpslot, cKinv,
               contact_on, Xc, Tc, Xs, Rs, Ls, gap, r_in, r_cable, law, k_lin, k_hertz, c_n, mu, v_stick,
-              state, elem, xi_arr, Pn, vrel, Nn, gn, fcs, fcc, reac, ledger, ledger_on,
+              state, elem, xi_arr, Pn, vrel, Nn, gn, fcs, fcc, reac, ledger, ledger_on, ws,
               rec_on, rec_F, rec_state, rec_N, rec_g, rec_off, info):
-    """Advance both bodies by len(up) Newmark steps of size dt (s) from time t0 (s).
+    """Advance both bodies (s: casing, c: cable) by len(up) Newmark steps of size dt (s) from time
+    t0 (s). Each step: contact-free predictor of both bodies, contact search and implicit contact
+    forces (:func:`contact_step`), the bodies' response to them, Newmark update, reactions.
 
     up, vp, ap: (n, 12) support channel displacement (m), velocity (m/s), acceleration (m/s2) at
     t0 + (k+1) dt. reac (24): force each body exerts on each support, N and N.m, in the order
     casing A, casing B, cable A, cable B, each [Fx Fy Fz Mx My Mz]. ledger (J): [work of the
     supports, Rayleigh dissipation, energy at the start (set by the engine), friction dissipation,
     work of the contact forces, contact-damping dissipation, last friction power (W), last damping
-    power (W)]; the dissipations integrate the powers by the trapezoidal rule. Returns a status code (OK or ERR_*); info = [time, node, value] of a failure.
+    power (W)]; the dissipations integrate the powers by the trapezoidal rule. ws: contact
+    workspace. Returns a status code (OK or ERR_*); info = [time, node, value] of a failure, then
+    the running totals of contact Newton iterations and stick/slip passes.
     """
     nsteps = up.shape[0]
     ns = sU.shape[0]
     nc = cU.shape[0]
+    sb = (sMd.shape[0] - 1) // 2
+    cb = (cMd.shape[0] - 1) // 2
     sUo, sVo, sAo = sU.copy(), sV.copy(), sA.copy()
     cUo, cVo, cAo = cU.copy(), cV.copy(), cA.copy()
-    sy1, sy2, sr = np.zeros(ns), np.zeros(ns), np.zeros(max(snf, 1))
-    cy1, cy2, cr = np.zeros(nc), np.zeros(nc), np.zeros(max(cnf, 1))
+    sy1, sy2, sr = np.zeros(ns + 2 * sb), np.zeros(ns + 2 * sb), np.zeros(max(sng, 1))
+    cy1, cy2, cr = np.zeros(nc + 2 * cb), np.zeros(nc + 2 * cb), np.zeros(max(cng, 1))
     fcs_new, fcc_new = np.zeros(ns), np.zeros(nc)
     reac_new = np.zeros(24)
-    diag = np.zeros(4)
+    diag = np.zeros(6)
+    t6 = np.zeros(6)
     nn = Xc.shape[0]
-    Ne_prev = Nn.copy()
+    t = t0
     for k in range(nsteps):
         t = t0 + (k + 1) * dt
         if s_on:
             sUo[:] = sU
             sVo[:] = sV
             sAo[:] = sA
-            _predict(sMb, sKb, sLf, sLb, sf0, snf, salpha, sbeta, sU, sV, sA, spres, spchan,
-                     up[k], vp[k], ap[k], dt, sy1, sy2, sr)
+            _predict(sMd, sKd, sP, sPT, sQ, sS, sg0, sng, sf0, snf, salpha, sbeta, sU, sV, sA, spres, spchan,
+                     up[k], vp[k], ap[k], dt, sy1, sy2, sr, t6)
         if c_on:
             cUo[:] = cU
             cVo[:] = cV
             cAo[:] = cA
-            _predict(cMb, cKb, cLf, cLb, cf0, cnf, calpha, cbeta, cU, cV, cA, cpres, cpchan,
-                     up[k], vp[k], ap[k], dt, cy1, cy2, cr)
-        nact = 0
+            _predict(cMd, cKd, cP, cPT, cQ, cS, cg0, cng, cf0, cnf, calpha, cbeta, cU, cV, cA, cpres, cpchan,
+                     up[k], vp[k], ap[k], dt, cy1, cy2, cr, t6)
         if contact_on:
             # predicted velocities of the free DOFs (Newmark: v = 2/dt (u - u_old) - v_old)
             for i in range(sf0, sf0 + snf):
                 sV[i] = 2.0 / dt * (sU[i] - sUo[i]) - sVo[i]
             for i in range(cf0, cf0 + cnf):
                 cV[i] = 2.0 / dt * (cU[i] - cUo[i]) - cVo[i]
-            nact = contact_step(Xc, Tc, cU, cV, Xs, Rs, Ls, sU, sV, cKinv, cf0, cnf, sKinv, sf0, snf,
-                                gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
-                                state, elem, xi_arr, Pn, vrel, Nn, gn, fcc_new, fcs_new, diag)
+            nact = _contact(Xc, Tc, cU, cV, Xs, Rs, Ls, sU, sV, cKinv, cf0, cnf, sKinv, sf0, snf,
+                            gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
+                            state, elem, xi_arr, Pn, vrel, Nn, gn, fcc_new, fcs_new, diag, ws)
             if nact > 0:
-                for i in range(snf):
-                    sr[i] = fcs_new[sf0 + i]
-                band_cho_solve(sLf, sLb, sr, sr)
-                for i in range(snf):
-                    sU[sf0 + i] += sr[i]
-                for i in range(cnf):
-                    cr[i] = fcc_new[cf0 + i]
-                band_cho_solve(cLf, cLb, cr, cr)
-                for i in range(cnf):
-                    cU[cf0 + i] += cr[i]
+                _correct(sP, sPT, sQ, sS, sg0, sng, sf0, snf, fcs_new, sU, sr, t6)
+                _correct(cP, cPT, cQ, cS, cg0, cng, cf0, cnf, fcc_new, cU, cr, t6)
             if diag[0] > r_cable:
                 info[0], info[2] = t, diag[0]
                 for i in range(nn):
@@ -708,10 +887,10 @@ def run_steps(t0, dt, up, vp, ap,
                 return ERR_PENETRATION
         if s_on:
             _finish(sf0, snf, sU, sV, sA, sUo, sVo, sAo, dt)
-            _reactions(sMb, sKb, salpha, sbeta, sU, sV, sA, fcs_new, spres, spslot, sy1, sy2, reac_new, 0)
+            _reactions(sMd, sKd, salpha, sbeta, sU, sV, sA, fcs_new, spres, spslot, sy1, sy2, reac_new, 0)
         if c_on:
             _finish(cf0, cnf, cU, cV, cA, cUo, cVo, cAo, dt)
-            _reactions(cMb, cKb, calpha, cbeta, cU, cV, cA, fcc_new, cpres, cpslot, cy1, cy2, reac_new, 12)
+            _reactions(cMd, cKd, calpha, cbeta, cU, cV, cA, fcc_new, cpres, cpslot, cy1, cy2, reac_new, 12)
         # blow-up check on the cheap aggregates
         tot = 0.0
         for i in range(24):
@@ -724,30 +903,31 @@ def run_steps(t0, dt, up, vp, ap,
             for q in range(len(spres)):
                 j = spres[q]
                 ledger[0] += -0.5 * (reac[spslot[q]] + reac_new[spslot[q]]) * (sU[j] - sUo[j])
-            for i in range(ns):
-                ledger[4] += 0.5 * (fcs[i] + fcs_new[i]) * (sU[i] - sUo[i])
+            if contact_on:
+                ledger[4] += _work(sU, sUo, fcs, fcs_new, 0, ns)
             if ledger_on:
                 for i in range(ns):
-                    sy1[i] = sVo[i] + sV[i]
-                ledger[1] += 0.25 * dt * band_quadratic(sMb, sKb, salpha, sbeta, sy1, (sMb.shape[1] - 1) // 2)
+                    sy1[sb + i] = sVo[i] + sV[i]
+                ledger[1] += 0.25 * dt * dia_quadratic(sMd, sKd, salpha, sbeta, sy1)
         if c_on:
             for q in range(len(cpres)):
                 j = cpres[q]
                 ledger[0] += -0.5 * (reac[12 + cpslot[q]] + reac_new[12 + cpslot[q]]) * (cU[j] - cUo[j])
-            for i in range(nc):
-                ledger[4] += 0.5 * (fcc[i] + fcc_new[i]) * (cU[i] - cUo[i])
+            if contact_on:
+                ledger[4] += _work(cU, cUo, fcc, fcc_new, 0, nc)
             if ledger_on:
                 for i in range(nc):
-                    cy1[i] = cVo[i] + cV[i]
-                ledger[1] += 0.25 * dt * band_quadratic(cMb, cKb, calpha, cbeta, cy1, (cMb.shape[1] - 1) // 2)
+                    cy1[cb + i] = cVo[i] + cV[i]
+                ledger[1] += 0.25 * dt * dia_quadratic(cMd, cKd, calpha, cbeta, cy1)
         if contact_on:
             ledger[3] += 0.5 * dt * (ledger[6] + diag[3])
             ledger[5] += 0.5 * dt * (ledger[7] + diag[2])
             ledger[6] = diag[3]
             ledger[7] = diag[2]
         reac[:] = reac_new
-        fcs[:] = fcs_new
-        fcc[:] = fcc_new
+        if contact_on:
+            fcs[:] = fcs_new
+            fcc[:] = fcc_new
         if rec_on:
             r = rec_off + k
             rec_F[r, :] = reac
@@ -755,5 +935,7 @@ def run_steps(t0, dt, up, vp, ap,
                 rec_state[r, i] = state[i]
                 rec_N[r, i] = Nn[i]
                 rec_g[r, i] = gn[i]
-    info[0] = t0 + nsteps * dt
+    info[0] = t
+    info[3] += diag[4]
+    info[4] += diag[5]
     return OK
