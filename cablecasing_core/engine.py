@@ -220,7 +220,7 @@ class Engine:
         self.reac = np.zeros(24)
         self.ledger = np.zeros(8)
         self.contact_time = np.zeros(nn)
-        self.solver_counts = np.zeros(2)   # contact Newton iterations, stick/slip passes (diagnostics)
+        self.solver_counts = np.zeros(3)   # contact Newton iterations, stick/slip passes, unconverged steps
         self._hist = []
 
     _ARRAYS = ("cstate", "celem", "cxi", "Pn", "vrel", "Nn", "gn", "fcs", "fcc", "reac", "ledger", "contact_time")
@@ -278,7 +278,7 @@ class Engine:
             rec = (np.zeros((n, 24)), np.zeros((n, nn), np.int8), np.zeros((n, nn)), np.zeros((n, nn)))
         else:
             rec = (np.zeros((1, 24)), np.zeros((1, 1), np.int8), np.zeros((1, 1)), np.zeros((1, 1)))
-        info = np.zeros(5)
+        info = np.zeros(6)
         info[3:] = self.solver_counts
         status = K.run_steps(
             self.time, dt, up, vp, ap, *self._args(dt),

@@ -64,6 +64,7 @@ class _Signal:
         if kind == "random":
             t, u, v, a = _random_record(params["rms"], params["band"], duration, dt, params["seed"])
             self.period = t[-1]
+            self.grid = (t[1] - t[0], u, v, a)
             # quintic Hermite through (u, v, a) at every sample (scipy BPoly): exact at the grid,
             # consistent derivatives in between
             self.poly = BPoly.from_derivatives(t, np.column_stack([u, v, a])[:, :, None].reshape(len(t), 3))
@@ -108,6 +109,11 @@ class _Signal:
             return u, v, a
         if self.kind == "random":
             tt = np.mod(t, self.period)
+            h, u, v, a = self.grid
+            k = np.rint(tt / h)
+            if np.all(np.abs(tt / h - k) < 1e-9):      # on the record's grid: the samples themselves
+                k = k.astype(np.int64)
+                return u[k], v[k], a[k]
             return self.poly(tt), self.poly(tt, 1), self.poly(tt, 2)
         tc = np.clip(t, self.t0, self.t1)
         inside = (t >= self.t0) & (t <= self.t1)
