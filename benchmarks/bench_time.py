@@ -58,8 +58,8 @@ for contact, label in ((True, "coupled"), (False, "linear")):
         print(f"contact_unconverged_steps: {int(failed)}")
 
 
-def force(m, dt, duration, contact=None):
-    res = cc.simulate(m, duration=duration, dt=dt, contact=contact)
+def force(m, dt, duration, contact=None, motion=None):
+    res = cc.simulate(m, duration=duration, dt=dt, contact=contact, motion=motion)
     return res.time, res.support_force("casing.B.Fz")
 
 
@@ -91,11 +91,8 @@ print("octave_rms_rel_diff_per_band_contact_off: " + " ".join(f"{x:.3f}" for x i
 tr, Fr = runs[2.5e-6]
 rms = np.sqrt(np.mean(Fr[tr > 0.05] ** 2))
 for dt in (1e-5, 5e-6):
-    if dt in runs:
-        t, F = runs[dt]
-    else:   # the same excitation record (its length sets its frequency lines), only 0.05 s of it
-        res = cc.simulate(model, duration=0.05, dt=dt, motion=scenario_motion(model, dt=dt, duration=args.duration))
-        t, F = res.time, res.support_force("casing.B.Fz")
+    # the same excitation record (its length sets its frequency lines), only 0.05 s of it
+    t, F = runs[dt] if dt in runs else force(model, dt, 0.05, motion=scenario_motion(model, dt=dt, duration=args.duration))
     e = t < 0.05
     Fref = np.interp(t[e], tr, Fr)          # the reference at the coarse times (common grid points)
     print(f"early_force_err_dt{dt:g}: {np.max(np.abs(F[e] - Fref)) / rms:.2e}")

@@ -400,7 +400,6 @@ def _residual(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, touch, P, 
             Ne[k], Nd[k] = 0.0, N
             sc = 1.0 / wkk if wkk > 0.0 else 1.0
             R[o] = sc * g
-            gam = -1.0
             if with_J:
                 for col in range(m):
                     J[o, col] = sc * (n0 * W[o, col] + n1 * W[o + 1, col] + n2 * W[o + 2, col])
@@ -844,10 +843,11 @@ def _reactions(Md, Kd, alpha, beta, U, V, A, fc, pres, pslot, x1, x2, out, off):
     prescribed DOFs (Eq. 13). Written into out[off + slot]; x1, x2 padded scratch."""
     b = (Md.shape[0] - 1) // 2
     n = U.shape[0]
-    for q in range(len(pres)):          # only the band around the prescribed rows is needed
-        for j in range(max(0, pres[q] - b), min(n, pres[q] + b + 1)):
-            x1[b + j] = A[j] + alpha * V[j]
-            x2[b + j] = U[j] + beta * V[j]
+    z1 = x1[b:b + n]
+    z2 = x2[b:b + n]
+    for j in range(n):
+        z1[j] = A[j] + alpha * V[j]
+        z2[j] = U[j] + beta * V[j]
     for q in range(len(pres)):
         i = pres[q]
         out[off + pslot[q]] = -(dia_row(Md, Kd, x1, x2, i) - fc[i])
@@ -861,6 +861,34 @@ def _work(U, Uo, f, fn, lo, hi):
     for i in range(hi - lo):
         s += 0.5 * (a[i] + an[i]) * (u[i] - uo[i])
     return s
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def _predicted_velocity(f0, nf, U, Uo, V, Vo, dt):
+    """Newmark velocity of the free DOFs from the predicted displacement: v = 2/dt (u - u_old) - v_old."""
+    u, uo, v, vo = U[f0:f0 + nf], Uo[f0:f0 + nf], V[f0:f0 + nf], Vo[f0:f0 + nf]
+    for i in range(nf):
+        v[i] = 2.0 / dt * (u[i] - uo[i]) - vo[i]
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def _body_ledger(Md, Kd, alpha, beta, U, Uo, V, Vo, pres, pslot, reac, reac_new, off, fc, fc_new,
+                 contact_on, ledger_on, y, dt, ledger):
+    """One body's share of a step in the energy ledger (J), trapezoidal rule: work of its supports
+    (reactions at slots off + pslot), work of the contact forces fc -> fc_new and, with ledger_on,
+    the Rayleigh dissipation (y: padded scratch)."""
+    for q in range(len(pres)):
+        j = pres[q]
+        ledger[0] += -0.5 * (reac[off + pslot[q]] + reac_new[off + pslot[q]]) * (U[j] - Uo[j])
+    n = U.shape[0]
+    if contact_on:
+        ledger[4] += _work(U, Uo, fc, fc_new, 0, n)
+    if ledger_on:
+        b = (Md.shape[0] - 1) // 2
+        z = y[b:b + n]
+        for i in range(n):
+            z[i] = Vo[i] + V[i]
+        ledger[1] += 0.25 * dt * dia_quadratic(Md, Kd, alpha, beta, y)
 
 
 @njit(cache=True, error_model="numpy")
@@ -916,11 +944,8 @@ def run_steps(t0, dt, up, vp, ap,
             _predict(cMd, cKd, cP, cPT, cQ, cS, cg0, cng, cf0, cnf, calpha, cbeta, cU, cV, cA, cpres, cpchan,
                      up[k], vp[k], ap[k], dt, cy1, cy2, cr, t6)
         if contact_on:
-            # predicted velocities of the free DOFs (Newmark: v = 2/dt (u - u_old) - v_old)
-            for i in range(sf0, sf0 + snf):
-                sV[i] = 2.0 / dt * (sU[i] - sUo[i]) - sVo[i]
-            for i in range(cf0, cf0 + cnf):
-                cV[i] = 2.0 / dt * (cU[i] - cUo[i]) - cVo[i]
+            _predicted_velocity(sf0, snf, sU, sUo, sV, sVo, dt)
+            _predicted_velocity(cf0, cnf, cU, cUo, cV, cVo, dt)
             diag[1] = 0.0
             nact = _contact(Xc, Tc, cU, cV, Xs, Rs, Ls, sU, sV, cKinv, cf0, cnf, sKinv, sf0, snf,
                             gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
@@ -950,25 +975,11 @@ def run_steps(t0, dt, up, vp, ap,
             return ERR_NAN
         # energy ledger (trapezoidal rule, consistent with the average-acceleration scheme)
         if s_on:
-            for q in range(len(spres)):
-                j = spres[q]
-                ledger[0] += -0.5 * (reac[spslot[q]] + reac_new[spslot[q]]) * (sU[j] - sUo[j])
-            if contact_on:
-                ledger[4] += _work(sU, sUo, fcs, fcs_new, 0, ns)
-            if ledger_on:
-                for i in range(ns):
-                    sy1[sb + i] = sVo[i] + sV[i]
-                ledger[1] += 0.25 * dt * dia_quadratic(sMd, sKd, salpha, sbeta, sy1)
+            _body_ledger(sMd, sKd, salpha, sbeta, sU, sUo, sV, sVo, spres, spslot, reac, reac_new, 0,
+                         fcs, fcs_new, contact_on, ledger_on, sy1, dt, ledger)
         if c_on:
-            for q in range(len(cpres)):
-                j = cpres[q]
-                ledger[0] += -0.5 * (reac[12 + cpslot[q]] + reac_new[12 + cpslot[q]]) * (cU[j] - cUo[j])
-            if contact_on:
-                ledger[4] += _work(cU, cUo, fcc, fcc_new, 0, nc)
-            if ledger_on:
-                for i in range(nc):
-                    cy1[cb + i] = cVo[i] + cV[i]
-                ledger[1] += 0.25 * dt * dia_quadratic(cMd, cKd, calpha, cbeta, cy1)
+            _body_ledger(cMd, cKd, calpha, cbeta, cU, cUo, cV, cVo, cpres, cpslot, reac, reac_new, 12,
+                         fcc, fcc_new, contact_on, ledger_on, cy1, dt, ledger)
         if contact_on:
             ledger[3] += 0.5 * dt * (ledger[6] + diag[3])
             ledger[5] += 0.5 * dt * (ledger[7] + diag[2])
