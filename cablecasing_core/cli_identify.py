@@ -31,6 +31,20 @@ def _write_toml(path, text):
     print(f"wrote {path}")
 
 
+def _emit(args, toml, plot_name, res, **plot_kw):
+    """Print the TOML snippet (if any) and write it to --toml; draw --plot with
+    ``identification.plots.<plot_name>(res, path, **plot_kw)``."""
+    if toml:
+        print(toml, end="")
+        if args.toml:
+            _write_toml(args.toml, toml)
+    if args.plot:
+        from .identification import plots
+
+        getattr(plots, plot_name)(res, args.plot, **plot_kw)
+        print(f"wrote {args.plot}")
+
+
 def _spectrum_peaks(x, fs, count):
     """Frequencies (Hz) of the ``count`` most prominent peaks of the record's amplitude spectrum."""
     from .identification.circlefit import find_resonances
@@ -69,14 +83,7 @@ def cmd_damping(args):
                 print(f"    {f_:10.3f} Hz: zeta = {z_:.5f}, Rayleigh {zf:.5f}")
             toml = parameters_toml(args.body, alpha=fit.alpha, beta=fit.beta,
                                    comment=f"Rayleigh damping identified from {args.file}")
-            print(toml, end="")
-        if args.toml and toml:
-            _write_toml(args.toml, toml)
-        if args.plot:
-            from .identification.plots import plot_ridges
-
-            plot_ridges(res, args.plot, x=x, fs=fs)
-            print(f"wrote {args.plot}")
+        _emit(args, toml, "plot_ridges", res, x=x, fs=fs)
         return 0
     except CableCasingError as exc:
         return _fail(exc)
@@ -96,14 +103,7 @@ def cmd_loss_factor(args):
                   f"{r.rms / r.radius:>12.3g} {r.freqs_hz.size:>6}")
         lf = res[0].eta if len(res) == 1 else res
         toml = parameters_toml(args.body, loss_factor=lf, comment=f"loss factor identified from {args.file}")
-        print(toml, end="")
-        if args.toml:
-            _write_toml(args.toml, toml)
-        if args.plot:
-            from .identification.plots import plot_circles
-
-            plot_circles(res, args.plot)
-            print(f"wrote {args.plot}")
+        _emit(args, toml, "plot_circles", res)
         return 0
     except CableCasingError as exc:
         return _fail(exc)
@@ -149,14 +149,7 @@ def cmd_modulus(args):
         for m, fm, fc, E, h in zip(res.modes, res.f_measured_hz, res.f_computed_hz, res.E_mode, res.history):
             print(f"{m:>4} {fm:>10.3f} {fc:>10.3f} {E:>12.5g} {len(h) - 1:>5}")
         toml = parameters_toml(args.body, E=res.table, comment=f"dynamic modulus E(f) identified from {args.file}")
-        print(toml, end="")
-        if args.toml:
-            _write_toml(args.toml, toml)
-        if args.plot:
-            from .identification.plots import plot_modulus
-
-            plot_modulus(res, args.plot)
-            print(f"wrote {args.plot}")
+        _emit(args, toml, "plot_modulus", res)
         return 0
     except CableCasingError as exc:
         return _fail(exc)

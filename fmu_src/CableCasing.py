@@ -284,28 +284,22 @@ class CableCasing(Fmi2Slave):
                 else str(self._refuse("get a String", vr, None)) for vr in vrs]
 
     def set_integer(self, vrs, values):
-        for vr, value in zip(vrs, values):
-            var = self.vars.get(vr)
-            if isinstance(var, Integer) and var.setter is not None:
-                var.setter(value)
-            else:
-                self._refuse("set an Integer", vr, value)
+        self._set_typed(Integer, "set an Integer", vrs, values)
 
     def set_boolean(self, vrs, values):
-        for vr, value in zip(vrs, values):
-            var = self.vars.get(vr)
-            if isinstance(var, Boolean) and var.setter is not None:
-                var.setter(value)
-            else:
-                self._refuse("set a Boolean", vr, value)
+        self._set_typed(Boolean, "set a Boolean", vrs, values)
 
     def set_string(self, vrs, values):
+        self._set_typed(String, "set a String", vrs, values)
+
+    def _set_typed(self, kind, what, vrs, values):
+        """Set writable variables of type ``kind``; any other reference is refused (logged)."""
         for vr, value in zip(vrs, values):
             var = self.vars.get(vr)
-            if isinstance(var, String) and var.setter is not None:
+            if isinstance(var, kind) and var.setter is not None:
                 var.setter(value)
             else:
-                self._refuse("set a String", vr, value)
+                self._refuse(what, vr, value)
 
     def _refuse(self, what, vr, value):
         """A call with a value reference of the wrong type (or a read-only one): log at fmi2Error

@@ -206,18 +206,24 @@ def _is_uff(path):
     return os.path.splitext(str(path))[1].lower() in UFF_EXTENSIONS
 
 
+def _uff_record(path, kind, channel, missing):
+    """The ``channel``-th record (default the first) of ``kind`` in a UFF file; ``missing`` says
+    what the file lacks when it has none."""
+    recs = [r for r in read_uff(path) if r.kind == kind]
+    if not recs:
+        raise ModelError("file", str(path), f"contains no {missing}")
+    j = 0 if channel is None else int(channel)
+    if not 0 <= j < len(recs):
+        raise ModelError("channel", channel, f"must be 0..{len(recs) - 1}")
+    return recs[j]
+
+
 def read_time_record(path, channel=None):
     """``(x, fs, name)`` from a CSV or UFF (.uff/.unv) file; ``channel`` selects a column or the
     n-th time function of a UFF file."""
     if not _is_uff(path):
         return read_csv_time(path, channel)
-    recs = [r for r in read_uff(path) if r.kind == "time"]
-    if not recs:
-        raise ModelError("file", str(path), "contains no time record (UFF 58, function type 1)")
-    j = 0 if channel is None else int(channel)
-    if not 0 <= j < len(recs):
-        raise ModelError("channel", channel, f"must be 0..{len(recs) - 1}")
-    r = recs[j]
+    r = _uff_record(path, "time", channel, "time record (UFF 58, function type 1)")
     if not _even(r.x):
         raise ModelError(f"{path}", "uneven abscissa", "a time record must be evenly sampled")
     return np.asarray(r.data, dtype=float), r.fs, r.name
@@ -227,10 +233,5 @@ def read_frf(path, channel=None):
     """``(freqs_hz, H)`` from a CSV or UFF file (the n-th FRF of a UFF file, default the first)."""
     if not _is_uff(path):
         return read_csv_frf(path)
-    recs = [r for r in read_uff(path) if r.kind == "frf"]
-    if not recs:
-        raise ModelError("file", str(path), "contains no FRF (UFF 58, function type 4)")
-    j = 0 if channel is None else int(channel)
-    if not 0 <= j < len(recs):
-        raise ModelError("channel", channel, f"must be 0..{len(recs) - 1}")
-    return recs[j].x, np.asarray(recs[j].data, dtype=complex)
+    r = _uff_record(path, "frf", channel, "FRF (UFF 58, function type 4)")
+    return r.x, np.asarray(r.data, dtype=complex)
