@@ -42,30 +42,30 @@ def hertz_constant(model):
     return 4.0 / 3.0 * Es * np.sqrt(r)
 
 
-def block_cholesky(A):
-    """Block Cholesky factor of a symmetric positive definite block-tridiagonal matrix A (6 x 6
-    node blocks), in the form ``kernels.block_solve`` uses: P[i] = L_ii^-1, PT[i] = P[i]^T,
-    Q[i] = P[i] L_i,i-1 and S[i] = P[i]^T L_i+1,i^T (each (nb, 6, 6))."""
+def block_ldl(A):
+    """Block LDL^T factor of a symmetric positive definite block-tridiagonal matrix A (6 x 6 node
+    blocks), A = L D L^T with unit block diagonal in L, in the form ``kernels.block_solve`` uses:
+    Dinv[i] = D_i^-1, L[i] = L_i,i-1 (L[0] = 0) and LT[i] = L_i+1,i^T (LT[-1] = 0), each (nb, 6, 6).
+    D_0 = A_00, L_i,i-1 = A_i,i-1 D_i-1^-1, D_i = A_ii - L_i,i-1 A_i-1,i (the Schur complements,
+    SPD, so no pivoting is needed)."""
     n = A.shape[0]
     nb = n // 6
     blk = lambda i, j: A[6 * i:6 * i + 6, 6 * j:6 * j + 6]  # noqa: E731
     for i in range(nb):
         if np.any(A[6 * i:6 * i + 6, 6 * (i + 2):]):
             raise AssertionError("the effective stiffness must be block tridiagonal in node blocks")
-    P = np.zeros((nb, 6, 6))
-    Q = np.zeros((nb, 6, 6))
-    S = np.zeros((nb, 6, 6))
+    Dinv = np.zeros((nb, 6, 6))
+    L = np.zeros((nb, 6, 6))
+    LT = np.zeros((nb, 6, 6))
     for i in range(nb):
         D = blk(i, i).copy()
         if i:
-            Lsub = blk(i, i - 1) @ P[i - 1].T          # L_i,i-1 = A_i,i-1 L_i-1,i-1^-T
-            D -= Lsub @ Lsub.T
-        Lii = cholesky(D, lower=True)
-        P[i] = solve_triangular(Lii, np.eye(6), lower=True)
-        if i:
-            Q[i] = P[i] @ Lsub
-            S[i - 1] = P[i - 1].T @ Lsub.T
-    return P, np.ascontiguousarray(P.transpose(0, 2, 1)), Q, S
+            L[i] = blk(i, i - 1) @ Dinv[i - 1]
+            LT[i - 1] = L[i].T
+            D -= L[i] @ blk(i - 1, i)
+        inv = cho_solve(cho_factor(0.5 * (D + D.T)), np.eye(6))
+        Dinv[i] = 0.5 * (inv + inv.T)
+    return Dinv, L, LT
 
 
 def diagonal_storage(A, b):
@@ -121,7 +121,7 @@ class _Body:
         self.A = np.zeros(n)
 
     def factors(self, dt, need_inverse):
-        """Block Cholesky factor (P, PT, Q, S) of the effective stiffness K + 2/dt C + 4/dt^2 M over
+        """Block LDL^T factor (Dinv, L, LT) of the effective stiffness K + 2/dt C + 4/dt^2 M over
         the free node blocks (prescribed DOFs among them as identity rows) and, for contact, the
         dense inverse (m/N) over the free DOFs; cached per dt."""
         key = (dt, need_inverse)
@@ -132,13 +132,14 @@ class _Body:
             Keff[inner, :] = 0.0
             Keff[:, inner] = 0.0
             Keff[inner, inner] = 1.0
-            P, PT, Q, S = block_cholesky(Keff)
+            Dinv, L, LT = block_ldl(Keff)
             if need_inverse:
                 f = slice(self.f0 - self.g0, self.f0 - self.g0 + self.nf)
                 inv = cho_solve(cho_factor(Keff[f, f]), np.eye(self.nf))
+                inv = 0.5 * (inv + inv.T)     # exactly symmetric: its rows serve as columns
             else:
                 inv = np.zeros((1, 1))
-            self._factors[key] = (P, PT, Q, S, inv)
+            self._factors[key] = (Dinv, L, LT, inv)
         return self._factors[key]
 
     def energy(self):
@@ -262,12 +263,12 @@ class Engine:
                 z = np.zeros(1)
                 i0 = np.zeros(0, np.int64)
                 out += [False, np.zeros((1, 1)), np.zeros((1, 1)), _DUMMY_BLOCK, _DUMMY_BLOCK, _DUMMY_BLOCK,
-                        _DUMMY_BLOCK, 0, 0, 0, 0, 0.0, 0.0,
+                        0, 0, 0, 0, 0.0, 0.0,
                         b.U if b else z, b.V if b else z.copy(), b.A if b else z.copy(),
                         b.pres if b else i0, b.pchan if b else i0, b.pslot if b else i0, np.zeros((1, 1))]
                 continue
-            P, PT, Q, S, inv = b.factors(dt, self.contact)
-            out += [True, b.Md, b.Kd, P, PT, Q, S, b.g0, b.ng, b.f0, b.nf, b.alpha, b.beta, b.U, b.V, b.A,
+            Dinv, L, LT, inv = b.factors(dt, self.contact)
+            out += [True, b.Md, b.Kd, Dinv, L, LT, b.g0, b.ng, b.f0, b.nf, b.alpha, b.beta, b.U, b.V, b.A,
                     b.pres, b.pchan, b.pslot, inv]
         return out
 

@@ -45,18 +45,16 @@ TINY = 1e-200   # m, m/s, m/s2: states below this are flushed to zero (see _fini
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def dia_rhs(Md, Kd, y1, y2, r0, nr, out):
-    """out[i - r0] = sum_j M[i, j] y1[j] + K[i, j] y2[j] for rows i = r0 .. r0+nr-1 (y1, y2 padded)."""
+def dia_product(Ad, yp, r0, nr, out):
+    """out[i - r0] = sum_j A[i, j] y[j] for rows i = r0 .. r0+nr-1 (yp padded)."""
     # slices indexed from 0 let numba drop the negative-index checks, so the loop vectorises
     for i in range(nr):
         out[i] = 0.0
-    for k in range(Md.shape[0]):
-        mk = Md[k, r0:r0 + nr]
-        kk = Kd[k, r0:r0 + nr]
-        u = y1[r0 + k:r0 + k + nr]
-        v = y2[r0 + k:r0 + k + nr]
+    for k in range(Ad.shape[0]):
+        ak = Ad[k, r0:r0 + nr]
+        u = yp[r0 + k:r0 + k + nr]
         for i in range(nr):
-            out[i] += mk[i] * u[i] + kk[i] * v[i]
+            out[i] += ak[i] * u[i]
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
@@ -84,35 +82,42 @@ def dia_quadratic(Md, Kd, cm, ck, wp):
     return s
 
 
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def _block_step(B, x, o, y0, y1, y2, y3, y4, y5):
+    """x[o:o+6] -= B y for one 6 x 6 block B; returns the new x[o:o+6]. The 6-term dot products
+    are summed as a tree of pairs (written out, so no re-association is asked of the compiler):
+    the sweeps are chains of these, and the tree halves each link's latency."""
+    r0 = x[o + 0] - ((B[0, 0] * y0 + B[0, 1] * y1) + (B[0, 2] * y2 + B[0, 3] * y3) + (B[0, 4] * y4 + B[0, 5] * y5))
+    r1 = x[o + 1] - ((B[1, 0] * y0 + B[1, 1] * y1) + (B[1, 2] * y2 + B[1, 3] * y3) + (B[1, 4] * y4 + B[1, 5] * y5))
+    r2 = x[o + 2] - ((B[2, 0] * y0 + B[2, 1] * y1) + (B[2, 2] * y2 + B[2, 3] * y3) + (B[2, 4] * y4 + B[2, 5] * y5))
+    r3 = x[o + 3] - ((B[3, 0] * y0 + B[3, 1] * y1) + (B[3, 2] * y2 + B[3, 3] * y3) + (B[3, 4] * y4 + B[3, 5] * y5))
+    r4 = x[o + 4] - ((B[4, 0] * y0 + B[4, 1] * y1) + (B[4, 2] * y2 + B[4, 3] * y3) + (B[4, 4] * y4 + B[4, 5] * y5))
+    r5 = x[o + 5] - ((B[5, 0] * y0 + B[5, 1] * y1) + (B[5, 2] * y2 + B[5, 3] * y3) + (B[5, 4] * y4 + B[5, 5] * y5))
+    x[o], x[o + 1], x[o + 2], x[o + 3], x[o + 4], x[o + 5] = r0, r1, r2, r3, r4, r5
+    return r0, r1, r2, r3, r4, r5
+
+
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def block_solve(P, PT, Q, S, x, t):
-    """In place x <- A^-1 x for the block-tridiagonal SPD matrix A = L L^T whose factor is stored
-    as described in the module docstring (node blocks of 6); t is a scratch vector of 6."""
-    nb = P.shape[0]
-    for i in range(nb):                       # forward: y_i = P_i r_i - Q_i y_{i-1}
+def block_solve(Dinv, L, LT, x):
+    """In place x <- A^-1 x for the block-tridiagonal SPD matrix A = L D L^T (node blocks of 6,
+    unit block diagonal in L; built by ``engine.block_ldl``): forward z_i = r_i - L_i,i-1 z_i-1,
+    then w_i = D_i^-1 z_i (independent blocks), backward x_i = w_i - L_i+1,i^T x_i+1. Each sweep is
+    a chain of one 6 x 6 product per node."""
+    nb = Dinv.shape[0]
+    y0, y1, y2, y3, y4, y5 = x[0], x[1], x[2], x[3], x[4], x[5]
+    for i in range(1, nb):
+        y0, y1, y2, y3, y4, y5 = _block_step(L[i], x, 6 * i, y0, y1, y2, y3, y4, y5)
+    for i in range(nb):
         o = 6 * i
+        d = Dinv[i]
+        y0, y1, y2, y3, y4, y5 = x[o], x[o + 1], x[o + 2], x[o + 3], x[o + 4], x[o + 5]
         for r in range(6):
-            s = 0.0
-            for c in range(6):
-                s += P[i, r, c] * x[o + c]
-            if i > 0:
-                for c in range(6):
-                    s -= Q[i, r, c] * x[o - 6 + c]
-            t[r] = s
-        for r in range(6):
-            x[o + r] = t[r]
-    for i in range(nb - 1, -1, -1):           # backward: x_i = P_i^T y_i - S_i x_{i+1}
-        o = 6 * i
-        for r in range(6):
-            s = 0.0
-            for c in range(6):
-                s += PT[i, r, c] * x[o + c]
-            if i < nb - 1:
-                for c in range(6):
-                    s -= S[i, r, c] * x[o + 6 + c]
-            t[r] = s
-        for r in range(6):
-            x[o + r] = t[r]
+            x[o + r] = ((d[r, 0] * y0 + d[r, 1] * y1) + (d[r, 2] * y2 + d[r, 3] * y3)
+                        + (d[r, 4] * y4 + d[r, 5] * y5))
+    o = 6 * (nb - 1)
+    y0, y1, y2, y3, y4, y5 = x[o], x[o + 1], x[o + 2], x[o + 3], x[o + 4], x[o + 5]
+    for i in range(nb - 2, -1, -1):
+        y0, y1, y2, y3, y4, y5 = _block_step(LT[i], x, 6 * i, y0, y1, y2, y3, y4, y5)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -287,6 +292,36 @@ def _search(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e_guess, far_below):
     return best_e, best_xi, False
 
 
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def _far_from_wall(Xc, Tc, Uc, Xs, Ls, Us, elem, gap, far):
+    """far[i]: cable node i certainly lies farther than ``gap`` (m) inside the wall, by the cheap
+    test of :func:`_search` on its previous element elem[i] alone (the normal plane cuts that
+    element's chord, and the node is within the gap of it by more than the Hermite axis can depart
+    from the chord). Most nodes pass it in most steps; one branch-free pass over all nodes (it
+    vectorises) is much cheaper than the per-node search they then skip. Nodes that fail it get the
+    full search."""
+    ne = Ls.shape[0]
+    for i in range(Xc.shape[0]):
+        o = 6 * i
+        x0, x1, x2 = Xc[i, 0] + Uc[o], Xc[i, 1] + Uc[o + 1], Xc[i, 2] + Uc[o + 2]
+        T0, T1, T2 = Tc[i, 0], Tc[i, 1], Tc[i, 2]
+        th0, th1, th2 = Uc[o + 3], Uc[o + 4], Uc[o + 5]
+        t0, t1, t2 = T0 + th1 * T2 - th2 * T1, T1 + th2 * T0 - th0 * T2, T2 + th0 * T1 - th1 * T0
+        e = min(max(elem[i], 0), ne - 1)
+        q = 6 * e
+        a0, a1, a2 = Xs[e, 0] + Us[q], Xs[e, 1] + Us[q + 1], Xs[e, 2] + Us[q + 2]
+        b0, b1, b2 = Xs[e + 1, 0] + Us[q + 6], Xs[e + 1, 1] + Us[q + 7], Xs[e + 1, 2] + Us[q + 8]
+        den = (b0 - a0) * t0 + (b1 - a1) * t1 + (b2 - a2) * t2      # t unnormalised: xi is scale-free
+        num = (x0 - a0) * t0 + (x1 - a1) * t1 + (x2 - a2) * t2
+        xi = num / den
+        dl = ((a0 + xi * (b0 - a0) - x0) ** 2 + (a1 + xi * (b1 - a1) - x1) ** 2
+              + (a2 + xi * (b2 - a2) - x2) ** 2)
+        ra = np.sqrt(Us[q + 3] ** 2 + Us[q + 4] ** 2 + Us[q + 5] ** 2)
+        rb = np.sqrt(Us[q + 9] ** 2 + Us[q + 10] ** 2 + Us[q + 11] ** 2)
+        far[i] = ((elem[i] == e) & (abs(den) >= 1e-300) & (xi >= -1e-9) & (xi <= 1 + 1e-9)
+                  & (np.sqrt(dl) + 0.25 * Ls[e] * (ra + rb) < gap))
+
+
 @njit(cache=True, error_model="numpy")
 def search_casing(x1, t1, Xs, Rs, Ls, Us, e_guess, far_below):
     """Contact search (Eqs. 32-39): where the normal plane of a cable node (point x1, unit tangent
@@ -357,7 +392,8 @@ def contact_workspace(nn):
     return (np.zeros(max(nn, 1), np.int64), z(nn), z(nn), z(nn, 3), z(nn, 3), z(nn, 3), z(nn, 3),
             z(nn, 6, 12), z(nn, 6, 3), z(nn, 12, 3), z(m, m), z(m, m), z(m), z(m), z(m), z(m),
             z(nn, 3), z(nn, 3), np.zeros(max(nn, 1), np.int64), z(nn, 3), z(nn), z(nn),
-            np.zeros(max(nn, 1), np.bool_), z(12, 3), z(m), np.zeros(max(nn, 1), np.bool_))
+            np.zeros(max(nn, 1), np.bool_), z(12, 3), z(m), np.zeros(max(nn, 1), np.bool_),
+            np.zeros(max(nn, 1), np.bool_))
 
 
 @njit(cache=True, error_model="numpy")
@@ -553,13 +589,17 @@ def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
              state, elem, xi_arr, Pn, vrel, Nout, gout, fcc, fcs, diag, ws):
     """contact_step with its scratch arrays ``ws`` (:func:`contact_workspace`)."""
     (idx, gst, gdst, wst, nrm, arm_c, arm_s, Hs, Bc, Gs, W, J, R, dP, P, d,
-     ta, tb, mode, sdir, Ne, Nd, active, tmp, Pt, touch) = ws
+     ta, tb, mode, sdir, Ne, Nd, active, tmp, Pt, touch, skip) = ws
     nn = Xc.shape[0]
     nk = 0
     c2 = 2.0 / dt
+    _far_from_wall(Xc, Tc, Uc, Xs, Ls, Us, elem, gap, skip)
     for i in range(nn):
         Nout[i] = 0.0
         gout[i] = 0.0
+        if skip[i]:
+            state[i] = OPEN
+            continue
         o = 6 * i
         x0, x1, x2 = Xc[i, 0] + Uc[o], Xc[i, 1] + Uc[o + 1], Xc[i, 2] + Uc[o + 2]
         T0, T1, T2 = Tc[i, 0], Tc[i, 1], Tc[i, 2]
@@ -771,47 +811,67 @@ def contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def _predict(Md, Kd, P, PT, Q, S, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan, up, vp, ap, dt, y1, y2, r, t6):
+def _predict(Md, Kd, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan, up, vp, ap, dt, y1, y2, r):
     """Contact-free Newmark predictor: prescribe the supports at t+dt (Eq. 13) and solve
-    (K + 2/dt C + 4/dt^2 M)_ff u_f = M (4/dt^2 u + 4/dt v + a) + C (2/dt u + v) - (coupling to the
-    prescribed DOFs), C = alpha M + beta K, for the free DOFs; U[free] holds the result. The solve
-    runs over the node blocks g0 .. g0+ng-1 that hold the free DOFs (prescribed DOFs among them
-    are identity rows with zero right-hand side). y1, y2 are padded scratch vectors, r has ng, t6 6."""
+    S_ff u_f = [M (c0 u + 2 c1 v + a) + C (c1 u + v)]_f - (coupling to the prescribed DOFs) for the
+    free DOFs, S = K + c1 C + c0 M = ck K + cm M, C = alpha M + beta K, c0 = 4/dt^2, c1 = 2/dt,
+    ck = 1 + c1 beta, cm = c0 + c1 alpha; U[free] holds the result.
+
+    One matrix product instead of two: with z = beta (c1 u + v) on the free DOFs the stiffness part
+    is K z = (S z - cm M z) / ck, so u_f = z_f / ck + S_ff^-1 ([M w]_f - [K_fp (u_p + beta v_p)]),
+    w = c0 u + 2 c1 v + a + alpha (c1 u + v) - (cm / ck) z (free), -(a_p + alpha v_p) (prescribed).
+    The stiffness enters only through the coupling rows next to the supports. The solve runs over
+    the node blocks g0 .. g0+ng-1 that hold the free DOFs (prescribed DOFs among them are identity
+    rows with zero right-hand side). y1, y2 are padded scratch vectors, r has ng."""
     b = (Md.shape[0] - 1) // 2
     n = U.shape[0]
     c0 = 4.0 / (dt * dt)
     c1 = 2.0 / dt
+    ck = 1.0 + c1 * beta
+    q = (c0 + c1 * alpha) / ck
     z1 = y1[b:b + n]
     z2 = y2[b:b + n]
     for j in range(n):
-        z1[j] = c0 * U[j] + 2 * c1 * V[j] + A[j] + alpha * (c1 * U[j] + V[j])
-        z2[j] = beta * (c1 * U[j] + V[j])
-    for q in range(len(pres)):
-        j = pres[q]
-        ch = pchan[q]
+        z = beta * (c1 * U[j] + V[j])
+        z1[j] = c0 * U[j] + 2 * c1 * V[j] + A[j] + alpha * (c1 * U[j] + V[j]) - q * z
+        z2[j] = 0.0
+    for k in range(len(pres)):
+        j = pres[k]
+        ch = pchan[k]
         u, v, a = (up[ch], vp[ch], ap[ch]) if ch >= 0 else (0.0, 0.0, 0.0)
         U[j], V[j], A[j] = u, v, a
         y1[b + j] = -(a + alpha * v)
         y2[b + j] = -(u + beta * v)
-    dia_rhs(Md, Kd, y1, y2, g0, ng, r)
-    for q in range(len(pres)):
-        if g0 <= pres[q] < g0 + ng:
-            r[pres[q] - g0] = 0.0
-    block_solve(P, PT, Q, S, r, t6)
+    dia_product(Md, y1, g0, ng, r)
+    # K_fp: the rows within the half-bandwidth of a support (free DOFs are contiguous, f0 .. f0+nf-1)
+    for w in range(2):
+        lo, hi = (f0, min(f0 + b, f0 + nf)) if w == 0 else (max(f0 + nf - b, f0 + b), f0 + nf)
+        for i in range(lo, hi):
+            s = 0.0
+            for k in range(Kd.shape[0]):
+                s += Kd[k, i] * y2[i + k]
+            r[i - g0] += s
+    for k in range(len(pres)):
+        if g0 <= pres[k] < g0 + ng:
+            r[pres[k] - g0] = 0.0
+    block_solve(Dinv, L, LT, r)
     for i in range(f0, f0 + nf):
-        U[i] = r[i - g0]
+        U[i] = r[i - g0] + beta * (c1 * U[i] + V[i]) / ck
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def _correct(P, PT, Q, S, g0, ng, f0, nf, fc, U, r, t6):
-    """U[free] += Keff^-1 fc: the bodies' exact response to the contact forces fc (linear structure)."""
-    for i in range(ng):
-        r[i] = 0.0
-    for i in range(f0, f0 + nf):
-        r[i - g0] = fc[i]
-    block_solve(P, PT, Q, S, r, t6)
-    for i in range(f0, f0 + nf):
-        U[i] += r[i - g0]
+def _correct(Kinv, f0, nf, fc, U):
+    """U[free] += Keff^-1 fc: the bodies' exact response to the contact forces fc (linear structure).
+    fc is nonzero on a few DOFs only (6 per cable contact node, 12 per casing element touched), so
+    the response is the sum of those compliance rows (Kinv symmetric), not a full solve."""
+    u = U[f0:f0 + nf]
+    f = fc[f0:f0 + nf]
+    for j in range(nf):
+        if f[j] != 0.0:
+            fj = f[j]
+            row = Kinv[j]
+            for i in range(nf):
+                u[i] += fj * row[i]
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
@@ -893,9 +953,9 @@ def _body_ledger(Md, Kd, alpha, beta, U, Uo, V, Vo, pres, pslot, reac, reac_new,
 
 @njit(cache=True, error_model="numpy")
 def run_steps(t0, dt, up, vp, ap,
-              s_on, sMd, sKd, sP, sPT, sQ, sS, sg0, sng, sf0, snf, salpha, sbeta, sU, sV, sA, spres, spchan,
+              s_on, sMd, sKd, sDi, sL, sLT, sg0, sng, sf0, snf, salpha, sbeta, sU, sV, sA, spres, spchan,
               spslot, sKinv,
-              c_on, cMd, cKd, cP, cPT, cQ, cS, cg0, cng, cf0, cnf, calpha, cbeta, cU, cV, cA, cpres, cpchan,
+              c_on, cMd, cKd, cDi, cL, cLT, cg0, cng, cf0, cnf, calpha, cbeta, cU, cV, cA, cpres, cpchan,
               cpslot, cKinv,
               contact_on, Xc, Tc, Xs, Rs, Ls, gap, r_in, r_cable, law, k_lin, k_hertz, c_n, mu, v_stick,
               state, elem, xi_arr, Pn, vrel, Nn, gn, fcs, fcc, reac, ledger, ledger_on, ws,
@@ -926,7 +986,6 @@ def run_steps(t0, dt, up, vp, ap,
     fcs_new, fcc_new = np.zeros(ns), np.zeros(nc)
     reac_new = np.zeros(24)
     diag = np.zeros(6)
-    t6 = np.zeros(6)
     nn = Xc.shape[0]
     t = t0
     for k in range(nsteps):
@@ -935,14 +994,14 @@ def run_steps(t0, dt, up, vp, ap,
             sUo[:] = sU
             sVo[:] = sV
             sAo[:] = sA
-            _predict(sMd, sKd, sP, sPT, sQ, sS, sg0, sng, sf0, snf, salpha, sbeta, sU, sV, sA, spres, spchan,
-                     up[k], vp[k], ap[k], dt, sy1, sy2, sr, t6)
+            _predict(sMd, sKd, sDi, sL, sLT, sg0, sng, sf0, snf, salpha, sbeta, sU, sV, sA, spres, spchan,
+                     up[k], vp[k], ap[k], dt, sy1, sy2, sr)
         if c_on:
             cUo[:] = cU
             cVo[:] = cV
             cAo[:] = cA
-            _predict(cMd, cKd, cP, cPT, cQ, cS, cg0, cng, cf0, cnf, calpha, cbeta, cU, cV, cA, cpres, cpchan,
-                     up[k], vp[k], ap[k], dt, cy1, cy2, cr, t6)
+            _predict(cMd, cKd, cDi, cL, cLT, cg0, cng, cf0, cnf, calpha, cbeta, cU, cV, cA, cpres, cpchan,
+                     up[k], vp[k], ap[k], dt, cy1, cy2, cr)
         if contact_on:
             _predicted_velocity(sf0, snf, sU, sUo, sV, sVo, dt)
             _predicted_velocity(cf0, cnf, cU, cUo, cV, cVo, dt)
@@ -952,8 +1011,8 @@ def run_steps(t0, dt, up, vp, ap,
                             state, elem, xi_arr, Pn, vrel, Nn, gn, fcc_new, fcs_new, diag, ws)
             info[5] += diag[1]
             if nact > 0:
-                _correct(sP, sPT, sQ, sS, sg0, sng, sf0, snf, fcs_new, sU, sr, t6)
-                _correct(cP, cPT, cQ, cS, cg0, cng, cf0, cnf, fcc_new, cU, cr, t6)
+                _correct(sKinv, sf0, snf, fcs_new, sU)
+                _correct(cKinv, cf0, cnf, fcc_new, cU)
             if diag[0] > r_cable:
                 info[0], info[2] = t, diag[0]
                 for i in range(nn):
