@@ -124,7 +124,7 @@ def block_solve(Dinv, L, LT, x):
 # element interpolation
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy")
 def _rot(R, U, o):
     """R @ U[o:o+3] as a tuple (global -> element axes)."""
     return (R[0, 0] * U[o] + R[0, 1] * U[o + 1] + R[0, 2] * U[o + 2],
@@ -132,7 +132,7 @@ def _rot(R, U, o):
             R[2, 0] * U[o] + R[2, 1] * U[o + 1] + R[2, 2] * U[o + 2])
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy")
 def axis_point(Xs, Rs, Ls, Us, e, xi):
     """Deformed axis point p (m) of element e at xi in [0, 1] and its derivative dp/dxi (m), as
     (px, py, pz, dx, dy, dz): linear axial displacement and Hermite cubics for the lateral ones
@@ -163,7 +163,7 @@ def axis_point(Xs, Rs, Ls, Us, e, xi):
     return px, py, pz, dx, dy, dz
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy")
 def hermite_matrix(xi, L, R, H):
     """Global 6x12 interpolation matrix H of a straight beam element at xi in [0, 1], written into H.
 
@@ -203,7 +203,7 @@ def hermite_matrix(xi, L, R, H):
 # contact geometry and laws
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy")
 def contact_law(g, law, k_lin, k_hertz):
     """Normal elastic force (N) and its slope (N/m) at penetration g (m): linear (Eq. 24) or
     Hertz (Eq. 29) with k_hertz = 4/3 E* r^1/2; zero for g <= 0 (no adhesion)."""
@@ -215,7 +215,7 @@ def contact_law(g, law, k_lin, k_hertz):
     return k_lin * g, k_lin
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy")
 def line_plane_intersection(ia, ib, p0, p1, p2):
     """Eq. (39): (l, u, v) of the intersection of the line ia + (ib - ia) l with the plane
     p0 + (p1 - p0) u + (p2 - p0) v. Returns l = nan for a line parallel to the plane. (The search
@@ -233,14 +233,14 @@ def line_plane_intersection(ia, ib, p0, p1, p2):
     return sol[0], sol[1], sol[2]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy")
 def casing_point(Xs, Rs, Ls, Us, e, xi):
     """Deformed casing axis point (m) at xi of element e, as an array."""
     px, py, pz, _, _, _ = axis_point(Xs, Rs, Ls, Us, e, xi)
     return np.array([px, py, pz])
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy")
 def _search(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e_guess, far_below):
     """Contact search of one cable node (point x, unit tangent t, as scalars); see search_casing."""
     ne = Ls.shape[0]
@@ -322,7 +322,7 @@ def _far_from_wall(Xc, Tc, Uc, Xs, Ls, Us, elem, gap, far):
                   & (np.sqrt(dl) + 0.25 * Ls[e] * (ra + rb) < gap))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy")
 def search_casing(x1, t1, Xs, Rs, Ls, Us, e_guess, far_below):
     """Contact search (Eqs. 32-39): where the normal plane of a cable node (point x1, unit tangent
     t1) cuts the deformed casing axis. The line between two deformed casing nodes (Eq. 37) gives the
@@ -333,7 +333,7 @@ def search_casing(x1, t1, Xs, Rs, Ls, Us, e_guess, far_below):
     return _search(x1[0], x1[1], x1[2], t1[0], t1[1], t1[2], Xs, Rs, Ls, Us, e_guess, far_below)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy")
 def tangent_basis(n0, n1, n2, ta, tb):
     """Write two unit vectors completing n to a right-handed orthonormal basis into ta, tb."""
     r0, r1, r2 = (1.0, 0.0, 0.0) if abs(n0) < 0.9 else (0.0, 1.0, 0.0)
@@ -350,7 +350,7 @@ def tangent_basis(n0, n1, n2, ta, tb):
 # implicit contact forces
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy")
 def _dense_solve(A, b, m, x):
     """Solve A[:m, :m] x = b[:m] by Gaussian elimination with partial pivoting (A and b are
     overwritten). Written here for the few (3 per contact) unknowns inside the step loop, where a
@@ -396,7 +396,7 @@ def contact_workspace(nn):
             np.zeros(max(nn, 1), np.bool_))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy")
 def _residual(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, touch, P, law, k_lin, k_hertz, c_n, mu,
               dt, J, R, d, Ne, Nd, with_J):
     """Residual R (and, with_J, its Jacobian J) of the contact conditions of :func:`_newton` at the
@@ -498,7 +498,7 @@ def _residual(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, touch, P, 
     return np.sqrt(norm)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy")
 def _newton(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, touch, P, law, k_lin, k_hertz, c_n, mu, dt,
             J, R, dP, d, Ne, Nd, Pt):
     """Contact forces P (3 per contact, on the cable, N) at the end of a Newmark step, for fixed
@@ -556,7 +556,7 @@ def _newton(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, touch, P, la
     return its
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy")
 def _compliance_block(Kinv, f0, nf, dof_k, Bk, dof_l, Bl, tmp, W, ok, ol):
     """W[ok:ok+3, ol:ol+3] += Bk^T Kinv[dofs_k, dofs_l] Bl: one body's part of a 3x3 Delassus block.
     Bk, Bl map a contact force to generalized forces on the DOFs from dof_k, dof_l; only the free
@@ -583,7 +583,7 @@ def _compliance_block(Kinv, f0, nf, dof_k, Bk, dof_l, Bl, tmp, W, ok, ol):
             W[ok + r, ol + c] += s
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy")
 def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
              gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
              state, elem, xi_arr, Pn, vrel, Nout, gout, fcc, fcs, diag, ws):
@@ -860,18 +860,31 @@ def _predict(Md, Kd, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pc
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def _correct(Kinv, f0, nf, fc, U):
+def _correct(Kinv, f0, nf, fc, U, jl):
     """U[free] += Keff^-1 fc: the bodies' exact response to the contact forces fc (linear structure).
     fc is nonzero on a few DOFs only (6 per cable contact node, 12 per casing element touched), so
-    the response is the sum of those compliance rows (Kinv symmetric), not a full solve."""
+    the response is the sum of those compliance rows (Kinv symmetric), not a full solve; four rows
+    per pass over U (a quarter of its loads and stores). jl: integer scratch of nf."""
     u = U[f0:f0 + nf]
     f = fc[f0:f0 + nf]
+    m = 0
     for j in range(nf):
         if f[j] != 0.0:
-            fj = f[j]
-            row = Kinv[j]
-            for i in range(nf):
-                u[i] += fj * row[i]
+            jl[m] = j
+            m += 1
+    k = 0
+    while k + 4 <= m:
+        a, b, c, d = jl[k], jl[k + 1], jl[k + 2], jl[k + 3]
+        fa, fb, fc_, fd = f[a], f[b], f[c], f[d]
+        ra, rb, rc, rd = Kinv[a], Kinv[b], Kinv[c], Kinv[d]
+        for i in range(nf):
+            u[i] += (fa * ra[i] + fb * rb[i]) + (fc_ * rc[i] + fd * rd[i])
+        k += 4
+    for k in range(k, m):
+        fa = f[jl[k]]
+        ra = Kinv[jl[k]]
+        for i in range(nf):
+            u[i] += fa * ra[i]
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
@@ -951,7 +964,7 @@ def _body_ledger(Md, Kd, alpha, beta, U, Uo, V, Vo, pres, pslot, reac, reac_new,
         ledger[1] += 0.25 * dt * dia_quadratic(Md, Kd, alpha, beta, y)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy")
 def run_steps(t0, dt, up, vp, ap,
               s_on, sMd, sKd, sDi, sL, sLT, sg0, sng, sf0, snf, salpha, sbeta, sU, sV, sA, spres, spchan,
               spslot, sKinv,
@@ -985,6 +998,7 @@ def run_steps(t0, dt, up, vp, ap,
     cy1, cy2, cr = np.zeros(nc + 2 * cb), np.zeros(nc + 2 * cb), np.zeros(max(cng, 1))
     fcs_new, fcc_new = np.zeros(ns), np.zeros(nc)
     reac_new = np.zeros(24)
+    jl = np.zeros(max(snf, cnf, 1), np.int64)
     diag = np.zeros(6)
     nn = Xc.shape[0]
     t = t0
@@ -1011,8 +1025,8 @@ def run_steps(t0, dt, up, vp, ap,
                             state, elem, xi_arr, Pn, vrel, Nn, gn, fcc_new, fcs_new, diag, ws)
             info[5] += diag[1]
             if nact > 0:
-                _correct(sKinv, sf0, snf, fcs_new, sU)
-                _correct(cKinv, cf0, cnf, fcc_new, cU)
+                _correct(sKinv, sf0, snf, fcs_new, sU, jl)
+                _correct(cKinv, cf0, cnf, fcc_new, cU, jl)
             if diag[0] > r_cable:
                 info[0], info[2] = t, diag[0]
                 for i in range(nn):
