@@ -45,12 +45,35 @@ TINY = 1e-200   # m, m/s, m/s2: states below this are flushed to zero (see _fini
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
+def copy_into(dst, src):
+    """dst[:] = src as a plain loop (numba's slice assignment goes through a general broadcasting
+    path that costs several times more on these short vectors)."""
+    for i in range(src.shape[0]):
+        dst[i] = src[i]
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def fill(dst, value):
+    """dst[:] = value for a 1-D array (a plain loop, see copy_into)."""
+    for i in range(dst.shape[0]):
+        dst[i] = value
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
 def dia_product(Ad, yp, r0, nr, out):
-    """out[i - r0] = sum_j A[i, j] y[j] for rows i = r0 .. r0+nr-1 (yp padded)."""
-    # slices indexed from 0 let numba drop the negative-index checks, so the loop vectorises
-    for i in range(nr):
-        out[i] = 0.0
-    for k in range(Ad.shape[0]):
+    """out[i - r0] += sum_j A[i, j] y[j] for rows i = r0 .. r0+nr-1 (yp padded)."""
+    # slices indexed from 0 let numba drop the negative-index checks, so the loops vectorise; four
+    # diagonals per pass over out cut its loads and stores (the loop's limit) to a quarter
+    nd = Ad.shape[0]
+    k = 0
+    while k + 4 <= nd:
+        a0, a1, a2, a3 = Ad[k, r0:r0 + nr], Ad[k + 1, r0:r0 + nr], Ad[k + 2, r0:r0 + nr], Ad[k + 3, r0:r0 + nr]
+        u0, u1 = yp[r0 + k:r0 + k + nr], yp[r0 + k + 1:r0 + k + 1 + nr]
+        u2, u3 = yp[r0 + k + 2:r0 + k + 2 + nr], yp[r0 + k + 3:r0 + k + 3 + nr]
+        for i in range(nr):
+            out[i] += (a0[i] * u0[i] + a1[i] * u1[i]) + (a2[i] * u2[i] + a3[i] * u3[i])
+        k += 4
+    for k in range(k, nd):
         ak = Ad[k, r0:r0 + nr]
         u = yp[r0 + k:r0 + k + nr]
         for i in range(nr):
@@ -58,12 +81,13 @@ def dia_product(Ad, yp, r0, nr, out):
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def dia_row(Md, Kd, x1, x2, i):
-    """sum_j M[i, j] x1[j] + K[i, j] x2[j] for one row i (x1, x2 padded)."""
-    s = 0.0
+def dia_rows(Md, Kd, x1, x2, rows, out):
+    """out[q] += sum_j M[i, j] x1[j] + K[i, j] x2[j] for the rows i = rows[q] (x1, x2 padded).
+    Diagonals outside, rows inside: the rows' sums are independent chains that overlap."""
     for k in range(Md.shape[0]):
-        s += Md[k, i] * x1[i + k] + Kd[k, i] * x2[i + k]
-    return s
+        for q in range(len(rows)):
+            i = rows[q]
+            out[q] += Md[k, i] * x1[i + k] + Kd[k, i] * x2[i + k]
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
@@ -133,27 +157,30 @@ def _rot(R, U, o):
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def axis_point(Xs, Rs, Ls, Us, e, xi):
-    """Deformed axis point p (m) of element e at xi in [0, 1] and its derivative dp/dxi (m), as
-    (px, py, pz, dx, dy, dz): linear axial displacement and Hermite cubics for the lateral ones
-    (the shape functions of Eq. 9), in the element's axes R, back to global."""
+def _element_dofs(Rs, Us, e):
+    """Element e's end displacements and rotations in its own axes (R @ each 3-vector), as a
+    12-tuple (ua, ta, ub, tb); what axis_point needs besides xi."""
+    R = Rs[e]
+    o = 6 * e
+    return _rot(R, Us, o) + _rot(R, Us, o + 3) + _rot(R, Us, o + 6) + _rot(R, Us, o + 9)
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def _axis_at(Xs, Rs, Ls, e, xi, q):
+    """axis_point from the element DOFs q = _element_dofs(...) (hoisted out of the search's Newton
+    iterations, which vary xi only)."""
     R = Rs[e]
     L = Ls[e]
-    o = 6 * e
-    ua = _rot(R, Us, o)
-    ta = _rot(R, Us, o + 3)
-    ub = _rot(R, Us, o + 6)
-    tb = _rot(R, Us, o + 9)
     x2 = xi * xi
     x3 = x2 * xi
     N1, N2, N3, N4 = 1 - 3 * x2 + 2 * x3, L * (xi - 2 * x2 + x3), 3 * x2 - 2 * x3, L * (-x2 + x3)
     D1, D2, D3, D4 = -6 * xi + 6 * x2, L * (1 - 4 * xi + 3 * x2), 6 * xi - 6 * x2, L * (-2 * xi + 3 * x2)
-    l0 = (1 - xi) * ua[0] + xi * ub[0]
-    l1 = N1 * ua[1] + N2 * ta[2] + N3 * ub[1] + N4 * tb[2]
-    l2 = N1 * ua[2] - N2 * ta[1] + N3 * ub[2] - N4 * tb[1]
-    d0 = ub[0] - ua[0]
-    d1 = D1 * ua[1] + D2 * ta[2] + D3 * ub[1] + D4 * tb[2]
-    d2 = D1 * ua[2] - D2 * ta[1] + D3 * ub[2] - D4 * tb[1]
+    l0 = (1 - xi) * q[0] + xi * q[6]
+    l1 = N1 * q[1] + N2 * q[5] + N3 * q[7] + N4 * q[11]
+    l2 = N1 * q[2] - N2 * q[4] + N3 * q[8] - N4 * q[10]
+    d0 = q[6] - q[0]
+    d1 = D1 * q[1] + D2 * q[5] + D3 * q[7] + D4 * q[11]
+    d2 = D1 * q[2] - D2 * q[4] + D3 * q[8] - D4 * q[10]
     px = Xs[e, 0] + xi * (Xs[e + 1, 0] - Xs[e, 0]) + R[0, 0] * l0 + R[1, 0] * l1 + R[2, 0] * l2
     py = Xs[e, 1] + xi * (Xs[e + 1, 1] - Xs[e, 1]) + R[0, 1] * l0 + R[1, 1] * l1 + R[2, 1] * l2
     pz = Xs[e, 2] + xi * (Xs[e + 1, 2] - Xs[e, 2]) + R[0, 2] * l0 + R[1, 2] * l1 + R[2, 2] * l2
@@ -161,6 +188,14 @@ def axis_point(Xs, Rs, Ls, Us, e, xi):
     dy = Xs[e + 1, 1] - Xs[e, 1] + R[0, 1] * d0 + R[1, 1] * d1 + R[2, 1] * d2
     dz = Xs[e + 1, 2] - Xs[e, 2] + R[0, 2] * d0 + R[1, 2] * d1 + R[2, 2] * d2
     return px, py, pz, dx, dy, dz
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def axis_point(Xs, Rs, Ls, Us, e, xi):
+    """Deformed axis point p (m) of element e at xi in [0, 1] and its derivative dp/dxi (m), as
+    (px, py, pz, dx, dy, dz): linear axial displacement and Hermite cubics for the lateral ones
+    (the shape functions of Eq. 9), in the element's axes R, back to global."""
+    return _axis_at(Xs, Rs, Ls, e, xi, _element_dofs(Rs, Us, e))
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
@@ -273,7 +308,8 @@ def _search(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e_guess, far_below):
         if np.sqrt(dl) + 0.25 * Ls[e] * (ra + rb) < far_below:
             return e, xi, True
         xi = min(max(xi, 0.0), 1.0)
-        px, py, pz, dx, dy, dz = axis_point(Xs, Rs, Ls, Us, e, xi)
+        q = _element_dofs(Rs, Us, e)
+        px, py, pz, dx, dy, dz = _axis_at(Xs, Rs, Ls, e, xi, q)
         for _ in range(4):  # Newton on phi(xi) = (p(xi) - x) . t on the Hermite axis
             phi = (px - x0) * t0 + (py - x1) * t1 + (pz - x2) * t2
             dphi = dx * t0 + dy * t1 + dz * t2
@@ -283,7 +319,7 @@ def _search(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e_guess, far_below):
             if abs(xn - xi) <= 1e-13:       # converged: p already belongs to xi
                 break
             xi = xn
-            px, py, pz, dx, dy, dz = axis_point(Xs, Rs, Ls, Us, e, xi)
+            px, py, pz, dx, dy, dz = _axis_at(Xs, Rs, Ls, e, xi, q)
         d = (px - x0) ** 2 + (py - x1) ** 2 + (pz - x2) ** 2
         if d < best_d:
             best_d, best_e, best_xi = d, e, xi
@@ -645,8 +681,8 @@ def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
         arm_c[nk, 0], arm_c[nk, 1], arm_c[nk, 2] = ac0, ac1, ac2
         arm_s[nk, 0], arm_s[nk, 1], arm_s[nk, 2] = as0, as1, as2
         nk += 1
-    fcc[:] = 0.0
-    fcs[:] = 0.0
+    fill(fcc, 0.0)
+    fill(fcs, 0.0)
     diag[2] = 0.0
     diag[3] = 0.0
     if nk == 0:
@@ -830,11 +866,14 @@ def _predict(Md, Kd, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pc
     ck = 1.0 + c1 * beta
     q = (c0 + c1 * alpha) / ck
     z1 = y1[b:b + n]
-    z2 = y2[b:b + n]
+    cu = c0 + c1 * alpha - q * beta * c1
+    cv = 2 * c1 + alpha - q * beta
     for j in range(n):
-        z = beta * (c1 * U[j] + V[j])
-        z1[j] = c0 * U[j] + 2 * c1 * V[j] + A[j] + alpha * (c1 * U[j] + V[j]) - q * z
-        z2[j] = 0.0
+        z1[j] = cu * U[j] + cv * V[j] + A[j]
+    for j in range(f0, f0 + min(2 * b, nf)):           # what the support rows below reach
+        y2[b + j] = 0.0
+    for j in range(max(f0 + nf - 2 * b, f0), f0 + nf):
+        y2[b + j] = 0.0
     for k in range(len(pres)):
         j = pres[k]
         ch = pchan[k]
@@ -842,15 +881,16 @@ def _predict(Md, Kd, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pc
         U[j], V[j], A[j] = u, v, a
         y1[b + j] = -(a + alpha * v)
         y2[b + j] = -(u + beta * v)
+    for i in range(ng):
+        r[i] = 0.0
     dia_product(Md, y1, g0, ng, r)
-    # K_fp: the rows within the half-bandwidth of a support (free DOFs are contiguous, f0 .. f0+nf-1)
-    for w in range(2):
-        lo, hi = (f0, min(f0 + b, f0 + nf)) if w == 0 else (max(f0 + nf - b, f0 + b), f0 + nf)
-        for i in range(lo, hi):
-            s = 0.0
-            for k in range(Kd.shape[0]):
-                s += Kd[k, i] * y2[i + k]
-            r[i - g0] += s
+    # K_fp (u_p + beta v_p): the free rows within the half-bandwidth of either end (the prescribed
+    # DOFs sit at the ends, outside f0 .. f0+nf-1), with y2 zero on the free DOFs they reach
+    if nf <= 2 * b:
+        dia_product(Kd, y2, f0, nf, r[f0 - g0:])
+    else:
+        dia_product(Kd, y2, f0, b, r[f0 - g0:])
+        dia_product(Kd, y2, f0 + nf - b, b, r[f0 + nf - b - g0:])
     for k in range(len(pres)):
         if g0 <= pres[k] < g0 + ng:
             r[pres[k] - g0] = 0.0
@@ -911,9 +951,10 @@ def _finish(f0, nf, U, V, A, Uo, Vo, Ao, dt):
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def _reactions(Md, Kd, alpha, beta, U, V, A, fc, pres, pslot, x1, x2, out, off):
+def _reactions(Md, Kd, alpha, beta, U, V, A, fc, pres, pslot, x1, x2, acc, out, off):
     """Force the body exerts on each support DOF: -(M a + C v + K u - f_contact) at the
-    prescribed DOFs (Eq. 13). Written into out[off + slot]; x1, x2 padded scratch."""
+    prescribed DOFs (Eq. 13). Written into out[off + slot]; x1, x2 padded scratch, acc scratch
+    of len(pres)."""
     b = (Md.shape[0] - 1) // 2
     n = U.shape[0]
     z1 = x1[b:b + n]
@@ -922,8 +963,10 @@ def _reactions(Md, Kd, alpha, beta, U, V, A, fc, pres, pslot, x1, x2, out, off):
         z1[j] = A[j] + alpha * V[j]
         z2[j] = U[j] + beta * V[j]
     for q in range(len(pres)):
-        i = pres[q]
-        out[off + pslot[q]] = -(dia_row(Md, Kd, x1, x2, i) - fc[i])
+        acc[q] = -fc[pres[q]]
+    dia_rows(Md, Kd, x1, x2, pres, acc)
+    for q in range(len(pres)):
+        out[off + pslot[q]] = -acc[q]
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
@@ -999,21 +1042,22 @@ def run_steps(t0, dt, up, vp, ap,
     fcs_new, fcc_new = np.zeros(ns), np.zeros(nc)
     reac_new = np.zeros(24)
     jl = np.zeros(max(snf, cnf, 1), np.int64)
+    acc = np.zeros(max(len(spres), len(cpres), 1))
     diag = np.zeros(6)
     nn = Xc.shape[0]
     t = t0
     for k in range(nsteps):
         t = t0 + (k + 1) * dt
         if s_on:
-            sUo[:] = sU
-            sVo[:] = sV
-            sAo[:] = sA
+            copy_into(sUo, sU)
+            copy_into(sVo, sV)
+            copy_into(sAo, sA)
             _predict(sMd, sKd, sDi, sL, sLT, sg0, sng, sf0, snf, salpha, sbeta, sU, sV, sA, spres, spchan,
                      up[k], vp[k], ap[k], dt, sy1, sy2, sr)
         if c_on:
-            cUo[:] = cU
-            cVo[:] = cV
-            cAo[:] = cA
+            copy_into(cUo, cU)
+            copy_into(cVo, cV)
+            copy_into(cAo, cA)
             _predict(cMd, cKd, cDi, cL, cLT, cg0, cng, cf0, cnf, calpha, cbeta, cU, cV, cA, cpres, cpchan,
                      up[k], vp[k], ap[k], dt, cy1, cy2, cr)
         if contact_on:
@@ -1035,10 +1079,10 @@ def run_steps(t0, dt, up, vp, ap,
                 return ERR_PENETRATION
         if s_on:
             _finish(sf0, snf, sU, sV, sA, sUo, sVo, sAo, dt)
-            _reactions(sMd, sKd, salpha, sbeta, sU, sV, sA, fcs_new, spres, spslot, sy1, sy2, reac_new, 0)
+            _reactions(sMd, sKd, salpha, sbeta, sU, sV, sA, fcs_new, spres, spslot, sy1, sy2, acc, reac_new, 0)
         if c_on:
             _finish(cf0, cnf, cU, cV, cA, cUo, cVo, cAo, dt)
-            _reactions(cMd, cKd, calpha, cbeta, cU, cV, cA, fcc_new, cpres, cpslot, cy1, cy2, reac_new, 12)
+            _reactions(cMd, cKd, calpha, cbeta, cU, cV, cA, fcc_new, cpres, cpslot, cy1, cy2, acc, reac_new, 12)
         # blow-up check on the cheap aggregates
         tot = 0.0
         for i in range(24):
@@ -1058,10 +1102,10 @@ def run_steps(t0, dt, up, vp, ap,
             ledger[5] += 0.5 * dt * (ledger[7] + diag[2])
             ledger[6] = diag[3]
             ledger[7] = diag[2]
-        reac[:] = reac_new
+        copy_into(reac, reac_new)
         if contact_on:
-            fcs[:] = fcs_new
-            fcc[:] = fcc_new
+            copy_into(fcs, fcs_new)
+            copy_into(fcc, fcc_new)
         if rec_on:
             r = rec_off + k
             rec_F[r, :] = reac
