@@ -148,7 +148,7 @@ def block_solve(Dinv, L, LT, x):
 # element interpolation
 
 
-@njit(cache=True, fastmath=FM, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def _rot(R, U, o):
     """R @ U[o:o+3] as a tuple (global -> element axes)."""
     return (R[0, 0] * U[o] + R[0, 1] * U[o + 1] + R[0, 2] * U[o + 2],
@@ -156,7 +156,7 @@ def _rot(R, U, o):
             R[2, 0] * U[o] + R[2, 1] * U[o + 1] + R[2, 2] * U[o + 2])
 
 
-@njit(cache=True, fastmath=FM, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def _element_dofs(Rs, Us, e):
     """Element e's end displacements and rotations in its own axes (R @ each 3-vector), as a
     12-tuple (ua, ta, ub, tb); what axis_point needs besides xi."""
@@ -165,7 +165,7 @@ def _element_dofs(Rs, Us, e):
     return _rot(R, Us, o) + _rot(R, Us, o + 3) + _rot(R, Us, o + 6) + _rot(R, Us, o + 9)
 
 
-@njit(cache=True, fastmath=FM, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def _axis_at(Xs, Rs, Ls, e, xi, q):
     """axis_point from the element DOFs q = _element_dofs(...) (hoisted out of the search's Newton
     iterations, which vary xi only)."""
@@ -238,7 +238,7 @@ def hermite_matrix(xi, L, R, H):
 # contact geometry and laws
 
 
-@njit(cache=True, fastmath=FM, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def contact_law(g, law, k_lin, k_hertz):
     """Normal elastic force (N) and its slope (N/m) at penetration g (m): linear (Eq. 24) or
     Hertz (Eq. 29) with k_hertz = 4/3 E* r^1/2; zero for g <= 0 (no adhesion)."""
@@ -275,7 +275,7 @@ def casing_point(Xs, Rs, Ls, Us, e, xi):
     return np.array([px, py, pz])
 
 
-@njit(cache=True, fastmath=FM, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def _search(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e_guess, far_below):
     """Contact search of one cable node (point x, unit tangent t, as scalars); see search_casing."""
     ne = Ls.shape[0]
@@ -369,7 +369,7 @@ def search_casing(x1, t1, Xs, Rs, Ls, Us, e_guess, far_below):
     return _search(x1[0], x1[1], x1[2], t1[0], t1[1], t1[2], Xs, Rs, Ls, Us, e_guess, far_below)
 
 
-@njit(cache=True, fastmath=FM, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def tangent_basis(n0, n1, n2, ta, tb):
     """Write two unit vectors completing n to a right-handed orthonormal basis into ta, tb."""
     r0, r1, r2 = (1.0, 0.0, 0.0) if abs(n0) < 0.9 else (0.0, 1.0, 0.0)
@@ -386,7 +386,7 @@ def tangent_basis(n0, n1, n2, ta, tb):
 # implicit contact forces
 
 
-@njit(cache=True, fastmath=FM, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def _dense_solve(A, b, m, x):
     """Solve A[:m, :m] x = b[:m] by Gaussian elimination with partial pivoting (A and b are
     overwritten). Written here for the few (3 per contact) unknowns inside the step loop, where a
@@ -432,7 +432,7 @@ def contact_workspace(nn):
             np.zeros(max(nn, 1), np.bool_))
 
 
-@njit(cache=True, fastmath=FM, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def _residual(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, touch, P, law, k_lin, k_hertz, c_n, mu,
               dt, J, R, d, Ne, Nd, with_J):
     """Residual R (and, with_J, its Jacobian J) of the contact conditions of :func:`_newton` at the
@@ -534,7 +534,7 @@ def _residual(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, touch, P, 
     return np.sqrt(norm)
 
 
-@njit(cache=True, fastmath=FM, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def _newton(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, touch, P, law, k_lin, k_hertz, c_n, mu, dt,
             J, R, dP, d, Ne, Nd, Pt):
     """Contact forces P (3 per contact, on the cable, N) at the end of a Newmark step, for fixed
@@ -592,7 +592,7 @@ def _newton(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, touch, P, la
     return its
 
 
-@njit(cache=True, fastmath=FM, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def _compliance_block(Kinv, f0, nf, dof_k, Bk, dof_l, Bl, tmp, W, ok, ol):
     """W[ok:ok+3, ol:ol+3] += Bk^T Kinv[dofs_k, dofs_l] Bl: one body's part of a 3x3 Delassus block.
     Bk, Bl map a contact force to generalized forces on the DOFs from dof_k, dof_l; only the free
