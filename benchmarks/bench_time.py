@@ -21,7 +21,8 @@ Ensemble accuracy (``--ensemble N``, default 0 = skipped): N seeds of the casing
 and 2.5e-6 and, for the chaos baseline, at 1e-5 with the casing RMS scaled by 1 + 1e-9, ``--duration``
 s each, on ``--workers`` processes (default 2). Per band, the relative difference of the ensemble
 means r = (mean_N L(1e-5) - mean_N L(2.5e-6)) / mean_N L(2.5e-6), its standard error from the N paired
-differences (each seed drives both runs), and |r| / SE:
+differences (each seed drives both runs), and |r| / SE (an SE from fewer than about 8 seeds is itself
+too uncertain to read |r| / SE; records shorter than about 0.5 s have not fully decorrelated):
 * octave_rms_ensemble_max_rel_diff: max over bands of |r| (issue 3's bar, 5 %, on ensemble means);
 * octave_rms_ensemble_rel_diff_per_band (signed r), ..._rel_diff_se_per_band, ..._diff_over_se_per_band,
   ..._max_diff_over_se (max over bands of |r| / SE);
