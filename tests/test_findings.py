@@ -1,91 +1,210 @@
-"""The paper's findings (Sections 4.2-4.4, 5) in the default scenario, from short runs.
+"""The paper's findings (Sections 4.2-4.4, 5) in the default scenario, from ensembles of short runs.
 
-Model result (0.2 s, built-in specimen): RMS of casing.B.Fz after the fade-in is 1.29, 0.96, 0.90 N
-for friction 0.05, 0.1, 0.2; contact occurs only in the two bends. The contact time peaks in the
-second bend (R = 0.2 m, out of plane) rather than in the tightest one (about 0.14 m): the cable's
-axial excitation at end A is turned by the first bend into lateral motion that loads the second.
+With contact the response is chaotic (docs/time_domain.md): a single 0.2 s record is one draw, and
+the band levels of two draws of the same setting scatter by 10-30 % (bands 1, 8, 9 the most). A
+claim checked on one record can flip when any bit of the computation changes (a kernel edit, another
+CPU): the earlier single-record version of these tests did once (friction lower in 7 of 9 bands
+instead of >= 8). So every claim here is about **ensemble means over the seeds of the casing's
+random excitation** (``scenario.excitation.casing_random.seed`` = 1..8; 1..16 for the contact
+test), 0.2 s each, **paired**: every setting runs the same seeds, and a claim is tested on the N
+per-seed differences.
+
+Threshold, the same for every claim: the ensemble-mean difference must exceed K = 2 of its standard
+errors (SE = sd of the paired differences / sqrt(N)), i.e. be significant, not merely of the right
+sign. Every asserted claim has a measured margin of at least 7.4 SE on the test's seeds 1..8 and at
+least 5.65 SE on an independent set, seeds 9..16. The chance that a fresh draw of 8 seeds (which is
+what any change of the computation's bits amounts to) lands below 2 SE when the true margin is
+5.65 is P(t_7 < 2 | noncentrality 5.65) = 6e-4 (noncentral t, 7 degrees of freedom); for 7.4 it is
+1e-6. A claim that does not reach this on both sets is stated as measured but not asserted. The
+margins (effect in SE, 0.2 s runs) are given with each test as "seeds 1..8 (seeds 9..16)";
+``python tests/test_findings.py`` prints them.
+
+What changed against the single-record version, measured on 16 seeds (0.2 s; 8 seeds of 1 s for
+friction):
+* friction 0.05 -> 0.2 does *not* lower the overall RMS of casing.B.Fz significantly: -0.015 N of
+  0.94 N, 0.4 SE (0.2 s); -0.12 N of 1.0 N, 1.9 SE (1 s records). The single record's 1.29 -> 0.90 N
+  was one draw. What is robust is the low-frequency part: octaves 1-3 (11-88 Hz) drop to 0.41, 0.46,
+  0.60 of their level (7.5, 15.7, 12.8 SE over 16 seeds), octave 5 to 0.84 (5.8 SE over 16 seeds,
+  3.2 on seeds 9..16: not asserted); octave 4 is unchanged (-0.3 SE) and octaves 6-9 change by
+  +3..+14 % at 0.2 s (0.2-1.5 SE) and by -6..0 % at 1 s (under 0.8 SE): within the scatter. The paper's
+  "lower in all bands" holds here only below 88 Hz (and 177-355 Hz) - fewer than the single record's
+  "8 of 9".
+* octave 1 alone (11-22 Hz, 1-2 FFT lines of a 0.15 s record, the widest scatter) is not asserted
+  for friction: 4.2 SE on seeds 1..8.
+* contact concentrates in the bends in most draws (>= 0.9 of the contact time in 14 of 16), but in
+  about 1 draw in 8 the straight run between the bends touches the wall too (from about 0.08 s on),
+  and there the bends hold only 0.63 of the contact time and the peak is on the straight run. The
+  assertion is on the pooled ensemble with thresholds that also hold for such draws.
 """
+import functools
+
 import numpy as np
 import pytest
 
 import cablecasing_core as cc
+from cablecasing_core.studies import octave_rms
 
-T = 0.2
+T = 0.2                       # s per run
+SEEDS = tuple(range(1, 9))    # seeds of the sweeps
+SEEDS_CONTACT = tuple(range(1, 17))
+K = 2.0                       # a claim holds when its ensemble-mean effect exceeds K standard errors
+SEED_KEY = "scenario.excitation.casing_random.seed"
+AMP_KEY = "scenario.excitation.cable_axial.amplitude"
+SETTINGS = {
+    "base": {},
+    "mu_lo": {"contact.friction": 0.05}, "mu_hi": {"contact.friction": 0.2},
+    "amp_lo": {AMP_KEY: 2.5e-4}, "amp_hi": {AMP_KEY: 1e-3},
+    "cab_lo": {"cable.E": 3e10}, "cab_hi": {"cable.E": 8.5e10},
+    "cas_lo": {"casing.E": 2e9}, "cas_hi": {"casing.E": 1e10},
+}
 
 
-def rms_fz(over):
-    r = cc.simulate(cc.load_model().with_overrides(over), duration=T)
-    F = r.support_force("casing.B.Fz")[r.time > 0.02]     # after the 0.01 s fade-in
-    return float(np.sqrt(np.mean(F**2))), r
+@functools.lru_cache(maxsize=None)
+def run(setting, seed):
+    """RMS of casing.B.Fz after the 0.01 s fade-in (0.02 s on), its nine Table 3 band levels after
+    0.05 s (as ``studies.montecarlo.default_evaluate``), the contact time per cable node, curvature."""
+    r = cc.simulate(cc.load_model().with_overrides({**SETTINGS[setting], SEED_KEY: seed}), duration=T)
+    F = r.support_force("casing.B.Fz")
+    total = float(np.sqrt(np.mean(F[r.time > 0.02] ** 2)))
+    bands = octave_rms(F[r.time > 0.05], 1.0 / (r.time[1] - r.time[0])).rms
+    return total, bands, r.contact_time.copy(), r.curvature.copy()
+
+
+def ensemble(setting, seeds=SEEDS):
+    """Per-seed totals (N,) and band levels (N, 9) of a setting."""
+    runs = [run(setting, s) for s in seeds]
+    return np.array([x[0] for x in runs]), np.array([x[1] for x in runs])
+
+
+def margin(a, b):
+    """Paired difference of the ensemble means, mean(a - b), in standard errors (per column)."""
+    d = np.asarray(a, float) - np.asarray(b, float)
+    return d.mean(axis=0) / (d.std(axis=0, ddof=1) / np.sqrt(len(d)))
 
 
 @pytest.fixture(scope="module")
-def base():
-    return rms_fz({})
+def ens():
+    return {name: ensemble(name) for name in SETTINGS}
 
 
-def test_friction_lowers_transmission(base):
-    lo, _ = rms_fz({"contact.friction": 0.05})
-    hi, _ = rms_fz({"contact.friction": 0.2})
-    assert hi < base[0] < lo          # 0.2 < 0.15 (default) < 0.05
-
-
-def test_longitudinal_cable_excitation_raises_transmission(base):
-    small, _ = rms_fz({"scenario.excitation.cable_axial.amplitude": 2.5e-4})
-    assert small < base[0]
-
-
-def test_contact_concentrates_in_the_bends(base):
-    r = base[1]
-    ct, k = r.contact_time, r.curvature
-    assert ct.sum() > 0
-    curved = k > 0.3 * k.max()                  # the two bends (curvature above 2 1/m)
-    assert ct[curved].sum() > 0.9 * ct.sum()    # nearly all contact time is in the bends
-    assert k[np.argmax(ct)] > 0.5 * k.max()     # and the peak sits in a strongly curved part
+def low_octaves(bands):
+    """Combined RMS of octaves 1-3 (11-88 Hz), per seed."""
+    return np.sqrt(np.sum(bands[:, :3] ** 2, axis=1))
 
 
 # ------------------------------------------------------------------------------------------------
-# Per octave band (Table 3), one-at-a-time sweeps over the paper's bounds (Section 4.4), 0.2 s runs.
-# Model results (ratio of band levels high/low setting, bands 1..9), measured:
-#   friction 0.2 / 0.05:       0.44 0.40 0.65 1.34 0.66 0.63 0.76 0.92 0.97  -> lower in 8 of 9 bands
-#   cable E 8.5e10 / 3e10:     1.36 2.74 2.15 2.14 2.19 2.44 3.82 3.16 1.76
-#   casing E 1e10 / 2e9:       0.90 1.25 1.39 0.72 0.59 1.47 6.59 5.09 4.90
-#   axial amplitude 1e-3 / 2.5e-4 m: larger in every band
-# So: friction lowers transmission in all bands but the 4th (88-177 Hz), where the stiffer stick
-# phase passes more force; the casing modulus dominates the 7th-9th octaves and raises them, as in
-# the paper; over octaves 1-6 the cable modulus matters more than the casing's here (the paper
-# found it weaker), because in this model the cable's axial excitation is the main source and a
-# stiffer cable drives the bends harder (see docs/studies.md).
+# Friction (Section 4.4, Fig. 23(e)): measured ratio of ensemble means mu 0.2 / 0.05 per band,
+#   seeds 1..8:  0.39 0.47 0.61 1.04 0.82 1.05 1.12 1.03 0.85
+#   seeds 9..16: 0.43 0.44 0.59 0.99 0.86 1.11 1.16 1.28 1.33
+# margins (SE) 4.2 20.9 8.6 -0.6 5.2 -0.5 -0.7 -0.2 0.8 (7.9 8.7 9.1 0.2 3.2 -1.1 -1.4 -2.1 -1.9);
+# overall RMS 0.943 -> 0.914 N, 0.5 SE (0.939 -> 0.938 N, 0.0 SE): not a claim that holds.
 
-from cablecasing_core.studies.montecarlo import default_evaluate  # noqa: E402
+def test_friction_lowers_transmission(ens):
+    # 11-88 Hz together: 0.57 (0.55) of the level at mu = 0.05; margin 11.4 SE (12.7)
+    assert margin(low_octaves(ens["mu_lo"][1]), low_octaves(ens["mu_hi"][1])) > K
 
 
-def bands(over):
-    return np.array(list(default_evaluate(over, duration=0.2, skip=0.05).values()))
+def test_friction_lowers_the_low_octaves(ens):
+    # octaves 2, 3 (22-88 Hz): margins 20.9, 8.6 SE (8.7, 9.1); octave 1 (4.2 SE (7.9)) and octave 5
+    # (5.2 (3.2)) are lower too, but not by a margin that cannot flip (P(t_7 < 2) = 0.02 and 0.13)
+    z = margin(ens["mu_lo"][1], ens["mu_hi"][1])
+    assert np.all(z[1:3] > K), z
 
 
-@pytest.fixture(scope="module")
-def sweeps():
-    return {k: bands(v) for k, v in {
-        "mu_lo": {"contact.friction": 0.05}, "mu_hi": {"contact.friction": 0.2},
-        "cab_lo": {"cable.E": 3e10}, "cab_hi": {"cable.E": 8.5e10},
-        "cas_lo": {"casing.E": 2e9}, "cas_hi": {"casing.E": 1e10},
-        "amp_lo": {"scenario.excitation.cable_axial.amplitude": 2.5e-4},
-        "amp_hi": {"scenario.excitation.cable_axial.amplitude": 1e-3}}.items()}
+# ------------------------------------------------------------------------------------------------
+# Axial (longitudinal) excitation of the cable, Fig. 23(d).
+
+def test_longitudinal_cable_excitation_raises_transmission(ens):
+    # overall RMS, 2.5e-4 -> 5e-4 m: 0.127 -> 0.897 N, margin 21.9 SE (19.5)
+    assert margin(ens["base"][0], ens["amp_lo"][0]) > K
 
 
-def test_friction_lowers_most_bands(sweeps):
-    lower = sweeps["mu_hi"] < sweeps["mu_lo"]
-    assert lower.sum() >= 8
+def test_axial_excitation_raises_every_band(ens):
+    # 2.5e-4 -> 1e-3 m: every band up by 7-49x; smallest margin 8.2 SE, octave 1 (17.4, octave 1)
+    z = margin(ens["amp_hi"][1], ens["amp_lo"][1])
+    assert np.all(z > K), z
 
 
-def test_axial_excitation_raises_every_band(sweeps):
-    assert np.all(sweeps["amp_hi"] > sweeps["amp_lo"])
+# ------------------------------------------------------------------------------------------------
+# Moduli (Fig. 23(a), (b)): ratio of ensemble means of the band levels, high / low bound, seeds 1..8:
+#   casing E 1e10 / 2e9:    1.29 1.35 1.47 0.73 0.49 1.36 5.58 3.25 2.04
+#   cable E 8.5e10 / 3e10:  1.19 1.78 1.90 1.02 1.31 1.13 1.22 1.31 1.12
+# (seeds 9..16: 1.21 1.42 1.46 0.66 0.46 1.12 5.27 3.41 2.14 and 1.14 1.72 1.95 1.06 1.45 1.16 1.35
+# 1.25 1.23)
+# The casing modulus dominates the 7th-9th octaves and raises them, as in the paper; over octaves
+# 1-6 the cable modulus matters about as much as the casing's here (the paper found it weaker),
+# because in this model the cable's axial excitation is the main source (see docs/studies.md).
 
-
-def test_casing_modulus_dominates_and_raises_the_high_octaves(sweeps):
+def test_casing_modulus_dominates_and_raises_the_high_octaves(ens):
     hi = slice(6, 9)                                        # octaves 7, 8, 9 (710-5680 Hz)
-    cas = np.log(sweeps["cas_hi"][hi] / sweeps["cas_lo"][hi])
-    cab = np.log(sweeps["cab_hi"][hi] / sweeps["cab_lo"][hi])
-    assert np.all(cas > 0)                                  # a stiffer casing transmits more up there
-    assert np.mean(np.abs(cas)) > np.mean(np.abs(cab))      # and matters more than the cable's modulus
+    # a stiffer casing transmits more up there: margins 15.4, 24.2, 7.9 SE (9.6, 12.2, 5.65)
+    z = margin(ens["cas_hi"][1][:, hi], ens["cas_lo"][1][:, hi])
+    assert np.all(z > K), z
+    # and matters more than the cable's modulus: per seed, mean |log ratio| over octaves 7-9 of the
+    # casing minus that of the cable: 1.26 against 0.41 (1.24 against 0.35); margin 7.4 SE (7.3)
+    cas = np.abs(np.log(ens["cas_hi"][1][:, hi] / ens["cas_lo"][1][:, hi])).mean(axis=1)
+    cab = np.abs(np.log(ens["cab_hi"][1][:, hi] / ens["cab_lo"][1][:, hi])).mean(axis=1)
+    assert margin(cas, cab) > K
+
+
+# ------------------------------------------------------------------------------------------------
+# Where the contact is (Fig. 22): the contact time per cable node, pooled over 16 seeds.
+
+def bend_runs(curvature):
+    """Node indices of the bends: the runs of nodes whose curvature exceeds 0.3 of the maximum
+    (above 2 1/m; the two bends, 16 of 36 nodes)."""
+    curved = np.flatnonzero(curvature > 0.3 * curvature.max())
+    return np.split(curved, np.flatnonzero(np.diff(curved) > 1) + 1)
+
+
+def test_contact_concentrates_in_the_bends():
+    runs = [run("base", s) for s in SEEDS_CONTACT]
+    ct = np.array([r[2] for r in runs])
+    k = runs[0][3]
+    first, second = bend_runs(k)
+    assert len(first) + len(second) < 0.5 * len(k)
+    assert np.all(ct.sum(axis=1) > 0)                       # every draw touches
+    pooled = ct.sum(axis=0)
+    # the bends (under half of the nodes) hold most of the contact time: 0.86 pooled; per seed 0.90-0.93
+    # in 14 of 16 draws and 0.63, 0.64 in the two (seeds 6, 16) where the straight run between the
+    # bends touches too, so 0.6 holds even if every draw were of that kind
+    assert pooled[np.concatenate([first, second])].sum() > 0.6 * pooled.sum()
+    # more of it in the second bend (R = 0.2 m, out of plane) than in the tightest, first one (about
+    # 0.14 m): the cable's axial excitation at end A is turned by the first bend into lateral motion
+    # that loads the second. Pooled 0.58 against 0.28 of the contact time; second > first in every
+    # one of the 16 draws, the straight-run ones included
+    assert pooled[second].sum() > pooled[first].sum()
+
+
+if __name__ == "__main__":       # the measured margins quoted above
+    np.set_printoptions(precision=2, suppress=True, linewidth=150)
+    for seeds in (SEEDS, tuple(range(9, 17))):
+        e = {name: ensemble(name, seeds) for name in SETTINGS}
+        b = {name: v[1] for name, v in e.items()}
+        print(f"seeds {seeds[0]}..{seeds[-1]}")
+        print("  friction, ratio of means per band:", b["mu_hi"].mean(0) / b["mu_lo"].mean(0))
+        print("  friction, margin per band (SE):  ", margin(b["mu_lo"], b["mu_hi"]))
+        print("  friction, octaves 1-3 together: ratio %.2f, margin %.1f SE; overall RMS: %.3f -> %.3f N, margin %.1f SE"
+              % (low_octaves(b["mu_hi"]).mean() / low_octaves(b["mu_lo"]).mean(),
+                 margin(low_octaves(b["mu_lo"]), low_octaves(b["mu_hi"])),
+                 e["mu_lo"][0].mean(), e["mu_hi"][0].mean(), margin(e["mu_lo"][0], e["mu_hi"][0])))
+        print("  axial amplitude, overall RMS %.3f -> %.3f N, margin %.1f SE" %
+              (e["amp_lo"][0].mean(), e["base"][0].mean(), margin(e["base"][0], e["amp_lo"][0])))
+        print("  axial amplitude 1e-3 / 2.5e-4, ratio per band:", b["amp_hi"].mean(0) / b["amp_lo"].mean(0))
+        print("  axial amplitude, margin per band:", margin(b["amp_hi"], b["amp_lo"]))
+        print("  casing E, ratio per band:", b["cas_hi"].mean(0) / b["cas_lo"].mean(0))
+        print("  casing E, margin per band:", margin(b["cas_hi"], b["cas_lo"]))
+        print("  cable E, ratio per band: ", b["cab_hi"].mean(0) / b["cab_lo"].mean(0))
+        hi = slice(6, 9)
+        cas = np.abs(np.log(b["cas_hi"][:, hi] / b["cas_lo"][:, hi])).mean(axis=1)
+        cab = np.abs(np.log(b["cab_hi"][:, hi] / b["cab_lo"][:, hi])).mean(axis=1)
+        print("  octaves 7-9, mean |log ratio| casing %.2f, cable %.2f, margin %.1f SE"
+              % (cas.mean(), cab.mean(), margin(cas, cab)))
+    runs = [run("base", s) for s in SEEDS_CONTACT]
+    ct = np.array([r[2] for r in runs])
+    first, second = bend_runs(runs[0][3])
+    bends = np.concatenate([first, second])
+    print("contact, seeds 1..16: bends' share per seed", ct[:, bends].sum(1) / ct.sum(1))
+    print("  pooled: bends %.2f, first bend %.2f, second bend %.2f; second > first in %d of %d draws"
+          % (ct[:, bends].sum() / ct.sum(), ct[:, first].sum() / ct.sum(), ct[:, second].sum() / ct.sum(),
+             np.sum(ct[:, second].sum(1) > ct[:, first].sum(1)), len(ct)))
