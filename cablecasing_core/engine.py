@@ -135,8 +135,12 @@ class _Body:
             Dinv, L, LT = block_ldl(Keff)
             if need_inverse:
                 f = slice(self.f0 - self.g0, self.f0 - self.g0 + self.nf)
-                inv = cho_solve(cho_factor(Keff[f, f]), np.eye(self.nf))
-                inv = 0.5 * (inv + inv.T)     # exactly symmetric: its rows serve as columns
+                inv_ff = cho_solve(cho_factor(Keff[f, f]), np.eye(self.nf))
+                # over all DOFs, zero on the prescribed ones (they do not respond), and exactly
+                # symmetric: the contact kernels read its rows as columns
+                n = len(self.U)
+                inv = np.zeros((n, n))
+                inv[self.f0:self.f0 + self.nf, self.f0:self.f0 + self.nf] = 0.5 * (inv_ff + inv_ff.T)
             else:
                 inv = np.zeros((1, 1))
             self._factors[key] = (Dinv, L, LT, inv)
@@ -265,7 +269,8 @@ class Engine:
                 out += [False, np.zeros((1, 1)), np.zeros((1, 1)), _DUMMY_BLOCK, _DUMMY_BLOCK, _DUMMY_BLOCK,
                         0, 0, 0, 0, 0.0, 0.0,
                         b.U if b else z, b.V if b else z.copy(), b.A if b else z.copy(),
-                        b.pres if b else i0, b.pchan if b else i0, b.pslot if b else i0, np.zeros((1, 1))]
+                        b.pres if b else i0, b.pchan if b else i0, b.pslot if b else i0,
+                        np.zeros((len(b.U), len(b.U))) if b else np.zeros((1, 1))]   # nothing responds
                 continue
             Dinv, L, LT, inv = b.factors(dt, self.contact)
             out += [True, b.Md, b.Kd, Dinv, L, LT, b.g0, b.ng, b.f0, b.nf, b.alpha, b.beta, b.U, b.V, b.A,

@@ -321,6 +321,10 @@ def _search(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e_guess, far_below):
             xi = xn
             px, py, pz, dx, dy, dz = _axis_at(Xs, Rs, Ls, e, xi, q)
         d = (px - x0) ** 2 + (py - x1) ** 2 + (pz - x2) ** 2
+        if best_e < 0 and 0.01 < xi < 0.99:
+            # well inside the element: the plane cannot cut a neighbour within the +-2 elements
+            # looked at (the axis turns by far less than a right angle over them)
+            return e, xi, False
         if d < best_d:
             best_d, best_e, best_xi = d, e, xi
         if abs(off) >= 2 and best_e >= 0:
@@ -579,9 +583,7 @@ def _newton(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, touch, P, la
         for i in range(m):
             P[i] = Pt[i]
         if alpha * step <= 1e-12 * max(scale, 1e-30) or r1 <= 1e-13 * max(scale, 1.0):
-            its = it + 1
-            r0 = _residual(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, touch, P, law, k_lin, k_hertz, c_n,
-                           mu, dt, J, R, d, Ne, Nd, False)
+            its = it + 1          # R, d, Ne, Nd already belong to P (the last trial point)
             break
         r0 = _residual(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, touch, P, law, k_lin, k_hertz, c_n,
                        mu, dt, J, R, d, Ne, Nd, True)
@@ -593,34 +595,43 @@ def _newton(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, touch, P, la
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
-def _compliance_block(Kinv, f0, nf, dof_k, Bk, dof_l, Bl, tmp, W, ok, ol):
+def _compliance_block(Kinv, dof_k, Bk, dof_l, Bl, W, ok, ol):
     """W[ok:ok+3, ol:ol+3] += Bk^T Kinv[dofs_k, dofs_l] Bl: one body's part of a 3x3 Delassus block.
-    Bk, Bl map a contact force to generalized forces on the DOFs from dof_k, dof_l; only the free
-    DOFs (f0 .. f0+nf-1, Kinv is their effective compliance) respond."""
-    np_ = Bk.shape[0]
-    for p in range(np_):
-        for c in range(3):
-            tmp[p, c] = 0.0
-        dp = dof_k + p - f0
-        if dp < 0 or dp >= nf:
-            continue
-        for q in range(Bl.shape[0]):
-            dq = dof_l + q - f0
-            if dq < 0 or dq >= nf:
-                continue
-            kv = Kinv[dp, dq]
-            for c in range(3):
-                tmp[p, c] += kv * Bl[q, c]
-    for r in range(3):
-        for c in range(3):
-            s = 0.0
-            for p in range(np_):
-                s += Bk[p, r] * tmp[p, c]
-            W[ok + r, ol + c] += s
+    Bk, Bl map a contact force to generalized forces on the DOFs from dof_k, dof_l; Kinv is the
+    effective compliance over all DOFs (zero on the prescribed ones, which do not respond)."""
+    nq = Bl.shape[0]
+    w00 = w01 = w02 = w10 = w11 = w12 = w20 = w21 = w22 = 0.0
+    for p in range(Bk.shape[0]):
+        row = Kinv[dof_k + p, dof_l:dof_l + nq]
+        t0 = t1 = t2 = 0.0
+        for q in range(nq):
+            kv = row[q]
+            t0 += kv * Bl[q, 0]
+            t1 += kv * Bl[q, 1]
+            t2 += kv * Bl[q, 2]
+        b0, b1, b2 = Bk[p, 0], Bk[p, 1], Bk[p, 2]
+        w00 += b0 * t0
+        w01 += b0 * t1
+        w02 += b0 * t2
+        w10 += b1 * t0
+        w11 += b1 * t1
+        w12 += b1 * t2
+        w20 += b2 * t0
+        w21 += b2 * t1
+        w22 += b2 * t2
+    W[ok, ol] += w00
+    W[ok, ol + 1] += w01
+    W[ok, ol + 2] += w02
+    W[ok + 1, ol] += w10
+    W[ok + 1, ol + 1] += w11
+    W[ok + 1, ol + 2] += w12
+    W[ok + 2, ol] += w20
+    W[ok + 2, ol + 1] += w21
+    W[ok + 2, ol + 2] += w22
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
+def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks,
              gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
              state, elem, xi_arr, Pn, vrel, Nout, gout, fcc, fcs, diag, ws):
     """contact_step with its scratch arrays ``ws`` (:func:`contact_workspace`)."""
@@ -716,8 +727,8 @@ def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
         for l in range(k, nk):
             il = idx[l]
             el = elem[il]
-            _compliance_block(Kc, fc0, nfc, 6 * ik, Bc[k], 6 * il, Bc[l], tmp, W, 3 * k, 3 * l)   # cable
-            _compliance_block(Ks, fs0, nfs, 6 * ek, Gs[k], 6 * el, Gs[l], tmp, W, 3 * k, 3 * l)   # casing
+            _compliance_block(Kc, 6 * ik, Bc[k], 6 * il, Bc[l], W, 3 * k, 3 * l)   # cable
+            _compliance_block(Ks, 6 * ek, Gs[k], 6 * el, Gs[l], W, 3 * k, 3 * l)   # casing
             if l != k:
                 for r in range(3):
                     for c in range(3):
@@ -825,7 +836,7 @@ def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
     return nk
 
 
-def contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
+def contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks,
                  gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
                  state, elem, xi_arr, Pn, vrel, Nout, gout, fcc, fcs, diag):
     """Contact of the cable nodes with the casing at the end of a step, from the predicted
@@ -833,11 +844,12 @@ def contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
     and N.m) and the casing (fcs), the per-node state (OPEN/STICK/SLIP: the mode the forces were
     solved in), normal force (N), penetration (m) and tangential relative speed at the end of the
     step (vrel, m/s: the next step sticks when it lies inside the band +-v_stick, Section 2.1).
-    Kc, Ks: effective compliances (m/N) of the free DOFs fc0.., fs0... Returns the number of
+    Kc, Ks: effective compliances (m/N) over all DOFs of each body (zero rows and columns on the
+    prescribed DOFs). Returns the number of
     contacts examined (penetrating before the solve). diag[0] = max penetration (m), diag[1] = 1
     if Newton failed, diag[2] and diag[3] = power dissipated (W) by contact damping (N_d g_dot) and
     by friction (-P_t . w_t); diag[4] and diag[5] count Newton iterations and stick/slip passes. Allocates its scratch arrays; the step loop reuses one set."""
-    return _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, fc0, nfc, Ks, fs0, nfs,
+    return _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks,
                     gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
                     state, elem, xi_arr, Pn, vrel, Nout, gout, fcc, fcs, diag, contact_workspace(len(Xc)))
 
@@ -900,31 +912,31 @@ def _predict(Md, Kd, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pc
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def _correct(Kinv, f0, nf, fc, U, jl):
-    """U[free] += Keff^-1 fc: the bodies' exact response to the contact forces fc (linear structure).
+def _correct(Kinv, fc, U, jl):
+    """U += Keff^-1 fc: the bodies' exact response to the contact forces fc (linear structure).
     fc is nonzero on a few DOFs only (6 per cable contact node, 12 per casing element touched), so
-    the response is the sum of those compliance rows (Kinv symmetric), not a full solve; four rows
-    per pass over U (a quarter of its loads and stores). jl: integer scratch of nf."""
-    u = U[f0:f0 + nf]
-    f = fc[f0:f0 + nf]
+    the response is the sum of those compliance rows (Kinv symmetric, zero on the prescribed
+    DOFs), not a full solve; four rows per pass over U (a quarter of its loads and stores).
+    jl: integer scratch of len(U)."""
+    n = U.shape[0]
     m = 0
-    for j in range(nf):
-        if f[j] != 0.0:
+    for j in range(n):
+        if fc[j] != 0.0:
             jl[m] = j
             m += 1
     k = 0
     while k + 4 <= m:
         a, b, c, d = jl[k], jl[k + 1], jl[k + 2], jl[k + 3]
-        fa, fb, fc_, fd = f[a], f[b], f[c], f[d]
+        fa, fb, fc_, fd = fc[a], fc[b], fc[c], fc[d]
         ra, rb, rc, rd = Kinv[a], Kinv[b], Kinv[c], Kinv[d]
-        for i in range(nf):
-            u[i] += (fa * ra[i] + fb * rb[i]) + (fc_ * rc[i] + fd * rd[i])
+        for i in range(n):
+            U[i] += (fa * ra[i] + fb * rb[i]) + (fc_ * rc[i] + fd * rd[i])
         k += 4
     for k in range(k, m):
-        fa = f[jl[k]]
+        fa = fc[jl[k]]
         ra = Kinv[jl[k]]
-        for i in range(nf):
-            u[i] += fa * ra[i]
+        for i in range(n):
+            U[i] += fa * ra[i]
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
@@ -1041,7 +1053,7 @@ def run_steps(t0, dt, up, vp, ap,
     cy1, cy2, cr = np.zeros(nc + 2 * cb), np.zeros(nc + 2 * cb), np.zeros(max(cng, 1))
     fcs_new, fcc_new = np.zeros(ns), np.zeros(nc)
     reac_new = np.zeros(24)
-    jl = np.zeros(max(snf, cnf, 1), np.int64)
+    jl = np.zeros(max(ns, nc), np.int64)
     acc = np.zeros(max(len(spres), len(cpres), 1))
     diag = np.zeros(6)
     nn = Xc.shape[0]
@@ -1064,13 +1076,13 @@ def run_steps(t0, dt, up, vp, ap,
             _predicted_velocity(sf0, snf, sU, sUo, sV, sVo, dt)
             _predicted_velocity(cf0, cnf, cU, cUo, cV, cVo, dt)
             diag[1] = 0.0
-            nact = _contact(Xc, Tc, cU, cV, Xs, Rs, Ls, sU, sV, cKinv, cf0, cnf, sKinv, sf0, snf,
+            nact = _contact(Xc, Tc, cU, cV, Xs, Rs, Ls, sU, sV, cKinv, sKinv,
                             gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
                             state, elem, xi_arr, Pn, vrel, Nn, gn, fcc_new, fcs_new, diag, ws)
             info[5] += diag[1]
             if nact > 0:
-                _correct(sKinv, sf0, snf, fcs_new, sU, jl)
-                _correct(cKinv, cf0, cnf, fcc_new, cU, jl)
+                _correct(sKinv, fcs_new, sU, jl)
+                _correct(cKinv, fcc_new, cU, jl)
             if diag[0] > r_cable:
                 info[0], info[2] = t, diag[0]
                 for i in range(nn):

@@ -20,7 +20,7 @@ def belt_run(v_stick, T, dt=1e-5):
     Keff = K_ + 4 * M_ / dt**2
     Kc = np.zeros((6, 6))
     Kc[0, 0] = 1 / Keff                                   # only x responds; the normal is rigid
-    Ks = np.zeros((1, 1))
+    Ks = np.zeros((12, 12))                               # the casing is rigid (zero compliance)
     state, elem, xi, vrel = np.zeros(1, np.int64), np.zeros(1, np.int64), np.zeros(1), np.zeros(1)
     Pn, Nn, gn, diag = np.zeros((1, 3)), np.zeros(1), np.zeros(1), np.zeros(6)
     fcc, fcs = np.zeros(6), np.zeros(12)
@@ -35,7 +35,7 @@ def belt_run(v_stick, T, dt=1e-5):
         Us, Vs = np.zeros(12), np.zeros(12)
         Us[0] = Us[6] = V_BELT * t
         Vs[0] = Vs[6] = V_BELT
-        K.contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, 0, 6, Ks, 0, 0, gap, gap + 1e-3, 1, k_lin, 0.0,
+        K.contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, gap, gap + 1e-3, 1, k_lin, 0.0,
                        0.0, MU, v_stick, dt, state, elem, xi, Pn, vrel, Nn, gn, fcc, fcs, diag)
         un = ustar + fcc[0] / Keff
         an = 4 / dt**2 * (un - u) - 4 / dt * v - a
