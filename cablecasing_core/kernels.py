@@ -15,16 +15,20 @@ Storage:
   inner loop is a contiguous, vectorisable multiply-add. Vectors multiplied with it are *padded*:
   ``yp[b + j] = y[j]`` with b zeros on either side.
 * The effective stiffness of the free DOFs of a beam chain is block tridiagonal in 6 x 6 node
-  blocks (an element couples two neighbouring nodes). Its block Cholesky factor L is kept as
-  ``P[i] = L_ii^-1``, ``PT[i] = P[i]^T``, ``Q[i] = P[i] L_i,i-1`` and ``S[i] = P[i]^T L_i+1,i^T``
-  (built in ``engine.block_cholesky``); a solve is two sweeps of small dense 6 x 6 products, whose
-  chain of dependencies is 2 x (number of nodes) long instead of 2 x (number of DOFs) for a banded
-  substitution. SciPy's banded solvers cannot be called from inside a compiled step loop.
+  blocks (an element couples two neighbouring nodes). Its block LDL^T factor is kept as
+  ``Dinv[i] = D_i^-1``, ``L[i] = L_i,i-1`` and ``LT[i] = L_i+1,i^T`` (built in ``engine.block_ldl``);
+  a solve is two sweeps whose chain of dependencies is one 6 x 6 product per node, instead of one
+  operation per DOF for a banded substitution. SciPy's banded solvers cannot be called from inside a
+  compiled step loop.
+* The effective compliance (dense, over all DOFs of a body, zero on the prescribed ones) gives the
+  Delassus matrix of the contacts and the bodies' response to the contact forces.
 
 ``fastmath`` is limited to contraction into FMA and two harmless flags (``FM``): NaN and infinity
 keep their IEEE meaning, so the blow-up checks still work, and there is no re-association, whose
 vectorised sums may depend on the arrays' alignment: a run is reproducible to the bit in any
-process (the FMU is checked against the core to 1e-12 on a chaotic contact run).
+process (the FMU is checked against the core to 1e-12 on a chaotic contact run). Where a chain of
+dependent additions limits speed, the kernels split it explicitly (partial sums, trees of pairs).
+The small helpers of the contact solve are inlined into their callers (``inline="always"``).
 """
 from __future__ import annotations
 
@@ -316,7 +320,9 @@ def _search(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e_guess, far_below):
             if abs(dphi) < 1e-300:
                 break
             xn = min(max(xi - phi / dphi, 0.0), 1.0)
-            if abs(xn - xi) <= 1e-13:       # converged: p already belongs to xi
+            if abs(xn - xi) <= 1e-10:
+                # converged: xi within ~1e-10 of the root, a few pm along the element; the distance
+                # to the axis, measured in the normal plane, changes only to second order
                 break
             xi = xn
             px, py, pz, dx, dy, dz = _axis_at(Xs, Rs, Ls, e, xi, q)

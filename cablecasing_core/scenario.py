@@ -149,7 +149,7 @@ class ScenarioMotion:
         for col, wts, sig in self.terms:
             for o, s in zip(out, sig(t)):
                 o[:, col:col + 3] += s[:, None] * wts[None, :]
-        if self.ramp > 0:
+        if self.ramp > 0 and t.min() < self.ramp:     # (past the ramp, the factor is 1)
             T = self.ramp
             on = t < T
             x = np.pi * t / T
