@@ -280,6 +280,36 @@ def casing_point(Xs, Rs, Ls, Us, e, xi):
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def _cable_node(Xc, Tc, Uc, i):
+    """Deformed position (m) and tangent (not normalised; small rotations) of cable node i."""
+    o = 6 * i
+    T0, T1, T2 = Tc[i, 0], Tc[i, 1], Tc[i, 2]
+    th0, th1, th2 = Uc[o + 3], Uc[o + 4], Uc[o + 5]
+    return (Xc[i, 0] + Uc[o], Xc[i, 1] + Uc[o + 1], Xc[i, 2] + Uc[o + 2],
+            T0 + th1 * T2 - th2 * T1, T1 + th2 * T0 - th0 * T2, T2 + th0 * T1 - th1 * T0)
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def _chord(x0, x1, x2, t0, t1, t2, Xs, Ls, Us, e):
+    """The normal plane of a cable node (point x, tangent t of any length) against the chord of
+    casing element e between its deformed nodes (Eqs. 37, 39): (den, xi, reach). xi = num/den is
+    where the plane cuts the chord (no cut when den = 0); reach (m) bounds the node's distance from
+    the element's Hermite axis at that cut from above: the distance from the chord plus L/4
+    (|rot_a| + |rot_b|), which bounds how far the axis departs from the chord."""
+    o = 6 * e
+    a0, a1, a2 = Xs[e, 0] + Us[o], Xs[e, 1] + Us[o + 1], Xs[e, 2] + Us[o + 2]
+    b0, b1, b2 = Xs[e + 1, 0] + Us[o + 6], Xs[e + 1, 1] + Us[o + 7], Xs[e + 1, 2] + Us[o + 8]
+    den = (b0 - a0) * t0 + (b1 - a1) * t1 + (b2 - a2) * t2
+    num = (x0 - a0) * t0 + (x1 - a1) * t1 + (x2 - a2) * t2
+    xi = num / den
+    dl = ((a0 + xi * (b0 - a0) - x0) ** 2 + (a1 + xi * (b1 - a1) - x1) ** 2
+          + (a2 + xi * (b2 - a2) - x2) ** 2)
+    ra = np.sqrt(Us[o + 3] ** 2 + Us[o + 4] ** 2 + Us[o + 5] ** 2)
+    rb = np.sqrt(Us[o + 9] ** 2 + Us[o + 10] ** 2 + Us[o + 11] ** 2)
+    return den, xi, np.sqrt(dl) + 0.25 * Ls[e] * (ra + rb)
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def _search(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e_guess, far_below):
     """Contact search of one cable node (point x, unit tangent t, as scalars); see search_casing."""
     ne = Ls.shape[0]
@@ -291,25 +321,14 @@ def _search(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e_guess, far_below):
             if abs(off) > ne:
                 break
             continue
-        o = 6 * e
-        a0, a1, a2 = Xs[e, 0] + Us[o], Xs[e, 1] + Us[o + 1], Xs[e, 2] + Us[o + 2]
-        b0, b1, b2 = Xs[e + 1, 0] + Us[o + 6], Xs[e + 1, 1] + Us[o + 7], Xs[e + 1, 2] + Us[o + 8]
-        den = (b0 - a0) * t0 + (b1 - a1) * t1 + (b2 - a2) * t2
-        num = (x0 - a0) * t0 + (x1 - a1) * t1 + (x2 - a2) * t2
+        den, xi, reach = _chord(x0, x1, x2, t0, t1, t2, Xs, Ls, Us, e)     # Eq. (39) on the chord
         if abs(den) < 1e-300:
             continue
-        xi = num / den                          # Eq. (39) on the chord (Eq. 37)
         if xi < -1e-9 or xi > 1 + 1e-9:
             if best_e >= 0 and abs(off) > 2:
                 break
             continue
-        # cheap exit: the Hermite axis departs from the chord between the deformed nodes by at most
-        # L/4 (|rot_a| + |rot_b|); a node farther inside than that cannot touch (returned as far)
-        dl = ((a0 + xi * (b0 - a0) - x0) ** 2 + (a1 + xi * (b1 - a1) - x1) ** 2
-              + (a2 + xi * (b2 - a2) - x2) ** 2)
-        ra = np.sqrt(Us[o + 3] ** 2 + Us[o + 4] ** 2 + Us[o + 5] ** 2)
-        rb = np.sqrt(Us[o + 9] ** 2 + Us[o + 10] ** 2 + Us[o + 11] ** 2)
-        if np.sqrt(dl) + 0.25 * Ls[e] * (ra + rb) < far_below:
+        if reach < far_below:       # cheap exit: a node this far inside cannot touch (returned as far)
             return e, xi, True
         xi = min(max(xi, 0.0), 1.0)
         q = _element_dofs(Rs, Us, e)
@@ -348,24 +367,10 @@ def _far_from_wall(Xc, Tc, Uc, Xs, Ls, Us, elem, gap, far):
     full search."""
     ne = Ls.shape[0]
     for i in range(Xc.shape[0]):
-        o = 6 * i
-        x0, x1, x2 = Xc[i, 0] + Uc[o], Xc[i, 1] + Uc[o + 1], Xc[i, 2] + Uc[o + 2]
-        T0, T1, T2 = Tc[i, 0], Tc[i, 1], Tc[i, 2]
-        th0, th1, th2 = Uc[o + 3], Uc[o + 4], Uc[o + 5]
-        t0, t1, t2 = T0 + th1 * T2 - th2 * T1, T1 + th2 * T0 - th0 * T2, T2 + th0 * T1 - th1 * T0
+        x0, x1, x2, t0, t1, t2 = _cable_node(Xc, Tc, Uc, i)
         e = min(max(elem[i], 0), ne - 1)
-        q = 6 * e
-        a0, a1, a2 = Xs[e, 0] + Us[q], Xs[e, 1] + Us[q + 1], Xs[e, 2] + Us[q + 2]
-        b0, b1, b2 = Xs[e + 1, 0] + Us[q + 6], Xs[e + 1, 1] + Us[q + 7], Xs[e + 1, 2] + Us[q + 8]
-        den = (b0 - a0) * t0 + (b1 - a1) * t1 + (b2 - a2) * t2      # t unnormalised: xi is scale-free
-        num = (x0 - a0) * t0 + (x1 - a1) * t1 + (x2 - a2) * t2
-        xi = num / den
-        dl = ((a0 + xi * (b0 - a0) - x0) ** 2 + (a1 + xi * (b1 - a1) - x1) ** 2
-              + (a2 + xi * (b2 - a2) - x2) ** 2)
-        ra = np.sqrt(Us[q + 3] ** 2 + Us[q + 4] ** 2 + Us[q + 5] ** 2)
-        rb = np.sqrt(Us[q + 9] ** 2 + Us[q + 10] ** 2 + Us[q + 11] ** 2)
-        far[i] = ((elem[i] == e) & (abs(den) >= 1e-300) & (xi >= -1e-9) & (xi <= 1 + 1e-9)
-                  & (np.sqrt(dl) + 0.25 * Ls[e] * (ra + rb) < gap))
+        den, xi, reach = _chord(x0, x1, x2, t0, t1, t2, Xs, Ls, Us, e)
+        far[i] = ((elem[i] == e) & (abs(den) >= 1e-300) & (xi >= -1e-9) & (xi <= 1 + 1e-9) & (reach < gap))
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
@@ -654,10 +659,7 @@ def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks,
             state[i] = OPEN
             continue
         o = 6 * i
-        x0, x1, x2 = Xc[i, 0] + Uc[o], Xc[i, 1] + Uc[o + 1], Xc[i, 2] + Uc[o + 2]
-        T0, T1, T2 = Tc[i, 0], Tc[i, 1], Tc[i, 2]
-        th0, th1, th2 = Uc[o + 3], Uc[o + 4], Uc[o + 5]
-        t0, t1, t2 = T0 + th1 * T2 - th2 * T1, T1 + th2 * T0 - th0 * T2, T2 + th0 * T1 - th1 * T0
+        x0, x1, x2, t0, t1, t2 = _cable_node(Xc, Tc, Uc, i)
         tn = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
         t0, t1, t2 = t0 / tn, t1 / tn, t2 / tn
         e, xi, far = _search(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, elem[i], gap)
