@@ -311,9 +311,11 @@ def _chord(x0, x1, x2, t0, t1, t2, Xs, Ls, Us, e):
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def _search(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e_guess, far_below):
-    """Contact search of one cable node (point x, unit tangent t, as scalars); see search_casing."""
+    """Contact search of one cable node (point x, unit tangent t, as scalars); see search_casing.
+    Returns (element, xi, far, p): p = (px, py, pz) the axis point at xi when refined (else NaN)."""
     ne = Ls.shape[0]
     best_e, best_xi, best_d = -1, np.nan, 1e300
+    bx, by, bz = np.nan, np.nan, np.nan
     for de in range(0, 2 * ne + 1):
         off = (de + 1) // 2 * (1 if de % 2 == 1 else -1)
         e = e_guess + off
@@ -329,7 +331,7 @@ def _search(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e_guess, far_below):
                 break
             continue
         if reach < far_below:       # cheap exit: a node this far inside cannot touch (returned as far)
-            return e, xi, True
+            return e, xi, True, np.nan, np.nan, np.nan
         xi = min(max(xi, 0.0), 1.0)
         q = _element_dofs(Rs, Us, e)
         px, py, pz, dx, dy, dz = _axis_at(Xs, Rs, Ls, e, xi, q)
@@ -349,12 +351,13 @@ def _search(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e_guess, far_below):
         if best_e < 0 and 0.01 < xi < 0.99:
             # well inside the element: the plane cannot cut a neighbour within the +-2 elements
             # looked at (the axis turns by far less than a right angle over them)
-            return e, xi, False
+            return e, xi, False, px, py, pz
         if d < best_d:
             best_d, best_e, best_xi = d, e, xi
+            bx, by, bz = px, py, pz
         if abs(off) >= 2 and best_e >= 0:
             break
-    return best_e, best_xi, False
+    return best_e, best_xi, False, bx, by, bz
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
@@ -381,7 +384,8 @@ def search_casing(x1, t1, Xs, Rs, Ls, Us, e_guess, far_below):
     Elements are tried outward from ``e_guess``. Returns (element, xi, far): far is True when the
     node is certainly more than ``far_below`` (m) from the axis (no refinement done); element -1 when
     the plane misses the casing."""
-    return _search(x1[0], x1[1], x1[2], t1[0], t1[1], t1[2], Xs, Rs, Ls, Us, e_guess, far_below)
+    e, xi, far, _, _, _ = _search(x1[0], x1[1], x1[2], t1[0], t1[1], t1[2], Xs, Rs, Ls, Us, e_guess, far_below)
+    return e, xi, far
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
@@ -662,14 +666,13 @@ def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks,
         x0, x1, x2, t0, t1, t2 = _cable_node(Xc, Tc, Uc, i)
         tn = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
         t0, t1, t2 = t0 / tn, t1 / tn, t2 / tn
-        e, xi, far = _search(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, elem[i], gap)
+        e, xi, far, px, py, pz = _search(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, elem[i], gap)
         if e >= 0:
             elem[i] = e
         if e < 0 or far:
             state[i] = OPEN
             continue
         xi_arr[i] = xi
-        px, py, pz, _, _, _ = axis_point(Xs, Rs, Ls, Us, e, xi)
         r0, r1, r2 = x0 - px, x1 - py, x2 - pz
         h = np.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
         g = h - gap                                   # Eqs. (14), (30)-(31)
