@@ -17,7 +17,7 @@ from __future__ import annotations
 import io
 
 import numpy as np
-from scipy.linalg import cho_factor, cho_solve, cholesky, solve_triangular
+from scipy.linalg import cho_factor, cho_solve
 
 from . import kernels as K
 from .assembly import assemble_body
@@ -123,7 +123,8 @@ class _Body:
     def factors(self, dt, need_inverse):
         """Block LDL^T factor (Dinv, L, LT) of the effective stiffness K + 2/dt C + 4/dt^2 M over
         the free node blocks (prescribed DOFs among them as identity rows) and, for contact, the
-        dense inverse (m/N) over the free DOFs; cached per dt."""
+        dense inverse (m/N) of its free part, placed in an all-DOF matrix that is zero on the
+        prescribed DOFs; cached per dt."""
         key = (dt, need_inverse)
         if key not in self._factors:
             g = slice(self.g0, self.g0 + self.ng)

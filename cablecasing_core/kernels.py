@@ -447,8 +447,18 @@ def contact_workspace(nn):
     return (np.zeros(max(nn, 1), np.int64), z(nn), z(nn), z(nn, 3), z(nn, 3), z(nn, 3), z(nn, 3),
             z(nn, 6, 12), z(nn, 6, 3), z(nn, 12, 3), z(m, m), z(m, m), z(m), z(m), z(m), z(m),
             z(nn, 3), z(nn, 3), np.zeros(max(nn, 1), np.int64), z(nn, 3), z(nn), z(nn),
-            np.zeros(max(nn, 1), np.bool_), z(12, 3), z(m), np.zeros(max(nn, 1), np.bool_),
+            np.zeros(max(nn, 1), np.bool_), z(6), z(m), np.zeros(max(nn, 1), np.bool_),
             np.zeros(max(nn, 1), np.bool_))
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def _relative_displacement(W, P, m, d):
+    """d = W[:m, :m] P: the contact points' relative displacements (m) under the forces P (N)."""
+    for i in range(m):
+        s = 0.0
+        for j in range(m):
+            s += W[i, j] * P[j]
+        d[i] = s
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
@@ -459,11 +469,7 @@ def _residual(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, touch, P, 
     to newtons like the others. Returns the norm of R (N)."""
     m = 3 * nk
     c2 = 2.0 / dt
-    for i in range(m):
-        s = 0.0
-        for j in range(m):
-            s += W[i, j] * P[j]
-        d[i] = s
+    _relative_displacement(W, P, m, d)
     norm = 0.0
     for k in range(nk):
         o = 3 * k
@@ -683,7 +689,7 @@ def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks,
         c0, c1, c2_ = px + r_in * n0, py + r_in * n1, pz + r_in * n2   # contact point on the wall
         H = Hs[nk]
         hermite_matrix(xi, Ls[e], Rs[e], H)
-        vs = tmp[:6, 0]                                       # casing velocity and spin at xi
+        vs = tmp                                              # casing velocity and spin at xi
         for r in range(6):
             s = 0.0
             for c in range(12):
@@ -807,11 +813,7 @@ def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks,
                     changed = True
         if not changed:
             break
-    for i in range(m):    # relative displacements of the final forces
-        s = 0.0
-        for j in range(m):
-            s += W[i, j] * P[j]
-        d[i] = s
+    _relative_displacement(W, P, m, d)   # of the final forces (a last pass may have opened a contact)
     gmax = 0.0
     for k in range(nk):
         i = idx[k]
