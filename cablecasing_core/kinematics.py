@@ -38,6 +38,7 @@ _HERMITE_TO_POWER = np.array([
     [15.0, 8.0, 1.5, -15.0, 7.0, -1.0],
     [-6.0, -3.0, -0.5, 6.0, -3.0, 0.5],
 ])
+_POWERS = np.arange(6.0)
 _K1 = np.arange(1, 6, dtype=float)[:, None]                 # k for the first derivative
 _K2 = (np.arange(2, 6) * np.arange(1, 5)).astype(float)[:, None]   # k (k - 1)
 
@@ -49,33 +50,65 @@ def taylor_target(u, v, a, h):
     return u + v * h + (0.5 * h * h) * a, v + a * h, a.copy()
 
 
+def _taylor_matrix(h):
+    """E(h) with [u1; v1; a1] = E [u; v; a]: :func:`taylor_target` as a 3 x 3 matrix."""
+    return np.array([[1.0, h, 0.5 * h * h], [0.0, 1.0, h], [0.0, 0.0, 1.0]])
+
+
+def _coefficient_matrix(h):
+    """G (18 x 6): the power-basis coefficients of displacement, velocity and acceleration, rows
+    ordered power-major (row 3 k + j: the s^k coefficient of u, v, a for j = 0, 1, 2), from
+    [start u, v, a; end u, v, a] (6 x n, SI units). Zero rows where a derivative has no such power."""
+    scale = np.diag([1.0, h, h * h, 1.0, h, h * h])
+    c = _HERMITE_TO_POWER @ scale                   # displacement coefficients, m
+    G = np.zeros((6, 3, 6))
+    G[:, 0] = c
+    G[:5, 1] = _K1 * c[1:] / h                      # velocity, m/s
+    G[:4, 2] = _K2 * c[2:] / (h * h)                # acceleration, m/s2
+    return G.reshape(18, 6)
+
+
 class QuinticStep:
     """Motion over ``[t0, t0 + h]`` (s): the quintic Hermite polynomial per channel from ``start``
-    to ``end``, each a tuple of three arrays (u, v, a) of shape (n,) in m, m/s, m/s2.
+    to ``end``, each (u, v, a) as a tuple of three arrays or a (3, n) array, in m, m/s, m/s2.
 
     Calling it with an array of times t (s) returns (u, v, a), each of shape (len(t), n), the
     engine's motion contract. Times outside the interval are clipped to it (the engine asks only
     for times in (t0, t0 + h]; the clip absorbs round-off at the end point).
+
+    An FMU step evaluates this a few times per communication step on 12 channels, where each numpy
+    call costs more than its arithmetic: construction is one matrix product (:meth:`from_rows`),
+    evaluation one matrix of powers and one product.
     """
 
     def __init__(self, t0, h, start, end):
         h = float(h)
         if not (np.isfinite(h) and h > 0):
             raise ValueError(f"h = {h!r}: the step must be a positive number of seconds")
-        self.t0, self.h = float(t0), h
-        self.start = tuple(np.array(x, dtype=float) for x in start)
-        self.end = tuple(np.array(x, dtype=float) for x in end)
-        (u0, v0, a0), (u1, v1, a1) = self.start, self.end
-        data = np.stack([u0, h * v0, h * h * a0, u1, h * v1, h * h * a1])    # (6, n)
-        c = _HERMITE_TO_POWER @ data
-        self._c = c                                  # displacement coefficients (6, n), m
-        self._cv = (_K1 * c[1:]) / h                 # velocity coefficients (5, n), m/s
-        self._ca = (_K2 * c[2:]) / (h * h)           # acceleration coefficients (4, n), m/s2
+        rows = np.concatenate([np.asarray(start, dtype=float), np.asarray(end, dtype=float)])
+        self._setup(float(t0), h, rows, _coefficient_matrix(h))
+
+    @classmethod
+    def from_rows(cls, t0, h, rows, G):
+        """The step from ``rows`` (6 x n: start u, v, a, end u, v, a) and ``G`` =
+        ``_coefficient_matrix(h)`` (no checks; for :class:`SupportReconstruction`)."""
+        self = cls.__new__(cls)
+        self._setup(t0, h, rows, G)
+        return self
+
+    def _setup(self, t0, h, rows, G):
+        self.t0, self.h = t0, h
+        self.start, self.end = rows[:3], rows[3:]       # (3, n) each
+        # (3, 6, n): the power-basis coefficients of u, v and a
+        self._c = np.ascontiguousarray((G @ rows).reshape(6, 3, -1).transpose(1, 0, 2))
 
     def __call__(self, t):
-        s = np.clip((np.atleast_1d(np.asarray(t, dtype=float)) - self.t0) / self.h, 0.0, 1.0)
-        S = s[:, None] ** np.arange(6)
-        return S @ self._c, S[:, :5] @ self._cv, S[:, :4] @ self._ca
+        s = np.asarray(t, dtype=float).reshape(-1) - self.t0
+        s *= 1.0 / self.h
+        np.maximum(s, 0.0, out=s)          # (np.clip costs several times more on short arrays)
+        np.minimum(s, 1.0, out=s)
+        r = np.matmul(s[:, None] ** _POWERS, self._c)      # (3, len(t), n), each block contiguous
+        return r[0], r[1], r[2]
 
     def end_state(self):
         """(u, v, a) at ``t0 + h`` (copies)."""
@@ -94,11 +127,20 @@ class SupportReconstruction:
 
     def __init__(self, n):
         self.state = np.zeros((3, int(n)))       # rows u (m), v (m/s), a (m/s2)
+        self._h = None
 
     def motion(self, t0, h, u, v, a):
         """The :class:`QuinticStep` from the current support state to the Taylor target of the
         inputs (u, v, a) given at ``t0`` (s) over the step ``h`` (s)."""
-        return QuinticStep(t0, h, tuple(self.state), taylor_target(u, v, a, h))
+        h = float(h)
+        if h != self._h:          # a master usually keeps its communication step: cache per h
+            if not (np.isfinite(h) and h > 0):
+                raise ValueError(f"h = {h!r}: the step must be a positive number of seconds")
+            self._h, self._E, self._G = h, _taylor_matrix(h), _coefficient_matrix(h)
+        rows = np.empty((6, self.state.shape[1]))
+        rows[:3] = self.state
+        np.matmul(self._E, (u, v, a), out=rows[3:])
+        return QuinticStep.from_rows(float(t0), h, rows, self._G)
 
     def accept(self, motion):
         """Advance the support state to the end of ``motion`` (after the engine took the step)."""
