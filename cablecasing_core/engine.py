@@ -203,30 +203,40 @@ class Engine:
         self.k_lin, self.c_n, self.mu, self.v_stick = c["stiffness"], c["damping"], c["friction"], c["stick_velocity"]
         self._hist = []
         self._ws = K.contact_workspace(len(self.Xc))
+        self._allocate_state()
+        self._call_args = {}            # dt -> the step loop's arguments that do not change between calls
+        self._info = np.zeros(6)
+        self._no_record = (np.zeros((1, 24)), np.zeros((1, 1), np.int8), np.zeros((1, 1)), np.zeros((1, 1)))
         self.reset()
+
+    def _allocate_state(self):
+        """All state arrays as views into two flat buffers (floats, integers), so that a snapshot is
+        two copies (:meth:`snapshot`); the arrays are never rebound, only written."""
+        nn = len(self.Xc)
+        ns = self.bodies["casing"].system.ndof if "casing" in self.bodies else 1
+        nc = self.bodies["cable"].system.ndof if "cable" in self.bodies else 1
+        floats = [(b, k, (len(b.U),)) for b in self.bodies.values() for k in "UVA"]
+        floats += [(self, k, shape) for k, shape in (("cxi", (nn,)), ("Pn", (nn, 3)), ("vrel", (nn,)), ("Nn", (nn,)),
+                                                      ("gn", (nn,)), ("fcs", (ns,)), ("fcc", (nc,)), ("reac", (24,)),
+                                                      ("ledger", (8,)), ("contact_time", (nn,)),
+                                                      ("solver_counts", (3,)))]
+        ints = [(self, "cstate", (nn,)), (self, "celem", (nn,))]
+        for items, dtype, name in ((floats, float, "_fbuf"), (ints, np.int64, "_ibuf")):
+            buf = np.zeros(sum(int(np.prod(shape)) for _, _, shape in items), dtype)
+            o = 0
+            for owner, key, shape in items:
+                size = int(np.prod(shape))
+                setattr(owner, key, buf[o:o + size].reshape(shape))
+                o += size
+            setattr(self, name, buf)
 
     # -------------------------------------------------------------------------------- state
     def reset(self):
         """Back to t = 0 with both bodies at rest in their reference configuration."""
         self.time = 0.0
-        for b in self.bodies.values():
-            b.U[:] = 0.0
-            b.V[:] = 0.0
-            b.A[:] = 0.0
-        nn = len(self.Xc)
-        self.cstate = np.zeros(nn, np.int64)
-        self.celem = np.clip(np.arange(nn) - 1, 0, max(len(self.Ls) - 1, 0)).astype(np.int64)
-        self.cxi = np.zeros(nn)
-        self.Pn = np.zeros((nn, 3))
-        self.vrel = np.zeros(nn)
-        self.Nn = np.zeros(nn)
-        self.gn = np.zeros(nn)
-        self.fcs = np.zeros(self.bodies["casing"].system.ndof if "casing" in self.bodies else 1)
-        self.fcc = np.zeros(self.bodies["cable"].system.ndof if "cable" in self.bodies else 1)
-        self.reac = np.zeros(24)
-        self.ledger = np.zeros(8)
-        self.contact_time = np.zeros(nn)
-        self.solver_counts = np.zeros(3)   # contact Newton iterations, stick/slip passes, unconverged steps
+        self._fbuf[:] = 0.0
+        self._ibuf[:] = 0
+        self.celem[:] = np.clip(np.arange(len(self.celem)) - 1, 0, max(len(self.Ls) - 1, 0))
         self._hist = []
 
     _ARRAYS = ("cstate", "celem", "cxi", "Pn", "vrel", "Nn", "gn", "fcs", "fcc", "reac", "ledger", "contact_time")
@@ -241,23 +251,39 @@ class Engine:
             s[a] = getattr(self, a).copy()
         return s
 
+    def snapshot(self, into=None):
+        """The complete state (what :meth:`get_state` holds, and the solver counters) as an opaque
+        list, cheaply: two buffer copies, written into ``into`` (an earlier snapshot of this engine)
+        when given. For roll-back (:meth:`restore`); recorded histories are not part of it."""
+        if into is None:
+            return [self.time, self._fbuf.copy(), self._ibuf.copy()]
+        into[0] = self.time
+        np.copyto(into[1], self._fbuf)
+        np.copyto(into[2], self._ibuf)
+        return into
+
+    def restore(self, snap):
+        """Return to a :meth:`snapshot` of this engine (continuation is bit-identical)."""
+        self.time = snap[0]
+        np.copyto(self._fbuf, snap[1])
+        np.copyto(self._ibuf, snap[2])
+
     def set_state(self, state):
-        """Restore a state from :meth:`get_state` (continuation is bit-identical)."""
+        """Restore a state from :meth:`get_state` (continuation is bit-identical). Every entry is
+        checked before any is written, so a bad state leaves the engine as it was."""
+        targets = [(f"{n}.{k}", getattr(b, k)) for n, b in self.bodies.items() for k in "UVA"]
+        targets += [(a, getattr(self, a)) for a in self._ARRAYS]
         try:
-            self.time = float(state["time"][0])
-            for n, b in self.bodies.items():
-                for k in "UVA":
-                    arr = np.asarray(state[f"{n}.{k}"], float)
-                    if arr.shape != getattr(b, k).shape:
-                        raise ModelError(f"state.{n}.{k}", arr.shape, f"must have shape {getattr(b, k).shape}")
-                    getattr(b, k)[:] = arr
-            for a in self._ARRAYS:
-                arr = np.asarray(state[a])
-                if arr.shape != getattr(self, a).shape:
-                    raise ModelError(f"state.{a}", arr.shape, f"must have shape {getattr(self, a).shape}")
-                getattr(self, a)[...] = arr
+            time = float(np.asarray(state["time"]).reshape(-1)[0])
+            new = [(dst, np.asarray(state[key], dst.dtype)) for key, dst in targets]
         except KeyError as exc:
             raise ModelError("state", str(exc), "is missing from the state") from None
+        for (key, dst), (_, arr) in zip(targets, new):
+            if arr.shape != dst.shape:
+                raise ModelError(f"state.{key}", arr.shape, f"must have shape {dst.shape}")
+        for dst, arr in new:
+            dst[...] = arr
+        self.time = time
 
     # -------------------------------------------------------------------------------- stepping
     def _args(self, dt):
@@ -278,21 +304,29 @@ class Engine:
                     b.pres, b.pchan, b.pslot, inv]
         return out
 
-    def _run(self, dt, up, vp, ap):
+    def _run(self, dt, up, vp, ap, times):
         n = len(up)
         if self.record:
             nn = len(self.Xc)
             rec = (np.zeros((n, 24)), np.zeros((n, nn), np.int8), np.zeros((n, nn)), np.zeros((n, nn)))
         else:
-            rec = (np.zeros((1, 24)), np.zeros((1, 1), np.int8), np.zeros((1, 1)), np.zeros((1, 1)))
-        info = np.zeros(6)
+            rec = self._no_record
+        args = self._call_args.get(dt)
+        if args is None:        # the arrays are never rebound (see _allocate_state): built once per dt
+            args = self._call_args[dt] = (
+                *self._args(dt), self.contact, self.Xc, self.Tc, self.Xs, self.Rs, self.Ls, self.gap, self.r_in,
+                self.r_cable, self.law, self.k_lin, self.k_hertz, self.c_n, self.mu, self.v_stick,
+                self.cstate, self.celem, self.cxi, self.Pn, self.vrel, self.Nn, self.gn, self.fcs, self.fcc,
+                self.reac, self.ledger, self.contact_time, self.ledger_on, self._ws, self.record)
+        info = self._info
+        info[:3] = 0.0
         info[3:] = self.solver_counts
-        status = K.run_steps(
-            self.time, dt, up, vp, ap, *self._args(dt),
-            self.contact, self.Xc, self.Tc, self.Xs, self.Rs, self.Ls, self.gap, self.r_in, self.r_cable,
-            self.law, self.k_lin, self.k_hertz, self.c_n, self.mu, self.v_stick,
-            self.cstate, self.celem, self.cxi, self.Pn, self.vrel, self.Nn, self.gn, self.fcs, self.fcc, self.reac,
-            self.ledger, self.ledger_on, self._ws, self.record, *rec, 0, info)
+        status = K.run_steps(self.time, dt, up, vp, ap, *args, *rec, 0, info)
+        if status == K.ERR_INPUT:
+            r, c, q = (int(x) for x in info[:3])
+            name = ("displacement", "velocity", "acceleration")[q]
+            raise ModelError(f"{CHANNELS[c]} {name}", float((up, vp, ap)[q][r, c]),
+                             f"must be finite (at t = {times[r]:.6g} s)")
         if status != K.OK:
             what = {K.ERR_NAN: "the solution is no longer finite (NaN/inf): the step is unstable or the input is",
                     K.ERR_PENETRATION: f"penetration {info[2]:.4g} m exceeds the cable radius {self.r_cable:.4g} m "
@@ -301,10 +335,6 @@ class Engine:
             raise SimulationError(f"at t = {info[0]:.6g} s, {where}: {what}")
         if self.record:
             self._hist.append(rec)
-            self.contact_time += dt * np.count_nonzero(rec[1] != K.OPEN, axis=0)
-        else:
-            # without per-step records, contact time is sampled at the end of each advance
-            self.contact_time += dt * n * (self.cstate != K.OPEN)
         self.time = float(info[0])
         self.solver_counts[:] = info[3:]
 
@@ -327,13 +357,10 @@ class Engine:
         for dt, m in segments:
             times = t + dt * np.arange(1, m + 1)
             u, v, a = (np.ascontiguousarray(x, dtype=float) for x in motion(times))
-            if u.shape != (m, len(CHANNELS)):
-                raise ModelError("motion", u.shape, f"must return arrays of shape ({m}, {len(CHANNELS)})")
-            for name, x in (("displacement", u), ("velocity", v), ("acceleration", a)):
-                if not np.all(np.isfinite(x)):
-                    r, c = np.argwhere(~np.isfinite(x))[0]
-                    raise ModelError(f"{CHANNELS[c]} {name}", float(x[r, c]), f"must be finite (at t = {times[r]:.6g} s)")
-            self._run(dt, u, v, a)
+            for x in (u, v, a):
+                if x.shape != (m, len(CHANNELS)):
+                    raise ModelError("motion", x.shape, f"must return arrays of shape ({m}, {len(CHANNELS)})")
+            self._run(dt, u, v, a, times)      # (non-finite motion is refused there, before any step)
             t = self.time
 
     # -------------------------------------------------------------------------------- outputs
@@ -358,6 +385,16 @@ class Engine:
         return {"kinetic": kin, "strain": strain, "contact_potential": pot, "support_work": w_sup,
                 "rayleigh_dissipation": d_ray if self.ledger_on else np.nan, "contact_dissipation": d_con,
                 "contact_damping_dissipation": d_damp, "friction_dissipation": d_fric, "residual": residual}
+
+    def output_values(self, out=None):
+        """The values of :meth:`outputs` as an array in the order of :data:`OUTPUTS` (written into
+        ``out`` when given): one call instead of a dict, for the FMU's per-step reads."""
+        out = np.empty(len(OUTPUTS)) if out is None else out
+        out[:24] = self.reac
+        out[24] = np.count_nonzero(self.cstate != K.OPEN)
+        out[25] = self.gn.max() if len(self.gn) else 0.0
+        out[26] = -self.ledger[4] - self.contact_potential()
+        return out
 
     def outputs(self):
         """Current outputs ``{name: value}`` for the names in :data:`OUTPUTS` (N, N.m, m, J)."""

@@ -38,7 +38,7 @@ from numba import njit
 OPEN, STICK, SLIP = 0, 1, 2
 
 # status codes of run_steps
-OK, ERR_NAN, ERR_PENETRATION, ERR_SEARCH = 0, 1, 2, 3
+OK, ERR_NAN, ERR_PENETRATION, ERR_SEARCH, ERR_INPUT = 0, 1, 2, 3, 4
 
 FM = {"contract", "nsz", "arcp"}
 TINY = 1e-200   # m, m/s, m/s2: states below this are flushed to zero (see _finish)
@@ -1039,7 +1039,7 @@ def run_steps(t0, dt, up, vp, ap,
               c_on, cMd, cKd, cDi, cL, cLT, cg0, cng, cf0, cnf, calpha, cbeta, cU, cV, cA, cpres, cpchan,
               cpslot, cKinv,
               contact_on, Xc, Tc, Xs, Rs, Ls, gap, r_in, r_cable, law, k_lin, k_hertz, c_n, mu, v_stick,
-              state, elem, xi_arr, Pn, vrel, Nn, gn, fcs, fcc, reac, ledger, ledger_on, ws,
+              state, elem, xi_arr, Pn, vrel, Nn, gn, fcs, fcc, reac, ledger, contact_time, ledger_on, ws,
               rec_on, rec_F, rec_state, rec_N, rec_g, rec_off, info):
     """Advance both bodies (s: casing, c: cable) by len(up) Newmark steps of size dt (s) from time
     t0 (s). Each step: contact-free predictor of both bodies, contact search and implicit contact
@@ -1050,12 +1050,20 @@ def run_steps(t0, dt, up, vp, ap,
     casing A, casing B, cable A, cable B, each [Fx Fy Fz Mx My Mz]. ledger (J): [work of the
     supports, Rayleigh dissipation, energy at the start (set by the engine), friction dissipation,
     work of the contact forces, contact-damping dissipation, last friction power (W), last damping
-    power (W)]; the dissipations integrate the powers by the trapezoidal rule. ws: contact
+    power (W)]; the dissipations integrate the powers by the trapezoidal rule. contact_time (s, per
+    cable node): time spent in contact (stick or slip), accumulated every step. ws: contact
     workspace. Returns a status code (OK or ERR_*); info = [time, node, value] of a failure, then
     the running totals of contact Newton iterations, stick/slip passes and steps in which a
-    contact Newton did not converge.
+    contact Newton did not converge. Non-finite support motion is refused before any step is taken
+    (ERR_INPUT, info = [row, channel, 0/1/2 for up/vp/ap]), so nothing is half-written.
     """
     nsteps = up.shape[0]
+    for q, x in enumerate((up, vp, ap)):
+        for k in range(nsteps):
+            for j in range(x.shape[1]):
+                if not np.isfinite(x[k, j]):
+                    info[0], info[1], info[2] = k, j, q
+                    return ERR_INPUT
     ns = sU.shape[0]
     nc = cU.shape[0]
     sb = (sMd.shape[0] - 1) // 2
@@ -1096,6 +1104,9 @@ def run_steps(t0, dt, up, vp, ap,
             if nact > 0:
                 _correct(sKinv, fcs_new, sU, jl)
                 _correct(cKinv, fcc_new, cU, jl)
+            for i in range(nn):
+                if state[i] != OPEN:
+                    contact_time[i] += dt
             if diag[0] > r_cable:
                 info[0], info[2] = t, diag[0]
                 for i in range(nn):

@@ -5,9 +5,9 @@ import pytest
 import cablecasing_core as cc
 from cablecasing_core import kernels as K
 from cablecasing_core.config import CHANNELS
-from cablecasing_core.engine import Engine, hertz_constant, state_from_bytes, state_to_bytes
+from cablecasing_core.engine import OUTPUTS, Engine, hertz_constant, state_from_bytes, state_to_bytes
 from cablecasing_core.geometry import centerline_of
-from cablecasing_core.scenario import zero_motion
+from cablecasing_core.scenario import scenario_motion, zero_motion
 
 from helpers import arc_points, straight
 
@@ -200,6 +200,48 @@ def test_state_round_trip_is_bit_identical():
     assert e1.outputs() == e2.outputs()
 
 
+def test_snapshot_restore_is_bit_identical_and_bad_states_change_nothing():
+    """The FMU's roll-back (snapshot/restore) continues exactly like the uninterrupted run; a
+    state with a wrong shape is refused before anything is written; output_values is outputs()."""
+    m = _pair_model(friction=0.2, damping=50.0)
+    e1 = Engine(m, dt=2e-5)
+    _kick(e1, 0.3)
+    e1.advance(0.01, zero_motion)
+    snap = e1.snapshot()
+    e1.advance(0.01, zero_motion)
+    first = e1.outputs()
+    assert first["contact.active"] > 0 or e1.ledger[4] != 0.0      # contact took part
+    e1.restore(snap)
+    e1.advance(0.01, zero_motion)
+    assert e1.outputs() == first
+    np.testing.assert_array_equal(e1.output_values(), [first[k] for k in OUTPUTS])
+    before = e1.get_state()
+    bad = dict(before, **{"cable.U": np.zeros(3)})
+    with pytest.raises(cc.ModelError, match="cable.U"):
+        e1.set_state(bad)
+    after = e1.get_state()
+    assert all(np.array_equal(before[k], after[k]) for k in before)
+
+
+def test_contact_time_counts_every_step():
+    """The highest-contact-area histogram (Fig. 22) counts dt for every step a node ends in
+    contact, whether the histories are recorded or not and however the run is cut into advances
+    (the FMU advances one communication step at a time)."""
+    m = _pair_model(friction=0.2, damping=50.0)
+    dt = 2e-5
+    whole = Engine(m, dt=dt, record=True)
+    _kick(whole, 0.3)
+    whole.advance(0.01, zero_motion)
+    steps = Engine(m, dt=dt)
+    _kick(steps, 0.3)
+    for _ in range(100):
+        steps.advance(1e-4, zero_motion)
+    counted = dt * np.count_nonzero(whole.history()["contact_state"] != K.OPEN, axis=0)
+    assert counted.sum() > 10 * dt                                  # contact took part (37 node-steps)
+    np.testing.assert_allclose(whole.contact_time, counted, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(steps.contact_time, counted, rtol=1e-12, atol=1e-15)
+
+
 def test_bad_time_inputs():
     m = cc.load_model()
     with pytest.raises(cc.ModelError, match="dt"):
@@ -212,8 +254,12 @@ def test_bad_time_inputs():
         u, v, a = zero_motion(t)
         u[:, 2] = np.nan
         return u, v, a
-    with pytest.raises(cc.ModelError, match="casing.A.z"):
+    eng.advance(2e-5, scenario_motion(m))
+    before = eng.get_state()
+    with pytest.raises(cc.ModelError, match="casing.A.z displacement"):
         eng.advance(1e-4, nan_motion)
+    after = eng.get_state()                      # refused before any step: nothing half-written
+    assert all(np.array_equal(before[k], after[k]) for k in before)
 
 
 def test_ledger_closes_under_support_excitation():
