@@ -1,0 +1,66 @@
+"""In-process A/B of two source trees of ``cablecasing_core`` (e.g. HEAD and a change).
+
+On a shared VM whose speed drifts by 10-30 % over minutes, separate "fastest of N runs" figures
+cannot resolve a few per cent. This loads both packages into one process (under the names ccA and
+ccB; each keeps its own numba cache beside its sources), advances the default scenario with each
+in alternating chunks of 0.01 s (the order alternates too), and prints the median and quartiles
+of the per-chunk time ratio B/A, which the drift affects on both sides alike. Two identical trees
+give 0.97-1.03, the resolution of the method; run both load orders.
+
+Run:  git archive HEAD cablecasing_core | tar -x -C /tmp/A    (and the change into /tmp/B)
+      .venv/bin/python benchmarks/ab_kernels.py /tmp/A /tmp/B [--duration 1.0] [--no-contact] [--no-record]
+"""
+import argparse
+import importlib
+import importlib.util
+import sys
+import time
+
+import numpy as np
+
+
+def load(root, name):
+    """Import ``root/cablecasing_core`` as package ``name``."""
+    spec = importlib.util.spec_from_file_location(name, f"{root}/cablecasing_core/__init__.py",
+                                                  submodule_search_locations=[f"{root}/cablecasing_core"])
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[name] = mod
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("a")
+    p.add_argument("b")
+    p.add_argument("--duration", type=float, default=1.0, help="simulated time per tree (s)")
+    p.add_argument("--no-contact", action="store_true")
+    p.add_argument("--no-record", action="store_true")
+    args = p.parse_args()
+    dt, chunk = 1e-5, 0.01
+    runs = []
+    for root, name in ((args.a, "ccA"), (args.b, "ccB")):
+        cc = load(root, name)
+        engine = importlib.import_module(f"{name}.engine")
+        scenario = importlib.import_module(f"{name}.scenario")
+        model = cc.load_model()
+        engine.Engine(model, dt=dt, ledger=False).advance(dt, scenario.scenario_motion(model))   # numba
+        eng = engine.Engine(model, dt=dt, contact=not args.no_contact, ledger=False, record=not args.no_record)
+        runs.append((eng, scenario.scenario_motion(model, dt=dt, duration=args.duration), []))
+    for k in range(int(round(args.duration / chunk))):
+        for eng, motion, walls in (runs if k % 2 == 0 else runs[::-1]):
+            t0 = time.perf_counter()
+            eng.advance(chunk, motion)
+            walls.append(time.perf_counter() - t0)
+    ta, tb = (np.array(r[2]) for r in runs)
+    r = tb / ta
+    per_step = lambda w: np.median(w) / chunk * dt * 1e6   # noqa: E731
+    print(f"us_per_step_median_A: {per_step(ta):.2f}")
+    print(f"us_per_step_median_B: {per_step(tb):.2f}")
+    print(f"ratio_B_over_A_median: {np.median(r):.3f}")
+    print(f"ratio_B_over_A_quartiles: {np.percentile(r, 25):.3f} {np.percentile(r, 75):.3f}")
+    print(f"ratio_B_over_A_total: {tb.sum() / ta.sum():.3f}")
+
+
+if __name__ == "__main__":
+    main()
