@@ -2,21 +2,35 @@
 
 On a shared VM whose speed drifts by 10-30 % over minutes, separate "fastest of N runs" figures
 cannot resolve a few per cent. This loads both packages into one process (under the names ccA and
-ccB; each keeps its own numba cache beside its sources), advances the default scenario with each
+ccB), advances the default scenario with each
 in alternating chunks of 0.01 s (the order alternates too), and prints the median and quartiles
 of the per-chunk time ratio B/A, which the drift affects on both sides alike. Two identical trees
-give 0.97-1.03, the resolution of the method; run both load orders.
+give 0.97-1.03, the resolution of the method; run both load orders. The numba cache of the two
+trees is kept apart from their normal one (see NUMBA_CACHE_DIR below), so each run first
+compiles both (~1.5 min).
 
 Run:  git archive HEAD cablecasing_core | tar -x -C /tmp/A    (and the change into /tmp/B)
       .venv/bin/python benchmarks/ab_kernels.py /tmp/A /tmp/B [--duration 1.0] [--no-contact] [--no-record]
 """
 import argparse
+import atexit
 import importlib
 import importlib.util
+import os
+import shutil
 import sys
+import tempfile
 import time
 
-import numpy as np
+# numba's cache is keyed by source file, but a cached function remembers the module it was compiled
+# in: kernels compiled here as ccA.kernels would be loaded by a later normal import of the same
+# tree (or by a run with the trees in the other order) and fail there (No module named 'ccA'). So
+# every run compiles into a cache directory of its own, removed at the end.
+_CACHE = tempfile.mkdtemp(prefix="cablecasing-ab-numba-")
+os.environ["NUMBA_CACHE_DIR"] = _CACHE
+atexit.register(shutil.rmtree, _CACHE, True)
+
+import numpy as np  # noqa: E402
 
 
 def load(root, name):
