@@ -206,7 +206,8 @@ class Engine:
         self._allocate_state()
         self._call_args = {}            # dt -> the step loop's arguments that do not change between calls
         self._info = np.zeros(6)
-        self._no_record = (np.zeros((1, 24)), np.zeros((1, 1), np.int8), np.zeros((1, 1)), np.zeros((1, 1)))
+        self._no_record = (np.zeros((1, 24)), np.zeros(2, np.int64), np.zeros(1, np.int32), np.zeros(1, np.int8),
+                           np.zeros(1), np.zeros(1))
         self.reset()
 
     def _allocate_state(self):
@@ -307,8 +308,11 @@ class Engine:
     def _run(self, dt, up, vp, ap, times):
         n = len(up)
         if self.record:
-            nn = len(self.Xc)
-            rec = (np.zeros((n, 24)), np.zeros((n, nn), np.int8), np.zeros((n, nn)), np.zeros((n, nn)))
+            # contact histories sparse (the nodes in contact, ~2 of 36): np.empty of the worst case
+            # is only address space until written; the used part is copied out below
+            cap = n * len(self.Xc)
+            rec = (np.zeros((n, 24)), np.zeros(n + 1, np.int64), np.empty(cap, np.int32), np.empty(cap, np.int8),
+                   np.empty(cap), np.empty(cap))
         else:
             rec = self._no_record
         args = self._call_args.get(dt)
@@ -334,7 +338,8 @@ class Engine:
             where = f"cable node {int(info[1])}" if info[1] >= 0 else "the support forces"
             raise SimulationError(f"at t = {info[0]:.6g} s, {where}: {what}")
         if self.record:
-            self._hist.append(rec)
+            m = int(rec[1][-1])
+            self._hist.append((rec[0], rec[1]) + tuple(x[:m].copy() for x in rec[2:]))
         self.time = float(info[0])
         self.solver_counts[:] = info[3:]
 
@@ -404,14 +409,30 @@ class Engine:
         out["contact.dissipated_energy"] = float(-self.ledger[4] - self.contact_potential())
         return out
 
-    def history(self):
-        """Recorded histories (``record=True``): dict of arrays over all steps so far."""
+    def history(self, sparse=False):
+        """Recorded histories (``record=True``) over all steps so far: ``support_forces`` (n x 24,
+        N and N.m, :data:`SUPPORT_OUTPUTS`) and, per cable node, ``contact_state`` (0 open, 1 stick,
+        2 slip), ``normal_force`` (N) and ``penetration`` (m), each n x nodes.
+
+        The engine stores the contact histories sparse (the nodes in contact at the end of each
+        step: about 2 of 36 in the default scenario, some 40 bytes per step instead of 600);
+        ``sparse=True`` returns them so, as ``contact_step``, ``contact_node`` (row and column of
+        each entry) with ``contact_state``, ``normal_force`` and ``penetration`` of that entry."""
         if not self._hist:
             return {}
-        return {"support_forces": np.concatenate([h[0] for h in self._hist]),
-                "contact_state": np.concatenate([h[1] for h in self._hist]),
-                "normal_force": np.concatenate([h[2] for h in self._hist]),
-                "penetration": np.concatenate([h[3] for h in self._hist])}
+        F = np.concatenate([h[0] for h in self._hist])
+        rows = np.concatenate([np.repeat(np.arange(len(h[0])), np.diff(h[1])) for h in self._hist])
+        rows += np.repeat(np.cumsum([0] + [len(h[0]) for h in self._hist[:-1]]), [len(h[2]) for h in self._hist])
+        node, state, N, g = (np.concatenate([h[i] for h in self._hist]) for i in range(2, 6))
+        if sparse:
+            return {"support_forces": F, "contact_step": rows, "contact_node": node, "contact_state": state,
+                    "normal_force": N, "penetration": g}
+        shape = (len(F), len(self.Xc))
+        out = {"support_forces": F, "contact_state": np.zeros(shape, np.int8), "normal_force": np.zeros(shape),
+               "penetration": np.zeros(shape)}
+        for key, v in (("contact_state", state), ("normal_force", N), ("penetration", g)):
+            out[key][rows, node] = v
+        return out
 
 
 def state_to_bytes(state):

@@ -1040,7 +1040,7 @@ def run_steps(t0, dt, up, vp, ap,
               cpslot, cKinv,
               contact_on, Xc, Tc, Xs, Rs, Ls, gap, r_in, r_cable, law, k_lin, k_hertz, c_n, mu, v_stick,
               state, elem, xi_arr, Pn, vrel, Nn, gn, fcs, fcc, reac, ledger, contact_time, ledger_on, ws,
-              rec_on, rec_F, rec_state, rec_N, rec_g, rec_off, info):
+              rec_on, rec_F, rec_ptr, rec_node, rec_state, rec_N, rec_g, rec_off, info):
     """Advance both bodies (s: casing, c: cable) by len(up) Newmark steps of size dt (s) from time
     t0 (s). Each step: contact-free predictor of both bodies, contact search and implicit contact
     forces (:func:`contact_step`), the bodies' response to them, Newmark update, reactions.
@@ -1056,6 +1056,10 @@ def run_steps(t0, dt, up, vp, ap,
     the running totals of contact Newton iterations, stick/slip passes and steps in which a
     contact Newton did not converge. Non-finite support motion is refused before any step is taken
     (ERR_INPUT, info = [row, channel, 0/1/2 for up/vp/ap]), so nothing is half-written.
+
+    With rec_on, step k writes row rec_off + k of rec_F (the reactions) and, sparse, the cable nodes
+    in contact at its end: entries rec_ptr[r] .. rec_ptr[r + 1] - 1 (r = rec_off + k; rec_ptr[rec_off]
+    set by the caller) of rec_node, rec_state, rec_N (N) and rec_g (m). Capacity: nn per step.
     """
     nsteps = up.shape[0]
     for q, x in enumerate((up, vp, ap)):
@@ -1144,11 +1148,17 @@ def run_steps(t0, dt, up, vp, ap,
             copy_into(fcc, fcc_new)
         if rec_on:
             r = rec_off + k
-            rec_F[r, :] = reac
-            for i in range(nn):
-                rec_state[r, i] = state[i]
-                rec_N[r, i] = Nn[i]
-                rec_g[r, i] = gn[i]
+            for i in range(24):
+                rec_F[r, i] = reac[i]
+            j = rec_ptr[r]
+            for i in range(nn):          # only the nodes in contact (a few of them)
+                if state[i] != OPEN or Nn[i] != 0.0 or gn[i] != 0.0:
+                    rec_node[j] = i
+                    rec_state[j] = state[i]
+                    rec_N[j] = Nn[i]
+                    rec_g[j] = gn[i]
+                    j += 1
+            rec_ptr[r + 1] = j
     info[0] = t
     info[3] += diag[4]
     info[4] += diag[5]

@@ -240,6 +240,9 @@ def test_contact_time_counts_every_step():
     assert counted.sum() > 10 * dt                                  # contact took part (37 node-steps)
     np.testing.assert_allclose(whole.contact_time, counted, rtol=1e-12, atol=1e-15)
     np.testing.assert_allclose(steps.contact_time, counted, rtol=1e-12, atol=1e-15)
+    sp = whole.history(sparse=True)        # the stored form: only the nodes in contact, each pushing
+    assert (sp["normal_force"] > 0).all() and (sp["contact_state"] != K.OPEN).all()
+    np.testing.assert_allclose(dt * np.bincount(sp["contact_node"], minlength=len(counted)), counted, rtol=1e-12)
 
 
 def test_bad_time_inputs():
