@@ -205,7 +205,6 @@ class Engine:
         self._ws = K.contact_workspace(len(self.Xc))
         self._allocate_state()
         self._call_args = {}            # dt -> the step loop's arguments that do not change between calls
-        self._info = np.zeros(6)
         self._no_record = (np.zeros((1, 24)), np.zeros(2, np.int64), np.zeros(1, np.int32), np.zeros(1, np.int8),
                            np.zeros(1), np.zeros(1))
         self.reset()
@@ -220,7 +219,7 @@ class Engine:
         floats += [(self, k, shape) for k, shape in (("cxi", (nn,)), ("Pn", (nn, 3)), ("vrel", (nn,)), ("Nn", (nn,)),
                                                       ("gn", (nn,)), ("fcs", (ns,)), ("fcc", (nc,)), ("reac", (24,)),
                                                       ("ledger", (8,)), ("contact_time", (nn,)),
-                                                      ("solver_counts", (3,)))]
+                                                      ("_info", (6,)))]
         ints = [(self, "cstate", (nn,)), (self, "celem", (nn,))]
         for items, dtype, name in ((floats, float, "_fbuf"), (ints, np.int64, "_ibuf")):
             buf = np.zeros(sum(int(np.prod(shape)) for _, _, shape in items), dtype)
@@ -230,6 +229,8 @@ class Engine:
                 setattr(owner, key, buf[o:o + size].reshape(shape))
                 o += size
             setattr(self, name, buf)
+        # the step loop's info array: [time, node, value] of a failure, then the solver counters
+        self.solver_counts = self._info[3:]   # contact Newton iterations, stick/slip passes, unconverged steps
 
     # -------------------------------------------------------------------------------- state
     def reset(self):
@@ -322,9 +323,8 @@ class Engine:
                 self.r_cable, self.law, self.k_lin, self.k_hertz, self.c_n, self.mu, self.v_stick,
                 self.cstate, self.celem, self.cxi, self.Pn, self.vrel, self.Nn, self.gn, self.fcs, self.fcc,
                 self.reac, self.ledger, self.contact_time, self.ledger_on, self._ws, self.record)
-        info = self._info
+        info = self._info                   # info[3:] are the solver counters (a view)
         info[:3] = 0.0
-        info[3:] = self.solver_counts
         status = K.run_steps(self.time, dt, up, vp, ap, *args, *rec, 0, info)
         if status == K.ERR_INPUT:
             r, c, q = (int(x) for x in info[:3])
@@ -341,7 +341,6 @@ class Engine:
             m = int(rec[1][-1])
             self._hist.append((rec[0], rec[1]) + tuple(x[:m].copy() for x in rec[2:]))
         self.time = float(info[0])
-        self.solver_counts[:] = info[3:]
 
     def advance(self, h, motion):
         """Integrate from ``self.time`` to ``self.time + h`` (s) with the support ``motion``
@@ -370,11 +369,8 @@ class Engine:
 
     # -------------------------------------------------------------------------------- outputs
     def contact_potential(self):
-        """Elastic energy stored in the contacts (J)."""
-        g = np.clip(self.gn, 0.0, None)   # the integral of kernels.contact_law, vectorised
-        if self.law == 0:
-            return float(0.4 * self.k_hertz * np.sum(g**2.5))
-        return float(0.5 * self.k_lin * np.sum(g * g))
+        """Elastic energy stored in the contacts (J), from the penetrations at the current time."""
+        return K.contact_potential(self.gn, self.law, self.k_lin, self.k_hertz)
 
     def energies(self):
         """Energy ledger in J: kinetic, strain, contact potential, work done by the supports,

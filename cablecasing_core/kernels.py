@@ -255,6 +255,17 @@ def contact_law(g, law, k_lin, k_hertz):
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
+def contact_potential(g, law, k_lin, k_hertz):
+    """Elastic energy (J) stored in contacts of penetrations g (m, one per cable node): the integral
+    of :func:`contact_law`, 2/5 k_hertz g^5/2 (Hertz) or k_lin g^2 / 2 (linear), zero for g <= 0."""
+    e = 0.0
+    for i in range(g.shape[0]):
+        if g[i] > 0.0:
+            e += 0.4 * k_hertz * g[i] * g[i] * np.sqrt(g[i]) if law == 0 else 0.5 * k_lin * g[i] * g[i]
+    return e
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
 def line_plane_intersection(ia, ib, p0, p1, p2):
     """Eq. (39): (l, u, v) of the intersection of the line ia + (ib - ia) l with the plane
     p0 + (p1 - p0) u + (p2 - p0) v. Returns l = nan for a line parallel to the plane. (The search
