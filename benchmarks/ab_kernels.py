@@ -11,6 +11,7 @@ compiles both (~1.5 min).
 
 Run:  git archive HEAD cablecasing_core | tar -x -C /tmp/A    (and the change into /tmp/B)
       .venv/bin/python benchmarks/ab_kernels.py /tmp/A /tmp/B [--duration 1.0] [--no-contact] [--no-record]
+                                               [--step 1e-4]   (FMU-like calls: per-call costs)
 """
 import argparse
 import atexit
@@ -43,6 +44,23 @@ def load(root, name):
     return mod
 
 
+def fmu_like(kinematics, eng, motion, h):
+    """advance(duration): what the FMU does per communication step h (s), without fmpy: the
+    scenario sampled at the step's start, the support reconstruction, one Engine.advance, the
+    outputs read."""
+    rec = kinematics.SupportReconstruction(12)
+    read = getattr(eng, "output_values", eng.outputs)
+
+    def advance(duration):
+        for _ in range(int(round(duration / h))):
+            u, v, a = motion(np.array([eng.time]))
+            m = rec.motion(eng.time, h, u[0], v[0], a[0])
+            eng.advance(h, m)
+            rec.accept(m)
+            read()
+    return advance
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("a")
@@ -50,6 +68,10 @@ def main():
     p.add_argument("--duration", type=float, default=1.0, help="simulated time per tree (s)")
     p.add_argument("--no-contact", action="store_true")
     p.add_argument("--no-record", action="store_true")
+    p.add_argument("--step", type=float, default=None,
+                   help="advance in calls of this many seconds as the FMU does (inputs sampled at the call's "
+                        "start, kinematics.SupportReconstruction, outputs read after each call); default: one "
+                        "call per chunk")
     args = p.parse_args()
     dt, chunk = 1e-5, 0.01
     runs = []
@@ -60,11 +82,17 @@ def main():
         model = cc.load_model()
         engine.Engine(model, dt=dt, ledger=False).advance(dt, scenario.scenario_motion(model))   # numba
         eng = engine.Engine(model, dt=dt, contact=not args.no_contact, ledger=False, record=not args.no_record)
-        runs.append((eng, scenario.scenario_motion(model, dt=dt, duration=args.duration), []))
+        motion = scenario.scenario_motion(model, dt=dt, duration=args.duration)
+        if args.step:
+            motion = fmu_like(importlib.import_module(f"{name}.kinematics"), eng, motion, args.step)
+        runs.append((eng, motion, []))
     for k in range(int(round(args.duration / chunk))):
         for eng, motion, walls in (runs if k % 2 == 0 else runs[::-1]):
             t0 = time.perf_counter()
-            eng.advance(chunk, motion)
+            if args.step:
+                motion(chunk)
+            else:
+                eng.advance(chunk, motion)
             walls.append(time.perf_counter() - t0)
     ta, tb = (np.array(r[2]) for r in runs)
     r = tb / ta
