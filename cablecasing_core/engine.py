@@ -204,7 +204,7 @@ class Engine:
         self._hist = []
         self._ws = K.contact_workspace(len(self.Xc))
         self._allocate_state()
-        self._call_args = {}            # dt -> the step loop's arguments that do not change between calls
+        self._call_args = {}            # (dt, settings) -> the step loop's arguments (see _run)
         self._no_record = (np.zeros((1, 24)), np.zeros(2, np.int64), np.zeros(1, np.int32), np.zeros(1, np.int8),
                            np.zeros(1), np.zeros(1))
         self.reset()
@@ -316,9 +316,13 @@ class Engine:
                    np.empty(cap), np.empty(cap))
         else:
             rec = self._no_record
-        args = self._call_args.get(dt)
-        if args is None:        # the arrays are never rebound (see _allocate_state): built once per dt
-            args = self._call_args[dt] = (
+        # the arrays are never rebound (see _allocate_state), so the arguments are built once per
+        # time step and setting (a changed attribute, e.g. contact, builds them anew)
+        key = (dt, self.contact, self.ledger_on, self.record, self.law, self.k_lin, self.k_hertz, self.c_n, self.mu,
+               self.v_stick, self.gap, self.r_in, self.r_cable)
+        args = self._call_args.get(key)
+        if args is None:
+            args = self._call_args[key] = (
                 *self._args(dt), self.contact, self.Xc, self.Tc, self.Xs, self.Rs, self.Ls, self.gap, self.r_in,
                 self.r_cable, self.law, self.k_lin, self.k_hertz, self.c_n, self.mu, self.v_stick,
                 self.cstate, self.celem, self.cxi, self.Pn, self.vrel, self.Nn, self.gn, self.fcs, self.fcc,
