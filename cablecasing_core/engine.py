@@ -403,10 +403,8 @@ class Engine:
 
     def outputs(self):
         """Current outputs ``{name: value}`` for the names in :data:`OUTPUTS` (N, N.m, m, J)."""
-        out = dict(zip(SUPPORT_OUTPUTS, self.reac.tolist()))
-        out["contact.active"] = int(np.count_nonzero(self.cstate != K.OPEN))
-        out["contact.max_penetration"] = float(self.gn.max()) if len(self.gn) else 0.0
-        out["contact.dissipated_energy"] = float(-self.ledger[4] - self.contact_potential())
+        out = dict(zip(OUTPUTS, self.output_values().tolist()))
+        out["contact.active"] = int(out["contact.active"])
         return out
 
     def history(self, sparse=False):

@@ -50,6 +50,14 @@ def taylor_target(u, v, a, h):
     return u + v * h + (0.5 * h * h) * a, v + a * h, a.copy()
 
 
+def _step_size(h):
+    """h (s) as a float, checked: a communication step must be a positive number of seconds."""
+    h = float(h)
+    if not (np.isfinite(h) and h > 0):
+        raise ValueError(f"h = {h!r}: the step must be a positive number of seconds")
+    return h
+
+
 def _taylor_matrix(h):
     """E(h) with [u1; v1; a1] = E [u; v; a]: :func:`taylor_target` as a 3 x 3 matrix."""
     return np.array([[1.0, h, 0.5 * h * h], [0.0, 1.0, h], [0.0, 0.0, 1.0]])
@@ -82,9 +90,7 @@ class QuinticStep:
     """
 
     def __init__(self, t0, h, start, end):
-        h = float(h)
-        if not (np.isfinite(h) and h > 0):
-            raise ValueError(f"h = {h!r}: the step must be a positive number of seconds")
+        h = _step_size(h)
         rows = np.concatenate([np.asarray(start, dtype=float), np.asarray(end, dtype=float)])
         self._setup(float(t0), h, rows, _coefficient_matrix(h))
 
@@ -132,15 +138,13 @@ class SupportReconstruction:
     def motion(self, t0, h, u, v, a):
         """The :class:`QuinticStep` from the current support state to the Taylor target of the
         inputs (u, v, a) given at ``t0`` (s) over the step ``h`` (s)."""
-        h = float(h)
         if h != self._h:          # a master usually keeps its communication step: cache per h
-            if not (np.isfinite(h) and h > 0):
-                raise ValueError(f"h = {h!r}: the step must be a positive number of seconds")
+            h = _step_size(h)
             self._h, self._E, self._G = h, _taylor_matrix(h), _coefficient_matrix(h)
         rows = np.empty((6, self.state.shape[1]))
         rows[:3] = self.state
         np.matmul(self._E, (u, v, a), out=rows[3:])
-        return QuinticStep.from_rows(float(t0), h, rows, self._G)
+        return QuinticStep.from_rows(float(t0), self._h, rows, self._G)
 
     def accept(self, motion):
         """Advance the support state to the end of ``motion`` (after the engine took the step)."""
