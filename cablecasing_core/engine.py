@@ -78,6 +78,28 @@ def diagonal_storage(A, b):
     return D
 
 
+def support_rows(M, K, pres, b):
+    """Rows of M and K (dense, half-bandwidth b) of the prescribed DOFs over their band, for the
+    reactions (Eq. 13): sup[q, 0] = M[pres[q], lo[q]:lo[q] + w], sup[q, 1] the same of K, w = 2b + 1
+    (at most n), lo[q] = pres[q] - b moved inside the matrix. Returns (sup, lo)."""
+    n = M.shape[0]
+    w = min(2 * b + 1, n)
+    lo = np.clip(np.asarray(pres, np.int64) - b, 0, n - w)
+    sup = np.zeros((len(pres), 2, w))
+    for q, (p, j0) in enumerate(zip(pres, lo)):
+        sup[q, 0] = M[p, j0:j0 + w]
+        sup[q, 1] = K[p, j0:j0 + w]
+    return sup, lo
+
+
+def coupling_triplets(K, pres, free):
+    """The nonzero entries of K_fp, the stiffness between the free DOFs and the prescribed ones
+    (N/m): (idx, val) with idx[0] the free row, idx[1] the prescribed DOF's index into pres."""
+    sub = K[np.ix_(free, pres)]
+    r, q = np.nonzero(sub)
+    return np.array([np.asarray(free)[r], q], np.int64).reshape(2, -1), sub[r, q].copy()
+
+
 class _Body:
     """Matrices in diagonal storage, factorisations and state of one body (plain arrays for the
     kernels)."""
@@ -115,6 +137,8 @@ class _Body:
             pchan.append(6 * bi + 3 * s + comp if comp < 3 else -1)
         self.pchan = np.array(pchan, np.int64)
         self.pslot = np.array(pslot, np.int64)
+        self.sup, self.sup_lo = support_rows(Md, Kd, self.pres, b)
+        self.cpl_i, self.cpl_v = coupling_triplets(Kd, self.pres, free)
         self._factors = {}
         self.U = np.zeros(n)
         self.V = np.zeros(n)
@@ -299,11 +323,12 @@ class Engine:
                         0, 0, 0, 0, 0.0, 0.0,
                         b.U if b else z, b.V if b else z.copy(), b.A if b else z.copy(),
                         b.pres if b else i0, b.pchan if b else i0, b.pslot if b else i0,
-                        np.zeros((len(b.U), len(b.U))) if b else np.zeros((1, 1))]   # nothing responds
+                        np.zeros((len(b.U), len(b.U))) if b else np.zeros((1, 1)),   # nothing responds
+                        np.zeros((0, 2, 1)), i0, np.zeros((2, 0), np.int64), np.zeros(0)]
                 continue
             Dinv, L, LT, inv = b.factors(dt, self.contact)
             out += [True, b.Md, b.Kd, Dinv, L, LT, b.g0, b.ng, b.f0, b.nf, b.alpha, b.beta, b.U, b.V, b.A,
-                    b.pres, b.pchan, b.pslot, inv]
+                    b.pres, b.pchan, b.pslot, inv, b.sup, b.sup_lo, b.cpl_i, b.cpl_v]
         return out
 
     def _run(self, dt, up, vp, ap, times):

@@ -66,48 +66,69 @@ def fill(dst, value):
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def dia_product(Ad, yp, r0, nr, out):
     """out[i - r0] += sum_j A[i, j] y[j] for rows i = r0 .. r0+nr-1 (yp padded)."""
-    # slices indexed from 0 let numba drop the negative-index checks, so the loops vectorise; four
-    # diagonals per pass over out cut its loads and stores (the loop's limit) to a quarter
+    # the loop is bound by its loads: eight diagonals per pass over out (then four, three, one) cut
+    # the loads and stores of out to an eighth, and each pass's setup is paid fewer times; slices
+    # indexed from 0 let numba drop the negative-index checks, so the loops vectorise
     nd = Ad.shape[0]
     k = 0
-    while k + 4 <= nd:
+    while k + 8 <= nd:
         a0, a1, a2, a3 = Ad[k, r0:r0 + nr], Ad[k + 1, r0:r0 + nr], Ad[k + 2, r0:r0 + nr], Ad[k + 3, r0:r0 + nr]
-        u0, u1 = yp[r0 + k:r0 + k + nr], yp[r0 + k + 1:r0 + k + 1 + nr]
-        u2, u3 = yp[r0 + k + 2:r0 + k + 2 + nr], yp[r0 + k + 3:r0 + k + 3 + nr]
+        a4, a5, a6, a7 = Ad[k + 4, r0:r0 + nr], Ad[k + 5, r0:r0 + nr], Ad[k + 6, r0:r0 + nr], Ad[k + 7, r0:r0 + nr]
+        y = yp[r0 + k:r0 + k + nr + 7]
         for i in range(nr):
-            out[i] += (a0[i] * u0[i] + a1[i] * u1[i]) + (a2[i] * u2[i] + a3[i] * u3[i])
+            out[i] += (((a0[i] * y[i] + a1[i] * y[i + 1]) + (a2[i] * y[i + 2] + a3[i] * y[i + 3]))
+                       + ((a4[i] * y[i + 4] + a5[i] * y[i + 5]) + (a6[i] * y[i + 6] + a7[i] * y[i + 7])))
+        k += 8
+    if k + 4 <= nd:
+        a0, a1, a2, a3 = Ad[k, r0:r0 + nr], Ad[k + 1, r0:r0 + nr], Ad[k + 2, r0:r0 + nr], Ad[k + 3, r0:r0 + nr]
+        y = yp[r0 + k:r0 + k + nr + 3]
+        for i in range(nr):
+            out[i] += (a0[i] * y[i] + a1[i] * y[i + 1]) + (a2[i] * y[i + 2] + a3[i] * y[i + 3])
         k += 4
+    if k + 3 <= nd:
+        a0, a1, a2 = Ad[k, r0:r0 + nr], Ad[k + 1, r0:r0 + nr], Ad[k + 2, r0:r0 + nr]
+        y = yp[r0 + k:r0 + k + nr + 2]
+        for i in range(nr):
+            out[i] += (a0[i] * y[i] + a1[i] * y[i + 1]) + a2[i] * y[i + 2]
+        k += 3
     for k in range(k, nd):
         ak = Ad[k, r0:r0 + nr]
-        u = yp[r0 + k:r0 + k + nr]
+        y = yp[r0 + k:r0 + k + nr]
         for i in range(nr):
-            out[i] += ak[i] * u[i]
+            out[i] += ak[i] * y[i]
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def dia_rows(Md, Kd, x1, x2, rows, out):
-    """out[q] += sum_j M[i, j] x1[j] + K[i, j] x2[j] for the rows i = rows[q] (x1, x2 padded).
-    Diagonals outside, rows inside: the rows' sums are independent chains that overlap."""
-    for k in range(Md.shape[0]):
-        for q in range(len(rows)):
-            i = rows[q]
-            out[q] += Md[k, i] * x1[i + k] + Kd[k, i] * x2[i + k]
+def dot(x, y):
+    """sum_i x[i] y[i] in four interleaved partial sums, added as ((s0 + s1) + (s2 + s3)): a quarter
+    of the single chain's latency, and the same result in any process (the order is written out)."""
+    n = x.shape[0]
+    s0 = s1 = s2 = s3 = 0.0
+    i = 0
+    while i + 4 <= n:
+        s0 += x[i] * y[i]
+        s1 += x[i + 1] * y[i + 1]
+        s2 += x[i + 2] * y[i + 2]
+        s3 += x[i + 3] * y[i + 3]
+        i += 4
+    for i in range(i, n):
+        s0 += x[i] * y[i]
+    return (s0 + s1) + (s2 + s3)
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def dia_quadratic(Md, Kd, cm, ck, wp):
-    """w^T (cm M + ck K) w (e.g. the Rayleigh dissipation rate with cm = alpha, ck = beta; wp padded)."""
+def dia_quadratic(Md, Kd, cm, ck, wp, t):
+    """w^T (cm M + ck K) w (e.g. the Rayleigh dissipation rate with cm = alpha, ck = beta; wp padded),
+    as cm w.(M w) + ck w.(K w) with the products of :func:`dia_product`; t: scratch (2, n)."""
     b = (Md.shape[0] - 1) // 2
     n = Md.shape[1]
     w = wp[b:b + n]
-    s = 0.0
-    for k in range(Md.shape[0]):
-        mk = Md[k]
-        kk = Kd[k]
-        u = wp[k:k + n]
-        for i in range(n):
-            s += w[i] * (cm * mk[i] + ck * kk[i]) * u[i]
-    return s
+    tm, tk = t[0], t[1]
+    fill(tm, 0.0)
+    fill(tk, 0.0)
+    dia_product(Md, wp, 0, n, tm)
+    dia_product(Kd, wp, 0, n, tk)
+    return cm * dot(w, tm) + ck * dot(w, tk)
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
@@ -883,7 +904,8 @@ def contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks,
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def _predict(Md, Kd, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan, up, vp, ap, dt, y1, y2, r):
+def _predict(Md, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan, cpl_i, cpl_v, up, vp, ap, dt,
+             y1, r):
     """Contact-free Newmark predictor: prescribe the supports at t+dt (Eq. 13) and solve
     S_ff u_f = [M (c0 u + 2 c1 v + a) + C (c1 u + v)]_f - (coupling to the prescribed DOFs) for the
     free DOFs, S = K + c1 C + c0 M = ck K + cm M, C = alpha M + beta K, c0 = 4/dt^2, c1 = 2/dt,
@@ -892,9 +914,10 @@ def _predict(Md, Kd, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pc
     One matrix product instead of two: with z = beta (c1 u + v) on the free DOFs the stiffness part
     is K z = (S z - cm M z) / ck, so u_f = z_f / ck + S_ff^-1 ([M w]_f - [K_fp (u_p + beta v_p)]),
     w = c0 u + 2 c1 v + a + alpha (c1 u + v) - (cm / ck) z (free), -(a_p + alpha v_p) (prescribed).
-    The stiffness enters only through the coupling rows next to the supports. The solve runs over
-    the node blocks g0 .. g0+ng-1 that hold the free DOFs (prescribed DOFs among them are identity
-    rows with zero right-hand side). y1, y2 are padded scratch vectors, r has ng."""
+    The stiffness enters only through K_fp, the few free rows next to the supports, given as
+    triplets: row cpl_i[0, m], support cpl_i[1, m] (index into pres), value cpl_v[m] (N/m). The
+    solve runs over the node blocks g0 .. g0+ng-1 that hold the free DOFs (prescribed DOFs among
+    them are identity rows with zero right-hand side). y1 is a padded scratch vector, r has ng."""
     b = (Md.shape[0] - 1) // 2
     n = U.shape[0]
     c0 = 4.0 / (dt * dt)
@@ -906,33 +929,26 @@ def _predict(Md, Kd, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pc
     cv = 2 * c1 + alpha - q * beta
     for j in range(n):
         z1[j] = cu * U[j] + cv * V[j] + A[j]
-    for j in range(f0, f0 + min(2 * b, nf)):           # what the support rows below reach
-        y2[b + j] = 0.0
-    for j in range(max(f0 + nf - 2 * b, f0), f0 + nf):
-        y2[b + j] = 0.0
     for k in range(len(pres)):
         j = pres[k]
         ch = pchan[k]
         u, v, a = (up[ch], vp[ch], ap[ch]) if ch >= 0 else (0.0, 0.0, 0.0)
         U[j], V[j], A[j] = u, v, a
         y1[b + j] = -(a + alpha * v)
-        y2[b + j] = -(u + beta * v)
     for i in range(ng):
         r[i] = 0.0
     dia_product(Md, y1, g0, ng, r)
-    # K_fp (u_p + beta v_p): the free rows within the half-bandwidth of either end (the prescribed
-    # DOFs sit at the ends, outside f0 .. f0+nf-1), with y2 zero on the free DOFs they reach
-    if nf <= 2 * b:
-        dia_product(Kd, y2, f0, nf, r[f0 - g0:])
-    else:
-        dia_product(Kd, y2, f0, b, r[f0 - g0:])
-        dia_product(Kd, y2, f0 + nf - b, b, r[f0 + nf - b - g0:])
+    for m in range(cpl_v.shape[0]):       # - K_fp (u_p + beta v_p)
+        j = pres[cpl_i[1, m]]
+        r[cpl_i[0, m] - g0] -= cpl_v[m] * (U[j] + beta * V[j])
     for k in range(len(pres)):
         if g0 <= pres[k] < g0 + ng:
             r[pres[k] - g0] = 0.0
     block_solve(Dinv, L, LT, r)
-    for i in range(f0, f0 + nf):
-        U[i] = r[i - g0] + beta * (c1 * U[i] + V[i]) / ck
+    u, v, rf = U[f0:f0 + nf], V[f0:f0 + nf], r[f0 - g0:f0 - g0 + nf]
+    bk = beta / ck
+    for i in range(nf):
+        u[i] = rf[i] + bk * (c1 * u[i] + v[i])
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
@@ -987,32 +1003,41 @@ def _finish(f0, nf, U, V, A, Uo, Vo, Ao, dt):
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def _reactions(Md, Kd, alpha, beta, U, V, A, fc, pres, pslot, x1, x2, acc, out, off):
+def _reactions(sup, sup_lo, alpha, beta, U, V, A, fc, pres, pslot, out, off):
     """Force the body exerts on each support DOF: -(M a + C v + K u - f_contact) at the
-    prescribed DOFs (Eq. 13). Written into out[off + slot]; x1, x2 padded scratch, acc scratch
-    of len(pres)."""
-    b = (Md.shape[0] - 1) // 2
-    n = U.shape[0]
-    z1 = x1[b:b + n]
-    z2 = x2[b:b + n]
-    for j in range(n):
-        z1[j] = A[j] + alpha * V[j]
-        z2[j] = U[j] + beta * V[j]
+    prescribed DOFs (Eq. 13). sup[q, 0] and sup[q, 1] are the rows of M and K of DOF pres[q] over
+    the columns sup_lo[q] .. sup_lo[q] + w - 1 (its band), contiguous, so each reaction is one
+    short dot product. Written into out[off + pslot[q]]."""
+    w = sup.shape[2]
     for q in range(len(pres)):
-        acc[q] = -fc[pres[q]]
-    dia_rows(Md, Kd, x1, x2, pres, acc)
-    for q in range(len(pres)):
-        out[off + pslot[q]] = -acc[q]
+        j0 = sup_lo[q]
+        mr, kr = sup[q, 0], sup[q, 1]
+        u, v, a = U[j0:j0 + w], V[j0:j0 + w], A[j0:j0 + w]
+        sm = 0.0
+        sk = 0.0
+        for k in range(w):
+            sm += mr[k] * (a[k] + alpha * v[k])
+            sk += kr[k] * (u[k] + beta * v[k])
+        out[off + pslot[q]] = fc[pres[q]] - (sm + sk)
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def _work(U, Uo, f, fn, lo, hi):
-    """Trapezoidal work (J) of the forces f (old) and fn (new) over U - Uo on DOFs lo..hi-1."""
-    s = 0.0
+    """Trapezoidal work (J) of the forces f (old) and fn (new) over U - Uo on DOFs lo..hi-1 (four
+    partial sums, as in :func:`dot`)."""
     u, uo, a, an = U[lo:hi], Uo[lo:hi], f[lo:hi], fn[lo:hi]
-    for i in range(hi - lo):
-        s += 0.5 * (a[i] + an[i]) * (u[i] - uo[i])
-    return s
+    s0 = s1 = s2 = s3 = 0.0
+    n = hi - lo
+    i = 0
+    while i + 4 <= n:
+        s0 += (a[i] + an[i]) * (u[i] - uo[i])
+        s1 += (a[i + 1] + an[i + 1]) * (u[i + 1] - uo[i + 1])
+        s2 += (a[i + 2] + an[i + 2]) * (u[i + 2] - uo[i + 2])
+        s3 += (a[i + 3] + an[i + 3]) * (u[i + 3] - uo[i + 3])
+        i += 4
+    for i in range(i, n):
+        s0 += (a[i] + an[i]) * (u[i] - uo[i])
+    return 0.5 * ((s0 + s1) + (s2 + s3))
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
@@ -1025,10 +1050,10 @@ def _predicted_velocity(f0, nf, U, Uo, V, Vo, dt):
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def _body_ledger(Md, Kd, alpha, beta, U, Uo, V, Vo, pres, pslot, reac, reac_new, off, fc, fc_new,
-                 contact_on, ledger_on, y, dt, ledger):
+                 contact_on, ledger_on, y, t, dt, ledger):
     """One body's share of a step in the energy ledger (J), trapezoidal rule: work of its supports
     (reactions at slots off + pslot), work of the contact forces fc -> fc_new and, with ledger_on,
-    the Rayleigh dissipation (y: padded scratch)."""
+    the Rayleigh dissipation (y: padded scratch, t: scratch (2, n))."""
     for q in range(len(pres)):
         j = pres[q]
         ledger[0] += -0.5 * (reac[off + pslot[q]] + reac_new[off + pslot[q]]) * (U[j] - Uo[j])
@@ -1040,15 +1065,15 @@ def _body_ledger(Md, Kd, alpha, beta, U, Uo, V, Vo, pres, pslot, reac, reac_new,
         z = y[b:b + n]
         for i in range(n):
             z[i] = Vo[i] + V[i]
-        ledger[1] += 0.25 * dt * dia_quadratic(Md, Kd, alpha, beta, y)
+        ledger[1] += 0.25 * dt * dia_quadratic(Md, Kd, alpha, beta, y, t)
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def run_steps(t0, dt, up, vp, ap,
               s_on, sMd, sKd, sDi, sL, sLT, sg0, sng, sf0, snf, salpha, sbeta, sU, sV, sA, spres, spchan,
-              spslot, sKinv,
+              spslot, sKinv, ssup, ssup_lo, scpl_i, scpl_v,
               c_on, cMd, cKd, cDi, cL, cLT, cg0, cng, cf0, cnf, calpha, cbeta, cU, cV, cA, cpres, cpchan,
-              cpslot, cKinv,
+              cpslot, cKinv, csup, csup_lo, ccpl_i, ccpl_v,
               contact_on, Xc, Tc, Xs, Rs, Ls, gap, r_in, r_cable, law, k_lin, k_hertz, c_n, mu, v_stick,
               state, elem, xi_arr, Pn, vrel, Nn, gn, fcs, fcc, reac, ledger, contact_time, ledger_on, ws,
               rec_on, rec_F, rec_ptr, rec_node, rec_state, rec_N, rec_g, rec_off, info):
@@ -1085,12 +1110,12 @@ def run_steps(t0, dt, up, vp, ap,
     cb = (cMd.shape[0] - 1) // 2
     sUo, sVo, sAo = sU.copy(), sV.copy(), sA.copy()
     cUo, cVo, cAo = cU.copy(), cV.copy(), cA.copy()
-    sy1, sy2, sr = np.zeros(ns + 2 * sb), np.zeros(ns + 2 * sb), np.zeros(max(sng, 1))
-    cy1, cy2, cr = np.zeros(nc + 2 * cb), np.zeros(nc + 2 * cb), np.zeros(max(cng, 1))
+    sy1, sr = np.zeros(ns + 2 * sb), np.zeros(max(sng, 1))
+    cy1, cr = np.zeros(nc + 2 * cb), np.zeros(max(cng, 1))
+    sq, cq = np.zeros((2, ns)), np.zeros((2, nc))
     fcs_new, fcc_new = np.zeros(ns), np.zeros(nc)
     reac_new = np.zeros(24)
     jl = np.zeros(max(ns, nc), np.int64)
-    acc = np.zeros(max(len(spres), len(cpres), 1))
     diag = np.zeros(6)
     nn = Xc.shape[0]
     t = t0
@@ -1100,14 +1125,14 @@ def run_steps(t0, dt, up, vp, ap,
             copy_into(sUo, sU)
             copy_into(sVo, sV)
             copy_into(sAo, sA)
-            _predict(sMd, sKd, sDi, sL, sLT, sg0, sng, sf0, snf, salpha, sbeta, sU, sV, sA, spres, spchan,
-                     up[k], vp[k], ap[k], dt, sy1, sy2, sr)
+            _predict(sMd, sDi, sL, sLT, sg0, sng, sf0, snf, salpha, sbeta, sU, sV, sA, spres, spchan,
+                     scpl_i, scpl_v, up[k], vp[k], ap[k], dt, sy1, sr)
         if c_on:
             copy_into(cUo, cU)
             copy_into(cVo, cV)
             copy_into(cAo, cA)
-            _predict(cMd, cKd, cDi, cL, cLT, cg0, cng, cf0, cnf, calpha, cbeta, cU, cV, cA, cpres, cpchan,
-                     up[k], vp[k], ap[k], dt, cy1, cy2, cr)
+            _predict(cMd, cDi, cL, cLT, cg0, cng, cf0, cnf, calpha, cbeta, cU, cV, cA, cpres, cpchan,
+                     ccpl_i, ccpl_v, up[k], vp[k], ap[k], dt, cy1, cr)
         if contact_on:
             _predicted_velocity(sf0, snf, sU, sUo, sV, sVo, dt)
             _predicted_velocity(cf0, cnf, cU, cUo, cV, cVo, dt)
@@ -1130,10 +1155,10 @@ def run_steps(t0, dt, up, vp, ap,
                 return ERR_PENETRATION
         if s_on:
             _finish(sf0, snf, sU, sV, sA, sUo, sVo, sAo, dt)
-            _reactions(sMd, sKd, salpha, sbeta, sU, sV, sA, fcs_new, spres, spslot, sy1, sy2, acc, reac_new, 0)
+            _reactions(ssup, ssup_lo, salpha, sbeta, sU, sV, sA, fcs_new, spres, spslot, reac_new, 0)
         if c_on:
             _finish(cf0, cnf, cU, cV, cA, cUo, cVo, cAo, dt)
-            _reactions(cMd, cKd, calpha, cbeta, cU, cV, cA, fcc_new, cpres, cpslot, cy1, cy2, acc, reac_new, 12)
+            _reactions(csup, csup_lo, calpha, cbeta, cU, cV, cA, fcc_new, cpres, cpslot, reac_new, 12)
         # blow-up check on the cheap aggregates
         tot = 0.0
         for i in range(24):
@@ -1144,10 +1169,10 @@ def run_steps(t0, dt, up, vp, ap,
         # energy ledger (trapezoidal rule, consistent with the average-acceleration scheme)
         if s_on:
             _body_ledger(sMd, sKd, salpha, sbeta, sU, sUo, sV, sVo, spres, spslot, reac, reac_new, 0,
-                         fcs, fcs_new, contact_on, ledger_on, sy1, dt, ledger)
+                         fcs, fcs_new, contact_on, ledger_on, sy1, sq, dt, ledger)
         if c_on:
             _body_ledger(cMd, cKd, calpha, cbeta, cU, cUo, cV, cVo, cpres, cpslot, reac, reac_new, 12,
-                         fcc, fcc_new, contact_on, ledger_on, cy1, dt, ledger)
+                         fcc, fcc_new, contact_on, ledger_on, cy1, cq, dt, ledger)
         if contact_on:
             ledger[3] += 0.5 * dt * (ledger[6] + diag[3])
             ledger[5] += 0.5 * dt * (ledger[7] + diag[2])
