@@ -6,6 +6,9 @@ Run: .venv/bin/python benchmarks/bench_time.py [--duration 1.0] [--repeat 3]   (
 
 Speed: wall time of Engine.advance over the whole duration (support motion evaluated inside), the
 fastest of ``--repeat`` runs (the machine is shared; the spread is printed too).
+mean_active_contacts_by_tenth: the contacts per step in each tenth of the coupled run. The cost of a
+step grows with them, and a record can move from the usual ~2 contacts into a regime of ~5.5 for
+the rest of the run, which costs about twice as much per step (docs/performance.md).
 
 Accuracy (octave-band RMS of casing.B.Fz, Table 3, samples after 0.05 s):
 * octave_rms_max_rel_diff: dt = 1e-5 against dt = 2.5e-6, one record each (the issue's figure);
@@ -74,7 +77,12 @@ for contact, label in ((True, "coupled"), (False, "linear")):
     print(f"us_per_step_{label}_slowest_run: {max(walls) / steps * 1e6:.2f}")
     if contact:
         h = eng.history()
-        print(f"mean_active_contacts: {np.mean(np.count_nonzero(h['contact_state'], axis=1)):.3f}")
+        nc = np.count_nonzero(h['contact_state'], axis=1)
+        print(f"mean_active_contacts: {np.mean(nc):.3f}")
+        # the cost of a step grows with the contacts (Delassus O(n^2), Newton on 3n unknowns), and a
+        # record can settle into a regime with many more of them (see docs/performance.md)
+        print("mean_active_contacts_by_tenth:", " ".join(f"{x:.2f}" for x in
+                                                       (c.mean() for c in np.array_split(nc, 10))))
         its, passes, failed = eng.solver_counts
         print(f"contact_newton_iterations_per_step: {its / steps:.3f}")
         print(f"contact_stick_slip_passes_per_step: {passes / steps:.3f}")

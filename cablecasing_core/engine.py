@@ -371,14 +371,21 @@ class Engine:
             self._hist.append((rec[0], rec[1]) + tuple(x[:m].copy() for x in rec[2:]))
         self.time = float(info[0])
 
+    CHUNK = 2048   # steps per evaluation of the support motion (see advance)
+
     def advance(self, h, motion):
         """Integrate from ``self.time`` to ``self.time + h`` (s) with the support ``motion``
-        (callable t -> (u, v, a), each (len(t), 12), in m, m/s, m/s2 over ``CHANNELS``)."""
+        (callable t -> (u, v, a), each (len(t), 12), in m, m/s, m/s2 over ``CHANNELS``; a function
+        of t alone, evaluated in chunks of :attr:`CHUNK` steps).
+
+        The motion is evaluated chunk by chunk, so its arrays stay small and in cache whatever the
+        duration (1 s at dt = 1e-5 in one piece would be 29 MB of motion alone, and faulting them
+        in cost ~10 % of the step loop's time). Bad input (a non-finite or misshaped motion, or an
+        error raised by ``motion``) in any chunk leaves the engine as it was before the call: a
+        later chunk's error restores the state (:meth:`snapshot`) and drops that call's recorded
+        history. A blow-up (:class:`SimulationError`) stops at the step where it happens."""
         if isinstance(h, bool) or not isinstance(h, (int, float)) or not np.isfinite(h) or h <= 0:
             raise ModelError("h", h, "the step must be a positive number of seconds")
-        if self.time == 0.0 and not self.ledger.any():
-            kin, strain = (sum(x) for x in zip(*(b.energy() for b in self.bodies.values())))
-            self.ledger[2] = kin + strain + self.contact_potential()   # energy at the start
         n = int(np.floor(h / self.dt * (1 + 1e-12)))
         rest = h - n * self.dt
         segments = []
@@ -386,15 +393,31 @@ class Engine:
             segments.append((self.dt, n))
         if rest > 1e-9 * self.dt:
             segments.append((rest, 1))
-        t = self.time
-        for dt, m in segments:
-            times = t + dt * np.arange(1, m + 1)
-            u, v, a = (np.ascontiguousarray(x, dtype=float) for x in motion(times))
-            for x in (u, v, a):
-                if x.shape != (m, len(CHANNELS)):
-                    raise ModelError("motion", x.shape, f"must return arrays of shape ({m}, {len(CHANNELS)})")
-            self._run(dt, u, v, a, times)      # (non-finite motion is refused there, before any step)
-            t = self.time
+        snap = self.snapshot() if n > self.CHUNK else None     # roll-back for an error in a later chunk
+        nhist = len(self._hist)
+        try:
+            if self.time == 0.0 and not self.ledger.any():
+                kin, strain = (sum(x) for x in zip(*(b.energy() for b in self.bodies.values())))
+                self.ledger[2] = kin + strain + self.contact_potential()   # energy at the start
+            for dt, m in segments:
+                t = self.time
+                for j0 in range(0, m, self.CHUNK):
+                    j1 = min(m, j0 + self.CHUNK)
+                    times = t + dt * np.arange(j0 + 1, j1 + 1)     # as if evaluated in one piece
+                    u, v, a = (np.ascontiguousarray(x, dtype=float) for x in motion(times))
+                    for x in (u, v, a):
+                        if x.shape != (j1 - j0, len(CHANNELS)):
+                            raise ModelError("motion", x.shape,
+                                             f"must return arrays of shape ({j1 - j0}, {len(CHANNELS)})")
+                    self._run(dt, u, v, a, times)  # (non-finite motion is refused there, before any step)
+                self.time = float(t + m * dt)
+        except SimulationError:
+            raise
+        except BaseException:
+            if snap is not None:
+                self.restore(snap)
+                del self._hist[nhist:]
+            raise
 
     # -------------------------------------------------------------------------------- outputs
     def contact_potential(self):

@@ -265,6 +265,38 @@ def test_bad_time_inputs():
     assert all(np.array_equal(before[k], after[k]) for k in before)
 
 
+def test_advance_in_chunks_is_invariant_and_bad_late_input_changes_nothing():
+    """advance evaluates the motion in chunks of Engine.CHUNK steps: the result does not depend on
+    the chunk size (the motion is a function of t), and a non-finite motion in a later chunk leaves
+    state and recorded history as they were before the call (nothing half-written)."""
+    m = _pair_model(friction=0.2, damping=50.0)
+    runs = []
+    for chunk in (10**9, 64):
+        eng = Engine(m, dt=2e-5, record=True)
+        eng.CHUNK = chunk
+        _kick(eng, 0.3)
+        eng.advance(0.01, zero_motion)                   # 500 steps: one chunk, or 8
+        runs.append(eng)
+    one, cut = runs
+    assert one.outputs() == cut.outputs() and one.time == cut.time
+    h1, h2 = one.history(), cut.history()
+    assert all(np.array_equal(h1[k], h2[k]) for k in h1)
+    assert np.count_nonzero(h1["contact_state"]) > 0                 # contact took part
+
+    t_bad = cut.time + 0.005
+
+    def late_nan(t):
+        u, v, a = zero_motion(t)
+        a[t > t_bad, 1] = np.inf                         # from step 250 on: the 4th chunk of 64
+        return u, v, a
+    before = cut.get_state()
+    with pytest.raises(cc.ModelError, match="casing.A.y acceleration"):
+        cut.advance(0.01, late_nan)
+    after = cut.get_state()
+    assert all(np.array_equal(before[k], after[k]) for k in before)
+    assert cut.time == one.time and all(np.array_equal(h2[k], cut.history()[k]) for k in h2)
+
+
 def test_ledger_closes_under_support_excitation():
     """Default scenario (random casing motion + 50 Hz cable axial), contact off: the supports' work
     equals the stored energy plus the Rayleigh dissipation (Newmark's discrete energy identity)."""
