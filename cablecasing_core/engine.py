@@ -393,7 +393,9 @@ class Engine:
             segments.append((self.dt, n))
         if rest > 1e-9 * self.dt:
             segments.append((rest, 1))
-        snap = self.snapshot() if n > self.CHUNK else None     # roll-back for an error in a later chunk
+        # roll-back for an error in a later chunk (the shorter last substep is a chunk of its own)
+        chunks = sum(-(-m // self.CHUNK) for _, m in segments)
+        snap = self.snapshot() if chunks > 1 else None
         nhist = len(self._hist)
         try:
             if self.time == 0.0 and not self.ledger.any():

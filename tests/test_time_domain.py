@@ -295,6 +295,16 @@ def test_advance_in_chunks_is_invariant_and_bad_late_input_changes_nothing():
     after = cut.get_state()
     assert all(np.array_equal(before[k], after[k]) for k in before)
     assert cut.time == one.time and all(np.array_equal(h2[k], cut.history()[k]) for k in h2)
+    t_end = cut.time + 64 * 2e-5 + 1e-5                  # one full chunk, then the shorter last substep
+
+    def bad_last_substep(t):
+        u, v, a = zero_motion(t)
+        a[t > t_end - 5e-6, 1] = np.inf
+        return u, v, a
+    with pytest.raises(cc.ModelError, match="casing.A.y acceleration"):
+        cut.advance(64 * 2e-5 + 1e-5, bad_last_substep)
+    after = cut.get_state()
+    assert all(np.array_equal(before[k], after[k]) for k in before)
 
 
 def test_ledger_closes_under_support_excitation():
