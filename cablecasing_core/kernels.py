@@ -326,9 +326,14 @@ def _chord(x0, x1, x2, t0, t1, t2, Xs, Ls, Us, e):
     """The normal plane of a cable node (point x, tangent t of any length) against the chord of
     casing element e between its deformed nodes (Eqs. 37, 39): (den, xi, reach). xi = num/den is
     where the plane cuts the chord (no cut when den = 0); reach (m) bounds the node's distance from
-    the element's Hermite axis at that cut from above: the distance from the chord plus L/4
-    (|rot_a| + |rot_b|), which bounds how far the axis departs from the chord."""
+    the element's Hermite axis at that cut from above (to first order in the rotations, as the
+    axis itself): the distance from the chord plus the most the axis can depart from it. In the
+    element's axes the departure is N2 (theta_a - psi) + N4 (theta_b - psi), bending components
+    only, psi = e0 x (u_b - u_a) / L the chord's rotation (e0 the element's direction, N2, N4 the
+    Hermite slope functions of Eq. 9, |N2| + |N4| <= L/4): a rigidly moving element does not
+    depart from its chord however far it turns."""
     o = 6 * e
+    L = Ls[e]
     a0, a1, a2 = Xs[e, 0] + Us[o], Xs[e, 1] + Us[o + 1], Xs[e, 2] + Us[o + 2]
     b0, b1, b2 = Xs[e + 1, 0] + Us[o + 6], Xs[e + 1, 1] + Us[o + 7], Xs[e + 1, 2] + Us[o + 8]
     den = (b0 - a0) * t0 + (b1 - a1) * t1 + (b2 - a2) * t2
@@ -336,9 +341,16 @@ def _chord(x0, x1, x2, t0, t1, t2, Xs, Ls, Us, e):
     xi = num / den
     dl = ((a0 + xi * (b0 - a0) - x0) ** 2 + (a1 + xi * (b1 - a1) - x1) ** 2
           + (a2 + xi * (b2 - a2) - x2) ** 2)
-    ra = np.sqrt(Us[o + 3] ** 2 + Us[o + 4] ** 2 + Us[o + 5] ** 2)
-    rb = np.sqrt(Us[o + 9] ** 2 + Us[o + 10] ** 2 + Us[o + 11] ** 2)
-    return den, xi, np.sqrt(dl) + 0.25 * Ls[e] * (ra + rb)
+    e0, e1, e2 = (Xs[e + 1, 0] - Xs[e, 0]) / L, (Xs[e + 1, 1] - Xs[e, 1]) / L, (Xs[e + 1, 2] - Xs[e, 2]) / L
+    u0, u1, u2 = Us[o + 6] - Us[o], Us[o + 7] - Us[o + 1], Us[o + 8] - Us[o + 2]
+    p0, p1, p2 = (e1 * u2 - e2 * u1) / L, (e2 * u0 - e0 * u2) / L, (e0 * u1 - e1 * u0) / L   # psi
+    # |theta - psi| without the twist (psi has none: it is normal to e0), at either end
+    w0, w1, w2 = Us[o + 3] - p0, Us[o + 4] - p1, Us[o + 5] - p2
+    v0, v1, v2 = Us[o + 9] - p0, Us[o + 10] - p1, Us[o + 11] - p2
+    tw, tv = w0 * e0 + w1 * e1 + w2 * e2, v0 * e0 + v1 * e1 + v2 * e2
+    ba = np.sqrt(max(w0 * w0 + w1 * w1 + w2 * w2 - tw * tw, 0.0))
+    bb = np.sqrt(max(v0 * v0 + v1 * v1 + v2 * v2 - tv * tv, 0.0))
+    return den, xi, np.sqrt(dl) + 0.25 * L * (ba + bb)
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
@@ -480,7 +492,7 @@ def contact_workspace(nn):
             z(nn, 6, 12), z(nn, 6, 3), z(nn, 12, 3), z(m, m), z(m, m), z(m), z(m), z(m), z(m),
             z(nn, 3), z(nn, 3), np.zeros(max(nn, 1), np.int64), z(nn, 3), z(nn), z(nn),
             np.zeros(max(nn, 1), np.bool_), z(6), z(m), np.zeros(max(nn, 1), np.bool_),
-            np.zeros(max(nn, 1), np.bool_))
+            np.zeros(max(nn, 1), np.bool_), z(m, m), z(m), z(m), np.zeros(max(nn, 1) + 1, np.int64), z(nn))
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
@@ -494,152 +506,189 @@ def _relative_displacement(W, P, m, d):
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
-def _residual(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, touch, P, law, k_lin, k_hertz, c_n, mu,
-              dt, J, R, d, Ne, Nd, with_J):
-    """Residual R (and, with_J, its Jacobian J) of the contact conditions of :func:`_newton` at the
-    forces P; d = W P. Stick rows (m/s) are scaled by 1 / (2/dt W_kk) and touch rows (m) by 1 / W_kk
-    to newtons like the others. Returns the norm of R (N)."""
-    m = 3 * nk
-    c2 = 2.0 / dt
-    _relative_displacement(W, P, m, d)
-    norm = 0.0
+def _unknowns(nk, nrm, ta, tb, mode, active, P, off, x):
+    """The unknowns x of the contact solve and their offsets off[k] .. off[k + 1] - 1, from the
+    forces P (N, 3 per contact). The force of each contact k is a linear map of its unknowns:
+      slip (one unknown, N):          P_k = -N (n + mu s)    (Coulomb, Eqs. 18-23),
+      stick (three, N, f_a, f_b):     P_k = -N n + f_a t_a + f_b t_b,
+      inactive (none):                P_k = 0,
+    so a slip contact, the usual case, costs one unknown instead of three. Returns their number r."""
+    r = 0
+    for k in range(nk):
+        off[k] = r
+        if not active[k]:
+            continue
+        o = 3 * k
+        x[r] = -(P[o] * nrm[k, 0] + P[o + 1] * nrm[k, 1] + P[o + 2] * nrm[k, 2])
+        r += 1
+        if mode[k] == STICK:
+            x[r] = P[o] * ta[k, 0] + P[o + 1] * ta[k, 1] + P[o + 2] * ta[k, 2]
+            x[r + 1] = P[o] * tb[k, 0] + P[o + 1] * tb[k, 1] + P[o + 2] * tb[k, 2]
+            r += 2
+    off[nk] = r
+    return r
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def _forces(nk, nrm, ta, tb, sdir, mu, off, x, P):
+    """P (N, 3 per contact) from the unknowns x: the map of :func:`_unknowns`."""
     for k in range(nk):
         o = 3 * k
-        if not active[k]:
-            for row in range(3):
-                R[o + row] = P[o + row]
-                if with_J:
-                    for col in range(m):
-                        J[o + row, col] = 0.0
-                    J[o + row, o + row] = 1.0
-            norm += P[o] ** 2 + P[o + 1] ** 2 + P[o + 2] ** 2
-            continue
-        n0, n1, n2 = nrm[k, 0], nrm[k, 1], nrm[k, 2]
-        dn = n0 * d[o] + n1 * d[o + 1] + n2 * d[o + 2]
-        g = gst[k] + dn
-        gd = gdst[k] + c2 * dn
-        pn = P[o] * n0 + P[o + 1] * n1 + P[o + 2] * n2
-        wkk = 0.0
-        for r in range(3):
-            wkk = max(wkk, W[o + r, o + r])
-        if touch[k]:
-            # the step ends just touching: g = 0, N = -P.n free (0 <= N <= c_n g_dot, checked by
-            # the caller); dN/dP = -n for the friction rows
-            N = -pn
-            Ne[k], Nd[k] = 0.0, N
-            sc = 1.0 / wkk if wkk > 0.0 else 1.0
-            R[o] = sc * g
-            if with_J:
-                for col in range(m):
-                    J[o, col] = sc * (n0 * W[o, col] + n1 * W[o + 1, col] + n2 * W[o + 2, col])
+        i = off[k]
+        nu = off[k + 1] - i
+        if nu == 0:
+            P[o], P[o + 1], P[o + 2] = 0.0, 0.0, 0.0
+        elif nu == 1:
+            for c in range(3):
+                P[o + c] = -x[i] * (nrm[k, c] + mu * sdir[k, c])
         else:
-            # the law (Eqs. 24/29) and the damper while compressing (Eq. 16), continuous in P;
+            for c in range(3):
+                P[o + c] = -x[i] * nrm[k, c] + x[i + 1] * ta[k, c] + x[i + 2] * tb[k, c]
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def _reduced_delassus(W, nk, nrm, ta, tb, sdir, mu, off, Q):
+    """Q = O W C (r x r): how the observed relative displacements (m) of the contact points respond
+    to the unknowns (N). C maps the unknowns to the forces (:func:`_forces`); the observations are,
+    per contact, the normal displacement n.d (one per unknown N) and, for a stick contact, the
+    tangential ones t_a.d and t_b.d (one per friction unknown)."""
+    for k in range(nk):
+        for a in range(off[k + 1] - off[k]):
+            t = nrm[k] if a == 0 else (ta[k] if a == 1 else tb[k])
+            row = off[k] + a
+            for l in range(nk):
+                nu = off[l + 1] - off[l]
+                if nu == 0:
+                    continue
+                o, ol = 3 * k, 3 * l
+                w0 = t[0] * W[o, ol] + t[1] * W[o + 1, ol] + t[2] * W[o + 2, ol]
+                w1 = t[0] * W[o, ol + 1] + t[1] * W[o + 1, ol + 1] + t[2] * W[o + 2, ol + 1]
+                w2 = t[0] * W[o, ol + 2] + t[1] * W[o + 1, ol + 2] + t[2] * W[o + 2, ol + 2]
+                wn = w0 * nrm[l, 0] + w1 * nrm[l, 1] + w2 * nrm[l, 2]
+                if nu == 1:
+                    Q[row, off[l]] = -(wn + mu * (w0 * sdir[l, 0] + w1 * sdir[l, 1] + w2 * sdir[l, 2]))
+                else:
+                    Q[row, off[l]] = -wn
+                    Q[row, off[l] + 1] = w0 * ta[l, 0] + w1 * ta[l, 1] + w2 * ta[l, 2]
+                    Q[row, off[l] + 2] = w0 * tb[l, 0] + w1 * tb[l, 1] + w2 * tb[l, 2]
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def _residual(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt,
+              J, R, y, Ne, Nd, with_J):
+    """Residual R (and, with_J, its Jacobian J) of the contact conditions of :func:`_newton` at the
+    unknowns x; y = Q x, the observed relative displacements (m). Normal rows are in newtons; stick
+    rows (m/s) are scaled by 1 / (2/dt W_kk) and touch rows (m) by 1 / W_kk to newtons like them.
+    Returns the norm of R (N)."""
+    c2 = 2.0 / dt
+    for i in range(r):
+        s = 0.0
+        for j in range(r):
+            s += Q[i, j] * x[j]
+        y[i] = s
+    norm = 0.0
+    for k in range(nk):
+        i = off[k]
+        nu = off[k + 1] - i
+        if nu == 0:
+            continue
+        g = gst[k] + y[i]
+        if touch[k]:
+            # the step ends just touching: g = 0 with N free (0 <= N <= c_n g_dot, checked by the
+            # caller)
+            Ne[k], Nd[k] = 0.0, x[i]
+            sc = 1.0 / wkk[k] if wkk[k] > 0.0 else 1.0
+            R[i] = sc * g
+            if with_J:
+                for j in range(r):
+                    J[i, j] = sc * Q[i, j]
+        else:
+            # the law (Eqs. 24/29) and the damper while compressing (Eq. 16), continuous in x;
             # the caller checks g > 0 at the solution
+            gd = gdst[k] + c2 * y[i]
             fe, ke = contact_law(g, law, k_lin, k_hertz)
             fd = c_n * gd if gd > 0.0 else 0.0
-            N = fe + fd
             gam = ke + (c_n * c2 if gd > 0.0 else 0.0)
             Ne[k], Nd[k] = fe, fd
-            R[o] = pn + N
+            R[i] = fe + fd - x[i]
             if with_J:
-                for col in range(m):                       # dN/dP = gam n^T W
-                    J[o, col] = gam * (n0 * W[o, col] + n1 * W[o + 1, col] + n2 * W[o + 2, col])
-                J[o, o] += n0
-                J[o, o + 1] += n1
-                J[o, o + 2] += n2
-        for row in range(1, 3):
-            t = ta[k] if row == 1 else tb[k]
-            pt = P[o] * t[0] + P[o + 1] * t[1] + P[o + 2] * t[2]
-            if mode[k] == STICK:
-                # tangential relative velocity at the end of the step; a direction with no compliance
-                # at all (a contact at a clamped node) admits any force and zero is taken
-                ttw = 0.0
-                for r in range(3):
-                    for c in range(3):
-                        ttw += t[r] * W[o + r, o + c] * t[c]
-                if ttw <= 1e-13 * wkk or wkk == 0.0:
-                    R[o + row] = pt
-                    if with_J:
-                        for col in range(m):
-                            J[o + row, col] = 0.0
-                        for c in range(3):
-                            J[o + row, o + c] = t[c]
-                else:
-                    sc = 1.0 / (c2 * wkk)
-                    R[o + row] = sc * (t[0] * wst[k, 0] + t[1] * wst[k, 1] + t[2] * wst[k, 2]
-                                       + c2 * (t[0] * d[o] + t[1] * d[o + 1] + t[2] * d[o + 2]))
-                    if with_J:
-                        for col in range(m):
-                            J[o + row, col] = sc * c2 * (t[0] * W[o, col] + t[1] * W[o + 1, col] + t[2] * W[o + 2, col])
-            elif touch[k]:
-                st = sdir[k, 0] * t[0] + sdir[k, 1] * t[1] + sdir[k, 2] * t[2]
-                R[o + row] = pt + mu * N * st
+                for j in range(r):                       # dN/dx = gam dg/dx
+                    J[i, j] = gam * Q[i, j]
+                J[i, i] -= 1.0
+        norm += R[i] * R[i]
+        for a in range(1, nu):
+            # stick: the tangential relative velocity at the end of the step vanishes; a direction
+            # with no compliance at all (a contact at a clamped node) admits any force and zero is
+            # taken
+            ia = i + a
+            t = ta[k] if a == 1 else tb[k]
+            if Q[ia, ia] <= 1e-13 * wkk[k] or wkk[k] == 0.0:
+                R[ia] = x[ia]
                 if with_J:
-                    for col in range(m):
-                        J[o + row, col] = 0.0
-                    for c in range(3):
-                        J[o + row, o + c] = t[c] - mu * st * nrm[k, c]
+                    for j in range(r):
+                        J[ia, j] = 0.0
+                    J[ia, ia] = 1.0
             else:
-                st = sdir[k, 0] * t[0] + sdir[k, 1] * t[1] + sdir[k, 2] * t[2]
-                R[o + row] = pt + mu * N * st
+                sc = 1.0 / (c2 * wkk[k])
+                R[ia] = sc * (t[0] * wst[k, 0] + t[1] * wst[k, 1] + t[2] * wst[k, 2] + c2 * y[ia])
                 if with_J:
-                    for col in range(m):
-                        J[o + row, col] = mu * st * J[o, col]
-                    for c in range(3):
-                        J[o + row, o + c] += t[c] - mu * st * nrm[k, c]
-        norm += R[o] ** 2 + R[o + 1] ** 2 + R[o + 2] ** 2
+                    for j in range(r):
+                        J[ia, j] = sc * c2 * Q[ia, j]
+            norm += R[ia] * R[ia]
     return np.sqrt(norm)
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
-def _newton(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, touch, P, law, k_lin, k_hertz, c_n, mu, dt,
-            J, R, dP, d, Ne, Nd, Pt):
-    """Contact forces P (3 per contact, on the cable, N) at the end of a Newmark step, for fixed
-    stick/slip modes and active set.
+def _newton(Q, r, nk, off, active, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt,
+            J, R, dx, y, Ne, Nd, xt):
+    """Contact forces at the end of a Newmark step for fixed stick/slip modes and active set, as
+    the unknowns x of :func:`_unknowns` (N).
 
-    The relative displacement of each contact point responds linearly to the forces through the
-    Delassus matrix W (m/N, from the effective stiffness of both bodies): delta = W P. With the
+    The relative displacement of the contact points responds linearly to the forces through the
+    Delassus matrix W (m/N, from the effective stiffness of both bodies): delta = W P, and so the
+    observed displacements to the unknowns through Q = O W C (:func:`_reduced_delassus`). With the
     predicted penetration g* and rates (contact-free step), each active contact k satisfies
-      normal (Eqs. 15-17, 24/29): P.n = -N,  N = law(max(g, 0)) + c_n max(g_dot, 0);
-      touch (touch[k]):  g = 0 with N = -P.n free: the step in which the implicit damper alone
-        would push the bodies apart past the surface (Eq. 16's switch at g = 0, read as a set);
+      normal (Eqs. 15-17, 24/29): N = law(max(g, 0)) + c_n max(g_dot, 0), g = g* + n.delta,
+        g_dot = g_dot* + 2/dt n.delta;
+      touch (touch[k]):  g = 0 with N free: the step in which the implicit damper alone would push
+        the bodies apart past the surface (Eq. 16's switch at g = 0, read as a set);
       stick (Eqs. 18-23): the tangential relative velocity at the end of the step is zero;
-      slip (Coulomb):    P_t = -mu N s, s the unit slip direction;
-    an inactive contact carries no force. The caller keeps a contact in the law only while g > 0
-    and in touch only while 0 <= N <= c_n g_dot. Newton iterations (semi-smooth at the max()) from the
-    given P, with a backtracking line search on |R|: near g = 0 the Hertz law's slope vanishes and
-    full steps can cycle across the kink. At most 15 iterations: a stick that needs more friction
-    than mu N has no solution here, and the caller switches it to slip. Returns the number of iterations, negative when not
-    converged; Ne, Nd hold the elastic and damping parts of N at the final P."""
-    m = 3 * nk
+      slip (Coulomb):    P_t = -mu N s, s the unit slip direction: built into P's map, no equation;
+    an inactive contact has no unknown and no force. The caller keeps a contact in the law only
+    while g > 0 and in touch only while 0 <= N <= c_n g_dot. Newton iterations (semi-smooth at the
+    max()) from the given x, with a backtracking line search on |R|: near g = 0 the Hertz law's
+    slope vanishes and full steps can cycle across the kink. At most 15 iterations: a stick that
+    needs more friction than mu N has no solution here, and the caller switches it to slip.
+    Returns the number of iterations, negative when not converged; Ne, Nd hold the elastic and
+    damping parts of N at the final x."""
     its = -15
-    r0 = _residual(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, touch, P, law, k_lin, k_hertz, c_n, mu, dt,
-                   J, R, d, Ne, Nd, True)
+    r0 = _residual(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt,
+                   J, R, y, Ne, Nd, True)
     for it in range(15):
-        for i in range(m):
+        for i in range(r):
             R[i] = -R[i]
-        _dense_solve(J, R, m, dP)
+        _dense_solve(J, R, r, dx)
         scale = 1e-30
         step = 0.0
-        for i in range(m):
-            scale = max(scale, abs(P[i]))
-            step = max(step, abs(dP[i]))
+        for i in range(r):
+            scale = max(scale, abs(x[i]))
+            step = max(step, abs(dx[i]))
         alpha = 1.0
         for ls in range(12):
-            for i in range(m):
-                Pt[i] = P[i] + alpha * dP[i]
-            r1 = _residual(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, touch, Pt, law, k_lin, k_hertz, c_n,
-                           mu, dt, J, R, d, Ne, Nd, False)
+            for i in range(r):
+                xt[i] = x[i] + alpha * dx[i]
+            r1 = _residual(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, xt, law, k_lin, k_hertz, c_n, dt,
+                           J, R, y, Ne, Nd, False)
             if r1 <= (1.0 - 1e-4 * alpha) * r0 or r1 <= 1e-13 * max(scale, 1.0):
                 break
             alpha *= 0.5
-        for i in range(m):
-            P[i] = Pt[i]
+        for i in range(r):
+            x[i] = xt[i]
         if alpha * step <= 1e-12 * max(scale, 1e-30) or r1 <= 1e-13 * max(scale, 1.0):
-            its = it + 1          # R, d, Ne, Nd already belong to P (the last trial point)
+            its = it + 1          # Ne, Nd already belong to x (the last trial point)
             break
-        r0 = _residual(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, touch, P, law, k_lin, k_hertz, c_n,
-                       mu, dt, J, R, d, Ne, Nd, True)
+        r0 = _residual(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt,
+                       J, R, y, Ne, Nd, True)
     for k in range(nk):
         if not active[k]:
             Ne[k] = 0.0
@@ -689,7 +738,7 @@ def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks,
              state, elem, xi_arr, Pn, vrel, Nout, gout, fcc, fcs, diag, ws):
     """contact_step with its scratch arrays ``ws`` (:func:`contact_workspace`)."""
     (idx, gst, gdst, wst, nrm, arm_c, arm_s, Hs, Bc, Gs, W, J, R, dP, P, d,
-     ta, tb, mode, sdir, Ne, Nd, active, tmp, Pt, touch, skip) = ws
+     ta, tb, mode, sdir, Ne, Nd, active, tmp, Pt, touch, skip, Q, x, y, off, wkk) = ws
     nn = Xc.shape[0]
     nk = 0
     c2 = 2.0 / dt
@@ -795,9 +844,16 @@ def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks,
             P[3 * k + c] = Pn[i, c] if state[i] != OPEN else 0.0
         active[k] = True
         touch[k] = False
+    for k in range(nk):
+        o = 3 * k
+        wkk[k] = max(W[o, o], W[o + 1, o + 1], W[o + 2, o + 2])
     for outer in range(8):
-        its = _newton(W, nk, gst, gdst, wst, nrm, ta, tb, mode, sdir, active, touch, P, law, k_lin, k_hertz,
-                      c_n, mu, dt, J, R, dP, d, Ne, Nd, Pt)
+        r = _unknowns(nk, nrm, ta, tb, mode, active, P, off, x)
+        _reduced_delassus(W, nk, nrm, ta, tb, sdir, mu, off, Q)
+        its = _newton(Q, r, nk, off, active, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n,
+                      dt, J, R, dP, y, Ne, Nd, Pt)
+        _forces(nk, nrm, ta, tb, sdir, mu, off, x, P)
+        _relative_displacement(W, P, m, d)
         diag[4] += abs(its)
         diag[5] += 1
         if its < 0:

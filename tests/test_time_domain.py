@@ -163,6 +163,38 @@ def test_contact_search_exact_intersection(shape):
         assert abs((point - x1) @ t1) < 1e-12
 
 
+def test_far_test_never_claims_a_node_closer_than_the_hermite_axis_is():
+    """The search's cheap exit (far: certainly nearer than far_below to the deformed axis) must bound
+    the distance to the Hermite axis from above. The axis departs from the chord between the
+    deformed nodes also when the ends' rotations differ from the chord's own turn psi (an element
+    whose ends move apart sideways with no rotation is an S-curve): 0.096 L psi = 1e-5 m here."""
+    model = straight(0.4, 8, supports=("clamped", "clamped"))
+    cl = centerline_of(model)
+    rng = np.random.default_rng(5)
+    worst = 0.0
+    for trial in range(400):
+        Us = np.zeros(6 * len(cl.nodes))
+        e = int(rng.integers(1, cl.n_elements - 1))
+        Us[6 * e + 6:6 * e + 9] = 2e-4 * rng.standard_normal(3)            # lateral offset: psi ~ 4e-3
+        if trial % 2:
+            Us[6 * e:6 * e + 12] += 1e-3 * rng.standard_normal(12) * np.repeat([1e-1, 1.0, 1e-1, 1.0], 3)
+        x1 = cl.nodes[e] + rng.uniform(0.1, 0.9) * (cl.nodes[e + 1] - cl.nodes[e])
+        x1 += 4e-5 * np.r_[0.0, rng.standard_normal(2)]
+        t1 = cl.frames[e][0]
+        ee, xi, far = K.search_casing(x1, t1, cl.nodes, cl.frames, cl.lengths, Us, e, -1.0)
+        h = np.linalg.norm(x1 - K.casing_point(cl.nodes, cl.frames, cl.lengths, Us, ee, xi))
+        # claimed nearer than h - 1e-9 m: the bound holds to first order in the rotations, whose
+        # second-order terms here are ~L theta^2 ~ 1e-9 m
+        _, _, far = K.search_casing(x1, t1, cl.nodes, cl.frames, cl.lengths, Us, e, h - 1e-9)
+        assert not far, (trial, h)
+        # the same bound without psi (chord distance + L/4 (|theta_a| + |theta_b|)) fails on some
+        a, b = cl.nodes[e] + Us[6 * e:6 * e + 3], cl.nodes[e + 1] + Us[6 * e + 6:6 * e + 9]
+        chord = np.linalg.norm(a + ((x1 - a) @ t1) / ((b - a) @ t1) * (b - a) - x1)
+        rot = np.linalg.norm(Us[6 * e + 3:6 * e + 6]) + np.linalg.norm(Us[6 * e + 9:6 * e + 12])
+        worst = max(worst, h - chord - 0.25 * cl.lengths[e] * rot)
+    assert worst > 5e-6          # so the trials do reach the nodes that need psi
+
+
 def test_contact_forces_balance_force_and_moment():
     m = _pair_model(friction=0.3)
     eng = Engine(m, dt=2e-5, contact=True)
