@@ -223,40 +223,43 @@ def axis_point(Xs, Rs, Ls, Us, e, xi):
     return _axis_at(Xs, Rs, Ls, e, xi, _element_dofs(Rs, Us, e))
 
 
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def _frame_block(H, r0, c0, a, b, g, e0, e1, e2):
+    """H[r0:r0+3, c0:c0+3] = a I + b e e^T + g [e]x (e a unit vector, [e]x v = e x v)."""
+    H[r0, c0], H[r0, c0 + 1], H[r0, c0 + 2] = a + b * e0 * e0, b * e0 * e1 - g * e2, b * e0 * e2 + g * e1
+    H[r0 + 1, c0], H[r0 + 1, c0 + 1], H[r0 + 1, c0 + 2] = b * e1 * e0 + g * e2, a + b * e1 * e1, b * e1 * e2 - g * e0
+    H[r0 + 2, c0], H[r0 + 2, c0 + 1], H[r0 + 2, c0 + 2] = b * e2 * e0 - g * e1, b * e2 * e1 + g * e0, a + b * e2 * e2
+
+
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def hermite_matrix(xi, L, R, H):
     """Global 6x12 interpolation matrix H of a straight beam element at xi in [0, 1], written into H.
 
     Maps the element's 12 global DOFs to [ux uy uz rx ry rz] (global) at xi: Hermite cubics for
     the lateral displacements and the bending rotations (their slopes), linear for axial and twist;
-    the shape functions of Eq. (9). R (3x3) is the element's direction-cosine matrix:
-    H = diag(R^T, R^T) H_local diag(R, R, R, R). The consistent nodal load of a point force F and
-    moment Mo at xi is H^T [F; Mo]; it keeps the resultant and the moment of the load, because the
-    shape functions reproduce rigid-body motion exactly.
+    the shape functions of Eq. (9). R (3x3) is the element's direction-cosine matrix (rows: its
+    local axes in global, right-handed): H = diag(R^T, R^T) H_local diag(R, R, R, R). Each local
+    3x3 block is diag(axial, lateral, lateral) or lateral times the cross product with the local x
+    axis, so each global block is a I + b e e^T + g [e]x with e = R[0] the element's direction,
+    written directly (no products with R). The consistent nodal load of a point force F and moment
+    Mo at xi is H^T [F; Mo]; it keeps the resultant and the moment of the load, because the shape
+    functions reproduce rigid-body motion exactly.
     """
     x2 = xi * xi
     x3 = x2 * xi
     N1, N2, N3, N4 = 1 - 3 * x2 + 2 * x3, L * (xi - 2 * x2 + x3), 3 * x2 - 2 * x3, L * (-x2 + x3)
     D1, D2, D3, D4 = (-6 * xi + 6 * x2) / L, 1 - 4 * xi + 3 * x2, (6 * xi - 6 * x2) / L, -2 * xi + 3 * x2
-    H[:, :] = 0.0
-    H[0, 0], H[0, 6] = 1 - xi, xi
-    H[1, 1], H[1, 5], H[1, 7], H[1, 11] = N1, N2, N3, N4
-    H[2, 2], H[2, 4], H[2, 8], H[2, 10] = N1, -N2, N3, -N4
-    H[3, 3], H[3, 9] = 1 - xi, xi
-    H[4, 2], H[4, 4], H[4, 8], H[4, 10] = -D1, D2, -D3, D4
-    H[5, 1], H[5, 5], H[5, 7], H[5, 11] = D1, D2, D3, D4
-    for r in range(6):                        # right: each 3-column block times R
-        for blk in range(4):
-            c0 = 3 * blk
-            h0, h1, h2 = H[r, c0], H[r, c0 + 1], H[r, c0 + 2]
-            for c in range(3):
-                H[r, c0 + c] = h0 * R[0, c] + h1 * R[1, c] + h2 * R[2, c]
-    for c in range(12):                       # left: each 3-row half by R^T
-        for half in range(2):
-            r0 = 3 * half
-            h0, h1, h2 = H[r0, c], H[r0 + 1, c], H[r0 + 2, c]
-            for r in range(3):
-                H[r0 + r, c] = R[0, r] * h0 + R[1, r] * h1 + R[2, r] * h2
+    e0, e1, e2 = R[0, 0], R[0, 1], R[0, 2]
+    # displacement rows: u = (1-xi) u_a e + N1 u_a,lat - N2 e x th_a + (same for b with N3, N4)
+    _frame_block(H, 0, 0, N1, 1 - xi - N1, 0.0, e0, e1, e2)
+    _frame_block(H, 0, 3, 0.0, 0.0, -N2, e0, e1, e2)
+    _frame_block(H, 0, 6, N3, xi - N3, 0.0, e0, e1, e2)
+    _frame_block(H, 0, 9, 0.0, 0.0, -N4, e0, e1, e2)
+    # rotation rows: the slopes of the lateral displacement (e x u' terms) and linear twist
+    _frame_block(H, 3, 0, 0.0, 0.0, D1, e0, e1, e2)
+    _frame_block(H, 3, 3, D2, 1 - xi - D2, 0.0, e0, e1, e2)
+    _frame_block(H, 3, 6, 0.0, 0.0, D3, e0, e1, e2)
+    _frame_block(H, 3, 9, D4, xi - D4, 0.0, e0, e1, e2)
 
 
 # ------------------------------------------------------------------------------------------------

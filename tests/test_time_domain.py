@@ -195,6 +195,35 @@ def test_far_test_never_claims_a_node_closer_than_the_hermite_axis_is():
     assert worst > 5e-6          # so the trials do reach the nodes that need psi
 
 
+def test_hermite_matrix_is_the_rotated_local_interpolation_and_moves_rigidly():
+    """H (6x12, global) against diag(R^T, R^T) H_local diag(R, R, R, R) built from the shape
+    functions of Eq. (9) by matrix products, and against rigid-body motion, which the shape
+    functions reproduce exactly (tolerance: rounding of entries up to 1/L ~ 30)."""
+    from scipy.linalg import block_diag
+    rng = np.random.default_rng(11)
+    for _ in range(10):
+        R, _ = np.linalg.qr(rng.standard_normal((3, 3)))
+        R[2] *= np.sign(np.linalg.det(R))                       # right-handed, as element_frames
+        xi, L = rng.random(), 0.035
+        N1, N2, N3, N4 = 1 - 3 * xi**2 + 2 * xi**3, L * (xi - 2 * xi**2 + xi**3), 3 * xi**2 - 2 * xi**3, L * (xi**3 - xi**2)
+        D1, D2, D3, D4 = 6 * (xi**2 - xi) / L, 1 - 4 * xi + 3 * xi**2, 6 * (xi - xi**2) / L, 3 * xi**2 - 2 * xi
+        Hl = np.zeros((6, 12))
+        Hl[0, [0, 6]] = 1 - xi, xi                                                     # axial
+        Hl[1, [1, 5, 7, 11]] = N1, N2, N3, N4                                          # v, from theta_z
+        Hl[2, [2, 4, 8, 10]] = N1, -N2, N3, -N4                                        # w, from -theta_y
+        Hl[3, [3, 9]] = 1 - xi, xi                                                     # twist
+        Hl[4, [2, 4, 8, 10]] = -D1, D2, -D3, D4                                        # theta_y = -w'
+        Hl[5, [1, 5, 7, 11]] = D1, D2, D3, D4                                          # theta_z = v'
+        H = np.full((6, 12), np.nan)
+        K.hermite_matrix(xi, L, R, H)
+        np.testing.assert_allclose(H, block_diag(R.T, R.T) @ Hl @ block_diag(R, R, R, R), rtol=0, atol=1e-12)
+        c, w = rng.standard_normal(3) * 1e-4, rng.standard_normal(3) * 1e-3            # rigid motion
+        Xa = rng.standard_normal(3)
+        Xb, X = Xa + L * R[0], Xa + xi * L * R[0]
+        q = np.r_[c + np.cross(w, Xa), w, c + np.cross(w, Xb), w]
+        np.testing.assert_allclose(H @ q, np.r_[c + np.cross(w, X), w], rtol=0, atol=1e-15)
+
+
 def test_contact_forces_balance_force_and_moment():
     m = _pair_model(friction=0.3)
     eng = Engine(m, dt=2e-5, contact=True)
