@@ -700,13 +700,14 @@ def _newton(Q, r, nk, off, active, touch, gst, gdst, wst, ta, tb, wkk, x, law, k
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
-def _compliance_block(Kinv, dof_k, Bk, dof_l, Bl, W, ok, ol):
+def _compliance_block(Kinv, dof_k, Bk, dof_l, Bl, W, ok, ol, nq):
     """W[ok:ok+3, ol:ol+3] += Bk^T Kinv[dofs_k, dofs_l] Bl: one body's part of a 3x3 Delassus block.
     Bk, Bl map a contact force to generalized forces on the DOFs from dof_k, dof_l; Kinv is the
-    effective compliance over all DOFs (zero on the prescribed ones, which do not respond)."""
-    nq = Bl.shape[0]
+    effective compliance over all DOFs (zero on the prescribed ones, which do not respond). nq: the
+    rows of Bk and Bl, 6 (a cable node) or 12 (a casing element), passed as a literal so that the
+    loops unroll once inlined (0.3 of 7.0 us per contact solve at 4.6 contacts)."""
     w00 = w01 = w02 = w10 = w11 = w12 = w20 = w21 = w22 = 0.0
-    for p in range(Bk.shape[0]):
+    for p in range(nq):
         row = Kinv[dof_k + p, dof_l:dof_l + nq]
         t0 = t1 = t2 = 0.0
         for q in range(nq):
@@ -828,8 +829,8 @@ def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks,
         for l in range(k, nk):
             il = idx[l]
             el = elem[il]
-            _compliance_block(Kc, 6 * ik, Bc[k], 6 * il, Bc[l], W, 3 * k, 3 * l)   # cable
-            _compliance_block(Ks, 6 * ek, Gs[k], 6 * el, Gs[l], W, 3 * k, 3 * l)   # casing
+            _compliance_block(Kc, 6 * ik, Bc[k], 6 * il, Bc[l], W, 3 * k, 3 * l, 6)   # cable
+            _compliance_block(Ks, 6 * ek, Gs[k], 6 * el, Gs[l], W, 3 * k, 3 * l, 12)   # casing
             if l != k:
                 for r in range(3):
                     for c in range(3):
