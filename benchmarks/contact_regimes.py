@@ -3,8 +3,11 @@ where the cable lies along the wall (~5.5 contacts per step instead of ~2, docs/
 
 For seeds 1..N of ``scenario.excitation.casing_random.seed`` (everything else default), a record of
 ``--duration`` s at dt = 1e-5 s; prints per seed the mean contacts per step in each tenth of the
-record, the wall time per step (µs; ``--workers`` processes share the machine, so indicative only)
-and HIGH when a tenth exceeds 4 contacts per step; then the share of such records.
+record, the wall time per step (µs) and HIGH when a tenth exceeds 4 contacts per step; then the share
+of such records and the speed read over seeds: the median and quartiles of the wall time per step,
+rtf_median_over_seeds (simulated seconds per wall second at the median) and the median of each
+regime. With ``--workers 1`` the records run one after another on one core, as bench_time.py's;
+with 2 the two processes share the machine and the times are indicative only.
 Run: .venv/bin/python benchmarks/contact_regimes.py [--seeds 24] [--duration 1.0] [--workers 2]
 """
 import argparse
@@ -38,11 +41,18 @@ if __name__ == "__main__":
     p.add_argument("--workers", type=int, default=2)
     args = p.parse_args()
     run((1, 0.01))                       # numba cache
-    high = 0
+    walls = {False: [], True: []}
     with get_context("spawn").Pool(args.workers) as pool:
         for seed, tenths, us in pool.imap(run, [(s, args.duration) for s in range(1, args.seeds + 1)]):
             flag = max(tenths) > 4.0
-            high += flag
+            walls[flag].append(us)
             print(f"seed {seed}: contacts by tenth {' '.join(f'{x:.2f}' for x in tenths)}  us_per_step {us:.1f}"
                   + ("  HIGH" if flag else ""))
-    print(f"records_with_many_contacts: {high} of {args.seeds}")
+    print(f"records_with_many_contacts: {len(walls[True])} of {args.seeds}")
+    every = walls[False] + walls[True]
+    q1, med, q3 = np.percentile(every, [25, 50, 75])
+    print(f"us_per_step_median_over_seeds: {med:.2f} (quartiles {q1:.2f} {q3:.2f}; workers {args.workers})")
+    print(f"rtf_median_over_seeds: {1e-5 / (med * 1e-6):.3f}")
+    for flag, name in ((False, "usual"), (True, "many_contacts")):
+        if walls[flag]:
+            print(f"us_per_step_median_{name}: {np.median(walls[flag]):.2f} ({len(walls[flag])} records)")
