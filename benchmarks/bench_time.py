@@ -79,8 +79,9 @@ for contact, label in ((True, "coupled"), (False, "linear")):
         h = eng.history()
         nc = np.count_nonzero(h['contact_state'], axis=1)
         print(f"mean_active_contacts: {np.mean(nc):.3f}")
-        # the cost of a step grows with the contacts (Delassus O(n^2), Newton on 3n unknowns), and a
-        # record can settle into a regime with many more of them (see docs/performance.md)
+        # the cost of a step grows with the contacts (Delassus O(n^2); Newton on one unknown per
+        # slipping contact, three per sticking one), and a record can settle into a regime with many
+        # more of them (see docs/performance.md)
         print("mean_active_contacts_by_tenth:", " ".join(f"{x:.2f}" for x in
                                                        (c.mean() for c in np.array_split(nc, 10))))
         its, passes, failed = eng.solver_counts
