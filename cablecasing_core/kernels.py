@@ -594,6 +594,7 @@ def _residual(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, 
         i = off[k]
         nu = off[k + 1] - i
         if nu == 0:
+            Ne[k], Nd[k] = 0.0, 0.0       # inactive: no unknown, no force
             continue
         g = gst[k] + y[i]
         if touch[k]:
@@ -642,7 +643,7 @@ def _residual(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, 
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
-def _newton(Q, r, nk, off, active, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt,
+def _newton(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt,
             J, R, dx, y, Ne, Nd, xt):
     """Contact forces at the end of a Newmark step for fixed stick/slip modes and active set, as
     the unknowns x of :func:`_unknowns` (N).
@@ -692,10 +693,6 @@ def _newton(Q, r, nk, off, active, touch, gst, gdst, wst, ta, tb, wkk, x, law, k
             break
         r0 = _residual(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt,
                        J, R, y, Ne, Nd, True)
-    for k in range(nk):
-        if not active[k]:
-            Ne[k] = 0.0
-            Nd[k] = 0.0
     return its
 
 
@@ -854,7 +851,7 @@ def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks,
     for outer in range(8):
         r = _unknowns(nk, nrm, ta, tb, mode, active, P, off, x)
         _reduced_delassus(W, nk, nrm, ta, tb, sdir, mu, off, Q)
-        its = _newton(Q, r, nk, off, active, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n,
+        its = _newton(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n,
                       dt, J, R, dP, y, Ne, Nd, Pt)
         _forces(nk, nrm, ta, tb, sdir, mu, off, x, P)
         _relative_displacement(W, P, m, d)
@@ -905,7 +902,9 @@ def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks,
                     changed = True
         if not changed:
             break
-    _relative_displacement(W, P, m, d)   # of the final forces (a last pass may have opened a contact)
+    if changed:
+        # the passes ran out with a change: a contact the last pass opened still counts in d
+        _relative_displacement(W, P, m, d)
     gmax = 0.0
     for k in range(nk):
         i = idx[k]
