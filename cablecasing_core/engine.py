@@ -226,6 +226,7 @@ class Engine:
         self.law = 0 if c["law"] == "hertz" else 1
         self.k_lin, self.c_n, self.mu, self.v_stick = c["stiffness"], c["damping"], c["friction"], c["stick_velocity"]
         self._hist = []
+        self._snap = None                   # roll-back buffer of advance (see snapshot)
         self._ws = K.contact_workspace(len(self.Xc))
         self._allocate_state()
         self._call_args = {}            # (dt, settings) -> the step loop's arguments (see _run)
@@ -383,7 +384,9 @@ class Engine:
         in cost ~10 % of the step loop's time). Bad input (a non-finite or misshaped motion, or an
         error raised by ``motion``) in any chunk leaves the engine as it was before the call: a
         later chunk's error restores the state (:meth:`snapshot`) and drops that call's recorded
-        history. A blow-up (:class:`SimulationError`) stops at the step where it happens."""
+        history. So does a blow-up (:class:`SimulationError`, whose message says when, where and
+        what): the engine is then as it was before the call, and can be advanced again (e.g. by
+        a smaller step, or after :meth:`set_state`)."""
         if isinstance(h, bool) or not isinstance(h, (int, float)) or not np.isfinite(h) or h <= 0:
             raise ModelError("h", h, "the step must be a positive number of seconds")
         n = int(np.floor(h / self.dt * (1 + 1e-12)))
@@ -393,9 +396,9 @@ class Engine:
             segments.append((self.dt, n))
         if rest > 1e-9 * self.dt:
             segments.append((rest, 1))
-        # roll-back for an error in a later chunk (the shorter last substep is a chunk of its own)
-        chunks = sum(-(-m // self.CHUNK) for _, m in segments)
-        snap = self.snapshot() if chunks > 1 else None
+        # roll-back for a blow-up, or for bad input in a later chunk (the shorter last substep is a
+        # chunk of its own); the snapshot buffer is reused (two buffer copies per call)
+        self._snap = snap = self.snapshot(self._snap)
         nhist = len(self._hist)
         try:
             if self.time == 0.0 and not self.ledger.any():
@@ -413,12 +416,9 @@ class Engine:
                                              f"must return arrays of shape ({j1 - j0}, {len(CHANNELS)})")
                     self._run(dt, u, v, a, times)  # (non-finite motion is refused there, before any step)
                 self.time = float(t + m * dt)
-        except SimulationError:
-            raise
         except BaseException:
-            if snap is not None:
-                self.restore(snap)
-                del self._hist[nhist:]
+            self.restore(snap)
+            del self._hist[nhist:]
             raise
 
     # -------------------------------------------------------------------------------- outputs

@@ -128,7 +128,6 @@ class CableCasing(Fmi2Slave):
         self._out = np.zeros(len(OUTPUTS))
         self._out_dirty = False
         self._engine = None
-        self._saved = None                           # engine snapshot before the current step
         self._applied = None                         # the configuration the engine was built with
         self._recon = SupportReconstruction(NCH)
         self._start_time = 0.0
@@ -341,7 +340,6 @@ class CableCasing(Fmi2Slave):
             if over:
                 model = model.with_overrides(over)
             self._engine = Engine(model, dt=dt, ledger=False)
-            self._saved = None
         except cc.ModelError as exc:
             self._engine = None
             return self._block(f"invalid parameter {exc}", Fmi2Status.error)
@@ -384,11 +382,9 @@ class CableCasing(Fmi2Slave):
                      "each other (or restore an FMU state first)", Fmi2Status.discard)
             return False
         motion = self._recon.motion(eng.time, step_size, x[:NCH], x[NCH:2 * NCH], x[2 * NCH:])
-        self._saved = eng.snapshot(self._saved)        # for the roll-back (two buffer copies)
         try:
-            eng.advance(step_size, motion)
+            eng.advance(step_size, motion)           # on any error it leaves the engine as it was
         except Exception as exc:  # noqa: BLE001  (never raise into pythonfmu: that is fmi2Fatal)
-            eng.restore(self._saved)
             msg = f"step from t = {current_time:.9g} s over {step_size:.6g} s discarded (state rolled back): {exc}"
             if not isinstance(exc, cc.CableCasingError):
                 msg += "\n" + traceback.format_exc()

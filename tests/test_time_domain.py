@@ -1,4 +1,6 @@
 """Time domain: Newmark against the frequency domain and theory, energy, contact geometry and law."""
+import re
+
 import numpy as np
 import pytest
 
@@ -324,6 +326,51 @@ def test_bad_time_inputs():
         eng.advance(1e-4, nan_motion)
     after = eng.get_state()                      # refused before any step: nothing half-written
     assert all(np.array_equal(before[k], after[k]) for k in before)
+
+
+def test_blow_up_says_when_where_what_and_changes_nothing():
+    """A casing carried sideways (both supports, 0.5 m/s in z) past a cable clamped at rest, with a
+    contact too soft to resist (linear law, 1 N/m): at the clamped ends both axes are prescribed,
+    so the penetration there is exactly 0.5 t - gap, and it passes the cable radius at
+    t = (gap + r) / 0.5 m/s = 4 ms, within the step that follows. A support acceleration of
+    1e306 m/s2 (finite, so accepted) overflows the support forces. Either stops with an error
+    that names the time, the place and the value, and leaves the engine as before the call."""
+    m = _pair_model().with_overrides({"contact.law": "linear", "contact.stiffness": 1.0})
+    dt = 2e-5
+
+    def carried(t):
+        u, v, a = zero_motion(t)
+        for ch in ("casing.A.z", "casing.B.z"):
+            u[:, CHANNELS.index(ch)], v[:, CHANNELS.index(ch)] = 0.5 * t, 0.5
+        return u, v, a
+
+    def huge(t):
+        u, v, a = zero_motion(t)
+        a[:, CHANNELS.index("casing.A.y")] = 1e306
+        return u, v, a
+    for motion, where in ((carried, r"cable node (\d+)"), (huge, "the support forces")):
+        eng = Engine(m, dt=dt, record=True)
+        eng.advance(10 * dt, zero_motion)
+        eng.CHUNK = 64                            # the blow-up falls in a later chunk of the call
+        before, h0 = eng.get_state(), eng.history()
+        with pytest.raises(cc.SimulationError, match=where) as err:
+            eng.advance(0.01, motion)
+        after, h1 = eng.get_state(), eng.history()
+        assert all(np.array_equal(before[k], after[k]) for k in before)         # rolled back
+        assert all(np.array_equal(h0[k], h1[k]) for k in h0)
+        msg = str(err.value)
+        t_fail = float(msg.split("t = ")[1].split(" s")[0])
+        if motion is carried:
+            t_exact = (eng.gap + eng.r_cable) / 0.5          # the casing is at 0.5 t (m)
+            assert t_exact <= t_fail <= t_exact + dt * (1 + 1e-9)
+            assert int(re.search(where, msg).group(1)) in (0, len(eng.Xc) - 1)   # a clamped end
+            assert "exceeds the cable radius" in msg
+            pen = float(msg.split("penetration ")[1].split(" m")[0])
+            assert eng.r_cable < pen <= eng.r_cable + 0.5 * dt * 1.01
+        else:
+            assert "no longer finite" in msg and 10 * dt < t_fail <= 12 * dt   # first or second step
+        eng.advance(dt, zero_motion)                # and it can go on from where it was
+        assert eng.time == pytest.approx(11 * dt)
 
 
 def test_advance_in_chunks_is_invariant_and_bad_late_input_changes_nothing():
