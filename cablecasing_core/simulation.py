@@ -81,7 +81,9 @@ def simulate(model, duration=None, dt=None, contact=None, motion=None):
     h = eng.history()
     n = len(h["support_forces"])
     cl = eng.bodies[next(iter(eng.bodies))].system.centerline
-    return SimulationResult(time=dt * np.arange(1, n + 1), support_forces=h["support_forces"],
+    # the step ends; a duration that is not a whole number of steps ends with a shorter one
+    time = np.minimum(dt * np.arange(1, n + 1), eng.time)
+    return SimulationResult(time=time, support_forces=h["support_forces"],
                             contact_state=h["contact_state"], normal_force=h["normal_force"],
                             penetration=h["penetration"], contact_time=eng.contact_time.copy(),
                             curvature=cl.curvature, arc_length=cl.s, energies=eng.energies())

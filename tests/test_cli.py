@@ -2,6 +2,7 @@
 import json
 
 import numpy as np
+import pytest
 
 from cablecasing_core import load_model, natural_frequencies, trfam
 from cablecasing_core.cli import main
@@ -41,3 +42,30 @@ def test_simulate_cli_writes_csv(tmp_path, capsys):
     assert len(data) == 200 and "casingBFz_N" in data.dtype.names
     assert main(["simulate", "--duration", "-1"]) == 2
     assert "duration" in capsys.readouterr().err
+
+
+def test_simulate_cli_model_dt_npz_plot_and_blow_up(tmp_path, capsys):
+    """The CLI is a shell over cc.simulate: the same histories for the same model file and dt; a
+    duration that is not a whole number of steps ends on it; a blow-up exits with status 2 and the
+    error's when, where and what."""
+    import cablecasing_core as cc
+    model = load_model().with_overrides({"contact.friction": 0.1})
+    p = tmp_path / "m.toml"
+    p.write_text(model.to_toml())
+    out, png = tmp_path / "r.npz", tmp_path / "r.png"
+    assert main(["simulate", str(p), "--duration", "0.0030025", "--dt", "2e-5", "--out", str(out),
+                 "--plot", str(png)]) == 0
+    z = np.load(out)
+    ref = cc.simulate(model, duration=0.0030025, dt=2e-5)
+    assert len(z["time"]) == 151 and z["time"][-1] == 0.0030025 and z["time"][-2] == pytest.approx(0.003)
+    np.testing.assert_array_equal(z["support_forces"], ref.support_forces)
+    np.testing.assert_array_equal(z["contact_time"], ref.contact_time)
+    assert png.stat().st_size > 10_000
+    capsys.readouterr()
+    soft = model.with_overrides({"contact.law": "linear", "contact.stiffness": 1.0,
+                                 "scenario.excitation.cable_axial.amplitude": 0.0,
+                                 "scenario.excitation.casing_random.rms": 5000.0})
+    p.write_text(soft.to_toml())
+    assert main(["simulate", str(p), "--duration", "0.05"]) == 2
+    err = capsys.readouterr().err
+    assert "penetration" in err and "exceeds the cable radius" in err and "at t = " in err
