@@ -23,8 +23,7 @@ from cablecasing_core.scenario import scenario_motion
 
 def run(job):
     seed, duration = job
-    m = cc.load_model()
-    m.scenario["excitation"]["casing_random"]["seed"] = seed
+    m = cc.load_model().with_overrides({"scenario.excitation.casing_random.seed": seed})
     eng = Engine(m, dt=1e-5, ledger=False, record=True)
     motion = scenario_motion(m, dt=1e-5, duration=duration)
     t0 = time.perf_counter()
