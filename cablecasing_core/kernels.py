@@ -29,6 +29,16 @@ vectorised sums may depend on the arrays' alignment: a run is reproducible to th
 process (the FMU is checked against the core to 1e-12 on a chaotic contact run). Where a chain of
 dependent additions limits speed, the kernels split it explicitly (partial sums, trees of pairs).
 The small helpers of the contact solve are inlined into their callers (``inline="always"``).
+
+Reference counting: numba increments the reference count of every array a function receives on
+entry and decrements it on every exit (atomic operations, each a barrier for the memory pipeline).
+LLVM's pruning pass removes these pairs in small functions, but gives up on large ones: the
+contact solve (~50 arrays) paid ~100 atomic operations per step, the predictor and the ledger ~20
+each. The kernels the step loop calls that still had them, and never allocate, are compiled without
+the runtime (``NO_RT``); only the step loop allocates (its scratch, once per call). For the same
+reason no call inside the step loop passes 30 or more arguments: Python then passes them as one
+built tuple, whose every array numba counts around the call (~0.3 us per step before the
+contact solve took its law's scalars as one tuple).
 """
 from __future__ import annotations
 
@@ -41,6 +51,9 @@ OPEN, STICK, SLIP = 0, 1, 2
 OK, ERR_NAN, ERR_PENETRATION, ERR_SEARCH, ERR_INPUT = 0, 1, 2, 3, 4
 
 FM = {"contract", "nsz", "arcp"}
+# no runtime (reference counting, allocation) in kernels that allocate nothing: see the module's
+# docstring; numba documents the flag with register_jitable(_nrt=False)
+NO_RT = dict(cache=True, fastmath=FM, error_model="numpy", _nrt=False)
 TINY = 1e-200   # m, m/s, m/s2: states below this are flushed to zero (see _finish)
 
 
@@ -116,7 +129,7 @@ def dot(x, y):
     return (s0 + s1) + (s2 + s3)
 
 
-@njit(cache=True, fastmath=FM, error_model="numpy")
+@njit(**NO_RT)
 def dia_quadratic(Md, Kd, cm, ck, wp, t):
     """w^T (cm M + ck K) w (e.g. the Rayleigh dissipation rate with cm = alpha, ck = beta; wp padded),
     as cm w.(M w) + ck w.(K w) with the products of :func:`dia_product`; t: scratch (2, n)."""
@@ -733,11 +746,17 @@ def _compliance_block(Kinv, dof_k, Bk, dof_l, Bl, W, ok, ol, nq):
     W[ok + 2, ol + 2] += w22
 
 
-@njit(cache=True, fastmath=FM, error_model="numpy")
-def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks,
-             gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
+@njit(**NO_RT)
+def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, par,
              state, elem, xi_arr, Pn, vrel, Nout, gout, fcc, fcs, diag, ws):
-    """contact_step with its scratch arrays ``ws`` (:func:`contact_workspace`)."""
+    """contact_step with its scratch arrays ``ws`` (:func:`contact_workspace`) and the law's scalars
+    in one tuple, par = (gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt).
+
+    Fewer than 30 arguments on purpose: Python compiles a call with 30 or more positional
+    arguments as a call with a built tuple (CALL_FUNCTION_EX), and numba then increments and
+    decrements the reference count of every array in it around each call, ~100 atomic operations
+    (~0.3 us) per step."""
+    gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt = par
     (idx, gst, gdst, wst, nrm, arm_c, arm_s, Hs, Bc, Gs, W, J, R, dP, P, d,
      ta, tb, mode, sdir, Ne, Nd, active, tmp, Pt, touch, skip, Q, x, y, off, wkk) = ws
     nn = Xc.shape[0]
@@ -954,7 +973,7 @@ def contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks,
     if Newton failed, diag[2] and diag[3] = power dissipated (W) by contact damping (N_d g_dot) and
     by friction (-P_t . w_t); diag[4] and diag[5] count Newton iterations and stick/slip passes. Allocates its scratch arrays; the step loop reuses one set."""
     return _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks,
-                    gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
+                    (gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt),
                     state, elem, xi_arr, Pn, vrel, Nout, gout, fcc, fcs, diag, contact_workspace(len(Xc)))
 
 
@@ -962,9 +981,9 @@ def contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks,
 # Newmark (average acceleration, gamma = 1/2, beta = 1/4) for one body
 
 
-@njit(cache=True, fastmath=FM, error_model="numpy")
-def _predict(Md, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan, cpl_i, cpl_v, up, vp, ap, dt,
-             y1, r):
+@njit(**NO_RT)
+def _predict(Md, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan, cpl_i, cpl_v, up, vp, ap, row,
+             dt, y1, r):
     """Contact-free Newmark predictor: prescribe the supports at t+dt (Eq. 13) and solve
     S_ff u_f = [M (c0 u + 2 c1 v + a) + C (c1 u + v)]_f - (coupling to the prescribed DOFs) for the
     free DOFs, S = K + c1 C + c0 M = ck K + cm M, C = alpha M + beta K, c0 = 4/dt^2, c1 = 2/dt,
@@ -976,7 +995,8 @@ def _predict(Md, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan,
     The stiffness enters only through K_fp, the few free rows next to the supports, given as
     triplets: row cpl_i[0, m], support cpl_i[1, m] (index into pres), value cpl_v[m] (N/m). The
     solve runs over the node blocks g0 .. g0+ng-1 that hold the free DOFs (prescribed DOFs among
-    them are identity rows with zero right-hand side). y1 is a padded scratch vector, r has ng."""
+    them are identity rows with zero right-hand side). The supports move as row ``row`` of up, vp,
+    ap (m, m/s, m/s2, by channel). y1 is a padded scratch vector, r has ng."""
     b = (Md.shape[0] - 1) // 2
     n = U.shape[0]
     c0 = 4.0 / (dt * dt)
@@ -991,7 +1011,7 @@ def _predict(Md, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan,
     for k in range(len(pres)):
         j = pres[k]
         ch = pchan[k]
-        u, v, a = (up[ch], vp[ch], ap[ch]) if ch >= 0 else (0.0, 0.0, 0.0)
+        u, v, a = (up[row, ch], vp[row, ch], ap[row, ch]) if ch >= 0 else (0.0, 0.0, 0.0)
         U[j], V[j], A[j] = u, v, a
         y1[b + j] = -(a + alpha * v)
     for i in range(ng):
@@ -1115,7 +1135,7 @@ def _predicted_velocity(f0, nf, U, Uo, V, Vo, dt):
         v[i] = 2.0 / dt * (u[i] - uo[i]) - vo[i]
 
 
-@njit(cache=True, fastmath=FM, error_model="numpy")
+@njit(**NO_RT)
 def _body_ledger(Md, Kd, alpha, beta, U, Uo, V, Vo, pres, pslot, reac, reac_new, off, fc, fc_new,
                  contact_on, ledger_on, y, t, dt, ledger):
     """One body's share of a step in the energy ledger (J), trapezoidal rule: work of its supports
@@ -1184,6 +1204,7 @@ def run_steps(t0, dt, up, vp, ap,
     reac_new = np.zeros(24)
     jl = np.zeros(max(ns, nc), np.int64)
     diag = np.zeros(6)
+    cpar = (gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt)
     nn = Xc.shape[0]
     t = t0
     for k in range(nsteps):
@@ -1193,19 +1214,18 @@ def run_steps(t0, dt, up, vp, ap,
             copy_into(sVo, sV)
             copy_into(sAo, sA)
             _predict(sMd, sDi, sL, sLT, sg0, sng, sf0, snf, salpha, sbeta, sU, sV, sA, spres, spchan,
-                     scpl_i, scpl_v, up[k], vp[k], ap[k], dt, sy1, sr)
+                     scpl_i, scpl_v, up, vp, ap, k, dt, sy1, sr)
         if c_on:
             copy_into(cUo, cU)
             copy_into(cVo, cV)
             copy_into(cAo, cA)
             _predict(cMd, cDi, cL, cLT, cg0, cng, cf0, cnf, calpha, cbeta, cU, cV, cA, cpres, cpchan,
-                     ccpl_i, ccpl_v, up[k], vp[k], ap[k], dt, cy1, cr)
+                     ccpl_i, ccpl_v, up, vp, ap, k, dt, cy1, cr)
         if contact_on:
             _predicted_velocity(sf0, snf, sU, sUo, sV, sVo, dt)
             _predicted_velocity(cf0, cnf, cU, cUo, cV, cVo, dt)
             diag[1] = 0.0
-            nact = _contact(Xc, Tc, cU, cV, Xs, Rs, Ls, sU, sV, cKinv, sKinv,
-                            gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
+            nact = _contact(Xc, Tc, cU, cV, Xs, Rs, Ls, sU, sV, cKinv, sKinv, cpar,
                             state, elem, xi_arr, Pn, vrel, Nn, gn, fcc_new, fcs_new, diag, ws)
             info[5] += diag[1]
             if nact > 0:
