@@ -36,9 +36,10 @@ LLVM's pruning pass removes these pairs in small functions, but gives up on larg
 contact solve (~50 arrays) paid ~100 atomic operations per step, the predictor and the ledger ~20
 each. The kernels the step loop calls that still had them, and never allocate, are compiled without
 the runtime (``NO_RT``); only the step loop allocates (its scratch, once per call). For the same
-reason no call inside the step loop passes 30 or more arguments: Python then passes them as one
-built tuple, whose every array numba counts around the call (~0.3 us per step before the
-contact solve took its law's scalars as one tuple).
+reason no call inside the step loop passes more than 30 arguments: Python then passes them as one
+built tuple, whose every array numba counts around the call (~100 atomic operations per step
+before the contact solve took its law's scalars as one tuple). docs/performance.md has the
+figures.
 """
 from __future__ import annotations
 
@@ -752,10 +753,10 @@ def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, par,
     """contact_step with its scratch arrays ``ws`` (:func:`contact_workspace`) and the law's scalars
     in one tuple, par = (gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt).
 
-    Fewer than 30 arguments on purpose: Python compiles a call with 30 or more positional
+    At most 30 arguments on purpose: Python compiles a call with more than 30 positional
     arguments as a call with a built tuple (CALL_FUNCTION_EX), and numba then increments and
     decrements the reference count of every array in it around each call, ~100 atomic operations
-    (~0.3 us) per step."""
+    per step."""
     gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt = par
     (idx, gst, gdst, wst, nrm, arm_c, arm_s, Hs, Bc, Gs, W, J, R, dP, P, d,
      ta, tb, mode, sdir, Ne, Nd, active, tmp, Pt, touch, skip, Q, x, y, off, wkk) = ws
