@@ -983,7 +983,7 @@ def contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks,
 
 
 @njit(**NO_RT)
-def _predict(Md, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan, cpl_i, cpl_v, up, vp, ap, row,
+def _predict(Md, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan, cpl_i, cpl_v, up, vp, ap, step,
              dt, y1, r):
     """Contact-free Newmark predictor: prescribe the supports at t+dt (Eq. 13) and solve
     S_ff u_f = [M (c0 u + 2 c1 v + a) + C (c1 u + v)]_f - (coupling to the prescribed DOFs) for the
@@ -996,7 +996,7 @@ def _predict(Md, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan,
     The stiffness enters only through K_fp, the few free rows next to the supports, given as
     triplets: row cpl_i[0, m], support cpl_i[1, m] (index into pres), value cpl_v[m] (N/m). The
     solve runs over the node blocks g0 .. g0+ng-1 that hold the free DOFs (prescribed DOFs among
-    them are identity rows with zero right-hand side). The supports move as row ``row`` of up, vp,
+    them are identity rows with zero right-hand side). The supports move as row ``step`` of up, vp,
     ap (m, m/s, m/s2, by channel). y1 is a padded scratch vector, r has ng."""
     b = (Md.shape[0] - 1) // 2
     n = U.shape[0]
@@ -1012,7 +1012,7 @@ def _predict(Md, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan,
     for k in range(len(pres)):
         j = pres[k]
         ch = pchan[k]
-        u, v, a = (up[row, ch], vp[row, ch], ap[row, ch]) if ch >= 0 else (0.0, 0.0, 0.0)
+        u, v, a = (up[step, ch], vp[step, ch], ap[step, ch]) if ch >= 0 else (0.0, 0.0, 0.0)
         U[j], V[j], A[j] = u, v, a
         y1[b + j] = -(a + alpha * v)
     for i in range(ng):
