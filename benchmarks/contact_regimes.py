@@ -8,7 +8,17 @@ of such records and the speed read over seeds: the median and quartiles of the w
 rtf_median_over_seeds (simulated seconds per wall second at the median) and the median of each
 regime. With ``--workers 1`` the records run one after another on one core, as bench_time.py's;
 with 2 the two processes share the machine and the times are indicative only.
+
+Cost per contact: every record is also timed chunk by chunk (the engine evaluates the support
+motion once per ``Engine.CHUNK`` steps; the wall time between the end of one evaluation and the
+start of the next is the step loop's time for that chunk). ``cost_model`` is the least-squares line
+through all chunks of all records but their first (which pays the first touch of memory): wall time
+per step (µs) = a + b x (contacts per step in that chunk), so an FMU user can budget a step by its
+contacts. ``--rms`` repeats the seeds at other RMS
+accelerations of the casing's random excitation (m/s2), which spreads the contact counts the fit
+is read over.
 Run: .venv/bin/python benchmarks/contact_regimes.py [--seeds 24] [--duration 1.0] [--workers 2]
+     [--rms 5 10 20]
 """
 import argparse
 import time
@@ -22,15 +32,33 @@ from cablecasing_core.scenario import scenario_motion
 
 
 def run(job):
-    seed, duration = job
-    m = cc.load_model().with_overrides({"scenario.excitation.casing_random.seed": seed})
+    """One record: (seed, rms, mean contacts per step by tenth, wall µs per step, and per chunk of
+    Engine.CHUNK steps its wall µs per step and mean contacts per step)."""
+    seed, rms, duration = job
+    m = cc.load_model().with_overrides({"scenario.excitation.casing_random.seed": seed,
+                                        "scenario.excitation.casing_random.rms": rms})
     eng = Engine(m, dt=1e-5, ledger=False, record=True)
     motion = scenario_motion(m, dt=1e-5, duration=duration)
+    marks = []                       # (start, end) of each evaluation of the motion, s
+
+    def timed(t):
+        t_in = time.perf_counter()
+        out = motion(t)
+        marks.append((t_in, time.perf_counter()))
+        return out
+
     t0 = time.perf_counter()
-    eng.advance(duration, motion)
+    eng.advance(duration, timed)
     wall = time.perf_counter() - t0
+    ends = [b for _, b in marks]
+    starts = [a for a, _ in marks[1:]] + [t0 + wall]
+    chunk_s = np.subtract(starts, ends)
     nc = np.count_nonzero(eng.history()["contact_state"], axis=1)
-    return seed, [c.mean() for c in np.array_split(nc, 10)], wall / (duration / 1e-5) * 1e6
+    edges = np.arange(0, len(nc), Engine.CHUNK)
+    chunk_nc = np.add.reduceat(nc, edges) / np.diff(np.append(edges, len(nc)))
+    chunk_us = chunk_s / np.diff(np.append(edges, len(nc))) * 1e6
+    return (seed, rms, [c.mean() for c in np.array_split(nc, 10)], wall / (duration / 1e-5) * 1e6,
+            chunk_us, chunk_nc)
 
 
 if __name__ == "__main__":
@@ -38,15 +66,29 @@ if __name__ == "__main__":
     p.add_argument("--seeds", type=int, default=24)
     p.add_argument("--duration", type=float, default=1.0)
     p.add_argument("--workers", type=int, default=2)
+    p.add_argument("--rms", type=float, nargs="+", default=[5.0],
+                   help="RMS accelerations (m/s2) of the casing's random excitation; 5 is the reference case")
     args = p.parse_args()
-    run((1, 0.01))                       # numba cache
+    run((1, args.rms[0], 0.01))          # numba cache
     walls = {False: [], True: []}
+    chunks = []
+    jobs = [(s, rms, args.duration) for rms in args.rms for s in range(1, args.seeds + 1)]
     with get_context("spawn").Pool(args.workers) as pool:
-        for seed, tenths, us in pool.imap(run, [(s, args.duration) for s in range(1, args.seeds + 1)]):
+        for seed, rms, tenths, us, chunk_us, chunk_nc in pool.imap(run, jobs):
             flag = max(tenths) > 4.0
-            walls[flag].append(us)
-            print(f"seed {seed}: contacts by tenth {' '.join(f'{x:.2f}' for x in tenths)}  us_per_step {us:.1f}"
-                  + ("  HIGH" if flag else ""))
+            if rms == 5.0:               # the reference case's figures
+                walls[flag].append(us)
+            chunks.append(np.column_stack([chunk_nc, chunk_us])[1:])   # (the first chunk pays the first touch)
+            print(f"rms {rms:g} seed {seed}: contacts by tenth {' '.join(f'{x:.2f}' for x in tenths)}  "
+                  f"us_per_step {us:.1f}" + ("  HIGH" if flag else ""))
+    chunks = np.concatenate(chunks)
+    (b, a), *_ = np.linalg.lstsq(np.column_stack([chunks[:, 0], np.ones(len(chunks))]), chunks[:, 1], rcond=None)
+    resid = chunks[:, 1] - (a + b * chunks[:, 0])
+    print(f"cost_model: us_per_step = {a:.2f} + {b:.2f} x contacts_per_step ({len(chunks)} chunks of "
+          f"{Engine.CHUNK} steps, contacts {chunks[:, 0].min():.2f}-{chunks[:, 0].max():.2f} per step, "
+          f"residual RMS {np.sqrt(np.mean(resid ** 2)):.2f} us)")
+    if 5.0 not in args.rms:
+        raise SystemExit(0)
     print(f"records_with_many_contacts: {len(walls[True])} of {args.seeds}")
     every = walls[False] + walls[True]
     q1, med, q3 = np.percentile(every, [25, 50, 75])
