@@ -127,3 +127,12 @@ def test_harmonic_gain_of_the_reconstruction():
 def test_bad_step_is_refused():
     with pytest.raises(ValueError, match="positive"):
         QuinticStep(0.0, 0.0, np.zeros((3, 12)), np.zeros((3, 12)))
+
+
+def test_inputs_of_the_wrong_length_are_refused_before_anything_is_written():
+    # the compiled reconstruction does not check bounds, so the shapes are checked before it runs
+    rec = SupportReconstruction(12)
+    rec.state[:] = 1.0
+    with pytest.raises(ValueError, match=r"shape \(12,\)"):
+        rec.motion(0.0, 1e-4, np.zeros(11), np.zeros(12), np.zeros(12))
+    assert np.all(rec.state == 1.0)
