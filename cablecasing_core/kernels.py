@@ -5,9 +5,9 @@ reconstruction (``kinematics.py``), the support motion inside a communication st
 
 All kernels are plain functions over arrays, compiled once with ``cache=True`` (the cache lives in
 ``NUMBA_CACHE_DIR`` when set). The orchestration (building matrices, factorising, evaluating the
-support motion, packing results) stays in plain Python in ``engine.py`` and ``kinematics.py``. Nothing in a step
-allocates: the step loop owns a workspace (:func:`contact_workspace`) and scalar helpers return
-tuples.
+support motion, packing results) stays in plain Python in ``engine.py`` and ``kinematics.py``.
+Nothing in a step allocates: the step loop owns a workspace (:func:`contact_workspace`) and scalar
+helpers return tuples.
 
 Storage:
 
