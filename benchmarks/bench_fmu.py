@@ -14,7 +14,10 @@ Prints ``name: value`` lines:
   initialisation and the first step, numba cache warm (goal < 3 s);
 * ``mean_active_contacts``: cable nodes in contact, averaged over the steps.
 
-Run: .venv/bin/python benchmarks/bench_fmu.py [--duration 0.2]
+``--step`` sets the communication step (default 1e-4 s, ten Newmark steps per call); a longer one
+spreads the fixed cost per call (fmpy, pythonfmu, the core's Python) over more steps.
+
+Run: .venv/bin/python benchmarks/bench_fmu.py [--duration 0.2] [--step 1e-4]
 """
 import argparse
 import subprocess
@@ -39,11 +42,10 @@ from cablecasing_core.kinematics import SupportReconstruction  # noqa: E402
 from cablecasing_core.scenario import scenario_motion  # noqa: E402
 
 FMU = ROOT / "dist" / "CableCasing.fmu"
-H = 1e-4
 NCH = len(CHANNELS)
 
 
-def core_same_run(model, table):
+def core_same_run(model, table, h):
     """Wall time (s) of the core's Engine.advance over the same communication steps with the same
     reconstruction, outputs read after each step; and those outputs."""
     n = len(table)
@@ -53,8 +55,8 @@ def core_same_run(model, table):
 
     def step(k):
         row = table[k]
-        m = rec.motion(eng.time, H, row[:NCH], row[NCH:2 * NCH], row[2 * NCH:])
-        eng.advance(H, m)
+        m = rec.motion(eng.time, h, row[:NCH], row[NCH:2 * NCH], row[2 * NCH:])
+        eng.advance(h, m)
         rec.accept(m)
         eng.output_values(ref[k])
     step(0)                                              # numba load, factorisation
@@ -64,13 +66,13 @@ def core_same_run(model, table):
     return time.perf_counter() - t0, ref
 
 
-def core_one_advance(model, n):
+def core_one_advance(model, n, h):
     """Wall time (s) of one Engine.advance over the run with the scenario's own motion."""
     eng = Engine(model, ledger=False)
     motion = scenario_motion(model)
-    eng.advance(H, motion)
+    eng.advance(h, motion)
     t0 = time.perf_counter()
-    eng.advance((n - 1) * H, motion)
+    eng.advance((n - 1) * h, motion)
     return time.perf_counter() - t0
 
 
@@ -78,7 +80,11 @@ def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--duration", type=float, default=0.2, help="simulated time (s)")
     p.add_argument("--repeat", type=int, default=3, help="runs of each kind; the fastest counts (shared machine)")
+    p.add_argument("--step", type=float, default=1e-4, help="communication step (s)")
     args = p.parse_args()
+    H = args.step
+    if not (H > 0 and args.duration >= 2 * H):
+        p.error(f"--step {H!r}: must be positive and at most half of --duration ({args.duration!r} s)")
     if not FMU.exists() or FMU.stat().st_mtime < max(q.stat().st_mtime for q in build_fmu.sources()):
         subprocess.run([sys.executable, str(ROOT / "build_fmu.py")], check=True)
 
@@ -93,11 +99,12 @@ def main():
             assert np.all(res["status"] == 0), res["log"]
             fmu_s.append(float(res["run_s"]))
             first_s.append(float(res["first_step_s"]))
-            wall, ref = core_same_run(model, table)
+            wall, ref = core_same_run(model, table, H)
             same_s.append(wall)
-            one_s.append(core_one_advance(model, n))
+            one_s.append(core_one_advance(model, n, H))
     sim = (n - 1) * H
     fmu, same, one = min(fmu_s), min(same_s), min(one_s)
+    print(f"communication_step_s: {H:g}")
     print(f"rtf_fmu: {sim / fmu:.4f}")
     print(f"rtf_core_same_run: {sim / same:.4f}")
     print(f"fmu_overhead: {fmu / same:.3f}")
