@@ -14,9 +14,8 @@ motion once per ``Engine.CHUNK`` steps; the wall time between the end of one eva
 start of the next is the step loop's time for that chunk). ``cost_model`` is the least-squares line
 through all chunks of all records but their first (which pays the first touch of memory): wall time
 per step (µs) = a + b x (contacts per step in that chunk), so an FMU user can budget a step by its
-contacts. ``--rms`` repeats the seeds at other RMS
-accelerations of the casing's random excitation (m/s2), which spreads the contact counts the fit
-is read over.
+contacts. ``--rms`` repeats the seeds at other RMS accelerations of the casing's random excitation
+(m/s2), which spreads the contact counts the fit is read over.
 Run: .venv/bin/python benchmarks/contact_regimes.py [--seeds 24] [--duration 1.0] [--workers 2]
      [--rms 5 10 20]
 """
@@ -55,8 +54,9 @@ def run(job):
     chunk_s = np.subtract(starts, ends)
     nc = np.count_nonzero(eng.history()["contact_state"], axis=1)
     edges = np.arange(0, len(nc), Engine.CHUNK)
-    chunk_nc = np.add.reduceat(nc, edges) / np.diff(np.append(edges, len(nc)))
-    chunk_us = chunk_s / np.diff(np.append(edges, len(nc))) * 1e6
+    steps = np.diff(np.append(edges, len(nc)))                 # steps per chunk (the last may be short)
+    chunk_nc = np.add.reduceat(nc, edges) / steps
+    chunk_us = chunk_s / steps * 1e6
     return (seed, rms, [c.mean() for c in np.array_split(nc, 10)], wall / (duration / 1e-5) * 1e6,
             chunk_us, chunk_nc)
 
