@@ -759,8 +759,8 @@ def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, par,
     decrements the reference count of every array in it around each call, ~100 atomic operations
     per step."""
     gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt = par
-    (idx, gst, gdst, wst, nrm, arm_c, arm_s, Hs, Bc, Gs, W, J, R, dP, P, d,
-     ta, tb, mode, sdir, Ne, Nd, active, tmp, Pt, touch, skip, Q, x, y, off, wkk) = ws
+    (idx, gst, gdst, wst, nrm, arm_c, arm_s, Hs, Bc, Gs, W, J, R, dx, P, d,
+     ta, tb, mode, sdir, Ne, Nd, active, tmp, xt, touch, skip, Q, x, y, off, wkk) = ws
     nn = Xc.shape[0]
     nk = 0
     c2 = 2.0 / dt
@@ -873,7 +873,7 @@ def _contact(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, par,
         r = _unknowns(nk, nrm, ta, tb, mode, active, P, off, x)
         _reduced_delassus(W, nk, nrm, ta, tb, sdir, mu, off, Q)
         its = _newton(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n,
-                      dt, J, R, dP, y, Ne, Nd, Pt)
+                      dt, J, R, dx, y, Ne, Nd, xt)
         _forces(nk, nrm, ta, tb, sdir, mu, off, x, P)
         _relative_displacement(W, P, m, d)
         diag[4] += abs(its)
