@@ -22,7 +22,7 @@ wherever they start, so each 1000 x smaller one takes ln(1000) e-folding times l
 same separation, and all end at the separation of two unrelated records (order 1); the finer time
 step reaches it too, from the discretisation error it starts with; without contact neither grows.
 Run: .venv/bin/python benchmarks/chaos.py [--duration 0.5] [--window 0.002] [--plot FILE.png]
-[--set contact.damping=0 --set contact.friction=0 ...] (model overrides for every run; about 40 s
+[--set contact.damping=0 --set contact.friction=0 ...] (numeric model overrides for every run; about 40 s
 on the shared 2-core machine, one core).
 """
 import argparse
@@ -36,7 +36,7 @@ p.add_argument("--duration", type=float, default=0.5, help="s simulated per run"
 p.add_argument("--window", type=float, default=0.002, help="s per window of the separation")
 p.add_argument("--plot", default=None, help="write the separation histories to this PNG")
 p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
-               help="model override for every run, e.g. contact.damping=0 (repeatable)")
+               help="numeric model override for every run, e.g. contact.damping=0 (repeatable)")
 args = p.parse_args()
 
 DT = 1e-5
