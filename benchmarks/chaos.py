@@ -42,8 +42,14 @@ args = p.parse_args()
 DT = 1e-5
 THRESHOLDS = 10.0 ** np.arange(-10, 0)         # 1e-10 .. 1e-1
 model = cc.load_model()
-if args.set:
-    model = model.with_overrides({k: float(v) for k, v in (kv.split("=", 1) for kv in args.set)})
+overrides = {}
+for kv in args.set:
+    key, _, value = kv.partition("=")
+    try:
+        overrides[key] = float(value)
+    except ValueError:
+        p.error(f"--set {kv!r}: expected KEY=NUMBER, e.g. contact.damping=0")
+model = model.with_overrides(overrides) if overrides else model    # with_overrides checks the keys
 rms0 = model.scenario["excitation"]["casing_random"]["rms"]
 
 
