@@ -38,6 +38,10 @@ p.add_argument("--plot", default=None, help="write the separation histories to t
 p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                help="numeric model override for every run, e.g. contact.damping=0 (repeatable)")
 args = p.parse_args()
+if not args.duration >= 0.1:
+    p.error(f"--duration {args.duration}: must be at least 0.1 s (the RMS is taken after 0.05 s)")
+if not 1e-5 <= args.window <= args.duration / 10:
+    p.error(f"--window {args.window}: must be between 1e-5 s and a tenth of the duration")
 
 DT = 1e-5
 THRESHOLDS = 10.0 ** np.arange(-10, 0)         # 1e-10 .. 1e-1
