@@ -23,6 +23,8 @@ import cablecasing_core as cc
 p = argparse.ArgumentParser()
 p.add_argument("--duration", type=float, default=0.5, help="s simulated per run")
 args = p.parse_args()
+if not args.duration >= 0.1:
+    p.error(f"--duration {args.duration}: must be at least 0.1 s (the RMS is taken after 0.05 s)")
 model = cc.load_model()
 
 
