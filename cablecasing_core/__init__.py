@@ -10,8 +10,8 @@ from .config import Model, default_model, load_model, model_from_dict
 from .errors import CableCasingError, ModelError, SimulationError
 from .frequency import trfam, trfam_matrix
 from .modal import modes, natural_frequencies
-from .simulation import SimulationResult, simulate
+from .simulation import SimulationResult, contact_episodes, simulate
 
-__all__ = ["CableCasingError", "Model", "ModelError", "SimulationError", "default_model", "load_model",
+__all__ = ["CableCasingError", "Model", "ModelError", "SimulationError", "contact_episodes", "default_model", "load_model",
            "model_from_dict", "modes", "natural_frequencies", "SimulationResult", "simulate", "trfam",
            "trfam_matrix"]

@@ -87,3 +87,25 @@ def simulate(model, duration=None, dt=None, contact=None, motion=None):
                             contact_state=h["contact_state"], normal_force=h["normal_force"],
                             penetration=h["penetration"], contact_time=eng.contact_time.copy(),
                             curvature=cl.curvature, arc_length=cl.s, energies=eng.energies())
+
+
+def contact_episodes(contact_state):
+    """The contact episodes of a record: runs of consecutive steps in which a cable node is in
+    contact (stick or slip).
+
+    contact_state: (steps x nodes) array, 0 open, 1 stick, 2 slip (``SimulationResult.contact_state``
+    or ``Engine.history()["contact_state"]``). Returns three int arrays with one entry per episode,
+    ordered by node and then by time: ``node``, ``start`` (the row of its first step) and
+    ``length`` (steps; times dt for seconds). An episode that is still on at the end of the record
+    ends there. The gaps between a node's episodes follow as ``start[1:] - (start + length)[:-1]``
+    where ``node[1:] == node[:-1]``.
+    """
+    s = np.asarray(contact_state)
+    if s.ndim != 2:
+        raise ModelError("contact_state", s.shape, "must be a (steps x nodes) array")
+    on = np.zeros((s.shape[1], s.shape[0] + 2), np.int8)
+    on[:, 1:-1] = (s > 0).T
+    edges = np.diff(on, axis=1)        # +1 where an episode starts, -1 one past its last step
+    node, start = np.nonzero(edges == 1)
+    end = np.nonzero(edges == -1)[1]   # in the same (node, time) order: they alternate per node
+    return node, start, end - start

@@ -438,3 +438,14 @@ def test_every_contact_step_converges_in_the_default_scenario():
     assert passes > 1000                   # contact was solved in many steps
     assert failed == 0
     assert its / passes < 5                # Newton converges in a few iterations per pass
+
+
+def test_contact_episodes_are_the_runs_of_contact_per_node():
+    state = np.array([[0, 1, 0], [2, 1, 0], [0, 0, 1], [1, 0, 1]])    # steps x nodes
+    node, start, length = cc.contact_episodes(state)
+    # node 0: steps 1 and 3; node 1: steps 0-1; node 2: steps 2-3 (still on at the end)
+    assert node.tolist() == [0, 0, 1, 2] and start.tolist() == [1, 3, 0, 2] and length.tolist() == [1, 1, 2, 2]
+    assert all(len(x) == 0 for x in cc.contact_episodes(np.zeros((5, 4))))
+    with pytest.raises(cc.ModelError, match="contact_state"):
+        cc.contact_episodes(np.zeros(5))
+
