@@ -12,6 +12,6 @@ from .frequency import trfam, trfam_matrix
 from .modal import modes, natural_frequencies
 from .simulation import SimulationResult, contact_episodes, simulate
 
-__all__ = ["CableCasingError", "Model", "ModelError", "SimulationError", "contact_episodes", "default_model", "load_model",
-           "model_from_dict", "modes", "natural_frequencies", "SimulationResult", "simulate", "trfam",
+__all__ = ["CableCasingError", "Model", "ModelError", "SimulationError", "contact_episodes", "default_model",
+           "load_model", "model_from_dict", "modes", "natural_frequencies", "SimulationResult", "simulate", "trfam",
            "trfam_matrix"]
