@@ -161,7 +161,14 @@ class _Body:
             Dinv, L, LT = block_ldl(Keff)
             if need_inverse:
                 f = slice(self.f0 - self.g0, self.f0 - self.g0 + self.nf)
-                inv_ff = cho_solve(cho_factor(Keff[f, f]), np.eye(self.nf))
+                # columns of Keff^-1 from the block factor by the step loop's own solve (the identity
+                # rows of the prescribed DOFs keep the free part equal to inv(Keff[f, f])). Not LAPACK:
+                # a threaded BLAS rounds differently with each thread count, and the contact response
+                # is chaotic, so a record would depend on OMP_NUM_THREADS (a dask worker, an FMU host).
+                inv_ff = np.eye(self.ng)[:, f].T.copy()
+                for x in inv_ff:
+                    K.block_solve(Dinv, L, LT, x)
+                inv_ff = inv_ff[:, f]
                 # over all DOFs, zero on the prescribed ones (they do not respond), and exactly
                 # symmetric: the contact kernels read its rows as columns
                 n = len(self.U)
