@@ -1,4 +1,4 @@
-"""``cablecasing study``, ``cablecasing bands``, ``cablecasing report`` (Section 4)."""
+"""``cablecasing study``, ``cablecasing ensemble``, ``cablecasing bands``, ``cablecasing report`` (Section 4)."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -24,6 +24,59 @@ def cmd_study(args):
             print(f"  {p:45s} " + " ".join(f"{row[b]:+.2f}" for b in row))
         plot_correlations(res, out / "correlations.png")
         print(f"wrote {out / 'correlations.png'}")
+    return 0
+
+
+def _assignment(text):
+    """``KEY=VALUE`` of ``--set``/``--against``; VALUE is read as a TOML value (a bare word as text)."""
+    import tomllib
+
+    key, sep, value = text.partition("=")
+    if not sep or not key.strip():
+        raise ModelError("--set", text, "must be KEY=VALUE with a dotted model key, e.g. contact.friction=0.2")
+    try:
+        return key.strip(), tomllib.loads(f"v = {value.strip()}")["v"]
+    except tomllib.TOMLDecodeError:
+        return key.strip(), value.strip()
+
+
+def cmd_ensemble(args):
+    from .studies import paired_difference, seed_ensemble
+
+    if args.seeds < 2:
+        raise ModelError("--seeds", args.seeds, "must be at least 2")
+    if args.first_seed < 0:
+        raise ModelError("--first-seed", args.first_seed, "must be a non-negative seed")
+    if not 0 < args.confidence < 1:
+        raise ModelError("--confidence", args.confidence, "must lie between 0 and 1, e.g. 0.95")
+    seeds = list(range(args.first_seed, args.first_seed + args.seeds))
+    common = dict(seeds=seeds, output=args.output, bands=args.kind, duration=args.duration, dt=args.dt,
+                  skip=args.skip, scheduler=args.scheduler, n_workers=args.workers, progress=True)
+    base = dict(_assignment(a) for a in args.set)
+    against = dict(_assignment(a) for a in args.against)
+    ens = seed_ensemble(args.model, overrides=base, **common)
+    unit = "N" if ".F" in args.output else "N.m"
+    print(f"# {args.output} band RMS ({unit}) over {ens.n} seeds {ens.seeds[0]}..{ens.seeds[-1]}"
+          f"{' with ' + str(base) if base else ''}; CI {args.confidence:g} (Student t)")
+    print("band,f_low_hz,f_high_hz,mean,se,ci_low,ci_high,cv")
+    for row in ens.as_rows(args.confidence):
+        print(",".join([row["band"]] + [f"{row[k]:.6g}" for k in list(row)[1:]]))
+    if args.out:
+        ens.save(args.out)
+        print(f"# wrote {args.out}")
+    if against:
+        other = seed_ensemble(args.model, overrides={**base, **against}, **common)
+        d = paired_difference(other, ens)
+        lo, hi = d.ci(args.confidence)
+        print(f"# relative change of the mean level with {against} (paired on the same seeds)")
+        print("band,mean_against,rel_diff,se,ci_low,ci_high,diff_over_se")
+        for lab, m, r, se, a, b in zip(d.labels, other.mean, d.r, d.se, lo, hi):
+            print(f"{lab},{m:.6g},{r:+.4f},{se:.4f},{a:+.4f},{b:+.4f},{r / se:+.1f}")
+        if args.out:
+            stem, dot, ext = args.out.rpartition(".")
+            path = f"{stem}_against.{ext}" if dot else f"{args.out}_against"
+            other.save(path)
+            print(f"# wrote {path}")
     return 0
 
 
@@ -62,6 +115,24 @@ def add_parser(sub):
     p.add_argument("--skip", type=float, default=0.05, help="start of each record left out, s")
     p.add_argument("--out", default="study")
     p.set_defaults(func=cmd_study)
+
+    e = sub.add_parser("ensemble", help="band levels of a support output as means over excitation seeds")
+    e.add_argument("model", nargs="?", default=None, help="model TOML (default: built-in specimen)")
+    e.add_argument("--seeds", type=int, default=8, help="number of seeds (default 8)")
+    e.add_argument("--first-seed", type=int, default=1, help="seeds first..first+n-1 (default 1)")
+    e.add_argument("--duration", type=float, default=None, help="simulated time per run, s")
+    e.add_argument("--dt", type=float, default=None, help="time step, s")
+    e.add_argument("--skip", type=float, default=0.05, help="start of each record left out, s")
+    e.add_argument("--output", default="casing.B.Fz", help="support output, e.g. casing.B.Fz")
+    e.add_argument("--kind", choices=["table3", "octave", "third"], default="table3")
+    e.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="model change for every run")
+    e.add_argument("--against", action="append", default=[], metavar="KEY=VALUE",
+                   help="compare with a second ensemble on the same seeds with this change")
+    e.add_argument("--confidence", type=float, default=0.95, help="level of the confidence intervals")
+    e.add_argument("--scheduler", default="serial", help="'serial' (default), 'local' (dask, one worker per core) or tcp://host:8786")
+    e.add_argument("--workers", type=int, default=None, help="local cluster workers (default: one per core)")
+    e.add_argument("--out", default=None, help="CSV of the per-seed band levels")
+    e.set_defaults(func=cmd_ensemble)
 
     b = sub.add_parser("bands", help="octave-band RMS of a column of a results CSV")
     b.add_argument("results", help="CSV written by 'cablecasing simulate --out'")

@@ -1,9 +1,12 @@
-"""Studies of Section 4: octave-band RMS (Table 3) and the Monte-Carlo correlation study (Section 4.4, Fig. 23).
+"""Studies of Section 4: octave-band RMS (Table 3), the Monte-Carlo correlation study (Section 4.4, Fig. 23)
+and band levels as ensemble means over excitation seeds.
 
 >>> from cablecasing_core.studies import octave_rms, run_study, correlations, plot_correlations
 >>> octave_rms(force_N, fs_hz).as_dict()                     # {"oct1": N, ..., "oct9": N}
 >>> res = run_study("study.csv", "mypkg.mod:evaluate", n_samples=300, seed=1)   # LocalCluster
 >>> correlations(res, "pearson").as_dict()
+>>> ens = seed_ensemble(model, seeds=8)                      # band levels over excitation seeds
+>>> ens.mean, ens.se, paired_difference(ens_a, ens_b).r
 
 See docs/studies.md.
 """
@@ -11,10 +14,13 @@ from .montecarlo import (AXIAL_AMPLITUDE_KEY, DEFAULT_CONSTRAINTS, DEFAULT_EVALU
                          PAPER_BOUNDS, Correlation, StudyResults, check_bounds, correlations,
                          default_evaluate, gap_constraint, latin_hypercube, load_results,
                          plot_correlations, resolve_evaluate, run_study)
+from .ensemble import (Ensemble, PairedDifference, paired_difference, random_excitations, seed_ensemble,
+                       seed_overrides)
 from .octave import TABLE3_LOWER, TABLE3_UPPER, BandRMS, Bands, octave_bands, octave_rms
 
 __all__ = ["AXIAL_AMPLITUDE_KEY", "DEFAULT_CONSTRAINTS", "DEFAULT_EVALUATE", "DEFAULT_OUTPUTS", "PAPER_BOUNDS",
-           "TABLE3_LOWER", "TABLE3_UPPER", "BandRMS", "Bands", "Correlation", "StudyResults",
-           "check_bounds", "correlations", "default_evaluate", "gap_constraint",
-           "latin_hypercube", "load_results", "octave_bands", "octave_rms", "plot_correlations",
-           "resolve_evaluate", "run_study"]
+           "TABLE3_LOWER", "TABLE3_UPPER", "BandRMS", "Bands", "Correlation", "Ensemble", "PairedDifference",
+           "StudyResults", "check_bounds", "correlations", "default_evaluate", "gap_constraint",
+           "latin_hypercube", "load_results", "octave_bands", "octave_rms", "paired_difference",
+           "plot_correlations", "random_excitations", "resolve_evaluate", "run_study", "seed_ensemble",
+           "seed_overrides"]

@@ -74,26 +74,29 @@ FORMAT_VERSION = 1
 # ------------------------------------------------------------------------------------------------
 # per-sample functions
 
-def default_evaluate(overrides, duration=None, skip=0.05, dt=None, model_file=None, **kwargs):
+def default_evaluate(overrides, duration=None, skip=0.05, dt=None, model_file=None, *, model=None,
+                     output="casing.B.Fz", bands="table3", **kwargs):
     """The per-sample function of Section 4.4: run the time-domain model (the scenario of the model,
     with ``overrides`` applied) and return the octave-band RMS (N, Table 3) of the force at casing end
     B in z, ``{"oct1": N, ..., "oct9": N}``.
 
     duration (s): simulated time (default ``scenario.duration``); skip (s): start of the record left
     out of the RMS (the support fade-in and the first transient); dt (s): time step (default
-    ``scenario.dt``); model_file: a model TOML (default the built-in specimen).
+    ``scenario.dt``); model_file: a model TOML (default the built-in specimen); model: a
+    :class:`~cablecasing_core.config.Model` to use instead of ``model_file``; output: the support
+    output whose band levels are returned (N or N.m, a name of ``SUPPORT_OUTPUTS``); bands: the band
+    set of :func:`~cablecasing_core.studies.octave.octave_rms`.
     """
     from ..config import load_model
     from ..simulation import simulate
 
-    model = load_model(model_file).with_overrides(overrides)
+    model = (load_model(model_file) if model is None else model).with_overrides(overrides)
     res = simulate(model, duration=duration, dt=dt)
     keep = res.time > skip
     if keep.sum() < 2:
         raise ModelError("skip", skip, f"must leave part of the {res.time[-1]:.6g} s record for the RMS")
     fs = 1.0 / (res.time[1] - res.time[0])
-    return octave_rms(res.support_force("casing.B.Fz")[keep], fs).as_dict()
-
+    return octave_rms(res.support_force(output)[keep], fs, bands).as_dict()
 
 
 def _analytic_evaluate(overrides, fail_above=None, **_):

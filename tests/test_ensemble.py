@@ -1,0 +1,188 @@
+"""Band levels over excitation seeds (studies/ensemble.py): a member is the single run with its seed,
+and the ensemble statistics have the sampling properties they claim (checked by drawing many
+synthetic ensembles from a known distribution)."""
+import copy
+
+import numpy as np
+import pytest
+
+import cablecasing_core as cc
+from cablecasing_core.cli import main as cli_main
+from cablecasing_core.config import model_from_dict
+from cablecasing_core.errors import ModelError
+from cablecasing_core.studies import (Ensemble, octave_rms, paired_difference, random_excitations,
+                                      seed_ensemble, seed_overrides)
+
+T = 0.15        # s per run: 0.1 s after the 0.05 s skip (octave 1, 11 Hz wide, needs > 91 ms)
+SEED_KEY = "scenario.excitation.casing_random.seed"
+
+
+def band_levels_of_single_run(model, seed, duration=T, skip=0.05):
+    r = cc.simulate(model.with_overrides({SEED_KEY: seed}), duration=duration)
+    keep = r.time > skip
+    return octave_rms(r.support_force("casing.B.Fz")[keep], 1.0 / (r.time[1] - r.time[0])).rms
+
+
+def test_member_is_the_single_run_with_its_seed():
+    model = cc.load_model()
+    ens = seed_ensemble(model, [3, 5], duration=T)
+    assert ens.levels.shape == (2, 9) and ens.labels[0] == "oct1" and list(ens.seeds) == [3, 5]
+    for i, s in enumerate((3, 5)):
+        np.testing.assert_array_equal(ens.levels[i], band_levels_of_single_run(model, s))
+    # the seeds drive different records: the members differ (chaos and the record itself)
+    assert np.all(ens.levels[0] != ens.levels[1])
+
+
+def test_overrides_apply_to_every_member():
+    model = cc.load_model()
+    ens = seed_ensemble(model, [2, 4], duration=T, overrides={"contact.friction": 0.05})
+    changed = model.with_overrides({"contact.friction": 0.05})
+    np.testing.assert_array_equal(ens.levels[1], band_levels_of_single_run(changed, 4))
+    assert ens.overrides == {"contact.friction": 0.05}
+
+
+def test_several_random_excitations_get_distinct_seeds():
+    model = with_excitation(cc.load_model(), "cable_axial",
+                            {"target": "cable.A.axial", "kind": "random", "rms": 1.0, "band": [10.0, 1000.0]})
+    names = random_excitations(model)
+    assert names == ("casing_random", "cable_axial")
+    seen = [tuple(seed_overrides(model, s).values()) for s in range(0, 50)]
+    flat = [x for pair in seen for x in pair]
+    assert len(set(flat)) == len(flat)                 # no two records share a seed
+    # one varied excitation: member s is seed s (the single run of the model with that seed)
+    assert seed_overrides(model, 7, ["cable_axial"]) == {"scenario.excitation.cable_axial.seed": 7}
+
+
+def with_excitation(model, name, table):
+    """The model with excitation ``name`` replaced by ``table`` (a change of kind changes the keys)."""
+    data = copy.deepcopy(model.data)
+    data["scenario"]["excitation"][name] = table
+    return model_from_dict(data)
+
+
+def synthetic(levels, seeds=None):
+    n = len(levels)
+    return Ensemble(np.arange(1, n + 1) if seeds is None else np.asarray(seeds), "casing.B.Fz",
+                    ("b1", "b2"), np.array([1.0, 2.0]), np.array([2.0, 4.0]), np.asarray(levels, float))
+
+
+def test_mean_confidence_interval_has_its_coverage():
+    # For normal data the Student-t interval is exact: coverage 0.95; 4000 draws give a binomial SE
+    # of 0.0034, so 3 SE is 0.010.
+    rng = np.random.default_rng(1)
+    true = np.array([1.0, 0.2])
+    hits, ses, means = np.zeros(2), [], []
+    for _ in range(4000):
+        e = synthetic(true + rng.normal(0.0, [0.15, 0.05], size=(8, 2)))
+        lo, hi = e.ci(0.95)
+        hits += (lo < true) & (true < hi)
+        ses.append(e.se)
+        means.append(e.mean)
+    assert np.all(np.abs(hits / 4000 - 0.95) < 0.010)
+    # the standard error is the spread of the mean across ensembles (E[se^2] = var(mean) exactly for
+    # normal data; 4000 draws estimate a variance to 2.2 %, so 10 % holds)
+    np.testing.assert_allclose(np.mean(np.square(ses), axis=0), np.var(means, axis=0), rtol=0.10)
+
+
+def test_paired_difference_standard_error_and_coverage():
+    # Paired log-normal levels with seed-to-seed CV ~15 % and correlation ~0.5 (what chaos leaves of
+    # the pairing); the true relative difference of the means is known.
+    rng = np.random.default_rng(2)
+    n, draws, ratio = 16, 3000, 1.1
+    r_all, se_all, hits = [], [], 0
+    for _ in range(draws):
+        z = rng.normal(size=(n, 2))
+        zb = z[:, 0]
+        za = 0.5 * z[:, 0] + np.sqrt(1 - 0.25) * z[:, 1]
+        b = np.exp(0.15 * zb[:, None])
+        a = ratio * np.exp(0.15 * za[:, None])
+        d = paired_difference(a, b)
+        lo, hi = d.ci(0.95)
+        r_all.append(d.r[0])
+        se_all.append(d.se[0])
+        hits += lo[0] < ratio - 1 < hi[0]
+    r_all = np.array(r_all)
+    # the estimator's bias is O(1/n): CV^2 (1 - rho) / n * ratio ~ 0.08 %, far below its spread (3.5 %)
+    assert abs(r_all.mean() - (ratio - 1)) < 3 * r_all.std() / np.sqrt(draws) + 0.002
+    # its standard error is the spread of r across ensembles: the linearisation is good to O(1/n)
+    # (~6 % at n = 16); 3000 draws estimate a standard deviation to 1.3 %
+    assert abs(np.sqrt(np.mean(np.square(se_all))) / r_all.std() - 1) < 0.10
+    # t interval on the linearised estimator: coverage 0.95 up to O(1/n), binomial SE 0.4 %
+    assert 0.92 < hits / draws < 0.97
+
+
+def test_mean_of_ratios_is_biased_where_ratio_of_means_is_not():
+    # Two independent draws of the same distribution (decorrelated records): r has no bias, the
+    # mean of per-seed ratios is biased upwards by about CV^2 (Jensen), what the docstring says.
+    rng = np.random.default_rng(3)
+    a = np.exp(0.2 * rng.normal(size=(20000, 1)))
+    b = np.exp(0.2 * rng.normal(size=(20000, 1)))
+    d = paired_difference(a, b)
+    assert abs(d.r[0]) < 3 * d.se[0]
+    bias = np.mean(a / b) - 1           # E[a] E[1/b] - 1 = exp(0.04) - 1 = 4.1 %
+    assert abs(bias - (np.exp(0.04) - 1)) < 0.005
+
+
+def test_paired_difference_of_ensembles_checks_the_pairing():
+    a = synthetic([[1.0, 2.0], [1.2, 2.1], [0.9, 1.8]])
+    b = synthetic([[1.1, 2.0], [1.0, 2.3], [1.0, 1.9]])
+    d = paired_difference(a, b)
+    np.testing.assert_allclose(d.r, (a.levels.mean(0) - b.levels.mean(0)) / b.levels.mean(0))
+    assert d.labels == ("b1", "b2") and d.n == 3
+    with pytest.raises(ModelError, match="b.seeds"):
+        paired_difference(a, synthetic(b.levels, seeds=[1, 2, 4]))
+    one = paired_difference(a.levels[:1], b.levels[:1])          # one pair: r, and no standard error
+    np.testing.assert_allclose(one.r, a.levels[0] / b.levels[0] - 1)
+    assert np.all(np.isnan(one.se))
+    with pytest.raises(ModelError, match="n >= 1"):
+        paired_difference(a.levels[:0], b.levels[:0])
+
+
+@pytest.mark.parametrize("kwargs, key", [
+    ({"seeds": 1}, "seeds"), ({"seeds": [1, 1]}, "seeds"), ({"seeds": [1, -2]}, "seeds"), ({"seeds": "ab"}, "seeds"),
+    ({"output": "casing.B.Fq"}, "output"), ({"excitations": ["cable_axial"]}, "excitations"),
+    ({"overrides": {SEED_KEY: 3}}, "overrides"), ({"overrides": {"contact.friction": -1.0}}, "contact.friction"),
+    ({"bands": "decade"}, "bands"),
+])
+def test_bad_input_is_refused_before_any_run(kwargs, key):
+    with pytest.raises(ModelError) as exc:
+        seed_ensemble(cc.load_model(), **{"seeds": 2, "duration": T, **kwargs})
+    assert exc.value.key == key
+
+
+def test_no_random_excitation_and_failed_members_are_named():
+    model = with_excitation(cc.load_model(), "casing_random",
+                            {"target": "casing.A.z", "kind": "harmonic", "frequency": 100.0, "amplitude": 1e-5})
+    with pytest.raises(ModelError, match="random"):
+        seed_ensemble(model, 2)
+    with pytest.raises(ModelError, match="oct1"):   # too short for the bands: refused before any run
+        seed_ensemble(cc.load_model(), [4, 6], duration=0.12, skip=0.05)
+    with pytest.raises(ModelError, match="Nyquist"):  # bands beyond fs/2: refused before any run
+        seed_ensemble(cc.load_model(), [4, 6], duration=0.15, dt=1e-4)
+    # a member that fails is named with its error (here a soft contact under a 100 times stronger
+    # shaking: the cable goes through the wall and the run stops with a SimulationError)
+    soft = {"contact.law": "linear", "contact.stiffness": 10.0, "contact.damping": 0.0,
+            "scenario.excitation.casing_random.rms": 500.0}
+    with pytest.raises(ModelError) as exc:
+        seed_ensemble(cc.load_model(), [4, 6], duration=0.15, overrides=soft)
+    assert exc.value.key == "seeds" and exc.value.value == 4 and "SimulationError" in str(exc.value)
+    with pytest.raises(ModelError, match="confidence"):
+        synthetic([[1.0, 2.0], [1.1, 2.0]]).ci(1.5)
+
+
+def test_cli_prints_the_ensemble_and_the_paired_change(tmp_path, capsys):
+    out = tmp_path / "levels.csv"
+    assert cli_main(["ensemble", "--seeds", "2", "--first-seed", "3", "--duration", str(T), "--out", str(out),
+                     "--against", "contact.friction=0.05"]) == 0
+    text = capsys.readouterr().out
+    model = cc.load_model()
+    lv = [band_levels_of_single_run(model, s) for s in (3, 4)]
+    mean = np.mean(lv, axis=0)
+    rows = [line.split(",") for line in text.splitlines() if line.startswith("oct")]
+    np.testing.assert_allclose([float(r[3]) for r in rows[:9]], mean, rtol=1e-5)     # printed to 6 digits
+    saved = np.genfromtxt(out, delimiter=",", names=True)
+    np.testing.assert_allclose(saved["oct3"], [x[2] for x in lv], rtol=1e-8)
+    assert (tmp_path / "levels_against.csv").exists() and "relative change" in text
+    assert cli_main(["ensemble", "--seeds", "1"]) == 2
+    assert cli_main(["ensemble", "--set", "friction"]) == 2
+    assert "KEY=VALUE" in capsys.readouterr().err
