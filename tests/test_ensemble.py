@@ -142,7 +142,8 @@ def test_paired_difference_of_ensembles_checks_the_pairing():
     ({"seeds": 1}, "seeds"), ({"seeds": [1, 1]}, "seeds"), ({"seeds": [1, -2]}, "seeds"), ({"seeds": "ab"}, "seeds"),
     ({"output": "casing.B.Fq"}, "output"), ({"excitations": ["cable_axial"]}, "excitations"),
     ({"overrides": {SEED_KEY: 3}}, "overrides"), ({"overrides": {"contact.friction": -1.0}}, "contact.friction"),
-    ({"bands": "decade"}, "bands"),
+    ({"bands": "decade"}, "bands"), ({"dt": 0.0}, "dt"), ({"duration": -1.0}, "duration"), ({"skip": -0.1}, "skip"),
+    ({"dt": float("nan")}, "dt"),
 ])
 def test_bad_input_is_refused_before_any_run(kwargs, key):
     with pytest.raises(ModelError) as exc:

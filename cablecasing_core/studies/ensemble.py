@@ -134,8 +134,8 @@ def paired_difference(a, b):
     """Relative difference of the mean band levels of ``a`` against ``b`` and its standard error.
 
     ``a`` and ``b`` are :class:`Ensemble` objects run on the same seeds (or arrays ``(n, bands)`` whose
-    rows are paired; the standard error is NaN for one pair). Per band, ``r = (mean a - mean b) / mean b``: the relative change of the
-    expected level. Its standard error comes from the linearisation of the ratio estimator,
+    rows are paired; the standard error is NaN for one pair). Per band,
+    ``r = (mean a - mean b) / mean b``: the relative change of the expected level. Its standard error comes from the linearisation of the ratio estimator,
     ``e_i = (a_i - b_i) - r b_i``, ``SE(r) = sd(e) / (sqrt(n) mean b)``; pairing removes the part of
     the scatter that the excitation record explains in both.
 
@@ -210,6 +210,12 @@ def seed_ensemble(model=None, seeds=8, *, output="casing.B.Fz", bands="table3", 
     if not isinstance(model, Model):
         raise ModelError("model", model, "must be a Model, a model TOML path or None (the built-in specimen)")
     seeds = _check_seeds(seeds)
+    for key, v, lowest in (("duration", duration, "positive"), ("dt", dt, "positive"), ("skip", skip, "non-negative")):
+        if v is None and key != "skip":
+            continue
+        if (isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not math.isfinite(v)
+                or v < 0 or (v == 0 and lowest == "positive")):
+            raise ModelError(key, v, f"must be a {lowest} time in s" + ("" if key == "skip" else " (or None: the scenario's)"))
     if output not in SUPPORT_OUTPUTS:
         raise ModelError("output", output, "must be one of " + ", ".join(SUPPORT_OUTPUTS))
     band_set = bands if isinstance(bands, Bands) else octave_bands(bands)
@@ -240,7 +246,7 @@ def seed_ensemble(model=None, seeds=8, *, output="casing.B.Fz", bands="table3", 
         from tqdm.auto import tqdm
         with tqdm(total=len(todo), unit="run", desc="ensemble", disable=not progress) as bar:
             _run_dask(todo, DEFAULT_EVALUATE, kwargs, band_set.labels, rows, bar, scheduler, n_workers, None)
-    failed = [(seeds[r["index"]], r["error"]) for r in rows.rows.values() if r["status"] != "ok"]
+    failed = [(seeds[i], r["error"]) for i, r in sorted(rows.rows.items()) if r["status"] != "ok"]
     if failed:
         s, err = failed[0]
         raise ModelError("seeds", s, f"run failed ({err}); {len(failed)} of {len(seeds)} members failed")
