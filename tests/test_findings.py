@@ -11,11 +11,12 @@ per-seed differences.
 
 Threshold, the same for every claim: the ensemble-mean difference must exceed K = 2 of its standard
 errors (SE = sd of the paired differences / sqrt(N)), i.e. be significant, not merely of the right
-sign. Every asserted claim has a measured margin of at least 7.4 SE on the test's seeds 1..8 and at
-least 5.65 SE on an independent set, seeds 9..16. The chance that a fresh draw of 8 seeds (which is
+sign. Every asserted claim has a measured margin of at least 6.9 SE on the test's seeds 1..8 and at
+least 5.57 SE on an independent set, seeds 9..16. The chance that a fresh draw of 8 seeds (which is
 what any change of the computation's bits amounts to) lands below 2 SE when the true margin is
-5.65 is P(t_7 < 2 | noncentrality 5.65) = 6e-4 (noncentral t, 7 degrees of freedom); for 7.4 it is
-1e-6. A claim that does not reach this on both sets is stated as measured but not asserted. The
+5.57 is P(t_7 < 2 | noncentrality 5.57) = 7e-4 (noncentral t, 7 degrees of freedom); for 6.9 it is
+8e-6. (The margins quoted with each test were re-measured after f72f0e8, which changed every
+record at rounding level; the paragraph "What changed" below is from before it.) A claim that does not reach this on both sets is stated as measured but not asserted. The
 margins (effect in SE, 0.2 s runs) are given with each test as "seeds 1..8 (seeds 9..16)";
 ``python tests/test_findings.py`` prints them.
 
@@ -30,7 +31,7 @@ friction):
   "lower in all bands" holds here only below 88 Hz (and 177-355 Hz) - fewer than the single record's
   "8 of 9".
 * octave 1 alone (11-22 Hz, 1-2 FFT lines of a 0.15 s record, the widest scatter) is not asserted
-  for friction: 4.2 SE on seeds 1..8.
+  for friction: 4.2 SE on seeds 1..8 then, 4.89 now.
 * contact concentrates in the bends in most draws (>= 0.9 of the contact time in 14 of 16), but in
   about 1 draw in 8 the straight run between the bends touches the wall too (from about 0.08 s on),
   and there the bends hold only 0.63 of the contact time and the peak is on the straight run. The
@@ -94,19 +95,19 @@ def low_octaves(bands):
 
 # ------------------------------------------------------------------------------------------------
 # Friction (Section 4.4, Fig. 23(e)): measured ratio of ensemble means mu 0.2 / 0.05 per band,
-#   seeds 1..8:  0.39 0.47 0.61 1.04 0.82 1.05 1.12 1.03 0.85
-#   seeds 9..16: 0.43 0.44 0.59 0.99 0.86 1.11 1.16 1.28 1.33
-# margins (SE) 4.2 20.9 8.6 -0.6 5.2 -0.5 -0.7 -0.2 0.8 (7.9 8.7 9.1 0.2 3.2 -1.1 -1.4 -2.1 -1.9);
-# overall RMS 0.943 -> 0.914 N, 0.5 SE (0.939 -> 0.938 N, 0.0 SE): not a claim that holds.
+#   seeds 1..8:  0.35 0.45 0.61 1.04 0.83 1.04 1.13 1.02 0.94
+#   seeds 9..16: 0.40 0.45 0.59 0.98 0.85 1.09 1.12 1.28 1.25
+# margins (SE) 4.9 14.2 9.1 -0.6 4.8 -0.3 -0.9 -0.2 0.4 (5.4 8.5 8.5 0.4 3.1 -0.9 -1.0 -2.2 -1.4);
+# overall RMS 0.950 -> 0.916 N, 0.5 SE (0.943 -> 0.930 N, 0.2 SE): not a claim that holds.
 
 def test_friction_lowers_transmission(ens):
-    # 11-88 Hz together: 0.57 (0.55) of the level at mu = 0.05; margin 11.4 SE (12.7)
+    # 11-88 Hz together: 0.56 (0.55) of the level at mu = 0.05; margin 12.9 SE (13.1)
     assert margin(low_octaves(ens["mu_lo"][1]), low_octaves(ens["mu_hi"][1])) > K
 
 
 def test_friction_lowers_the_low_octaves(ens):
-    # octaves 2, 3 (22-88 Hz): margins 20.9, 8.6 SE (8.7, 9.1); octave 1 (4.2 SE (7.9)) and octave 5
-    # (5.2 (3.2)) are lower too, but not by a margin that cannot flip (P(t_7 < 2) = 0.02 and 0.13)
+    # octaves 2, 3 (22-88 Hz): margins 14.2, 9.1 SE (8.5, 8.5); octave 1 (4.9 SE (5.4)) and octave 5
+    # (4.8 (3.1)) are lower too, but not by a margin that cannot flip (P(t_7 < 2) = 0.005 and 0.16)
     z = margin(ens["mu_lo"][1], ens["mu_hi"][1])
     assert np.all(z[1:3] > K), z
 
@@ -115,33 +116,33 @@ def test_friction_lowers_the_low_octaves(ens):
 # Axial (longitudinal) excitation of the cable, Fig. 23(d).
 
 def test_longitudinal_cable_excitation_raises_transmission(ens):
-    # overall RMS, 2.5e-4 -> 5e-4 m: 0.127 -> 0.897 N, margin 21.9 SE (19.5)
+    # overall RMS, 2.5e-4 -> 5e-4 m: 0.127 -> 0.897 N, margin 22.2 SE (20.0)
     assert margin(ens["base"][0], ens["amp_lo"][0]) > K
 
 
 def test_axial_excitation_raises_every_band(ens):
-    # 2.5e-4 -> 1e-3 m: every band up by 7-49x; smallest margin 8.2 SE, octave 1 (17.4, octave 1)
+    # 2.5e-4 -> 1e-3 m: every band up by 7-49x; smallest margin 7.9 SE, octave 1 (15.6, octave 1)
     z = margin(ens["amp_hi"][1], ens["amp_lo"][1])
     assert np.all(z > K), z
 
 
 # ------------------------------------------------------------------------------------------------
 # Moduli (Fig. 23(a), (b)): ratio of ensemble means of the band levels, high / low bound, seeds 1..8:
-#   casing E 1e10 / 2e9:    1.29 1.35 1.47 0.73 0.49 1.36 5.58 3.25 2.04
-#   cable E 8.5e10 / 3e10:  1.19 1.78 1.90 1.02 1.31 1.13 1.22 1.31 1.12
-# (seeds 9..16: 1.21 1.42 1.46 0.66 0.46 1.12 5.27 3.41 2.14 and 1.14 1.72 1.95 1.06 1.45 1.16 1.35
-# 1.25 1.23)
+#   casing E 1e10 / 2e9:    1.27 1.35 1.48 0.73 0.49 1.36 5.54 3.27 2.10
+#   cable E 8.5e10 / 3e10:  1.21 1.79 1.90 1.02 1.31 1.13 1.22 1.30 1.19
+# (seeds 9..16: 1.19 1.41 1.45 0.66 0.46 1.11 5.16 3.35 2.22 and 1.12 1.72 1.95 1.06 1.45 1.16 1.36
+# 1.26 1.27)
 # The casing modulus dominates the 7th-9th octaves and raises them, as in the paper; over octaves
 # 1-6 the cable modulus matters about as much as the casing's here (the paper found it weaker),
 # because in this model the cable's axial excitation is the main source (see docs/studies.md).
 
 def test_casing_modulus_dominates_and_raises_the_high_octaves(ens):
     hi = slice(6, 9)                                        # octaves 7, 8, 9 (710-5680 Hz)
-    # a stiffer casing transmits more up there: margins 15.4, 24.2, 7.9 SE (9.6, 12.2, 5.65)
+    # a stiffer casing transmits more up there: margins 15.6, 22.6, 7.3 SE (9.6, 12.3, 5.57)
     z = margin(ens["cas_hi"][1][:, hi], ens["cas_lo"][1][:, hi])
     assert np.all(z > K), z
     # and matters more than the cable's modulus: per seed, mean |log ratio| over octaves 7-9 of the
-    # casing minus that of the cable: 1.26 against 0.41 (1.24 against 0.35); margin 7.4 SE (7.3)
+    # casing minus that of the cable: 1.28 against 0.42 (1.25 against 0.36); margin 6.9 SE (7.2)
     cas = np.abs(np.log(ens["cas_hi"][1][:, hi] / ens["cas_lo"][1][:, hi])).mean(axis=1)
     cab = np.abs(np.log(ens["cab_hi"][1][:, hi] / ens["cab_lo"][1][:, hi])).mean(axis=1)
     assert margin(cas, cab) > K
