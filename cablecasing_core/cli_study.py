@@ -27,13 +27,13 @@ def cmd_study(args):
     return 0
 
 
-def _assignment(text):
+def _assignment(flag, text):
     """``KEY=VALUE`` of ``--set``/``--against``; VALUE is read as a TOML value (a bare word as text)."""
     import tomllib
 
     key, sep, value = text.partition("=")
     if not sep or not key.strip():
-        raise ModelError("--set", text, "must be KEY=VALUE with a dotted model key, e.g. contact.friction=0.2")
+        raise ModelError(flag, text, "must be KEY=VALUE with a dotted model key, e.g. contact.friction=0.2")
     try:
         return key.strip(), tomllib.loads(f"v = {value.strip()}")["v"]
     except tomllib.TOMLDecodeError:
@@ -52,8 +52,8 @@ def cmd_ensemble(args):
     seeds = list(range(args.first_seed, args.first_seed + args.seeds))
     common = dict(seeds=seeds, output=args.output, bands=args.kind, duration=args.duration, dt=args.dt,
                   skip=args.skip, scheduler=args.scheduler, n_workers=args.workers, progress=True)
-    base = dict(_assignment(a) for a in args.set)
-    against = dict(_assignment(a) for a in args.against)
+    base = dict(_assignment("--set", a) for a in args.set)
+    against = dict(_assignment("--against", a) for a in args.against)
     ens = seed_ensemble(args.model, overrides=base, **common)
     unit = "N" if ".F" in args.output else "N.m"
     print(f"# {args.output} band RMS ({unit}) over {ens.n} seeds {ens.seeds[0]}..{ens.seeds[-1]}"

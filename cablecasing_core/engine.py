@@ -165,10 +165,10 @@ class _Body:
                 # rows of the prescribed DOFs keep the free part equal to inv(Keff[f, f])). Not LAPACK:
                 # a threaded BLAS rounds differently with each thread count, and the contact response
                 # is chaotic, so a record would depend on OMP_NUM_THREADS (a dask worker, an FMU host).
-                inv_ff = np.eye(self.ng)[:, f].T.copy()
-                for x in inv_ff:
-                    K.block_solve(Dinv, L, LT, x)
-                inv_ff = inv_ff[:, f]
+                cols = np.eye(self.ng)[f]           # e_j of the free DOFs, one per row
+                for x in cols:
+                    K.block_solve(Dinv, L, LT, x)   # -> column j of Keff^-1, stored as row j
+                inv_ff = cols[:, f]
                 # over all DOFs, zero on the prescribed ones (they do not respond), and exactly
                 # symmetric: the contact kernels read its rows as columns
                 n = len(self.U)
