@@ -5,7 +5,8 @@ casing end A plus the cable's 50 Hz axial excitation, dt = 1e-5 s, on one core.
 Run: .venv/bin/python benchmarks/bench_time.py [--duration 1.0] [--repeat 3]   (prints name: value lines)
 
 Speed: wall time of Engine.advance over the whole duration (support motion evaluated inside), the
-fastest of ``--repeat`` runs (the machine is shared; the spread is printed too).
+fastest of ``--repeat`` runs (the machine is shared; the spread is printed too). simulate_wall_s:
+the whole ``cc.simulate`` call of the same case (set-up, ledger, recording), what a user waits for.
 mean_active_contacts_by_tenth: the contacts per step in each tenth of the coupled run. The cost of a
 step grows with them, and a record can move from the usual ~2 contacts into a regime of ~5.5 for
 the rest of the run, which costs about twice as much per step (docs/performance.md).
@@ -96,6 +97,12 @@ for contact, label in ((True, "coupled"), (False, "linear")):
         print(f"contact_newton_iterations_per_step: {its / steps:.3f}")
         print(f"contact_stick_slip_passes_per_step: {passes / steps:.3f}")
         print(f"contact_unconverged_steps: {int(failed)}")
+
+# What a user waits for: cc.simulate of the same case as a whole (scenario set-up, engine with the
+# energy ledger and dense recording, result arrays), not only the step loop.
+t0 = time.perf_counter()
+cc.simulate(model, duration=args.duration)
+print(f"simulate_wall_s: {time.perf_counter() - t0:.2f}")
 
 
 def force(m, dt, duration, contact=None, motion=None):

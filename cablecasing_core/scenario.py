@@ -21,6 +21,8 @@ A to B (the cable's longitudinal excitation of Section 4.2).
 """
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from scipy.interpolate import BPoly, CubicSpline
 
@@ -65,11 +67,17 @@ class _Signal:
             t, u, v, a = _random_record(params["rms"], params["band"], duration, dt, params["seed"])
             self.period = t[-1]
             self.grid = (t[1] - t[0], u, v, a)
-            # quintic Hermite through (u, v, a) at every sample (scipy BPoly): exact at the grid,
-            # consistent derivatives in between
-            self.poly = BPoly.from_derivatives(t, np.column_stack([u, v, a])[:, :, None].reshape(len(t), 3))
+            self._t = t
         elif kind == "csv":
             self._load_csv(params["file"])
+
+    @functools.cached_property
+    def poly(self):
+        """Quintic Hermite through (u, v, a) at every sample of the random record (scipy BPoly):
+        exact at the grid, consistent derivatives in between. Built on the first time off the grid
+        (a run at the record's own step never needs it; building it costs ~3 s per 1e5 samples)."""
+        _, u, v, a = self.grid
+        return BPoly.from_derivatives(self._t, np.column_stack([u, v, a])[:, :, None].reshape(len(self._t), 3))
 
     def _load_csv(self, path):
         try:
