@@ -49,6 +49,9 @@ def cmd_ensemble(args):
         raise ModelError("--first-seed", args.first_seed, "must be a non-negative seed")
     if not 0 < args.confidence < 1:
         raise ModelError("--confidence", args.confidence, "must lie between 0 and 1, e.g. 0.95")
+    for flag, path in (("--out", args.out), ("--plot", args.plot)):   # before the runs, not after
+        if path is not None and not Path(path).resolve().parent.is_dir():
+            raise ModelError(flag, path, "must be a file in an existing folder")
     seeds = list(range(args.first_seed, args.first_seed + args.seeds))
     common = dict(seeds=seeds, output=args.output, bands=args.kind, duration=args.duration, dt=args.dt,
                   skip=args.skip, scheduler=args.scheduler, n_workers=args.workers, progress=True)
@@ -64,6 +67,7 @@ def cmd_ensemble(args):
     if args.out:
         ens.save(args.out)
         print(f"# wrote {args.out}")
+    other = d = None
     if against:
         other = seed_ensemble(args.model, overrides={**base, **against}, **common)
         d = paired_difference(other, ens)
@@ -77,6 +81,12 @@ def cmd_ensemble(args):
             path = f"{stem}_against.{ext}" if dot else f"{args.out}_against"
             other.save(path)
             print(f"# wrote {path}")
+    if args.plot:
+        from .plotting import plot_ensemble
+
+        plot_ensemble(ens, args.plot, other, d, args.confidence,
+                      labels=(", ".join(args.set) or "model", ", ".join(args.against)))
+        print(f"# wrote {args.plot}")
     return 0
 
 
@@ -132,6 +142,7 @@ def add_parser(sub):
     e.add_argument("--scheduler", default="serial", help="'serial' (default), 'local' (dask, one worker per core) or tcp://host:8786")
     e.add_argument("--workers", type=int, default=None, help="local cluster workers (default: one per core)")
     e.add_argument("--out", default=None, help="CSV of the per-seed band levels")
+    e.add_argument("--plot", default=None, metavar="PNG", help="figure: means with confidence intervals (and the change)")
     e.set_defaults(func=cmd_ensemble)
 
     b = sub.add_parser("bands", help="octave-band RMS of a column of a results CSV")

@@ -84,6 +84,38 @@ def plot_octave_bands(bands, path, ylabel="RMS"):
     _save(fig, path)
 
 
+def plot_ensemble(ens, path, other=None, diff=None, confidence=0.95, labels=("base", "against")):
+    """Band levels over excitation seeds (``studies.seed_ensemble``): the ensemble mean per band with
+    its Student-t confidence interval (N, or N.m for a moment output; log axis), a second ensemble
+    beside it, and, with ``diff`` (``studies.paired_difference(other, ens)``), the relative change
+    r (%) per band with its interval."""
+    unit = "N" if ".F" in ens.output else "N.m"
+    x = np.arange(1, len(ens.labels) + 1)
+    rows = 2 if diff is not None else 1
+    fig, axes = plt.subplots(rows, 1, figsize=(7, 3.2 * rows + 0.6), sharex=True, squeeze=False)
+    ax = axes[0, 0]
+    sets = [(ens, labels[0], -0.12)] + ([(other, labels[1], 0.12)] if other is not None else [])
+    for e, lab, dx in sets:
+        lo, hi = e.ci(confidence)
+        ax.errorbar(x + dx, e.mean, yerr=[e.mean - lo, hi - e.mean], fmt="o", capsize=3,
+                    label=f"{lab} (mean of {e.n} seeds, {confidence:.0%} CI)")
+    ax.set_yscale("log")
+    ax.set_ylabel(f"RMS {ens.output} ({unit})")
+    ax.legend(fontsize=8)
+    ax.grid(True, which="both", alpha=0.3)
+    if diff is not None:
+        a2 = axes[1, 0]
+        lo, hi = diff.ci(confidence)
+        a2.errorbar(x, 100 * diff.r, yerr=[100 * (diff.r - lo), 100 * (hi - diff.r)], fmt="s", capsize=3)
+        a2.axhline(0.0, color="k", lw=0.8)
+        a2.set_ylabel(f"{labels[1]} vs {labels[0]} (%)")
+        a2.grid(True, alpha=0.3)
+    last = axes[-1, 0]
+    last.set_xticks(x, [f"{lo:g}-{hi:g}" for lo, hi in zip(ens.lower, ens.upper)], rotation=45, fontsize=7)
+    last.set_xlabel("band (Hz)")
+    _save(fig, path)
+
+
 def plot_scalogram(t, freqs_hz, W, path, title="|W|"):
     """Wavelet scalogram |W| (time s x frequency Hz), Figs. 20-21."""
     fig, ax = plt.subplots(figsize=(7, 3.5))

@@ -174,7 +174,8 @@ def test_no_random_excitation_and_failed_members_are_named():
 def test_cli_prints_the_ensemble_and_the_paired_change(tmp_path, capsys):
     out = tmp_path / "levels.csv"
     assert cli_main(["ensemble", "--seeds", "2", "--first-seed", "3", "--duration", str(T), "--out", str(out),
-                     "--against", "contact.friction=0.05"]) == 0
+                     "--against", "contact.friction=0.05", "--plot", str(tmp_path / "ens.png")]) == 0
+    assert (tmp_path / "ens.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     text = capsys.readouterr().out
     model = cc.load_model()
     lv = [band_levels_of_single_run(model, s) for s in (3, 4)]
@@ -185,6 +186,7 @@ def test_cli_prints_the_ensemble_and_the_paired_change(tmp_path, capsys):
     np.testing.assert_allclose(saved["oct3"], [x[2] for x in lv], rtol=1e-8)
     assert (tmp_path / "levels_against.csv").exists() and "relative change" in text
     assert cli_main(["ensemble", "--seeds", "1"]) == 2
+    assert cli_main(["ensemble", "--plot", str(tmp_path / "no" / "such.png")]) == 2      # refused before any run
     assert cli_main(["ensemble", "--set", "friction"]) == 2
     assert "KEY=VALUE" in capsys.readouterr().err
 
