@@ -17,8 +17,12 @@ T = 0.15        # s per run: 0.1 s after the 0.05 s skip (octave 1, 11 Hz wide, 
 SEED_KEY = "scenario.excitation.casing_random.seed"
 
 
+def single_run(model, seed, duration=T):
+    return cc.simulate(model.with_overrides({SEED_KEY: seed}), duration=duration)
+
+
 def band_levels_of_single_run(model, seed, duration=T, skip=0.05):
-    r = cc.simulate(model.with_overrides({SEED_KEY: seed}), duration=duration)
+    r = single_run(model, seed, duration)
     keep = r.time > skip
     return octave_rms(r.support_force("casing.B.Fz")[keep], 1.0 / (r.time[1] - r.time[0])).rms
 
@@ -29,6 +33,9 @@ def test_member_is_the_single_run_with_its_seed():
     assert ens.levels.shape == (2, 9) and ens.labels[0] == "oct1" and list(ens.seeds) == [3, 5]
     for i, s in enumerate((3, 5)):
         np.testing.assert_array_equal(ens.levels[i], band_levels_of_single_run(model, s))
+        np.testing.assert_array_equal(ens.contact_time[i], single_run(model, s).contact_time)   # Fig. 22, s
+    assert ens.contact_time.shape == (2, 36) and ens.contact_time.sum() > 0
+    assert np.argmax(ens.contact_share) == np.argmax(ens.contact_time.sum(axis=0))
     # the seeds drive different records: the members differ (chaos and the record itself)
     assert np.all(ens.levels[0] != ens.levels[1])
 

@@ -56,8 +56,9 @@ class Ensemble:
     """Band levels of one support output over an ensemble of excitation seeds.
 
     ``levels[i, b]`` is the RMS (N for a force, N.m for a moment) of ``output`` in band ``b`` of the run
-    with seed ``seeds[i]``; the bands' edges are in Hz. ``overrides`` are the model changes common to
-    all members.
+    with seed ``seeds[i]``; the bands' edges are in Hz. ``contact_time[i, k]`` is the time (s) cable
+    node ``k`` spent in contact in that run (the highest-contact-area histogram of Fig. 22; no
+    columns without a cable). ``overrides`` are the model changes common to all members.
     """
 
     seeds: np.ndarray
@@ -67,6 +68,15 @@ class Ensemble:
     upper: np.ndarray
     levels: np.ndarray
     overrides: dict = field(default_factory=dict)
+    contact_time: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+
+    @property
+    def contact_share(self):
+        """Share of the pooled contact time per cable node (-, sums to 1; Fig. 22 over all seeds).
+        One record's histogram is one draw of the chaotic contact; the pooled one is the expected
+        shape. NaN where no member touched."""
+        total = self.contact_time.sum()
+        return self.contact_time.sum(axis=0) / total if total > 0 else np.full(self.contact_time.shape[1], np.nan)
 
     @property
     def n(self):
@@ -235,24 +245,28 @@ def seed_ensemble(model=None, seeds=8, *, output="casing.B.Fz", bands="table3", 
     if not 0.5 / step >= band_set.upper.max():   # (octave_rms's rule, checked before the runs)
         raise ModelError("dt", dt, f"must be at most {0.5 / band_set.upper.max():.4g} s so that every band lies "
                          f"below the Nyquist frequency (highest edge {band_set.upper.max():g} Hz)")
-    kwargs = {"duration": duration, "dt": dt, "skip": skip, "model": base, "output": output, "bands": band_set}
+    kwargs = {"duration": duration, "dt": dt, "skip": skip, "model": base, "output": output, "bands": band_set,
+              "contact_time": True}
+    nodes = base.geometry["n_elements"] + 1 if "cable" in base.bodies else 0
+    outputs = tuple(band_set.labels) + tuple(f"contact_time_{k}" for k in range(nodes))
     todo = [(i, seed_overrides(base, s, names)) for i, s in enumerate(seeds)]
 
     rows = _Rows()
     if scheduler == "serial":
         for i, p in todo:
-            rows.write(_evaluate_sample(DEFAULT_EVALUATE, kwargs, i, p, band_set.labels))
+            rows.write(_evaluate_sample(DEFAULT_EVALUATE, kwargs, i, p, outputs))
     else:
         from tqdm.auto import tqdm
         with tqdm(total=len(todo), unit="run", desc="ensemble", disable=not progress) as bar:
-            _run_dask(todo, DEFAULT_EVALUATE, kwargs, band_set.labels, rows, bar, scheduler, n_workers, None)
+            _run_dask(todo, DEFAULT_EVALUATE, kwargs, outputs, rows, bar, scheduler, n_workers, None)
     failed = [(seeds[i], r["error"]) for i, r in sorted(rows.rows.items()) if r["status"] != "ok"]
     if failed:
         s, err = failed[0]
         raise ModelError("seeds", s, f"run failed ({err}); {len(failed)} of {len(seeds)} members failed")
-    levels = np.array([[rows.rows[i][lab] for lab in band_set.labels] for i in range(len(seeds))])
+    table = np.array([[rows.rows[i][o] for o in outputs] for i in range(len(seeds))])
+    nb = len(band_set.labels)
     return Ensemble(np.array(seeds), output, tuple(band_set.labels), np.asarray(band_set.lower, float),
-                    np.asarray(band_set.upper, float), levels, overrides)
+                    np.asarray(band_set.upper, float), table[:, :nb], overrides, table[:, nb:])
 
 
 class _Rows:

@@ -75,7 +75,7 @@ FORMAT_VERSION = 1
 # per-sample functions
 
 def default_evaluate(overrides, duration=None, skip=0.05, dt=None, model_file=None, *, model=None,
-                     output="casing.B.Fz", bands="table3", **kwargs):
+                     output="casing.B.Fz", bands="table3", contact_time=False, **kwargs):
     """The per-sample function of Section 4.4: run the time-domain model (the scenario of the model,
     with ``overrides`` applied) and return the octave-band RMS (N, Table 3) of the force at casing end
     B in z, ``{"oct1": N, ..., "oct9": N}``.
@@ -85,7 +85,8 @@ def default_evaluate(overrides, duration=None, skip=0.05, dt=None, model_file=No
     ``scenario.dt``); model_file: a model TOML (default the built-in specimen); model: a
     :class:`~cablecasing_core.config.Model` to use instead of ``model_file``; output: the support
     output whose band levels are returned (N or N.m, a name of ``SUPPORT_OUTPUTS``); bands: the band
-    set of :func:`~cablecasing_core.studies.octave.octave_rms`.
+    set of :func:`~cablecasing_core.studies.octave.octave_rms`; contact_time: also return the contact
+    time per cable node (s, Fig. 22) as ``"contact_time_<i>"``.
     """
     from ..config import load_model
     from ..simulation import simulate
@@ -96,7 +97,10 @@ def default_evaluate(overrides, duration=None, skip=0.05, dt=None, model_file=No
     if keep.sum() < 2:
         raise ModelError("skip", skip, f"must leave part of the {res.time[-1]:.6g} s record for the RMS")
     fs = 1.0 / (res.time[1] - res.time[0])
-    return octave_rms(res.support_force(output)[keep], fs, bands).as_dict()
+    out = octave_rms(res.support_force(output)[keep], fs, bands).as_dict()
+    if contact_time:
+        out.update({f"contact_time_{i}": float(v) for i, v in enumerate(res.contact_time)})
+    return out
 
 
 def _analytic_evaluate(overrides, fail_above=None, **_):
