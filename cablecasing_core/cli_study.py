@@ -139,10 +139,12 @@ def add_parser(sub):
     e.add_argument("--against", action="append", default=[], metavar="KEY=VALUE",
                    help="compare with a second ensemble on the same seeds with this change")
     e.add_argument("--confidence", type=float, default=0.95, help="level of the confidence intervals")
-    e.add_argument("--scheduler", default="serial", help="'serial' (default), 'local' (dask, one worker per core) or tcp://host:8786")
+    e.add_argument("--scheduler", default="serial",
+                   help="'serial' (default), 'local' (dask, one worker per core) or tcp://host:8786")
     e.add_argument("--workers", type=int, default=None, help="local cluster workers (default: one per core)")
     e.add_argument("--out", default=None, help="CSV of the per-seed band levels")
-    e.add_argument("--plot", default=None, metavar="PNG", help="figure: means with confidence intervals (and the change)")
+    e.add_argument("--plot", default=None, metavar="PNG",
+                   help="figure: means with confidence intervals (and the change)")
     e.set_defaults(func=cmd_ensemble)
 
     b = sub.add_parser("bands", help="octave-band RMS of a column of a results CSV")

@@ -145,8 +145,8 @@ def paired_difference(a, b):
 
     ``a`` and ``b`` are :class:`Ensemble` objects run on the same seeds (or arrays ``(n, bands)`` whose
     rows are paired; the standard error is NaN for one pair). Per band,
-    ``r = (mean a - mean b) / mean b``: the relative change of the expected level. Its standard error comes from the linearisation of the ratio estimator,
-    ``e_i = (a_i - b_i) - r b_i``, ``SE(r) = sd(e) / (sqrt(n) mean b)``; pairing removes the part of
+    ``r = (mean a - mean b) / mean b``: the relative change of the expected level. Its standard
+    error comes from the linearisation of the ratio estimator, ``e_i = (a_i - b_i) - r b_i``, ``SE(r) = sd(e) / (sqrt(n) mean b)``; pairing removes the part of
     the scatter that the excitation record explains in both.
 
     Not the mean of the per-seed ratios ``mean(a_i / b_i) - 1``: that estimates E[a/b] - 1, which is
@@ -225,7 +225,8 @@ def seed_ensemble(model=None, seeds=8, *, output="casing.B.Fz", bands="table3", 
             continue
         if (isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not math.isfinite(v)
                 or v < 0 or (v == 0 and lowest == "positive")):
-            raise ModelError(key, v, f"must be a {lowest} time in s" + ("" if key == "skip" else " (or None: the scenario's)"))
+            raise ModelError(key, v, f"must be a {lowest} time in s"
+                             + ("" if key == "skip" else " (or None: the scenario's)"))
     if output not in SUPPORT_OUTPUTS:
         raise ModelError("output", output, "must be one of " + ", ".join(SUPPORT_OUTPUTS))
     band_set = bands if isinstance(bands, Bands) else octave_bands(bands)
