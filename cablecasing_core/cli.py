@@ -1,6 +1,7 @@
 """Command line ``cablecasing``: a thin shell over the core API.
 
-Sub-commands: ``modes``, ``trfam``, ``simulate``, ``identify ...``, ``study``, ``bands``, ``report``.
+Sub-commands: ``modes``, ``trfam``, ``simulate``, ``identify ...``, ``study``, ``ensemble``, ``bands``,
+``report``.
 Every error in the input prints one line naming the key, the value and what is allowed, and
 exits with status 2.
 """
@@ -18,6 +19,19 @@ from .errors import CableCasingError, ModelError
 
 def _model(path):
     return load_model(path)
+
+
+def check_output_path(flag, path, suffixes=None):
+    """Refuse an output file before a long run rather than after it: its folder must exist and, with
+    ``suffixes``, its name must end in one of them. ``None`` (no output asked for) passes."""
+    if path is None or path is True:
+        return
+    from pathlib import Path
+
+    if suffixes and not str(path).endswith(tuple(suffixes)):
+        raise ModelError(flag, path, "must end in " + " or ".join(suffixes))
+    if not Path(path).resolve().parent.is_dir():
+        raise ModelError(flag, path, "must be a file in an existing folder")
 
 
 def cmd_modes(args):

@@ -3,9 +3,12 @@ from __future__ import annotations
 
 
 def cmd_simulate(args):
+    from .cli import check_output_path
     from .config import load_model
     from .simulation import simulate
 
+    check_output_path("--out", args.out, (".csv", ".npz"))
+    check_output_path("--plot", args.plot)
     model = load_model(args.model)
     res = simulate(model, duration=args.duration, dt=args.dt, contact=False if args.no_contact else None)
     rms = {n: float((res.support_force(n) ** 2).mean() ** 0.5) for n in ("casing.B.Fx", "casing.B.Fy", "casing.B.Fz")}
@@ -16,6 +19,9 @@ def cmd_simulate(args):
           f"max penetration {res.penetration.max():.3g} m")
     e = res.energies
     print("  energy (J): " + ", ".join(f"{k} {v:.4g}" for k, v in e.items()))
+    if res.contact_state.any():
+        print("  note: with contact the response is chaotic, so one record's band levels are one draw "
+              "(3-20 % scatter per octave);\n        for expected levels use 'cablecasing ensemble' (docs/studies.md)")
     if args.out:
         res.save(args.out)
         print(f"wrote {args.out}")

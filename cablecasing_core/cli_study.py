@@ -5,6 +5,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .cli import check_output_path
 from .errors import ModelError
 
 
@@ -49,9 +50,8 @@ def cmd_ensemble(args):
         raise ModelError("--first-seed", args.first_seed, "must be a non-negative seed")
     if not 0 < args.confidence < 1:
         raise ModelError("--confidence", args.confidence, "must lie between 0 and 1, e.g. 0.95")
-    for flag, path in (("--out", args.out), ("--plot", args.plot)):   # before the runs, not after
-        if path is not None and not Path(path).resolve().parent.is_dir():
-            raise ModelError(flag, path, "must be a file in an existing folder")
+    check_output_path("--out", args.out)
+    check_output_path("--plot", args.plot)
     seeds = list(range(args.first_seed, args.first_seed + args.seeds))
     common = dict(seeds=seeds, output=args.output, bands=args.kind, duration=args.duration, dt=args.dt,
                   skip=args.skip, scheduler=args.scheduler, n_workers=args.workers, progress=True)

@@ -44,6 +44,14 @@ def test_simulate_cli_writes_csv(tmp_path, capsys):
     assert "duration" in capsys.readouterr().err
 
 
+def test_simulate_cli_refuses_output_paths_before_the_run(tmp_path, capsys):
+    assert main(["simulate", "--duration", "1.0", "--out", str(tmp_path / "r.txt")]) == 2
+    assert "--out" in capsys.readouterr().err
+    assert main(["simulate", "--duration", "1.0", "--plot", str(tmp_path / "no" / "r.png")]) == 2
+    assert "existing folder" in capsys.readouterr().err
+    assert not any(tmp_path.iterdir())
+
+
 def test_simulate_cli_model_dt_npz_plot_and_blow_up(tmp_path, capsys):
     """The CLI is a shell over cc.simulate: the same histories for the same model file and dt; a
     duration that is not a whole number of steps ends on it; a blow-up exits with status 2 and the
