@@ -201,7 +201,9 @@ def seed_ensemble(model=None, seeds=8, *, output="casing.B.Fz", bands="table3", 
         Random excitations whose seed is varied (default all; :func:`seed_overrides`).
     scheduler : "serial", None, "local", address or distributed.Client
         As :func:`~cablecasing_core.studies.montecarlo.run_study`; default ``"serial"``: members one
-        after the other in this process.
+        after the other in this process (no dask needed).
+    progress : bool
+        Show a tqdm bar of the members done (if tqdm is installed).
 
     Returns
     -------
@@ -253,13 +255,16 @@ def seed_ensemble(model=None, seeds=8, *, output="casing.B.Fz", bands="table3", 
     todo = [(i, seed_overrides(base, s, names)) for i, s in enumerate(seeds)]
 
     rows = _Rows()
-    if scheduler == "serial":
-        for i, p in todo:
-            rows.write(_evaluate_sample(DEFAULT_EVALUATE, kwargs, i, p, outputs))
-    else:
-        from tqdm.auto import tqdm
-        with tqdm(total=len(todo), unit="run", desc="ensemble", disable=not progress) as bar:
+    bar = _progress_bar(len(todo), progress)
+    try:
+        if scheduler == "serial":
+            for i, p in todo:
+                rows.write(_evaluate_sample(DEFAULT_EVALUATE, kwargs, i, p, outputs))
+                bar.update(1)
+        else:
             _run_dask(todo, DEFAULT_EVALUATE, kwargs, outputs, rows, bar, scheduler, n_workers, None)
+    finally:
+        bar.close()
     failed = [(seeds[i], r["error"]) for i, r in sorted(rows.rows.items()) if r["status"] != "ok"]
     if failed:
         s, err = failed[0]
@@ -268,6 +273,25 @@ def seed_ensemble(model=None, seeds=8, *, output="casing.B.Fz", bands="table3", 
     nb = len(band_set.labels)
     return Ensemble(np.array(seeds), output, tuple(band_set.labels), np.asarray(band_set.lower, float),
                     np.asarray(band_set.upper, float), table[:, :nb], overrides, table[:, nb:])
+
+
+class _NoBar:
+    def update(self, n):
+        pass
+
+    def close(self):
+        pass
+
+
+def _progress_bar(total, progress):
+    """A tqdm bar of the members done (tqdm comes with the ``study`` extra; without it, none)."""
+    if progress:
+        try:
+            from tqdm.auto import tqdm
+        except ImportError:
+            return _NoBar()
+        return tqdm(total=total, unit="run", desc="ensemble", dynamic_ncols=True)
+    return _NoBar()
 
 
 class _Rows:
