@@ -27,7 +27,7 @@ import numpy as np
 from scipy import stats
 
 from ..errors import ModelError
-from .montecarlo import DEFAULT_EVALUATE, _evaluate_sample, _run_dask
+from .montecarlo import DEFAULT_EVALUATE, execute
 from .octave import Bands, octave_bands
 
 
@@ -257,12 +257,7 @@ def seed_ensemble(model=None, seeds=8, *, output="casing.B.Fz", bands="table3", 
     rows = _Rows()
     bar = _progress_bar(len(todo), progress)
     try:
-        if scheduler == "serial":
-            for i, p in todo:
-                rows.write(_evaluate_sample(DEFAULT_EVALUATE, kwargs, i, p, outputs))
-                bar.update(1)
-        else:
-            _run_dask(todo, DEFAULT_EVALUATE, kwargs, outputs, rows, bar, scheduler, n_workers, None)
+        execute(todo, DEFAULT_EVALUATE, kwargs, outputs, rows, bar, scheduler, n_workers)
     finally:
         bar.close()
     failed = [(seeds[i], r["error"]) for i, r in sorted(rows.rows.items()) if r["status"] != "ok"]
@@ -295,7 +290,7 @@ def _progress_bar(total, progress):
 
 
 class _Rows:
-    """Collects the executor's rows by index (the ``writer`` of ``_run_dask``)."""
+    """Collects the executor's rows by index (the ``writer`` of ``montecarlo.execute``)."""
 
     def __init__(self):
         self.rows = {}

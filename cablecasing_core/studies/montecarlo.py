@@ -512,17 +512,24 @@ def run_study(path, evaluate=DEFAULT_EVALUATE, bounds=None, n_samples=300, seed=
         bar = tqdm(total=n, initial=len(done), unit="sample", desc="study", disable=not progress,
                    dynamic_ncols=True, smoothing=0.1)
         try:
-            if scheduler == "serial":
-                for i, p in todo:
-                    writer.write(_evaluate_sample(evaluate, evaluate_kwargs, i, p, outputs))
-                    bar.update(1)
-            else:
-                _run_dask(todo, evaluate, evaluate_kwargs, outputs, writer, bar, scheduler, n_workers, max_in_flight)
+            execute(todo, evaluate, evaluate_kwargs, outputs, writer, bar, scheduler, n_workers, max_in_flight)
         finally:
             bar.close()
     finally:
         writer.close()
     return load_results(path)
+
+
+def execute(todo, evaluate, kwargs, outputs, writer, bar, scheduler, n_workers=None, max_in_flight=None):
+    """Evaluate the samples ``todo`` = [(index, overrides), ...] with ``evaluate(overrides, **kwargs)``
+    in this process (``scheduler="serial"``) or on dask, passing each row to ``writer.write`` as it
+    completes and counting it on ``bar``. A failed sample is a row with status "failed"."""
+    if scheduler == "serial":
+        for i, p in todo:
+            writer.write(_evaluate_sample(evaluate, kwargs, i, p, outputs))
+            bar.update(1)
+    else:
+        _run_dask(todo, evaluate, kwargs, outputs, writer, bar, scheduler, n_workers, max_in_flight)
 
 
 def _run_dask(todo, evaluate, kwargs, outputs, writer, bar, scheduler, n_workers, max_in_flight):
