@@ -27,7 +27,7 @@ import numpy as np
 from scipy import stats
 
 from ..errors import ModelError
-from .montecarlo import DEFAULT_EVALUATE, execute
+from .montecarlo import DEFAULT_EVALUATE, _check_int, execute
 from .octave import Bands, octave_bands
 
 
@@ -46,7 +46,7 @@ def seed_overrides(model, seed, excitations=None):
     seed and band would get the same record, fully correlated).
     """
     names = _check_excitations(model, excitations)
-    s = _check_seed("seeds", seed)
+    s = _check_int("seeds", seed, 0)
     k = len(names)
     return {f"scenario.excitation.{n}.seed": s * k + j for j, n in enumerate(names)}
 
@@ -305,19 +305,13 @@ def _t_factor(confidence, n):
     return stats.t.ppf(0.5 + confidence / 2, n - 1) if n > 1 else np.nan
 
 
-def _check_seed(key, s):
-    if isinstance(s, bool) or not isinstance(s, (int, np.integer)) or s < 0:
-        raise ModelError(key, s, "must be a non-negative integer seed")
-    return int(s)
-
-
 def _check_seeds(seeds):
     if isinstance(seeds, (int, np.integer)) and not isinstance(seeds, bool):
         if seeds < 2:
             raise ModelError("seeds", seeds, "must be at least 2 (seeds 1..n), or a sequence of seeds")
         return list(range(1, int(seeds) + 1))
     try:
-        out = [_check_seed("seeds", s) for s in seeds]
+        out = [_check_int("seeds", s, 0) for s in seeds]
     except TypeError:
         raise ModelError("seeds", seeds, "must be a count n >= 2 or a sequence of non-negative integer seeds") from None
     if len(out) < 2 or len(set(out)) != len(out):
