@@ -1,7 +1,7 @@
 """Command line ``cablecasing``: a thin shell over the core API.
 
-Sub-commands: ``modes``, ``trfam``, ``simulate``, ``identify ...``, ``study``, ``ensemble``, ``bands``,
-``report``.
+Sub-commands: ``modes``, ``trfam``, ``simulate``, ``identify ...``, ``study``, ``ensemble``, ``pool``,
+``bands``, ``report``.
 Every error in the input prints one line naming the key, the value and what is allowed, and
 exits with status 2.
 """

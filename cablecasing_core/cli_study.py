@@ -1,4 +1,4 @@
-"""``cablecasing study``, ``cablecasing ensemble``, ``cablecasing bands``, ``cablecasing report`` (Section 4)."""
+"""``cablecasing study``, ``ensemble``, ``pool``, ``bands``, ``report`` (Section 4)."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -48,8 +48,7 @@ def cmd_ensemble(args):
         raise ModelError("--seeds", args.seeds, "must be at least 2")
     if args.first_seed < 0:
         raise ModelError("--first-seed", args.first_seed, "must be a non-negative seed")
-    if not 0 < args.confidence < 1:
-        raise ModelError("--confidence", args.confidence, "must lie between 0 and 1, e.g. 0.95")
+    _check_confidence(args.confidence)
     check_output_path("--out", args.out)
     check_output_path("--plot", args.plot)
     seeds = list(range(args.first_seed, args.first_seed + args.seeds))
@@ -58,36 +57,79 @@ def cmd_ensemble(args):
     base = dict(_assignment("--set", a) for a in args.set)
     against = dict(_assignment("--against", a) for a in args.against)
     ens = seed_ensemble(args.model, overrides=base, **common)
-    unit = "N" if ".F" in args.output else "N.m"
-    print(f"# {args.output} band RMS ({unit}) over {ens.n} seeds {ens.seeds[0]}..{ens.seeds[-1]}"
-          f"{' with ' + str(base) if base else ''}; CI {args.confidence:g} (Student t)")
-    print("band,f_low_hz,f_high_hz,mean,se,ci_low,ci_high,cv")
-    for row in ens.as_rows(args.confidence):
-        print(",".join([row["band"]] + [f"{row[k]:.6g}" for k in list(row)[1:]]))
-    if args.out:
-        ens.save(args.out)
-        print(f"# wrote {args.out}")
+    _print_ensemble(ens, args.confidence)
+    _save(ens, args.out, "")
     other = d = None
     if against:
         other = seed_ensemble(args.model, overrides={**base, **against}, **common)
         d = paired_difference(other, ens)
-        lo, hi = d.ci(args.confidence)
-        print(f"# relative change of the mean level with {against} (paired on the same seeds)")
-        print("band,mean_against,rel_diff,se,ci_low,ci_high,diff_over_se")
-        for lab, m, r, se, a, b in zip(d.labels, other.mean, d.r, d.se, lo, hi):
-            print(f"{lab},{m:.6g},{r:+.4f},{se:.4f},{a:+.4f},{b:+.4f},{r / se:+.1f}")
-        if args.out:
-            stem, dot, ext = args.out.rpartition(".")
-            path = f"{stem}_against.{ext}" if dot else f"{args.out}_against"
-            other.save(path)
-            print(f"# wrote {path}")
+        _print_change(other, d, against, args.confidence)
+        _save(other, args.out, "_against")
+    _plot(ens, other, d, args, (", ".join(args.set) or "model", ", ".join(args.against)))
+    return 0
+
+
+def cmd_pool(args):
+    """Pool ensemble CSVs run in parts (same model and settings) and print what ``ensemble`` prints."""
+    from .studies import paired_difference, pool_ensembles
+
+    _check_confidence(args.confidence)
+    check_output_path("--out", args.out)
+    check_output_path("--plot", args.plot)
+    ens = pool_ensembles(args.files)
+    other = d = None
+    change = {}
+    if args.against:
+        other = pool_ensembles(args.against)
+        d = paired_difference(other, ens)      # refuses parts whose seeds do not pair
+    _print_ensemble(ens, args.confidence)
+    _save(ens, args.out, "")
+    if other is not None:
+        change = {k: v for k, v in other.overrides.items() if ens.overrides.get(k) != v}
+        _print_change(other, d, change, args.confidence)
+        _save(other, args.out, "_against")
+    _plot(ens, other, d, args, (str(ens.overrides or "model"), str(change)))
+    return 0
+
+
+def _check_confidence(confidence):
+    if not 0 < confidence < 1:
+        raise ModelError("--confidence", confidence, "must lie between 0 and 1, e.g. 0.95")
+
+
+def _print_ensemble(ens, confidence):
+    unit = "N" if ".F" in ens.output else "N.m"
+    seeds = f"{ens.seeds[0]}..{ens.seeds[-1]}" if np.all(np.diff(ens.seeds) == 1) else "(see the CSV)"
+    print(f"# {ens.output} band RMS ({unit}) over {ens.n} seeds {seeds}"
+          f"{' with ' + str(ens.overrides) if ens.overrides else ''}; CI {confidence:g} (Student t)")
+    print("band,f_low_hz,f_high_hz,mean,se,ci_low,ci_high,cv")
+    for row in ens.as_rows(confidence):
+        print(",".join([row["band"]] + [f"{row[k]:.6g}" for k in list(row)[1:]]))
+
+
+def _print_change(other, d, change, confidence):
+    lo, hi = d.ci(confidence)
+    print(f"# relative change of the mean level with {change} (paired on the same seeds)")
+    print("band,mean_against,rel_diff,se,ci_low,ci_high,diff_over_se")
+    for lab, m, r, se, a, b in zip(d.labels, other.mean, d.r, d.se, lo, hi):
+        print(f"{lab},{m:.6g},{r:+.4f},{se:.4f},{a:+.4f},{b:+.4f},{r / se:+.1f}")
+
+
+def _save(ens, out, suffix):
+    """Write ``ens`` to ``out`` (``x.csv`` -> ``x<suffix>.csv``), if ``out`` was given."""
+    if out:
+        stem, dot, ext = out.rpartition(".")
+        path = f"{stem}{suffix}.{ext}" if dot else f"{out}{suffix}"
+        ens.save(path)
+        print(f"# wrote {path}")
+
+
+def _plot(ens, other, d, args, labels):
     if args.plot:
         from .plotting import plot_ensemble
 
-        plot_ensemble(ens, args.plot, other, d, args.confidence,
-                      labels=(", ".join(args.set) or "model", ", ".join(args.against)))
+        plot_ensemble(ens, args.plot, other, d, args.confidence, labels=labels)
         print(f"# wrote {args.plot}")
-    return 0
 
 
 def cmd_bands(args):
@@ -146,6 +188,15 @@ def add_parser(sub):
     e.add_argument("--plot", default=None, metavar="PNG",
                    help="figure: means with confidence intervals (and the change)")
     e.set_defaults(func=cmd_ensemble)
+
+    q = sub.add_parser("pool", help="pool ensemble CSVs run in parts (ensemble --out) and print their statistics")
+    q.add_argument("files", nargs="+", metavar="CSV", help="parts written by 'cablecasing ensemble --out'")
+    q.add_argument("--against", nargs="+", default=[], metavar="CSV",
+                   help="the parts' _against.csv files: print the paired change as 'ensemble --against' does")
+    q.add_argument("--confidence", type=float, default=0.95, help="level of the confidence intervals")
+    q.add_argument("--out", default=None, help="CSV of the pooled members (and OUT_against.csv)")
+    q.add_argument("--plot", default=None, metavar="PNG", help="figure as 'ensemble --plot'")
+    q.set_defaults(func=cmd_pool)
 
     b = sub.add_parser("bands", help="octave-band RMS of a column of a results CSV")
     b.add_argument("results", help="CSV written by 'cablecasing simulate --out'")

@@ -10,8 +10,8 @@ import cablecasing_core as cc
 from cablecasing_core.cli import main as cli_main
 from cablecasing_core.config import model_from_dict
 from cablecasing_core.errors import ModelError
-from cablecasing_core.studies import (Ensemble, octave_rms, paired_difference, random_excitations,
-                                      seed_ensemble, seed_overrides)
+from cablecasing_core.studies import (Ensemble, load_ensemble, octave_rms, paired_difference, pool_ensembles,
+                                      random_excitations, seed_ensemble, seed_overrides)
 
 T = 0.15        # s per run: 0.1 s after the 0.05 s skip (octave 1, 11 Hz wide, needs > 91 ms)
 SEED_KEY = "scenario.excitation.casing_random.seed"
@@ -196,6 +196,79 @@ def test_cli_prints_the_ensemble_and_the_paired_change(tmp_path, capsys):
     assert cli_main(["ensemble", "--plot", str(tmp_path / "no" / "such.png")]) == 2      # refused before any run
     assert cli_main(["ensemble", "--set", "friction"]) == 2
     assert "KEY=VALUE" in capsys.readouterr().err
+
+
+def test_an_ensemble_run_in_parts_and_pooled_is_the_whole(tmp_path):
+    # the parts go through CSV (17 digits: the numbers come back exactly) and are pooled in any
+    # order; the result is the ensemble run in one go, member for member
+    model = cc.load_model()
+    whole = seed_ensemble(model, [1, 2, 3, 4], duration=T)
+    seed_ensemble(model, [3, 4], duration=T).save(tmp_path / "b.csv")
+    part_a = seed_ensemble(model, [1, 2], duration=T)
+    part_a.save(tmp_path / "a.csv")
+    back = load_ensemble(tmp_path / "a.csv")
+    for name in ("seeds", "levels", "contact_time", "lower", "upper"):
+        np.testing.assert_array_equal(getattr(back, name), getattr(part_a, name))
+    assert (back.output, back.labels, back.settings) == (part_a.output, part_a.labels, part_a.settings)
+    assert whole.settings == {"duration": T, "dt": 1e-5, "skip": 0.05, "model": whole.settings["model"]}
+    pooled = pool_ensembles([tmp_path / "b.csv", str(tmp_path / "a.csv")])
+    for name in ("seeds", "levels", "contact_time"):
+        np.testing.assert_array_equal(getattr(pooled, name), getattr(whole, name))
+    np.testing.assert_array_equal(pooled.se, whole.se)
+    # the CSV stays a plain table for other readers: the settings line is a comment
+    table = np.genfromtxt(tmp_path / "a.csv", delimiter=",", names=True)
+    np.testing.assert_array_equal(table["oct3"], part_a.levels[:, 2])
+
+
+def test_pooling_refuses_parts_of_different_runs(tmp_path):
+    a = synthetic([[1.0, 2.0], [1.1, 2.1]])
+    with pytest.raises(ModelError) as exc:               # a seed in two parts
+        pool_ensembles([a, synthetic([[1.0, 2.0], [1.2, 2.2]], seeds=[2, 3])])
+    assert exc.value.key == "seeds" and exc.value.value == [2]
+    other = [Ensemble(np.array([5, 6]), "casing.A.Fz", a.labels, a.lower, a.upper, a.levels),
+             Ensemble(np.array([5, 6]), a.output, a.labels, a.lower, 2 * a.upper, a.levels),
+             Ensemble(np.array([5, 6]), a.output, a.labels, a.lower, a.upper, a.levels, {"contact.friction": 0.2}),
+             Ensemble(np.array([5, 6]), a.output, a.labels, a.lower, a.upper, a.levels, settings={"dt": 5e-6})]
+    for e, key in zip(other, ("output", "bands", "overrides", "settings")):
+        with pytest.raises(ModelError) as exc:
+            pool_ensembles([a, e])
+        assert exc.value.key == f"ensembles[1].{key}"
+    # the model is part of the settings: a changed parameter gives another fingerprint
+    model = cc.load_model()
+    from cablecasing_core.studies.ensemble import _fingerprint
+    assert _fingerprint(model) == _fingerprint(cc.load_model())
+    assert _fingerprint(model) != _fingerprint(model.with_overrides({"contact.friction": 0.2}))
+    (tmp_path / "plain.csv").write_text("seed,b1,b2\n1,1.0,2.0\n")
+    with pytest.raises(ModelError, match="cablecasing-ensemble"):
+        load_ensemble(tmp_path / "plain.csv")
+    with pytest.raises(ModelError, match="readable"):
+        load_ensemble(tmp_path / "missing.csv")
+    with pytest.raises(ModelError, match="non-empty"):
+        pool_ensembles([])
+
+
+def test_cli_pools_parts_and_prints_the_paired_change(tmp_path, capsys):
+    rng = np.random.default_rng(4)
+    b = 1.0 + 0.1 * rng.normal(size=(6, 2))
+    a = 1.05 * b + 0.02 * rng.normal(size=(6, 2))
+    for name, levels, overrides in (("p", b, {}), ("q", a, {"contact.friction": 0.2})):
+        for k, rows in enumerate((slice(0, 3), slice(3, 6))):
+            e = synthetic(levels[rows], seeds=np.arange(1, 7)[rows])
+            part = Ensemble(e.seeds, e.output, e.labels, e.lower, e.upper, e.levels, overrides)
+            part.save(tmp_path / f"{name}{k}.csv")
+    files = [str(tmp_path / f) for f in ("p0.csv", "p1.csv")]
+    assert cli_main(["pool", *files, "--against", str(tmp_path / "q1.csv"), str(tmp_path / "q0.csv"),
+                     "--out", str(tmp_path / "all.csv")]) == 0
+    text = capsys.readouterr().out
+    rows = [line.split(",") for line in text.splitlines() if line[:3] in ("b1,", "b2,")]
+    np.testing.assert_allclose([float(r[3]) for r in rows[:2]], b.mean(axis=0), rtol=1e-5)
+    d = paired_difference(a, b)
+    np.testing.assert_allclose([float(r[2]) for r in rows[2:]], d.r, atol=6e-5)      # printed to 4 decimals
+    assert "{'contact.friction': 0.2}" in text
+    np.testing.assert_array_equal(load_ensemble(tmp_path / "all_against.csv").levels, a)
+    assert cli_main(["pool", files[0], files[0]]) == 2                                   # seeds twice
+    assert cli_main(["pool", *files, "--against", str(tmp_path / "q0.csv")]) == 2         # seeds do not pair
+    assert "seeds" in capsys.readouterr().err
 
 
 def test_a_seed_gives_the_same_record_at_every_time_step():

@@ -7,6 +7,7 @@ and band levels as ensemble means over excitation seeds.
 >>> correlations(res, "pearson").as_dict()
 >>> ens = seed_ensemble(model, seeds=8)                      # band levels over excitation seeds
 >>> ens.mean, ens.se, paired_difference(ens_a, ens_b).r
+>>> ens.save("part1.csv"); pool_ensembles(["part1.csv", "part2.csv"])   # an ensemble run in parts
 
 See docs/studies.md.
 """
@@ -14,13 +15,13 @@ from .montecarlo import (AXIAL_AMPLITUDE_KEY, DEFAULT_CONSTRAINTS, DEFAULT_EVALU
                          PAPER_BOUNDS, Correlation, StudyResults, check_bounds, correlations,
                          default_evaluate, gap_constraint, latin_hypercube, load_results,
                          plot_correlations, resolve_evaluate, run_study)
-from .ensemble import (Ensemble, PairedDifference, paired_difference, random_excitations, seed_ensemble,
-                       seed_overrides)
+from .ensemble import (Ensemble, PairedDifference, load_ensemble, paired_difference, pool_ensembles,
+                       random_excitations, seed_ensemble, seed_overrides)
 from .octave import TABLE3_LOWER, TABLE3_UPPER, BandRMS, Bands, octave_bands, octave_rms
 
 __all__ = ["AXIAL_AMPLITUDE_KEY", "DEFAULT_CONSTRAINTS", "DEFAULT_EVALUATE", "DEFAULT_OUTPUTS", "PAPER_BOUNDS",
            "TABLE3_LOWER", "TABLE3_UPPER", "BandRMS", "Bands", "Correlation", "Ensemble", "PairedDifference",
            "StudyResults", "check_bounds", "correlations", "default_evaluate", "gap_constraint",
-           "latin_hypercube", "load_results", "octave_bands", "octave_rms", "paired_difference",
-           "plot_correlations", "random_excitations", "resolve_evaluate", "run_study", "seed_ensemble",
+           "latin_hypercube", "load_ensemble", "load_results", "octave_bands", "octave_rms", "paired_difference",
+           "plot_correlations", "pool_ensembles", "random_excitations", "resolve_evaluate", "run_study", "seed_ensemble",
            "seed_overrides"]

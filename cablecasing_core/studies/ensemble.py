@@ -12,6 +12,9 @@ band level, estimated as the mean over an ensemble of excitation seeds, with its
   support output per member (:class:`Ensemble`: mean, standard error, t confidence interval).
 * :func:`paired_difference` compares two ensembles run on the same seeds: the relative difference
   of their means per band, r = (mean a - mean b) / mean b, and its standard error.
+* :meth:`Ensemble.save` / :func:`load_ensemble` / :func:`pool_ensembles`: an ensemble run in parts
+  (seed ranges on several machines, or on several days) is written to CSV with its settings, read
+  back, and pooled into one, refused if the parts were not run with the same model and settings.
 
 The runs go through the Monte-Carlo study's per-sample function and executor
 (:func:`~cablecasing_core.studies.montecarlo.default_evaluate`; serial, or dask.distributed), so an
@@ -19,6 +22,8 @@ ensemble member is computed exactly like a study sample.
 """
 from __future__ import annotations
 
+import hashlib
+import json
 import math
 import os
 from dataclasses import dataclass, field
@@ -58,7 +63,9 @@ class Ensemble:
     ``levels[i, b]`` is the RMS (N for a force, N.m for a moment) of ``output`` in band ``b`` of the run
     with seed ``seeds[i]``; the bands' edges are in Hz. ``contact_time[i, k]`` is the time (s) cable
     node ``k`` spent in contact in that run (the highest-contact-area histogram of Fig. 22; no
-    columns without a cable). ``overrides`` are the model changes common to all members.
+    columns without a cable). ``overrides`` are the model changes common to all members;
+    ``settings`` the run settings ``duration``, ``dt``, ``skip`` (s) and ``model``, a fingerprint of
+    the model with the overrides applied (what :func:`pool_ensembles` requires to be equal).
     """
 
     seeds: np.ndarray
@@ -69,6 +76,7 @@ class Ensemble:
     levels: np.ndarray
     overrides: dict = field(default_factory=dict)
     contact_time: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    settings: dict = field(default_factory=dict)
 
     @property
     def contact_share(self):
@@ -114,11 +122,92 @@ class Ensemble:
                                                       lo, hi, self.cv)]
 
     def save(self, path):
-        """Write the per-member band levels as CSV: ``seed, <label>...`` (N or N.m)."""
-        header = ",".join(("seed",) + tuple(self.labels))
-        table = np.column_stack([self.seeds, self.levels])
-        np.savetxt(str(path), table, delimiter=",", header=header, comments="",
-                   fmt=["%d"] + ["%.9g"] * len(self.labels))
+        """Write the members as CSV: the header ``seed, <band labels> (N or N.m), contact_time_node<k>_s``,
+        then one line ``# cablecasing-ensemble {JSON}`` with the output, band edges (Hz), overrides and
+        settings (a comment line: ``numpy.genfromtxt(path, delimiter=",", names=True)`` and
+        ``pandas.read_csv(path, comment="#")`` read the table), then one row per member, written
+        to 17 significant digits so that :func:`load_ensemble` gives back the same numbers."""
+        nodes = self.contact_time.shape[1] if self.contact_time.size else 0
+        header = ",".join(("seed",) + tuple(self.labels) + tuple(f"contact_time_node{k}_s" for k in range(nodes)))
+        meta = {"format": 1, "output": self.output, "labels": list(self.labels),
+                "f_low_hz": np.asarray(self.lower, float).tolist(), "f_high_hz": np.asarray(self.upper, float).tolist(),
+                "overrides": _canonical(self.overrides), "settings": _canonical(self.settings)}
+        parts = [self.seeds[:, None], self.levels] + ([self.contact_time] if nodes else [])
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(header + "\n" + _META + json.dumps(meta) + "\n")
+            np.savetxt(f, np.column_stack(parts), delimiter=",",
+                       fmt=["%d"] + ["%.17g"] * (len(self.labels) + nodes))
+
+
+def load_ensemble(path):
+    """Read an ensemble written by :meth:`Ensemble.save` (``cablecasing ensemble --out``).
+
+    Raises :class:`ModelError` naming the file when it is missing or is not such a CSV.
+    """
+    try:
+        with open(path, encoding="utf-8") as f:
+            header, meta_line = f.readline().strip(), f.readline()
+    except OSError as e:
+        raise ModelError("path", str(path), f"must be a readable ensemble CSV ({e.strerror})") from None
+    if not meta_line.startswith(_META):
+        raise ModelError("path", str(path), "must be a CSV written by Ensemble.save or 'cablecasing ensemble "
+                         "--out' (its second line is not the '# cablecasing-ensemble' line)")
+    meta = json.loads(meta_line[len(_META):])
+    table = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)       # the '#' line is skipped
+    nb, columns = len(meta["labels"]), header.split(",")
+    if table.shape[1] != len(columns) or len(columns) < 1 + nb:
+        raise ModelError("path", str(path), f"must have the {len(columns)} columns of its header in every row")
+    return Ensemble(table[:, 0].astype(int), meta["output"], tuple(meta["labels"]), np.array(meta["f_low_hz"]),
+                    np.array(meta["f_high_hz"]), table[:, 1:1 + nb], meta["overrides"], table[:, 1 + nb:],
+                    meta["settings"])
+
+
+def pool_ensembles(ensembles):
+    """One ensemble of the members of several, sorted by seed.
+
+    ``ensembles`` is a sequence of :class:`Ensemble` objects or paths of their CSV files
+    (:func:`load_ensemble`). They must have the same output, bands, overrides and settings (model,
+    duration, dt, skip), and no seed twice. Pooling parts run on different machines is sound for the
+    statistics; single records may differ between machines after ~0.1 s (docs/time_domain.md).
+    """
+    parts = [load_ensemble(e) if isinstance(e, (str, os.PathLike)) else e for e in ensembles]
+    if not parts or not all(isinstance(e, Ensemble) for e in parts):
+        raise ModelError("ensembles", ensembles, "must be a non-empty sequence of Ensemble objects or CSV paths")
+    first = parts[0]
+    for i, e in enumerate(parts[1:], 1):
+        for name, mine, theirs in (
+                ("output", e.output, first.output),
+                ("bands", (e.labels, e.lower.tolist(), e.upper.tolist()),
+                 (first.labels, first.lower.tolist(), first.upper.tolist())),
+                ("overrides", _canonical(e.overrides), _canonical(first.overrides)),
+                ("settings", _canonical(e.settings), _canonical(first.settings)),
+                ("contact_time columns", e.contact_time.shape[1:], first.contact_time.shape[1:])):
+            if mine != theirs:
+                raise ModelError(f"ensembles[{i}].{name}", mine, f"must equal that of ensembles[0], {theirs}, "
+                                 "to pool them")
+    seeds = np.concatenate([e.seeds for e in parts])
+    unique, count = np.unique(seeds, return_counts=True)
+    twice = unique[count > 1].tolist()
+    if twice:
+        raise ModelError("seeds", twice, "must each be in one of the pooled ensembles only")
+    order = np.argsort(seeds, kind="stable")
+    return Ensemble(seeds[order], first.output, first.labels, first.lower, first.upper,
+                    np.concatenate([e.levels for e in parts])[order], first.overrides,
+                    np.concatenate([e.contact_time for e in parts])[order], first.settings)
+
+
+_META = "# cablecasing-ensemble "
+
+
+def _canonical(value):
+    """``value`` as JSON would give it back (tuples become lists; what save/load round-trips)."""
+    return json.loads(json.dumps(value, sort_keys=True, default=str))
+
+
+def _fingerprint(model):
+    """A short hash of the model's data (SI values after overrides), equal for equal models."""
+    text = json.dumps(model.data, sort_keys=True, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o))
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 @dataclass(frozen=True)
@@ -146,8 +235,9 @@ def paired_difference(a, b):
     ``a`` and ``b`` are :class:`Ensemble` objects run on the same seeds (or arrays ``(n, bands)`` whose
     rows are paired; the standard error is NaN for one pair). Per band,
     ``r = (mean a - mean b) / mean b``: the relative change of the expected level. Its standard
-    error comes from the linearisation of the ratio estimator, ``e_i = (a_i - b_i) - r b_i``, ``SE(r) = sd(e) / (sqrt(n) mean b)``; pairing removes the part of
-    the scatter that the excitation record explains in both.
+    error comes from the linearisation of the ratio estimator, ``e_i = (a_i - b_i) - r b_i``,
+    ``SE(r) = sd(e) / (sqrt(n) mean b)``; pairing removes the part of the scatter that the excitation
+    record explains in both.
 
     Not the mean of the per-seed ratios ``mean(a_i / b_i) - 1``: that estimates E[a/b] - 1, which is
     positive even for two runs of the same distribution (E[1/b] > 1/E[b]) when chaos leaves them
@@ -266,8 +356,10 @@ def seed_ensemble(model=None, seeds=8, *, output="casing.B.Fz", bands="table3", 
         raise ModelError("seeds", s, f"run failed ({err}); {len(failed)} of {len(seeds)} members failed")
     table = np.array([[rows.rows[i][o] for o in outputs] for i in range(len(seeds))])
     nb = len(band_set.labels)
+    settings = {"duration": float(base.scenario["duration"] if duration is None else duration),
+                "dt": float(step), "skip": float(skip), "model": _fingerprint(base)}
     return Ensemble(np.array(seeds), output, tuple(band_set.labels), np.asarray(band_set.lower, float),
-                    np.asarray(band_set.upper, float), table[:, :nb], overrides, table[:, nb:])
+                    np.asarray(band_set.upper, float), table[:, :nb], overrides, table[:, nb:], settings)
 
 
 class _NoBar:
