@@ -88,8 +88,13 @@ def cmd_pool(args):
         change = {k: v for k, v in other.overrides.items() if ens.overrides.get(k) != v}
         _print_change(other, d, change, args.confidence)
         _save(other, args.out, "_against")
-    _plot(ens, other, d, args, (str(ens.overrides or "model"), str(change)))
+    _plot(ens, other, d, args, (_as_assignments(ens.overrides) or "model", _as_assignments(change)))
     return 0
+
+
+def _as_assignments(overrides):
+    """``{"a.b": 1}`` as ``"a.b=1"``, the form of ``--set``/``--against`` (figure labels)."""
+    return ", ".join(f"{k}={v}" for k, v in overrides.items())
 
 
 def _check_confidence(confidence):
