@@ -241,6 +241,14 @@ def test_pooling_refuses_parts_of_different_runs(tmp_path):
     (tmp_path / "plain.csv").write_text("seed,b1,b2\n1,1.0,2.0\n")
     with pytest.raises(ModelError, match="cablecasing-ensemble"):
         load_ensemble(tmp_path / "plain.csv")
+    (tmp_path / "a.csv").write_text("seed,b1,b2\n# cablecasing-ensemble {\"labels\": [\"b1\"\n1,1.0,2.0\n")
+    with pytest.raises(ModelError, match="unaltered"):                  # a damaged settings line
+        load_ensemble(tmp_path / "a.csv")
+    a.save(tmp_path / "short.csv")
+    with open(tmp_path / "short.csv", "a") as f:                     # a row cut short
+        f.write("3,1.0\n")
+    with pytest.raises(ModelError, match="unaltered"):
+        load_ensemble(tmp_path / "short.csv")
     with pytest.raises(ModelError, match="readable"):
         load_ensemble(tmp_path / "missing.csv")
     with pytest.raises(ModelError, match="non-empty"):

@@ -65,7 +65,8 @@ class Ensemble:
     node ``k`` spent in contact in that run (the highest-contact-area histogram of Fig. 22; no
     columns without a cable). ``overrides`` are the model changes common to all members;
     ``settings`` the run settings ``duration``, ``dt``, ``skip`` (s) and ``model``, a fingerprint of
-    the model with the overrides applied (what :func:`pool_ensembles` requires to be equal).
+    the model data with the overrides applied (what :func:`pool_ensembles` requires to be equal; a
+    tabulated excitation enters by its file name, not by the file's content).
     """
 
     seeds: np.ndarray
@@ -152,9 +153,13 @@ def load_ensemble(path):
     if not meta_line.startswith(_META):
         raise ModelError("path", str(path), "must be a CSV written by Ensemble.save or 'cablecasing ensemble "
                          "--out' (its second line is not the '# cablecasing-ensemble' line)")
-    meta = json.loads(meta_line[len(_META):])
-    table = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)       # the '#' line is skipped
-    nb, columns = len(meta["labels"]), header.split(",")
+    try:
+        meta = json.loads(meta_line[len(_META):])
+        table = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)       # the '#' line is skipped
+        nb, columns = len(meta["labels"]), header.split(",")
+        meta["output"], meta["f_low_hz"], meta["f_high_hz"], meta["overrides"], meta["settings"]
+    except (ValueError, KeyError, TypeError) as e:        # JSONDecodeError is a ValueError
+        raise ModelError("path", str(path), f"must be an unaltered ensemble CSV ({type(e).__name__}: {e})") from None
     if table.shape[1] != len(columns) or len(columns) < 1 + nb:
         raise ModelError("path", str(path), f"must have the {len(columns)} columns of its header in every row")
     return Ensemble(table[:, 0].astype(int), meta["output"], tuple(meta["labels"]), np.array(meta["f_low_hz"]),
