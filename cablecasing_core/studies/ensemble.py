@@ -146,25 +146,28 @@ def load_ensemble(path):
     Raises :class:`ModelError` naming the file when it is missing or is not such a CSV.
     """
     try:
-        with open(path, encoding="utf-8") as f:
-            header, meta_line = f.readline().strip(), f.readline()
+        f = open(path, encoding="utf-8")
     except OSError as e:
         raise ModelError("path", str(path), f"must be a readable ensemble CSV ({e.strerror})") from None
-    if not meta_line.startswith(_META):
-        raise ModelError("path", str(path), "must be a CSV written by Ensemble.save or 'cablecasing ensemble "
-                         "--out' (its second line is not the '# cablecasing-ensemble' line)")
-    try:
-        meta = json.loads(meta_line[len(_META):])
-        table = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)       # the '#' line is skipped
-        nb, columns = len(meta["labels"]), header.split(",")
-        meta["output"], meta["f_low_hz"], meta["f_high_hz"], meta["overrides"], meta["settings"]
-    except (ValueError, KeyError, TypeError) as e:        # JSONDecodeError is a ValueError
-        raise ModelError("path", str(path), f"must be an unaltered ensemble CSV ({type(e).__name__}: {e})") from None
+    with f:
+        columns, meta_line = f.readline().strip().split(","), f.readline()
+        if not meta_line.startswith(_META):
+            raise ModelError("path", str(path), "must be a CSV written by Ensemble.save or 'cablecasing ensemble "
+                             "--out' (its second line is not the '# cablecasing-ensemble' line)")
+        try:
+            meta = json.loads(meta_line[len(_META):])
+            labels, output = tuple(meta["labels"]), meta["output"]
+            overrides, settings = meta["overrides"], meta["settings"]
+            lower, upper = np.array(meta["f_low_hz"], float), np.array(meta["f_high_hz"], float)
+            table = np.loadtxt(f, delimiter=",", ndmin=2)          # the rows after the settings line
+        except (ValueError, KeyError, TypeError) as e:            # JSONDecodeError is a ValueError
+            raise ModelError("path", str(path),
+                             f"must be an unaltered ensemble CSV ({type(e).__name__}: {e})") from None
+    nb = len(labels)
     if table.shape[1] != len(columns) or len(columns) < 1 + nb:
         raise ModelError("path", str(path), f"must have the {len(columns)} columns of its header in every row")
-    return Ensemble(table[:, 0].astype(int), meta["output"], tuple(meta["labels"]), np.array(meta["f_low_hz"]),
-                    np.array(meta["f_high_hz"]), table[:, 1:1 + nb], meta["overrides"], table[:, 1 + nb:],
-                    meta["settings"])
+    return Ensemble(table[:, 0].astype(int), output, labels, lower, upper, table[:, 1:1 + nb], overrides,
+                    table[:, 1 + nb:], settings)
 
 
 def pool_ensembles(ensembles):
