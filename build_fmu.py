@@ -21,8 +21,11 @@ import datetime
 import hashlib
 import html
 import os
+import json
 import shutil
+import subprocess
 import sys
+import sysconfig
 import tempfile
 import uuid
 import zipfile
@@ -31,7 +34,11 @@ from xml.etree import ElementTree as ET
 
 ROOT = Path(__file__).resolve().parent
 SLAVE = ROOT / "fmu_src" / "CableCasing.py"
-EXTRA_RESOURCES = [ROOT / "fmu_src" / "cablecasing_fmu_cache.py"]
+BRIDGE = ROOT / "fmu_src" / "cablecasing_fmi2_bridge.py"
+NATIVE = ROOT / "fmu_src" / "native" / "cablecasing_fmi2.c"
+EXTRA_RESOURCES = [ROOT / "fmu_src" / "cablecasing_fmu_cache.py", BRIDGE]
+# the packages the FMU's Python code imports (their minimum versions are read from pyproject.toml)
+RUNTIME_PACKAGES = ("numpy", "scipy", "numba")
 PACKAGE = ROOT / "cablecasing_core"
 IGNORE = shutil.ignore_patterns("__pycache__", "*.pyc", "*.nbi", "*.nbc", ".*")
 
@@ -48,7 +55,7 @@ def sources():
     """Every file the FMU is built from (for the staleness check of the tests, and the date)."""
     files = [p for p in PACKAGE.rglob("*") if p.is_file() and p.suffix in (".py", ".toml", ".csv")
              and "__pycache__" not in p.parts]
-    return sorted(files + [SLAVE, *EXTRA_RESOURCES, Path(__file__).resolve()])
+    return sorted(files + [SLAVE, NATIVE, *EXTRA_RESOURCES, ROOT / "pyproject.toml", Path(__file__).resolve()])
 
 
 def load_slave():
@@ -217,6 +224,92 @@ the home folder is read-only.
 """)
 
 
+# ------------------------------------------------------------------------------------ native binary
+def compile_native(out):
+    """Compile ``fmu_src/native/cablecasing_fmi2.c`` into the Linux binary ``out``. The build
+    Python's headers give the PyConfig layout; ``-Wl,--no-undefined`` proves that the binary
+    leaves no Python symbol to the dynamic loader (it resolves them with dlsym at run time).
+    Returns False (and says why) without a C compiler: the FMU then keeps pythonfmu's binary."""
+    if not sys.platform.startswith("linux"):
+        return False
+    compiler = os.environ.get("CC") or shutil.which("gcc") or shutil.which("cc")
+    if not compiler:
+        print("warning: no C compiler (gcc/cc): binaries/linux64 is pythonfmu's, which needs LD_PRELOAD of "
+              "libpython in non-Python hosts (docs/fmu.md)", file=sys.stderr)
+        return False
+    import fmpy
+
+    headers = Path(fmpy.__file__).parent / "c-code"      # the FMI 2.0 headers (fmi2Functions.h, ...)
+    cmd = [compiler, "-O2", "-fPIC", "-shared", "-fvisibility=hidden", "-Wall", "-Wextra", "-Werror",
+           "-Wno-format-truncation", f"-I{sysconfig.get_paths()['include']}", f"-I{headers}", "-o", str(out),
+           str(NATIVE), "-ldl", "-lpthread", "-Wl,--no-undefined"]
+    subprocess.run(cmd, check=True)
+    return True
+
+
+def runtime_requirements():
+    """'numpy>=1.24;scipy>=1.11;numba>=0.59': the FMU's runtime packages as pyproject.toml asks."""
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python 3.10
+        import tomli as tomllib
+    deps = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["dependencies"]
+    reqs = []
+    for name in RUNTIME_PACKAGES:
+        spec = next((d for d in deps if d.split(">")[0].split("=")[0].split(";")[0].strip() == name), name)
+        reqs.append(spec.split(";")[0].replace(" ", ""))
+    return ";".join(reqs)
+
+
+def environment_record(guid, version):
+    """resources/python-environment.txt: the interpreter the FMU's binary starts in a host without
+    Python (this build's), the packages it needs, and the GUID the binary checks."""
+    lib = Path(sysconfig.get_config_var("LIBDIR") or "") / (sysconfig.get_config_var("INSTSONAME") or "")
+    lines = {"executable": sys.executable, "libpython": str(lib),
+             "python": f"{sys.version_info.major}.{sys.version_info.minor}", "version": version,
+             "requirements": runtime_requirements(), "guid": guid}
+    return "".join(f"{k}={v}\n" for k, v in lines.items()).encode()
+
+
+WARM_UP = """
+import importlib.util, json, os, sys
+stage = sys.argv[1]
+sys.path.insert(0, stage)
+spec = importlib.util.spec_from_file_location("_cablecasing_warm_slave", os.path.join(stage, "CableCasing.py"))
+mod = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(mod)
+slave = mod.CableCasing(instance_name="warm-up", resources=stage)
+assert slave.fmi2_exit_initialization_mode() == 0
+slave.inputs_buffer[2] = 1e-4
+t = 0.0
+for h in (1e-4, 1e-4, 3.7e-5):
+    assert slave.fmi2_do_step(t, h) == 0
+    t += h
+import cablecasing_fmi2_bridge
+print(json.dumps(cablecasing_fmi2_bridge.kernel_cache_dirs()))
+"""
+
+
+def compiled_kernels(entries):
+    """The numba cache of the kernels the FMU runs, as resources/numba_cache/<folder>/<file>
+    entries: the slave is unpacked from ``entries`` into a folder and steps a few times in a
+    subprocess (compiling, or loading what this user's cache already holds); the cache folders of
+    the bundled package's kernels are shipped, so that a first start elsewhere loads them."""
+    out = {}
+    with tempfile.TemporaryDirectory(prefix="cablecasing_warm_") as stage:
+        for name, data in entries.items():
+            if name.startswith("resources/"):
+                path = Path(stage) / name[len("resources/"):]
+                path.parent.mkdir(parents=True, exist_ok=True)
+                path.write_bytes(data)
+        res = subprocess.run([sys.executable, "-c", WARM_UP, stage], check=True, capture_output=True, text=True)
+        for folder in json.loads(res.stdout.strip().splitlines()[-1]):
+            for f in sorted(Path(folder).iterdir()):
+                if f.suffix in (".nbi", ".nbc"):
+                    out[f"resources/numba_cache/{Path(folder).name}/{f.name}"] = f.read_bytes()
+    return out
+
+
 # ------------------------------------------------------------------------------------ build
 def build(out):
     from pythonfmu.builder import FmuBuilder
@@ -248,13 +341,17 @@ def build(out):
             entries = {i.filename: src.read(i.filename) for i in src.infolist() if not i.is_dir()}
         entries = {k: v for k, v in entries.items() if "__pycache__" not in k}
         entries["modelDescription.xml"] = complete_description(entries["modelDescription.xml"], units, guid, date)
+        if compile_native(tmp / "CableCasing.so"):
+            entries["binaries/linux64/CableCasing.so"] = (tmp / "CableCasing.so").read_bytes()
+        entries["resources/python-environment.txt"] = environment_record(guid, slave_module.CableCasing.version)
+        entries.update(compiled_kernels(entries))
         entries["model.png"] = (doc / "geometry.png").read_bytes()
         part = out.with_name(out.name + ".part")
         with zipfile.ZipFile(part, "w", zipfile.ZIP_DEFLATED) as dst:
             for name in sorted(entries):
                 info = zipfile.ZipInfo(name, date_time=zip_time)
                 info.compress_type = zipfile.ZIP_DEFLATED
-                info.external_attr = 0o644 << 16
+                info.external_attr = (0o755 if name.startswith("binaries/") else 0o644) << 16
                 dst.writestr(info, entries[name])
         os.replace(part, out)
     return out

@@ -1,29 +1,28 @@
-"""FMI 2.0 co-simulation slave of the cable-in-casing model (pythonfmu).
+"""FMI 2.0 co-simulation slave of the cable-in-casing model.
 
-Only an adapter over ``cablecasing_core.engine.Engine``; there is no physics here:
+Only an adapter over ``cablecasing_core``'s time-domain ``Engine``; there is no physics here:
 
 * inputs: displacement (m), velocity (m/s) and acceleration (m/s2) of the 12 support channels at
-  the start of each communication step; ``cablecasing_core.kinematics`` reconstructs the motion
-  inside the step (quintic Hermite from the supports' state to the Taylor extrapolation);
-* outputs: ``engine.outputs()`` after the step (force and moment each body exerts on each support,
-  contact summary);
+  the start of each communication step; the core's support-motion reconstruction fills the
+  motion inside the step (quintic Hermite from the supports' state to the Taylor extrapolation);
+* outputs: the engine's outputs after the step (force and moment each body exerts on each
+  support, contact summary);
 * parameters: every numeric key of the built-in model under its dotted name, ``contact.enabled``,
-  ``model_file`` and ``solver.dt``, applied with ``Model.with_overrides`` when initialisation ends.
+  ``model_file`` and ``solver.dt``; those the master sets override the model (the built-in one or
+  ``model_file``) through ``Model.with_overrides`` when initialisation ends.
 
-pythonfmu turns a Python exception in any call into fmi2Fatal and discards the instance, and it
-offers no way to return fmi2Error. So nothing here raises: setters only store values; a problem
-(an invalid parameter, a non-finite input, a blow-up) is logged at the status it deserves, naming
-the variable and the value, and ``do_step`` returns False, which pythonfmu reports as fmi2Discard.
-A failed step is rolled back whole, so the master may retry it (for example with a smaller step).
+The slave is driven by the FMU's own binary (``native/cablecasing_fmi2.c`` through
+``cablecasing_fmi2_bridge.py``, Linux) with the ``fmi2_*`` methods, which return the FMI status
+of the call; the inputs and outputs are two arrays that the binary reads and writes directly.
+pythonfmu's binary (Windows) drives the same slave through pythonfmu's methods at the end of the
+class, which map those statuses to what pythonfmu can express. Nothing here raises into a host:
+every problem is logged, naming the variable and the value, at the status it deserves.
 """
+import math
 import os
-import sys
 import traceback
 
-# The bundled package must win over any installed copy: resources first on sys.path.
 _RESOURCES = os.path.dirname(os.path.abspath(__file__))
-if not sys.path or sys.path[0] != _RESOURCES:
-    sys.path.insert(0, _RESOURCES)
 
 import cablecasing_fmu_cache  # noqa: E402  (stable numba cache; before numba is configured)
 
@@ -106,6 +105,16 @@ def output_info(name):
     return unit, f"{kind} the {body} exerts on its support {support}, component along global {comp[1].lower()}"
 
 
+OK, WARNING, DISCARD, ERROR = (int(s) for s in (Fmi2Status.ok, Fmi2Status.warning, Fmi2Status.discard,
+                                                Fmi2Status.error))
+# The longest communication step one fmi2DoStep may take, in internal steps of solver.dt (10 s at
+# the default 1e-5 s, some 10-20 s of wall time): a longer step is refused with fmi2Discard
+# instead of running for hours (a master that asks for 1e12 s by mistake).
+MAX_STEPS_PER_DOSTEP = 10**6
+SPECIAL = ("contact.enabled", "model_file", "solver.dt")
+_TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}
+
+
 class CableCasing(Fmi2Slave):
     """Gear-shift cable in a curved casing, driven at its four supports (see module docstring)."""
 
@@ -117,153 +126,432 @@ class CableCasing(Fmi2Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        base = cc.load_model()
+        self._base = cc.load_model()
         self.units = {}                  # variable name -> unit (read by build_fmu.py)
-        self._start = dict(base.parameters())
-        self._start["contact.enabled"] = bool(base.contact["enabled"])
+        self._start = dict(self._base.parameters())
+        self._start["contact.enabled"] = bool(self._base.contact["enabled"])
         self._start["model_file"] = ""
-        self._start["solver.dt"] = float(base.scenario["dt"])
-        self._values = dict(self._start)
-        self._inputs = np.zeros(3 * NCH)             # u (m), v (m/s), a (m/s2) of CHANNELS
-        self._out = np.zeros(len(OUTPUTS))
-        self._out_dirty = False
-        self._engine = None
-        self._applied = None                         # the configuration the engine was built with
+        self._start["solver.dt"] = float(self._base.scenario["dt"])
+        self._log_sink = None
+        # the two arrays the FMU's binary reads and writes directly
+        self.inputs_buffer = np.zeros(3 * NCH)            # u (m), v (m/s), a (m/s2) of CHANNELS
+        self.outputs_buffer = np.zeros(len(OUTPUTS))      # OUTPUTS after the last step
+        self._set = {}                                    # parameters the master set: key -> value
+        self._file_cache = (None, None)                   # (model file path, its values or None)
+        self._set_plans, self._get_plans = {}, {}         # pythonfmu's path: references -> index arrays
+        self._input_vr, self._output_vr, self._param = {}, {}, {}   # value reference -> index, (key, type)
+        self._register_variables()
         self._recon = SupportReconstruction(NCH)
+        self._clear()
+
+    def _clear(self):
+        """The state of a newly instantiated slave (also after fmi2Reset)."""
+        self._set = {}                   # parameters the master set: key -> value
+        self.inputs_buffer[:] = 0.0
+        self.outputs_buffer[:] = 0.0
+        self._engine = None
+        self._applied = None             # the configuration the engine was built with
+        self._recon.reset()
         self._start_time = 0.0
         self._initialized = False
-        self._error = None                           # message of a problem that blocks stepping
+        self._error = None               # why stepping is refused (an initialisation that failed)
 
-        # inputs: u, v, a of every channel
-        self._input_vr = {}
+    # ------------------------------------------------------------------ variables
+    def _register_variables(self):
         for k, (prefix, what, unit) in enumerate(KINDS):
             for c, ch in enumerate(CHANNELS):
                 body, support, d = ch.split(".")
-                self._add(Real(input_name(ch, prefix), causality=Fmi2Causality.input,
-                               variability=Fmi2Variability.continuous, start=0.0,
-                               description=f"{what} of the {body}'s support {support} along global {d}",
-                               getter=self._input_getter(k * NCH + c), setter=self._input_setter(k * NCH + c)),
-                          unit)
-                self._input_vr[len(self.vars) - 1] = k * NCH + c
-        # outputs
-        self._output_vr = {}                          # value reference of a Real output -> index
-        self._set_plans, self._get_plans = {}, {}     # tuple of value references -> index array
+                i = k * NCH + c
+                var = self._add(Real(input_name(ch, prefix), causality=Fmi2Causality.input,
+                                     variability=Fmi2Variability.continuous, start=0.0,
+                                     description=f"{what} of the {body}'s support {support} along global {d}",
+                                     getter=lambda i=i: float(self.inputs_buffer[i]),
+                                     setter=lambda v, i=i: self.inputs_buffer.__setitem__(i, v)), unit)
+                self._input_vr[var.value_reference] = i
+        self.input_vr0 = min(self._input_vr)
         for i, name in enumerate(OUTPUTS):
             unit, text = output_info(name)
             if name in INTEGER_OUTPUTS:
                 var = Integer(name, causality=Fmi2Causality.output, variability=Fmi2Variability.discrete,
-                              description=text, getter=self._output_getter(i, int))
+                              description=text, getter=lambda i=i: int(self.outputs_buffer[i]))
             else:
                 var = Real(name, causality=Fmi2Causality.output, variability=Fmi2Variability.continuous,
-                           description=text, getter=self._output_getter(i, float))
+                           description=text, getter=lambda i=i: float(self.outputs_buffer[i]))
             self._add(var, unit)
-            if name not in INTEGER_OUTPUTS:
-                self._output_vr[var.value_reference] = i
-        # parameters
+            self._output_vr[var.value_reference] = i
+        self.output_vr0 = min(self._output_vr)
+        self.integer_output_vrs = [vr for vr, i in self._output_vr.items() if OUTPUTS[i] in INTEGER_OUTPUTS]
         for key, value in self._start.items():
-            if key in ("contact.enabled", "model_file", "solver.dt"):
+            if key in SPECIAL:
                 continue
             unit, text = parameter_info(key)
             kind = Integer if isinstance(value, int) else Real
-            self._add(kind(key, causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed,
-                           description=text, getter=self._param_getter(key), setter=self._param_setter(key, kind)),
-                      unit if kind is Real else "")
-        self._add(Boolean("contact.enabled", causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed,
-                          description="contact between cable and casing on (true) or off (false: two independent "
-                                      "linear bodies)",
-                          getter=self._param_getter("contact.enabled"),
-                          setter=self._param_setter("contact.enabled", Boolean)), "")
-        self._add(String("model_file", causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed,
-                         description="path of a model TOML file; empty = the built-in specimen",
-                         getter=self._param_getter("model_file"), setter=self._param_setter("model_file", String)),
-                  "")
-        self._add(Real("solver.dt", causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed,
-                       description="internal Newmark time step; a communication step is split into steps of this "
-                                   "size and one shorter last step",
-                       getter=self._param_getter("solver.dt"), setter=self._param_setter("solver.dt", Real)), "s")
-        self._check_import_origin()
+            self._add_parameter(kind(key, causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed,
+                                     description=text), unit if kind is Real else "")
+        self._add_parameter(Boolean("contact.enabled", causality=Fmi2Causality.parameter,
+                                    variability=Fmi2Variability.fixed,
+                                    description="contact between cable and casing on (true) or off (false: two "
+                                                "independent linear bodies)"), "")
+        self._add_parameter(String("model_file", causality=Fmi2Causality.parameter,
+                                   variability=Fmi2Variability.fixed,
+                                   description="path of a model TOML file (a relative path is taken from the "
+                                               "host's working folder when it is set); empty = the built-in "
+                                               "specimen"), "")
+        self._add_parameter(Real("solver.dt", causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed,
+                                 description="internal Newmark time step (unset: the model's scenario.dt); a "
+                                             "communication step is split into steps of this size and one "
+                                             "shorter last step"), "s")
 
-    # ------------------------------------------------------------------ registration helpers
     def _add(self, var, unit):
         self.register_variable(var, nested=False)
         self.units[var.name] = unit
+        return var
 
-    def _input_getter(self, i):
-        return lambda: float(self._inputs[i])
+    def _add_parameter(self, var, unit):
+        key = var.name
+        var.getter = lambda: self._value(key)
+        var.setter = lambda v: self._set_parameter(key, type(var).__name__, v)
+        self._add(var, unit)
+        self._param[var.value_reference] = (key, type(var).__name__)
 
-    def _input_setter(self, i):
-        def set_input(value):
-            self._inputs[i] = value
-        return set_input
+    def _value(self, key):
+        """The value in force: the master's, else the model file's (when one is set), else the
+        built-in specimen's."""
+        if key in self._set:
+            return self._set[key]
+        if key == "model_file":
+            return ""
+        path = self._set.get("model_file")
+        if path:
+            values = self._file_values(path)
+            if values is not None and key in values:
+                return values[key]
+        return self._start[key]
 
-    def _output_getter(self, i, kind):
-        def get_output():
-            self._refresh_outputs()
-            return kind(self._out[i])
-        return get_output
+    def _file_values(self, path):
+        """The parameter values of a model file (None if it cannot be read: the error is reported
+        when initialisation ends), read once per path."""
+        if self._file_cache[0] != path:
+            try:
+                model = cc.load_model(path)
+                values = dict(model.parameters())
+                values["contact.enabled"] = bool(model.contact["enabled"])
+                values["solver.dt"] = float(model.scenario["dt"])
+            except cc.CableCasingError:
+                values = None
+            self._file_cache = (path, values)
+        return self._file_cache[1]
 
-    def _param_getter(self, key):
-        return lambda: self._values[key]
+    def _set_parameter(self, key, kind, value):
+        """Store a parameter the master set; returns the status (an int)."""
+        if kind == "String":
+            if value is None:
+                self.log(f"{key} = NULL: a string parameter needs a value (an empty string selects the built-in "
+                         "specimen)", Fmi2Status.error)
+                return ERROR
+            if isinstance(value, bytes):
+                self.log(f"{key} = {value[:200]!r}: not valid UTF-8; FMI strings are UTF-8 (give the path "
+                         "in UTF-8)", Fmi2Status.error)
+                return ERROR
+            value = os.path.abspath(value) if value else ""
+        else:
+            value = {"Real": float, "Integer": int, "Boolean": bool}[kind](value)
+        if self._initialized:
+            if value == self._value(key):
+                return OK
+            self.log(f"parameter {key} = {value!r} refused: parameters are fixed after initialisation (it is "
+                     f"{self._value(key)!r}; reset the FMU to change it)", Fmi2Status.error)
+            return ERROR
+        self._set[key] = value
+        if key == "model_file" and value:
+            self.log(f"model_file: {value}", Fmi2Status.ok)
+        return OK
 
-    def _param_setter(self, key, kind):
-        cast = {Real: float, Integer: int, Boolean: bool, String: str}[kind]
+    def _refuse(self, what, vr, value=None):
+        var = self.vars.get(vr)
+        which = f"{var.name} ({type(var).__name__}, {var.causality.name})" if var is not None else "no variable"
+        self.log(f"cannot {what} through value reference {vr}: {which}"
+                 + ("" if value is None else f"; value {value!r} ignored"), Fmi2Status.error)
+        return ERROR
 
-        def set_param(value):
-            if self._initialized:
-                self.log(f"parameter {key} = {value!r} ignored: parameters are fixed after initialisation "
-                         "(reset the FMU to change them)", Fmi2Status.warning)
-                return
-            self._values[key] = cast(value)
-        return set_param
+    def fmi2_get(self, kind, vrs, out):
+        """fmi2Get<kind> of any variables into ``out`` (a sequence as long as ``vrs``); status."""
+        status = OK
+        for k, vr in enumerate(vrs):
+            i = self._output_vr.get(vr)
+            if i is not None and (OUTPUTS[i] in INTEGER_OUTPUTS) == (kind == "Integer") and kind in ("Real",
+                                                                                                    "Integer"):
+                out[k] = self.outputs_buffer[i] if kind == "Real" else int(self.outputs_buffer[i])
+                continue
+            i = self._input_vr.get(vr)
+            if i is not None and kind == "Real":
+                out[k] = self.inputs_buffer[i]
+                continue
+            key_kind = self._param.get(vr)
+            if key_kind is not None and key_kind[1] == kind:
+                out[k] = self._value(key_kind[0])
+                continue
+            status = max(status, self._refuse(f"get a {kind}", vr))
+        return status
 
-    def _check_import_origin(self):
-        here = os.path.dirname(os.path.abspath(cc.__file__))
-        if not here.startswith(_RESOURCES + os.sep) and not here.startswith(os.path.realpath(_RESOURCES) + os.sep):
-            self.log(f"cablecasing_core was already imported from {here} before this FMU was loaded; that copy "
-                     f"is used, not the one in {_RESOURCES}", Fmi2Status.warning)
+    def fmi2_set(self, kind, vrs, values):
+        """fmi2Set<kind> of any variables; status."""
+        status = OK
+        for vr, value in zip(vrs, values):
+            i = self._input_vr.get(vr)
+            if i is not None and kind == "Real":
+                self.inputs_buffer[i] = value
+                continue
+            key_kind = self._param.get(vr)
+            if key_kind is not None and key_kind[1] == kind:
+                status = max(status, self._set_parameter(key_kind[0], kind, value))
+                continue
+            status = max(status, self._refuse(f"set a {kind}", vr, value))
+        return status
 
-    # ------------------------------------------------------------------ fast variable access
+    # ------------------------------------------------------------------ logging
+    def attach_log_sink(self, sink):
+        """Send every message at once to ``sink(status: int, message: str)`` (the FMU's binary)
+        instead of pythonfmu's queue."""
+        self._log_sink = sink
+
+    def log(self, msg, status=Fmi2Status.ok, category=None, debug=None):
+        if self._log_sink is not None:
+            self._log_sink(int(status), msg)
+        else:
+            super().log(msg, status, category)
+
+    # ------------------------------------------------------------------ life cycle
+    def fmi2_setup_experiment(self, start_time, stop_time=None):
+        if not math.isfinite(start_time):
+            self.log(f"fmi2SetupExperiment: startTime = {start_time!r}: must be a finite number of seconds",
+                     Fmi2Status.error)
+            return ERROR
+        if stop_time is not None and not (math.isfinite(stop_time) and stop_time >= start_time):
+            self.log(f"fmi2SetupExperiment: stopTime = {stop_time!r}: must be a finite number of seconds not "
+                     f"before startTime = {start_time!r}", Fmi2Status.error)
+            return ERROR
+        self._start_time = float(start_time)
+        return OK
+
+    def fmi2_exit_initialization_mode(self):
+        self._initialized = True
+        return OK if self._build() else ERROR
+
+    def _config(self):
+        """The configuration that decides the engine: the model file, the overrides (the
+        parameters the master set) and the internal step."""
+        over = {k: v for k, v in self._set.items() if k not in ("model_file", "solver.dt")}
+        return self._set.get("model_file", ""), over, self._value("solver.dt")
+
+    def _make_engine(self, config):
+        """A new Engine for ``config``; raises ModelError naming the parameter."""
+        model_file, over, dt = config
+        model = cc.load_model(model_file) if model_file else self._base
+        if over:
+            model = model.with_overrides(over)
+        if isinstance(dt, bool) or not (math.isfinite(dt) and dt > 0):
+            raise cc.ModelError("solver.dt", dt, "must be a positive number of seconds")
+        return Engine(model, dt=dt, ledger=False)
+
+    def _build(self):
+        """Build the engine from the parameters; on a problem log it (fmi2Error) and refuse steps."""
+        config = self._config()
+        try:
+            self._engine = self._make_engine(config)
+        except cc.ModelError as exc:
+            self._engine = None
+            return self._block(f"invalid parameter {exc}")
+        except Exception as exc:  # noqa: BLE001  (never raise into the host)
+            self._engine = None
+            return self._block(f"the model cannot be built: {exc!r}\n{traceback.format_exc()}")
+        self._applied = config
+        self._error = None
+        self._recon.reset()
+        self._engine.output_values(self.outputs_buffer)
+        return True
+
+    def _block(self, msg):
+        self._error = msg
+        self.log(msg, Fmi2Status.error)
+        return False
+
+    def fmi2_terminate(self):
+        return OK
+
+    def fmi2_reset(self):
+        self._clear()
+        return OK
+
+    def last_successful_time(self):
+        return self._start_time + (self._engine.time if self._engine is not None else 0.0)
+
+    def fmi2_do_step(self, current_time, step_size):
+        eng = self._engine
+        if eng is None:
+            self.log(f"doStep refused: the FMU did not initialise ({self._error}); fix the parameter and reset "
+                     "the FMU", Fmi2Status.error)
+            return ERROR
+        if not (math.isfinite(current_time) and math.isfinite(step_size) and step_size > 0):
+            self.log(f"doStep(currentCommunicationPoint = {current_time!r} s, communicationStepSize = "
+                     f"{step_size!r} s): both must be finite numbers, the step positive", Fmi2Status.error)
+            return ERROR
+        if step_size > MAX_STEPS_PER_DOSTEP * eng.dt:
+            self.log(f"doStep over {step_size!r} s refused: at most {MAX_STEPS_PER_DOSTEP} internal steps of "
+                     f"solver.dt = {eng.dt!r} s ({MAX_STEPS_PER_DOSTEP * eng.dt:.6g} s) per call; take shorter "
+                     "communication steps", Fmi2Status.discard)
+            return DISCARD
+        here = self._start_time + eng.time
+        if abs(current_time - here) > 1e-6 * step_size + 1e-12 * abs(here):
+            self.log(f"doStep from t = {current_time!r} s, but the FMU is at t = {here!r} s: steps must follow "
+                     "each other (or restore an FMU state first)", Fmi2Status.discard)
+            return DISCARD
+        x = self.inputs_buffer
+        if not np.isfinite(x).all():
+            i = int(np.flatnonzero(~np.isfinite(x))[0])
+            k, c = divmod(i, NCH)
+            self.log(f"input {input_name(CHANNELS[c], KINDS[k][0])} = {float(x[i])!r} at t = {current_time:.9g} s: "
+                     f"must be a finite number ({KINDS[k][2]}); step discarded", Fmi2Status.discard)
+            return DISCARD
+        motion = self._recon.motion(eng.time, step_size, x[:NCH], x[NCH:2 * NCH], x[2 * NCH:])
+        try:
+            eng.advance(step_size, motion)           # on any error it leaves the engine as it was
+        except Exception as exc:  # noqa: BLE001  (never raise into the host)
+            msg = f"step from t = {current_time:.9g} s over {step_size:.6g} s discarded (state rolled back): {exc}"
+            if not isinstance(exc, cc.CableCasingError):
+                msg += "\n" + traceback.format_exc()
+            self.log(msg, Fmi2Status.discard)
+            return DISCARD
+        self._recon.accept(motion)
+        eng.output_values(self.outputs_buffer)
+        return OK
+
+    # ------------------------------------------------------------------ FMU state (complete, no pickle)
+    def fmi2_get_state(self):
+        """Everything that decides the continuation: the parameters the master set, the inputs,
+        the support state of the reconstruction, the start time, and the engine's complete state."""
+        numeric = [k for k in self._start if k != "model_file"]
+        s = {"fmu.inputs": self.inputs_buffer.copy(), "fmu.support": self._recon.state.copy(),
+             "fmu.start_time": np.array(self._start_time), "fmu.initialized": np.array(self._initialized),
+             "fmu.built": np.array(self._engine is not None), "fmu.error": np.array(self._error or ""),
+             "fmu.model_file": np.array(self._set.get("model_file", "")),
+             "fmu.set_keys": np.array([k for k in numeric if k in self._set] or [""]),
+             "fmu.set_values": np.array([float(self._set[k]) for k in numeric if k in self._set])}
+        if self._engine is not None:
+            s.update({f"engine.{k}": v for k, v in self._engine.get_state().items()})
+        return s
+
+    def fmi2_set_state(self, state):
+        """Restore a state from :meth:`fmi2_get_state` as a whole, or not at all: everything is
+        checked (and a new engine built, if the state's parameters differ) before anything changes."""
+        try:
+            new = self._prepare_restore(state)
+        except Exception as exc:  # noqa: BLE001
+            self.log(f"the FMU state cannot be restored ({exc}); the instance is unchanged", Fmi2Status.error)
+            return ERROR
+        (self._set, self._engine, self._applied, inputs, support, self._start_time, self._initialized,
+         self._error) = new
+        self.inputs_buffer[:] = inputs
+        self._recon.state = support
+        if self._engine is not None:
+            self._engine.output_values(self.outputs_buffer)
+        return OK
+
+    def _prepare_restore(self, state):
+        if "fmu.invalid" in state:
+            raise ValueError(str(state["fmu.invalid"]))
+        keys = [str(k) for k in np.asarray(state["fmu.set_keys"]).reshape(-1) if str(k)]
+        values = np.asarray(state["fmu.set_values"], dtype=float).reshape(-1)
+        if len(keys) != len(values) or any(k not in self._start for k in keys):
+            raise ValueError("its parameter list does not fit this FMU")
+        new_set = {}
+        for k, v in zip(keys, values):
+            start = self._start[k]
+            new_set[k] = bool(v) if isinstance(start, bool) else int(v) if isinstance(start, int) else float(v)
+        model_file = str(state["fmu.model_file"])
+        if model_file:
+            new_set["model_file"] = model_file
+        inputs = np.array(state["fmu.inputs"], dtype=float).reshape(-1)
+        support = np.array(state["fmu.support"], dtype=float)
+        if inputs.shape != self.inputs_buffer.shape or support.shape != self._recon.state.shape:
+            raise ValueError("its inputs or support state do not fit this FMU")
+        engine, applied = None, None
+        if bool(state["fmu.built"]):
+            saved, self._set = self._set, new_set
+            try:
+                config = self._config()
+            finally:
+                self._set = saved
+            engine = self._engine if (self._engine is not None and self._applied == config) else \
+                self._make_engine(config)
+            engine_state = {k[len("engine."):]: v for k, v in state.items() if k.startswith("engine.")}
+            if engine is self._engine:              # Engine.set_state checks all before it writes any
+                backup = engine.get_state()
+                try:
+                    engine.set_state(engine_state)
+                except Exception:
+                    engine.set_state(backup)
+                    raise
+            else:
+                engine.set_state(engine_state)
+            applied = config
+        return (new_set, engine, applied, inputs, support, float(state["fmu.start_time"]),
+                bool(state["fmu.initialized"]), str(state["fmu.error"]) or None)
+
+    @staticmethod
+    def serialize_state(state):
+        return state_to_bytes(state)
+
+    def deserialize_state(self, data):
+        """The state in serialised bytes, or None (logged at fmi2Error) if they are not one."""
+        try:
+            state = state_from_bytes(data)
+            if "fmu.inputs" not in state:
+                raise ValueError("no FMU inputs in it")
+            return state
+        except Exception as exc:  # noqa: BLE001
+            self.log(f"the FMU state cannot be restored ({len(data)} bytes are not a serialised CableCasing FMU "
+                     f"state: {exc!r})", Fmi2Status.error)
+            return None
+
+    # ------------------------------------------------------------------ pythonfmu's binary (Windows)
+    # pythonfmu calls these; a Python exception there is fmi2Fatal, and it can report fmi2Discard
+    # (do_step returning False) but no fmi2Error, so errors are logged and steps refused.
+    def setup_experiment(self, start_time=0.0, stop_time=None, tolerance=None):
+        self.fmi2_setup_experiment(float(start_time or 0.0), stop_time)
+
+    def exit_initialization_mode(self):
+        self.fmi2_exit_initialization_mode()
+
+    def do_step(self, current_time, step_size):
+        return self.fmi2_do_step(current_time, step_size) <= WARNING
+
+    def terminate(self):
+        self.fmi2_terminate()
+
     def set_real(self, vrs, values):
         key = tuple(vrs)
         idx = self._set_plans.get(key)
-        if idx is None:                      # first time this list of references: plan it
+        if idx is None:
             idx = self._set_plans[key] = self._plan(key, self._input_vr)
         if idx is not False:                 # inputs only: one vectorised assignment
-            self._inputs[idx] = values
+            self.inputs_buffer[idx] = values
             return
-        for vr, value in zip(vrs, values):
-            i = self._input_vr.get(vr)
-            if i is not None:
-                self._inputs[i] = value
-            else:
-                var = self.vars.get(vr)
-                if isinstance(var, Real) and var.setter is not None:
-                    var.setter(value)
-                else:
-                    self._refuse("set a Real", vr, value)
+        self.fmi2_set("Real", vrs, values)
 
     def get_real(self, vrs):
         key = tuple(vrs)
         idx = self._get_plans.get(key)
         if idx is None:
             idx = self._get_plans[key] = self._plan(key, self._output_vr)
-        if idx is not False:                 # Real outputs only
-            self._refresh_outputs()
-            return self._out[idx].tolist()
-        out = []
-        for vr in vrs:
-            i = self._output_vr.get(vr)
-            if i is not None:
-                self._refresh_outputs()
-                out.append(float(self._out[i]))
-            else:
-                var = self.vars.get(vr)
-                out.append(float(var.getter()) if isinstance(var, Real) else float(self._refuse("get a Real", vr, None)))
+        if idx is not False:                 # outputs only
+            return self.outputs_buffer[idx].tolist()
+        out = [0.0] * len(vrs)
+        self.fmi2_get("Real", vrs, out)
         return out
 
     def _plan(self, key, table):
-        """Index array of value references that are all in ``table`` (else False); the cache of
-        plans is bounded, since a master normally repeats a few lists of references."""
+        """Index array of value references that are all in ``table`` (else False); bounded cache."""
         if len(self._set_plans) + len(self._get_plans) > 64:
             self._set_plans.clear()
             self._get_plans.clear()
@@ -271,174 +559,34 @@ class CableCasing(Fmi2Slave):
             return np.array([table[vr] for vr in key], dtype=np.intp)
         return False
 
+    def _typed_get(self, kind, vrs, default):
+        out = [default] * len(vrs)
+        self.fmi2_get(kind, vrs, out)
+        return out
+
     def get_integer(self, vrs):
-        return [int(self.vars[vr].getter()) if isinstance(self.vars.get(vr), Integer)
-                else self._refuse("get an Integer", vr, None) for vr in vrs]
+        return self._typed_get("Integer", vrs, 0)
 
     def get_boolean(self, vrs):
-        return [bool(self.vars[vr].getter()) if isinstance(self.vars.get(vr), Boolean)
-                else self._refuse("get a Boolean", vr, None) for vr in vrs]
+        return self._typed_get("Boolean", vrs, False)
 
     def get_string(self, vrs):
-        return [str(self.vars[vr].getter()) if isinstance(self.vars.get(vr), String)
-                else str(self._refuse("get a String", vr, None)) for vr in vrs]
+        return self._typed_get("String", vrs, "")
 
     def set_integer(self, vrs, values):
-        self._set_typed(Integer, "set an Integer", vrs, values)
+        self.fmi2_set("Integer", vrs, values)
 
     def set_boolean(self, vrs, values):
-        self._set_typed(Boolean, "set a Boolean", vrs, values)
+        self.fmi2_set("Boolean", vrs, values)
 
     def set_string(self, vrs, values):
-        self._set_typed(String, "set a String", vrs, values)
+        self.fmi2_set("String", vrs, values)
 
-    def _set_typed(self, kind, what, vrs, values):
-        """Set writable variables of type ``kind``; any other reference is refused (logged)."""
-        for vr, value in zip(vrs, values):
-            var = self.vars.get(vr)
-            if isinstance(var, kind) and var.setter is not None:
-                var.setter(value)
-            else:
-                self._refuse(what, vr, value)
-
-    def _refuse(self, what, vr, value):
-        """A call with a value reference of the wrong type (or a read-only one): log at fmi2Error
-        and ignore it (pythonfmu cannot return fmi2Error, and raising would be fmi2Fatal)."""
-        var = self.vars.get(vr)
-        which = f"{var.name} ({type(var).__name__}, {var.causality.name})" if var is not None else "no variable"
-        self.log(f"cannot {what} through value reference {vr}: {which}"
-                 + ("" if value is None else f"; value {value!r} ignored"), Fmi2Status.error)
-        return 0
-
-    def _refresh_outputs(self):
-        if self._out_dirty:
-            self._engine.output_values(self._out)
-            self._out_dirty = False
-
-    # ------------------------------------------------------------------ life cycle
-    def setup_experiment(self, start_time=0.0, *args, **kwargs):
-        self._start_time = float(start_time or 0.0)
-
-    def exit_initialization_mode(self):
-        self._initialized = True
-        self._build()
-
-    def _config(self):
-        """The configuration that decides the engine: the overrides of the model (parameters whose
-        value differs from their start value), the model file and the internal step."""
-        over = {k: v for k, v in self._values.items()
-                if k not in ("model_file", "solver.dt") and v != self._start[k]}
-        return self._values["model_file"], over, self._values["solver.dt"]
-
-    def _build(self):
-        """Build the engine from the parameters; on a problem log it (fmi2Error) and block stepping."""
-        model_file, over, dt = self._config()
-        try:
-            if isinstance(dt, bool) or not np.isfinite(dt) or dt <= 0:
-                raise cc.ModelError("solver.dt", dt, "must be a positive number of seconds")
-            model = cc.load_model(model_file or None)
-            if over:
-                model = model.with_overrides(over)
-            self._engine = Engine(model, dt=dt, ledger=False)
-        except cc.ModelError as exc:
-            self._engine = None
-            return self._block(f"invalid parameter {exc}", Fmi2Status.error)
-        except Exception as exc:  # noqa: BLE001  (never raise into pythonfmu: that is fmi2Fatal)
-            self._engine = None
-            return self._block(f"the model cannot be built: {exc!r}\n{traceback.format_exc()}", Fmi2Status.error)
-        self._applied = (model_file, over, dt)
-        self._error = None
-        self._recon.reset()
-        self._out[:] = 0.0
-        self._out_dirty = True
-        return True
-
-    def _block(self, msg, status):
-        self._error = msg
-        self.log(msg, status)
-        return False
-
-    def do_step(self, current_time, step_size):
-        if self._error is not None:
-            self.log(f"step from t = {current_time:.9g} s refused: {self._error}", Fmi2Status.discard)
-            return False
-        eng = self._engine
-        if eng is None:
-            self.log("doStep before initialisation ended (call fmi2ExitInitializationMode first)", Fmi2Status.discard)
-            return False
-        x = self._inputs
-        if not np.isfinite(x).all():
-            i = int(np.flatnonzero(~np.isfinite(x))[0])
-            k, c = divmod(i, NCH)
-            self.log(f"input {input_name(CHANNELS[c], KINDS[k][0])} = {float(x[i])!r} at t = {current_time:.9g} s: "
-                     f"must be a finite number ({KINDS[k][2]}); step discarded", Fmi2Status.discard)
-            return False
-        if not (np.isfinite(step_size) and step_size > 0):
-            self.log(f"communication step = {step_size!r} s: must be a positive number of seconds", Fmi2Status.discard)
-            return False
-        here = self._start_time + eng.time
-        if abs(current_time - here) > 1e-6 * step_size + 1e-12 * abs(here):
-            self.log(f"doStep from t = {current_time!r} s, but the FMU is at t = {here!r} s: steps must follow "
-                     "each other (or restore an FMU state first)", Fmi2Status.discard)
-            return False
-        motion = self._recon.motion(eng.time, step_size, x[:NCH], x[NCH:2 * NCH], x[2 * NCH:])
-        try:
-            eng.advance(step_size, motion)           # on any error it leaves the engine as it was
-        except Exception as exc:  # noqa: BLE001  (never raise into pythonfmu: that is fmi2Fatal)
-            msg = f"step from t = {current_time:.9g} s over {step_size:.6g} s discarded (state rolled back): {exc}"
-            if not isinstance(exc, cc.CableCasingError):
-                msg += "\n" + traceback.format_exc()
-            self.log(msg, Fmi2Status.discard)
-            return False
-        self._recon.accept(motion)
-        self._out_dirty = True
-        return True
-
-    # ------------------------------------------------------------------ FMU state (complete, no pickle)
     def _get_fmu_state(self):
-        """Everything that decides the continuation: the parameter values, the inputs, the support
-        state of the reconstruction, the start time, and the engine's complete state."""
-        s = {"fmu.inputs": self._inputs.copy(), "fmu.support": self._recon.state.copy(),
-             "fmu.start_time": np.array(self._start_time), "fmu.initialized": np.array(self._initialized),
-             "fmu.built": np.array(self._engine is not None), "fmu.error": np.array(self._error or ""),
-             "fmu.model_file": np.array(self._values["model_file"]),
-             "fmu.values": np.array([float(self._values[k]) for k in self._numeric_keys()])}
-        if self._engine is not None:
-            s.update({f"engine.{k}": v for k, v in self._engine.get_state().items()})
-        return s
-
-    def _numeric_keys(self):
-        return [k for k in self._start if k != "model_file"]
+        return self.fmi2_get_state()
 
     def _set_fmu_state(self, state):
-        """Restore a state from :meth:`_get_fmu_state`; on failure log it with the traceback at
-        fmi2Error and refuse further steps (the instance may be half restored)."""
-        try:
-            self._restore(state)
-        except Exception as exc:  # noqa: BLE001
-            self._block(f"the FMU state cannot be restored ({exc}); steps are refused until a valid state is "
-                        f"set or the FMU is reset\n{traceback.format_exc()}", Fmi2Status.error)
-
-    def _restore(self, state):
-        if "fmu.invalid" in state:
-            raise ValueError(str(state["fmu.invalid"]))
-        for k, v in zip(self._numeric_keys(), state["fmu.values"]):
-            start = self._start[k]
-            self._values[k] = bool(v) if isinstance(start, bool) else int(v) if isinstance(start, int) else float(v)
-        self._values["model_file"] = str(state["fmu.model_file"])
-        self._inputs[:] = state["fmu.inputs"]
-        self._start_time = float(state["fmu.start_time"])
-        self._initialized = bool(state["fmu.initialized"])
-        if bool(state["fmu.built"]):
-            if self._engine is None or self._applied != self._config():
-                if not self._build():
-                    return
-            self._engine.set_state({k[len("engine."):]: v for k, v in state.items() if k.startswith("engine.")})
-        else:
-            self._engine, self._applied = None, None
-        self._recon.state = np.array(state["fmu.support"], dtype=float)
-        self._error = str(state["fmu.error"]) or None
-        self._out_dirty = self._engine is not None
+        self.fmi2_set_state(state)
 
     @staticmethod
     def _fmu_state_to_bytes(state):
@@ -446,7 +594,6 @@ class CableCasing(Fmi2Slave):
 
     @staticmethod
     def _fmu_state_from_bytes(data):
-        # never raise (pythonfmu would answer fmi2Fatal): an unreadable state is reported when set
         try:
             return state_from_bytes(data)
         except Exception as exc:  # noqa: BLE001

@@ -1,0 +1,383 @@
+"""The Python half of CableCasing.fmu's binary (``native/cablecasing_fmi2.c``): one
+:class:`Instance` per ``fmi2Instantiate``.
+
+The C side calls the methods below and returns the status each returns (an ``int``, FMI's
+``fmi2Status``: 0 OK, 1 warning, 2 discard, 3 error). Value references and values cross as C
+addresses (``ctypes``), so no list is built for a call. The support inputs and the outputs live
+in two numpy arrays of the slave whose addresses the C side reads and writes directly.
+
+What happens once per process and FMU (keyed by the FMU's GUID):
+
+* the host Python is checked for the packages the model needs (numpy, scipy, numba) at the
+  versions recorded at build time; a missing or old package stops the instantiation with one
+  message, to the host's logger and to stderr;
+* the bundled Python tree (``cablecasing_core``, the slave, pythonfmu's runtime) is copied from
+  ``resources/`` to a per-user folder named by the GUID and imported from there, so a host that
+  deletes the unpack folder after a run (fmpy's ``simulate_fmu``) can load the FMU again in the
+  same process: the modules stay imported and every file they read later is still there;
+* the numba cache shipped in ``resources/numba_cache`` seeds the kernels' cache folder, so a first
+  start does not compile; if the machine code does not fit (another CPU, Python or numba), numba
+  compiles and this module says so in the log while it happens.
+"""
+from __future__ import annotations
+
+import ctypes
+import importlib.util
+import os
+import shutil
+import sys
+import time
+import traceback
+
+OK, WARNING, DISCARD, ERROR = 0, 1, 2, 3
+_LOG_FN = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_char_p, ctypes.c_int)
+_CATEGORY = {OK: b"logAll", WARNING: b"logStatusWarning", DISCARD: b"logStatusDiscard", ERROR: b"logStatusError"}
+_LOADED = {}          # GUID -> the slave module of that FMU, imported once per process
+
+
+class FMUStartError(Exception):
+    """The FMU cannot start in this process (the reason has been logged)."""
+
+
+def _read_environment(resources):
+    """resources/python-environment.txt as a dict (written by build_fmu.py)."""
+    out = {}
+    try:
+        with open(os.path.join(resources, "python-environment.txt"), encoding="utf-8") as f:
+            for line in f:
+                key, sep, value = line.rstrip("\n").partition("=")
+                if sep:
+                    out[key.strip()] = value.strip()
+    except OSError:
+        pass
+    return out
+
+
+def _version_tuple(text):
+    parts = []
+    for piece in text.split(".")[:3]:
+        digits = "".join(c for c in piece if c.isdigit())
+        if not digits:
+            break
+        parts.append(int(digits))
+    return tuple(parts)
+
+
+def _missing_packages(requirements):
+    """Problems with ``requirements`` ('numpy>=1.24;scipy>=1.11;...') in this Python: list of texts."""
+    from importlib import metadata
+
+    problems = []
+    for req in filter(None, (r.strip() for r in requirements.split(";"))):
+        name, _, minimum = req.partition(">=")
+        try:
+            have = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            problems.append(f"{name} is not installed (needs {req})")
+            continue
+        if minimum and _version_tuple(have) < _version_tuple(minimum):
+            problems.append(f"{name} {have} is too old (needs {req})")
+    return problems
+
+
+def _user_cache_root():
+    try:
+        from platformdirs import user_cache_dir
+
+        return user_cache_dir("cablecasing", appauthor=False)
+    except ImportError:
+        return os.path.join(os.path.expanduser("~"), ".cache", "cablecasing")
+
+
+def _stable_copy(resources, guid, names):
+    """The folder holding a copy of ``names`` (files and folders of resources/) that outlives the
+    unpack folder: ``<user cache>/cablecasing/fmu/<guid>``; written once, atomically (a temporary
+    folder renamed into place). Returns the folder, or ``resources`` when it cannot be written."""
+    root = os.path.join(_user_cache_root(), "fmu")
+    dest = os.path.join(root, guid)
+    if os.path.isfile(os.path.join(dest, ".complete")):
+        return dest
+    try:
+        os.makedirs(root, exist_ok=True)
+        tmp = os.path.join(root, f".{guid}.{os.getpid()}.tmp")
+        shutil.rmtree(tmp, ignore_errors=True)
+        os.makedirs(tmp)
+        for name in names:
+            src = os.path.join(resources, name)
+            if os.path.isdir(src):
+                shutil.copytree(src, os.path.join(tmp, name), ignore=shutil.ignore_patterns("__pycache__"))
+            elif os.path.isfile(src):
+                shutil.copy2(src, os.path.join(tmp, name))
+        open(os.path.join(tmp, ".complete"), "w").close()
+        try:
+            os.rename(tmp, dest)
+        except OSError:                       # another process was first: use its copy
+            shutil.rmtree(tmp, ignore_errors=True)
+        return dest if os.path.isfile(os.path.join(dest, ".complete")) else resources
+    except OSError:
+        return resources
+
+
+def _seed_numba_cache(shipped, target):
+    """Copy the numba cache built with the FMU (index and data files of one folder) into the
+    kernels' cache folder where a file is missing; returns how many were copied."""
+    if not os.path.isdir(shipped):
+        return 0
+    os.makedirs(target, exist_ok=True)
+    copied = 0
+    for name in os.listdir(shipped):
+        dst = os.path.join(target, name)
+        if not os.path.exists(dst):
+            tmp = f"{dst}.{os.getpid()}.tmp"
+            shutil.copy2(os.path.join(shipped, name), tmp)
+            os.replace(tmp, dst)
+            copied += 1
+    return copied
+
+
+def kernel_cache_dirs():
+    """The cache folders of the numba kernels of the imported cablecasing_core (each cached
+    dispatcher knows its own; numba compiles lazily, so none is read before the first call)."""
+    dirs = set()
+    for name, module in list(sys.modules.items()):
+        if name.split(".")[0] == "cablecasing_core" and module is not None:
+            for obj in vars(module).values():
+                path = getattr(getattr(obj, "_cache", None), "_cache_path", None)
+                if isinstance(path, str) and hasattr(obj, "stats"):
+                    dirs.add(path)
+    return sorted(dirs)
+
+
+class _CompileNotice:
+    """A numba event listener that says, while it happens, that numba compiles a kernel of the
+    model (there was no cached machine code that fits this CPU, Python and numba)."""
+
+    def __init__(self, log, cache_dir):
+        self._log, self._cache_dir, self._said, self.count = log, cache_dir, False, 0
+
+    def on_start(self, event):
+        name = getattr(event.data.get("dispatcher"), "__qualname__", "") if isinstance(event.data, dict) else ""
+        self.count += 1
+        if not self._said:
+            self._said = True
+            self._log(OK, "compiling the model's numba kernels for this machine (no cached machine code in "
+                          f"{self._cache_dir} fits this CPU, Python and numba); this takes 30-60 s once, later "
+                          f"starts load them from there (first kernel: {name})")
+
+    def on_end(self, event):
+        pass
+
+
+def _c_strings(addr, n):
+    return (ctypes.c_void_p * n).from_address(addr)
+
+
+class Instance:
+    """One FMU instance: the slave and the C buffers' addresses (see the module docstring)."""
+
+    def __init__(self, name, guid, resources, visible, logging_on, log_addr, handle, python_note, fmi_version):
+        self._log_c = _LOG_FN(log_addr)
+        self._handle = handle
+        self._keep = []                       # strings handed to C by get_string, alive until the next call
+        env = _read_environment(resources)
+        self._log(OK, f"CableCasing.fmu {env.get('version', '?')} (FMI {fmi_version}): {python_note}; "
+                      f"Python executable {sys.executable}")
+        if env.get("guid") and guid != env["guid"]:
+            self._fail(f"fmuGUID {guid!r} does not match this FMU's {env['guid']!r}: the modelDescription.xml "
+                       "the host read belongs to another build of CableCasing.fmu")
+        problems = _missing_packages(env.get("requirements", "numpy;scipy;numba"))
+        if problems:
+            self._fail(f"the Python at {sys.executable} cannot run this FMU: " + "; ".join(problems)
+                       + f". Install them with '{sys.executable} -m pip install "
+                       + " ".join(f"\"{r}\"" for r in env.get("requirements", "").split(";") if r)
+                       + "', or point CABLECASING_PYTHON at a Python that has them")
+        module = _LOADED.get(guid)
+        if module is None:
+            module = self._load(resources, guid)
+        self._module = module
+        self._slave = module.CableCasing(instance_name=name, resources=resources, visible=visible)
+        self._slave.attach_log_sink(self._log)
+        self._bind()
+
+    # ---------------------------------------------------------------------------------- start-up
+    def _load(self, resources, guid):
+        names = [n for n in os.listdir(resources) if n != "numba_cache"]
+        home = _stable_copy(resources, guid, names)
+        if home == resources:
+            self._log(WARNING, f"cannot write a lasting copy of the model's Python code under {_user_cache_root()}: "
+                               "it is imported from the unpack folder, so loading this FMU again in this process "
+                               "after that folder is deleted may fail")
+        t0 = time.perf_counter()
+        spec = importlib.util.spec_from_file_location(f"_cablecasing_slave_{guid.replace('-', '_')}",
+                                                      os.path.join(home, "CableCasing.py"))
+        module = importlib.util.module_from_spec(spec)
+        sys.path.insert(0, home)              # the slave imports cablecasing_core and pythonfmu from there
+        try:
+            spec.loader.exec_module(module)
+        except ImportError as exc:
+            self._fail(f"the model's Python code cannot be imported from {home}: {exc}")
+        finally:
+            sys.path.remove(home)
+        here = os.path.dirname(os.path.abspath(module.cc.__file__))
+        if os.path.dirname(here) != os.path.abspath(home):
+            self._log(WARNING, f"cablecasing_core was already imported from {here} before this FMU was loaded; "
+                               f"that copy is used, not the FMU's own (in {home})")
+        caches, seeded = kernel_cache_dirs(), 0
+        for cache in caches:
+            try:
+                seeded += _seed_numba_cache(os.path.join(resources, "numba_cache", os.path.basename(cache)), cache)
+            except OSError as exc:
+                self._log(WARNING, f"cannot copy the shipped numba cache to {cache}: {exc}")
+        self._install_compile_notice(", ".join(caches) or "(no cache folder)")
+        _LOADED[guid] = module
+        self._log(OK, f"model code imported from {home} in {time.perf_counter() - t0:.2f} s; numba cache "
+                      f"{', '.join(caches)} ({seeded} files copied from the FMU)")
+        return module
+
+    def _install_compile_notice(self, cache):
+        try:
+            from numba.core import event
+
+            notice = _CompileNotice(self._log, cache)
+            event.install_listener("numba:compile", notice)
+            self._notice = notice
+        except Exception:  # noqa: BLE001  (a numba without the event API: no notice, nothing else changes)
+            self._notice = None
+
+    def _bind(self):
+        s = self._slave
+        self.input_address = s.inputs_buffer.ctypes.data
+        self.output_address = s.outputs_buffer.ctypes.data
+        self.input_vr0, self.input_count = s.input_vr0, len(s.inputs_buffer)
+        self.output_vr0, self.output_count = s.output_vr0, len(s.outputs_buffer)
+        ints = s.integer_output_vrs
+        self.integer_output_count = len(ints)
+        for k, vr in enumerate(ints):
+            setattr(self, f"integer_output_vr{k}", vr)
+
+    def _log(self, status, message, stderr=False):
+        """To the host's logger now (through the C side), and to stderr when ``stderr``."""
+        if not isinstance(message, bytes):
+            message = str(message).encode("utf-8", "backslashreplace")
+        self._log_c(self._handle, status, _CATEGORY.get(status, b"logAll"), message, 1 if stderr else 0)
+
+    def _fail(self, message):
+        self._log(ERROR, message, stderr=True)
+        raise FMUStartError(message)
+
+    def _guard(self, what, fn, *args):
+        """Run ``fn``; an exception becomes fmi2Error with its traceback in the log."""
+        try:
+            return fn(*args)
+        except Exception as exc:  # noqa: BLE001
+            self._log(ERROR, f"internal error in {what}: {exc!r}\n{traceback.format_exc()}")
+            return ERROR
+
+    # ---------------------------------------------------------------------------------- life cycle
+    def setup_experiment(self, tol_defined, tol, start, stop_defined, stop):
+        return self._guard("fmi2SetupExperiment", self._slave.fmi2_setup_experiment, start,
+                           stop if stop_defined else None)
+
+    def enter_initialization_mode(self):
+        return OK
+
+    def exit_initialization_mode(self):
+        return self._guard("fmi2ExitInitializationMode", self._slave.fmi2_exit_initialization_mode)
+
+    def do_step(self, t, h):
+        try:
+            return self._slave.fmi2_do_step(t, h)
+        except Exception as exc:  # noqa: BLE001
+            self._log(ERROR, f"internal error in fmi2DoStep: {exc!r}\n{traceback.format_exc()}")
+            return ERROR
+
+    def terminate(self):
+        return self._guard("fmi2Terminate", self._slave.fmi2_terminate)
+
+    def reset(self):
+        return self._guard("fmi2Reset", self._slave.fmi2_reset)
+
+    def free(self):
+        if getattr(self, "_notice", None) is not None:
+            try:
+                from numba.core import event
+
+                event.remove_listener("numba:compile", self._notice)
+            except Exception:  # noqa: BLE001
+                pass
+        self._slave = None
+        return OK
+
+    def last_successful_time(self):
+        return float(self._slave.last_successful_time())
+
+    # ---------------------------------------------------------------------------------- variables
+    def get_real(self, vr_addr, n, out_addr):
+        vrs = (ctypes.c_uint * n).from_address(vr_addr)
+        out = (ctypes.c_double * n).from_address(out_addr)
+        return self._guard("fmi2GetReal", self._slave.fmi2_get, "Real", vrs, out)
+
+    def get_integer(self, vr_addr, n, out_addr):
+        vrs = (ctypes.c_uint * n).from_address(vr_addr)
+        out = (ctypes.c_int * n).from_address(out_addr)
+        return self._guard("fmi2GetInteger", self._slave.fmi2_get, "Integer", vrs, out)
+
+    def get_boolean(self, vr_addr, n, out_addr):
+        vrs = (ctypes.c_uint * n).from_address(vr_addr)
+        out = (ctypes.c_int * n).from_address(out_addr)
+        return self._guard("fmi2GetBoolean", self._slave.fmi2_get, "Boolean", vrs, out)
+
+    def get_string(self, vr_addr, n, out_addr):
+        vrs = (ctypes.c_uint * n).from_address(vr_addr)
+        values = [None] * n
+        status = self._guard("fmi2GetString", self._slave.fmi2_get, "String", vrs, values)
+        if status <= WARNING:
+            keep = [ctypes.create_string_buffer(str(v).encode("utf-8")) for v in values]
+            ptrs = _c_strings(out_addr, n)
+            for k, buf in enumerate(keep):
+                ptrs[k] = ctypes.addressof(buf)
+            self._keep = keep                 # valid until the next call (FMI 2.0)
+        return status
+
+    def set_real(self, vr_addr, n, in_addr):
+        vrs = (ctypes.c_uint * n).from_address(vr_addr)
+        values = list((ctypes.c_double * n).from_address(in_addr))
+        return self._guard("fmi2SetReal", self._slave.fmi2_set, "Real", vrs, values)
+
+    def set_integer(self, vr_addr, n, in_addr):
+        vrs = (ctypes.c_uint * n).from_address(vr_addr)
+        values = list((ctypes.c_int * n).from_address(in_addr))
+        return self._guard("fmi2SetInteger", self._slave.fmi2_set, "Integer", vrs, values)
+
+    def set_boolean(self, vr_addr, n, in_addr):
+        vrs = (ctypes.c_uint * n).from_address(vr_addr)
+        values = [bool(v) for v in (ctypes.c_int * n).from_address(in_addr)]
+        return self._guard("fmi2SetBoolean", self._slave.fmi2_set, "Boolean", vrs, values)
+
+    def set_string(self, vr_addr, n, in_addr):
+        vrs = (ctypes.c_uint * n).from_address(vr_addr)
+        values = []
+        for ptr in _c_strings(in_addr, n):
+            if ptr is None:
+                values.append(None)           # refused by the slave, by name
+                continue
+            raw = ctypes.string_at(ptr)
+            try:
+                values.append(raw.decode("utf-8"))
+            except UnicodeDecodeError:
+                values.append(raw)            # bytes: refused by the slave, by name
+        return self._guard("fmi2SetString", self._slave.fmi2_set, "String", vrs, values)
+
+    # ---------------------------------------------------------------------------------- FMU state
+    def get_state(self):
+        return self._slave.fmi2_get_state()
+
+    def set_state(self, state):
+        return self._guard("fmi2SetFMUstate", self._slave.fmi2_set_state, state)
+
+    def serialize_state(self, state):
+        return self._slave.serialize_state(state)
+
+    def deserialize_state(self, data):
+        state = self._slave.deserialize_state(data)
+        return state if state is not None else False

@@ -1,0 +1,1020 @@
+/* FMI 2.0 co-simulation entry points of CableCasing.fmu (Linux), the binary in binaries/linux64/.
+ *
+ * The model is Python (resources/: the bridge, the slave and the cablecasing_core package); this
+ * file only hosts it. What it does that pythonfmu's binary does not (docs/fmu.md, "Use in a
+ * system simulator"):
+ *
+ *  - It finds CPython itself. The binary does not link libpython: in a Python host it uses the
+ *    host's interpreter (its symbols are already in the process); in any other host it reads the
+ *    interpreter recorded at build time (resources/python-environment.txt), or the one named by
+ *    CABLECASING_PYTHON, loads its libpython with RTLD_GLOBAL and starts it with an isolated
+ *    configuration (PYTHONHOME/PYTHONPATH of the host's environment are ignored), so a plain
+ *    environment is enough. Every Python function is called through a pointer from dlsym, so no
+ *    Python symbol is left for the dynamic loader to resolve.
+ *  - It never finalises the interpreter. Py_Finalize with numpy/scipy/numba loaded crashes at
+ *    exit (the C host's SIGSEGV of pythonfmu's worker thread); the process's own exit reclaims
+ *    everything. No thread, atexit handler or static destructor of this library outlives
+ *    fmi2FreeInstance, so a host may unload the binary at any time.
+ *  - A host thread gets one Python thread state for good on its first call (PyGILState_Ensure
+ *    otherwise creates and destroys one per call, ~7 us).
+ *  - Support inputs and outputs live in two arrays that the Python instance allocated and fills:
+ *    fmi2SetReal of inputs and fmi2GetReal/fmi2GetInteger of outputs never enter Python.
+ *  - Every other call returns the status the Python side decided (fmi2Error and fmi2Discard
+ *    with a message for the host's logger); an exception that escapes anyway becomes fmi2Error.
+ *    Nothing here returns fmi2Fatal.
+ *
+ * Built by build_fmu.py against the build interpreter's Python.h (for the PyConfig layout only;
+ * the runtime interpreter must have the same major.minor version when this file starts it).
+ */
+#define _GNU_SOURCE
+#include <Python.h>
+
+#include <ctype.h>
+#include <dlfcn.h>
+#include <errno.h>
+#include <limits.h>
+#include <pthread.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "fmi2Functions.h"
+
+#ifndef CC_PY_MAJOR
+#define CC_PY_MAJOR PY_MAJOR_VERSION
+#define CC_PY_MINOR PY_MINOR_VERSION
+#endif
+
+/* ------------------------------------------------------------------------------------------------
+ * The Python C API, through pointers (the prototypes come from Python.h; typeof takes no address)
+ */
+#define PYAPI(X)                                                                                       \
+    X(Py_IsInitialized) X(Py_GetVersion) X(PyConfig_InitIsolatedConfig) X(PyConfig_SetBytesString)     \
+    X(PyConfig_Clear) X(Py_InitializeFromConfig) X(PyEval_SaveThread) X(PyGILState_Ensure)            \
+    X(PyGILState_Release) X(PyGILState_GetThisThreadState) X(PyRun_StringFlags) X(PyDict_New)              \
+    X(PyDict_SetItemString) X(PyDict_GetItemString) X(PyEval_GetBuiltins) X(PyObject_GetAttrString)   \
+    X(PyObject_CallObject) X(PyObject_Str) X(PyTuple_New) X(PyTuple_SetItem) X(PyLong_FromVoidPtr)    \
+    X(PyLong_FromSize_t) X(PyLong_FromLong) X(PyLong_AsLong) X(PyLong_AsSsize_t) X(PyLong_AsVoidPtr)  \
+    X(PyFloat_FromDouble) X(PyFloat_AsDouble) X(PyUnicode_FromString) X(PyUnicode_AsUTF8)             \
+    X(PyBytes_FromStringAndSize) X(PyErr_Occurred) X(PyErr_Fetch) X(PyErr_NormalizeException)         \
+    X(PyErr_Clear) X(Py_DecRef) X(Py_IncRef) X(PyBool_FromLong) X(PyBytes_Size) X(PyBytes_AsString)     \
+    X(PyObject_IsTrue) X(PyStatus_Exception)
+
+#define PYAPI_MEMBER(name) __typeof__(&name) name;
+static struct { PYAPI(PYAPI_MEMBER) } P;
+#define PYAPI_NAME(name) #name,
+static const char *PYAPI_NAMES[] = {PYAPI(PYAPI_NAME) NULL};
+
+static pthread_mutex_t g_python_lock = PTHREAD_MUTEX_INITIALIZER;
+static int g_python_ready = 0;          /* P filled and the interpreter running */
+static char g_python_note[2048] = "";   /* which interpreter, and how it was found (for the log) */
+
+/* ------------------------------------------------------------------------------------------------
+ * The instance
+ */
+enum { S_INSTANTIATED, S_INITIALIZATION, S_STEPPING, S_TERMINATED };
+#define MAX_INT_OUTPUTS 8
+
+typedef struct {
+    unsigned magic;
+    fmi2CallbackFunctions cb;
+    char name[256];
+    int logging_on;
+    int state;
+    PyObject *py;                       /* the bridge's Instance */
+    PyObject *m_do_step;                /* its bound do_step, called every step */
+    double *inputs;                     /* owned by py: support inputs (fast path) */
+    double *outputs;                    /* owned by py: outputs after the last step */
+    fmi2ValueReference in0, nin, out0, nout;
+    fmi2ValueReference int_vr[MAX_INT_OUTPUTS];
+    size_t int_idx[MAX_INT_OUTPUTS];
+    size_t nint;
+} Instance;
+
+#define INSTANCE_MAGIC 0xCAB1EC45u
+#define STATE_MAGIC 0x57A7E0CCu
+
+typedef struct {
+    unsigned magic;
+    Instance *owner;
+    PyObject *state;                    /* the bridge's state object */
+    PyObject *bytes;                    /* its serialisation, while the host asks for size then data */
+} State;
+
+/* ------------------------------------------------------------------------------------------------
+ * Logging: to the host's logger (errors and warnings always, the rest when logging is on) and,
+ * for problems that keep the FMU from starting, also to stderr.
+ */
+static void escape_for_logger(const char *msg, char *out, size_t size) {
+    /* the logger's message is a printf format in which '#' starts a value reference: '%%', '##' */
+    size_t j = 0;
+    for (size_t i = 0; msg[i] && j + 3 < size; i++) {
+        if (msg[i] == '%' || msg[i] == '#') out[j++] = msg[i];
+        out[j++] = msg[i];
+    }
+    out[j] = 0;
+}
+
+static void log_to_host(const fmi2CallbackFunctions *cb, const char *name, int logging_on, fmi2Status status,
+                        const char *category, const char *msg, int also_stderr) {
+    if (also_stderr || !cb || !cb->logger) {
+        static const char *labels[] = {"OK", "WARNING", "DISCARD", "ERROR", "FATAL", "PENDING"};
+        fprintf(stderr, "[CableCasing %s] %s\n", labels[status <= 5 ? status : 3], msg);
+        fflush(stderr);
+    }
+    if (cb && cb->logger && (logging_on || status >= fmi2Warning)) {
+        size_t size = 2 * strlen(msg) + 4;
+        char *buf = malloc(size);
+        if (!buf) return;
+        escape_for_logger(msg, buf, size);
+        cb->logger(cb->componentEnvironment, name ? name : "", status, category, buf);
+        free(buf);
+    }
+}
+
+static void logf_to_host(const fmi2CallbackFunctions *cb, const char *name, int logging_on, fmi2Status status,
+                         int also_stderr, const char *fmt, ...) {
+    char msg[4096];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    log_to_host(cb, name, logging_on, status, status >= fmi2Error ? "logStatusError" : "logAll", msg,
+                also_stderr);
+}
+
+#define LOGI(inst, status, ...) logf_to_host(&(inst)->cb, (inst)->name, (inst)->logging_on, status, 0, __VA_ARGS__)
+
+/* called by the Python side (through ctypes, without the GIL) for every message */
+static void bridge_log(void *handle, int status, const char *category, const char *message, int also_stderr) {
+    Instance *inst = handle;
+    log_to_host(&inst->cb, inst->name, inst->logging_on, (fmi2Status)status, category ? category : "logAll",
+                message ? message : "", also_stderr);
+}
+
+/* ------------------------------------------------------------------------------------------------
+ * Finding and starting Python
+ */
+static int resolve_api(void *handle, char *err, size_t errsize) {
+    void **slot = (void **)&P;
+    for (int i = 0; PYAPI_NAMES[i]; i++) {
+        slot[i] = dlsym(handle, PYAPI_NAMES[i]);
+        if (!slot[i]) {
+            snprintf(err, errsize, "the Python library lacks the function %s (is it CPython %d.%d?)",
+                     PYAPI_NAMES[i], CC_PY_MAJOR, CC_PY_MINOR);
+            return 0;
+        }
+    }
+    return 1;
+}
+
+static void trim(char *s) {
+    size_t n = strlen(s);
+    while (n && isspace((unsigned char)s[n - 1])) s[--n] = 0;
+}
+
+/* key=value of resources/python-environment.txt; empty when absent */
+static void environment_value(const char *resources, const char *key, char *out, size_t size) {
+    char path[PATH_MAX], line[PATH_MAX + 64];
+    out[0] = 0;
+    snprintf(path, sizeof path, "%s/python-environment.txt", resources);
+    FILE *f = fopen(path, "r");
+    if (!f) return;
+    size_t klen = strlen(key);
+    while (fgets(line, sizeof line, f)) {
+        if (strncmp(line, key, klen) == 0 && line[klen] == '=') {
+            snprintf(out, size, "%s", line + klen + 1);
+            trim(out);
+            break;
+        }
+    }
+    fclose(f);
+}
+
+static int is_file(const char *p) {
+    struct stat st;
+    return p[0] && stat(p, &st) == 0 && S_ISREG(st.st_mode);
+}
+
+/* Ask an interpreter for its version and shared library: "3.11\n/prefix/lib/libpython3.11.so.1.0" */
+static int query_interpreter(const char *exe, char *version, size_t vsize, char *lib, size_t lsize) {
+    char cmd[PATH_MAX + 512];
+    if (strchr(exe, '\'')) return 0;
+    snprintf(cmd, sizeof cmd,
+             "'%s' -I -c \"import sys, sysconfig, os; v = sysconfig.get_config_var; "
+             "print('%%d.%%d' %% sys.version_info[:2]); "
+             "print(os.path.join(v('LIBDIR') or '', v('INSTSONAME') or v('LDLIBRARY') or ''))\" 2>/dev/null",
+             exe);
+    FILE *p = popen(cmd, "r");
+    if (!p) return 0;
+    int ok = fgets(version, (int)vsize, p) && fgets(lib, (int)lsize, p);
+    pclose(p);
+    if (!ok) return 0;
+    trim(version);
+    trim(lib);
+    return version[0] != 0;
+}
+
+/* The interpreter to start: CABLECASING_PYTHON, else the one recorded at build time, else
+ * python<major>.<minor> on PATH. Fills exe and lib, or err. */
+static int find_interpreter(const char *resources, char *exe, char *lib, char *how, char *err, size_t errsize) {
+    char want[16], version[64], recorded_exe[PATH_MAX], recorded_lib[PATH_MAX];
+    snprintf(want, sizeof want, "%d.%d", CC_PY_MAJOR, CC_PY_MINOR);
+    environment_value(resources, "executable", recorded_exe, sizeof recorded_exe);
+    environment_value(resources, "libpython", recorded_lib, sizeof recorded_lib);
+    const char *env = getenv("CABLECASING_PYTHON");
+    if (env && env[0]) {
+        if (!query_interpreter(env, version, sizeof version, lib, PATH_MAX)) {
+            snprintf(err, errsize,
+                     "CABLECASING_PYTHON=%s does not run as a Python interpreter; set it to the path of a "
+                     "CPython %s executable that has numpy, scipy and numba",
+                     env, want);
+            return 0;
+        }
+        if (strcmp(version, want) != 0) {
+            snprintf(err, errsize,
+                     "CABLECASING_PYTHON=%s is Python %s, but this FMU was built for CPython %s; set it to a "
+                     "CPython %s executable (or rebuild the FMU with that Python)",
+                     env, version, want, want);
+            return 0;
+        }
+        snprintf(exe, PATH_MAX, "%s", env);
+        snprintf(how, 256, "named by CABLECASING_PYTHON");
+    } else if (is_file(recorded_exe) && is_file(recorded_lib)) {
+        snprintf(exe, PATH_MAX, "%s", recorded_exe);
+        snprintf(lib, PATH_MAX, "%s", recorded_lib);
+        snprintf(how, 256, "recorded when the FMU was built");
+    } else {
+        char name[32];
+        snprintf(name, sizeof name, "python%s", want);
+        const char *path = getenv("PATH");
+        int found = 0;
+        if (path) {
+            char *copy = strdup(path), *save = NULL;
+            for (char *dir = strtok_r(copy, ":", &save); dir && !found; dir = strtok_r(NULL, ":", &save)) {
+                snprintf(exe, PATH_MAX, "%s/%s", dir, name);
+                found = is_file(exe) && query_interpreter(exe, version, sizeof version, lib, PATH_MAX) &&
+                        strcmp(version, want) == 0;
+            }
+            free(copy);
+        }
+        if (!found) {
+            snprintf(err, errsize,
+                     "no CPython %s found: the interpreter recorded when the FMU was built (%s) does not exist "
+                     "here, CABLECASING_PYTHON is not set and there is no %s on PATH; install CPython %s with "
+                     "numpy, scipy and numba and set CABLECASING_PYTHON=/path/to/python%s",
+                     want, recorded_exe[0] ? recorded_exe : "none", name, want, want);
+            return 0;
+        }
+        snprintf(how, 256, "found on PATH");
+    }
+    if (!is_file(lib)) {
+        snprintf(err, errsize,
+                 "the Python at %s has no shared library (%s): CPython must be built with --enable-shared to "
+                 "be embedded; use another CPython %s (CABLECASING_PYTHON)",
+                 exe, lib[0] ? lib : "none", want);
+        return 0;
+    }
+    return 1;
+}
+
+static int start_python(const char *exe, char *err, size_t errsize) {
+    PyConfig config;
+    P.PyConfig_InitIsolatedConfig(&config);
+    config.install_signal_handlers = 0;      /* SIGINT and friends stay the host's */
+    /* the interpreter as if that executable ran it: a virtual environment's pyvenv.cfg is honoured */
+    PyStatus st = P.PyConfig_SetBytesString(&config, &config.program_name, exe);
+    if (!P.PyStatus_Exception(st)) st = P.PyConfig_SetBytesString(&config, &config.executable, exe);
+    if (!P.PyStatus_Exception(st)) st = P.Py_InitializeFromConfig(&config);
+    P.PyConfig_Clear(&config);
+    if (P.PyStatus_Exception(st)) {
+        snprintf(err, errsize, "CPython at %s failed to start: %s%s%s", exe, st.func ? st.func : "",
+                 st.func ? ": " : "", st.err_msg ? st.err_msg : "unknown error");
+        return 0;
+    }
+    P.PyEval_SaveThread();                   /* release the GIL; the main thread state stays */
+    return 1;
+}
+
+/* Make P usable: attach to the process's interpreter, or load and start one. Once per process. */
+static int ensure_python(const char *resources, char *err, size_t errsize) {
+    pthread_mutex_lock(&g_python_lock);
+    int ok = g_python_ready;
+    if (ok) goto done;
+    void *in_process = dlsym(RTLD_DEFAULT, "Py_IsInitialized");
+    if (in_process && ((int (*)(void))in_process)()) {
+        if (!resolve_api(RTLD_DEFAULT, err, errsize)) goto done;
+        snprintf(g_python_note, sizeof g_python_note, "attached to the host process's Python %.40s", P.Py_GetVersion());
+        ok = g_python_ready = 1;
+        goto done;
+    }
+    char exe[PATH_MAX] = "", lib[PATH_MAX] = "", how[256] = "";
+    if (!find_interpreter(resources, exe, lib, how, err, errsize)) goto done;
+    void *handle = dlopen(lib, RTLD_NOW | RTLD_GLOBAL);
+    if (!handle) {
+        snprintf(err, errsize, "cannot load the Python library %s: %s", lib, dlerror());
+        goto done;
+    }
+    if (!resolve_api(handle, err, errsize)) goto done;
+    char want[16];
+    snprintf(want, sizeof want, "%d.%d.", CC_PY_MAJOR, CC_PY_MINOR);
+    if (strncmp(P.Py_GetVersion(), want, strlen(want)) != 0) {
+        snprintf(err, errsize, "%s is Python %.20s, but this FMU was built for CPython %d.%d", lib,
+                 P.Py_GetVersion(), CC_PY_MAJOR, CC_PY_MINOR);
+        goto done;
+    }
+    if (!P.Py_IsInitialized() && !start_python(exe, err, errsize)) goto done;
+    snprintf(g_python_note, sizeof g_python_note, "started Python %.40s from %s (%s; library %s)",
+             P.Py_GetVersion(), exe, how, lib);
+    ok = g_python_ready = 1;
+done:
+    pthread_mutex_unlock(&g_python_lock);
+    return ok;
+}
+
+static PyGILState_STATE gil_enter(void) {
+    if (!P.PyGILState_GetThisThreadState()) {
+        /* a thread Python has not seen: give it a thread state for good (see the file's header) */
+        P.PyGILState_Ensure();
+        P.PyEval_SaveThread();
+    }
+    return P.PyGILState_Ensure();
+}
+
+/* The text of the pending exception (and clear it) */
+static void take_exception(char *out, size_t size) {
+    PyObject *type = NULL, *value = NULL, *tb = NULL;
+    P.PyErr_Fetch(&type, &value, &tb);
+    P.PyErr_NormalizeException(&type, &value, &tb);
+    const char *text = NULL;
+    PyObject *s = value ? P.PyObject_Str(value) : NULL;
+    if (s) text = P.PyUnicode_AsUTF8(s);
+    snprintf(out, size, "%s", text ? text : "unknown Python error");
+    if (!text) P.PyErr_Clear();
+    if (s) P.Py_DecRef(s);
+    if (type) P.Py_DecRef(type);
+    if (value) P.Py_DecRef(value);
+    if (tb) P.Py_DecRef(tb);
+}
+
+/* Call inst.py.<method>(args...) with the GIL held; args are new references (stolen). Returns the
+ * status the method returned, or fmi2Error (logged) if it raised. *result receives the return
+ * value itself when not NULL (new reference). */
+static fmi2Status call(Instance *inst, const char *method, PyObject **result, int nargs, ...) {
+    char msg[2048];
+    fmi2Status status = fmi2Error;
+    PyObject *args = P.PyTuple_New(nargs);
+    va_list ap;
+    va_start(ap, nargs);
+    for (int i = 0; i < nargs; i++) P.PyTuple_SetItem(args, i, va_arg(ap, PyObject *));
+    va_end(ap);
+    PyObject *fn = P.PyObject_GetAttrString(inst->py, method);
+    PyObject *ret = fn ? P.PyObject_CallObject(fn, args) : NULL;
+    if (fn) P.Py_DecRef(fn);
+    P.Py_DecRef(args);
+    if (!ret) {
+        take_exception(msg, sizeof msg);
+        LOGI(inst, fmi2Error, "internal error in %s: %s", method, msg);
+        return fmi2Error;
+    }
+    if (result) {
+        *result = ret;
+        return fmi2OK;
+    }
+    long s = P.PyLong_AsLong(ret);
+    P.Py_DecRef(ret);
+    if (s == -1 && P.PyErr_Occurred()) {
+        take_exception(msg, sizeof msg);
+        LOGI(inst, fmi2Error, "internal error in %s: it returned no status (%s)", method, msg);
+        return fmi2Error;
+    }
+    status = (s >= fmi2OK && s <= fmi2Error) ? (fmi2Status)s : fmi2Error;
+    return status;
+}
+
+#define PTR(p) P.PyLong_FromVoidPtr((void *)(p))
+#define SIZE(n) P.PyLong_FromSize_t((size_t)(n))
+
+static Instance *checked(fmi2Component c) {
+    Instance *inst = c;
+    return (inst && inst->magic == INSTANCE_MAGIC) ? inst : NULL;
+}
+
+/* ------------------------------------------------------------------------------------------------
+ * Resource location URI -> path ("file:///a/b%20c/resources" or "file:/a/b")
+ */
+static int uri_to_path(const char *uri, char *out, size_t size) {
+    if (!uri) return 0;
+    const char *p = uri;
+    if (strncmp(p, "file://", 7) == 0) {
+        p += 7;
+        if (strncmp(p, "localhost/", 10) == 0) p += 9;
+    } else if (strncmp(p, "file:", 5) == 0) {
+        p += 5;
+    }
+    size_t j = 0;
+    for (; *p && j + 1 < size; p++) {
+        if (p[0] == '%' && isxdigit((unsigned char)p[1]) && isxdigit((unsigned char)p[2])) {
+            char hex[3] = {p[1], p[2], 0};
+            out[j++] = (char)strtol(hex, NULL, 16);
+            p += 2;
+        } else {
+            out[j++] = *p;
+        }
+    }
+    while (j > 1 && out[j - 1] == '/') j--;
+    out[j] = 0;
+    return j > 0;
+}
+
+/* ------------------------------------------------------------------------------------------------
+ * FMI 2.0: inquiry, instantiation
+ */
+FMI2_Export const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
+FMI2_Export const char *fmi2GetVersion(void) { return fmi2Version; }
+
+static long attr_long(PyObject *obj, const char *name, int *ok) {
+    PyObject *v = P.PyObject_GetAttrString(obj, name);
+    if (!v) {
+        *ok = 0;
+        return 0;
+    }
+    long x = P.PyLong_AsLong(v);
+    P.Py_DecRef(v);
+    if (x == -1 && P.PyErr_Occurred()) *ok = 0;
+    return x;
+}
+
+static void *attr_ptr(PyObject *obj, const char *name, int *ok) {
+    PyObject *v = P.PyObject_GetAttrString(obj, name);
+    if (!v) {
+        *ok = 0;
+        return NULL;
+    }
+    void *x = P.PyLong_AsVoidPtr(v);
+    P.Py_DecRef(v);
+    if (!x) *ok = 0;
+    return x;
+}
+
+/* Loads resources/cablecasing_fmi2_bridge.py as a fresh module and returns bridge.Instance(...) */
+static const char *BOOTSTRAP =
+    "def _load(resources):\n"
+    "    import importlib.util, os\n"
+    "    path = os.path.join(resources, 'cablecasing_fmi2_bridge.py')\n"
+    "    spec = importlib.util.spec_from_file_location('_cablecasing_fmi2_bridge', path)\n"
+    "    mod = importlib.util.module_from_spec(spec)\n"
+    "    spec.loader.exec_module(mod)\n"
+    "    return mod\n";
+
+FMI2_Export fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,
+                                          fmi2String fmuResourceLocation,
+                                          const fmi2CallbackFunctions *functions, fmi2Boolean visible,
+                                          fmi2Boolean loggingOn) {
+    const char *name = instanceName ? instanceName : "";
+    char err[4096], resources[PATH_MAX];
+    if (!functions) {
+        fprintf(stderr, "[CableCasing ERROR] fmi2Instantiate: no callback functions given\n");
+        return NULL;
+    }
+    if (fmuType != fmi2CoSimulation) {
+        logf_to_host(functions, name, 1, fmi2Error, 0,
+                     "fmi2Instantiate: CableCasing is a co-simulation FMU (fmi2CoSimulation); model exchange "
+                     "is not provided");
+        return NULL;
+    }
+    if (!uri_to_path(fmuResourceLocation, resources, sizeof resources)) {
+        logf_to_host(functions, name, 1, fmi2Error, 1,
+                     "fmi2Instantiate: fmuResourceLocation %s is not a file: URI of the FMU's resources folder",
+                     fmuResourceLocation ? fmuResourceLocation : "(NULL)");
+        return NULL;
+    }
+    if (!ensure_python(resources, err, sizeof err)) {
+        logf_to_host(functions, name, 1, fmi2Error, 1, "CableCasing.fmu cannot start Python: %s", err);
+        return NULL;
+    }
+    Instance *inst = calloc(1, sizeof *inst);
+    if (!inst) return NULL;
+    inst->magic = INSTANCE_MAGIC;
+    inst->cb = *functions;
+    snprintf(inst->name, sizeof inst->name, "%s", name);
+    inst->logging_on = loggingOn ? 1 : 0;
+    inst->state = S_INSTANTIATED;
+
+    PyGILState_STATE gil = gil_enter();
+    PyObject *globals = P.PyDict_New(), *mod = NULL, *ret = NULL;
+    int ok = 1;
+    P.PyDict_SetItemString(globals, "__builtins__", P.PyEval_GetBuiltins());
+    ret = P.PyRun_StringFlags(BOOTSTRAP, Py_file_input, globals, globals, NULL);
+    if (ret) {
+        P.Py_DecRef(ret);
+        PyObject *load = P.PyDict_GetItemString(globals, "_load"); /* borrowed */
+        PyObject *args = P.PyTuple_New(1);
+        P.PyTuple_SetItem(args, 0, P.PyUnicode_FromString(resources));
+        mod = P.PyObject_CallObject(load, args);
+        P.Py_DecRef(args);
+    }
+    if (!mod) {
+        take_exception(err, sizeof err);
+        logf_to_host(functions, name, 1, fmi2Error, 1, "CableCasing.fmu cannot load its bridge from %s: %s",
+                     resources, err);
+        ok = 0;
+    } else {
+        PyObject *cls = P.PyObject_GetAttrString(mod, "Instance");
+        PyObject *args = P.PyTuple_New(9);
+        P.PyTuple_SetItem(args, 0, P.PyUnicode_FromString(name));
+        P.PyTuple_SetItem(args, 1, P.PyUnicode_FromString(fmuGUID ? fmuGUID : ""));
+        P.PyTuple_SetItem(args, 2, P.PyUnicode_FromString(resources));
+        P.PyTuple_SetItem(args, 3, P.PyBool_FromLong(visible));
+        P.PyTuple_SetItem(args, 4, P.PyBool_FromLong(loggingOn));
+        P.PyTuple_SetItem(args, 5, PTR(&bridge_log));
+        P.PyTuple_SetItem(args, 6, PTR(inst));
+        P.PyTuple_SetItem(args, 7, P.PyUnicode_FromString(g_python_note));
+        P.PyTuple_SetItem(args, 8, P.PyUnicode_FromString(fmi2Version));
+        inst->py = cls ? P.PyObject_CallObject(cls, args) : NULL;
+        P.Py_DecRef(args);
+        if (cls) P.Py_DecRef(cls);
+        P.Py_DecRef(mod);
+        if (!inst->py) {
+            take_exception(err, sizeof err);
+            /* the bridge has logged the reason (a missing package, ...) when it raised FMUStartError */
+            logf_to_host(functions, name, 1, fmi2Error, 1, "CableCasing.fmu cannot be instantiated: %s", err);
+            ok = 0;
+        }
+    }
+    if (ok) {
+        inst->inputs = attr_ptr(inst->py, "input_address", &ok);
+        inst->outputs = attr_ptr(inst->py, "output_address", &ok);
+        inst->in0 = (fmi2ValueReference)attr_long(inst->py, "input_vr0", &ok);
+        inst->nin = (fmi2ValueReference)attr_long(inst->py, "input_count", &ok);
+        inst->out0 = (fmi2ValueReference)attr_long(inst->py, "output_vr0", &ok);
+        inst->nout = (fmi2ValueReference)attr_long(inst->py, "output_count", &ok);
+        long nint = attr_long(inst->py, "integer_output_count", &ok);
+        inst->nint = (ok && nint >= 0 && nint <= MAX_INT_OUTPUTS) ? (size_t)nint : 0;
+        for (size_t k = 0; ok && k < inst->nint; k++) {
+            char key[32];
+            snprintf(key, sizeof key, "integer_output_vr%zu", k);
+            inst->int_vr[k] = (fmi2ValueReference)attr_long(inst->py, key, &ok);
+            inst->int_idx[k] = inst->int_vr[k] - inst->out0;
+        }
+        inst->m_do_step = P.PyObject_GetAttrString(inst->py, "do_step");
+        if (!ok || !inst->m_do_step) {
+            take_exception(err, sizeof err);
+            logf_to_host(functions, name, 1, fmi2Error, 1, "CableCasing.fmu: the bridge is incomplete (%s)", err);
+            ok = 0;
+        }
+    }
+    if (!ok) {
+        if (inst->m_do_step) P.Py_DecRef(inst->m_do_step);
+        if (inst->py) P.Py_DecRef(inst->py);
+    }
+    P.Py_DecRef(globals);
+    P.PyGILState_Release(gil);
+    if (!ok) {
+        inst->magic = 0;
+        free(inst);
+        return NULL;
+    }
+    return inst;
+}
+
+FMI2_Export void fmi2FreeInstance(fmi2Component c) {
+    Instance *inst = checked(c);
+    if (!inst) return;
+    PyGILState_STATE gil = gil_enter();
+    call(inst, "free", NULL, 0);
+    P.Py_DecRef(inst->m_do_step);
+    P.Py_DecRef(inst->py);
+    P.PyGILState_Release(gil);
+    inst->magic = 0;
+    free(inst);
+}
+
+#define ENTER(c)                                                                                       \
+    Instance *inst = checked(c);                                                                       \
+    if (!inst) return fmi2Error;
+
+static fmi2Status call0(Instance *inst, const char *method) {
+    PyGILState_STATE gil = gil_enter();
+    fmi2Status s = call(inst, method, NULL, 0);
+    P.PyGILState_Release(gil);
+    return s;
+}
+
+/* a call that the life cycle does not allow: fmi2Error with a message */
+static fmi2Status refuse(Instance *inst, const char *what) {
+    static const char *states[] = {"instantiated (before fmi2EnterInitializationMode)", "in initialization mode",
+                                   "initialised (stepping)", "terminated (after fmi2Terminate)"};
+    LOGI(inst, fmi2Error, "%s is not allowed when the FMU is %s", what, states[inst->state]);
+    return fmi2Error;
+}
+
+FMI2_Export fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nCategories,
+                                           const fmi2String categories[]) {
+    ENTER(c);
+    (void)nCategories;
+    (void)categories;
+    inst->logging_on = loggingOn ? 1 : 0;
+    return fmi2OK;
+}
+
+FMI2_Export fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fmi2Real tolerance,
+                                           fmi2Real startTime, fmi2Boolean stopTimeDefined, fmi2Real stopTime) {
+    ENTER(c);
+    if (inst->state != S_INSTANTIATED) return refuse(inst, "fmi2SetupExperiment");
+    PyGILState_STATE gil = gil_enter();
+    fmi2Status s = call(inst, "setup_experiment", NULL, 5, P.PyBool_FromLong(toleranceDefined),
+                        P.PyFloat_FromDouble(tolerance), P.PyFloat_FromDouble(startTime),
+                        P.PyBool_FromLong(stopTimeDefined), P.PyFloat_FromDouble(stopTime));
+    P.PyGILState_Release(gil);
+    return s;
+}
+
+FMI2_Export fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
+    ENTER(c);
+    if (inst->state != S_INSTANTIATED) return refuse(inst, "fmi2EnterInitializationMode");
+    fmi2Status s = call0(inst, "enter_initialization_mode");
+    if (s <= fmi2Warning) inst->state = S_INITIALIZATION;
+    return s;
+}
+
+FMI2_Export fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
+    ENTER(c);
+    if (inst->state != S_INITIALIZATION) return refuse(inst, "fmi2ExitInitializationMode");
+    fmi2Status s = call0(inst, "exit_initialization_mode");
+    inst->state = S_STEPPING;   /* also after an error: doStep then says why it cannot step */
+    return s;
+}
+
+FMI2_Export fmi2Status fmi2Terminate(fmi2Component c) {
+    ENTER(c);
+    if (inst->state != S_STEPPING) return refuse(inst, "fmi2Terminate");
+    fmi2Status s = call0(inst, "terminate");
+    inst->state = S_TERMINATED;
+    return s;
+}
+
+FMI2_Export fmi2Status fmi2Reset(fmi2Component c) {
+    ENTER(c);
+    fmi2Status s = call0(inst, "reset");
+    if (s <= fmi2Warning) inst->state = S_INSTANTIATED;
+    return s;
+}
+
+/* ------------------------------------------------------------------------------------------------
+ * Variables: the support inputs and the outputs in C, everything else through Python
+ */
+#define VR_ARGS(vr, nvr, values) PTR(vr), SIZE(nvr), PTR(values)
+
+static fmi2Status slow_access(Instance *inst, const char *method, const fmi2ValueReference vr[], size_t nvr,
+                              const void *values) {
+    if (nvr == 0) return fmi2OK;
+    if (!vr || !values) {
+        LOGI(inst, fmi2Error, "%s: NULL value references or values for %zu variables", method, nvr);
+        return fmi2Error;
+    }
+    PyGILState_STATE gil = gil_enter();
+    fmi2Status s = call(inst, method, NULL, 3, VR_ARGS(vr, nvr, values));
+    P.PyGILState_Release(gil);
+    return s;
+}
+
+static int setters_allowed(Instance *inst) { return inst->state != S_TERMINATED; }
+
+FMI2_Export fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]) {
+    ENTER(c);
+    size_t i = 0;
+    if (nvr && (!vr || !value)) return slow_access(inst, "get_real", vr, nvr, value);
+    for (; i < nvr; i++) {
+        fmi2ValueReference r = vr[i];
+        if (r - inst->out0 < inst->nout) {
+            int integer = 0;
+            for (size_t k = 0; k < inst->nint; k++) integer |= (r == inst->int_vr[k]);
+            if (integer) break;
+            value[i] = inst->outputs[r - inst->out0];
+        } else if (r - inst->in0 < inst->nin) {
+            value[i] = inst->inputs[r - inst->in0];
+        } else {
+            break;
+        }
+    }
+    if (i == nvr) return fmi2OK;
+    return slow_access(inst, "get_real", vr, nvr, value);   /* parameters, or a wrong reference */
+}
+
+FMI2_Export fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                                   const fmi2Real value[]) {
+    ENTER(c);
+    if (!setters_allowed(inst)) return refuse(inst, "fmi2SetReal");
+    size_t i = 0;
+    if (nvr && (!vr || !value)) return slow_access(inst, "set_real", vr, nvr, value);
+    for (; i < nvr && vr[i] - inst->in0 < inst->nin; i++) inst->inputs[vr[i] - inst->in0] = value[i];
+    if (i == nvr) return fmi2OK;
+    return slow_access(inst, "set_real", vr, nvr, value);
+}
+
+FMI2_Export fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                                      fmi2Integer value[]) {
+    ENTER(c);
+    size_t i = 0;
+    if (nvr && (!vr || !value)) return slow_access(inst, "get_integer", vr, nvr, value);
+    for (; i < nvr; i++) {
+        size_t k = 0;
+        while (k < inst->nint && vr[i] != inst->int_vr[k]) k++;
+        if (k == inst->nint) break;
+        value[i] = (fmi2Integer)inst->outputs[inst->int_idx[k]];
+    }
+    if (i == nvr) return fmi2OK;
+    return slow_access(inst, "get_integer", vr, nvr, value);
+}
+
+FMI2_Export fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                                      const fmi2Integer value[]) {
+    ENTER(c);
+    if (!setters_allowed(inst)) return refuse(inst, "fmi2SetInteger");
+    return slow_access(inst, "set_integer", vr, nvr, value);
+}
+
+FMI2_Export fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                                      fmi2Boolean value[]) {
+    ENTER(c);
+    return slow_access(inst, "get_boolean", vr, nvr, value);
+}
+
+FMI2_Export fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                                      const fmi2Boolean value[]) {
+    ENTER(c);
+    if (!setters_allowed(inst)) return refuse(inst, "fmi2SetBoolean");
+    return slow_access(inst, "set_boolean", vr, nvr, value);
+}
+
+FMI2_Export fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                                     fmi2String value[]) {
+    ENTER(c);
+    return slow_access(inst, "get_string", vr, nvr, value);
+}
+
+FMI2_Export fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                                     const fmi2String value[]) {
+    ENTER(c);
+    if (!setters_allowed(inst)) return refuse(inst, "fmi2SetString");
+    return slow_access(inst, "set_string", vr, nvr, value);
+}
+
+/* ------------------------------------------------------------------------------------------------
+ * FMU state
+ */
+static State *checked_state(Instance *inst, fmi2FMUstate s) {
+    State *st = s;
+    if (!st || st->magic != STATE_MAGIC) {
+        LOGI(inst, fmi2Error, "the FMU state %p was not made by this FMU (or was freed)", s);
+        return NULL;
+    }
+    return st;
+}
+
+FMI2_Export fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
+    ENTER(c);
+    if (!FMUstate) return refuse(inst, "fmi2GetFMUstate with a NULL pointer");
+    PyObject *obj = NULL;
+    PyGILState_STATE gil = gil_enter();
+    fmi2Status s = call(inst, "get_state", &obj, 0);
+    State *st = *FMUstate;
+    if (s == fmi2OK && st && st->magic == STATE_MAGIC) {   /* update the host's earlier state in place */
+        P.Py_DecRef(st->state);
+        if (st->bytes) P.Py_DecRef(st->bytes);
+        st->state = obj;
+        st->bytes = NULL;
+    } else if (s == fmi2OK) {
+        st = calloc(1, sizeof *st);
+        if (!st) {
+            P.Py_DecRef(obj);
+            s = fmi2Error;
+        } else {
+            st->magic = STATE_MAGIC;
+            st->owner = inst;
+            st->state = obj;
+            *FMUstate = st;
+        }
+    }
+    P.PyGILState_Release(gil);
+    return s;
+}
+
+FMI2_Export fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate FMUstate) {
+    ENTER(c);
+    State *st = checked_state(inst, FMUstate);
+    if (!st) return fmi2Error;
+    PyGILState_STATE gil = gil_enter();
+    P.Py_IncRef(st->state);
+    fmi2Status s = call(inst, "set_state", NULL, 1, st->state);
+    P.PyGILState_Release(gil);
+    if (s <= fmi2Warning) inst->state = S_STEPPING;
+    return s;
+}
+
+FMI2_Export fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
+    ENTER(c);
+    if (!FMUstate || !*FMUstate) return fmi2OK;
+    State *st = checked_state(inst, *FMUstate);
+    if (!st) return fmi2Error;
+    PyGILState_STATE gil = gil_enter();
+    P.Py_DecRef(st->state);
+    if (st->bytes) P.Py_DecRef(st->bytes);
+    P.PyGILState_Release(gil);
+    st->magic = 0;
+    free(st);
+    *FMUstate = NULL;
+    return fmi2OK;
+}
+
+static fmi2Status state_bytes(Instance *inst, State *st) {
+    if (st->bytes) return fmi2OK;
+    PyGILState_STATE gil = gil_enter();
+    P.Py_IncRef(st->state);
+    fmi2Status s = call(inst, "serialize_state", &st->bytes, 1, st->state);
+    P.PyGILState_Release(gil);
+    return s;
+}
+
+FMI2_Export fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate FMUstate, size_t *size) {
+    ENTER(c);
+    State *st = checked_state(inst, FMUstate);
+    if (!st || !size) return fmi2Error;
+    fmi2Status s = state_bytes(inst, st);
+    if (s != fmi2OK) return s;
+    PyGILState_STATE gil = gil_enter();
+    *size = (size_t)P.PyBytes_Size(st->bytes);
+    P.PyGILState_Release(gil);
+    return fmi2OK;
+}
+
+FMI2_Export fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate FMUstate, fmi2Byte serializedState[],
+                                             size_t size) {
+    ENTER(c);
+    State *st = checked_state(inst, FMUstate);
+    if (!st || !serializedState) return fmi2Error;
+    fmi2Status s = state_bytes(inst, st);
+    if (s != fmi2OK) return s;
+    PyGILState_STATE gil = gil_enter();
+    size_t n = (size_t)P.PyBytes_Size(st->bytes);
+    if (size < n) {
+        LOGI(inst, fmi2Error, "fmi2SerializeFMUstate: the buffer holds %zu bytes, the state needs %zu "
+             "(ask fmi2SerializedFMUstateSize)", size, n);
+        s = fmi2Error;
+    } else {
+        memcpy(serializedState, P.PyBytes_AsString(st->bytes), n);
+    }
+    P.PyGILState_Release(gil);
+    return s;
+}
+
+FMI2_Export fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedState[], size_t size,
+                                               fmi2FMUstate *FMUstate) {
+    ENTER(c);
+    if (!FMUstate || (!serializedState && size)) return refuse(inst, "fmi2DeSerializeFMUstate with a NULL pointer");
+    PyObject *obj = NULL;
+    PyGILState_STATE gil = gil_enter();
+    fmi2Status s = call(inst, "deserialize_state", &obj, 1,
+                        P.PyBytes_FromStringAndSize((const char *)serializedState, (Py_ssize_t)size));
+    P.PyGILState_Release(gil);
+    if (s != fmi2OK) return s;
+    /* the bridge returns a false value for bytes that are not a state (and has logged why) */
+    gil = gil_enter();
+    if (!P.PyObject_IsTrue(obj)) {
+        P.Py_DecRef(obj);
+        s = fmi2Error;
+    } else {
+        State *st = calloc(1, sizeof *st);
+        if (!st) {
+            P.Py_DecRef(obj);
+            s = fmi2Error;
+        } else {
+            st->magic = STATE_MAGIC;
+            st->owner = inst;
+            st->state = obj;
+            *FMUstate = st;
+        }
+    }
+    P.PyGILState_Release(gil);
+    return s;
+}
+
+FMI2_Export fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference vUnknown_ref[],
+                                                    size_t nUnknown, const fmi2ValueReference vKnown_ref[],
+                                                    size_t nKnown, const fmi2Real dvKnown[], fmi2Real dvUnknown[]) {
+    ENTER(c);
+    (void)vUnknown_ref, (void)nUnknown, (void)vKnown_ref, (void)nKnown, (void)dvKnown, (void)dvUnknown;
+    LOGI(inst, fmi2Error, "fmi2GetDirectionalDerivative is not provided (providesDirectionalDerivative=false)");
+    return fmi2Error;
+}
+
+/* ------------------------------------------------------------------------------------------------
+ * Co-simulation
+ */
+FMI2_Export fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                                                   const fmi2Integer order[], const fmi2Real value[]) {
+    ENTER(c);
+    (void)vr, (void)nvr, (void)order, (void)value;
+    LOGI(inst, fmi2Error,
+         "fmi2SetRealInputDerivatives is not provided (canInterpolateInputs=false): connect the velocity and "
+         "acceleration inputs (<body>.<support>.v* and .a*) instead");
+    return fmi2Error;
+}
+
+FMI2_Export fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
+                                                    const fmi2Integer order[], fmi2Real value[]) {
+    ENTER(c);
+    (void)vr, (void)nvr, (void)order, (void)value;
+    LOGI(inst, fmi2Error, "fmi2GetRealOutputDerivatives is not provided (maxOutputDerivativeOrder=0)");
+    return fmi2Error;
+}
+
+FMI2_Export fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint,
+                                  fmi2Real communicationStepSize, fmi2Boolean noSetFMUStatePriorToCurrentPoint) {
+    ENTER(c);
+    (void)noSetFMUStatePriorToCurrentPoint;
+    if (inst->state != S_STEPPING) return refuse(inst, "fmi2DoStep");
+    PyGILState_STATE gil = gil_enter();
+    PyObject *args[2] = {P.PyFloat_FromDouble(currentCommunicationPoint),
+                         P.PyFloat_FromDouble(communicationStepSize)};
+    PyObject *tuple = P.PyTuple_New(2);
+    P.PyTuple_SetItem(tuple, 0, args[0]);
+    P.PyTuple_SetItem(tuple, 1, args[1]);
+    PyObject *ret = P.PyObject_CallObject(inst->m_do_step, tuple);
+    P.Py_DecRef(tuple);
+    fmi2Status s;
+    if (!ret) {
+        char msg[2048];
+        take_exception(msg, sizeof msg);
+        LOGI(inst, fmi2Error, "internal error in doStep: %s", msg);
+        s = fmi2Error;
+    } else {
+        long v = P.PyLong_AsLong(ret);
+        P.Py_DecRef(ret);
+        s = (v >= fmi2OK && v <= fmi2Error) ? (fmi2Status)v : fmi2Error;
+    }
+    P.PyGILState_Release(gil);
+    return s;
+}
+
+FMI2_Export fmi2Status fmi2CancelStep(fmi2Component c) {
+    ENTER(c);
+    LOGI(inst, fmi2Error, "fmi2CancelStep: doStep never runs asynchronously (canRunAsynchronuously=false)");
+    return fmi2Error;
+}
+
+FMI2_Export fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *value) {
+    ENTER(c);
+    if (s == fmi2DoStepStatus && value) {
+        *value = fmi2OK;   /* doStep is synchronous: never pending */
+        return fmi2OK;
+    }
+    LOGI(inst, fmi2Discard, "fmi2GetStatus: status kind %d is not available", (int)s);
+    return fmi2Discard;
+}
+
+FMI2_Export fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value) {
+    ENTER(c);
+    if (s != fmi2LastSuccessfulTime || !value) {
+        LOGI(inst, fmi2Discard, "fmi2GetRealStatus: only fmi2LastSuccessfulTime is available");
+        return fmi2Discard;
+    }
+    PyObject *t = NULL;
+    PyGILState_STATE gil = gil_enter();
+    fmi2Status st = call(inst, "last_successful_time", &t, 0);
+    if (st == fmi2OK) {
+        *value = P.PyFloat_AsDouble(t);
+        P.Py_DecRef(t);
+    }
+    P.PyGILState_Release(gil);
+    return st;
+}
+
+FMI2_Export fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Integer *value) {
+    ENTER(c);
+    (void)s, (void)value;
+    LOGI(inst, fmi2Discard, "fmi2GetIntegerStatus: no integer status is available");
+    return fmi2Discard;
+}
+
+FMI2_Export fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *value) {
+    ENTER(c);
+    if (s == fmi2Terminated && value) {
+        *value = fmi2False;   /* the slave never asks to end the simulation */
+        return fmi2OK;
+    }
+    LOGI(inst, fmi2Discard, "fmi2GetBooleanStatus: only fmi2Terminated is available");
+    return fmi2Discard;
+}
+
+FMI2_Export fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2String *value) {
+    ENTER(c);
+    (void)s, (void)value;
+    LOGI(inst, fmi2Discard, "fmi2GetStringStatus: no string status is available (doStep is synchronous)");
+    return fmi2Discard;
+}
