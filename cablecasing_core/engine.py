@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import io
 import math
+from collections import OrderedDict
 
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve
@@ -140,7 +141,7 @@ class _Body:
         self.pslot = np.array(pslot, np.int64)
         self.sup, self.sup_lo = support_rows(Md, Kd, self.pres, b)
         self.cpl_i, self.cpl_v = coupling_triplets(Kd, self.pres, free)
-        self._factors = {}
+        self._factors = BoundedCache(FACTOR_CACHE_SIZE)
         self.U = np.zeros(n)
         self.V = np.zeros(n)
         self.A = np.zeros(n)
@@ -151,7 +152,8 @@ class _Body:
         dense inverse (m/N) of its free part, placed in an all-DOF matrix that is zero on the
         prescribed DOFs; cached per dt."""
         key = (dt, need_inverse)
-        if key not in self._factors:
+        cached = self._factors.get(key)
+        if cached is None:
             g = slice(self.g0, self.g0 + self.ng)
             Keff = (1 + 2 * self.beta / dt) * self.K_full[g, g] + (4 / dt**2 + 2 * self.alpha / dt) * self.M_full[g, g]
             inner = [j - self.g0 for j in self.pres if self.g0 <= j < self.g0 + self.ng]
@@ -176,8 +178,8 @@ class _Body:
                 inv[self.f0:self.f0 + self.nf, self.f0:self.f0 + self.nf] = 0.5 * (inv_ff + inv_ff.T)
             else:
                 inv = np.zeros((1, 1))
-            self._factors[key] = (Dinv, L, LT, inv)
-        return self._factors[key]
+            cached = self._factors[key] = (Dinv, L, LT, inv)
+        return cached
 
     def energy(self):
         """(kinetic, strain) energy in J."""
@@ -185,6 +187,31 @@ class _Body:
 
 
 _DUMMY_BLOCK = np.zeros((0, 6, 6))
+# Factorisations (and step-loop arguments) kept per body for the time steps used last: the step
+# dt and the shorter last sub-steps of communication steps that are not multiples of dt. Each
+# costs ~0.4 MB per body (the dense compliance for contact) and a few ms to build, so a master
+# that varies its step size all the time pays a factorisation per step but no memory beyond this.
+FACTOR_CACHE_SIZE = 8
+
+
+class BoundedCache(OrderedDict):
+    """A dict that keeps only the ``size`` entries used last (get and set both count as use)."""
+
+    def __init__(self, size):
+        super().__init__()
+        self.size = size
+
+    def get(self, key, default=None):
+        if key in self:
+            self.move_to_end(key)
+            return self[key]
+        return default
+
+    def __setitem__(self, key, value):
+        super().__setitem__(key, value)
+        self.move_to_end(key)
+        while len(self) > self.size:
+            self.popitem(last=False)
 
 
 class Engine:
@@ -237,7 +264,7 @@ class Engine:
         self._snap = None                   # roll-back buffer of advance (see snapshot)
         self._ws = K.contact_workspace(len(self.Xc))
         self._allocate_state()
-        self._call_args = {}            # (dt, settings) -> the step loop's arguments (see _run)
+        self._call_args = BoundedCache(FACTOR_CACHE_SIZE)   # (dt, settings) -> the step loop's arguments
         self._no_record = (np.zeros((1, 24)), np.zeros(2, np.int64), np.zeros(1, np.int32), np.zeros(1, np.int8),
                            np.zeros(1), np.zeros(1))
         self.reset()
