@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import subprocess
 import sys
 from pathlib import Path
@@ -124,9 +123,4 @@ per-node contact data (simulation.csv).</p>
 
 
 if __name__ == "__main__":
-    rc = main()
-    sys.stdout.flush()
-    sys.stderr.flush()
-    # a Python process that loaded the pythonfmu FMU (with numba) can abort in interpreter shutdown
-    # after all results are written (docs/fmu.md); leave without running that shutdown
-    os._exit(rc)
+    sys.exit(main())

@@ -12,7 +12,6 @@ From a test: ``result = fmu_driver.run(tmp_path, "run", fmu=..., inputs=table, p
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 import sys
 import time
@@ -28,7 +27,7 @@ STATUS = {0: "ok", 1: "warning", 2: "discard", 3: "error", 4: "fatal"}
 
 
 # ------------------------------------------------------------------------------ called by the tests
-def run(tmp_path, scenario, fmu, inputs=None, timeout=600, **args):
+def run(tmp_path, scenario, fmu, inputs=None, timeout=600, cwd=None, env=None, **args):
     """Run ``scenario`` of this driver in a fresh process; returns the npz content as a dict.
 
     ``inputs``: array (n, 36) in the order of :data:`INPUTS` (m, m/s, m/s2) at t = k h."""
@@ -41,7 +40,7 @@ def run(tmp_path, scenario, fmu, inputs=None, timeout=600, **args):
     path = tmp_path / f"job{n}.json"
     path.write_text(json.dumps(job))
     proc = subprocess.run([sys.executable, str(Path(__file__)), scenario, str(path)],
-                          capture_output=True, text=True, timeout=timeout)
+                          capture_output=True, text=True, timeout=timeout, cwd=cwd, env=env)
     if proc.returncode != 0:
         raise RuntimeError(f"fmu_driver {scenario} failed ({proc.returncode}):\n{proc.stdout}\n{proc.stderr}")
     with np.load(job["out"], allow_pickle=False) as z:
@@ -54,7 +53,7 @@ class Instance:
 
     unzip_dirs = {}
 
-    def __init__(self, fmu, name="cc", params=None, start_time=0.0, logging=True, unzip=None):
+    def __init__(self, fmu, name="cc", params=None, start_time=0.0, logging=True, unzip=None, initialize=True):
         from fmpy import extract, read_model_description
         from fmpy.fmi2 import FMU2Slave
 
@@ -67,12 +66,14 @@ class Instance:
                              modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName=name)
         self.fmu.instantiate(callbacks=self._callbacks(), loggingOn=logging)
         self.t = start_time
+        self.in_vr = [self.var[n].valueReference for n in INPUTS]
+        self._plans = {}
+        if not initialize:
+            return
         self.fmu.setupExperiment(startTime=start_time)
         self.fmu.enterInitializationMode()
         self.status_init = self.set(params or {})
         self.status_init = max(self.status_init, self.call(self.fmu.exitInitializationMode))
-        self.in_vr = [self.var[n].valueReference for n in INPUTS]
-        self._plans = {}
 
     def _callbacks(self):
         from fmpy import calloc, free
@@ -271,8 +272,8 @@ def scenario_errors(job, table):
     res["after_blowup_out"] = inst.get(names)
 
     inst = Instance(job["fmu"], name="badstate")
-    garbage = inst.fmu.deSerializeFMUstate(b"not a state at all")
-    record("badstate", inst, [Instance.call(inst.fmu.setFMUstate, garbage), inst.step(zero, h)])
+    record("badstate", inst, [Instance.call(inst.fmu.deSerializeFMUstate, b"not a state at all"),
+                              inst.step(zero, h)])
 
     inst = Instance(job["fmu"], name="fresh", start_time=0.25)     # the process goes on
     out, status = simulate(inst, table[:5], h, names)
@@ -317,21 +318,129 @@ def scenario_libcosim(job, table):
 
 def scenario_cache(job, table):
     """Load the FMU from a fresh unpack folder, take one step, and report what numba did: cache
-    hits and misses (compilations) of every kernel, and where the cache lives."""
-    import os
+    hits and misses (compilations) of every kernel of the FMU's own package, where the cache and
+    the package live, and the FMU's log."""
     from fmpy import extract
+    from numba.core.registry import CPUDispatcher
+
     unzip = extract(job["fmu"])
     inst = Instance(job["fmu"], unzip=unzip)
     status = inst.step(np.zeros(len(INPUTS)), job["h"])
-    from numba.core.registry import CPUDispatcher
-
-    import cablecasing_core.kernels as kernels      # the FMU's own copy (already imported by it)
-    disp = [v for v in vars(kernels).values() if isinstance(v, CPUDispatcher)]
+    disp = [v for name, mod in list(sys.modules.items()) if name.split(".")[0] == "cablecasing_core" and mod
+            for v in vars(mod).values() if isinstance(v, CPUDispatcher)]
+    run_steps = next(d for d in disp if d.__name__ == "run_steps")
     return dict(status=status, hits=sum(sum(d.stats.cache_hits.values()) for d in disp),
                 misses=sum(sum(d.stats.cache_misses.values()) for d in disp),
-                run_steps_hits=sum(kernels.run_steps.stats.cache_hits.values()),
-                cache_path=kernels.run_steps.stats.cache_path, kernels_file=kernels.__file__,
-                unzip=str(unzip), numba_cache_dir=os.environ.get("NUMBA_CACHE_DIR", ""))
+                run_steps_hits=sum(run_steps.stats.cache_hits.values()),
+                cache_path=run_steps.stats.cache_path, package_file=sys.modules["cablecasing_core"].__file__,
+                unzip=str(unzip), log=_log(inst.log))
+
+
+def scenario_careless(job, table):
+    """What careless masters do (docs/fmu.md, "Careless masters"), each case's status and log."""
+    from fmpy.fmi2 import fmi2String, fmi2ValueReference
+
+    h, names = job["h"], job["outputs"]
+    res = {}
+    zero = np.zeros(len(INPUTS))
+
+    def record(key, inst, status):
+        res[f"{key}_status"] = np.array(status)
+        res[f"{key}_log"] = np.array(_log(inst.log) or [""])
+        inst.log.clear()
+
+    def set_raw_string(inst, name, raw):
+        vr = (fmi2ValueReference * 1)(inst.var[name].valueReference)
+        return Instance.call(inst.fmu.fmi2SetString, inst.fmu.component, vr, 1, (fmi2String * 1)(raw))
+
+    # strings: not UTF-8, NULL; the instance goes on and initialises with the built-in model
+    inst = Instance(job["fmu"], name="strings", initialize=False)
+    inst.fmu.setupExperiment(startTime=0.0)
+    inst.fmu.enterInitializationMode()
+    record("non_utf8", inst, set_raw_string(inst, "model_file", b"/tmp/\xff\xfe-model.toml"))
+    record("null_string", inst, set_raw_string(inst, "model_file", None))
+    res["model_file_after"] = np.array(inst.fmu.getString([inst.var["model_file"].valueReference])[0].decode())
+    record("strings_init", inst, Instance.call(inst.fmu.exitInitializationMode))
+    record("strings_step", inst, inst.step(table[0], h))
+    # times and steps
+    record("nan_time", inst, Instance.call(inst.fmu.doStep, float("nan"), h))
+    record("nan_step", inst, Instance.call(inst.fmu.doStep, inst.t, float("nan")))
+    record("huge_step", inst, Instance.call(inst.fmu.doStep, inst.t, 1e12))
+    record("after_refusals", inst, [inst.step(row, h) for row in table[1:4]])
+    res["after_refusals_out"] = inst.get(names)
+    # a failed state restore leaves the instance as it was: getters and steps work
+    good = inst.fmu.getFMUstate()
+    before = inst.get(names)
+    import io
+    z = dict(np.load(io.BytesIO(bytes(inst.fmu.serializeFMUstate(good))), allow_pickle=False))
+    z["engine.casing.U"] = z["engine.casing.U"][:-1]             # a state of the wrong shape
+    buf = io.BytesIO()
+    np.savez(buf, **z)
+    wrong = inst.fmu.deSerializeFMUstate(buf.getvalue())
+    record("bad_restore", inst, Instance.call(inst.fmu.setFMUstate, wrong))
+    res["after_bad_restore_out"] = inst.get(names)
+    res["before_bad_restore_out"] = before
+    record("after_bad_restore_step", inst, inst.step(table[4], h))
+    # parameters are fixed after initialisation
+    record("late_parameter", inst, inst.set({"contact.friction": 0.3}))
+    record("same_parameter", inst, inst.set({"contact.friction": 0.15}))
+    # calls after terminate
+    inst.fmu.terminate()
+    record("step_after_terminate", inst, Instance.call(inst.fmu.doStep, inst.t, h))
+    record("set_after_terminate", inst, inst.set({"casing.A.z": 1e-3}))
+    inst.fmu.freeInstance()
+
+    # NaN start time
+    inst = Instance(job["fmu"], name="nanstart", initialize=False)
+    record("nan_start", inst, Instance.call(inst.fmu.setupExperiment, None, float("nan"), None))
+    inst.fmu.freeInstance()
+    return res
+
+
+def scenario_memory(job, table):
+    """Resident memory over many steps of ever-changing size (a variable-step master)."""
+    inst = Instance(job["fmu"], params={"contact.enabled": False})
+    rng = np.random.default_rng(1)
+    rss = []
+    zero = np.zeros(len(INPUTS))
+    for k in range(job["steps"]):
+        assert inst.step(zero, float(rng.uniform(0.5e-4, 1.5e-4))) == 0
+        if k % 100 == 0:
+            with open("/proc/self/statm") as f:
+                rss.append(int(f.read().split()[1]) * 4096)
+    inst.free()
+    return dict(rss=np.array(rss))
+
+
+def scenario_model_file(job, table):
+    """Getters with a model file set, and a parameter set to its built-in value."""
+    res = {}
+    inst = Instance(job["fmu"], name="model-file", initialize=False)
+    fmu, var = inst.fmu, inst.var
+    fmu.setupExperiment(startTime=0.0)
+    fmu.enterInitializationMode()
+    vr = lambda n: [var[n].valueReference]  # noqa: E731
+    res["E_builtin"] = fmu.getReal(vr("casing.E"))[0]
+    fmu.setString(vr("model_file"), [job["model_file"]])
+    res["model_file"] = np.array(fmu.getString(vr("model_file"))[0].decode())
+    res["E_file"] = fmu.getReal(vr("casing.E"))[0]
+    res["friction_file"] = fmu.getReal(vr("contact.friction"))[0]
+    fmu.setReal(vr("contact.friction"), [job["friction"]])
+    res["friction_set"] = fmu.getReal(vr("contact.friction"))[0]
+    fmu.exitInitializationMode()
+    in_vr = [var[n].valueReference for n in INPUTS]
+    out_vr = [var[n].valueReference for n in job["outputs"]]
+    out = np.zeros((len(table), len(out_vr)))
+    t = 0.0
+    for k, row in enumerate(table):
+        fmu.setReal(in_vr, list(row))
+        fmu.doStep(t, job["h"])
+        t += job["h"]
+        out[k] = fmu.getReal(out_vr)
+    fmu.terminate()
+    fmu.freeInstance()
+    res["out"] = out
+    return res
 
 
 def _log(entries):
@@ -339,7 +448,8 @@ def _log(entries):
 
 
 SCENARIOS = {"run": scenario_run, "steps": scenario_steps, "state": scenario_state, "two": scenario_two,
-             "errors": scenario_errors, "libcosim": scenario_libcosim, "cache": scenario_cache}
+             "errors": scenario_errors, "libcosim": scenario_libcosim, "cache": scenario_cache,
+             "careless": scenario_careless, "memory": scenario_memory, "model_file": scenario_model_file}
 
 
 def main():
@@ -348,12 +458,6 @@ def main():
     table = np.load(job["inputs"]) if "inputs" in job else np.zeros((0, len(INPUTS)))
     res = SCENARIOS[scenario](job, table)
     np.savez(job["out"], **{k: np.asarray(v) for k, v in res.items()})
-    # Leave without the C-level exit handlers: a Python host that loaded a pythonfmu FMU importing
-    # numba aborts in a few percent of exits ("corrupted double-linked list" in libgfortran's
-    # finaliser), after all work is done; see docs/fmu.md, known problems.
-    sys.stdout.flush()
-    sys.stderr.flush()
-    os._exit(0)
 
 
 if __name__ == "__main__":

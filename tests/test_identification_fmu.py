@@ -55,8 +55,6 @@ sig["casing.A.ay"] = np.where(on, A * om * om * np.cos(2 * np.pi * tau), 0)
 r = simulate_fmu(path, stop_time=T, step_size=h, output_interval=h, input=sig,
                  start_values={"model_file": model_file}, output=["casing.B.Fy"])
 np.savez(out, t=r["time"], F=r["casing.B.Fy"])
-import os
-os._exit(0)   # a Python host of a pythonfmu FMU with numba can abort at exit (docs/fmu.md)
 '''
 
 
