@@ -185,10 +185,16 @@ excitation and have no effect in the FMU. Parameters are fixed: set them before
 <code>fmi2ExitInitializationMode</code>.</p>
 
 <h2>Errors</h2>
-<p>An invalid parameter is logged at fmi2Error when initialisation ends; a non-finite input, a
-blow-up, or a step after such an error returns fmi2Discard from <code>fmi2DoStep</code>, with a log
-message naming the variable and the value; a failed step is rolled back. (The pythonfmu wrapper can
-report fmi2Discard but not fmi2Error from a step.)</p>
+<p>Every problem is reported to the master's logger, naming the variable, the value and what is
+allowed, and gets the status it deserves; the FMU never returns fmi2Fatal and never ends the host
+process. An invalid parameter makes <code>fmi2ExitInitializationMode</code> return fmi2Error (and every
+later <code>fmi2DoStep</code>, until the FMU is reset); a non-finite input, a step that would
+penetrate the wall beyond the cable radius, a step longer than one million internal steps or a
+step at another time than the FMU's returns fmi2Discard and is rolled back whole, so the master
+may retry; calls the life cycle does not allow (a step after <code>fmi2Terminate</code>) and
+improper arguments (NaN times, NULL or non-UTF-8 strings) return fmi2Error. Errors and warnings
+are logged whether or not logging is on; a problem that keeps the FMU from starting (no suitable
+Python, a missing package) is also written to stderr.</p>
 
 <h2>Variables</h2>
 <table><tr><th>name</th><th>causality</th><th>type</th><th>unit</th><th>start</th><th>description</th></tr>
@@ -197,30 +203,31 @@ report fmi2Discard but not fmi2Error from a step.)</p>
 </body></html>
 """)
     ver = f"{sys.version_info.major}.{sys.version_info.minor}"
-    (folder / "externalDependencies.txt").write_text(f"""CableCasing.fmu runs Python code (generated with PythonFMU 0.7).
+    (folder / "externalDependencies.txt").write_text(f"""CableCasing.fmu runs Python code: the model package cablecasing_core (inside resources/).
 
-The host needs:
-- CPython {ver} (64-bit) with its shared library (libpython{ver}.so on Linux, python3{sys.version_info.minor}.dll on Windows);
-- the packages numpy, scipy and numba installed in that Python environment (platformdirs is optional).
-The model package cablecasing_core and the pythonfmu runtime are inside resources/.
+The host needs CPython {ver} (64-bit, with its shared library) and the packages
+{runtime_requirements().replace(";", ", ")} in that Python.
 
-From Python (fmpy, libcosimpy, ...): nothing else; the FMU attaches to the running interpreter.
+Linux (binaries/linux64, this project's own binary):
+  - In a Python host (fmpy, libcosimpy, a pytest run) the FMU uses the host's interpreter.
+  - In any other host (a C or C++ system simulator, fmusim, the FMU Compliance Checker) it starts
+    CPython itself: the interpreter named by the environment variable CABLECASING_PYTHON (the path
+    of a python{ver} executable, for example a virtual environment's bin/python), else the one
+    recorded when the FMU was built (resources/python-environment.txt), else python{ver} on PATH.
+    No LD_PRELOAD, PYTHONHOME or PYTHONPATH is needed; PYTHONHOME and PYTHONPATH are ignored.
+  - The FMU logs which interpreter it uses. If it finds none, or a package is missing or too old,
+    fmi2Instantiate fails with one message (to the logger and to stderr) that says what is missing
+    and how to fix it.
+  - glibc 2.34 or newer.
 
-From a non-Python host (a C/C++/Java importer, OSP cosim, a tool), Linux:
-  The binary does not link libpython; its Python symbols must already be in the process:
-    LD_PRELOAD=<python prefix>/lib/libpython{ver}.so.1.0   (or dlopen it with RTLD_GLOBAL first)
-    PYTHONHOME=<python prefix>                            (sys.base_prefix)
-    PYTHONPATH=<environment>/lib/python{ver}/site-packages  (where numpy, scipy, numba are)
-  Windows: the folder of python3{sys.version_info.minor}.dll on PATH, PYTHONHOME and PYTHONPATH as above.
-  Then load it like any FMI 2.0 co-simulation FMU.
-  When the host unloads the binary (or exits), pythonfmu finalises the embedded Python, which
-  aborts with numpy/scipy loaded; end the process without running library destructors
-  (_exit() after fmi2FreeInstance) or keep the binary loaded until then.
+Windows (binaries/win64): pythonfmu's binary, not tested by this project: python3{sys.version_info.minor}.dll must be
+found (its folder on PATH) and the packages above importable (PYTHONHOME/PYTHONPATH).
+macOS: no binary is provided.
 
-The first instantiation on a machine compiles the numba kernels (about 30 s) into
-NUMBA_CACHE_DIR (default: the per-user cache folder, e.g. ~/.cache/cablecasing/numba); later
-instantiations, in any process, load them from there. Set NUMBA_CACHE_DIR to a writable folder if
-the home folder is read-only.
+On the first start the FMU copies its Python code to the per-user cache folder
+(~/.cache/cablecasing/fmu/<GUID>) and the numba machine code compiled when it was built to
+~/.cache/cablecasing/numba (or NUMBA_CACHE_DIR); a CPU, Python or numba that does not fit the
+shipped code is compiled there once (30-60 s, logged while it happens).
 """)
 
 

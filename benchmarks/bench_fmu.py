@@ -1,25 +1,29 @@
-"""Speed of the FMU: the default scenario (35 + 35 elements, contact with friction, random
-excitation at casing A z and the cable's 50 Hz axial excitation) through fmpy with a 1e-4 s
-communication step, against the core's own engine on the same run.
+"""Speed of the FMU in its hosts: the default scenario (35 + 35 elements, contact with friction,
+random excitation at casing A z and the cable's 50 Hz axial excitation) with a 1e-4 s
+communication step, against the core's own engine on the same steps, all measured in one run.
 
 Prints ``name: value`` lines:
 
-* ``rtf_fmu``: simulated seconds per wall second through fmpy (fresh process, warm numba cache);
-* ``rtf_core_same_run``: the core's ``Engine.advance`` over the same communication steps with the
-  same input reconstruction (bit-identical outputs);
-* ``fmu_overhead``: FMU wall time / core wall time of that same run (goal < 1.1);
-* ``rtf_core_one_advance`` and ``fmu_overhead_vs_one_advance``: the core in a single
-  ``Engine.advance`` call over the whole run with the scenario's own motion (no per-step calls);
-* ``instantiate_s``: from loading the FMU (already unzipped) through fmi2Instantiate, the
-  initialisation and the first step, numba cache warm (goal < 3 s);
+* ``engine_us_per_step``: the core alone, ``Engine.advance`` per communication step with the same
+  input reconstruction the FMU uses (the FMU's outputs equal these bit for bit);
+* ``fmpy_us_per_step`` and ``fmu_overhead_fmpy``: a whole communication step through fmpy's
+  ``FMU2Slave`` (set the 36 inputs, ``doStep``, get the outputs) and its ratio to the engine;
+* ``fmusim_us_per_step`` and ``fmu_overhead_fmusim``: the same through fmusim (Reference FMUs,
+  ``../shared/hosts``) in the plain environment, from the difference of a long and a short run
+  (so process start, Python start and instantiation cancel), and its ratio to the engine;
+* ``rtf_fmusim``: simulated over wall seconds of fmusim's stepping (the same difference), and
+  ``rtf_fmusim_whole_run``: of a whole ``--stop-time`` run including its start;
+* ``instantiate_cold_s``: loading the FMU (unzipped) through ``fmi2Instantiate``, initialisation
+  and the first step with an empty per-user cache (no numba cache, no copy of the code), and
+  ``instantiate_warm_s`` with both in place;
 * ``mean_active_contacts``: cable nodes in contact, averaged over the steps.
 
-``--step`` sets the communication step (default 1e-4 s, ten Newmark steps per call); a longer one
-spreads the fixed cost per call (fmpy, pythonfmu, the core's Python) over more steps.
+The machine is shared: each figure is the fastest of ``--repeat`` runs, taken alternately.
 
-Run: .venv/bin/python benchmarks/bench_fmu.py [--duration 0.2] [--step 1e-4]
+Run: .venv/bin/python benchmarks/bench_fmu.py [--duration 1.0] [--repeat 3]
 """
 import argparse
+import os
 import subprocess
 import sys
 import tempfile
@@ -42,77 +46,96 @@ from cablecasing_core.kinematics import SupportReconstruction  # noqa: E402
 from cablecasing_core.scenario import scenario_motion  # noqa: E402
 
 FMU = ROOT / "dist" / "CableCasing.fmu"
+FMUSIM = ROOT.parent / "shared" / "hosts" / "fmusim"
 NCH = len(CHANNELS)
+PLAIN = {"HOME": os.environ.get("HOME", "/root"), "PATH": "/usr/bin:/bin"}
 
 
-def core_same_run(model, table, h):
-    """Wall time (s) of the core's Engine.advance over the same communication steps with the same
-    reconstruction, outputs read after each step; and those outputs."""
-    n = len(table)
+def engine_run(model, table, h):
+    """Wall time (s) of the core's Engine.advance over the communication steps with the FMU's
+    reconstruction, outputs read after each step (the first step, which loads the kernels and
+    factorises, is left out)."""
     eng = Engine(model, ledger=False)
     rec = SupportReconstruction(NCH)
-    ref = np.zeros((n, len(OUTPUTS)))
+    out = np.zeros(len(OUTPUTS))
 
-    def step(k):
-        row = table[k]
+    def step(row):
         m = rec.motion(eng.time, h, row[:NCH], row[NCH:2 * NCH], row[2 * NCH:])
         eng.advance(h, m)
         rec.accept(m)
-        eng.output_values(ref[k])
-    step(0)                                              # numba load, factorisation
+        eng.output_values(out)
+    step(table[0])
     t0 = time.perf_counter()
-    for k in range(1, n):
-        step(k)
-    return time.perf_counter() - t0, ref
+    for row in table[1:]:
+        step(row)
+    return time.perf_counter() - t0
 
 
-def core_one_advance(model, n, h):
-    """Wall time (s) of one Engine.advance over the run with the scenario's own motion."""
-    eng = Engine(model, ledger=False)
-    motion = scenario_motion(model)
-    eng.advance(h, motion)
+def write_fmusim_inputs(path, table, h):
+    cols = [j for j in range(3 * NCH) if np.any(table[:, j] != 0)]
+    with open(path, "w") as f:
+        f.write(",".join(['"time"'] + [f'"{fmu_driver.INPUTS[j]}"' for j in cols]) + "\n")
+        for k, row in enumerate(table):
+            f.write(",".join([repr(k * h)] + [repr(float(row[j])) for j in cols]) + "\n")
+
+
+def fmusim_wall(inputs, stop, h, out):
     t0 = time.perf_counter()
-    eng.advance((n - 1) * h, motion)
+    subprocess.run([str(FMUSIM), "--interface-type", "cs", "--stop-time", repr(stop), "--output-interval", repr(h),
+                    "--input-file", str(inputs), "--output-file", str(out), str(FMU)], env=PLAIN, check=True,
+                   capture_output=True)
     return time.perf_counter() - t0
 
 
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--duration", type=float, default=0.2, help="simulated time (s)")
+    p.add_argument("--duration", type=float, default=1.0, help="simulated time of the long runs (s)")
     p.add_argument("--repeat", type=int, default=3, help="runs of each kind; the fastest counts (shared machine)")
     p.add_argument("--step", type=float, default=1e-4, help="communication step (s)")
     args = p.parse_args()
-    H = args.step
-    if not (H > 0 and args.duration >= 2 * H):
-        p.error(f"--step {H!r}: must be positive and at most half of --duration ({args.duration!r} s)")
+    h = args.step
+    if not (h > 0 and args.duration >= 20 * h):
+        p.error(f"--step {h!r}: must be positive and at most a twentieth of --duration ({args.duration!r} s)")
     if not FMU.exists() or FMU.stat().st_mtime < max(q.stat().st_mtime for q in build_fmu.sources()):
         subprocess.run([sys.executable, str(ROOT / "build_fmu.py")], check=True)
 
     model = cc.load_model()
-    n = int(round(args.duration / H))
-    table = np.hstack(scenario_motion(model)(H * np.arange(n)))     # the master's samples at t = k h
-    fmu_s, first_s, same_s, one_s = [], [], [], []
+    n = int(round(args.duration / h))
+    short = n // 5
+    table = np.hstack(scenario_motion(model)(h * np.arange(n + 1)))     # the master's samples at t = k h
+    eng_s, fmpy_s, sim_long, sim_short, cold, warm = [], [], [], [], [], []
     with tempfile.TemporaryDirectory() as tmp:
-        fmu_driver.run(tmp, "run", FMU, inputs=table[:2], h=H, outputs=["casing.B.Fz"])   # warm the cache
-        for _ in range(args.repeat):                     # alternate, so that load changes hit both
-            res = fmu_driver.run(tmp, "run", FMU, inputs=table, h=H, outputs=list(OUTPUTS))
+        tmp = Path(tmp)
+        write_fmusim_inputs(tmp / "inputs.csv", table, h)
+        fmu_driver.run(tmp, "run", FMU, inputs=table[:2], h=h, outputs=["casing.B.Fz"])    # warm the caches
+        for k in range(args.repeat):
+            eng_s.append(engine_run(model, table[:n], h) / (n - 1))
+            res = fmu_driver.run(tmp, "run", FMU, inputs=table[:n], h=h, outputs=list(OUTPUTS))
             assert np.all(res["status"] == 0), res["log"]
-            fmu_s.append(float(res["run_s"]))
-            first_s.append(float(res["first_step_s"]))
-            wall, ref = core_same_run(model, table, H)
-            same_s.append(wall)
-            one_s.append(core_one_advance(model, n, H))
-    sim = (n - 1) * H
-    fmu, same, one = min(fmu_s), min(same_s), min(one_s)
-    print(f"communication_step_s: {H:g}")
-    print(f"rtf_fmu: {sim / fmu:.4f}")
-    print(f"rtf_core_same_run: {sim / same:.4f}")
-    print(f"fmu_overhead: {fmu / same:.3f}")
-    print(f"rtf_core_one_advance: {sim / one:.4f}")
-    print(f"fmu_overhead_vs_one_advance: {fmu / one:.3f}")
-    print(f"instantiate_s: {min(first_s):.3f}")
+            fmpy_s.append(float(res["run_s"]) / (n - 1))
+            warm.append(float(res["first_step_s"]))
+            if FMUSIM.exists():
+                sim_long.append(fmusim_wall(tmp / "inputs.csv", n * h, h, tmp / "long.csv"))
+                sim_short.append(fmusim_wall(tmp / "inputs.csv", short * h, h, tmp / "short.csv"))
+            env = {key: v for key, v in os.environ.items() if key != "NUMBA_CACHE_DIR"}
+            env["XDG_CACHE_HOME"] = str(tmp / f"empty-cache-{k}")
+            res_cold = fmu_driver.run(tmp, "run", FMU, inputs=table[:2], h=h, outputs=["casing.B.Fz"], env=env)
+            cold.append(float(res_cold["first_step_s"]))
+    engine = min(eng_s)
+    print(f"communication_step_s: {h:g}")
+    print(f"engine_us_per_step: {engine * 1e6:.1f}")
+    print(f"fmpy_us_per_step: {min(fmpy_s) * 1e6:.1f}")
+    print(f"fmu_overhead_fmpy: {min(fmpy_s) / engine:.3f}")
+    if sim_long:
+        per_step = min(a - b for a, b in zip(sim_long, sim_short)) / (n - short)
+        print(f"fmusim_us_per_step: {per_step * 1e6:.1f}")
+        print(f"fmu_overhead_fmusim: {per_step / engine:.3f}")
+        print(f"rtf_fmusim: {h / per_step:.3f}")
+        print(f"rtf_fmusim_whole_run: {n * h / min(sim_long):.3f}")
+    print(f"rtf_engine: {h / engine:.3f}")
+    print(f"instantiate_cold_s: {min(cold):.2f}")
+    print(f"instantiate_warm_s: {min(warm):.2f}")
     print(f"mean_active_contacts: {res['out'][:, OUTPUTS.index('contact.active')].mean():.2f}")
-    print(f"fmu_equals_core_bitwise: {int(np.array_equal(ref, res['out']))}")
 
 
 if __name__ == "__main__":

@@ -148,24 +148,27 @@ def kernel_cache_dirs():
     return sorted(dirs)
 
 
-class _CompileNotice:
+def _compile_notice(log, cache_dir):
     """A numba event listener that says, while it happens, that numba compiles a kernel of the
-    model (there was no cached machine code that fits this CPU, Python and numba)."""
+    model (no cached machine code fits this CPU, Python and numba): the log's first message."""
+    from numba.core import event
 
-    def __init__(self, log, cache_dir):
-        self._log, self._cache_dir, self._said, self.count = log, cache_dir, False, 0
+    class CompileNotice(event.Listener):
+        said = False
 
-    def on_start(self, event):
-        name = getattr(event.data.get("dispatcher"), "__qualname__", "") if isinstance(event.data, dict) else ""
-        self.count += 1
-        if not self._said:
-            self._said = True
-            self._log(OK, "compiling the model's numba kernels for this machine (no cached machine code in "
-                          f"{self._cache_dir} fits this CPU, Python and numba); this takes 30-60 s once, later "
-                          f"starts load them from there (first kernel: {name})")
+        def on_start(self, ev):
+            if self.said:
+                return
+            self.said = True
+            name = getattr((ev.data or {}).get("dispatcher"), "__qualname__", "?")
+            log(WARNING, "compiling the model's numba kernels for this machine (no cached machine code in "
+                         f"{cache_dir} fits this CPU, Python and numba); this takes 30-60 s once, later starts "
+                         f"load them from there (first kernel: {name})")
 
-    def on_end(self, event):
-        pass
+        def on_end(self, ev):
+            pass
+
+    return CompileNotice()
 
 
 def _c_strings(addr, n):
@@ -195,6 +198,7 @@ class Instance:
         if module is None:
             module = self._load(resources, guid)
         self._module = module
+        self._install_compile_notice(", ".join(module.numba_cache_dirs) or "(no cache folder)")
         self._slave = module.CableCasing(instance_name=name, resources=resources, visible=visible)
         self._slave.attach_log_sink(self._log)
         self._bind()
@@ -228,7 +232,7 @@ class Instance:
                 seeded += _seed_numba_cache(os.path.join(resources, "numba_cache", os.path.basename(cache)), cache)
             except OSError as exc:
                 self._log(WARNING, f"cannot copy the shipped numba cache to {cache}: {exc}")
-        self._install_compile_notice(", ".join(caches) or "(no cache folder)")
+        module.numba_cache_dirs = caches
         _LOADED[guid] = module
         self._log(OK, f"model code imported from {home} in {time.perf_counter() - t0:.2f} s; numba cache "
                       f"{', '.join(caches)} ({seeded} files copied from the FMU)")
@@ -238,9 +242,8 @@ class Instance:
         try:
             from numba.core import event
 
-            notice = _CompileNotice(self._log, cache)
-            event.install_listener("numba:compile", notice)
-            self._notice = notice
+            self._notice = _compile_notice(self._log, cache)
+            event.register("numba:compile", self._notice)
         except Exception:  # noqa: BLE001  (a numba without the event API: no notice, nothing else changes)
             self._notice = None
 
@@ -302,7 +305,7 @@ class Instance:
             try:
                 from numba.core import event
 
-                event.remove_listener("numba:compile", self._notice)
+                event.unregister("numba:compile", self._notice)
             except Exception:  # noqa: BLE001
                 pass
         self._slave = None

@@ -355,3 +355,20 @@ def test_first_start_on_an_empty_cache_compiles_nothing(fmu, tmp_path):
     assert res["misses"] == 0 and res["run_steps_hits"] >= 1, res["log"]
     assert str(res["cache_path"]).startswith(str(tmp_path / "empty-cache"))
     assert any("files copied from the FMU" in line for line in res["log"])
+
+
+@pytest.mark.slow
+def test_a_first_start_that_must_compile_says_so(fmu, tmp_path):
+    """Without fitting machine code (here: the FMU without its shipped cache, an empty per-user
+    cache) numba compiles the kernels on the first start, and the FMU logs it while it happens."""
+    import os
+    stripped = tmp_path / "stripped.fmu"
+    with zipfile.ZipFile(fmu) as src, zipfile.ZipFile(stripped, "w", zipfile.ZIP_DEFLATED) as dst:
+        for info in src.infolist():
+            if not info.filename.startswith("resources/numba_cache/"):
+                dst.writestr(info, src.read(info.filename))
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+    env["XDG_CACHE_HOME"] = str(tmp_path / "empty-cache")
+    res = run(tmp_path, "cache", stripped, env=env)
+    assert res["status"] == 0 and res["misses"] >= 1
+    assert any("compiling the model's numba kernels for this machine" in line for line in res["log"]), res["log"]

@@ -461,14 +461,19 @@ static void *attr_ptr(PyObject *obj, const char *name, int *ok) {
     return x;
 }
 
-/* Loads resources/cablecasing_fmi2_bridge.py as a fresh module and returns bridge.Instance(...) */
+/* The bridge module of this FMU (by GUID): resources/cablecasing_fmi2_bridge.py, imported once per
+ * process and FMU build, so what it keeps (the imported model code) serves every instance */
 static const char *BOOTSTRAP =
-    "def _load(resources):\n"
-    "    import importlib.util, os\n"
-    "    path = os.path.join(resources, 'cablecasing_fmi2_bridge.py')\n"
-    "    spec = importlib.util.spec_from_file_location('_cablecasing_fmi2_bridge', path)\n"
-    "    mod = importlib.util.module_from_spec(spec)\n"
-    "    spec.loader.exec_module(mod)\n"
+    "def _load(resources, guid):\n"
+    "    import importlib.util, os, sys\n"
+    "    name = '_cablecasing_fmi2_bridge_' + ''.join(c if c.isalnum() else '_' for c in guid)\n"
+    "    mod = sys.modules.get(name)\n"
+    "    if mod is None:\n"
+    "        path = os.path.join(resources, 'cablecasing_fmi2_bridge.py')\n"
+    "        spec = importlib.util.spec_from_file_location(name, path)\n"
+    "        mod = importlib.util.module_from_spec(spec)\n"
+    "        spec.loader.exec_module(mod)\n"
+    "        sys.modules[name] = mod\n"
     "    return mod\n";
 
 FMI2_Export fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,
@@ -513,8 +518,9 @@ FMI2_Export fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuT
     if (ret) {
         P.Py_DecRef(ret);
         PyObject *load = P.PyDict_GetItemString(globals, "_load"); /* borrowed */
-        PyObject *args = P.PyTuple_New(1);
+        PyObject *args = P.PyTuple_New(2);
         P.PyTuple_SetItem(args, 0, P.PyUnicode_FromString(resources));
+        P.PyTuple_SetItem(args, 1, P.PyUnicode_FromString(fmuGUID ? fmuGUID : ""));
         mod = P.PyObject_CallObject(load, args);
         P.Py_DecRef(args);
     }
