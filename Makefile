@@ -20,7 +20,7 @@ fmu: $(STAMP)
 	$(PY) build_fmu.py
 
 demo: $(STAMP)
-	$(PY) -m cablecasing_core.demo --out results
+	$(PY) examples/demo.py --out results
 
 test: $(STAMP)
 	$(PY) -m pytest -q -ra

@@ -114,7 +114,7 @@ def variable_rows(slave_module):
 
 def write_documentation(folder, rows):
     import cablecasing_core as cc
-    from cablecasing_core.geometry import centerline_of
+    from cablecasing_core.structure.geometry import centerline_of
     from cablecasing_core.plotting import plot_geometry
 
     folder.mkdir(parents=True, exist_ok=True)

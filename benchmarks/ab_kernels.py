@@ -44,11 +44,11 @@ def load(root, name):
     return mod
 
 
-def fmu_like(kinematics, eng, motion, h):
+def fmu_like(support_motion, eng, motion, h):
     """advance(duration): what the FMU does per communication step h (s), without fmpy: the
     scenario sampled at the step's start, the support reconstruction, one Engine.advance, the
     outputs read."""
-    rec = kinematics.SupportReconstruction(12)
+    rec = support_motion.SupportReconstruction(12)
     read = getattr(eng, "output_values", eng.outputs)
 
     def advance(duration):
@@ -61,6 +61,15 @@ def fmu_like(kinematics, eng, motion, h):
     return advance
 
 
+def module(name, new, old):
+    """``name.new``, or ``name.old`` in a tree of the flat layout before issue 22 (so that a tree can
+    be compared with one from before the renovation)."""
+    try:
+        return importlib.import_module(f"{name}.{new}")
+    except ModuleNotFoundError:
+        return importlib.import_module(f"{name}.{old}")
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("a")
@@ -70,21 +79,21 @@ def main():
     p.add_argument("--no-record", action="store_true")
     p.add_argument("--step", type=float, default=None,
                    help="advance in calls of this many seconds as the FMU does (inputs sampled at the call's "
-                        "start, kinematics.SupportReconstruction, outputs read after each call); default: one "
+                        "start, timedomain.support_motion.SupportReconstruction, outputs read after each call); default: one "
                         "call per chunk")
     args = p.parse_args()
     dt, chunk = 1e-5, 0.01
     runs = []
     for root, name in ((args.a, "ccA"), (args.b, "ccB")):
         cc = load(root, name)
-        engine = importlib.import_module(f"{name}.engine")
-        scenario = importlib.import_module(f"{name}.scenario")
+        engine = module(name, "timedomain.engine", "engine")
+        scenario = module(name, "timedomain.scenario", "scenario")
         model = cc.load_model()
         engine.Engine(model, dt=dt, ledger=False).advance(dt, scenario.scenario_motion(model))   # numba
         eng = engine.Engine(model, dt=dt, contact=not args.no_contact, ledger=False, record=not args.no_record)
         motion = scenario.scenario_motion(model, dt=dt, duration=args.duration)
         if args.step:
-            motion = fmu_like(importlib.import_module(f"{name}.kinematics"), eng, motion, args.step)
+            motion = fmu_like(module(name, "timedomain.support_motion", "kinematics"), eng, motion, args.step)
         runs.append((eng, motion, []))
     for k in range(int(round(args.duration / chunk))):
         for eng, motion, walls in (runs if k % 2 == 0 else runs[::-1]):

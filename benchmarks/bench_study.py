@@ -15,7 +15,7 @@ first import are excluded: each worker imports the evaluate function before timi
 best of ``--repeat`` runs (default 2), since other load on the machine can only slow a run down.
 
 Evaluate function (``--evaluate``):
-  burn (default)  a fixed amount of CPU work per sample (``_cpu_burn_evaluate``: octave RMS of a
+  burn (default)  a fixed amount of CPU work per sample (``cpu_burn_evaluate``: octave RMS of a
                   cache-sized synthetic record, repeated), calibrated on a worker to about
                   ``--seconds`` s: a stand-in for the time-domain model.
   package.module:function   any evaluate(overrides, **kwargs) -> {band: rms}, e.g. the real
@@ -33,15 +33,15 @@ from multiprocessing import get_context
 from distributed import Client, LocalCluster
 
 from cablecasing_core.studies import PAPER_BOUNDS, latin_hypercube, resolve_evaluate, run_study
-from cablecasing_core.studies.montecarlo import _cpu_burn_evaluate
+from cablecasing_core.studies.evaluators import cpu_burn_evaluate
 
-BURN = "cablecasing_core.studies.montecarlo:_cpu_burn_evaluate"
+BURN = "cablecasing_core.studies.evaluators:cpu_burn_evaluate"
 
 
 def _timed_burn(params, repeats):
     """Wall time (s) of one burn evaluation with ``repeats`` repetitions."""
     t0 = time.perf_counter()
-    _cpu_burn_evaluate(params, repeats=repeats)
+    cpu_burn_evaluate(params, repeats=repeats)
     return time.perf_counter() - t0
 
 
@@ -83,7 +83,7 @@ def main():
                               dashboard_address=None) as cluster, Client(cluster) as client:
                 client.run(resolve_evaluate, spec)                 # import on every worker before timing
                 if spec == BURN and "repeats" not in kwargs:        # calibrate on a worker
-                    client.submit(_cpu_burn_evaluate, centre, repeats=20, pure=False).result()
+                    client.submit(cpu_burn_evaluate, centre, repeats=20, pure=False).result()
                     per_repeat = client.submit(_timed_burn, centre, 200, pure=False).result() / 200
                     kwargs["repeats"] = max(1, round(args.seconds / per_repeat))
                 best = 0.0

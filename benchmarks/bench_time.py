@@ -50,8 +50,8 @@ from multiprocessing import get_context
 import numpy as np
 
 import cablecasing_core as cc
-from cablecasing_core.engine import SUPPORT_OUTPUTS, Engine
-from cablecasing_core.scenario import scenario_motion
+from cablecasing_core.timedomain.engine import SUPPORT_OUTPUTS, Engine
+from cablecasing_core.timedomain.scenario import scenario_motion
 from cablecasing_core.studies import octave_rms, paired_difference
 
 p = argparse.ArgumentParser()

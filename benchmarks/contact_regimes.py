@@ -26,8 +26,8 @@ from multiprocessing import get_context
 import numpy as np
 
 import cablecasing_core as cc
-from cablecasing_core.engine import Engine
-from cablecasing_core.scenario import scenario_motion
+from cablecasing_core.timedomain.engine import Engine
+from cablecasing_core.timedomain.scenario import scenario_motion
 
 
 def run(job):

@@ -6,11 +6,11 @@ Units are SI throughout (m, kg, s, N, Pa, rad; frequencies in Hz where named ``*
 >>> model = cc.load_model()                  # the built-in specimen (None) or a TOML path
 >>> f = cc.natural_frequencies(model, "casing", count=5)   # Hz
 """
-from .config import Model, default_model, load_model, model_from_dict
+from .model import Model, default_model, load_model, model_from_dict
 from .errors import CableCasingError, ModelError, SimulationError
-from .frequency import trfam, trfam_matrix
-from .modal import modes, natural_frequencies
-from .simulation import SimulationResult, contact_episodes, simulate
+from .frequency.trfam import trfam, trfam_matrix
+from .frequency.modal import modes, natural_frequencies
+from .timedomain.simulation import SimulationResult, contact_episodes, simulate
 
 __all__ = ["CableCasingError", "Model", "ModelError", "SimulationError", "contact_episodes", "default_model",
            "load_model", "model_from_dict", "modes", "natural_frequencies", "SimulationResult", "simulate", "trfam",

@@ -1,9 +1,9 @@
 """FMI 2.0 co-simulation slave of the cable-in-casing model (pythonfmu).
 
-Only an adapter over ``cablecasing_core.engine.Engine``; there is no physics here:
+Only an adapter over ``cablecasing_core.timedomain.engine.Engine``; there is no physics here:
 
 * inputs: displacement (m), velocity (m/s) and acceleration (m/s2) of the 12 support channels at
-  the start of each communication step; ``cablecasing_core.kinematics`` reconstructs the motion
+  the start of each communication step; ``cablecasing_core.timedomain.support_motion`` reconstructs the motion
   inside the step (quintic Hermite from the supports' state to the Taylor extrapolation);
 * outputs: ``engine.outputs()`` after the step (force and moment each body exerts on each support,
   contact summary);
@@ -37,9 +37,9 @@ from pythonfmu import (Boolean, DefaultExperiment, Fmi2Causality, Fmi2Slave, Fmi
 from pythonfmu.enums import Fmi2Status  # noqa: E402
 
 import cablecasing_core as cc  # noqa: E402
-from cablecasing_core.config import CHANNELS  # noqa: E402
-from cablecasing_core.engine import OUTPUTS, Engine, state_from_bytes, state_to_bytes  # noqa: E402
-from cablecasing_core.kinematics import SupportReconstruction  # noqa: E402
+from cablecasing_core.model.load import CHANNELS  # noqa: E402
+from cablecasing_core.timedomain.engine import OUTPUTS, Engine, state_from_bytes, state_to_bytes  # noqa: E402
+from cablecasing_core.timedomain.support_motion import SupportReconstruction  # noqa: E402
 
 NCH = len(CHANNELS)
 KINDS = (("", "displacement", "m"), ("v", "velocity", "m/s"), ("a", "acceleration", "m/s2"))

@@ -325,7 +325,7 @@ def scenario_cache(job, table):
     status = inst.step(np.zeros(len(INPUTS)), job["h"])
     from numba.core.registry import CPUDispatcher
 
-    import cablecasing_core.kernels as kernels      # the FMU's own copy (already imported by it)
+    import cablecasing_core.timedomain.kernels as kernels      # the FMU's own copy (already imported by it)
     disp = [v for v in vars(kernels).values() if isinstance(v, CPUDispatcher)]
     return dict(status=status, hits=sum(sum(d.stats.cache_hits.values()) for d in disp),
                 misses=sum(sum(d.stats.cache_misses.values()) for d in disp),

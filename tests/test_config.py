@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from cablecasing_core import ModelError, load_model, model_from_dict
-from cablecasing_core.geometry import centerline_of
+from cablecasing_core.structure.geometry import centerline_of
 
 
 def raw():

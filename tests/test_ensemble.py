@@ -8,7 +8,7 @@ import pytest
 
 import cablecasing_core as cc
 from cablecasing_core.cli import main as cli_main
-from cablecasing_core.config import model_from_dict
+from cablecasing_core.model import model_from_dict
 from cablecasing_core.errors import ModelError
 from cablecasing_core.studies import (Ensemble, load_ensemble, octave_rms, paired_difference, pool_ensembles,
                                       random_excitations, seed_ensemble, seed_overrides)
@@ -284,7 +284,7 @@ def test_a_seed_gives_the_same_record_at_every_time_step():
     # band-limited periodic signal (same lines, phases and scale); only its sampling differs, so on
     # the coarse grid the two agree to rounding of two FFT lengths (measured 9e-16 of the RMS; 1e-12
     # leaves room, while a different record would differ by order one)
-    from cablecasing_core.scenario import scenario_motion
+    from cablecasing_core.timedomain.scenario import scenario_motion
     model = cc.load_model()
     t = np.arange(0, 2000) * 1e-5 + 0.02                      # past the ramp
     coarse = scenario_motion(model, dt=1e-5, duration=0.2)(t)

@@ -2,7 +2,7 @@
 
 The FMU is rebuilt first when it is missing or older than its sources. The references are
 independent of the FMU: the core's frequency-domain TRFAM, and the core's engine driven by the
-same input reconstruction (cablecasing_core.kinematics) in this process.
+same input reconstruction (cablecasing_core.timedomain.support_motion) in this process.
 """
 import subprocess
 import sys
@@ -14,10 +14,10 @@ import pytest
 from scipy.signal import csd, find_peaks, welch
 
 import cablecasing_core as cc
-from cablecasing_core.config import CHANNELS
-from cablecasing_core.engine import OUTPUTS, Engine
-from cablecasing_core.kinematics import SupportReconstruction
-from cablecasing_core.scenario import scenario_motion
+from cablecasing_core.model.load import CHANNELS
+from cablecasing_core.timedomain.engine import OUTPUTS, Engine
+from cablecasing_core.timedomain.support_motion import SupportReconstruction
+from cablecasing_core.timedomain.scenario import scenario_motion
 
 import fmu_driver
 
@@ -142,8 +142,8 @@ def test_model_description_is_complete(fmu):
         files = set(z.namelist())
         doc = z.read("documentation/index.html").decode()
     assert {"documentation/index.html", "documentation/externalDependencies.txt", "documentation/geometry.png",
-            "model.png", "resources/cablecasing_core/engine.py", "resources/cablecasing_core/kinematics.py",
-            "resources/cablecasing_core/data/default_model.toml", "resources/CableCasing.py"} <= files
+            "model.png", "resources/cablecasing_core/timedomain/engine.py", "resources/cablecasing_core/timedomain/support_motion.py",
+            "resources/cablecasing_core/model/specimens/default.toml", "resources/CableCasing.py"} <= files
     assert not any("__pycache__" in f or f.endswith((".nbi", ".nbc")) for f in files)
     assert all(name in doc for name in ("casing.A.vx", "cable.B.Mz", "contact.friction", "geometry.png", "N.m"))
 

@@ -1,8 +1,8 @@
-"""Input reconstruction of the FMU (cablecasing_core.kinematics) against exact polynomials and sines."""
+"""Input reconstruction of the FMU (cablecasing_core.timedomain.support_motion) against exact polynomials and sines."""
 import numpy as np
 import pytest
 
-from cablecasing_core.kinematics import QuinticStep, SupportReconstruction, taylor_target
+from cablecasing_core.timedomain.support_motion import QuinticStep, SupportReconstruction, taylor_target
 
 
 def roundoff(u, v, a, h, d):

@@ -3,7 +3,7 @@ mass-on-a-moving-belt oscillator of benchmarks.md, against its analytic limit cy
 import numpy as np
 import pytest
 
-from cablecasing_core import kernels as K
+from cablecasing_core.timedomain import kernels as K
 
 M_, K_, N_, MU, V_BELT = 1.0, 1.0e4, 10.0, 0.3, 0.01      # kg, N/m, N, -, m/s
 W0 = np.sqrt(K_ / M_)

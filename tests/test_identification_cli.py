@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from cablecasing_core import load_model, natural_frequencies
-from cablecasing_core.cli_identify import add_parser
+from cablecasing_core.cli.identify import add_parser
 from cablecasing_core.identification import write_csv_time, write_uff_frf
 
 if sys.version_info >= (3, 11):

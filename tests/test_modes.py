@@ -4,7 +4,7 @@ import pytest
 from scipy.linalg import eigh
 
 from cablecasing_core import modes, natural_frequencies
-from cablecasing_core.assembly import assemble_body
+from cablecasing_core.structure.assembly import assemble_body
 
 from helpers import STEEL, arc_points, beam_model, dominant_family, section, straight
 

@@ -9,7 +9,7 @@ ROOT = Path(__file__).resolve().parent.parent
 
 def test_report_renders_with_every_figure(tmp_path):
     out = tmp_path / "results"
-    subprocess.run([sys.executable, "-m", "cablecasing_core.demo", "--out", str(out), "--duration", "0.15"],
+    subprocess.run([sys.executable, str(ROOT / "examples" / "demo.py"), "--out", str(out), "--duration", "0.15"],
                    check=True, cwd=ROOT, timeout=1200)
     html = (out / "report.html").read_text()
     imgs = re.findall(r'<img src="([^"]+)"', html)

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import cablecasing_core as cc
-from cablecasing_core.config import CHANNELS
-from cablecasing_core.geometry import centerline_of
-from cablecasing_core.scenario import scenario_motion
+from cablecasing_core.model.load import CHANNELS
+from cablecasing_core.structure.geometry import centerline_of
+from cablecasing_core.timedomain.scenario import scenario_motion
 
 
 def _model(excitation, ramp=0.0, dt=1e-5, duration=0.2, base_dir=None):

@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 
 from cablecasing_core.errors import ModelError
-from cablecasing_core.studies import montecarlo as mc
+from cablecasing_core.studies import evaluators
 from cablecasing_core.studies import (PAPER_BOUNDS, correlations, latin_hypercube, load_results,
                                       plot_correlations, run_study)
 
-ANALYTIC = "cablecasing_core.studies.montecarlo:_analytic_evaluate"
+ANALYTIC = "cablecasing_core.studies.evaluators:analytic_evaluate"
 
 
 def _run(path, **kw):
@@ -72,7 +72,7 @@ def test_serial_values_are_the_closed_form(tmp_path):
     X = latin_hypercube(PAPER_BOUNDS, 20, seed=7)
     np.testing.assert_array_equal(res.X, X)
     for i in (0, 13):
-        ref = mc._analytic_evaluate(dict(zip(PAPER_BOUNDS, X[i].tolist())))
+        ref = evaluators.analytic_evaluate(dict(zip(PAPER_BOUNDS, X[i].tolist())))
         assert res.Y[i].tolist() == [ref[o] for o in res.outputs]     # exact: repr round-trips floats
 
 
@@ -112,7 +112,7 @@ def test_placeholder_evaluate_is_refused_before_starting(tmp_path):
 
 def test_default_evaluate_runs_the_model(tmp_path):
     """The real per-sample function: a short engine run per sample, serial, two samples."""
-    res = mc.run_study(tmp_path / "s.csv", n_samples=2, seed=1, scheduler="serial", progress=False,
+    res = run_study(tmp_path / "s.csv", n_samples=2, seed=1, scheduler="serial", progress=False,
                        evaluate_kwargs={"duration": 0.12, "skip": 0.01})  # oct1 (11 Hz) needs 0.09 s
     assert list(res.status) == ["ok", "ok"]
     assert np.all(np.isfinite(res.Y)) and np.all(res.Y >= 0)
@@ -135,7 +135,7 @@ def test_resume_after_max_samples_repeats_nothing(tmp_path):
 
     def counting(overrides):
         calls.append(dict(overrides))
-        return mc._analytic_evaluate(overrides)
+        return evaluators.analytic_evaluate(overrides)
 
     p = tmp_path / "s.csv"
     part = _run(p, evaluate=counting, max_samples=7)
@@ -157,7 +157,7 @@ def test_resume_after_hard_interruption_and_torn_line(tmp_path):
         state["n"] += 1
         if state["n"] > 5:
             raise KeyboardInterrupt                     # not an Exception: stops the study
-        return mc._analytic_evaluate(overrides)
+        return evaluators.analytic_evaluate(overrides)
 
     p = tmp_path / "s.csv"
     with pytest.raises(KeyboardInterrupt):
@@ -189,7 +189,7 @@ def test_infeasible_samples_are_recorded_not_evaluated(tmp_path):
 
     def ev(overrides):
         calls.append(overrides)
-        return mc._analytic_evaluate(overrides)
+        return evaluators.analytic_evaluate(overrides)
 
     bounds = {"cable.d": (0.003, 0.0045), "casing.d_inner": (0.0034, 0.0046), "casing.E": (2e9, 1e10)}
     res = _run(tmp_path / "s.csv", evaluate=ev, bounds=bounds, n_samples=30)

@@ -5,11 +5,11 @@ import numpy as np
 import pytest
 
 import cablecasing_core as cc
-from cablecasing_core import kernels as K
-from cablecasing_core.config import CHANNELS
-from cablecasing_core.engine import OUTPUTS, Engine, hertz_constant, state_from_bytes, state_to_bytes
-from cablecasing_core.geometry import centerline_of
-from cablecasing_core.scenario import scenario_motion, zero_motion
+from cablecasing_core.timedomain import kernels as K
+from cablecasing_core.model.load import CHANNELS
+from cablecasing_core.timedomain.engine import OUTPUTS, Engine, hertz_constant, state_from_bytes, state_to_bytes
+from cablecasing_core.structure.geometry import centerline_of
+from cablecasing_core.timedomain.scenario import scenario_motion, zero_motion
 
 from helpers import arc_points, straight
 
@@ -430,7 +430,7 @@ def test_every_contact_step_converges_in_the_default_scenario():
     """The contact equations are solved in every step of the paper's experiment (0.1 s, about 70 %
     of the steps in contact). Before the 'touch' reading of the damper's switch at g = 0, 3-5 % of
     the steps had no solution and ended with an arbitrary force."""
-    from cablecasing_core.scenario import scenario_motion
+    from cablecasing_core.timedomain.scenario import scenario_motion
     m = cc.load_model()
     eng = Engine(m, dt=1e-5, ledger=False)
     eng.advance(0.1, scenario_motion(m, dt=1e-5, duration=1.0))

@@ -1,6 +1,6 @@
 """Identified parameters as TOML in the model file's own keys.
 
-Keys of a ``[casing]`` or ``[cable]`` section (docs of ``config.py``): ``alpha`` (1/s) and ``beta``
+Keys of a ``[casing]`` or ``[cable]`` section (the model schema, ``model/schema.py``): ``alpha`` (1/s) and ``beta``
 (s) of Rayleigh damping, Eq. (40); ``loss_factor`` (dimensionless) of Eq. (11), a number or a
 table ``[[f_Hz, eta], ...]``; ``E`` (Pa), a number or a table ``[[f_Hz, E_Pa], ...]`` (Section 3.1).
 Tables are sorted by strictly increasing frequency, as the model file requires.

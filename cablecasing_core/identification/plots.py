@@ -15,13 +15,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.ticker import MaxNLocator, ScalarFormatter  # noqa: E402
 
+from ..plotting import save_figure  # noqa: E402
 from .wavelet import cwt_morlet  # noqa: E402
-
-
-def _save(fig, path):
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
 
 
 def plot_ridges(results, path, x=None, fs=None):
@@ -66,7 +61,7 @@ def plot_ridges(results, path, x=None, fs=None):
         ax.set_ylabel("ln|W|")
         ax.set_title(f"f_r = {r.f_natural_hz:.2f} Hz (ridge {r.f_ridge_hz:.2f} Hz)")
         ax.legend(fontsize=7, loc="upper right")
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def plot_circles(results, path):
@@ -106,7 +101,7 @@ def plot_circles(results, path):
         c.set_xlabel("pair index from the resonance")
         c.set_ylabel("eta on the diagonal")
         c.legend(fontsize=7)
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def plot_modulus(result, path):
@@ -130,4 +125,4 @@ def plot_modulus(result, path):
     b.set_ylabel("E (Pa)")
     b.set_title("dynamic modulus (Fig. 9)")
     b.legend(fontsize=7)
-    _save(fig, path)
+    save_figure(fig, path)

@@ -17,7 +17,7 @@ band level, estimated as the mean over an ensemble of excitation seeds, with its
   back, and pooled into one, refused if the parts were not run with the same model and settings.
 
 The runs go through the Monte-Carlo study's per-sample function and executor
-(:func:`~cablecasing_core.studies.montecarlo.default_evaluate`; serial, or dask.distributed), so an
+(:func:`~cablecasing_core.studies.evaluators.default_evaluate`; serial, or dask.distributed), so an
 ensemble member is computed exactly like a study sample.
 """
 from __future__ import annotations
@@ -32,7 +32,9 @@ import numpy as np
 from scipy import stats
 
 from ..errors import ModelError
-from .montecarlo import DEFAULT_EVALUATE, _check_int, execute
+from .evaluators import DEFAULT_EVALUATE
+from .executor import execute
+from .sampling import check_integer
 from .octave import Bands, octave_bands
 
 
@@ -51,7 +53,7 @@ def seed_overrides(model, seed, excitations=None):
     seed and band would get the same record, fully correlated).
     """
     names = _check_excitations(model, excitations)
-    s = _check_int("seeds", seed, 0)
+    s = check_integer("seeds", seed, 0)
     k = len(names)
     return {f"scenario.excitation.{n}.seed": s * k + j for j, n in enumerate(names)}
 
@@ -281,7 +283,7 @@ def seed_ensemble(model=None, seeds=8, *, output="casing.B.Fz", bands="table3", 
     Parameters
     ----------
     model : Model, str or None
-        The model (a :class:`~cablecasing_core.config.Model`, a TOML path, or None for the built-in
+        The model (a :class:`~cablecasing_core.model.Model`, a TOML path, or None for the built-in
         specimen); its ``[scenario]`` drives every member.
     seeds : int or sequence of int
         ``n`` gives seeds 1..n (n >= 2); or the seeds themselves (unique, >= 0).
@@ -298,7 +300,7 @@ def seed_ensemble(model=None, seeds=8, *, output="casing.B.Fz", bands="table3", 
     excitations : sequence of str, optional
         Random excitations whose seed is varied (default all; :func:`seed_overrides`).
     scheduler : "serial", None, "local", address or distributed.Client
-        As :func:`~cablecasing_core.studies.montecarlo.run_study`; default ``"serial"``: members one
+        As :func:`~cablecasing_core.studies.study.run_study`; default ``"serial"``: members one
         after the other in this process (no dask needed).
     progress : bool
         Show a tqdm bar of the members done (if tqdm is installed).
@@ -312,8 +314,8 @@ def seed_ensemble(model=None, seeds=8, *, output="casing.B.Fz", bands="table3", 
     ModelError
         For bad input (before any run), and when a member fails (naming its seed and the error).
     """
-    from ..config import Model, load_model
-    from ..simulation import SUPPORT_OUTPUTS
+    from ..model import Model, load_model
+    from ..timedomain.simulation import SUPPORT_OUTPUTS
 
     if model is None or isinstance(model, (str, os.PathLike)):
         model = load_model(model)
@@ -390,7 +392,7 @@ def _progress_bar(total, progress):
 
 
 class _Rows:
-    """Collects the executor's rows by index (the ``writer`` of ``montecarlo.execute``)."""
+    """Collects the executor's rows by index (the ``writer`` of ``executor.execute``)."""
 
     def __init__(self):
         self.rows = {}
@@ -411,7 +413,7 @@ def _check_seeds(seeds):
             raise ModelError("seeds", seeds, "must be at least 2 (seeds 1..n), or a sequence of seeds")
         return list(range(1, int(seeds) + 1))
     try:
-        out = [_check_int("seeds", s, 0) for s in seeds]
+        out = [check_integer("seeds", s, 0) for s in seeds]
     except TypeError:
         raise ModelError("seeds", seeds, "must be a count n >= 2 or a sequence of non-negative integer seeds") from None
     if len(out) < 2 or len(set(out)) != len(out):

@@ -27,7 +27,7 @@ class Section:
 
 
 def section_of(body):
-    """:class:`Section` of a :class:`~cablecasing_core.config.BodySpec`."""
+    """:class:`Section` of a :class:`~cablecasing_core.model.BodySpec`."""
     do, di = body.d_outer, body.d_inner
     A = np.pi / 4.0 * (do**2 - di**2)
     Ip = np.pi / 32.0 * (do**4 - di**4)

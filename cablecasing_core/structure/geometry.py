@@ -131,7 +131,7 @@ def build_centerline(points, n_elements, curve="spline"):
 
 
 def centerline_of(model):
-    """The centerline of a :class:`~cablecasing_core.config.Model` (shared by both bodies)."""
+    """The centerline of a :class:`~cablecasing_core.model.Model` (shared by both bodies)."""
     g = model.geometry
     return build_centerline(g["points"], g["n_elements"], g["curve"])
 

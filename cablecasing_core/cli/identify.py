@@ -17,7 +17,7 @@ import sys
 
 import numpy as np
 
-from .errors import CableCasingError, ModelError
+from ..errors import CableCasingError, ModelError
 
 
 def _fail(exc):
@@ -39,7 +39,7 @@ def _emit(args, toml, plot_name, res, **plot_kw):
         if args.toml:
             _write_toml(args.toml, toml)
     if args.plot:
-        from .identification import plots
+        from ..identification import plots
 
         getattr(plots, plot_name)(res, args.plot, **plot_kw)
         print(f"wrote {args.plot}")
@@ -47,7 +47,7 @@ def _emit(args, toml, plot_name, res, **plot_kw):
 
 def _spectrum_peaks(x, fs, count):
     """Frequencies (Hz) of the ``count`` most prominent peaks of the record's amplitude spectrum."""
-    from .identification.circlefit import find_resonances
+    from ..identification.circlefit import find_resonances
 
     X = np.abs(np.fft.rfft(x * np.hanning(x.size)))
     f = np.fft.rfftfreq(x.size, 1.0 / fs)
@@ -56,7 +56,7 @@ def _spectrum_peaks(x, fs, count):
 
 def cmd_damping(args):
     try:
-        from .identification import parameters_toml, rayleigh_fit, read_time_record, wavelet_damping
+        from ..identification import parameters_toml, rayleigh_fit, read_time_record, wavelet_damping
 
         x, fs, name = read_time_record(args.file, args.channel)
         freqs = args.freqs if args.freqs else _spectrum_peaks(x, fs, args.count)
@@ -91,7 +91,7 @@ def cmd_damping(args):
 
 def cmd_loss_factor(args):
     try:
-        from .identification import loss_factor_circle, parameters_toml, read_frf
+        from ..identification import loss_factor_circle, parameters_toml, read_frf
 
         f, H = read_frf(args.file, args.channel)
         res = loss_factor_circle(f, H, args.freqs, kind=args.kind, count=args.count, bandwidths=args.bandwidths,
@@ -111,8 +111,8 @@ def cmd_loss_factor(args):
 
 def _read_measured(path, modes_arg, channel):
     """(frequencies Hz, mode numbers) from a CSV table ``mode,f_hz`` or from the peaks of an FRF file."""
-    from .identification.circlefit import find_resonances
-    from .identification.uff_io import _is_uff, read_frf
+    from ..identification.circlefit import find_resonances
+    from ..identification.uff_io import _is_uff, read_frf
 
     if not _is_uff(path):
         try:
@@ -137,8 +137,8 @@ def _read_measured(path, modes_arg, channel):
 
 def cmd_modulus(args):
     try:
-        from . import load_model
-        from .identification import identify_modulus_model, parameters_toml
+        from ..model import load_model
+        from ..identification import identify_modulus_model, parameters_toml
 
         model = load_model(args.model)
         f_meas, modes = _read_measured(args.file, args.modes, args.channel)

@@ -2,7 +2,7 @@
 
 A co-simulation master gives the support inputs only at the start ``t`` of a communication step
 ``[t, t + h]``: displacement ``u`` (m), velocity ``v`` (m/s) and acceleration ``a`` (m/s2) of each
-of the 12 channels (``config.CHANNELS``). The engine needs the motion at every internal time step
+of the 12 channels (``CHANNELS``). The engine needs the motion at every internal time step
 inside the interval. The reconstruction used here:
 
 * **target at the step end** - the Taylor extrapolation of the inputs,

@@ -3,9 +3,9 @@ from __future__ import annotations
 
 
 def cmd_simulate(args):
-    from .cli import check_output_path
-    from .config import load_model
-    from .simulation import simulate
+    from .paths import check_output_path
+    from ..model import load_model
+    from ..timedomain.simulation import simulate
 
     check_output_path("--out", args.out, (".csv", ".npz"))
     check_output_path("--plot", args.plot)
@@ -26,7 +26,7 @@ def cmd_simulate(args):
         res.save(args.out)
         print(f"wrote {args.out}")
     if args.plot:
-        from .plotting import plot_time_result
+        from ..plotting import plot_time_result
         path = args.plot if isinstance(args.plot, str) else "simulation.png"
         plot_time_result(res, path)
         print(f"wrote {path}")

@@ -11,8 +11,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import eigh
 
-from .assembly import assemble_body
-from .errors import ModelError
+from ..structure.assembly import assemble_body
+from ..errors import ModelError
 
 
 @dataclass(frozen=True)
@@ -30,7 +30,7 @@ class ModalBasis:
 
 
 def modal_basis(system):
-    """Full :class:`ModalBasis` of an assembled :class:`~cablecasing_core.assembly.BodySystem`."""
+    """Full :class:`ModalBasis` of an assembled :class:`~cablecasing_core.structure.assembly.BodySystem`."""
     Kff, Mff = system.K_blocks[0], system.M_blocks[0]
     lam, phi = eigh(Kff, Mff)
     return ModalBasis(system=system, lam=lam, phi=phi)

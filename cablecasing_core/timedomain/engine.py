@@ -21,9 +21,9 @@ import numpy as np
 from scipy.linalg import cho_factor, cho_solve
 
 from . import kernels as K
-from .assembly import assemble_body
-from .config import BODY_NAMES, CHANNELS, SUPPORT_NAMES
-from .errors import ModelError, SimulationError
+from ..structure.assembly import assemble_body
+from ..model.load import BODY_NAMES, CHANNELS, SUPPORT_NAMES
+from ..errors import ModelError, SimulationError
 
 FORCE_NAMES = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
 SUPPORT_OUTPUTS = tuple(f"{b}.{s}.{c}" for b in BODY_NAMES for s in SUPPORT_NAMES for c in FORCE_NAMES)
@@ -109,7 +109,7 @@ class _Body:
         spec = model.bodies[name]
         sysm = assemble_body(model, name)
         if spec.frequency_dependent:
-            from .modal import natural_frequencies
+            from ..frequency.modal import natural_frequencies
             f1 = natural_frequencies(model, name, 1)[0]
             sysm = assemble_body(model, name, E=float(spec.modulus(f1)))
         self.system = sysm
@@ -188,7 +188,7 @@ _DUMMY_BLOCK = np.zeros((0, 6, 6))
 
 
 class Engine:
-    """Newmark stepping engine for a :class:`~cablecasing_core.config.Model`.
+    """Newmark stepping engine for a :class:`~cablecasing_core.model.Model`.
 
     Parameters
     ----------

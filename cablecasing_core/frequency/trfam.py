@@ -22,9 +22,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .assembly import assemble_body
-from .config import DIRECTIONS, SUPPORT_NAMES
-from .errors import ModelError
+from ..structure.assembly import assemble_body
+from ..model.load import DIRECTIONS, SUPPORT_NAMES
+from ..errors import ModelError
 from .modal import modal_basis
 
 DAMPING_MODELS = ("viscous", "structural", "none")

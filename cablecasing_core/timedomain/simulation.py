@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .engine import SUPPORT_OUTPUTS, Engine
-from .errors import ModelError
+from ..errors import ModelError
 from .scenario import scenario_motion
 
 
@@ -19,7 +19,7 @@ from .scenario import scenario_motion
 class SimulationResult:
     """Histories of a run (SI units).
 
-    time (s, n); support_forces (N, N.m; n x 24 in the order of ``engine.SUPPORT_OUTPUTS``: the
+    time (s, n); support_forces (N, N.m; n x 24 in the order of ``SUPPORT_OUTPUTS``: the
     force each body exerts on each support); contact_state (n x nodes: 0 open, 1 stick, 2 slip);
     normal_force (N) and penetration (m) per cable node; contact_time (s per cable node: the
     highest-contact-area histogram of Fig. 22); curvature (1/m per node); energies (J).

@@ -23,7 +23,7 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
 
 import numpy as np
 
-from .errors import ModelError
+from ..errors import ModelError
 
 BODY_NAMES = ("casing", "cable")
 SUPPORT_NAMES = ("A", "B")
@@ -410,7 +410,7 @@ def load_model(path=None):
     Raises :class:`ModelError` for a file that cannot be read or any invalid key.
     """
     if path is None:
-        text = resources.files("cablecasing_core").joinpath("data/default_model.toml").read_text()
+        text = resources.files("cablecasing_core.model").joinpath("specimens/default.toml").read_text()
         return Model(validate(tomllib.loads(text)), source="<built-in>")
     p = Path(path)
     try:

@@ -1,7 +1,7 @@
 """Support excitation signals of a scenario (Sections 4.1-4.2): random, harmonic, impulse, CSV.
 
 A *motion* maps times t (s) to the displacement (m), velocity (m/s) and acceleration (m/s2) of
-the 12 support channels ``config.CHANNELS``. The scenario's motion is the sum of its excitations:
+the 12 support channels ``CHANNELS``. The scenario's motion is the sum of its excitations:
 
 * ``random``: band-limited Gaussian acceleration with a flat spectrum between ``band`` (Hz) and the
   given RMS (m/s2), generated in the frequency domain (random phases, seeded) as a periodic record
@@ -26,9 +26,9 @@ import functools
 import numpy as np
 from scipy.interpolate import BPoly, CubicSpline
 
-from .config import CHANNELS, DIRECTIONS
-from .errors import ModelError
-from .geometry import centerline_of
+from ..model.load import CHANNELS, DIRECTIONS
+from ..errors import ModelError
+from ..structure.geometry import centerline_of
 
 
 def _random_record(rms, band, duration, dt, seed):
@@ -130,7 +130,7 @@ class _Signal:
 
 class ScenarioMotion:
     """The summed support motion of a model's scenario: callable t (s, array) -> (u, v, a), each
-    of shape (len(t), 12) in the order of ``config.CHANNELS`` (m, m/s, m/s2)."""
+    of shape (len(t), 12) in the order of ``CHANNELS`` (m, m/s, m/s2)."""
 
     def __init__(self, model, dt=None, duration=None):
         sc = model.scenario

@@ -14,8 +14,8 @@ from functools import cached_property
 import numpy as np
 import scipy.sparse as sp
 
-from .config import SUPPORT_NAMES
-from .elements import global_matrices
+from ..model.load import SUPPORT_NAMES
+from .element_beam import global_matrices
 from .geometry import centerline_of
 from .sections import section_of
 

@@ -13,29 +13,18 @@ import sys
 
 import numpy as np
 
-from .config import load_model
-from .errors import CableCasingError, ModelError
+from ..model import load_model
+from ..errors import CableCasingError, ModelError
+from . import identify, simulate, study
+from .paths import check_output_path
 
 
 def _model(path):
     return load_model(path)
 
 
-def check_output_path(flag, path, suffixes=None):
-    """Refuse an output file before a long run rather than after it: its folder must exist and, with
-    ``suffixes``, its name must end in one of them. ``None`` (no output asked for) passes."""
-    if path is None or path is True:
-        return
-    from pathlib import Path
-
-    if suffixes and not str(path).endswith(tuple(suffixes)):
-        raise ModelError(flag, path, "must end in " + " or ".join(suffixes))
-    if not Path(path).resolve().parent.is_dir():
-        raise ModelError(flag, path, "must be a file in an existing folder")
-
-
 def cmd_modes(args):
-    from .modal import natural_frequencies
+    from ..frequency.modal import natural_frequencies
 
     model = _model(args.model)
     res = {b: natural_frequencies(model, b, args.count).tolist() for b in model.bodies}
@@ -50,7 +39,7 @@ def cmd_modes(args):
 
 
 def cmd_trfam(args):
-    from .frequency import trfam
+    from ..frequency.trfam import trfam
 
     model = _model(args.model)
     if not (args.fmin > 0 and args.fmax > args.fmin and args.df > 0):
@@ -68,7 +57,7 @@ def cmd_trfam(args):
         for row in table:
             print(",".join(f"{v:.10g}" for v in row))
     if args.plot:
-        from .plotting import plot_trfam
+        from ..plotting import plot_trfam
 
         plot_trfam(f, {f"{args.damping}": H}, args.plot, title=f"TRFAM {args.output} / {args.input}")
         print(f"wrote {args.plot}")
@@ -97,12 +86,8 @@ def build_parser():
     t.add_argument("--plot", help="PNG file to write")
     t.set_defaults(func=cmd_trfam)
 
-    for name in ("cli_simulate", "cli_identify", "cli_study"):
-        try:
-            mod = __import__(f"cablecasing_core.{name}", fromlist=["add_parser"])
-        except ImportError:  # optional sub-commands whose extra dependencies are missing
-            continue
-        mod.add_parser(sub)
+    for module in (simulate, identify, study):
+        module.add_parser(sub)
     return p
 
 
