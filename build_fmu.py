@@ -1,7 +1,7 @@
 """Build dist/CableCasing.fmu (FMI 2.0 co-simulation) from fmu_src/ with pythonfmu, then complete it.
 
 pythonfmu writes the variables, the co-simulation capability flags and the Outputs. This script
-copies the ``cablecasing_core`` package (and the numba cache locator) into ``resources/`` and then
+copies the ``cablecasing_core`` package (with its numba cache locator) into ``resources/`` and then
 rewrites the archive with what pythonfmu does not write:
 
 * a unit on every Real variable and the ``UnitDefinitions`` (SI base-unit exponents);
@@ -31,7 +31,6 @@ from xml.etree import ElementTree as ET
 
 ROOT = Path(__file__).resolve().parent
 SLAVE = ROOT / "fmu_src" / "CableCasing.py"
-EXTRA_RESOURCES = [ROOT / "fmu_src" / "cablecasing_fmu_cache.py"]
 PACKAGE = ROOT / "cablecasing_core"
 IGNORE = shutil.ignore_patterns("__pycache__", "*.pyc", "*.nbi", "*.nbc", ".*")
 
@@ -48,7 +47,7 @@ def sources():
     """Every file the FMU is built from (for the staleness check of the tests, and the date)."""
     files = [p for p in PACKAGE.rglob("*") if p.is_file() and p.suffix in (".py", ".toml", ".csv")
              and "__pycache__" not in p.parts]
-    return sorted(files + [SLAVE, *EXTRA_RESOURCES, Path(__file__).resolve()])
+    return sorted(files + [SLAVE, Path(__file__).resolve()])
 
 
 def load_slave():
@@ -239,7 +238,7 @@ def build(out):
         shutil.copytree(PACKAGE, tmp / "cablecasing_core", ignore=IGNORE)
         doc = tmp / "documentation"
         write_documentation(doc, variable_rows(slave_module))
-        raw = FmuBuilder.build_FMU(SLAVE, dest=tmp / "raw", project_files=[tmp / "cablecasing_core", *EXTRA_RESOURCES],
+        raw = FmuBuilder.build_FMU(SLAVE, dest=tmp / "raw", project_files=[tmp / "cablecasing_core"],
                                    documentation_folder=doc, canGetAndSetFMUstate=True, canSerializeFMUstate=True,
                                    canHandleVariableCommunicationStepSize=True,
                                    canBeInstantiatedOnlyOncePerProcess=False, needsExecutionTool=True)

@@ -88,7 +88,10 @@ def main():
         cc = load(root, name)
         engine = module(name, "timedomain.engine", "engine")
         scenario = module(name, "timedomain.scenario", "scenario")
-        model = cc.load_model()
+        # the tree's own specimen file (load_model(None) reads the installed package's)
+        specimen = next(f for f in (f"{root}/cablecasing_core/model/specimens/default.toml",
+                                    f"{root}/cablecasing_core/data/default_model.toml") if os.path.exists(f))
+        model = cc.load_model(specimen)
         engine.Engine(model, dt=dt, ledger=False).advance(dt, scenario.scenario_motion(model))   # numba
         eng = engine.Engine(model, dt=dt, contact=not args.no_contact, ledger=False, record=not args.no_record)
         motion = scenario.scenario_motion(model, dt=dt, duration=args.duration)

@@ -36,8 +36,8 @@ import build_fmu  # noqa: E402
 import fmu_driver  # noqa: E402
 
 import cablecasing_core as cc  # noqa: E402
-from cablecasing_core.model.load import CHANNELS  # noqa: E402
-from cablecasing_core.timedomain.engine import OUTPUTS, Engine  # noqa: E402
+from cablecasing_core.model.schema import CHANNELS, OUTPUTS  # noqa: E402
+from cablecasing_core.timedomain.engine import Engine  # noqa: E402
 from cablecasing_core.timedomain.support_motion import SupportReconstruction  # noqa: E402
 from cablecasing_core.timedomain.scenario import scenario_motion  # noqa: E402
 

@@ -50,7 +50,8 @@ from multiprocessing import get_context
 import numpy as np
 
 import cablecasing_core as cc
-from cablecasing_core.timedomain.engine import SUPPORT_OUTPUTS, Engine
+from cablecasing_core.model.schema import SUPPORT_OUTPUTS
+from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion
 from cablecasing_core.studies import octave_rms, paired_difference
 

@@ -25,8 +25,7 @@ def run_fmu(fmu_path, duration, out):
     from fmpy import simulate_fmu
 
     import cablecasing_core as cc
-    from cablecasing_core.model.load import CHANNELS
-    from cablecasing_core.timedomain.engine import SUPPORT_OUTPUTS
+    from cablecasing_core.model.schema import CHANNELS, SUPPORT_OUTPUTS
     from cablecasing_core.timedomain.scenario import scenario_motion
 
     h = 1e-4

@@ -25,53 +25,22 @@ _RESOURCES = os.path.dirname(os.path.abspath(__file__))
 if not sys.path or sys.path[0] != _RESOURCES:
     sys.path.insert(0, _RESOURCES)
 
-import cablecasing_fmu_cache  # noqa: E402  (stable numba cache; before numba is configured)
-
-if not os.environ.get("NUMBA_CACHE_DIR"):
-    os.environ["NUMBA_CACHE_DIR"] = cablecasing_fmu_cache.default_cache_dir()
-cablecasing_fmu_cache.install(_RESOURCES)
-
+# The kernels' numba cache (a per-user folder keyed by the kernels' sources, so it outlives the
+# unpacked FMU) is installed by the bundled package itself: cablecasing_core.timedomain.kernels.
 import numpy as np  # noqa: E402
 from pythonfmu import (Boolean, DefaultExperiment, Fmi2Causality, Fmi2Slave, Fmi2Variability,  # noqa: E402
                        Integer, Real, String)
 from pythonfmu.enums import Fmi2Status  # noqa: E402
 
 import cablecasing_core as cc  # noqa: E402
-from cablecasing_core.model.load import CHANNELS  # noqa: E402
-from cablecasing_core.timedomain.engine import OUTPUTS, Engine, state_from_bytes, state_to_bytes  # noqa: E402
+from cablecasing_core.model.schema import CHANNELS, OUTPUTS, lookup, output_spec  # noqa: E402
+from cablecasing_core.model.validators import seconds  # noqa: E402
+from cablecasing_core.timedomain.engine import Engine, state_from_bytes, state_to_bytes  # noqa: E402
 from cablecasing_core.timedomain.support_motion import SupportReconstruction  # noqa: E402
 
 NCH = len(CHANNELS)
 KINDS = (("", "displacement", "m"), ("v", "velocity", "m/s"), ("a", "acceleration", "m/s2"))
 INTEGER_OUTPUTS = ("contact.active",)
-
-# Unit and meaning of the built-in model's numeric keys (model.parameters()).
-PARAMETER_INFO = {
-    "geometry.n_elements": ("1", "number of beam elements of each body along the centerline"),
-    "E": ("Pa", "Young's (dynamic) modulus of the {body}"),
-    "nu": ("1", "Poisson ratio of the {body}"),
-    "rho": ("kg/m3", "density of the {body} (averaged over its cross-section)"),
-    "alpha": ("1/s", "Rayleigh mass-proportional damping factor of the {body} (C = alpha M + beta K)"),
-    "beta": ("s", "Rayleigh stiffness-proportional damping factor of the {body} (C = alpha M + beta K)"),
-    "loss_factor": ("1", "structural loss factor of the {body} (frequency-domain model only; no effect here)"),
-    "d_outer": ("m", "outer diameter of the casing"),
-    "d_inner": ("m", "inner diameter of the casing (the cable runs inside it)"),
-    "d": ("m", "diameter of the cable"),
-    "I": ("m4", "effective second moment of area of the {body} section (overrides the one from the diameters)"),
-    "contact.stiffness": ("N/m", "penalty stiffness of the linear contact law (used when the model's law is "
-                                 "'linear'; the built-in model uses the Hertz law)"),
-    "contact.damping": ("kg/s", "contact damping coefficient, acting while the penetration grows"),
-    "contact.friction": ("1", "Coulomb friction coefficient between cable and casing"),
-    "contact.stick_velocity": ("m/s", "tangential relative speed below which a contact sticks"),
-    "scenario.duration": ("s", "duration of the model file's own scenario (not used: the FMU's inputs drive "
-                               "the supports)"),
-    "scenario.dt": ("s", "time step of the model file's own scenario (not used: see solver.dt)"),
-    "scenario.seed": ("1", "seed of the scenario's random excitation (not used: the inputs drive the supports)"),
-    "scenario.ramp": ("s", "fade-in time of the scenario's excitation (not used: the inputs drive the supports)"),
-}
-EXCITATION_UNITS = {"rms": "m/s2", "frequency": "Hz", "amplitude": "m", "phase": "rad", "width": "s",
-                    "start": "s", "seed": "1"}
-
 
 def input_name(channel, kind):
     """Input variable of a channel: kind '' -> 'casing.A.x', 'v' -> 'casing.A.vx', 'a' -> 'casing.A.ax'."""
@@ -80,30 +49,11 @@ def input_name(channel, kind):
 
 
 def parameter_info(key):
-    """(unit, description) of a model key such as 'casing.E' or 'scenario.excitation.x.rms'."""
-    if key in PARAMETER_INFO:
-        return PARAMETER_INFO[key]
-    parts = key.split(".")
-    if parts[0] in ("casing", "cable") and len(parts) == 2 and parts[1] in PARAMETER_INFO:
-        unit, text = PARAMETER_INFO[parts[1]]
-        return unit, text.format(body=parts[0])
-    if parts[:2] == ["scenario", "excitation"] and len(parts) == 4:
-        return (EXCITATION_UNITS.get(parts[3], "1"),
-                f"{parts[3]} of the scenario excitation '{parts[2]}' (not used: the inputs drive the supports)")
-    return "1", f"model key {key} (see the model file documentation)"
-
-
-def output_info(name):
-    """(unit, description) of an output."""
-    if name == "contact.active":
-        return "", "number of cable nodes in contact with the casing (stick or slip)"
-    if name == "contact.max_penetration":
-        return "m", "largest penetration of a cable node into the casing wall (0 without contact)"
-    if name == "contact.dissipated_energy":
-        return "J", "energy dissipated by contact damping and friction together since t = 0"
-    body, support, comp = name.split(".")
-    kind, unit = ("force", "N") if comp[0] == "F" else ("moment", "N.m")
-    return unit, f"{kind} the {body} exerts on its support {support}, component along global {comp[1].lower()}"
+    """(unit, description) of a model key such as 'casing.E' or 'scenario.excitation.x.rms' (the
+    model schema); the scenario's keys describe the model file's own run, which the FMU does not make."""
+    spec = lookup(key)
+    note = " (not used: the FMU's inputs drive the supports)" if key.startswith("scenario.") else ""
+    return spec.unit, spec.description + note
 
 
 class CableCasing(Fmi2Slave):
@@ -112,7 +62,7 @@ class CableCasing(Fmi2Slave):
     author = "cablecasing developers"
     description = ("Gear-shift cable sliding in a curved casing: two spatially curved 3D Euler-Bernoulli "
                    "beams with frictional penalty contact, driven by support motion (SI units)")
-    version = "0.1.0"
+    version = cc.__version__
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=1.0, step_size=1e-4)
 
     def __init__(self, **kwargs):
@@ -149,7 +99,7 @@ class CableCasing(Fmi2Slave):
         self._output_vr = {}                          # value reference of a Real output -> index
         self._set_plans, self._get_plans = {}, {}     # tuple of value references -> index array
         for i, name in enumerate(OUTPUTS):
-            unit, text = output_info(name)
+            unit, text = output_spec(name)
             if name in INTEGER_OUTPUTS:
                 var = Integer(name, causality=Fmi2Causality.output, variability=Fmi2Variability.discrete,
                               description=text, getter=self._output_getter(i, int))
@@ -334,8 +284,7 @@ class CableCasing(Fmi2Slave):
         """Build the engine from the parameters; on a problem log it (fmi2Error) and block stepping."""
         model_file, over, dt = self._config()
         try:
-            if isinstance(dt, bool) or not np.isfinite(dt) or dt <= 0:
-                raise cc.ModelError("solver.dt", dt, "must be a positive number of seconds")
+            seconds("solver.dt", dt)
             model = cc.load_model(model_file or None)
             if over:
                 model = model.with_overrides(over)

@@ -318,7 +318,6 @@ def scenario_libcosim(job, table):
 def scenario_cache(job, table):
     """Load the FMU from a fresh unpack folder, take one step, and report what numba did: cache
     hits and misses (compilations) of every kernel, and where the cache lives."""
-    import os
     from fmpy import extract
     unzip = extract(job["fmu"])
     inst = Instance(job["fmu"], unzip=unzip)
@@ -326,12 +325,13 @@ def scenario_cache(job, table):
     from numba.core.registry import CPUDispatcher
 
     import cablecasing_core.timedomain.kernels as kernels      # the FMU's own copy (already imported by it)
-    disp = [v for v in vars(kernels).values() if isinstance(v, CPUDispatcher)]
+    disp = [v for name, mod in list(sys.modules.items()) if name.startswith(kernels.__name__ + ".")
+            for v in vars(mod).values() if isinstance(v, CPUDispatcher)]
     return dict(status=status, hits=sum(sum(d.stats.cache_hits.values()) for d in disp),
                 misses=sum(sum(d.stats.cache_misses.values()) for d in disp),
                 run_steps_hits=sum(kernels.run_steps.stats.cache_hits.values()),
                 cache_path=kernels.run_steps.stats.cache_path, kernels_file=kernels.__file__,
-                unzip=str(unzip), numba_cache_dir=os.environ.get("NUMBA_CACHE_DIR", ""))
+                kernels_cache_dir=kernels.kernels_cache_dir(), unzip=str(unzip))
 
 
 def _log(entries):

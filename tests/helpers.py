@@ -37,3 +37,31 @@ def dominant_family(shape):
     u = shape.reshape(-1, 6)
     share = {"axial": np.sum(u[:, 0] ** 2), "lateral": np.sum(u[:, 1:3] ** 2), "torsion": np.sum(u[:, 3] ** 2)}
     return max(share, key=share.get)
+
+
+# --------------------------------------------------------------------------- probes of the contact kernels
+def search_casing(x1, t1, Xs, Rs, Ls, Us, e_guess, far_below):
+    """The contact search of one cable node (point x1, unit tangent t1; Eqs. 32-39) as the contact
+    solve runs it (``kernels.search_node``): (element, xi, far)."""
+    from cablecasing_core.timedomain import kernels as K
+
+    e, xi, far, _, _, _ = K.search_node(x1[0], x1[1], x1[2], t1[0], t1[1], t1[2], Xs, Rs, Ls, Us, e_guess, far_below)
+    return e, xi, far
+
+
+def casing_point(Xs, Rs, Ls, Us, e, xi):
+    """Deformed casing axis point (m) at xi of element e (``kernels.axis_at``), as an array."""
+    from cablecasing_core.timedomain import kernels as K
+
+    px, py, pz, _, _, _ = K.axis_at(Xs, Rs, Ls, e, xi, K.element_dofs(Rs, Us, e))
+    return np.array([px, py, pz])
+
+
+def line_plane_intersection(ia, ib, p0, p1, p2):
+    """Eq. (39), the paper's general form: (l, u, v) of the intersection of the line
+    ia + (ib - ia) l with the plane p0 + (p1 - p0) u + (p2 - p0) v (the search itself uses the
+    equivalent normal-plane form, one division; this checks it). l = nan for a parallel line."""
+    A = np.column_stack([ia - ib, p1 - p0, p2 - p0])
+    if abs(np.linalg.det(A)) < 1e-300:
+        return np.nan, np.nan, np.nan
+    return tuple(np.linalg.solve(A, ia - p0))

@@ -14,8 +14,8 @@ import pytest
 from scipy.signal import csd, find_peaks, welch
 
 import cablecasing_core as cc
-from cablecasing_core.model.load import CHANNELS
-from cablecasing_core.timedomain.engine import OUTPUTS, Engine
+from cablecasing_core.model.schema import CHANNELS, OUTPUTS
+from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.support_motion import SupportReconstruction
 from cablecasing_core.timedomain.scenario import scenario_motion
 
@@ -343,14 +343,15 @@ def test_libcosim_gives_the_same_outputs_as_fmpy(fmu, tmp_path, contact_case):
 
 def test_numba_cache_outlives_the_unpacked_fmu(fmu, tmp_path):
     """Two fresh processes, two fresh unpack folders: the second loads every kernel from the
-    per-user cache (no compilation), which lives outside the unpacked FMU."""
+    per-user cache (no compilation), which lives outside the unpacked FMU, in the folder keyed by
+    the kernels' sources."""
     run(tmp_path, "cache", fmu)                  # compiles if this FMU's kernels are not cached yet
     res = run(tmp_path, "cache", fmu)
     assert res["status"] == 0
     assert str(res["kernels_file"]).startswith(str(res["unzip"]))        # the bundled package ran
     assert res["misses"] == 0 and res["run_steps_hits"] >= 1
     cache = str(res["cache_path"])
-    assert cache.startswith(str(res["numba_cache_dir"])) and not cache.startswith(str(res["unzip"]))
+    assert cache == str(res["kernels_cache_dir"]) and not cache.startswith(str(res["unzip"]))
 
 
 C_HOST = r"""

@@ -12,7 +12,7 @@ XK = MU * N_ / K_
 
 def belt_run(v_stick, T, dt=1e-5):
     """A cable 'node' of mass M_ on a spring K_, pressed with N_ onto a rigid casing 'belt' that moves
-    along x at V_BELT. Newmark for the mass; friction from kernels.contact_step each step."""
+    along x at V_BELT. Newmark for the mass; friction from kernels.solve_contact_forces each step."""
     gap, g0, k_lin = 1e-3, N_ / 1e6, 1e6
     Xc, Tc = np.array([[0.0, 0, gap + g0]]), np.array([[1.0, 0, 0]])
     Xs = np.array([[-5.0, 0, 0], [5.0, 0, 0]])
@@ -24,6 +24,8 @@ def belt_run(v_stick, T, dt=1e-5):
     state, elem, xi, vrel = np.zeros(1, np.int64), np.zeros(1, np.int64), np.zeros(1), np.zeros(1)
     Pn, Nn, gn, diag = np.zeros((1, 3)), np.zeros(1), np.zeros(1), np.zeros(6)
     fcc, fcs = np.zeros(6), np.zeros(12)
+    ws = K.contact_workspace(1)                           # the solve's scratch, reused as the step loop does
+    law = (gap, gap + 1e-3, 1, k_lin, 0.0, 0.0, MU, v_stick, dt)   # linear law, no contact damping
     u, v, a = 0.0, V_BELT, 0.0                            # start stuck to the belt, spring relaxed
     xs, states, fric = [], [], []
     for n in range(int(round(T / dt))):
@@ -35,8 +37,8 @@ def belt_run(v_stick, T, dt=1e-5):
         Us, Vs = np.zeros(12), np.zeros(12)
         Us[0] = Us[6] = V_BELT * t
         Vs[0] = Vs[6] = V_BELT
-        K.contact_step(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, gap, gap + 1e-3, 1, k_lin, 0.0,
-                       0.0, MU, v_stick, dt, state, elem, xi, Pn, vrel, Nn, gn, fcc, fcs, diag)
+        K.solve_contact_forces(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, law, state, elem, xi, Pn, vrel, Nn, gn,
+                               fcc, fcs, diag, ws)
         un = ustar + fcc[0] / Keff
         an = 4 / dt**2 * (un - u) - 4 / dt * v - a
         v = v + dt / 2 * (a + an)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import cablecasing_core as cc
-from cablecasing_core.model.load import CHANNELS
+from cablecasing_core.model.schema import CHANNELS
 from cablecasing_core.structure.geometry import centerline_of
 from cablecasing_core.timedomain.scenario import scenario_motion
 

@@ -6,12 +6,12 @@ import pytest
 
 import cablecasing_core as cc
 from cablecasing_core.timedomain import kernels as K
-from cablecasing_core.model.load import CHANNELS
-from cablecasing_core.timedomain.engine import OUTPUTS, Engine, hertz_constant, state_from_bytes, state_to_bytes
+from cablecasing_core.model.schema import CHANNELS, OUTPUTS
+from cablecasing_core.timedomain.engine import Engine, hertz_constant, state_from_bytes, state_to_bytes
 from cablecasing_core.structure.geometry import centerline_of
 from cablecasing_core.timedomain.scenario import scenario_motion, zero_motion
 
-from helpers import arc_points, straight
+from helpers import arc_points, casing_point, line_plane_intersection, search_casing, straight
 
 
 def harmonic(channel, amp, f_hz):
@@ -154,14 +154,14 @@ def test_contact_search_exact_intersection(shape):
         x1 = cl.nodes[e] + rng.random() * (cl.nodes[e + 1] - cl.nodes[e]) + 3e-4 * rng.standard_normal(3)
         t1 = cl.frames[e][0] + 0.05 * rng.standard_normal(3)
         t1 /= np.linalg.norm(t1)
-        ee, xi, far = K.search_casing(x1, t1, cl.nodes, cl.frames, cl.lengths, Us, e, 0.0)
+        ee, xi, far = search_casing(x1, t1, cl.nodes, cl.frames, cl.lengths, Us, e, 0.0)
         # Eq. (39) with the plane through x1 spanned by two vectors normal to t1
         p1 = x1 + np.cross(t1, [0, 0, 1.0]) if abs(t1[2]) < 0.9 else x1 + np.cross(t1, [1.0, 0, 0])
         p2 = x1 + np.cross(t1, p1 - x1)
-        l, u, v = K.line_plane_intersection(cl.nodes[ee] + shift, cl.nodes[ee + 1] + shift, x1, p1, p2)
+        l, u, v = line_plane_intersection(cl.nodes[ee] + shift, cl.nodes[ee + 1] + shift, x1, p1, p2)
         assert not far
         assert xi == pytest.approx(l, abs=1e-9)
-        point = K.casing_point(cl.nodes, cl.frames, cl.lengths, Us, ee, xi)
+        point = casing_point(cl.nodes, cl.frames, cl.lengths, Us, ee, xi)
         assert abs((point - x1) @ t1) < 1e-12
 
 
@@ -183,11 +183,11 @@ def test_far_test_never_claims_a_node_closer_than_the_hermite_axis_is():
         x1 = cl.nodes[e] + rng.uniform(0.1, 0.9) * (cl.nodes[e + 1] - cl.nodes[e])
         x1 += 4e-5 * np.r_[0.0, rng.standard_normal(2)]
         t1 = cl.frames[e][0]
-        ee, xi, far = K.search_casing(x1, t1, cl.nodes, cl.frames, cl.lengths, Us, e, -1.0)
-        h = np.linalg.norm(x1 - K.casing_point(cl.nodes, cl.frames, cl.lengths, Us, ee, xi))
+        ee, xi, far = search_casing(x1, t1, cl.nodes, cl.frames, cl.lengths, Us, e, -1.0)
+        h = np.linalg.norm(x1 - casing_point(cl.nodes, cl.frames, cl.lengths, Us, ee, xi))
         # claimed nearer than h - 1e-9 m: the bound holds to first order in the rotations, whose
         # second-order terms here are ~L theta^2 ~ 1e-9 m
-        _, _, far = K.search_casing(x1, t1, cl.nodes, cl.frames, cl.lengths, Us, e, h - 1e-9)
+        _, _, far = search_casing(x1, t1, cl.nodes, cl.frames, cl.lengths, Us, e, h - 1e-9)
         assert not far, (trial, h)
         # the same bound without psi (chord distance + L/4 (|theta_a| + |theta_b|)) fails on some
         a, b = cl.nodes[e] + Us[6 * e:6 * e + 3], cl.nodes[e + 1] + Us[6 * e + 6:6 * e + 9]

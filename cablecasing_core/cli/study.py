@@ -7,6 +7,8 @@ import numpy as np
 
 from .paths import check_output_path
 from ..errors import ModelError
+from ..model.schema import output_spec
+from ..model.validators import integer, number
 
 
 def cmd_study(args):
@@ -30,24 +32,22 @@ def cmd_study(args):
 
 def _assignment(flag, text):
     """``KEY=VALUE`` of ``--set``/``--against``; VALUE is read as a TOML value (a bare word as text)."""
-    import tomllib
+    from ..model.load import toml_value
 
     key, sep, value = text.partition("=")
     if not sep or not key.strip():
         raise ModelError(flag, text, "must be KEY=VALUE with a dotted model key, e.g. contact.friction=0.2")
     try:
-        return key.strip(), tomllib.loads(f"v = {value.strip()}")["v"]
-    except tomllib.TOMLDecodeError:
+        return key.strip(), toml_value(value.strip())
+    except ValueError:                 # (TOMLDecodeError) a bare word
         return key.strip(), value.strip()
 
 
 def cmd_ensemble(args):
     from ..studies import paired_difference, seed_ensemble
 
-    if args.seeds < 2:
-        raise ModelError("--seeds", args.seeds, "must be at least 2")
-    if args.first_seed < 0:
-        raise ModelError("--first-seed", args.first_seed, "must be a non-negative seed")
+    integer("--seeds", args.seeds, 2)
+    integer("--first-seed", args.first_seed, 0)
     _check_confidence(args.confidence)
     check_output_path("--out", args.out)
     check_output_path("--plot", args.plot)
@@ -98,12 +98,11 @@ def _as_assignments(overrides):
 
 
 def _check_confidence(confidence):
-    if not 0 < confidence < 1:
-        raise ModelError("--confidence", confidence, "must lie between 0 and 1, e.g. 0.95")
+    number("--confidence", confidence, gt=0, lt=1)
 
 
 def _print_ensemble(ens, confidence):
-    unit = "N" if ".F" in ens.output else "N.m"
+    unit = output_spec(ens.output)[0]
     seeds = f"{ens.seeds[0]}..{ens.seeds[-1]}" if np.all(np.diff(ens.seeds) == 1) else "(see the CSV)"
     print(f"# {ens.output} band RMS ({unit}) over {ens.n} seeds {seeds}"
           f"{' with ' + str(ens.overrides) if ens.overrides else ''}; CI {confidence:g} (Student t)")

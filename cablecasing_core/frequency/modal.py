@@ -12,7 +12,7 @@ import numpy as np
 from scipy.linalg import eigh
 
 from ..structure.assembly import assemble_body
-from ..errors import ModelError
+from ..model.validators import Choice, integer
 
 
 @dataclass(frozen=True)
@@ -36,11 +36,6 @@ def modal_basis(system):
     return ModalBasis(system=system, lam=lam, phi=phi)
 
 
-def _check_body(model, body):
-    if body not in model.bodies:
-        raise ModelError("body", body, "must be one of " + ", ".join(repr(b) for b in model.bodies))
-
-
 def natural_frequencies(model, body, count=None):
     """Natural frequencies (Hz, ascending) of ``body`` ("casing" or "cable") with its supports.
 
@@ -53,9 +48,9 @@ def natural_frequencies(model, body, count=None):
 def modes(model, body, count=None):
     """(frequencies in Hz, mode shapes) of ``body``; shapes are (ndof, count) arrays over all DOFs
     (zero at prescribed DOFs), mass-normalised for the reference modulus."""
-    _check_body(model, body)
-    if count is not None and (not isinstance(count, (int, np.integer)) or count < 1):
-        raise ModelError("count", count, "must be a positive whole number")
+    Choice(*model.bodies)("body", body)
+    if count is not None:
+        integer("count", count, 1)
     basis = modal_basis(assemble_body(model, body))
     spec = basis.system.spec
     n = len(basis.lam) if count is None else min(count, len(basis.lam))

@@ -23,8 +23,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..structure.assembly import assemble_body
-from ..model.load import DIRECTIONS, SUPPORT_NAMES
+from ..model.schema import DIRECTIONS, SUPPORT_NAMES
 from ..errors import ModelError
+from ..model.validators import Choice, frequencies
 from .modal import modal_basis
 
 DAMPING_MODELS = ("viscous", "structural", "none")
@@ -63,8 +64,7 @@ class FrequencyResponse:
     def support_forces(self, freqs_hz, damping="viscous", rows=None, cols=None):
         """Support-force matrix F[k, q, j] (N per m) at freqs_hz[k]: force on prescribed DOF q for a
         unit harmonic displacement of prescribed DOF j. ``rows``/``cols`` select q and j."""
-        if damping not in DAMPING_MODELS:
-            raise ModelError("damping", damping, "must be one of " + ", ".join(DAMPING_MODELS))
+        Choice(*DAMPING_MODELS)("damping", damping)
         spec = self.system.spec
         f = np.asarray(freqs_hz, dtype=float)
         w = 2.0 * np.pi * f
@@ -89,13 +89,6 @@ class FrequencyResponse:
         return F
 
 
-def _check_freqs(freqs_hz):
-    f = np.atleast_1d(np.asarray(freqs_hz, dtype=float))
-    if f.ndim != 1 or f.size == 0 or not np.all(np.isfinite(f)) or np.any(f <= 0):
-        raise ModelError("freqs_hz", freqs_hz, "must be a non-empty vector of positive finite frequencies in Hz")
-    return f
-
-
 def trfam(model, input, output, freqs_hz, damping="viscous"):
     """Apparent-mass transfer function TRFAM (Eq. 12) in kg: complex, one value per frequency.
 
@@ -107,7 +100,7 @@ def trfam(model, input, output, freqs_hz, damping="viscous"):
     freqs_hz : array of positive frequencies in Hz.
     damping : "viscous" (Eq. 10, Rayleigh alpha/beta), "structural" (Eq. 11, loss factor) or "none".
     """
-    f = _check_freqs(freqs_hz)
+    f = frequencies("freqs_hz", freqs_hz)
     bi, si, di = parse_port("input", input, model)
     bo, so, do = parse_port("output", output, model)
     if bi != bo:
@@ -124,7 +117,7 @@ def trfam(model, input, output, freqs_hz, damping="viscous"):
 def trfam_matrix(model, body, input_support, output_support, freqs_hz, damping="viscous"):
     """The 3x3 TRFAM block (kg), shape (nf, 3 outputs x/y/z, 3 inputs x/y/z), between two supports
     of one body: the force at ``output_support`` over the acceleration of ``input_support``."""
-    f = _check_freqs(freqs_hz)
+    f = frequencies("freqs_hz", freqs_hz)
     parse_port("input", f"{body}.{input_support}.x", model)
     parse_port("output", f"{body}.{output_support}.x", model)
     system = assemble_body(model, body)

@@ -44,7 +44,7 @@ from scipy.optimize import least_squares
 from scipy.signal import find_peaks
 
 from ..errors import ModelError
-from ._checks import signal_1d
+from ..model.validators import array_1d
 
 FRF_KINDS = ("displacement", "velocity", "acceleration", "apparent_mass")
 
@@ -151,7 +151,7 @@ class CircleFitResult:
 def find_resonances(freqs_hz, H, count=None, kind="displacement"):
     """Frequencies (Hz, ascending) of the ``count`` most prominent peaks of ``|H|`` in displacement form
     (``scipy.signal.find_peaks`` by prominence): starting resonances for Section 3.2.2. ``H`` of the given ``kind``."""
-    f = signal_1d("freqs_hz", freqs_hz, min_len=5)
+    f = array_1d("freqs_hz", freqs_hz, min_len=5)
     Hd = np.abs(to_displacement_form(f, H, kind))
     peaks, props = find_peaks(Hd, prominence=0.0)
     if peaks.size == 0:
@@ -291,8 +291,8 @@ def loss_factor_circle(freqs_hz, H, f_res_hz=None, kind="displacement", count=No
         Frequencies not increasing, mismatched lengths, no resonance (interior peak / fastest angle
         sweep) in a window, a resolution too coarse for the circle.
     """
-    f = signal_1d("freqs_hz", freqs_hz, min_len=7)
-    Hc = signal_1d("H", H, min_len=7, complex_ok=True).astype(complex)
+    f = array_1d("freqs_hz", freqs_hz, min_len=7)
+    Hc = array_1d("H", H, min_len=7, complex_ok=True).astype(complex)
     if Hc.size != f.size:
         raise ModelError("H", f"{Hc.size} values", f"must have one value per frequency ({f.size})")
     if np.any(np.diff(f) <= 0):

@@ -19,7 +19,7 @@ import numpy as np
 from scipy import signal
 
 from ..errors import ModelError
-from ._checks import positive, signal_1d
+from ..model.validators import array_1d, number
 
 
 @dataclass(frozen=True)
@@ -58,11 +58,11 @@ def frf_estimate(x, y, fs, nperseg=None, window="hann", noverlap=None, detrend="
     :class:`FRFEstimate`. The densities are one-sided (``scaling="density"``); their common
     scale cancels in H1, H2 and the coherence.
     """
-    x = signal_1d("x", x, min_len=16)
-    y = signal_1d("y", y, min_len=16)
+    x = array_1d("x", x, min_len=16)
+    y = array_1d("y", y, min_len=16)
     if x.size != y.size:
         raise ModelError("y", f"{y.size} samples", f"must have as many samples as x ({x.size})")
-    fs = positive("fs", fs)
+    fs = number("fs", fs, gt=0, unit="Hz")
     if nperseg is None:
         nperseg = max(16, x.size // 8)
     nperseg = int(nperseg)

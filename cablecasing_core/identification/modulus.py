@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError
-from ._checks import positive, signal_1d
+from ..model.validators import array_1d, number
 
 
 @dataclass(frozen=True)
@@ -91,7 +91,7 @@ def identify_modulus(compute_frequencies, f_measured_hz, modes, E_start, freq_re
         Mismatched lengths, non-positive frequencies or moduli, a mode number beyond the computed
         list, no convergence (the frequency cannot be reached by changing E).
     """
-    f_m = signal_1d("f_measured_hz", f_measured_hz, min_len=1)
+    f_m = array_1d("f_measured_hz", f_measured_hz, min_len=1)
     if np.any(f_m <= 0):
         raise ModelError("f_measured_hz", float(f_m[f_m <= 0][0]), "measured frequencies must be positive (Hz)")
     md = np.atleast_1d(np.asarray(modes))
@@ -100,9 +100,9 @@ def identify_modulus(compute_frequencies, f_measured_hz, modes, E_start, freq_re
     if not np.all(np.equal(np.mod(md, 1), 0)) or np.any(md < 1):
         raise ModelError("modes", md.tolist(), "mode numbers are whole numbers >= 1 (1 = lowest mode)")
     md = md.astype(int)
-    E0 = positive("E_start", E_start)
+    E0 = number("E_start", E_start, gt=0, unit="Pa")
     if freq_resolution_hz is not None:
-        positive("freq_resolution_hz", freq_resolution_hz)
+        number("freq_resolution_hz", freq_resolution_hz, gt=0, unit="Hz")
 
     def freqs(E):
         f = np.asarray(compute_frequencies(float(E)), dtype=float)
@@ -153,7 +153,7 @@ def identify_modulus(compute_frequencies, f_measured_hz, modes, E_start, freq_re
             else:
                 tf = np.geomspace(f_m.min(), f_m.max(), max(2, int(n_table)))
         else:
-            tf = np.unique(signal_1d("table_freqs_hz", table_freqs_hz, min_len=1))
+            tf = np.unique(array_1d("table_freqs_hz", table_freqs_hz, min_len=1))
             if np.any(tf < 0):
                 raise ModelError("table_freqs_hz", float(tf[0]), "must be frequencies >= 0 Hz")
         with np.errstate(divide="ignore"):

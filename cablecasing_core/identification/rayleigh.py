@@ -18,7 +18,7 @@ import numpy as np
 from scipy.optimize import nnls
 
 from ..errors import ModelError
-from ._checks import signal_1d
+from ..model.validators import array_1d
 
 
 @dataclass(frozen=True)
@@ -73,15 +73,15 @@ def rayleigh_fit(freqs_hz, zetas, weights=None, nonnegative=False):
     -------
     :class:`RayleighFit` with the factors and the residuals ``zeta - zeta_fit``.
     """
-    f = signal_1d("freqs_hz", freqs_hz, min_len=2)
-    z = signal_1d("zetas", zetas, min_len=2)
+    f = array_1d("freqs_hz", freqs_hz, min_len=2)
+    z = array_1d("zetas", zetas, min_len=2)
     if z.size != f.size:
         raise ModelError("zetas", f"{z.size} values", f"must have one damping ratio per frequency ({f.size})")
     if np.any(f <= 0):
         raise ModelError("freqs_hz", float(f[f <= 0][0]), "natural frequencies must be positive (Hz)")
     if np.unique(f).size < 2:
         raise ModelError("freqs_hz", f.tolist(), "needs at least two distinct natural frequencies")
-    w = np.ones_like(f) if weights is None else signal_1d("weights", weights, min_len=f.size)
+    w = np.ones_like(f) if weights is None else array_1d("weights", weights, min_len=f.size)
     if w.size != f.size or np.any(w <= 0):
         raise ModelError("weights", weights, "must be one positive weight per frequency")
     A = rayleigh_matrix(f) * w[:, None]

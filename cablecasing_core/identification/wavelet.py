@@ -62,7 +62,7 @@ import numpy as np
 import scipy.fft as sfft
 
 from ..errors import ModelError
-from ._checks import frequencies_in_band, positive, signal_1d
+from ..model.validators import array_1d, frequencies, number
 
 #: Default Morlet parameter gamma: sigma_t = 12 / omega_c, i.e. about two carrier periods per sigma_t.
 #: It separates modes 25 % apart in frequency by more than 1e-3 in |W| and keeps the edge
@@ -113,12 +113,12 @@ def cwt_morlet(x, fs, freqs_hz, gamma=DEFAULT_GAMMA, max_block_bytes=64e6):
     ModelError
         ``fs`` not positive, ``gamma`` below 3, a frequency outside (0, fs/2), a non-finite signal.
     """
-    x = signal_1d("x", x, min_len=2, complex_ok=True)
-    fs = positive("fs", fs)
-    gamma = positive("gamma", gamma)
+    x = array_1d("x", x, min_len=2, complex_ok=True)
+    fs = number("fs", fs, gt=0, unit="Hz")
+    gamma = number("gamma", gamma, gt=0)
     if gamma < MIN_GAMMA:
         raise ModelError("gamma", gamma, f"must be at least {MIN_GAMMA:g} (the Gaussian must vanish at 0 Hz)")
-    f = frequencies_in_band("freqs_hz", freqs_hz, fs)
+    f = frequencies("freqs_hz", freqs_hz, fs)
     n = x.size
     pad = int(np.ceil(8.0 * gamma / (2.0 * np.pi * f.min()) * fs))  # 8 sigma_t: wrap-around below exp(-32)
     nfft = sfft.next_fast_len(n + pad)
@@ -248,7 +248,7 @@ def _ridge_and_window(x, fs, t, A, inv_f, f0, gamma, valid, noise_floor, floor_f
         if noise_floor is None:
             floor = _tail_noise_floor(t, w_r, valid)
         else:
-            floor = positive("noise_floor", noise_floor)
+            floor = number("noise_floor", noise_floor, gt=0)
         below = valid & (w_r < floor_factor * floor)
         stop = int(np.argmax(below)) if below.any() else t.size
         fit = valid.copy()
@@ -311,17 +311,17 @@ def wavelet_damping(x, fs, freqs_hz, gamma=DEFAULT_GAMMA, edge_factor=3.0, searc
         periods), a frequency outside (0, fs/2), no ridge near a requested frequency, a mode that
         sinks into the noise floor before the edge effect ends, or a response that grows.
     """
-    x = signal_1d("x", x, min_len=8)
-    fs = positive("fs", fs)
-    gamma = positive("gamma", gamma)
-    edge_factor = positive("edge_factor", edge_factor)
-    floor_factor = positive("floor_factor", floor_factor)
-    search = positive("search", search)
+    x = array_1d("x", x, min_len=8)
+    fs = number("fs", fs, gt=0, unit="Hz")
+    gamma = number("gamma", gamma, gt=0)
+    edge_factor = number("edge_factor", edge_factor, gt=0)
+    floor_factor = number("floor_factor", floor_factor, gt=0)
+    search = number("search", search, gt=0)
     if search >= 0.5:
         raise ModelError("search", search, "must be a relative half-width below 0.5")
     if int(n_search) < 5:
         raise ModelError("n_search", n_search, "must be at least 5")
-    f_req = frequencies_in_band("freqs_hz", freqs_hz, fs)
+    f_req = frequencies("freqs_hz", freqs_hz, fs)
     n = x.size
     T = n / fs
     t = np.arange(n) / fs

@@ -14,7 +14,7 @@ from functools import cached_property
 import numpy as np
 import scipy.sparse as sp
 
-from ..model.load import SUPPORT_NAMES
+from ..model.schema import SUPPORT_NAMES
 from .element_beam import global_matrices
 from .geometry import centerline_of
 from .sections import section_of

@@ -32,9 +32,10 @@ import numpy as np
 from scipy import stats
 
 from ..errors import ModelError
+from ..model.schema import SUPPORT_OUTPUTS
+from ..model.validators import Choice, integer, number, seconds
 from .evaluators import DEFAULT_EVALUATE
 from .executor import execute
-from .sampling import check_integer
 from .octave import Bands, octave_bands
 
 
@@ -53,7 +54,7 @@ def seed_overrides(model, seed, excitations=None):
     seed and band would get the same record, fully correlated).
     """
     names = _check_excitations(model, excitations)
-    s = check_integer("seeds", seed, 0)
+    s = integer("seeds", seed, 0)
     k = len(names)
     return {f"scenario.excitation.{n}.seed": s * k + j for j, n in enumerate(names)}
 
@@ -315,22 +316,16 @@ def seed_ensemble(model=None, seeds=8, *, output="casing.B.Fz", bands="table3", 
         For bad input (before any run), and when a member fails (naming its seed and the error).
     """
     from ..model import Model, load_model
-    from ..timedomain.simulation import SUPPORT_OUTPUTS
 
     if model is None or isinstance(model, (str, os.PathLike)):
         model = load_model(model)
     if not isinstance(model, Model):
         raise ModelError("model", model, "must be a Model, a model TOML path or None (the built-in specimen)")
     seeds = _check_seeds(seeds)
-    for key, v, lowest in (("duration", duration, "positive"), ("dt", dt, "positive"), ("skip", skip, "non-negative")):
-        if v is None and key != "skip":
-            continue
-        if (isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not math.isfinite(v)
-                or v < 0 or (v == 0 and lowest == "positive")):
-            raise ModelError(key, v, f"must be a {lowest} time in s"
-                             + ("" if key == "skip" else " (or None: the scenario's)"))
-    if output not in SUPPORT_OUTPUTS:
-        raise ModelError("output", output, "must be one of " + ", ".join(SUPPORT_OUTPUTS))
+    seconds("duration", duration, none_ok=True)
+    seconds("dt", dt, none_ok=True)
+    seconds("skip", skip, zero_ok=True)
+    Choice(*SUPPORT_OUTPUTS)("output", output)
     band_set = bands if isinstance(bands, Bands) else octave_bands(bands)
     names = _check_excitations(model, excitations)
     overrides = dict(overrides or {})
@@ -402,8 +397,7 @@ class _Rows:
 
 
 def _t_factor(confidence, n):
-    if isinstance(confidence, bool) or not isinstance(confidence, (int, float)) or not 0 < confidence < 1:
-        raise ModelError("confidence", confidence, "must be a number between 0 and 1, e.g. 0.95")
+    number("confidence", confidence, gt=0, lt=1)
     return stats.t.ppf(0.5 + confidence / 2, n - 1) if n > 1 else np.nan
 
 
@@ -413,7 +407,7 @@ def _check_seeds(seeds):
             raise ModelError("seeds", seeds, "must be at least 2 (seeds 1..n), or a sequence of seeds")
         return list(range(1, int(seeds) + 1))
     try:
-        out = [check_integer("seeds", s, 0) for s in seeds]
+        out = [integer("seeds", s, 0) for s in seeds]
     except TypeError:
         raise ModelError("seeds", seeds, "must be a count n >= 2 or a sequence of non-negative integer seeds") from None
     if len(out) < 2 or len(set(out)) != len(out):

@@ -8,7 +8,7 @@ import os
 import time
 
 from ..errors import ModelError
-from .sampling import check_integer
+from ..model.validators import integer
 
 def resolve_evaluate(spec):
     """The per-sample function of the study (Section 4.4) named by ``spec``: a callable (returned as
@@ -72,7 +72,7 @@ def _run_dask(todo, evaluate, kwargs, outputs, writer, bar, scheduler, n_workers
     from distributed import Client, LocalCluster, as_completed
     own_client = cluster = None
     if scheduler is None or scheduler == "local":
-        nw = os.cpu_count() if n_workers is None else check_integer("n_workers", n_workers, 1)
+        nw = os.cpu_count() if n_workers is None else integer("n_workers", n_workers, 1)
         cluster = LocalCluster(n_workers=nw, threads_per_worker=1, processes=True, dashboard_address=None)
         client = own_client = Client(cluster)
     elif isinstance(scheduler, str):

@@ -44,6 +44,7 @@ import numpy as np
 from scipy import signal as _signal
 
 from ..errors import ModelError
+from ..model.validators import Choice, array_1d, number
 
 #: Table 3 of the paper: lower and upper edges (Hz) of the nine octave bands.
 TABLE3_LOWER = (11.0, 22.0, 44.0, 88.0, 177.0, 355.0, 710.0, 1420.0, 2840.0)
@@ -148,8 +149,8 @@ def octave_bands(kind="table3", f_min=None, f_max=None):
         fmin = 10.0 if f_min is None else f_min
         fmax = 20000.0 if f_max is None else f_max
     for key, v in (("f_min", fmin), ("f_max", fmax)):
-        if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) or np.isnan(v) or v < 0:
-            raise ModelError(key, v, "must be a non-negative frequency in Hz")
+        if v != np.inf:                 # (inf: no upper limit)
+            number(key, v, ge=0, unit="Hz")
     if fmax <= fmin:
         raise ModelError("f_max", fmax, f"must exceed f_min = {fmin} Hz")
     if kind != "table3":
@@ -228,16 +229,9 @@ def octave_rms(x, fs, bands="table3", *, detrend=None, window="boxcar", beyond_n
     BandRMS
         Band edges and centres (Hz), labels, and RMS values in the signal's unit.
     """
-    x = np.asarray(x, dtype=float)
-    if x.ndim != 1 or x.size < 2:
-        raise ModelError("x", f"array of shape {x.shape}", "must be a 1-D signal of at least 2 samples")
-    if not np.all(np.isfinite(x)):
-        raise ModelError("x", "non-finite samples", "must be finite (no NaN or inf)")
-    if isinstance(fs, bool) or not isinstance(fs, (int, float, np.floating, np.integer)) or not np.isfinite(fs) or fs <= 0:
-        raise ModelError("fs", fs, "must be a positive sample rate in Hz")
-    fs = float(fs)
-    if beyond_nyquist not in NYQUIST_RULES:
-        raise ModelError("beyond_nyquist", beyond_nyquist, "must be one of " + ", ".join(NYQUIST_RULES))
+    x = array_1d("x", x)
+    fs = number("fs", fs, gt=0, unit="Hz")
+    Choice(*NYQUIST_RULES)("beyond_nyquist", beyond_nyquist)
     if detrend not in (None, "constant", "linear"):
         raise ModelError("detrend", detrend, "must be None, 'constant' or 'linear'")
     bands = _bands_of(bands)

@@ -5,6 +5,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..errors import ModelError
+from ..model.schema import output_spec
 from ..plotting import save_figure  # (also selects the Agg backend)
 from .correlation import GAP, correlations
 from .results_store import StudyResults, load_results
@@ -62,7 +63,7 @@ def plot_ensemble(ens, path, other=None, diff=None, confidence=0.95, labels=("ba
     its Student-t confidence interval (N, or N.m for a moment output; log axis), a second ensemble
     beside it, and, with ``diff`` (``studies.paired_difference(other, ens)``), the relative change
     r (%) per band with its interval."""
-    unit = "N" if ".F" in ens.output else "N.m"
+    unit = output_spec(ens.output)[0]
     x = np.arange(1, len(ens.labels) + 1)
     rows = 2 if diff is not None else 1
     fig, axes = plt.subplots(rows, 1, figsize=(7, 3.2 * rows + 0.6), sharex=True, squeeze=False)

@@ -17,6 +17,7 @@ import math
 import numpy as np
 
 from ..errors import ModelError
+from ..model.validators import integer
 
 #: Model key of the amplitude (m) of the cable's longitudinal (axial) excitation, \bar X_jv of Section 4.4.
 AXIAL_AMPLITUDE_KEY = "scenario.excitation.cable_axial.amplitude"
@@ -67,12 +68,6 @@ def check_bounds(bounds=None, model=None):
     return out
 
 
-def check_integer(key, v, minimum):
-    if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < minimum:
-        raise ModelError(key, v, f"must be an integer >= {minimum}")
-    return int(v)
-
-
 def latin_hypercube(bounds=None, n_samples=300, seed=0):
     """Latin-hypercube design (n_samples, d) in the bounds' SI units (Section 4.4, "Monte Carlo").
 
@@ -82,8 +77,8 @@ def latin_hypercube(bounds=None, n_samples=300, seed=0):
     (bounds, n_samples, seed). Keys are not checked against a model here (see :func:`check_bounds`).
     """
     bounds = check_bounds(bounds, model=False)
-    n = check_integer("n_samples", n_samples, 2)
-    seed = check_integer("seed", seed, 0)
+    n = integer("n_samples", n_samples, 2)
+    seed = integer("seed", seed, 0)
     from scipy.stats import qmc
     try:
         sampler = qmc.LatinHypercube(len(bounds), scramble=True, rng=seed)

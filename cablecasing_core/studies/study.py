@@ -25,10 +25,11 @@ from __future__ import annotations
 import json
 
 from ..errors import ModelError
+from ..model.validators import integer
 from .evaluators import DEFAULT_EVALUATE, DEFAULT_OUTPUTS
 from .executor import execute, resolve_evaluate, spec_name
 from .results_store import META_COLUMNS, TAIL_COLUMNS, FORMAT_VERSION, ResultsWriter, load_results, prepare_file
-from .sampling import DEFAULT_CONSTRAINTS, check_bounds, check_integer, latin_hypercube
+from .sampling import DEFAULT_CONSTRAINTS, check_bounds, latin_hypercube
 
 
 def run_study(path, evaluate=DEFAULT_EVALUATE, bounds=None, n_samples=300, seed=0, *, outputs=None,
@@ -73,8 +74,8 @@ def run_study(path, evaluate=DEFAULT_EVALUATE, bounds=None, n_samples=300, seed=
         Everything in the file after this call.
     """
     bounds = check_bounds(bounds, model=model)
-    n = check_integer("n_samples", n_samples, 2)
-    seed = check_integer("seed", seed, 0)
+    n = integer("n_samples", n_samples, 2)
+    seed = integer("seed", seed, 0)
     outputs = tuple(DEFAULT_OUTPUTS if outputs is None else outputs)
     if not outputs or len(set(outputs)) != len(outputs) or not all(isinstance(o, str) and o for o in outputs):
         raise ModelError("outputs", outputs, "must be a non-empty sequence of unique output names")
@@ -82,7 +83,7 @@ def run_study(path, evaluate=DEFAULT_EVALUATE, bounds=None, n_samples=300, seed=
     if clash:
         raise ModelError("outputs", sorted(clash), "must not reuse a parameter name or index/status/elapsed_s/error")
     if max_samples is not None:
-        max_samples = check_integer("max_samples", max_samples, 0)
+        max_samples = integer("max_samples", max_samples, 0)
     evaluate_kwargs = dict(evaluate_kwargs or {})
     try:
         json.dumps(evaluate_kwargs)

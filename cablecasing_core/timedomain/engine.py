@@ -22,13 +22,10 @@ from scipy.linalg import cho_factor, cho_solve
 
 from . import kernels as K
 from ..structure.assembly import assemble_body
-from ..model.load import BODY_NAMES, CHANNELS, SUPPORT_NAMES
+from ..model.schema import BODY_NAMES, CHANNELS, OUTPUTS, SUPPORT_OUTPUTS, lookup
+from ..model.validators import seconds
 from ..errors import ModelError, SimulationError
 
-FORCE_NAMES = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
-SUPPORT_OUTPUTS = tuple(f"{b}.{s}.{c}" for b in BODY_NAMES for s in SUPPORT_NAMES for c in FORCE_NAMES)
-OUTPUTS = SUPPORT_OUTPUTS + ("contact.active", "contact.max_penetration", "contact.dissipated_energy")
-STATE_NAMES = {K.OPEN: "open", K.STICK: "stick", K.SLIP: "slip"}
 
 
 def hertz_constant(model):
@@ -184,6 +181,19 @@ class _Body:
         return 0.5 * self.V @ self.M_full @ self.V, 0.5 * self.U @ self.K_full @ self.U
 
 
+def compiled_entry(dispatcher, args):
+    """The compiled entry point of the numba ``dispatcher`` for the types of ``args``, or the
+    dispatcher itself when there is none. Calling it skips numba's type dispatch, which types the
+    arrays in tuples in Python (~100 arrays in run_steps' records: ~20 us per call, more than ten
+    steps cost the FMU at its 1e-4 s step). The engine builds every argument of run_steps itself,
+    with fixed dtypes and dimensions (the support motion as C-contiguous float64, shape (n, 12)), so
+    the types of later calls are those of the first one."""
+    try:
+        return dispatcher.overloads[tuple(dispatcher.typeof_pyval(a) for a in args)].entry_point
+    except (AttributeError, KeyError):          # (another numba, or not compiled for these types)
+        return dispatcher
+
+
 _DUMMY_BLOCK = np.zeros((0, 6, 6))
 
 
@@ -203,8 +213,7 @@ class Engine:
 
     def __init__(self, model, dt=None, contact=None, ledger=True, record=False):
         dt = model.scenario["dt"] if dt is None else dt
-        if isinstance(dt, bool) or not isinstance(dt, (int, float)) or not np.isfinite(dt) or dt <= 0:
-            raise ModelError("dt", dt, "time step must be a positive number of seconds")
+        lookup("scenario.dt").check(dt, "dt")
         self.model = model
         self.dt = float(dt)
         self.bodies = {n: _Body(model, n) for n in model.bodies}
@@ -237,9 +246,9 @@ class Engine:
         self._snap = None                   # roll-back buffer of advance (see snapshot)
         self._ws = K.contact_workspace(len(self.Xc))
         self._allocate_state()
-        self._call_args = {}            # (dt, settings) -> the step loop's arguments (see _run)
-        self._no_record = (np.zeros((1, 24)), np.zeros(2, np.int64), np.zeros(1, np.int32), np.zeros(1, np.int8),
-                           np.zeros(1), np.zeros(1))
+        self._call_args = {}     # (dt, settings) -> the step loop's arguments and entry point (see _run)
+        self._no_record = K.Recording(False, np.zeros((1, 24)), np.zeros(2, np.int64), np.zeros(1, np.int32),
+                                      np.zeros(1, np.int8), np.zeros(1), np.zeros(1), 0)
         self.reset()
 
     def _allocate_state(self):
@@ -251,8 +260,8 @@ class Engine:
         floats = [(b, k, (len(b.U),)) for b in self.bodies.values() for k in "UVA"]
         floats += [(self, k, shape) for k, shape in (("cxi", (nn,)), ("Pn", (nn, 3)), ("vrel", (nn,)), ("Nn", (nn,)),
                                                       ("gn", (nn,)), ("fcs", (ns,)), ("fcc", (nc,)), ("reac", (24,)),
-                                                      ("ledger", (8,)), ("contact_time", (nn,)),
-                                                      ("_info", (6,)))]
+                                                      ("ledger", (K.LEDGER_SIZE,)), ("contact_time", (nn,)),
+                                                      ("_info", (K.INFO_SIZE,)))]
         ints = [(self, "cstate", (nn,)), (self, "celem", (nn,))]
         for items, dtype, name in ((floats, float, "_fbuf"), (ints, np.int64, "_ibuf")):
             buf = np.zeros(sum(int(np.prod(shape)) for _, _, shape in items), dtype)
@@ -262,8 +271,9 @@ class Engine:
                 setattr(owner, key, buf[o:o + size].reshape(shape))
                 o += size
             setattr(self, name, buf)
-        # the step loop's info array: [time, node, value] of a failure, then the solver counters
-        self.solver_counts = self._info[3:]   # contact Newton iterations, stick/slip passes, unconverged steps
+        # the step loop's info array (K.INFO_*): what failed, then the solver counters: contact Newton
+        # iterations, stick/slip passes, unconverged steps
+        self.solver_counts = self._info[K.INFO_NEWTON_ITERATIONS:K.INFO_UNCONVERGED_STEPS + 1]
 
     # -------------------------------------------------------------------------------- state
     def reset(self):
@@ -321,24 +331,23 @@ class Engine:
         self.time = time
 
     # -------------------------------------------------------------------------------- stepping
-    def _args(self, dt):
-        out = []
-        for name in ("casing", "cable"):
-            b = self.bodies.get(name)
-            if b is None or b.nf == 0:
-                z = np.zeros(1)
-                i0 = np.zeros(0, np.int64)
-                out += [False, np.zeros((1, 1)), np.zeros((1, 1)), _DUMMY_BLOCK, _DUMMY_BLOCK, _DUMMY_BLOCK,
-                        0, 0, 0, 0, 0.0, 0.0,
-                        b.U if b else z, b.V if b else z.copy(), b.A if b else z.copy(),
-                        b.pres if b else i0, b.pchan if b else i0, b.pslot if b else i0,
-                        np.zeros((len(b.U), len(b.U))) if b else np.zeros((1, 1)),   # nothing responds
-                        np.zeros((0, 2, 1)), i0, np.zeros((2, 0), np.int64), np.zeros(0)]
-                continue
-            Dinv, L, LT, inv = b.factors(dt, self.contact)
-            out += [True, b.Md, b.Kd, Dinv, L, LT, b.g0, b.ng, b.f0, b.nf, b.alpha, b.beta, b.U, b.V, b.A,
-                    b.pres, b.pchan, b.pslot, inv, b.sup, b.sup_lo, b.cpl_i, b.cpl_v]
-        return out
+    def _body_arrays(self, name, dt):
+        """The step loop's record of body ``name`` (:class:`kernels.BodyArrays`); a body that is
+        absent, or has no free DOF, is off (its arrays are placeholders of the right types)."""
+        b = self.bodies.get(name)
+        fc = self.fcs if name == "casing" else self.fcc
+        if b is None or b.nf == 0:
+            z = np.zeros(1)
+            i0 = np.zeros(0, np.int64)
+            return K.BodyArrays(
+                False, np.zeros((1, 1)), np.zeros((1, 1)), _DUMMY_BLOCK, _DUMMY_BLOCK, _DUMMY_BLOCK, 0, 0, 0, 0, 0.0,
+                0.0, b.U if b else z, b.V if b else z.copy(), b.A if b else z.copy(), b.pres if b else i0,
+                b.pchan if b else i0, b.pslot if b else i0,
+                np.zeros((len(b.U), len(b.U))) if b else np.zeros((1, 1)),   # nothing responds
+                np.zeros((0, 2, 1)), i0, np.zeros((2, 0), np.int64), np.zeros(0), fc)
+        Dinv, L, LT, inv = b.factors(dt, self.contact)
+        return K.BodyArrays(True, b.Md, b.Kd, Dinv, L, LT, b.g0, b.ng, b.f0, b.nf, b.alpha, b.beta, b.U, b.V, b.A,
+                            b.pres, b.pchan, b.pslot, inv, b.sup, b.sup_lo, b.cpl_i, b.cpl_v, fc)
 
     def _run(self, dt, up, vp, ap, times):
         n = len(up)
@@ -346,39 +355,46 @@ class Engine:
             # contact histories sparse (the nodes in contact, ~2 of 36): np.empty of the worst case
             # is only address space until written; the used part is copied out below
             cap = n * len(self.Xc)
-            rec = (np.zeros((n, 24)), np.zeros(n + 1, np.int64), np.empty(cap, np.int32), np.empty(cap, np.int8),
-                   np.empty(cap), np.empty(cap))
+            rec = K.Recording(True, np.zeros((n, 24)), np.zeros(n + 1, np.int64), np.empty(cap, np.int32),
+                              np.empty(cap, np.int8), np.empty(cap), np.empty(cap), 0)
         else:
             rec = self._no_record
         # the arrays are never rebound (see _allocate_state), so the arguments are built once per
         # time step and setting (a changed attribute, e.g. contact, builds them anew)
         key = (dt, self.contact, self.ledger_on, self.record, self.law, self.k_lin, self.k_hertz, self.c_n, self.mu,
                self.v_stick, self.gap, self.r_in, self.r_cable)
-        args = self._call_args.get(key)
+        args, step_loop = self._call_args.get(key, (None, None))
         if args is None:
-            args = self._call_args[key] = (
-                *self._args(dt), self.contact, self.Xc, self.Tc, self.Xs, self.Rs, self.Ls, self.gap, self.r_in,
-                self.r_cable, self.law, self.k_lin, self.k_hertz, self.c_n, self.mu, self.v_stick,
-                self.cstate, self.celem, self.cxi, self.Pn, self.vrel, self.Nn, self.gn, self.fcs, self.fcc,
-                self.reac, self.ledger, self.contact_time, self.ledger_on, self._ws, self.record)
-        info = self._info                   # info[3:] are the solver counters (a view)
-        info[:3] = 0.0
-        status = K.run_steps(self.time, dt, up, vp, ap, *args, *rec, 0, info)
+            law = K.ContactLaw(self.contact, self.gap, self.r_in, self.r_cable, self.law, self.k_lin, self.k_hertz,
+                               self.c_n, self.mu, self.v_stick)
+            contact = K.ContactArrays(self.Xc, self.Tc, self.Xs, self.Rs, self.Ls, self.cstate, self.celem, self.cxi,
+                                      self.Pn, self.vrel, self.Nn, self.gn, self.contact_time, self._ws)
+            args = (self._body_arrays("casing", dt), self._body_arrays("cable", dt), law, contact, self.reac,
+                    self.ledger, self.ledger_on)
+        info = self._info                   # info[K.INFO_NEWTON_ITERATIONS:] are the solver counters (a view)
+        info[:K.INFO_NEWTON_ITERATIONS] = 0.0
+        if step_loop is None:
+            status = K.run_steps(self.time, dt, up, vp, ap, *args, rec, info)      # compiles or loads it
+            self._call_args[key] = (args, compiled_entry(K.run_steps, (self.time, dt, up, vp, ap, *args, rec, info)))
+        else:
+            status = step_loop(self.time, dt, up, vp, ap, *args, rec, info)
         if status == K.ERR_INPUT:
-            r, c, q = (int(x) for x in info[:3])
+            r, c, q = (int(info[i]) for i in (K.INFO_INPUT_ROW, K.INFO_INPUT_CHANNEL, K.INFO_INPUT_KIND))
             name = ("displacement", "velocity", "acceleration")[q]
             raise ModelError(f"{CHANNELS[c]} {name}", float((up, vp, ap)[q][r, c]),
                              f"must be finite (at t = {times[r]:.6g} s)")
         if status != K.OK:
             what = {K.ERR_NAN: "the solution is no longer finite (NaN/inf): the step is unstable or the input is",
-                    K.ERR_PENETRATION: f"penetration {info[2]:.4g} m exceeds the cable radius {self.r_cable:.4g} m "
-                                       "(contact too soft for this load, or the time step too large)"}[status]
-            where = f"cable node {int(info[1])}" if info[1] >= 0 else "the support forces"
-            raise SimulationError(f"at t = {info[0]:.6g} s, {where}: {what}")
+                    K.ERR_PENETRATION: f"penetration {info[K.INFO_VALUE]:.4g} m exceeds the cable radius "
+                                       f"{self.r_cable:.4g} m (contact too soft for this load, or the time step too "
+                                       "large)"}[status]
+            node = info[K.INFO_NODE]
+            where = f"cable node {int(node)}" if node >= 0 else "the support forces"
+            raise SimulationError(f"at t = {info[K.INFO_TIME]:.6g} s, {where}: {what}")
         if self.record:
-            m = int(rec[1][-1])
-            self._hist.append((rec[0], rec[1]) + tuple(x[:m].copy() for x in rec[2:]))
-        self.time = float(info[0])
+            m = int(rec.ptr[-1])
+            self._hist.append((rec.F, rec.ptr) + tuple(x[:m].copy() for x in (rec.node, rec.state, rec.N, rec.g)))
+        self.time = float(info[K.INFO_TIME])
 
     CHUNK = 2048   # steps per evaluation of the support motion (see advance)
 
@@ -395,8 +411,7 @@ class Engine:
         history. So does a blow-up (:class:`SimulationError`, whose message says when, where and
         what): the engine is then as it was before the call, and can be advanced again (e.g. by
         a smaller step, or after :meth:`set_state`)."""
-        if isinstance(h, bool) or not isinstance(h, (int, float)) or not math.isfinite(h) or h <= 0:
-            raise ModelError("h", h, "the step must be a positive number of seconds")
+        seconds("h", h)
         n = math.floor(h / self.dt * (1 + 1e-12))   # (math: numpy's scalar calls cost ~1 µs each)
         rest = h - n * self.dt
         segments = []
@@ -411,7 +426,7 @@ class Engine:
         try:
             if self.time == 0.0 and not self.ledger.any():
                 kin, strain = (sum(x) for x in zip(*(b.energy() for b in self.bodies.values())))
-                self.ledger[2] = kin + strain + self.contact_potential()   # energy at the start
+                self.ledger[K.LEDGER_START_ENERGY] = kin + strain + self.contact_potential()
             for dt, m in segments:
                 t = self.time
                 for j0 in range(0, m, self.CHUNK):
@@ -442,7 +457,9 @@ class Engine:
         kin = sum(b.energy()[0] for b in self.bodies.values())
         strain = sum(b.energy()[1] for b in self.bodies.values())
         pot = self.contact_potential()
-        w_sup, d_ray, e_start, d_fric, w_con, d_damp = self.ledger[:6]
+        w_sup, d_ray, e_start, d_fric, w_con, d_damp = (
+            self.ledger[i] for i in (K.LEDGER_SUPPORT_WORK, K.LEDGER_RAYLEIGH_DISSIPATION, K.LEDGER_START_ENERGY,
+                                     K.LEDGER_FRICTION_DISSIPATION, K.LEDGER_CONTACT_WORK, K.LEDGER_DAMPING_DISSIPATION))
         d_con = -w_con - pot
         residual = kin + strain + pot - (e_start + w_sup - d_ray - d_con)
         return {"kinetic": kin, "strain": strain, "contact_potential": pot, "support_work": w_sup,
@@ -456,7 +473,7 @@ class Engine:
         out[:24] = self.reac
         out[24] = np.count_nonzero(self.cstate)      # OPEN == 0 (no comparison array)
         out[25] = self.gn.max() if len(self.gn) else 0.0
-        out[26] = -self.ledger[4] - self.contact_potential()
+        out[26] = -self.ledger[K.LEDGER_CONTACT_WORK] - self.contact_potential()
         return out
 
     def outputs(self):

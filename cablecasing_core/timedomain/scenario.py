@@ -1,7 +1,7 @@
 """Support excitation signals of a scenario (Sections 4.1-4.2): random, harmonic, impulse, CSV.
 
 A *motion* maps times t (s) to the displacement (m), velocity (m/s) and acceleration (m/s2) of
-the 12 support channels ``CHANNELS``. The scenario's motion is the sum of its excitations:
+the 12 support channels ``model.schema.CHANNELS``. The scenario's motion is the sum of its excitations:
 
 * ``random``: band-limited Gaussian acceleration with a flat spectrum between ``band`` (Hz) and the
   given RMS (m/s2), generated in the frequency domain (random phases, seeded) as a periodic record
@@ -26,7 +26,7 @@ import functools
 import numpy as np
 from scipy.interpolate import BPoly, CubicSpline
 
-from ..model.load import CHANNELS, DIRECTIONS
+from ..model.schema import CHANNELS, DIRECTIONS
 from ..errors import ModelError
 from ..structure.geometry import centerline_of
 

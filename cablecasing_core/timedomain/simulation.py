@@ -10,8 +10,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .engine import SUPPORT_OUTPUTS, Engine
 from ..errors import ModelError
+from ..model.schema import SUPPORT_OUTPUTS, lookup, output_spec
+from ..model.validators import Choice
+from .engine import Engine
 from .scenario import scenario_motion
 
 
@@ -37,8 +39,7 @@ class SimulationResult:
 
     def support_force(self, name):
         """History of one support output, e.g. ``"casing.B.Fz"`` (N or N.m)."""
-        if name not in SUPPORT_OUTPUTS:
-            raise ModelError("output", name, "must be one of " + ", ".join(SUPPORT_OUTPUTS))
+        Choice(*SUPPORT_OUTPUTS)("output", name)
         return self.support_forces[:, SUPPORT_OUTPUTS.index(name)]
 
     def save(self, path):
@@ -54,7 +55,8 @@ class SimulationResult:
         elif path.endswith(".csv"):
             active = np.count_nonzero(self.contact_state, axis=1)
             table = np.column_stack([self.time, self.support_forces, active, self.penetration.max(axis=1)])
-            header = ",".join(["time_s"] + [f"{n}_{'N' if '.F' in n else 'Nm'}" for n in SUPPORT_OUTPUTS]
+            units = [output_spec(n)[0].replace(".", "") for n in SUPPORT_OUTPUTS]     # N, Nm
+            header = ",".join(["time_s"] + [f"{n}_{u}" for n, u in zip(SUPPORT_OUTPUTS, units)]
                               + ["contact_active", "max_penetration_m"])
             np.savetxt(path, table, delimiter=",", header=header, comments="", fmt="%.9g")
         else:
@@ -70,9 +72,8 @@ def simulate(model, duration=None, dt=None, contact=None, motion=None):
     sc = model.scenario
     duration = sc["duration"] if duration is None else duration
     dt = sc["dt"] if dt is None else dt
-    for key, v in (("duration", duration), ("dt", dt)):
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v <= 0:
-            raise ModelError(key, v, "must be a positive number of seconds")
+    lookup("scenario.duration").check(duration, "duration")
+    lookup("scenario.dt").check(dt, "dt")
     if duration < dt:
         raise ModelError("duration", duration, f"must be at least one time step (dt = {dt} s)")
     motion = scenario_motion(model, dt=dt, duration=duration) if motion is None else motion

@@ -2,7 +2,7 @@
 
 A co-simulation master gives the support inputs only at the start ``t`` of a communication step
 ``[t, t + h]``: displacement ``u`` (m), velocity ``v`` (m/s) and acceleration ``a`` (m/s2) of each
-of the 12 channels (``CHANNELS``). The engine needs the motion at every internal time step
+of the 12 channels (``model.schema.CHANNELS``). The engine needs the motion at every internal time step
 inside the interval. The reconstruction used here:
 
 * **target at the step end** - the Taylor extrapolation of the inputs,
@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..model.validators import seconds
 from . import kernels as K
 
 # Power-basis coefficients of the quintic p(s) = sum_k c_k s^k on s in [0, 1] are
@@ -58,14 +59,6 @@ def taylor_target(u, v, a, h):
     return tuple(rows[3 + q].reshape(shape) for q in range(3))
 
 
-def _step_size(h):
-    """h (s) as a float, checked: a communication step must be a positive number of seconds."""
-    h = float(h)
-    if not (np.isfinite(h) and h > 0):
-        raise ValueError(f"h = {h!r}: the step must be a positive number of seconds")
-    return h
-
-
 def _coefficient_matrix(h):
     """G (18 x 6): the power-basis coefficients of displacement, velocity and acceleration, rows
     ordered power-major (row 3 k + j: the s^k coefficient of u, v, a for j = 0, 1, 2), from
@@ -93,7 +86,7 @@ class QuinticStep:
     """
 
     def __init__(self, t0, h, start, end):
-        h = _step_size(h)
+        h = seconds("h", h)
         rows = np.concatenate([np.asarray(start, dtype=float), np.asarray(end, dtype=float)])
         self._setup(float(t0), h, rows, _coefficient_matrix(h))
 
@@ -141,7 +134,7 @@ class SupportReconstruction:
         """The :class:`QuinticStep` from the current support state to the Taylor target of the
         inputs (u, v, a) given at ``t0`` (s) over the step ``h`` (s)."""
         if h != self._h:          # a master usually keeps its communication step: cache per h
-            h = _step_size(h)
+            h = seconds("h", h)
             self._h, self._G = h, _coefficient_matrix(h)
         n = self.state.shape[1]
         u, v, a = (np.ascontiguousarray(x, dtype=float) for x in (u, v, a))
