@@ -1,7 +1,8 @@
 """Command line ``cablecasing``: a thin shell over the core API.
 
-Sub-commands: ``modes``, ``trfam``, ``simulate``, ``identify ...``, ``study``, ``ensemble``, ``pool``,
-``bands``, ``report``.
+Sub-commands: ``modes``, ``trfam``, ``keys`` (the model file's keys, from the schema), ``simulate``
+(``simulate.py``), ``identify ...`` (``identify.py``), ``study``, ``ensemble``, ``pool``, ``bands``,
+``report`` (``study.py``), each module registering its own with ``add_parser``.
 Every error in the input prints one line naming the key, the value and what is allowed, and
 exits with status 2.
 """
@@ -16,7 +17,6 @@ import numpy as np
 from ..model import load_model
 from ..errors import CableCasingError, ModelError
 from . import identify, simulate, study
-from .paths import check_output_path
 
 
 def _model(path):
@@ -64,6 +64,19 @@ def cmd_trfam(args):
     return 0
 
 
+def cmd_keys(args):
+    """Print the model file's keys from the schema: key, type, default, unit, allowed, description."""
+    from ..model.schema import SCHEMA
+
+    rows = [s for k, s in SCHEMA.items() if k.startswith(args.prefix or "")]
+    if not rows:
+        raise ModelError("prefix", args.prefix, "matches no key of the model file; try 'casing' or 'scenario'")
+    for s in rows:
+        default = s.default_from or s.default
+        print(f"{s.key}\t{s.type}\t{default}\t{s.unit or '-'}\t{s.allowed}\t{s.description}")
+    return 0
+
+
 def build_parser():
     p = argparse.ArgumentParser(prog="cablecasing", description="Cable-in-casing vibration model (SI units).")
     sub = p.add_subparsers(dest="command", required=True)
@@ -86,6 +99,10 @@ def build_parser():
     t.add_argument("--plot", help="PNG file to write")
     t.set_defaults(func=cmd_trfam)
 
+    k = sub.add_parser("keys", help="the keys of the model file: type, default, unit, allowed values, meaning")
+    k.add_argument("prefix", nargs="?", default=None, help="only keys that start with this, e.g. contact")
+    k.set_defaults(func=cmd_keys)
+
     for module in (simulate, identify, study):
         module.add_parser(sub)
     return p
@@ -99,7 +116,3 @@ def main(argv=None):
     except CableCasingError as exc:
         print(f"cablecasing: error: {exc}", file=sys.stderr)
         return 2
-
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())

@@ -1,6 +1,8 @@
 """``cablecasing simulate``: run a model's scenario in the time domain."""
 from __future__ import annotations
 
+from .helptext import key_help
+
 
 def cmd_simulate(args):
     from .paths import check_output_path
@@ -36,8 +38,8 @@ def cmd_simulate(args):
 def add_parser(sub):
     p = sub.add_parser("simulate", help="time-domain run of the scenario (Newmark + contact)")
     p.add_argument("model", nargs="?", default=None, help="model TOML (default: built-in specimen)")
-    p.add_argument("--duration", type=float, default=None, help="s (default: scenario.duration)")
-    p.add_argument("--dt", type=float, default=None, help="s (default: scenario.dt)")
+    p.add_argument("--duration", type=float, default=None, help=key_help("scenario.duration", "simulated time"))
+    p.add_argument("--dt", type=float, default=None, help=key_help("scenario.dt"))
     p.add_argument("--out", help="results file, .csv or .npz")
     p.add_argument("--plot", nargs="?", const=True, default=None, help="write a figure (PNG path)")
     p.add_argument("--no-contact", action="store_true", help="switch contact off")

@@ -9,6 +9,7 @@ from .paths import check_output_path
 from ..errors import ModelError
 from ..model.schema import output_spec
 from ..model.validators import integer, number
+from .helptext import ASSIGNMENT_HELP, key_help
 
 
 def cmd_study(args):
@@ -168,7 +169,7 @@ def add_parser(sub):
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--scheduler", default=None, help="dask scheduler address tcp://host:8786, 'serial', or local (default)")
     p.add_argument("--workers", type=int, default=None, help="local cluster workers (default: one per core)")
-    p.add_argument("--duration", type=float, default=None, help="simulated time per sample, s")
+    p.add_argument("--duration", type=float, default=None, help=key_help("scenario.duration", "simulated time per sample"))
     p.add_argument("--skip", type=float, default=0.05, help="start of each record left out, s")
     p.add_argument("--out", default="study")
     p.set_defaults(func=cmd_study)
@@ -177,12 +178,13 @@ def add_parser(sub):
     e.add_argument("model", nargs="?", default=None, help="model TOML (default: built-in specimen)")
     e.add_argument("--seeds", type=int, default=8, help="number of seeds (default 8)")
     e.add_argument("--first-seed", type=int, default=1, help="seeds first..first+n-1 (default 1)")
-    e.add_argument("--duration", type=float, default=None, help="simulated time per run, s")
-    e.add_argument("--dt", type=float, default=None, help="time step, s")
+    e.add_argument("--duration", type=float, default=None, help=key_help("scenario.duration", "simulated time per run"))
+    e.add_argument("--dt", type=float, default=None, help=key_help("scenario.dt"))
     e.add_argument("--skip", type=float, default=0.05, help="start of each record left out, s")
     e.add_argument("--output", default="casing.B.Fz", help="support output, e.g. casing.B.Fz")
     e.add_argument("--kind", choices=["table3", "octave", "third"], default="table3")
-    e.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="model change for every run")
+    e.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="model change for every run; " + ASSIGNMENT_HELP)
     e.add_argument("--against", action="append", default=[], metavar="KEY=VALUE",
                    help="compare with a second ensemble on the same seeds with this change")
     e.add_argument("--confidence", type=float, default=0.95, help="level of the confidence intervals")

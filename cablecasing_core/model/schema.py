@@ -3,8 +3,8 @@ one-line description, in one place; and the one list of the support channels and
 
 The loader (:mod:`.load`) validates a model file with the schema's validators, the FMU takes its
 parameters' units and descriptions from :func:`lookup`, the CLI its help texts, and the key table
-of the documentation (docs/model_file.md) is generated from it (``python -m
-cablecasing_core.model.schema``; a test checks that the committed table is the generated one).
+of the documentation (docs/model_file.md) is generated from it (``python docs/make_key_table.py``; a
+test checks that the committed table is the generated one).
 
 >>> from cablecasing_core.model.schema import lookup, output_spec
 >>> spec = lookup("scenario.excitation.casing_random.rms")
@@ -19,7 +19,7 @@ Keys under named tables are written with ``<name>`` (``scenario.excitation.<name
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from ..errors import ModelError
 from .validators import Band, Boolean, Choice, Number, NumberOrTable, Points, Target, Text
@@ -59,7 +59,7 @@ class KeySpec:
     """One key of the model file.
 
     key: dotted key (``<name>`` for a named table); type: "float", "int", "bool", "str",
-    "float|table" (a number or a table ``[[f_Hz, value], ...]``), "points" or "band"; default: the
+    "float or table" (a number or a table ``[[f_Hz, value], ...]``), "points" or "band"; default: the
     value taken when the key is left out, or :data:`REQUIRED`, :data:`OPTIONAL`; unit: FMI-style;
     description: one line; validator: the :mod:`.validators` object that checks a value; note:
     what the loader checks against other keys; kinds: the excitation kinds that take the key;
@@ -98,7 +98,7 @@ class KeySpec:
 def _body(body):
     the = f"the {body}"
     keys = [
-        KeySpec(f"{body}.E", "float|table", REQUIRED, "Pa",
+        KeySpec(f"{body}.E", "float or table", REQUIRED, "Pa",
                 f"Young's (dynamic) modulus of {the}; a table makes it frequency-dependent (Section 3.1)",
                 NumberOrTable(Number(gt=0, unit="Pa"))),
         KeySpec(f"{body}.nu", "float", 0.3, "1", f"Poisson ratio of {the} (G = E / (2 (1 + nu)))",
@@ -109,7 +109,7 @@ def _body(body):
                 f"Rayleigh mass-proportional damping of {the}, C = alpha M + beta K (Eq. 40)", Number(ge=0, unit="1/s")),
         KeySpec(f"{body}.beta", "float", 0.0, "s",
                 f"Rayleigh stiffness-proportional damping of {the}, C = alpha M + beta K (Eq. 40)", Number(ge=0, unit="s")),
-        KeySpec(f"{body}.loss_factor", "float|table", 0.0, "1",
+        KeySpec(f"{body}.loss_factor", "float or table", 0.0, "1",
                 f"structural loss factor of {the} (Eq. 11; frequency domain only, the time domain uses alpha, beta)",
                 NumberOrTable(Number(ge=0))),
     ]
@@ -169,7 +169,7 @@ _KEYS = [
             kinds=("random",)),
     KeySpec(f"{_EXC}.band", "band", [10.0, 1000.0], "Hz", "frequency band of the random excitation (flat spectrum)",
             Band(), note="f_high below the Nyquist frequency 1 / (2 scenario.dt)", kinds=("random",)),
-    KeySpec(f"{_EXC}.seed", "int", OPTIONAL, "1", "seed of the random excitation's phases (default scenario.seed)",
+    KeySpec(f"{_EXC}.seed", "int", OPTIONAL, "1", "seed of the random excitation's phases",
             Number(ge=0, integer=True), kinds=("random",), default_from="scenario.seed"),
     KeySpec(f"{_EXC}.frequency", "float", REQUIRED, "Hz", "frequency of the harmonic excitation",
             Number(gt=0, unit="Hz"), kinds=("harmonic",)),
@@ -193,13 +193,13 @@ SCHEMA = {spec.key: spec for spec in _KEYS}
 
 def lookup(key: str) -> KeySpec:
     """The :class:`KeySpec` of a dotted model key, e.g. ``"casing.E"``, ``"casing.supports.A"`` or
-    ``"scenario.excitation.casing_random.rms"`` (a named table under any name). Raises
-    :class:`ModelError` for a key the model file does not have."""
+    ``"scenario.excitation.casing_random.rms"`` (a named table under any name; the spec's ``key`` is
+    then the key asked for). Raises :class:`ModelError` for a key the model file does not have."""
     spec = SCHEMA.get(key)
     if spec is None and isinstance(key, str):
         parts = key.split(".")
-        if len(parts) == 4 and parts[:2] == ["scenario", "excitation"]:
-            spec = SCHEMA.get(f"{_EXC}.{parts[3]}")
+        if len(parts) == 4 and parts[:2] == ["scenario", "excitation"] and f"{_EXC}.{parts[3]}" in SCHEMA:
+            spec = replace(SCHEMA[f"{_EXC}.{parts[3]}"], key=key)
     if spec is None:
         raise ModelError(key, None, "is not a key of the model file (see docs/model_file.md)")
     return spec
@@ -246,7 +246,3 @@ def markdown_table() -> str:
         lines.append(f"| `{spec.key}` | {spec.type} | {default(spec)} | {spec.unit or '-'} | "
                      f"{allowed} | {spec.description}{kinds} |")
     return "\n".join(lines) + "\n"
-
-
-if __name__ == "__main__":  # pragma: no cover
-    print(markdown_table(), end="")

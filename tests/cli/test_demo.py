@@ -1,10 +1,15 @@
-"""The demo/report (make demo): every figure the report references exists and is a PNG."""
+"""The demo (make demo: examples/demo.py) and its report: every figure the report references exists and is
+a PNG, every CSV is written."""
 import re
 import subprocess
 import sys
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+import pytest
+
+pytestmark = pytest.mark.slow      # builds the FMU and runs the demo
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_report_renders_with_every_figure(tmp_path):

@@ -19,26 +19,13 @@ from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.support_motion import SupportReconstruction
 from cablecasing_core.timedomain.scenario import scenario_motion
 
-import fmu_driver
+pytestmark = pytest.mark.slow      # every test runs the FMU in fresh processes
 
-ROOT = Path(__file__).resolve().parent.parent
+
+ROOT = Path(__file__).resolve().parents[2]
 FMU = ROOT / "dist" / "CableCasing.fmu"
 H = 1e-4                     # communication step (s)
 NCH = len(CHANNELS)
-
-
-@pytest.fixture(scope="session")
-def fmu():
-    """The FMU, built (in a separate process) if missing or older than any of its sources."""
-    sys.path.insert(0, str(ROOT))
-    try:
-        import build_fmu
-    finally:
-        sys.path.remove(str(ROOT))
-    newest = max(p.stat().st_mtime for p in build_fmu.sources())
-    if not FMU.exists() or FMU.stat().st_mtime < newest:
-        subprocess.run([sys.executable, str(ROOT / "build_fmu.py")], check=True, cwd=ROOT)
-    return FMU
 
 
 # ------------------------------------------------------------------------------ signals and references
@@ -92,10 +79,15 @@ def core_run(model, table, h=H, dt=None, contact=None):
     return out
 
 
-def run(tmp_path, scenario, fmu, **kw):
-    kw.setdefault("h", H)
-    kw.setdefault("outputs", list(OUTPUTS))
-    return fmu_driver.run(tmp_path, scenario, fmu, **kw)
+@pytest.fixture
+def run(fmu_driver):
+    """``run(tmp_path, scenario, fmu, **job)``: a scenario of fmu_driver.py in a fresh process, at the
+    communication step H with every output unless the job says otherwise."""
+    def scenario_run(tmp_path, scenario, fmu, **kw):
+        kw.setdefault("h", H)
+        kw.setdefault("outputs", list(OUTPUTS))
+        return fmu_driver.run(tmp_path, scenario, fmu, **kw)
+    return scenario_run
 
 
 # ------------------------------------------------------------------------------ the archive
@@ -104,7 +96,7 @@ def test_fmpy_validate_finds_no_problem(fmu):
     assert validate_fmu(str(fmu)) == []
 
 
-def test_model_description_is_complete(fmu):
+def test_model_description_is_complete(fmu, fmu_driver):
     from fmpy import read_model_description
     md = read_model_description(str(fmu))
     de = md.defaultExperiment
@@ -168,7 +160,7 @@ def peak_frequencies(f, mag):
 
 
 @pytest.mark.parametrize("d", ["x", "y", "z"])
-def test_trfam_through_the_fmu(fmu, tmp_path, d):
+def test_trfam_through_the_fmu(fmu, tmp_path, d, run):
     """Periodic random motion of casing.A.<d> (10-1000 Hz, 1 s period, with velocity and
     acceleration inputs), contact off, communication step 1e-4 s. With casing.alpha = 60 1/s (set
     through the FMU) every mode decays faster than exp(-30 t): after a 0.02 s fade-in and 0.3 s the
@@ -218,7 +210,7 @@ def contact_case():
     return model, table, core_run(model, table)
 
 
-def test_contact_run_equals_the_core(fmu, tmp_path, contact_case):
+def test_contact_run_equals_the_core(fmu, tmp_path, contact_case, run):
     model, table, ref = contact_case
     res = run(tmp_path, "run", fmu, inputs=table)
     assert np.all(res["status"] == 0) and res["init_status"] == 0
@@ -229,7 +221,7 @@ def test_contact_run_equals_the_core(fmu, tmp_path, contact_case):
     assert np.max(np.abs(res["out"] - ref) / scale) < 1e-12
 
 
-def test_state_get_set_serialize_and_reset(fmu, tmp_path, contact_case):
+def test_state_get_set_serialize_and_reset(fmu, tmp_path, contact_case, run):
     model, table, ref = contact_case
     res = run(tmp_path, "state", fmu, inputs=table)
     assert np.all(res["status"] == 0)
@@ -242,7 +234,7 @@ def test_state_get_set_serialize_and_reset(fmu, tmp_path, contact_case):
     assert res["a"][:, OUTPUTS.index("contact.active")].max() >= 1        # the state includes contacts
 
 
-def test_two_instances_are_independent(fmu, tmp_path, contact_case):
+def test_two_instances_are_independent(fmu, tmp_path, contact_case, run):
     model, table, _ = contact_case
     table = table[: int(0.03 / H)]
     p1 = {"contact.friction": 0.05}
@@ -257,7 +249,7 @@ def test_two_instances_are_independent(fmu, tmp_path, contact_case):
     assert np.max(np.abs(alone2["out"] - ref2) / (np.max(np.abs(ref2), axis=0) + 1e-300)) < 1e-12
 
 
-def test_any_communication_step(fmu, tmp_path):
+def test_any_communication_step(fmu, tmp_path, run):
     """Steps that are not multiples of solver.dt (and shorter than it) against the engine driven by
     the exact motion: a 60 Hz harmonic of casing.A.y, contact off. The reconstruction errs by
     (w h)^3/6 < 1e-4 relative at the longest step, far below the 0.5 % allowed."""
@@ -297,7 +289,7 @@ def test_any_communication_step(fmu, tmp_path):
     assert np.max(err) < 5e-3 * np.max(np.abs(ref))
 
 
-def test_errors_are_reported_and_the_process_goes_on(fmu, tmp_path, contact_case):
+def test_errors_are_reported_and_the_process_goes_on(fmu, tmp_path, contact_case, run):
     model, table, ref = contact_case
     res = run(tmp_path, "errors", fmu, inputs=table[:5])
     discard, error = 2, 3
@@ -325,7 +317,7 @@ def test_errors_are_reported_and_the_process_goes_on(fmu, tmp_path, contact_case
     np.testing.assert_array_equal(res["fresh_out"], ref[:5])   # start time 0.25 s changes nothing
 
 
-def test_libcosim_gives_the_same_outputs_as_fmpy(fmu, tmp_path, contact_case):
+def test_libcosim_gives_the_same_outputs_as_fmpy(fmu, tmp_path, contact_case, run):
     """A second importer: OSP's libcosim (C++, FMI Library) through libcosimpy. libcosim counts time
     in integer nanoseconds and passes doStep(t_k, t_(k+1) - t_k) with t_k = k 1e5 / 1e9 in double,
     steps that differ from 1e-4 s in the last bits; given the same steps, fmpy must give the same
@@ -341,7 +333,7 @@ def test_libcosim_gives_the_same_outputs_as_fmpy(fmu, tmp_path, contact_case):
     assert fm["out"][:, OUTPUTS.index("contact.active")].max() >= 1
 
 
-def test_numba_cache_outlives_the_unpacked_fmu(fmu, tmp_path):
+def test_numba_cache_outlives_the_unpacked_fmu(fmu, tmp_path, run):
     """Two fresh processes, two fresh unpack folders: the second loads every kernel from the
     per-user cache (no compilation), which lives outside the unpacked FMU, in the folder keyed by
     the kernels' sources."""
@@ -403,7 +395,7 @@ int main(int argc, char **argv) {   /* so guid resources_uri inputs.bin n h in_u
 """
 
 
-def test_non_python_host(fmu, tmp_path):
+def test_non_python_host(fmu, tmp_path, run):
     """The FMU driven from C, loaded as docs/fmu.md says (libpython preloaded, PYTHONHOME and
     PYTHONPATH set): the same outputs as through fmpy, bit for bit."""
     import os

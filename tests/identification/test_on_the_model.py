@@ -15,7 +15,7 @@ import pytest
 import cablecasing_core as cc
 from cablecasing_core.identification import loss_factor_circle, wavelet_damping
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 ALPHA, BETA, ETA = 2.0, 4.23e-5, 0.05
 
 
@@ -61,20 +61,18 @@ os._exit(0)   # a Python host of a pythonfmu FMU with numba can abort at exit (d
 
 
 @pytest.fixture(scope="module")
-def straight(tmp_path_factory):
+def straight_casing(tmp_path_factory):
     return straight_casing_toml(tmp_path_factory.mktemp("m") / "straight.toml")
 
 
-def test_wavelet_damping_of_fmu_impulse_response(straight, tmp_path):
-    fmu = ROOT / "dist" / "CableCasing.fmu"
-    if not fmu.exists():
-        subprocess.run([sys.executable, str(ROOT / "build_fmu.py")], check=True, cwd=ROOT)
+@pytest.mark.slow     # runs the FMU in a fresh process
+def test_wavelet_damping_of_fmu_impulse_response(straight_casing, tmp_path, fmu):
     out = tmp_path / "imp.npz"
-    subprocess.run([sys.executable, "-c", IMPULSE_DRIVER, str(fmu), straight.source, str(out)],
+    subprocess.run([sys.executable, "-c", IMPULSE_DRIVER, str(fmu), straight_casing.source, str(out)],
                    check=True, cwd=ROOT, timeout=900)
     r = np.load(out)
     keep = r["t"] > 0.015                               # the free decay after the pulse
-    f = bending_y(straight)
+    f = bending_y(straight_casing)
     res = wavelet_damping(r["F"][keep], 1e4, f)
     w = 2 * np.pi * f
     expected = ALPHA / (2 * w) + BETA * w / 2           # Eq. (41)
@@ -83,21 +81,21 @@ def test_wavelet_damping_of_fmu_impulse_response(straight, tmp_path):
     np.testing.assert_allclose(zeta, expected, rtol=0.03)
 
 
-def test_loss_factor_from_structural_trfam(straight):
-    f = bending_y(straight)
+def test_loss_factor_from_structural_trfam(straight_casing):
+    f = bending_y(straight_casing)
     freqs = np.arange(5.0, 1.3 * f[-1], 0.02)
-    H = cc.trfam(straight, "casing.A.y", "casing.B.y", freqs, "structural")
+    H = cc.trfam(straight_casing, "casing.A.y", "casing.B.y", freqs, "structural")
     res = loss_factor_circle(freqs, H, f_res_hz=f, kind="apparent_mass")
     eta = np.array([x.eta for x in res])
     np.testing.assert_allclose(eta, ETA, rtol=0.02)    # the issue's 2 % bound
 
 
-def test_eta_against_two_zeta_as_in_table_1(straight):
+def test_eta_against_two_zeta_as_in_table_1(straight_casing):
     """Viscous (Rayleigh) TRFAM: the circle fit's loss factor at each mode is close to 2 zeta
     (Henwood, eta ~ 2 zeta for eta < 0.4), the comparison of Table 1."""
-    f = bending_y(straight)
+    f = bending_y(straight_casing)
     freqs = np.arange(5.0, 1.3 * f[-1], 0.02)
-    H = cc.trfam(straight, "casing.A.y", "casing.B.y", freqs, "viscous")
+    H = cc.trfam(straight_casing, "casing.A.y", "casing.B.y", freqs, "viscous")
     eta = np.array([x.eta for x in loss_factor_circle(freqs, H, f_res_hz=f, kind="apparent_mass")])
     w = 2 * np.pi * f
     zeta = ALPHA / (2 * w) + BETA * w / 2

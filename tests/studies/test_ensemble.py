@@ -293,6 +293,7 @@ def test_a_seed_gives_the_same_record_at_every_time_step():
         assert np.abs(c - f).max() < 1e-12 * np.sqrt(np.mean(c ** 2))
 
 
+@pytest.mark.slow     # a dask cluster
 def test_members_on_dask_workers_equal_the_serial_ones():
     # workers run one BLAS thread; a record does not depend on that (the compliance comes from the
     # step loop's block solve), so the ensemble is the same in parallel as in this process

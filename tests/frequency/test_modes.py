@@ -6,14 +6,20 @@ from scipy.linalg import eigh
 from cablecasing_core import modes, natural_frequencies
 from cablecasing_core.structure.assembly import assemble_body
 
-from helpers import STEEL, arc_points, beam_model, dominant_family, section, straight
-
 L = 1.0
-D = 0.01
-A, I, J = section(D)
-E, RHO, NU = STEEL["E"], STEEL["rho"], STEEL["nu"]
+D = 0.01                                          # m, solid circular section
+A, I = np.pi * D**2 / 4, np.pi * D**4 / 64
+J = 2 * I
+E, RHO, NU = 2.1e11, 7850.0, 0.3                  # steel, the material of conftest's beam_model
 G = E / (2 * (1 + NU))
 F_BEND = np.sqrt(E * I / (RHO * A)) / (2 * np.pi * L**2)
+
+
+def dominant_family(shape):
+    """'axial', 'lateral' or 'torsion' for a mode of a straight beam along x (by DOF share)."""
+    u = shape.reshape(-1, 6)
+    share = {"axial": np.sum(u[:, 0] ** 2), "lateral": np.sum(u[:, 1:3] ** 2), "torsion": np.sum(u[:, 3] ** 2)}
+    return max(share, key=share.get)
 
 
 def family_frequencies(model, family):
@@ -26,7 +32,8 @@ def family_frequencies(model, family):
     (("clamped", "free"), [1.875104, 4.694091, 7.854757, 10.995541, 14.137168]),
     (("clamped", "clamped"), [4.730041, 7.853205, 10.995608, 14.137165, 17.278760]),
 ])
-def test_straight_bending_first_five_modes(supports, betaL):
+def test_straight_bending_first_five_modes(supports, betaL, straight):
+    assert straight().bodies["cable"].E == E and straight().bodies["cable"].rho == RHO
     f = family_frequencies(straight(L, 40, supports=supports), "lateral")
     # each bending frequency appears twice (two planes, equal I)
     np.testing.assert_allclose(f[0::2][:5], f[1::2][:5], rtol=1e-7)  # eigh accuracy ~ eps*lam_max/lam_1
@@ -36,7 +43,7 @@ def test_straight_bending_first_five_modes(supports, betaL):
     assert np.all(f[0::2][:5] >= exact * (1 - 1e-7)), "consistent-mass Hermite elements converge from above"
 
 
-def test_bending_converges_from_above():
+def test_bending_converges_from_above(straight):
     exact = 4.694091**2 * F_BEND
     errs = [family_frequencies(straight(L, n), "lateral")[2] / exact - 1 for n in (5, 10, 20)]
     assert all(e > 0 for e in errs)
@@ -50,7 +57,7 @@ def test_bending_converges_from_above():
     ("torsion", np.sqrt(G / RHO), ("clamped", "free")),
     ("torsion", np.sqrt(G / RHO), ("clamped", "clamped")),
 ])
-def test_rods(family, c, supports):
+def test_rods(family, c, supports, straight):
     n = np.arange(1, 4)
     exact = (2 * n - 1) * c / (4 * L) if supports[1] == "free" else n * c / (2 * L)
     errs = []
@@ -62,7 +69,7 @@ def test_rods(family, c, supports):
     np.testing.assert_allclose(errs[0] / errs[1], 4.0, rtol=0.05)  # second-order convergence
 
 
-def _ring_system(R, n):
+def _ring_system(R, n, arc_points, beam_model):
     """Free ring: a closed polyline with node n tied to node 0 (same DOFs)."""
     pts = arc_points(R, 2 * np.pi, n)
     model = beam_model(pts, n, d=D, supports=("free", "free"))
@@ -75,9 +82,9 @@ def _ring_system(R, n):
     return Tm.T @ K @ Tm, Tm.T @ M @ Tm
 
 
-def test_free_ring_in_and_out_of_plane():
+def test_free_ring_in_and_out_of_plane(arc_points, beam_model):
     R = 0.2
-    Kr, Mr = _ring_system(R, 120)
+    Kr, Mr = _ring_system(R, 120, arc_points, beam_model)
     lam, phi = eigh(Kr, Mr)
     f = np.sqrt(np.clip(lam, 0, None)) / (2 * np.pi)
     u = phi.reshape(-1, 6, phi.shape[1])
@@ -99,7 +106,7 @@ def test_free_ring_in_and_out_of_plane():
     np.testing.assert_allclose(f_out[0:6:2], exact_out, rtol=1e-2)
 
 
-def test_arc_out_of_plane_simply_supported():
+def test_arc_out_of_plane_simply_supported(arc_points, beam_model):
     """Arc with w = 0, twist = 0 and free bending rotation at both ends: ring formula with k = i pi / theta."""
     R, theta, n = 0.3, np.pi / 2, 80
     model = beam_model(arc_points(R, theta, n), n, d=D, supports=("free", "free"))
@@ -145,13 +152,13 @@ def _static_tip(model, force):
     return u[tip:tip + 3]
 
 
-def test_static_cantilever_tip_deflection():
+def test_static_cantilever_tip_deflection(straight):
     P = 10.0
     u = _static_tip(straight(L, 10), [0, P, 0])
     np.testing.assert_allclose(u[1], P * L**3 / (3 * E * I), rtol=1e-10)  # Hermite is exact for end loads
 
 
-def test_static_curved_cantilever_castigliano():
+def test_static_curved_cantilever_castigliano(arc_points, beam_model):
     """Quarter circle clamped at A, out-of-plane tip force P: delta = P R^3 [pi/(4EI) + (3pi/4 - 2)/(GJ)]."""
     R, P, n = 0.3, 5.0, 200
     u = _static_tip(beam_model(arc_points(R, np.pi / 2, n), n, d=D), [0, 0, P])
@@ -159,7 +166,7 @@ def test_static_curved_cantilever_castigliano():
     np.testing.assert_allclose(u[2], exact, rtol=1e-3)  # chord approximation error ~ (h/R)^2 = 6e-5
 
 
-def test_frequency_dependent_modulus_shifts_sqrt():
+def test_frequency_dependent_modulus_shifts_sqrt(straight):
     base = straight(L, 20, supports=("clamped", "clamped"))
     f0 = natural_frequencies(base, "cable", 6)
     table = [[0.0, E], [2000.0, 2 * E]]

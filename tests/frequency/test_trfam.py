@@ -5,11 +5,9 @@ from scipy.signal import find_peaks
 
 from cablecasing_core import load_model, natural_frequencies, trfam, trfam_matrix
 
-from helpers import STEEL, section, straight
-
-L, D = 1.0, 0.01
-A, I, _ = section(D)
-E, RHO = STEEL["E"], STEEL["rho"]
+L, D = 1.0, 0.01                                  # m, solid circular section
+A, I = np.pi * D**2 / 4, np.pi * D**4 / 64
+E, RHO = 2.1e11, 7850.0                           # steel, the material of conftest's beam_model
 ETA = 0.02
 
 
@@ -33,16 +31,17 @@ def exact_transfer(f_hz, eta=ETA):
     return np.array(out)
 
 
-def fe_transfer(n, f):
+def fe_transfer(straight, n, f):
     m = straight(L, n, supports=("clamped", "clamped"), loss_factor=ETA)
     return trfam(m, "cable.A.y", "cable.B.y", f, damping="structural")
 
 
-def test_trfam_matches_exact_beam_below_fifth_mode():
+def test_trfam_matches_exact_beam_below_fifth_mode(straight):
+    assert straight().bodies["cable"].E == E and straight().bodies["cable"].rho == RHO
     f5 = 17.278760**2 / (2 * np.pi * L**2) * np.sqrt(E * I / (RHO * A))
     f = np.linspace(2.0, f5 * 0.98, 1500)
     ex = exact_transfer(f)
-    fe = fe_transfer(35, f)
+    fe = fe_transfer(straight, 35, f)
     mag = np.abs(ex)
     mins, _ = find_peaks(-mag)
     keep = np.ones_like(f, dtype=bool)
@@ -52,15 +51,15 @@ def test_trfam_matches_exact_beam_below_fifth_mode():
     assert rel[keep].max() < 0.01  # the 1% bound at 35 elements
 
 
-def test_trfam_converges_under_refinement():
+def test_trfam_converges_under_refinement(straight):
     f = np.linspace(5.0, 1000.0, 400)
     ex = exact_transfer(f)
-    errs = [np.linalg.norm(fe_transfer(n, f) - ex) / np.linalg.norm(ex) for n in (10, 20, 40)]
+    errs = [np.linalg.norm(fe_transfer(straight, n, f) - ex) / np.linalg.norm(ex) for n in (10, 20, 40)]
     assert errs[0] > errs[1] > errs[2]
     assert errs[2] < 0.01
 
 
-def test_low_frequency_limit_is_static_stiffness():
+def test_low_frequency_limit_is_static_stiffness(straight):
     # quasi-static: F_B = -12 EI / L^3 per unit displacement, so TRFAM -> 12 EI/(L^3 w^2)
     f = np.array([0.01])
     fe = trfam(straight(L, 10, supports=("clamped", "clamped")), "cable.A.y", "cable.B.y", f, damping="none")
@@ -90,7 +89,7 @@ def test_peaks_at_natural_frequencies():
             assert np.min(np.abs(fn - f[p])) < 0.1  # light damping: peak within two lines of f_n
 
 
-def test_viscous_and_structural_give_same_peak_when_eta_is_2zeta():
+def test_viscous_and_structural_give_same_peak_when_eta_is_2zeta(straight):
     base = straight(L, 35, supports=("clamped", "clamped"))
     f1 = natural_frequencies(base, "cable", 1)[0]
     zeta = 0.01
@@ -102,7 +101,7 @@ def test_viscous_and_structural_give_same_peak_when_eta_is_2zeta():
     assert abs(hv / hs - 1) < 0.01
 
 
-def test_frequency_dependent_modulus_moves_resonance_as_sqrt_E():
+def test_frequency_dependent_modulus_moves_resonance_as_sqrt_E(straight):
     base = straight(L, 35, supports=("clamped", "clamped"), loss_factor=0.005)
     f1 = natural_frequencies(base, "cable", 1)[0]
     table = [[0.0, E], [100.0, 1.5 * E]]    # E(f) rises 50 % over 0..100 Hz, held above

@@ -45,6 +45,8 @@ import pytest
 import cablecasing_core as cc
 from cablecasing_core.studies import octave_rms
 
+pytestmark = pytest.mark.slow      # ensembles of 1 s records
+
 T = 0.2                       # s per run
 SEEDS = tuple(range(1, 9))    # seeds of the sweeps
 SEEDS_CONTACT = tuple(range(1, 17))

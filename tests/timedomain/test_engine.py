@@ -11,7 +11,6 @@ from cablecasing_core.timedomain.engine import Engine, hertz_constant, state_fro
 from cablecasing_core.structure.geometry import centerline_of
 from cablecasing_core.timedomain.scenario import scenario_motion, zero_motion
 
-from helpers import arc_points, casing_point, line_plane_intersection, search_casing, straight
 
 
 def harmonic(channel, amp, f_hz):
@@ -44,7 +43,7 @@ def test_harmonic_response_matches_trfam(d):
     assert abs(measured / expected - 1) < 0.01
 
 
-def test_newmark_period_elongation():
+def test_newmark_period_elongation(straight):
     m = straight(1.0, 10, supports=("clamped", "free"))
     f1, shapes = cc.modes(m, "cable", 1)
     w1 = 2 * np.pi * f1[0]
@@ -66,17 +65,6 @@ def test_newmark_period_elongation():
     assert abs(ratio / expected - 1) < 1e-4   # zero-crossing interpolation error over ~100 periods
 
 
-def _pair_model(friction=0.0, damping=0.0, alpha=0.0, beta=0.0, n=12):
-    m = cc.load_model()
-    d = m.data
-    pts = arc_points(0.3, np.pi / 3, 8).tolist()
-    over = {"geometry.points": pts, "geometry.n_elements": n, "contact.friction": friction,
-            "contact.damping": damping, "casing.alpha": alpha, "casing.beta": beta,
-            "cable.alpha": alpha, "cable.beta": beta}
-    del d  # (the model is immutable; overrides return a validated copy)
-    return m.with_overrides(over)
-
-
 def _kick(eng, v0):
     s = eng.get_state()
     nn = len(s["cable.V"]) // 6
@@ -85,8 +73,8 @@ def _kick(eng, v0):
     eng.set_state(s)
 
 
-def test_energy_conserved_without_dissipation():
-    m = _pair_model()
+def test_energy_conserved_without_dissipation(pair_model):
+    m = pair_model()
     dt = 5e-6
     eng = Engine(m, dt=dt, contact=True, ledger=True, record=True)
     _kick(eng, 0.3)
@@ -104,8 +92,8 @@ def test_energy_conserved_without_dissipation():
     assert np.max(np.abs(np.array(Es) / E0 - 1)) < 5e-3
 
 
-def test_ledger_closes_with_damping_and_friction():
-    m = _pair_model(friction=0.2, damping=50.0, alpha=20.0, beta=2e-5)
+def test_ledger_closes_with_damping_and_friction(pair_model):
+    m = pair_model(friction=0.2, damping=50.0, alpha=20.0, beta=2e-5)
     eng = Engine(m, dt=2e-5, contact=True, ledger=True, record=True)
     _kick(eng, 0.3)
     e0 = eng.energies()
@@ -135,13 +123,12 @@ def test_hertz_constant_is_eq_29():
 
 
 @pytest.mark.parametrize("shape", ["straight", "arc"])
-def test_contact_search_exact_intersection(shape):
+def test_contact_search_exact_intersection(shape, straight, arc_points, beam_model, probes):
     if shape == "straight":
         pts = np.array([[0, 0, 0], [0.4, 0, 0]], float)
         model = straight(0.4, 8, supports=("clamped", "clamped"))
     else:
         pts = arc_points(0.2, np.pi / 2, 8)
-        from helpers import beam_model
         model = beam_model(pts, 8)
     cl = centerline_of(model)
     rng = np.random.default_rng(3)
@@ -154,18 +141,18 @@ def test_contact_search_exact_intersection(shape):
         x1 = cl.nodes[e] + rng.random() * (cl.nodes[e + 1] - cl.nodes[e]) + 3e-4 * rng.standard_normal(3)
         t1 = cl.frames[e][0] + 0.05 * rng.standard_normal(3)
         t1 /= np.linalg.norm(t1)
-        ee, xi, far = search_casing(x1, t1, cl.nodes, cl.frames, cl.lengths, Us, e, 0.0)
+        ee, xi, far = probes.search_casing(x1, t1, cl.nodes, cl.frames, cl.lengths, Us, e, 0.0)
         # Eq. (39) with the plane through x1 spanned by two vectors normal to t1
         p1 = x1 + np.cross(t1, [0, 0, 1.0]) if abs(t1[2]) < 0.9 else x1 + np.cross(t1, [1.0, 0, 0])
         p2 = x1 + np.cross(t1, p1 - x1)
-        l, u, v = line_plane_intersection(cl.nodes[ee] + shift, cl.nodes[ee + 1] + shift, x1, p1, p2)
+        l, u, v = probes.line_plane_intersection(cl.nodes[ee] + shift, cl.nodes[ee + 1] + shift, x1, p1, p2)
         assert not far
         assert xi == pytest.approx(l, abs=1e-9)
-        point = casing_point(cl.nodes, cl.frames, cl.lengths, Us, ee, xi)
+        point = probes.casing_point(cl.nodes, cl.frames, cl.lengths, Us, ee, xi)
         assert abs((point - x1) @ t1) < 1e-12
 
 
-def test_far_test_never_claims_a_node_closer_than_the_hermite_axis_is():
+def test_far_test_never_claims_a_node_closer_than_the_hermite_axis_is(straight, probes):
     """The search's cheap exit (far: certainly nearer than far_below to the deformed axis) must bound
     the distance to the Hermite axis from above. The axis departs from the chord between the
     deformed nodes also when the ends' rotations differ from the chord's own turn psi (an element
@@ -183,11 +170,11 @@ def test_far_test_never_claims_a_node_closer_than_the_hermite_axis_is():
         x1 = cl.nodes[e] + rng.uniform(0.1, 0.9) * (cl.nodes[e + 1] - cl.nodes[e])
         x1 += 4e-5 * np.r_[0.0, rng.standard_normal(2)]
         t1 = cl.frames[e][0]
-        ee, xi, far = search_casing(x1, t1, cl.nodes, cl.frames, cl.lengths, Us, e, -1.0)
-        h = np.linalg.norm(x1 - casing_point(cl.nodes, cl.frames, cl.lengths, Us, ee, xi))
+        ee, xi, far = probes.search_casing(x1, t1, cl.nodes, cl.frames, cl.lengths, Us, e, -1.0)
+        h = np.linalg.norm(x1 - probes.casing_point(cl.nodes, cl.frames, cl.lengths, Us, ee, xi))
         # claimed nearer than h - 1e-9 m: the bound holds to first order in the rotations, whose
         # second-order terms here are ~L theta^2 ~ 1e-9 m
-        _, _, far = search_casing(x1, t1, cl.nodes, cl.frames, cl.lengths, Us, e, h - 1e-9)
+        _, _, far = probes.search_casing(x1, t1, cl.nodes, cl.frames, cl.lengths, Us, e, h - 1e-9)
         assert not far, (trial, h)
         # the same bound without psi (chord distance + L/4 (|theta_a| + |theta_b|)) fails on some
         a, b = cl.nodes[e] + Us[6 * e:6 * e + 3], cl.nodes[e + 1] + Us[6 * e + 6:6 * e + 9]
@@ -226,8 +213,8 @@ def test_hermite_matrix_is_the_rotated_local_interpolation_and_moves_rigidly():
         np.testing.assert_allclose(H @ q, np.r_[c + np.cross(w, X), w], rtol=0, atol=1e-15)
 
 
-def test_contact_forces_balance_force_and_moment():
-    m = _pair_model(friction=0.3)
+def test_contact_forces_balance_force_and_moment(pair_model):
+    m = pair_model(friction=0.3)
     eng = Engine(m, dt=2e-5, contact=True)
     _kick(eng, 0.3)
     for _ in range(200):
@@ -250,8 +237,8 @@ def test_contact_forces_balance_force_and_moment():
     assert np.linalg.norm(tot_M) < 1e-3 * scale
 
 
-def test_state_round_trip_is_bit_identical():
-    m = _pair_model(friction=0.2, damping=50.0)
+def test_state_round_trip_is_bit_identical(pair_model):
+    m = pair_model(friction=0.2, damping=50.0)
     e1 = Engine(m, dt=2e-5)
     _kick(e1, 0.3)
     e1.advance(0.01, zero_motion)
@@ -263,10 +250,10 @@ def test_state_round_trip_is_bit_identical():
     assert e1.outputs() == e2.outputs()
 
 
-def test_snapshot_restore_is_bit_identical_and_bad_states_change_nothing():
+def test_snapshot_restore_is_bit_identical_and_bad_states_change_nothing(pair_model):
     """The FMU's roll-back (snapshot/restore) continues exactly like the uninterrupted run; a
     state with a wrong shape is refused before anything is written; output_values is outputs()."""
-    m = _pair_model(friction=0.2, damping=50.0)
+    m = pair_model(friction=0.2, damping=50.0)
     e1 = Engine(m, dt=2e-5)
     _kick(e1, 0.3)
     e1.advance(0.01, zero_motion)
@@ -286,11 +273,11 @@ def test_snapshot_restore_is_bit_identical_and_bad_states_change_nothing():
     assert all(np.array_equal(before[k], after[k]) for k in before)
 
 
-def test_contact_time_counts_every_step():
+def test_contact_time_counts_every_step(pair_model):
     """The highest-contact-area histogram (Fig. 22) counts dt for every step a node ends in
     contact, whether the histories are recorded or not and however the run is cut into advances
     (the FMU advances one communication step at a time)."""
-    m = _pair_model(friction=0.2, damping=50.0)
+    m = pair_model(friction=0.2, damping=50.0)
     dt = 2e-5
     whole = Engine(m, dt=dt, record=True)
     _kick(whole, 0.3)
@@ -328,14 +315,14 @@ def test_bad_time_inputs():
     assert all(np.array_equal(before[k], after[k]) for k in before)
 
 
-def test_blow_up_says_when_where_what_and_changes_nothing():
+def test_blow_up_says_when_where_what_and_changes_nothing(pair_model):
     """A casing carried sideways (both supports, 0.5 m/s in z) past a cable clamped at rest, with a
     contact too soft to resist (linear law, 1 N/m): at the clamped ends both axes are prescribed,
     so the penetration there is exactly 0.5 t - gap, and it passes the cable radius at
     t = (gap + r) / 0.5 m/s = 4 ms, within the step that follows. A support acceleration of
     1e306 m/s2 (finite, so accepted) overflows the support forces. Either stops with an error
     that names the time, the place and the value, and leaves the engine as before the call."""
-    m = _pair_model().with_overrides({"contact.law": "linear", "contact.stiffness": 1.0})
+    m = pair_model().with_overrides({"contact.law": "linear", "contact.stiffness": 1.0})
     dt = 2e-5
 
     def carried(t):
@@ -373,11 +360,11 @@ def test_blow_up_says_when_where_what_and_changes_nothing():
         assert eng.time == pytest.approx(11 * dt)
 
 
-def test_advance_in_chunks_is_invariant_and_bad_late_input_changes_nothing():
+def test_advance_in_chunks_is_invariant_and_bad_late_input_changes_nothing(pair_model):
     """advance evaluates the motion in chunks of Engine.CHUNK steps: the result does not depend on
     the chunk size (the motion is a function of t), and a non-finite motion in a later chunk leaves
     state and recorded history as they were before the call (nothing half-written)."""
-    m = _pair_model(friction=0.2, damping=50.0)
+    m = pair_model(friction=0.2, damping=50.0)
     runs = []
     for chunk in (10**9, 64):
         eng = Engine(m, dt=2e-5, record=True)
@@ -450,6 +437,7 @@ def test_contact_episodes_are_the_runs_of_contact_per_node():
         cc.contact_episodes(np.zeros(5))
 
 
+@pytest.mark.slow     # steps down to 3e-7 s
 def test_rattle_after_lift_off_is_the_models_motion_and_converges():
     """With the contact damper on, cable node 8 of the reference record lets go of the wall at
     t = 0.0324 s + 64 µs and then leaves and touches again in ever shorter bounces (docs/time_domain.md,
@@ -504,6 +492,7 @@ np.save(sys.argv[1], cc.simulate(cc.load_model(), duration=0.15).support_forces)
 """
 
 
+@pytest.mark.slow     # runs in fresh processes
 def test_record_does_not_depend_on_the_blas_thread_count(tmp_path):
     # The contact response is chaotic: a rounding difference in the set-up grows to newtons within
     # 0.15 s (1.7 N when the compliance came from threaded LAPACK). A record must be the same in a

@@ -76,6 +76,7 @@ def test_serial_values_are_the_closed_form(tmp_path):
         assert res.Y[i].tolist() == [ref[o] for o in res.outputs]     # exact: repr round-trips floats
 
 
+@pytest.mark.slow     # a dask cluster
 def test_dask_two_workers_equals_serial(tmp_path):
     kw = dict(n_samples=24, seed=11, evaluate_kwargs={"fail_above": 0.18})
     serial = _run(tmp_path / "serial.csv", **kw)
@@ -85,6 +86,7 @@ def test_dask_two_workers_equals_serial(tmp_path):
     assert sorted(_indices_in_file(tmp_path / "dask.csv")) == list(range(24))
 
 
+@pytest.mark.slow     # a dask cluster
 def test_existing_cluster_by_address(tmp_path):
     from distributed import LocalCluster
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
