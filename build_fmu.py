@@ -14,6 +14,7 @@ rewrites the archive with what pythonfmu does not write:
 
 Usage: python build_fmu.py [--out dist/CableCasing.fmu]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -36,17 +37,32 @@ IGNORE = shutil.ignore_patterns("__pycache__", "*.pyc", "*.nbi", "*.nbc", ".*")
 
 # unit -> exponents of the SI base units (FMI 2.0 BaseUnit attributes)
 UNITS = {
-    "1": {}, "m": {"m": 1}, "m/s": {"m": 1, "s": -1}, "m/s2": {"m": 1, "s": -2}, "s": {"s": 1},
-    "1/s": {"s": -1}, "Hz": {"s": -1}, "rad": {"rad": 1}, "N": {"kg": 1, "m": 1, "s": -2},
-    "N.m": {"kg": 1, "m": 2, "s": -2}, "J": {"kg": 1, "m": 2, "s": -2}, "Pa": {"kg": 1, "m": -1, "s": -2},
-    "kg/m3": {"kg": 1, "m": -3}, "kg/s": {"kg": 1, "s": -1}, "N/m": {"kg": 1, "s": -2}, "m4": {"m": 4},
+    "1": {},
+    "m": {"m": 1},
+    "m/s": {"m": 1, "s": -1},
+    "m/s2": {"m": 1, "s": -2},
+    "s": {"s": 1},
+    "1/s": {"s": -1},
+    "Hz": {"s": -1},
+    "rad": {"rad": 1},
+    "N": {"kg": 1, "m": 1, "s": -2},
+    "N.m": {"kg": 1, "m": 2, "s": -2},
+    "J": {"kg": 1, "m": 2, "s": -2},
+    "Pa": {"kg": 1, "m": -1, "s": -2},
+    "kg/m3": {"kg": 1, "m": -3},
+    "kg/s": {"kg": 1, "s": -1},
+    "N/m": {"kg": 1, "s": -2},
+    "m4": {"m": 4},
 }
 
 
 def sources():
     """Every file the FMU is built from (for the staleness check of the tests, and the date)."""
-    files = [p for p in PACKAGE.rglob("*") if p.is_file() and p.suffix in (".py", ".toml", ".csv")
-             and "__pycache__" not in p.parts]
+    files = [
+        p
+        for p in PACKAGE.rglob("*")
+        if p.is_file() and p.suffix in (".py", ".toml", ".csv") and "__pycache__" not in p.parts
+    ]
     return sorted(files + [SLAVE, Path(__file__).resolve()])
 
 
@@ -120,8 +136,7 @@ def write_documentation(folder, rows):
     model = cc.load_model()
     plot_geometry(centerline_of(model), folder / "geometry.png")
     gap = model.radial_gap
-    table = "\n".join(
-        "<tr>" + "".join(f"<td>{html.escape(str(x))}</td>" for x in r) + "</tr>" for r in rows)
+    table = "\n".join("<tr>" + "".join(f"<td>{html.escape(str(x))}</td>" for x in r) + "</tr>" for r in rows)
     (folder / "index.html").write_text(f"""<!doctype html>
 <html lang="en"><head><meta charset="utf-8"><title>CableCasing FMU</title>
 <style>body{{font-family:sans-serif;max-width:60em;margin:auto}} td,th{{border:1px solid #999;padding:2px 6px}}
@@ -189,7 +204,9 @@ report fmi2Discard but not fmi2Error from a step.)</p>
 </body></html>
 """)
     ver = f"{sys.version_info.major}.{sys.version_info.minor}"
-    (folder / "externalDependencies.txt").write_text(f"""CableCasing.fmu runs Python code (generated with PythonFMU 0.7).
+    (
+        folder / "externalDependencies.txt"
+    ).write_text(f"""CableCasing.fmu runs Python code (generated with PythonFMU 0.7).
 
 The host needs:
 - CPython {ver} (64-bit) with its shared library (libpython{ver}.so on Linux, python3{sys.version_info.minor}.dll on Windows);
@@ -238,10 +255,17 @@ def build(out):
         shutil.copytree(PACKAGE, tmp / "cablecasing_core", ignore=IGNORE)
         doc = tmp / "documentation"
         write_documentation(doc, variable_rows(slave_module))
-        raw = FmuBuilder.build_FMU(SLAVE, dest=tmp / "raw", project_files=[tmp / "cablecasing_core"],
-                                   documentation_folder=doc, canGetAndSetFMUstate=True, canSerializeFMUstate=True,
-                                   canHandleVariableCommunicationStepSize=True,
-                                   canBeInstantiatedOnlyOncePerProcess=False, needsExecutionTool=True)
+        raw = FmuBuilder.build_FMU(
+            SLAVE,
+            dest=tmp / "raw",
+            project_files=[tmp / "cablecasing_core"],
+            documentation_folder=doc,
+            canGetAndSetFMUstate=True,
+            canSerializeFMUstate=True,
+            canHandleVariableCommunicationStepSize=True,
+            canBeInstantiatedOnlyOncePerProcess=False,
+            needsExecutionTool=True,
+        )
         units = slave_module.CableCasing(instance_name="units", resources=str(SLAVE.parent)).units
         with zipfile.ZipFile(raw) as src:
             entries = {i.filename: src.read(i.filename) for i in src.infolist() if not i.is_dir()}

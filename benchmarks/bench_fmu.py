@@ -19,6 +19,7 @@ spreads the fixed cost per call (fmpy, pythonfmu, the core's Python) over more s
 
 Run: .venv/bin/python benchmarks/bench_fmu.py [--duration 0.2] [--step 1e-4]
 """
+
 import argparse
 import subprocess
 import sys
@@ -55,11 +56,12 @@ def core_same_run(model, table, h):
 
     def step(k):
         row = table[k]
-        m = rec.motion(eng.time, h, row[:NCH], row[NCH:2 * NCH], row[2 * NCH:])
+        m = rec.motion(eng.time, h, row[:NCH], row[NCH : 2 * NCH], row[2 * NCH :])
         eng.advance(h, m)
         rec.accept(m)
         eng.output_values(ref[k])
-    step(0)                                              # numba load, factorisation
+
+    step(0)  # numba load, factorisation
     t0 = time.perf_counter()
     for k in range(1, n):
         step(k)
@@ -90,11 +92,11 @@ def main():
 
     model = cc.load_model()
     n = int(round(args.duration / H))
-    table = np.hstack(scenario_motion(model)(H * np.arange(n)))     # the master's samples at t = k h
+    table = np.hstack(scenario_motion(model)(H * np.arange(n)))  # the master's samples at t = k h
     fmu_s, first_s, same_s, one_s = [], [], [], []
     with tempfile.TemporaryDirectory() as tmp:
-        fmu_driver.run(tmp, "run", FMU, inputs=table[:2], h=H, outputs=["casing.B.Fz"])   # warm the cache
-        for _ in range(args.repeat):                     # alternate, so that load changes hit both
+        fmu_driver.run(tmp, "run", FMU, inputs=table[:2], h=H, outputs=["casing.B.Fz"])  # warm the cache
+        for _ in range(args.repeat):  # alternate, so that load changes hit both
             res = fmu_driver.run(tmp, "run", FMU, inputs=table, h=H, outputs=list(OUTPUTS))
             assert np.all(res["status"] == 0), res["log"]
             fmu_s.append(float(res["run_s"]))

@@ -2,6 +2,7 @@
 
 Run: .venv/bin/python benchmarks/bench_frequency.py   (prints name: value lines)
 """
+
 import time
 
 import numpy as np

@@ -54,6 +54,7 @@ cablecasing_core.errors.ModelError: casing.nu = 0.7: must be a number in [-0.999
 
 For a step-by-step engine (the FMU's), see :class:`~cablecasing_core.timedomain.engine.Engine`.
 """
+
 from __future__ import annotations
 
 from importlib import metadata as _metadata
@@ -66,9 +67,24 @@ from .timedomain.simulation import SimulationResult, contact_episodes, simulate
 
 try:
     __version__ = _metadata.version("cablecasing")
-except _metadata.PackageNotFoundError:     # a copy that is not installed (e.g. bundled in the FMU)
+except _metadata.PackageNotFoundError:  # a copy that is not installed (e.g. bundled in the FMU)
     __version__ = "0.0.0+unknown"
 
-__all__ = ["BodySpec", "CableCasingError", "Model", "ModelError", "SimulationError", "SimulationResult",
-           "__version__", "contact_episodes", "default_model", "load_model", "model_from_dict", "modes",
-           "natural_frequencies", "simulate", "trfam", "trfam_matrix"]
+__all__ = [
+    "BodySpec",
+    "CableCasingError",
+    "Model",
+    "ModelError",
+    "SimulationError",
+    "SimulationResult",
+    "__version__",
+    "contact_episodes",
+    "default_model",
+    "load_model",
+    "model_from_dict",
+    "modes",
+    "natural_frequencies",
+    "simulate",
+    "trfam",
+    "trfam_matrix",
+]

@@ -1,6 +1,7 @@
 """Figures (matplotlib, Agg backend): TRFAM, geometry, time histories, octave bands, scalograms.
 Units on every axis. The figures of the studies and of the identification are in their packages
 (``studies/plots.py``, ``identification/plots.py``), written with :func:`save_figure`."""
+
 from __future__ import annotations
 
 import matplotlib
@@ -74,8 +75,12 @@ def plot_octave_bands(bands, path, ylabel="RMS"):
     """Bar chart of octave-band RMS values (``studies.octave_rms`` result), Table 3."""
     fig, ax = plt.subplots(figsize=(7, 3.5))
     ax.bar(range(1, len(bands.rms) + 1), bands.rms)
-    ax.set_xticks(range(1, len(bands.rms) + 1), [f"{lo:g}-{hi:g}" for lo, hi in zip(bands.lower, bands.upper)],
-                  rotation=45, fontsize=7)
+    ax.set_xticks(
+        range(1, len(bands.rms) + 1),
+        [f"{lo:g}-{hi:g}" for lo, hi in zip(bands.lower, bands.upper)],
+        rotation=45,
+        fontsize=7,
+    )
     ax.set_xlabel("octave band (Hz)")
     ax.set_ylabel(ylabel)
     save_figure(fig, path)

@@ -7,6 +7,7 @@ trfam_<d>.csv, trfam_z.png, simulation.csv and simulation.png (the core run: for
 histogram beside the curvature, Fig. 22), octave_bands.csv/.png (Table 3), scalogram.png (Fig. 21)
 and report.html.
 """
+
 from __future__ import annotations
 
 import json
@@ -43,23 +44,34 @@ def write_report(out, duration=0.2, fmu_force=None, fmu_note="The FMU was not ru
             H = cc.trfam(model, f"casing.A.{d}", f"casing.B.{d}", f, damping)
             ax.semilogy(f, np.abs(H), style, label=damping)
             if damping == "viscous":
-                np.savetxt(out / f"trfam_{d}.csv", np.column_stack([f, H.real, H.imag, np.abs(H)]), delimiter=",",
-                           header="frequency_hz,re_kg,im_kg,magnitude_kg", comments="")
+                np.savetxt(
+                    out / f"trfam_{d}.csv",
+                    np.column_stack([f, H.real, H.imag, np.abs(H)]),
+                    delimiter=",",
+                    header="frequency_hz,re_kg,im_kg,magnitude_kg",
+                    comments="",
+                )
         ax.set_ylabel(f"|TRFAM| {d} (kg)")
         ax.legend()
     axes[-1].set_xlabel("frequency (Hz)")
     save_figure(fig, out / "trfam_xyz.png")
     plot_trfam(f, {"viscous": cc.trfam(model, "casing.A.z", "casing.B.z", f)}, out / "trfam_z.png")
 
-    res = cc.simulate(model, duration=duration)          # per-node contact data for Fig. 22
+    res = cc.simulate(model, duration=duration)  # per-node contact data for Fig. 22
     res.save(out / "simulation.csv")
     plot_time_result(res, out / "simulation.png")
     tF, F = fmu_force if fmu_force is not None else (res.time, res.support_force("casing.B.Fz"))
     fs = 1.0 / (tF[1] - tF[0])
     keep = tF > 0.05
     bands = octave_rms(F[keep], fs, beyond_nyquist="drop")
-    np.savetxt(out / "octave_bands.csv", np.column_stack([bands.lower, bands.upper, bands.rms]), delimiter=",",
-               header="f_low_hz,f_high_hz,rms_N", comments="", fmt="%.6g")
+    np.savetxt(
+        out / "octave_bands.csv",
+        np.column_stack([bands.lower, bands.upper, bands.rms]),
+        delimiter=",",
+        header="f_low_hz,f_high_hz,rms_N",
+        comments="",
+        fmt="%.6g",
+    )
     plot_octave_bands(bands, out / "octave_bands.png", "RMS casing.B.Fz (N)")
     fr = np.geomspace(20.0, 2000.0, 80)
     W = np.abs(cwt_morlet(F, fs, fr))

@@ -1,8 +1,9 @@
 """Write the key table of docs/model_file.md from the model schema (cablecasing_core.model.schema).
 
-    python docs/make_key_table.py            # rewrites the table between the markers
-    python docs/make_key_table.py --check    # exit status 1 if the committed table is not the generated one
+python docs/make_key_table.py            # rewrites the table between the markers
+python docs/make_key_table.py --check    # exit status 1 if the committed table is not the generated one
 """
+
 import sys
 from pathlib import Path
 
@@ -15,14 +16,14 @@ END = "<!-- end of the key table -->\n"
 
 def committed(text):
     """The key table of the document's text (between the markers)."""
-    return text[text.index(BEGIN) + len(BEGIN):text.index(END)]
+    return text[text.index(BEGIN) + len(BEGIN) : text.index(END)]
 
 
 def main(argv):
     text = DOC.read_text()
     if "--check" in argv:
         return 0 if committed(text) == markdown_table() else 1
-    DOC.write_text(text[:text.index(BEGIN) + len(BEGIN)] + markdown_table() + text[text.index(END):])
+    DOC.write_text(text[: text.index(BEGIN) + len(BEGIN)] + markdown_table() + text[text.index(END) :])
     return 0
 
 

@@ -6,6 +6,7 @@ write the report of the built-in specimen (``cablecasing_core.report``) under ``
 Writes fmu_outputs.csv (the default scenario through the FMU) besides the report's files (modes,
 TRFAM, the core run, octave bands, scalogram, report.html).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -37,11 +38,23 @@ def run_fmu(fmu_path, duration, out):
     for k, arr in enumerate((u, v, a)):
         for c in range(len(CHANNELS)):
             sig[names[k * len(CHANNELS) + c]] = arr[:, c]
-    r = simulate_fmu(str(fmu_path), stop_time=duration, step_size=h, output_interval=h, input=sig,
-                     output=list(SUPPORT_OUTPUTS) + ["contact.active"])
+    r = simulate_fmu(
+        str(fmu_path),
+        stop_time=duration,
+        step_size=h,
+        output_interval=h,
+        input=sig,
+        output=list(SUPPORT_OUTPUTS) + ["contact.active"],
+    )
     cols = list(r.dtype.names)
-    np.savetxt(Path(out) / "fmu_outputs.csv", np.column_stack([r[c] for c in cols]), delimiter=",",
-               header=",".join(cols), comments="", fmt="%.9g")
+    np.savetxt(
+        Path(out) / "fmu_outputs.csv",
+        np.column_stack([r[c] for c in cols]),
+        delimiter=",",
+        header=",".join(cols),
+        comments="",
+        fmt="%.9g",
+    )
     print(f"wrote {Path(out) / 'fmu_outputs.csv'} (default scenario through the FMU)")
     return r["time"], r["casing.B.Fz"]
 

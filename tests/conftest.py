@@ -5,6 +5,7 @@ runs with ``--import-mode=importlib``). Areas: model/, frequency/, timedomain/, 
 studies/, fmu/, cli/. Tests that take more than a few seconds on a warm numba cache, or start
 processes (the FMU, dask clusters, the demo), are marked ``slow``; ``make test-fast`` leaves them out.
 """
+
 import subprocess
 import sys
 from pathlib import Path
@@ -15,7 +16,7 @@ import pytest
 from cablecasing_core import model_from_dict
 
 ROOT = Path(__file__).resolve().parent.parent
-STEEL = dict(E=2.1e11, nu=0.3, rho=7850.0)          # Pa, -, kg/m3: the beams' material
+STEEL = dict(E=2.1e11, nu=0.3, rho=7850.0)  # Pa, -, kg/m3: the beams' material
 
 
 @pytest.fixture(scope="session")
@@ -23,20 +24,27 @@ def beam_model():
     """``beam_model(points, n_elements, d=0.01, supports=("clamped", "free"), curve="polyline",
     **material)``: a cable-only model (solid circular section of diameter d, m; steel unless
     ``material`` says otherwise: E Pa, nu, rho kg/m3, alpha, beta, loss_factor) along ``points`` (m)."""
+
     def build(points, n_elements, d=0.01, supports=("clamped", "free"), curve="polyline", **material):
         body = dict(STEEL, d=d, alpha=0.0, beta=0.0, loss_factor=0.0, supports={"A": supports[0], "B": supports[1]})
         body.update(material)
-        return model_from_dict({"geometry": {"points": [list(map(float, p)) for p in points],
-                                             "n_elements": n_elements, "curve": curve},
-                                "cable": body})
+        return model_from_dict(
+            {
+                "geometry": {"points": [list(map(float, p)) for p in points], "n_elements": n_elements, "curve": curve},
+                "cable": body,
+            }
+        )
+
     return build
 
 
 @pytest.fixture(scope="session")
 def straight(beam_model):
     """``straight(L=1.0, n=40, **kw)``: a straight beam_model along x, L in m, n elements."""
+
     def build(L=1.0, n=40, **kw):
         return beam_model([[0, 0, 0], [L, 0, 0]], n, **kw)
+
     return build
 
 
@@ -44,9 +52,11 @@ def straight(beam_model):
 def arc_points():
     """``arc_points(R, theta, n)``: n+1 points on a circular arc of radius R (m) and opening angle
     theta (rad) in the x-y plane."""
+
     def points(R, theta, n):
         a = np.linspace(0.0, theta, n + 1)
         return np.column_stack([R * np.sin(a), R * (1 - np.cos(a)), np.zeros_like(a)])
+
     return points
 
 

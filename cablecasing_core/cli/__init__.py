@@ -6,6 +6,7 @@ Sub-commands: ``modes``, ``trfam``, ``keys`` (the model file's keys, from the sc
 Every error in the input prints one line naming the key, the value and what is allowed, and
 exits with status 2.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -43,8 +44,7 @@ def cmd_trfam(args):
 
     model = _model(args.model)
     if not (args.fmin > 0 and args.fmax > args.fmin and args.df > 0):
-        raise ModelError("--fmin/--fmax/--df", (args.fmin, args.fmax, args.df),
-                         "need 0 < fmin < fmax and df > 0 (Hz)")
+        raise ModelError("--fmin/--fmax/--df", (args.fmin, args.fmax, args.df), "need 0 < fmin < fmax and df > 0 (Hz)")
     f = np.arange(args.fmin, args.fmax + 0.5 * args.df, args.df)
     H = trfam(model, args.input, args.output, f, damping=args.damping)
     table = np.column_stack([f, H.real, H.imag, np.abs(H), np.degrees(np.angle(H))])

@@ -1,4 +1,5 @@
 """``python -m cablecasing_core.cli``: the command line (as ``cablecasing``)."""
+
 import sys
 
 from . import main

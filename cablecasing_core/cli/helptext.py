@@ -1,6 +1,7 @@
 """Help texts of the command line that the model schema writes: an option that stands for a model
 key says what the key is, its unit and its default (a module of its own, imported by every command
 module)."""
+
 from __future__ import annotations
 
 from ..model.schema import lookup
@@ -14,5 +15,4 @@ def key_help(key, what=None):
     return f"{what or spec.description} ({unit}default: the model's {key})"
 
 
-ASSIGNMENT_HELP = ("KEY=VALUE: a dotted model key (see 'cablecasing keys') and a TOML value, e.g. "
-                   "contact.friction=0.2")
+ASSIGNMENT_HELP = "KEY=VALUE: a dotted model key (see 'cablecasing keys') and a TOML value, e.g. contact.friction=0.2"

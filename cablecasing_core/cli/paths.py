@@ -1,5 +1,6 @@
 """Output paths of the command line, checked before a long run (a module of its own: every command
 module imports it, and it imports nothing of theirs)."""
+
 from __future__ import annotations
 
 from pathlib import Path

@@ -1,4 +1,5 @@
 """``cablecasing simulate``: run a model's scenario in the time domain."""
+
 from __future__ import annotations
 
 from .helptext import key_help
@@ -17,18 +18,23 @@ def cmd_simulate(args):
     print(f"simulated {res.time[-1]:.6g} s in {len(res.time)} steps")
     for n, v in rms.items():
         print(f"  RMS {n}: {v:.6g} N")
-    print(f"  contact: {int((res.contact_state != 0).any(axis=0).sum())} cable nodes touched, "
-          f"max penetration {res.penetration.max():.3g} m")
+    print(
+        f"  contact: {int((res.contact_state != 0).any(axis=0).sum())} cable nodes touched, "
+        f"max penetration {res.penetration.max():.3g} m"
+    )
     e = res.energies
     print("  energy (J): " + ", ".join(f"{k} {v:.4g}" for k, v in e.items()))
     if res.contact_state.any():
-        print("  note: with contact the response is chaotic, so one record's band levels are one draw "
-              "(3-20 % scatter per octave);\n        for expected levels use 'cablecasing ensemble' (docs/studies.md)")
+        print(
+            "  note: with contact the response is chaotic, so one record's band levels are one draw "
+            "(3-20 % scatter per octave);\n        for expected levels use 'cablecasing ensemble' (docs/studies.md)"
+        )
     if args.out:
         res.save(args.out)
         print(f"wrote {args.out}")
     if args.plot:
         from ..plotting import plot_time_result
+
         path = args.plot if isinstance(args.plot, str) else "simulation.png"
         plot_time_result(res, path)
         print(f"wrote {path}")

@@ -1,4 +1,5 @@
 """``cablecasing study``, ``ensemble``, ``pool``, ``bands``, ``report`` (Section 4)."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -18,8 +19,15 @@ def cmd_study(args):
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     kwargs = {"model_file": args.model, "duration": args.duration, "skip": args.skip}
-    res = run_study(out / "study.csv", DEFAULT_EVALUATE, n_samples=args.samples, seed=args.seed,
-                    scheduler=args.scheduler, n_workers=args.workers, evaluate_kwargs=kwargs)
+    res = run_study(
+        out / "study.csv",
+        DEFAULT_EVALUATE,
+        n_samples=args.samples,
+        seed=args.seed,
+        scheduler=args.scheduler,
+        n_workers=args.workers,
+        evaluate_kwargs=kwargs,
+    )
     print(f"{int(np.sum(res.ok))} of {len(res.status)} samples ok; results in {out / 'study.csv'}")
     if np.sum(res.ok) >= 3:
         corr = correlations(res, "pearson")
@@ -40,7 +48,7 @@ def _assignment(flag, text):
         raise ModelError(flag, text, "must be KEY=VALUE with a dotted model key, e.g. contact.friction=0.2")
     try:
         return key.strip(), toml_value(value.strip())
-    except ValueError:                 # (TOMLDecodeError) a bare word
+    except ValueError:  # (TOMLDecodeError) a bare word
         return key.strip(), value.strip()
 
 
@@ -53,8 +61,17 @@ def cmd_ensemble(args):
     check_output_path("--out", args.out)
     check_output_path("--plot", args.plot)
     seeds = list(range(args.first_seed, args.first_seed + args.seeds))
-    common = dict(seeds=seeds, output=args.output, bands=args.kind, duration=args.duration, dt=args.dt,
-                  skip=args.skip, scheduler=args.scheduler, n_workers=args.workers, progress=True)
+    common = dict(
+        seeds=seeds,
+        output=args.output,
+        bands=args.kind,
+        duration=args.duration,
+        dt=args.dt,
+        skip=args.skip,
+        scheduler=args.scheduler,
+        n_workers=args.workers,
+        progress=True,
+    )
     base = dict(_assignment("--set", a) for a in args.set)
     against = dict(_assignment("--against", a) for a in args.against)
     ens = seed_ensemble(args.model, overrides=base, **common)
@@ -82,7 +99,7 @@ def cmd_pool(args):
     change = {}
     if args.against:
         other = pool_ensembles(args.against)
-        d = paired_difference(other, ens)      # refuses parts whose seeds do not pair
+        d = paired_difference(other, ens)  # refuses parts whose seeds do not pair
     _print_ensemble(ens, args.confidence)
     _save(ens, args.out, "")
     if other is not None:
@@ -105,8 +122,10 @@ def _check_confidence(confidence):
 def _print_ensemble(ens, confidence):
     unit = output_spec(ens.output)[0]
     seeds = f"{ens.seeds[0]}..{ens.seeds[-1]}" if np.all(np.diff(ens.seeds) == 1) else "(see the CSV)"
-    print(f"# {ens.output} band RMS ({unit}) over {ens.n} seeds {seeds}"
-          f"{' with ' + str(ens.overrides) if ens.overrides else ''}; CI {confidence:g} (Student t)")
+    print(
+        f"# {ens.output} band RMS ({unit}) over {ens.n} seeds {seeds}"
+        f"{' with ' + str(ens.overrides) if ens.overrides else ''}; CI {confidence:g} (Student t)"
+    )
     print("band,f_low_hz,f_high_hz,mean,se,ci_low,ci_high,cv")
     for row in ens.as_rows(confidence):
         print(",".join([row["band"]] + [f"{row[k]:.6g}" for k in list(row)[1:]]))
@@ -167,9 +186,13 @@ def add_parser(sub):
     p.add_argument("model", nargs="?", default=None, help="model TOML (default: built-in specimen)")
     p.add_argument("--samples", type=int, default=300)
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--scheduler", default=None, help="dask scheduler address tcp://host:8786, 'serial', or local (default)")
+    p.add_argument(
+        "--scheduler", default=None, help="dask scheduler address tcp://host:8786, 'serial', or local (default)"
+    )
     p.add_argument("--workers", type=int, default=None, help="local cluster workers (default: one per core)")
-    p.add_argument("--duration", type=float, default=None, help=key_help("scenario.duration", "simulated time per sample"))
+    p.add_argument(
+        "--duration", type=float, default=None, help=key_help("scenario.duration", "simulated time per sample")
+    )
     p.add_argument("--skip", type=float, default=0.05, help="start of each record left out, s")
     p.add_argument("--out", default="study")
     p.set_defaults(func=cmd_study)
@@ -183,23 +206,38 @@ def add_parser(sub):
     e.add_argument("--skip", type=float, default=0.05, help="start of each record left out, s")
     e.add_argument("--output", default="casing.B.Fz", help="support output, e.g. casing.B.Fz")
     e.add_argument("--kind", choices=["table3", "octave", "third"], default="table3")
-    e.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
-                   help="model change for every run; " + ASSIGNMENT_HELP)
-    e.add_argument("--against", action="append", default=[], metavar="KEY=VALUE",
-                   help="compare with a second ensemble on the same seeds with this change")
+    e.add_argument(
+        "--set", action="append", default=[], metavar="KEY=VALUE", help="model change for every run; " + ASSIGNMENT_HELP
+    )
+    e.add_argument(
+        "--against",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="compare with a second ensemble on the same seeds with this change",
+    )
     e.add_argument("--confidence", type=float, default=0.95, help="level of the confidence intervals")
-    e.add_argument("--scheduler", default="serial",
-                   help="'serial' (default), 'local' (dask, one worker per core) or tcp://host:8786")
+    e.add_argument(
+        "--scheduler",
+        default="serial",
+        help="'serial' (default), 'local' (dask, one worker per core) or tcp://host:8786",
+    )
     e.add_argument("--workers", type=int, default=None, help="local cluster workers (default: one per core)")
     e.add_argument("--out", default=None, help="CSV of the per-seed band levels")
-    e.add_argument("--plot", default=None, metavar="PNG",
-                   help="figure: means with confidence intervals (and the change)")
+    e.add_argument(
+        "--plot", default=None, metavar="PNG", help="figure: means with confidence intervals (and the change)"
+    )
     e.set_defaults(func=cmd_ensemble)
 
     q = sub.add_parser("pool", help="pool ensemble CSVs run in parts (ensemble --out) and print their statistics")
     q.add_argument("files", nargs="+", metavar="CSV", help="parts written by 'cablecasing ensemble --out'")
-    q.add_argument("--against", nargs="+", default=[], metavar="CSV",
-                   help="the parts' _against.csv files: print the paired change as 'ensemble --against' does")
+    q.add_argument(
+        "--against",
+        nargs="+",
+        default=[],
+        metavar="CSV",
+        help="the parts' _against.csv files: print the paired change as 'ensemble --against' does",
+    )
     q.add_argument("--confidence", type=float, default=0.95, help="level of the confidence intervals")
     q.add_argument("--out", default=None, help="CSV of the pooled members (and OUT_against.csv)")
     q.add_argument("--plot", default=None, metavar="PNG", help="figure as 'ensemble --plot'")
@@ -212,8 +250,11 @@ def add_parser(sub):
     b.add_argument("--skip", type=float, default=0.05, help="s left out at the start")
     b.set_defaults(func=cmd_bands)
 
-    r = sub.add_parser("report", help="run the built-in specimen and write results/ with report.html "
-                                       "(the core; examples/demo.py adds the FMU run)")
+    r = sub.add_parser(
+        "report",
+        help="run the built-in specimen and write results/ with report.html "
+        "(the core; examples/demo.py adds the FMU run)",
+    )
     r.add_argument("--out", default="results")
     r.add_argument("--duration", type=float, default=0.2)
     r.set_defaults(func=cmd_report)

@@ -4,6 +4,7 @@ The undamped eigenproblem K_ff phi = omega^2 M_ff phi on the free DOFs of Eq. (1
 with LAPACK (scipy.linalg.eigh; a body has a few hundred DOFs, where a dense solver is faster than
 a sparse iterative one and returns every mode). Modes are mass-normalised.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass

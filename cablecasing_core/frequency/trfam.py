@@ -18,6 +18,7 @@ frequency. TRFAM (Eq. 12) = f_p,out / (acceleration of the input DOF) = f_p / (-
 Sign convention: f_p is the force the support applies to the body (the reaction of Eq. 13), so a
 rigid mass m has a driving-point apparent mass of +m.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -57,8 +58,8 @@ class FrequencyResponse:
         Kff, Kfp, Kpf, Kpp = system.K_blocks
         Mff, Mfp, Mpf, Mpp = system.M_blocks
         phi = basis.phi
-        self.Kin, self.Min = phi.T @ Kfp, phi.T @ Mfp      # modal loads of unit support motion
-        self.Kout, self.Mout = Kpf @ phi, Mpf @ phi        # support forces of unit modal motion
+        self.Kin, self.Min = phi.T @ Kfp, phi.T @ Mfp  # modal loads of unit support motion
+        self.Kout, self.Mout = Kpf @ phi, Mpf @ phi  # support forces of unit modal motion
         self.Kpp, self.Mpp = Kpp, Mpp
 
     def support_forces(self, freqs_hz, damping="viscous", rows=None, cols=None):
@@ -81,9 +82,9 @@ class FrequencyResponse:
         Kin, Min = self.Kin[:, cols], self.Min[:, cols]
         Kout, Mout = self.Kout[rows], self.Mout[rows]
         k, m = kappa[:, None], mu[:, None]
-        inv_d = 1.0 / (k * self.lam[None, :] - m)                                  # (nf, nm)
-        load = k[:, :, None] * Kin[None] - m[:, :, None] * Min[None]               # (nf, nm, nj)
-        out = k[:, None, :] * Kout[None] - m[:, None, :] * Mout[None]              # (nf, nq, nm)
+        inv_d = 1.0 / (k * self.lam[None, :] - m)  # (nf, nm)
+        load = k[:, :, None] * Kin[None] - m[:, :, None] * Min[None]  # (nf, nm, nj)
+        out = k[:, None, :] * Kout[None] - m[:, None, :] * Mout[None]  # (nf, nq, nm)
         F = -np.einsum("fqm,fm,fmj->fqj", out, inv_d, load, optimize=True)
         F += kappa[:, None, None] * self.Kpp[rows][:, cols][None] - mu[:, None, None] * self.Mpp[rows][:, cols][None]
         return F
@@ -104,14 +105,18 @@ def trfam(model, input, output, freqs_hz, damping="viscous"):
     bi, si, di = parse_port("input", input, model)
     bo, so, do = parse_port("output", output, model)
     if bi != bo:
-        raise ModelError("output", output, f"must be on the input's body '{bi}' (the bodies are independent "
-                                           "in the frequency domain; contact belongs to the time domain)")
+        raise ModelError(
+            "output",
+            output,
+            f"must be on the input's body '{bi}' (the bodies are independent "
+            "in the frequency domain; contact belongs to the time domain)",
+        )
     system = assemble_body(model, bi)
     fr = FrequencyResponse(system)
     j = system.prescribed_index(si, di)
     q = system.prescribed_index(so, do)
     F = fr.support_forces(f, damping, rows=[q], cols=[j])[:, 0, 0]
-    return F / (-(2.0 * np.pi * f) ** 2)
+    return F / (-((2.0 * np.pi * f) ** 2))
 
 
 def trfam_matrix(model, body, input_support, output_support, freqs_hz, damping="viscous"):
@@ -124,4 +129,4 @@ def trfam_matrix(model, body, input_support, output_support, freqs_hz, damping="
     fr = FrequencyResponse(system)
     cols = [system.prescribed_index(input_support, d) for d in range(3)]
     rows = [system.prescribed_index(output_support, d) for d in range(3)]
-    return fr.support_forces(f, damping, rows=rows, cols=cols) / (-(2.0 * np.pi * f) ** 2)[:, None, None]
+    return fr.support_forces(f, damping, rows=rows, cols=cols) / (-((2.0 * np.pi * f) ** 2))[:, None, None]

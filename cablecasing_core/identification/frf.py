@@ -11,6 +11,7 @@ with ``G_xy = csd(x, y)`` (SciPy's convention ``E[conj(X) Y]``). The apparent ma
 validation (TRFAM, Eq. 12, in kg) is the FRF from the support acceleration (input, m/s^2) to the
 support force (output, N).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -79,8 +80,7 @@ def frf_estimate(x, y, fs, nperseg=None, window="hann", noverlap=None, detrend="
         H2 = Gyy / np.conj(Gxy)
         coh = np.abs(Gxy) ** 2 / (Gxx * Gyy)
     n_avg = 1 + (x.size - nperseg) // (nperseg - noverlap)
-    return FRFEstimate(f_hz=f, H1=H1, H2=H2, coherence=np.real(coh), Gxx=Gxx, Gyy=Gyy, Gxy=Gxy,
-                       n_averages=int(n_avg))
+    return FRFEstimate(f_hz=f, H1=H1, H2=H2, coherence=np.real(coh), Gxx=Gxx, Gyy=Gyy, Gxy=Gxy, n_averages=int(n_avg))
 
 
 def apparent_mass(acceleration, force, fs, estimator="H1", **kw):

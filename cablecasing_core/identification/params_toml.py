@@ -5,6 +5,7 @@ Keys of a ``[casing]`` or ``[cable]`` section (the model schema, ``model/schema.
 table ``[[f_Hz, eta], ...]``; ``E`` (Pa), a number or a table ``[[f_Hz, E_Pa], ...]`` (Section 3.1).
 Tables are sorted by strictly increasing frequency, as the model file requires.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -13,7 +14,6 @@ from ..errors import ModelError
 from ..model.schema import BODY_NAMES as BODIES
 from ..model.schema import lookup
 from ..model.validators import Choice
-
 
 
 def _num(x):
@@ -54,15 +54,16 @@ def parameters_toml(body=None, alpha=None, beta=None, loss_factor=None, E=None, 
     if body is not None:
         Choice(*BODIES)("body", body)
         lines.append(f"[{body}]")
-    rules = body or BODIES[0]          # (both bodies take the same values)
+    rules = body or BODIES[0]  # (both bodies take the same values)
     for key, v in (("alpha", alpha), ("beta", beta)):
         if v is None:
             continue
         try:
             lines.append(f"{key} = {_checked(rules, key, v)}")
         except ModelError:
-            raise ModelError(key, v, "the model file needs a Rayleigh factor >= 0; refit with nonnegative=True") \
-                from None
+            raise ModelError(
+                key, v, "the model file needs a Rayleigh factor >= 0; refit with nonnegative=True"
+            ) from None
     if loss_factor is not None:
         lf = loss_factor
         if isinstance(lf, (list, tuple)) and lf and hasattr(lf[0], "eta"):

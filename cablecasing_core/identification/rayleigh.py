@@ -10,6 +10,7 @@ scale, so the normal equations square an already large condition number. Columns
 unit norm before solving for the same reason. With ``nonnegative=True`` the model file's
 constraint ``alpha, beta >= 0`` is imposed by ``scipy.optimize.nnls`` (Lawson-Hanson).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -37,7 +38,7 @@ class RayleighFit:
 
     @property
     def rms_residual(self):
-        return float(np.sqrt(np.mean(self.residuals ** 2)))
+        return float(np.sqrt(np.mean(self.residuals**2)))
 
 
 def rayleigh_zeta(freqs_hz, alpha, beta):
@@ -94,5 +95,4 @@ def rayleigh_fit(freqs_hz, zetas, weights=None, nonnegative=False):
         c = np.linalg.lstsq(As, b, rcond=None)[0]
     alpha, beta = c / scale
     zfit = rayleigh_zeta(f, alpha, beta)
-    return RayleighFit(alpha=float(alpha), beta=float(beta), freqs_hz=f, zeta=z, zeta_fit=zfit,
-                       residuals=z - zfit)
+    return RayleighFit(alpha=float(alpha), beta=float(beta), freqs_hz=f, zeta=z, zeta_fit=zfit, residuals=z - zfit)

@@ -7,6 +7,7 @@ validation built from it, the validated :class:`Model`, and the built-in specime
 * :mod:`.model` - :class:`Model`, :class:`BodySpec`;
 * :mod:`.load` - TOML files and the built-in specimens (``specimens/default.toml``).
 """
+
 from .load import default_model, load_model, model_from_dict
 from .model import BodySpec, Model
 

@@ -6,6 +6,7 @@ be left out, at least one must be present), ``[contact]`` and ``[scenario]``; do
 lists every key. Every mistake raises :class:`~cablecasing_core.errors.ModelError` naming the dotted
 key, the value and what is allowed; nothing is half-built.
 """
+
 from __future__ import annotations
 
 from importlib import resources
@@ -19,6 +20,7 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
 from ..errors import ModelError
 from .model import Model
 from .validate import validate
+
 
 def model_from_dict(data: dict, source: str = "<dict>", base_dir: str | None = None) -> Model:
     """Validate a raw nested dictionary (as read from TOML) and return a :class:`Model`; ``base_dir``

@@ -1,5 +1,6 @@
 """The validated model: :class:`Model` (the checked tables and typed views) and :class:`BodySpec`
 (one body's material, section and supports). SI units throughout."""
+
 from __future__ import annotations
 
 import copy
@@ -76,11 +77,18 @@ class Model:
             if n in self.data:
                 b = self.data[n]
                 bodies[n] = BodySpec(
-                    name=n, E=b["E"], nu=b["nu"], rho=b["rho"], alpha=b["alpha"], beta=b["beta"],
-                    loss_factor=b["loss_factor"], supports=dict(b["supports"]),
+                    name=n,
+                    E=b["E"],
+                    nu=b["nu"],
+                    rho=b["rho"],
+                    alpha=b["alpha"],
+                    beta=b["beta"],
+                    loss_factor=b["loss_factor"],
+                    supports=dict(b["supports"]),
                     d_outer=b["d_outer"] if n == "casing" else b["d"],
                     d_inner=b["d_inner"] if n == "casing" else 0.0,
-                    I_override=b.get("I"))
+                    I_override=b.get("I"),
+                )
         object.__setattr__(self, "bodies", bodies)
 
     @property
@@ -114,6 +122,7 @@ class Model:
                     walk(key, v)
                 elif isinstance(v, (int, float)) and not isinstance(v, bool):
                     out[key] = v
+
         walk("", self.data)
         return out
 
@@ -143,7 +152,6 @@ class Model:
     def to_toml(self):
         """The model as TOML text (round-trips through :func:`load_model`)."""
         return _to_toml(self.data)
-
 
 
 def _to_toml(data):

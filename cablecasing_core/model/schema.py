@@ -17,6 +17,7 @@ Keys under named tables are written with ``<name>`` (``scenario.excitation.<name
 :func:`lookup` accepts them under any name. Units are FMI-style strings ("1": dimensionless,
 "m/s2", "N.m", "kg/m3", ...; "" for text and booleans).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
@@ -50,8 +51,8 @@ class _Marker:
         return self.name
 
 
-REQUIRED = _Marker("REQUIRED")    #: the key must be given
-OPTIONAL = _Marker("OPTIONAL")    #: the key may be left out; there is no default
+REQUIRED = _Marker("REQUIRED")  #: the key must be given
+OPTIONAL = _Marker("OPTIONAL")  #: the key may be left out; there is no default
 
 
 @dataclass(frozen=True)
@@ -98,93 +99,291 @@ class KeySpec:
 def _body(body):
     the = f"the {body}"
     keys = [
-        KeySpec(f"{body}.E", "float or table", REQUIRED, "Pa",
-                f"Young's (dynamic) modulus of {the}; a table makes it frequency-dependent (Section 3.1)",
-                NumberOrTable(Number(gt=0, unit="Pa"))),
-        KeySpec(f"{body}.nu", "float", 0.3, "1", f"Poisson ratio of {the} (G = E / (2 (1 + nu)))",
-                Number(ge=-0.999, le=0.4999)),
-        KeySpec(f"{body}.rho", "float", REQUIRED, "kg/m3", f"density of {the}, averaged over its cross-section",
-                Number(gt=0, unit="kg/m3")),
-        KeySpec(f"{body}.alpha", "float", 0.0, "1/s",
-                f"Rayleigh mass-proportional damping of {the}, C = alpha M + beta K (Eq. 40)", Number(ge=0, unit="1/s")),
-        KeySpec(f"{body}.beta", "float", 0.0, "s",
-                f"Rayleigh stiffness-proportional damping of {the}, C = alpha M + beta K (Eq. 40)", Number(ge=0, unit="s")),
-        KeySpec(f"{body}.loss_factor", "float or table", 0.0, "1",
-                f"structural loss factor of {the} (Eq. 11; frequency domain only, the time domain uses alpha, beta)",
-                NumberOrTable(Number(ge=0))),
+        KeySpec(
+            f"{body}.E",
+            "float or table",
+            REQUIRED,
+            "Pa",
+            f"Young's (dynamic) modulus of {the}; a table makes it frequency-dependent (Section 3.1)",
+            NumberOrTable(Number(gt=0, unit="Pa")),
+        ),
+        KeySpec(
+            f"{body}.nu",
+            "float",
+            0.3,
+            "1",
+            f"Poisson ratio of {the} (G = E / (2 (1 + nu)))",
+            Number(ge=-0.999, le=0.4999),
+        ),
+        KeySpec(
+            f"{body}.rho",
+            "float",
+            REQUIRED,
+            "kg/m3",
+            f"density of {the}, averaged over its cross-section",
+            Number(gt=0, unit="kg/m3"),
+        ),
+        KeySpec(
+            f"{body}.alpha",
+            "float",
+            0.0,
+            "1/s",
+            f"Rayleigh mass-proportional damping of {the}, C = alpha M + beta K (Eq. 40)",
+            Number(ge=0, unit="1/s"),
+        ),
+        KeySpec(
+            f"{body}.beta",
+            "float",
+            0.0,
+            "s",
+            f"Rayleigh stiffness-proportional damping of {the}, C = alpha M + beta K (Eq. 40)",
+            Number(ge=0, unit="s"),
+        ),
+        KeySpec(
+            f"{body}.loss_factor",
+            "float or table",
+            0.0,
+            "1",
+            f"structural loss factor of {the} (Eq. 11; frequency domain only, the time domain uses alpha, beta)",
+            NumberOrTable(Number(ge=0)),
+        ),
     ]
     if body == "casing":
-        keys += [KeySpec("casing.d_outer", "float", REQUIRED, "m", "outer diameter of the casing (d_2 of Table 2)",
-                         Number(gt=0, unit="m")),
-                 KeySpec("casing.d_inner", "float", REQUIRED, "m",
-                         "inner diameter of the casing, in which the cable runs (d_5 of Table 2)", Number(gt=0, unit="m"),
-                         note="below casing.d_outer and above cable.d")]
+        keys += [
+            KeySpec(
+                "casing.d_outer",
+                "float",
+                REQUIRED,
+                "m",
+                "outer diameter of the casing (d_2 of Table 2)",
+                Number(gt=0, unit="m"),
+            ),
+            KeySpec(
+                "casing.d_inner",
+                "float",
+                REQUIRED,
+                "m",
+                "inner diameter of the casing, in which the cable runs (d_5 of Table 2)",
+                Number(gt=0, unit="m"),
+                note="below casing.d_outer and above cable.d",
+            ),
+        ]
     else:
         keys += [KeySpec("cable.d", "float", REQUIRED, "m", "diameter of the cable (D_z0)", Number(gt=0, unit="m"))]
-    keys.append(KeySpec(f"{body}.I", "float", OPTIONAL, "m4",
-                        f"effective second moment of area of {the}'s section, instead of the one of its diameters "
-                        "(I_op of Table 2)", Number(gt=0, unit="m4")))
-    keys += [KeySpec(f"{body}.supports.{s}", "str", "clamped", "",
-                     f"support {s} of {the}: clamped (its translations follow the support motion, rotations held) "
-                     "or free", Choice(*SUPPORT_TYPES)) for s in SUPPORT_NAMES]
+    keys.append(
+        KeySpec(
+            f"{body}.I",
+            "float",
+            OPTIONAL,
+            "m4",
+            f"effective second moment of area of {the}'s section, instead of the one of its diameters "
+            "(I_op of Table 2)",
+            Number(gt=0, unit="m4"),
+        )
+    )
+    keys += [
+        KeySpec(
+            f"{body}.supports.{s}",
+            "str",
+            "clamped",
+            "",
+            f"support {s} of {the}: clamped (its translations follow the support motion, rotations held) or free",
+            Choice(*SUPPORT_TYPES),
+        )
+        for s in SUPPORT_NAMES
+    ]
     return keys
 
 
 _EXC = "scenario.excitation.<name>"
 _KEYS = [
-    KeySpec("geometry.curve", "str", "spline", "",
-            "the centerline through the points: a cubic spline by arc length, or the polyline (Eqs. 32-35)",
-            Choice("spline", "polyline")),
-    KeySpec("geometry.n_elements", "int", 35, "1", "number of beam elements of each body along the centerline",
-            Number(ge=1, integer=True)),
+    KeySpec(
+        "geometry.curve",
+        "str",
+        "spline",
+        "",
+        "the centerline through the points: a cubic spline by arc length, or the polyline (Eqs. 32-35)",
+        Choice("spline", "polyline"),
+    ),
+    KeySpec(
+        "geometry.n_elements",
+        "int",
+        35,
+        "1",
+        "number of beam elements of each body along the centerline",
+        Number(ge=1, integer=True),
+    ),
     KeySpec("geometry.points", "points", REQUIRED, "m", "points on the centerline at rest, end A first", Points()),
     *_body("casing"),
     *_body("cable"),
-    KeySpec("contact.enabled", "bool", True, "",
-            "contact between cable and casing (false: two independent linear bodies)", Boolean()),
-    KeySpec("contact.law", "str", "hertz", "",
-            "normal contact law: Hertz (Eq. 29, from both bodies' moduli and radii) or linear (Eq. 24)",
-            Choice(*CONTACT_LAWS)),
-    KeySpec("contact.stiffness", "float", 1.0e6, "N/m", "penalty stiffness of the linear contact law (Eq. 24)",
-            Number(gt=0, unit="N/m")),
-    KeySpec("contact.damping", "float", 100.0, "kg/s", "contact damping, acting while the penetration grows (Eq. 16)",
-            Number(ge=0, unit="kg/s")),
-    KeySpec("contact.friction", "float", 0.15, "1", "Coulomb friction coefficient between cable and casing (eta)",
-            Number(ge=0)),
-    KeySpec("contact.stick_velocity", "float", 1.0e-4, "m/s",
-            "tangential relative speed below which a contact sticks (Section 2.1)", Number(ge=0, unit="m/s")),
-    KeySpec("scenario.duration", "float", 1.0, "s", "duration of the scenario's run",
-            Number(gt=0, unit="s"), note="at least scenario.dt"),
+    KeySpec(
+        "contact.enabled",
+        "bool",
+        True,
+        "",
+        "contact between cable and casing (false: two independent linear bodies)",
+        Boolean(),
+    ),
+    KeySpec(
+        "contact.law",
+        "str",
+        "hertz",
+        "",
+        "normal contact law: Hertz (Eq. 29, from both bodies' moduli and radii) or linear (Eq. 24)",
+        Choice(*CONTACT_LAWS),
+    ),
+    KeySpec(
+        "contact.stiffness",
+        "float",
+        1.0e6,
+        "N/m",
+        "penalty stiffness of the linear contact law (Eq. 24)",
+        Number(gt=0, unit="N/m"),
+    ),
+    KeySpec(
+        "contact.damping",
+        "float",
+        100.0,
+        "kg/s",
+        "contact damping, acting while the penetration grows (Eq. 16)",
+        Number(ge=0, unit="kg/s"),
+    ),
+    KeySpec(
+        "contact.friction",
+        "float",
+        0.15,
+        "1",
+        "Coulomb friction coefficient between cable and casing (eta)",
+        Number(ge=0),
+    ),
+    KeySpec(
+        "contact.stick_velocity",
+        "float",
+        1.0e-4,
+        "m/s",
+        "tangential relative speed below which a contact sticks (Section 2.1)",
+        Number(ge=0, unit="m/s"),
+    ),
+    KeySpec(
+        "scenario.duration",
+        "float",
+        1.0,
+        "s",
+        "duration of the scenario's run",
+        Number(gt=0, unit="s"),
+        note="at least scenario.dt",
+    ),
     KeySpec("scenario.dt", "float", 1.0e-5, "s", "time step of the Newmark integration", Number(gt=0, unit="s")),
-    KeySpec("scenario.seed", "int", 0, "1", "seed of the random excitations that give none of their own",
-            Number(ge=0, integer=True)),
-    KeySpec("scenario.ramp", "float", 0.01, "s", "half-cosine fade-in of the support motion (0: none)",
-            Number(ge=0, unit="s")),
-    KeySpec(f"{_EXC}.target", "str", REQUIRED, "",
-            "the driven support channel; axial acts along the body's tangent at that end, from A to B",
-            Target(BODY_NAMES, SUPPORT_NAMES, DIRECTIONS + ("axial",)), note="a clamped support of a body of the model"),
-    KeySpec(f"{_EXC}.kind", "str", REQUIRED, "", "the signal: band-limited random, harmonic, impulse or a CSV table",
-            Choice(*EXCITATION_KINDS)),
-    KeySpec(f"{_EXC}.rms", "float", 5.0, "m/s2", "RMS acceleration of the random excitation", Number(ge=0, unit="m/s2"),
-            kinds=("random",)),
-    KeySpec(f"{_EXC}.band", "band", [10.0, 1000.0], "Hz", "frequency band of the random excitation (flat spectrum)",
-            Band(), note="f_high below the Nyquist frequency 1 / (2 scenario.dt)", kinds=("random",)),
-    KeySpec(f"{_EXC}.seed", "int", OPTIONAL, "1", "seed of the random excitation's phases",
-            Number(ge=0, integer=True), kinds=("random",), default_from="scenario.seed"),
-    KeySpec(f"{_EXC}.frequency", "float", REQUIRED, "Hz", "frequency of the harmonic excitation",
-            Number(gt=0, unit="Hz"), kinds=("harmonic",)),
-    KeySpec(f"{_EXC}.amplitude", "float", REQUIRED, "m",
-            "displacement amplitude of the harmonic excitation, or height of the impulse's bump", Number(unit="m"),
-            kinds=("harmonic", "impulse")),
-    KeySpec(f"{_EXC}.phase", "float", 0.0, "rad", "phase of the harmonic excitation, u = amplitude sin(2 pi f t + phase)",
-            Number(unit="rad"), kinds=("harmonic",)),
-    KeySpec(f"{_EXC}.width", "float", 1.0e-3, "s", "duration of the impulse's Hann-shaped displacement bump",
-            Number(gt=0, unit="s"), kinds=("impulse",)),
-    KeySpec(f"{_EXC}.start", "float", 0.0, "s", "start time of the impulse", Number(ge=0, unit="s"),
-            kinds=("impulse",)),
-    KeySpec(f"{_EXC}.file", "str", REQUIRED, "",
-            "CSV table of the displacement; a relative path is read from the model file's folder",
-            Text("the path of a CSV file with columns time_s, displacement_m"), kinds=("csv",)),
+    KeySpec(
+        "scenario.seed",
+        "int",
+        0,
+        "1",
+        "seed of the random excitations that give none of their own",
+        Number(ge=0, integer=True),
+    ),
+    KeySpec(
+        "scenario.ramp",
+        "float",
+        0.01,
+        "s",
+        "half-cosine fade-in of the support motion (0: none)",
+        Number(ge=0, unit="s"),
+    ),
+    KeySpec(
+        f"{_EXC}.target",
+        "str",
+        REQUIRED,
+        "",
+        "the driven support channel; axial acts along the body's tangent at that end, from A to B",
+        Target(BODY_NAMES, SUPPORT_NAMES, DIRECTIONS + ("axial",)),
+        note="a clamped support of a body of the model",
+    ),
+    KeySpec(
+        f"{_EXC}.kind",
+        "str",
+        REQUIRED,
+        "",
+        "the signal: band-limited random, harmonic, impulse or a CSV table",
+        Choice(*EXCITATION_KINDS),
+    ),
+    KeySpec(
+        f"{_EXC}.rms",
+        "float",
+        5.0,
+        "m/s2",
+        "RMS acceleration of the random excitation",
+        Number(ge=0, unit="m/s2"),
+        kinds=("random",),
+    ),
+    KeySpec(
+        f"{_EXC}.band",
+        "band",
+        [10.0, 1000.0],
+        "Hz",
+        "frequency band of the random excitation (flat spectrum)",
+        Band(),
+        note="f_high below the Nyquist frequency 1 / (2 scenario.dt)",
+        kinds=("random",),
+    ),
+    KeySpec(
+        f"{_EXC}.seed",
+        "int",
+        OPTIONAL,
+        "1",
+        "seed of the random excitation's phases",
+        Number(ge=0, integer=True),
+        kinds=("random",),
+        default_from="scenario.seed",
+    ),
+    KeySpec(
+        f"{_EXC}.frequency",
+        "float",
+        REQUIRED,
+        "Hz",
+        "frequency of the harmonic excitation",
+        Number(gt=0, unit="Hz"),
+        kinds=("harmonic",),
+    ),
+    KeySpec(
+        f"{_EXC}.amplitude",
+        "float",
+        REQUIRED,
+        "m",
+        "displacement amplitude of the harmonic excitation, or height of the impulse's bump",
+        Number(unit="m"),
+        kinds=("harmonic", "impulse"),
+    ),
+    KeySpec(
+        f"{_EXC}.phase",
+        "float",
+        0.0,
+        "rad",
+        "phase of the harmonic excitation, u = amplitude sin(2 pi f t + phase)",
+        Number(unit="rad"),
+        kinds=("harmonic",),
+    ),
+    KeySpec(
+        f"{_EXC}.width",
+        "float",
+        1.0e-3,
+        "s",
+        "duration of the impulse's Hann-shaped displacement bump",
+        Number(gt=0, unit="s"),
+        kinds=("impulse",),
+    ),
+    KeySpec(
+        f"{_EXC}.start", "float", 0.0, "s", "start time of the impulse", Number(ge=0, unit="s"), kinds=("impulse",)
+    ),
+    KeySpec(
+        f"{_EXC}.file",
+        "str",
+        REQUIRED,
+        "",
+        "CSV table of the displacement; a relative path is read from the model file's folder",
+        Text("the path of a CSV file with columns time_s, displacement_m"),
+        kinds=("csv",),
+    ),
 ]
 
 #: Every key of the model file, in the order of the validated model's tables.
@@ -228,6 +427,7 @@ def output_spec(name: str) -> tuple:
 
 def markdown_table() -> str:
     """The key table of docs/model_file.md (Markdown), generated from the schema."""
+
     def default(spec):
         if spec.default_from:
             return f"`{spec.default_from}`"
@@ -242,7 +442,9 @@ def markdown_table() -> str:
     lines = ["| key | type | default | unit | allowed | description |", "|---|---|---|---|---|---|"]
     for spec in _KEYS:
         kinds = f" (kind {' or '.join(spec.kinds)})" if spec.kinds else ""
-        allowed = spec.allowed.replace("|", "\\|")          # a | inside a Markdown table cell
-        lines.append(f"| `{spec.key}` | {spec.type} | {default(spec)} | {spec.unit or '-'} | "
-                     f"{allowed} | {spec.description}{kinds} |")
+        allowed = spec.allowed.replace("|", "\\|")  # a | inside a Markdown table cell
+        lines.append(
+            f"| `{spec.key}` | {spec.type} | {default(spec)} | {spec.unit or '-'} | "
+            f"{allowed} | {spec.description}{kinds} |"
+        )
     return "\n".join(lines) + "\n"

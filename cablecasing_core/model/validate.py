@@ -7,6 +7,7 @@ duration at least one step, a random band below the Nyquist frequency, a target 
 support of a body that exists. Every mistake raises :class:`~cablecasing_core.errors.ModelError`
 naming the dotted key, the value and what is allowed; nothing is half-built.
 """
+
 from __future__ import annotations
 
 import copy
@@ -73,8 +74,11 @@ def _excitation(key, e, scenario, bodies, base_dir):
     if kind == "random":
         nyquist = 0.5 / scenario["dt"]
         if out["band"][1] >= nyquist:
-            raise ModelError(f"{key}.band", e.get("band", out["band"]),
-                             f"upper frequency must be below the Nyquist frequency {nyquist:.6g} Hz")
+            raise ModelError(
+                f"{key}.band",
+                e.get("band", out["band"]),
+                f"upper frequency must be below the Nyquist frequency {nyquist:.6g} Hz",
+            )
     elif kind == "csv":
         path = Path(out["file"])
         if not path.is_absolute() and base_dir is not None:
@@ -86,13 +90,15 @@ def _excitation(key, e, scenario, bodies, base_dir):
 def _scenario(data, bodies, base_dir):
     out = _table("scenario", data, table("scenario"), extra=("excitation",))
     if out["duration"] < out["dt"]:
-        raise ModelError("scenario.duration", out["duration"],
-                         f"must be at least one time step (scenario.dt = {out['dt']} s)")
+        raise ModelError(
+            "scenario.duration", out["duration"], f"must be at least one time step (scenario.dt = {out['dt']} s)"
+        )
     exc = data.get("excitation", {})
     if not isinstance(exc, dict):
         raise ModelError("scenario.excitation", exc, "must be a table of named excitations")
-    out["excitation"] = {name: _excitation(f"scenario.excitation.{name}", e, out, bodies, base_dir)
-                         for name, e in exc.items()}
+    out["excitation"] = {
+        name: _excitation(f"scenario.excitation.{name}", e, out, bodies, base_dir) for name, e in exc.items()
+    }
     return out
 
 
@@ -109,8 +115,11 @@ def validate(data: dict, base_dir: str | None = None) -> dict:
         raise ModelError("<model>", sorted(data), "needs at least one body section, [casing] or [cable]")
     out.update(bodies)
     if "casing" in bodies and "cable" in bodies and bodies["casing"]["d_inner"] <= bodies["cable"]["d"]:
-        raise ModelError("casing.d_inner", bodies["casing"]["d_inner"],
-                         f"must be larger than cable.d = {bodies['cable']['d']} m (there must be a radial gap)")
+        raise ModelError(
+            "casing.d_inner",
+            bodies["casing"]["d_inner"],
+            f"must be larger than cable.d = {bodies['cable']['d']} m (there must be a radial gap)",
+        )
     out["contact"] = _table("contact", data.get("contact", {}), table("contact"))
     out["scenario"] = _scenario(data.get("scenario", {}), bodies, base_dir)
     return out

@@ -9,6 +9,7 @@ text is what the schema's key table and the error messages say. The model schema
 steps, frequencies, counts, seeds), either directly or through the schema's key
 (``lookup("scenario.dt").check(dt, "dt")``).
 """
+
 from __future__ import annotations
 
 import math
@@ -44,8 +45,9 @@ class Number:
         elif lo == (">=", 0) and hi is None:
             text = f"zero or a positive {kind}"
         elif lo and hi:
-            text = (f"a {kind} in {'(' if lo[0] == '>' else '['}{_fmt(lo[1])}, {_fmt(hi[1])}"
-                    f"{')' if hi[0] == '<' else ']'}")
+            text = (
+                f"a {kind} in {'(' if lo[0] == '>' else '['}{_fmt(lo[1])}, {_fmt(hi[1])}{')' if hi[0] == '<' else ']'}"
+            )
         elif lo or hi:
             op, bound = lo or hi
             text = f"a {kind} {op} {_fmt(bound)}"
@@ -55,7 +57,7 @@ class Number:
 
     def __call__(self, key, value):
         kind = type(value)
-        if kind is not float and kind is not int:        # (the common cases first: this runs per FMU step)
+        if kind is not float and kind is not int:  # (the common cases first: this runs per FMU step)
             if isinstance(value, (bool, np.bool_)) or not isinstance(value, Real):
                 raise ModelError(key, value, "must be " + self.allowed)
             if self.integer and not isinstance(value, Integral):
@@ -65,8 +67,12 @@ class Number:
         v = float(value)
         if not math.isfinite(v):
             raise ModelError(key, value, "must be a finite number" + _unit_phrase(self.unit))
-        if ((self.gt is not None and not v > self.gt) or (self.ge is not None and not v >= self.ge)
-                or (self.lt is not None and not v < self.lt) or (self.le is not None and not v <= self.le)):
+        if (
+            (self.gt is not None and not v > self.gt)
+            or (self.ge is not None and not v >= self.ge)
+            or (self.lt is not None and not v < self.lt)
+            or (self.le is not None and not v <= self.le)
+        ):
             raise ModelError(key, value, "must be " + self.allowed)
         return int(value) if self.integer else v
 
@@ -151,8 +157,11 @@ class Points:
         scale = max(np.ptp(arr, axis=0).max(), 1e-300)
         for i, s in enumerate(seg):
             if s <= 1e-9 * scale:
-                raise ModelError(f"{key}[{i + 1}]", clean[i + 1],
-                                 f"repeats the previous point {clean[i]}; consecutive points must differ")
+                raise ModelError(
+                    f"{key}[{i + 1}]",
+                    clean[i + 1],
+                    f"repeats the previous point {clean[i]}; consecutive points must differ",
+                )
         return clean
 
 
@@ -211,8 +220,9 @@ def seconds(key, value, *, zero_ok=False, none_ok=False):
     try:
         return rule(key, value)
     except ModelError:
-        raise ModelError(key, value, "must be " + rule.allowed + (" (or None: the default)" if none_ok else "")) \
-            from None
+        raise ModelError(
+            key, value, "must be " + rule.allowed + (" (or None: the default)" if none_ok else "")
+        ) from None
 
 
 def array_1d(key, x, min_len=2, complex_ok=False):
@@ -251,6 +261,7 @@ def frequencies(key, freqs_hz, fs=None):
     if np.any(bad):
         if fs is None:
             raise ModelError(key, freqs_hz, "must be a non-empty vector of positive finite frequencies in Hz")
-        raise ModelError(key, float(f[bad][0]),
-                         f"every frequency must lie in the open interval (0, fs/2) = (0, {fs / 2.0:g}) Hz")
+        raise ModelError(
+            key, float(f[bad][0]), f"every frequency must lie in the open interval (0, fs/2) = (0, {fs / 2.0:g}) Hz"
+        )
     return f

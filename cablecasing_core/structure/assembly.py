@@ -6,6 +6,7 @@ blocks of Eq. (13), ``A_ff, A_fp, A_pf, A_pp`` (f: free DOFs, p: prescribed supp
 dense and small. A clamped support prescribes all six DOFs of its end node (translations follow
 the support motion, rotations stay zero); a free support prescribes none.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -105,9 +106,22 @@ def assemble_body(model, name, E=None):
     K = sp.csr_matrix((np.concatenate(kv), (rows, cols)), shape=(ndof, ndof))
     M = sp.csr_matrix((np.concatenate(mv), (rows, cols)), shape=(ndof, ndof))
     support_nodes = {"A": 0, "B": ne}
-    pres = [np.arange(DOF_PER_NODE * support_nodes[s], DOF_PER_NODE * support_nodes[s] + DOF_PER_NODE)
-            for s in SUPPORT_NAMES if spec.supports[s] == "clamped"]
+    pres = [
+        np.arange(DOF_PER_NODE * support_nodes[s], DOF_PER_NODE * support_nodes[s] + DOF_PER_NODE)
+        for s in SUPPORT_NAMES
+        if spec.supports[s] == "clamped"
+    ]
     prescribed = np.sort(np.concatenate(pres)) if pres else np.zeros(0, dtype=int)
     free = np.setdiff1d(np.arange(ndof), prescribed)
-    return BodySystem(name=name, spec=spec, section=sec, centerline=cl, E=E, K=K, M=M,
-                      support_nodes=support_nodes, prescribed=prescribed, free=free)
+    return BodySystem(
+        name=name,
+        spec=spec,
+        section=sec,
+        centerline=cl,
+        E=E,
+        K=K,
+        M=M,
+        support_nodes=support_nodes,
+        prescribed=prescribed,
+        free=free,
+    )

@@ -7,6 +7,7 @@ The mass matrix is consistent (Eq. 4) with the torsional rotary inertia rho*Ip; 
 rotary inertia is left out, as Euler-Bernoulli theory does. Matrices go to global axes with the
 direction-cosine matrix R (rows: local axes in global coordinates): K_g = T^T K T, T = diag(R,R,R,R).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -14,14 +15,22 @@ import numpy as np
 
 def _plane_blocks(L):
     """Hermite bending stiffness (times L^3/EI) and mass (times 420/(m)) in (v, rot) order."""
-    k = np.array([[12.0, 6 * L, -12.0, 6 * L],
-                  [6 * L, 4 * L * L, -6 * L, 2 * L * L],
-                  [-12.0, -6 * L, 12.0, -6 * L],
-                  [6 * L, 2 * L * L, -6 * L, 4 * L * L]])
-    m = np.array([[156.0, 22 * L, 54.0, -13 * L],
-                  [22 * L, 4 * L * L, 13 * L, -3 * L * L],
-                  [54.0, 13 * L, 156.0, -22 * L],
-                  [-13 * L, -3 * L * L, -22 * L, 4 * L * L]])
+    k = np.array(
+        [
+            [12.0, 6 * L, -12.0, 6 * L],
+            [6 * L, 4 * L * L, -6 * L, 2 * L * L],
+            [-12.0, -6 * L, 12.0, -6 * L],
+            [6 * L, 2 * L * L, -6 * L, 4 * L * L],
+        ]
+    )
+    m = np.array(
+        [
+            [156.0, 22 * L, 54.0, -13 * L],
+            [22 * L, 4 * L * L, 13 * L, -3 * L * L],
+            [54.0, 13 * L, 156.0, -22 * L],
+            [-13 * L, -3 * L * L, -22 * L, 4 * L * L],
+        ]
+    )
     return k, m
 
 
@@ -52,7 +61,7 @@ def transformation(R):
     """12x12 transformation T = diag(R, R, R, R) from global to local element DOFs."""
     T = np.zeros((12, 12))
     for b in range(4):
-        T[3 * b:3 * b + 3, 3 * b:3 * b + 3] = R
+        T[3 * b : 3 * b + 3, 3 * b : 3 * b + 3] = R
     return T
 
 

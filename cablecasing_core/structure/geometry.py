@@ -8,6 +8,7 @@ frame's y axis is carried from element to element by parallel transport (the min
 takes one chord direction into the next), so the frame is well defined on straight and on curved
 segments alike. The Frenet frame of Eqs. (33)-(35) is used only where curvature is needed.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -122,12 +123,11 @@ def build_centerline(points, n_elements, curve="spline"):
         nodes = spl(u_nodes)
         r1 = d1(u_nodes)
         r2 = d2(u_nodes)
-        tangents = r1 / np.linalg.norm(r1, axis=1)[:, None]                   # Eq. (33)
+        tangents = r1 / np.linalg.norm(r1, axis=1)[:, None]  # Eq. (33)
         curvature = np.linalg.norm(np.cross(r1, r2), axis=1) / np.linalg.norm(r1, axis=1) ** 3
     tangents = tangents / np.linalg.norm(tangents, axis=1)[:, None]
     frames, lengths = element_frames(nodes)
-    return Centerline(nodes=nodes, s=s_out, tangents=tangents, curvature=curvature,
-                      frames=frames, lengths=lengths)
+    return Centerline(nodes=nodes, s=s_out, tangents=tangents, curvature=curvature, frames=frames, lengths=lengths)
 
 
 def centerline_of(model):

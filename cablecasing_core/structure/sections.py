@@ -6,6 +6,7 @@ diameter ``d``. Both sections are circular, so the two bending planes have the s
 torsion constant is J = 2 I (for the casing with an effective I, J = 2 I_eff as well). Mass terms
 always use the geometric area and polar moment: the effective I describes stiffness only.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass

@@ -13,21 +13,65 @@ Modules: ``octave`` (band RMS), ``sampling`` (bounds, Latin hypercube, constrain
 (per-sample functions), ``executor`` (serial or dask), ``results_store`` (the resumable CSV),
 ``study`` (``run_study``), ``correlation``, ``ensemble``, ``plots``. See docs/studies.md.
 """
+
 from .correlation import GAP, Correlation, correlations
-from .ensemble import (Ensemble, PairedDifference, load_ensemble, paired_difference, pool_ensembles,
-                       random_excitations, seed_ensemble, seed_overrides)
+from .ensemble import (
+    Ensemble,
+    PairedDifference,
+    load_ensemble,
+    paired_difference,
+    pool_ensembles,
+    random_excitations,
+    seed_ensemble,
+    seed_overrides,
+)
 from .evaluators import DEFAULT_EVALUATE, DEFAULT_OUTPUTS, default_evaluate
 from .executor import execute, resolve_evaluate
 from .octave import TABLE3_LOWER, TABLE3_UPPER, BandRMS, Bands, octave_bands, octave_rms
 from .plots import plot_correlations, plot_ensemble
 from .results_store import StudyResults, load_results
-from .sampling import (AXIAL_AMPLITUDE_KEY, DEFAULT_CONSTRAINTS, PAPER_BOUNDS, check_bounds, gap_constraint,
-                       latin_hypercube)
+from .sampling import (
+    AXIAL_AMPLITUDE_KEY,
+    DEFAULT_CONSTRAINTS,
+    PAPER_BOUNDS,
+    check_bounds,
+    gap_constraint,
+    latin_hypercube,
+)
 from .study import run_study
 
-__all__ = ["AXIAL_AMPLITUDE_KEY", "DEFAULT_CONSTRAINTS", "DEFAULT_EVALUATE", "DEFAULT_OUTPUTS", "GAP", "PAPER_BOUNDS",
-           "TABLE3_LOWER", "TABLE3_UPPER", "BandRMS", "Bands", "Correlation", "Ensemble", "PairedDifference",
-           "StudyResults", "check_bounds", "correlations", "default_evaluate", "execute", "gap_constraint",
-           "latin_hypercube", "load_ensemble", "load_results", "octave_bands", "octave_rms", "paired_difference",
-           "plot_correlations", "plot_ensemble", "pool_ensembles", "random_excitations", "resolve_evaluate",
-           "run_study", "seed_ensemble", "seed_overrides"]
+__all__ = [
+    "AXIAL_AMPLITUDE_KEY",
+    "DEFAULT_CONSTRAINTS",
+    "DEFAULT_EVALUATE",
+    "DEFAULT_OUTPUTS",
+    "GAP",
+    "PAPER_BOUNDS",
+    "TABLE3_LOWER",
+    "TABLE3_UPPER",
+    "BandRMS",
+    "Bands",
+    "Correlation",
+    "Ensemble",
+    "PairedDifference",
+    "StudyResults",
+    "check_bounds",
+    "correlations",
+    "default_evaluate",
+    "execute",
+    "gap_constraint",
+    "latin_hypercube",
+    "load_ensemble",
+    "load_results",
+    "octave_bands",
+    "octave_rms",
+    "paired_difference",
+    "plot_correlations",
+    "plot_ensemble",
+    "pool_ensembles",
+    "random_excitations",
+    "resolve_evaluate",
+    "run_study",
+    "seed_ensemble",
+    "seed_overrides",
+]

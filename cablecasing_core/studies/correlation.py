@@ -1,5 +1,6 @@
 """Correlation of the study's parameters with its outputs (Section 4.4, Fig. 23): Pearson and
 Spearman coefficients over the ok samples, with the derived radial gap."""
+
 from __future__ import annotations
 
 import warnings
@@ -51,6 +52,7 @@ def correlations(results, method="pearson", include_gap=True):
     Uses ``scipy.stats.pearsonr`` / ``spearmanr``; a constant column gives NaN. Section 4.4, Fig. 23.
     """
     from scipy import stats
+
     if not isinstance(results, StudyResults):
         results = load_results(results)
     if method not in ("pearson", "spearman"):

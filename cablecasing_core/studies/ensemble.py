@@ -20,6 +20,7 @@ The runs go through the Monte-Carlo study's per-sample function and executor
 (:func:`~cablecasing_core.studies.evaluators.default_evaluate`; serial, or dask.distributed), so an
 ensemble member is computed exactly like a study sample.
 """
+
 from __future__ import annotations
 
 import hashlib
@@ -120,10 +121,21 @@ class Ensemble:
     def as_rows(self, confidence=0.95):
         """One dict per band: label, f_low_hz, f_high_hz, mean, se, ci_low, ci_high, cv."""
         lo, hi = self.ci(confidence)
-        return [{"band": lab, "f_low_hz": float(a), "f_high_hz": float(b), "mean": float(m), "se": float(s),
-                 "ci_low": float(c0), "ci_high": float(c1), "cv": float(v)}
-                for lab, a, b, m, s, c0, c1, v in zip(self.labels, self.lower, self.upper, self.mean, self.se,
-                                                      lo, hi, self.cv)]
+        return [
+            {
+                "band": lab,
+                "f_low_hz": float(a),
+                "f_high_hz": float(b),
+                "mean": float(m),
+                "se": float(s),
+                "ci_low": float(c0),
+                "ci_high": float(c1),
+                "cv": float(v),
+            }
+            for lab, a, b, m, s, c0, c1, v in zip(
+                self.labels, self.lower, self.upper, self.mean, self.se, lo, hi, self.cv
+            )
+        ]
 
     def save(self, path):
         """Write the members as CSV: the header ``seed, <band labels> (N or N.m), contact_time_node<k>_s``,
@@ -133,14 +145,19 @@ class Ensemble:
         to 17 significant digits so that :func:`load_ensemble` gives back the same numbers."""
         nodes = self.contact_time.shape[1] if self.contact_time.size else 0
         header = ",".join(("seed",) + tuple(self.labels) + tuple(f"contact_time_node{k}_s" for k in range(nodes)))
-        meta = {"format": 1, "output": self.output, "labels": list(self.labels),
-                "f_low_hz": np.asarray(self.lower, float).tolist(), "f_high_hz": np.asarray(self.upper, float).tolist(),
-                "overrides": _canonical(self.overrides), "settings": _canonical(self.settings)}
+        meta = {
+            "format": 1,
+            "output": self.output,
+            "labels": list(self.labels),
+            "f_low_hz": np.asarray(self.lower, float).tolist(),
+            "f_high_hz": np.asarray(self.upper, float).tolist(),
+            "overrides": _canonical(self.overrides),
+            "settings": _canonical(self.settings),
+        }
         parts = [self.seeds[:, None], self.levels] + ([self.contact_time] if nodes else [])
         with open(path, "w", encoding="utf-8") as f:
             f.write(header + "\n" + _META + json.dumps(meta) + "\n")
-            np.savetxt(f, np.column_stack(parts), delimiter=",",
-                       fmt=["%d"] + ["%.17g"] * (len(self.labels) + nodes))
+            np.savetxt(f, np.column_stack(parts), delimiter=",", fmt=["%d"] + ["%.17g"] * (len(self.labels) + nodes))
 
 
 def load_ensemble(path):
@@ -155,22 +172,36 @@ def load_ensemble(path):
     with f:
         columns, meta_line = f.readline().strip().split(","), f.readline()
         if not meta_line.startswith(_META):
-            raise ModelError("path", str(path), "must be a CSV written by Ensemble.save or 'cablecasing ensemble "
-                             "--out' (its second line is not the '# cablecasing-ensemble' line)")
+            raise ModelError(
+                "path",
+                str(path),
+                "must be a CSV written by Ensemble.save or 'cablecasing ensemble "
+                "--out' (its second line is not the '# cablecasing-ensemble' line)",
+            )
         try:
-            meta = json.loads(meta_line[len(_META):])
+            meta = json.loads(meta_line[len(_META) :])
             labels, output = tuple(meta["labels"]), meta["output"]
             overrides, settings = meta["overrides"], meta["settings"]
             lower, upper = np.array(meta["f_low_hz"], float), np.array(meta["f_high_hz"], float)
-            table = np.loadtxt(f, delimiter=",", ndmin=2)          # the rows after the settings line
-        except (ValueError, KeyError, TypeError) as e:            # JSONDecodeError is a ValueError
-            raise ModelError("path", str(path),
-                             f"must be an unaltered ensemble CSV ({type(e).__name__}: {e})") from None
+            table = np.loadtxt(f, delimiter=",", ndmin=2)  # the rows after the settings line
+        except (ValueError, KeyError, TypeError) as e:  # JSONDecodeError is a ValueError
+            raise ModelError(
+                "path", str(path), f"must be an unaltered ensemble CSV ({type(e).__name__}: {e})"
+            ) from None
     nb = len(labels)
     if table.shape[1] != len(columns) or len(columns) < 1 + nb:
         raise ModelError("path", str(path), f"must have the {len(columns)} columns of its header in every row")
-    return Ensemble(table[:, 0].astype(int), output, labels, lower, upper, table[:, 1:1 + nb], overrides,
-                    table[:, 1 + nb:], settings)
+    return Ensemble(
+        table[:, 0].astype(int),
+        output,
+        labels,
+        lower,
+        upper,
+        table[:, 1 : 1 + nb],
+        overrides,
+        table[:, 1 + nb :],
+        settings,
+    )
 
 
 def pool_ensembles(ensembles):
@@ -187,24 +218,37 @@ def pool_ensembles(ensembles):
     first = parts[0]
     for i, e in enumerate(parts[1:], 1):
         for name, mine, theirs in (
-                ("output", e.output, first.output),
-                ("bands", (e.labels, e.lower.tolist(), e.upper.tolist()),
-                 (first.labels, first.lower.tolist(), first.upper.tolist())),
-                ("overrides", _canonical(e.overrides), _canonical(first.overrides)),
-                ("settings", _canonical(e.settings), _canonical(first.settings)),
-                ("contact_time columns", e.contact_time.shape[1:], first.contact_time.shape[1:])):
+            ("output", e.output, first.output),
+            (
+                "bands",
+                (e.labels, e.lower.tolist(), e.upper.tolist()),
+                (first.labels, first.lower.tolist(), first.upper.tolist()),
+            ),
+            ("overrides", _canonical(e.overrides), _canonical(first.overrides)),
+            ("settings", _canonical(e.settings), _canonical(first.settings)),
+            ("contact_time columns", e.contact_time.shape[1:], first.contact_time.shape[1:]),
+        ):
             if mine != theirs:
-                raise ModelError(f"ensembles[{i}].{name}", mine, f"must equal that of ensembles[0], {theirs}, "
-                                 "to pool them")
+                raise ModelError(
+                    f"ensembles[{i}].{name}", mine, f"must equal that of ensembles[0], {theirs}, to pool them"
+                )
     seeds = np.concatenate([e.seeds for e in parts])
     unique, count = np.unique(seeds, return_counts=True)
     twice = unique[count > 1].tolist()
     if twice:
         raise ModelError("seeds", twice, "must each be in one of the pooled ensembles only")
     order = np.argsort(seeds, kind="stable")
-    return Ensemble(seeds[order], first.output, first.labels, first.lower, first.upper,
-                    np.concatenate([e.levels for e in parts])[order], first.overrides,
-                    np.concatenate([e.contact_time for e in parts])[order], first.settings)
+    return Ensemble(
+        seeds[order],
+        first.output,
+        first.labels,
+        first.lower,
+        first.upper,
+        np.concatenate([e.levels for e in parts])[order],
+        first.overrides,
+        np.concatenate([e.contact_time for e in parts])[order],
+        first.settings,
+    )
 
 
 _META = "# cablecasing-ensemble "
@@ -258,8 +302,11 @@ def paired_difference(a, b):
     labels = None
     if isinstance(a, Ensemble) and isinstance(b, Ensemble):
         if a.output != b.output or a.labels != b.labels:
-            raise ModelError("b", f"{b.output} {b.labels[0]}..{b.labels[-1]}",
-                             f"must have the output and bands of a ({a.output} {a.labels[0]}..{a.labels[-1]})")
+            raise ModelError(
+                "b",
+                f"{b.output} {b.labels[0]}..{b.labels[-1]}",
+                f"must have the output and bands of a ({a.output} {a.labels[0]}..{a.labels[-1]})",
+            )
         if not np.array_equal(a.seeds, b.seeds):
             raise ModelError("b.seeds", b.seeds.tolist(), f"must be the seeds of a, {a.seeds.tolist()}, in that order")
         labels, a, b = a.labels, a.levels, b.levels
@@ -271,14 +318,25 @@ def paired_difference(a, b):
     if np.any(mb <= 0):
         raise ModelError("b", mb.tolist(), "must have a positive mean level in every band")
     r = (a.mean(axis=0) - mb) / mb
-    se = (np.std((a - b) - r * b, axis=0, ddof=1) / math.sqrt(n) / mb if n > 1
-          else np.full_like(r, np.nan))
+    se = np.std((a - b) - r * b, axis=0, ddof=1) / math.sqrt(n) / mb if n > 1 else np.full_like(r, np.nan)
     return PairedDifference(tuple(labels or (f"band{i + 1}" for i in range(a.shape[1]))), r, se, n)
 
 
-def seed_ensemble(model=None, seeds=8, *, output="casing.B.Fz", bands="table3", duration=None, dt=None,
-                  skip=0.05, overrides=None, excitations=None, scheduler="serial", n_workers=None,
-                  progress=False):
+def seed_ensemble(
+    model=None,
+    seeds=8,
+    *,
+    output="casing.B.Fz",
+    bands="table3",
+    duration=None,
+    dt=None,
+    skip=0.05,
+    overrides=None,
+    excitations=None,
+    scheduler="serial",
+    n_workers=None,
+    progress=False,
+):
     """Band levels of a support output over an ensemble of excitation seeds.
 
     Parameters
@@ -332,19 +390,34 @@ def seed_ensemble(model=None, seeds=8, *, output="casing.B.Fz", bands="table3", 
     clash = sorted(set(overrides) & set(seed_overrides(model, 0, names)))
     if clash:
         raise ModelError("overrides", clash, "must not set the seeds that the ensemble varies")
-    base = model.with_overrides(overrides)       # validates the overrides before any run
+    base = model.with_overrides(overrides)  # validates the overrides before any run
     length = (base.scenario["duration"] if duration is None else duration) - skip
     narrow = int(np.argmin(band_set.upper - band_set.lower))
     need = 1.0 / (band_set.upper[narrow] - band_set.lower[narrow])
-    if not length >= need:      # the band would hold less than one FFT bin (octave_rms refuses it)
-        raise ModelError("duration", duration, f"must leave at least {need:.4g} s after skip = {skip} s for band "
-                         f"{band_set.labels[narrow]!r} ({band_set.lower[narrow]:g}-{band_set.upper[narrow]:g} Hz)")
+    if not length >= need:  # the band would hold less than one FFT bin (octave_rms refuses it)
+        raise ModelError(
+            "duration",
+            duration,
+            f"must leave at least {need:.4g} s after skip = {skip} s for band "
+            f"{band_set.labels[narrow]!r} ({band_set.lower[narrow]:g}-{band_set.upper[narrow]:g} Hz)",
+        )
     step = base.scenario["dt"] if dt is None else dt
-    if not 0.5 / step >= band_set.upper.max():   # (octave_rms's rule, checked before the runs)
-        raise ModelError("dt", dt, f"must be at most {0.5 / band_set.upper.max():.4g} s so that every band lies "
-                         f"below the Nyquist frequency (highest edge {band_set.upper.max():g} Hz)")
-    kwargs = {"duration": duration, "dt": dt, "skip": skip, "model": base, "output": output, "bands": band_set,
-              "contact_time": True}
+    if not 0.5 / step >= band_set.upper.max():  # (octave_rms's rule, checked before the runs)
+        raise ModelError(
+            "dt",
+            dt,
+            f"must be at most {0.5 / band_set.upper.max():.4g} s so that every band lies "
+            f"below the Nyquist frequency (highest edge {band_set.upper.max():g} Hz)",
+        )
+    kwargs = {
+        "duration": duration,
+        "dt": dt,
+        "skip": skip,
+        "model": base,
+        "output": output,
+        "bands": band_set,
+        "contact_time": True,
+    }
     nodes = base.geometry["n_elements"] + 1 if "cable" in base.bodies else 0
     outputs = tuple(band_set.labels) + tuple(f"contact_time_{k}" for k in range(nodes))
     todo = [(i, seed_overrides(base, s, names)) for i, s in enumerate(seeds)]
@@ -361,10 +434,23 @@ def seed_ensemble(model=None, seeds=8, *, output="casing.B.Fz", bands="table3", 
         raise ModelError("seeds", s, f"run failed ({err}); {len(failed)} of {len(seeds)} members failed")
     table = np.array([[rows.rows[i][o] for o in outputs] for i in range(len(seeds))])
     nb = len(band_set.labels)
-    settings = {"duration": float(base.scenario["duration"] if duration is None else duration),
-                "dt": float(step), "skip": float(skip), "model": _fingerprint(base)}
-    return Ensemble(np.array(seeds), output, tuple(band_set.labels), np.asarray(band_set.lower, float),
-                    np.asarray(band_set.upper, float), table[:, :nb], overrides, table[:, nb:], settings)
+    settings = {
+        "duration": float(base.scenario["duration"] if duration is None else duration),
+        "dt": float(step),
+        "skip": float(skip),
+        "model": _fingerprint(base),
+    }
+    return Ensemble(
+        np.array(seeds),
+        output,
+        tuple(band_set.labels),
+        np.asarray(band_set.lower, float),
+        np.asarray(band_set.upper, float),
+        table[:, :nb],
+        overrides,
+        table[:, nb:],
+        settings,
+    )
 
 
 class _NoBar:
@@ -419,12 +505,18 @@ def _check_excitations(model, excitations):
     available = random_excitations(model)
     if excitations is None:
         if not available:
-            raise ModelError("scenario.excitation", sorted(model.scenario["excitation"]),
-                             "an ensemble over seeds needs at least one excitation of kind 'random'")
+            raise ModelError(
+                "scenario.excitation",
+                sorted(model.scenario["excitation"]),
+                "an ensemble over seeds needs at least one excitation of kind 'random'",
+            )
         return available
     names = tuple(excitations)
     bad = [n for n in names if n not in available]
     if bad or not names or len(set(names)) != len(names):
-        raise ModelError("excitations", list(names), "must name random excitations of the model, each once: "
-                         + (", ".join(available) or "(the model has none)"))
+        raise ModelError(
+            "excitations",
+            list(names),
+            "must name random excitations of the model, each once: " + (", ".join(available) or "(the model has none)"),
+        )
     return names

@@ -5,6 +5,7 @@
 output); :func:`analytic_evaluate` and :func:`cpu_burn_evaluate` are stand-ins for the tests and the
 study benchmark (no physics).
 """
+
 from __future__ import annotations
 
 import zlib
@@ -21,8 +22,19 @@ DEFAULT_OUTPUTS = octave_bands("table3").labels
 DEFAULT_EVALUATE = "cablecasing_core.studies.evaluators:default_evaluate"
 
 
-def default_evaluate(overrides, duration=None, skip=0.05, dt=None, model_file=None, *, model=None,
-                     output="casing.B.Fz", bands="table3", contact_time=False, **kwargs):
+def default_evaluate(
+    overrides,
+    duration=None,
+    skip=0.05,
+    dt=None,
+    model_file=None,
+    *,
+    model=None,
+    output="casing.B.Fz",
+    bands="table3",
+    contact_time=False,
+    **kwargs,
+):
     """The per-sample function of Section 4.4: run the time-domain model (the scenario of the model,
     with ``overrides`` applied) and return the octave-band RMS (N, Table 3) of the force at casing end
     B in z, ``{"oct1": N, ..., "oct9": N}``.
@@ -66,12 +78,18 @@ def analytic_evaluate(overrides, fail_above=None, **_):
     gap = p.get("casing.d_inner", 0.004) - p.get("cable.d", 0.003)
     out = {}
     for j, lab in enumerate(DEFAULT_OUTPUTS, start=1):
-        out[lab] = (1e3 * amp * (p.get("casing.E", 5e9) / 5e9) ** (j / 9) * (p.get("cable.E", 5.5e10) / 5.5e10) ** 0.1
-                    / (1 + 5 * fr) * (1 + 100 * (gap - 1e-3) * (5 - j)))
+        out[lab] = (
+            1e3
+            * amp
+            * (p.get("casing.E", 5e9) / 5e9) ** (j / 9)
+            * (p.get("cable.E", 5.5e10) / 5.5e10) ** 0.1
+            / (1 + 5 * fr)
+            * (1 + 100 * (gap - 1e-3) * (5 - j))
+        )
     return out
 
 
-def cpu_burn_evaluate(overrides, repeats=200, n=2 ** 12, **_):
+def cpu_burn_evaluate(overrides, repeats=200, n=2**12, **_):
     """Benchmark stand-in for the engine: a fixed amount of CPU work per sample (not a fixed time).
 
     Builds a synthetic 'force' record of ``n`` samples at 16384 Hz from the parameters and computes
@@ -80,6 +98,7 @@ def cpu_burn_evaluate(overrides, repeats=200, n=2 ** 12, **_):
     compute-bound. Returns band RMS (N).
     """
     from .octave import octave_rms
+
     fs = 16384.0
     t = np.arange(n) / fs
     p = {k: float(v) for k, v in overrides.items()}

@@ -1,6 +1,7 @@
 """The executor of the studies: one sample in this process or on a dask.distributed worker, and the
 loop over all samples, serial or on dask (the Monte-Carlo study and the seed ensemble both run
 through :func:`execute`)."""
+
 from __future__ import annotations
 
 import importlib
@@ -9,6 +10,7 @@ import time
 
 from ..errors import ModelError
 from ..model.validators import integer
+
 
 def resolve_evaluate(spec):
     """The per-sample function of the study (Section 4.4) named by ``spec``: a callable (returned as
@@ -24,7 +26,9 @@ def resolve_evaluate(spec):
     try:
         fn = getattr(importlib.import_module(mod_name), attr)
     except (ImportError, AttributeError, ValueError) as exc:
-        raise ModelError("evaluate", spec, f"must name an importable function 'package.module:function' ({exc})") from None
+        raise ModelError(
+            "evaluate", spec, f"must name an importable function 'package.module:function' ({exc})"
+        ) from None
     if not callable(fn):
         raise ModelError("evaluate", spec, "must name a callable")
     return fn
@@ -70,6 +74,7 @@ def execute(todo, evaluate, kwargs, outputs, writer, bar, scheduler, n_workers=N
 def _run_dask(todo, evaluate, kwargs, outputs, writer, bar, scheduler, n_workers, max_in_flight):
     """Submit the samples to dask.distributed and write each result as it completes."""
     from distributed import Client, LocalCluster, as_completed
+
     own_client = cluster = None
     if scheduler is None or scheduler == "local":
         nw = os.cpu_count() if n_workers is None else integer("n_workers", n_workers, 1)
@@ -79,12 +84,19 @@ def _run_dask(todo, evaluate, kwargs, outputs, writer, bar, scheduler, n_workers
         try:
             client = own_client = Client(scheduler, timeout="30s")
         except (OSError, ValueError) as exc:
-            raise ModelError("scheduler", scheduler, f"must be 'serial', 'local' or a reachable scheduler address such as "
-                             f"tcp://host:8786 ({exc})") from None
+            raise ModelError(
+                "scheduler",
+                scheduler,
+                f"must be 'serial', 'local' or a reachable scheduler address such as tcp://host:8786 ({exc})",
+            ) from None
     elif isinstance(scheduler, Client):
         client = scheduler
     else:
-        raise ModelError("scheduler", scheduler, "must be None, 'serial', 'local', an address 'tcp://host:8786' or a distributed.Client")
+        raise ModelError(
+            "scheduler",
+            scheduler,
+            "must be None, 'serial', 'local', an address 'tcp://host:8786' or a distributed.Client",
+        )
     try:
         if not todo:
             return
@@ -109,9 +121,13 @@ def _run_dask(todo, evaluate, kwargs, outputs, writer, bar, scheduler, n_workers
             i = keyed.pop(fut.key)
             try:
                 row = fut.result()
-            except Exception as exc:   # e.g. a worker died: record and go on
-                row = {"index": i, "status": "failed", "error": f"{type(exc).__name__}: {exc}".replace("\n", " | "),
-                       "elapsed_s": float("nan")}
+            except Exception as exc:  # e.g. a worker died: record and go on
+                row = {
+                    "index": i,
+                    "status": "failed",
+                    "error": f"{type(exc).__name__}: {exc}".replace("\n", " | "),
+                    "elapsed_s": float("nan"),
+                }
             fut.release()
             writer.write(row)
             bar.update(1)

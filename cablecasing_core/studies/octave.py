@@ -36,6 +36,7 @@ Nyquist rule: a band whose upper edge exceeds ``fs/2`` cannot be measured comple
 ``fs``; ``"drop"`` leaves such bands out of the result, ``"nan"`` keeps them with RMS ``nan``.
 A band narrower than one bin (``df`` larger than the bandwidth: record too short) also raises.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -50,7 +51,7 @@ from ..model.validators import Choice, array_1d, number
 TABLE3_LOWER = (11.0, 22.0, 44.0, 88.0, 177.0, 355.0, 710.0, 1420.0, 2840.0)
 TABLE3_UPPER = (22.0, 44.0, 88.0, 177.0, 355.0, 710.0, 1420.0, 2840.0, 5680.0)
 #: IEC 61260-1 base-10 octave ratio G = 10^(3/10) and reference frequency (Hz).
-IEC_G = 10.0 ** 0.3
+IEC_G = 10.0**0.3
 IEC_FR = 1000.0
 BAND_KINDS = ("table3", "octave", "third")
 NYQUIST_RULES = ("error", "drop", "nan")
@@ -73,9 +74,13 @@ class Bands:
         lo = np.atleast_1d(np.asarray(self.lower, dtype=float))
         up = np.atleast_1d(np.asarray(self.upper, dtype=float))
         if lo.ndim != 1 or lo.shape != up.shape or lo.size == 0:
-            raise ModelError("bands", (self.lower, self.upper), "lower and upper edges must be 1-D arrays of equal, non-zero length")
+            raise ModelError(
+                "bands", (self.lower, self.upper), "lower and upper edges must be 1-D arrays of equal, non-zero length"
+            )
         if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(up)) and np.all(lo >= 0) and np.all(up > lo)):
-            raise ModelError("bands", (lo.tolist(), up.tolist()), "edges must be finite, >= 0 Hz, and lower < upper for every band")
+            raise ModelError(
+                "bands", (lo.tolist(), up.tolist()), "edges must be finite, >= 0 Hz, and lower < upper for every band"
+            )
         labels = tuple(str(s) for s in self.labels)
         if len(labels) != lo.size or len(set(labels)) != lo.size:
             raise ModelError("bands.labels", self.labels, f"must be {lo.size} unique names, one per band")
@@ -113,7 +118,7 @@ class BandRMS:
     @property
     def mean_square(self):
         """Band mean squares (signal unit squared)."""
-        return self.rms ** 2
+        return self.rms**2
 
     def as_dict(self):
         """``{label: rms}`` (signal unit), the form a study's ``evaluate`` returns (Section 4.4)."""
@@ -149,7 +154,7 @@ def octave_bands(kind="table3", f_min=None, f_max=None):
         fmin = 10.0 if f_min is None else f_min
         fmax = 20000.0 if f_max is None else f_max
     for key, v in (("f_min", fmin), ("f_max", fmax)):
-        if v != np.inf:                 # (inf: no upper limit)
+        if v != np.inf:  # (inf: no upper limit)
             number(key, v, ge=0, unit="Hz")
     if fmax <= fmin:
         raise ModelError("f_max", fmax, f"must exceed f_min = {fmin} Hz")
@@ -161,7 +166,7 @@ def octave_bands(kind="table3", f_min=None, f_max=None):
         x = np.arange(x_lo, x_hi + 1)
         fm = IEC_FR * IEC_G ** (x / b)
         lo, up = fm * IEC_G ** (-1.0 / (2 * b)), fm * IEC_G ** (1.0 / (2 * b))
-        labels = [f"{float(f'{f:.4g}'):g}Hz" for f in fm]   # 4 significant digits, no exponent
+        labels = [f"{float(f'{f:.4g}'):g}Hz" for f in fm]  # 4 significant digits, no exponent
     centre = np.sqrt(lo * up)
     keep = (centre >= fmin * (1 - 1e-12)) & (centre <= fmax * (1 + 1e-12))
     if not keep.any():
@@ -197,9 +202,9 @@ def _band_sums(P, E, lower, upper):
         k1 = min(int(np.searchsorted(E, up, side="left")) - 1, nb - 1)
         if k1 < k0:
             continue
-        a, b = E[k0:k1 + 1], E[k0 + 1:k1 + 2]
+        a, b = E[k0 : k1 + 1], E[k0 + 1 : k1 + 2]
         frac = np.clip(np.minimum(b, up) - np.maximum(a, lo), 0.0, None) / (b - a)
-        ms[j] = frac @ P[k0:k1 + 1]
+        ms[j] = frac @ P[k0 : k1 + 1]
         bins[j] = frac.sum()
     return ms, bins
 
@@ -240,9 +245,13 @@ def octave_rms(x, fs, bands="table3", *, detrend=None, window="boxcar", beyond_n
     over = bands.upper > nyq * (1 + 1e-12)
     if over.any() and beyond_nyquist == "error":
         i = int(np.argmax(over))
-        raise ModelError("fs", fs, f"must be at least 2 x {bands.upper[i]:g} Hz = {2 * bands.upper[i]:g} Hz so that band "
-                         f"'{bands.labels[i]}' ({bands.lower[i]:g}-{bands.upper[i]:g} Hz) lies below the Nyquist "
-                         f"frequency; or pass beyond_nyquist='drop' or 'nan'")
+        raise ModelError(
+            "fs",
+            fs,
+            f"must be at least 2 x {bands.upper[i]:g} Hz = {2 * bands.upper[i]:g} Hz so that band "
+            f"'{bands.labels[i]}' ({bands.lower[i]:g}-{bands.upper[i]:g} Hz) lies below the Nyquist "
+            f"frequency; or pass beyond_nyquist='drop' or 'nan'",
+        )
     keep = ~over if beyond_nyquist == "drop" else np.ones(len(bands), bool)
     if not keep.any():
         raise ModelError("fs", fs, f"puts every band above the Nyquist frequency {nyq:g} Hz")
@@ -252,9 +261,12 @@ def octave_rms(x, fs, bands="table3", *, detrend=None, window="boxcar", beyond_n
     narrow = measurable & (sel.upper - sel.lower < df * (1 - 1e-12))
     if narrow.any():
         i = int(np.argmax(narrow))
-        raise ModelError("x", f"{n} samples ({n / fs:g} s)",
-                         f"must be long enough that band '{sel.labels[i]}' ({sel.upper[i] - sel.lower[i]:g} Hz wide) "
-                         f"spans at least one FFT bin: at least {int(np.ceil(fs / (sel.upper[i] - sel.lower[i])))} samples")
+        raise ModelError(
+            "x",
+            f"{n} samples ({n / fs:g} s)",
+            f"must be long enough that band '{sel.labels[i]}' ({sel.upper[i] - sel.lower[i]:g} Hz wide) "
+            f"spans at least one FFT bin: at least {int(np.ceil(fs / (sel.upper[i] - sel.lower[i])))} samples",
+        )
 
     if detrend is not None:
         x = _signal.detrend(x, type=detrend)
@@ -264,11 +276,12 @@ def octave_rms(x, fs, bands="table3", *, detrend=None, window="boxcar", beyond_n
         raise ModelError("window", window, f"must be a scipy.signal.get_window spec ({exc})") from None
     X = np.fft.rfft(x * w)
     P = np.abs(X) ** 2 / (n * n)
-    P[1:(n + 1) // 2] *= 2.0           # one-sided: double every bin except 0 and (even n) Nyquist
-    P /= np.mean(w * w)                # power normalisation of the window (1 for boxcar)
+    P[1 : (n + 1) // 2] *= 2.0  # one-sided: double every bin except 0 and (even n) Nyquist
+    P /= np.mean(w * w)  # power normalisation of the window (1 for boxcar)
     ms, bins = _band_sums(P, _bin_edges(n, fs), sel.lower, sel.upper)
     rms = np.sqrt(ms)
     if beyond_nyquist == "nan":
         rms = np.where(measurable, rms, np.nan)
-    return BandRMS(lower=sel.lower, upper=sel.upper, centre=sel.centre, labels=sel.labels,
-                   rms=rms, bins=bins, fs=fs, n=n)
+    return BandRMS(
+        lower=sel.lower, upper=sel.upper, centre=sel.centre, labels=sel.labels, rms=rms, bins=bins, fs=fs, n=n
+    )

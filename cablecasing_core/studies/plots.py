@@ -1,4 +1,5 @@
 """Figures of the studies (matplotlib, Agg backend): correlations like Fig. 23, ensemble levels."""
+
 from __future__ import annotations
 
 import matplotlib.pyplot as plt
@@ -13,9 +14,15 @@ from .sampling import AXIAL_AMPLITUDE_KEY
 
 #: Panels of Fig. 23: (a) E_jv, (b) E_op, (c) gap, (d) axial amplitude, (e) friction.
 FIG23_PARAMETERS = ("cable.E", "casing.E", GAP, AXIAL_AMPLITUDE_KEY, "contact.friction")
-_LABELS = {"cable.E": "$E_{jv}$ (cable.E)", "casing.E": "$E_{op}$ (casing.E)", GAP: "gap = $d_5 - D_{z0}$",
-           AXIAL_AMPLITUDE_KEY: r"$\bar X_{jv}$ (axial amplitude)", "contact.friction": r"$\eta$ (contact.friction)",
-           "cable.d": "$D_{z0}$ (cable.d)", "casing.d_inner": "$d_5$ (casing.d_inner)"}
+_LABELS = {
+    "cable.E": "$E_{jv}$ (cable.E)",
+    "casing.E": "$E_{op}$ (casing.E)",
+    GAP: "gap = $d_5 - D_{z0}$",
+    AXIAL_AMPLITUDE_KEY: r"$\bar X_{jv}$ (axial amplitude)",
+    "contact.friction": r"$\eta$ (contact.friction)",
+    "cable.d": "$D_{z0}$ (cable.d)",
+    "casing.d_inner": "$d_5$ (casing.d_inner)",
+}
 
 
 def plot_correlations(results, path, parameters=None, methods=("pearson", "spearman"), title=None):
@@ -71,8 +78,14 @@ def plot_ensemble(ens, path, other=None, diff=None, confidence=0.95, labels=("ba
     sets = [(ens, labels[0], -0.12)] + ([(other, labels[1], 0.12)] if other is not None else [])
     for e, lab, dx in sets:
         lo, hi = e.ci(confidence)
-        ax.errorbar(x + dx, e.mean, yerr=[e.mean - lo, hi - e.mean], fmt="o", capsize=3,
-                    label=f"{lab} (mean of {e.n} seeds, {confidence:.0%} CI)")
+        ax.errorbar(
+            x + dx,
+            e.mean,
+            yerr=[e.mean - lo, hi - e.mean],
+            fmt="o",
+            capsize=3,
+            label=f"{lab} (mean of {e.n} seeds, {confidence:.0%} CI)",
+        )
     ax.set_yscale("log")
     ax.set_ylabel(f"RMS {ens.output} ({unit})")
     ax.legend(fontsize=8)

@@ -1,5 +1,6 @@
 """The results store of the Monte-Carlo study (Section 4.4): an append-only CSV, one row per sample,
 flushed and fsynced per row, with a ``<csv>.meta.json`` sidecar of the settings; resume reads it."""
+
 from __future__ import annotations
 
 import csv
@@ -54,7 +55,7 @@ def _header(params, outputs):
 
 def _fmt(v):
     if isinstance(v, float):
-        return repr(v)            # shortest repr round-trips the float exactly
+        return repr(v)  # shortest repr round-trips the float exactly
     return str(v)
 
 
@@ -90,7 +91,7 @@ def load_results(path):
     except OSError as exc:
         raise ModelError("path", path, f"must be a readable study CSV ({exc.strerror})") from None
     if text and not text.endswith("\n"):
-        text = text[:text.rfind("\n") + 1]      # a torn last line is ignored (run_study cuts it off)
+        text = text[: text.rfind("\n") + 1]  # a torn last line is ignored (run_study cuts it off)
     reader = csv.reader(io.StringIO(text, newline=""))
     head = next(reader, None)
     if head != header:
@@ -105,10 +106,16 @@ def load_results(path):
     num = lambda s: float(s) if s != "" else np.nan  # noqa: E731
     X = np.array([[num(rows[i][2 + k]) for k in range(d)] for i in order], float).reshape(len(order), d)
     Y = np.array([[num(rows[i][2 + d + k]) for k in range(m)] for i in order], float).reshape(len(order), m)
-    return StudyResults(index=np.array(order, int), parameters=params, X=X, outputs=outputs, Y=Y,
-                        status=np.array([rows[i][1] for i in order], dtype=object).astype(str),
-                        error=np.array([rows[i][-1] for i in order], dtype=object).astype(str),
-                        elapsed_s=np.array([num(rows[i][-2]) for i in order], float))
+    return StudyResults(
+        index=np.array(order, int),
+        parameters=params,
+        X=X,
+        outputs=outputs,
+        Y=Y,
+        status=np.array([rows[i][1] for i in order], dtype=object).astype(str),
+        error=np.array([rows[i][-1] for i in order], dtype=object).astype(str),
+        elapsed_s=np.array([num(rows[i][-2]) for i in order], float),
+    )
 
 
 class ResultsWriter:
@@ -151,12 +158,14 @@ def prepare_file(path, meta, design, params):
         with open(mp) as fh:
             old = json.load(fh)
     except (OSError, ValueError) as exc:
-        raise ModelError("path", path, f"exists but its sidecar {mp} cannot be read ({exc}); "
-                         "choose a new file to start a study") from None
+        raise ModelError(
+            "path", path, f"exists but its sidecar {mp} cannot be read ({exc}); choose a new file to start a study"
+        ) from None
     for key in ("format", "seed", "n_samples", "bounds", "outputs", "evaluate", "evaluate_kwargs", "constraints"):
         if old.get(key) != meta.get(key):
-            raise ModelError(key, meta.get(key), f"must equal {old.get(key)!r} to resume the study in {path} "
-                             "(or choose a new file)")
+            raise ModelError(
+                key, meta.get(key), f"must equal {old.get(key)!r} to resume the study in {path} (or choose a new file)"
+            )
     _repair_tail(path)
     res = load_results(path)
     for j, i in enumerate(res.index):

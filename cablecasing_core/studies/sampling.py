@@ -10,6 +10,7 @@ paper's bounds this always holds (max cable.d 3.3 mm < min casing.d_inner 3.4 mm
 the study *rejects* such samples (status ``infeasible``, reason recorded) rather than sampling the
 gap, so that the six named parameters keep their Latin-hypercube stratification.
 """
+
 from __future__ import annotations
 
 import math
@@ -26,12 +27,12 @@ AXIAL_AMPLITUDE_KEY = "scenario.excitation.cable_axial.amplitude"
 #: axial amplitude; 0.5x-2x the built-in 5e-4 m (displacement amplitude along the cable tangent,
 #: the unit of the scenario's harmonic excitation) is used.
 PAPER_BOUNDS = {
-    "cable.E": (3.0e10, 8.5e10),          # Pa, E_jv
-    "casing.E": (0.2e10, 1.0e10),         # Pa, E_op
-    "cable.d": (0.003, 0.0033),           # m, D_z0
-    "casing.d_inner": (0.0034, 0.0046),   # m, d_5
+    "cable.E": (3.0e10, 8.5e10),  # Pa, E_jv
+    "casing.E": (0.2e10, 1.0e10),  # Pa, E_op
+    "cable.d": (0.003, 0.0033),  # m, D_z0
+    "casing.d_inner": (0.0034, 0.0046),  # m, d_5
     AXIAL_AMPLITUDE_KEY: (2.5e-4, 1.0e-3),  # m, \bar X_jv
-    "contact.friction": (0.05, 0.2),      # -, eta
+    "contact.friction": (0.05, 0.2),  # -, eta
 }
 
 
@@ -48,6 +49,7 @@ def check_bounds(bounds=None, model=None):
     known = None
     if model is not False:
         from ..model import Model, load_model
+
         m = model if isinstance(model, Model) else load_model(model)
         known = m.parameters()
     out = {}
@@ -55,7 +57,9 @@ def check_bounds(bounds=None, model=None):
         if not isinstance(key, str):
             raise ModelError("bounds", key, "parameter names must be dotted model keys such as 'casing.E'")
         if known is not None and key not in known:
-            raise ModelError(f"bounds.{key}", b, "is not a numeric parameter of the model; known: " + ", ".join(sorted(known)))
+            raise ModelError(
+                f"bounds.{key}", b, "is not a numeric parameter of the model; known: " + ", ".join(sorted(known))
+            )
         try:
             lo, hi = (float(v) for v in b)
         except (TypeError, ValueError):
@@ -80,9 +84,10 @@ def latin_hypercube(bounds=None, n_samples=300, seed=0):
     n = integer("n_samples", n_samples, 2)
     seed = integer("seed", seed, 0)
     from scipy.stats import qmc
+
     try:
         sampler = qmc.LatinHypercube(len(bounds), scramble=True, rng=seed)
-    except TypeError:                       # scipy < 1.15 names it seed (same default_rng stream)
+    except TypeError:  # scipy < 1.15 names it seed (same default_rng stream)
         sampler = qmc.LatinHypercube(len(bounds), scramble=True, seed=seed)
     unit = sampler.random(n)
     lo = np.array([b[0] for b in bounds.values()])
@@ -95,8 +100,10 @@ def gap_constraint(params):
     ``None`` if ``cable.d < casing.d_inner`` (both in m), else the reason. Only checked when both
     diameters are sampled; the model's own validation catches the rest at evaluation."""
     if "cable.d" in params and "casing.d_inner" in params and params["cable.d"] >= params["casing.d_inner"]:
-        return (f"infeasible: cable.d = {params['cable.d']!r} m is not below casing.d_inner = "
-                f"{params['casing.d_inner']!r} m")
+        return (
+            f"infeasible: cable.d = {params['cable.d']!r} m is not below casing.d_inner = "
+            f"{params['casing.d_inner']!r} m"
+        )
     return None
 
 

@@ -20,6 +20,7 @@ a resumable CSV (:mod:`.results_store`); the correlations and the figure are rea
   index already present (a failed sample is *not* retried), so no sample is repeated. A torn last
   line (process killed mid-write) is cut off and that sample is run again.
 """
+
 from __future__ import annotations
 
 import json
@@ -32,9 +33,23 @@ from .results_store import META_COLUMNS, TAIL_COLUMNS, FORMAT_VERSION, ResultsWr
 from .sampling import DEFAULT_CONSTRAINTS, check_bounds, latin_hypercube
 
 
-def run_study(path, evaluate=DEFAULT_EVALUATE, bounds=None, n_samples=300, seed=0, *, outputs=None,
-              evaluate_kwargs=None, scheduler=None, n_workers=None, max_samples=None,
-              constraints=DEFAULT_CONSTRAINTS, model=None, progress=True, max_in_flight=None):
+def run_study(
+    path,
+    evaluate=DEFAULT_EVALUATE,
+    bounds=None,
+    n_samples=300,
+    seed=0,
+    *,
+    outputs=None,
+    evaluate_kwargs=None,
+    scheduler=None,
+    n_workers=None,
+    max_samples=None,
+    constraints=DEFAULT_CONSTRAINTS,
+    model=None,
+    progress=True,
+    max_in_flight=None,
+):
     """Run (or resume) the Monte-Carlo study of Section 4.4 and write every sample to ``path`` (CSV).
 
     Parameters
@@ -92,18 +107,29 @@ def run_study(path, evaluate=DEFAULT_EVALUATE, bounds=None, n_samples=300, seed=
     if not (isinstance(evaluate, str) or callable(evaluate)):
         raise ModelError("evaluate", evaluate, "must be a callable or a dotted import path 'package.module:function'")
     fn = resolve_evaluate(evaluate)
-    if getattr(fn, "placeholder", False):   # fail early on a bad path or a placeholder
+    if getattr(fn, "placeholder", False):  # fail early on a bad path or a placeholder
         fn({})
     if not (scheduler is None or isinstance(scheduler, str) or type(scheduler).__name__ == "Client"):
-        raise ModelError("scheduler", scheduler, "must be None, 'serial', 'local', an address 'tcp://host:8786' or a distributed.Client")
+        raise ModelError(
+            "scheduler",
+            scheduler,
+            "must be None, 'serial', 'local', an address 'tcp://host:8786' or a distributed.Client",
+        )
     constraints = tuple(constraints or ())
     path = str(path)
     params = tuple(bounds)
     design = latin_hypercube(bounds, n, seed)
-    meta = {"format": FORMAT_VERSION, "seed": seed, "n_samples": n, "bounds": {k: list(v) for k, v in bounds.items()},
-            "outputs": list(outputs), "evaluate": spec_name(evaluate), "evaluate_kwargs": evaluate_kwargs,
-            "constraints": [spec_name(c) for c in constraints],
-            "sampler": "scipy.stats.qmc.LatinHypercube(scramble=True)"}
+    meta = {
+        "format": FORMAT_VERSION,
+        "seed": seed,
+        "n_samples": n,
+        "bounds": {k: list(v) for k, v in bounds.items()},
+        "outputs": list(outputs),
+        "evaluate": spec_name(evaluate),
+        "evaluate_kwargs": evaluate_kwargs,
+        "constraints": [spec_name(c) for c in constraints],
+        "sampler": "scipy.stats.qmc.LatinHypercube(scramble=True)",
+    }
     done = prepare_file(path, meta, design, params)
 
     writer = ResultsWriter(path, params, outputs, design)
@@ -122,8 +148,16 @@ def run_study(path, evaluate=DEFAULT_EVALUATE, bounds=None, n_samples=300, seed=
         if max_samples is not None:
             todo = todo[:max_samples]
         from tqdm.auto import tqdm
-        bar = tqdm(total=n, initial=len(done), unit="sample", desc="study", disable=not progress,
-                   dynamic_ncols=True, smoothing=0.1)
+
+        bar = tqdm(
+            total=n,
+            initial=len(done),
+            unit="sample",
+            desc="study",
+            disable=not progress,
+            dynamic_ncols=True,
+            smoothing=0.1,
+        )
         try:
             execute(todo, evaluate, evaluate_kwargs, outputs, writer, bar, scheduler, n_workers, max_in_flight)
         finally:

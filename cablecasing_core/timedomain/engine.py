@@ -12,6 +12,7 @@ The engine can advance from any time by any step (a step that is not a multiple 
 with one shorter sub-step, whose factorisation is cached) and can copy out and restore its
 complete state (:meth:`Engine.get_state`, :meth:`Engine.set_state`).
 """
+
 from __future__ import annotations
 
 import io
@@ -25,7 +26,6 @@ from ..structure.assembly import assemble_body
 from ..model.schema import BODY_NAMES, CHANNELS, OUTPUTS, SUPPORT_OUTPUTS, lookup
 from ..model.validators import seconds
 from ..errors import ModelError, SimulationError
-
 
 
 def hertz_constant(model):
@@ -48,9 +48,9 @@ def block_ldl(A):
     SPD, so no pivoting is needed)."""
     n = A.shape[0]
     nb = n // 6
-    blk = lambda i, j: A[6 * i:6 * i + 6, 6 * j:6 * j + 6]  # noqa: E731
+    blk = lambda i, j: A[6 * i : 6 * i + 6, 6 * j : 6 * j + 6]  # noqa: E731
     for i in range(nb):
-        if np.any(A[6 * i:6 * i + 6, 6 * (i + 2):]):
+        if np.any(A[6 * i : 6 * i + 6, 6 * (i + 2) :]):
             raise AssertionError("the effective stiffness must be block tridiagonal in node blocks")
     Dinv = np.zeros((nb, 6, 6))
     L = np.zeros((nb, 6, 6))
@@ -85,8 +85,8 @@ def support_rows(M, K, pres, b):
     lo = np.clip(np.asarray(pres, np.int64) - b, 0, n - w)
     sup = np.zeros((len(pres), 2, w))
     for q, (p, j0) in enumerate(zip(pres, lo)):
-        sup[q, 0] = M[p, j0:j0 + w]
-        sup[q, 1] = K[p, j0:j0 + w]
+        sup[q, 0] = M[p, j0 : j0 + w]
+        sup[q, 1] = K[p, j0 : j0 + w]
     return sup, lo
 
 
@@ -107,6 +107,7 @@ class _Body:
         sysm = assemble_body(model, name)
         if spec.frequency_dependent:
             from ..frequency.modal import natural_frequencies
+
             f1 = natural_frequencies(model, name, 1)[0]
             sysm = assemble_body(model, name, E=float(spec.modulus(f1)))
         self.system = sysm
@@ -162,15 +163,15 @@ class _Body:
                 # rows of the prescribed DOFs keep the free part equal to inv(Keff[f, f])). Not LAPACK:
                 # a threaded BLAS rounds differently with each thread count, and the contact response
                 # is chaotic, so a record would depend on OMP_NUM_THREADS (a dask worker, an FMU host).
-                cols = np.eye(self.ng)[f]           # e_j of the free DOFs, one per row
+                cols = np.eye(self.ng)[f]  # e_j of the free DOFs, one per row
                 for x in cols:
-                    K.block_solve(Dinv, L, LT, x)   # -> column j of Keff^-1, stored as row j
+                    K.block_solve(Dinv, L, LT, x)  # -> column j of Keff^-1, stored as row j
                 inv_ff = cols[:, f]
                 # over all DOFs, zero on the prescribed ones (they do not respond), and exactly
                 # symmetric: the contact kernels read its rows as columns
                 n = len(self.U)
                 inv = np.zeros((n, n))
-                inv[self.f0:self.f0 + self.nf, self.f0:self.f0 + self.nf] = 0.5 * (inv_ff + inv_ff.T)
+                inv[self.f0 : self.f0 + self.nf, self.f0 : self.f0 + self.nf] = 0.5 * (inv_ff + inv_ff.T)
             else:
                 inv = np.zeros((1, 1))
             self._factors[key] = (Dinv, L, LT, inv)
@@ -190,7 +191,7 @@ def compiled_entry(dispatcher, args):
     the types of later calls are those of the first one."""
     try:
         return dispatcher.overloads[tuple(dispatcher.typeof_pyval(a) for a in args)].entry_point
-    except (AttributeError, KeyError):          # (another numba, or not compiled for these types)
+    except (AttributeError, KeyError):  # (another numba, or not compiled for these types)
         return dispatcher
 
 
@@ -243,12 +244,20 @@ class Engine:
         self.law = 0 if c["law"] == "hertz" else 1
         self.k_lin, self.c_n, self.mu, self.v_stick = c["stiffness"], c["damping"], c["friction"], c["stick_velocity"]
         self._hist = []
-        self._snap = None                   # roll-back buffer of advance (see snapshot)
+        self._snap = None  # roll-back buffer of advance (see snapshot)
         self._ws = K.contact_workspace(len(self.Xc))
         self._allocate_state()
-        self._call_args = {}     # (dt, settings) -> the step loop's arguments and entry point (see _run)
-        self._no_record = K.Recording(False, np.zeros((1, 24)), np.zeros(2, np.int64), np.zeros(1, np.int32),
-                                      np.zeros(1, np.int8), np.zeros(1), np.zeros(1), 0)
+        self._call_args = {}  # (dt, settings) -> the step loop's arguments and entry point (see _run)
+        self._no_record = K.Recording(
+            False,
+            np.zeros((1, 24)),
+            np.zeros(2, np.int64),
+            np.zeros(1, np.int32),
+            np.zeros(1, np.int8),
+            np.zeros(1),
+            np.zeros(1),
+            0,
+        )
         self.reset()
 
     def _allocate_state(self):
@@ -258,22 +267,34 @@ class Engine:
         ns = self.bodies["casing"].system.ndof if "casing" in self.bodies else 1
         nc = self.bodies["cable"].system.ndof if "cable" in self.bodies else 1
         floats = [(b, k, (len(b.U),)) for b in self.bodies.values() for k in "UVA"]
-        floats += [(self, k, shape) for k, shape in (("cxi", (nn,)), ("Pn", (nn, 3)), ("vrel", (nn,)), ("Nn", (nn,)),
-                                                      ("gn", (nn,)), ("fcs", (ns,)), ("fcc", (nc,)), ("reac", (24,)),
-                                                      ("ledger", (K.LEDGER_SIZE,)), ("contact_time", (nn,)),
-                                                      ("_info", (K.INFO_SIZE,)))]
+        floats += [
+            (self, k, shape)
+            for k, shape in (
+                ("cxi", (nn,)),
+                ("Pn", (nn, 3)),
+                ("vrel", (nn,)),
+                ("Nn", (nn,)),
+                ("gn", (nn,)),
+                ("fcs", (ns,)),
+                ("fcc", (nc,)),
+                ("reac", (24,)),
+                ("ledger", (K.LEDGER_SIZE,)),
+                ("contact_time", (nn,)),
+                ("_info", (K.INFO_SIZE,)),
+            )
+        ]
         ints = [(self, "cstate", (nn,)), (self, "celem", (nn,))]
         for items, dtype, name in ((floats, float, "_fbuf"), (ints, np.int64, "_ibuf")):
             buf = np.zeros(sum(int(np.prod(shape)) for _, _, shape in items), dtype)
             o = 0
             for owner, key, shape in items:
                 size = int(np.prod(shape))
-                setattr(owner, key, buf[o:o + size].reshape(shape))
+                setattr(owner, key, buf[o : o + size].reshape(shape))
                 o += size
             setattr(self, name, buf)
         # the step loop's info array (K.INFO_*): what failed, then the solver counters: contact Newton
         # iterations, stick/slip passes, unconverged steps
-        self.solver_counts = self._info[K.INFO_NEWTON_ITERATIONS:K.INFO_UNCONVERGED_STEPS + 1]
+        self.solver_counts = self._info[K.INFO_NEWTON_ITERATIONS : K.INFO_UNCONVERGED_STEPS + 1]
 
     # -------------------------------------------------------------------------------- state
     def reset(self):
@@ -340,14 +361,58 @@ class Engine:
             z = np.zeros(1)
             i0 = np.zeros(0, np.int64)
             return K.BodyArrays(
-                False, np.zeros((1, 1)), np.zeros((1, 1)), _DUMMY_BLOCK, _DUMMY_BLOCK, _DUMMY_BLOCK, 0, 0, 0, 0, 0.0,
-                0.0, b.U if b else z, b.V if b else z.copy(), b.A if b else z.copy(), b.pres if b else i0,
-                b.pchan if b else i0, b.pslot if b else i0,
-                np.zeros((len(b.U), len(b.U))) if b else np.zeros((1, 1)),   # nothing responds
-                np.zeros((0, 2, 1)), i0, np.zeros((2, 0), np.int64), np.zeros(0), fc)
+                False,
+                np.zeros((1, 1)),
+                np.zeros((1, 1)),
+                _DUMMY_BLOCK,
+                _DUMMY_BLOCK,
+                _DUMMY_BLOCK,
+                0,
+                0,
+                0,
+                0,
+                0.0,
+                0.0,
+                b.U if b else z,
+                b.V if b else z.copy(),
+                b.A if b else z.copy(),
+                b.pres if b else i0,
+                b.pchan if b else i0,
+                b.pslot if b else i0,
+                np.zeros((len(b.U), len(b.U))) if b else np.zeros((1, 1)),  # nothing responds
+                np.zeros((0, 2, 1)),
+                i0,
+                np.zeros((2, 0), np.int64),
+                np.zeros(0),
+                fc,
+            )
         Dinv, L, LT, inv = b.factors(dt, self.contact)
-        return K.BodyArrays(True, b.Md, b.Kd, Dinv, L, LT, b.g0, b.ng, b.f0, b.nf, b.alpha, b.beta, b.U, b.V, b.A,
-                            b.pres, b.pchan, b.pslot, inv, b.sup, b.sup_lo, b.cpl_i, b.cpl_v, fc)
+        return K.BodyArrays(
+            True,
+            b.Md,
+            b.Kd,
+            Dinv,
+            L,
+            LT,
+            b.g0,
+            b.ng,
+            b.f0,
+            b.nf,
+            b.alpha,
+            b.beta,
+            b.U,
+            b.V,
+            b.A,
+            b.pres,
+            b.pchan,
+            b.pslot,
+            inv,
+            b.sup,
+            b.sup_lo,
+            b.cpl_i,
+            b.cpl_v,
+            fc,
+        )
 
     def _run(self, dt, up, vp, ap, times):
         n = len(up)
@@ -355,39 +420,94 @@ class Engine:
             # contact histories sparse (the nodes in contact, ~2 of 36): np.empty of the worst case
             # is only address space until written; the used part is copied out below
             cap = n * len(self.Xc)
-            rec = K.Recording(True, np.zeros((n, 24)), np.zeros(n + 1, np.int64), np.empty(cap, np.int32),
-                              np.empty(cap, np.int8), np.empty(cap), np.empty(cap), 0)
+            rec = K.Recording(
+                True,
+                np.zeros((n, 24)),
+                np.zeros(n + 1, np.int64),
+                np.empty(cap, np.int32),
+                np.empty(cap, np.int8),
+                np.empty(cap),
+                np.empty(cap),
+                0,
+            )
         else:
             rec = self._no_record
         # the arrays are never rebound (see _allocate_state), so the arguments are built once per
         # time step and setting (a changed attribute, e.g. contact, builds them anew)
-        key = (dt, self.contact, self.ledger_on, self.record, self.law, self.k_lin, self.k_hertz, self.c_n, self.mu,
-               self.v_stick, self.gap, self.r_in, self.r_cable)
+        key = (
+            dt,
+            self.contact,
+            self.ledger_on,
+            self.record,
+            self.law,
+            self.k_lin,
+            self.k_hertz,
+            self.c_n,
+            self.mu,
+            self.v_stick,
+            self.gap,
+            self.r_in,
+            self.r_cable,
+        )
         args, step_loop = self._call_args.get(key, (None, None))
         if args is None:
-            law = K.ContactLaw(self.contact, self.gap, self.r_in, self.r_cable, self.law, self.k_lin, self.k_hertz,
-                               self.c_n, self.mu, self.v_stick)
-            contact = K.ContactArrays(self.Xc, self.Tc, self.Xs, self.Rs, self.Ls, self.cstate, self.celem, self.cxi,
-                                      self.Pn, self.vrel, self.Nn, self.gn, self.contact_time, self._ws)
-            args = (self._body_arrays("casing", dt), self._body_arrays("cable", dt), law, contact, self.reac,
-                    self.ledger, self.ledger_on)
-        info = self._info                   # info[K.INFO_NEWTON_ITERATIONS:] are the solver counters (a view)
-        info[:K.INFO_NEWTON_ITERATIONS] = 0.0
+            law = K.ContactLaw(
+                self.contact,
+                self.gap,
+                self.r_in,
+                self.r_cable,
+                self.law,
+                self.k_lin,
+                self.k_hertz,
+                self.c_n,
+                self.mu,
+                self.v_stick,
+            )
+            contact = K.ContactArrays(
+                self.Xc,
+                self.Tc,
+                self.Xs,
+                self.Rs,
+                self.Ls,
+                self.cstate,
+                self.celem,
+                self.cxi,
+                self.Pn,
+                self.vrel,
+                self.Nn,
+                self.gn,
+                self.contact_time,
+                self._ws,
+            )
+            args = (
+                self._body_arrays("casing", dt),
+                self._body_arrays("cable", dt),
+                law,
+                contact,
+                self.reac,
+                self.ledger,
+                self.ledger_on,
+            )
+        info = self._info  # info[K.INFO_NEWTON_ITERATIONS:] are the solver counters (a view)
+        info[: K.INFO_NEWTON_ITERATIONS] = 0.0
         if step_loop is None:
-            status = K.run_steps(self.time, dt, up, vp, ap, *args, rec, info)      # compiles or loads it
+            status = K.run_steps(self.time, dt, up, vp, ap, *args, rec, info)  # compiles or loads it
             self._call_args[key] = (args, compiled_entry(K.run_steps, (self.time, dt, up, vp, ap, *args, rec, info)))
         else:
             status = step_loop(self.time, dt, up, vp, ap, *args, rec, info)
         if status == K.ERR_INPUT:
             r, c, q = (int(info[i]) for i in (K.INFO_INPUT_ROW, K.INFO_INPUT_CHANNEL, K.INFO_INPUT_KIND))
             name = ("displacement", "velocity", "acceleration")[q]
-            raise ModelError(f"{CHANNELS[c]} {name}", float((up, vp, ap)[q][r, c]),
-                             f"must be finite (at t = {times[r]:.6g} s)")
+            raise ModelError(
+                f"{CHANNELS[c]} {name}", float((up, vp, ap)[q][r, c]), f"must be finite (at t = {times[r]:.6g} s)"
+            )
         if status != K.OK:
-            what = {K.ERR_NAN: "the solution is no longer finite (NaN/inf): the step is unstable or the input is",
-                    K.ERR_PENETRATION: f"penetration {info[K.INFO_VALUE]:.4g} m exceeds the cable radius "
-                                       f"{self.r_cable:.4g} m (contact too soft for this load, or the time step too "
-                                       "large)"}[status]
+            what = {
+                K.ERR_NAN: "the solution is no longer finite (NaN/inf): the step is unstable or the input is",
+                K.ERR_PENETRATION: f"penetration {info[K.INFO_VALUE]:.4g} m exceeds the cable radius "
+                f"{self.r_cable:.4g} m (contact too soft for this load, or the time step too "
+                "large)",
+            }[status]
             node = info[K.INFO_NODE]
             where = f"cable node {int(node)}" if node >= 0 else "the support forces"
             raise SimulationError(f"at t = {info[K.INFO_TIME]:.6g} s, {where}: {what}")
@@ -396,7 +516,7 @@ class Engine:
             self._hist.append((rec.F, rec.ptr) + tuple(x[:m].copy() for x in (rec.node, rec.state, rec.N, rec.g)))
         self.time = float(info[K.INFO_TIME])
 
-    CHUNK = 2048   # steps per evaluation of the support motion (see advance)
+    CHUNK = 2048  # steps per evaluation of the support motion (see advance)
 
     def advance(self, h, motion):
         """Integrate from ``self.time`` to ``self.time + h`` (s) with the support ``motion``
@@ -412,7 +532,7 @@ class Engine:
         what): the engine is then as it was before the call, and can be advanced again (e.g. by
         a smaller step, or after :meth:`set_state`)."""
         seconds("h", h)
-        n = math.floor(h / self.dt * (1 + 1e-12))   # (math: numpy's scalar calls cost ~1 µs each)
+        n = math.floor(h / self.dt * (1 + 1e-12))  # (math: numpy's scalar calls cost ~1 µs each)
         rest = h - n * self.dt
         segments = []
         if n:
@@ -431,12 +551,13 @@ class Engine:
                 t = self.time
                 for j0 in range(0, m, self.CHUNK):
                     j1 = min(m, j0 + self.CHUNK)
-                    times = t + dt * np.arange(j0 + 1, j1 + 1)     # as if evaluated in one piece
+                    times = t + dt * np.arange(j0 + 1, j1 + 1)  # as if evaluated in one piece
                     u, v, a = (np.ascontiguousarray(x, dtype=float) for x in motion(times))
                     for x in (u, v, a):
                         if x.shape != (j1 - j0, len(CHANNELS)):
-                            raise ModelError("motion", x.shape,
-                                             f"must return arrays of shape ({j1 - j0}, {len(CHANNELS)})")
+                            raise ModelError(
+                                "motion", x.shape, f"must return arrays of shape ({j1 - j0}, {len(CHANNELS)})"
+                            )
                     self._run(dt, u, v, a, times)  # (non-finite motion is refused there, before any step)
                 self.time = float(t + m * dt)
         except BaseException:
@@ -458,20 +579,36 @@ class Engine:
         strain = sum(b.energy()[1] for b in self.bodies.values())
         pot = self.contact_potential()
         w_sup, d_ray, e_start, d_fric, w_con, d_damp = (
-            self.ledger[i] for i in (K.LEDGER_SUPPORT_WORK, K.LEDGER_RAYLEIGH_DISSIPATION, K.LEDGER_START_ENERGY,
-                                     K.LEDGER_FRICTION_DISSIPATION, K.LEDGER_CONTACT_WORK, K.LEDGER_DAMPING_DISSIPATION))
+            self.ledger[i]
+            for i in (
+                K.LEDGER_SUPPORT_WORK,
+                K.LEDGER_RAYLEIGH_DISSIPATION,
+                K.LEDGER_START_ENERGY,
+                K.LEDGER_FRICTION_DISSIPATION,
+                K.LEDGER_CONTACT_WORK,
+                K.LEDGER_DAMPING_DISSIPATION,
+            )
+        )
         d_con = -w_con - pot
         residual = kin + strain + pot - (e_start + w_sup - d_ray - d_con)
-        return {"kinetic": kin, "strain": strain, "contact_potential": pot, "support_work": w_sup,
-                "rayleigh_dissipation": d_ray if self.ledger_on else np.nan, "contact_dissipation": d_con,
-                "contact_damping_dissipation": d_damp, "friction_dissipation": d_fric, "residual": residual}
+        return {
+            "kinetic": kin,
+            "strain": strain,
+            "contact_potential": pot,
+            "support_work": w_sup,
+            "rayleigh_dissipation": d_ray if self.ledger_on else np.nan,
+            "contact_dissipation": d_con,
+            "contact_damping_dissipation": d_damp,
+            "friction_dissipation": d_fric,
+            "residual": residual,
+        }
 
     def output_values(self, out=None):
         """The values of :meth:`outputs` as an array in the order of :data:`OUTPUTS` (written into
         ``out`` when given): one call instead of a dict, for the FMU's per-step reads."""
         out = np.empty(len(OUTPUTS)) if out is None else out
         out[:24] = self.reac
-        out[24] = np.count_nonzero(self.cstate)      # OPEN == 0 (no comparison array)
+        out[24] = np.count_nonzero(self.cstate)  # OPEN == 0 (no comparison array)
         out[25] = self.gn.max() if len(self.gn) else 0.0
         out[26] = -self.ledger[K.LEDGER_CONTACT_WORK] - self.contact_potential()
         return out
@@ -498,11 +635,21 @@ class Engine:
         rows += np.repeat(np.cumsum([0] + [len(h[0]) for h in self._hist[:-1]]), [len(h[2]) for h in self._hist])
         node, state, N, g = (np.concatenate([h[i] for h in self._hist]) for i in range(2, 6))
         if sparse:
-            return {"support_forces": F, "contact_step": rows, "contact_node": node, "contact_state": state,
-                    "normal_force": N, "penetration": g}
+            return {
+                "support_forces": F,
+                "contact_step": rows,
+                "contact_node": node,
+                "contact_state": state,
+                "normal_force": N,
+                "penetration": g,
+            }
         shape = (len(F), len(self.Xc))
-        out = {"support_forces": F, "contact_state": np.zeros(shape, np.int8), "normal_force": np.zeros(shape),
-               "penetration": np.zeros(shape)}
+        out = {
+            "support_forces": F,
+            "contact_state": np.zeros(shape, np.int8),
+            "normal_force": np.zeros(shape),
+            "penetration": np.zeros(shape),
+        }
         for key, v in (("contact_state", state), ("normal_force", N), ("penetration", g)):
             out[key][rows, node] = v
         return out

@@ -19,6 +19,7 @@ supports start from rest instead of jumping to the signal's value at t = 0.
 Targets ``<body>.<A|B>.axial`` act along the cable's (casing's) tangent at that end, pointing from
 A to B (the cable's longitudinal excitation of Section 4.2).
 """
+
 from __future__ import annotations
 
 import functools
@@ -39,8 +40,11 @@ def _random_record(rms, band, duration, dt, seed):
     rng = np.random.default_rng(seed)
     inband = (f >= band[0]) & (f <= band[1])
     if not inband.any():
-        raise ModelError("scenario.excitation.band", band,
-                         f"holds no frequency line of a {n * dt:.6g} s record; widen the band or lengthen the duration")
+        raise ModelError(
+            "scenario.excitation.band",
+            band,
+            f"holds no frequency line of a {n * dt:.6g} s record; widen the band or lengthen the duration",
+        )
     A = np.zeros(len(f), complex)
     A[inband] = np.exp(2j * np.pi * rng.random(inband.sum()))
     w = 2 * np.pi * f
@@ -85,8 +89,9 @@ class _Signal:
         except OSError as exc:
             raise ModelError("scenario.excitation.file", path, f"must be a readable CSV file ({exc})") from None
         if data.dtype.names is None or len(data.dtype.names) < 2 or data.size < 2:
-            raise ModelError("scenario.excitation.file", path,
-                             "must have a header and at least two rows of time_s, displacement_m")
+            raise ModelError(
+                "scenario.excitation.file", path, "must have a header and at least two rows of time_s, displacement_m"
+            )
         t = np.asarray(data[data.dtype.names[0]], float)
         u = np.asarray(data[data.dtype.names[1]], float)
         if not (np.all(np.isfinite(t)) and np.all(np.isfinite(u))):
@@ -94,8 +99,11 @@ class _Signal:
         bad = np.nonzero(np.diff(t) <= 0)[0]
         if bad.size:
             i = bad[0] + 1
-            raise ModelError("scenario.excitation.file", path,
-                             f"time must increase strictly; row {i + 1} has t = {t[i]} after {t[i - 1]}")
+            raise ModelError(
+                "scenario.excitation.file",
+                path,
+                f"time must increase strictly; row {i + 1} has t = {t[i]} after {t[i - 1]}",
+            )
         self.t0, self.t1 = t[0], t[-1]
         self.spline = CubicSpline(t, u)
 
@@ -119,7 +127,7 @@ class _Signal:
             tt = np.mod(t, self.period)
             h, u, v, a = self.grid
             k = np.rint(tt / h)
-            if np.all(np.abs(tt / h - k) < 1e-9):      # on the record's grid: the samples themselves
+            if np.all(np.abs(tt / h - k) < 1e-9):  # on the record's grid: the samples themselves
                 k = k.astype(np.int64)
                 return u[k], v[k], a[k]
             return self.poly(tt), self.poly(tt, 1), self.poly(tt, 2)
@@ -156,8 +164,8 @@ class ScenarioMotion:
         out = [np.zeros((len(t), len(CHANNELS))) for _ in range(3)]
         for col, wts, sig in self.terms:
             for o, s in zip(out, sig(t)):
-                o[:, col:col + 3] += s[:, None] * wts[None, :]
-        if self.ramp > 0 and t.min() < self.ramp:     # (past the ramp, the factor is 1)
+                o[:, col : col + 3] += s[:, None] * wts[None, :]
+        if self.ramp > 0 and t.min() < self.ramp:  # (past the ramp, the factor is 1)
             T = self.ramp
             on = t < T
             x = np.pi * t / T

@@ -4,6 +4,7 @@
 >>> res = cc.simulate(cc.load_model(), duration=0.05)
 >>> res.support_force("casing.B.Fz")       # N, one value per time step
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -47,17 +48,27 @@ class SimulationResult:
         or ``.npz`` (every array)."""
         path = str(path)
         if path.endswith(".npz"):
-            np.savez_compressed(path, time=self.time, support_forces=self.support_forces,
-                                contact_state=self.contact_state, normal_force=self.normal_force,
-                                penetration=self.penetration, contact_time=self.contact_time,
-                                curvature=self.curvature, arc_length=self.arc_length,
-                                support_names=np.array(SUPPORT_OUTPUTS))
+            np.savez_compressed(
+                path,
+                time=self.time,
+                support_forces=self.support_forces,
+                contact_state=self.contact_state,
+                normal_force=self.normal_force,
+                penetration=self.penetration,
+                contact_time=self.contact_time,
+                curvature=self.curvature,
+                arc_length=self.arc_length,
+                support_names=np.array(SUPPORT_OUTPUTS),
+            )
         elif path.endswith(".csv"):
             active = np.count_nonzero(self.contact_state, axis=1)
             table = np.column_stack([self.time, self.support_forces, active, self.penetration.max(axis=1)])
-            units = [output_spec(n)[0].replace(".", "") for n in SUPPORT_OUTPUTS]     # N, Nm
-            header = ",".join(["time_s"] + [f"{n}_{u}" for n, u in zip(SUPPORT_OUTPUTS, units)]
-                              + ["contact_active", "max_penetration_m"])
+            units = [output_spec(n)[0].replace(".", "") for n in SUPPORT_OUTPUTS]  # N, Nm
+            header = ",".join(
+                ["time_s"]
+                + [f"{n}_{u}" for n, u in zip(SUPPORT_OUTPUTS, units)]
+                + ["contact_active", "max_penetration_m"]
+            )
             np.savetxt(path, table, delimiter=",", header=header, comments="", fmt="%.9g")
         else:
             raise ModelError("--out", path, "must end in .csv or .npz")
@@ -84,10 +95,17 @@ def simulate(model, duration=None, dt=None, contact=None, motion=None):
     cl = eng.bodies[next(iter(eng.bodies))].system.centerline
     # the step ends; a duration that is not a whole number of steps ends with a shorter one
     time = np.minimum(dt * np.arange(1, n + 1), eng.time)
-    return SimulationResult(time=time, support_forces=h["support_forces"],
-                            contact_state=h["contact_state"], normal_force=h["normal_force"],
-                            penetration=h["penetration"], contact_time=eng.contact_time.copy(),
-                            curvature=cl.curvature, arc_length=cl.s, energies=eng.energies())
+    return SimulationResult(
+        time=time,
+        support_forces=h["support_forces"],
+        contact_state=h["contact_state"],
+        normal_force=h["normal_force"],
+        penetration=h["penetration"],
+        contact_time=eng.contact_time.copy(),
+        curvature=cl.curvature,
+        arc_length=cl.s,
+        energies=eng.energies(),
+    )
 
 
 def contact_episodes(contact_state):
@@ -106,7 +124,7 @@ def contact_episodes(contact_state):
         raise ModelError("contact_state", s.shape, "must be a (steps x nodes) array")
     on = np.zeros((s.shape[1], s.shape[0] + 2), np.int8)
     on[:, 1:-1] = (s > 0).T
-    edges = np.diff(on, axis=1)        # +1 where an episode starts, -1 one past its last step
+    edges = np.diff(on, axis=1)  # +1 where an episode starts, -1 one past its last step
     node, start = np.nonzero(edges == 1)
-    end = np.nonzero(edges == -1)[1]   # in the same (node, time) order: they alternate per node
+    end = np.nonzero(edges == -1)[1]  # in the same (node, time) order: they alternate per node
     return node, start, end - start

@@ -24,6 +24,7 @@ by a phase lead of about (w h)^3 / 6 (0.020 rad there); the rest of the error li
 Nothing here is physics: it is interpolation, shared by the FMU and by tests that drive the core
 engine exactly as the FMU does.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -35,16 +36,18 @@ from . import kernels as K
 # c = _HERMITE_TO_POWER @ [p(0), p'(0), p''(0), p(1), p'(1), p''(1)] (derivatives in s). The
 # per-step arithmetic (K.taylor_rows, K.quintic_coefficients, K.quintic_values) is compiled: as a
 # dozen numpy calls on 12 channels it cost ~10 µs per communication step, as much as a Newmark step.
-_HERMITE_TO_POWER = np.array([
-    [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
-    [0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
-    [0.0, 0.0, 0.5, 0.0, 0.0, 0.0],
-    [-10.0, -6.0, -1.5, 10.0, -4.0, 0.5],
-    [15.0, 8.0, 1.5, -15.0, 7.0, -1.0],
-    [-6.0, -3.0, -0.5, 6.0, -3.0, 0.5],
-])
-_K1 = np.arange(1, 6, dtype=float)[:, None]                 # k for the first derivative
-_K2 = (np.arange(2, 6) * np.arange(1, 5)).astype(float)[:, None]   # k (k - 1)
+_HERMITE_TO_POWER = np.array(
+    [
+        [1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+        [0.0, 0.0, 0.5, 0.0, 0.0, 0.0],
+        [-10.0, -6.0, -1.5, 10.0, -4.0, 0.5],
+        [15.0, 8.0, 1.5, -15.0, 7.0, -1.0],
+        [-6.0, -3.0, -0.5, 6.0, -3.0, 0.5],
+    ]
+)
+_K1 = np.arange(1, 6, dtype=float)[:, None]  # k for the first derivative
+_K2 = (np.arange(2, 6) * np.arange(1, 5)).astype(float)[:, None]  # k (k - 1)
 
 
 def taylor_target(u, v, a, h):
@@ -64,11 +67,11 @@ def _coefficient_matrix(h):
     ordered power-major (row 3 k + j: the s^k coefficient of u, v, a for j = 0, 1, 2), from
     [start u, v, a; end u, v, a] (6 x n, SI units). Zero rows where a derivative has no such power."""
     scale = np.diag([1.0, h, h * h, 1.0, h, h * h])
-    c = _HERMITE_TO_POWER @ scale                   # displacement coefficients, m
+    c = _HERMITE_TO_POWER @ scale  # displacement coefficients, m
     G = np.zeros((6, 3, 6))
     G[:, 0] = c
-    G[:5, 1] = _K1 * c[1:] / h                      # velocity, m/s
-    G[:4, 2] = _K2 * c[2:] / (h * h)                # acceleration, m/s2
+    G[:5, 1] = _K1 * c[1:] / h  # velocity, m/s
+    G[:4, 2] = _K2 * c[2:] / (h * h)  # acceleration, m/s2
     return G.reshape(18, 6)
 
 
@@ -100,14 +103,14 @@ class QuinticStep:
 
     def _setup(self, t0, h, rows, G):
         self.t0, self.h = t0, h
-        self.start, self.end = rows[:3], rows[3:]       # (3, n) each
+        self.start, self.end = rows[:3], rows[3:]  # (3, n) each
         # (3, 6, n): the power-basis coefficients of u, v and a
         self._c = np.empty((3, 6, rows.shape[1]))
         K.quintic_coefficients(G, rows, self._c)
 
     def __call__(self, t):
         t = np.ascontiguousarray(t, dtype=float).reshape(-1)
-        r = np.empty((3, len(t), self._c.shape[2]))       # u, v, a: each block contiguous
+        r = np.empty((3, len(t), self._c.shape[2]))  # u, v, a: each block contiguous
         K.quintic_values(self._c, self.t0, self.h, t, r)
         return r[0], r[1], r[2]
 
@@ -127,18 +130,18 @@ class SupportReconstruction:
     """
 
     def __init__(self, n):
-        self.state = np.zeros((3, int(n)))       # rows u (m), v (m/s), a (m/s2)
+        self.state = np.zeros((3, int(n)))  # rows u (m), v (m/s), a (m/s2)
         self._h = None
 
     def motion(self, t0, h, u, v, a):
         """The :class:`QuinticStep` from the current support state to the Taylor target of the
         inputs (u, v, a) given at ``t0`` (s) over the step ``h`` (s)."""
-        if h != self._h:          # a master usually keeps its communication step: cache per h
+        if h != self._h:  # a master usually keeps its communication step: cache per h
             h = seconds("h", h)
             self._h, self._G = h, _coefficient_matrix(h)
         n = self.state.shape[1]
         u, v, a = (np.ascontiguousarray(x, dtype=float) for x in (u, v, a))
-        if u.shape != (n,) or v.shape != (n,) or a.shape != (n,):   # (the kernel does not check bounds)
+        if u.shape != (n,) or v.shape != (n,) or a.shape != (n,):  # (the kernel does not check bounds)
             raise ValueError(f"inputs of shapes {u.shape}, {v.shape}, {a.shape}: each must have shape ({n},)")
         rows = np.empty((6, n))
         K.taylor_rows(self.state, u, v, a, self._h, rows)

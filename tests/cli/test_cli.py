@@ -1,4 +1,5 @@
 """The command line: modes, trfam, errors (run in-process through cli.main)."""
+
 import json
 
 import numpy as np
@@ -19,8 +20,30 @@ def test_modes_json(capsys):
 def test_trfam_csv(tmp_path):
     out = tmp_path / "t.csv"
     png = tmp_path / "t.png"
-    assert main(["trfam", "--input", "casing.A.y", "--output", "casing.B.y", "--fmin", "10", "--fmax", "20",
-                 "--df", "0.5", "--out", str(out), "--plot", str(png), "--damping", "structural"]) == 0
+    assert (
+        main(
+            [
+                "trfam",
+                "--input",
+                "casing.A.y",
+                "--output",
+                "casing.B.y",
+                "--fmin",
+                "10",
+                "--fmax",
+                "20",
+                "--df",
+                "0.5",
+                "--out",
+                str(out),
+                "--plot",
+                str(png),
+                "--damping",
+                "structural",
+            ]
+        )
+        == 0
+    )
     data = np.genfromtxt(out, delimiter=",", names=True)
     assert data.dtype.names == ("frequency_hz", "re_kg", "im_kg", "magnitude_kg", "phase_deg")
     H = trfam(load_model(), "casing.A.y", "casing.B.y", data["frequency_hz"], "structural")
@@ -57,12 +80,15 @@ def test_simulate_cli_model_dt_npz_plot_and_blow_up(tmp_path, capsys):
     duration that is not a whole number of steps ends on it; a blow-up exits with status 2 and the
     error's when, where and what."""
     import cablecasing_core as cc
+
     model = load_model().with_overrides({"contact.friction": 0.1})
     p = tmp_path / "m.toml"
     p.write_text(model.to_toml())
     out, png = tmp_path / "r.npz", tmp_path / "r.png"
-    assert main(["simulate", str(p), "--duration", "0.0030025", "--dt", "2e-5", "--out", str(out),
-                 "--plot", str(png)]) == 0
+    assert (
+        main(["simulate", str(p), "--duration", "0.0030025", "--dt", "2e-5", "--out", str(out), "--plot", str(png)])
+        == 0
+    )
     z = np.load(out)
     ref = cc.simulate(model, duration=0.0030025, dt=2e-5)
     assert len(z["time"]) == 151 and z["time"][-1] == 0.0030025 and z["time"][-2] == pytest.approx(0.003)
@@ -70,9 +96,14 @@ def test_simulate_cli_model_dt_npz_plot_and_blow_up(tmp_path, capsys):
     np.testing.assert_array_equal(z["contact_time"], ref.contact_time)
     assert png.stat().st_size > 10_000
     capsys.readouterr()
-    soft = model.with_overrides({"contact.law": "linear", "contact.stiffness": 1.0,
-                                 "scenario.excitation.cable_axial.amplitude": 0.0,
-                                 "scenario.excitation.casing_random.rms": 5000.0})
+    soft = model.with_overrides(
+        {
+            "contact.law": "linear",
+            "contact.stiffness": 1.0,
+            "scenario.excitation.cable_axial.amplitude": 0.0,
+            "scenario.excitation.casing_random.rms": 5000.0,
+        }
+    )
     p.write_text(soft.to_toml())
     assert main(["simulate", str(p), "--duration", "0.05"]) == 2
     err = capsys.readouterr().err

@@ -1,5 +1,6 @@
 """The demo (make demo: examples/demo.py) and its report: every figure the report references exists and is
 a PNG, every CSV is written."""
+
 import re
 import subprocess
 import sys
@@ -7,15 +8,19 @@ from pathlib import Path
 
 import pytest
 
-pytestmark = pytest.mark.slow      # builds the FMU and runs the demo
+pytestmark = pytest.mark.slow  # builds the FMU and runs the demo
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_report_renders_with_every_figure(tmp_path):
     out = tmp_path / "results"
-    subprocess.run([sys.executable, str(ROOT / "examples" / "demo.py"), "--out", str(out), "--duration", "0.15"],
-                   check=True, cwd=ROOT, timeout=1200)
+    subprocess.run(
+        [sys.executable, str(ROOT / "examples" / "demo.py"), "--out", str(out), "--duration", "0.15"],
+        check=True,
+        cwd=ROOT,
+        timeout=1200,
+    )
     html = (out / "report.html").read_text()
     imgs = re.findall(r'<img src="([^"]+)"', html)
     assert {"trfam_xyz.png", "simulation.png", "octave_bands.png"} <= set(imgs)

@@ -1,5 +1,6 @@
 """The FMU's test driver as a fixture: tests/fmu/fmu_driver.py runs each scenario in a fresh
 process (it is a script; the test process only prepares inputs and reads the results)."""
+
 import importlib.util
 from pathlib import Path
 

@@ -9,6 +9,7 @@ channels at each communication point - and reads back the outputs.
 
 From a test: ``result = fmu_driver.run(tmp_path, "run", fmu=..., inputs=table, params={...})``.
 """
+
 from __future__ import annotations
 
 import json
@@ -40,8 +41,9 @@ def run(tmp_path, scenario, fmu, inputs=None, timeout=600, **args):
         job["inputs"] = str(tmp_path / f"inputs{n}.npy")
     path = tmp_path / f"job{n}.json"
     path.write_text(json.dumps(job))
-    proc = subprocess.run([sys.executable, str(Path(__file__)), scenario, str(path)],
-                          capture_output=True, text=True, timeout=timeout)
+    proc = subprocess.run(
+        [sys.executable, str(Path(__file__)), scenario, str(path)], capture_output=True, text=True, timeout=timeout
+    )
     if proc.returncode != 0:
         raise RuntimeError(f"fmu_driver {scenario} failed ({proc.returncode}):\n{proc.stdout}\n{proc.stderr}")
     with np.load(job["out"], allow_pickle=False) as z:
@@ -63,8 +65,12 @@ class Instance:
         if unzip is None:
             unzip = Instance.unzip_dirs.setdefault(fmu, extract(fmu))
         self.log = []
-        self.fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=unzip,
-                             modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName=name)
+        self.fmu = FMU2Slave(
+            guid=self.md.guid,
+            unzipDirectory=unzip,
+            modelIdentifier=self.md.coSimulation.modelIdentifier,
+            instanceName=name,
+        )
         self.fmu.instantiate(callbacks=self._callbacks(), loggingOn=logging)
         self.t = start_time
         self.fmu.setupExperiment(startTime=start_time)
@@ -76,24 +82,30 @@ class Instance:
 
     def _callbacks(self):
         from fmpy import calloc, free
-        from fmpy.fmi2 import (fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE, fmi2CallbackFunctions,
-                               fmi2CallbackLoggerTYPE)
+        from fmpy.fmi2 import (
+            fmi2CallbackAllocateMemoryTYPE,
+            fmi2CallbackFreeMemoryTYPE,
+            fmi2CallbackFunctions,
+            fmi2CallbackLoggerTYPE,
+        )
         from fmpy.logging import addLoggerProxy
 
         def logger(env, instance, status, category, message):
             self.log.append((int(status), message.decode("utf-8", "replace") if message else ""))
+
         cb = fmi2CallbackFunctions()
         cb.logger = fmi2CallbackLoggerTYPE(logger)
         cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
         cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
         addLoggerProxy(byref(cb))
-        self._cb = cb          # keep the C callbacks alive
+        self._cb = cb  # keep the C callbacks alive
         return cb
 
     @staticmethod
     def call(f, *a):
         """Status of an FMI call (fmpy raises on anything worse than fmi2Warning)."""
         from fmpy.fmi1 import FMICallException
+
         try:
             f(*a)
             return 0
@@ -105,8 +117,12 @@ class Instance:
         for name, value in values.items():
             v = self.var[name]
             vr = [v.valueReference]
-            setter = {"Real": self.fmu.setReal, "Integer": self.fmu.setInteger, "Boolean": self.fmu.setBoolean,
-                      "String": self.fmu.setString}[v.type]
+            setter = {
+                "Real": self.fmu.setReal,
+                "Integer": self.fmu.setInteger,
+                "Boolean": self.fmu.setBoolean,
+                "String": self.fmu.setString,
+            }[v.type]
             status = max(status, self.call(setter, vr, [value]))
         return status
 
@@ -123,8 +139,12 @@ class Instance:
         if key not in self._plans:
             reals = [i for i, n in enumerate(names) if self.var[n].type == "Real"]
             ints = [i for i, n in enumerate(names) if self.var[n].type == "Integer"]
-            self._plans[key] = (reals, [self.var[names[i]].valueReference for i in reals],
-                                ints, [self.var[names[i]].valueReference for i in ints])
+            self._plans[key] = (
+                reals,
+                [self.var[names[i]].valueReference for i in reals],
+                ints,
+                [self.var[names[i]].valueReference for i in ints],
+            )
         reals, real_vr, ints, int_vr = self._plans[key]
         out = np.empty(len(names))
         if reals:
@@ -153,6 +173,7 @@ def scenario_run(job, table):
     """Instantiate (parameters ``params``), step through the table; outputs after each step.
     Also times instantiation up to the end of the first step (unzip excluded) and the rest."""
     from fmpy import extract
+
     Instance.unzip_dirs.setdefault(job["fmu"], extract(job["fmu"]))
     t0 = time.perf_counter()
     inst = Instance(job["fmu"], params=job.get("params"))
@@ -165,8 +186,9 @@ def scenario_run(job, table):
     out[1:], status[1:] = simulate(inst, table[1:], job["h"], job["outputs"])
     t2 = time.perf_counter()
     inst.free()
-    return dict(out=out, status=status, init_status=inst.status_init, log=_log(inst.log),
-                first_step_s=t1 - t0, run_s=t2 - t1)
+    return dict(
+        out=out, status=status, init_status=inst.status_init, log=_log(inst.log), first_step_s=t1 - t0, run_s=t2 - t1
+    )
 
 
 def scenario_steps(job, table):
@@ -213,8 +235,17 @@ def scenario_state(job, table):
     inst.set(job.get("params") or {})
     inst.fmu.exitInitializationMode()
     d, sd = simulate(inst, table, h, names)
-    return dict(first=first, a=a, b=b, c=c, d=d, e=e, status=np.concatenate([sa, sb, sc, sd, se]),
-                blob_bytes=len(blob), log=_log(inst.log + other.log))
+    return dict(
+        first=first,
+        a=a,
+        b=b,
+        c=c,
+        d=d,
+        e=e,
+        status=np.concatenate([sa, sb, sc, sd, se]),
+        blob_bytes=len(blob),
+        log=_log(inst.log + other.log),
+    )
 
 
 def scenario_two(job, table):
@@ -265,7 +296,7 @@ def scenario_errors(job, table):
 
     inst = Instance(job["fmu"], name="blowup")
     jump = zero.copy()
-    jump[INPUTS.index("cable.A.y")] = 0.05          # 50 mm in one step: far through the casing wall
+    jump[INPUTS.index("cable.A.y")] = 0.05  # 50 mm in one step: far through the casing wall
     record("blowup", inst, inst.step(jump, h))
     record("after_blowup", inst, [inst.step(row, h) for row in table[:5]])
     res["after_blowup_out"] = inst.get(names)
@@ -274,7 +305,7 @@ def scenario_errors(job, table):
     garbage = inst.fmu.deSerializeFMUstate(b"not a state at all")
     record("badstate", inst, [Instance.call(inst.fmu.setFMUstate, garbage), inst.step(zero, h)])
 
-    inst = Instance(job["fmu"], name="fresh", start_time=0.25)     # the process goes on
+    inst = Instance(job["fmu"], name="fresh", start_time=0.25)  # the process goes on
     out, status = simulate(inst, table[:5], h, names)
     record("fresh", inst, status)
     res["fresh_out"] = out
@@ -295,7 +326,8 @@ def scenario_libcosim(job, table):
     ref = {v.name.decode(): (v.reference, v.type) for v in ex.slave_variables(slave)}
     for name, value in (job.get("params") or {}).items():
         setter = {bool: ex.boolean_initial_value, str: ex.string_initial_value, int: ex.integer_initial_value}.get(
-            type(value), ex.real_initial_value)
+            type(value), ex.real_initial_value
+        )
         setter(slave, ref[name][0], value)
     manipulator = CosimManipulator.create_override()
     ex.add_manipulator(manipulator)
@@ -319,27 +351,46 @@ def scenario_cache(job, table):
     """Load the FMU from a fresh unpack folder, take one step, and report what numba did: cache
     hits and misses (compilations) of every kernel, and where the cache lives."""
     from fmpy import extract
+
     unzip = extract(job["fmu"])
     inst = Instance(job["fmu"], unzip=unzip)
     status = inst.step(np.zeros(len(INPUTS)), job["h"])
     from numba.core.registry import CPUDispatcher
 
-    import cablecasing_core.timedomain.kernels as kernels      # the FMU's own copy (already imported by it)
-    disp = [v for name, mod in list(sys.modules.items()) if name.startswith(kernels.__name__ + ".")
-            for v in vars(mod).values() if isinstance(v, CPUDispatcher)]
-    return dict(status=status, hits=sum(sum(d.stats.cache_hits.values()) for d in disp),
-                misses=sum(sum(d.stats.cache_misses.values()) for d in disp),
-                run_steps_hits=sum(kernels.run_steps.stats.cache_hits.values()),
-                cache_path=kernels.run_steps.stats.cache_path, kernels_file=kernels.__file__,
-                kernels_cache_dir=kernels.kernels_cache_dir(), unzip=str(unzip))
+    import cablecasing_core.timedomain.kernels as kernels  # the FMU's own copy (already imported by it)
+
+    disp = [
+        v
+        for name, mod in list(sys.modules.items())
+        if name.startswith(kernels.__name__ + ".")
+        for v in vars(mod).values()
+        if isinstance(v, CPUDispatcher)
+    ]
+    return dict(
+        status=status,
+        hits=sum(sum(d.stats.cache_hits.values()) for d in disp),
+        misses=sum(sum(d.stats.cache_misses.values()) for d in disp),
+        run_steps_hits=sum(kernels.run_steps.stats.cache_hits.values()),
+        cache_path=kernels.run_steps.stats.cache_path,
+        kernels_file=kernels.__file__,
+        kernels_cache_dir=kernels.kernels_cache_dir(),
+        unzip=str(unzip),
+    )
 
 
 def _log(entries):
     return [f"{STATUS.get(s, s)}: {m}" for s, m in entries]
 
 
-SCENARIOS = {"run": scenario_run, "steps": scenario_steps, "state": scenario_state, "two": scenario_two,
-             "errors": scenario_errors, "libcosim": scenario_libcosim, "cache": scenario_cache}
+SCENARIOS = {
+    "run": scenario_run,
+    "steps": scenario_steps,
+    "state": scenario_state,
+    "two": scenario_two,
+    "errors": scenario_errors,
+    "libcosim": scenario_libcosim,
+    "cache": scenario_cache,
+}
 
 
 def main():

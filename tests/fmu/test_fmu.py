@@ -4,6 +4,7 @@ The FMU is rebuilt first when it is missing or older than its sources. The refer
 independent of the FMU: the core's frequency-domain TRFAM, and the core's engine driven by the
 same input reconstruction (cablecasing_core.timedomain.support_motion) in this process.
 """
+
 import subprocess
 import sys
 import zipfile
@@ -19,12 +20,12 @@ from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.support_motion import SupportReconstruction
 from cablecasing_core.timedomain.scenario import scenario_motion
 
-pytestmark = pytest.mark.slow      # every test runs the FMU in fresh processes
+pytestmark = pytest.mark.slow  # every test runs the FMU in fresh processes
 
 
 ROOT = Path(__file__).resolve().parents[2]
 FMU = ROOT / "dist" / "CableCasing.fmu"
-H = 1e-4                     # communication step (s)
+H = 1e-4  # communication step (s)
 NCH = len(CHANNELS)
 
 
@@ -71,7 +72,7 @@ def core_run(model, table, h=H, dt=None, contact=None):
     rec = SupportReconstruction(NCH)
     out = np.zeros((len(table), len(OUTPUTS)))
     for k, row in enumerate(table):
-        motion = rec.motion(eng.time, h, row[:NCH], row[NCH:2 * NCH], row[2 * NCH:])
+        motion = rec.motion(eng.time, h, row[:NCH], row[NCH : 2 * NCH], row[2 * NCH :])
         eng.advance(h, motion)
         rec.accept(motion)
         o = eng.outputs()
@@ -83,21 +84,25 @@ def core_run(model, table, h=H, dt=None, contact=None):
 def run(fmu_driver):
     """``run(tmp_path, scenario, fmu, **job)``: a scenario of fmu_driver.py in a fresh process, at the
     communication step H with every output unless the job says otherwise."""
+
     def scenario_run(tmp_path, scenario, fmu, **kw):
         kw.setdefault("h", H)
         kw.setdefault("outputs", list(OUTPUTS))
         return fmu_driver.run(tmp_path, scenario, fmu, **kw)
+
     return scenario_run
 
 
 # ------------------------------------------------------------------------------ the archive
 def test_fmpy_validate_finds_no_problem(fmu):
     from fmpy.validation import validate_fmu
+
     assert validate_fmu(str(fmu)) == []
 
 
 def test_model_description_is_complete(fmu, fmu_driver):
     from fmpy import read_model_description
+
     md = read_model_description(str(fmu))
     de = md.defaultExperiment
     assert (float(de.startTime), float(de.stopTime), float(de.stepSize)) == (0.0, 1.0, 1e-4)
@@ -111,11 +116,27 @@ def test_model_description_is_complete(fmu, fmu_driver):
         if v.type == "Real":
             assert v.unit in units, v.name
     expected = {fmu_driver.INPUTS[i]: "m" if i < 12 else "m/s" if i < 24 else "m/s2" for i in range(36)}
-    expected.update({n: "N" if ".F" in n else "N.m" for n in OUTPUTS if n.count(".") == 2 and n[0] == "c"
-                     and n.split(".")[1] in "AB"})
-    expected.update({"contact.max_penetration": "m", "contact.dissipated_energy": "J", "casing.E": "Pa",
-                     "cable.d": "m", "casing.alpha": "1/s", "casing.beta": "s", "contact.friction": "1",
-                     "solver.dt": "s", "casing.rho": "kg/m3", "contact.damping": "kg/s"})
+    expected.update(
+        {
+            n: "N" if ".F" in n else "N.m"
+            for n in OUTPUTS
+            if n.count(".") == 2 and n[0] == "c" and n.split(".")[1] in "AB"
+        }
+    )
+    expected.update(
+        {
+            "contact.max_penetration": "m",
+            "contact.dissipated_energy": "J",
+            "casing.E": "Pa",
+            "cable.d": "m",
+            "casing.alpha": "1/s",
+            "casing.beta": "s",
+            "contact.friction": "1",
+            "solver.dt": "s",
+            "casing.rho": "kg/m3",
+            "contact.damping": "kg/s",
+        }
+    )
     for name, unit in expected.items():
         assert var[name].unit == unit, name
     causality = {n: v.causality for n, v in var.items()}
@@ -124,26 +145,37 @@ def test_model_description_is_complete(fmu, fmu_driver):
     assert var["contact.active"].type == "Integer" and var["contact.enabled"].type == "Boolean"
     assert var["model_file"].type == "String" and var["model_file"].start == ""
     params = cc.load_model().parameters()
-    for key, value in params.items():                          # every numeric model key, same start value
+    for key, value in params.items():  # every numeric model key, same start value
         assert causality[key] == "parameter" and float(var[key].start) == float(value), key
     outputs = [u.variable.name for u in md.outputs]
     assert sorted(outputs) == sorted(OUTPUTS)
     assert sorted(u.variable.name for u in md.initialUnknowns) == sorted(OUTPUTS)
-    assert all(u.dependencies == [] for u in md.outputs)       # no direct feedthrough
+    assert all(u.dependencies == [] for u in md.outputs)  # no direct feedthrough
     with zipfile.ZipFile(fmu) as z:
         files = set(z.namelist())
         doc = z.read("documentation/index.html").decode()
-    assert {"documentation/index.html", "documentation/externalDependencies.txt", "documentation/geometry.png",
-            "model.png", "resources/cablecasing_core/timedomain/engine.py", "resources/cablecasing_core/timedomain/support_motion.py",
-            "resources/cablecasing_core/model/specimens/default.toml", "resources/CableCasing.py"} <= files
+    assert {
+        "documentation/index.html",
+        "documentation/externalDependencies.txt",
+        "documentation/geometry.png",
+        "model.png",
+        "resources/cablecasing_core/timedomain/engine.py",
+        "resources/cablecasing_core/timedomain/support_motion.py",
+        "resources/cablecasing_core/model/specimens/default.toml",
+        "resources/CableCasing.py",
+    } <= files
     assert not any("__pycache__" in f or f.endswith((".nbi", ".nbc")) for f in files)
     assert all(name in doc for name in ("casing.A.vx", "cable.B.Mz", "contact.friction", "geometry.png", "N.m"))
 
 
 def test_build_is_reproducible(tmp_path):
     for name in ("one.fmu", "two.fmu"):
-        subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--out", str(tmp_path / name)],
-                       check=True, cwd=ROOT, capture_output=True)
+        subprocess.run(
+            [sys.executable, str(ROOT / "build_fmu.py"), "--out", str(tmp_path / name)],
+            check=True,
+            cwd=ROOT,
+            capture_output=True,
+        )
     assert (tmp_path / "one.fmu").read_bytes() == (tmp_path / "two.fmu").read_bytes()
 
 
@@ -169,13 +201,19 @@ def test_trfam_through_the_fmu(fmu, tmp_path, d, run):
     alpha, period, settle = 60.0, 1.0, 0.3
     table, acc_at = multisine(f"casing.A.{d}", period, H, cycles=2)
     table = table[: int(round((0.02 + settle + period) / H))]
-    res = run(tmp_path, "run", fmu, inputs=table, outputs=[f"casing.B.F{d}"],
-              params={"contact.enabled": False, "casing.alpha": alpha})
+    res = run(
+        tmp_path,
+        "run",
+        fmu,
+        inputs=table,
+        outputs=[f"casing.B.F{d}"],
+        params={"contact.enabled": False, "casing.alpha": alpha},
+    )
     assert np.all(res["status"] == 0)
     n = int(round(period / H))
     r0 = int(round(0.02 / H))
-    force = -res["out"][-n:, 0]                  # reaction on the body (TRFAM's sign) = -output
-    times = np.arange(len(table) - n, len(table)) + 1       # output k is at t_(k+1)
+    force = -res["out"][-n:, 0]  # reaction on the body (TRFAM's sign) = -output
+    times = np.arange(len(table) - n, len(table)) + 1  # output k is at t_(k+1)
     acc = acc_at(times - r0)
     f, Pxy = csd(acc, force, fs=1 / H, window="boxcar", nperseg=n, detrend=False)
     _, Pxx = welch(acc, fs=1 / H, window="boxcar", nperseg=n, detrend=False)
@@ -198,7 +236,7 @@ def test_trfam_through_the_fmu(fmu, tmp_path, d, run):
     assert np.max(np.abs(pc - pf)) <= 1.0, (pc, pf)
 
 
-CONTACT_RUN = 0.04           # s: the default scenario's first contact is at 0.024 s
+CONTACT_RUN = 0.04  # s: the default scenario's first contact is at 0.024 s
 
 
 @pytest.fixture(scope="module")
@@ -227,11 +265,11 @@ def test_state_get_set_serialize_and_reset(fmu, tmp_path, contact_case, run):
     assert np.all(res["status"] == 0)
     n = len(table) // 2
     assert np.array_equal(res["first"], ref[:n]) or np.max(np.abs(res["first"] - ref[:n])) < 1e-9
-    assert np.array_equal(res["a"], res["b"])          # set state, same steps: bit-identical
-    assert np.array_equal(res["a"], res["c"])          # serialised into a new instance: bit-identical
-    assert np.array_equal(res["a"], res["e"])          # ... also one built with other parameters
-    assert np.array_equal(np.vstack([res["first"], res["a"]]), res["d"])    # after fmi2Reset
-    assert res["a"][:, OUTPUTS.index("contact.active")].max() >= 1        # the state includes contacts
+    assert np.array_equal(res["a"], res["b"])  # set state, same steps: bit-identical
+    assert np.array_equal(res["a"], res["c"])  # serialised into a new instance: bit-identical
+    assert np.array_equal(res["a"], res["e"])  # ... also one built with other parameters
+    assert np.array_equal(np.vstack([res["first"], res["a"]]), res["d"])  # after fmi2Reset
+    assert res["a"][:, OUTPUTS.index("contact.active")].max() >= 1  # the state includes contacts
 
 
 def test_two_instances_are_independent(fmu, tmp_path, contact_case, run):
@@ -257,21 +295,29 @@ def test_any_communication_step(fmu, tmp_path, run):
     w, amp = 2 * np.pi * 60.0, 2e-5
     steps = np.tile([1e-4, 3.7e-5, 6e-6, 1.13e-4], 250)
     t = np.concatenate([[0.0], np.cumsum(steps)[:-1]])
-    ramp = 1 - np.exp(-(t / 0.01) ** 2)        # not exact derivatives: only the motion's samples matter
+    ramp = 1 - np.exp(-((t / 0.01) ** 2))  # not exact derivatives: only the motion's samples matter
     c = CHANNELS.index("casing.A.y")
     table = np.zeros((len(t), 3 * NCH))
 
     def exact(tt):
         tt = np.atleast_1d(tt)
-        s = 1 - np.exp(-(tt / 0.01) ** 2)
-        ds = 2 * tt / 0.01**2 * np.exp(-(tt / 0.01) ** 2)
-        dds = (2 / 0.01**2 - 4 * tt**2 / 0.01**4) * np.exp(-(tt / 0.01) ** 2)
+        s = 1 - np.exp(-((tt / 0.01) ** 2))
+        ds = 2 * tt / 0.01**2 * np.exp(-((tt / 0.01) ** 2))
+        dds = (2 / 0.01**2 - 4 * tt**2 / 0.01**4) * np.exp(-((tt / 0.01) ** 2))
         u0, v0, a0 = amp * np.sin(w * tt), amp * w * np.cos(w * tt), -amp * w * w * np.sin(w * tt)
         return u0 * s, v0 * s + u0 * ds, a0 * s + 2 * v0 * ds + u0 * dds
+
     table[:, c], table[:, NCH + c], table[:, 2 * NCH + c] = exact(t)
     del ramp
-    res = run(tmp_path, "steps", fmu, inputs=table, steps=steps.tolist(), outputs=["casing.B.Fy"],
-              params={"contact.enabled": False})
+    res = run(
+        tmp_path,
+        "steps",
+        fmu,
+        inputs=table,
+        steps=steps.tolist(),
+        outputs=["casing.B.Fy"],
+        params={"contact.enabled": False},
+    )
     assert np.all(res["status"] == 0)
 
     def motion(tt):
@@ -280,6 +326,7 @@ def test_any_communication_step(fmu, tmp_path, run):
         for o, x in zip(out, exact(tt)):
             o[:, c] = x
         return tuple(out)
+
     eng = Engine(model, contact=False, ledger=False)
     ref = np.zeros(len(steps))
     for k, h in enumerate(steps):
@@ -297,24 +344,25 @@ def test_errors_are_reported_and_the_process_goes_on(fmu, tmp_path, contact_case
     def logged(key, *words):
         text = " ".join(res[f"{key}_log"])
         return all(w in text for w in words)
+
     assert res["nan_status"] == discard and logged("nan", "casing.A.z", "nan", "finite")
     assert res["inf_status"] == discard and logged("inf", "cable.B.vy", "inf")
-    assert np.all(res["after_nan_status"] == 0)          # the instance goes on after a refused step
+    assert np.all(res["after_nan_status"] == 0)  # the instance goes on after a refused step
     assert res["wrong_time_status"] == discard and logged("wrong_time", "t =")
-    assert res["badparam_init_status"] == 0              # pythonfmu cannot return fmi2Error here ...
-    assert logged("badparam_init", "error:", "casing.E", "-1.0", "positive")    # ... it logs at fmi2Error
+    assert res["badparam_init_status"] == 0  # pythonfmu cannot return fmi2Error here ...
+    assert logged("badparam_init", "error:", "casing.E", "-1.0", "positive")  # ... it logs at fmi2Error
     assert res["badparam_status"] == discard and logged("badparam", "casing.E", "-1.0")
     assert np.all(res["badgap_status"] == [0, discard]) and logged("badgap", "casing.d_inner", "cable.d")
     assert np.all(res["badfile_status"] == [0, discard]) and logged("badfile", "model_file", "/nonexistent/model.toml")
     assert np.all(res["baddt_status"] == [0, discard]) and logged("baddt", "solver.dt", "-1e-05")
     assert res["blowup_status"] == discard and logged("blowup", "penetration", "rolled back")
-    assert np.all(res["after_blowup_status"] == 0)       # the failed step was rolled back whole
+    assert np.all(res["after_blowup_status"] == 0)  # the failed step was rolled back whole
     np.testing.assert_array_equal(res["after_blowup_out"], ref[4])
     # an unreadable serialised state: logged at fmi2Error with the traceback, steps refused
     assert np.all(res["badstate_status"] == [0, discard])
     assert logged("badstate", "error:", "not a serialised CableCasing FMU state", "Traceback")
     assert np.all(res["fresh_status"] == 0)
-    np.testing.assert_array_equal(res["fresh_out"], ref[:5])   # start time 0.25 s changes nothing
+    np.testing.assert_array_equal(res["fresh_out"], ref[:5])  # start time 0.25 s changes nothing
 
 
 def test_libcosim_gives_the_same_outputs_as_fmpy(fmu, tmp_path, contact_case, run):
@@ -337,10 +385,10 @@ def test_numba_cache_outlives_the_unpacked_fmu(fmu, tmp_path, run):
     """Two fresh processes, two fresh unpack folders: the second loads every kernel from the
     per-user cache (no compilation), which lives outside the unpacked FMU, in the folder keyed by
     the kernels' sources."""
-    run(tmp_path, "cache", fmu)                  # compiles if this FMU's kernels are not cached yet
+    run(tmp_path, "cache", fmu)  # compiles if this FMU's kernels are not cached yet
     res = run(tmp_path, "cache", fmu)
     assert res["status"] == 0
-    assert str(res["kernels_file"]).startswith(str(res["unzip"]))        # the bundled package ran
+    assert str(res["kernels_file"]).startswith(str(res["unzip"]))  # the bundled package ran
     assert res["misses"] == 0 and res["run_steps_hits"] >= 1
     cache = str(res["cache_path"])
     assert cache == str(res["kernels_cache_dir"]) and not cache.startswith(str(res["unzip"]))
@@ -410,8 +458,11 @@ def test_non_python_host(fmu, tmp_path, run):
         pytest.skip("needs a C compiler on Linux")
     (tmp_path / "host.c").write_text(C_HOST)
     inc = Path(fmpy.__file__).parent / "c-code"
-    subprocess.run([cc_, "-O1", f"-I{inc}", "-o", str(tmp_path / "host"), str(tmp_path / "host.c"), "-ldl"],
-                   check=True, capture_output=True)
+    subprocess.run(
+        [cc_, "-O1", f"-I{inc}", "-o", str(tmp_path / "host"), str(tmp_path / "host.c"), "-ldl"],
+        check=True,
+        capture_output=True,
+    )
     n = 200
     table = multisine("casing.A.z", 0.05, H, cycles=1, ramp=0.005)[0][:n]
     c = CHANNELS.index("casing.A.z")
@@ -420,12 +471,31 @@ def test_non_python_host(fmu, tmp_path, run):
     vr = {v.name: v.valueReference for v in md.modelVariables}
     unzip = Path(extract(str(fmu)))
     libpython = Path(sysconfig.get_config_var("LIBDIR")) / sysconfig.get_config_var("LDLIBRARY")
-    env = dict(os.environ, LD_PRELOAD=str(libpython), PYTHONHOME=sys.base_prefix,
-               PYTHONPATH=os.pathsep.join(site.getsitepackages()))
-    proc = subprocess.run([str(tmp_path / "host"), str(unzip / "binaries" / "linux64" / "CableCasing.so"), md.guid,
-                           (unzip / "resources").as_uri(), str(tmp_path / "inputs.bin"), str(n), repr(H),
-                           str(vr["casing.A.z"]), str(vr["casing.A.vz"]), str(vr["casing.A.az"]),
-                           str(vr["casing.B.Fz"])], capture_output=True, text=True, env=env, timeout=600)
+    env = dict(
+        os.environ,
+        LD_PRELOAD=str(libpython),
+        PYTHONHOME=sys.base_prefix,
+        PYTHONPATH=os.pathsep.join(site.getsitepackages()),
+    )
+    proc = subprocess.run(
+        [
+            str(tmp_path / "host"),
+            str(unzip / "binaries" / "linux64" / "CableCasing.so"),
+            md.guid,
+            (unzip / "resources").as_uri(),
+            str(tmp_path / "inputs.bin"),
+            str(n),
+            repr(H),
+            str(vr["casing.A.z"]),
+            str(vr["casing.A.vz"]),
+            str(vr["casing.A.az"]),
+            str(vr["casing.B.Fz"]),
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=600,
+    )
     assert proc.returncode == 0, proc.stdout + proc.stderr
     y = np.array([float(line.split()[1]) for line in proc.stdout.splitlines() if line.startswith("y ")])
     ref = run(tmp_path, "run", fmu, inputs=table, outputs=["casing.B.Fz"])

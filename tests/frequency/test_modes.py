@@ -1,4 +1,5 @@
 """Natural frequencies and static deflections against closed forms (benchmarks.md)."""
+
 import numpy as np
 import pytest
 from scipy.linalg import eigh
@@ -7,10 +8,10 @@ from cablecasing_core import modes, natural_frequencies
 from cablecasing_core.structure.assembly import assemble_body
 
 L = 1.0
-D = 0.01                                          # m, solid circular section
+D = 0.01  # m, solid circular section
 A, I = np.pi * D**2 / 4, np.pi * D**4 / 64
 J = 2 * I
-E, RHO, NU = 2.1e11, 7850.0, 0.3                  # steel, the material of conftest's beam_model
+E, RHO, NU = 2.1e11, 7850.0, 0.3  # steel, the material of conftest's beam_model
 G = E / (2 * (1 + NU))
 F_BEND = np.sqrt(E * I / (RHO * A)) / (2 * np.pi * L**2)
 
@@ -28,10 +29,13 @@ def family_frequencies(model, family):
     return np.array(sel)
 
 
-@pytest.mark.parametrize("supports,betaL", [
-    (("clamped", "free"), [1.875104, 4.694091, 7.854757, 10.995541, 14.137168]),
-    (("clamped", "clamped"), [4.730041, 7.853205, 10.995608, 14.137165, 17.278760]),
-])
+@pytest.mark.parametrize(
+    "supports,betaL",
+    [
+        (("clamped", "free"), [1.875104, 4.694091, 7.854757, 10.995541, 14.137168]),
+        (("clamped", "clamped"), [4.730041, 7.853205, 10.995608, 14.137165, 17.278760]),
+    ],
+)
 def test_straight_bending_first_five_modes(supports, betaL, straight):
     assert straight().bodies["cable"].E == E and straight().bodies["cable"].rho == RHO
     f = family_frequencies(straight(L, 40, supports=supports), "lateral")
@@ -51,12 +55,15 @@ def test_bending_converges_from_above(straight):
     assert errs[0] / errs[1] > 8 and errs[1] / errs[2] > 8
 
 
-@pytest.mark.parametrize("family,c,supports", [
-    ("axial", np.sqrt(E / RHO), ("clamped", "free")),
-    ("axial", np.sqrt(E / RHO), ("clamped", "clamped")),
-    ("torsion", np.sqrt(G / RHO), ("clamped", "free")),
-    ("torsion", np.sqrt(G / RHO), ("clamped", "clamped")),
-])
+@pytest.mark.parametrize(
+    "family,c,supports",
+    [
+        ("axial", np.sqrt(E / RHO), ("clamped", "free")),
+        ("axial", np.sqrt(E / RHO), ("clamped", "clamped")),
+        ("torsion", np.sqrt(G / RHO), ("clamped", "free")),
+        ("torsion", np.sqrt(G / RHO), ("clamped", "clamped")),
+    ],
+)
 def test_rods(family, c, supports, straight):
     n = np.arange(1, 4)
     exact = (2 * n - 1) * c / (4 * L) if supports[1] == "free" else n * c / (2 * L)
@@ -78,7 +85,7 @@ def _ring_system(R, n, arc_points, beam_model):
     ndof = K.shape[0]
     Tm = np.zeros((ndof, ndof - 6))
     Tm[: ndof - 6, : ndof - 6] = np.eye(ndof - 6)
-    Tm[ndof - 6:, :6] = np.eye(6)
+    Tm[ndof - 6 :, :6] = np.eye(6)
     return Tm.T @ K @ Tm, Tm.T @ M @ Tm
 
 
@@ -122,10 +129,11 @@ def test_arc_out_of_plane_simply_supported(arc_points, beam_model):
     exact_t = (np.array([1.0, 0, 0]), np.array([np.cos(theta), np.sin(theta), 0]))  # arc tangents
     for node, t in zip((0, n), exact_t):
         row = np.zeros(K.shape[0])
-        row[6 * node + 3: 6 * node + 6] = t
+        row[6 * node + 3 : 6 * node + 6] = t
         C.append(row[keep])
     # null space of the twist constraints
     from scipy.linalg import null_space
+
     Nn = null_space(np.array(C))
     T = T @ Nn
     lam, phi = eigh(T.T @ K @ T, T.T @ M @ T)
@@ -146,10 +154,10 @@ def _static_tip(model, force):
     Kff = sysm.K_blocks[0]
     f = np.zeros(sysm.ndof)
     tip = 6 * sysm.support_nodes["B"]
-    f[tip:tip + 3] = force
+    f[tip : tip + 3] = force
     u = np.zeros(sysm.ndof)
     u[sysm.free] = np.linalg.solve(Kff, f[sysm.free])
-    return u[tip:tip + 3]
+    return u[tip : tip + 3]
 
 
 def test_static_cantilever_tip_deflection(straight):

@@ -1,13 +1,14 @@
 """TRFAM (Eq. 12) against the exact solution of Eq. (1), reciprocity, peaks, damping models."""
+
 import numpy as np
 import pytest
 from scipy.signal import find_peaks
 
 from cablecasing_core import load_model, natural_frequencies, trfam, trfam_matrix
 
-L, D = 1.0, 0.01                                  # m, solid circular section
+L, D = 1.0, 0.01  # m, solid circular section
 A, I = np.pi * D**2 / 4, np.pi * D**4 / 64
-E, RHO = 2.1e11, 7850.0                           # steel, the material of conftest's beam_model
+E, RHO = 2.1e11, 7850.0  # steel, the material of conftest's beam_model
 ETA = 0.02
 
 
@@ -19,15 +20,16 @@ def exact_transfer(f_hz, eta=ETA):
     for f in f_hz:
         w = 2 * np.pi * f
         b = (w**2 * RHO * A / EI) ** 0.25
+
         def rows(x):
             c, s, ch, sh = np.cos(b * x), np.sin(b * x), np.cosh(b * x), np.sinh(b * x)
-            return (np.array([c, s, ch, sh]), b * np.array([-s, c, sh, ch]),
-                    b**3 * np.array([s, -c, sh, ch]))
+            return (np.array([c, s, ch, sh]), b * np.array([-s, c, sh, ch]), b**3 * np.array([s, -c, sh, ch]))
+
         w0, d0, _ = rows(0.0)
         wL, dL, tL = rows(L)
         a = np.linalg.solve(np.array([w0, d0, wL, dL]), np.array([1.0, 0, 0, 0]))
         F_B = -EI * (tL @ a)  # force the support applies to the beam at B, along +y
-        out.append(F_B / (-w**2))
+        out.append(F_B / (-(w**2)))
     return np.array(out)
 
 
@@ -93,7 +95,7 @@ def test_viscous_and_structural_give_same_peak_when_eta_is_2zeta(straight):
     base = straight(L, 35, supports=("clamped", "clamped"))
     f1 = natural_frequencies(base, "cable", 1)[0]
     zeta = 0.01
-    visc = base.with_overrides({"cable.alpha": 2 * zeta * 2 * np.pi * f1})    # zeta_1 = alpha / (2 w1)
+    visc = base.with_overrides({"cable.alpha": 2 * zeta * 2 * np.pi * f1})  # zeta_1 = alpha / (2 w1)
     struc = base.with_overrides({"cable.loss_factor": 2 * zeta})
     f = np.linspace(0.97 * f1, 1.03 * f1, 3001)
     hv = np.abs(trfam(visc, "cable.A.y", "cable.B.y", f, "viscous")).max()
@@ -104,13 +106,14 @@ def test_viscous_and_structural_give_same_peak_when_eta_is_2zeta(straight):
 def test_frequency_dependent_modulus_moves_resonance_as_sqrt_E(straight):
     base = straight(L, 35, supports=("clamped", "clamped"), loss_factor=0.005)
     f1 = natural_frequencies(base, "cable", 1)[0]
-    table = [[0.0, E], [100.0, 1.5 * E]]    # E(f) rises 50 % over 0..100 Hz, held above
+    table = [[0.0, E], [100.0, 1.5 * E]]  # E(f) rises 50 % over 0..100 Hz, held above
     mod = base.with_overrides({"cable.E": table})
     f = np.linspace(0.8 * f1, 1.6 * f1, 20001)
     H = np.abs(trfam(mod, "cable.A.y", "cable.B.y", f, "structural"))
     fp = f[np.argmax(H)]
     # the resonance solves f = f1 sqrt(E(f)/E) on the table's linear ramp
     from scipy.optimize import brentq
+
     fr = brentq(lambda x: x - f1 * np.sqrt(np.interp(x, [0, 100], [1, 1.5])), f1, 2 * f1)
     assert abs(fp / fr - 1) < 2e-4  # within the 4e-5*f1 grid spacing plus peak skew from light damping
 
@@ -118,6 +121,7 @@ def test_frequency_dependent_modulus_moves_resonance_as_sqrt_E(straight):
 def test_trfam_rejects_bad_ports():
     m = load_model()
     from cablecasing_core import ModelError
+
     with pytest.raises(ModelError, match="output"):
         trfam(m, "casing.A.x", "cable.B.x", [10.0])
     with pytest.raises(ModelError, match="freqs_hz"):

@@ -1,13 +1,14 @@
 """Loss factor from Nyquist circles (Section 3.2.2, Eq. 45, Table 1) on synthetic hysteretic FRFs."""
+
 import numpy as np
 import pytest
 
 from cablecasing_core.errors import ModelError
 from cablecasing_core.identification import fit_circle, loss_factor_circle, to_displacement_form
 
-F_TABLE1 = np.array([115.8, 182.0, 254.1])       # Hz
-ETA_TABLE1 = np.array([0.0764, 0.046, 0.0448])   # Table 1 loss factors
-DF = 0.5                                         # Hz, the paper's resolution (0.25 Hz = half of it)
+F_TABLE1 = np.array([115.8, 182.0, 254.1])  # Hz
+ETA_TABLE1 = np.array([0.0764, 0.046, 0.0448])  # Table 1 loss factors
+DF = 0.5  # Hz, the paper's resolution (0.25 Hz = half of it)
 
 
 def hysteretic_frf(f, constants=(1.0, -0.7, 0.5 * np.exp(0.3j)), extra=True):
@@ -22,7 +23,7 @@ def hysteretic_frf(f, constants=(1.0, -0.7, 0.5 * np.exp(0.3j)), extra=True):
 
 def test_fit_circle_exact_on_partial_arc():
     c, R = 0.3 - 1.2j, 0.8
-    phi = np.linspace(-0.4, 1.9, 15)              # a 130-degree arc
+    phi = np.linspace(-0.4, 1.9, 15)  # a 130-degree arc
     z = c + R * np.exp(1j * phi)
     c_fit, R_fit, rms = fit_circle(z)
     assert abs(c_fit - c) < 1e-12 and R_fit == pytest.approx(R, rel=1e-12) and rms < 1e-12
@@ -32,9 +33,9 @@ def test_fit_circle_exact_on_partial_arc():
     c2, R2, _ = fit_circle(zn)
     d = np.abs(zn - c2)
     r = d - R2
-    assert abs(np.sum(r)) < 1e-10                                 # dr/dR = -1
-    assert abs(np.sum(r * (zn - c2) / d)) < 1e-10                 # dr/dc
-    assert abs(c2 - c) < 0.02 and abs(R2 - R) < 0.02              # within ~2 noise levels
+    assert abs(np.sum(r)) < 1e-10  # dr/dR = -1
+    assert abs(np.sum(r * (zn - c2) / d)) < 1e-10  # dr/dc
+    assert abs(c2 - c) < 0.02 and abs(R2 - R) < 0.02  # within ~2 noise levels
 
 
 def test_single_mode_plane_is_flat_and_eq45_from_origin():
@@ -43,7 +44,7 @@ def test_single_mode_plane_is_flat_and_eq45_from_origin():
     eta, fr = 0.0764, 115.8
     H = 1.0 / ((2 * np.pi * fr) ** 2 * (1 + 1j * eta) - (2 * np.pi * f) ** 2)
     (r,) = loss_factor_circle(f, H, [fr])
-    assert r.eta == pytest.approx(eta, rel=1e-9)        # machine-precision algebra, only rounding remains
+    assert r.eta == pytest.approx(eta, rel=1e-9)  # machine-precision algebra, only rounding remains
     np.testing.assert_allclose(r.plane, eta, rtol=1e-8)
     assert r.f_r_hz == pytest.approx(fr, rel=1e-10)
     assert r.sense == 1 and abs(r.offset) < 1e-12 * r.radius
@@ -87,7 +88,7 @@ def test_other_frf_kinds_are_converted(kind):
     f = np.arange(DF, 400.0, DF)
     Hd = hysteretic_frf(f, extra=False)
     w = 2 * np.pi * f
-    H = {"velocity": 1j * w * Hd, "acceleration": -w**2 * Hd, "apparent_mass": Hd / (-w**2)}[kind]
+    H = {"velocity": 1j * w * Hd, "acceleration": -(w**2) * Hd, "apparent_mass": Hd / (-(w**2))}[kind]
     np.testing.assert_allclose(to_displacement_form(f, H, kind), Hd, rtol=1e-12)
     res = loss_factor_circle(f, H, F_TABLE1, kind=kind)
     np.testing.assert_allclose([r.eta for r in res], ETA_TABLE1, rtol=1e-6)
@@ -104,7 +105,7 @@ def test_no_resonance_in_window():
     f = np.arange(DF, 400.0, DF)
     H = hysteretic_frf(f, extra=False)
     with pytest.raises(ModelError) as e:
-        loss_factor_circle(f, H, [330.0])          # no mode near 330 Hz: |H| falls monotonically there
+        loss_factor_circle(f, H, [330.0])  # no mode near 330 Hz: |H| falls monotonically there
     assert e.value.key == "f_res_hz" and e.value.value == 330.0
     mass_line = -1.0 / (2 * np.pi * f) ** 2
     with pytest.raises(ModelError) as e:
@@ -124,7 +125,7 @@ def test_bad_frf_inputs():
     with pytest.raises(ModelError) as e:
         loss_factor_circle(f, H, [500.0])
     assert e.value.key == "f_res_hz"
-    coarse = np.arange(5.0, 400.0, 10.0)            # 10 Hz steps: a 9-Hz-wide resonance has ~2 points
+    coarse = np.arange(5.0, 400.0, 10.0)  # 10 Hz steps: a 9-Hz-wide resonance has ~2 points
     with pytest.raises(ModelError) as e:
         loss_factor_circle(coarse, hysteretic_frf(coarse, extra=False), [182.0])
     assert e.value.key in ("freqs_hz", "f_res_hz")

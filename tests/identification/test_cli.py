@@ -1,4 +1,5 @@
 """The ``identify`` sub-commands end to end on synthetic files (parser built with add_parser only)."""
+
 import argparse
 import sys
 
@@ -34,11 +35,13 @@ def test_damping_end_to_end(tmp_path, capsys):
     path = tmp_path / "impulse.csv"
     write_csv_time(path, x, fs, names=["force_N"])
     png, toml = tmp_path / "ridges.png", tmp_path / "rayleigh.toml"
-    assert run(["identify", "damping", str(path), "--plot", str(png), "--toml", str(toml)]) == 0  # peaks found automatically
+    assert (
+        run(["identify", "damping", str(path), "--plot", str(png), "--toml", str(toml)]) == 0
+    )  # peaks found automatically
     out = capsys.readouterr().out
     rows = [line.split() for line in out.splitlines() if line[:4].strip().isdigit()]
     zeta = np.array([float(r[4]) for r in rows])
-    np.testing.assert_allclose(zeta, ZETA, rtol=0.01)           # same accuracy as the API (1 %)
+    np.testing.assert_allclose(zeta, ZETA, rtol=0.01)  # same accuracy as the API (1 %)
     data = tomllib.loads(toml.read_text())["casing"]
     assert data["alpha"] >= 0 and data["beta"] >= 0
     assert png.stat().st_size > 10000
@@ -49,13 +52,29 @@ def test_loss_factor_end_to_end_uff(tmp_path, capsys):
     w2 = (2 * np.pi * f) ** 2
     Hd = sum(1.0 / ((2 * np.pi * fk) ** 2 * (1 + 1j * e) - w2) for fk, e in zip(F, ETA))
     path = tmp_path / "trfam.uff"
-    write_uff_frf(path, f, Hd / (-w2), name="apparent mass")     # an apparent-mass-like FRF (F/a)
+    write_uff_frf(path, f, Hd / (-w2), name="apparent mass")  # an apparent-mass-like FRF (F/a)
     png, toml = tmp_path / "circles.png", tmp_path / "eta.toml"
-    assert run(["identify", "loss-factor", str(path), "--freqs", *map(str, F), "--plot", str(png),
-                "--toml", str(toml), "--body", "cable"]) == 0
+    assert (
+        run(
+            [
+                "identify",
+                "loss-factor",
+                str(path),
+                "--freqs",
+                *map(str, F),
+                "--plot",
+                str(png),
+                "--toml",
+                str(toml),
+                "--body",
+                "cable",
+            ]
+        )
+        == 0
+    )
     table = np.array(tomllib.loads(toml.read_text())["cable"]["loss_factor"])
     np.testing.assert_allclose(table[:, 0], F, rtol=1e-6)
-    np.testing.assert_allclose(table[:, 1], ETA, rtol=1e-5)      # exact modal sum: solver tolerance
+    np.testing.assert_allclose(table[:, 1], ETA, rtol=1e-5)  # exact modal sum: solver tolerance
     assert png.stat().st_size > 10000
     assert "loss_factor = [[" in capsys.readouterr().out
 
@@ -68,14 +87,14 @@ def test_modulus_end_to_end(tmp_path, capsys):
     png, toml = tmp_path / "E.png", tmp_path / "E.toml"
     assert run(["identify", "modulus", str(path), "--plot", str(png), "--toml", str(toml), "--resolution", "0.01"]) == 0
     E = np.array(tomllib.loads(toml.read_text())["casing"]["E"])
-    np.testing.assert_allclose(E[:, 1], 6.0e9, rtol=1e-6)         # constant modulus recovered (FE stiffness ~ E)
+    np.testing.assert_allclose(E[:, 1], 6.0e9, rtol=1e-6)  # constant modulus recovered (FE stiffness ~ E)
     assert png.stat().st_size > 10000
 
 
 def test_cli_errors_return_2(tmp_path, capsys):
     path = tmp_path / "x.csv"
     write_csv_time(path, np.random.default_rng(0).standard_normal(512), 512.0)
-    assert run(["identify", "damping", str(path), "--freqs", "300"]) == 2   # above fs/2 = 256 Hz
+    assert run(["identify", "damping", str(path), "--freqs", "300"]) == 2  # above fs/2 = 256 Hz
     err = capsys.readouterr().err
     assert "freqs_hz" in err and "fs/2" in err
     assert run(["identify", "loss-factor", str(tmp_path / "missing.uff")]) == 2

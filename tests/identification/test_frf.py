@@ -1,4 +1,5 @@
 """H1/H2 FRF estimation and coherence on a known SDOF system with noise."""
+
 import numpy as np
 import pytest
 from scipy import signal
@@ -6,8 +7,8 @@ from scipy import signal
 from cablecasing_core.errors import ModelError
 from cablecasing_core.identification import apparent_mass, frf_estimate
 
-FS = 500.0        # Hz
-NPERSEG = 2048    # df = 0.244 Hz; Hann resolution bias at the resonance ~ (1/3)(B_e/B_r)^2 ~ 1 %
+FS = 500.0  # Hz
+NPERSEG = 2048  # df = 0.244 Hz; Hann resolution bias at the resonance ~ (1/3)(B_e/B_r)^2 ~ 1 %
 N = NPERSEG * 65  # 129 averages with 50 % overlap
 
 
@@ -28,15 +29,15 @@ def band(f):
 def test_h1_with_output_noise_and_h2_bias():
     b, a = sdof()
     rng = np.random.default_rng(5)
-    u = rng.standard_normal(N)                   # force, N (white, sigma_u = 1)
-    v = signal.lfilter(b, a, u)                  # displacement, m
+    u = rng.standard_normal(N)  # force, N (white, sigma_u = 1)
+    v = signal.lfilter(b, a, u)  # displacement, m
     sigma_n = 0.3 * np.std(v)
-    y = v + sigma_n * rng.standard_normal(N)     # output noise
+    y = v + sigma_n * rng.standard_normal(N)  # output noise
     est = frf_estimate(u, y, FS, nperseg=NPERSEG)
     _, H = signal.freqz(b, a, worN=est.f_hz, fs=FS)
     # H2 = H (1 + Gnn/Gvv): white noises give Gnn/Gvv = sigma_n^2 / (sigma_u^2 |H|^2) (theory)
     bias = sigma_n**2 / np.abs(H) ** 2
-    sel = band(est.f_hz) & (bias < 1.0)          # where the true coherence 1/(1+bias) exceeds 0.5
+    sel = band(est.f_hz) & (bias < 1.0)  # where the true coherence 1/(1+bias) exceeds 0.5
     bias = bias[sel]
     # H1 is unbiased, with the random error of Bendat & Piersol: magnitude and phase (rad) standard
     # deviations eps = sqrt(1-g^2)/(|g| sqrt(2 n_d)), so rms(|H1/H - 1| / (sqrt(2) eps)) = 1; ~100
@@ -58,7 +59,7 @@ def test_h2_with_input_noise_and_h1_bias():
     rng = np.random.default_rng(6)
     u = rng.standard_normal(N)
     y = signal.lfilter(b, a, u)
-    x = u + 0.3 * rng.standard_normal(N)         # noise on the measured input
+    x = u + 0.3 * rng.standard_normal(N)  # noise on the measured input
     est = frf_estimate(x, y, FS, nperseg=NPERSEG)
     _, H = signal.freqz(b, a, worN=est.f_hz, fs=FS)
     sel = band(est.f_hz)
@@ -87,8 +88,8 @@ def test_resonance_peak_within_window_bias():
 
 def test_apparent_mass_of_a_rigid_mass():
     rng = np.random.default_rng(8)
-    acc = rng.standard_normal(2**15)                 # m/s^2
-    force = 0.35 * acc + 0.01 * rng.standard_normal(acc.size)   # N, a 0.35 kg mass plus force noise
+    acc = rng.standard_normal(2**15)  # m/s^2
+    force = 0.35 * acc + 0.01 * rng.standard_normal(acc.size)  # N, a 0.35 kg mass plus force noise
     f, M, coh = apparent_mass(acc, force, FS, nperseg=1024)
     # H1 with noise on the force only: unbiased; random error sqrt(1-g^2)/(g sqrt(2*63)) ~ 0.3 %
     assert abs(np.mean(M[1:-1].real) - 0.35) < 0.35 * 0.005

@@ -1,4 +1,5 @@
 """UFF dataset 58 and CSV round trips; identified parameters as model-file TOML."""
+
 import sys
 
 import numpy as np
@@ -6,10 +7,21 @@ import pytest
 
 from cablecasing_core import load_model
 from cablecasing_core.errors import ModelError
-from cablecasing_core.identification import (Record, loss_factor_circle, parameters_toml, read_csv_frf,
-                                             read_csv_time, read_frf, read_time_record, read_uff,
-                                             write_csv_frf, write_csv_time, write_uff, write_uff_frf,
-                                             write_uff_time)
+from cablecasing_core.identification import (
+    Record,
+    loss_factor_circle,
+    parameters_toml,
+    read_csv_frf,
+    read_csv_time,
+    read_frf,
+    read_time_record,
+    read_uff,
+    write_csv_frf,
+    write_csv_time,
+    write_uff,
+    write_uff_frf,
+    write_uff_time,
+)
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -38,7 +50,7 @@ def test_uff_round_trip_frf_and_time(tmp_path, binary):
     # binary 58b stores doubles: exact; ASCII stores E20.11 (12 significant digits)
     tol = 0.0 if binary else 1e-11
     np.testing.assert_allclose(r.data, H, rtol=tol, atol=0)
-    np.testing.assert_array_equal(r.x, f)          # exact even abscissa from the ID-line tag
+    np.testing.assert_array_equal(r.x, f)  # exact even abscissa from the ID-line tag
     x2, fs2, name = read_time_record(p_time)
     np.testing.assert_allclose(x2, x, rtol=tol, atol=tol * np.abs(x).max())
     assert fs2 == fs and name == "impulse response"
@@ -49,14 +61,16 @@ def test_uff_round_trip_frf_and_time(tmp_path, binary):
 def test_uff_several_functions_and_uneven_abscissa(tmp_path):
     f_uneven = np.geomspace(10.0, 400.0, 57)
     H = 1.0 / (1.0 + 1j * f_uneven)
-    recs = [Record("time", np.arange(10) * 0.5e-3, np.arange(10.0), "t1"),
-            Record("frf", f_uneven, H, "uneven"),
-            Record("time", np.arange(10) * 0.5e-3, -np.arange(10.0), "t2")]
+    recs = [
+        Record("time", np.arange(10) * 0.5e-3, np.arange(10.0), "t1"),
+        Record("frf", f_uneven, H, "uneven"),
+        Record("time", np.arange(10) * 0.5e-3, -np.arange(10.0), "t2"),
+    ]
     p = tmp_path / "many.unv"
     write_uff(p, recs)
     back = read_uff(p)
     assert [r.kind for r in back] == ["time", "frf", "time"]
-    np.testing.assert_array_equal(back[1].x, f_uneven)   # binary: abscissa stored point by point, exact
+    np.testing.assert_array_equal(back[1].x, f_uneven)  # binary: abscissa stored point by point, exact
     np.testing.assert_array_equal(back[1].data, H)
     x, fs, name = read_time_record(p, channel=1)
     assert name == "t2" and fs == pytest.approx(2000.0, rel=1e-12)
@@ -68,7 +82,7 @@ def test_csv_round_trip(tmp_path):
     p = tmp_path / "h.csv"
     write_csv_frf(p, f, H, name="kg")
     f2, H2 = read_frf(p)
-    np.testing.assert_array_equal(f2, f)            # %.17g round-trips doubles exactly
+    np.testing.assert_array_equal(f2, f)  # %.17g round-trips doubles exactly
     np.testing.assert_array_equal(H2, H)
     X = np.column_stack([np.linspace(0, 1, 50), np.cos(np.arange(50))])
     pt = tmp_path / "x.csv"
@@ -78,8 +92,13 @@ def test_csv_round_trip(tmp_path):
     assert name == "acc_m_s2" and fs == pytest.approx(1000.0, rel=1e-12)
     # the trfam CLI's CSV layout is accepted
     pc = tmp_path / "trfam.csv"
-    np.savetxt(pc, np.column_stack([f, H.real, H.imag, abs(H), np.degrees(np.angle(H))]), delimiter=",",
-               header="frequency_hz,re_kg,im_kg,magnitude_kg,phase_deg", comments="")
+    np.savetxt(
+        pc,
+        np.column_stack([f, H.real, H.imag, abs(H), np.degrees(np.angle(H))]),
+        delimiter=",",
+        header="frequency_hz,re_kg,im_kg,magnitude_kg,phase_deg",
+        comments="",
+    )
     np.testing.assert_allclose(read_csv_frf(pc)[1], H, rtol=1e-15)
 
 
@@ -115,9 +134,10 @@ def test_parameters_toml_is_accepted_by_the_model():
     w2 = (2 * np.pi * f) ** 2
     H = sum(1.0 / ((2 * np.pi * fk) ** 2 * (1 + 1j * e) - w2) for fk, e in [(115.8, 0.0764), (182.0, 0.046)])
     circles = loss_factor_circle(f, H, [115.8, 182.0])
-    E_table = [[200.0, 5.3e9], [100.0, 5.1e9]]          # unsorted on purpose: written sorted
-    text = parameters_toml("casing", alpha=47.97, beta=8.5e-6, loss_factor=circles, E=E_table,
-                           comment="identified from Table 1")
+    E_table = [[200.0, 5.3e9], [100.0, 5.1e9]]  # unsorted on purpose: written sorted
+    text = parameters_toml(
+        "casing", alpha=47.97, beta=8.5e-6, loss_factor=circles, E=E_table, comment="identified from Table 1"
+    )
     data = tomllib.loads(text)["casing"]
     assert data["E"] == [[100.0, 5.1e9], [200.0, 5.3e9]]
     np.testing.assert_allclose(np.array(data["loss_factor"])[:, 1], [0.0764, 0.046], rtol=1e-6)

@@ -4,6 +4,7 @@ the FMU, the loss factor from the core's structurally damped TRFAM, and eta agai
 The specimen is a straight clamped-clamped casing (Table 2's section, 0.85 m) so that its first three
 bending modes in y are well separated (1 : 2.76 : 5.40); Rayleigh alpha = 2 1/s, beta = 4.23e-5 s.
 """
+
 import json
 import subprocess
 import sys
@@ -23,8 +24,12 @@ def straight_casing_toml(path):
     m = cc.load_model()
     d = m.data
     casing = dict(d["casing"], alpha=ALPHA, beta=BETA, loss_factor=ETA)
-    data = {"geometry": {"points": [[0.0, 0, 0], [0.85, 0, 0]], "n_elements": 35, "curve": "polyline"},
-            "casing": casing, "contact": d["contact"], "scenario": {"duration": 1.0, "dt": 1e-5}}
+    data = {
+        "geometry": {"points": [[0.0, 0, 0], [0.85, 0, 0]], "n_elements": 35, "curve": "polyline"},
+        "casing": casing,
+        "contact": d["contact"],
+        "scenario": {"duration": 1.0, "dt": 1e-5},
+    }
     model = cc.model_from_dict(data)
     path.write_text(model.to_toml())
     return cc.load_model(path)
@@ -37,7 +42,7 @@ def bending_y(model, n=3):
     return f[y_share > 0.5][:n]
 
 
-IMPULSE_DRIVER = r'''
+IMPULSE_DRIVER = r"""
 import json, sys
 import numpy as np
 from fmpy import simulate_fmu
@@ -57,7 +62,7 @@ r = simulate_fmu(path, stop_time=T, step_size=h, output_interval=h, input=sig,
 np.savez(out, t=r["time"], F=r["casing.B.Fy"])
 import os
 os._exit(0)   # a Python host of a pythonfmu FMU with numba can abort at exit (docs/fmu.md)
-'''
+"""
 
 
 @pytest.fixture(scope="module")
@@ -65,17 +70,21 @@ def straight_casing(tmp_path_factory):
     return straight_casing_toml(tmp_path_factory.mktemp("m") / "straight.toml")
 
 
-@pytest.mark.slow     # runs the FMU in a fresh process
+@pytest.mark.slow  # runs the FMU in a fresh process
 def test_wavelet_damping_of_fmu_impulse_response(straight_casing, tmp_path, fmu):
     out = tmp_path / "imp.npz"
-    subprocess.run([sys.executable, "-c", IMPULSE_DRIVER, str(fmu), straight_casing.source, str(out)],
-                   check=True, cwd=ROOT, timeout=900)
+    subprocess.run(
+        [sys.executable, "-c", IMPULSE_DRIVER, str(fmu), straight_casing.source, str(out)],
+        check=True,
+        cwd=ROOT,
+        timeout=900,
+    )
     r = np.load(out)
-    keep = r["t"] > 0.015                               # the free decay after the pulse
+    keep = r["t"] > 0.015  # the free decay after the pulse
     f = bending_y(straight_casing)
     res = wavelet_damping(r["F"][keep], 1e4, f)
     w = 2 * np.pi * f
-    expected = ALPHA / (2 * w) + BETA * w / 2           # Eq. (41)
+    expected = ALPHA / (2 * w) + BETA * w / 2  # Eq. (41)
     zeta = np.array([x.zeta for x in res])
     # the issue's 3 % bound: ridge method on a 1.5 s record at 10 kHz
     np.testing.assert_allclose(zeta, expected, rtol=0.03)
@@ -87,7 +96,7 @@ def test_loss_factor_from_structural_trfam(straight_casing):
     H = cc.trfam(straight_casing, "casing.A.y", "casing.B.y", freqs, "structural")
     res = loss_factor_circle(freqs, H, f_res_hz=f, kind="apparent_mass")
     eta = np.array([x.eta for x in res])
-    np.testing.assert_allclose(eta, ETA, rtol=0.02)    # the issue's 2 % bound
+    np.testing.assert_allclose(eta, ETA, rtol=0.02)  # the issue's 2 % bound
 
 
 def test_eta_against_two_zeta_as_in_table_1(straight_casing):

@@ -1,4 +1,5 @@
 """Rayleigh factors by least squares (Eqs. 41-44)."""
+
 import numpy as np
 import pytest
 
@@ -22,19 +23,19 @@ def test_least_squares_matches_lstsq_and_normal_equations():
     fit = rayleigh_fit(F, zeta)
     A = rayleigh_matrix(F)
     c_lstsq = np.linalg.lstsq(A, zeta, rcond=None)[0]
-    c_pinv = np.linalg.solve(A.T @ A, A.T @ zeta)          # Eq. (44) literally
+    c_pinv = np.linalg.solve(A.T @ A, A.T @ zeta)  # Eq. (44) literally
     # same minimiser; 1e-9 allows for the conditioning of the unscaled normal equations
     np.testing.assert_allclose([fit.alpha, fit.beta], c_lstsq, rtol=1e-9)
     np.testing.assert_allclose([fit.alpha, fit.beta], c_pinv, rtol=1e-9)
     np.testing.assert_allclose(fit.residuals, zeta - A @ c_lstsq, atol=1e-14)
-    assert abs(A.T @ fit.residuals).max() < 1e-12 * np.abs(A.T @ zeta).max()   # normal equations hold
+    assert abs(A.T @ fit.residuals).max() < 1e-12 * np.abs(A.T @ zeta).max()  # normal equations hold
 
 
 def test_table1_values_and_nonnegative_option():
-    zeta = np.array([0.0359, 0.0263, 0.0216])          # Table 1
+    zeta = np.array([0.0359, 0.0263, 0.0216])  # Table 1
     fit = rayleigh_fit(F[:3], zeta)
     assert fit.alpha > 0 and fit.beta > 0
-    assert fit.rms_residual < 5e-4                      # Table 1 is close to Rayleigh damping
+    assert fit.rms_residual < 5e-4  # Table 1 is close to Rayleigh damping
     # damping falling faster than 1/omega: least squares wants beta < 0, which the model file rejects
     zeta_fast = np.array([0.04, 0.02, 0.01, 0.005])
     assert rayleigh_fit(F, zeta_fast).beta < 0

@@ -1,4 +1,5 @@
 """Wavelet-ridge damping identification (Section 3.2.1, Table 1) against theory and mwdi."""
+
 import warnings
 
 import numpy as np
@@ -10,8 +11,8 @@ from cablecasing_core.identification import cwt_morlet, wavelet_damping
 # Table 1 of the paper: natural frequencies (Hz) and damping ratios of the numerical example
 F_TABLE1 = np.array([115.8, 182.0, 254.1])
 ZETA_TABLE1 = np.array([0.0359, 0.0263, 0.0216])
-FS = 2048.0          # Hz, eight times the highest mode
-DURATION = 1.0       # s
+FS = 2048.0  # Hz, eight times the highest mode
+DURATION = 1.0  # s
 
 
 def impulse_response(fs=FS, duration=DURATION, amps=(1.0, 1.0, 1.0)):
@@ -93,8 +94,9 @@ def test_agrees_with_mwdi_within_2_percent():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         # exact (Newton) form: the closed form assumes light damping and is 7 % low at zeta = 0.036
-        theirs = np.array([ident.identify_damping(2 * np.pi * f, n_1=8, n_2=12, k=30, root_finding="Newton")
-                           for f in F_TABLE1])
+        theirs = np.array(
+            [ident.identify_damping(2 * np.pi * f, n_1=8, n_2=12, k=30, root_finding="Newton") for f in F_TABLE1]
+        )
     np.testing.assert_allclose(ours, theirs, rtol=0.02)
 
 
@@ -107,8 +109,9 @@ def test_scalogram_reuse_shape_and_dtype():
     np.testing.assert_allclose(W, W1, rtol=0, atol=1e-12)
 
 
-@pytest.mark.parametrize("freqs, key", [([0.0], "freqs_hz"), ([1024.0], "freqs_hz"), ([-5.0], "freqs_hz"),
-                                        ([2000.0], "freqs_hz")])
+@pytest.mark.parametrize(
+    "freqs, key", [([0.0], "freqs_hz"), ([1024.0], "freqs_hz"), ([-5.0], "freqs_hz"), ([2000.0], "freqs_hz")]
+)
 def test_frequency_outside_band(freqs, key):
     with pytest.raises(ModelError) as e:
         cwt_morlet(np.ones(64), FS, freqs)

@@ -1,5 +1,6 @@
 """The model schema: one entry per key of the model file, what the loader fills in, the docs' table,
 the one list of channels and outputs with their units."""
+
 import subprocess
 import sys
 from pathlib import Path
@@ -7,8 +8,16 @@ from pathlib import Path
 import pytest
 
 import cablecasing_core as cc
-from cablecasing_core.model.schema import (CHANNELS, OPTIONAL, OUTPUTS, REQUIRED, SCHEMA, SUPPORT_OUTPUTS, lookup,
-                                           output_spec)
+from cablecasing_core.model.schema import (
+    CHANNELS,
+    OPTIONAL,
+    OUTPUTS,
+    REQUIRED,
+    SCHEMA,
+    SUPPORT_OUTPUTS,
+    lookup,
+    output_spec,
+)
 
 ROOT = Path(__file__).resolve().parents[2]
 # the SI units the FMU's UnitDefinitions know (build_fmu.UNITS), and "" for text and booleans
@@ -29,25 +38,40 @@ def test_every_key_of_the_specimen_is_in_the_schema_with_an_si_unit():
     for key, value in leaves(model.data):
         spec = lookup(key)
         assert spec.key == key and spec.unit in FMI_UNITS, (key, spec.unit)
-        if spec.kinds:                                    # an excitation's key: for its kind only
+        if spec.kinds:  # an excitation's key: for its kind only
             assert model.scenario["excitation"][key.split(".")[2]]["kind"] in spec.kinds, key
-        assert spec.check(value, key) == value            # the cleaned value is what its own check gives back
-    for key in model.parameters():                        # the FMU's parameters: numbers with a unit
+        assert spec.check(value, key) == value  # the cleaned value is what its own check gives back
+    for key in model.parameters():  # the FMU's parameters: numbers with a unit
         assert lookup(key).unit != "", key
 
 
 def test_a_minimal_file_gets_every_default_of_the_schema():
     """Only the required keys given: every other key comes out with the schema's default (or, for a
     random excitation's seed, the scenario's seed)."""
-    data = {"geometry": {"points": [[0.0, 0, 0], [1.0, 0, 0]]},
-            "casing": {"E": 5e9, "rho": 4850.0, "d_outer": 0.0095, "d_inner": 0.004},
-            "cable": {"E": 5.5e10, "rho": 7850.0, "d": 0.003},
-            "scenario": {"seed": 7, "excitation": {"r": {"target": "casing.A.z", "kind": "random"},
-                                                   "h": {"target": "cable.A.x", "kind": "harmonic",
-                                                         "frequency": 50.0, "amplitude": 1e-4}}}}
+    data = {
+        "geometry": {"points": [[0.0, 0, 0], [1.0, 0, 0]]},
+        "casing": {"E": 5e9, "rho": 4850.0, "d_outer": 0.0095, "d_inner": 0.004},
+        "cable": {"E": 5.5e10, "rho": 7850.0, "d": 0.003},
+        "scenario": {
+            "seed": 7,
+            "excitation": {
+                "r": {"target": "casing.A.z", "kind": "random"},
+                "h": {"target": "cable.A.x", "kind": "harmonic", "frequency": 50.0, "amplitude": 1e-4},
+            },
+        },
+    }
     clean = cc.model_from_dict(data).data
-    given = {"geometry.points", "casing.E", "casing.rho", "casing.d_outer", "casing.d_inner", "cable.E", "cable.rho",
-             "cable.d", "scenario.seed"}
+    given = {
+        "geometry.points",
+        "casing.E",
+        "casing.rho",
+        "casing.d_outer",
+        "casing.d_inner",
+        "cable.E",
+        "cable.rho",
+        "cable.d",
+        "scenario.seed",
+    }
     for key, spec in SCHEMA.items():
         if key in given or spec.default in (REQUIRED, OPTIONAL) or key.startswith("scenario.excitation"):
             continue
@@ -58,9 +82,9 @@ def test_a_minimal_file_gets_every_default_of_the_schema():
         assert node[name] == spec.default and type(node[name]) is type(spec.default), key
     r = clean["scenario"]["excitation"]["r"]
     assert r["rms"] == lookup("scenario.excitation.r.rms").default and r["band"] == [10.0, 1000.0]
-    assert r["seed"] == 7                                 # default_from scenario.seed
+    assert r["seed"] == 7  # default_from scenario.seed
     assert clean["scenario"]["excitation"]["h"]["phase"] == 0.0
-    assert "I" not in clean["casing"]                     # optional, no default
+    assert "I" not in clean["casing"]  # optional, no default
 
 
 def test_lookup_names_what_it_does_not_know():

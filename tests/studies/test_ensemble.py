@@ -1,6 +1,7 @@
 """Band levels over excitation seeds (studies/ensemble.py): a member is the single run with its seed,
 and the ensemble statistics have the sampling properties they claim (checked by drawing many
 synthetic ensembles from a known distribution)."""
+
 import copy
 
 import numpy as np
@@ -10,10 +11,18 @@ import cablecasing_core as cc
 from cablecasing_core.cli import main as cli_main
 from cablecasing_core.model import model_from_dict
 from cablecasing_core.errors import ModelError
-from cablecasing_core.studies import (Ensemble, load_ensemble, octave_rms, paired_difference, pool_ensembles,
-                                      random_excitations, seed_ensemble, seed_overrides)
+from cablecasing_core.studies import (
+    Ensemble,
+    load_ensemble,
+    octave_rms,
+    paired_difference,
+    pool_ensembles,
+    random_excitations,
+    seed_ensemble,
+    seed_overrides,
+)
 
-T = 0.15        # s per run: 0.1 s after the 0.05 s skip (octave 1, 11 Hz wide, needs > 91 ms)
+T = 0.15  # s per run: 0.1 s after the 0.05 s skip (octave 1, 11 Hz wide, needs > 91 ms)
 SEED_KEY = "scenario.excitation.casing_random.seed"
 
 
@@ -33,7 +42,7 @@ def test_member_is_the_single_run_with_its_seed():
     assert ens.levels.shape == (2, 9) and ens.labels[0] == "oct1" and list(ens.seeds) == [3, 5]
     for i, s in enumerate((3, 5)):
         np.testing.assert_array_equal(ens.levels[i], band_levels_of_single_run(model, s))
-        np.testing.assert_array_equal(ens.contact_time[i], single_run(model, s).contact_time)   # Fig. 22, s
+        np.testing.assert_array_equal(ens.contact_time[i], single_run(model, s).contact_time)  # Fig. 22, s
     assert ens.contact_time.shape == (2, 36) and ens.contact_time.sum() > 0
     assert np.argmax(ens.contact_share) == np.argmax(ens.contact_time.sum(axis=0))
     # the seeds drive different records: the members differ (chaos and the record itself)
@@ -49,13 +58,16 @@ def test_overrides_apply_to_every_member():
 
 
 def test_several_random_excitations_get_distinct_seeds():
-    model = with_excitation(cc.load_model(), "cable_axial",
-                            {"target": "cable.A.axial", "kind": "random", "rms": 1.0, "band": [10.0, 1000.0]})
+    model = with_excitation(
+        cc.load_model(),
+        "cable_axial",
+        {"target": "cable.A.axial", "kind": "random", "rms": 1.0, "band": [10.0, 1000.0]},
+    )
     names = random_excitations(model)
     assert names == ("casing_random", "cable_axial")
     seen = [tuple(seed_overrides(model, s).values()) for s in range(0, 50)]
     flat = [x for pair in seen for x in pair]
-    assert len(set(flat)) == len(flat)                 # no two records share a seed
+    assert len(set(flat)) == len(flat)  # no two records share a seed
     # one varied excitation: member s is seed s (the single run of the model with that seed)
     assert seed_overrides(model, 7, ["cable_axial"]) == {"scenario.excitation.cable_axial.seed": 7}
 
@@ -69,8 +81,14 @@ def with_excitation(model, name, table):
 
 def synthetic(levels, seeds=None):
     n = len(levels)
-    return Ensemble(np.arange(1, n + 1) if seeds is None else np.asarray(seeds), "casing.B.Fz",
-                    ("b1", "b2"), np.array([1.0, 2.0]), np.array([2.0, 4.0]), np.asarray(levels, float))
+    return Ensemble(
+        np.arange(1, n + 1) if seeds is None else np.asarray(seeds),
+        "casing.B.Fz",
+        ("b1", "b2"),
+        np.array([1.0, 2.0]),
+        np.array([2.0, 4.0]),
+        np.asarray(levels, float),
+    )
 
 
 def test_mean_confidence_interval_has_its_coverage():
@@ -126,7 +144,7 @@ def test_mean_of_ratios_is_biased_where_ratio_of_means_is_not():
     b = np.exp(0.2 * rng.normal(size=(20000, 1)))
     d = paired_difference(a, b)
     assert abs(d.r[0]) < 3 * d.se[0]
-    bias = np.mean(a / b) - 1           # E[a] E[1/b] - 1 = exp(0.04) - 1 = 4.1 %
+    bias = np.mean(a / b) - 1  # E[a] E[1/b] - 1 = exp(0.04) - 1 = 4.1 %
     assert abs(bias - (np.exp(0.04) - 1)) < 0.005
 
 
@@ -138,20 +156,31 @@ def test_paired_difference_of_ensembles_checks_the_pairing():
     assert d.labels == ("b1", "b2") and d.n == 3
     with pytest.raises(ModelError, match="b.seeds"):
         paired_difference(a, synthetic(b.levels, seeds=[1, 2, 4]))
-    one = paired_difference(a.levels[:1], b.levels[:1])          # one pair: r, and no standard error
+    one = paired_difference(a.levels[:1], b.levels[:1])  # one pair: r, and no standard error
     np.testing.assert_allclose(one.r, a.levels[0] / b.levels[0] - 1)
     assert np.all(np.isnan(one.se))
     with pytest.raises(ModelError, match="n >= 1"):
         paired_difference(a.levels[:0], b.levels[:0])
 
 
-@pytest.mark.parametrize("kwargs, key", [
-    ({"seeds": 1}, "seeds"), ({"seeds": [1, 1]}, "seeds"), ({"seeds": [1, -2]}, "seeds"), ({"seeds": "ab"}, "seeds"),
-    ({"output": "casing.B.Fq"}, "output"), ({"excitations": ["cable_axial"]}, "excitations"),
-    ({"overrides": {SEED_KEY: 3}}, "overrides"), ({"overrides": {"contact.friction": -1.0}}, "contact.friction"),
-    ({"bands": "decade"}, "bands"), ({"dt": 0.0}, "dt"), ({"duration": -1.0}, "duration"), ({"skip": -0.1}, "skip"),
-    ({"dt": float("nan")}, "dt"),
-])
+@pytest.mark.parametrize(
+    "kwargs, key",
+    [
+        ({"seeds": 1}, "seeds"),
+        ({"seeds": [1, 1]}, "seeds"),
+        ({"seeds": [1, -2]}, "seeds"),
+        ({"seeds": "ab"}, "seeds"),
+        ({"output": "casing.B.Fq"}, "output"),
+        ({"excitations": ["cable_axial"]}, "excitations"),
+        ({"overrides": {SEED_KEY: 3}}, "overrides"),
+        ({"overrides": {"contact.friction": -1.0}}, "contact.friction"),
+        ({"bands": "decade"}, "bands"),
+        ({"dt": 0.0}, "dt"),
+        ({"duration": -1.0}, "duration"),
+        ({"skip": -0.1}, "skip"),
+        ({"dt": float("nan")}, "dt"),
+    ],
+)
 def test_bad_input_is_refused_before_any_run(kwargs, key):
     with pytest.raises(ModelError) as exc:
         seed_ensemble(cc.load_model(), **{"seeds": 2, "duration": T, **kwargs})
@@ -159,18 +188,25 @@ def test_bad_input_is_refused_before_any_run(kwargs, key):
 
 
 def test_no_random_excitation_and_failed_members_are_named():
-    model = with_excitation(cc.load_model(), "casing_random",
-                            {"target": "casing.A.z", "kind": "harmonic", "frequency": 100.0, "amplitude": 1e-5})
+    model = with_excitation(
+        cc.load_model(),
+        "casing_random",
+        {"target": "casing.A.z", "kind": "harmonic", "frequency": 100.0, "amplitude": 1e-5},
+    )
     with pytest.raises(ModelError, match="random"):
         seed_ensemble(model, 2)
-    with pytest.raises(ModelError, match="oct1"):   # too short for the bands: refused before any run
+    with pytest.raises(ModelError, match="oct1"):  # too short for the bands: refused before any run
         seed_ensemble(cc.load_model(), [4, 6], duration=0.12, skip=0.05)
     with pytest.raises(ModelError, match="Nyquist"):  # bands beyond fs/2: refused before any run
         seed_ensemble(cc.load_model(), [4, 6], duration=0.15, dt=1e-4)
     # a member that fails is named with its error (here a soft contact under a 100 times stronger
     # shaking: the cable goes through the wall and the run stops with a SimulationError)
-    soft = {"contact.law": "linear", "contact.stiffness": 10.0, "contact.damping": 0.0,
-            "scenario.excitation.casing_random.rms": 500.0}
+    soft = {
+        "contact.law": "linear",
+        "contact.stiffness": 10.0,
+        "contact.damping": 0.0,
+        "scenario.excitation.casing_random.rms": 500.0,
+    }
     with pytest.raises(ModelError) as exc:
         seed_ensemble(cc.load_model(), [4, 6], duration=0.15, overrides=soft)
     assert exc.value.key == "seeds" and exc.value.value == 4 and "SimulationError" in str(exc.value)
@@ -180,20 +216,38 @@ def test_no_random_excitation_and_failed_members_are_named():
 
 def test_cli_prints_the_ensemble_and_the_paired_change(tmp_path, capsys):
     out = tmp_path / "levels.csv"
-    assert cli_main(["ensemble", "--seeds", "2", "--first-seed", "3", "--duration", str(T), "--out", str(out),
-                     "--against", "contact.friction=0.05", "--plot", str(tmp_path / "ens.png")]) == 0
+    assert (
+        cli_main(
+            [
+                "ensemble",
+                "--seeds",
+                "2",
+                "--first-seed",
+                "3",
+                "--duration",
+                str(T),
+                "--out",
+                str(out),
+                "--against",
+                "contact.friction=0.05",
+                "--plot",
+                str(tmp_path / "ens.png"),
+            ]
+        )
+        == 0
+    )
     assert (tmp_path / "ens.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     text = capsys.readouterr().out
     model = cc.load_model()
     lv = [band_levels_of_single_run(model, s) for s in (3, 4)]
     mean = np.mean(lv, axis=0)
     rows = [line.split(",") for line in text.splitlines() if line.startswith("oct")]
-    np.testing.assert_allclose([float(r[3]) for r in rows[:9]], mean, rtol=1e-5)     # printed to 6 digits
+    np.testing.assert_allclose([float(r[3]) for r in rows[:9]], mean, rtol=1e-5)  # printed to 6 digits
     saved = np.genfromtxt(out, delimiter=",", names=True)
     np.testing.assert_allclose(saved["oct3"], [x[2] for x in lv], rtol=1e-8)
     assert (tmp_path / "levels_against.csv").exists() and "relative change" in text
     assert cli_main(["ensemble", "--seeds", "1"]) == 2
-    assert cli_main(["ensemble", "--plot", str(tmp_path / "no" / "such.png")]) == 2      # refused before any run
+    assert cli_main(["ensemble", "--plot", str(tmp_path / "no" / "such.png")]) == 2  # refused before any run
     assert cli_main(["ensemble", "--set", "friction"]) == 2
     assert "KEY=VALUE" in capsys.readouterr().err
 
@@ -222,13 +276,15 @@ def test_an_ensemble_run_in_parts_and_pooled_is_the_whole(tmp_path):
 
 def test_pooling_refuses_parts_of_different_runs(tmp_path):
     a = synthetic([[1.0, 2.0], [1.1, 2.1]])
-    with pytest.raises(ModelError) as exc:               # a seed in two parts
+    with pytest.raises(ModelError) as exc:  # a seed in two parts
         pool_ensembles([a, synthetic([[1.0, 2.0], [1.2, 2.2]], seeds=[2, 3])])
     assert exc.value.key == "seeds" and exc.value.value == [2]
-    other = [Ensemble(np.array([5, 6]), "casing.A.Fz", a.labels, a.lower, a.upper, a.levels),
-             Ensemble(np.array([5, 6]), a.output, a.labels, a.lower, 2 * a.upper, a.levels),
-             Ensemble(np.array([5, 6]), a.output, a.labels, a.lower, a.upper, a.levels, {"contact.friction": 0.2}),
-             Ensemble(np.array([5, 6]), a.output, a.labels, a.lower, a.upper, a.levels, settings={"dt": 5e-6})]
+    other = [
+        Ensemble(np.array([5, 6]), "casing.A.Fz", a.labels, a.lower, a.upper, a.levels),
+        Ensemble(np.array([5, 6]), a.output, a.labels, a.lower, 2 * a.upper, a.levels),
+        Ensemble(np.array([5, 6]), a.output, a.labels, a.lower, a.upper, a.levels, {"contact.friction": 0.2}),
+        Ensemble(np.array([5, 6]), a.output, a.labels, a.lower, a.upper, a.levels, settings={"dt": 5e-6}),
+    ]
     for e, key in zip(other, ("output", "bands", "overrides", "settings")):
         with pytest.raises(ModelError) as exc:
             pool_ensembles([a, e])
@@ -236,16 +292,17 @@ def test_pooling_refuses_parts_of_different_runs(tmp_path):
     # the model is part of the settings: a changed parameter gives another fingerprint
     model = cc.load_model()
     from cablecasing_core.studies.ensemble import _fingerprint
+
     assert _fingerprint(model) == _fingerprint(cc.load_model())
     assert _fingerprint(model) != _fingerprint(model.with_overrides({"contact.friction": 0.2}))
     (tmp_path / "plain.csv").write_text("seed,b1,b2\n1,1.0,2.0\n")
     with pytest.raises(ModelError, match="cablecasing-ensemble"):
         load_ensemble(tmp_path / "plain.csv")
-    (tmp_path / "a.csv").write_text("seed,b1,b2\n# cablecasing-ensemble {\"labels\": [\"b1\"\n1,1.0,2.0\n")
-    with pytest.raises(ModelError, match="unaltered"):                  # a damaged settings line
+    (tmp_path / "a.csv").write_text('seed,b1,b2\n# cablecasing-ensemble {"labels": ["b1"\n1,1.0,2.0\n')
+    with pytest.raises(ModelError, match="unaltered"):  # a damaged settings line
         load_ensemble(tmp_path / "a.csv")
     a.save(tmp_path / "short.csv")
-    with open(tmp_path / "short.csv", "a") as f:                     # a row cut short
+    with open(tmp_path / "short.csv", "a") as f:  # a row cut short
         f.write("3,1.0\n")
     with pytest.raises(ModelError, match="unaltered"):
         load_ensemble(tmp_path / "short.csv")
@@ -265,17 +322,29 @@ def test_cli_pools_parts_and_prints_the_paired_change(tmp_path, capsys):
             part = Ensemble(e.seeds, e.output, e.labels, e.lower, e.upper, e.levels, overrides)
             part.save(tmp_path / f"{name}{k}.csv")
     files = [str(tmp_path / f) for f in ("p0.csv", "p1.csv")]
-    assert cli_main(["pool", *files, "--against", str(tmp_path / "q1.csv"), str(tmp_path / "q0.csv"),
-                     "--out", str(tmp_path / "all.csv")]) == 0
+    assert (
+        cli_main(
+            [
+                "pool",
+                *files,
+                "--against",
+                str(tmp_path / "q1.csv"),
+                str(tmp_path / "q0.csv"),
+                "--out",
+                str(tmp_path / "all.csv"),
+            ]
+        )
+        == 0
+    )
     text = capsys.readouterr().out
     rows = [line.split(",") for line in text.splitlines() if line[:3] in ("b1,", "b2,")]
     np.testing.assert_allclose([float(r[3]) for r in rows[:2]], b.mean(axis=0), rtol=1e-5)
     d = paired_difference(a, b)
-    np.testing.assert_allclose([float(r[2]) for r in rows[2:]], d.r, atol=6e-5)      # printed to 4 decimals
+    np.testing.assert_allclose([float(r[2]) for r in rows[2:]], d.r, atol=6e-5)  # printed to 4 decimals
     assert "{'contact.friction': 0.2}" in text
     np.testing.assert_array_equal(load_ensemble(tmp_path / "all_against.csv").levels, a)
-    assert cli_main(["pool", files[0], files[0]]) == 2                                   # seeds twice
-    assert cli_main(["pool", *files, "--against", str(tmp_path / "q0.csv")]) == 2         # seeds do not pair
+    assert cli_main(["pool", files[0], files[0]]) == 2  # seeds twice
+    assert cli_main(["pool", *files, "--against", str(tmp_path / "q0.csv")]) == 2  # seeds do not pair
     assert "seeds" in capsys.readouterr().err
 
 
@@ -285,15 +354,16 @@ def test_a_seed_gives_the_same_record_at_every_time_step():
     # the coarse grid the two agree to rounding of two FFT lengths (measured 9e-16 of the RMS; 1e-12
     # leaves room, while a different record would differ by order one)
     from cablecasing_core.timedomain.scenario import scenario_motion
+
     model = cc.load_model()
-    t = np.arange(0, 2000) * 1e-5 + 0.02                      # past the ramp
+    t = np.arange(0, 2000) * 1e-5 + 0.02  # past the ramp
     coarse = scenario_motion(model, dt=1e-5, duration=0.2)(t)
     fine = scenario_motion(model, dt=2.5e-6, duration=0.2)(t)
     for c, f in zip(coarse, fine):
-        assert np.abs(c - f).max() < 1e-12 * np.sqrt(np.mean(c ** 2))
+        assert np.abs(c - f).max() < 1e-12 * np.sqrt(np.mean(c**2))
 
 
-@pytest.mark.slow     # a dask cluster
+@pytest.mark.slow  # a dask cluster
 def test_members_on_dask_workers_equal_the_serial_ones():
     # workers run one BLAS thread; a record does not depend on that (the compliance comes from the
     # step loop's block solve), so the ensemble is the same in parallel as in this process

@@ -37,6 +37,7 @@ friction):
   and there the bends hold only 0.63 of the contact time and the peak is on the straight run. The
   assertion is on the pooled ensemble with thresholds that also hold for such draws.
 """
+
 import functools
 
 import numpy as np
@@ -45,20 +46,24 @@ import pytest
 import cablecasing_core as cc
 from cablecasing_core.studies import octave_rms
 
-pytestmark = pytest.mark.slow      # ensembles of 1 s records
+pytestmark = pytest.mark.slow  # ensembles of 1 s records
 
-T = 0.2                       # s per run
-SEEDS = tuple(range(1, 9))    # seeds of the sweeps
+T = 0.2  # s per run
+SEEDS = tuple(range(1, 9))  # seeds of the sweeps
 SEEDS_CONTACT = tuple(range(1, 17))
-K = 2.0                       # a claim holds when its ensemble-mean effect exceeds K standard errors
+K = 2.0  # a claim holds when its ensemble-mean effect exceeds K standard errors
 SEED_KEY = "scenario.excitation.casing_random.seed"
 AMP_KEY = "scenario.excitation.cable_axial.amplitude"
 SETTINGS = {
     "base": {},
-    "mu_lo": {"contact.friction": 0.05}, "mu_hi": {"contact.friction": 0.2},
-    "amp_lo": {AMP_KEY: 2.5e-4}, "amp_hi": {AMP_KEY: 1e-3},
-    "cab_lo": {"cable.E": 3e10}, "cab_hi": {"cable.E": 8.5e10},
-    "cas_lo": {"casing.E": 2e9}, "cas_hi": {"casing.E": 1e10},
+    "mu_lo": {"contact.friction": 0.05},
+    "mu_hi": {"contact.friction": 0.2},
+    "amp_lo": {AMP_KEY: 2.5e-4},
+    "amp_hi": {AMP_KEY: 1e-3},
+    "cab_lo": {"cable.E": 3e10},
+    "cab_hi": {"cable.E": 8.5e10},
+    "cas_lo": {"casing.E": 2e9},
+    "cas_hi": {"casing.E": 1e10},
 }
 
 
@@ -102,6 +107,7 @@ def low_octaves(bands):
 # margins (SE) 4.9 14.2 9.1 -0.6 4.8 -0.3 -0.9 -0.2 0.4 (5.4 8.5 8.5 0.4 3.1 -0.9 -1.0 -2.2 -1.4);
 # overall RMS 0.950 -> 0.916 N, 0.5 SE (0.943 -> 0.930 N, 0.2 SE): not a claim that holds.
 
+
 def test_friction_lowers_transmission(ens):
     # 11-88 Hz together: 0.56 (0.55) of the level at mu = 0.05; margin 12.9 SE (13.1)
     assert margin(low_octaves(ens["mu_lo"][1]), low_octaves(ens["mu_hi"][1])) > K
@@ -116,6 +122,7 @@ def test_friction_lowers_the_low_octaves(ens):
 
 # ------------------------------------------------------------------------------------------------
 # Axial (longitudinal) excitation of the cable, Fig. 23(d).
+
 
 def test_longitudinal_cable_excitation_raises_transmission(ens):
     # overall RMS, 2.5e-4 -> 5e-4 m: 0.127 -> 0.897 N, margin 22.2 SE (20.0)
@@ -138,8 +145,9 @@ def test_axial_excitation_raises_every_band(ens):
 # 1-6 the cable modulus matters about as much as the casing's here (the paper found it weaker),
 # because in this model the cable's axial excitation is the main source (see docs/studies.md).
 
+
 def test_casing_modulus_dominates_and_raises_the_high_octaves(ens):
-    hi = slice(6, 9)                                        # octaves 7, 8, 9 (710-5680 Hz)
+    hi = slice(6, 9)  # octaves 7, 8, 9 (710-5680 Hz)
     # a stiffer casing transmits more up there: margins 15.6, 22.6, 7.3 SE (9.6, 12.3, 5.57)
     z = margin(ens["cas_hi"][1][:, hi], ens["cas_lo"][1][:, hi])
     assert np.all(z > K), z
@@ -152,6 +160,7 @@ def test_casing_modulus_dominates_and_raises_the_high_octaves(ens):
 
 # ------------------------------------------------------------------------------------------------
 # Where the contact is (Fig. 22): the contact time per cable node, pooled over 16 seeds.
+
 
 def bend_runs(curvature):
     """Node indices of the bends: the runs of nodes whose curvature exceeds 0.3 of the maximum
@@ -166,7 +175,7 @@ def test_contact_concentrates_in_the_bends():
     k = runs[0][3]
     first, second = bend_runs(k)
     assert len(first) + len(second) < 0.5 * len(k)
-    assert np.all(ct.sum(axis=1) > 0)                       # every draw touches
+    assert np.all(ct.sum(axis=1) > 0)  # every draw touches
     pooled = ct.sum(axis=0)
     # the bends (under half of the nodes) hold most of the contact time: 0.86 pooled; per seed 0.90-0.93
     # in 14 of 16 draws and 0.63, 0.64 in the two (seeds 6, 16) where the straight run between the
@@ -179,7 +188,7 @@ def test_contact_concentrates_in_the_bends():
     assert pooled[second].sum() > pooled[first].sum()
 
 
-if __name__ == "__main__":       # the measured margins quoted above
+if __name__ == "__main__":  # the measured margins quoted above
     np.set_printoptions(precision=2, suppress=True, linewidth=150)
     for seeds in (SEEDS, tuple(range(9, 17))):
         e = {name: ensemble(name, seeds) for name in SETTINGS}
@@ -187,12 +196,20 @@ if __name__ == "__main__":       # the measured margins quoted above
         print(f"seeds {seeds[0]}..{seeds[-1]}")
         print("  friction, ratio of means per band:", b["mu_hi"].mean(0) / b["mu_lo"].mean(0))
         print("  friction, margin per band (SE):  ", margin(b["mu_lo"], b["mu_hi"]))
-        print("  friction, octaves 1-3 together: ratio %.2f, margin %.1f SE; overall RMS: %.3f -> %.3f N, margin %.1f SE"
-              % (low_octaves(b["mu_hi"]).mean() / low_octaves(b["mu_lo"]).mean(),
-                 margin(low_octaves(b["mu_lo"]), low_octaves(b["mu_hi"])),
-                 e["mu_lo"][0].mean(), e["mu_hi"][0].mean(), margin(e["mu_lo"][0], e["mu_hi"][0])))
-        print("  axial amplitude, overall RMS %.3f -> %.3f N, margin %.1f SE" %
-              (e["amp_lo"][0].mean(), e["base"][0].mean(), margin(e["base"][0], e["amp_lo"][0])))
+        print(
+            "  friction, octaves 1-3 together: ratio %.2f, margin %.1f SE; overall RMS: %.3f -> %.3f N, margin %.1f SE"
+            % (
+                low_octaves(b["mu_hi"]).mean() / low_octaves(b["mu_lo"]).mean(),
+                margin(low_octaves(b["mu_lo"]), low_octaves(b["mu_hi"])),
+                e["mu_lo"][0].mean(),
+                e["mu_hi"][0].mean(),
+                margin(e["mu_lo"][0], e["mu_hi"][0]),
+            )
+        )
+        print(
+            "  axial amplitude, overall RMS %.3f -> %.3f N, margin %.1f SE"
+            % (e["amp_lo"][0].mean(), e["base"][0].mean(), margin(e["base"][0], e["amp_lo"][0]))
+        )
         print("  axial amplitude 1e-3 / 2.5e-4, ratio per band:", b["amp_hi"].mean(0) / b["amp_lo"].mean(0))
         print("  axial amplitude, margin per band:", margin(b["amp_hi"], b["amp_lo"]))
         print("  casing E, ratio per band:", b["cas_hi"].mean(0) / b["cas_lo"].mean(0))
@@ -201,13 +218,22 @@ if __name__ == "__main__":       # the measured margins quoted above
         hi = slice(6, 9)
         cas = np.abs(np.log(b["cas_hi"][:, hi] / b["cas_lo"][:, hi])).mean(axis=1)
         cab = np.abs(np.log(b["cab_hi"][:, hi] / b["cab_lo"][:, hi])).mean(axis=1)
-        print("  octaves 7-9, mean |log ratio| casing %.2f, cable %.2f, margin %.1f SE"
-              % (cas.mean(), cab.mean(), margin(cas, cab)))
+        print(
+            "  octaves 7-9, mean |log ratio| casing %.2f, cable %.2f, margin %.1f SE"
+            % (cas.mean(), cab.mean(), margin(cas, cab))
+        )
     runs = [run("base", s) for s in SEEDS_CONTACT]
     ct = np.array([r[2] for r in runs])
     first, second = bend_runs(runs[0][3])
     bends = np.concatenate([first, second])
     print("contact, seeds 1..16: bends' share per seed", ct[:, bends].sum(1) / ct.sum(1))
-    print("  pooled: bends %.2f, first bend %.2f, second bend %.2f; second > first in %d of %d draws"
-          % (ct[:, bends].sum() / ct.sum(), ct[:, first].sum() / ct.sum(), ct[:, second].sum() / ct.sum(),
-             np.sum(ct[:, second].sum(1) > ct[:, first].sum(1)), len(ct)))
+    print(
+        "  pooled: bends %.2f, first bend %.2f, second bend %.2f; second > first in %d of %d draws"
+        % (
+            ct[:, bends].sum() / ct.sum(),
+            ct[:, first].sum() / ct.sum(),
+            ct[:, second].sum() / ct.sum(),
+            np.sum(ct[:, second].sum(1) > ct[:, first].sum(1)),
+            len(ct),
+        )
+    )

@@ -1,4 +1,5 @@
 """Monte-Carlo study of Section 4.4: LHS stratification, resume, failures, dask == serial, Fig. 23."""
+
 import json
 import os
 
@@ -7,8 +8,14 @@ import pytest
 
 from cablecasing_core.errors import ModelError
 from cablecasing_core.studies import evaluators
-from cablecasing_core.studies import (PAPER_BOUNDS, correlations, latin_hypercube, load_results,
-                                      plot_correlations, run_study)
+from cablecasing_core.studies import (
+    PAPER_BOUNDS,
+    correlations,
+    latin_hypercube,
+    load_results,
+    plot_correlations,
+    run_study,
+)
 
 ANALYTIC = "cablecasing_core.studies.evaluators:analytic_evaluate"
 
@@ -27,7 +34,7 @@ def _same(a, b):
     assert a.parameters == b.parameters and a.outputs == b.outputs
     np.testing.assert_array_equal(a.index, b.index)
     np.testing.assert_array_equal(a.X, b.X)
-    np.testing.assert_array_equal(a.Y, b.Y)            # NaN == NaN for failed rows
+    np.testing.assert_array_equal(a.Y, b.Y)  # NaN == NaN for failed rows
     np.testing.assert_array_equal(a.status, b.status)
     np.testing.assert_array_equal(a.error, b.error)
 
@@ -43,23 +50,26 @@ def test_lhs_stratification_and_determinism():
     assert X.shape == (n, 6)
     for k, (lo, hi) in enumerate(PAPER_BOUNDS.values()):
         strata = np.floor((X[:, k] - lo) / (hi - lo) * n).astype(int)
-        assert sorted(strata) == list(range(n))        # each of the n strata hit exactly once
+        assert sorted(strata) == list(range(n))  # each of the n strata hit exactly once
     np.testing.assert_array_equal(X, latin_hypercube(PAPER_BOUNDS, n, seed=3))
     assert not np.array_equal(X, latin_hypercube(PAPER_BOUNDS, n, seed=4))
 
 
-@pytest.mark.parametrize("kw, key", [
-    (dict(bounds={"casing.G": (1.0, 2.0)}), "bounds.casing.G"),
-    (dict(bounds={"casing.E": (2e9, 1e9)}), "bounds.casing.E"),
-    (dict(bounds={"casing.E": (1e9, 1e9)}), "bounds.casing.E"),
-    (dict(bounds={"casing.E": (1e9, float("nan"))}), "bounds.casing.E"),
-    (dict(n_samples=1), "n_samples"),
-    (dict(seed=-1), "seed"),
-    (dict(outputs=["oct1", "casing.E"], bounds={"casing.E": (1e9, 2e9)}), "outputs"),
-    (dict(evaluate="no_such_module:f"), "evaluate"),
-    (dict(scheduler=42), "scheduler"),
-    (dict(max_samples=-3), "max_samples"),
-])
+@pytest.mark.parametrize(
+    "kw, key",
+    [
+        (dict(bounds={"casing.G": (1.0, 2.0)}), "bounds.casing.G"),
+        (dict(bounds={"casing.E": (2e9, 1e9)}), "bounds.casing.E"),
+        (dict(bounds={"casing.E": (1e9, 1e9)}), "bounds.casing.E"),
+        (dict(bounds={"casing.E": (1e9, float("nan"))}), "bounds.casing.E"),
+        (dict(n_samples=1), "n_samples"),
+        (dict(seed=-1), "seed"),
+        (dict(outputs=["oct1", "casing.E"], bounds={"casing.E": (1e9, 2e9)}), "outputs"),
+        (dict(evaluate="no_such_module:f"), "evaluate"),
+        (dict(scheduler=42), "scheduler"),
+        (dict(max_samples=-3), "max_samples"),
+    ],
+)
 def test_bad_input_names_the_field(tmp_path, kw, key):
     with pytest.raises(ModelError) as e:
         _run(tmp_path / "s.csv", **kw)
@@ -73,22 +83,23 @@ def test_serial_values_are_the_closed_form(tmp_path):
     np.testing.assert_array_equal(res.X, X)
     for i in (0, 13):
         ref = evaluators.analytic_evaluate(dict(zip(PAPER_BOUNDS, X[i].tolist())))
-        assert res.Y[i].tolist() == [ref[o] for o in res.outputs]     # exact: repr round-trips floats
+        assert res.Y[i].tolist() == [ref[o] for o in res.outputs]  # exact: repr round-trips floats
 
 
-@pytest.mark.slow     # a dask cluster
+@pytest.mark.slow  # a dask cluster
 def test_dask_two_workers_equals_serial(tmp_path):
     kw = dict(n_samples=24, seed=11, evaluate_kwargs={"fail_above": 0.18})
     serial = _run(tmp_path / "serial.csv", **kw)
     dask = _run(tmp_path / "dask.csv", scheduler="local", n_workers=2, **kw)
-    assert (serial.status == "failed").any()           # the failing rows are part of the comparison
+    assert (serial.status == "failed").any()  # the failing rows are part of the comparison
     _same(serial, dask)
     assert sorted(_indices_in_file(tmp_path / "dask.csv")) == list(range(24))
 
 
-@pytest.mark.slow     # a dask cluster
+@pytest.mark.slow  # a dask cluster
 def test_existing_cluster_by_address(tmp_path):
     from distributed import LocalCluster
+
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         res = _run(tmp_path / "addr.csv", scheduler=cluster.scheduler_address, n_samples=6)
     _same(res, _run(tmp_path / "serial.csv", n_samples=6))
@@ -106,6 +117,7 @@ def test_failed_sample_is_recorded_and_study_continues(tmp_path):
 def test_placeholder_evaluate_is_refused_before_starting(tmp_path):
     def placeholder(overrides):
         raise NotImplementedError("placeholder")
+
     placeholder.placeholder = True
     with pytest.raises(NotImplementedError, match="placeholder"):
         _run(tmp_path / "s.csv", evaluate=placeholder, n_samples=3)
@@ -114,10 +126,17 @@ def test_placeholder_evaluate_is_refused_before_starting(tmp_path):
 
 def test_default_evaluate_runs_the_model(tmp_path):
     """The real per-sample function: a short engine run per sample, serial, two samples."""
-    res = run_study(tmp_path / "s.csv", n_samples=2, seed=1, scheduler="serial", progress=False,
-                       evaluate_kwargs={"duration": 0.12, "skip": 0.01})  # oct1 (11 Hz) needs 0.09 s
+    res = run_study(
+        tmp_path / "s.csv",
+        n_samples=2,
+        seed=1,
+        scheduler="serial",
+        progress=False,
+        evaluate_kwargs={"duration": 0.12, "skip": 0.01},
+    )  # oct1 (11 Hz) needs 0.09 s
     assert list(res.status) == ["ok", "ok"]
     assert np.all(np.isfinite(res.Y)) and np.all(res.Y >= 0)
+
 
 def test_evaluate_errors_are_recorded_per_sample(tmp_path):
     def bad(overrides):
@@ -126,7 +145,7 @@ def test_evaluate_errors_are_recorded_per_sample(tmp_path):
         return {"x": 1.0}
 
     res = _run(tmp_path / "s.csv", evaluate=bad, n_samples=10, outputs=["x", "y"])
-    assert set(res.status) == {"failed"}           # "y" missing from every result, RuntimeError for some
+    assert set(res.status) == {"failed"}  # "y" missing from every result, RuntimeError for some
     big = res.X[:, 1] > 6e9
     assert all(e == "RuntimeError: line one | line two" for e in res.error[big])
     assert all(e.startswith("KeyError") and "'y'" in e for e in res.error[~big])
@@ -143,10 +162,10 @@ def test_resume_after_max_samples_repeats_nothing(tmp_path):
     part = _run(p, evaluate=counting, max_samples=7)
     assert list(part.index) == list(range(7)) and len(calls) == 7
     full = _run(p, evaluate=counting)
-    assert len(calls) == 20                             # 13 more, none repeated
+    assert len(calls) == 20  # 13 more, none repeated
     assert _indices_in_file(p) == list(range(20))
     assert len({tuple(sorted(c.items())) for c in calls}) == 20
-    again = _run(p, evaluate=counting)                  # nothing left to do
+    again = _run(p, evaluate=counting)  # nothing left to do
     assert len(calls) == 20
     _same(full, again)
     _same(full, _run(tmp_path / "clean.csv", evaluate=counting))
@@ -158,18 +177,18 @@ def test_resume_after_hard_interruption_and_torn_line(tmp_path):
     def dies_after_five(overrides):
         state["n"] += 1
         if state["n"] > 5:
-            raise KeyboardInterrupt                     # not an Exception: stops the study
+            raise KeyboardInterrupt  # not an Exception: stops the study
         return evaluators.analytic_evaluate(overrides)
 
     p = tmp_path / "s.csv"
     with pytest.raises(KeyboardInterrupt):
         _run(p, evaluate=dies_after_five)
     assert _indices_in_file(p) == list(range(5))
-    with open(p, "a") as fh:                            # a row torn by a kill mid-write
+    with open(p, "a") as fh:  # a row torn by a kill mid-write
         fh.write("5,ok,3.1e10,4e9")
     state["n"] = -100
     res = _run(p, evaluate=dies_after_five)
-    assert _indices_in_file(p) == list(range(20))       # torn row cut, sample 5 run once, no repeats
+    assert _indices_in_file(p) == list(range(20))  # torn row cut, sample 5 run once, no repeats
     _same(res, _run(tmp_path / "clean.csv", evaluate=dies_after_five))
 
 
@@ -202,7 +221,7 @@ def test_infeasible_samples_are_recorded_not_evaluated(tmp_path):
 
 
 def test_correlations_against_constructed_dependences(tmp_path):
-    def ev(o):   # a: linear in cable.E; b: monotone, non-linear in casing.E; c: friction only
+    def ev(o):  # a: linear in cable.E; b: monotone, non-linear in casing.E; c: friction only
         return {"a": 2 * o["cable.E"] + 1, "b": np.exp(o["casing.E"] / 1e9), "c": o["contact.friction"] ** 3}
 
     n = 60

@@ -1,5 +1,6 @@
 """Probes of the contact kernels for the tests: the search, the deformed casing axis, and the
 paper's own form of the intersection (Eq. 39) to check the search against."""
+
 from types import SimpleNamespace
 
 import numpy as np
@@ -35,8 +36,9 @@ def line_plane_intersection(ia, ib, p0, p1, p2):
 @pytest.fixture(scope="session")
 def probes():
     """``probes.search_casing``, ``probes.casing_point``, ``probes.line_plane_intersection``."""
-    return SimpleNamespace(search_casing=search_casing, casing_point=casing_point,
-                           line_plane_intersection=line_plane_intersection)
+    return SimpleNamespace(
+        search_casing=search_casing, casing_point=casing_point, line_plane_intersection=line_plane_intersection
+    )
 
 
 @pytest.fixture(scope="session")
@@ -44,9 +46,19 @@ def pair_model(arc_points):
     """``pair_model(friction=0.0, damping=0.0, alpha=0.0, beta=0.0, n=12)``: the built-in cable and
     casing on a 60 degree arc of radius 0.3 m (n elements each), with the given contact friction and
     damping (kg/s) and Rayleigh factors (1/s, s) for both bodies."""
+
     def build(friction=0.0, damping=0.0, alpha=0.0, beta=0.0, n=12):
-        return cc.load_model().with_overrides({
-            "geometry.points": arc_points(0.3, np.pi / 3, 8).tolist(), "geometry.n_elements": n,
-            "contact.friction": friction, "contact.damping": damping, "casing.alpha": alpha, "casing.beta": beta,
-            "cable.alpha": alpha, "cable.beta": beta})
+        return cc.load_model().with_overrides(
+            {
+                "geometry.points": arc_points(0.3, np.pi / 3, 8).tolist(),
+                "geometry.n_elements": n,
+                "contact.friction": friction,
+                "contact.damping": damping,
+                "casing.alpha": alpha,
+                "casing.beta": beta,
+                "cable.alpha": alpha,
+                "cable.beta": beta,
+            }
+        )
+
     return build

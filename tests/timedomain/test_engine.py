@@ -1,4 +1,5 @@
 """Time domain: Newmark against the frequency domain and theory, energy, contact geometry and law."""
+
 import re
 
 import numpy as np
@@ -12,7 +13,6 @@ from cablecasing_core.structure.geometry import centerline_of
 from cablecasing_core.timedomain.scenario import scenario_motion, zero_motion
 
 
-
 def harmonic(channel, amp, f_hz):
     col = CHANNELS.index(channel)
     w = 2 * np.pi * f_hz
@@ -21,6 +21,7 @@ def harmonic(channel, amp, f_hz):
         u, v, a = zero_motion(t)
         u[:, col], v[:, col], a[:, col] = amp * np.sin(w * t), amp * w * np.cos(w * t), -amp * w * w * np.sin(w * t)
         return u, v, a
+
     return motion
 
 
@@ -30,15 +31,15 @@ def test_harmonic_response_matches_trfam(d):
     f0, amp, dt = 63.0, 1e-5, 1e-5
     eng = Engine(m, dt=dt, contact=False, record=True, ledger=False)
     eng.advance(0.4, harmonic(f"casing.A.{d}", amp, f0))
-    F = eng.history()["support_forces"][:, 6 + "xyz".index(d)]      # casing.B.F<d>
+    F = eng.history()["support_forces"][:, 6 + "xyz".index(d)]  # casing.B.F<d>
     t = dt * np.arange(1, len(F) + 1)
-    last = t > 0.3                                                     # transients decayed (e^-8)
+    last = t > 0.3  # transients decayed (e^-8)
     w = 2 * np.pi * f0
     X = np.column_stack([np.sin(w * t[last]), np.cos(w * t[last])])
     c = np.linalg.lstsq(X, F[last], rcond=None)[0]
-    measured = c[0] + 1j * c[1]                                        # F = Im(measured e^{iwt})
+    measured = c[0] + 1j * c[1]  # F = Im(measured e^{iwt})
     H = cc.trfam(m, f"casing.A.{d}", f"casing.B.{d}", [f0], "viscous")[0]
-    expected = -H * (-w**2 * amp)                                      # body-on-support = -reaction
+    expected = -H * (-(w**2) * amp)  # body-on-support = -reaction
     # Newmark phase error (w dt)^2/12 ~ 1e-5 and the residual transient are far below the 1% bound
     assert abs(measured / expected - 1) < 0.01
 
@@ -54,7 +55,7 @@ def test_newmark_period_elongation(straight):
     s["cable.U"] = 1e-3 * shapes[:, 0]
     eng.set_state(s)
     eng.advance(dt * 4000, zero_motion)
-    F = eng.history()["support_forces"][:, 12 + 1]            # cable.A.Fy, proportional to the modal coordinate
+    F = eng.history()["support_forces"][:, 12 + 1]  # cable.A.Fy, proportional to the modal coordinate
     F = np.concatenate([[s["cable.U"] @ np.zeros_like(s["cable.U"])], F])
     z = np.nonzero(np.diff(np.sign(F[1:])))[0]
     # interpolated zero crossings -> period
@@ -62,14 +63,14 @@ def test_newmark_period_elongation(straight):
     T_num = 2 * np.mean(np.diff(tz))
     ratio = T_num / (2 * np.pi / w1)
     expected = (Om / 2) / np.arctan(Om / 2)
-    assert abs(ratio / expected - 1) < 1e-4   # zero-crossing interpolation error over ~100 periods
+    assert abs(ratio / expected - 1) < 1e-4  # zero-crossing interpolation error over ~100 periods
 
 
 def _kick(eng, v0):
     s = eng.get_state()
     nn = len(s["cable.V"]) // 6
     prof = np.sin(np.pi * np.arange(nn) / (nn - 1))
-    s["cable.V"][2::6] = v0 * prof           # lateral (z, out of the arc's plane) velocity field
+    s["cable.V"][2::6] = v0 * prof  # lateral (z, out of the arc's plane) velocity field
     eng.set_state(s)
 
 
@@ -100,26 +101,26 @@ def test_ledger_closes_with_damping_and_friction(pair_model):
     E0 = e0["kinetic"] + e0["strain"]
     eng.advance(0.5, zero_motion)
     e = eng.energies()
-    assert (eng.history()["normal_force"] >= 0).all()                  # never adhesive (Eq. 16)
+    assert (eng.history()["normal_force"] >= 0).all()  # never adhesive (Eq. 16)
     assert e["contact_dissipation"] > 0 and e["rayleigh_dissipation"] > 0
-    assert abs(e["residual"]) < 0.01 * E0                              # the ledger closes within 1%
+    assert abs(e["residual"]) < 0.01 * E0  # the ledger closes within 1%
     # the two parts, integrated from their powers, add up to the work-based contact dissipation
     # (trapezoidal rule on impacts resolved by a few steps: a few per cent)
     parts = e["contact_damping_dissipation"] + e["friction_dissipation"]
     assert e["friction_dissipation"] > 0 and e["contact_damping_dissipation"] > 0
     assert abs(parts / e["contact_dissipation"] - 1) < 0.05
-    assert e["kinetic"] + e["strain"] < 0.5 * E0                       # and most energy has been dissipated
+    assert e["kinetic"] + e["strain"] < 0.5 * E0  # and most energy has been dissipated
 
 
 def test_hertz_constant_is_eq_29():
     m = cc.load_model()
     E1, E2, nu = 5.5e10, 5.0e9, 0.3
-    Es = 1 / ((1 - nu**2) / E1 + (1 - nu**2) / E2)                       # Eq. (28)
-    r = 1 / (1 / 0.0015 - 1 / 0.002)                                   # Eq. (27), concave casing
+    Es = 1 / ((1 - nu**2) / E1 + (1 - nu**2) / E2)  # Eq. (28)
+    r = 1 / (1 / 0.0015 - 1 / 0.002)  # Eq. (27), concave casing
     g = 1e-5
     F, _ = K.contact_law(g, 0, 0.0, hertz_constant(m))
     assert F == pytest.approx(4 / 3 * r**0.5 * Es * g**1.5, rel=1e-12)  # Eq. (29)
-    assert K.contact_law(-1e-6, 0, 0.0, hertz_constant(m))[0] == 0.0   # no adhesion
+    assert K.contact_law(-1e-6, 0, 0.0, hertz_constant(m))[0] == 0.0  # no adhesion
 
 
 @pytest.mark.parametrize("shape", ["straight", "arc"])
@@ -132,10 +133,10 @@ def test_contact_search_exact_intersection(shape, straight, arc_points, beam_mod
         model = beam_model(pts, 8)
     cl = centerline_of(model)
     rng = np.random.default_rng(3)
-    shift = np.array([1e-4, -2e-4, 3e-4])                  # rigid translation: the Hermite axis stays straight
+    shift = np.array([1e-4, -2e-4, 3e-4])  # rigid translation: the Hermite axis stays straight
     Us = np.zeros(6 * len(cl.nodes))
     for i in range(len(cl.nodes)):
-        Us[6 * i:6 * i + 3] = shift
+        Us[6 * i : 6 * i + 3] = shift
     for trial in range(20):
         e = rng.integers(0, cl.n_elements)
         x1 = cl.nodes[e] + rng.random() * (cl.nodes[e + 1] - cl.nodes[e]) + 3e-4 * rng.standard_normal(3)
@@ -164,9 +165,9 @@ def test_far_test_never_claims_a_node_closer_than_the_hermite_axis_is(straight, 
     for trial in range(400):
         Us = np.zeros(6 * len(cl.nodes))
         e = int(rng.integers(1, cl.n_elements - 1))
-        Us[6 * e + 6:6 * e + 9] = 2e-4 * rng.standard_normal(3)            # lateral offset: psi ~ 4e-3
+        Us[6 * e + 6 : 6 * e + 9] = 2e-4 * rng.standard_normal(3)  # lateral offset: psi ~ 4e-3
         if trial % 2:
-            Us[6 * e:6 * e + 12] += 1e-3 * rng.standard_normal(12) * np.repeat([1e-1, 1.0, 1e-1, 1.0], 3)
+            Us[6 * e : 6 * e + 12] += 1e-3 * rng.standard_normal(12) * np.repeat([1e-1, 1.0, 1e-1, 1.0], 3)
         x1 = cl.nodes[e] + rng.uniform(0.1, 0.9) * (cl.nodes[e + 1] - cl.nodes[e])
         x1 += 4e-5 * np.r_[0.0, rng.standard_normal(2)]
         t1 = cl.frames[e][0]
@@ -177,11 +178,11 @@ def test_far_test_never_claims_a_node_closer_than_the_hermite_axis_is(straight, 
         _, _, far = probes.search_casing(x1, t1, cl.nodes, cl.frames, cl.lengths, Us, e, h - 1e-9)
         assert not far, (trial, h)
         # the same bound without psi (chord distance + L/4 (|theta_a| + |theta_b|)) fails on some
-        a, b = cl.nodes[e] + Us[6 * e:6 * e + 3], cl.nodes[e + 1] + Us[6 * e + 6:6 * e + 9]
+        a, b = cl.nodes[e] + Us[6 * e : 6 * e + 3], cl.nodes[e + 1] + Us[6 * e + 6 : 6 * e + 9]
         chord = np.linalg.norm(a + ((x1 - a) @ t1) / ((b - a) @ t1) * (b - a) - x1)
-        rot = np.linalg.norm(Us[6 * e + 3:6 * e + 6]) + np.linalg.norm(Us[6 * e + 9:6 * e + 12])
+        rot = np.linalg.norm(Us[6 * e + 3 : 6 * e + 6]) + np.linalg.norm(Us[6 * e + 9 : 6 * e + 12])
         worst = max(worst, h - chord - 0.25 * cl.lengths[e] * rot)
-    assert worst > 5e-6          # so the trials do reach the nodes that need psi
+    assert worst > 5e-6  # so the trials do reach the nodes that need psi
 
 
 def test_hermite_matrix_is_the_rotated_local_interpolation_and_moves_rigidly():
@@ -189,24 +190,30 @@ def test_hermite_matrix_is_the_rotated_local_interpolation_and_moves_rigidly():
     functions of Eq. (9) by matrix products, and against rigid-body motion, which the shape
     functions reproduce exactly (tolerance: rounding of entries up to 1/L ~ 30)."""
     from scipy.linalg import block_diag
+
     rng = np.random.default_rng(11)
     for _ in range(10):
         R, _ = np.linalg.qr(rng.standard_normal((3, 3)))
-        R[2] *= np.sign(np.linalg.det(R))                       # right-handed, as element_frames
+        R[2] *= np.sign(np.linalg.det(R))  # right-handed, as element_frames
         xi, L = rng.random(), 0.035
-        N1, N2, N3, N4 = 1 - 3 * xi**2 + 2 * xi**3, L * (xi - 2 * xi**2 + xi**3), 3 * xi**2 - 2 * xi**3, L * (xi**3 - xi**2)
+        N1, N2, N3, N4 = (
+            1 - 3 * xi**2 + 2 * xi**3,
+            L * (xi - 2 * xi**2 + xi**3),
+            3 * xi**2 - 2 * xi**3,
+            L * (xi**3 - xi**2),
+        )
         D1, D2, D3, D4 = 6 * (xi**2 - xi) / L, 1 - 4 * xi + 3 * xi**2, 6 * (xi - xi**2) / L, 3 * xi**2 - 2 * xi
         Hl = np.zeros((6, 12))
-        Hl[0, [0, 6]] = 1 - xi, xi                                                     # axial
-        Hl[1, [1, 5, 7, 11]] = N1, N2, N3, N4                                          # v, from theta_z
-        Hl[2, [2, 4, 8, 10]] = N1, -N2, N3, -N4                                        # w, from -theta_y
-        Hl[3, [3, 9]] = 1 - xi, xi                                                     # twist
-        Hl[4, [2, 4, 8, 10]] = -D1, D2, -D3, D4                                        # theta_y = -w'
-        Hl[5, [1, 5, 7, 11]] = D1, D2, D3, D4                                          # theta_z = v'
+        Hl[0, [0, 6]] = 1 - xi, xi  # axial
+        Hl[1, [1, 5, 7, 11]] = N1, N2, N3, N4  # v, from theta_z
+        Hl[2, [2, 4, 8, 10]] = N1, -N2, N3, -N4  # w, from -theta_y
+        Hl[3, [3, 9]] = 1 - xi, xi  # twist
+        Hl[4, [2, 4, 8, 10]] = -D1, D2, -D3, D4  # theta_y = -w'
+        Hl[5, [1, 5, 7, 11]] = D1, D2, D3, D4  # theta_z = v'
         H = np.full((6, 12), np.nan)
         K.hermite_matrix(xi, L, R, H)
         np.testing.assert_allclose(H, block_diag(R.T, R.T) @ Hl @ block_diag(R, R, R, R), rtol=0, atol=1e-12)
-        c, w = rng.standard_normal(3) * 1e-4, rng.standard_normal(3) * 1e-3            # rigid motion
+        c, w = rng.standard_normal(3) * 1e-4, rng.standard_normal(3) * 1e-3  # rigid motion
         Xa = rng.standard_normal(3)
         Xb, X = Xa + L * R[0], Xa + xi * L * R[0]
         q = np.r_[c + np.cross(w, Xa), w, c + np.cross(w, Xb), w]
@@ -260,7 +267,7 @@ def test_snapshot_restore_is_bit_identical_and_bad_states_change_nothing(pair_mo
     snap = e1.snapshot()
     e1.advance(0.01, zero_motion)
     first = e1.outputs()
-    assert first["contact.active"] > 0 or e1.ledger[4] != 0.0      # contact took part
+    assert first["contact.active"] > 0 or e1.ledger[4] != 0.0  # contact took part
     e1.restore(snap)
     e1.advance(0.01, zero_motion)
     assert e1.outputs() == first
@@ -287,10 +294,10 @@ def test_contact_time_counts_every_step(pair_model):
     for _ in range(100):
         steps.advance(1e-4, zero_motion)
     counted = dt * np.count_nonzero(whole.history()["contact_state"] != K.OPEN, axis=0)
-    assert counted.sum() > 10 * dt                                  # contact took part (37 node-steps)
+    assert counted.sum() > 10 * dt  # contact took part (37 node-steps)
     np.testing.assert_allclose(whole.contact_time, counted, rtol=1e-12, atol=1e-15)
     np.testing.assert_allclose(steps.contact_time, counted, rtol=1e-12, atol=1e-15)
-    sp = whole.history(sparse=True)        # the stored form: only the nodes in contact, each pushing
+    sp = whole.history(sparse=True)  # the stored form: only the nodes in contact, each pushing
     assert (sp["normal_force"] > 0).all() and (sp["contact_state"] != K.OPEN).all()
     np.testing.assert_allclose(dt * np.bincount(sp["contact_node"], minlength=len(counted)), counted, rtol=1e-12)
 
@@ -307,11 +314,12 @@ def test_bad_time_inputs():
         u, v, a = zero_motion(t)
         u[:, 2] = np.nan
         return u, v, a
+
     eng.advance(2e-5, scenario_motion(m))
     before = eng.get_state()
     with pytest.raises(cc.ModelError, match="casing.A.z displacement"):
         eng.advance(1e-4, nan_motion)
-    after = eng.get_state()                      # refused before any step: nothing half-written
+    after = eng.get_state()  # refused before any step: nothing half-written
     assert all(np.array_equal(before[k], after[k]) for k in before)
 
 
@@ -335,28 +343,29 @@ def test_blow_up_says_when_where_what_and_changes_nothing(pair_model):
         u, v, a = zero_motion(t)
         a[:, CHANNELS.index("casing.A.y")] = 1e306
         return u, v, a
+
     for motion, where in ((carried, r"cable node (\d+)"), (huge, "the support forces")):
         eng = Engine(m, dt=dt, record=True)
         eng.advance(10 * dt, zero_motion)
-        eng.CHUNK = 64                            # the blow-up falls in a later chunk of the call
+        eng.CHUNK = 64  # the blow-up falls in a later chunk of the call
         before, h0 = eng.get_state(), eng.history()
         with pytest.raises(cc.SimulationError, match=where) as err:
             eng.advance(0.01, motion)
         after, h1 = eng.get_state(), eng.history()
-        assert all(np.array_equal(before[k], after[k]) for k in before)         # rolled back
+        assert all(np.array_equal(before[k], after[k]) for k in before)  # rolled back
         assert all(np.array_equal(h0[k], h1[k]) for k in h0)
         msg = str(err.value)
         t_fail = float(msg.split("t = ")[1].split(" s")[0])
         if motion is carried:
-            t_exact = (eng.gap + eng.r_cable) / 0.5          # the casing is at 0.5 t (m)
+            t_exact = (eng.gap + eng.r_cable) / 0.5  # the casing is at 0.5 t (m)
             assert t_exact <= t_fail <= t_exact + dt * (1 + 1e-9)
-            assert int(re.search(where, msg).group(1)) in (0, len(eng.Xc) - 1)   # a clamped end
+            assert int(re.search(where, msg).group(1)) in (0, len(eng.Xc) - 1)  # a clamped end
             assert "exceeds the cable radius" in msg
             pen = float(msg.split("penetration ")[1].split(" m")[0])
             assert eng.r_cable < pen <= eng.r_cable + 0.5 * dt * 1.01
         else:
-            assert "no longer finite" in msg and 10 * dt < t_fail <= 12 * dt   # first or second step
-        eng.advance(dt, zero_motion)                # and it can go on from where it was
+            assert "no longer finite" in msg and 10 * dt < t_fail <= 12 * dt  # first or second step
+        eng.advance(dt, zero_motion)  # and it can go on from where it was
         assert eng.time == pytest.approx(11 * dt)
 
 
@@ -370,32 +379,34 @@ def test_advance_in_chunks_is_invariant_and_bad_late_input_changes_nothing(pair_
         eng = Engine(m, dt=2e-5, record=True)
         eng.CHUNK = chunk
         _kick(eng, 0.3)
-        eng.advance(0.01, zero_motion)                   # 500 steps: one chunk, or 8
+        eng.advance(0.01, zero_motion)  # 500 steps: one chunk, or 8
         runs.append(eng)
     one, cut = runs
     assert one.outputs() == cut.outputs() and one.time == cut.time
     h1, h2 = one.history(), cut.history()
     assert all(np.array_equal(h1[k], h2[k]) for k in h1)
-    assert np.count_nonzero(h1["contact_state"]) > 0                 # contact took part
+    assert np.count_nonzero(h1["contact_state"]) > 0  # contact took part
 
     t_bad = cut.time + 0.005
 
     def late_nan(t):
         u, v, a = zero_motion(t)
-        a[t > t_bad, 1] = np.inf                         # from step 250 on: the 4th chunk of 64
+        a[t > t_bad, 1] = np.inf  # from step 250 on: the 4th chunk of 64
         return u, v, a
+
     before = cut.get_state()
     with pytest.raises(cc.ModelError, match="casing.A.y acceleration"):
         cut.advance(0.01, late_nan)
     after = cut.get_state()
     assert all(np.array_equal(before[k], after[k]) for k in before)
     assert cut.time == one.time and all(np.array_equal(h2[k], cut.history()[k]) for k in h2)
-    t_end = cut.time + 64 * 2e-5 + 1e-5                  # one full chunk, then the shorter last substep
+    t_end = cut.time + 64 * 2e-5 + 1e-5  # one full chunk, then the shorter last substep
 
     def bad_last_substep(t):
         u, v, a = zero_motion(t)
         a[t > t_end - 5e-6, 1] = np.inf
         return u, v, a
+
     with pytest.raises(cc.ModelError, match="casing.A.y acceleration"):
         cut.advance(64 * 2e-5 + 1e-5, bad_last_substep)
     after = cut.get_state()
@@ -418,17 +429,18 @@ def test_every_contact_step_converges_in_the_default_scenario():
     of the steps in contact). Before the 'touch' reading of the damper's switch at g = 0, 3-5 % of
     the steps had no solution and ended with an arbitrary force."""
     from cablecasing_core.timedomain.scenario import scenario_motion
+
     m = cc.load_model()
     eng = Engine(m, dt=1e-5, ledger=False)
     eng.advance(0.1, scenario_motion(m, dt=1e-5, duration=1.0))
     its, passes, failed = eng.solver_counts
-    assert passes > 1000                   # contact was solved in many steps
+    assert passes > 1000  # contact was solved in many steps
     assert failed == 0
-    assert its / passes < 5                # Newton converges in a few iterations per pass
+    assert its / passes < 5  # Newton converges in a few iterations per pass
 
 
 def test_contact_episodes_are_the_runs_of_contact_per_node():
-    state = np.array([[0, 1, 0], [2, 1, 0], [0, 0, 1], [1, 0, 1]])    # steps x nodes
+    state = np.array([[0, 1, 0], [2, 1, 0], [0, 0, 1], [1, 0, 1]])  # steps x nodes
     node, start, length = cc.contact_episodes(state)
     # node 0: steps 1 and 3; node 1: steps 0-1; node 2: steps 2-3 (still on at the end)
     assert node.tolist() == [0, 0, 1, 2] and start.tolist() == [1, 3, 0, 2] and length.tolist() == [1, 1, 2, 2]
@@ -437,7 +449,7 @@ def test_contact_episodes_are_the_runs_of_contact_per_node():
         cc.contact_episodes(np.zeros(5))
 
 
-@pytest.mark.slow     # steps down to 3e-7 s
+@pytest.mark.slow  # steps down to 3e-7 s
 def test_rattle_after_lift_off_is_the_models_motion_and_converges():
     """With the contact damper on, cable node 8 of the reference record lets go of the wall at
     t = 0.0324 s + 64 µs and then leaves and touches again in ever shorter bounces (docs/time_domain.md,
@@ -449,7 +461,7 @@ def test_rattle_after_lift_off_is_the_models_motion_and_converges():
     eng = Engine(m, dt=1e-5, ledger=False)
     eng.advance(0.0324, motion)
     state = eng.get_state()
-    assert state["cstate"][8] > 0          # the scene: node 8 pressed onto the wall at the start
+    assert state["cstate"][8] > 0  # the scene: node 8 pressed onto the wall at the start
 
     def bounces(dt):
         e = Engine(m, dt=dt, ledger=False, record=True)
@@ -459,9 +471,9 @@ def test_rattle_after_lift_off_is_the_models_motion_and_converges():
         mine = node == 8
         return start[mine] * dt, (start[mine] + length[mine]) * dt, length[mine]
 
-    (s1, e1, n1), (s2, e2, n2) = bounces(1e-5 / 2 ** 8), bounces(1e-5 / 2 ** 9)
-    assert len(s1) >= 5 and len(s2) >= 5   # the lift-off and at least four bounces
-    assert n1[1] > 100 and n2[1] > 100     # the first bounce: hundreds of steps, not one or two
+    (s1, e1, n1), (s2, e2, n2) = bounces(1e-5 / 2**8), bounces(1e-5 / 2**9)
+    assert len(s1) >= 5 and len(s2) >= 5  # the lift-off and at least four bounces
+    assert n1[1] > 100 and n2[1] > 100  # the first bounce: hundreds of steps, not one or two
     # an event is located to one step (0.04 µs) and each bounce inherits the timing error of the
     # ones before; 0.25 µs (six steps, 3 % of the first bounce) bounds that, and a sequence set
     # by the time step would move by whole bounces (µs) when dt halves (0.06 µs measured)
@@ -483,7 +495,7 @@ def test_contact_compliance_is_the_inverse_of_the_effective_stiffness():
         ref = np.linalg.inv(keff[f, f])
         free = slice(b.f0, b.f0 + b.nf)
         assert np.abs(inv[free, free] - ref).max() < 1e-12 * np.abs(ref).max()
-        assert np.array_equal(inv, inv.T) and not inv[:b.f0].any() and not inv[:, b.f0 + b.nf:].any()
+        assert np.array_equal(inv, inv.T) and not inv[: b.f0].any() and not inv[:, b.f0 + b.nf :].any()
 
 
 _RECORD = """
@@ -492,7 +504,7 @@ np.save(sys.argv[1], cc.simulate(cc.load_model(), duration=0.15).support_forces)
 """
 
 
-@pytest.mark.slow     # runs in fresh processes
+@pytest.mark.slow  # runs in fresh processes
 def test_record_does_not_depend_on_the_blas_thread_count(tmp_path):
     # The contact response is chaotic: a rounding difference in the set-up grows to newtons within
     # 0.15 s (1.7 N when the compliance came from threaded LAPACK). A record must be the same in a
@@ -500,6 +512,7 @@ def test_record_does_not_depend_on_the_blas_thread_count(tmp_path):
     import os
     import subprocess
     import sys
+
     out = []
     for n in ("1", "2"):
         env = {**os.environ, "OMP_NUM_THREADS": n, "OPENBLAS_NUM_THREADS": n, "MKL_NUM_THREADS": n}

@@ -1,4 +1,5 @@
 """Input reconstruction of the FMU (cablecasing_core.timedomain.support_motion) against exact polynomials and sines."""
+
 import numpy as np
 import pytest
 
@@ -19,12 +20,17 @@ def hermite_basis_maxima(d):
     rows = []
     for s0 in (0.0, 1.0):
         for k in range(3):
-            rows.append([float(np.prod(range(j - k + 1, j + 1))) * s0 ** (j - k) if j >= k else 0.0
-                         for j in range(6)])
-    coef = np.linalg.solve(np.array(rows), np.eye(6))      # column i: power coefficients of basis i
+            rows.append([float(np.prod(range(j - k + 1, j + 1))) * s0 ** (j - k) if j >= k else 0.0 for j in range(6)])
+    coef = np.linalg.solve(np.array(rows), np.eye(6))  # column i: power coefficients of basis i
     s = np.linspace(0, 1, 2001)
-    return np.array([np.max(np.abs(np.polynomial.Polynomial(coef[:, i]).deriv(d)(s))) if d else
-                     np.max(np.abs(np.polynomial.Polynomial(coef[:, i])(s))) for i in range(6)])
+    return np.array(
+        [
+            np.max(np.abs(np.polynomial.Polynomial(coef[:, i]).deriv(d)(s)))
+            if d
+            else np.max(np.abs(np.polynomial.Polynomial(coef[:, i])(s)))
+            for i in range(6)
+        ]
+    )
 
 
 def test_quintic_matches_end_conditions_and_reproduces_quintics():
@@ -34,8 +40,9 @@ def test_quintic_matches_end_conditions_and_reproduces_quintics():
     p = np.polynomial.Polynomial(1e-4 * rng.normal(size=6) / h ** np.arange(6))
     u, v, a = (lambda t, q=q: q(t - t0) for q in (p, p.deriv(1), p.deriv(2)))
     ones = np.ones(2)
-    step = QuinticStep(t0, h, (u(t0) * ones, v(t0) * ones, a(t0) * ones),
-                       (u(t0 + h) * ones, v(t0 + h) * ones, a(t0 + h) * ones))
+    step = QuinticStep(
+        t0, h, (u(t0) * ones, v(t0) * ones, a(t0) * ones), (u(t0 + h) * ones, v(t0 + h) * ones, a(t0 + h) * ones)
+    )
     t = t0 + h * np.linspace(0, 1, 11)
     got = step(t)
     assert all(g.shape == (11, 2) for g in got)
@@ -65,7 +72,7 @@ def test_reconstruction_is_continuous_and_starts_from_the_support_state():
     rec = SupportReconstruction(12)
     h = 1e-4
     for k in range(5):
-        u, v, a = rng.normal(size=(3, 12)) * [[1e-3], [1e-1], [10.0]]   # arbitrary, even inconsistent inputs
+        u, v, a = rng.normal(size=(3, 12)) * [[1e-3], [1e-1], [10.0]]  # arbitrary, even inconsistent inputs
         m = rec.motion(k * h, h, u, v, a)
         # the end target written out here (taylor_target calls the kernel under test)
         target = (u + v * h + 0.5 * h * h * a, v + a * h, a)
@@ -87,7 +94,7 @@ def test_sine_error_is_bounded_by_the_taylor_remainders(f_hz):
     rec = SupportReconstruction(1)
     rec.state = np.array([[e(0.0)] for e in exact])
     err = np.zeros(3)
-    for k in range(int(round(3 / (f_hz * h)))):          # three periods
+    for k in range(int(round(3 / (f_hz * h)))):  # three periods
         t0 = k * h
         m = rec.motion(t0, h, *([e(t0)] for e in exact))
         t = t0 + h * np.linspace(0, 1, 41)
@@ -97,11 +104,11 @@ def test_sine_error_is_bounded_by_the_taylor_remainders(f_hz):
     x = w * h
     delta = np.array([A * x**3 / 6, A * w * x**2 / 2, A * w * w * x])
     for d in range(3):
-        L = hermite_basis_maxima(d)                  # order: u0, h v0, h^2 a0, u1, h v1, h^2 a1
-        weight = np.array([1.0, h, h * h]) / h**d    # data error j enters the s-basis scaled by h^j
+        L = hermite_basis_maxima(d)  # order: u0, h v0, h^2 a0, u1, h v1, h^2 a1
+        weight = np.array([1.0, h, h * h]) / h**d  # data error j enters the s-basis scaled by h^j
         bound = sum(L[3 * end + j] * weight[j] * delta[j] for end in range(2) for j in range(3))
         assert err[d] <= 1.01 * bound
-    assert err[0] <= 0.05 * A      # displacement within 5 % even at w h = 0.5 (800 Hz, h = 1e-4 s)
+    assert err[0] <= 0.05 * A  # displacement within 5 % even at w h = 0.5 (800 Hz, h = 1e-4 s)
 
 
 def test_harmonic_gain_of_the_reconstruction():
@@ -116,14 +123,16 @@ def test_harmonic_gain_of_the_reconstruction():
         t = np.linspace(0.0, h, 4001)
         z = np.zeros(len(t), complex)
         for part, unit in ((np.real, 1.0), (np.imag, 1j)):
-            def data(tk, part=part):   # periodic steady state: a step starts at the previous target
+
+            def data(tk, part=part):  # periodic steady state: a step starts at the previous target
                 e = np.exp(1j * w * tk)
                 return np.array([part(e)]), np.array([part(1j * w * e)]), np.array([part(-w * w * e)])
+
             m = QuinticStep(0.0, h, taylor_target(*data(-h), h), taylor_target(*data(0.0), h))
             z += unit * m(t)[0][:, 0]
         gain = np.trapezoid(z * np.exp(-1j * w * t), t) / h
-        assert abs(gain / nodal - 1) < x**3 / 40       # 1/60 plus the O(x^4) rest up to x = 0.5
-        assert abs(abs(gain) - 1) < 0.015      # +1.1 % at 800 Hz with h = 1e-4 s (module docstring)
+        assert abs(gain / nodal - 1) < x**3 / 40  # 1/60 plus the O(x^4) rest up to x = 0.5
+        assert abs(abs(gain) - 1) < 0.015  # +1.1 % at 800 Hz with h = 1e-4 s (module docstring)
 
 
 def test_bad_step_is_refused():

@@ -15,6 +15,7 @@ predictor's linear algebra, Eq. 18).
 Where a chain of dependent additions limits speed, the kernels split it explicitly (partial sums,
 trees of pairs), written out so that no re-association is asked of the compiler.
 """
+
 from __future__ import annotations
 
 from numba import njit
@@ -46,28 +47,34 @@ def dia_product(Ad, yp, r0, nr, out):
     nd = Ad.shape[0]
     k = 0
     while k + 8 <= nd:
-        a0, a1, a2, a3 = Ad[k, r0:r0 + nr], Ad[k + 1, r0:r0 + nr], Ad[k + 2, r0:r0 + nr], Ad[k + 3, r0:r0 + nr]
-        a4, a5, a6, a7 = Ad[k + 4, r0:r0 + nr], Ad[k + 5, r0:r0 + nr], Ad[k + 6, r0:r0 + nr], Ad[k + 7, r0:r0 + nr]
-        y = yp[r0 + k:r0 + k + nr + 7]
+        a0, a1, a2, a3 = Ad[k, r0 : r0 + nr], Ad[k + 1, r0 : r0 + nr], Ad[k + 2, r0 : r0 + nr], Ad[k + 3, r0 : r0 + nr]
+        a4, a5, a6, a7 = (
+            Ad[k + 4, r0 : r0 + nr],
+            Ad[k + 5, r0 : r0 + nr],
+            Ad[k + 6, r0 : r0 + nr],
+            Ad[k + 7, r0 : r0 + nr],
+        )
+        y = yp[r0 + k : r0 + k + nr + 7]
         for i in range(nr):
-            out[i] += (((a0[i] * y[i] + a1[i] * y[i + 1]) + (a2[i] * y[i + 2] + a3[i] * y[i + 3]))
-                       + ((a4[i] * y[i + 4] + a5[i] * y[i + 5]) + (a6[i] * y[i + 6] + a7[i] * y[i + 7])))
+            out[i] += ((a0[i] * y[i] + a1[i] * y[i + 1]) + (a2[i] * y[i + 2] + a3[i] * y[i + 3])) + (
+                (a4[i] * y[i + 4] + a5[i] * y[i + 5]) + (a6[i] * y[i + 6] + a7[i] * y[i + 7])
+            )
         k += 8
     if k + 4 <= nd:
-        a0, a1, a2, a3 = Ad[k, r0:r0 + nr], Ad[k + 1, r0:r0 + nr], Ad[k + 2, r0:r0 + nr], Ad[k + 3, r0:r0 + nr]
-        y = yp[r0 + k:r0 + k + nr + 3]
+        a0, a1, a2, a3 = Ad[k, r0 : r0 + nr], Ad[k + 1, r0 : r0 + nr], Ad[k + 2, r0 : r0 + nr], Ad[k + 3, r0 : r0 + nr]
+        y = yp[r0 + k : r0 + k + nr + 3]
         for i in range(nr):
             out[i] += (a0[i] * y[i] + a1[i] * y[i + 1]) + (a2[i] * y[i + 2] + a3[i] * y[i + 3])
         k += 4
     if k + 3 <= nd:
-        a0, a1, a2 = Ad[k, r0:r0 + nr], Ad[k + 1, r0:r0 + nr], Ad[k + 2, r0:r0 + nr]
-        y = yp[r0 + k:r0 + k + nr + 2]
+        a0, a1, a2 = Ad[k, r0 : r0 + nr], Ad[k + 1, r0 : r0 + nr], Ad[k + 2, r0 : r0 + nr]
+        y = yp[r0 + k : r0 + k + nr + 2]
         for i in range(nr):
             out[i] += (a0[i] * y[i] + a1[i] * y[i + 1]) + a2[i] * y[i + 2]
         k += 3
     for k in range(k, nd):
-        ak = Ad[k, r0:r0 + nr]
-        y = yp[r0 + k:r0 + k + nr]
+        ak = Ad[k, r0 : r0 + nr]
+        y = yp[r0 + k : r0 + k + nr]
         for i in range(nr):
             out[i] += ak[i] * y[i]
 
@@ -96,7 +103,7 @@ def dia_quadratic(Md, Kd, cm, ck, wp, t):
     as cm w.(M w) + ck w.(K w) with the products of :func:`dia_product`; t: scratch (2, n)."""
     b = (Md.shape[0] - 1) // 2
     n = Md.shape[1]
-    w = wp[b:b + n]
+    w = wp[b : b + n]
     tm, tk = t[0], t[1]
     fill(tm, 0.0)
     fill(tk, 0.0)
@@ -135,8 +142,7 @@ def block_solve(Dinv, L, LT, x):
         d = Dinv[i]
         y0, y1, y2, y3, y4, y5 = x[o], x[o + 1], x[o + 2], x[o + 3], x[o + 4], x[o + 5]
         for r in range(6):
-            x[o + r] = ((d[r, 0] * y0 + d[r, 1] * y1) + (d[r, 2] * y2 + d[r, 3] * y3)
-                        + (d[r, 4] * y4 + d[r, 5] * y5))
+            x[o + r] = (d[r, 0] * y0 + d[r, 1] * y1) + (d[r, 2] * y2 + d[r, 3] * y3) + (d[r, 4] * y4 + d[r, 5] * y5)
     o = 6 * (nb - 1)
     y0, y1, y2, y3, y4, y5 = x[o], x[o + 1], x[o + 2], x[o + 3], x[o + 4], x[o + 5]
     for i in range(nb - 2, -1, -1):

@@ -3,6 +3,7 @@ the Delassus matrix of the active contacts from both bodies' effective complianc
 ``_contact_newton_for_fixed_modes.py`` inside passes that switch contacts between stick and slip
 and in and out of the active set, and the generalized forces on both bodies.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -10,23 +11,66 @@ from numba import njit
 
 from ._banded_products_and_block_solve import fill
 from ._compile_options import FM, NO_RT
-from ._contact_newton_for_fixed_modes import (forces_from_unknowns, newton_for_fixed_modes, reduced_delassus,
-                                              relative_displacement, unknowns_from_forces)
+from ._contact_newton_for_fixed_modes import (
+    forces_from_unknowns,
+    newton_for_fixed_modes,
+    reduced_delassus,
+    relative_displacement,
+    unknowns_from_forces,
+)
 from ._contact_search_and_law import cable_node, far_from_wall, search_node, tangent_basis
 from ._hermite_interpolation import hermite_matrix
-from ._step_loop_contract import (DIAG_ACTIVE_SET_PASSES, DIAG_DAMPING_POWER, DIAG_FRICTION_POWER, DIAG_MAX_PENETRATION,
-                                  DIAG_NEWTON_FAILED, DIAG_NEWTON_ITERATIONS, OPEN, SLIP, STICK)
+from ._step_loop_contract import (
+    DIAG_ACTIVE_SET_PASSES,
+    DIAG_DAMPING_POWER,
+    DIAG_FRICTION_POWER,
+    DIAG_MAX_PENETRATION,
+    DIAG_NEWTON_FAILED,
+    DIAG_NEWTON_ITERATIONS,
+    OPEN,
+    SLIP,
+    STICK,
+)
 
 
 def contact_workspace(nn):
     """Scratch arrays of the contact solve for nn cable nodes (allocated once per run)."""
     m = 3 * max(nn, 1)
     z = lambda *s: np.zeros(s)  # noqa: E731
-    return (np.zeros(max(nn, 1), np.int64), z(nn), z(nn), z(nn, 3), z(nn, 3), z(nn, 3), z(nn, 3),
-            z(nn, 6, 12), z(nn, 6, 3), z(nn, 12, 3), z(m, m), z(m, m), z(m), z(m), z(m), z(m),
-            z(nn, 3), z(nn, 3), np.zeros(max(nn, 1), np.int64), z(nn, 3), z(nn), z(nn),
-            np.zeros(max(nn, 1), np.bool_), z(6), z(m), np.zeros(max(nn, 1), np.bool_),
-            np.zeros(max(nn, 1), np.bool_), z(m, m), z(m), z(m), np.zeros(max(nn, 1) + 1, np.int64), z(nn))
+    return (
+        np.zeros(max(nn, 1), np.int64),
+        z(nn),
+        z(nn),
+        z(nn, 3),
+        z(nn, 3),
+        z(nn, 3),
+        z(nn, 3),
+        z(nn, 6, 12),
+        z(nn, 6, 3),
+        z(nn, 12, 3),
+        z(m, m),
+        z(m, m),
+        z(m),
+        z(m),
+        z(m),
+        z(m),
+        z(nn, 3),
+        z(nn, 3),
+        np.zeros(max(nn, 1), np.int64),
+        z(nn, 3),
+        z(nn),
+        z(nn),
+        np.zeros(max(nn, 1), np.bool_),
+        z(6),
+        z(m),
+        np.zeros(max(nn, 1), np.bool_),
+        np.zeros(max(nn, 1), np.bool_),
+        z(m, m),
+        z(m),
+        z(m),
+        np.zeros(max(nn, 1) + 1, np.int64),
+        z(nn),
+    )
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
@@ -38,7 +82,7 @@ def _compliance_block(Kinv, dof_k, Bk, dof_l, Bl, W, ok, ol, nq):
     loops unroll once inlined (0.3 of 7.0 us per contact solve at 4.6 contacts)."""
     w00 = w01 = w02 = w10 = w11 = w12 = w20 = w21 = w22 = 0.0
     for p in range(nq):
-        row = Kinv[dof_k + p, dof_l:dof_l + nq]
+        row = Kinv[dof_k + p, dof_l : dof_l + nq]
         t0 = t1 = t2 = 0.0
         for q in range(nq):
             kv = row[q]
@@ -67,8 +111,9 @@ def _compliance_block(Kinv, dof_k, Bk, dof_l, Bl, W, ok, ol, nq):
 
 
 @njit(**NO_RT)
-def solve_contact_forces(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, par,
-                         state, elem, xi_arr, Pn, vrel, Nout, gout, fcc, fcs, diag, ws):
+def solve_contact_forces(
+    Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, par, state, elem, xi_arr, Pn, vrel, Nout, gout, fcc, fcs, diag, ws
+):
     """Contact of the cable nodes with the casing at the end of a step, from the predicted
     (contact-free) state (Eqs. 14-39). Writes the generalized contact forces on the cable (fcc, N
     and N.m) and the casing (fcs), the per-node state (OPEN/STICK/SLIP: the mode the forces were
@@ -86,8 +131,40 @@ def solve_contact_forces(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, par,
     decrements the reference count of every array in it around each call, ~100 atomic operations
     per step."""
     gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt = par
-    (idx, gst, gdst, wst, nrm, arm_c, arm_s, Hs, Bc, Gs, W, J, R, dx, P, d,
-     ta, tb, mode, sdir, Ne, Nd, active, tmp, xt, touch, skip, Q, x, y, off, wkk) = ws
+    (
+        idx,
+        gst,
+        gdst,
+        wst,
+        nrm,
+        arm_c,
+        arm_s,
+        Hs,
+        Bc,
+        Gs,
+        W,
+        J,
+        R,
+        dx,
+        P,
+        d,
+        ta,
+        tb,
+        mode,
+        sdir,
+        Ne,
+        Nd,
+        active,
+        tmp,
+        xt,
+        touch,
+        skip,
+        Q,
+        x,
+        y,
+        off,
+        wkk,
+    ) = ws
     nn = Xc.shape[0]
     nk = 0
     c2 = 2.0 / dt
@@ -111,22 +188,22 @@ def solve_contact_forces(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, par,
         xi_arr[i] = xi
         r0, r1, r2 = x0 - px, x1 - py, x2 - pz
         h = np.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
-        g = h - gap                                   # Eqs. (14), (30)-(31)
+        g = h - gap  # Eqs. (14), (30)-(31)
         if g <= 0.0 or h == 0.0:
             state[i] = OPEN
             continue
         n0, n1, n2 = r0 / h, r1 / h, r2 / h
-        c0, c1, c2_ = px + r_in * n0, py + r_in * n1, pz + r_in * n2   # contact point on the wall
+        c0, c1, c2_ = px + r_in * n0, py + r_in * n1, pz + r_in * n2  # contact point on the wall
         H = Hs[nk]
         hermite_matrix(xi, Ls[e], Rs[e], H)
-        vs = tmp                                              # casing velocity and spin at xi
+        vs = tmp  # casing velocity and spin at xi
         for r in range(6):
             s = 0.0
             for c in range(12):
                 s += H[r, c] * Vs[6 * e + c]
             vs[r] = s
-        ac0, ac1, ac2 = c0 - x0, c1 - x1, c2_ - x2            # arm from the cable node
-        as0, as1, as2 = c0 - px, c1 - py, c2_ - pz            # arm from the casing axis
+        ac0, ac1, ac2 = c0 - x0, c1 - x1, c2_ - x2  # arm from the cable node
+        as0, as1, as2 = c0 - px, c1 - py, c2_ - pz  # arm from the casing axis
         om0, om1, om2 = Vc[o + 3], Vc[o + 4], Vc[o + 5]
         w0 = Vc[o] + om1 * ac2 - om2 * ac1 - (vs[0] + vs[4] * as2 - vs[5] * as1)
         w1 = Vc[o + 1] + om2 * ac0 - om0 * ac2 - (vs[1] + vs[5] * as0 - vs[3] * as2)
@@ -156,11 +233,11 @@ def solve_contact_forces(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, par,
         B[:, :] = 0.0
         a0, a1, a2 = arm_c[k, 0], arm_c[k, 1], arm_c[k, 2]
         B[0, 0], B[1, 1], B[2, 2] = 1.0, 1.0, 1.0
-        B[3, 1], B[3, 2] = -a2, a1                 # moment a x P in rows 3..5
+        B[3, 1], B[3, 2] = -a2, a1  # moment a x P in rows 3..5
         B[4, 0], B[4, 2] = a2, -a0
         B[5, 0], B[5, 1] = -a1, a0
         s0, s1, s2 = arm_s[k, 0], arm_s[k, 1], arm_s[k, 2]
-        for r in range(12):                        # G = H^T [-I; -[s]x]: -P and -(s x P) on the axis
+        for r in range(12):  # G = H^T [-I; -[s]x]: -P and -(s x P) on the axis
             G[r, 0] = -H[0, r] - (H[4, r] * s2 - H[5, r] * s1)
             G[r, 1] = -H[1, r] - (H[5, r] * s0 - H[3, r] * s2)
             G[r, 2] = -H[2, r] - (H[3, r] * s1 - H[4, r] * s0)
@@ -174,8 +251,8 @@ def solve_contact_forces(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, par,
         for l in range(k, nk):
             il = idx[l]
             el = elem[il]
-            _compliance_block(Kc, 6 * ik, Bc[k], 6 * il, Bc[l], W, 3 * k, 3 * l, 6)   # cable
-            _compliance_block(Ks, 6 * ek, Gs[k], 6 * el, Gs[l], W, 3 * k, 3 * l, 12)   # casing
+            _compliance_block(Kc, 6 * ik, Bc[k], 6 * il, Bc[l], W, 3 * k, 3 * l, 6)  # cable
+            _compliance_block(Ks, 6 * ek, Gs[k], 6 * el, Gs[l], W, 3 * k, 3 * l, 12)  # casing
             if l != k:
                 for r in range(3):
                     for c in range(3):
@@ -199,8 +276,9 @@ def solve_contact_forces(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, par,
     for outer in range(8):
         r = unknowns_from_forces(nk, nrm, ta, tb, mode, active, P, off, x)
         reduced_delassus(W, nk, nrm, ta, tb, sdir, mu, off, Q)
-        its = newton_for_fixed_modes(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n,
-                      dt, J, R, dx, y, Ne, Nd, xt)
+        its = newton_for_fixed_modes(
+            Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, dx, y, Ne, Nd, xt
+        )
         forces_from_unknowns(nk, nrm, ta, tb, sdir, mu, off, x, P)
         relative_displacement(W, P, m, d)
         diag[DIAG_NEWTON_ITERATIONS] += abs(its)
@@ -270,7 +348,7 @@ def solve_contact_forces(Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, par,
         wt0, wt1, wt2 = w0 - wn * n0, w1 - wn * n1, w2 - wn * n2
         state[i] = mode[k]
         vrel[i] = np.sqrt(wt0 * wt0 + wt1 * wt1 + wt2 * wt2)
-        diag[DIAG_DAMPING_POWER] += Nd[k] * wn                         # damping acts only while compressing
+        diag[DIAG_DAMPING_POWER] += Nd[k] * wn  # damping acts only while compressing
         pn = P[o] * n0 + P[o + 1] * n1 + P[o + 2] * n2
         diag[DIAG_FRICTION_POWER] -= (P[o] - pn * n0) * wt0 + (P[o + 1] - pn * n1) * wt1 + (P[o + 2] - pn * n2) * wt2
         Pn[i, 0], Pn[i, 1], Pn[i, 2] = P[o], P[o + 1], P[o + 2]

@@ -3,6 +3,7 @@
 one), the reduced Delassus matrix, and a semi-smooth Newton with a line search on the contact
 conditions. The active set and the stick/slip passes around it are in
 ``_contact_forces_with_active_set.py``."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -127,8 +128,9 @@ def reduced_delassus(W, nk, nrm, ta, tb, sdir, mu, off, Q):
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
-def _residual(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt,
-              J, R, y, Ne, Nd, with_J):
+def _residual(
+    Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, with_J
+):
     """Residual R (and, with_J, its Jacobian J) of the contact conditions of :func:`newton_for_fixed_modes` at the
     unknowns x; y = Q x, the observed relative displacements (m). Normal rows are in newtons; stick
     rows (m/s) are scaled by 1 / (2/dt W_kk) and touch rows (m) by 1 / W_kk to newtons like them.
@@ -144,7 +146,7 @@ def _residual(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, 
         i = off[k]
         nu = off[k + 1] - i
         if nu == 0:
-            Ne[k], Nd[k] = 0.0, 0.0       # inactive: no unknown, no force
+            Ne[k], Nd[k] = 0.0, 0.0  # inactive: no unknown, no force
             continue
         g = gst[k] + y[i]
         if touch[k]:
@@ -166,7 +168,7 @@ def _residual(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, 
             Ne[k], Nd[k] = fe, fd
             R[i] = fe + fd - x[i]
             if with_J:
-                for j in range(r):                       # dN/dx = gam dg/dx
+                for j in range(r):  # dN/dx = gam dg/dx
                     J[i, j] = gam * Q[i, j]
                 J[i, i] -= 1.0
         norm += R[i] * R[i]
@@ -193,8 +195,9 @@ def _residual(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, 
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
-def newton_for_fixed_modes(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt,
-            J, R, dx, y, Ne, Nd, xt):
+def newton_for_fixed_modes(
+    Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, dx, y, Ne, Nd, xt
+):
     """Contact forces at the end of a Newmark step for fixed stick/slip modes and active set, as
     the unknowns x of :func:`unknowns_from_forces` (N).
 
@@ -216,8 +219,9 @@ def newton_for_fixed_modes(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x,
     Returns the number of iterations, negative when not converged; Ne, Nd hold the elastic and
     damping parts of N at the final x."""
     its = -15
-    r0 = _residual(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt,
-                   J, R, y, Ne, Nd, True)
+    r0 = _residual(
+        Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, True
+    )
     for it in range(15):
         for i in range(r):
             R[i] = -R[i]
@@ -231,16 +235,40 @@ def newton_for_fixed_modes(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x,
         for ls in range(12):
             for i in range(r):
                 xt[i] = x[i] + alpha * dx[i]
-            r1 = _residual(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, xt, law, k_lin, k_hertz, c_n, dt,
-                           J, R, y, Ne, Nd, False)
+            r1 = _residual(
+                Q,
+                r,
+                nk,
+                off,
+                touch,
+                gst,
+                gdst,
+                wst,
+                ta,
+                tb,
+                wkk,
+                xt,
+                law,
+                k_lin,
+                k_hertz,
+                c_n,
+                dt,
+                J,
+                R,
+                y,
+                Ne,
+                Nd,
+                False,
+            )
             if r1 <= (1.0 - 1e-4 * alpha) * r0 or r1 <= 1e-13 * max(scale, 1.0):
                 break
             alpha *= 0.5
         for i in range(r):
             x[i] = xt[i]
         if alpha * step <= 1e-12 * max(scale, 1e-30) or r1 <= 1e-13 * max(scale, 1.0):
-            its = it + 1          # Ne, Nd already belong to x (the last trial point)
+            its = it + 1  # Ne, Nd already belong to x (the last trial point)
             break
-        r0 = _residual(Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt,
-                       J, R, y, Ne, Nd, True)
+        r0 = _residual(
+            Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, True
+        )
     return its

@@ -1,6 +1,7 @@
 """Contact search and contact law (Eqs. 14, 24, 27-39): where the normal plane of a cable node cuts
 the deformed casing axis, the cheap far-from-wall test that most nodes pass, the penetration's
 normal force (linear, Eq. 24, or Hertz, Eq. 29) and the elastic energy stored in the contacts."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -39,8 +40,14 @@ def cable_node(Xc, Tc, Uc, i):
     o = 6 * i
     T0, T1, T2 = Tc[i, 0], Tc[i, 1], Tc[i, 2]
     th0, th1, th2 = Uc[o + 3], Uc[o + 4], Uc[o + 5]
-    return (Xc[i, 0] + Uc[o], Xc[i, 1] + Uc[o + 1], Xc[i, 2] + Uc[o + 2],
-            T0 + th1 * T2 - th2 * T1, T1 + th2 * T0 - th0 * T2, T2 + th0 * T1 - th1 * T0)
+    return (
+        Xc[i, 0] + Uc[o],
+        Xc[i, 1] + Uc[o + 1],
+        Xc[i, 2] + Uc[o + 2],
+        T0 + th1 * T2 - th2 * T1,
+        T1 + th2 * T0 - th0 * T2,
+        T2 + th0 * T1 - th1 * T0,
+    )
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
@@ -61,11 +68,10 @@ def _chord(x0, x1, x2, t0, t1, t2, Xs, Ls, Us, e):
     den = (b0 - a0) * t0 + (b1 - a1) * t1 + (b2 - a2) * t2
     num = (x0 - a0) * t0 + (x1 - a1) * t1 + (x2 - a2) * t2
     xi = num / den
-    dl = ((a0 + xi * (b0 - a0) - x0) ** 2 + (a1 + xi * (b1 - a1) - x1) ** 2
-          + (a2 + xi * (b2 - a2) - x2) ** 2)
+    dl = (a0 + xi * (b0 - a0) - x0) ** 2 + (a1 + xi * (b1 - a1) - x1) ** 2 + (a2 + xi * (b2 - a2) - x2) ** 2
     e0, e1, e2 = (Xs[e + 1, 0] - Xs[e, 0]) / L, (Xs[e + 1, 1] - Xs[e, 1]) / L, (Xs[e + 1, 2] - Xs[e, 2]) / L
     u0, u1, u2 = Us[o + 6] - Us[o], Us[o + 7] - Us[o + 1], Us[o + 8] - Us[o + 2]
-    p0, p1, p2 = (e1 * u2 - e2 * u1) / L, (e2 * u0 - e0 * u2) / L, (e0 * u1 - e1 * u0) / L   # psi
+    p0, p1, p2 = (e1 * u2 - e2 * u1) / L, (e2 * u0 - e0 * u2) / L, (e0 * u1 - e1 * u0) / L  # psi
     # |theta - psi| without the twist (psi has none: it is normal to e0), at either end
     w0, w1, w2 = Us[o + 3] - p0, Us[o + 4] - p1, Us[o + 5] - p2
     v0, v1, v2 = Us[o + 9] - p0, Us[o + 10] - p1, Us[o + 11] - p2
@@ -89,14 +95,14 @@ def search_node(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e_guess, far_below):
             if abs(off) > ne:
                 break
             continue
-        den, xi, reach = _chord(x0, x1, x2, t0, t1, t2, Xs, Ls, Us, e)     # Eq. (39) on the chord
+        den, xi, reach = _chord(x0, x1, x2, t0, t1, t2, Xs, Ls, Us, e)  # Eq. (39) on the chord
         if abs(den) < 1e-300:
             continue
         if xi < -1e-9 or xi > 1 + 1e-9:
             if best_e >= 0 and abs(off) > 2:
                 break
             continue
-        if reach < far_below:       # cheap exit: a node this far inside cannot touch (returned as far)
+        if reach < far_below:  # cheap exit: a node this far inside cannot touch (returned as far)
             return e, xi, True, np.nan, np.nan, np.nan
         xi = min(max(xi, 0.0), 1.0)
         q = element_dofs(Rs, Us, e)
@@ -139,7 +145,7 @@ def far_from_wall(Xc, Tc, Uc, Xs, Ls, Us, elem, gap, far):
         x0, x1, x2, t0, t1, t2 = cable_node(Xc, Tc, Uc, i)
         e = min(max(elem[i], 0), ne - 1)
         den, xi, reach = _chord(x0, x1, x2, t0, t1, t2, Xs, Ls, Us, e)
-        far[i] = ((elem[i] == e) & (abs(den) >= 1e-300) & (xi >= -1e-9) & (xi <= 1 + 1e-9) & (reach < gap))
+        far[i] = (elem[i] == e) & (abs(den) >= 1e-300) & (xi >= -1e-9) & (xi <= 1 + 1e-9) & (reach < gap)
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")

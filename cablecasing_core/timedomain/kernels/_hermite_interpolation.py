@@ -1,6 +1,7 @@
 """Interpolation on a straight beam element of the casing (the shape functions of Eq. 9): the
 deformed axis point and its slope, and the 6 x 12 interpolation matrix of displacements and
 rotations, used by the contact search and the contact forces."""
+
 from __future__ import annotations
 
 from numba import njit
@@ -11,9 +12,11 @@ from ._compile_options import FM
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def _rot(R, U, o):
     """R @ U[o:o+3] as a tuple (global -> element axes)."""
-    return (R[0, 0] * U[o] + R[0, 1] * U[o + 1] + R[0, 2] * U[o + 2],
-            R[1, 0] * U[o] + R[1, 1] * U[o + 1] + R[1, 2] * U[o + 2],
-            R[2, 0] * U[o] + R[2, 1] * U[o + 1] + R[2, 2] * U[o + 2])
+    return (
+        R[0, 0] * U[o] + R[0, 1] * U[o + 1] + R[0, 2] * U[o + 2],
+        R[1, 0] * U[o] + R[1, 1] * U[o + 1] + R[1, 2] * U[o + 2],
+        R[2, 0] * U[o] + R[2, 1] * U[o + 1] + R[2, 2] * U[o + 2],
+    )
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")

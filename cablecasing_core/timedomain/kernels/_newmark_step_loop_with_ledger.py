@@ -1,6 +1,7 @@
 """The Newmark step loop (average acceleration, gamma = 1/2, beta = 1/4; Eq. 18 with
 C = alpha M + beta K) with the supports prescribed (Eq. 13), the implicit contact forces, the
 support reactions and the energy ledger: :func:`run_steps`, the one kernel the engine calls."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -9,20 +10,44 @@ from numba import njit
 from ._banded_products_and_block_solve import block_solve, copy_into, dia_product, dia_quadratic
 from ._compile_options import FM, NO_RT
 from ._contact_forces_with_active_set import solve_contact_forces
-from ._step_loop_contract import (DIAG_ACTIVE_SET_PASSES, DIAG_DAMPING_POWER, DIAG_FRICTION_POWER, DIAG_MAX_PENETRATION,
-                                  DIAG_NEWTON_FAILED, DIAG_NEWTON_ITERATIONS, DIAG_SIZE, ERR_INPUT, ERR_NAN,
-                                  ERR_PENETRATION, INFO_ACTIVE_SET_PASSES, INFO_INPUT_CHANNEL, INFO_INPUT_KIND,
-                                  INFO_INPUT_ROW, INFO_NEWTON_ITERATIONS, INFO_NODE, INFO_TIME, INFO_UNCONVERGED_STEPS,
-                                  INFO_VALUE, LEDGER_CONTACT_WORK, LEDGER_DAMPING_DISSIPATION, LEDGER_DAMPING_POWER,
-                                  LEDGER_FRICTION_DISSIPATION, LEDGER_FRICTION_POWER, LEDGER_RAYLEIGH_DISSIPATION,
-                                  LEDGER_SUPPORT_WORK, OK, OPEN)
+from ._step_loop_contract import (
+    DIAG_ACTIVE_SET_PASSES,
+    DIAG_DAMPING_POWER,
+    DIAG_FRICTION_POWER,
+    DIAG_MAX_PENETRATION,
+    DIAG_NEWTON_FAILED,
+    DIAG_NEWTON_ITERATIONS,
+    DIAG_SIZE,
+    ERR_INPUT,
+    ERR_NAN,
+    ERR_PENETRATION,
+    INFO_ACTIVE_SET_PASSES,
+    INFO_INPUT_CHANNEL,
+    INFO_INPUT_KIND,
+    INFO_INPUT_ROW,
+    INFO_NEWTON_ITERATIONS,
+    INFO_NODE,
+    INFO_TIME,
+    INFO_UNCONVERGED_STEPS,
+    INFO_VALUE,
+    LEDGER_CONTACT_WORK,
+    LEDGER_DAMPING_DISSIPATION,
+    LEDGER_DAMPING_POWER,
+    LEDGER_FRICTION_DISSIPATION,
+    LEDGER_FRICTION_POWER,
+    LEDGER_RAYLEIGH_DISSIPATION,
+    LEDGER_SUPPORT_WORK,
+    OK,
+    OPEN,
+)
 
-TINY = 1e-200   # m, m/s, m/s2: states below this are flushed to zero (see _finish)
+TINY = 1e-200  # m, m/s, m/s2: states below this are flushed to zero (see _finish)
 
 
 @njit(**NO_RT)
-def _predict(Md, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan, cpl_i, cpl_v, up, vp, ap, step,
-             dt, y1, r):
+def _predict(
+    Md, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan, cpl_i, cpl_v, up, vp, ap, step, dt, y1, r
+):
     """Contact-free Newmark predictor: prescribe the supports at t+dt (Eq. 13) and solve
     S_ff u_f = [M (c0 u + 2 c1 v + a) + C (c1 u + v)]_f - (coupling to the prescribed DOFs) for the
     free DOFs, S = K + c1 C + c0 M = ck K + cm M, C = alpha M + beta K, c0 = 4/dt^2, c1 = 2/dt,
@@ -42,7 +67,7 @@ def _predict(Md, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan,
     c1 = 2.0 / dt
     ck = 1.0 + c1 * beta
     q = (c0 + c1 * alpha) / ck
-    z1 = y1[b:b + n]
+    z1 = y1[b : b + n]
     cu = c0 + c1 * alpha - q * beta * c1
     cv = 2 * c1 + alpha - q * beta
     for j in range(n):
@@ -73,7 +98,7 @@ def _predict(Md, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan,
         if g0 <= pres[k] < g0 + ng:
             r[pres[k] - g0] = 0.0
     block_solve(Dinv, L, LT, r)
-    u, v, rf = U[f0:f0 + nf], V[f0:f0 + nf], r[f0 - g0:f0 - g0 + nf]
+    u, v, rf = U[f0 : f0 + nf], V[f0 : f0 + nf], r[f0 - g0 : f0 - g0 + nf]
     bk = beta / ck
     for i in range(nf):
         u[i] = rf[i] + bk * (c1 * u[i] + v[i])
@@ -113,8 +138,8 @@ def _finish(f0, nf, U, V, A, Uo, Vo, Ao, dt):
     below TINY are flushed to zero."""
     c0 = 4.0 / (dt * dt)
     c2 = 4.0 / dt
-    u, v, a = U[f0:f0 + nf], V[f0:f0 + nf], A[f0:f0 + nf]
-    uo, vo, ao = Uo[f0:f0 + nf], Vo[f0:f0 + nf], Ao[f0:f0 + nf]
+    u, v, a = U[f0 : f0 + nf], V[f0 : f0 + nf], A[f0 : f0 + nf]
+    uo, vo, ao = Uo[f0 : f0 + nf], Vo[f0 : f0 + nf], Ao[f0 : f0 + nf]
     # Far from the excitation the response decays towards zero through subnormal numbers, where
     # every operation costs ~100 times more (10-50x slower steps were measured at the start of a
     # run). States below TINY (in SI units, physically nothing) are set to zero, by selects in the
@@ -123,7 +148,7 @@ def _finish(f0, nf, U, V, A, Uo, Vo, Ao, dt):
         ui = u[i]
         ai = c0 * (ui - uo[i]) - c2 * vo[i] - ao[i]
         vi = vo[i] + 0.5 * dt * (ao[i] + ai)
-        u[i] = 0.0 if abs(ui) < TINY else ui      # (NaN stays NaN, for the blow-up check)
+        u[i] = 0.0 if abs(ui) < TINY else ui  # (NaN stays NaN, for the blow-up check)
         v[i] = 0.0 if abs(vi) < TINY else vi
         a[i] = 0.0 if abs(ai) < TINY else ai
 
@@ -138,7 +163,7 @@ def _reactions(sup, sup_lo, alpha, beta, U, V, A, fc, pres, pslot, out, off):
     for q in range(len(pres)):
         j0 = sup_lo[q]
         mr, kr = sup[q, 0], sup[q, 1]
-        u, v, a = U[j0:j0 + w], V[j0:j0 + w], A[j0:j0 + w]
+        u, v, a = U[j0 : j0 + w], V[j0 : j0 + w], A[j0 : j0 + w]
         sm = 0.0
         sk = 0.0
         for k in range(w):
@@ -169,14 +194,35 @@ def _work(U, Uo, f, fn, lo, hi):
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def _predicted_velocity(f0, nf, U, Uo, V, Vo, dt):
     """Newmark velocity of the free DOFs from the predicted displacement: v = 2/dt (u - u_old) - v_old."""
-    u, uo, v, vo = U[f0:f0 + nf], Uo[f0:f0 + nf], V[f0:f0 + nf], Vo[f0:f0 + nf]
+    u, uo, v, vo = U[f0 : f0 + nf], Uo[f0 : f0 + nf], V[f0 : f0 + nf], Vo[f0 : f0 + nf]
     for i in range(nf):
         v[i] = 2.0 / dt * (u[i] - uo[i]) - vo[i]
 
 
 @njit(**NO_RT)
-def _body_ledger(Md, Kd, alpha, beta, U, Uo, V, Vo, pres, pslot, reac, reac_new, off, fc, fc_new,
-                 contact_on, ledger_on, y, t, dt, ledger):
+def _body_ledger(
+    Md,
+    Kd,
+    alpha,
+    beta,
+    U,
+    Uo,
+    V,
+    Vo,
+    pres,
+    pslot,
+    reac,
+    reac_new,
+    off,
+    fc,
+    fc_new,
+    contact_on,
+    ledger_on,
+    y,
+    t,
+    dt,
+    ledger,
+):
     """One body's share of a step in the energy ledger (J), trapezoidal rule: work of its supports
     (reactions at slots off + pslot), work of the contact forces fc -> fc_new and, with ledger_on,
     the Rayleigh dissipation (y: padded scratch, t: scratch (2, n))."""
@@ -188,7 +234,7 @@ def _body_ledger(Md, Kd, alpha, beta, U, Uo, V, Vo, pres, pslot, reac, reac_new,
         ledger[LEDGER_CONTACT_WORK] += _work(U, Uo, fc, fc_new, 0, n)
     if ledger_on:
         b = (Md.shape[0] - 1) // 2
-        z = y[b:b + n]
+        z = y[b : b + n]
         for i in range(n):
             z[i] = Vo[i] + V[i]
         ledger[LEDGER_RAYLEIGH_DISSIPATION] += 0.25 * dt * dia_quadratic(Md, Kd, alpha, beta, y, t)
@@ -230,7 +276,14 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     s_on, sMd, sKd, sDi, sL, sLT = casing.on, casing.Md, casing.Kd, casing.Dinv, casing.L, casing.LT
     sg0, sng, sf0, snf, salpha, sbeta = casing.g0, casing.ng, casing.f0, casing.nf, casing.alpha, casing.beta
     sU, sV, sA, spres, spchan, spslot = casing.U, casing.V, casing.A, casing.pres, casing.pchan, casing.pslot
-    sKinv, ssup, ssup_lo, scpl_i, scpl_v, fcs = casing.Kinv, casing.sup, casing.sup_lo, casing.cpl_i, casing.cpl_v, casing.fc
+    sKinv, ssup, ssup_lo, scpl_i, scpl_v, fcs = (
+        casing.Kinv,
+        casing.sup,
+        casing.sup_lo,
+        casing.cpl_i,
+        casing.cpl_v,
+        casing.fc,
+    )
     c_on, cMd, cKd, cDi, cL, cLT = cable.on, cable.Md, cable.Kd, cable.Dinv, cable.L, cable.LT
     cg0, cng, cf0, cnf, calpha, cbeta = cable.g0, cable.ng, cable.f0, cable.nf, cable.alpha, cable.beta
     cU, cV, cA, cpres, cpchan, cpslot = cable.U, cable.V, cable.A, cable.pres, cable.pchan, cable.pslot
@@ -262,20 +315,91 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
             copy_into(sUo, sU)
             copy_into(sVo, sV)
             copy_into(sAo, sA)
-            _predict(sMd, sDi, sL, sLT, sg0, sng, sf0, snf, salpha, sbeta, sU, sV, sA, spres, spchan,
-                     scpl_i, scpl_v, up, vp, ap, k, dt, sy1, sr)
+            _predict(
+                sMd,
+                sDi,
+                sL,
+                sLT,
+                sg0,
+                sng,
+                sf0,
+                snf,
+                salpha,
+                sbeta,
+                sU,
+                sV,
+                sA,
+                spres,
+                spchan,
+                scpl_i,
+                scpl_v,
+                up,
+                vp,
+                ap,
+                k,
+                dt,
+                sy1,
+                sr,
+            )
         if c_on:
             copy_into(cUo, cU)
             copy_into(cVo, cV)
             copy_into(cAo, cA)
-            _predict(cMd, cDi, cL, cLT, cg0, cng, cf0, cnf, calpha, cbeta, cU, cV, cA, cpres, cpchan,
-                     ccpl_i, ccpl_v, up, vp, ap, k, dt, cy1, cr)
+            _predict(
+                cMd,
+                cDi,
+                cL,
+                cLT,
+                cg0,
+                cng,
+                cf0,
+                cnf,
+                calpha,
+                cbeta,
+                cU,
+                cV,
+                cA,
+                cpres,
+                cpchan,
+                ccpl_i,
+                ccpl_v,
+                up,
+                vp,
+                ap,
+                k,
+                dt,
+                cy1,
+                cr,
+            )
         if contact_on:
             _predicted_velocity(sf0, snf, sU, sUo, sV, sVo, dt)
             _predicted_velocity(cf0, cnf, cU, cUo, cV, cVo, dt)
             diag[DIAG_NEWTON_FAILED] = 0.0
-            nact = solve_contact_forces(Xc, Tc, cU, cV, Xs, Rs, Ls, sU, sV, cKinv, sKinv, cpar,
-                                        state, elem, xi_arr, Pn, vrel, Nn, gn, fcc_new, fcs_new, diag, ws)
+            nact = solve_contact_forces(
+                Xc,
+                Tc,
+                cU,
+                cV,
+                Xs,
+                Rs,
+                Ls,
+                sU,
+                sV,
+                cKinv,
+                sKinv,
+                cpar,
+                state,
+                elem,
+                xi_arr,
+                Pn,
+                vrel,
+                Nn,
+                gn,
+                fcc_new,
+                fcs_new,
+                diag,
+                ws,
+            )
             info[INFO_UNCONVERGED_STEPS] += diag[DIAG_NEWTON_FAILED]
             if nact > 0:
                 _correct(sKinv, fcs_new, sU, jl)
@@ -304,14 +428,57 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
             return ERR_NAN
         # energy ledger (trapezoidal rule, consistent with the average-acceleration scheme)
         if s_on:
-            _body_ledger(sMd, sKd, salpha, sbeta, sU, sUo, sV, sVo, spres, spslot, reac, reac_new, 0,
-                         fcs, fcs_new, contact_on, ledger_on, sy1, sq, dt, ledger)
+            _body_ledger(
+                sMd,
+                sKd,
+                salpha,
+                sbeta,
+                sU,
+                sUo,
+                sV,
+                sVo,
+                spres,
+                spslot,
+                reac,
+                reac_new,
+                0,
+                fcs,
+                fcs_new,
+                contact_on,
+                ledger_on,
+                sy1,
+                sq,
+                dt,
+                ledger,
+            )
         if c_on:
-            _body_ledger(cMd, cKd, calpha, cbeta, cU, cUo, cV, cVo, cpres, cpslot, reac, reac_new, 12,
-                         fcc, fcc_new, contact_on, ledger_on, cy1, cq, dt, ledger)
+            _body_ledger(
+                cMd,
+                cKd,
+                calpha,
+                cbeta,
+                cU,
+                cUo,
+                cV,
+                cVo,
+                cpres,
+                cpslot,
+                reac,
+                reac_new,
+                12,
+                fcc,
+                fcc_new,
+                contact_on,
+                ledger_on,
+                cy1,
+                cq,
+                dt,
+                ledger,
+            )
         if contact_on:
-            ledger[LEDGER_FRICTION_DISSIPATION] += 0.5 * dt * (ledger[LEDGER_FRICTION_POWER]
-                                                               + diag[DIAG_FRICTION_POWER])
+            ledger[LEDGER_FRICTION_DISSIPATION] += (
+                0.5 * dt * (ledger[LEDGER_FRICTION_POWER] + diag[DIAG_FRICTION_POWER])
+            )
             ledger[LEDGER_DAMPING_DISSIPATION] += 0.5 * dt * (ledger[LEDGER_DAMPING_POWER] + diag[DIAG_DAMPING_POWER])
             ledger[LEDGER_FRICTION_POWER] = diag[DIAG_FRICTION_POWER]
             ledger[LEDGER_DAMPING_POWER] = diag[DIAG_DAMPING_POWER]
@@ -324,7 +491,7 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
             for i in range(24):
                 rec_F[r, i] = reac[i]
             j = rec_ptr[r]
-            for i in range(nn):          # only the nodes in contact (a few of them)
+            for i in range(nn):  # only the nodes in contact (a few of them)
                 if state[i] != OPEN or Nn[i] != 0.0 or gn[i] != 0.0:
                     rec_node[j] = i
                     rec_state[j] = state[i]

@@ -23,6 +23,7 @@ first call). When that folder cannot be written, numba's next locator takes over
 
 Importing this module compiles nothing (and does not import numba until :func:`install`).
 """
+
 from __future__ import annotations
 
 import hashlib
@@ -97,7 +98,7 @@ def install():
             self = cls(py_func, py_file)
             try:
                 self.ensure_cache_path()
-            except OSError:          # not writable: numba's next locator takes over
+            except OSError:  # not writable: numba's next locator takes over
                 return None
             return self
 

@@ -2,6 +2,7 @@
 by the FMU): the Taylor target of the inputs, the quintic Hermite's power-basis coefficients and
 its values by Horner's scheme. The arithmetic is a few hundred operations; as numpy calls it cost
 ~10 us per communication step in call overhead alone, as much as one Newmark step."""
+
 from __future__ import annotations
 
 from numba import njit
