@@ -129,8 +129,8 @@ def variable_rows(slave_module):
 
 def write_documentation(folder, rows):
     import cablecasing_core as cc
-    from cablecasing_core.structure.geometry import centerline_of
     from cablecasing_core.plotting import plot_geometry
+    from cablecasing_core.structure.geometry import centerline_of
 
     folder.mkdir(parents=True, exist_ok=True)
     model = cc.load_model()
@@ -209,7 +209,8 @@ report fmi2Discard but not fmi2Error from a step.)</p>
     ).write_text(f"""CableCasing.fmu runs Python code (generated with PythonFMU 0.7).
 
 The host needs:
-- CPython {ver} (64-bit) with its shared library (libpython{ver}.so on Linux, python3{sys.version_info.minor}.dll on Windows);
+- CPython {ver} (64-bit) with its shared library (libpython{ver}.so on Linux,
+  python3{sys.version_info.minor}.dll on Windows);
 - the packages numpy, scipy and numba installed in that Python environment (platformdirs is optional).
 The model package cablecasing_core and the pythonfmu runtime are inside resources/.
 

@@ -33,14 +33,14 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tests"))
 sys.path.insert(0, str(ROOT))
 
-import build_fmu  # noqa: E402
 import fmu_driver  # noqa: E402
 
+import build_fmu  # noqa: E402
 import cablecasing_core as cc  # noqa: E402
 from cablecasing_core.model.schema import CHANNELS, OUTPUTS  # noqa: E402
 from cablecasing_core.timedomain.engine import Engine  # noqa: E402
-from cablecasing_core.timedomain.support_motion import SupportReconstruction  # noqa: E402
 from cablecasing_core.timedomain.scenario import scenario_motion  # noqa: E402
+from cablecasing_core.timedomain.support_motion import SupportReconstruction  # noqa: E402
 
 FMU = ROOT / "dist" / "CableCasing.fmu"
 NCH = len(CHANNELS)

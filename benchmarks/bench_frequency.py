@@ -8,8 +8,8 @@ import time
 import numpy as np
 
 import cablecasing_core as cc
-from cablecasing_core.structure.assembly import assemble_body
 from cablecasing_core.frequency.trfam import FrequencyResponse
+from cablecasing_core.structure.assembly import assemble_body
 
 model = cc.load_model()
 f = np.linspace(10.0, 1000.0, 2000)

@@ -52,9 +52,9 @@ import numpy as np
 
 import cablecasing_core as cc
 from cablecasing_core.model.schema import SUPPORT_OUTPUTS
+from cablecasing_core.studies import octave_rms, paired_difference
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion
-from cablecasing_core.studies import octave_rms, paired_difference
 
 p = argparse.ArgumentParser()
 p.add_argument("--duration", type=float, default=1.0)

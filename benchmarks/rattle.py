@@ -24,8 +24,6 @@ Run: .venv/bin/python benchmarks/rattle.py [--node 8 --start 0.0324 --window 5e-
 
 import argparse
 
-import numpy as np
-
 import cablecasing_core as cc
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion

@@ -81,11 +81,12 @@ def write_report(out, duration=0.2, fmu_force=None, fmu_note="The FMU was not ru
     rows = "".join(f"<tr><td>{k}</td><td>{v:.4g}</td></tr>" for k, v in rms.items())
     source = "through the FMU with fmpy (fmu_outputs.csv)" if fmu_force is not None else "with the core"
     html = out / "report.html"
+    rounded = json.dumps({k: [round(x, 2) for x in v] for k, v in modes.items()}, indent=1)
     html.write_text(f"""<!doctype html><html><head><meta charset="utf-8"><title>cablecasing demo</title></head>
 <body><h1>Cable in casing: default specimen</h1>
 <p>{fmu_note} The default scenario (random 10-1000 Hz, 5 m/s2 RMS at casing end A in z, and the cable's
 50 Hz axial excitation) was run {source}, and with the core for the per-node contact data (simulation.csv).</p>
-<h2>Natural frequencies (Hz)</h2><pre>{json.dumps({k: [round(x, 2) for x in v] for k, v in modes.items()}, indent=1)}</pre>
+<h2>Natural frequencies (Hz)</h2><pre>{rounded}</pre>
 <h2>TRFAM of the casing (Eq. 12), structural and viscous damping (Fig. 17)</h2><img src="trfam_xyz.png">
 <h2>Support forces and contact-time histogram beside the curvature (Fig. 22)</h2>
 <img src="simulation.png"><table border=1><tr><th>output</th><th>RMS (N)</th></tr>{rows}</table>

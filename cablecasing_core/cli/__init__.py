@@ -15,8 +15,8 @@ import sys
 
 import numpy as np
 
-from ..model import load_model
 from ..errors import CableCasingError, ModelError
+from ..model import load_model
 from . import identify, simulate, study
 
 

@@ -73,7 +73,8 @@ def cmd_damping(args):
         )
         print(f"# {args.file} ({name}): {x.size} samples at {fs:g} Hz; Morlet gamma = {args.gamma:g}")
         print(
-            f"{'mode':>4} {'f_req_Hz':>10} {'f_ridge_Hz':>11} {'f_n_Hz':>10} {'zeta':>9} {'fit_from_s':>10} {'fit_to_s':>9}"
+            f"{'mode':>4} {'f_req_Hz':>10} {'f_ridge_Hz':>11} {'f_n_Hz':>10} {'zeta':>9} {'fit_from_s':>10} "
+            f"{'fit_to_s':>9}"
         )
         for i, r in enumerate(res, 1):
             t0, t1 = r.t_fit
@@ -166,8 +167,8 @@ def _read_measured(path, modes_arg, channel):
 
 def cmd_modulus(args):
     try:
-        from ..model import load_model
         from ..identification import identify_modulus_model, parameters_toml
+        from ..model import load_model
 
         model = load_model(args.model)
         f_meas, modes = _read_measured(args.file, args.modes, args.channel)

@@ -6,9 +6,9 @@ from .helptext import key_help
 
 
 def cmd_simulate(args):
-    from .paths import check_output_path
     from ..model import load_model
     from ..timedomain.simulation import simulate
+    from .paths import check_output_path
 
     check_output_path("--out", args.out, (".csv", ".npz"))
     check_output_path("--plot", args.plot)

@@ -6,11 +6,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .paths import check_output_path
 from ..errors import ModelError
 from ..model.schema import output_spec
 from ..model.validators import integer, number
 from .helptext import ASSIGNMENT_HELP, key_help
+from .paths import check_output_path
 
 
 def cmd_study(args):

@@ -12,8 +12,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import eigh
 
-from ..structure.assembly import assemble_body
 from ..model.validators import Choice, integer
+from ..structure.assembly import assemble_body
 
 
 @dataclass(frozen=True)

@@ -23,10 +23,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..structure.assembly import assemble_body
-from ..model.schema import DIRECTIONS, SUPPORT_NAMES
 from ..errors import ModelError
+from ..model.schema import DIRECTIONS, SUPPORT_NAMES
 from ..model.validators import Choice, frequencies
+from ..structure.assembly import assemble_body
 from .modal import modal_basis
 
 DAMPING_MODELS = ("viscous", "structural", "none")

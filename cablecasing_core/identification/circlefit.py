@@ -356,7 +356,7 @@ def loss_factor_circle(
     fits = [_fit_one(f, Hd, f0, None, None, search, bandwidths, min_side) for f0 in f_res]
     it = 0
     if correct_neighbours and len(fits) > 1:
-        for it in range(1, int(max_iter) + 1):
+        for it in range(1, int(max_iter) + 1):  # noqa: B007  (it is the count read after the loop)
             terms = [_term(r, f) for r in fits]
             total = np.sum(terms, axis=0)
             new = [

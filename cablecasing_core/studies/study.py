@@ -29,7 +29,7 @@ from ..errors import ModelError
 from ..model.validators import integer
 from .evaluators import DEFAULT_EVALUATE, DEFAULT_OUTPUTS
 from .executor import execute, resolve_evaluate, spec_name
-from .results_store import META_COLUMNS, TAIL_COLUMNS, FORMAT_VERSION, ResultsWriter, load_results, prepare_file
+from .results_store import FORMAT_VERSION, META_COLUMNS, TAIL_COLUMNS, ResultsWriter, load_results, prepare_file
 from .sampling import DEFAULT_CONSTRAINTS, check_bounds, latin_hypercube
 
 

@@ -21,11 +21,11 @@ import math
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve
 
-from . import kernels as K
-from ..structure.assembly import assemble_body
-from ..model.schema import BODY_NAMES, CHANNELS, OUTPUTS, SUPPORT_OUTPUTS, lookup
-from ..model.validators import seconds
 from ..errors import ModelError, SimulationError
+from ..model.schema import BODY_NAMES, CHANNELS, OUTPUTS, lookup
+from ..model.validators import seconds
+from ..structure.assembly import assemble_body
+from . import kernels as K
 
 
 def hertz_constant(model):

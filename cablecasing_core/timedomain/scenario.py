@@ -27,8 +27,8 @@ import functools
 import numpy as np
 from scipy.interpolate import BPoly, CubicSpline
 
-from ..model.schema import CHANNELS, DIRECTIONS
 from ..errors import ModelError
+from ..model.schema import CHANNELS, DIRECTIONS
 from ..structure.geometry import centerline_of
 
 
@@ -147,7 +147,7 @@ class ScenarioMotion:
         self.terms = []
         self.ramp = sc.get("ramp", 0.0)
         cl = None
-        for name, e in sc["excitation"].items():
+        for e in sc["excitation"].values():
             body, support, direction = e["target"].split(".")
             if direction == "axial":
                 cl = centerline_of(model) if cl is None else cl

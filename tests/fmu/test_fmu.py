@@ -17,8 +17,8 @@ from scipy.signal import csd, find_peaks, welch
 import cablecasing_core as cc
 from cablecasing_core.model.schema import CHANNELS, OUTPUTS
 from cablecasing_core.timedomain.engine import Engine
-from cablecasing_core.timedomain.support_motion import SupportReconstruction
 from cablecasing_core.timedomain.scenario import scenario_motion
+from cablecasing_core.timedomain.support_motion import SupportReconstruction
 
 pytestmark = pytest.mark.slow  # every test runs the FMU in fresh processes
 
@@ -339,7 +339,7 @@ def test_any_communication_step(fmu, tmp_path, run):
 def test_errors_are_reported_and_the_process_goes_on(fmu, tmp_path, contact_case, run):
     model, table, ref = contact_case
     res = run(tmp_path, "errors", fmu, inputs=table[:5])
-    discard, error = 2, 3
+    discard = 2  # fmi2Discard
 
     def logged(key, *words):
         text = " ".join(res[f"{key}_log"])
@@ -450,6 +450,7 @@ def test_non_python_host(fmu, tmp_path, run):
     import shutil
     import site
     import sysconfig
+
     import fmpy
     from fmpy import extract, read_model_description
 

@@ -21,7 +21,7 @@ def exact_transfer(f_hz, eta=ETA):
         w = 2 * np.pi * f
         b = (w**2 * RHO * A / EI) ** 0.25
 
-        def rows(x):
+        def rows(x, b=b):
             c, s, ch, sh = np.cos(b * x), np.sin(b * x), np.cosh(b * x), np.sinh(b * x)
             return (np.array([c, s, ch, sh]), b * np.array([-s, c, sh, ch]), b**3 * np.array([s, -c, sh, ch]))
 

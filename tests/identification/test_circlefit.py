@@ -11,7 +11,10 @@ ETA_TABLE1 = np.array([0.0764, 0.046, 0.0448])  # Table 1 loss factors
 DF = 0.5  # Hz, the paper's resolution (0.25 Hz = half of it)
 
 
-def hysteretic_frf(f, constants=(1.0, -0.7, 0.5 * np.exp(0.3j)), extra=True):
+MODAL_CONSTANTS = (1.0, -0.7, 0.5 * np.exp(0.3j))
+
+
+def hysteretic_frf(f, constants=MODAL_CONSTANTS, extra=True):
     """Receptance-like modal sum with complex stiffness, A_k / (w_k^2 (1 + i eta_k) - w^2), Eq. (11);
     ``extra`` adds a mode above the band (600 Hz) and a mass line, which only the circle offset absorbs."""
     w2 = (2 * np.pi * f) ** 2

@@ -5,7 +5,6 @@ The specimen is a straight clamped-clamped casing (Table 2's section, 0.85 m) so
 bending modes in y are well separated (1 : 2.76 : 5.40); Rayleigh alpha = 2 1/s, beta = 4.23e-5 s.
 """
 
-import json
 import subprocess
 import sys
 from pathlib import Path

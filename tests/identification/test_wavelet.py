@@ -27,7 +27,8 @@ def impulse_response(fs=FS, duration=DURATION, amps=(1.0, 1.0, 1.0)):
 
 def test_cwt_normalisation_and_closed_form():
     # |W| of a*exp(-sigma t)cos(wd t) is a exp(-sigma u) exp((sigma^2-(wd-wc)^2) gamma^2/(2 wc^2)) away from
-    # the edges (module docstring); FFT with 8-sigma_t padding reproduces it to ~1e-6 (discrete sums of a smooth Gaussian)
+    # the edges (module docstring); FFT with 8-sigma_t padding reproduces it to ~1e-6 (discrete sums of a
+    # smooth Gaussian)
     fs, gamma, a, fd, sigma = 1000.0, 12.0, 2.5, 50.0, 3.0
     t = np.arange(4000) / fs
     x = a * np.exp(-sigma * t) * np.cos(2 * np.pi * fd * t + 0.3)

@@ -9,8 +9,8 @@ import pytest
 
 import cablecasing_core as cc
 from cablecasing_core.cli import main as cli_main
-from cablecasing_core.model import model_from_dict
 from cablecasing_core.errors import ModelError
+from cablecasing_core.model import model_from_dict
 from cablecasing_core.studies import (
     Ensemble,
     load_ensemble,

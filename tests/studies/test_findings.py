@@ -16,9 +16,10 @@ least 5.57 SE on an independent set, seeds 9..16. The chance that a fresh draw o
 what any change of the computation's bits amounts to) lands below 2 SE when the true margin is
 5.57 is P(t_7 < 2 | noncentrality 5.57) = 7e-4 (noncentral t, 7 degrees of freedom); for 6.9 it is
 8e-6. (The margins quoted with each test were re-measured after f72f0e8, which changed every
-record at rounding level; the paragraph "What changed" below is from before it.) A claim that does not reach this on both sets is stated as measured but not asserted. The
+record at rounding level; the paragraph "What changed" below is from before it.) A claim that does
+not reach this on both sets is stated as measured but not asserted. The
 margins (effect in SE, 0.2 s runs) are given with each test as "seeds 1..8 (seeds 9..16)";
-``python tests/test_findings.py`` prints them.
+``python tests/studies/test_findings.py`` prints them.
 
 What changed against the single-record version, measured on 16 seeds (0.2 s; 8 seeds of 1 s for
 friction):
@@ -67,7 +68,7 @@ SETTINGS = {
 }
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def run(setting, seed):
     """RMS of casing.B.Fz after the 0.01 s fade-in (0.02 s on), its nine Table 3 band levels after
     0.05 s (as ``studies.evaluators.default_evaluate``), the contact time per cable node, curvature."""
@@ -196,19 +197,17 @@ if __name__ == "__main__":  # the measured margins quoted above
         print(f"seeds {seeds[0]}..{seeds[-1]}")
         print("  friction, ratio of means per band:", b["mu_hi"].mean(0) / b["mu_lo"].mean(0))
         print("  friction, margin per band (SE):  ", margin(b["mu_lo"], b["mu_hi"]))
+        low_lo, low_hi = low_octaves(b["mu_lo"]), low_octaves(b["mu_hi"])
+        rms_lo, rms_hi = e["mu_lo"][0], e["mu_hi"][0]
         print(
-            "  friction, octaves 1-3 together: ratio %.2f, margin %.1f SE; overall RMS: %.3f -> %.3f N, margin %.1f SE"
-            % (
-                low_octaves(b["mu_hi"]).mean() / low_octaves(b["mu_lo"]).mean(),
-                margin(low_octaves(b["mu_lo"]), low_octaves(b["mu_hi"])),
-                e["mu_lo"][0].mean(),
-                e["mu_hi"][0].mean(),
-                margin(e["mu_lo"][0], e["mu_hi"][0]),
-            )
+            f"  friction, octaves 1-3 together: ratio {low_hi.mean() / low_lo.mean():.2f}, margin "
+            f"{margin(low_lo, low_hi):.1f} SE; overall RMS: {rms_lo.mean():.3f} -> {rms_hi.mean():.3f} N, "
+            f"margin {margin(rms_lo, rms_hi):.1f} SE"
         )
+        base, amp_lo = e["base"][0], e["amp_lo"][0]
         print(
-            "  axial amplitude, overall RMS %.3f -> %.3f N, margin %.1f SE"
-            % (e["amp_lo"][0].mean(), e["base"][0].mean(), margin(e["base"][0], e["amp_lo"][0]))
+            f"  axial amplitude, overall RMS {amp_lo.mean():.3f} -> {base.mean():.3f} N, margin "
+            f"{margin(base, amp_lo):.1f} SE"
         )
         print("  axial amplitude 1e-3 / 2.5e-4, ratio per band:", b["amp_hi"].mean(0) / b["amp_lo"].mean(0))
         print("  axial amplitude, margin per band:", margin(b["amp_hi"], b["amp_lo"]))
@@ -219,21 +218,16 @@ if __name__ == "__main__":  # the measured margins quoted above
         cas = np.abs(np.log(b["cas_hi"][:, hi] / b["cas_lo"][:, hi])).mean(axis=1)
         cab = np.abs(np.log(b["cab_hi"][:, hi] / b["cab_lo"][:, hi])).mean(axis=1)
         print(
-            "  octaves 7-9, mean |log ratio| casing %.2f, cable %.2f, margin %.1f SE"
-            % (cas.mean(), cab.mean(), margin(cas, cab))
+            f"  octaves 7-9, mean |log ratio| casing {cas.mean():.2f}, cable {cab.mean():.2f}, margin "
+            f"{margin(cas, cab):.1f} SE"
         )
     runs = [run("base", s) for s in SEEDS_CONTACT]
     ct = np.array([r[2] for r in runs])
     first, second = bend_runs(runs[0][3])
     bends = np.concatenate([first, second])
     print("contact, seeds 1..16: bends' share per seed", ct[:, bends].sum(1) / ct.sum(1))
+    later = int(np.sum(ct[:, second].sum(1) > ct[:, first].sum(1)))
     print(
-        "  pooled: bends %.2f, first bend %.2f, second bend %.2f; second > first in %d of %d draws"
-        % (
-            ct[:, bends].sum() / ct.sum(),
-            ct[:, first].sum() / ct.sum(),
-            ct[:, second].sum() / ct.sum(),
-            np.sum(ct[:, second].sum(1) > ct[:, first].sum(1)),
-            len(ct),
-        )
+        f"  pooled: bends {ct[:, bends].sum() / ct.sum():.2f}, first bend {ct[:, first].sum() / ct.sum():.2f}, "
+        f"second bend {ct[:, second].sum() / ct.sum():.2f}; second > first in {later} of {len(ct)} draws"
     )

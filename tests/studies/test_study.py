@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from cablecasing_core.errors import ModelError
-from cablecasing_core.studies import evaluators
 from cablecasing_core.studies import (
     PAPER_BOUNDS,
     correlations,
+    evaluators,
     latin_hypercube,
     load_results,
     plot_correlations,

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 import cablecasing_core as cc
-from cablecasing_core.timedomain import kernels as K
 from cablecasing_core.model.schema import CHANNELS, OUTPUTS
-from cablecasing_core.timedomain.engine import Engine, hertz_constant, state_from_bytes, state_to_bytes
 from cablecasing_core.structure.geometry import centerline_of
+from cablecasing_core.timedomain import kernels as K
+from cablecasing_core.timedomain.engine import Engine, hertz_constant, state_from_bytes, state_to_bytes
 from cablecasing_core.timedomain.scenario import scenario_motion, zero_motion
 
 
@@ -137,7 +137,7 @@ def test_contact_search_exact_intersection(shape, straight, arc_points, beam_mod
     Us = np.zeros(6 * len(cl.nodes))
     for i in range(len(cl.nodes)):
         Us[6 * i : 6 * i + 3] = shift
-    for trial in range(20):
+    for _ in range(20):
         e = rng.integers(0, cl.n_elements)
         x1 = cl.nodes[e] + rng.random() * (cl.nodes[e + 1] - cl.nodes[e]) + 3e-4 * rng.standard_normal(3)
         t1 = cl.frames[e][0] + 0.05 * rng.standard_normal(3)

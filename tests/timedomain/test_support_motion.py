@@ -124,7 +124,7 @@ def test_harmonic_gain_of_the_reconstruction():
         z = np.zeros(len(t), complex)
         for part, unit in ((np.real, 1.0), (np.imag, 1j)):
 
-            def data(tk, part=part):  # periodic steady state: a step starts at the previous target
+            def data(tk, part=part, w=w):  # periodic steady state: a step starts at the previous target
                 e = np.exp(1j * w * tk)
                 return np.array([part(e)]), np.array([part(1j * w * e)]), np.array([part(-w * w * e)])
 

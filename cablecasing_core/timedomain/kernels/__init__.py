@@ -60,9 +60,6 @@ from ._hermite_interpolation import axis_at, element_dofs, hermite_matrix  # noq
 from ._newmark_step_loop_with_ledger import run_steps  # noqa: E402
 from ._quintic_support_motion import quintic_coefficients, quintic_values, taylor_rows  # noqa: E402
 from ._step_loop_contract import (  # noqa: E402
-    BodyArrays,
-    ContactArrays,
-    ContactLaw,
     DIAG_ACTIVE_SET_PASSES,
     DIAG_DAMPING_POWER,
     DIAG_FRICTION_POWER,
@@ -95,9 +92,12 @@ from ._step_loop_contract import (  # noqa: E402
     LEDGER_SUPPORT_WORK,
     OK,
     OPEN,
-    Recording,
     SLIP,
     STICK,
+    BodyArrays,
+    ContactArrays,
+    ContactLaw,
+    Recording,
 )
 
 __all__ = [

@@ -232,7 +232,7 @@ def newton_for_fixed_modes(
             scale = max(scale, abs(x[i]))
             step = max(step, abs(dx[i]))
         alpha = 1.0
-        for ls in range(12):
+        for _ in range(12):
             for i in range(r):
                 xt[i] = x[i] + alpha * dx[i]
             r1 = _residual(
