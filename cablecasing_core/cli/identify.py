@@ -142,9 +142,9 @@ def cmd_loss_factor(args):
 def _read_measured(path, modes_arg, channel):
     """(frequencies Hz, mode numbers) from a CSV table ``mode,f_hz`` or from the peaks of an FRF file."""
     from ..identification.circlefit import find_resonances
-    from ..identification.uff_io import _is_uff, read_frf
+    from ..identification.uff_io import is_uff, read_frf
 
-    if not _is_uff(path):
+    if not is_uff(path):
         try:
             with open(path, encoding="utf-8") as fh:
                 header = [h.strip().lower() for h in fh.readline().split(",")]

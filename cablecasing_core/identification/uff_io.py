@@ -239,7 +239,7 @@ def read_csv_frf(path):
 # ------------------------------------------------------------------------------ by file extension
 
 
-def _is_uff(path):
+def is_uff(path):
     return os.path.splitext(str(path))[1].lower() in UFF_EXTENSIONS
 
 
@@ -258,7 +258,7 @@ def _uff_record(path, kind, channel, missing):
 def read_time_record(path, channel=None):
     """``(x, fs, name)`` from a CSV or UFF (.uff/.unv) file; ``channel`` selects a column or the
     n-th time function of a UFF file."""
-    if not _is_uff(path):
+    if not is_uff(path):
         return read_csv_time(path, channel)
     r = _uff_record(path, "time", channel, "time record (UFF 58, function type 1)")
     if not _even(r.x):
@@ -268,7 +268,7 @@ def read_time_record(path, channel=None):
 
 def read_frf(path, channel=None):
     """``(freqs_hz, H)`` from a CSV or UFF file (the n-th FRF of a UFF file, default the first)."""
-    if not _is_uff(path):
+    if not is_uff(path):
         return read_csv_frf(path)
     r = _uff_record(path, "frf", channel, "FRF (UFF 58, function type 4)")
     return r.x, np.asarray(r.data, dtype=complex)

@@ -53,6 +53,9 @@ the noise level where noise dominates, the noise riding on the mode where the mo
 nearly zero for a clean record (or a value given by the caller). The fit stops where the ridge
 first sinks below ``floor_factor`` (default 5) times that floor. The straight line through
 ``ln|W|`` is weighted by ``|W|`` (additive noise gives ``ln|W|`` a standard deviation ~ noise / |W|).
+
+This module is over 400 lines because it is one method (transform, ridge, window, fit) whose
+steps share their arrays and checks.
 """
 
 from __future__ import annotations

@@ -4,6 +4,8 @@
 from __future__ import annotations
 
 import copy
+import hashlib
+import json
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -148,6 +150,12 @@ class Model:
                 value = value.tolist()
             node[parts[-1]] = value
         return Model(validate(data, base_dir=self.base_dir), source=self.source, base_dir=self.base_dir)
+
+    def fingerprint(self) -> str:
+        """A short hash (16 hex digits) of the model's data (SI values, defaults filled in): equal for
+        equal models, whatever their source (a tabulated excitation enters by its file name)."""
+        text = json.dumps(self.data, sort_keys=True, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o))
+        return hashlib.sha256(text.encode()).hexdigest()[:16]
 
     def to_toml(self):
         """The model as TOML text (round-trips through :func:`load_model`)."""

@@ -11,20 +11,13 @@ Fig. 23) and band levels as ensemble means over excitation seeds.
 
 Modules: ``octave`` (band RMS), ``sampling`` (bounds, Latin hypercube, constraints), ``evaluators``
 (per-sample functions), ``executor`` (serial or dask), ``results_store`` (the resumable CSV),
-``study`` (``run_study``), ``correlation``, ``ensemble``, ``plots``. See docs/studies.md.
+``study`` (``run_study``), ``correlation``, ``ensemble`` (the data), ``ensemble_runs``
+(``seed_ensemble``), ``plots``. See docs/studies.md.
 """
 
 from .correlation import GAP, Correlation, correlations
-from .ensemble import (
-    Ensemble,
-    PairedDifference,
-    load_ensemble,
-    paired_difference,
-    pool_ensembles,
-    random_excitations,
-    seed_ensemble,
-    seed_overrides,
-)
+from .ensemble import Ensemble, PairedDifference, load_ensemble, paired_difference, pool_ensembles
+from .ensemble_runs import random_excitations, seed_ensemble, seed_overrides
 from .evaluators import DEFAULT_EVALUATE, DEFAULT_OUTPUTS, default_evaluate
 from .executor import execute, resolve_evaluate
 from .octave import TABLE3_LOWER, TABLE3_UPPER, BandRMS, Bands, octave_bands, octave_rms

@@ -11,6 +11,9 @@ reactions (Eq. 13) follow from the partitioned equations at the prescribed DOFs.
 The engine can advance from any time by any step (a step that is not a multiple of ``dt`` ends
 with one shorter sub-step, whose factorisation is cached) and can copy out and restore its
 complete state (:meth:`Engine.get_state`, :meth:`Engine.set_state`).
+
+This module is over 400 lines because it is one class whose state, stepping and outputs belong
+together; the bodies' matrices are in ``body_storage.py``, the kernels in ``kernels/``.
 """
 
 from __future__ import annotations
@@ -19,13 +22,12 @@ import io
 import math
 
 import numpy as np
-from scipy.linalg import cho_factor, cho_solve
 
 from ..errors import ModelError, SimulationError
-from ..model.schema import BODY_NAMES, CHANNELS, OUTPUTS, lookup
+from ..model.schema import CHANNELS, OUTPUTS, lookup
 from ..model.validators import seconds
-from ..structure.assembly import assemble_body
 from . import kernels as K
+from .body_storage import BodyStorage, body_arrays
 
 
 def hertz_constant(model):
@@ -40,148 +42,6 @@ def hertz_constant(model):
     return 4.0 / 3.0 * Es * np.sqrt(r)
 
 
-def block_ldl(A):
-    """Block LDL^T factor of a symmetric positive definite block-tridiagonal matrix A (6 x 6 node
-    blocks), A = L D L^T with unit block diagonal in L, in the form ``kernels.block_solve`` uses:
-    Dinv[i] = D_i^-1, L[i] = L_i,i-1 (L[0] = 0) and LT[i] = L_i+1,i^T (LT[-1] = 0), each (nb, 6, 6).
-    D_0 = A_00, L_i,i-1 = A_i,i-1 D_i-1^-1, D_i = A_ii - L_i,i-1 A_i-1,i (the Schur complements,
-    SPD, so no pivoting is needed)."""
-    n = A.shape[0]
-    nb = n // 6
-    blk = lambda i, j: A[6 * i : 6 * i + 6, 6 * j : 6 * j + 6]  # noqa: E731
-    for i in range(nb):
-        if np.any(A[6 * i : 6 * i + 6, 6 * (i + 2) :]):
-            raise AssertionError("the effective stiffness must be block tridiagonal in node blocks")
-    Dinv = np.zeros((nb, 6, 6))
-    L = np.zeros((nb, 6, 6))
-    LT = np.zeros((nb, 6, 6))
-    for i in range(nb):
-        D = blk(i, i).copy()
-        if i:
-            L[i] = blk(i, i - 1) @ Dinv[i - 1]
-            LT[i - 1] = L[i].T
-            D -= L[i] @ blk(i - 1, i)
-        inv = cho_solve(cho_factor(0.5 * (D + D.T)), np.eye(6))
-        Dinv[i] = 0.5 * (inv + inv.T)
-    return Dinv, L, LT
-
-
-def diagonal_storage(A, b):
-    """Diagonals of a square matrix of half-bandwidth b: D[k, i] = A[i, i + k - b] (zero outside)."""
-    n = A.shape[0]
-    D = np.zeros((2 * b + 1, n))
-    for k in range(-b, b + 1):
-        i = np.arange(max(0, -k), min(n, n - k))
-        D[b + k, i] = A[i, i + k]
-    return D
-
-
-def support_rows(M, K, pres, b):
-    """Rows of M and K (dense, half-bandwidth b) of the prescribed DOFs over their band, for the
-    reactions (Eq. 13): sup[q, 0] = M[pres[q], lo[q]:lo[q] + w], sup[q, 1] the same of K, w = 2b + 1
-    (at most n), lo[q] = pres[q] - b moved inside the matrix. Returns (sup, lo)."""
-    n = M.shape[0]
-    w = min(2 * b + 1, n)
-    lo = np.clip(np.asarray(pres, np.int64) - b, 0, n - w)
-    sup = np.zeros((len(pres), 2, w))
-    for q, (p, j0) in enumerate(zip(pres, lo)):
-        sup[q, 0] = M[p, j0 : j0 + w]
-        sup[q, 1] = K[p, j0 : j0 + w]
-    return sup, lo
-
-
-def coupling_triplets(K, pres, free):
-    """The nonzero entries of K_fp, the stiffness between the free DOFs and the prescribed ones
-    (N/m): (idx, val) with idx[0] the free row, idx[1] the prescribed DOF's index into pres."""
-    sub = K[np.ix_(free, pres)]
-    r, q = np.nonzero(sub)
-    return np.array([np.asarray(free)[r], q], np.int64).reshape(2, -1), sub[r, q].copy()
-
-
-class _Body:
-    """Matrices in diagonal storage, factorisations and state of one body (plain arrays for the
-    kernels)."""
-
-    def __init__(self, model, name):
-        spec = model.bodies[name]
-        sysm = assemble_body(model, name)
-        if spec.frequency_dependent:
-            from ..frequency.modal import natural_frequencies
-
-            f1 = natural_frequencies(model, name, 1)[0]
-            sysm = assemble_body(model, name, E=float(spec.modulus(f1)))
-        self.system = sysm
-        self.alpha, self.beta = spec.alpha, spec.beta
-        Kd, Md = sysm.K.toarray(), sysm.M.toarray()
-        rows, cols = np.nonzero(Kd + Md)
-        self.b = b = int(np.max(np.abs(rows - cols)))
-        n = sysm.ndof
-        self.Md = diagonal_storage(Md, b)
-        self.Kd = diagonal_storage(Kd, b)
-        self.K_full, self.M_full = Kd, Md
-        free = sysm.free
-        self.f0, self.nf = (int(free[0]), len(free)) if len(free) else (0, 0)
-        if self.nf and not np.array_equal(free, np.arange(self.f0, self.f0 + self.nf)):
-            raise AssertionError("free DOFs must be contiguous (supports sit at the ends)")
-        # the node blocks holding the free DOFs (the block solve works on whole nodes)
-        self.g0 = 6 * (self.f0 // 6)
-        self.ng = 6 * -(-(self.f0 + self.nf) // 6) - self.g0 if self.nf else 0
-        self.pres = sysm.prescribed.astype(np.int64)
-        bi = BODY_NAMES.index(name)
-        pchan, pslot = [], []
-        for j in self.pres:
-            node, comp = divmod(int(j), 6)
-            s = 0 if node == sysm.support_nodes["A"] else 1
-            pslot.append(6 * s + comp)
-            pchan.append(6 * bi + 3 * s + comp if comp < 3 else -1)
-        self.pchan = np.array(pchan, np.int64)
-        self.pslot = np.array(pslot, np.int64)
-        self.sup, self.sup_lo = support_rows(Md, Kd, self.pres, b)
-        self.cpl_i, self.cpl_v = coupling_triplets(Kd, self.pres, free)
-        self._factors = {}
-        self.U = np.zeros(n)
-        self.V = np.zeros(n)
-        self.A = np.zeros(n)
-
-    def factors(self, dt, need_inverse):
-        """Block LDL^T factor (Dinv, L, LT) of the effective stiffness K + 2/dt C + 4/dt^2 M over
-        the free node blocks (prescribed DOFs among them as identity rows) and, for contact, the
-        dense inverse (m/N) of its free part, placed in an all-DOF matrix that is zero on the
-        prescribed DOFs; cached per dt."""
-        key = (dt, need_inverse)
-        if key not in self._factors:
-            g = slice(self.g0, self.g0 + self.ng)
-            Keff = (1 + 2 * self.beta / dt) * self.K_full[g, g] + (4 / dt**2 + 2 * self.alpha / dt) * self.M_full[g, g]
-            inner = [j - self.g0 for j in self.pres if self.g0 <= j < self.g0 + self.ng]
-            Keff[inner, :] = 0.0
-            Keff[:, inner] = 0.0
-            Keff[inner, inner] = 1.0
-            Dinv, L, LT = block_ldl(Keff)
-            if need_inverse:
-                f = slice(self.f0 - self.g0, self.f0 - self.g0 + self.nf)
-                # columns of Keff^-1 from the block factor by the step loop's own solve (the identity
-                # rows of the prescribed DOFs keep the free part equal to inv(Keff[f, f])). Not LAPACK:
-                # a threaded BLAS rounds differently with each thread count, and the contact response
-                # is chaotic, so a record would depend on OMP_NUM_THREADS (a dask worker, an FMU host).
-                cols = np.eye(self.ng)[f]  # e_j of the free DOFs, one per row
-                for x in cols:
-                    K.block_solve(Dinv, L, LT, x)  # -> column j of Keff^-1, stored as row j
-                inv_ff = cols[:, f]
-                # over all DOFs, zero on the prescribed ones (they do not respond), and exactly
-                # symmetric: the contact kernels read its rows as columns
-                n = len(self.U)
-                inv = np.zeros((n, n))
-                inv[self.f0 : self.f0 + self.nf, self.f0 : self.f0 + self.nf] = 0.5 * (inv_ff + inv_ff.T)
-            else:
-                inv = np.zeros((1, 1))
-            self._factors[key] = (Dinv, L, LT, inv)
-        return self._factors[key]
-
-    def energy(self):
-        """(kinetic, strain) energy in J."""
-        return 0.5 * self.V @ self.M_full @ self.V, 0.5 * self.U @ self.K_full @ self.U
-
-
 def compiled_entry(dispatcher, args):
     """The compiled entry point of the numba ``dispatcher`` for the types of ``args``, or the
     dispatcher itself when there is none. Calling it skips numba's type dispatch, which types the
@@ -193,9 +53,6 @@ def compiled_entry(dispatcher, args):
         return dispatcher.overloads[tuple(dispatcher.typeof_pyval(a) for a in args)].entry_point
     except (AttributeError, KeyError):  # (another numba, or not compiled for these types)
         return dispatcher
-
-
-_DUMMY_BLOCK = np.zeros((0, 6, 6))
 
 
 class Engine:
@@ -217,7 +74,7 @@ class Engine:
         lookup("scenario.dt").check(dt, "dt")
         self.model = model
         self.dt = float(dt)
-        self.bodies = {n: _Body(model, n) for n in model.bodies}
+        self.bodies = {n: BodyStorage(model, n) for n in model.bodies}
         both = "casing" in self.bodies and "cable" in self.bodies
         contact = model.contact["enabled"] if contact is None else bool(contact)
         self.contact = contact and both
@@ -352,68 +209,6 @@ class Engine:
         self.time = time
 
     # -------------------------------------------------------------------------------- stepping
-    def _body_arrays(self, name, dt):
-        """The step loop's record of body ``name`` (:class:`kernels.BodyArrays`); a body that is
-        absent, or has no free DOF, is off (its arrays are placeholders of the right types)."""
-        b = self.bodies.get(name)
-        fc = self.fcs if name == "casing" else self.fcc
-        if b is None or b.nf == 0:
-            z = np.zeros(1)
-            i0 = np.zeros(0, np.int64)
-            return K.BodyArrays(
-                False,
-                np.zeros((1, 1)),
-                np.zeros((1, 1)),
-                _DUMMY_BLOCK,
-                _DUMMY_BLOCK,
-                _DUMMY_BLOCK,
-                0,
-                0,
-                0,
-                0,
-                0.0,
-                0.0,
-                b.U if b else z,
-                b.V if b else z.copy(),
-                b.A if b else z.copy(),
-                b.pres if b else i0,
-                b.pchan if b else i0,
-                b.pslot if b else i0,
-                np.zeros((len(b.U), len(b.U))) if b else np.zeros((1, 1)),  # nothing responds
-                np.zeros((0, 2, 1)),
-                i0,
-                np.zeros((2, 0), np.int64),
-                np.zeros(0),
-                fc,
-            )
-        Dinv, L, LT, inv = b.factors(dt, self.contact)
-        return K.BodyArrays(
-            True,
-            b.Md,
-            b.Kd,
-            Dinv,
-            L,
-            LT,
-            b.g0,
-            b.ng,
-            b.f0,
-            b.nf,
-            b.alpha,
-            b.beta,
-            b.U,
-            b.V,
-            b.A,
-            b.pres,
-            b.pchan,
-            b.pslot,
-            inv,
-            b.sup,
-            b.sup_lo,
-            b.cpl_i,
-            b.cpl_v,
-            fc,
-        )
-
     def _run(self, dt, up, vp, ap, times):
         n = len(up)
         if self.record:
@@ -480,8 +275,8 @@ class Engine:
                 self._ws,
             )
             args = (
-                self._body_arrays("casing", dt),
-                self._body_arrays("cable", dt),
+                body_arrays(self.bodies.get("casing"), dt, self.contact, self.fcs),
+                body_arrays(self.bodies.get("cable"), dt, self.contact, self.fcc),
                 law,
                 contact,
                 self.reac,

@@ -5,9 +5,12 @@ This module does not import cablecasing_core: the FMU must load its own bundled 
 process prepares the input table (n, 36) - displacement, velocity, acceleration of the 12 support
 channels at each communication point - and reads back the outputs.
 
-    python tests/fmu_driver.py SCENARIO job.json      # writes job["out"] (npz)
+    python tests/fmu/fmu_driver.py SCENARIO job.json      # writes job["out"] (npz)
 
 From a test: ``result = fmu_driver.run(tmp_path, "run", fmu=..., inputs=table, params={...})``.
+
+This module is over 400 lines because it is the one driver script of every scenario the FMU tests
+run in fresh processes.
 """
 
 from __future__ import annotations

@@ -3,6 +3,9 @@
 The FMU is rebuilt first when it is missing or older than its sources. The references are
 independent of the FMU: the core's frequency-domain TRFAM, and the core's engine driven by the
 same input reconstruction (cablecasing_core.timedomain.support_motion) in this process.
+
+This module is over 400 lines because every FMU scenario is checked against the core here, with
+one build of the FMU and one driver (fmu_driver.py).
 """
 
 import subprocess

@@ -291,10 +291,8 @@ def test_pooling_refuses_parts_of_different_runs(tmp_path):
         assert exc.value.key == f"ensembles[1].{key}"
     # the model is part of the settings: a changed parameter gives another fingerprint
     model = cc.load_model()
-    from cablecasing_core.studies.ensemble import _fingerprint
-
-    assert _fingerprint(model) == _fingerprint(cc.load_model())
-    assert _fingerprint(model) != _fingerprint(model.with_overrides({"contact.friction": 0.2}))
+    assert model.fingerprint() == cc.load_model().fingerprint()
+    assert model.fingerprint() != model.with_overrides({"contact.friction": 0.2}).fingerprint()
     (tmp_path / "plain.csv").write_text("seed,b1,b2\n1,1.0,2.0\n")
     with pytest.raises(ModelError, match="cablecasing-ensemble"):
         load_ensemble(tmp_path / "plain.csv")

@@ -62,3 +62,17 @@ def pair_model(arc_points):
         )
 
     return build
+
+
+@pytest.fixture(scope="session")
+def kick():
+    """``kick(eng, v0)``: give the engine's cable a half-sine field of lateral velocity (m/s, z, out of
+    the arc's plane) with peak v0, by set_state."""
+
+    def give(eng, v0):
+        s = eng.get_state()
+        nn = len(s["cable.V"]) // 6
+        s["cable.V"][2::6] = v0 * np.sin(np.pi * np.arange(nn) / (nn - 1))
+        eng.set_state(s)
+
+    return give

@@ -11,7 +11,8 @@ module                                   what
 ``_contact_search_and_law.py``           normal-plane search (Eqs. 32-39), contact law (Eqs. 24, 29)
 ``_contact_newton_for_fixed_modes.py``   the contact forces for fixed stick/slip modes (Eqs. 15-23)
 ``_contact_forces_with_active_set.py``   the implicit contact solve of a step (Eqs. 14-39)
-``_newmark_step_loop_with_ledger.py``    the step loop with the supports (Eqs. 13, 18), energy ledger
+``_newmark_per_body.py``                 one body's predictor, update and reactions (Eqs. 13, 18)
+``_newmark_step_loop_with_ledger.py``    the step loop over both bodies and the contact, energy ledger
 ``_quintic_support_motion.py``           the support motion inside an FMU communication step
 ``_compile_options.py``                  ``fastmath`` flags, compilation without the runtime
 ``_numba_cache.py``                      where the machine code is cached (compiles nothing)

@@ -8,7 +8,7 @@ predictor's linear algebra, Eq. 18).
 * The effective stiffness of the free DOFs of a beam chain is block tridiagonal in 6 x 6 node
   blocks (an element couples two neighbouring nodes). Its block LDL^T factor is kept as
   ``Dinv[i] = D_i^-1``, ``L[i] = L_i,i-1`` and ``LT[i] = L_i+1,i^T`` (built in
-  ``timedomain.engine.block_ldl``); a solve is two sweeps whose chain of dependencies is one 6 x 6
+  ``timedomain.body_storage.block_ldl``); a solve is two sweeps whose chain of dependencies is one 6 x 6
   product per node, instead of one operation per DOF for a banded substitution. SciPy's banded
   solvers cannot be called from inside a compiled step loop.
 
@@ -130,7 +130,7 @@ def _block_step(B, x, o, y0, y1, y2, y3, y4, y5):
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def block_solve(Dinv, L, LT, x):
     """In place x <- A^-1 x for the block-tridiagonal SPD matrix A = L D L^T (node blocks of 6,
-    unit block diagonal in L; built by ``timedomain.engine.block_ldl``): forward z_i = r_i - L_i,i-1 z_i-1,
+    unit block diagonal in L; built by ``timedomain.body_storage.block_ldl``): forward z_i = r_i - L_i,i-1 z_i-1,
     then w_i = D_i^-1 z_i (independent blocks), backward x_i = w_i - L_i+1,i^T x_i+1. Each sweep is
     a chain of one 6 x 6 product per node."""
     nb = Dinv.shape[0]
