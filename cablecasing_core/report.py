@@ -16,7 +16,9 @@ from pathlib import Path
 import numpy as np
 
 
-def write_report(out, duration=0.2, fmu_force=None, fmu_note="The FMU was not run."):
+def write_report(
+    out: str | Path, duration: float = 0.2, fmu_force: tuple | None = None, fmu_note: str = "The FMU was not run."
+) -> Path:
     """Run the built-in specimen and write the report into the folder ``out``.
 
     duration: simulated time of the default scenario (s). fmu_force: ``(t, F)``, the time (s) and

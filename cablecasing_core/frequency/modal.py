@@ -8,12 +8,17 @@ a sparse iterative one and returns every mode). Modes are mass-normalised.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.linalg import eigh
 
 from ..model.validators import Choice, integer
 from ..structure.assembly import assemble_body
+
+if TYPE_CHECKING:
+    from ..model import Model
+    from ..structure.assembly import BodySystem
 
 
 @dataclass(frozen=True)
@@ -30,14 +35,14 @@ class ModalBasis:
         return np.sqrt(np.clip(self.lam, 0.0, None)) / (2.0 * np.pi)
 
 
-def modal_basis(system):
+def modal_basis(system: BodySystem) -> ModalBasis:
     """Full :class:`ModalBasis` of an assembled :class:`~cablecasing_core.structure.assembly.BodySystem`."""
     Kff, Mff = system.K_blocks[0], system.M_blocks[0]
     lam, phi = eigh(Kff, Mff)
     return ModalBasis(system=system, lam=lam, phi=phi)
 
 
-def natural_frequencies(model, body, count=None):
+def natural_frequencies(model: Model, body: str, count: int | None = None) -> np.ndarray:
     """Natural frequencies (Hz, ascending) of ``body`` ("casing" or "cable") with its supports.
 
     With a frequency-dependent modulus E(f) each frequency solves f = f_ref sqrt(E(f) / E_ref)
@@ -46,7 +51,7 @@ def natural_frequencies(model, body, count=None):
     return modes(model, body, count)[0]
 
 
-def modes(model, body, count=None):
+def modes(model: Model, body: str, count: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """(frequencies in Hz, mode shapes) of ``body``; shapes are (ndof, count) arrays over all DOFs
     (zero at prescribed DOFs), mass-normalised for the reference modulus."""
     Choice(*model.bodies)("body", body)

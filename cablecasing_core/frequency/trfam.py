@@ -21,13 +21,19 @@ rigid mass m has a driving-point apparent mass of +m.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import ModelError
 from ..model.schema import DIRECTIONS, SUPPORT_NAMES
 from ..model.validators import Choice, frequencies
 from ..structure.assembly import assemble_body
 from .modal import modal_basis
+
+if TYPE_CHECKING:
+    from ..model import Model
 
 DAMPING_MODELS = ("viscous", "structural", "none")
 
@@ -62,7 +68,7 @@ class FrequencyResponse:
         self.Kout, self.Mout = Kpf @ phi, Mpf @ phi  # support forces of unit modal motion
         self.Kpp, self.Mpp = Kpp, Mpp
 
-    def support_forces(self, freqs_hz, damping="viscous", rows=None, cols=None):
+    def support_forces(self, freqs_hz: ArrayLike, damping: str = "viscous", rows=None, cols=None) -> np.ndarray:
         """Support-force matrix F[k, q, j] (N per m) at freqs_hz[k]: force on prescribed DOF q for a
         unit harmonic displacement of prescribed DOF j. ``rows``/``cols`` select q and j."""
         Choice(*DAMPING_MODELS)("damping", damping)
@@ -90,7 +96,7 @@ class FrequencyResponse:
         return F
 
 
-def trfam(model, input, output, freqs_hz, damping="viscous"):
+def trfam(model: Model, input: str, output: str, freqs_hz: ArrayLike, damping: str = "viscous") -> np.ndarray:
     """Apparent-mass transfer function TRFAM (Eq. 12) in kg: complex, one value per frequency.
 
     Parameters
@@ -119,7 +125,9 @@ def trfam(model, input, output, freqs_hz, damping="viscous"):
     return F / (-((2.0 * np.pi * f) ** 2))
 
 
-def trfam_matrix(model, body, input_support, output_support, freqs_hz, damping="viscous"):
+def trfam_matrix(
+    model: Model, body: str, input_support: str, output_support: str, freqs_hz: ArrayLike, damping: str = "viscous"
+) -> np.ndarray:
     """The 3x3 TRFAM block (kg), shape (nf, 3 outputs x/y/z, 3 inputs x/y/z), between two supports
     of one body: the force at ``output_support`` over the acceleration of ``input_support``."""
     f = frequencies("freqs_hz", freqs_hz)

@@ -17,6 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import signal
 
 from ..errors import ModelError
@@ -38,7 +39,9 @@ class FRFEstimate:
     n_averages: int
 
 
-def frf_estimate(x, y, fs, nperseg=None, window="hann", noverlap=None, detrend="constant"):
+def frf_estimate(
+    x: ArrayLike, y: ArrayLike, fs: float, nperseg: int | None = None, window="hann", noverlap=None, detrend="constant"
+) -> FRFEstimate:
     """H1 and H2 FRF estimates and the coherence from input ``x`` and output ``y`` (the measured
     TRFAM of Eq. (12) when x is a support acceleration and y a support force).
 

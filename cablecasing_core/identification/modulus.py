@@ -65,7 +65,7 @@ def identify_modulus(
     table_freqs_hz=None,
     n_table=12,
     max_iter=50,
-):
+) -> ModulusResult:
     """Dynamic modulus per measured mode and a smooth E(f) table (Section 3.1, Figs. 8-9).
 
     Parameters
@@ -193,7 +193,9 @@ def identify_modulus(
     )
 
 
-def identify_modulus_model(model, body, f_measured_hz, modes, freq_resolution_hz=None, degree=2, count=None, **kw):
+def identify_modulus_model(
+    model, body: str, f_measured_hz, modes, freq_resolution_hz=None, degree=2, count=None, **kw
+) -> ModulusResult:
     """:func:`identify_modulus` on the package's FE model of ``body`` ("casing" or "cable").
 
     ``compute_frequencies(E) = cablecasing_core.natural_frequencies(model.with_overrides({f"{body}.E": E}),

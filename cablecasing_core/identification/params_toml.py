@@ -38,7 +38,9 @@ def loss_factor_table(circle_results):
     return sorted([[float(r.f_r_hz), float(r.eta)] for r in circle_results])
 
 
-def parameters_toml(body=None, alpha=None, beta=None, loss_factor=None, E=None, comment=None):
+def parameters_toml(
+    body: str | None = None, alpha=None, beta=None, loss_factor=None, E=None, comment: str | None = None
+) -> str:
     """TOML lines with the given identified parameters, in the model file's keys: Rayleigh
     ``alpha``, ``beta`` (Eqs. 40-44), ``loss_factor`` (Eq. 11, Eq. 45), ``E`` (Section 3.1).
 

@@ -16,6 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.optimize import nnls
 
 from ..errors import ModelError
@@ -41,19 +42,21 @@ class RayleighFit:
         return float(np.sqrt(np.mean(self.residuals**2)))
 
 
-def rayleigh_zeta(freqs_hz, alpha, beta):
+def rayleigh_zeta(freqs_hz: ArrayLike, alpha: float, beta: float) -> np.ndarray:
     """Damping ratios (dimensionless) of Rayleigh damping at natural frequencies ``freqs_hz`` (Hz), Eq. (41)."""
     w = 2.0 * np.pi * np.asarray(freqs_hz, dtype=float)
     return alpha / (2.0 * w) + beta * w / 2.0
 
 
-def rayleigh_matrix(freqs_hz):
+def rayleigh_matrix(freqs_hz: ArrayLike) -> np.ndarray:
     """The matrix ``A`` of Eqs. (42)-(43): rows ``[1 / (2 omega_i), omega_i / 2]`` (omega in rad/s)."""
     w = 2.0 * np.pi * np.asarray(freqs_hz, dtype=float)
     return np.column_stack([1.0 / (2.0 * w), w / 2.0])
 
 
-def rayleigh_fit(freqs_hz, zetas, weights=None, nonnegative=False):
+def rayleigh_fit(
+    freqs_hz: ArrayLike, zetas: ArrayLike, weights: ArrayLike | None = None, nonnegative: bool = False
+) -> RayleighFit:
     """Least-squares Rayleigh factors from identified (natural frequency, damping ratio) pairs.
 
     Solves Eq. (42) ``zeta_i = alpha / (2 omega_i) + beta omega_i / 2`` for ``alpha`` (1/s) and

@@ -6,9 +6,11 @@ from __future__ import annotations
 import copy
 import hashlib
 import json
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import ModelError
 from .schema import BODY_NAMES
@@ -49,16 +51,16 @@ class BodySpec:
         """Reference modulus (Pa): the scalar, or the first table value."""
         return float(self.E[0][1]) if isinstance(self.E, list) else float(self.E)
 
-    def modulus(self, f_hz):
+    def modulus(self, f_hz: ArrayLike) -> np.ndarray:
         """Dynamic modulus E_d(f) in Pa at frequencies ``f_hz`` (Hz)."""
         return _interp_table(self.E, f_hz)
 
-    def loss(self, f_hz):
+    def loss(self, f_hz: ArrayLike) -> np.ndarray:
         """Loss factor eta(f) (dimensionless) at frequencies ``f_hz`` (Hz)."""
         return _interp_table(self.loss_factor, f_hz)
 
     @property
-    def frequency_dependent(self):
+    def frequency_dependent(self) -> bool:
         return isinstance(self.E, list)
 
 
@@ -94,23 +96,23 @@ class Model:
         object.__setattr__(self, "bodies", bodies)
 
     @property
-    def geometry(self):
+    def geometry(self) -> dict:
         return self.data["geometry"]
 
     @property
-    def contact(self):
+    def contact(self) -> dict:
         return self.data["contact"]
 
     @property
-    def scenario(self):
+    def scenario(self) -> dict:
         return self.data["scenario"]
 
     @property
-    def radial_gap(self):
+    def radial_gap(self) -> float:
         """Radial gap e = (casing.d_inner - cable.d) / 2 in m (Eqs. 30-31); needs both bodies."""
         return 0.5 * (self.data["casing"]["d_inner"] - self.data["cable"]["d"])
 
-    def parameters(self):
+    def parameters(self) -> dict[str, float]:
         """Every numeric scalar of the model as ``{dotted.key: value}`` (SI units).
 
         Tables (frequency-dependent values), point lists and strings are not included.
@@ -128,7 +130,7 @@ class Model:
         walk("", self.data)
         return out
 
-    def with_overrides(self, overrides):
+    def with_overrides(self, overrides: Mapping[str, object]) -> Model:
         """A validated copy with ``{dotted.key: value}`` replaced (e.g. ``{"casing.E": 6e9}``).
 
         Keys must already exist in the model, or be a known optional key of an existing section;
@@ -157,7 +159,7 @@ class Model:
         text = json.dumps(self.data, sort_keys=True, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o))
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
-    def to_toml(self):
+    def to_toml(self) -> str:
         """The model as TOML text (round-trips through :func:`load_model`)."""
         return _to_toml(self.data)
 

@@ -44,7 +44,7 @@ def _columns(results, include_gap):
     return tuple(names), X
 
 
-def correlations(results, method="pearson", include_gap=True):
+def correlations(results: StudyResults | str, method: str = "pearson", include_gap: bool = True) -> Correlation:
     """Pearson or Spearman correlation of every parameter with every output over the ok samples.
 
     ``results`` is a :class:`StudyResults` or a CSV path. With ``include_gap`` and both diameters

@@ -17,6 +17,7 @@ from __future__ import annotations
 import json
 import math
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -103,7 +104,7 @@ class Ensemble:
             )
         ]
 
-    def save(self, path):
+    def save(self, path: str | os.PathLike) -> None:
         """Write the members as CSV: the header ``seed, <band labels> (N or N.m), contact_time_node<k>_s``,
         then one line ``# cablecasing-ensemble {JSON}`` with the output, band edges (Hz), overrides and
         settings (a comment line: ``numpy.genfromtxt(path, delimiter=",", names=True)`` and
@@ -126,7 +127,7 @@ class Ensemble:
             np.savetxt(f, np.column_stack(parts), delimiter=",", fmt=["%d"] + ["%.17g"] * (len(self.labels) + nodes))
 
 
-def load_ensemble(path):
+def load_ensemble(path: str | os.PathLike) -> Ensemble:
     """Read an ensemble written by :meth:`Ensemble.save` (``cablecasing ensemble --out``).
 
     Raises :class:`ModelError` naming the file when it is missing or is not such a CSV.
@@ -170,7 +171,7 @@ def load_ensemble(path):
     )
 
 
-def pool_ensembles(ensembles):
+def pool_ensembles(ensembles: Sequence[Ensemble | str | os.PathLike]) -> Ensemble:
     """One ensemble of the members of several, sorted by seed.
 
     ``ensembles`` is a sequence of :class:`Ensemble` objects or paths of their CSV files
@@ -244,7 +245,7 @@ class PairedDifference:
         return self.r - h, self.r + h
 
 
-def paired_difference(a, b):
+def paired_difference(a: Ensemble | np.ndarray, b: Ensemble | np.ndarray) -> PairedDifference:
     """Relative difference of the mean band levels of ``a`` against ``b`` and its standard error.
 
     ``a`` and ``b`` are :class:`Ensemble` objects run on the same seeds (or arrays ``(n, bands)`` whose

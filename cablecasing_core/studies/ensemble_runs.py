@@ -11,6 +11,8 @@ ensemble member is computed exactly like a study sample.
 from __future__ import annotations
 
 import os
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -22,14 +24,17 @@ from .evaluators import DEFAULT_EVALUATE
 from .executor import execute
 from .octave import Bands, octave_bands
 
+if TYPE_CHECKING:
+    from ..model import Model
 
-def random_excitations(model):
+
+def random_excitations(model: Model) -> tuple[str, ...]:
     """Names of the model's random excitations (``[scenario.excitation.NAME]`` with kind random), in
     the order of the model file."""
     return tuple(name for name, e in model.scenario["excitation"].items() if e["kind"] == "random")
 
 
-def seed_overrides(model, seed, excitations=None):
+def seed_overrides(model: Model, seed: int, excitations: Sequence[str] | None = None) -> dict[str, int]:
     """The model overrides of ensemble member ``seed``: ``{"scenario.excitation.NAME.seed": int}``.
 
     With one varied excitation, member ``s`` gives it seed ``s``, so a member is the single run of the
@@ -44,20 +49,20 @@ def seed_overrides(model, seed, excitations=None):
 
 
 def seed_ensemble(
-    model=None,
-    seeds=8,
+    model: Model | str | os.PathLike | None = None,
+    seeds: int | Sequence[int] = 8,
     *,
-    output="casing.B.Fz",
-    bands="table3",
-    duration=None,
-    dt=None,
-    skip=0.05,
-    overrides=None,
-    excitations=None,
+    output: str = "casing.B.Fz",
+    bands: str | Bands = "table3",
+    duration: float | None = None,
+    dt: float | None = None,
+    skip: float = 0.05,
+    overrides: Mapping[str, object] | None = None,
+    excitations: Sequence[str] | None = None,
     scheduler="serial",
-    n_workers=None,
-    progress=False,
-):
+    n_workers: int | None = None,
+    progress: bool = False,
+) -> Ensemble:
     """Band levels of a support output over an ensemble of excitation seeds.
 
     Parameters

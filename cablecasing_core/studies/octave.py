@@ -42,6 +42,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import signal as _signal
 
 from ..errors import ModelError
@@ -125,7 +126,7 @@ class BandRMS:
         return {lab: float(v) for lab, v in zip(self.labels, self.rms)}
 
 
-def octave_bands(kind="table3", f_min=None, f_max=None):
+def octave_bands(kind: str = "table3", f_min: float | None = None, f_max: float | None = None) -> Bands:
     """Band set of the paper's Table 3 or of IEC 61260-1 (base 10), edges in Hz.
 
     Parameters
@@ -209,7 +210,15 @@ def _band_sums(P, E, lower, upper):
     return ms, bins
 
 
-def octave_rms(x, fs, bands="table3", *, detrend=None, window="boxcar", beyond_nyquist="error"):
+def octave_rms(
+    x: ArrayLike,
+    fs: float,
+    bands: str | Bands = "table3",
+    *,
+    detrend: str | None = None,
+    window="boxcar",
+    beyond_nyquist: str = "error",
+) -> BandRMS:
     """RMS of a sampled signal in octave bands by Parseval over FFT bins (Section 4.4, Table 3, Fig. 23).
 
     Parameters

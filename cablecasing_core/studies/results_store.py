@@ -70,7 +70,7 @@ def _repair_tail(path):
     return False
 
 
-def load_results(path):
+def load_results(path: str | os.PathLike) -> StudyResults:
     """Read a study CSV written by :func:`run_study` into :class:`StudyResults` (sorted by index;
     parameters and outputs in the units they were written in, SI). Section 4.4.
 

@@ -36,7 +36,7 @@ PAPER_BOUNDS = {
 }
 
 
-def check_bounds(bounds=None, model=None):
+def check_bounds(bounds: dict | None = None, model=None) -> dict[str, tuple[float, float]]:
     """Validated ``{dotted.key: (low, high)}`` (SI units of the key). Section 4.4.
 
     ``None`` gives :data:`PAPER_BOUNDS`. Every key must be a numeric parameter of ``model`` (a Model,
@@ -72,7 +72,7 @@ def check_bounds(bounds=None, model=None):
     return out
 
 
-def latin_hypercube(bounds=None, n_samples=300, seed=0):
+def latin_hypercube(bounds: dict | None = None, n_samples: int = 300, seed: int = 0) -> np.ndarray:
     """Latin-hypercube design (n_samples, d) in the bounds' SI units (Section 4.4, "Monte Carlo").
 
     Columns follow the order of ``bounds`` (default :data:`PAPER_BOUNDS`). Each column has exactly

@@ -29,7 +29,15 @@ from ..errors import ModelError
 from ..model.validators import integer
 from .evaluators import DEFAULT_EVALUATE, DEFAULT_OUTPUTS
 from .executor import execute, resolve_evaluate, spec_name
-from .results_store import FORMAT_VERSION, META_COLUMNS, TAIL_COLUMNS, ResultsWriter, load_results, prepare_file
+from .results_store import (
+    FORMAT_VERSION,
+    META_COLUMNS,
+    TAIL_COLUMNS,
+    ResultsWriter,
+    StudyResults,
+    load_results,
+    prepare_file,
+)
 from .sampling import DEFAULT_CONSTRAINTS, check_bounds, latin_hypercube
 
 
@@ -49,7 +57,7 @@ def run_study(
     model=None,
     progress=True,
     max_in_flight=None,
-):
+) -> StudyResults:
     """Run (or resume) the Monte-Carlo study of Section 4.4 and write every sample to ``path`` (CSV).
 
     Parameters

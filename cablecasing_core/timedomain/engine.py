@@ -20,8 +20,11 @@ from __future__ import annotations
 
 import io
 import math
+from collections.abc import Mapping
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import ModelError, SimulationError
 from ..model.schema import CHANNELS, OUTPUTS, lookup
@@ -29,8 +32,12 @@ from ..model.validators import seconds
 from . import kernels as K
 from .body_storage import BodyStorage, body_arrays
 
+if TYPE_CHECKING:
+    from ..model import Model
+    from .scenario import Motion
 
-def hertz_constant(model):
+
+def hertz_constant(model: Model) -> float:
     """4/3 E* r^1/2 of Eq. (29) in N/m^1.5: E* from both moduli and Poisson ratios (Eq. 28), r from
     the cable radius (convex, r1 = d/2) and the casing's inner radius (concave, r2 = -d_inner/2),
     1/r = 1/r1 + 1/r2 (Eq. 27). Hertz's point-contact law; a wire lying in a tube is closer to a line
@@ -69,7 +76,14 @@ class Engine:
         penetration) for :meth:`history`.
     """
 
-    def __init__(self, model, dt=None, contact=None, ledger=True, record=False):
+    def __init__(
+        self,
+        model: Model,
+        dt: float | None = None,
+        contact: bool | None = None,
+        ledger: bool = True,
+        record: bool = False,
+    ):
         dt = model.scenario["dt"] if dt is None else dt
         lookup("scenario.dt").check(dt, "dt")
         self.model = model
@@ -154,7 +168,7 @@ class Engine:
         self.solver_counts = self._info[K.INFO_NEWTON_ITERATIONS : K.INFO_UNCONVERGED_STEPS + 1]
 
     # -------------------------------------------------------------------------------- state
-    def reset(self):
+    def reset(self) -> None:
         """Back to t = 0 with both bodies at rest in their reference configuration."""
         self.time = 0.0
         self._fbuf[:] = 0.0
@@ -164,7 +178,7 @@ class Engine:
 
     _ARRAYS = ("cstate", "celem", "cxi", "Pn", "vrel", "Nn", "gn", "fcs", "fcc", "reac", "ledger", "contact_time")
 
-    def get_state(self):
+    def get_state(self) -> dict[str, np.ndarray]:
         """The complete state as ``{name: array}`` (copies): time, U/V/A of each body, contact
         memory (state, element, forces), last reactions and the energy ledger."""
         s = {"time": np.array([self.time])}
@@ -174,7 +188,7 @@ class Engine:
             s[a] = getattr(self, a).copy()
         return s
 
-    def snapshot(self, into=None):
+    def snapshot(self, into: list | None = None) -> list:
         """The complete state (what :meth:`get_state` holds, and the solver counters) as an opaque
         list, cheaply: two buffer copies, written into ``into`` (an earlier snapshot of this engine)
         when given. For roll-back (:meth:`restore`); recorded histories are not part of it."""
@@ -185,13 +199,13 @@ class Engine:
         np.copyto(into[2], self._ibuf)
         return into
 
-    def restore(self, snap):
+    def restore(self, snap: list) -> None:
         """Return to a :meth:`snapshot` of this engine (continuation is bit-identical)."""
         self.time = snap[0]
         np.copyto(self._fbuf, snap[1])
         np.copyto(self._ibuf, snap[2])
 
-    def set_state(self, state):
+    def set_state(self, state: Mapping[str, ArrayLike]) -> None:
         """Restore a state from :meth:`get_state` (continuation is bit-identical). Every entry is
         checked before any is written, so a bad state leaves the engine as it was."""
         targets = [(f"{n}.{k}", getattr(b, k)) for n, b in self.bodies.items() for k in "UVA"]
@@ -313,7 +327,7 @@ class Engine:
 
     CHUNK = 2048  # steps per evaluation of the support motion (see advance)
 
-    def advance(self, h, motion):
+    def advance(self, h: float, motion: Motion) -> None:
         """Integrate from ``self.time`` to ``self.time + h`` (s) with the support ``motion``
         (callable t -> (u, v, a), each (len(t), 12), in m, m/s, m/s2 over ``CHANNELS``; a function
         of t alone, evaluated in chunks of :attr:`CHUNK` steps).
@@ -361,11 +375,11 @@ class Engine:
             raise
 
     # -------------------------------------------------------------------------------- outputs
-    def contact_potential(self):
+    def contact_potential(self) -> float:
         """Elastic energy stored in the contacts (J), from the penetrations at the current time."""
         return K.contact_potential(self.gn, self.law, self.k_lin, self.k_hertz)
 
-    def energies(self):
+    def energies(self) -> dict[str, float]:
         """Energy ledger in J: kinetic, strain, contact potential, work done by the supports,
         dissipated by Rayleigh damping, dissipated in the contacts (damping and friction together:
         the work of the contact forces less the stored contact energy), and the balance residual
@@ -398,7 +412,7 @@ class Engine:
             "residual": residual,
         }
 
-    def output_values(self, out=None):
+    def output_values(self, out: np.ndarray | None = None) -> np.ndarray:
         """The values of :meth:`outputs` as an array in the order of :data:`OUTPUTS` (written into
         ``out`` when given): one call instead of a dict, for the FMU's per-step reads."""
         out = np.empty(len(OUTPUTS)) if out is None else out
@@ -408,13 +422,13 @@ class Engine:
         out[26] = -self.ledger[K.LEDGER_CONTACT_WORK] - self.contact_potential()
         return out
 
-    def outputs(self):
+    def outputs(self) -> dict[str, float]:
         """Current outputs ``{name: value}`` for the names in :data:`OUTPUTS` (N, N.m, m, J)."""
         out = dict(zip(OUTPUTS, self.output_values().tolist()))
         out["contact.active"] = int(out["contact.active"])
         return out
 
-    def history(self, sparse=False):
+    def history(self, sparse: bool = False) -> dict[str, np.ndarray]:
         """Recorded histories (``record=True``) over all steps so far: ``support_forces`` (n x 24,
         N and N.m, :data:`SUPPORT_OUTPUTS`) and, per cable node, ``contact_state`` (0 open, 1 stick,
         2 slip), ``normal_force`` (N) and ``penetration`` (m), each n x nodes.
@@ -450,14 +464,14 @@ class Engine:
         return out
 
 
-def state_to_bytes(state):
+def state_to_bytes(state: Mapping[str, ArrayLike]) -> bytes:
     """Serialise a state dict of arrays (np.savez, no pickle)."""
     buf = io.BytesIO()
     np.savez(buf, **state)
     return buf.getvalue()
 
 
-def state_from_bytes(data):
+def state_from_bytes(data: bytes) -> dict[str, np.ndarray]:
     """Inverse of :func:`state_to_bytes`."""
     with np.load(io.BytesIO(bytes(data)), allow_pickle=False) as z:
         return {k: z[k] for k in z.files}

@@ -23,13 +23,22 @@ A to B (the cable's longitudinal excitation of Section 4.2).
 from __future__ import annotations
 
 import functools
+from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.interpolate import BPoly, CubicSpline
 
 from ..errors import ModelError
 from ..model.schema import CHANNELS, DIRECTIONS
 from ..structure.geometry import centerline_of
+
+if TYPE_CHECKING:
+    from ..model import Model
+
+#: A support motion: times t (s, n) -> (u, v, a), each (n, 12) in m, m/s, m/s2 over CHANNELS.
+Motion = Callable[[np.ndarray], tuple]
 
 
 def _random_record(rms, band, duration, dt, seed):
@@ -177,12 +186,12 @@ class ScenarioMotion:
         return tuple(out)
 
 
-def scenario_motion(model, dt=None, duration=None):
+def scenario_motion(model: Model, dt: float | None = None, duration: float | None = None) -> ScenarioMotion:
     """The :class:`ScenarioMotion` of ``model``'s ``[scenario]`` (see module docstring)."""
     return ScenarioMotion(model, dt, duration)
 
 
-def zero_motion(t):
+def zero_motion(t: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Supports at rest: (u, v, a) all zero, shape (len(t), 12)."""
     t = np.atleast_1d(t)
     z = np.zeros((len(t), len(CHANNELS)))

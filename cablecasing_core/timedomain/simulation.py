@@ -7,15 +7,22 @@
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import ModelError
 from ..model.schema import SUPPORT_OUTPUTS, lookup, output_spec
 from ..model.validators import Choice
 from .engine import Engine
 from .scenario import scenario_motion
+
+if TYPE_CHECKING:
+    from ..model import Model
+    from .scenario import Motion
 
 
 @dataclass
@@ -38,12 +45,12 @@ class SimulationResult:
     arc_length: np.ndarray
     energies: dict
 
-    def support_force(self, name):
+    def support_force(self, name: str) -> np.ndarray:
         """History of one support output, e.g. ``"casing.B.Fz"`` (N or N.m)."""
         Choice(*SUPPORT_OUTPUTS)("output", name)
         return self.support_forces[:, SUPPORT_OUTPUTS.index(name)]
 
-    def save(self, path):
+    def save(self, path: str | os.PathLike) -> None:
         """Write the support forces and contact summary: ``.csv`` (time and the 24 support outputs)
         or ``.npz`` (every array)."""
         path = str(path)
@@ -74,7 +81,13 @@ class SimulationResult:
             raise ModelError("--out", path, "must end in .csv or .npz")
 
 
-def simulate(model, duration=None, dt=None, contact=None, motion=None):
+def simulate(
+    model: Model,
+    duration: float | None = None,
+    dt: float | None = None,
+    contact: bool | None = None,
+    motion: Motion | None = None,
+) -> SimulationResult:
     """Run the model's scenario (or ``motion``) for ``duration`` s with time step ``dt`` s.
 
     Defaults come from ``[scenario]``; ``contact`` defaults to ``[contact] enabled``. Returns a
@@ -108,7 +121,7 @@ def simulate(model, duration=None, dt=None, contact=None, motion=None):
     )
 
 
-def contact_episodes(contact_state):
+def contact_episodes(contact_state: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The contact episodes of a record: runs of consecutive steps in which a cable node is in
     contact (stick or slip).
 

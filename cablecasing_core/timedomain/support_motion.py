@@ -28,6 +28,7 @@ engine exactly as the FMU does.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..model.validators import seconds
 from . import kernels as K
@@ -50,7 +51,7 @@ _K1 = np.arange(1, 6, dtype=float)[:, None]  # k for the first derivative
 _K2 = (np.arange(2, 6) * np.arange(1, 5)).astype(float)[:, None]  # k (k - 1)
 
 
-def taylor_target(u, v, a, h):
+def taylor_target(u: ArrayLike, v: ArrayLike, a: ArrayLike, h: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(u, v, a) at ``t + h`` extrapolated from the values at ``t`` (m, m/s, m/s2; h in s):
     ``u + v h + a h^2/2``, ``v + a h``, ``a``. Arrays of any (equal) shape; new arrays (the
     arithmetic of :func:`kernels.taylor_rows`, which the reconstruction calls)."""
@@ -114,7 +115,7 @@ class QuinticStep:
         K.quintic_values(self._c, self.t0, self.h, t, r)
         return r[0], r[1], r[2]
 
-    def end_state(self):
+    def end_state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(u, v, a) at ``t0 + h`` (copies)."""
         return tuple(x.copy() for x in self.end)
 
@@ -133,7 +134,7 @@ class SupportReconstruction:
         self.state = np.zeros((3, int(n)))  # rows u (m), v (m/s), a (m/s2)
         self._h = None
 
-    def motion(self, t0, h, u, v, a):
+    def motion(self, t0: float, h: float, u: ArrayLike, v: ArrayLike, a: ArrayLike) -> QuinticStep:
         """The :class:`QuinticStep` from the current support state to the Taylor target of the
         inputs (u, v, a) given at ``t0`` (s) over the step ``h`` (s)."""
         if h != self._h:  # a master usually keeps its communication step: cache per h
@@ -147,10 +148,10 @@ class SupportReconstruction:
         K.taylor_rows(self.state, u, v, a, self._h, rows)
         return QuinticStep.from_rows(float(t0), self._h, rows, self._G)
 
-    def accept(self, motion):
+    def accept(self, motion: QuinticStep) -> None:
         """Advance the support state to the end of ``motion`` (after the engine took the step)."""
         self.state = np.array(motion.end, dtype=float)
 
-    def reset(self):
+    def reset(self) -> None:
         """Supports at rest at their reference position."""
         self.state[:] = 0.0
