@@ -6,7 +6,9 @@ or the polyline itself (``curve = "polyline"``). It is cut into ``n_elements`` s
 equal arc length; each element carries a right-handed local frame (x along the element chord). The
 frame's y axis is carried from element to element by parallel transport (the minimal rotation that
 takes one chord direction into the next), so the frame is well defined on straight and on curved
-segments alike. The Frenet frame of Eqs. (33)-(35) is used only where curvature is needed.
+segments alike. Of the Frenet frame of Eqs. (33)-(35) the model needs the unit tangent (Eq. 33) at
+the nodes (each cable node's normal plane in the contact search, Eqs. 36-39) and the curvature
+|r' x r''| / |r'|^3 (the norm in Eq. 34), for the figures and the studies.
 """
 
 from __future__ import annotations
@@ -134,13 +136,3 @@ def centerline_of(model):
     """The centerline of a :class:`~cablecasing_core.model.Model` (shared by both bodies)."""
     g = model.geometry
     return build_centerline(g["points"], g["n_elements"], g["curve"])
-
-
-def frenet_frame(r1, r2):
-    """Tangent, normal and binormal (Eqs. 33-35) from the first and second derivatives."""
-    t = r1 / np.linalg.norm(r1)
-    b = np.cross(r1, r2)
-    nb = np.linalg.norm(b)
-    b = _perpendicular(t) if nb < 1e-14 else b / nb
-    n = np.cross(b, t)
-    return t, n, b
