@@ -242,36 +242,14 @@ class Engine:
         else:
             rec = self._no_record
         # the arrays are never rebound (see _allocate_state), so the arguments are built once per
-        # time step and setting (a changed attribute, e.g. contact, builds them anew)
-        key = (
-            dt,
-            self.contact,
-            self.ledger_on,
-            self.record,
-            self.law,
-            self.k_lin,
-            self.k_hertz,
-            self.c_n,
-            self.mu,
+        # time step and setting (a changed attribute, e.g. contact or mu, builds them anew)
+        law = K.ContactLaw(
+            self.contact, self.gap, self.r_in, self.r_cable, self.law, self.k_lin, self.k_hertz, self.c_n, self.mu,
             self.v_stick,
-            self.gap,
-            self.r_in,
-            self.r_cable,
-        )
+        )  # fmt: skip
+        key = (dt, self.ledger_on, self.record, law)
         args, step_loop = self._call_args.get(key, (None, None))
         if args is None:
-            law = K.ContactLaw(
-                self.contact,
-                self.gap,
-                self.r_in,
-                self.r_cable,
-                self.law,
-                self.k_lin,
-                self.k_hertz,
-                self.c_n,
-                self.mu,
-                self.v_stick,
-            )
             contact = K.ContactArrays(
                 self.Xc,
                 self.Tc,
