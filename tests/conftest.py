@@ -1,7 +1,7 @@
 """Fixtures shared by the tests: beam models with closed-form answers, and the built FMU.
 
 Tests take what they share from here as fixtures (no module of the tests imports another: pytest
-runs with ``--import-mode=importlib``). Areas: model/, frequency/, timedomain/, identification/,
+runs with ``--import-mode=importlib``). Areas: model/, frequency/, timedomain/, identification/, docs/,
 studies/, fmu/, cli/. Tests that take more than a few seconds on a warm numba cache, or start
 processes (the FMU, dask clusters, the demo), are marked ``slow``; ``make test-fast`` leaves them out.
 """
