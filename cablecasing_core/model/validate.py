@@ -50,14 +50,13 @@ def _body(name, data):
     return out
 
 
-def _target(key, value, bodies):
-    value = lookup(key).check(value, key)
-    body, support, _ = value.split(".")
+def _on_a_clamped_support(key, target, bodies):
+    """The target (format checked by the schema) names a body of the model and a clamped support."""
+    body, support, _ = target.split(".")
     if body not in bodies:
-        raise ModelError(key, value, f"names body '{body}', which this model does not have")
+        raise ModelError(key, target, f"names body '{body}', which this model does not have")
     if bodies[body]["supports"][support] != "clamped":
-        raise ModelError(key, value, f"support {body}.{support} is free; only clamped supports can be driven")
-    return value
+        raise ModelError(key, target, f"support {body}.{support} is free; only clamped supports can be driven")
 
 
 def _excitation(key, e, scenario, bodies, base_dir):
@@ -65,9 +64,8 @@ def _excitation(key, e, scenario, bodies, base_dir):
         raise ModelError(key, e, "must be a table with target and kind")
     kind = lookup(f"{key}.kind").check(e.get("kind"), f"{key}.kind")
     specs = [s for s in table("scenario.excitation.<name>") if not s.kinds or kind in s.kinds]
-    check_keys(key, e, {s.name for s in specs}, ["target"])
-    out = {"target": _target(f"{key}.target", e["target"], bodies)}
-    out.update(_table(key, e, [s for s in specs if s.name != "target"], extra=("target",)))
+    out = _table(key, e, specs)
+    _on_a_clamped_support(f"{key}.target", out["target"], bodies)
     for s in specs:
         if s.default_from and s.name not in out:
             out[s.name] = s.check(scenario[s.default_from.split(".")[1]], f"{key}.{s.name}")
