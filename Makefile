@@ -1,12 +1,13 @@
 # Two entry points on a fresh machine with only Python 3.10+:
 #   make demo   builds the FMU and runs the default scenario, writing results/
-#   make test   runs the test suite
+#   make test   lint (ruff check, ruff format --check) and the whole test suite (what .ci/run calls)
+# and make test-fast: the same without the tests marked slow.
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: venv demo test bench fmu clean
+.PHONY: venv demo lint test test-fast bench fmu clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -20,10 +21,17 @@ fmu: $(STAMP)
 	$(PY) build_fmu.py
 
 demo: $(STAMP)
-	$(PY) -m cablecasing_core.demo --out results
+	$(PY) examples/demo.py --out results
 
-test: $(STAMP)
-	$(PY) -m pytest -q -ra
+lint: $(STAMP)
+	$(PY) -m ruff check .
+	$(PY) -m ruff format --check .
+
+test: lint
+	$(PY) -m pytest -q -ra --durations=15
+
+test-fast: lint
+	$(PY) -m pytest -q -ra --durations=15 -m "not slow"
 
 bench: $(STAMP)
 	$(PY) benchmarks/bench_frequency.py

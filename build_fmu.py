@@ -1,7 +1,7 @@
 """Build dist/CableCasing.fmu (FMI 2.0 co-simulation) from fmu_src/ with pythonfmu, then complete it.
 
 pythonfmu writes the variables, the co-simulation capability flags and the Outputs. This script
-copies the ``cablecasing_core`` package (and the numba cache locator) into ``resources/`` and then
+copies the ``cablecasing_core`` package (with its numba cache locator) into ``resources/`` and then
 rewrites the archive with what pythonfmu does not write:
 
 * a unit on every Real variable and the ``UnitDefinitions`` (SI base-unit exponents);
@@ -14,14 +14,15 @@ rewrites the archive with what pythonfmu does not write:
 
 Usage: python build_fmu.py [--out dist/CableCasing.fmu]
 """
+
 from __future__ import annotations
 
 import argparse
 import datetime
 import hashlib
 import html
-import os
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -36,7 +37,7 @@ ROOT = Path(__file__).resolve().parent
 SLAVE = ROOT / "fmu_src" / "CableCasing.py"
 BRIDGE = ROOT / "fmu_src" / "cablecasing_fmi2_bridge.py"
 NATIVE = ROOT / "fmu_src" / "native" / "cablecasing_fmi2.c"
-EXTRA_RESOURCES = [ROOT / "fmu_src" / "cablecasing_fmu_cache.py", BRIDGE]
+EXTRA_RESOURCES = [BRIDGE]
 # the packages the FMU's Python code imports (their minimum versions are read from pyproject.toml)
 RUNTIME_PACKAGES = ("numpy", "scipy", "numba")
 PACKAGE = ROOT / "cablecasing_core"
@@ -44,17 +45,32 @@ IGNORE = shutil.ignore_patterns("__pycache__", "*.pyc", "*.nbi", "*.nbc", ".*")
 
 # unit -> exponents of the SI base units (FMI 2.0 BaseUnit attributes)
 UNITS = {
-    "1": {}, "m": {"m": 1}, "m/s": {"m": 1, "s": -1}, "m/s2": {"m": 1, "s": -2}, "s": {"s": 1},
-    "1/s": {"s": -1}, "Hz": {"s": -1}, "rad": {"rad": 1}, "N": {"kg": 1, "m": 1, "s": -2},
-    "N.m": {"kg": 1, "m": 2, "s": -2}, "J": {"kg": 1, "m": 2, "s": -2}, "Pa": {"kg": 1, "m": -1, "s": -2},
-    "kg/m3": {"kg": 1, "m": -3}, "kg/s": {"kg": 1, "s": -1}, "N/m": {"kg": 1, "s": -2}, "m4": {"m": 4},
+    "1": {},
+    "m": {"m": 1},
+    "m/s": {"m": 1, "s": -1},
+    "m/s2": {"m": 1, "s": -2},
+    "s": {"s": 1},
+    "1/s": {"s": -1},
+    "Hz": {"s": -1},
+    "rad": {"rad": 1},
+    "N": {"kg": 1, "m": 1, "s": -2},
+    "N.m": {"kg": 1, "m": 2, "s": -2},
+    "J": {"kg": 1, "m": 2, "s": -2},
+    "Pa": {"kg": 1, "m": -1, "s": -2},
+    "kg/m3": {"kg": 1, "m": -3},
+    "kg/s": {"kg": 1, "s": -1},
+    "N/m": {"kg": 1, "s": -2},
+    "m4": {"m": 4},
 }
 
 
 def sources():
     """Every file the FMU is built from (for the staleness check of the tests, and the date)."""
-    files = [p for p in PACKAGE.rglob("*") if p.is_file() and p.suffix in (".py", ".toml", ".csv")
-             and "__pycache__" not in p.parts]
+    files = [
+        p
+        for p in PACKAGE.rglob("*")
+        if p.is_file() and p.suffix in (".py", ".toml", ".csv") and "__pycache__" not in p.parts
+    ]
     return sorted(files + [SLAVE, NATIVE, *EXTRA_RESOURCES, ROOT / "pyproject.toml", Path(__file__).resolve()])
 
 
@@ -121,15 +137,14 @@ def variable_rows(slave_module):
 
 def write_documentation(folder, rows):
     import cablecasing_core as cc
-    from cablecasing_core.geometry import centerline_of
     from cablecasing_core.plotting import plot_geometry
+    from cablecasing_core.structure.geometry import centerline_of
 
     folder.mkdir(parents=True, exist_ok=True)
     model = cc.load_model()
     plot_geometry(centerline_of(model), folder / "geometry.png")
     gap = model.radial_gap
-    table = "\n".join(
-        "<tr>" + "".join(f"<td>{html.escape(str(x))}</td>" for x in r) + "</tr>" for r in rows)
+    table = "\n".join("<tr>" + "".join(f"<td>{html.escape(str(x))}</td>" for x in r) + "</tr>" for r in rows)
     (folder / "index.html").write_text(f"""<!doctype html>
 <html lang="en"><head><meta charset="utf-8"><title>CableCasing FMU</title>
 <style>body{{font-family:sans-serif;max-width:60em;margin:auto}} td,th{{border:1px solid #999;padding:2px 6px}}
@@ -203,7 +218,9 @@ Python, a missing package) is also written to stderr.</p>
 </body></html>
 """)
     ver = f"{sys.version_info.major}.{sys.version_info.minor}"
-    (folder / "externalDependencies.txt").write_text(f"""CableCasing.fmu runs Python code: the model package cablecasing_core (inside resources/).
+    (
+        folder / "externalDependencies.txt"
+    ).write_text(f"""CableCasing.fmu runs Python code: the model package cablecasing_core (inside resources/).
 
 The host needs CPython {ver} (64-bit, with its shared library) and the packages
 {runtime_requirements().replace(";", ", ")} in that Python.
@@ -241,15 +258,34 @@ def compile_native(out):
         return False
     compiler = os.environ.get("CC") or shutil.which("gcc") or shutil.which("cc")
     if not compiler:
-        print("warning: no C compiler (gcc/cc): binaries/linux64 is pythonfmu's, which needs LD_PRELOAD of "
-              "libpython in non-Python hosts (docs/fmu.md)", file=sys.stderr)
+        print(
+            "warning: no C compiler (gcc/cc): binaries/linux64 is pythonfmu's, which needs LD_PRELOAD of "
+            "libpython in non-Python hosts (docs/fmu.md)",
+            file=sys.stderr,
+        )
         return False
     import fmpy
 
-    headers = Path(fmpy.__file__).parent / "c-code"      # the FMI 2.0 headers (fmi2Functions.h, ...)
-    cmd = [compiler, "-O2", "-fPIC", "-shared", "-fvisibility=hidden", "-Wall", "-Wextra", "-Werror",
-           "-Wno-format-truncation", f"-I{sysconfig.get_paths()['include']}", f"-I{headers}", "-o", str(out),
-           str(NATIVE), "-ldl", "-lpthread", "-Wl,--no-undefined"]
+    headers = Path(fmpy.__file__).parent / "c-code"  # the FMI 2.0 headers (fmi2Functions.h, ...)
+    cmd = [
+        compiler,
+        "-O2",
+        "-fPIC",
+        "-shared",
+        "-fvisibility=hidden",
+        "-Wall",
+        "-Wextra",
+        "-Werror",
+        "-Wno-format-truncation",
+        f"-I{sysconfig.get_paths()['include']}",
+        f"-I{headers}",
+        "-o",
+        str(out),
+        str(NATIVE),
+        "-ldl",
+        "-lpthread",
+        "-Wl,--no-undefined",
+    ]
     subprocess.run(cmd, check=True)
     return True
 
@@ -272,9 +308,14 @@ def environment_record(guid, version):
     """resources/python-environment.txt: the interpreter the FMU's binary starts in a host without
     Python (this build's), the packages it needs, and the GUID the binary checks."""
     lib = Path(sysconfig.get_config_var("LIBDIR") or "") / (sysconfig.get_config_var("INSTSONAME") or "")
-    lines = {"executable": sys.executable, "libpython": str(lib),
-             "python": f"{sys.version_info.major}.{sys.version_info.minor}", "version": version,
-             "requirements": runtime_requirements(), "guid": guid}
+    lines = {
+        "executable": sys.executable,
+        "libpython": str(lib),
+        "python": f"{sys.version_info.major}.{sys.version_info.minor}",
+        "version": version,
+        "requirements": runtime_requirements(),
+        "guid": guid,
+    }
     return "".join(f"{k}={v}\n" for k, v in lines.items()).encode()
 
 
@@ -306,10 +347,12 @@ def compiled_kernels(entries):
     with tempfile.TemporaryDirectory(prefix="cablecasing_warm_") as stage:
         for name, data in entries.items():
             if name.startswith("resources/"):
-                path = Path(stage) / name[len("resources/"):]
+                path = Path(stage) / name[len("resources/") :]
                 path.parent.mkdir(parents=True, exist_ok=True)
                 path.write_bytes(data)
-        res = subprocess.run([sys.executable, "-c", WARM_UP, stage], check=True, capture_output=True, text=True)
+        res = subprocess.run([sys.executable, "-c", WARM_UP, stage], capture_output=True, text=True)
+        if res.returncode != 0:
+            raise SystemExit(f"the bundled slave does not run (warm-up of the numba cache failed):\n{res.stderr}")
         for folder in json.loads(res.stdout.strip().splitlines()[-1]):
             for f in sorted(Path(folder).iterdir()):
                 if f.suffix in (".nbi", ".nbc"):
@@ -339,10 +382,17 @@ def build(out):
         shutil.copytree(PACKAGE, tmp / "cablecasing_core", ignore=IGNORE)
         doc = tmp / "documentation"
         write_documentation(doc, variable_rows(slave_module))
-        raw = FmuBuilder.build_FMU(SLAVE, dest=tmp / "raw", project_files=[tmp / "cablecasing_core", *EXTRA_RESOURCES],
-                                   documentation_folder=doc, canGetAndSetFMUstate=True, canSerializeFMUstate=True,
-                                   canHandleVariableCommunicationStepSize=True,
-                                   canBeInstantiatedOnlyOncePerProcess=False, needsExecutionTool=True)
+        raw = FmuBuilder.build_FMU(
+            SLAVE,
+            dest=tmp / "raw",
+            project_files=[tmp / "cablecasing_core", *EXTRA_RESOURCES],
+            documentation_folder=doc,
+            canGetAndSetFMUstate=True,
+            canSerializeFMUstate=True,
+            canHandleVariableCommunicationStepSize=True,
+            canBeInstantiatedOnlyOncePerProcess=False,
+            needsExecutionTool=True,
+        )
         units = slave_module.CableCasing(instance_name="units", resources=str(SLAVE.parent)).units
         with zipfile.ZipFile(raw) as src:
             entries = {i.filename: src.read(i.filename) for i in src.infolist() if not i.is_dir()}

@@ -13,6 +13,7 @@ Run:  git archive HEAD cablecasing_core | tar -x -C /tmp/A    (and the change in
       .venv/bin/python benchmarks/ab_kernels.py /tmp/A /tmp/B [--duration 1.0] [--no-contact] [--no-record]
                                                [--step 1e-4]   (FMU-like calls: per-call costs)
 """
+
 import argparse
 import atexit
 import importlib
@@ -36,19 +37,20 @@ import numpy as np  # noqa: E402
 
 def load(root, name):
     """Import ``root/cablecasing_core`` as package ``name``."""
-    spec = importlib.util.spec_from_file_location(name, f"{root}/cablecasing_core/__init__.py",
-                                                  submodule_search_locations=[f"{root}/cablecasing_core"])
+    spec = importlib.util.spec_from_file_location(
+        name, f"{root}/cablecasing_core/__init__.py", submodule_search_locations=[f"{root}/cablecasing_core"]
+    )
     mod = importlib.util.module_from_spec(spec)
     sys.modules[name] = mod
     spec.loader.exec_module(mod)
     return mod
 
 
-def fmu_like(kinematics, eng, motion, h):
+def fmu_like(support_motion, eng, motion, h):
     """advance(duration): what the FMU does per communication step h (s), without fmpy: the
     scenario sampled at the step's start, the support reconstruction, one Engine.advance, the
     outputs read."""
-    rec = kinematics.SupportReconstruction(12)
+    rec = support_motion.SupportReconstruction(12)
     read = getattr(eng, "output_values", eng.outputs)
 
     def advance(duration):
@@ -58,7 +60,17 @@ def fmu_like(kinematics, eng, motion, h):
             eng.advance(h, m)
             rec.accept(m)
             read()
+
     return advance
+
+
+def module(name, new, old):
+    """``name.new``, or ``name.old`` in a tree of the flat layout before issue 22 (so that a tree can
+    be compared with one from before the renovation)."""
+    try:
+        return importlib.import_module(f"{name}.{new}")
+    except ModuleNotFoundError:
+        return importlib.import_module(f"{name}.{old}")
 
 
 def main():
@@ -68,26 +80,39 @@ def main():
     p.add_argument("--duration", type=float, default=1.0, help="simulated time per tree (s)")
     p.add_argument("--no-contact", action="store_true")
     p.add_argument("--no-record", action="store_true")
-    p.add_argument("--step", type=float, default=None,
-                   help="advance in calls of this many seconds as the FMU does (inputs sampled at the call's "
-                        "start, kinematics.SupportReconstruction, outputs read after each call); default: one "
-                        "call per chunk")
+    p.add_argument(
+        "--step",
+        type=float,
+        default=None,
+        help="advance in calls of this many seconds as the FMU does (inputs sampled at the call's "
+        "start, timedomain.support_motion.SupportReconstruction, outputs read after each call); default: one "
+        "call per chunk",
+    )
     args = p.parse_args()
     dt, chunk = 1e-5, 0.01
     runs = []
     for root, name in ((args.a, "ccA"), (args.b, "ccB")):
         cc = load(root, name)
-        engine = importlib.import_module(f"{name}.engine")
-        scenario = importlib.import_module(f"{name}.scenario")
-        model = cc.load_model()
-        engine.Engine(model, dt=dt, ledger=False).advance(dt, scenario.scenario_motion(model))   # numba
+        engine = module(name, "timedomain.engine", "engine")
+        scenario = module(name, "timedomain.scenario", "scenario")
+        # the tree's own specimen file (load_model(None) reads the installed package's)
+        specimen = next(
+            f
+            for f in (
+                f"{root}/cablecasing_core/model/specimens/default.toml",
+                f"{root}/cablecasing_core/data/default_model.toml",
+            )
+            if os.path.exists(f)
+        )
+        model = cc.load_model(specimen)
+        engine.Engine(model, dt=dt, ledger=False).advance(dt, scenario.scenario_motion(model))  # numba
         eng = engine.Engine(model, dt=dt, contact=not args.no_contact, ledger=False, record=not args.no_record)
         motion = scenario.scenario_motion(model, dt=dt, duration=args.duration)
         if args.step:
-            motion = fmu_like(importlib.import_module(f"{name}.kinematics"), eng, motion, args.step)
+            motion = fmu_like(module(name, "timedomain.support_motion", "kinematics"), eng, motion, args.step)
         runs.append((eng, motion, []))
     for k in range(int(round(args.duration / chunk))):
-        for eng, motion, walls in (runs if k % 2 == 0 else runs[::-1]):
+        for eng, motion, walls in runs if k % 2 == 0 else runs[::-1]:
             t0 = time.perf_counter()
             if args.step:
                 motion(chunk)
@@ -96,7 +121,7 @@ def main():
             walls.append(time.perf_counter() - t0)
     ta, tb = (np.array(r[2]) for r in runs)
     r = tb / ta
-    per_step = lambda w: np.median(w) / chunk * dt * 1e6   # noqa: E731
+    per_step = lambda w: np.median(w) / chunk * dt * 1e6  # noqa: E731
     print(f"us_per_step_median_A: {per_step(ta):.2f}")
     print(f"us_per_step_median_B: {per_step(tb):.2f}")
     print(f"ratio_B_over_A_median: {np.median(r):.3f}")

@@ -22,6 +22,7 @@ The machine is shared: each figure is the fastest of ``--repeat`` runs, taken al
 
 Run: .venv/bin/python benchmarks/bench_fmu.py [--duration 1.0] [--repeat 3]
 """
+
 import argparse
 import os
 import subprocess
@@ -33,17 +34,17 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "tests"))
+sys.path.insert(0, str(ROOT / "tests" / "fmu"))
 sys.path.insert(0, str(ROOT))
 
-import build_fmu  # noqa: E402
 import fmu_driver  # noqa: E402
 
+import build_fmu  # noqa: E402
 import cablecasing_core as cc  # noqa: E402
-from cablecasing_core.config import CHANNELS  # noqa: E402
-from cablecasing_core.engine import OUTPUTS, Engine  # noqa: E402
-from cablecasing_core.kinematics import SupportReconstruction  # noqa: E402
-from cablecasing_core.scenario import scenario_motion  # noqa: E402
+from cablecasing_core.model.schema import CHANNELS, OUTPUTS  # noqa: E402
+from cablecasing_core.timedomain.engine import Engine  # noqa: E402
+from cablecasing_core.timedomain.scenario import scenario_motion  # noqa: E402
+from cablecasing_core.timedomain.support_motion import SupportReconstruction  # noqa: E402
 
 FMU = ROOT / "dist" / "CableCasing.fmu"
 FMUSIM = ROOT.parent / "shared" / "hosts" / "fmusim"
@@ -60,10 +61,11 @@ def engine_run(model, table, h):
     out = np.zeros(len(OUTPUTS))
 
     def step(row):
-        m = rec.motion(eng.time, h, row[:NCH], row[NCH:2 * NCH], row[2 * NCH:])
+        m = rec.motion(eng.time, h, row[:NCH], row[NCH : 2 * NCH], row[2 * NCH :])
         eng.advance(h, m)
         rec.accept(m)
         eng.output_values(out)
+
     step(table[0])
     t0 = time.perf_counter()
     for row in table[1:]:
@@ -81,9 +83,25 @@ def write_fmusim_inputs(path, table, h):
 
 def fmusim_wall(inputs, stop, h, out):
     t0 = time.perf_counter()
-    subprocess.run([str(FMUSIM), "--interface-type", "cs", "--stop-time", repr(stop), "--output-interval", repr(h),
-                    "--input-file", str(inputs), "--output-file", str(out), str(FMU)], env=PLAIN, check=True,
-                   capture_output=True)
+    subprocess.run(
+        [
+            str(FMUSIM),
+            "--interface-type",
+            "cs",
+            "--stop-time",
+            repr(stop),
+            "--output-interval",
+            repr(h),
+            "--input-file",
+            str(inputs),
+            "--output-file",
+            str(out),
+            str(FMU),
+        ],
+        env=PLAIN,
+        check=True,
+        capture_output=True,
+    )
     return time.perf_counter() - t0
 
 
@@ -102,12 +120,12 @@ def main():
     model = cc.load_model()
     n = int(round(args.duration / h))
     short = n // 5
-    table = np.hstack(scenario_motion(model)(h * np.arange(n + 1)))     # the master's samples at t = k h
+    table = np.hstack(scenario_motion(model)(h * np.arange(n + 1)))  # the master's samples at t = k h
     eng_s, fmpy_s, sim_long, sim_short, cold, warm = [], [], [], [], [], []
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         write_fmusim_inputs(tmp / "inputs.csv", table, h)
-        fmu_driver.run(tmp, "run", FMU, inputs=table[:2], h=h, outputs=["casing.B.Fz"])    # warm the caches
+        fmu_driver.run(tmp, "run", FMU, inputs=table[:2], h=h, outputs=["casing.B.Fz"])  # warm the caches
         for k in range(args.repeat):
             eng_s.append(engine_run(model, table[:n], h) / (n - 1))
             res = fmu_driver.run(tmp, "run", FMU, inputs=table[:n], h=h, outputs=list(OUTPUTS))

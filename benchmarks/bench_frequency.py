@@ -2,13 +2,14 @@
 
 Run: .venv/bin/python benchmarks/bench_frequency.py   (prints name: value lines)
 """
+
 import time
 
 import numpy as np
 
 import cablecasing_core as cc
-from cablecasing_core.assembly import assemble_body
-from cablecasing_core.frequency import FrequencyResponse
+from cablecasing_core.frequency.trfam import FrequencyResponse
+from cablecasing_core.structure.assembly import assemble_body
 
 model = cc.load_model()
 f = np.linspace(10.0, 1000.0, 2000)

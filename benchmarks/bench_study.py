@@ -15,7 +15,7 @@ first import are excluded: each worker imports the evaluate function before timi
 best of ``--repeat`` runs (default 2), since other load on the machine can only slow a run down.
 
 Evaluate function (``--evaluate``):
-  burn (default)  a fixed amount of CPU work per sample (``_cpu_burn_evaluate``: octave RMS of a
+  burn (default)  a fixed amount of CPU work per sample (``cpu_burn_evaluate``: octave RMS of a
                   cache-sized synthetic record, repeated), calibrated on a worker to about
                   ``--seconds`` s: a stand-in for the time-domain model.
   package.module:function   any evaluate(overrides, **kwargs) -> {band: rms}, e.g. the real
@@ -23,6 +23,7 @@ Evaluate function (``--evaluate``):
 
 Run: .venv/bin/python benchmarks/bench_study.py [--samples 24] [--seconds 0.5] [--evaluate burn]
 """
+
 import argparse
 import json
 import os
@@ -33,15 +34,15 @@ from multiprocessing import get_context
 from distributed import Client, LocalCluster
 
 from cablecasing_core.studies import PAPER_BOUNDS, latin_hypercube, resolve_evaluate, run_study
-from cablecasing_core.studies.montecarlo import _cpu_burn_evaluate
+from cablecasing_core.studies.evaluators import cpu_burn_evaluate
 
-BURN = "cablecasing_core.studies.montecarlo:_cpu_burn_evaluate"
+BURN = "cablecasing_core.studies.evaluators:cpu_burn_evaluate"
 
 
 def _timed_burn(params, repeats):
     """Wall time (s) of one burn evaluation with ``repeats`` repetitions."""
     t0 = time.perf_counter()
-    _cpu_burn_evaluate(params, repeats=repeats)
+    cpu_burn_evaluate(params, repeats=repeats)
     return time.perf_counter() - t0
 
 
@@ -54,7 +55,7 @@ def _raw_rate(spec, kwargs, design, processes):
     """Samples per minute of the bare evaluate in a spawn pool of ``processes`` (no dask)."""
     jobs = [(spec, kwargs, dict(zip(PAPER_BOUNDS, row.tolist()))) for row in design]
     with get_context("spawn").Pool(processes) as pool:
-        pool.map(_plain_call, jobs[:processes], chunksize=1)          # import and warm up
+        pool.map(_plain_call, jobs[:processes], chunksize=1)  # import and warm up
         t0 = time.perf_counter()
         pool.map(_plain_call, jobs, chunksize=1)
         return len(jobs) / (time.perf_counter() - t0) * 60.0
@@ -73,24 +74,36 @@ def main():
 
     kwargs = json.loads(args.kwargs)
     spec = BURN if args.evaluate == "burn" else args.evaluate
-    resolve_evaluate(spec)                                           # fail early on a bad path
+    resolve_evaluate(spec)  # fail early on a bad path
     centre = {k: 0.5 * (lo + hi) for k, (lo, hi) in PAPER_BOUNDS.items()}
 
     rates = {}
     with tempfile.TemporaryDirectory() as tmp:
         for workers in (1, 2):
-            with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                              dashboard_address=None) as cluster, Client(cluster) as client:
-                client.run(resolve_evaluate, spec)                 # import on every worker before timing
-                if spec == BURN and "repeats" not in kwargs:        # calibrate on a worker
-                    client.submit(_cpu_burn_evaluate, centre, repeats=20, pure=False).result()
+            with (
+                LocalCluster(
+                    n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
+                ) as cluster,
+                Client(cluster) as client,
+            ):
+                client.run(resolve_evaluate, spec)  # import on every worker before timing
+                if spec == BURN and "repeats" not in kwargs:  # calibrate on a worker
+                    client.submit(cpu_burn_evaluate, centre, repeats=20, pure=False).result()
                     per_repeat = client.submit(_timed_burn, centre, 200, pure=False).result() / 200
                     kwargs["repeats"] = max(1, round(args.seconds / per_repeat))
                 best = 0.0
-                for rep in range(args.repeat):                     # best of --repeat: host noise only slows
+                for rep in range(args.repeat):  # best of --repeat: host noise only slows
                     t0 = time.perf_counter()
-                    res = run_study(os.path.join(tmp, f"w{workers}-{rep}.csv"), spec, PAPER_BOUNDS, args.samples,
-                                    args.seed, evaluate_kwargs=kwargs, scheduler=client, progress=False)
+                    res = run_study(
+                        os.path.join(tmp, f"w{workers}-{rep}.csv"),
+                        spec,
+                        PAPER_BOUNDS,
+                        args.samples,
+                        args.seed,
+                        evaluate_kwargs=kwargs,
+                        scheduler=client,
+                        progress=False,
+                    )
                     best = max(best, args.samples / (time.perf_counter() - t0) * 60.0)
                     ok = int(res.ok.sum())
                     if ok != args.samples:
@@ -114,5 +127,5 @@ def main():
     print(f"cpu_count: {os.cpu_count()}")
 
 
-if __name__ == "__main__":      # dask's worker processes are spawned: guard the entry point
+if __name__ == "__main__":  # dask's worker processes are spawned: guard the entry point
     main()

@@ -43,6 +43,7 @@ too uncertain to read |r| / SE; records shorter than about 0.5 s have not fully 
 Run: .venv/bin/python benchmarks/bench_time.py --duration 1.0 --ensemble 16   (17.5 min on the shared
 2-core machine, 14.3 of them the ensemble; see docs/time_domain.md for the figures)
 """
+
 import argparse
 import time
 from multiprocessing import get_context
@@ -50,9 +51,10 @@ from multiprocessing import get_context
 import numpy as np
 
 import cablecasing_core as cc
-from cablecasing_core.engine import SUPPORT_OUTPUTS, Engine
-from cablecasing_core.scenario import scenario_motion
+from cablecasing_core.model.schema import SUPPORT_OUTPUTS
 from cablecasing_core.studies import octave_rms, paired_difference
+from cablecasing_core.timedomain.engine import Engine
+from cablecasing_core.timedomain.scenario import scenario_motion
 
 p = argparse.ArgumentParser()
 p.add_argument("--duration", type=float, default=1.0)
@@ -60,9 +62,13 @@ p.add_argument("--repeat", type=int, default=3)
 p.add_argument("--ensemble", type=int, default=0, help="seeds of the ensemble accuracy check (0: skip it)")
 p.add_argument("--workers", type=int, default=2, help="processes of the ensemble runs")
 p.add_argument("--ensemble-save", default=None, help="write the ensemble's band levels to this .npz")
-p.add_argument("--ensemble-reference-dt", type=float, default=2.5e-6,
-               help="s: the time step the ensemble compares dt = 1e-5 with (default 2.5e-6; 3.125e-7 resolves "
-                    "the contacts' rattle, docs/time_domain.md)")
+p.add_argument(
+    "--ensemble-reference-dt",
+    type=float,
+    default=2.5e-6,
+    help="s: the time step the ensemble compares dt = 1e-5 with (default 2.5e-6; 3.125e-7 resolves "
+    "the contacts' rattle, docs/time_domain.md)",
+)
 args = p.parse_args()
 if not 1e-8 <= args.ensemble_reference_dt < 1e-5:
     p.error(f"--ensemble-reference-dt {args.ensemble_reference_dt}: must lie in [1e-8 s, 1e-5 s)")
@@ -88,13 +94,14 @@ for contact, label in ((True, "coupled"), (False, "linear")):
     print(f"us_per_step_{label}_slowest_run: {max(walls) / steps * 1e6:.2f}")
     if contact:
         h = eng.history()
-        nc = np.count_nonzero(h['contact_state'], axis=1)
+        nc = np.count_nonzero(h["contact_state"], axis=1)
         print(f"mean_active_contacts: {np.mean(nc):.3f}")
         # the cost of a step grows with the contacts (Delassus O(n^2); Newton on one unknown per
         # slipping contact, three per sticking one), and a record can settle into a regime with many
         # more of them (see docs/performance.md)
-        print("mean_active_contacts_by_tenth:", " ".join(f"{x:.2f}" for x in
-                                                       (c.mean() for c in np.array_split(nc, 10))))
+        print(
+            "mean_active_contacts_by_tenth:", " ".join(f"{x:.2f}" for x in (c.mean() for c in np.array_split(nc, 10)))
+        )
         its, passes, failed = eng.solver_counts
         print(f"contact_newton_iterations_per_step: {its / steps:.3f}")
         print(f"contact_stick_slip_passes_per_step: {passes / steps:.3f}")
@@ -146,9 +153,11 @@ tr, Fr = runs[2.5e-6]
 rms = np.sqrt(np.mean(Fr[tr > 0.05] ** 2))
 for dt in (1e-5, 5e-6):
     # the same excitation record (its length sets its frequency lines), only 0.05 s of it
-    t, F = runs[dt] if dt in runs else force(model, dt, 0.05, motion=scenario_motion(model, dt=dt, duration=args.duration))
+    t, F = (
+        runs[dt] if dt in runs else force(model, dt, 0.05, motion=scenario_motion(model, dt=dt, duration=args.duration))
+    )
     e = t < 0.05
-    Fref = np.interp(t[e], tr, Fr)          # the reference at the coarse times (common grid points)
+    Fref = np.interp(t[e], tr, Fr)  # the reference at the coarse times (common grid points)
     print(f"early_force_err_dt{dt:g}: {np.max(np.abs(F[e] - Fref)) / rms:.2e}")
 
 
@@ -170,8 +179,9 @@ RANDOM_KEY = "scenario.excitation.casing_random"
 
 def ensemble_run(job):
     seed, dt, scale = job
-    m = model.with_overrides({f"{RANDOM_KEY}.seed": seed,
-                              f"{RANDOM_KEY}.rms": model.scenario["excitation"]["casing_random"]["rms"] * scale})
+    m = model.with_overrides(
+        {f"{RANDOM_KEY}.seed": seed, f"{RANDOM_KEY}.rms": model.scenario["excitation"]["casing_random"]["rms"] * scale}
+    )
     return job, bands(*force(m, dt, args.duration), dt)
 
 
@@ -187,15 +197,17 @@ def report(name, a, b):
     # below |r| + 2 SE (what the 5 % bar is read against when single records are chaotic)
     print(f"{name}_ensemble_max_abs_plus_2se: {np.max(np.abs(r) + 2 * se):.4f}")
     ns = [n for n in (1, 2, 4, 8, 16, 32, 64, 128) if n < len(a)] + [len(a)]
-    print(f"{name}_ensemble_max_rel_diff_by_n: "
-          + " ".join(f"{n}:{np.abs(paired_difference(a[:n], b[:n]).r).max():.4f}" for n in ns))
+    print(
+        f"{name}_ensemble_max_rel_diff_by_n: "
+        + " ".join(f"{n}:{np.abs(paired_difference(a[:n], b[:n]).r).max():.4f}" for n in ns)
+    )
     single = np.abs(a - b) / b
     print(f"{name}_single_record_max_rel_diff_median_over_seeds: {np.median(single.max(axis=1)):.4f}")
 
 
 if args.ensemble > 0:
     seeds = range(1, args.ensemble + 1)
-    variants = ((REF, 1.0), (1e-5, 1.0), (1e-5, 1 + 1e-9))      # longest jobs first
+    variants = ((REF, 1.0), (1e-5, 1.0), (1e-5, 1 + 1e-9))  # longest jobs first
     jobs = [(s, dt, sc) for dt, sc in variants for s in seeds]
     t0 = time.perf_counter()
     with get_context("fork").Pool(args.workers) as pool:
@@ -208,6 +220,12 @@ if args.ensemble > 0:
     report("octave_rms", L[(1e-5, 1.0)], L[(REF, 1.0)])
     report("perturbation", L[(1e-5, 1 + 1e-9)], L[(1e-5, 1.0)])
     if args.ensemble_save:
-        np.savez(args.ensemble_save, seeds=np.array(list(seeds)), duration=args.duration,
-                 dt1e5=L[(1e-5, 1.0)], reference=L[(REF, 1.0)], reference_dt=REF,
-                 dt1e5_perturbed=L[(1e-5, 1 + 1e-9)])
+        np.savez(
+            args.ensemble_save,
+            seeds=np.array(list(seeds)),
+            duration=args.duration,
+            dt1e5=L[(1e-5, 1.0)],
+            reference=L[(REF, 1.0)],
+            reference_dt=REF,
+            dt1e5_perturbed=L[(1e-5, 1 + 1e-9)],
+        )

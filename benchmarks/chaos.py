@@ -25,6 +25,7 @@ Run: .venv/bin/python benchmarks/chaos.py [--duration 0.5] [--window 0.002] [--p
 [--set contact.damping=0 --set contact.friction=0 ...] (numeric model overrides for every run; about 40 s
 on the shared 2-core machine, one core).
 """
+
 import argparse
 
 import numpy as np
@@ -35,8 +36,13 @@ p = argparse.ArgumentParser()
 p.add_argument("--duration", type=float, default=0.5, help="s simulated per run")
 p.add_argument("--window", type=float, default=0.002, help="s per window of the separation")
 p.add_argument("--plot", default=None, help="write the separation histories to this PNG")
-p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
-               help="numeric model override for every run, e.g. contact.damping=0 (repeatable)")
+p.add_argument(
+    "--set",
+    action="append",
+    default=[],
+    metavar="KEY=VALUE",
+    help="numeric model override for every run, e.g. contact.damping=0 (repeatable)",
+)
 args = p.parse_args()
 if not args.duration >= 0.1:
     p.error(f"--duration {args.duration}: must be at least 0.1 s (the RMS is taken after 0.05 s)")
@@ -44,7 +50,7 @@ if not 1e-5 <= args.window <= args.duration / 10:
     p.error(f"--window {args.window}: must be between 1e-5 s and a tenth of the duration")
 
 DT = 1e-5
-THRESHOLDS = 10.0 ** np.arange(-10, 0)         # 1e-10 .. 1e-1
+THRESHOLDS = 10.0 ** np.arange(-10, 0)  # 1e-10 .. 1e-1
 model = cc.load_model()
 overrides = {}
 for kv in args.set:
@@ -53,7 +59,7 @@ for kv in args.set:
         overrides[key] = float(value)
     except ValueError:
         p.error(f"--set {kv!r}: expected KEY=NUMBER, e.g. contact.damping=0")
-model = model.with_overrides(overrides) if overrides else model    # with_overrides checks the keys
+model = model.with_overrides(overrides) if overrides else model  # with_overrides checks the keys
 rms0 = model.scenario["excitation"]["casing_random"]["rms"]
 
 
@@ -61,16 +67,16 @@ def casing_force(eps=0.0, dt=DT, contact=None):
     """casing.B.Fz (N) on the 1e-5 s grid, casing RMS scaled by 1 + eps."""
     m = model.with_overrides({"scenario.excitation.casing_random.rms": rms0 * (1 + eps)}) if eps else model
     res = cc.simulate(m, duration=args.duration, dt=dt, contact=contact)
-    stride = int(round(DT / dt))              # samples at dt, 2 dt, ...: every stride-th is on the grid
-    return res.time[stride - 1::stride], res.support_force("casing.B.Fz")[stride - 1::stride]
+    stride = int(round(DT / dt))  # samples at dt, 2 dt, ...: every stride-th is on the grid
+    return res.time[stride - 1 :: stride], res.support_force("casing.B.Fz")[stride - 1 :: stride]
 
 
 def separation(F, Fref, t, width):
     """Window end times (s) and the RMS of F - Fref per window over the RMS of Fref after 0.05 s."""
     n = int(round(width / DT))
     k = len(F) // n
-    d = (F[:k * n] - Fref[:k * n]).reshape(k, n)
-    return t[n - 1:k * n:n], np.sqrt(np.mean(d ** 2, axis=1)) / np.sqrt(np.mean(Fref[t > 0.05] ** 2))
+    d = (F[: k * n] - Fref[: k * n]).reshape(k, n)
+    return t[n - 1 : k * n : n], np.sqrt(np.mean(d**2, axis=1)) / np.sqrt(np.mean(Fref[t > 0.05] ** 2))
 
 
 def crossings(tw, s):
@@ -103,19 +109,24 @@ for name, ((tv, F), Fref) in variants.items():
     print(f"{name}_initial_separation: {s0:.2e}")
     print(f"{name}_crossing_s: " + " ".join(f"{th:.0e}:{x:.3f}" for th, x in zip(THRESHOLDS, tc)))
     print(f"{name}_efold_s: {efold(tc, s0):.4f}")
-    print(f"{name}_final_separation: {np.sqrt(np.mean(s[-max(len(s) // 10, 1):] ** 2)):.3f}")
+    print(f"{name}_final_separation: {np.sqrt(np.mean(s[-max(len(s) // 10, 1) :] ** 2)):.3f}")
 
 if args.plot:
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     fig, ax = plt.subplots(figsize=(8, 4.5))
     for name, (tw, s) in curves.items():
         ax.semilogy(tw, s, "--" if name.startswith("contact_off") else "-", label=name.replace("_", " "))
     ax.set_xlabel("time (s)")
     ax.set_ylabel("RMS difference of casing.B.Fz / RMS")
-    ax.set_title(f"Separation from the record at dt = 1e-5 s ({args.window * 1e3:g} ms windows)"
-                 + ("\n" + ", ".join(args.set) if args.set else ""), fontsize=10)
+    ax.set_title(
+        f"Separation from the record at dt = 1e-5 s ({args.window * 1e3:g} ms windows)"
+        + ("\n" + ", ".join(args.set) if args.set else ""),
+        fontsize=10,
+    )
     ax.grid(True, which="major", alpha=0.4)
     ax.legend(fontsize=8, ncol=2)
     fig.tight_layout()

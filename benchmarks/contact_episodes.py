@@ -18,6 +18,7 @@ step of 1e-5 s cannot resolve and renders as episodes of one or two steps;
 it converges (docs/time_domain.md, Known limits).
 Run: .venv/bin/python benchmarks/contact_episodes.py [--duration 0.5]   (about 30 s, one core)
 """
+
 import argparse
 
 import numpy as np
@@ -52,4 +53,4 @@ for label, m, dt in runs:
     print(f"{label}_episodes_of_1_2_steps: {short.mean():.3f}")
     print(f"{label}_their_share_of_contact_time: {lengths[short].sum() / lengths.sum():.3f}")
     print(f"{label}_reopen_within_3_steps: {np.mean(gaps <= 3):.3f}")
-    print(f"{label}_rms_casing_B_Fz_N: {np.sqrt(np.mean(F ** 2)):.4f}")
+    print(f"{label}_rms_casing_B_Fz_N: {np.sqrt(np.mean(F**2)):.4f}")

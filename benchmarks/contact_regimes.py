@@ -19,6 +19,7 @@ contacts. ``--rms`` repeats the seeds at other RMS accelerations of the casing's
 Run: .venv/bin/python benchmarks/contact_regimes.py [--seeds 24] [--duration 1.0] [--workers 2]
      [--rms 5 10 20]
 """
+
 import argparse
 import time
 from multiprocessing import get_context
@@ -26,19 +27,20 @@ from multiprocessing import get_context
 import numpy as np
 
 import cablecasing_core as cc
-from cablecasing_core.engine import Engine
-from cablecasing_core.scenario import scenario_motion
+from cablecasing_core.timedomain.engine import Engine
+from cablecasing_core.timedomain.scenario import scenario_motion
 
 
 def run(job):
     """One record: (seed, rms, mean contacts per step by tenth, wall µs per step, and per chunk of
     Engine.CHUNK steps its wall µs per step and mean contacts per step)."""
     seed, rms, duration = job
-    m = cc.load_model().with_overrides({"scenario.excitation.casing_random.seed": seed,
-                                        "scenario.excitation.casing_random.rms": rms})
+    m = cc.load_model().with_overrides(
+        {"scenario.excitation.casing_random.seed": seed, "scenario.excitation.casing_random.rms": rms}
+    )
     eng = Engine(m, dt=1e-5, ledger=False, record=True)
     motion = scenario_motion(m, dt=1e-5, duration=duration)
-    marks = []                       # (start, end) of each evaluation of the motion, s
+    marks = []  # (start, end) of each evaluation of the motion, s
 
     def timed(t):
         t_in = time.perf_counter()
@@ -54,11 +56,10 @@ def run(job):
     chunk_s = np.subtract(starts, ends)
     nc = np.count_nonzero(eng.history()["contact_state"], axis=1)
     edges = np.arange(0, len(nc), Engine.CHUNK)
-    steps = np.diff(np.append(edges, len(nc)))                 # steps per chunk (the last may be short)
+    steps = np.diff(np.append(edges, len(nc)))  # steps per chunk (the last may be short)
     chunk_nc = np.add.reduceat(nc, edges) / steps
     chunk_us = chunk_s / steps * 1e6
-    return (seed, rms, [c.mean() for c in np.array_split(nc, 10)], wall / (duration / 1e-5) * 1e6,
-            chunk_us, chunk_nc)
+    return (seed, rms, [c.mean() for c in np.array_split(nc, 10)], wall / (duration / 1e-5) * 1e6, chunk_us, chunk_nc)
 
 
 if __name__ == "__main__":
@@ -66,27 +67,36 @@ if __name__ == "__main__":
     p.add_argument("--seeds", type=int, default=24)
     p.add_argument("--duration", type=float, default=1.0)
     p.add_argument("--workers", type=int, default=2)
-    p.add_argument("--rms", type=float, nargs="+", default=[5.0],
-                   help="RMS accelerations (m/s2) of the casing's random excitation; 5 is the reference case")
+    p.add_argument(
+        "--rms",
+        type=float,
+        nargs="+",
+        default=[5.0],
+        help="RMS accelerations (m/s2) of the casing's random excitation; 5 is the reference case",
+    )
     args = p.parse_args()
-    run((1, args.rms[0], 0.01))          # numba cache
+    run((1, args.rms[0], 0.01))  # numba cache
     walls = {False: [], True: []}
     chunks = []
     jobs = [(s, rms, args.duration) for rms in args.rms for s in range(1, args.seeds + 1)]
     with get_context("spawn").Pool(args.workers) as pool:
         for seed, rms, tenths, us, chunk_us, chunk_nc in pool.imap(run, jobs):
             flag = max(tenths) > 4.0
-            if rms == 5.0:               # the reference case's figures
+            if rms == 5.0:  # the reference case's figures
                 walls[flag].append(us)
-            chunks.append(np.column_stack([chunk_nc, chunk_us])[1:])   # (the first chunk pays the first touch)
-            print(f"rms {rms:g} seed {seed}: contacts by tenth {' '.join(f'{x:.2f}' for x in tenths)}  "
-                  f"us_per_step {us:.1f}" + ("  HIGH" if flag else ""))
+            chunks.append(np.column_stack([chunk_nc, chunk_us])[1:])  # (the first chunk pays the first touch)
+            print(
+                f"rms {rms:g} seed {seed}: contacts by tenth {' '.join(f'{x:.2f}' for x in tenths)}  "
+                f"us_per_step {us:.1f}" + ("  HIGH" if flag else "")
+            )
     chunks = np.concatenate(chunks)
     (b, a), *_ = np.linalg.lstsq(np.column_stack([chunks[:, 0], np.ones(len(chunks))]), chunks[:, 1], rcond=None)
     resid = chunks[:, 1] - (a + b * chunks[:, 0])
-    print(f"cost_model: us_per_step = {a:.2f} + {b:.2f} x contacts_per_step ({len(chunks)} chunks of "
-          f"{Engine.CHUNK} steps, contacts {chunks[:, 0].min():.2f}-{chunks[:, 0].max():.2f} per step, "
-          f"residual RMS {np.sqrt(np.mean(resid ** 2)):.2f} us)")
+    print(
+        f"cost_model: us_per_step = {a:.2f} + {b:.2f} x contacts_per_step ({len(chunks)} chunks of "
+        f"{Engine.CHUNK} steps, contacts {chunks[:, 0].min():.2f}-{chunks[:, 0].max():.2f} per step, "
+        f"residual RMS {np.sqrt(np.mean(resid**2)):.2f} us)"
+    )
     if 5.0 not in args.rms:
         raise SystemExit(0)
     print(f"records_with_many_contacts: {len(walls[True])} of {args.seeds}")

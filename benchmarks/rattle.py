@@ -21,13 +21,12 @@ Prints ``name: value`` lines, per damper c and time step dt (labels ``c<c_n>_dt<
 Run: .venv/bin/python benchmarks/rattle.py [--node 8 --start 0.0324 --window 5e-4] [--plot f.png]
 (about 10 s; the default node and start are the first rattle of the reference record, 2026-11-24)
 """
+
 import argparse
 
-import numpy as np
-
 import cablecasing_core as cc
-from cablecasing_core.engine import Engine
-from cablecasing_core.scenario import scenario_motion
+from cablecasing_core.timedomain.engine import Engine
+from cablecasing_core.timedomain.scenario import scenario_motion
 
 p = argparse.ArgumentParser()
 p.add_argument("--node", type=int, default=8, help="cable node to follow")
@@ -54,7 +53,7 @@ eng.advance(args.start, motion)
 state = eng.get_state()
 print(f"node_{args.node}_in_contact_at_start: {int(state['cstate'][args.node] > 0)}")
 
-dts = [DT0 / 2 ** k for k in range(args.levels)]
+dts = [DT0 / 2**k for k in range(args.levels)]
 bars = {}
 for c_n in (model.contact["damping"], 0.0):
     m = model.with_overrides({"contact.damping": c_n})
@@ -64,7 +63,7 @@ for c_n in (model.contact["damping"], 0.0):
         e.advance(args.window, motion)
         node, start, length = cc.contact_episodes(e.history()["contact_state"])
         mine = node == args.node
-        t0, dur = start[mine] * dt * 1e6, length[mine] * dt * 1e6        # µs after --start
+        t0, dur = start[mine] * dt * 1e6, length[mine] * dt * 1e6  # µs after --start
         label = f"c{c_n:g}_dt{dt:.4g}"
         print(f"{label}_episodes: {mine.sum()}")
         print(f"{label}_contact_time_us: {dur.sum():.2f}")
@@ -75,8 +74,10 @@ for c_n in (model.contact["damping"], 0.0):
 
 if args.plot:
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+
     fig, ax = plt.subplots(figsize=(8, 0.35 * len(dts) + 1.2))
     for row, dt in enumerate(dts):
         ax.broken_barh(bars[dt], (row - 0.35, 0.7), color="tab:blue")

@@ -1,17 +1,90 @@
-"""cablecasing_core: vibration model of a gear-shift cable inside a curved casing.
+"""cablecasing_core: vibration model of a gear-shift cable inside a curved casing (Otrin and
+Boltezar): two spatially curved 3D Euler-Bernoulli beams on one centerline, coupled by frictional
+contact across the radial gap. SI units throughout (m, kg, s, N, Pa, rad; frequencies in Hz).
 
-Units are SI throughout (m, kg, s, N, Pa, rad; frequencies in Hz where named ``*_hz``).
+The package follows the paper: ``model`` (the model file, its schema and the built-in specimen),
+``structure`` (centerline, sections, the beam element, assembly: Eqs. 4-9, 13, 32-35),
+``frequency`` (modes and the apparent mass TRFAM: Eqs. 10-13), ``timedomain`` (the Newmark engine
+with contact: Eqs. 14-39), ``identification`` (Section 3), ``studies`` (Section 4), ``cli``.
 
+A tutorial (it runs as a doctest, ``python -m doctest -v cablecasing_core/__init__.py`` or
+``pytest --doctest-modules``). Load the built-in specimen; every key is in ``model.data``, checked
+against the schema (docs/model_file.md), and a change is a validated copy:
+
+>>> import numpy as np
 >>> import cablecasing_core as cc
->>> model = cc.load_model()                  # the built-in specimen (None) or a TOML path
->>> f = cc.natural_frequencies(model, "casing", count=5)   # Hz
-"""
-from .config import Model, default_model, load_model, model_from_dict
-from .errors import CableCasingError, ModelError, SimulationError
-from .frequency import trfam, trfam_matrix
-from .modal import modes, natural_frequencies
-from .simulation import SimulationResult, contact_episodes, simulate
+>>> model = cc.load_model()                       # or cc.load_model("my_model.toml")
+>>> model.parameters()["casing.E"]                # Pa
+5000000000.0
+>>> stiffer = model.with_overrides({"casing.E": 6e9, "contact.friction": 0.1})
+>>> stiffer.bodies["casing"].E
+6000000000.0
+>>> from cablecasing_core.model.schema import lookup
+>>> lookup("contact.friction").unit, lookup("contact.friction").allowed
+('1', 'zero or a positive number')
 
-__all__ = ["CableCasingError", "Model", "ModelError", "SimulationError", "contact_episodes", "default_model",
-           "load_model", "model_from_dict", "modes", "natural_frequencies", "SimulationResult", "simulate", "trfam",
-           "trfam_matrix"]
+Natural frequencies of one body with its supports (Hz), and the apparent-mass transfer function
+between its ends (kg, Eq. 12) with structural damping (Eq. 11):
+
+>>> f = cc.natural_frequencies(model, "casing", count=3)
+>>> bool(np.all(np.diff(f) > 0) and 5.0 < f[0] < 15.0)
+True
+>>> freqs = np.arange(10.0, 200.0, 0.5)
+>>> H = cc.trfam(model, "casing.A.z", "casing.B.z", freqs, damping="structural")
+>>> H.shape, H.dtype
+((380,), dtype('complex128'))
+
+The time domain: the model's scenario through the Newmark engine with contact (the force each
+body exerts on its supports, N; the contact state per cable node; the energy ledger, J). The work
+the supports did is what the bodies hold plus what damping took (to 1e-6, the trapezoidal rule):
+
+>>> res = cc.simulate(model, duration=0.002)      # 200 steps of 1e-5 s
+>>> res.support_forces.shape, res.contact_state.shape
+((200, 24), (200, 36))
+>>> e = res.energies
+>>> bool(abs(e["kinetic"] + e["strain"] + e["rayleigh_dissipation"] - e["support_work"]) < 1e-6 * e["support_work"])
+True
+
+Invalid input raises :class:`ModelError` naming the key, the value and what is allowed:
+
+>>> model.with_overrides({"casing.nu": 0.7})
+Traceback (most recent call last):
+...
+cablecasing_core.errors.ModelError: casing.nu = 0.7: must be a number in [-0.999, 0.4999]
+
+For a step-by-step engine (the FMU's), see :class:`~cablecasing_core.timedomain.engine.Engine`.
+"""
+
+from __future__ import annotations
+
+from importlib import metadata as _metadata
+
+from .errors import CableCasingError, ModelError, SimulationError
+from .frequency.modal import modes, natural_frequencies
+from .frequency.trfam import trfam, trfam_matrix
+from .model import BodySpec, Model, default_model, load_model, model_from_dict
+from .timedomain.simulation import SimulationResult, contact_episodes, simulate
+
+try:
+    __version__ = _metadata.version("cablecasing")
+except _metadata.PackageNotFoundError:  # a copy that is not installed (e.g. bundled in the FMU)
+    __version__ = "0.0.0+unknown"
+
+__all__ = [
+    "BodySpec",
+    "CableCasingError",
+    "Model",
+    "ModelError",
+    "SimulationError",
+    "SimulationResult",
+    "__version__",
+    "contact_episodes",
+    "default_model",
+    "load_model",
+    "model_from_dict",
+    "modes",
+    "natural_frequencies",
+    "simulate",
+    "trfam",
+    "trfam_matrix",
+]

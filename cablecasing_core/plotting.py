@@ -1,4 +1,7 @@
-"""Figures (matplotlib, Agg backend): TRFAM, geometry. Units on every axis."""
+"""Figures (matplotlib, Agg backend): TRFAM, geometry, time histories, octave bands, scalograms.
+Units on every axis. The figures of the studies and of the identification are in their packages
+(``studies/plots.py``, ``identification/plots.py``), written with :func:`save_figure`."""
+
 from __future__ import annotations
 
 import matplotlib
@@ -21,9 +24,7 @@ def plot_trfam(freqs_hz, curves, path, title="TRFAM"):
     a1.legend()
     a1.grid(True, which="both", alpha=0.3)
     a2.grid(True, alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def plot_geometry(centerline, path, values=None, label=None):
@@ -42,9 +43,7 @@ def plot_geometry(centerline, path, values=None, label=None):
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.set_zlabel("z (m)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def plot_time_result(res, path):
@@ -62,12 +61,11 @@ def plot_time_result(res, path):
     ax = a2.twinx()
     ax.plot(res.arc_length, res.curvature, "r-", label="curvature")
     ax.set_ylabel("curvature (1/m)", color="r")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
-def _save(fig, path):
+def save_figure(fig, path):
+    """Lay out ``fig``, write it to ``path`` (PNG, 110 dpi) and close it."""
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -77,43 +75,15 @@ def plot_octave_bands(bands, path, ylabel="RMS"):
     """Bar chart of octave-band RMS values (``studies.octave_rms`` result), Table 3."""
     fig, ax = plt.subplots(figsize=(7, 3.5))
     ax.bar(range(1, len(bands.rms) + 1), bands.rms)
-    ax.set_xticks(range(1, len(bands.rms) + 1), [f"{lo:g}-{hi:g}" for lo, hi in zip(bands.lower, bands.upper)],
-                  rotation=45, fontsize=7)
+    ax.set_xticks(
+        range(1, len(bands.rms) + 1),
+        [f"{lo:g}-{hi:g}" for lo, hi in zip(bands.lower, bands.upper)],
+        rotation=45,
+        fontsize=7,
+    )
     ax.set_xlabel("octave band (Hz)")
     ax.set_ylabel(ylabel)
-    _save(fig, path)
-
-
-def plot_ensemble(ens, path, other=None, diff=None, confidence=0.95, labels=("base", "against")):
-    """Band levels over excitation seeds (``studies.seed_ensemble``): the ensemble mean per band with
-    its Student-t confidence interval (N, or N.m for a moment output; log axis), a second ensemble
-    beside it, and, with ``diff`` (``studies.paired_difference(other, ens)``), the relative change
-    r (%) per band with its interval."""
-    unit = "N" if ".F" in ens.output else "N.m"
-    x = np.arange(1, len(ens.labels) + 1)
-    rows = 2 if diff is not None else 1
-    fig, axes = plt.subplots(rows, 1, figsize=(7, 3.2 * rows + 0.6), sharex=True, squeeze=False)
-    ax = axes[0, 0]
-    sets = [(ens, labels[0], -0.12)] + ([(other, labels[1], 0.12)] if other is not None else [])
-    for e, lab, dx in sets:
-        lo, hi = e.ci(confidence)
-        ax.errorbar(x + dx, e.mean, yerr=[e.mean - lo, hi - e.mean], fmt="o", capsize=3,
-                    label=f"{lab} (mean of {e.n} seeds, {confidence:.0%} CI)")
-    ax.set_yscale("log")
-    ax.set_ylabel(f"RMS {ens.output} ({unit})")
-    ax.legend(fontsize=8)
-    ax.grid(True, which="both", alpha=0.3)
-    if diff is not None:
-        a2 = axes[1, 0]
-        lo, hi = diff.ci(confidence)
-        a2.errorbar(x, 100 * diff.r, yerr=[100 * (diff.r - lo), 100 * (hi - diff.r)], fmt="s", capsize=3)
-        a2.axhline(0.0, color="k", lw=0.8)
-        a2.set_ylabel(f"{labels[1]} vs {labels[0]} (%)")
-        a2.grid(True, alpha=0.3)
-    last = axes[-1, 0]
-    last.set_xticks(x, [f"{lo:g}-{hi:g}" for lo, hi in zip(ens.lower, ens.upper)], rotation=45, fontsize=7)
-    last.set_xlabel("band (Hz)")
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def plot_scalogram(t, freqs_hz, W, path, title="|W|"):
@@ -124,4 +94,4 @@ def plot_scalogram(t, freqs_hz, W, path, title="|W|"):
     ax.set_xlabel("time (s)")
     ax.set_ylabel("frequency (Hz)")
     ax.set_title(title)
-    _save(fig, path)
+    save_figure(fig, path)

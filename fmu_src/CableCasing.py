@@ -18,58 +18,26 @@ pythonfmu's binary (Windows) drives the same slave through pythonfmu's methods a
 class, which map those statuses to what pythonfmu can express. Nothing here raises into a host:
 every problem is logged, naming the variable and the value, at the status it deserves.
 """
+
 import math
 import os
 import traceback
 
-_RESOURCES = os.path.dirname(os.path.abspath(__file__))
+import numpy as np
+from pythonfmu import Boolean, DefaultExperiment, Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real, String
+from pythonfmu.enums import Fmi2Status
 
-import cablecasing_fmu_cache  # noqa: E402  (stable numba cache; before numba is configured)
-
-if not os.environ.get("NUMBA_CACHE_DIR"):
-    os.environ["NUMBA_CACHE_DIR"] = cablecasing_fmu_cache.default_cache_dir()
-cablecasing_fmu_cache.install(_RESOURCES)
-
-import numpy as np  # noqa: E402
-from pythonfmu import (Boolean, DefaultExperiment, Fmi2Causality, Fmi2Slave, Fmi2Variability,  # noqa: E402
-                       Integer, Real, String)
-from pythonfmu.enums import Fmi2Status  # noqa: E402
-
-import cablecasing_core as cc  # noqa: E402
-from cablecasing_core.config import CHANNELS  # noqa: E402
-from cablecasing_core.engine import OUTPUTS, Engine, state_from_bytes, state_to_bytes  # noqa: E402
-from cablecasing_core.kinematics import SupportReconstruction  # noqa: E402
+# The kernels' numba cache (a per-user folder keyed by the kernels' sources, so it outlives the
+# unpacked FMU) is installed by the bundled package itself: cablecasing_core.timedomain.kernels.
+import cablecasing_core as cc
+from cablecasing_core.model.schema import CHANNELS, OUTPUTS, lookup, output_spec
+from cablecasing_core.model.validators import seconds
+from cablecasing_core.timedomain.engine import Engine, state_from_bytes, state_to_bytes
+from cablecasing_core.timedomain.support_motion import SupportReconstruction
 
 NCH = len(CHANNELS)
 KINDS = (("", "displacement", "m"), ("v", "velocity", "m/s"), ("a", "acceleration", "m/s2"))
 INTEGER_OUTPUTS = ("contact.active",)
-
-# Unit and meaning of the built-in model's numeric keys (model.parameters()).
-PARAMETER_INFO = {
-    "geometry.n_elements": ("1", "number of beam elements of each body along the centerline"),
-    "E": ("Pa", "Young's (dynamic) modulus of the {body}"),
-    "nu": ("1", "Poisson ratio of the {body}"),
-    "rho": ("kg/m3", "density of the {body} (averaged over its cross-section)"),
-    "alpha": ("1/s", "Rayleigh mass-proportional damping factor of the {body} (C = alpha M + beta K)"),
-    "beta": ("s", "Rayleigh stiffness-proportional damping factor of the {body} (C = alpha M + beta K)"),
-    "loss_factor": ("1", "structural loss factor of the {body} (frequency-domain model only; no effect here)"),
-    "d_outer": ("m", "outer diameter of the casing"),
-    "d_inner": ("m", "inner diameter of the casing (the cable runs inside it)"),
-    "d": ("m", "diameter of the cable"),
-    "I": ("m4", "effective second moment of area of the {body} section (overrides the one from the diameters)"),
-    "contact.stiffness": ("N/m", "penalty stiffness of the linear contact law (used when the model's law is "
-                                 "'linear'; the built-in model uses the Hertz law)"),
-    "contact.damping": ("kg/s", "contact damping coefficient, acting while the penetration grows"),
-    "contact.friction": ("1", "Coulomb friction coefficient between cable and casing"),
-    "contact.stick_velocity": ("m/s", "tangential relative speed below which a contact sticks"),
-    "scenario.duration": ("s", "duration of the model file's own scenario (not used: the FMU's inputs drive "
-                               "the supports)"),
-    "scenario.dt": ("s", "time step of the model file's own scenario (not used: see solver.dt)"),
-    "scenario.seed": ("1", "seed of the scenario's random excitation (not used: the inputs drive the supports)"),
-    "scenario.ramp": ("s", "fade-in time of the scenario's excitation (not used: the inputs drive the supports)"),
-}
-EXCITATION_UNITS = {"rms": "m/s2", "frequency": "Hz", "amplitude": "m", "phase": "rad", "width": "s",
-                    "start": "s", "seed": "1"}
 
 
 def input_name(channel, kind):
@@ -79,34 +47,16 @@ def input_name(channel, kind):
 
 
 def parameter_info(key):
-    """(unit, description) of a model key such as 'casing.E' or 'scenario.excitation.x.rms'."""
-    if key in PARAMETER_INFO:
-        return PARAMETER_INFO[key]
-    parts = key.split(".")
-    if parts[0] in ("casing", "cable") and len(parts) == 2 and parts[1] in PARAMETER_INFO:
-        unit, text = PARAMETER_INFO[parts[1]]
-        return unit, text.format(body=parts[0])
-    if parts[:2] == ["scenario", "excitation"] and len(parts) == 4:
-        return (EXCITATION_UNITS.get(parts[3], "1"),
-                f"{parts[3]} of the scenario excitation '{parts[2]}' (not used: the inputs drive the supports)")
-    return "1", f"model key {key} (see the model file documentation)"
+    """(unit, description) of a model key such as 'casing.E' or 'scenario.excitation.x.rms' (the
+    model schema); the scenario's keys describe the model file's own run, which the FMU does not make."""
+    spec = lookup(key)
+    note = " (not used: the FMU's inputs drive the supports)" if key.startswith("scenario.") else ""
+    return spec.unit, spec.description + note
 
 
-def output_info(name):
-    """(unit, description) of an output."""
-    if name == "contact.active":
-        return "", "number of cable nodes in contact with the casing (stick or slip)"
-    if name == "contact.max_penetration":
-        return "m", "largest penetration of a cable node into the casing wall (0 without contact)"
-    if name == "contact.dissipated_energy":
-        return "J", "energy dissipated by contact damping and friction together since t = 0"
-    body, support, comp = name.split(".")
-    kind, unit = ("force", "N") if comp[0] == "F" else ("moment", "N.m")
-    return unit, f"{kind} the {body} exerts on its support {support}, component along global {comp[1].lower()}"
-
-
-OK, WARNING, DISCARD, ERROR = (int(s) for s in (Fmi2Status.ok, Fmi2Status.warning, Fmi2Status.discard,
-                                                Fmi2Status.error))
+OK, WARNING, DISCARD, ERROR = (
+    int(s) for s in (Fmi2Status.ok, Fmi2Status.warning, Fmi2Status.discard, Fmi2Status.error)
+)
 # The longest communication step one fmi2DoStep may take, in internal steps of solver.dt (10 s at
 # the default 1e-5 s, some 10-20 s of wall time): a longer step is refused with fmi2Discard
 # instead of running for hours (a master that asks for 1e12 s by mistake).
@@ -119,42 +69,44 @@ class CableCasing(Fmi2Slave):
     """Gear-shift cable in a curved casing, driven at its four supports (see module docstring)."""
 
     author = "cablecasing developers"
-    description = ("Gear-shift cable sliding in a curved casing: two spatially curved 3D Euler-Bernoulli "
-                   "beams with frictional penalty contact, driven by support motion (SI units)")
-    version = "0.1.0"
+    description = (
+        "Gear-shift cable sliding in a curved casing: two spatially curved 3D Euler-Bernoulli "
+        "beams with frictional penalty contact, driven by support motion (SI units)"
+    )
+    version = cc.__version__
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=1.0, step_size=1e-4)
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self._base = cc.load_model()
-        self.units = {}                  # variable name -> unit (read by build_fmu.py)
+        self.units = {}  # variable name -> unit (read by build_fmu.py)
         self._start = dict(self._base.parameters())
         self._start["contact.enabled"] = bool(self._base.contact["enabled"])
         self._start["model_file"] = ""
         self._start["solver.dt"] = float(self._base.scenario["dt"])
         self._log_sink = None
         # the two arrays the FMU's binary reads and writes directly
-        self.inputs_buffer = np.zeros(3 * NCH)            # u (m), v (m/s), a (m/s2) of CHANNELS
-        self.outputs_buffer = np.zeros(len(OUTPUTS))      # OUTPUTS after the last step
-        self._set = {}                                    # parameters the master set: key -> value
-        self._file_cache = (None, None)                   # (model file path, its values or None)
-        self._set_plans, self._get_plans = {}, {}         # pythonfmu's path: references -> index arrays
-        self._input_vr, self._output_vr, self._param = {}, {}, {}   # value reference -> index, (key, type)
+        self.inputs_buffer = np.zeros(3 * NCH)  # u (m), v (m/s), a (m/s2) of CHANNELS
+        self.outputs_buffer = np.zeros(len(OUTPUTS))  # OUTPUTS after the last step
+        self._set = {}  # parameters the master set: key -> value
+        self._file_cache = (None, None)  # (model file path, its values or None)
+        self._set_plans, self._get_plans = {}, {}  # pythonfmu's path: references -> index arrays
+        self._input_vr, self._output_vr, self._param = {}, {}, {}  # value reference -> index, (key, type)
         self._register_variables()
         self._recon = SupportReconstruction(NCH)
         self._clear()
 
     def _clear(self):
         """The state of a newly instantiated slave (also after fmi2Reset)."""
-        self._set = {}                   # parameters the master set: key -> value
+        self._set = {}  # parameters the master set: key -> value
         self.inputs_buffer[:] = 0.0
         self.outputs_buffer[:] = 0.0
         self._engine = None
-        self._applied = None             # the configuration the engine was built with
+        self._applied = None  # the configuration the engine was built with
         self._recon.reset()
         self._start_time = 0.0
         self._initialized = False
-        self._error = None               # why stepping is refused (an initialisation that failed)
+        self._error = None  # why stepping is refused (an initialisation that failed)
 
     # ------------------------------------------------------------------ variables
     def _register_variables(self):
@@ -162,21 +114,38 @@ class CableCasing(Fmi2Slave):
             for c, ch in enumerate(CHANNELS):
                 body, support, d = ch.split(".")
                 i = k * NCH + c
-                var = self._add(Real(input_name(ch, prefix), causality=Fmi2Causality.input,
-                                     variability=Fmi2Variability.continuous, start=0.0,
-                                     description=f"{what} of the {body}'s support {support} along global {d}",
-                                     getter=lambda i=i: float(self.inputs_buffer[i]),
-                                     setter=lambda v, i=i: self.inputs_buffer.__setitem__(i, v)), unit)
+                var = self._add(
+                    Real(
+                        input_name(ch, prefix),
+                        causality=Fmi2Causality.input,
+                        variability=Fmi2Variability.continuous,
+                        start=0.0,
+                        description=f"{what} of the {body}'s support {support} along global {d}",
+                        getter=lambda i=i: float(self.inputs_buffer[i]),
+                        setter=lambda v, i=i: self.inputs_buffer.__setitem__(i, v),
+                    ),
+                    unit,
+                )
                 self._input_vr[var.value_reference] = i
         self.input_vr0 = min(self._input_vr)
         for i, name in enumerate(OUTPUTS):
-            unit, text = output_info(name)
+            unit, text = output_spec(name)
             if name in INTEGER_OUTPUTS:
-                var = Integer(name, causality=Fmi2Causality.output, variability=Fmi2Variability.discrete,
-                              description=text, getter=lambda i=i: int(self.outputs_buffer[i]))
+                var = Integer(
+                    name,
+                    causality=Fmi2Causality.output,
+                    variability=Fmi2Variability.discrete,
+                    description=text,
+                    getter=lambda i=i: int(self.outputs_buffer[i]),
+                )
             else:
-                var = Real(name, causality=Fmi2Causality.output, variability=Fmi2Variability.continuous,
-                           description=text, getter=lambda i=i: float(self.outputs_buffer[i]))
+                var = Real(
+                    name,
+                    causality=Fmi2Causality.output,
+                    variability=Fmi2Variability.continuous,
+                    description=text,
+                    getter=lambda i=i: float(self.outputs_buffer[i]),
+                )
             self._add(var, unit)
             self._output_vr[var.value_reference] = i
         self.output_vr0 = min(self._output_vr)
@@ -186,21 +155,41 @@ class CableCasing(Fmi2Slave):
                 continue
             unit, text = parameter_info(key)
             kind = Integer if isinstance(value, int) else Real
-            self._add_parameter(kind(key, causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed,
-                                     description=text), unit if kind is Real else "")
-        self._add_parameter(Boolean("contact.enabled", causality=Fmi2Causality.parameter,
-                                    variability=Fmi2Variability.fixed,
-                                    description="contact between cable and casing on (true) or off (false: two "
-                                                "independent linear bodies)"), "")
-        self._add_parameter(String("model_file", causality=Fmi2Causality.parameter,
-                                   variability=Fmi2Variability.fixed,
-                                   description="path of a model TOML file (a relative path is taken from the "
-                                               "host's working folder when it is set); empty = the built-in "
-                                               "specimen"), "")
-        self._add_parameter(Real("solver.dt", causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed,
-                                 description="internal Newmark time step (unset: the model's scenario.dt); a "
-                                             "communication step is split into steps of this size and one "
-                                             "shorter last step"), "s")
+            self._add_parameter(
+                kind(key, causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed, description=text),
+                unit if kind is Real else "",
+            )
+        self._add_parameter(
+            Boolean(
+                "contact.enabled",
+                causality=Fmi2Causality.parameter,
+                variability=Fmi2Variability.fixed,
+                description="contact between cable and casing on (true) or off (false: two independent linear bodies)",
+            ),
+            "",
+        )
+        self._add_parameter(
+            String(
+                "model_file",
+                causality=Fmi2Causality.parameter,
+                variability=Fmi2Variability.fixed,
+                description="path of a model TOML file (a relative path is taken from the "
+                "host's working folder when it is set); empty = the built-in "
+                "specimen",
+            ),
+            "",
+        )
+        self._add_parameter(
+            Real(
+                "solver.dt",
+                causality=Fmi2Causality.parameter,
+                variability=Fmi2Variability.fixed,
+                description="internal Newmark time step (unset: the model's scenario.dt); a "
+                "communication step is split into steps of this size and one "
+                "shorter last step",
+            ),
+            "s",
+        )
 
     def _add(self, var, unit):
         self.register_variable(var, nested=False)
@@ -246,12 +235,16 @@ class CableCasing(Fmi2Slave):
         """Store a parameter the master set; returns the status (an int)."""
         if kind == "String":
             if value is None:
-                self.log(f"{key} = NULL: a string parameter needs a value (an empty string selects the built-in "
-                         "specimen)", Fmi2Status.error)
+                self.log(
+                    f"{key} = NULL: a string parameter needs a value (an empty string selects the built-in specimen)",
+                    Fmi2Status.error,
+                )
                 return ERROR
             if isinstance(value, bytes):
-                self.log(f"{key} = {value[:200]!r}: not valid UTF-8; FMI strings are UTF-8 (give the path "
-                         "in UTF-8)", Fmi2Status.error)
+                self.log(
+                    f"{key} = {value[:200]!r}: not valid UTF-8; FMI strings are UTF-8 (give the path in UTF-8)",
+                    Fmi2Status.error,
+                )
                 return ERROR
             value = os.path.abspath(value) if value else ""
         else:
@@ -259,8 +252,11 @@ class CableCasing(Fmi2Slave):
         if self._initialized:
             if value == self._value(key):
                 return OK
-            self.log(f"parameter {key} = {value!r} refused: parameters are fixed after initialisation (it is "
-                     f"{self._value(key)!r}; reset the FMU to change it)", Fmi2Status.error)
+            self.log(
+                f"parameter {key} = {value!r} refused: parameters are fixed after initialisation (it is "
+                f"{self._value(key)!r}; reset the FMU to change it)",
+                Fmi2Status.error,
+            )
             return ERROR
         self._set[key] = value
         if key == "model_file" and value:
@@ -270,8 +266,11 @@ class CableCasing(Fmi2Slave):
     def _refuse(self, what, vr, value=None):
         var = self.vars.get(vr)
         which = f"{var.name} ({type(var).__name__}, {var.causality.name})" if var is not None else "no variable"
-        self.log(f"cannot {what} through value reference {vr}: {which}"
-                 + ("" if value is None else f"; value {value!r} ignored"), Fmi2Status.error)
+        self.log(
+            f"cannot {what} through value reference {vr}: {which}"
+            + ("" if value is None else f"; value {value!r} ignored"),
+            Fmi2Status.error,
+        )
         return ERROR
 
     def fmi2_get(self, kind, vrs, out):
@@ -279,8 +278,7 @@ class CableCasing(Fmi2Slave):
         status = OK
         for k, vr in enumerate(vrs):
             i = self._output_vr.get(vr)
-            if i is not None and (OUTPUTS[i] in INTEGER_OUTPUTS) == (kind == "Integer") and kind in ("Real",
-                                                                                                    "Integer"):
+            if i is not None and (OUTPUTS[i] in INTEGER_OUTPUTS) == (kind == "Integer") and kind in ("Real", "Integer"):
                 out[k] = self.outputs_buffer[i] if kind == "Real" else int(self.outputs_buffer[i])
                 continue
             i = self._input_vr.get(vr)
@@ -324,12 +322,16 @@ class CableCasing(Fmi2Slave):
     # ------------------------------------------------------------------ life cycle
     def fmi2_setup_experiment(self, start_time, stop_time=None):
         if not math.isfinite(start_time):
-            self.log(f"fmi2SetupExperiment: startTime = {start_time!r}: must be a finite number of seconds",
-                     Fmi2Status.error)
+            self.log(
+                f"fmi2SetupExperiment: startTime = {start_time!r}: must be a finite number of seconds", Fmi2Status.error
+            )
             return ERROR
         if stop_time is not None and not (math.isfinite(stop_time) and stop_time >= start_time):
-            self.log(f"fmi2SetupExperiment: stopTime = {stop_time!r}: must be a finite number of seconds not "
-                     f"before startTime = {start_time!r}", Fmi2Status.error)
+            self.log(
+                f"fmi2SetupExperiment: stopTime = {stop_time!r}: must be a finite number of seconds not "
+                f"before startTime = {start_time!r}",
+                Fmi2Status.error,
+            )
             return ERROR
         self._start_time = float(start_time)
         return OK
@@ -350,9 +352,7 @@ class CableCasing(Fmi2Slave):
         model = cc.load_model(model_file) if model_file else self._base
         if over:
             model = model.with_overrides(over)
-        if isinstance(dt, bool) or not (math.isfinite(dt) and dt > 0):
-            raise cc.ModelError("solver.dt", dt, "must be a positive number of seconds")
-        return Engine(model, dt=dt, ledger=False)
+        return Engine(model, dt=seconds("solver.dt", dt), ledger=False)
 
     def _build(self):
         """Build the engine from the parameters; on a problem log it (fmi2Error) and refuse steps."""
@@ -389,33 +389,47 @@ class CableCasing(Fmi2Slave):
     def fmi2_do_step(self, current_time, step_size):
         eng = self._engine
         if eng is None:
-            self.log(f"doStep refused: the FMU did not initialise ({self._error}); fix the parameter and reset "
-                     "the FMU", Fmi2Status.error)
+            self.log(
+                f"doStep refused: the FMU did not initialise ({self._error}); fix the parameter and reset the FMU",
+                Fmi2Status.error,
+            )
             return ERROR
         if not (math.isfinite(current_time) and math.isfinite(step_size) and step_size > 0):
-            self.log(f"doStep(currentCommunicationPoint = {current_time!r} s, communicationStepSize = "
-                     f"{step_size!r} s): both must be finite numbers, the step positive", Fmi2Status.error)
+            self.log(
+                f"doStep(currentCommunicationPoint = {current_time!r} s, communicationStepSize = "
+                f"{step_size!r} s): both must be finite numbers, the step positive",
+                Fmi2Status.error,
+            )
             return ERROR
         if step_size > MAX_STEPS_PER_DOSTEP * eng.dt:
-            self.log(f"doStep over {step_size!r} s refused: at most {MAX_STEPS_PER_DOSTEP} internal steps of "
-                     f"solver.dt = {eng.dt!r} s ({MAX_STEPS_PER_DOSTEP * eng.dt:.6g} s) per call; take shorter "
-                     "communication steps", Fmi2Status.discard)
+            self.log(
+                f"doStep over {step_size!r} s refused: at most {MAX_STEPS_PER_DOSTEP} internal steps of "
+                f"solver.dt = {eng.dt!r} s ({MAX_STEPS_PER_DOSTEP * eng.dt:.6g} s) per call; take shorter "
+                "communication steps",
+                Fmi2Status.discard,
+            )
             return DISCARD
         here = self._start_time + eng.time
         if abs(current_time - here) > 1e-6 * step_size + 1e-12 * abs(here):
-            self.log(f"doStep from t = {current_time!r} s, but the FMU is at t = {here!r} s: steps must follow "
-                     "each other (or restore an FMU state first)", Fmi2Status.discard)
+            self.log(
+                f"doStep from t = {current_time!r} s, but the FMU is at t = {here!r} s: steps must follow "
+                "each other (or restore an FMU state first)",
+                Fmi2Status.discard,
+            )
             return DISCARD
         x = self.inputs_buffer
         if not np.isfinite(x).all():
             i = int(np.flatnonzero(~np.isfinite(x))[0])
             k, c = divmod(i, NCH)
-            self.log(f"input {input_name(CHANNELS[c], KINDS[k][0])} = {float(x[i])!r} at t = {current_time:.9g} s: "
-                     f"must be a finite number ({KINDS[k][2]}); step discarded", Fmi2Status.discard)
+            self.log(
+                f"input {input_name(CHANNELS[c], KINDS[k][0])} = {float(x[i])!r} at t = {current_time:.9g} s: "
+                f"must be a finite number ({KINDS[k][2]}); step discarded",
+                Fmi2Status.discard,
+            )
             return DISCARD
-        motion = self._recon.motion(eng.time, step_size, x[:NCH], x[NCH:2 * NCH], x[2 * NCH:])
+        motion = self._recon.motion(eng.time, step_size, x[:NCH], x[NCH : 2 * NCH], x[2 * NCH :])
         try:
-            eng.advance(step_size, motion)           # on any error it leaves the engine as it was
+            eng.advance(step_size, motion)  # on any error it leaves the engine as it was
         except Exception as exc:  # noqa: BLE001  (never raise into the host)
             msg = f"step from t = {current_time:.9g} s over {step_size:.6g} s discarded (state rolled back): {exc}"
             if not isinstance(exc, cc.CableCasingError):
@@ -431,12 +445,17 @@ class CableCasing(Fmi2Slave):
         """Everything that decides the continuation: the parameters the master set, the inputs,
         the support state of the reconstruction, the start time, and the engine's complete state."""
         numeric = [k for k in self._start if k != "model_file"]
-        s = {"fmu.inputs": self.inputs_buffer.copy(), "fmu.support": self._recon.state.copy(),
-             "fmu.start_time": np.array(self._start_time), "fmu.initialized": np.array(self._initialized),
-             "fmu.built": np.array(self._engine is not None), "fmu.error": np.array(self._error or ""),
-             "fmu.model_file": np.array(self._set.get("model_file", "")),
-             "fmu.set_keys": np.array([k for k in numeric if k in self._set] or [""]),
-             "fmu.set_values": np.array([float(self._set[k]) for k in numeric if k in self._set])}
+        s = {
+            "fmu.inputs": self.inputs_buffer.copy(),
+            "fmu.support": self._recon.state.copy(),
+            "fmu.start_time": np.array(self._start_time),
+            "fmu.initialized": np.array(self._initialized),
+            "fmu.built": np.array(self._engine is not None),
+            "fmu.error": np.array(self._error or ""),
+            "fmu.model_file": np.array(self._set.get("model_file", "")),
+            "fmu.set_keys": np.array([k for k in numeric if k in self._set] or [""]),
+            "fmu.set_values": np.array([float(self._set[k]) for k in numeric if k in self._set]),
+        }
         if self._engine is not None:
             s.update({f"engine.{k}": v for k, v in self._engine.get_state().items()})
         return s
@@ -449,8 +468,9 @@ class CableCasing(Fmi2Slave):
         except Exception as exc:  # noqa: BLE001
             self.log(f"the FMU state cannot be restored ({exc}); the instance is unchanged", Fmi2Status.error)
             return ERROR
-        (self._set, self._engine, self._applied, inputs, support, self._start_time, self._initialized,
-         self._error) = new
+        (self._set, self._engine, self._applied, inputs, support, self._start_time, self._initialized, self._error) = (
+            new
+        )
         self.inputs_buffer[:] = inputs
         self._recon.state = support
         if self._engine is not None:
@@ -482,10 +502,11 @@ class CableCasing(Fmi2Slave):
                 config = self._config()
             finally:
                 self._set = saved
-            engine = self._engine if (self._engine is not None and self._applied == config) else \
-                self._make_engine(config)
-            engine_state = {k[len("engine."):]: v for k, v in state.items() if k.startswith("engine.")}
-            if engine is self._engine:              # Engine.set_state checks all before it writes any
+            engine = (
+                self._engine if (self._engine is not None and self._applied == config) else self._make_engine(config)
+            )
+            engine_state = {k[len("engine.") :]: v for k, v in state.items() if k.startswith("engine.")}
+            if engine is self._engine:  # Engine.set_state checks all before it writes any
                 backup = engine.get_state()
                 try:
                     engine.set_state(engine_state)
@@ -495,8 +516,16 @@ class CableCasing(Fmi2Slave):
             else:
                 engine.set_state(engine_state)
             applied = config
-        return (new_set, engine, applied, inputs, support, float(state["fmu.start_time"]),
-                bool(state["fmu.initialized"]), str(state["fmu.error"]) or None)
+        return (
+            new_set,
+            engine,
+            applied,
+            inputs,
+            support,
+            float(state["fmu.start_time"]),
+            bool(state["fmu.initialized"]),
+            str(state["fmu.error"]) or None,
+        )
 
     @staticmethod
     def serialize_state(state):
@@ -510,8 +539,11 @@ class CableCasing(Fmi2Slave):
                 raise ValueError("no FMU inputs in it")
             return state
         except Exception as exc:  # noqa: BLE001
-            self.log(f"the FMU state cannot be restored ({len(data)} bytes are not a serialised CableCasing FMU "
-                     f"state: {exc!r})", Fmi2Status.error)
+            self.log(
+                f"the FMU state cannot be restored ({len(data)} bytes are not a serialised CableCasing FMU "
+                f"state: {exc!r})",
+                Fmi2Status.error,
+            )
             return None
 
     # ------------------------------------------------------------------ pythonfmu's binary (Windows)
@@ -534,7 +566,7 @@ class CableCasing(Fmi2Slave):
         idx = self._set_plans.get(key)
         if idx is None:
             idx = self._set_plans[key] = self._plan(key, self._input_vr)
-        if idx is not False:                 # inputs only: one vectorised assignment
+        if idx is not False:  # inputs only: one vectorised assignment
             self.inputs_buffer[idx] = values
             return
         self.fmi2_set("Real", vrs, values)
@@ -544,7 +576,7 @@ class CableCasing(Fmi2Slave):
         idx = self._get_plans.get(key)
         if idx is None:
             idx = self._get_plans[key] = self._plan(key, self._output_vr)
-        if idx is not False:                 # outputs only
+        if idx is not False:  # outputs only
             return self.outputs_buffer[idx].tolist()
         out = [0.0] * len(vrs)
         self.fmi2_get("Real", vrs, out)

@@ -19,6 +19,7 @@ What happens once per process and FMU (keyed by the FMU's GUID):
   start does not compile; if the machine code does not fit (another CPU, Python or numba), numba
   compiles and this module says so in the log while it happens.
 """
+
 from __future__ import annotations
 
 import ctypes
@@ -32,7 +33,7 @@ import traceback
 OK, WARNING, DISCARD, ERROR = 0, 1, 2, 3
 _LOG_FN = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_char_p, ctypes.c_int)
 _CATEGORY = {OK: b"logAll", WARNING: b"logStatusWarning", DISCARD: b"logStatusDiscard", ERROR: b"logStatusError"}
-_LOADED = {}          # GUID -> the slave module of that FMU, imported once per process
+_LOADED = {}  # GUID -> the slave module of that FMU, imported once per process
 
 
 class FMUStartError(Exception):
@@ -111,7 +112,7 @@ def _stable_copy(resources, guid, names):
         open(os.path.join(tmp, ".complete"), "w").close()
         try:
             os.rename(tmp, dest)
-        except OSError:                       # another process was first: use its copy
+        except OSError:  # another process was first: use its copy
             shutil.rmtree(tmp, ignore_errors=True)
         return dest if os.path.isfile(os.path.join(dest, ".complete")) else resources
     except OSError:
@@ -161,9 +162,12 @@ def _compile_notice(log, cache_dir):
                 return
             self.said = True
             name = getattr((ev.data or {}).get("dispatcher"), "__qualname__", "?")
-            log(WARNING, "compiling the model's numba kernels for this machine (no cached machine code in "
-                         f"{cache_dir} fits this CPU, Python and numba); this takes 30-60 s once, later starts "
-                         f"load them from there (first kernel: {name})")
+            log(
+                WARNING,
+                "compiling the model's numba kernels for this machine (no cached machine code in "
+                f"{cache_dir} fits this CPU, Python and numba); this takes 30-60 s once, later starts "
+                f"load them from there (first kernel: {name})",
+            )
 
         def on_end(self, ev):
             pass
@@ -181,19 +185,27 @@ class Instance:
     def __init__(self, name, guid, resources, visible, logging_on, log_addr, handle, python_note, fmi_version):
         self._log_c = _LOG_FN(log_addr)
         self._handle = handle
-        self._keep = []                       # strings handed to C by get_string, alive until the next call
+        self._keep = []  # strings handed to C by get_string, alive until the next call
         env = _read_environment(resources)
-        self._log(OK, f"CableCasing.fmu {env.get('version', '?')} (FMI {fmi_version}): {python_note}; "
-                      f"Python executable {sys.executable}")
+        self._log(
+            OK,
+            f"CableCasing.fmu {env.get('version', '?')} (FMI {fmi_version}): {python_note}; "
+            f"Python executable {sys.executable}",
+        )
         if env.get("guid") and guid != env["guid"]:
-            self._fail(f"fmuGUID {guid!r} does not match this FMU's {env['guid']!r}: the modelDescription.xml "
-                       "the host read belongs to another build of CableCasing.fmu")
+            self._fail(
+                f"fmuGUID {guid!r} does not match this FMU's {env['guid']!r}: the modelDescription.xml "
+                "the host read belongs to another build of CableCasing.fmu"
+            )
         problems = _missing_packages(env.get("requirements", "numpy;scipy;numba"))
         if problems:
-            self._fail(f"the Python at {sys.executable} cannot run this FMU: " + "; ".join(problems)
-                       + f". Install them with '{sys.executable} -m pip install "
-                       + " ".join(f"\"{r}\"" for r in env.get("requirements", "").split(";") if r)
-                       + "', or point CABLECASING_PYTHON at a Python that has them")
+            self._fail(
+                f"the Python at {sys.executable} cannot run this FMU: "
+                + "; ".join(problems)
+                + f". Install them with '{sys.executable} -m pip install "
+                + " ".join(f'"{r}"' for r in env.get("requirements", "").split(";") if r)
+                + "', or point CABLECASING_PYTHON at a Python that has them"
+            )
         module = _LOADED.get(guid)
         if module is None:
             module = self._load(resources, guid)
@@ -208,14 +220,18 @@ class Instance:
         names = [n for n in os.listdir(resources) if n != "numba_cache"]
         home = _stable_copy(resources, guid, names)
         if home == resources:
-            self._log(WARNING, f"cannot write a lasting copy of the model's Python code under {_user_cache_root()}: "
-                               "it is imported from the unpack folder, so loading this FMU again in this process "
-                               "after that folder is deleted may fail")
+            self._log(
+                WARNING,
+                f"cannot write a lasting copy of the model's Python code under {_user_cache_root()}: "
+                "it is imported from the unpack folder, so loading this FMU again in this process "
+                "after that folder is deleted may fail",
+            )
         t0 = time.perf_counter()
-        spec = importlib.util.spec_from_file_location(f"_cablecasing_slave_{guid.replace('-', '_')}",
-                                                      os.path.join(home, "CableCasing.py"))
+        spec = importlib.util.spec_from_file_location(
+            f"_cablecasing_slave_{guid.replace('-', '_')}", os.path.join(home, "CableCasing.py")
+        )
         module = importlib.util.module_from_spec(spec)
-        sys.path.insert(0, home)              # the slave imports cablecasing_core and pythonfmu from there
+        sys.path.insert(0, home)  # the slave imports cablecasing_core and pythonfmu from there
         try:
             spec.loader.exec_module(module)
         except ImportError as exc:
@@ -224,8 +240,11 @@ class Instance:
             sys.path.remove(home)
         here = os.path.dirname(os.path.abspath(module.cc.__file__))
         if os.path.dirname(here) != os.path.abspath(home):
-            self._log(WARNING, f"cablecasing_core was already imported from {here} before this FMU was loaded; "
-                               f"that copy is used, not the FMU's own (in {home})")
+            self._log(
+                WARNING,
+                f"cablecasing_core was already imported from {here} before this FMU was loaded; "
+                f"that copy is used, not the FMU's own (in {home})",
+            )
         caches, seeded = kernel_cache_dirs(), 0
         for cache in caches:
             try:
@@ -234,8 +253,11 @@ class Instance:
                 self._log(WARNING, f"cannot copy the shipped numba cache to {cache}: {exc}")
         module.numba_cache_dirs = caches
         _LOADED[guid] = module
-        self._log(OK, f"model code imported from {home} in {time.perf_counter() - t0:.2f} s; numba cache "
-                      f"{', '.join(caches)} ({seeded} files copied from the FMU)")
+        self._log(
+            OK,
+            f"model code imported from {home} in {time.perf_counter() - t0:.2f} s; numba cache "
+            f"{', '.join(caches)} ({seeded} files copied from the FMU)",
+        )
         return module
 
     def _install_compile_notice(self, cache):
@@ -278,8 +300,9 @@ class Instance:
 
     # ---------------------------------------------------------------------------------- life cycle
     def setup_experiment(self, tol_defined, tol, start, stop_defined, stop):
-        return self._guard("fmi2SetupExperiment", self._slave.fmi2_setup_experiment, start,
-                           stop if stop_defined else None)
+        return self._guard(
+            "fmi2SetupExperiment", self._slave.fmi2_setup_experiment, start, stop if stop_defined else None
+        )
 
     def enter_initialization_mode(self):
         return OK
@@ -339,7 +362,7 @@ class Instance:
             ptrs = _c_strings(out_addr, n)
             for k, buf in enumerate(keep):
                 ptrs[k] = ctypes.addressof(buf)
-            self._keep = keep                 # valid until the next call (FMI 2.0)
+            self._keep = keep  # valid until the next call (FMI 2.0)
         return status
 
     def set_real(self, vr_addr, n, in_addr):
@@ -362,13 +385,13 @@ class Instance:
         values = []
         for ptr in _c_strings(in_addr, n):
             if ptr is None:
-                values.append(None)           # refused by the slave, by name
+                values.append(None)  # refused by the slave, by name
                 continue
             raw = ctypes.string_at(ptr)
             try:
                 values.append(raw.decode("utf-8"))
             except UnicodeDecodeError:
-                values.append(raw)            # bytes: refused by the slave, by name
+                values.append(raw)  # bytes: refused by the slave, by name
         return self._guard("fmi2SetString", self._slave.fmi2_set, "String", vrs, values)
 
     # ---------------------------------------------------------------------------------- FMU state

@@ -1,23 +1,75 @@
-"""Fixtures shared by the test modules."""
+"""Fixtures shared by the tests: beam models with closed-form answers, and the built FMU.
+
+Tests take what they share from here as fixtures (no module of the tests imports another: pytest
+runs with ``--import-mode=importlib``). Areas: model/, frequency/, timedomain/, identification/, docs/,
+studies/, fmu/, cli/. Tests that take more than a few seconds on a warm numba cache, or start
+processes (the FMU, dask clusters, the demo), are marked ``slow``; ``make test-fast`` leaves them out.
+"""
+
 import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
+from cablecasing_core import model_from_dict
+
 ROOT = Path(__file__).resolve().parent.parent
-FMU = ROOT / "dist" / "CableCasing.fmu"
+STEEL = dict(E=2.1e11, nu=0.3, rho=7850.0)  # Pa, -, kg/m3: the beams' material
+
+
+@pytest.fixture(scope="session")
+def beam_model():
+    """``beam_model(points, n_elements, d=0.01, supports=("clamped", "free"), curve="polyline",
+    **material)``: a cable-only model (solid circular section of diameter d, m; steel unless
+    ``material`` says otherwise: E Pa, nu, rho kg/m3, alpha, beta, loss_factor) along ``points`` (m)."""
+
+    def build(points, n_elements, d=0.01, supports=("clamped", "free"), curve="polyline", **material):
+        body = dict(STEEL, d=d, alpha=0.0, beta=0.0, loss_factor=0.0, supports={"A": supports[0], "B": supports[1]})
+        body.update(material)
+        return model_from_dict(
+            {
+                "geometry": {"points": [list(map(float, p)) for p in points], "n_elements": n_elements, "curve": curve},
+                "cable": body,
+            }
+        )
+
+    return build
+
+
+@pytest.fixture(scope="session")
+def straight(beam_model):
+    """``straight(L=1.0, n=40, **kw)``: a straight beam_model along x, L in m, n elements."""
+
+    def build(L=1.0, n=40, **kw):
+        return beam_model([[0, 0, 0], [L, 0, 0]], n, **kw)
+
+    return build
+
+
+@pytest.fixture(scope="session")
+def arc_points():
+    """``arc_points(R, theta, n)``: n+1 points on a circular arc of radius R (m) and opening angle
+    theta (rad) in the x-y plane."""
+
+    def points(R, theta, n):
+        a = np.linspace(0.0, theta, n + 1)
+        return np.column_stack([R * np.sin(a), R * (1 - np.cos(a)), np.zeros_like(a)])
+
+    return points
 
 
 @pytest.fixture(scope="session")
 def fmu():
-    """The FMU, built (in a separate process) if missing or older than any of its sources."""
+    """dist/CableCasing.fmu, built (in a separate process) if missing or older than any of its sources."""
+    path = ROOT / "dist" / "CableCasing.fmu"
     sys.path.insert(0, str(ROOT))
     try:
         import build_fmu
     finally:
         sys.path.remove(str(ROOT))
     newest = max(p.stat().st_mtime for p in build_fmu.sources())
-    if not FMU.exists() or FMU.stat().st_mtime < newest:
+    if not path.exists() or path.stat().st_mtime < newest:
         subprocess.run([sys.executable, str(ROOT / "build_fmu.py")], check=True, cwd=ROOT)
-    return FMU
+    return path

@@ -13,22 +13,61 @@
 
 See docs/identification.md. SI units throughout; frequencies in Hz where named ``*_hz``.
 """
-from .circlefit import (FRF_KINDS, CircleFitResult, find_resonances, fit_circle, loss_factor_circle,
-                        to_displacement_form)
+
+from .circlefit import FRF_KINDS, CircleFitResult, find_resonances, fit_circle, loss_factor_circle, to_displacement_form
 from .frf import FRFEstimate, apparent_mass, frf_estimate
 from .modulus import ModulusResult, identify_modulus, identify_modulus_model
 from .params_toml import loss_factor_table, parameters_toml
 from .rayleigh import RayleighFit, rayleigh_fit, rayleigh_matrix, rayleigh_zeta
-from .uff_io import (Record, read_csv_frf, read_csv_time, read_frf, read_time_record, read_uff,
-                     write_csv_frf, write_csv_time, write_uff, write_uff_frf, write_uff_time)
-from .wavelet import (DEFAULT_GAMMA, RidgeResult, cwt_morlet, edge_length, wavelet_damping,
-                      wavelet_time_spread)
+from .uff_io import (
+    Record,
+    read_csv_frf,
+    read_csv_time,
+    read_frf,
+    read_time_record,
+    read_uff,
+    write_csv_frf,
+    write_csv_time,
+    write_uff,
+    write_uff_frf,
+    write_uff_time,
+)
+from .wavelet import DEFAULT_GAMMA, RidgeResult, cwt_morlet, edge_length, wavelet_damping, wavelet_time_spread
 
 __all__ = [
-    "DEFAULT_GAMMA", "FRF_KINDS", "CircleFitResult", "FRFEstimate", "ModulusResult", "RayleighFit", "Record",
-    "RidgeResult", "apparent_mass", "cwt_morlet", "edge_length", "find_resonances", "fit_circle",
-    "frf_estimate", "identify_modulus", "identify_modulus_model", "loss_factor_circle", "loss_factor_table",
-    "parameters_toml", "rayleigh_fit", "rayleigh_matrix", "rayleigh_zeta", "read_csv_frf", "read_csv_time",
-    "read_frf", "read_time_record", "read_uff", "to_displacement_form", "wavelet_damping",
-    "wavelet_time_spread", "write_csv_frf", "write_csv_time", "write_uff", "write_uff_frf", "write_uff_time",
+    "DEFAULT_GAMMA",
+    "FRF_KINDS",
+    "CircleFitResult",
+    "FRFEstimate",
+    "ModulusResult",
+    "RayleighFit",
+    "Record",
+    "RidgeResult",
+    "apparent_mass",
+    "cwt_morlet",
+    "edge_length",
+    "find_resonances",
+    "fit_circle",
+    "frf_estimate",
+    "identify_modulus",
+    "identify_modulus_model",
+    "loss_factor_circle",
+    "loss_factor_table",
+    "parameters_toml",
+    "rayleigh_fit",
+    "rayleigh_matrix",
+    "rayleigh_zeta",
+    "read_csv_frf",
+    "read_csv_time",
+    "read_frf",
+    "read_time_record",
+    "read_uff",
+    "to_displacement_form",
+    "wavelet_damping",
+    "wavelet_time_spread",
+    "write_csv_frf",
+    "write_csv_time",
+    "write_uff",
+    "write_uff_frf",
+    "write_uff_time",
 ]

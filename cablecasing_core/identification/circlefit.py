@@ -35,6 +35,7 @@ Method, for each resonance
    fitted again; this repeats until the loss factors change by less than 1e-7 (relative).
    Modes that were not requested remain as the circle's offset.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -44,7 +45,7 @@ from scipy.optimize import least_squares
 from scipy.signal import find_peaks
 
 from ..errors import ModelError
-from ._checks import signal_1d
+from ..model.validators import array_1d
 
 FRF_KINDS = ("displacement", "velocity", "acceleration", "apparent_mass")
 
@@ -69,8 +70,8 @@ def to_displacement_form(freqs_hz, H, kind="displacement"):
     if kind == "velocity":
         return H / (1j * w)
     if kind == "acceleration":
-        return H / (-w ** 2)
-    return H * (-w ** 2)
+        return H / (-(w**2))
+    return H * (-(w**2))
 
 
 def fit_circle(z):
@@ -105,7 +106,7 @@ def fit_circle(z):
 
     sol = least_squares(res, [c0.real, c0.imag, R0], jac=jac, method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15)
     cx, cy, R = sol.x
-    rms = float(np.sqrt(np.mean(sol.fun ** 2))) * scale
+    rms = float(np.sqrt(np.mean(sol.fun**2))) * scale
     return complex(cx, cy) * scale + off, abs(float(R)) * scale, rms
 
 
@@ -151,14 +152,14 @@ class CircleFitResult:
 def find_resonances(freqs_hz, H, count=None, kind="displacement"):
     """Frequencies (Hz, ascending) of the ``count`` most prominent peaks of ``|H|`` in displacement form
     (``scipy.signal.find_peaks`` by prominence): starting resonances for Section 3.2.2. ``H`` of the given ``kind``."""
-    f = signal_1d("freqs_hz", freqs_hz, min_len=5)
+    f = array_1d("freqs_hz", freqs_hz, min_len=5)
     Hd = np.abs(to_displacement_form(f, H, kind))
     peaks, props = find_peaks(Hd, prominence=0.0)
     if peaks.size == 0:
         raise ModelError("H", "FRF without a peak", "needs at least one resonance (interior maximum of |H|)")
     order = np.argsort(props["prominences"])[::-1]
     if count is not None:
-        order = order[:int(count)]
+        order = order[: int(count)]
     return np.sort(f[peaks[order]])
 
 
@@ -185,22 +186,28 @@ def _fit_one(f, Hd, f0, eta_prev, fr_prev, search, bandwidths, min_side):
             raise ModelError("f_res_hz", float(f0), f"fewer than 3 FRF points within +-{100 * search:g} %")
         j = band[np.argmax(A[band])]
         if j == band[0] or j == band[-1]:
-            raise ModelError("f_res_hz", float(f0),
-                             f"no resonance in the window {f[band[0]]:g}..{f[band[-1]]:g} Hz: |H| has no "
-                             "interior maximum there (give the frequency of a peak)")
+            raise ModelError(
+                "f_res_hz",
+                float(f0),
+                f"no resonance in the window {f[band[0]]:g}..{f[band[-1]]:g} Hz: |H| has no "
+                "interior maximum there (give the frequency of a peak)",
+            )
         eta0 = _half_power_eta(f, A, j)
         if eta0 is None or eta0 <= 0.0:
             eta0 = search / bandwidths
         fc = f[j]
     else:
         eta0, fc = eta_prev, fr_prev
-    lo2 = fc ** 2 * (1.0 - bandwidths * eta0)
-    hi2 = fc ** 2 * (1.0 + bandwidths * eta0)
-    win = np.nonzero((f ** 2 >= lo2) & (f ** 2 <= hi2))[0]
+    lo2 = fc**2 * (1.0 - bandwidths * eta0)
+    hi2 = fc**2 * (1.0 + bandwidths * eta0)
+    win = np.nonzero((f**2 >= lo2) & (f**2 <= hi2))[0]
     if win.size < 2 * min_side + 1:
-        raise ModelError("freqs_hz", f"{win.size} points near {f0:g} Hz",
-                         f"too coarse a resolution: the circle needs at least {2 * min_side + 1} points "
-                         f"within {np.sqrt(max(lo2, 0)):g}..{np.sqrt(hi2):g} Hz")
+        raise ModelError(
+            "freqs_hz",
+            f"{win.size} points near {f0:g} Hz",
+            f"too coarse a resolution: the circle needs at least {2 * min_side + 1} points "
+            f"within {np.sqrt(max(lo2, 0)):g}..{np.sqrt(hi2):g} Hz",
+        )
     fw, zw = f[win], Hd[win]
     c, R, rms = fit_circle(zw)
     phi = np.unwrap(np.angle(zw - c))
@@ -209,8 +216,8 @@ def _fit_one(f, Hd, f0, eta_prev, fr_prev, search, bandwidths, min_side):
     k = int(np.argmax(rate))
     mid = 0.5 * (w2[1:] + w2[:-1])
     if 0 < k < rate.size - 1:
-        x0, x1, x2 = mid[k - 1:k + 2]
-        y0, y1, y2 = rate[k - 1:k + 2]
+        x0, x1, x2 = mid[k - 1 : k + 2]
+        y0, y1, y2 = rate[k - 1 : k + 2]
         d01, d12, d02 = x0 - x1, x1 - x2, x0 - x2
         a = y0 / (d01 * d02) - y1 / (d01 * d12) + y2 / (d02 * d12)
         b = (y1 - y0) / (x1 - x0) - a * (x0 + x1)
@@ -219,9 +226,12 @@ def _fit_one(f, Hd, f0, eta_prev, fr_prev, search, bandwidths, min_side):
     else:
         wr2 = float(mid[k])
     if not (w2[0] < wr2 < w2[-1]) or k == 0 or k == rate.size - 1:
-        raise ModelError("f_res_hz", float(f0),
-                         "no resonance in the window: the angle on the fitted circle sweeps fastest at "
-                         f"its edge ({np.sqrt(wr2) / (2 * np.pi):g} Hz)")
+        raise ModelError(
+            "f_res_hz",
+            float(f0),
+            "no resonance in the window: the angle on the fitted circle sweeps fastest at "
+            f"its edge ({np.sqrt(wr2) / (2 * np.pi):g} Hz)",
+        )
     sense = 1 if phi[-1] < phi[0] else -1
     phi_r0 = float(np.interp(wr2, w2, phi))
     spread = float(np.ptp(phi))
@@ -231,16 +241,25 @@ def _fit_one(f, Hd, f0, eta_prev, fr_prev, search, bandwidths, min_side):
         ph_r, wr2_, et = p
         return ph_r + sense * 2.0 * np.arctan((wr2_ - w2) / (et * wr2_)) - phi
 
-    sol = least_squares(law, [phi_r0, wr2, eta_init], x_scale=[1.0, wr2 * eta_init, eta_init],
-                        bounds=([-np.inf, w2[0], 1e-9], [np.inf, w2[-1], np.inf]),
-                        xtol=1e-14, ftol=1e-14, gtol=1e-14)
+    sol = least_squares(
+        law,
+        [phi_r0, wr2, eta_init],
+        x_scale=[1.0, wr2 * eta_init, eta_init],
+        bounds=([-np.inf, w2[0], 1e-9], [np.inf, w2[-1], np.inf]),
+        xtol=1e-14,
+        ftol=1e-14,
+        gtol=1e-14,
+    )
     phi_r, wr2, eta_fit = (float(v) for v in sol.x)
-    below = np.nonzero(w2 < wr2)[0][::-1]   # nearest first
+    below = np.nonzero(w2 < wr2)[0][::-1]  # nearest first
     above = np.nonzero(w2 > wr2)[0]
     if below.size < min_side or above.size < min_side:
-        raise ModelError("f_res_hz", float(f0),
-                         f"the resonance at {np.sqrt(wr2) / (2 * np.pi):g} Hz has fewer than {min_side} "
-                         "circle points on one side: no resonance inside the window")
+        raise ModelError(
+            "f_res_hz",
+            float(f0),
+            f"the resonance at {np.sqrt(wr2) / (2 * np.pi):g} Hz has fewer than {min_side} "
+            "circle points on one side: no resonance inside the window",
+        )
     tb = np.tan(np.abs(phi[below] - phi_r) / 2.0)
     ta = np.tan(np.abs(phi[above] - phi_r) / 2.0)
     plane = (w2[above][None, :] - w2[below][:, None]) / (wr2 * (ta[None, :] + tb[:, None]))
@@ -249,14 +268,39 @@ def _fit_one(f, Hd, f0, eta_prev, fr_prev, search, bandwidths, min_side):
     eta = float(np.median(diag))
     ephi = np.exp(1j * phi_r)
     mode_const = 2.0 * R * ephi * 1j * sense * eta * wr2
-    return dict(f_r_hz=float(np.sqrt(wr2) / (2 * np.pi)), eta=eta, eta_angle_fit=eta_fit, centre=c,
-                radius=R, rms=rms, phi_r=phi_r, sense=sense, modal_constant=mode_const,
-                offset=c - R * ephi, freqs_hz=fw, points=zw, f_below_hz=fw[below], f_above_hz=fw[above],
-                plane=plane, diagonal=diag, spread=spread)
+    return dict(
+        f_r_hz=float(np.sqrt(wr2) / (2 * np.pi)),
+        eta=eta,
+        eta_angle_fit=eta_fit,
+        centre=c,
+        radius=R,
+        rms=rms,
+        phi_r=phi_r,
+        sense=sense,
+        modal_constant=mode_const,
+        offset=c - R * ephi,
+        freqs_hz=fw,
+        points=zw,
+        f_below_hz=fw[below],
+        f_above_hz=fw[above],
+        plane=plane,
+        diagonal=diag,
+        spread=spread,
+    )
 
 
-def loss_factor_circle(freqs_hz, H, f_res_hz=None, kind="displacement", count=None, bandwidths=2.0,
-                       search=0.1, correct_neighbours=True, max_iter=50, min_side=3):
+def loss_factor_circle(
+    freqs_hz,
+    H,
+    f_res_hz=None,
+    kind="displacement",
+    count=None,
+    bandwidths=2.0,
+    search=0.1,
+    correct_neighbours=True,
+    max_iter=50,
+    min_side=3,
+):
     """Loss factors of the resonances of an FRF from Nyquist circles (Section 3.2.2, Eq. 45, Fig. 13).
 
     Parameters
@@ -291,8 +335,8 @@ def loss_factor_circle(freqs_hz, H, f_res_hz=None, kind="displacement", count=No
         Frequencies not increasing, mismatched lengths, no resonance (interior peak / fastest angle
         sweep) in a window, a resolution too coarse for the circle.
     """
-    f = signal_1d("freqs_hz", freqs_hz, min_len=7)
-    Hc = signal_1d("H", H, min_len=7, complex_ok=True).astype(complex)
+    f = array_1d("freqs_hz", freqs_hz, min_len=7)
+    Hc = array_1d("H", H, min_len=7, complex_ok=True).astype(complex)
     if Hc.size != f.size:
         raise ModelError("H", f"{Hc.size} values", f"must have one value per frequency ({f.size})")
     if np.any(np.diff(f) <= 0):
@@ -306,16 +350,21 @@ def loss_factor_circle(freqs_hz, H, f_res_hz=None, kind="displacement", count=No
         f_res = np.sort(np.atleast_1d(np.asarray(f_res_hz, dtype=float)))
         bad = (f_res <= f[0]) | (f_res >= f[-1]) | ~np.isfinite(f_res)
         if np.any(bad):
-            raise ModelError("f_res_hz", float(f_res[bad][0]),
-                             f"must lie inside the FRF's frequency range ({f[0]:g}, {f[-1]:g}) Hz")
+            raise ModelError(
+                "f_res_hz", float(f_res[bad][0]), f"must lie inside the FRF's frequency range ({f[0]:g}, {f[-1]:g}) Hz"
+            )
     fits = [_fit_one(f, Hd, f0, None, None, search, bandwidths, min_side) for f0 in f_res]
     it = 0
     if correct_neighbours and len(fits) > 1:
-        for it in range(1, int(max_iter) + 1):
+        for it in range(1, int(max_iter) + 1):  # noqa: B007  (it is the count read after the loop)
             terms = [_term(r, f) for r in fits]
             total = np.sum(terms, axis=0)
-            new = [_fit_one(f, Hd - (total - terms[i]), f0, fits[i]["eta"], fits[i]["f_r_hz"], search,
-                            bandwidths, min_side) for i, f0 in enumerate(f_res)]
+            new = [
+                _fit_one(
+                    f, Hd - (total - terms[i]), f0, fits[i]["eta"], fits[i]["f_r_hz"], search, bandwidths, min_side
+                )
+                for i, f0 in enumerate(f_res)
+            ]
             change = max(abs(a["eta"] - b["eta"]) / b["eta"] for a, b in zip(new, fits))
             fits = new
             if change < 1e-7:

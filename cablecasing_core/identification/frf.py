@@ -11,15 +11,17 @@ with ``G_xy = csd(x, y)`` (SciPy's convention ``E[conj(X) Y]``). The apparent ma
 validation (TRFAM, Eq. 12, in kg) is the FRF from the support acceleration (input, m/s^2) to the
 support force (output, N).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import signal
 
 from ..errors import ModelError
-from ._checks import positive, signal_1d
+from ..model.validators import array_1d, number
 
 
 @dataclass(frozen=True)
@@ -37,7 +39,9 @@ class FRFEstimate:
     n_averages: int
 
 
-def frf_estimate(x, y, fs, nperseg=None, window="hann", noverlap=None, detrend="constant"):
+def frf_estimate(
+    x: ArrayLike, y: ArrayLike, fs: float, nperseg: int | None = None, window="hann", noverlap=None, detrend="constant"
+) -> FRFEstimate:
     """H1 and H2 FRF estimates and the coherence from input ``x`` and output ``y`` (the measured
     TRFAM of Eq. (12) when x is a support acceleration and y a support force).
 
@@ -58,11 +62,11 @@ def frf_estimate(x, y, fs, nperseg=None, window="hann", noverlap=None, detrend="
     :class:`FRFEstimate`. The densities are one-sided (``scaling="density"``); their common
     scale cancels in H1, H2 and the coherence.
     """
-    x = signal_1d("x", x, min_len=16)
-    y = signal_1d("y", y, min_len=16)
+    x = array_1d("x", x, min_len=16)
+    y = array_1d("y", y, min_len=16)
     if x.size != y.size:
         raise ModelError("y", f"{y.size} samples", f"must have as many samples as x ({x.size})")
-    fs = positive("fs", fs)
+    fs = number("fs", fs, gt=0, unit="Hz")
     if nperseg is None:
         nperseg = max(16, x.size // 8)
     nperseg = int(nperseg)
@@ -79,8 +83,7 @@ def frf_estimate(x, y, fs, nperseg=None, window="hann", noverlap=None, detrend="
         H2 = Gyy / np.conj(Gxy)
         coh = np.abs(Gxy) ** 2 / (Gxx * Gyy)
     n_avg = 1 + (x.size - nperseg) // (nperseg - noverlap)
-    return FRFEstimate(f_hz=f, H1=H1, H2=H2, coherence=np.real(coh), Gxx=Gxx, Gyy=Gyy, Gxy=Gxy,
-                       n_averages=int(n_avg))
+    return FRFEstimate(f_hz=f, H1=H1, H2=H2, coherence=np.real(coh), Gxx=Gxx, Gyy=Gyy, Gxy=Gxy, n_averages=int(n_avg))
 
 
 def apparent_mass(acceleration, force, fs, estimator="H1", **kw):

@@ -18,6 +18,7 @@ The identification is written against a callable ``compute_frequencies(E_Pa) -> 
 so it does not depend on the FE model; :func:`identify_modulus_model` wraps the package's own
 ``natural_frequencies`` for a model and a body.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -25,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError
-from ._checks import positive, signal_1d
+from ..model.validators import array_1d, number
 
 
 @dataclass(frozen=True)
@@ -54,8 +55,17 @@ class ModulusResult:
         return np.polynomial.polynomial.polyval(u, self.coefficients)
 
 
-def identify_modulus(compute_frequencies, f_measured_hz, modes, E_start, freq_resolution_hz=None, degree=2,
-                     table_freqs_hz=None, n_table=12, max_iter=50):
+def identify_modulus(
+    compute_frequencies,
+    f_measured_hz,
+    modes,
+    E_start,
+    freq_resolution_hz=None,
+    degree=2,
+    table_freqs_hz=None,
+    n_table=12,
+    max_iter=50,
+) -> ModulusResult:
     """Dynamic modulus per measured mode and a smooth E(f) table (Section 3.1, Figs. 8-9).
 
     Parameters
@@ -91,7 +101,7 @@ def identify_modulus(compute_frequencies, f_measured_hz, modes, E_start, freq_re
         Mismatched lengths, non-positive frequencies or moduli, a mode number beyond the computed
         list, no convergence (the frequency cannot be reached by changing E).
     """
-    f_m = signal_1d("f_measured_hz", f_measured_hz, min_len=1)
+    f_m = array_1d("f_measured_hz", f_measured_hz, min_len=1)
     if np.any(f_m <= 0):
         raise ModelError("f_measured_hz", float(f_m[f_m <= 0][0]), "measured frequencies must be positive (Hz)")
     md = np.atleast_1d(np.asarray(modes))
@@ -100,15 +110,18 @@ def identify_modulus(compute_frequencies, f_measured_hz, modes, E_start, freq_re
     if not np.all(np.equal(np.mod(md, 1), 0)) or np.any(md < 1):
         raise ModelError("modes", md.tolist(), "mode numbers are whole numbers >= 1 (1 = lowest mode)")
     md = md.astype(int)
-    E0 = positive("E_start", E_start)
+    E0 = number("E_start", E_start, gt=0, unit="Pa")
     if freq_resolution_hz is not None:
-        positive("freq_resolution_hz", freq_resolution_hz)
+        number("freq_resolution_hz", freq_resolution_hz, gt=0, unit="Hz")
 
     def freqs(E):
         f = np.asarray(compute_frequencies(float(E)), dtype=float)
         if f.ndim != 1 or f.size < md.max():
-            raise ModelError("modes", int(md.max()),
-                             f"compute_frequencies returned {f.size} frequencies; mode numbers must not exceed that")
+            raise ModelError(
+                "modes",
+                int(md.max()),
+                f"compute_frequencies returned {f.size} frequencies; mode numbers must not exceed that",
+            )
         return f
 
     f_start = freqs(E0)
@@ -129,9 +142,12 @@ def identify_modulus(compute_frequencies, f_measured_hz, modes, E_start, freq_re
             steps.append((E, fc))
         else:
             if abs(fc - fi) > tol:
-                raise ModelError("f_measured_hz", float(fi),
-                                 f"mode {mi}: no modulus reproduces this frequency within {tol:g} Hz "
-                                 f"after {max_iter} steps (last E = {E:g} Pa gives {fc:g} Hz)")
+                raise ModelError(
+                    "f_measured_hz",
+                    float(fi),
+                    f"mode {mi}: no modulus reproduces this frequency within {tol:g} Hz "
+                    f"after {max_iter} steps (last E = {E:g} Pa gives {fc:g} Hz)",
+                )
         E_mode[i], f_comp[i] = E, fc
         history.append(steps)
     f_ref = float(np.exp(np.mean(np.log(f_m))))
@@ -139,8 +155,9 @@ def identify_modulus(compute_frequencies, f_measured_hz, modes, E_start, freq_re
     if degree is None:
         order = np.argsort(f_m)
         fu, idx = np.unique(f_m[order], return_index=True)
-        coeffs = np.polynomial.polynomial.polyfit(u, E_mode, min(f_m.size - 1, 2)) if f_m.size > 1 \
-            else np.array([E_mode[0]])
+        coeffs = (
+            np.polynomial.polynomial.polyfit(u, E_mode, min(f_m.size - 1, 2)) if f_m.size > 1 else np.array([E_mode[0]])
+        )
         table = [[float(a), float(b)] for a, b in zip(fu, E_mode[order][idx])]
     else:
         if int(degree) < 0:
@@ -153,21 +170,32 @@ def identify_modulus(compute_frequencies, f_measured_hz, modes, E_start, freq_re
             else:
                 tf = np.geomspace(f_m.min(), f_m.max(), max(2, int(n_table)))
         else:
-            tf = np.unique(signal_1d("table_freqs_hz", table_freqs_hz, min_len=1))
+            tf = np.unique(array_1d("table_freqs_hz", table_freqs_hz, min_len=1))
             if np.any(tf < 0):
                 raise ModelError("table_freqs_hz", float(tf[0]), "must be frequencies >= 0 Hz")
         with np.errstate(divide="ignore"):
             Et = np.polynomial.polynomial.polyval(np.log(np.maximum(tf, 1e-300) / f_ref), coeffs)
         if np.any(Et <= 0):
-            raise ModelError("degree", degree, "the smooth fit gives a non-positive modulus in the table's range; "
-                             "use a lower degree")
+            raise ModelError(
+                "degree", degree, "the smooth fit gives a non-positive modulus in the table's range; use a lower degree"
+            )
         table = [[float(a), float(b)] for a, b in zip(tf, Et)]
-    return ModulusResult(f_measured_hz=f_m, modes=md, E_mode=E_mode, f_computed_hz=f_comp, history=history,
-                         f_ref_hz=f_ref, coefficients=np.asarray(coeffs, dtype=float), table=table,
-                         tolerance_hz=0.5 * float(freq_resolution_hz) if freq_resolution_hz is not None else 0.0)
+    return ModulusResult(
+        f_measured_hz=f_m,
+        modes=md,
+        E_mode=E_mode,
+        f_computed_hz=f_comp,
+        history=history,
+        f_ref_hz=f_ref,
+        coefficients=np.asarray(coeffs, dtype=float),
+        table=table,
+        tolerance_hz=0.5 * float(freq_resolution_hz) if freq_resolution_hz is not None else 0.0,
+    )
 
 
-def identify_modulus_model(model, body, f_measured_hz, modes, freq_resolution_hz=None, degree=2, count=None, **kw):
+def identify_modulus_model(
+    model, body: str, f_measured_hz, modes, freq_resolution_hz=None, degree=2, count=None, **kw
+) -> ModulusResult:
     """:func:`identify_modulus` on the package's FE model of ``body`` ("casing" or "cable").
 
     ``compute_frequencies(E) = cablecasing_core.natural_frequencies(model.with_overrides({f"{body}.E": E}),
@@ -185,5 +213,12 @@ def identify_modulus_model(model, body, f_measured_hz, modes, freq_resolution_hz
     def compute(E):
         return cc.natural_frequencies(model.with_overrides({f"{body}.E": float(E)}), body, n)
 
-    return identify_modulus(compute, f_measured_hz, modes, model.bodies[body].E_ref,
-                            freq_resolution_hz=freq_resolution_hz, degree=degree, **kw)
+    return identify_modulus(
+        compute,
+        f_measured_hz,
+        modes,
+        model.bodies[body].E_ref,
+        freq_resolution_hz=freq_resolution_hz,
+        degree=degree,
+        **kw,
+    )

@@ -1,36 +1,36 @@
 """Identified parameters as TOML in the model file's own keys.
 
-Keys of a ``[casing]`` or ``[cable]`` section (docs of ``config.py``): ``alpha`` (1/s) and ``beta``
+Keys of a ``[casing]`` or ``[cable]`` section (the model schema, ``model/schema.py``): ``alpha`` (1/s) and ``beta``
 (s) of Rayleigh damping, Eq. (40); ``loss_factor`` (dimensionless) of Eq. (11), a number or a
 table ``[[f_Hz, eta], ...]``; ``E`` (Pa), a number or a table ``[[f_Hz, E_Pa], ...]`` (Section 3.1).
 Tables are sorted by strictly increasing frequency, as the model file requires.
 """
+
 from __future__ import annotations
 
 import numpy as np
 
 from ..errors import ModelError
-
-BODIES = ("casing", "cable")
+from ..model.schema import BODY_NAMES as BODIES
+from ..model.schema import lookup
+from ..model.validators import Choice
 
 
 def _num(x):
     return repr(float(x))
 
 
-def _table(key, rows, positive):
-    try:
-        t = [[float(a), float(b)] for a, b in rows]
-    except (TypeError, ValueError):
-        raise ModelError(key, rows, "a table must be rows [f_Hz, value]") from None
-    t.sort(key=lambda r: r[0])
-    f = [r[0] for r in t]
-    if not t or any(b <= a for a, b in zip(f, f[1:])) or f[0] < 0:
-        raise ModelError(key, rows, "table frequencies must be >= 0 Hz and distinct")
-    for r in t:
-        if not np.isfinite(r[1]) or (r[1] <= 0 if positive else r[1] < 0):
-            raise ModelError(key, r, "values must be " + ("positive" if positive else "zero or positive"))
-    return "[" + ", ".join(f"[{_num(a)}, {_num(b)}]" for a, b in t) + "]"
+def _checked(body, key, value):
+    """``value`` checked by the model file's own rule for ``<body>.<key>`` (the schema); a table
+    (rows [f_Hz, value] of any sequence type) is sorted by frequency first."""
+    if np.ndim(value) > 0:
+        try:
+            value = sorted(([float(a), float(b)] for a, b in value), key=lambda r: r[0])
+        except (TypeError, ValueError):
+            raise ModelError(key, value, "a table must be rows [f_Hz, value]") from None
+        lookup(f"{body}.{key}").check(value, key)
+        return "[" + ", ".join(f"[{_num(a)}, {_num(b)}]" for a, b in value) + "]"
+    return _num(lookup(f"{body}.{key}").check(float(value), key))
 
 
 def loss_factor_table(circle_results):
@@ -38,7 +38,9 @@ def loss_factor_table(circle_results):
     return sorted([[float(r.f_r_hz), float(r.eta)] for r in circle_results])
 
 
-def parameters_toml(body=None, alpha=None, beta=None, loss_factor=None, E=None, comment=None):
+def parameters_toml(
+    body: str | None = None, alpha=None, beta=None, loss_factor=None, E=None, comment: str | None = None
+) -> str:
     """TOML lines with the given identified parameters, in the model file's keys: Rayleigh
     ``alpha``, ``beta`` (Eqs. 40-44), ``loss_factor`` (Eq. 11, Eq. 45), ``E`` (Section 3.1).
 
@@ -52,30 +54,23 @@ def parameters_toml(body=None, alpha=None, beta=None, loss_factor=None, E=None, 
     if comment:
         lines += [f"# {c}" for c in str(comment).splitlines()]
     if body is not None:
-        if body not in BODIES:
-            raise ModelError("body", body, "must be 'casing' or 'cable'")
+        Choice(*BODIES)("body", body)
         lines.append(f"[{body}]")
+    rules = body or BODIES[0]  # (both bodies take the same values)
     for key, v in (("alpha", alpha), ("beta", beta)):
         if v is None:
             continue
-        if not np.isfinite(float(v)) or float(v) < 0:
-            raise ModelError(key, v, "the model file needs a Rayleigh factor >= 0; refit with nonnegative=True")
-        lines.append(f"{key} = {_num(v)}")
+        try:
+            lines.append(f"{key} = {_checked(rules, key, v)}")
+        except ModelError:
+            raise ModelError(
+                key, v, "the model file needs a Rayleigh factor >= 0; refit with nonnegative=True"
+            ) from None
     if loss_factor is not None:
         lf = loss_factor
         if isinstance(lf, (list, tuple)) and lf and hasattr(lf[0], "eta"):
             lf = loss_factor_table(lf)
-        if np.ndim(lf) == 0:
-            if not np.isfinite(float(lf)) or float(lf) < 0:
-                raise ModelError("loss_factor", lf, "must be a number >= 0")
-            lines.append(f"loss_factor = {_num(lf)}")
-        else:
-            lines.append(f"loss_factor = {_table('loss_factor', lf, positive=False)}")
+        lines.append(f"loss_factor = {_checked(rules, 'loss_factor', lf)}")
     if E is not None:
-        if np.ndim(E) == 0:
-            if not np.isfinite(float(E)) or float(E) <= 0:
-                raise ModelError("E", E, "must be a positive number (Pa)")
-            lines.append(f"E = {_num(E)}")
-        else:
-            lines.append(f"E = {_table('E', E, positive=True)}")
+        lines.append(f"E = {_checked(rules, 'E', E)}")
     return "\n".join(lines) + "\n"

@@ -6,6 +6,7 @@
   planes, (g-i) the ridge on the main diagonal.
 * :func:`plot_modulus` - Fig. 8 (the adaptive process) and Fig. 9 (E against f with the smooth fit).
 """
+
 from __future__ import annotations
 
 import matplotlib
@@ -15,13 +16,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.ticker import MaxNLocator, ScalarFormatter  # noqa: E402
 
+from ..plotting import save_figure  # noqa: E402
 from .wavelet import cwt_morlet  # noqa: E402
-
-
-def _save(fig, path):
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
 
 
 def plot_ridges(results, path, x=None, fs=None):
@@ -53,8 +49,7 @@ def plot_ridges(results, path, x=None, fs=None):
         ax.plot(r.t, r.log_w, color="0.6", lw=0.8, label="ln|W| on the ridge")
         ax.plot(r.t[r.fit_mask], r.log_w[r.fit_mask], "b-", lw=1.2, label="fitted part")
         tf = np.array(r.t_fit)
-        ax.plot(tf, r.intercept + r.slope * tf, "r--", lw=1.2,
-                label=f"slope {r.slope:.4g} 1/s, zeta = {r.zeta:.4g}")
+        ax.plot(tf, r.intercept + r.slope * tf, "r--", lw=1.2, label=f"slope {r.slope:.4g} 1/s, zeta = {r.zeta:.4g}")
         ax.axvspan(r.t[0], r.edge_s, color="0.9")
         ax.axvspan(r.t[-1] - r.edge_s, r.t[-1], color="0.9")
         if r.noise_floor > 0:
@@ -66,7 +61,7 @@ def plot_ridges(results, path, x=None, fs=None):
         ax.set_ylabel("ln|W|")
         ax.set_title(f"f_r = {r.f_natural_hz:.2f} Hz (ridge {r.f_ridge_hz:.2f} Hz)")
         ax.legend(fontsize=7, loc="upper right")
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def plot_circles(results, path):
@@ -78,8 +73,13 @@ def plot_circles(results, path):
         a, b, c = axes[0, j], axes[1, j], axes[2, j]
         s = np.linspace(0, 2 * np.pi, 361)
         a.plot(r.points.real, r.points.imag, "ko", ms=3, label="FRF (corrected)")
-        a.plot((r.centre + r.radius * np.exp(1j * s)).real, (r.centre + r.radius * np.exp(1j * s)).imag, "r-",
-               lw=1, label="fitted circle")
+        a.plot(
+            (r.centre + r.radius * np.exp(1j * s)).real,
+            (r.centre + r.radius * np.exp(1j * s)).imag,
+            "r-",
+            lw=1,
+            label="fitted circle",
+        )
         zr = r.centre + r.radius * np.exp(1j * r.phi_r)
         a.plot([r.centre.real, zr.real], [r.centre.imag, zr.imag], "b-", lw=1)
         a.plot(zr.real, zr.imag, "bs", ms=5, label="resonance")
@@ -106,7 +106,7 @@ def plot_circles(results, path):
         c.set_xlabel("pair index from the resonance")
         c.set_ylabel("eta on the diagonal")
         c.legend(fontsize=7)
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def plot_modulus(result, path):
@@ -130,4 +130,4 @@ def plot_modulus(result, path):
     b.set_ylabel("E (Pa)")
     b.set_title("dynamic modulus (Fig. 9)")
     b.legend(fontsize=7)
-    _save(fig, path)
+    save_figure(fig, path)

@@ -10,15 +10,17 @@ scale, so the normal equations square an already large condition number. Columns
 unit norm before solving for the same reason. With ``nonnegative=True`` the model file's
 constraint ``alpha, beta >= 0`` is imposed by ``scipy.optimize.nnls`` (Lawson-Hanson).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.optimize import nnls
 
 from ..errors import ModelError
-from ._checks import signal_1d
+from ..model.validators import array_1d
 
 
 @dataclass(frozen=True)
@@ -37,22 +39,24 @@ class RayleighFit:
 
     @property
     def rms_residual(self):
-        return float(np.sqrt(np.mean(self.residuals ** 2)))
+        return float(np.sqrt(np.mean(self.residuals**2)))
 
 
-def rayleigh_zeta(freqs_hz, alpha, beta):
+def rayleigh_zeta(freqs_hz: ArrayLike, alpha: float, beta: float) -> np.ndarray:
     """Damping ratios (dimensionless) of Rayleigh damping at natural frequencies ``freqs_hz`` (Hz), Eq. (41)."""
     w = 2.0 * np.pi * np.asarray(freqs_hz, dtype=float)
     return alpha / (2.0 * w) + beta * w / 2.0
 
 
-def rayleigh_matrix(freqs_hz):
+def rayleigh_matrix(freqs_hz: ArrayLike) -> np.ndarray:
     """The matrix ``A`` of Eqs. (42)-(43): rows ``[1 / (2 omega_i), omega_i / 2]`` (omega in rad/s)."""
     w = 2.0 * np.pi * np.asarray(freqs_hz, dtype=float)
     return np.column_stack([1.0 / (2.0 * w), w / 2.0])
 
 
-def rayleigh_fit(freqs_hz, zetas, weights=None, nonnegative=False):
+def rayleigh_fit(
+    freqs_hz: ArrayLike, zetas: ArrayLike, weights: ArrayLike | None = None, nonnegative: bool = False
+) -> RayleighFit:
     """Least-squares Rayleigh factors from identified (natural frequency, damping ratio) pairs.
 
     Solves Eq. (42) ``zeta_i = alpha / (2 omega_i) + beta omega_i / 2`` for ``alpha`` (1/s) and
@@ -73,15 +77,15 @@ def rayleigh_fit(freqs_hz, zetas, weights=None, nonnegative=False):
     -------
     :class:`RayleighFit` with the factors and the residuals ``zeta - zeta_fit``.
     """
-    f = signal_1d("freqs_hz", freqs_hz, min_len=2)
-    z = signal_1d("zetas", zetas, min_len=2)
+    f = array_1d("freqs_hz", freqs_hz, min_len=2)
+    z = array_1d("zetas", zetas, min_len=2)
     if z.size != f.size:
         raise ModelError("zetas", f"{z.size} values", f"must have one damping ratio per frequency ({f.size})")
     if np.any(f <= 0):
         raise ModelError("freqs_hz", float(f[f <= 0][0]), "natural frequencies must be positive (Hz)")
     if np.unique(f).size < 2:
         raise ModelError("freqs_hz", f.tolist(), "needs at least two distinct natural frequencies")
-    w = np.ones_like(f) if weights is None else signal_1d("weights", weights, min_len=f.size)
+    w = np.ones_like(f) if weights is None else array_1d("weights", weights, min_len=f.size)
     if w.size != f.size or np.any(w <= 0):
         raise ModelError("weights", weights, "must be one positive weight per frequency")
     A = rayleigh_matrix(f) * w[:, None]
@@ -94,5 +98,4 @@ def rayleigh_fit(freqs_hz, zetas, weights=None, nonnegative=False):
         c = np.linalg.lstsq(As, b, rcond=None)[0]
     alpha, beta = c / scale
     zfit = rayleigh_zeta(f, alpha, beta)
-    return RayleighFit(alpha=float(alpha), beta=float(beta), freqs_hz=f, zeta=z, zeta_fit=zfit,
-                       residuals=z - zfit)
+    return RayleighFit(alpha=float(alpha), beta=float(beta), freqs_hz=f, zeta=z, zeta_fit=zfit, residuals=z - zfit)

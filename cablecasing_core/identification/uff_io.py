@@ -12,6 +12,7 @@ CSV files have one header line. Time records: ``time_s,<channel>,...``. FRFs:
 CLI's ``frequency_hz,re_kg,im_kg,magnitude_kg,phase_deg`` files are accepted as they are).
 Units are SI: s, Hz, and the unit of the quantity.
 """
+
 from __future__ import annotations
 
 import os
@@ -50,8 +51,9 @@ def _pyuff():
     try:
         import pyuff
     except ImportError as exc:  # pragma: no cover - pyuff is installed with the 'identify' extra
-        raise ModelError("file", "UFF", "reading/writing UFF needs the optional package pyuff "
-                         "(pip install 'cablecasing[identify]')") from exc
+        raise ModelError(
+            "file", "UFF", "reading/writing UFF needs the optional package pyuff (pip install 'cablecasing[identify]')"
+        ) from exc
     return pyuff
 
 
@@ -67,15 +69,28 @@ def _dataset(rec, binary):
     dx = float(x[1] - x[0]) if even else 0.0
     is_time = rec.kind == "time"
     return pyuff.prepare_58(
-        binary=1 if binary else 0, func_type=1 if is_time else 4,
-        id1=(rec.name or ("time record" if is_time else "FRF"))[:80], id2="cablecasing", id3="NONE",
-        id4=f"cablecasing x0={float(x[0])!r} dx={dx!r}" if even else "NONE", id5="NONE",
-        rsp_node=int(rec.rsp_node), rsp_dir=int(rec.rsp_dir), ref_node=int(rec.ref_node),
-        ref_dir=int(rec.ref_dir), rsp_ent_name="NONE", ref_ent_name="NONE",  # 10-character fields
-        data=np.asarray(rec.data, dtype=float if is_time else complex), x=x,
-        abscissa_spacing=1 if even else 0, abscissa_spec_data_type=17 if is_time else 18,
-        abscissa_axis_units_lab="s" if is_time else "Hz", ordinate_spec_data_type=0,
-        orddenom_spec_data_type=0, z_axis_spec_data_type=0)
+        binary=1 if binary else 0,
+        func_type=1 if is_time else 4,
+        id1=(rec.name or ("time record" if is_time else "FRF"))[:80],
+        id2="cablecasing",
+        id3="NONE",
+        id4=f"cablecasing x0={float(x[0])!r} dx={dx!r}" if even else "NONE",
+        id5="NONE",
+        rsp_node=int(rec.rsp_node),
+        rsp_dir=int(rec.rsp_dir),
+        ref_node=int(rec.ref_node),
+        ref_dir=int(rec.ref_dir),
+        rsp_ent_name="NONE",
+        ref_ent_name="NONE",  # 10-character fields
+        data=np.asarray(rec.data, dtype=float if is_time else complex),
+        x=x,
+        abscissa_spacing=1 if even else 0,
+        abscissa_spec_data_type=17 if is_time else 18,
+        abscissa_axis_units_lab="s" if is_time else "Hz",
+        ordinate_spec_data_type=0,
+        orddenom_spec_data_type=0,
+        z_axis_spec_data_type=0,
+    )
 
 
 def write_uff(path, records, binary=True):
@@ -96,8 +111,11 @@ def write_uff_time(path, x, fs, name="x", t0=0.0, binary=True, **dof):
 
 def write_uff_frf(path, freqs_hz, H, name="H", binary=True, **dof):
     """Write one complex FRF (at ``freqs_hz`` Hz) as UFF 58, function type 4."""
-    write_uff(path, [Record("frf", np.asarray(freqs_hz, dtype=float), np.asarray(H, dtype=complex), name, **dof)],
-              binary=binary)
+    write_uff(
+        path,
+        [Record("frf", np.asarray(freqs_hz, dtype=float), np.asarray(H, dtype=complex), name, **dof)],
+        binary=binary,
+    )
 
 
 def read_uff(path):
@@ -127,12 +145,23 @@ def read_uff(path):
         kind = "time" if int(s["func_type"]) == 1 else "frf"
         data = np.asarray(s["data"])
         data = data.real.astype(float) if kind == "time" and not np.iscomplexobj(data) else data
-        out.append(Record(kind, x, data, str(s.get("id1", "")).strip(), int(s.get("rsp_node", 1)),
-                          int(s.get("rsp_dir", 1)), int(s.get("ref_node", 0)), int(s.get("ref_dir", 0))))
+        out.append(
+            Record(
+                kind,
+                x,
+                data,
+                str(s.get("id1", "")).strip(),
+                int(s.get("rsp_node", 1)),
+                int(s.get("rsp_dir", 1)),
+                int(s.get("ref_node", 0)),
+                int(s.get("ref_dir", 0)),
+            )
+        )
     return out
 
 
 # ------------------------------------------------------------------------------------------- CSV
+
 
 def write_csv_time(path, x, fs, names=None, t0=0.0):
     """Time record(s) to CSV: columns ``time_s`` and one per channel (``x`` of shape (n,) or (n, k))."""
@@ -140,15 +169,22 @@ def write_csv_time(path, x, fs, names=None, t0=0.0):
     x2 = x[:, None] if x.ndim == 1 else x
     names = names or (["x"] if x2.shape[1] == 1 else [f"x{i + 1}" for i in range(x2.shape[1])])
     t = t0 + np.arange(x2.shape[0]) / float(fs)
-    np.savetxt(path, np.column_stack([t, x2]), delimiter=",", header=",".join(["time_s", *names]),
-               comments="", fmt="%.17g")
+    np.savetxt(
+        path, np.column_stack([t, x2]), delimiter=",", header=",".join(["time_s", *names]), comments="", fmt="%.17g"
+    )
 
 
 def write_csv_frf(path, freqs_hz, H, name="H"):
     """A complex FRF to CSV: ``frequency_hz,re_<name>,im_<name>``."""
     H = np.asarray(H, dtype=complex)
-    np.savetxt(path, np.column_stack([np.asarray(freqs_hz, dtype=float), H.real, H.imag]), delimiter=",",
-               header=f"frequency_hz,re_{name},im_{name}", comments="", fmt="%.17g")
+    np.savetxt(
+        path,
+        np.column_stack([np.asarray(freqs_hz, dtype=float), H.real, H.imag]),
+        delimiter=",",
+        header=f"frequency_hz,re_{name},im_{name}",
+        comments="",
+        fmt="%.17g",
+    )
 
 
 def _read_csv(path):
@@ -202,7 +238,8 @@ def read_csv_frf(path):
 
 # ------------------------------------------------------------------------------ by file extension
 
-def _is_uff(path):
+
+def is_uff(path):
     return os.path.splitext(str(path))[1].lower() in UFF_EXTENSIONS
 
 
@@ -221,7 +258,7 @@ def _uff_record(path, kind, channel, missing):
 def read_time_record(path, channel=None):
     """``(x, fs, name)`` from a CSV or UFF (.uff/.unv) file; ``channel`` selects a column or the
     n-th time function of a UFF file."""
-    if not _is_uff(path):
+    if not is_uff(path):
         return read_csv_time(path, channel)
     r = _uff_record(path, "time", channel, "time record (UFF 58, function type 1)")
     if not _even(r.x):
@@ -231,7 +268,7 @@ def read_time_record(path, channel=None):
 
 def read_frf(path, channel=None):
     """``(freqs_hz, H)`` from a CSV or UFF file (the n-th FRF of a UFF file, default the first)."""
-    if not _is_uff(path):
+    if not is_uff(path):
         return read_csv_frf(path)
     r = _uff_record(path, "frf", channel, "FRF (UFF 58, function type 4)")
     return r.x, np.asarray(r.data, dtype=complex)

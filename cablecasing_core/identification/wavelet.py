@@ -53,7 +53,11 @@ the noise level where noise dominates, the noise riding on the mode where the mo
 nearly zero for a clean record (or a value given by the caller). The fit stops where the ridge
 first sinks below ``floor_factor`` (default 5) times that floor. The straight line through
 ``ln|W|`` is weighted by ``|W|`` (additive noise gives ``ln|W|`` a standard deviation ~ noise / |W|).
+
+This module is over 400 lines because it is one method (transform, ridge, window, fit) whose
+steps share their arrays and checks.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -62,7 +66,7 @@ import numpy as np
 import scipy.fft as sfft
 
 from ..errors import ModelError
-from ._checks import frequencies_in_band, positive, signal_1d
+from ..model.validators import array_1d, frequencies, number
 
 #: Default Morlet parameter gamma: sigma_t = 12 / omega_c, i.e. about two carrier periods per sigma_t.
 #: It separates modes 25 % apart in frequency by more than 1e-3 in |W| and keeps the edge
@@ -113,12 +117,12 @@ def cwt_morlet(x, fs, freqs_hz, gamma=DEFAULT_GAMMA, max_block_bytes=64e6):
     ModelError
         ``fs`` not positive, ``gamma`` below 3, a frequency outside (0, fs/2), a non-finite signal.
     """
-    x = signal_1d("x", x, min_len=2, complex_ok=True)
-    fs = positive("fs", fs)
-    gamma = positive("gamma", gamma)
+    x = array_1d("x", x, min_len=2, complex_ok=True)
+    fs = number("fs", fs, gt=0, unit="Hz")
+    gamma = number("gamma", gamma, gt=0)
     if gamma < MIN_GAMMA:
         raise ModelError("gamma", gamma, f"must be at least {MIN_GAMMA:g} (the Gaussian must vanish at 0 Hz)")
-    f = frequencies_in_band("freqs_hz", freqs_hz, fs)
+    f = frequencies("freqs_hz", freqs_hz, fs)
     n = x.size
     pad = int(np.ceil(8.0 * gamma / (2.0 * np.pi * f.min()) * fs))  # 8 sigma_t: wrap-around below exp(-32)
     nfft = sfft.next_fast_len(n + pad)
@@ -130,10 +134,10 @@ def cwt_morlet(x, fs, freqs_hz, gamma=DEFAULT_GAMMA, max_block_bytes=64e6):
     out = np.empty((n, f.size), dtype=complex)
     block = max(1, int(max_block_bytes // (16 * nfft)))
     for j0 in range(0, f.size, block):
-        wc = 2.0 * np.pi * f[j0:j0 + block, None]
+        wc = 2.0 * np.pi * f[j0 : j0 + block, None]
         spec = np.zeros((wc.shape[0], nfft), dtype=complex)
         spec[:, positive_bins] = Xp * (2.0 * np.exp(-0.5 * ((om - wc) * (gamma / wc)) ** 2))
-        out[:, j0:j0 + block] = sfft.ifft(spec, axis=1)[:, :n].T
+        out[:, j0 : j0 + block] = sfft.ifft(spec, axis=1)[:, :n].T
     return out
 
 
@@ -189,7 +193,7 @@ def _ridge_of_profile(inv_f, logp, f0):
     if interior.size == 0:
         return None
     j = interior[np.argmin(np.abs(1.0 / inv_f[interior] - f0))]
-    xv, _ = _parabola_vertex(inv_f[j - 1:j + 2], logp[j - 1:j + 2])
+    xv, _ = _parabola_vertex(inv_f[j - 1 : j + 2], logp[j - 1 : j + 2])
     return 1.0 / xv
 
 
@@ -221,7 +225,7 @@ def _tail_noise_floor(t, w, valid):
     1.1 s_W) and goes to zero for a clean record; the scatter is taken about a straight line.
     """
     idx = np.nonzero(valid)[0]
-    tail = idx[int(0.75 * idx.size):]
+    tail = idx[int(0.75 * idx.size) :]
     w_tail = w[tail]
     if tail.size < 4 or np.any(w_tail <= 0.0):
         return float(np.median(w_tail)) if tail.size else 0.0
@@ -230,8 +234,7 @@ def _tail_noise_floor(t, w, valid):
     return float(np.median(w_tail)) * min(1.0, scatter / _LN_RAYLEIGH_STD)
 
 
-def _ridge_and_window(x, fs, t, A, inv_f, f0, gamma, valid, noise_floor, floor_factor, need, edge,
-                      search, min_cycles):
+def _ridge_and_window(x, fs, t, A, inv_f, f0, gamma, valid, noise_floor, floor_factor, need, edge, search, min_cycles):
     """Ridge frequency from the energy profile over the fit window, and the window from the noise
     floor of |W| on that ridge; alternated until the ridge settles (two or three passes)."""
     fit = valid.copy()
@@ -241,23 +244,29 @@ def _ridge_and_window(x, fs, t, A, inv_f, f0, gamma, valid, noise_floor, floor_f
             prof = np.log(np.sum(A[fit] ** 2, axis=0))
         f_new = _ridge_of_profile(inv_f, prof, f0)
         if f_new is None:
-            raise ModelError("freqs_hz", float(f0),
-                             f"no ridge (local maximum of |W|) within +-{100 * search:g} % of this "
-                             "frequency: give the frequency of a mode present in the record")
+            raise ModelError(
+                "freqs_hz",
+                float(f0),
+                f"no ridge (local maximum of |W|) within +-{100 * search:g} % of this "
+                "frequency: give the frequency of a mode present in the record",
+            )
         w_r = np.abs(cwt_morlet(x, fs, [f_new], gamma)[:, 0])
         if noise_floor is None:
             floor = _tail_noise_floor(t, w_r, valid)
         else:
-            floor = positive("noise_floor", noise_floor)
+            floor = number("noise_floor", noise_floor, gt=0)
         below = valid & (w_r < floor_factor * floor)
         stop = int(np.argmax(below)) if below.any() else t.size
         fit = valid.copy()
         fit[stop:] = False
         if fit.sum() < 8 or (t[fit][-1] - t[fit][0]) < need:
-            raise ModelError("x", f"record at {f0:g} Hz",
-                             f"the mode sinks into the noise floor (|W| ~ {floor:.3g}) before the edge "
-                             f"effect ends ({edge:g} s): fewer than {min_cycles:g} periods remain; "
-                             "give a cleaner or longer record, a smaller gamma or a noise_floor")
+            raise ModelError(
+                "x",
+                f"record at {f0:g} Hz",
+                f"the mode sinks into the noise floor (|W| ~ {floor:.3g}) before the edge "
+                f"effect ends ({edge:g} s): fewer than {min_cycles:g} periods remain; "
+                "give a cleaner or longer record, a smaller gamma or a noise_floor",
+            )
         done = f_r is not None and abs(f_new - f_r) <= 1e-9 * f0
         f_r = f_new
         if done:
@@ -265,8 +274,19 @@ def _ridge_and_window(x, fs, t, A, inv_f, f0, gamma, valid, noise_floor, floor_f
     return f_r, w_r, fit, floor
 
 
-def wavelet_damping(x, fs, freqs_hz, gamma=DEFAULT_GAMMA, edge_factor=3.0, search=0.05, n_search=41,
-                    noise_floor=None, floor_factor=5.0, t_max=None, min_cycles=3.0):
+def wavelet_damping(
+    x,
+    fs,
+    freqs_hz,
+    gamma=DEFAULT_GAMMA,
+    edge_factor=3.0,
+    search=0.05,
+    n_search=41,
+    noise_floor=None,
+    floor_factor=5.0,
+    t_max=None,
+    min_cycles=3.0,
+):
     """Damping ratios from the ridges of the Morlet wavelet transform of an impulse response.
 
     Implements the paper's Section 3.2.1 (Figs. 10-11, Table 1) after Slavič et al. (2003): for a
@@ -311,17 +331,17 @@ def wavelet_damping(x, fs, freqs_hz, gamma=DEFAULT_GAMMA, edge_factor=3.0, searc
         periods), a frequency outside (0, fs/2), no ridge near a requested frequency, a mode that
         sinks into the noise floor before the edge effect ends, or a response that grows.
     """
-    x = signal_1d("x", x, min_len=8)
-    fs = positive("fs", fs)
-    gamma = positive("gamma", gamma)
-    edge_factor = positive("edge_factor", edge_factor)
-    floor_factor = positive("floor_factor", floor_factor)
-    search = positive("search", search)
+    x = array_1d("x", x, min_len=8)
+    fs = number("fs", fs, gt=0, unit="Hz")
+    gamma = number("gamma", gamma, gt=0)
+    edge_factor = number("edge_factor", edge_factor, gt=0)
+    floor_factor = number("floor_factor", floor_factor, gt=0)
+    search = number("search", search, gt=0)
     if search >= 0.5:
         raise ModelError("search", search, "must be a relative half-width below 0.5")
     if int(n_search) < 5:
         raise ModelError("n_search", n_search, "must be at least 5")
-    f_req = frequencies_in_band("freqs_hz", freqs_hz, fs)
+    f_req = frequencies("freqs_hz", freqs_hz, fs)
     n = x.size
     T = n / fs
     t = np.arange(n) / fs
@@ -329,27 +349,34 @@ def wavelet_damping(x, fs, freqs_hz, gamma=DEFAULT_GAMMA, edge_factor=3.0, searc
     for f0 in f_req:
         f_hi = f0 * (1.0 + search)
         if f_hi >= fs / 2.0:
-            raise ModelError("freqs_hz", float(f0),
-                             f"with search = +-{search:g} the band reaches fs/2 = {fs / 2:g} Hz; "
-                             "give a higher fs or a smaller search")
+            raise ModelError(
+                "freqs_hz",
+                float(f0),
+                f"with search = +-{search:g} the band reaches fs/2 = {fs / 2:g} Hz; "
+                "give a higher fs or a smaller search",
+            )
         sigma_t = wavelet_time_spread(f0 * (1.0 - search), gamma)
         inv_f = np.linspace(1.0 / (f0 * (1.0 + search)), 1.0 / (f0 * (1.0 - search)), int(n_search))
         A = None
         sigma = 0.0
         for _ in range(5):  # the edge depends on the decay rate: edge_factor sigma_t + sigma sigma_t^2
-            edge = edge_factor * sigma_t + max(sigma, 0.0) * sigma_t ** 2
+            edge = edge_factor * sigma_t + max(sigma, 0.0) * sigma_t**2
             t_end = T - edge if t_max is None else min(T - edge, float(t_max))
             need = min_cycles / f0
             if t_end - edge < need:
-                raise ModelError("x", f"{n} samples ({T:g} s)",
-                                 f"too short for {f0:g} Hz with gamma = {gamma:g}: needs at least "
-                                 f"{2 * edge + need:g} s (edge effects of {edge:g} s at each end plus "
-                                 f"{min_cycles:g} periods)")
+                raise ModelError(
+                    "x",
+                    f"{n} samples ({T:g} s)",
+                    f"too short for {f0:g} Hz with gamma = {gamma:g}: needs at least "
+                    f"{2 * edge + need:g} s (edge effects of {edge:g} s at each end plus "
+                    f"{min_cycles:g} periods)",
+                )
             if A is None:
                 A = np.abs(cwt_morlet(x, fs, 1.0 / inv_f, gamma))
             valid = (t >= edge) & (t <= t_end)
-            f_r, w_r, fit, floor = _ridge_and_window(x, fs, t, A, inv_f, f0, gamma, valid, noise_floor,
-                                                     floor_factor, need, edge, search, min_cycles)
+            f_r, w_r, fit, floor = _ridge_and_window(
+                x, fs, t, A, inv_f, f0, gamma, valid, noise_floor, floor_factor, need, edge, search, min_cycles
+            )
             with np.errstate(divide="ignore"):
                 log_w = np.log(w_r)
             slope, intercept = np.polyfit(t[fit], log_w[fit], 1, w=w_r[fit])
@@ -359,17 +386,33 @@ def wavelet_damping(x, fs, freqs_hz, gamma=DEFAULT_GAMMA, edge_factor=3.0, searc
             if done:
                 break
         if sigma < 0.0:
-            raise ModelError("x", f"record at {f0:g} Hz",
-                             f"ln|W| grows along the ridge (slope {slope:g} 1/s): not a decaying free response")
+            raise ModelError(
+                "x",
+                f"record at {f0:g} Hz",
+                f"ln|W| grows along the ridge (slope {slope:g} 1/s): not a decaying free response",
+            )
         w_ridge = 2.0 * np.pi * f_r
-        w_d = 0.5 * (w_ridge + np.sqrt(w_ridge ** 2 + 4.0 * sigma ** 2))
-        w_n = np.sqrt(w_d ** 2 + sigma ** 2)
+        w_d = 0.5 * (w_ridge + np.sqrt(w_ridge**2 + 4.0 * sigma**2))
+        w_n = np.sqrt(w_d**2 + sigma**2)
         ridge_hz = np.full(n, np.nan)
         with np.errstate(divide="ignore"):
             ridge_hz[valid] = _ridge_per_time(inv_f, np.log(A[valid]))
-        results.append(RidgeResult(
-            f_requested_hz=float(f0), f_ridge_hz=float(f_r), f_damped_hz=float(w_d / (2 * np.pi)),
-            f_natural_hz=float(w_n / (2 * np.pi)), zeta=float(sigma / w_n), slope=float(slope),
-            intercept=float(intercept), edge_s=float(edge), noise_floor=floor, gamma=float(gamma),
-            t=t, log_w=log_w, ridge_hz=ridge_hz, fit_mask=fit))
+        results.append(
+            RidgeResult(
+                f_requested_hz=float(f0),
+                f_ridge_hz=float(f_r),
+                f_damped_hz=float(w_d / (2 * np.pi)),
+                f_natural_hz=float(w_n / (2 * np.pi)),
+                zeta=float(sigma / w_n),
+                slope=float(slope),
+                intercept=float(intercept),
+                edge_s=float(edge),
+                noise_floor=floor,
+                gamma=float(gamma),
+                t=t,
+                log_w=log_w,
+                ridge_hz=ridge_hz,
+                fit_mask=fit,
+            )
+        )
     return results

@@ -1,5 +1,5 @@
-"""Studies of Section 4: octave-band RMS (Table 3), the Monte-Carlo correlation study (Section 4.4, Fig. 23)
-and band levels as ensemble means over excitation seeds.
+"""Studies of Section 4: octave-band RMS (Table 3), the Monte-Carlo correlation study (Section 4.4,
+Fig. 23) and band levels as ensemble means over excitation seeds.
 
 >>> from cablecasing_core.studies import octave_rms, run_study, correlations, plot_correlations
 >>> octave_rms(force_N, fs_hz).as_dict()                     # {"oct1": N, ..., "oct9": N}
@@ -9,19 +9,62 @@ and band levels as ensemble means over excitation seeds.
 >>> ens.mean, ens.se, paired_difference(ens_a, ens_b).r
 >>> ens.save("part1.csv"); pool_ensembles(["part1.csv", "part2.csv"])   # an ensemble run in parts
 
-See docs/studies.md.
+Modules: ``octave`` (band RMS), ``sampling`` (bounds, Latin hypercube, constraints), ``evaluators``
+(per-sample functions), ``executor`` (serial or dask), ``results_store`` (the resumable CSV),
+``study`` (``run_study``), ``correlation``, ``ensemble`` (the data), ``ensemble_runs``
+(``seed_ensemble``), ``plots``. See docs/studies.md.
 """
-from .montecarlo import (AXIAL_AMPLITUDE_KEY, DEFAULT_CONSTRAINTS, DEFAULT_EVALUATE, DEFAULT_OUTPUTS,
-                         PAPER_BOUNDS, Correlation, StudyResults, check_bounds, correlations,
-                         default_evaluate, gap_constraint, latin_hypercube, load_results,
-                         plot_correlations, resolve_evaluate, run_study)
-from .ensemble import (Ensemble, PairedDifference, load_ensemble, paired_difference, pool_ensembles,
-                       random_excitations, seed_ensemble, seed_overrides)
-from .octave import TABLE3_LOWER, TABLE3_UPPER, BandRMS, Bands, octave_bands, octave_rms
 
-__all__ = ["AXIAL_AMPLITUDE_KEY", "DEFAULT_CONSTRAINTS", "DEFAULT_EVALUATE", "DEFAULT_OUTPUTS", "PAPER_BOUNDS",
-           "TABLE3_LOWER", "TABLE3_UPPER", "BandRMS", "Bands", "Correlation", "Ensemble", "PairedDifference",
-           "StudyResults", "check_bounds", "correlations", "default_evaluate", "gap_constraint",
-           "latin_hypercube", "load_ensemble", "load_results", "octave_bands", "octave_rms", "paired_difference",
-           "plot_correlations", "pool_ensembles", "random_excitations", "resolve_evaluate", "run_study", "seed_ensemble",
-           "seed_overrides"]
+from .correlation import GAP, Correlation, correlations
+from .ensemble import Ensemble, PairedDifference, load_ensemble, paired_difference, pool_ensembles
+from .ensemble_runs import random_excitations, seed_ensemble, seed_overrides
+from .evaluators import DEFAULT_EVALUATE, DEFAULT_OUTPUTS, default_evaluate
+from .executor import execute, resolve_evaluate
+from .octave import TABLE3_LOWER, TABLE3_UPPER, BandRMS, Bands, octave_bands, octave_rms
+from .plots import plot_correlations, plot_ensemble
+from .results_store import StudyResults, load_results
+from .sampling import (
+    AXIAL_AMPLITUDE_KEY,
+    DEFAULT_CONSTRAINTS,
+    PAPER_BOUNDS,
+    check_bounds,
+    gap_constraint,
+    latin_hypercube,
+)
+from .study import run_study
+
+__all__ = [
+    "AXIAL_AMPLITUDE_KEY",
+    "DEFAULT_CONSTRAINTS",
+    "DEFAULT_EVALUATE",
+    "DEFAULT_OUTPUTS",
+    "GAP",
+    "PAPER_BOUNDS",
+    "TABLE3_LOWER",
+    "TABLE3_UPPER",
+    "BandRMS",
+    "Bands",
+    "Correlation",
+    "Ensemble",
+    "PairedDifference",
+    "StudyResults",
+    "check_bounds",
+    "correlations",
+    "default_evaluate",
+    "execute",
+    "gap_constraint",
+    "latin_hypercube",
+    "load_ensemble",
+    "load_results",
+    "octave_bands",
+    "octave_rms",
+    "paired_difference",
+    "plot_correlations",
+    "plot_ensemble",
+    "pool_ensembles",
+    "random_excitations",
+    "resolve_evaluate",
+    "run_study",
+    "seed_ensemble",
+    "seed_overrides",
+]

@@ -1,4 +1,8 @@
-"""Band levels as ensemble means over the seeds of the random excitation (docs/studies.md).
+"""Band levels over an ensemble of excitation seeds, as data (docs/studies.md): :class:`Ensemble`
+(mean, standard error, t confidence interval per band), its CSV file (:meth:`Ensemble.save`,
+:func:`load_ensemble`, :func:`pool_ensembles` of parts run apart) and the paired comparison of two
+ensembles run on the same seeds (:func:`paired_difference`). The runs are made by
+:func:`~cablecasing_core.studies.ensemble_runs.seed_ensemble`.
 
 With contact, the model's response is chaotic (docs/time_domain.md, "How two records separate"):
 two runs that differ by a rounding error, or by the time step, are two different draws of the same
@@ -6,54 +10,21 @@ random process after about 0.1 s. A single record's octave-band level then scatt
 by 3-20 % (1 s records of the built-in scenario), so a design question (does a higher friction lower
 the transmission?) or a numerical one (is dt = 1e-5 s fine enough?) is answered by the expected
 band level, estimated as the mean over an ensemble of excitation seeds, with its standard error.
-
-* :func:`seed_ensemble` runs the model once per seed (member ``s`` is exactly the single run with
-  the varied random excitations' seeds set by :func:`seed_overrides`) and returns the band RMS of one
-  support output per member (:class:`Ensemble`: mean, standard error, t confidence interval).
-* :func:`paired_difference` compares two ensembles run on the same seeds: the relative difference
-  of their means per band, r = (mean a - mean b) / mean b, and its standard error.
-* :meth:`Ensemble.save` / :func:`load_ensemble` / :func:`pool_ensembles`: an ensemble run in parts
-  (seed ranges on several machines, or on several days) is written to CSV with its settings, read
-  back, and pooled into one, refused if the parts were not run with the same model and settings.
-
-The runs go through the Monte-Carlo study's per-sample function and executor
-(:func:`~cablecasing_core.studies.montecarlo.default_evaluate`; serial, or dask.distributed), so an
-ensemble member is computed exactly like a study sample.
 """
+
 from __future__ import annotations
 
-import hashlib
 import json
 import math
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import stats
 
 from ..errors import ModelError
-from .montecarlo import DEFAULT_EVALUATE, _check_int, execute
-from .octave import Bands, octave_bands
-
-
-def random_excitations(model):
-    """Names of the model's random excitations (``[scenario.excitation.NAME]`` with kind random), in
-    the order of the model file."""
-    return tuple(name for name, e in model.scenario["excitation"].items() if e["kind"] == "random")
-
-
-def seed_overrides(model, seed, excitations=None):
-    """The model overrides of ensemble member ``seed``: ``{"scenario.excitation.NAME.seed": int}``.
-
-    With one varied excitation, member ``s`` gives it seed ``s``, so a member is the single run of the
-    model with that seed. With k excitations, the j-th (0-based, in ``excitations`` order) gets
-    ``s * k + j``: distinct records across excitations and members (two excitations with the same
-    seed and band would get the same record, fully correlated).
-    """
-    names = _check_excitations(model, excitations)
-    s = _check_int("seeds", seed, 0)
-    k = len(names)
-    return {f"scenario.excitation.{n}.seed": s * k + j for j, n in enumerate(names)}
+from ..model.validators import number
 
 
 @dataclass(frozen=True)
@@ -117,12 +88,23 @@ class Ensemble:
     def as_rows(self, confidence=0.95):
         """One dict per band: label, f_low_hz, f_high_hz, mean, se, ci_low, ci_high, cv."""
         lo, hi = self.ci(confidence)
-        return [{"band": lab, "f_low_hz": float(a), "f_high_hz": float(b), "mean": float(m), "se": float(s),
-                 "ci_low": float(c0), "ci_high": float(c1), "cv": float(v)}
-                for lab, a, b, m, s, c0, c1, v in zip(self.labels, self.lower, self.upper, self.mean, self.se,
-                                                      lo, hi, self.cv)]
+        return [
+            {
+                "band": lab,
+                "f_low_hz": float(a),
+                "f_high_hz": float(b),
+                "mean": float(m),
+                "se": float(s),
+                "ci_low": float(c0),
+                "ci_high": float(c1),
+                "cv": float(v),
+            }
+            for lab, a, b, m, s, c0, c1, v in zip(
+                self.labels, self.lower, self.upper, self.mean, self.se, lo, hi, self.cv
+            )
+        ]
 
-    def save(self, path):
+    def save(self, path: str | os.PathLike) -> None:
         """Write the members as CSV: the header ``seed, <band labels> (N or N.m), contact_time_node<k>_s``,
         then one line ``# cablecasing-ensemble {JSON}`` with the output, band edges (Hz), overrides and
         settings (a comment line: ``numpy.genfromtxt(path, delimiter=",", names=True)`` and
@@ -130,17 +112,22 @@ class Ensemble:
         to 17 significant digits so that :func:`load_ensemble` gives back the same numbers."""
         nodes = self.contact_time.shape[1] if self.contact_time.size else 0
         header = ",".join(("seed",) + tuple(self.labels) + tuple(f"contact_time_node{k}_s" for k in range(nodes)))
-        meta = {"format": 1, "output": self.output, "labels": list(self.labels),
-                "f_low_hz": np.asarray(self.lower, float).tolist(), "f_high_hz": np.asarray(self.upper, float).tolist(),
-                "overrides": _canonical(self.overrides), "settings": _canonical(self.settings)}
+        meta = {
+            "format": 1,
+            "output": self.output,
+            "labels": list(self.labels),
+            "f_low_hz": np.asarray(self.lower, float).tolist(),
+            "f_high_hz": np.asarray(self.upper, float).tolist(),
+            "overrides": _canonical(self.overrides),
+            "settings": _canonical(self.settings),
+        }
         parts = [self.seeds[:, None], self.levels] + ([self.contact_time] if nodes else [])
         with open(path, "w", encoding="utf-8") as f:
             f.write(header + "\n" + _META + json.dumps(meta) + "\n")
-            np.savetxt(f, np.column_stack(parts), delimiter=",",
-                       fmt=["%d"] + ["%.17g"] * (len(self.labels) + nodes))
+            np.savetxt(f, np.column_stack(parts), delimiter=",", fmt=["%d"] + ["%.17g"] * (len(self.labels) + nodes))
 
 
-def load_ensemble(path):
+def load_ensemble(path: str | os.PathLike) -> Ensemble:
     """Read an ensemble written by :meth:`Ensemble.save` (``cablecasing ensemble --out``).
 
     Raises :class:`ModelError` naming the file when it is missing or is not such a CSV.
@@ -152,25 +139,39 @@ def load_ensemble(path):
     with f:
         columns, meta_line = f.readline().strip().split(","), f.readline()
         if not meta_line.startswith(_META):
-            raise ModelError("path", str(path), "must be a CSV written by Ensemble.save or 'cablecasing ensemble "
-                             "--out' (its second line is not the '# cablecasing-ensemble' line)")
+            raise ModelError(
+                "path",
+                str(path),
+                "must be a CSV written by Ensemble.save or 'cablecasing ensemble "
+                "--out' (its second line is not the '# cablecasing-ensemble' line)",
+            )
         try:
-            meta = json.loads(meta_line[len(_META):])
+            meta = json.loads(meta_line[len(_META) :])
             labels, output = tuple(meta["labels"]), meta["output"]
             overrides, settings = meta["overrides"], meta["settings"]
             lower, upper = np.array(meta["f_low_hz"], float), np.array(meta["f_high_hz"], float)
-            table = np.loadtxt(f, delimiter=",", ndmin=2)          # the rows after the settings line
-        except (ValueError, KeyError, TypeError) as e:            # JSONDecodeError is a ValueError
-            raise ModelError("path", str(path),
-                             f"must be an unaltered ensemble CSV ({type(e).__name__}: {e})") from None
+            table = np.loadtxt(f, delimiter=",", ndmin=2)  # the rows after the settings line
+        except (ValueError, KeyError, TypeError) as e:  # JSONDecodeError is a ValueError
+            raise ModelError(
+                "path", str(path), f"must be an unaltered ensemble CSV ({type(e).__name__}: {e})"
+            ) from None
     nb = len(labels)
     if table.shape[1] != len(columns) or len(columns) < 1 + nb:
         raise ModelError("path", str(path), f"must have the {len(columns)} columns of its header in every row")
-    return Ensemble(table[:, 0].astype(int), output, labels, lower, upper, table[:, 1:1 + nb], overrides,
-                    table[:, 1 + nb:], settings)
+    return Ensemble(
+        table[:, 0].astype(int),
+        output,
+        labels,
+        lower,
+        upper,
+        table[:, 1 : 1 + nb],
+        overrides,
+        table[:, 1 + nb :],
+        settings,
+    )
 
 
-def pool_ensembles(ensembles):
+def pool_ensembles(ensembles: Sequence[Ensemble | str | os.PathLike]) -> Ensemble:
     """One ensemble of the members of several, sorted by seed.
 
     ``ensembles`` is a sequence of :class:`Ensemble` objects or paths of their CSV files
@@ -184,24 +185,37 @@ def pool_ensembles(ensembles):
     first = parts[0]
     for i, e in enumerate(parts[1:], 1):
         for name, mine, theirs in (
-                ("output", e.output, first.output),
-                ("bands", (e.labels, e.lower.tolist(), e.upper.tolist()),
-                 (first.labels, first.lower.tolist(), first.upper.tolist())),
-                ("overrides", _canonical(e.overrides), _canonical(first.overrides)),
-                ("settings", _canonical(e.settings), _canonical(first.settings)),
-                ("contact_time columns", e.contact_time.shape[1:], first.contact_time.shape[1:])):
+            ("output", e.output, first.output),
+            (
+                "bands",
+                (e.labels, e.lower.tolist(), e.upper.tolist()),
+                (first.labels, first.lower.tolist(), first.upper.tolist()),
+            ),
+            ("overrides", _canonical(e.overrides), _canonical(first.overrides)),
+            ("settings", _canonical(e.settings), _canonical(first.settings)),
+            ("contact_time columns", e.contact_time.shape[1:], first.contact_time.shape[1:]),
+        ):
             if mine != theirs:
-                raise ModelError(f"ensembles[{i}].{name}", mine, f"must equal that of ensembles[0], {theirs}, "
-                                 "to pool them")
+                raise ModelError(
+                    f"ensembles[{i}].{name}", mine, f"must equal that of ensembles[0], {theirs}, to pool them"
+                )
     seeds = np.concatenate([e.seeds for e in parts])
     unique, count = np.unique(seeds, return_counts=True)
     twice = unique[count > 1].tolist()
     if twice:
         raise ModelError("seeds", twice, "must each be in one of the pooled ensembles only")
     order = np.argsort(seeds, kind="stable")
-    return Ensemble(seeds[order], first.output, first.labels, first.lower, first.upper,
-                    np.concatenate([e.levels for e in parts])[order], first.overrides,
-                    np.concatenate([e.contact_time for e in parts])[order], first.settings)
+    return Ensemble(
+        seeds[order],
+        first.output,
+        first.labels,
+        first.lower,
+        first.upper,
+        np.concatenate([e.levels for e in parts])[order],
+        first.overrides,
+        np.concatenate([e.contact_time for e in parts])[order],
+        first.settings,
+    )
 
 
 _META = "# cablecasing-ensemble "
@@ -210,12 +224,6 @@ _META = "# cablecasing-ensemble "
 def _canonical(value):
     """``value`` as JSON would give it back (tuples become lists; what save/load round-trips)."""
     return json.loads(json.dumps(value, sort_keys=True, default=str))
-
-
-def _fingerprint(model):
-    """A short hash of the model's data (SI values after overrides), equal for equal models."""
-    text = json.dumps(model.data, sort_keys=True, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o))
-    return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 @dataclass(frozen=True)
@@ -237,7 +245,7 @@ class PairedDifference:
         return self.r - h, self.r + h
 
 
-def paired_difference(a, b):
+def paired_difference(a: Ensemble | np.ndarray, b: Ensemble | np.ndarray) -> PairedDifference:
     """Relative difference of the mean band levels of ``a`` against ``b`` and its standard error.
 
     ``a`` and ``b`` are :class:`Ensemble` objects run on the same seeds (or arrays ``(n, bands)`` whose
@@ -255,8 +263,11 @@ def paired_difference(a, b):
     labels = None
     if isinstance(a, Ensemble) and isinstance(b, Ensemble):
         if a.output != b.output or a.labels != b.labels:
-            raise ModelError("b", f"{b.output} {b.labels[0]}..{b.labels[-1]}",
-                             f"must have the output and bands of a ({a.output} {a.labels[0]}..{a.labels[-1]})")
+            raise ModelError(
+                "b",
+                f"{b.output} {b.labels[0]}..{b.labels[-1]}",
+                f"must have the output and bands of a ({a.output} {a.labels[0]}..{a.labels[-1]})",
+            )
         if not np.array_equal(a.seeds, b.seeds):
             raise ModelError("b.seeds", b.seeds.tolist(), f"must be the seeds of a, {a.seeds.tolist()}, in that order")
         labels, a, b = a.labels, a.levels, b.levels
@@ -268,167 +279,10 @@ def paired_difference(a, b):
     if np.any(mb <= 0):
         raise ModelError("b", mb.tolist(), "must have a positive mean level in every band")
     r = (a.mean(axis=0) - mb) / mb
-    se = (np.std((a - b) - r * b, axis=0, ddof=1) / math.sqrt(n) / mb if n > 1
-          else np.full_like(r, np.nan))
+    se = np.std((a - b) - r * b, axis=0, ddof=1) / math.sqrt(n) / mb if n > 1 else np.full_like(r, np.nan)
     return PairedDifference(tuple(labels or (f"band{i + 1}" for i in range(a.shape[1]))), r, se, n)
 
 
-def seed_ensemble(model=None, seeds=8, *, output="casing.B.Fz", bands="table3", duration=None, dt=None,
-                  skip=0.05, overrides=None, excitations=None, scheduler="serial", n_workers=None,
-                  progress=False):
-    """Band levels of a support output over an ensemble of excitation seeds.
-
-    Parameters
-    ----------
-    model : Model, str or None
-        The model (a :class:`~cablecasing_core.config.Model`, a TOML path, or None for the built-in
-        specimen); its ``[scenario]`` drives every member.
-    seeds : int or sequence of int
-        ``n`` gives seeds 1..n (n >= 2); or the seeds themselves (unique, >= 0).
-    output : str
-        Support output, e.g. ``"casing.B.Fz"`` (N) or ``"casing.B.Mx"`` (N.m).
-    bands : str or Bands
-        Band set (``"table3"``, ``"octave"``, ``"third"``; Hz).
-    duration, dt : float, optional
-        s; default the scenario's.
-    skip : float
-        s; start of each record left out of the band levels (fade-in and first transient).
-    overrides : dict, optional
-        ``{dotted.key: value}`` applied to every member (e.g. ``{"contact.friction": 0.2}``).
-    excitations : sequence of str, optional
-        Random excitations whose seed is varied (default all; :func:`seed_overrides`).
-    scheduler : "serial", None, "local", address or distributed.Client
-        As :func:`~cablecasing_core.studies.montecarlo.run_study`; default ``"serial"``: members one
-        after the other in this process (no dask needed).
-    progress : bool
-        Show a tqdm bar of the members done (if tqdm is installed).
-
-    Returns
-    -------
-    Ensemble
-
-    Raises
-    ------
-    ModelError
-        For bad input (before any run), and when a member fails (naming its seed and the error).
-    """
-    from ..config import Model, load_model
-    from ..simulation import SUPPORT_OUTPUTS
-
-    if model is None or isinstance(model, (str, os.PathLike)):
-        model = load_model(model)
-    if not isinstance(model, Model):
-        raise ModelError("model", model, "must be a Model, a model TOML path or None (the built-in specimen)")
-    seeds = _check_seeds(seeds)
-    for key, v, lowest in (("duration", duration, "positive"), ("dt", dt, "positive"), ("skip", skip, "non-negative")):
-        if v is None and key != "skip":
-            continue
-        if (isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not math.isfinite(v)
-                or v < 0 or (v == 0 and lowest == "positive")):
-            raise ModelError(key, v, f"must be a {lowest} time in s"
-                             + ("" if key == "skip" else " (or None: the scenario's)"))
-    if output not in SUPPORT_OUTPUTS:
-        raise ModelError("output", output, "must be one of " + ", ".join(SUPPORT_OUTPUTS))
-    band_set = bands if isinstance(bands, Bands) else octave_bands(bands)
-    names = _check_excitations(model, excitations)
-    overrides = dict(overrides or {})
-    clash = sorted(set(overrides) & set(seed_overrides(model, 0, names)))
-    if clash:
-        raise ModelError("overrides", clash, "must not set the seeds that the ensemble varies")
-    base = model.with_overrides(overrides)       # validates the overrides before any run
-    length = (base.scenario["duration"] if duration is None else duration) - skip
-    narrow = int(np.argmin(band_set.upper - band_set.lower))
-    need = 1.0 / (band_set.upper[narrow] - band_set.lower[narrow])
-    if not length >= need:      # the band would hold less than one FFT bin (octave_rms refuses it)
-        raise ModelError("duration", duration, f"must leave at least {need:.4g} s after skip = {skip} s for band "
-                         f"{band_set.labels[narrow]!r} ({band_set.lower[narrow]:g}-{band_set.upper[narrow]:g} Hz)")
-    step = base.scenario["dt"] if dt is None else dt
-    if not 0.5 / step >= band_set.upper.max():   # (octave_rms's rule, checked before the runs)
-        raise ModelError("dt", dt, f"must be at most {0.5 / band_set.upper.max():.4g} s so that every band lies "
-                         f"below the Nyquist frequency (highest edge {band_set.upper.max():g} Hz)")
-    kwargs = {"duration": duration, "dt": dt, "skip": skip, "model": base, "output": output, "bands": band_set,
-              "contact_time": True}
-    nodes = base.geometry["n_elements"] + 1 if "cable" in base.bodies else 0
-    outputs = tuple(band_set.labels) + tuple(f"contact_time_{k}" for k in range(nodes))
-    todo = [(i, seed_overrides(base, s, names)) for i, s in enumerate(seeds)]
-
-    rows = _Rows()
-    bar = _progress_bar(len(todo), progress)
-    try:
-        execute(todo, DEFAULT_EVALUATE, kwargs, outputs, rows, bar, scheduler, n_workers)
-    finally:
-        bar.close()
-    failed = [(seeds[i], r["error"]) for i, r in sorted(rows.rows.items()) if r["status"] != "ok"]
-    if failed:
-        s, err = failed[0]
-        raise ModelError("seeds", s, f"run failed ({err}); {len(failed)} of {len(seeds)} members failed")
-    table = np.array([[rows.rows[i][o] for o in outputs] for i in range(len(seeds))])
-    nb = len(band_set.labels)
-    settings = {"duration": float(base.scenario["duration"] if duration is None else duration),
-                "dt": float(step), "skip": float(skip), "model": _fingerprint(base)}
-    return Ensemble(np.array(seeds), output, tuple(band_set.labels), np.asarray(band_set.lower, float),
-                    np.asarray(band_set.upper, float), table[:, :nb], overrides, table[:, nb:], settings)
-
-
-class _NoBar:
-    def update(self, n):
-        pass
-
-    def close(self):
-        pass
-
-
-def _progress_bar(total, progress):
-    """A tqdm bar of the members done (tqdm comes with the ``study`` extra; without it, none)."""
-    if progress:
-        try:
-            from tqdm.auto import tqdm
-        except ImportError:
-            return _NoBar()
-        return tqdm(total=total, unit="run", desc="ensemble", dynamic_ncols=True)
-    return _NoBar()
-
-
-class _Rows:
-    """Collects the executor's rows by index (the ``writer`` of ``montecarlo.execute``)."""
-
-    def __init__(self):
-        self.rows = {}
-
-    def write(self, row):
-        self.rows[row["index"]] = row
-
-
 def _t_factor(confidence, n):
-    if isinstance(confidence, bool) or not isinstance(confidence, (int, float)) or not 0 < confidence < 1:
-        raise ModelError("confidence", confidence, "must be a number between 0 and 1, e.g. 0.95")
+    number("confidence", confidence, gt=0, lt=1)
     return stats.t.ppf(0.5 + confidence / 2, n - 1) if n > 1 else np.nan
-
-
-def _check_seeds(seeds):
-    if isinstance(seeds, (int, np.integer)) and not isinstance(seeds, bool):
-        if seeds < 2:
-            raise ModelError("seeds", seeds, "must be at least 2 (seeds 1..n), or a sequence of seeds")
-        return list(range(1, int(seeds) + 1))
-    try:
-        out = [_check_int("seeds", s, 0) for s in seeds]
-    except TypeError:
-        raise ModelError("seeds", seeds, "must be a count n >= 2 or a sequence of non-negative integer seeds") from None
-    if len(out) < 2 or len(set(out)) != len(out):
-        raise ModelError("seeds", seeds, "must hold at least 2 seeds, each once")
-    return out
-
-
-def _check_excitations(model, excitations):
-    available = random_excitations(model)
-    if excitations is None:
-        if not available:
-            raise ModelError("scenario.excitation", sorted(model.scenario["excitation"]),
-                             "an ensemble over seeds needs at least one excitation of kind 'random'")
-        return available
-    names = tuple(excitations)
-    bad = [n for n in names if n not in available]
-    if bad or not names or len(set(names)) != len(names):
-        raise ModelError("excitations", list(names), "must name random excitations of the model, each once: "
-                         + (", ".join(available) or "(the model has none)"))
-    return names

@@ -36,20 +36,23 @@ Nyquist rule: a band whose upper edge exceeds ``fs/2`` cannot be measured comple
 ``fs``; ``"drop"`` leaves such bands out of the result, ``"nan"`` keeps them with RMS ``nan``.
 A band narrower than one bin (``df`` larger than the bandwidth: record too short) also raises.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import signal as _signal
 
 from ..errors import ModelError
+from ..model.validators import Choice, array_1d, number
 
 #: Table 3 of the paper: lower and upper edges (Hz) of the nine octave bands.
 TABLE3_LOWER = (11.0, 22.0, 44.0, 88.0, 177.0, 355.0, 710.0, 1420.0, 2840.0)
 TABLE3_UPPER = (22.0, 44.0, 88.0, 177.0, 355.0, 710.0, 1420.0, 2840.0, 5680.0)
 #: IEC 61260-1 base-10 octave ratio G = 10^(3/10) and reference frequency (Hz).
-IEC_G = 10.0 ** 0.3
+IEC_G = 10.0**0.3
 IEC_FR = 1000.0
 BAND_KINDS = ("table3", "octave", "third")
 NYQUIST_RULES = ("error", "drop", "nan")
@@ -72,9 +75,13 @@ class Bands:
         lo = np.atleast_1d(np.asarray(self.lower, dtype=float))
         up = np.atleast_1d(np.asarray(self.upper, dtype=float))
         if lo.ndim != 1 or lo.shape != up.shape or lo.size == 0:
-            raise ModelError("bands", (self.lower, self.upper), "lower and upper edges must be 1-D arrays of equal, non-zero length")
+            raise ModelError(
+                "bands", (self.lower, self.upper), "lower and upper edges must be 1-D arrays of equal, non-zero length"
+            )
         if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(up)) and np.all(lo >= 0) and np.all(up > lo)):
-            raise ModelError("bands", (lo.tolist(), up.tolist()), "edges must be finite, >= 0 Hz, and lower < upper for every band")
+            raise ModelError(
+                "bands", (lo.tolist(), up.tolist()), "edges must be finite, >= 0 Hz, and lower < upper for every band"
+            )
         labels = tuple(str(s) for s in self.labels)
         if len(labels) != lo.size or len(set(labels)) != lo.size:
             raise ModelError("bands.labels", self.labels, f"must be {lo.size} unique names, one per band")
@@ -112,14 +119,14 @@ class BandRMS:
     @property
     def mean_square(self):
         """Band mean squares (signal unit squared)."""
-        return self.rms ** 2
+        return self.rms**2
 
     def as_dict(self):
         """``{label: rms}`` (signal unit), the form a study's ``evaluate`` returns (Section 4.4)."""
         return {lab: float(v) for lab, v in zip(self.labels, self.rms)}
 
 
-def octave_bands(kind="table3", f_min=None, f_max=None):
+def octave_bands(kind: str = "table3", f_min: float | None = None, f_max: float | None = None) -> Bands:
     """Band set of the paper's Table 3 or of IEC 61260-1 (base 10), edges in Hz.
 
     Parameters
@@ -148,8 +155,8 @@ def octave_bands(kind="table3", f_min=None, f_max=None):
         fmin = 10.0 if f_min is None else f_min
         fmax = 20000.0 if f_max is None else f_max
     for key, v in (("f_min", fmin), ("f_max", fmax)):
-        if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) or np.isnan(v) or v < 0:
-            raise ModelError(key, v, "must be a non-negative frequency in Hz")
+        if v != np.inf:  # (inf: no upper limit)
+            number(key, v, ge=0, unit="Hz")
     if fmax <= fmin:
         raise ModelError("f_max", fmax, f"must exceed f_min = {fmin} Hz")
     if kind != "table3":
@@ -160,7 +167,7 @@ def octave_bands(kind="table3", f_min=None, f_max=None):
         x = np.arange(x_lo, x_hi + 1)
         fm = IEC_FR * IEC_G ** (x / b)
         lo, up = fm * IEC_G ** (-1.0 / (2 * b)), fm * IEC_G ** (1.0 / (2 * b))
-        labels = [f"{float(f'{f:.4g}'):g}Hz" for f in fm]   # 4 significant digits, no exponent
+        labels = [f"{float(f'{f:.4g}'):g}Hz" for f in fm]  # 4 significant digits, no exponent
     centre = np.sqrt(lo * up)
     keep = (centre >= fmin * (1 - 1e-12)) & (centre <= fmax * (1 + 1e-12))
     if not keep.any():
@@ -196,14 +203,22 @@ def _band_sums(P, E, lower, upper):
         k1 = min(int(np.searchsorted(E, up, side="left")) - 1, nb - 1)
         if k1 < k0:
             continue
-        a, b = E[k0:k1 + 1], E[k0 + 1:k1 + 2]
+        a, b = E[k0 : k1 + 1], E[k0 + 1 : k1 + 2]
         frac = np.clip(np.minimum(b, up) - np.maximum(a, lo), 0.0, None) / (b - a)
-        ms[j] = frac @ P[k0:k1 + 1]
+        ms[j] = frac @ P[k0 : k1 + 1]
         bins[j] = frac.sum()
     return ms, bins
 
 
-def octave_rms(x, fs, bands="table3", *, detrend=None, window="boxcar", beyond_nyquist="error"):
+def octave_rms(
+    x: ArrayLike,
+    fs: float,
+    bands: str | Bands = "table3",
+    *,
+    detrend: str | None = None,
+    window="boxcar",
+    beyond_nyquist: str = "error",
+) -> BandRMS:
     """RMS of a sampled signal in octave bands by Parseval over FFT bins (Section 4.4, Table 3, Fig. 23).
 
     Parameters
@@ -228,16 +243,9 @@ def octave_rms(x, fs, bands="table3", *, detrend=None, window="boxcar", beyond_n
     BandRMS
         Band edges and centres (Hz), labels, and RMS values in the signal's unit.
     """
-    x = np.asarray(x, dtype=float)
-    if x.ndim != 1 or x.size < 2:
-        raise ModelError("x", f"array of shape {x.shape}", "must be a 1-D signal of at least 2 samples")
-    if not np.all(np.isfinite(x)):
-        raise ModelError("x", "non-finite samples", "must be finite (no NaN or inf)")
-    if isinstance(fs, bool) or not isinstance(fs, (int, float, np.floating, np.integer)) or not np.isfinite(fs) or fs <= 0:
-        raise ModelError("fs", fs, "must be a positive sample rate in Hz")
-    fs = float(fs)
-    if beyond_nyquist not in NYQUIST_RULES:
-        raise ModelError("beyond_nyquist", beyond_nyquist, "must be one of " + ", ".join(NYQUIST_RULES))
+    x = array_1d("x", x)
+    fs = number("fs", fs, gt=0, unit="Hz")
+    Choice(*NYQUIST_RULES)("beyond_nyquist", beyond_nyquist)
     if detrend not in (None, "constant", "linear"):
         raise ModelError("detrend", detrend, "must be None, 'constant' or 'linear'")
     bands = _bands_of(bands)
@@ -246,9 +254,13 @@ def octave_rms(x, fs, bands="table3", *, detrend=None, window="boxcar", beyond_n
     over = bands.upper > nyq * (1 + 1e-12)
     if over.any() and beyond_nyquist == "error":
         i = int(np.argmax(over))
-        raise ModelError("fs", fs, f"must be at least 2 x {bands.upper[i]:g} Hz = {2 * bands.upper[i]:g} Hz so that band "
-                         f"'{bands.labels[i]}' ({bands.lower[i]:g}-{bands.upper[i]:g} Hz) lies below the Nyquist "
-                         f"frequency; or pass beyond_nyquist='drop' or 'nan'")
+        raise ModelError(
+            "fs",
+            fs,
+            f"must be at least 2 x {bands.upper[i]:g} Hz = {2 * bands.upper[i]:g} Hz so that band "
+            f"'{bands.labels[i]}' ({bands.lower[i]:g}-{bands.upper[i]:g} Hz) lies below the Nyquist "
+            f"frequency; or pass beyond_nyquist='drop' or 'nan'",
+        )
     keep = ~over if beyond_nyquist == "drop" else np.ones(len(bands), bool)
     if not keep.any():
         raise ModelError("fs", fs, f"puts every band above the Nyquist frequency {nyq:g} Hz")
@@ -258,9 +270,12 @@ def octave_rms(x, fs, bands="table3", *, detrend=None, window="boxcar", beyond_n
     narrow = measurable & (sel.upper - sel.lower < df * (1 - 1e-12))
     if narrow.any():
         i = int(np.argmax(narrow))
-        raise ModelError("x", f"{n} samples ({n / fs:g} s)",
-                         f"must be long enough that band '{sel.labels[i]}' ({sel.upper[i] - sel.lower[i]:g} Hz wide) "
-                         f"spans at least one FFT bin: at least {int(np.ceil(fs / (sel.upper[i] - sel.lower[i])))} samples")
+        raise ModelError(
+            "x",
+            f"{n} samples ({n / fs:g} s)",
+            f"must be long enough that band '{sel.labels[i]}' ({sel.upper[i] - sel.lower[i]:g} Hz wide) "
+            f"spans at least one FFT bin: at least {int(np.ceil(fs / (sel.upper[i] - sel.lower[i])))} samples",
+        )
 
     if detrend is not None:
         x = _signal.detrend(x, type=detrend)
@@ -270,11 +285,12 @@ def octave_rms(x, fs, bands="table3", *, detrend=None, window="boxcar", beyond_n
         raise ModelError("window", window, f"must be a scipy.signal.get_window spec ({exc})") from None
     X = np.fft.rfft(x * w)
     P = np.abs(X) ** 2 / (n * n)
-    P[1:(n + 1) // 2] *= 2.0           # one-sided: double every bin except 0 and (even n) Nyquist
-    P /= np.mean(w * w)                # power normalisation of the window (1 for boxcar)
+    P[1 : (n + 1) // 2] *= 2.0  # one-sided: double every bin except 0 and (even n) Nyquist
+    P /= np.mean(w * w)  # power normalisation of the window (1 for boxcar)
     ms, bins = _band_sums(P, _bin_edges(n, fs), sel.lower, sel.upper)
     rms = np.sqrt(ms)
     if beyond_nyquist == "nan":
         rms = np.where(measurable, rms, np.nan)
-    return BandRMS(lower=sel.lower, upper=sel.upper, centre=sel.centre, labels=sel.labels,
-                   rms=rms, bins=bins, fs=fs, n=n)
+    return BandRMS(
+        lower=sel.lower, upper=sel.upper, centre=sel.centre, labels=sel.labels, rms=rms, bins=bins, fs=fs, n=n
+    )

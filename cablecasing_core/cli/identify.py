@@ -1,0 +1,256 @@
+"""``cablecasing identify ...``: parameter identification from measured files (the paper's Section 3).
+
+Sub-commands (each reads CSV or UFF dataset 58, prints a table and the identified parameters as
+model-file TOML, optionally writes a figure and a TOML file):
+
+* ``damping FILE``     wavelet ridges of an impulse response -> zeta per mode; Rayleigh alpha, beta
+                       (Section 3.2.1, Eqs. 41-44, Fig. 11)
+* ``loss-factor FILE`` Nyquist circles of an FRF -> loss factor per mode (Section 3.2.2, Eq. 45, Fig. 13)
+* ``modulus FILE``     measured natural frequencies -> E per mode and an E(f) table (Section 3.1, Figs. 8-9)
+
+The main CLI registers them with :func:`add_parser`; every handler returns an exit code
+(0 success, 2 invalid input, with the offending field named on stderr).
+"""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from ..errors import CableCasingError, ModelError
+
+
+def _fail(exc):
+    print(f"cablecasing identify: error: {exc}", file=sys.stderr)
+    return 2
+
+
+def _write_toml(path, text):
+    with open(path, "w", encoding="utf-8") as fh:
+        fh.write(text)
+    print(f"wrote {path}")
+
+
+def _emit(args, toml, plot_name, res, **plot_kw):
+    """Print the TOML snippet (if any) and write it to --toml; draw --plot with
+    ``identification.plots.<plot_name>(res, path, **plot_kw)``."""
+    if toml:
+        print(toml, end="")
+        if args.toml:
+            _write_toml(args.toml, toml)
+    if args.plot:
+        from ..identification import plots
+
+        getattr(plots, plot_name)(res, args.plot, **plot_kw)
+        print(f"wrote {args.plot}")
+
+
+def _spectrum_peaks(x, fs, count):
+    """Frequencies (Hz) of the ``count`` most prominent peaks of the record's amplitude spectrum."""
+    from ..identification.circlefit import find_resonances
+
+    X = np.abs(np.fft.rfft(x * np.hanning(x.size)))
+    f = np.fft.rfftfreq(x.size, 1.0 / fs)
+    return find_resonances(f[1:-1], X[1:-1], count=count)
+
+
+def cmd_damping(args):
+    try:
+        from ..identification import parameters_toml, rayleigh_fit, read_time_record, wavelet_damping
+
+        x, fs, name = read_time_record(args.file, args.channel)
+        freqs = args.freqs if args.freqs else _spectrum_peaks(x, fs, args.count)
+        res = wavelet_damping(
+            x,
+            fs,
+            freqs,
+            gamma=args.gamma,
+            edge_factor=args.edge_factor,
+            search=args.search,
+            noise_floor=args.noise_floor,
+            t_max=args.t_max,
+        )
+        print(f"# {args.file} ({name}): {x.size} samples at {fs:g} Hz; Morlet gamma = {args.gamma:g}")
+        print(
+            f"{'mode':>4} {'f_req_Hz':>10} {'f_ridge_Hz':>11} {'f_n_Hz':>10} {'zeta':>9} {'fit_from_s':>10} "
+            f"{'fit_to_s':>9}"
+        )
+        for i, r in enumerate(res, 1):
+            t0, t1 = r.t_fit
+            print(
+                f"{i:>4} {r.f_requested_hz:>10.3f} {r.f_ridge_hz:>11.3f} {r.f_natural_hz:>10.3f} "
+                f"{r.zeta:>9.5f} {t0:>10.4f} {t1:>9.4f}"
+            )
+        toml = None
+        if len(res) >= 2:
+            fn = [r.f_natural_hz for r in res]
+            zs = [r.zeta for r in res]
+            fit = rayleigh_fit(fn, zs, nonnegative=args.nonnegative)
+            if not args.nonnegative and (fit.alpha < 0 or fit.beta < 0):
+                print(
+                    f"# least squares gives alpha = {fit.alpha:.6g} 1/s, beta = {fit.beta:.6g} s; the model "
+                    "file needs both >= 0, so the nonnegative fit follows"
+                )
+                fit = rayleigh_fit(fn, zs, nonnegative=True)
+            print(
+                f"Rayleigh (Eq. 44): alpha = {fit.alpha:.6g} 1/s, beta = {fit.beta:.6g} s, "
+                f"rms residual of zeta = {fit.rms_residual:.3g}"
+            )
+            for f_, z_, zf in zip(fn, zs, fit.zeta_fit):
+                print(f"    {f_:10.3f} Hz: zeta = {z_:.5f}, Rayleigh {zf:.5f}")
+            toml = parameters_toml(
+                args.body, alpha=fit.alpha, beta=fit.beta, comment=f"Rayleigh damping identified from {args.file}"
+            )
+        _emit(args, toml, "plot_ridges", res, x=x, fs=fs)
+        return 0
+    except CableCasingError as exc:
+        return _fail(exc)
+
+
+def cmd_loss_factor(args):
+    try:
+        from ..identification import loss_factor_circle, parameters_toml, read_frf
+
+        f, H = read_frf(args.file, args.channel)
+        res = loss_factor_circle(
+            f,
+            H,
+            args.freqs,
+            kind=args.kind,
+            count=args.count,
+            bandwidths=args.bandwidths,
+            correct_neighbours=not args.no_correction,
+        )
+        print(f"# {args.file}: {f.size} points, {f[0]:g}..{f[-1]:g} Hz, kind {args.kind}")
+        print(
+            f"{'mode':>4} {'f_r_Hz':>10} {'eta':>9} {'eta/2':>9} {'diag_spread':>11} {'circle_rms/R':>12} {'points':>6}"
+        )
+        for i, r in enumerate(res, 1):
+            print(
+                f"{i:>4} {r.f_r_hz:>10.3f} {r.eta:>9.5f} {r.eta / 2:>9.5f} {np.ptp(r.diagonal):>11.3g} "
+                f"{r.rms / r.radius:>12.3g} {r.freqs_hz.size:>6}"
+            )
+        lf = res[0].eta if len(res) == 1 else res
+        toml = parameters_toml(args.body, loss_factor=lf, comment=f"loss factor identified from {args.file}")
+        _emit(args, toml, "plot_circles", res)
+        return 0
+    except CableCasingError as exc:
+        return _fail(exc)
+
+
+def _read_measured(path, modes_arg, channel):
+    """(frequencies Hz, mode numbers) from a CSV table ``mode,f_hz`` or from the peaks of an FRF file."""
+    from ..identification.circlefit import find_resonances
+    from ..identification.uff_io import is_uff, read_frf
+
+    if not is_uff(path):
+        try:
+            with open(path, encoding="utf-8") as fh:
+                header = [h.strip().lower() for h in fh.readline().split(",")]
+        except OSError:
+            raise ModelError("file", str(path), "does not exist or cannot be read") from None
+        if "mode" in header:
+            fcol = next((i for i, h in enumerate(header) if h in ("f_hz", "frequency_hz", "f")), None)
+            if fcol is None:
+                raise ModelError("file", str(path), "a measured-frequency table needs columns mode,f_hz")
+            try:
+                data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+            except ValueError as exc:
+                raise ModelError("file", str(path), f"must be numeric CSV rows mode,f_hz ({exc})") from None
+            return data[:, fcol], data[:, header.index("mode")].astype(int)
+    if not modes_arg:
+        raise ModelError("--modes", None, "an FRF file needs the mode number of each resonance (--modes 1 2 ...)")
+    f, H = read_frf(path, channel)
+    return find_resonances(f, H, count=len(modes_arg)), np.asarray(modes_arg, dtype=int)
+
+
+def cmd_modulus(args):
+    try:
+        from ..identification import identify_modulus_model, parameters_toml
+        from ..model import load_model
+
+        model = load_model(args.model)
+        f_meas, modes = _read_measured(args.file, args.modes, args.channel)
+        res = identify_modulus_model(
+            model,
+            args.body,
+            f_meas,
+            modes,
+            freq_resolution_hz=args.resolution,
+            degree=None if args.degree < 0 else args.degree,
+            n_table=args.n_table,
+        )
+        print(f"# {args.body} of {model.source}: E_start = {model.bodies[args.body].E_ref:.6g} Pa")
+        print(f"{'mode':>4} {'f_meas_Hz':>10} {'f_comp_Hz':>10} {'E_Pa':>12} {'steps':>5}")
+        for m, fm, fc, E, h in zip(res.modes, res.f_measured_hz, res.f_computed_hz, res.E_mode, res.history):
+            print(f"{m:>4} {fm:>10.3f} {fc:>10.3f} {E:>12.5g} {len(h) - 1:>5}")
+        toml = parameters_toml(args.body, E=res.table, comment=f"dynamic modulus E(f) identified from {args.file}")
+        _emit(args, toml, "plot_modulus", res)
+        return 0
+    except CableCasingError as exc:
+        return _fail(exc)
+
+
+def add_parser(subparsers):
+    """Register ``identify`` with sub-commands ``damping``, ``loss-factor``, ``modulus`` on an
+    ``argparse`` sub-parsers object; returns the ``identify`` parser."""
+    p = subparsers.add_parser("identify", help="identify damping and modulus from measurements (Section 3)")
+    sub = p.add_subparsers(dest="identify_command", required=True)
+
+    d = sub.add_parser("damping", help="damping ratios from wavelet ridges of an impulse response; Rayleigh fit")
+    d.add_argument("file", help="impulse response: CSV (time_s,<signal>...) or UFF 58 time record")
+    d.add_argument("--channel", default=None, help="CSV column name/index or n-th UFF time record (default first)")
+    d.add_argument(
+        "--freqs", type=float, nargs="+", help="natural frequencies to analyse (Hz); default: spectrum peaks"
+    )
+    d.add_argument("--count", type=int, default=3, help="number of spectrum peaks when --freqs is not given")
+    d.add_argument("--gamma", type=float, default=12.0, help="Morlet parameter (sigma_t = gamma / (2 pi f))")
+    d.add_argument("--edge-factor", type=float, default=3.0, help="edge length in sigma_t at each end")
+    d.add_argument("--search", type=float, default=0.05, help="relative half-width of the ridge search")
+    d.add_argument(
+        "--noise-floor", type=float, default=None, help="|W| noise level (signal unit); default from the tail"
+    )
+    d.add_argument("--t-max", type=float, default=None, help="latest time used in the fit (s)")
+    d.add_argument("--nonnegative", action="store_true", help="constrain alpha, beta >= 0")
+    d.add_argument("--body", choices=["casing", "cable"], default="casing", help="TOML section")
+    d.add_argument("--plot", help="PNG: record, scalogram and ridges (Figs. 10-11)")
+    d.add_argument("--toml", help="write the alpha, beta lines to this file")
+    d.set_defaults(func=cmd_damping)
+
+    lf = sub.add_parser("loss-factor", help="loss factors from Nyquist circles of an FRF (Eq. 45)")
+    lf.add_argument("file", help="FRF: CSV (frequency_hz,re_*,im_*) or UFF 58 FRF")
+    lf.add_argument("--channel", default=None, help="n-th UFF FRF (default first)")
+    lf.add_argument("--freqs", type=float, nargs="+", help="approximate resonance frequencies (Hz); default: peaks")
+    lf.add_argument("--count", type=int, default=None, help="number of peaks when --freqs is not given")
+    lf.add_argument(
+        "--kind",
+        default="apparent_mass",
+        choices=["displacement", "velocity", "acceleration", "apparent_mass"],
+        help="FRF type (the paper's TRFAM is apparent_mass, kg)",
+    )
+    lf.add_argument("--bandwidths", type=float, default=2.0, help="window half-width in half-power bandwidths")
+    lf.add_argument("--no-correction", action="store_true", help="skip the neighbouring-mode correction")
+    lf.add_argument("--body", choices=["casing", "cable"], default="casing", help="TOML section")
+    lf.add_argument("--plot", help="PNG: Nyquist circles, loss-factor planes, diagonal ridges (Fig. 13)")
+    lf.add_argument("--toml", help="write the loss_factor line to this file")
+    lf.set_defaults(func=cmd_loss_factor)
+
+    m = sub.add_parser("modulus", help="dynamic modulus E(f) from measured natural frequencies (Section 3.1)")
+    m.add_argument("file", help="CSV table with columns mode,f_hz; or an FRF (CSV/UFF) whose peaks are taken")
+    m.add_argument("--model", default=None, help="model TOML file (default: built-in specimen)")
+    m.add_argument("--body", choices=["casing", "cable"], default="casing")
+    m.add_argument("--modes", type=int, nargs="+", help="mode number of each measured frequency (1 = lowest)")
+    m.add_argument("--channel", default=None, help="n-th UFF FRF (default first)")
+    m.add_argument(
+        "--resolution",
+        type=float,
+        default=0.5,
+        help="frequency resolution of the measurement (Hz); stop within half of it",
+    )
+    m.add_argument("--degree", type=int, default=2, help="degree of the smooth fit in ln f (-1: no smoothing)")
+    m.add_argument("--n-table", type=int, default=12, help="rows of the E(f) table")
+    m.add_argument("--plot", help="PNG: adaptive process and E against f (Figs. 8-9)")
+    m.add_argument("--toml", help="write the E table line to this file")
+    m.set_defaults(func=cmd_modulus)
+    return p

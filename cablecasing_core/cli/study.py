@@ -1,0 +1,260 @@
+"""``cablecasing study``, ``ensemble``, ``pool``, ``bands``, ``report`` (Section 4)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import ModelError
+from ..model.schema import output_spec
+from ..model.validators import integer, number
+from .helptext import ASSIGNMENT_HELP, key_help
+from .paths import check_output_path
+
+
+def cmd_study(args):
+    from ..studies import DEFAULT_EVALUATE, correlations, plot_correlations, run_study
+
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    kwargs = {"model_file": args.model, "duration": args.duration, "skip": args.skip}
+    res = run_study(
+        out / "study.csv",
+        DEFAULT_EVALUATE,
+        n_samples=args.samples,
+        seed=args.seed,
+        scheduler=args.scheduler,
+        n_workers=args.workers,
+        evaluate_kwargs=kwargs,
+    )
+    print(f"{int(np.sum(res.ok))} of {len(res.status)} samples ok; results in {out / 'study.csv'}")
+    if np.sum(res.ok) >= 3:
+        corr = correlations(res, "pearson")
+        table = corr.as_dict()
+        for p, row in table.items():
+            print(f"  {p:45s} " + " ".join(f"{row[b]:+.2f}" for b in row))
+        plot_correlations(res, out / "correlations.png")
+        print(f"wrote {out / 'correlations.png'}")
+    return 0
+
+
+def _assignment(flag, text):
+    """``KEY=VALUE`` of ``--set``/``--against``; VALUE is read as a TOML value (a bare word as text)."""
+    from ..model.load import toml_value
+
+    key, sep, value = text.partition("=")
+    if not sep or not key.strip():
+        raise ModelError(flag, text, "must be KEY=VALUE with a dotted model key, e.g. contact.friction=0.2")
+    try:
+        return key.strip(), toml_value(value.strip())
+    except ValueError:  # (TOMLDecodeError) a bare word
+        return key.strip(), value.strip()
+
+
+def cmd_ensemble(args):
+    from ..studies import paired_difference, seed_ensemble
+
+    integer("--seeds", args.seeds, 2)
+    integer("--first-seed", args.first_seed, 0)
+    _check_confidence(args.confidence)
+    check_output_path("--out", args.out)
+    check_output_path("--plot", args.plot)
+    seeds = list(range(args.first_seed, args.first_seed + args.seeds))
+    common = dict(
+        seeds=seeds,
+        output=args.output,
+        bands=args.kind,
+        duration=args.duration,
+        dt=args.dt,
+        skip=args.skip,
+        scheduler=args.scheduler,
+        n_workers=args.workers,
+        progress=True,
+    )
+    base = dict(_assignment("--set", a) for a in args.set)
+    against = dict(_assignment("--against", a) for a in args.against)
+    ens = seed_ensemble(args.model, overrides=base, **common)
+    _print_ensemble(ens, args.confidence)
+    _save(ens, args.out, "")
+    other = d = None
+    if against:
+        other = seed_ensemble(args.model, overrides={**base, **against}, **common)
+        d = paired_difference(other, ens)
+        _print_change(other, d, against, args.confidence)
+        _save(other, args.out, "_against")
+    _plot(ens, other, d, args, (", ".join(args.set) or "model", ", ".join(args.against)))
+    return 0
+
+
+def cmd_pool(args):
+    """Pool ensemble CSVs run in parts (same model and settings) and print what ``ensemble`` prints."""
+    from ..studies import paired_difference, pool_ensembles
+
+    _check_confidence(args.confidence)
+    check_output_path("--out", args.out)
+    check_output_path("--plot", args.plot)
+    ens = pool_ensembles(args.files)
+    other = d = None
+    change = {}
+    if args.against:
+        other = pool_ensembles(args.against)
+        d = paired_difference(other, ens)  # refuses parts whose seeds do not pair
+    _print_ensemble(ens, args.confidence)
+    _save(ens, args.out, "")
+    if other is not None:
+        change = {k: v for k, v in other.overrides.items() if ens.overrides.get(k) != v}
+        _print_change(other, d, change, args.confidence)
+        _save(other, args.out, "_against")
+    _plot(ens, other, d, args, (_as_assignments(ens.overrides) or "model", _as_assignments(change)))
+    return 0
+
+
+def _as_assignments(overrides):
+    """``{"a.b": 1}`` as ``"a.b=1"``, the form of ``--set``/``--against`` (figure labels)."""
+    return ", ".join(f"{k}={v}" for k, v in overrides.items())
+
+
+def _check_confidence(confidence):
+    number("--confidence", confidence, gt=0, lt=1)
+
+
+def _print_ensemble(ens, confidence):
+    unit = output_spec(ens.output)[0]
+    seeds = f"{ens.seeds[0]}..{ens.seeds[-1]}" if np.all(np.diff(ens.seeds) == 1) else "(see the CSV)"
+    print(
+        f"# {ens.output} band RMS ({unit}) over {ens.n} seeds {seeds}"
+        f"{' with ' + str(ens.overrides) if ens.overrides else ''}; CI {confidence:g} (Student t)"
+    )
+    print("band,f_low_hz,f_high_hz,mean,se,ci_low,ci_high,cv")
+    for row in ens.as_rows(confidence):
+        print(",".join([row["band"]] + [f"{row[k]:.6g}" for k in list(row)[1:]]))
+
+
+def _print_change(other, d, change, confidence):
+    lo, hi = d.ci(confidence)
+    print(f"# relative change of the mean level with {change} (paired on the same seeds)")
+    print("band,mean_against,rel_diff,se,ci_low,ci_high,diff_over_se")
+    for lab, m, r, se, a, b in zip(d.labels, other.mean, d.r, d.se, lo, hi):
+        print(f"{lab},{m:.6g},{r:+.4f},{se:.4f},{a:+.4f},{b:+.4f},{r / se:+.1f}")
+
+
+def _save(ens, out, suffix):
+    """Write ``ens`` to ``out`` (``x.csv`` -> ``x<suffix>.csv``), if ``out`` was given."""
+    if out:
+        stem, dot, ext = out.rpartition(".")
+        path = f"{stem}{suffix}.{ext}" if dot else f"{out}{suffix}"
+        ens.save(path)
+        print(f"# wrote {path}")
+
+
+def _plot(ens, other, d, args, labels):
+    if args.plot:
+        from ..studies import plot_ensemble
+
+        plot_ensemble(ens, args.plot, other, d, args.confidence, labels=labels)
+        print(f"# wrote {args.plot}")
+
+
+def cmd_bands(args):
+    from ..studies import octave_rms
+
+    data = np.genfromtxt(args.results, delimiter=",", names=True)
+    names = data.dtype.names or ()
+    col = args.column.replace(".", "")
+    if col not in names:
+        raise ModelError("--column", args.column, "must be a column of the results CSV: " + ", ".join(names))
+    t = data[names[0]]
+    keep = t > args.skip
+    fs = 1.0 / np.median(np.diff(t))
+    bands = octave_rms(data[col][keep], fs, args.kind, beyond_nyquist="drop")
+    print("band,f_low_hz,f_high_hz,rms")
+    for lab, lo, hi, r in zip(bands.labels, bands.lower, bands.upper, bands.rms):
+        print(f"{lab},{lo:.6g},{hi:.6g},{r:.6g}")
+    return 0
+
+
+def cmd_report(args):
+    from ..report import write_report
+
+    print(f"wrote {write_report(args.out, args.duration)}")
+    return 0
+
+
+def add_parser(sub):
+    p = sub.add_parser("study", help="Monte-Carlo correlation study of Section 4.4 (dask)")
+    p.add_argument("model", nargs="?", default=None, help="model TOML (default: built-in specimen)")
+    p.add_argument("--samples", type=int, default=300)
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument(
+        "--scheduler", default=None, help="dask scheduler address tcp://host:8786, 'serial', or local (default)"
+    )
+    p.add_argument("--workers", type=int, default=None, help="local cluster workers (default: one per core)")
+    p.add_argument(
+        "--duration", type=float, default=None, help=key_help("scenario.duration", "simulated time per sample")
+    )
+    p.add_argument("--skip", type=float, default=0.05, help="start of each record left out, s")
+    p.add_argument("--out", default="study")
+    p.set_defaults(func=cmd_study)
+
+    e = sub.add_parser("ensemble", help="band levels of a support output as means over excitation seeds")
+    e.add_argument("model", nargs="?", default=None, help="model TOML (default: built-in specimen)")
+    e.add_argument("--seeds", type=int, default=8, help="number of seeds (default 8)")
+    e.add_argument("--first-seed", type=int, default=1, help="seeds first..first+n-1 (default 1)")
+    e.add_argument("--duration", type=float, default=None, help=key_help("scenario.duration", "simulated time per run"))
+    e.add_argument("--dt", type=float, default=None, help=key_help("scenario.dt"))
+    e.add_argument("--skip", type=float, default=0.05, help="start of each record left out, s")
+    e.add_argument("--output", default="casing.B.Fz", help="support output, e.g. casing.B.Fz")
+    e.add_argument("--kind", choices=["table3", "octave", "third"], default="table3")
+    e.add_argument(
+        "--set", action="append", default=[], metavar="KEY=VALUE", help="model change for every run; " + ASSIGNMENT_HELP
+    )
+    e.add_argument(
+        "--against",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="compare with a second ensemble on the same seeds with this change",
+    )
+    e.add_argument("--confidence", type=float, default=0.95, help="level of the confidence intervals")
+    e.add_argument(
+        "--scheduler",
+        default="serial",
+        help="'serial' (default), 'local' (dask, one worker per core) or tcp://host:8786",
+    )
+    e.add_argument("--workers", type=int, default=None, help="local cluster workers (default: one per core)")
+    e.add_argument("--out", default=None, help="CSV of the per-seed band levels")
+    e.add_argument(
+        "--plot", default=None, metavar="PNG", help="figure: means with confidence intervals (and the change)"
+    )
+    e.set_defaults(func=cmd_ensemble)
+
+    q = sub.add_parser("pool", help="pool ensemble CSVs run in parts (ensemble --out) and print their statistics")
+    q.add_argument("files", nargs="+", metavar="CSV", help="parts written by 'cablecasing ensemble --out'")
+    q.add_argument(
+        "--against",
+        nargs="+",
+        default=[],
+        metavar="CSV",
+        help="the parts' _against.csv files: print the paired change as 'ensemble --against' does",
+    )
+    q.add_argument("--confidence", type=float, default=0.95, help="level of the confidence intervals")
+    q.add_argument("--out", default=None, help="CSV of the pooled members (and OUT_against.csv)")
+    q.add_argument("--plot", default=None, metavar="PNG", help="figure as 'ensemble --plot'")
+    q.set_defaults(func=cmd_pool)
+
+    b = sub.add_parser("bands", help="octave-band RMS of a column of a results CSV")
+    b.add_argument("results", help="CSV written by 'cablecasing simulate --out'")
+    b.add_argument("--column", default="casing.B.Fz_N")
+    b.add_argument("--kind", choices=["table3", "octave", "third"], default="table3")
+    b.add_argument("--skip", type=float, default=0.05, help="s left out at the start")
+    b.set_defaults(func=cmd_bands)
+
+    r = sub.add_parser(
+        "report",
+        help="run the built-in specimen and write results/ with report.html "
+        "(the core; examples/demo.py adds the FMU run)",
+    )
+    r.add_argument("--out", default="results")
+    r.add_argument("--duration", type=float, default=0.2)
+    r.set_defaults(func=cmd_report)

@@ -1,0 +1,60 @@
+"""Model files: TOML in, a validated :class:`~cablecasing_core.model.model.Model` out (validation
+built from the schema, :mod:`.validate`); the built-in specimens in ``specimens/``.
+
+A model is a TOML file with the sections ``[geometry]``, ``[casing]``, ``[cable]`` (either body may
+be left out, at least one must be present), ``[contact]`` and ``[scenario]``; docs/model_file.md
+lists every key. Every mistake raises :class:`~cablecasing_core.errors.ModelError` naming the dotted
+key, the value and what is allowed; nothing is half-built.
+"""
+
+from __future__ import annotations
+
+from importlib import resources
+from pathlib import Path
+
+try:  # Python >= 3.11
+    import tomllib
+except ModuleNotFoundError:  # pragma: no cover - Python 3.10
+    import tomli as tomllib
+
+from ..errors import ModelError
+from .model import Model
+from .validate import validate
+
+
+def model_from_dict(data: dict, source: str = "<dict>", base_dir: str | None = None) -> Model:
+    """Validate a raw nested dictionary (as read from TOML) and return a :class:`Model`; ``base_dir``
+    is the folder relative CSV paths are read from."""
+    return Model(validate(data, base_dir=base_dir), source=source, base_dir=base_dir)
+
+
+def load_model(path: str | Path | None = None) -> Model:
+    """Load and validate a model file (TOML). ``None`` gives the built-in specimen.
+
+    Raises :class:`ModelError` for a file that cannot be read or any invalid key.
+    """
+    if path is None:
+        text = resources.files("cablecasing_core.model").joinpath("specimens/default.toml").read_text()
+        return Model(validate(tomllib.loads(text)), source="<built-in>")
+    p = Path(path)
+    try:
+        text = p.read_text()
+    except OSError as exc:
+        raise ModelError("model_file", str(path), f"must be a readable TOML file ({exc.strerror})") from None
+    try:
+        raw = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ModelError("model_file", str(path), f"must be valid TOML ({exc})") from None
+    base = str(p.resolve().parent)
+    return Model(validate(raw, base_dir=base), source=str(p), base_dir=base)
+
+
+def default_model() -> Model:
+    """The built-in model of the paper's specimen (``model/specimens/default.toml``)."""
+    return load_model(None)
+
+
+def toml_value(text: str):
+    """The TOML value written in ``text`` (``0.2``, ``"hertz"``, ``[10.0, 1000.0]``, ...); raises
+    ``ValueError`` (tomllib's TOMLDecodeError) when it is not one."""
+    return tomllib.loads(f"v = {text}")["v"]

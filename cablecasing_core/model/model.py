@@ -1,0 +1,192 @@
+"""The validated model: :class:`Model` (the checked tables and typed views) and :class:`BodySpec`
+(one body's material, section and supports). SI units throughout."""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import json
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..errors import ModelError
+from .schema import BODY_NAMES
+from .validate import validate
+
+
+def _interp_table(value, f_hz):
+    """Evaluate a scalar-or-table value at frequencies ``f_hz`` (Hz); linear, held at the ends."""
+    f = np.asarray(f_hz, dtype=float)
+    if isinstance(value, list):
+        t = np.asarray(value, dtype=float)
+        return np.interp(f, t[:, 0], t[:, 1])
+    return np.full(f.shape, float(value))
+
+
+@dataclass(frozen=True)
+class BodySpec:
+    """Material, section and support data of one body (SI units).
+
+    ``E`` and ``loss_factor`` may be tables ``[[f_Hz, value], ...]``; use :meth:`modulus` and
+    :meth:`loss` to evaluate them at a frequency.
+    """
+
+    name: str
+    E: object
+    nu: float
+    rho: float
+    alpha: float
+    beta: float
+    loss_factor: object
+    supports: dict
+    d_outer: float
+    d_inner: float = 0.0
+    I_override: float | None = None
+
+    @property
+    def E_ref(self):
+        """Reference modulus (Pa): the scalar, or the first table value."""
+        return float(self.E[0][1]) if isinstance(self.E, list) else float(self.E)
+
+    def modulus(self, f_hz: ArrayLike) -> np.ndarray:
+        """Dynamic modulus E_d(f) in Pa at frequencies ``f_hz`` (Hz)."""
+        return _interp_table(self.E, f_hz)
+
+    def loss(self, f_hz: ArrayLike) -> np.ndarray:
+        """Loss factor eta(f) (dimensionless) at frequencies ``f_hz`` (Hz)."""
+        return _interp_table(self.loss_factor, f_hz)
+
+    @property
+    def frequency_dependent(self) -> bool:
+        return isinstance(self.E, list)
+
+
+@dataclass(frozen=True)
+class Model:
+    """A validated model (SI units). Build it with :func:`~cablecasing_core.load_model` or
+    :func:`~cablecasing_core.model_from_dict`; ``data`` is the checked nested dictionary with every
+    default filled in (docs/model_file.md), ``bodies`` its :class:`BodySpec` views."""
+
+    data: dict
+    source: str = "<built-in>"
+    base_dir: str | None = None
+    bodies: dict = field(default_factory=dict, compare=False)
+
+    def __post_init__(self):
+        bodies = {}
+        for n in BODY_NAMES:
+            if n in self.data:
+                b = self.data[n]
+                bodies[n] = BodySpec(
+                    name=n,
+                    E=b["E"],
+                    nu=b["nu"],
+                    rho=b["rho"],
+                    alpha=b["alpha"],
+                    beta=b["beta"],
+                    loss_factor=b["loss_factor"],
+                    supports=dict(b["supports"]),
+                    d_outer=b["d_outer"] if n == "casing" else b["d"],
+                    d_inner=b["d_inner"] if n == "casing" else 0.0,
+                    I_override=b.get("I"),
+                )
+        object.__setattr__(self, "bodies", bodies)
+
+    @property
+    def geometry(self) -> dict:
+        return self.data["geometry"]
+
+    @property
+    def contact(self) -> dict:
+        return self.data["contact"]
+
+    @property
+    def scenario(self) -> dict:
+        return self.data["scenario"]
+
+    @property
+    def radial_gap(self) -> float:
+        """Radial gap e = (casing.d_inner - cable.d) / 2 in m (Eqs. 30-31); needs both bodies."""
+        return 0.5 * (self.data["casing"]["d_inner"] - self.data["cable"]["d"])
+
+    def parameters(self) -> dict[str, float]:
+        """Every numeric scalar of the model as ``{dotted.key: value}`` (SI units).
+
+        Tables (frequency-dependent values), point lists and strings are not included.
+        """
+        out = {}
+
+        def walk(prefix, node):
+            for k, v in node.items():
+                key = f"{prefix}.{k}" if prefix else k
+                if isinstance(v, dict):
+                    walk(key, v)
+                elif isinstance(v, (int, float)) and not isinstance(v, bool):
+                    out[key] = v
+
+        walk("", self.data)
+        return out
+
+    def with_overrides(self, overrides: Mapping[str, object]) -> Model:
+        """A validated copy with ``{dotted.key: value}`` replaced (e.g. ``{"casing.E": 6e9}``).
+
+        Keys must already exist in the model, or be a known optional key of an existing section;
+        an unknown key raises :class:`ModelError`.
+        """
+        data = copy.deepcopy(self.data)
+        for key, value in overrides.items():
+            parts = key.split(".")
+            node = data
+            for p in parts[:-1]:
+                if not isinstance(node, dict) or p not in node:
+                    raise ModelError(key, value, "is not a key of this model")
+                node = node[p]
+            if not isinstance(node, dict):
+                raise ModelError(key, value, "is not a key of this model")
+            if isinstance(value, np.generic):
+                value = value.item()
+            if isinstance(value, np.ndarray):
+                value = value.tolist()
+            node[parts[-1]] = value
+        return Model(validate(data, base_dir=self.base_dir), source=self.source, base_dir=self.base_dir)
+
+    def fingerprint(self) -> str:
+        """A short hash (16 hex digits) of the model's data (SI values, defaults filled in): equal for
+        equal models, whatever their source (a tabulated excitation enters by its file name)."""
+        text = json.dumps(self.data, sort_keys=True, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o))
+        return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+    def to_toml(self) -> str:
+        """The model as TOML text (round-trips through :func:`load_model`)."""
+        return _to_toml(self.data)
+
+
+def _to_toml(data):
+    def fmt(v):
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        if isinstance(v, str):
+            return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+        if isinstance(v, list):
+            return "[" + ", ".join(fmt(x) for x in v) + "]"
+        if isinstance(v, dict):
+            return "{ " + ", ".join(f"{k} = {fmt(x)}" for k, x in v.items()) + " }"
+        return repr(float(v)) if isinstance(v, float) else repr(v)
+
+    lines = []
+
+    def section(prefix, node):
+        scalars = {k: v for k, v in node.items() if not (isinstance(v, dict) and k != "supports")}
+        subs = {k: v for k, v in node.items() if isinstance(v, dict) and k != "supports"}
+        lines.append(f"[{prefix}]")
+        lines.extend(f"{k} = {fmt(v)}" for k, v in scalars.items())
+        lines.append("")
+        for k, v in subs.items():
+            section(f"{prefix}.{k}", v)
+
+    for name, node in data.items():
+        section(name, node)
+    return "\n".join(lines)

@@ -1,0 +1,453 @@
+"""THE schema of the model file: every key with its type, default, unit, allowed range and a
+one-line description, in one place; and the one list of the support channels and of the outputs.
+
+The loader (:mod:`.load`) validates a model file with the schema's validators, the FMU takes its
+parameters' units and descriptions from :func:`lookup`, the CLI its help texts, and the key table
+of the documentation (docs/model_file.md) is generated from it (``python docs/make_key_table.py``; a
+test checks that the committed table is the generated one).
+
+>>> from cablecasing_core.model.schema import lookup, output_spec
+>>> spec = lookup("scenario.excitation.casing_random.rms")
+>>> spec.unit, spec.default, spec.allowed
+('m/s2', 5.0, 'zero or a positive number in m/s2')
+>>> output_spec("casing.B.Fz")
+('N', 'force the casing exerts on its support B, component along global z')
+
+Keys under named tables are written with ``<name>`` (``scenario.excitation.<name>.rms``);
+:func:`lookup` accepts them under any name. Units are FMI-style strings ("1": dimensionless,
+"m/s2", "N.m", "kg/m3", ...; "" for text and booleans).
+
+This module is over 400 lines because the schema is one table of the model file's 45 keys, kept
+in one place on purpose; the validators are in ``validators.py``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+from ..errors import ModelError
+from .validators import Band, Boolean, Choice, Number, NumberOrTable, Points, Target, Text
+
+BODY_NAMES = ("casing", "cable")
+SUPPORT_NAMES = ("A", "B")
+SUPPORT_TYPES = ("clamped", "free")
+DIRECTIONS = ("x", "y", "z")
+CONTACT_LAWS = ("hertz", "linear")
+EXCITATION_KINDS = ("random", "harmonic", "impulse", "csv")
+SECTIONS = ("geometry", "casing", "cable", "contact", "scenario")
+
+#: The 12 translational support channels, in the FMU's input order (m, m/s, m/s2, global axes).
+CHANNELS = tuple(f"{b}.{s}.{d}" for b in BODY_NAMES for s in SUPPORT_NAMES for d in DIRECTIONS)
+FORCE_NAMES = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
+#: Force (N) and moment (N.m) each body exerts on each support, in global axes.
+SUPPORT_OUTPUTS = tuple(f"{b}.{s}.{c}" for b in BODY_NAMES for s in SUPPORT_NAMES for c in FORCE_NAMES)
+CONTACT_OUTPUTS = ("contact.active", "contact.max_penetration", "contact.dissipated_energy")
+#: Every output of the time domain (``Engine.output_values``, the FMU's outputs), in this order.
+OUTPUTS = SUPPORT_OUTPUTS + CONTACT_OUTPUTS
+
+
+class _Marker:
+    def __init__(self, name):
+        self.name = name
+
+    def __repr__(self):
+        return self.name
+
+
+REQUIRED = _Marker("REQUIRED")  #: the key must be given
+OPTIONAL = _Marker("OPTIONAL")  #: the key may be left out; there is no default
+
+
+@dataclass(frozen=True)
+class KeySpec:
+    """One key of the model file.
+
+    key: dotted key (``<name>`` for a named table); type: "float", "int", "bool", "str",
+    "float or table" (a number or a table ``[[f_Hz, value], ...]``), "points" or "band"; default: the
+    value taken when the key is left out, or :data:`REQUIRED`, :data:`OPTIONAL`; unit: FMI-style;
+    description: one line; validator: the :mod:`.validators` object that checks a value; note:
+    what the loader checks against other keys; kinds: the excitation kinds that take the key;
+    default_from: the key whose value is the default.
+    """
+
+    key: str
+    type: str
+    default: object
+    unit: str
+    description: str
+    validator: object
+    note: str = ""
+    kinds: tuple = ()
+    default_from: str | None = None
+
+    @property
+    def allowed(self) -> str:
+        """A short human text of the allowed values."""
+        return self.validator.allowed + (f"; {self.note}" if self.note else "")
+
+    @property
+    def required(self) -> bool:
+        return self.default is REQUIRED
+
+    @property
+    def name(self) -> str:
+        """The last part of the key (the name in its table)."""
+        return self.key.rsplit(".", 1)[1]
+
+    def check(self, value, key=None):
+        """``value`` checked and cleaned; a :class:`ModelError` names ``key`` (default: this key)."""
+        return self.validator(self.key if key is None else key, value)
+
+
+def _body(body):
+    the = f"the {body}"
+    keys = [
+        KeySpec(
+            f"{body}.E",
+            "float or table",
+            REQUIRED,
+            "Pa",
+            f"Young's (dynamic) modulus of {the}; a table makes it frequency-dependent (Section 3.1)",
+            NumberOrTable(Number(gt=0, unit="Pa")),
+        ),
+        KeySpec(
+            f"{body}.nu",
+            "float",
+            0.3,
+            "1",
+            f"Poisson ratio of {the} (G = E / (2 (1 + nu)))",
+            Number(ge=-0.999, le=0.4999),
+        ),
+        KeySpec(
+            f"{body}.rho",
+            "float",
+            REQUIRED,
+            "kg/m3",
+            f"density of {the}, averaged over its cross-section",
+            Number(gt=0, unit="kg/m3"),
+        ),
+        KeySpec(
+            f"{body}.alpha",
+            "float",
+            0.0,
+            "1/s",
+            f"Rayleigh mass-proportional damping of {the}, C = alpha M + beta K (Eq. 40)",
+            Number(ge=0, unit="1/s"),
+        ),
+        KeySpec(
+            f"{body}.beta",
+            "float",
+            0.0,
+            "s",
+            f"Rayleigh stiffness-proportional damping of {the}, C = alpha M + beta K (Eq. 40)",
+            Number(ge=0, unit="s"),
+        ),
+        KeySpec(
+            f"{body}.loss_factor",
+            "float or table",
+            0.0,
+            "1",
+            f"structural loss factor of {the} (Eq. 11; frequency domain only, the time domain uses alpha, beta)",
+            NumberOrTable(Number(ge=0)),
+        ),
+    ]
+    if body == "casing":
+        keys += [
+            KeySpec(
+                "casing.d_outer",
+                "float",
+                REQUIRED,
+                "m",
+                "outer diameter of the casing (d_2 of Table 2)",
+                Number(gt=0, unit="m"),
+            ),
+            KeySpec(
+                "casing.d_inner",
+                "float",
+                REQUIRED,
+                "m",
+                "inner diameter of the casing, in which the cable runs (d_5 of Table 2)",
+                Number(gt=0, unit="m"),
+                note="below casing.d_outer and above cable.d",
+            ),
+        ]
+    else:
+        keys += [KeySpec("cable.d", "float", REQUIRED, "m", "diameter of the cable (D_z0)", Number(gt=0, unit="m"))]
+    keys.append(
+        KeySpec(
+            f"{body}.I",
+            "float",
+            OPTIONAL,
+            "m4",
+            f"effective second moment of area of {the}'s section, instead of the one of its diameters "
+            "(I_op of Table 2)",
+            Number(gt=0, unit="m4"),
+        )
+    )
+    keys += [
+        KeySpec(
+            f"{body}.supports.{s}",
+            "str",
+            "clamped",
+            "",
+            f"support {s} of {the}: clamped (its translations follow the support motion, rotations held) or free",
+            Choice(*SUPPORT_TYPES),
+        )
+        for s in SUPPORT_NAMES
+    ]
+    return keys
+
+
+_EXC = "scenario.excitation.<name>"
+_KEYS = [
+    KeySpec(
+        "geometry.curve",
+        "str",
+        "spline",
+        "",
+        "the centerline through the points: a cubic spline by arc length, or the polyline (Eqs. 32-35)",
+        Choice("spline", "polyline"),
+    ),
+    KeySpec(
+        "geometry.n_elements",
+        "int",
+        35,
+        "1",
+        "number of beam elements of each body along the centerline",
+        Number(ge=1, integer=True),
+    ),
+    KeySpec("geometry.points", "points", REQUIRED, "m", "points on the centerline at rest, end A first", Points()),
+    *_body("casing"),
+    *_body("cable"),
+    KeySpec(
+        "contact.enabled",
+        "bool",
+        True,
+        "",
+        "contact between cable and casing (false: two independent linear bodies)",
+        Boolean(),
+    ),
+    KeySpec(
+        "contact.law",
+        "str",
+        "hertz",
+        "",
+        "normal contact law: Hertz (Eq. 29, from both bodies' moduli and radii) or linear (Eq. 24)",
+        Choice(*CONTACT_LAWS),
+    ),
+    KeySpec(
+        "contact.stiffness",
+        "float",
+        1.0e6,
+        "N/m",
+        "penalty stiffness of the linear contact law (Eq. 24)",
+        Number(gt=0, unit="N/m"),
+    ),
+    KeySpec(
+        "contact.damping",
+        "float",
+        100.0,
+        "kg/s",
+        "contact damping, acting while the penetration grows (Eq. 16)",
+        Number(ge=0, unit="kg/s"),
+    ),
+    KeySpec(
+        "contact.friction",
+        "float",
+        0.15,
+        "1",
+        "Coulomb friction coefficient between cable and casing (eta)",
+        Number(ge=0),
+    ),
+    KeySpec(
+        "contact.stick_velocity",
+        "float",
+        1.0e-4,
+        "m/s",
+        "tangential relative speed below which a contact sticks (Section 2.1)",
+        Number(ge=0, unit="m/s"),
+    ),
+    KeySpec(
+        "scenario.duration",
+        "float",
+        1.0,
+        "s",
+        "duration of the scenario's run",
+        Number(gt=0, unit="s"),
+        note="at least scenario.dt",
+    ),
+    KeySpec("scenario.dt", "float", 1.0e-5, "s", "time step of the Newmark integration", Number(gt=0, unit="s")),
+    KeySpec(
+        "scenario.seed",
+        "int",
+        0,
+        "1",
+        "seed of the random excitations that give none of their own",
+        Number(ge=0, integer=True),
+    ),
+    KeySpec(
+        "scenario.ramp",
+        "float",
+        0.01,
+        "s",
+        "half-cosine fade-in of the support motion (0: none)",
+        Number(ge=0, unit="s"),
+    ),
+    KeySpec(
+        f"{_EXC}.target",
+        "str",
+        REQUIRED,
+        "",
+        "the driven support channel; axial acts along the body's tangent at that end, from A to B",
+        Target(BODY_NAMES, SUPPORT_NAMES, DIRECTIONS + ("axial",)),
+        note="a clamped support of a body of the model",
+    ),
+    KeySpec(
+        f"{_EXC}.kind",
+        "str",
+        REQUIRED,
+        "",
+        "the signal: band-limited random, harmonic, impulse or a CSV table",
+        Choice(*EXCITATION_KINDS),
+    ),
+    KeySpec(
+        f"{_EXC}.rms",
+        "float",
+        5.0,
+        "m/s2",
+        "RMS acceleration of the random excitation",
+        Number(ge=0, unit="m/s2"),
+        kinds=("random",),
+    ),
+    KeySpec(
+        f"{_EXC}.band",
+        "band",
+        [10.0, 1000.0],
+        "Hz",
+        "frequency band of the random excitation (flat spectrum)",
+        Band(),
+        note="f_high below the Nyquist frequency 1 / (2 scenario.dt)",
+        kinds=("random",),
+    ),
+    KeySpec(
+        f"{_EXC}.seed",
+        "int",
+        OPTIONAL,
+        "1",
+        "seed of the random excitation's phases",
+        Number(ge=0, integer=True),
+        kinds=("random",),
+        default_from="scenario.seed",
+    ),
+    KeySpec(
+        f"{_EXC}.frequency",
+        "float",
+        REQUIRED,
+        "Hz",
+        "frequency of the harmonic excitation",
+        Number(gt=0, unit="Hz"),
+        kinds=("harmonic",),
+    ),
+    KeySpec(
+        f"{_EXC}.amplitude",
+        "float",
+        REQUIRED,
+        "m",
+        "displacement amplitude of the harmonic excitation, or height of the impulse's bump",
+        Number(unit="m"),
+        kinds=("harmonic", "impulse"),
+    ),
+    KeySpec(
+        f"{_EXC}.phase",
+        "float",
+        0.0,
+        "rad",
+        "phase of the harmonic excitation, u = amplitude sin(2 pi f t + phase)",
+        Number(unit="rad"),
+        kinds=("harmonic",),
+    ),
+    KeySpec(
+        f"{_EXC}.width",
+        "float",
+        1.0e-3,
+        "s",
+        "duration of the impulse's Hann-shaped displacement bump",
+        Number(gt=0, unit="s"),
+        kinds=("impulse",),
+    ),
+    KeySpec(
+        f"{_EXC}.start", "float", 0.0, "s", "start time of the impulse", Number(ge=0, unit="s"), kinds=("impulse",)
+    ),
+    KeySpec(
+        f"{_EXC}.file",
+        "str",
+        REQUIRED,
+        "",
+        "CSV table of the displacement; a relative path is read from the model file's folder",
+        Text("the path of a CSV file with columns time_s, displacement_m"),
+        kinds=("csv",),
+    ),
+]
+
+#: Every key of the model file, in the order of the validated model's tables.
+SCHEMA = {spec.key: spec for spec in _KEYS}
+
+
+def lookup(key: str) -> KeySpec:
+    """The :class:`KeySpec` of a dotted model key, e.g. ``"casing.E"``, ``"casing.supports.A"`` or
+    ``"scenario.excitation.casing_random.rms"`` (a named table under any name; the spec's ``key`` is
+    then the key asked for). Raises :class:`ModelError` for a key the model file does not have."""
+    spec = SCHEMA.get(key)
+    if spec is None and isinstance(key, str):
+        parts = key.split(".")
+        if len(parts) == 4 and parts[:2] == ["scenario", "excitation"] and f"{_EXC}.{parts[3]}" in SCHEMA:
+            spec = replace(SCHEMA[f"{_EXC}.{parts[3]}"], key=key)
+    if spec is None:
+        raise ModelError(key, None, "is not a key of the model file (see docs/model_file.md)")
+    return spec
+
+
+def table(prefix: str) -> list:
+    """The specs of the keys directly in the table ``prefix`` (e.g. ``"casing"``,
+    ``"casing.supports"``, ``"scenario.excitation.<name>"``), in schema order."""
+    return [s for s in _KEYS if s.key.rsplit(".", 1)[0] == prefix]
+
+
+def output_spec(name: str) -> tuple:
+    """(unit, description) of a time-domain output of :data:`OUTPUTS`."""
+    if name == "contact.active":
+        return "1", "number of cable nodes in contact with the casing (stick or slip)"
+    if name == "contact.max_penetration":
+        return "m", "largest penetration of a cable node into the casing wall (0 without contact)"
+    if name == "contact.dissipated_energy":
+        return "J", "energy dissipated by contact damping and friction together since t = 0"
+    if name not in SUPPORT_OUTPUTS:
+        raise ModelError("output", name, "must be one of " + ", ".join(OUTPUTS))
+    body, support, comp = name.split(".")
+    kind, unit = ("force", "N") if comp[0] == "F" else ("moment", "N.m")
+    return unit, f"{kind} the {body} exerts on its support {support}, component along global {comp[1].lower()}"
+
+
+def markdown_table() -> str:
+    """The key table of docs/model_file.md (Markdown), generated from the schema."""
+
+    def default(spec):
+        if spec.default_from:
+            return f"`{spec.default_from}`"
+        if spec.default is REQUIRED:
+            return "required"
+        if spec.default is OPTIONAL:
+            return "(none)"
+        value = spec.default
+        text = ("true" if value else "false") if isinstance(value, bool) else repr(value).replace("'", '"')
+        return f"`{text}`"
+
+    lines = ["| key | type | default | unit | allowed | description |", "|---|---|---|---|---|---|"]
+    for spec in _KEYS:
+        kinds = f" (kind {' or '.join(spec.kinds)})" if spec.kinds else ""
+        allowed = spec.allowed.replace("|", "\\|")  # a | inside a Markdown table cell
+        lines.append(
+            f"| `{spec.key}` | {spec.type} | {default(spec)} | {spec.unit or '-'} | "
+            f"{allowed} | {spec.description}{kinds} |"
+        )
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,123 @@
+"""Validation of a model file's tables, built from the schema (:mod:`.schema`).
+
+Each table is checked key by key with the schema's validators (unknown keys and missing required
+keys first, then every value; defaults filled in), then against the other keys where the schema's
+``note`` says so: the casing's inner diameter between the cable and the outer diameter, the
+duration at least one step, a random band below the Nyquist frequency, a target on a clamped
+support of a body that exists. Every mistake raises :class:`~cablecasing_core.errors.ModelError`
+naming the dotted key, the value and what is allowed; nothing is half-built.
+"""
+
+from __future__ import annotations
+
+import copy
+from pathlib import Path
+
+from ..errors import ModelError
+from .schema import BODY_NAMES, OPTIONAL, SECTIONS, lookup, table
+
+
+def check_keys(prefix, data, allowed, required=()):
+    """``data`` must be a table whose keys are among ``allowed`` and hold every one of ``required``."""
+    if not isinstance(data, dict):
+        raise ModelError(prefix, data, "must be a table (section)")
+    for k in data:
+        if k not in allowed:
+            raise ModelError(f"{prefix}.{k}", data[k], "unknown key; allowed keys are " + ", ".join(sorted(allowed)))
+    for k in required:
+        if k not in data:
+            raise ModelError(f"{prefix}.{k}", None, "is required")
+
+
+def _table(prefix, data, specs, extra=()):
+    """The keys ``specs`` of table ``data`` (dotted name ``prefix``) checked, defaults filled in, in
+    schema order; ``extra``: names of sub-tables the caller checks."""
+    check_keys(prefix, data, {s.name for s in specs} | set(extra), [s.name for s in specs if s.required])
+    out = {}
+    for s in specs:
+        if s.name in data:
+            out[s.name] = s.check(data[s.name], f"{prefix}.{s.name}")
+        elif s.default is not OPTIONAL:
+            out[s.name] = s.check(copy.deepcopy(s.default), f"{prefix}.{s.name}")
+    return out
+
+
+def _body(name, data):
+    out = _table(name, data, table(name), extra=("supports",))
+    if name == "casing" and out["d_inner"] >= out["d_outer"]:
+        raise ModelError("casing.d_inner", out["d_inner"], f"must be smaller than casing.d_outer = {out['d_outer']} m")
+    out["supports"] = _table(f"{name}.supports", data.get("supports", {}), table(f"{name}.supports"))
+    return out
+
+
+def _on_a_clamped_support(key, target, bodies):
+    """The target (format checked by the schema) names a body of the model and a clamped support."""
+    body, support, _ = target.split(".")
+    if body not in bodies:
+        raise ModelError(key, target, f"names body '{body}', which this model does not have")
+    if bodies[body]["supports"][support] != "clamped":
+        raise ModelError(key, target, f"support {body}.{support} is free; only clamped supports can be driven")
+
+
+def _excitation(key, e, scenario, bodies, base_dir):
+    if not isinstance(e, dict):
+        raise ModelError(key, e, "must be a table with target and kind")
+    kind = lookup(f"{key}.kind").check(e.get("kind"), f"{key}.kind")
+    specs = [s for s in table("scenario.excitation.<name>") if not s.kinds or kind in s.kinds]
+    out = _table(key, e, specs)
+    _on_a_clamped_support(f"{key}.target", out["target"], bodies)
+    for s in specs:
+        if s.default_from and s.name not in out:
+            out[s.name] = s.check(scenario[s.default_from.split(".")[1]], f"{key}.{s.name}")
+    if kind == "random":
+        nyquist = 0.5 / scenario["dt"]
+        if out["band"][1] >= nyquist:
+            raise ModelError(
+                f"{key}.band",
+                e.get("band", out["band"]),
+                f"upper frequency must be below the Nyquist frequency {nyquist:.6g} Hz",
+            )
+    elif kind == "csv":
+        path = Path(out["file"])
+        if not path.is_absolute() and base_dir is not None:
+            path = Path(base_dir) / path
+        out["file"] = str(path)
+    return out
+
+
+def _scenario(data, bodies, base_dir):
+    out = _table("scenario", data, table("scenario"), extra=("excitation",))
+    if out["duration"] < out["dt"]:
+        raise ModelError(
+            "scenario.duration", out["duration"], f"must be at least one time step (scenario.dt = {out['dt']} s)"
+        )
+    exc = data.get("excitation", {})
+    if not isinstance(exc, dict):
+        raise ModelError("scenario.excitation", exc, "must be a table of named excitations")
+    out["excitation"] = {
+        name: _excitation(f"scenario.excitation.{name}", e, out, bodies, base_dir) for name, e in exc.items()
+    }
+    return out
+
+
+def validate(data: dict, base_dir: str | None = None) -> dict:
+    """Check a raw model dictionary (as read from TOML) and return a cleaned copy with every default
+    filled in. ``base_dir``: the folder relative CSV paths are read from. Raises :class:`ModelError`
+    at the first problem, naming the dotted key."""
+    if not isinstance(data, dict):
+        raise ModelError("<model>", data, "must be a TOML document with sections")
+    check_keys("<model>", data, set(SECTIONS), required=("geometry",))
+    out = {"geometry": _table("geometry", data["geometry"], table("geometry"))}
+    bodies = {n: _body(n, data[n]) for n in BODY_NAMES if n in data}
+    if not bodies:
+        raise ModelError("<model>", sorted(data), "needs at least one body section, [casing] or [cable]")
+    out.update(bodies)
+    if "casing" in bodies and "cable" in bodies and bodies["casing"]["d_inner"] <= bodies["cable"]["d"]:
+        raise ModelError(
+            "casing.d_inner",
+            bodies["casing"]["d_inner"],
+            f"must be larger than cable.d = {bodies['cable']['d']} m (there must be a radial gap)",
+        )
+    out["contact"] = _table("contact", data.get("contact", {}), table("contact"))
+    out["scenario"] = _scenario(data.get("scenario", {}), bodies, base_dir)
+    return out

@@ -1,0 +1,267 @@
+"""The one set of input validators of the package.
+
+Each validator checks one value and returns it cleaned, or raises
+:class:`~cablecasing_core.errors.ModelError` naming the key (a dotted model key such as
+``casing.E``, or an argument such as ``dt``), the value and what is allowed. A validator is an
+object: calling it checks a value (``Number(gt=0, unit="s")("dt", 1e-5)``), and its ``allowed``
+text is what the schema's key table and the error messages say. The model schema
+(:mod:`.schema`) is built from them, and so are the checks of function arguments elsewhere (time
+steps, frequencies, counts, seeds), either directly or through the schema's key
+(``lookup("scenario.dt").check(dt, "dt")``).
+"""
+
+from __future__ import annotations
+
+import math
+from numbers import Integral, Real
+
+import numpy as np
+
+from ..errors import ModelError
+
+
+def _unit_phrase(unit):
+    if unit in (None, "", "1"):
+        return ""
+    return " of seconds" if unit == "s" else f" in {unit}"
+
+
+def _fmt(x):
+    return f"{x:g}" if isinstance(x, float) else str(x)
+
+
+class Number:
+    """A finite real number (or a whole number with ``integer=True``), within optional bounds:
+    ``gt``/``ge`` below, ``lt``/``le`` above (exclusive/inclusive), in ``unit`` (FMI-style, "1" for
+    dimensionless). Booleans are not numbers; numpy scalars are. Returns a float (an int)."""
+
+    def __init__(self, *, gt=None, ge=None, lt=None, le=None, integer=False, unit=None):
+        self.gt, self.ge, self.lt, self.le, self.integer, self.unit = gt, ge, lt, le, integer, unit
+        kind = "whole number" if integer else "number"
+        lo = (">", gt) if gt is not None else (">=", ge) if ge is not None else None
+        hi = ("<", lt) if lt is not None else ("<=", le) if le is not None else None
+        if lo == (">", 0) and hi is None:
+            text = f"a positive {kind}"
+        elif lo == (">=", 0) and hi is None:
+            text = f"zero or a positive {kind}"
+        elif lo and hi:
+            text = (
+                f"a {kind} in {'(' if lo[0] == '>' else '['}{_fmt(lo[1])}, {_fmt(hi[1])}{')' if hi[0] == '<' else ']'}"
+            )
+        elif lo or hi:
+            op, bound = lo or hi
+            text = f"a {kind} {op} {_fmt(bound)}"
+        else:
+            text = f"a {kind}"
+        self.allowed = text + _unit_phrase(unit)
+
+    def __call__(self, key, value):
+        kind = type(value)
+        if kind is not float and kind is not int:  # (the common cases first: this runs per FMU step)
+            if isinstance(value, (bool, np.bool_)) or not isinstance(value, Real):
+                raise ModelError(key, value, "must be " + self.allowed)
+            if self.integer and not isinstance(value, Integral):
+                raise ModelError(key, value, "must be " + self.allowed)
+        elif self.integer and kind is float:
+            raise ModelError(key, value, "must be " + self.allowed)
+        v = float(value)
+        if not math.isfinite(v):
+            raise ModelError(key, value, "must be a finite number" + _unit_phrase(self.unit))
+        if (
+            (self.gt is not None and not v > self.gt)
+            or (self.ge is not None and not v >= self.ge)
+            or (self.lt is not None and not v < self.lt)
+            or (self.le is not None and not v <= self.le)
+        ):
+            raise ModelError(key, value, "must be " + self.allowed)
+        return int(value) if self.integer else v
+
+
+class NumberOrTable:
+    """A :class:`Number`, or a table ``[[f_Hz, value], ...]`` of such values at frequencies >= 0 Hz,
+    sorted by strictly increasing frequency (a frequency-dependent value, interpolated linearly)."""
+
+    def __init__(self, number):
+        self.number = number
+        self.frequency = Number(ge=0, unit="Hz")
+        self.allowed = number.allowed + ", or a table [[f_Hz, value], ...] by strictly increasing frequency"
+
+    def __call__(self, key, value):
+        if not isinstance(value, list):
+            return self.number(key, value)
+        if len(value) < 1:
+            raise ModelError(key, value, "a table needs at least one row [f_Hz, value]")
+        rows = []
+        for i, row in enumerate(value):
+            if not isinstance(row, list) or len(row) != 2:
+                raise ModelError(f"{key}[{i}]", row, "each table row must be [f_Hz, value]")
+            rows.append([self.frequency(f"{key}[{i}][0]", row[0]), self.number(f"{key}[{i}][1]", row[1])])
+        freqs = [r[0] for r in rows]
+        if any(b <= a for a, b in zip(freqs, freqs[1:])):
+            raise ModelError(key, value, "table rows must be sorted by strictly increasing frequency")
+        return rows
+
+
+class Choice:
+    """One of a fixed set of values (strings)."""
+
+    def __init__(self, *choices):
+        self.choices = choices
+        self.allowed = "one of " + ", ".join(repr(c) for c in choices)
+
+    def __call__(self, key, value):
+        if value not in self.choices:
+            raise ModelError(key, value, "must be " + self.allowed)
+        return value
+
+
+class Boolean:
+    """true or false (a TOML boolean)."""
+
+    allowed = "true or false"
+
+    def __call__(self, key, value):
+        if not isinstance(value, (bool, np.bool_)):
+            raise ModelError(key, value, "must be " + self.allowed)
+        return bool(value)
+
+
+class Text:
+    """A non-empty string (``what`` says what it names)."""
+
+    def __init__(self, what):
+        self.allowed = what
+
+    def __call__(self, key, value):
+        if not isinstance(value, str) or not value:
+            raise ModelError(key, value, "must be " + self.allowed)
+        return value
+
+
+class Points:
+    """At least two points [x, y, z] (m), each different from the one before."""
+
+    allowed = "at least two points [x, y, z] in m, consecutive points different"
+    coordinate = Number(unit="m")
+
+    def __call__(self, key, value):
+        if not isinstance(value, list) or len(value) < 2:
+            raise ModelError(key, value, "needs at least two points [x, y, z] in m")
+        clean = []
+        for i, p in enumerate(value):
+            if not isinstance(p, list) or len(p) != 3:
+                raise ModelError(f"{key}[{i}]", p, "each point must be [x, y, z] in m")
+            clean.append([self.coordinate(f"{key}[{i}][{j}]", c) for j, c in enumerate(p)])
+        arr = np.array(clean)
+        seg = np.linalg.norm(np.diff(arr, axis=0), axis=1)
+        scale = max(np.ptp(arr, axis=0).max(), 1e-300)
+        for i, s in enumerate(seg):
+            if s <= 1e-9 * scale:
+                raise ModelError(
+                    f"{key}[{i + 1}]",
+                    clean[i + 1],
+                    f"repeats the previous point {clean[i]}; consecutive points must differ",
+                )
+        return clean
+
+
+class Band:
+    """A frequency band [f_low_Hz, f_high_Hz], 0 < f_low < f_high."""
+
+    allowed = "[f_low_Hz, f_high_Hz] with 0 < f_low < f_high"
+    edge = Number(gt=0, unit="Hz")
+
+    def __call__(self, key, value):
+        if not isinstance(value, list) or len(value) != 2:
+            raise ModelError(key, value, "must be [f_low_Hz, f_high_Hz]")
+        lo, hi = self.edge(f"{key}[0]", value[0]), self.edge(f"{key}[1]", value[1])
+        if hi <= lo:
+            raise ModelError(key, value, "upper frequency must exceed the lower one")
+        return [lo, hi]
+
+
+class Target:
+    """A support channel ``<casing|cable>.<A|B>.<x|y|z|axial>``; which bodies and supports exist is
+    checked with the model (a cross-check of the loader)."""
+
+    def __init__(self, bodies, supports, directions):
+        self.parts = (bodies, supports, directions)
+        self.allowed = f"'<{'|'.join(bodies)}>.<{'|'.join(supports)}>.<{'|'.join(directions)}>'"
+
+    def __call__(self, key, value):
+        parts = value.split(".") if isinstance(value, str) else []
+        if len(parts) != 3 or any(p not in allowed for p, allowed in zip(parts, self.parts)):
+            raise ModelError(key, value, "must be " + self.allowed)
+        return value
+
+
+# ------------------------------------------------------------------------------ argument checks
+def number(key, value, **bounds):
+    """:class:`Number` ``(**bounds)`` applied to ``value`` (e.g. ``number("fs", fs, gt=0, unit="Hz")``)."""
+    return Number(**bounds)(key, value)
+
+
+def integer(key, value, minimum):
+    """A whole number >= ``minimum`` (Python or numpy integer; not a bool); returns an int."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, Integral) or value < minimum:
+        raise ModelError(key, value, f"must be an integer >= {minimum}")
+    return int(value)
+
+
+_SECONDS = {False: Number(gt=0, unit="s"), True: Number(ge=0, unit="s")}
+
+
+def seconds(key, value, *, zero_ok=False, none_ok=False):
+    """A time in s: positive (or, with ``zero_ok``, zero too); None passes with ``none_ok`` (the
+    caller's default). The check of every time step, duration and skip of the package."""
+    if value is None and none_ok:
+        return None
+    rule = _SECONDS[zero_ok]
+    try:
+        return rule(key, value)
+    except ModelError:
+        raise ModelError(
+            key, value, "must be " + rule.allowed + (" (or None: the default)" if none_ok else "")
+        ) from None
+
+
+def array_1d(key, x, min_len=2, complex_ok=False):
+    """A finite 1-D float (or, with ``complex_ok``, complex) array of at least ``min_len`` samples."""
+    try:
+        a = np.asarray(x)
+    except Exception:  # pragma: no cover - numpy accepts almost anything
+        raise ModelError(key, type(x).__name__, "must be a 1-D array of numbers") from None
+    if a.ndim != 1:
+        raise ModelError(key, f"array of shape {a.shape}", "must be a 1-D array")
+    if np.iscomplexobj(a):
+        if not complex_ok:
+            raise ModelError(key, "complex array", "must be real")
+        a = a.astype(complex)
+    else:
+        try:
+            a = a.astype(float)
+        except (TypeError, ValueError):
+            raise ModelError(key, "non-numeric array", "must be a 1-D array of numbers") from None
+    if a.size < min_len:
+        raise ModelError(key, f"{a.size} samples", f"needs at least {min_len} samples")
+    if not np.all(np.isfinite(a)):
+        raise ModelError(key, "array with nan/inf", "must contain finite numbers only")
+    return a
+
+
+def frequencies(key, freqs_hz, fs=None):
+    """A non-empty 1-D array of positive finite frequencies (Hz); with the sampling rate ``fs`` (Hz)
+    each must also lie below fs/2."""
+    f = np.atleast_1d(np.asarray(freqs_hz, dtype=float))
+    if f.ndim != 1 or f.size == 0:
+        raise ModelError(key, freqs_hz, "must be one or more frequencies in Hz")
+    bad = ~np.isfinite(f) | (f <= 0.0)
+    if fs is not None:
+        bad |= f >= fs / 2.0
+    if np.any(bad):
+        if fs is None:
+            raise ModelError(key, freqs_hz, "must be a non-empty vector of positive finite frequencies in Hz")
+        raise ModelError(
+            key, float(f[bad][0]), f"every frequency must lie in the open interval (0, fs/2) = (0, {fs / 2.0:g}) Hz"
+        )
+    return f

@@ -1,0 +1,127 @@
+"""Assembly of a body's global matrices and the support partition of Eq. (13).
+
+Global DOFs are numbered node by node, six per node ``[ux uy uz rx ry rz]`` in global axes, so the
+assembled matrices are banded (half-bandwidth 11). They are stored sparse (CSR); the partitioned
+blocks of Eq. (13), ``A_ff, A_fp, A_pf, A_pp`` (f: free DOFs, p: prescribed support DOFs), are
+dense and small. A clamped support prescribes all six DOFs of its end node (translations follow
+the support motion, rotations stay zero); a free support prescribes none.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..model.schema import SUPPORT_NAMES
+from .element_beam import global_matrices
+from .geometry import centerline_of
+from .sections import section_of
+
+DOF_PER_NODE = 6
+
+
+@dataclass
+class BodySystem:
+    """A body's assembled system. K in N/m (N, N.m per m or rad), M in kg (kg.m, kg.m2).
+
+    K is built with the body's reference modulus ``E`` (Pa); a frequency-dependent modulus scales
+    K as a whole (G = E / (2 (1 + nu)) scales with E).
+    """
+
+    name: str
+    spec: object
+    section: object
+    centerline: object
+    E: float
+    K: sp.csr_matrix
+    M: sp.csr_matrix
+    support_nodes: dict
+    prescribed: np.ndarray
+    free: np.ndarray
+
+    @property
+    def ndof(self):
+        return self.K.shape[0]
+
+    @property
+    def n_nodes(self):
+        return self.ndof // DOF_PER_NODE
+
+    def support_dofs(self, support):
+        """Global DOF indices (6) of a support's end node."""
+        n = self.support_nodes[support]
+        return np.arange(DOF_PER_NODE * n, DOF_PER_NODE * n + DOF_PER_NODE)
+
+    def prescribed_index(self, support, component):
+        """Position, within the prescribed DOFs, of ``component`` (0..5) of ``support``.
+
+        Raises KeyError if the support is not clamped.
+        """
+        if self.spec.supports[support] != "clamped":
+            raise KeyError(f"{self.name}.{support} is a free support")
+        dof = self.support_dofs(support)[component]
+        return int(np.searchsorted(self.prescribed, dof))
+
+    def blocks(self, A):
+        """Dense partitioned blocks (A_ff, A_fp, A_pf, A_pp) of Eq. (13)."""
+        A = A.toarray() if sp.issparse(A) else A
+        f, p = self.free, self.prescribed
+        return A[np.ix_(f, f)], A[np.ix_(f, p)], A[np.ix_(p, f)], A[np.ix_(p, p)]
+
+    @cached_property
+    def K_blocks(self):
+        return self.blocks(self.K)
+
+    @cached_property
+    def M_blocks(self):
+        return self.blocks(self.M)
+
+
+def assemble_body(model, name, E=None):
+    """Assemble body ``name`` ("casing" or "cable") of ``model``.
+
+    E : float, optional modulus in Pa to build K with (default: the body's reference modulus,
+        the scalar ``E`` or the first row of its table).
+    """
+    spec = model.bodies[name]
+    sec = section_of(spec)
+    cl = centerline_of(model)
+    E = spec.E_ref if E is None else float(E)
+    G = E / (2.0 * (1.0 + spec.nu))
+    ne = cl.n_elements
+    ndof = DOF_PER_NODE * (ne + 1)
+    rows, cols, kv, mv = [], [], [], []
+    for e in range(ne):
+        Ke, Me = global_matrices(cl.lengths[e], cl.frames[e], E, G, sec.A, sec.I, sec.J, spec.rho, sec.Ip)
+        dofs = np.arange(DOF_PER_NODE * e, DOF_PER_NODE * e + 12)
+        r, c = np.meshgrid(dofs, dofs, indexing="ij")
+        rows.append(r.ravel())
+        cols.append(c.ravel())
+        kv.append(Ke.ravel())
+        mv.append(Me.ravel())
+    rows, cols = np.concatenate(rows), np.concatenate(cols)
+    K = sp.csr_matrix((np.concatenate(kv), (rows, cols)), shape=(ndof, ndof))
+    M = sp.csr_matrix((np.concatenate(mv), (rows, cols)), shape=(ndof, ndof))
+    support_nodes = {"A": 0, "B": ne}
+    pres = [
+        np.arange(DOF_PER_NODE * support_nodes[s], DOF_PER_NODE * support_nodes[s] + DOF_PER_NODE)
+        for s in SUPPORT_NAMES
+        if spec.supports[s] == "clamped"
+    ]
+    prescribed = np.sort(np.concatenate(pres)) if pres else np.zeros(0, dtype=int)
+    free = np.setdiff1d(np.arange(ndof), prescribed)
+    return BodySystem(
+        name=name,
+        spec=spec,
+        section=sec,
+        centerline=cl,
+        E=E,
+        K=K,
+        M=M,
+        support_nodes=support_nodes,
+        prescribed=prescribed,
+        free=free,
+    )

@@ -1,0 +1,72 @@
+"""The 12-DOF spatial Euler-Bernoulli beam element (Eqs. 4-9).
+
+Local DOF order (Eq. 8): ``[u1 v1 w1 gamma1 xi1 zeta1 u2 v2 w2 gamma2 xi2 zeta2]``: axial
+displacement, the two lateral displacements, twist, and the rotations about local y and z.
+Bending uses cubic Hermite polynomials in both planes, axial and torsion linear polynomials.
+The mass matrix is consistent (Eq. 4) with the torsional rotary inertia rho*Ip; the bending
+rotary inertia is left out, as Euler-Bernoulli theory does. Matrices go to global axes with the
+direction-cosine matrix R (rows: local axes in global coordinates): K_g = T^T K T, T = diag(R,R,R,R).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def _plane_blocks(L):
+    """Hermite bending stiffness (times L^3/EI) and mass (times 420/(m)) in (v, rot) order."""
+    k = np.array(
+        [
+            [12.0, 6 * L, -12.0, 6 * L],
+            [6 * L, 4 * L * L, -6 * L, 2 * L * L],
+            [-12.0, -6 * L, 12.0, -6 * L],
+            [6 * L, 2 * L * L, -6 * L, 4 * L * L],
+        ]
+    )
+    m = np.array(
+        [
+            [156.0, 22 * L, 54.0, -13 * L],
+            [22 * L, 4 * L * L, 13 * L, -3 * L * L],
+            [54.0, 13 * L, 156.0, -22 * L],
+            [-13 * L, -3 * L * L, -22 * L, 4 * L * L],
+        ]
+    )
+    return k, m
+
+
+def local_matrices(L, E, G, A, I, J, rho, Ip):
+    """Local stiffness (N/m, N, N.m) and consistent mass (kg, kg.m, kg.m2) of one element.
+
+    Parameters: L length (m), E Young's modulus (Pa), G shear modulus (Pa), A area (m2),
+    I second moment per bending plane (m4), J torsion constant (m4), rho density (kg/m3),
+    Ip polar moment for rotary inertia (m4). Returns (K, M), each 12x12, Eqs. (4) and (6).
+    """
+    K = np.zeros((12, 12))
+    M = np.zeros((12, 12))
+    m = rho * A * L
+    for (i, j), kv, mv in (((0, 6), E * A / L, m), ((3, 9), G * J / L, rho * Ip * L)):
+        K[np.ix_([i, j], [i, j])] = kv * np.array([[1.0, -1.0], [-1.0, 1.0]])
+        M[np.ix_([i, j], [i, j])] = mv / 6.0 * np.array([[2.0, 1.0], [1.0, 2.0]])
+    kb, mb = _plane_blocks(L)
+    # plane x-y: (v, rotation about z); plane x-z: (w, rotation about y) with the sign of the
+    # rotation reversed (a positive rotation about y lowers w ahead of the node).
+    for idx, sign in (([1, 5, 7, 11], 1.0), ([2, 4, 8, 10], -1.0)):
+        S = np.diag([1.0, sign, 1.0, sign])
+        K[np.ix_(idx, idx)] = E * I / L**3 * (S @ kb @ S)
+        M[np.ix_(idx, idx)] = m / 420.0 * (S @ mb @ S)
+    return K, M
+
+
+def transformation(R):
+    """12x12 transformation T = diag(R, R, R, R) from global to local element DOFs."""
+    T = np.zeros((12, 12))
+    for b in range(4):
+        T[3 * b : 3 * b + 3, 3 * b : 3 * b + 3] = R
+    return T
+
+
+def global_matrices(L, R, E, G, A, I, J, rho, Ip):
+    """Element stiffness and mass in global axes: T^T K T, T^T M T (units as local_matrices)."""
+    K, M = local_matrices(L, E, G, A, I, J, rho, Ip)
+    T = transformation(R)
+    return T.T @ K @ T, T.T @ M @ T

@@ -1,0 +1,243 @@
+"""The runs of an ensemble over excitation seeds (docs/studies.md): :func:`seed_ensemble` runs the
+model once per seed (member ``s`` is exactly the single run with the varied random excitations'
+seeds set by :func:`seed_overrides`) and returns the band RMS of one support output per member as an
+:class:`~cablecasing_core.studies.ensemble.Ensemble`.
+
+The runs go through the Monte-Carlo study's per-sample function and executor
+(:func:`~cablecasing_core.studies.evaluators.default_evaluate`; serial, or dask.distributed), so an
+ensemble member is computed exactly like a study sample.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..errors import ModelError
+from ..model.schema import SUPPORT_OUTPUTS
+from ..model.validators import Choice, integer, seconds
+from .ensemble import Ensemble
+from .evaluators import DEFAULT_EVALUATE
+from .executor import execute
+from .octave import Bands, octave_bands
+
+if TYPE_CHECKING:
+    from ..model import Model
+
+
+def random_excitations(model: Model) -> tuple[str, ...]:
+    """Names of the model's random excitations (``[scenario.excitation.NAME]`` with kind random), in
+    the order of the model file."""
+    return tuple(name for name, e in model.scenario["excitation"].items() if e["kind"] == "random")
+
+
+def seed_overrides(model: Model, seed: int, excitations: Sequence[str] | None = None) -> dict[str, int]:
+    """The model overrides of ensemble member ``seed``: ``{"scenario.excitation.NAME.seed": int}``.
+
+    With one varied excitation, member ``s`` gives it seed ``s``, so a member is the single run of the
+    model with that seed. With k excitations, the j-th (0-based, in ``excitations`` order) gets
+    ``s * k + j``: distinct records across excitations and members (two excitations with the same
+    seed and band would get the same record, fully correlated).
+    """
+    names = _check_excitations(model, excitations)
+    s = integer("seeds", seed, 0)
+    k = len(names)
+    return {f"scenario.excitation.{n}.seed": s * k + j for j, n in enumerate(names)}
+
+
+def seed_ensemble(
+    model: Model | str | os.PathLike | None = None,
+    seeds: int | Sequence[int] = 8,
+    *,
+    output: str = "casing.B.Fz",
+    bands: str | Bands = "table3",
+    duration: float | None = None,
+    dt: float | None = None,
+    skip: float = 0.05,
+    overrides: Mapping[str, object] | None = None,
+    excitations: Sequence[str] | None = None,
+    scheduler="serial",
+    n_workers: int | None = None,
+    progress: bool = False,
+) -> Ensemble:
+    """Band levels of a support output over an ensemble of excitation seeds.
+
+    Parameters
+    ----------
+    model : Model, str or None
+        The model (a :class:`~cablecasing_core.model.Model`, a TOML path, or None for the built-in
+        specimen); its ``[scenario]`` drives every member.
+    seeds : int or sequence of int
+        ``n`` gives seeds 1..n (n >= 2); or the seeds themselves (unique, >= 0).
+    output : str
+        Support output, e.g. ``"casing.B.Fz"`` (N) or ``"casing.B.Mx"`` (N.m).
+    bands : str or Bands
+        Band set (``"table3"``, ``"octave"``, ``"third"``; Hz).
+    duration, dt : float, optional
+        s; default the scenario's.
+    skip : float
+        s; start of each record left out of the band levels (fade-in and first transient).
+    overrides : dict, optional
+        ``{dotted.key: value}`` applied to every member (e.g. ``{"contact.friction": 0.2}``).
+    excitations : sequence of str, optional
+        Random excitations whose seed is varied (default all; :func:`seed_overrides`).
+    scheduler : "serial", None, "local", address or distributed.Client
+        As :func:`~cablecasing_core.studies.study.run_study`; default ``"serial"``: members one
+        after the other in this process (no dask needed).
+    progress : bool
+        Show a tqdm bar of the members done (if tqdm is installed).
+
+    Returns
+    -------
+    Ensemble
+
+    Raises
+    ------
+    ModelError
+        For bad input (before any run), and when a member fails (naming its seed and the error).
+    """
+    from ..model import Model, load_model
+
+    if model is None or isinstance(model, (str, os.PathLike)):
+        model = load_model(model)
+    if not isinstance(model, Model):
+        raise ModelError("model", model, "must be a Model, a model TOML path or None (the built-in specimen)")
+    seeds = _check_seeds(seeds)
+    seconds("duration", duration, none_ok=True)
+    seconds("dt", dt, none_ok=True)
+    seconds("skip", skip, zero_ok=True)
+    Choice(*SUPPORT_OUTPUTS)("output", output)
+    band_set = bands if isinstance(bands, Bands) else octave_bands(bands)
+    names = _check_excitations(model, excitations)
+    overrides = dict(overrides or {})
+    clash = sorted(set(overrides) & set(seed_overrides(model, 0, names)))
+    if clash:
+        raise ModelError("overrides", clash, "must not set the seeds that the ensemble varies")
+    base = model.with_overrides(overrides)  # validates the overrides before any run
+    length = (base.scenario["duration"] if duration is None else duration) - skip
+    narrow = int(np.argmin(band_set.upper - band_set.lower))
+    need = 1.0 / (band_set.upper[narrow] - band_set.lower[narrow])
+    if not length >= need:  # the band would hold less than one FFT bin (octave_rms refuses it)
+        raise ModelError(
+            "duration",
+            duration,
+            f"must leave at least {need:.4g} s after skip = {skip} s for band "
+            f"{band_set.labels[narrow]!r} ({band_set.lower[narrow]:g}-{band_set.upper[narrow]:g} Hz)",
+        )
+    step = base.scenario["dt"] if dt is None else dt
+    if not 0.5 / step >= band_set.upper.max():  # (octave_rms's rule, checked before the runs)
+        raise ModelError(
+            "dt",
+            dt,
+            f"must be at most {0.5 / band_set.upper.max():.4g} s so that every band lies "
+            f"below the Nyquist frequency (highest edge {band_set.upper.max():g} Hz)",
+        )
+    kwargs = {
+        "duration": duration,
+        "dt": dt,
+        "skip": skip,
+        "model": base,
+        "output": output,
+        "bands": band_set,
+        "contact_time": True,
+    }
+    nodes = base.geometry["n_elements"] + 1 if "cable" in base.bodies else 0
+    outputs = tuple(band_set.labels) + tuple(f"contact_time_{k}" for k in range(nodes))
+    todo = [(i, seed_overrides(base, s, names)) for i, s in enumerate(seeds)]
+
+    rows = _Rows()
+    bar = _progress_bar(len(todo), progress)
+    try:
+        execute(todo, DEFAULT_EVALUATE, kwargs, outputs, rows, bar, scheduler, n_workers)
+    finally:
+        bar.close()
+    failed = [(seeds[i], r["error"]) for i, r in sorted(rows.rows.items()) if r["status"] != "ok"]
+    if failed:
+        s, err = failed[0]
+        raise ModelError("seeds", s, f"run failed ({err}); {len(failed)} of {len(seeds)} members failed")
+    table = np.array([[rows.rows[i][o] for o in outputs] for i in range(len(seeds))])
+    nb = len(band_set.labels)
+    settings = {
+        "duration": float(base.scenario["duration"] if duration is None else duration),
+        "dt": float(step),
+        "skip": float(skip),
+        "model": base.fingerprint(),
+    }
+    return Ensemble(
+        np.array(seeds),
+        output,
+        tuple(band_set.labels),
+        np.asarray(band_set.lower, float),
+        np.asarray(band_set.upper, float),
+        table[:, :nb],
+        overrides,
+        table[:, nb:],
+        settings,
+    )
+
+
+class _NoBar:
+    def update(self, n):
+        pass
+
+    def close(self):
+        pass
+
+
+def _progress_bar(total, progress):
+    """A tqdm bar of the members done (tqdm comes with the ``study`` extra; without it, none)."""
+    if progress:
+        try:
+            from tqdm.auto import tqdm
+        except ImportError:
+            return _NoBar()
+        return tqdm(total=total, unit="run", desc="ensemble", dynamic_ncols=True)
+    return _NoBar()
+
+
+class _Rows:
+    """Collects the executor's rows by index (the ``writer`` of ``executor.execute``)."""
+
+    def __init__(self):
+        self.rows = {}
+
+    def write(self, row):
+        self.rows[row["index"]] = row
+
+
+def _check_seeds(seeds):
+    if isinstance(seeds, (int, np.integer)) and not isinstance(seeds, bool):
+        if seeds < 2:
+            raise ModelError("seeds", seeds, "must be at least 2 (seeds 1..n), or a sequence of seeds")
+        return list(range(1, int(seeds) + 1))
+    try:
+        out = [integer("seeds", s, 0) for s in seeds]
+    except TypeError:
+        raise ModelError("seeds", seeds, "must be a count n >= 2 or a sequence of non-negative integer seeds") from None
+    if len(out) < 2 or len(set(out)) != len(out):
+        raise ModelError("seeds", seeds, "must hold at least 2 seeds, each once")
+    return out
+
+
+def _check_excitations(model, excitations):
+    available = random_excitations(model)
+    if excitations is None:
+        if not available:
+            raise ModelError(
+                "scenario.excitation",
+                sorted(model.scenario["excitation"]),
+                "an ensemble over seeds needs at least one excitation of kind 'random'",
+            )
+        return available
+    names = tuple(excitations)
+    bad = [n for n in names if n not in available]
+    if bad or not names or len(set(names)) != len(names):
+        raise ModelError(
+            "excitations",
+            list(names),
+            "must name random excitations of the model, each once: " + (", ".join(available) or "(the model has none)"),
+        )
+    return names

@@ -1,0 +1,110 @@
+"""Per-sample functions of the studies (Section 4.4): ``evaluate(overrides: dict[str, float],
+**kwargs) -> dict[str, float]`` (output name -> value).
+
+:func:`default_evaluate` is the time-domain evaluation (engine run, octave-band RMS of a support
+output); :func:`analytic_evaluate` and :func:`cpu_burn_evaluate` are stand-ins for the tests and the
+study benchmark (no physics).
+"""
+
+from __future__ import annotations
+
+import zlib
+
+import numpy as np
+
+from ..errors import ModelError
+from .octave import octave_bands, octave_rms
+from .sampling import AXIAL_AMPLITUDE_KEY
+
+#: Output names of the default study: the Table 3 band labels "oct1" .. "oct9".
+DEFAULT_OUTPUTS = octave_bands("table3").labels
+#: The dotted path of :func:`default_evaluate` (what dask workers import).
+DEFAULT_EVALUATE = "cablecasing_core.studies.evaluators:default_evaluate"
+
+
+def default_evaluate(
+    overrides,
+    duration=None,
+    skip=0.05,
+    dt=None,
+    model_file=None,
+    *,
+    model=None,
+    output="casing.B.Fz",
+    bands="table3",
+    contact_time=False,
+    **kwargs,
+):
+    """The per-sample function of Section 4.4: run the time-domain model (the scenario of the model,
+    with ``overrides`` applied) and return the octave-band RMS (N, Table 3) of the force at casing end
+    B in z, ``{"oct1": N, ..., "oct9": N}``.
+
+    duration (s): simulated time (default ``scenario.duration``); skip (s): start of the record left
+    out of the RMS (the support fade-in and the first transient); dt (s): time step (default
+    ``scenario.dt``); model_file: a model TOML (default the built-in specimen); model: a
+    :class:`~cablecasing_core.model.Model` to use instead of ``model_file``; output: the support
+    output whose band levels are returned (N or N.m, a name of ``SUPPORT_OUTPUTS``); bands: the band
+    set of :func:`~cablecasing_core.studies.octave.octave_rms`; contact_time: also return the contact
+    time per cable node (s, Fig. 22) as ``"contact_time_<i>"``.
+    """
+    from ..model import load_model
+    from ..timedomain.simulation import simulate
+
+    model = (load_model(model_file) if model is None else model).with_overrides(overrides)
+    res = simulate(model, duration=duration, dt=dt)
+    keep = res.time > skip
+    if keep.sum() < 2:
+        raise ModelError("skip", skip, f"must leave part of the {res.time[-1]:.6g} s record for the RMS")
+    fs = 1.0 / (res.time[1] - res.time[0])
+    out = octave_rms(res.support_force(output)[keep], fs, bands).as_dict()
+    if contact_time:
+        out.update({f"contact_time_{i}": float(v) for i, v in enumerate(res.contact_time)})
+    return out
+
+
+def analytic_evaluate(overrides, fail_above=None, **_):
+    """Cheap deterministic closed-form 'band levels' (N) for tests: no physics, Section 4.4 shape only.
+
+    level_j = 1e3 * amplitude * (casing.E / 5e9)^(j/9) * (cable.E / 5.5e10)^0.1 / (1 + 5 friction)
+              * (1 + 100 (gap - 1e-3) (5 - j)),  j = 1..9, gap = casing.d_inner - cable.d (m).
+    Raises ValueError when ``fail_above`` is given and contact.friction exceeds it (deterministic
+    failures for the tests).
+    """
+    p = {k: float(v) for k, v in overrides.items()}
+    fr = p.get("contact.friction", 0.15)
+    if fail_above is not None and fr > fail_above:
+        raise ValueError(f"contact.friction = {fr!r} above the test threshold {fail_above}")
+    amp = p.get(AXIAL_AMPLITUDE_KEY, 5e-4)
+    gap = p.get("casing.d_inner", 0.004) - p.get("cable.d", 0.003)
+    out = {}
+    for j, lab in enumerate(DEFAULT_OUTPUTS, start=1):
+        out[lab] = (
+            1e3
+            * amp
+            * (p.get("casing.E", 5e9) / 5e9) ** (j / 9)
+            * (p.get("cable.E", 5.5e10) / 5.5e10) ** 0.1
+            / (1 + 5 * fr)
+            * (1 + 100 * (gap - 1e-3) * (5 - j))
+        )
+    return out
+
+
+def cpu_burn_evaluate(overrides, repeats=200, n=2**12, **_):
+    """Benchmark stand-in for the engine: a fixed amount of CPU work per sample (not a fixed time).
+
+    Builds a synthetic 'force' record of ``n`` samples at 16384 Hz from the parameters and computes
+    its Table 3 octave RMS ``repeats`` times (numpy FFTs, single-threaded). The default 4096-sample
+    record keeps the working set in cache, like the engine's small banded matrices, so the work is
+    compute-bound. Returns band RMS (N).
+    """
+    from .octave import octave_rms
+
+    fs = 16384.0
+    t = np.arange(n) / fs
+    p = {k: float(v) for k, v in overrides.items()}
+    rng = np.random.default_rng(zlib.crc32(repr(sorted(p.items())).encode()))
+    x = p.get(AXIAL_AMPLITUDE_KEY, 5e-4) * 1e3 * np.sin(2 * np.pi * 50 * t) + rng.standard_normal(n)
+    res = None
+    for _ in range(int(repeats)):
+        res = octave_rms(x, fs)
+    return res.as_dict()

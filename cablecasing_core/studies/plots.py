@@ -1,0 +1,103 @@
+"""Figures of the studies (matplotlib, Agg backend): correlations like Fig. 23, ensemble levels."""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from ..errors import ModelError
+from ..model.schema import output_spec
+from ..plotting import save_figure  # (also selects the Agg backend)
+from .correlation import GAP, correlations
+from .results_store import StudyResults, load_results
+from .sampling import AXIAL_AMPLITUDE_KEY
+
+#: Panels of Fig. 23: (a) E_jv, (b) E_op, (c) gap, (d) axial amplitude, (e) friction.
+FIG23_PARAMETERS = ("cable.E", "casing.E", GAP, AXIAL_AMPLITUDE_KEY, "contact.friction")
+_LABELS = {
+    "cable.E": "$E_{jv}$ (cable.E)",
+    "casing.E": "$E_{op}$ (casing.E)",
+    GAP: "gap = $d_5 - D_{z0}$",
+    AXIAL_AMPLITUDE_KEY: r"$\bar X_{jv}$ (axial amplitude)",
+    "contact.friction": r"$\eta$ (contact.friction)",
+    "cable.d": "$D_{z0}$ (cable.d)",
+    "casing.d_inner": "$d_5$ (casing.d_inner)",
+}
+
+
+def plot_correlations(results, path, parameters=None, methods=("pearson", "spearman"), title=None):
+    """Write a figure like Fig. 23 (Section 4.4): one panel per parameter, bars of the correlation
+    coefficient (-1..1) per output band, one bar colour per method. Returns ``path``.
+
+    ``parameters`` defaults to Fig. 23's five panels (E_jv, E_op, gap, axial amplitude, friction)
+    when they were sampled, else every sampled parameter. Matplotlib, Agg backend.
+    """
+    if not isinstance(results, StudyResults):
+        results = load_results(results)
+    cors = [correlations(results, m) for m in methods]
+    names = cors[0].parameters
+    if parameters is None:
+        parameters = [p for p in FIG23_PARAMETERS if p in names]
+        if len(parameters) < len(FIG23_PARAMETERS):
+            parameters = list(names)
+    bad = [p for p in parameters if p not in names]
+    if bad:
+        raise ModelError("parameters", bad, "must be sampled parameters (or 'gap'): " + ", ".join(names))
+    nb = len(results.outputs)
+    fig, axes = plt.subplots(len(parameters), 1, figsize=(7, 1.9 * len(parameters) + 0.6), sharex=True, squeeze=False)
+    width = 0.8 / len(cors)
+    x = np.arange(nb)
+    ticks = [o[3:] if o.startswith("oct") else o for o in results.outputs]
+    for k, (ax, p) in enumerate(zip(axes[:, 0], parameters)):
+        row = names.index(p)
+        for m, c in enumerate(cors):
+            ax.bar(x + (m - (len(cors) - 1) / 2) * width, c.r[row], width, label=c.method)
+        ax.axhline(0.0, color="k", lw=0.6)
+        ax.set_ylim(-1, 1)
+        ax.set_ylabel("r (-)")
+        ax.set_title(f"({chr(97 + k)}) {_LABELS.get(p, p)}", fontsize=9, loc="left")
+        ax.grid(True, axis="y", alpha=0.3)
+    axes[-1, 0].set_xticks(x, ticks, rotation=0 if nb <= 12 else 90)
+    axes[-1, 0].set_xlabel("octave band (Table 3)" if ticks[0].isdigit() else "band")
+    axes[0, 0].legend(fontsize=8, loc="upper right")
+    fig.suptitle(title or f"Correlation with band RMS, {cors[0].n} samples (Fig. 23)", fontsize=10)
+    save_figure(fig, path)
+    return path
+
+
+def plot_ensemble(ens, path, other=None, diff=None, confidence=0.95, labels=("base", "against")):
+    """Band levels over excitation seeds (``studies.seed_ensemble``): the ensemble mean per band with
+    its Student-t confidence interval (N, or N.m for a moment output; log axis), a second ensemble
+    beside it, and, with ``diff`` (``studies.paired_difference(other, ens)``), the relative change
+    r (%) per band with its interval."""
+    unit = output_spec(ens.output)[0]
+    x = np.arange(1, len(ens.labels) + 1)
+    rows = 2 if diff is not None else 1
+    fig, axes = plt.subplots(rows, 1, figsize=(7, 3.2 * rows + 0.6), sharex=True, squeeze=False)
+    ax = axes[0, 0]
+    sets = [(ens, labels[0], -0.12)] + ([(other, labels[1], 0.12)] if other is not None else [])
+    for e, lab, dx in sets:
+        lo, hi = e.ci(confidence)
+        ax.errorbar(
+            x + dx,
+            e.mean,
+            yerr=[e.mean - lo, hi - e.mean],
+            fmt="o",
+            capsize=3,
+            label=f"{lab} (mean of {e.n} seeds, {confidence:.0%} CI)",
+        )
+    ax.set_yscale("log")
+    ax.set_ylabel(f"RMS {ens.output} ({unit})")
+    ax.legend(fontsize=8)
+    ax.grid(True, which="both", alpha=0.3)
+    if diff is not None:
+        a2 = axes[1, 0]
+        lo, hi = diff.ci(confidence)
+        a2.errorbar(x, 100 * diff.r, yerr=[100 * (diff.r - lo), 100 * (hi - diff.r)], fmt="s", capsize=3)
+        a2.axhline(0.0, color="k", lw=0.8)
+        a2.set_ylabel(f"{labels[1]} vs {labels[0]} (%)")
+        a2.grid(True, alpha=0.3)
+    last = axes[-1, 0]
+    last.set_xticks(x, [f"{lo:g}-{hi:g}" for lo, hi in zip(ens.lower, ens.upper)], rotation=45, fontsize=7)
+    last.set_xlabel("band (Hz)")
+    save_figure(fig, path)

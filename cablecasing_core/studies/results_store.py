@@ -1,0 +1,174 @@
+"""The results store of the Monte-Carlo study (Section 4.4): an append-only CSV, one row per sample,
+flushed and fsynced per row, with a ``<csv>.meta.json`` sidecar of the settings; resume reads it."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ModelError
+
+META_COLUMNS = ("index", "status")
+TAIL_COLUMNS = ("elapsed_s", "error")
+STATUSES = ("ok", "failed", "infeasible")
+FORMAT_VERSION = 1
+
+
+@dataclass
+class StudyResults:
+    """Rows of a Monte-Carlo study (Section 4.4), sorted by sample index.
+
+    index (n,) int; parameters (names); X (n, d) parameter values (SI); outputs (names);
+    Y (n, m) output values (NaN where not ok); status (n,) str; error (n,) str; elapsed_s (n,) s.
+    """
+
+    index: np.ndarray
+    parameters: tuple
+    X: np.ndarray
+    outputs: tuple
+    Y: np.ndarray
+    status: np.ndarray
+    error: np.ndarray
+    elapsed_s: np.ndarray
+
+    @property
+    def ok(self):
+        """Boolean mask of the successful samples."""
+        return self.status == "ok"
+
+    def __len__(self):
+        return self.index.size
+
+
+def _meta_path(path):
+    return str(path) + ".meta.json"
+
+
+def _header(params, outputs):
+    return list(META_COLUMNS) + list(params) + list(outputs) + list(TAIL_COLUMNS)
+
+
+def _fmt(v):
+    if isinstance(v, float):
+        return repr(v)  # shortest repr round-trips the float exactly
+    return str(v)
+
+
+def _repair_tail(path):
+    """Cut a torn last line (no trailing newline) left by a process killed mid-write."""
+    with open(path, "rb+") as fh:
+        data = fh.read()
+        if data and not data.endswith(b"\n"):
+            cut = data.rfind(b"\n") + 1
+            fh.truncate(cut)
+            return True
+    return False
+
+
+def load_results(path: str | os.PathLike) -> StudyResults:
+    """Read a study CSV written by :func:`run_study` into :class:`StudyResults` (sorted by index;
+    parameters and outputs in the units they were written in, SI). Section 4.4.
+
+    The parameter and output columns are told from the sidecar ``<path>.meta.json``. If an index
+    appears twice (not written by run_study), the first row wins.
+    """
+    path = str(path)
+    try:
+        with open(_meta_path(path)) as fh:
+            meta = json.load(fh)
+        params, outputs = tuple(meta["bounds"]), tuple(meta["outputs"])
+    except (OSError, ValueError, KeyError) as exc:
+        raise ModelError("path", path, f"must be a study CSV with its {_meta_path(path)} sidecar ({exc})") from None
+    header = _header(params, outputs)
+    try:
+        with open(path, newline="") as fh:
+            text = fh.read()
+    except OSError as exc:
+        raise ModelError("path", path, f"must be a readable study CSV ({exc.strerror})") from None
+    if text and not text.endswith("\n"):
+        text = text[: text.rfind("\n") + 1]  # a torn last line is ignored (run_study cuts it off)
+    reader = csv.reader(io.StringIO(text, newline=""))
+    head = next(reader, None)
+    if head != header:
+        raise ModelError("path", path, f"must have the header {','.join(header)} (found {head})")
+    rows = {}
+    for lineno, r in enumerate(reader, start=2):
+        if len(r) != len(header):
+            raise ModelError("path", path, f"line {lineno} has {len(r)} fields, expected {len(header)}")
+        rows.setdefault(int(r[0]), r)
+    order = sorted(rows)
+    d, m = len(params), len(outputs)
+    num = lambda s: float(s) if s != "" else np.nan  # noqa: E731
+    X = np.array([[num(rows[i][2 + k]) for k in range(d)] for i in order], float).reshape(len(order), d)
+    Y = np.array([[num(rows[i][2 + d + k]) for k in range(m)] for i in order], float).reshape(len(order), m)
+    return StudyResults(
+        index=np.array(order, int),
+        parameters=params,
+        X=X,
+        outputs=outputs,
+        Y=Y,
+        status=np.array([rows[i][1] for i in order], dtype=object).astype(str),
+        error=np.array([rows[i][-1] for i in order], dtype=object).astype(str),
+        elapsed_s=np.array([num(rows[i][-2]) for i in order], float),
+    )
+
+
+class ResultsWriter:
+    """Append-only CSV writer, one flushed and fsynced row per sample."""
+
+    def __init__(self, path, params, outputs, design):
+        self.path, self.params, self.outputs, self.design = path, params, outputs, design
+        self.fh = open(path, "a", newline="")
+        self.w = csv.writer(self.fh)
+
+    def write(self, row):
+        i = row["index"]
+        vals = [i, row["status"]] + [_fmt(float(v)) for v in self.design[i]]
+        vals += [_fmt(row[o]) if o in row else "" for o in self.outputs]
+        vals += [f"{row.get('elapsed_s', 0.0):.6g}", row.get("error", "")]
+        self.w.writerow(vals)
+        self.fh.flush()
+        os.fsync(self.fh.fileno())
+
+    def close(self):
+        self.fh.close()
+
+
+def prepare_file(path, meta, design, params):
+    """Create the CSV and sidecar, or check them for a resume. Returns the set of indices present."""
+    header = _header(params, meta["outputs"])
+    mp = _meta_path(path)
+    exists = os.path.exists(path) and os.path.getsize(path) > 0
+    if not exists:
+        d = os.path.dirname(os.path.abspath(path))
+        os.makedirs(d, exist_ok=True)
+        with open(mp, "w") as fh:
+            json.dump(meta, fh, indent=1)
+        with open(path, "w", newline="") as fh:
+            csv.writer(fh).writerow(header)
+            fh.flush()
+            os.fsync(fh.fileno())
+        return set()
+    try:
+        with open(mp) as fh:
+            old = json.load(fh)
+    except (OSError, ValueError) as exc:
+        raise ModelError(
+            "path", path, f"exists but its sidecar {mp} cannot be read ({exc}); choose a new file to start a study"
+        ) from None
+    for key in ("format", "seed", "n_samples", "bounds", "outputs", "evaluate", "evaluate_kwargs", "constraints"):
+        if old.get(key) != meta.get(key):
+            raise ModelError(
+                key, meta.get(key), f"must equal {old.get(key)!r} to resume the study in {path} (or choose a new file)"
+            )
+    _repair_tail(path)
+    res = load_results(path)
+    for j, i in enumerate(res.index):
+        if not (0 <= i < len(design)) or not np.array_equal(res.X[j], design[i]):
+            raise ModelError("path", path, f"row of sample {i} does not match the design of this seed and bounds")
+    return set(int(i) for i in res.index)

@@ -1,0 +1,175 @@
+"""The Monte-Carlo correlation study of Section 4.4 (Fig. 23): :func:`run_study`.
+
+The paper varies six parameters of the cable-casing system (over 300 simulations) and correlates
+each with the RMS of the support force in z in the octave bands of Table 3. Here the parameters are
+sampled by a Latin hypercube (:mod:`.sampling`), each sample is evaluated by a per-sample function
+(:mod:`.evaluators`) in this process or on dask.distributed (:mod:`.executor`), and every row goes to
+a resumable CSV (:mod:`.results_store`); the correlations and the figure are read from that file
+(:mod:`.correlation`, :mod:`.plots`).
+
+* **Per-sample function**: ``evaluate(overrides: dict[str, float], **evaluate_kwargs) ->
+  dict[str, float]`` (output name -> value, e.g. band label -> RMS in N). Pass it as a dotted import
+  path ``"package.module:function"`` (what dask workers import) or as a callable.
+  :func:`~.evaluators.default_evaluate` is the time-domain evaluation (engine run, octave RMS of
+  ``casing.B.Fz``). A function with the attribute ``placeholder = True`` is refused before starting.
+* **Results**: an append-only CSV, one row per sample, flushed and fsynced per row: ``index, status,
+  <parameters>, <outputs>, elapsed_s, error``. Status is ``ok``, ``failed`` (the exception is in
+  ``error``; the study goes on) or ``infeasible`` (a constraint rejected the sample before
+  evaluation; the reason is in ``error``). A sidecar ``<csv>.meta.json`` holds the seed, bounds,
+  sample count, outputs and evaluate; a restart with the same settings reads the CSV and skips every
+  index already present (a failed sample is *not* retried), so no sample is repeated. A torn last
+  line (process killed mid-write) is cut off and that sample is run again.
+"""
+
+from __future__ import annotations
+
+import json
+
+from ..errors import ModelError
+from ..model.validators import integer
+from .evaluators import DEFAULT_EVALUATE, DEFAULT_OUTPUTS
+from .executor import execute, resolve_evaluate, spec_name
+from .results_store import (
+    FORMAT_VERSION,
+    META_COLUMNS,
+    TAIL_COLUMNS,
+    ResultsWriter,
+    StudyResults,
+    load_results,
+    prepare_file,
+)
+from .sampling import DEFAULT_CONSTRAINTS, check_bounds, latin_hypercube
+
+
+def run_study(
+    path,
+    evaluate=DEFAULT_EVALUATE,
+    bounds=None,
+    n_samples=300,
+    seed=0,
+    *,
+    outputs=None,
+    evaluate_kwargs=None,
+    scheduler=None,
+    n_workers=None,
+    max_samples=None,
+    constraints=DEFAULT_CONSTRAINTS,
+    model=None,
+    progress=True,
+    max_in_flight=None,
+) -> StudyResults:
+    """Run (or resume) the Monte-Carlo study of Section 4.4 and write every sample to ``path`` (CSV).
+
+    Parameters
+    ----------
+    path : str
+        Results CSV (created with a ``.meta.json`` sidecar; resumed if it exists with equal settings).
+    evaluate : str or callable
+        ``evaluate(overrides, **evaluate_kwargs) -> {output: value}``; a dotted path
+        ``"package.module:function"`` is imported on each worker. Default :func:`default_evaluate`.
+    bounds : dict, optional
+        ``{dotted.key: (low, high)}`` in SI units; default :data:`PAPER_BOUNDS` (Section 4.4).
+    n_samples, seed : int
+        Size of the Latin hypercube (>= 2) and its seed (>= 0).
+    outputs : sequence of str, optional
+        Output names to record, default the Table 3 labels ``oct1`` .. ``oct9``.
+    evaluate_kwargs : dict, optional
+        Extra keyword arguments of evaluate (JSON-serialisable; stored in the sidecar).
+    scheduler : None, "serial", "local", str address or distributed.Client
+        ``None``/``"local"``: a LocalCluster with ``n_workers`` (default: one per core) worker
+        processes of one thread each; ``"serial"``: in this process, no dask; ``"tcp://host:8786"``:
+        an existing cluster; a Client: use it (left open).
+    max_samples : int, optional
+        Evaluate at most this many new samples in this call (the rest on a later resume).
+    constraints : sequence of callables
+        ``constraint(params) -> None or reason``; a rejected sample is written as ``infeasible``
+        without evaluation. Default: the cable must fit in the casing (:func:`gap_constraint`).
+    model : Model, str, None or False
+        The model whose keys ``bounds`` must name (None: built-in specimen; False: no check).
+    progress : bool
+        Show a tqdm bar (samples done, rate, time left).
+    max_in_flight : int, optional
+        Tasks submitted ahead to dask (default 4 per worker).
+
+    Returns
+    -------
+    StudyResults
+        Everything in the file after this call.
+    """
+    bounds = check_bounds(bounds, model=model)
+    n = integer("n_samples", n_samples, 2)
+    seed = integer("seed", seed, 0)
+    outputs = tuple(DEFAULT_OUTPUTS if outputs is None else outputs)
+    if not outputs or len(set(outputs)) != len(outputs) or not all(isinstance(o, str) and o for o in outputs):
+        raise ModelError("outputs", outputs, "must be a non-empty sequence of unique output names")
+    clash = set(outputs) & (set(bounds) | set(META_COLUMNS) | set(TAIL_COLUMNS))
+    if clash:
+        raise ModelError("outputs", sorted(clash), "must not reuse a parameter name or index/status/elapsed_s/error")
+    if max_samples is not None:
+        max_samples = integer("max_samples", max_samples, 0)
+    evaluate_kwargs = dict(evaluate_kwargs or {})
+    try:
+        json.dumps(evaluate_kwargs)
+    except TypeError as exc:
+        raise ModelError("evaluate_kwargs", evaluate_kwargs, f"must be JSON-serialisable ({exc})") from None
+    if not (isinstance(evaluate, str) or callable(evaluate)):
+        raise ModelError("evaluate", evaluate, "must be a callable or a dotted import path 'package.module:function'")
+    fn = resolve_evaluate(evaluate)
+    if getattr(fn, "placeholder", False):  # fail early on a bad path or a placeholder
+        fn({})
+    if not (scheduler is None or isinstance(scheduler, str) or type(scheduler).__name__ == "Client"):
+        raise ModelError(
+            "scheduler",
+            scheduler,
+            "must be None, 'serial', 'local', an address 'tcp://host:8786' or a distributed.Client",
+        )
+    constraints = tuple(constraints or ())
+    path = str(path)
+    params = tuple(bounds)
+    design = latin_hypercube(bounds, n, seed)
+    meta = {
+        "format": FORMAT_VERSION,
+        "seed": seed,
+        "n_samples": n,
+        "bounds": {k: list(v) for k, v in bounds.items()},
+        "outputs": list(outputs),
+        "evaluate": spec_name(evaluate),
+        "evaluate_kwargs": evaluate_kwargs,
+        "constraints": [spec_name(c) for c in constraints],
+        "sampler": "scipy.stats.qmc.LatinHypercube(scramble=True)",
+    }
+    done = prepare_file(path, meta, design, params)
+
+    writer = ResultsWriter(path, params, outputs, design)
+    try:
+        todo = []
+        for i in range(n):
+            if i in done:
+                continue
+            p = {k: float(v) for k, v in zip(params, design[i])}
+            reason = next((r for r in (c(p) for c in constraints) if r), None)
+            if reason:
+                writer.write({"index": i, "status": "infeasible", "error": reason, "elapsed_s": 0.0})
+                done.add(i)
+                continue
+            todo.append((i, p))
+        if max_samples is not None:
+            todo = todo[:max_samples]
+        from tqdm.auto import tqdm
+
+        bar = tqdm(
+            total=n,
+            initial=len(done),
+            unit="sample",
+            desc="study",
+            disable=not progress,
+            dynamic_ncols=True,
+            smoothing=0.1,
+        )
+        try:
+            execute(todo, evaluate, evaluate_kwargs, outputs, writer, bar, scheduler, n_workers, max_in_flight)
+        finally:
+            bar.close()
+    finally:
+        writer.close()
+    return load_results(path)

@@ -1,0 +1,1 @@
+"""The time domain: the Newmark engine with frictional contact, scenarios, runs and support motion."""

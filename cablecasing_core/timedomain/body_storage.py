@@ -1,0 +1,217 @@
+"""One body's matrices in the storage of the step loop's kernels, its factorisations and its state
+(plain arrays), and the kernels' record of it (:func:`body_arrays`).
+
+M and K of a body (Eqs. 4-9 assembled, Eq. 13 partitioned) go into diagonal storage; the effective
+stiffness K + 2/dt C + 4/dt^2 M of Newmark's average acceleration (Eq. 18, C = alpha M + beta K)
+over the node blocks that hold the free DOFs gets a block LDL^T factor; with contact, the dense
+effective compliance comes from that factor, by the step loop's own solve.
+"""
+
+from __future__ import annotations
+
+from collections import OrderedDict
+
+import numpy as np
+from scipy.linalg import cho_factor, cho_solve
+
+from ..frequency.modal import natural_frequencies
+from ..model.schema import BODY_NAMES
+from ..structure.assembly import assemble_body
+from . import kernels as K
+
+
+def block_ldl(A):
+    """Block LDL^T factor of a symmetric positive definite block-tridiagonal matrix A (6 x 6 node
+    blocks), A = L D L^T with unit block diagonal in L, in the form ``kernels.block_solve`` uses:
+    Dinv[i] = D_i^-1, L[i] = L_i,i-1 (L[0] = 0) and LT[i] = L_i+1,i^T (LT[-1] = 0), each (nb, 6, 6).
+    D_0 = A_00, L_i,i-1 = A_i,i-1 D_i-1^-1, D_i = A_ii - L_i,i-1 A_i-1,i (the Schur complements,
+    SPD, so no pivoting is needed)."""
+    n = A.shape[0]
+    nb = n // 6
+    blk = lambda i, j: A[6 * i : 6 * i + 6, 6 * j : 6 * j + 6]  # noqa: E731
+    for i in range(nb):
+        if np.any(A[6 * i : 6 * i + 6, 6 * (i + 2) :]):
+            raise AssertionError("the effective stiffness must be block tridiagonal in node blocks")
+    Dinv = np.zeros((nb, 6, 6))
+    L = np.zeros((nb, 6, 6))
+    LT = np.zeros((nb, 6, 6))
+    for i in range(nb):
+        D = blk(i, i).copy()
+        if i:
+            L[i] = blk(i, i - 1) @ Dinv[i - 1]
+            LT[i - 1] = L[i].T
+            D -= L[i] @ blk(i - 1, i)
+        inv = cho_solve(cho_factor(0.5 * (D + D.T)), np.eye(6))
+        Dinv[i] = 0.5 * (inv + inv.T)
+    return Dinv, L, LT
+
+
+def diagonal_storage(A, b):
+    """Diagonals of a square matrix of half-bandwidth b: D[k, i] = A[i, i + k - b] (zero outside)."""
+    n = A.shape[0]
+    D = np.zeros((2 * b + 1, n))
+    for k in range(-b, b + 1):
+        i = np.arange(max(0, -k), min(n, n - k))
+        D[b + k, i] = A[i, i + k]
+    return D
+
+
+def support_rows(M, K, pres, b):
+    """Rows of M and K (dense, half-bandwidth b) of the prescribed DOFs over their band, for the
+    reactions (Eq. 13): sup[q, 0] = M[pres[q], lo[q]:lo[q] + w], sup[q, 1] the same of K, w = 2b + 1
+    (at most n), lo[q] = pres[q] - b moved inside the matrix. Returns (sup, lo)."""
+    n = M.shape[0]
+    w = min(2 * b + 1, n)
+    lo = np.clip(np.asarray(pres, np.int64) - b, 0, n - w)
+    sup = np.zeros((len(pres), 2, w))
+    for q, (p, j0) in enumerate(zip(pres, lo)):
+        sup[q, 0] = M[p, j0 : j0 + w]
+        sup[q, 1] = K[p, j0 : j0 + w]
+    return sup, lo
+
+
+def coupling_triplets(K, pres, free):
+    """The nonzero entries of K_fp, the stiffness between the free DOFs and the prescribed ones
+    (N/m): (idx, val) with idx[0] the free row, idx[1] the prescribed DOF's index into pres."""
+    sub = K[np.ix_(free, pres)]
+    r, q = np.nonzero(sub)
+    return np.array([np.asarray(free)[r], q], np.int64).reshape(2, -1), sub[r, q].copy()
+
+
+# Factorisations (and the engine's step-loop arguments) are kept for the time steps used last: the
+# step dt and the shorter last sub-steps of communication steps that are not multiples of dt. Each
+# costs ~0.4 MB per body (the dense compliance for contact) and a few ms to build, so a master that
+# varies its step size all the time pays a factorisation per step but no memory beyond this bound.
+FACTOR_CACHE_SIZE = 8
+
+
+class BoundedCache(OrderedDict):
+    """A dict that keeps only the ``size`` entries used last (get and set both count as use).
+    (functools.lru_cache caches a function's calls; here the cache belongs to each body and engine.)"""
+
+    def __init__(self, size):
+        super().__init__()
+        self.size = size
+
+    def get(self, key, default=None):
+        if key in self:
+            self.move_to_end(key)
+            return self[key]
+        return default
+
+    def __setitem__(self, key, value):
+        super().__setitem__(key, value)
+        self.move_to_end(key)
+        while len(self) > self.size:
+            self.popitem(last=False)
+
+
+class BodyStorage:
+    """Matrices in diagonal storage, factorisations and state of one body (plain arrays for the
+    kernels)."""
+
+    def __init__(self, model, name):
+        spec = model.bodies[name]
+        sysm = assemble_body(model, name)
+        if spec.frequency_dependent:
+            f1 = natural_frequencies(model, name, 1)[0]
+            sysm = assemble_body(model, name, E=float(spec.modulus(f1)))
+        self.system = sysm
+        self.alpha, self.beta = spec.alpha, spec.beta
+        Kd, Md = sysm.K.toarray(), sysm.M.toarray()
+        rows, cols = np.nonzero(Kd + Md)
+        self.b = b = int(np.max(np.abs(rows - cols)))
+        n = sysm.ndof
+        self.Md = diagonal_storage(Md, b)
+        self.Kd = diagonal_storage(Kd, b)
+        self.K_full, self.M_full = Kd, Md
+        free = sysm.free
+        self.f0, self.nf = (int(free[0]), len(free)) if len(free) else (0, 0)
+        if self.nf and not np.array_equal(free, np.arange(self.f0, self.f0 + self.nf)):
+            raise AssertionError("free DOFs must be contiguous (supports sit at the ends)")
+        # the node blocks holding the free DOFs (the block solve works on whole nodes)
+        self.g0 = 6 * (self.f0 // 6)
+        self.ng = 6 * -(-(self.f0 + self.nf) // 6) - self.g0 if self.nf else 0
+        self.pres = sysm.prescribed.astype(np.int64)
+        bi = BODY_NAMES.index(name)
+        pchan, pslot = [], []
+        for j in self.pres:
+            node, comp = divmod(int(j), 6)
+            s = 0 if node == sysm.support_nodes["A"] else 1
+            pslot.append(6 * s + comp)
+            pchan.append(6 * bi + 3 * s + comp if comp < 3 else -1)
+        self.pchan = np.array(pchan, np.int64)
+        self.pslot = np.array(pslot, np.int64)
+        self.sup, self.sup_lo = support_rows(Md, Kd, self.pres, b)
+        self.cpl_i, self.cpl_v = coupling_triplets(Kd, self.pres, free)
+        self._factors = BoundedCache(FACTOR_CACHE_SIZE)
+        self.U = np.zeros(n)
+        self.V = np.zeros(n)
+        self.A = np.zeros(n)
+
+    def factors(self, dt, need_inverse):
+        """Block LDL^T factor (Dinv, L, LT) of the effective stiffness K + 2/dt C + 4/dt^2 M over
+        the free node blocks (prescribed DOFs among them as identity rows) and, for contact, the
+        dense inverse (m/N) of its free part, placed in an all-DOF matrix that is zero on the
+        prescribed DOFs; cached for the last FACTOR_CACHE_SIZE steps."""
+        key = (dt, need_inverse)
+        cached = self._factors.get(key)
+        if cached is None:
+            g = slice(self.g0, self.g0 + self.ng)
+            Keff = (1 + 2 * self.beta / dt) * self.K_full[g, g] + (4 / dt**2 + 2 * self.alpha / dt) * self.M_full[g, g]
+            inner = [j - self.g0 for j in self.pres if self.g0 <= j < self.g0 + self.ng]
+            Keff[inner, :] = 0.0
+            Keff[:, inner] = 0.0
+            Keff[inner, inner] = 1.0
+            Dinv, L, LT = block_ldl(Keff)
+            if need_inverse:
+                f = slice(self.f0 - self.g0, self.f0 - self.g0 + self.nf)
+                # columns of Keff^-1 from the block factor by the step loop's own solve (the identity
+                # rows of the prescribed DOFs keep the free part equal to inv(Keff[f, f])). Not LAPACK:
+                # a threaded BLAS rounds differently with each thread count, and the contact response
+                # is chaotic, so a record would depend on OMP_NUM_THREADS (a dask worker, an FMU host).
+                cols = np.eye(self.ng)[f]  # e_j of the free DOFs, one per row
+                for x in cols:
+                    K.block_solve(Dinv, L, LT, x)  # -> column j of Keff^-1, stored as row j
+                inv_ff = cols[:, f]
+                # over all DOFs, zero on the prescribed ones (they do not respond), and exactly
+                # symmetric: the contact kernels read its rows as columns
+                n = len(self.U)
+                inv = np.zeros((n, n))
+                inv[self.f0 : self.f0 + self.nf, self.f0 : self.f0 + self.nf] = 0.5 * (inv_ff + inv_ff.T)
+            else:
+                inv = np.zeros((1, 1))
+            cached = self._factors[key] = (Dinv, L, LT, inv)
+        return cached
+
+    def energy(self):
+        """(kinetic, strain) energy in J."""
+        return 0.5 * self.V @ self.M_full @ self.V, 0.5 * self.U @ self.K_full @ self.U
+
+
+_DUMMY_BLOCK = np.zeros((0, 6, 6))
+
+
+def body_arrays(body, dt, contact, fc):
+    """The step loop's record of ``body`` (a :class:`BodyStorage`, or None for an absent body) at
+    time step ``dt`` (s), with the dense compliance when ``contact``, and ``fc`` the array of its
+    generalized contact forces (N, N.m): :class:`kernels.BodyArrays`. A body that is absent, or has
+    no free DOF, is off (its arrays are placeholders of the right types)."""
+    if body is None or body.nf == 0:
+        z = np.zeros(1)
+        i0 = np.zeros(0, np.int64)
+        n = len(body.U) if body else 1
+        return K.BodyArrays(
+            on=False, Md=np.zeros((1, 1)), Kd=np.zeros((1, 1)), Dinv=_DUMMY_BLOCK, L=_DUMMY_BLOCK, LT=_DUMMY_BLOCK,
+            g0=0, ng=0, f0=0, nf=0, alpha=0.0, beta=0.0,
+            U=body.U if body else z, V=body.V if body else z.copy(), A=body.A if body else z.copy(),
+            pres=body.pres if body else i0, pchan=body.pchan if body else i0, pslot=body.pslot if body else i0,
+            Kinv=np.zeros((n, n)),  # nothing responds
+            sup=np.zeros((0, 2, 1)), sup_lo=i0, cpl_i=np.zeros((2, 0), np.int64), cpl_v=np.zeros(0), fc=fc,
+        )  # fmt: skip
+    Dinv, L, LT, inv = body.factors(dt, contact)
+    return K.BodyArrays(
+        on=True, Md=body.Md, Kd=body.Kd, Dinv=Dinv, L=L, LT=LT, g0=body.g0, ng=body.ng, f0=body.f0, nf=body.nf,
+        alpha=body.alpha, beta=body.beta, U=body.U, V=body.V, A=body.A, pres=body.pres, pchan=body.pchan,
+        pslot=body.pslot, Kinv=inv, sup=body.sup, sup_lo=body.sup_lo, cpl_i=body.cpl_i, cpl_v=body.cpl_v, fc=fc,
+    )  # fmt: skip

@@ -1,0 +1,455 @@
+"""The single time-stepping engine: Newmark average acceleration of casing and cable coupled by
+frictional contact (Section 2.1, Eqs. 14-39). Used by :func:`simulate`, the CLI and the FMU.
+
+Each step (gamma = 1/2, beta = 1/4, Eq. 18 with C = alpha M + beta K) first predicts both bodies
+without contact forces (the supports prescribed at the new time, Eq. 13), then searches every cable
+node's normal plane for the casing axis, and solves the contact forces at the new time implicitly
+in the small space of active contacts (see ``kernels.solve_contact_forces``); the bodies respond
+to them through their effective compliance, exactly, because the structure is linear. The
+reactions (Eq. 13) follow from the partitioned equations at the prescribed DOFs.
+
+The engine can advance from any time by any step (a step that is not a multiple of ``dt`` ends
+with one shorter sub-step, whose factorisation is cached) and can copy out and restore its
+complete state (:meth:`Engine.get_state`, :meth:`Engine.set_state`).
+
+This module is over 400 lines because it is one class whose state, stepping and outputs belong
+together; the bodies' matrices are in ``body_storage.py``, the kernels in ``kernels/``.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+from collections.abc import Mapping
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..errors import ModelError, SimulationError
+from ..model.schema import CHANNELS, OUTPUTS, lookup
+from ..model.validators import seconds
+from . import kernels as K
+from .body_storage import FACTOR_CACHE_SIZE, BodyStorage, BoundedCache, body_arrays
+
+if TYPE_CHECKING:
+    from ..model import Model
+    from .scenario import Motion
+
+
+def hertz_constant(model: Model) -> float:
+    """4/3 E* r^1/2 of Eq. (29) in N/m^1.5: E* from both moduli and Poisson ratios (Eq. 28), r from
+    the cable radius (convex, r1 = d/2) and the casing's inner radius (concave, r2 = -d_inner/2),
+    1/r = 1/r1 + 1/r2 (Eq. 27). Hertz's point-contact law; a wire lying in a tube is closer to a line
+    contact, so the law is a stiffness model for the penalty method, as in the paper (Fig. 19)."""
+    ca, cb = model.bodies["casing"], model.bodies["cable"]
+    Es = 1.0 / ((1 - cb.nu**2) / cb.E_ref + (1 - ca.nu**2) / ca.E_ref)
+    r1, r2 = cb.d_outer / 2.0, -ca.d_inner / 2.0
+    r = 1.0 / (1.0 / r1 + 1.0 / r2)
+    return 4.0 / 3.0 * Es * np.sqrt(r)
+
+
+def compiled_entry(dispatcher, args):
+    """The compiled entry point of the numba ``dispatcher`` for the types of ``args``, or the
+    dispatcher itself when there is none. Calling it skips numba's type dispatch, which types the
+    arrays in tuples in Python (~100 arrays in run_steps' records: ~20 us per call, a fifth of what
+    the ten steps of an FMU call at 1e-4 s cost). The engine builds every argument of run_steps itself,
+    with fixed dtypes and dimensions (the support motion as C-contiguous float64, shape (n, 12)), so
+    the types of later calls are those of the first one."""
+    try:
+        return dispatcher.overloads[tuple(dispatcher.typeof_pyval(a) for a in args)].entry_point
+    except (AttributeError, KeyError):  # (another numba, or not compiled for these types)
+        return dispatcher
+
+
+class Engine:
+    """Newmark stepping engine for a :class:`~cablecasing_core.model.Model`.
+
+    Parameters
+    ----------
+    model : Model
+    dt : float, time step in s (default ``model.scenario["dt"]``).
+    contact : bool, contact between cable and casing (default ``model.contact["enabled"]``; needs
+        both bodies).
+    ledger : bool, accumulate the Rayleigh dissipation each step (one extra matrix product).
+    record : bool, keep per-step histories (support forces, contact state, normal force,
+        penetration) for :meth:`history`.
+    """
+
+    def __init__(
+        self,
+        model: Model,
+        dt: float | None = None,
+        contact: bool | None = None,
+        ledger: bool = True,
+        record: bool = False,
+    ):
+        dt = model.scenario["dt"] if dt is None else dt
+        lookup("scenario.dt").check(dt, "dt")
+        self.model = model
+        self.dt = float(dt)
+        self.bodies = {n: BodyStorage(model, n) for n in model.bodies}
+        both = "casing" in self.bodies and "cable" in self.bodies
+        contact = model.contact["enabled"] if contact is None else bool(contact)
+        self.contact = contact and both
+        self.ledger_on = bool(ledger)
+        self.record = bool(record)
+        c = model.contact
+        if both:
+            cab, cas = self.bodies["cable"].system, self.bodies["casing"].system
+            self.Xc = cab.centerline.nodes.copy()
+            self.Tc = cab.centerline.tangents.copy()
+            self.Xs = cas.centerline.nodes.copy()
+            self.Rs = cas.centerline.frames.copy()
+            self.Ls = cas.centerline.lengths.copy()
+            self.gap = model.radial_gap
+            self.r_in = cas.section.r_inner
+            self.r_cable = cab.section.r_outer
+            self.k_hertz = hertz_constant(model)
+        else:
+            self.Xc = np.zeros((0, 3))
+            self.Tc = self.Xs = np.zeros((0, 3))
+            self.Rs = np.zeros((0, 3, 3))
+            self.Ls = np.zeros(0)
+            self.gap = self.r_in = self.r_cable = self.k_hertz = 0.0
+        self.law = 0 if c["law"] == "hertz" else 1
+        self.k_lin, self.c_n, self.mu, self.v_stick = c["stiffness"], c["damping"], c["friction"], c["stick_velocity"]
+        self._hist = []
+        self._snap = None  # roll-back buffer of advance (see snapshot)
+        self._ws = K.contact_workspace(len(self.Xc))
+        self._allocate_state()
+        self._call_args = BoundedCache(FACTOR_CACHE_SIZE)  # (dt, settings) -> the step loop's arguments and entry point
+        self._no_record = K.Recording(
+            False,
+            np.zeros((1, 24)),
+            np.zeros(2, np.int64),
+            np.zeros(1, np.int32),
+            np.zeros(1, np.int8),
+            np.zeros(1),
+            np.zeros(1),
+            0,
+        )
+        self.reset()
+
+    def _allocate_state(self):
+        """All state arrays as views into two flat buffers (floats, integers), so that a snapshot is
+        two copies (:meth:`snapshot`); the arrays are never rebound, only written."""
+        nn = len(self.Xc)
+        ns = self.bodies["casing"].system.ndof if "casing" in self.bodies else 1
+        nc = self.bodies["cable"].system.ndof if "cable" in self.bodies else 1
+        floats = [(b, k, (len(b.U),)) for b in self.bodies.values() for k in "UVA"]
+        floats += [
+            (self, k, shape)
+            for k, shape in (
+                ("cxi", (nn,)),
+                ("Pn", (nn, 3)),
+                ("vrel", (nn,)),
+                ("Nn", (nn,)),
+                ("gn", (nn,)),
+                ("fcs", (ns,)),
+                ("fcc", (nc,)),
+                ("reac", (24,)),
+                ("ledger", (K.LEDGER_SIZE,)),
+                ("contact_time", (nn,)),
+                ("_info", (K.INFO_SIZE,)),
+            )
+        ]
+        ints = [(self, "cstate", (nn,)), (self, "celem", (nn,))]
+        for items, dtype, name in ((floats, float, "_fbuf"), (ints, np.int64, "_ibuf")):
+            buf = np.zeros(sum(int(np.prod(shape)) for _, _, shape in items), dtype)
+            o = 0
+            for owner, key, shape in items:
+                size = int(np.prod(shape))
+                setattr(owner, key, buf[o : o + size].reshape(shape))
+                o += size
+            setattr(self, name, buf)
+        # the step loop's info array (K.INFO_*): what failed, then the solver counters: contact Newton
+        # iterations, stick/slip passes, unconverged steps
+        self.solver_counts = self._info[K.INFO_NEWTON_ITERATIONS : K.INFO_UNCONVERGED_STEPS + 1]
+
+    # -------------------------------------------------------------------------------- state
+    def reset(self) -> None:
+        """Back to t = 0 with both bodies at rest in their reference configuration."""
+        self.time = 0.0
+        self._fbuf[:] = 0.0
+        self._ibuf[:] = 0
+        self.celem[:] = np.clip(np.arange(len(self.celem)) - 1, 0, max(len(self.Ls) - 1, 0))
+        self._hist = []
+
+    _ARRAYS = ("cstate", "celem", "cxi", "Pn", "vrel", "Nn", "gn", "fcs", "fcc", "reac", "ledger", "contact_time")
+
+    def get_state(self) -> dict[str, np.ndarray]:
+        """The complete state as ``{name: array}`` (copies): time, U/V/A of each body, contact
+        memory (state, element, forces), last reactions and the energy ledger."""
+        s = {"time": np.array([self.time])}
+        for n, b in self.bodies.items():
+            s[f"{n}.U"], s[f"{n}.V"], s[f"{n}.A"] = b.U.copy(), b.V.copy(), b.A.copy()
+        for a in self._ARRAYS:
+            s[a] = getattr(self, a).copy()
+        return s
+
+    def snapshot(self, into: list | None = None) -> list:
+        """The complete state (what :meth:`get_state` holds, and the solver counters) as an opaque
+        list, cheaply: two buffer copies, written into ``into`` (an earlier snapshot of this engine)
+        when given. For roll-back (:meth:`restore`); recorded histories are not part of it."""
+        if into is None:
+            return [self.time, self._fbuf.copy(), self._ibuf.copy()]
+        into[0] = self.time
+        np.copyto(into[1], self._fbuf)
+        np.copyto(into[2], self._ibuf)
+        return into
+
+    def restore(self, snap: list) -> None:
+        """Return to a :meth:`snapshot` of this engine (continuation is bit-identical)."""
+        self.time = snap[0]
+        np.copyto(self._fbuf, snap[1])
+        np.copyto(self._ibuf, snap[2])
+
+    def set_state(self, state: Mapping[str, ArrayLike]) -> None:
+        """Restore a state from :meth:`get_state` (continuation is bit-identical). Every entry is
+        checked before any is written, so a bad state leaves the engine as it was."""
+        targets = [(f"{n}.{k}", getattr(b, k)) for n, b in self.bodies.items() for k in "UVA"]
+        targets += [(a, getattr(self, a)) for a in self._ARRAYS]
+        try:
+            time = float(np.asarray(state["time"]).reshape(-1)[0])
+            new = [(dst, np.asarray(state[key], dst.dtype)) for key, dst in targets]
+        except KeyError as exc:
+            raise ModelError("state", str(exc), "is missing from the state") from None
+        for (key, dst), (_, arr) in zip(targets, new):
+            if arr.shape != dst.shape:
+                raise ModelError(f"state.{key}", arr.shape, f"must have shape {dst.shape}")
+        for dst, arr in new:
+            dst[...] = arr
+        self.time = time
+
+    # -------------------------------------------------------------------------------- stepping
+    def _run(self, dt, up, vp, ap, times):
+        n = len(up)
+        if self.record:
+            # contact histories sparse (the nodes in contact, ~2 of 36): np.empty of the worst case
+            # is only address space until written; the used part is copied out below
+            cap = n * len(self.Xc)
+            rec = K.Recording(
+                True,
+                np.zeros((n, 24)),
+                np.zeros(n + 1, np.int64),
+                np.empty(cap, np.int32),
+                np.empty(cap, np.int8),
+                np.empty(cap),
+                np.empty(cap),
+                0,
+            )
+        else:
+            rec = self._no_record
+        # the arrays are never rebound (see _allocate_state), so the arguments are built once per
+        # time step and setting (a changed attribute, e.g. contact or mu, builds them anew)
+        law = K.ContactLaw(
+            self.contact, self.gap, self.r_in, self.r_cable, self.law, self.k_lin, self.k_hertz, self.c_n, self.mu,
+            self.v_stick,
+        )  # fmt: skip
+        key = (dt, self.ledger_on, self.record, law)
+        args, step_loop = self._call_args.get(key, (None, None))
+        if args is None:
+            contact = K.ContactArrays(
+                self.Xc,
+                self.Tc,
+                self.Xs,
+                self.Rs,
+                self.Ls,
+                self.cstate,
+                self.celem,
+                self.cxi,
+                self.Pn,
+                self.vrel,
+                self.Nn,
+                self.gn,
+                self.contact_time,
+                self._ws,
+            )
+            args = (
+                body_arrays(self.bodies.get("casing"), dt, self.contact, self.fcs),
+                body_arrays(self.bodies.get("cable"), dt, self.contact, self.fcc),
+                law,
+                contact,
+                self.reac,
+                self.ledger,
+                self.ledger_on,
+            )
+        info = self._info  # info[K.INFO_NEWTON_ITERATIONS:] are the solver counters (a view)
+        info[: K.INFO_NEWTON_ITERATIONS] = 0.0
+        if step_loop is None:
+            status = K.run_steps(self.time, dt, up, vp, ap, *args, rec, info)  # compiles or loads it
+            self._call_args[key] = (args, compiled_entry(K.run_steps, (self.time, dt, up, vp, ap, *args, rec, info)))
+        else:
+            status = step_loop(self.time, dt, up, vp, ap, *args, rec, info)
+        if status == K.ERR_INPUT:
+            r, c, q = (int(info[i]) for i in (K.INFO_INPUT_ROW, K.INFO_INPUT_CHANNEL, K.INFO_INPUT_KIND))
+            name = ("displacement", "velocity", "acceleration")[q]
+            raise ModelError(
+                f"{CHANNELS[c]} {name}", float((up, vp, ap)[q][r, c]), f"must be finite (at t = {times[r]:.6g} s)"
+            )
+        if status != K.OK:
+            what = {
+                K.ERR_NAN: "the solution is no longer finite (NaN/inf): the step is unstable or the input is",
+                K.ERR_PENETRATION: f"penetration {info[K.INFO_VALUE]:.4g} m exceeds the cable radius "
+                f"{self.r_cable:.4g} m (contact too soft for this load, or the time step too "
+                "large)",
+            }[status]
+            node = info[K.INFO_NODE]
+            where = f"cable node {int(node)}" if node >= 0 else "the support forces"
+            raise SimulationError(f"at t = {info[K.INFO_TIME]:.6g} s, {where}: {what}")
+        if self.record:
+            m = int(rec.ptr[-1])
+            self._hist.append((rec.F, rec.ptr) + tuple(x[:m].copy() for x in (rec.node, rec.state, rec.N, rec.g)))
+        self.time = float(info[K.INFO_TIME])
+
+    CHUNK = 2048  # steps per evaluation of the support motion (see advance)
+
+    def advance(self, h: float, motion: Motion) -> None:
+        """Integrate from ``self.time`` to ``self.time + h`` (s) with the support ``motion``
+        (callable t -> (u, v, a), each (len(t), 12), in m, m/s, m/s2 over ``CHANNELS``; a function
+        of t alone, evaluated in chunks of :attr:`CHUNK` steps).
+
+        The motion is evaluated chunk by chunk, so its arrays stay small and in cache whatever the
+        duration (1 s at dt = 1e-5 in one piece would be 29 MB of motion alone, and faulting them
+        in cost ~10 % of the step loop's time). Bad input (a non-finite or misshaped motion, or an
+        error raised by ``motion``) in any chunk leaves the engine as it was before the call: a
+        later chunk's error restores the state (:meth:`snapshot`) and drops that call's recorded
+        history. So does a blow-up (:class:`SimulationError`, whose message says when, where and
+        what): the engine is then as it was before the call, and can be advanced again (e.g. by
+        a smaller step, or after :meth:`set_state`)."""
+        seconds("h", h)
+        n = math.floor(h / self.dt * (1 + 1e-12))  # (math: numpy's scalar calls cost ~1 µs each)
+        rest = h - n * self.dt
+        segments = []
+        if n:
+            segments.append((self.dt, n))
+        if rest > 1e-9 * self.dt:
+            segments.append((rest, 1))
+        # roll-back for a blow-up, or for bad input in a later chunk (the shorter last substep is a
+        # chunk of its own); the snapshot buffer is reused (two buffer copies per call)
+        self._snap = snap = self.snapshot(self._snap)
+        nhist = len(self._hist)
+        try:
+            if self.time == 0.0 and not self.ledger.any():
+                kin, strain = (sum(x) for x in zip(*(b.energy() for b in self.bodies.values())))
+                self.ledger[K.LEDGER_START_ENERGY] = kin + strain + self.contact_potential()
+            for dt, m in segments:
+                t = self.time
+                for j0 in range(0, m, self.CHUNK):
+                    j1 = min(m, j0 + self.CHUNK)
+                    times = t + dt * np.arange(j0 + 1, j1 + 1)  # as if evaluated in one piece
+                    u, v, a = (np.ascontiguousarray(x, dtype=float) for x in motion(times))
+                    for x in (u, v, a):
+                        if x.shape != (j1 - j0, len(CHANNELS)):
+                            raise ModelError(
+                                "motion", x.shape, f"must return arrays of shape ({j1 - j0}, {len(CHANNELS)})"
+                            )
+                    self._run(dt, u, v, a, times)  # (non-finite motion is refused there, before any step)
+                self.time = float(t + m * dt)
+        except BaseException:
+            self.restore(snap)
+            del self._hist[nhist:]
+            raise
+
+    # -------------------------------------------------------------------------------- outputs
+    def contact_potential(self) -> float:
+        """Elastic energy stored in the contacts (J), from the penetrations at the current time."""
+        return K.contact_potential(self.gn, self.law, self.k_lin, self.k_hertz)
+
+    def energies(self) -> dict[str, float]:
+        """Energy ledger in J: kinetic, strain, contact potential, work done by the supports,
+        dissipated by Rayleigh damping, dissipated in the contacts (damping and friction together:
+        the work of the contact forces less the stored contact energy), and the balance residual
+        (energy now minus the energy at the start plus supplied work less dissipation)."""
+        kin = sum(b.energy()[0] for b in self.bodies.values())
+        strain = sum(b.energy()[1] for b in self.bodies.values())
+        pot = self.contact_potential()
+        w_sup, d_ray, e_start, d_fric, w_con, d_damp = (
+            self.ledger[i]
+            for i in (
+                K.LEDGER_SUPPORT_WORK,
+                K.LEDGER_RAYLEIGH_DISSIPATION,
+                K.LEDGER_START_ENERGY,
+                K.LEDGER_FRICTION_DISSIPATION,
+                K.LEDGER_CONTACT_WORK,
+                K.LEDGER_DAMPING_DISSIPATION,
+            )
+        )
+        d_con = -w_con - pot
+        residual = kin + strain + pot - (e_start + w_sup - d_ray - d_con)
+        return {
+            "kinetic": kin,
+            "strain": strain,
+            "contact_potential": pot,
+            "support_work": w_sup,
+            "rayleigh_dissipation": d_ray if self.ledger_on else np.nan,
+            "contact_dissipation": d_con,
+            "contact_damping_dissipation": d_damp,
+            "friction_dissipation": d_fric,
+            "residual": residual,
+        }
+
+    def output_values(self, out: np.ndarray | None = None) -> np.ndarray:
+        """The values of :meth:`outputs` as an array in the order of :data:`OUTPUTS` (written into
+        ``out`` when given): one call instead of a dict, for the FMU's per-step reads."""
+        out = np.empty(len(OUTPUTS)) if out is None else out
+        out[:24] = self.reac
+        out[24] = np.count_nonzero(self.cstate)  # OPEN == 0 (no comparison array)
+        out[25] = self.gn.max() if len(self.gn) else 0.0
+        out[26] = -self.ledger[K.LEDGER_CONTACT_WORK] - self.contact_potential()
+        return out
+
+    def outputs(self) -> dict[str, float]:
+        """Current outputs ``{name: value}`` for the names in :data:`OUTPUTS` (N, N.m, m, J)."""
+        out = dict(zip(OUTPUTS, self.output_values().tolist()))
+        out["contact.active"] = int(out["contact.active"])
+        return out
+
+    def history(self, sparse: bool = False) -> dict[str, np.ndarray]:
+        """Recorded histories (``record=True``) over all steps so far: ``support_forces`` (n x 24,
+        N and N.m, :data:`SUPPORT_OUTPUTS`) and, per cable node, ``contact_state`` (0 open, 1 stick,
+        2 slip), ``normal_force`` (N) and ``penetration`` (m), each n x nodes.
+
+        The engine stores the contact histories sparse (the nodes in contact at the end of each
+        step: about 2 of 36 in the default scenario, some 40 bytes per step instead of 600);
+        ``sparse=True`` returns them so, as ``contact_step``, ``contact_node`` (row and column of
+        each entry) with ``contact_state``, ``normal_force`` and ``penetration`` of that entry."""
+        if not self._hist:
+            return {}
+        F = np.concatenate([h[0] for h in self._hist])
+        rows = np.concatenate([np.repeat(np.arange(len(h[0])), np.diff(h[1])) for h in self._hist])
+        rows += np.repeat(np.cumsum([0] + [len(h[0]) for h in self._hist[:-1]]), [len(h[2]) for h in self._hist])
+        node, state, N, g = (np.concatenate([h[i] for h in self._hist]) for i in range(2, 6))
+        if sparse:
+            return {
+                "support_forces": F,
+                "contact_step": rows,
+                "contact_node": node,
+                "contact_state": state,
+                "normal_force": N,
+                "penetration": g,
+            }
+        shape = (len(F), len(self.Xc))
+        out = {
+            "support_forces": F,
+            "contact_state": np.zeros(shape, np.int8),
+            "normal_force": np.zeros(shape),
+            "penetration": np.zeros(shape),
+        }
+        for key, v in (("contact_state", state), ("normal_force", N), ("penetration", g)):
+            out[key][rows, node] = v
+        return out
+
+
+def state_to_bytes(state: Mapping[str, ArrayLike]) -> bytes:
+    """Serialise a state dict of arrays (np.savez, no pickle)."""
+    buf = io.BytesIO()
+    np.savez(buf, **state)
+    return buf.getvalue()
+
+
+def state_from_bytes(data: bytes) -> dict[str, np.ndarray]:
+    """Inverse of :func:`state_to_bytes`."""
+    with np.load(io.BytesIO(bytes(data)), allow_pickle=False) as z:
+        return {k: z[k] for k in z.files}

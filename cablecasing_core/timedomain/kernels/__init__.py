@@ -1,0 +1,158 @@
+"""The numba kernels of the time domain, split by concern into private modules, compiled as ONE
+cache unit.
+
+=======================================  ==============================================================
+module                                   what
+=======================================  ==============================================================
+``_step_loop_contract.py``               the records :func:`run_steps` takes, status codes, contact
+                                         states, the names of the ledger, info and diag slots
+``_banded_products_and_block_solve.py``  products in diagonal storage, the block-tridiagonal solve
+``_hermite_interpolation.py``            the casing axis and the interpolation matrix on an element (Eq. 9)
+``_contact_search_and_law.py``           normal-plane search (Eqs. 32-39), contact law (Eqs. 24, 29)
+``_contact_newton_for_fixed_modes.py``   the contact forces for fixed stick/slip modes (Eqs. 15-23)
+``_contact_forces_with_active_set.py``   the implicit contact solve of a step (Eqs. 14-39)
+``_newmark_per_body.py``                 one body's predictor, update and reactions (Eqs. 13, 18)
+``_newmark_step_loop_with_ledger.py``    the step loop over both bodies and the contact, energy ledger
+``_quintic_support_motion.py``           the support motion inside an FMU communication step
+``_compile_options.py``                  ``fastmath`` flags, compilation without the runtime
+``_numba_cache.py``                      where the machine code is cached (compiles nothing)
+=======================================  ==============================================================
+
+**Why one cache unit.** numba caches each ``cache=True`` function by its own source file and does
+not invalidate that cache when a function it calls or inlines changes in *another* file: the step
+loop would go on running the machine code of an old contact solve. So the package is one unit:
+:mod:`._numba_cache` is installed here, before any kernel is decorated, and keys the cache of every
+kernel on a hash of all the package's source files (:data:`KERNELS_HASH`); any edit to any file of
+the package recompiles all of it, into a new folder (:func:`kernels_cache_dir`). Keep every numba
+kernel of cablecasing_core in this package, and nothing else.
+
+All kernels are plain functions over arrays. The orchestration (building matrices, factorising,
+evaluating the support motion, packing results) stays in plain Python in ``timedomain/engine.py``
+and ``timedomain/support_motion.py``. Nothing in a step allocates: the step loop owns a workspace
+(:func:`contact_workspace`) and scalar helpers return tuples. The effective compliance (dense, over
+all DOFs of a body, zero on the prescribed ones) gives the Delassus matrix of the contacts and the
+bodies' response to the contact forces. The small helpers of the contact solve are inlined into
+their callers (``inline="always"``).
+
+``fastmath`` (``_compile_options.py``): contraction into FMA and two harmless flags, no
+re-association, so a run is reproducible to the bit in any process (the FMU is checked against the
+core to the bit on a chaotic contact run).
+
+Reference counting: numba increments the reference count of every array a function receives on
+entry and decrements it on every exit (atomic operations, each a barrier for the memory pipeline).
+LLVM's pruning pass removes these pairs in small functions, but gives up on large ones. The
+kernels the step loop calls that would have them, and never allocate, are compiled without the
+runtime (``NO_RT``); only the step loop allocates (its scratch, once per call). For the same reason
+no call inside the step loop passes more than 30 arguments (Python then passes them as one built
+tuple, whose every array numba counts around the call), and :func:`run_steps` unpacks its records
+(:class:`BodyArrays`, :class:`ContactLaw`, :class:`ContactArrays`, :class:`Recording`) once, before
+its loop: a record's array read inside the loop would be counted at every step. docs/performance.md
+has the figures.
+"""
+
+from ._numba_cache import KERNELS_HASH, install, kernels_cache_dir
+
+install()  # before any cache=True kernel below is decorated
+
+from ._banded_products_and_block_solve import block_solve  # noqa: E402
+from ._contact_forces_with_active_set import contact_workspace, solve_contact_forces  # noqa: E402
+from ._contact_search_and_law import contact_law, contact_potential, search_node  # noqa: E402
+from ._hermite_interpolation import axis_at, element_dofs, hermite_matrix  # noqa: E402
+from ._newmark_step_loop_with_ledger import run_steps  # noqa: E402
+from ._quintic_support_motion import quintic_coefficients, quintic_values, taylor_rows  # noqa: E402
+from ._step_loop_contract import (  # noqa: E402
+    DIAG_ACTIVE_SET_PASSES,
+    DIAG_DAMPING_POWER,
+    DIAG_FRICTION_POWER,
+    DIAG_MAX_PENETRATION,
+    DIAG_NEWTON_FAILED,
+    DIAG_NEWTON_ITERATIONS,
+    DIAG_SIZE,
+    ERR_INPUT,
+    ERR_NAN,
+    ERR_PENETRATION,
+    ERR_SEARCH,
+    INFO_ACTIVE_SET_PASSES,
+    INFO_INPUT_CHANNEL,
+    INFO_INPUT_KIND,
+    INFO_INPUT_ROW,
+    INFO_NEWTON_ITERATIONS,
+    INFO_NODE,
+    INFO_SIZE,
+    INFO_TIME,
+    INFO_UNCONVERGED_STEPS,
+    INFO_VALUE,
+    LEDGER_CONTACT_WORK,
+    LEDGER_DAMPING_DISSIPATION,
+    LEDGER_DAMPING_POWER,
+    LEDGER_FRICTION_DISSIPATION,
+    LEDGER_FRICTION_POWER,
+    LEDGER_RAYLEIGH_DISSIPATION,
+    LEDGER_SIZE,
+    LEDGER_START_ENERGY,
+    LEDGER_SUPPORT_WORK,
+    OK,
+    OPEN,
+    SLIP,
+    STICK,
+    BodyArrays,
+    ContactArrays,
+    ContactLaw,
+    Recording,
+)
+
+__all__ = [
+    "DIAG_ACTIVE_SET_PASSES",
+    "DIAG_DAMPING_POWER",
+    "DIAG_FRICTION_POWER",
+    "DIAG_MAX_PENETRATION",
+    "DIAG_NEWTON_FAILED",
+    "DIAG_NEWTON_ITERATIONS",
+    "DIAG_SIZE",
+    "ERR_INPUT",
+    "ERR_NAN",
+    "ERR_PENETRATION",
+    "ERR_SEARCH",
+    "INFO_ACTIVE_SET_PASSES",
+    "INFO_INPUT_CHANNEL",
+    "INFO_INPUT_KIND",
+    "INFO_INPUT_ROW",
+    "INFO_NEWTON_ITERATIONS",
+    "INFO_NODE",
+    "INFO_SIZE",
+    "INFO_TIME",
+    "INFO_UNCONVERGED_STEPS",
+    "INFO_VALUE",
+    "LEDGER_CONTACT_WORK",
+    "LEDGER_DAMPING_DISSIPATION",
+    "LEDGER_DAMPING_POWER",
+    "LEDGER_FRICTION_DISSIPATION",
+    "LEDGER_FRICTION_POWER",
+    "LEDGER_RAYLEIGH_DISSIPATION",
+    "LEDGER_SIZE",
+    "LEDGER_START_ENERGY",
+    "LEDGER_SUPPORT_WORK",
+    "OK",
+    "OPEN",
+    "SLIP",
+    "STICK",
+    "KERNELS_HASH",
+    "BodyArrays",
+    "ContactArrays",
+    "ContactLaw",
+    "Recording",
+    "axis_at",
+    "block_solve",
+    "contact_law",
+    "contact_potential",
+    "contact_workspace",
+    "element_dofs",
+    "hermite_matrix",
+    "kernels_cache_dir",
+    "quintic_coefficients",
+    "quintic_values",
+    "run_steps",
+    "search_node",
+    "solve_contact_forces",
+    "taylor_rows",
+]

@@ -1,0 +1,366 @@
+"""The implicit contact forces of a Newmark step (Eqs. 14-39): every cable node's contact search,
+the Delassus matrix of the active contacts from both bodies' effective compliance, the Newton of
+``_contact_newton_for_fixed_modes.py`` inside passes that switch contacts between stick and slip
+and in and out of the active set, and the generalized forces on both bodies.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ._banded_products_and_block_solve import fill
+from ._compile_options import FM, NO_RT
+from ._contact_newton_for_fixed_modes import (
+    forces_from_unknowns,
+    newton_for_fixed_modes,
+    reduced_delassus,
+    relative_displacement,
+    unknowns_from_forces,
+)
+from ._contact_search_and_law import cable_node, far_from_wall, search_node, tangent_basis
+from ._hermite_interpolation import hermite_matrix
+from ._step_loop_contract import (
+    DIAG_ACTIVE_SET_PASSES,
+    DIAG_DAMPING_POWER,
+    DIAG_FRICTION_POWER,
+    DIAG_MAX_PENETRATION,
+    DIAG_NEWTON_FAILED,
+    DIAG_NEWTON_ITERATIONS,
+    OPEN,
+    SLIP,
+    STICK,
+)
+
+
+def contact_workspace(nn):
+    """Scratch arrays of the contact solve for nn cable nodes (allocated once per run)."""
+    m = 3 * max(nn, 1)
+    z = lambda *s: np.zeros(s)  # noqa: E731
+    return (
+        np.zeros(max(nn, 1), np.int64),
+        z(nn),
+        z(nn),
+        z(nn, 3),
+        z(nn, 3),
+        z(nn, 3),
+        z(nn, 3),
+        z(nn, 6, 12),
+        z(nn, 6, 3),
+        z(nn, 12, 3),
+        z(m, m),
+        z(m, m),
+        z(m),
+        z(m),
+        z(m),
+        z(m),
+        z(nn, 3),
+        z(nn, 3),
+        np.zeros(max(nn, 1), np.int64),
+        z(nn, 3),
+        z(nn),
+        z(nn),
+        np.zeros(max(nn, 1), np.bool_),
+        z(6),
+        z(m),
+        np.zeros(max(nn, 1), np.bool_),
+        np.zeros(max(nn, 1), np.bool_),
+        z(m, m),
+        z(m),
+        z(m),
+        np.zeros(max(nn, 1) + 1, np.int64),
+        z(nn),
+    )
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def _compliance_block(Kinv, dof_k, Bk, dof_l, Bl, W, ok, ol, nq):
+    """W[ok:ok+3, ol:ol+3] += Bk^T Kinv[dofs_k, dofs_l] Bl: one body's part of a 3x3 Delassus block.
+    Bk, Bl map a contact force to generalized forces on the DOFs from dof_k, dof_l; Kinv is the
+    effective compliance over all DOFs (zero on the prescribed ones, which do not respond). nq: the
+    rows of Bk and Bl, 6 (a cable node) or 12 (a casing element), passed as a literal so that the
+    loops unroll once inlined (0.3 of 7.0 us per contact solve at 4.6 contacts)."""
+    w00 = w01 = w02 = w10 = w11 = w12 = w20 = w21 = w22 = 0.0
+    for p in range(nq):
+        row = Kinv[dof_k + p, dof_l : dof_l + nq]
+        t0 = t1 = t2 = 0.0
+        for q in range(nq):
+            kv = row[q]
+            t0 += kv * Bl[q, 0]
+            t1 += kv * Bl[q, 1]
+            t2 += kv * Bl[q, 2]
+        b0, b1, b2 = Bk[p, 0], Bk[p, 1], Bk[p, 2]
+        w00 += b0 * t0
+        w01 += b0 * t1
+        w02 += b0 * t2
+        w10 += b1 * t0
+        w11 += b1 * t1
+        w12 += b1 * t2
+        w20 += b2 * t0
+        w21 += b2 * t1
+        w22 += b2 * t2
+    W[ok, ol] += w00
+    W[ok, ol + 1] += w01
+    W[ok, ol + 2] += w02
+    W[ok + 1, ol] += w10
+    W[ok + 1, ol + 1] += w11
+    W[ok + 1, ol + 2] += w12
+    W[ok + 2, ol] += w20
+    W[ok + 2, ol + 1] += w21
+    W[ok + 2, ol + 2] += w22
+
+
+@njit(**NO_RT)
+def solve_contact_forces(
+    Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, par, state, elem, xi_arr, Pn, vrel, Nout, gout, fcc, fcs, diag, ws
+):
+    """Contact of the cable nodes with the casing at the end of a step, from the predicted
+    (contact-free) state (Eqs. 14-39). Writes the generalized contact forces on the cable (fcc, N
+    and N.m) and the casing (fcs), the per-node state (OPEN/STICK/SLIP: the mode the forces were
+    solved in), normal force (Nout, N), penetration (gout, m) and tangential relative speed at the
+    end of the step (vrel, m/s: the next step sticks when it lies inside the band +-v_stick,
+    Section 2.1). Kc, Ks: effective compliances (m/N) over all DOFs of each body (zero rows and
+    columns on the prescribed DOFs). par = (gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt)
+    (m, m, 0 Hertz / 1 linear, N/m, N/m^1.5, kg/s, -, m/s, s); ws: the scratch arrays of
+    :func:`contact_workspace`. Returns the number of contacts examined (penetrating before the
+    solve); the DIAG_* slots of diag (``_step_loop_contract.py``) say the largest penetration, a
+    failed Newton, the damping and friction powers and the iterations and passes taken.
+
+    At most 30 arguments on purpose: Python compiles a call with more than 30 positional
+    arguments as a call with a built tuple (CALL_FUNCTION_EX), and numba then increments and
+    decrements the reference count of every array in it around each call, ~100 atomic operations
+    per step."""
+    gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt = par
+    (
+        idx,
+        gst,
+        gdst,
+        wst,
+        nrm,
+        arm_c,
+        arm_s,
+        Hs,
+        Bc,
+        Gs,
+        W,
+        J,
+        R,
+        dx,
+        P,
+        d,
+        ta,
+        tb,
+        mode,
+        sdir,
+        Ne,
+        Nd,
+        active,
+        tmp,
+        xt,
+        touch,
+        skip,
+        Q,
+        x,
+        y,
+        off,
+        wkk,
+    ) = ws
+    nn = Xc.shape[0]
+    nk = 0
+    c2 = 2.0 / dt
+    far_from_wall(Xc, Tc, Uc, Xs, Ls, Us, elem, gap, skip)
+    for i in range(nn):
+        Nout[i] = 0.0
+        gout[i] = 0.0
+        if skip[i]:
+            state[i] = OPEN
+            continue
+        o = 6 * i
+        x0, x1, x2, t0, t1, t2 = cable_node(Xc, Tc, Uc, i)
+        tn = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
+        t0, t1, t2 = t0 / tn, t1 / tn, t2 / tn
+        e, xi, far, px, py, pz = search_node(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, elem[i], gap)
+        if e >= 0:
+            elem[i] = e
+        if e < 0 or far:
+            state[i] = OPEN
+            continue
+        xi_arr[i] = xi
+        r0, r1, r2 = x0 - px, x1 - py, x2 - pz
+        h = np.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
+        g = h - gap  # Eqs. (14), (30)-(31)
+        if g <= 0.0 or h == 0.0:
+            state[i] = OPEN
+            continue
+        n0, n1, n2 = r0 / h, r1 / h, r2 / h
+        c0, c1, c2_ = px + r_in * n0, py + r_in * n1, pz + r_in * n2  # contact point on the wall
+        H = Hs[nk]
+        hermite_matrix(xi, Ls[e], Rs[e], H)
+        vs = tmp  # casing velocity and spin at xi
+        for r in range(6):
+            s = 0.0
+            for c in range(12):
+                s += H[r, c] * Vs[6 * e + c]
+            vs[r] = s
+        ac0, ac1, ac2 = c0 - x0, c1 - x1, c2_ - x2  # arm from the cable node
+        as0, as1, as2 = c0 - px, c1 - py, c2_ - pz  # arm from the casing axis
+        om0, om1, om2 = Vc[o + 3], Vc[o + 4], Vc[o + 5]
+        w0 = Vc[o] + om1 * ac2 - om2 * ac1 - (vs[0] + vs[4] * as2 - vs[5] * as1)
+        w1 = Vc[o + 1] + om2 * ac0 - om0 * ac2 - (vs[1] + vs[5] * as0 - vs[3] * as2)
+        w2 = Vc[o + 2] + om0 * ac1 - om1 * ac0 - (vs[2] + vs[3] * as1 - vs[4] * as0)
+        idx[nk] = i
+        gst[nk] = g
+        gdst[nk] = n0 * w0 + n1 * w1 + n2 * w2
+        wst[nk, 0], wst[nk, 1], wst[nk, 2] = w0, w1, w2
+        nrm[nk, 0], nrm[nk, 1], nrm[nk, 2] = n0, n1, n2
+        arm_c[nk, 0], arm_c[nk, 1], arm_c[nk, 2] = ac0, ac1, ac2
+        arm_s[nk, 0], arm_s[nk, 1], arm_s[nk, 2] = as0, as1, as2
+        nk += 1
+    fill(fcc, 0.0)
+    fill(fcs, 0.0)
+    diag[DIAG_DAMPING_POWER] = 0.0
+    diag[DIAG_FRICTION_POWER] = 0.0
+    if nk == 0:
+        diag[DIAG_MAX_PENETRATION] = 0.0
+        for i in range(nn):
+            Pn[i, 0], Pn[i, 1], Pn[i, 2] = 0.0, 0.0, 0.0
+        return 0
+    # Delassus matrix W = Bc^T Kc^-1 Bc + Gs^T Ks^-1 Gs (only free DOFs respond)
+    for k in range(nk):
+        B = Bc[k]
+        G = Gs[k]
+        H = Hs[k]
+        B[:, :] = 0.0
+        a0, a1, a2 = arm_c[k, 0], arm_c[k, 1], arm_c[k, 2]
+        B[0, 0], B[1, 1], B[2, 2] = 1.0, 1.0, 1.0
+        B[3, 1], B[3, 2] = -a2, a1  # moment a x P in rows 3..5
+        B[4, 0], B[4, 2] = a2, -a0
+        B[5, 0], B[5, 1] = -a1, a0
+        s0, s1, s2 = arm_s[k, 0], arm_s[k, 1], arm_s[k, 2]
+        for r in range(12):  # G = H^T [-I; -[s]x]: -P and -(s x P) on the axis
+            G[r, 0] = -H[0, r] - (H[4, r] * s2 - H[5, r] * s1)
+            G[r, 1] = -H[1, r] - (H[5, r] * s0 - H[3, r] * s2)
+            G[r, 2] = -H[2, r] - (H[3, r] * s1 - H[4, r] * s0)
+    m = 3 * nk
+    for i in range(m):
+        for j in range(m):
+            W[i, j] = 0.0
+    for k in range(nk):
+        ik = idx[k]
+        ek = elem[ik]
+        for l in range(k, nk):
+            il = idx[l]
+            el = elem[il]
+            _compliance_block(Kc, 6 * ik, Bc[k], 6 * il, Bc[l], W, 3 * k, 3 * l, 6)  # cable
+            _compliance_block(Ks, 6 * ek, Gs[k], 6 * el, Gs[l], W, 3 * k, 3 * l, 12)  # casing
+            if l != k:
+                for r in range(3):
+                    for c in range(3):
+                        W[3 * l + c, 3 * k + r] = W[3 * k + r, 3 * l + c]
+    for k in range(nk):
+        tangent_basis(nrm[k, 0], nrm[k, 1], nrm[k, 2], ta[k], tb[k])
+        i = idx[k]
+        wn = wst[k, 0] * nrm[k, 0] + wst[k, 1] * nrm[k, 1] + wst[k, 2] * nrm[k, 2]
+        wt0, wt1, wt2 = wst[k, 0] - wn * nrm[k, 0], wst[k, 1] - wn * nrm[k, 1], wst[k, 2] - wn * nrm[k, 2]
+        sp = np.sqrt(wt0 * wt0 + wt1 * wt1 + wt2 * wt2)
+        speed = sp if state[i] == OPEN else vrel[i]
+        mode[k] = STICK if speed < v_stick else SLIP
+        sdir[k, 0], sdir[k, 1], sdir[k, 2] = (wt0 / sp, wt1 / sp, wt2 / sp) if sp > 0.0 else (0.0, 0.0, 0.0)
+        for c in range(3):
+            P[3 * k + c] = Pn[i, c] if state[i] != OPEN else 0.0
+        active[k] = True
+        touch[k] = False
+    for k in range(nk):
+        o = 3 * k
+        wkk[k] = max(W[o, o], W[o + 1, o + 1], W[o + 2, o + 2])
+    for outer in range(8):
+        r = unknowns_from_forces(nk, nrm, ta, tb, mode, active, P, off, x)
+        reduced_delassus(W, nk, nrm, ta, tb, sdir, mu, off, Q)
+        its = newton_for_fixed_modes(
+            Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, dx, y, Ne, Nd, xt
+        )
+        forces_from_unknowns(nk, nrm, ta, tb, sdir, mu, off, x, P)
+        relative_displacement(W, P, m, d)
+        diag[DIAG_NEWTON_ITERATIONS] += abs(its)
+        diag[DIAG_ACTIVE_SET_PASSES] += 1
+        if its < 0:
+            diag[DIAG_NEWTON_FAILED] = 1.0
+        changed = False
+        for k in range(nk):
+            if not active[k]:
+                continue
+            o = 3 * k
+            N = Ne[k] + Nd[k]
+            if N <= 0.0:
+                active[k] = False
+                P[o], P[o + 1], P[o + 2] = 0.0, 0.0, 0.0
+                changed = True
+                continue
+            # the law holds for g > 0; at g <= 0 the damper alone would push the bodies apart past
+            # the surface, so the step ends touching (g = 0, N <= c_n g_dot); a touching contact
+            # whose force exceeds the damper's goes back to the law
+            dn = nrm[k, 0] * d[o] + nrm[k, 1] * d[o + 1] + nrm[k, 2] * d[o + 2]
+            if not touch[k] and gst[k] + dn <= 0.0:
+                touch[k] = True
+                changed = True
+            elif touch[k] and N > c_n * max(gdst[k] + c2 * dn, 0.0) * (1 + 1e-12):
+                touch[k] = False
+                changed = True
+            pn = P[o] * nrm[k, 0] + P[o + 1] * nrm[k, 1] + P[o + 2] * nrm[k, 2]
+            pt0, pt1, pt2 = P[o] - pn * nrm[k, 0], P[o + 1] - pn * nrm[k, 1], P[o + 2] - pn * nrm[k, 2]
+            ft = np.sqrt(pt0 * pt0 + pt1 * pt1 + pt2 * pt2)
+            if mode[k] == STICK and ft > mu * N * (1 + 1e-12):
+                mode[k] = SLIP
+                sdir[k, 0], sdir[k, 1], sdir[k, 2] = -pt0 / ft, -pt1 / ft, -pt2 / ft
+                changed = True
+            elif mode[k] == SLIP:
+                w0, w1, w2 = wst[k, 0] + c2 * d[o], wst[k, 1] + c2 * d[o + 1], wst[k, 2] + c2 * d[o + 2]
+                wn = w0 * nrm[k, 0] + w1 * nrm[k, 1] + w2 * nrm[k, 2]
+                wt0, wt1, wt2 = w0 - wn * nrm[k, 0], w1 - wn * nrm[k, 1], w2 - wn * nrm[k, 2]
+                if wt0 * sdir[k, 0] + wt1 * sdir[k, 1] + wt2 * sdir[k, 2] < 0.0:
+                    # friction would reverse the slip: it sticks instead
+                    if v_stick > 0.0 and outer < 4:
+                        mode[k] = STICK
+                    else:
+                        spd = np.sqrt(wt0 * wt0 + wt1 * wt1 + wt2 * wt2)
+                        if spd > 0.0:
+                            sdir[k, 0], sdir[k, 1], sdir[k, 2] = wt0 / spd, wt1 / spd, wt2 / spd
+                    changed = True
+        if not changed:
+            break
+    if changed:
+        # the passes ran out with a change: a contact the last pass opened still counts in d
+        relative_displacement(W, P, m, d)
+    gmax = 0.0
+    for k in range(nk):
+        i = idx[k]
+        o = 3 * k
+        if not active[k] or Ne[k] + Nd[k] <= 0.0:
+            continue
+        n0, n1, n2 = nrm[k, 0], nrm[k, 1], nrm[k, 2]
+        dn = n0 * d[o] + n1 * d[o + 1] + n2 * d[o + 2]
+        g = 0.0 if touch[k] else gst[k] + dn
+        gout[i] = g
+        Nout[i] = Ne[k] + Nd[k]
+        gmax = max(gmax, g)
+        w0, w1, w2 = wst[k, 0] + c2 * d[o], wst[k, 1] + c2 * d[o + 1], wst[k, 2] + c2 * d[o + 2]
+        wn = w0 * n0 + w1 * n1 + w2 * n2
+        wt0, wt1, wt2 = w0 - wn * n0, w1 - wn * n1, w2 - wn * n2
+        state[i] = mode[k]
+        vrel[i] = np.sqrt(wt0 * wt0 + wt1 * wt1 + wt2 * wt2)
+        diag[DIAG_DAMPING_POWER] += Nd[k] * wn  # damping acts only while compressing
+        pn = P[o] * n0 + P[o + 1] * n1 + P[o + 2] * n2
+        diag[DIAG_FRICTION_POWER] -= (P[o] - pn * n0) * wt0 + (P[o + 1] - pn * n1) * wt1 + (P[o + 2] - pn * n2) * wt2
+        Pn[i, 0], Pn[i, 1], Pn[i, 2] = P[o], P[o + 1], P[o + 2]
+        # generalized forces: +P at the cable node (with its moment), -P on the casing element
+        for r in range(6):
+            fcc[6 * i + r] += Bc[k, r, 0] * P[o] + Bc[k, r, 1] * P[o + 1] + Bc[k, r, 2] * P[o + 2]
+        e = elem[i]
+        for r in range(12):
+            fcs[6 * e + r] += Gs[k, r, 0] * P[o] + Gs[k, r, 1] * P[o + 1] + Gs[k, r, 2] * P[o + 2]
+    for i in range(nn):
+        if Nout[i] == 0.0:
+            state[i] = OPEN
+            Pn[i, 0], Pn[i, 1], Pn[i, 2] = 0.0, 0.0, 0.0
+    diag[DIAG_MAX_PENETRATION] = gmax
+    return nk

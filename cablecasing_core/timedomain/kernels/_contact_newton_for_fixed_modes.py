@@ -1,0 +1,274 @@
+"""The contact forces at the end of a Newmark step for fixed stick/slip modes and a fixed active set
+(Eqs. 15-23, 24/29): the unknowns of each contact (one for a slipping one, three for a sticking
+one), the reduced Delassus matrix, and a semi-smooth Newton with a line search on the contact
+conditions. The active set and the stick/slip passes around it are in
+``_contact_forces_with_active_set.py``."""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ._compile_options import FM
+from ._contact_search_and_law import contact_law
+from ._step_loop_contract import STICK
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def _dense_solve(A, b, m, x):
+    """Solve A[:m, :m] x = b[:m] by Gaussian elimination with partial pivoting (A and b are
+    overwritten). Written here for the few (3 per contact) unknowns inside the step loop, where a
+    LAPACK call would cost more than the solve; an exactly zero pivot leaves its unknown at zero."""
+    for c in range(m):
+        p = c
+        big = abs(A[c, c])
+        for r in range(c + 1, m):
+            if abs(A[r, c]) > big:
+                big = abs(A[r, c])
+                p = r
+        if big == 0.0:
+            continue
+        if p != c:
+            for k in range(c, m):
+                A[c, k], A[p, k] = A[p, k], A[c, k]
+            b[c], b[p] = b[p], b[c]
+        inv = 1.0 / A[c, c]
+        for r in range(c + 1, m):
+            f = A[r, c] * inv
+            if f != 0.0:
+                for k in range(c + 1, m):
+                    A[r, k] -= f * A[c, k]
+                b[r] -= f * b[c]
+    for c in range(m - 1, -1, -1):
+        if A[c, c] == 0.0:
+            x[c] = 0.0
+            continue
+        s = b[c]
+        for k in range(c + 1, m):
+            s -= A[c, k] * x[k]
+        x[c] = s / A[c, c]
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def relative_displacement(W, P, m, d):
+    """d = W[:m, :m] P: the contact points' relative displacements (m) under the forces P (N)."""
+    for i in range(m):
+        s = 0.0
+        for j in range(m):
+            s += W[i, j] * P[j]
+        d[i] = s
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def unknowns_from_forces(nk, nrm, ta, tb, mode, active, P, off, x):
+    """The unknowns x of the contact solve and their offsets off[k] .. off[k + 1] - 1, from the
+    forces P (N, 3 per contact). The force of each contact k is a linear map of its unknowns:
+      slip (one unknown, N):          P_k = -N (n + mu s)    (Coulomb, Eqs. 18-23),
+      stick (three, N, f_a, f_b):     P_k = -N n + f_a t_a + f_b t_b,
+      inactive (none):                P_k = 0,
+    so a slip contact, the usual case, costs one unknown instead of three. Returns their number r."""
+    r = 0
+    for k in range(nk):
+        off[k] = r
+        if not active[k]:
+            continue
+        o = 3 * k
+        x[r] = -(P[o] * nrm[k, 0] + P[o + 1] * nrm[k, 1] + P[o + 2] * nrm[k, 2])
+        r += 1
+        if mode[k] == STICK:
+            x[r] = P[o] * ta[k, 0] + P[o + 1] * ta[k, 1] + P[o + 2] * ta[k, 2]
+            x[r + 1] = P[o] * tb[k, 0] + P[o + 1] * tb[k, 1] + P[o + 2] * tb[k, 2]
+            r += 2
+    off[nk] = r
+    return r
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def forces_from_unknowns(nk, nrm, ta, tb, sdir, mu, off, x, P):
+    """P (N, 3 per contact) from the unknowns x: the map of :func:`unknowns_from_forces`."""
+    for k in range(nk):
+        o = 3 * k
+        i = off[k]
+        nu = off[k + 1] - i
+        if nu == 0:
+            P[o], P[o + 1], P[o + 2] = 0.0, 0.0, 0.0
+        elif nu == 1:
+            for c in range(3):
+                P[o + c] = -x[i] * (nrm[k, c] + mu * sdir[k, c])
+        else:
+            for c in range(3):
+                P[o + c] = -x[i] * nrm[k, c] + x[i + 1] * ta[k, c] + x[i + 2] * tb[k, c]
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def reduced_delassus(W, nk, nrm, ta, tb, sdir, mu, off, Q):
+    """Q = O W C (r x r): how the observed relative displacements (m) of the contact points respond
+    to the unknowns (N). C maps the unknowns to the forces (:func:`forces_from_unknowns`); the observations are,
+    per contact, the normal displacement n.d (one per unknown N) and, for a stick contact, the
+    tangential ones t_a.d and t_b.d (one per friction unknown)."""
+    for k in range(nk):
+        for a in range(off[k + 1] - off[k]):
+            t = nrm[k] if a == 0 else (ta[k] if a == 1 else tb[k])
+            row = off[k] + a
+            for l in range(nk):
+                nu = off[l + 1] - off[l]
+                if nu == 0:
+                    continue
+                o, ol = 3 * k, 3 * l
+                w0 = t[0] * W[o, ol] + t[1] * W[o + 1, ol] + t[2] * W[o + 2, ol]
+                w1 = t[0] * W[o, ol + 1] + t[1] * W[o + 1, ol + 1] + t[2] * W[o + 2, ol + 1]
+                w2 = t[0] * W[o, ol + 2] + t[1] * W[o + 1, ol + 2] + t[2] * W[o + 2, ol + 2]
+                wn = w0 * nrm[l, 0] + w1 * nrm[l, 1] + w2 * nrm[l, 2]
+                if nu == 1:
+                    Q[row, off[l]] = -(wn + mu * (w0 * sdir[l, 0] + w1 * sdir[l, 1] + w2 * sdir[l, 2]))
+                else:
+                    Q[row, off[l]] = -wn
+                    Q[row, off[l] + 1] = w0 * ta[l, 0] + w1 * ta[l, 1] + w2 * ta[l, 2]
+                    Q[row, off[l] + 2] = w0 * tb[l, 0] + w1 * tb[l, 1] + w2 * tb[l, 2]
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def _residual(
+    Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, with_J
+):
+    """Residual R (and, with_J, its Jacobian J) of the contact conditions of :func:`newton_for_fixed_modes` at the
+    unknowns x; y = Q x, the observed relative displacements (m). Normal rows are in newtons; stick
+    rows (m/s) are scaled by 1 / (2/dt W_kk) and touch rows (m) by 1 / W_kk to newtons like them.
+    Returns the norm of R (N)."""
+    c2 = 2.0 / dt
+    for i in range(r):
+        s = 0.0
+        for j in range(r):
+            s += Q[i, j] * x[j]
+        y[i] = s
+    norm = 0.0
+    for k in range(nk):
+        i = off[k]
+        nu = off[k + 1] - i
+        if nu == 0:
+            Ne[k], Nd[k] = 0.0, 0.0  # inactive: no unknown, no force
+            continue
+        g = gst[k] + y[i]
+        if touch[k]:
+            # the step ends just touching: g = 0 with N free (0 <= N <= c_n g_dot, checked by the
+            # caller)
+            Ne[k], Nd[k] = 0.0, x[i]
+            sc = 1.0 / wkk[k] if wkk[k] > 0.0 else 1.0
+            R[i] = sc * g
+            if with_J:
+                for j in range(r):
+                    J[i, j] = sc * Q[i, j]
+        else:
+            # the law (Eqs. 24/29) and the damper while compressing (Eq. 16), continuous in x;
+            # the caller checks g > 0 at the solution
+            gd = gdst[k] + c2 * y[i]
+            fe, ke = contact_law(g, law, k_lin, k_hertz)
+            fd = c_n * gd if gd > 0.0 else 0.0
+            gam = ke + (c_n * c2 if gd > 0.0 else 0.0)
+            Ne[k], Nd[k] = fe, fd
+            R[i] = fe + fd - x[i]
+            if with_J:
+                for j in range(r):  # dN/dx = gam dg/dx
+                    J[i, j] = gam * Q[i, j]
+                J[i, i] -= 1.0
+        norm += R[i] * R[i]
+        for a in range(1, nu):
+            # stick: the tangential relative velocity at the end of the step vanishes; a direction
+            # with no compliance at all (a contact at a clamped node) admits any force and zero is
+            # taken
+            ia = i + a
+            t = ta[k] if a == 1 else tb[k]
+            if Q[ia, ia] <= 1e-13 * wkk[k] or wkk[k] == 0.0:
+                R[ia] = x[ia]
+                if with_J:
+                    for j in range(r):
+                        J[ia, j] = 0.0
+                    J[ia, ia] = 1.0
+            else:
+                sc = 1.0 / (c2 * wkk[k])
+                R[ia] = sc * (t[0] * wst[k, 0] + t[1] * wst[k, 1] + t[2] * wst[k, 2] + c2 * y[ia])
+                if with_J:
+                    for j in range(r):
+                        J[ia, j] = sc * c2 * Q[ia, j]
+            norm += R[ia] * R[ia]
+    return np.sqrt(norm)
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def newton_for_fixed_modes(
+    Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, dx, y, Ne, Nd, xt
+):
+    """Contact forces at the end of a Newmark step for fixed stick/slip modes and active set, as
+    the unknowns x of :func:`unknowns_from_forces` (N).
+
+    The relative displacement of the contact points responds linearly to the forces through the
+    Delassus matrix W (m/N, from the effective stiffness of both bodies): delta = W P, and so the
+    observed displacements to the unknowns through Q = O W C (:func:`reduced_delassus`). With the
+    predicted penetration g* and rates (contact-free step), each active contact k satisfies
+      normal (Eqs. 15-17, 24/29): N = law(max(g, 0)) + c_n max(g_dot, 0), g = g* + n.delta,
+        g_dot = g_dot* + 2/dt n.delta;
+      touch (touch[k]):  g = 0 with N free: the step in which the implicit damper alone would push
+        the bodies apart past the surface (Eq. 16's switch at g = 0, read as a set);
+      stick (Eqs. 18-23): the tangential relative velocity at the end of the step is zero;
+      slip (Coulomb):    P_t = -mu N s, s the unit slip direction: built into P's map, no equation;
+    an inactive contact has no unknown and no force. The caller keeps a contact in the law only
+    while g > 0 and in touch only while 0 <= N <= c_n g_dot. Newton iterations (semi-smooth at the
+    max()) from the given x, with a backtracking line search on |R|: near g = 0 the Hertz law's
+    slope vanishes and full steps can cycle across the kink. At most 15 iterations: a stick that
+    needs more friction than mu N has no solution here, and the caller switches it to slip.
+    Returns the number of iterations, negative when not converged; Ne, Nd hold the elastic and
+    damping parts of N at the final x."""
+    its = -15
+    r0 = _residual(
+        Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, True
+    )
+    for it in range(15):
+        for i in range(r):
+            R[i] = -R[i]
+        _dense_solve(J, R, r, dx)
+        scale = 1e-30
+        step = 0.0
+        for i in range(r):
+            scale = max(scale, abs(x[i]))
+            step = max(step, abs(dx[i]))
+        alpha = 1.0
+        for _ in range(12):
+            for i in range(r):
+                xt[i] = x[i] + alpha * dx[i]
+            r1 = _residual(
+                Q,
+                r,
+                nk,
+                off,
+                touch,
+                gst,
+                gdst,
+                wst,
+                ta,
+                tb,
+                wkk,
+                xt,
+                law,
+                k_lin,
+                k_hertz,
+                c_n,
+                dt,
+                J,
+                R,
+                y,
+                Ne,
+                Nd,
+                False,
+            )
+            if r1 <= (1.0 - 1e-4 * alpha) * r0 or r1 <= 1e-13 * max(scale, 1.0):
+                break
+            alpha *= 0.5
+        for i in range(r):
+            x[i] = xt[i]
+        if alpha * step <= 1e-12 * max(scale, 1e-30) or r1 <= 1e-13 * max(scale, 1.0):
+            its = it + 1  # Ne, Nd already belong to x (the last trial point)
+            break
+        r0 = _residual(
+            Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, True
+        )
+    return its

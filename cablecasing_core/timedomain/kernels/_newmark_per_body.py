@@ -1,0 +1,148 @@
+"""Newmark's average acceleration for one body (Eq. 18 with C = alpha M + beta K, the supports
+prescribed at the new time, Eq. 13): the contact-free predictor, the response to the contact
+forces, the update of acceleration and velocity, and the reactions at the prescribed DOFs."""
+
+from __future__ import annotations
+
+from numba import njit
+
+from ._banded_products_and_block_solve import block_solve, dia_product
+from ._compile_options import FM, NO_RT
+
+TINY = 1e-200  # m, m/s, m/s2: states below this are flushed to zero (see finish)
+
+
+@njit(**NO_RT)
+def predict(
+    Md, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan, cpl_i, cpl_v, up, vp, ap, step, dt, y1, r
+):
+    """Contact-free Newmark predictor: prescribe the supports at t+dt (Eq. 13) and solve
+    S_ff u_f = [M (c0 u + 2 c1 v + a) + C (c1 u + v)]_f - (coupling to the prescribed DOFs) for the
+    free DOFs, S = K + c1 C + c0 M = ck K + cm M, C = alpha M + beta K, c0 = 4/dt^2, c1 = 2/dt,
+    ck = 1 + c1 beta, cm = c0 + c1 alpha; U[free] holds the result.
+
+    One matrix product instead of two: with z = beta (c1 u + v) on the free DOFs the stiffness part
+    is K z = (S z - cm M z) / ck, so u_f = z_f / ck + S_ff^-1 ([M w]_f - [K_fp (u_p + beta v_p)]),
+    w = c0 u + 2 c1 v + a + alpha (c1 u + v) - (cm / ck) z (free), -(a_p + alpha v_p) (prescribed).
+    The stiffness enters only through K_fp, the few free rows next to the supports, given as
+    triplets: row cpl_i[0, m], support cpl_i[1, m] (index into pres), value cpl_v[m] (N/m). The
+    solve runs over the node blocks g0 .. g0+ng-1 that hold the free DOFs (prescribed DOFs among
+    them are identity rows with zero right-hand side). The supports move as row ``step`` of up, vp,
+    ap (m, m/s, m/s2, by channel). y1 is a padded scratch vector, r has ng."""
+    b = (Md.shape[0] - 1) // 2
+    n = U.shape[0]
+    c0 = 4.0 / (dt * dt)
+    c1 = 2.0 / dt
+    ck = 1.0 + c1 * beta
+    q = (c0 + c1 * alpha) / ck
+    z1 = y1[b : b + n]
+    cu = c0 + c1 * alpha - q * beta * c1
+    cv = 2 * c1 + alpha - q * beta
+    for j in range(n):
+        z1[j] = cu * U[j] + cv * V[j] + A[j]
+    for k in range(len(pres)):
+        j = pres[k]
+        ch = pchan[k]
+        u, v, a = (up[step, ch], vp[step, ch], ap[step, ch]) if ch >= 0 else (0.0, 0.0, 0.0)
+        U[j], V[j], A[j] = u, v, a
+        y1[b + j] = -(a + alpha * v)
+    for i in range(ng):
+        r[i] = 0.0
+    dia_product(Md, y1, g0, ng, r)
+    # - K_fp (u_p + beta v_p); the triplets come row by row, and each row's terms are subtracted in a
+    # register (in the same order as one at a time from r[row], so the same result): through memory,
+    # each term would wait for the previous one's store
+    m = 0
+    nm = cpl_v.shape[0]
+    while m < nm:
+        row = cpl_i[0, m]
+        acc = r[row - g0]
+        while m < nm and cpl_i[0, m] == row:
+            j = pres[cpl_i[1, m]]
+            acc -= cpl_v[m] * (U[j] + beta * V[j])
+            m += 1
+        r[row - g0] = acc
+    for k in range(len(pres)):
+        if g0 <= pres[k] < g0 + ng:
+            r[pres[k] - g0] = 0.0
+    block_solve(Dinv, L, LT, r)
+    u, v, rf = U[f0 : f0 + nf], V[f0 : f0 + nf], r[f0 - g0 : f0 - g0 + nf]
+    bk = beta / ck
+    for i in range(nf):
+        u[i] = rf[i] + bk * (c1 * u[i] + v[i])
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def respond_to_contact_forces(Kinv, fc, U, jl):
+    """U += Keff^-1 fc: the bodies' exact response to the contact forces fc (linear structure).
+    fc is nonzero on a few DOFs only (6 per cable contact node, 12 per casing element touched), so
+    the response is the sum of those compliance rows (Kinv symmetric, zero on the prescribed
+    DOFs), not a full solve; four rows per pass over U (a quarter of its loads and stores).
+    jl: integer scratch of len(U)."""
+    n = U.shape[0]
+    m = 0
+    for j in range(n):
+        if fc[j] != 0.0:
+            jl[m] = j
+            m += 1
+    k = 0
+    while k + 4 <= m:
+        a, b, c, d = jl[k], jl[k + 1], jl[k + 2], jl[k + 3]
+        fa, fb, fc_, fd = fc[a], fc[b], fc[c], fc[d]
+        ra, rb, rc, rd = Kinv[a], Kinv[b], Kinv[c], Kinv[d]
+        for i in range(n):
+            U[i] += (fa * ra[i] + fb * rb[i]) + (fc_ * rc[i] + fd * rd[i])
+        k += 4
+    for k in range(k, m):
+        fa = fc[jl[k]]
+        ra = Kinv[jl[k]]
+        for i in range(n):
+            U[i] += fa * ra[i]
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def finish(f0, nf, U, V, A, Uo, Vo, Ao, dt):
+    """Newmark update of the free DOFs' acceleration and velocity from the new displacement; states
+    below TINY are flushed to zero."""
+    c0 = 4.0 / (dt * dt)
+    c2 = 4.0 / dt
+    u, v, a = U[f0 : f0 + nf], V[f0 : f0 + nf], A[f0 : f0 + nf]
+    uo, vo, ao = Uo[f0 : f0 + nf], Vo[f0 : f0 + nf], Ao[f0 : f0 + nf]
+    # Far from the excitation the response decays towards zero through subnormal numbers, where
+    # every operation costs ~100 times more (10-50x slower steps were measured at the start of a
+    # run). States below TINY (in SI units, physically nothing) are set to zero, by selects in the
+    # same pass (branches in a second pass cost a third more).
+    for i in range(nf):
+        ui = u[i]
+        ai = c0 * (ui - uo[i]) - c2 * vo[i] - ao[i]
+        vi = vo[i] + 0.5 * dt * (ao[i] + ai)
+        u[i] = 0.0 if abs(ui) < TINY else ui  # (NaN stays NaN, for the blow-up check)
+        v[i] = 0.0 if abs(vi) < TINY else vi
+        a[i] = 0.0 if abs(ai) < TINY else ai
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def reactions(sup, sup_lo, alpha, beta, U, V, A, fc, pres, pslot, out, off):
+    """Force the body exerts on each support DOF: -(M a + C v + K u - f_contact) at the
+    prescribed DOFs (Eq. 13). sup[q, 0] and sup[q, 1] are the rows of M and K of DOF pres[q] over
+    the columns sup_lo[q] .. sup_lo[q] + w - 1 (its band), contiguous, so each reaction is one
+    short dot product. Written into out[off + pslot[q]]."""
+    w = sup.shape[2]
+    for q in range(len(pres)):
+        j0 = sup_lo[q]
+        mr, kr = sup[q, 0], sup[q, 1]
+        u, v, a = U[j0 : j0 + w], V[j0 : j0 + w], A[j0 : j0 + w]
+        sm = 0.0
+        sk = 0.0
+        for k in range(w):
+            sm += mr[k] * (a[k] + alpha * v[k])
+            sk += kr[k] * (u[k] + beta * v[k])
+        out[off + pslot[q]] = fc[pres[q]] - (sm + sk)
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def predicted_velocity(f0, nf, U, Uo, V, Vo, dt):
+    """Newmark velocity of the free DOFs from the predicted displacement: v = 2/dt (u - u_old) - v_old."""
+    u, uo, v, vo = U[f0 : f0 + nf], Uo[f0 : f0 + nf], V[f0 : f0 + nf], Vo[f0 : f0 + nf]
+    for i in range(nf):
+        v[i] = 2.0 / dt * (u[i] - uo[i]) - vo[i]

@@ -1,0 +1,369 @@
+"""The Newmark step loop (average acceleration, gamma = 1/2, beta = 1/4; Eq. 18 with
+C = alpha M + beta K) with the supports prescribed (Eq. 13), the implicit contact forces, the
+support reactions and the energy ledger: :func:`run_steps`, the one kernel the engine calls. The
+per-body kernels it calls are in ``_newmark_per_body.py``."""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ._banded_products_and_block_solve import copy_into, dia_quadratic
+from ._compile_options import FM, NO_RT
+from ._contact_forces_with_active_set import solve_contact_forces
+from ._newmark_per_body import finish, predict, predicted_velocity, reactions, respond_to_contact_forces
+from ._step_loop_contract import (
+    DIAG_ACTIVE_SET_PASSES,
+    DIAG_DAMPING_POWER,
+    DIAG_FRICTION_POWER,
+    DIAG_MAX_PENETRATION,
+    DIAG_NEWTON_FAILED,
+    DIAG_NEWTON_ITERATIONS,
+    DIAG_SIZE,
+    ERR_INPUT,
+    ERR_NAN,
+    ERR_PENETRATION,
+    INFO_ACTIVE_SET_PASSES,
+    INFO_INPUT_CHANNEL,
+    INFO_INPUT_KIND,
+    INFO_INPUT_ROW,
+    INFO_NEWTON_ITERATIONS,
+    INFO_NODE,
+    INFO_TIME,
+    INFO_UNCONVERGED_STEPS,
+    INFO_VALUE,
+    LEDGER_CONTACT_WORK,
+    LEDGER_DAMPING_DISSIPATION,
+    LEDGER_DAMPING_POWER,
+    LEDGER_FRICTION_DISSIPATION,
+    LEDGER_FRICTION_POWER,
+    LEDGER_RAYLEIGH_DISSIPATION,
+    LEDGER_SUPPORT_WORK,
+    OK,
+    OPEN,
+)
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def _work(U, Uo, f, fn, lo, hi):
+    """Trapezoidal work (J) of the forces f (old) and fn (new) over U - Uo on DOFs lo..hi-1 (four
+    partial sums, as in :func:`dot`)."""
+    u, uo, a, an = U[lo:hi], Uo[lo:hi], f[lo:hi], fn[lo:hi]
+    s0 = s1 = s2 = s3 = 0.0
+    n = hi - lo
+    i = 0
+    while i + 4 <= n:
+        s0 += (a[i] + an[i]) * (u[i] - uo[i])
+        s1 += (a[i + 1] + an[i + 1]) * (u[i + 1] - uo[i + 1])
+        s2 += (a[i + 2] + an[i + 2]) * (u[i + 2] - uo[i + 2])
+        s3 += (a[i + 3] + an[i + 3]) * (u[i + 3] - uo[i + 3])
+        i += 4
+    for i in range(i, n):
+        s0 += (a[i] + an[i]) * (u[i] - uo[i])
+    return 0.5 * ((s0 + s1) + (s2 + s3))
+
+
+@njit(**NO_RT)
+def _body_ledger(
+    Md,
+    Kd,
+    alpha,
+    beta,
+    U,
+    Uo,
+    V,
+    Vo,
+    pres,
+    pslot,
+    reac,
+    reac_new,
+    off,
+    fc,
+    fc_new,
+    contact_on,
+    ledger_on,
+    y,
+    t,
+    dt,
+    ledger,
+):
+    """One body's share of a step in the energy ledger (J), trapezoidal rule: work of its supports
+    (reactions at slots off + pslot), work of the contact forces fc -> fc_new and, with ledger_on,
+    the Rayleigh dissipation (y: padded scratch, t: scratch (2, n))."""
+    for q in range(len(pres)):
+        j = pres[q]
+        ledger[LEDGER_SUPPORT_WORK] += -0.5 * (reac[off + pslot[q]] + reac_new[off + pslot[q]]) * (U[j] - Uo[j])
+    n = U.shape[0]
+    if contact_on:
+        ledger[LEDGER_CONTACT_WORK] += _work(U, Uo, fc, fc_new, 0, n)
+    if ledger_on:
+        b = (Md.shape[0] - 1) // 2
+        z = y[b : b + n]
+        for i in range(n):
+            z[i] = Vo[i] + V[i]
+        ledger[LEDGER_RAYLEIGH_DISSIPATION] += 0.25 * dt * dia_quadratic(Md, Kd, alpha, beta, y, t)
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, ledger_on, rec, info):
+    """Advance both bodies by len(up) Newmark steps of size dt (s) from time t0 (s). Each step:
+    contact-free predictor of both bodies, contact search and implicit contact forces
+    (:func:`solve_contact_forces`), the bodies' response to them, Newmark update, reactions.
+
+    up, vp, ap: (n, 12) support channel displacement (m), velocity (m/s), acceleration (m/s2) at
+    t0 + (k+1) dt. casing, cable: :class:`BodyArrays`; law: :class:`ContactLaw`; contact:
+    :class:`ContactArrays` (its memory is updated, its ``time`` accumulates each cable node's time
+    in contact, s); reac (24): force each body exerts on each support, N and N.m, in the order
+    casing A, casing B, cable A, cable B, each [Fx Fy Fz Mx My Mz]; ledger (LEDGER_SIZE, J): the
+    LEDGER_* slots, the Rayleigh dissipation only with ledger_on; rec: :class:`Recording`. Returns a
+    status code (OK or ERR_*) with the INFO_* slots of info: what failed, and the running totals of
+    the contact solve. Non-finite support motion is refused before any step is taken (ERR_INPUT,
+    info = [row, channel, 0/1/2 for up/vp/ap]), so nothing is half-written.
+
+    With rec.on, step k writes row rec.off + k of rec.F (the reactions) and, sparse, the cable
+    nodes in contact at its end: entries rec.ptr[r] .. rec.ptr[r + 1] - 1 (r = rec.off + k;
+    rec.ptr[rec.off] set by the caller) of rec.node, rec.state, rec.N (N) and rec.g (m). Capacity:
+    one entry per cable node and step.
+
+    The records are unpacked once here, outside the loop, and the kernels the loop calls take
+    plain arrays: attributes read inside the loop would be reference-counted at every step (see
+    the package docstring).
+    """
+    nsteps = up.shape[0]
+    for q, x in enumerate((up, vp, ap)):
+        for k in range(nsteps):
+            for j in range(x.shape[1]):
+                if not np.isfinite(x[k, j]):
+                    info[INFO_INPUT_ROW], info[INFO_INPUT_CHANNEL], info[INFO_INPUT_KIND] = k, j, q
+                    return ERR_INPUT
+    # s: casing, c: cable
+    s_on, sMd, sKd, sDi, sL, sLT = casing.on, casing.Md, casing.Kd, casing.Dinv, casing.L, casing.LT
+    sg0, sng, sf0, snf, salpha, sbeta = casing.g0, casing.ng, casing.f0, casing.nf, casing.alpha, casing.beta
+    sU, sV, sA, spres, spchan, spslot = casing.U, casing.V, casing.A, casing.pres, casing.pchan, casing.pslot
+    sKinv, ssup, ssup_lo, scpl_i, scpl_v, fcs = (
+        casing.Kinv,
+        casing.sup,
+        casing.sup_lo,
+        casing.cpl_i,
+        casing.cpl_v,
+        casing.fc,
+    )
+    c_on, cMd, cKd, cDi, cL, cLT = cable.on, cable.Md, cable.Kd, cable.Dinv, cable.L, cable.LT
+    cg0, cng, cf0, cnf, calpha, cbeta = cable.g0, cable.ng, cable.f0, cable.nf, cable.alpha, cable.beta
+    cU, cV, cA, cpres, cpchan, cpslot = cable.U, cable.V, cable.A, cable.pres, cable.pchan, cable.pslot
+    cKinv, csup, csup_lo, ccpl_i, ccpl_v, fcc = cable.Kinv, cable.sup, cable.sup_lo, cable.cpl_i, cable.cpl_v, cable.fc
+    contact_on, r_cable = law.on, law.r_cable
+    Xc, Tc, Xs, Rs, Ls, ws = contact.Xc, contact.Tc, contact.Xs, contact.Rs, contact.Ls, contact.ws
+    state, elem, xi_arr, Pn, vrel = contact.state, contact.elem, contact.xi, contact.Pn, contact.vrel
+    Nn, gn, contact_time = contact.N, contact.g, contact.time
+    rec_on, rec_F, rec_ptr, rec_node, rec_state, rec_N, rec_g, rec_off = rec
+    ns = sU.shape[0]
+    nc = cU.shape[0]
+    sb = (sMd.shape[0] - 1) // 2
+    cb = (cMd.shape[0] - 1) // 2
+    sUo, sVo, sAo = sU.copy(), sV.copy(), sA.copy()
+    cUo, cVo, cAo = cU.copy(), cV.copy(), cA.copy()
+    sy1, sr = np.zeros(ns + 2 * sb), np.zeros(max(sng, 1))
+    cy1, cr = np.zeros(nc + 2 * cb), np.zeros(max(cng, 1))
+    sq, cq = np.zeros((2, ns)), np.zeros((2, nc))
+    fcs_new, fcc_new = np.zeros(ns), np.zeros(nc)
+    reac_new = np.zeros(24)
+    jl = np.zeros(max(ns, nc), np.int64)
+    diag = np.zeros(DIAG_SIZE)
+    cpar = (law.gap, law.r_in, law.law, law.k_lin, law.k_hertz, law.c_n, law.mu, law.v_stick, dt)
+    nn = Xc.shape[0]
+    t = t0
+    for k in range(nsteps):
+        t = t0 + (k + 1) * dt
+        if s_on:
+            copy_into(sUo, sU)
+            copy_into(sVo, sV)
+            copy_into(sAo, sA)
+            predict(
+                sMd,
+                sDi,
+                sL,
+                sLT,
+                sg0,
+                sng,
+                sf0,
+                snf,
+                salpha,
+                sbeta,
+                sU,
+                sV,
+                sA,
+                spres,
+                spchan,
+                scpl_i,
+                scpl_v,
+                up,
+                vp,
+                ap,
+                k,
+                dt,
+                sy1,
+                sr,
+            )
+        if c_on:
+            copy_into(cUo, cU)
+            copy_into(cVo, cV)
+            copy_into(cAo, cA)
+            predict(
+                cMd,
+                cDi,
+                cL,
+                cLT,
+                cg0,
+                cng,
+                cf0,
+                cnf,
+                calpha,
+                cbeta,
+                cU,
+                cV,
+                cA,
+                cpres,
+                cpchan,
+                ccpl_i,
+                ccpl_v,
+                up,
+                vp,
+                ap,
+                k,
+                dt,
+                cy1,
+                cr,
+            )
+        if contact_on:
+            predicted_velocity(sf0, snf, sU, sUo, sV, sVo, dt)
+            predicted_velocity(cf0, cnf, cU, cUo, cV, cVo, dt)
+            diag[DIAG_NEWTON_FAILED] = 0.0
+            nact = solve_contact_forces(
+                Xc,
+                Tc,
+                cU,
+                cV,
+                Xs,
+                Rs,
+                Ls,
+                sU,
+                sV,
+                cKinv,
+                sKinv,
+                cpar,
+                state,
+                elem,
+                xi_arr,
+                Pn,
+                vrel,
+                Nn,
+                gn,
+                fcc_new,
+                fcs_new,
+                diag,
+                ws,
+            )
+            info[INFO_UNCONVERGED_STEPS] += diag[DIAG_NEWTON_FAILED]
+            if nact > 0:
+                respond_to_contact_forces(sKinv, fcs_new, sU, jl)
+                respond_to_contact_forces(cKinv, fcc_new, cU, jl)
+            for i in range(nn):
+                if state[i] != OPEN:
+                    contact_time[i] += dt
+            if diag[DIAG_MAX_PENETRATION] > r_cable:
+                info[INFO_TIME], info[INFO_VALUE] = t, diag[DIAG_MAX_PENETRATION]
+                for i in range(nn):
+                    if gn[i] == diag[DIAG_MAX_PENETRATION]:
+                        info[INFO_NODE] = i
+                return ERR_PENETRATION
+        if s_on:
+            finish(sf0, snf, sU, sV, sA, sUo, sVo, sAo, dt)
+            reactions(ssup, ssup_lo, salpha, sbeta, sU, sV, sA, fcs_new, spres, spslot, reac_new, 0)
+        if c_on:
+            finish(cf0, cnf, cU, cV, cA, cUo, cVo, cAo, dt)
+            reactions(csup, csup_lo, calpha, cbeta, cU, cV, cA, fcc_new, cpres, cpslot, reac_new, 12)
+        # blow-up check on the cheap aggregates
+        tot = 0.0
+        for i in range(24):
+            tot += reac_new[i]
+        if not np.isfinite(tot):
+            info[INFO_TIME], info[INFO_NODE], info[INFO_VALUE] = t, -1, tot
+            return ERR_NAN
+        # energy ledger (trapezoidal rule, consistent with the average-acceleration scheme)
+        if s_on:
+            _body_ledger(
+                sMd,
+                sKd,
+                salpha,
+                sbeta,
+                sU,
+                sUo,
+                sV,
+                sVo,
+                spres,
+                spslot,
+                reac,
+                reac_new,
+                0,
+                fcs,
+                fcs_new,
+                contact_on,
+                ledger_on,
+                sy1,
+                sq,
+                dt,
+                ledger,
+            )
+        if c_on:
+            _body_ledger(
+                cMd,
+                cKd,
+                calpha,
+                cbeta,
+                cU,
+                cUo,
+                cV,
+                cVo,
+                cpres,
+                cpslot,
+                reac,
+                reac_new,
+                12,
+                fcc,
+                fcc_new,
+                contact_on,
+                ledger_on,
+                cy1,
+                cq,
+                dt,
+                ledger,
+            )
+        if contact_on:
+            ledger[LEDGER_FRICTION_DISSIPATION] += (
+                0.5 * dt * (ledger[LEDGER_FRICTION_POWER] + diag[DIAG_FRICTION_POWER])
+            )
+            ledger[LEDGER_DAMPING_DISSIPATION] += 0.5 * dt * (ledger[LEDGER_DAMPING_POWER] + diag[DIAG_DAMPING_POWER])
+            ledger[LEDGER_FRICTION_POWER] = diag[DIAG_FRICTION_POWER]
+            ledger[LEDGER_DAMPING_POWER] = diag[DIAG_DAMPING_POWER]
+        copy_into(reac, reac_new)
+        if contact_on:
+            copy_into(fcs, fcs_new)
+            copy_into(fcc, fcc_new)
+        if rec_on:
+            r = rec_off + k
+            for i in range(24):
+                rec_F[r, i] = reac[i]
+            j = rec_ptr[r]
+            for i in range(nn):  # only the nodes in contact (a few of them)
+                if state[i] != OPEN or Nn[i] != 0.0 or gn[i] != 0.0:
+                    rec_node[j] = i
+                    rec_state[j] = state[i]
+                    rec_N[j] = Nn[i]
+                    rec_g[j] = gn[i]
+                    j += 1
+            rec_ptr[r + 1] = j
+    info[INFO_TIME] = t
+    info[INFO_NEWTON_ITERATIONS] += diag[DIAG_NEWTON_ITERATIONS]
+    info[INFO_ACTIVE_SET_PASSES] += diag[DIAG_ACTIVE_SET_PASSES]
+    return OK

@@ -1,0 +1,77 @@
+"""What the step loop (:func:`run_steps`) takes and gives back, by name: the argument records of a
+body, of the contact law and of the contact, the recording buffers, the status codes, the contact
+states, and the names of the slots of the ledger, info and diag arrays. The engine and the kernels
+both use these names; numba reads the slot names as compile-time constants.
+"""
+
+from __future__ import annotations
+
+from collections import namedtuple
+
+# contact state of a cable node (int64 in the engine's state, int8 in the recorded history)
+OPEN, STICK, SLIP = 0, 1, 2
+
+# status codes of run_steps
+OK, ERR_NAN, ERR_PENETRATION, ERR_SEARCH, ERR_INPUT = 0, 1, 2, 3, 4
+
+# the energy ledger (J; the last two W), accumulated by the trapezoidal rule
+LEDGER_SUPPORT_WORK = 0  # work done by the supports on both bodies
+LEDGER_RAYLEIGH_DISSIPATION = 1  # dissipated by Rayleigh damping (only with ledger_on)
+LEDGER_START_ENERGY = 2  # energy at the start of the run (set by the engine)
+LEDGER_FRICTION_DISSIPATION = 3  # dissipated by friction in the contacts
+LEDGER_CONTACT_WORK = 4  # work of the contact forces on both bodies
+LEDGER_DAMPING_DISSIPATION = 5  # dissipated by the contact damper
+LEDGER_FRICTION_POWER = 6  # friction power of the last step (W)
+LEDGER_DAMPING_POWER = 7  # contact-damping power of the last step (W)
+LEDGER_SIZE = 8
+
+# the info array: what went wrong (status != OK), then running totals of the contact solve
+INFO_TIME = 0  # time of the failure (s); the end time after OK
+INFO_NODE = 1  # cable node of the failure, -1 for the support forces
+INFO_VALUE = 2  # the offending value (a penetration in m, a force sum in N)
+INFO_INPUT_ROW = 0  # ERR_INPUT: row of the support motion,
+INFO_INPUT_CHANNEL = 1  #   its channel (index into CHANNELS),
+INFO_INPUT_KIND = 2  #   0, 1, 2 for displacement, velocity, acceleration
+INFO_NEWTON_ITERATIONS = 3  # contact Newton iterations, summed over steps
+INFO_ACTIVE_SET_PASSES = 4  # stick/slip and active-set passes, summed over steps
+INFO_UNCONVERGED_STEPS = 5  # steps in which a contact Newton did not converge
+INFO_SIZE = 6
+
+# the diag array of one contact solve (one step)
+DIAG_MAX_PENETRATION = 0  # m
+DIAG_NEWTON_FAILED = 1  # 1.0 when a Newton did not converge
+DIAG_DAMPING_POWER = 2  # W, N_d g_dot of the contact damper
+DIAG_FRICTION_POWER = 3  # W, -P_t . w_t
+DIAG_NEWTON_ITERATIONS = 4  # summed over the step's passes
+DIAG_ACTIVE_SET_PASSES = 5
+DIAG_SIZE = 6
+
+#: One body for the step loop (SI units; arrays in the engine's storage, see the engine's _Body).
+#: on: the body is there and has free DOFs; Md, Kd: M and K in diagonal storage; Dinv, L, LT: the
+#: block LDL^T factor of the effective stiffness over the node blocks g0 .. g0+ng-1 that hold the
+#: free DOFs f0 .. f0+nf-1; alpha (1/s), beta (s): Rayleigh factors; U, V, A: the state (m, m/s,
+#: m/s2 and rad...); pres, pchan, pslot: the prescribed DOFs, their support channel (-1 for a
+#: rotation) and their slot among the support's six reactions; Kinv: the effective compliance
+#: (m/N) over all DOFs, zero on the prescribed ones; sup, sup_lo: the rows of M and K of the
+#: prescribed DOFs over their band and its first column; cpl_i, cpl_v: the stiffness between free
+#: and prescribed DOFs as triplets; fc: the generalized contact forces on the body (N, N.m).
+BodyArrays = namedtuple(
+    "BodyArrays", "on Md Kd Dinv L LT g0 ng f0 nf alpha beta U V A pres pchan pslot Kinv sup sup_lo cpl_i cpl_v fc"
+)
+
+#: The contact law and its switches: on (contact between the bodies), gap (m, radial gap e of
+#: Eqs. 30-31), r_in (m, casing inner radius), r_cable (m, the penetration that counts as a
+#: blow-up), law (0 Hertz, Eq. 29; 1 linear, Eq. 24), k_lin (N/m), k_hertz (N/m^1.5), c_n (kg/s,
+#: contact damping, Eq. 16), mu (Coulomb friction coefficient), v_stick (m/s, stick band).
+ContactLaw = namedtuple("ContactLaw", "on gap r_in r_cable law k_lin k_hertz c_n mu v_stick")
+
+#: The contact's geometry at rest and its memory: Xc, Tc (cable nodes and unit tangents), Xs, Rs,
+#: Ls (casing nodes, element frames and lengths); per cable node: state (OPEN/STICK/SLIP), elem
+#: and xi (the casing element and its coordinate last found), Pn (N, contact force), vrel (m/s,
+#: tangential relative speed), N (N, normal force), g (m, penetration), time (s in contact);
+#: ws: the contact solve's scratch (``contact_workspace``).
+ContactArrays = namedtuple("ContactArrays", "Xc Tc Xs Rs Ls state elem xi Pn vrel N g time ws")
+
+#: Recorded histories, written by step k into row off + k: on, F (n x 24 reactions), and the
+#: sparse contact history ptr, node, state, N, g (see run_steps).
+Recording = namedtuple("Recording", "on F ptr node state N g off")

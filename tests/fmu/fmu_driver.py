@@ -1,0 +1,522 @@
+"""Run dist/CableCasing.fmu in a fresh Python process (all FMUs of a process share its interpreter
+and module cache, so each test scenario gets its own process).
+
+This module does not import cablecasing_core: the FMU must load its own bundled copy. The test
+process prepares the input table (n, 36) - displacement, velocity, acceleration of the 12 support
+channels at each communication point - and reads back the outputs.
+
+    python tests/fmu/fmu_driver.py SCENARIO job.json      # writes job["out"] (npz)
+
+From a test: ``result = fmu_driver.run(tmp_path, "run", fmu=..., inputs=table, params={...})``.
+
+This module is over 400 lines because it is the one driver script of every scenario the FMU tests
+run in fresh processes.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import time
+from ctypes import byref
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+CHANNELS = [f"{b}.{s}.{d}" for b in ("casing", "cable") for s in "AB" for d in "xyz"]
+INPUTS = [f"{b}.{s}.{k}{d}" for k in ("", "v", "a") for b, s, d in (c.split(".") for c in CHANNELS)]
+STATUS = {0: "ok", 1: "warning", 2: "discard", 3: "error", 4: "fatal"}
+
+
+# ------------------------------------------------------------------------------ called by the tests
+def run(tmp_path, scenario, fmu, inputs=None, timeout=600, cwd=None, env=None, **args):
+    """Run ``scenario`` of this driver in a fresh process; returns the npz content as a dict.
+
+    ``inputs``: array (n, 36) in the order of :data:`INPUTS` (m, m/s, m/s2) at t = k h."""
+    tmp_path = Path(tmp_path)
+    n = len(list(tmp_path.glob("job*.json")))
+    job = dict(args, fmu=str(fmu), out=str(tmp_path / f"out{n}.npz"))
+    if inputs is not None:
+        np.save(tmp_path / f"inputs{n}.npy", np.asarray(inputs, dtype=float))
+        job["inputs"] = str(tmp_path / f"inputs{n}.npy")
+    path = tmp_path / f"job{n}.json"
+    path.write_text(json.dumps(job))
+    proc = subprocess.run(
+        [sys.executable, str(Path(__file__)), scenario, str(path)],
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+        cwd=cwd,
+        env=env,
+    )
+    if proc.returncode != 0:
+        raise RuntimeError(f"fmu_driver {scenario} failed ({proc.returncode}):\n{proc.stdout}\n{proc.stderr}")
+    with np.load(job["out"], allow_pickle=False) as z:
+        return {k: z[k] for k in z.files}
+
+
+# ------------------------------------------------------------------------------ fmpy instance
+class Instance:
+    """One FMU instance through fmpy's FMU2Slave, with the log captured."""
+
+    unzip_dirs = {}
+
+    def __init__(self, fmu, name="cc", params=None, start_time=0.0, logging=True, unzip=None, initialize=True):
+        from fmpy import extract, read_model_description
+        from fmpy.fmi2 import FMU2Slave
+
+        self.md = read_model_description(fmu)
+        self.var = {v.name: v for v in self.md.modelVariables}
+        if unzip is None:
+            unzip = Instance.unzip_dirs.setdefault(fmu, extract(fmu))
+        self.log = []
+        self.fmu = FMU2Slave(
+            guid=self.md.guid,
+            unzipDirectory=unzip,
+            modelIdentifier=self.md.coSimulation.modelIdentifier,
+            instanceName=name,
+        )
+        self.fmu.instantiate(callbacks=self._callbacks(), loggingOn=logging)
+        self.t = start_time
+        self.in_vr = [self.var[n].valueReference for n in INPUTS]
+        self._plans = {}
+        if not initialize:
+            return
+        self.fmu.setupExperiment(startTime=start_time)
+        self.fmu.enterInitializationMode()
+        self.status_init = self.set(params or {})
+        self.status_init = max(self.status_init, self.call(self.fmu.exitInitializationMode))
+
+    def _callbacks(self):
+        from fmpy import calloc, free
+        from fmpy.fmi2 import (
+            fmi2CallbackAllocateMemoryTYPE,
+            fmi2CallbackFreeMemoryTYPE,
+            fmi2CallbackFunctions,
+            fmi2CallbackLoggerTYPE,
+        )
+        from fmpy.logging import addLoggerProxy
+
+        def logger(env, instance, status, category, message):
+            self.log.append((int(status), message.decode("utf-8", "replace") if message else ""))
+
+        cb = fmi2CallbackFunctions()
+        cb.logger = fmi2CallbackLoggerTYPE(logger)
+        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        addLoggerProxy(byref(cb))
+        self._cb = cb  # keep the C callbacks alive
+        return cb
+
+    @staticmethod
+    def call(f, *a):
+        """Status of an FMI call (fmpy raises on anything worse than fmi2Warning)."""
+        from fmpy.fmi1 import FMICallException
+
+        try:
+            f(*a)
+            return 0
+        except FMICallException as exc:
+            return int(str(exc).split("status ")[1].split()[0])
+
+    def set(self, values):
+        status = 0
+        for name, value in values.items():
+            v = self.var[name]
+            vr = [v.valueReference]
+            setter = {
+                "Real": self.fmu.setReal,
+                "Integer": self.fmu.setInteger,
+                "Boolean": self.fmu.setBoolean,
+                "String": self.fmu.setString,
+            }[v.type]
+            status = max(status, self.call(setter, vr, [value]))
+        return status
+
+    def step(self, row, h):
+        self.fmu.setReal(self.in_vr, list(row))
+        status = self.call(self.fmu.doStep, self.t, h)
+        if status == 0:
+            self.t += h
+        return status
+
+    def get(self, names):
+        """Outputs by name: one fmi2GetReal and one fmi2GetInteger call, as a master would."""
+        key = tuple(names)
+        if key not in self._plans:
+            reals = [i for i, n in enumerate(names) if self.var[n].type == "Real"]
+            ints = [i for i, n in enumerate(names) if self.var[n].type == "Integer"]
+            self._plans[key] = (
+                reals,
+                [self.var[names[i]].valueReference for i in reals],
+                ints,
+                [self.var[names[i]].valueReference for i in ints],
+            )
+        reals, real_vr, ints, int_vr = self._plans[key]
+        out = np.empty(len(names))
+        if reals:
+            out[reals] = self.fmu.getReal(real_vr)
+        if ints:
+            out[ints] = self.fmu.getInteger(int_vr)
+        return out
+
+    def free(self):
+        self.fmu.terminate()
+        self.fmu.freeInstance()
+
+
+def simulate(inst, table, h, outputs):
+    """Step through the input table; outputs after each step and the status of each step."""
+    out = np.zeros((len(table), len(outputs)))
+    status = np.zeros(len(table), int)
+    for k, row in enumerate(table):
+        status[k] = inst.step(row, h)
+        out[k] = inst.get(outputs)
+    return out, status
+
+
+# ------------------------------------------------------------------------------ scenarios
+def scenario_run(job, table):
+    """Instantiate (parameters ``params``), step through the table; outputs after each step.
+    Also times instantiation up to the end of the first step (unzip excluded) and the rest."""
+    from fmpy import extract
+
+    Instance.unzip_dirs.setdefault(job["fmu"], extract(job["fmu"]))
+    t0 = time.perf_counter()
+    inst = Instance(job["fmu"], params=job.get("params"))
+    out = np.zeros((len(table), len(job["outputs"])))
+    status = np.zeros(len(table), int)
+    if len(table):
+        status[0] = inst.step(table[0], job["h"])
+        out[0] = inst.get(job["outputs"])
+    t1 = time.perf_counter()
+    out[1:], status[1:] = simulate(inst, table[1:], job["h"], job["outputs"])
+    t2 = time.perf_counter()
+    inst.free()
+    return dict(
+        out=out, status=status, init_status=inst.status_init, log=_log(inst.log), first_step_s=t1 - t0, run_s=t2 - t1
+    )
+
+
+def scenario_steps(job, table):
+    """Varying communication steps job["steps"] (s), one input row per step."""
+    inst = Instance(job["fmu"], params=job.get("params"))
+    out = np.zeros((len(table), len(job["outputs"])))
+    status = np.zeros(len(table), int)
+    for k, (row, h) in enumerate(zip(table, job["steps"])):
+        status[k] = inst.step(row, h)
+        out[k] = inst.get(job["outputs"])
+    return dict(out=out, status=status, log=_log(inst.log))
+
+
+def scenario_state(job, table):
+    """Get the state half way; continue (A); set the state and continue again (B); serialise it and
+    continue in a new instance (C) and in one created with other parameters (E); reset the first
+    instance and run everything again (D)."""
+    h, names = job["h"], job["outputs"]
+    inst = Instance(job["fmu"], name="first", params=job.get("params"))
+    n = len(table) // 2
+    first, _ = simulate(inst, table[:n], h, names)
+    state = inst.fmu.getFMUstate()
+    blob = inst.fmu.serializeFMUstate(state)
+    t_mid = inst.t
+    a, sa = simulate(inst, table[n:], h, names)
+    inst.fmu.setFMUstate(state)
+    inst.t = t_mid
+    b, sb = simulate(inst, table[n:], h, names)
+    inst.fmu.freeFMUstate(state)
+    other = Instance(job["fmu"], name="second", params=job.get("params"))
+    restored = other.fmu.deSerializeFMUstate(blob)
+    other.fmu.setFMUstate(restored)
+    other.t = t_mid
+    c, sc = simulate(other, table[n:], h, names)
+    # an instance built with other parameters (other mesh, too) takes the state's parameters along
+    third = Instance(job["fmu"], name="third", params={"contact.friction": 0.5, "geometry.n_elements": 30})
+    third.fmu.setFMUstate(third.fmu.deSerializeFMUstate(blob))
+    third.t = t_mid
+    e, se = simulate(third, table[n:], h, names)
+    inst.fmu.reset()
+    inst.t = 0.0
+    inst.fmu.setupExperiment(startTime=0.0)
+    inst.fmu.enterInitializationMode()
+    inst.set(job.get("params") or {})
+    inst.fmu.exitInitializationMode()
+    d, sd = simulate(inst, table, h, names)
+    return dict(
+        first=first,
+        a=a,
+        b=b,
+        c=c,
+        d=d,
+        e=e,
+        status=np.concatenate([sa, sb, sc, sd, se]),
+        blob_bytes=len(blob),
+        log=_log(inst.log + other.log),
+    )
+
+
+def scenario_two(job, table):
+    """Two instances with different parameters, stepped alternately in this process."""
+    h, names = job["h"], job["outputs"]
+    one = Instance(job["fmu"], name="one", params=job["p1"])
+    two = Instance(job["fmu"], name="two", params=job["p2"])
+    o1, o2 = np.zeros((len(table), len(names))), np.zeros((len(table), len(names)))
+    for k, row in enumerate(table):
+        assert one.step(row, h) == 0 and two.step(row, h) == 0
+        o1[k], o2[k] = one.get(names), two.get(names)
+    return dict(o1=o1, o2=o2)
+
+
+def scenario_errors(job, table):
+    """Misuse, one after the other in this process: each must give a status and a log message, and
+    the process (and where sensible the instance) must go on."""
+    h, names = job["h"], job["outputs"]
+    res = {}
+    zero = np.zeros(len(INPUTS))
+
+    def record(key, inst, status):
+        res[f"{key}_status"] = np.array(status)
+        res[f"{key}_log"] = np.array(_log(inst.log))
+        inst.log.clear()
+
+    inst = Instance(job["fmu"], name="nan")
+    bad = zero.copy()
+    bad[INPUTS.index("casing.A.z")] = np.nan
+    record("nan", inst, inst.step(bad, h))
+    bad = zero.copy()
+    bad[INPUTS.index("cable.B.vy")] = np.inf
+    record("inf", inst, inst.step(bad, h))
+    record("after_nan", inst, [inst.step(row, h) for row in table[:5]])
+    res["after_nan_out"] = inst.get(names)
+    record("wrong_time", inst, Instance.call(inst.fmu.doStep, inst.t + 1.0, h))
+    inst.free()
+
+    inst = Instance(job["fmu"], name="badparam", params={"casing.E": -1.0})
+    record("badparam_init", inst, inst.status_init)
+    record("badparam", inst, inst.step(zero, h))
+    inst = Instance(job["fmu"], name="badgap", params={"cable.d": 0.005})
+    record("badgap", inst, [inst.status_init, inst.step(zero, h)])
+    inst = Instance(job["fmu"], name="badfile", params={"model_file": "/nonexistent/model.toml"})
+    record("badfile", inst, [inst.status_init, inst.step(zero, h)])
+    inst = Instance(job["fmu"], name="baddt", params={"solver.dt": -1e-5})
+    record("baddt", inst, [inst.status_init, inst.step(zero, h)])
+
+    inst = Instance(job["fmu"], name="blowup")
+    jump = zero.copy()
+    jump[INPUTS.index("cable.A.y")] = 0.05  # 50 mm in one step: far through the casing wall
+    record("blowup", inst, inst.step(jump, h))
+    record("after_blowup", inst, [inst.step(row, h) for row in table[:5]])
+    res["after_blowup_out"] = inst.get(names)
+
+    inst = Instance(job["fmu"], name="badstate")
+    record("badstate", inst, [Instance.call(inst.fmu.deSerializeFMUstate, b"not a state at all"), inst.step(zero, h)])
+
+    inst = Instance(job["fmu"], name="fresh", start_time=0.25)  # the process goes on
+    out, status = simulate(inst, table[:5], h, names)
+    record("fresh", inst, status)
+    res["fresh_out"] = out
+    return res
+
+
+def scenario_libcosim(job, table):
+    """The same run under libcosimpy (Open Simulation Platform), outputs after each step."""
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimManipulator import CosimManipulator
+    from libcosimpy.CosimObserver import CosimObserver
+    from libcosimpy.CosimSlave import CosimLocalSlave
+
+    h, names = job["h"], job["outputs"]
+    step_ns = int(round(h * 1e9))
+    ex = CosimExecution.from_step_size(step_size=step_ns)
+    slave = ex.add_local_slave(CosimLocalSlave(fmu_path=job["fmu"], instance_name="cc"))
+    ref = {v.name.decode(): (v.reference, v.type) for v in ex.slave_variables(slave)}
+    for name, value in (job.get("params") or {}).items():
+        setter = {bool: ex.boolean_initial_value, str: ex.string_initial_value, int: ex.integer_initial_value}.get(
+            type(value), ex.real_initial_value
+        )
+        setter(slave, ref[name][0], value)
+    manipulator = CosimManipulator.create_override()
+    ex.add_manipulator(manipulator)
+    observer = CosimObserver.create_last_value()
+    ex.add_observer(observer)
+    in_refs = [ref[n][0] for n in INPUTS]
+    ints = [n for n in names if n == "contact.active"]
+    reals = [n for n in names if n not in ints]
+    out = np.zeros((len(table), len(names)))
+    ok = np.zeros(len(table), bool)
+    for k, row in enumerate(table):
+        manipulator.slave_real_values(slave, in_refs, [float(x) for x in row])
+        ok[k] = ex.step(1)
+        vals = dict(zip(reals, observer.last_real_values(slave, [ref[n][0] for n in reals])))
+        vals.update(zip(ints, observer.last_integer_values(slave, [ref[n][0] for n in ints])))
+        out[k] = [vals[n] for n in names]
+    return dict(out=out, ok=ok)
+
+
+def scenario_cache(job, table):
+    """Load the FMU from a fresh unpack folder, take one step, and report what numba did: cache
+    hits and misses (compilations) of every kernel of the FMU's own package, where the cache and
+    the package live, and the FMU's log."""
+    from fmpy import extract
+    from numba.core.registry import CPUDispatcher
+
+    unzip = extract(job["fmu"])
+    inst = Instance(job["fmu"], unzip=unzip)
+    status = inst.step(np.zeros(len(INPUTS)), job["h"])
+    disp = [
+        v
+        for name, mod in list(sys.modules.items())
+        if name.split(".")[0] == "cablecasing_core" and mod
+        for v in vars(mod).values()
+        if isinstance(v, CPUDispatcher)
+    ]
+    run_steps = next(d for d in disp if d.__name__ == "run_steps")
+    return dict(
+        status=status,
+        hits=sum(sum(d.stats.cache_hits.values()) for d in disp),
+        misses=sum(sum(d.stats.cache_misses.values()) for d in disp),
+        run_steps_hits=sum(run_steps.stats.cache_hits.values()),
+        cache_path=run_steps.stats.cache_path,
+        package_file=sys.modules["cablecasing_core"].__file__,
+        unzip=str(unzip),
+        log=_log(inst.log),
+    )
+
+
+def scenario_careless(job, table):
+    """What careless masters do (docs/fmu.md, "Careless masters"), each case's status and log."""
+    from fmpy.fmi2 import fmi2String, fmi2ValueReference
+
+    h, names = job["h"], job["outputs"]
+    res = {}
+
+    def record(key, inst, status):
+        res[f"{key}_status"] = np.array(status)
+        res[f"{key}_log"] = np.array(_log(inst.log) or [""])
+        inst.log.clear()
+
+    def set_raw_string(inst, name, raw):
+        vr = (fmi2ValueReference * 1)(inst.var[name].valueReference)
+        return Instance.call(inst.fmu.fmi2SetString, inst.fmu.component, vr, 1, (fmi2String * 1)(raw))
+
+    # strings: not UTF-8, NULL; the instance goes on and initialises with the built-in model
+    inst = Instance(job["fmu"], name="strings", initialize=False)
+    inst.fmu.setupExperiment(startTime=0.0)
+    inst.fmu.enterInitializationMode()
+    record("non_utf8", inst, set_raw_string(inst, "model_file", b"/tmp/\xff\xfe-model.toml"))
+    record("null_string", inst, set_raw_string(inst, "model_file", None))
+    res["model_file_after"] = np.array(inst.fmu.getString([inst.var["model_file"].valueReference])[0].decode())
+    record("strings_init", inst, Instance.call(inst.fmu.exitInitializationMode))
+    record("strings_step", inst, inst.step(table[0], h))
+    # times and steps
+    record("nan_time", inst, Instance.call(inst.fmu.doStep, float("nan"), h))
+    record("nan_step", inst, Instance.call(inst.fmu.doStep, inst.t, float("nan")))
+    record("huge_step", inst, Instance.call(inst.fmu.doStep, inst.t, 1e12))
+    record("after_refusals", inst, [inst.step(row, h) for row in table[1:4]])
+    res["after_refusals_out"] = inst.get(names)
+    # a failed state restore leaves the instance as it was: getters and steps work
+    good = inst.fmu.getFMUstate()
+    before = inst.get(names)
+    import io
+
+    z = dict(np.load(io.BytesIO(bytes(inst.fmu.serializeFMUstate(good))), allow_pickle=False))
+    z["engine.casing.U"] = z["engine.casing.U"][:-1]  # a state of the wrong shape
+    buf = io.BytesIO()
+    np.savez(buf, **z)
+    wrong = inst.fmu.deSerializeFMUstate(buf.getvalue())
+    record("bad_restore", inst, Instance.call(inst.fmu.setFMUstate, wrong))
+    res["after_bad_restore_out"] = inst.get(names)
+    res["before_bad_restore_out"] = before
+    record("after_bad_restore_step", inst, inst.step(table[4], h))
+    # parameters are fixed after initialisation
+    record("late_parameter", inst, inst.set({"contact.friction": 0.3}))
+    record("same_parameter", inst, inst.set({"contact.friction": 0.15}))
+    # calls after terminate
+    inst.fmu.terminate()
+    record("step_after_terminate", inst, Instance.call(inst.fmu.doStep, inst.t, h))
+    record("set_after_terminate", inst, inst.set({"casing.A.z": 1e-3}))
+    inst.fmu.freeInstance()
+
+    # NaN start time
+    inst = Instance(job["fmu"], name="nanstart", initialize=False)
+    record("nan_start", inst, Instance.call(inst.fmu.setupExperiment, None, float("nan"), None))
+    inst.fmu.freeInstance()
+    return res
+
+
+def scenario_memory(job, table):
+    """Resident memory over many steps of ever-changing size (a variable-step master)."""
+    inst = Instance(job["fmu"], params={"contact.enabled": False})
+    rng = np.random.default_rng(1)
+    rss = []
+    zero = np.zeros(len(INPUTS))
+    for k in range(job["steps"]):
+        assert inst.step(zero, float(rng.uniform(0.5e-4, 1.5e-4))) == 0
+        if k % 100 == 0:
+            with open("/proc/self/statm") as f:
+                rss.append(int(f.read().split()[1]) * 4096)
+    inst.free()
+    return dict(rss=np.array(rss))
+
+
+def scenario_model_file(job, table):
+    """Getters with a model file set, and a parameter set to its built-in value."""
+    res = {}
+    inst = Instance(job["fmu"], name="model-file", initialize=False)
+    fmu, var = inst.fmu, inst.var
+    fmu.setupExperiment(startTime=0.0)
+    fmu.enterInitializationMode()
+    vr = lambda n: [var[n].valueReference]  # noqa: E731
+    res["E_builtin"] = fmu.getReal(vr("casing.E"))[0]
+    fmu.setString(vr("model_file"), [job["model_file"]])
+    res["model_file"] = np.array(fmu.getString(vr("model_file"))[0].decode())
+    res["E_file"] = fmu.getReal(vr("casing.E"))[0]
+    res["friction_file"] = fmu.getReal(vr("contact.friction"))[0]
+    fmu.setReal(vr("contact.friction"), [job["friction"]])
+    res["friction_set"] = fmu.getReal(vr("contact.friction"))[0]
+    fmu.exitInitializationMode()
+    in_vr = [var[n].valueReference for n in INPUTS]
+    out_vr = [var[n].valueReference for n in job["outputs"]]
+    out = np.zeros((len(table), len(out_vr)))
+    t = 0.0
+    for k, row in enumerate(table):
+        fmu.setReal(in_vr, list(row))
+        fmu.doStep(t, job["h"])
+        t += job["h"]
+        out[k] = fmu.getReal(out_vr)
+    fmu.terminate()
+    fmu.freeInstance()
+    res["out"] = out
+    return res
+
+
+def _log(entries):
+    return [f"{STATUS.get(s, s)}: {m}" for s, m in entries]
+
+
+SCENARIOS = {
+    "run": scenario_run,
+    "steps": scenario_steps,
+    "state": scenario_state,
+    "two": scenario_two,
+    "errors": scenario_errors,
+    "libcosim": scenario_libcosim,
+    "cache": scenario_cache,
+    "careless": scenario_careless,
+    "memory": scenario_memory,
+    "model_file": scenario_model_file,
+}
+
+
+def main():
+    scenario, path = sys.argv[1], sys.argv[2]
+    job = json.loads(Path(path).read_text())
+    table = np.load(job["inputs"]) if "inputs" in job else np.zeros((0, len(INPUTS)))
+    res = SCENARIOS[scenario](job, table)
+    np.savez(job["out"], **{k: np.asarray(v) for k, v in res.items()})
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,435 @@
+"""dist/CableCasing.fmu driven through fmpy (and libcosimpy), each scenario in a fresh process.
+
+The FMU is rebuilt first when it is missing or older than its sources. The references are
+independent of the FMU: the core's frequency-domain TRFAM, and the core's engine driven by the
+same input reconstruction (cablecasing_core.timedomain.support_motion) in this process.
+
+This module is over 400 lines because every FMU scenario is checked against the core here, with
+one build of the FMU and one driver (fmu_driver.py).
+"""
+
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.signal import csd, find_peaks, welch
+
+import cablecasing_core as cc
+from cablecasing_core.model.schema import CHANNELS, OUTPUTS
+from cablecasing_core.timedomain.engine import Engine
+from cablecasing_core.timedomain.scenario import scenario_motion
+from cablecasing_core.timedomain.support_motion import SupportReconstruction
+
+pytestmark = pytest.mark.slow  # every test runs the FMU in fresh processes
+
+
+ROOT = Path(__file__).resolve().parents[2]
+FMU = ROOT / "dist" / "CableCasing.fmu"
+H = 1e-4  # communication step (s)
+NCH = len(CHANNELS)
+
+
+# ------------------------------------------------------------------------------ signals and references
+def scenario_table(model, duration, h=H):
+    """The model's own scenario motion sampled at the communication points t = k h: (n, 36)."""
+    t = h * np.arange(int(round(duration / h)))
+    u, v, a = scenario_motion(model)(t)
+    return np.hstack([u, v, a])
+
+
+def multisine(channel, period, h, cycles, band=(10.0, 1000.0), rms=5.0, ramp=0.02, seed=7):
+    """Periodic random support acceleration of one channel: flat spectrum over ``band`` (Hz),
+    random phases, RMS ``rms`` (m/s2), with its exact periodic velocity and displacement, faded in
+    over ``ramp`` s by a half-cosine (product rule, so u, v, a stay consistent), then ``cycles``
+    periods. Returns the input table (n, 36) at t = k h and a function k -> acceleration at t_k."""
+    n = int(round(period / h))
+    f = np.fft.rfftfreq(n, h)
+    on = (f >= band[0]) & (f <= band[1])
+    A = np.zeros(len(f), complex)
+    A[on] = np.exp(2j * np.pi * np.random.default_rng(seed).random(on.sum()))
+    A *= rms / np.sqrt(np.mean(np.fft.irfft(A, n) ** 2))
+    iw = np.zeros(len(f), complex)
+    iw[1:] = 1 / (2j * np.pi * f[1:])
+    u, v, a = np.fft.irfft(A * iw * iw, n), np.fft.irfft(A * iw, n), np.fft.irfft(A, n)
+    r0 = int(round(ramp / h))
+    k = np.arange(r0 + cycles * n)
+    x = np.minimum(k * h / ramp, 1.0)
+    inside = x < 1
+    r = 0.5 * (1 - np.cos(np.pi * x))
+    dr = np.where(inside, 0.5 * np.pi / ramp * np.sin(np.pi * x), 0.0)
+    ddr = np.where(inside, 0.5 * (np.pi / ramp) ** 2 * np.cos(np.pi * x), 0.0)
+    uk, vk, ak = u[k % n], v[k % n], a[k % n]
+    table = np.zeros((len(k), 3 * NCH))
+    c = CHANNELS.index(channel)
+    table[:, c], table[:, NCH + c], table[:, 2 * NCH + c] = uk * r, vk * r + uk * dr, ak * r + 2 * vk * dr + uk * ddr
+    return table, (lambda j: a[np.asarray(j) % n])
+
+
+def core_run(model, table, h=H, dt=None, contact=None):
+    """The core's own simulation of the same run: Engine.advance per communication step with the
+    same input reconstruction the FMU uses; outputs (n, len(OUTPUTS)) after each step."""
+    eng = Engine(model, dt=dt, contact=contact, ledger=False)
+    rec = SupportReconstruction(NCH)
+    out = np.zeros((len(table), len(OUTPUTS)))
+    for k, row in enumerate(table):
+        motion = rec.motion(eng.time, h, row[:NCH], row[NCH : 2 * NCH], row[2 * NCH :])
+        eng.advance(h, motion)
+        rec.accept(motion)
+        o = eng.outputs()
+        out[k] = [o[n] for n in OUTPUTS]
+    return out
+
+
+@pytest.fixture
+def run(fmu_driver):
+    """``run(tmp_path, scenario, fmu, **job)``: a scenario of fmu_driver.py in a fresh process, at the
+    communication step H with every output unless the job says otherwise."""
+
+    def scenario_run(tmp_path, scenario, fmu, **kw):
+        kw.setdefault("h", H)
+        kw.setdefault("outputs", list(OUTPUTS))
+        return fmu_driver.run(tmp_path, scenario, fmu, **kw)
+
+    return scenario_run
+
+
+# ------------------------------------------------------------------------------ the archive
+def test_fmpy_validate_finds_no_problem(fmu):
+    from fmpy.validation import validate_fmu
+
+    assert validate_fmu(str(fmu)) == []
+
+
+def test_model_description_is_complete(fmu, fmu_driver):
+    from fmpy import read_model_description
+
+    md = read_model_description(str(fmu))
+    de = md.defaultExperiment
+    assert (float(de.startTime), float(de.stopTime), float(de.stepSize)) == (0.0, 1.0, 1e-4)
+    cs = md.coSimulation
+    assert cs.canGetAndSetFMUstate and cs.canSerializeFMUstate and cs.canHandleVariableCommunicationStepSize
+    assert not cs.canBeInstantiatedOnlyOncePerProcess
+    units = {u.name for u in md.unitDefinitions}
+    var = {v.name: v for v in md.modelVariables}
+    for v in md.modelVariables:
+        assert v.description, v.name
+        if v.type == "Real":
+            assert v.unit in units, v.name
+    expected = {fmu_driver.INPUTS[i]: "m" if i < 12 else "m/s" if i < 24 else "m/s2" for i in range(36)}
+    expected.update(
+        {
+            n: "N" if ".F" in n else "N.m"
+            for n in OUTPUTS
+            if n.count(".") == 2 and n[0] == "c" and n.split(".")[1] in "AB"
+        }
+    )
+    expected.update(
+        {
+            "contact.max_penetration": "m",
+            "contact.dissipated_energy": "J",
+            "casing.E": "Pa",
+            "cable.d": "m",
+            "casing.alpha": "1/s",
+            "casing.beta": "s",
+            "contact.friction": "1",
+            "solver.dt": "s",
+            "casing.rho": "kg/m3",
+            "contact.damping": "kg/s",
+        }
+    )
+    for name, unit in expected.items():
+        assert var[name].unit == unit, name
+    causality = {n: v.causality for n, v in var.items()}
+    assert all(causality[n] == "input" for n in fmu_driver.INPUTS)
+    assert all(causality[n] == "output" for n in OUTPUTS)
+    assert var["contact.active"].type == "Integer" and var["contact.enabled"].type == "Boolean"
+    assert var["model_file"].type == "String" and var["model_file"].start == ""
+    params = cc.load_model().parameters()
+    for key, value in params.items():  # every numeric model key, same start value
+        assert causality[key] == "parameter" and float(var[key].start) == float(value), key
+    outputs = [u.variable.name for u in md.outputs]
+    assert sorted(outputs) == sorted(OUTPUTS)
+    assert sorted(u.variable.name for u in md.initialUnknowns) == sorted(OUTPUTS)
+    assert all(u.dependencies == [] for u in md.outputs)  # no direct feedthrough
+    with zipfile.ZipFile(fmu) as z:
+        files = set(z.namelist())
+        doc = z.read("documentation/index.html").decode()
+    assert {
+        "documentation/index.html",
+        "documentation/externalDependencies.txt",
+        "documentation/geometry.png",
+        "model.png",
+        "resources/cablecasing_core/timedomain/engine.py",
+        "resources/cablecasing_core/timedomain/support_motion.py",
+        "resources/cablecasing_core/model/specimens/default.toml",
+        "resources/CableCasing.py",
+        "resources/python-environment.txt",
+        "resources/cablecasing_fmi2_bridge.py",
+    } <= files
+    assert not any("__pycache__" in f for f in files)
+    # the numba cache compiled at build time ships in one place (a first start loads it)
+    shipped = [f for f in files if f.endswith((".nbi", ".nbc"))]
+    assert shipped and all(f.startswith("resources/numba_cache/") for f in shipped)
+    assert any("run_steps" in f for f in shipped)
+    assert all(name in doc for name in ("casing.A.vx", "cable.B.Mz", "contact.friction", "geometry.png", "N.m"))
+
+
+def test_build_is_reproducible(tmp_path):
+    for name in ("one.fmu", "two.fmu"):
+        subprocess.run(
+            [sys.executable, str(ROOT / "build_fmu.py"), "--out", str(tmp_path / name)],
+            check=True,
+            cwd=ROOT,
+            capture_output=True,
+        )
+    assert (tmp_path / "one.fmu").read_bytes() == (tmp_path / "two.fmu").read_bytes()
+
+
+# ------------------------------------------------------------------------------ physics through the FMU
+def peak_frequencies(f, mag):
+    """Resonance peaks (Hz) of |H|: prominent local maxima, refined by a parabola through the
+    log-magnitude at the peak line and its two neighbours."""
+    idx = find_peaks(np.log(mag), prominence=np.log(1.5))[0]
+    lm = np.log(mag)
+    df = f[1] - f[0]
+    num = lm[idx - 1] - lm[idx + 1]
+    den = lm[idx - 1] - 2 * lm[idx] + lm[idx + 1]
+    return f[idx] + 0.5 * df * num / den
+
+
+@pytest.mark.parametrize("d", ["x", "y", "z"])
+def test_trfam_through_the_fmu(fmu, tmp_path, d, run):
+    """Periodic random motion of casing.A.<d> (10-1000 Hz, 1 s period, with velocity and
+    acceleration inputs), contact off, communication step 1e-4 s. With casing.alpha = 60 1/s (set
+    through the FMU) every mode decays faster than exp(-30 t): after a 0.02 s fade-in and 0.3 s the
+    response is periodic to 1e-4, so H1 over exactly one period (boxcar window, no leakage, no
+    noise) is the transfer function itself and must equal the core's frequency-domain TRFAM."""
+    alpha, period, settle = 60.0, 1.0, 0.3
+    table, acc_at = multisine(f"casing.A.{d}", period, H, cycles=2)
+    table = table[: int(round((0.02 + settle + period) / H))]
+    res = run(
+        tmp_path,
+        "run",
+        fmu,
+        inputs=table,
+        outputs=[f"casing.B.F{d}"],
+        params={"contact.enabled": False, "casing.alpha": alpha},
+    )
+    assert np.all(res["status"] == 0)
+    n = int(round(period / H))
+    r0 = int(round(0.02 / H))
+    force = -res["out"][-n:, 0]  # reaction on the body (TRFAM's sign) = -output
+    times = np.arange(len(table) - n, len(table)) + 1  # output k is at t_(k+1)
+    acc = acc_at(times - r0)
+    f, Pxy = csd(acc, force, fs=1 / H, window="boxcar", nperseg=n, detrend=False)
+    _, Pxx = welch(acc, fs=1 / H, window="boxcar", nperseg=n, detrend=False)
+    band = (f >= 20) & (f <= 800)
+    f = f[band]
+    H_fmu = Pxy[band] / Pxx[band]
+    m = cc.load_model().with_overrides({"casing.alpha": alpha})
+    H_core = cc.trfam(m, f"casing.A.{d}", f"casing.B.{d}", f, "viscous")
+    mag = np.abs(H_core)
+    # away from anti-resonances: lines within 5 Hz of a local minimum of |TRFAM| are left out
+    minima = f[find_peaks(-np.log(mag), prominence=np.log(1.5))[0]]
+    keep = np.all(np.abs(f[:, None] - minima[None, :]) > 5.0, axis=1) if len(minima) else np.ones(len(f), bool)
+    rel = np.abs(np.abs(H_fmu) / mag - 1)
+    # the reconstruction's gain is 1 + 1.1 % at 800 Hz, Newmark's phase error (w dt)^2/12 < 3e-4
+    # and the residual transient 1e-4: 5 % leaves room only for a real discrepancy
+    assert keep.mean() > 0.8
+    assert np.max(rel[keep]) < 0.05, f"worst {rel[keep].max():.3f} at {f[keep][np.argmax(rel[keep])]} Hz"
+    pc, pf = peak_frequencies(f, mag), peak_frequencies(f, np.abs(H_fmu))
+    assert len(pc) >= 3 and len(pc) == len(pf), (pc, pf)
+    assert np.max(np.abs(pc - pf)) <= 1.0, (pc, pf)
+
+
+CONTACT_RUN = 0.04  # s: the default scenario's first contact is at 0.024 s
+
+
+@pytest.fixture(scope="module")
+def contact_case():
+    """The default scenario (random casing A z, cable A axial 50 Hz, contact with friction), its
+    input table and the core's own run of it."""
+    model = cc.load_model()
+    table = scenario_table(model, CONTACT_RUN)
+    return model, table, core_run(model, table)
+
+
+def test_contact_run_equals_the_core(fmu, tmp_path, contact_case, run):
+    model, table, ref = contact_case
+    res = run(tmp_path, "run", fmu, inputs=table)
+    assert np.all(res["status"] == 0) and res["init_status"] == 0
+    active = ref[:, OUTPUTS.index("contact.active")]
+    assert active.max() >= 1 and ref[:, OUTPUTS.index("contact.dissipated_energy")][-1] > 0
+    # the same engine on the same motion: equal to round-off (a few ulps of each output's scale)
+    scale = np.max(np.abs(ref), axis=0) + 1e-300
+    assert np.max(np.abs(res["out"] - ref) / scale) < 1e-12
+
+
+def test_state_get_set_serialize_and_reset(fmu, tmp_path, contact_case, run):
+    model, table, ref = contact_case
+    res = run(tmp_path, "state", fmu, inputs=table)
+    assert np.all(res["status"] == 0)
+    n = len(table) // 2
+    assert np.array_equal(res["first"], ref[:n]) or np.max(np.abs(res["first"] - ref[:n])) < 1e-9
+    assert np.array_equal(res["a"], res["b"])  # set state, same steps: bit-identical
+    assert np.array_equal(res["a"], res["c"])  # serialised into a new instance: bit-identical
+    assert np.array_equal(res["a"], res["e"])  # ... also one built with other parameters
+    assert np.array_equal(np.vstack([res["first"], res["a"]]), res["d"])  # after fmi2Reset
+    assert res["a"][:, OUTPUTS.index("contact.active")].max() >= 1  # the state includes contacts
+
+
+def test_two_instances_are_independent(fmu, tmp_path, contact_case, run):
+    model, table, _ = contact_case
+    table = table[: int(0.03 / H)]
+    p1 = {"contact.friction": 0.05}
+    p2 = {"contact.friction": 0.3, "casing.E": 6e9, "geometry.n_elements": 30}
+    both = run(tmp_path, "two", fmu, inputs=table, p1=p1, p2=p2)
+    alone1 = run(tmp_path, "run", fmu, inputs=table, params=p1)
+    alone2 = run(tmp_path, "run", fmu, inputs=table, params=p2)
+    assert np.array_equal(both["o1"], alone1["out"]) and np.array_equal(both["o2"], alone2["out"])
+    assert not np.allclose(both["o1"], both["o2"])
+    # and p2 really is the core's model with those parameters
+    ref2 = core_run(model.with_overrides(p2), table)
+    assert np.max(np.abs(alone2["out"] - ref2) / (np.max(np.abs(ref2), axis=0) + 1e-300)) < 1e-12
+
+
+def test_any_communication_step(fmu, tmp_path, run):
+    """Steps that are not multiples of solver.dt (and shorter than it) against the engine driven by
+    the exact motion: a 60 Hz harmonic of casing.A.y, contact off. The reconstruction errs by
+    (w h)^3/6 < 1e-4 relative at the longest step, far below the 0.5 % allowed."""
+    model = cc.load_model()
+    w, amp = 2 * np.pi * 60.0, 2e-5
+    steps = np.tile([1e-4, 3.7e-5, 6e-6, 1.13e-4], 250)
+    t = np.concatenate([[0.0], np.cumsum(steps)[:-1]])
+    ramp = 1 - np.exp(-((t / 0.01) ** 2))  # not exact derivatives: only the motion's samples matter
+    c = CHANNELS.index("casing.A.y")
+    table = np.zeros((len(t), 3 * NCH))
+
+    def exact(tt):
+        tt = np.atleast_1d(tt)
+        s = 1 - np.exp(-((tt / 0.01) ** 2))
+        ds = 2 * tt / 0.01**2 * np.exp(-((tt / 0.01) ** 2))
+        dds = (2 / 0.01**2 - 4 * tt**2 / 0.01**4) * np.exp(-((tt / 0.01) ** 2))
+        u0, v0, a0 = amp * np.sin(w * tt), amp * w * np.cos(w * tt), -amp * w * w * np.sin(w * tt)
+        return u0 * s, v0 * s + u0 * ds, a0 * s + 2 * v0 * ds + u0 * dds
+
+    table[:, c], table[:, NCH + c], table[:, 2 * NCH + c] = exact(t)
+    del ramp
+    res = run(
+        tmp_path,
+        "steps",
+        fmu,
+        inputs=table,
+        steps=steps.tolist(),
+        outputs=["casing.B.Fy"],
+        params={"contact.enabled": False},
+    )
+    assert np.all(res["status"] == 0)
+
+    def motion(tt):
+        z = np.zeros((len(tt), NCH))
+        out = [z, z.copy(), z.copy()]
+        for o, x in zip(out, exact(tt)):
+            o[:, c] = x
+        return tuple(out)
+
+    eng = Engine(model, contact=False, ledger=False)
+    ref = np.zeros(len(steps))
+    for k, h in enumerate(steps):
+        eng.advance(float(h), motion)
+        ref[k] = eng.outputs()["casing.B.Fy"]
+    err = np.abs(res["out"][:, 0] - ref)
+    assert np.max(err) < 5e-3 * np.max(np.abs(ref))
+
+
+def test_errors_are_reported_and_the_process_goes_on(fmu, tmp_path, contact_case, run):
+    model, table, ref = contact_case
+    res = run(tmp_path, "errors", fmu, inputs=table[:5])
+    discard, error = 2, 3  # fmi2Discard, fmi2Error
+
+    def logged(key, *words):
+        text = " ".join(res[f"{key}_log"])
+        return all(w in text for w in words)
+
+    assert res["nan_status"] == discard and logged("nan", "casing.A.z", "nan", "finite")
+    assert res["inf_status"] == discard and logged("inf", "cable.B.vy", "inf")
+    assert np.all(res["after_nan_status"] == 0)  # the instance goes on after a refused step
+    assert res["wrong_time_status"] == discard and logged("wrong_time", "t =")
+    assert res["badparam_init_status"] == error  # initialisation fails, naming the parameter
+    assert logged("badparam_init", "error:", "casing.E", "-1.0", "positive")
+    assert res["badparam_status"] == error and logged("badparam", "did not initialise", "casing.E", "-1.0")
+    assert np.all(res["badgap_status"] == [error, error]) and logged("badgap", "casing.d_inner", "cable.d")
+    assert np.all(res["badfile_status"] == [error, error]) and logged(
+        "badfile", "model_file", "/nonexistent/model.toml"
+    )
+    assert np.all(res["baddt_status"] == [error, error]) and logged("baddt", "solver.dt", "-1e-05")
+    assert res["blowup_status"] == discard and logged("blowup", "penetration", "rolled back")
+    assert np.all(res["after_blowup_status"] == 0)  # the failed step was rolled back whole
+    np.testing.assert_array_equal(res["after_blowup_out"], ref[4])
+    # unreadable serialised bytes: fmi2DeSerializeFMUstate fails (fmi2Error, logged), the instance goes on
+    assert np.all(res["badstate_status"] == [error, 0])
+    assert logged("badstate", "error:", "not a serialised CableCasing FMU state")
+    assert np.all(res["fresh_status"] == 0)
+    np.testing.assert_array_equal(res["fresh_out"], ref[:5])  # start time 0.25 s changes nothing
+
+
+def test_libcosim_gives_the_same_outputs_as_fmpy(fmu, tmp_path, contact_case, run):
+    """A second importer: OSP's libcosim (C++, FMI Library) through libcosimpy. libcosim counts time
+    in integer nanoseconds and passes doStep(t_k, t_(k+1) - t_k) with t_k = k 1e5 / 1e9 in double,
+    steps that differ from 1e-4 s in the last bits; given the same steps, fmpy must give the same
+    bits."""
+    pytest.importorskip("libcosimpy")
+    model, table, ref = contact_case
+    params = {"contact.friction": 0.2}
+    res = run(tmp_path, "libcosim", fmu, inputs=table, params=params)
+    times = np.arange(len(table) + 1) * 100000 / 1e9
+    fm = run(tmp_path, "steps", fmu, inputs=table, params=params, steps=np.diff(times).tolist())
+    assert np.all(res["ok"]) and np.all(fm["status"] == 0)
+    assert np.array_equal(res["out"], fm["out"])
+    assert fm["out"][:, OUTPUTS.index("contact.active")].max() >= 1
+
+
+def test_numba_cache_outlives_the_unpacked_fmu(fmu, tmp_path, run):
+    """Two fresh processes, two fresh unpack folders: the second loads every kernel from the
+    per-user cache (no compilation), and the model's code and cache live outside the unpacked FMU
+    (a host may delete that folder after the run)."""
+    run(tmp_path, "cache", fmu)  # compiles if this FMU's kernels are not cached yet
+    res = run(tmp_path, "cache", fmu)
+    assert res["status"] == 0
+    assert res["misses"] == 0 and res["run_steps_hits"] >= 1
+    assert not str(res["package_file"]).startswith(str(res["unzip"]))
+    assert not str(res["cache_path"]).startswith(str(res["unzip"]))
+
+
+def test_first_start_on_an_empty_cache_compiles_nothing(fmu, tmp_path, run):
+    """A user who never ran the FMU (an empty per-user cache folder): the machine code compiled
+    when the FMU was built ships inside it and is loaded, so the first start compiles no kernel."""
+    import os
+
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+    env["XDG_CACHE_HOME"] = str(tmp_path / "empty-cache")
+    res = run(tmp_path, "cache", fmu, env=env)
+    assert res["status"] == 0
+    assert res["misses"] == 0 and res["run_steps_hits"] >= 1, res["log"]
+    assert str(res["cache_path"]).startswith(str(tmp_path / "empty-cache"))
+    assert any("files copied from the FMU" in line for line in res["log"])
+
+
+def test_a_first_start_that_must_compile_says_so(fmu, tmp_path, run):
+    """Without fitting machine code (here: the FMU without its shipped cache, an empty per-user
+    cache) numba compiles the kernels on the first start, and the FMU logs it while it happens."""
+    import os
+
+    stripped = tmp_path / "stripped.fmu"
+    with zipfile.ZipFile(fmu) as src, zipfile.ZipFile(stripped, "w", zipfile.ZIP_DEFLATED) as dst:
+        for info in src.infolist():
+            if not info.filename.startswith("resources/numba_cache/"):
+                dst.writestr(info, src.read(info.filename))
+    env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+    env["XDG_CACHE_HOME"] = str(tmp_path / "empty-cache")
+    res = run(tmp_path, "cache", stripped, env=env)
+    assert res["status"] == 0 and res["misses"] >= 1
+    assert any("compiling the model's numba kernels for this machine" in line for line in res["log"]), res["log"]

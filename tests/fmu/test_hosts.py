@@ -1,0 +1,467 @@
+"""dist/CableCasing.fmu in the hosts users have: third-party C hosts (fmusim, the FMU Compliance
+Checker) in the plain environment an engineer has (HOME and PATH=/usr/bin:/bin, no venv, no
+LD_PRELOAD), plain fmpy scripts and the fmpy command line, each in fresh processes; every run must
+exit with status 0. Also what a careless master does, and a host without the Python packages.
+
+The C hosts are the ones in ../shared/hosts (see its README), built from their public sources.
+"""
+
+import os
+import shutil
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cablecasing_core as cc
+from cablecasing_core.model.schema import CHANNELS, OUTPUTS
+from cablecasing_core.timedomain.engine import Engine
+from cablecasing_core.timedomain.scenario import scenario_motion
+from cablecasing_core.timedomain.support_motion import SupportReconstruction
+
+pytestmark = pytest.mark.slow  # every test starts processes that load the FMU
+
+ROOT = Path(__file__).resolve().parents[2]
+HOSTS = ROOT.parent / "shared" / "hosts"
+H = 1e-4
+NCH = len(CHANNELS)
+INPUTS = [f"{b}.{s}.{k}{d}" for k in ("", "v", "a") for b, s, d in (c.split(".") for c in CHANNELS)]
+PLAIN = {"HOME": os.environ.get("HOME", "/root"), "PATH": "/usr/bin:/bin"}
+
+needs_hosts = pytest.mark.skipif(not (HOSTS / "fmusim").exists(), reason=f"the C hosts are not in {HOSTS}")
+
+
+def fmusim_inputs(path, model, n):
+    """The default scenario's support motion at t = k h (k = 0..n) as fmusim's input CSV: one column
+    per input that moves, values written with repr (exact doubles); returns the (n + 1, 36) table."""
+    t = np.array([k * H for k in range(n + 1)])
+    table = np.hstack(scenario_motion(model)(t))
+    cols = [j for j in range(3 * NCH) if np.any(table[:, j] != 0)]
+    with open(path, "w") as f:
+        f.write(",".join(['"time"'] + [f'"{INPUTS[j]}"' for j in cols]) + "\n")
+        for k in range(n + 1):
+            f.write(",".join([repr(float(t[k]))] + [repr(float(table[k, j])) for j in cols]) + "\n")
+    return table
+
+
+def read_csv(path):
+    with open(path) as f:
+        names = [c.strip('"') for c in f.readline().strip().split(",")]
+    return names, np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+
+
+@pytest.fixture(scope="module")
+def scenario_csv(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("hosts")
+    table = fmusim_inputs(folder / "inputs.csv", cc.load_model(), 400)
+    return folder, table
+
+
+@needs_hosts
+def test_fmusim_plain_environment_equals_fmpy(fmu, scenario_csv, fmu_driver):
+    """Five fresh fmusim processes in the plain environment: exit 0 each, and casing.B.Fz equal to
+    fmpy's given the same calls: the same inputs and fmusim's steps, doStep(t_k, t_(k+1) - t_k) with
+    t_k = k h in double (which differ from h in the last bits, and the contact response is chaotic,
+    so other steps would not do). fmusim writes 16 significant digits, so 1e-12 relative leaves
+    room only for a different computation."""
+    folder, table = scenario_csv
+    outs = []
+    for k in range(5):
+        out, log = folder / f"fmusim{k}.csv", folder / f"fmusim{k}.log"
+        proc = subprocess.run(
+            [
+                str(HOSTS / "fmusim"),
+                "--interface-type",
+                "cs",
+                "--stop-time",
+                repr(400 * H),
+                "--output-interval",
+                repr(H),
+                "--input-file",
+                str(folder / "inputs.csv"),
+                "--output-file",
+                str(out),
+                "--log-file",
+                str(log),
+                "--logging-on",
+                str(fmu),
+            ],
+            env=PLAIN,
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
+        assert proc.returncode == 0, f"run {k}: exit {proc.returncode}\n{proc.stderr}\n{log.read_text()}"
+        names, data = read_csv(out)
+        outs.append(data[:, names.index("casing.B.Fz")])
+        assert "started Python" in log.read_text()  # the FMU says which interpreter it uses
+    assert all(np.array_equal(o, outs[0]) for o in outs)
+    steps = np.diff(np.arange(401) * H)
+    res = fmu_driver.run(folder, "steps", fmu, inputs=table[:400], h=H, steps=steps.tolist(), outputs=["casing.B.Fz"])
+    ref = res["out"][:, 0]  # after step k: at t_(k+1)
+    fz = outs[0][1:401]
+    assert np.max(np.abs(ref)) > 0.01
+    assert np.max(np.abs(fz - ref)) <= 1e-12 * np.max(np.abs(ref))
+
+
+@needs_hosts
+def test_compliance_checker_plain_environment(fmu, scenario_csv):
+    """The FMU Compliance Checker (FMI Library) imports, validates and simulates the FMU: exit 0 in
+    five fresh processes, no error in its report, and outputs with contact."""
+    folder, _ = scenario_csv
+    for k in range(5):
+        out, log = folder / f"check{k}.csv", folder / f"check{k}.log"
+        proc = subprocess.run(
+            [
+                str(HOSTS / "fmuCheck.linux64"),
+                "-h",
+                repr(H),
+                "-s",
+                "0.04",
+                "-i",
+                str(folder / "inputs.csv"),
+                "-o",
+                str(out),
+                "-l",
+                "4",
+                "-e",
+                str(log),
+                str(fmu),
+            ],
+            env=PLAIN,
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
+        assert proc.returncode == 0, (
+            f"run {k}: exit {proc.returncode}\n{proc.stdout[-2000:]}\n{log.read_text()[-3000:]}"
+        )
+        assert "0 Error(s)" in log.read_text()
+    names, data = read_csv(out)
+    assert data[:, names.index("contact.active")].max() >= 1
+
+
+PLAIN_SCRIPT = """
+import sys
+import fmpy
+import numpy as np
+fmu = sys.argv[1]
+t = np.arange(0, 0.03, 1e-4)
+w = 2 * np.pi * 60
+sig = np.array(list(zip(t, 4e-4 * np.sin(w * t), 4e-4 * w * np.cos(w * t), -4e-4 * w * w * np.sin(w * t))),
+               dtype=[("time", float), ("cable.A.x", float), ("cable.A.vx", float), ("cable.A.ax", float)])
+for mu in (0.05, 0.15, 0.3):
+    r = fmpy.simulate_fmu(fmu, stop_time=0.03, step_size=1e-4, input=sig, start_values={"contact.friction": mu},
+                          output=["casing.B.Fx", "contact.dissipated_energy"])
+    print("sweep", mu, repr(float(r["casing.B.Fx"][-1])), repr(float(r["contact.dissipated_energy"][-1])))
+try:
+    fmpy.simulate_fmu(fmu, stop_time=0.01, step_size=1e-4, start_values={"casing.E": -1.0})
+except Exception as exc:
+    print("raised", type(exc).__name__, exc)
+else:
+    print("bad parameter accepted")
+"""
+
+
+def test_plain_fmpy_script_sweep_in_fresh_processes(fmu, tmp_path):
+    """A user's script as users write it (no os._exit): three simulate_fmu calls on the .fmu path
+    in one process (a friction sweep), then a bad parameter, which must raise; in five fresh
+    processes, each must exit with 0, and each sweep point must equal a fresh process's run."""
+    script = tmp_path / "sweep.py"
+    script.write_text(PLAIN_SCRIPT)
+    results = []
+    for k in range(5):
+        proc = subprocess.run(
+            [sys.executable, str(script), str(fmu)], capture_output=True, text=True, timeout=600, cwd=tmp_path
+        )
+        assert proc.returncode == 0, f"run {k}: exit {proc.returncode}\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}"
+        lines = proc.stdout.splitlines()
+        sweep = [line.split()[1:] for line in lines if line.startswith("sweep ")]
+        assert len(sweep) == 3
+        assert any(line.startswith("raised FMICallException") for line in lines), proc.stdout[-2000:]
+        # the reason reaches the user through the FMU's log (fmpy prints it before raising)
+        assert "invalid parameter casing.E = -1.0: must be a positive number" in proc.stdout
+        results.append(sweep)
+    assert all(r == results[0] for r in results)
+    energy = [float(p[2]) for p in results[0]]
+    assert energy[0] != energy[1] != energy[2]  # the friction really changed each run
+    # each point of the sweep equals a process that ran only that point
+    one = tmp_path / "one.py"
+    one.write_text(PLAIN_SCRIPT.replace("(0.05, 0.15, 0.3)", "(0.3,)"))
+    proc = subprocess.run([sys.executable, str(one), str(fmu)], capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    alone = [line.split()[1:] for line in proc.stdout.splitlines() if line.startswith("sweep ")]
+    assert alone == [results[0][2]]
+
+
+def test_fmpy_command_line_exits_cleanly(fmu, tmp_path):
+    fmpy_cli = Path(sys.executable).parent / "fmpy"
+    for k in range(3):
+        proc = subprocess.run(
+            [
+                str(fmpy_cli),
+                "simulate",
+                str(fmu),
+                "--stop-time",
+                "0.01",
+                "--output-file",
+                str(tmp_path / f"out{k}.csv"),
+            ],
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
+        assert proc.returncode == 0, f"run {k}: exit {proc.returncode}\n{proc.stdout[-2000:]}\n{proc.stderr[-2000:]}"
+        assert (tmp_path / f"out{k}.csv").stat().st_size > 0
+
+
+@needs_hosts
+@pytest.mark.parametrize("case", ["empty_venv", "missing", "other_version"])
+def test_a_host_without_the_packages_gets_one_message(fmu, tmp_path, case):
+    """fmusim with logging off and a Python that cannot run the model: one message on stderr that
+    names what is missing and how to fix it, and fmusim ends normally (an error status, no signal)."""
+    env = dict(PLAIN)
+    if case == "empty_venv":
+        subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(tmp_path / "venv")], check=True)
+        env["CABLECASING_PYTHON"] = str(tmp_path / "venv" / "bin" / "python")
+        expected = ["numpy is not installed", "numba is not installed", "pip install", "CABLECASING_PYTHON"]
+    elif case == "missing":
+        env["CABLECASING_PYTHON"] = str(tmp_path / "no" / "python3.11")
+        expected = ["CABLECASING_PYTHON", "does not run as a Python interpreter"]
+    else:
+        mine = f"python{sys.version_info.major}.{sys.version_info.minor}"
+        # (pyenv's shims need pyenv, so look for the real executables beside this Python's prefix)
+        found = sorted(Path(sys.base_prefix).parent.glob("3.*/bin/python3.*")) + sorted(
+            Path("/usr/bin").glob("python3.*")
+        )
+        other = next((str(p) for p in found if p.name != mine and p.name[-1].isdigit() and os.access(p, os.X_OK)), None)
+        if other is None:
+            pytest.skip("no Python of another minor version here")
+        env["CABLECASING_PYTHON"] = other
+        expected = ["but this FMU was built for CPython"]
+    proc = subprocess.run(
+        [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", "0.001", str(fmu)],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert proc.returncode > 0, (proc.returncode, proc.stderr)  # failed, but not killed by a signal
+    for words in expected:
+        assert words in proc.stderr, proc.stderr
+
+
+def test_the_bridge_names_old_and_missing_packages():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("bridge", ROOT / "fmu_src" / "cablecasing_fmi2_bridge.py")
+    bridge = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bridge)
+    problems = bridge._missing_packages("numpy>=999.0;no-such-package-xyz>=1;scipy>=1.0")
+    assert len(problems) == 2
+    assert problems[0].startswith("numpy ") and "is too old (needs numpy>=999.0)" in problems[0]
+    assert problems[1] == "no-such-package-xyz is not installed (needs no-such-package-xyz>=1)"
+
+
+# ------------------------------------------------------------------------------ careless masters
+@pytest.fixture(scope="module")
+def careless(fmu, tmp_path_factory, fmu_driver):
+    model = cc.load_model()
+    table = np.hstack(scenario_motion(model)(H * np.arange(8)))
+    return fmu_driver.run(
+        tmp_path_factory.mktemp("careless"), "careless", fmu, inputs=table, h=H, outputs=list(OUTPUTS)
+    )
+
+
+@pytest.mark.parametrize(
+    "case, status, words",
+    [
+        ("non_utf8", 3, ["model_file", "not valid UTF-8"]),
+        ("null_string", 3, ["model_file = NULL"]),
+        ("strings_init", 0, []),
+        ("strings_step", 0, []),
+        ("nan_time", 3, ["currentCommunicationPoint = nan", "finite"]),
+        ("nan_step", 3, ["communicationStepSize = nan", "finite"]),
+        ("huge_step", 2, ["1000000000000.0 s refused", "at most 1000000 internal steps"]),
+        ("bad_restore", 3, ["cannot be restored", "unchanged"]),
+        ("after_bad_restore_step", 0, []),
+        ("late_parameter", 3, ["contact.friction = 0.3 refused", "fixed after initialisation"]),
+        ("same_parameter", 0, []),
+        ("step_after_terminate", 3, ["fmi2DoStep is not allowed", "terminated"]),
+        ("set_after_terminate", 3, ["fmi2SetReal is not allowed", "terminated"]),
+        ("nan_start", 3, ["startTime = nan", "finite"]),
+    ],
+)
+def test_careless_master(careless, case, status, words):
+    assert int(careless[f"{case}_status"]) == status, careless[f"{case}_log"]
+    text = " ".join(careless[f"{case}_log"])
+    for w in words:
+        assert w in text, text
+
+
+def test_careless_master_leaves_the_instance_usable(careless):
+    assert str(careless["model_file_after"]) == ""  # refused strings were not stored
+    assert np.all(careless["after_refusals_status"] == 0)
+    np.testing.assert_array_equal(careless["after_bad_restore_out"], careless["before_bad_restore_out"])
+
+
+def test_memory_is_bounded_whatever_the_step_sizes(fmu, tmp_path, fmu_driver):
+    """1500 steps of random size (each distinct, none a multiple of solver.dt): the resident memory
+    after the first 500 steps grows by less than 20 MB (without a bound: ~0.77 MB per step size)."""
+    res = fmu_driver.run(tmp_path, "memory", fmu, steps=1500)
+    rss = res["rss"]
+    assert rss[-1] - rss[5] < 20e6, (rss[5], rss[-1])
+
+
+def test_getters_give_the_model_files_values(fmu, tmp_path, fmu_driver):
+    """With model_file set, the parameter getters return the file's values; a parameter set to the
+    built-in specimen's value is applied (the run equals the core with that model)."""
+    base = cc.load_model()
+    changed = base.with_overrides({"casing.E": 6.5e9, "contact.friction": 0.4})
+    (tmp_path / "m.toml").write_text(changed.to_toml())
+    table = np.hstack(scenario_motion(base)(H * np.arange(300)))
+    res = fmu_driver.run(
+        tmp_path,
+        "model_file",
+        fmu,
+        inputs=table,
+        h=H,
+        outputs=["casing.B.Fz"],
+        model_file="m.toml",
+        friction=0.15,
+        cwd=tmp_path,
+    )
+    assert res["E_builtin"] == 5e9 and res["E_file"] == 6.5e9 and res["friction_file"] == 0.4
+    assert res["friction_set"] == 0.15
+    assert str(res["model_file"]) == str(tmp_path / "m.toml")  # relative: from the host's working folder
+    model = changed.with_overrides({"contact.friction": 0.15})
+    eng, rec = Engine(model, ledger=False), SupportReconstruction(NCH)
+    ref = np.zeros(len(table))
+    for k, row in enumerate(table):
+        m = rec.motion(eng.time, H, row[:NCH], row[NCH : 2 * NCH], row[2 * NCH :])
+        eng.advance(H, m)
+        rec.accept(m)
+        ref[k] = eng.outputs()["casing.B.Fz"]
+    np.testing.assert_array_equal(res["out"][:, 0], ref)
+
+
+def test_no_test_or_driver_leaves_with_os_exit():
+    """Leaving with os._exit (or _exit) hides a crash at exit: no test, driver, benchmark, example or
+    package module may do it."""
+    offenders = []
+    for folder in ("tests", "benchmarks", "examples", "cablecasing_core", "fmu_src"):
+        for path in (ROOT / folder).rglob("*"):
+            if path.suffix not in (".py", ".c") or path == Path(__file__):
+                continue
+            text = path.read_text(errors="replace")
+            for word in ("os._exit(", "_exit(0", "_exit(rc"):
+                if word in text:
+                    offenders.append(f"{path.relative_to(ROOT)}: {word}")
+    assert not offenders, offenders
+
+
+def test_a_c_host_of_our_own_in_the_plain_environment(fmu, tmp_path, fmu_driver):
+    """A 60-line C host (dlopen, instantiate, step, free, dlclose, return from main: every library
+    destructor runs) without Python of its own and without any environment variable but HOME and
+    PATH: exit 0 and the same outputs as through fmpy, bit for bit."""
+    import fmpy
+    from fmpy import extract, read_model_description
+
+    compiler = shutil.which("cc") or shutil.which("gcc")
+    if compiler is None or not sys.platform.startswith("linux"):
+        pytest.skip("needs a C compiler on Linux")
+    (tmp_path / "host.c").write_text(textwrap.dedent(C_HOST))
+    inc = Path(fmpy.__file__).parent / "c-code"
+    subprocess.run(
+        [compiler, "-O1", f"-I{inc}", "-o", str(tmp_path / "host"), str(tmp_path / "host.c"), "-ldl"],
+        check=True,
+        capture_output=True,
+    )
+    n = 200
+    model = cc.load_model()
+    table = np.hstack(scenario_motion(model)(H * np.arange(n)))
+    c = CHANNELS.index("casing.A.z")
+    np.ascontiguousarray(table[:, [c, NCH + c, 2 * NCH + c]]).tofile(tmp_path / "inputs.bin")
+    md = read_model_description(str(fmu))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    unzip = Path(extract(str(fmu)))
+    proc = subprocess.run(
+        [
+            str(tmp_path / "host"),
+            str(unzip / "binaries" / "linux64" / "CableCasing.so"),
+            md.guid,
+            (unzip / "resources").as_uri(),
+            str(tmp_path / "inputs.bin"),
+            str(n),
+            repr(H),
+            str(vr["casing.A.z"]),
+            str(vr["casing.A.vz"]),
+            str(vr["casing.A.az"]),
+            str(vr["casing.B.Fz"]),
+        ],
+        capture_output=True,
+        text=True,
+        env=PLAIN,
+        timeout=600,
+    )
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    y = np.array([float(line.split()[1]) for line in proc.stdout.splitlines() if line.startswith("y ")])
+    only_z = np.zeros_like(table)
+    for j in (c, NCH + c, 2 * NCH + c):
+        only_z[:, j] = table[:, j]
+    ref = fmu_driver.run(tmp_path, "run", fmu, inputs=only_z, h=H, outputs=["casing.B.Fz"])
+    assert len(y) == n and np.array_equal(y, ref["out"][:, 0])
+    assert np.max(np.abs(y)) > 0
+
+
+C_HOST = r"""
+    /* A minimal FMI 2.0 co-simulation host in C: loads the FMU's binary, drives inputs in_u, in_v,
+       in_a from a file of n x 3 doubles with steps of h, prints one output per step, unloads it. */
+    #include <dlfcn.h>
+    #include <stdarg.h>
+    #include <stdio.h>
+    #include <stdlib.h>
+    #include "fmi2Functions.h"
+
+    static void logger(fmi2ComponentEnvironment e, fmi2String name, fmi2Status s, fmi2String cat,
+                       fmi2String msg, ...) {
+        va_list ap; va_start(ap, msg); printf("log %d: ", s); vprintf(msg, ap); printf("\n"); va_end(ap);
+    }
+    #define LOAD(f) f##TYPE *f = (f##TYPE *)dlsym(lib, #f); if (!f) { printf("missing %s\n", #f); return 2; }
+
+    int main(int argc, char **argv) {   /* so guid resources_uri inputs.bin n h in_u in_v in_a out */
+        void *lib = dlopen(argv[1], RTLD_NOW | RTLD_LOCAL);
+        if (!lib) { printf("dlopen failed: %s\n", dlerror()); return 1; }
+        LOAD(fmi2Instantiate) LOAD(fmi2SetupExperiment) LOAD(fmi2EnterInitializationMode)
+        LOAD(fmi2ExitInitializationMode) LOAD(fmi2SetReal) LOAD(fmi2GetReal) LOAD(fmi2DoStep)
+        LOAD(fmi2Terminate) LOAD(fmi2FreeInstance)
+        int n = atoi(argv[5]);
+        double h = atof(argv[6]), t = 0.0, y;
+        fmi2ValueReference in[3] = {atoi(argv[7]), atoi(argv[8]), atoi(argv[9])}, out = atoi(argv[10]);
+        double *u = malloc(sizeof(double) * 3 * n);
+        FILE *f = fopen(argv[4], "rb");
+        if (!f || fread(u, sizeof(double), 3 * n, f) != (size_t)(3 * n)) { printf("cannot read inputs\n"); return 3; }
+        fclose(f);
+        fmi2CallbackFunctions cb = {logger, calloc, free, NULL, NULL};
+        fmi2Component c = fmi2Instantiate("chost", fmi2CoSimulation, argv[2], argv[3], &cb, fmi2False, fmi2True);
+        if (!c) { printf("instantiate failed\n"); return 4; }
+        if (fmi2SetupExperiment(c, fmi2False, 0.0, 0.0, fmi2False, 0.0) || fmi2EnterInitializationMode(c)
+            || fmi2ExitInitializationMode(c)) { printf("initialisation failed\n"); return 5; }
+        for (int k = 0; k < n; k++) {
+            fmi2SetReal(c, in, 3, u + 3 * k);
+            fmi2Status s = fmi2DoStep(c, t, h, fmi2True);
+            if (s != fmi2OK) { printf("doStep status %d\n", s); return 6; }
+            t += h;
+            fmi2GetReal(c, &out, 1, &y);
+            printf("y %.17g\n", y);
+        }
+        fmi2Terminate(c);
+        fmi2FreeInstance(c);
+        dlclose(lib);
+        free(u);
+        return 0;
+    }
+"""

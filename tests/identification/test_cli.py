@@ -1,0 +1,111 @@
+"""The ``identify`` sub-commands end to end on synthetic files (parser built with add_parser only)."""
+
+import argparse
+import sys
+
+import numpy as np
+import pytest
+
+from cablecasing_core import load_model, natural_frequencies
+from cablecasing_core.cli.identify import add_parser
+from cablecasing_core.identification import write_csv_time, write_uff_frf
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+F = np.array([115.8, 182.0, 254.1])
+ZETA = np.array([0.0359, 0.0263, 0.0216])
+ETA = np.array([0.0764, 0.046, 0.0448])
+
+
+def run(argv):
+    p = argparse.ArgumentParser(prog="cablecasing")
+    sub = p.add_subparsers(dest="command", required=True)
+    add_parser(sub)
+    args = p.parse_args(argv)
+    return args.func(args)
+
+
+def test_damping_end_to_end(tmp_path, capsys):
+    fs = 2048.0
+    t = np.arange(2048) / fs
+    x = sum(np.exp(-z * 2 * np.pi * f * t) * np.sin(2 * np.pi * f * np.sqrt(1 - z * z) * t) for f, z in zip(F, ZETA))
+    path = tmp_path / "impulse.csv"
+    write_csv_time(path, x, fs, names=["force_N"])
+    png, toml = tmp_path / "ridges.png", tmp_path / "rayleigh.toml"
+    assert (
+        run(["identify", "damping", str(path), "--plot", str(png), "--toml", str(toml)]) == 0
+    )  # peaks found automatically
+    out = capsys.readouterr().out
+    rows = [line.split() for line in out.splitlines() if line[:4].strip().isdigit()]
+    zeta = np.array([float(r[4]) for r in rows])
+    np.testing.assert_allclose(zeta, ZETA, rtol=0.01)  # same accuracy as the API (1 %)
+    data = tomllib.loads(toml.read_text())["casing"]
+    assert data["alpha"] >= 0 and data["beta"] >= 0
+    assert png.stat().st_size > 10000
+
+
+def test_loss_factor_end_to_end_uff(tmp_path, capsys):
+    f = np.arange(0.5, 400.0, 0.5)
+    w2 = (2 * np.pi * f) ** 2
+    Hd = sum(1.0 / ((2 * np.pi * fk) ** 2 * (1 + 1j * e) - w2) for fk, e in zip(F, ETA))
+    path = tmp_path / "trfam.uff"
+    write_uff_frf(path, f, Hd / (-w2), name="apparent mass")  # an apparent-mass-like FRF (F/a)
+    png, toml = tmp_path / "circles.png", tmp_path / "eta.toml"
+    assert (
+        run(
+            [
+                "identify",
+                "loss-factor",
+                str(path),
+                "--freqs",
+                *map(str, F),
+                "--plot",
+                str(png),
+                "--toml",
+                str(toml),
+                "--body",
+                "cable",
+            ]
+        )
+        == 0
+    )
+    table = np.array(tomllib.loads(toml.read_text())["cable"]["loss_factor"])
+    np.testing.assert_allclose(table[:, 0], F, rtol=1e-6)
+    np.testing.assert_allclose(table[:, 1], ETA, rtol=1e-5)  # exact modal sum: solver tolerance
+    assert png.stat().st_size > 10000
+    assert "loss_factor = [[" in capsys.readouterr().out
+
+
+def test_modulus_end_to_end(tmp_path, capsys):
+    model = load_model()
+    f_all = natural_frequencies(model.with_overrides({"casing.E": 6.0e9}), "casing", 4)
+    path = tmp_path / "measured.csv"
+    path.write_text("mode,f_hz\n" + "".join(f"{m},{float(f_all[m - 1])!r}\n" for m in (1, 2, 4)))
+    png, toml = tmp_path / "E.png", tmp_path / "E.toml"
+    assert run(["identify", "modulus", str(path), "--plot", str(png), "--toml", str(toml), "--resolution", "0.01"]) == 0
+    E = np.array(tomllib.loads(toml.read_text())["casing"]["E"])
+    np.testing.assert_allclose(E[:, 1], 6.0e9, rtol=1e-6)  # constant modulus recovered (FE stiffness ~ E)
+    assert png.stat().st_size > 10000
+
+
+def test_cli_errors_return_2(tmp_path, capsys):
+    path = tmp_path / "x.csv"
+    write_csv_time(path, np.random.default_rng(0).standard_normal(512), 512.0)
+    assert run(["identify", "damping", str(path), "--freqs", "300"]) == 2  # above fs/2 = 256 Hz
+    err = capsys.readouterr().err
+    assert "freqs_hz" in err and "fs/2" in err
+    assert run(["identify", "loss-factor", str(tmp_path / "missing.uff")]) == 2
+    assert "does not exist" in capsys.readouterr().err
+
+
+def test_registered_in_main_cli(tmp_path, capsys):
+    cli = pytest.importorskip("cablecasing_core.cli")
+    fs = 2048.0
+    t = np.arange(2048) / fs
+    path = tmp_path / "one.csv"
+    write_csv_time(path, np.exp(-0.02 * 2 * np.pi * 100 * t) * np.sin(2 * np.pi * 100 * t), fs)
+    assert cli.main(["identify", "damping", str(path), "--freqs", "100"]) == 0
+    assert "100.0" in capsys.readouterr().out

@@ -1,0 +1,69 @@
+"""Rayleigh factors by least squares (Eqs. 41-44)."""
+
+import numpy as np
+import pytest
+
+from cablecasing_core.errors import ModelError
+from cablecasing_core.identification import rayleigh_fit, rayleigh_matrix, rayleigh_zeta
+
+F = np.array([115.8, 182.0, 254.1, 410.0])
+
+
+def test_exact_rayleigh_data_recovered():
+    alpha, beta = 35.0, 2.2e-5
+    fit = rayleigh_fit(F, rayleigh_zeta(F, alpha, beta))
+    # exactly Rayleigh data: the solution is exact up to rounding (condition number ~1e1 after scaling)
+    assert fit.alpha == pytest.approx(alpha, rel=1e-12)
+    assert fit.beta == pytest.approx(beta, rel=1e-12)
+    np.testing.assert_allclose(fit.residuals, 0.0, atol=1e-15)
+
+
+def test_least_squares_matches_lstsq_and_normal_equations():
+    zeta = np.array([0.0359, 0.0263, 0.0216, 0.0190])
+    fit = rayleigh_fit(F, zeta)
+    A = rayleigh_matrix(F)
+    c_lstsq = np.linalg.lstsq(A, zeta, rcond=None)[0]
+    c_pinv = np.linalg.solve(A.T @ A, A.T @ zeta)  # Eq. (44) literally
+    # same minimiser; 1e-9 allows for the conditioning of the unscaled normal equations
+    np.testing.assert_allclose([fit.alpha, fit.beta], c_lstsq, rtol=1e-9)
+    np.testing.assert_allclose([fit.alpha, fit.beta], c_pinv, rtol=1e-9)
+    np.testing.assert_allclose(fit.residuals, zeta - A @ c_lstsq, atol=1e-14)
+    assert abs(A.T @ fit.residuals).max() < 1e-12 * np.abs(A.T @ zeta).max()  # normal equations hold
+
+
+def test_table1_values_and_nonnegative_option():
+    zeta = np.array([0.0359, 0.0263, 0.0216])  # Table 1
+    fit = rayleigh_fit(F[:3], zeta)
+    assert fit.alpha > 0 and fit.beta > 0
+    assert fit.rms_residual < 5e-4  # Table 1 is close to Rayleigh damping
+    # damping falling faster than 1/omega: least squares wants beta < 0, which the model file rejects
+    zeta_fast = np.array([0.04, 0.02, 0.01, 0.005])
+    assert rayleigh_fit(F, zeta_fast).beta < 0
+    nn = rayleigh_fit(F, zeta_fast, nonnegative=True)
+    assert nn.beta == 0.0 and nn.alpha > 0
+    # with beta = 0 the best alpha is the 1-D least squares a = <A1, z> / <A1, A1>
+    a1 = rayleigh_matrix(F)[:, 0]
+    assert nn.alpha == pytest.approx(a1 @ zeta_fast / (a1 @ a1), rel=1e-12)
+
+
+def test_weights():
+    zeta = np.array([0.0359, 0.0263, 0.0216, 0.0190])
+    w = np.array([1.0, 2.0, 3.0, 0.5])
+    fit = rayleigh_fit(F, zeta, weights=w)
+    c = np.linalg.lstsq(rayleigh_matrix(F) * w[:, None], zeta * w, rcond=None)[0]
+    np.testing.assert_allclose([fit.alpha, fit.beta], c, rtol=1e-9)
+
+
+def test_errors():
+    with pytest.raises(ModelError) as e:
+        rayleigh_fit([100.0], [0.01])
+    assert e.value.key == "freqs_hz"
+    with pytest.raises(ModelError) as e:
+        rayleigh_fit([100.0, 200.0], [0.01])
+    assert e.value.key == "zetas"
+    with pytest.raises(ModelError) as e:
+        rayleigh_fit([100.0, 100.0], [0.01, 0.02])
+    assert e.value.key == "freqs_hz"
+    with pytest.raises(ModelError) as e:
+        rayleigh_fit([-1.0, 100.0], [0.01, 0.02])
+    assert e.value.key == "freqs_hz"

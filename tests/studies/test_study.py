@@ -1,0 +1,239 @@
+"""Monte-Carlo study of Section 4.4: LHS stratification, resume, failures, dask == serial, Fig. 23."""
+
+import json
+import os
+
+import numpy as np
+import pytest
+
+from cablecasing_core.errors import ModelError
+from cablecasing_core.studies import (
+    PAPER_BOUNDS,
+    correlations,
+    evaluators,
+    latin_hypercube,
+    load_results,
+    plot_correlations,
+    run_study,
+)
+
+ANALYTIC = "cablecasing_core.studies.evaluators:analytic_evaluate"
+
+
+def _run(path, **kw):
+    kw.setdefault("evaluate", ANALYTIC)
+    kw.setdefault("n_samples", 20)
+    kw.setdefault("seed", 7)
+    kw.setdefault("scheduler", "serial")
+    kw.setdefault("progress", False)
+    return run_study(str(path), **kw)
+
+
+def _same(a, b):
+    """Exact equality of two StudyResults apart from the wall time."""
+    assert a.parameters == b.parameters and a.outputs == b.outputs
+    np.testing.assert_array_equal(a.index, b.index)
+    np.testing.assert_array_equal(a.X, b.X)
+    np.testing.assert_array_equal(a.Y, b.Y)  # NaN == NaN for failed rows
+    np.testing.assert_array_equal(a.status, b.status)
+    np.testing.assert_array_equal(a.error, b.error)
+
+
+def _indices_in_file(path):
+    with open(path) as fh:
+        return [int(line.split(",", 1)[0]) for line in fh.read().splitlines()[1:]]
+
+
+def test_lhs_stratification_and_determinism():
+    n = 37
+    X = latin_hypercube(PAPER_BOUNDS, n, seed=3)
+    assert X.shape == (n, 6)
+    for k, (lo, hi) in enumerate(PAPER_BOUNDS.values()):
+        strata = np.floor((X[:, k] - lo) / (hi - lo) * n).astype(int)
+        assert sorted(strata) == list(range(n))  # each of the n strata hit exactly once
+    np.testing.assert_array_equal(X, latin_hypercube(PAPER_BOUNDS, n, seed=3))
+    assert not np.array_equal(X, latin_hypercube(PAPER_BOUNDS, n, seed=4))
+
+
+@pytest.mark.parametrize(
+    "kw, key",
+    [
+        (dict(bounds={"casing.G": (1.0, 2.0)}), "bounds.casing.G"),
+        (dict(bounds={"casing.E": (2e9, 1e9)}), "bounds.casing.E"),
+        (dict(bounds={"casing.E": (1e9, 1e9)}), "bounds.casing.E"),
+        (dict(bounds={"casing.E": (1e9, float("nan"))}), "bounds.casing.E"),
+        (dict(n_samples=1), "n_samples"),
+        (dict(seed=-1), "seed"),
+        (dict(outputs=["oct1", "casing.E"], bounds={"casing.E": (1e9, 2e9)}), "outputs"),
+        (dict(evaluate="no_such_module:f"), "evaluate"),
+        (dict(scheduler=42), "scheduler"),
+        (dict(max_samples=-3), "max_samples"),
+    ],
+)
+def test_bad_input_names_the_field(tmp_path, kw, key):
+    with pytest.raises(ModelError) as e:
+        _run(tmp_path / "s.csv", **kw)
+    assert e.value.key == key
+
+
+def test_serial_values_are_the_closed_form(tmp_path):
+    res = _run(tmp_path / "s.csv")
+    assert len(res) == 20 and np.all(res.ok)
+    X = latin_hypercube(PAPER_BOUNDS, 20, seed=7)
+    np.testing.assert_array_equal(res.X, X)
+    for i in (0, 13):
+        ref = evaluators.analytic_evaluate(dict(zip(PAPER_BOUNDS, X[i].tolist())))
+        assert res.Y[i].tolist() == [ref[o] for o in res.outputs]  # exact: repr round-trips floats
+
+
+@pytest.mark.slow  # a dask cluster
+def test_dask_two_workers_equals_serial(tmp_path):
+    kw = dict(n_samples=24, seed=11, evaluate_kwargs={"fail_above": 0.18})
+    serial = _run(tmp_path / "serial.csv", **kw)
+    dask = _run(tmp_path / "dask.csv", scheduler="local", n_workers=2, **kw)
+    assert (serial.status == "failed").any()  # the failing rows are part of the comparison
+    _same(serial, dask)
+    assert sorted(_indices_in_file(tmp_path / "dask.csv")) == list(range(24))
+
+
+@pytest.mark.slow  # a dask cluster
+def test_existing_cluster_by_address(tmp_path):
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        res = _run(tmp_path / "addr.csv", scheduler=cluster.scheduler_address, n_samples=6)
+    _same(res, _run(tmp_path / "serial.csv", n_samples=6))
+
+
+def test_failed_sample_is_recorded_and_study_continues(tmp_path):
+    res = _run(tmp_path / "s.csv", evaluate_kwargs={"fail_above": 0.12})
+    fr = res.X[:, res.parameters.index("contact.friction")]
+    np.testing.assert_array_equal(res.status == "failed", fr > 0.12)
+    assert 0 < (res.status == "failed").sum() < 20
+    assert all(e.startswith("ValueError: contact.friction") for e in res.error[res.status == "failed"])
+    assert np.all(np.isnan(res.Y[res.status == "failed"])) and np.all(np.isfinite(res.Y[res.ok]))
+
+
+def test_placeholder_evaluate_is_refused_before_starting(tmp_path):
+    def placeholder(overrides):
+        raise NotImplementedError("placeholder")
+
+    placeholder.placeholder = True
+    with pytest.raises(NotImplementedError, match="placeholder"):
+        _run(tmp_path / "s.csv", evaluate=placeholder, n_samples=3)
+    assert not (tmp_path / "s.csv").exists()
+
+
+def test_default_evaluate_runs_the_model(tmp_path):
+    """The real per-sample function: a short engine run per sample, serial, two samples."""
+    res = run_study(
+        tmp_path / "s.csv",
+        n_samples=2,
+        seed=1,
+        scheduler="serial",
+        progress=False,
+        evaluate_kwargs={"duration": 0.12, "skip": 0.01},
+    )  # oct1 (11 Hz) needs 0.09 s
+    assert list(res.status) == ["ok", "ok"]
+    assert np.all(np.isfinite(res.Y)) and np.all(res.Y >= 0)
+
+
+def test_evaluate_errors_are_recorded_per_sample(tmp_path):
+    def bad(overrides):
+        if overrides["casing.E"] > 6e9:
+            raise RuntimeError("line one\nline two")
+        return {"x": 1.0}
+
+    res = _run(tmp_path / "s.csv", evaluate=bad, n_samples=10, outputs=["x", "y"])
+    assert set(res.status) == {"failed"}  # "y" missing from every result, RuntimeError for some
+    big = res.X[:, 1] > 6e9
+    assert all(e == "RuntimeError: line one | line two" for e in res.error[big])
+    assert all(e.startswith("KeyError") and "'y'" in e for e in res.error[~big])
+
+
+def test_resume_after_max_samples_repeats_nothing(tmp_path):
+    calls = []
+
+    def counting(overrides):
+        calls.append(dict(overrides))
+        return evaluators.analytic_evaluate(overrides)
+
+    p = tmp_path / "s.csv"
+    part = _run(p, evaluate=counting, max_samples=7)
+    assert list(part.index) == list(range(7)) and len(calls) == 7
+    full = _run(p, evaluate=counting)
+    assert len(calls) == 20  # 13 more, none repeated
+    assert _indices_in_file(p) == list(range(20))
+    assert len({tuple(sorted(c.items())) for c in calls}) == 20
+    again = _run(p, evaluate=counting)  # nothing left to do
+    assert len(calls) == 20
+    _same(full, again)
+    _same(full, _run(tmp_path / "clean.csv", evaluate=counting))
+
+
+def test_resume_after_hard_interruption_and_torn_line(tmp_path):
+    state = {"n": 0}
+
+    def dies_after_five(overrides):
+        state["n"] += 1
+        if state["n"] > 5:
+            raise KeyboardInterrupt  # not an Exception: stops the study
+        return evaluators.analytic_evaluate(overrides)
+
+    p = tmp_path / "s.csv"
+    with pytest.raises(KeyboardInterrupt):
+        _run(p, evaluate=dies_after_five)
+    assert _indices_in_file(p) == list(range(5))
+    with open(p, "a") as fh:  # a row torn by a kill mid-write
+        fh.write("5,ok,3.1e10,4e9")
+    state["n"] = -100
+    res = _run(p, evaluate=dies_after_five)
+    assert _indices_in_file(p) == list(range(20))  # torn row cut, sample 5 run once, no repeats
+    _same(res, _run(tmp_path / "clean.csv", evaluate=dies_after_five))
+
+
+def test_resume_with_other_settings_is_refused(tmp_path):
+    p = tmp_path / "s.csv"
+    _run(p, max_samples=3)
+    with pytest.raises(ModelError) as e:
+        _run(p, seed=8)
+    assert e.value.key == "seed"
+    with pytest.raises(ModelError) as e:
+        _run(p, n_samples=30)
+    assert e.value.key == "n_samples"
+    meta = json.loads(open(str(p) + ".meta.json").read())
+    assert meta["seed"] == 7 and meta["evaluate"] == ANALYTIC
+
+
+def test_infeasible_samples_are_recorded_not_evaluated(tmp_path):
+    calls = []
+
+    def ev(overrides):
+        calls.append(overrides)
+        return evaluators.analytic_evaluate(overrides)
+
+    bounds = {"cable.d": (0.003, 0.0045), "casing.d_inner": (0.0034, 0.0046), "casing.E": (2e9, 1e10)}
+    res = _run(tmp_path / "s.csv", evaluate=ev, bounds=bounds, n_samples=30)
+    bad = res.X[:, 0] >= res.X[:, 1]
+    assert bad.any() and len(calls) == 30 - bad.sum()
+    np.testing.assert_array_equal(res.status == "infeasible", bad)
+    assert all("cable.d" in e for e in res.error[bad])
+
+
+def test_correlations_against_constructed_dependences(tmp_path):
+    def ev(o):  # a: linear in cable.E; b: monotone, non-linear in casing.E; c: friction only
+        return {"a": 2 * o["cable.E"] + 1, "b": np.exp(o["casing.E"] / 1e9), "c": o["contact.friction"] ** 3}
+
+    n = 60
+    res = _run(tmp_path / "s.csv", evaluate=ev, n_samples=n, outputs=["a", "b", "c"])
+    pe, sp = correlations(res, "pearson"), correlations(res, "spearman")
+    P, S = pe.as_dict(), sp.as_dict()
+    assert P["cable.E"]["a"] == pytest.approx(1.0, abs=1e-12)
+    assert S["casing.E"]["b"] == pytest.approx(1.0, abs=1e-12) and P["casing.E"]["b"] < 0.99
+    assert S["contact.friction"]["c"] == pytest.approx(1.0, abs=1e-12)
+    assert "gap" in pe.parameters
+    # unrelated pairs: independent LHS columns, r ~ N(0, 1/(n-1)) -> |r| < 4/sqrt(n-1)
+    assert abs(P["cable.E"]["b"]) < 4 / np.sqrt(n - 1) and abs(S["casing.E"]["c"]) < 4 / np.sqrt(n - 1)
+    png = plot_correlations(res, str(tmp_path / "fig23.png"))
+    assert os.path.getsize(png) > 10_000
+    assert load_results(tmp_path / "s.csv").outputs == ("a", "b", "c")

@@ -1,0 +1,159 @@
+"""Contact of the time domain (Eqs. 14-39): the Hertz constant, the normal-plane search against the
+paper's Eq. (39), the far-from-wall bound, the interpolation matrix, the forces' balance and the
+effective compliance the contact solve uses."""
+
+import numpy as np
+import pytest
+
+import cablecasing_core as cc
+from cablecasing_core.structure.geometry import centerline_of
+from cablecasing_core.timedomain import kernels as K
+from cablecasing_core.timedomain.engine import Engine, hertz_constant
+from cablecasing_core.timedomain.scenario import zero_motion
+
+
+def test_hertz_constant_is_eq_29():
+    m = cc.load_model()
+    E1, E2, nu = 5.5e10, 5.0e9, 0.3
+    Es = 1 / ((1 - nu**2) / E1 + (1 - nu**2) / E2)  # Eq. (28)
+    r = 1 / (1 / 0.0015 - 1 / 0.002)  # Eq. (27), concave casing
+    g = 1e-5
+    F, _ = K.contact_law(g, 0, 0.0, hertz_constant(m))
+    assert F == pytest.approx(4 / 3 * r**0.5 * Es * g**1.5, rel=1e-12)  # Eq. (29)
+    assert K.contact_law(-1e-6, 0, 0.0, hertz_constant(m))[0] == 0.0  # no adhesion
+
+
+@pytest.mark.parametrize("shape", ["straight", "arc"])
+def test_contact_search_exact_intersection(shape, straight, arc_points, beam_model, probes):
+    if shape == "straight":
+        pts = np.array([[0, 0, 0], [0.4, 0, 0]], float)
+        model = straight(0.4, 8, supports=("clamped", "clamped"))
+    else:
+        pts = arc_points(0.2, np.pi / 2, 8)
+        model = beam_model(pts, 8)
+    cl = centerline_of(model)
+    rng = np.random.default_rng(3)
+    shift = np.array([1e-4, -2e-4, 3e-4])  # rigid translation: the Hermite axis stays straight
+    Us = np.zeros(6 * len(cl.nodes))
+    for i in range(len(cl.nodes)):
+        Us[6 * i : 6 * i + 3] = shift
+    for _ in range(20):
+        e = rng.integers(0, cl.n_elements)
+        x1 = cl.nodes[e] + rng.random() * (cl.nodes[e + 1] - cl.nodes[e]) + 3e-4 * rng.standard_normal(3)
+        t1 = cl.frames[e][0] + 0.05 * rng.standard_normal(3)
+        t1 /= np.linalg.norm(t1)
+        ee, xi, far = probes.search_casing(x1, t1, cl.nodes, cl.frames, cl.lengths, Us, e, 0.0)
+        # Eq. (39) with the plane through x1 spanned by two vectors normal to t1
+        p1 = x1 + np.cross(t1, [0, 0, 1.0]) if abs(t1[2]) < 0.9 else x1 + np.cross(t1, [1.0, 0, 0])
+        p2 = x1 + np.cross(t1, p1 - x1)
+        l, u, v = probes.line_plane_intersection(cl.nodes[ee] + shift, cl.nodes[ee + 1] + shift, x1, p1, p2)
+        assert not far
+        assert xi == pytest.approx(l, abs=1e-9)
+        point = probes.casing_point(cl.nodes, cl.frames, cl.lengths, Us, ee, xi)
+        assert abs((point - x1) @ t1) < 1e-12
+
+
+def test_far_test_never_claims_a_node_closer_than_the_hermite_axis_is(straight, probes):
+    """The search's cheap exit (far: certainly nearer than far_below to the deformed axis) must bound
+    the distance to the Hermite axis from above. The axis departs from the chord between the
+    deformed nodes also when the ends' rotations differ from the chord's own turn psi (an element
+    whose ends move apart sideways with no rotation is an S-curve): 0.096 L psi = 1e-5 m here."""
+    model = straight(0.4, 8, supports=("clamped", "clamped"))
+    cl = centerline_of(model)
+    rng = np.random.default_rng(5)
+    worst = 0.0
+    for trial in range(400):
+        Us = np.zeros(6 * len(cl.nodes))
+        e = int(rng.integers(1, cl.n_elements - 1))
+        Us[6 * e + 6 : 6 * e + 9] = 2e-4 * rng.standard_normal(3)  # lateral offset: psi ~ 4e-3
+        if trial % 2:
+            Us[6 * e : 6 * e + 12] += 1e-3 * rng.standard_normal(12) * np.repeat([1e-1, 1.0, 1e-1, 1.0], 3)
+        x1 = cl.nodes[e] + rng.uniform(0.1, 0.9) * (cl.nodes[e + 1] - cl.nodes[e])
+        x1 += 4e-5 * np.r_[0.0, rng.standard_normal(2)]
+        t1 = cl.frames[e][0]
+        ee, xi, far = probes.search_casing(x1, t1, cl.nodes, cl.frames, cl.lengths, Us, e, -1.0)
+        h = np.linalg.norm(x1 - probes.casing_point(cl.nodes, cl.frames, cl.lengths, Us, ee, xi))
+        # claimed nearer than h - 1e-9 m: the bound holds to first order in the rotations, whose
+        # second-order terms here are ~L theta^2 ~ 1e-9 m
+        _, _, far = probes.search_casing(x1, t1, cl.nodes, cl.frames, cl.lengths, Us, e, h - 1e-9)
+        assert not far, (trial, h)
+        # the same bound without psi (chord distance + L/4 (|theta_a| + |theta_b|)) fails on some
+        a, b = cl.nodes[e] + Us[6 * e : 6 * e + 3], cl.nodes[e + 1] + Us[6 * e + 6 : 6 * e + 9]
+        chord = np.linalg.norm(a + ((x1 - a) @ t1) / ((b - a) @ t1) * (b - a) - x1)
+        rot = np.linalg.norm(Us[6 * e + 3 : 6 * e + 6]) + np.linalg.norm(Us[6 * e + 9 : 6 * e + 12])
+        worst = max(worst, h - chord - 0.25 * cl.lengths[e] * rot)
+    assert worst > 5e-6  # so the trials do reach the nodes that need psi
+
+
+def test_hermite_matrix_is_the_rotated_local_interpolation_and_moves_rigidly():
+    """H (6x12, global) against diag(R^T, R^T) H_local diag(R, R, R, R) built from the shape
+    functions of Eq. (9) by matrix products, and against rigid-body motion, which the shape
+    functions reproduce exactly (tolerance: rounding of entries up to 1/L ~ 30)."""
+    from scipy.linalg import block_diag
+
+    rng = np.random.default_rng(11)
+    for _ in range(10):
+        R, _ = np.linalg.qr(rng.standard_normal((3, 3)))
+        R[2] *= np.sign(np.linalg.det(R))  # right-handed, as element_frames
+        xi, L = rng.random(), 0.035
+        N1, N2, N3, N4 = (
+            1 - 3 * xi**2 + 2 * xi**3,
+            L * (xi - 2 * xi**2 + xi**3),
+            3 * xi**2 - 2 * xi**3,
+            L * (xi**3 - xi**2),
+        )
+        D1, D2, D3, D4 = 6 * (xi**2 - xi) / L, 1 - 4 * xi + 3 * xi**2, 6 * (xi - xi**2) / L, 3 * xi**2 - 2 * xi
+        Hl = np.zeros((6, 12))
+        Hl[0, [0, 6]] = 1 - xi, xi  # axial
+        Hl[1, [1, 5, 7, 11]] = N1, N2, N3, N4  # v, from theta_z
+        Hl[2, [2, 4, 8, 10]] = N1, -N2, N3, -N4  # w, from -theta_y
+        Hl[3, [3, 9]] = 1 - xi, xi  # twist
+        Hl[4, [2, 4, 8, 10]] = -D1, D2, -D3, D4  # theta_y = -w'
+        Hl[5, [1, 5, 7, 11]] = D1, D2, D3, D4  # theta_z = v'
+        H = np.full((6, 12), np.nan)
+        K.hermite_matrix(xi, L, R, H)
+        np.testing.assert_allclose(H, block_diag(R.T, R.T) @ Hl @ block_diag(R, R, R, R), rtol=0, atol=1e-12)
+        c, w = rng.standard_normal(3) * 1e-4, rng.standard_normal(3) * 1e-3  # rigid motion
+        Xa = rng.standard_normal(3)
+        Xb, X = Xa + L * R[0], Xa + xi * L * R[0]
+        q = np.r_[c + np.cross(w, Xa), w, c + np.cross(w, Xb), w]
+        np.testing.assert_allclose(H @ q, np.r_[c + np.cross(w, X), w], rtol=0, atol=1e-15)
+
+
+def test_contact_forces_balance_force_and_moment(pair_model, kick):
+    m = pair_model(friction=0.3)
+    eng = Engine(m, dt=2e-5, contact=True)
+    kick(eng, 0.3)
+    for _ in range(200):
+        eng.advance(2e-4, zero_motion)
+        if eng.outputs()["contact.active"] > 0:
+            break
+    assert eng.outputs()["contact.active"] > 0
+    tot_F = np.zeros(3)
+    tot_M = np.zeros(3)
+    for name, fc in (("cable", eng.fcc), ("casing", eng.fcs)):
+        b = eng.bodies[name]
+        X = b.system.centerline.nodes + b.U.reshape(-1, 6)[:, :3]
+        f = fc.reshape(-1, 6)
+        tot_F += f[:, :3].sum(axis=0)
+        tot_M += (np.cross(X - 0 * X, f[:, :3]) + f[:, 3:]).sum(axis=0)
+    scale = np.abs(eng.fcc).max()
+    assert np.linalg.norm(tot_F) < 1e-9 * scale
+    # moments about the origin: the shape functions keep the moment of the load about the element's
+    # reference (undeformed) axis; the deformed lever arm differs by the displacement (~1e-4 m)
+    assert np.linalg.norm(tot_M) < 1e-3 * scale
+
+
+def test_contact_compliance_is_the_inverse_of_the_effective_stiffness():
+    # the dense inverse the contact solve reads comes from the block LDL factor; against LAPACK's
+    # inverse of the free part (measured 1.2e-15 of the largest entry; 1e-12 is rounding with room)
+    dt = 1e-5
+    for b in Engine(cc.load_model()).bodies.values():
+        Dinv, L, LT, inv = b.factors(dt, True)
+        g = slice(b.g0, b.g0 + b.ng)
+        keff = (1 + 2 * b.beta / dt) * b.K_full[g, g] + (4 / dt**2 + 2 * b.alpha / dt) * b.M_full[g, g]
+        f = slice(b.f0 - b.g0, b.f0 - b.g0 + b.nf)
+        ref = np.linalg.inv(keff[f, f])
+        free = slice(b.f0, b.f0 + b.nf)
+        assert np.abs(inv[free, free] - ref).max() < 1e-12 * np.abs(ref).max()
+        assert np.array_equal(inv, inv.T) and not inv[: b.f0].any() and not inv[:, b.f0 + b.nf :].any()

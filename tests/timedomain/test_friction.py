@@ -1,0 +1,84 @@
+"""Coulomb friction with stick-slip (Eqs. 18-23) through the engine's own contact kernel, on the
+mass-on-a-moving-belt oscillator of benchmarks.md, against its analytic limit cycle."""
+
+import numpy as np
+import pytest
+
+from cablecasing_core.timedomain import kernels as K
+
+M_, K_, N_, MU, V_BELT = 1.0, 1.0e4, 10.0, 0.3, 0.01  # kg, N/m, N, -, m/s
+W0 = np.sqrt(K_ / M_)
+XK = MU * N_ / K_
+
+
+def belt_run(v_stick, T, dt=1e-5):
+    """A cable 'node' of mass M_ on a spring K_, pressed with N_ onto a rigid casing 'belt' that moves
+    along x at V_BELT. Newmark for the mass; friction from kernels.solve_contact_forces each step."""
+    gap, g0, k_lin = 1e-3, N_ / 1e6, 1e6
+    Xc, Tc = np.array([[0.0, 0, gap + g0]]), np.array([[1.0, 0, 0]])
+    Xs = np.array([[-5.0, 0, 0], [5.0, 0, 0]])
+    Rs, Ls = np.eye(3)[None].copy(), np.array([10.0])
+    Keff = K_ + 4 * M_ / dt**2
+    Kc = np.zeros((6, 6))
+    Kc[0, 0] = 1 / Keff  # only x responds; the normal is rigid
+    Ks = np.zeros((12, 12))  # the casing is rigid (zero compliance)
+    state, elem, xi, vrel = np.zeros(1, np.int64), np.zeros(1, np.int64), np.zeros(1), np.zeros(1)
+    Pn, Nn, gn, diag = np.zeros((1, 3)), np.zeros(1), np.zeros(1), np.zeros(6)
+    fcc, fcs = np.zeros(6), np.zeros(12)
+    ws = K.contact_workspace(1)  # the solve's scratch, reused as the step loop does
+    law = (gap, gap + 1e-3, 1, k_lin, 0.0, 0.0, MU, v_stick, dt)  # linear law, no contact damping
+    u, v, a = 0.0, V_BELT, 0.0  # start stuck to the belt, spring relaxed
+    xs, states, fric = [], [], []
+    for n in range(int(round(T / dt))):
+        t = (n + 1) * dt
+        ustar = M_ * (4 / dt**2 * u + 4 / dt * v + a) / Keff
+        vstar = 2 / dt * (ustar - u) - v
+        Uc, Vc = np.zeros(6), np.zeros(6)
+        Uc[0], Vc[0] = ustar, vstar
+        Us, Vs = np.zeros(12), np.zeros(12)
+        Us[0] = Us[6] = V_BELT * t
+        Vs[0] = Vs[6] = V_BELT
+        K.solve_contact_forces(
+            Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, law, state, elem, xi, Pn, vrel, Nn, gn, fcc, fcs, diag, ws
+        )
+        un = ustar + fcc[0] / Keff
+        an = 4 / dt**2 * (un - u) - 4 / dt * v - a
+        v = v + dt / 2 * (a + an)
+        u, a = un, an
+        xs.append(u)
+        states.append(state[0])
+        fric.append(fcc[0])
+    return np.array(xs), np.array(states), np.array(fric), Nn[0]
+
+
+def test_normal_force_is_the_penalty_force():
+    _, _, _, N = belt_run(1e-5, 1e-3)
+    assert N == pytest.approx(N_, rel=1e-9)
+
+
+def test_stick_slip_limit_cycle():
+    """mu_s = mu_k: slip is harmonic about x_k = mu N / k with amplitude v / omega, period 2 pi / omega."""
+    T = 2 * np.pi / W0
+    x, st, f, _ = belt_run(1e-5, 3.2 * T)
+    dt = 1e-5
+    t = dt * np.arange(1, len(x) + 1)
+    assert st[0] == K.STICK and (st == K.SLIP).any()
+    first_slip = np.argmax(st == K.SLIP)
+    assert x[first_slip] == pytest.approx(XK, rel=1e-2)  # sticks until the spring reaches mu N
+    late = t > t[first_slip]
+    amp = V_BELT / W0
+    assert x[late].max() == pytest.approx(XK + amp, rel=1e-2)
+    assert x[late].min() == pytest.approx(XK - amp, rel=1e-2)
+    # period from successive maxima
+    from scipy.signal import find_peaks
+
+    pk, _ = find_peaks(x)
+    assert np.mean(np.diff(t[pk])) == pytest.approx(T, rel=1e-2)
+    # friction never exceeds mu N
+    assert np.abs(f).max() <= MU * N_ * (1 + 1e-9)
+
+
+def test_pure_slip_with_zero_stick_band():
+    x, st, f, _ = belt_run(0.0, 0.1)
+    assert (st[1:] == K.SLIP).all()
+    assert np.allclose(np.abs(f[1:]), MU * N_, rtol=1e-9)

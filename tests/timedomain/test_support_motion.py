@@ -1,0 +1,149 @@
+"""Input reconstruction of the FMU (cablecasing_core.timedomain.support_motion) against exact polynomials and sines."""
+
+import numpy as np
+import pytest
+
+from cablecasing_core.timedomain.support_motion import QuinticStep, SupportReconstruction, taylor_target
+
+
+def roundoff(u, v, a, h, d):
+    """Round-off bound of the power-form evaluation for the d-th derivative: a thousand ulps of
+    the step's displacement scale |u| + h|v| + h^2|a|, divided by h^d (m, m/s, m/s2)."""
+    scale = np.max(np.abs(u)) + h * np.max(np.abs(v)) + h * h * np.max(np.abs(a))
+    return 1e3 * np.finfo(float).eps * scale / h**d
+
+
+def hermite_basis_maxima(d):
+    """max over s in [0, 1] of |d-th s-derivative| of the six quintic Hermite basis functions
+    (value, slope, curvature at s = 0, then at s = 1), built independently of the module by solving
+    the 6x6 end-condition system."""
+    rows = []
+    for s0 in (0.0, 1.0):
+        for k in range(3):
+            rows.append([float(np.prod(range(j - k + 1, j + 1))) * s0 ** (j - k) if j >= k else 0.0 for j in range(6)])
+    coef = np.linalg.solve(np.array(rows), np.eye(6))  # column i: power coefficients of basis i
+    s = np.linspace(0, 1, 2001)
+    return np.array(
+        [
+            np.max(np.abs(np.polynomial.Polynomial(coef[:, i]).deriv(d)(s)))
+            if d
+            else np.max(np.abs(np.polynomial.Polynomial(coef[:, i])(s)))
+            for i in range(6)
+        ]
+    )
+
+
+def test_quintic_matches_end_conditions_and_reproduces_quintics():
+    rng = np.random.default_rng(3)
+    t0, h = 0.37, 2.5e-4
+    # a quintic in (t - t0) whose six terms are of similar size (1e-4 m) over the step
+    p = np.polynomial.Polynomial(1e-4 * rng.normal(size=6) / h ** np.arange(6))
+    u, v, a = (lambda t, q=q: q(t - t0) for q in (p, p.deriv(1), p.deriv(2)))
+    ones = np.ones(2)
+    step = QuinticStep(
+        t0, h, (u(t0) * ones, v(t0) * ones, a(t0) * ones), (u(t0 + h) * ones, v(t0 + h) * ones, a(t0 + h) * ones)
+    )
+    t = t0 + h * np.linspace(0, 1, 11)
+    got = step(t)
+    assert all(g.shape == (11, 2) for g in got)
+    # a quintic is its own quintic Hermite interpolant: equal up to round-off
+    for d, ref in enumerate((u, v, a)):
+        np.testing.assert_allclose(got[d][:, 1], ref(t), rtol=0, atol=roundoff(u(t), v(t), a(t), h, d))
+
+
+def test_reconstruction_is_exact_for_quadratic_inputs():
+    # Taylor to second order is exact for a quadratic, and the quintic then reproduces it
+    p = np.polynomial.Polynomial([2e-4, -3e-2, 40.0])
+    u, v, a = p, p.deriv(1), p.deriv(2)
+    h = 1e-4
+    rec = SupportReconstruction(1)
+    rec.state = np.array([[u(0.0)], [v(0.0)], [a(0.0)]])
+    for k in range(20):
+        t0 = k * h
+        m = rec.motion(t0, h, [u(t0)], [v(t0)], [a(t0)])
+        t = t0 + h * np.linspace(0.1, 1, 10)
+        for d, (got, ref) in enumerate(zip(m(t), (u, v, a))):
+            np.testing.assert_allclose(got[:, 0], ref(t), rtol=0, atol=roundoff(u(t), v(t), a(t), h, d))
+        rec.accept(m)
+
+
+def test_reconstruction_is_continuous_and_starts_from_the_support_state():
+    rng = np.random.default_rng(0)
+    rec = SupportReconstruction(12)
+    h = 1e-4
+    for k in range(5):
+        u, v, a = rng.normal(size=(3, 12)) * [[1e-3], [1e-1], [10.0]]  # arbitrary, even inconsistent inputs
+        m = rec.motion(k * h, h, u, v, a)
+        # the end target written out here (taylor_target calls the kernel under test)
+        target = (u + v * h + 0.5 * h * h * a, v + a * h, a)
+        for when, ref in ((k * h, tuple(rec.state)), ((k + 1) * h, target)):
+            got = m(np.array([when]))
+            for d in range(3):
+                np.testing.assert_allclose(got[d][0], ref[d], rtol=0, atol=roundoff(*ref, h, d))
+        rec.accept(m)
+
+
+@pytest.mark.parametrize("f_hz", [50.0, 400.0, 800.0])
+def test_sine_error_is_bounded_by_the_taylor_remainders(f_hz):
+    """u = A sin(w t), x = w h. The nodal data carry the Taylor remainders (|u'''| <= A w^3)
+    d0 = A x^3/6 (m), d1 = A w x^2/2 (m/s), d2 = A w^2 x (m/s2) at both ends of a step; inside, the
+    error is at most these times the maxima of the Hermite basis functions, plus the interpolation
+    error of exact data, O(x^6), which the 1 % margin covers. Nothing accumulates over steps."""
+    A, h, w = 1e-4, 1e-4, 2 * np.pi * f_hz
+    exact = (lambda t: A * np.sin(w * t), lambda t: A * w * np.cos(w * t), lambda t: -A * w * w * np.sin(w * t))
+    rec = SupportReconstruction(1)
+    rec.state = np.array([[e(0.0)] for e in exact])
+    err = np.zeros(3)
+    for k in range(int(round(3 / (f_hz * h)))):  # three periods
+        t0 = k * h
+        m = rec.motion(t0, h, *([e(t0)] for e in exact))
+        t = t0 + h * np.linspace(0, 1, 41)
+        for i, (got, e) in enumerate(zip(m(t), exact)):
+            err[i] = max(err[i], np.max(np.abs(got[:, 0] - e(t))))
+        rec.accept(m)
+    x = w * h
+    delta = np.array([A * x**3 / 6, A * w * x**2 / 2, A * w * w * x])
+    for d in range(3):
+        L = hermite_basis_maxima(d)  # order: u0, h v0, h^2 a0, u1, h v1, h^2 a1
+        weight = np.array([1.0, h, h * h]) / h**d  # data error j enters the s-basis scaled by h^j
+        bound = sum(L[3 * end + j] * weight[j] * delta[j] for end in range(2) for j in range(3))
+        assert err[d] <= 1.01 * bound
+    assert err[0] <= 0.05 * A  # displacement within 5 % even at w h = 0.5 (800 Hz, h = 1e-4 s)
+
+
+def test_harmonic_gain_of_the_reconstruction():
+    """The component at w of the reconstructed motion. The step-end targets are
+    e^{iwt} (1 + ix - x^2/2), x = w h, so the gain at the nodes is g = (1 + ix - x^2/2) e^{-ix};
+    the Hermite blend between the nodes multiplies it by about 1 + i x^3/60 (a phase lead only)."""
+    h = 1e-4
+    for f_hz in (100.0, 500.0, 800.0):
+        w = 2 * np.pi * f_hz
+        x = w * h
+        nodal = (1 + 1j * x - x * x / 2) * np.exp(-1j * x)
+        t = np.linspace(0.0, h, 4001)
+        z = np.zeros(len(t), complex)
+        for part, unit in ((np.real, 1.0), (np.imag, 1j)):
+
+            def data(tk, part=part, w=w):  # periodic steady state: a step starts at the previous target
+                e = np.exp(1j * w * tk)
+                return np.array([part(e)]), np.array([part(1j * w * e)]), np.array([part(-w * w * e)])
+
+            m = QuinticStep(0.0, h, taylor_target(*data(-h), h), taylor_target(*data(0.0), h))
+            z += unit * m(t)[0][:, 0]
+        gain = np.trapezoid(z * np.exp(-1j * w * t), t) / h
+        assert abs(gain / nodal - 1) < x**3 / 40  # 1/60 plus the O(x^4) rest up to x = 0.5
+        assert abs(abs(gain) - 1) < 0.015  # +1.1 % at 800 Hz with h = 1e-4 s (module docstring)
+
+
+def test_bad_step_is_refused():
+    with pytest.raises(ValueError, match="positive"):
+        QuinticStep(0.0, 0.0, np.zeros((3, 12)), np.zeros((3, 12)))
+
+
+def test_inputs_of_the_wrong_length_are_refused_before_anything_is_written():
+    # the compiled reconstruction does not check bounds, so the shapes are checked before it runs
+    rec = SupportReconstruction(12)
+    rec.state[:] = 1.0
+    with pytest.raises(ValueError, match=r"shape \(12,\)"):
+        rec.motion(0.0, 1e-4, np.zeros(11), np.zeros(12), np.zeros(12))
+    assert np.all(rec.state == 1.0)
