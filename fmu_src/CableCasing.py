@@ -88,6 +88,7 @@ class CableCasing(Fmi2Slave):
         # the two arrays the FMU's binary reads and writes directly
         self.inputs_buffer = np.zeros(3 * NCH)  # u (m), v (m/s), a (m/s2) of CHANNELS
         self.outputs_buffer = np.zeros(len(OUTPUTS))  # OUTPUTS after the last step
+        self._u, self._v, self._a = (self.inputs_buffer[k * NCH : (k + 1) * NCH] for k in range(3))  # views
         self._set = {}  # parameters the master set: key -> value
         self._file_cache = (None, None)  # (model file path, its values or None)
         self._set_plans, self._get_plans = {}, {}  # pythonfmu's path: references -> index arrays
@@ -427,17 +428,14 @@ class CableCasing(Fmi2Slave):
                 Fmi2Status.discard,
             )
             return DISCARD
-        motion = self._recon.motion(eng.time, step_size, x[:NCH], x[NCH : 2 * NCH], x[2 * NCH :])
-        try:
-            eng.advance(step_size, motion)  # on any error it leaves the engine as it was
+        try:  # on any error the engine and the reconstruction are left as they were
+            eng.advance_reconstructed(step_size, self._recon, self._u, self._v, self._a, self.outputs_buffer)
         except Exception as exc:  # noqa: BLE001  (never raise into the host)
             msg = f"step from t = {current_time:.9g} s over {step_size:.6g} s discarded (state rolled back): {exc}"
             if not isinstance(exc, cc.CableCasingError):
                 msg += "\n" + traceback.format_exc()
             self.log(msg, Fmi2Status.discard)
             return DISCARD
-        self._recon.accept(motion)
-        eng.output_values(self.outputs_buffer)
         return OK
 
     # ------------------------------------------------------------------ FMU state (complete, no pickle)
@@ -472,7 +470,7 @@ class CableCasing(Fmi2Slave):
             new
         )
         self.inputs_buffer[:] = inputs
-        self._recon.state = support
+        self._recon.state[...] = support
         if self._engine is not None:
             self._engine.output_values(self.outputs_buffer)
         return OK

@@ -134,12 +134,17 @@ class SupportReconstruction:
         self.state = np.zeros((3, int(n)))  # rows u (m), v (m/s), a (m/s2)
         self._h = None
 
-    def motion(self, t0: float, h: float, u: ArrayLike, v: ArrayLike, a: ArrayLike) -> QuinticStep:
-        """The :class:`QuinticStep` from the current support state to the Taylor target of the
-        inputs (u, v, a) given at ``t0`` (s) over the step ``h`` (s)."""
+    def coefficient_matrix(self, h: float) -> np.ndarray:
+        """G (18 x 6) of a step of ``h`` s (see :func:`_coefficient_matrix`), kept for the last h."""
         if h != self._h:  # a master usually keeps its communication step: cache per h
             h = seconds("h", h)
             self._h, self._G = h, _coefficient_matrix(h)
+        return self._G
+
+    def motion(self, t0: float, h: float, u: ArrayLike, v: ArrayLike, a: ArrayLike) -> QuinticStep:
+        """The :class:`QuinticStep` from the current support state to the Taylor target of the
+        inputs (u, v, a) given at ``t0`` (s) over the step ``h`` (s)."""
+        self.coefficient_matrix(h)
         n = self.state.shape[1]
         u, v, a = (np.ascontiguousarray(x, dtype=float) for x in (u, v, a))
         if u.shape != (n,) or v.shape != (n,) or a.shape != (n,):  # (the kernel does not check bounds)
@@ -149,8 +154,9 @@ class SupportReconstruction:
         return QuinticStep.from_rows(float(t0), self._h, rows, self._G)
 
     def accept(self, motion: QuinticStep) -> None:
-        """Advance the support state to the end of ``motion`` (after the engine took the step)."""
-        self.state = np.array(motion.end, dtype=float)
+        """Advance the support state to the end of ``motion`` (after the engine took the step); in
+        place, so the array stays the one a caller holds."""
+        self.state[...] = motion.end
 
     def reset(self) -> None:
         """Supports at rest at their reference position."""

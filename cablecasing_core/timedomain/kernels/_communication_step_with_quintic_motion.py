@@ -1,0 +1,66 @@
+"""One FMU communication step in one compiled call: the support motion from the reconstruction
+(Taylor target of the inputs, quintic Hermite from the supports' state, ``_quintic_support_motion``),
+the Newmark steps with contact (:func:`run_steps`) and the outputs after them
+(:func:`step_outputs`).
+
+It is what ``Engine.advance(h, SupportReconstruction.motion(...))`` followed by
+``SupportReconstruction.accept`` and ``Engine.output_values`` computes, with the same kernels in the
+same order on the same numbers, so the results are the same to the bit; it exists because those
+are about ten Python-level calls per communication step (motion set-up and evaluation, the engine's
+chunking and records, four numba dispatches) that cost as much as the ten Newmark steps of a 1e-4 s
+step themselves (docs/performance.md, FMU).
+"""
+
+from __future__ import annotations
+
+from numba import njit
+
+from ._compile_options import FM
+from ._contact_search_and_law import contact_potential
+from ._newmark_step_loop_with_ledger import run_steps
+from ._quintic_support_motion import quintic_coefficients, quintic_values, taylor_rows
+from ._step_loop_contract import LEDGER_CONTACT_WORK
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def step_outputs(reac, cstate, gn, ledger, law, k_lin, k_hertz, out):
+    """The engine's outputs (``model.schema.OUTPUTS``) into ``out``: the 24 support reactions (N,
+    N.m), the cable nodes in contact, the largest penetration (m, 0 without contact) and the energy
+    dissipated in the contacts (J: their work less the energy they store)."""
+    for i in range(24):
+        out[i] = reac[i]
+    active = 0
+    for i in range(cstate.shape[0]):
+        if cstate[i] != 0:  # OPEN == 0
+            active += 1
+    out[24] = active
+    g = 0.0
+    for i in range(gn.shape[0]):
+        if i == 0 or gn[i] > g:
+            g = gn[i]
+    out[25] = g
+    out[26] = -ledger[LEDGER_CONTACT_WORK] - contact_potential(gn, law, k_lin, k_hertz)
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def communication_step(
+    t0, dt, m, h, G, state, u, v, a, rows, coeffs, times, motion, casing, cable, law, contact, reac, ledger,
+    ledger_on, rec, info, out,
+):  # fmt: skip
+    """Advance from ``t0`` by ``m`` steps of ``dt`` (s), ``m dt`` = ``h``, with the support motion
+    of the communication step ``[t0, t0 + h]``: the quintic Hermite (power-basis matrix ``G`` of
+    ``support_motion``) from ``state`` (3 x 12: u, v, a of the supports at t0) to the Taylor target
+    of the inputs ``u, v, a`` (12 each, m, m/s, m/s2). ``rows`` (6 x 12), ``coeffs`` (3 x 6 x 12),
+    ``times`` (m) and ``motion`` (3 x m x 12) are scratch; ``out`` receives the outputs. Returns
+    run_steps' status; ``rows[3:]`` is then the supports' state at t0 + h, and ``out`` is written
+    only if the status is OK."""
+    taylor_rows(state, u, v, a, h, rows)
+    quintic_coefficients(G, rows, coeffs)
+    for i in range(m):
+        times[i] = t0 + dt * (i + 1)
+    quintic_values(coeffs, t0, h, times, motion)
+    status = run_steps(t0, dt, motion[0], motion[1], motion[2], casing, cable, law, contact, reac, ledger,
+                       ledger_on, rec, info)  # fmt: skip
+    if status == 0:  # OK: a failed step leaves out alone (the engine rolls the step back)
+        step_outputs(reac, contact.state, contact.g, ledger, law.law, law.k_lin, law.k_hertz, out)
+    return status
