@@ -419,7 +419,7 @@ class CableCasing(Fmi2Slave):
             )
             return DISCARD
         x = self.inputs_buffer
-        if not np.isfinite(x).all():
+        if not math.isfinite(x @ x) and not np.isfinite(x).all():  # (x @ x: the cheap test of 36 values)
             i = int(np.flatnonzero(~np.isfinite(x))[0])
             k, c = divmod(i, NCH)
             self.log(

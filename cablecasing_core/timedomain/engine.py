@@ -120,7 +120,9 @@ class Engine:
         self._ws = K.contact_workspace(len(self.Xc))
         self._allocate_state()
         self._call_args = BoundedCache(FACTOR_CACHE_SIZE)  # (dt, settings) -> the step loop's arguments and entry point
-        self._cstep_shape, self._cstep_entry = None, None  # advance_reconstructed: its scratch's (m, h), entry point
+        self._cstep_parts = self._cstep_context = self._cstep_scratch = self._cstep_entry = (
+            None  # see advance_reconstructed
+        )
         self._no_record = K.Recording(
             False,
             np.zeros((1, 24)),
@@ -416,54 +418,51 @@ class Engine:
         the 12 support inputs at the step start in m, m/s, m/s2, C-contiguous float64), with the
         same results to the bit. When h is a whole number of steps of ``dt`` (at most
         :attr:`CHUNK`) and nothing is recorded, the four are one compiled call
-        (``kernels.communication_step``): the Python and numba dispatch around them otherwise cost
-        as much as the ten steps of a 1e-4 s communication step. Errors as :meth:`advance` (the
-        engine and ``recon`` are then as before the call)."""
+        (``kernels.communication_step_in_context``, on a context of its arrays made once for these
+        buffers and this h): the Python and numba dispatch around them otherwise cost as much as
+        the ten steps of a 1e-4 s communication step. Errors as :meth:`advance` (the engine and
+        ``recon`` are then as before the call)."""
         m = math.floor(h / self.dt * (1 + 1e-12))
-        fast = (
-            0 < m <= self.CHUNK
-            and h - m * self.dt <= 1e-9 * self.dt
-            and not self.record
-            and not (self.time == 0.0 and not self.ledger.any())
-        )
-        law = self._law() if fast else None
-        key = (self.dt, self.ledger_on, False, law)
-        cached = self._call_args.get(key) if fast else None
-        if cached is None or (m, h) != self._cstep_shape:
-            if cached is not None:  # a new number of steps: new scratch, same records
-                self._communication_scratch(m, h)
+        ctx = None
+        if 0 < m <= self.CHUNK and h - m * self.dt <= 1e-9 * self.dt and not self.record and self.time != 0.0:
+            cached = self._call_args.get((self.dt, self.ledger_on, False, self._law()))
+            if cached is not None:
+                ctx = self._communication_context(cached[0], m, h, recon, u, v, a, out)
+        if ctx is None:
             motion = recon.motion(self.time, h, u, v, a)
             self.advance(h, motion)
             recon.accept(motion)
             self.output_values(out)
             return
-        args = cached[0]
-        G = recon.coefficient_matrix(h)
-        rows, coeffs, times, motion = self._cstep_scratch
         self._snap = snap = self.snapshot(self._snap)
-        info = self._info
-        info[: K.INFO_NEWTON_ITERATIONS] = 0.0
+        self._info[: K.INFO_NEWTON_ITERATIONS] = 0.0
         t0 = self.time
-        entry = self._cstep_entry
-        call = (t0, self.dt, m, h, G, recon.state, u, v, a, rows, coeffs, times, motion, *args, self._no_record,
-                info, out)  # fmt: skip
-        if entry is None:
-            status = K.communication_step(*call)  # compiles or loads it
-            self._cstep_entry = compiled_entry(K.communication_step, call)
+        if self._cstep_entry is None:
+            status = K.communication_step_in_context(ctx, t0, self.dt, m, h)  # compiles or loads it
+            self._cstep_entry = compiled_entry(K.communication_step_in_context, (ctx, t0, self.dt, m, h))
         else:
-            status = entry(*call)
+            status = self._cstep_entry(ctx, t0, self.dt, m, h)
         if status != K.OK:
             self.restore(snap)
+            _, _, times, motion = self._cstep_scratch
             self._raise_for_status(status, motion[0], motion[1], motion[2], times)
         self.time = float(t0 + m * self.dt)
-        recon.state[...] = rows[3:]
+        recon.state[...] = self._cstep_scratch[0][3:]
 
-    def _communication_scratch(self, m, h):
-        """Scratch arrays of :meth:`advance_reconstructed` for m steps (rows, coefficients, times,
-        motion)."""
+    def _communication_context(self, args, m, h, recon, u, v, a, out):
+        """The context of :meth:`advance_reconstructed` for these records and buffers (made anew
+        when any of them, m or h changes: the arrays are never rebound, see _allocate_state)."""
+        G = recon.coefficient_matrix(h)
+        parts = (args, m, h, G, recon.state, u, v, a, out)
+        held = self._cstep_parts
+        if held is not None and len(held) == len(parts) and all(x is y for x, y in zip(held, parts)):
+            return self._cstep_context
         n = len(CHANNELS)
-        self._cstep_shape = (m, h)
-        self._cstep_scratch = (np.empty((6, n)), np.empty((3, 6, n)), np.empty(m), np.empty((3, m, n)))
+        scratch = (np.empty((6, n)), np.empty((3, 6, n)), np.empty(m), np.empty((3, m, n)))
+        fields = (G, recon.state, u, v, a, *scratch, *args, self._no_record, self._info, out)
+        ctx = K.new_communication_context(*fields)
+        self._cstep_parts, self._cstep_context, self._cstep_scratch = parts, ctx, scratch
+        return ctx
 
     def outputs(self) -> dict[str, float]:
         """Current outputs ``{name: value}`` for the names in :data:`OUTPUTS` (N, N.m, m, J)."""

@@ -56,7 +56,12 @@ from ._numba_cache import KERNELS_HASH, install, kernels_cache_dir
 install()  # before any cache=True kernel below is decorated
 
 from ._banded_products_and_block_solve import block_solve  # noqa: E402
-from ._communication_step_with_quintic_motion import communication_step, step_outputs  # noqa: E402
+from ._communication_step_with_quintic_motion import (  # noqa: E402
+    communication_step,
+    communication_step_in_context,
+    new_communication_context,
+    step_outputs,
+)
 from ._contact_forces_with_active_set import contact_workspace, solve_contact_forces  # noqa: E402
 from ._contact_search_and_law import contact_law, contact_potential, search_node  # noqa: E402
 from ._hermite_interpolation import axis_at, element_dofs, hermite_matrix  # noqa: E402
@@ -105,6 +110,8 @@ from ._step_loop_contract import (  # noqa: E402
 
 __all__ = [
     "communication_step",
+    "communication_step_in_context",
+    "new_communication_context",
     "step_outputs",
     "DIAG_ACTIVE_SET_PASSES",
     "DIAG_DAMPING_POWER",

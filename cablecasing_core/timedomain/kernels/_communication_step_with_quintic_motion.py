@@ -9,11 +9,18 @@ same order on the same numbers, so the results are the same to the bit; it exist
 are about ten Python-level calls per communication step (motion set-up and evaluation, the engine's
 chunking and records, four numba dispatches) that cost as much as the ten Newmark steps of a 1e-4 s
 step themselves (docs/performance.md, FMU).
+
+:func:`communication_step_in_context` takes every array of a communication step in one
+:class:`CommunicationContext` (a numba structref, made once per engine, step size and buffers by
+:func:`new_communication_context`): numba unboxes a structref as one pointer, where the ~60 arrays
+of the records cost ~0.15 us each to unbox at every call.
 """
 
 from __future__ import annotations
 
-from numba import njit
+from numba import njit, types
+from numba.core.extending import overload
+from numba.experimental import structref
 
 from ._compile_options import FM
 from ._contact_search_and_law import contact_potential
@@ -64,3 +71,61 @@ def communication_step(
     if status == 0:  # OK: a failed step leaves out alone (the engine rolls the step back)
         step_outputs(reac, contact.state, contact.g, ledger, law.law, law.k_lin, law.k_hertz, out)
     return status
+
+
+@structref.register
+class CommunicationContextType(types.StructRef):
+    """The numba type of :class:`CommunicationContext` (its fields typed by what it is made of)."""
+
+    def preprocess_fields(self, fields):
+        return tuple((name, types.unliteral(t)) for name, t in fields)
+
+
+class CommunicationContext(structref.StructRefProxy):
+    """Every array of :func:`communication_step` but the step's numbers, held by the engine."""
+
+
+structref.define_boxing(CommunicationContextType, CommunicationContext)
+
+CONTEXT_FIELDS = (
+    "G", "state", "u", "v", "a", "rows", "coeffs", "times", "motion", "casing", "cable", "law", "contact", "reac",
+    "ledger", "ledger_on", "rec", "info", "out",
+)  # fmt: skip
+
+
+def _new_context(*fields):
+    raise NotImplementedError  # (compiled only, through the overload below)
+
+
+@overload(_new_context)
+def _new_context_overload(*fields):
+    ty = CommunicationContextType(list(zip(CONTEXT_FIELDS, fields)))
+
+    def build(*fields):
+        ctx = structref.new(ty)
+        (ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion, ctx.casing, ctx.cable,
+         ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on, ctx.rec, ctx.info, ctx.out) = fields  # fmt: skip
+        return ctx
+
+    return build
+
+
+@njit(cache=True)
+def new_communication_context(
+    G, state, u, v, a, rows, coeffs, times, motion, casing, cable, law, contact, reac, ledger, ledger_on, rec, info, out
+):  # fmt: skip
+    """The :class:`CommunicationContext` of these arrays (the arguments of :func:`communication_step`
+    in its order, without t0, dt, m and h); it refers to them, it does not copy them."""
+    return _new_context(
+        G, state, u, v, a, rows, coeffs, times, motion, casing, cable, law, contact, reac, ledger, ledger_on, rec,
+        info, out,
+    )  # fmt: skip
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def communication_step_in_context(ctx, t0, dt, m, h):
+    """:func:`communication_step` with its arrays from ``ctx``."""
+    return communication_step(
+        t0, dt, m, h, ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion, ctx.casing,
+        ctx.cable, ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on, ctx.rec, ctx.info, ctx.out,
+    )  # fmt: skip
