@@ -453,15 +453,15 @@ class Engine:
         """The context of :meth:`advance_reconstructed` for these records and buffers (made anew
         when any of them, m or h changes: the arrays are never rebound, see _allocate_state)."""
         G = recon.coefficient_matrix(h)
-        parts = (args, m, h, G, recon.state, u, v, a, out)
+        parts = (args, G, recon.state, u, v, a, out)
         held = self._cstep_parts
-        if held is not None and len(held) == len(parts) and all(x is y for x, y in zip(held, parts)):
+        if held is not None and held[0] == (m, h) and all(x is y for x, y in zip(held[1], parts)):
             return self._cstep_context
         n = len(CHANNELS)
         scratch = (np.empty((6, n)), np.empty((3, 6, n)), np.empty(m), np.empty((3, m, n)))
         fields = (G, recon.state, u, v, a, *scratch, *args, self._no_record, self._info, out)
         ctx = K.new_communication_context(*fields)
-        self._cstep_parts, self._cstep_context, self._cstep_scratch = parts, ctx, scratch
+        self._cstep_parts, self._cstep_context, self._cstep_scratch = ((m, h), parts), ctx, scratch
         return ctx
 
     def outputs(self) -> dict[str, float]:
