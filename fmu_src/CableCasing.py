@@ -33,7 +33,8 @@ import cablecasing_core as cc
 from cablecasing_core.model.schema import CHANNELS, OUTPUTS, lookup, output_spec
 from cablecasing_core.model.validators import seconds
 from cablecasing_core.timedomain.engine import Engine, state_from_bytes, state_to_bytes
-from cablecasing_core.timedomain.support_motion import SupportReconstruction
+from cablecasing_core.timedomain.scenario import scenario_motion
+from cablecasing_core.timedomain.support_motion import GridMotion, SupportReconstruction
 
 NCH = len(CHANNELS)
 KINDS = (("", "displacement", "m"), ("v", "velocity", "m/s"), ("a", "acceleration", "m/s2"))
@@ -61,7 +62,7 @@ OK, WARNING, DISCARD, ERROR = (
 # the default 1e-5 s, some 10-20 s of wall time): a longer step is refused with fmi2Discard
 # instead of running for hours (a master that asks for 1e12 s by mistake).
 MAX_STEPS_PER_DOSTEP = 10**6
-SPECIAL = ("contact.enabled", "model_file", "solver.dt")
+SPECIAL = ("contact.enabled", "model_file", "solver.dt", "scenario.drive")
 _TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}
 
 
@@ -84,6 +85,7 @@ class CableCasing(Fmi2Slave):
         self._start["contact.enabled"] = bool(self._base.contact["enabled"])
         self._start["model_file"] = ""
         self._start["solver.dt"] = float(self._base.scenario["dt"])
+        self._start["scenario.drive"] = False
         self._log_sink = None
         # the two arrays the FMU's binary reads and writes directly
         self.inputs_buffer = np.zeros(3 * NCH)  # u (m), v (m/s), a (m/s2) of CHANNELS
@@ -103,6 +105,7 @@ class CableCasing(Fmi2Slave):
         self.inputs_buffer[:] = 0.0
         self.outputs_buffer[:] = 0.0
         self._engine = None
+        self._drive = None  # the scenario's motion when scenario.drive is on
         self._applied = None  # the configuration the engine was built with
         self._recon.reset()
         self._start_time = 0.0
@@ -190,6 +193,17 @@ class CableCasing(Fmi2Slave):
                 "shorter last step",
             ),
             "s",
+        )
+        self._add_parameter(
+            Boolean(
+                "scenario.drive",
+                causality=Fmi2Causality.parameter,
+                variability=Fmi2Variability.fixed,
+                description="the supports also follow the model's own [scenario] excitations (added to the "
+                "inputs, evaluated at the steps of solver.dt; with zero inputs the FMU then runs the core's "
+                "scenario run); false: the inputs alone move the supports",
+            ),
+            "",
         )
 
     def _add(self, var, unit):
@@ -344,8 +358,15 @@ class CableCasing(Fmi2Slave):
     def _config(self):
         """The configuration that decides the engine: the model file, the overrides (the
         parameters the master set) and the internal step."""
-        over = {k: v for k, v in self._set.items() if k not in ("model_file", "solver.dt")}
+        over = {k: v for k, v in self._set.items() if k not in ("model_file", "solver.dt", "scenario.drive")}
         return self._set.get("model_file", ""), over, self._value("solver.dt")
+
+    def _drive_motion(self, engine):
+        """The model's scenario motion on the engine's grid when ``scenario.drive`` is on, else None."""
+        if not self._value("scenario.drive"):
+            return None
+        model = engine.model
+        return GridMotion(scenario_motion(model, dt=engine.dt, duration=model.scenario["duration"]), engine.dt)
 
     def _make_engine(self, config):
         """A new Engine for ``config``; raises ModelError naming the parameter."""
@@ -367,6 +388,7 @@ class CableCasing(Fmi2Slave):
             self._engine = None
             return self._block(f"the model cannot be built: {exc!r}\n{traceback.format_exc()}")
         self._applied = config
+        self._drive = self._drive_motion(self._engine)
         self._error = None
         self._recon.reset()
         self._engine.output_values(self.outputs_buffer)
@@ -429,7 +451,9 @@ class CableCasing(Fmi2Slave):
             )
             return DISCARD
         try:  # on any error the engine and the reconstruction are left as they were
-            eng.advance_reconstructed(step_size, self._recon, self._u, self._v, self._a, self.outputs_buffer)
+            eng.advance_reconstructed(
+                step_size, self._recon, self._u, self._v, self._a, self.outputs_buffer, self._drive
+            )
         except Exception as exc:  # noqa: BLE001  (never raise into the host)
             msg = f"step from t = {current_time:.9g} s over {step_size:.6g} s discarded (state rolled back): {exc}"
             if not isinstance(exc, cc.CableCasingError):
@@ -472,6 +496,7 @@ class CableCasing(Fmi2Slave):
         self.inputs_buffer[:] = inputs
         self._recon.state[...] = support
         if self._engine is not None:
+            self._drive = self._drive_motion(self._engine)
             self._engine.output_values(self.outputs_buffer)
         return OK
 

@@ -35,7 +35,7 @@ from .body_storage import FACTOR_CACHE_SIZE, BodyStorage, BoundedCache, body_arr
 if TYPE_CHECKING:
     from ..model import Model
     from .scenario import Motion
-    from .support_motion import SupportReconstruction
+    from .support_motion import GridMotion, SupportReconstruction
 
 
 def hertz_constant(model: Model) -> float:
@@ -411,7 +411,14 @@ class Engine:
         return out
 
     def advance_reconstructed(
-        self, h: float, recon: SupportReconstruction, u: np.ndarray, v: np.ndarray, a: np.ndarray, out: np.ndarray
+        self,
+        h: float,
+        recon: SupportReconstruction,
+        u: np.ndarray,
+        v: np.ndarray,
+        a: np.ndarray,
+        out: np.ndarray,
+        base: GridMotion | None = None,
     ) -> None:
         """An FMU communication step: ``m = recon.motion(self.time, h, u, v, a)``,
         ``self.advance(h, m)``, ``recon.accept(m)`` and ``self.output_values(out)`` (h in s; u, v, a
@@ -420,20 +427,32 @@ class Engine:
         :attr:`CHUNK`) and nothing is recorded, the four are one compiled call
         (``kernels.communication_step_in_context``, on a context of its arrays made once for these
         buffers and this h): the Python and numba dispatch around them otherwise cost as much as
-        the ten steps of a 1e-4 s communication step. Errors as :meth:`advance` (the engine and
-        ``recon`` are then as before the call)."""
+        the ten steps of a 1e-4 s communication step. ``base`` (a
+        :class:`~.support_motion.GridMotion` on this engine's dt) is added to the reconstructed
+        motion. Errors as :meth:`advance` (the engine and ``recon`` are then as before the call)."""
         m = math.floor(h / self.dt * (1 + 1e-12))
         ctx = None
-        if 0 < m <= self.CHUNK and h - m * self.dt <= 1e-9 * self.dt and not self.record and self.time != 0.0:
+        k0 = base.grid_index(self.time) if base is not None else 0
+        if (
+            0 < m <= self.CHUNK
+            and h - m * self.dt <= 1e-9 * self.dt
+            and not self.record
+            and self.time != 0.0
+            and k0 is not None
+        ):
             cached = self._call_args.get((self.dt, self.ledger_on, False, self._law()))
             if cached is not None:
-                ctx = self._communication_context(cached[0], m, h, recon, u, v, a, out)
+                ctx = self._communication_context(cached[0], m, h, recon, u, v, a, out, base is not None)
         if ctx is None:
-            motion = recon.motion(self.time, h, u, v, a)
+            motion = quintic = recon.motion(self.time, h, u, v, a)
+            if base is not None:
+                motion = lambda t: tuple(x + y for x, y in zip(quintic(t), base(t)))  # noqa: E731
             self.advance(h, motion)
-            recon.accept(motion)
+            recon.accept(quintic)
             self.output_values(out)
             return
+        if base is not None:
+            base.fill(k0, self._cstep_scratch[4])
         self._snap = snap = self.snapshot(self._snap)
         self._info[: K.INFO_NEWTON_ITERATIONS] = 0.0
         t0 = self.time
@@ -444,24 +463,24 @@ class Engine:
             status = self._cstep_entry(ctx, t0, self.dt, m, h)
         if status != K.OK:
             self.restore(snap)
-            _, _, times, motion = self._cstep_scratch
+            _, _, times, motion, _ = self._cstep_scratch
             self._raise_for_status(status, motion[0], motion[1], motion[2], times)
         self.time = float(t0 + m * self.dt)
         recon.state[...] = self._cstep_scratch[0][3:]
 
-    def _communication_context(self, args, m, h, recon, u, v, a, out):
+    def _communication_context(self, args, m, h, recon, u, v, a, out, use_base):
         """The context of :meth:`advance_reconstructed` for these records and buffers (made anew
         when any of them, m or h changes: the arrays are never rebound, see _allocate_state)."""
         G = recon.coefficient_matrix(h)
         parts = (args, G, recon.state, u, v, a, out)
         held = self._cstep_parts
-        if held is not None and held[0] == (m, h) and all(x is y for x, y in zip(held[1], parts)):
+        if held is not None and held[0] == (m, h, use_base) and all(x is y for x, y in zip(held[1], parts)):
             return self._cstep_context
         n = len(CHANNELS)
-        scratch = (np.empty((6, n)), np.empty((3, 6, n)), np.empty(m), np.empty((3, m, n)))
-        fields = (G, recon.state, u, v, a, *scratch, *args, self._no_record, self._info, out)
+        scratch = (np.empty((6, n)), np.empty((3, 6, n)), np.empty(m), np.empty((3, m, n)), np.zeros((3, m, n)))
+        fields = (G, recon.state, u, v, a, *scratch, bool(use_base), *args, self._no_record, self._info, out)
         ctx = K.new_communication_context(*fields)
-        self._cstep_parts, self._cstep_context, self._cstep_scratch = ((m, h), parts), ctx, scratch
+        self._cstep_parts, self._cstep_context, self._cstep_scratch = ((m, h, use_base), parts), ctx, scratch
         return ctx
 
     def outputs(self) -> dict[str, float]:

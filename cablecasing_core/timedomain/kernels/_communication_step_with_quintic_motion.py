@@ -51,21 +51,27 @@ def step_outputs(reac, cstate, gn, ledger, law, k_lin, k_hertz, out):
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def communication_step(
-    t0, dt, m, h, G, state, u, v, a, rows, coeffs, times, motion, casing, cable, law, contact, reac, ledger,
-    ledger_on, rec, info, out,
+    t0, dt, m, h, G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact, reac,
+    ledger, ledger_on, rec, info, out,
 ):  # fmt: skip
     """Advance from ``t0`` by ``m`` steps of ``dt`` (s), ``m dt`` = ``h``, with the support motion
     of the communication step ``[t0, t0 + h]``: the quintic Hermite (power-basis matrix ``G`` of
     ``support_motion``) from ``state`` (3 x 12: u, v, a of the supports at t0) to the Taylor target
-    of the inputs ``u, v, a`` (12 each, m, m/s, m/s2). ``rows`` (6 x 12), ``coeffs`` (3 x 6 x 12),
-    ``times`` (m) and ``motion`` (3 x m x 12) are scratch; ``out`` receives the outputs. Returns
-    run_steps' status; ``rows[3:]`` is then the supports' state at t0 + h, and ``out`` is written
-    only if the status is OK."""
+    of the inputs ``u, v, a`` (12 each, m, m/s, m/s2), plus ``base`` (3 x m x 12: u, v, a at the m
+    step ends) when ``use_base``. ``rows`` (6 x 12), ``coeffs`` (3 x 6 x 12), ``times`` (m) and
+    ``motion`` (3 x m x 12) are scratch; ``out`` receives the outputs. Returns run_steps' status;
+    ``rows[3:]`` is then the supports' state at t0 + h, and ``out`` is written only if the status
+    is OK."""
     taylor_rows(state, u, v, a, h, rows)
     quintic_coefficients(G, rows, coeffs)
     for i in range(m):
         times[i] = t0 + dt * (i + 1)
     quintic_values(coeffs, t0, h, times, motion)
+    if use_base:
+        for d in range(3):
+            for i in range(m):
+                for j in range(motion.shape[2]):
+                    motion[d, i, j] += base[d, i, j]
     status = run_steps(t0, dt, motion[0], motion[1], motion[2], casing, cable, law, contact, reac, ledger,
                        ledger_on, rec, info)  # fmt: skip
     if status == 0:  # OK: a failed step leaves out alone (the engine rolls the step back)
@@ -88,8 +94,8 @@ class CommunicationContext(structref.StructRefProxy):
 structref.define_boxing(CommunicationContextType, CommunicationContext)
 
 CONTEXT_FIELDS = (
-    "G", "state", "u", "v", "a", "rows", "coeffs", "times", "motion", "casing", "cable", "law", "contact", "reac",
-    "ledger", "ledger_on", "rec", "info", "out",
+    "G", "state", "u", "v", "a", "rows", "coeffs", "times", "motion", "base", "use_base", "casing", "cable", "law",
+    "contact", "reac", "ledger", "ledger_on", "rec", "info", "out",
 )  # fmt: skip
 
 
@@ -103,8 +109,9 @@ def _new_context_overload(*fields):
 
     def build(*fields):
         ctx = structref.new(ty)
-        (ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion, ctx.casing, ctx.cable,
-         ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on, ctx.rec, ctx.info, ctx.out) = fields  # fmt: skip
+        (ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion, ctx.base, ctx.use_base,
+         ctx.casing, ctx.cable, ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on, ctx.rec, ctx.info,
+         ctx.out) = fields  # fmt: skip
         return ctx
 
     return build
@@ -112,13 +119,14 @@ def _new_context_overload(*fields):
 
 @njit(cache=True)
 def new_communication_context(
-    G, state, u, v, a, rows, coeffs, times, motion, casing, cable, law, contact, reac, ledger, ledger_on, rec, info, out
+    G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact, reac, ledger,
+    ledger_on, rec, info, out,
 ):  # fmt: skip
     """The :class:`CommunicationContext` of these arrays (the arguments of :func:`communication_step`
     in its order, without t0, dt, m and h); it refers to them, it does not copy them."""
     return _new_context(
-        G, state, u, v, a, rows, coeffs, times, motion, casing, cable, law, contact, reac, ledger, ledger_on, rec,
-        info, out,
+        G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact, reac, ledger,
+        ledger_on, rec, info, out,
     )  # fmt: skip
 
 
@@ -126,6 +134,7 @@ def new_communication_context(
 def communication_step_in_context(ctx, t0, dt, m, h):
     """:func:`communication_step` with its arrays from ``ctx``."""
     return communication_step(
-        t0, dt, m, h, ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion, ctx.casing,
-        ctx.cable, ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on, ctx.rec, ctx.info, ctx.out,
+        t0, dt, m, h, ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion, ctx.base,
+        ctx.use_base, ctx.casing, ctx.cable, ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on, ctx.rec,
+        ctx.info, ctx.out,
     )  # fmt: skip
