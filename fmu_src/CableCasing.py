@@ -17,6 +17,10 @@ of the call; the inputs and outputs are two arrays that the binary reads and wri
 pythonfmu's binary (Windows) drives the same slave through pythonfmu's methods at the end of the
 class, which map those statuses to what pythonfmu can express. Nothing here raises into a host:
 every problem is logged, naming the variable and the value, at the status it deserves.
+
+This module is over 400 lines because it is the FMU's whole adapter in one file, the one the
+modelDescription is built from: variables, parameters in force, life cycle and statuses, the FMU
+state and pythonfmu's methods; the bridge loads it as one file.
 """
 
 import math
