@@ -64,7 +64,7 @@ def _version_tuple(text):
     return tuple(parts)
 
 
-def _missing_packages(requirements):
+def missing_packages(requirements):
     """Problems with ``requirements`` ('numpy>=1.24;scipy>=1.11;...') in this Python: list of texts."""
     from importlib import metadata
 
@@ -197,7 +197,7 @@ class Instance:
                 f"fmuGUID {guid!r} does not match this FMU's {env['guid']!r}: the modelDescription.xml "
                 "the host read belongs to another build of CableCasing.fmu"
             )
-        problems = _missing_packages(env.get("requirements", "numpy;scipy;numba"))
+        problems = missing_packages(env.get("requirements", "numpy;scipy;numba"))
         if problems:
             self._fail(
                 f"the Python at {sys.executable} cannot run this FMU: "

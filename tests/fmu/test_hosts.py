@@ -269,13 +269,13 @@ def test_the_hosts_python_variables_do_not_disturb_it(fmu, tmp_path):
     assert len((tmp_path / "out.csv").read_text().splitlines()) == 22   # header, t = 0 and 20 steps
 
 
-def test_the_bridge_names_old_and_missing_packages():
+def test_the_bridge_names_old_andmissing_packages():
     import importlib.util
 
     spec = importlib.util.spec_from_file_location("bridge", ROOT / "fmu_src" / "cablecasing_fmi2_bridge.py")
     bridge = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(bridge)
-    problems = bridge._missing_packages("numpy>=999.0;no-such-package-xyz>=1;scipy>=1.0")
+    problems = bridge.missing_packages("numpy>=999.0;no-such-package-xyz>=1;scipy>=1.0")
     assert len(problems) == 2
     assert problems[0].startswith("numpy ") and "is too old (needs numpy>=999.0)" in problems[0]
     assert problems[1] == "no-such-package-xyz is not installed (needs no-such-package-xyz>=1)"
