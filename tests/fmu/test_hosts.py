@@ -269,7 +269,7 @@ def test_the_hosts_python_variables_do_not_disturb_it(fmu, tmp_path):
     assert len((tmp_path / "out.csv").read_text().splitlines()) == 22   # header, t = 0 and 20 steps
 
 
-def test_the_bridge_names_old_andmissing_packages():
+def test_the_bridge_names_old_and_missing_packages():
     import importlib.util
 
     spec = importlib.util.spec_from_file_location("bridge", ROOT / "fmu_src" / "cablecasing_fmi2_bridge.py")
