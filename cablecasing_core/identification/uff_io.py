@@ -30,7 +30,9 @@ UFF_EXTENSIONS = (".uff", ".unv", ".uf")
 @dataclass(frozen=True)
 class Record:
     """One function read from a file: ``kind`` ("time" or "frf"), abscissa ``x`` (s or Hz),
-    ``data`` (real for time, complex for an FRF), ``name``, and the UFF node/direction fields."""
+    ``data`` (real for time, complex for an FRF), ``name``, the UFF node/direction fields, and the
+    ordinate's unit label and UFF data type (0 unknown, 8 displacement, 9 reaction force, 11
+    velocity, 12 acceleration, 13 excitation force; for an FRF also those of its denominator)."""
 
     kind: str
     x: np.ndarray
@@ -40,6 +42,10 @@ class Record:
     rsp_dir: int = 1
     ref_node: int = 0
     ref_dir: int = 0
+    unit: str = ""
+    data_type: int = 0
+    denominator_unit: str = ""
+    denominator_type: int = 0
 
     @property
     def fs(self):
@@ -87,19 +93,23 @@ def _dataset(rec, binary):
         abscissa_spacing=1 if even else 0,
         abscissa_spec_data_type=17 if is_time else 18,
         abscissa_axis_units_lab="s" if is_time else "Hz",
-        ordinate_spec_data_type=0,
-        orddenom_spec_data_type=0,
+        ordinate_spec_data_type=int(rec.data_type),
+        ordinate_axis_units_lab=rec.unit or "NONE",
+        orddenom_spec_data_type=int(rec.denominator_type),
+        orddenom_axis_units_lab=rec.denominator_unit or "NONE",
         z_axis_spec_data_type=0,
     )
 
 
 def write_uff(path, records, binary=True):
-    """Write :class:`Record` objects to ``path`` as UFF dataset 58 (overwrites the file)."""
+    """Write :class:`Record` objects to ``path`` as UFF dataset 58, atomically (a file that was
+    there is replaced only when the new one is complete)."""
+    from ..files import atomic_path
+
     pyuff = _pyuff()
-    if os.path.exists(path):
-        os.remove(path)
     sets = [_dataset(r, binary) for r in records]
-    pyuff.UFF(str(path)).write_sets(sets, mode="add")
+    with atomic_path(path) as tmp:
+        pyuff.UFF(str(tmp)).write_sets(sets, mode="add")
 
 
 def write_uff_time(path, x, fs, name="x", t0=0.0, binary=True, **dof):
@@ -155,9 +165,19 @@ def read_uff(path):
                 int(s.get("rsp_dir", 1)),
                 int(s.get("ref_node", 0)),
                 int(s.get("ref_dir", 0)),
+                _label(s, "ordinate_axis_units_lab"),
+                int(s.get("ordinate_spec_data_type", 0)),
+                _label(s, "orddenom_axis_units_lab"),
+                int(s.get("orddenom_spec_data_type", 0)),
             )
         )
     return out
+
+
+def _label(dataset, key):
+    """A text field of a UFF dataset, "" for pyuff's "NONE"."""
+    text = str(dataset.get(key, "")).strip()
+    return "" if text == "NONE" else text
 
 
 # ------------------------------------------------------------------------------------------- CSV

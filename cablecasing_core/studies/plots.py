@@ -65,6 +65,37 @@ def plot_correlations(results, path, parameters=None, methods=("pearson", "spear
     return path
 
 
+def plot_sobol(results, path, title=None, conf_level=0.95):
+    """First-order (S1) and total (ST) Sobol indices per output band with their confidence intervals
+    (``sensitivity.sobol_indices``), one panel per parameter. Returns ``path``."""
+    from .sensitivity import sobol_indices
+
+    if not isinstance(results, StudyResults):
+        results = load_results(results)
+    sob = sobol_indices(results, conf_level=conf_level)
+    d, nb = len(sob.parameters), len(sob.outputs)
+    fig, axes = plt.subplots(d, 1, figsize=(7, 1.8 * d + 0.8), sharex=True, squeeze=False)
+    x = np.arange(nb)
+    ticks = [o[3:] if o.startswith("oct") else o for o in sob.outputs]
+    for k, (ax, p) in enumerate(zip(axes[:, 0], sob.parameters)):
+        ax.bar(x - 0.2, sob.S1[k], 0.4, yerr=sob.S1_conf[k], capsize=2, label="first order S1")
+        ax.bar(x + 0.2, sob.ST[k], 0.4, yerr=sob.ST_conf[k], capsize=2, label="total ST")
+        ax.axhline(0.0, color="k", lw=0.6)
+        ax.set_ylim(-0.2, 1.1)
+        ax.set_ylabel("index (-)")
+        ax.set_title(f"({chr(97 + k)}) {_LABELS.get(p, p)}", fontsize=9, loc="left")
+        ax.grid(True, axis="y", alpha=0.3)
+    axes[-1, 0].set_xticks(x, ticks, rotation=0 if nb <= 12 else 90)
+    axes[-1, 0].set_xlabel("octave band (Table 3)" if ticks[0].isdigit() else "band")
+    axes[0, 0].legend(fontsize=8, loc="upper right")
+    fig.suptitle(
+        title or f"Sobol indices of the band RMS, {sob.n_base} base points ({sob.conf_level:.0%} intervals)",
+        fontsize=10,
+    )
+    save_figure(fig, path)
+    return path
+
+
 def plot_ensemble(ens, path, other=None, diff=None, confidence=0.95, labels=("base", "against")):
     """Band levels over excitation seeds (``studies.seed_ensemble``): the ensemble mean per band with
     its Student-t confidence interval (N, or N.m for a moment output; log axis), a second ensemble

@@ -292,7 +292,7 @@ def test_every_contact_step_converges_in_the_default_scenario():
 
     m = cc.load_model()
     eng = Engine(m, dt=1e-5, ledger=False)
-    eng.advance(0.1, scenario_motion(m, dt=1e-5, duration=1.0))
+    eng.advance(0.1, scenario_motion(m, dt=1e-5))
     its, passes, failed = eng.solver_counts
     assert passes > 1000  # contact was solved in many steps
     assert failed == 0
@@ -317,7 +317,7 @@ def test_rattle_after_lift_off_is_the_models_motion_and_converges():
     steps, like chatter of the time step; they are not: continued from one state at dt = 3.9e-8
     and 2.0e-8 s, the bounces last hundreds of steps and land at the same times."""
     m = cc.load_model()
-    motion = scenario_motion(m, dt=1e-5, duration=1.0)
+    motion = scenario_motion(m, dt=1e-5)
     eng = Engine(m, dt=1e-5, ledger=False)
     eng.advance(0.0324, motion)
     state = eng.get_state()
