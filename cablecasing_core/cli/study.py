@@ -91,13 +91,15 @@ def print_study(res):
     edges, and the warnings when it is too small to mean anything."""
     from ..studies import correlations, size_warnings
     from ..studies.octave import octave_bands
+    from ..studies.sensitivity import complete_groups
 
     edges = {}
     for kind in ("table3", "octave", "third"):
         b = octave_bands(kind)
-        edges.update({lab: f"{lo:.4g}-{hi:.4g} Hz" for lab, lo, hi in zip(b.labels, b.lower, b.upper)})
-    head = "".join(f"{o:>9}" for o in res.outputs)
-    hz = "".join(f"{edges.get(o, ''):>9}".replace(" Hz", "") for o in res.outputs)
+        edges.update({lab: f"{lo:.4g}-{hi:.4g}" for lab, lo, hi in zip(b.labels, b.lower, b.upper)})
+    w = max([10] + [len(edges.get(o, o)) + 2 for o in res.outputs])
+    head = "".join(f"{o:>{w}}" for o in res.outputs)
+    hz = "".join(f"{edges.get(o, ''):>{w}}" for o in res.outputs)
     for method in ("pearson", "spearman"):
         c = correlations(res, method)
         print(
@@ -106,7 +108,7 @@ def print_study(res):
         )
         print(f"  {'band':40s}{head}\n  {'':40s}{hz}")
         for i, p in enumerate(c.parameters):
-            print(f"  {p:40s}" + "".join(f"{v:+9.2f}" for v in c.r[i]))
+            print(f"  {p:40s}" + "".join(f"{v:+{w}.2f}" for v in c.r[i]))
     sob = _sobol_or_none(res)
     if sob is not None:
         print(
@@ -115,10 +117,16 @@ def print_study(res):
         )
         print(f"  {'band':40s}{head}\n  {'':40s}{hz}")
         for i, p in enumerate(sob.parameters):
-            print(f"  {p + ' S1':40s}" + "".join(f"{v:+9.2f}" for v in sob.S1[i]))
-            print(f"  {'   +-':40s}" + "".join(f"{v:9.2f}" for v in sob.S1_conf[i]))
-            print(f"  {p + ' ST':40s}" + "".join(f"{v:+9.2f}" for v in sob.ST[i]))
-            print(f"  {'   +-':40s}" + "".join(f"{v:9.2f}" for v in sob.ST_conf[i]))
+            print(f"  {p + ' S1':40s}" + "".join(f"{v:+{w}.2f}" for v in sob.S1[i]))
+            print(f"  {'   +-':40s}" + "".join(f"{v:{w}.2f}" for v in sob.S1_conf[i]))
+            print(f"  {p + ' ST':40s}" + "".join(f"{v:+{w}.2f}" for v in sob.ST[i]))
+            print(f"  {'   +-':40s}" + "".join(f"{v:{w}.2f}" for v in sob.ST_conf[i]))
+    if sob is None:
+        n = len(complete_groups(res)) if res.group_size else 0
+        print(
+            f"cablecasing: warning: no Sobol indices: they need 4 complete base points, this study has {n}",
+            file=sys.stderr,
+        )
     for w in size_warnings(res, sob):
         print(f"cablecasing: warning: {w}", file=sys.stderr)
 
