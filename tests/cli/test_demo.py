@@ -67,7 +67,7 @@ def test_the_demo_report_is_one_set_of_runs_and_the_fmu_is_the_core(tmp_path):
     for v in runs["variants"]:
         rec = SimulationResult.load(out / v["record"])
         keep = rec.time > runs["skip"]
-        for key, _, name, value in (r for r in rows if r[0] == v["key"]):
+        for _, _, name, value in (r for r in rows if r[0] == v["key"]):
             rms = float(np.sqrt(np.mean(rec.support_force(name)[keep] ** 2)))
             assert float(value) == rms  # (written with repr: exact)
             assert f"{rms:.6g}" in html
