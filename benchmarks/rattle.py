@@ -47,7 +47,7 @@ if not 1e-5 <= args.window <= 1e-2:
 if not 1 <= args.levels <= 12:
     p.error(f"--levels {args.levels}: must lie between 1 and 12")
 
-motion = scenario_motion(model, dt=DT0, duration=1.0)
+motion = scenario_motion(model, dt=DT0)
 eng = Engine(model, dt=DT0, ledger=False)
 eng.advance(args.start, motion)
 state = eng.get_state()

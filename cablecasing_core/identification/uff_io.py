@@ -223,26 +223,26 @@ def _read_csv(path):
 
 
 def read_csv_time(path, channel=None):
-    """A time record from CSV: returns ``(x, fs, name)``; ``channel`` is a column name or index
-    among the signal columns (default the first). The first column is the time (s), evenly spaced."""
-    names, data = _read_csv(path)
-    if len(names) < 2 or data.shape[0] < 2:
-        raise ModelError("file", str(path), "a time record needs columns time_s,<signal> and two rows or more")
-    t = data[:, 0]
-    if not _even(t):
-        raise ModelError(f"{path}:{names[0]}", "uneven time column", "time must be evenly spaced and increasing")
-    cols = names[1:]
+    """A time record from CSV or NPZ (:func:`cablecasing_core.records.read_records`, the one reader of
+    record files): returns ``(x, fs, name)``; ``channel`` is a column name (``casing.B.Fz``, its header
+    form ``casing.B.Fz [N]``) or an index among the signal columns (default the first). The first
+    column is the time (s), evenly spaced."""
+    from ..records import read_records
+
+    rec = read_records(path)
+    cols = list(rec.columns)
     if channel is None:
         j = 0
     elif isinstance(channel, str) and not channel.isdigit():
-        if channel not in cols:
-            raise ModelError("channel", channel, "must be one of " + ", ".join(cols))
-        j = cols.index(channel)
+        try:
+            j = cols.index(rec.resolve(channel))
+        except ModelError:
+            raise ModelError("channel", channel, "must be one of " + ", ".join(cols)) from None
     else:
         j = int(channel)
         if not 0 <= j < len(cols):
             raise ModelError("channel", channel, f"must be 0..{len(cols) - 1} or a column name")
-    return data[:, j + 1], 1.0 / float(np.mean(np.diff(t))), cols[j]
+    return rec.columns[cols[j]], rec.fs, cols[j]
 
 
 def read_csv_frf(path):
@@ -276,7 +276,7 @@ def _uff_record(path, kind, channel, missing):
 
 
 def read_time_record(path, channel=None):
-    """``(x, fs, name)`` from a CSV or UFF (.uff/.unv) file; ``channel`` selects a column or the
+    """``(x, fs, name)`` from a CSV, NPZ or UFF (.uff/.unv) file; ``channel`` selects a column or the
     n-th time function of a UFF file."""
     if not is_uff(path):
         return read_csv_time(path, channel)
