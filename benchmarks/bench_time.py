@@ -153,9 +153,7 @@ tr, Fr = runs[2.5e-6]
 rms = np.sqrt(np.mean(Fr[tr > 0.05] ** 2))
 for dt in (1e-5, 5e-6):
     # the same excitation record (its length sets its frequency lines), only 0.05 s of it
-    t, F = (
-        runs[dt] if dt in runs else force(model, dt, 0.05, motion=scenario_motion(model, dt=dt))
-    )
+    t, F = runs[dt] if dt in runs else force(model, dt, 0.05, motion=scenario_motion(model, dt=dt))
     e = t < 0.05
     Fref = np.interp(t[e], tr, Fr)  # the reference at the coarse times (common grid points)
     print(f"early_force_err_dt{dt:g}: {np.max(np.abs(F[e] - Fref)) / rms:.2e}")

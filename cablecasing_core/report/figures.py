@@ -293,9 +293,23 @@ def study_figures(model, folder: Path, n_samples, duration, skip, progress):
         plot_correlations(res, folder / "correlations.png")
         out["pearson"], out["spearman"] = correlations(res, "pearson"), correlations(res, "spearman")
     try:
-        out["sobol"] = sobol_indices(res)
+        sob = sobol_indices(res)
+    except ModelError as exc:  # too few complete groups: the page says so
+        sob, out["sobol_note"] = None, f"No Sobol indices: {exc.allowed}."
+    out["warnings"] = size_warnings(res, sob) if out["ok"] else ["every run failed"]
+    worst = np.nanmax(np.r_[sob.S1_conf.ravel(), sob.ST_conf.ravel()]) if sob is not None else np.nan
+    if sob is not None and worst > SOBOL_SHOWN:
+        sob = None
+        out["sobol_note"] = (
+            f"The Sobol indices of these {res.n_base} base points are not shown: their intervals reach "
+            f"±{worst:.3g}. A larger study gives them: cablecasing study --samples N (docs/studies.md)."
+        )
+    out["sobol"] = sob
+    if sob is not None:
         plot_sobol(res, folder / "sobol.png")
-    except ModelError:  # too few complete groups: the page says so
-        out["sobol"] = None
-    out["warnings"] = size_warnings(res, out["sobol"]) if out["ok"] else ["every run failed"]
     return out
+
+
+#: The widest interval (half-width) of a Sobol index the report still shows; beyond it the figure
+#: would be error bars only.
+SOBOL_SHOWN = 0.5

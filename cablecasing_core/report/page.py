@@ -37,8 +37,9 @@ def _g(x, digits=4):
     return "nan" if x is None or (isinstance(x, float) and math.isnan(x)) else f"{float(x) + 0.0:.{digits}g}"
 
 
-def _parameters(model):
-    """(key, value, unit, description) of every leaf of the model (tables and point lists summarised)."""
+def _parameters(model, duration):
+    """(key, value, unit, description) of every leaf of the model (tables and point lists summarised;
+    the model's own duration marked as not the report's)."""
     rows = []
 
     def walk(prefix, node):
@@ -56,6 +57,8 @@ def _parameters(model):
                 value = f"table of {len(v)} rows"
             else:
                 value = v
+            if key == "scenario.duration":
+                value = f"{v} (the report's runs: {duration:g} s)"
             rows.append((_e(key), _e(value), _e(unit), _e(desc)))
 
     walk("", model.data)
@@ -65,11 +68,8 @@ def _parameters(model):
 def _excitations(model):
     rows = []
     for name, e in model.scenario["excitation"].items():
-        params = ", ".join(
-            f"{k} = {v} {lookup(f'scenario.excitation.{name}.{k}').unit}".strip()
-            for k, v in e.items()
-            if k not in ("target", "kind")
-        )
+        units = {k: lookup(f"scenario.excitation.{name}.{k}").unit for k in e if k not in ("target", "kind")}
+        params = ", ".join(f"{k} = {e[k]} {u if u not in ('', '1') else ''}".strip() for k, u in units.items())
         rows.append((_e(name), _e(e["target"]), _e(e["kind"]), _e(params)))
     return rows
 
@@ -129,7 +129,10 @@ def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, o
         "of a random process, its band levels scatter from seed to seed, so levels are given as ensemble means with "
         "confidence intervals, and the reference records illustrate.</p>"
     )
-    parts += ["<h2>Model parameters</h2>", _table(["key", "value", "unit", "description"], _parameters(model))]
+    parts += [
+        "<h2>Model parameters</h2>",
+        _table(["key", "value", "unit", "description"], _parameters(model, info["duration"])),
+    ]
     n = max(len(f) for f in modes.values())
     mrows = [[str(i + 1)] + [_g(f[i], 6) if i < len(f) else "" for f in modes.values()] for i in range(n)]
     parts += [
@@ -188,13 +191,13 @@ def _bands(variants):
         for v in ens:
             e = v.ensemble
             lo, hi = (x[b] for x in e.ci(0.95))
+            lo = max(lo, 0.0)  # (a level is positive: the interval is cut at 0)
             m = e.mean[b]
-            db = lambda x: 20 * np.log10(x) if x > 0 else float("-inf")  # noqa: E731
             row += [
                 _g(m, 4),
                 f"{_g(lo, 3)} - {_g(hi, 3)}",
-                f"{db(m):.1f}",
-                f"{db(lo):.1f} - {db(hi):.1f}",
+                f"{_db(m)}",
+                f"{_db(lo)} - {_db(hi)}",
                 f"{100 * e.cv[b]:.0f} %",
             ]
         rows.append(row)
@@ -203,8 +206,13 @@ def _bands(variants):
         "<img src='band_levels.png'>",
         _table(head, rows, numeric=tuple(range(2, len(head)))),
         "<p class='note'>Means over the seeds of the ensembles (bands_&lt;variant&gt;.csv: one row per seed); "
-        "Student-t 95 % intervals; CV: the seed-to-seed scatter of a single record's level.</p>",
+        "Student-t 95 % intervals (cut at 0); CV: the seed-to-seed scatter of a single record's level.</p>",
     ]
+
+
+def _db(x):
+    """A level in dB re 1 N, "-inf" for zero."""
+    return f"{20 * np.log10(x):.1f}" if x > 0 else "-inf"
 
 
 def _study(study):
@@ -232,6 +240,8 @@ def _study(study):
                 )
             )
     sob = study.get("sobol")
+    if study.get("sobol_note"):
+        parts.append(f"<p class='note'>{_e(study['sobol_note'])}</p>")
     if sob is not None:
         parts.append("<img src='study/sobol.png'>")
         rows = []

@@ -87,6 +87,10 @@ class RandomRecord:
         return out[0], out[1], out[2]
 
     def _on_grid(self, k):
+        b0, b1 = int(k[0]) // self.block, int(k[-1]) // self.block
+        if b0 == b1 and k[-1] - k[0] == k.size - 1:  # consecutive samples in one block (the engine's chunks)
+            j = int(k[0]) - b0 * self.block
+            return self._block(b0)[:, j : j + k.size]
         out = np.empty((3, k.size))
         blocks = k // self.block
         for b in np.unique(blocks):

@@ -54,9 +54,10 @@ def test_the_demo_report_is_one_set_of_runs_and_the_fmu_is_the_core(tmp_path):
         "psd.png",
         "apparent_mass.png",
         "study/correlations.png",
-        "study/sobol.png",
     }
     assert want <= set(imgs)
+    # a 32-run study (4 base points) is too small for Sobol indices: the page says so instead
+    assert "study/sobol.png" in imgs or "Sobol indices of these 4 base points are not shown" in html
     for name in imgs:
         data = (out / name).read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 5000, name
