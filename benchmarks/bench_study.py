@@ -34,8 +34,8 @@ from multiprocessing import get_context
 from distributed import Client, LocalCluster
 
 from cablecasing_core.studies import PAPER_BOUNDS, resolve_evaluate, run_study, sobol_design
-from cablecasing_core.studies.sampling import base_points
 from cablecasing_core.studies.evaluators import cpu_burn_evaluate
+from cablecasing_core.studies.sampling import base_points
 
 BURN = "cablecasing_core.studies.evaluators:cpu_burn_evaluate"
 
