@@ -203,11 +203,11 @@ def plot_scalograms(panels, freqs_hz, path, unit="N", natural_hz=(), harmonics_h
 
 
 def _labels(ax, freqs, x, dx, ha, color, fmt):
-    """Labels of marked frequencies at the left or right edge of ``ax``, skipping any closer than 6 %
+    """Labels of marked frequencies at the left or right edge of ``ax``, skipping any closer than 16 %
     to the one before (log axis: they would overlap)."""
     last = -np.inf
     for f in sorted(freqs):
-        if np.log(f) - last < 0.06:
+        if np.log(f) - last < 0.15:
             continue
         last = np.log(f)
         ax.annotate(

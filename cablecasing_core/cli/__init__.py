@@ -22,7 +22,7 @@ import numpy as np
 from ..errors import CableCasingError, ModelError
 from ..model import load_model
 from . import identify, nvh, report, simulate, study
-from .paths import check_output_path
+from .paths import check_output_path, emit_table
 
 
 class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
@@ -88,16 +88,8 @@ def cmd_trfam(args):
         rec = Record("frf", f, H, name, node, d, ref_node, ref_d, "N", 9, "m/s2", 12)
         write_uff(args.out, [rec])
         print(f"wrote {args.out} (UFF 58, {name}, kg)")
-    elif args.out:
-        from ..files import atomic_path
-
-        with atomic_path(args.out) as tmp:
-            np.savetxt(tmp, table, delimiter=",", header=header, comments="", fmt="%.10g")
-        print(f"wrote {args.out}")
     else:
-        print(header)
-        for row in table:
-            print(",".join(f"{v:.10g}" for v in row))
+        emit_table(args.out, header, table, 10, note="")
     if args.plot:
         from ..plotting import plot_trfam
 

@@ -26,9 +26,8 @@ def _window(rec, skip):
 
 
 def cmd_spectrum(args):
-    from ..files import atomic_path
     from ..nvh import apparent_mass, psd, reference, transmissibility
-    from .paths import check_output_path
+    from .paths import check_output_path, emit_table
 
     check_output_path("--out", args.out, (".csv",))
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
@@ -71,15 +70,7 @@ def cmd_spectrum(args):
             f"# {args.record}: {res[0].kind} ({args.estimator}), df = {res[0].f_hz[1]:.4g} Hz, "
             f"{res[0].n_averages} averages, after {args.skip:g} s"
         )
-    header = ",".join(["frequency [Hz]"] + names)
-    if args.out:
-        with atomic_path(args.out) as tmp:
-            np.savetxt(tmp, table, delimiter=",", header=header, comments="", fmt="%.9g")
-        print(f"# wrote {args.out}")
-    else:
-        print(header)
-        for row in table:
-            print(",".join(f"{v:.6g}" for v in row))
+    emit_table(args.out, ",".join(["frequency [Hz]"] + names), table, 9)
     if args.plot:
         from ..nvh.plots import plot_psd, plot_transfer
 

@@ -128,57 +128,35 @@ def contact_figures(model, var, out):
     r = var.result
     if var.ensemble is not None and var.ensemble.contact_time.size:
         ct = var.ensemble.contact_time.mean(axis=0)
-        what = f"mean over seeds {var.ensemble.seeds[0]}..{var.ensemble.seeds[-1]} ({var.title})"
+        what = f"mean of seeds {var.ensemble.seeds[0]}..{var.ensemble.seeds[-1]}, {var.title}"
     else:
-        ct, what = r.contact_time, f"reference record ({var.title})"
+        ct, what = r.contact_time, f"reference record, {var.title}"
     cl = centerline_of(model)
     plot_geometry(
         cl,
         out / "routing_contact.png",
         values=ct,
         label="contact time per run (s)",
-        title=f"(a) routing and contact time, {what} (Fig. 22a)",
+        title=f"(a) routing and contact time (Fig. 22a)\n{what}",
     )
     fig, ax = plt.subplots(figsize=(7, 3.4))
     plot_contact_histogram(ax, r.arc_length, ct, r.curvature, label="contact time per run (s)")
-    ax.set_title(f"(b) contact time per cable node and curvature, {what} (Fig. 22b)", fontsize=9, loc="left")
+    ax.set_title(f"(b) contact time per cable node and curvature (Fig. 22b): {what}", fontsize=8, loc="left")
     save_figure(fig, out / "contact_histogram.png")
 
 
 def band_figure(variants, path):
     """Band levels of casing.B.Fz as ensemble means with their 95 % confidence intervals (N, log
-    axis, and dB re 1 N), one series per variant."""
-    import matplotlib.pyplot as plt
-
-    from ..nvh.plots import db_axis
-    from ..plotting import save_figure
+    axis, and dB re 1 N), one series per variant (``studies.plot_ensemble``)."""
+    from ..studies import plot_ensemble
 
     ens = [v for v in variants if v.ensemble is not None]
     if not ens:
         return
-    e0 = ens[0].ensemble
-    fig, ax = plt.subplots(figsize=(8, 4))
-    x = np.arange(1, len(e0.labels) + 1)
-    for k, v in enumerate(ens):
-        e = v.ensemble
-        lo, hi = e.ci(0.95)
-        ax.errorbar(
-            x + (k - (len(ens) - 1) / 2) * 0.18,
-            e.mean,
-            yerr=[e.mean - lo, hi - e.mean],
-            fmt="o",
-            capsize=3,
-            label=f"{v.title}: mean of {e.n} seeds, 95 % CI",
-        )
-    ax.set_yscale("log")
-    ax.set_xticks(x, [f"{lab[3:]}\n{lo:g}-{hi:g}" for lab, lo, hi in zip(e0.labels, e0.lower, e0.upper)], fontsize=7)
-    ax.set_xlabel("octave band of Table 3 (Hz)")
-    ax.set_ylabel(f"band RMS of {e0.output} (N)")
-    db_axis(ax, 1.0, "N", power=False)
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    ax.set_title(f"Band levels of {e0.output}: ensemble means over excitation seeds", fontsize=10)
-    save_figure(fig, path)
+    other = ens[1].ensemble if len(ens) > 1 else None
+    labels = (ens[0].title, ens[1].title if len(ens) > 1 else "")
+    title = f"Band levels of {OUTPUT} (Table 3): ensemble means over excitation seeds"
+    plot_ensemble(ens[0].ensemble, path, other, labels=labels, title=title)
 
 
 def psd_figure(variants, path, skip):

@@ -40,28 +40,19 @@ def _g(x, digits=4):
 def _parameters(model, duration):
     """(key, value, unit, description) of every leaf of the model (tables and point lists summarised;
     the model's own duration marked as not the report's)."""
+    from ..model.model import dotted
+
     rows = []
-
-    def walk(prefix, node):
-        for k, v in node.items():
-            key = f"{prefix}.{k}" if prefix else k
-            if isinstance(v, dict):
-                walk(key, v)
-                continue
-            try:
-                spec = lookup(key)
-                unit, desc = spec.unit or "-", spec.description
-            except ModelError:
-                unit, desc = "-", ""
-            if isinstance(v, list) and v and isinstance(v[0], list):
-                value = f"table of {len(v)} rows"
-            else:
-                value = v
-            if key == "scenario.duration":
-                value = f"{v} (the report's runs: {duration:g} s)"
-            rows.append((_e(key), _e(value), _e(unit), _e(desc)))
-
-    walk("", model.data)
+    for key, v in dotted(model.data).items():
+        try:
+            spec = lookup(key)
+            unit, desc = spec.unit or "-", spec.description
+        except ModelError:
+            unit, desc = "-", ""
+        value = f"table of {len(v)} rows" if isinstance(v, list) and v and isinstance(v[0], list) else v
+        if key == "scenario.duration":
+            value = f"{v} (the report's runs: {duration:g} s)"
+        rows.append((_e(key), _e(value), _e(unit), _e(desc)))
     return rows
 
 

@@ -154,6 +154,7 @@ def read_vary_file(path) -> dict[str, tuple[float, float]]:
     contact.friction = [0.05, 0.2]
     """
     from ..model.load import tomllib
+    from ..model.model import dotted
 
     try:
         with open(path, "rb") as fh:
@@ -162,17 +163,7 @@ def read_vary_file(path) -> dict[str, tuple[float, float]]:
         raise ModelError("--vary-file", str(path), f"must be a readable TOML file ({exc.strerror})") from None
     except tomllib.TOMLDecodeError as exc:
         raise ModelError("--vary-file", str(path), f"must be valid TOML ({exc})") from None
-    out = {}
-
-    def walk(prefix, node):
-        for k, v in node.items():
-            key = f"{prefix}.{k}" if prefix else k
-            if isinstance(v, dict):
-                walk(key, v)
-            else:
-                out[key] = v
-
-    walk("", raw)
+    out = dotted(raw)
     if not out:
         raise ModelError("--vary-file", str(path), "names no parameter; write lines such as casing.E = [2e9, 1e10]")
     return out
