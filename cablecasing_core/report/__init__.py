@@ -15,6 +15,7 @@ record against the TRFAM); ``study/study.csv``, ``study/correlations.png`` (Fig.
 
 from __future__ import annotations
 
+import csv
 import datetime
 import json
 import sys
@@ -23,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ModelError
-from ..files import write_text
+from ..files import atomic_path, write_text
 from .runs import OUTPUT, drive_harmonics, run_variant, variants
 
 
@@ -85,6 +86,11 @@ def write_report(
     body = "casing" if "casing" in model.bodies else next(iter(model.bodies))
     _say("natural frequencies and TRFAM (frequency domain)", progress)
     modes = {b: cc.natural_frequencies(model, b, 10) for b in model.bodies}
+    lines = ["mode," + ",".join(f"{b} [Hz]" for b in modes)]
+    lines += [f"{i + 1}," + ",".join(repr(float(f[i])) for f in modes.values()) for i in range(10)]
+    write_text(out / "modes.csv", "\n".join(lines) + "\n")
+    with atomic_path(out / "parameters.csv") as tmp, open(tmp, "w", newline="", encoding="utf-8") as fh:
+        csv.writer(fh).writerows([("key", "value", "unit", "description"), *page.parameter_rows(model, duration)])
     freq = figures.trfam_figure(model, body, out)
     vs = variants(model, out, seed_list[0])
     for v in vs:

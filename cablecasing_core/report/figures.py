@@ -248,10 +248,14 @@ def study_figures(model, folder: Path, n_samples, duration, skip, progress):
 
     known = model.parameters()
     bounds = {k: b for k, b in PAPER_BOUNDS.items() if k in known}
+    if "cable" not in model.bodies:  # (without a cable the contact's keys change nothing)
+        bounds = {k: b for k, b in bounds.items() if not k.startswith(("contact.", "cable."))}
     if not bounds:
         return None
     bounds = check_bounds(bounds, model=model)
     folder.mkdir(parents=True, exist_ok=True)
+    for old in (folder / "study.csv", folder / "study.csv.meta.json"):  # a report's study starts afresh
+        old.unlink(missing_ok=True)
     model_file = folder / "model.toml"  # the model the runs load (each run is this file with its overrides)
     write_text(model_file, model.to_toml())
     kwargs = {"model_file": str(model_file.resolve()), "duration": duration, "skip": skip}

@@ -37,9 +37,10 @@ def _g(x, digits=4):
     return "nan" if x is None or (isinstance(x, float) and math.isnan(x)) else f"{float(x) + 0.0:.{digits}g}"
 
 
-def _parameters(model, duration):
-    """(key, value, unit, description) of every leaf of the model (tables and point lists summarised;
-    the model's own duration marked as not the report's)."""
+def parameter_rows(model, duration):
+    """(key, value, unit, description) of every leaf of the model as text (tables and point lists
+    summarised; the model's own duration marked as not the report's): the report's parameter table
+    and parameters.csv."""
     from ..model.model import dotted
 
     rows = []
@@ -52,7 +53,7 @@ def _parameters(model, duration):
         value = f"table of {len(v)} rows" if isinstance(v, list) and v and isinstance(v[0], list) else v
         if key == "scenario.duration":
             value = f"{v} (the report's runs: {duration:g} s)"
-        rows.append((_e(key), _e(value), _e(unit), _e(desc)))
+        rows.append((key, str(value), unit, desc))
     return rows
 
 
@@ -122,7 +123,10 @@ def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, o
     )
     parts += [
         "<h2>Model parameters</h2>",
-        _table(["key", "value", "unit", "description"], _parameters(model, info["duration"])),
+        _table(
+            ["key", "value", "unit", "description"],
+            [tuple(map(_e, r)) for r in parameter_rows(model, info["duration"])],
+        ),
     ]
     n = max(len(f) for f in modes.values())
     mrows = [[str(i + 1)] + [_g(f[i], 6) if i < len(f) else "" for f in modes.values()] for i in range(n)]
@@ -144,7 +148,9 @@ def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, o
         f"<p class='note'>Reference records; dashed: natural frequencies of the casing; dotted red: the drive and its "
         f"harmonics ({_e(', '.join(f'{f:g}' for f in harmonics[:8]))}{' ...' if len(harmonics) > 8 else ''} Hz).</p>",
         "<h2>Contact: routing and contact time beside the curvature (Fig. 22)</h2>",
-        "<img src='routing_contact.png'><img src='contact_histogram.png'>",
+        "<img src='routing_contact.png'><img src='contact_histogram.png'>"
+        if {"casing", "cable"} <= set(model.bodies)
+        else "<p>The model has no cable in a casing: no contact.</p>",
     ]
     parts += _bands(variants)
     parts += [
