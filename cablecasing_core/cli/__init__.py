@@ -31,7 +31,8 @@ class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
 
     def _get_help_string(self, action):
         text = action.help or ""
-        if "default" in text or action.default in (None, False, [], argparse.SUPPRESS):
+        d = action.default
+        if "default" in text or d is None or d is False or d is argparse.SUPPRESS or (isinstance(d, list) and not d):
             return text
         if not action.option_strings and action.nargs not in ("?", "*"):
             return text

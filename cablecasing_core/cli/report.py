@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from .helptext import key_help
-
 
 def cmd_report(args):
     from ..report import write_report
@@ -32,9 +30,7 @@ def add_parser(sub):
         "--duration",
         type=float,
         default=0.5,
-        help=key_help("scenario.duration", "simulated time per run").replace(
-            "default: the model's scenario.duration", "default: 0.5 s"
-        ),
+        help="simulated time of every run of the report, s (the model's scenario.duration is not used)",
     )
     r.add_argument("--seeds", type=int, default=6, help="excitation seeds of the band-level ensembles (1..N)")
     r.add_argument("--study-samples", type=int, default=32, help="runs of the small study of Fig. 23 (0: no study)")

@@ -165,8 +165,9 @@ def test_every_help_shows_the_defaults(capsys):
     for path, p in parsers(build_parser()):
         text = " ".join(p.format_help().split())
         for a in p._actions:
-            if not a.option_strings or a.default in (None, False, [], "==SUPPRESS==") or a.help is None:
-                continue
+            d = a.default
+            if not a.option_strings or d is None or d is False or d == [] or d == "==SUPPRESS==" or a.help is None:
+                continue  # (`is`: a default of 0 must be shown, and 0 == False)
             assert "default" in (a.help or "") or f"(default: {a.default})" in text, (path, a.option_strings)
             n += 1
     assert n > 40
