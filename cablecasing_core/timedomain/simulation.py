@@ -163,8 +163,10 @@ def simulate(
     cl = eng.bodies[next(iter(eng.bodies))].system.centerline
     # the step ends; a duration that is not a whole number of steps ends with a shorter one
     time = np.minimum(dt * np.arange(1, n + 1), eng.time)
-    u, v, a = motion(time) if inputs else ((), (), ())
-    table = np.hstack([u, v, a]) if inputs else None
+    cols = [INPUTS.index(name) for name in inputs]
+    table = np.empty((n, len(cols)))
+    for i in range(0, n if cols else 0, 65536):  # (in pieces: all 36 inputs of a long run would not fit)
+        table[i : i + 65536] = np.hstack(motion(time[i : i + 65536]))[:, cols]
     return SimulationResult(
         time=time,
         support_forces=h["support_forces"],
@@ -175,7 +177,7 @@ def simulate(
         curvature=cl.curvature,
         arc_length=cl.s,
         energies=eng.energies(),
-        inputs={name: table[:, INPUTS.index(name)] for name in inputs},
+        inputs={name: table[:, j] for j, name in enumerate(inputs)},
     )
 
 
