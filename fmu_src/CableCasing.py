@@ -370,7 +370,7 @@ class CableCasing(Fmi2Slave):
         if not self._value("scenario.drive"):
             return None
         model = engine.model
-        return GridMotion(scenario_motion(model, dt=engine.dt, duration=model.scenario["duration"]), engine.dt)
+        return GridMotion(scenario_motion(model, dt=engine.dt), engine.dt)
 
     def _make_engine(self, config):
         """A new Engine for ``config``; raises ModelError naming the parameter."""

@@ -313,7 +313,6 @@ class Instance:
     def exit_initialization_mode(self):
         return self._guard("fmi2ExitInitializationMode", self._slave.fmi2_exit_initialization_mode)
 
-
     def terminate(self):
         return self._guard("fmi2Terminate", self._slave.fmi2_terminate)
 

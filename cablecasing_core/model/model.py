@@ -117,18 +117,7 @@ class Model:
 
         Tables (frequency-dependent values), point lists and strings are not included.
         """
-        out = {}
-
-        def walk(prefix, node):
-            for k, v in node.items():
-                key = f"{prefix}.{k}" if prefix else k
-                if isinstance(v, dict):
-                    walk(key, v)
-                elif isinstance(v, (int, float)) and not isinstance(v, bool):
-                    out[key] = v
-
-        walk("", self.data)
-        return out
+        return {k: v for k, v in dotted(self.data).items() if isinstance(v, (int, float)) and not isinstance(v, bool)}
 
     def with_overrides(self, overrides: Mapping[str, object]) -> Model:
         """A validated copy with ``{dotted.key: value}`` replaced (e.g. ``{"casing.E": 6e9}``).
@@ -162,6 +151,23 @@ class Model:
     def to_toml(self) -> str:
         """The model as TOML text (round-trips through :func:`load_model`)."""
         return _to_toml(self.data)
+
+
+def dotted(data: Mapping) -> dict:
+    """Every leaf of a nested table as ``{dotted.key: value}``, in the table's order (a model's data,
+    a TOML file of dotted keys)."""
+    out = {}
+
+    def walk(prefix, node):
+        for k, v in node.items():
+            key = f"{prefix}.{k}" if prefix else k
+            if isinstance(v, dict):
+                walk(key, v)
+            else:
+                out[key] = v
+
+    walk("", data)
+    return out
 
 
 def _to_toml(data):

@@ -445,7 +445,7 @@ def test_scenario_drive_runs_the_cores_scenario(fmu, tmp_path, run):
     res = run(tmp_path, "run", fmu, inputs=np.zeros((n, 3 * NCH)), params={"scenario.drive": True})
     assert np.all(res["status"] == 0) and res["init_status"] == 0
     eng = Engine(model, ledger=False, record=True)
-    eng.advance(n * H, scenario_motion(model, dt=model.scenario["dt"], duration=model.scenario["duration"]))
+    eng.advance(n * H, scenario_motion(model, dt=model.scenario["dt"]))
     forces = eng.history()["support_forces"][9::10]
     assert len(forces) == n and np.max(np.abs(forces)) > 0.1
     assert res["out"][:, OUTPUTS.index("contact.active")].max() >= 1

@@ -266,7 +266,7 @@ def test_the_hosts_python_variables_do_not_disturb_it(fmu, tmp_path):
         env=env, capture_output=True, text=True, timeout=300,
     )  # fmt: skip
     assert proc.returncode == 0, proc.stderr[-3000:]
-    assert len((tmp_path / "out.csv").read_text().splitlines()) == 22   # header, t = 0 and 20 steps
+    assert len((tmp_path / "out.csv").read_text().splitlines()) == 22  # header, t = 0 and 20 steps
 
 
 def test_the_bridge_names_old_and_missing_packages():
