@@ -1,6 +1,7 @@
 """Command line ``cablecasing``: a thin shell over the core API.
 
-Sub-commands: ``modes``, ``trfam``, ``keys`` (the model file's keys, from the schema), ``simulate``
+Sub-commands: ``modes``, ``trfam``, ``keys`` (the model file's keys, from the schema), ``geometry``
+(``geometry.py``), ``simulate``
 (``simulate.py``), ``spectrum`` and ``bands`` (``nvh.py``), ``identify ...`` (``identify.py``),
 ``study``, ``ensemble``, ``pool`` (``study.py``), ``report`` (``report.py``), each module registering
 its own with ``add_parser``. Every ``--help`` shows the defaults. Every error in the input prints one
@@ -21,7 +22,7 @@ import numpy as np
 
 from ..errors import CableCasingError, ModelError
 from ..model import load_model
-from . import identify, nvh, report, simulate, study
+from . import geometry, identify, nvh, report, simulate, study
 from .paths import check_output_path, emit_table
 
 
@@ -145,7 +146,7 @@ def build_parser():
     k.add_argument("prefix", nargs="?", default=None, help="only keys that start with this, e.g. contact")
     k.set_defaults(func=cmd_keys)
 
-    for module in (simulate, nvh, identify, study, report):
+    for module in (geometry, simulate, nvh, identify, study, report):
         module.add_parser(sub)
     return p
 

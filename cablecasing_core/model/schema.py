@@ -17,7 +17,7 @@ Keys under named tables are written with ``<name>`` (``scenario.excitation.<name
 :func:`lookup` accepts them under any name. Units are FMI-style strings ("1": dimensionless,
 "m/s2", "N.m", "kg/m3", ...; "" for text and booleans).
 
-This module is over 400 lines because the schema is one table of the model file's keys (46), kept
+This module is over 400 lines because the schema is one table of the model file's keys (65), kept
 in one place on purpose; the validators are in ``validators.py``.
 """
 
@@ -26,11 +26,25 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 from ..errors import ModelError
-from .validators import Band, Boolean, Choice, Number, NumberOrTable, Points, Target, Text
+from .validators import (
+    Band,
+    Boolean,
+    ChannelName,
+    Choice,
+    Number,
+    NumberOrTable,
+    Points,
+    Segments,
+    StiffnessTable,
+    Target,
+    Text,
+    Triple,
+    Vector,
+)
 
 BODY_NAMES = ("casing", "cable")
 SUPPORT_NAMES = ("A", "B")
-SUPPORT_TYPES = ("clamped", "free")
+SUPPORT_TYPES = ("clamped", "isolator", "free")
 DIRECTIONS = ("x", "y", "z")
 CONTACT_LAWS = ("hertz", "linear")
 EXCITATION_KINDS = ("random", "harmonic", "impulse", "csv")
@@ -196,12 +210,86 @@ def _body(body):
             "str",
             "clamped",
             "",
-            f"support {s} of {the}: clamped (its translations follow the support motion, rotations held) or free",
+            f"support {s} of {the}: clamped (its translations follow the support motion, rotations held), "
+            f"isolator (a 6-DOF spring-damper to the moving support, [{body}.isolator.{s}]) or free",
             Choice(*SUPPORT_TYPES),
+            note=f"isolator needs the table [{body}.isolator.{s}]",
         )
         for s in SUPPORT_NAMES
     ]
+    keys += _mount_keys(f"{body}.isolator.<support>", "the isolator")
+    if body == "casing":
+        keys += [
+            KeySpec(
+                "casing.clip[].at",
+                "float",
+                REQUIRED,
+                "m",
+                "arc length from end A of a clip holding the casing (the nearest node is clipped)",
+                Number(gt=0, unit="m"),
+                note="inside the route, its nearest node not an end node and not another clip's",
+            ),
+            *_mount_keys("casing.clip[]", "the clip"),
+            KeySpec(
+                "casing.clip[].excitation",
+                "str",
+                OPTIONAL,
+                "",
+                "a name for the clip's own support channels <name>.x, .y, .z (m, global axes; FMU inputs "
+                "and excitation targets); without it the clip's support is fixed",
+                ChannelName(),
+                note="unique among the model's clips",
+            ),
+        ]
     return keys
+
+
+def _mount_keys(prefix, what):
+    """The spring-damper keys of an isolator or a clip (local axes: axial along the tangent, the
+    element frame's lateral y and z)."""
+    return [
+        KeySpec(
+            f"{prefix}.stiffness",
+            "float or 3 floats",
+            REQUIRED,
+            "N/m",
+            f"translational stiffness of {what} [axial, lateral_1, lateral_2] in the support's local axes",
+            Triple(Number(ge=0, unit="N/m")),
+        ),
+        KeySpec(
+            f"{prefix}.rotational_stiffness",
+            "float or 3 floats",
+            0.0,
+            "N.m/rad",
+            f"rotational stiffness of {what} [about axial (torsion), lateral_1, lateral_2]",
+            Triple(Number(ge=0, unit="N.m/rad")),
+        ),
+        KeySpec(
+            f"{prefix}.damping",
+            "float or 3 floats",
+            0.0,
+            "N.s/m",
+            f"translational viscous damping of {what} [axial, lateral_1, lateral_2]",
+            Triple(Number(ge=0, unit="N.s/m")),
+        ),
+        KeySpec(
+            f"{prefix}.rotational_damping",
+            "float or 3 floats",
+            0.0,
+            "N.m.s/rad",
+            f"rotational viscous damping of {what} [about axial, lateral_1, lateral_2]",
+            Triple(Number(ge=0, unit="N.m.s/rad")),
+        ),
+        KeySpec(
+            f"{prefix}.table",
+            "table",
+            OPTIONAL,
+            "",
+            f"dynamic stiffness of {what} against frequency, k(f) = k k_scale (1 + i loss_factor) (frequency "
+            "domain only; linear, held at the ends)",
+            StiffnessTable(),
+        ),
+    ]
 
 
 _EXC = "scenario.excitation.<name>"
@@ -222,7 +310,40 @@ _KEYS = [
         "number of beam elements of each body along the centerline",
         Number(ge=1, integer=True),
     ),
-    KeySpec("geometry.points", "points", REQUIRED, "m", "points on the centerline at rest, end A first", Points()),
+    KeySpec(
+        "geometry.points",
+        "points",
+        OPTIONAL,
+        "m",
+        "points on the centerline at rest, end A first",
+        Points(),
+        note="exactly one of geometry.points and geometry.segments",
+    ),
+    KeySpec(
+        "geometry.start",
+        "3 floats",
+        [0.0, 0.0, 0.0],
+        "m",
+        "end A of a route given by segments",
+        Vector(unit="m"),
+    ),
+    KeySpec(
+        "geometry.direction",
+        "3 floats",
+        [1.0, 0.0, 0.0],
+        "1",
+        "unit tangent at end A of a route given by segments (normalised)",
+        Vector(unit="", nonzero=True),
+    ),
+    KeySpec(
+        "geometry.segments",
+        "segments",
+        OPTIONAL,
+        "m",
+        "the route as straights and circular bends from geometry.start along geometry.direction (exact arcs)",
+        Segments(),
+        note="each bend's toward not along the tangent where the bend starts",
+    ),
     *_body("casing"),
     *_body("cable"),
     KeySpec(
@@ -417,8 +538,15 @@ def lookup(key: str) -> KeySpec:
     spec = SCHEMA.get(key)
     if spec is None and isinstance(key, str):
         parts = key.split(".")
-        if len(parts) == 4 and parts[:2] == ["scenario", "excitation"] and f"{_EXC}.{parts[3]}" in SCHEMA:
-            spec = replace(SCHEMA[f"{_EXC}.{parts[3]}"], key=key)
+        generic = None
+        if len(parts) == 4 and parts[:2] == ["scenario", "excitation"]:
+            generic = f"{_EXC}.{parts[3]}"
+        elif len(parts) == 4 and parts[0] in BODY_NAMES and parts[1] == "isolator" and parts[2] in SUPPORT_NAMES:
+            generic = f"{parts[0]}.isolator.<support>.{parts[3]}"
+        elif len(parts) == 3 and parts[0] == "casing" and parts[1].startswith("clip["):
+            generic = f"casing.clip[].{parts[2]}"
+        if generic in SCHEMA:
+            spec = replace(SCHEMA[generic], key=key)
     if spec is None:
         raise ModelError(key, None, "is not a key of the model file (see docs/model_file.md)")
     return spec
@@ -426,7 +554,8 @@ def lookup(key: str) -> KeySpec:
 
 def table(prefix: str) -> list:
     """The specs of the keys directly in the table ``prefix`` (e.g. ``"casing"``,
-    ``"casing.supports"``, ``"scenario.excitation.<name>"``), in schema order."""
+    ``"casing.supports"``, ``"scenario.excitation.<name>"``, ``"casing.isolator.<support>"``,
+    ``"casing.clip[]"``), in schema order."""
     return [s for s in _KEYS if s.key.rsplit(".", 1)[0] == prefix]
 
 
