@@ -15,6 +15,12 @@ D_ff is diagonalised exactly by the undamped modes of (K, M) because both dampin
 proportional; the solve is then a modal sum over all modes (no truncation), vectorised over
 frequency. TRFAM (Eq. 12) = f_p,out / (acceleration of the input DOF) = f_p / (-omega^2), in kg.
 
+With isolators or clips (``structure/mount_element.py``) the supports' own nodes are prescribed
+DOFs of the augmented system and each mount adds its complex dynamic stiffness
+K6 k_scale(f) (1 + i loss(f)) + i omega C6 between body node and support node. That damping is not
+proportional, so D_ff is then solved directly at each frequency (dense LU, in blocks of
+frequencies); f_p at an isolator's support node is the force through the isolator.
+
 Sign convention: f_p is the force the support applies to the body (the reaction of Eq. 13), so a
 rigid mass m has a driving-point apparent mass of +m.
 """
@@ -46,8 +52,8 @@ def parse_port(key, value, model):
     body, support, d = parts
     if body not in model.bodies:
         raise ModelError(key, value, "body must be one of " + ", ".join(repr(b) for b in model.bodies))
-    if model.bodies[body].supports[support] != "clamped":
-        raise ModelError(key, value, f"support {body}.{support} is free; TRFAM needs clamped supports")
+    if model.bodies[body].supports[support] == "free":
+        raise ModelError(key, value, f"support {body}.{support} is free; TRFAM needs clamped or isolator supports")
     return body, support, DIRECTIONS.index(d)
 
 
@@ -59,6 +65,8 @@ class FrequencyResponse:
 
     def __init__(self, system):
         self.system = system
+        if system.mounts:
+            return  # solved directly (support_forces)
         basis = modal_basis(system)
         self.lam = basis.lam
         Kff, Kfp, Kpf, Kpp = system.K_blocks
@@ -85,6 +93,8 @@ class FrequencyResponse:
         mu = w**2 - 1j * w * alpha
         rows = slice(None) if rows is None else rows
         cols = slice(None) if cols is None else cols
+        if self.system.mounts:
+            return self._direct(f, kappa, mu, damping != "none", rows, cols)
         Kin, Min = self.Kin[:, cols], self.Min[:, cols]
         Kout, Mout = self.Kout[rows], self.Mout[rows]
         k, m = kappa[:, None], mu[:, None]
@@ -94,6 +104,29 @@ class FrequencyResponse:
         F = -np.einsum("fqm,fm,fmj->fqj", out, inv_d, load, optimize=True)
         F += kappa[:, None, None] * self.Kpp[rows][:, cols][None] - mu[:, None, None] * self.Mpp[rows][:, cols][None]
         return F
+
+    BLOCK = 64  # frequencies per batched dense solve (64 x 216^2 complex: 48 MB)
+
+    def _direct(self, f, kappa, mu, damped, rows, cols):
+        """support_forces with mounts: D(omega) = kappa K - mu M + the mounts' dynamic stiffness on
+        the augmented DOFs, x_f = -D_ff^-1 D_fp e_j and f_p = D_pf x_f + D_pp e_j at each frequency."""
+        sysm = self.system
+        K, M = sysm.augmented(sysm.K), sysm.augmented(sysm.M)
+        fr, pr = sysm.free, sysm.prescribed
+        pr_rows, pr_cols = pr[rows], pr[cols]
+        Z = [m.dynamic_stiffness(f, damped) for m in sysm.mounts]
+        G = [np.concatenate(sysm.mount_dofs(i)) for i in range(len(sysm.mounts))]
+        out = np.empty((len(f), len(pr_rows), len(pr_cols)), complex)
+        for k0 in range(0, len(f), self.BLOCK):
+            k1 = min(len(f), k0 + self.BLOCK)
+            D = kappa[k0:k1, None, None] * K[None] - mu[k0:k1, None, None] * M[None]
+            for idx, z in zip(G, Z):
+                zz = z[k0:k1]
+                D[np.ix_(np.arange(k1 - k0), idx, idx)] += np.block([[zz, -zz], [-zz, zz]])
+            Dff = D[:, fr][:, :, fr]
+            x = -np.linalg.solve(Dff, D[:, fr][:, :, pr_cols])
+            out[k0:k1] = D[:, pr_rows][:, :, fr] @ x + D[:, pr_rows][:, :, pr_cols]
+        return out
 
 
 def trfam(model: Model, input: str, output: str, freqs_hz: ArrayLike, damping: str = "viscous") -> np.ndarray:

@@ -233,7 +233,9 @@ class Segments:
         for i, seg in enumerate(value):
             k = f"{key}[{i}]"
             if not isinstance(seg, dict) or len(seg) != 1 or next(iter(seg)) not in ("straight", "bend"):
-                raise ModelError(k, seg, "each segment must be {straight = L_m} or {bend = {radius, angle_deg, toward}}")
+                raise ModelError(
+                    k, seg, "each segment must be {straight = L_m} or {bend = {radius, angle_deg, toward}}"
+                )
             if "straight" in seg:
                 out.append({"straight": self.length(f"{k}.straight", seg["straight"])})
                 continue

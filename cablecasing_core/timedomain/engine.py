@@ -142,6 +142,7 @@ class Engine:
         ns = self.bodies["casing"].system.ndof if "casing" in self.bodies else 1
         nc = self.bodies["cable"].system.ndof if "cable" in self.bodies else 1
         floats = [(b, k, (len(b.U),)) for b in self.bodies.values() for k in "UVA"]
+        floats += [(b, k, getattr(b, k).shape) for b in self.bodies.values() for k in ("mb", "mF")]
         floats += [
             (self, k, shape)
             for k, shape in (
@@ -188,6 +189,8 @@ class Engine:
         s = {"time": np.array([self.time])}
         for n, b in self.bodies.items():
             s[f"{n}.U"], s[f"{n}.V"], s[f"{n}.A"] = b.U.copy(), b.V.copy(), b.A.copy()
+            if b.mounts:
+                s[f"{n}.mb"], s[f"{n}.mF"] = b.mb.copy(), b.mF.copy()
         for a in self._ARRAYS:
             s[a] = getattr(self, a).copy()
         return s
@@ -213,6 +216,7 @@ class Engine:
         """Restore a state from :meth:`get_state` (continuation is bit-identical). Every entry is
         checked before any is written, so a bad state leaves the engine as it was."""
         targets = [(f"{n}.{k}", getattr(b, k)) for n, b in self.bodies.items() for k in "UVA"]
+        targets += [(f"{n}.{k}", getattr(b, k)) for n, b in self.bodies.items() if b.mounts for k in ("mb", "mF")]
         targets += [(a, getattr(self, a)) for a in self._ARRAYS]
         try:
             time = float(np.asarray(state["time"]).reshape(-1)[0])
@@ -371,14 +375,15 @@ class Engine:
         return K.contact_potential(self.gn, self.law, self.k_lin, self.k_hertz)
 
     def energies(self) -> dict[str, float]:
-        """Energy ledger in J: kinetic, strain, contact potential, work done by the supports,
-        dissipated by Rayleigh damping, dissipated in the contacts (damping and friction together:
+        """Energy ledger in J: kinetic, strain (with the mounts' springs), contact potential, work
+        done by the supports (through the mounts too), dissipated by Rayleigh damping, by the
+        mounts' dampers (``mount_dissipation``), dissipated in the contacts (damping and friction together:
         the work of the contact forces less the stored contact energy), and the balance residual
         (energy now minus the energy at the start plus supplied work less dissipation)."""
         kin = sum(b.energy()[0] for b in self.bodies.values())
         strain = sum(b.energy()[1] for b in self.bodies.values())
         pot = self.contact_potential()
-        w_sup, d_ray, e_start, d_fric, w_con, d_damp = (
+        w_sup, d_ray, e_start, d_fric, w_con, d_damp, d_mount = (
             self.ledger[i]
             for i in (
                 K.LEDGER_SUPPORT_WORK,
@@ -387,10 +392,11 @@ class Engine:
                 K.LEDGER_FRICTION_DISSIPATION,
                 K.LEDGER_CONTACT_WORK,
                 K.LEDGER_DAMPING_DISSIPATION,
+                K.LEDGER_MOUNT_DISSIPATION,
             )
         )
         d_con = -w_con - pot
-        residual = kin + strain + pot - (e_start + w_sup - d_ray - d_con)
+        residual = kin + strain + pot - (e_start + w_sup - d_ray - d_con - d_mount)
         return {
             "kinetic": kin,
             "strain": strain,
@@ -400,6 +406,7 @@ class Engine:
             "contact_dissipation": d_con,
             "contact_damping_dissipation": d_damp,
             "friction_dissipation": d_fric,
+            "mount_dissipation": d_mount,
             "residual": residual,
         }
 

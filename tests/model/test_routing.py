@@ -131,7 +131,11 @@ def test_plausibility_warnings():
         ({"segments": [{"bend": {"radius": 0.1, "angle_deg": 30}}]}, "geometry.segments[0].bend", "toward"),
         ({"segments": [{"bend": {"radius": 0.0, "angle_deg": 30, "toward": [0, 1, 0]}}]}, "radius", "positive"),
         ({"segments": [{"bend": {"radius": 0.1, "angle_deg": 360, "toward": [0, 1, 0]}}]}, "angle_deg", "(0, 360)"),
-        ({"segments": [{"bend": {"radius": 0.1, "angle_deg": 30, "toward": [2, 0, 0]}}]}, "toward", "leave the tangent"),
+        (
+            {"segments": [{"bend": {"radius": 0.1, "angle_deg": 30, "toward": [2, 0, 0]}}]},
+            "toward",
+            "leave the tangent",
+        ),
         ({"segments": [{"bend": {"radius": 0.1, "angle_deg": 30, "toward": [0, 0, 0]}}]}, "toward", "not all zero"),
         ({"segments": SEGMENTS, "direction": [0, 0, 0]}, "geometry.direction", "not all zero"),
         ({"segments": SEGMENTS, "start": [0, 0]}, "geometry.start", "[x, y, z]"),
@@ -149,7 +153,10 @@ def test_bad_routes_name_key_value_and_what_is_allowed(geometry, key, words):
 
 def test_a_second_bend_toward_its_own_tangent_is_refused():
     # after 90 deg towards +y the tangent is +y: a bend 'toward' +y then has no direction to turn to
-    segs = [{"bend": {"radius": 0.1, "angle_deg": 90, "toward": [0, 1, 0]}}, {"bend": {"radius": 0.1, "angle_deg": 30, "toward": [0, 1, 0]}}]
+    segs = [
+        {"bend": {"radius": 0.1, "angle_deg": 90, "toward": [0, 1, 0]}},
+        {"bend": {"radius": 0.1, "angle_deg": 30, "toward": [0, 1, 0]}},
+    ]
     with pytest.raises(ModelError, match=r"geometry.segments\[1\].bend.toward.*leave the tangent"):
         routed(segs)
 
@@ -168,7 +175,15 @@ def test_cli_geometry_json_plot_and_warnings(tmp_path, capsys):
     assert main(["geometry", str(p), "--json", "--plot", str(png)]) == 0
     cap = capsys.readouterr()
     out = json.loads(cap.out)
-    assert set(out) == {"length_m", "min_radius_m", "min_radius_at_m", "total_bend_deg", "gap_m", "element_length_m", "bends"}
+    assert set(out) == {
+        "length_m",
+        "min_radius_m",
+        "min_radius_at_m",
+        "total_bend_deg",
+        "gap_m",
+        "element_length_m",
+        "bends",
+    }
     assert out["length_m"] == pytest.approx(LENGTH, rel=1e-14)
     assert out["element_length_m"] == pytest.approx(LENGTH / 20, rel=1e-14)
     assert out["bends"][0] == {"start_m": 0.15, "radius_m": 0.15, "angle_deg": 60.0}

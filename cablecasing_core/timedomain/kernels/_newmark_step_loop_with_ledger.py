@@ -11,7 +11,15 @@ from numba import njit
 from ._banded_products_and_block_solve import copy_into, dia_quadratic
 from ._compile_options import FM, NO_RT
 from ._contact_forces_with_active_set import solve_contact_forces
-from ._newmark_per_body import finish, predict, predicted_velocity, reactions, respond_to_contact_forces
+from ._newmark_per_body import (
+    finish,
+    mount_forces,
+    mount_ledger,
+    predict,
+    predicted_velocity,
+    reactions,
+    respond_to_contact_forces,
+)
 from ._step_loop_contract import (
     DIAG_ACTIVE_SET_PASSES,
     DIAG_DAMPING_POWER,
@@ -37,6 +45,7 @@ from ._step_loop_contract import (
     LEDGER_DAMPING_POWER,
     LEDGER_FRICTION_DISSIPATION,
     LEDGER_FRICTION_POWER,
+    LEDGER_MOUNT_DISSIPATION,
     LEDGER_RAYLEIGH_DISSIPATION,
     LEDGER_SUPPORT_WORK,
     OK,
@@ -152,6 +161,9 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     cg0, cng, cf0, cnf, calpha, cbeta = cable.g0, cable.ng, cable.f0, cable.nf, cable.alpha, cable.beta
     cU, cV, cA, cpres, cpchan, cpslot = cable.U, cable.V, cable.A, cable.pres, cable.pchan, cable.pslot
     cKinv, csup, csup_lo, ccpl_i, ccpl_v, fcc = cable.Kinv, cable.sup, cable.sup_lo, cable.cpl_i, cable.cpl_v, cable.fc
+    smi, smKC, smb, smF = casing.mi, casing.mKC, casing.mb, casing.mF
+    cmi, cmKC, cmb, cmF = cable.mi, cable.mKC, cable.mb, cable.mF
+    smbo, smFo, cmbo, cmFo = smb.copy(), smF.copy(), cmb.copy(), cmF.copy()
     contact_on, r_cable = law.on, law.r_cable
     Xc, Tc, Xs, Rs, Ls, ws = contact.Xc, contact.Tc, contact.Xs, contact.Rs, contact.Ls, contact.ws
     state, elem, xi_arr, Pn, vrel = contact.state, contact.elem, contact.xi, contact.Pn, contact.vrel
@@ -179,6 +191,8 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
             copy_into(sUo, sU)
             copy_into(sVo, sV)
             copy_into(sAo, sA)
+            smbo[...] = smb
+            smFo[...] = smF
             predict(
                 sMd,
                 sDi,
@@ -204,11 +218,16 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
                 dt,
                 sy1,
                 sr,
+                smi,
+                smKC,
+                smb,
             )
         if c_on:
             copy_into(cUo, cU)
             copy_into(cVo, cV)
             copy_into(cAo, cA)
+            cmbo[...] = cmb
+            cmFo[...] = cmF
             predict(
                 cMd,
                 cDi,
@@ -234,6 +253,9 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
                 dt,
                 cy1,
                 cr,
+                cmi,
+                cmKC,
+                cmb,
             )
         if contact_on:
             predicted_velocity(sf0, snf, sU, sUo, sV, sVo, dt)
@@ -280,9 +302,11 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
         if s_on:
             finish(sf0, snf, sU, sV, sA, sUo, sVo, sAo, dt)
             reactions(ssup, ssup_lo, salpha, sbeta, sU, sV, sA, fcs_new, spres, spslot, reac_new, 0)
+            mount_forces(smi, smKC, smb, sU, sV, smF, reac_new, 0)
         if c_on:
             finish(cf0, cnf, cU, cV, cA, cUo, cVo, cAo, dt)
             reactions(csup, csup_lo, calpha, cbeta, cU, cV, cA, fcc_new, cpres, cpslot, reac_new, 12)
+            mount_forces(cmi, cmKC, cmb, cU, cV, cmF, reac_new, 12)
         # blow-up check on the cheap aggregates
         tot = 0.0
         for i in range(24):
@@ -339,6 +363,14 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
                 dt,
                 ledger,
             )
+        if s_on:
+            w, d = mount_ledger(smi, smKC, smb, smbo, sU, sUo, sV, sVo, smF, smFo)
+            ledger[LEDGER_SUPPORT_WORK] += w
+            ledger[LEDGER_MOUNT_DISSIPATION] += d
+        if c_on:
+            w, d = mount_ledger(cmi, cmKC, cmb, cmbo, cU, cUo, cV, cVo, cmF, cmFo)
+            ledger[LEDGER_SUPPORT_WORK] += w
+            ledger[LEDGER_MOUNT_DISSIPATION] += d
         if contact_on:
             ledger[LEDGER_FRICTION_DISSIPATION] += (
                 0.5 * dt * (ledger[LEDGER_FRICTION_POWER] + diag[DIAG_FRICTION_POWER])
