@@ -1,8 +1,10 @@
 """Command line ``cablecasing``: a thin shell over the core API.
 
 Sub-commands: ``modes``, ``trfam``, ``keys`` (the model file's keys, from the schema), ``simulate``
-(``simulate.py``), ``identify ...`` (``identify.py``), ``study``, ``ensemble``, ``pool``, ``bands``,
-``report`` (``study.py``), each module registering its own with ``add_parser``.
+(``simulate.py``), ``static`` (``static.py``), ``identify ...`` (``identify.py``), ``study``,
+``ensemble``, ``pool``, ``bands``, ``report`` (``study.py``), each module registering its own with
+``add_parser``. A model argument is a TOML file or the name of a built-in specimen (``default``,
+``installed``).
 Every error in the input prints one line naming the key, the value and what is allowed, and
 exits with status 2.
 """
@@ -17,7 +19,7 @@ import numpy as np
 
 from ..errors import CableCasingError, ModelError
 from ..model import load_model
-from . import identify, simulate, study
+from . import identify, simulate, static, study
 
 
 def _model(path):
@@ -105,6 +107,7 @@ def build_parser():
 
     for module in (simulate, identify, study):
         module.add_parser(sub)
+    static.add_parser(sub)
     return p
 
 

@@ -2,7 +2,9 @@
 
 The undamped eigenproblem K_ff phi = omega^2 M_ff phi on the free DOFs of Eq. (13), solved densely
 with LAPACK (scipy.linalg.eigh; a body has a few hundred DOFs, where a dense solver is faster than
-a sparse iterative one and returns every mode). Modes are mass-normalised.
+a sparse iterative one and returns every mode). Modes are mass-normalised. K is the tangent
+stiffness K_E + K_G of a prestressed body (an installed model: the cable's tension stiffens it, the
+casing's compression softens it; structure/assembly.py).
 """
 
 from __future__ import annotations
@@ -46,7 +48,9 @@ def natural_frequencies(model: Model, body: str, count: int | None = None) -> np
     """Natural frequencies (Hz, ascending) of ``body`` ("casing" or "cable") with its supports.
 
     With a frequency-dependent modulus E(f) each frequency solves f = f_ref sqrt(E(f) / E_ref)
-    (K scales with E), iterated to a relative change below 1e-12.
+    (K scales with E), iterated to a relative change below 1e-12; for a prestressed body, whose
+    geometric stiffness does not scale with E, mode i solves f_i = i-th frequency of
+    (E(f_i) / E_ref K_E + K_G, M), iterated alike.
     """
     return modes(model, body, count)[0]
 
@@ -61,7 +65,9 @@ def modes(model: Model, body: str, count: int | None = None) -> tuple[np.ndarray
     spec = basis.system.spec
     n = len(basis.lam) if count is None else min(count, len(basis.lam))
     f = basis.frequencies_hz[:n].copy()
-    if spec.frequency_dependent:
+    if spec.frequency_dependent and basis.system.prestressed:
+        f = _prestressed_frequencies(basis.system, f)
+    elif spec.frequency_dependent:
         f_ref = f.copy()
         for _ in range(200):
             f_new = f_ref * np.sqrt(spec.modulus(f) / spec.E_ref)
@@ -72,3 +78,21 @@ def modes(model: Model, body: str, count: int | None = None) -> tuple[np.ndarray
     shapes = np.zeros((basis.system.ndof, n))
     shapes[basis.system.free] = basis.phi[:, :n]
     return f, shapes
+
+
+def _prestressed_frequencies(system, f):
+    """Frequencies (Hz) of a prestressed body with E(f): mode i at the modulus of its own frequency,
+    f_i = i-th of (E(f_i)/E K_E + K_G, M), by fixed-point iteration from the reference ``f``."""
+    spec = system.spec
+    f = f.copy()
+    KE, KG, M = (system.blocks(A)[0] for A in (system.K_E, system.K_G, system.M))
+    for i in range(len(f)):
+        for _ in range(100):
+            s = float(spec.modulus(f[i])) / system.E
+            lam = eigh(s * KE + KG, M, eigvals_only=True, subset_by_index=[i, i])[0]
+            fi = np.sqrt(max(lam, 0.0)) / (2.0 * np.pi)
+            done = abs(fi - f[i]) <= 1e-12 * fi
+            f[i] = fi
+            if done:
+                break
+    return f
