@@ -12,8 +12,8 @@ the nodes (each cable node's normal plane in the contact search, Eqs. 36-39) and
 r' x r'' / |r'|^3 = kappa b (Eq. 34's binormal) is the bending strain a cable that is stress-free
 straight carries in the routing (structure/loads.py). On a polyline the curvature is concentrated
 in its corners; there the curvature vector of a node is its turning angle over the mean length of
-its two elements, about the axis t_before x t_after (the scalar curvature stays zero: a polyline
-has no smooth curvature to show).
+its two elements, about the axis t_before x t_after, and an end node takes its neighbour's (the
+scalar curvature stays zero: a polyline has no smooth curvature to show).
 """
 
 from __future__ import annotations
@@ -155,14 +155,18 @@ def build_centerline(points, n_elements, curve="spline"):
 def corner_curvature(directions, lengths):
     """Curvature vectors (1/m, global, one per node) of a polygon of elements with unit
     ``directions`` and ``lengths``: at an interior node the turning angle between its two elements
-    over their mean length, about their cross product; zero at the two ends."""
+    over their mean length, about their cross product; an end node takes its neighbour's (so a
+    circular arc sampled as a polyline has the same curvature vector at every node)."""
     k = np.zeros((len(lengths) + 1, 3))
+    if len(lengths) < 2:
+        return k
     a, b = directions[:-1], directions[1:]
     axis = np.cross(a, b)
     sin = np.linalg.norm(axis, axis=1)
     angle = np.arctan2(sin, np.einsum("ij,ij->i", a, b))
     turn = np.where(sin > 1e-14, angle / np.where(sin > 1e-14, sin, 1.0), 0.0)
     k[1:-1] = axis * (turn / (0.5 * (lengths[:-1] + lengths[1:])))[:, None]
+    k[0], k[-1] = k[1], k[-2]
     return k
 
 

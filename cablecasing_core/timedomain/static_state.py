@@ -422,10 +422,15 @@ class _Problem:
         ds = (-R[-1] + self.a * (self.p @ x1)) / (1.0 - self.a * (self.p @ x2))
         return np.append(x1 + ds * x2, ds)
 
-    def scale(self, x, lam):
-        """The force scale (N) the tolerance is relative to: the loads and the contact forces."""
-        fc = self.ev.evaluate(x[:-1])
-        return max(np.abs(lam * self.f).max(initial=0.0), np.abs(fc).max(initial=0.0), lam * self.T, 1e-30)
+    def tolerance(self, x, lam, tol):
+        """|R|_inf (N) that counts as converged: ``tol`` times the force scale (the loads, the
+        contact forces, the tension), and at least the rounding floor of K z, 64 eps (|K| |z|)_inf
+        (a stiff body's residual cannot be smaller)."""
+        z = x[:-1]
+        fc = self.ev.evaluate(z)
+        scale = max(np.abs(lam * self.f).max(initial=0.0), np.abs(fc).max(initial=0.0), lam * self.T, 1e-30)
+        floor = 64.0 * np.finfo(float).eps * (np.abs(self.Kz) @ np.abs(z)).max(initial=0.0)
+        return max(tol * scale, floor)
 
 
 def _newton(problem, x, lam, tol):
@@ -448,14 +453,15 @@ def _newton(problem, x, lam, tol):
             if Pt <= Pi + 1e-4 * alpha * min(slope, 0.0) or np.linalg.norm(Rt) < 0.5 * np.linalg.norm(R):
                 break
             alpha *= 0.5
-        else:
+        else:  # no step lowers the energy or |R|: converged if |R| is at its rounding floor
             problem.residual(x, lam)  # (leaves the evaluator at x)
-            return x, it, float(np.abs(R).max()), False
+            ok = np.abs(R).max() <= problem.tolerance(x, lam, tol)
+            return x, it, float(np.abs(R).max()), ok
         x, R, Pi = xt, Rt, Pt
         now = problem.ev.closed
         fresh = None if now is None else (now & ~closed)
         closed = now
-        if np.abs(R).max() <= tol * problem.scale(x, lam):
+        if np.abs(R).max() <= problem.tolerance(x, lam, tol):
             problem.residual(x, lam)
             return x, it, float(np.abs(R).max()), True
     return x, MAX_ITERATIONS, float(np.abs(R).max()), False
