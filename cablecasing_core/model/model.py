@@ -136,36 +136,23 @@ class Model:
         (``loads.gravity``) is given by its components (``loads.gravity.x``, ``.y``, ``.z``).
         """
         out = {}
-
-        def walk(prefix, node):
-            for k, v in node.items():
-                key = f"{prefix}.{k}" if prefix else k
-                if isinstance(v, dict):
-                    walk(key, v)
-                elif isinstance(v, (int, float)) and not isinstance(v, bool):
-                    out[key] = v
-                elif key in SCHEMA and SCHEMA[key].components:
-                    out.update({f"{key}.{c}": float(x) for c, x in zip(SCHEMA[key].components, v)})
-
-        walk("", self.data)
+        for key, v in _leaves(self.data):
+            if isinstance(v, (int, float)) and not isinstance(v, bool):
+                out[key] = v
+            elif key in SCHEMA and SCHEMA[key].components:
+                out.update({f"{key}.{c}": float(x) for c, x in zip(SCHEMA[key].components, v)})
         return out
 
     def text_parameters(self) -> dict[str, str]:
         """Every key of the model outside [scenario] whose value is one of a fixed set of words
         (``geometry.curve``, ``contact.law``, ``cable.rest_shape``, the supports), as
         ``{dotted.key: value}``: the FMU's String parameters besides ``model_file``."""
-        out = {}
-
-        def walk(prefix, node):
-            for k, v in node.items():
-                key = f"{prefix}.{k}" if prefix else k
-                if isinstance(v, dict):
-                    walk(key, v)
-                elif isinstance(v, str) and key in SCHEMA and isinstance(SCHEMA[key].validator, Choice):
-                    out[key] = v
-
-        walk("", {k: v for k, v in self.data.items() if k != "scenario"})
-        return out
+        data = {k: v for k, v in self.data.items() if k != "scenario"}
+        return {
+            key: v
+            for key, v in _leaves(data)
+            if isinstance(v, str) and key in SCHEMA and isinstance(SCHEMA[key].validator, Choice)
+        }
 
     def with_overrides(self, overrides: Mapping[str, object]) -> Model:
         """A validated copy with ``{dotted.key: value}`` replaced (e.g. ``{"casing.E": 6e9}``).
@@ -210,6 +197,16 @@ class Model:
     def to_toml(self) -> str:
         """The model as TOML text (round-trips through :func:`load_model`)."""
         return _to_toml(self.data)
+
+
+def _leaves(node, prefix=""):
+    """(dotted key, value) of every value of a nested model dictionary that is not a table."""
+    for k, v in node.items():
+        key = f"{prefix}.{k}" if prefix else k
+        if isinstance(v, dict):
+            yield from _leaves(v, key)
+        else:
+            yield key, v
 
 
 def _to_toml(data):

@@ -10,7 +10,7 @@ import numpy as np
 from numba import njit
 
 from ._compile_options import FM
-from ._contact_search_and_law import cable_node, contact_law, search_node
+from ._contact_search_and_law import contact_law, search_cable_node
 from ._hermite_interpolation import hermite_matrix
 
 
@@ -34,12 +34,7 @@ def static_contact(Xc, Tc, Uc, Xs, Rs, Ls, Us, elem, gap, law, k_lin, k_hertz, g
     nk = 0
     for i in range(Xc.shape[0]):
         g[i], h[i], N[i], kn[i] = 0.0, 0.0, 0.0, 0.0
-        x0, x1, x2, t0, t1, t2 = cable_node(Xc, Tc, Uc, i)
-        tn = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
-        t0, t1, t2 = t0 / tn, t1 / tn, t2 / tn
-        e, x, far, px, py, pz = search_node(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, elem[i], gap)
-        if e >= 0:
-            elem[i] = e
+        e, x, far, px, py, pz, x0, x1, x2 = search_cable_node(Xc, Tc, Uc, Xs, Rs, Ls, Us, elem, i, gap)
         if e < 0 or far:
             continue
         r0, r1, r2 = x0 - px, x1 - py, x2 - pz
