@@ -18,6 +18,7 @@ import argparse
 import atexit
 import importlib
 import importlib.util
+import inspect
 import os
 import shutil
 import sys
@@ -107,7 +108,9 @@ def main():
         model = cc.load_model(specimen)
         engine.Engine(model, dt=dt, ledger=False).advance(dt, scenario.scenario_motion(model))  # numba
         eng = engine.Engine(model, dt=dt, contact=not args.no_contact, ledger=False, record=not args.no_record)
-        motion = scenario.scenario_motion(model, dt=dt, duration=args.duration)
+        # (trees before issue 25 made the random record periodic over a duration they were given)
+        periodic = "duration" in inspect.signature(scenario.scenario_motion).parameters
+        motion = scenario.scenario_motion(model, dt=dt, **({"duration": args.duration} if periodic else {}))
         if args.step:
             motion = fmu_like(module(name, "timedomain.support_motion", "kinematics"), eng, motion, args.step)
         runs.append((eng, motion, []))

@@ -12,7 +12,13 @@ Prints ``name: value`` lines:
   ``../shared/hosts``) in the plain environment, from the difference of a long and a short run
   (so process start, Python start and instantiation cancel), and its ratio to the engine;
 * ``rtf_fmusim``: simulated over wall seconds of fmusim's stepping (the same difference), and
-  ``rtf_fmusim_whole_run``: of a whole ``--stop-time`` run including its start;
+  ``rtf_fmusim_whole_run``: of a whole ``--stop-time`` run including its start. fmusim looks up its
+  input file from the first row at every step (``FMIApplyInput``, ``FMINextInputEvent`` of
+  Reference-FMUs v0.0.39), so its own cost per step grows with the file's length: these runs use
+  the shortest file that covers them, and the short run's difference leaves most of it in;
+* ``fmusim_drive_us_per_step``, ``rtf_fmusim_drive``: the default scenario in fmusim without an
+  input file, the FMU driving its supports with the model's own scenario (``scenario.drive``), the
+  same long-minus-short difference (fmusim's own cost is then ~1 µs per step);
 * ``instantiate_cold_s``: loading the FMU (unzipped) through ``fmi2Instantiate``, initialisation
   and the first step with an empty per-user cache (no numba cache, no copy of the code), and
   ``instantiate_warm_s`` with both in place;
@@ -53,23 +59,21 @@ PLAIN = {"HOME": os.environ.get("HOME", "/root"), "PATH": "/usr/bin:/bin"}
 
 
 def engine_run(model, table, h):
-    """Wall time (s) of the core's Engine.advance over the communication steps with the FMU's
-    reconstruction, outputs read after each step (the first step, which loads the kernels and
-    factorises, is left out)."""
+    """Wall time (s) of the core's engine over the communication steps with the FMU's reconstruction
+    and outputs (``Engine.advance_reconstructed``, what the FMU's slave calls; the first two steps,
+    which load the kernels, factorise and take the general path, are left out)."""
     eng = Engine(model, ledger=False)
     rec = SupportReconstruction(NCH)
     out = np.zeros(len(OUTPUTS))
 
     def step(row):
-        m = rec.motion(eng.time, h, row[:NCH], row[NCH : 2 * NCH], row[2 * NCH :])
-        eng.advance(h, m)
-        rec.accept(m)
-        eng.output_values(out)
+        eng.advance_reconstructed(h, rec, row[:NCH], row[NCH : 2 * NCH], row[2 * NCH :], out)
 
-    step(table[0])
+    step(table[0])  # loads the kernels, factorises
+    step(table[1])  # (the first step takes the general path)
     t0 = time.perf_counter()
-    for row in table[1:]:
-        step(row)
+    for row in table[2:]:
+        step(np.ascontiguousarray(row))
     return time.perf_counter() - t0
 
 
@@ -81,27 +85,13 @@ def write_fmusim_inputs(path, table, h):
             f.write(",".join([repr(k * h)] + [repr(float(row[j])) for j in cols]) + "\n")
 
 
-def fmusim_wall(inputs, stop, h, out):
+def fmusim_wall(inputs, stop, h, out, *extra):
+    """Wall time (s) of one fmusim run to ``stop`` s with communication step ``h`` s."""
+    cmd = [str(FMUSIM), "--interface-type", "cs", "--stop-time", repr(stop), "--output-interval", repr(h)]
+    if inputs is not None:
+        cmd += ["--input-file", str(inputs)]
     t0 = time.perf_counter()
-    subprocess.run(
-        [
-            str(FMUSIM),
-            "--interface-type",
-            "cs",
-            "--stop-time",
-            repr(stop),
-            "--output-interval",
-            repr(h),
-            "--input-file",
-            str(inputs),
-            "--output-file",
-            str(out),
-            str(FMU),
-        ],
-        env=PLAIN,
-        check=True,
-        capture_output=True,
-    )
+    subprocess.run([*cmd, *extra, "--output-file", str(out), str(FMU)], env=PLAIN, check=True, capture_output=True)
     return time.perf_counter() - t0
 
 
@@ -121,13 +111,13 @@ def main():
     n = int(round(args.duration / h))
     short = n // 5
     table = np.hstack(scenario_motion(model)(h * np.arange(n + 1)))  # the master's samples at t = k h
-    eng_s, fmpy_s, sim_long, sim_short, cold, warm = [], [], [], [], [], []
+    eng_s, fmpy_s, sim_long, sim_short, drive_long, drive_short, cold, warm = [], [], [], [], [], [], [], []
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         write_fmusim_inputs(tmp / "inputs.csv", table, h)
         fmu_driver.run(tmp, "run", FMU, inputs=table[:2], h=h, outputs=["casing.B.Fz"])  # warm the caches
         for k in range(args.repeat):
-            eng_s.append(engine_run(model, table[:n], h) / (n - 1))
+            eng_s.append(engine_run(model, table[:n], h) / (n - 2))
             res = fmu_driver.run(tmp, "run", FMU, inputs=table[:n], h=h, outputs=list(OUTPUTS))
             assert np.all(res["status"] == 0), res["log"]
             fmpy_s.append(float(res["run_s"]) / (n - 1))
@@ -135,6 +125,9 @@ def main():
             if FMUSIM.exists():
                 sim_long.append(fmusim_wall(tmp / "inputs.csv", n * h, h, tmp / "long.csv"))
                 sim_short.append(fmusim_wall(tmp / "inputs.csv", short * h, h, tmp / "short.csv"))
+                drive = ("--start-value", "scenario.drive", "true")
+                drive_long.append(fmusim_wall(None, n * h, h, tmp / "dlong.csv", *drive))
+                drive_short.append(fmusim_wall(None, short * h, h, tmp / "dshort.csv", *drive))
             env = {key: v for key, v in os.environ.items() if key != "NUMBA_CACHE_DIR"}
             env["XDG_CACHE_HOME"] = str(tmp / f"empty-cache-{k}")
             res_cold = fmu_driver.run(tmp, "run", FMU, inputs=table[:2], h=h, outputs=["casing.B.Fz"], env=env)
@@ -150,6 +143,11 @@ def main():
         print(f"fmu_overhead_fmusim: {per_step / engine:.3f}")
         print(f"rtf_fmusim: {h / per_step:.3f}")
         print(f"rtf_fmusim_whole_run: {n * h / min(sim_long):.3f}")
+        per_step = min(a - b for a, b in zip(drive_long, drive_short)) / (n - short)
+        print(f"fmusim_drive_us_per_step: {per_step * 1e6:.1f}")
+        print(f"fmu_overhead_fmusim_drive: {per_step / engine:.3f}")
+        print(f"rtf_fmusim_drive: {h / per_step:.3f}")
+        print(f"rtf_fmusim_drive_whole_run: {n * h / min(drive_long):.3f}")
     print(f"rtf_engine: {h / engine:.3f}")
     print(f"instantiate_cold_s: {min(cold):.2f}")
     print(f"instantiate_warm_s: {min(warm):.2f}")

@@ -103,7 +103,7 @@ for contact, label in ((True, "coupled"), (False, "linear")):
     walls = []
     for _ in range(args.repeat):
         eng = Engine(model, dt=DT, contact=contact, ledger=False, record=contact)
-        mo = scenario_motion(model, dt=DT, duration=args.duration)
+        mo = scenario_motion(model, dt=DT)
         t0 = time.perf_counter()
         eng.advance(args.duration, mo)
         walls.append(time.perf_counter() - t0)
@@ -177,7 +177,7 @@ def force(m, dt, duration, contact=None, motion=None):
     not change the state), its contact history kept sparse (a 1 s run at dt = 3e-7 would need 2 GB
     as ``simulate``'s dense arrays)."""
     eng = Engine(m, dt=dt, contact=contact, ledger=False, record=True)
-    eng.advance(duration, scenario_motion(m, dt=dt, duration=duration) if motion is None else motion)
+    eng.advance(duration, scenario_motion(m, dt=dt) if motion is None else motion)
     F = eng.history(sparse=True)["support_forces"][:, SUPPORT_OUTPUTS.index("casing.B.Fz")]
     return np.minimum(dt * np.arange(1, len(F) + 1), eng.time), F
 
@@ -211,9 +211,7 @@ tr, Fr = runs[2.5e-6]
 rms = np.sqrt(np.mean(Fr[tr > 0.05] ** 2))
 for dt in (1e-5, 5e-6):
     # the same excitation record (its length sets its frequency lines), only 0.05 s of it
-    t, F = (
-        runs[dt] if dt in runs else force(model, dt, 0.05, motion=scenario_motion(model, dt=dt, duration=args.duration))
-    )
+    t, F = runs[dt] if dt in runs else force(model, dt, 0.05, motion=scenario_motion(model, dt=dt))
     e = t < 0.05
     Fref = np.interp(t[e], tr, Fr)  # the reference at the coarse times (common grid points)
     print(f"early_force_err_dt{dt:g}: {np.max(np.abs(F[e] - Fref)) / rms:.2e}")

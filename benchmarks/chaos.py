@@ -1,7 +1,7 @@
 """How fast two records of the reference case separate: the chaos behind issue 3's accuracy figure.
 
 Each variant of the reference case (default model, its scenario, ``--duration`` s, the same
-excitation record throughout: the random record depends on the duration only) runs once, and its
+excitation record throughout: the random record depends on its seed, band and RMS only) runs once, and its
 casing.B.Fz history is compared with the record at dt = 1e-5 s:
 * eps_1e-12, eps_1e-09, eps_1e-06: the casing's RMS scaled by 1 + eps, dt 1e-5 (a perturbation of the
   input alone);

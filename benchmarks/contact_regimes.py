@@ -39,7 +39,7 @@ def run(job):
         {"scenario.excitation.casing_random.seed": seed, "scenario.excitation.casing_random.rms": rms}
     )
     eng = Engine(m, dt=1e-5, ledger=False, record=True)
-    motion = scenario_motion(m, dt=1e-5, duration=duration)
+    motion = scenario_motion(m, dt=1e-5)
     marks = []  # (start, end) of each evaluation of the motion, s
 
     def timed(t):

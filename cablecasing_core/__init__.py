@@ -5,7 +5,8 @@ contact across the radial gap. SI units throughout (m, kg, s, N, Pa, rad; freque
 The package follows the paper: ``model`` (the model file, its schema and the built-in specimen),
 ``structure`` (centerline, sections, the beam element, assembly: Eqs. 4-9, 13, 32-35),
 ``frequency`` (modes and the apparent mass TRFAM: Eqs. 10-13), ``timedomain`` (the Newmark engine
-with contact: Eqs. 14-39), ``identification`` (Section 3), ``studies`` (Section 4), ``cli``.
+with contact: Eqs. 14-39), ``identification`` (Section 3), ``studies`` (Section 4), ``nvh`` (PSD,
+levels, transfer functions of any record), ``records`` (record files by suffix), ``report``, ``cli``.
 
 A tutorial (it runs as a doctest, ``python -m doctest -v cablecasing_core/__init__.py`` or
 ``pytest --doctest-modules``). Load the built-in specimen; every key is in ``model.data``, checked

@@ -1,6 +1,8 @@
-"""Figures (matplotlib, Agg backend): TRFAM, geometry, time histories, octave bands, scalograms.
-Units on every axis. The figures of the studies and of the identification are in their packages
-(``studies/plots.py``, ``identification/plots.py``), written with :func:`save_figure`."""
+"""Figures of the model (matplotlib, Agg backend): TRFAM (Fig. 17), geometry and contact (Fig. 22),
+time histories, octave bands, scalograms without and with the cable drive (Figs. 20-21). Units on
+every axis. The figures of the studies, of the NVH outputs and of the identification are in their
+packages (``studies/plots.py``, ``nvh/plots.py``, ``identification/plots.py``), written with
+:func:`save_figure`."""
 
 from __future__ import annotations
 
@@ -10,64 +12,142 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from .files import atomic_path  # noqa: E402
 
-def plot_trfam(freqs_hz, curves, path, title="TRFAM"):
-    """Magnitude (kg, log) and phase (deg) of one or more TRFAM curves ``{label: complex array}``."""
+#: Line styles of the damping models, as in Fig. 17 (structural solid, viscous dashed).
+DAMPING_STYLES = {"structural": "-", "viscous": "--", "none": ":"}
+
+
+def plot_trfam(freqs_hz, curves, path, title="TRFAM", log_frequency=False):
+    """Magnitude (kg, log) and phase (deg) of one or more TRFAM curves ``{label: complex array}``;
+    ``log_frequency``: logarithmic frequency axis."""
     fig, (a1, a2) = plt.subplots(2, 1, sharex=True, figsize=(7, 5))
     for label, H in curves.items():
-        a1.semilogy(freqs_hz, np.abs(H), label=label)
-        a2.plot(freqs_hz, np.degrees(np.angle(H)), label=label)
+        style = DAMPING_STYLES.get(label, "-")
+        a1.semilogy(freqs_hz, np.abs(H), style, label=label)
+        a2.plot(freqs_hz, np.degrees(np.angle(H)), style, label=label)
     a1.set_ylabel("|TRFAM| (kg)")
     a2.set_ylabel("phase (deg)")
+    a2.set_yticks([-180, -90, 0, 90, 180])
     a2.set_xlabel("frequency (Hz)")
+    if log_frequency:
+        a2.set_xscale("log")
+        plain_log_ticks(a2, freqs_hz)
     a1.set_title(title)
     a1.legend()
     a1.grid(True, which="both", alpha=0.3)
-    a2.grid(True, alpha=0.3)
+    a2.grid(True, which="both", alpha=0.3)
     save_figure(fig, path)
 
 
-def plot_geometry(centerline, path, values=None, label=None):
-    """3D view of the centerline (m); optional per-node ``values`` shown as colour."""
-    fig = plt.figure(figsize=(6, 5))
+def plot_trfam_xyz(freqs_hz, curves, path, title="TRFAM", log_frequency=True, natural_hz=()):
+    """Fig. 17: the TRFAM in x, y and z (rows), magnitude (kg, log) and phase (deg) side by side,
+    one curve per damping model. ``curves`` = {direction: {damping: complex array}};
+    ``natural_hz``: natural frequencies marked by thin vertical lines."""
+    fig, axes = plt.subplots(3, 2, figsize=(10, 8), sharex=True, gridspec_kw={"width_ratios": [3, 2]})
+    for row, (d, by_damping) in enumerate(curves.items()):
+        am, ap = axes[row]
+        for label, H in by_damping.items():
+            style = DAMPING_STYLES.get(label, "-")
+            am.semilogy(freqs_hz, np.abs(H), style, lw=1.0, label=label)
+            ap.plot(freqs_hz, np.degrees(np.angle(H)), style, lw=0.8, label=label)
+        for f in natural_hz:
+            for ax in (am, ap):
+                ax.axvline(f, color="tab:green", lw=0.6, alpha=0.5, zorder=0)
+        am.set_ylabel(f"|TRFAM| {d} (kg)")
+        ap.set_ylabel(f"phase {d} (deg)")
+        ap.set_yticks([-180, -90, 0, 90, 180])
+        am.set_title(f"({'abc'[row]}) direction {d}", loc="left", fontsize=9)
+        for ax in (am, ap):
+            ax.grid(True, which="both", alpha=0.3)
+    axes[0, 0].legend(fontsize=8, title="damping", title_fontsize=8)
+    for ax in axes[-1]:
+        ax.set_xlabel("frequency (Hz)")
+        if log_frequency:
+            ax.set_xscale("log")
+            plain_log_ticks(ax, freqs_hz)
+    fig.suptitle(title, fontsize=10)
+    save_figure(fig, path)
+
+
+def plain_log_ticks(ax, freqs_hz, axis="x"):
+    """Ticks 1-2-5 per decade, written as plain numbers, on a logarithmic frequency axis (Hz)."""
+    from matplotlib.ticker import FixedLocator, NullFormatter, ScalarFormatter
+
+    lo, hi = float(np.min(freqs_hz)), float(np.max(freqs_hz))
+    ticks = [m * 10.0**e for e in range(-1, 6) for m in (1, 2, 5) if lo <= m * 10.0**e <= hi]
+    a = ax.xaxis if axis == "x" else ax.yaxis
+    a.set_major_locator(FixedLocator(ticks))
+    a.set_major_formatter(ScalarFormatter())
+    a.set_minor_formatter(NullFormatter())
+
+
+def plot_geometry(centerline, path, values=None, label=None, title=None):
+    """3D view of the centerline (m) with ends A and B; optional per-node ``values`` as colour
+    (e.g. the contact time of Fig. 22a, with ``label`` for the colour bar)."""
+    fig = plt.figure(figsize=(6.5, 5))
     ax = fig.add_subplot(projection="3d")
     P = centerline.nodes
     ax.plot(P[:, 0], P[:, 1], P[:, 2], "-", color="0.5")
     if values is None:
         ax.scatter(P[:, 0], P[:, 1], P[:, 2], color="k", s=14)
     else:
-        sc = ax.scatter(P[:, 0], P[:, 1], P[:, 2], c=values, s=14, cmap="viridis")
-        fig.colorbar(sc, ax=ax, shrink=0.6, label=label or "")
+        sc = ax.scatter(P[:, 0], P[:, 1], P[:, 2], c=values, s=30, cmap="viridis")
+        fig.colorbar(sc, ax=ax, shrink=0.6, pad=0.12, label=label or "")
     ax.text(*P[0], " A")
     ax.text(*P[-1], " B")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.set_zlabel("z (m)")
+    ax.set_box_aspect(np.ptp(P, axis=0) + 0.05 * np.ptp(P))
+    if title:
+        ax.set_title(title, fontsize=10)
     save_figure(fig, path)
 
 
-def plot_time_result(res, path):
-    """Support force at casing B (N) over time and the contact-time histogram over the cable's
-    nodes with the centerline curvature beside it (Fig. 22)."""
+def plot_time_result(res, path, outputs=("casing.B.Fx", "casing.B.Fy", "casing.B.Fz")):
+    """Support forces (N) over time and, when the run had contact, the contact-time histogram over
+    the cable's nodes with the centerline's curvature beside it (Fig. 22b); without contact the
+    second panel shows the curvature alone and says so."""
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 6))
-    for d in "xyz":
-        a1.plot(res.time, res.support_force(f"casing.B.F{d}"), lw=0.6, label=f"casing.B.F{d}")
+    for name in outputs:
+        a1.plot(res.time, res.support_force(name), lw=0.6, label=name)
     a1.set_xlabel("time (s)")
     a1.set_ylabel("support force (N)")
-    a1.legend()
-    a2.bar(res.arc_length, res.contact_time, width=0.8 * (res.arc_length[1] - res.arc_length[0]), label="contact time")
-    a2.set_xlabel("arc length from A (m)")
-    a2.set_ylabel("contact time (s)")
-    ax = a2.twinx()
-    ax.plot(res.arc_length, res.curvature, "r-", label="curvature")
-    ax.set_ylabel("curvature (1/m)", color="r")
+    a1.legend(fontsize=8)
+    a1.grid(True, alpha=0.3)
+    plot_contact_histogram(a2, res.arc_length, res.contact_time, res.curvature)
     save_figure(fig, path)
+
+
+def plot_contact_histogram(ax, arc_length, contact_time, curvature, label="contact time (s)"):
+    """On ``ax``: bars of ``contact_time`` per cable node over the arc length (m) and the curvature
+    (1/m) on a second axis (Fig. 22b). No bars (and a note) when there was no contact."""
+    if np.any(contact_time > 0):
+        ax.bar(arc_length, contact_time, width=0.8 * (arc_length[1] - arc_length[0]), label=label)
+        ax.set_ylabel(label)
+        ax.set_ylim(bottom=0)
+    else:
+        ax.set_yticks([])
+        ax.text(
+            0.02,
+            0.9,
+            "no contact in this run (contact off, or the gap never closed)",
+            transform=ax.transAxes,
+            fontsize=9,
+        )
+    ax.set_xlabel("arc length from A (m)")
+    c = ax.twinx()
+    c.plot(arc_length, curvature, "r-", label="curvature")
+    c.set_ylabel("curvature (1/m)", color="r")
+    c.set_ylim(bottom=0)
 
 
 def save_figure(fig, path):
-    """Lay out ``fig``, write it to ``path`` (PNG, 110 dpi) and close it."""
+    """Lay out ``fig``, write it to ``path`` (PNG at 110 dpi, or by suffix; atomically) and close it."""
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110)
     plt.close(fig)
 
 
@@ -86,12 +166,58 @@ def plot_octave_bands(bands, path, ylabel="RMS"):
     save_figure(fig, path)
 
 
-def plot_scalogram(t, freqs_hz, W, path, title="|W|"):
-    """Wavelet scalogram |W| (time s x frequency Hz), Figs. 20-21."""
-    fig, ax = plt.subplots(figsize=(7, 3.5))
-    ax.pcolormesh(t, freqs_hz, np.asarray(W).T, shading="auto")
-    ax.set_yscale("log")
-    ax.set_xlabel("time (s)")
-    ax.set_ylabel("frequency (Hz)")
-    ax.set_title(title)
+def plot_scalogram(t, freqs_hz, W, path, title="|W|", unit="N"):
+    """Wavelet scalogram |W| (time s x frequency Hz) with a colour bar in ``unit``."""
+    plot_scalograms([(t, W, title)], freqs_hz, path, unit=unit)
+
+
+def plot_scalograms(panels, freqs_hz, path, unit="N", natural_hz=(), harmonics_hz=(), title=None):
+    """Scalograms side by side (Figs. 20-21): ``panels`` = [(t s, |W| (n_t x n_f) in ``unit``, title),
+    ...], each with its own colour bar of |W| in ``unit`` (a harmonic of amplitude A shows as |W| = A
+    on its ridge: the Morlet transform of ``identification.wavelet``), so that a weak panel stays
+    readable beside a strong one. ``natural_hz`` are marked by dashed white lines labelled on the
+    right, ``harmonics_hz`` (a drive frequency and its multiples) by dotted red lines labelled on the
+    left."""
+    fig, axes = plt.subplots(1, len(panels), figsize=(5.6 * len(panels), 4.4), sharey=True, squeeze=False)
+    for k, (ax, (t, W, sub)) in enumerate(zip(axes[0], panels)):
+        W = np.asarray(W)
+        mesh = ax.pcolormesh(t, freqs_hz, W.T, shading="auto", cmap="magma", vmin=0, vmax=float(W.max()) or 1.0)
+        fig.colorbar(mesh, ax=ax, label=f"|W| ({unit})", pad=0.02 if k < len(panels) - 1 else 0.09)
+        ax.set_yscale("log")
+        ax.set_ylim(freqs_hz[0], freqs_hz[-1])
+        plain_log_ticks(ax, freqs_hz, axis="y")
+        ax.set_xlabel("time (s)")
+        ax.set_title(f"({chr(97 + k)}) {sub}", fontsize=9, loc="left")
+        for f in natural_hz:
+            ax.axhline(f, color="w", ls="--", lw=0.6, alpha=0.7)
+        for f in harmonics_hz:
+            ax.axhline(f, color="tab:red", ls=":", lw=1.0)
+        if k == len(panels) - 1:
+            _labels(ax, natural_hz, 1.0, 2, "left", "0.3", "{:.0f}")
+        if k == 0:
+            _labels(ax, harmonics_hz, 0.0, 2, "left", "tab:red", "{:g}")
+    axes[0, 0].set_ylabel("frequency (Hz)")
+    if title:
+        fig.suptitle(title, fontsize=10)
     save_figure(fig, path)
+
+
+def _labels(ax, freqs, x, dx, ha, color, fmt):
+    """Labels of marked frequencies at the left or right edge of ``ax``, skipping any closer than 16 %
+    to the one before (log axis: they would overlap)."""
+    last = -np.inf
+    for f in sorted(freqs):
+        if np.log(f) - last < 0.15:
+            continue
+        last = np.log(f)
+        ax.annotate(
+            fmt.format(f),
+            (x, f),
+            xycoords=("axes fraction", "data"),
+            xytext=(dx, 0),
+            textcoords="offset points",
+            fontsize=6,
+            va="center",
+            ha=ha,
+            color=color,
+        )

@@ -20,6 +20,10 @@ of the call; the inputs and outputs are two arrays that the binary reads and wri
 pythonfmu's binary (Windows) drives the same slave through pythonfmu's methods at the end of the
 class, which map those statuses to what pythonfmu can express. Nothing here raises into a host:
 every problem is logged, naming the variable and the value, at the status it deserves.
+
+This module is over 400 lines because it is the FMU's whole adapter in one file, the one the
+modelDescription is built from: variables, parameters in force, life cycle and statuses, the FMU
+state and pythonfmu's methods; the bridge loads it as one file.
 """
 
 import math
@@ -37,7 +41,8 @@ from cablecasing_core.model import specimen_names
 from cablecasing_core.model.schema import CHANNELS, OUTPUTS, lookup, output_spec
 from cablecasing_core.model.validators import seconds
 from cablecasing_core.timedomain.engine import Engine, state_from_bytes, state_to_bytes
-from cablecasing_core.timedomain.support_motion import SupportReconstruction
+from cablecasing_core.timedomain.scenario import scenario_motion
+from cablecasing_core.timedomain.support_motion import GridMotion, SupportReconstruction
 
 NCH = len(CHANNELS)
 KINDS = (("", "displacement", "m"), ("v", "velocity", "m/s"), ("a", "acceleration", "m/s2"))
@@ -65,7 +70,7 @@ OK, WARNING, DISCARD, ERROR = (
 # the default 1e-5 s, some 10-20 s of wall time): a longer step is refused with fmi2Discard
 # instead of running for hours (a master that asks for 1e12 s by mistake).
 MAX_STEPS_PER_DOSTEP = 10**6
-SPECIAL = ("contact.enabled", "model_file", "solver.dt")
+SPECIAL = ("contact.enabled", "model_file", "solver.dt", "scenario.drive")
 _TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}
 
 
@@ -90,10 +95,12 @@ class CableCasing(Fmi2Slave):
         self._start["contact.enabled"] = bool(self._base.contact["enabled"])
         self._start["model_file"] = ""
         self._start["solver.dt"] = float(self._base.scenario["dt"])
+        self._start["scenario.drive"] = False
         self._log_sink = None
         # the two arrays the FMU's binary reads and writes directly
         self.inputs_buffer = np.zeros(3 * NCH)  # u (m), v (m/s), a (m/s2) of CHANNELS
         self.outputs_buffer = np.zeros(len(OUTPUTS))  # OUTPUTS after the last step
+        self._u, self._v, self._a = (self.inputs_buffer[k * NCH : (k + 1) * NCH] for k in range(3))  # views
         self._set = {}  # parameters the master set: key -> value
         self._file_cache = (None, None)  # (model file path, its values or None)
         self._set_plans, self._get_plans = {}, {}  # pythonfmu's path: references -> index arrays
@@ -108,6 +115,7 @@ class CableCasing(Fmi2Slave):
         self.inputs_buffer[:] = 0.0
         self.outputs_buffer[:] = 0.0
         self._engine = None
+        self._drive = None  # the scenario's motion when scenario.drive is on
         self._applied = None  # the configuration the engine was built with
         self._recon.reset()
         self._start_time = 0.0
@@ -203,6 +211,17 @@ class CableCasing(Fmi2Slave):
                 "shorter last step",
             ),
             "s",
+        )
+        self._add_parameter(
+            Boolean(
+                "scenario.drive",
+                causality=Fmi2Causality.parameter,
+                variability=Fmi2Variability.fixed,
+                description="the supports also follow the model's own [scenario] excitations (added to the "
+                "inputs, evaluated at the steps of solver.dt; with zero inputs the FMU then runs the core's "
+                "scenario run); false: the inputs alone move the supports",
+            ),
+            "",
         )
 
     def _add(self, var, unit):
@@ -365,8 +384,15 @@ class CableCasing(Fmi2Slave):
     def _config(self):
         """The configuration that decides the engine: the model file, the overrides (the
         parameters the master set) and the internal step."""
-        over = {k: v for k, v in self._set.items() if k not in ("model_file", "solver.dt")}
+        over = {k: v for k, v in self._set.items() if k not in ("model_file", "solver.dt", "scenario.drive")}
         return self._set.get("model_file", ""), over, self._value("solver.dt")
+
+    def _drive_motion(self, engine):
+        """The model's scenario motion on the engine's grid when ``scenario.drive`` is on, else None."""
+        if not self._value("scenario.drive"):
+            return None
+        model = engine.model
+        return GridMotion(scenario_motion(model, dt=engine.dt), engine.dt)
 
     def _make_engine(self, config):
         """A new Engine for ``config``; raises ModelError naming the parameter."""
@@ -388,6 +414,7 @@ class CableCasing(Fmi2Slave):
             self._engine = None
             return self._block(f"the model cannot be built: {exc!r}\n{traceback.format_exc()}")
         self._applied = config
+        self._drive = self._drive_motion(self._engine)
         self._error = None
         self._recon.reset()
         self._engine.output_values(self.outputs_buffer)
@@ -440,7 +467,7 @@ class CableCasing(Fmi2Slave):
             )
             return DISCARD
         x = self.inputs_buffer
-        if not np.isfinite(x).all():
+        if not math.isfinite(x @ x) and not np.isfinite(x).all():  # (x @ x: the cheap test of 36 values)
             i = int(np.flatnonzero(~np.isfinite(x))[0])
             k, c = divmod(i, NCH)
             self.log(
@@ -449,17 +476,16 @@ class CableCasing(Fmi2Slave):
                 Fmi2Status.discard,
             )
             return DISCARD
-        motion = self._recon.motion(eng.time, step_size, x[:NCH], x[NCH : 2 * NCH], x[2 * NCH :])
-        try:
-            eng.advance(step_size, motion)  # on any error it leaves the engine as it was
+        try:  # on any error the engine and the reconstruction are left as they were
+            eng.advance_reconstructed(
+                step_size, self._recon, self._u, self._v, self._a, self.outputs_buffer, self._drive
+            )
         except Exception as exc:  # noqa: BLE001  (never raise into the host)
             msg = f"step from t = {current_time:.9g} s over {step_size:.6g} s discarded (state rolled back): {exc}"
             if not isinstance(exc, cc.CableCasingError):
                 msg += "\n" + traceback.format_exc()
             self.log(msg, Fmi2Status.discard)
             return DISCARD
-        self._recon.accept(motion)
-        eng.output_values(self.outputs_buffer)
         return OK
 
     # ------------------------------------------------------------------ FMU state (complete, no pickle)
@@ -495,8 +521,9 @@ class CableCasing(Fmi2Slave):
             new
         )
         self.inputs_buffer[:] = inputs
-        self._recon.state = support
+        self._recon.state[...] = support
         if self._engine is not None:
+            self._drive = self._drive_motion(self._engine)
             self._engine.output_values(self.outputs_buffer)
         return OK
 

@@ -1,25 +1,52 @@
 """Command line ``cablecasing``: a thin shell over the core API.
 
 Sub-commands: ``modes``, ``trfam``, ``keys`` (the model file's keys, from the schema), ``simulate``
-(``simulate.py``), ``static`` (``static.py``), ``identify ...`` (``identify.py``), ``study``,
-``ensemble``, ``pool``, ``bands``, ``report`` (``study.py``), each module registering its own with
-``add_parser``. A model argument is a TOML file or the name of a built-in specimen (``default``,
-``installed``).
-Every error in the input prints one line naming the key, the value and what is allowed, and
-exits with status 2.
+(``simulate.py``), ``static`` (``static.py``), ``spectrum`` and ``bands`` (``nvh.py``),
+``identify ...`` (``identify.py``), ``study``, ``ensemble``, ``pool`` (``study.py``), ``report``
+(``report.py``), each module registering its own with ``add_parser``. A model argument is a TOML
+file or the name of a built-in specimen (``default``, ``installed``). Every ``--help`` shows the
+defaults. Every error in the input prints one line naming the key, the value and what is
+allowed, and exits with status 2; an interrupt (Ctrl-C) prints one line and exits with status
+130, leaving earlier output files intact (they are written atomically, at the end); a warning
+prints one line ``cablecasing: warning: ...``.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
+import warnings
 
 import numpy as np
 
 from ..errors import CableCasingError, ModelError
 from ..model import load_model
-from . import identify, simulate, static, study
+from . import identify, nvh, report, simulate, static, study
+from .paths import check_output_path, emit_table
+
+
+class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
+    """Help that shows every option's default (argparse's own formatter, without the noise of
+    ``(default: None)``, ``False`` flags, empty lists and helps that state their default already)."""
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        d = action.default
+        if "default" in text or d is None or d is False or d is argparse.SUPPRESS or (isinstance(d, list) and not d):
+            return text
+        if not action.option_strings and action.nargs not in ("?", "*"):
+            return text
+        return text + " (default: %(default)s)"
+
+
+class Parser(argparse.ArgumentParser):
+    """An ArgumentParser whose sub-commands (at every level) use :class:`HelpFormatter`."""
+
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("formatter_class", HelpFormatter)
+        super().__init__(*args, **kwargs)
 
 
 def _model(path):
@@ -48,20 +75,29 @@ def cmd_trfam(args):
     if not (args.fmin > 0 and args.fmax > args.fmin and args.df > 0):
         raise ModelError("--fmin/--fmax/--df", (args.fmin, args.fmax, args.df), "need 0 < fmin < fmax and df > 0 (Hz)")
     f = np.arange(args.fmin, args.fmax + 0.5 * args.df, args.df)
+    check_output_path("--out", args.out, (".csv", ".uff"))
+    check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
     H = trfam(model, args.input, args.output, f, damping=args.damping)
     table = np.column_stack([f, H.real, H.imag, np.abs(H), np.degrees(np.angle(H))])
     header = "frequency_hz,re_kg,im_kg,magnitude_kg,phase_deg"
-    if args.out:
-        np.savetxt(args.out, table, delimiter=",", header=header, comments="", fmt="%.10g")
-        print(f"wrote {args.out}")
+    if args.out and args.out.lower().endswith(".uff"):
+        from ..identification.uff_io import Record, write_uff
+        from ..records import uff_dof
+
+        node, d, *_ = uff_dof(args.output)
+        ref_node, ref_d, *_ = uff_dof(args.input)
+        name = f"TRFAM {args.output}/{args.input} ({args.damping})"
+        # apparent mass: reaction force (UFF type 9, N) over acceleration (type 12, m/s2), in kg
+        rec = Record("frf", f, H, name, node, d, ref_node, ref_d, "N", 9, "m/s2", 12)
+        write_uff(args.out, [rec])
+        print(f"wrote {args.out} (UFF 58, {name}, kg)")
     else:
-        print(header)
-        for row in table:
-            print(",".join(f"{v:.10g}" for v in row))
+        emit_table(args.out, header, table, 10, note="")
     if args.plot:
         from ..plotting import plot_trfam
 
-        plot_trfam(f, {f"{args.damping}": H}, args.plot, title=f"TRFAM {args.output} / {args.input}")
+        title = f"TRFAM {args.output} / {args.input} (kg)"
+        plot_trfam(f, {f"{args.damping}": H}, args.plot, title=title, log_frequency=args.log_frequency)
         print(f"wrote {args.plot}")
     return 0
 
@@ -80,7 +116,7 @@ def cmd_keys(args):
 
 
 def build_parser():
-    p = argparse.ArgumentParser(prog="cablecasing", description="Cable-in-casing vibration model (SI units).")
+    p = Parser(prog="cablecasing", description="Cable-in-casing vibration model (SI units).")
     sub = p.add_subparsers(dest="command", required=True)
 
     m = sub.add_parser("modes", help="natural frequencies of each body (Hz)")
@@ -90,32 +126,53 @@ def build_parser():
     m.set_defaults(func=cmd_modes)
 
     t = sub.add_parser("trfam", help="apparent-mass transfer function (kg), Eq. (12)")
-    t.add_argument("model", nargs="?", default=None)
+    t.add_argument("model", nargs="?", default=None, help="model TOML file (default: built-in specimen)")
     t.add_argument("--input", default="casing.A.x", help="driven support DOF, e.g. casing.A.x")
     t.add_argument("--output", default="casing.B.x", help="support DOF whose force is the output")
-    t.add_argument("--fmin", type=float, default=10.0, help="Hz")
-    t.add_argument("--fmax", type=float, default=1000.0, help="Hz")
-    t.add_argument("--df", type=float, default=0.5, help="Hz")
-    t.add_argument("--damping", choices=["viscous", "structural", "none"], default="viscous")
-    t.add_argument("--out", help="CSV file to write")
-    t.add_argument("--plot", help="PNG file to write")
+    t.add_argument("--fmin", type=float, default=10.0, help="lowest frequency, Hz")
+    t.add_argument("--fmax", type=float, default=1000.0, help="highest frequency, Hz")
+    t.add_argument("--df", type=float, default=0.5, help="frequency step, Hz")
+    t.add_argument(
+        "--damping",
+        choices=["viscous", "structural", "none"],
+        default="viscous",
+        help="viscous: Rayleigh alpha, beta (as the time domain); structural: the loss factor (Eq. 11)",
+    )
+    t.add_argument("--out", help="file to write: .csv (frequency, re, im, magnitude, phase) or .uff (UFF 58 FRF)")
+    t.add_argument("--plot", help="figure to write (.png), magnitude and phase")
+    t.add_argument("--log-frequency", action="store_true", help="logarithmic frequency axis in --plot")
     t.set_defaults(func=cmd_trfam)
 
     k = sub.add_parser("keys", help="the keys of the model file: type, default, unit, allowed values, meaning")
     k.add_argument("prefix", nargs="?", default=None, help="only keys that start with this, e.g. contact")
     k.set_defaults(func=cmd_keys)
 
-    for module in (simulate, identify, study):
+    for module in (simulate, static, nvh, identify, study, report):
         module.add_parser(sub)
-    static.add_parser(sub)
     return p
+
+
+def _warning_line(message, category, filename, lineno, file=None, line=None):
+    """Warnings as one line on stderr, without the file and line of the code that warned."""
+    print(f"cablecasing: warning: {message}", file=sys.stderr if file is None else file)
 
 
 def main(argv=None):
     parser = build_parser()
     args = parser.parse_args(argv)
+    shown = warnings.showwarning
+    warnings.showwarning = _warning_line
     try:
         return args.func(args)
     except CableCasingError as exc:
         print(f"cablecasing: error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # output piped into head and the like: stop quietly
+        sys.stdout = open(os.devnull, "w")  # (Python flushes stdout at exit)
+        return 0
+    except KeyboardInterrupt:
+        hint = getattr(args, "interrupted", "nothing was written; files written before are as they were")
+        print(f"\ncablecasing: interrupted: {hint}", file=sys.stderr)
+        return 130
+    finally:
+        warnings.showwarning = shown

@@ -199,7 +199,7 @@ def add_parser(subparsers):
     sub = p.add_subparsers(dest="identify_command", required=True)
 
     d = sub.add_parser("damping", help="damping ratios from wavelet ridges of an impulse response; Rayleigh fit")
-    d.add_argument("file", help="impulse response: CSV (time_s,<signal>...) or UFF 58 time record")
+    d.add_argument("file", help="impulse response: CSV (time_s,<signal>...), NPZ or UFF 58 time record")
     d.add_argument("--channel", default=None, help="CSV column name/index or n-th UFF time record (default first)")
     d.add_argument(
         "--freqs", type=float, nargs="+", help="natural frequencies to analyse (Hz); default: spectrum peaks"

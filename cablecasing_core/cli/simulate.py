@@ -4,34 +4,41 @@ from __future__ import annotations
 
 from .helptext import key_help
 
+OUT_SUFFIXES = (".csv", ".npz", ".uff")
+
 
 def cmd_simulate(args):
     from ..model import load_model
     from ..timedomain.simulation import simulate
     from .paths import check_output_path
 
-    check_output_path("--out", args.out, (".csv", ".npz"))
-    check_output_path("--plot", args.plot)
+    check_output_path("--out", args.out, OUT_SUFFIXES)
+    check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
     model = load_model(args.model)
-    res = simulate(model, duration=args.duration, dt=args.dt, contact=False if args.no_contact else None)
+    if args.output_interval is not None:  # checked before the run against the time step
+        _check_interval(args.output_interval, model.scenario["dt"] if args.dt is None else args.dt)
+    args.interrupted = "the run was stopped; nothing was written, files written before are as they were"
+    res = simulate(
+        model, duration=args.duration, dt=args.dt, contact=False if args.no_contact else None, progress=args.progress
+    )
     rms = {n: float((res.support_force(n) ** 2).mean() ** 0.5) for n in ("casing.B.Fx", "casing.B.Fy", "casing.B.Fz")}
     print(f"simulated {res.time[-1]:.6g} s in {len(res.time)} steps")
     for n, v in rms.items():
         print(f"  RMS {n}: {v:.6g} N")
     print(
         f"  contact: {int((res.contact_state != 0).any(axis=0).sum())} cable nodes touched, "
-        f"max penetration {res.penetration.max():.3g} m"
+        f"max penetration {res.penetration.max(initial=0.0):.3g} m"
     )
-    e = res.energies
-    print("  energy (J): " + ", ".join(f"{k} {v:.4g}" for k, v in e.items()))
+    print(energy_report(res.energies))
     if res.contact_state.any():
         print(
             "  note: with contact the response is chaotic, so one record's band levels are one draw "
             "(3-20 % scatter per octave);\n        for expected levels use 'cablecasing ensemble' (docs/studies.md)"
         )
     if args.out:
-        res.save(args.out)
-        print(f"wrote {args.out}")
+        res.save(args.out, output_interval=args.output_interval)
+        every = f", every {args.output_interval:g} s" if args.output_interval else ""
+        print(f"wrote {args.out}{every}")
     if args.plot:
         from ..plotting import plot_time_result
 
@@ -41,12 +48,69 @@ def cmd_simulate(args):
     return 0
 
 
+def _check_interval(interval, dt):
+    from ..errors import ModelError
+
+    m = round(interval / dt)
+    if not interval > 0 or m < 1 or abs(m * dt - interval) > 1e-6 * dt:
+        raise ModelError("--output-interval", interval, f"must be a whole number of time steps (dt = {dt:g} s)")
+
+
+def _j(x):
+    """An energy (J) to 4 significant digits, never '-0'."""
+    return f"{float(x) + 0.0:.4g}"
+
+
+def energy_report(e):
+    """The energy ledger (J) as lines that say what each figure is and how they balance."""
+    split = e["contact_damping_dissipation"] + e["friction_dissipation"]
+    lines = [
+        "  energy balance (J) since t = 0:",
+        f"    supplied by the supports        {_j(e['support_work'])}",
+        f"    dissipated by Rayleigh damping  {_j(e['rayleigh_dissipation'])}",
+        f"    dissipated in the contacts      {_j(e['contact_dissipation'])}"
+        "  (work of the contact forces less the energy they store; the balance uses this)",
+    ]
+    if e["contact_dissipation"] or split:
+        off = (split - e["contact_dissipation"]) / e["contact_dissipation"] if e["contact_dissipation"] else 0.0
+        lines += [
+            f"      its parts, from their powers: contact damping {_j(e['contact_damping_dissipation'])}, friction "
+            f"{_j(e['friction_dissipation'])} (sum {_j(split)}, {off:+.1%} off the total:",
+            "      the powers change within a step at impacts, so their time integrals are estimates of the split;",
+            "      the total is the work the contact forces did on the bodies, which closes the balance)",
+        ]
+    lines += [
+        f"    stored now: kinetic {_j(e['kinetic'])}, strain {_j(e['strain'])}, contact {_j(e['contact_potential'])}",
+        f"    residual {_j(e['residual'])} (stored now - stored at t = 0 - supplied + dissipated: the ledger's error)",
+    ]
+    return "\n".join(lines)
+
+
 def add_parser(sub):
     p = sub.add_parser("simulate", help="time-domain run of the scenario (Newmark + contact)")
     p.add_argument("model", nargs="?", default=None, help="model TOML (default: built-in specimen)")
     p.add_argument("--duration", type=float, default=None, help=key_help("scenario.duration", "simulated time"))
     p.add_argument("--dt", type=float, default=None, help=key_help("scenario.dt"))
-    p.add_argument("--out", help="results file, .csv or .npz")
-    p.add_argument("--plot", nargs="?", const=True, default=None, help="write a figure (PNG path)")
+    p.add_argument(
+        "--out",
+        help="record to write: .csv (columns 'casing.B.Fz [N]', ...), .npz (every array) or .uff (UFF 58 time records)",
+    )
+    p.add_argument(
+        "--output-interval",
+        type=float,
+        default=None,
+        metavar="S",
+        help="write every S seconds, a whole number of time steps (default: every step); samples are picked, "
+        "so content above 1/(2 S) Hz aliases",
+    )
+    p.add_argument(
+        "--plot", nargs="?", const=True, default=None, help="write a figure (PNG path; default simulation.png)"
+    )
     p.add_argument("--no-contact", action="store_true", help="switch contact off")
+    p.add_argument(
+        "--no-progress",
+        dest="progress",
+        action="store_false",
+        help="no progress bar (default: a bar of the simulated time on stderr)",
+    )
     p.set_defaults(func=cmd_simulate)

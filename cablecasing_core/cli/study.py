@@ -1,7 +1,8 @@
-"""``cablecasing study``, ``ensemble``, ``pool``, ``bands``, ``report`` (Section 4)."""
+"""``cablecasing study``, ``ensemble``, ``pool`` (Section 4)."""
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -13,30 +14,121 @@ from .helptext import ASSIGNMENT_HELP, key_help
 from .paths import check_output_path
 
 
-def cmd_study(args):
-    from ..studies import DEFAULT_EVALUATE, correlations, plot_correlations, run_study
+def study_bounds(args, model):
+    """The study's parameters and bounds from ``--vary`` and ``--vary-file`` (default: the paper's six),
+    checked against the model and the schema (before any run)."""
+    from ..studies.sampling import check_bounds, parse_vary, read_vary_file
 
+    bounds = {}
+    if args.vary_file:
+        bounds.update(read_vary_file(args.vary_file))
+    for text in args.vary:
+        key, b = parse_vary(text)
+        bounds[key] = b
+    return check_bounds(bounds or None, model=model)
+
+
+def cmd_study(args):
+    from ..model import load_model
+    from ..studies import DEFAULT_EVALUATE, plot_correlations, plot_sobol, run_study
+    from ..studies.sampling import base_points, group_size
+
+    model = load_model(args.model)
+    bounds = study_bounds(args, model)  # (before anything is written)
+    integer("--samples", args.samples, 2)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    kwargs = {"model_file": args.model, "duration": args.duration, "skip": args.skip}
+    model_file = str(Path(args.model).resolve()) if args.model else None  # (dask workers: any folder)
+    kwargs = {"model_file": model_file, "duration": args.duration, "skip": args.skip}
+    g = group_size(bounds)
+    print(
+        f"# study of {model.source}: {len(bounds)} parameters, at least {args.samples} runs in groups of {g} "
+        f"(Saltelli's design on a scrambled Sobol' sequence, seed {args.seed}); results in {out / 'study.csv'}"
+    )
+    nb = base_points(bounds, args.samples)
+    print(f"#   {nb} base points x {g} = {nb * g} runs asked for")
+    args.interrupted = f"the rows finished so far are in {out / 'study.csv'}; run the same command again to go on"
     res = run_study(
         out / "study.csv",
         DEFAULT_EVALUATE,
+        bounds=bounds,
         n_samples=args.samples,
         seed=args.seed,
         scheduler=args.scheduler,
         n_workers=args.workers,
         evaluate_kwargs=kwargs,
+        model=model,
     )
-    print(f"{int(np.sum(res.ok))} of {len(res.status)} samples ok; results in {out / 'study.csv'}")
-    if np.sum(res.ok) >= 3:
-        corr = correlations(res, "pearson")
-        table = corr.as_dict()
-        for p, row in table.items():
-            print(f"  {p:45s} " + " ".join(f"{row[b]:+.2f}" for b in row))
-        plot_correlations(res, out / "correlations.png")
-        print(f"wrote {out / 'correlations.png'}")
+    n_ok = int(np.sum(res.ok))
+    print(f"{n_ok} of {len(res.status)} runs ok ({res.n_base} base points); results in {out / 'study.csv'}")
+    if n_ok == 0:
+        first = next((e for e in res.error if e), "")
+        print(f"cablecasing: error: every run failed; the first: {first}", file=sys.stderr)
+        return 1
+    if n_ok < 3:
+        print("cablecasing: warning: fewer than 3 ok runs: no correlation", file=sys.stderr)
+        return 0
+    print_study(res)
+    plot_correlations(res, out / "correlations.png")
+    print(f"wrote {out / 'correlations.png'}")
+    if _sobol_or_none(res) is not None:
+        plot_sobol(res, out / "sobol.png")
+        print(f"wrote {out / 'sobol.png'}")
     return 0
+
+
+def _sobol_or_none(res):
+    from ..studies import sobol_indices
+
+    try:
+        return sobol_indices(res)
+    except ModelError:
+        return None
+
+
+def print_study(res):
+    """Correlation (Pearson, Spearman) and Sobol tables of a study, one column per band with its
+    edges, and the warnings when it is too small to mean anything."""
+    from ..studies import correlations, size_warnings
+    from ..studies.octave import octave_bands
+    from ..studies.sensitivity import complete_groups
+
+    edges = {}
+    for kind in ("table3", "octave", "third"):
+        b = octave_bands(kind)
+        edges.update({lab: f"{lo:.4g}-{hi:.4g}" for lab, lo, hi in zip(b.labels, b.lower, b.upper)})
+    w = max([10] + [len(edges.get(o, o)) + 2 for o in res.outputs])
+    head = "".join(f"{o:>{w}}" for o in res.outputs)
+    hz = "".join(f"{edges.get(o, ''):>{w}}" for o in res.outputs)
+    for method in ("pearson", "spearman"):
+        c = correlations(res, method)
+        print(
+            f"\n{method.capitalize()} correlation r (-) of each parameter with the band RMS of the output "
+            f"({c.n} ok runs); bands (Hz):"
+        )
+        print(f"  {'band':40s}{head}\n  {'':40s}{hz}")
+        for i, p in enumerate(c.parameters):
+            print(f"  {p:40s}" + "".join(f"{v:+{w}.2f}" for v in c.r[i]))
+    sob = _sobol_or_none(res)
+    if sob is not None:
+        print(
+            f"\nSobol indices (-), first order S1 and total ST with their {sob.conf_level:.0%} intervals, from "
+            f"{sob.n_base} complete base points:"
+        )
+        print(f"  {'band':40s}{head}\n  {'':40s}{hz}")
+        for i, p in enumerate(sob.parameters):
+            print(f"  {p + ' S1':40s}" + "".join(f"{v:+{w}.2f}" for v in sob.S1[i]))
+            print(f"  {'   +-':40s}" + "".join(f"{v:{w}.2f}" for v in sob.S1_conf[i]))
+            print(f"  {p + ' ST':40s}" + "".join(f"{v:+{w}.2f}" for v in sob.ST[i]))
+            print(f"  {'   +-':40s}" + "".join(f"{v:{w}.2f}" for v in sob.ST_conf[i]))
+    if sob is None:
+        n = len(complete_groups(res)) if res.group_size else 0
+        print(
+            f"cablecasing: warning: no Sobol indices: they need 4 complete base points, this study has {n}",
+            file=sys.stderr,
+        )
+    for w in size_warnings(res, sob):
+        print(f"cablecasing: warning: {w}", file=sys.stderr)
 
 
 def _assignment(flag, text):
@@ -156,36 +248,25 @@ def _plot(ens, other, d, args, labels):
         print(f"# wrote {args.plot}")
 
 
-def cmd_bands(args):
-    from ..studies import octave_rms
-
-    data = np.genfromtxt(args.results, delimiter=",", names=True)
-    names = data.dtype.names or ()
-    col = args.column.replace(".", "")
-    if col not in names:
-        raise ModelError("--column", args.column, "must be a column of the results CSV: " + ", ".join(names))
-    t = data[names[0]]
-    keep = t > args.skip
-    fs = 1.0 / np.median(np.diff(t))
-    bands = octave_rms(data[col][keep], fs, args.kind, beyond_nyquist="drop")
-    print("band,f_low_hz,f_high_hz,rms")
-    for lab, lo, hi, r in zip(bands.labels, bands.lower, bands.upper, bands.rms):
-        print(f"{lab},{lo:.6g},{hi:.6g},{r:.6g}")
-    return 0
-
-
-def cmd_report(args):
-    from ..report import write_report
-
-    print(f"wrote {write_report(args.out, args.duration)}")
-    return 0
-
-
 def add_parser(sub):
-    p = sub.add_parser("study", help="Monte-Carlo correlation study of Section 4.4 (dask)")
+    p = sub.add_parser("study", help="Monte-Carlo study of Section 4.4: correlations and Sobol indices (dask)")
     p.add_argument("model", nargs="?", default=None, help="model TOML (default: built-in specimen)")
-    p.add_argument("--samples", type=int, default=300)
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument(
+        "--vary",
+        action="append",
+        default=[],
+        metavar="KEY=LOW:HIGH",
+        help="a parameter and its bounds in SI units, e.g. casing.E=2e9:1e10 (repeatable; default: the paper's "
+        "six parameters, docs/studies.md)",
+    )
+    p.add_argument("--vary-file", default=None, help="TOML file of bounds, one 'casing.E = [2e9, 1e10]' per line")
+    p.add_argument(
+        "--samples",
+        type=int,
+        default=300,
+        help="runs, rounded up to whole groups of (parameters + 2); a larger number continues a study in --out",
+    )
+    p.add_argument("--seed", type=int, default=0, help="seed of the scrambled Sobol' sequence")
     p.add_argument(
         "--scheduler", default=None, help="dask scheduler address tcp://host:8786, 'serial', or local (default)"
     )
@@ -194,7 +275,7 @@ def add_parser(sub):
         "--duration", type=float, default=None, help=key_help("scenario.duration", "simulated time per sample")
     )
     p.add_argument("--skip", type=float, default=0.05, help="start of each record left out, s")
-    p.add_argument("--out", default="study")
+    p.add_argument("--out", default="study", help="folder of study.csv (resumed when it exists) and the figures")
     p.set_defaults(func=cmd_study)
 
     e = sub.add_parser("ensemble", help="band levels of a support output as means over excitation seeds")
@@ -205,7 +286,7 @@ def add_parser(sub):
     e.add_argument("--dt", type=float, default=None, help=key_help("scenario.dt"))
     e.add_argument("--skip", type=float, default=0.05, help="start of each record left out, s")
     e.add_argument("--output", default="casing.B.Fz", help="support output, e.g. casing.B.Fz")
-    e.add_argument("--kind", choices=["table3", "octave", "third"], default="table3")
+    e.add_argument("--kind", choices=["table3", "octave", "third"], default="table3", help="band set (docs/studies.md)")
     e.add_argument(
         "--set", action="append", default=[], metavar="KEY=VALUE", help="model change for every run; " + ASSIGNMENT_HELP
     )
@@ -242,19 +323,3 @@ def add_parser(sub):
     q.add_argument("--out", default=None, help="CSV of the pooled members (and OUT_against.csv)")
     q.add_argument("--plot", default=None, metavar="PNG", help="figure as 'ensemble --plot'")
     q.set_defaults(func=cmd_pool)
-
-    b = sub.add_parser("bands", help="octave-band RMS of a column of a results CSV")
-    b.add_argument("results", help="CSV written by 'cablecasing simulate --out'")
-    b.add_argument("--column", default="casing.B.Fz_N")
-    b.add_argument("--kind", choices=["table3", "octave", "third"], default="table3")
-    b.add_argument("--skip", type=float, default=0.05, help="s left out at the start")
-    b.set_defaults(func=cmd_bands)
-
-    r = sub.add_parser(
-        "report",
-        help="run the built-in specimen and write results/ with report.html "
-        "(the core; examples/demo.py adds the FMU run)",
-    )
-    r.add_argument("--out", default="results")
-    r.add_argument("--duration", type=float, default=0.2)
-    r.set_defaults(func=cmd_report)

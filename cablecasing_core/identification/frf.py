@@ -98,3 +98,12 @@ def apparent_mass(acceleration, force, fs, estimator="H1", **kw):
         raise ModelError("estimator", estimator, "must be 'H1' or 'H2'")
     est = frf_estimate(acceleration, force, fs, **kw)
     return est.f_hz, (est.H1 if estimator == "H1" else est.H2), est.coherence
+
+
+def random_error(coherence: ArrayLike, n_averages: int) -> np.ndarray:
+    """Normalized random error of an H1 magnitude estimate (dimensionless), Bendat & Piersol,
+    *Random Data* (4th ed.), Eq. (9.90): ``eps = sqrt(1 - gamma^2) / (|gamma| sqrt(2 n_d))`` with the
+    ordinary coherence gamma^2 and ``n_d`` averages; the standard deviation of |H1| / |H| - 1 (and of
+    the phase, in rad) where the output's incoherent part is random noise."""
+    g2 = np.clip(np.asarray(coherence, float), 1e-12, 1.0)
+    return np.sqrt(1.0 - g2) / (np.sqrt(g2) * np.sqrt(2.0 * n_averages))

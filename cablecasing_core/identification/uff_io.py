@@ -30,7 +30,9 @@ UFF_EXTENSIONS = (".uff", ".unv", ".uf")
 @dataclass(frozen=True)
 class Record:
     """One function read from a file: ``kind`` ("time" or "frf"), abscissa ``x`` (s or Hz),
-    ``data`` (real for time, complex for an FRF), ``name``, and the UFF node/direction fields."""
+    ``data`` (real for time, complex for an FRF), ``name``, the UFF node/direction fields, and the
+    ordinate's unit label and UFF data type (0 unknown, 8 displacement, 9 reaction force, 11
+    velocity, 12 acceleration, 13 excitation force; for an FRF also those of its denominator)."""
 
     kind: str
     x: np.ndarray
@@ -40,6 +42,10 @@ class Record:
     rsp_dir: int = 1
     ref_node: int = 0
     ref_dir: int = 0
+    unit: str = ""
+    data_type: int = 0
+    denominator_unit: str = ""
+    denominator_type: int = 0
 
     @property
     def fs(self):
@@ -87,19 +93,23 @@ def _dataset(rec, binary):
         abscissa_spacing=1 if even else 0,
         abscissa_spec_data_type=17 if is_time else 18,
         abscissa_axis_units_lab="s" if is_time else "Hz",
-        ordinate_spec_data_type=0,
-        orddenom_spec_data_type=0,
+        ordinate_spec_data_type=int(rec.data_type),
+        ordinate_axis_units_lab=rec.unit or "NONE",
+        orddenom_spec_data_type=int(rec.denominator_type),
+        orddenom_axis_units_lab=rec.denominator_unit or "NONE",
         z_axis_spec_data_type=0,
     )
 
 
 def write_uff(path, records, binary=True):
-    """Write :class:`Record` objects to ``path`` as UFF dataset 58 (overwrites the file)."""
+    """Write :class:`Record` objects to ``path`` as UFF dataset 58, atomically (a file that was
+    there is replaced only when the new one is complete)."""
+    from ..files import atomic_path
+
     pyuff = _pyuff()
-    if os.path.exists(path):
-        os.remove(path)
     sets = [_dataset(r, binary) for r in records]
-    pyuff.UFF(str(path)).write_sets(sets, mode="add")
+    with atomic_path(path) as tmp:
+        pyuff.UFF(str(tmp)).write_sets(sets, mode="add")
 
 
 def write_uff_time(path, x, fs, name="x", t0=0.0, binary=True, **dof):
@@ -155,9 +165,19 @@ def read_uff(path):
                 int(s.get("rsp_dir", 1)),
                 int(s.get("ref_node", 0)),
                 int(s.get("ref_dir", 0)),
+                _label(s, "ordinate_axis_units_lab"),
+                int(s.get("ordinate_spec_data_type", 0)),
+                _label(s, "orddenom_axis_units_lab"),
+                int(s.get("orddenom_spec_data_type", 0)),
             )
         )
     return out
+
+
+def _label(dataset, key):
+    """A text field of a UFF dataset, "" for pyuff's "NONE"."""
+    text = str(dataset.get(key, "")).strip()
+    return "" if text == "NONE" else text
 
 
 # ------------------------------------------------------------------------------------------- CSV
@@ -203,26 +223,26 @@ def _read_csv(path):
 
 
 def read_csv_time(path, channel=None):
-    """A time record from CSV: returns ``(x, fs, name)``; ``channel`` is a column name or index
-    among the signal columns (default the first). The first column is the time (s), evenly spaced."""
-    names, data = _read_csv(path)
-    if len(names) < 2 or data.shape[0] < 2:
-        raise ModelError("file", str(path), "a time record needs columns time_s,<signal> and two rows or more")
-    t = data[:, 0]
-    if not _even(t):
-        raise ModelError(f"{path}:{names[0]}", "uneven time column", "time must be evenly spaced and increasing")
-    cols = names[1:]
+    """A time record from CSV or NPZ (:func:`cablecasing_core.records.read_records`, the one reader of
+    record files): returns ``(x, fs, name)``; ``channel`` is a column name (``casing.B.Fz``, its header
+    form ``casing.B.Fz [N]``) or an index among the signal columns (default the first). The first
+    column is the time (s), evenly spaced."""
+    from ..records import read_records
+
+    rec = read_records(path)
+    cols = list(rec.columns)
     if channel is None:
         j = 0
     elif isinstance(channel, str) and not channel.isdigit():
-        if channel not in cols:
-            raise ModelError("channel", channel, "must be one of " + ", ".join(cols))
-        j = cols.index(channel)
+        try:
+            j = cols.index(rec.resolve(channel))
+        except ModelError:
+            raise ModelError("channel", channel, "must be one of " + ", ".join(cols)) from None
     else:
         j = int(channel)
         if not 0 <= j < len(cols):
             raise ModelError("channel", channel, f"must be 0..{len(cols) - 1} or a column name")
-    return data[:, j + 1], 1.0 / float(np.mean(np.diff(t))), cols[j]
+    return rec.columns[cols[j]], rec.fs, cols[j]
 
 
 def read_csv_frf(path):
@@ -256,7 +276,7 @@ def _uff_record(path, kind, channel, missing):
 
 
 def read_time_record(path, channel=None):
-    """``(x, fs, name)`` from a CSV or UFF (.uff/.unv) file; ``channel`` selects a column or the
+    """``(x, fs, name)`` from a CSV, NPZ or UFF (.uff/.unv) file; ``channel`` selects a column or the
     n-th time function of a UFF file."""
     if not is_uff(path):
         return read_csv_time(path, channel)

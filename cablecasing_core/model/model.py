@@ -136,7 +136,7 @@ class Model:
         (``loads.gravity``) is given by its components (``loads.gravity.x``, ``.y``, ``.z``).
         """
         out = {}
-        for key, v in _leaves(self.data):
+        for key, v in dotted(self.data).items():
             if isinstance(v, (int, float)) and not isinstance(v, bool):
                 out[key] = v
             elif key in SCHEMA and SCHEMA[key].components:
@@ -150,7 +150,7 @@ class Model:
         data = {k: v for k, v in self.data.items() if k != "scenario"}
         return {
             key: v
-            for key, v in _leaves(data)
+            for key, v in dotted(data).items()
             if isinstance(v, str) and key in SCHEMA and isinstance(SCHEMA[key].validator, Choice)
         }
 
@@ -199,14 +199,21 @@ class Model:
         return _to_toml(self.data)
 
 
-def _leaves(node, prefix=""):
-    """(dotted key, value) of every value of a nested model dictionary that is not a table."""
-    for k, v in node.items():
-        key = f"{prefix}.{k}" if prefix else k
-        if isinstance(v, dict):
-            yield from _leaves(v, key)
-        else:
-            yield key, v
+def dotted(data: Mapping) -> dict:
+    """Every leaf of a nested table as ``{dotted.key: value}``, in the table's order (a model's data,
+    a TOML file of dotted keys)."""
+    out = {}
+
+    def walk(prefix, node):
+        for k, v in node.items():
+            key = f"{prefix}.{k}" if prefix else k
+            if isinstance(v, dict):
+                walk(key, v)
+            else:
+                out[key] = v
+
+    walk("", data)
+    return out
 
 
 def _to_toml(data):

@@ -17,7 +17,7 @@ Keys under named tables are written with ``<name>`` (``scenario.excitation.<name
 :func:`lookup` accepts them under any name. Units are FMI-style strings ("1": dimensionless,
 "m/s2", "N.m", "kg/m3", ...; "" for text and booleans).
 
-This module is over 400 lines because the schema is one table of the model file's 48 keys, kept
+This module is over 400 lines because the schema is one table of the model file's keys (49), kept
 in one place on purpose; the validators are in ``validators.py``.
 """
 
@@ -34,6 +34,7 @@ SUPPORT_TYPES = ("clamped", "free")
 DIRECTIONS = ("x", "y", "z")
 CONTACT_LAWS = ("hertz", "linear")
 EXCITATION_KINDS = ("random", "harmonic", "impulse", "csv")
+CSV_QUANTITIES = ("displacement", "velocity", "acceleration")
 SECTIONS = ("geometry", "casing", "cable", "contact", "loads", "scenario")
 REST_SHAPES = ("routing", "straight")
 
@@ -45,6 +46,11 @@ SUPPORT_OUTPUTS = tuple(f"{b}.{s}.{c}" for b in BODY_NAMES for s in SUPPORT_NAME
 CONTACT_OUTPUTS = ("contact.active", "contact.max_penetration", "contact.dissipated_energy")
 #: Every output of the time domain (``Engine.output_values``, the FMU's outputs), in this order.
 OUTPUTS = SUPPORT_OUTPUTS + CONTACT_OUTPUTS
+#: The support inputs (the FMU's inputs; the columns of a run's record for its driven channels):
+#: displacement ``casing.A.x`` (m), velocity ``casing.A.vx`` (m/s), acceleration ``casing.A.ax``
+#: (m/s2) of every channel, in this order (kind-major).
+INPUT_KINDS = (("", "displacement", "m"), ("v", "velocity", "m/s"), ("a", "acceleration", "m/s2"))
+INPUTS = tuple(f"{c[:-1]}{k}{c[-1]}" for k, _, _ in INPUT_KINDS for c in CHANNELS)
 
 
 class _Marker:
@@ -386,8 +392,19 @@ _KEYS = [
         "str",
         REQUIRED,
         "",
-        "CSV table of the displacement; a relative path is read from the model file's folder",
-        Text("the path of a CSV file with columns time_s, displacement_m"),
+        "CSV table time_s,<value> of the quantity; a relative path is read from the model file's folder",
+        Text("the path of a CSV file with a header line and columns time_s, <value>"),
+        kinds=("csv",),
+    ),
+    # issue 25: excitations as users have them (accelerometer and velocity records)
+    KeySpec(
+        f"{_EXC}.quantity",
+        "str",
+        "displacement",
+        "",
+        "what the CSV table's values are: displacement (m), velocity (m/s) or acceleration (m/s2); "
+        "velocity and acceleration are integrated with drift removal (docs/model_file.md)",
+        Choice(*CSV_QUANTITIES),
         kinds=("csv",),
     ),
 ]
@@ -482,6 +499,22 @@ def output_spec(name: str) -> tuple:
     body, support, comp = name.split(".")
     kind, unit = ("force", "N") if comp[0] == "F" else ("moment", "N.m")
     return unit, f"{kind} the {body} exerts on its support {support}, component along global {comp[1].lower()}"
+
+
+def input_name(channel: str, quantity: str) -> str:
+    """The input of a support channel: ``("casing.A.z", "acceleration")`` -> ``"casing.A.az"``."""
+    prefix = next(k for k, q, _ in INPUT_KINDS if q == quantity)
+    return f"{channel[:-1]}{prefix}{channel[-1]}"
+
+
+def input_spec(name: str) -> tuple:
+    """(unit, description) of a support input of :data:`INPUTS`, e.g. ``"casing.A.az"``."""
+    if name not in INPUTS:
+        raise ModelError("input", name, "must be a support input such as casing.A.z, casing.A.vz or casing.A.az")
+    k = INPUTS.index(name) // len(CHANNELS)
+    body, support, d = CHANNELS[INPUTS.index(name) % len(CHANNELS)].split(".")
+    _, what, unit = INPUT_KINDS[k]
+    return unit, f"{what} of the {body}'s support {support} along global {d}"
 
 
 def markdown_table() -> str:

@@ -5,14 +5,15 @@ Fig. 23) and band levels as ensemble means over excitation seeds.
 >>> octave_rms(force_N, fs_hz).as_dict()                     # {"oct1": N, ..., "oct9": N}
 >>> res = run_study("study.csv", "mypkg.mod:evaluate", n_samples=300, seed=1)   # LocalCluster
 >>> correlations(res, "pearson").as_dict()
+>>> sobol_indices(res).ST                                     # total Sobol indices (parameters x bands)
 >>> ens = seed_ensemble(model, seeds=8)                      # band levels over excitation seeds
 >>> ens.mean, ens.se, paired_difference(ens_a, ens_b).r
 >>> ens.save("part1.csv"); pool_ensembles(["part1.csv", "part2.csv"])   # an ensemble run in parts
 
-Modules: ``octave`` (band RMS), ``sampling`` (bounds, Latin hypercube, constraints), ``evaluators``
+Modules: ``octave`` (band RMS), ``sampling`` (bounds, Saltelli's design, constraints), ``evaluators``
 (per-sample functions), ``executor`` (serial or dask), ``results_store`` (the resumable CSV),
-``study`` (``run_study``), ``correlation``, ``ensemble`` (the data), ``ensemble_runs``
-(``seed_ensemble``), ``plots``. See docs/studies.md.
+``study`` (``run_study``), ``correlation``, ``sensitivity`` (Sobol indices, size checks),
+``ensemble`` (the data), ``ensemble_runs`` (``seed_ensemble``), ``plots``. See docs/studies.md.
 """
 
 from .correlation import GAP, Correlation, correlations
@@ -21,7 +22,7 @@ from .ensemble_runs import random_excitations, seed_ensemble, seed_overrides
 from .evaluators import DEFAULT_EVALUATE, DEFAULT_OUTPUTS, default_evaluate
 from .executor import execute, resolve_evaluate
 from .octave import TABLE3_LOWER, TABLE3_UPPER, BandRMS, Bands, octave_bands, octave_rms
-from .plots import plot_correlations, plot_ensemble
+from .plots import plot_correlations, plot_ensemble, plot_sobol
 from .results_store import StudyResults, load_results
 from .sampling import (
     AXIAL_AMPLITUDE_KEY,
@@ -29,8 +30,11 @@ from .sampling import (
     PAPER_BOUNDS,
     check_bounds,
     gap_constraint,
-    latin_hypercube,
+    parse_vary,
+    read_vary_file,
+    sobol_design,
 )
+from .sensitivity import SobolIndices, critical_correlation, size_warnings, sobol_indices
 from .study import run_study
 
 __all__ = [
@@ -53,7 +57,14 @@ __all__ = [
     "default_evaluate",
     "execute",
     "gap_constraint",
-    "latin_hypercube",
+    "parse_vary",
+    "read_vary_file",
+    "sobol_design",
+    "sobol_indices",
+    "size_warnings",
+    "critical_correlation",
+    "SobolIndices",
+    "plot_sobol",
     "load_ensemble",
     "load_results",
     "octave_bands",

@@ -122,7 +122,9 @@ class Ensemble:
             "settings": _canonical(self.settings),
         }
         parts = [self.seeds[:, None], self.levels] + ([self.contact_time] if nodes else [])
-        with open(path, "w", encoding="utf-8") as f:
+        from ..files import atomic_path
+
+        with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as f:
             f.write(header + "\n" + _META + json.dumps(meta) + "\n")
             np.savetxt(f, np.column_stack(parts), delimiter=",", fmt=["%d"] + ["%.17g"] * (len(self.labels) + nodes))
 

@@ -88,7 +88,7 @@ def seed_ensemble(
         As :func:`~cablecasing_core.studies.study.run_study`; default ``"serial"``: members one
         after the other in this process (no dask needed).
     progress : bool
-        Show a tqdm bar of the members done (if tqdm is installed).
+        Show a tqdm bar of the members done.
 
     Returns
     -------
@@ -188,7 +188,7 @@ class _NoBar:
 
 
 def _progress_bar(total, progress):
-    """A tqdm bar of the members done (tqdm comes with the ``study`` extra; without it, none)."""
+    """A tqdm bar of the members done (none if tqdm cannot be imported)."""
     if progress:
         try:
             from tqdm.auto import tqdm

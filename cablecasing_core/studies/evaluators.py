@@ -108,3 +108,11 @@ def cpu_burn_evaluate(overrides, repeats=200, n=2**12, **_):
     for _ in range(int(repeats)):
         res = octave_rms(x, fs)
     return res.as_dict()
+
+
+def ishigami_evaluate(overrides, a=7.0, b=0.1, **_):
+    """The Ishigami function, a stand-in with closed-form Sobol indices (benchmarks.md, "Sensitivity
+    analysis"): ``f = sin x1 + a sin^2 x2 + b x3^4 sin x1`` of the overrides ``x1``, ``x2``, ``x3``
+    (uniform on [-pi, pi] in the test), returned as the output ``"f"``. No physics."""
+    x1, x2, x3 = (float(overrides[k]) for k in ("x1", "x2", "x3"))
+    return {"f": np.sin(x1) + a * np.sin(x2) ** 2 + b * x3**4 * np.sin(x1)}

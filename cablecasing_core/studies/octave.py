@@ -125,6 +125,12 @@ class BandRMS:
         """``{label: rms}`` (signal unit), the form a study's ``evaluate`` returns (Section 4.4)."""
         return {lab: float(v) for lab, v in zip(self.labels, self.rms)}
 
+    def level_db(self, ref: float = 1.0) -> np.ndarray:
+        """Band levels ``20 log10(rms / ref)`` in dB re ``ref`` (in the signal's unit; e.g. 1 N, or
+        1e-6 m/s2 for accelerations, ``nvh.spectra.REFERENCES``)."""
+        with np.errstate(divide="ignore"):
+            return 20.0 * np.log10(self.rms / ref)
+
 
 def octave_bands(kind: str = "table3", f_min: float | None = None, f_max: float | None = None) -> Bands:
     """Band set of the paper's Table 3 or of IEC 61260-1 (base 10), edges in Hz.

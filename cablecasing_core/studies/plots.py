@@ -43,33 +43,81 @@ def plot_correlations(results, path, parameters=None, methods=("pearson", "spear
     bad = [p for p in parameters if p not in names]
     if bad:
         raise ModelError("parameters", bad, "must be sampled parameters (or 'gap'): " + ", ".join(names))
+    from .sensitivity import complete_groups, critical_correlation
+
     nb = len(results.outputs)
     fig, axes = plt.subplots(len(parameters), 1, figsize=(7, 1.9 * len(parameters) + 0.6), sharex=True, squeeze=False)
     width = 0.8 / len(cors)
     x = np.arange(nb)
-    ticks = [o[3:] if o.startswith("oct") else o for o in results.outputs]
+    n_ind = min(cors[0].n, 2 * len(complete_groups(results))) if results.group_size else cors[0].n
+    r_crit = critical_correlation(n_ind)
     for k, (ax, p) in enumerate(zip(axes[:, 0], parameters)):
         row = names.index(p)
         for m, c in enumerate(cors):
             ax.bar(x + (m - (len(cors) - 1) / 2) * width, c.r[row], width, label=c.method)
-        ax.axhline(0.0, color="k", lw=0.6)
-        ax.set_ylim(-1, 1)
-        ax.set_ylabel("r (-)")
-        ax.set_title(f"({chr(97 + k)}) {_LABELS.get(p, p)}", fontsize=9, loc="left")
-        ax.grid(True, axis="y", alpha=0.3)
-    axes[-1, 0].set_xticks(x, ticks, rotation=0 if nb <= 12 else 90)
-    axes[-1, 0].set_xlabel("octave band (Table 3)" if ticks[0].isdigit() else "band")
-    axes[0, 0].legend(fontsize=8, loc="upper right")
-    fig.suptitle(title or f"Correlation with band RMS, {cors[0].n} samples (Fig. 23)", fontsize=10)
+        for sign in (1, -1):
+            label = f"|r| = {r_crit:.2f}: 95 % significance ({n_ind} independent points)" if sign > 0 else None
+            ax.axhline(sign * r_crit, color="0.4", lw=0.8, ls="--", label=label)
+        _panel(ax, k, p, (-1, 1), "r (-)")
+    _band_axis(axes, results.outputs)
+    fig.suptitle(title or f"Correlation with band RMS, {cors[0].n} ok runs (Fig. 23)", fontsize=10)
     save_figure(fig, path)
     return path
 
 
-def plot_ensemble(ens, path, other=None, diff=None, confidence=0.95, labels=("base", "against")):
+def _panel(ax, k, parameter, ylim, ylabel):
+    """One parameter's panel of Fig. 23 and of the Sobol figure: title (a), (b), ..., limits, grid."""
+    ax.axhline(0.0, color="k", lw=0.6)
+    ax.set_ylim(*ylim)
+    ax.set_ylabel(ylabel)
+    ax.set_title(f"({chr(97 + k)}) {_LABELS.get(parameter, parameter)}", fontsize=9, loc="left")
+    ax.grid(True, axis="y", alpha=0.3)
+
+
+def _band_axis(axes, outputs):
+    """The shared band axis of a column of panels (Table 3's number over its edges in Hz, else the
+    output's name) and the legend in the first panel."""
+    from .octave import octave_bands
+
+    t3 = octave_bands("table3")
+    edges = {lab: f"{lab[3:]}\n{lo:g}-{hi:g}" for lab, lo, hi in zip(t3.labels, t3.lower, t3.upper)}
+    ticks = [edges.get(o, o) for o in outputs]
+    axes[-1, 0].set_xticks(np.arange(len(outputs)), ticks, rotation=0 if len(outputs) <= 12 else 90, fontsize=7)
+    axes[-1, 0].set_xlabel("octave band of Table 3 (Hz)" if outputs[0] == "oct1" else "band")
+    axes[0, 0].legend(fontsize=7, loc="best", framealpha=0.85)
+
+
+def plot_sobol(results, path, title=None, conf_level=0.95):
+    """First-order (S1) and total (ST) Sobol indices per output band with their confidence intervals
+    (``sensitivity.sobol_indices``), one panel per parameter. Returns ``path``."""
+    from .sensitivity import sobol_indices
+
+    if not isinstance(results, StudyResults):
+        results = load_results(results)
+    sob = sobol_indices(results, conf_level=conf_level)
+    d, nb = len(sob.parameters), len(sob.outputs)
+    fig, axes = plt.subplots(d, 1, figsize=(7, 1.8 * d + 0.8), sharex=True, squeeze=False)
+    x = np.arange(nb)
+    for k, (ax, p) in enumerate(zip(axes[:, 0], sob.parameters)):
+        ax.bar(x - 0.2, sob.S1[k], 0.4, yerr=sob.S1_conf[k], capsize=2, label="first order S1")
+        ax.bar(x + 0.2, sob.ST[k], 0.4, yerr=sob.ST_conf[k], capsize=2, label="total ST")
+        _panel(ax, k, p, (-0.2, 1.1), "index (-)")
+    _band_axis(axes, sob.outputs)
+    fig.suptitle(
+        title or f"Sobol indices of the band RMS, {sob.n_base} base points ({sob.conf_level:.0%} intervals)",
+        fontsize=10,
+    )
+    save_figure(fig, path)
+    return path
+
+
+def plot_ensemble(ens, path, other=None, diff=None, confidence=0.95, labels=("base", "against"), title=None):
     """Band levels over excitation seeds (``studies.seed_ensemble``): the ensemble mean per band with
-    its Student-t confidence interval (N, or N.m for a moment output; log axis), a second ensemble
-    beside it, and, with ``diff`` (``studies.paired_difference(other, ens)``), the relative change
-    r (%) per band with its interval."""
+    its Student-t confidence interval (N, or N.m for a moment output; log axis, with the level in dB
+    re 1 N or 1 N.m on the right), a second ensemble beside it, and, with ``diff``
+    (``studies.paired_difference(other, ens)``), the relative change r (%) per band with its interval."""
+    from ..nvh.plots import db_axis
+
     unit = output_spec(ens.output)[0]
     x = np.arange(1, len(ens.labels) + 1)
     rows = 2 if diff is not None else 1
@@ -84,10 +132,13 @@ def plot_ensemble(ens, path, other=None, diff=None, confidence=0.95, labels=("ba
             yerr=[e.mean - lo, hi - e.mean],
             fmt="o",
             capsize=3,
-            label=f"{lab} (mean of {e.n} seeds, {confidence:.0%} CI)",
+            label=f"{lab}: mean of {e.n} seeds, {confidence:.0%} CI",
         )
     ax.set_yscale("log")
     ax.set_ylabel(f"RMS {ens.output} ({unit})")
+    db_axis(ax, 1.0, unit, power=False)
+    if title:
+        ax.set_title(title, fontsize=10)
     ax.legend(fontsize=8)
     ax.grid(True, which="both", alpha=0.3)
     if diff is not None:

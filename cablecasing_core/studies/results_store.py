@@ -16,7 +16,9 @@ from ..errors import ModelError
 META_COLUMNS = ("index", "status")
 TAIL_COLUMNS = ("elapsed_s", "error")
 STATUSES = ("ok", "failed", "infeasible")
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2  # 2: Saltelli's design on a Sobol' sequence (1 was a Latin hypercube)
+#: Settings of the sidecar that a resumed study must share with the file (the size may grow).
+RESUME_KEYS = ("format", "seed", "bounds", "outputs", "evaluate", "evaluate_kwargs", "constraints", "sampler")
 
 
 @dataclass
@@ -24,7 +26,9 @@ class StudyResults:
     """Rows of a Monte-Carlo study (Section 4.4), sorted by sample index.
 
     index (n,) int; parameters (names); X (n, d) parameter values (SI); outputs (names);
-    Y (n, m) output values (NaN where not ok); status (n,) str; error (n,) str; elapsed_s (n,) s.
+    Y (n, m) output values (NaN where not ok); status (n,) str; error (n,) str; elapsed_s (n,) s;
+    group_size: runs per base point of Saltelli's design (d + 2; 0 when the file has no such design);
+    n_base: base points of the design (the study's size is n_base * group_size runs).
     """
 
     index: np.ndarray
@@ -35,6 +39,8 @@ class StudyResults:
     status: np.ndarray
     error: np.ndarray
     elapsed_s: np.ndarray
+    group_size: int = 0
+    n_base: int = 0
 
     @property
     def ok(self):
@@ -115,6 +121,8 @@ def load_results(path: str | os.PathLike) -> StudyResults:
         status=np.array([rows[i][1] for i in order], dtype=object).astype(str),
         error=np.array([rows[i][-1] for i in order], dtype=object).astype(str),
         elapsed_s=np.array([num(rows[i][-2]) for i in order], float),
+        group_size=len(params) + 2 if meta.get("format") == FORMAT_VERSION else 0,
+        n_base=int(meta.get("n_base", 0)),
     )
 
 
@@ -139,29 +147,44 @@ class ResultsWriter:
         self.fh.close()
 
 
-def prepare_file(path, meta, design, params):
-    """Create the CSV and sidecar, or check them for a resume. Returns the set of indices present."""
-    header = _header(params, meta["outputs"])
+def read_meta(path) -> dict | None:
+    """The sidecar of the study CSV ``path`` (None when there is no study there yet)."""
+    if not (os.path.exists(path) and os.path.getsize(path) > 0):
+        return None
     mp = _meta_path(path)
-    exists = os.path.exists(path) and os.path.getsize(path) > 0
-    if not exists:
+    try:
+        with open(mp) as fh:
+            return json.load(fh)
+    except (OSError, ValueError) as exc:
+        raise ModelError(
+            "path", path, f"exists but its sidecar {mp} cannot be read ({exc}); choose a new file to start a study"
+        ) from None
+
+
+def prepare_file(path, meta, design, params):
+    """Create the CSV and sidecar, or check them for a resume (the settings of :data:`RESUME_KEYS`
+    equal, every stored row equal to the design's row of its index) and record a larger size.
+    Returns the set of indices present."""
+    from ..files import write_text
+
+    header = _header(params, meta["outputs"])
+    old = read_meta(path)
+    if old is None:
         d = os.path.dirname(os.path.abspath(path))
         os.makedirs(d, exist_ok=True)
-        with open(mp, "w") as fh:
-            json.dump(meta, fh, indent=1)
+        write_text(_meta_path(path), json.dumps(meta, indent=1))
         with open(path, "w", newline="") as fh:
             csv.writer(fh).writerow(header)
             fh.flush()
             os.fsync(fh.fileno())
         return set()
-    try:
-        with open(mp) as fh:
-            old = json.load(fh)
-    except (OSError, ValueError) as exc:
+    if old.get("format") != meta["format"]:
         raise ModelError(
-            "path", path, f"exists but its sidecar {mp} cannot be read ({exc}); choose a new file to start a study"
-        ) from None
-    for key in ("format", "seed", "n_samples", "bounds", "outputs", "evaluate", "evaluate_kwargs", "constraints"):
+            "format",
+            old.get("format"),
+            f"the study in {path} has another format ({meta['format']} is read); choose a new file to start a study",
+        )
+    for key in RESUME_KEYS:
         if old.get(key) != meta.get(key):
             raise ModelError(
                 key, meta.get(key), f"must equal {old.get(key)!r} to resume the study in {path} (or choose a new file)"
@@ -171,4 +194,6 @@ def prepare_file(path, meta, design, params):
     for j, i in enumerate(res.index):
         if not (0 <= i < len(design)) or not np.array_equal(res.X[j], design[i]):
             raise ModelError("path", path, f"row of sample {i} does not match the design of this seed and bounds")
+    if old.get("n_base") != meta["n_base"]:  # enlarged: the sidecar records the new size
+        write_text(_meta_path(path), json.dumps(meta, indent=1))
     return set(int(i) for i in res.index)

@@ -1,19 +1,28 @@
-"""Sampling of the Monte-Carlo study (Section 4.4): the parameters and bounds of the paper, their
-check against a model, the Latin hypercube and the feasibility constraint.
+"""Sampling of the Monte-Carlo study (Section 4.4): the parameters and their bounds (the paper's, or
+any numeric keys of any model, from the command line or a file), their check against the model and
+the schema, the design, and the feasibility constraint.
 
-``scipy.stats.qmc.LatinHypercube(d, rng=seed)`` with ``scramble=True`` (a random point inside each
-stratum), scaled to the bounds. The design is a pure function of ``(bounds, n_samples, seed)``;
-sample ``i`` is row ``i`` of it, so it is the same in serial and in parallel runs and after a restart.
+Design: Saltelli's scheme for first-order and total Sobol indices (``SALib.sample.sobol.sample``
+with ``calc_second_order=False``), on a scrambled Sobol' sequence of dimension 2d
+(``scipy.stats.qmc.Sobol(2 d, scramble=True, seed)``) scaled to the bounds: base point j gives the
+d + 2 runs A_j, AB_j^(1..d) (A_j with its i-th coordinate from B_j) and B_j, rows j (d + 2) ..
+j (d + 2) + d + 1. Every run is a point of the box (each coordinate uniform within its bounds), so
+all of them serve the correlations; the groups give the Sobol indices (:mod:`.sensitivity`). The
+design is a pure function of (bounds and their order, seed); a larger study is the same sequence
+continued (the first N base points of N' > N are those of N), so enlarging a study computes only the
+new runs. The Sobol' sequence's balance asks for a power of two of base points (SALib warns
+otherwise; the warning is silenced here, the indices stay valid with their bootstrap intervals).
 
 Infeasible samples: the cable must fit in the casing (``cable.d < casing.d_inner``). With the
 paper's bounds this always holds (max cable.d 3.3 mm < min casing.d_inner 3.4 mm). For other bounds
-the study *rejects* such samples (status ``infeasible``, reason recorded) rather than sampling the
-gap, so that the six named parameters keep their Latin-hypercube stratification.
+the study *rejects* such samples (status ``infeasible``, reason recorded; their groups are left out of
+the Sobol indices).
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 
@@ -40,10 +49,12 @@ def check_bounds(bounds: dict | None = None, model=None) -> dict[str, tuple[floa
     """Validated ``{dotted.key: (low, high)}`` (SI units of the key). Section 4.4.
 
     ``None`` gives :data:`PAPER_BOUNDS`. Every key must be a numeric parameter of ``model`` (a Model,
-    a TOML path, or None for the built-in specimen; ``False`` skips the key check). Raises
-    ModelError for an unknown key, non-finite bounds or ``low >= high``.
+    a TOML path, or None for the built-in specimen; ``False`` skips the model checks) and a float key
+    of the schema whose allowed range holds both bounds. Raises ModelError for an unknown key, an
+    integer or text key, a bound outside the allowed range, non-finite bounds or ``low >= high``.
     """
-    bounds = dict(PAPER_BOUNDS if bounds is None else bounds)
+    paper = bounds is None
+    bounds = dict(PAPER_BOUNDS if paper else bounds)
     if not bounds:
         raise ModelError("bounds", bounds, "must name at least one parameter")
     known = None
@@ -57,8 +68,12 @@ def check_bounds(bounds: dict | None = None, model=None) -> dict[str, tuple[floa
         if not isinstance(key, str):
             raise ModelError("bounds", key, "parameter names must be dotted model keys such as 'casing.E'")
         if known is not None and key not in known:
+            hint = " (the paper's six parameters are the default; give others, e.g. --vary casing.E=2e9:1e10)"
             raise ModelError(
-                f"bounds.{key}", b, "is not a numeric parameter of the model; known: " + ", ".join(sorted(known))
+                f"bounds.{key}",
+                b,
+                f"is not a numeric parameter of the model {m.source}{hint if paper else ''}; known: "
+                + ", ".join(sorted(known)),
             )
         try:
             lo, hi = (float(v) for v in b)
@@ -69,30 +84,89 @@ def check_bounds(bounds: dict | None = None, model=None) -> dict[str, tuple[floa
         if lo >= hi:
             raise ModelError(f"bounds.{key}", b, "lower bound must be below the upper bound")
         out[key] = (lo, hi)
+    if known is not None:
+        _check_schema(m, out)
     return out
 
 
-def latin_hypercube(bounds: dict | None = None, n_samples: int = 300, seed: int = 0) -> np.ndarray:
-    """Latin-hypercube design (n_samples, d) in the bounds' SI units (Section 4.4, "Monte Carlo").
+def _check_schema(model, bounds):
+    """Every parameter must be a float key of the schema whose allowed range holds both bounds.
+    (Cross-checks between keys, such as the gap, are the constraints' and the model's at each run.)"""
+    from ..model.schema import lookup
 
-    Columns follow the order of ``bounds`` (default :data:`PAPER_BOUNDS`). Each column has exactly
-    one point in each of the ``n_samples`` equal strata of its interval
-    (``scipy.stats.qmc.LatinHypercube(d, scramble=True, rng=seed)``). Deterministic in
-    (bounds, n_samples, seed). Keys are not checked against a model here (see :func:`check_bounds`).
-    """
+    for key, (lo, hi) in bounds.items():
+        spec = lookup(key)
+        if spec.type not in ("float", "float or table"):
+            raise ModelError(
+                f"bounds.{key}", [lo, hi], f"is a key of type {spec.type}; a study samples continuous (float) keys only"
+            )
+        for v in (lo, hi):
+            try:
+                spec.check(v, key)
+            except ModelError as exc:
+                raise ModelError(f"bounds.{key}", [lo, hi], f"must lie in the key's allowed range ({exc})") from None
+
+
+def group_size(bounds: dict) -> int:
+    """Runs per base point of the design: d + 2 for d parameters (A, AB^(1..d), B)."""
+    return len(bounds) + 2
+
+
+def base_points(bounds: dict, n_samples: int) -> int:
+    """Base points of a design of at least ``n_samples`` runs: ceil(n_samples / (d + 2)), at least 2."""
+    return max(2, math.ceil(integer("n_samples", n_samples, 2) / group_size(bounds)))
+
+
+def sobol_design(bounds: dict | None = None, n_base: int = 8, seed: int = 0) -> np.ndarray:
+    """Saltelli's design (n_base (d + 2), d) in the bounds' SI units (module docstring): runs of
+    ``n_base`` base points of a scrambled Sobol' sequence with ``seed``. Deterministic in (bounds,
+    seed); the design of a larger n_base starts with this one. Keys are not checked against a model
+    here (see :func:`check_bounds`)."""
     bounds = check_bounds(bounds, model=False)
-    n = integer("n_samples", n_samples, 2)
+    n = integer("n_base", n_base, 2)
     seed = integer("seed", seed, 0)
-    from scipy.stats import qmc
+    from SALib.sample import sobol
+
+    problem = {"num_vars": len(bounds), "names": list(bounds), "bounds": [list(b) for b in bounds.values()]}
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message=".*balance properties of Sobol.*")
+        return sobol.sample(problem, n, calc_second_order=False, scramble=True, seed=seed)
+
+
+def parse_vary(text: str) -> tuple[str, tuple[float, float]]:
+    """``"casing.E=2e9:1e10"`` -> ``("casing.E", (2e9, 1e10))`` (``--vary KEY=LOW:HIGH``, SI units)."""
+    key, sep, rng = str(text).partition("=")
+    lo, sep2, hi = rng.partition(":")
+    try:
+        if not (sep and sep2 and key.strip()):
+            raise ValueError
+        return key.strip(), (float(lo), float(hi))
+    except ValueError:
+        raise ModelError(
+            "--vary", text, "must be KEY=LOW:HIGH with a dotted model key, e.g. casing.E=2e9:1e10"
+        ) from None
+
+
+def read_vary_file(path) -> dict[str, tuple[float, float]]:
+    """The bounds in a TOML file, one ``key = [low, high]`` per parameter (dotted keys, SI units)::
+
+    casing.E = [2e9, 1e10]
+    contact.friction = [0.05, 0.2]
+    """
+    from ..model.load import tomllib
+    from ..model.model import dotted
 
     try:
-        sampler = qmc.LatinHypercube(len(bounds), scramble=True, rng=seed)
-    except TypeError:  # scipy < 1.15 names it seed (same default_rng stream)
-        sampler = qmc.LatinHypercube(len(bounds), scramble=True, seed=seed)
-    unit = sampler.random(n)
-    lo = np.array([b[0] for b in bounds.values()])
-    hi = np.array([b[1] for b in bounds.values()])
-    return qmc.scale(unit, lo, hi)
+        with open(path, "rb") as fh:
+            raw = tomllib.load(fh)
+    except OSError as exc:
+        raise ModelError("--vary-file", str(path), f"must be a readable TOML file ({exc.strerror})") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ModelError("--vary-file", str(path), f"must be valid TOML ({exc})") from None
+    out = dotted(raw)
+    if not out:
+        raise ModelError("--vary-file", str(path), "names no parameter; write lines such as casing.E = [2e9, 1e10]")
+    return out
 
 
 def gap_constraint(params):

@@ -1,24 +1,27 @@
-"""The Monte-Carlo correlation study of Section 4.4 (Fig. 23): :func:`run_study`.
+"""The Monte-Carlo study of Section 4.4 (Fig. 23): :func:`run_study`.
 
 The paper varies six parameters of the cable-casing system (over 300 simulations) and correlates
-each with the RMS of the support force in z in the octave bands of Table 3. Here the parameters are
-sampled by a Latin hypercube (:mod:`.sampling`), each sample is evaluated by a per-sample function
-(:mod:`.evaluators`) in this process or on dask.distributed (:mod:`.executor`), and every row goes to
-a resumable CSV (:mod:`.results_store`); the correlations and the figure are read from that file
-(:mod:`.correlation`, :mod:`.plots`).
+each with the RMS of the support force in z in the octave bands of Table 3. Here any numeric keys of
+any model can be varied within bounds (default: the paper's six, :data:`~.sampling.PAPER_BOUNDS`),
+checked against the model and the schema before any run; the runs follow Saltelli's design on a
+scrambled Sobol' sequence (:mod:`.sampling`), so that besides the correlations (:mod:`.correlation`)
+the first-order and total Sobol indices follow (:mod:`.sensitivity`). Each run is evaluated by a
+per-sample function (:mod:`.evaluators`) in this process or on dask.distributed (:mod:`.executor`),
+and every row goes to a resumable CSV (:mod:`.results_store`).
 
 * **Per-sample function**: ``evaluate(overrides: dict[str, float], **evaluate_kwargs) ->
   dict[str, float]`` (output name -> value, e.g. band label -> RMS in N). Pass it as a dotted import
   path ``"package.module:function"`` (what dask workers import) or as a callable.
   :func:`~.evaluators.default_evaluate` is the time-domain evaluation (engine run, octave RMS of
   ``casing.B.Fz``). A function with the attribute ``placeholder = True`` is refused before starting.
-* **Results**: an append-only CSV, one row per sample, flushed and fsynced per row: ``index, status,
+* **Results**: an append-only CSV, one row per run, flushed and fsynced per row: ``index, status,
   <parameters>, <outputs>, elapsed_s, error``. Status is ``ok``, ``failed`` (the exception is in
   ``error``; the study goes on) or ``infeasible`` (a constraint rejected the sample before
   evaluation; the reason is in ``error``). A sidecar ``<csv>.meta.json`` holds the seed, bounds,
-  sample count, outputs and evaluate; a restart with the same settings reads the CSV and skips every
-  index already present (a failed sample is *not* retried), so no sample is repeated. A torn last
-  line (process killed mid-write) is cut off and that sample is run again.
+  size, outputs and evaluate; a restart with the same settings reads the CSV and skips every index
+  already present (a failed sample is *not* retried), so no sample is repeated; a restart with more
+  samples continues the sequence and runs only the new ones. A torn last line (process killed
+  mid-write) is cut off and that sample is run again.
 """
 
 from __future__ import annotations
@@ -37,8 +40,12 @@ from .results_store import (
     StudyResults,
     load_results,
     prepare_file,
+    read_meta,
 )
-from .sampling import DEFAULT_CONSTRAINTS, check_bounds, latin_hypercube
+from .sampling import DEFAULT_CONSTRAINTS, base_points, check_bounds, group_size, sobol_design
+
+#: How the design is made (stored in the sidecar; a resume must use the same).
+SAMPLER = "SALib.sample.sobol.sample(calc_second_order=False, scramble=True): Saltelli on scipy.stats.qmc.Sobol"
 
 
 def run_study(
@@ -70,7 +77,9 @@ def run_study(
     bounds : dict, optional
         ``{dotted.key: (low, high)}`` in SI units; default :data:`PAPER_BOUNDS` (Section 4.4).
     n_samples, seed : int
-        Size of the Latin hypercube (>= 2) and its seed (>= 0).
+        Runs asked for (>= 2), rounded up to whole groups of d + 2 runs of Saltelli's design (at least
+        two base points), and the seed of the scrambled Sobol' sequence (>= 0). A file holding a larger
+        study keeps its size; a smaller one is enlarged (the sequence continues; nothing is recomputed).
     outputs : sequence of str, optional
         Output names to record, default the Table 3 labels ``oct1`` .. ``oct9``.
     evaluate_kwargs : dict, optional
@@ -126,17 +135,23 @@ def run_study(
     constraints = tuple(constraints or ())
     path = str(path)
     params = tuple(bounds)
-    design = latin_hypercube(bounds, n, seed)
+    n_base = base_points(bounds, n)
+    old = read_meta(path)
+    if old is not None and isinstance(old.get("n_base"), int):
+        n_base = max(n_base, old["n_base"])  # a study is never shrunk
+    n = n_base * group_size(bounds)
+    design = sobol_design(bounds, n_base, seed)
     meta = {
         "format": FORMAT_VERSION,
         "seed": seed,
+        "n_base": n_base,
         "n_samples": n,
         "bounds": {k: list(v) for k, v in bounds.items()},
         "outputs": list(outputs),
         "evaluate": spec_name(evaluate),
         "evaluate_kwargs": evaluate_kwargs,
         "constraints": [spec_name(c) for c in constraints],
-        "sampler": "scipy.stats.qmc.LatinHypercube(scramble=True)",
+        "sampler": SAMPLER,
     }
     done = prepare_file(path, meta, design, params)
 

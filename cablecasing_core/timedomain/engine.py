@@ -35,6 +35,7 @@ from .body_storage import FACTOR_CACHE_SIZE, BodyStorage, BoundedCache, body_arr
 if TYPE_CHECKING:
     from ..model import Model
     from .scenario import Motion
+    from .support_motion import GridMotion, SupportReconstruction
 
 
 def hertz_constant(model: Model) -> float:
@@ -120,6 +121,9 @@ class Engine:
         self._ws = K.contact_workspace(len(self.Xc))
         self._allocate_state()
         self._call_args = BoundedCache(FACTOR_CACHE_SIZE)  # (dt, settings) -> the step loop's arguments and entry point
+        self._cstep_parts = self._cstep_context = self._cstep_scratch = self._cstep_entry = (
+            None  # see advance_reconstructed
+        )
         self._no_record = K.Recording(
             False,
             np.zeros((1, 24)),
@@ -274,10 +278,7 @@ class Engine:
             rec = self._no_record
         # the arrays are never rebound (see _allocate_state), so the arguments are built once per
         # time step and setting (a changed attribute, e.g. contact or mu, builds them anew)
-        law = K.ContactLaw(
-            self.contact, self.gap, self.r_in, self.r_cable, self.law, self.k_lin, self.k_hertz, self.c_n, self.mu,
-            self.v_stick,
-        )  # fmt: skip
+        law = self._law()
         key = (dt, self.ledger_on, self.record, law)
         args, step_loop = self._call_args.get(key, (None, None))
         if args is None:
@@ -313,26 +314,38 @@ class Engine:
             self._call_args[key] = (args, compiled_entry(K.run_steps, (self.time, dt, up, vp, ap, *args, rec, info)))
         else:
             status = step_loop(self.time, dt, up, vp, ap, *args, rec, info)
+        if status != K.OK:
+            self._raise_for_status(status, up, vp, ap, times)
+        if self.record:
+            m = int(rec.ptr[-1])
+            self._hist.append((rec.F, rec.ptr) + tuple(x[:m].copy() for x in (rec.node, rec.state, rec.N, rec.g)))
+        self.time = float(info[K.INFO_TIME])
+
+    def _law(self):
+        """The contact law's record (from the attributes, which a caller may change between steps)."""
+        return K.ContactLaw(
+            self.contact, self.gap, self.r_in, self.r_cable, self.law, self.k_lin, self.k_hertz, self.c_n, self.mu,
+            self.v_stick,
+        )  # fmt: skip
+
+    def _raise_for_status(self, status, up, vp, ap, times):
+        """The error of a step loop's status other than OK (the motion, the times it was given at)."""
+        info = self._info
         if status == K.ERR_INPUT:
             r, c, q = (int(info[i]) for i in (K.INFO_INPUT_ROW, K.INFO_INPUT_CHANNEL, K.INFO_INPUT_KIND))
             name = ("displacement", "velocity", "acceleration")[q]
             raise ModelError(
                 f"{CHANNELS[c]} {name}", float((up, vp, ap)[q][r, c]), f"must be finite (at t = {times[r]:.6g} s)"
             )
-        if status != K.OK:
-            what = {
-                K.ERR_NAN: "the solution is no longer finite (NaN/inf): the step is unstable or the input is",
-                K.ERR_PENETRATION: f"penetration {info[K.INFO_VALUE]:.4g} m exceeds the cable radius "
-                f"{self.r_cable:.4g} m (contact too soft for this load, or the time step too "
-                "large)",
-            }[status]
-            node = info[K.INFO_NODE]
-            where = f"cable node {int(node)}" if node >= 0 else "the support forces"
-            raise SimulationError(f"at t = {info[K.INFO_TIME]:.6g} s, {where}: {what}")
-        if self.record:
-            m = int(rec.ptr[-1])
-            self._hist.append((rec.F, rec.ptr) + tuple(x[:m].copy() for x in (rec.node, rec.state, rec.N, rec.g)))
-        self.time = float(info[K.INFO_TIME])
+        what = {
+            K.ERR_NAN: "the solution is no longer finite (NaN/inf): the step is unstable or the input is",
+            K.ERR_PENETRATION: f"penetration {info[K.INFO_VALUE]:.4g} m exceeds the cable radius "
+            f"{self.r_cable:.4g} m (contact too soft for this load, or the time step too "
+            "large)",
+        }[status]
+        node = info[K.INFO_NODE]
+        where = f"cable node {int(node)}" if node >= 0 else "the support forces"
+        raise SimulationError(f"at t = {info[K.INFO_TIME]:.6g} s, {where}: {what}")
 
     CHUNK = 2048  # steps per evaluation of the support motion (see advance)
 
@@ -436,11 +449,83 @@ class Engine:
         """The values of :meth:`outputs` as an array in the order of :data:`OUTPUTS` (written into
         ``out`` when given): one call instead of a dict, for the FMU's per-step reads."""
         out = np.empty(len(OUTPUTS)) if out is None else out
-        out[:24] = self.reac
-        out[24] = np.count_nonzero(self.cstate)  # OPEN == 0 (no comparison array)
-        out[25] = self.gn.max() if len(self.gn) else 0.0
-        out[26] = -self.ledger[K.LEDGER_CONTACT_WORK] - (self.contact_potential() - self._pot0)
+        K.step_outputs(
+            self.reac, self.cstate, self.gn, self.ledger, self.law, self.k_lin, self.k_hertz, self._pot0, out
+        )
         return out
+
+    def advance_reconstructed(
+        self,
+        h: float,
+        recon: SupportReconstruction,
+        u: np.ndarray,
+        v: np.ndarray,
+        a: np.ndarray,
+        out: np.ndarray,
+        base: GridMotion | None = None,
+    ) -> None:
+        """An FMU communication step: ``m = recon.motion(self.time, h, u, v, a)``,
+        ``self.advance(h, m)``, ``recon.accept(m)`` and ``self.output_values(out)`` (h in s; u, v, a
+        the 12 support inputs at the step start in m, m/s, m/s2, C-contiguous float64), with the
+        same results to the bit. When h is a whole number of steps of ``dt`` (at most
+        :attr:`CHUNK`) and nothing is recorded, the four are one compiled call
+        (``kernels.communication_step_in_context``, on a context of its arrays made once for these
+        buffers and this h): the Python and numba dispatch around them otherwise cost as much as
+        the ten steps of a 1e-4 s communication step. ``base`` (a
+        :class:`~.support_motion.GridMotion` on this engine's dt) is added to the reconstructed
+        motion. Errors as :meth:`advance` (the engine and ``recon`` are then as before the call)."""
+        m = math.floor(h / self.dt * (1 + 1e-12))
+        ctx = None
+        k0 = base.grid_index(self.time) if base is not None else 0
+        if (
+            0 < m <= self.CHUNK
+            and h - m * self.dt <= 1e-9 * self.dt
+            and not self.record
+            and self.time != 0.0
+            and k0 is not None
+        ):
+            cached = self._call_args.get((self.dt, self.ledger_on, False, self._law()))
+            if cached is not None:
+                ctx = self._communication_context(cached[0], m, h, recon, u, v, a, out, base is not None)
+        if ctx is None:
+            motion = quintic = recon.motion(self.time, h, u, v, a)
+            if base is not None:
+                motion = lambda t: tuple(x + y for x, y in zip(quintic(t), base(t)))  # noqa: E731
+            self.advance(h, motion)
+            recon.accept(quintic)
+            self.output_values(out)
+            return
+        if base is not None:
+            base.fill(k0, self._cstep_scratch[4])
+        self._snap = snap = self.snapshot(self._snap)
+        self._info[: K.INFO_NEWTON_ITERATIONS] = 0.0
+        t0 = self.time
+        if self._cstep_entry is None:
+            status = K.communication_step_in_context(ctx, t0, self.dt, m, h, self._pot0)  # compiles or loads it
+            self._cstep_entry = compiled_entry(K.communication_step_in_context, (ctx, t0, self.dt, m, h, self._pot0))
+        else:
+            status = self._cstep_entry(ctx, t0, self.dt, m, h, self._pot0)
+        if status != K.OK:
+            self.restore(snap)
+            _, _, times, motion, _ = self._cstep_scratch
+            self._raise_for_status(status, motion[0], motion[1], motion[2], times)
+        self.time = float(t0 + m * self.dt)
+        recon.state[...] = self._cstep_scratch[0][3:]
+
+    def _communication_context(self, args, m, h, recon, u, v, a, out, use_base):
+        """The context of :meth:`advance_reconstructed` for these records and buffers (made anew
+        when any of them, m or h changes: the arrays are never rebound, see _allocate_state)."""
+        G = recon.coefficient_matrix(h)
+        parts = (args, G, recon.state, u, v, a, out)
+        held = self._cstep_parts
+        if held is not None and held[0] == (m, h, use_base) and all(x is y for x, y in zip(held[1], parts)):
+            return self._cstep_context
+        n = len(CHANNELS)
+        scratch = (np.empty((6, n)), np.empty((3, 6, n)), np.empty(m), np.empty((3, m, n)), np.zeros((3, m, n)))
+        fields = (G, recon.state, u, v, a, *scratch, bool(use_base), *args, self._no_record, self._info, out)
+        ctx = K.new_communication_context(*fields)
+        self._cstep_parts, self._cstep_context, self._cstep_scratch = ((m, h, use_base), parts), ctx, scratch
+        return ctx
 
     def outputs(self) -> dict[str, float]:
         """Current outputs ``{name: value}`` for the names in :data:`OUTPUTS` (N, N.m, m, J)."""

@@ -8,21 +8,28 @@
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+import warnings
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import ModelError
-from ..model.schema import SUPPORT_OUTPUTS, lookup, output_spec
-from ..model.validators import Choice
+from ..model.schema import CONTACT_OUTPUTS, INPUTS, SUPPORT_OUTPUTS, lookup
+from ..model.validators import Choice, seconds
 from .engine import Engine
 from .scenario import scenario_motion
 
 if TYPE_CHECKING:
     from ..model import Model
+    from ..records import Records
     from .scenario import Motion
+
+#: Steps per call of Engine.advance when a run shows its progress: a whole number of the engine's
+#: chunks, so the run is split where the engine splits it anyway (the record is bitwise the same).
+PROGRESS_STEPS = 8 * Engine.CHUNK
+_NODE_ARRAYS = ("contact_state", "normal_force", "penetration")
 
 
 @dataclass
@@ -32,7 +39,9 @@ class SimulationResult:
     time (s, n); support_forces (N, N.m; n x 24 in the order of ``SUPPORT_OUTPUTS``: the
     force each body exerts on each support); contact_state (n x nodes: 0 open, 1 stick, 2 slip);
     normal_force (N) and penetration (m) per cable node; contact_time (s per cable node: the
-    highest-contact-area histogram of Fig. 22); curvature (1/m per node); energies (J).
+    highest-contact-area histogram of Fig. 22); curvature (1/m per node); arc_length (m per node);
+    energies (J); inputs: {name: (n,)} the support motion of the driven channels at ``time``
+    (``casing.A.az`` m/s2 etc., ``model.schema.INPUTS``).
     """
 
     time: np.ndarray
@@ -44,41 +53,71 @@ class SimulationResult:
     curvature: np.ndarray
     arc_length: np.ndarray
     energies: dict
+    inputs: dict = field(default_factory=dict)
 
     def support_force(self, name: str) -> np.ndarray:
         """History of one support output, e.g. ``"casing.B.Fz"`` (N or N.m)."""
         Choice(*SUPPORT_OUTPUTS)("output", name)
         return self.support_forces[:, SUPPORT_OUTPUTS.index(name)]
 
-    def save(self, path: str | os.PathLike) -> None:
-        """Write the support forces and contact summary: ``.csv`` (time and the 24 support outputs)
-        or ``.npz`` (every array)."""
-        path = str(path)
-        if path.endswith(".npz"):
-            np.savez_compressed(
-                path,
-                time=self.time,
-                support_forces=self.support_forces,
-                contact_state=self.contact_state,
-                normal_force=self.normal_force,
-                penetration=self.penetration,
-                contact_time=self.contact_time,
-                curvature=self.curvature,
-                arc_length=self.arc_length,
-                support_names=np.array(SUPPORT_OUTPUTS),
+    def records(self, output_interval: float | None = None) -> Records:
+        """The run as a :class:`~cablecasing_core.records.Records`: the 24 support outputs,
+        ``contact.active`` (cable nodes in contact), ``contact.max_penetration`` (m) and the driven
+        inputs, every ``output_interval`` s (a whole number of time steps; default every step).
+        Samples are picked, not filtered: content above 1 / (2 output_interval) Hz aliases."""
+        from ..records import Records, unit_of
+
+        keep = slice(None, None, self._stride(output_interval))
+        cols = {n: self.support_forces[keep, i] for i, n in enumerate(SUPPORT_OUTPUTS)}
+        cols[CONTACT_OUTPUTS[0]] = np.count_nonzero(self.contact_state[keep], axis=1).astype(float)
+        pen = self.penetration[keep]
+        cols[CONTACT_OUTPUTS[1]] = pen.max(axis=1) if pen.shape[1] else np.zeros(len(cols[CONTACT_OUTPUTS[0]]))
+        cols.update({n: v[keep] for n, v in self.inputs.items()})
+        extra = {n: getattr(self, n)[keep] for n in _NODE_ARRAYS}
+        extra.update(contact_time=self.contact_time, curvature=self.curvature, arc_length=self.arc_length)
+        extra["energies"] = np.array([[k, repr(float(v))] for k, v in self.energies.items()]).reshape(-1, 2)
+        return Records(self.time[keep], cols, {n: unit_of(n) for n in cols}, "simulation", extra)
+
+    def _stride(self, output_interval):
+        if output_interval is None:
+            return 1
+        seconds("--output-interval", output_interval)
+        dt = self.time[1] - self.time[0] if len(self.time) > 1 else output_interval
+        m = round(output_interval / dt)
+        if m < 1 or abs(m * dt - output_interval) > 1e-6 * dt:
+            raise ModelError(
+                "--output-interval", output_interval, f"must be a whole number of time steps (dt = {dt:g} s)"
             )
-        elif path.endswith(".csv"):
-            active = np.count_nonzero(self.contact_state, axis=1)
-            table = np.column_stack([self.time, self.support_forces, active, self.penetration.max(axis=1)])
-            units = [output_spec(n)[0].replace(".", "") for n in SUPPORT_OUTPUTS]  # N, Nm
-            header = ",".join(
-                ["time_s"]
-                + [f"{n}_{u}" for n, u in zip(SUPPORT_OUTPUTS, units)]
-                + ["contact_active", "max_penetration_m"]
-            )
-            np.savetxt(path, table, delimiter=",", header=header, comments="", fmt="%.9g")
-        else:
-            raise ModelError("--out", path, "must end in .csv or .npz")
+        return m
+
+    def save(self, path: str | os.PathLike, output_interval: float | None = None) -> None:
+        """Write the run by suffix (``.csv``, ``.npz``, ``.uff``; :mod:`~cablecasing_core.records`),
+        atomically, every ``output_interval`` s (default every step). ``.npz`` also keeps the
+        per-node contact histories, so :meth:`load` gives the result back."""
+        from ..records import write_records
+
+        write_records(path, self.records(output_interval))
+
+    @classmethod
+    def load(cls, path: str | os.PathLike) -> SimulationResult:
+        """A result written by :meth:`save` to ``.npz`` (every array as it was saved)."""
+        from ..records import read_records
+
+        rec = read_records(path)
+        missing = [n for n in (*_NODE_ARRAYS, "contact_time", "energies") if n not in rec.extra]
+        if missing or not str(path).endswith(".npz"):
+            raise ModelError("file", str(path), "must be an .npz file written by SimulationResult.save")
+        x = rec.extra
+        return cls(
+            time=rec.time,
+            support_forces=np.column_stack([rec.columns[n] for n in SUPPORT_OUTPUTS]),
+            contact_time=x["contact_time"],
+            curvature=x["curvature"],
+            arc_length=x["arc_length"],
+            energies={str(k): float(v) for k, v in x["energies"]},
+            inputs={n: rec.columns[n] for n in rec.columns if n in INPUTS},
+            **{n: x[n] for n in _NODE_ARRAYS},
+        )
 
 
 def simulate(
@@ -87,12 +126,18 @@ def simulate(
     dt: float | None = None,
     contact: bool | None = None,
     motion: Motion | None = None,
+    progress: bool = False,
 ) -> SimulationResult:
     """Run the model's scenario (or ``motion``) for ``duration`` s with time step ``dt`` s.
 
-    Defaults come from ``[scenario]``; ``contact`` defaults to ``[contact] enabled``. Returns a
-    :class:`SimulationResult`. Raises :class:`~cablecasing_core.errors.SimulationError` on blow-up.
+    Defaults come from ``[scenario]``; ``contact`` defaults to ``[contact] enabled``. ``progress``
+    shows a tqdm bar of the simulated time (the run is the same with or without it). A model
+    without excitations warns (its supports stay at rest). Returns a :class:`SimulationResult`.
+    Raises :class:`~cablecasing_core.errors.SimulationError` on blow-up; an interrupt (Ctrl-C)
+    propagates as KeyboardInterrupt.
     """
+    from ..records import driven_inputs
+
     sc = model.scenario
     duration = sc["duration"] if duration is None else duration
     dt = sc["dt"] if dt is None else dt
@@ -100,14 +145,28 @@ def simulate(
     lookup("scenario.dt").check(dt, "dt")
     if duration < dt:
         raise ModelError("duration", duration, f"must be at least one time step (dt = {dt} s)")
-    motion = scenario_motion(model, dt=dt, duration=duration) if motion is None else motion
+    inputs = ()
+    if motion is None:
+        if not sc["excitation"]:
+            warnings.warn(
+                f"the model {model.source} has no excitation ([scenario.excitation.<name>]): its supports stay "
+                "at rest and every output stays zero (docs/model_file.md, Excitations)",
+                UserWarning,
+                stacklevel=2,
+            )
+        motion = scenario_motion(model, dt=dt)
+        inputs = driven_inputs(model)
     eng = Engine(model, dt=dt, contact=contact, ledger=True, record=True)
-    eng.advance(duration, motion)
+    _advance(eng, duration, motion, progress)
     h = eng.history()
     n = len(h["support_forces"])
     cl = eng.bodies[next(iter(eng.bodies))].system.centerline
     # the step ends; a duration that is not a whole number of steps ends with a shorter one
     time = np.minimum(dt * np.arange(1, n + 1), eng.time)
+    cols = [INPUTS.index(name) for name in inputs]
+    table = np.empty((n, len(cols)))
+    for i in range(0, n if cols else 0, 65536):  # (in pieces: all 36 inputs of a long run would not fit)
+        table[i : i + 65536] = np.hstack(motion(time[i : i + 65536]))[:, cols]
     return SimulationResult(
         time=time,
         support_forces=h["support_forces"],
@@ -118,7 +177,64 @@ def simulate(
         curvature=cl.curvature,
         arc_length=cl.s,
         energies=eng.energies(),
+        inputs={name: table[:, j] for j, name in enumerate(inputs)},
     )
+
+
+def simulate_sampled(
+    model: Model, step: float, duration: float, table: np.ndarray | None = None, contact: bool | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """The core's run of what an FMU master gets that sends the model's scenario sampled every
+    ``step`` s: the inputs (u, v, a of the 12 channels, m, m/s, m/s2) at the communication points
+    t_k = k step (``table`` (n, 36) in the order of ``model.schema.INPUTS``; default the scenario's
+    record at k = 0..n-1, n = round(duration / step)), each communication step's motion
+    reconstructed as the FMU does (:class:`~.support_motion.SupportReconstruction`), one
+    ``Engine.advance(t_(k+1) - t_k)`` per input row. The steps are the differences of the points
+    as a master computes them in floating point (fmpy: ``(k + 1) h - k h``, which differs from h in
+    the last bits; the contact's chaos would make any such difference visible within ~0.1 s).
+    Returns the times (s, n: the end of each step) and the outputs after each step (n x
+    ``len(OUTPUTS)``, ``model.schema.OUTPUTS``): what the FMU returns at those times."""
+    from ..model.schema import CHANNELS, OUTPUTS
+    from .support_motion import SupportReconstruction
+
+    seconds("step", step)
+    seconds("duration", duration)
+    if table is None:
+        t = step * np.arange(int(round(duration / step)))
+        table = np.hstack(scenario_motion(model)(t))
+    nch = len(CHANNELS)
+    eng = Engine(model, contact=contact, ledger=False)
+    rec = SupportReconstruction(nch)
+    out = np.zeros((len(table), len(OUTPUTS)))
+    points = step * np.arange(len(table) + 1)
+    for k, row in enumerate(np.asarray(table, float)):
+        h = float(points[k + 1] - points[k])
+        motion = rec.motion(eng.time, h, row[:nch], row[nch : 2 * nch], row[2 * nch :])
+        eng.advance(h, motion)
+        rec.accept(motion)
+        eng.output_values(out[k])
+    return points[1:], out
+
+
+def _advance(eng, duration, motion, progress):
+    """``eng.advance(duration, motion)``, in pieces of :data:`PROGRESS_STEPS` steps with a tqdm bar
+    of the simulated time (s) when ``progress``."""
+    if not progress:
+        eng.advance(duration, motion)
+        return
+    from tqdm.auto import tqdm
+
+    piece = PROGRESS_STEPS * eng.dt
+    with tqdm(total=duration, unit="s", desc="simulate", dynamic_ncols=True, bar_format=_BAR) as bar:
+        done = 0.0
+        while duration - done > 1e-9 * eng.dt:
+            h = piece if duration - done > piece * (1 + 1e-9) else duration - done
+            eng.advance(h, motion)
+            done += h
+            bar.update(h)
+
+
+_BAR = "{desc}: {percentage:3.0f}%|{bar}| {n:.3g}/{total:.3g} s simulated [{elapsed}<{remaining}]"
 
 
 def contact_episodes(contact_state: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

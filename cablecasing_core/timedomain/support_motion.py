@@ -27,11 +27,17 @@ engine exactly as the FMU does.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..model.schema import CHANNELS
 from ..model.validators import seconds
 from . import kernels as K
+
+if TYPE_CHECKING:
+    from .scenario import Motion
 
 # Power-basis coefficients of the quintic p(s) = sum_k c_k s^k on s in [0, 1] are
 # c = _HERMITE_TO_POWER @ [p(0), p'(0), p''(0), p(1), p'(1), p''(1)] (derivatives in s). The
@@ -134,12 +140,17 @@ class SupportReconstruction:
         self.state = np.zeros((3, int(n)))  # rows u (m), v (m/s), a (m/s2)
         self._h = None
 
-    def motion(self, t0: float, h: float, u: ArrayLike, v: ArrayLike, a: ArrayLike) -> QuinticStep:
-        """The :class:`QuinticStep` from the current support state to the Taylor target of the
-        inputs (u, v, a) given at ``t0`` (s) over the step ``h`` (s)."""
+    def coefficient_matrix(self, h: float) -> np.ndarray:
+        """G (18 x 6) of a step of ``h`` s (see :func:`_coefficient_matrix`), kept for the last h."""
         if h != self._h:  # a master usually keeps its communication step: cache per h
             h = seconds("h", h)
             self._h, self._G = h, _coefficient_matrix(h)
+        return self._G
+
+    def motion(self, t0: float, h: float, u: ArrayLike, v: ArrayLike, a: ArrayLike) -> QuinticStep:
+        """The :class:`QuinticStep` from the current support state to the Taylor target of the
+        inputs (u, v, a) given at ``t0`` (s) over the step ``h`` (s)."""
+        self.coefficient_matrix(h)
         n = self.state.shape[1]
         u, v, a = (np.ascontiguousarray(x, dtype=float) for x in (u, v, a))
         if u.shape != (n,) or v.shape != (n,) or a.shape != (n,):  # (the kernel does not check bounds)
@@ -149,9 +160,59 @@ class SupportReconstruction:
         return QuinticStep.from_rows(float(t0), self._h, rows, self._G)
 
     def accept(self, motion: QuinticStep) -> None:
-        """Advance the support state to the end of ``motion`` (after the engine took the step)."""
-        self.state = np.array(motion.end, dtype=float)
+        """Advance the support state to the end of ``motion`` (after the engine took the step); in
+        place, so the array stays the one a caller holds."""
+        self.state[...] = motion.end
 
     def reset(self) -> None:
         """Supports at rest at their reference position."""
         self.state[:] = 0.0
+
+
+class GridMotion:
+    """A support motion (``Motion``: t -> (u, v, a), each (len(t), 12), m, m/s, m/s2) evaluated on
+    the time grid k dt in chunks of :attr:`CHUNK` steps, kept, as ``Engine.advance`` evaluates a
+    motion from t = 0: the FMU adds it to the reconstructed motion when it drives its supports with
+    the model's own scenario (``scenario.drive``), so that a run with zero inputs is the core's run
+    of the scenario to the bit: the values at t are those at the grid time k dt nearest to t.
+    Times off the grid are evaluated directly."""
+
+    CHUNK = 2048
+
+    def __init__(self, motion: Motion, dt: float):
+        self.motion, self.dt = motion, float(dt)
+        self._k0, self._values = None, None
+
+    # A time within this share of dt of k dt is k dt: the engine's time, a sum of steps, drifts from
+    # k dt by a few ulps per step (1e-14 dt after some thousand steps), far below this.
+    GRID_TOLERANCE = 1e-6
+
+    def grid_index(self, t: float) -> int | None:
+        """k if t is k dt (to GRID_TOLERANCE dt), else None."""
+        k = round(t / self.dt)
+        return k if abs(t - k * self.dt) <= self.GRID_TOLERANCE * self.dt else None
+
+    def fill(self, k0: int, out: np.ndarray) -> None:
+        """out (3, m, 12) = u, v, a at the times (k0 + 1 ... k0 + m) dt."""
+        m, done = out.shape[1], 0
+        while done < m:
+            k = k0 + 1 + done
+            if self._k0 is None or not (self._k0 <= k < self._k0 + self.CHUNK):
+                self._k0 = k
+                self._values = np.stack(self.motion(self.dt * np.arange(k, k + self.CHUNK)))
+            i = k - self._k0
+            take = min(m - done, self.CHUNK - i)
+            out[:, done : done + take] = self._values[:, i : i + take]
+            done += take
+
+    def __call__(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        t = np.asarray(t, dtype=float)
+        k = np.rint(t / self.dt)
+        on_grid = (
+            len(t) and np.all(np.abs(t - k * self.dt) <= self.GRID_TOLERANCE * self.dt) and np.all(np.diff(k) == 1)
+        )
+        if not on_grid:
+            return self.motion(t)
+        out = np.empty((3, len(t), len(CHANNELS)))
+        self.fill(int(k[0]) - 1, out)
+        return out[0], out[1], out[2]

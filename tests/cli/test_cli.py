@@ -58,13 +58,169 @@ def test_bad_model_exits_nonzero(tmp_path, capsys):
     assert "casing.Ee" in capsys.readouterr().err
 
 
-def test_simulate_cli_writes_csv(tmp_path, capsys):
-    out = tmp_path / "r.csv"
-    assert main(["simulate", "--duration", "0.002", "--out", str(out)]) == 0
-    data = np.genfromtxt(out, delimiter=",", names=True)
-    assert len(data) == 200 and "casingBFz_N" in data.dtype.names
+def test_simulate_cli_writes_csv_with_the_output_names_and_decimates(tmp_path, capsys):
+    import cablecasing_core as cc
+    from cablecasing_core.model.schema import SUPPORT_OUTPUTS
+    from cablecasing_core.records import read_records
+
+    out, every = tmp_path / "r.csv", tmp_path / "e.csv"
+    assert main(["simulate", "--duration", "0.002", "--out", str(out), "--no-progress"]) == 0
+    header = out.read_text().splitlines()[0].split(",")
+    assert header[:2] == ["time [s]", "casing.A.Fx [N]"] and "casing.B.Mz [N.m]" in header  # as the README
+    assert "contact.active [1]" in header and "casing.A.az [m/s2]" in header  # and the driven input
+    rec = read_records(out)
+    ref = cc.simulate(load_model(), duration=0.002)
+    assert len(rec.time) == 200
+    np.testing.assert_allclose(rec.column("casing.B.Fz"), ref.support_force("casing.B.Fz"), rtol=1e-8, atol=1e-17)
+    assert rec.column("casing.B.Fz [N]") is rec.column("casing.B.Fz_N")  # the header form and the old form
+    # --output-interval: every 10th step of the same run (picked, not filtered)
+    assert main(["simulate", "--duration", "0.002", "--out", str(every), "--output-interval", "1e-4"]) == 0
+    dec = read_records(every)
+    np.testing.assert_array_equal(dec.time, rec.time[::10])
+    for name in SUPPORT_OUTPUTS[:6]:
+        np.testing.assert_array_equal(dec.column(name), rec.column(name)[::10])
+    assert main(["simulate", "--duration", "0.002", "--output-interval", "1.5e-5"]) == 2
+    assert "whole number of time steps" in capsys.readouterr().err
     assert main(["simulate", "--duration", "-1"]) == 2
     assert "duration" in capsys.readouterr().err
+
+
+def test_the_energy_printout_says_what_each_figure_is(capsys):
+    assert main(["simulate", "--duration", "0.003", "--no-contact", "--no-progress"]) == 0
+    out = capsys.readouterr().out
+    assert "-0 " not in out and "-0\n" not in out  # contact dissipation without contact is 0, not -0
+    assert "dissipated in the contacts      0  (work of the contact forces" in out
+    assert "split" not in out and "its parts" not in out  # nothing to split without contact
+    assert main(["simulate", "--duration", "0.03", "--no-progress"]) == 0  # contacts from 0.024 s
+    out = capsys.readouterr().out
+    assert "its parts, from their powers: contact damping" in out and "off the total" in out
+
+
+def test_uff_round_trip_of_a_time_record_and_a_trfam_written_by_the_cli(tmp_path):
+    """UFF 58 files written by 'simulate --out x.uff' and 'trfam --out t.uff' read back by pyuff
+    itself: the functions, their types, DOFs, units and values (binary doubles: exact)."""
+    import pyuff
+
+    from cablecasing_core.model.schema import SUPPORT_OUTPUTS
+    from cablecasing_core.timedomain.simulation import SimulationResult
+
+    uff, npz = tmp_path / "r.uff", tmp_path / "r.npz"
+    for path in (uff, npz):
+        assert main(["simulate", "--duration", "0.002", "--out", str(path), "--no-progress"]) == 0
+    ref = SimulationResult.load(npz)
+    sets = pyuff.UFF(str(uff)).read_sets()
+    by_name = {s["id1"].strip(): s for s in sets}
+    assert all(s["func_type"] == 1 and s["type"] == 58 for s in sets)
+    fz = by_name["casing.B.Fz"]
+    assert (fz["rsp_node"], fz["rsp_dir"], fz["ordinate_spec_data_type"]) == (2, 3, 9)  # casing B, +Z, force
+    assert fz["ordinate_axis_units_lab"].strip() == "N" and fz["abscissa_axis_units_lab"].strip() == "s"
+    for name in SUPPORT_OUTPUTS:
+        np.testing.assert_array_equal(by_name[name]["data"], ref.support_force(name))
+    np.testing.assert_allclose(by_name["casing.B.Fz"]["x"], ref.time, rtol=1e-12)
+    assert by_name["casing.A.az"]["ordinate_spec_data_type"] == 12  # the driven input, an acceleration
+
+    t = tmp_path / "t.uff"
+    args = ["trfam", "--input", "casing.A.z", "--output", "casing.B.z", "--fmin", "10", "--fmax", "50"]
+    assert main(args + ["--df", "0.5", "--out", str(t), "--damping", "structural"]) == 0
+    frf = pyuff.UFF(str(t)).read_sets(0)  # (one set: a dict)
+    assert frf["func_type"] == 4 and (frf["rsp_node"], frf["rsp_dir"], frf["ref_node"], frf["ref_dir"]) == (2, 3, 1, 3)
+    assert (frf["ordinate_spec_data_type"], frf["orddenom_spec_data_type"]) == (9, 12)  # force / acceleration
+    f = np.arange(10.0, 50.25, 0.5)
+    np.testing.assert_allclose(frf["x"], f, rtol=1e-12)
+    np.testing.assert_array_equal(frf["data"], trfam(load_model(), "casing.A.z", "casing.B.z", f, "structural"))
+
+
+def test_every_command_that_reads_records_reads_csv_npz_and_uff(tmp_path, capsys):
+    for suffix in ("csv", "npz", "uff"):
+        assert main(["simulate", "--duration", "0.15", "--out", str(tmp_path / f"r.{suffix}"), "--no-progress"]) == 0
+    capsys.readouterr()
+    tables = {}
+    for suffix in ("csv", "npz", "uff"):
+        assert main(["bands", str(tmp_path / f"r.{suffix}"), "--column", "casing.B.Fz"]) == 0
+        out = capsys.readouterr().out.splitlines()
+        assert out[1] == "band,f_low [Hz],f_high [Hz],rms [N],level [dB re 1 N]"
+        tables[suffix] = np.array([[float(v) for v in row.split(",")[1:]] for row in out[2:]])
+        assert main(["spectrum", str(tmp_path / f"r.{suffix}"), "--kind", "apparent-mass", "--fmax", "500"]) == 0
+        assert "apparent mass (H1)" in capsys.readouterr().out
+    np.testing.assert_array_equal(tables["npz"], tables["uff"])  # both exact doubles
+    np.testing.assert_allclose(tables["csv"], tables["npz"], rtol=1e-6)  # 9 digits in the CSV
+    (tmp_path / "bad.csv").write_bytes((tmp_path / "r.npz").read_bytes())
+    assert main(["bands", str(tmp_path / "bad.csv")]) == 2  # a binary file named .csv: a message, no traceback
+    assert "is not a text CSV file" in capsys.readouterr().err
+    assert main(["bands", str(tmp_path / "r.csv"), "--column", "casing.B.Fq"]) == 2
+    assert "casing.B.Fz" in capsys.readouterr().err  # the columns are listed by their names
+
+
+def test_every_help_shows_the_defaults(capsys):
+    from cablecasing_core.cli import build_parser
+
+    def parsers(p, path=()):
+        yield path, p
+        for a in p._actions:
+            if a.__class__.__name__ == "_SubParsersAction":
+                for name, sp in a.choices.items():
+                    yield from parsers(sp, path + (name,))
+
+    n = 0
+    for path, p in parsers(build_parser()):
+        text = " ".join(p.format_help().split())
+        for a in p._actions:
+            d = a.default
+            if not a.option_strings or d is None or d is False or d == [] or d == "==SUPPRESS==" or a.help is None:
+                continue  # (`is`: a default of 0 must be shown, and 0 == False)
+            assert "default" in (a.help or "") or f"(default: {a.default})" in text, (path, a.option_strings)
+            n += 1
+    assert n > 40
+
+
+def test_an_interrupt_prints_one_line_and_leaves_the_earlier_file(tmp_path, capsys, monkeypatch):
+    from cablecasing_core.timedomain.engine import Engine
+
+    out = tmp_path / "r.csv"
+    out.write_text("an earlier result\n")
+
+    def interrupted(self, h, motion):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(Engine, "advance", interrupted)
+    assert main(["simulate", "--duration", "0.01", "--out", str(out)]) == 130
+    err = capsys.readouterr().err
+    assert "cablecasing: interrupted: the run was stopped; nothing was written" in err and "Traceback" not in err
+    assert out.read_text() == "an earlier result\n" and sorted(p.name for p in tmp_path.iterdir()) == ["r.csv"]
+
+
+def test_an_interrupted_write_leaves_the_earlier_file(tmp_path):
+    from cablecasing_core.files import atomic_path
+
+    p = tmp_path / "x.npz"
+    np.savez(p, a=np.arange(3))
+    with pytest.raises(KeyboardInterrupt), atomic_path(p) as tmp:
+        np.savez(tmp, a=np.arange(5))
+        raise KeyboardInterrupt
+    assert np.load(p)["a"].tolist() == [0, 1, 2] and sorted(q.name for q in tmp_path.iterdir()) == ["x.npz"]
+
+
+def test_a_model_without_excitation_warns_in_one_line(tmp_path, capsys):
+    from cablecasing_core.model import model_from_dict
+
+    data = load_model().data
+    data["scenario"]["excitation"] = {}
+    p = tmp_path / "m.toml"
+    p.write_text(model_from_dict(data).to_toml())
+    assert main(["simulate", str(p), "--duration", "0.001", "--no-progress"]) == 0
+    err = capsys.readouterr().err
+    assert err.startswith("cablecasing: warning: the model") and "has no excitation" in err and ".py" not in err
+
+
+def test_no_contact_draws_no_histogram():
+    import matplotlib.pyplot as plt
+
+    from cablecasing_core.plotting import plot_contact_histogram
+
+    fig, ax = plt.subplots()
+    plot_contact_histogram(ax, np.linspace(0, 0.85, 36), np.zeros(36), np.ones(36))
+    assert len(ax.patches) == 0 and "no contact" in ax.texts[0].get_text()
+    plt.close(fig)
 
 
 def test_simulate_cli_refuses_output_paths_before_the_run(tmp_path, capsys):
@@ -89,11 +245,13 @@ def test_simulate_cli_model_dt_npz_plot_and_blow_up(tmp_path, capsys):
         main(["simulate", str(p), "--duration", "0.0030025", "--dt", "2e-5", "--out", str(out), "--plot", str(png)])
         == 0
     )
-    z = np.load(out)
+    from cablecasing_core.timedomain.simulation import SimulationResult
+
+    z = SimulationResult.load(out)
     ref = cc.simulate(model, duration=0.0030025, dt=2e-5)
-    assert len(z["time"]) == 151 and z["time"][-1] == 0.0030025 and z["time"][-2] == pytest.approx(0.003)
-    np.testing.assert_array_equal(z["support_forces"], ref.support_forces)
-    np.testing.assert_array_equal(z["contact_time"], ref.contact_time)
+    assert len(z.time) == 151 and z.time[-1] == 0.0030025 and z.time[-2] == pytest.approx(0.003)
+    np.testing.assert_array_equal(z.support_forces, ref.support_forces)
+    np.testing.assert_array_equal(z.contact_time, ref.contact_time)
     assert png.stat().st_size > 10_000
     capsys.readouterr()
     soft = model.with_overrides(

@@ -1,11 +1,16 @@
-"""The demo (make demo: examples/demo.py) and its report: every figure the report references exists and is
-a PNG, every CSV is written."""
+"""The demo (make demo: examples/demo.py) and ``cablecasing report``: every figure and table from one
+set of runs (the RMS table recomputed from the saved record the figures used, the ensembles' first
+member equal to that record's run), the FMU equal to the core driven by the same sampled record,
+and nothing written outside --out."""
 
+import json
+import os
 import re
 import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 pytestmark = pytest.mark.slow  # builds the FMU and runs the demo
@@ -13,19 +18,102 @@ pytestmark = pytest.mark.slow  # builds the FMU and runs the demo
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def test_report_renders_with_every_figure(tmp_path):
+def _run(args, cwd, **kw):
+    return subprocess.run(
+        [sys.executable, *args], check=True, cwd=cwd, timeout=1800, capture_output=True, text=True, **kw
+    )
+
+
+def test_the_demo_report_is_one_set_of_runs_and_the_fmu_is_the_core(tmp_path):
+    from cablecasing_core.timedomain.simulation import SimulationResult
+
     out = tmp_path / "results"
-    subprocess.run(
-        [sys.executable, str(ROOT / "examples" / "demo.py"), "--out", str(out), "--duration", "0.15"],
-        check=True,
-        cwd=ROOT,
-        timeout=1200,
+    _run(
+        [
+            str(ROOT / "examples" / "demo.py"),
+            "--out",
+            str(out),
+            "--duration",
+            "0.15",
+            "--seeds",
+            "3",
+            "--study-samples",
+            "32",
+        ],
+        ROOT,
     )
     html = (out / "report.html").read_text()
-    imgs = re.findall(r'<img src="([^"]+)"', html)
-    assert {"trfam_xyz.png", "simulation.png", "octave_bands.png"} <= set(imgs)
+    imgs = re.findall(r"<img src='([^']+)'", html)
+    want = {
+        "trfam_xyz.png",
+        "simulation.png",
+        "scalograms.png",
+        "routing_contact.png",
+        "contact_histogram.png",
+        "band_levels.png",
+        "psd.png",
+        "apparent_mass.png",
+        "study/correlations.png",
+    }
+    assert want <= set(imgs)
+    # a 32-run study (4 base points) is too small for Sobol indices: the page says so instead
+    assert "study/sobol.png" in imgs or "Sobol indices of these 4 base points are not shown" in html
     for name in imgs:
         data = (out / name).read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 5000, name
-    for csv in ("fmu_outputs.csv", "simulation.csv", "octave_bands.csv", "trfam_x.csv"):
-        assert (out / csv).stat().st_size > 100, csv
+    # the RMS table is the saved record's: recomputed from records/<variant>.npz after skip
+    runs = json.loads((out / "runs.json").read_text())
+    assert runs["duration"] == 0.15 and runs["seeds"] == [1, 2, 3] and runs["version"] and runs["date"]
+    rows = [line.split(",") for line in (out / "rms.csv").read_text().splitlines()[1:]]
+    for v in runs["variants"]:
+        rec = SimulationResult.load(out / v["record"])
+        keep = rec.time > runs["skip"]
+        for _, _, name, value in (r for r in rows if r[0] == v["key"]):
+            rms = float(np.sqrt(np.mean(rec.support_force(name)[keep] ** 2)))
+            assert float(value) == rms  # (written with repr: exact)
+            assert f"{rms:.6g}" in html
+        assert v["ensemble_first_member_vs_record"] == 0.0  # the ensemble's seed 1 is this record's run
+    assert "without the cable drive" in html and "with the cable drive" in html and "Table 3" in html
+    assert "casing.E" in html and "Pa" in html  # the parameter table, with units from the schema
+    # the FMU (fmpy, the scenario's record sampled every 1e-4 s) against the core driven alike
+    dev = runs["fmu"]["largest deviation, relative to the output's largest value"]
+    assert float(dev.split()[0]) < 1e-8, dev  # fmu_outputs.csv has 9 digits: 5e-9 of the largest value
+    assert (out / "fmu_outputs.csv").stat().st_size > 100
+
+
+def _tree(root):
+    """(path, size, mtime) of every file under the source tree, but the caches and the venv."""
+    skip = {".git", ".venv", "__pycache__", ".pytest_cache", ".ruff_cache"}
+    out = set()
+    for dirpath, dirs, files in os.walk(root):
+        dirs[:] = [d for d in dirs if d not in skip]
+        for f in files:
+            st = os.stat(os.path.join(dirpath, f))
+            out.add((os.path.join(dirpath, f), st.st_size, st.st_mtime_ns))
+    return out
+
+
+def test_report_writes_only_under_out(tmp_path):
+    before = _tree(ROOT)
+    work = tmp_path / "work"
+    work.mkdir()
+    _run(
+        [
+            "-m",
+            "cablecasing_core.cli",
+            "report",
+            "--out",
+            "rep",
+            "--duration",
+            "0.15",
+            "--seeds",
+            "2",
+            "--study-samples",
+            "0",
+            "--no-progress",
+        ],
+        work,
+        env={**os.environ, "PYTHONDONTWRITEBYTECODE": "1"},
+    )
+    assert _tree(ROOT) == before
+    assert [p.name for p in work.iterdir()] == ["rep"] and (work / "rep" / "report.html").exists()

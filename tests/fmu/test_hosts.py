@@ -254,13 +254,28 @@ def test_a_host_without_the_packages_gets_one_message(fmu, tmp_path, case):
         assert words in proc.stderr, proc.stderr
 
 
+@needs_hosts
+def test_the_hosts_python_variables_do_not_disturb_it(fmu, tmp_path):
+    """PYTHONHOME at a virtual environment (which kills an embedded CPython in init_fs_encoding)
+    and a PYTHONPATH full of nothing: the FMU starts its interpreter isolated from them, so fmusim
+    runs and exits with 0."""
+    env = dict(PLAIN, PYTHONHOME=str(Path(sys.executable).parent.parent), PYTHONPATH="/nonexistent:/tmp")
+    proc = subprocess.run(
+        [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", "0.002", "--output-file",
+         str(tmp_path / "out.csv"), str(fmu)],
+        env=env, capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert len((tmp_path / "out.csv").read_text().splitlines()) == 22  # header, t = 0 and 20 steps
+
+
 def test_the_bridge_names_old_and_missing_packages():
     import importlib.util
 
     spec = importlib.util.spec_from_file_location("bridge", ROOT / "fmu_src" / "cablecasing_fmi2_bridge.py")
     bridge = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(bridge)
-    problems = bridge._missing_packages("numpy>=999.0;no-such-package-xyz>=1;scipy>=1.0")
+    problems = bridge.missing_packages("numpy>=999.0;no-such-package-xyz>=1;scipy>=1.0")
     assert len(problems) == 2
     assert problems[0].startswith("numpy ") and "is too old (needs numpy>=999.0)" in problems[0]
     assert problems[1] == "no-such-package-xyz is not installed (needs no-such-package-xyz>=1)"

@@ -1,4 +1,5 @@
-"""Monte-Carlo study of Section 4.4: LHS stratification, resume, failures, dask == serial, Fig. 23."""
+"""Monte-Carlo study of Section 4.4: Saltelli's design, resume and enlargement, failures, dask ==
+serial, Fig. 23; a study over other parameters of another model."""
 
 import json
 import os
@@ -11,10 +12,10 @@ from cablecasing_core.studies import (
     PAPER_BOUNDS,
     correlations,
     evaluators,
-    latin_hypercube,
     load_results,
     plot_correlations,
     run_study,
+    sobol_design,
 )
 
 ANALYTIC = "cablecasing_core.studies.evaluators:analytic_evaluate"
@@ -22,7 +23,7 @@ ANALYTIC = "cablecasing_core.studies.evaluators:analytic_evaluate"
 
 def _run(path, **kw):
     kw.setdefault("evaluate", ANALYTIC)
-    kw.setdefault("n_samples", 20)
+    kw.setdefault("n_samples", 24)  # 3 base points of 6 + 2 runs
     kw.setdefault("seed", 7)
     kw.setdefault("scheduler", "serial")
     kw.setdefault("progress", False)
@@ -44,15 +45,28 @@ def _indices_in_file(path):
         return [int(line.split(",", 1)[0]) for line in fh.read().splitlines()[1:]]
 
 
-def test_lhs_stratification_and_determinism():
-    n = 37
-    X = latin_hypercube(PAPER_BOUNDS, n, seed=3)
-    assert X.shape == (n, 6)
-    for k, (lo, hi) in enumerate(PAPER_BOUNDS.values()):
-        strata = np.floor((X[:, k] - lo) / (hi - lo) * n).astype(int)
-        assert sorted(strata) == list(range(n))  # each of the n strata hit exactly once
-    np.testing.assert_array_equal(X, latin_hypercube(PAPER_BOUNDS, n, seed=3))
-    assert not np.array_equal(X, latin_hypercube(PAPER_BOUNDS, n, seed=4))
+def test_saltelli_design_groups_balance_and_continuation():
+    n, d = 64, len(PAPER_BOUNDS)
+    X = sobol_design(PAPER_BOUNDS, n, seed=3)
+    assert X.shape == (n * (d + 2), d)
+    lo = np.array([b[0] for b in PAPER_BOUNDS.values()])
+    hi = np.array([b[1] for b in PAPER_BOUNDS.values()])
+    assert np.all((X >= lo) & (X <= hi))
+    G = X.reshape(n, d + 2, d)  # per base point: A, AB_1..AB_d, B
+    A, B = G[:, 0], G[:, -1]
+    for i in range(d):  # AB_i is A with its i-th coordinate from B
+        expect = A.copy()
+        expect[:, i] = B[:, i]
+        np.testing.assert_array_equal(G[:, 1 + i], expect)
+    # a scrambled Sobol' sequence of 64 = 2^6 points: each coordinate has one point in each of the
+    # 64 equal strata of its interval (the sequence's (0, m, s) net property in one dimension)
+    for k in range(d):
+        strata = np.floor((A[:, k] - lo[k]) / (hi[k] - lo[k]) * n).astype(int)
+        assert sorted(strata) == list(range(n))
+    np.testing.assert_array_equal(X, sobol_design(PAPER_BOUNDS, n, seed=3))
+    assert not np.array_equal(X, sobol_design(PAPER_BOUNDS, n, seed=4))
+    # a larger design continues the sequence: the smaller one is its beginning
+    np.testing.assert_array_equal(sobol_design(PAPER_BOUNDS, 100, seed=3)[: len(X)], X)
 
 
 @pytest.mark.parametrize(
@@ -77,9 +91,9 @@ def test_bad_input_names_the_field(tmp_path, kw, key):
 
 
 def test_serial_values_are_the_closed_form(tmp_path):
-    res = _run(tmp_path / "s.csv")
-    assert len(res) == 20 and np.all(res.ok)
-    X = latin_hypercube(PAPER_BOUNDS, 20, seed=7)
+    res = _run(tmp_path / "s.csv", n_samples=20)  # rounded up to 3 groups of 8 runs
+    assert len(res) == 24 and np.all(res.ok) and res.n_base == 3 and res.group_size == 8
+    X = sobol_design(PAPER_BOUNDS, 3, seed=7)
     np.testing.assert_array_equal(res.X, X)
     for i in (0, 13):
         ref = evaluators.analytic_evaluate(dict(zip(PAPER_BOUNDS, X[i].tolist())))
@@ -88,7 +102,7 @@ def test_serial_values_are_the_closed_form(tmp_path):
 
 @pytest.mark.slow  # a dask cluster
 def test_dask_two_workers_equals_serial(tmp_path):
-    kw = dict(n_samples=24, seed=11, evaluate_kwargs={"fail_above": 0.18})
+    kw = dict(n_samples=24, seed=11, evaluate_kwargs={"fail_above": 0.15})
     serial = _run(tmp_path / "serial.csv", **kw)
     dask = _run(tmp_path / "dask.csv", scheduler="local", n_workers=2, **kw)
     assert (serial.status == "failed").any()  # the failing rows are part of the comparison
@@ -109,7 +123,7 @@ def test_failed_sample_is_recorded_and_study_continues(tmp_path):
     res = _run(tmp_path / "s.csv", evaluate_kwargs={"fail_above": 0.12})
     fr = res.X[:, res.parameters.index("contact.friction")]
     np.testing.assert_array_equal(res.status == "failed", fr > 0.12)
-    assert 0 < (res.status == "failed").sum() < 20
+    assert 0 < (res.status == "failed").sum() < 24
     assert all(e.startswith("ValueError: contact.friction") for e in res.error[res.status == "failed"])
     assert np.all(np.isnan(res.Y[res.status == "failed"])) and np.all(np.isfinite(res.Y[res.ok]))
 
@@ -133,6 +147,7 @@ def test_default_evaluate_runs_the_model(tmp_path):
         scheduler="serial",
         progress=False,
         evaluate_kwargs={"duration": 0.12, "skip": 0.01},
+        max_samples=2,
     )  # oct1 (11 Hz) needs 0.09 s
     assert list(res.status) == ["ok", "ok"]
     assert np.all(np.isfinite(res.Y)) and np.all(res.Y >= 0)
@@ -144,7 +159,7 @@ def test_evaluate_errors_are_recorded_per_sample(tmp_path):
             raise RuntimeError("line one\nline two")
         return {"x": 1.0}
 
-    res = _run(tmp_path / "s.csv", evaluate=bad, n_samples=10, outputs=["x", "y"])
+    res = _run(tmp_path / "s.csv", evaluate=bad, n_samples=16, outputs=["x", "y"])
     assert set(res.status) == {"failed"}  # "y" missing from every result, RuntimeError for some
     big = res.X[:, 1] > 6e9
     assert all(e == "RuntimeError: line one | line two" for e in res.error[big])
@@ -162,13 +177,33 @@ def test_resume_after_max_samples_repeats_nothing(tmp_path):
     part = _run(p, evaluate=counting, max_samples=7)
     assert list(part.index) == list(range(7)) and len(calls) == 7
     full = _run(p, evaluate=counting)
-    assert len(calls) == 20  # 13 more, none repeated
-    assert _indices_in_file(p) == list(range(20))
-    assert len({tuple(sorted(c.items())) for c in calls}) == 20
+    assert len(calls) == 24  # 17 more, none repeated
+    assert _indices_in_file(p) == list(range(24))
+    assert len({tuple(sorted(c.items())) for c in calls}) == 24
     again = _run(p, evaluate=counting)  # nothing left to do
-    assert len(calls) == 20
+    assert len(calls) == 24
     _same(full, again)
     _same(full, _run(tmp_path / "clean.csv", evaluate=counting))
+
+
+def test_enlarging_a_study_runs_only_the_new_samples(tmp_path):
+    calls = []
+
+    def counting(overrides):
+        calls.append(dict(overrides))
+        return evaluators.analytic_evaluate(overrides)
+
+    p = tmp_path / "s.csv"
+    small = _run(p, evaluate=counting, n_samples=16)  # 2 base points
+    assert len(calls) == 16 and small.n_base == 2
+    big = _run(p, evaluate=counting, n_samples=40)  # 5 base points: the sequence goes on
+    assert len(calls) == 40 and big.n_base == 5  # 24 new runs, none of the 16 again
+    assert len({tuple(sorted(c.items())) for c in calls}) == 40
+    np.testing.assert_array_equal(big.X[:16], small.X)
+    np.testing.assert_array_equal(big.Y[:16], small.Y)
+    assert json.loads(open(str(p) + ".meta.json").read())["n_base"] == 5
+    _same(big, _run(tmp_path / "clean.csv", evaluate=counting, n_samples=40))
+    assert _run(p, evaluate=counting, n_samples=8).n_base == 5 and len(calls) == 80  # never shrunk
 
 
 def test_resume_after_hard_interruption_and_torn_line(tmp_path):
@@ -188,7 +223,7 @@ def test_resume_after_hard_interruption_and_torn_line(tmp_path):
         fh.write("5,ok,3.1e10,4e9")
     state["n"] = -100
     res = _run(p, evaluate=dies_after_five)
-    assert _indices_in_file(p) == list(range(20))  # torn row cut, sample 5 run once, no repeats
+    assert _indices_in_file(p) == list(range(24))  # torn row cut, sample 5 run once, no repeats
     _same(res, _run(tmp_path / "clean.csv", evaluate=dies_after_five))
 
 
@@ -199,8 +234,8 @@ def test_resume_with_other_settings_is_refused(tmp_path):
         _run(p, seed=8)
     assert e.value.key == "seed"
     with pytest.raises(ModelError) as e:
-        _run(p, n_samples=30)
-    assert e.value.key == "n_samples"
+        _run(p, bounds={"casing.E": (2e9, 1e10), "contact.friction": (0.05, 0.2)})
+    assert e.value.key == "bounds"
     meta = json.loads(open(str(p) + ".meta.json").read())
     assert meta["seed"] == 7 and meta["evaluate"] == ANALYTIC
 
@@ -213,7 +248,7 @@ def test_infeasible_samples_are_recorded_not_evaluated(tmp_path):
         return evaluators.analytic_evaluate(overrides)
 
     bounds = {"cable.d": (0.003, 0.0045), "casing.d_inner": (0.0034, 0.0046), "casing.E": (2e9, 1e10)}
-    res = _run(tmp_path / "s.csv", evaluate=ev, bounds=bounds, n_samples=30)
+    res = _run(tmp_path / "s.csv", evaluate=ev, bounds=bounds, n_samples=30)  # 6 groups of 5
     bad = res.X[:, 0] >= res.X[:, 1]
     assert bad.any() and len(calls) == 30 - bad.sum()
     np.testing.assert_array_equal(res.status == "infeasible", bad)
@@ -224,15 +259,15 @@ def test_correlations_against_constructed_dependences(tmp_path):
     def ev(o):  # a: linear in cable.E; b: monotone, non-linear in casing.E; c: friction only
         return {"a": 2 * o["cable.E"] + 1, "b": np.exp(o["casing.E"] / 1e9), "c": o["contact.friction"] ** 3}
 
-    n = 60
-    res = _run(tmp_path / "s.csv", evaluate=ev, n_samples=n, outputs=["a", "b", "c"])
+    res = _run(tmp_path / "s.csv", evaluate=ev, n_samples=64, outputs=["a", "b", "c"])  # 8 base points
+    n = 2 * res.n_base  # the independent points of Saltelli's design (A and B; the rest share coordinates)
     pe, sp = correlations(res, "pearson"), correlations(res, "spearman")
     P, S = pe.as_dict(), sp.as_dict()
     assert P["cable.E"]["a"] == pytest.approx(1.0, abs=1e-12)
     assert S["casing.E"]["b"] == pytest.approx(1.0, abs=1e-12) and P["casing.E"]["b"] < 0.99
     assert S["contact.friction"]["c"] == pytest.approx(1.0, abs=1e-12)
     assert "gap" in pe.parameters
-    # unrelated pairs: independent LHS columns, r ~ N(0, 1/(n-1)) -> |r| < 4/sqrt(n-1)
+    # unrelated pairs: independent columns, r ~ N(0, 1/(n-1)) with n independent points -> |r| < 4/sqrt(n-1)
     assert abs(P["cable.E"]["b"]) < 4 / np.sqrt(n - 1) and abs(S["casing.E"]["c"]) < 4 / np.sqrt(n - 1)
     png = plot_correlations(res, str(tmp_path / "fig23.png"))
     assert os.path.getsize(png) > 10_000

@@ -29,35 +29,61 @@ def _derivative_mismatch(motion, t, h):
 
 
 def test_random_excitation_has_the_rms_band_and_seed_asked_for():
-    band, rms, dt, T = [10.0, 1000.0], 5.0, 1e-5, 0.5
+    # one period of the record (64 s) on a coarse grid (4 kHz, above twice the band's top): over a
+    # period the line spectrum is exact, so RMS, band and integrals are checked without leakage
+    from cablecasing_core.timedomain.random_record import LINE_SPACING
+
+    band, rms, dt = [10.0, 1000.0], 5.0, 2.5e-4
     exc = {"r": {"target": "casing.A.z", "kind": "random", "rms": rms, "band": band, "seed": 7}}
-    mo = scenario_motion(_model(exc, dt=dt, duration=T))
-    t = dt * np.arange(1, int(round(T / dt)) + 1)
-    u, v, a = mo(t)
+    mo = scenario_motion(_model(exc, dt=dt, duration=0.2))
+    n = int(round(1 / LINE_SPACING / dt))
+    t = dt * np.arange(n)
+    u, v, a = mo(t + 1.0)  # (past the ramp; the period is the same from any start)
     col = CHANNELS.index("casing.A.z")
     assert np.count_nonzero(a[:, np.arange(12) != col]) == 0  # only the target channel
     x = a[:, col]
-    assert np.sqrt(np.mean(x**2)) == pytest.approx(rms, rel=1e-12)  # scaled to the RMS exactly
-    # spectrum: nothing outside the band (the record is periodic over T: no leakage)
-    f = np.fft.rfftfreq(len(x), dt)
+    assert np.sqrt(np.mean(x**2)) == pytest.approx(rms, rel=1e-12)  # the RMS over a period, exactly
+    f = np.fft.rfftfreq(n, dt)
     X = np.abs(np.fft.rfft(x))
     out = (f < band[0]) | (f > band[1])
-    assert X[out].max() < 1e-9 * X.max()
-    # displacement and velocity are the exact periodic integrals: spectral derivatives give back a
+    assert X[out].max() < 1e-9 * X.max()  # nothing outside the band (round-off: ~1e-11)
+    lines = X > 1e-6 * X.max()
+    assert np.allclose(X[lines], X[lines].mean(), rtol=1e-9)  # a flat spectrum: equal lines
+    assert lines.sum() == round((band[1] - band[0]) / LINE_SPACING) + 1
+    # displacement and velocity are the exact integrals: spectral derivatives give back v and a
     U, V = np.fft.rfft(u[:, col]), np.fft.rfft(v[:, col])
     w = 2 * np.pi * f
-    np.testing.assert_allclose(np.fft.irfft(1j * w * U, len(x)), v[:, col], atol=1e-9 * np.abs(v[:, col]).max())
-    np.testing.assert_allclose(np.fft.irfft(1j * w * V, len(x)), x, atol=1e-9 * rms)
-    # between the samples (quintic Hermite) the three stay consistent: central differences of
-    # step h agree to O((2 pi f h)^2 / 6) at 1 kHz, h = 1e-7 s: 7e-7 of the band's top frequency
-    tm = t[100:200] + 0.37 * dt
+    np.testing.assert_allclose(np.fft.irfft(1j * w * U, n), v[:, col], atol=1e-9 * np.abs(v[:, col]).max())
+    np.testing.assert_allclose(np.fft.irfft(1j * w * V, n), x, atol=1e-9 * rms)
+    # between the samples (summed directly) the three stay consistent: central differences of step
+    # h = 1e-7 s agree to O((2 pi f h)^2 / 6) = 7e-7 at the band's top
+    tm = 0.1 + dt * np.arange(40) + 0.37 * dt
     assert max(_derivative_mismatch(mo, tm, 1e-7)) < 1e-3
     # reproducible by seed, different for another seed
-    assert np.array_equal(scenario_motion(_model(exc, dt=dt, duration=T))(t)[2], a)
+    assert np.array_equal(scenario_motion(_model(exc, dt=dt, duration=0.2))(t + 1.0)[2], a)
     exc2 = copy.deepcopy(exc)
     exc2["r"]["seed"] = 8
-    a2 = scenario_motion(_model(exc2, dt=dt, duration=T))(t)[2][:, col]
-    assert abs(np.corrcoef(x, a2)[0, 1]) < 0.1  # 5e3 samples: |rho| ~ 0.014
+    a2 = scenario_motion(_model(exc2, dt=dt, duration=0.2))(t + 1.0)[2][:, col]
+    assert abs(np.corrcoef(x, a2)[0, 1]) < 0.02  # 2.6e5 samples of 6.3e4 lines: |rho| ~ 0.004
+
+
+def test_random_record_is_the_sum_of_its_lines_at_any_time_and_grid():
+    """The block evaluation on the run's grid (chirp-z) is the direct sum of the lines, at any grid,
+    and the record does not depend on the run's duration or time step (there is no such argument)."""
+    from cablecasing_core.timedomain.random_record import RandomRecord
+
+    rec = RandomRecord(5.0, [10.0, 1000.0], 3, 1e-5)
+    k = np.array([0, 1, 4095, rec.block - 1, rec.block, 3 * rec.block + 17, 10**6 + 5])  # across blocks
+    direct = rec.direct(k * 1e-5)
+    for got, ref in zip(rec(k * 1e-5), direct):  # phases reduced mod 1: agreement to ~1e-12 of the RMS
+        assert np.abs(got - ref).max() < 1e-10 * np.sqrt(np.mean(ref**2) + np.abs(ref).max() ** 2)
+    other = RandomRecord(5.0, [10.0, 1000.0], 3, 4e-5)  # another grid: the same function of time
+    for got, ref in zip(other(k[k % 4 == 0] * 1e-5), rec(k[k % 4 == 0] * 1e-5)):
+        assert np.abs(got - ref).max() < 1e-10 * np.abs(ref).max()
+    # a band's common lines keep their phases (the seed's stream is indexed from 0 Hz)
+    narrow = RandomRecord(1.0, [100.0, 200.0], 3, 1e-5)
+    j = np.searchsorted(np.arange(rec.k_lo, rec.k_lo + rec.n_lines), narrow.k_lo)
+    np.testing.assert_allclose(np.angle(narrow.coef[2]), np.angle(rec.coef[2, j : j + narrow.n_lines]), atol=1e-12)
 
 
 def test_harmonic_and_impulse_are_their_closed_forms():
@@ -144,6 +170,58 @@ def test_csv_excitation_interpolates_the_table_from_the_model_folder(tmp_path):
     u, v, a = (y[:, col] for y in mo(np.array([0.06, 0.1])))
     np.testing.assert_allclose(u, x[-1], atol=1e-18)
     assert not (v.any() or a.any())
+
+
+@pytest.mark.parametrize("quantity", ["velocity", "acceleration"])
+def test_csv_velocity_or_acceleration_is_integrated_against_the_closed_form(tmp_path, quantity):
+    """A recorded u = A sin(w t) + its drift: an accelerometer's offset c (a = -A w^2 sin(w t) + c) or
+    a velocity record v = A w cos(w t) + c. Integrated with the drift removal of the docs (means of
+    a, v and u removed over the table), whole periods: back to u, v, a of the closed form."""
+    A, f, c = 1e-4, 20.0, 0.3  # m, Hz, offset (m/s2 or m/s)
+    w = 2 * np.pi * f
+    tt = np.linspace(0.0, 0.25, 1001)  # 5 periods at 4 kHz
+    value = -A * w * w * np.sin(w * tt) + c if quantity == "acceleration" else A * w * np.cos(w * tt) + c
+    _csv(tmp_path / "rec.csv", zip(tt, value))
+    exc = {"c": {"target": "casing.A.z", "kind": "csv", "file": "rec.csv", "quantity": quantity}}
+    mo = scenario_motion(_model(exc, base_dir=tmp_path))
+    col = CHANNELS.index("casing.A.z")
+    tm = np.linspace(0.001, 0.249, 997)
+    u, v, a = (y[:, col] for y in mo(tm))
+    # cubic-spline interpolation of a 20 Hz sine at 4 kHz: relative error ~ (w h)^4 / 384 ~ 2e-9 for
+    # the values and ~(w h)^3 / 24 ~ 1e-7 for each derivative; the integrals add the same order
+    # (the means of a sampled sine over whole periods vanish to the same accuracy): 1e-5 bounds all
+    assert np.abs(u - A * np.sin(w * tm)).max() < 1e-5 * A
+    assert np.abs(v - A * w * np.cos(w * tm)).max() < 1e-5 * A * w
+    assert np.abs(a + A * w * w * np.sin(w * tm)).max() < 1e-4 * A * w * w
+    assert max(_derivative_mismatch(mo, tm[10:-10], 1e-7)) < 1e-4  # u, v, a consistent
+
+
+def test_csv_quantity_is_checked_by_the_schema(tmp_path):
+    _csv(tmp_path / "rec.csv", [(0.0, 0.0), (0.01, 1.0)])
+    exc = {"c": {"target": "casing.A.z", "kind": "csv", "file": "rec.csv", "quantity": "jerk"}}
+    with pytest.raises(cc.ModelError, match="scenario.excitation.c.quantity"):
+        _model(exc, base_dir=tmp_path)
+
+
+def test_a_model_without_excitation_warns(recwarn):
+    m = _model({})
+    res = cc.simulate(m, duration=0.001)
+    assert not res.support_forces.any()
+    w = [x for x in recwarn if "no excitation" in str(x.message)]
+    assert len(w) == 1 and "every output stays zero" in str(w[0].message)
+
+
+@pytest.mark.slow  # a 1 s run
+def test_a_runs_beginning_does_not_depend_on_its_length():
+    """The first 0.1 s of a 0.2 s and of a 1 s run of the default scenario (contact, chaos) are
+    bitwise equal, with and without the progress bar (which splits the run into pieces)."""
+    m = cc.load_model()
+    short = cc.simulate(m, duration=0.2)
+    long = cc.simulate(m, duration=1.0, progress=True)
+    n = 10_000  # 0.1 s
+    for name in ("support_forces", "contact_state", "normal_force", "penetration"):
+        assert np.array_equal(getattr(short, name)[:n], getattr(long, name)[:n]), name
+    assert np.array_equal(short.inputs["casing.A.az"], long.inputs["casing.A.az"][: len(short.time)])
 
 
 @pytest.mark.parametrize(

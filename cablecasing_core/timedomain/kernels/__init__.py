@@ -14,6 +14,7 @@ module                                   what
 ``_newmark_per_body.py``                 one body's predictor, update and reactions (Eqs. 13, 18)
 ``_newmark_step_loop_with_ledger.py``    the step loop over both bodies and the contact, energy ledger
 ``_quintic_support_motion.py``           the support motion inside an FMU communication step
+``_communication_step_with_quintic_motion.py``  an FMU communication step in one call: motion, steps, outputs
 ``_static_contact.py``                   every cable node's frictionless contact at a state (the static state)
 ``_compile_options.py``                  ``fastmath`` flags, compilation without the runtime
 ``_numba_cache.py``                      where the machine code is cached (compiles nothing)
@@ -56,6 +57,12 @@ from ._numba_cache import KERNELS_HASH, install, kernels_cache_dir
 install()  # before any cache=True kernel below is decorated
 
 from ._banded_products_and_block_solve import block_solve  # noqa: E402
+from ._communication_step_with_quintic_motion import (  # noqa: E402
+    communication_step,
+    communication_step_in_context,
+    new_communication_context,
+    step_outputs,
+)
 from ._contact_forces_with_active_set import contact_workspace, solve_contact_forces  # noqa: E402
 from ._contact_search_and_law import contact_law, contact_potential, search_node  # noqa: E402
 from ._hermite_interpolation import axis_at, element_dofs, hermite_matrix  # noqa: E402
@@ -104,6 +111,10 @@ from ._step_loop_contract import (  # noqa: E402
 )
 
 __all__ = [
+    "communication_step",
+    "communication_step_in_context",
+    "new_communication_context",
+    "step_outputs",
     "DIAG_ACTIVE_SET_PASSES",
     "DIAG_DAMPING_POWER",
     "DIAG_FRICTION_POWER",

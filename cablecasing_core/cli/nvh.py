@@ -1,0 +1,198 @@
+"""``cablecasing spectrum`` and ``bands``: NVH outputs of a time record (.csv, .npz or .uff, as
+``simulate --out`` writes them, an FMU's outputs, or a measurement)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+RECORD_HELP = "time record: .csv, .npz or .uff (as 'cablecasing simulate --out' writes, or with a time column first)"
+
+
+def _record(path):
+    from ..records import read_records
+
+    return read_records(path)
+
+
+def _window(rec, skip):
+    from ..errors import ModelError
+    from ..model.validators import seconds
+
+    seconds("--skip", skip, zero_ok=True)
+    keep = rec.time > rec.time[0] + skip - 0.5 / rec.fs
+    if keep.sum() < 16:
+        raise ModelError("--skip", skip, f"must leave part of the {rec.time[-1] - rec.time[0]:.6g} s record")
+    return keep
+
+
+def cmd_spectrum(args):
+    from ..nvh import apparent_mass, psd, reference, transmissibility
+    from .paths import check_output_path, emit_table
+
+    check_output_path("--out", args.out, (".csv",))
+    check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    rec = _record(args.record)
+    columns = args.column or ["casing.B.Fz"]
+    f_range = (args.fmin, args.fmax)
+    if args.kind == "psd":
+        keep = _window(rec, args.skip)
+        res = [
+            psd(rec.column(c)[keep], rec.fs, nperseg=_nperseg(rec, args), unit=rec.unit(c), name=rec.resolve(c))
+            for c in columns
+        ]
+        unit = res[0].unit
+        ref = reference(unit, args.ref) if unit or args.ref else 1.0
+        sel = (res[0].f_hz >= args.fmin) & (res[0].f_hz <= args.fmax)
+        names = [f"{r.name} PSD [{r.unit}^2/Hz]" for r in res] + [
+            f"{r.name} level [dB re {ref:g} {r.unit}^2/Hz]" for r in res
+        ]
+        table = np.column_stack([res[0].f_hz] + [r.density for r in res] + [r.level_db(args.ref) for r in res])[sel]
+        print(
+            f"# {args.record}: PSD (Welch, Hann, 50 % overlap), df = {res[0].fs / res[0].nperseg:.4g} Hz, "
+            f"{res[0].n_averages} averages, after {args.skip:g} s"
+        )
+        for r in res:
+            rms = np.sqrt(r.mean_square(args.fmin, args.fmax))
+            print(f"# {r.name}: RMS {rms:.6g} {r.unit} in {args.fmin:g}-{args.fmax:g} Hz")
+    else:
+        fn = apparent_mass if args.kind == "apparent-mass" else transmissibility
+        inp = args.input or ("casing.A.az" if args.kind == "apparent-mass" else "casing.A.Fz")
+        res = [fn(rec, inp, c, args.estimator, args.skip, nperseg=_nperseg(rec, args)) for c in columns]
+        sel = (res[0].f_hz >= args.fmin) & (res[0].f_hz <= args.fmax)
+        names = []
+        cols = [res[0].f_hz]
+        for r in res:
+            tag = f"{r.output}/{r.input}"
+            names += [f"re {tag} [{r.unit}]", f"im {tag} [{r.unit}]", f"coherence {tag} [1]", f"random error {tag} [1]"]
+            cols += [r.H.real, r.H.imag, r.coherence, r.error]
+        table = np.column_stack(cols)[sel]
+        print(
+            f"# {args.record}: {res[0].kind} ({args.estimator}), df = {res[0].f_hz[1]:.4g} Hz, "
+            f"{res[0].n_averages} averages, after {args.skip:g} s"
+        )
+    emit_table(args.out, ",".join(["frequency [Hz]"] + names), table, 9)
+    if args.plot:
+        from ..nvh.plots import plot_psd, plot_transfer
+
+        if args.kind == "psd":
+            plot_psd(res, args.plot, args.ref, log_frequency=not args.linear_frequency, f_range=f_range)
+        else:
+            plot_transfer(res[0], args.plot, log_frequency=not args.linear_frequency, f_range=f_range)
+        print(f"# wrote {args.plot}")
+    return 0
+
+
+def _nperseg(rec, args):
+    """Samples per Welch segment for ``--resolution`` Hz (a power of two), or None (the default)."""
+    if args.resolution is None:
+        return None
+    from ..errors import ModelError
+    from ..model.validators import number
+
+    number("--resolution", args.resolution, gt=0, unit="Hz")
+    n = int(np.sum(rec.time > rec.time[0] + args.skip - 0.5 / rec.fs))
+    seg = int(2 ** np.round(np.log2(rec.fs / args.resolution)))
+    if seg > n:
+        finest = rec.fs / 2 ** int(np.log2(n))
+        raise ModelError(
+            "--resolution",
+            args.resolution,
+            f"must be at least {finest:.4g} Hz for the {n / rec.fs:.4g} s of record after --skip "
+            "(one segment of a power of two samples)",
+        )
+    return seg
+
+
+def cmd_bands(args):
+    from ..files import atomic_path
+    from ..nvh import reference
+    from ..studies import octave_rms
+    from .paths import check_output_path
+
+    check_output_path("--out", args.out, (".csv",))
+    check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    rec = _record(args.record)
+    keep = _window(rec, args.skip)
+    col = rec.resolve(args.column)
+    unit = rec.unit(col)
+    ref = reference(unit, args.ref) if unit or args.ref else 1.0
+    bands = octave_rms(rec.column(col)[keep], rec.fs, args.kind, beyond_nyquist="drop")
+    level = bands.level_db(ref)
+    print(f"# {args.record}: {col} after {args.skip:g} s, {args.kind} bands; level in dB re {ref:g} {unit}")
+    header = f"band,f_low [Hz],f_high [Hz],rms [{unit}],level [dB re {ref:g} {unit}]"
+    rows = [
+        f"{lab},{lo:.6g},{hi:.6g},{r:.6g},{L:.2f}"
+        for lab, lo, hi, r, L in zip(bands.labels, bands.lower, bands.upper, bands.rms, level)
+    ]
+    print(header)
+    print("\n".join(rows))
+    if args.out:
+        with atomic_path(args.out) as tmp, open(tmp, "w", encoding="utf-8") as fh:
+            fh.write(header + "\n" + "\n".join(rows) + "\n")
+        print(f"# wrote {args.out}")
+    if args.plot:
+        from ..nvh.plots import plot_band_levels
+
+        plot_band_levels([bands], args.plot, unit, ref, title=f"{col}: {args.kind} band levels ({args.record})")
+        print(f"# wrote {args.plot}")
+    return 0
+
+
+def add_parser(sub):
+    s = sub.add_parser("spectrum", help="PSD (Welch), apparent mass or force transmissibility of a time record")
+    s.add_argument("record", help=RECORD_HELP)
+    s.add_argument(
+        "--kind",
+        choices=["psd", "apparent-mass", "transmissibility"],
+        default="psd",
+        help="psd: PSD of each --column; apparent-mass: F/a from --input (m/s2) to --column (N), kg, in the TRFAM's "
+        "sign convention; transmissibility: --column / --input (two forces)",
+    )
+    s.add_argument(
+        "--column", action="append", default=None, help="record column(s), e.g. casing.B.Fz (default: casing.B.Fz)"
+    )
+    s.add_argument(
+        "--input",
+        default=None,
+        help="input column of a transfer function (default: casing.A.az for the apparent mass, casing.A.Fz for "
+        "the transmissibility)",
+    )
+    s.add_argument("--estimator", choices=["H1", "H2"], default="H1", help="H1 (noise on the output) or H2")
+    s.add_argument(
+        "--resolution",
+        type=float,
+        default=None,
+        help="frequency resolution, Hz (a power of two of samples per segment; default: 1 Hz, at most an "
+        "eighth of the record)",
+    )
+    s.add_argument("--skip", type=float, default=0.05, help="start of the record left out, s")
+    s.add_argument("--fmin", type=float, default=1.0, help="lowest frequency written and drawn, Hz")
+    s.add_argument("--fmax", type=float, default=2000.0, help="highest frequency written and drawn, Hz")
+    s.add_argument(
+        "--ref",
+        type=float,
+        default=None,
+        help="reference of the dB levels in the column's unit (default: by unit, "
+        "1 N, 1 N.m, 1e-6 m/s2, 1e-9 m/s, 1e-12 m; docs/nvh.md)",
+    )
+    s.add_argument("--out", default=None, help="CSV to write (default: print the table)")
+    s.add_argument("--plot", default=None, metavar="PNG", help="figure to write")
+    s.add_argument("--linear-frequency", action="store_true", help="linear frequency axis in --plot (default: log)")
+    s.set_defaults(func=cmd_spectrum)
+
+    b = sub.add_parser("bands", help="octave or third-octave band RMS and levels (dB) of a record column")
+    b.add_argument("record", help=RECORD_HELP)
+    b.add_argument("--column", default="casing.B.Fz", help="record column, e.g. casing.B.Fz")
+    b.add_argument(
+        "--kind",
+        choices=["table3", "octave", "third"],
+        default="table3",
+        help="table3: the paper's nine octaves 11-5680 Hz; octave, third: IEC 61260-1 base-10 bands",
+    )
+    b.add_argument("--skip", type=float, default=0.05, help="start of the record left out, s")
+    b.add_argument(
+        "--ref", type=float, default=None, help="reference of the dB levels (default: by unit, as 'spectrum')"
+    )
+    b.add_argument("--out", default=None, help="CSV of the table")
+    b.add_argument("--plot", default=None, metavar="PNG", help="figure to write")
+    b.set_defaults(func=cmd_bands)

@@ -1,0 +1,40 @@
+"""``cablecasing report``: the report of a model (figures and tables from one set of runs)."""
+
+from __future__ import annotations
+
+
+def cmd_report(args):
+    from ..report import write_report
+
+    args.interrupted = "the report was not finished; files in --out from earlier reports are as they were"
+    html = write_report(
+        args.out,
+        model=args.model,
+        duration=args.duration,
+        seeds=args.seeds,
+        study_samples=args.study_samples,
+        progress=args.progress,
+    )
+    print(f"wrote {html}")
+    return 0
+
+
+def add_parser(sub):
+    r = sub.add_parser(
+        "report",
+        help="run a model (default: the built-in specimen) and write its report: figures, tables, report.html",
+    )
+    r.add_argument("model", nargs="?", default=None, help="model TOML (default: built-in specimen)")
+    r.add_argument("--out", default="results", help="folder to write into (nothing is written elsewhere)")
+    r.add_argument(
+        "--duration",
+        type=float,
+        default=0.5,
+        help="simulated time of every run of the report, s (the model's scenario.duration is not used)",
+    )
+    r.add_argument("--seeds", type=int, default=6, help="excitation seeds of the band-level ensembles (1..N)")
+    r.add_argument("--study-samples", type=int, default=32, help="runs of the small study of Fig. 23 (0: no study)")
+    r.add_argument(
+        "--no-progress", dest="progress", action="store_false", help="no progress bars (default: bars on stderr)"
+    )
+    r.set_defaults(func=cmd_report)

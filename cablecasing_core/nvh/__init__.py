@@ -1,0 +1,31 @@
+"""NVH outputs of any time record (a run, an FMU's outputs, a measurement): power spectral density
+(Welch), levels in dB re a documented reference, octave and third-octave band levels, and the
+apparent mass and force transmissibility estimated from the support signals with their coherence.
+
+>>> from cablecasing_core.records import read_records
+>>> rec = read_records("run.npz")                     # or .csv, .uff; cc.simulate(...).records()
+>>> p = psd(rec.column("casing.B.Fz"), rec.fs, unit="N")          # N^2/Hz
+>>> p.level_db()                                      # dB re 1 N^2/Hz
+>>> M = apparent_mass(rec, "casing.A.az", "casing.B.Fz")         # kg, H1 with coherence
+>>> bands = octave_rms(rec.column("casing.B.Fz"), rec.fs, "third"); bands.level_db(1.0)   # dB re 1 N
+
+Modules: ``spectra`` (PSD, levels, references), ``transfer`` (apparent mass, transmissibility),
+``plots``; band RMS is :func:`cablecasing_core.studies.octave.octave_rms` (Table 3, IEC 61260-1
+octaves and thirds). See docs/nvh.md.
+"""
+
+from ..studies.octave import octave_rms
+from .spectra import PSD, REFERENCES, level_db, psd, reference
+from .transfer import Transfer, apparent_mass, transmissibility
+
+__all__ = [
+    "PSD",
+    "REFERENCES",
+    "Transfer",
+    "apparent_mass",
+    "level_db",
+    "octave_rms",
+    "psd",
+    "reference",
+    "transmissibility",
+]

@@ -1,0 +1,125 @@
+"""Figures of the NVH outputs (matplotlib, Agg): PSD, transfer functions with coherence, band levels."""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from ..plotting import plain_log_ticks, save_figure  # (also selects the Agg backend)
+from .spectra import level_db, reference
+
+
+def db_axis(ax, ref, unit, power):
+    """A right-hand axis in dB of the left axis' values (amplitudes, or power quantities with ``power``)."""
+    k = 10.0 if power else 20.0
+    sq = ref**2 if power else ref
+    sec = ax.secondary_yaxis(
+        "right",
+        functions=(lambda v: k * np.log10(np.maximum(v, 1e-300) / sq), lambda L: sq * 10 ** (L / k)),
+    )
+    sec.set_yscale("linear")  # (dB is linear in the log of the left axis; it would inherit "log")
+    sec.set_ylabel(f"dB re {ref:g} {unit}{'$^2$/Hz' if power else ''}")
+    return sec
+
+
+def plot_psd(psds, path, ref=None, log_frequency=True, f_range=None, title=None):
+    """PSDs (``spectra.PSD``; unit^2/Hz, log axis) with their level in dB re ref^2/Hz on the right."""
+    psds = list(psds)
+    unit = psds[0].unit
+    r = reference(unit, ref) if unit or ref else None
+    fig, ax = plt.subplots(figsize=(7.5, 4))
+    for p in psds:
+        sel = p.f_hz > 0
+        ax.plot(
+            p.f_hz[sel],
+            p.density[sel],
+            lw=0.8,
+            label=f"{p.name} (df {p.fs / p.nperseg:.3g} Hz, {p.n_averages} averages)",
+        )
+    ax.set_yscale("log")
+    if log_frequency:
+        ax.set_xscale("log")
+    lo, hi = f_range or (0.0, np.inf)
+    lo = max(lo, min(p.f_hz[1] for p in psds))
+    hi = min(hi, max(p.f_hz[-1] for p in psds))
+    ax.set_xlim(lo, hi)
+    if log_frequency:
+        plain_log_ticks(ax, [lo, hi])
+    shown = np.concatenate([p.density[(p.f_hz >= lo) & (p.f_hz <= hi)] for p in psds])
+    shown = shown[shown > 0]
+    if shown.size:  # the visible range, at most 10 decades below the peak
+        ax.set_ylim(max(shown.min(), shown.max() * 1e-10) / 2, shown.max() * 2)
+    ax.set_xlabel("frequency (Hz)")
+    ax.set_ylabel(f"PSD ({unit}$^2$/Hz)" if unit else "PSD (unit$^2$/Hz)")
+    if r is not None:
+        db_axis(ax, r, unit, power=True)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(title or "power spectral density (Welch)", fontsize=10)
+    save_figure(fig, path)
+
+
+def plot_transfer(tr, path, reference_curves=None, log_frequency=True, f_range=None, title=None):
+    """A :class:`~cablecasing_core.nvh.transfer.Transfer`: magnitude (log), phase (deg) and coherence,
+    with a band of +-2 random errors around |H1| and optional ``reference_curves`` {label: (f_hz, H)}
+    (e.g. the TRFAM of the frequency domain)."""
+    fig, (am, ap, ac) = plt.subplots(3, 1, figsize=(7.5, 7), sharex=True, gridspec_kw={"height_ratios": [3, 2, 1.2]})
+    f = tr.f_hz
+    sel = f > 0 if f_range is None else (f >= f_range[0]) & (f <= f_range[1])
+    mag = np.abs(tr.H)
+    am.fill_between(
+        f[sel],
+        (mag * np.clip(1 - 2 * tr.error, 0.1, None))[sel],
+        (mag * (1 + 2 * tr.error))[sel],
+        color="tab:blue",
+        alpha=0.2,
+        lw=0,
+        label="±2 random errors (from the coherence)",
+    )
+    am.plot(f[sel], mag[sel], lw=0.9, label=f"{tr.estimator} estimate ({tr.n_averages} averages)")
+    ap.plot(f[sel], np.degrees(np.angle(tr.H[sel])), lw=0.8)
+    for label, (fr, Hr) in (reference_curves or {}).items():
+        am.plot(fr, np.abs(Hr), "k--", lw=0.8, label=label)
+        ap.plot(fr, np.degrees(np.angle(Hr)), "k--", lw=0.8)
+    ac.plot(f[sel], tr.coherence[sel], lw=0.8, color="tab:green")
+    am.set_yscale("log")
+    am.set_ylabel(f"|{tr.kind}| ({tr.unit})" if tr.unit != "1" else f"|{tr.kind}| (-)")
+    ap.set_ylabel("phase (deg)")
+    ap.set_yticks([-180, -90, 0, 90, 180])
+    ac.set_ylabel("coherence (-)")
+    ac.set_ylim(0, 1.05)
+    ac.set_xlabel("frequency (Hz)")
+    if log_frequency:
+        ac.set_xscale("log")
+        plain_log_ticks(ac, f[sel])
+    for ax in (am, ap, ac):
+        ax.grid(True, which="both", alpha=0.3)
+    am.legend(fontsize=8)
+    am.set_title(title or f"{tr.kind}: {tr.output} / {tr.input}", fontsize=10)
+    save_figure(fig, path)
+
+
+def plot_band_levels(bands, path, unit="N", ref=None, labels=None, title=None):
+    """Band RMS (``studies.octave.BandRMS``, one or several) as bars in ``unit`` (log axis) with the
+    level in dB re ``ref`` (default the unit's reference) on the right."""
+    bands = list(bands)
+    r = reference(unit, ref)
+    fig, ax = plt.subplots(figsize=(7.5, 3.8))
+    n = len(bands)
+    width = 0.8 / n
+    x = np.arange(len(bands[0].rms))
+    for i, b in enumerate(bands):
+        ax.bar(x + (i - (n - 1) / 2) * width, b.rms, width, label=None if labels is None else labels[i])
+    ax.set_yscale("log")
+    ax.set_xticks(x, [f"{lo:.4g}-{hi:.4g}" for lo, hi in zip(bands[0].lower, bands[0].upper)], rotation=45, fontsize=7)
+    ax.set_xlabel("band (Hz)")
+    ax.set_ylabel(f"band RMS ({unit})")
+    db_axis(ax, r, unit, power=False)
+    ax.grid(True, axis="y", which="both", alpha=0.3)
+    if labels:
+        ax.legend(fontsize=8)
+    ax.set_title(title or f"band levels, dB re {r:g} {unit}", fontsize=10)
+    save_figure(fig, path)
+
+
+__all__ = ["level_db", "plot_band_levels", "plot_psd", "plot_transfer"]

@@ -1,0 +1,120 @@
+"""Transfer functions estimated from the support signals of a time record: the apparent mass
+(TRFAM, Eq. 12, kg) and the force transmissibility (dimensionless), with their coherence.
+
+Both go through the identification module's estimators (:func:`~cablecasing_core.identification.frf.frf_estimate`:
+Welch densities, H1 = G_xy / G_xx, H2 = G_yy / G_yx, coherence gamma^2 = H1 / H2) and carry the
+normalized random error of H1 from the coherence (:func:`~cablecasing_core.identification.frf.random_error`).
+
+* **Apparent mass** ``M(f) = F / a``: the acceleration of the driven support (input, e.g.
+  ``casing.A.az``, m/s2) to a support force (output, e.g. ``casing.B.Fz``, N), in kg. The time
+  domain records the force each body exerts *on* its support; the TRFAM of Eq. 13 (``cc.trfam``) uses
+  the force the support applies to the body, the negative. :func:`apparent_mass` uses the TRFAM's
+  convention (it negates the recorded force), so its estimate is comparable with ``cc.trfam`` as it is.
+* **Force transmissibility** ``T(f) = F_out / F_in``: a support force at the receiving end over the
+  force at the driven end (both as recorded, so the sign convention cancels), dimensionless. The
+  supports are clamped, so a motion transmissibility (the motion at B over the motion at A) is zero by
+  construction and not offered.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ModelError
+from ..identification.frf import frf_estimate, random_error
+from ..model.validators import Choice, seconds
+from ..records import Records
+
+
+@dataclass(frozen=True)
+class Transfer:
+    """An estimated transfer function: ``f_hz`` (Hz), ``H`` (the chosen estimator), ``H1``, ``H2``,
+    ``coherence`` (0..1), ``error`` (normalized random error of |H1|, Bendat & Piersol Eq. 9.90),
+    ``n_averages``, ``kind`` ("apparent mass" or "transmissibility"), ``unit`` ("kg" or "1"),
+    ``input`` and ``output`` (record columns), ``estimator`` ("H1" or "H2")."""
+
+    f_hz: np.ndarray
+    H: np.ndarray
+    H1: np.ndarray
+    H2: np.ndarray
+    coherence: np.ndarray
+    error: np.ndarray
+    n_averages: int
+    kind: str
+    unit: str
+    input: str
+    output: str
+    estimator: str
+
+
+def _estimate(rec, x_name, y_name, sign, kind, unit, estimator, skip, nperseg, resolution_hz):
+    Choice("H1", "H2")("estimator", estimator)
+    seconds("skip", skip, zero_ok=True)
+    x, y = rec.column(x_name), sign * rec.column(y_name)
+    fs = rec.fs
+    keep = rec.time > rec.time[0] + skip - 0.5 / fs
+    if keep.sum() < 64:
+        raise ModelError(
+            "skip", skip, f"must leave at least 64 samples of the {rec.time[-1] - rec.time[0]:.6g} s record"
+        )
+    if nperseg is None:  # 1 Hz with >= 15 averages at most; a resolution asked for with >= 3 of them
+        res = 1.0 if resolution_hz is None else resolution_hz
+        seg = int(2 ** np.round(np.log2(fs / res)))
+        cap = keep.sum() // (8 if resolution_hz is None else 2)
+        nperseg = max(64, min(seg, 2 ** int(np.log2(cap or 1))))
+    est = frf_estimate(x[keep], y[keep], fs, nperseg=nperseg)
+    H = est.H1 if estimator == "H1" else est.H2
+    return Transfer(
+        est.f_hz,
+        H,
+        est.H1,
+        est.H2,
+        est.coherence,
+        random_error(est.coherence, est.n_averages),
+        est.n_averages,
+        kind,
+        unit,
+        rec.resolve(x_name),
+        rec.resolve(y_name),
+        estimator,
+    )
+
+
+def apparent_mass(
+    rec: Records,
+    input: str = "casing.A.az",
+    output: str = "casing.B.Fz",
+    estimator: str = "H1",
+    skip: float = 0.05,
+    nperseg: int | None = None,
+    resolution_hz: float | None = None,
+) -> Transfer:
+    """The apparent mass (kg) from a support acceleration ``input`` (m/s2) to a support force
+    ``output`` (N) of the record ``rec``, in the TRFAM's sign convention (module docstring).
+
+    skip (s): the start of the record left out (fade-in and transient); nperseg: samples per Welch
+    segment, or ``resolution_hz`` (a power of two of samples; at most half the record, so at least 3
+    averages; default 1 Hz but at most an eighth of the record, so at least 15 averages)."""
+    if rec.unit(input) != "m/s2" or rec.unit(output) != "N":
+        raise ModelError(
+            "--input/--column", (input, output), "the apparent mass needs an acceleration (m/s2) and a force (N)"
+        )
+    return _estimate(rec, input, output, -1.0, "apparent mass", "kg", estimator, skip, nperseg, resolution_hz)
+
+
+def transmissibility(
+    rec: Records,
+    input: str = "casing.A.Fz",
+    output: str = "casing.B.Fz",
+    estimator: str = "H1",
+    skip: float = 0.05,
+    nperseg: int | None = None,
+    resolution_hz: float | None = None,
+) -> Transfer:
+    """The force transmissibility (dimensionless) from the support force ``input`` (N, the driven
+    end) to the support force ``output`` (N) of the record ``rec`` (arguments as :func:`apparent_mass`)."""
+    if rec.unit(input) != rec.unit(output):
+        raise ModelError("--input/--column", (input, output), "a transmissibility needs two signals of one unit")
+    return _estimate(rec, input, output, 1.0, "transmissibility", "1", estimator, skip, nperseg, resolution_hz)

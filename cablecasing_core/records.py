@@ -1,0 +1,228 @@
+"""Time records in and out, by file suffix: ``.csv``, ``.npz`` and ``.uff`` (UFF dataset 58).
+
+A record is a time axis (s, evenly spaced) and named columns: the outputs of the time domain
+(``casing.B.Fz``, N; ``model.schema.OUTPUTS``), the support inputs of the driven channels
+(``casing.A.az``, m/s2; ``model.schema.INPUTS``) or any other name. Every command that reads records
+(``bands``, ``spectrum``, ``identify damping``) reads all three formats with :func:`read_records`;
+``cablecasing simulate --out`` and :meth:`SimulationResult.save` write them with
+:func:`write_records`.
+
+* **CSV**: one header line ``time [s],casing.A.Fx [N],...,contact.active [1],...``: each column is
+  named by its output or input name with its unit in brackets; 9 significant digits. A column is
+  found by its name alone (``casing.B.Fz``), by the whole header (``casing.B.Fz [N]``), or by the
+  ``<name>_<unit>`` form of earlier versions (``casing.B.Fz_N``); a file with bare names (the FMU's
+  outputs written by fmpy) takes the units from the schema.
+* **NPZ**: ``time`` (n,), ``table`` (n, m), ``names`` and ``units`` (m,), full double precision, and
+  any further arrays of the writer (a run's per-node contact histories; :meth:`SimulationResult.load`).
+* **UFF 58** (binary, through pyuff, :mod:`.identification.uff_io`): one function of type 1 (time
+  response) per column, ``id1`` the column's name, the ordinate's unit label and data type (9 reaction
+  force for forces and moments, 8 displacement, 11 velocity, 12 acceleration), the response node the
+  support (casing A 1, casing B 2, cable A 3, cable B 4; 0 for the contact summary) and direction 1-3
+  for x, y, z, 4-6 for moments about them.
+
+Files are written atomically (:mod:`.files`): an interrupted write leaves an earlier file intact.
+"""
+
+from __future__ import annotations
+
+import csv
+import os
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import ModelError
+from .files import atomic_path
+from .model.schema import CHANNELS, INPUTS, OUTPUTS, input_spec, output_spec
+
+SUFFIXES = (".csv", ".npz", ".uff")
+_NODES = {"casing.A": 1, "casing.B": 2, "cable.A": 3, "cable.B": 4}
+_UNIT_TYPES = {"N": 9, "N.m": 9, "m": 8, "m/s": 11, "m/s2": 12}
+
+
+def unit_of(name: str) -> str:
+    """Unit of a record column: an output's or input's unit from the schema, "s" for time, else ""."""
+    if name in OUTPUTS:
+        return output_spec(name)[0]
+    if name in INPUTS:
+        return input_spec(name)[0]
+    return "s" if name in ("time", "time_s") else ""
+
+
+@dataclass
+class Records:
+    """A time record: ``time`` (s, n), ``columns`` {name: (n,) array}, ``units`` {name: unit},
+    ``source`` (file or run), ``extra`` (further arrays of an NPZ file)."""
+
+    time: np.ndarray
+    columns: dict
+    units: dict = field(default_factory=dict)
+    source: str = ""
+    extra: dict = field(default_factory=dict)
+
+    @property
+    def names(self) -> tuple:
+        return tuple(self.columns)
+
+    @property
+    def fs(self) -> float:
+        """Sampling rate (Hz); the time axis must be evenly spaced (to 1e-6 of a step)."""
+        d = np.diff(self.time)
+        if d.size == 0 or not (np.all(d > 0) and np.ptp(d) <= 1e-6 * d.mean()):
+            raise ModelError(f"{self.source or 'record'}: time", "not evenly spaced", "must be evenly sampled")
+        return 1.0 / float(d.mean())
+
+    def resolve(self, name: str) -> str:
+        """The column called ``name``, its header form ``name [unit]`` or ``name_unit``; a
+        :class:`ModelError` lists the columns when there is none."""
+        if name in self.columns:
+            return name
+        bare = name.split(" [")[0]
+        for col in self.columns:
+            u = self.units.get(col, "")
+            if bare == col or name in (f"{col} [{u}]", f"{col}_{u}", f"{col}_{u.replace('.', '')}"):
+                return col
+        raise ModelError(
+            "--column", name, f"must be a column of {self.source or 'the record'}: " + ", ".join(self.columns)
+        )
+
+    def column(self, name: str) -> np.ndarray:
+        """The values of a column (see :meth:`resolve`), in its unit."""
+        return self.columns[self.resolve(name)]
+
+    def unit(self, name: str) -> str:
+        return self.units.get(self.resolve(name), "")
+
+
+def write_records(path: str | os.PathLike, rec: Records) -> str:
+    """Write ``rec`` to ``path`` by its suffix (``.csv``, ``.npz``, ``.uff``; atomically). Returns the path."""
+    path = str(path)
+    suffix = os.path.splitext(path)[1].lower()
+    if suffix not in SUFFIXES:
+        raise ModelError("--out", path, "must end in " + ", ".join(SUFFIXES))
+    names = list(rec.columns)
+    table = np.column_stack([rec.time] + [np.asarray(rec.columns[n], float) for n in names])
+    units = [rec.units.get(n, "") for n in names]
+    if suffix == ".csv":
+        header = ",".join(["time [s]"] + [f"{n} [{u}]" if u else n for n, u in zip(names, units)])
+        with atomic_path(path) as tmp:
+            np.savetxt(tmp, table, delimiter=",", header=header, comments="", fmt="%.9g")
+    elif suffix == ".npz":
+        with atomic_path(path) as tmp:
+            np.savez_compressed(
+                tmp, time=rec.time, table=table[:, 1:], names=np.array(names), units=np.array(units), **rec.extra
+            )
+    else:
+        from .identification.uff_io import Record, write_uff
+
+        funcs = [
+            Record("time", rec.time, table[:, 1 + i], n, *uff_dof(n), unit=u, data_type=_UNIT_TYPES.get(u, 0))
+            for i, (n, u) in enumerate(zip(names, units))
+        ]
+        write_uff(path, funcs)
+    return path
+
+
+def uff_dof(name: str) -> tuple:
+    """(rsp_node, rsp_dir, ref_node, ref_dir) of a record column or a support DOF such as
+    ``casing.B.x`` in UFF 58 (module docstring)."""
+    parts = name.split(".")
+    node = _NODES.get(".".join(parts[:2]), 0)
+    last = parts[-1] if len(parts) == 3 else ""
+    direction = {"x": 1, "y": 2, "z": 3}.get(last[-1:], 0) if node else 0
+    if last[:1] == "M":
+        direction += 3
+    return node, direction, 0, 0
+
+
+def read_records(path: str | os.PathLike) -> Records:
+    """The record in ``path`` (``.csv``, ``.npz`` or ``.uff``/``.unv``, by suffix; see the module
+    docstring). Raises :class:`ModelError` naming the file and what is wrong."""
+    path = str(path)
+    suffix = os.path.splitext(path)[1].lower()
+    if not os.path.exists(path):
+        raise ModelError("file", path, "does not exist")
+    if suffix == ".npz":
+        return _read_npz(path)
+    if suffix in (".uff", ".unv", ".uf"):
+        return _read_uff(path)
+    if suffix not in (".csv", ".txt"):
+        raise ModelError("file", path, "must end in .csv, .npz or .uff (the record's format goes by its suffix)")
+    return _read_csv(path)
+
+
+def _read_csv(path):
+    try:
+        with open(path, encoding="utf-8", newline="") as fh:
+            header = next(csv.reader(fh), [])
+        data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    except UnicodeDecodeError:
+        raise ModelError("file", path, "is not a text CSV file (is it an .npz or .uff file named .csv?)") from None
+    except ValueError as exc:
+        raise ModelError("file", path, f"must be numeric CSV with one header line ({exc})") from None
+    if len(header) < 2 or data.shape[0] < 2 or data.shape[1] != len(header):
+        raise ModelError("file", path, "a record needs a header line 'time [s],<name>,...' and two rows or more")
+    names, units = [], {}
+    for h in header[1:]:
+        h = h.strip()
+        name, _, unit = h.partition(" [")
+        name, unit = name.strip(), unit.rstrip("]")
+        for known in OUTPUTS + INPUTS:  # the '<name>_<unit>' form of earlier versions
+            if h in (f"{known}_{unit_of(known)}", f"{known}_{unit_of(known).replace('.', '')}"):
+                name = known
+        names.append(name)
+        units[name] = unit or unit_of(name)
+    cols = {n: data[:, i + 1] for i, n in enumerate(names)}
+    return Records(data[:, 0], cols, units, path)
+
+
+def _read_npz(path):
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            arrays = {k: z[k] for k in z.files}
+    except (OSError, ValueError) as exc:
+        raise ModelError("file", path, f"is not a readable .npz file ({exc})") from None
+    if "table" in arrays and "names" in arrays and "time" in arrays:
+        names = [str(n) for n in arrays.pop("names")]
+        units = [str(u) for u in arrays.pop("units", [unit_of(n) for n in names])]
+        table = arrays.pop("table")
+        time = arrays.pop("time")
+        return Records(time, {n: table[:, i] for i, n in enumerate(names)}, dict(zip(names, units)), path, arrays)
+    if "time" in arrays:  # any npz of 1-D arrays beside a time axis
+        time = arrays.pop("time")
+        cols = {k: v for k, v in arrays.items() if v.shape == time.shape}
+        if cols:
+            return Records(time, cols, {k: unit_of(k) for k in cols}, path)
+    raise ModelError("file", path, "must hold the arrays time, table, names (as 'cablecasing simulate --out' writes)")
+
+
+def _read_uff(path):
+    from .identification.uff_io import read_uff
+
+    funcs = [r for r in read_uff(path) if r.kind == "time"]
+    if not funcs:
+        raise ModelError("file", path, "contains no time record (UFF 58, function type 1)")
+    t = funcs[0].x
+    cols, units = {}, {}
+    for i, r in enumerate(funcs):
+        if r.x.shape != t.shape or not np.allclose(r.x, t, rtol=0, atol=1e-9 * max(1.0, abs(t[-1]))):
+            raise ModelError("file", path, f"time function {i} ({r.name}) has another time axis than the first")
+        name = r.name or f"x{i + 1}"
+        cols[name] = np.asarray(r.data, float)
+        units[name] = r.unit or unit_of(name)
+    return Records(t, cols, units, path)
+
+
+def driven_inputs(model) -> tuple:
+    """The support inputs (:data:`INPUTS` names) of the channels the model's scenario drives: for
+    each excitation target its three inputs (displacement, velocity, acceleration); an ``axial``
+    target drives x, y and z of its support."""
+    chans = []
+    for e in model.scenario["excitation"].values():
+        body, support, d = e["target"].split(".")
+        for c in ("x", "y", "z") if d == "axial" else (d,):
+            ch = f"{body}.{support}.{c}"
+            if ch not in chans:
+                chans.append(ch)
+    chans.sort(key=CHANNELS.index)
+    return tuple(INPUTS[k * len(CHANNELS) + CHANNELS.index(c)] for k in range(3) for c in chans)

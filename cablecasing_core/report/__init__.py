@@ -1,0 +1,146 @@
+"""The report of a model (``cablecasing report [MODEL.toml] [--out DIR]``; ``make demo`` adds the FMU
+check): every figure and table from one set of runs (:mod:`.runs`), which the report names (model,
+scenario, seeds, duration, dt, version, date, the parameters with their units), as PNG and CSV files
+and one ``report.html`` (:mod:`.page`), all under ``out`` and nowhere else.
+
+Files: ``report.html``; ``runs.json`` (the runs: model fingerprint, overrides, seeds, duration, dt,
+files); ``parameters.csv``; ``modes.csv`` (Hz); ``trfam.uff`` and ``trfam_<x|y|z>.csv`` with
+``trfam_xyz.png`` (Fig. 17); ``records/<variant>.npz`` (the reference records); ``rms.csv``;
+``simulation.png`` (time histories); ``scalograms.png`` (Figs. 20-21); ``routing_contact.png`` and
+``contact_histogram.png`` (Fig. 22); ``bands_<variant>.csv`` and ``band_levels.png`` (ensemble means
+with confidence intervals, N and dB re 1 N); ``psd.png``; ``apparent_mass.png`` (H1 of a reference
+record against the TRFAM); ``study/study.csv``, ``study/correlations.png`` (Fig. 23) and
+``study/sobol.png``.
+"""
+
+from __future__ import annotations
+
+import csv
+import datetime
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import ModelError
+from ..files import atomic_path, write_text
+from .runs import OUTPUT, drive_harmonics, run_variant, variants
+
+
+def _say(text, progress):
+    if progress:
+        print(f"report: {text}", file=sys.stderr, flush=True)
+
+
+def write_report(
+    out: str | Path,
+    model=None,
+    duration: float = 0.5,
+    seeds: int = 6,
+    study_samples: int = 32,
+    skip: float = 0.05,
+    progress: bool = True,
+    fmu: dict | None = None,
+) -> Path:
+    """Run ``model`` (a Model, a TOML path, or None for the built-in specimen) and write its report
+    into the folder ``out``; returns the path of report.html.
+
+    duration (s): simulated time of every run; seeds: excitation seeds 1..seeds of the band-level
+    ensembles (>= 2; the first seed gives the reference records); study_samples: runs of the small
+    Monte-Carlo study of Fig. 23 (0: none); skip (s): start of each record left out of levels and
+    spectra; progress: bars and notes on stderr; fmu: the FMU check of ``examples/demo.py`` (a dict
+    with ``file``, ``step`` (s), ``duration`` (s), ``max_rel_dev``, ``outputs`` (CSV name), shown as
+    it is).
+    """
+    import cablecasing_core as cc
+
+    from ..model import Model, load_model
+    from ..model.validators import integer, seconds
+    from . import figures, page
+
+    model = model if isinstance(model, Model) else load_model(model)
+    seconds("duration", duration)
+    seconds("skip", skip, zero_ok=True)
+    n_seeds = integer("seeds", seeds, 2)
+    study_samples = integer("study_samples", study_samples, 0)
+    need = skip + 1.0 / (22.0 - 11.0)  # one FFT bin in the narrowest band of Table 3 (octave_rms's rule)
+    if duration < need:
+        raise ModelError(
+            "duration", duration, f"must be at least {need:.4g} s: skip = {skip:g} s and one bin of the 11-22 Hz band"
+        )
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    seed_list = list(range(1, n_seeds + 1))
+    info = {
+        "model": model.source,
+        "fingerprint": model.fingerprint(),
+        "version": cc.__version__,
+        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        "duration": duration,
+        "dt": model.scenario["dt"],
+        "skip": skip,
+        "seeds": seed_list,
+        "output": OUTPUT,
+    }
+    body = "casing" if "casing" in model.bodies else next(iter(model.bodies))
+    _say("natural frequencies and TRFAM (frequency domain)", progress)
+    modes = {b: cc.natural_frequencies(model, b, 10) for b in model.bodies}
+    lines = ["mode," + ",".join(f"{b} [Hz]" for b in modes)]
+    lines += [f"{i + 1}," + ",".join(repr(float(f[i])) for f in modes.values()) for i in range(10)]
+    write_text(out / "modes.csv", "\n".join(lines) + "\n")
+    with atomic_path(out / "parameters.csv") as tmp, open(tmp, "w", newline="", encoding="utf-8") as fh:
+        csv.writer(fh).writerows([("key", "value", "unit", "description"), *page.parameter_rows(model, duration)])
+    freq = figures.trfam_figure(model, body, out)
+    vs = variants(model, out, seed_list[0])
+    for v in vs:
+        _say(f"runs {v.title}: the reference record (seed {seed_list[0]}) and {n_seeds} seeds", progress)
+        run_variant(v, duration, seed_list, skip, progress)
+        if v.ensemble is not None:
+            v.ensemble.save(out / f"bands_{v.key}.csv")
+    _say("figures", progress)
+    f_max = 2000.0
+    harmonics = drive_harmonics(model, f_max)[:8]  # the drive and its first harmonics (more would hide the rest)
+    natural = [f for f in cc.natural_frequencies(model, body, 40) if 20.0 <= f <= f_max]
+    figures.time_figure(vs, out / "simulation.png")
+    figures.scalogram_figure(vs, out / "scalograms.png", natural, harmonics, skip)
+    figures.contact_figures(model, vs[-1], out)
+    figures.band_figure(vs, out / "band_levels.png")
+    figures.psd_figure(vs, out / "psd.png", skip)
+    am = figures.apparent_mass_figure(model, vs[0], out / "apparent_mass.png", skip)
+    rms = figures.rms_table(vs, out / "rms.csv", skip)
+    study = None
+    if study_samples:
+        _say(f"a small study of {study_samples} runs (Fig. 23)", progress)
+        study = figures.study_figures(model, out / "study", study_samples, duration, skip, progress)
+    runs = {
+        **info,
+        "variants": [
+            {
+                "key": v.key,
+                "title": v.title,
+                "model_fingerprint": v.model.fingerprint(),
+                "seed_overrides": v.seed_overrides,
+                "record": str(v.record.relative_to(out)),
+                "ensemble": f"bands_{v.key}.csv" if v.ensemble is not None else None,
+                "ensemble_first_member_vs_record": v.member_check,
+            }
+            for v in vs
+        ],
+        "study": study and {k: study[k] for k in ("csv", "runs", "ok", "bounds")},
+        "fmu": fmu,
+    }
+    write_text(out / "runs.json", json.dumps(runs, indent=1, default=_json))
+    html = page.render(model, info, modes, freq, vs, rms, am, study, fmu, harmonics, out)
+    return write_text(out / "report.html", html)
+
+
+def _json(o):
+    if isinstance(o, np.generic):
+        return o.item()
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    return str(o)
+
+
+__all__ = ["write_report"]

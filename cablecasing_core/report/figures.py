@@ -1,0 +1,297 @@
+"""The figures and tables of the report, each from the runs of :mod:`.runs` (the reference records
+read back from their files, the ensembles, the study), written into the report's folder."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import ModelError
+from ..files import atomic_path, write_text
+from .runs import OUTPUT
+
+#: Frequencies of the TRFAM (Hz): Fig. 17's range, fine enough for the resonances' peaks.
+TRFAM_HZ = np.arange(5.0, 1000.25, 0.25)
+#: Scalogram frequencies (Hz), log-spaced over the octaves of Table 3 that the excitation reaches.
+SCALOGRAM_HZ = np.geomspace(20.0, 2000.0, 90)
+
+
+def trfam_figure(model, body, out):
+    """Fig. 17: TRFAM of ``body`` from end A to end B in x, y, z, structural and viscous damping,
+    log frequency axis with phase; trfam_<d>.csv (both dampings) and trfam.uff (UFF 58, six FRFs).
+    Returns {direction: {damping: H}}."""
+    import cablecasing_core as cc
+
+    from ..identification.uff_io import Record, write_uff
+    from ..plotting import plot_trfam_xyz
+    from ..records import uff_dof
+
+    curves = {}
+    recs = []
+    for d in "xyz":
+        curves[d] = {}
+        for damping in ("structural", "viscous"):
+            H = cc.trfam(model, f"{body}.A.{d}", f"{body}.B.{d}", TRFAM_HZ, damping)
+            curves[d][damping] = H
+            node, k, *_ = uff_dof(f"{body}.B.{d}")
+            ref, kr, *_ = uff_dof(f"{body}.A.{d}")
+            recs.append(
+                Record(
+                    "frf",
+                    TRFAM_HZ,
+                    H,
+                    f"TRFAM {body}.B.{d}/{body}.A.{d} {damping}",
+                    node,
+                    k,
+                    ref,
+                    kr,
+                    "N",
+                    9,
+                    "m/s2",
+                    12,
+                )
+            )
+        s, v = curves[d]["structural"], curves[d]["viscous"]
+        table = np.column_stack([TRFAM_HZ, s.real, s.imag, v.real, v.imag])
+        header = "frequency [Hz],re structural [kg],im structural [kg],re viscous [kg],im viscous [kg]"
+        with atomic_path(out / f"trfam_{d}.csv") as tmp:
+            np.savetxt(tmp, table, delimiter=",", header=header, comments="", fmt="%.10g")
+    write_uff(out / "trfam.uff", recs)
+    natural = cc.natural_frequencies(model, body, 12)
+    plot_trfam_xyz(
+        TRFAM_HZ,
+        curves,
+        out / "trfam_xyz.png",
+        title=f"TRFAM of the {body} from end A to end B, Eq. 12 (Fig. 17); grey: natural frequencies",
+        natural_hz=[f for f in natural if f <= TRFAM_HZ[-1]],
+    )
+    return curves
+
+
+def time_figure(variants, path):
+    """casing.B.Fz of every variant's reference record over time (N), one panel per variant."""
+    import matplotlib.pyplot as plt
+
+    from ..plotting import save_figure
+
+    fig, axes = plt.subplots(len(variants), 1, figsize=(8, 2.6 * len(variants) + 0.4), sharex=True, squeeze=False)
+    for ax, v in zip(axes[:, 0], variants):
+        r = v.result
+        for name in ("casing.B.Fx", "casing.B.Fy", "casing.B.Fz"):
+            ax.plot(r.time, r.support_force(name), lw=0.5, label=name)
+        ax.set_ylabel("force (N)")
+        ax.set_title(f"{v.title}: reference record ({v.record.name})", fontsize=9, loc="left")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7, ncol=3, loc="upper right")
+    axes[-1, 0].set_xlabel("time (s)")
+    save_figure(fig, path)
+
+
+def scalogram_figure(variants, path, natural, harmonics, skip):
+    """Figs. 20-21: Morlet scalograms |W| (N) of casing.B.Fz of the reference records, side by side
+    on one colour scale, natural frequencies (dashed) and drive harmonics (dotted) marked."""
+    from ..identification.wavelet import cwt_morlet
+    from ..plotting import plot_scalograms
+
+    panels = []
+    for v in variants:
+        r = v.result
+        fs = 1.0 / (r.time[1] - r.time[0])
+        W = np.abs(cwt_morlet(r.support_force(OUTPUT), fs, SCALOGRAM_HZ))
+        step = max(1, len(r.time) // 1500)  # (columns drawn: the transform itself is at the full rate)
+        keep = slice(None, None, step)
+        panels.append((r.time[keep], W[keep], f"{OUTPUT} {v.title}"))
+    plot_scalograms(
+        panels,
+        SCALOGRAM_HZ,
+        path,
+        unit="N",
+        natural_hz=natural,
+        harmonics_hz=harmonics,
+        title=f"Wavelet transform |W| of {OUTPUT} (Figs. 20-21); dashed: natural frequencies of the casing, "
+        "dotted: the drive and its harmonics",
+    )
+
+
+def contact_figures(model, var, out):
+    """Fig. 22 from the ensemble with the cable drive (contact time pooled over its seeds; else the
+    reference record): the routing in 3D coloured by the contact time, and the histogram beside the
+    curvature."""
+    import matplotlib.pyplot as plt
+
+    from ..plotting import plot_contact_histogram, plot_geometry, save_figure
+    from ..structure.geometry import centerline_of
+
+    if "cable" not in model.bodies or "casing" not in model.bodies:
+        return
+    r = var.result
+    if var.ensemble is not None and var.ensemble.contact_time.size:
+        ct = var.ensemble.contact_time.mean(axis=0)
+        what = f"mean of seeds {var.ensemble.seeds[0]}..{var.ensemble.seeds[-1]}, {var.title}"
+    else:
+        ct, what = r.contact_time, f"reference record, {var.title}"
+    cl = centerline_of(model)
+    plot_geometry(
+        cl,
+        out / "routing_contact.png",
+        values=ct,
+        label="contact time per run (s)",
+        title=f"(a) routing and contact time (Fig. 22a)\n{what}",
+    )
+    fig, ax = plt.subplots(figsize=(7, 3.4))
+    plot_contact_histogram(ax, r.arc_length, ct, r.curvature, label="contact time per run (s)")
+    ax.set_title(f"(b) contact time per cable node and curvature (Fig. 22b): {what}", fontsize=8, loc="left")
+    save_figure(fig, out / "contact_histogram.png")
+
+
+def band_figure(variants, path):
+    """Band levels of casing.B.Fz as ensemble means with their 95 % confidence intervals (N, log
+    axis, and dB re 1 N), one series per variant (``studies.plot_ensemble``)."""
+    from ..studies import plot_ensemble
+
+    ens = [v for v in variants if v.ensemble is not None]
+    if not ens:
+        return
+    other = ens[1].ensemble if len(ens) > 1 else None
+    labels = (ens[0].title, ens[1].title if len(ens) > 1 else "")
+    title = f"Band levels of {OUTPUT} (Table 3): ensemble means over excitation seeds"
+    plot_ensemble(ens[0].ensemble, path, other, labels=labels, title=title)
+
+
+def psd_figure(variants, path, skip):
+    """PSD (Welch, 4 Hz resolution) of casing.B.Fz of the reference records, N^2/Hz and dB re 1 N^2/Hz."""
+    from ..nvh import psd
+    from ..nvh.plots import plot_psd
+
+    ps = []
+    for v in variants:
+        r = v.result
+        keep = r.time > skip
+        fs = 1.0 / (r.time[1] - r.time[0])
+        nper = min(2 ** int(np.round(np.log2(fs / 4.0))), 2 ** int(np.log2(keep.sum() // 4)))
+        ps.append(psd(r.support_force(OUTPUT)[keep], fs, nperseg=nper, unit="N", name=f"{OUTPUT} {v.title}"))
+    plot_psd(ps, path, f_range=(5.0, 3000.0), title=f"PSD of {OUTPUT}, reference records after {skip:g} s")
+
+
+def apparent_mass_figure(model, var, path, skip):
+    """H1 apparent mass of the reference record ``var`` from the driven support's acceleration to
+    casing.B.Fz, with coherence, against the TRFAM (viscous) of the frequency domain. Returns a
+    summary dict, or None when the record has no such input."""
+    import cablecasing_core as cc
+
+    from ..nvh import apparent_mass
+    from ..nvh.plots import plot_transfer
+    from ..records import read_records
+
+    rec = read_records(var.record)
+    d = OUTPUT[-1]
+    inp = f"casing.A.a{d}"
+    if inp not in rec.columns or "casing" not in model.bodies:
+        return None
+    tr = apparent_mass(rec, inp, OUTPUT, skip=skip, resolution_hz=8.0)
+    sel = (tr.f_hz >= 10) & (tr.f_hz <= 1000)
+    fine = TRFAM_HZ[TRFAM_HZ >= 10]
+    H = cc.trfam(model, f"casing.A.{d}", f"casing.B.{d}", fine, "viscous")
+    plot_transfer(
+        tr,
+        path,
+        reference_curves={"TRFAM, viscous (frequency domain)": (fine, H)},
+        f_range=(10.0, 1000.0),
+        title=f"Apparent mass {OUTPUT}/{inp} from the record {var.title} (H1)",
+    )
+    return {
+        "input": inp,
+        "n_averages": tr.n_averages,
+        "df": float(tr.f_hz[1]),
+        "median_coherence": float(np.median(tr.coherence[sel])),
+    }
+
+
+def rms_table(variants, path, skip):
+    """RMS (N) of the casing's support forces at B of every reference record after ``skip`` s, from
+    the saved records; written to rms.csv at full precision. Returns [(variant, {name: rms})]."""
+    rows = []
+    for v in variants:
+        r = v.result
+        keep = r.time > skip
+        rows.append(
+            (
+                v,
+                {
+                    n: float(np.sqrt(np.mean(r.support_force(n)[keep] ** 2)))
+                    for n in ("casing.B.Fx", "casing.B.Fy", "casing.B.Fz")
+                },
+            )
+        )
+    lines = ["variant,record,output,rms [N]"]
+    lines += [f"{v.key},{v.record.name},{n},{x!r}" for v, d in rows for n, x in d.items()]
+    write_text(path, "\n".join(lines) + "\n")
+    return rows
+
+
+def study_figures(model, folder: Path, n_samples, duration, skip, progress):
+    """A small study (Fig. 23) over the paper's parameters that the model has (every run the model's
+    scenario for ``duration`` s): study.csv, correlations.png and, with enough complete groups,
+    sobol.png. Returns a summary dict, or None when the model has none of those parameters."""
+    from ..studies import (
+        DEFAULT_EVALUATE,
+        PAPER_BOUNDS,
+        correlations,
+        plot_correlations,
+        plot_sobol,
+        run_study,
+        size_warnings,
+        sobol_indices,
+    )
+    from ..studies.sampling import check_bounds
+
+    known = model.parameters()
+    bounds = {k: b for k, b in PAPER_BOUNDS.items() if k in known}
+    if "cable" not in model.bodies:  # (without a cable the contact's keys change nothing)
+        bounds = {k: b for k, b in bounds.items() if not k.startswith(("contact.", "cable."))}
+    if not bounds:
+        return None
+    bounds = check_bounds(bounds, model=model)
+    folder.mkdir(parents=True, exist_ok=True)
+    for old in (folder / "study.csv", folder / "study.csv.meta.json"):  # a report's study starts afresh
+        old.unlink(missing_ok=True)
+    model_file = folder / "model.toml"  # the model the runs load (each run is this file with its overrides)
+    write_text(model_file, model.to_toml())
+    kwargs = {"model_file": str(model_file.resolve()), "duration": duration, "skip": skip}
+    res = run_study(
+        folder / "study.csv",
+        DEFAULT_EVALUATE,
+        bounds=bounds,
+        n_samples=n_samples,
+        seed=0,
+        scheduler="serial",
+        evaluate_kwargs=kwargs,
+        model=model,
+        progress=progress,
+    )
+    out = {"csv": "study/study.csv", "runs": len(res.status), "ok": int(res.ok.sum()), "bounds": bounds, "res": res}
+    if out["ok"] >= 3:
+        plot_correlations(res, folder / "correlations.png")
+        out["pearson"], out["spearman"] = correlations(res, "pearson"), correlations(res, "spearman")
+    try:
+        sob = sobol_indices(res)
+    except ModelError as exc:  # too few complete groups: the page says so
+        sob, out["sobol_note"] = None, f"No Sobol indices: {exc.allowed}."
+    out["warnings"] = size_warnings(res, sob) if out["ok"] else ["every run failed"]
+    worst = np.nanmax(np.r_[sob.S1_conf.ravel(), sob.ST_conf.ravel()]) if sob is not None else np.nan
+    if sob is not None and worst > SOBOL_SHOWN:
+        sob = None
+        out["sobol_note"] = (
+            f"The Sobol indices of these {res.n_base} base points are not shown: their intervals reach "
+            f"±{worst:.3g}. A larger study gives them: cablecasing study --samples N (docs/studies.md)."
+        )
+    out["sobol"] = sob
+    if sob is not None:
+        plot_sobol(res, folder / "sobol.png")
+    return out
+
+
+#: The widest interval (half-width) of a Sobol index the report still shows; beyond it the figure
+#: would be error bars only.
+SOBOL_SHOWN = 0.5

@@ -1,0 +1,250 @@
+"""The report's page (report.html): what was run, then every figure and table with the runs it
+comes from named beside it."""
+
+from __future__ import annotations
+
+import html
+import math
+
+import numpy as np
+
+from ..errors import ModelError
+from ..model.schema import lookup
+from .runs import OUTPUT
+
+_CSS = """body{font-family:sans-serif;max-width:70em;margin:1em auto;line-height:1.4}
+table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #bbb;padding:2px 6px;font-size:90%}
+th{background:#eee}td.n{text-align:right;font-family:monospace}img{max-width:100%}
+.note{color:#444;font-size:92%}.warn{color:#a40;font-weight:bold}"""
+
+
+def _e(x):
+    return html.escape(str(x))
+
+
+def _table(head, rows, numeric=()):
+    h = "".join(f"<th>{_e(c)}</th>" for c in head)
+    body = "".join(
+        "<tr>"
+        + "".join(f'<td class="n">{c}</td>' if i in numeric else f"<td>{c}</td>" for i, c in enumerate(r))
+        + "</tr>"
+        for r in rows
+    )
+    return f"<table><tr>{h}</tr>{body}</table>"
+
+
+def _g(x, digits=4):
+    return "nan" if x is None or (isinstance(x, float) and math.isnan(x)) else f"{float(x) + 0.0:.{digits}g}"
+
+
+def parameter_rows(model, duration):
+    """(key, value, unit, description) of every leaf of the model as text (tables and point lists
+    summarised; the model's own duration marked as not the report's): the report's parameter table
+    and parameters.csv."""
+    from ..model.model import dotted
+
+    rows = []
+    for key, v in dotted(model.data).items():
+        try:
+            spec = lookup(key)
+            unit, desc = spec.unit or "-", spec.description
+        except ModelError:
+            unit, desc = "-", ""
+        value = f"table of {len(v)} rows" if isinstance(v, list) and v and isinstance(v[0], list) else v
+        if key == "scenario.duration":
+            value = f"{v} (the report's runs: {duration:g} s)"
+        rows.append((key, str(value), unit, desc))
+    return rows
+
+
+def _excitations(model):
+    rows = []
+    for name, e in model.scenario["excitation"].items():
+        units = {k: lookup(f"scenario.excitation.{name}.{k}").unit for k in e if k not in ("target", "kind")}
+        params = ", ".join(f"{k} = {e[k]} {u if u not in ('', '1') else ''}".strip() for k, u in units.items())
+        rows.append((_e(name), _e(e["target"]), _e(e["kind"]), _e(params)))
+    return rows
+
+
+def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, out):
+    """The HTML text of the report (see :func:`cablecasing_core.report.write_report`)."""
+    seeds = info["seeds"]
+    parts = [
+        f"<!doctype html><html><head><meta charset='utf-8'><title>cablecasing report: {_e(model.source)}</title>"
+        f"<style>{_CSS}</style></head><body>",
+        f"<h1>Cable in casing: report of {_e(model.source)}</h1>",
+        _table(
+            ["what", "value"],
+            [
+                ("model", f"{_e(model.source)} (fingerprint {info['fingerprint']})"),
+                ("cablecasing version", _e(info["version"])),
+                ("date", _e(info["date"])),
+                (
+                    "every run",
+                    f"{info['duration']:g} s at dt = {info['dt']:g} s; levels and spectra after {info['skip']:g} s",
+                ),
+                ("excitation seeds", f"{seeds[0]}..{seeds[-1]} ({len(seeds)}; the reference records: seed {seeds[0]})"),
+                ("output", f"{OUTPUT} (N): force the casing exerts on its support B in z"),
+            ],
+        ),
+        "<h2>Scenario</h2>",
+        _table(["excitation", "target", "kind", "parameters"], _excitations(model)),
+        "<h2>The runs</h2><p>Every figure and table below comes from these runs (also in runs.json):</p>",
+    ]
+    rows = []
+    for v in variants:
+        ens = v.ensemble
+        rows.append(
+            (
+                _e(v.title),
+                _e(", ".join(f"{k} = {x}" for k, x in v.seed_overrides.items()) or "-"),
+                f"<a href='{v.record.relative_to(out)}'>{_e(v.record.relative_to(out))}</a>",
+                f"<a href='bands_{v.key}.csv'>bands_{v.key}.csv</a> ({ens.n} seeds)" if ens is not None else "-",
+                _g(v.member_check, 3),
+            )
+        )
+    parts.append(
+        _table(
+            [
+                "variant",
+                "reference record's seed",
+                "reference record",
+                "ensemble",
+                "first member vs record (max rel. diff of band levels)",
+            ],
+            rows,
+            numeric=(4,),
+        )
+    )
+    parts.append(
+        "<p class='note'>With contact the response is chaotic (docs/time_domain.md): a single record is one draw "
+        "of a random process, its band levels scatter from seed to seed, so levels are given as ensemble means with "
+        "confidence intervals, and the reference records illustrate.</p>"
+    )
+    parts += [
+        "<h2>Model parameters</h2>",
+        _table(
+            ["key", "value", "unit", "description"],
+            [tuple(map(_e, r)) for r in parameter_rows(model, info["duration"])],
+        ),
+    ]
+    n = max(len(f) for f in modes.values())
+    mrows = [[str(i + 1)] + [_g(f[i], 6) if i < len(f) else "" for f in modes.values()] for i in range(n)]
+    parts += [
+        "<h2>Natural frequencies (Hz)</h2>",
+        _table(["mode"] + [f"{b} (Hz)" for b in modes], mrows, numeric=tuple(range(1, len(modes) + 1))),
+        "<h2>TRFAM (Eq. 12), structural and viscous damping (Fig. 17)</h2>",
+        "<img src='trfam_xyz.png'><p class='note'>Frequency domain; files trfam_x.csv, trfam_y.csv, trfam_z.csv "
+        "and trfam.uff (UFF 58, six FRFs, kg).</p>",
+        "<h2>Support forces of the reference records</h2><img src='simulation.png'>",
+        _table(
+            ["variant", "record"] + [f"RMS {k} (N)" for k in rms[0][1]],
+            [(_e(v.title), _e(v.record.name), *(_g(x, 6) for x in d.values())) for v, d in rms],
+            numeric=(2, 3, 4),
+        ),
+        f"<p class='note'>RMS after {info['skip']:g} s, from the saved records (rms.csv at full precision).</p>",
+        "<h2>Wavelet transform of the support force without and with the cable drive (Figs. 20-21)</h2>",
+        "<img src='scalograms.png'>",
+        f"<p class='note'>Reference records; dashed: natural frequencies of the casing; dotted red: the drive and its "
+        f"harmonics ({_e(', '.join(f'{f:g}' for f in harmonics[:8]))}{' ...' if len(harmonics) > 8 else ''} Hz).</p>",
+        "<h2>Contact: routing and contact time beside the curvature (Fig. 22)</h2>",
+        "<img src='routing_contact.png'><img src='contact_histogram.png'>"
+        if {"casing", "cable"} <= set(model.bodies)
+        else "<p>The model has no cable in a casing: no contact.</p>",
+    ]
+    parts += _bands(variants)
+    parts += [
+        "<h2>Spectra</h2><img src='psd.png'>",
+    ]
+    if am is not None:
+        parts += [
+            "<img src='apparent_mass.png'>",
+            f"<p class='note'>H1 from {_e(am['input'])} to {OUTPUT} of the reference record {variants[0].title} "
+            f"({am['n_averages']} averages, {am['df']:.3g} Hz), in the TRFAM's sign convention, against the TRFAM of "
+            f"the frequency domain; median coherence {am['median_coherence']:.2f} (10-1000 Hz): the contact makes "
+            "the transmission non-linear where the coherence drops.</p>",
+        ]
+    parts += _study(study)
+    if fmu is not None:
+        parts += [
+            "<h2>The FMU</h2>",
+            _table(["what", "value"], [(_e(k), _e(v)) for k, v in fmu.items()]),
+        ]
+    parts.append("</body></html>")
+    return "\n".join(parts)
+
+
+def _bands(variants):
+    ens = [v for v in variants if v.ensemble is not None]
+    if not ens:
+        return ["<h2>Band levels</h2><p>No random excitation: no ensemble over seeds.</p>"]
+    e0 = ens[0].ensemble
+    head = ["band", "Hz"]
+    for v in ens:
+        head += [f"{v.title}: mean (N)", "95 % CI (N)", "mean (dB re 1 N)", "95 % CI (dB)", "CV of one record"]
+    rows = []
+    for b, lab in enumerate(e0.labels):
+        row = [lab, f"{e0.lower[b]:g}-{e0.upper[b]:g}"]
+        for v in ens:
+            e = v.ensemble
+            lo, hi = (x[b] for x in e.ci(0.95))
+            lo = max(lo, 0.0)  # (a level is positive: the interval is cut at 0)
+            m = e.mean[b]
+            row += [
+                _g(m, 4),
+                f"{_g(lo, 3)} - {_g(hi, 3)}",
+                f"{_db(m)}",
+                f"{_db(lo)} - {_db(hi)}",
+                f"{100 * e.cv[b]:.0f} %",
+            ]
+        rows.append(row)
+    return [
+        f"<h2>Band levels of {OUTPUT} (Table 3): ensemble means over excitation seeds</h2>",
+        "<img src='band_levels.png'>",
+        _table(head, rows, numeric=tuple(range(2, len(head)))),
+        "<p class='note'>Means over the seeds of the ensembles (bands_&lt;variant&gt;.csv: one row per seed); "
+        "Student-t 95 % intervals (cut at 0); CV: the seed-to-seed scatter of a single record's level.</p>",
+    ]
+
+
+def _db(x):
+    """A level in dB re 1 N, "-inf" for zero."""
+    return f"{20 * np.log10(x):.1f}" if x > 0 else "-inf"
+
+
+def _study(study):
+    if study is None:
+        return [
+            "<h2>Study (Fig. 23)</h2><p>No study: the model has none of the paper's parameters, or it was "
+            "not asked for.</p>"
+        ]
+    bounds = ", ".join(f"{k} {lo:g}..{hi:g}" for k, (lo, hi) in study["bounds"].items())
+    parts = [
+        "<h2>A small Monte-Carlo study (Fig. 23)</h2>",
+        f"<p>{study['runs']} runs ({study['ok']} ok) of Saltelli's design, parameters: {_e(bounds)} "
+        f"(<a href='{study['csv']}'>{study['csv']}</a>).</p>",
+    ]
+    parts += [f"<p class='warn'>{_e(w)}</p>" for w in study.get("warnings", [])]
+    if "pearson" in study:
+        parts.append("<img src='study/correlations.png'>")
+        for c in (study["pearson"], study["spearman"]):
+            parts.append(f"<p>{c.method.capitalize()} r (-), {c.n} ok runs:</p>")
+            parts.append(
+                _table(
+                    ["parameter"] + list(c.outputs),
+                    [[_e(p)] + [f"{x:+.2f}" for x in c.r[i]] for i, p in enumerate(c.parameters)],
+                    numeric=tuple(range(1, len(c.outputs) + 1)),
+                )
+            )
+    sob = study.get("sobol")
+    if study.get("sobol_note"):
+        parts.append(f"<p class='note'>{_e(study['sobol_note'])}</p>")
+    if sob is not None:
+        parts.append("<img src='study/sobol.png'>")
+        rows = []
+        for i, p in enumerate(sob.parameters):
+            rows.append([_e(p) + " S1"] + [f"{a:+.2f} ± {c:.2f}" for a, c in zip(sob.S1[i], sob.S1_conf[i])])
+            rows.append([_e(p) + " ST"] + [f"{a:+.2f} ± {c:.2f}" for a, c in zip(sob.ST[i], sob.ST_conf[i])])
+        parts.append(f"<p>Sobol indices (-), {sob.n_base} complete base points, {sob.conf_level:.0%} intervals:</p>")
+        parts.append(_table(["index"] + list(sob.outputs), rows, numeric=tuple(range(1, len(sob.outputs) + 1))))
+    return parts

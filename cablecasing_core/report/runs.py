@@ -1,0 +1,145 @@
+"""The runs of a report (``cablecasing report``, ``make demo``): one set, saved under the report's
+folder, from which every figure and table is drawn.
+
+* **Variants**: the model's scenario *with the cable drive* (as it is) and *without* it (the same
+  scenario less its excitations on the cable: Figs. 20-21 compare the two). A model without an
+  excitation on the cable has one variant.
+* **Reference records**: one run per variant with the first seed, saved as
+  ``records/<variant>.npz`` (every array, :meth:`SimulationResult.save`); the time histories, the
+  scalograms (Figs. 20-21), the PSD, the apparent mass and the RMS table are computed from the saved
+  files, read back.
+* **Ensembles**: band levels of ``casing.B.Fz`` over the excitation seeds (``seed_ensemble``), one per
+  variant, saved as ``bands_<variant>.csv``; their first member is the reference record's run
+  (checked: the report states the largest difference of its band levels, zero when all is well).
+* **Study**: a small Monte-Carlo study (Fig. 23) over the paper's parameters that the model has,
+  saved as ``study/study.csv``.
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..model import Model, model_from_dict
+from ..studies import Ensemble
+
+#: The output whose band levels, scalograms and spectra the report shows (Section 4.4: the support
+#: force at casing end B in z).
+OUTPUT = "casing.B.Fz"
+
+
+@dataclass
+class Variant:
+    """One scenario of the report: ``key`` (file names), ``title``, its ``model``, the saved
+    reference record ``record`` (path), the reference ``result`` (read back from it) and the
+    band-level ``ensemble`` (None without a random excitation)."""
+
+    key: str
+    title: str
+    model: Model
+    record: Path
+    seed_overrides: dict = field(default_factory=dict)
+    result: object = None
+    ensemble: Ensemble | None = None
+    member_check: float = float("nan")
+    files: list = field(default_factory=list)
+
+
+def cable_excitations(model: Model) -> list[str]:
+    """Names of the model's excitations that drive the cable."""
+    return [n for n, e in model.scenario["excitation"].items() if e["target"].startswith("cable.")]
+
+
+def without_cable_drive(model: Model) -> Model | None:
+    """The model with its excitations on the cable removed (None when it has none)."""
+    names = cable_excitations(model)
+    if not names:
+        return None
+    data = copy.deepcopy(model.data)
+    for n in names:
+        del data["scenario"]["excitation"][n]
+    return model_from_dict(data, source=f"{model.source} without the cable drive", base_dir=model.base_dir)
+
+
+def drive_harmonics(model: Model, f_max: float) -> list[float]:
+    """The frequencies (Hz) of the harmonic excitations on the cable and their multiples up to f_max."""
+    out = set()
+    for n in cable_excitations(model):
+        e = model.scenario["excitation"][n]
+        if e["kind"] == "harmonic":
+            out.update(k * e["frequency"] for k in range(1, int(f_max // e["frequency"]) + 1))
+    return sorted(out)
+
+
+def variants(model: Model, out: Path, first_seed: int) -> list[Variant]:
+    """The report's variants (module docstring), each with the seed overrides of ``first_seed``."""
+    from ..studies import random_excitations, seed_overrides
+
+    v = [Variant("drive", "with the cable drive", model, out / "records" / "drive.npz")]
+    bare = without_cable_drive(model)
+    if bare is not None:
+        v.insert(0, Variant("nodrive", "without the cable drive", bare, out / "records" / "nodrive.npz"))
+    else:
+        v[0].title = "the model's scenario"
+    for var in v:
+        var.seed_overrides = seed_overrides(var.model, first_seed) if random_excitations(var.model) else {}
+    return v
+
+
+def run_variant(var: Variant, duration: float, seeds: list[int], skip: float, progress: bool) -> None:
+    """The reference record (saved, then read back) and the band-level ensemble of one variant."""
+    from ..studies import random_excitations, seed_ensemble
+    from ..timedomain.simulation import SimulationResult, simulate
+
+    model = var.model.with_overrides(var.seed_overrides)
+    res = simulate(model, duration=duration, progress=progress)
+    var.record.parent.mkdir(parents=True, exist_ok=True)
+    res.save(var.record)
+    var.result = SimulationResult.load(var.record)
+    if random_excitations(var.model) and len(seeds) >= 2:
+        var.ensemble = seed_ensemble(var.model, seeds, output=OUTPUT, duration=duration, skip=skip, progress=progress)
+        from ..studies import octave_rms
+
+        r = var.result
+        keep = r.time > skip
+        mine = octave_rms(r.support_force(OUTPUT)[keep], 1.0 / (r.time[1] - r.time[0]), "table3").rms
+        var.member_check = float(np.max(np.abs(mine - var.ensemble.levels[0]) / var.ensemble.levels[0]))
+
+
+def fmu_check(outputs_csv, step: float, duration: float, model: Model | None = None) -> dict:
+    """The FMU's outputs (``outputs_csv``, written by ``examples/demo.py`` from an fmpy run of the
+    scenario's record sampled every ``step`` s) against the core driven by the same sampled record
+    (``timedomain.simulation.simulate_sampled``): the largest deviation of each support output,
+    relative to its largest value, over the run. Returns a summary for the report."""
+    from ..model import load_model
+    from ..model.schema import OUTPUTS, SUPPORT_OUTPUTS
+    from ..records import read_records
+    from ..timedomain.simulation import simulate_sampled
+
+    model = load_model() if model is None else model
+    fmu = read_records(outputs_csv)
+    t, core = simulate_sampled(model, step, duration)
+    worst, where = 0.0, ""
+    n = 0
+    for name in SUPPORT_OUTPUTS:
+        if name not in fmu.columns:
+            continue
+        a = fmu.columns[name]
+        on = np.searchsorted(fmu.time, t - 1e-9 * step)  # the FMU's row at the end of each step
+        ok = on < len(a)
+        ref = core[ok, OUTPUTS.index(name)]
+        dev = float(np.max(np.abs(a[on[ok]] - ref)) / (np.max(np.abs(ref)) + 1e-300))
+        n = int(ok.sum())
+        if dev >= worst:
+            worst, where = dev, name
+    return {
+        "FMU outputs": str(outputs_csv),
+        "communication step (s)": step,
+        "duration (s)": duration,
+        "compared with": "the core driven by the same sampled record with the FMU's input reconstruction "
+        "(cablecasing_core.timedomain.simulation.simulate_sampled)",
+        "largest deviation, relative to the output's largest value": f"{worst:.3g} ({where}, over {n} steps)",
+    }

@@ -1,0 +1,141 @@
+"""One FMU communication step in one compiled call: the support motion from the reconstruction
+(Taylor target of the inputs, quintic Hermite from the supports' state, ``_quintic_support_motion``),
+the Newmark steps with contact (:func:`run_steps`) and the outputs after them
+(:func:`step_outputs`).
+
+It is what ``Engine.advance(h, SupportReconstruction.motion(...))`` followed by
+``SupportReconstruction.accept`` and ``Engine.output_values`` computes, with the same kernels in the
+same order on the same numbers, so the results are the same to the bit; it exists because those
+are about ten Python-level calls per communication step (motion set-up and evaluation, the engine's
+chunking and records, four numba dispatches) that cost as much as the ten Newmark steps of a 1e-4 s
+step themselves (docs/performance.md, FMU).
+
+:func:`communication_step_in_context` takes every array of a communication step in one
+:class:`CommunicationContext` (a numba structref, made once per engine, step size and buffers by
+:func:`new_communication_context`): numba unboxes a structref as one pointer, where the ~60 arrays
+of the records cost ~0.15 us each to unbox at every call.
+"""
+
+from __future__ import annotations
+
+from numba import njit, types
+from numba.core.extending import overload
+from numba.experimental import structref
+
+from ._compile_options import FM
+from ._contact_search_and_law import contact_potential
+from ._newmark_step_loop_with_ledger import run_steps
+from ._quintic_support_motion import quintic_coefficients, quintic_values, taylor_rows
+from ._step_loop_contract import LEDGER_CONTACT_WORK
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def step_outputs(reac, cstate, gn, ledger, law, k_lin, k_hertz, pot0, out):
+    """The engine's outputs (``model.schema.OUTPUTS``) into ``out``: the 24 support reactions (N,
+    N.m), the cable nodes in contact, the largest penetration (m, 0 without contact) and the energy
+    dissipated in the contacts (J: their work less the change of the energy they store since the
+    start, ``pot0`` J the energy stored in the static state's contacts)."""
+    for i in range(24):
+        out[i] = reac[i]
+    active = 0
+    for i in range(cstate.shape[0]):
+        if cstate[i] != 0:  # OPEN == 0
+            active += 1
+    out[24] = active
+    g = 0.0
+    for i in range(gn.shape[0]):
+        if i == 0 or gn[i] > g:
+            g = gn[i]
+    out[25] = g
+    out[26] = -ledger[LEDGER_CONTACT_WORK] - (contact_potential(gn, law, k_lin, k_hertz) - pot0)
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def communication_step(
+    t0, dt, m, h, pot0, G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact, reac,
+    ledger, ledger_on, rec, info, out,
+):  # fmt: skip
+    """Advance from ``t0`` by ``m`` steps of ``dt`` (s), ``m dt`` = ``h``, with the support motion
+    of the communication step ``[t0, t0 + h]``: the quintic Hermite (power-basis matrix ``G`` of
+    ``support_motion``) from ``state`` (3 x 12: u, v, a of the supports at t0) to the Taylor target
+    of the inputs ``u, v, a`` (12 each, m, m/s, m/s2), plus ``base`` (3 x m x 12: u, v, a at the m
+    step ends) when ``use_base``. ``rows`` (6 x 12), ``coeffs`` (3 x 6 x 12), ``times`` (m) and
+    ``motion`` (3 x m x 12) are scratch; ``out`` receives the outputs. Returns run_steps' status;
+    ``rows[3:]`` is then the supports' state at t0 + h, and ``out`` is written only if the status
+    is OK (``pot0``: as :func:`step_outputs`)."""
+    taylor_rows(state, u, v, a, h, rows)
+    quintic_coefficients(G, rows, coeffs)
+    for i in range(m):
+        times[i] = t0 + dt * (i + 1)
+    quintic_values(coeffs, t0, h, times, motion)
+    if use_base:
+        for d in range(3):
+            for i in range(m):
+                for j in range(motion.shape[2]):
+                    motion[d, i, j] += base[d, i, j]
+    status = run_steps(t0, dt, motion[0], motion[1], motion[2], casing, cable, law, contact, reac, ledger,
+                       ledger_on, rec, info)  # fmt: skip
+    if status == 0:  # OK: a failed step leaves out alone (the engine rolls the step back)
+        step_outputs(reac, contact.state, contact.g, ledger, law.law, law.k_lin, law.k_hertz, pot0, out)
+    return status
+
+
+@structref.register
+class CommunicationContextType(types.StructRef):
+    """The numba type of :class:`CommunicationContext` (its fields typed by what it is made of)."""
+
+    def preprocess_fields(self, fields):
+        return tuple((name, types.unliteral(t)) for name, t in fields)
+
+
+class CommunicationContext(structref.StructRefProxy):
+    """Every array of :func:`communication_step` but the step's numbers, held by the engine."""
+
+
+structref.define_boxing(CommunicationContextType, CommunicationContext)
+
+CONTEXT_FIELDS = (
+    "G", "state", "u", "v", "a", "rows", "coeffs", "times", "motion", "base", "use_base", "casing", "cable", "law",
+    "contact", "reac", "ledger", "ledger_on", "rec", "info", "out",
+)  # fmt: skip
+
+
+def _new_context(*fields):
+    raise NotImplementedError  # (compiled only, through the overload below)
+
+
+@overload(_new_context)
+def _new_context_overload(*fields):
+    ty = CommunicationContextType(list(zip(CONTEXT_FIELDS, fields)))
+
+    def build(*fields):
+        ctx = structref.new(ty)
+        (ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion, ctx.base, ctx.use_base,
+         ctx.casing, ctx.cable, ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on, ctx.rec, ctx.info,
+         ctx.out) = fields  # fmt: skip
+        return ctx
+
+    return build
+
+
+@njit(cache=True)
+def new_communication_context(
+    G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact, reac, ledger,
+    ledger_on, rec, info, out,
+):  # fmt: skip
+    """The :class:`CommunicationContext` of these arrays (the arguments of :func:`communication_step`
+    in its order, without t0, dt, m, h and pot0); it refers to them, it does not copy them."""
+    return _new_context(
+        G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact, reac, ledger,
+        ledger_on, rec, info, out,
+    )  # fmt: skip
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def communication_step_in_context(ctx, t0, dt, m, h, pot0):
+    """:func:`communication_step` with its arrays from ``ctx``."""
+    return communication_step(
+        t0, dt, m, h, pot0, ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion, ctx.base,
+        ctx.use_base, ctx.casing, ctx.cable, ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on, ctx.rec,
+        ctx.info, ctx.out,
+    )  # fmt: skip

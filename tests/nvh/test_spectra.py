@@ -1,0 +1,65 @@
+"""PSD (Welch) and levels against Parseval and known levels: a sum of sines and white noise; band
+levels in dB re a documented reference."""
+
+import numpy as np
+import pytest
+
+from cablecasing_core import ModelError
+from cablecasing_core.nvh import REFERENCES, level_db, psd, reference
+from cablecasing_core.studies import octave_rms
+
+FS = 8192.0
+
+
+def test_psd_of_a_sum_of_sines_is_parseval_and_puts_each_tone_at_its_power():
+    nper = 1024  # df = 8 Hz
+    df = FS / nper
+    tones = [(3.0, 50 * df, 0.3), (0.5, 100 * df, 1.1), (1.5, 333 * df, 2.0)]  # N, Hz (bin centres), rad
+    t = np.arange(64 * nper) / FS
+    x = sum(A * np.sin(2 * np.pi * f * t + ph) for A, f, ph in tones)
+    p = psd(x, FS, nperseg=nper, unit="N", name="x")
+    assert p.fs / p.nperseg == df and p.n_averages == 127
+    # Parseval: on bin centres the Hann window's power has no component at twice a tone's frequency,
+    # so the integral of the density is the mean square exactly (to round-off)
+    assert p.mean_square() == pytest.approx(np.mean(x**2), rel=1e-10)
+    assert p.mean_square() == pytest.approx(sum(A * A / 2 for A, _, _ in tones), rel=1e-10)
+    for A, f, _ in tones:  # each tone in its bin and the two beside it (Hann's main lobe): A^2 / 2
+        assert p.mean_square(f - 1.5 * df, f + 1.5 * df) == pytest.approx(A * A / 2, rel=1e-10)
+        k = int(round(f / df))
+        assert p.level_db()[k] == pytest.approx(10 * np.log10(p.density[k] / 1.0))  # dB re 1 N^2/Hz
+    # the window's equivalent noise bandwidth is 1.5 bins: the peak density is the power / ENBW / ...
+    assert p.enbw == pytest.approx(1.5 * df, rel=1e-3)
+    assert p.density[50] == pytest.approx(3.0**2 / 2 / p.enbw, rel=1e-10)
+
+
+def test_psd_of_white_noise_is_flat_at_its_known_level():
+    rng = np.random.default_rng(5)
+    sigma = 2.0  # m/s2
+    x = sigma * rng.standard_normal(2**20)
+    p = psd(x, FS, nperseg=2048, unit="m/s2")
+    level = 2 * sigma**2 / FS  # one-sided density of white noise of variance sigma^2, (m/s2)^2/Hz
+    inner = p.density[1:-1]
+    # each bin's estimate scatters by ~1/sqrt(averages) (1023 segments, 50 % overlap: ~1/27); the
+    # mean over 1023 bins by ~1/sqrt(1023 * 1023 / 1.1) ~ 1e-3: 5e-3 is five standard deviations
+    assert np.mean(inner) == pytest.approx(level, rel=5e-3)
+    assert np.std(inner / level) < 1.3 / np.sqrt(p.n_averages)  # (overlap raises it by < 10 %)
+    assert p.mean_square() == pytest.approx(np.var(x), rel=5e-3)  # Parseval within the same scatter
+    # its level: dB re (1e-6 m/s2)^2/Hz (ISO 1683)
+    assert reference("m/s2") == 1e-6
+    np.testing.assert_allclose(p.level_db(), 10 * np.log10(p.density / 1e-12))
+    # and octave bands of the same record: band RMS sqrt(level * bandwidth), in dB re 1e-6 m/s2
+    b = octave_rms(x, FS, "octave", beyond_nyquist="drop")
+    np.testing.assert_allclose(b.rms, np.sqrt(level * (b.upper - b.lower)), rtol=0.1)  # >= 11 Hz bands
+    np.testing.assert_allclose(b.level_db(1e-6), 20 * np.log10(b.rms / 1e-6))
+
+
+def test_level_references_and_errors():
+    assert REFERENCES == {"N": 1.0, "N.m": 1.0, "m/s2": 1e-6, "m/s": 1e-9, "m": 1e-12}
+    assert level_db(10.0, 1.0) == pytest.approx(20.0) and level_db(10.0, 1.0, power=True) == pytest.approx(10.0)
+    assert reference("Pa", 2e-5) == 2e-5
+    with pytest.raises(ModelError, match="--ref"):
+        reference("Pa")
+    with pytest.raises(ModelError, match="nperseg"):
+        psd(np.ones(100), FS, nperseg=200)
+    with pytest.raises(ModelError, match="window"):
+        psd(np.ones(100), FS, window="no-such-window")
