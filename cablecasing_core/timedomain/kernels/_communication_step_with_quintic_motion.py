@@ -52,8 +52,8 @@ def step_outputs(reac, cstate, gn, ledger, law, k_lin, k_hertz, pot0, out):
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def communication_step(
-    t0, dt, m, h, pot0, G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact, reac,
-    ledger, ledger_on, rec, info, out,
+    t0, dt, m, h, pot0, G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact,
+    reac, ledger, ledger_on, rec, info, out,
 ):  # fmt: skip
     """Advance from ``t0`` by ``m`` steps of ``dt`` (s), ``m dt`` = ``h``, with the support motion
     of the communication step ``[t0, t0 + h]``: the quintic Hermite (power-basis matrix ``G`` of
@@ -135,7 +135,7 @@ def new_communication_context(
 def communication_step_in_context(ctx, t0, dt, m, h, pot0):
     """:func:`communication_step` with its arrays from ``ctx``."""
     return communication_step(
-        t0, dt, m, h, pot0, ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion, ctx.base,
-        ctx.use_base, ctx.casing, ctx.cable, ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on, ctx.rec,
-        ctx.info, ctx.out,
+        t0, dt, m, h, pot0, ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion,
+        ctx.base, ctx.use_base, ctx.casing, ctx.cable, ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on,
+        ctx.rec, ctx.info, ctx.out,
     )  # fmt: skip
