@@ -15,11 +15,26 @@ D_ff is diagonalised exactly by the undamped modes of (K, M) because both dampin
 proportional; the solve is then a modal sum over all modes (no truncation), vectorised over
 frequency. TRFAM (Eq. 12) = f_p,out / (acceleration of the input DOF) = f_p / (-omega^2), in kg.
 
-With isolators or clips (``structure/mount_element.py``) the supports' own nodes are prescribed
-DOFs of the augmented system and each mount adds its complex dynamic stiffness
-K6 k_scale(f) (1 + i loss(f)) + i omega C6 between body node and support node. That damping is not
-proportional, so D_ff is then solved directly at each frequency (dense LU, in blocks of
-frequencies); f_p at an isolator's support node is the force through the isolator.
+A prestressed body (an installed model's cable in tension and casing in compression,
+docs/installed.md) has the tangent stiffness K = K_E + K_G, of which only the elastic part K_E
+carries the material's modulus and loss: the dynamic stiffness is then
+
+* viscous: D = (1 + i omega beta) (s K_E + K_G) - (omega^2 - i omega alpha) M (Rayleigh on the
+  tangent stiffness, as in the time domain),
+* structural: D = s (1 + i eta(omega)) K_E + K_G - omega^2 M (the complex modulus, Eq. 11, acts
+  on the elastic stiffness only; the geometric stiffness of the prestress has no loss),
+
+which the undamped modes no longer diagonalise (K_G and K_E are not proportional); it is solved
+directly at each frequency on the free DOFs, whose matrices are banded (half-bandwidth 11,
+scipy.linalg.solve_banded), exact like the modal sum.
+
+With isolators or clips (``structure/mount_element.py``) each mount's support is a node of its own
+whose six DOFs are prescribed (the augmented system of ``structure/assembly.py``), and the mount
+adds its complex dynamic stiffness Z = K6 k_scale(f) (1 + i loss(f)) + i omega C6 (K6 k_scale(f)
+with damping "none") as [[Z, -Z], [-Z, Z]] between the body's node and its support's. Z is not
+proportional to K or M, so such a body is solved directly too (Z sits on a node block of D_ff,
+which stays banded); f_p at an isolator's support DOFs is the force through the isolator. The
+Rayleigh and loss factors of the body do not act on the mounts, which have their own damping.
 
 Sign convention: f_p is the force the support applies to the body (the reaction of Eq. 13), so a
 rigid mass m has a driving-point apparent mass of +m.
@@ -31,6 +46,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
+from scipy.linalg import solve_banded
 
 from ..errors import ModelError
 from ..model.schema import DIRECTIONS, SUPPORT_NAMES
@@ -65,8 +81,9 @@ class FrequencyResponse:
 
     def __init__(self, system):
         self.system = system
-        if system.mounts:
-            return  # solved directly (support_forces)
+        if system.prestressed or system.mounts:
+            self._direct_setup(system)
+            return
         basis = modal_basis(system)
         self.lam = basis.lam
         Kff, Kfp, Kpf, Kpp = system.K_blocks
@@ -86,15 +103,19 @@ class FrequencyResponse:
         s = spec.modulus(f) / self.system.E
         if damping == "viscous":
             kappa, alpha = s * (1.0 + 1j * w * spec.beta), spec.alpha
+            kappa_g = 1.0 + 1j * w * spec.beta
         elif damping == "structural":
             kappa, alpha = s * (1.0 + 1j * spec.loss(f)), 0.0
+            kappa_g = np.ones_like(w, dtype=complex)
         else:
             kappa, alpha = s.astype(complex), 0.0
+            kappa_g = np.ones_like(w, dtype=complex)
         mu = w**2 - 1j * w * alpha
         rows = slice(None) if rows is None else rows
         cols = slice(None) if cols is None else cols
-        if self.system.mounts:
-            return self._direct(f, kappa, mu, damping != "none", rows, cols)
+        if self.system.prestressed or self.system.mounts:
+            Z = [m.dynamic_stiffness(f, damped=damping != "none") for m in self.system.mounts]
+            return self._direct_forces(kappa, kappa_g, mu, rows, cols, Z)
         Kin, Min = self.Kin[:, cols], self.Min[:, cols]
         Kout, Mout = self.Kout[rows], self.Mout[rows]
         k, m = kappa[:, None], mu[:, None]
@@ -105,28 +126,52 @@ class FrequencyResponse:
         F += kappa[:, None, None] * self.Kpp[rows][:, cols][None] - mu[:, None, None] * self.Mpp[rows][:, cols][None]
         return F
 
-    BLOCK = 64  # frequencies per batched dense solve (64 x 216^2 complex: 48 MB)
+    BAND = 11  # half-bandwidth of a body's matrices (six DOFs per node, two nodes per element)
 
-    def _direct(self, f, kappa, mu, damped, rows, cols):
-        """support_forces with mounts: D(omega) = kappa K - mu M + the mounts' dynamic stiffness on
-        the augmented DOFs, x_f = -D_ff^-1 D_fp e_j and f_p = D_pf x_f + D_pp e_j at each frequency."""
-        sysm = self.system
-        K, M = sysm.augmented(sysm.K), sysm.augmented(sysm.M)
-        fr, pr = sysm.free, sysm.prescribed
-        pr_rows, pr_cols = pr[rows], pr[cols]
-        Z = [m.dynamic_stiffness(f, damped) for m in sysm.mounts]
-        G = [np.concatenate(sysm.mount_dofs(i)) for i in range(len(sysm.mounts))]
-        out = np.empty((len(f), len(pr_rows), len(pr_cols)), complex)
-        for k0 in range(0, len(f), self.BLOCK):
-            k1 = min(len(f), k0 + self.BLOCK)
-            D = kappa[k0:k1, None, None] * K[None] - mu[k0:k1, None, None] * M[None]
-            for idx, z in zip(G, Z):
-                zz = z[k0:k1]
-                D[np.ix_(np.arange(k1 - k0), idx, idx)] += np.block([[zz, -zz], [-zz, zz]])
-            Dff = D[:, fr][:, :, fr]
-            x = -np.linalg.solve(Dff, D[:, fr][:, :, pr_cols])
-            out[k0:k1] = D[:, pr_rows][:, :, fr] @ x + D[:, pr_rows][:, :, pr_cols]
-        return out
+    def _direct_setup(self, system):
+        """The blocks of K_E, K_G and M of a prestressed body or one with mounts (on the augmented
+        DOFs), the free-free ones in banded storage; each mount's node (its first position among
+        the free DOFs) and its support's six positions among the prescribed DOFs."""
+        self.blocks = [system.blocks(A) for A in (system.K_E, system.K_G, system.M)]
+        self.mount_at = []
+        for m in range(len(system.mounts)):
+            node, base = system.mount_dofs(m)
+            self.mount_at.append((int(np.searchsorted(system.free, node[0])), np.searchsorted(system.prescribed, base)))
+        b = self.BAND
+        n = len(system.free)
+        self.banded = []
+        for ff, _, _, _ in self.blocks:
+            ab = np.zeros((2 * b + 1, n))
+            for k in range(-b, b + 1):  # ab[b + i - j, j] = A[i, j] (scipy's banded storage)
+                i = np.arange(max(0, k), min(n, n + k))
+                ab[b + k, i - k] = ff[i, i - k]
+            self.banded.append(ab)
+
+    def _direct_forces(self, kappa, kappa_g, mu, rows, cols, Z=()):
+        """Support forces of a prestressed body or one with mounts: D(omega) = kappa K_E + kappa_g K_G
+        - mu M + the mounts' Z[m][k] (6 x 6, N/m) solved on the free DOFs at each frequency (banded),
+        x_f = -D_ff^-1 D_fp e_j, f_p = D_pf x_f + D_pp e_j."""
+        (_, Efp, Epf, Epp), (_, Gfp, Gpf, Gpp), (_, Mfp, Mpf, Mpp) = self.blocks
+        Ebd, Gbd, Mbd = self.banded
+        b = self.BAND
+        r6 = np.arange(6)
+        ii, jj = np.meshgrid(r6, r6, indexing="ij")
+        F = np.empty((len(mu), len(Epf[rows]), Efp[:, cols].shape[1]), dtype=complex)
+        for k, (ke, kg, m) in enumerate(zip(kappa, kappa_g, mu)):
+            D_fp = ke * Efp + kg * Gfp - m * Mfp
+            D_pf = ke * Epf + kg * Gpf - m * Mpf
+            D_pp = ke * Epp + kg * Gpp - m * Mpp
+            ab = ke * Ebd + kg * Gbd - m * Mbd
+            for (f0, pb), z in zip(self.mount_at, Z):
+                zk = z[k]
+                node = r6 + f0
+                ab[b + ii - jj, f0 + jj] += zk  # (node, node) block, in banded storage
+                D_fp[np.ix_(node, pb)] -= zk
+                D_pf[np.ix_(pb, node)] -= zk
+                D_pp[np.ix_(pb, pb)] += zk
+            x = solve_banded((b, b), ab, -D_fp[:, cols], check_finite=False)
+            F[k] = D_pf[rows] @ x + D_pp[rows][:, cols]
+        return F
 
 
 def trfam(model: Model, input: str, output: str, freqs_hz: ArrayLike, damping: str = "viscous") -> np.ndarray:

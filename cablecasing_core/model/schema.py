@@ -17,7 +17,7 @@ Keys under named tables are written with ``<name>`` (``scenario.excitation.<name
 :func:`lookup` accepts them under any name. Units are FMI-style strings ("1": dimensionless,
 "m/s2", "N.m", "kg/m3", ...; "" for text and booleans).
 
-This module is over 400 lines because the schema is one table of the model file's keys (65), kept
+This module is over 400 lines because the schema is one table of the model file's keys (68), kept
 in one place on purpose; the validators are in ``validators.py``.
 """
 
@@ -49,7 +49,8 @@ DIRECTIONS = ("x", "y", "z")
 CONTACT_LAWS = ("hertz", "linear")
 EXCITATION_KINDS = ("random", "harmonic", "impulse", "csv")
 CSV_QUANTITIES = ("displacement", "velocity", "acceleration")
-SECTIONS = ("geometry", "casing", "cable", "contact", "scenario")
+SECTIONS = ("geometry", "casing", "cable", "contact", "loads", "scenario")
+REST_SHAPES = ("routing", "straight")
 
 #: The 12 translational support channels, in the FMU's input order (m, m/s, m/s2, global axes).
 CHANNELS = tuple(f"{b}.{s}.{d}" for b in BODY_NAMES for s in SUPPORT_NAMES for d in DIRECTIONS)
@@ -87,7 +88,8 @@ class KeySpec:
     value taken when the key is left out, or :data:`REQUIRED`, :data:`OPTIONAL`; unit: FMI-style;
     description: one line; validator: the :mod:`.validators` object that checks a value; note:
     what the loader checks against other keys; kinds: the excitation kinds that take the key;
-    default_from: the key whose value is the default.
+    default_from: the key whose value is the default; components: the names of a vector key's
+    components, whose scalar keys ``<key>.<component>`` are parameters (the FMU's, ``with_overrides``).
     """
 
     key: str
@@ -99,6 +101,7 @@ class KeySpec:
     note: str = ""
     kinds: tuple = ()
     default_from: str | None = None
+    components: tuple = ()
 
     @property
     def allowed(self) -> str:
@@ -527,6 +530,42 @@ _KEYS = [
     ),
 ]
 
+# ------------------------------------------------------------------ the installed cable (issue 23)
+# Loads and the cable's rest shape: gravity on both bodies (Eq. 7), the cable's static tension with
+# the casing's equal compression (beam-column geometric stiffness and the prestress's own load in
+# the routing), and a cable that is stress-free straight (docs/installed.md).
+_KEYS += [
+    KeySpec(
+        "cable.rest_shape",
+        "str",
+        "routing",
+        "",
+        "stress-free shape of the cable: 'routing' (stress-free in the routing, the paper's) or 'straight' "
+        "(straight off the reel and bent into the casing, so it carries the moment EI kappa of the routing)",
+        Choice(*REST_SHAPES),
+    ),
+    KeySpec(
+        "loads.gravity",
+        "vector",
+        [0.0, 0.0, 0.0],
+        "m/s2",
+        "gravitational acceleration in global axes, on both bodies (Eq. 7); zero = no gravity; "
+        "FMU parameters loads.gravity.x, .y, .z",
+        Vector(unit="m/s2"),
+        components=DIRECTIONS,
+    ),
+    KeySpec(
+        "loads.cable_tension",
+        "float",
+        0.0,
+        "N",
+        "static axial tension of the cable; the casing carries the equal compression (geometric stiffness "
+        "of both bodies, and the tension's pull towards the inside of every bend)",
+        Number(ge=0, unit="N"),
+        note="needs the cable, and below the casing's buckling load (checked when the casing is assembled)",
+    ),
+]
+
 #: Every key of the model file, in the order of the validated model's tables.
 SCHEMA = {spec.key: spec for spec in _KEYS}
 
@@ -547,9 +586,26 @@ def lookup(key: str) -> KeySpec:
             generic = f"casing.clip[].{parts[2]}"
         if generic in SCHEMA:
             spec = replace(SCHEMA[generic], key=key)
+        vector = SCHEMA.get(key.rsplit(".", 1)[0]) if "." in key else None
+        if vector is not None and parts[-1] in vector.components:
+            spec = component_spec(vector, parts[-1])
     if spec is None:
         raise ModelError(key, None, "is not a key of the model file (see docs/model_file.md)")
     return spec
+
+
+def component_spec(vector: KeySpec, component: str) -> KeySpec:
+    """The scalar key ``<vector key>.<component>`` of a vector key (e.g. ``loads.gravity.z``): a
+    float in the vector's unit; the FMU's parameter and ``Model.with_overrides`` use it."""
+    i = vector.components.index(component)
+    return KeySpec(
+        f"{vector.key}.{component}",
+        "float",
+        vector.default[i],
+        vector.unit,
+        f"component {component} (global axes) of {vector.key}: {vector.description}",
+        vector.validator.component,
+    )
 
 
 def table(prefix: str) -> list:

@@ -165,6 +165,31 @@ class Points:
         return clean
 
 
+class Vector:
+    """Three finite numbers [x, y, z] in ``unit``, global axes (a vector key such as
+    ``loads.gravity``; with ``nonzero`` a direction, not all zero). Returns a list of three floats."""
+
+    def __init__(self, unit=None, nonzero=False):
+        self.unit, self.nonzero = unit, nonzero
+        self.component = Number(unit=unit)
+        self.allowed = "three finite numbers [x, y, z]" + _unit_phrase(unit) + (", not all zero" if nonzero else "")
+
+    def __call__(self, key, value):
+        if isinstance(value, np.ndarray):
+            value = value.tolist()
+        if not isinstance(value, (list, tuple)) or len(value) != 3:
+            raise ModelError(key, value, "must be " + self.allowed)
+        out = []
+        for c in value:
+            try:
+                out.append(self.component(key, c))
+            except ModelError:
+                raise ModelError(key, value, "must be " + self.allowed) from None
+        if self.nonzero and not any(out):
+            raise ModelError(key, value, "must be a direction, " + self.allowed)
+        return out
+
+
 class Band:
     """A frequency band [f_low_Hz, f_high_Hz], 0 < f_low < f_high."""
 
@@ -193,24 +218,6 @@ class Target:
         if len(parts) != 3 or any(p not in allowed for p, allowed in zip(parts, self.parts)):
             raise ModelError(key, value, "must be " + self.allowed)
         return value
-
-
-class Vector:
-    """Three numbers [x, y, z] in ``unit`` (a point, or with ``nonzero`` a direction whose length
-    is not zero)."""
-
-    def __init__(self, unit="m", nonzero=False):
-        self.unit, self.nonzero = unit, nonzero
-        self.coordinate = Number(unit=unit)
-        self.allowed = "[x, y, z]" + _unit_phrase(unit) + (", not all zero" if nonzero else "")
-
-    def __call__(self, key, value):
-        if not isinstance(value, list) or len(value) != 3:
-            raise ModelError(key, value, "must be " + self.allowed)
-        v = [self.coordinate(f"{key}[{j}]", c) for j, c in enumerate(value)]
-        if self.nonzero and math.hypot(*v) == 0.0:
-            raise ModelError(key, value, "must be a direction, " + self.allowed)
-        return v
 
 
 class Segments:

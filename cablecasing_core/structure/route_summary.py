@@ -7,8 +7,8 @@ through points the bends are the runs of the curve where the curvature exceeds
 :data:`BEND_CURVATURE` (2 1/m: a radius below 0.5 m; a spline through the built-in specimen's
 points ripples up to 1.3 1/m on its straights) and that turn by more than :data:`BEND_MIN_DEG`,
 sampled on :data:`DENSE` points: each bend's angle is the integral of the curvature over its run
-and its radius the run's arc length over that angle (the mean radius). A polyline has no curvature but kinks: each kink is a bend of radius 0 and the
-angle between its two chords.
+and its radius the run's arc length over that angle (the mean radius). A polyline has no
+curvature but kinks: each kink is a bend of radius 0 and the angle between its two chords.
 """
 
 from __future__ import annotations

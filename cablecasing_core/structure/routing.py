@@ -6,8 +6,9 @@ the current tangent t; a bend ``{radius = R, angle_deg = phi, toward = w}`` turn
 the axis t x n, where n is the unit part of w normal to t (the bend's inward normal: its centre is
 at p + R n). On a bend the position is p + R sin(theta) t + R (1 - cos theta) n, the tangent
 cos(theta) t + sin(theta) n and the curvature exactly 1/R (Eqs. 33-34 of a circle), at arc length
-R theta from the bend's start. :class:`SegmentRoute` evaluates all three at any arc length, so the
-nodes of the discretisation lie on the exact arcs and carry the exact tangent and curvature.
+R theta from the bend's start; its curvature vector t x dt/ds = kappa b is (t x n) / R.
+:class:`SegmentRoute` evaluates them at any arc length, so the nodes of the discretisation lie on
+the exact arcs and carry the exact tangent and curvature.
 """
 
 from __future__ import annotations
@@ -84,6 +85,7 @@ class SegmentRoute:
         pos = np.empty((len(s), 3))
         tan = np.empty((len(s), 3))
         kap = np.zeros(len(s))
+        kvec = np.zeros((len(s), 3))
         for i, q in enumerate(self.pieces):
             m = idx == i
             if not m.any():
@@ -94,10 +96,12 @@ class SegmentRoute:
                 pos[m] = q.p0 + q.radius * np.sin(th) * q.t0 + q.radius * (1.0 - np.cos(th)) * q.n0
                 tan[m] = np.cos(th) * q.t0 + np.sin(th) * q.n0
                 kap[m] = 1.0 / q.radius
+                inward = -np.sin(th) * q.t0 + np.cos(th) * q.n0
+                kvec[m] = np.cross(tan[m], inward) / q.radius  # t x dt/ds = kappa b
             else:
                 pos[m] = q.p0 + d * q.t0
                 tan[m] = q.t0
-        return pos, tan, kap
+        return pos, tan, kap, kvec
 
     def position(self, s):
         """Points (n, 3) in m at arc lengths ``s`` (m)."""

@@ -93,6 +93,7 @@ class Engine:
         both = "casing" in self.bodies and "cable" in self.bodies
         contact = model.contact["enabled"] if contact is None else bool(contact)
         self.contact = contact and both
+        self.static = self._install(model)
         self.ledger_on = bool(ledger)
         self.record = bool(record)
         c = model.contact
@@ -173,13 +174,45 @@ class Engine:
         self.solver_counts = self._info[K.INFO_NEWTON_ITERATIONS : K.INFO_UNCONVERGED_STEPS + 1]
 
     # -------------------------------------------------------------------------------- state
+    def _install(self, model):
+        """The static state the run starts from (an installed model: gravity, a cable tension, a
+        straight cable; timedomain/static_state.py), with each body's constant load set to the one
+        of that state (the cable's tension as its pre-stretch force); None for a model without
+        loads, which starts at rest in the routing."""
+        if not model.installed:
+            return None
+        from .static_state import solve_static
+
+        st = solve_static(model, {n: b.system for n, b in self.bodies.items()}, self.contact)
+        for n, b in self.bodies.items():
+            b.set_load(st.loads[n])
+        return st
+
     def reset(self) -> None:
-        """Back to t = 0 with both bodies at rest in their reference configuration."""
+        """Back to t = 0 with both bodies at rest: in the static state of an installed model
+        (:attr:`static`: its displacements, and the contacts closed where it has them, sticking, with
+        its forces), else in the reference configuration."""
         self.time = 0.0
         self._fbuf[:] = 0.0
         self._ibuf[:] = 0
         self.celem[:] = np.clip(np.arange(len(self.celem)) - 1, 0, max(len(self.Ls) - 1, 0))
         self._hist = []
+        st = self.static
+        if st is not None:
+            for n, b in self.bodies.items():
+                b.U[:] = st.U[n]
+                for m, mt in enumerate(b.mounts):  # the mounts' static forces (their supports at rest)
+                    b.mF[m] = mt.K6 @ b.U[6 * mt.node : 6 * mt.node + 6]
+            self.reac[:] = st.reactions
+            if self.contact:
+                on = st.normal_force > 0.0
+                self.cstate[on] = K.STICK  # at rest
+                self.celem[:] = st.element
+                self.cxi[:], self.Pn[:] = st.xi, st.contact_force
+                self.Nn[:], self.gn[:] = st.normal_force, st.penetration
+                self.fcs[:] = st.generalized_contact["casing"]
+                self.fcc[:] = st.generalized_contact["cable"]
+        self._pot0 = self.contact_potential()
 
     _ARRAYS = ("cstate", "celem", "cxi", "Pn", "vrel", "Nn", "gn", "fcs", "fcc", "reac", "ledger", "contact_time")
 
@@ -374,12 +407,21 @@ class Engine:
         """Elastic energy stored in the contacts (J), from the penetrations at the current time."""
         return K.contact_potential(self.gn, self.law, self.k_lin, self.k_hertz)
 
+    def load_work(self) -> float:
+        """Work (J) of the constant loads at rest since t = 0: f . (U - U_static) over all DOFs of
+        both bodies (a constant force's trapezoidal work over the steps sums to exactly that)."""
+        if self.static is None:
+            return 0.0
+        return float(sum(b.f @ (b.U - self.static.U[n]) for n, b in self.bodies.items()))
+
     def energies(self) -> dict[str, float]:
         """Energy ledger in J: kinetic, strain (with the mounts' springs), contact potential, work
-        done by the supports (through the mounts too), dissipated by Rayleigh damping, by the
-        mounts' dampers (``mount_dissipation``), dissipated in the contacts (damping and friction together:
-        the work of the contact forces less the stored contact energy), and the balance residual
-        (energy now minus the energy at the start plus supplied work less dissipation)."""
+        done by the supports (through the mounts too) and by the constant loads at rest (an
+        installed model's gravity, tension and rest shape), dissipated by Rayleigh damping, by the
+        mounts' dampers (``mount_dissipation``), dissipated in the contacts (damping and friction
+        together: the work of the contact forces less the change of the stored contact energy), and
+        the balance residual (energy now minus the energy at the start plus supplied work less
+        dissipation). Strain and contact energy are totals, the static state's included."""
         kin = sum(b.energy()[0] for b in self.bodies.values())
         strain = sum(b.energy()[1] for b in self.bodies.values())
         pot = self.contact_potential()
@@ -395,13 +437,15 @@ class Engine:
                 K.LEDGER_MOUNT_DISSIPATION,
             )
         )
-        d_con = -w_con - pot
-        residual = kin + strain + pot - (e_start + w_sup - d_ray - d_con - d_mount)
+        d_con = -w_con - (pot - self._pot0)
+        w_ext = self.load_work()
+        residual = kin + strain + pot - (e_start + w_sup + w_ext - d_ray - d_con - d_mount)
         return {
             "kinetic": kin,
             "strain": strain,
             "contact_potential": pot,
             "support_work": w_sup,
+            "load_work": w_ext,
             "rayleigh_dissipation": d_ray if self.ledger_on else np.nan,
             "contact_dissipation": d_con,
             "contact_damping_dissipation": d_damp,
@@ -414,7 +458,9 @@ class Engine:
         """The values of :meth:`outputs` as an array in the order of :data:`OUTPUTS` (written into
         ``out`` when given): one call instead of a dict, for the FMU's per-step reads."""
         out = np.empty(len(OUTPUTS)) if out is None else out
-        K.step_outputs(self.reac, self.cstate, self.gn, self.ledger, self.law, self.k_lin, self.k_hertz, out)
+        K.step_outputs(
+            self.reac, self.cstate, self.gn, self.ledger, self.law, self.k_lin, self.k_hertz, self._pot0, out
+        )
         return out
 
     def advance_reconstructed(
@@ -464,10 +510,10 @@ class Engine:
         self._info[: K.INFO_NEWTON_ITERATIONS] = 0.0
         t0 = self.time
         if self._cstep_entry is None:
-            status = K.communication_step_in_context(ctx, t0, self.dt, m, h)  # compiles or loads it
-            self._cstep_entry = compiled_entry(K.communication_step_in_context, (ctx, t0, self.dt, m, h))
+            status = K.communication_step_in_context(ctx, t0, self.dt, m, h, self._pot0)  # compiles or loads it
+            self._cstep_entry = compiled_entry(K.communication_step_in_context, (ctx, t0, self.dt, m, h, self._pot0))
         else:
-            status = self._cstep_entry(ctx, t0, self.dt, m, h)
+            status = self._cstep_entry(ctx, t0, self.dt, m, h, self._pot0)
         if status != K.OK:
             self.restore(snap)
             _, _, times, motion, _ = self._cstep_scratch

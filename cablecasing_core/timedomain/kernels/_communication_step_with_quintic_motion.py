@@ -30,10 +30,11 @@ from ._step_loop_contract import LEDGER_CONTACT_WORK
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def step_outputs(reac, cstate, gn, ledger, law, k_lin, k_hertz, out):
+def step_outputs(reac, cstate, gn, ledger, law, k_lin, k_hertz, pot0, out):
     """The engine's outputs (``model.schema.OUTPUTS``) into ``out``: the 24 support reactions (N,
     N.m), the cable nodes in contact, the largest penetration (m, 0 without contact) and the energy
-    dissipated in the contacts (J: their work less the energy they store)."""
+    dissipated in the contacts (J: their work less the change of the energy they store since the
+    start, ``pot0`` J the energy stored in the static state's contacts)."""
     for i in range(24):
         out[i] = reac[i]
     active = 0
@@ -46,13 +47,13 @@ def step_outputs(reac, cstate, gn, ledger, law, k_lin, k_hertz, out):
         if i == 0 or gn[i] > g:
             g = gn[i]
     out[25] = g
-    out[26] = -ledger[LEDGER_CONTACT_WORK] - contact_potential(gn, law, k_lin, k_hertz)
+    out[26] = -ledger[LEDGER_CONTACT_WORK] - (contact_potential(gn, law, k_lin, k_hertz) - pot0)
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def communication_step(
-    t0, dt, m, h, G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact, reac,
-    ledger, ledger_on, rec, info, out,
+    t0, dt, m, h, pot0, G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact,
+    reac, ledger, ledger_on, rec, info, out,
 ):  # fmt: skip
     """Advance from ``t0`` by ``m`` steps of ``dt`` (s), ``m dt`` = ``h``, with the support motion
     of the communication step ``[t0, t0 + h]``: the quintic Hermite (power-basis matrix ``G`` of
@@ -61,7 +62,7 @@ def communication_step(
     step ends) when ``use_base``. ``rows`` (6 x 12), ``coeffs`` (3 x 6 x 12), ``times`` (m) and
     ``motion`` (3 x m x 12) are scratch; ``out`` receives the outputs. Returns run_steps' status;
     ``rows[3:]`` is then the supports' state at t0 + h, and ``out`` is written only if the status
-    is OK."""
+    is OK (``pot0``: as :func:`step_outputs`)."""
     taylor_rows(state, u, v, a, h, rows)
     quintic_coefficients(G, rows, coeffs)
     for i in range(m):
@@ -75,7 +76,7 @@ def communication_step(
     status = run_steps(t0, dt, motion[0], motion[1], motion[2], casing, cable, law, contact, reac, ledger,
                        ledger_on, rec, info)  # fmt: skip
     if status == 0:  # OK: a failed step leaves out alone (the engine rolls the step back)
-        step_outputs(reac, contact.state, contact.g, ledger, law.law, law.k_lin, law.k_hertz, out)
+        step_outputs(reac, contact.state, contact.g, ledger, law.law, law.k_lin, law.k_hertz, pot0, out)
     return status
 
 
@@ -123,7 +124,7 @@ def new_communication_context(
     ledger_on, rec, info, out,
 ):  # fmt: skip
     """The :class:`CommunicationContext` of these arrays (the arguments of :func:`communication_step`
-    in its order, without t0, dt, m and h); it refers to them, it does not copy them."""
+    in its order, without t0, dt, m, h and pot0); it refers to them, it does not copy them."""
     return _new_context(
         G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact, reac, ledger,
         ledger_on, rec, info, out,
@@ -131,10 +132,10 @@ def new_communication_context(
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def communication_step_in_context(ctx, t0, dt, m, h):
+def communication_step_in_context(ctx, t0, dt, m, h, pot0):
     """:func:`communication_step` with its arrays from ``ctx``."""
     return communication_step(
-        t0, dt, m, h, ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion, ctx.base,
-        ctx.use_base, ctx.casing, ctx.cable, ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on, ctx.rec,
-        ctx.info, ctx.out,
+        t0, dt, m, h, pot0, ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion,
+        ctx.base, ctx.use_base, ctx.casing, ctx.cable, ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on,
+        ctx.rec, ctx.info, ctx.out,
     )  # fmt: skip

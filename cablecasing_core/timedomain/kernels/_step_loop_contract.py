@@ -56,13 +56,17 @@ DIAG_SIZE = 6
 #: (m/N) over all DOFs, zero on the prescribed ones; sup, sup_lo: the rows of M and K of the
 #: prescribed DOFs over their band and its first column; cpl_i, cpl_v: the stiffness between free
 #: and prescribed DOFs as triplets; fc: the generalized contact forces on the body (N, N.m);
+#: loaded: the body carries a constant load at rest (an installed model, docs/installed.md): fext
+#: (N, N.m, all DOFs) the load, uext (m, rad) the free DOFs' response Keff^-1 fext to it, which the
+#: step adds to the contact-free predictor, and fext at the prescribed DOFs goes into the reactions.
 #: the mounts (isolators and clips, ``structure/mount_element.py``): mi (nm, 5) int64 rows [first
 #: DOF of the node, channels of the support's x, y, z (-1: fixed), reaction slot (-1: a clip)],
 #: mKC (nm, 2, 6, 6) their stiffness K6 and damping C6 in global axes, mb (nm, 2, 6) the
 #: supports' displacement and velocity now, mF (nm, 6) the force through each mount now (N, N.m).
 BodyArrays = namedtuple(
     "BodyArrays",
-    "on Md Kd Dinv L LT g0 ng f0 nf alpha beta U V A pres pchan pslot Kinv sup sup_lo cpl_i cpl_v fc mi mKC mb mF",
+    "on Md Kd Dinv L LT g0 ng f0 nf alpha beta U V A pres pchan pslot Kinv sup sup_lo cpl_i cpl_v fc loaded fext uext "
+    "mi mKC mb mF",
 )
 
 #: The contact law and its switches: on (contact between the bodies), gap (m, radial gap e of
