@@ -61,10 +61,24 @@ DAMPING_MODELS = ("viscous", "structural", "none")
 
 
 def parse_port(key, value, model):
-    """Split ``"casing.A.x"`` into (body, support, component index 0..2), checking it exists."""
+    """Split ``"casing.A.x"`` into (body, support, component index 0..2), checking it exists. A
+    clip's support is a port too: ``"casing.clip0.x"`` (clips by index) or, for a clip with an
+    excitation, ``"<excitation>.x"`` -> ("casing", "clip<i>", 0)."""
     parts = value.split(".") if isinstance(value, str) else []
+    clips = model.data.get("casing", {}).get("clip", [])
+    if len(parts) == 2 and parts[1] in DIRECTIONS:
+        names = [c.get("excitation") for c in clips]
+        if parts[0] in names:
+            return "casing", f"clip{names.index(parts[0])}", DIRECTIONS.index(parts[1])
+    if len(parts) == 3 and parts[0] == "casing" and parts[1] in [f"clip{i}" for i in range(len(clips))]:
+        if parts[2] in DIRECTIONS:
+            return "casing", parts[1], DIRECTIONS.index(parts[2])
     if len(parts) != 3 or parts[1] not in SUPPORT_NAMES or parts[2] not in DIRECTIONS:
-        raise ModelError(key, value, "must be '<body>.<A|B>.<x|y|z>', e.g. 'casing.A.x'")
+        raise ModelError(
+            key,
+            value,
+            "must be '<body>.<A|B>.<x|y|z>' (e.g. 'casing.A.x'), 'casing.clip<i>.<x|y|z>' or '<excitation>.<x|y|z>'",
+        )
     body, support, d = parts
     if body not in model.bodies:
         raise ModelError(key, value, "body must be one of " + ", ".join(repr(b) for b in model.bodies))

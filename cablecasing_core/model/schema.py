@@ -67,6 +67,33 @@ INPUT_KINDS = (("", "displacement", "m"), ("v", "velocity", "m/s"), ("a", "accel
 INPUTS = tuple(f"{c[:-1]}{k}{c[-1]}" for k, _, _ in INPUT_KINDS for c in CHANNELS)
 
 
+def channels_of(data) -> tuple:
+    """The support channels of a model (its checked data, or a :class:`Model`): the 12 of
+    :data:`CHANNELS`, then ``<excitation>.x, .y, .z`` of each clip with an excitation, in file
+    order (m, global axes). The engine's motion has one column per channel."""
+    data = getattr(data, "data", data)
+    clips = data.get("casing", {}).get("clip", [])
+    return CHANNELS + tuple(f"{c['excitation']}.{d}" for c in clips if "excitation" in c for d in DIRECTIONS)
+
+
+def clip_outputs(data) -> tuple:
+    """The outputs of a model's clips: ``casing.clip<i>.Fx`` .. ``casing.clip<i>.Mz`` (N, N.m, the
+    force and moment the casing exerts through clip i on its support, global axes), in file order."""
+    data = getattr(data, "data", data)
+    n = len(data.get("casing", {}).get("clip", []))
+    return tuple(f"casing.clip{i}.{c}" for i in range(n) for c in FORCE_NAMES)
+
+
+def outputs_of(data) -> tuple:
+    """Every time-domain output of a model: :data:`OUTPUTS`, then :func:`clip_outputs`."""
+    return OUTPUTS + clip_outputs(data)
+
+
+def inputs_of(data) -> tuple:
+    """The inputs of a model's channels (:func:`channels_of`), kind-major as :data:`INPUTS`."""
+    return tuple(f"{c[:-1]}{k}{c[-1]}" for k, _, _ in INPUT_KINDS for c in channels_of(data))
+
+
 class _Marker:
     def __init__(self, name):
         self.name = name
@@ -623,8 +650,14 @@ def output_spec(name: str) -> tuple:
         return "m", "largest penetration of a cable node into the casing wall (0 without contact)"
     if name == "contact.dissipated_energy":
         return "J", "energy dissipated by contact damping and friction together since t = 0"
+    parts = name.split(".") if isinstance(name, str) else []
+    if len(parts) == 3 and parts[0] == "casing" and parts[1][:4] == "clip" and parts[1][4:].isdigit():
+        if parts[2] in FORCE_NAMES:
+            kind, unit = ("force", "N") if parts[2][0] == "F" else ("moment", "N.m")
+            axis = parts[2][1].lower()
+            return unit, f"{kind} the casing exerts through clip {parts[1][4:]} on its support, along global {axis}"
     if name not in SUPPORT_OUTPUTS:
-        raise ModelError("output", name, "must be one of " + ", ".join(OUTPUTS))
+        raise ModelError("output", name, "must be one of " + ", ".join(OUTPUTS) + " or casing.clip<i>.Fx .. Mz")
     body, support, comp = name.split(".")
     kind, unit = ("force", "N") if comp[0] == "F" else ("moment", "N.m")
     return unit, f"{kind} the {body} exerts on its support {support}, component along global {comp[1].lower()}"
@@ -638,6 +671,14 @@ def input_name(channel: str, quantity: str) -> str:
 
 def input_spec(name: str) -> tuple:
     """(unit, description) of a support input of :data:`INPUTS`, e.g. ``"casing.A.az"``."""
+    parts = name.split(".") if isinstance(name, str) else []
+    if (
+        name not in INPUTS
+        and len(parts) == 2
+        and parts[1] in [f"{k}{d}" for k, _, _ in INPUT_KINDS for d in DIRECTIONS]
+    ):
+        _, what, unit = next(q for q in INPUT_KINDS if q[0] == parts[1][:-1])
+        return unit, f"{what} of the support of the clip with excitation {parts[0]} along global {parts[1][-1]}"
     if name not in INPUTS:
         raise ModelError("input", name, "must be a support input such as casing.A.z, casing.A.vz or casing.A.az")
     k = INPUTS.index(name) // len(CHANNELS)

@@ -150,7 +150,17 @@ def _geometry(data):
 
 
 def _on_a_clamped_support(key, target, bodies):
-    """The target (format checked by the schema) names a body of the model and a clamped support."""
+    """The target (format checked by the schema) names a body of the model and a clamped or
+    isolator support, or a clip with that excitation."""
+    if target.count(".") == 1:
+        names = [c["excitation"] for c in bodies.get("casing", {}).get("clip", []) if "excitation" in c]
+        if target.split(".")[0] not in names:
+            raise ModelError(
+                key,
+                target,
+                "names no clip excitation of this model (clips' excitations: " + (", ".join(names) or "none") + ")",
+            )
+        return
     body, support, _ = target.split(".")
     if body not in bodies:
         raise ModelError(key, target, f"names body '{body}', which this model does not have")

@@ -206,16 +206,21 @@ class Band:
 
 
 class Target:
-    """A support channel ``<casing|cable>.<A|B>.<x|y|z|axial>``; which bodies and supports exist is
-    checked with the model (a cross-check of the loader)."""
+    """A support channel ``<casing|cable>.<A|B>.<x|y|z|axial>``, or an excited clip's
+    ``<excitation>.<x|y|z>``; which bodies, supports and clips exist is checked with the model (a
+    cross-check of the loader)."""
 
     def __init__(self, bodies, supports, directions):
         self.parts = (bodies, supports, directions)
-        self.allowed = f"'<{'|'.join(bodies)}>.<{'|'.join(supports)}>.<{'|'.join(directions)}>'"
+        self.allowed = (
+            f"'<{'|'.join(bodies)}>.<{'|'.join(supports)}>.<{'|'.join(directions)}>' or a clip's "
+            f"'<excitation>.<{'|'.join(d for d in directions if d != 'axial')}>'"
+        )
 
     def __call__(self, key, value):
         parts = value.split(".") if isinstance(value, str) else []
-        if len(parts) != 3 or any(p not in allowed for p, allowed in zip(parts, self.parts)):
+        clip = len(parts) == 2 and parts[0] not in self.parts[0] and parts[1] in self.parts[2] and parts[1] != "axial"
+        if not clip and (len(parts) != 3 or any(p not in allowed for p, allowed in zip(parts, self.parts))):
             raise ModelError(key, value, "must be " + self.allowed)
         return value
 

@@ -88,8 +88,9 @@ class BodySystem:
         return np.arange(DOF_PER_NODE * node, DOF_PER_NODE * node + 6), np.arange(base, base + 6)
 
     def mount_of_support(self, support):
-        """Index of the isolator of ``support`` among :attr:`mounts`, or None."""
-        return next((i for i, m in enumerate(self.mounts) if m.support == support), None)
+        """Index among :attr:`mounts` of the isolator of ``support`` ("A", "B") or of the clip
+        labelled ``support`` ("clip0", ...), or None."""
+        return next((i for i, m in enumerate(self.mounts) if support in (m.support, m.label)), None)
 
     def augmented(self, A, mount_blocks=None):
         """Dense ``A`` (beam size) on the augmented DOFs, plus ``mount_blocks[m]`` (6 x 6, e.g.
@@ -125,7 +126,7 @@ class BodySystem:
 
         Raises KeyError if the support is free.
         """
-        if self.spec.supports[support] == "free":
+        if self.spec.supports.get(support) == "free":
             raise KeyError(f"{self.name}.{support} is a free support")
         dof = self.support_dofs(support)[component]
         return int(np.searchsorted(self.prescribed, dof))

@@ -134,3 +134,43 @@ def test_isolators_reduce_the_transmitted_force_in_the_ensemble_and_in_the_trfam
     ratio_se = ratio_td * np.sqrt((si / mi) ** 2 + (sc / mc) ** 2)
     assert np.all(ratio_td < 1 / 3)
     np.testing.assert_array_less(np.abs(ratio_td - ratio_fd), 4 * ratio_se + 0.05 * ratio_fd)
+
+
+def test_an_excited_clip_has_its_own_channels_outputs_and_trfam(tmp_path):
+    """A clip with ``excitation = "dash"`` is driven by ``dash.z``: in a 120 Hz steady state the
+    force at B and through the other clip are the TRFAM's from the port ``dash.z`` (within Newmark's
+    1e-4); the run's record has the inputs dash.z, dash.vz, dash.az and the clips' force columns;
+    a motion of the 12 fixed channels (what an FMU sends) leaves the clip's support at rest."""
+    from cablecasing_core.records import read_records
+    from cablecasing_core.timedomain.engine import Engine
+    from cablecasing_core.timedomain.scenario import zero_motion
+
+    clips = [
+        {"at": 0.4, "stiffness": [1e4, 3e4, 3e4], "damping": 5.0},
+        {"at": 0.7, "stiffness": 2e4, "damping": 2.0, "excitation": "dash"},
+    ]
+    f0, u0 = 120.0, 1e-5
+    exc = {"d": {"target": "dash.z", "kind": "harmonic", "frequency": f0, "amplitude": u0}}
+    m = casing_on(("clamped", "clamped"), clips=clips, excitation=exc)
+    res = cc.simulate(m, duration=0.6)
+    assert abs(res.energies["residual"]) < 1e-9 * res.energies["support_work"]
+    last = res.time > 0.5
+    w = 2 * np.pi * f0
+    basis = np.column_stack([np.sin(w * res.time[last]), np.cos(w * res.time[last])])
+    for out, port in (
+        ("casing.B.Fz", "casing.B.z"),
+        ("casing.clip0.Fz", "casing.clip0.z"),
+        ("casing.clip1.Fy", "dash.y"),
+    ):
+        (a, b), *_ = np.linalg.lstsq(basis, res.support_force(out)[last], rcond=None)
+        Fc = cc.trfam(m, "dash.z", port, [f0])[0] * w**2 * u0
+        assert abs((a + 1j * b) - Fc) < 1e-3 * abs(Fc), out
+    res.save(tmp_path / "r.csv")
+    rec = read_records(tmp_path / "r.csv")
+    assert {"dash.z", "dash.vz", "dash.az", "casing.clip1.Fz", "casing.clip0.Mx"} <= set(rec.columns)
+    assert rec.units["dash.az"] == "m/s2" and rec.units["casing.clip1.Fz"] == "N"
+    np.testing.assert_allclose(rec.columns["dash.az"][last], -(w**2) * u0 * np.sin(w * res.time[last]), atol=1e-9)
+    eng = Engine(m)
+    assert eng.channels[12:] == ("dash.x", "dash.y", "dash.z") and len(eng.output_names) == 27 + 12
+    eng.advance(0.01, zero_motion)  # 12 columns: the clip's support at rest, nothing moves
+    assert not np.any(eng.output_values())

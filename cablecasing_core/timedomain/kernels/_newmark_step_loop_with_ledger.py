@@ -131,7 +131,8 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     the contact solve. Non-finite support motion is refused before any step is taken (ERR_INPUT,
     info = [row, channel, 0/1/2 for up/vp/ap]), so nothing is half-written.
 
-    With rec.on, step k writes row rec.off + k of rec.F (the reactions) and, sparse, the cable
+    With rec.on, step k writes row rec.off + k of rec.F (the reactions, then the forces through
+    the casing's clips when rec.F has the columns) and, sparse, the cable
     nodes in contact at its end: entries rec.ptr[r] .. rec.ptr[r + 1] - 1 (r = rec.off + k;
     rec.ptr[rec.off] set by the caller) of rec.node, rec.state, rec.N (N) and rec.g (m). Capacity:
     one entry per cable node and step.
@@ -399,6 +400,12 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
             r = rec_off + k
             for i in range(24):
                 rec_F[r, i] = reac[i]
+            j = 24  # then the forces through the casing's clips (mounts without a reaction slot)
+            for m in range(smi.shape[0]):
+                if smi[m, 4] < 0 and j + 6 <= rec_F.shape[1]:
+                    for i in range(6):
+                        rec_F[r, j + i] = smF[m, i]
+                    j += 6
             j = rec_ptr[r]
             for i in range(nn):  # only the nodes in contact (a few of them)
                 if state[i] != OPEN or Nn[i] != 0.0 or gn[i] != 0.0:
