@@ -315,8 +315,8 @@ def _mount_keys(prefix, what):
             "table",
             OPTIONAL,
             "",
-            f"dynamic stiffness of {what} against frequency, k(f) = k k_scale (1 + i loss_factor) (frequency "
-            "domain only; linear, held at the ends)",
+            f"dynamic stiffness of {what} against frequency, k(f) = k k_scale (1 + i loss_factor): in the "
+            "frequency domain it replaces stiffness and damping (the time domain uses those); linear, held at the ends",
             StiffnessTable(),
         ),
     ]

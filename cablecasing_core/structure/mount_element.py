@@ -8,8 +8,11 @@ stiffness k = [k_a, k_1, k_2] (N/m) and damping c (N.s/m), rotational stiffness 
 R^T diag(k_r) R), R the rows (axial, lateral_1, lateral_2), and so its damping C6. It acts on the
 relative motion of node and support: the force the body exerts on the support is
 F = K6 (u_node - u_support) + C6 (v_node - v_support) (N, N.m; the support's rotations are held).
-In the frequency domain the stiffness is complex and may follow a table, K6 k_scale(f)
-(1 + i loss_factor(f)) + i omega C6 (a rubber mount's dynamic stiffness and loss factor).
+In the frequency domain the mount's dynamic stiffness is K6 + i omega C6, or, when the mount has a
+table (a rubber mount's measured dynamic stiffness and loss factor against frequency), K6
+k_scale(f) (1 + i loss_factor(f)): the table then stands for stiffness and damping together, and
+C6 is the time domain's viscous stand-in for it (choose c ~ loss k / omega at the frequencies that
+matter; the time domain cannot follow a frequency-dependent stiffness).
 """
 
 from __future__ import annotations
@@ -43,18 +46,17 @@ class Mount:
     at: float | None = None
 
     def dynamic_stiffness(self, freqs_hz, damped=True):
-        """(nf, 6, 6) complex dynamic stiffness (N/m, N.m/rad) at ``freqs_hz`` (Hz): K6 k_scale(f)
-        (1 + i loss(f)) + i omega C6; without ``damped`` only K6 k_scale(f)."""
+        """(nf, 6, 6) complex dynamic stiffness (N/m, N.m/rad) at ``freqs_hz`` (Hz): K6 + i omega C6,
+        or with a table K6 k_scale(f) (1 + i loss(f)) (linear in f, held at the ends); without
+        ``damped`` K6 (times k_scale(f) with a table)."""
         f = np.asarray(freqs_hz, dtype=float)
         if self.table is None:
-            scale, loss = np.ones_like(f), np.zeros_like(f)
-        else:
-            scale = np.interp(f, self.table[:, 0], self.table[:, 1])
-            loss = np.interp(f, self.table[:, 0], self.table[:, 2])
-        if not damped:
-            return scale[:, None, None] * self.K6[None].astype(complex)
-        k = (scale * (1.0 + 1j * loss))[:, None, None] * self.K6[None]
-        return k + 1j * (2.0 * np.pi * f)[:, None, None] * self.C6[None]
+            if not damped:
+                return np.broadcast_to(self.K6.astype(complex), (len(f), 6, 6)).copy()
+            return self.K6[None] + 1j * (2.0 * np.pi * f)[:, None, None] * self.C6[None]
+        scale = np.interp(f, self.table[:, 0], self.table[:, 1])
+        loss = np.interp(f, self.table[:, 0], self.table[:, 2]) if damped else np.zeros_like(f)
+        return (scale * (1.0 + 1j * loss))[:, None, None] * self.K6[None]
 
 
 def local_axes(tangent, frame):
