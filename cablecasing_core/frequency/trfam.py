@@ -32,9 +32,10 @@ With isolators or clips (``structure/mount_element.py``) each mount's support is
 whose six DOFs are prescribed (the augmented system of ``structure/assembly.py``), and the mount
 adds its complex dynamic stiffness Z = K6 + i omega C6, or K6 k_scale(f) (1 + i loss(f)) when it
 has a table (K6, times k_scale(f), with damping "none") as [[Z, -Z], [-Z, Z]] between the body's
-node and its support's. Z is not proportional to K or M, so such a body is solved directly too (Z sits on a node block of D_ff,
-which stays banded); f_p at an isolator's support DOFs is the force through the isolator. The
-Rayleigh and loss factors of the body do not act on the mounts, which have their own damping.
+node and its support's. Z is not proportional to K or M, so such a body is solved directly too
+(Z sits on a node block of D_ff, which stays banded); f_p at an isolator's support DOFs is the
+force through the isolator. The Rayleigh and loss factors of the body do not act on the mounts,
+which have their own damping.
 
 Sign convention: f_p is the force the support applies to the body (the reaction of Eq. 13), so a
 rigid mass m has a driving-point apparent mass of +m.
