@@ -236,7 +236,8 @@ def validate(data: dict, base_dir: str | None = None) -> dict:
 
 
 def _loads(data, bodies):
-    """The [loads] table; a tension needs the cable, and a loaded body a clamped support to hold it
+    """The [loads] table; a tension needs the cable, and a loaded body a clamped or isolator support
+    (or a clip) to hold it
     (the casing's buckling load is checked where it is assembled, structure/buckling.py)."""
     out = _table("loads", data, table("loads"))
     if out["cable_tension"] > 0.0 and "cable" not in bodies:
@@ -247,9 +248,13 @@ def _loads(data, bodies):
         mine = list(causes)
         if name == "cable":
             mine.append(("cable.rest_shape", b["rest_shape"], b["rest_shape"] != "routing"))
+        held = {"clamped", "isolator"} & set(b["supports"].values()) or b.get("clip")  # (issue 24: mounts hold)
         for key, value, on in mine:
-            if on and "clamped" not in b["supports"].values():
+            if on and not held:
                 raise ModelError(
-                    key, value, f"loads the {name}, which has no clamped support to hold it (a static state needs one)"
+                    key,
+                    value,
+                    f"loads the {name}, which has no clamped or isolator support (nor a clip) to hold it "
+                    "(a static state needs one)",
                 )
     return out

@@ -174,3 +174,27 @@ def test_an_excited_clip_has_its_own_channels_outputs_and_trfam(tmp_path):
     assert eng.channels[12:] == ("dash.x", "dash.y", "dash.z") and len(eng.output_names) == 27 + 12
     eng.advance(0.01, zero_motion)  # 12 columns: the clip's support at rest, nothing moves
     assert not np.any(eng.output_values())
+
+
+def test_static_state_on_isolators_carries_the_weight_and_stays():
+    """Gravity on the casing on two isolators and a clip: the static state's forces through the
+    mounts carry the casing's weight (to the solver's tolerance), and a run from it with the
+    supports at rest stays in it (the mounts' static forces are the engine's starting forces)."""
+    from cablecasing_core.timedomain.engine import Engine
+    from cablecasing_core.timedomain.scenario import zero_motion
+    from cablecasing_core.timedomain.static_state import static_state
+
+    m = casing_on(("isolator", "isolator"), clips=[{"at": 0.5, "stiffness": 3e4}])
+    d = copy.deepcopy(m.data)
+    d["loads"] = {"gravity": [0.0, 0.0, -9.81]}
+    d["scenario"]["excitation"] = {}
+    m = model_from_dict(d)
+    st = static_state(m)
+    eng = Engine(m)
+    clip = eng.clip_forces()[0, :3]
+    total = st.reaction("casing.A")[:3] + st.reaction("casing.B")[:3] + clip
+    np.testing.assert_allclose(total, st.weight["casing"], rtol=1e-8, atol=1e-10 * np.abs(st.weight["casing"]).max())
+    u0 = eng.bodies["casing"].U.copy()
+    assert np.abs(u0).max() > 1e-6  # it sags on its mounts
+    eng.advance(0.02, zero_motion)
+    assert np.abs(eng.bodies["casing"].U - u0).max() < 1e-9 * np.abs(u0).max()
