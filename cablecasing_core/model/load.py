@@ -71,13 +71,14 @@ def load_model(path: str | Path | None = None) -> Model:
 
 def _warn_if_implausible(model):
     """A :class:`~cablecasing_core.errors.PlausibilityWarning` for each plausibility warning of a
-    model file's routing (issue 24; the CLI prints each as one line)."""
+    model file's routing but the element-length advice (issue 24; the CLI prints each as one
+    line; ``cablecasing geometry`` gives them all)."""
     import warnings
 
     from ..errors import PlausibilityWarning
     from ..structure.route_summary import plausibility_warnings
 
-    for text in plausibility_warnings(model):
+    for text in plausibility_warnings(model, advice=False):
         warnings.warn(f"{model.source}: {text}", PlausibilityWarning, stacklevel=3)
 
 

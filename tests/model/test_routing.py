@@ -191,3 +191,20 @@ def test_cli_geometry_json_plot_and_warnings(tmp_path, capsys):
     assert png.stat().st_size > 10_000
     assert main(["geometry"]) == 0
     assert "routing (spline) of <built-in>" in capsys.readouterr().out
+
+
+def test_loading_a_file_warns_of_a_likely_mistake(tmp_path):
+    from cablecasing_core.errors import PlausibilityWarning
+
+    mm = routed([{"straight": 1500.0}, {"bend": {"radius": 150.0, "angle_deg": 90, "toward": [0, 1, 0]}}], n=40)
+    p = tmp_path / "mm.toml"
+    p.write_text(mm.to_toml())
+    with pytest.warns(PlausibilityWarning, match="more than 10 m: are the points in mm"):
+        load_model(p)
+    coarse = tmp_path / "coarse.toml"  # the element-length advice is cablecasing geometry's, not the loader's
+    coarse.write_text(routed(n=20).to_toml())
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        load_model(coarse)
