@@ -46,6 +46,8 @@ BODY_NAMES = ("casing", "cable")
 SUPPORT_NAMES = ("A", "B")
 SUPPORT_TYPES = ("clamped", "isolator", "free")
 DIRECTIONS = ("x", "y", "z")
+#: The components of a mount's stiffness and damping: its support's local axes (mount_element.py)
+MOUNT_AXES = ("axial", "lateral_1", "lateral_2")
 CONTACT_LAWS = ("hertz", "linear")
 EXCITATION_KINDS = ("random", "harmonic", "impulse", "csv")
 CSV_QUANTITIES = ("displacement", "velocity", "acceleration")
@@ -285,6 +287,7 @@ def _mount_keys(prefix, what):
             "N/m",
             f"translational stiffness of {what} [axial, lateral_1, lateral_2] in the support's local axes",
             Triple(Number(ge=0, unit="N/m")),
+            components=MOUNT_AXES,
         ),
         KeySpec(
             f"{prefix}.rotational_stiffness",
@@ -293,6 +296,7 @@ def _mount_keys(prefix, what):
             "N.m/rad",
             f"rotational stiffness of {what} [about axial (torsion), lateral_1, lateral_2]",
             Triple(Number(ge=0, unit="N.m/rad")),
+            components=MOUNT_AXES,
         ),
         KeySpec(
             f"{prefix}.damping",
@@ -301,6 +305,7 @@ def _mount_keys(prefix, what):
             "N.s/m",
             f"translational viscous damping of {what} [axial, lateral_1, lateral_2]",
             Triple(Number(ge=0, unit="N.s/m")),
+            components=MOUNT_AXES,
         ),
         KeySpec(
             f"{prefix}.rotational_damping",
@@ -309,6 +314,7 @@ def _mount_keys(prefix, what):
             "N.m.s/rad",
             f"rotational viscous damping of {what} [about axial, lateral_1, lateral_2]",
             Triple(Number(ge=0, unit="N.m.s/rad")),
+            components=MOUNT_AXES,
         ),
         KeySpec(
             f"{prefix}.table",
@@ -613,7 +619,12 @@ def lookup(key: str) -> KeySpec:
             generic = f"casing.clip[].{parts[2]}"
         if generic in SCHEMA:
             spec = replace(SCHEMA[generic], key=key)
-        vector = SCHEMA.get(key.rsplit(".", 1)[0]) if "." in key else None
+        vector = None
+        if spec is None and len(parts) > 1:  # a vector's component (loads.gravity.z, casing.isolator.A.stiffness.axial)
+            try:
+                vector = lookup(key.rsplit(".", 1)[0])
+            except ModelError:
+                pass
         if vector is not None and parts[-1] in vector.components:
             spec = component_spec(vector, parts[-1])
     if spec is None:
@@ -625,12 +636,14 @@ def component_spec(vector: KeySpec, component: str) -> KeySpec:
     """The scalar key ``<vector key>.<component>`` of a vector key (e.g. ``loads.gravity.z``): a
     float in the vector's unit; the FMU's parameter and ``Model.with_overrides`` use it."""
     i = vector.components.index(component)
+    default = vector.default[i] if isinstance(vector.default, list) else vector.default
+    axes = "global" if vector.components == DIRECTIONS else "local"
     return KeySpec(
         f"{vector.key}.{component}",
         "float",
-        vector.default[i],
+        default,
         vector.unit,
-        f"component {component} (global axes) of {vector.key}: {vector.description}",
+        f"component {component} ({axes} axes) of {vector.key}: {vector.description}",
         vector.validator.component,
     )
 

@@ -272,7 +272,7 @@ class Triple:
     (a number stands for the same value in all three directions). Returns the list of three."""
 
     def __init__(self, number):
-        self.number = number
+        self.number = self.component = number
         self.allowed = number.allowed + ", or three of them [axial, lateral_1, lateral_2]"
 
     def __call__(self, key, value):

@@ -136,3 +136,18 @@ def test_mount_keys_are_in_the_schema_with_units():
     m = model_from_dict(with_casing(supports={"A": "isolator", "B": "clamped"}, isolator={"A": {"stiffness": 1e5}}))
     iso = m.data["casing"]["isolator"]["A"]
     assert iso["stiffness"] == [1e5] * 3 and iso["rotational_stiffness"] == [0.0] * 3 and "table" not in iso
+
+
+def test_mount_components_are_parameters_a_study_can_vary():
+    """A mount's three values are parameters by component (``...stiffness.lateral_1``, local axes),
+    as loads.gravity's are: Model.parameters lists them, with_overrides sets one (validated)."""
+    m = model_from_dict(
+        with_casing(supports={"A": "isolator", "B": "clamped"}, isolator={"A": {"stiffness": [1e5, 2e5, 3e5]}})
+    )
+    p = m.parameters()
+    assert p["casing.isolator.A.stiffness.lateral_1"] == 2e5 and p["casing.isolator.A.rotational_damping.axial"] == 0.0
+    m2 = m.with_overrides({"casing.isolator.A.stiffness.lateral_1": 7e4})
+    assert m2.data["casing"]["isolator"]["A"]["stiffness"] == [1e5, 7e4, 3e5]
+    assert lookup("casing.isolator.A.stiffness.axial").unit == "N/m"
+    with pytest.raises(ModelError, match=r"casing.isolator.A.stiffness\[1\] = -1.0: must be zero or a positive"):
+        m.with_overrides({"casing.isolator.A.stiffness.lateral_1": -1.0})
