@@ -278,44 +278,38 @@ def _body(body):
 
 def _mount_keys(prefix, what):
     """The spring-damper keys of an isolator or a clip (local axes: axial along the tangent, the
-    element frame's lateral y and z)."""
-    return [
-        KeySpec(
-            f"{prefix}.stiffness",
-            "float or 3 floats",
+    element frame's lateral y and z), each a number or three, by component a parameter."""
+    triples = [
+        (
+            "stiffness",
             REQUIRED,
             "N/m",
-            f"translational stiffness of {what} [axial, lateral_1, lateral_2] in the support's local axes",
-            Triple(Number(ge=0, unit="N/m")),
-            components=MOUNT_AXES,
+            "translational stiffness",
+            "[axial, lateral_1, lateral_2] in the support's local axes",
         ),
-        KeySpec(
-            f"{prefix}.rotational_stiffness",
-            "float or 3 floats",
+        (
+            "rotational_stiffness",
             0.0,
             "N.m/rad",
-            f"rotational stiffness of {what} [about axial (torsion), lateral_1, lateral_2]",
-            Triple(Number(ge=0, unit="N.m/rad")),
-            components=MOUNT_AXES,
+            "rotational stiffness",
+            "[about axial (torsion), lateral_1, lateral_2]",
         ),
+        ("damping", 0.0, "N.s/m", "translational viscous damping", "[axial, lateral_1, lateral_2]"),
+        ("rotational_damping", 0.0, "N.m.s/rad", "rotational viscous damping", "[about axial, lateral_1, lateral_2]"),
+    ]
+    keys = [
         KeySpec(
-            f"{prefix}.damping",
+            f"{prefix}.{name}",
             "float or 3 floats",
-            0.0,
-            "N.s/m",
-            f"translational viscous damping of {what} [axial, lateral_1, lateral_2]",
-            Triple(Number(ge=0, unit="N.s/m")),
+            default,
+            unit,
+            f"{kind} of {what} {axes}",
+            Triple(Number(ge=0, unit=unit)),
             components=MOUNT_AXES,
-        ),
-        KeySpec(
-            f"{prefix}.rotational_damping",
-            "float or 3 floats",
-            0.0,
-            "N.m.s/rad",
-            f"rotational viscous damping of {what} [about axial, lateral_1, lateral_2]",
-            Triple(Number(ge=0, unit="N.m.s/rad")),
-            components=MOUNT_AXES,
-        ),
+        )
+        for name, default, unit, kind, axes in triples
+    ]
+    keys.append(
         KeySpec(
             f"{prefix}.table",
             "table",
@@ -324,8 +318,9 @@ def _mount_keys(prefix, what):
             f"dynamic stiffness of {what} against frequency, k(f) = k k_scale (1 + i loss_factor): in the "
             "frequency domain it replaces stiffness and damping (the time domain uses those); linear, held at the ends",
             StiffnessTable(),
-        ),
-    ]
+        )
+    )
+    return keys
 
 
 _EXC = "scenario.excitation.<name>"
