@@ -34,3 +34,8 @@ class SimulationError(CableCasingError, RuntimeError):
 
     The message says when (time in s), where (body and node) and what happened.
     """
+
+
+class PlausibilityWarning(UserWarning):
+    """A model that is valid but likely a mistake (a route of 850 m: points in mm?, a bend tighter
+    than ten casing diameters, ...; ``structure.route_summary.plausibility_warnings``)."""

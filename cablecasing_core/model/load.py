@@ -64,7 +64,22 @@ def load_model(path: str | Path | None = None) -> Model:
     except tomllib.TOMLDecodeError as exc:
         raise ModelError("model_file", str(path), f"must be valid TOML ({exc})") from None
     base = str(p.resolve().parent)
-    return Model(validate(raw, base_dir=base), source=str(p), base_dir=base)
+    model = Model(validate(raw, base_dir=base), source=str(p), base_dir=base)
+    _warn_if_implausible(model)
+    return model
+
+
+def _warn_if_implausible(model):
+    """A :class:`~cablecasing_core.errors.PlausibilityWarning` for each plausibility warning of a
+    model file's routing but the element-length advice (issue 24; the CLI prints each as one
+    line; ``cablecasing geometry`` gives them all)."""
+    import warnings
+
+    from ..errors import PlausibilityWarning
+    from ..structure.route_summary import plausibility_warnings
+
+    for text in plausibility_warnings(model, advice=False):
+        warnings.warn(f"{model.source}: {text}", PlausibilityWarning, stacklevel=3)
 
 
 def default_model() -> Model:
