@@ -7,7 +7,16 @@ Prints ``name: value`` lines:
 * ``engine_us_per_step``: the core alone, ``Engine.advance`` per communication step with the same
   input reconstruction the FMU uses (the FMU's outputs equal these bit for bit);
 * ``fmpy_us_per_step`` and ``fmu_overhead_fmpy``: a whole communication step through fmpy's
-  ``FMU2Slave`` (set the 36 inputs, ``doStep``, get the outputs) and its ratio to the engine;
+  ``FMU2Slave`` in this process, as fmpy's own ``simulate_fmu`` sets inputs
+  (``simulation.Input.apply``): ``fmi2SetReal`` of the 36 inputs, ``fmi2DoStep``, ``fmi2GetReal``
+  of the 26 Real outputs, on ctypes arrays made once; and its ratio to the engine (the package is
+  imported here before the FMU is loaded: the FMU uses this copy, whose sources are its own);
+* ``fmpy_list_set_get_us``: the same inputs and outputs through fmpy's convenience calls
+  ``setReal(vrs, list)`` and ``getReal(vrs)``, which build new ctypes arrays at every call (fmpy's
+  own cost, outside the FMU);
+* ``fmpy_driver_us_per_step`` and ``fmu_overhead_fmpy_driver``: the test driver's loop
+  (``tests/fmu/fmu_driver.py``, a fresh process, the FMU's own bundled code; the driver's Python
+  per step included: outputs by name, statuses);
 * ``fmusim_us_per_step`` and ``fmu_overhead_fmusim``: the same through fmusim (Reference FMUs,
   ``../shared/hosts``) in the plain environment, from the difference of a long and a short run
   (so process start, Python start and instantiation cancel), and its ratio to the engine;
@@ -80,6 +89,48 @@ def engine_run(model, table, h):
     return time.perf_counter() - t0
 
 
+def fmpy_run(table, h):
+    """(s per step of set inputs + doStep + get outputs through fmpy's ctypes bindings on arrays
+    made once, s per step of fmpy's setReal(list) + getReal) on a fresh FMU2Slave in this process;
+    the first two steps are left out as in :func:`engine_run`."""
+    from fmpy import extract, read_model_description
+    from fmpy.fmi2 import FMU2Slave, fmi2Real, fmi2True, fmi2ValueReference
+
+    md = read_model_description(str(FMU))
+    var = {v.name: v for v in md.modelVariables}
+    in_vr = [var[name].valueReference for name in fmu_driver.INPUTS]
+    out_vr = [var[name].valueReference for name in OUTPUTS if var[name].type == "Real"]
+    s = FMU2Slave(
+        guid=md.guid, unzipDirectory=extract(str(FMU)), modelIdentifier=md.coSimulation.modelIdentifier,
+        instanceName="bench",
+    )  # fmt: skip
+    s.instantiate(loggingOn=False)
+    s.setupExperiment(startTime=0.0)
+    s.enterInitializationMode()
+    s.exitInitializationMode()
+    vin, vout = (fmi2ValueReference * len(in_vr))(*in_vr), (fmi2ValueReference * len(out_vr))(*out_vr)
+    xin, xout = (fmi2Real * len(in_vr))(), (fmi2Real * len(out_vr))()
+    view, nin, nout, c = np.ctypeslib.as_array(xin), len(in_vr), len(out_vr), s.component
+    set_real, do_step, get_real = s.fmi2SetReal, s.fmi2DoStep, s.fmi2GetReal
+    t = 0.0
+    for k, row in enumerate(table):
+        if k == 2:
+            t0 = time.perf_counter()
+        view[:] = row
+        set_real(c, vin, nin, xin)
+        do_step(c, t, h, fmi2True)
+        get_real(c, vout, nout, xout)
+        t += h
+    t1 = time.perf_counter()
+    for row in table[: len(table) // 5]:
+        s.setReal(in_vr, list(row))
+        s.getReal(out_vr)
+    t2 = time.perf_counter()
+    s.terminate()
+    s.freeInstance()
+    return (t1 - t0) / (len(table) - 2), (t2 - t1) / (len(table) // 5)
+
+
 def write_fmusim_inputs(path, table, h):
     cols = [j for j in range(3 * NCH) if np.any(table[:, j] != 0)]
     with open(path, "w") as f:
@@ -114,13 +165,16 @@ def main():
     n = int(round(args.duration / h))
     short = n // 5
     table = np.hstack(scenario_motion(model)(h * np.arange(n + 1)))  # the master's samples at t = k h
-    eng_s, fmpy_s, sim_long, sim_short, drive_long, drive_short, cold, warm = [], [], [], [], [], [], [], []
+    eng_s, lean_s, lists_s, fmpy_s, sim_long, sim_short, drive_long, drive_short, cold, warm = ([] for _ in range(10))
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         write_fmusim_inputs(tmp / "inputs.csv", table, h)
         fmu_driver.run(tmp, "run", FMU, inputs=table[:2], h=h, outputs=["casing.B.Fz"])  # warm the caches
         for k in range(args.repeat):
             eng_s.append(engine_run(model, table[:n], h) / (n - 2))
+            lean, lists = fmpy_run(table[:n], h)
+            lean_s.append(lean)
+            lists_s.append(lists)
             res = fmu_driver.run(tmp, "run", FMU, inputs=table[:n], h=h, outputs=list(OUTPUTS))
             assert np.all(res["status"] == 0), res["log"]
             fmpy_s.append(float(res["run_s"]) / (n - 1))
@@ -138,8 +192,11 @@ def main():
     engine = min(eng_s)
     print(f"communication_step_s: {h:g}")
     print(f"engine_us_per_step: {engine * 1e6:.1f}")
-    print(f"fmpy_us_per_step: {min(fmpy_s) * 1e6:.1f}")
-    print(f"fmu_overhead_fmpy: {min(fmpy_s) / engine:.3f}")
+    print(f"fmpy_us_per_step: {min(lean_s) * 1e6:.1f}")
+    print(f"fmu_overhead_fmpy: {min(lean_s) / engine:.3f}")
+    print(f"fmpy_list_set_get_us: {min(lists_s) * 1e6:.1f}")
+    print(f"fmpy_driver_us_per_step: {min(fmpy_s) * 1e6:.1f}")
+    print(f"fmu_overhead_fmpy_driver: {min(fmpy_s) / engine:.3f}")
     if sim_long:
         per_step = min(a - b for a, b in zip(sim_long, sim_short)) / (n - short)
         print(f"fmusim_us_per_step: {per_step * 1e6:.1f}")
