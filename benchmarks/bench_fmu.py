@@ -18,16 +18,18 @@ Prints ``name: value`` lines:
   (``tests/fmu/fmu_driver.py``, a fresh process, the FMU's own bundled code; the driver's Python
   per step included: outputs by name, statuses);
 * ``fmusim_us_per_step`` and ``fmu_overhead_fmusim``: the same through fmusim (Reference FMUs,
-  ``../shared/hosts``) in the plain environment, from the difference of a long and a short run
-  (so process start, Python start and instantiation cancel), and its ratio to the engine;
+  ``../shared/hosts``) in the plain environment: the wall time from the first ``fmi2DoStep`` to
+  ``fmi2Terminate`` over the calls, from the FMU's own log line at ``fmi2Terminate`` (so process
+  start, Python start and instantiation are left out), and its ratio to the engine;
 * ``rtf_fmusim``: simulated over wall seconds of fmusim's stepping (the same difference), and
   ``rtf_fmusim_whole_run``: of a whole ``--stop-time`` run including its start. fmusim looks up its
   input file from the first row at every step (``FMIApplyInput``, ``FMINextInputEvent`` of
-  Reference-FMUs v0.0.39), so its own cost per step grows with the file's length: these runs use
-  the shortest file that covers them, and the short run's difference leaves most of it in;
+  Reference-FMUs v0.0.39), so its own cost per step grows with the file's length;
 * ``fmusim_drive_us_per_step``, ``rtf_fmusim_drive``: the default scenario in fmusim without an
-  input file, the FMU driving its supports with the model's own scenario (``scenario.drive``), the
-  same long-minus-short difference (fmusim's own cost is then ~1 µs per step);
+  input file, the FMU driving its supports with the model's own scenario (``scenario.drive``),
+  measured the same way (fmusim's own cost is then ~1 µs per step), and its ratio to the engine
+  driven by the same scenario (``engine_drive_us_per_step``: the scenario's record evaluated on
+  the engine's grid, as the slave does, costs ~1.5 µs per Newmark step);
 * ``instantiate_cold_s``: loading the FMU (unzipped) through ``fmi2Instantiate``, initialisation
   and the first step with an empty per-user cache (no numba cache, no copy of the code), and
   ``instantiate_warm_s`` with both in place;
@@ -40,6 +42,7 @@ Run: .venv/bin/python benchmarks/bench_fmu.py [--duration 1.0] [--repeat 3]
 
 import argparse
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -59,7 +62,7 @@ import cablecasing_core as cc  # noqa: E402
 from cablecasing_core.model.schema import CHANNELS, OUTPUTS  # noqa: E402
 from cablecasing_core.timedomain.engine import Engine  # noqa: E402
 from cablecasing_core.timedomain.scenario import scenario_motion  # noqa: E402
-from cablecasing_core.timedomain.support_motion import SupportReconstruction  # noqa: E402
+from cablecasing_core.timedomain.support_motion import GridMotion, SupportReconstruction  # noqa: E402
 
 FMU = ROOT / "dist" / "CableCasing.fmu"
 FMUSIM = ROOT.parent / "shared" / "hosts" / "fmusim"
@@ -67,7 +70,7 @@ NCH = len(CHANNELS)
 PLAIN = {"HOME": os.environ.get("HOME", "/root"), "PATH": "/usr/bin:/bin"}
 
 
-def engine_run(model, table, h):
+def engine_run(model, table, h, drive=False):
     """Wall time (s) of the core's engine over the communication steps with the FMU's reconstruction
     and outputs (``Engine.advance_reconstructed``, what the FMU's slave calls, on input buffers that
     persist from step to step as the FMU's do, so its remembered context serves every step; the
@@ -76,10 +79,11 @@ def engine_run(model, table, h):
     rec = SupportReconstruction(NCH)
     out = np.zeros(len(OUTPUTS))
     u, v, a = np.zeros(NCH), np.zeros(NCH), np.zeros(NCH)
+    base = GridMotion(scenario_motion(model, dt=eng.dt), eng.dt) if drive else None  # as the slave's
 
     def step(row):
         u[:], v[:], a[:] = row[:NCH], row[NCH : 2 * NCH], row[2 * NCH :]
-        eng.advance_reconstructed(h, rec, u, v, a, out)
+        eng.advance_reconstructed(h, rec, u, v, a, out, base)
 
     step(table[0])  # loads the kernels, factorises
     step(table[1])  # (the first step takes the general path)
@@ -140,13 +144,22 @@ def write_fmusim_inputs(path, table, h):
 
 
 def fmusim_wall(inputs, stop, h, out, *extra):
-    """Wall time (s) of one fmusim run to ``stop`` s with communication step ``h`` s."""
+    """(wall time (s) of one fmusim run to ``stop`` s with communication step ``h`` s, the wall time
+    (s) from its first fmi2DoStep to fmi2Terminate and the calls, from the FMU's own log line)."""
     cmd = [str(FMUSIM), "--interface-type", "cs", "--stop-time", repr(stop), "--output-interval", repr(h)]
     if inputs is not None:
         cmd += ["--input-file", str(inputs)]
+    cmd += ["--logging-on", "--log-level", "ok"]
     t0 = time.perf_counter()
-    subprocess.run([*cmd, *extra, "--output-file", str(out), str(FMU)], env=PLAIN, check=True, capture_output=True)
-    return time.perf_counter() - t0
+    res = subprocess.run(
+        [*cmd, *extra, "--output-file", str(out), str(FMU)], env=PLAIN, check=True, capture_output=True
+    )
+    wall = time.perf_counter() - t0
+    m = re.search(
+        r"(\d+) doStep calls took .*?; ([0-9.]+) s passed from the first call",
+        res.stdout.decode() + res.stderr.decode(),
+    )
+    return wall, float(m.group(2)), int(m.group(1))
 
 
 def main():
@@ -158,20 +171,21 @@ def main():
     h = args.step
     if not (h > 0 and args.duration >= 20 * h):
         p.error(f"--step {h!r}: must be positive and at most a twentieth of --duration ({args.duration!r} s)")
-    if not FMU.exists() or FMU.stat().st_mtime < max(q.stat().st_mtime for q in build_fmu.sources()):
         subprocess.run([sys.executable, str(ROOT / "build_fmu.py")], check=True)
 
     model = cc.load_model()
     n = int(round(args.duration / h))
-    short = n // 5
+    if not FMU.exists() or FMU.stat().st_mtime < max(q.stat().st_mtime for q in build_fmu.sources()):
+        subprocess.run([sys.executable, str(ROOT / "build_fmu.py")], check=True)
     table = np.hstack(scenario_motion(model)(h * np.arange(n + 1)))  # the master's samples at t = k h
-    eng_s, lean_s, lists_s, fmpy_s, sim_long, sim_short, drive_long, drive_short, cold, warm = ([] for _ in range(10))
+    eng_s, eng_drive_s, lean_s, lists_s, fmpy_s, sim_long, drive_long, cold, warm = ([] for _ in range(9))
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         write_fmusim_inputs(tmp / "inputs.csv", table, h)
         fmu_driver.run(tmp, "run", FMU, inputs=table[:2], h=h, outputs=["casing.B.Fz"])  # warm the caches
         for k in range(args.repeat):
             eng_s.append(engine_run(model, table[:n], h) / (n - 2))
+            eng_drive_s.append(engine_run(model, np.zeros_like(table[:n]), h, drive=True) / (n - 2))
             lean, lists = fmpy_run(table[:n], h)
             lean_s.append(lean)
             lists_s.append(lists)
@@ -181,10 +195,8 @@ def main():
             warm.append(float(res["first_step_s"]))
             if FMUSIM.exists():
                 sim_long.append(fmusim_wall(tmp / "inputs.csv", n * h, h, tmp / "long.csv"))
-                sim_short.append(fmusim_wall(tmp / "inputs.csv", short * h, h, tmp / "short.csv"))
                 drive = ("--start-value", "scenario.drive", "true")
                 drive_long.append(fmusim_wall(None, n * h, h, tmp / "dlong.csv", *drive))
-                drive_short.append(fmusim_wall(None, short * h, h, tmp / "dshort.csv", *drive))
             env = {key: v for key, v in os.environ.items() if key != "NUMBA_CACHE_DIR"}
             env["XDG_CACHE_HOME"] = str(tmp / f"empty-cache-{k}")
             res_cold = fmu_driver.run(tmp, "run", FMU, inputs=table[:2], h=h, outputs=["casing.B.Fz"], env=env)
@@ -198,16 +210,17 @@ def main():
     print(f"fmpy_driver_us_per_step: {min(fmpy_s) * 1e6:.1f}")
     print(f"fmu_overhead_fmpy_driver: {min(fmpy_s) / engine:.3f}")
     if sim_long:
-        per_step = min(a - b for a, b in zip(sim_long, sim_short)) / (n - short)
+        per_step = min(stepping / calls for _, stepping, calls in sim_long)
         print(f"fmusim_us_per_step: {per_step * 1e6:.1f}")
         print(f"fmu_overhead_fmusim: {per_step / engine:.3f}")
         print(f"rtf_fmusim: {h / per_step:.3f}")
-        print(f"rtf_fmusim_whole_run: {n * h / min(sim_long):.3f}")
-        per_step = min(a - b for a, b in zip(drive_long, drive_short)) / (n - short)
+        print(f"rtf_fmusim_whole_run: {n * h / min(w for w, _, _ in sim_long):.3f}")
+        per_step = min(stepping / calls for _, stepping, calls in drive_long)
         print(f"fmusim_drive_us_per_step: {per_step * 1e6:.1f}")
-        print(f"fmu_overhead_fmusim_drive: {per_step / engine:.3f}")
+        print(f"engine_drive_us_per_step: {min(eng_drive_s) * 1e6:.1f}")
+        print(f"fmu_overhead_fmusim_drive: {per_step / min(eng_drive_s):.3f}")
         print(f"rtf_fmusim_drive: {h / per_step:.3f}")
-        print(f"rtf_fmusim_drive_whole_run: {n * h / min(drive_long):.3f}")
+        print(f"rtf_fmusim_drive_whole_run: {n * h / min(w for w, _, _ in drive_long):.3f}")
     print(f"rtf_engine: {h / engine:.3f}")
     print(f"instantiate_cold_s: {min(cold):.2f}")
     print(f"instantiate_warm_s: {min(warm):.2f}")

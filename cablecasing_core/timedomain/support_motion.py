@@ -138,12 +138,24 @@ class SupportReconstruction:
     def __init__(self, n):
         self.state = np.zeros((3, int(n)))  # rows u (m), v (m/s), a (m/s2)
         self._h = None
+        self._Gs = {}  # h -> G of the last few step sizes
+
+    #: Step sizes whose G is kept: a master that computes its steps as t_(k+1) - t_k (fmusim,
+    #: libcosim) passes a few values that differ in the last bits, each needing its own exact G.
+    KEPT_STEP_SIZES = 8
 
     def coefficient_matrix(self, h: float) -> np.ndarray:
-        """G (18 x 6) of a step of ``h`` s (see :func:`_coefficient_matrix`), kept for the last h."""
-        if h != self._h:  # a master usually keeps its communication step: cache per h
-            h = seconds("h", h)
-            self._h, self._G = h, _coefficient_matrix(h)
+        """G (18 x 6) of a step of ``h`` s (see :func:`_coefficient_matrix`), kept for the last
+        :attr:`KEPT_STEP_SIZES` values of h (a bounded dict by hand: functools.lru_cache would
+        hold every instance's matrices for the life of the process)."""
+        if h != self._h:
+            G = self._Gs.get(h)
+            if G is None:
+                h = seconds("h", h)
+                G = self._Gs[h] = _coefficient_matrix(h)
+                if len(self._Gs) > self.KEPT_STEP_SIZES:
+                    del self._Gs[next(iter(self._Gs))]  # the oldest
+            self._h, self._G = h, G
         return self._G
 
     def motion(self, t0: float, h: float, u: ArrayLike, v: ArrayLike, a: ArrayLike) -> QuinticStep:

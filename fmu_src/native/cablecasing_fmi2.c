@@ -40,6 +40,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "fmi2Functions.h"
@@ -93,7 +94,16 @@ typedef struct {
     fmi2ValueReference int_vr[MAX_INT_OUTPUTS];
     size_t int_idx[MAX_INT_OUTPUTS];
     size_t nint;
+    long step_calls;                    /* fmi2DoStep calls since instantiation or reset */
+    double step_seconds;                /* wall time spent inside them (s) */
+    double first_step_at;               /* monotonic clock at the first of them (s) */
 } Instance;
+
+static double monotonic_seconds(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
 
 #define INSTANCE_MAGIC 0xCAB1EC45u
 #define STATE_MAGIC 0x57A7E0CCu
@@ -659,6 +669,14 @@ FMI2_Export fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
 FMI2_Export fmi2Status fmi2Terminate(fmi2Component c) {
     ENTER(c);
     if (inst->state != S_STEPPING) return refuse(inst, "fmi2Terminate");
+    if (inst->step_calls > 0) { /* where a co-simulation's time went: in the FMU's steps or in the host */
+        double wall = monotonic_seconds() - inst->first_step_at;
+        LOGI(inst, fmi2OK,
+             "%ld doStep calls took %.3f s inside the FMU (%.1f us per call); %.3f s passed from the first "
+             "call to fmi2Terminate, so the host spent %.3f s (%.1f us per call) between them",
+             inst->step_calls, inst->step_seconds, 1e6 * inst->step_seconds / inst->step_calls, wall,
+             wall - inst->step_seconds, 1e6 * (wall - inst->step_seconds) / inst->step_calls);
+    }
     fmi2Status s = call0(inst, "terminate");
     inst->state = S_TERMINATED;
     return s;
@@ -668,6 +686,8 @@ FMI2_Export fmi2Status fmi2Reset(fmi2Component c) {
     ENTER(c);
     fmi2Status s = call0(inst, "reset");
     if (s <= fmi2Warning) inst->state = S_INSTANTIATED;
+    inst->step_calls = 0;
+    inst->step_seconds = 0.0;
     return s;
 }
 
@@ -945,6 +965,8 @@ FMI2_Export fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunication
     ENTER(c);
     (void)noSetFMUStatePriorToCurrentPoint;
     if (inst->state != S_STEPPING) return refuse(inst, "fmi2DoStep");
+    double t_enter = monotonic_seconds();
+    if (inst->step_calls == 0) inst->first_step_at = t_enter;
     PyGILState_STATE gil = gil_enter();
     PyObject *args[2] = {P.PyFloat_FromDouble(currentCommunicationPoint),
                          P.PyFloat_FromDouble(communicationStepSize)};
@@ -965,6 +987,8 @@ FMI2_Export fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunication
         s = (v >= fmi2OK && v <= fmi2Error) ? (fmi2Status)v : fmi2Error;
     }
     P.PyGILState_Release(gil);
+    inst->step_calls += 1;
+    inst->step_seconds += monotonic_seconds() - t_enter;
     return s;
 }
 

@@ -157,14 +157,19 @@ def test_the_fused_communication_step_equals_advance_accept_and_outputs():
     the bit, outputs, engine state and the supports' state. The fused engine reads its inputs from
     the same buffers every step, as the FMU does (its remembered context is reused), and one step
     with a NaN input fails in between: it must leave the engine and the supports' state as they
-    were (the roll-back), so the run goes on equal to the bit."""
+    were (the roll-back), so the run goes on equal to the bit. The first steps are a grid's
+    differences t_(k+1) - t_k, as fmusim and libcosim compute them (1e-4 s but for the last
+    bits): the fused step follows them h by h, with each h's exact quintic matrix."""
     import cablecasing_core as cc
     from cablecasing_core.model.schema import OUTPUTS
     from cablecasing_core.timedomain.engine import Engine
     from cablecasing_core.timedomain.scenario import scenario_motion
 
     model = cc.load_model()
-    steps = np.array([1e-4] * 300 + [3.7e-5, 1.13e-4] * 20 + [1e-4] * 160)
+    # fmusim's and libcosim's steps t_(k+1) - t_k of t_k = k h: 1e-4 s give or take the last bits
+    grid = np.diff(np.arange(301) * 1e-4)
+    assert len(set(grid.tolist())) > 1  # (the case the fused context must follow, h by h)
+    steps = np.concatenate([grid, [3.7e-5, 1.13e-4] * 20, [1e-4] * 160])
     t = np.concatenate([[0.0], np.cumsum(steps)[:-1]])
     table = np.hstack(scenario_motion(model)(t))
     fused, plain = Engine(model, ledger=False), Engine(model, ledger=False)
