@@ -25,14 +25,13 @@ Files are written atomically (:mod:`.files`): an interrupted write leaves an ear
 
 from __future__ import annotations
 
-import csv
 import os
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .errors import ModelError
-from .files import atomic_path
+from .files import atomic_path, read_csv_table
 from .model.schema import CHANNELS, INPUTS, OUTPUTS, input_spec, output_spec
 
 SUFFIXES = (".csv", ".npz", ".uff")
@@ -152,16 +151,7 @@ def read_records(path: str | os.PathLike) -> Records:
 
 
 def _read_csv(path):
-    try:
-        with open(path, encoding="utf-8", newline="") as fh:
-            header = next(csv.reader(fh), [])
-        data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
-    except UnicodeDecodeError:
-        raise ModelError("file", path, "is not a text CSV file (is it an .npz or .uff file named .csv?)") from None
-    except ValueError as exc:
-        raise ModelError("file", path, f"must be numeric CSV with one header line ({exc})") from None
-    if len(header) < 2 or data.shape[0] < 2 or data.shape[1] != len(header):
-        raise ModelError("file", path, "a record needs a header line 'time [s],<name>,...' and two rows or more")
+    header, data = read_csv_table(path, "file")
     names, units = [], {}
     for h in header[1:]:
         h = h.strip()

@@ -6,7 +6,13 @@ Sub-commands: ``modes``, ``trfam``, ``keys`` (the model file's keys, from the sc
 its own with ``add_parser``. Every ``--help`` shows the defaults. Every error in the input prints one
 line naming the key, the value and what is allowed, and exits with status 2; an interrupt (Ctrl-C)
 prints one line and exits with status 130, leaving earlier output files intact (they are written
-atomically, at the end); a warning prints one line ``cablecasing: warning: ...``.
+atomically, at the end); a warning prints one line ``cablecasing: warning: ...``. A failure of the
+computing infrastructure (a study's dask scheduler lost, no worker left or making progress) prints
+one line and exits with status 3 (the same command resumes). Anything else is a bug: one line
+``cablecasing: internal error: ...`` and status 1 (``CABLECASING_TRACEBACK=1`` shows the traceback).
+
+Exit statuses: 0 done, 1 every run of a study failed or an internal error, 2 bad input (or a run
+that cannot work: too large for the machine, a blow-up), 3 infrastructure, 130 interrupted.
 """
 
 from __future__ import annotations
@@ -19,7 +25,7 @@ import warnings
 
 import numpy as np
 
-from ..errors import CableCasingError, ModelError
+from ..errors import CableCasingError, InfrastructureError, ModelError, excerpt, plain
 from ..model import load_model
 from . import identify, nvh, report, simulate, study
 from .paths import check_output_path, emit_table
@@ -162,8 +168,18 @@ def main(argv=None):
     warnings.showwarning = _warning_line
     try:
         return args.func(args)
+    except InfrastructureError as exc:
+        print(f"cablecasing: error: {exc}", file=sys.stderr)
+        return 3
     except CableCasingError as exc:
         print(f"cablecasing: error: {exc}", file=sys.stderr)
+        return 2
+    except MemoryError:  # (the sizes a run needs are checked before it starts; this is the last resort)
+        print(
+            "cablecasing: error: out of memory: the run needs more memory than the machine has free "
+            "(docs/model_file.md, Limits)",
+            file=sys.stderr,
+        )
         return 2
     except BrokenPipeError:  # output piped into head and the like: stop quietly
         sys.stdout = open(os.devnull, "w")  # (Python flushes stdout at exit)
@@ -172,5 +188,14 @@ def main(argv=None):
         hint = getattr(args, "interrupted", "nothing was written; files written before are as they were")
         print(f"\ncablecasing: interrupted: {hint}", file=sys.stderr)
         return 130
+    except Exception as exc:  # a bug: one line, not a traceback (the variable shows it)
+        if os.environ.get("CABLECASING_TRACEBACK"):
+            raise
+        print(
+            f"cablecasing: internal error: {type(exc).__name__}: {excerpt(plain(str(exc)), 200)} (a bug; please report "
+            "it with the command; CABLECASING_TRACEBACK=1 shows the traceback)",
+            file=sys.stderr,
+        )
+        return 1
     finally:
         warnings.showwarning = shown

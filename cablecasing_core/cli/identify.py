@@ -27,8 +27,9 @@ def _fail(exc):
 
 
 def _write_toml(path, text):
-    with open(path, "w", encoding="utf-8") as fh:
-        fh.write(text)
+    from ..files import write_text
+
+    write_text(path, text)
     print(f"wrote {path}")
 
 
@@ -145,20 +146,18 @@ def _read_measured(path, modes_arg, channel):
     from ..identification.uff_io import is_uff, read_frf
 
     if not is_uff(path):
-        try:
-            with open(path, encoding="utf-8") as fh:
-                header = [h.strip().lower() for h in fh.readline().split(",")]
-        except OSError:
-            raise ModelError("file", str(path), "does not exist or cannot be read") from None
+        from ..files import read_csv_table
+
+        names, data = read_csv_table(path, "file", min_rows=1)
+        header = [h.lower() for h in names]
         if "mode" in header:
             fcol = next((i for i, h in enumerate(header) if h in ("f_hz", "frequency_hz", "f")), None)
             if fcol is None:
                 raise ModelError("file", str(path), "a measured-frequency table needs columns mode,f_hz")
-            try:
-                data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
-            except ValueError as exc:
-                raise ModelError("file", str(path), f"must be numeric CSV rows mode,f_hz ({exc})") from None
-            return data[:, fcol], data[:, header.index("mode")].astype(int)
+            modes = data[:, header.index("mode")]
+            if np.any(modes != np.round(modes)) or np.any(modes < 1) or np.any(modes > 1000):
+                raise ModelError("file", str(path), "the column mode must hold whole numbers 1 to 1000")
+            return data[:, fcol], modes.astype(int)
     if not modes_arg:
         raise ModelError("--modes", None, "an FRF file needs the mode number of each resonance (--modes 1 2 ...)")
     f, H = read_frf(path, channel)

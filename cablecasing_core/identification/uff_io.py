@@ -207,21 +207,6 @@ def write_csv_frf(path, freqs_hz, H, name="H"):
     )
 
 
-def _read_csv(path):
-    if not os.path.exists(path):
-        raise ModelError("file", str(path), "does not exist")
-    with open(path, encoding="utf-8") as fh:
-        header = fh.readline().strip()
-    names = [h.strip() for h in header.split(",")]
-    try:
-        data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
-    except ValueError as exc:
-        raise ModelError("file", str(path), f"must be numeric CSV with one header line ({exc})") from exc
-    if data.shape[1] != len(names):
-        raise ModelError("file", str(path), f"header has {len(names)} columns, data {data.shape[1]}")
-    return names, data
-
-
 def read_csv_time(path, channel=None):
     """A time record from CSV or NPZ (:func:`cablecasing_core.records.read_records`, the one reader of
     record files): returns ``(x, fs, name)``; ``channel`` is a column name (``casing.B.Fz``, its header
@@ -248,7 +233,9 @@ def read_csv_time(path, channel=None):
 def read_csv_frf(path):
     """A complex FRF from CSV: returns ``(freqs_hz, H)`` from the first column and the first
     ``re_*``/``im_*`` column pair."""
-    names, data = _read_csv(path)
+    from ..files import read_csv_table
+
+    names, data = read_csv_table(path, "file", min_rows=3, min_columns=3)
     re_i = next((i for i, n in enumerate(names) if n.lower().startswith("re")), None)
     im_i = next((i for i, n in enumerate(names) if n.lower().startswith("im")), None)
     if re_i is None or im_i is None:

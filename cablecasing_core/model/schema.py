@@ -36,6 +36,11 @@ CONTACT_LAWS = ("hertz", "linear")
 EXCITATION_KINDS = ("random", "harmonic", "impulse", "csv")
 CSV_QUANTITIES = ("displacement", "velocity", "acceleration")
 SECTIONS = ("geometry", "casing", "cable", "contact", "scenario")
+#: The most elements a body may have (the time domain's dense compliance of 6 (n + 1) DOFs and the
+#: frequency domain's dense eigenproblem grow as n^2 in memory, n^3 in time; docs/model_file.md, Limits).
+MAX_ELEMENTS = 2000
+#: The largest seed: what a signed 64-bit integer holds (the ensembles' CSV files, numpy).
+MAX_SEED = 2**63 - 1
 
 #: The 12 translational support channels, in the FMU's input order (m, m/s, m/s2, global axes).
 CHANNELS = tuple(f"{b}.{s}.{d}" for b in BODY_NAMES for s in SUPPORT_NAMES for d in DIRECTIONS)
@@ -73,7 +78,13 @@ class KeySpec:
     value taken when the key is left out, or :data:`REQUIRED`, :data:`OPTIONAL`; unit: FMI-style;
     description: one line; validator: the :mod:`.validators` object that checks a value; note:
     what the loader checks against other keys; kinds: the excitation kinds that take the key;
-    default_from: the key whose value is the default.
+    default_from: the key whose value is the default; plausible: ``(low, high, why)``, the range
+    of physically meaningful values inside the allowed one: a value outside it is taken, with a
+    :class:`~cablecasing_core.errors.ModelWarning` that says ``why`` the result may be meaningless.
+
+    The allowed ranges are what the numerics can take: within them no combination of values
+    overflows, and a run either gives finite results or stops with a message (docs/model_file.md,
+    Limits); they are far wider than any cable.
     """
 
     key: str
@@ -85,11 +96,30 @@ class KeySpec:
     note: str = ""
     kinds: tuple = ()
     default_from: str | None = None
+    plausible: tuple | None = None
 
     @property
     def allowed(self) -> str:
         """A short human text of the allowed values."""
         return self.validator.allowed + (f"; {self.note}" if self.note else "")
+
+    @property
+    def plausible_text(self) -> str:
+        """The plausible range as text (empty when the key has none)."""
+        if not self.plausible:
+            return ""
+        lo, hi, _ = self.plausible
+        return f"{lo:g} to {hi:g}" + (f" {self.unit}" if self.unit not in ("", "1") else "")
+
+    def implausible(self, value) -> str | None:
+        """Why ``value`` (checked; a number or a table's values) may give a meaningless result, or None."""
+        if not self.plausible:
+            return None
+        lo, hi, why = self.plausible
+        values = [row[1] for row in value] if isinstance(value, list) else [value]
+        if all(lo <= abs(v) <= hi or v == 0 for v in values):
+            return None
+        return f"outside the plausible {self.plausible_text}: {why}"
 
     @property
     def required(self) -> bool:
@@ -105,6 +135,9 @@ class KeySpec:
         return self.validator(self.key if key is None else key, value)
 
 
+_DIAMETER = (1e-4, 0.05, "the cables and casings this model describes are 0.1 to 50 mm thick")
+
+
 def _body(body):
     the = f"the {body}"
     keys = [
@@ -114,7 +147,8 @@ def _body(body):
             REQUIRED,
             "Pa",
             f"Young's (dynamic) modulus of {the}; a table makes it frequency-dependent (Section 3.1)",
-            NumberOrTable(Number(gt=0, unit="Pa")),
+            NumberOrTable(Number(gt=0, le=1e14, unit="Pa")),
+            plausible=(1e5, 1.2e12, "solids lie between a soft rubber (1e5 Pa) and diamond (1.2e12 Pa)"),
         ),
         KeySpec(
             f"{body}.nu",
@@ -130,7 +164,8 @@ def _body(body):
             REQUIRED,
             "kg/m3",
             f"density of {the}, averaged over its cross-section",
-            Number(gt=0, unit="kg/m3"),
+            Number(ge=0.01, le=1e5, unit="kg/m3"),
+            plausible=(100.0, 25000.0, "solids lie between a foam (100 kg/m3) and osmium (22600 kg/m3)"),
         ),
         KeySpec(
             f"{body}.alpha",
@@ -138,7 +173,8 @@ def _body(body):
             0.0,
             "1/s",
             f"Rayleigh mass-proportional damping of {the}, C = alpha M + beta K (Eq. 40)",
-            Number(ge=0, unit="1/s"),
+            Number(ge=0, le=1e9, unit="1/s"),
+            plausible=(0.0, 1e4, "the damping ratio alpha / (2 omega) exceeds 1 (overdamped) up to alpha / (4 pi) Hz"),
         ),
         KeySpec(
             f"{body}.beta",
@@ -146,7 +182,8 @@ def _body(body):
             0.0,
             "s",
             f"Rayleigh stiffness-proportional damping of {the}, C = alpha M + beta K (Eq. 40)",
-            Number(ge=0, unit="s"),
+            Number(ge=0, le=1.0, unit="s"),
+            plausible=(0.0, 1e-3, "the damping ratio beta omega / 2 exceeds 1 (overdamped) from 1 / (pi beta) Hz"),
         ),
         KeySpec(
             f"{body}.loss_factor",
@@ -154,7 +191,8 @@ def _body(body):
             0.0,
             "1",
             f"structural loss factor of {the} (Eq. 11; frequency domain only, the time domain uses alpha, beta)",
-            NumberOrTable(Number(ge=0)),
+            NumberOrTable(Number(ge=0, le=100.0)),
+            plausible=(0.0, 2.0, "loss factors of solids lie below 2 (rubbers near their glass transition)"),
         ),
     ]
     if body == "casing":
@@ -165,7 +203,8 @@ def _body(body):
                 REQUIRED,
                 "m",
                 "outer diameter of the casing (d_2 of Table 2)",
-                Number(gt=0, unit="m"),
+                Number(ge=1e-5, le=1.0, unit="m"),
+                plausible=_DIAMETER,
             ),
             KeySpec(
                 "casing.d_inner",
@@ -173,12 +212,23 @@ def _body(body):
                 REQUIRED,
                 "m",
                 "inner diameter of the casing, in which the cable runs (d_5 of Table 2)",
-                Number(gt=0, unit="m"),
+                Number(ge=1e-5, le=1.0, unit="m"),
+                plausible=_DIAMETER,
                 note="below casing.d_outer and above cable.d",
             ),
         ]
     else:
-        keys += [KeySpec("cable.d", "float", REQUIRED, "m", "diameter of the cable (D_z0)", Number(gt=0, unit="m"))]
+        keys += [
+            KeySpec(
+                "cable.d",
+                "float",
+                REQUIRED,
+                "m",
+                "diameter of the cable (D_z0)",
+                Number(ge=1e-5, le=1.0, unit="m"),
+                plausible=_DIAMETER,
+            )
+        ]
     keys.append(
         KeySpec(
             f"{body}.I",
@@ -187,7 +237,7 @@ def _body(body):
             "m4",
             f"effective second moment of area of {the}'s section, instead of the one of its diameters "
             "(I_op of Table 2)",
-            Number(gt=0, unit="m4"),
+            Number(gt=0, le=1.0, unit="m4"),
         )
     )
     keys += [
@@ -220,7 +270,8 @@ _KEYS = [
         35,
         "1",
         "number of beam elements of each body along the centerline",
-        Number(ge=1, integer=True),
+        Number(ge=1, le=MAX_ELEMENTS, integer=True),
+        note="a run checks the memory it needs first (docs/model_file.md, Limits)",
     ),
     KeySpec("geometry.points", "points", REQUIRED, "m", "points on the centerline at rest, end A first", Points()),
     *_body("casing"),
@@ -247,7 +298,7 @@ _KEYS = [
         1.0e6,
         "N/m",
         "penalty stiffness of the linear contact law (Eq. 24)",
-        Number(gt=0, unit="N/m"),
+        Number(gt=0, le=1e30, unit="N/m"),
     ),
     KeySpec(
         "contact.damping",
@@ -255,7 +306,7 @@ _KEYS = [
         100.0,
         "kg/s",
         "contact damping, acting while the penetration grows (Eq. 16)",
-        Number(ge=0, unit="kg/s"),
+        Number(ge=0, le=1e12, unit="kg/s"),
     ),
     KeySpec(
         "contact.friction",
@@ -263,7 +314,8 @@ _KEYS = [
         0.15,
         "1",
         "Coulomb friction coefficient between cable and casing (eta)",
-        Number(ge=0),
+        Number(ge=0, le=10.0),
+        plausible=(0.0, 2.0, "dry friction coefficients of solids lie below 2"),
     ),
     KeySpec(
         "contact.stick_velocity",
@@ -271,7 +323,8 @@ _KEYS = [
         1.0e-4,
         "m/s",
         "tangential relative speed below which a contact sticks (Section 2.1)",
-        Number(ge=0, unit="m/s"),
+        Number(ge=0, le=1e3, unit="m/s"),
+        plausible=(0.0, 0.1, "a contact that sticks up to this speed hardly ever slips"),
     ),
     KeySpec(
         "scenario.duration",
@@ -279,17 +332,25 @@ _KEYS = [
         1.0,
         "s",
         "duration of the scenario's run",
-        Number(gt=0, unit="s"),
+        Number(gt=0, le=1e6, unit="s"),
         note="at least scenario.dt",
     ),
-    KeySpec("scenario.dt", "float", 1.0e-5, "s", "time step of the Newmark integration", Number(gt=0, unit="s")),
+    KeySpec(
+        "scenario.dt",
+        "float",
+        1.0e-5,
+        "s",
+        "time step of the Newmark integration",
+        Number(ge=1e-10, le=1.0, unit="s"),
+        plausible=(1e-8, 1e-3, "a step longer than 1 ms does not resolve the cable's contacts and modes"),
+    ),
     KeySpec(
         "scenario.seed",
         "int",
         0,
         "1",
         "seed of the random excitations that give none of their own",
-        Number(ge=0, integer=True),
+        Number(ge=0, le=MAX_SEED, integer=True),
     ),
     KeySpec(
         "scenario.ramp",
@@ -297,7 +358,7 @@ _KEYS = [
         0.01,
         "s",
         "half-cosine fade-in of the support motion (0: none)",
-        Number(ge=0, unit="s"),
+        Number(ge=0, le=1e6, unit="s"),
     ),
     KeySpec(
         f"{_EXC}.target",
@@ -322,7 +383,8 @@ _KEYS = [
         5.0,
         "m/s2",
         "RMS acceleration of the random excitation",
-        Number(ge=0, unit="m/s2"),
+        Number(ge=0, le=1e6, unit="m/s2"),
+        plausible=(0.0, 1e3, "a vehicle's vibration stays below 100 g"),
         kinds=("random",),
     ),
     KeySpec(
@@ -341,7 +403,7 @@ _KEYS = [
         OPTIONAL,
         "1",
         "seed of the random excitation's phases",
-        Number(ge=0, integer=True),
+        Number(ge=0, le=MAX_SEED, integer=True),
         kinds=("random",),
         default_from="scenario.seed",
     ),
@@ -351,7 +413,7 @@ _KEYS = [
         REQUIRED,
         "Hz",
         "frequency of the harmonic excitation",
-        Number(gt=0, unit="Hz"),
+        Number(gt=0, le=1e6, unit="Hz"),
         kinds=("harmonic",),
     ),
     KeySpec(
@@ -360,7 +422,8 @@ _KEYS = [
         REQUIRED,
         "m",
         "displacement amplitude of the harmonic excitation, or height of the impulse's bump",
-        Number(unit="m"),
+        Number(ge=-1.0, le=1.0, unit="m"),
+        plausible=(0.0, 0.05, "a support that moves by more than 50 mm is not vibrating"),
         kinds=("harmonic", "impulse"),
     ),
     KeySpec(
@@ -378,11 +441,18 @@ _KEYS = [
         1.0e-3,
         "s",
         "duration of the impulse's Hann-shaped displacement bump",
-        Number(gt=0, unit="s"),
+        Number(gt=0, le=1e6, unit="s"),
+        note="at least 2 scenario.dt",
         kinds=("impulse",),
     ),
     KeySpec(
-        f"{_EXC}.start", "float", 0.0, "s", "start time of the impulse", Number(ge=0, unit="s"), kinds=("impulse",)
+        f"{_EXC}.start",
+        "float",
+        0.0,
+        "s",
+        "start time of the impulse",
+        Number(ge=0, le=1e6, unit="s"),
+        kinds=("impulse",),
     ),
     KeySpec(
         f"{_EXC}.file",
@@ -478,7 +548,8 @@ def markdown_table() -> str:
     lines = ["| key | type | default | unit | allowed | description |", "|---|---|---|---|---|---|"]
     for spec in _KEYS:
         kinds = f" (kind {' or '.join(spec.kinds)})" if spec.kinds else ""
-        allowed = spec.allowed.replace("|", "\\|")  # a | inside a Markdown table cell
+        allowed = spec.allowed + (f"; a warning outside {spec.plausible_text}" if spec.plausible else "")
+        allowed = allowed.replace("|", "\\|")  # a | inside a Markdown table cell
         lines.append(
             f"| `{spec.key}` | {spec.type} | {default(spec)} | {spec.unit or '-'} | "
             f"{allowed} | {spec.description}{kinds} |"

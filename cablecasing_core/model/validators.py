@@ -64,7 +64,10 @@ class Number:
                 raise ModelError(key, value, "must be " + self.allowed)
         elif self.integer and kind is float:
             raise ModelError(key, value, "must be " + self.allowed)
-        v = float(value)
+        try:
+            v = float(value)
+        except OverflowError:  # an integer beyond any float
+            raise ModelError(key, value, "must be " + self.allowed) from None
         if not math.isfinite(v):
             raise ModelError(key, value, "must be a finite number" + _unit_phrase(self.unit))
         if (
@@ -139,14 +142,18 @@ class Text:
 
 
 class Points:
-    """At least two points [x, y, z] (m), each different from the one before."""
+    """At least two points [x, y, z] (m), each different from the one before; at most
+    :attr:`MAX_POINTS` points, coordinates within +-1000 m."""
 
-    allowed = "at least two points [x, y, z] in m, consecutive points different"
-    coordinate = Number(unit="m")
+    MAX_POINTS = 10000  # (the spline's arc length is integrated on 200 samples per span)
+    allowed = f"2 to {MAX_POINTS} points [x, y, z] in m, coordinates within +-1000 m, consecutive points different"
+    coordinate = Number(ge=-1e3, le=1e3, unit="m")
 
     def __call__(self, key, value):
         if not isinstance(value, list) or len(value) < 2:
             raise ModelError(key, value, "needs at least two points [x, y, z] in m")
+        if len(value) > self.MAX_POINTS:
+            raise ModelError(key, f"{len(value)} points", f"must have at most {self.MAX_POINTS} points")
         clean = []
         for i, p in enumerate(value):
             if not isinstance(p, list) or len(p) != 3:
@@ -168,8 +175,8 @@ class Points:
 class Band:
     """A frequency band [f_low_Hz, f_high_Hz], 0 < f_low < f_high."""
 
-    allowed = "[f_low_Hz, f_high_Hz] with 0 < f_low < f_high"
-    edge = Number(gt=0, unit="Hz")
+    allowed = "[f_low_Hz, f_high_Hz] with 0 < f_low < f_high <= 1e5"
+    edge = Number(gt=0, le=1e5, unit="Hz")
 
     def __call__(self, key, value):
         if not isinstance(value, list) or len(value) != 2:

@@ -153,17 +153,10 @@ def read_vary_file(path) -> dict[str, tuple[float, float]]:
     casing.E = [2e9, 1e10]
     contact.friction = [0.05, 0.2]
     """
-    from ..model.load import tomllib
+    from ..model.load import MAX_MODEL_BYTES, toml_file
     from ..model.model import dotted
 
-    try:
-        with open(path, "rb") as fh:
-            raw = tomllib.load(fh)
-    except OSError as exc:
-        raise ModelError("--vary-file", str(path), f"must be a readable TOML file ({exc.strerror})") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise ModelError("--vary-file", str(path), f"must be valid TOML ({exc})") from None
-    out = dotted(raw)
+    out = dotted(toml_file(path, "--vary-file", MAX_MODEL_BYTES))
     if not out:
         raise ModelError("--vary-file", str(path), "names no parameter; write lines such as casing.E = [2e9, 1e10]")
     return out

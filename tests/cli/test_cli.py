@@ -146,7 +146,7 @@ def test_every_command_that_reads_records_reads_csv_npz_and_uff(tmp_path, capsys
     np.testing.assert_allclose(tables["csv"], tables["npz"], rtol=1e-6)  # 9 digits in the CSV
     (tmp_path / "bad.csv").write_bytes((tmp_path / "r.npz").read_bytes())
     assert main(["bands", str(tmp_path / "bad.csv")]) == 2  # a binary file named .csv: a message, no traceback
-    assert "is not a text CSV file" in capsys.readouterr().err
+    assert "is not a UTF-8 text CSV file" in capsys.readouterr().err
     assert main(["bands", str(tmp_path / "r.csv"), "--column", "casing.B.Fq"]) == 2
     assert "casing.B.Fz" in capsys.readouterr().err  # the columns are listed by their names
 
