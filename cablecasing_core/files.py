@@ -109,6 +109,24 @@ def _number(text):
         return False
 
 
+#: The largest magnitude of a number read from a data file: its squares, spectra and sums stay finite.
+MAX_MAGNITUDE = 1e100
+
+
+def check_values(key: str, path, data) -> None:
+    """Every value of the array ``data`` (samples, or rows x columns) read from ``path`` must be
+    finite and at most :data:`MAX_MAGNITUDE` in magnitude; the :class:`ModelError` names the row
+    and column and quotes no value."""
+    data = np.asarray(data)
+    if data.dtype.kind not in "fc":
+        raise ModelError(key, str(path), "must hold numbers only")
+    bad = np.argwhere(~np.isfinite(data) | (np.abs(data) > MAX_MAGNITUDE))
+    if bad.size:
+        where = bad[0]
+        at = f"row {where[0] + 1}, column {where[1] + 1}" if data.ndim > 1 else f"sample {where[0] + 1}"
+        raise ModelError(key, str(path), f"{at} is not a finite number of magnitude at most {MAX_MAGNITUDE:g}")
+
+
 def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: int = 2):
     """``(names, data)`` of the numeric CSV table in ``path``: one header line of ``,``-separated
     column names, then rows of as many finite numbers (blank lines and lines starting with ``#``
@@ -165,10 +183,12 @@ def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: i
                 if not _number(f):
                     raise ModelError(key, shown, f"line {lineno}, column {j + 1} is not a number")
         raise ModelError(key, shown, f"must be {need}")  # pragma: no cover - loadtxt agrees with the scan
-    bad = np.argwhere(~np.isfinite(data))
+    bad = np.argwhere(~np.isfinite(data) | (np.abs(data) > MAX_MAGNITUDE))
     if bad.size:
         r, c = bad[0]
-        raise ModelError(key, shown, f"line {rows[r][0]}, column {c + 1} is not finite (nan or inf)")
+        raise ModelError(
+            key, shown, f"line {rows[r][0]}, column {c + 1} is not a finite number of magnitude at most 1e100"
+        )
     return names, data
 
 

@@ -143,7 +143,8 @@ def read_uff(path):
     except ModelError:
         raise
     except Exception as exc:
-        raise ModelError("file", str(path), f"is not a readable UFF file ({exc})") from exc
+        # (the reader's message may quote the file's lines: only its kind is shown)
+        raise ModelError("file", str(path), f"is not a readable UFF file ({type(exc).__name__})") from None
     if isinstance(sets, dict):
         sets = [sets]
     out = []
