@@ -2,7 +2,14 @@
 
 Default model (35 + 35 elements), contact with friction, random excitation 10-1000 Hz at 5 m/s2 RMS at
 casing end A plus the cable's 50 Hz axial excitation, dt = 1e-5 s, on one core.
-Run: .venv/bin/python benchmarks/bench_time.py [--duration 1.0] [--repeat 3]   (prints name: value lines)
+Run: .venv/bin/python benchmarks/bench_time.py [--duration 1.0] [--repeat 3] [--model installed] [--speed-only]
+(prints name: value lines)
+
+The installed specimen (docs/installed.md; the same scenario from the static state, the cable on
+the wall in the bends): rtf_installed, us_per_step_installed, mean_active_contacts_installed (and
+by tenth), engine_setup_installed_s, static_state_s, static_cli_wall_s (``cablecasing static
+installed --json`` in a fresh process). ``--model`` chooses the model of the accuracy checks and
+the ensemble below (default: the built-in specimen).
 
 Speed: wall time of Engine.advance over the whole duration (support motion evaluated inside), the
 fastest of ``--repeat`` runs (the machine is shared; the spread is printed too). simulate_wall_s:
@@ -58,6 +65,19 @@ from cablecasing_core.timedomain.scenario import scenario_motion
 
 p = argparse.ArgumentParser()
 p.add_argument("--duration", type=float, default=1.0)
+p.add_argument(
+    "--model",
+    default="default",
+    help="model of the accuracy checks and the ensemble: a TOML file or a built-in specimen (default, installed)",
+)
+p.add_argument("--speed-only", action="store_true", help="the speed figures only (no accuracy runs)")
+p.add_argument(
+    "--skip",
+    type=float,
+    default=0.05,
+    help="s of each record left out of the band levels (0.06 for the installed specimen: the rest then holds "
+    "47 whole periods of the 50 Hz drive, whose strong line would otherwise leak into octaves 1-2 and 9)",
+)
 p.add_argument("--repeat", type=int, default=3)
 p.add_argument("--ensemble", type=int, default=0, help="seeds of the ensemble accuracy check (0: skip it)")
 p.add_argument("--workers", type=int, default=2, help="processes of the ensemble runs")
@@ -113,6 +133,44 @@ t0 = time.perf_counter()
 cc.simulate(model, duration=args.duration)
 print(f"simulate_wall_s: {time.perf_counter() - t0:.2f}")
 
+# The installed specimen (issue 23): the same scenario from the static state, with the cable on the
+# wall in the bends (the many-contact regime), and the static state itself.
+installed = cc.load_model("installed")
+walls = []
+for _ in range(args.repeat):
+    t0 = time.perf_counter()
+    eng = Engine(installed, dt=DT, ledger=False, record=True)
+    t_setup = time.perf_counter() - t0
+    mo = scenario_motion(installed, dt=DT, duration=args.duration)
+    t0 = time.perf_counter()
+    eng.advance(args.duration, mo)
+    walls.append(time.perf_counter() - t0)
+nc = np.count_nonzero(eng.history()["contact_state"], axis=1)
+print(f"rtf_installed: {args.duration / min(walls):.4f}")
+print(f"us_per_step_installed: {min(walls) / (args.duration / DT) * 1e6:.2f}")
+print(f"mean_active_contacts_installed: {np.mean(nc):.3f}")
+print("mean_active_contacts_installed_by_tenth:", " ".join(f"{c.mean():.2f}" for c in np.array_split(nc, 10)))
+print(f"engine_setup_installed_s: {t_setup:.3f} (assembly, factors, the static state)")
+from cablecasing_core.timedomain.static_state import static_state  # noqa: E402
+
+t0 = time.perf_counter()
+st = static_state(installed)
+print(f"static_state_s: {time.perf_counter() - t0:.3f} ({st.iterations} Newton iterations, {st.load_steps} load steps)")
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+
+cli = []
+for _ in range(args.repeat):
+    t0 = time.perf_counter()
+    subprocess.run([sys.executable, "-m", "cablecasing_core.cli", "static", "installed", "--json"], check=True,
+                   capture_output=True)  # fmt: skip
+    cli.append(time.perf_counter() - t0)
+print(f"static_cli_wall_s: {min(cli):.2f} (cablecasing static installed --json, a fresh process: imports included)")
+if args.speed_only:
+    raise SystemExit(0)
+model = cc.load_model(args.model)  # the accuracy checks and the ensemble below
+print(f"accuracy_model: {args.model}")
+
 
 def force(m, dt, duration, contact=None, motion=None):
     """Time (s) and casing.B.Fz (N) of a run: the engine as ``cc.simulate`` runs it (the ledger does
@@ -125,7 +183,7 @@ def force(m, dt, duration, contact=None, motion=None):
 
 
 def bands(t, F, dt):
-    return octave_rms(F[t > 0.05], 1 / dt).rms
+    return octave_rms(F[t > args.skip], 1 / dt).rms
 
 
 def rel(a, b):

@@ -7,9 +7,12 @@ Only an adapter over ``cablecasing_core``'s time-domain ``Engine``; there is no 
   motion inside the step (quintic Hermite from the supports' state to the Taylor extrapolation);
 * outputs: the engine's outputs after the step (force and moment each body exerts on each
   support, contact summary);
-* parameters: every numeric key of the built-in model under its dotted name, ``contact.enabled``,
-  ``model_file`` and ``solver.dt``; those the master sets override the model (the built-in one or
-  ``model_file``) through ``Model.with_overrides`` when initialisation ends.
+* parameters: every numeric key of the built-in model under its dotted name (a vector key by its
+  components, ``loads.gravity.x``, ``.y``, ``.z``), its word keys as Strings (``cable.rest_shape``,
+  ``contact.law``, ... : ``Model.text_parameters``), ``contact.enabled``, ``model_file`` (a TOML
+  path or a built-in specimen's name, e.g. ``installed``) and ``solver.dt``; those the master sets
+  override the model (the built-in one or ``model_file``) through ``Model.with_overrides`` when
+  initialisation ends.
 
 The slave is driven by the FMU's own binary (``native/cablecasing_fmi2.c`` through
 ``cablecasing_fmi2_bridge.py``, Linux) with the ``fmi2_*`` methods, which return the FMI status
@@ -34,6 +37,7 @@ from pythonfmu.enums import Fmi2Status
 # The kernels' numba cache (a per-user folder keyed by the kernels' sources, so it outlives the
 # unpacked FMU) is installed by the bundled package itself: cablecasing_core.timedomain.kernels.
 import cablecasing_core as cc
+from cablecasing_core.model import specimen_names
 from cablecasing_core.model.schema import CHANNELS, OUTPUTS, lookup, output_spec
 from cablecasing_core.model.validators import seconds
 from cablecasing_core.timedomain.engine import Engine, state_from_bytes, state_to_bytes
@@ -86,6 +90,8 @@ class CableCasing(Fmi2Slave):
         self._base = cc.load_model()
         self.units = {}  # variable name -> unit (read by build_fmu.py)
         self._start = dict(self._base.parameters())
+        self._text_keys = tuple(self._base.text_parameters())  # the String parameters besides model_file
+        self._start.update(self._base.text_parameters())
         self._start["contact.enabled"] = bool(self._base.contact["enabled"])
         self._start["model_file"] = ""
         self._start["solver.dt"] = float(self._base.scenario["dt"])
@@ -158,8 +164,16 @@ class CableCasing(Fmi2Slave):
             self._output_vr[var.value_reference] = i
         self.output_vr0 = min(self._output_vr)
         self.integer_output_vrs = [vr for vr, i in self._output_vr.items() if OUTPUTS[i] in INTEGER_OUTPUTS]
+        for key in self._text_keys:
+            self._add_parameter(
+                String(
+                    key, causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed,
+                    description=f"{parameter_info(key)[1]} ({lookup(key).allowed})",
+                ),
+                "",
+            )  # fmt: skip
         for key, value in self._start.items():
-            if key in SPECIAL:
+            if key in SPECIAL or key in self._text_keys:
                 continue
             unit, text = parameter_info(key)
             kind = Integer if isinstance(value, int) else Real
@@ -243,6 +257,7 @@ class CableCasing(Fmi2Slave):
             try:
                 model = cc.load_model(path)
                 values = dict(model.parameters())
+                values.update(model.text_parameters())
                 values["contact.enabled"] = bool(model.contact["enabled"])
                 values["solver.dt"] = float(model.scenario["dt"])
             except cc.CableCasingError:
@@ -265,7 +280,14 @@ class CableCasing(Fmi2Slave):
                     Fmi2Status.error,
                 )
                 return ERROR
-            value = os.path.abspath(value) if value else ""
+            if key != "model_file":  # a word key of the model: checked by the schema
+                try:
+                    value = lookup(key).check(value, key)
+                except cc.ModelError as exc:
+                    self.log(f"parameter {exc}", Fmi2Status.error)
+                    return ERROR
+            else:  # a path (from the host's working folder), or the name of a built-in specimen
+                value = os.path.abspath(value) if value and value not in specimen_names() else value
         else:
             value = {"Real": float, "Integer": int, "Boolean": bool}[kind](value)
         if self._initialized:
@@ -470,7 +492,7 @@ class CableCasing(Fmi2Slave):
     def fmi2_get_state(self):
         """Everything that decides the continuation: the parameters the master set, the inputs,
         the support state of the reconstruction, the start time, and the engine's complete state."""
-        numeric = [k for k in self._start if k != "model_file"]
+        numeric = [k for k in self._start if k != "model_file" and k not in self._text_keys]
         s = {
             "fmu.inputs": self.inputs_buffer.copy(),
             "fmu.support": self._recon.state.copy(),
@@ -481,6 +503,7 @@ class CableCasing(Fmi2Slave):
             "fmu.model_file": np.array(self._set.get("model_file", "")),
             "fmu.set_keys": np.array([k for k in numeric if k in self._set] or [""]),
             "fmu.set_values": np.array([float(self._set[k]) for k in numeric if k in self._set]),
+            "fmu.set_text": np.array([f"{k}={self._set[k]}" for k in self._text_keys if k in self._set] or [""]),
         }
         if self._engine is not None:
             s.update({f"engine.{k}": v for k, v in self._engine.get_state().items()})
@@ -515,6 +538,11 @@ class CableCasing(Fmi2Slave):
         for k, v in zip(keys, values):
             start = self._start[k]
             new_set[k] = bool(v) if isinstance(start, bool) else int(v) if isinstance(start, int) else float(v)
+        for item in (str(x) for x in np.asarray(state.get("fmu.set_text", [""])).reshape(-1) if str(x)):
+            k, _, v = item.partition("=")
+            if k not in self._text_keys:
+                raise ValueError("its parameter list does not fit this FMU")
+            new_set[k] = lookup(k).check(v, k)
         model_file = str(state["fmu.model_file"])
         if model_file:
             new_set["model_file"] = model_file

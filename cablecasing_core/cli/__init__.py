@@ -1,12 +1,14 @@
 """Command line ``cablecasing``: a thin shell over the core API.
 
 Sub-commands: ``modes``, ``trfam``, ``keys`` (the model file's keys, from the schema), ``simulate``
-(``simulate.py``), ``spectrum`` and ``bands`` (``nvh.py``), ``identify ...`` (``identify.py``),
-``study``, ``ensemble``, ``pool`` (``study.py``), ``report`` (``report.py``), each module registering
-its own with ``add_parser``. Every ``--help`` shows the defaults. Every error in the input prints one
-line naming the key, the value and what is allowed, and exits with status 2; an interrupt (Ctrl-C)
-prints one line and exits with status 130, leaving earlier output files intact (they are written
-atomically, at the end); a warning prints one line ``cablecasing: warning: ...``. A failure of the
+(``simulate.py``), ``static`` (``static.py``), ``spectrum`` and ``bands`` (``nvh.py``),
+``identify ...`` (``identify.py``), ``study``, ``ensemble``, ``pool`` (``study.py``), ``report``
+(``report.py``), each module registering its own with ``add_parser``. A model argument is a TOML
+file or the name of a built-in specimen (``default``, ``installed``). Every ``--help`` shows the
+defaults. Every error in the input prints one line naming the key, the value and what is
+allowed, and exits with status 2; an interrupt (Ctrl-C) prints one line and exits with status
+130, leaving earlier output files intact (they are written atomically, at the end); a warning
+prints one line ``cablecasing: warning: ...``. A failure of the
 computing infrastructure (a study's dask scheduler lost, no worker left or making progress) prints
 one line and exits with status 3 (the same command resumes). Anything else is a bug: one line
 ``cablecasing: internal error: ...`` and status 1 (``CABLECASING_TRACEBACK=1`` shows the traceback).
@@ -27,7 +29,7 @@ import numpy as np
 
 from ..errors import CableCasingError, InfrastructureError, ModelError, excerpt, plain
 from ..model import load_model
-from . import identify, nvh, report, simulate, study
+from . import identify, nvh, report, simulate, static, study
 from .paths import check_output_path, emit_table
 
 
@@ -151,7 +153,7 @@ def build_parser():
     k.add_argument("prefix", nargs="?", default=None, help="only keys that start with this, e.g. contact")
     k.set_defaults(func=cmd_keys)
 
-    for module in (simulate, nvh, identify, study, report):
+    for module in (simulate, static, nvh, identify, study, report):
         module.add_parser(sub)
     return p
 

@@ -15,6 +15,19 @@ D_ff is diagonalised exactly by the undamped modes of (K, M) because both dampin
 proportional; the solve is then a modal sum over all modes (no truncation), vectorised over
 frequency. TRFAM (Eq. 12) = f_p,out / (acceleration of the input DOF) = f_p / (-omega^2), in kg.
 
+A prestressed body (an installed model's cable in tension and casing in compression,
+docs/installed.md) has the tangent stiffness K = K_E + K_G, of which only the elastic part K_E
+carries the material's modulus and loss: the dynamic stiffness is then
+
+* viscous: D = (1 + i omega beta) (s K_E + K_G) - (omega^2 - i omega alpha) M (Rayleigh on the
+  tangent stiffness, as in the time domain),
+* structural: D = s (1 + i eta(omega)) K_E + K_G - omega^2 M (the complex modulus, Eq. 11, acts
+  on the elastic stiffness only; the geometric stiffness of the prestress has no loss),
+
+which the undamped modes no longer diagonalise (K_G and K_E are not proportional); it is solved
+directly at each frequency on the free DOFs, whose matrices are banded (half-bandwidth 11,
+scipy.linalg.solve_banded), exact like the modal sum.
+
 Sign convention: f_p is the force the support applies to the body (the reaction of Eq. 13), so a
 rigid mass m has a driving-point apparent mass of +m.
 """
@@ -25,6 +38,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
+from scipy.linalg import solve_banded
 
 from ..errors import ModelError
 from ..model.schema import DIRECTIONS, SUPPORT_NAMES
@@ -59,6 +73,9 @@ class FrequencyResponse:
 
     def __init__(self, system):
         self.system = system
+        if system.prestressed:
+            self._direct_setup(system)
+            return
         basis = modal_basis(system)
         self.lam = basis.lam
         Kff, Kfp, Kpf, Kpp = system.K_blocks
@@ -78,13 +95,18 @@ class FrequencyResponse:
         s = spec.modulus(f) / self.system.E
         if damping == "viscous":
             kappa, alpha = s * (1.0 + 1j * w * spec.beta), spec.alpha
+            kappa_g = 1.0 + 1j * w * spec.beta
         elif damping == "structural":
             kappa, alpha = s * (1.0 + 1j * spec.loss(f)), 0.0
+            kappa_g = np.ones_like(w, dtype=complex)
         else:
             kappa, alpha = s.astype(complex), 0.0
+            kappa_g = np.ones_like(w, dtype=complex)
         mu = w**2 - 1j * w * alpha
         rows = slice(None) if rows is None else rows
         cols = slice(None) if cols is None else cols
+        if self.system.prestressed:
+            return self._direct_forces(kappa, kappa_g, mu, rows, cols)
         Kin, Min = self.Kin[:, cols], self.Min[:, cols]
         Kout, Mout = self.Kout[rows], self.Mout[rows]
         k, m = kappa[:, None], mu[:, None]
@@ -93,6 +115,37 @@ class FrequencyResponse:
         out = k[:, None, :] * Kout[None] - m[:, None, :] * Mout[None]  # (nf, nq, nm)
         F = -np.einsum("fqm,fm,fmj->fqj", out, inv_d, load, optimize=True)
         F += kappa[:, None, None] * self.Kpp[rows][:, cols][None] - mu[:, None, None] * self.Mpp[rows][:, cols][None]
+        return F
+
+    BAND = 11  # half-bandwidth of a body's matrices (six DOFs per node, two nodes per element)
+
+    def _direct_setup(self, system):
+        """The blocks of K_E, K_G and M of a prestressed body, the free-free ones in banded storage."""
+        self.blocks = [system.blocks(A) for A in (system.K_E, system.K_G, system.M)]
+        b = self.BAND
+        n = len(system.free)
+        self.banded = []
+        for ff, _, _, _ in self.blocks:
+            ab = np.zeros((2 * b + 1, n))
+            for k in range(-b, b + 1):  # ab[b + i - j, j] = A[i, j] (scipy's banded storage)
+                i = np.arange(max(0, k), min(n, n + k))
+                ab[b + k, i - k] = ff[i, i - k]
+            self.banded.append(ab)
+
+    def _direct_forces(self, kappa, kappa_g, mu, rows, cols):
+        """Support forces of a prestressed body: D(omega) = kappa K_E + kappa_g K_G - mu M solved on
+        the free DOFs at each frequency (banded), x_f = -D_ff^-1 D_fp e_j, f_p = D_pf x_f + D_pp e_j."""
+        (_, Efp, Epf, Epp), (_, Gfp, Gpf, Gpp), (_, Mfp, Mpf, Mpp) = self.blocks
+        Ebd, Gbd, Mbd = self.banded
+        b = self.BAND
+        nq = len(Epf[rows])
+        nj = Efp[:, cols].shape[1]
+        F = np.empty((len(mu), nq, nj), dtype=complex)
+        for k, (ke, kg, m) in enumerate(zip(kappa, kappa_g, mu)):
+            D_fp = ke * Efp[:, cols] + kg * Gfp[:, cols] - m * Mfp[:, cols]
+            x = solve_banded((b, b), ke * Ebd + kg * Gbd - m * Mbd, -D_fp, check_finite=False)
+            D_pf = ke * Epf[rows] + kg * Gpf[rows] - m * Mpf[rows]
+            F[k] = D_pf @ x + (ke * Epp[rows][:, cols] + kg * Gpp[rows][:, cols] - m * Mpp[rows][:, cols])
         return F
 
 

@@ -5,10 +5,10 @@ validation built from it, the validated :class:`Model`, and the built-in specime
 * :mod:`.validators` - the one set of validators (also used for function arguments);
 * :mod:`.validate` - a model file's tables checked with the schema;
 * :mod:`.model` - :class:`Model`, :class:`BodySpec`;
-* :mod:`.load` - TOML files and the built-in specimens (``specimens/default.toml``).
+* :mod:`.load` - TOML files and the built-in specimens (``specimens/default.toml``, ``installed.toml``).
 """
 
-from .load import default_model, load_model, model_from_dict
+from .load import default_model, load_model, model_from_dict, specimen_names
 from .model import BodySpec, Model
 
-__all__ = ["BodySpec", "Model", "default_model", "load_model", "model_from_dict"]
+__all__ = ["BodySpec", "Model", "default_model", "load_model", "model_from_dict", "specimen_names"]

@@ -1,5 +1,6 @@
 """Model files: TOML in, a validated :class:`~cablecasing_core.model.model.Model` out (validation
-built from the schema, :mod:`.validate`); the built-in specimens in ``specimens/``.
+built from the schema, :mod:`.validate`); the built-in specimens in ``specimens/``, selected by name
+(``load_model("installed")``).
 
 A model is a TOML file with the sections ``[geometry]``, ``[casing]``, ``[cable]`` (either body may
 be left out, at least one must be present), ``[contact]`` and ``[scenario]``; docs/model_file.md
@@ -32,16 +33,29 @@ def model_from_dict(data: dict, source: str = "<dict>", base_dir: str | None = N
     return Model(validate(data, base_dir=base_dir), source=source, base_dir=base_dir)
 
 
+def specimen_names() -> tuple[str, ...]:
+    """Names of the built-in specimens (``model/specimens/<name>.toml``): ``default`` (the paper's
+    specimen, stress-free in its routing) and ``installed`` (the same cable straight off the reel,
+    with gravity and a tension: docs/installed.md)."""
+    folder = resources.files("cablecasing_core.model").joinpath("specimens")
+    return tuple(sorted(f.name[: -len(".toml")] for f in folder.iterdir() if f.name.endswith(".toml")))
+
+
 def load_model(path: str | Path | None = None) -> Model:
-    """Load and validate a model file (TOML). ``None`` gives the built-in specimen.
+    """Load and validate a model file (TOML). ``None`` gives the built-in specimen; the name of a
+    built-in specimen (``"default"``, ``"installed"``: :func:`specimen_names`, a name without a
+    folder or suffix) gives that specimen, so ``cablecasing simulate installed`` works wherever a
+    model file is accepted.
 
     Raises :class:`ModelError` for a file that cannot be read or any invalid key.
     """
     if path is None:
-        text = resources.files("cablecasing_core.model").joinpath("specimens/default.toml").read_text()
-        return Model(validate(tomllib.loads(text)), source="<built-in>")
+        path = "default"
+    if isinstance(path, str) and path in specimen_names():
+        text = resources.files("cablecasing_core.model").joinpath(f"specimens/{path}.toml").read_text()
+        return Model(validate(tomllib.loads(text)), source="<built-in>" if path == "default" else f"<built-in {path}>")
     p = Path(path)
-    raw = toml_file(p, "model_file", MAX_MODEL_BYTES)
+    raw = toml_file(p, "model_file", MAX_MODEL_BYTES, " or a built-in specimen: " + ", ".join(specimen_names()))
     base = str(p.resolve().parent)
     try:
         return Model(validate(raw, base_dir=base), source=str(p), base_dir=base)
@@ -49,7 +63,7 @@ def load_model(path: str | Path | None = None) -> Model:
         raise ModelError("model_file", str(path), "nests tables or arrays too deeply to be a model file") from None
 
 
-def toml_file(path: str | Path, key: str, limit: int) -> dict:
+def toml_file(path: str | Path, key: str, limit: int, other: str = "") -> dict:
     """The TOML document in ``path``, read as UTF-8 (at most ``limit`` bytes); a :class:`ModelError`
     names ``key`` (the option or field that gave the path) and the file, and says what is wrong
     without quoting the file's content."""
@@ -57,7 +71,7 @@ def toml_file(path: str | Path, key: str, limit: int) -> dict:
         with open(path, "rb") as fh:
             data = fh.read(limit + 1)
     except OSError as exc:
-        raise ModelError(key, str(path), f"must be a readable TOML file ({exc.strerror})") from None
+        raise ModelError(key, str(path), f"must be a readable TOML file ({exc.strerror}){other}") from None
     if len(data) > limit:
         raise ModelError(key, str(path), f"is larger than {limit} bytes: not a TOML file of this program")
     try:

@@ -13,8 +13,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import ModelError
-from .schema import BODY_NAMES
+from .schema import BODY_NAMES, SCHEMA
 from .validate import validate
+from .validators import Choice
 
 
 def _interp_table(value, f_hz):
@@ -45,6 +46,7 @@ class BodySpec:
     d_outer: float
     d_inner: float = 0.0
     I_override: float | None = None
+    rest_shape: str = "routing"
 
     @property
     def E_ref(self):
@@ -92,6 +94,7 @@ class Model:
                     d_outer=b["d_outer"] if n == "casing" else b["d"],
                     d_inner=b["d_inner"] if n == "casing" else 0.0,
                     I_override=b.get("I"),
+                    rest_shape=b.get("rest_shape", "routing"),
                 )
         object.__setattr__(self, "bodies", bodies)
 
@@ -108,6 +111,20 @@ class Model:
         return self.data["scenario"]
 
     @property
+    def loads(self) -> dict:
+        """The [loads] table: ``gravity`` (m/s2, global [x, y, z]) and ``cable_tension`` (N)."""
+        return self.data["loads"]
+
+    @property
+    def installed(self) -> bool:
+        """True when the bodies are loaded at rest (gravity, a cable tension or a straight cable):
+        the time domain then starts from the static state (docs/installed.md)."""
+        cable = self.bodies.get("cable")
+        return bool(
+            any(self.loads["gravity"]) or self.loads["cable_tension"] > 0.0 or (cable and cable.rest_shape != "routing")
+        )
+
+    @property
     def radial_gap(self) -> float:
         """Radial gap e = (casing.d_inner - cable.d) / 2 in m (Eqs. 30-31); needs both bodies."""
         return 0.5 * (self.data["casing"]["d_inner"] - self.data["cable"]["d"])
@@ -115,19 +132,43 @@ class Model:
     def parameters(self) -> dict[str, float]:
         """Every numeric scalar of the model as ``{dotted.key: value}`` (SI units).
 
-        Tables (frequency-dependent values), point lists and strings are not included.
+        Tables (frequency-dependent values), point lists and strings are not included; a vector key
+        (``loads.gravity``) is given by its components (``loads.gravity.x``, ``.y``, ``.z``).
         """
-        return {k: v for k, v in dotted(self.data).items() if isinstance(v, (int, float)) and not isinstance(v, bool)}
+        out = {}
+        for key, v in dotted(self.data).items():
+            if isinstance(v, (int, float)) and not isinstance(v, bool):
+                out[key] = v
+            elif key in SCHEMA and SCHEMA[key].components:
+                out.update({f"{key}.{c}": float(x) for c, x in zip(SCHEMA[key].components, v)})
+        return out
+
+    def text_parameters(self) -> dict[str, str]:
+        """Every key of the model outside [scenario] whose value is one of a fixed set of words
+        (``geometry.curve``, ``contact.law``, ``cable.rest_shape``, the supports), as
+        ``{dotted.key: value}``: the FMU's String parameters besides ``model_file``."""
+        data = {k: v for k, v in self.data.items() if k != "scenario"}
+        return {
+            key: v
+            for key, v in dotted(data).items()
+            if isinstance(v, str) and key in SCHEMA and isinstance(SCHEMA[key].validator, Choice)
+        }
 
     def with_overrides(self, overrides: Mapping[str, object]) -> Model:
         """A validated copy with ``{dotted.key: value}`` replaced (e.g. ``{"casing.E": 6e9}``).
 
         Keys must already exist in the model, or be a known optional key of an existing section;
-        an unknown key raises :class:`ModelError`.
+        a vector key's component is set by its scalar key (``{"loads.gravity.z": -9.81}``); an
+        unknown key raises :class:`ModelError`.
         """
         data = copy.deepcopy(self.data)
         for key, value in overrides.items():
             parts = key.split(".")
+            vector = ".".join(parts[:-1])
+            component = None
+            if vector in SCHEMA and parts[-1] in SCHEMA[vector].components:  # a vector's component
+                component = SCHEMA[vector].components.index(parts[-1])
+                parts = parts[:-1]
             node = data
             for p in parts[:-1]:
                 if not isinstance(node, dict) or p not in node:
@@ -139,7 +180,12 @@ class Model:
                 value = value.item()
             if isinstance(value, np.ndarray):
                 value = value.tolist()
-            node[parts[-1]] = value
+            if component is None:
+                node[parts[-1]] = value
+            elif isinstance(node.get(parts[-1]), list) and len(node[parts[-1]]) == 3:
+                node[parts[-1]][component] = value
+            else:
+                raise ModelError(key, value, "is not a key of this model")
         return Model(validate(data, base_dir=self.base_dir), source=self.source, base_dir=self.base_dir)
 
     def fingerprint(self) -> str:

@@ -17,7 +17,7 @@ Keys under named tables are written with ``<name>`` (``scenario.excitation.<name
 :func:`lookup` accepts them under any name. Units are FMI-style strings ("1": dimensionless,
 "m/s2", "N.m", "kg/m3", ...; "" for text and booleans).
 
-This module is over 400 lines because the schema is one table of the model file's keys (46), kept
+This module is over 400 lines because the schema is one table of the model file's keys (49), kept
 in one place on purpose; the validators are in ``validators.py``.
 """
 
@@ -26,7 +26,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 from ..errors import ModelError
-from .validators import Band, Boolean, Choice, Number, NumberOrTable, Points, Target, Text
+from .validators import Band, Boolean, Choice, Number, NumberOrTable, Points, Target, Text, Vector
 
 BODY_NAMES = ("casing", "cable")
 SUPPORT_NAMES = ("A", "B")
@@ -35,7 +35,8 @@ DIRECTIONS = ("x", "y", "z")
 CONTACT_LAWS = ("hertz", "linear")
 EXCITATION_KINDS = ("random", "harmonic", "impulse", "csv")
 CSV_QUANTITIES = ("displacement", "velocity", "acceleration")
-SECTIONS = ("geometry", "casing", "cable", "contact", "scenario")
+SECTIONS = ("geometry", "casing", "cable", "contact", "loads", "scenario")
+REST_SHAPES = ("routing", "straight")
 #: The most elements a body may have (the time domain's dense compliance of 6 (n + 1) DOFs and the
 #: frequency domain's dense eigenproblem grow as n^2 in memory, n^3 in time; docs/model_file.md, Limits).
 MAX_ELEMENTS = 2000
@@ -78,9 +79,11 @@ class KeySpec:
     value taken when the key is left out, or :data:`REQUIRED`, :data:`OPTIONAL`; unit: FMI-style;
     description: one line; validator: the :mod:`.validators` object that checks a value; note:
     what the loader checks against other keys; kinds: the excitation kinds that take the key;
-    default_from: the key whose value is the default; plausible: ``(low, high, why)``, the range
-    of physically meaningful values inside the allowed one: a value outside it is taken, with a
-    :class:`~cablecasing_core.errors.ModelWarning` that says ``why`` the result may be meaningless.
+    default_from: the key whose value is the default; components: the names of a vector key's
+    components, whose scalar keys ``<key>.<component>`` are parameters (the FMU's, ``with_overrides``);
+    plausible: ``(low, high, why)``, the range of physically meaningful values inside the allowed one:
+    a value outside it is taken, with a :class:`~cablecasing_core.errors.ModelWarning` that says
+    ``why`` the result may be meaningless.
 
     The allowed ranges are what the numerics can take: within them no combination of values
     overflows, and a run either gives finite results or stops with a message (docs/model_file.md,
@@ -96,6 +99,7 @@ class KeySpec:
     note: str = ""
     kinds: tuple = ()
     default_from: str | None = None
+    components: tuple = ()
     plausible: tuple | None = None
 
     @property
@@ -476,6 +480,43 @@ _KEYS = [
     ),
 ]
 
+# ------------------------------------------------------------------ the installed cable (issue 23)
+# Loads and the cable's rest shape: gravity on both bodies (Eq. 7), the cable's static tension with
+# the casing's equal compression (beam-column geometric stiffness and the prestress's own load in
+# the routing), and a cable that is stress-free straight (docs/installed.md).
+_KEYS += [
+    KeySpec(
+        "cable.rest_shape",
+        "str",
+        "routing",
+        "",
+        "stress-free shape of the cable: 'routing' (stress-free in the routing, the paper's) or 'straight' "
+        "(straight off the reel and bent into the casing, so it carries the moment EI kappa of the routing)",
+        Choice(*REST_SHAPES),
+    ),
+    KeySpec(
+        "loads.gravity",
+        "vector",
+        [0.0, 0.0, 0.0],
+        "m/s2",
+        "gravitational acceleration in global axes, on both bodies (Eq. 7); zero = no gravity; "
+        "FMU parameters loads.gravity.x, .y, .z",
+        Vector(unit="m/s2", bound=1e4),
+        components=DIRECTIONS,
+    ),
+    KeySpec(
+        "loads.cable_tension",
+        "float",
+        0.0,
+        "N",
+        "static axial tension of the cable; the casing carries the equal compression (geometric stiffness "
+        "of both bodies, and the tension's pull towards the inside of every bend)",
+        Number(ge=0, le=1e7, unit="N"),
+        plausible=(0.0, 1e4, "a steel wire of a few mm yields below 10 kN"),
+        note="needs the cable, and below the casing's buckling load (checked when the casing is assembled)",
+    ),
+]
+
 #: Every key of the model file, in the order of the validated model's tables.
 SCHEMA = {spec.key: spec for spec in _KEYS}
 
@@ -489,9 +530,26 @@ def lookup(key: str) -> KeySpec:
         parts = key.split(".")
         if len(parts) == 4 and parts[:2] == ["scenario", "excitation"] and f"{_EXC}.{parts[3]}" in SCHEMA:
             spec = replace(SCHEMA[f"{_EXC}.{parts[3]}"], key=key)
+        vector = SCHEMA.get(key.rsplit(".", 1)[0]) if "." in key else None
+        if vector is not None and parts[-1] in vector.components:
+            spec = component_spec(vector, parts[-1])
     if spec is None:
         raise ModelError(key, None, "is not a key of the model file (see docs/model_file.md)")
     return spec
+
+
+def component_spec(vector: KeySpec, component: str) -> KeySpec:
+    """The scalar key ``<vector key>.<component>`` of a vector key (e.g. ``loads.gravity.z``): a
+    float in the vector's unit; the FMU's parameter and ``Model.with_overrides`` use it."""
+    i = vector.components.index(component)
+    return KeySpec(
+        f"{vector.key}.{component}",
+        "float",
+        vector.default[i],
+        vector.unit,
+        f"component {component} (global axes) of {vector.key}: {vector.description}",
+        vector.validator.component,
+    )
 
 
 def table(prefix: str) -> list:

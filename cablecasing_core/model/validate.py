@@ -4,7 +4,8 @@ Each table is checked key by key with the schema's validators (unknown keys and 
 keys first, then every value; defaults filled in), then against the other keys where the schema's
 ``note`` says so: the casing's inner diameter between the cable and the outer diameter, the
 duration at least one step, a random band below the Nyquist frequency, a target on a clamped
-support of a body that exists. Every mistake raises :class:`~cablecasing_core.errors.ModelError`
+support of a body that exists, a tension only with a cable and loads only on bodies that a clamped
+support holds. Every mistake raises :class:`~cablecasing_core.errors.ModelError`
 naming the dotted key, the value and what is allowed; nothing is half-built.
 
 A valid model can still be physically absurd: a value outside its key's plausible range (the
@@ -140,9 +141,30 @@ def validate(data: dict, base_dir: str | None = None) -> dict:
                 "ends has no free node: nothing moves but the supports)",
             )
     out["contact"] = _table("contact", data.get("contact", {}), table("contact"))
+    out["loads"] = _loads(data.get("loads", {}), bodies)
     out["scenario"] = _scenario(data.get("scenario", {}), bodies, base_dir)
     plausibility(out)
     step_checks(out, out["scenario"]["dt"], "scenario.dt")
+    return out
+
+
+def _loads(data, bodies):
+    """The [loads] table; a tension needs the cable, and a loaded body a clamped support to hold it
+    (the casing's buckling load is checked where it is assembled, structure/buckling.py)."""
+    out = _table("loads", data, table("loads"))
+    if out["cable_tension"] > 0.0 and "cable" not in bodies:
+        raise ModelError("loads.cable_tension", out["cable_tension"], "needs a [cable] (the tension is the cable's)")
+    causes = [("loads.gravity", out["gravity"], any(out["gravity"]))]
+    causes.append(("loads.cable_tension", out["cable_tension"], out["cable_tension"] > 0.0))
+    for name, b in bodies.items():
+        mine = list(causes)
+        if name == "cable":
+            mine.append(("cable.rest_shape", b["rest_shape"], b["rest_shape"] != "routing"))
+        for key, value, on in mine:
+            if on and "clamped" not in b["supports"].values():
+                raise ModelError(
+                    key, value, f"loads the {name}, which has no clamped support to hold it (a static state needs one)"
+                )
     return out
 
 

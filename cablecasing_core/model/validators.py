@@ -172,6 +172,30 @@ class Points:
         return clean
 
 
+class Vector:
+    """Three finite numbers [x, y, z] in ``unit``, global axes (a vector key such as
+    ``loads.gravity``). Returns a list of three floats."""
+
+    def __init__(self, unit=None, bound=None):
+        self.unit = unit
+        self.component = Number(unit=unit) if bound is None else Number(ge=-bound, le=bound, unit=unit)
+        within = "" if bound is None else f" within +-{_fmt(float(bound))}"
+        self.allowed = "three finite numbers [x, y, z]" + within + _unit_phrase(unit)
+
+    def __call__(self, key, value):
+        if isinstance(value, np.ndarray):
+            value = value.tolist()
+        if not isinstance(value, (list, tuple)) or len(value) != 3:
+            raise ModelError(key, value, "must be " + self.allowed)
+        out = []
+        for c in value:
+            try:
+                out.append(self.component(key, c))
+            except ModelError:
+                raise ModelError(key, value, "must be " + self.allowed) from None
+        return out
+
+
 class Band:
     """A frequency band [f_low_Hz, f_high_Hz], 0 < f_low < f_high."""
 

@@ -1,10 +1,16 @@
-"""Assembly of a body's global matrices and the support partition of Eq. (13).
+"""Assembly of a body's global matrices, its constant loads and the support partition of Eq. (13).
 
 Global DOFs are numbered node by node, six per node ``[ux uy uz rx ry rz]`` in global axes, so the
 assembled matrices are banded (half-bandwidth 11). They are stored sparse (CSR); the partitioned
 blocks of Eq. (13), ``A_ff, A_fp, A_pf, A_pp`` (f: free DOFs, p: prescribed support DOFs), are
 dense and small. A clamped support prescribes all six DOFs of its end node (translations follow
 the support motion, rotations stay zero); a free support prescribes none.
+
+An installed model (docs/installed.md) prestresses its bodies: the cable carries the axial force
+N0 = +T of ``loads.cable_tension``, the casing N0 = -T. ``K`` is then the tangent stiffness
+K_E + K_G (the elastic stiffness and the geometric stiffness of N0, element_beam.py), which every
+consumer uses (modes, TRFAM, the time domain); ``f`` holds the body's constant load at rest
+(structure/loads.py: gravity, the prestress's load in the routing, a straight cable's rest shape).
 """
 
 from __future__ import annotations
@@ -16,8 +22,10 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..model.schema import SUPPORT_NAMES
-from .element_beam import global_matrices
+from .buckling import check_compression
+from .element_beam import geometric_stiffness, global_matrices, transformation
 from .geometry import centerline_of
+from .loads import gravity_load, prestress_load, rest_shape_load
 from .sections import section_of
 
 DOF_PER_NODE = 6
@@ -27,8 +35,12 @@ DOF_PER_NODE = 6
 class BodySystem:
     """A body's assembled system. K in N/m (N, N.m per m or rad), M in kg (kg.m, kg.m2).
 
-    K is built with the body's reference modulus ``E`` (Pa); a frequency-dependent modulus scales
-    K as a whole (G = E / (2 (1 + nu)) scales with E).
+    K = K_E + K_G is the tangent stiffness: K_E built with the body's reference modulus ``E`` (Pa;
+    a frequency-dependent modulus scales K_E as a whole, G = E / (2 (1 + nu)) scales with E), K_G
+    the geometric stiffness of the axial prestress ``N0`` (N, tension positive; zero matrix without
+    one). ``f``: the constant load at rest over all DOFs (N, N.m; zeros when the model has none),
+    of which N0 ``f_axial`` is the prestress's own (``f_axial``: the load of a unit axial force,
+    structure/loads.py; the static state replaces the cable's N0 there by its pre-stretch force).
     """
 
     name: str
@@ -41,6 +53,16 @@ class BodySystem:
     support_nodes: dict
     prescribed: np.ndarray
     free: np.ndarray
+    K_E: sp.csr_matrix = None
+    K_G: sp.csr_matrix = None
+    N0: float = 0.0
+    f: np.ndarray = None
+    f_axial: np.ndarray = None
+
+    @property
+    def prestressed(self):
+        """True when the body carries an axial prestress (K_G is not zero)."""
+        return self.N0 != 0.0
 
     @property
     def ndof(self):
@@ -80,20 +102,30 @@ class BodySystem:
         return self.blocks(self.M)
 
 
-def assemble_body(model, name, E=None):
-    """Assemble body ``name`` ("casing" or "cable") of ``model``.
+def axial_prestress(model, name):
+    """The axial force N0 (N, tension positive) body ``name`` carries at rest: the cable's tension
+    ``loads.cable_tension``, and its negative for the casing (which carries the equal compression)."""
+    T = model.loads["cable_tension"]
+    return T if name == "cable" else -T if "cable" in model.bodies else 0.0
 
-    E : float, optional modulus in Pa to build K with (default: the body's reference modulus,
+
+def assemble_body(model, name, E=None, check_buckling=True):
+    """Assemble body ``name`` ("casing" or "cable") of ``model``, with its prestress and loads.
+
+    E : float, optional modulus in Pa to build K_E with (default: the body's reference modulus,
         the scalar ``E`` or the first row of its table).
+    check_buckling : refuse a compression at or above the body's buckling load (a ModelError naming
+        loads.cable_tension; structure/buckling.py).
     """
     spec = model.bodies[name]
     sec = section_of(spec)
     cl = centerline_of(model)
     E = spec.E_ref if E is None else float(E)
     G = E / (2.0 * (1.0 + spec.nu))
+    N0 = axial_prestress(model, name)
     ne = cl.n_elements
     ndof = DOF_PER_NODE * (ne + 1)
-    rows, cols, kv, mv = [], [], [], []
+    rows, cols, kv, mv, gv = [], [], [], [], []
     for e in range(ne):
         Ke, Me = global_matrices(cl.lengths[e], cl.frames[e], E, G, sec.A, sec.I, sec.J, spec.rho, sec.Ip)
         dofs = np.arange(DOF_PER_NODE * e, DOF_PER_NODE * e + 12)
@@ -102,9 +134,18 @@ def assemble_body(model, name, E=None):
         cols.append(c.ravel())
         kv.append(Ke.ravel())
         mv.append(Me.ravel())
+        if N0:
+            T = transformation(cl.frames[e])
+            gv.append((T.T @ geometric_stiffness(cl.lengths[e], N0, sec.A, sec.Ip) @ T).ravel())
     rows, cols = np.concatenate(rows), np.concatenate(cols)
-    K = sp.csr_matrix((np.concatenate(kv), (rows, cols)), shape=(ndof, ndof))
+    K_E = sp.csr_matrix((np.concatenate(kv), (rows, cols)), shape=(ndof, ndof))
     M = sp.csr_matrix((np.concatenate(mv), (rows, cols)), shape=(ndof, ndof))
+    K_G = sp.csr_matrix((np.concatenate(gv), (rows, cols)), shape=(ndof, ndof)) if N0 else sp.csr_matrix((ndof, ndof))
+    K = K_E + K_G if N0 else K_E
+    f_axial = prestress_load(cl, 1.0)
+    f = gravity_load(M, model.loads["gravity"]) + N0 * f_axial
+    if spec.rest_shape == "straight":
+        f += rest_shape_load(cl, E * sec.I)
     support_nodes = {"A": 0, "B": ne}
     pres = [
         np.arange(DOF_PER_NODE * support_nodes[s], DOF_PER_NODE * support_nodes[s] + DOF_PER_NODE)
@@ -113,7 +154,7 @@ def assemble_body(model, name, E=None):
     ]
     prescribed = np.sort(np.concatenate(pres)) if pres else np.zeros(0, dtype=int)
     free = np.setdiff1d(np.arange(ndof), prescribed)
-    return BodySystem(
+    system = BodySystem(
         name=name,
         spec=spec,
         section=sec,
@@ -124,4 +165,12 @@ def assemble_body(model, name, E=None):
         support_nodes=support_nodes,
         prescribed=prescribed,
         free=free,
+        K_E=K_E,
+        K_G=K_G,
+        N0=N0,
+        f=f,
+        f_axial=f_axial,
     )
+    if check_buckling and N0 < 0.0:
+        check_compression(system)
+    return system

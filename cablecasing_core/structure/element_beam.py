@@ -6,6 +6,13 @@ Bending uses cubic Hermite polynomials in both planes, axial and torsion linear 
 The mass matrix is consistent (Eq. 4) with the torsional rotary inertia rho*Ip; the bending
 rotary inertia is left out, as Euler-Bernoulli theory does. Matrices go to global axes with the
 direction-cosine matrix R (rows: local axes in global coordinates): K_g = T^T K T, T = diag(R,R,R,R).
+
+The same element with an axial force P (tension positive) is a beam-column: its geometric
+stiffness (:func:`geometric_stiffness`) is the consistent one of these shape functions, and a
+curvature strain that the body carries at rest (a cable that is stress-free straight, bent into
+the routing) loads it by the consistent initial-strain load of :func:`initial_curvature_load`.
+Gravity's consistent load (Eq. 7) is the mass matrix times the rigid translation g (see
+``structure/loads.py``).
 """
 
 from __future__ import annotations
@@ -55,6 +62,54 @@ def local_matrices(L, E, G, A, I, J, rho, Ip):
         K[np.ix_(idx, idx)] = E * I / L**3 * (S @ kb @ S)
         M[np.ix_(idx, idx)] = m / 420.0 * (S @ mb @ S)
     return K, M
+
+
+def geometric_stiffness(L, P, A, Ip):
+    """Local geometric stiffness (N/m, N, N.m) of an element under the axial force P (N, tension
+    positive), consistent with the element's shape functions (Eq. 9): the second-order work
+    P/2 int (u'^2 + v'^2 + w'^2) dx of the axial force on the slopes, and the Wagner term P Ip/A of the
+    twist (Przemieniecki, Theory of Matrix Structural Analysis, 1968, Sec. 15; McGuire, Gallagher
+    and Ziemian, Matrix Structural Analysis, 2nd ed., Eq. 9.18, without the end-moment terms). In
+    each bending plane, in (v, rotation) order: P/(30 L) [[36, 3L, -36, 3L], [3L, 4L^2, -3L, -L^2],
+    [-36, -3L, 36, -3L], [3L, -L^2, -3L, 4L^2]]. L (m), A (m2), Ip (m4, polar moment). 12x12."""
+    G = np.zeros((12, 12))
+    bar = np.array([[1.0, -1.0], [-1.0, 1.0]])
+    G[np.ix_([0, 6], [0, 6])] = P / L * bar
+    G[np.ix_([3, 9], [3, 9])] = P * Ip / (A * L) * bar
+    g = (
+        P
+        / (30.0 * L)
+        * np.array(
+            [
+                [36.0, 3 * L, -36.0, 3 * L],
+                [3 * L, 4 * L * L, -3 * L, -L * L],
+                [-36.0, -3 * L, 36.0, -3 * L],
+                [3 * L, -L * L, -3 * L, 4 * L * L],
+            ]
+        )
+    )
+    for idx, sign in (([1, 5, 7, 11], 1.0), ([2, 4, 8, 10], -1.0)):
+        S = np.diag([1.0, sign, 1.0, sign])
+        G[np.ix_(idx, idx)] = S @ g @ S
+    return G
+
+
+def initial_curvature_load(L, EI, k1, k2):
+    """Local consistent load (N, N.m), 12 values, of a curvature strain the element carries with no
+    displacement: f = -int B^T D eps0 dx (Eq. 6's B and D), eps0 the curvature vector of the
+    reference shape relative to the stress-free one, linear along the element between its local
+    (y, z) components k1 at end 1 and k2 at end 2 (1/m). The bending strains are the curvatures
+    kappa_z = v'' and kappa_y = -w'' of the cubic Hermite displacement, so per plane (exact for a
+    linear eps0): moments EI k1 at end 1 and -EI k2 at end 2, and the shear pair -+EI (k2 - k1)/L
+    of its gradient. A uniform curvature (an arc) therefore loads only the element's ends, and its
+    interior nodes not at all; the load lives where the curvature changes. EI in N.m2."""
+    f = np.zeros(12)
+    (ky1, kz1), (ky2, kz2) = k1, k2
+    # plane x-y (v, rotation about z), curvature kappa_z = v''
+    f[[1, 5, 7, 11]] = -EI * np.array([(kz2 - kz1) / L, -kz1, -(kz2 - kz1) / L, kz2])
+    # plane x-z (w, rotation about y), curvature kappa_y = -w''
+    f[[2, 4, 8, 10]] = -EI * np.array([-(ky2 - ky1) / L, -ky1, (ky2 - ky1) / L, ky2])
+    return f
 
 
 def transformation(R):

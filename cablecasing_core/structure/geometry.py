@@ -8,7 +8,12 @@ frame's y axis is carried from element to element by parallel transport (the min
 takes one chord direction into the next), so the frame is well defined on straight and on curved
 segments alike. Of the Frenet frame of Eqs. (33)-(35) the model needs the unit tangent (Eq. 33) at
 the nodes (each cable node's normal plane in the contact search, Eqs. 36-39) and the curvature
-|r' x r''| / |r'|^3 (the norm in Eq. 34), for the figures and the studies.
+|r' x r''| / |r'|^3 (the norm in Eq. 34), for the figures and the studies; its vector
+r' x r'' / |r'|^3 = kappa b (Eq. 34's binormal) is the bending strain a cable that is stress-free
+straight carries in the routing (structure/loads.py). On a polyline the curvature is concentrated
+in its corners; there the curvature vector of a node is its turning angle over the mean length of
+its two elements, about the axis t_before x t_after, and an end node takes its neighbour's (the
+scalar curvature stays zero: a polyline has no smooth curvature to show).
 """
 
 from __future__ import annotations
@@ -33,6 +38,8 @@ class Centerline:
     frames : (n, 3, 3) array, rows are the local x, y, z axes of each element in global axes
         (the direction-cosine matrix of the element).
     lengths : (n,) array, element lengths (chords).
+    curvature_vectors : (n+1, 3) array, kappa b at each node in 1/m (global): the tangent's rate
+        of turning, t x dt/ds.
     """
 
     nodes: np.ndarray
@@ -41,6 +48,7 @@ class Centerline:
     curvature: np.ndarray
     frames: np.ndarray
     lengths: np.ndarray
+    curvature_vectors: np.ndarray
 
     @property
     def n_elements(self):
@@ -109,6 +117,7 @@ def build_centerline(points, n_elements, curve="spline"):
         tangents = (P[seg + 1] - P[seg]) / (chord[seg + 1] - chord[seg])[:, None]
         curvature = np.zeros(len(s_nodes))
         s_out = s_nodes
+        kvec = None  # from the corners of the discretised polyline, below
     else:
         # Cubic spline in the chord parameter; with k = 3 points fall back to a quadratic.
         k = 3 if len(P) >= 4 else 2
@@ -126,10 +135,39 @@ def build_centerline(points, n_elements, curve="spline"):
         r1 = d1(u_nodes)
         r2 = d2(u_nodes)
         tangents = r1 / np.linalg.norm(r1, axis=1)[:, None]  # Eq. (33)
-        curvature = np.linalg.norm(np.cross(r1, r2), axis=1) / np.linalg.norm(r1, axis=1) ** 3
+        kvec = np.cross(r1, r2) / np.linalg.norm(r1, axis=1)[:, None] ** 3  # kappa b (Eq. 34)
+        curvature = np.linalg.norm(kvec, axis=1)
     tangents = tangents / np.linalg.norm(tangents, axis=1)[:, None]
     frames, lengths = element_frames(nodes)
-    return Centerline(nodes=nodes, s=s_out, tangents=tangents, curvature=curvature, frames=frames, lengths=lengths)
+    if kvec is None:
+        kvec = corner_curvature(frames[:, 0], lengths)
+    return Centerline(
+        nodes=nodes,
+        s=s_out,
+        tangents=tangents,
+        curvature=curvature,
+        frames=frames,
+        lengths=lengths,
+        curvature_vectors=kvec,
+    )
+
+
+def corner_curvature(directions, lengths):
+    """Curvature vectors (1/m, global, one per node) of a polygon of elements with unit
+    ``directions`` and ``lengths``: at an interior node the turning angle between its two elements
+    over their mean length, about their cross product; an end node takes its neighbour's (so a
+    circular arc sampled as a polyline has the same curvature vector at every node)."""
+    k = np.zeros((len(lengths) + 1, 3))
+    if len(lengths) < 2:
+        return k
+    a, b = directions[:-1], directions[1:]
+    axis = np.cross(a, b)
+    sin = np.linalg.norm(axis, axis=1)
+    angle = np.arctan2(sin, np.einsum("ij,ij->i", a, b))
+    turn = np.where(sin > 1e-14, angle / np.where(sin > 1e-14, sin, 1.0), 0.0)
+    k[1:-1] = axis * (turn / (0.5 * (lengths[:-1] + lengths[1:])))[:, None]
+    k[0], k[-1] = k[1], k[-2]
+    return k
 
 
 def centerline_of(model):

@@ -1,10 +1,11 @@
 """One body's matrices in the storage of the step loop's kernels, its factorisations and its state
 (plain arrays), and the kernels' record of it (:func:`body_arrays`).
 
-M and K of a body (Eqs. 4-9 assembled, Eq. 13 partitioned) go into diagonal storage; the effective
-stiffness K + 2/dt C + 4/dt^2 M of Newmark's average acceleration (Eq. 18, C = alpha M + beta K)
-over the node blocks that hold the free DOFs gets a block LDL^T factor; with contact, the dense
-effective compliance comes from that factor, by the step loop's own solve.
+M and K of a body (Eqs. 4-9 assembled, Eq. 13 partitioned; K the tangent stiffness K_E + K_G of a
+prestressed body) go into diagonal storage; the effective stiffness K + 2/dt C + 4/dt^2 M of
+Newmark's average acceleration (Eq. 18, C = alpha M + beta K) over the node blocks that hold the
+free DOFs gets a block LDL^T factor; with contact, the dense effective compliance comes from that
+factor, by the step loop's own solve; with a constant load at rest, the response to it too.
 """
 
 from __future__ import annotations
@@ -106,18 +107,26 @@ class BoundedCache(OrderedDict):
             self.popitem(last=False)
 
 
+def time_domain_system(model, name):
+    """Body ``name`` of ``model`` assembled as the time domain uses it: with its frequency-dependent
+    modulus, if any, at its first natural frequency (one modulus for the whole run)."""
+    spec = model.bodies[name]
+    if spec.frequency_dependent:
+        f1 = natural_frequencies(model, name, 1)[0]
+        return assemble_body(model, name, E=float(spec.modulus(f1)))
+    return assemble_body(model, name)
+
+
 class BodyStorage:
     """Matrices in diagonal storage, factorisations and state of one body (plain arrays for the
-    kernels)."""
+    kernels); ``f`` its constant load at rest (N, N.m, all DOFs; an installed model's)."""
 
-    def __init__(self, model, name):
-        spec = model.bodies[name]
-        sysm = assemble_body(model, name)
-        if spec.frequency_dependent:
-            f1 = natural_frequencies(model, name, 1)[0]
-            sysm = assemble_body(model, name, E=float(spec.modulus(f1)))
+    def __init__(self, model, name, system=None):
+        sysm = time_domain_system(model, name) if system is None else system
         self.system = sysm
-        self.alpha, self.beta = spec.alpha, spec.beta
+        self.f = np.asarray(sysm.f, dtype=float).copy()
+        self.loaded = bool(np.any(self.f))
+        self.alpha, self.beta = sysm.spec.alpha, sysm.spec.beta
         Kd, Md = sysm.K.toarray(), sysm.M.toarray()
         rows, cols = np.nonzero(Kd + Md)
         self.b = b = int(np.max(np.abs(rows - cols)))
@@ -184,6 +193,30 @@ class BodyStorage:
             cached = self._factors[key] = (Dinv, L, LT, inv)
         return cached
 
+    def set_load(self, f):
+        """Set the constant load at rest (N, N.m, all DOFs; the static state's, whose cable tension
+        is its pre-stretch force) and drop the cached responses to the old one."""
+        self.f = np.asarray(f, dtype=float).copy()
+        self.loaded = bool(np.any(self.f))
+        for key in [k for k in self._factors if k[0] == "load"]:
+            del self._factors[key]
+
+    def load_response(self, dt):
+        """uext = Keff^-1 f (m, rad): the free DOFs' share of a Newmark step of size dt (s) in the
+        response to the constant load f (zero on the prescribed DOFs), by the step loop's own block
+        solve (the same factor as :meth:`factors`); cached with the factors."""
+        key = ("load", dt)
+        cached = self._factors.get(key)
+        if cached is None:
+            Dinv, L, LT, _ = self.factors(dt, False)
+            r = np.zeros(self.ng)
+            r[self.f0 - self.g0 : self.f0 - self.g0 + self.nf] = self.f[self.f0 : self.f0 + self.nf]
+            K.block_solve(Dinv, L, LT, r)
+            cached = np.zeros(len(self.U))
+            cached[self.f0 : self.f0 + self.nf] = r[self.f0 - self.g0 : self.f0 - self.g0 + self.nf]
+            self._factors[key] = cached
+        return cached
+
     def energy(self):
         """(kinetic, strain) energy in J."""
         return 0.5 * self.V @ self.M_full @ self.V, 0.5 * self.U @ self.K_full @ self.U
@@ -208,10 +241,13 @@ def body_arrays(body, dt, contact, fc):
             pres=body.pres if body else i0, pchan=body.pchan if body else i0, pslot=body.pslot if body else i0,
             Kinv=np.zeros((n, n)),  # nothing responds
             sup=np.zeros((0, 2, 1)), sup_lo=i0, cpl_i=np.zeros((2, 0), np.int64), cpl_v=np.zeros(0), fc=fc,
+            loaded=False, fext=z, uext=z,
         )  # fmt: skip
     Dinv, L, LT, inv = body.factors(dt, contact)
+    uext = body.load_response(dt) if body.loaded else np.zeros(1)
     return K.BodyArrays(
         on=True, Md=body.Md, Kd=body.Kd, Dinv=Dinv, L=L, LT=LT, g0=body.g0, ng=body.ng, f0=body.f0, nf=body.nf,
         alpha=body.alpha, beta=body.beta, U=body.U, V=body.V, A=body.A, pres=body.pres, pchan=body.pchan,
         pslot=body.pslot, Kinv=inv, sup=body.sup, sup_lo=body.sup_lo, cpl_i=body.cpl_i, cpl_v=body.cpl_v, fc=fc,
+        loaded=body.loaded, fext=body.f if body.loaded else np.zeros(1), uext=uext,
     )  # fmt: skip

@@ -93,6 +93,7 @@ class Engine:
         both = "casing" in self.bodies and "cable" in self.bodies
         contact = model.contact["enabled"] if contact is None else bool(contact)
         self.contact = contact and both
+        self.static = self._install(model)
         self.ledger_on = bool(ledger)
         self.record = bool(record)
         c = model.contact
@@ -123,6 +124,7 @@ class Engine:
         self._cstep_parts = self._cstep_context = self._cstep_scratch = self._cstep_entry = (
             None  # see advance_reconstructed
         )
+        self._cstep_memo = None
         self._no_record = K.Recording(
             False,
             np.zeros((1, 24)),
@@ -172,13 +174,43 @@ class Engine:
         self.solver_counts = self._info[K.INFO_NEWTON_ITERATIONS : K.INFO_UNCONVERGED_STEPS + 1]
 
     # -------------------------------------------------------------------------------- state
+    def _install(self, model):
+        """The static state the run starts from (an installed model: gravity, a cable tension, a
+        straight cable; timedomain/static_state.py), with each body's constant load set to the one
+        of that state (the cable's tension as its pre-stretch force); None for a model without
+        loads, which starts at rest in the routing."""
+        if not model.installed:
+            return None
+        from .static_state import solve_static
+
+        st = solve_static(model, {n: b.system for n, b in self.bodies.items()}, self.contact)
+        for n, b in self.bodies.items():
+            b.set_load(st.loads[n])
+        return st
+
     def reset(self) -> None:
-        """Back to t = 0 with both bodies at rest in their reference configuration."""
+        """Back to t = 0 with both bodies at rest: in the static state of an installed model
+        (:attr:`static`: its displacements, and the contacts closed where it has them, sticking, with
+        its forces), else in the reference configuration."""
         self.time = 0.0
         self._fbuf[:] = 0.0
         self._ibuf[:] = 0
         self.celem[:] = np.clip(np.arange(len(self.celem)) - 1, 0, max(len(self.Ls) - 1, 0))
         self._hist = []
+        st = self.static
+        if st is not None:
+            for n, b in self.bodies.items():
+                b.U[:] = st.U[n]
+            self.reac[:] = st.reactions
+            if self.contact:
+                on = st.normal_force > 0.0
+                self.cstate[on] = K.STICK  # at rest
+                self.celem[:] = st.element
+                self.cxi[:], self.Pn[:] = st.xi, st.contact_force
+                self.Nn[:], self.gn[:] = st.normal_force, st.penetration
+                self.fcs[:] = st.generalized_contact["casing"]
+                self.fcc[:] = st.generalized_contact["cable"]
+        self._pot0 = self.contact_potential()
 
     _ARRAYS = ("cstate", "celem", "cxi", "Pn", "vrel", "Nn", "gn", "fcs", "fcc", "reac", "ledger", "contact_time")
 
@@ -370,11 +402,20 @@ class Engine:
         """Elastic energy stored in the contacts (J), from the penetrations at the current time."""
         return K.contact_potential(self.gn, self.law, self.k_lin, self.k_hertz)
 
+    def load_work(self) -> float:
+        """Work (J) of the constant loads at rest since t = 0: f . (U - U_static) over all DOFs of
+        both bodies (a constant force's trapezoidal work over the steps sums to exactly that)."""
+        if self.static is None:
+            return 0.0
+        return float(sum(b.f @ (b.U - self.static.U[n]) for n, b in self.bodies.items()))
+
     def energies(self) -> dict[str, float]:
-        """Energy ledger in J: kinetic, strain, contact potential, work done by the supports,
+        """Energy ledger in J: kinetic, strain, contact potential, work done by the supports and by
+        the constant loads at rest (an installed model's gravity, tension and rest shape),
         dissipated by Rayleigh damping, dissipated in the contacts (damping and friction together:
-        the work of the contact forces less the stored contact energy), and the balance residual
-        (energy now minus the energy at the start plus supplied work less dissipation)."""
+        the work of the contact forces less the change of the stored contact energy), and the
+        balance residual (energy now minus the energy at the start plus supplied work less
+        dissipation). Strain and contact energy are totals, the static state's included."""
         kin = sum(b.energy()[0] for b in self.bodies.values())
         strain = sum(b.energy()[1] for b in self.bodies.values())
         pot = self.contact_potential()
@@ -389,13 +430,15 @@ class Engine:
                 K.LEDGER_DAMPING_DISSIPATION,
             )
         )
-        d_con = -w_con - pot
-        residual = kin + strain + pot - (e_start + w_sup - d_ray - d_con)
+        d_con = -w_con - (pot - self._pot0)
+        w_ext = self.load_work()
+        residual = kin + strain + pot - (e_start + w_sup + w_ext - d_ray - d_con)
         return {
             "kinetic": kin,
             "strain": strain,
             "contact_potential": pot,
             "support_work": w_sup,
+            "load_work": w_ext,
             "rayleigh_dissipation": d_ray if self.ledger_on else np.nan,
             "contact_dissipation": d_con,
             "contact_damping_dissipation": d_damp,
@@ -407,7 +450,9 @@ class Engine:
         """The values of :meth:`outputs` as an array in the order of :data:`OUTPUTS` (written into
         ``out`` when given): one call instead of a dict, for the FMU's per-step reads."""
         out = np.empty(len(OUTPUTS)) if out is None else out
-        K.step_outputs(self.reac, self.cstate, self.gn, self.ledger, self.law, self.k_lin, self.k_hertz, out)
+        K.step_outputs(
+            self.reac, self.cstate, self.gn, self.ledger, self.law, self.k_lin, self.k_hertz, self._pot0, out
+        )
         return out
 
     def advance_reconstructed(
@@ -430,20 +475,27 @@ class Engine:
         the ten steps of a 1e-4 s communication step. ``base`` (a
         :class:`~.support_motion.GridMotion` on this engine's dt) is added to the reconstructed
         motion. Errors as :meth:`advance` (the engine and ``recon`` are then as before the call)."""
-        m = math.floor(h / self.dt * (1 + 1e-12))
-        ctx = None
-        k0 = base.grid_index(self.time) if base is not None else 0
+        law = self._law()
+        key = (h, self.dt, self.ledger_on, law)
+        held = self._cstep_memo  # the last fused call's (key, recon, u, v, a, out, base, m)
         if (
-            0 < m <= self.CHUNK
-            and h - m * self.dt <= 1e-9 * self.dt
+            held is not None
+            and held[0] == key
+            and held[1] is recon
+            and held[2] is u
+            and held[3] is v
+            and held[4] is a
+            and held[5] is out
+            and held[6] is base
             and not self.record
             and self.time != 0.0
-            and k0 is not None
         ):
-            cached = self._call_args.get((self.dt, self.ledger_on, False, self._law()))
-            if cached is not None:
-                ctx = self._communication_context(cached[0], m, h, recon, u, v, a, out, base is not None)
-        if ctx is None:
+            m, ctx = held[7], self._cstep_context
+        else:
+            m, ctx = self._fused_context(key, recon, u, v, a, out, base)
+        k0 = base.grid_index(self.time) if base is not None else 0
+        if ctx is None or k0 is None:
+            self._cstep_memo = None  # recon.motion may change recon's G
             motion = quintic = recon.motion(self.time, h, u, v, a)
             if base is not None:
                 motion = lambda t: tuple(x + y for x, y in zip(quintic(t), base(t)))  # noqa: E731
@@ -453,20 +505,37 @@ class Engine:
             return
         if base is not None:
             base.fill(k0, self._cstep_scratch[4])
-        self._snap = snap = self.snapshot(self._snap)
-        self._info[: K.INFO_NEWTON_ITERATIONS] = 0.0
         t0 = self.time
+        # the step itself saves the state for the roll-back, zeroes the per-call counters, and
+        # accepts the supports' new state into recon.state when it succeeds
         if self._cstep_entry is None:
-            status = K.communication_step_in_context(ctx, t0, self.dt, m, h)  # compiles or loads it
-            self._cstep_entry = compiled_entry(K.communication_step_in_context, (ctx, t0, self.dt, m, h))
+            status = K.communication_step_in_context(ctx, t0, self.dt, m, h, self._pot0)  # compiles or loads it
+            self._cstep_entry = compiled_entry(K.communication_step_in_context, (ctx, t0, self.dt, m, h, self._pot0))
         else:
-            status = self._cstep_entry(ctx, t0, self.dt, m, h)
+            status = self._cstep_entry(ctx, t0, self.dt, m, h, self._pot0)
         if status != K.OK:
-            self.restore(snap)
-            _, _, times, motion, _ = self._cstep_scratch
+            snap_f, snap_i = self._cstep_scratch[5:]
+            np.copyto(self._fbuf, snap_f)
+            np.copyto(self._ibuf, snap_i)
+            _, _, times, motion, *_ = self._cstep_scratch
             self._raise_for_status(status, motion[0], motion[1], motion[2], times)
         self.time = float(t0 + m * self.dt)
-        recon.state[...] = self._cstep_scratch[0][3:]
+
+    def _fused_context(self, key, recon, u, v, a, out, base):
+        """(m, the context of :meth:`advance_reconstructed`) when its step ``key[0]`` (s) is one
+        compiled call (a whole number m of steps of ``dt``, at most :attr:`CHUNK`, nothing
+        recorded, not the first step, the step loop's arguments built), else (m, None); remembered
+        for the next call with the same key and buffers."""
+        h, law = key[0], key[3]
+        m = math.floor(h / self.dt * (1 + 1e-12))
+        if not (0 < m <= self.CHUNK and h - m * self.dt <= 1e-9 * self.dt and not self.record and self.time != 0.0):
+            return m, None
+        cached = self._call_args.get((self.dt, self.ledger_on, False, law))
+        if cached is None:
+            return m, None
+        ctx = self._communication_context(cached[0], m, h, recon, u, v, a, out, base is not None)
+        self._cstep_memo = (key, recon, u, v, a, out, base, m)
+        return m, ctx
 
     def _communication_context(self, args, m, h, recon, u, v, a, out, use_base):
         """The context of :meth:`advance_reconstructed` for these records and buffers (made anew
@@ -477,9 +546,17 @@ class Engine:
         if held is not None and held[0] == (m, h, use_base) and all(x is y for x, y in zip(held[1], parts)):
             return self._cstep_context
         n = len(CHANNELS)
-        scratch = (np.empty((6, n)), np.empty((3, 6, n)), np.empty(m), np.empty((3, m, n)), np.zeros((3, m, n)))
-        fields = (G, recon.state, u, v, a, *scratch, bool(use_base), *args, self._no_record, self._info, out)
-        ctx = K.new_communication_context(*fields)
+        scratch = (
+            np.empty((6, n)),
+            np.empty((3, 6, n)),
+            np.empty(m),
+            np.empty((3, m, n)),
+            np.zeros((3, m, n)),
+            np.empty_like(self._fbuf),  # the roll-back copy of the state
+            np.empty_like(self._ibuf),
+        )
+        fields = (G, recon.state, u, v, a, *scratch[:5], bool(use_base), *args, self._no_record, self._info, out)
+        ctx = K.new_communication_context(*fields, self._fbuf, self._ibuf, *scratch[5:])
         self._cstep_parts, self._cstep_context, self._cstep_scratch = ((m, h, use_base), parts), ctx, scratch
         return ctx
 

@@ -438,15 +438,13 @@ def test_a_first_start_that_must_compile_says_so(fmu, tmp_path, run):
 def test_scenario_drive_runs_the_cores_scenario(fmu, tmp_path, run):
     """scenario.drive = true, inputs at zero: the supports follow the model's own scenario (random
     casing A z and the cable's 50 Hz axial drive), and the FMU's support forces after each
-    communication step are the core's run of that scenario (one Engine.advance over the whole
-    record) at the same times, to the bit: the same motion on the same grid, the same kernels."""
+    communication step are the core's run of that scenario (cc.simulate) at the same times, to the
+    bit: the same motion on the same grid, the same kernels."""
     model = cc.load_model()
     n = 400
     res = run(tmp_path, "run", fmu, inputs=np.zeros((n, 3 * NCH)), params={"scenario.drive": True})
     assert np.all(res["status"] == 0) and res["init_status"] == 0
-    eng = Engine(model, ledger=False, record=True)
-    eng.advance(n * H, scenario_motion(model, dt=model.scenario["dt"]))
-    forces = eng.history()["support_forces"][9::10]
+    forces = cc.simulate(model, duration=n * H).support_forces[9::10]
     assert len(forces) == n and np.max(np.abs(forces)) > 0.1
     assert res["out"][:, OUTPUTS.index("contact.active")].max() >= 1
     assert np.array_equal(res["out"][:, :24], forces)

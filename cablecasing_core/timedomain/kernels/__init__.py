@@ -15,6 +15,7 @@ module                                   what
 ``_newmark_step_loop_with_ledger.py``    the step loop over both bodies and the contact, energy ledger
 ``_quintic_support_motion.py``           the support motion inside an FMU communication step
 ``_communication_step_with_quintic_motion.py``  an FMU communication step in one call: motion, steps, outputs
+``_static_contact.py``                   every cable node's frictionless contact at a state (the static state)
 ``_compile_options.py``                  ``fastmath`` flags, compilation without the runtime
 ``_numba_cache.py``                      where the machine code is cached (compiles nothing)
 =======================================  ==============================================================
@@ -67,6 +68,7 @@ from ._contact_search_and_law import contact_law, contact_potential, search_node
 from ._hermite_interpolation import axis_at, element_dofs, hermite_matrix  # noqa: E402
 from ._newmark_step_loop_with_ledger import run_steps  # noqa: E402
 from ._quintic_support_motion import quintic_coefficients, quintic_values, taylor_rows  # noqa: E402
+from ._static_contact import static_contact  # noqa: E402
 from ._step_loop_contract import (  # noqa: E402
     DIAG_ACTIVE_SET_PASSES,
     DIAG_DAMPING_POWER,
@@ -165,5 +167,6 @@ __all__ = [
     "run_steps",
     "search_node",
     "solve_contact_forces",
+    "static_contact",
     "taylor_rows",
 ]

@@ -26,14 +26,15 @@ from ._compile_options import FM
 from ._contact_search_and_law import contact_potential
 from ._newmark_step_loop_with_ledger import run_steps
 from ._quintic_support_motion import quintic_coefficients, quintic_values, taylor_rows
-from ._step_loop_contract import LEDGER_CONTACT_WORK
+from ._step_loop_contract import INFO_NEWTON_ITERATIONS, LEDGER_CONTACT_WORK
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def step_outputs(reac, cstate, gn, ledger, law, k_lin, k_hertz, out):
+def step_outputs(reac, cstate, gn, ledger, law, k_lin, k_hertz, pot0, out):
     """The engine's outputs (``model.schema.OUTPUTS``) into ``out``: the 24 support reactions (N,
     N.m), the cable nodes in contact, the largest penetration (m, 0 without contact) and the energy
-    dissipated in the contacts (J: their work less the energy they store)."""
+    dissipated in the contacts (J: their work less the change of the energy they store since the
+    start, ``pot0`` J the energy stored in the static state's contacts)."""
     for i in range(24):
         out[i] = reac[i]
     active = 0
@@ -46,22 +47,30 @@ def step_outputs(reac, cstate, gn, ledger, law, k_lin, k_hertz, out):
         if i == 0 or gn[i] > g:
             g = gn[i]
     out[25] = g
-    out[26] = -ledger[LEDGER_CONTACT_WORK] - contact_potential(gn, law, k_lin, k_hertz)
+    out[26] = -ledger[LEDGER_CONTACT_WORK] - (contact_potential(gn, law, k_lin, k_hertz) - pot0)
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def communication_step(
-    t0, dt, m, h, G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact, reac,
-    ledger, ledger_on, rec, info, out,
+    t0, dt, m, h, pot0, G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact,
+    reac, ledger, ledger_on, rec, info, out, fbuf, ibuf, snap_f, snap_i,
 ):  # fmt: skip
     """Advance from ``t0`` by ``m`` steps of ``dt`` (s), ``m dt`` = ``h``, with the support motion
     of the communication step ``[t0, t0 + h]``: the quintic Hermite (power-basis matrix ``G`` of
     ``support_motion``) from ``state`` (3 x 12: u, v, a of the supports at t0) to the Taylor target
     of the inputs ``u, v, a`` (12 each, m, m/s, m/s2), plus ``base`` (3 x m x 12: u, v, a at the m
     step ends) when ``use_base``. ``rows`` (6 x 12), ``coeffs`` (3 x 6 x 12), ``times`` (m) and
-    ``motion`` (3 x m x 12) are scratch; ``out`` receives the outputs. Returns run_steps' status;
-    ``rows[3:]`` is then the supports' state at t0 + h, and ``out`` is written only if the status
-    is OK."""
+    ``motion`` (3 x m x 12) are scratch; ``out`` receives the outputs. ``fbuf`` and ``ibuf`` are
+    the engine's state buffers, copied into ``snap_f`` and ``snap_i`` first (the engine rolls back
+    from them after a failed step); ``info``'s per-call slots are zeroed. Returns run_steps' status;
+    only if it is OK are ``out`` written and ``state`` replaced by the supports' state at t0 + h
+    (``rows[3:]``) (``pot0``: as :func:`step_outputs`)."""
+    for i in range(fbuf.shape[0]):
+        snap_f[i] = fbuf[i]
+    for i in range(ibuf.shape[0]):
+        snap_i[i] = ibuf[i]
+    for i in range(INFO_NEWTON_ITERATIONS):
+        info[i] = 0.0
     taylor_rows(state, u, v, a, h, rows)
     quintic_coefficients(G, rows, coeffs)
     for i in range(m):
@@ -74,8 +83,11 @@ def communication_step(
                     motion[d, i, j] += base[d, i, j]
     status = run_steps(t0, dt, motion[0], motion[1], motion[2], casing, cable, law, contact, reac, ledger,
                        ledger_on, rec, info)  # fmt: skip
-    if status == 0:  # OK: a failed step leaves out alone (the engine rolls the step back)
-        step_outputs(reac, contact.state, contact.g, ledger, law.law, law.k_lin, law.k_hertz, out)
+    if status == 0:  # OK: a failed step leaves out and state alone (the engine rolls the step back)
+        step_outputs(reac, contact.state, contact.g, ledger, law.law, law.k_lin, law.k_hertz, pot0, out)
+        for r in range(state.shape[0]):
+            for j in range(state.shape[1]):
+                state[r, j] = rows[3 + r, j]
     return status
 
 
@@ -95,7 +107,7 @@ structref.define_boxing(CommunicationContextType, CommunicationContext)
 
 CONTEXT_FIELDS = (
     "G", "state", "u", "v", "a", "rows", "coeffs", "times", "motion", "base", "use_base", "casing", "cable", "law",
-    "contact", "reac", "ledger", "ledger_on", "rec", "info", "out",
+    "contact", "reac", "ledger", "ledger_on", "rec", "info", "out", "fbuf", "ibuf", "snap_f", "snap_i",
 )  # fmt: skip
 
 
@@ -111,7 +123,7 @@ def _new_context_overload(*fields):
         ctx = structref.new(ty)
         (ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion, ctx.base, ctx.use_base,
          ctx.casing, ctx.cable, ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on, ctx.rec, ctx.info,
-         ctx.out) = fields  # fmt: skip
+         ctx.out, ctx.fbuf, ctx.ibuf, ctx.snap_f, ctx.snap_i) = fields  # fmt: skip
         return ctx
 
     return build
@@ -120,21 +132,21 @@ def _new_context_overload(*fields):
 @njit(cache=True)
 def new_communication_context(
     G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact, reac, ledger,
-    ledger_on, rec, info, out,
+    ledger_on, rec, info, out, fbuf, ibuf, snap_f, snap_i,
 ):  # fmt: skip
     """The :class:`CommunicationContext` of these arrays (the arguments of :func:`communication_step`
-    in its order, without t0, dt, m and h); it refers to them, it does not copy them."""
+    in its order, without t0, dt, m, h and pot0); it refers to them, it does not copy them."""
     return _new_context(
         G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact, reac, ledger,
-        ledger_on, rec, info, out,
+        ledger_on, rec, info, out, fbuf, ibuf, snap_f, snap_i,
     )  # fmt: skip
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def communication_step_in_context(ctx, t0, dt, m, h):
+def communication_step_in_context(ctx, t0, dt, m, h, pot0):
     """:func:`communication_step` with its arrays from ``ctx``."""
     return communication_step(
-        t0, dt, m, h, ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion, ctx.base,
-        ctx.use_base, ctx.casing, ctx.cable, ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on, ctx.rec,
-        ctx.info, ctx.out,
+        t0, dt, m, h, pot0, ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion,
+        ctx.base, ctx.use_base, ctx.casing, ctx.cable, ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on,
+        ctx.rec, ctx.info, ctx.out, ctx.fbuf, ctx.ibuf, ctx.snap_f, ctx.snap_i,
     )  # fmt: skip

@@ -176,6 +176,8 @@ def solve_contact_forces(
             state[i] = OPEN
             continue
         o = 6 * i
+        # (kernels._contact_search_and_law.search_cable_node does the same; written out here because
+        # calling it changes this kernel's FMA contraction, and so the bits of every record)
         x0, x1, x2, t0, t1, t2 = cable_node(Xc, Tc, Uc, i)
         tn = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
         t0, t1, t2 = t0 / tn, t1 / tn, t2 / tn

@@ -132,6 +132,21 @@ def search_node(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e_guess, far_below):
     return best_e, best_xi, False, bx, by, bz
 
 
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def search_cable_node(Xc, Tc, Uc, Xs, Rs, Ls, Us, elem, i, gap):
+    """Cable node i's deformed position and unit tangent and its contact search (:func:`search_node`
+    from its last element elem[i], which it updates when an element is found). Returns
+    (e, xi, far, px, py, pz, x0, x1, x2): the element (-1: none), its coordinate, the far-from-wall
+    flag, the axis point and the node. The contact solve of a step and the static state share it."""
+    x0, x1, x2, t0, t1, t2 = cable_node(Xc, Tc, Uc, i)
+    tn = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
+    t0, t1, t2 = t0 / tn, t1 / tn, t2 / tn
+    e, xi, far, px, py, pz = search_node(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, elem[i], gap)
+    if e >= 0:
+        elem[i] = e
+    return e, xi, far, px, py, pz, x0, x1, x2
+
+
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def far_from_wall(Xc, Tc, Uc, Xs, Ls, Us, elem, gap, far):
     """far[i]: cable node i certainly lies farther than ``gap`` (m) inside the wall, by the cheap

@@ -1,6 +1,7 @@
 """Newmark's average acceleration for one body (Eq. 18 with C = alpha M + beta K, the supports
 prescribed at the new time, Eq. 13): the contact-free predictor, the response to the contact
-forces, the update of acceleration and velocity, and the reactions at the prescribed DOFs."""
+forces and to a constant load at rest, the update of acceleration and velocity, and the reactions
+at the prescribed DOFs."""
 
 from __future__ import annotations
 
@@ -146,3 +147,19 @@ def predicted_velocity(f0, nf, U, Uo, V, Vo, dt):
     u, uo, v, vo = U[f0 : f0 + nf], Uo[f0 : f0 + nf], V[f0 : f0 + nf], Vo[f0 : f0 + nf]
     for i in range(nf):
         v[i] = 2.0 / dt * (u[i] - uo[i]) - vo[i]
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def add_into(U, dU):
+    """U += dU: a body's response to its constant load at rest (the predictor is linear, so a
+    constant load fext adds Keff^-1 fext to it, Eq. 18; dU is zero on the prescribed DOFs)."""
+    for i in range(U.shape[0]):
+        U[i] += dU[i]
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def load_reactions(fext, pres, pslot, out, off):
+    """The constant load's share of the force the body exerts on each support DOF: fext at the
+    prescribed DOFs (N, N.m) goes straight into the supports (added to :func:`reactions`' out)."""
+    for q in range(len(pres)):
+        out[off + pslot[q]] += fext[pres[q]]

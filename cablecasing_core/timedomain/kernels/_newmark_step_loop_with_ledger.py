@@ -11,7 +11,15 @@ from numba import njit
 from ._banded_products_and_block_solve import copy_into, dia_quadratic
 from ._compile_options import FM, NO_RT
 from ._contact_forces_with_active_set import solve_contact_forces
-from ._newmark_per_body import finish, predict, predicted_velocity, reactions, respond_to_contact_forces
+from ._newmark_per_body import (
+    add_into,
+    finish,
+    load_reactions,
+    predict,
+    predicted_velocity,
+    reactions,
+    respond_to_contact_forces,
+)
 from ._step_loop_contract import (
     DIAG_ACTIVE_SET_PASSES,
     DIAG_DAMPING_POWER,
@@ -152,6 +160,8 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     cg0, cng, cf0, cnf, calpha, cbeta = cable.g0, cable.ng, cable.f0, cable.nf, cable.alpha, cable.beta
     cU, cV, cA, cpres, cpchan, cpslot = cable.U, cable.V, cable.A, cable.pres, cable.pchan, cable.pslot
     cKinv, csup, csup_lo, ccpl_i, ccpl_v, fcc = cable.Kinv, cable.sup, cable.sup_lo, cable.cpl_i, cable.cpl_v, cable.fc
+    s_loaded, sfext, suext = casing.loaded, casing.fext, casing.uext
+    c_loaded, cfext, cuext = cable.loaded, cable.fext, cable.uext
     contact_on, r_cable = law.on, law.r_cable
     Xc, Tc, Xs, Rs, Ls, ws = contact.Xc, contact.Tc, contact.Xs, contact.Rs, contact.Ls, contact.ws
     state, elem, xi_arr, Pn, vrel = contact.state, contact.elem, contact.xi, contact.Pn, contact.vrel
@@ -235,6 +245,11 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
                 cy1,
                 cr,
             )
+        # the constant loads at rest (an installed model): the predictor's response to them
+        if s_on and s_loaded:
+            add_into(sU, suext)
+        if c_on and c_loaded:
+            add_into(cU, cuext)
         if contact_on:
             predicted_velocity(sf0, snf, sU, sUo, sV, sVo, dt)
             predicted_velocity(cf0, cnf, cU, cUo, cV, cVo, dt)
@@ -280,9 +295,13 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
         if s_on:
             finish(sf0, snf, sU, sV, sA, sUo, sVo, sAo, dt)
             reactions(ssup, ssup_lo, salpha, sbeta, sU, sV, sA, fcs_new, spres, spslot, reac_new, 0)
+            if s_loaded:
+                load_reactions(sfext, spres, spslot, reac_new, 0)
         if c_on:
             finish(cf0, cnf, cU, cV, cA, cUo, cVo, cAo, dt)
             reactions(csup, csup_lo, calpha, cbeta, cU, cV, cA, fcc_new, cpres, cpslot, reac_new, 12)
+            if c_loaded:
+                load_reactions(cfext, cpres, cpslot, reac_new, 12)
         # blow-up check on the cheap aggregates
         tot = 0.0
         for i in range(24):

@@ -54,9 +54,13 @@ DIAG_SIZE = 6
 #: rotation) and their slot among the support's six reactions; Kinv: the effective compliance
 #: (m/N) over all DOFs, zero on the prescribed ones; sup, sup_lo: the rows of M and K of the
 #: prescribed DOFs over their band and its first column; cpl_i, cpl_v: the stiffness between free
-#: and prescribed DOFs as triplets; fc: the generalized contact forces on the body (N, N.m).
+#: and prescribed DOFs as triplets; fc: the generalized contact forces on the body (N, N.m);
+#: loaded: the body carries a constant load at rest (an installed model, docs/installed.md): fext
+#: (N, N.m, all DOFs) the load, uext (m, rad) the free DOFs' response Keff^-1 fext to it, which the
+#: step adds to the contact-free predictor, and fext at the prescribed DOFs goes into the reactions.
 BodyArrays = namedtuple(
-    "BodyArrays", "on Md Kd Dinv L LT g0 ng f0 nf alpha beta U V A pres pchan pslot Kinv sup sup_lo cpl_i cpl_v fc"
+    "BodyArrays",
+    "on Md Kd Dinv L LT g0 ng f0 nf alpha beta U V A pres pchan pslot Kinv sup sup_lo cpl_i cpl_v fc loaded fext uext",
 )
 
 #: The contact law and its switches: on (contact between the bodies), gap (m, radial gap e of

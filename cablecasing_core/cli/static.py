@@ -1,0 +1,81 @@
+"""``cablecasing static``: the static state of a model, the state an installed cable vibrates from
+(gravity, the cable's tension, a cable straight off the reel; docs/installed.md)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from ..model.schema import SUPPORT_NAMES
+
+
+def cmd_static(args):
+    from ..model import load_model
+    from ..timedomain.static_state import static_state
+    from .paths import check_output_path
+
+    check_output_path("--plot", args.plot)
+    model = load_model(args.model)
+    st = static_state(model, contact=False if args.no_contact else None)
+    if args.json:
+        print(json.dumps(st.as_dict()))
+    else:
+        _print(model, st)
+    if args.plot:
+        from ..timedomain.static_plot import plot_static_state
+
+        plot_static_state(st, args.plot, title=model.source)
+        if not args.json:
+            print(f"wrote {args.plot}")
+    return 0
+
+
+def _print(model, st):
+    g, T = model.loads["gravity"], model.loads["cable_tension"]
+    shape = model.bodies["cable"].rest_shape if "cable" in model.bodies else "-"
+    print(f"static state of {model.source}: gravity {g} m/s2, cable tension {T:g} N, cable rest shape {shape}")
+    print(
+        f"  {st.contact_nodes} cable nodes in contact, max penetration {st.max_penetration:.4g} m; "
+        f"Newton {st.iterations} iterations in {st.load_steps} load steps, |R| = {st.residual:.2g} N"
+    )
+    if T > 0.0:
+        print(
+            f"  cable pre-stretch force {st.prestretch_force:.4g} N (its axial force at rest in the routing "
+            "before it is pulled against the walls)"
+        )
+    print("  contact force of the casing on each cable node (N, global axes):")
+    print("    node    s (m)   kappa (1/m)        Fx          Fy          Fz         |F|   penetration (m)")
+    for i in np.flatnonzero(st.normal_force > 0.0):
+        F = st.contact_force[i]
+        print(
+            f"    {i:4d} {st.arc_length[i]:8.4f} {st.curvature[i]:10.4f}  {F[0]:10.4f}  {F[1]:10.4f}  {F[2]:10.4f}  "
+            f"{np.linalg.norm(F):10.4f}   {st.penetration[i]:.4g}"
+        )
+    print("  support reactions, force and moment each body exerts on its support (N, N.m):")
+    print("    support           Fx          Fy          Fz          Mx          My          Mz")
+    for body in st.U:
+        for s in SUPPORT_NAMES:
+            if model.bodies[body].supports[s] == "clamped":
+                r = st.reaction(f"{body}.{s}")
+                print(f"    {body}.{s:3s}  " + " ".join(f"{v:11.5g}" for v in r))
+    if any(g):
+        W = sum(st.weight.values())
+        print(f"  weight of the bodies (N): {np.round(W, 6).tolist()}")
+
+
+def add_parser(sub):
+    p = sub.add_parser(
+        "static",
+        help="the static state: contact forces and support reactions under gravity, tension and rest shape",
+    )
+    p.add_argument("model", nargs="?", default=None, help="model TOML or built-in specimen name (default: default)")
+    p.add_argument(
+        "--json",
+        action="store_true",
+        help="print JSON: contact_force_N (per cable node [Fx, Fy, Fz], the casing's force on the cable), "
+        "support_reactions_N ({body.support: [Fx, Fy, Fz, Mx, My, Mz]}), contact_nodes, max_penetration_m",
+    )
+    p.add_argument("--plot", help="PNG: contact force along the arc length beside the curvature")
+    p.add_argument("--no-contact", action="store_true", help="the bodies under their loads without contact")
+    p.set_defaults(func=cmd_static)

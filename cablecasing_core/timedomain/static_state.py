@@ -1,0 +1,491 @@
+"""The static state of an installed model: both bodies at rest under their constant loads (gravity,
+the cable's tension and the casing's compression, a cable that is stress-free straight;
+structure/loads.py), held apart by frictionless contact across the radial gap. The vibration of
+the time domain starts from it (docs/installed.md).
+
+Equilibrium of the free DOFs of both bodies, z = (u_cable, u_casing):
+
+    R(z) = K z - f - f_c(z) = 0,
+
+K the tangent stiffness K_E + K_G of each body (block diagonal), f the constant loads, f_c the
+generalized contact forces of the time domain's own contact search and law (Eqs. 14, 24/29,
+30-39; ``kernels.static_contact``): at each cable node in contact with penetration g and unit
+normal n (from the casing axis towards the node), the normal force N(g) pushes the cable back, -N n,
+and the casing out, H^T N n. Without friction and damping this is the contact of a body at rest.
+
+The solver is a semi-smooth Newton method with a backtracking line search on |R|, on the whole
+system, with every node's contact searched anew at every iterate (contacts open and close as they
+go). Its tangent is K plus, per contact, dN/dg b b^T (b = D^T n, D the map of the DOFs to the
+relative displacement of the cable node and the casing axis point) and the rotation of the normal,
+N/h D^T (I - n n^T) D (h the distance of the node from the axis). The Hertz law's g^1.5 is smooth
+enough away from g = 0, where its slope vanishes and the line search keeps a step from jumping
+across. The loads are applied in steps of a load factor (continuation): a step that does not
+converge is halved. The result is an equilibrium of the time domain's own discrete equations, so a
+run that starts from it at rest stays there (to the solver's tolerance).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+from scipy.linalg import solve_banded
+
+from ..errors import SimulationError
+from ..model.schema import BODY_NAMES, FORCE_NAMES, SUPPORT_NAMES, SUPPORT_OUTPUTS
+from . import kernels as K
+
+if TYPE_CHECKING:
+    from ..model import Model
+
+#: Newton's tolerance: |R|_inf below this fraction of the largest load or contact force (N)
+TOLERANCE = 1e-10
+MAX_ITERATIONS = 60  # Newton iterations per load step
+MIN_LOAD_STEP = 1e-4  # the smallest load-factor step before the solve gives up
+
+
+@dataclass
+class StaticState:
+    """The static state of a model (SI units, global axes).
+
+    U: {body: displacement over all its DOFs (m, rad)}; contact_force (nodes x 3, N): the force of
+    the casing on each cable node; normal_force (N), penetration (m), element and xi (the casing
+    element and its coordinate where each node's normal plane cuts the axis) per cable node;
+    generalized_contact: {body: the contact's generalized forces on its DOFs (N, N.m)};
+    reactions (24, N and N.m): the force and moment each body exerts on each support, in the order
+    of ``SUPPORT_OUTPUTS`` (the time domain's sign convention); arc_length (m) and curvature (1/m)
+    of the cable nodes; loads: {body: the constant load at rest over all its DOFs, N and N.m, with
+    the cable's tension as its pre-stretch force: what the time domain applies throughout};
+    prestretch_force (N): the cable's axial force at rest in the routing before it moves (the
+    installation's shortening of the cable is prestretch_force L / EA); iterations (Newton, all load
+    steps), residual (N, |R|_inf at the end), load_steps; weight: {body: its weight, N, global}.
+    """
+
+    U: dict
+    contact_force: np.ndarray
+    normal_force: np.ndarray
+    penetration: np.ndarray
+    element: np.ndarray
+    xi: np.ndarray
+    generalized_contact: dict
+    reactions: np.ndarray
+    arc_length: np.ndarray
+    curvature: np.ndarray
+    loads: dict = field(default_factory=dict)
+    prestretch_force: float = 0.0
+    iterations: int = 0
+    residual: float = 0.0
+    load_steps: int = 0
+    weight: dict = field(default_factory=dict)
+
+    @property
+    def contact_nodes(self) -> int:
+        """Number of cable nodes in contact."""
+        return int(np.count_nonzero(self.normal_force))
+
+    @property
+    def max_penetration(self) -> float:
+        """Largest penetration (m), 0 without contact."""
+        return float(self.penetration.max()) if len(self.penetration) else 0.0
+
+    def reaction(self, support: str) -> np.ndarray:
+        """[Fx, Fy, Fz, Mx, My, Mz] (N, N.m) the body exerts on ``support``, e.g. ``"casing.A"``."""
+        i = SUPPORT_OUTPUTS.index(f"{support}.Fx")
+        return self.reactions[i : i + 6].copy()
+
+    def as_dict(self) -> dict:
+        """The JSON form of ``cablecasing static --json``: ``contact_force_N`` (per cable node,
+        [Fx, Fy, Fz] of the casing on the cable, global), ``support_reactions_N`` (per support
+        ``<body>.<A|B>``: [Fx, Fy, Fz, Mx, My, Mz] the body exerts on it, N and N.m),
+        ``contact_nodes`` and ``max_penetration_m``."""
+        supports = sorted({n.rsplit(".", 1)[0] for n in SUPPORT_OUTPUTS if n.split(".")[0] in self.U})
+        return {
+            "contact_force_N": self.contact_force.tolist(),
+            "support_reactions_N": {s: self.reaction(s).tolist() for s in supports},
+            "contact_nodes": self.contact_nodes,
+            "max_penetration_m": self.max_penetration,
+        }
+
+
+def static_state(model: Model, contact: bool | None = None) -> StaticState:
+    """The static state of ``model`` (see the module docstring): both bodies at rest under their
+    constant loads, with frictionless contact when ``contact`` (default ``contact.enabled``; needs
+    both bodies). The bodies as the time domain assembles them (a frequency-dependent modulus at
+    the first natural frequency). Raises :class:`~cablecasing_core.errors.SimulationError` when the
+    Newton method does not converge, and ModelError for a model that cannot be installed (a
+    tension above the casing's buckling load)."""
+    from .body_storage import time_domain_system
+
+    systems = {n: time_domain_system(model, n) for n in model.bodies}
+    contact = model.contact["enabled"] if contact is None else bool(contact)
+    return solve_static(model, systems, contact and len(systems) == 2)
+
+
+def _law(model):
+    from .engine import hertz_constant
+
+    c = model.contact
+    return (0 if c["law"] == "hertz" else 1), c["stiffness"], hertz_constant(model)
+
+
+def solve_static(model: Model, systems: dict, contact: bool) -> StaticState:
+    """The static state for the assembled ``systems`` ({body: BodySystem}) of ``model``; the engine
+    passes its own (:class:`~cablecasing_core.timedomain.engine.Engine`)."""
+    names = [n for n in BODY_NAMES if n in systems]
+    offs = _unknowns(systems, names)
+    o = sum(len(v) for v in offs.values())
+    Kz = np.zeros((o, o))
+    loads = {n: np.asarray(systems[n].f, dtype=float).copy() for n in names}
+    T = model.loads["cable_tension"] if "cable" in systems else 0.0
+    p = np.zeros(o)  # the cable's load per newton of pre-stretch force, on the unknowns
+    a = 0.0  # EA / L of the cable: its mean axial force per unit of mean shortening
+    if T > 0.0:
+        cab = systems["cable"]
+        loads["cable"] -= T * cab.f_axial  # the tension's share is the pre-stretch force's, solved for
+        p[offs["cable"]] = cab.f_axial[cab.free]
+        a = cab.E * cab.section.A / cab.centerline.lengths.sum()
+    fz = np.zeros(o)
+    for n in names:
+        s, i = systems[n], offs[n]
+        Kz[np.ix_(i, i)] = s.K.toarray()[np.ix_(s.free, s.free)]
+        fz[i] = loads[n][s.free]
+    U = {n: np.zeros(systems[n].ndof) for n in names}
+    ev = _Evaluator(model, systems, U, offs) if contact else _NoContact(o)
+    problem = _Problem(Kz, fz, p, a, T, ev, _slope_floor(model, fz, T) if contact else 0.0)
+    z, sigma, iterations, steps, residual = _continuation(problem)
+    _scatter(z, U, systems, offs)
+    ev.evaluate(z)
+    if T > 0.0:
+        loads["cable"] += sigma * systems["cable"].f_axial
+    nn = systems[names[0]].n_nodes
+    fc = {n: (ev.fc[n].copy() if contact else np.zeros(systems[n].ndof)) for n in names}
+    reac = np.zeros(len(SUPPORT_OUTPUTS))
+    for n in names:
+        s = systems[n]
+        r = loads[n] + fc[n] - s.K @ U[n]  # the force the body exerts on its supports
+        for sup in SUPPORT_NAMES:
+            if s.spec.supports[sup] == "clamped":
+                i = SUPPORT_OUTPUTS.index(f"{n}.{sup}.{FORCE_NAMES[0]}")
+                reac[i : i + 6] = r[s.support_dofs(sup)]
+    zeros = np.zeros(nn)
+    return StaticState(
+        U=U,
+        contact_force=ev.P.copy() if contact else np.zeros((nn, 3)),
+        normal_force=ev.N.copy() if contact else zeros.copy(),
+        penetration=ev.g.copy() if contact else zeros.copy(),
+        element=ev.elem.copy() if contact else np.zeros(nn, np.int64),
+        xi=ev.xi.copy() if contact else zeros.copy(),
+        generalized_contact=fc,
+        reactions=reac,
+        arc_length=systems[names[0]].centerline.s.copy(),
+        curvature=systems[names[0]].centerline.curvature.copy(),
+        loads=loads,
+        prestretch_force=sigma if T > 0.0 else 0.0,
+        iterations=iterations,
+        residual=residual,
+        load_steps=steps,
+        weight={n: _weight(systems[n], model) for n in names},
+    )
+
+
+def _slope_floor(model, f, T):
+    """The least contact slope (N/m) of Newton's tangent: the law's slope at a tenth of the largest
+    nodal load or tension (the forces the contacts will carry are of that order)."""
+    law, k_lin, k_hertz = _law(model)
+    F = 0.1 * max(np.abs(f).max(initial=0.0), T, 1e-6)
+    return k_lin if law == 1 else 1.5 * k_hertz ** (2.0 / 3.0) * F ** (1.0 / 3.0)
+
+
+def _weight(system, model):
+    """The body's weight (N, global vector): its mass (the consistent mass of a rigid translation,
+    kg) times gravity."""
+    ex = np.zeros(system.ndof)
+    ex[0::6] = 1.0
+    return float(ex @ (system.M @ ex)) * np.asarray(model.loads["gravity"], dtype=float)
+
+
+def _unknowns(systems, names):
+    """{body: the positions of its free DOFs among the unknowns}: the bodies' DOFs interleaved node
+    by node (cable and casing of node j next to each other), so that the static tangent, whose
+    contacts couple a cable node with the casing element beside it, is banded."""
+    keys = [(int(d) // 6, b, int(d) % 6) for b, n in enumerate(names) for d in systems[n].free]
+    order = np.argsort([k[0] * 64 + k[1] * 8 + k[2] for k in keys], kind="stable")
+    pos = np.empty(len(keys), np.int64)
+    pos[order] = np.arange(len(keys))
+    out, o = {}, 0
+    for n in names:
+        m = len(systems[n].free)
+        out[n] = pos[o : o + m]
+        o += m
+    return out
+
+
+def _scatter(z, U, systems, offs):
+    for n, i in offs.items():
+        U[n][:] = 0.0
+        U[n][systems[n].free] = z[i]
+
+
+class _NoContact:
+    """The contact of :class:`_Evaluator` when there is none (contact off, or one body)."""
+
+    def __init__(self, n):
+        self.zero = np.zeros(n)
+
+    def evaluate(self, z):
+        return self.zero
+
+    def potential(self):
+        return 0.0
+
+    def tangent(self, J, k_min=0.0, fresh=None):
+        pass
+
+    @property
+    def closed(self):
+        return None
+
+
+class _Evaluator:
+    """The contact of the cable nodes at a state z: forces, and the tangent's contact part."""
+
+    def __init__(self, model, systems, U, offs):
+        cab, cas = systems["cable"], systems["casing"]
+        self.systems, self.U, self.offs = systems, U, offs
+        self.Xc, self.Tc = cab.centerline.nodes, cab.centerline.tangents
+        self.Xs, self.Rs, self.Ls = cas.centerline.nodes, cas.centerline.frames, cas.centerline.lengths
+        self.gap = model.radial_gap
+        self.law, self.k_lin, self.k_hertz = _law(model)
+        nn = len(self.Xc)
+        self.elem = np.clip(np.arange(nn) - 1, 0, len(self.Ls) - 1).astype(np.int64)
+        self.g, self.h, self.N, self.kn, self.xi = (np.zeros(nn) for _ in range(5))
+        self.nrm = np.zeros((nn, 3))
+        self.H = np.zeros((nn, 6, 12))
+        self.fc = {"cable": np.zeros(cab.ndof), "casing": np.zeros(cas.ndof)}
+        # unknown index of every DOF of each body (-1 for a prescribed one)
+        self.index = {}
+        for n in ("cable", "casing"):
+            idx = -np.ones(systems[n].ndof, np.int64)
+            idx[systems[n].free] = offs[n]
+            self.index[n] = idx
+
+    @property
+    def closed(self):
+        """The nodes in contact at the last evaluated state (bool per node)."""
+        return self.N > 0.0
+
+    @property
+    def P(self):
+        """Force of the casing on each cable node (N, global): -N n."""
+        return -self.N[:, None] * self.nrm
+
+    def evaluate(self, z):
+        """Contact forces at the state z; returns the generalized contact force on the unknowns."""
+        _scatter(z, self.U, self.systems, self.offs)
+        K.static_contact(
+            self.Xc, self.Tc, self.U["cable"], self.Xs, self.Rs, self.Ls, self.U["casing"], self.elem,
+            self.gap, self.law, self.k_lin, self.k_hertz, self.g, self.h, self.N, self.kn, self.nrm, self.xi,
+            self.H, self.fc["cable"], self.fc["casing"],
+        )  # fmt: skip
+        out = np.zeros(len(z))
+        for n in ("cable", "casing"):
+            idx = self.index[n]
+            free = idx >= 0
+            out[idx[free]] = self.fc[n][free]
+        return out
+
+    def potential(self):
+        """Elastic energy in the contacts (J) at the last evaluated state (the time domain's)."""
+        return K.contact_potential(self.g, self.law, self.k_lin, self.k_hertz)
+
+    def tangent(self, J, k_min=0.0, fresh=None):
+        """Subtract the contact forces' derivative (N/m) at the last evaluated state from J (over
+        the unknowns): J = K - d f_c / dz, the exact first-order derivative of the time domain's
+        contact forces (see :meth:`_node_derivative`). The slope dN/dg of a ``fresh`` contact (a
+        bool per node: closed since the last iterate) is taken at least ``k_min`` (N/m): the Hertz
+        law's slope vanishes as a contact begins, where Newton would take it for no stiffness at
+        all (and push the node deep into the wall); a contact that stays closed gets its true
+        slope, for Newton's quadratic convergence."""
+        for i in np.flatnonzero(self.N > 0.0):
+            e = self.elem[i]
+            dofs = np.concatenate([self.index["cable"][6 * i : 6 * i + 6], self.index["casing"][6 * e : 6 * e + 12]])
+            kn = max(self.kn[i], k_min) if fresh is None or fresh[i] else self.kn[i]
+            dF = self._node_derivative(i, kn)
+            keep = dofs >= 0
+            d = dofs[keep]
+            J[np.ix_(d, d)] -= dF[np.ix_(keep, keep)]
+
+    def _node_derivative(self, i, kn):
+        """d(generalized contact forces)/d(DOFs) (N/m, 18 x 18) of cable node i's contact: its six
+        DOFs (translation x, rotation theta) and the twelve of its casing element e (q).
+
+        The contact point P(xi, q) = X0(xi) + A(xi) q on the casing axis (A: the displacement rows
+        of the Hermite interpolation, Eq. 9) lies in the normal plane of the node's tangent t:
+        (P - x) . t = 0, which moves xi by d xi = -[t . (A dq - dx) - h n . dt] / (P' . t); the
+        node's offset r = x - P (h = |r|, n = r / h, g = h - e) changes by dr = dx - A dq - P' d xi,
+        the normal force by kn n . dr and the normal by (I - n n^T) dr / h. Forces: -N n on the
+        node, N A^T n on the element, whose A moves with xi (dA/dxi)."""
+        e, xi, h, N, n = self.elem[i], self.xi[i], self.h[i], self.N[i], self.nrm[i]
+        Uc, Us = self.U["cable"], self.U["casing"]
+        T0 = self.Tc[i]
+        tr = T0 + np.cross(Uc[6 * i + 3 : 6 * i + 6], T0)
+        tl = np.linalg.norm(tr)
+        t = tr / tl
+        A = self.H[i, :3, :]
+        Hp, Hm = np.zeros((6, 12)), np.zeros((6, 12))
+        dxi = 1e-6
+        K.hermite_matrix(min(xi + dxi, 1.0), self.Ls[e], self.Rs[e], Hp)
+        K.hermite_matrix(max(xi - dxi, 0.0), self.Ls[e], self.Rs[e], Hm)
+        Ap = (Hp[:3] - Hm[:3]) / (min(xi + dxi, 1.0) - max(xi - dxi, 0.0))  # dA/dxi (exact: cubic)
+        q = Us[6 * e : 6 * e + 12]
+        Pp = self.Xs[e + 1] - self.Xs[e] + Ap @ q  # dP/dxi (m)
+        # local DOFs w = [dx (3), dtheta (3), dq (12)]
+        Dx = np.zeros((3, 18))
+        Dx[:, :3] = np.eye(3)
+        Mt = np.zeros((3, 18))  # dt = (I - t t^T) (dtheta x T0) / |t_raw|
+        cross = np.array([[0.0, T0[2], -T0[1]], [-T0[2], 0.0, T0[0]], [T0[1], -T0[0], 0.0]])  # dtheta x T0
+        Mt[:, 3:6] = (np.eye(3) - np.outer(t, t)) @ cross / tl
+        Dq = np.zeros((3, 18))
+        Dq[:, 6:] = A
+        cxi = -(t @ (Dq - Dx) - h * (n @ Mt)) / (Pp @ t)  # d xi (18)
+        Mr = Dx - Dq - np.outer(Pp, cxi)  # dr (3 x 18)
+        Pn = (np.eye(3) - np.outer(n, n)) @ Mr / h  # dn
+        dN = kn * (n @ Mr)  # (18)
+        dF = np.zeros((18, 18))
+        dF[:3] = -np.outer(n, dN) - N * Pn
+        dF[6:] = np.outer(A.T @ n, dN) + N * (A.T @ Pn) + N * np.outer(Ap.T @ n, cxi)
+        return dF
+
+
+def banded_solve(J, b):
+    """J^-1 b for the static tangent J (dense, banded by the interleaved unknowns): LAPACK's banded
+    LU (scipy.linalg.solve_banded) over its actual bandwidth, some 50 times fewer operations than a
+    dense solve of the ~400 unknowns, and no threaded level-3 BLAS (which on a loaded machine made
+    a dense solve take 0.1 s instead of 2 ms)."""
+    n = J.shape[0]
+    r, c = np.nonzero(J)
+    bw = int(np.abs(r - c).max()) if len(r) else 0
+    if 4 * bw > n:
+        return np.linalg.solve(J, b)
+    ab = np.zeros((2 * bw + 1, n))
+    for k in range(-bw, bw + 1):  # ab[bw + i - j, j] = J[i, j]
+        i = np.arange(max(0, k), min(n, n + k))
+        ab[bw + k, i - k] = J[i, i - k]
+    return solve_banded((bw, bw), ab, b, check_finite=False)
+
+
+class _Problem:
+    """The static equations at load factor lam, over x = (z, sigma):
+
+        R_z = K z - lam f - sigma p - f_c(z) = 0,     R_s = sigma - a p.z - lam T = 0,
+
+    z the free DOFs of both bodies, f their constant loads without the cable tension's, sigma the
+    cable's pre-stretch force (N): the axial force it would carry at rest in the routing before it
+    moves, whose load is sigma p. The second equation fixes the cable's mean axial force, sigma +
+    EA/L mean(t . du), to the tension T (a = EA/L, N/m; p.z = -sum_e t_e . (u2 - u1), the chords'
+    total shortening): the tension is applied like a cable pulled at its end, taut against the
+    inside of every bend, not relaxed by the cable's own axial stiffness (a fixed prestress in a
+    curved elastic rod is carried by its hoop stiffness within micrometres). Without a tension
+    (T = 0) sigma stays zero and the second equation is left out."""
+
+    def __init__(self, Kz, f, p, a, T, ev, k_min=0.0):
+        self.Kz, self.f, self.p, self.a, self.T, self.ev, self.k_min = Kz, f, p, a, T, ev, k_min
+        self.tension = T > 0.0
+
+    def residual(self, x, lam):
+        """(R, Pi): the residual (N) and the potential energy (J) at x; R is Pi's gradient with the
+        second equation times a (to first order: the normal-plane search makes the contact forces
+        the potential's gradient only up to the slope of the casing axis against the cable)."""
+        z, sigma = x[:-1], x[-1]
+        Kz = self.Kz @ z
+        Rz = Kz - lam * self.f - sigma * self.p - self.ev.evaluate(z)
+        Pi = 0.5 * (z @ Kz) - lam * (self.f @ z) + self.ev.potential()
+        if not self.tension:
+            return np.append(Rz, 0.0), Pi
+        pz = self.p @ z
+        Pi += -sigma * pz + (sigma * sigma - 2.0 * lam * self.T * sigma) / (2.0 * self.a)
+        return np.append(Rz, sigma - self.a * pz - lam * self.T), Pi
+
+    def gradient(self, R):
+        """The potential's gradient from the residual: the second equation over a."""
+        return np.append(R[:-1], R[-1] / self.a if self.tension else 0.0)
+
+    def step(self, x, R, fresh=None):
+        """The Newton step of the bordered system [[J, -p], [-a p^T, 1]] (J: K and the contact's
+        tangent at the last evaluated state; ``fresh``: the contacts closed since the last iterate)."""
+        J = self.Kz.copy()
+        self.ev.tangent(J, self.k_min, fresh)
+        if not self.tension:
+            return np.append(banded_solve(J, -R[:-1]), 0.0)
+        x1, x2 = banded_solve(J, np.column_stack([-R[:-1], self.p])).T
+        ds = (-R[-1] + self.a * (self.p @ x1)) / (1.0 - self.a * (self.p @ x2))
+        return np.append(x1 + ds * x2, ds)
+
+    def tolerance(self, x, lam, tol):
+        """|R|_inf (N) that counts as converged: ``tol`` times the force scale (the loads, the
+        contact forces, the tension), and at least the rounding floor of K z, 64 eps (|K| |z|)_inf
+        (a stiff body's residual cannot be smaller)."""
+        z = x[:-1]
+        fc = self.ev.evaluate(z)
+        scale = max(np.abs(lam * self.f).max(initial=0.0), np.abs(fc).max(initial=0.0), lam * self.T, 1e-30)
+        floor = 64.0 * np.finfo(float).eps * (np.abs(self.Kz) @ np.abs(z)).max(initial=0.0)
+        return max(tol * scale, floor)
+
+
+def _newton(problem, x, lam, tol):
+    """Semi-smooth Newton from x at load factor lam, with a backtracking (Armijo) line search on
+    the potential energy: the problem is the minimum of a convex potential (for the gaps
+    linearised at each iterate), and along a Newton step the energy tells a step that pushes
+    nodes deep into the wall from one that closes them, where |R| jumps either way. A step that
+    lowers the energy too little is taken when it lowers |R| (the forces are the energy's gradient
+    only to first order). Returns (x, its, |R|_inf, converged)."""
+    R, Pi = problem.residual(x, lam)
+    closed = problem.ev.closed
+    fresh = None  # the first iterate: every contact is new to this load step
+    for it in range(1, MAX_ITERATIONS + 1):
+        dx = problem.step(x, R, fresh)
+        slope = problem.gradient(R) @ dx  # < 0: a descent direction
+        alpha = 1.0
+        for _ in range(40):
+            xt = x + alpha * dx
+            Rt, Pt = problem.residual(xt, lam)
+            if Pt <= Pi + 1e-4 * alpha * min(slope, 0.0) or np.linalg.norm(Rt) < 0.5 * np.linalg.norm(R):
+                break
+            alpha *= 0.5
+        else:  # no step lowers the energy or |R|: converged if |R| is at its rounding floor
+            problem.residual(x, lam)  # (leaves the evaluator at x)
+            ok = np.abs(R).max() <= problem.tolerance(x, lam, tol)
+            return x, it, float(np.abs(R).max()), ok
+        x, R, Pi = xt, Rt, Pt
+        now = problem.ev.closed
+        fresh = None if now is None else (now & ~closed)
+        closed = now
+        if np.abs(R).max() <= problem.tolerance(x, lam, tol):
+            problem.residual(x, lam)
+            return x, it, float(np.abs(R).max()), True
+    return x, MAX_ITERATIONS, float(np.abs(R).max()), False
+
+
+def _continuation(problem):
+    """Load stepping in the load factor lam from 0 to 1: Newton at each step from the last
+    converged state; a step that fails is halved. Returns (z, sigma, iterations, steps, |R|_inf)."""
+    x = np.zeros(len(problem.f) + 1)
+    lam, step, total, steps = 0.0, 1.0, 0, 0
+    residual = 0.0
+    while lam < 1.0:
+        target = min(1.0, lam + step)
+        xt, its, residual, ok = _newton(problem, x, target, TOLERANCE)
+        total += its
+        if ok:
+            x, lam, steps = xt, target, steps + 1
+            step = min(1.0, 2.0 * step) if its < 10 else step
+        else:
+            step *= 0.5
+            if step < MIN_LOAD_STEP:
+                raise SimulationError(
+                    f"the static state did not converge: at load factor {lam:.4g} a step of {2 * step:.3g} "
+                    f"failed ({total} Newton iterations, |R| = {residual:.3g} N); the contact is too soft for the "
+                    "loads, or the tension close to the casing's buckling load"
+                )
+    return x[:-1], x[-1], total, steps, residual

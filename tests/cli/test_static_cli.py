@@ -1,0 +1,46 @@
+"""``cablecasing static``: the static state of a model on the command line (in-process)."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import cablecasing_core as cc
+from cablecasing_core.cli import main
+from cablecasing_core.timedomain.static_state import static_state
+
+
+def test_static_json_of_the_installed_specimen(capsys, tmp_path):
+    png = tmp_path / "static.png"
+    assert main(["static", "installed", "--json", "--plot", str(png)]) == 0
+    out = json.loads(capsys.readouterr().out)
+    st = static_state(cc.load_model("installed"))
+    assert set(out) == {"contact_force_N", "support_reactions_N", "contact_nodes", "max_penetration_m"}
+    np.testing.assert_array_equal(out["contact_force_N"], st.contact_force)  # same solve, same numbers
+    assert set(out["support_reactions_N"]) == {"casing.A", "casing.B", "cable.A", "cable.B"}
+    for name, r in out["support_reactions_N"].items():
+        np.testing.assert_array_equal(r, st.reaction(name))
+    assert out["contact_nodes"] == st.contact_nodes >= 10
+    assert out["max_penetration_m"] == st.max_penetration > 0
+    assert png.stat().st_size > 10_000
+
+
+def test_static_table_and_errors(capsys):
+    assert main(["static", "installed"]) == 0
+    text = capsys.readouterr().out
+    assert "cable nodes in contact" in text and "casing.A" in text and "pre-stretch force" in text
+    assert main(["static"]) == 0  # the paper's specimen: nothing loads it
+    assert "0 cable nodes in contact" in capsys.readouterr().out
+    assert main(["static", "no_such_model.toml"]) == 2
+    assert "model_file" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_static_runs_as_a_command():
+    """The installed console script, in a fresh process, prints the JSON (its speed is measured by
+    benchmarks/bench_time.py: static_cli_wall_s)."""
+    exe = [sys.executable, "-m", "cablecasing_core.cli", "static", "installed", "--json"]
+    out = json.loads(subprocess.run(exe, check=True, capture_output=True, text=True).stdout)
+    assert out["contact_nodes"] >= 10
