@@ -151,7 +151,7 @@ def _body(body):
             REQUIRED,
             "Pa",
             f"Young's (dynamic) modulus of {the}; a table makes it frequency-dependent (Section 3.1)",
-            NumberOrTable(Number(gt=0, le=1e14, unit="Pa")),
+            NumberOrTable(Number(gt=0, le=1e16, unit="Pa")),
             plausible=(1e5, 1.2e12, "solids lie between a soft rubber (1e5 Pa) and diamond (1.2e12 Pa)"),
         ),
         KeySpec(

@@ -233,7 +233,7 @@ def test_a_runs_beginning_does_not_depend_on_its_length():
             "time (its first column) must increase strictly; data row 3 does not",
         ),
         ([(0.0, 0.0), (0.02, 1e-5), (0.01, 2e-5)], "data row 3 does not"),
-        ([(0.0, 0.0), (0.01, float("nan"))], "line 3, column 2 is not finite"),
+        ([(0.0, 0.0), (0.01, float("nan"))], "line 3, column 2 is not a finite number"),
         ([(0.0, 0.0)], "has 1 rows of numbers"),
     ],
 )
