@@ -9,7 +9,7 @@ test checks that the committed table is the generated one).
 >>> from cablecasing_core.model.schema import lookup, output_spec
 >>> spec = lookup("scenario.excitation.casing_random.rms")
 >>> spec.unit, spec.default, spec.allowed
-('m/s2', 5.0, 'zero or a positive number in m/s2')
+('m/s2', 5.0, 'a number in [0, 1e+06] in m/s2')
 >>> output_spec("casing.B.Fz")
 ('N', 'force the casing exerts on its support B, component along global z')
 
