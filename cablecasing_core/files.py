@@ -101,6 +101,18 @@ def check_writable(flag: str, path: str | os.PathLike) -> None:
             os.remove(probe)
 
 
+def output_folder(flag: str, folder: str | os.PathLike, probe_name: str) -> Path:
+    """Create the output folder ``folder`` (and its parents) and check that ``probe_name`` can be
+    written in it (:func:`check_writable`); a :class:`ModelError` naming ``flag`` otherwise."""
+    folder = Path(folder)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ModelError(flag, str(folder), f"must be a folder that can be created ({exc.strerror})") from None
+    check_writable(flag, folder / probe_name)
+    return folder
+
+
 def _number(text):
     try:
         float(text)

@@ -30,7 +30,7 @@ import numpy as np
 from ..errors import CableCasingError, InfrastructureError, ModelError, excerpt, plain
 from ..model import load_model
 from . import identify, nvh, report, simulate, static, study
-from .paths import check_output_path, emit_table
+from .paths import check_output_path, emit_table, kept
 
 
 class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
@@ -83,6 +83,7 @@ def cmd_trfam(args):
     f = np.arange(args.fmin, args.fmax + 0.5 * args.df, args.df)
     check_output_path("--out", args.out, (".csv", ".uff"))
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    args.interrupted = "stopped: " + kept(args.out, args.plot)
     H = trfam(model, args.input, args.output, f, damping=args.damping)
     table = np.column_stack([f, H.real, H.imag, np.abs(H), np.degrees(np.angle(H))])
     header = "frequency_hz,re_kg,im_kg,magnitude_kg,phase_deg"

@@ -26,6 +26,14 @@ def _fail(exc):
     return 2
 
 
+def _check_outputs(args):
+    """--toml and --plot writable before the identification starts (cli/paths.py)."""
+    from .paths import check_output_path
+
+    check_output_path("--toml", args.toml, (".toml",))
+    check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+
+
 def _write_toml(path, text):
     from ..files import write_text
 
@@ -58,6 +66,7 @@ def _spectrum_peaks(x, fs, count):
 
 def cmd_damping(args):
     try:
+        _check_outputs(args)
         from ..identification import parameters_toml, rayleigh_fit, read_time_record, wavelet_damping
 
         x, fs, name = read_time_record(args.file, args.channel)
@@ -111,6 +120,7 @@ def cmd_damping(args):
 
 def cmd_loss_factor(args):
     try:
+        _check_outputs(args)
         from ..identification import loss_factor_circle, parameters_toml, read_frf
 
         f, H = read_frf(args.file, args.channel)
@@ -166,6 +176,7 @@ def _read_measured(path, modes_arg, channel):
 
 def cmd_modulus(args):
     try:
+        _check_outputs(args)
         from ..identification import identify_modulus_model, parameters_toml
         from ..model import load_model
 

@@ -27,10 +27,11 @@ def _window(rec, skip):
 
 def cmd_spectrum(args):
     from ..nvh import apparent_mass, psd, reference, transmissibility
-    from .paths import check_output_path, emit_table
+    from .paths import check_output_path, emit_table, kept
 
     check_output_path("--out", args.out, (".csv",))
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    args.interrupted = "stopped: " + kept(args.out, args.plot)
     rec = _record(args.record)
     columns = args.column or ["casing.B.Fz"]
     f_range = (args.fmin, args.fmax)
@@ -107,10 +108,11 @@ def cmd_bands(args):
     from ..files import atomic_path
     from ..nvh import reference
     from ..studies import octave_rms
-    from .paths import check_output_path
+    from .paths import check_output_path, kept
 
     check_output_path("--out", args.out, (".csv",))
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    args.interrupted = "stopped: " + kept(args.out, args.plot)
     rec = _record(args.record)
     keep = _window(rec, args.skip)
     col = rec.resolve(args.column)

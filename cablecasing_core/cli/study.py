@@ -11,7 +11,7 @@ from ..errors import ModelError
 from ..model.schema import output_spec
 from ..model.validators import integer, number
 from .helptext import ASSIGNMENT_HELP, key_help
-from .paths import check_output_path
+from .paths import check_output_path, kept
 
 
 def study_bounds(args, model):
@@ -29,6 +29,7 @@ def study_bounds(args, model):
 
 
 def cmd_study(args):
+    from ..files import output_folder
     from ..model import load_model
     from ..studies import DEFAULT_EVALUATE, plot_correlations, plot_sobol, run_study
     from ..studies.sampling import base_points, group_size
@@ -36,8 +37,7 @@ def cmd_study(args):
     model = load_model(args.model)
     bounds = study_bounds(args, model)  # (before anything is written)
     integer("--samples", args.samples, 2)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    out = output_folder("--out", args.out, "study.csv")
     model_file = str(Path(args.model).resolve()) if args.model else None  # (dask workers: any folder)
     kwargs = {"model_file": model_file, "duration": args.duration, "skip": args.skip}
     g = group_size(bounds)
@@ -151,7 +151,11 @@ def cmd_ensemble(args):
     integer("--first-seed", args.first_seed, 0)
     _check_confidence(args.confidence)
     check_output_path("--out", args.out)
+    check_output_path("--out", _against_path(args.out) if args.against else None)
     check_output_path("--plot", args.plot)
+    args.interrupted = "the ensemble was stopped: " + kept(
+        args.out, _against_path(args.out) if args.against else None, args.plot
+    )
     seeds = list(range(args.first_seed, args.first_seed + args.seeds))
     common = dict(
         seeds=seeds,
@@ -185,7 +189,9 @@ def cmd_pool(args):
 
     _check_confidence(args.confidence)
     check_output_path("--out", args.out)
+    check_output_path("--out", _against_path(args.out) if args.against else None)
     check_output_path("--plot", args.plot)
+    args.interrupted = "stopped: " + kept(args.out, _against_path(args.out) if args.against else None, args.plot)
     ens = pool_ensembles(args.files)
     other = d = None
     change = {}
@@ -231,11 +237,18 @@ def _print_change(other, d, change, confidence):
         print(f"{lab},{m:.6g},{r:+.4f},{se:.4f},{a:+.4f},{b:+.4f},{r / se:+.1f}")
 
 
+def _against_path(out, suffix="_against"):
+    """``x.csv`` -> ``x_against.csv`` (None for None)."""
+    if not out:
+        return None
+    stem, dot, ext = out.rpartition(".")
+    return f"{stem}{suffix}.{ext}" if dot else f"{out}{suffix}"
+
+
 def _save(ens, out, suffix):
     """Write ``ens`` to ``out`` (``x.csv`` -> ``x<suffix>.csv``), if ``out`` was given."""
     if out:
-        stem, dot, ext = out.rpartition(".")
-        path = f"{stem}{suffix}.{ext}" if dot else f"{out}{suffix}"
+        path = _against_path(out, suffix) if suffix else out
         ens.save(path)
         print(f"# wrote {path}")
 

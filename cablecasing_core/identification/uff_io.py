@@ -190,22 +190,22 @@ def write_csv_time(path, x, fs, names=None, t0=0.0):
     x2 = x[:, None] if x.ndim == 1 else x
     names = names or (["x"] if x2.shape[1] == 1 else [f"x{i + 1}" for i in range(x2.shape[1])])
     t = t0 + np.arange(x2.shape[0]) / float(fs)
-    np.savetxt(
-        path, np.column_stack([t, x2]), delimiter=",", header=",".join(["time_s", *names]), comments="", fmt="%.17g"
-    )
+    from ..files import atomic_path
+
+    with atomic_path(path) as tmp:
+        np.savetxt(
+            tmp, np.column_stack([t, x2]), delimiter=",", header=",".join(["time_s", *names]), comments="", fmt="%.17g"
+        )
 
 
 def write_csv_frf(path, freqs_hz, H, name="H"):
     """A complex FRF to CSV: ``frequency_hz,re_<name>,im_<name>``."""
     H = np.asarray(H, dtype=complex)
-    np.savetxt(
-        path,
-        np.column_stack([np.asarray(freqs_hz, dtype=float), H.real, H.imag]),
-        delimiter=",",
-        header=f"frequency_hz,re_{name},im_{name}",
-        comments="",
-        fmt="%.17g",
-    )
+    from ..files import atomic_path
+
+    table = np.column_stack([np.asarray(freqs_hz, dtype=float), H.real, H.imag])
+    with atomic_path(path) as tmp:
+        np.savetxt(tmp, table, delimiter=",", header=f"frequency_hz,re_{name},im_{name}", comments="", fmt="%.17g")
 
 
 def read_csv_time(path, channel=None):

@@ -185,7 +185,9 @@ def test_an_interrupt_prints_one_line_and_leaves_the_earlier_file(tmp_path, caps
     monkeypatch.setattr(Engine, "advance", interrupted)
     assert main(["simulate", "--duration", "0.01", "--out", str(out)]) == 130
     err = capsys.readouterr().err
-    assert "cablecasing: interrupted: the run was stopped; nothing was written" in err and "Traceback" not in err
+    # (the message says what was kept, issue 26)
+    assert f"cablecasing: interrupted: the run was stopped: the previous {out} kept as it was" in err
+    assert "Traceback" not in err
     assert out.read_text() == "an earlier result\n" and sorted(p.name for p in tmp_path.iterdir()) == ["r.csv"]
 
 
