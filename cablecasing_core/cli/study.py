@@ -10,6 +10,7 @@ import numpy as np
 from ..errors import ModelError
 from ..model.schema import output_spec
 from ..model.validators import integer, number
+from ..studies.executor import PROGRESS_TIMEOUT
 from .helptext import ASSIGNMENT_HELP, key_help
 from .paths import check_output_path, kept
 
@@ -29,7 +30,6 @@ def study_bounds(args, model):
 
 
 def cmd_study(args):
-    from ..files import output_folder
     from ..model import load_model
     from ..studies import DEFAULT_EVALUATE, plot_correlations, plot_sobol, run_study
     from ..studies.sampling import base_points, group_size
@@ -37,7 +37,7 @@ def cmd_study(args):
     model = load_model(args.model)
     bounds = study_bounds(args, model)  # (before anything is written)
     integer("--samples", args.samples, 2)
-    out = output_folder("--out", args.out, "study.csv")
+    out = Path(args.out)  # (created by run_study once every setting is checked and the scheduler answers)
     model_file = str(Path(args.model).resolve()) if args.model else None  # (dask workers: any folder)
     kwargs = {"model_file": model_file, "duration": args.duration, "skip": args.skip}
     g = group_size(bounds)
@@ -58,6 +58,7 @@ def cmd_study(args):
         n_workers=args.workers,
         evaluate_kwargs=kwargs,
         model=model,
+        progress_timeout=number("--timeout", args.timeout, gt=0, unit="s"),
     )
     n_ok = int(np.sum(res.ok))
     print(f"{n_ok} of {len(res.status)} runs ok ({res.n_base} base points); results in {out / 'study.csv'}")
@@ -170,12 +171,20 @@ def cmd_ensemble(args):
     )
     base = dict(_assignment("--set", a) for a in args.set)
     against = dict(_assignment("--against", a) for a in args.against)
-    ens = seed_ensemble(args.model, overrides=base, **common)
+    from ..model import load_model
+
+    model = load_model(args.model)
+    try:  # both variants checked before the first run
+        model.with_overrides({**base, **against})
+    except ModelError as exc:
+        flag = "--against" if exc.key in against else "--set"
+        raise ModelError(f"{flag} {exc.key}", exc.value, exc.allowed) from None
+    ens = seed_ensemble(model, overrides=base, **common)
     _print_ensemble(ens, args.confidence)
     _save(ens, args.out, "")
     other = d = None
     if against:
-        other = seed_ensemble(args.model, overrides={**base, **against}, **common)
+        other = seed_ensemble(model, overrides={**base, **against}, **common)
         d = paired_difference(other, ens)
         _print_change(other, d, against, args.confidence)
         _save(other, args.out, "_against")
@@ -289,6 +298,13 @@ def add_parser(sub):
     )
     p.add_argument("--skip", type=float, default=0.05, help="start of each record left out, s")
     p.add_argument("--out", default="study", help="folder of study.csv (resumed when it exists) and the figures")
+    p.add_argument(
+        "--timeout",
+        type=float,
+        default=PROGRESS_TIMEOUT,
+        metavar="S",
+        help="on dask: stop (exit status 3, resumable) when no sample finishes for S seconds",
+    )
     p.set_defaults(func=cmd_study)
 
     e = sub.add_parser("ensemble", help="band levels of a support output as means over excitation seeds")

@@ -20,7 +20,7 @@ from ..errors import ModelError
 from ..model.schema import SUPPORT_OUTPUTS
 from ..model.validators import Choice, integer, seconds
 from .ensemble import Ensemble
-from .evaluators import DEFAULT_EVALUATE
+from .evaluators import DEFAULT_EVALUATE, check_record_settings
 from .executor import execute
 from .octave import Bands, octave_bands
 
@@ -117,24 +117,8 @@ def seed_ensemble(
     if clash:
         raise ModelError("overrides", clash, "must not set the seeds that the ensemble varies")
     base = model.with_overrides(overrides)  # validates the overrides before any run
-    length = (base.scenario["duration"] if duration is None else duration) - skip
-    narrow = int(np.argmin(band_set.upper - band_set.lower))
-    need = 1.0 / (band_set.upper[narrow] - band_set.lower[narrow])
-    if not length >= need:  # the band would hold less than one FFT bin (octave_rms refuses it)
-        raise ModelError(
-            "duration",
-            duration,
-            f"must leave at least {need:.4g} s after skip = {skip} s for band "
-            f"{band_set.labels[narrow]!r} ({band_set.lower[narrow]:g}-{band_set.upper[narrow]:g} Hz)",
-        )
+    check_record_settings(base, duration, dt, skip, band_set)
     step = base.scenario["dt"] if dt is None else dt
-    if not 0.5 / step >= band_set.upper.max():  # (octave_rms's rule, checked before the runs)
-        raise ModelError(
-            "dt",
-            dt,
-            f"must be at most {0.5 / band_set.upper.max():.4g} s so that every band lies "
-            f"below the Nyquist frequency (highest edge {band_set.upper.max():g} Hz)",
-        )
     kwargs = {
         "duration": duration,
         "dt": dt,

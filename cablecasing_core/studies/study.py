@@ -27,20 +27,25 @@ and every row goes to a resumable CSV (:mod:`.results_store`).
 from __future__ import annotations
 
 import json
+import os
 
 from ..errors import ModelError
+from ..files import output_folder
 from ..model.validators import integer
 from .evaluators import DEFAULT_EVALUATE, DEFAULT_OUTPUTS
-from .executor import execute, resolve_evaluate, spec_name
+from .executor import PROGRESS_TIMEOUT, Workers, execute, resolve_evaluate, spec_name
 from .results_store import (
     FORMAT_VERSION,
     META_COLUMNS,
     TAIL_COLUMNS,
+    LostLog,
     ResultsWriter,
     StudyResults,
     load_results,
     prepare_file,
     read_meta,
+    recover_header,
+    study_lock,
 )
 from .sampling import DEFAULT_CONSTRAINTS, base_points, check_bounds, group_size, sobol_design
 
@@ -64,6 +69,7 @@ def run_study(
     model=None,
     progress=True,
     max_in_flight=None,
+    progress_timeout=PROGRESS_TIMEOUT,
 ) -> StudyResults:
     """Run (or resume) the Monte-Carlo study of Section 4.4 and write every sample to ``path`` (CSV).
 
@@ -99,6 +105,10 @@ def run_study(
         Show a tqdm bar (samples done, rate, time left).
     max_in_flight : int, optional
         Tasks submitted ahead to dask (default 4 per worker).
+    progress_timeout : float
+        Seconds without a finished sample after which a dask run stops with an
+        :class:`~cablecasing_core.errors.InfrastructureError` naming the cause (default
+        :data:`~.executor.PROGRESS_TIMEOUT`).
 
     Returns
     -------
@@ -133,8 +143,54 @@ def run_study(
             "must be None, 'serial', 'local', an address 'tcp://host:8786' or a distributed.Client",
         )
     constraints = tuple(constraints or ())
+    check = getattr(fn, "check_settings", None)  # settings that make every sample fail, refused first
+    if check is not None:
+        check(evaluate_kwargs, model=model)
     path = str(path)
     params = tuple(bounds)
+    with Workers(scheduler, n_workers) as workers:  # (an unreachable scheduler is refused before any file)
+        folder, name = os.path.split(os.path.abspath(path))
+        output_folder("path", folder, name)
+        with study_lock(path):
+            recover_header(path)
+            _run(
+                path,
+                workers,
+                fn,
+                evaluate,
+                evaluate_kwargs,
+                bounds,
+                params,
+                n,
+                seed,
+                outputs,
+                constraints,
+                max_samples,
+                progress,
+                max_in_flight,
+                progress_timeout,
+            )
+    return load_results(path)
+
+
+def _run(
+    path,
+    workers,
+    fn,
+    evaluate,
+    evaluate_kwargs,
+    bounds,
+    params,
+    n,
+    seed,
+    outputs,
+    constraints,
+    max_samples,
+    progress,
+    max_in_flight,
+    progress_timeout,
+):
+    """The study's rows: the design, the file prepared or resumed, the samples not yet done run."""
     n_base = base_points(bounds, n)
     old = read_meta(path)
     if old is not None and isinstance(old.get("n_base"), int):
@@ -182,9 +238,19 @@ def run_study(
             smoothing=0.1,
         )
         try:
-            execute(todo, evaluate, evaluate_kwargs, outputs, writer, bar, scheduler, n_workers, max_in_flight)
+            execute(
+                todo,
+                evaluate,
+                evaluate_kwargs,
+                outputs,
+                writer,
+                bar,
+                workers,
+                max_in_flight=max_in_flight,
+                progress_timeout=progress_timeout,
+                lost=LostLog(path),
+            )
         finally:
             bar.close()
     finally:
         writer.close()
-    return load_results(path)
