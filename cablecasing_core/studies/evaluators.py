@@ -2,8 +2,8 @@
 **kwargs) -> dict[str, float]`` (output name -> value).
 
 :func:`default_evaluate` is the time-domain evaluation (engine run, octave-band RMS of a support
-output); :func:`analytic_evaluate` and :func:`cpu_burn_evaluate` are stand-ins for the tests and the
-study benchmark (no physics).
+output); :func:`analytic_evaluate`, :func:`faulty_evaluate` and :func:`cpu_burn_evaluate` are
+stand-ins for the tests and the study benchmark (no physics).
 """
 
 from __future__ import annotations
@@ -138,6 +138,26 @@ def analytic_evaluate(overrides, fail_above=None, **_):
             * (1 + 100 * (gap - 1e-3) * (5 - j))
         )
     return out
+
+
+def faulty_evaluate(overrides, trigger=None, action="kill_worker", pid_file=None, **kwargs):
+    """A stand-in for the tests of the study's infrastructure failures (no physics): while the file
+    ``trigger`` exists, ``action`` happens instead of the evaluation: ``"kill_worker"`` kills the
+    process that runs the sample (SIGKILL), ``"kill_scheduler"`` kills the process whose id is in
+    ``pid_file``, ``"stall"`` sleeps for an hour. Otherwise :func:`analytic_evaluate` of
+    ``overrides`` (with ``kwargs``)."""
+    import os
+    import signal
+    import time
+
+    if trigger is not None and os.path.exists(trigger):
+        if action == "kill_worker":
+            os.kill(os.getpid(), signal.SIGKILL)
+        elif action == "kill_scheduler":
+            with open(pid_file) as fh:
+                os.kill(int(fh.read().strip()), signal.SIGKILL)
+        time.sleep(3600.0)
+    return analytic_evaluate(overrides, **kwargs)
 
 
 def cpu_burn_evaluate(overrides, repeats=200, n=2**12, **_):

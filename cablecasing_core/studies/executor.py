@@ -185,66 +185,66 @@ def _diagnose(client):
     return f"{len(threads)} dask workers are connected but none finished a sample (stalled)"
 
 
+def _lost_scheduler(exc):
+    return InfrastructureError(
+        f"the dask scheduler was lost ({_cause(exc)}); run the same command again to go on (the finished rows are kept)"
+    )
+
+
 def _run_dask(todo, evaluate, kwargs, outputs, writer, bar, client, max_in_flight, progress_timeout, lost):
-    """Submit the samples to dask.distributed and write each result as it completes."""
+    """Submit the samples to dask.distributed and write each result as it completes (the errors of the
+    client's calls are the infrastructure's; those of ``writer`` are not caught)."""
     from distributed import wait
 
     if not todo:
         return
     timeout = float(progress_timeout)
     lost_here = []
-
-    def note(i, cause):
-        lost_here.append((i, cause))
-        if lost is not None:
-            lost(i, cause)
-
     try:
         nthreads = max(1, sum(client.nthreads().values()))
-        window = max_in_flight or 4 * nthreads
-        pending = iter(todo)
-        keyed = {}
+    except Exception as exc:
+        raise _lost_scheduler(exc) from None
+    window = max_in_flight or 4 * nthreads
+    pending = iter(todo)
+    keyed = {}
 
-        def submit_next():
-            item = next(pending, None)
-            if item is not None:
-                i, p = item
-                fut = client.submit(evaluate_sample, evaluate, kwargs, i, p, outputs, pure=False)
-                keyed[fut] = i
-
-        for _ in range(window):
-            submit_next()
-        while keyed:
+    def submit_next():
+        item = next(pending, None)
+        if item is not None:
+            i, p = item
             try:
-                done, _ = wait(list(keyed), timeout=timeout, return_when="FIRST_COMPLETED")
-            except TimeoutError:
-                raise InfrastructureError(
-                    f"no sample finished within {timeout:g} s: {_diagnose(client)}; {len(keyed)} samples were "
-                    "running; run the same command again to go on (the finished rows are kept)"
-                ) from None
-            for fut in done:
-                i = keyed.pop(fut)
-                try:
-                    row = fut.result()
-                except (Exception, asyncio.CancelledError) as exc:  # (evaluate_sample never raises)
-                    note(i, _cause(exc))
-                    if client.status != "running":  # the scheduler is gone: the rest would wait for nothing
-                        raise InfrastructureError(
-                            f"the dask scheduler was lost (client {client.status}; sample {i}: {_cause(exc)}); run "
-                            "the same command again to go on (the finished rows are kept)"
-                        ) from None
-                else:
-                    writer.write(row)
-                    bar.update(1)
-                fut.release()
-                submit_next()
-    except InfrastructureError:
-        raise
-    except (OSError, RuntimeError, ValueError, TimeoutError) as exc:  # (the client lost its scheduler)
-        raise InfrastructureError(
-            f"the dask scheduler was lost ({_cause(exc)}); run the same command again to go on (the finished rows "
-            "are kept)"
-        ) from None
+                fut = client.submit(evaluate_sample, evaluate, kwargs, i, p, outputs, pure=False)
+            except Exception as exc:
+                raise _lost_scheduler(exc) from None
+            keyed[fut] = i
+
+    for _ in range(window):
+        submit_next()
+    while keyed:
+        try:
+            done, _ = wait(list(keyed), timeout=timeout, return_when="FIRST_COMPLETED")
+        except TimeoutError:
+            raise InfrastructureError(
+                f"no sample finished within {timeout:g} s: {_diagnose(client)}; {len(keyed)} samples were "
+                "running; run the same command again to go on (the finished rows are kept)"
+            ) from None
+        except (Exception, asyncio.CancelledError) as exc:  # (FuturesCancelledError: the scheduler is gone)
+            raise _lost_scheduler(exc) from None
+        for fut in done:
+            i = keyed.pop(fut)
+            try:
+                row = fut.result()
+            except (Exception, asyncio.CancelledError) as exc:  # (evaluate_sample never raises)
+                lost_here.append((i, _cause(exc)))
+                if lost is not None:
+                    lost(i, _cause(exc))
+                if client.status != "running":  # the scheduler is gone: the rest would wait for nothing
+                    raise _lost_scheduler(exc) from None
+            else:
+                writer.write(row)
+                bar.update(1)
+            fut.release()
+            submit_next()
     if lost_here:
         i, cause = lost_here[0]
         raise InfrastructureError(
