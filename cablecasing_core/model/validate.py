@@ -23,7 +23,7 @@ import math
 import warnings
 from pathlib import Path
 
-from ..errors import ModelError, ModelWarning, excerpt
+from ..errors import NOT_SHOWN, ModelError, ModelWarning, excerpt
 from .schema import BODY_NAMES, OPTIONAL, SECTIONS, lookup, table
 
 
@@ -33,7 +33,8 @@ def check_keys(prefix, data, allowed, required=()):
         raise ModelError(prefix, data, "must be a table (section)")
     for k in data:
         if k not in allowed:
-            raise ModelError(f"{prefix}.{k}", data[k], "unknown key; allowed keys are " + ", ".join(sorted(allowed)))
+            # (an unknown key's value is not shown: the file may be no model file at all, e.g. one of secrets)
+            raise ModelError(f"{prefix}.{k}", NOT_SHOWN, "unknown key; allowed keys are " + ", ".join(sorted(allowed)))
     for k in required:
         if k not in data:
             raise ModelError(f"{prefix}.{k}", None, "is required")

@@ -26,7 +26,7 @@ import warnings
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import NOT_SHOWN, ModelError
 from ..model.validators import integer
 
 #: Model key of the amplitude (m) of the cable's longitudinal (axial) excitation, \bar X_jv of Section 4.4.
@@ -71,7 +71,7 @@ def check_bounds(bounds: dict | None = None, model=None) -> dict[str, tuple[floa
             hint = " (the paper's six parameters are the default; give others, e.g. --vary casing.E=2e9:1e10)"
             raise ModelError(
                 f"bounds.{key}",
-                b,
+                NOT_SHOWN,  # (the value of an unknown key, maybe of a file that is no study's, is not shown)
                 f"is not a numeric parameter of the model {m.source}{hint if paper else ''}; known: "
                 + ", ".join(sorted(known)),
             )
