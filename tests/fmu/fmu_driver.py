@@ -65,7 +65,7 @@ class Instance:
 
     def __init__(self, fmu, name="cc", params=None, start_time=0.0, logging=True, unzip=None, initialize=True):
         from fmpy import extract, read_model_description
-        from fmpy.fmi2 import FMU2Slave
+        from fmpy.fmi2 import FMU2Slave, fmi2Real, fmi2ValueReference
 
         self.md = read_model_description(fmu)
         self.var = {v.name: v for v in self.md.modelVariables}
@@ -81,6 +81,12 @@ class Instance:
         self.fmu.instantiate(callbacks=self._callbacks(), loggingOn=logging)
         self.t = start_time
         self.in_vr = [self.var[n].valueReference for n in INPUTS]
+        # the inputs go in as fmpy's own simulate_fmu sets them (simulation.Input.apply): one
+        # fmi2SetReal on ctypes arrays made once, not fmpy's setReal(list), whose conversion of 36
+        # values to new ctypes arrays costs ~20 µs per step by itself (docs/performance.md, FMU)
+        self._in_vr = (fmi2ValueReference * len(INPUTS))(*self.in_vr)
+        self._in_values = (fmi2Real * len(INPUTS))()
+        self._in_view = np.ctypeslib.as_array(self._in_values)
         self._plans = {}
         if not initialize:
             return
@@ -136,8 +142,11 @@ class Instance:
         return status
 
     def step(self, row, h):
-        self.fmu.setReal(self.in_vr, list(row))
-        status = self.call(self.fmu.doStep, self.t, h)
+        from fmpy.fmi2 import fmi2True
+
+        self._in_view[:] = row
+        self.fmu.fmi2SetReal(self.fmu.component, self._in_vr, len(self.in_vr), self._in_values)
+        status = self.call(self.fmu.fmi2DoStep, self.fmu.component, self.t, h, fmi2True)
         if status == 0:
             self.t += h
         return status
@@ -145,21 +154,24 @@ class Instance:
     def get(self, names):
         """Outputs by name: one fmi2GetReal and one fmi2GetInteger call, as a master would."""
         key = tuple(names)
-        if key not in self._plans:
+        if key not in self._plans:  # ctypes arrays made once per list of names (as fmpy's Recorder)
+            from fmpy.fmi2 import fmi2Integer, fmi2Real, fmi2ValueReference
+
             reals = [i for i, n in enumerate(names) if self.var[n].type == "Real"]
             ints = [i for i, n in enumerate(names) if self.var[n].type == "Integer"]
-            self._plans[key] = (
-                reals,
-                [self.var[names[i]].valueReference for i in reals],
-                ints,
-                [self.var[names[i]].valueReference for i in ints],
-            )
-        reals, real_vr, ints, int_vr = self._plans[key]
+            self._plans[key] = plan = []
+            for idx, ctype, getter in (
+                (reals, fmi2Real, self.fmu.fmi2GetReal),
+                (ints, fmi2Integer, self.fmu.fmi2GetInteger),
+            ):
+                if idx:
+                    vr = (fmi2ValueReference * len(idx))(*(self.var[names[i]].valueReference for i in idx))
+                    values = (ctype * len(idx))()
+                    plan.append((idx, getter, vr, values, np.ctypeslib.as_array(values)))
         out = np.empty(len(names))
-        if reals:
-            out[reals] = self.fmu.getReal(real_vr)
-        if ints:
-            out[ints] = self.fmu.getInteger(int_vr)
+        for idx, getter, vr, values, view in self._plans[key]:
+            getter(self.fmu.component, vr, len(idx), values)
+            out[idx] = view
         return out
 
     def free(self):
