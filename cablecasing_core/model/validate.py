@@ -37,7 +37,7 @@ def check_keys(prefix, data, allowed, required=()):
             raise ModelError(f"{prefix}.{k}", NOT_SHOWN, "unknown key; allowed keys are " + ", ".join(sorted(allowed)))
     for k in required:
         if k not in data:
-            raise ModelError(f"{prefix}.{k}", None, "is required")
+            raise ModelError(f"{prefix}.{k}", NOT_SHOWN, "is required")
 
 
 def _table(prefix, data, specs, extra=()):
