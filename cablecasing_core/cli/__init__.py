@@ -80,6 +80,15 @@ def cmd_trfam(args):
     model = _model(args.model)
     if not (args.fmin > 0 and args.fmax > args.fmin and args.df > 0):
         raise ModelError("--fmin/--fmax/--df", (args.fmin, args.fmax, args.df), "need 0 < fmin < fmax and df > 0 (Hz)")
+    from ..model.limits import MAX_FREQUENCIES
+
+    count = (args.fmax - args.fmin) / args.df + 1
+    if not count <= MAX_FREQUENCIES:
+        raise ModelError(
+            "--fmin/--fmax/--df",
+            (args.fmin, args.fmax, args.df),
+            f"give {count:.3g} frequencies; at most {MAX_FREQUENCIES}",
+        )
     f = np.arange(args.fmin, args.fmax + 0.5 * args.df, args.df)
     check_output_path("--out", args.out, (".csv", ".uff"))
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))

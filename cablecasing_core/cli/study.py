@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ModelError
+from ..model.limits import MAX_SEEDS, MAX_STUDY_SAMPLES
 from ..model.schema import output_spec
 from ..model.validators import integer, number
 from ..studies.executor import PROGRESS_TIMEOUT
@@ -36,7 +37,7 @@ def cmd_study(args):
 
     model = load_model(args.model)
     bounds = study_bounds(args, model)  # (before anything is written)
-    integer("--samples", args.samples, 2)
+    integer("--samples", args.samples, 2, MAX_STUDY_SAMPLES)
     out = Path(args.out)  # (created by run_study once every setting is checked and the scheduler answers)
     model_file = str(Path(args.model).resolve()) if args.model else None  # (dask workers: any folder)
     kwargs = {"model_file": model_file, "duration": args.duration, "skip": args.skip}
@@ -148,7 +149,7 @@ def _assignment(flag, text):
 def cmd_ensemble(args):
     from ..studies import paired_difference, seed_ensemble
 
-    integer("--seeds", args.seeds, 2)
+    integer("--seeds", args.seeds, 2, MAX_SEEDS)
     integer("--first-seed", args.first_seed, 0)
     _check_confidence(args.confidence)
     check_output_path("--out", args.out)

@@ -34,6 +34,16 @@ BYTES_PER_STEP = 2 * 8 * (24 + 36 + 8)
 MEMORY_SHARE = 0.8
 
 
+#: The most runs of a study (its design, CSV and statistics stay below 1 GB; a million runs of the
+#: default evaluation would take years on one machine).
+MAX_STUDY_SAMPLES = 1_000_000
+#: The most seeds of an ensemble (its runs are held in memory until it is saved).
+MAX_SEEDS = 100_000
+#: The most frequencies of a TRFAM (its (frequencies x modes x supports) complex arrays: about 3 GB
+#: for the specimen at this size).
+MAX_FREQUENCIES = 200_000
+
+
 def _gb(x):
     return f"{x / 1e9:.3g} GB"
 

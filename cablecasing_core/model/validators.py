@@ -232,10 +232,13 @@ def number(key, value, **bounds):
     return Number(**bounds)(key, value)
 
 
-def integer(key, value, minimum):
-    """A whole number >= ``minimum`` (Python or numpy integer; not a bool); returns an int."""
+def integer(key, value, minimum, maximum=None, why=""):
+    """A whole number >= ``minimum`` (and <= ``maximum``, which ``why`` explains) (Python or numpy
+    integer; not a bool); returns an int."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, Integral) or value < minimum:
-        raise ModelError(key, value, f"must be an integer >= {minimum}")
+        raise ModelError(key, value, f"must be an integer >= {minimum}" + (f" and <= {maximum}" if maximum else ""))
+    if maximum is not None and value > maximum:
+        raise ModelError(key, value, f"must be an integer from {minimum} to {maximum}{why}")
     return int(value)
 
 

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ModelError
+from ..model.limits import MAX_SEEDS
 from ..model.schema import SUPPORT_OUTPUTS
 from ..model.validators import Choice, integer, seconds
 from .ensemble import Ensemble
@@ -194,15 +195,15 @@ class _Rows:
 
 def _check_seeds(seeds):
     if isinstance(seeds, (int, np.integer)) and not isinstance(seeds, bool):
-        if seeds < 2:
-            raise ModelError("seeds", seeds, "must be at least 2 (seeds 1..n), or a sequence of seeds")
+        if not 2 <= seeds <= MAX_SEEDS:
+            raise ModelError("seeds", seeds, f"must be 2 to {MAX_SEEDS} (seeds 1..n), or a sequence of seeds")
         return list(range(1, int(seeds) + 1))
     try:
         out = [integer("seeds", s, 0) for s in seeds]
     except TypeError:
         raise ModelError("seeds", seeds, "must be a count n >= 2 or a sequence of non-negative integer seeds") from None
-    if len(out) < 2 or len(set(out)) != len(out):
-        raise ModelError("seeds", seeds, "must hold at least 2 seeds, each once")
+    if len(out) < 2 or len(out) > MAX_SEEDS or len(set(out)) != len(out):
+        raise ModelError("seeds", f"{len(out)} seeds", f"must hold 2 to {MAX_SEEDS} seeds, each once")
     return out
 
 

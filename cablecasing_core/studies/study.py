@@ -31,6 +31,7 @@ import os
 
 from ..errors import ModelError
 from ..files import output_folder
+from ..model.limits import MAX_STUDY_SAMPLES
 from ..model.validators import integer
 from .evaluators import DEFAULT_EVALUATE, DEFAULT_OUTPUTS
 from .executor import PROGRESS_TIMEOUT, Workers, execute, resolve_evaluate, spec_name
@@ -116,7 +117,7 @@ def run_study(
         Everything in the file after this call.
     """
     bounds = check_bounds(bounds, model=model)
-    n = integer("n_samples", n_samples, 2)
+    n = integer("n_samples", n_samples, 2, MAX_STUDY_SAMPLES, " (model/limits.py: its design and CSV would not fit)")
     seed = integer("seed", seed, 0)
     outputs = tuple(DEFAULT_OUTPUTS if outputs is None else outputs)
     if not outputs or len(set(outputs)) != len(outputs) or not all(isinstance(o, str) and o for o in outputs):
