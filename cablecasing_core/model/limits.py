@@ -19,9 +19,9 @@ import math
 
 from ..errors import ModelError
 
-#: The most elements of a body in the frequency domain's dense eigenproblem (3606 DOFs: about
-#: 0.6 GB and 40 s per body on the reference machine).
-MAX_DENSE_ELEMENTS = 600
+#: The most elements of a body in the frequency domain's dense eigenproblem (3006 DOFs: about
+#: 0.6 GB and 25 s per body on the idle 2-core machine, 72 s at 600 elements under load).
+MAX_DENSE_ELEMENTS = 500
 #: Dense DOFs x DOFs matrices alive in the dense eigenproblem (K, M, modes, workspace; measured:
 #: 1.8 GB for 6006 DOFs).
 DENSE_COPIES = 6

@@ -142,6 +142,13 @@ class KeySpec:
 _DIAMETER = (1e-4, 0.05, "the cables and casings this model describes are 0.1 to 50 mm thick")
 
 
+def _diameter(key, description, note=""):
+    """A diameter key (m): required, 1e-5 to 1 m, plausible 0.1 to 50 mm."""
+    return KeySpec(
+        key, "float", REQUIRED, "m", description, Number(ge=1e-5, le=1.0, unit="m"), note, plausible=_DIAMETER
+    )
+
+
 def _body(body):
     the = f"the {body}"
     keys = [
@@ -201,38 +208,15 @@ def _body(body):
     ]
     if body == "casing":
         keys += [
-            KeySpec(
-                "casing.d_outer",
-                "float",
-                REQUIRED,
-                "m",
-                "outer diameter of the casing (d_2 of Table 2)",
-                Number(ge=1e-5, le=1.0, unit="m"),
-                plausible=_DIAMETER,
-            ),
-            KeySpec(
+            _diameter("casing.d_outer", "outer diameter of the casing (d_2 of Table 2)"),
+            _diameter(
                 "casing.d_inner",
-                "float",
-                REQUIRED,
-                "m",
                 "inner diameter of the casing, in which the cable runs (d_5 of Table 2)",
-                Number(ge=1e-5, le=1.0, unit="m"),
-                plausible=_DIAMETER,
-                note="below casing.d_outer and above cable.d",
+                "below casing.d_outer and above cable.d",
             ),
         ]
     else:
-        keys += [
-            KeySpec(
-                "cable.d",
-                "float",
-                REQUIRED,
-                "m",
-                "diameter of the cable (D_z0)",
-                Number(ge=1e-5, le=1.0, unit="m"),
-                plausible=_DIAMETER,
-            )
-        ]
+        keys += [_diameter("cable.d", "diameter of the cable (D_z0)")]
     keys.append(
         KeySpec(
             f"{body}.I",

@@ -154,104 +154,68 @@ def run_study(
         output_folder("path", folder, name)
         with study_lock(path):
             recover_header(path)
-            _run(
-                path,
-                workers,
-                fn,
-                evaluate,
-                evaluate_kwargs,
-                bounds,
-                params,
-                n,
-                seed,
-                outputs,
-                constraints,
-                max_samples,
-                progress,
-                max_in_flight,
-                progress_timeout,
-            )
+            # (the design, the file prepared or resumed, the samples not yet done run)
+            n_base = base_points(bounds, n)
+            old = read_meta(path)
+            if old is not None and isinstance(old.get("n_base"), int):
+                n_base = max(n_base, old["n_base"])  # a study is never shrunk
+            n = n_base * group_size(bounds)
+            design = sobol_design(bounds, n_base, seed)
+            meta = {
+                "format": FORMAT_VERSION,
+                "seed": seed,
+                "n_base": n_base,
+                "n_samples": n,
+                "bounds": {k: list(v) for k, v in bounds.items()},
+                "outputs": list(outputs),
+                "evaluate": spec_name(evaluate),
+                "evaluate_kwargs": evaluate_kwargs,
+                "constraints": [spec_name(c) for c in constraints],
+                "sampler": SAMPLER,
+            }
+            done = prepare_file(path, meta, design, params)
+
+            writer = ResultsWriter(path, params, outputs, design)
+            try:
+                todo = []
+                for i in range(n):
+                    if i in done:
+                        continue
+                    p = {k: float(v) for k, v in zip(params, design[i])}
+                    reason = next((r for r in (c(p) for c in constraints) if r), None)
+                    if reason:
+                        writer.write({"index": i, "status": "infeasible", "error": reason, "elapsed_s": 0.0})
+                        done.add(i)
+                        continue
+                    todo.append((i, p))
+                if max_samples is not None:
+                    todo = todo[:max_samples]
+                from tqdm.auto import tqdm
+
+                bar = tqdm(
+                    total=n,
+                    initial=len(done),
+                    unit="sample",
+                    desc="study",
+                    disable=not progress,
+                    dynamic_ncols=True,
+                    smoothing=0.1,
+                )
+                try:
+                    execute(
+                        todo,
+                        evaluate,
+                        evaluate_kwargs,
+                        outputs,
+                        writer,
+                        bar,
+                        workers,
+                        max_in_flight=max_in_flight,
+                        progress_timeout=progress_timeout,
+                        lost=LostLog(path),
+                    )
+                finally:
+                    bar.close()
+            finally:
+                writer.close()
     return load_results(path)
-
-
-def _run(
-    path,
-    workers,
-    fn,
-    evaluate,
-    evaluate_kwargs,
-    bounds,
-    params,
-    n,
-    seed,
-    outputs,
-    constraints,
-    max_samples,
-    progress,
-    max_in_flight,
-    progress_timeout,
-):
-    """The study's rows: the design, the file prepared or resumed, the samples not yet done run."""
-    n_base = base_points(bounds, n)
-    old = read_meta(path)
-    if old is not None and isinstance(old.get("n_base"), int):
-        n_base = max(n_base, old["n_base"])  # a study is never shrunk
-    n = n_base * group_size(bounds)
-    design = sobol_design(bounds, n_base, seed)
-    meta = {
-        "format": FORMAT_VERSION,
-        "seed": seed,
-        "n_base": n_base,
-        "n_samples": n,
-        "bounds": {k: list(v) for k, v in bounds.items()},
-        "outputs": list(outputs),
-        "evaluate": spec_name(evaluate),
-        "evaluate_kwargs": evaluate_kwargs,
-        "constraints": [spec_name(c) for c in constraints],
-        "sampler": SAMPLER,
-    }
-    done = prepare_file(path, meta, design, params)
-
-    writer = ResultsWriter(path, params, outputs, design)
-    try:
-        todo = []
-        for i in range(n):
-            if i in done:
-                continue
-            p = {k: float(v) for k, v in zip(params, design[i])}
-            reason = next((r for r in (c(p) for c in constraints) if r), None)
-            if reason:
-                writer.write({"index": i, "status": "infeasible", "error": reason, "elapsed_s": 0.0})
-                done.add(i)
-                continue
-            todo.append((i, p))
-        if max_samples is not None:
-            todo = todo[:max_samples]
-        from tqdm.auto import tqdm
-
-        bar = tqdm(
-            total=n,
-            initial=len(done),
-            unit="sample",
-            desc="study",
-            disable=not progress,
-            dynamic_ncols=True,
-            smoothing=0.1,
-        )
-        try:
-            execute(
-                todo,
-                evaluate,
-                evaluate_kwargs,
-                outputs,
-                writer,
-                bar,
-                workers,
-                max_in_flight=max_in_flight,
-                progress_timeout=progress_timeout,
-                lost=LostLog(path),
-            )
-        finally:
-            bar.close()
-    finally:
-        writer.close()

@@ -301,31 +301,36 @@ def _part(tmp_path, name="e.csv", seeds=(1, 2)):
     return (tmp_path / name).read_text().splitlines()
 
 
+def _first_row(text):
+    """A mutation of an ensemble part (header, settings line, rows): its first row replaced by ``text``."""
+    return lambda h, m, r: [h, m, text, r[1]]
+
+
 POOL_ERRORS = [
     (
         "a NaN level",
-        lambda h, m, r: [h, m, "1,nan,0.2", r[1]],
+        _first_row("1,nan,0.2"),
         "line 3, column 2 is not a finite number of magnitude at most 1e100",
     ),
-    ("an inf level", lambda h, m, r: [h, m, "1,inf,0.2", r[1]], "line 3, column 2 is not a finite number"),
+    ("an inf level", _first_row("1,inf,0.2"), "line 3, column 2 is not a finite number"),
     (
         "a negative level",
-        lambda h, m, r: [h, m, "1,-0.5,0.2", r[1]],
+        _first_row("1,-0.5,0.2"),
         "data row 1, column 2: band levels and contact times must be zero or positive",
     ),
     (
         "seed 1.5",
-        lambda h, m, r: [h, m, "1.5,0.1,0.2", r[1]],
+        _first_row("1.5,0.1,0.2"),
         "data row 1: the seed must be a whole number from 0 to 2**53",
     ),
     (
         "seed -7",
-        lambda h, m, r: [h, m, "-7,0.1,0.2", r[1]],
+        _first_row("-7,0.1,0.2"),
         "data row 1: the seed must be a whole number from 0 to 2**53",
     ),
     (
         "seed 1e30",
-        lambda h, m, r: [h, m, "1e30,0.1,0.2", r[1]],
+        _first_row("1e30,0.1,0.2"),
         "data row 1: the seed must be a whole number from 0 to 2**53",
     ),
     (
@@ -338,7 +343,7 @@ POOL_ERRORS = [
         lambda h, m, r: [h, m.replace('"settings": {"duration": 1.0}', '"settings": [1]'), *r],
         "line has a settings that is not a table",
     ),
-    ("a line of /etc/shadow", lambda h, m, r: [h, m, SECRET, r[1]], "line 3 has 1 fields; the header has 3 columns"),
+    ("a line of /etc/shadow", _first_row(SECRET), "line 3 has 1 fields; the header has 3 columns"),
     ("binary", None, "is not a UTF-8 text CSV file"),
 ]
 
