@@ -17,11 +17,16 @@ EXCERPT = 80
 
 def excerpt(value, limit: int = EXCERPT) -> str:
     """``repr(value)`` on one line and cut to ``limit`` characters (``...`` and the full length
-    mark a cut); numpy scalars are shown as the plain numbers they hold (``nan``, not
-    ``np.float64(nan)``)."""
+    mark a cut); numpy scalars and arrays are shown as the plain numbers they hold (``nan``, not
+    ``np.float64(nan)``; ``[]``, not ``array([], dtype=float64)``)."""
     item = getattr(value, "item", None)
     if item is not None and getattr(value, "shape", None) == ():
         value = item()  # a numpy scalar
+    elif item is not None and hasattr(value, "tolist") and hasattr(value, "size"):  # a numpy array
+        if value.size <= 20:
+            value = value.tolist()
+        else:  # (not the whole array's text, which may be large)
+            value = _Plain(f"{value.size} numbers {repr(value.ravel()[:5].tolist())[:-1]}, ...]")
     text = value if isinstance(value, _Plain) else repr(value)
     text = " ".join(str(text).split("\n")).replace("\r", " ")
     if len(text) > limit:

@@ -384,6 +384,10 @@ def test_messages_show_numpy_scalars_as_numbers():
     from cablecasing_core.errors import ModelError, excerpt
 
     assert excerpt(np.float64("nan")) == "nan" and str(ModelError("fs", np.float64(2.5), "x")) == "fs = 2.5: x"
+    assert (
+        excerpt(np.array([], float)) == "[]"
+        and excerpt(np.arange(1000.0)) == "1000 numbers [0.0, 1.0, 2.0, 3.0, 4.0, ...]"
+    )
 
 
 def test_identify_refuses_bad_measured_frequencies_in_one_line(tmp_path, capsys):
