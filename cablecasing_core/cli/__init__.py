@@ -76,8 +76,10 @@ def cmd_modes(args):
 
 def cmd_trfam(args):
     from ..frequency.trfam import trfam
+    from .nvh import check_frequency_range
 
     model = _model(args.model)
+    check_frequency_range(args.fmin, args.fmax)
     if not (args.fmin > 0 and args.fmax > args.fmin and args.df > 0):
         raise ModelError("--fmin/--fmax/--df", (args.fmin, args.fmax, args.df), "need 0 < fmin < fmax and df > 0 (Hz)")
     from ..model.limits import MAX_FREQUENCIES

@@ -34,6 +34,7 @@ def cmd_spectrum(args):
     args.interrupted = "stopped: " + kept(args.out, args.plot)
     rec = _record(args.record)
     columns = args.column or ["casing.B.Fz"]
+    check_frequency_range(args.fmin, args.fmax)
     f_range = (args.fmin, args.fmax)
     if args.kind == "psd":
         keep = _window(rec, args.skip)
@@ -81,6 +82,17 @@ def cmd_spectrum(args):
             plot_transfer(res[0], args.plot, log_frequency=not args.linear_frequency, f_range=f_range)
         print(f"# wrote {args.plot}")
     return 0
+
+
+def check_frequency_range(fmin, fmax):
+    """``--fmin``/``--fmax`` (Hz): 0 <= fmin < fmax <= 1e6 (the model and its records lie far below)."""
+    from ..errors import ModelError
+    from ..model.validators import number
+
+    number("--fmin", fmin, ge=0, le=1e6, unit="Hz")
+    number("--fmax", fmax, gt=0, le=1e6, unit="Hz")
+    if not fmin < fmax:
+        raise ModelError("--fmin/--fmax", (fmin, fmax), "need fmin < fmax (Hz)")
 
 
 def _nperseg(rec, args):

@@ -53,7 +53,9 @@ def cmd_simulate(args):
 
 def _check_interval(interval, dt):
     from ..errors import ModelError
+    from ..model.validators import seconds
 
+    seconds("--output-interval", interval)
     m = round(interval / dt)
     if not interval > 0 or m < 1 or abs(m * dt - interval) > 1e-6 * dt:
         raise ModelError("--output-interval", interval, f"must be a whole number of time steps (dt = {dt:g} s)")

@@ -9,7 +9,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..model.limits import MAX_SEEDS, MAX_STUDY_SAMPLES
-from ..model.schema import output_spec
+from ..model.schema import MAX_SEED, output_spec
 from ..model.validators import integer, number
 from ..studies.executor import PROGRESS_TIMEOUT
 from .helptext import ASSIGNMENT_HELP, key_help
@@ -150,7 +150,7 @@ def cmd_ensemble(args):
     from ..studies import paired_difference, seed_ensemble
 
     integer("--seeds", args.seeds, 2, MAX_SEEDS)
-    integer("--first-seed", args.first_seed, 0)
+    integer("--first-seed", args.first_seed, 0, MAX_SEED + 1 - args.seeds, " (the last seed must fit a seed's range)")
     _check_confidence(args.confidence)
     check_output_path("--out", args.out)
     check_output_path("--out", _against_path(args.out) if args.against else None)

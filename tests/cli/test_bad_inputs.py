@@ -416,3 +416,35 @@ def test_a_bad_against_is_refused_before_the_base_run(tmp_path, capsys, monkeypa
     monkeypatch.setattr(ensemble_runs, "execute", lambda *a, **k: pytest.fail("a run started"))
     code, _, err = run(capsys, ["ensemble", "--seeds", "2", "--against", "contact.friction=-1"])
     assert code == 2 and err == ["cablecasing: error: --against contact.friction = -1: must be a number in [0, 10]"]
+
+
+# (argv, message): options of the commands that gave an internal error or nan with exit 0
+OPTION_ERRORS = [
+    (["simulate", "--output-interval", "nan", "--duration", "0.001"], "--output-interval = nan: must be a positive"),
+    (
+        ["trfam", "--fmin", "1e300", "--fmax", "1e301", "--df", "1e299"],
+        "--fmin = 1e+300: must be a number in [0, 1e+06]",
+    ),
+    (["trfam", "--fmin", "1", "--fmax", "2", "--df", "1e-300"], "give 1e+300 frequencies; at most 200000"),
+    (["ensemble", "--seeds", "100000000000"], "--seeds = 100000000000: must be an integer from 2 to 100000"),
+    (["ensemble", "--seeds", "2", "--first-seed", str(2**63 - 1)], "--first-seed = 9223372036854775807: must be an"),
+    (
+        ["study", "--samples", str(10**12), "--scheduler", "serial"],
+        "--samples = 1000000000000: must be an integer from",
+    ),
+    (["identify", "damping", "{record}", "--gamma", "1e300"], "gamma = 1e+300: must be a number in (0, 1000]"),
+    (["spectrum", "{record}", "--fmin", "nan"], "--fmin = nan: must be a finite number in Hz"),
+]
+
+
+@pytest.mark.parametrize("argv,message", OPTION_ERRORS, ids=[" ".join(a[:2]) for a, _ in OPTION_ERRORS])
+def test_a_bad_option_is_one_line_before_any_work(tmp_path, capsys, argv, message, monkeypatch):
+    from cablecasing_core.timedomain import simulation
+
+    monkeypatch.setattr(simulation.Engine, "advance", lambda *a, **k: pytest.fail("a run started"))
+    monkeypatch.chdir(tmp_path)
+    t = np.arange(4096) / 4096.0
+    record = _record(tmp_path, zip(t, np.exp(-3 * t) * np.sin(2 * np.pi * 50 * t)))
+    code, _, err = run(capsys, [a.format(record=record) for a in argv])
+    assert code == 2 and len(err) == 1 and message in err[0], err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.csv"]  # nothing created
