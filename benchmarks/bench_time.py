@@ -7,9 +7,13 @@ Run: .venv/bin/python benchmarks/bench_time.py [--duration 1.0] [--repeat 3] [--
 
 The installed specimen (docs/installed.md; the same scenario from the static state, the cable on
 the wall in the bends): rtf_installed, us_per_step_installed, mean_active_contacts_installed (and
-by tenth), engine_setup_installed_s, static_state_s, static_cli_wall_s (``cablecasing static
-installed --json`` in a fresh process). ``--model`` chooses the model of the accuracy checks and
-the ensemble below (default: the built-in specimen).
+by tenth), its contact Newton iterations and stick/slip passes per step, the stick share of its
+closed contacts, engine_setup_installed_s, static_state_s, static_cli_wall_s (``cablecasing static
+installed --json`` in a fresh process) beside cli_help_wall_s (``cablecasing --help``: the
+interpreter and the imports), installed_over_default_step_cost (the two engines alternating in
+0.01 s chunks in one process: the ratio of their step costs, robust to the machine's drift).
+``--model`` chooses the model of the accuracy checks and the ensemble below (default: the built-in
+specimen).
 
 Speed: wall time of Engine.advance over the whole duration (support motion evaluated inside), the
 fastest of ``--repeat`` runs (the machine is shared; the spread is printed too). simulate_wall_s:
@@ -141,7 +145,7 @@ for _ in range(args.repeat):
     t0 = time.perf_counter()
     eng = Engine(installed, dt=DT, ledger=False, record=True)
     t_setup = time.perf_counter() - t0
-    mo = scenario_motion(installed, dt=DT, duration=args.duration)
+    mo = scenario_motion(installed, dt=DT)
     t0 = time.perf_counter()
     eng.advance(args.duration, mo)
     walls.append(time.perf_counter() - t0)
@@ -150,6 +154,12 @@ print(f"rtf_installed: {args.duration / min(walls):.4f}")
 print(f"us_per_step_installed: {min(walls) / (args.duration / DT) * 1e6:.2f}")
 print(f"mean_active_contacts_installed: {np.mean(nc):.3f}")
 print("mean_active_contacts_installed_by_tenth:", " ".join(f"{c.mean():.2f}" for c in np.array_split(nc, 10)))
+its, passes, failed = eng.solver_counts
+print(f"contact_newton_iterations_per_step_installed: {its / (args.duration / DT):.3f}")
+print(f"contact_stick_slip_passes_per_step_installed: {passes / (args.duration / DT):.3f}")
+print(f"contact_unconverged_steps_installed: {int(failed)}")
+st_hist = eng.history()["contact_state"]
+print(f"stick_share_of_contacts_installed: {np.count_nonzero(st_hist == 1) / max(np.count_nonzero(st_hist), 1):.3f}")
 print(f"engine_setup_installed_s: {t_setup:.3f} (assembly, factors, the static state)")
 from cablecasing_core.timedomain.static_state import static_state  # noqa: E402
 
@@ -166,6 +176,27 @@ for _ in range(args.repeat):
                    capture_output=True)  # fmt: skip
     cli.append(time.perf_counter() - t0)
 print(f"static_cli_wall_s: {min(cli):.2f} (cablecasing static installed --json, a fresh process: imports included)")
+helps = []
+for _ in range(args.repeat):
+    t0 = time.perf_counter()
+    subprocess.run([sys.executable, "-m", "cablecasing_core.cli", "--help"], check=True, capture_output=True)
+    helps.append(time.perf_counter() - t0)
+print(f"cli_help_wall_s: {min(helps):.2f} (cablecasing --help, a fresh process: the interpreter, the CLI's imports)")
+
+# The cost of an installed step against a default one, robust to the shared machine's drift: both
+# engines advance alternately in 0.01 s chunks in this process, and the ratio is taken chunk by chunk.
+engines = {name: Engine(m, dt=DT, ledger=False) for name, m in (("default", model), ("installed", installed))}
+motions = {"default": scenario_motion(model, dt=DT), "installed": scenario_motion(installed, dt=DT)}
+chunk, ratios = 0.01, []
+for k in range(int(round(args.duration / chunk))):
+    walls = {}
+    for name in ("default", "installed") if k % 2 == 0 else ("installed", "default"):
+        t0 = time.perf_counter()
+        engines[name].advance(chunk, motions[name])
+        walls[name] = time.perf_counter() - t0
+    ratios.append(walls["installed"] / walls["default"])
+q = np.percentile(ratios[min(10, len(ratios) // 2) :], [25, 50, 75])  # without the first 0.1 s: contacts build up
+print(f"installed_over_default_step_cost: {q[1]:.2f} (quartiles {q[0]:.2f}-{q[2]:.2f}, per 0.01 s chunk, alternating)")
 if args.speed_only:
     raise SystemExit(0)
 model = cc.load_model(args.model)  # the accuracy checks and the ensemble below
