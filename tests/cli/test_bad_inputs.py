@@ -448,3 +448,25 @@ def test_a_bad_option_is_one_line_before_any_work(tmp_path, capsys, argv, messag
     code, _, err = run(capsys, [a.format(record=record) for a in argv])
     assert code == 2 and len(err) == 1 and message in err[0], err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r.csv"]  # nothing created
+
+
+def test_a_device_as_the_model_file_is_one_line_not_a_hang(capsys):
+    code, _, err = run(capsys, ["modes", "/dev/zero"])
+    assert (code, err) == (
+        2,
+        ["cablecasing: error: model_file = '/dev/zero': is larger than 1048576 bytes: not a TOML file of this program"],
+    )
+
+
+def test_an_infrastructure_failure_exits_3_in_one_line(capsys, monkeypatch):
+    from cablecasing_core import studies
+    from cablecasing_core.errors import InfrastructureError
+
+    def lost(*a, **k):
+        raise InfrastructureError("the dask scheduler was lost (...); run the same command again to go on")
+
+    monkeypatch.setattr(studies, "run_study", lost)
+    code, _, err = run(capsys, ["study", "--vary", "contact.friction=0.05:0.2", "--samples", "6"])
+    assert code == 3 and err == [
+        "cablecasing: error: the dask scheduler was lost (...); run the same command again to go on"
+    ]
