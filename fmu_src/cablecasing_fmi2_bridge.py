@@ -36,6 +36,21 @@ _CATEGORY = {OK: b"logAll", WARNING: b"logStatusWarning", DISCARD: b"logStatusDi
 _LOADED = {}  # GUID -> the slave module of that FMU, imported once per process
 
 
+def _sources_digest(package):
+    """SHA-256 over the relative paths and bytes of every .py file below ``package`` (a folder)."""
+    import hashlib
+
+    h = hashlib.sha256()
+    for root, dirs, files in os.walk(package):
+        dirs[:] = sorted(d for d in dirs if d != "__pycache__")
+        for name in sorted(f for f in files if f.endswith(".py")):
+            path = os.path.join(root, name)
+            h.update(os.path.relpath(path, package).encode())
+            with open(path, "rb") as f:
+                h.update(f.read())
+    return h.hexdigest()
+
+
 class FMUStartError(Exception):
     """The FMU cannot start in this process (the reason has been logged)."""
 
@@ -243,10 +258,16 @@ class Instance:
             sys.path.remove(home)
         here = os.path.dirname(os.path.abspath(module.cc.__file__))
         if os.path.dirname(here) != os.path.abspath(home):
+            own = os.path.join(home, "cablecasing_core")
+            same = _sources_digest(here) == _sources_digest(own)
             self._log(
-                WARNING,
+                OK if same else WARNING,
                 f"cablecasing_core was already imported from {here} before this FMU was loaded; "
-                f"that copy is used, not the FMU's own (in {home})",
+                + (
+                    "that copy is used (its Python sources are the FMU's own)"
+                    if same
+                    else f"that copy is used, not the FMU's own (in {home}), and its sources differ"
+                ),
             )
         caches, seeded = kernel_cache_dirs(), 0
         for cache in caches:

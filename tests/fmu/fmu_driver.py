@@ -508,8 +508,20 @@ def _log(entries):
     return [f"{STATUS.get(s, s)}: {m}" for s, m in entries]
 
 
+def scenario_preimported(job, table):
+    """The host imports cablecasing_core from ``job["package_parent"]`` before it loads the FMU."""
+    sys.path.insert(0, job["package_parent"])
+    import cablecasing_core  # noqa: F401
+
+    inst = Instance(job["fmu"], name="preimported")
+    status = inst.step(np.zeros(len(INPUTS)), 1e-4)
+    inst.free()
+    return dict(status=status, log=_log(inst.log))
+
+
 SCENARIOS = {
     "run": scenario_run,
+    "preimported": scenario_preimported,
     "steps": scenario_steps,
     "state": scenario_state,
     "two": scenario_two,

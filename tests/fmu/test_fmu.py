@@ -437,6 +437,28 @@ def test_a_first_start_that_must_compile_says_so(fmu, tmp_path, run):
     assert any("compiling the model's numba kernels for this machine" in line for line in res["log"]), res["log"]
 
 
+def test_a_host_that_imported_the_package_first_is_told_whether_it_is_the_fmus_code(fmu, tmp_path, run):
+    """A Python host that imported cablecasing_core itself before loading the FMU (the demo does):
+    that copy is used; the FMU says so as information when its sources are the FMU's own, and
+    warns when they differ (another version: the results are that copy's)."""
+    import shutil
+
+    root = Path(__file__).resolve().parents[2]
+    same = run(tmp_path, "preimported", fmu, package_parent=str(root))
+    line = [m for m in same["log"] if "was already imported" in m]
+    assert same["status"] == 0 and len(line) == 1 and line[0].startswith("ok: "), same["log"]
+    assert "its Python sources are the FMU's own" in line[0]
+
+    other = tmp_path / "other"
+    shutil.copytree(root / "cablecasing_core", other / "cablecasing_core", ignore=shutil.ignore_patterns("__pycache__"))
+    with open(other / "cablecasing_core" / "errors.py", "a") as f:
+        f.write("\n# another version\n")
+    diff = run(tmp_path, "preimported", fmu, package_parent=str(other))
+    line = [m for m in diff["log"] if "was already imported" in m]
+    assert diff["status"] == 0 and len(line) == 1 and line[0].startswith("warning: "), diff["log"]
+    assert "its sources differ" in line[0]
+
+
 def test_scenario_drive_runs_the_cores_scenario(fmu, tmp_path, run):
     """scenario.drive = true, inputs at zero: the supports follow the model's own scenario (random
     casing A z and the cable's 50 Hz axial drive), and the FMU's support forces after each
