@@ -93,3 +93,7 @@ def _one_line(text) -> str:
 class ModelWarning(UserWarning):
     """A valid value that is physically absurd, or a combination of values whose result may be
     meaningless; the message says why."""
+
+
+#: The plausibility warnings of a routing (issue 24) are :class:`ModelWarning` under their own name.
+PlausibilityWarning = ModelWarning

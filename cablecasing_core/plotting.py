@@ -105,6 +105,60 @@ def plot_geometry(centerline, path, values=None, label=None, title=None):
     save_figure(fig, path)
 
 
+def plot_routing(model, path, summary=None):
+    """The routing as ``cablecasing geometry --plot`` draws it (like Fig. 22a): a 3D view of the
+    centerline (m) with its nodes, the supports of the casing (clamped, isolator, free) and its
+    clips, and the curvature (1/m) along the arc length (m) with the bends shaded, the nodes marked
+    and the smallest radius noted."""
+    from .structure.geometry import centerline_of
+    from .structure.route_summary import curvature_profile, geometry_summary
+
+    g = summary or geometry_summary(model)
+    cl = centerline_of(model)
+    s, k = curvature_profile(model)
+    P = cl.nodes
+    fig = plt.figure(figsize=(11, 4.8))
+    ax = fig.add_subplot(1, 2, 1, projection="3d")
+    ax.plot(P[:, 0], P[:, 1], P[:, 2], "-", color="0.5", lw=1)
+    ax.scatter(P[:, 0], P[:, 1], P[:, 2], color="k", s=6)
+    body = "casing" if "casing" in model.bodies else next(iter(model.bodies))
+    marks = {"clamped": ("s", "k"), "isolator": ("o", "tab:orange"), "free": ("^", "0.6")}
+    for end, node in (("A", 0), ("B", -1)):
+        kind = model.bodies[body].supports[end]
+        m, c = marks[kind]
+        ax.scatter(*P[node], marker=m, color=c, s=70, depthshade=False)
+        ax.text(*P[node], f"  {end} ({kind})", fontsize=8)
+    for i, clip in enumerate(model.data.get("casing", {}).get("clip", [])):
+        node = int(np.argmin(np.abs(cl.s - clip["at"])))
+        ax.scatter(*P[node], marker="D", color="tab:blue", s=50, depthshade=False)
+        name = clip.get("excitation", f"clip {i}")
+        ax.text(*P[node], f"  {name} ({cl.s[node]:.3g} m)", fontsize=7, color="tab:blue")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_zlabel("z (m)")
+    ax.set_box_aspect(np.ptp(P, axis=0) + 0.05 * np.ptp(P))
+    ax.set_title(f"routing ({g['source']}): {g['length_m']:.4g} m, {g['n_elements']} elements", fontsize=9)
+    a2 = fig.add_subplot(1, 2, 2)
+    a2.plot(s, k, "r-", lw=1.2, label="curvature")
+    for b in g["bends"]:
+        arc = np.radians(b["angle_deg"]) * b["radius_m"]
+        a2.axvspan(b["start_m"], b["start_m"] + max(arc, 1e-3 * g["length_m"]), color="tab:orange", alpha=0.15)
+    a2.plot(cl.s, cl.curvature, "k.", ms=4, label="at the nodes")
+    for clip in model.data.get("casing", {}).get("clip", []):
+        a2.axvline(clip["at"], color="tab:blue", lw=0.8, ls="--")
+    if g["min_radius_m"]:
+        a2.set_title(
+            f"min radius {g['min_radius_m']:.4g} m at s = {g['min_radius_at_m']:.4g} m, "
+            f"total bend {g['total_bend_deg']:.4g} deg",
+            fontsize=9,
+        )
+    a2.set_xlabel("arc length from end A (m)")
+    a2.set_ylabel("curvature (1/m)")
+    a2.grid(True, alpha=0.3)
+    a2.legend(fontsize=8)
+    save_figure(fig, path)
+
+
 def plot_time_result(res, path, outputs=("casing.B.Fx", "casing.B.Fy", "casing.B.Fz")):
     """Support forces (N) over time and, when the run had contact, the contact-time histogram over
     the cable's nodes with the centerline's curvature beside it (Fig. 22b); without contact the

@@ -32,7 +32,7 @@ import numpy as np
 
 from .errors import ModelError
 from .files import atomic_path, check_values, read_csv_table
-from .model.schema import CHANNELS, INPUTS, OUTPUTS, input_spec, output_spec
+from .model.schema import INPUTS, OUTPUTS, channels_of, input_spec, inputs_of, output_spec
 
 SUFFIXES = (".csv", ".npz", ".uff")
 _NODES = {"casing.A": 1, "casing.B": 2, "cable.A": 3, "cable.B": 4}
@@ -41,11 +41,14 @@ _UNIT_TYPES = {"N": 9, "N.m": 9, "m": 8, "m/s": 11, "m/s2": 12}
 
 def unit_of(name: str) -> str:
     """Unit of a record column: an output's or input's unit from the schema, "s" for time, else ""."""
-    if name in OUTPUTS:
-        return output_spec(name)[0]
-    if name in INPUTS:
-        return input_spec(name)[0]
-    return "s" if name in ("time", "time_s") else ""
+    if name in ("time", "time_s"):
+        return "s"
+    for spec in (output_spec, input_spec):  # (also a clip's outputs and inputs)
+        try:
+            return spec(name)[0]
+        except ModelError:
+            pass
+    return ""
 
 
 @dataclass
@@ -241,15 +244,17 @@ def _read_uff(path):
 
 
 def driven_inputs(model) -> tuple:
-    """The support inputs (:data:`INPUTS` names) of the channels the model's scenario drives: for
-    each excitation target its three inputs (displacement, velocity, acceleration); an ``axial``
-    target drives x, y and z of its support."""
+    """The support inputs (names of ``inputs_of(model)``: :data:`INPUTS` and an excited clip's
+    ``<excitation>.z``, ``.vz``, ``.az``) of the channels the model's scenario drives: for each
+    excitation target its three inputs (displacement, velocity, acceleration); an ``axial`` target
+    drives x, y and z of its support."""
+    channels, names = channels_of(model), inputs_of(model)
     chans = []
     for e in model.scenario["excitation"].values():
-        body, support, d = e["target"].split(".")
+        *where, d = e["target"].split(".")
         for c in ("x", "y", "z") if d == "axial" else (d,):
-            ch = f"{body}.{support}.{c}"
+            ch = ".".join([*where, c])
             if ch not in chans:
                 chans.append(ch)
-    chans.sort(key=CHANNELS.index)
-    return tuple(INPUTS[k * len(CHANNELS) + CHANNELS.index(c)] for k in range(3) for c in chans)
+    chans.sort(key=channels.index)
+    return tuple(names[k * len(channels) + channels.index(c)] for k in range(3) for c in chans)

@@ -414,6 +414,14 @@ class CableCasing(Fmi2Slave):
             self._engine = None
             return self._block(f"the model cannot be built: {exc!r}\n{traceback.format_exc()}")
         self._applied = config
+        extra = self._engine.channels[NCH:]
+        if extra:  # (issue 24: the variables are fixed at build time, the built-in specimen's)
+            self.log(
+                f"the model's excited clips have the channels {', '.join(extra)}, which are not inputs of this FMU "
+                "(its inputs are the 12 support channels): they follow the model's own scenario with "
+                "scenario.drive, else stay at rest; the clips' forces are not outputs (docs/fmu.md)",
+                Fmi2Status.warning,
+            )
         self._drive = self._drive_motion(self._engine)
         self._error = None
         self._recon.reset()

@@ -1,8 +1,8 @@
 """Command line ``cablecasing``: a thin shell over the core API.
 
-Sub-commands: ``modes``, ``trfam``, ``keys`` (the model file's keys, from the schema), ``simulate``
-(``simulate.py``), ``static`` (``static.py``), ``spectrum`` and ``bands`` (``nvh.py``),
-``identify ...`` (``identify.py``), ``study``, ``ensemble``, ``pool`` (``study.py``), ``report``
+Sub-commands: ``modes``, ``trfam``, ``keys`` (the model file's keys, from the schema), ``geometry``
+(``geometry.py``), ``simulate`` (``simulate.py``), ``static`` (``static.py``), ``spectrum`` and
+``bands`` (``nvh.py``), ``identify ...`` (``identify.py``), ``study``, ``ensemble``, ``pool`` (``study.py``), ``report``
 (``report.py``), each module registering its own with ``add_parser``. A model argument is a TOML
 file or the name of a built-in specimen (``default``, ``installed``). Every ``--help`` shows the
 defaults. Every error in the input prints one line naming the key, the value and what is
@@ -29,7 +29,7 @@ import numpy as np
 
 from ..errors import CableCasingError, InfrastructureError, ModelError, excerpt, plain
 from ..model import load_model
-from . import identify, nvh, report, simulate, static, study
+from . import geometry, identify, nvh, report, simulate, static, study
 from .paths import check_output_path, emit_table, kept
 
 
@@ -165,7 +165,7 @@ def build_parser():
     k.add_argument("prefix", nargs="?", default=None, help="only keys that start with this, e.g. contact")
     k.set_defaults(func=cmd_keys)
 
-    for module in (simulate, static, nvh, identify, study, report):
+    for module in (geometry, simulate, static, nvh, identify, study, report):
         module.add_parser(sub)
     return p
 

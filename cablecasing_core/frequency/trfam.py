@@ -28,6 +28,15 @@ which the undamped modes no longer diagonalise (K_G and K_E are not proportional
 directly at each frequency on the free DOFs, whose matrices are banded (half-bandwidth 11,
 scipy.linalg.solve_banded), exact like the modal sum.
 
+With isolators or clips (``structure/mount_element.py``) each mount's support is a node of its own
+whose six DOFs are prescribed (the augmented system of ``structure/assembly.py``), and the mount
+adds its complex dynamic stiffness Z = K6 + i omega C6, or K6 k_scale(f) (1 + i loss(f)) when it
+has a table (K6, times k_scale(f), with damping "none") as [[Z, -Z], [-Z, Z]] between the body's
+node and its support's. Z is not proportional to K or M, so such a body is solved directly too
+(Z sits on a node block of D_ff, which stays banded); f_p at an isolator's support DOFs is the
+force through the isolator. The Rayleigh and loss factors of the body do not act on the mounts,
+which have their own damping.
+
 Sign convention: f_p is the force the support applies to the body (the reaction of Eq. 13), so a
 rigid mass m has a driving-point apparent mass of +m.
 """
@@ -53,15 +62,29 @@ DAMPING_MODELS = ("viscous", "structural", "none")
 
 
 def parse_port(key, value, model):
-    """Split ``"casing.A.x"`` into (body, support, component index 0..2), checking it exists."""
+    """Split ``"casing.A.x"`` into (body, support, component index 0..2), checking it exists. A
+    clip's support is a port too: ``"casing.clip0.x"`` (clips by index) or, for a clip with an
+    excitation, ``"<excitation>.x"`` -> ("casing", "clip<i>", 0)."""
     parts = value.split(".") if isinstance(value, str) else []
+    clips = model.data.get("casing", {}).get("clip", [])
+    if len(parts) == 2 and parts[1] in DIRECTIONS:
+        names = [c.get("excitation") for c in clips]
+        if parts[0] in names:
+            return "casing", f"clip{names.index(parts[0])}", DIRECTIONS.index(parts[1])
+    if len(parts) == 3 and parts[0] == "casing" and parts[1] in [f"clip{i}" for i in range(len(clips))]:
+        if parts[2] in DIRECTIONS:
+            return "casing", parts[1], DIRECTIONS.index(parts[2])
     if len(parts) != 3 or parts[1] not in SUPPORT_NAMES or parts[2] not in DIRECTIONS:
-        raise ModelError(key, value, "must be '<body>.<A|B>.<x|y|z>', e.g. 'casing.A.x'")
+        raise ModelError(
+            key,
+            value,
+            "must be '<body>.<A|B>.<x|y|z>' (e.g. 'casing.A.x'), 'casing.clip<i>.<x|y|z>' or '<excitation>.<x|y|z>'",
+        )
     body, support, d = parts
     if body not in model.bodies:
         raise ModelError(key, value, "body must be one of " + ", ".join(repr(b) for b in model.bodies))
-    if model.bodies[body].supports[support] != "clamped":
-        raise ModelError(key, value, f"support {body}.{support} is free; TRFAM needs clamped supports")
+    if model.bodies[body].supports[support] == "free":
+        raise ModelError(key, value, f"support {body}.{support} is free; TRFAM needs clamped or isolator supports")
     return body, support, DIRECTIONS.index(d)
 
 
@@ -73,7 +96,7 @@ class FrequencyResponse:
 
     def __init__(self, system):
         self.system = system
-        if system.prestressed:
+        if system.prestressed or system.mounts:
             self._direct_setup(system)
             return
         basis = modal_basis(system)
@@ -105,8 +128,9 @@ class FrequencyResponse:
         mu = w**2 - 1j * w * alpha
         rows = slice(None) if rows is None else rows
         cols = slice(None) if cols is None else cols
-        if self.system.prestressed:
-            return self._direct_forces(kappa, kappa_g, mu, rows, cols)
+        if self.system.prestressed or self.system.mounts:
+            Z = [m.dynamic_stiffness(f, damped=damping != "none") for m in self.system.mounts]
+            return self._direct_forces(kappa, kappa_g, mu, rows, cols, Z)
         Kin, Min = self.Kin[:, cols], self.Min[:, cols]
         Kout, Mout = self.Kout[rows], self.Mout[rows]
         k, m = kappa[:, None], mu[:, None]
@@ -120,8 +144,14 @@ class FrequencyResponse:
     BAND = 11  # half-bandwidth of a body's matrices (six DOFs per node, two nodes per element)
 
     def _direct_setup(self, system):
-        """The blocks of K_E, K_G and M of a prestressed body, the free-free ones in banded storage."""
+        """The blocks of K_E, K_G and M of a prestressed body or one with mounts (on the augmented
+        DOFs), the free-free ones in banded storage; each mount's node (its first position among
+        the free DOFs) and its support's six positions among the prescribed DOFs."""
         self.blocks = [system.blocks(A) for A in (system.K_E, system.K_G, system.M)]
+        self.mount_at = []
+        for m in range(len(system.mounts)):
+            node, base = system.mount_dofs(m)
+            self.mount_at.append((int(np.searchsorted(system.free, node[0])), np.searchsorted(system.prescribed, base)))
         b = self.BAND
         n = len(system.free)
         self.banded = []
@@ -132,20 +162,30 @@ class FrequencyResponse:
                 ab[b + k, i - k] = ff[i, i - k]
             self.banded.append(ab)
 
-    def _direct_forces(self, kappa, kappa_g, mu, rows, cols):
-        """Support forces of a prestressed body: D(omega) = kappa K_E + kappa_g K_G - mu M solved on
-        the free DOFs at each frequency (banded), x_f = -D_ff^-1 D_fp e_j, f_p = D_pf x_f + D_pp e_j."""
+    def _direct_forces(self, kappa, kappa_g, mu, rows, cols, Z=()):
+        """Support forces of a prestressed body or one with mounts: D(omega) = kappa K_E + kappa_g K_G
+        - mu M + the mounts' Z[m][k] (6 x 6, N/m) solved on the free DOFs at each frequency (banded),
+        x_f = -D_ff^-1 D_fp e_j, f_p = D_pf x_f + D_pp e_j."""
         (_, Efp, Epf, Epp), (_, Gfp, Gpf, Gpp), (_, Mfp, Mpf, Mpp) = self.blocks
         Ebd, Gbd, Mbd = self.banded
         b = self.BAND
-        nq = len(Epf[rows])
-        nj = Efp[:, cols].shape[1]
-        F = np.empty((len(mu), nq, nj), dtype=complex)
+        r6 = np.arange(6)
+        ii, jj = np.meshgrid(r6, r6, indexing="ij")
+        F = np.empty((len(mu), len(Epf[rows]), Efp[:, cols].shape[1]), dtype=complex)
         for k, (ke, kg, m) in enumerate(zip(kappa, kappa_g, mu)):
-            D_fp = ke * Efp[:, cols] + kg * Gfp[:, cols] - m * Mfp[:, cols]
-            x = solve_banded((b, b), ke * Ebd + kg * Gbd - m * Mbd, -D_fp, check_finite=False)
-            D_pf = ke * Epf[rows] + kg * Gpf[rows] - m * Mpf[rows]
-            F[k] = D_pf @ x + (ke * Epp[rows][:, cols] + kg * Gpp[rows][:, cols] - m * Mpp[rows][:, cols])
+            D_fp = ke * Efp + kg * Gfp - m * Mfp
+            D_pf = ke * Epf + kg * Gpf - m * Mpf
+            D_pp = ke * Epp + kg * Gpp - m * Mpp
+            ab = ke * Ebd + kg * Gbd - m * Mbd
+            for (f0, pb), z in zip(self.mount_at, Z):
+                zk = z[k]
+                node = r6 + f0
+                ab[b + ii - jj, f0 + jj] += zk  # (node, node) block, in banded storage
+                D_fp[np.ix_(node, pb)] -= zk
+                D_pf[np.ix_(pb, node)] -= zk
+                D_pp[np.ix_(pb, pb)] += zk
+            x = solve_banded((b, b), ab, -D_fp[:, cols], check_finite=False)
+            F[k] = D_pf[rows] @ x + D_pp[rows][:, cols]
         return F
 
 

@@ -58,9 +58,11 @@ def load_model(path: str | Path | None = None) -> Model:
     raw = toml_file(p, "model_file", MAX_MODEL_BYTES, " or a built-in specimen: " + ", ".join(specimen_names()))
     base = str(p.resolve().parent)
     try:
-        return Model(validate(raw, base_dir=base), source=str(p), base_dir=base)
+        model = Model(validate(raw, base_dir=base), source=str(p), base_dir=base)
     except RecursionError:  # (tables nested thousands deep)
         raise ModelError("model_file", str(path), "nests tables or arrays too deeply to be a model file") from None
+    _warn_if_implausible(model)
+    return model
 
 
 def toml_file(path: str | Path, key: str, limit: int, other: str = "") -> dict:
@@ -86,6 +88,19 @@ def toml_file(path: str | Path, key: str, limit: int, other: str = "") -> dict:
         raise ModelError(key, str(path), f"must be valid TOML ({exc})") from None
     except RecursionError:
         raise ModelError(key, str(path), "nests tables or arrays too deeply to be read") from None
+
+
+def _warn_if_implausible(model):
+    """A :class:`~cablecasing_core.errors.PlausibilityWarning` for each plausibility warning of a
+    model file's routing but the element-length advice (issue 24; the CLI prints each as one
+    line; ``cablecasing geometry`` gives them all)."""
+    import warnings
+
+    from ..errors import PlausibilityWarning
+    from ..structure.route_summary import plausibility_warnings
+
+    for text in plausibility_warnings(model, advice=False):
+        warnings.warn(f"{model.source}: {text}", PlausibilityWarning, stacklevel=3)
 
 
 def default_model() -> Model:

@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import ModelError
-from .schema import BODY_NAMES, SCHEMA
+from .schema import BODY_NAMES, SCHEMA, lookup
 from .validate import validate
 from .validators import Choice
 
@@ -139,8 +139,8 @@ class Model:
         for key, v in dotted(self.data).items():
             if isinstance(v, (int, float)) and not isinstance(v, bool):
                 out[key] = v
-            elif key in SCHEMA and SCHEMA[key].components:
-                out.update({f"{key}.{c}": float(x) for c, x in zip(SCHEMA[key].components, v)})
+            elif _vector(key) is not None:
+                out.update({f"{key}.{c}": float(x) for c, x in zip(_vector(key).components, v)})
         return out
 
     def text_parameters(self) -> dict[str, str]:
@@ -164,10 +164,10 @@ class Model:
         data = copy.deepcopy(self.data)
         for key, value in overrides.items():
             parts = key.split(".")
-            vector = ".".join(parts[:-1])
+            vector = _vector(".".join(parts[:-1]))
             component = None
-            if vector in SCHEMA and parts[-1] in SCHEMA[vector].components:  # a vector's component
-                component = SCHEMA[vector].components.index(parts[-1])
+            if vector is not None and parts[-1] in vector.components:  # a vector's component
+                component = vector.components.index(parts[-1])
                 parts = parts[:-1]
             node = data
             for p in parts[:-1]:
@@ -197,6 +197,16 @@ class Model:
     def to_toml(self) -> str:
         """The model as TOML text (round-trips through :func:`load_model`)."""
         return _to_toml(self.data)
+
+
+def _vector(key):
+    """The spec of ``key`` when it is a vector key (with components: ``loads.gravity``, a mount's
+    ``stiffness``), else None."""
+    try:
+        spec = lookup(key) if key else None
+    except ModelError:
+        return None
+    return spec if spec is not None and spec.components else None
 
 
 def dotted(data: Mapping) -> dict:

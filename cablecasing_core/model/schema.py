@@ -17,7 +17,7 @@ Keys under named tables are written with ``<name>`` (``scenario.excitation.<name
 :func:`lookup` accepts them under any name. Units are FMI-style strings ("1": dimensionless,
 "m/s2", "N.m", "kg/m3", ...; "" for text and booleans).
 
-This module is over 400 lines because the schema is one table of the model file's keys (49), kept
+This module is over 400 lines because the schema is one table of the model file's keys (68), kept
 in one place on purpose; the validators are in ``validators.py``.
 """
 
@@ -26,12 +26,28 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 from ..errors import ModelError
-from .validators import Band, Boolean, Choice, Number, NumberOrTable, Points, Target, Text, Vector
+from .validators import (
+    Band,
+    Boolean,
+    ChannelName,
+    Choice,
+    Number,
+    NumberOrTable,
+    Points,
+    Segments,
+    StiffnessTable,
+    Target,
+    Text,
+    Triple,
+    Vector,
+)
 
 BODY_NAMES = ("casing", "cable")
 SUPPORT_NAMES = ("A", "B")
-SUPPORT_TYPES = ("clamped", "free")
+SUPPORT_TYPES = ("clamped", "isolator", "free")
 DIRECTIONS = ("x", "y", "z")
+#: The components of a mount's stiffness and damping: its support's local axes (mount_element.py)
+MOUNT_AXES = ("axial", "lateral_1", "lateral_2")
 CONTACT_LAWS = ("hertz", "linear")
 EXCITATION_KINDS = ("random", "harmonic", "impulse", "csv")
 CSV_QUANTITIES = ("displacement", "velocity", "acceleration")
@@ -56,6 +72,33 @@ OUTPUTS = SUPPORT_OUTPUTS + CONTACT_OUTPUTS
 #: (m/s2) of every channel, in this order (kind-major).
 INPUT_KINDS = (("", "displacement", "m"), ("v", "velocity", "m/s"), ("a", "acceleration", "m/s2"))
 INPUTS = tuple(f"{c[:-1]}{k}{c[-1]}" for k, _, _ in INPUT_KINDS for c in CHANNELS)
+
+
+def channels_of(data) -> tuple:
+    """The support channels of a model (its checked data, or a :class:`Model`): the 12 of
+    :data:`CHANNELS`, then ``<excitation>.x, .y, .z`` of each clip with an excitation, in file
+    order (m, global axes). The engine's motion has one column per channel."""
+    data = getattr(data, "data", data)
+    clips = data.get("casing", {}).get("clip", [])
+    return CHANNELS + tuple(f"{c['excitation']}.{d}" for c in clips if "excitation" in c for d in DIRECTIONS)
+
+
+def clip_outputs(data) -> tuple:
+    """The outputs of a model's clips: ``casing.clip<i>.Fx`` .. ``casing.clip<i>.Mz`` (N, N.m, the
+    force and moment the casing exerts through clip i on its support, global axes), in file order."""
+    data = getattr(data, "data", data)
+    n = len(data.get("casing", {}).get("clip", []))
+    return tuple(f"casing.clip{i}.{c}" for i in range(n) for c in FORCE_NAMES)
+
+
+def outputs_of(data) -> tuple:
+    """Every time-domain output of a model: :data:`OUTPUTS`, then :func:`clip_outputs`."""
+    return OUTPUTS + clip_outputs(data)
+
+
+def inputs_of(data) -> tuple:
+    """The inputs of a model's channels (:func:`channels_of`), kind-major as :data:`INPUTS`."""
+    return tuple(f"{c[:-1]}{k}{c[-1]}" for k, _, _ in INPUT_KINDS for c in channels_of(data))
 
 
 class _Marker:
@@ -234,11 +277,84 @@ def _body(body):
             "str",
             "clamped",
             "",
-            f"support {s} of {the}: clamped (its translations follow the support motion, rotations held) or free",
+            f"support {s} of {the}: clamped (its translations follow the support motion, rotations held), "
+            f"isolator (a 6-DOF spring-damper to the moving support, [{body}.isolator.{s}]) or free",
             Choice(*SUPPORT_TYPES),
+            note=f"isolator needs the table [{body}.isolator.{s}]",
         )
         for s in SUPPORT_NAMES
     ]
+    keys += _mount_keys(f"{body}.isolator.<support>", "the isolator")
+    if body == "casing":
+        keys += [
+            KeySpec(
+                "casing.clip[].at",
+                "float",
+                REQUIRED,
+                "m",
+                "arc length from end A of a clip holding the casing (the nearest node is clipped)",
+                Number(gt=0, unit="m"),
+                note="inside the route, its nearest node not an end node and not another clip's",
+            ),
+            *_mount_keys("casing.clip[]", "the clip"),
+            KeySpec(
+                "casing.clip[].excitation",
+                "str",
+                OPTIONAL,
+                "",
+                "a name for the clip's own support channels <name>.x, .y, .z (m, global axes; FMU inputs "
+                "and excitation targets); without it the clip's support is fixed",
+                ChannelName(),
+                note="unique among the model's clips",
+            ),
+        ]
+    return keys
+
+
+def _mount_keys(prefix, what):
+    """The spring-damper keys of an isolator or a clip (local axes: axial along the tangent, the
+    element frame's lateral y and z), each a number or three, by component a parameter."""
+    triples = [
+        (
+            "stiffness",
+            REQUIRED,
+            "N/m",
+            "translational stiffness",
+            "[axial, lateral_1, lateral_2] in the support's local axes",
+        ),
+        (
+            "rotational_stiffness",
+            0.0,
+            "N.m/rad",
+            "rotational stiffness",
+            "[about axial (torsion), lateral_1, lateral_2]",
+        ),
+        ("damping", 0.0, "N.s/m", "translational viscous damping", "[axial, lateral_1, lateral_2]"),
+        ("rotational_damping", 0.0, "N.m.s/rad", "rotational viscous damping", "[about axial, lateral_1, lateral_2]"),
+    ]
+    keys = [
+        KeySpec(
+            f"{prefix}.{name}",
+            "float or 3 floats",
+            default,
+            unit,
+            f"{kind} of {what} {axes}",
+            Triple(Number(ge=0, unit=unit)),
+            components=MOUNT_AXES,
+        )
+        for name, default, unit, kind, axes in triples
+    ]
+    keys.append(
+        KeySpec(
+            f"{prefix}.table",
+            "table",
+            OPTIONAL,
+            "",
+            f"dynamic stiffness of {what} against frequency, k(f) = k k_scale (1 + i loss_factor): in the "
+            "frequency domain it replaces stiffness and damping (the time domain uses those); linear, held at the ends",
+            StiffnessTable(),
+        )
+    )
     return keys
 
 
@@ -261,7 +377,40 @@ _KEYS = [
         Number(ge=1, le=MAX_ELEMENTS, integer=True),
         note="a run checks the memory it needs first (docs/model_file.md, Limits)",
     ),
-    KeySpec("geometry.points", "points", REQUIRED, "m", "points on the centerline at rest, end A first", Points()),
+    KeySpec(
+        "geometry.points",
+        "points",
+        OPTIONAL,
+        "m",
+        "points on the centerline at rest, end A first",
+        Points(),
+        note="exactly one of geometry.points and geometry.segments",
+    ),
+    KeySpec(
+        "geometry.start",
+        "3 floats",
+        [0.0, 0.0, 0.0],
+        "m",
+        "end A of a route given by segments",
+        Vector(unit="m"),
+    ),
+    KeySpec(
+        "geometry.direction",
+        "3 floats",
+        [1.0, 0.0, 0.0],
+        "1",
+        "unit tangent at end A of a route given by segments (normalised)",
+        Vector(unit="", nonzero=True),
+    ),
+    KeySpec(
+        "geometry.segments",
+        "segments",
+        OPTIONAL,
+        "m",
+        "the route as straights and circular bends from geometry.start along geometry.direction (exact arcs)",
+        Segments(),
+        note="each bend's toward not along the tangent where the bend starts",
+    ),
     *_body("casing"),
     *_body("cable"),
     KeySpec(
@@ -512,9 +661,21 @@ def lookup(key: str) -> KeySpec:
     spec = SCHEMA.get(key)
     if spec is None and isinstance(key, str):
         parts = key.split(".")
-        if len(parts) == 4 and parts[:2] == ["scenario", "excitation"] and f"{_EXC}.{parts[3]}" in SCHEMA:
-            spec = replace(SCHEMA[f"{_EXC}.{parts[3]}"], key=key)
-        vector = SCHEMA.get(key.rsplit(".", 1)[0]) if "." in key else None
+        generic = None
+        if len(parts) == 4 and parts[:2] == ["scenario", "excitation"]:
+            generic = f"{_EXC}.{parts[3]}"
+        elif len(parts) == 4 and parts[0] in BODY_NAMES and parts[1] == "isolator" and parts[2] in SUPPORT_NAMES:
+            generic = f"{parts[0]}.isolator.<support>.{parts[3]}"
+        elif len(parts) == 3 and parts[0] == "casing" and parts[1].startswith("clip["):
+            generic = f"casing.clip[].{parts[2]}"
+        if generic in SCHEMA:
+            spec = replace(SCHEMA[generic], key=key)
+        vector = None
+        if spec is None and len(parts) > 1:  # a vector's component (loads.gravity.z, casing.isolator.A.stiffness.axial)
+            try:
+                vector = lookup(key.rsplit(".", 1)[0])
+            except ModelError:
+                pass
         if vector is not None and parts[-1] in vector.components:
             spec = component_spec(vector, parts[-1])
     if spec is None:
@@ -526,19 +687,22 @@ def component_spec(vector: KeySpec, component: str) -> KeySpec:
     """The scalar key ``<vector key>.<component>`` of a vector key (e.g. ``loads.gravity.z``): a
     float in the vector's unit; the FMU's parameter and ``Model.with_overrides`` use it."""
     i = vector.components.index(component)
+    default = vector.default[i] if isinstance(vector.default, list) else vector.default
+    axes = "global" if vector.components == DIRECTIONS else "local"
     return KeySpec(
         f"{vector.key}.{component}",
         "float",
-        vector.default[i],
+        default,
         vector.unit,
-        f"component {component} (global axes) of {vector.key}: {vector.description}",
+        f"component {component} ({axes} axes) of {vector.key}: {vector.description}",
         vector.validator.component,
     )
 
 
 def table(prefix: str) -> list:
     """The specs of the keys directly in the table ``prefix`` (e.g. ``"casing"``,
-    ``"casing.supports"``, ``"scenario.excitation.<name>"``), in schema order."""
+    ``"casing.supports"``, ``"scenario.excitation.<name>"``, ``"casing.isolator.<support>"``,
+    ``"casing.clip[]"``), in schema order."""
     return [s for s in _KEYS if s.key.rsplit(".", 1)[0] == prefix]
 
 
@@ -550,8 +714,14 @@ def output_spec(name: str) -> tuple:
         return "m", "largest penetration of a cable node into the casing wall (0 without contact)"
     if name == "contact.dissipated_energy":
         return "J", "energy dissipated by contact damping and friction together since t = 0"
+    parts = name.split(".") if isinstance(name, str) else []
+    if len(parts) == 3 and parts[0] == "casing" and parts[1][:4] == "clip" and parts[1][4:].isdigit():
+        if parts[2] in FORCE_NAMES:
+            kind, unit = ("force", "N") if parts[2][0] == "F" else ("moment", "N.m")
+            axis = parts[2][1].lower()
+            return unit, f"{kind} the casing exerts through clip {parts[1][4:]} on its support, along global {axis}"
     if name not in SUPPORT_OUTPUTS:
-        raise ModelError("output", name, "must be one of " + ", ".join(OUTPUTS))
+        raise ModelError("output", name, "must be one of " + ", ".join(OUTPUTS) + " or casing.clip<i>.Fx .. Mz")
     body, support, comp = name.split(".")
     kind, unit = ("force", "N") if comp[0] == "F" else ("moment", "N.m")
     return unit, f"{kind} the {body} exerts on its support {support}, component along global {comp[1].lower()}"
@@ -565,6 +735,14 @@ def input_name(channel: str, quantity: str) -> str:
 
 def input_spec(name: str) -> tuple:
     """(unit, description) of a support input of :data:`INPUTS`, e.g. ``"casing.A.az"``."""
+    parts = name.split(".") if isinstance(name, str) else []
+    if (
+        name not in INPUTS
+        and len(parts) == 2
+        and parts[1] in [f"{k}{d}" for k, _, _ in INPUT_KINDS for d in DIRECTIONS]
+    ):
+        _, what, unit = next(q for q in INPUT_KINDS if q[0] == parts[1][:-1])
+        return unit, f"{what} of the support of the clip with excitation {parts[0]} along global {parts[1][-1]}"
     if name not in INPUTS:
         raise ModelError("input", name, "must be a support input such as casing.A.z, casing.A.vz or casing.A.az")
     k = INPUTS.index(name) // len(CHANNELS)

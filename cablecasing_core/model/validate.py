@@ -23,8 +23,10 @@ import math
 import warnings
 from pathlib import Path
 
+import numpy as np
+
 from ..errors import NOT_SHOWN, ModelError, ModelWarning, excerpt
-from .schema import BODY_NAMES, OPTIONAL, SECTIONS, lookup, table
+from .schema import BODY_NAMES, OPTIONAL, SECTIONS, SUPPORT_NAMES, lookup, table
 
 
 def check_keys(prefix, data, allowed, required=()):
@@ -56,21 +58,129 @@ def _table(prefix, data, specs, extra=()):
     return out
 
 
-def _body(name, data):
-    out = _table(name, data, table(name), extra=("supports",))
+def _body(name, data, geometry):
+    if not isinstance(data, dict):
+        raise ModelError(name, data, "must be a table (section)")
+    if name == "cable" and "clip" in data:
+        raise ModelError("cable.clip", data["clip"], "the cable is never clipped (it slides inside the casing)")
+    out = _table(name, data, table(name), extra=("supports", "isolator", "clip"))
     if name == "casing" and out["d_inner"] >= out["d_outer"]:
         raise ModelError("casing.d_inner", out["d_inner"], f"must be smaller than casing.d_outer = {out['d_outer']} m")
     out["supports"] = _table(f"{name}.supports", data.get("supports", {}), table(f"{name}.supports"))
+    out.update(_mounts(name, data, out["supports"], geometry))
+    return out
+
+
+# ---------------------------------------------------------------- issue 24: isolators, clips, routes
+def _mounts(name, data, supports, geometry):
+    """The isolators of ``name``'s isolator supports and the casing's clips, checked: a table
+    [<body>.isolator.<A|B>] for each isolator support and none for another, each clip inside the
+    route on a node of its own (the nearest node, not an end node), excitation names unique."""
+    iso = data.get("isolator", {})
+    check_keys(f"{name}.isolator", iso, set(SUPPORT_NAMES))
+    out = {}
+    for s in SUPPORT_NAMES:
+        key = f"{name}.isolator.{s}"
+        if supports[s] == "isolator":
+            if s not in iso:
+                raise ModelError(key, None, f"is required: {name}.supports.{s} is an isolator")
+            out.setdefault("isolator", {})[s] = _table(key, iso[s], table(f"{name}.isolator.<support>"))
+        elif s in iso:
+            raise ModelError(key, iso[s], f"belongs to an isolator support, but {name}.supports.{s} = '{supports[s]}'")
+    if name != "casing" or "clip" not in data:
+        return out
+    clips = data["clip"]
+    if not isinstance(clips, list) or not all(isinstance(c, dict) for c in clips):
+        raise ModelError("casing.clip", clips, "must be an array of tables [[casing.clip]], each with at and stiffness")
+    s_nodes = _node_arc_lengths(geometry)
+    length, taken, names = s_nodes[-1], {}, {}
+    out["clip"] = []
+    for i, c in enumerate(clips):
+        key = f"casing.clip[{i}]"
+        c = _table(key, c, table("casing.clip[]"))
+        if c["at"] >= length:
+            raise ModelError(f"{key}.at", c["at"], f"must be inside the route, below its length {length:.6g} m")
+        node = int(np.argmin(np.abs(s_nodes - c["at"])))
+        if node in (0, len(s_nodes) - 1):
+            raise ModelError(
+                f"{key}.at", c["at"], f"is nearest to an end node (s = {s_nodes[node]:.6g} m); clip the casing inside"
+            )
+        if node in taken:
+            raise ModelError(
+                f"{key}.at", c["at"], f"is nearest to node {node}, which casing.clip[{taken[node]}] holds already"
+            )
+        taken[node] = i
+        if "excitation" in c:
+            if c["excitation"] in names or c["excitation"] in BODY_NAMES:
+                raise ModelError(f"{key}.excitation", c["excitation"], "must be unique among the clips and not a body")
+            names[c["excitation"]] = i
+        out["clip"].append(c)
+    return out
+
+
+def _node_arc_lengths(geometry):
+    """Arc lengths (m) of the centerline's nodes (the route built as the structure builds it)."""
+    from ..structure.geometry import build_centerline, centerline_from_route
+    from ..structure.routing import SegmentRoute
+
+    if "segments" in geometry:
+        route = SegmentRoute(geometry["start"], geometry["direction"], geometry["segments"])
+        return centerline_from_route(route, geometry["n_elements"]).s
+    return build_centerline(geometry["points"], geometry["n_elements"], geometry["curve"]).s
+
+
+def _geometry(data):
+    """[geometry] checked: exactly one of points and segments; each bend's toward leaves the
+    tangent where the bend starts."""
+    out = _table("geometry", data, table("geometry"))
+    given = [k for k in ("points", "segments") if k in out]
+    if len(given) != 1:
+        raise ModelError(
+            "geometry", sorted(data), "needs exactly one of points (a curve through points) and segments (a route)"
+        )
+    if "segments" in out:
+        t = np.asarray(out["direction"]) / np.linalg.norm(out["direction"])
+        for i, seg in enumerate(out["segments"]):
+            if "bend" in seg:
+                b = seg["bend"]
+                w = np.asarray(b["toward"]) / np.linalg.norm(b["toward"])
+                n = w - (w @ t) * t
+                if np.linalg.norm(n) < 1e-6:
+                    raise ModelError(
+                        f"geometry.segments[{i}].bend.toward",
+                        b["toward"],
+                        f"must leave the tangent {np.round(t, 6).tolist()} where the bend starts (it is along it)",
+                    )
+                phi = np.radians(b["angle_deg"])
+                n /= np.linalg.norm(n)
+                t = np.cos(phi) * t + np.sin(phi) * n
+    else:
+        for k in ("start", "direction"):
+            if k in data:
+                raise ModelError(f"geometry.{k}", data[k], "belongs to a route given by segments, not by points")
+            del out[k]  # (their defaults belong to segments only)
     return out
 
 
 def _on_a_clamped_support(key, target, bodies):
-    """The target (format checked by the schema) names a body of the model and a clamped support."""
+    """The target (format checked by the schema) names a body of the model and a clamped or
+    isolator support, or a clip with that excitation."""
+    if target.count(".") == 1:
+        names = [c["excitation"] for c in bodies.get("casing", {}).get("clip", []) if "excitation" in c]
+        if target.split(".")[0] not in names:
+            raise ModelError(
+                key,
+                target,
+                "names no clip excitation of this model (clips' excitations: " + (", ".join(names) or "none") + ")",
+            )
+        return
     body, support, _ = target.split(".")
     if body not in bodies:
         raise ModelError(key, target, f"names body '{body}', which this model does not have")
-    if bodies[body]["supports"][support] != "clamped":
-        raise ModelError(key, target, f"support {body}.{support} is free; only clamped supports can be driven")
+    if bodies[body]["supports"][support] == "free":
+        raise ModelError(
+            key, target, f"support {body}.{support} is free; only clamped and isolator supports can be driven"
+        )
 
 
 def _excitation(key, e, scenario, bodies, base_dir):
@@ -121,8 +231,8 @@ def validate(data: dict, base_dir: str | None = None) -> dict:
     if not isinstance(data, dict):
         raise ModelError("<model>", data, "must be a TOML document with sections")
     check_keys("<model>", data, set(SECTIONS), required=("geometry",))
-    out = {"geometry": _table("geometry", data["geometry"], table("geometry"))}
-    bodies = {n: _body(n, data[n]) for n in BODY_NAMES if n in data}
+    out = {"geometry": _geometry(data["geometry"])}
+    bodies = {n: _body(n, data[n], out["geometry"]) for n in BODY_NAMES if n in data}
     if not bodies:
         raise ModelError("<model>", sorted(data), "needs at least one body section, [casing] or [cable]")
     out.update(bodies)
@@ -150,7 +260,8 @@ def validate(data: dict, base_dir: str | None = None) -> dict:
 
 
 def _loads(data, bodies):
-    """The [loads] table; a tension needs the cable, and a loaded body a clamped support to hold it
+    """The [loads] table; a tension needs the cable, and a loaded body a clamped or isolator support
+    (or a clip) to hold it
     (the casing's buckling load is checked where it is assembled, structure/buckling.py)."""
     out = _table("loads", data, table("loads"))
     if out["cable_tension"] > 0.0 and "cable" not in bodies:
@@ -161,10 +272,14 @@ def _loads(data, bodies):
         mine = list(causes)
         if name == "cable":
             mine.append(("cable.rest_shape", b["rest_shape"], b["rest_shape"] != "routing"))
+        held = {"clamped", "isolator"} & set(b["supports"].values()) or b.get("clip")  # (issue 24: mounts hold)
         for key, value, on in mine:
-            if on and "clamped" not in b["supports"].values():
+            if on and not held:
                 raise ModelError(
-                    key, value, f"loads the {name}, which has no clamped support to hold it (a static state needs one)"
+                    key,
+                    value,
+                    f"loads the {name}, which has no clamped or isolator support (nor a clip) to hold it "
+                    "(a static state needs one)",
                 )
     return out
 
@@ -199,9 +314,9 @@ def plausibility(out: dict) -> list[str]:
                 "fit, and the cable starts pressed against the wall wherever the route bends (the energy it "
                 "then takes is no vibration)"
             )
-    pts = [list(map(float, p)) for p in out["geometry"]["points"]]
+    pts = [list(map(float, p)) for p in out["geometry"].get("points") or []]  # (a route of segments: none)
     seg = [[b[k] - a[k] for k in range(3)] for a, b in zip(pts, pts[1:])]
-    length = sum(math.sqrt(sum(c * c for c in s)) for s in seg)
+    length = _route_length(out["geometry"])
     d = max(out["casing"]["d_outer"] if "casing" in out else 0.0, out["cable"]["d"] if "cable" in out else 0.0)
     if length < 10 * d:
         warn(
@@ -224,6 +339,20 @@ def plausibility(out: dict) -> list[str]:
             "are free: the contact forces do not converge on so coarse a mesh (use 10 or more elements)"
         )
     return said
+
+
+def _route_length(geometry) -> float:
+    """The route's length (m): the polyline through its points, or the sum of its segments."""
+    if geometry.get("points"):
+        pts = geometry["points"]
+        return sum(math.dist(a, b) for a, b in zip(pts, pts[1:]))
+    total = 0.0
+    for s in geometry.get("segments") or []:
+        if "straight" in s:
+            total += float(s["straight"])
+        elif "bend" in s:
+            total += float(s["bend"]["radius"]) * math.radians(float(s["bend"]["angle_deg"]))
+    return total
 
 
 def step_checks(out: dict, dt: float, key: str) -> list[str]:
@@ -249,8 +378,7 @@ def step_checks(out: dict, dt: float, key: str) -> list[str]:
     if "cable" in out and "casing" in out and out["contact"]["enabled"] and out["contact"]["law"] == "linear":
         c = out["cable"]
         n = out["geometry"]["n_elements"]
-        pts = out["geometry"]["points"]
-        length = sum(math.dist(a, b) for a, b in zip(pts, pts[1:]))
+        length = _route_length(out["geometry"])
         node_mass = c["rho"] * math.pi * c["d"] ** 2 / 4 * length / n
         w = math.sqrt(out["contact"]["stiffness"] / node_mass)
         if w * dt > 0.5:

@@ -174,13 +174,15 @@ class Points:
 
 class Vector:
     """Three finite numbers [x, y, z] in ``unit``, global axes (a vector key such as
-    ``loads.gravity``). Returns a list of three floats."""
+    ``loads.gravity``; with ``nonzero`` a direction, not all zero). Returns a list of three floats."""
 
-    def __init__(self, unit=None, bound=None):
-        self.unit = unit
+    def __init__(self, unit=None, nonzero=False, bound=None):
+        self.unit, self.nonzero = unit, nonzero
         self.component = Number(unit=unit) if bound is None else Number(ge=-bound, le=bound, unit=unit)
         within = "" if bound is None else f" within +-{_fmt(float(bound))}"
-        self.allowed = "three finite numbers [x, y, z]" + within + _unit_phrase(unit)
+        self.allowed = (
+            "three finite numbers [x, y, z]" + within + _unit_phrase(unit) + (", not all zero" if nonzero else "")
+        )
 
     def __call__(self, key, value):
         if isinstance(value, np.ndarray):
@@ -193,6 +195,8 @@ class Vector:
                 out.append(self.component(key, c))
             except ModelError:
                 raise ModelError(key, value, "must be " + self.allowed) from None
+        if self.nonzero and not any(out):
+            raise ModelError(key, value, "must be a direction, " + self.allowed)
         return out
 
 
@@ -212,16 +216,112 @@ class Band:
 
 
 class Target:
-    """A support channel ``<casing|cable>.<A|B>.<x|y|z|axial>``; which bodies and supports exist is
-    checked with the model (a cross-check of the loader)."""
+    """A support channel ``<casing|cable>.<A|B>.<x|y|z|axial>``, or an excited clip's
+    ``<excitation>.<x|y|z>``; which bodies, supports and clips exist is checked with the model (a
+    cross-check of the loader)."""
 
     def __init__(self, bodies, supports, directions):
         self.parts = (bodies, supports, directions)
-        self.allowed = f"'<{'|'.join(bodies)}>.<{'|'.join(supports)}>.<{'|'.join(directions)}>'"
+        self.allowed = (
+            f"'<{'|'.join(bodies)}>.<{'|'.join(supports)}>.<{'|'.join(directions)}>' or a clip's "
+            f"'<excitation>.<{'|'.join(d for d in directions if d != 'axial')}>'"
+        )
 
     def __call__(self, key, value):
         parts = value.split(".") if isinstance(value, str) else []
-        if len(parts) != 3 or any(p not in allowed for p, allowed in zip(parts, self.parts)):
+        clip = len(parts) == 2 and parts[0] not in self.parts[0] and parts[1] in self.parts[2] and parts[1] != "axial"
+        if not clip and (len(parts) != 3 or any(p not in allowed for p, allowed in zip(parts, self.parts))):
+            raise ModelError(key, value, "must be " + self.allowed)
+        return value
+
+
+class Segments:
+    """A route's segments: a list of ``{straight = L}`` (m) and ``{bend = {radius = R, angle_deg =
+    phi, toward = [x, y, z]}}`` (m, degrees in (0, 360), the direction the bend turns to); whether
+    ``toward`` leaves the tangent is checked by the loader, which knows the tangent."""
+
+    allowed = (
+        "a list of {straight = L_m} and {bend = {radius = R_m, angle_deg = phi, toward = [x, y, z]}}, "
+        "L > 0, R > 0, 0 < phi < 360"
+    )
+    length = Number(gt=0, unit="m")
+    angle = Number(gt=0, lt=360, unit="deg")
+    toward = Vector(unit="", nonzero=True)
+
+    def __call__(self, key, value):
+        if not isinstance(value, list) or not value:
+            raise ModelError(key, value, "must be " + self.allowed)
+        out = []
+        for i, seg in enumerate(value):
+            k = f"{key}[{i}]"
+            if not isinstance(seg, dict) or len(seg) != 1 or next(iter(seg)) not in ("straight", "bend"):
+                raise ModelError(
+                    k, seg, "each segment must be {straight = L_m} or {bend = {radius, angle_deg, toward}}"
+                )
+            if "straight" in seg:
+                out.append({"straight": self.length(f"{k}.straight", seg["straight"])})
+                continue
+            b = seg["bend"]
+            names = ("radius", "angle_deg", "toward")
+            if not isinstance(b, dict) or set(b) != set(names):
+                raise ModelError(f"{k}.bend", b, "must be {radius = R_m, angle_deg = phi, toward = [x, y, z]}")
+            out.append(
+                {
+                    "bend": {
+                        "radius": self.length(f"{k}.bend.radius", b["radius"]),
+                        "angle_deg": self.angle(f"{k}.bend.angle_deg", b["angle_deg"]),
+                        "toward": self.toward(f"{k}.bend.toward", b["toward"]),
+                    }
+                }
+            )
+        return out
+
+
+class Triple:
+    """A number, or three numbers [axial, lateral_1, lateral_2], each within ``number``'s bounds
+    (a number stands for the same value in all three directions). Returns the list of three."""
+
+    def __init__(self, number):
+        self.number = self.component = number
+        self.allowed = number.allowed + ", or three of them [axial, lateral_1, lateral_2]"
+
+    def __call__(self, key, value):
+        if isinstance(value, list):
+            if len(value) != 3:
+                raise ModelError(key, value, "must be " + self.allowed)
+            return [self.number(f"{key}[{j}]", v) for j, v in enumerate(value)]
+        v = self.number(key, value)
+        return [v, v, v]
+
+
+class StiffnessTable:
+    """A table ``[[f_Hz, k_scale, loss_factor], ...]`` of a rubber mount's dynamic stiffness against
+    frequency (the stiffness times k_scale > 0, loss factor >= 0), by strictly increasing f >= 0."""
+
+    allowed = "a table [[f_Hz, k_scale, loss_factor], ...], f >= 0 strictly increasing, k_scale > 0, loss_factor >= 0"
+    columns = (Number(ge=0, unit="Hz"), Number(gt=0), Number(ge=0))
+
+    def __call__(self, key, value):
+        if not isinstance(value, list) or not value:
+            raise ModelError(key, value, "must be " + self.allowed)
+        rows = []
+        for i, row in enumerate(value):
+            if not isinstance(row, list) or len(row) != 3:
+                raise ModelError(f"{key}[{i}]", row, "each row must be [f_Hz, k_scale, loss_factor]")
+            rows.append([c(f"{key}[{i}][{j}]", x) for j, (c, x) in enumerate(zip(self.columns, row))])
+        if any(b[0] <= a[0] for a, b in zip(rows, rows[1:])):
+            raise ModelError(key, value, "rows must be sorted by strictly increasing frequency")
+        return rows
+
+
+class ChannelName:
+    """A name for a clip's own input channels: letters, digits and _, starting with a letter
+    (``dash`` gives the channels ``dash.x``, ``dash.y``, ``dash.z``)."""
+
+    allowed = "a name of letters, digits and _ starting with a letter (its channels are <name>.x, .y, .z)"
+
+    def __call__(self, key, value):
+        if not isinstance(value, str) or not value or not value[0].isalpha() or not value.replace("_", "a").isalnum():
             raise ModelError(key, value, "must be " + self.allowed)
         return value
 

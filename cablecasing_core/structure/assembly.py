@@ -4,7 +4,12 @@ Global DOFs are numbered node by node, six per node ``[ux uy uz rx ry rz]`` in g
 assembled matrices are banded (half-bandwidth 11). They are stored sparse (CSR); the partitioned
 blocks of Eq. (13), ``A_ff, A_fp, A_pf, A_pp`` (f: free DOFs, p: prescribed support DOFs), are
 dense and small. A clamped support prescribes all six DOFs of its end node (translations follow
-the support motion, rotations stay zero); a free support prescribes none.
+the support motion, rotations stay zero); a free support prescribes none. An isolator support or a
+clip (a :class:`~.mount_element.Mount`) adds a node of its own, the support's, after the body's
+nodes: its six DOFs are prescribed (the support's motion) and the mount's spring joins it to the
+body's node. ``K_blocks`` and ``M_blocks`` partition this augmented system (the mount's static
+stiffness in K), so the modes and the TRFAM see the mounts and the reaction of Eq. (13) at a
+mount's support DOFs is the force through the mount; ``K`` and ``M`` stay the beams' own.
 
 An installed model (docs/installed.md) prestresses its bodies: the cable carries the axial force
 N0 = +T of ``loads.cable_tension``, the casing N0 = -T. ``K`` is then the tangent stiffness
@@ -26,6 +31,7 @@ from .buckling import check_compression
 from .element_beam import geometric_stiffness, global_matrices, transformation
 from .geometry import centerline_of
 from .loads import gravity_load, prestress_load, rest_shape_load
+from .mount_element import mounts_of
 from .sections import section_of
 
 DOF_PER_NODE = 6
@@ -53,6 +59,7 @@ class BodySystem:
     support_nodes: dict
     prescribed: np.ndarray
     free: np.ndarray
+    mounts: tuple = ()
     K_E: sp.csr_matrix = None
     K_G: sp.csr_matrix = None
     N0: float = 0.0
@@ -66,36 +73,77 @@ class BodySystem:
 
     @property
     def ndof(self):
+        """The beam's DOFs (six per node); the augmented system has :attr:`n_augmented`."""
         return self.K.shape[0]
+
+    @property
+    def n_augmented(self):
+        """DOFs of the augmented system: the beam's and six per mount (its support node)."""
+        return self.ndof + DOF_PER_NODE * len(self.mounts)
+
+    def mount_dofs(self, m):
+        """(node DOFs, support DOFs) of mount index ``m`` in the augmented system (6 each)."""
+        node = self.mounts[m].node
+        base = self.ndof + DOF_PER_NODE * m
+        return np.arange(DOF_PER_NODE * node, DOF_PER_NODE * node + 6), np.arange(base, base + 6)
+
+    def mount_of_support(self, support):
+        """Index among :attr:`mounts` of the isolator of ``support`` ("A", "B") or of the clip
+        labelled ``support`` ("clip0", ...), or None."""
+        return next((i for i, m in enumerate(self.mounts) if support in (m.support, m.label)), None)
+
+    def augmented(self, A, mount_blocks=None):
+        """Dense ``A`` (beam size) on the augmented DOFs, plus ``mount_blocks[m]`` (6 x 6, e.g.
+        K6) joining each mount's node and support: [[k, -k], [-k, k]]."""
+        A = A.toarray() if sp.issparse(A) else np.asarray(A)
+        n = self.n_augmented
+        out = np.zeros((n, n), dtype=np.result_type(A, *(mount_blocks or [0.0])))
+        out[: self.ndof, : self.ndof] = A
+        for m, k in enumerate(mount_blocks or []):
+            i, j = self.mount_dofs(m)
+            out[np.ix_(i, i)] += k
+            out[np.ix_(j, j)] += k
+            out[np.ix_(i, j)] -= k
+            out[np.ix_(j, i)] -= k
+        return out
 
     @property
     def n_nodes(self):
         return self.ndof // DOF_PER_NODE
 
     def support_dofs(self, support):
-        """Global DOF indices (6) of a support's end node."""
+        """Global DOF indices (6) of a support: its end node's when clamped (or free), its own
+        support node's (in the augmented system) when an isolator."""
+        m = self.mount_of_support(support)
+        if m is not None:
+            return self.mount_dofs(m)[1]
         n = self.support_nodes[support]
         return np.arange(DOF_PER_NODE * n, DOF_PER_NODE * n + DOF_PER_NODE)
 
     def prescribed_index(self, support, component):
-        """Position, within the prescribed DOFs, of ``component`` (0..5) of ``support``.
+        """Position, within the prescribed DOFs, of ``component`` (0..5) of ``support`` (clamped,
+        or an isolator's support node).
 
-        Raises KeyError if the support is not clamped.
+        Raises KeyError if the support is free.
         """
-        if self.spec.supports[support] != "clamped":
+        if self.spec.supports.get(support) == "free":
             raise KeyError(f"{self.name}.{support} is a free support")
         dof = self.support_dofs(support)[component]
         return int(np.searchsorted(self.prescribed, dof))
 
     def blocks(self, A):
-        """Dense partitioned blocks (A_ff, A_fp, A_pf, A_pp) of Eq. (13)."""
+        """Dense partitioned blocks (A_ff, A_fp, A_pf, A_pp) of Eq. (13) of an augmented matrix
+        (or of a beam-size one, taken onto the augmented DOFs without mounts)."""
         A = A.toarray() if sp.issparse(A) else A
+        if A.shape[0] != self.n_augmented:
+            A = self.augmented(A)
         f, p = self.free, self.prescribed
         return A[np.ix_(f, f)], A[np.ix_(f, p)], A[np.ix_(p, f)], A[np.ix_(p, p)]
 
     @cached_property
     def K_blocks(self):
-        return self.blocks(self.K)
+        """K's blocks with the mounts' static stiffness K6."""
+        return self.blocks(self.augmented(self.K, [m.K6 for m in self.mounts]))
 
     @cached_property
     def M_blocks(self):
@@ -152,7 +200,9 @@ def assemble_body(model, name, E=None, check_buckling=True):
         for s in SUPPORT_NAMES
         if spec.supports[s] == "clamped"
     ]
-    prescribed = np.sort(np.concatenate(pres)) if pres else np.zeros(0, dtype=int)
+    mounts = mounts_of(model, name, cl)
+    pres.append(np.arange(ndof, ndof + DOF_PER_NODE * len(mounts)))  # the mounts' support nodes
+    prescribed = np.sort(np.concatenate(pres)).astype(int)
     free = np.setdiff1d(np.arange(ndof), prescribed)
     system = BodySystem(
         name=name,
@@ -165,6 +215,7 @@ def assemble_body(model, name, E=None, check_buckling=True):
         support_nodes=support_nodes,
         prescribed=prescribed,
         free=free,
+        mounts=mounts,
         K_E=K_E,
         K_G=K_G,
         N0=N0,

@@ -1,9 +1,11 @@
 """Centerline geometry: arc-length curve, equal-arc nodes, element frames, curvature.
 
-The centerline at rest is shared by both bodies. Through the model's points it is either a cubic
-spline (``curve = "spline"``, parametrised by chord length and then re-parametrised by arc length)
-or the polyline itself (``curve = "polyline"``). It is cut into ``n_elements`` straight elements of
-equal arc length; each element carries a right-handed local frame (x along the element chord). The
+The centerline at rest is shared by both bodies. Routed by segments (``[geometry] segments``,
+:mod:`.routing`) it is the exact curve of straights and circular arcs: the nodes lie on the arcs
+and carry the exact tangent and curvature (1/R in a bend). Through the model's points it is either
+a cubic spline (``curve = "spline"``, parametrised by chord length and then re-parametrised by arc
+length) or the polyline itself (``curve = "polyline"``). It is cut into ``n_elements`` straight
+elements of equal arc length; each element carries a right-handed local frame (x along the element chord). The
 frame's y axis is carried from element to element by parallel transport (the minimal rotation that
 takes one chord direction into the next), so the frame is well defined on straight and on curved
 segments alike. Of the Frenet frame of Eqs. (33)-(35) the model needs the unit tangent (Eq. 33) at
@@ -23,6 +25,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import cumulative_trapezoid
 from scipy.interpolate import CubicSpline, make_interp_spline
+
+from .routing import SegmentRoute
 
 
 @dataclass(frozen=True)
@@ -170,7 +174,31 @@ def corner_curvature(directions, lengths):
     return k
 
 
-def centerline_of(model):
-    """The centerline of a :class:`~cablecasing_core.model.Model` (shared by both bodies)."""
+def route_of(model):
+    """The :class:`~.routing.SegmentRoute` of a model routed by segments, else None (points)."""
     g = model.geometry
-    return build_centerline(g["points"], g["n_elements"], g["curve"])
+    if "segments" not in g:
+        return None
+    return SegmentRoute(g["start"], g["direction"], g["segments"])
+
+
+def centerline_from_route(route, n_elements):
+    """Discretise a :class:`~.routing.SegmentRoute` into ``n_elements`` elements of equal arc
+    length: nodes on the exact curve, with its exact unit tangent and curvature (1/m)."""
+    s = np.linspace(0.0, route.length, n_elements + 1)
+    nodes, tangents, curvature, kvec = route._evaluate(s)
+    frames, lengths = element_frames(nodes)
+    return Centerline(
+        nodes=nodes, s=s, tangents=tangents, curvature=curvature, frames=frames, lengths=lengths, curvature_vectors=kvec
+    )
+
+
+def centerline_of(model, n_elements=None):
+    """The centerline of a :class:`~cablecasing_core.model.Model` (shared by both bodies), with
+    the model's ``geometry.n_elements`` or ``n_elements`` elements."""
+    g = model.geometry
+    n = g["n_elements"] if n_elements is None else int(n_elements)
+    route = route_of(model)
+    if route is not None:
+        return centerline_from_route(route, n)
+    return build_centerline(g["points"], n, g["curve"])

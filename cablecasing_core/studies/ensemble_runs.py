@@ -18,7 +18,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..model.limits import MAX_SEEDS
-from ..model.schema import SUPPORT_OUTPUTS
+from ..model.schema import SUPPORT_OUTPUTS, clip_outputs
 from ..model.validators import Choice, integer, seconds
 from .ensemble import Ensemble
 from .evaluators import DEFAULT_EVALUATE, check_record_settings
@@ -74,7 +74,7 @@ def seed_ensemble(
     seeds : int or sequence of int
         ``n`` gives seeds 1..n (n >= 2); or the seeds themselves (unique, >= 0).
     output : str
-        Support output, e.g. ``"casing.B.Fz"`` (N) or ``"casing.B.Mx"`` (N.m).
+        Support output, e.g. ``"casing.B.Fz"`` (N) or ``"casing.B.Mx"`` (N.m), or a clip's ``"casing.clip0.Fz"``.
     bands : str or Bands
         Band set (``"table3"``, ``"octave"``, ``"third"``; Hz).
     duration, dt : float, optional
@@ -110,7 +110,7 @@ def seed_ensemble(
     seconds("duration", duration, none_ok=True)
     seconds("dt", dt, none_ok=True)
     seconds("skip", skip, zero_ok=True)
-    Choice(*SUPPORT_OUTPUTS)("output", output)
+    Choice(*SUPPORT_OUTPUTS, *clip_outputs(model))("output", output)  # (a clip's force too)
     band_set = bands if isinstance(bands, Bands) else octave_bands(bands)
     names = _check_excitations(model, excitations)
     overrides = dict(overrides or {})

@@ -16,7 +16,7 @@ import numpy as np
 from scipy.linalg import cho_factor, cho_solve
 
 from ..frequency.modal import natural_frequencies
-from ..model.schema import BODY_NAMES
+from ..model.schema import BODY_NAMES, CHANNELS
 from ..structure.assembly import assemble_body
 from . import kernels as K
 
@@ -119,9 +119,17 @@ def time_domain_system(model, name):
 
 class BodyStorage:
     """Matrices in diagonal storage, factorisations and state of one body (plain arrays for the
-    kernels); ``f`` its constant load at rest (N, N.m, all DOFs; an installed model's)."""
+    kernels); ``f`` its constant load at rest (N, N.m, all DOFs; an installed model's).
+    ``channels``: the engine's support channels (the mounts' supports are driven by theirs;
+    default :data:`~cablecasing_core.model.schema.CHANNELS`).
 
-    def __init__(self, model, name, system=None):
+    The mounts (isolators and clips) are springs and dampers from a node to its support: the
+    node's DOFs stay free, K6 + 2/dt C6 joins the effective stiffness of its node block (so the
+    factor stays block tridiagonal), the support's motion enters the predictor's right-hand side,
+    and the force through the mount is the support's reaction (``kernels.mount_forces``). Their
+    state, the supports' motion ``mb`` and the forces ``mF``, is the engine's (set by it)."""
+
+    def __init__(self, model, name, system=None, channels=CHANNELS):
         sysm = time_domain_system(model, name) if system is None else system
         self.system = sysm
         self.f = np.asarray(sysm.f, dtype=float).copy()
@@ -141,7 +149,7 @@ class BodyStorage:
         # the node blocks holding the free DOFs (the block solve works on whole nodes)
         self.g0 = 6 * (self.f0 // 6)
         self.ng = 6 * -(-(self.f0 + self.nf) // 6) - self.g0 if self.nf else 0
-        self.pres = sysm.prescribed.astype(np.int64)
+        self.pres = sysm.prescribed[sysm.prescribed < n].astype(np.int64)  # (not the mounts' support nodes)
         bi = BODY_NAMES.index(name)
         pchan, pslot = [], []
         for j in self.pres:
@@ -153,6 +161,19 @@ class BodyStorage:
         self.pslot = np.array(pslot, np.int64)
         self.sup, self.sup_lo = support_rows(Md, Kd, self.pres, b)
         self.cpl_i, self.cpl_v = coupling_triplets(Kd, self.pres, free)
+        self.mounts = sysm.mounts
+        nm = len(self.mounts)
+        self.mi = np.full((nm, 5), -1, np.int64)
+        self.mKC = np.zeros((nm, 2, 6, 6))
+        for m, mt in enumerate(self.mounts):
+            self.mi[m, 0] = 6 * mt.node
+            if mt.channels is not None:
+                self.mi[m, 1:4] = [channels.index(c) for c in mt.channels]
+            if mt.support is not None:
+                self.mi[m, 4] = 6 * "AB".index(mt.support)
+            self.mKC[m] = mt.K6, mt.C6
+        self.mb = np.zeros((nm, 2, 6))  # (views into the engine's state buffer once it allocates)
+        self.mF = np.zeros((nm, 6))
         self._factors = BoundedCache(FACTOR_CACHE_SIZE)
         self.U = np.zeros(n)
         self.V = np.zeros(n)
@@ -169,6 +190,9 @@ class BodyStorage:
             g = slice(self.g0, self.g0 + self.ng)
             Keff = (1 + 2 * self.beta / dt) * self.K_full[g, g] + (4 / dt**2 + 2 * self.alpha / dt) * self.M_full[g, g]
             inner = [j - self.g0 for j in self.pres if self.g0 <= j < self.g0 + self.ng]
+            for mt in self.mounts:  # the mounts' springs and dampers on their node blocks
+                j = slice(6 * mt.node - self.g0, 6 * mt.node - self.g0 + 6)
+                Keff[j, j] += mt.K6 + (2.0 / dt) * mt.C6
             Keff[inner, :] = 0.0
             Keff[:, inner] = 0.0
             Keff[inner, inner] = 1.0
@@ -218,8 +242,13 @@ class BodyStorage:
         return cached
 
     def energy(self):
-        """(kinetic, strain) energy in J."""
-        return 0.5 * self.V @ self.M_full @ self.V, 0.5 * self.U @ self.K_full @ self.U
+        """(kinetic, strain) energy in J; the strain energy includes the mounts' springs,
+        1/2 r K6 r with r the node's displacement relative to its support."""
+        strain = 0.5 * self.U @ self.K_full @ self.U
+        for m, mt in enumerate(self.mounts):
+            r = self.U[6 * mt.node : 6 * mt.node + 6] - self.mb[m, 0]
+            strain += 0.5 * r @ mt.K6 @ r
+        return 0.5 * self.V @ self.M_full @ self.V, strain
 
 
 _DUMMY_BLOCK = np.zeros((0, 6, 6))
@@ -241,6 +270,7 @@ def body_arrays(body, dt, contact, fc):
             pres=body.pres if body else i0, pchan=body.pchan if body else i0, pslot=body.pslot if body else i0,
             Kinv=np.zeros((n, n)),  # nothing responds
             sup=np.zeros((0, 2, 1)), sup_lo=i0, cpl_i=np.zeros((2, 0), np.int64), cpl_v=np.zeros(0), fc=fc,
+            mi=np.zeros((0, 5), np.int64), mKC=np.zeros((0, 2, 6, 6)), mb=np.zeros((0, 2, 6)), mF=np.zeros((0, 6)),
             loaded=False, fext=z, uext=z,
         )  # fmt: skip
     Dinv, L, LT, inv = body.factors(dt, contact)
@@ -249,5 +279,6 @@ def body_arrays(body, dt, contact, fc):
         on=True, Md=body.Md, Kd=body.Kd, Dinv=Dinv, L=L, LT=LT, g0=body.g0, ng=body.ng, f0=body.f0, nf=body.nf,
         alpha=body.alpha, beta=body.beta, U=body.U, V=body.V, A=body.A, pres=body.pres, pchan=body.pchan,
         pslot=body.pslot, Kinv=inv, sup=body.sup, sup_lo=body.sup_lo, cpl_i=body.cpl_i, cpl_v=body.cpl_v, fc=fc,
+        mi=body.mi, mKC=body.mKC, mb=body.mb, mF=body.mF,
         loaded=body.loaded, fext=body.f if body.loaded else np.zeros(1), uext=uext,
     )  # fmt: skip

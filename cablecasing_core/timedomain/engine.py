@@ -27,7 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import ModelError, SimulationError
-from ..model.schema import CHANNELS, OUTPUTS, lookup
+from ..model.schema import CHANNELS, OUTPUTS, channels_of, lookup, outputs_of
 from ..model.validators import seconds
 from . import kernels as K
 from .body_storage import FACTOR_CACHE_SIZE, BodyStorage, BoundedCache, body_arrays
@@ -89,7 +89,11 @@ class Engine:
         lookup("scenario.dt").check(dt, "dt")
         self.model = model
         self.dt = float(dt)
-        self.bodies = {n: BodyStorage(model, n) for n in model.bodies}
+        #: the support channels (``channels_of``: the 12 of CHANNELS, then the excited clips') and
+        #: the outputs (``outputs_of``: OUTPUTS, then the clips' forces) of this model
+        self.channels, self.output_names = channels_of(model), outputs_of(model)
+        self.bodies = {n: BodyStorage(model, n, channels=self.channels) for n in model.bodies}
+        self.n_forces = 24 + (len(self.output_names) - len(OUTPUTS))  # recorded: the supports', the clips' forces
         both = "casing" in self.bodies and "cable" in self.bodies
         contact = model.contact["enabled"] if contact is None else bool(contact)
         self.contact = contact and both
@@ -144,6 +148,7 @@ class Engine:
         ns = self.bodies["casing"].system.ndof if "casing" in self.bodies else 1
         nc = self.bodies["cable"].system.ndof if "cable" in self.bodies else 1
         floats = [(b, k, (len(b.U),)) for b in self.bodies.values() for k in "UVA"]
+        floats += [(b, k, getattr(b, k).shape) for b in self.bodies.values() for k in ("mb", "mF")]
         floats += [
             (self, k, shape)
             for k, shape in (
@@ -201,6 +206,8 @@ class Engine:
         if st is not None:
             for n, b in self.bodies.items():
                 b.U[:] = st.U[n]
+                for m, mt in enumerate(b.mounts):  # the mounts' static forces (their supports at rest)
+                    b.mF[m] = mt.K6 @ b.U[6 * mt.node : 6 * mt.node + 6]
             self.reac[:] = st.reactions
             if self.contact:
                 on = st.normal_force > 0.0
@@ -220,6 +227,8 @@ class Engine:
         s = {"time": np.array([self.time])}
         for n, b in self.bodies.items():
             s[f"{n}.U"], s[f"{n}.V"], s[f"{n}.A"] = b.U.copy(), b.V.copy(), b.A.copy()
+            if b.mounts:
+                s[f"{n}.mb"], s[f"{n}.mF"] = b.mb.copy(), b.mF.copy()
         for a in self._ARRAYS:
             s[a] = getattr(self, a).copy()
         return s
@@ -245,6 +254,7 @@ class Engine:
         """Restore a state from :meth:`get_state` (continuation is bit-identical). Every entry is
         checked before any is written, so a bad state leaves the engine as it was."""
         targets = [(f"{n}.{k}", getattr(b, k)) for n, b in self.bodies.items() for k in "UVA"]
+        targets += [(f"{n}.{k}", getattr(b, k)) for n, b in self.bodies.items() if b.mounts for k in ("mb", "mF")]
         targets += [(a, getattr(self, a)) for a in self._ARRAYS]
         try:
             time = float(np.asarray(state["time"]).reshape(-1)[0])
@@ -267,7 +277,7 @@ class Engine:
             cap = n * len(self.Xc)
             rec = K.Recording(
                 True,
-                np.zeros((n, 24)),
+                np.zeros((n, self.n_forces)),
                 np.zeros(n + 1, np.int64),
                 np.empty(cap, np.int32),
                 np.empty(cap, np.int8),
@@ -336,7 +346,7 @@ class Engine:
             r, c, q = (int(info[i]) for i in (K.INFO_INPUT_ROW, K.INFO_INPUT_CHANNEL, K.INFO_INPUT_KIND))
             name = ("displacement", "velocity", "acceleration")[q]
             raise ModelError(
-                f"{CHANNELS[c]} {name}", float((up, vp, ap)[q][r, c]), f"must be finite (at t = {times[r]:.6g} s)"
+                f"{self.channels[c]} {name}", float((up, vp, ap)[q][r, c]), f"must be finite (at t = {times[r]:.6g} s)"
             )
         what = {
             K.ERR_NAN: "the solution is no longer finite (NaN/inf): the step is unstable or the input is",
@@ -385,11 +395,13 @@ class Engine:
                     j1 = min(m, j0 + self.CHUNK)
                     times = t + dt * np.arange(j0 + 1, j1 + 1)  # as if evaluated in one piece
                     u, v, a = (np.ascontiguousarray(x, dtype=float) for x in motion(times))
+                    nch = len(self.channels)
+                    if nch > len(CHANNELS) and u.shape == (j1 - j0, len(CHANNELS)):
+                        # a motion of the 12 fixed channels (an FMU's): the clips' supports stay at rest
+                        u, v, a = (np.hstack([x, np.zeros((j1 - j0, nch - len(CHANNELS)))]) for x in (u, v, a))
                     for x in (u, v, a):
-                        if x.shape != (j1 - j0, len(CHANNELS)):
-                            raise ModelError(
-                                "motion", x.shape, f"must return arrays of shape ({j1 - j0}, {len(CHANNELS)})"
-                            )
+                        if x.shape != (j1 - j0, nch):
+                            raise ModelError("motion", x.shape, f"must return arrays of shape ({j1 - j0}, {nch})")
                     self._run(dt, u, v, a, times)  # (non-finite motion is refused there, before any step)
                 self.time = float(t + m * dt)
         except BaseException:
@@ -410,16 +422,17 @@ class Engine:
         return float(sum(b.f @ (b.U - self.static.U[n]) for n, b in self.bodies.items()))
 
     def energies(self) -> dict[str, float]:
-        """Energy ledger in J: kinetic, strain, contact potential, work done by the supports and by
-        the constant loads at rest (an installed model's gravity, tension and rest shape),
-        dissipated by Rayleigh damping, dissipated in the contacts (damping and friction together:
-        the work of the contact forces less the change of the stored contact energy), and the
-        balance residual (energy now minus the energy at the start plus supplied work less
+        """Energy ledger in J: kinetic, strain (with the mounts' springs), contact potential, work
+        done by the supports (through the mounts too) and by the constant loads at rest (an
+        installed model's gravity, tension and rest shape), dissipated by Rayleigh damping, by the
+        mounts' dampers (``mount_dissipation``), dissipated in the contacts (damping and friction
+        together: the work of the contact forces less the change of the stored contact energy), and
+        the balance residual (energy now minus the energy at the start plus supplied work less
         dissipation). Strain and contact energy are totals, the static state's included."""
         kin = sum(b.energy()[0] for b in self.bodies.values())
         strain = sum(b.energy()[1] for b in self.bodies.values())
         pot = self.contact_potential()
-        w_sup, d_ray, e_start, d_fric, w_con, d_damp = (
+        w_sup, d_ray, e_start, d_fric, w_con, d_damp, d_mount = (
             self.ledger[i]
             for i in (
                 K.LEDGER_SUPPORT_WORK,
@@ -428,11 +441,12 @@ class Engine:
                 K.LEDGER_FRICTION_DISSIPATION,
                 K.LEDGER_CONTACT_WORK,
                 K.LEDGER_DAMPING_DISSIPATION,
+                K.LEDGER_MOUNT_DISSIPATION,
             )
         )
         d_con = -w_con - (pot - self._pot0)
         w_ext = self.load_work()
-        residual = kin + strain + pot - (e_start + w_sup + w_ext - d_ray - d_con)
+        residual = kin + strain + pot - (e_start + w_sup + w_ext - d_ray - d_con - d_mount)
         return {
             "kinetic": kin,
             "strain": strain,
@@ -443,17 +457,29 @@ class Engine:
             "contact_dissipation": d_con,
             "contact_damping_dissipation": d_damp,
             "friction_dissipation": d_fric,
+            "mount_dissipation": d_mount,
             "residual": residual,
         }
 
     def output_values(self, out: np.ndarray | None = None) -> np.ndarray:
-        """The values of :meth:`outputs` as an array in the order of :data:`OUTPUTS` (written into
-        ``out`` when given): one call instead of a dict, for the FMU's per-step reads."""
-        out = np.empty(len(OUTPUTS)) if out is None else out
+        """The values of :meth:`outputs` as an array in the order of :attr:`output_names`
+        (:data:`OUTPUTS`, then the clips' forces; written into ``out`` when given, which may hold
+        OUTPUTS only): one call instead of a dict, for the FMU's per-step reads."""
+        out = np.empty(len(self.output_names)) if out is None else out
         K.step_outputs(
             self.reac, self.cstate, self.gn, self.ledger, self.law, self.k_lin, self.k_hertz, self._pot0, out
         )
+        if len(out) > len(OUTPUTS):
+            out[len(OUTPUTS) :] = self.clip_forces().ravel()
         return out
+
+    def clip_forces(self) -> np.ndarray:
+        """(n_clips, 6): the force and moment (N, N.m, global axes) the casing exerts through each
+        clip on its support now, in file order."""
+        b = self.bodies.get("casing")
+        if b is None:
+            return np.zeros((0, 6))
+        return np.array([b.mF[m] for m, mt in enumerate(b.mounts) if mt.support is None]).reshape(-1, 6)
 
     def advance_reconstructed(
         self,
@@ -498,7 +524,7 @@ class Engine:
             self._cstep_memo = None  # recon.motion may change recon's G
             motion = quintic = recon.motion(self.time, h, u, v, a)
             if base is not None:
-                motion = lambda t: tuple(x + y for x, y in zip(quintic(t), base(t)))  # noqa: E731
+                motion = lambda t: tuple(self._widen(x) + y for x, y in zip(quintic(t), base(t)))  # noqa: E731
             self.advance(h, motion)
             recon.accept(quintic)
             self.output_values(out)
@@ -521,6 +547,12 @@ class Engine:
             self._raise_for_status(status, motion[0], motion[1], motion[2], times)
         self.time = float(t0 + m * self.dt)
 
+    def _widen(self, x):
+        """A motion's (n, 12) array with zero columns for the model's further channels (an excited
+        clip's support at rest unless the model's own scenario moves it)."""
+        extra = len(self.channels) - x.shape[1]
+        return np.hstack([x, np.zeros((x.shape[0], extra))]) if extra > 0 else x
+
     def _fused_context(self, key, recon, u, v, a, out, base):
         """(m, the context of :meth:`advance_reconstructed`) when its step ``key[0]`` (s) is one
         compiled call (a whole number m of steps of ``dt``, at most :attr:`CHUNK`, nothing
@@ -529,6 +561,8 @@ class Engine:
         h, law = key[0], key[3]
         m = math.floor(h / self.dt * (1 + 1e-12))
         if not (0 < m <= self.CHUNK and h - m * self.dt <= 1e-9 * self.dt and not self.record and self.time != 0.0):
+            return m, None
+        if len(self.channels) > len(CHANNELS):  # (excited clips: the fused step knows the 12 channels only)
             return m, None
         cached = self._call_args.get((self.dt, self.ledger_on, False, law))
         if cached is None:
@@ -561,8 +595,8 @@ class Engine:
         return ctx
 
     def outputs(self) -> dict[str, float]:
-        """Current outputs ``{name: value}`` for the names in :data:`OUTPUTS` (N, N.m, m, J)."""
-        out = dict(zip(OUTPUTS, self.output_values().tolist()))
+        """Current outputs ``{name: value}`` for the names in :attr:`output_names` (N, N.m, m, J)."""
+        out = dict(zip(self.output_names, self.output_values().tolist()))
         out["contact.active"] = int(out["contact.active"])
         return out
 

@@ -44,7 +44,7 @@ from scipy.interpolate import CubicSpline
 
 from ..errors import ModelError
 from ..files import read_csv_table
-from ..model.schema import CHANNELS, DIRECTIONS
+from ..model.schema import CHANNELS, DIRECTIONS, channels_of
 from ..structure.geometry import centerline_of
 from .random_record import RandomRecord
 
@@ -134,7 +134,8 @@ def _signal(e, dt, key="scenario.excitation.file"):
 
 class ScenarioMotion:
     """The summed support motion of a model's scenario: callable t (s, array) -> (u, v, a), each
-    of shape (len(t), 12) in the order of ``CHANNELS`` (m, m/s, m/s2). ``dt`` (s, default the
+    of shape (len(t), n) in the order of the model's channels (m, m/s, m/s2; ``channels_of``: the
+    12 of ``CHANNELS``, then those of its excited clips). ``dt`` (s, default the
     scenario's) is the grid on which random records are evaluated in blocks (see module docstring)."""
 
     def __init__(self, model, dt=None):
@@ -142,8 +143,15 @@ class ScenarioMotion:
         self.dt = float(sc["dt"] if dt is None else dt)
         self.terms = []
         self.ramp = sc.get("ramp", 0.0)
+        self.channels = channels_of(model)
         cl = None
         for name, e in sc["excitation"].items():
+            key = f"scenario.excitation.{name}.file"
+            if e["target"].count(".") == 1:  # a clip's own channel
+                clip, direction = e["target"].split(".")
+                col = self.channels.index(f"{clip}.x")
+                self.terms.append((col, np.eye(3)[DIRECTIONS.index(direction)], _signal(e, self.dt, key)))
+                continue
             body, support, direction = e["target"].split(".")
             if direction == "axial":
                 cl = centerline_of(model) if cl is None else cl
@@ -160,7 +168,7 @@ class ScenarioMotion:
         on = np.abs(t / self.dt - k) < 1e-9
         t = np.where(on, k * self.dt, t)  # a sample's time is its index times dt (module docstring)
         grid = (on, k.astype(np.int64))
-        out = [np.zeros((len(t), len(CHANNELS))) for _ in range(3)]
+        out = [np.zeros((len(t), len(self.channels))) for _ in range(3)]
         for col, wts, sig in self.terms:
             for o, s in zip(out, sig(t, grid)):
                 o[:, col : col + 3] += s[:, None] * wts[None, :]

@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike
 
 from ..errors import ModelError
 from ..model.limits import check_time_domain
-from ..model.schema import CONTACT_OUTPUTS, INPUTS, SUPPORT_OUTPUTS, lookup
+from ..model.schema import CONTACT_OUTPUTS, INPUTS, SUPPORT_OUTPUTS, clip_outputs, inputs_of, lookup
 from ..model.validate import step_checks
 from ..model.validators import Choice, seconds
 from .engine import Engine
@@ -39,7 +39,8 @@ class SimulationResult:
     """Histories of a run (SI units).
 
     time (s, n); support_forces (N, N.m; n x 24 in the order of ``SUPPORT_OUTPUTS``: the
-    force each body exerts on each support); contact_state (n x nodes: 0 open, 1 stick, 2 slip);
+    force each body exerts on each support, then six per clip of the casing, the force it exerts
+    through the clip: ``force_names``); contact_state (n x nodes: 0 open, 1 stick, 2 slip);
     normal_force (N) and penetration (m) per cable node; contact_time (s per cable node: the
     highest-contact-area histogram of Fig. 22); curvature (1/m per node); arc_length (m per node);
     energies (J); inputs: {name: (n,)} the support motion of the driven channels at ``time``
@@ -56,11 +57,13 @@ class SimulationResult:
     arc_length: np.ndarray
     energies: dict
     inputs: dict = field(default_factory=dict)
+    force_names: tuple = SUPPORT_OUTPUTS
 
     def support_force(self, name: str) -> np.ndarray:
-        """History of one support output, e.g. ``"casing.B.Fz"`` (N or N.m)."""
-        Choice(*SUPPORT_OUTPUTS)("output", name)
-        return self.support_forces[:, SUPPORT_OUTPUTS.index(name)]
+        """History of one support output, e.g. ``"casing.B.Fz"`` or a clip's ``"casing.clip0.Fy"``
+        (N or N.m)."""
+        Choice(*self.force_names)("output", name)
+        return self.support_forces[:, self.force_names.index(name)]
 
     def records(self, output_interval: float | None = None) -> Records:
         """The run as a :class:`~cablecasing_core.records.Records`: the 24 support outputs,
@@ -70,7 +73,7 @@ class SimulationResult:
         from ..records import Records, unit_of
 
         keep = slice(None, None, self._stride(output_interval))
-        cols = {n: self.support_forces[keep, i] for i, n in enumerate(SUPPORT_OUTPUTS)}
+        cols = {n: self.support_forces[keep, i] for i, n in enumerate(self.force_names)}
         cols[CONTACT_OUTPUTS[0]] = np.count_nonzero(self.contact_state[keep], axis=1).astype(float)
         pen = self.penetration[keep]
         cols[CONTACT_OUTPUTS[1]] = pen.max(axis=1) if pen.shape[1] else np.zeros(len(cols[CONTACT_OUTPUTS[0]]))
@@ -110,14 +113,16 @@ class SimulationResult:
         if missing or not str(path).endswith(".npz"):
             raise ModelError("file", str(path), "must be an .npz file written by SimulationResult.save")
         x = rec.extra
+        names = SUPPORT_OUTPUTS + tuple(n for n in rec.columns if n.startswith("casing.clip"))
         return cls(
             time=rec.time,
-            support_forces=np.column_stack([rec.columns[n] for n in SUPPORT_OUTPUTS]),
+            support_forces=np.column_stack([rec.columns[n] for n in names]),
+            force_names=names,
             contact_time=x["contact_time"],
             curvature=x["curvature"],
             arc_length=x["arc_length"],
             energies={str(k): float(v) for k, v in x["energies"]},
-            inputs={n: rec.columns[n] for n in rec.columns if n in INPUTS},
+            inputs={n: rec.columns[n] for n in rec.columns if n in INPUTS or n.count(".") == 1},
             **{n: x[n] for n in _NODE_ARRAYS},
         )
 
@@ -168,7 +173,8 @@ def simulate(
     cl = eng.bodies[next(iter(eng.bodies))].system.centerline
     # the step ends; a duration that is not a whole number of steps ends with a shorter one
     time = np.minimum(dt * np.arange(1, n + 1), eng.time)
-    cols = [INPUTS.index(name) for name in inputs]
+    names = inputs_of(model)
+    cols = [names.index(name) for name in inputs]
     table = np.empty((n, len(cols)))
     for i in range(0, n if cols else 0, 65536):  # (in pieces: all 36 inputs of a long run would not fit)
         table[i : i + 65536] = np.hstack(motion(time[i : i + 65536]))[:, cols]
@@ -183,6 +189,7 @@ def simulate(
         arc_length=cl.s,
         energies=eng.energies(),
         inputs={name: table[:, j] for j, name in enumerate(inputs)},
+        force_names=SUPPORT_OUTPUTS + clip_outputs(model),
     )
 
 

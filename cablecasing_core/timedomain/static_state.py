@@ -148,7 +148,7 @@ def solve_static(model: Model, systems: dict, contact: bool) -> StaticState:
     fz = np.zeros(o)
     for n in names:
         s, i = systems[n], offs[n]
-        Kz[np.ix_(i, i)] = s.K.toarray()[np.ix_(s.free, s.free)]
+        Kz[np.ix_(i, i)] = s.K_blocks[0]  # (the free DOFs' tangent stiffness, the mounts' springs with it)
         fz[i] = loads[n][s.free]
     U = {n: np.zeros(systems[n].ndof) for n in names}
     ev = _Evaluator(model, systems, U, offs) if contact else _NoContact(o)
@@ -165,9 +165,12 @@ def solve_static(model: Model, systems: dict, contact: bool) -> StaticState:
         s = systems[n]
         r = loads[n] + fc[n] - s.K @ U[n]  # the force the body exerts on its supports
         for sup in SUPPORT_NAMES:
+            i = SUPPORT_OUTPUTS.index(f"{n}.{sup}.{FORCE_NAMES[0]}")
             if s.spec.supports[sup] == "clamped":
-                i = SUPPORT_OUTPUTS.index(f"{n}.{sup}.{FORCE_NAMES[0]}")
                 reac[i : i + 6] = r[s.support_dofs(sup)]
+            elif s.spec.supports[sup] == "isolator":  # the force through the isolator, K6 u_node
+                mt = s.mounts[s.mount_of_support(sup)]
+                reac[i : i + 6] = mt.K6 @ U[n][6 * mt.node : 6 * mt.node + 6]
     zeros = np.zeros(nn)
     return StaticState(
         U=U,

@@ -32,7 +32,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..model.schema import CHANNELS
 from ..model.validators import seconds
 from . import kernels as K
 
@@ -180,6 +179,7 @@ class GridMotion:
     CHUNK = 2048
 
     def __init__(self, motion: Motion, dt: float):
+        self._width = None
         self.motion, self.dt = motion, float(dt)
         self._k0, self._values = None, None
 
@@ -213,6 +213,8 @@ class GridMotion:
         )
         if not on_grid:
             return self.motion(t)
-        out = np.empty((3, len(t), len(CHANNELS)))
+        if self._width is None:  # (the motion's channels: 12, or more with excited clips)
+            self._width = np.shape(self.motion(t[:1])[0])[1]
+        out = np.empty((3, len(t), self._width))
         self.fill(int(k[0]) - 1, out)
         return out[0], out[1], out[2]

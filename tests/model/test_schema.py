@@ -75,6 +75,9 @@ def test_a_minimal_file_gets_every_default_of_the_schema():
     for key, spec in SCHEMA.items():
         if key in given or spec.default in (REQUIRED, OPTIONAL) or key.startswith("scenario.excitation"):
             continue
+        # keys of tables this file does not have: a route by segments, isolators, clips
+        if key in ("geometry.start", "geometry.direction") or "<support>" in key or "[]" in key:
+            continue
         table, name = key.rsplit(".", 1)
         node = clean
         for part in table.split("."):

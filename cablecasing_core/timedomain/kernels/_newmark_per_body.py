@@ -15,8 +15,9 @@ TINY = 1e-200  # m, m/s, m/s2: states below this are flushed to zero (see finish
 
 @njit(**NO_RT)
 def predict(
-    Md, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan, cpl_i, cpl_v, up, vp, ap, step, dt, y1, r
-):
+    Md, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan, cpl_i, cpl_v, up, vp, ap, step, dt, y1, r,
+    mi, mKC, mb,
+):  # fmt: skip
     """Contact-free Newmark predictor: prescribe the supports at t+dt (Eq. 13) and solve
     S_ff u_f = [M (c0 u + 2 c1 v + a) + C (c1 u + v)]_f - (coupling to the prescribed DOFs) for the
     free DOFs, S = K + c1 C + c0 M = ck K + cm M, C = alpha M + beta K, c0 = 4/dt^2, c1 = 2/dt,
@@ -29,7 +30,12 @@ def predict(
     triplets: row cpl_i[0, m], support cpl_i[1, m] (index into pres), value cpl_v[m] (N/m). The
     solve runs over the node blocks g0 .. g0+ng-1 that hold the free DOFs (prescribed DOFs among
     them are identity rows with zero right-hand side). The supports move as row ``step`` of up, vp,
-    ap (m, m/s, m/s2, by channel). y1 is a padded scratch vector, r has ng."""
+    ap (m, m/s, m/s2, by channel). y1 is a padded scratch vector, r has ng.
+
+    Mounts (isolators, clips; rows of mi, mKC, mb, see ``BodyArrays``): a spring K6 and damper C6
+    from the node to its support, whose motion (u_b, v_b) at t+dt is set into mb here. Their part of
+    S, K6 + c1 C6 = D6, is in the factor; on the right-hand side they add C6 (c1 u + v) and the
+    support's K6 u_b + C6 v_b at the node, less D6 z / ck (the z/ck split above assumed S = ck K + cm M)."""
     b = (Md.shape[0] - 1) // 2
     n = U.shape[0]
     c0 = 4.0 / (dt * dt)
@@ -63,12 +69,25 @@ def predict(
             acc -= cpl_v[m] * (U[j] + beta * V[j])
             m += 1
         r[row - g0] = acc
+    bk = beta / ck
+    for m in range(mi.shape[0]):
+        for i in range(3):
+            ch = mi[m, 1 + i]
+            mb[m, 0, i] = up[step, ch] if ch >= 0 else 0.0
+            mb[m, 1, i] = vp[step, ch] if ch >= 0 else 0.0
+        j0 = mi[m, 0]
+        for i in range(6):
+            acc = 0.0
+            for j in range(6):
+                kij, cij = mKC[m, 0, i, j], mKC[m, 1, i, j]
+                w = c1 * U[j0 + j] + V[j0 + j]
+                acc += (cij - bk * (kij + c1 * cij)) * w + kij * mb[m, 0, j] + cij * mb[m, 1, j]
+            r[j0 + i - g0] += acc
     for k in range(len(pres)):
         if g0 <= pres[k] < g0 + ng:
             r[pres[k] - g0] = 0.0
     block_solve(Dinv, L, LT, r)
     u, v, rf = U[f0 : f0 + nf], V[f0 : f0 + nf], r[f0 - g0 : f0 - g0 + nf]
-    bk = beta / ck
     for i in range(nf):
         u[i] = rf[i] + bk * (c1 * u[i] + v[i])
 
@@ -163,3 +182,42 @@ def load_reactions(fext, pres, pslot, out, off):
     prescribed DOFs (N, N.m) goes straight into the supports (added to :func:`reactions`' out)."""
     for q in range(len(pres)):
         out[off + pslot[q]] += fext[pres[q]]
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def mount_forces(mi, mKC, mb, U, V, mF, out, off):
+    """Force each mount passes to its support, F = K6 (u - u_b) + C6 (v - v_b) (N, N.m, global
+    axes; the node's state U, V, the support's mb), into mF and, for an isolator, into
+    out[off + slot .. off + slot + 5] (the support's six reactions)."""
+    for m in range(mi.shape[0]):
+        j0 = mi[m, 0]
+        for i in range(6):
+            acc = 0.0
+            for j in range(6):
+                acc += mKC[m, 0, i, j] * (U[j0 + j] - mb[m, 0, j]) + mKC[m, 1, i, j] * (V[j0 + j] - mb[m, 1, j])
+            mF[m, i] = acc
+        slot = mi[m, 4]
+        if slot >= 0:
+            for i in range(6):
+                out[off + slot + i] = mF[m, i]
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def mount_ledger(mi, mKC, mb, mbo, U, Uo, V, Vo, mF, mFo):
+    """(work of the mounts' supports, dissipation of their dampers) over a step, J: the supports do
+    -1/2 (F_old + F_new) . (u_b,new - u_b,old) (the trapezoidal rule of the support work); the
+    dampers take 1/2 C6 (w_old + w_new) . (r_new - r_old), r and w the node's displacement and
+    velocity relative to the support. With the springs' energy 1/2 r K6 r this closes the ledger to
+    round-off whatever the support motion (K6 (r_old + r_new) / 2 . (r_new - r_old) is the spring
+    energy's change exactly)."""
+    work = 0.0
+    diss = 0.0
+    for m in range(mi.shape[0]):
+        j0 = mi[m, 0]
+        for i in range(6):
+            work -= 0.5 * (mF[m, i] + mFo[m, i]) * (mb[m, 0, i] - mbo[m, 0, i])
+            cw = 0.0
+            for j in range(6):
+                cw += mKC[m, 1, i, j] * ((V[j0 + j] - mb[m, 1, j]) + (Vo[j0 + j] - mbo[m, 1, j]))
+            diss += 0.5 * cw * ((U[j0 + i] - mb[m, 0, i]) - (Uo[j0 + i] - mbo[m, 0, i]))
+    return work, diss

@@ -15,6 +15,8 @@ from ._newmark_per_body import (
     add_into,
     finish,
     load_reactions,
+    mount_forces,
+    mount_ledger,
     predict,
     predicted_velocity,
     reactions,
@@ -45,6 +47,7 @@ from ._step_loop_contract import (
     LEDGER_DAMPING_POWER,
     LEDGER_FRICTION_DISSIPATION,
     LEDGER_FRICTION_POWER,
+    LEDGER_MOUNT_DISSIPATION,
     LEDGER_RAYLEIGH_DISSIPATION,
     LEDGER_SUPPORT_WORK,
     OK,
@@ -128,7 +131,8 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     the contact solve. Non-finite support motion is refused before any step is taken (ERR_INPUT,
     info = [row, channel, 0/1/2 for up/vp/ap]), so nothing is half-written.
 
-    With rec.on, step k writes row rec.off + k of rec.F (the reactions) and, sparse, the cable
+    With rec.on, step k writes row rec.off + k of rec.F (the reactions, then the forces through
+    the casing's clips when rec.F has the columns) and, sparse, the cable
     nodes in contact at its end: entries rec.ptr[r] .. rec.ptr[r + 1] - 1 (r = rec.off + k;
     rec.ptr[rec.off] set by the caller) of rec.node, rec.state, rec.N (N) and rec.g (m). Capacity:
     one entry per cable node and step.
@@ -160,6 +164,9 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     cg0, cng, cf0, cnf, calpha, cbeta = cable.g0, cable.ng, cable.f0, cable.nf, cable.alpha, cable.beta
     cU, cV, cA, cpres, cpchan, cpslot = cable.U, cable.V, cable.A, cable.pres, cable.pchan, cable.pslot
     cKinv, csup, csup_lo, ccpl_i, ccpl_v, fcc = cable.Kinv, cable.sup, cable.sup_lo, cable.cpl_i, cable.cpl_v, cable.fc
+    smi, smKC, smb, smF = casing.mi, casing.mKC, casing.mb, casing.mF
+    cmi, cmKC, cmb, cmF = cable.mi, cable.mKC, cable.mb, cable.mF
+    smbo, smFo, cmbo, cmFo = smb.copy(), smF.copy(), cmb.copy(), cmF.copy()
     s_loaded, sfext, suext = casing.loaded, casing.fext, casing.uext
     c_loaded, cfext, cuext = cable.loaded, cable.fext, cable.uext
     contact_on, r_cable = law.on, law.r_cable
@@ -189,6 +196,8 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
             copy_into(sUo, sU)
             copy_into(sVo, sV)
             copy_into(sAo, sA)
+            smbo[...] = smb
+            smFo[...] = smF
             predict(
                 sMd,
                 sDi,
@@ -214,11 +223,16 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
                 dt,
                 sy1,
                 sr,
+                smi,
+                smKC,
+                smb,
             )
         if c_on:
             copy_into(cUo, cU)
             copy_into(cVo, cV)
             copy_into(cAo, cA)
+            cmbo[...] = cmb
+            cmFo[...] = cmF
             predict(
                 cMd,
                 cDi,
@@ -244,6 +258,9 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
                 dt,
                 cy1,
                 cr,
+                cmi,
+                cmKC,
+                cmb,
             )
         # the constant loads at rest (an installed model): the predictor's response to them
         if s_on and s_loaded:
@@ -297,11 +314,13 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
             reactions(ssup, ssup_lo, salpha, sbeta, sU, sV, sA, fcs_new, spres, spslot, reac_new, 0)
             if s_loaded:
                 load_reactions(sfext, spres, spslot, reac_new, 0)
+            mount_forces(smi, smKC, smb, sU, sV, smF, reac_new, 0)
         if c_on:
             finish(cf0, cnf, cU, cV, cA, cUo, cVo, cAo, dt)
             reactions(csup, csup_lo, calpha, cbeta, cU, cV, cA, fcc_new, cpres, cpslot, reac_new, 12)
             if c_loaded:
                 load_reactions(cfext, cpres, cpslot, reac_new, 12)
+            mount_forces(cmi, cmKC, cmb, cU, cV, cmF, reac_new, 12)
         # blow-up check on the cheap aggregates
         tot = 0.0
         for i in range(24):
@@ -358,6 +377,14 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
                 dt,
                 ledger,
             )
+        if s_on:
+            w, d = mount_ledger(smi, smKC, smb, smbo, sU, sUo, sV, sVo, smF, smFo)
+            ledger[LEDGER_SUPPORT_WORK] += w
+            ledger[LEDGER_MOUNT_DISSIPATION] += d
+        if c_on:
+            w, d = mount_ledger(cmi, cmKC, cmb, cmbo, cU, cUo, cV, cVo, cmF, cmFo)
+            ledger[LEDGER_SUPPORT_WORK] += w
+            ledger[LEDGER_MOUNT_DISSIPATION] += d
         if contact_on:
             ledger[LEDGER_FRICTION_DISSIPATION] += (
                 0.5 * dt * (ledger[LEDGER_FRICTION_POWER] + diag[DIAG_FRICTION_POWER])
@@ -373,6 +400,12 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
             r = rec_off + k
             for i in range(24):
                 rec_F[r, i] = reac[i]
+            j = 24  # then the forces through the casing's clips (mounts without a reaction slot)
+            for m in range(smi.shape[0]):
+                if smi[m, 4] < 0 and j + 6 <= rec_F.shape[1]:
+                    for i in range(6):
+                        rec_F[r, j + i] = smF[m, i]
+                    j += 6
             j = rec_ptr[r]
             for i in range(nn):  # only the nodes in contact (a few of them)
                 if state[i] != OPEN or Nn[i] != 0.0 or gn[i] != 0.0:

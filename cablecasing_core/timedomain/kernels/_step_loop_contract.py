@@ -23,7 +23,8 @@ LEDGER_CONTACT_WORK = 4  # work of the contact forces on both bodies
 LEDGER_DAMPING_DISSIPATION = 5  # dissipated by the contact damper
 LEDGER_FRICTION_POWER = 6  # friction power of the last step (W)
 LEDGER_DAMPING_POWER = 7  # contact-damping power of the last step (W)
-LEDGER_SIZE = 8
+LEDGER_MOUNT_DISSIPATION = 8  # dissipated by the dampers of the isolators and clips
+LEDGER_SIZE = 9
 
 # the info array: what went wrong (status != OK), then running totals of the contact solve
 INFO_TIME = 0  # time of the failure (s); the end time after OK
@@ -58,9 +59,14 @@ DIAG_SIZE = 6
 #: loaded: the body carries a constant load at rest (an installed model, docs/installed.md): fext
 #: (N, N.m, all DOFs) the load, uext (m, rad) the free DOFs' response Keff^-1 fext to it, which the
 #: step adds to the contact-free predictor, and fext at the prescribed DOFs goes into the reactions.
+#: the mounts (isolators and clips, ``structure/mount_element.py``): mi (nm, 5) int64 rows [first
+#: DOF of the node, channels of the support's x, y, z (-1: fixed), reaction slot (-1: a clip)],
+#: mKC (nm, 2, 6, 6) their stiffness K6 and damping C6 in global axes, mb (nm, 2, 6) the
+#: supports' displacement and velocity now, mF (nm, 6) the force through each mount now (N, N.m).
 BodyArrays = namedtuple(
     "BodyArrays",
-    "on Md Kd Dinv L LT g0 ng f0 nf alpha beta U V A pres pchan pslot Kinv sup sup_lo cpl_i cpl_v fc loaded fext uext",
+    "on Md Kd Dinv L LT g0 ng f0 nf alpha beta U V A pres pchan pslot Kinv sup sup_lo cpl_i cpl_v fc loaded fext uext "
+    "mi mKC mb mF",
 )
 
 #: The contact law and its switches: on (contact between the bodies), gap (m, radial gap e of

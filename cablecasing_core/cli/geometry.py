@@ -1,0 +1,57 @@
+"""``cablecasing geometry``: the routing of a model in figures (length, bends, smallest radius,
+gap, element length), as JSON, as a figure, and its plausibility warnings."""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+
+def cmd_geometry(args):
+    from ..model import load_model
+    from ..structure.route_summary import geometry_summary, plausibility_warnings
+    from .paths import check_output_path
+
+    check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    with warnings.catch_warnings():  # (printed below with the figures, not twice)
+        warnings.simplefilter("ignore")
+        model = load_model(args.model)
+    g = geometry_summary(model)
+    keys = ("length_m", "min_radius_m", "min_radius_at_m", "total_bend_deg", "gap_m", "element_length_m", "bends")
+    if args.json:
+        print(json.dumps({k: g[k] for k in keys}))
+    else:
+        print(f"routing ({g['source']}) of {model.source}")
+        print(f"  length            {g['length_m']:.6g} m")
+        print(f"  elements          {g['n_elements']} of {g['element_length_m']:.4g} m")
+        if g["min_radius_m"] is None:
+            print("  straight (no bend)")
+        else:
+            print(f"  min radius        {g['min_radius_m']:.4g} m at s = {g['min_radius_at_m']:.4g} m")
+            print(f"  total bend        {g['total_bend_deg']:.4g} deg")
+        if g["gap_m"] is not None:
+            print(f"  radial gap        {g['gap_m']:.4g} m")
+        for i, b in enumerate(g["bends"]):
+            print(f"  bend {i}: from s = {b['start_m']:.4g} m, radius {b['radius_m']:.4g} m, {b['angle_deg']:.4g} deg")
+    for w in plausibility_warnings(model, g):
+        warnings.warn(w, stacklevel=1)
+    if args.plot:
+        from ..plotting import plot_routing
+
+        plot_routing(model, args.plot, g)
+        if not args.json:
+            print(f"wrote {args.plot}")
+    return 0
+
+
+def add_parser(sub):
+    p = sub.add_parser("geometry", help="the routing: length, bends, min radius, gap, element length; warnings")
+    p.add_argument("model", nargs="?", default=None, help="model TOML file (default: built-in specimen)")
+    p.add_argument(
+        "--json",
+        action="store_true",
+        help="print JSON {length_m, min_radius_m, min_radius_at_m, total_bend_deg, gap_m, element_length_m, "
+        "bends: [{start_m, radius_m, angle_deg}]} (arc lengths from end A)",
+    )
+    p.add_argument("--plot", help="figure to write (.png): 3D routing with supports and clips, curvature along it")
+    p.set_defaults(func=cmd_geometry)

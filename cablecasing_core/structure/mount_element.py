@@ -1,0 +1,110 @@
+"""The 6-DOF spring-damper of an elastic support: an end isolator (``supports.A = "isolator"``) or
+a clip along the casing (``[[casing.clip]]``), between a node of the body and its support.
+
+In the support's local axes (axial along the centerline's unit tangent at the node, Eq. 33; the
+two lateral axes the element frame's y and z made normal to it) the mount is diagonal: translational
+stiffness k = [k_a, k_1, k_2] (N/m) and damping c (N.s/m), rotational stiffness (N.m/rad) and damping
+(N.m.s/rad) about the same axes. In global axes its 6 x 6 stiffness is K6 = blockdiag(R^T diag(k_t) R,
+R^T diag(k_r) R), R the rows (axial, lateral_1, lateral_2), and so its damping C6. It acts on the
+relative motion of node and support: the force the body exerts on the support is
+F = K6 (u_node - u_support) + C6 (v_node - v_support) (N, N.m; the support's rotations are held).
+In the frequency domain the mount's dynamic stiffness is K6 + i omega C6, or, when the mount has a
+table (a rubber mount's measured dynamic stiffness and loss factor against frequency), K6
+k_scale(f) (1 + i loss_factor(f)): the table then stands for stiffness and damping together, and
+C6 is the time domain's viscous stand-in for it (choose c ~ loss k / omega at the frequencies that
+matter; the time domain cannot follow a frequency-dependent stiffness).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..model.schema import DIRECTIONS
+
+
+@dataclass(frozen=True)
+class Mount:
+    """One elastic support of a body (SI units).
+
+    label: "A"/"B" for an isolator, "clip<i>" for a clip; node: the body's node; K6, C6: 6 x 6
+    stiffness (N/m, N.m/rad) and damping (N.s/m, N.m.s/rad) in global axes; axes: rows (axial,
+    lateral_1, lateral_2) in global axes; table: (n, 3) array [f_Hz, k_scale, loss_factor] or None;
+    channels: the three support channels of its translations (x, y, z) or None for a fixed clip;
+    support: "A"/"B" for an isolator, None for a clip; at: the clip's arc length (m) asked for
+    (its node is the nearest), None for an isolator."""
+
+    label: str
+    node: int
+    K6: np.ndarray
+    C6: np.ndarray
+    axes: np.ndarray
+    table: np.ndarray | None
+    channels: tuple | None
+    support: str | None = None
+    at: float | None = None
+
+    def dynamic_stiffness(self, freqs_hz, damped=True):
+        """(nf, 6, 6) complex dynamic stiffness (N/m, N.m/rad) at ``freqs_hz`` (Hz): K6 + i omega C6,
+        or with a table K6 k_scale(f) (1 + i loss(f)) (linear in f, held at the ends); without
+        ``damped`` K6 (times k_scale(f) with a table)."""
+        f = np.asarray(freqs_hz, dtype=float)
+        if self.table is None:
+            if not damped:
+                return np.broadcast_to(self.K6.astype(complex), (len(f), 6, 6)).copy()
+            return self.K6[None] + 1j * (2.0 * np.pi * f)[:, None, None] * self.C6[None]
+        scale = np.interp(f, self.table[:, 0], self.table[:, 1])
+        loss = np.interp(f, self.table[:, 0], self.table[:, 2]) if damped else np.zeros_like(f)
+        return (scale * (1.0 + 1j * loss))[:, None, None] * self.K6[None]
+
+
+def local_axes(tangent, frame):
+    """Rows (axial, lateral_1, lateral_2): the unit ``tangent`` and the element ``frame``'s y made
+    normal to it, then their cross product."""
+    t = tangent / np.linalg.norm(tangent)
+    y = frame[1] - (frame[1] @ t) * t
+    y /= np.linalg.norm(y)
+    return np.array([t, y, np.cross(t, y)])
+
+
+def _global(axes, translational, rotational):
+    out = np.zeros((6, 6))
+    out[:3, :3] = axes.T @ np.diag(translational) @ axes
+    out[3:, 3:] = axes.T @ np.diag(rotational) @ axes
+    return out
+
+
+def _mount(label, node, keys, cl, channels, support=None, at=None):
+    frame = cl.frames[min(node, cl.n_elements - 1)]
+    axes = local_axes(cl.tangents[node], frame)
+    table = np.asarray(keys["table"], dtype=float) if "table" in keys else None
+    return Mount(
+        label=label,
+        node=int(node),
+        K6=_global(axes, keys["stiffness"], keys["rotational_stiffness"]),
+        C6=_global(axes, keys["damping"], keys["rotational_damping"]),
+        axes=axes,
+        table=table,
+        channels=channels,
+        support=support,
+        at=at,
+    )
+
+
+def mounts_of(model, body, centerline):
+    """The :class:`Mount` s of ``body`` of ``model`` on its ``centerline``: its isolator supports
+    (end nodes, driven by the support's channels ``<body>.<A|B>.<x|y|z>``), then, for the casing,
+    its clips in file order (the node nearest to ``at``; driven by ``<excitation>.<x|y|z>`` when
+    the clip has an excitation, else fixed)."""
+    data = model.data[body]
+    out = []
+    for s, node in (("A", 0), ("B", centerline.n_elements)):
+        if data["supports"][s] == "isolator":
+            chans = tuple(f"{body}.{s}.{d}" for d in DIRECTIONS)
+            out.append(_mount(s, node, data["isolator"][s], centerline, chans, support=s))
+    for i, clip in enumerate(data.get("clip", [])):
+        node = int(np.argmin(np.abs(centerline.s - clip["at"])))
+        chans = tuple(f"{clip['excitation']}.{d}" for d in DIRECTIONS) if "excitation" in clip else None
+        out.append(_mount(f"clip{i}", node, clip, centerline, chans, at=clip["at"]))
+    return tuple(out)

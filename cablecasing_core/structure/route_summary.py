@@ -1,0 +1,146 @@
+"""What a cable engineer asks of a routing (``cablecasing geometry``): its length, its bends with
+radius and angle, the total bend angle, the smallest radius and where, the radial gap and the
+element length; and the plausibility warnings of a route (not errors).
+
+For a route given by segments the bends are the model's own (exact radius and angle). For a route
+through points the bends are the runs of the curve where the curvature exceeds
+:data:`BEND_CURVATURE` (2 1/m: a radius below 0.5 m; a spline through the built-in specimen's
+points ripples up to 1.3 1/m on its straights) and that turn by more than :data:`BEND_MIN_DEG`,
+sampled on :data:`DENSE` points: each bend's angle is the integral of the curvature over its run
+and its radius the run's arc length over that angle (the mean radius). A polyline has no
+curvature but kinks: each kink is a bend of radius 0 and the angle between its two chords.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .geometry import build_centerline, centerline_of, route_of
+
+BEND_CURVATURE = 2.0  # 1/m, curvature above which a point-defined route counts as bent
+BEND_MIN_DEG = 2.0  # degrees: a run above BEND_CURVATURE that turns less is ripple, not a bend
+DENSE = 4000  # samples of a point-defined route for its curvature profile
+KINK_DEG = 1.0  # degrees: a polyline's corner above this is a kink (warned)
+
+
+def curvature_profile(model, n=DENSE):
+    """(s, curvature): arc length (m) and curvature (1/m) of the routing on ``n`` + 1 points, exact
+    for a route by segments, from the dense spline (or zero along a polyline) for points."""
+    route = route_of(model)
+    if route is not None:
+        s = np.linspace(0.0, route.length, n + 1)
+        return s, route.curvature(s)
+    g = model.geometry
+    cl = build_centerline(g["points"], n, g["curve"])
+    return cl.s, cl.curvature
+
+
+def _polyline_kinks(points):
+    """(arc length m, angle deg) of each corner of the polyline through ``points``."""
+    P = np.asarray(points, dtype=float)
+    d = np.diff(P, axis=0)
+    lengths = np.linalg.norm(d, axis=1)
+    u = d / lengths[:, None]
+    ang = np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", u[:-1], u[1:]), -1.0, 1.0)))
+    s = np.cumsum(lengths)[:-1]
+    return [(float(a), float(b)) for a, b in zip(s, ang) if b > KINK_DEG]
+
+
+def geometry_summary(model) -> dict:
+    """The routing's figures (SI units, arc lengths from end A): ``length_m``, ``min_radius_m``
+    and ``min_radius_at_m`` (None on a straight route), ``total_bend_deg``, ``gap_m`` (None without
+    both bodies), ``element_length_m``, ``n_elements``, ``bends`` (a list of {"start_m",
+    "radius_m", "angle_deg"}) and ``source`` ("segments", "spline" or "polyline")."""
+    g = model.geometry
+    cl = centerline_of(model)
+    route = route_of(model)
+    if route is not None:
+        bends = [{"start_m": s0, "radius_m": r, "angle_deg": a} for s0, r, a in route.bends]
+        source = "segments"
+        if bends:
+            i = int(np.argmin([b["radius_m"] for b in bends]))
+            rmin, at = bends[i]["radius_m"], bends[i]["start_m"]
+        else:
+            rmin = at = None
+        total = float(sum(b["angle_deg"] for b in bends))
+    elif g["curve"] == "polyline" and len(g["points"]) > 2:
+        source = "polyline"
+        bends = [{"start_m": s, "radius_m": 0.0, "angle_deg": a} for s, a in _polyline_kinks(g["points"])]
+        total = float(sum(b["angle_deg"] for b in bends))
+        rmin, at = (0.0, bends[0]["start_m"]) if bends else (None, None)
+    else:
+        source = "spline" if len(g["points"]) > 2 else "polyline"
+        s, k = curvature_profile(model)
+        ds = np.diff(s)
+        kmid = 0.5 * (k[1:] + k[:-1])
+        total = float(np.degrees(np.sum(kmid * ds)))
+        bent = kmid > BEND_CURVATURE
+        bends = []
+        i = 0
+        while i < len(bent):
+            if bent[i]:
+                j = i
+                while j < len(bent) and bent[j]:
+                    j += 1
+                angle = float(np.sum(kmid[i:j] * ds[i:j]))
+                if np.degrees(angle) > BEND_MIN_DEG:
+                    bends.append({"start_m": s[i], "radius_m": (s[j] - s[i]) / angle, "angle_deg": np.degrees(angle)})
+                i = j
+            else:
+                i += 1
+        if k.max() > 0:
+            rmin, at = float(1.0 / k.max()), float(s[int(np.argmax(k))])
+        else:
+            rmin = at = None
+    gap = model.radial_gap if {"casing", "cable"} <= set(model.bodies) else None
+    return {
+        "length_m": float(cl.length),
+        "min_radius_m": rmin,
+        "min_radius_at_m": at,
+        "total_bend_deg": total,
+        "gap_m": gap,
+        "element_length_m": float(cl.length / cl.n_elements),
+        "n_elements": int(cl.n_elements),
+        "bends": [{k: float(v) for k, v in b.items()} for b in bends],
+        "source": source,
+    }
+
+
+def plausibility_warnings(model, summary=None, advice=True) -> list[str]:
+    """Plain-language warnings (not errors) about a routing that is likely a mistake: a route longer
+    than 10 m or shorter than 1 cm (points given in mm, or in km?), a bend radius below ten casing
+    diameters, a kink in a polyline; and, with ``advice``, an element longer than a tenth of the
+    shortest bend's arc (the built-in specimen has 6.5 elements per bend: loading a file warns
+    without this one, ``cablecasing geometry`` gives it)."""
+    g = summary or geometry_summary(model)
+    out = []
+    if g["length_m"] > 10.0:
+        out.append(f"the route is {g['length_m']:.4g} m long, more than 10 m: are the points in mm?")
+    if g["length_m"] < 0.01:
+        out.append(f"the route is {g['length_m']:.4g} m long, less than 1 cm: are the points in m?")
+    if g["source"] == "polyline":
+        for b in g["bends"]:
+            out.append(
+                f"the polyline has a kink of {b['angle_deg']:.3g} deg at s = {b['start_m']:.4g} m "
+                '(curve = "spline" or segments give a smooth route)'
+            )
+        return out
+    d = model.data["casing"]["d_outer"] if "casing" in model.data else None
+    if d is not None:
+        for b in g["bends"]:
+            if b["radius_m"] < 10.0 * d:
+                out.append(
+                    f"the bend at s = {b['start_m']:.4g} m has a radius of {b['radius_m']:.4g} m, below ten "
+                    f"casing diameters ({10.0 * d:.4g} m)"
+                )
+    if g["bends"] and advice:
+        arcs = [np.radians(b["angle_deg"]) * b["radius_m"] for b in g["bends"]]
+        i = int(np.argmin(arcs))
+        if g["element_length_m"] > 0.1 * arcs[i]:
+            need = int(np.ceil(10.0 * g["length_m"] / arcs[i]))
+            out.append(
+                f"the elements ({g['element_length_m']:.4g} m) are longer than a tenth of the shortest bend's "
+                f"arc ({arcs[i]:.4g} m at s = {g['bends'][i]['start_m']:.4g} m): about {need} elements "
+                "(geometry.n_elements) resolve it"
+            )
+    return out

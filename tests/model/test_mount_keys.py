@@ -1,0 +1,153 @@
+"""Bad input for the keys of isolators and clips: each error names the key, the value and what is
+allowed (ModelError), and nothing is built."""
+
+import copy
+
+import pytest
+
+from cablecasing_core import ModelError, load_model, model_from_dict
+from cablecasing_core.model.schema import lookup
+
+
+def with_casing(**changes):
+    d = copy.deepcopy(load_model().data)
+    d["casing"].update(changes)
+    return d
+
+
+ISO = {"stiffness": [2e5, 1e5, 1e5]}
+
+
+@pytest.mark.parametrize(
+    "changes, key, words",
+    [
+        ({"supports": {"A": "isolator", "B": "clamped"}}, "casing.isolator.A", "is required"),
+        ({"supports": {"A": "elastic", "B": "clamped"}}, "casing.supports.A", "'isolator'"),
+        ({"isolator": {"A": ISO}}, "casing.isolator.A", "casing.supports.A = 'clamped'"),
+        ({"isolator": {"C": ISO}}, "casing.isolator.C", "allowed keys are A, B"),
+        ({"supports": {"A": "isolator"}, "isolator": {"A": {}}}, "casing.isolator.A.stiffness", "is required"),
+        (
+            {"supports": {"A": "isolator"}, "isolator": {"A": {"stiffness": -1.0}}},
+            "casing.isolator.A.stiffness",
+            "zero or a positive",
+        ),
+        (
+            {"supports": {"A": "isolator"}, "isolator": {"A": {"stiffness": [1.0, 2.0]}}},
+            "casing.isolator.A.stiffness",
+            "three of them",
+        ),
+        (
+            {"supports": {"A": "isolator"}, "isolator": {"A": {"stiffness": [1.0, "x", 2.0]}}},
+            "casing.isolator.A.stiffness[1]",
+            "N/m",
+        ),
+        (
+            {"supports": {"A": "isolator"}, "isolator": {"A": dict(ISO, damping=-2.0)}},
+            "casing.isolator.A.damping",
+            "N.s/m",
+        ),
+        (
+            {"supports": {"A": "isolator"}, "isolator": {"A": dict(ISO, rotational_stiffness=[1, 1, -1])}},
+            "rotational_stiffness[2]",
+            "N.m/rad",
+        ),
+        (
+            {"supports": {"A": "isolator"}, "isolator": {"A": dict(ISO, rotational_damping=float("nan"))}},
+            "rotational_damping",
+            "finite",
+        ),
+        (
+            {"supports": {"A": "isolator"}, "isolator": {"A": dict(ISO, stifness=1.0)}},
+            "casing.isolator.A.stifness",
+            "unknown key",
+        ),
+        (
+            {"supports": {"A": "isolator"}, "isolator": {"A": dict(ISO, table=[[0, 1]])}},
+            "casing.isolator.A.table[0]",
+            "[f_Hz, k_scale, loss_factor]",
+        ),
+        (
+            {"supports": {"A": "isolator"}, "isolator": {"A": dict(ISO, table=[[0, 0.0, 0.1]])}},
+            "casing.isolator.A.table[0][1]",
+            "positive",
+        ),
+        (
+            {"supports": {"A": "isolator"}, "isolator": {"A": dict(ISO, table=[[0, 1, -0.1]])}},
+            "casing.isolator.A.table[0][2]",
+            "zero or a positive",
+        ),
+        (
+            {"supports": {"A": "isolator"}, "isolator": {"A": dict(ISO, table=[[10, 1, 0], [5, 1, 0]])}},
+            "casing.isolator.A.table",
+            "increasing",
+        ),
+        ({"clip": {"at": 0.4}}, "casing.clip", "array of tables"),
+        ({"clip": [{"stiffness": 1e4}]}, "casing.clip[0].at", "is required"),
+        ({"clip": [{"at": 0.0, "stiffness": 1e4}]}, "casing.clip[0].at", "positive"),
+        ({"clip": [{"at": 5.0, "stiffness": 1e4}]}, "casing.clip[0].at", "inside the route"),
+        ({"clip": [{"at": 0.005, "stiffness": 1e4}]}, "casing.clip[0].at", "end node"),
+        (
+            {"clip": [{"at": 0.4, "stiffness": 1e4}, {"at": 0.395, "stiffness": 1e4}]},
+            "casing.clip[1].at",
+            "casing.clip[0] holds",
+        ),
+        (
+            {"clip": [{"at": 0.4, "stiffness": 1e4, "excitation": "1dash"}]},
+            "casing.clip[0].excitation",
+            "starting with a letter",
+        ),
+        (
+            {"clip": [{"at": 0.4, "stiffness": 1e4, "excitation": "dash.z"}]},
+            "casing.clip[0].excitation",
+            "letters, digits and _",
+        ),
+        (
+            {
+                "clip": [
+                    {"at": 0.3, "stiffness": 1e4, "excitation": "d"},
+                    {"at": 0.6, "stiffness": 1e4, "excitation": "d"},
+                ]
+            },
+            "casing.clip[1].excitation",
+            "unique",
+        ),
+        ({"clip": [{"at": 0.4, "stiffness": 1e4, "excitation": "cable"}]}, "casing.clip[0].excitation", "not a body"),
+        ({"clip": [{"at": 0.4, "stiffness": 1e4, "where": 1}]}, "casing.clip[0].where", "unknown key"),
+    ],
+)
+def test_bad_mount_keys_name_key_value_and_what_is_allowed(changes, key, words):
+    with pytest.raises(ModelError) as e:
+        model_from_dict(with_casing(**changes))
+    assert key in e.value.key, (e.value.key, str(e.value))
+    assert words in str(e.value)
+
+
+def test_the_cable_is_never_clipped():
+    d = copy.deepcopy(load_model().data)
+    d["cable"]["clip"] = [{"at": 0.4, "stiffness": 1e4}]
+    with pytest.raises(ModelError, match="cable.clip.*never clipped"):
+        model_from_dict(d)
+
+
+def test_mount_keys_are_in_the_schema_with_units():
+    assert lookup("casing.isolator.A.stiffness").unit == "N/m"
+    assert lookup("cable.isolator.B.rotational_damping").unit == "N.m.s/rad"
+    assert lookup("casing.clip[3].at").unit == "m"
+    m = model_from_dict(with_casing(supports={"A": "isolator", "B": "clamped"}, isolator={"A": {"stiffness": 1e5}}))
+    iso = m.data["casing"]["isolator"]["A"]
+    assert iso["stiffness"] == [1e5] * 3 and iso["rotational_stiffness"] == [0.0] * 3 and "table" not in iso
+
+
+def test_mount_components_are_parameters_a_study_can_vary():
+    """A mount's three values are parameters by component (``...stiffness.lateral_1``, local axes),
+    as loads.gravity's are: Model.parameters lists them, with_overrides sets one (validated)."""
+    m = model_from_dict(
+        with_casing(supports={"A": "isolator", "B": "clamped"}, isolator={"A": {"stiffness": [1e5, 2e5, 3e5]}})
+    )
+    p = m.parameters()
+    assert p["casing.isolator.A.stiffness.lateral_1"] == 2e5 and p["casing.isolator.A.rotational_damping.axial"] == 0.0
+    m2 = m.with_overrides({"casing.isolator.A.stiffness.lateral_1": 7e4})
+    assert m2.data["casing"]["isolator"]["A"]["stiffness"] == [1e5, 7e4, 3e5]
+    assert lookup("casing.isolator.A.stiffness.axial").unit == "N/m"
+    with pytest.raises(ModelError, match=r"casing.isolator.A.stiffness\[1\] = -1.0: must be zero or a positive"):
+        m.with_overrides({"casing.isolator.A.stiffness.lateral_1": -1.0})
