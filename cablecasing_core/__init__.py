@@ -22,7 +22,7 @@ against the schema (docs/model_file.md), and a change is a validated copy:
 6000000000.0
 >>> from cablecasing_core.model.schema import lookup
 >>> lookup("contact.friction").unit, lookup("contact.friction").allowed
-('1', 'zero or a positive number')
+('1', 'a number in [0, 10]')
 
 Natural frequencies of one body with its supports (Hz), and the apparent-mass transfer function
 between its ends (kg, Eq. 12) with structural damping (Eq. 11):

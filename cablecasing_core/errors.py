@@ -2,11 +2,53 @@
 
 Every input error names the offending field (a dotted key path such as ``casing.E``), the value
 that was given, and what is allowed, so that a user can fix a model file without reading code.
+
+A message is one line, and quotes a value only as a short excerpt (:func:`excerpt`: at most
+:data:`EXCERPT` characters, numpy scalars as plain numbers): a value of 10 kB, a line of a file
+that is not a model file or a secret in a TOML file that is not a model never reaches a terminal
+or an FMU's log in full.
 """
+
+from __future__ import annotations
+
+#: The longest excerpt of a value (characters) that a message quotes.
+EXCERPT = 80
+
+
+def excerpt(value, limit: int = EXCERPT) -> str:
+    """``repr(value)`` on one line and cut to ``limit`` characters (``...`` and the full length
+    mark a cut); numpy scalars and arrays are shown as the plain numbers they hold (``nan``, not
+    ``np.float64(nan)``; ``[]``, not ``array([], dtype=float64)``)."""
+    item = getattr(value, "item", None)
+    if item is not None and getattr(value, "shape", None) == ():
+        value = item()  # a numpy scalar
+    elif item is not None and hasattr(value, "tolist") and hasattr(value, "size"):  # a numpy array
+        if value.size <= 20:
+            value = value.tolist()
+        else:  # (not the whole array's text, which may be large)
+            value = _Plain(f"{value.size} numbers {repr(value.ravel()[:5].tolist())[:-1]}, ...]")
+    text = value if isinstance(value, _Plain) else repr(value)
+    text = " ".join(str(text).split("\n")).replace("\r", " ")
+    if len(text) > limit:
+        text = f"{text[: limit - 25]}... ({len(text)} characters)"
+    return text
+
+
+class _Plain(str):
+    """A value shown as it is, without quotes (a description such as ``"array with nan"``)."""
+
+
+def plain(text: str) -> str:
+    """``text`` marked to be shown without quotes as the value of a :class:`ModelError`."""
+    return _Plain(text)
 
 
 class CableCasingError(Exception):
     """Base class of all errors raised by this package."""
+
+
+#: The value of a :class:`ModelError` that is not shown (an unknown key's value, a file's content).
+NOT_SHOWN = _Plain("")
 
 
 class ModelError(CableCasingError, ValueError):
@@ -17,7 +59,7 @@ class ModelError(CableCasingError, ValueError):
     key : str
         Dotted path of the offending field, e.g. ``"casing.d_inner"``.
     value : object
-        The value that was given.
+        The value that was given (shown as a short excerpt; :data:`NOT_SHOWN` shows none).
     allowed : str
         Plain-language statement of what is allowed.
     """
@@ -26,7 +68,9 @@ class ModelError(CableCasingError, ValueError):
         self.key = key
         self.value = value
         self.allowed = allowed
-        super().__init__(f"{key} = {value!r}: {allowed}")
+        name = excerpt(_Plain(key) if isinstance(key, str) else key, 2 * EXCERPT)
+        shown = "" if value is NOT_SHOWN else f" = {excerpt(value)}"
+        super().__init__(f"{name}{shown}: {_one_line(allowed)}")
 
 
 class SimulationError(CableCasingError, RuntimeError):
@@ -36,6 +80,20 @@ class SimulationError(CableCasingError, RuntimeError):
     """
 
 
-class PlausibilityWarning(UserWarning):
-    """A model that is valid but likely a mistake (a route of 850 m: points in mm?, a bend tighter
-    than ten casing diameters, ...; ``structure.route_summary.plausibility_warnings``)."""
+class InfrastructureError(CableCasingError, RuntimeError):
+    """The computing infrastructure failed, not the model: a dask scheduler lost, every worker
+    gone, no progress within the timeout. Nothing of the model is wrong; the same command resumes
+    (the command line exits with status 3)."""
+
+
+def _one_line(text) -> str:
+    return " ".join(str(text).splitlines())
+
+
+class ModelWarning(UserWarning):
+    """A valid value that is physically absurd, or a combination of values whose result may be
+    meaningless; the message says why."""
+
+
+#: The plausibility warnings of a routing (issue 24) are :class:`ModelWarning` under their own name.
+PlausibilityWarning = ModelWarning

@@ -1,13 +1,21 @@
-"""Writing files atomically: the one place where the package's output files are written.
+"""Files in and out: the one place where the package's output files are written, the check of an
+output target before a run, and the one reader of numeric CSV tables.
 
-A file is written under a temporary name in its target folder and renamed over the target only
-when it is complete (``os.replace``, atomic on POSIX and Windows within a folder). An error or an
-interrupt (Ctrl-C) while writing leaves the target as it was, the previous version intact, and no
-half-written file; the temporary file is removed.
+**Writing.** A file is written under a temporary name in its target folder and renamed over the
+target only when it is complete and flushed to disk (``os.replace``, atomic on POSIX and Windows
+within a folder). An error or an interrupt (Ctrl-C) while writing leaves the target as it was, the
+previous version bitwise intact, and no half-written file; the temporary file is removed. A target
+that is a symbolic link is written where the link points (the link stays); a target that is not a
+regular file (a device such as ``/dev/full``, a folder) is refused.
 
+>>> check_writable("--out", "results.npz")     # before a long run: can a file be written there?
 >>> with atomic_path("results.npz") as tmp:    # a writer that takes a path (numpy, pyuff, matplotlib)
 ...     np.savez(tmp, x=x)
 >>> write_text("report.html", html)            # text in one call
+
+**Reading.** :func:`read_csv_table` reads a numeric CSV table with one header line (time records,
+CSV excitations, FRFs, measured frequencies). Its errors name the file, the line and the column,
+never the content of a line: the file need not be a model file and may hold anything.
 """
 
 from __future__ import annotations
@@ -17,14 +25,34 @@ import os
 import tempfile
 from pathlib import Path
 
+import numpy as np
+
+from .errors import ModelError
+
+
+def _target(path) -> Path:
+    """The file that a write to ``path`` replaces: ``path``, or where it points if it is a link."""
+    path = Path(path)
+    if path.is_symlink():
+        path = Path(os.path.realpath(path))
+    return path
+
+
+def _regular_or_missing(flag, path, shown):
+    if path.exists() and not path.is_file():
+        what = "a folder" if path.is_dir() else "a device or another special file"
+        raise ModelError(flag, str(shown), f"is {what} ({path}), not a regular file: output goes to regular files")
+
 
 @contextlib.contextmanager
 def atomic_path(path: str | os.PathLike):
     """Yield a temporary path in ``path``'s folder with the same suffix (writers such as
     ``numpy.savez`` and ``savefig`` go by it); when the block ends without an exception, the file
     written there is flushed to disk and renamed to ``path``. On any exception (KeyboardInterrupt
-    too) it is deleted and ``path`` is left as it was."""
-    path = Path(path)
+    too) it is deleted and ``path`` is left as it was. A link is written where it points."""
+    shown = path
+    path = _target(path)
+    _regular_or_missing("path", path, shown)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".part{path.suffix}", dir=path.parent)
     os.close(fd)
     os.remove(tmp)  # the writer creates it (some refuse or append to an existing file)
@@ -44,3 +72,146 @@ def write_text(path: str | os.PathLike, text: str) -> Path:
     with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="") as fh:
         fh.write(text)
     return Path(path)
+
+
+def check_writable(flag: str, path: str | os.PathLike) -> None:
+    """Refuse an output target before a run rather than after it (a :class:`ModelError` naming
+    ``flag``): its folder must exist, the target must be a regular file or not exist yet, and a
+    byte written, flushed and synced to a temporary file in the folder must succeed (a full disk,
+    a read-only or a pseudo file system such as ``/proc`` fail here). The probe is removed."""
+    target = _target(path)
+    _regular_or_missing(flag, target, path)
+    folder = target.parent
+    if not folder.is_dir():
+        raise ModelError(flag, str(path), f"must be a file in an existing folder ({folder} is not one)")
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".cablecasing-probe.", dir=folder)
+    except OSError as exc:
+        raise ModelError(
+            flag, str(path), f"cannot be written: no file can be created in {folder} ({exc.strerror})"
+        ) from None
+    try:
+        os.write(fd, b"0")
+        os.fsync(fd)
+    except OSError as exc:
+        raise ModelError(flag, str(path), f"cannot be written: writing to {folder} fails ({exc.strerror})") from None
+    finally:
+        os.close(fd)
+        with contextlib.suppress(OSError):
+            os.remove(probe)
+
+
+def output_folder(flag: str, folder: str | os.PathLike, probe_name: str) -> Path:
+    """Create the output folder ``folder`` (and its parents) and check that ``probe_name`` can be
+    written in it (:func:`check_writable`); a :class:`ModelError` naming ``flag`` otherwise."""
+    folder = Path(folder)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ModelError(flag, str(folder), f"must be a folder that can be created ({exc.strerror})") from None
+    check_writable(flag, folder / probe_name)
+    return folder
+
+
+def _number(text):
+    try:
+        float(text)
+        return True
+    except ValueError:
+        return False
+
+
+#: The largest magnitude of a number read from a data file: its squares, spectra and sums stay finite.
+MAX_MAGNITUDE = 1e100
+
+
+def check_values(key: str, path, data) -> None:
+    """Every value of the array ``data`` (samples, or rows x columns) read from ``path`` must be
+    finite and at most :data:`MAX_MAGNITUDE` in magnitude; the :class:`ModelError` names the row
+    and column and quotes no value."""
+    data = np.asarray(data)
+    if data.dtype.kind not in "fc":
+        raise ModelError(key, str(path), "must hold numbers only")
+    bad = np.argwhere(~np.isfinite(data) | (np.abs(data) > MAX_MAGNITUDE))
+    if bad.size:
+        where = bad[0]
+        at = f"row {where[0] + 1}, column {where[1] + 1}" if data.ndim > 1 else f"sample {where[0] + 1}"
+        raise ModelError(key, str(path), f"{at} is not a finite number of magnitude at most {MAX_MAGNITUDE:g}")
+
+
+def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: int = 2):
+    """``(names, data)`` of the numeric CSV table in ``path``: one header line of ``,``-separated
+    column names, then rows of as many finite numbers (blank lines and lines starting with ``#``
+    are skipped). A :class:`ModelError` names ``key`` (the field or option that gave the path),
+    the file, and the line and column that are wrong, and says what is allowed; it quotes no part
+    of the file (which may be any file). ``data`` is (rows, columns), float."""
+    shown = str(path)
+    p = Path(path)
+    if not p.exists():
+        raise ModelError(key, shown, "does not exist")
+    if not p.is_file():
+        raise ModelError(key, shown, "must be a regular CSV file (not a folder or a device)")
+    try:
+        size = p.stat().st_size
+        if size > memory_available() // 4:  # (the parsed table takes up to 4x the text in memory)
+            raise ModelError(key, shown, f"is {size / 1e9:.3g} GB: larger than the memory free to read it")
+        with open(p, encoding="utf-8", newline="") as fh:
+            lines = fh.read().splitlines()
+    except UnicodeDecodeError as exc:
+        raise ModelError(
+            key, shown, f"is not a UTF-8 text CSV file (byte {exc.start} is not text: an .npz or .uff file?)"
+        ) from None
+    except OSError as exc:
+        raise ModelError(key, shown, f"cannot be read ({exc.strerror})") from None
+    numbered = [(i + 1, s) for i, s in enumerate(lines) if s.strip() and not s.lstrip().startswith("#")]
+    need = f"a header line naming {min_columns} or more ','-separated columns and {min_rows} or more rows of numbers"
+    if not numbered:
+        raise ModelError(key, shown, f"is empty; a table needs {need}")
+    (hline, head), rows = numbered[0], numbered[1:]
+    names = [h.strip() for h in head.split(",")]
+    if len(names) < min_columns:
+        sep = next((c for c in (";", "\t", " ") if c in head.strip()), None)
+        found = f"columns separated by {sep!r}" if sep else "one column"
+        raise ModelError(key, shown, f"line {hline} has {found}; a table needs {need}")
+    if all(_number(h) for h in names):
+        raise ModelError(
+            key, shown, f"has no header line (line {hline} holds numbers); its first line must name the columns"
+        )
+    if len(rows) < min_rows:
+        raise ModelError(key, shown, f"has {len(rows)} rows of numbers; a table needs {need}")
+    try:  # (numpy's C parser; the checks below only run to describe a failure)
+        data = np.loadtxt([s for _, s in rows], delimiter=",", ndmin=2)
+        ok = data.shape[1] == len(names)
+    except ValueError:
+        ok = False
+    if not ok:
+        for lineno, s in rows:
+            fields = s.split(",")
+            if len(fields) != len(names):
+                raise ModelError(
+                    key, shown, f"line {lineno} has {len(fields)} fields; the header has {len(names)} columns"
+                )
+            for j, f in enumerate(fields):
+                if not _number(f):
+                    raise ModelError(key, shown, f"line {lineno}, column {j + 1} is not a number")
+        raise ModelError(key, shown, f"must be {need}")  # pragma: no cover - loadtxt agrees with the scan
+    bad = np.argwhere(~np.isfinite(data) | (np.abs(data) > MAX_MAGNITUDE))
+    if bad.size:
+        r, c = bad[0]
+        raise ModelError(
+            key, shown, f"line {rows[r][0]}, column {c + 1} is not a finite number of magnitude at most 1e100"
+        )
+    return names, data
+
+
+def memory_available() -> int:
+    """Bytes of memory free for a new allocation (MemAvailable of /proc/meminfo; elsewhere the
+    physical memory)."""
+    with contextlib.suppress(OSError, ValueError):
+        with open("/proc/meminfo") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    with contextlib.suppress(ValueError, OSError, AttributeError):
+        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    return 1 << 34  # pragma: no cover

@@ -25,14 +25,13 @@ Files are written atomically (:mod:`.files`): an interrupted write leaves an ear
 
 from __future__ import annotations
 
-import csv
 import os
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .errors import ModelError
-from .files import atomic_path
+from .files import atomic_path, check_values, read_csv_table
 from .model.schema import INPUTS, OUTPUTS, channels_of, input_spec, inputs_of, output_spec
 
 SUFFIXES = (".csv", ".npz", ".uff")
@@ -72,7 +71,11 @@ class Records:
         """Sampling rate (Hz); the time axis must be evenly spaced (to 1e-6 of a step)."""
         d = np.diff(self.time)
         if d.size == 0 or not (np.all(d > 0) and np.ptp(d) <= 1e-6 * d.mean()):
-            raise ModelError(f"{self.source or 'record'}: time", "not evenly spaced", "must be evenly sampled")
+            raise ModelError(
+                "file",
+                self.source or "record",
+                "must be evenly sampled: its time (the first column) must increase in equal steps, rows in time order",
+            )
         return 1.0 / float(d.mean())
 
     def resolve(self, name: str) -> str:
@@ -145,27 +148,28 @@ def read_records(path: str | os.PathLike) -> Records:
     suffix = os.path.splitext(path)[1].lower()
     if not os.path.exists(path):
         raise ModelError("file", path, "does not exist")
+    if not os.path.isfile(path):
+        raise ModelError("file", path, "must be a regular file (not a folder or a device)")
     if suffix == ".npz":
-        return _read_npz(path)
-    if suffix in (".uff", ".unv", ".uf"):
-        return _read_uff(path)
-    if suffix not in (".csv", ".txt"):
+        rec = _read_npz(path)
+    elif suffix in (".uff", ".unv", ".uf"):
+        rec = _read_uff(path)
+    elif suffix not in (".csv", ".txt"):
         raise ModelError("file", path, "must end in .csv, .npz or .uff (the record's format goes by its suffix)")
-    return _read_csv(path)
+    else:
+        rec = _read_csv(path)
+    check_values("file", path, rec.time)
+    for j, values in enumerate(rec.columns.values()):
+        if values.shape != rec.time.shape:
+            raise ModelError("file", path, f"column {j + 2} has {values.size} samples, the time axis {rec.time.size}")
+        check_values("file", path, np.column_stack([rec.time, values]))
+    return rec
 
 
 def _read_csv(path):
-    try:
-        with open(path, encoding="utf-8", newline="") as fh:
-            header = next(csv.reader(fh), [])
-        data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
-    except UnicodeDecodeError:
-        raise ModelError("file", path, "is not a text CSV file (is it an .npz or .uff file named .csv?)") from None
-    except ValueError as exc:
-        raise ModelError("file", path, f"must be numeric CSV with one header line ({exc})") from None
-    if len(header) < 2 or data.shape[0] < 2 or data.shape[1] != len(header):
-        raise ModelError("file", path, "a record needs a header line 'time [s],<name>,...' and two rows or more")
+    header, data = read_csv_table(path, "file")
     names, units = [], {}
+    _unique(path, header)
     for h in header[1:]:
         h = h.strip()
         name, _, unit = h.partition(" [")
@@ -179,17 +183,38 @@ def _read_csv(path):
     return Records(data[:, 0], cols, units, path)
 
 
+def _unique(path, names):
+    """Column names must be unique (a second column of a name would be ignored silently)."""
+    seen = set()
+    for j, n in enumerate(names):
+        bare = str(n).split(" [")[0].strip()
+        if bare in seen:
+            raise ModelError(
+                "file", path, f"column {j + 1} repeats the name of an earlier column (names must be unique)"
+            )
+        seen.add(bare)
+
+
 def _read_npz(path):
+    import zipfile
+
     try:
         with np.load(path, allow_pickle=False) as z:
             arrays = {k: z[k] for k in z.files}
-    except (OSError, ValueError) as exc:
-        raise ModelError("file", path, f"is not a readable .npz file ({exc})") from None
+    except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile) as exc:
+        raise ModelError("file", path, f"is not a readable .npz file ({type(exc).__name__})") from None
     if "table" in arrays and "names" in arrays and "time" in arrays:
-        names = [str(n) for n in arrays.pop("names")]
-        units = [str(u) for u in arrays.pop("units", [unit_of(n) for n in names])]
-        table = arrays.pop("table")
-        time = arrays.pop("time")
+        names = [str(n) for n in np.atleast_1d(arrays.pop("names"))]
+        units = [str(u) for u in np.atleast_1d(arrays.pop("units", np.array([unit_of(n) for n in names])))]
+        table, time = np.asarray(arrays.pop("table")), np.asarray(arrays.pop("time"))
+        if time.ndim != 1 or table.ndim != 2 or table.shape != (time.size, len(names)) or len(units) != len(names):
+            raise ModelError(
+                "file",
+                path,
+                f"must hold time (n,), table (n, m), names and units (m,); it holds time {time.shape}, table "
+                f"{table.shape}, {len(names)} names and {len(units)} units",
+            )
+        _unique(path, names)
         return Records(time, {n: table[:, i] for i, n in enumerate(names)}, dict(zip(names, units)), path, arrays)
     if "time" in arrays:  # any npz of 1-D arrays beside a time axis
         time = arrays.pop("time")
@@ -211,6 +236,8 @@ def _read_uff(path):
         if r.x.shape != t.shape or not np.allclose(r.x, t, rtol=0, atol=1e-9 * max(1.0, abs(t[-1]))):
             raise ModelError("file", path, f"time function {i} ({r.name}) has another time axis than the first")
         name = r.name or f"x{i + 1}"
+        if name in cols:
+            raise ModelError("file", path, f"time function {i} repeats an earlier name (names must be unique)")
         cols[name] = np.asarray(r.data, float)
         units[name] = r.unit or unit_of(name)
     return Records(t, cols, units, path)

@@ -8,7 +8,13 @@ file or the name of a built-in specimen (``default``, ``installed``). Every ``--
 defaults. Every error in the input prints one line naming the key, the value and what is
 allowed, and exits with status 2; an interrupt (Ctrl-C) prints one line and exits with status
 130, leaving earlier output files intact (they are written atomically, at the end); a warning
-prints one line ``cablecasing: warning: ...``.
+prints one line ``cablecasing: warning: ...``. A failure of the
+computing infrastructure (a study's dask scheduler lost, no worker left or making progress) prints
+one line and exits with status 3 (the same command resumes). Anything else is a bug: one line
+``cablecasing: internal error: ...`` and status 1 (``CABLECASING_TRACEBACK=1`` shows the traceback).
+
+Exit statuses: 0 done, 1 every run of a study failed or an internal error, 2 bad input (or a run
+that cannot work: too large for the machine, a blow-up), 3 infrastructure, 130 interrupted.
 """
 
 from __future__ import annotations
@@ -21,10 +27,10 @@ import warnings
 
 import numpy as np
 
-from ..errors import CableCasingError, ModelError
+from ..errors import CableCasingError, InfrastructureError, ModelError, excerpt, plain
 from ..model import load_model
 from . import geometry, identify, nvh, report, simulate, static, study
-from .paths import check_output_path, emit_table
+from .paths import check_output_path, emit_table, kept
 
 
 class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
@@ -70,13 +76,25 @@ def cmd_modes(args):
 
 def cmd_trfam(args):
     from ..frequency.trfam import trfam
+    from .nvh import check_frequency_range
 
     model = _model(args.model)
+    check_frequency_range(args.fmin, args.fmax)
     if not (args.fmin > 0 and args.fmax > args.fmin and args.df > 0):
         raise ModelError("--fmin/--fmax/--df", (args.fmin, args.fmax, args.df), "need 0 < fmin < fmax and df > 0 (Hz)")
+    from ..model.limits import MAX_FREQUENCIES
+
+    count = (args.fmax - args.fmin) / args.df + 1
+    if not count <= MAX_FREQUENCIES:
+        raise ModelError(
+            "--fmin/--fmax/--df",
+            (args.fmin, args.fmax, args.df),
+            f"give {count:.3g} frequencies; at most {MAX_FREQUENCIES}",
+        )
     f = np.arange(args.fmin, args.fmax + 0.5 * args.df, args.df)
     check_output_path("--out", args.out, (".csv", ".uff"))
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    args.interrupted = "stopped: " + kept(args.out, args.plot)
     H = trfam(model, args.input, args.output, f, damping=args.damping)
     table = np.column_stack([f, H.real, H.imag, np.abs(H), np.degrees(np.angle(H))])
     header = "frequency_hz,re_kg,im_kg,magnitude_kg,phase_deg"
@@ -164,8 +182,18 @@ def main(argv=None):
     warnings.showwarning = _warning_line
     try:
         return args.func(args)
+    except InfrastructureError as exc:
+        print(f"cablecasing: error: {exc}", file=sys.stderr)
+        return 3
     except CableCasingError as exc:
         print(f"cablecasing: error: {exc}", file=sys.stderr)
+        return 2
+    except MemoryError:  # (the sizes a run needs are checked before it starts; this is the last resort)
+        print(
+            "cablecasing: error: out of memory: the run needs more memory than the machine has free "
+            "(docs/model_file.md, Limits)",
+            file=sys.stderr,
+        )
         return 2
     except BrokenPipeError:  # output piped into head and the like: stop quietly
         sys.stdout = open(os.devnull, "w")  # (Python flushes stdout at exit)
@@ -174,5 +202,14 @@ def main(argv=None):
         hint = getattr(args, "interrupted", "nothing was written; files written before are as they were")
         print(f"\ncablecasing: interrupted: {hint}", file=sys.stderr)
         return 130
+    except Exception as exc:  # a bug: one line, not a traceback (the variable shows it)
+        if os.environ.get("CABLECASING_TRACEBACK"):
+            raise
+        print(
+            f"cablecasing: internal error: {type(exc).__name__}: {excerpt(plain(str(exc)), 200)} (a bug; please report "
+            "it with the command; CABLECASING_TRACEBACK=1 shows the traceback)",
+            file=sys.stderr,
+        )
+        return 1
     finally:
         warnings.showwarning = shown

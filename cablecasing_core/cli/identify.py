@@ -26,9 +26,18 @@ def _fail(exc):
     return 2
 
 
+def _check_outputs(args):
+    """--toml and --plot writable before the identification starts (cli/paths.py)."""
+    from .paths import check_output_path
+
+    check_output_path("--toml", args.toml, (".toml",))
+    check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+
+
 def _write_toml(path, text):
-    with open(path, "w", encoding="utf-8") as fh:
-        fh.write(text)
+    from ..files import write_text
+
+    write_text(path, text)
     print(f"wrote {path}")
 
 
@@ -57,6 +66,7 @@ def _spectrum_peaks(x, fs, count):
 
 def cmd_damping(args):
     try:
+        _check_outputs(args)
         from ..identification import parameters_toml, rayleigh_fit, read_time_record, wavelet_damping
 
         x, fs, name = read_time_record(args.file, args.channel)
@@ -110,6 +120,7 @@ def cmd_damping(args):
 
 def cmd_loss_factor(args):
     try:
+        _check_outputs(args)
         from ..identification import loss_factor_circle, parameters_toml, read_frf
 
         f, H = read_frf(args.file, args.channel)
@@ -145,20 +156,18 @@ def _read_measured(path, modes_arg, channel):
     from ..identification.uff_io import is_uff, read_frf
 
     if not is_uff(path):
-        try:
-            with open(path, encoding="utf-8") as fh:
-                header = [h.strip().lower() for h in fh.readline().split(",")]
-        except OSError:
-            raise ModelError("file", str(path), "does not exist or cannot be read") from None
+        from ..files import read_csv_table
+
+        names, data = read_csv_table(path, "file", min_rows=1)
+        header = [h.lower() for h in names]
         if "mode" in header:
             fcol = next((i for i, h in enumerate(header) if h in ("f_hz", "frequency_hz", "f")), None)
             if fcol is None:
                 raise ModelError("file", str(path), "a measured-frequency table needs columns mode,f_hz")
-            try:
-                data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
-            except ValueError as exc:
-                raise ModelError("file", str(path), f"must be numeric CSV rows mode,f_hz ({exc})") from None
-            return data[:, fcol], data[:, header.index("mode")].astype(int)
+            modes = data[:, header.index("mode")]
+            if np.any(modes != np.round(modes)) or np.any(modes < 1) or np.any(modes > 1000):
+                raise ModelError("file", str(path), "the column mode must hold whole numbers 1 to 1000")
+            return data[:, fcol], modes.astype(int)
     if not modes_arg:
         raise ModelError("--modes", None, "an FRF file needs the mode number of each resonance (--modes 1 2 ...)")
     f, H = read_frf(path, channel)
@@ -167,6 +176,7 @@ def _read_measured(path, modes_arg, channel):
 
 def cmd_modulus(args):
     try:
+        _check_outputs(args)
         from ..identification import identify_modulus_model, parameters_toml
         from ..model import load_model
 

@@ -27,12 +27,14 @@ def _window(rec, skip):
 
 def cmd_spectrum(args):
     from ..nvh import apparent_mass, psd, reference, transmissibility
-    from .paths import check_output_path, emit_table
+    from .paths import check_output_path, emit_table, kept
 
     check_output_path("--out", args.out, (".csv",))
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    args.interrupted = "stopped: " + kept(args.out, args.plot)
     rec = _record(args.record)
     columns = args.column or ["casing.B.Fz"]
+    check_frequency_range(args.fmin, args.fmax)
     f_range = (args.fmin, args.fmax)
     if args.kind == "psd":
         keep = _window(rec, args.skip)
@@ -82,6 +84,17 @@ def cmd_spectrum(args):
     return 0
 
 
+def check_frequency_range(fmin, fmax):
+    """``--fmin``/``--fmax`` (Hz): 0 <= fmin < fmax <= 1e6 (the model and its records lie far below)."""
+    from ..errors import ModelError
+    from ..model.validators import number
+
+    number("--fmin", fmin, ge=0, le=1e6, unit="Hz")
+    number("--fmax", fmax, gt=0, le=1e6, unit="Hz")
+    if not fmin < fmax:
+        raise ModelError("--fmin/--fmax", (fmin, fmax), "need fmin < fmax (Hz)")
+
+
 def _nperseg(rec, args):
     """Samples per Welch segment for ``--resolution`` Hz (a power of two), or None (the default)."""
     if args.resolution is None:
@@ -107,10 +120,11 @@ def cmd_bands(args):
     from ..files import atomic_path
     from ..nvh import reference
     from ..studies import octave_rms
-    from .paths import check_output_path
+    from .paths import check_output_path, kept
 
     check_output_path("--out", args.out, (".csv",))
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    args.interrupted = "stopped: " + kept(args.out, args.plot)
     rec = _record(args.record)
     keep = _window(rec, args.skip)
     col = rec.resolve(args.column)

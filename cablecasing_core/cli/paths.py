@@ -9,14 +9,29 @@ from ..errors import ModelError
 
 
 def check_output_path(flag, path, suffixes=None):
-    """Refuse an output file before a long run rather than after it: its folder must exist and, with
-    ``suffixes``, its name must end in one of them. ``None`` (no output asked for) passes."""
+    """Refuse an output file before a long run rather than after it: with ``suffixes``, its name
+    must end in one of them, and a file must be writable there (:func:`~cablecasing_core.files.check_writable`:
+    an existing folder, a regular file or none yet, a byte written and synced to a temporary file in
+    the folder). ``None`` (no output asked for) passes."""
+    from ..files import check_writable
+
     if path is None or path is True:
         return
     if suffixes and not str(path).endswith(tuple(suffixes)):
         raise ModelError(flag, path, "must end in " + " or ".join(suffixes))
-    if not Path(path).resolve().parent.is_dir():
-        raise ModelError(flag, path, "must be a file in an existing folder")
+    check_writable(flag, path)
+
+
+def kept(*paths) -> str:
+    """What an interrupt leaves of the output files ``paths`` (None: not asked for): each one that
+    existed is kept as it was (files are written atomically), the others were not written."""
+    paths = [str(p) for p in paths if p not in (None, True, False)]
+    old = [p for p in paths if Path(p).exists()]
+    new = [p for p in paths if p not in old]
+    parts = ([f"the previous {', '.join(old)} kept as it was"] if old else []) + (
+        [f"{', '.join(new)} not written"] if new else []
+    )
+    return "; ".join(parts) or "nothing was written"
 
 
 def emit_table(path, header, table, digits, note="#"):

@@ -4,8 +4,10 @@ from __future__ import annotations
 
 
 def cmd_report(args):
+    from ..files import output_folder
     from ..report import write_report
 
+    output_folder("--out", args.out, "report.html")  # (before the runs)
     args.interrupted = "the report was not finished; files in --out from earlier reports are as they were"
     html = write_report(
         args.out,

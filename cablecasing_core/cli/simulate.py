@@ -10,14 +10,17 @@ OUT_SUFFIXES = (".csv", ".npz", ".uff")
 def cmd_simulate(args):
     from ..model import load_model
     from ..timedomain.simulation import simulate
-    from .paths import check_output_path
+    from .paths import check_output_path, kept
 
     check_output_path("--out", args.out, OUT_SUFFIXES)
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
     model = load_model(args.model)
     if args.output_interval is not None:  # checked before the run against the time step
         _check_interval(args.output_interval, model.scenario["dt"] if args.dt is None else args.dt)
-    args.interrupted = "the run was stopped; nothing was written, files written before are as they were"
+    plot = args.plot if isinstance(args.plot, str) else ("simulation.png" if args.plot else None)
+    if args.plot is True:
+        check_output_path("--plot", plot)
+    args.interrupted = "the run was stopped: " + kept(args.out, plot)
     res = simulate(
         model, duration=args.duration, dt=args.dt, contact=False if args.no_contact else None, progress=args.progress
     )
@@ -50,7 +53,9 @@ def cmd_simulate(args):
 
 def _check_interval(interval, dt):
     from ..errors import ModelError
+    from ..model.validators import seconds
 
+    seconds("--output-interval", interval)
     m = round(interval / dt)
     if not interval > 0 or m < 1 or abs(m * dt - interval) > 1e-6 * dt:
         raise ModelError("--output-interval", interval, f"must be a whole number of time steps (dt = {dt:g} s)")

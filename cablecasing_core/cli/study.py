@@ -8,10 +8,12 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ModelError
-from ..model.schema import output_spec
+from ..model.limits import MAX_SEEDS, MAX_STUDY_SAMPLES
+from ..model.schema import MAX_SEED, output_spec
 from ..model.validators import integer, number
+from ..studies.executor import PROGRESS_TIMEOUT
 from .helptext import ASSIGNMENT_HELP, key_help
-from .paths import check_output_path
+from .paths import check_output_path, kept
 
 
 def study_bounds(args, model):
@@ -35,9 +37,8 @@ def cmd_study(args):
 
     model = load_model(args.model)
     bounds = study_bounds(args, model)  # (before anything is written)
-    integer("--samples", args.samples, 2)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    integer("--samples", args.samples, 2, MAX_STUDY_SAMPLES)
+    out = Path(args.out)  # (created by run_study once every setting is checked and the scheduler answers)
     model_file = str(Path(args.model).resolve()) if args.model else None  # (dask workers: any folder)
     kwargs = {"model_file": model_file, "duration": args.duration, "skip": args.skip}
     g = group_size(bounds)
@@ -58,6 +59,7 @@ def cmd_study(args):
         n_workers=args.workers,
         evaluate_kwargs=kwargs,
         model=model,
+        progress_timeout=number("--timeout", args.timeout, gt=0, unit="s"),
     )
     n_ok = int(np.sum(res.ok))
     print(f"{n_ok} of {len(res.status)} runs ok ({res.n_base} base points); results in {out / 'study.csv'}")
@@ -147,11 +149,15 @@ def _assignment(flag, text):
 def cmd_ensemble(args):
     from ..studies import paired_difference, seed_ensemble
 
-    integer("--seeds", args.seeds, 2)
-    integer("--first-seed", args.first_seed, 0)
+    integer("--seeds", args.seeds, 2, MAX_SEEDS)
+    integer("--first-seed", args.first_seed, 0, MAX_SEED + 1 - args.seeds, " (the last seed must fit a seed's range)")
     _check_confidence(args.confidence)
     check_output_path("--out", args.out)
+    check_output_path("--out", _against_path(args.out) if args.against else None)
     check_output_path("--plot", args.plot)
+    args.interrupted = "the ensemble was stopped: " + kept(
+        args.out, _against_path(args.out) if args.against else None, args.plot
+    )
     seeds = list(range(args.first_seed, args.first_seed + args.seeds))
     common = dict(
         seeds=seeds,
@@ -166,12 +172,20 @@ def cmd_ensemble(args):
     )
     base = dict(_assignment("--set", a) for a in args.set)
     against = dict(_assignment("--against", a) for a in args.against)
-    ens = seed_ensemble(args.model, overrides=base, **common)
+    from ..model import load_model
+
+    model = load_model(args.model)
+    try:  # both variants checked before the first run
+        model.with_overrides({**base, **against})
+    except ModelError as exc:
+        flag = "--against" if exc.key in against else "--set"
+        raise ModelError(f"{flag} {exc.key}", exc.value, exc.allowed) from None
+    ens = seed_ensemble(model, overrides=base, **common)
     _print_ensemble(ens, args.confidence)
     _save(ens, args.out, "")
     other = d = None
     if against:
-        other = seed_ensemble(args.model, overrides={**base, **against}, **common)
+        other = seed_ensemble(model, overrides={**base, **against}, **common)
         d = paired_difference(other, ens)
         _print_change(other, d, against, args.confidence)
         _save(other, args.out, "_against")
@@ -185,7 +199,9 @@ def cmd_pool(args):
 
     _check_confidence(args.confidence)
     check_output_path("--out", args.out)
+    check_output_path("--out", _against_path(args.out) if args.against else None)
     check_output_path("--plot", args.plot)
+    args.interrupted = "stopped: " + kept(args.out, _against_path(args.out) if args.against else None, args.plot)
     ens = pool_ensembles(args.files)
     other = d = None
     change = {}
@@ -231,11 +247,18 @@ def _print_change(other, d, change, confidence):
         print(f"{lab},{m:.6g},{r:+.4f},{se:.4f},{a:+.4f},{b:+.4f},{r / se:+.1f}")
 
 
+def _against_path(out, suffix="_against"):
+    """``x.csv`` -> ``x_against.csv`` (None for None)."""
+    if not out:
+        return None
+    stem, dot, ext = out.rpartition(".")
+    return f"{stem}{suffix}.{ext}" if dot else f"{out}{suffix}"
+
+
 def _save(ens, out, suffix):
     """Write ``ens`` to ``out`` (``x.csv`` -> ``x<suffix>.csv``), if ``out`` was given."""
     if out:
-        stem, dot, ext = out.rpartition(".")
-        path = f"{stem}{suffix}.{ext}" if dot else f"{out}{suffix}"
+        path = _against_path(out, suffix) if suffix else out
         ens.save(path)
         print(f"# wrote {path}")
 
@@ -276,6 +299,13 @@ def add_parser(sub):
     )
     p.add_argument("--skip", type=float, default=0.05, help="start of each record left out, s")
     p.add_argument("--out", default="study", help="folder of study.csv (resumed when it exists) and the figures")
+    p.add_argument(
+        "--timeout",
+        type=float,
+        default=PROGRESS_TIMEOUT,
+        metavar="S",
+        help="on dask: stop (exit status 3, resumable) when no sample finishes for S seconds",
+    )
     p.set_defaults(func=cmd_study)
 
     e = sub.add_parser("ensemble", help="band levels of a support output as means over excitation seeds")

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from scipy.linalg import eigh
 
+from ..model.limits import check_dense_eigenproblem
 from ..model.validators import Choice, integer
 from ..structure.assembly import assemble_body
 
@@ -40,6 +41,7 @@ class ModalBasis:
 def modal_basis(system: BodySystem) -> ModalBasis:
     """Full :class:`ModalBasis` of an assembled :class:`~cablecasing_core.structure.assembly.BodySystem`."""
     Kff, Mff = system.K_blocks[0], system.M_blocks[0]
+    check_dense_eigenproblem(Kff.shape[0], system.ndof // 6 - 1)  # (before the work: model/limits.py)
     lam, phi = eigh(Kff, Mff)
     return ModalBasis(system=system, lam=lam, phi=phi)
 

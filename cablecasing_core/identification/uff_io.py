@@ -143,7 +143,8 @@ def read_uff(path):
     except ModelError:
         raise
     except Exception as exc:
-        raise ModelError("file", str(path), f"is not a readable UFF file ({exc})") from exc
+        # (the reader's message may quote the file's lines: only its kind is shown)
+        raise ModelError("file", str(path), f"is not a readable UFF file ({type(exc).__name__})") from None
     if isinstance(sets, dict):
         sets = [sets]
     out = []
@@ -189,37 +190,22 @@ def write_csv_time(path, x, fs, names=None, t0=0.0):
     x2 = x[:, None] if x.ndim == 1 else x
     names = names or (["x"] if x2.shape[1] == 1 else [f"x{i + 1}" for i in range(x2.shape[1])])
     t = t0 + np.arange(x2.shape[0]) / float(fs)
-    np.savetxt(
-        path, np.column_stack([t, x2]), delimiter=",", header=",".join(["time_s", *names]), comments="", fmt="%.17g"
-    )
+    from ..files import atomic_path
+
+    with atomic_path(path) as tmp:
+        np.savetxt(
+            tmp, np.column_stack([t, x2]), delimiter=",", header=",".join(["time_s", *names]), comments="", fmt="%.17g"
+        )
 
 
 def write_csv_frf(path, freqs_hz, H, name="H"):
     """A complex FRF to CSV: ``frequency_hz,re_<name>,im_<name>``."""
     H = np.asarray(H, dtype=complex)
-    np.savetxt(
-        path,
-        np.column_stack([np.asarray(freqs_hz, dtype=float), H.real, H.imag]),
-        delimiter=",",
-        header=f"frequency_hz,re_{name},im_{name}",
-        comments="",
-        fmt="%.17g",
-    )
+    from ..files import atomic_path
 
-
-def _read_csv(path):
-    if not os.path.exists(path):
-        raise ModelError("file", str(path), "does not exist")
-    with open(path, encoding="utf-8") as fh:
-        header = fh.readline().strip()
-    names = [h.strip() for h in header.split(",")]
-    try:
-        data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
-    except ValueError as exc:
-        raise ModelError("file", str(path), f"must be numeric CSV with one header line ({exc})") from exc
-    if data.shape[1] != len(names):
-        raise ModelError("file", str(path), f"header has {len(names)} columns, data {data.shape[1]}")
-    return names, data
+    table = np.column_stack([np.asarray(freqs_hz, dtype=float), H.real, H.imag])
+    with atomic_path(path) as tmp:
+        np.savetxt(tmp, table, delimiter=",", header=f"frequency_hz,re_{name},im_{name}", comments="", fmt="%.17g")
 
 
 def read_csv_time(path, channel=None):
@@ -248,7 +234,9 @@ def read_csv_time(path, channel=None):
 def read_csv_frf(path):
     """A complex FRF from CSV: returns ``(freqs_hz, H)`` from the first column and the first
     ``re_*``/``im_*`` column pair."""
-    names, data = _read_csv(path)
+    from ..files import read_csv_table
+
+    names, data = read_csv_table(path, "file", min_rows=3, min_columns=3)
     re_i = next((i for i, n in enumerate(names) if n.lower().startswith("re")), None)
     im_i = next((i for i, n in enumerate(names) if n.lower().startswith("im")), None)
     if re_i is None or im_i is None:

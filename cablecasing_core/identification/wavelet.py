@@ -119,7 +119,7 @@ def cwt_morlet(x, fs, freqs_hz, gamma=DEFAULT_GAMMA, max_block_bytes=64e6):
     """
     x = array_1d("x", x, min_len=2, complex_ok=True)
     fs = number("fs", fs, gt=0, unit="Hz")
-    gamma = number("gamma", gamma, gt=0)
+    gamma = number("gamma", gamma, gt=0, le=1e3)  # (larger: a wavelet of more samples than any record)
     if gamma < MIN_GAMMA:
         raise ModelError("gamma", gamma, f"must be at least {MIN_GAMMA:g} (the Gaussian must vanish at 0 Hz)")
     f = frequencies("freqs_hz", freqs_hz, fs)
@@ -333,7 +333,7 @@ def wavelet_damping(
     """
     x = array_1d("x", x, min_len=8)
     fs = number("fs", fs, gt=0, unit="Hz")
-    gamma = number("gamma", gamma, gt=0)
+    gamma = number("gamma", gamma, gt=0, le=1e3)  # (larger: a wavelet of more samples than any record)
     edge_factor = number("edge_factor", edge_factor, gt=0)
     floor_factor = number("floor_factor", floor_factor, gt=0)
     search = number("search", search, gt=0)

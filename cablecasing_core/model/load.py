@@ -22,6 +22,10 @@ from ..errors import ModelError
 from .model import Model
 from .validate import validate
 
+#: The largest model file read (bytes): a model is a few kB; anything larger is not one (and a
+#: device such as /dev/zero would otherwise be read without end).
+MAX_MODEL_BYTES = 1 << 20
+
 
 def model_from_dict(data: dict, source: str = "<dict>", base_dir: str | None = None) -> Model:
     """Validate a raw nested dictionary (as read from TOML) and return a :class:`Model`; ``base_dir``
@@ -51,22 +55,39 @@ def load_model(path: str | Path | None = None) -> Model:
         text = resources.files("cablecasing_core.model").joinpath(f"specimens/{path}.toml").read_text()
         return Model(validate(tomllib.loads(text)), source="<built-in>" if path == "default" else f"<built-in {path}>")
     p = Path(path)
-    try:
-        text = p.read_text()
-    except OSError as exc:
-        raise ModelError(
-            "model_file",
-            str(path),
-            f"must be a readable TOML file ({exc.strerror}) or a built-in specimen: " + ", ".join(specimen_names()),
-        ) from None
-    try:
-        raw = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ModelError("model_file", str(path), f"must be valid TOML ({exc})") from None
+    raw = toml_file(p, "model_file", MAX_MODEL_BYTES, " or a built-in specimen: " + ", ".join(specimen_names()))
     base = str(p.resolve().parent)
-    model = Model(validate(raw, base_dir=base), source=str(p), base_dir=base)
+    try:
+        model = Model(validate(raw, base_dir=base), source=str(p), base_dir=base)
+    except RecursionError:  # (tables nested thousands deep)
+        raise ModelError("model_file", str(path), "nests tables or arrays too deeply to be a model file") from None
     _warn_if_implausible(model)
     return model
+
+
+def toml_file(path: str | Path, key: str, limit: int, other: str = "") -> dict:
+    """The TOML document in ``path``, read as UTF-8 (at most ``limit`` bytes); a :class:`ModelError`
+    names ``key`` (the option or field that gave the path) and the file, and says what is wrong
+    without quoting the file's content."""
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read(limit + 1)
+    except OSError as exc:
+        raise ModelError(key, str(path), f"must be a readable TOML file ({exc.strerror}){other}") from None
+    if len(data) > limit:
+        raise ModelError(key, str(path), f"is larger than {limit} bytes: not a TOML file of this program")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ModelError(
+            key, str(path), f"must be a UTF-8 text TOML file (byte {exc.start} is not UTF-8: a binary or Latin-1 file?)"
+        ) from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:  # (its message gives the line and column, not the content)
+        raise ModelError(key, str(path), f"must be valid TOML ({exc})") from None
+    except RecursionError:
+        raise ModelError(key, str(path), "nests tables or arrays too deeply to be read") from None
 
 
 def _warn_if_implausible(model):

@@ -9,7 +9,7 @@ test checks that the committed table is the generated one).
 >>> from cablecasing_core.model.schema import lookup, output_spec
 >>> spec = lookup("scenario.excitation.casing_random.rms")
 >>> spec.unit, spec.default, spec.allowed
-('m/s2', 5.0, 'zero or a positive number in m/s2')
+('m/s2', 5.0, 'a number in [0, 1e+06] in m/s2')
 >>> output_spec("casing.B.Fz")
 ('N', 'force the casing exerts on its support B, component along global z')
 
@@ -53,6 +53,11 @@ EXCITATION_KINDS = ("random", "harmonic", "impulse", "csv")
 CSV_QUANTITIES = ("displacement", "velocity", "acceleration")
 SECTIONS = ("geometry", "casing", "cable", "contact", "loads", "scenario")
 REST_SHAPES = ("routing", "straight")
+#: The most elements a body may have (the time domain's dense compliance of 6 (n + 1) DOFs and the
+#: frequency domain's dense eigenproblem grow as n^2 in memory, n^3 in time; docs/model_file.md, Limits).
+MAX_ELEMENTS = 2000
+#: The largest seed: what a signed 64-bit integer holds (the ensembles' CSV files, numpy).
+MAX_SEED = 2**63 - 1
 
 #: The 12 translational support channels, in the FMU's input order (m, m/s, m/s2, global axes).
 CHANNELS = tuple(f"{b}.{s}.{d}" for b in BODY_NAMES for s in SUPPORT_NAMES for d in DIRECTIONS)
@@ -118,7 +123,14 @@ class KeySpec:
     description: one line; validator: the :mod:`.validators` object that checks a value; note:
     what the loader checks against other keys; kinds: the excitation kinds that take the key;
     default_from: the key whose value is the default; components: the names of a vector key's
-    components, whose scalar keys ``<key>.<component>`` are parameters (the FMU's, ``with_overrides``).
+    components, whose scalar keys ``<key>.<component>`` are parameters (the FMU's, ``with_overrides``);
+    plausible: ``(low, high, why)``, the range of physically meaningful values inside the allowed one:
+    a value outside it is taken, with a :class:`~cablecasing_core.errors.ModelWarning` that says
+    ``why`` the result may be meaningless.
+
+    The allowed ranges are what the numerics can take: within them no combination of values
+    overflows, and a run either gives finite results or stops with a message (docs/model_file.md,
+    Limits); they are far wider than any cable.
     """
 
     key: str
@@ -131,11 +143,30 @@ class KeySpec:
     kinds: tuple = ()
     default_from: str | None = None
     components: tuple = ()
+    plausible: tuple | None = None
 
     @property
     def allowed(self) -> str:
         """A short human text of the allowed values."""
         return self.validator.allowed + (f"; {self.note}" if self.note else "")
+
+    @property
+    def plausible_text(self) -> str:
+        """The plausible range as text (empty when the key has none)."""
+        if not self.plausible:
+            return ""
+        lo, hi, _ = self.plausible
+        return f"{lo:g} to {hi:g}" + (f" {self.unit}" if self.unit not in ("", "1") else "")
+
+    def implausible(self, value) -> str | None:
+        """Why ``value`` (checked; a number or a table's values) may give a meaningless result, or None."""
+        if not self.plausible:
+            return None
+        lo, hi, why = self.plausible
+        values = [row[1] for row in value] if isinstance(value, list) else [value]
+        if all(lo <= abs(v) <= hi or v == 0 for v in values):
+            return None
+        return f"outside the plausible {self.plausible_text}: {why}"
 
     @property
     def required(self) -> bool:
@@ -151,6 +182,16 @@ class KeySpec:
         return self.validator(self.key if key is None else key, value)
 
 
+_DIAMETER = (1e-4, 0.05, "the cables and casings this model describes are 0.1 to 50 mm thick")
+
+
+def _diameter(key, description, note=""):
+    """A diameter key (m): required, 1e-5 to 1 m, plausible 0.1 to 50 mm."""
+    return KeySpec(
+        key, "float", REQUIRED, "m", description, Number(ge=1e-5, le=1.0, unit="m"), note, plausible=_DIAMETER
+    )
+
+
 def _body(body):
     the = f"the {body}"
     keys = [
@@ -160,7 +201,8 @@ def _body(body):
             REQUIRED,
             "Pa",
             f"Young's (dynamic) modulus of {the}; a table makes it frequency-dependent (Section 3.1)",
-            NumberOrTable(Number(gt=0, unit="Pa")),
+            NumberOrTable(Number(gt=0, le=1e16, unit="Pa")),
+            plausible=(1e5, 1.2e12, "solids lie between a soft rubber (1e5 Pa) and diamond (1.2e12 Pa)"),
         ),
         KeySpec(
             f"{body}.nu",
@@ -176,7 +218,8 @@ def _body(body):
             REQUIRED,
             "kg/m3",
             f"density of {the}, averaged over its cross-section",
-            Number(gt=0, unit="kg/m3"),
+            Number(ge=0.01, le=1e5, unit="kg/m3"),
+            plausible=(100.0, 25000.0, "solids lie between a foam (100 kg/m3) and osmium (22600 kg/m3)"),
         ),
         KeySpec(
             f"{body}.alpha",
@@ -184,7 +227,8 @@ def _body(body):
             0.0,
             "1/s",
             f"Rayleigh mass-proportional damping of {the}, C = alpha M + beta K (Eq. 40)",
-            Number(ge=0, unit="1/s"),
+            Number(ge=0, le=1e9, unit="1/s"),
+            plausible=(0.0, 1e4, "the damping ratio alpha / (2 omega) exceeds 1 (overdamped) up to alpha / (4 pi) Hz"),
         ),
         KeySpec(
             f"{body}.beta",
@@ -192,7 +236,8 @@ def _body(body):
             0.0,
             "s",
             f"Rayleigh stiffness-proportional damping of {the}, C = alpha M + beta K (Eq. 40)",
-            Number(ge=0, unit="s"),
+            Number(ge=0, le=1.0, unit="s"),
+            plausible=(0.0, 1e-3, "the damping ratio beta omega / 2 exceeds 1 (overdamped) from 1 / (pi beta) Hz"),
         ),
         KeySpec(
             f"{body}.loss_factor",
@@ -200,31 +245,21 @@ def _body(body):
             0.0,
             "1",
             f"structural loss factor of {the} (Eq. 11; frequency domain only, the time domain uses alpha, beta)",
-            NumberOrTable(Number(ge=0)),
+            NumberOrTable(Number(ge=0, le=100.0)),
+            plausible=(0.0, 2.0, "loss factors of solids lie below 2 (rubbers near their glass transition)"),
         ),
     ]
     if body == "casing":
         keys += [
-            KeySpec(
-                "casing.d_outer",
-                "float",
-                REQUIRED,
-                "m",
-                "outer diameter of the casing (d_2 of Table 2)",
-                Number(gt=0, unit="m"),
-            ),
-            KeySpec(
+            _diameter("casing.d_outer", "outer diameter of the casing (d_2 of Table 2)"),
+            _diameter(
                 "casing.d_inner",
-                "float",
-                REQUIRED,
-                "m",
                 "inner diameter of the casing, in which the cable runs (d_5 of Table 2)",
-                Number(gt=0, unit="m"),
-                note="below casing.d_outer and above cable.d",
+                "below casing.d_outer and above cable.d",
             ),
         ]
     else:
-        keys += [KeySpec("cable.d", "float", REQUIRED, "m", "diameter of the cable (D_z0)", Number(gt=0, unit="m"))]
+        keys += [_diameter("cable.d", "diameter of the cable (D_z0)")]
     keys.append(
         KeySpec(
             f"{body}.I",
@@ -233,7 +268,7 @@ def _body(body):
             "m4",
             f"effective second moment of area of {the}'s section, instead of the one of its diameters "
             "(I_op of Table 2)",
-            Number(gt=0, unit="m4"),
+            Number(gt=0, le=1.0, unit="m4"),
         )
     )
     keys += [
@@ -339,7 +374,8 @@ _KEYS = [
         35,
         "1",
         "number of beam elements of each body along the centerline",
-        Number(ge=1, integer=True),
+        Number(ge=1, le=MAX_ELEMENTS, integer=True),
+        note="a run checks the memory it needs first (docs/model_file.md, Limits)",
     ),
     KeySpec(
         "geometry.points",
@@ -399,7 +435,7 @@ _KEYS = [
         1.0e6,
         "N/m",
         "penalty stiffness of the linear contact law (Eq. 24)",
-        Number(gt=0, unit="N/m"),
+        Number(gt=0, le=1e30, unit="N/m"),
     ),
     KeySpec(
         "contact.damping",
@@ -407,7 +443,7 @@ _KEYS = [
         100.0,
         "kg/s",
         "contact damping, acting while the penetration grows (Eq. 16)",
-        Number(ge=0, unit="kg/s"),
+        Number(ge=0, le=1e12, unit="kg/s"),
     ),
     KeySpec(
         "contact.friction",
@@ -415,7 +451,8 @@ _KEYS = [
         0.15,
         "1",
         "Coulomb friction coefficient between cable and casing (eta)",
-        Number(ge=0),
+        Number(ge=0, le=10.0),
+        plausible=(0.0, 2.0, "dry friction coefficients of solids lie below 2"),
     ),
     KeySpec(
         "contact.stick_velocity",
@@ -423,7 +460,8 @@ _KEYS = [
         1.0e-4,
         "m/s",
         "tangential relative speed below which a contact sticks (Section 2.1)",
-        Number(ge=0, unit="m/s"),
+        Number(ge=0, le=1e3, unit="m/s"),
+        plausible=(0.0, 0.1, "a contact that sticks up to this speed hardly ever slips"),
     ),
     KeySpec(
         "scenario.duration",
@@ -431,17 +469,25 @@ _KEYS = [
         1.0,
         "s",
         "duration of the scenario's run",
-        Number(gt=0, unit="s"),
+        Number(gt=0, le=1e6, unit="s"),
         note="at least scenario.dt",
     ),
-    KeySpec("scenario.dt", "float", 1.0e-5, "s", "time step of the Newmark integration", Number(gt=0, unit="s")),
+    KeySpec(
+        "scenario.dt",
+        "float",
+        1.0e-5,
+        "s",
+        "time step of the Newmark integration",
+        Number(ge=1e-10, le=1.0, unit="s"),
+        plausible=(1e-8, 1e-3, "a step longer than 1 ms does not resolve the cable's contacts and modes"),
+    ),
     KeySpec(
         "scenario.seed",
         "int",
         0,
         "1",
         "seed of the random excitations that give none of their own",
-        Number(ge=0, integer=True),
+        Number(ge=0, le=MAX_SEED, integer=True),
     ),
     KeySpec(
         "scenario.ramp",
@@ -449,7 +495,7 @@ _KEYS = [
         0.01,
         "s",
         "half-cosine fade-in of the support motion (0: none)",
-        Number(ge=0, unit="s"),
+        Number(ge=0, le=1e6, unit="s"),
     ),
     KeySpec(
         f"{_EXC}.target",
@@ -474,7 +520,8 @@ _KEYS = [
         5.0,
         "m/s2",
         "RMS acceleration of the random excitation",
-        Number(ge=0, unit="m/s2"),
+        Number(ge=0, le=1e6, unit="m/s2"),
+        plausible=(0.0, 1e3, "a vehicle's vibration stays below 100 g"),
         kinds=("random",),
     ),
     KeySpec(
@@ -493,7 +540,7 @@ _KEYS = [
         OPTIONAL,
         "1",
         "seed of the random excitation's phases",
-        Number(ge=0, integer=True),
+        Number(ge=0, le=MAX_SEED, integer=True),
         kinds=("random",),
         default_from="scenario.seed",
     ),
@@ -503,7 +550,7 @@ _KEYS = [
         REQUIRED,
         "Hz",
         "frequency of the harmonic excitation",
-        Number(gt=0, unit="Hz"),
+        Number(gt=0, le=1e6, unit="Hz"),
         kinds=("harmonic",),
     ),
     KeySpec(
@@ -512,7 +559,8 @@ _KEYS = [
         REQUIRED,
         "m",
         "displacement amplitude of the harmonic excitation, or height of the impulse's bump",
-        Number(unit="m"),
+        Number(ge=-1.0, le=1.0, unit="m"),
+        plausible=(0.0, 0.05, "a support that moves by more than 50 mm is not vibrating"),
         kinds=("harmonic", "impulse"),
     ),
     KeySpec(
@@ -530,11 +578,18 @@ _KEYS = [
         1.0e-3,
         "s",
         "duration of the impulse's Hann-shaped displacement bump",
-        Number(gt=0, unit="s"),
+        Number(gt=0, le=1e6, unit="s"),
+        note="at least 2 scenario.dt",
         kinds=("impulse",),
     ),
     KeySpec(
-        f"{_EXC}.start", "float", 0.0, "s", "start time of the impulse", Number(ge=0, unit="s"), kinds=("impulse",)
+        f"{_EXC}.start",
+        "float",
+        0.0,
+        "s",
+        "start time of the impulse",
+        Number(ge=0, le=1e6, unit="s"),
+        kinds=("impulse",),
     ),
     KeySpec(
         f"{_EXC}.file",
@@ -579,7 +634,7 @@ _KEYS += [
         "m/s2",
         "gravitational acceleration in global axes, on both bodies (Eq. 7); zero = no gravity; "
         "FMU parameters loads.gravity.x, .y, .z",
-        Vector(unit="m/s2"),
+        Vector(unit="m/s2", bound=1e4),
         components=DIRECTIONS,
     ),
     KeySpec(
@@ -589,7 +644,8 @@ _KEYS += [
         "N",
         "static axial tension of the cable; the casing carries the equal compression (geometric stiffness "
         "of both bodies, and the tension's pull towards the inside of every bend)",
-        Number(ge=0, unit="N"),
+        Number(ge=0, le=1e7, unit="N"),
+        plausible=(0.0, 1e4, "a steel wire of a few mm yields below 10 kN"),
         note="needs the cable, and below the casing's buckling load (checked when the casing is assembled)",
     ),
 ]
@@ -712,7 +768,8 @@ def markdown_table() -> str:
     lines = ["| key | type | default | unit | allowed | description |", "|---|---|---|---|---|---|"]
     for spec in _KEYS:
         kinds = f" (kind {' or '.join(spec.kinds)})" if spec.kinds else ""
-        allowed = spec.allowed.replace("|", "\\|")  # a | inside a Markdown table cell
+        allowed = spec.allowed + (f"; a warning outside {spec.plausible_text}" if spec.plausible else "")
+        allowed = allowed.replace("|", "\\|")  # a | inside a Markdown table cell
         lines.append(
             f"| `{spec.key}` | {spec.type} | {default(spec)} | {spec.unit or '-'} | "
             f"{allowed} | {spec.description}{kinds} |"

@@ -7,16 +7,25 @@ duration at least one step, a random band below the Nyquist frequency, a target 
 support of a body that exists, a tension only with a cable and loads only on bodies that a clamped
 support holds. Every mistake raises :class:`~cablecasing_core.errors.ModelError`
 naming the dotted key, the value and what is allowed; nothing is half-built.
+
+A valid model can still be physically absurd: a value outside its key's plausible range (the
+schema's ``plausible``), a radial gap far below a wire's roughness, a contact stiffness whose time
+scale the step does not resolve, an impulse resolved by a few steps, a route shorter than ten
+diameters or one that doubles back, a contact sought on fewer than four elements. Each gives a
+:class:`~cablecasing_core.errors.ModelWarning` that says why the result may be meaningless
+(:func:`plausibility`, :func:`step_checks`); the model is used as given.
 """
 
 from __future__ import annotations
 
 import copy
+import math
+import warnings
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import NOT_SHOWN, ModelError, ModelWarning, excerpt
 from .schema import BODY_NAMES, OPTIONAL, SECTIONS, SUPPORT_NAMES, lookup, table
 
 
@@ -26,10 +35,11 @@ def check_keys(prefix, data, allowed, required=()):
         raise ModelError(prefix, data, "must be a table (section)")
     for k in data:
         if k not in allowed:
-            raise ModelError(f"{prefix}.{k}", data[k], "unknown key; allowed keys are " + ", ".join(sorted(allowed)))
+            # (an unknown key's value is not shown: the file may be no model file at all, e.g. one of secrets)
+            raise ModelError(f"{prefix}.{k}", NOT_SHOWN, "unknown key; allowed keys are " + ", ".join(sorted(allowed)))
     for k in required:
         if k not in data:
-            raise ModelError(f"{prefix}.{k}", None, "is required")
+            raise ModelError(f"{prefix}.{k}", NOT_SHOWN, "is required")
 
 
 def _table(prefix, data, specs, extra=()):
@@ -40,6 +50,9 @@ def _table(prefix, data, specs, extra=()):
     for s in specs:
         if s.name in data:
             out[s.name] = s.check(data[s.name], f"{prefix}.{s.name}")
+            why = s.implausible(out[s.name])
+            if why:
+                _warn(f"{prefix}.{s.name} = {excerpt(out[s.name])} is {why}")
         elif s.default is not OPTIONAL:
             out[s.name] = s.check(copy.deepcopy(s.default), f"{prefix}.{s.name}")
     return out
@@ -229,9 +242,20 @@ def validate(data: dict, base_dir: str | None = None) -> dict:
             bodies["casing"]["d_inner"],
             f"must be larger than cable.d = {bodies['cable']['d']} m (there must be a radial gap)",
         )
+    n = out["geometry"]["n_elements"]
+    for name, b in bodies.items():
+        if n < 2 and set(b["supports"].values()) == {"clamped"}:
+            raise ModelError(
+                "geometry.n_elements",
+                n,
+                f"must be at least 2 when both supports of the {name} are clamped (one element between two clamped "
+                "ends has no free node: nothing moves but the supports)",
+            )
     out["contact"] = _table("contact", data.get("contact", {}), table("contact"))
     out["loads"] = _loads(data.get("loads", {}), bodies)
     out["scenario"] = _scenario(data.get("scenario", {}), bodies, base_dir)
+    plausibility(out)
+    step_checks(out, out["scenario"]["dt"], "scenario.dt")
     return out
 
 
@@ -258,3 +282,111 @@ def _loads(data, bodies):
                     "(a static state needs one)",
                 )
     return out
+
+
+def _warn(text):
+    warnings.warn(text, ModelWarning, stacklevel=4)
+
+
+#: The radial gap below which the contact law's smooth surfaces do not describe a wire in a casing:
+#: the surface roughness of a drawn steel wire and a casing's liner (Ra 0.1-1.6 um).
+ROUGHNESS = 1e-6  # m
+
+
+def plausibility(out: dict) -> list[str]:
+    """The warnings (also issued as :class:`ModelWarning`) of a checked model whose values are
+    valid but whose result may be meaningless: the gap, the route, the elements (docs/model_file.md,
+    "Warnings"). Returns their texts."""
+    said = []
+
+    def warn(text):
+        said.append(text)
+        _warn(text)
+
+    bodies = [b for b in BODY_NAMES if b in out]
+    both = len(bodies) == 2
+    if both:
+        gap = 0.5 * (out["casing"]["d_inner"] - out["cable"]["d"])
+        if gap < ROUGHNESS:
+            warn(
+                f"the radial gap (casing.d_inner - cable.d) / 2 = {gap:.3g} m is below the {ROUGHNESS:g} m "
+                "roughness of a drawn wire and a casing's liner: the smooth contact law does not describe such a "
+                "fit, and the cable starts pressed against the wall wherever the route bends (the energy it "
+                "then takes is no vibration)"
+            )
+    pts = [list(map(float, p)) for p in out["geometry"].get("points") or []]  # (a route of segments: none)
+    seg = [[b[k] - a[k] for k in range(3)] for a, b in zip(pts, pts[1:])]
+    length = _route_length(out["geometry"])
+    d = max(out["casing"]["d_outer"] if "casing" in out else 0.0, out["cable"]["d"] if "cable" in out else 0.0)
+    if length < 10 * d:
+        warn(
+            f"the route is {length:.3g} m long, less than ten times the diameter {d:g} m: a body this short is "
+            "no slender beam, and the Euler-Bernoulli elements (which neglect shear) do not describe it"
+        )
+    for i, (a, b) in enumerate(zip(seg, seg[1:]), 1):
+        na, nb = math.sqrt(sum(c * c for c in a)), math.sqrt(sum(c * c for c in b))
+        cos = sum(x * y for x, y in zip(a, b)) / (na * nb)
+        if cos < -0.5:  # turns by more than 120 degrees at one point
+            warn(
+                f"geometry.points[{i}]: the route turns by {math.degrees(math.acos(max(cos, -1.0))):.0f} degrees "
+                "there: it doubles back on itself, and the centerline bends tighter than any cable or casing can"
+            )
+            break
+    n = out["geometry"]["n_elements"]
+    if both and out["contact"]["enabled"] and n < 4:
+        warn(
+            f"geometry.n_elements = {n}: the contact is sought at the cable's {n + 1} nodes, of which {max(n - 1, 0)} "
+            "are free: the contact forces do not converge on so coarse a mesh (use 10 or more elements)"
+        )
+    return said
+
+
+def _route_length(geometry) -> float:
+    """The route's length (m): the polyline through its points, or the sum of its segments."""
+    if geometry.get("points"):
+        pts = geometry["points"]
+        return sum(math.dist(a, b) for a, b in zip(pts, pts[1:]))
+    total = 0.0
+    for s in geometry.get("segments") or []:
+        if "straight" in s:
+            total += float(s["straight"])
+        elif "bend" in s:
+            total += float(s["bend"]["radius"]) * math.radians(float(s["bend"]["angle_deg"]))
+    return total
+
+
+def step_checks(out: dict, dt: float, key: str) -> list[str]:
+    """The checks of a checked model against the time step ``dt`` (s; ``key`` names it): an impulse
+    of fewer than two steps is refused; one of fewer than ten steps, and a linear contact stiffness
+    whose period the step does not resolve, warn. Returns the warnings' texts."""
+    said = []
+    for name, e in out["scenario"]["excitation"].items():
+        if e["kind"] == "impulse":
+            k = f"scenario.excitation.{name}.width"
+            if e["width"] < 2 * dt:
+                raise ModelError(
+                    k,
+                    e["width"],
+                    f"must be at least two time steps ({key} = {dt:g} s): a narrower bump falls between the samples "
+                    "and moves nothing",
+                )
+            if e["width"] < 10 * dt:
+                said.append(
+                    f"{k} = {e['width']:g} s is resolved by {e['width'] / dt:.3g} steps of {dt:g} s: the bump's "
+                    "spectrum is distorted above about 1 / (4 dt)"
+                )
+    if "cable" in out and "casing" in out and out["contact"]["enabled"] and out["contact"]["law"] == "linear":
+        c = out["cable"]
+        n = out["geometry"]["n_elements"]
+        length = _route_length(out["geometry"])
+        node_mass = c["rho"] * math.pi * c["d"] ** 2 / 4 * length / n
+        w = math.sqrt(out["contact"]["stiffness"] / node_mass)
+        if w * dt > 0.5:
+            said.append(
+                f"contact.stiffness = {out['contact']['stiffness']:g} N/m on a cable node of {node_mass:.3g} kg "
+                f"oscillates with a period of {2 * math.pi / w:.3g} s, which the step {key} = {dt:g} s does not "
+                "resolve (12 or more steps per period): the contact forces and their energy are meaningless"
+            )
+    for text in said:
+        _warn(text)
+    return said

@@ -64,7 +64,10 @@ class Number:
                 raise ModelError(key, value, "must be " + self.allowed)
         elif self.integer and kind is float:
             raise ModelError(key, value, "must be " + self.allowed)
-        v = float(value)
+        try:
+            v = float(value)
+        except OverflowError:  # an integer beyond any float
+            raise ModelError(key, value, "must be " + self.allowed) from None
         if not math.isfinite(v):
             raise ModelError(key, value, "must be a finite number" + _unit_phrase(self.unit))
         if (
@@ -139,14 +142,18 @@ class Text:
 
 
 class Points:
-    """At least two points [x, y, z] (m), each different from the one before."""
+    """At least two points [x, y, z] (m), each different from the one before; at most
+    :attr:`MAX_POINTS` points, coordinates within +-1000 m."""
 
-    allowed = "at least two points [x, y, z] in m, consecutive points different"
-    coordinate = Number(unit="m")
+    MAX_POINTS = 10000  # (the spline's arc length is integrated on 200 samples per span)
+    allowed = f"2 to {MAX_POINTS} points [x, y, z] in m, coordinates within +-1000 m, consecutive points different"
+    coordinate = Number(ge=-1e3, le=1e3, unit="m")
 
     def __call__(self, key, value):
         if not isinstance(value, list) or len(value) < 2:
             raise ModelError(key, value, "needs at least two points [x, y, z] in m")
+        if len(value) > self.MAX_POINTS:
+            raise ModelError(key, f"{len(value)} points", f"must have at most {self.MAX_POINTS} points")
         clean = []
         for i, p in enumerate(value):
             if not isinstance(p, list) or len(p) != 3:
@@ -169,10 +176,13 @@ class Vector:
     """Three finite numbers [x, y, z] in ``unit``, global axes (a vector key such as
     ``loads.gravity``; with ``nonzero`` a direction, not all zero). Returns a list of three floats."""
 
-    def __init__(self, unit=None, nonzero=False):
+    def __init__(self, unit=None, nonzero=False, bound=None):
         self.unit, self.nonzero = unit, nonzero
-        self.component = Number(unit=unit)
-        self.allowed = "three finite numbers [x, y, z]" + _unit_phrase(unit) + (", not all zero" if nonzero else "")
+        self.component = Number(unit=unit) if bound is None else Number(ge=-bound, le=bound, unit=unit)
+        within = "" if bound is None else f" within +-{_fmt(float(bound))}"
+        self.allowed = (
+            "three finite numbers [x, y, z]" + within + _unit_phrase(unit) + (", not all zero" if nonzero else "")
+        )
 
     def __call__(self, key, value):
         if isinstance(value, np.ndarray):
@@ -193,8 +203,8 @@ class Vector:
 class Band:
     """A frequency band [f_low_Hz, f_high_Hz], 0 < f_low < f_high."""
 
-    allowed = "[f_low_Hz, f_high_Hz] with 0 < f_low < f_high"
-    edge = Number(gt=0, unit="Hz")
+    allowed = "[f_low_Hz, f_high_Hz] with 0 < f_low < f_high <= 1e5"
+    edge = Number(gt=0, le=1e5, unit="Hz")
 
     def __call__(self, key, value):
         if not isinstance(value, list) or len(value) != 2:
@@ -322,10 +332,13 @@ def number(key, value, **bounds):
     return Number(**bounds)(key, value)
 
 
-def integer(key, value, minimum):
-    """A whole number >= ``minimum`` (Python or numpy integer; not a bool); returns an int."""
+def integer(key, value, minimum, maximum=None, why=""):
+    """A whole number >= ``minimum`` (and <= ``maximum``, which ``why`` explains) (Python or numpy
+    integer; not a bool); returns an int."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, Integral) or value < minimum:
-        raise ModelError(key, value, f"must be an integer >= {minimum}")
+        raise ModelError(key, value, f"must be an integer >= {minimum}" + (f" and <= {maximum}" if maximum else ""))
+    if maximum is not None and value > maximum:
+        raise ModelError(key, value, f"must be an integer from {minimum} to {maximum}{why}")
     return int(value)
 
 

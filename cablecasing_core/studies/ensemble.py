@@ -132,45 +132,92 @@ class Ensemble:
 def load_ensemble(path: str | os.PathLike) -> Ensemble:
     """Read an ensemble written by :meth:`Ensemble.save` (``cablecasing ensemble --out``).
 
-    Raises :class:`ModelError` naming the file when it is missing or is not such a CSV.
+    Raises :class:`ModelError` naming the file and what is wrong (without quoting its lines) when it
+    is missing or is not such a CSV: the settings line must be the JSON object :meth:`Ensemble.save`
+    writes (output, bands with finite edges 0 < f_low < f_high, overrides and settings tables), the
+    rows finite numbers, the seeds whole numbers 0 to 2**53 (exact in the file's doubles), the levels
+    and contact times zero or positive.
     """
-    try:
-        f = open(path, encoding="utf-8")
-    except OSError as e:
-        raise ModelError("path", str(path), f"must be a readable ensemble CSV ({e.strerror})") from None
-    with f:
-        columns, meta_line = f.readline().strip().split(","), f.readline()
-        if not meta_line.startswith(_META):
-            raise ModelError(
-                "path",
-                str(path),
-                "must be a CSV written by Ensemble.save or 'cablecasing ensemble "
-                "--out' (its second line is not the '# cablecasing-ensemble' line)",
-            )
-        try:
-            meta = json.loads(meta_line[len(_META) :])
-            labels, output = tuple(meta["labels"]), meta["output"]
-            overrides, settings = meta["overrides"], meta["settings"]
-            lower, upper = np.array(meta["f_low_hz"], float), np.array(meta["f_high_hz"], float)
-            table = np.loadtxt(f, delimiter=",", ndmin=2)  # the rows after the settings line
-        except (ValueError, KeyError, TypeError) as e:  # JSONDecodeError is a ValueError
-            raise ModelError(
-                "path", str(path), f"must be an unaltered ensemble CSV ({type(e).__name__}: {e})"
-            ) from None
-    nb = len(labels)
-    if table.shape[1] != len(columns) or len(columns) < 1 + nb:
-        raise ModelError("path", str(path), f"must have the {len(columns)} columns of its header in every row")
+    from ..files import read_csv_table
+
+    names, table = read_csv_table(path, "path", min_rows=1)
+    shown = str(path)
+    with open(path, encoding="utf-8") as f:  # (read_csv_table checked it: a UTF-8 text file)
+        f.readline()
+        meta_line = f.readline()
+    if not meta_line.startswith(_META):
+        raise ModelError(
+            "path",
+            shown,
+            "must be a CSV written by Ensemble.save or 'cablecasing ensemble --out' (its second line is not the "
+            "'# cablecasing-ensemble' line)",
+        )
+    meta = _settings_line(shown, meta_line[len(_META) :])
+    labels, nb = tuple(meta["labels"]), len(meta["labels"])
+    if len(names) < 1 + nb or names[0] != "seed" or tuple(names[1 : 1 + nb]) != labels:
+        raise ModelError("path", shown, "its header must be 'seed' and the band labels of its settings line")
+    seeds = table[:, 0]
+    bad = np.nonzero((seeds != np.round(seeds)) | (seeds < 0) | (seeds > 2**53))[0]
+    if bad.size:
+        raise ModelError("path", shown, f"data row {bad[0] + 1}: the seed must be a whole number from 0 to 2**53")
+    neg = np.argwhere(table[:, 1:] < 0)
+    if neg.size:
+        r, c = neg[0]
+        raise ModelError(
+            "path", shown, f"data row {r + 1}, column {c + 2}: band levels and contact times must be zero or positive"
+        )
     return Ensemble(
-        table[:, 0].astype(int),
-        output,
+        seeds.astype(np.int64),
+        meta["output"],
         labels,
-        lower,
-        upper,
+        np.array(meta["f_low_hz"], float),
+        np.array(meta["f_high_hz"], float),
         table[:, 1 : 1 + nb],
-        overrides,
+        meta["overrides"],
         table[:, 1 + nb :],
-        settings,
+        meta["settings"],
     )
+
+
+def _settings_line(shown, text):
+    """The settings of an ensemble CSV's second line, checked (a :class:`ModelError` otherwise)."""
+    from ..model.schema import OUTPUTS
+
+    def bad(what):
+        return ModelError("path", shown, f"must be an unaltered ensemble CSV: its '# cablecasing-ensemble' line {what}")
+
+    if len(text) > 1 << 20:
+        raise bad("is longer than 1 MB")
+    try:
+        meta = json.loads(text)
+    except RecursionError:
+        raise bad("nests too deeply") from None
+    except ValueError as e:  # (JSONDecodeError: its position, not the content)
+        raise bad(f"is not JSON (at character {getattr(e, 'pos', '?')})") from None
+    if not isinstance(meta, dict):
+        raise bad("is not a JSON object")
+    for key, kind in (("output", str), ("labels", list), ("f_low_hz", list), ("f_high_hz", list)):
+        if not isinstance(meta.get(key), kind):
+            raise bad(f"has no {key} ({kind.__name__})")
+    for key in ("overrides", "settings"):
+        if not isinstance(meta.get(key, {}), dict):
+            raise bad(f"has a {key} that is not a table")
+        meta.setdefault(key, {})
+    if meta["output"] not in OUTPUTS:
+        raise bad("names an output that is not one of the model's outputs")
+    nb = len(meta["labels"])
+    if not nb or not all(isinstance(b, str) and b for b in meta["labels"]):
+        raise bad("has no band labels")
+    edges = []
+    for key in ("f_low_hz", "f_high_hz"):
+        v = meta[key]
+        if len(v) != nb or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in v):
+            raise bad(f"has {key} that are not {nb} numbers")
+        edges.append(np.array(v, float))
+    lo, hi = edges
+    if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(lo > 0) and np.all(hi > lo)):
+        raise bad("has band edges that are not finite with 0 < f_low < f_high")
+    return meta
 
 
 def pool_ensembles(ensembles: Sequence[Ensemble | str | os.PathLike]) -> Ensemble:

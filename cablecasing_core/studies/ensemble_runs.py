@@ -17,10 +17,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ModelError
+from ..model.limits import MAX_SEEDS
 from ..model.schema import SUPPORT_OUTPUTS, clip_outputs
 from ..model.validators import Choice, integer, seconds
 from .ensemble import Ensemble
-from .evaluators import DEFAULT_EVALUATE
+from .evaluators import DEFAULT_EVALUATE, check_record_settings
 from .executor import execute
 from .octave import Bands, octave_bands
 
@@ -117,24 +118,8 @@ def seed_ensemble(
     if clash:
         raise ModelError("overrides", clash, "must not set the seeds that the ensemble varies")
     base = model.with_overrides(overrides)  # validates the overrides before any run
-    length = (base.scenario["duration"] if duration is None else duration) - skip
-    narrow = int(np.argmin(band_set.upper - band_set.lower))
-    need = 1.0 / (band_set.upper[narrow] - band_set.lower[narrow])
-    if not length >= need:  # the band would hold less than one FFT bin (octave_rms refuses it)
-        raise ModelError(
-            "duration",
-            duration,
-            f"must leave at least {need:.4g} s after skip = {skip} s for band "
-            f"{band_set.labels[narrow]!r} ({band_set.lower[narrow]:g}-{band_set.upper[narrow]:g} Hz)",
-        )
+    check_record_settings(base, duration, dt, skip, band_set)
     step = base.scenario["dt"] if dt is None else dt
-    if not 0.5 / step >= band_set.upper.max():  # (octave_rms's rule, checked before the runs)
-        raise ModelError(
-            "dt",
-            dt,
-            f"must be at most {0.5 / band_set.upper.max():.4g} s so that every band lies "
-            f"below the Nyquist frequency (highest edge {band_set.upper.max():g} Hz)",
-        )
     kwargs = {
         "duration": duration,
         "dt": dt,
@@ -210,15 +195,15 @@ class _Rows:
 
 def _check_seeds(seeds):
     if isinstance(seeds, (int, np.integer)) and not isinstance(seeds, bool):
-        if seeds < 2:
-            raise ModelError("seeds", seeds, "must be at least 2 (seeds 1..n), or a sequence of seeds")
+        if not 2 <= seeds <= MAX_SEEDS:
+            raise ModelError("seeds", seeds, f"must be 2 to {MAX_SEEDS} (seeds 1..n), or a sequence of seeds")
         return list(range(1, int(seeds) + 1))
     try:
         out = [integer("seeds", s, 0) for s in seeds]
     except TypeError:
         raise ModelError("seeds", seeds, "must be a count n >= 2 or a sequence of non-negative integer seeds") from None
-    if len(out) < 2 or len(set(out)) != len(out):
-        raise ModelError("seeds", seeds, "must hold at least 2 seeds, each once")
+    if len(out) < 2 or len(out) > MAX_SEEDS or len(set(out)) != len(out):
+        raise ModelError("seeds", f"{len(out)} seeds", f"must hold 2 to {MAX_SEEDS} seeds, each once")
     return out
 
 

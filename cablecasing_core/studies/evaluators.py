@@ -2,8 +2,8 @@
 **kwargs) -> dict[str, float]`` (output name -> value).
 
 :func:`default_evaluate` is the time-domain evaluation (engine run, octave-band RMS of a support
-output); :func:`analytic_evaluate` and :func:`cpu_burn_evaluate` are stand-ins for the tests and the
-study benchmark (no physics).
+output); :func:`analytic_evaluate`, :func:`faulty_evaluate` and :func:`cpu_burn_evaluate` are
+stand-ins for the tests and the study benchmark (no physics).
 """
 
 from __future__ import annotations
@@ -62,6 +62,57 @@ def default_evaluate(
     return out
 
 
+def check_record_settings(model, duration=None, dt=None, skip=0.05, bands="table3"):
+    """Refuse before any run the record settings of :func:`default_evaluate` that make every run
+    fail: ``duration - skip`` (s) shorter than one bin of the narrowest band (1 / its width), a
+    time step ``dt`` (s) whose Nyquist frequency lies below the highest band edge, a duration that
+    does not fit the machine (:func:`~cablecasing_core.model.limits.check_time_domain`).
+    ``duration``, ``dt``: None takes the model's scenario; ``bands``: a band set or its name."""
+    from ..model.limits import check_time_domain
+    from ..model.validators import seconds
+    from .octave import Bands
+
+    seconds("duration", duration, none_ok=True)
+    seconds("dt", dt, none_ok=True)
+    seconds("skip", skip, zero_ok=True)
+    band_set = bands if isinstance(bands, Bands) else octave_bands(bands)
+    length = (model.scenario["duration"] if duration is None else duration) - skip
+    narrow = int(np.argmin(band_set.upper - band_set.lower))
+    need = 1.0 / (band_set.upper[narrow] - band_set.lower[narrow])
+    if not length >= need:  # the band would hold less than one FFT bin (octave_rms refuses it)
+        raise ModelError(
+            "duration",
+            duration,
+            f"must leave at least {need:.4g} s after skip = {skip} s for band "
+            f"{band_set.labels[narrow]!r} ({band_set.lower[narrow]:g}-{band_set.upper[narrow]:g} Hz)",
+        )
+    step = model.scenario["dt"] if dt is None else dt
+    if not 0.5 / step >= band_set.upper.max():  # (octave_rms's rule, checked before the runs)
+        raise ModelError(
+            "dt",
+            dt,
+            f"must be at most {0.5 / band_set.upper.max():.4g} s so that every band lies "
+            f"below the Nyquist frequency (highest edge {band_set.upper.max():g} Hz)",
+        )
+    check_time_domain(model, model.scenario["duration"] if duration is None else duration, step)
+
+
+def _check_default_evaluate(kwargs, model=None):
+    """The settings ``kwargs`` of a study of :func:`default_evaluate` checked before anything runs
+    (:func:`check_record_settings` on the model of ``kwargs["model_file"]``, or ``model``)."""
+    from ..model import Model, load_model
+
+    if kwargs.get("model_file") is not None:
+        model = load_model(kwargs["model_file"])
+    elif not isinstance(model, Model):
+        model = load_model(model if isinstance(model, str) else None)
+    known = {"duration", "skip", "dt", "bands"}
+    check_record_settings(model, **{k: v for k, v in kwargs.items() if k in known})
+
+
+default_evaluate.check_settings = _check_default_evaluate
+
+
 def analytic_evaluate(overrides, fail_above=None, **_):
     """Cheap deterministic closed-form 'band levels' (N) for tests: no physics, Section 4.4 shape only.
 
@@ -87,6 +138,26 @@ def analytic_evaluate(overrides, fail_above=None, **_):
             * (1 + 100 * (gap - 1e-3) * (5 - j))
         )
     return out
+
+
+def faulty_evaluate(overrides, trigger=None, action="kill_worker", pid_file=None, **kwargs):
+    """A stand-in for the tests of the study's infrastructure failures (no physics): while the file
+    ``trigger`` exists, ``action`` happens instead of the evaluation: ``"kill_worker"`` kills the
+    process that runs the sample (SIGKILL), ``"kill_scheduler"`` kills the process whose id is in
+    ``pid_file``, ``"stall"`` sleeps for an hour. Otherwise :func:`analytic_evaluate` of
+    ``overrides`` (with ``kwargs``)."""
+    import os
+    import signal
+    import time
+
+    if trigger is not None and os.path.exists(trigger):
+        if action == "kill_worker":
+            os.kill(os.getpid(), signal.SIGKILL)
+        elif action == "kill_scheduler":
+            with open(pid_file) as fh:
+                os.kill(int(fh.read().strip()), signal.SIGKILL)
+        time.sleep(3600.0)
+    return analytic_evaluate(overrides, **kwargs)
 
 
 def cpu_burn_evaluate(overrides, repeats=200, n=2**12, **_):

@@ -1,15 +1,35 @@
 """The executor of the studies: one sample in this process or on a dask.distributed worker, and the
 loop over all samples, serial or on dask (the Monte-Carlo study and the seed ensemble both run
-through :func:`execute`)."""
+through :func:`execute`).
+
+Failures are told apart by where they happen. A sample whose evaluation raises is a *model* failure:
+:func:`evaluate_sample` catches it and returns a row of status ``failed`` with the exception. Any
+exception of a dask future itself (a worker killed while it ran the sample, the scheduler lost, the
+task cancelled) is an *infrastructure* failure: no row is written for it, the sample is passed to
+``lost`` with its cause (the study keeps them in ``<csv>.lost.log``) and the same command runs it
+again; the loop ends with an :class:`~cablecasing_core.errors.InfrastructureError` (exit status 3).
+When no sample finishes within ``progress_timeout`` seconds (:data:`PROGRESS_TIMEOUT`: every worker
+dead or stalled, the scheduler gone) the loop ends with an InfrastructureError that names the
+cause. A scheduler address is connected to within :data:`CONNECT_TIMEOUT` seconds, before a study
+creates any file (:class:`Workers`).
+"""
 
 from __future__ import annotations
 
+import asyncio
+import concurrent.futures
 import importlib
 import os
 import time
 
-from ..errors import ModelError
+from ..errors import InfrastructureError, ModelError
 from ..model.validators import integer
+
+#: Seconds without any finished sample after which a dask run gives up (docs/studies.md): far above
+#: one sample of the default study (about 30 s for a 1 s record on one core).
+PROGRESS_TIMEOUT = 900.0
+#: Seconds to reach a scheduler address.
+CONNECT_TIMEOUT = 10.0
 
 
 def resolve_evaluate(spec):
@@ -59,81 +79,175 @@ def evaluate_sample(spec, kwargs, index, overrides, outputs):
     return row
 
 
-def execute(todo, evaluate, kwargs, outputs, writer, bar, scheduler, n_workers=None, max_in_flight=None):
-    """Evaluate the samples ``todo`` = [(index, overrides), ...] with ``evaluate(overrides, **kwargs)``
-    in this process (``scheduler="serial"``) or on dask, passing each row to ``writer.write`` as it
-    completes and counting it on ``bar``. A failed sample is a row with status "failed"."""
-    if scheduler == "serial":
-        for i, p in todo:
-            writer.write(evaluate_sample(evaluate, kwargs, i, p, outputs))
-            bar.update(1)
-    else:
-        _run_dask(todo, evaluate, kwargs, outputs, writer, bar, scheduler, n_workers, max_in_flight)
+class Workers:
+    """Where the samples run: ``"serial"`` (this process), ``None``/``"local"`` (a LocalCluster of
+    ``n_workers`` processes, default one per core), an address ``"tcp://host:8786"`` (reached within
+    :data:`CONNECT_TIMEOUT` s, or a :class:`ModelError`) or a ``distributed.Client`` (used, left open).
+    A context manager: a cluster or client it made is closed at the end."""
 
+    def __init__(self, scheduler=None, n_workers=None):
+        self.scheduler, self.client, self._own, self._cluster = scheduler, None, None, None
+        if scheduler == "serial":
+            return
+        from distributed import Client, LocalCluster
 
-def _run_dask(todo, evaluate, kwargs, outputs, writer, bar, scheduler, n_workers, max_in_flight):
-    """Submit the samples to dask.distributed and write each result as it completes."""
-    from distributed import Client, LocalCluster, as_completed
-
-    own_client = cluster = None
-    if scheduler is None or scheduler == "local":
-        nw = os.cpu_count() if n_workers is None else integer("n_workers", n_workers, 1)
-        cluster = LocalCluster(n_workers=nw, threads_per_worker=1, processes=True, dashboard_address=None)
-        client = own_client = Client(cluster)
-    elif isinstance(scheduler, str):
-        try:
-            client = own_client = Client(scheduler, timeout="30s")
-        except (OSError, ValueError) as exc:
+        if scheduler is None or scheduler == "local":
+            nw = os.cpu_count() if n_workers is None else integer("n_workers", n_workers, 1)
+            self._cluster = LocalCluster(n_workers=nw, threads_per_worker=1, processes=True, dashboard_address=None)
+            self.client = self._own = Client(self._cluster)
+        elif isinstance(scheduler, str):
+            try:
+                self.client = self._own = Client(scheduler, timeout=f"{CONNECT_TIMEOUT:g}s")
+            except (OSError, ValueError, TimeoutError) as exc:
+                raise ModelError(
+                    "scheduler",
+                    scheduler,
+                    "must be 'serial', 'local' or a scheduler address such as tcp://host:8786 that answers within "
+                    f"{CONNECT_TIMEOUT:g} s ({type(exc).__name__})",
+                ) from None
+        elif isinstance(scheduler, Client):
+            self.client = scheduler
+        else:
             raise ModelError(
                 "scheduler",
                 scheduler,
-                f"must be 'serial', 'local' or a reachable scheduler address such as tcp://host:8786 ({exc})",
-            ) from None
-    elif isinstance(scheduler, Client):
-        client = scheduler
-    else:
-        raise ModelError(
-            "scheduler",
-            scheduler,
-            "must be None, 'serial', 'local', an address 'tcp://host:8786' or a distributed.Client",
-        )
+                "must be None, 'serial', 'local', an address 'tcp://host:8786' or a distributed.Client",
+            )
+
+    def close(self):
+        for thing in (self._own, self._cluster):
+            if thing is not None:
+                try:
+                    thing.close()
+                except Exception:  # (a lost scheduler: nothing left to close)
+                    pass
+        self._own = self._cluster = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def execute(
+    todo,
+    evaluate,
+    kwargs,
+    outputs,
+    writer,
+    bar,
+    scheduler,
+    n_workers=None,
+    max_in_flight=None,
+    *,
+    progress_timeout=PROGRESS_TIMEOUT,
+    lost=None,
+):
+    """Evaluate the samples ``todo`` = [(index, overrides), ...] with ``evaluate(overrides, **kwargs)``
+    in this process (``scheduler="serial"``) or on dask (``scheduler``: as :class:`Workers` takes
+    it, or a :class:`Workers`), passing each row to ``writer.write`` as it completes and counting it
+    on ``bar``. A sample whose evaluation fails is a row with status "failed"; one lost to the
+    infrastructure is passed to ``lost(index, cause)`` and no row is written (module docstring)."""
+    if scheduler == "serial" or getattr(scheduler, "scheduler", None) == "serial":
+        for i, p in todo:
+            writer.write(evaluate_sample(evaluate, kwargs, i, p, outputs))
+            bar.update(1)
+        return
+    if isinstance(scheduler, Workers):
+        _run_dask(todo, evaluate, kwargs, outputs, writer, bar, scheduler.client, max_in_flight, progress_timeout, lost)
+        return
+    with Workers(scheduler, n_workers) as workers:
+        _run_dask(todo, evaluate, kwargs, outputs, writer, bar, workers.client, max_in_flight, progress_timeout, lost)
+
+
+def _cause(exc):
+    """An infrastructure failure as one line."""
+    name = type(exc).__name__
+    if name == "KilledWorker":
+        return "KilledWorker: the worker running it died (killed, out of memory or crashed)"
+    if name in ("CancelledError", "FutureCancelledError"):
+        return f"{name}: the task was cancelled (the scheduler was lost or restarted)"
+    return f"{name}: {' '.join(str(exc).split())[:200]}"
+
+
+def _diagnose(client):
+    """Why no sample finished: the scheduler does not answer, no worker is left, or the workers stall."""
+    pool = concurrent.futures.ThreadPoolExecutor(1)
     try:
-        if not todo:
-            return
+        threads = pool.submit(client.nthreads).result(timeout=5.0)
+    except Exception:  # (a timeout or a closed connection)
+        return f"the dask scheduler does not answer (client {client.status})"
+    finally:
+        pool.shutdown(wait=False)
+    if not threads:
+        return "no dask worker is left (all died or were stopped)"
+    return f"{len(threads)} dask workers are connected but none finished a sample (stalled)"
+
+
+def _lost_scheduler(exc):
+    return InfrastructureError(
+        f"the dask scheduler was lost ({_cause(exc)}); run the same command again to go on (the finished rows are kept)"
+    )
+
+
+def _run_dask(todo, evaluate, kwargs, outputs, writer, bar, client, max_in_flight, progress_timeout, lost):
+    """Submit the samples to dask.distributed and write each result as it completes (the errors of the
+    client's calls are the infrastructure's; those of ``writer`` are not caught)."""
+    from distributed import wait
+
+    if not todo:
+        return
+    timeout = float(progress_timeout)
+    lost_here = []
+    try:
         nthreads = max(1, sum(client.nthreads().values()))
-        window = max_in_flight or 4 * nthreads
-        pending = iter(todo)
-        ac = as_completed()
-        keyed = {}
+    except Exception as exc:
+        raise _lost_scheduler(exc) from None
+    window = max_in_flight or 4 * nthreads
+    pending = iter(todo)
+    keyed = {}
 
-        def submit_next():
-            item = next(pending, None)
-            if item is None:
-                return
+    def submit_next():
+        item = next(pending, None)
+        if item is not None:
             i, p = item
-            fut = client.submit(evaluate_sample, evaluate, kwargs, i, p, outputs, pure=False)
-            keyed[fut.key] = i
-            ac.add(fut)
+            try:
+                fut = client.submit(evaluate_sample, evaluate, kwargs, i, p, outputs, pure=False)
+            except Exception as exc:
+                raise _lost_scheduler(exc) from None
+            keyed[fut] = i
 
-        for _ in range(window):
-            submit_next()
-        for fut in ac:
-            i = keyed.pop(fut.key)
+    for _ in range(window):
+        submit_next()
+    while keyed:
+        try:
+            done, _ = wait(list(keyed), timeout=timeout, return_when="FIRST_COMPLETED")
+        except TimeoutError:
+            raise InfrastructureError(
+                f"no sample finished within {timeout:g} s: {_diagnose(client)}; {len(keyed)} samples were "
+                "running; run the same command again to go on (the finished rows are kept)"
+            ) from None
+        except (Exception, asyncio.CancelledError) as exc:  # (FuturesCancelledError: the scheduler is gone)
+            raise _lost_scheduler(exc) from None
+        for fut in done:
+            i = keyed.pop(fut)
             try:
                 row = fut.result()
-            except Exception as exc:  # e.g. a worker died: record and go on
-                row = {
-                    "index": i,
-                    "status": "failed",
-                    "error": f"{type(exc).__name__}: {exc}".replace("\n", " | "),
-                    "elapsed_s": float("nan"),
-                }
+            except (Exception, asyncio.CancelledError) as exc:  # (evaluate_sample never raises)
+                lost_here.append((i, _cause(exc)))
+                if lost is not None:
+                    lost(i, _cause(exc))
+                if client.status != "running":  # the scheduler is gone: the rest would wait for nothing
+                    raise _lost_scheduler(exc) from None
+            else:
+                writer.write(row)
+                bar.update(1)
             fut.release()
-            writer.write(row)
-            bar.update(1)
             submit_next()
-    finally:
-        if own_client is not None:
-            own_client.close()
-        if cluster is not None:
-            cluster.close()
+    if lost_here:
+        i, cause = lost_here[0]
+        raise InfrastructureError(
+            f"{len(lost_here)} samples were lost to the infrastructure (sample {i}: {cause}); they have no row and "
+            "the same command runs them again"
+        )

@@ -3,15 +3,17 @@ flushed and fsynced per row, with a ``<csv>.meta.json`` sidecar of the settings;
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
 import json
 import os
+import time
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, excerpt, plain
 
 META_COLUMNS = ("index", "status")
 TAIL_COLUMNS = ("elapsed_s", "error")
@@ -161,6 +163,74 @@ def read_meta(path) -> dict | None:
         ) from None
 
 
+def lost_log_path(path) -> str:
+    """The log of the samples of study ``path`` lost to the infrastructure (``<csv>.lost.log``)."""
+    return str(path) + ".lost.log"
+
+
+class LostLog:
+    """Appends a line ``<UTC time> sample <index>: <cause>`` to :func:`lost_log_path` for every sample
+    lost to the infrastructure (the study CSV has no row of it: a resume runs it again)."""
+
+    def __init__(self, path):
+        self.path = lost_log_path(path)
+        self.count = 0
+
+    def __call__(self, index, cause):
+        stamp = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
+        with open(self.path, "a", encoding="utf-8") as fh:
+            fh.write(f"{stamp} sample {index}: {cause}\n")
+        self.count += 1
+
+
+@contextlib.contextmanager
+def study_lock(path):
+    """Hold the lock of the study ``path`` (``fcntl.flock`` on ``<csv>.lock``) while the block runs;
+    a second run on the same file is refused with a :class:`ModelError` naming the process that holds
+    it. The lock goes with the process (a killed run leaves no stale lock). On NFS, Linux emulates
+    ``flock`` with byte-range locks of the server's lock manager: it holds between machines when the
+    server runs one (NFSv4, or v3 with lockd), and is only local otherwise. Without ``fcntl``
+    (Windows) there is no lock."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - Windows
+        yield
+        return
+    lock = str(path) + ".lock"
+    fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            holder = os.pread(fd, 64, 0).decode("ascii", "replace").strip() or "?"
+            raise ModelError(
+                "path",
+                str(path),
+                f"is in use by another study run (process {excerpt(plain(holder), 20)}, {lock}); wait for it to end "
+                "or choose another output",
+            ) from None
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+        yield
+    finally:
+        os.close(fd)  # (releases the lock)
+
+
+def recover_header(path) -> bool:
+    """A study CSV torn inside its header line (killed while it was created, by earlier versions
+    that wrote it in place) holds no row: it is removed, so the study starts afresh in this run.
+    Returns True if it was."""
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(1 << 16)
+    except OSError:
+        return False
+    if b"\n" not in head:
+        os.remove(path)
+        return True
+    return False
+
+
 def prepare_file(path, meta, design, params):
     """Create the CSV and sidecar, or check them for a resume (the settings of :data:`RESUME_KEYS`
     equal, every stored row equal to the design's row of its index) and record a larger size.
@@ -173,10 +243,9 @@ def prepare_file(path, meta, design, params):
         d = os.path.dirname(os.path.abspath(path))
         os.makedirs(d, exist_ok=True)
         write_text(_meta_path(path), json.dumps(meta, indent=1))
-        with open(path, "w", newline="") as fh:
-            csv.writer(fh).writerow(header)
-            fh.flush()
-            os.fsync(fh.fileno())
+        line = io.StringIO(newline="")
+        csv.writer(line).writerow(header)
+        write_text(path, line.getvalue())  # (atomic: a header is whole or absent)
         return set()
     if old.get("format") != meta["format"]:
         raise ModelError(

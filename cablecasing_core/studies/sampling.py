@@ -26,7 +26,7 @@ import warnings
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import NOT_SHOWN, ModelError
 from ..model.validators import integer
 
 #: Model key of the amplitude (m) of the cable's longitudinal (axial) excitation, \bar X_jv of Section 4.4.
@@ -71,7 +71,7 @@ def check_bounds(bounds: dict | None = None, model=None) -> dict[str, tuple[floa
             hint = " (the paper's six parameters are the default; give others, e.g. --vary casing.E=2e9:1e10)"
             raise ModelError(
                 f"bounds.{key}",
-                b,
+                NOT_SHOWN,  # (the value of an unknown key, maybe of a file that is no study's, is not shown)
                 f"is not a numeric parameter of the model {m.source}{hint if paper else ''}; known: "
                 + ", ".join(sorted(known)),
             )
@@ -153,17 +153,10 @@ def read_vary_file(path) -> dict[str, tuple[float, float]]:
     casing.E = [2e9, 1e10]
     contact.friction = [0.05, 0.2]
     """
-    from ..model.load import tomllib
+    from ..model.load import MAX_MODEL_BYTES, toml_file
     from ..model.model import dotted
 
-    try:
-        with open(path, "rb") as fh:
-            raw = tomllib.load(fh)
-    except OSError as exc:
-        raise ModelError("--vary-file", str(path), f"must be a readable TOML file ({exc.strerror})") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise ModelError("--vary-file", str(path), f"must be valid TOML ({exc})") from None
-    out = dotted(raw)
+    out = dotted(toml_file(path, "--vary-file", MAX_MODEL_BYTES))
     if not out:
         raise ModelError("--vary-file", str(path), "names no parameter; write lines such as casing.E = [2e9, 1e10]")
     return out

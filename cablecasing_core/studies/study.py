@@ -27,20 +27,26 @@ and every row goes to a resumable CSV (:mod:`.results_store`).
 from __future__ import annotations
 
 import json
+import os
 
 from ..errors import ModelError
+from ..files import output_folder
+from ..model.limits import MAX_STUDY_SAMPLES
 from ..model.validators import integer
 from .evaluators import DEFAULT_EVALUATE, DEFAULT_OUTPUTS
-from .executor import execute, resolve_evaluate, spec_name
+from .executor import PROGRESS_TIMEOUT, Workers, execute, resolve_evaluate, spec_name
 from .results_store import (
     FORMAT_VERSION,
     META_COLUMNS,
     TAIL_COLUMNS,
+    LostLog,
     ResultsWriter,
     StudyResults,
     load_results,
     prepare_file,
     read_meta,
+    recover_header,
+    study_lock,
 )
 from .sampling import DEFAULT_CONSTRAINTS, base_points, check_bounds, group_size, sobol_design
 
@@ -64,6 +70,7 @@ def run_study(
     model=None,
     progress=True,
     max_in_flight=None,
+    progress_timeout=PROGRESS_TIMEOUT,
 ) -> StudyResults:
     """Run (or resume) the Monte-Carlo study of Section 4.4 and write every sample to ``path`` (CSV).
 
@@ -99,6 +106,10 @@ def run_study(
         Show a tqdm bar (samples done, rate, time left).
     max_in_flight : int, optional
         Tasks submitted ahead to dask (default 4 per worker).
+    progress_timeout : float
+        Seconds without a finished sample after which a dask run stops with an
+        :class:`~cablecasing_core.errors.InfrastructureError` naming the cause (default
+        :data:`~.executor.PROGRESS_TIMEOUT`).
 
     Returns
     -------
@@ -106,7 +117,7 @@ def run_study(
         Everything in the file after this call.
     """
     bounds = check_bounds(bounds, model=model)
-    n = integer("n_samples", n_samples, 2)
+    n = integer("n_samples", n_samples, 2, MAX_STUDY_SAMPLES, " (model/limits.py: its design and CSV would not fit)")
     seed = integer("seed", seed, 0)
     outputs = tuple(DEFAULT_OUTPUTS if outputs is None else outputs)
     if not outputs or len(set(outputs)) != len(outputs) or not all(isinstance(o, str) and o for o in outputs):
@@ -133,58 +144,78 @@ def run_study(
             "must be None, 'serial', 'local', an address 'tcp://host:8786' or a distributed.Client",
         )
     constraints = tuple(constraints or ())
+    check = getattr(fn, "check_settings", None)  # settings that make every sample fail, refused first
+    if check is not None:
+        check(evaluate_kwargs, model=model)
     path = str(path)
     params = tuple(bounds)
-    n_base = base_points(bounds, n)
-    old = read_meta(path)
-    if old is not None and isinstance(old.get("n_base"), int):
-        n_base = max(n_base, old["n_base"])  # a study is never shrunk
-    n = n_base * group_size(bounds)
-    design = sobol_design(bounds, n_base, seed)
-    meta = {
-        "format": FORMAT_VERSION,
-        "seed": seed,
-        "n_base": n_base,
-        "n_samples": n,
-        "bounds": {k: list(v) for k, v in bounds.items()},
-        "outputs": list(outputs),
-        "evaluate": spec_name(evaluate),
-        "evaluate_kwargs": evaluate_kwargs,
-        "constraints": [spec_name(c) for c in constraints],
-        "sampler": SAMPLER,
-    }
-    done = prepare_file(path, meta, design, params)
+    with Workers(scheduler, n_workers) as workers:  # (an unreachable scheduler is refused before any file)
+        folder, name = os.path.split(os.path.abspath(path))
+        output_folder("path", folder, name)
+        with study_lock(path):
+            recover_header(path)
+            # (the design, the file prepared or resumed, the samples not yet done run)
+            n_base = base_points(bounds, n)
+            old = read_meta(path)
+            if old is not None and isinstance(old.get("n_base"), int):
+                n_base = max(n_base, old["n_base"])  # a study is never shrunk
+            n = n_base * group_size(bounds)
+            design = sobol_design(bounds, n_base, seed)
+            meta = {
+                "format": FORMAT_VERSION,
+                "seed": seed,
+                "n_base": n_base,
+                "n_samples": n,
+                "bounds": {k: list(v) for k, v in bounds.items()},
+                "outputs": list(outputs),
+                "evaluate": spec_name(evaluate),
+                "evaluate_kwargs": evaluate_kwargs,
+                "constraints": [spec_name(c) for c in constraints],
+                "sampler": SAMPLER,
+            }
+            done = prepare_file(path, meta, design, params)
 
-    writer = ResultsWriter(path, params, outputs, design)
-    try:
-        todo = []
-        for i in range(n):
-            if i in done:
-                continue
-            p = {k: float(v) for k, v in zip(params, design[i])}
-            reason = next((r for r in (c(p) for c in constraints) if r), None)
-            if reason:
-                writer.write({"index": i, "status": "infeasible", "error": reason, "elapsed_s": 0.0})
-                done.add(i)
-                continue
-            todo.append((i, p))
-        if max_samples is not None:
-            todo = todo[:max_samples]
-        from tqdm.auto import tqdm
+            writer = ResultsWriter(path, params, outputs, design)
+            try:
+                todo = []
+                for i in range(n):
+                    if i in done:
+                        continue
+                    p = {k: float(v) for k, v in zip(params, design[i])}
+                    reason = next((r for r in (c(p) for c in constraints) if r), None)
+                    if reason:
+                        writer.write({"index": i, "status": "infeasible", "error": reason, "elapsed_s": 0.0})
+                        done.add(i)
+                        continue
+                    todo.append((i, p))
+                if max_samples is not None:
+                    todo = todo[:max_samples]
+                from tqdm.auto import tqdm
 
-        bar = tqdm(
-            total=n,
-            initial=len(done),
-            unit="sample",
-            desc="study",
-            disable=not progress,
-            dynamic_ncols=True,
-            smoothing=0.1,
-        )
-        try:
-            execute(todo, evaluate, evaluate_kwargs, outputs, writer, bar, scheduler, n_workers, max_in_flight)
-        finally:
-            bar.close()
-    finally:
-        writer.close()
+                bar = tqdm(
+                    total=n,
+                    initial=len(done),
+                    unit="sample",
+                    desc="study",
+                    disable=not progress,
+                    dynamic_ncols=True,
+                    smoothing=0.1,
+                )
+                try:
+                    execute(
+                        todo,
+                        evaluate,
+                        evaluate_kwargs,
+                        outputs,
+                        writer,
+                        bar,
+                        workers,
+                        max_in_flight=max_in_flight,
+                        progress_timeout=progress_timeout,
+                        lost=LostLog(path),
+                    )
+                finally:
+                    bar.close()
+            finally:
+                writer.close()
     return load_results(path)

@@ -43,6 +43,7 @@ from numpy.typing import ArrayLike
 from scipy.interpolate import CubicSpline
 
 from ..errors import ModelError
+from ..files import read_csv_table
 from ..model.schema import CHANNELS, DIRECTIONS, channels_of
 from ..structure.geometry import centerline_of
 from .random_record import RandomRecord
@@ -58,8 +59,8 @@ class _Tabulated:
     """A CSV excitation: the table's quantity as a cubic spline, integrated or differentiated to
     (u, v, a) as the module docstring says."""
 
-    def __init__(self, path, quantity):
-        t, x = _read_table(path)
+    def __init__(self, path, quantity, key="scenario.excitation.file"):
+        t, x = _read_table(path, key)
         self.t0, self.t1 = t[0], t[-1]
         if quantity == "displacement":
             self.u = CubicSpline(t, x)
@@ -88,25 +89,14 @@ def _zero_mean(pp, t):
     return pp
 
 
-def _read_table(path):
-    """(t, x) of a CSV table with a header and two columns time_s, <value>; checked."""
-    what = "scenario.excitation.file"
-    try:
-        data = np.genfromtxt(path, delimiter=",", names=True)
-    except OSError as exc:
-        raise ModelError(what, path, f"must be a readable CSV file ({exc})") from None
-    except ValueError as exc:
-        raise ModelError(what, path, f"must be a numeric CSV table with one header line ({exc})") from None
-    if data.dtype.names is None or len(data.dtype.names) < 2 or data.size < 2:
-        raise ModelError(what, path, "must have a header and at least two rows of time_s, <value>")
-    t = np.asarray(data[data.dtype.names[0]], float)
-    x = np.asarray(data[data.dtype.names[1]], float)
-    if not (np.all(np.isfinite(t)) and np.all(np.isfinite(x))):
-        raise ModelError(what, path, "must hold finite numbers only")
+def _read_table(path, key):
+    """(t, x) of a CSV table with a header and two columns time_s, <value>; checked (errors name
+    ``key``, the file and the line, and quote none of its content)."""
+    _, data = read_csv_table(path, key)
+    t, x = data[:, 0], data[:, 1]
     bad = np.nonzero(np.diff(t) <= 0)[0]
     if bad.size:
-        i = bad[0] + 1
-        raise ModelError(what, path, f"time must increase strictly; row {i + 1} has t = {t[i]} after {t[i - 1]}")
+        raise ModelError(key, path, f"time (its first column) must increase strictly; data row {bad[0] + 2} does not")
     return t, x
 
 
@@ -128,14 +118,15 @@ def _impulse(p, t):
     return u, v, a
 
 
-def _signal(e, dt):
-    """The excitation ``e`` (a validated table) as a callable (t, grid) -> (u, v, a)."""
+def _signal(e, dt, key="scenario.excitation.file"):
+    """The excitation ``e`` (a validated table) as a callable (t, grid) -> (u, v, a); ``key``:
+    its file's key in messages."""
     kind = e["kind"]
     if kind == "random":
         rec = RandomRecord(e["rms"], e["band"], e["seed"], dt)
         return lambda t, grid: rec(t, grid)
     if kind == "csv":
-        tab = _Tabulated(e["file"], e.get("quantity", "displacement"))
+        tab = _Tabulated(e["file"], e.get("quantity", "displacement"), key)
         return lambda t, grid: tab(t)
     fn = _harmonic if kind == "harmonic" else _impulse
     return lambda t, grid: fn(e, t)
@@ -154,11 +145,12 @@ class ScenarioMotion:
         self.ramp = sc.get("ramp", 0.0)
         self.channels = channels_of(model)
         cl = None
-        for e in sc["excitation"].values():
+        for name, e in sc["excitation"].items():
+            key = f"scenario.excitation.{name}.file"
             if e["target"].count(".") == 1:  # a clip's own channel
                 clip, direction = e["target"].split(".")
                 col = self.channels.index(f"{clip}.x")
-                self.terms.append((col, np.eye(3)[DIRECTIONS.index(direction)], _signal(e, self.dt)))
+                self.terms.append((col, np.eye(3)[DIRECTIONS.index(direction)], _signal(e, self.dt, key)))
                 continue
             body, support, direction = e["target"].split(".")
             if direction == "axial":
@@ -167,7 +159,8 @@ class ScenarioMotion:
             else:
                 weights = np.eye(3)[DIRECTIONS.index(direction)]
             col = CHANNELS.index(f"{body}.{support}.x")
-            self.terms.append((col, np.asarray(weights, float), _signal(e, self.dt)))
+            sig = _signal(e, self.dt, f"scenario.excitation.{name}.file")
+            self.terms.append((col, np.asarray(weights, float), sig))
 
     def __call__(self, t):
         t = np.atleast_1d(np.asarray(t, float))

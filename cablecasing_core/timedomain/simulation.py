@@ -16,7 +16,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import ModelError
+from ..model.limits import check_time_domain
 from ..model.schema import CONTACT_OUTPUTS, INPUTS, SUPPORT_OUTPUTS, clip_outputs, inputs_of, lookup
+from ..model.validate import step_checks
 from ..model.validators import Choice, seconds
 from .engine import Engine
 from .scenario import scenario_motion
@@ -150,6 +152,9 @@ def simulate(
     lookup("scenario.dt").check(dt, "dt")
     if duration < dt:
         raise ModelError("duration", duration, f"must be at least one time step (dt = {dt} s)")
+    check_time_domain(model, duration, dt)  # (before any work: model/limits.py)
+    if dt != sc["dt"]:
+        step_checks(model.data, dt, "dt")
     inputs = ()
     if motion is None:
         if not sc["excitation"]:

@@ -146,7 +146,7 @@ def test_every_command_that_reads_records_reads_csv_npz_and_uff(tmp_path, capsys
     np.testing.assert_allclose(tables["csv"], tables["npz"], rtol=1e-6)  # 9 digits in the CSV
     (tmp_path / "bad.csv").write_bytes((tmp_path / "r.npz").read_bytes())
     assert main(["bands", str(tmp_path / "bad.csv")]) == 2  # a binary file named .csv: a message, no traceback
-    assert "is not a text CSV file" in capsys.readouterr().err
+    assert "is not a UTF-8 text CSV file" in capsys.readouterr().err
     assert main(["bands", str(tmp_path / "r.csv"), "--column", "casing.B.Fq"]) == 2
     assert "casing.B.Fz" in capsys.readouterr().err  # the columns are listed by their names
 
@@ -185,7 +185,9 @@ def test_an_interrupt_prints_one_line_and_leaves_the_earlier_file(tmp_path, caps
     monkeypatch.setattr(Engine, "advance", interrupted)
     assert main(["simulate", "--duration", "0.01", "--out", str(out)]) == 130
     err = capsys.readouterr().err
-    assert "cablecasing: interrupted: the run was stopped; nothing was written" in err and "Traceback" not in err
+    # (the message says what was kept, issue 26)
+    assert f"cablecasing: interrupted: the run was stopped: the previous {out} kept as it was" in err
+    assert "Traceback" not in err
     assert out.read_text() == "an earlier result\n" and sorted(p.name for p in tmp_path.iterdir()) == ["r.csv"]
 
 

@@ -359,7 +359,9 @@ def test_errors_are_reported_and_the_process_goes_on(fmu, tmp_path, contact_case
     assert np.all(res["after_nan_status"] == 0)  # the instance goes on after a refused step
     assert res["wrong_time_status"] == discard and logged("wrong_time", "t =")
     assert res["badparam_init_status"] == error  # initialisation fails, naming the parameter
-    assert logged("badparam_init", "error:", "casing.E", "-1.0", "positive")
+    assert logged(
+        "badparam_init", "error:", "casing.E", "-1.0", "must be a number in (0, 1e+16] in Pa"
+    )  # (bounded since issue 26)
     assert res["badparam_status"] == error and logged("badparam", "did not initialise", "casing.E", "-1.0")
     assert np.all(res["badgap_status"] == [error, error]) and logged("badgap", "casing.d_inner", "cable.d")
     assert np.all(res["badfile_status"] == [error, error]) and logged(

@@ -183,7 +183,7 @@ def test_plain_fmpy_script_sweep_in_fresh_processes(fmu, tmp_path):
         assert len(sweep) == 3
         assert any(line.startswith("raised FMICallException") for line in lines), proc.stdout[-2000:]
         # the reason reaches the user through the FMU's log (fmpy prints it before raising)
-        assert "invalid parameter casing.E = -1.0: must be a positive number" in proc.stdout
+        assert "invalid parameter casing.E = -1.0: must be a number in (0, 1e+16] in Pa" in proc.stdout  # (issue 26)
         results.append(sweep)
     assert all(r == results[0] for r in results)
     energy = [float(p[2]) for p in results[0]]

@@ -103,9 +103,16 @@ def test_bounds_are_checked_before_any_run(other_model, tmp_path, capsys, vary, 
     assert not out.exists()  # nothing written
 
 
-def test_a_study_in_which_every_run_fails_exits_non_zero(other_model, tmp_path, capsys):
+def test_a_study_whose_settings_make_every_run_fail_is_refused_before_it_creates_anything(
+    other_model, tmp_path, capsys
+):
+    # (issue 26: before, every sample ran in full and failed; now the settings are refused first)
     out = tmp_path / "st"
     args = ["study", str(other_model), "--vary", "casing.E=2e9:1e10", "--samples", "6", "--scheduler", "serial"]
-    assert main(args + ["--duration", "0.05", "--out", str(out)]) == 1  # 0.05 s leaves nothing after skip
-    captured = capsys.readouterr()
-    assert "0 of 6 runs ok" in captured.out and "every run failed; the first: ModelError: skip" in captured.err
+    assert main(args + ["--duration", "0.05", "--out", str(out)]) == 2  # 0.05 s leaves nothing after skip
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [
+        "cablecasing: error: duration = 0.05: must leave at least 0.09091 s after skip = 0.05 s for band 'oct1' "
+        "(11-22 Hz)"
+    ]
+    assert not out.exists()

@@ -227,22 +227,26 @@ def test_a_runs_beginning_does_not_depend_on_its_length():
 @pytest.mark.parametrize(
     "rows,fragment",
     [
-        ([(0.0, 0.0), (0.01, 1e-5), (0.01, 2e-5)], "time must increase strictly; row 3 has t = 0.01 after 0.01"),
-        ([(0.0, 0.0), (0.02, 1e-5), (0.01, 2e-5)], "row 3 has t = 0.01 after 0.02"),
-        ([(0.0, 0.0), (0.01, float("nan"))], "finite numbers only"),
-        ([(0.0, 0.0)], "at least two rows"),
+        # (the messages name the data row or line and quote nothing of the file, issue 26)
+        (
+            [(0.0, 0.0), (0.01, 1e-5), (0.01, 2e-5)],
+            "time (its first column) must increase strictly; data row 3 does not",
+        ),
+        ([(0.0, 0.0), (0.02, 1e-5), (0.01, 2e-5)], "data row 3 does not"),
+        ([(0.0, 0.0), (0.01, float("nan"))], "line 3, column 2 is not a finite number"),
+        ([(0.0, 0.0)], "has 1 rows of numbers"),
     ],
 )
 def test_bad_csv_is_refused_naming_the_file_and_what_is_wrong(tmp_path, rows, fragment):
     p = tmp_path / "bad.csv"
     _csv(p, rows)
     m = _model({"c": {"target": "casing.A.z", "kind": "csv", "file": str(p)}})
-    with pytest.raises(cc.ModelError, match="scenario.excitation.file") as err:
+    with pytest.raises(cc.ModelError, match=r"scenario\.excitation\.c\.file") as err:
         scenario_motion(m)
     assert fragment in str(err.value) and str(p) in str(err.value)
 
 
 def test_missing_csv_file_is_refused(tmp_path):
     m = _model({"c": {"target": "casing.A.z", "kind": "csv", "file": "nowhere.csv"}}, base_dir=tmp_path)
-    with pytest.raises(cc.ModelError, match="readable CSV"):
+    with pytest.raises(cc.ModelError, match="does not exist"):
         scenario_motion(m)

@@ -1,0 +1,30 @@
+"""The sizes behind the limits of model/limits.py (docs/model_file.md, "Limits"): the time and peak
+memory of the frequency domain's dense eigenproblem and of a short time-domain run against the
+number of elements, each in a fresh process (peak memory is per process).
+
+Run: .venv/bin/python benchmarks/limits.py   (prints name: value lines; about 2 minutes)
+"""
+
+import subprocess
+import sys
+
+CHILD = r"""
+import resource, sys, time
+import cablecasing_core as cc
+n, what = int(sys.argv[1]), sys.argv[2]
+m = cc.load_model().with_overrides({"geometry.n_elements": n})
+t0 = time.perf_counter()
+if what == "modes":
+    cc.natural_frequencies(m, "casing", 5)
+else:
+    cc.simulate(m, duration=2e-4)
+print(time.perf_counter() - t0, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6)
+"""
+
+for what, sizes in (("modes", (100, 200, 400, 600)), ("simulate", (35, 200, 500, 1000))):
+    for n in sizes:
+        out = subprocess.run([sys.executable, "-c", CHILD, str(n), what], capture_output=True, text=True, check=True)
+        seconds, gb = map(float, out.stdout.split())
+        label = "one body's modes" if what == "modes" else "20 steps of two bodies"
+        print(f"{what}_{n}_elements_s: {seconds:.3g}  # {label}")
+        print(f"{what}_{n}_elements_peak_GB: {gb:.3g}")

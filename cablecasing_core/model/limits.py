@@ -1,0 +1,88 @@
+"""Limits that protect the machine: the memory and time a run would need, estimated from its sizes
+before any work, and refused with a :class:`~cablecasing_core.errors.ModelError` that names the key
+and the figures (docs/model_file.md, "Limits").
+
+* **Frequency domain** (modes, TRFAM, a time-domain run with a frequency-dependent modulus): the
+  dense eigenproblem of a body's free DOFs, 6 (n_elements + 1) of them. LAPACK's dense solver takes
+  time growing as DOFs^3 (12.7 s for one body of 400 elements on the 2-core reference machine,
+  ``benchmarks/limits.py``; 200 s at 1000) and :data:`DENSE_COPIES` matrices of DOFs^2 doubles;
+  beyond :data:`MAX_DENSE_ELEMENTS` elements a run of ``modes`` would look like a hang.
+* **Time domain**: each body holds :data:`TIME_DOMAIN_COPIES` dense matrices of its DOFs (stiffness,
+  mass, factors, compliance; 2.8 GB peak for two bodies of 1000 elements), and the record keeps
+  :data:`BYTES_PER_STEP` bytes per time step (support forces, driven inputs, contact summary,
+  and their copies when written). The sum must fit in :data:`MEMORY_SHARE` of the memory available.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..errors import ModelError
+
+#: The most elements of a body in the frequency domain's dense eigenproblem (3006 DOFs: about
+#: 0.6 GB and 25 s per body on the idle 2-core machine, 72 s at 600 elements under load).
+MAX_DENSE_ELEMENTS = 500
+#: Dense DOFs x DOFs matrices alive in the dense eigenproblem (K, M, modes, workspace; measured:
+#: 1.8 GB for 6006 DOFs).
+DENSE_COPIES = 6
+#: Dense DOFs x DOFs matrices a body holds in the time domain (measured: 2.8 GB, two bodies of 6006 DOFs).
+TIME_DOMAIN_COPIES = 5
+#: Bytes a recorded time step takes: 24 support outputs, up to 36 driven inputs and the contact
+#: summary as doubles, twice (the run's arrays and the record being written).
+BYTES_PER_STEP = 2 * 8 * (24 + 36 + 8)
+#: The share of the available memory a run may plan to use.
+MEMORY_SHARE = 0.8
+
+
+#: The most runs of a study (its design, CSV and statistics stay below 1 GB; a million runs of the
+#: default evaluation would take years on one machine).
+MAX_STUDY_SAMPLES = 1_000_000
+#: The most seeds of an ensemble (its runs are held in memory until it is saved).
+MAX_SEEDS = 100_000
+#: The most frequencies of a TRFAM (its (frequencies x modes x supports) complex arrays: about 3 GB
+#: for the specimen at this size).
+MAX_FREQUENCIES = 200_000
+
+
+def _gb(x):
+    return f"{x / 1e9:.3g} GB"
+
+
+def _available():
+    from ..files import memory_available
+
+    return memory_available()
+
+
+def check_dense_eigenproblem(n_free: int, n_elements: int | None = None) -> None:
+    """Refuse a dense eigenproblem of ``n_free`` DOFs that exceeds :data:`MAX_DENSE_ELEMENTS`
+    elements or the memory available (``geometry.n_elements`` named in the message)."""
+    n_elements = max(n_free // 6 - 1, 1) if n_elements is None else n_elements
+    need = DENSE_COPIES * 8.0 * n_free**2
+    if n_elements > MAX_DENSE_ELEMENTS or need > MEMORY_SHARE * _available():
+        raise ModelError(
+            "geometry.n_elements",
+            n_elements,
+            f"is too many for the frequency domain: its dense eigenproblem of {n_free} DOFs would need "
+            f"{_gb(need)} and time growing as DOFs^3 (about {12.7 * (n_free / 2406) ** 3:.3g} s per body on a 2-core "
+            f"machine); at most {MAX_DENSE_ELEMENTS} elements (docs/model_file.md, Limits)",
+        )
+
+
+def check_time_domain(model, duration: float, dt: float) -> None:
+    """Refuse a time-domain run of ``duration`` s at step ``dt`` s whose matrices and record would
+    not fit in the memory available (the message names the figures and the keys to change)."""
+    steps = math.ceil(duration / dt - 1e-9)
+    n = model.geometry["n_elements"]
+    ndof = 6 * (n + 1)
+    matrices = len(model.bodies) * TIME_DOMAIN_COPIES * 8.0 * ndof**2
+    record = float(steps) * BYTES_PER_STEP
+    have = MEMORY_SHARE * _available()
+    if matrices + record > have:
+        raise ModelError(
+            "scenario.duration",
+            duration,
+            f"with dt = {dt:g} s ({steps:.4g} steps) and {n} elements the run would need {_gb(record)} for its "
+            f"record and {_gb(matrices)} for its matrices, more than the {_gb(have)} of memory it may use; "
+            "shorten the duration, lengthen the step or use fewer elements (docs/model_file.md, Limits)",
+        )

@@ -1,0 +1,159 @@
+"""A property-based test (hypothesis) of the model file through the command line (issue 26): the
+built-in model with its keys, types and magnitudes (1e-300 to 1e300) mutated, keys removed and
+added, and bytes of its text replaced, gives either exit status 2 with one error line (warnings
+aside) or finite results; never a traceback or an internal error, each case within bounded time
+and memory (tracemalloc counts numpy's arrays)."""
+
+import json
+import os
+import time
+import tracemalloc
+from importlib import resources
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from cablecasing_core.cli import main
+from cablecasing_core.model.load import tomllib
+from cablecasing_core.model.model import _to_toml  # (the TOML writer of Model.to_toml)
+
+TEXT = resources.files("cablecasing_core.model").joinpath("specimens/default.toml").read_text()
+BASE = tomllib.loads(TEXT)
+SECONDS = 60.0  # per case: a modes run and a 20-step simulate take about 1 s; the limits refuse the rest
+BYTES = 1.5e9  # per case: the specimen needs about 50 MB; the limits refuse anything near the machine's
+
+
+def _leaves(node, prefix=()):
+    for k, v in node.items():
+        if isinstance(v, dict):
+            yield from _leaves(v, prefix + (k,))
+        else:
+            yield prefix + (k,)
+
+
+LEAVES = list(_leaves(BASE))
+
+
+def _get(path):
+    node = BASE
+    for k in path:
+        node = node[k]
+    return node
+
+
+NUMERIC = [p for p in LEAVES if isinstance(_get(p), (int, float)) and not isinstance(_get(p), bool)]
+SECTIONS = [p[:-1] for p in LEAVES if len(p) > 1]
+
+magnitudes = st.builds(
+    lambda m, e, s: s * m * 10.0**e, st.floats(1.0, 9.99), st.integers(-300, 299), st.sampled_from([1.0, -1.0])
+)
+values = st.one_of(
+    magnitudes,
+    st.integers(-(2**70), 2**70),
+    st.sampled_from([0, 1, -1, 0.0, float("nan"), float("inf"), -float("inf"), True, False, "", "spline"]),
+    st.text(max_size=12),
+    st.lists(magnitudes, max_size=4),
+    st.lists(st.lists(magnitudes, min_size=3, max_size=3), max_size=3),
+    st.dictionaries(st.sampled_from(["A", "B", "x"]), st.sampled_from(["clamped", "free", 1.0]), max_size=2),
+)
+scaled = st.tuples(st.just("set"), st.sampled_from(NUMERIC), magnitudes)  # (most cases: a number's size)
+slips = st.tuples(st.just("scale"), st.sampled_from(NUMERIC), st.integers(-8, 8))  # (a slip of units: x 10^k)
+edits = st.one_of(
+    scaled,
+    slips,
+    slips,
+    slips,
+    st.tuples(st.just("set"), st.sampled_from(LEAVES), values),
+    st.tuples(st.just("delete"), st.sampled_from(LEAVES), st.none()),
+    st.tuples(st.just("add"), st.sampled_from(SECTIONS), st.tuples(st.sampled_from(["zz", "E", "n"]), values)),
+)
+byte_edits = st.lists(st.tuples(st.integers(0, len(TEXT.encode()) - 1), st.binary(min_size=1, max_size=3)), max_size=3)
+
+
+def _apply(data, edit):
+    kind, path, value = edit
+    node = data
+    for k in path[:-1] if kind != "add" else path:
+        if not isinstance(node.get(k), dict):
+            return
+        node = node[k]
+    if kind == "set":
+        node[path[-1]] = value
+    elif kind == "scale" and path[-1] in node:
+        v = node[path[-1]]
+        node[path[-1]] = v * 10**value if isinstance(v, int) and value >= 0 else v * 10.0**value
+    elif kind == "delete":
+        node.pop(path[-1], None)
+    else:
+        node[value[0]] = value[1]
+
+
+def _check(argv, capsys):
+    tracemalloc.start()
+    t0 = time.perf_counter()
+    try:
+        code = main(argv)
+    finally:
+        elapsed = time.perf_counter() - t0
+        peak = tracemalloc.get_traced_memory()[1]
+        tracemalloc.stop()
+    out, err = capsys.readouterr()
+    lines = err.strip().splitlines()
+    assert elapsed < SECONDS and peak < BYTES, (argv, elapsed, peak)
+    errors = [line for line in lines if not line.startswith("cablecasing: warning: ")]
+    if os.environ.get("FUZZ_LOG"):
+        with open(os.environ["FUZZ_LOG"], "a") as fh:
+            fh.write(f"{argv[0]} {code} {elapsed:.2f} {(errors or lines or [''])[0][:150]}\n")
+    if code == 2:
+        assert len(errors) == 1 and errors[0].startswith("cablecasing: error: ") and len(errors[0]) < 800, lines
+        return False
+    assert code == 0 and not errors, (code, lines)
+    return out
+
+
+def _settings(n):
+    return settings(
+        max_examples=n,
+        deadline=None,
+        derandomize=True,  # (the same cases each run: a failure is a bug to reproduce, not a flake)
+        database=None,
+        suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow],
+    )
+
+
+def _run_both(path, capsys):
+    """modes, then (when the model loads) 20 steps of simulate: one error line or finite numbers."""
+    out = _check(["modes", str(path), "--count", "3", "--json"], capsys)
+    if out is False:
+        return
+    freqs = json.loads(out)
+    assert all(f == f and abs(f) != float("inf") for fs in freqs.values() for f in fs), freqs
+    out = _check(["simulate", str(path), "--dt", "1e-5", "--duration", "2e-4", "--no-progress"], capsys)
+    if out is not False:
+        assert "nan" not in out and "inf" not in out, out
+
+
+@_settings(int(os.environ.get("FUZZ_N", 60)))
+@given(edit_list=st.lists(edits, min_size=1, max_size=2))
+@pytest.mark.slow  # 60 cases of modes and simulate, up to about 1 s each
+def test_a_model_file_with_mutated_keys_types_and_magnitudes_gives_one_error_line_or_finite_results(
+    tmp_path, capsys, edit_list
+):
+    data = json.loads(json.dumps(BASE))
+    for e in edit_list:
+        _apply(data, e)
+    p = tmp_path / "m.toml"
+    p.write_text(_to_toml(data))
+    _run_both(p, capsys)
+
+
+@_settings(30)
+@given(flips=byte_edits.filter(bool))
+def test_a_model_file_with_replaced_bytes_gives_one_error_line_or_finite_results(tmp_path, capsys, flips):
+    raw = bytearray(TEXT.encode())
+    for pos, b in flips:
+        raw[pos : pos + len(b)] = b
+    p = tmp_path / "m.toml"
+    p.write_bytes(bytes(raw))
+    _check(["modes", str(p), "--count", "3", "--json"], capsys)

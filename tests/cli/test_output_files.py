@@ -1,0 +1,143 @@
+"""Output files (issue 26): an interrupt during the save leaves the previous file bitwise intact and
+the message says it was kept; a full, unwritable or special target is refused before the run."""
+
+import errno
+import os
+
+import numpy as np
+import pytest
+
+from cablecasing_core.cli import main
+
+
+def _interrupt_after_a_part(monkeypatch, module, name):
+    """``module.name`` (a numpy writer) writes a part of its file, then Ctrl-C arrives."""
+    real = getattr(module, name)
+
+    def writes_then_interrupted(file, *args, **kwargs):
+        real(file, *args, **kwargs)
+        if hasattr(file, "write"):  # a handle (Ensemble.save): the writer had come half way
+            file.flush()
+            file.truncate(max(file.tell() // 2, 1))
+        else:
+            with open(file, "r+b") as fh:
+                fh.truncate(max(os.path.getsize(file) // 2, 1))
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(module, name, writes_then_interrupted)
+
+
+@pytest.mark.parametrize("suffix,writer", [(".csv", "savetxt"), (".npz", "savez_compressed")])
+def test_an_interrupt_during_the_save_of_simulate_leaves_the_old_file_bitwise(
+    tmp_path, capsys, monkeypatch, suffix, writer
+):
+    out = tmp_path / f"r{suffix}"
+    old = os.urandom(5000) + b"\nan earlier result\n"
+    out.write_bytes(old)
+    _interrupt_after_a_part(monkeypatch, np, writer)
+    assert main(["simulate", "--duration", "0.001", "--no-progress", "--out", str(out)]) == 130
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [f"cablecasing: interrupted: the run was stopped: the previous {out} kept as it was"]
+    assert out.read_bytes() == old and sorted(p.name for p in tmp_path.iterdir()) == [out.name]
+
+
+def _parts(tmp_path):
+    from cablecasing_core.studies import Ensemble
+
+    names = []
+    for k, seeds in enumerate(((1, 2), (3, 4))):
+        ens = Ensemble(
+            np.array(seeds),
+            "casing.B.Fz",
+            ("oct1",),
+            np.array([11.0]),
+            np.array([22.0]),
+            np.array([[0.1], [0.2]]) * (k + 1),
+            {},
+            np.zeros((2, 0)),
+            {"duration": 1.0},
+        )
+        ens.save(tmp_path / f"p{k}.csv")
+        names.append(str(tmp_path / f"p{k}.csv"))
+    return names
+
+
+def test_an_interrupt_during_the_save_of_pool_leaves_the_old_file_bitwise(tmp_path, capsys, monkeypatch):
+    parts = _parts(tmp_path)
+    out = tmp_path / "pooled.csv"
+    old = b"an earlier pool\n" * 300
+    out.write_bytes(old)
+    _interrupt_after_a_part(monkeypatch, np, "savetxt")  # (Ensemble.save's rows)
+    assert main(["pool", *parts, "--out", str(out)]) == 130
+    assert capsys.readouterr().err.strip().endswith(f"stopped: the previous {out} kept as it was")
+    assert out.read_bytes() == old and sorted(p.name for p in tmp_path.iterdir()) == ["p0.csv", "p1.csv", "pooled.csv"]
+
+
+def test_an_interrupt_during_the_save_of_an_ensemble_leaves_the_old_file_bitwise(tmp_path, capsys, monkeypatch):
+    from cablecasing_core.studies import ensemble_runs, load_ensemble
+
+    member = load_ensemble(_parts(tmp_path)[0])
+    monkeypatch.setattr(ensemble_runs, "seed_ensemble", lambda *a, **k: member)  # (the runs are not the point)
+    out = tmp_path / "e.csv"
+    old = b"an earlier ensemble\n" * 300
+    out.write_bytes(old)
+    _interrupt_after_a_part(monkeypatch, np, "savetxt")
+    assert main(["ensemble", "--seeds", "2", "--out", str(out)]) == 130
+    assert capsys.readouterr().err.strip().endswith(f"the ensemble was stopped: the previous {out} kept as it was")
+    assert out.read_bytes() == old
+
+
+def _no_run(monkeypatch):
+    from cablecasing_core.timedomain import simulation
+
+    monkeypatch.setattr(simulation.Engine, "advance", lambda *a, **k: pytest.fail("the run started"))
+
+
+@pytest.mark.parametrize(
+    "target,message",
+    [
+        ("/proc/x.csv", "cannot be written: no file can be created in /proc"),
+        ("link", "is a device or another special file (/dev/full), not a regular file"),
+        ("folder", "is a folder"),
+        ("missing/r.csv", "must be a file in an existing folder"),
+    ],
+)
+def test_an_unwritable_target_is_refused_before_the_run(tmp_path, capsys, monkeypatch, target, message):
+    _no_run(monkeypatch)
+    if target == "link":
+        target = tmp_path / "full.csv"
+        target.symlink_to("/dev/full")
+    elif target == "folder":
+        target = tmp_path / "r.csv"
+        target.mkdir()
+    elif not target.startswith("/"):
+        target = tmp_path / target
+    assert main(["simulate", "--duration", "0.001", "--no-progress", "--out", str(target)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"cablecasing: error: --out = '{target}': ") and message in err[0], err
+
+
+def test_a_full_disk_is_refused_before_the_run(tmp_path, capsys, monkeypatch):
+    # (a full file system, as the probe sees it: its byte cannot be synced; ENOSPC is what a full disk gives)
+    from cablecasing_core import files
+
+    def full(fd):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    _no_run(monkeypatch)
+    monkeypatch.setattr(files.os, "fsync", full)
+    assert main(["bands", "whatever.csv", "--out", str(tmp_path / "b.csv")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [
+        f"cablecasing: error: --out = '{tmp_path / 'b.csv'}': cannot be written: writing to {tmp_path} fails "
+        "(No space left on device)"
+    ]
+    assert sorted(tmp_path.iterdir()) == []  # the probe is gone
+
+
+def test_a_link_is_written_where_it_points(tmp_path, capsys):
+    real = tmp_path / "real.csv"
+    real.write_text("old\n")
+    (tmp_path / "link.csv").symlink_to(real)
+    assert main(["trfam", "--fmin", "10", "--fmax", "12", "--df", "1", "--out", str(tmp_path / "link.csv")]) == 0
+    assert (tmp_path / "link.csv").is_symlink() and real.read_text().startswith("frequency_hz,")

@@ -1,0 +1,180 @@
+"""A study on dask when the infrastructure fails (issue 26): every worker killed, the scheduler
+killed, the workers stalled; a second run on the same file, a torn header. After a resume every
+sample is in the file once and equals the serial result; no sample lost to the infrastructure is
+recorded as a model failure."""
+
+import json
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from cablecasing_core.errors import InfrastructureError, ModelError
+from cablecasing_core.studies import load_results, run_study
+
+FAULTY = "cablecasing_core.studies.evaluators:faulty_evaluate"
+BOUNDS = {"contact.friction": (0.05, 0.2), "casing.E": (2e9, 1e10)}  # groups of 4: 8 samples at n = 8
+
+
+def _run(path, **kw):
+    kw.setdefault("evaluate", FAULTY)
+    kw.setdefault("bounds", BOUNDS)
+    kw.setdefault("n_samples", 8)
+    kw.setdefault("seed", 3)
+    kw.setdefault("progress", False)
+    return run_study(str(path), **kw)
+
+
+def _rows(path):
+    with open(path) as fh:
+        return [line.split(",", 2)[:2] for line in fh.read().splitlines()[1:]]
+
+
+def _same(a, b):
+    np.testing.assert_array_equal(a.index, b.index)
+    np.testing.assert_array_equal(a.X, b.X)
+    np.testing.assert_array_equal(a.Y, b.Y)
+    np.testing.assert_array_equal(a.status, b.status)
+
+
+def _kwargs(tmp_path, action):
+    trigger = tmp_path / "trigger"
+    trigger.write_text("")
+    return trigger, {"trigger": str(trigger), "action": action, "pid_file": str(tmp_path / "scheduler.pid")}
+
+
+def test_a_second_run_on_the_same_study_is_refused_while_the_first_holds_the_lock(tmp_path):
+    from cablecasing_core.studies.results_store import study_lock
+
+    p = tmp_path / "s.csv"
+    with study_lock(p):
+        with pytest.raises(ModelError, match=r"is in use by another study run \(process \d+"):
+            _run(p, scheduler="serial", evaluate_kwargs={})
+    assert not p.exists()  # refused before the CSV was created
+    assert len(_run(p, scheduler="serial")) == 8  # the lock went with its holder
+
+
+def test_a_torn_header_is_recovered_in_one_run(tmp_path):
+    p = tmp_path / "s.csv"
+    ref = _run(tmp_path / "ref.csv", scheduler="serial")
+    _run(p, scheduler="serial", max_samples=0)  # sidecar and header, no rows
+    p.write_text("index,status,contact.fri")  # a header torn by a kill (as versions before issue 26 wrote it)
+    _same(_run(p, scheduler="serial"), ref)
+    assert [i for i, _ in _rows(p)] == [str(i) for i in range(8)]
+
+
+@pytest.mark.slow  # waits for the connection timeout (10 s)
+def test_settings_that_cannot_work_are_refused_before_anything_is_created(tmp_path):
+    out = tmp_path / "nothing" / "s.csv"
+    with pytest.raises(ModelError, match="duration = 0.05: must leave at least 0.09091 s after skip"):
+        run_study(
+            str(out),
+            bounds={"contact.friction": (0.05, 0.2)},
+            evaluate_kwargs={"duration": 0.05},
+            scheduler="serial",
+            progress=False,
+        )
+    t0 = time.perf_counter()
+    with pytest.raises(ModelError, match="scheduler address such as tcp://host:8786 that answers within 10 s"):
+        _run(out, scheduler="tcp://127.0.0.1:9")  # (port 9: nothing listens)
+    assert time.perf_counter() - t0 < 30.0  # the connection timeout (10 s) and the client's shutdown
+    assert not out.parent.exists()
+
+
+@pytest.mark.slow  # a dask cluster whose workers are killed
+def test_every_worker_killed_then_resumed_equals_the_serial_study(tmp_path):
+    import dask
+    from distributed import Client, LocalCluster
+
+    ref = _run(tmp_path / "serial.csv", scheduler="serial")
+    p = tmp_path / "s.csv"
+    trigger, kw = _kwargs(tmp_path, "kill_worker")
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}):  # (one kill makes a KilledWorker)
+        with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+            with Client(cluster) as client:
+                with pytest.raises(InfrastructureError, match="samples were lost to the infrastructure") as err:
+                    _run(p, scheduler=client, evaluate_kwargs=kw, progress_timeout=120)
+                assert "KilledWorker: the worker running it died" in str(err.value)
+                assert _rows(p) == []  # no sample recorded as failed
+                lost = (tmp_path / "s.csv.lost.log").read_text().splitlines()
+                assert len(lost) == 8 and all("KilledWorker" in line for line in lost)
+                trigger.unlink()
+                res = _run(p, scheduler=client, evaluate_kwargs=kw)  # the same command, resumed
+    _same(res, _run(tmp_path / "serial2.csv", scheduler="serial", evaluate_kwargs=kw))
+    _same(res, ref)
+    assert sorted(int(i) for i, _ in _rows(p)) == list(range(8))  # every sample once
+
+
+def _start_cluster(tmp_path, tag):
+    """A scheduler and one worker as processes of their own (the scheduler's id in scheduler.pid)."""
+    info = tmp_path / f"scheduler-{tag}.json"
+    dask_cli = [sys.executable, "-m", "distributed.cli.dask_scheduler"]
+    sched = subprocess.Popen(
+        [*dask_cli, "--scheduler-file", str(info), "--port", "0", "--no-dashboard"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    (tmp_path / "scheduler.pid").write_text(str(sched.pid))
+    for _ in range(300):
+        if info.exists() and info.stat().st_size:
+            break
+        time.sleep(0.1)
+    address = json.loads(info.read_text())["address"]
+    worker = subprocess.Popen(
+        [sys.executable, "-m", "distributed.cli.dask_worker", address, "--nthreads", "1", "--no-dashboard"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    return address, (sched, worker)
+
+
+def _stop(procs):
+    for p in procs:
+        if p.poll() is None:
+            p.kill()
+        p.wait(timeout=30)
+
+
+@pytest.mark.slow  # a dask scheduler that is killed
+def test_the_scheduler_killed_then_resumed_on_a_new_one_equals_the_serial_study(tmp_path):
+    p = tmp_path / "s.csv"
+    trigger, kw = _kwargs(tmp_path, "kill_scheduler")
+    address, procs = _start_cluster(tmp_path, "a")
+    try:
+        t0 = time.perf_counter()
+        with pytest.raises(InfrastructureError, match="scheduler") as err:
+            _run(p, scheduler=address, evaluate_kwargs=kw, progress_timeout=60)
+        assert time.perf_counter() - t0 < 60 + 30, str(err.value)
+    finally:
+        _stop(procs)
+    assert _rows(p) == []  # nothing recorded as failed
+    trigger.unlink()
+    address, procs = _start_cluster(tmp_path, "b")
+    try:
+        res = _run(p, scheduler=address, evaluate_kwargs=kw)
+    finally:
+        _stop(procs)
+    _same(res, _run(tmp_path / "serial.csv", scheduler="serial", evaluate_kwargs=kw))
+    assert sorted(int(i) for i, _ in _rows(p)) == list(range(8)) and (res.status == "ok").all()
+
+
+@pytest.mark.slow  # a dask cluster whose workers stall
+def test_stalled_workers_end_with_a_message_within_the_timeout(tmp_path):
+    from distributed import Client, LocalCluster
+
+    p = tmp_path / "s.csv"
+    _, kw = _kwargs(tmp_path, "stall")
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        with Client(cluster) as client:
+            t0 = time.perf_counter()
+            with pytest.raises(InfrastructureError) as err:
+                _run(p, scheduler=client, evaluate_kwargs=kw, progress_timeout=3.0)
+            elapsed = time.perf_counter() - t0
+            client.restart()  # (frees the sleeping worker)
+    assert "no sample finished within 3 s: 1 dask workers are connected but none finished a sample (stalled)" in str(
+        err.value
+    )
+    assert elapsed < 3.0 + 10.0  # the timeout, plus the diagnosis (at most 5 s) and the submission
+    assert _rows(p) == [] and load_results(p).index.size == 0
