@@ -94,7 +94,12 @@ def sobol_indices(
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             r = sobol.analyze(
-                problem, y, calc_second_order=False, num_resamples=num_resamples, conf_level=conf_level, seed=seed
+                problem,
+                y,
+                calc_second_order=False,
+                num_resamples=num_resamples,
+                conf_level=conf_level,
+                seed=seed + 1,  # SALib takes a seed of 0 for none (np.random's global state, test-order dependent)
             )
         for k in out:
             out[k][:, b] = r[k]
