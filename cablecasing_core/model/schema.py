@@ -314,6 +314,9 @@ def _body(body):
 def _mount_keys(prefix, what):
     """The spring-damper keys of an isolator or a clip (local axes: axial along the tangent, the
     element frame's lateral y and z), each a number or three, by component a parameter."""
+    # Upper bounds: a stiffer mount is a clamp to round-off, and beyond them the system turns
+    # singular in double precision (a stiffness of 1e30 N/m gave zero natural frequencies); the
+    # tests' stiffest mounts (clamp-like: 1e13 N/m, 1e11 N.m/rad) lie below them.
     triples = [
         (
             "stiffness",
@@ -321,6 +324,7 @@ def _mount_keys(prefix, what):
             "N/m",
             "translational stiffness",
             "[axial, lateral_1, lateral_2] in the support's local axes",
+            1e14,
         ),
         (
             "rotational_stiffness",
@@ -328,9 +332,17 @@ def _mount_keys(prefix, what):
             "N.m/rad",
             "rotational stiffness",
             "[about axial (torsion), lateral_1, lateral_2]",
+            1e12,
         ),
-        ("damping", 0.0, "N.s/m", "translational viscous damping", "[axial, lateral_1, lateral_2]"),
-        ("rotational_damping", 0.0, "N.m.s/rad", "rotational viscous damping", "[about axial, lateral_1, lateral_2]"),
+        ("damping", 0.0, "N.s/m", "translational viscous damping", "[axial, lateral_1, lateral_2]", 1e10),
+        (
+            "rotational_damping",
+            0.0,
+            "N.m.s/rad",
+            "rotational viscous damping",
+            "[about axial, lateral_1, lateral_2]",
+            1e8,
+        ),
     ]
     keys = [
         KeySpec(
@@ -339,10 +351,10 @@ def _mount_keys(prefix, what):
             default,
             unit,
             f"{kind} of {what} {axes}",
-            Triple(Number(ge=0, unit=unit)),
+            Triple(Number(ge=0, le=top, unit=unit)),
             components=MOUNT_AXES,
         )
-        for name, default, unit, kind, axes in triples
+        for name, default, unit, kind, axes, top in triples
     ]
     keys.append(
         KeySpec(

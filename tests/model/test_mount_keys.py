@@ -29,7 +29,17 @@ ISO = {"stiffness": [2e5, 1e5, 1e5]}
         (
             {"supports": {"A": "isolator"}, "isolator": {"A": {"stiffness": -1.0}}},
             "casing.isolator.A.stiffness",
-            "zero or a positive",
+            "a number in [0, 1e+14] in N/m",
+        ),
+        (  # a stiffer mount is a clamp to round-off; 1e30 N/m made the system singular
+            {"supports": {"A": "isolator"}, "isolator": {"A": {"stiffness": 1e30}}},
+            "casing.isolator.A.stiffness",
+            "a number in [0, 1e+14] in N/m",
+        ),
+        (
+            {"supports": {"A": "isolator"}, "isolator": {"A": dict(ISO, rotational_damping=1e9)}},
+            "casing.isolator.A.rotational_damping",
+            "a number in [0, 1e+08] in N.m.s/rad",
         ),
         (
             {"supports": {"A": "isolator"}, "isolator": {"A": {"stiffness": [1.0, 2.0]}}},
@@ -149,5 +159,5 @@ def test_mount_components_are_parameters_a_study_can_vary():
     m2 = m.with_overrides({"casing.isolator.A.stiffness.lateral_1": 7e4})
     assert m2.data["casing"]["isolator"]["A"]["stiffness"] == [1e5, 7e4, 3e5]
     assert lookup("casing.isolator.A.stiffness.axial").unit == "N/m"
-    with pytest.raises(ModelError, match=r"casing.isolator.A.stiffness\[1\] = -1.0: must be zero or a positive"):
+    with pytest.raises(ModelError, match=r"casing.isolator.A.stiffness\[1\] = -1.0: must be a number in \[0, 1e\+14\]"):
         m.with_overrides({"casing.isolator.A.stiffness.lateral_1": -1.0})
