@@ -541,9 +541,7 @@ class Engine:
         else:
             status = self._cstep_entry(ctx, t0, self.dt, m, h, self._pot0)
         if status != K.OK:
-            snap_f, snap_i = self._cstep_scratch[5:]
-            np.copyto(self._fbuf, snap_f)
-            np.copyto(self._ibuf, snap_i)
+            self.restore([t0, *self._cstep_scratch[5:]])  # the snapshot the step took of itself
             _, _, times, motion, *_ = self._cstep_scratch
             self._raise_for_status(status, motion[0], motion[1], motion[2], times)
         self.time = float(t0 + m * self.dt)

@@ -83,7 +83,7 @@ class Instance:
         self.in_vr = [self.var[n].valueReference for n in INPUTS]
         # the inputs go in as fmpy's own simulate_fmu sets them (simulation.Input.apply): one
         # fmi2SetReal on ctypes arrays made once, not fmpy's setReal(list), whose conversion of 36
-        # values to new ctypes arrays costs ~20 µs per step by itself (docs/performance.md, FMU)
+        # values to new ctypes arrays costs ~15 µs per step by itself (docs/performance.md, FMU)
         self._in_vr = (fmi2ValueReference * len(INPUTS))(*self.in_vr)
         self._in_values = (fmi2Real * len(INPUTS))()
         self._in_view = np.ctypeslib.as_array(self._in_values)
