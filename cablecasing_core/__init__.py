@@ -58,13 +58,37 @@ For a step-by-step engine (the FMU's), see :class:`~cablecasing_core.timedomain.
 
 from __future__ import annotations
 
+from importlib import import_module as _import_module
 from importlib import metadata as _metadata
 
 from .errors import CableCasingError, ModelError, SimulationError
-from .frequency.modal import modes, natural_frequencies
-from .frequency.trfam import trfam, trfam_matrix
 from .model import BodySpec, Model, default_model, load_model, model_from_dict
-from .timedomain.simulation import SimulationResult, contact_episodes, simulate
+
+# The solvers are imported when first used (PEP 562): importing them pulls in scipy's solvers and
+# the numba kernels (about 0.5 s), which a command such as ``cablecasing static`` or ``cablecasing
+# keys`` does not need all of.
+_LAZY = {
+    "modes": ".frequency.modal",
+    "natural_frequencies": ".frequency.modal",
+    "trfam": ".frequency.trfam",
+    "trfam_matrix": ".frequency.trfam",
+    "SimulationResult": ".timedomain.simulation",
+    "contact_episodes": ".timedomain.simulation",
+    "simulate": ".timedomain.simulation",
+}
+
+
+def __getattr__(name):
+    if name not in _LAZY:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(_import_module(_LAZY[name], __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))
+
 
 try:
     __version__ = _metadata.version("cablecasing")

@@ -86,3 +86,8 @@ def check_time_domain(model, duration: float, dt: float) -> None:
             f"record and {_gb(matrices)} for its matrices, more than the {_gb(have)} of memory it may use; "
             "shorten the duration, lengthen the step or use fewer elements (docs/model_file.md, Limits)",
         )
+
+
+#: Seconds without any finished sample after which a dask run gives up (docs/studies.md): far above
+#: one sample of the default study (about 30 s for a 1 s record on one core).
+PROGRESS_TIMEOUT = 900.0

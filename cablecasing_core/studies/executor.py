@@ -23,11 +23,9 @@ import os
 import time
 
 from ..errors import InfrastructureError, ModelError
+from ..model.limits import PROGRESS_TIMEOUT
 from ..model.validators import integer
 
-#: Seconds without any finished sample after which a dask run gives up (docs/studies.md): far above
-#: one sample of the default study (about 30 s for a 1 s record on one core).
-PROGRESS_TIMEOUT = 900.0
 #: Seconds to reach a scheduler address.
 CONNECT_TIMEOUT = 10.0
 
