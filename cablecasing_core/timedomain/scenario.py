@@ -168,20 +168,23 @@ class ScenarioMotion:
         on = np.abs(t / self.dt - k) < 1e-9
         t = np.where(on, k * self.dt, t)  # a sample's time is its index times dt (module docstring)
         grid = (on, k.astype(np.int64))
-        out = [np.zeros((len(t), len(self.channels))) for _ in range(3)]
+        # channel-major (3, channels, times), so each term adds along contiguous rows (a (times, 3)
+        # slice of (times, channels) costs ~5 times more per value); the same sums in the same order
+        out = np.zeros((3, len(self.channels), len(t)))
         for col, wts, sig in self.terms:
             for o, s in zip(out, sig(t, grid)):
-                o[:, col : col + 3] += s[:, None] * wts[None, :]
+                for d in range(3):
+                    o[col + d] += s * wts[d]
         if self.ramp > 0 and t.min() < self.ramp:  # (past the ramp, the factor is 1)
             T = self.ramp
             on = t < T
             x = np.pi * t / T
-            r = np.where(on, 0.5 * (1 - np.cos(x)), 1.0)[:, None]
-            dr = np.where(on, 0.5 * np.pi / T * np.sin(x), 0.0)[:, None]
-            ddr = np.where(on, 0.5 * (np.pi / T) ** 2 * np.cos(x), 0.0)[:, None]
+            r = np.where(on, 0.5 * (1 - np.cos(x)), 1.0)
+            dr = np.where(on, 0.5 * np.pi / T * np.sin(x), 0.0)
+            ddr = np.where(on, 0.5 * (np.pi / T) ** 2 * np.cos(x), 0.0)
             u, v, a = out
-            out = [r * u, r * v + dr * u, r * a + 2 * dr * v + ddr * u]
-        return tuple(out)
+            out = (r * u, r * v + dr * u, r * a + 2 * dr * v + ddr * u)
+        return tuple(np.ascontiguousarray(o.T) for o in out)
 
 
 def scenario_motion(model: Model, dt: float | None = None) -> ScenarioMotion:
