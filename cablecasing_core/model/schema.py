@@ -404,7 +404,7 @@ _KEYS = [
         [0.0, 0.0, 0.0],
         "m",
         "end A of a route given by segments",
-        Vector(unit="m"),
+        Vector(unit="m", bound=1e3),
     ),
     KeySpec(
         "geometry.direction",

@@ -139,11 +139,11 @@ def _geometry(data):
             "geometry", sorted(data), "needs exactly one of points (a curve through points) and segments (a route)"
         )
     if "segments" in out:
-        t = np.asarray(out["direction"]) / np.linalg.norm(out["direction"])
+        t = _unit(out["direction"], "geometry.direction")
         for i, seg in enumerate(out["segments"]):
             if "bend" in seg:
                 b = seg["bend"]
-                w = np.asarray(b["toward"]) / np.linalg.norm(b["toward"])
+                w = _unit(b["toward"], f"geometry.segments[{i}].bend.toward")
                 n = w - (w @ t) * t
                 if np.linalg.norm(n) < 1e-6:
                     raise ModelError(
@@ -160,6 +160,32 @@ def _geometry(data):
                 raise ModelError(f"geometry.{k}", data[k], "belongs to a route given by segments, not by points")
             del out[k]  # (their defaults belong to segments only)
     return out
+
+
+def _unit(v, key):
+    """v (three finite numbers, not all zero) over its length, or a ModelError naming ``key`` when
+    the length is not a positive finite number in double precision (components near 1e-160 or 1e160)."""
+    length = float(np.linalg.norm(v))
+    if not (0.0 < length < np.inf):
+        raise ModelError(key, v, f"must be a direction whose length is a positive finite number (it is {length:g})")
+    return np.asarray(v, dtype=float) / length
+
+
+def _bends_wider_than_the_bodies(geometry, bodies):
+    """Each bend of a route of segments wider than the bodies: a centerline radius at or below a
+    body's outer radius folds the body onto itself (no beam can follow it)."""
+    for i, seg in enumerate(geometry.get("segments") or []):
+        if "bend" not in seg:
+            continue
+        R = seg["bend"]["radius"]
+        for name, key in (("casing", "d_outer"), ("cable", "d")):
+            if name in bodies and R <= 0.5 * bodies[name][key]:
+                raise ModelError(
+                    f"geometry.segments[{i}].bend.radius",
+                    R,
+                    f"must exceed the {name}'s outer radius {name}.{key} / 2 = {0.5 * bodies[name][key]:g} m: a "
+                    f"tighter bend folds the {name} onto itself",
+                )
 
 
 def _on_a_clamped_support(key, target, bodies):
@@ -236,6 +262,7 @@ def validate(data: dict, base_dir: str | None = None) -> dict:
     if not bodies:
         raise ModelError("<model>", sorted(data), "needs at least one body section, [casing] or [cable]")
     out.update(bodies)
+    _bends_wider_than_the_bodies(out["geometry"], bodies)
     if "casing" in bodies and "cable" in bodies and bodies["casing"]["d_inner"] <= bodies["cable"]["d"]:
         raise ModelError(
             "casing.d_inner",

@@ -242,9 +242,9 @@ class Segments:
 
     allowed = (
         "a list of {straight = L_m} and {bend = {radius = R_m, angle_deg = phi, toward = [x, y, z]}}, "
-        "L > 0, R > 0, 0 < phi < 360"
+        "0 < L <= 1000, 0 < R <= 1000, 0 < phi < 360"
     )
-    length = Number(gt=0, unit="m")
+    length = Number(gt=0, le=1e3, unit="m")  # (as the points' coordinates: within +-1000 m)
     angle = Number(gt=0, lt=360, unit="deg")
     toward = Vector(unit="", nonzero=True)
 

@@ -109,9 +109,10 @@ def test_plausibility_warnings():
     assert plausibility_warnings(quiet) == []
     coarse = routed(n=20)
     assert any("tenth of the shortest bend" in w for w in plausibility_warnings(coarse))
-    mm = routed([{"straight": 1500.0}, {"bend": {"radius": 150.0, "angle_deg": 90, "toward": [0, 1, 0]}}], n=40)
+    mm = routed([{"straight": 600.0}, {"bend": {"radius": 150.0, "angle_deg": 90, "toward": [0, 1, 0]}}], n=40)
     assert any("more than 10 m" in w and "mm" in w for w in plausibility_warnings(mm))
-    tiny = routed([{"straight": 0.004}, {"bend": {"radius": 0.002, "angle_deg": 90, "toward": [0, 1, 0]}}], n=40)
+    # 8.9 mm long; the bend's 5 mm radius just clears the casing's 4.75 mm outer radius
+    tiny = routed([{"straight": 0.001}, {"bend": {"radius": 0.005, "angle_deg": 90, "toward": [0, 1, 0]}}], n=40)
     w = plausibility_warnings(tiny)
     assert any("less than 1 cm" in x for x in w) and any("ten casing diameters" in x for x in w)
     base = copy.deepcopy(load_model().data)
@@ -127,9 +128,27 @@ def test_plausibility_warnings():
         ({"segments": "straight"}, "geometry.segments", "a list of"),
         ({"segments": []}, "geometry.segments", "a list of"),
         ({"segments": [{"arc": 1.0}]}, "geometry.segments[0]", "straight = L_m"),
-        ({"segments": [{"straight": -0.1}]}, "geometry.segments[0].straight", "positive"),
+        ({"segments": [{"straight": -0.1}]}, "geometry.segments[0].straight", "(0, 1000]"),
+        # beyond the points' +-1000 m: 1e300 m overflowed the element matrices into warnings and a
+        # meaningless clip error
+        ({"segments": [{"straight": 1e300}]}, "geometry.segments[0].straight", "(0, 1000]"),
+        ({"segments": [{"bend": {"radius": 2e3, "angle_deg": 30, "toward": [0, 1, 0]}}]}, "radius", "(0, 1000]"),
+        # a centerline radius at or below the casing's outer radius (4.75 mm) folds the casing onto itself
+        (
+            {"segments": [{"bend": {"radius": 0.004, "angle_deg": 30, "toward": [0, 1, 0]}}]},
+            "geometry.segments[0].bend.radius",
+            "casing.d_outer / 2 = 0.00475 m",
+        ),
+        # components whose squares underflow (or overflow) have no direction in double precision
+        (
+            {"segments": [{"bend": {"radius": 0.1, "angle_deg": 30, "toward": [0, 1e-170, 0]}}]},
+            "geometry.segments[0].bend.toward",
+            "positive finite number (it is 0)",
+        ),
+        ({"segments": SEGMENTS, "direction": [1e200, 1e200, 0]}, "geometry.direction", "(it is inf)"),
+        ({"segments": SEGMENTS, "start": [1e9, 0, 0]}, "geometry.start", "within +-1000"),
         ({"segments": [{"bend": {"radius": 0.1, "angle_deg": 30}}]}, "geometry.segments[0].bend", "toward"),
-        ({"segments": [{"bend": {"radius": 0.0, "angle_deg": 30, "toward": [0, 1, 0]}}]}, "radius", "positive"),
+        ({"segments": [{"bend": {"radius": 0.0, "angle_deg": 30, "toward": [0, 1, 0]}}]}, "radius", "(0, 1000]"),
         ({"segments": [{"bend": {"radius": 0.1, "angle_deg": 360, "toward": [0, 1, 0]}}]}, "angle_deg", "(0, 360)"),
         (
             {"segments": [{"bend": {"radius": 0.1, "angle_deg": 30, "toward": [2, 0, 0]}}]},
@@ -196,7 +215,7 @@ def test_cli_geometry_json_plot_and_warnings(tmp_path, capsys):
 def test_loading_a_file_warns_of_a_likely_mistake(tmp_path):
     from cablecasing_core.errors import PlausibilityWarning
 
-    mm = routed([{"straight": 1500.0}, {"bend": {"radius": 150.0, "angle_deg": 90, "toward": [0, 1, 0]}}], n=40)
+    mm = routed([{"straight": 600.0}, {"bend": {"radius": 150.0, "angle_deg": 90, "toward": [0, 1, 0]}}], n=40)
     p = tmp_path / "mm.toml"
     p.write_text(mm.to_toml())
     with pytest.warns(PlausibilityWarning, match="more than 10 m: are the points in mm"):
