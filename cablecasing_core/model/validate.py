@@ -126,7 +126,7 @@ def _node_arc_lengths(geometry):
     if "segments" in geometry:
         route = SegmentRoute(geometry["start"], geometry["direction"], geometry["segments"])
         return centerline_from_route(route, geometry["n_elements"]).s
-    return build_centerline(geometry["points"], geometry["n_elements"], geometry["curve"]).s
+    return build_centerline(geometry["points"], geometry["n_elements"], geometry["curve"], frames=False).s
 
 
 def _geometry(data):

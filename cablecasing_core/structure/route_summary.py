@@ -31,7 +31,7 @@ def curvature_profile(model, n=DENSE):
         s = np.linspace(0.0, route.length, n + 1)
         return s, route.curvature(s)
     g = model.geometry
-    cl = build_centerline(g["points"], n, g["curve"])
+    cl = build_centerline(g["points"], n, g["curve"], frames=False)
     return cl.s, cl.curvature
 
 
