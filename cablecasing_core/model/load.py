@@ -30,7 +30,9 @@ MAX_MODEL_BYTES = 1 << 20
 def model_from_dict(data: dict, source: str = "<dict>", base_dir: str | None = None) -> Model:
     """Validate a raw nested dictionary (as read from TOML) and return a :class:`Model`; ``base_dir``
     is the folder relative CSV paths are read from."""
-    return Model(validate(data, base_dir=base_dir), source=source, base_dir=base_dir)
+    model = Model(validate(data, base_dir=base_dir), source=source, base_dir=base_dir)
+    _warn_if_implausible(model)
+    return model
 
 
 def specimen_names() -> tuple[str, ...]:
@@ -92,8 +94,9 @@ def toml_file(path: str | Path, key: str, limit: int, other: str = "") -> dict:
 
 def _warn_if_implausible(model):
     """A :class:`~cablecasing_core.errors.PlausibilityWarning` for each plausibility warning of a
-    model file's routing but the element-length advice (issue 24; the CLI prints each as one
-    line; ``cablecasing geometry`` gives them all)."""
+    model file's or dictionary's routing but the element-length advice (the CLI prints each as one
+    line; ``cablecasing geometry`` gives them all). The built-in specimens and a model's
+    ``with_overrides`` copies are not checked again."""
     import warnings
 
     from ..errors import PlausibilityWarning

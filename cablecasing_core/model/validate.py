@@ -10,10 +10,12 @@ naming the dotted key, the value and what is allowed; nothing is half-built.
 
 A valid model can still be physically absurd: a value outside its key's plausible range (the
 schema's ``plausible``), a radial gap far below a wire's roughness, a contact stiffness whose time
-scale the step does not resolve, an impulse resolved by a few steps, a route shorter than ten
-diameters or one that doubles back, a contact sought on fewer than four elements. Each gives a
-:class:`~cablecasing_core.errors.ModelWarning` that says why the result may be meaningless
-(:func:`plausibility`, :func:`step_checks`); the model is used as given.
+scale the step does not resolve, an impulse resolved by a few steps, a contact sought on fewer
+than four elements. Each gives a :class:`~cablecasing_core.errors.ModelWarning` that says why the
+result may be meaningless (:func:`plausibility`, :func:`step_checks`); the model is used as given.
+The route's own warnings (too long, too short, doubling back, kinked, bent too tightly) are in one
+list, ``structure.route_summary.plausibility_warnings``, issued when a model file or dictionary is
+loaded (``model.load``).
 """
 
 from __future__ import annotations
@@ -322,8 +324,9 @@ ROUGHNESS = 1e-6  # m
 
 def plausibility(out: dict) -> list[str]:
     """The warnings (also issued as :class:`ModelWarning`) of a checked model whose values are
-    valid but whose result may be meaningless: the gap, the route, the elements (docs/model_file.md,
-    "Warnings"). Returns their texts."""
+    valid but whose result may be meaningless: the gap, the elements (docs/model_file.md,
+    "Warnings"; the route's are ``structure.route_summary.plausibility_warnings``, which loading a
+    model file or dictionary issues). Returns their texts."""
     said = []
 
     def warn(text):
@@ -341,24 +344,6 @@ def plausibility(out: dict) -> list[str]:
                 "fit, and the cable starts pressed against the wall wherever the route bends (the energy it "
                 "then takes is no vibration)"
             )
-    pts = [list(map(float, p)) for p in out["geometry"].get("points") or []]  # (a route of segments: none)
-    seg = [[b[k] - a[k] for k in range(3)] for a, b in zip(pts, pts[1:])]
-    length = _route_length(out["geometry"])
-    d = max(out["casing"]["d_outer"] if "casing" in out else 0.0, out["cable"]["d"] if "cable" in out else 0.0)
-    if length < 10 * d:
-        warn(
-            f"the route is {length:.3g} m long, less than ten times the diameter {d:g} m: a body this short is "
-            "no slender beam, and the Euler-Bernoulli elements (which neglect shear) do not describe it"
-        )
-    for i, (a, b) in enumerate(zip(seg, seg[1:]), 1):
-        na, nb = math.sqrt(sum(c * c for c in a)), math.sqrt(sum(c * c for c in b))
-        cos = sum(x * y for x, y in zip(a, b)) / (na * nb)
-        if cos < -0.5:  # turns by more than 120 degrees at one point
-            warn(
-                f"geometry.points[{i}]: the route turns by {math.degrees(math.acos(max(cos, -1.0))):.0f} degrees "
-                "there: it doubles back on itself, and the centerline bends tighter than any cable or casing can"
-            )
-            break
     n = out["geometry"]["n_elements"]
     if both and out["contact"]["enabled"] and n < 4:
         warn(

@@ -107,17 +107,39 @@ def geometry_summary(model) -> dict:
 
 
 def plausibility_warnings(model, summary=None, advice=True) -> list[str]:
-    """Plain-language warnings (not errors) about a routing that is likely a mistake: a route longer
-    than 10 m or shorter than 1 cm (points given in mm, or in km?), a bend radius below ten casing
-    diameters, a kink in a polyline; and, with ``advice``, an element longer than a tenth of the
-    shortest bend's arc (the built-in specimen has 6.5 elements per bend: loading a file warns
-    without this one, ``cablecasing geometry`` gives it)."""
+    """Plain-language warnings (not errors) about a routing that is likely a mistake, the one
+    list of them: a route longer than 10 m or shorter than 1 cm (points given in mm, or in km?)
+    or shorter than ten times the largest diameter (no slender beam), points at which the route
+    doubles back (turns by more than 120 degrees), a kink in a polyline, a bend radius below ten
+    casing diameters; and, with ``advice``, an element longer than a tenth of the shortest bend's
+    arc (the built-in specimen has 6.5 elements per bend: loading a file warns without this one,
+    ``cablecasing geometry`` gives it)."""
     g = summary or geometry_summary(model)
     out = []
-    if g["length_m"] > 10.0:
-        out.append(f"the route is {g['length_m']:.4g} m long, more than 10 m: are the points in mm?")
-    if g["length_m"] < 0.01:
-        out.append(f"the route is {g['length_m']:.4g} m long, less than 1 cm: are the points in m?")
+    length = g["length_m"]
+    if length > 10.0:
+        out.append(f"the route is {length:.3g} m long, more than 10 m: are the points in mm?")
+    diameters = [model.data[b][k] for b, k in (("casing", "d_outer"), ("cable", "d")) if b in model.data]
+    short = []
+    if diameters and length < 10 * max(diameters):
+        short.append(
+            f"less than ten times the diameter {max(diameters):g} m: a body this short is no slender beam, and the "
+            "Euler-Bernoulli elements (which neglect shear) do not describe it"
+        )
+    if length < 0.01:
+        short.append("less than 1 cm: are the points in m?")
+    if short:
+        out.append(f"the route is {length:.3g} m long, " + "; ".join(short))
+    points = model.geometry.get("points") or []
+    chords = np.diff(np.asarray(points, dtype=float), axis=0) if len(points) > 2 else np.zeros((0, 3))
+    for i, (a, b) in enumerate(zip(chords, chords[1:]), 1):
+        cos = float(a @ b / (np.linalg.norm(a) * np.linalg.norm(b)))
+        if cos < -0.5:  # turns by more than 120 degrees at one point
+            out.append(
+                f"geometry.points[{i}]: the route turns by {np.degrees(np.arccos(max(cos, -1.0))):.0f} degrees "
+                "there: it doubles back on itself, and the centerline bends tighter than any cable or casing can"
+            )
+            break
     if g["source"] == "polyline":
         for b in g["bends"]:
             out.append(

@@ -241,7 +241,7 @@ WARNINGS = [
         "contact.stiffness = 1e+20 N/m on a cable node of 0.00135 kg oscillates with a period of 2.31e-11 s, "
         "which the step scenario.dt = 1e-05 s does not resolve",
     ),
-    ("an 85 um route", _scaled(1e-4), "the route is 8.49e-05 m long, less than ten times the diameter 0.0095 m"),
+    ("an 85 um route", _scaled(1e-4), "the route is 8.5e-05 m long, less than ten times the diameter 0.0095 m"),
     (
         "a route that doubles back",
         BASE.replace(POINTS, "points = [[0, 0, 0], [0.3, 0, 0], [0.0, 0.001, 0]]\n"),
