@@ -141,10 +141,16 @@ def plausibility_warnings(model, summary=None, advice=True) -> list[str]:
             )
             break
     if g["source"] == "polyline":
-        for b in g["bends"]:
+        kinks = g["bends"]
+        smooth = '(curve = "spline" or segments give a smooth route)'
+        if len(kinks) == 1:
+            k = kinks[0]
+            out.append(f"the polyline has a kink of {k['angle_deg']:.3g} deg at s = {k['start_m']:.4g} m {smooth}")
+        elif kinks:  # (one line: a polyline through many points of an arc has a kink at each)
+            worst = max(kinks, key=lambda b: b["angle_deg"])
             out.append(
-                f"the polyline has a kink of {b['angle_deg']:.3g} deg at s = {b['start_m']:.4g} m "
-                '(curve = "spline" or segments give a smooth route)'
+                f"the polyline has {len(kinks)} kinks, of {min(b['angle_deg'] for b in kinks):.3g} to "
+                f"{worst['angle_deg']:.3g} deg (the largest at s = {worst['start_m']:.4g} m) {smooth}"
             )
         return out
     d = model.data["casing"]["d_outer"] if "casing" in model.data else None

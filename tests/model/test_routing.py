@@ -122,6 +122,19 @@ def test_plausibility_warnings():
     assert any("kink of 90 deg at s = 0.5 m" in x for x in plausibility_warnings(kinked))
 
 
+def test_a_polyline_through_an_arc_warns_once_and_a_dictionary_warns_as_a_file():
+    # 30 points on a quarter circle of 1 m: 28 corners of 90/29 = 3.1 deg, said in one line
+    from cablecasing_core.errors import PlausibilityWarning
+
+    th = np.linspace(0.0, np.pi / 2, 30)
+    pts = [[float(np.cos(t)), float(np.sin(t)), 0.0] for t in th]
+    base = copy.deepcopy(load_model().data)
+    with pytest.warns(PlausibilityWarning) as record:
+        model_from_dict({**base, "geometry": {"points": pts, "curve": "polyline", "n_elements": 40}})
+    kinks = [str(w.message) for w in record if "kink" in str(w.message)]
+    assert len(kinks) == 1 and "28 kinks, of 3.1 to 3.1 deg" in kinks[0]
+
+
 @pytest.mark.parametrize(
     "geometry, key, words",
     [
