@@ -34,7 +34,8 @@ STATUS = {0: "ok", 1: "warning", 2: "discard", 3: "error", 4: "fatal"}
 def run(tmp_path, scenario, fmu, inputs=None, timeout=600, cwd=None, env=None, **args):
     """Run ``scenario`` of this driver in a fresh process; returns the npz content as a dict.
 
-    ``inputs``: array (n, 36) in the order of :data:`INPUTS` (m, m/s, m/s2) at t = k h."""
+    ``inputs``: array (n, 36) in the order of :data:`INPUTS` (m, m/s, m/s2) at t = k h, or in the
+    order of ``input_names`` (a job argument: an FMU built for a model file has more inputs)."""
     tmp_path = Path(tmp_path)
     n = len(list(tmp_path.glob("job*.json")))
     job = dict(args, fmu=str(fmu), out=str(tmp_path / f"out{n}.npz"))
@@ -63,7 +64,9 @@ class Instance:
 
     unzip_dirs = {}
 
-    def __init__(self, fmu, name="cc", params=None, start_time=0.0, logging=True, unzip=None, initialize=True):
+    def __init__(
+        self, fmu, name="cc", params=None, start_time=0.0, logging=True, unzip=None, initialize=True, inputs=None
+    ):
         from fmpy import extract, read_model_description
         from fmpy.fmi2 import FMU2Slave, fmi2Real, fmi2ValueReference
 
@@ -80,12 +83,13 @@ class Instance:
         )
         self.fmu.instantiate(callbacks=self._callbacks(), loggingOn=logging)
         self.t = start_time
-        self.in_vr = [self.var[n].valueReference for n in INPUTS]
+        inputs = list(inputs or INPUTS)  # the input table's columns
+        self.in_vr = [self.var[n].valueReference for n in inputs]
         # the inputs go in as fmpy's own simulate_fmu sets them (simulation.Input.apply): one
         # fmi2SetReal on ctypes arrays made once, not fmpy's setReal(list), whose conversion of 36
         # values to new ctypes arrays costs ~15 µs per step by itself (docs/performance.md, FMU)
-        self._in_vr = (fmi2ValueReference * len(INPUTS))(*self.in_vr)
-        self._in_values = (fmi2Real * len(INPUTS))()
+        self._in_vr = (fmi2ValueReference * len(inputs))(*self.in_vr)
+        self._in_values = (fmi2Real * len(inputs))()
         self._in_view = np.ctypeslib.as_array(self._in_values)
         self._plans = {}
         if not initialize:
@@ -197,7 +201,7 @@ def scenario_run(job, table):
 
     Instance.unzip_dirs.setdefault(job["fmu"], extract(job["fmu"]))
     t0 = time.perf_counter()
-    inst = Instance(job["fmu"], params=job.get("params"))
+    inst = Instance(job["fmu"], params=job.get("params"), inputs=job.get("input_names"))
     out = np.zeros((len(table), len(job["outputs"])))
     status = np.zeros(len(table), int)
     if len(table):
@@ -214,7 +218,7 @@ def scenario_run(job, table):
 
 def scenario_steps(job, table):
     """Varying communication steps job["steps"] (s), one input row per step."""
-    inst = Instance(job["fmu"], params=job.get("params"))
+    inst = Instance(job["fmu"], params=job.get("params"), inputs=job.get("input_names"))
     out = np.zeros((len(table), len(job["outputs"])))
     status = np.zeros(len(table), int)
     for k, (row, h) in enumerate(zip(table, job["steps"])):
