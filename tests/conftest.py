@@ -62,23 +62,13 @@ def arc_points():
 
 @pytest.fixture(scope="session")
 def clipped_specimen():
-    """The built-in specimen held by two clips along its casing (0.30 m: fixed; 0.55 m: excited,
-    its support the channels ``dash.x/.y/.z``), its own scenario also shaking ``dash.y`` (harmonic
-    150 Hz, 2 um), friction 0.12: a Model with 15 support channels and 27 + 12 outputs."""
-    import copy
+    """examples/clipped_specimen.toml: the built-in specimen held by two clips along its casing
+    (0.30 m: fixed; 0.55 m: excited, its support the channels ``dash.x/.y/.z``), its own scenario
+    also shaking ``dash.y`` (harmonic 150 Hz, 2 um), friction 0.12: a Model with 15 support
+    channels and 27 + 12 outputs."""
+    from cablecasing_core import load_model
 
-    import cablecasing_core as cc
-
-    data = copy.deepcopy(cc.load_model().data)
-    data["contact"]["friction"] = 0.12  # (not the specimen's 0.15: an FMU for this file starts at 0.12)
-    data["casing"]["clip"] = [
-        {"at": 0.30, "stiffness": [2.0e4, 5.0e4, 5.0e4], "damping": 8.0},
-        {"at": 0.55, "stiffness": [2.0e4, 5.0e4, 5.0e4], "damping": 8.0, "excitation": "dash"},
-    ]
-    data["scenario"]["excitation"]["dash_shake"] = {
-        "target": "dash.y", "kind": "harmonic", "frequency": 150.0, "amplitude": 2e-6,
-    }  # fmt: skip
-    return model_from_dict(data, source="clipped specimen")
+    return load_model(ROOT / "examples" / "clipped_specimen.toml")
 
 
 @pytest.fixture(scope="session")

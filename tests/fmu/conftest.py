@@ -49,18 +49,14 @@ def core_run():
 
 @pytest.fixture(scope="session")
 def model_fmu(tmp_path_factory, clipped_specimen):
-    """(path of the FMU built for the clipped specimen's model file, that file, the Model): built
-    once per session with ``build_fmu.py --model FILE --output PATH`` in a fresh process."""
-    import cablecasing_core as cc
-
-    folder = tmp_path_factory.mktemp("model_fmu")
-    toml = folder / "clipped.toml"
-    toml.write_text(clipped_specimen.to_toml())
-    path = folder / "CableCasing-clipped.fmu"
+    """(path of the FMU built for examples/clipped_specimen.toml, that file, its Model): built once
+    per session with ``build_fmu.py --model FILE --output PATH`` in a fresh process."""
+    toml = Path(clipped_specimen.source)
+    path = tmp_path_factory.mktemp("model_fmu") / "CableCasing-clipped.fmu"
     subprocess.run(
         [sys.executable, str(ROOT / "build_fmu.py"), "--model", str(toml), "--output", str(path)],
         check=True,
         cwd=ROOT,
         capture_output=True,
     )
-    return path, toml, cc.load_model(toml)
+    return path, toml, clipped_specimen

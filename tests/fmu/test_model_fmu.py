@@ -1,5 +1,6 @@
-"""An FMU built for a model file (``build_fmu.py --model FILE``): the clipped specimen (two clips
-along the casing, the one at 0.55 m excited through its support channels ``dash.x/.y/.z``).
+"""An FMU built for a model file (``build_fmu.py --model FILE``): examples/clipped_specimen.toml
+(two clips along the casing, the one at 0.55 m excited through its support channels
+``dash.x/.y/.z``).
 
 Its modelDescription lists the model's inputs and outputs from the schema; driven through fmpy,
 its outputs (support and clip forces) are the core's on the same inputs; an excited clip moves the
@@ -52,11 +53,11 @@ def test_model_description_lists_the_models_channels_and_outputs(model_fmu, fmu)
     assert float(var["contact.friction"].start) == 0.12  # the model file's, not the specimen's 0.15
     plain = read_model_description(str(fmu))
     assert md.guid != plain.guid and md.coSimulation.modelIdentifier == plain.coSimulation.modelIdentifier
-    assert "clipped.toml" in md.description
+    assert "clipped_specimen.toml" in md.description
     with zipfile.ZipFile(path) as z:
-        assert z.read("resources/model/clipped.toml") == toml.read_bytes()
+        assert z.read("resources/model/clipped_specimen.toml") == toml.read_bytes()
         doc = z.read("documentation/index.html").decode()
-    assert "clipped.toml" in doc and "dash.ax" in doc and "casing.clip1.Fz" in doc
+    assert "clipped_specimen.toml" in doc and "dash.ax" in doc and "casing.clip1.Fz" in doc
 
 
 def test_driven_on_the_clip_channel_it_equals_the_core(model_fmu, tmp_path, fmu_driver, core_run):
@@ -177,9 +178,9 @@ def test_a_model_file_with_other_clip_channels_is_refused(model_fmu, tmp_path, f
     assert ok["init_status"] == 0 and ok["status"][0] == 0 and ok["out"][0, 0] == 0.3
     error = 3  # fmi2Error
     for model_file, words in (
-        ("default", ["model_file 'default' has no excited clip", "clipped.toml", "dash.x, dash.y, dash.z"]),
+        ("default", ["model_file 'default' has no excited clip", "clipped_specimen.toml", "dash.x, dash.y, dash.z"]),
         (renamed, ["bracket.x, bracket.y, bracket.z", "dash.x, dash.y, dash.z"]),
-        (more, ["3 clips", "clipped.toml with 2"]),
+        (more, ["3 clips", "clipped_specimen.toml with 2"]),
     ):
         res = init(model_file)
         text = " ".join(res["log"])
