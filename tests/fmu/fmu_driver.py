@@ -274,14 +274,18 @@ def scenario_state(job, table):
 
 
 def scenario_two(job, table):
-    """Two instances with different parameters, stepped alternately in this process."""
+    """Two instances with different parameters, stepped alternately in this process; the second
+    of another FMU when the job names one (``fmu2``, with its ``input_names2``, ``outputs2`` and
+    its input table ``inputs2``, a .npy path, as long as ``table``)."""
     h, names = job["h"], job["outputs"]
-    one = Instance(job["fmu"], name="one", params=job["p1"])
-    two = Instance(job["fmu"], name="two", params=job["p2"])
-    o1, o2 = np.zeros((len(table), len(names))), np.zeros((len(table), len(names)))
-    for k, row in enumerate(table):
-        assert one.step(row, h) == 0 and two.step(row, h) == 0
-        o1[k], o2[k] = one.get(names), two.get(names)
+    names2 = job.get("outputs2", names)
+    table2 = np.load(job["inputs2"]) if "inputs2" in job else table
+    one = Instance(job["fmu"], name="one", params=job.get("p1"))
+    two = Instance(job.get("fmu2", job["fmu"]), name="two", params=job.get("p2"), inputs=job.get("input_names2"))
+    o1, o2 = np.zeros((len(table), len(names))), np.zeros((len(table), len(names2)))
+    for k, (row, row2) in enumerate(zip(table, table2)):
+        assert one.step(row, h) == 0 and two.step(row2, h) == 0
+        o1[k], o2[k] = one.get(names), two.get(names2)
     return dict(o1=o1, o2=o2)
 
 
