@@ -11,7 +11,7 @@ Only an adapter over ``cablecasing_core``'s time-domain ``Engine``; there is no 
   motion inside the step (quintic Hermite from the supports' state to the Taylor extrapolation);
 * outputs: the engine's outputs after the step (force and moment each body exerts on each
   support, contact summary, then the force and moment through each clip of the base model);
-* parameters: every numeric key of the built-in model under its dotted name (a vector key by its
+* parameters: every numeric key of the base model under its dotted name (a vector key by its
   components, ``loads.gravity.x``, ``.y``, ``.z``), its word keys as Strings (``cable.rest_shape``,
   ``contact.law``, ... : ``Model.text_parameters``), ``contact.enabled``, ``model_file`` (a TOML
   path or a built-in specimen's name, e.g. ``installed``) and ``solver.dt``; those the master sets
@@ -214,8 +214,13 @@ class CableCasing(Fmi2Slave):
                 causality=Fmi2Causality.parameter,
                 variability=Fmi2Variability.fixed,
                 description="path of a model TOML file (a relative path is taken from the "
-                "host's working folder when it is set); empty = the built-in "
-                "specimen",
+                "host's working folder when it is set); empty = "
+                + (
+                    f"the model file this FMU was built for, {os.path.basename(self.base_file)} (another file "
+                    "must have the same excited clips and number of clips)"
+                    if self.base_file
+                    else "the built-in specimen"
+                ),
             ),
             "",
         )
@@ -622,6 +627,9 @@ class CableCasing(Fmi2Slave):
             engine = (
                 self._engine if (self._engine is not None and self._applied == config) else self._make_engine(config)
             )
+            problem = self._variables_problem(engine) if engine is not self._engine else None
+            if problem:  # (a state of an FMU built for another model file)
+                raise ValueError(problem)
             engine_state = {k[len("engine.") :]: v for k, v in state.items() if k.startswith("engine.")}
             if engine is self._engine:  # Engine.set_state checks all before it writes any
                 backup = engine.get_state()

@@ -527,8 +527,26 @@ def scenario_preimported(job, table):
     return dict(status=status, log=_log(inst.log))
 
 
+def scenario_references(job, table):
+    """fmi2GetReal and fmi2SetReal of each list of value references in job["references"] (after
+    initialisation): their statuses, the values read and the log of each call."""
+    from fmpy.fmi2 import fmi2Real, fmi2ValueReference
+
+    inst = Instance(job["fmu"], name="references", inputs=job.get("input_names"))
+    res = {"get_status": [], "set_status": []}
+    for k, vrs in enumerate(job["references"]):
+        vr, val = (fmi2ValueReference * len(vrs))(*vrs), (fmi2Real * len(vrs))()
+        res["get_status"].append(Instance.call(inst.fmu.fmi2GetReal, inst.fmu.component, vr, len(vrs), val))
+        res["set_status"].append(Instance.call(inst.fmu.fmi2SetReal, inst.fmu.component, vr, len(vrs), val))
+        res[f"log{k}"] = _log(inst.log) or [""]
+        inst.log.clear()
+    inst.free()
+    return res
+
+
 SCENARIOS = {
     "run": scenario_run,
+    "references": scenario_references,
     "preimported": scenario_preimported,
     "steps": scenario_steps,
     "state": scenario_state,

@@ -81,6 +81,28 @@ def test_driven_on_the_clip_channel_it_equals_the_core(model_fmu, tmp_path, fmu_
     assert np.max(np.abs(res["out"] - ref) / scale) < 1e-12
 
 
+def test_the_binary_takes_the_models_buffers_and_refuses_other_references(model_fmu, tmp_path, fmu_driver):
+    """The C binary reads and writes the two buffers by the first value references and counts the
+    slave gives it (45 inputs, 39 outputs here): the last input and the last output are read
+    there, and a reference just past them (a parameter), far beyond any, or a write to an output
+    is fmi2Error with a message naming the reference (the buffers' bounds hold)."""
+    from fmpy import read_model_description
+
+    path, _, model = model_fmu
+    var = {v.name: v.valueReference for v in read_model_description(str(path)).modelVariables}
+    last_in, last_out = var[inputs_of(model)[-1]], var[outputs_of(model)[-1]]
+    assert (last_in, last_out) == (44, 83)
+    refs = [[last_in, last_out], [last_out + 1], [10**6], [2**32 - 1]]
+    res = fmu_driver.run(tmp_path, "references", path, references=refs, input_names=list(inputs_of(model)))
+    error = 3  # fmi2Error
+    assert list(res["get_status"]) == [0, error, error, error]
+    assert list(res["set_status"]) == [error, error, error, error]
+    assert "value reference 83: casing.clip1.Mz (Real, output)" in " ".join(res["log0"])
+    assert "value reference 84" in " ".join(res["log1"])
+    for k, vr in ((2, 10**6), (3, 2**32 - 1)):
+        assert f"value reference {vr}: no variable" in " ".join(res[f"log{k}"])
+
+
 def test_it_and_the_plain_fmu_run_side_by_side_in_one_process(model_fmu, fmu, tmp_path, fmu_driver):
     """Their GUIDs differ, so one host process loads both (the bridge keeps a slave module per
     GUID): stepped alternately, each gives exactly what it gives alone (0.02 s with contact)."""
@@ -100,15 +122,53 @@ def test_it_and_the_plain_fmu_run_side_by_side_in_one_process(model_fmu, fmu, tm
     assert np.max(np.abs(both["o2"][:, len(OUTPUTS) :])) > 1e-3  # (the second one's clip forces)
 
 
+def test_the_installation_example_builds_and_its_mount_keys_are_parameters(tmp_path):
+    """examples/installation.toml (isolated ends, two clips without excitation): its FMU validates,
+    has the 36 inputs and 27 + 12 outputs, and the isolators' keys as parameters with their SI
+    units (N/m, N.m/rad, N.s/m, N.m.s/rad: each with a UnitDefinitions entry)."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from fmpy import read_model_description
+    from fmpy.validation import validate_fmu
+
+    root = Path(__file__).resolve().parents[2]
+    toml, path = root / "examples" / "installation.toml", tmp_path / "installation.fmu"
+    subprocess.run(
+        [sys.executable, str(root / "build_fmu.py"), "--model", str(toml), "--output", str(path)],
+        check=True, capture_output=True, cwd=root,
+    )  # fmt: skip
+    assert validate_fmu(str(path)) == []
+    md = read_model_description(str(path))
+    var = {v.name: v for v in md.modelVariables}
+    model = cc.load_model(toml)
+    assert [v.name for v in md.modelVariables if v.causality == "input"] == list(inputs_of(model))
+    assert [v.name for v in md.modelVariables if v.causality == "output"] == list(outputs_of(model))
+    assert len(outputs_of(model)) == len(OUTPUTS) + 12
+    units = {
+        "casing.isolator.A.stiffness.axial": "N/m",
+        "casing.isolator.B.rotational_stiffness.lateral_1": "N.m/rad",
+        "casing.isolator.A.damping.lateral_2": "N.s/m",
+        "casing.isolator.B.rotational_damping.axial": "N.m.s/rad",
+    }
+    for name, unit in units.items():
+        assert var[name].causality == "parameter" and var[name].unit == unit, name
+    assert float(var["casing.isolator.A.stiffness.axial"].start) == 4.0e5  # the file's value
+    assert {u.name for u in md.unitDefinitions} >= set(units.values())
+
+
 def test_a_model_file_that_does_not_load_is_refused_at_build(tmp_path):
     """``build_fmu.py --model`` with a bad file stops before it builds anything, naming the key."""
     import subprocess
     import sys
     from pathlib import Path
 
-    bad = tmp_path / "bad.toml"
-    bad.write_text("[casing]\nE = -1.0\n")
     root = Path(__file__).resolve().parents[2]
+    text = (root / "examples" / "clipped_specimen.toml").read_text()
+    assert "E = 5.0e9" in text
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace("E = 5.0e9", "E = -1.0", 1))  # the casing's modulus
     proc = subprocess.run(
         [sys.executable, str(root / "build_fmu.py"), "--model", str(bad), "--output", str(tmp_path / "x.fmu")],
         capture_output=True, text=True, cwd=root,
