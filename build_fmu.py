@@ -12,7 +12,13 @@ rewrites the archive with what pythonfmu does not write:
 * a GUID derived from the content, a generation date from the newest source file and fixed
   timestamps in the zip, so that building twice from the same sources gives the same bytes.
 
-Usage: python build_fmu.py [--out dist/CableCasing.fmu]
+With ``--model FILE.toml`` the FMU is built for that model file: the file (and the CSV files its
+excitations read) ships in ``resources/model/`` and is the FMU's base model in place of the
+built-in specimen, so the FMU's inputs and outputs are that model's (``model.schema.inputs_of``,
+``outputs_of``: the excited clips' channels, the clips' forces), its parameters start at its
+values, its GUID differs from every other model's, and its documentation names the file.
+
+Usage: python build_fmu.py [--model FILE.toml] [--output dist/CableCasing.fmu]
 """
 
 from __future__ import annotations
@@ -60,6 +66,9 @@ UNITS = {
     "kg/m3": {"kg": 1, "m": -3},
     "kg/s": {"kg": 1, "s": -1},
     "N/m": {"kg": 1, "s": -2},
+    "N.s/m": {"kg": 1, "s": -1},
+    "N.m/rad": {"kg": 1, "m": 2, "s": -2, "rad": -1},
+    "N.m.s/rad": {"kg": 1, "m": 2, "s": -1, "rad": -1},
     "m4": {"m": 4},
 }
 
@@ -85,10 +94,13 @@ def load_slave():
 
 
 # ------------------------------------------------------------------------------------ model description
-def complete_description(xml_bytes, units, guid, date):
-    """The modelDescription.xml with units, UnitDefinitions, ModelStructure, GUID and date."""
+def complete_description(xml_bytes, units, guid, date, model_name=None):
+    """The modelDescription.xml with units, UnitDefinitions, ModelStructure, GUID and date (and,
+    for an FMU built for a model file, its name in the description)."""
     root = ET.fromstring(xml_bytes)
     root.set("guid", guid)
+    if model_name:
+        root.set("description", f"{root.get('description')}; built for the model file {model_name}")
     root.set("generationDateAndTime", date)
     used = set()
     for sv in root.find("ModelVariables").findall("ScalarVariable"):
@@ -124,8 +136,8 @@ def complete_description(xml_bytes, units, guid, date):
 
 
 # ------------------------------------------------------------------------------------ documentation
-def variable_rows(slave_module):
-    slave = slave_module.CableCasing(instance_name="documentation", resources=str(SLAVE.parent))
+def variable_rows(slave_module, resources):
+    slave = slave_module.CableCasing(instance_name="documentation", resources=str(resources))
     rows = []
     for v in slave.vars.values():
         start = ""
@@ -135,15 +147,39 @@ def variable_rows(slave_module):
     return rows
 
 
-def write_documentation(folder, rows):
+def write_documentation(folder, rows, model_file=None):
+    """documentation/: index.html (the model, the variables), the geometry figure and
+    externalDependencies.txt, of the built-in specimen or of ``model_file`` (a Path)."""
     import cablecasing_core as cc
     from cablecasing_core.plotting import plot_geometry
     from cablecasing_core.structure.geometry import centerline_of
+    from cablecasing_core.structure.route_summary import geometry_summary
 
     folder.mkdir(parents=True, exist_ok=True)
-    model = cc.load_model()
+    model = cc.load_model(model_file) if model_file else cc.load_model()
     plot_geometry(centerline_of(model), folder / "geometry.png")
     gap = model.radial_gap
+    if model_file:
+        clips = model.data.get("casing", {}).get("clip", [])
+        excited = [c["excitation"] for c in clips if "excitation" in c]
+        geometry = f"""<h2>The model file: {html.escape(model_file.name)}</h2>
+<p>This FMU was built for the model file <code>{html.escape(model_file.name)}</code> (shipped in
+<code>resources/model/</code>; built from <code>{html.escape(str(model_file))}</code>), which is its
+base model in place of the built-in specimen: every parameter starts at that file's value, and its
+inputs and outputs are that model's: the 12 support channels, {len(excited)} excited clip(s)
+({html.escape(", ".join(excited) or "none")}: inputs <code>&lt;name&gt;.x</code>, <code>.vx</code>,
+<code>.ax</code>, ... of the clip's support) and the force and moment through each of its {len(clips)}
+clip(s) (<code>casing.clip&lt;i&gt;.Fx</code> .. <code>Mz</code>, what the casing exerts through the clip
+on its support). A <code>model_file</code> set at run time overrides the base model only if it has the
+same excited clips and the same number of clips; another is refused at initialisation (fmi2Error).</p>
+<p><img src="geometry.png" alt="centerline of the model, ends A and B marked" width="480"></p>
+<p>Centerline of the model ({geometry_summary(model)["length_m"]:.4g} m; radial gap {gap * 1e3:.2f} mm).
+Support A is at the start of the route, B at its end.</p>"""
+    else:
+        geometry = """<h2>Default geometry</h2>
+<p><img src="geometry.png" alt="centerline of the built-in specimen, ends A and B marked" width="480"></p>
+<p>Centerline of the built-in specimen (0.85 m; two 60&deg; bends of radius 0.15 m and 0.20 m in
+different planes). Support A is at the origin, B at the other end.</p>"""
     table = "\n".join("<tr>" + "".join(f"<td>{html.escape(str(x))}</td>" for x in r) + "</tr>" for r in rows)
     (folder / "index.html").write_text(f"""<!doctype html>
 <html lang="en"><head><meta charset="utf-8"><title>CableCasing FMU</title>
@@ -155,18 +191,15 @@ table{{border-collapse:collapse;font-size:90%}} code{{background:#eee}}</style><
 <p>Vibration transmission over a spatially curved steel cable sliding inside a curved casing
 (Otrin and Boltezar). Both bodies are 3D Euler&ndash;Bernoulli beams on the same centerline, meshed
 with 12-DOF elements, with Rayleigh damping C = &alpha;M + &beta;K. They are coupled by contact across
-the radial gap (built-in specimen: {gap * 1e3:.2f} mm): penalty method with the Hertz law, contact
-damping while the penetration grows, Coulomb friction with stick and slip. Time integration: Newmark
-average acceleration with internal step <code>solver.dt</code>; the contact forces are solved
-implicitly at the end of each internal step. The four ends (casing A/B, cable A/B) are clamped
-supports whose translations follow the inputs; their rotations are held at zero.
+the radial gap ({"this model" if model_file else "built-in specimen"}: {gap * 1e3:.2f} mm): penalty method
+with the Hertz law, contact damping while the penetration grows, Coulomb friction with stick and slip.
+Time integration: Newmark average acceleration with internal step <code>solver.dt</code>; the contact forces are solved
+implicitly at the end of each internal step. The four ends (casing A/B, cable A/B) are supports
+(clamped, or on the model's elastic isolators) whose translations follow the inputs; their rotations are held at zero.
 The FMU is a thin adapter over the Python package <code>cablecasing_core</code>, bundled in
 <code>resources/</code>. All quantities are SI.</p>
 
-<h2>Default geometry</h2>
-<p><img src="geometry.png" alt="centerline of the built-in specimen, ends A and B marked" width="480"></p>
-<p>Centerline of the built-in specimen (0.85 m; two 60&deg; bends of radius 0.15 m and 0.20 m in
-different planes). Support A is at the origin, B at the other end.</p>
+{geometry}
 
 <h2>Sign conventions and meaning of the outputs</h2>
 <ul>
@@ -361,15 +394,48 @@ def compiled_kernels(entries):
 
 
 # ------------------------------------------------------------------------------------ build
-def build(out):
+def model_files(model_file):
+    """{path inside resources/model/: bytes} of an FMU built for ``model_file`` (a Path): the file
+    itself and the CSV files its excitations read (at their paths relative to the file's folder,
+    where the model finds them again). Raises SystemExit naming the problem: a model file that
+    does not load, or a CSV file outside the model file's folder."""
+    import cablecasing_core as cc
+
+    try:
+        model = cc.load_model(model_file)
+    except cc.CableCasingError as exc:
+        raise SystemExit(f"build_fmu.py --model {model_file}: {exc}") from None
+    files = {model_file.name: model_file.read_bytes()}
+    for name, e in model.scenario.get("excitation", {}).items():
+        if "file" in e:
+            path = Path(e["file"]).resolve()
+            try:
+                rel = path.relative_to(model_file.parent)
+            except ValueError:
+                raise SystemExit(
+                    f"build_fmu.py --model {model_file}: scenario.excitation.{name}.file = {str(path)!r} is not "
+                    f"inside the model file's folder {model_file.parent}: the FMU ships it beside the model file, "
+                    "so give it a path relative to that folder, inside it"
+                ) from None
+            files[rel.as_posix()] = path.read_bytes()
+    return files
+
+
+def build(out, model_file=None):
+    """Write the FMU to ``out``: of the built-in specimen, or built for ``model_file`` (a TOML
+    path: its channels, outputs and parameters; see the module docstring). Returns the path."""
     from pythonfmu.builder import FmuBuilder
 
     out = Path(out).resolve()
     out.parent.mkdir(parents=True, exist_ok=True)
+    model_file = Path(model_file).resolve() if model_file else None
+    shipped = model_files(model_file) if model_file else {}
     srcs = sources()
     digest = hashlib.sha256()
     for p in srcs:
         digest.update(str(p.relative_to(ROOT)).encode() + b"\0" + p.read_bytes())
+    for name in sorted(shipped):  # (an FMU for another model file, or none, has another GUID)
+        digest.update(b"model/" + name.encode() + b"\0" + shipped[name])
     guid = str(uuid.uuid5(uuid.NAMESPACE_URL, "cablecasing-fmu:" + digest.hexdigest()))
     epoch = int(os.environ.get("SOURCE_DATE_EPOCH", max(p.stat().st_mtime for p in srcs)))
     when = datetime.datetime.fromtimestamp(epoch, datetime.timezone.utc)
@@ -380,12 +446,18 @@ def build(out):
     with tempfile.TemporaryDirectory(prefix="cablecasing_fmu_") as tmp:
         tmp = Path(tmp)
         shutil.copytree(PACKAGE, tmp / "cablecasing_core", ignore=IGNORE)
+        project = [tmp / "cablecasing_core", *EXTRA_RESOURCES]
+        if shipped:  # resources/model/: the slave's base model (CableCasing.base_model_file)
+            for name, data in shipped.items():
+                (tmp / "model" / name).parent.mkdir(parents=True, exist_ok=True)
+                (tmp / "model" / name).write_bytes(data)
+            project.append(tmp / "model")
         doc = tmp / "documentation"
-        write_documentation(doc, variable_rows(slave_module))
+        write_documentation(doc, variable_rows(slave_module, tmp), model_file)
         raw = FmuBuilder.build_FMU(
             SLAVE,
             dest=tmp / "raw",
-            project_files=[tmp / "cablecasing_core", *EXTRA_RESOURCES],
+            project_files=project,
             documentation_folder=doc,
             canGetAndSetFMUstate=True,
             canSerializeFMUstate=True,
@@ -393,11 +465,13 @@ def build(out):
             canBeInstantiatedOnlyOncePerProcess=False,
             needsExecutionTool=True,
         )
-        units = slave_module.CableCasing(instance_name="units", resources=str(SLAVE.parent)).units
+        units = slave_module.CableCasing(instance_name="units", resources=str(tmp)).units
         with zipfile.ZipFile(raw) as src:
             entries = {i.filename: src.read(i.filename) for i in src.infolist() if not i.is_dir()}
         entries = {k: v for k, v in entries.items() if "__pycache__" not in k}
-        entries["modelDescription.xml"] = complete_description(entries["modelDescription.xml"], units, guid, date)
+        entries["modelDescription.xml"] = complete_description(
+            entries["modelDescription.xml"], units, guid, date, model_file.name if model_file else None
+        )
         if compile_native(tmp / "CableCasing.so"):
             entries["binaries/linux64/CableCasing.so"] = (tmp / "CableCasing.so").read_bytes()
         entries["resources/python-environment.txt"] = environment_record(guid, slave_module.CableCasing.version)
@@ -416,8 +490,23 @@ def build(out):
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--out", default=str(ROOT / "dist" / "CableCasing.fmu"), help="FMU file to write")
-    out = build(p.parse_args(argv).out)
+    p.add_argument(
+        "--model",
+        metavar="FILE.toml",
+        help="build the FMU for this model file: its channels (excited clips), outputs (clip forces) and "
+        "parameter values (default: the built-in specimen)",
+    )
+    p.add_argument(
+        "--output",
+        "--out",
+        dest="out",
+        metavar="PATH.fmu",
+        help="FMU file to write (default: dist/CableCasing.fmu, or dist/CableCasing-<model file's stem>.fmu "
+        "with --model)",
+    )
+    args = p.parse_args(argv)
+    default = f"CableCasing-{Path(args.model).stem}.fmu" if args.model else "CableCasing.fmu"
+    out = build(args.out or ROOT / "dist" / default, args.model)
     print(f"wrote {out}")
 
 

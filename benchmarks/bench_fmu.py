@@ -33,7 +33,11 @@ Prints ``name: value`` lines:
 * ``instantiate_cold_s``: loading the FMU (unzipped) through ``fmi2Instantiate``, initialisation
   and the first step with an empty per-user cache (no numba cache, no copy of the code), and
   ``instantiate_warm_s`` with both in place;
-* ``mean_active_contacts``: cable nodes in contact, averaged over the steps.
+* ``mean_active_contacts``: cable nodes in contact, averaged over the steps;
+* ``engine_clips_us_per_step``, ``fmpy_clips_us_per_step`` and ``fmu_overhead_fmpy_clips``: the same
+  as ``engine_us_per_step`` / ``fmpy_us_per_step`` for the FMU built for
+  ``examples/clipped_specimen.toml`` (``build_fmu.py --model``: 45 inputs, 39 outputs, the excited
+  clip driven by its own scenario's 150 Hz) and its engine.
 
 The machine is shared: each figure is the fastest of ``--repeat`` runs, taken alternately.
 
@@ -65,6 +69,7 @@ from cablecasing_core.timedomain.scenario import scenario_motion  # noqa: E402
 from cablecasing_core.timedomain.support_motion import GridMotion, SupportReconstruction  # noqa: E402
 
 FMU = ROOT / "dist" / "CableCasing.fmu"
+CLIPPED = ROOT / "examples" / "clipped_specimen.toml"  # the model of the FMU built with --model
 FMUSIM = ROOT.parent / "shared" / "hosts" / "fmusim"
 NCH = len(CHANNELS)
 PLAIN = {"HOME": os.environ.get("HOME", "/root"), "PATH": "/usr/bin:/bin"}
@@ -76,13 +81,14 @@ def engine_run(model, table, h, drive=False):
     persist from step to step as the FMU's do, so its remembered context serves every step; the
     first two steps, which load the kernels, factorise and take the general path, are left out)."""
     eng = Engine(model, ledger=False)
-    rec = SupportReconstruction(NCH)
-    out = np.zeros(len(OUTPUTS))
-    u, v, a = np.zeros(NCH), np.zeros(NCH), np.zeros(NCH)
+    nch = len(eng.channels)  # (12, or more with excited clips)
+    rec = SupportReconstruction(nch)
+    out = np.zeros(len(eng.output_names))
+    u, v, a = np.zeros(nch), np.zeros(nch), np.zeros(nch)
     base = GridMotion(scenario_motion(model, dt=eng.dt), eng.dt) if drive else None  # as the slave's
 
     def step(row):
-        u[:], v[:], a[:] = row[:NCH], row[NCH : 2 * NCH], row[2 * NCH :]
+        u[:], v[:], a[:] = row[:nch], row[nch : 2 * nch], row[2 * nch :]
         eng.advance_reconstructed(h, rec, u, v, a, out, base)
 
     step(table[0])  # loads the kernels, factorises
@@ -93,19 +99,20 @@ def engine_run(model, table, h, drive=False):
     return time.perf_counter() - t0
 
 
-def fmpy_run(table, h):
+def fmpy_run(table, h, fmu=FMU):
     """(s per step of set inputs + doStep + get outputs through fmpy's ctypes bindings on arrays
-    made once, s per step of fmpy's setReal(list) + getReal) on a fresh FMU2Slave in this process;
-    the first two steps are left out as in :func:`engine_run`."""
+    made once, s per step of fmpy's setReal(list) + getReal) on a fresh FMU2Slave of ``fmu`` in
+    this process (every input in the modelDescription's order, the table's; every Real output); the
+    first two steps are left out as in :func:`engine_run`."""
     from fmpy import extract, read_model_description
     from fmpy.fmi2 import FMU2Slave, fmi2Real, fmi2True, fmi2ValueReference
 
-    md = read_model_description(str(FMU))
-    var = {v.name: v for v in md.modelVariables}
-    in_vr = [var[name].valueReference for name in fmu_driver.INPUTS]
-    out_vr = [var[name].valueReference for name in OUTPUTS if var[name].type == "Real"]
+    md = read_model_description(str(fmu))
+    in_vr = [v.valueReference for v in md.modelVariables if v.causality == "input"]
+    out_vr = [v.valueReference for v in md.modelVariables if v.causality == "output" and v.type == "Real"]
+    assert len(in_vr) == table.shape[1]
     s = FMU2Slave(
-        guid=md.guid, unzipDirectory=extract(str(FMU)), modelIdentifier=md.coSimulation.modelIdentifier,
+        guid=md.guid, unzipDirectory=extract(str(fmu)), modelIdentifier=md.coSimulation.modelIdentifier,
         instanceName="bench",
     )  # fmt: skip
     s.instantiate(loggingOn=False)
@@ -179,8 +186,16 @@ def main():
         subprocess.run([sys.executable, str(ROOT / "build_fmu.py")], check=True)
     table = np.hstack(scenario_motion(model)(h * np.arange(n + 1)))  # the master's samples at t = k h
     eng_s, eng_drive_s, lean_s, lists_s, fmpy_s, sim_long, drive_long, cold, warm = ([] for _ in range(9))
+    clips_eng_s, clips_fmpy_s = [], []
+    clipped = cc.load_model(CLIPPED)
+    clips_table = np.hstack(scenario_motion(clipped)(h * np.arange(n + 1)))
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
+        clips_fmu = tmp / "CableCasing-clipped.fmu"
+        subprocess.run(
+            [sys.executable, str(ROOT / "build_fmu.py"), "--model", str(CLIPPED), "--output", str(clips_fmu)],
+            check=True, capture_output=True,
+        )  # fmt: skip
         write_fmusim_inputs(tmp / "inputs.csv", table, h)
         fmu_driver.run(tmp, "run", FMU, inputs=table[:2], h=h, outputs=["casing.B.Fz"])  # warm the caches
         for k in range(args.repeat):
@@ -201,6 +216,8 @@ def main():
             env["XDG_CACHE_HOME"] = str(tmp / f"empty-cache-{k}")
             res_cold = fmu_driver.run(tmp, "run", FMU, inputs=table[:2], h=h, outputs=["casing.B.Fz"], env=env)
             cold.append(float(res_cold["first_step_s"]))
+            clips_eng_s.append(engine_run(clipped, clips_table[:n], h) / (n - 2))
+            clips_fmpy_s.append(fmpy_run(clips_table[:n], h, clips_fmu)[0])
     engine = min(eng_s)
     print(f"communication_step_s: {h:g}")
     print(f"engine_us_per_step: {engine * 1e6:.1f}")
@@ -225,6 +242,9 @@ def main():
     print(f"instantiate_cold_s: {min(cold):.2f}")
     print(f"instantiate_warm_s: {min(warm):.2f}")
     print(f"mean_active_contacts: {res['out'][:, OUTPUTS.index('contact.active')].mean():.2f}")
+    print(f"engine_clips_us_per_step: {min(clips_eng_s) * 1e6:.1f}")
+    print(f"fmpy_clips_us_per_step: {min(clips_fmpy_s) * 1e6:.1f}")
+    print(f"fmu_overhead_fmpy_clips: {min(clips_fmpy_s) / min(clips_eng_s):.3f}")
 
 
 if __name__ == "__main__":

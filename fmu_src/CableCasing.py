@@ -2,17 +2,24 @@
 
 Only an adapter over ``cablecasing_core``'s time-domain ``Engine``; there is no physics here:
 
-* inputs: displacement (m), velocity (m/s) and acceleration (m/s2) of the 12 support channels at
+* the base model: the built-in specimen, or the model file the FMU was built for
+  (``build_fmu.py --model FILE``: shipped as ``resources/model/<FILE>``, :func:`base_model_file`);
+  the FMU's inputs and outputs are that model's (``model.schema.inputs_of``, ``outputs_of``);
+* inputs: displacement (m), velocity (m/s) and acceleration (m/s2) of the base model's support
+  channels (the 12 of the four supports, then ``<excitation>.x/.y/.z`` of each excited clip) at
   the start of each communication step; the core's support-motion reconstruction fills the
   motion inside the step (quintic Hermite from the supports' state to the Taylor extrapolation);
 * outputs: the engine's outputs after the step (force and moment each body exerts on each
-  support, contact summary);
-* parameters: every numeric key of the built-in model under its dotted name (a vector key by its
+  support, contact summary, then the force and moment through each clip of the base model);
+* parameters: every numeric key of the base model under its dotted name (a vector key by its
   components, ``loads.gravity.x``, ``.y``, ``.z``), its word keys as Strings (``cable.rest_shape``,
   ``contact.law``, ... : ``Model.text_parameters``), ``contact.enabled``, ``model_file`` (a TOML
   path or a built-in specimen's name, e.g. ``installed``) and ``solver.dt``; those the master sets
-  override the model (the built-in one or ``model_file``) through ``Model.with_overrides`` when
-  initialisation ends.
+  override the model (the base model or ``model_file``) through ``Model.with_overrides`` when
+  initialisation ends. A ``model_file`` whose channels or outputs are not the FMU's (other excited
+  clips, another number of clips) is refused at initialisation, naming them; the FMU built
+  without a model file keeps its 12 channels and accepts clip models as it always did (their
+  excited clips at rest, their clip forces not outputs, with a warning).
 
 The slave is driven by the FMU's own binary (``native/cablecasing_fmi2.c`` through
 ``cablecasing_fmi2_bridge.py``, Linux) with the ``fmi2_*`` methods, which return the FMI status
@@ -38,21 +45,28 @@ from pythonfmu.enums import Fmi2Status
 # unpacked FMU) is installed by the bundled package itself: cablecasing_core.timedomain.kernels.
 import cablecasing_core as cc
 from cablecasing_core.model import specimen_names
-from cablecasing_core.model.schema import CHANNELS, OUTPUTS, lookup, output_spec
+from cablecasing_core.model.schema import CHANNELS, OUTPUTS, input_spec, inputs_of, lookup, output_spec, outputs_of
 from cablecasing_core.model.validators import seconds
 from cablecasing_core.timedomain.engine import Engine, state_from_bytes, state_to_bytes
 from cablecasing_core.timedomain.scenario import scenario_motion
 from cablecasing_core.timedomain.support_motion import GridMotion, SupportReconstruction
 
-NCH = len(CHANNELS)
-KINDS = (("", "displacement", "m"), ("v", "velocity", "m/s"), ("a", "acceleration", "m/s2"))
 INTEGER_OUTPUTS = ("contact.active",)
+#: the folder (in resources/) of the model file an FMU was built for (build_fmu.py --model)
+MODEL_FOLDER = "model"
 
 
-def input_name(channel, kind):
-    """Input variable of a channel: kind '' -> 'casing.A.x', 'v' -> 'casing.A.vx', 'a' -> 'casing.A.ax'."""
-    body, support, d = channel.split(".")
-    return f"{body}.{support}.{kind}{d}"
+def base_model_file(resources):
+    """The model file this FMU was built for, or None (the built-in specimen): the one ``.toml``
+    in ``model/`` beside this module (the bridge's lasting copy of resources/) or in
+    ``resources`` (pythonfmu's binary, and build_fmu.py before the archive exists)."""
+    for folder in (os.path.dirname(os.path.abspath(__file__)), resources or ""):
+        folder = os.path.join(folder, MODEL_FOLDER)
+        if os.path.isdir(folder):
+            files = sorted(f for f in os.listdir(folder) if f.endswith(".toml"))
+            if len(files) == 1:
+                return os.path.join(folder, files[0])
+    return None
 
 
 def parameter_info(key):
@@ -87,7 +101,10 @@ class CableCasing(Fmi2Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self._base = cc.load_model()
+        self.base_file = base_model_file(kwargs.get("resources"))
+        self._base = cc.load_model(self.base_file) if self.base_file else cc.load_model()
+        self.input_names, self.output_names = inputs_of(self._base), outputs_of(self._base)
+        self.nch = len(self.input_names) // 3  # support channels: 12, and 3 per excited clip
         self.units = {}  # variable name -> unit (read by build_fmu.py)
         self._start = dict(self._base.parameters())
         self._text_keys = tuple(self._base.text_parameters())  # the String parameters besides model_file
@@ -98,15 +115,16 @@ class CableCasing(Fmi2Slave):
         self._start["scenario.drive"] = False
         self._log_sink = None
         # the two arrays the FMU's binary reads and writes directly
-        self.inputs_buffer = np.zeros(3 * NCH)  # u (m), v (m/s), a (m/s2) of CHANNELS
-        self.outputs_buffer = np.zeros(len(OUTPUTS))  # OUTPUTS after the last step
-        self._u, self._v, self._a = (self.inputs_buffer[k * NCH : (k + 1) * NCH] for k in range(3))  # views
+        self.inputs_buffer = np.zeros(3 * self.nch)  # u (m), v (m/s), a (m/s2) of the channels
+        self.outputs_buffer = np.zeros(len(self.output_names))  # the outputs after the last step
+        n = self.nch
+        self._u, self._v, self._a = (self.inputs_buffer[k * n : (k + 1) * n] for k in range(3))  # views
         self._set = {}  # parameters the master set: key -> value
         self._file_cache = (None, None)  # (model file path, its values or None)
         self._set_plans, self._get_plans = {}, {}  # pythonfmu's path: references -> index arrays
         self._input_vr, self._output_vr, self._param = {}, {}, {}  # value reference -> index, (key, type)
         self._register_variables()
-        self._recon = SupportReconstruction(NCH)
+        self._recon = SupportReconstruction(self.nch)
         self._clear()
 
     def _clear(self):
@@ -124,25 +142,25 @@ class CableCasing(Fmi2Slave):
 
     # ------------------------------------------------------------------ variables
     def _register_variables(self):
-        for k, (prefix, what, unit) in enumerate(KINDS):
-            for c, ch in enumerate(CHANNELS):
-                body, support, d = ch.split(".")
-                i = k * NCH + c
-                var = self._add(
-                    Real(
-                        input_name(ch, prefix),
-                        causality=Fmi2Causality.input,
-                        variability=Fmi2Variability.continuous,
-                        start=0.0,
-                        description=f"{what} of the {body}'s support {support} along global {d}",
-                        getter=lambda i=i: float(self.inputs_buffer[i]),
-                        setter=lambda v, i=i: self.inputs_buffer.__setitem__(i, v),
-                    ),
-                    unit,
-                )
-                self._input_vr[var.value_reference] = i
+        # inputs first, then outputs, each with consecutive value references (the binary reads and
+        # writes the two buffers by value reference minus input_vr0 / output_vr0)
+        for i, name in enumerate(self.input_names):
+            unit, text = input_spec(name)
+            var = self._add(
+                Real(
+                    name,
+                    causality=Fmi2Causality.input,
+                    variability=Fmi2Variability.continuous,
+                    start=0.0,
+                    description=text,
+                    getter=lambda i=i: float(self.inputs_buffer[i]),
+                    setter=lambda v, i=i: self.inputs_buffer.__setitem__(i, v),
+                ),
+                unit,
+            )
+            self._input_vr[var.value_reference] = i
         self.input_vr0 = min(self._input_vr)
-        for i, name in enumerate(OUTPUTS):
+        for i, name in enumerate(self.output_names):
             unit, text = output_spec(name)
             if name in INTEGER_OUTPUTS:
                 var = Integer(
@@ -163,7 +181,7 @@ class CableCasing(Fmi2Slave):
             self._add(var, unit)
             self._output_vr[var.value_reference] = i
         self.output_vr0 = min(self._output_vr)
-        self.integer_output_vrs = [vr for vr, i in self._output_vr.items() if OUTPUTS[i] in INTEGER_OUTPUTS]
+        self.integer_output_vrs = [vr for vr, i in self._output_vr.items() if self.output_names[i] in INTEGER_OUTPUTS]
         for key in self._text_keys:
             self._add_parameter(
                 String(
@@ -196,8 +214,13 @@ class CableCasing(Fmi2Slave):
                 causality=Fmi2Causality.parameter,
                 variability=Fmi2Variability.fixed,
                 description="path of a model TOML file (a relative path is taken from the "
-                "host's working folder when it is set); empty = the built-in "
-                "specimen",
+                "host's working folder when it is set); empty = "
+                + (
+                    f"the model file this FMU was built for, {os.path.basename(self.base_file)} (another file "
+                    "must have the same excited clips and number of clips)"
+                    if self.base_file
+                    else "the built-in specimen"
+                ),
             ),
             "",
         )
@@ -238,7 +261,7 @@ class CableCasing(Fmi2Slave):
 
     def _value(self, key):
         """The value in force: the master's, else the model file's (when one is set), else the
-        built-in specimen's."""
+        base model's (the built-in specimen, or the model file the FMU was built for)."""
         if key in self._set:
             return self._set[key]
         if key == "model_file":
@@ -319,7 +342,8 @@ class CableCasing(Fmi2Slave):
         status = OK
         for k, vr in enumerate(vrs):
             i = self._output_vr.get(vr)
-            if i is not None and (OUTPUTS[i] in INTEGER_OUTPUTS) == (kind == "Integer") and kind in ("Real", "Integer"):
+            integer = self.output_names[i] in INTEGER_OUTPUTS if i is not None else False
+            if i is not None and integer == (kind == "Integer") and kind in ("Real", "Integer"):
                 out[k] = self.outputs_buffer[i] if kind == "Real" else int(self.outputs_buffer[i])
                 continue
             i = self._input_vr.get(vr)
@@ -413,20 +437,56 @@ class CableCasing(Fmi2Slave):
         except Exception as exc:  # noqa: BLE001  (never raise into the host)
             self._engine = None
             return self._block(f"the model cannot be built: {exc!r}\n{traceback.format_exc()}")
+        problem = self._variables_problem(self._engine)
+        if problem:
+            self._engine = None
+            return self._block(problem)
         self._applied = config
-        extra = self._engine.channels[NCH:]
-        if extra:  # (issue 24: the variables are fixed at build time, the built-in specimen's)
-            self.log(
-                f"the model's excited clips have the channels {', '.join(extra)}, which are not inputs of this FMU "
-                "(its inputs are the 12 support channels): they follow the model's own scenario with "
-                "scenario.drive, else stay at rest; the clips' forces are not outputs (docs/fmu.md)",
-                Fmi2Status.warning,
-            )
         self._drive = self._drive_motion(self._engine)
         self._error = None
         self._recon.reset()
         self._engine.output_values(self.outputs_buffer)
         return True
+
+    def _variables_problem(self, engine):
+        """Why the engine's model does not fit this FMU's variables (None if it does). An FMU built
+        for a model file has that model's channels and outputs, and refuses a ``model_file`` with
+        others; the FMU of the built-in specimen accepts clip models as it always did: their
+        excited clips' supports stay at rest (or follow scenario.drive), their forces are no
+        outputs, and it warns."""
+        channels, outputs = engine.channels, engine.output_names
+        if self.base_file is None:
+            extra = channels[len(CHANNELS) :]
+            if extra:
+                self.log(
+                    f"the model's excited clips have the channels {', '.join(extra)}, which are not inputs of "
+                    "this FMU (its inputs are the 12 support channels): they follow the model's own scenario "
+                    "with scenario.drive, else stay at rest; the clips' forces are not outputs (build an FMU "
+                    "for the model file, build_fmu.py --model, to have them: docs/fmu.md)",
+                    Fmi2Status.warning,
+                )
+            return None
+        built = self.input_names[: self.nch]
+        if channels == built and outputs == self.output_names:
+            return None
+        name = os.path.basename(self.base_file)
+
+        def clips(chs):
+            extra = chs[len(CHANNELS) :]
+            return f"the excited clips' channels {', '.join(extra)}" if extra else "no excited clip"
+
+        if channels != built:
+            return (
+                f"model_file {self._set.get('model_file')!r} has {clips(channels)}, but this FMU was built for "
+                f"{name}, which has {clips(built)}: its inputs cannot drive that model; use a model file with the "
+                "same excited clips, or build an FMU for it (build_fmu.py --model)"
+            )
+        return (
+            f"model_file {self._set.get('model_file')!r} has {(len(outputs) - len(OUTPUTS)) // 6} clips, but this "
+            f"FMU was built for {name} with {(len(self.output_names) - len(OUTPUTS)) // 6}: its outputs "
+            "cannot hold that model's clip forces; use a model file with the same clips, or build an FMU for "
+            "it (build_fmu.py --model)"
+        )
 
     def _block(self, msg):
         self._error = msg
@@ -475,12 +535,11 @@ class CableCasing(Fmi2Slave):
             )
             return DISCARD
         x = self.inputs_buffer
-        if not math.isfinite(x @ x) and not np.isfinite(x).all():  # (x @ x: the cheap test of 36 values)
+        if not math.isfinite(x @ x) and not np.isfinite(x).all():  # (x @ x: the cheap test of all inputs)
             i = int(np.flatnonzero(~np.isfinite(x))[0])
-            k, c = divmod(i, NCH)
             self.log(
-                f"input {input_name(CHANNELS[c], KINDS[k][0])} = {float(x[i])!r} at t = {current_time:.9g} s: "
-                f"must be a finite number ({KINDS[k][2]}); step discarded",
+                f"input {self.input_names[i]} = {float(x[i])!r} at t = {current_time:.9g} s: "
+                f"must be a finite number ({input_spec(self.input_names[i])[0]}); step discarded",
                 Fmi2Status.discard,
             )
             return DISCARD
@@ -568,6 +627,9 @@ class CableCasing(Fmi2Slave):
             engine = (
                 self._engine if (self._engine is not None and self._applied == config) else self._make_engine(config)
             )
+            problem = self._variables_problem(engine) if engine is not self._engine else None
+            if problem:  # (a state of an FMU built for another model file)
+                raise ValueError(problem)
             engine_state = {k[len("engine.") :]: v for k, v in state.items() if k.startswith("engine.")}
             if engine is self._engine:  # Engine.set_state checks all before it writes any
                 backup = engine.get_state()

@@ -61,6 +61,17 @@ def arc_points():
 
 
 @pytest.fixture(scope="session")
+def clipped_specimen():
+    """examples/clipped_specimen.toml: the built-in specimen held by two clips along its casing
+    (0.30 m: fixed; 0.55 m: excited, its support the channels ``dash.x/.y/.z``), its own scenario
+    also shaking ``dash.y`` (harmonic 150 Hz, 2 um), friction 0.12: a Model with 15 support
+    channels and 27 + 12 outputs."""
+    from cablecasing_core import load_model
+
+    return load_model(ROOT / "examples" / "clipped_specimen.toml")
+
+
+@pytest.fixture(scope="session")
 def fmu():
     """dist/CableCasing.fmu, built (in a separate process) if missing or older than any of its sources."""
     path = ROOT / "dist" / "CableCasing.fmu"

@@ -470,8 +470,9 @@ class Engine:
         K.step_outputs(
             self.reac, self.cstate, self.gn, self.ledger, self.law, self.k_lin, self.k_hertz, self._pot0, out
         )
-        if len(out) > len(OUTPUTS):
-            out[len(OUTPUTS) :] = self.clip_forces().ravel()
+        b = self.bodies.get("casing")
+        if b is not None and len(out) > len(OUTPUTS):  # the clips' forces, as the fused step writes them
+            K.clip_force_outputs(b.mi, b.mF, out, len(OUTPUTS))
         return out
 
     def clip_forces(self) -> np.ndarray:
@@ -494,8 +495,9 @@ class Engine:
     ) -> None:
         """An FMU communication step: ``m = recon.motion(self.time, h, u, v, a)``,
         ``self.advance(h, m)``, ``recon.accept(m)`` and ``self.output_values(out)`` (h in s; u, v, a
-        the 12 support inputs at the step start in m, m/s, m/s2, C-contiguous float64), with the
-        same results to the bit. When h is a whole number of steps of ``dt`` (at most
+        the support inputs at the step start in m, m/s, m/s2, C-contiguous float64, one per channel
+        of :attr:`channels`, or of the 12 of CHANNELS alone: the excited clips' supports then stay
+        at rest), with the same results to the bit. When h is a whole number of steps of ``dt`` (at most
         :attr:`CHUNK`) and nothing is recorded, the four are one compiled call
         (``kernels.communication_step_in_context``, on a context of its arrays made once for these
         buffers and this h): the Python and numba dispatch around them otherwise cost as much as
@@ -555,14 +557,14 @@ class Engine:
     def _fused_context(self, key, recon, u, v, a, out, base):
         """(m, the context of :meth:`advance_reconstructed`) when its step ``key[0]`` (s) is one
         compiled call (a whole number m of steps of ``dt``, at most :attr:`CHUNK`, nothing
-        recorded, not the first step, the step loop's arguments built), else (m, None); remembered
-        for the next call with the same key and buffers."""
+        recorded, not the first step, the step loop's arguments built, an input per channel of
+        :attr:`channels`), else (m, None); remembered for the next call with the same key and buffers."""
         h, law = key[0], key[3]
         m = math.floor(h / self.dt * (1 + 1e-12))
         if not (0 < m <= self.CHUNK and h - m * self.dt <= 1e-9 * self.dt and not self.record and self.time != 0.0):
             return m, None
-        if len(self.channels) > len(CHANNELS):  # (excited clips: the fused step knows the 12 channels only)
-            return m, None
+        if not (len(u) == len(v) == len(a) == recon.state.shape[1] == len(self.channels)):
+            return m, None  # (inputs of the 12 channels alone for a model with excited clips: widened in advance)
         cached = self._call_args.get((self.dt, self.ledger_on, False, law))
         if cached is None:
             return m, None
@@ -580,7 +582,7 @@ class Engine:
         held = self._cstep_parts
         if held is not None and held[0] == (m, use_base) and all(x is y for x, y in zip(held[1], parts)):
             return self._cstep_context
-        n = len(CHANNELS)
+        n = len(self.channels)
         scratch = (
             np.empty((6, n)),
             np.empty((3, 6, n)),

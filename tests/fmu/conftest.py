@@ -1,10 +1,16 @@
 """The FMU's test driver as a fixture: tests/fmu/fmu_driver.py runs each scenario in a fresh
-process (it is a script; the test process only prepares inputs and reads the results)."""
+process (it is a script; the test process only prepares inputs and reads the results); the core's
+run of an FMU's input table; the FMU built for a model file with clips."""
 
 import importlib.util
+import subprocess
+import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="session")
@@ -14,3 +20,43 @@ def fmu_driver():
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+@pytest.fixture(scope="session")
+def core_run():
+    """``core_run(model, table, h=1e-4, dt=None, contact=None)``: the core's own simulation of an
+    FMU's run: Engine.advance per communication step of h (s) with the same input reconstruction
+    the FMU uses, ``table`` (n, 3 x channels: u, v, a of ``channels_of(model)`` at t = k h); the
+    outputs (n, len(outputs_of(model))) after each step."""
+    from cablecasing_core.timedomain.engine import Engine
+    from cablecasing_core.timedomain.support_motion import SupportReconstruction
+
+    def run(model, table, h=1e-4, dt=None, contact=None):
+        eng = Engine(model, dt=dt, contact=contact, ledger=False)
+        n = len(eng.channels)
+        rec = SupportReconstruction(n)
+        out = np.zeros((len(table), len(eng.output_names)))
+        for k, row in enumerate(table):
+            motion = rec.motion(eng.time, h, row[:n], row[n : 2 * n], row[2 * n :])
+            eng.advance(h, motion)
+            rec.accept(motion)
+            o = eng.outputs()
+            out[k] = [o[name] for name in eng.output_names]
+        return out
+
+    return run
+
+
+@pytest.fixture(scope="session")
+def model_fmu(tmp_path_factory, clipped_specimen):
+    """(path of the FMU built for examples/clipped_specimen.toml, that file, its Model): built once
+    per session with ``build_fmu.py --model FILE --output PATH`` in a fresh process."""
+    toml = Path(clipped_specimen.source)
+    path = tmp_path_factory.mktemp("model_fmu") / "CableCasing-clipped.fmu"
+    subprocess.run(
+        [sys.executable, str(ROOT / "build_fmu.py"), "--model", str(toml), "--output", str(path)],
+        check=True,
+        cwd=ROOT,
+        capture_output=True,
+    )
+    return path, toml, clipped_specimen

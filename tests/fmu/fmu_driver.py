@@ -34,7 +34,8 @@ STATUS = {0: "ok", 1: "warning", 2: "discard", 3: "error", 4: "fatal"}
 def run(tmp_path, scenario, fmu, inputs=None, timeout=600, cwd=None, env=None, **args):
     """Run ``scenario`` of this driver in a fresh process; returns the npz content as a dict.
 
-    ``inputs``: array (n, 36) in the order of :data:`INPUTS` (m, m/s, m/s2) at t = k h."""
+    ``inputs``: array (n, 36) in the order of :data:`INPUTS` (m, m/s, m/s2) at t = k h, or in the
+    order of ``input_names`` (a job argument: an FMU built for a model file has more inputs)."""
     tmp_path = Path(tmp_path)
     n = len(list(tmp_path.glob("job*.json")))
     job = dict(args, fmu=str(fmu), out=str(tmp_path / f"out{n}.npz"))
@@ -63,7 +64,9 @@ class Instance:
 
     unzip_dirs = {}
 
-    def __init__(self, fmu, name="cc", params=None, start_time=0.0, logging=True, unzip=None, initialize=True):
+    def __init__(
+        self, fmu, name="cc", params=None, start_time=0.0, logging=True, unzip=None, initialize=True, inputs=None
+    ):
         from fmpy import extract, read_model_description
         from fmpy.fmi2 import FMU2Slave, fmi2Real, fmi2ValueReference
 
@@ -80,12 +83,13 @@ class Instance:
         )
         self.fmu.instantiate(callbacks=self._callbacks(), loggingOn=logging)
         self.t = start_time
-        self.in_vr = [self.var[n].valueReference for n in INPUTS]
+        inputs = list(inputs or INPUTS)  # the input table's columns
+        self.in_vr = [self.var[n].valueReference for n in inputs]
         # the inputs go in as fmpy's own simulate_fmu sets them (simulation.Input.apply): one
         # fmi2SetReal on ctypes arrays made once, not fmpy's setReal(list), whose conversion of 36
         # values to new ctypes arrays costs ~15 µs per step by itself (docs/performance.md, FMU)
-        self._in_vr = (fmi2ValueReference * len(INPUTS))(*self.in_vr)
-        self._in_values = (fmi2Real * len(INPUTS))()
+        self._in_vr = (fmi2ValueReference * len(inputs))(*self.in_vr)
+        self._in_values = (fmi2Real * len(inputs))()
         self._in_view = np.ctypeslib.as_array(self._in_values)
         self._plans = {}
         if not initialize:
@@ -197,7 +201,7 @@ def scenario_run(job, table):
 
     Instance.unzip_dirs.setdefault(job["fmu"], extract(job["fmu"]))
     t0 = time.perf_counter()
-    inst = Instance(job["fmu"], params=job.get("params"))
+    inst = Instance(job["fmu"], params=job.get("params"), inputs=job.get("input_names"))
     out = np.zeros((len(table), len(job["outputs"])))
     status = np.zeros(len(table), int)
     if len(table):
@@ -214,7 +218,7 @@ def scenario_run(job, table):
 
 def scenario_steps(job, table):
     """Varying communication steps job["steps"] (s), one input row per step."""
-    inst = Instance(job["fmu"], params=job.get("params"))
+    inst = Instance(job["fmu"], params=job.get("params"), inputs=job.get("input_names"))
     out = np.zeros((len(table), len(job["outputs"])))
     status = np.zeros(len(table), int)
     for k, (row, h) in enumerate(zip(table, job["steps"])):
@@ -270,14 +274,18 @@ def scenario_state(job, table):
 
 
 def scenario_two(job, table):
-    """Two instances with different parameters, stepped alternately in this process."""
+    """Two instances with different parameters, stepped alternately in this process; the second
+    of another FMU when the job names one (``fmu2``, with its ``input_names2``, ``outputs2`` and
+    its input table ``inputs2``, a .npy path, as long as ``table``)."""
     h, names = job["h"], job["outputs"]
-    one = Instance(job["fmu"], name="one", params=job["p1"])
-    two = Instance(job["fmu"], name="two", params=job["p2"])
-    o1, o2 = np.zeros((len(table), len(names))), np.zeros((len(table), len(names)))
-    for k, row in enumerate(table):
-        assert one.step(row, h) == 0 and two.step(row, h) == 0
-        o1[k], o2[k] = one.get(names), two.get(names)
+    names2 = job.get("outputs2", names)
+    table2 = np.load(job["inputs2"]) if "inputs2" in job else table
+    one = Instance(job["fmu"], name="one", params=job.get("p1"))
+    two = Instance(job.get("fmu2", job["fmu"]), name="two", params=job.get("p2"), inputs=job.get("input_names2"))
+    o1, o2 = np.zeros((len(table), len(names))), np.zeros((len(table), len(names2)))
+    for k, (row, row2) in enumerate(zip(table, table2)):
+        assert one.step(row, h) == 0 and two.step(row2, h) == 0
+        o1[k], o2[k] = one.get(names), two.get(names2)
     return dict(o1=o1, o2=o2)
 
 
@@ -519,8 +527,26 @@ def scenario_preimported(job, table):
     return dict(status=status, log=_log(inst.log))
 
 
+def scenario_references(job, table):
+    """fmi2GetReal and fmi2SetReal of each list of value references in job["references"] (after
+    initialisation): their statuses, the values read and the log of each call."""
+    from fmpy.fmi2 import fmi2Real, fmi2ValueReference
+
+    inst = Instance(job["fmu"], name="references", inputs=job.get("input_names"))
+    res = {"get_status": [], "set_status": []}
+    for k, vrs in enumerate(job["references"]):
+        vr, val = (fmi2ValueReference * len(vrs))(*vrs), (fmi2Real * len(vrs))()
+        res["get_status"].append(Instance.call(inst.fmu.fmi2GetReal, inst.fmu.component, vr, len(vrs), val))
+        res["set_status"].append(Instance.call(inst.fmu.fmi2SetReal, inst.fmu.component, vr, len(vrs), val))
+        res[f"log{k}"] = _log(inst.log) or [""]
+        inst.log.clear()
+    inst.free()
+    return res
+
+
 SCENARIOS = {
     "run": scenario_run,
+    "references": scenario_references,
     "preimported": scenario_preimported,
     "steps": scenario_steps,
     "state": scenario_state,

@@ -21,7 +21,6 @@ import cablecasing_core as cc
 from cablecasing_core.model.schema import CHANNELS, OUTPUTS
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion
-from cablecasing_core.timedomain.support_motion import SupportReconstruction
 
 pytestmark = pytest.mark.slow  # every test runs the FMU in fresh processes
 
@@ -66,21 +65,6 @@ def multisine(channel, period, h, cycles, band=(10.0, 1000.0), rms=5.0, ramp=0.0
     c = CHANNELS.index(channel)
     table[:, c], table[:, NCH + c], table[:, 2 * NCH + c] = uk * r, vk * r + uk * dr, ak * r + 2 * vk * dr + uk * ddr
     return table, (lambda j: a[np.asarray(j) % n])
-
-
-def core_run(model, table, h=H, dt=None, contact=None):
-    """The core's own simulation of the same run: Engine.advance per communication step with the
-    same input reconstruction the FMU uses; outputs (n, len(OUTPUTS)) after each step."""
-    eng = Engine(model, dt=dt, contact=contact, ledger=False)
-    rec = SupportReconstruction(NCH)
-    out = np.zeros((len(table), len(OUTPUTS)))
-    for k, row in enumerate(table):
-        motion = rec.motion(eng.time, h, row[:NCH], row[NCH : 2 * NCH], row[2 * NCH :])
-        eng.advance(h, motion)
-        rec.accept(motion)
-        o = eng.outputs()
-        out[k] = [o[n] for n in OUTPUTS]
-    return out
 
 
 @pytest.fixture
@@ -249,7 +233,7 @@ CONTACT_RUN = 0.04  # s: the default scenario's first contact is at 0.024 s
 
 
 @pytest.fixture(scope="module")
-def contact_case():
+def contact_case(core_run):
     """The default scenario (random casing A z, cable A axial 50 Hz, contact with friction), its
     input table and the core's own run of it."""
     model = cc.load_model()
@@ -281,7 +265,7 @@ def test_state_get_set_serialize_and_reset(fmu, tmp_path, contact_case, run):
     assert res["a"][:, OUTPUTS.index("contact.active")].max() >= 1  # the state includes contacts
 
 
-def test_two_instances_are_independent(fmu, tmp_path, contact_case, run):
+def test_two_instances_are_independent(fmu, tmp_path, contact_case, run, core_run):
     model, table, _ = contact_case
     table = table[: int(0.03 / H)]
     p1 = {"contact.friction": 0.05}

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import cablecasing_core as cc
-from cablecasing_core.model.schema import CHANNELS, OUTPUTS
+from cablecasing_core.model.schema import CHANNELS, OUTPUTS, inputs_of, outputs_of
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion
 from cablecasing_core.timedomain.support_motion import SupportReconstruction
@@ -28,20 +28,21 @@ ROOT = Path(__file__).resolve().parents[2]
 HOSTS = ROOT.parent / "shared" / "hosts"
 H = 1e-4
 NCH = len(CHANNELS)
-INPUTS = [f"{b}.{s}.{k}{d}" for k in ("", "v", "a") for b, s, d in (c.split(".") for c in CHANNELS)]
 PLAIN = {"HOME": os.environ.get("HOME", "/root"), "PATH": "/usr/bin:/bin"}
 
 needs_hosts = pytest.mark.skipif(not (HOSTS / "fmusim").exists(), reason=f"the C hosts are not in {HOSTS}")
 
 
 def fmusim_inputs(path, model, n):
-    """The default scenario's support motion at t = k h (k = 0..n) as fmusim's input CSV: one column
-    per input that moves, values written with repr (exact doubles); returns the (n + 1, 36) table."""
+    """The model's scenario's support motion at t = k h (k = 0..n) as fmusim's input CSV: one column
+    per input that moves (of ``inputs_of(model)``), values written with repr (exact doubles);
+    returns the (n + 1, 3 x channels) table (36 columns for the built-in specimen)."""
     t = np.array([k * H for k in range(n + 1)])
     table = np.hstack(scenario_motion(model)(t))
-    cols = [j for j in range(3 * NCH) if np.any(table[:, j] != 0)]
+    names = inputs_of(model)
+    cols = [j for j in range(len(names)) if np.any(table[:, j] != 0)]
     with open(path, "w") as f:
-        f.write(",".join(['"time"'] + [f'"{INPUTS[j]}"' for j in cols]) + "\n")
+        f.write(",".join(['"time"'] + [f'"{names[j]}"' for j in cols]) + "\n")
         for k in range(n + 1):
             f.write(",".join([repr(float(t[k]))] + [repr(float(table[k, j])) for j in cols]) + "\n")
     return table
@@ -142,6 +143,49 @@ def test_compliance_checker_plain_environment(fmu, scenario_csv):
         assert "0 Error(s)" in log.read_text()
     names, data = read_csv(out)
     assert data[:, names.index("contact.active")].max() >= 1
+
+
+@needs_hosts
+def test_the_fmu_for_a_model_file_runs_in_fmusim_and_the_checker(model_fmu, tmp_path, fmu_driver):
+    """The FMU built for the clipped specimen's model file in both C hosts, plain environment: its
+    scenario (random casing A z, the cable's axial drive, dash.y on the excited clip) as fmusim's
+    input file, which names dash.y, dash.vy, dash.ay among its columns; both exit with 0, the
+    checker reports no error, and fmusim's forces through the excited clip and at casing B equal
+    fmpy's given the same calls (its steps t_(k+1) - t_k) to 1e-12 relative (16 digits written)."""
+    path, _, model = model_fmu
+    table = fmusim_inputs(tmp_path / "inputs.csv", model, 200)
+    assert '"dash.ay"' in (tmp_path / "inputs.csv").read_text().splitlines()[0]
+    out, log = tmp_path / "fmusim.csv", tmp_path / "fmusim.log"
+    proc = subprocess.run(
+        [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", repr(200 * H), "--output-interval", repr(H),
+         "--input-file", str(tmp_path / "inputs.csv"), "--output-file", str(out), "--log-file", str(log),
+         "--logging-on", str(path)],
+        env=PLAIN, capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert proc.returncode == 0, f"exit {proc.returncode}\n{proc.stderr}\n{log.read_text()[-3000:]}"
+    names, data = read_csv(out)
+    watch = ["casing.clip1.Fy", "casing.B.Fz"]
+    steps = np.diff(np.arange(201) * H)
+    res = fmu_driver.run(
+        tmp_path, "steps", path, inputs=table[:200], h=H, steps=steps.tolist(), outputs=watch,
+        input_names=list(inputs_of(model)),
+    )  # fmt: skip
+    assert np.all(res["status"] == 0)
+    for k, name in enumerate(watch):
+        ref, got = res["out"][:, k], data[1:201, names.index(name)]  # (fmusim's row k + 1: after step k)
+        assert np.max(np.abs(ref)) > 1e-3, name
+        assert np.max(np.abs(got - ref)) <= 1e-12 * np.max(np.abs(ref)), name
+    assert set(outputs_of(model)) <= set(names)  # fmusim writes every output, the clips' forces too
+    check, clog = tmp_path / "check.csv", tmp_path / "check.log"
+    proc = subprocess.run(
+        [str(HOSTS / "fmuCheck.linux64"), "-h", repr(H), "-s", "0.02", "-i", str(tmp_path / "inputs.csv"),
+         "-o", str(check), "-l", "4", "-e", str(clog), str(path)],
+        env=PLAIN, capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert proc.returncode == 0, f"exit {proc.returncode}\n{proc.stdout[-2000:]}\n{clog.read_text()[-3000:]}"
+    assert "0 Error(s)" in clog.read_text()
+    names, data = read_csv(check)
+    assert np.max(np.abs(data[:, names.index("casing.clip1.Fy")])) > 1e-3
 
 
 PLAIN_SCRIPT = """
@@ -491,8 +535,9 @@ C_HOST = r"""
 def test_a_model_file_with_isolators_and_an_excited_clip_runs_as_the_core(fmu, tmp_path, fmu_driver):
     """issue 24: a model file whose casing ends sit on isolators and which has a clip with its own
     excitation. The FMU's inputs drive the isolators' supports; the excited clip's channels are not
-    FMU inputs (its variables are the built-in specimen's), so its support stays at rest, as in the
-    core driven by the same 12 channels; casing.B.Fz is the force through isolator B."""
+    inputs of the FMU built without a model file (its variables are the built-in specimen's), so
+    its support stays at rest, as in the core driven by the same 12 channels; casing.B.Fz is the
+    force through isolator B (with the FMU built for such a file: test_model_fmu.py)."""
     import copy
 
     data = copy.deepcopy(cc.load_model().data)

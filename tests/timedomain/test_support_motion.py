@@ -149,7 +149,8 @@ def test_inputs_of_the_wrong_length_are_refused_before_anything_is_written():
     assert np.all(rec.state == 1.0)
 
 
-def test_the_fused_communication_step_equals_advance_accept_and_outputs():
+@pytest.mark.parametrize("which", ["specimen", "clipped"])
+def test_the_fused_communication_step_equals_advance_accept_and_outputs(which, clipped_specimen):
     """Engine.advance_reconstructed (one compiled call per communication step: motion, Newmark
     steps with contact, outputs) against the calls it replaces, on 0.05 s of the default scenario
     with contact (chaotic: any difference in rounding would grow to the visible), steps of 1e-4 s
@@ -159,13 +160,17 @@ def test_the_fused_communication_step_equals_advance_accept_and_outputs():
     with a NaN input fails in between: it must leave the engine and the supports' state as they
     were (the roll-back), so the run goes on equal to the bit. The first steps are a grid's
     differences t_(k+1) - t_k, as fmusim and libcosim compute them (1e-4 s but for the last
-    bits): the fused step follows them h by h, with each h's exact quintic matrix."""
+    bits): the fused step follows them h by h, with each h's exact quintic matrix. The same for
+    the specimen with two clips, one excited (15 channels, the clips' forces among the outputs):
+    the fused step takes every channel, and its outputs are the plain path's to the bit."""
     import cablecasing_core as cc
     from cablecasing_core.model.schema import OUTPUTS
     from cablecasing_core.timedomain.engine import Engine
     from cablecasing_core.timedomain.scenario import scenario_motion
 
-    model = cc.load_model()
+    model = cc.load_model() if which == "specimen" else clipped_specimen
+    nch, nout = len(Engine(model).channels), len(Engine(model).output_names)
+    assert (nch, nout) == ((12, len(OUTPUTS)) if which == "specimen" else (15, len(OUTPUTS) + 12))
     # fmusim's and libcosim's steps t_(k+1) - t_k of t_k = k h: 1e-4 s give or take the last bits
     grid = np.diff(np.arange(301) * 1e-4)
     assert len(set(grid.tolist())) > 1  # (the case the fused context must follow, h by h)
@@ -173,11 +178,12 @@ def test_the_fused_communication_step_equals_advance_accept_and_outputs():
     t = np.concatenate([[0.0], np.cumsum(steps)[:-1]])
     table = np.hstack(scenario_motion(model)(t))
     fused, plain = Engine(model, ledger=False), Engine(model, ledger=False)
-    rf, rp = SupportReconstruction(12), SupportReconstruction(12)
-    of, op = np.zeros((len(steps), len(OUTPUTS))), np.zeros((len(steps), len(OUTPUTS)))
-    buffers, out = (np.zeros(12), np.zeros(12), np.zeros(12)), np.zeros(len(OUTPUTS))
+    rf, rp = SupportReconstruction(nch), SupportReconstruction(nch)
+    of, op = np.zeros((len(steps), nout)), np.zeros((len(steps), nout))
+    buffers, out = (np.zeros(nch), np.zeros(nch), np.zeros(nch)), np.zeros(nout)
+    fused_calls = 0
     for k, (h, row) in enumerate(zip(steps, table)):
-        u, v, a = (np.ascontiguousarray(row[12 * q : 12 * q + 12]) for q in range(3))
+        u, v, a = (np.ascontiguousarray(row[nch * q : nch * q + nch]) for q in range(3))
         if k == 150:  # a failing fused step: rolled back
             before, support = fused.get_state(), rf.state.copy()
             for b, x in zip(buffers, (u, v, a)):
@@ -190,12 +196,16 @@ def test_the_fused_communication_step_equals_advance_accept_and_outputs():
         for b, x in zip(buffers, (u, v, a)):
             b[:] = x
         fused.advance_reconstructed(float(h), rf, *buffers, out)
+        fused_calls += fused._cstep_memo is not None  # (this step was the one compiled call)
         of[k] = out
         m = rp.motion(plain.time, float(h), u, v, a)
         plain.advance(float(h), m)
         rp.accept(m)
         plain.output_values(op[k])
     assert of[:, OUTPUTS.index("contact.active")].max() >= 1  # the contact path ran
+    assert fused_calls >= 400  # every step of 1e-4 s but the first (the 40 others take the general path)
+    if which == "clipped":  # the clips' forces are outputs, and the excited clip moved the casing
+        assert np.max(np.abs(of[:, len(OUTPUTS) + 6 :])) > 1e-3
     assert np.array_equal(of, op)
     assert fused.time == plain.time and np.array_equal(rf.state, rp.state)
     sf, sp = fused.get_state(), plain.get_state()

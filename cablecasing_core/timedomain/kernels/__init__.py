@@ -58,6 +58,7 @@ install()  # before any cache=True kernel below is decorated
 
 from ._banded_products_and_block_solve import block_solve  # noqa: E402
 from ._communication_step_with_quintic_motion import (  # noqa: E402
+    clip_force_outputs,
     communication_step,
     communication_step_in_context,
     new_communication_context,
@@ -112,6 +113,7 @@ from ._step_loop_contract import (  # noqa: E402
 )
 
 __all__ = [
+    "clip_force_outputs",
     "communication_step",
     "communication_step_in_context",
     "new_communication_context",

@@ -51,20 +51,34 @@ def step_outputs(reac, cstate, gn, ledger, law, k_lin, k_hertz, pot0, out):
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
+def clip_force_outputs(mi, mF, out, first):
+    """The force and moment through each clip of a body (N, N.m, global axes: the mounts without a
+    support end, ``mi[m, 4] < 0``; ``mF`` the forces through the mounts) into ``out[first:]``, six
+    per clip in file order (``model.schema.clip_outputs``), as many clips as ``out`` has room for."""
+    o = first
+    for m in range(mi.shape[0]):
+        if mi[m, 4] < 0 and o + 6 <= out.shape[0]:
+            for i in range(6):
+                out[o + i] = mF[m, i]
+            o += 6
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
 def communication_step(
     t0, dt, m, h, pot0, G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact,
     reac, ledger, ledger_on, rec, info, out, fbuf, ibuf, snap_f, snap_i,
 ):  # fmt: skip
     """Advance from ``t0`` by ``m`` steps of ``dt`` (s), ``m dt`` = ``h``, with the support motion
     of the communication step ``[t0, t0 + h]``: the quintic Hermite (power-basis matrix ``G`` of
-    ``support_motion``) from ``state`` (3 x 12: u, v, a of the supports at t0) to the Taylor target
-    of the inputs ``u, v, a`` (12 each, m, m/s, m/s2), plus ``base`` (3 x m x 12: u, v, a at the m
-    step ends) when ``use_base``. ``rows`` (6 x 12), ``coeffs`` (3 x 6 x 12), ``times`` (m) and
-    ``motion`` (3 x m x 12) are scratch; ``out`` receives the outputs. ``fbuf`` and ``ibuf`` are
-    the engine's state buffers, copied into ``snap_f`` and ``snap_i`` first (the engine rolls back
-    from them after a failed step); ``info``'s per-call slots are zeroed. Returns run_steps' status;
-    only if it is OK are ``out`` written and ``state`` replaced by the supports' state at t0 + h
-    (``rows[3:]``) (``pot0``: as :func:`step_outputs`)."""
+    ``support_motion``) from ``state`` (3 x n: u, v, a of the n support channels at t0, the engine's
+    ``channels``: 12, and 3 per excited clip) to the Taylor target of the inputs ``u, v, a`` (n
+    each, m, m/s, m/s2), plus ``base`` (3 x m x n: u, v, a at the m step ends) when ``use_base``.
+    ``rows`` (6 x n), ``coeffs`` (3 x 6 x n), ``times`` (m) and ``motion`` (3 x m x n) are scratch;
+    ``out`` receives the outputs (``OUTPUTS``, then the casing's clip forces as far as it is long).
+    ``fbuf`` and ``ibuf`` are the engine's state buffers, copied into ``snap_f`` and ``snap_i``
+    first (the engine rolls back from them after a failed step); ``info``'s per-call slots are
+    zeroed. Returns run_steps' status; only if it is OK are ``out`` written and ``state``
+    replaced by the supports' state at t0 + h (``rows[3:]``) (``pot0``: as :func:`step_outputs`)."""
     for i in range(fbuf.shape[0]):
         snap_f[i] = fbuf[i]
     for i in range(ibuf.shape[0]):
@@ -85,6 +99,7 @@ def communication_step(
                        ledger_on, rec, info)  # fmt: skip
     if status == 0:  # OK: a failed step leaves out and state alone (the engine rolls the step back)
         step_outputs(reac, contact.state, contact.g, ledger, law.law, law.k_lin, law.k_hertz, pot0, out)
+        clip_force_outputs(casing.mi, casing.mF, out, 27)  # (27 = len(OUTPUTS), step_outputs' share)
         for r in range(state.shape[0]):
             for j in range(state.shape[1]):
                 state[r, j] = rows[3 + r, j]
