@@ -282,3 +282,46 @@ def test_a_model_file_with_other_clip_channels_is_refused(model_fmu, tmp_path, f
         text = " ".join(res["log"])
         assert res["init_status"] == error and res["status"][0] == error, text
         assert all(w in text for w in words), (words, text)
+
+
+def test_a_model_whose_excitation_reads_a_csv_file_ships_it_and_drives_from_it(tmp_path, fmu_driver):
+    """An FMU built for a model file whose scenario reads a CSV table (from a subfolder) ships the
+    table beside the file and reads its own copy: with scenario.drive on and zero inputs, and the
+    original table deleted, its support forces are the core's run of the same scenario
+    (cc.simulate, made while the table was there) to the bit. The table's 80 Hz displacement at
+    casing end B changes those forces (against the same model without it), so a table not read,
+    or read from elsewhere, would not pass."""
+    import subprocess
+    import sys
+    import zipfile
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    text = (root / "cablecasing_core" / "model" / "specimens" / "default.toml").read_text()
+    (tmp_path / "tables").mkdir()
+    table = tmp_path / "tables" / "shake.csv"
+    t = np.linspace(0.0, 1.0, 2001)
+    table.write_text(
+        "time_s,displacement_m\n" + "".join(f"{float(a)!r},{float(1e-5 * np.sin(160 * np.pi * a))!r}\n" for a in t)
+    )
+    toml = tmp_path / "shaken.toml"
+    shake = '[scenario.excitation.shake]\ntarget = "casing.B.y"\nkind = "csv"\nfile = "tables/shake.csv"\n'
+    toml.write_text(text + "\n" + shake)
+    n = 200
+    ref = cc.simulate(cc.load_model(toml), duration=n * H).support_forces[9::10]
+    plain = cc.simulate(cc.load_model(), duration=n * H).support_forces[9::10]
+    fy = OUTPUTS.index("casing.B.Fy")
+    assert np.max(np.abs(ref[:, fy] - plain[:, fy])) > 1e-3 * np.max(np.abs(ref[:, fy]))  # the table acts
+    path = tmp_path / "shaken.fmu"
+    subprocess.run(
+        [sys.executable, str(root / "build_fmu.py"), "--model", str(toml), "--output", str(path)],
+        check=True, capture_output=True, cwd=root,
+    )  # fmt: skip
+    with zipfile.ZipFile(path) as z:
+        assert z.read("resources/model/tables/shake.csv") == table.read_bytes()
+    table.unlink()  # the FMU must read its own copy
+    res = fmu_driver.run(
+        tmp_path, "run", path, inputs=np.zeros((n, 36)), h=H, outputs=list(OUTPUTS), params={"scenario.drive": True}
+    )
+    assert res["init_status"] == 0 and np.all(res["status"] == 0), res["log"]
+    assert np.array_equal(res["out"][:, :24], ref)
