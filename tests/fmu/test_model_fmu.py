@@ -286,8 +286,8 @@ def test_a_model_file_with_other_clip_channels_is_refused(model_fmu, tmp_path, f
 
 def test_a_model_whose_excitation_reads_a_csv_file_ships_it_and_drives_from_it(tmp_path, fmu_driver):
     """An FMU built for a model file whose scenario reads a CSV table (from a subfolder) ships the
-    table beside the file and reads its own copy: with scenario.drive on and zero inputs, and the
-    original table deleted, its support forces are the core's run of the same scenario
+    table beside the file and reads its own copies: with scenario.drive on and zero inputs, and the
+    original file and table deleted, its support forces are the core's run of the same scenario
     (cc.simulate, made while the table was there) to the bit. The table's 80 Hz displacement at
     casing end B changes those forces (against the same model without it), so a table not read,
     or read from elsewhere, would not pass."""
@@ -319,7 +319,8 @@ def test_a_model_whose_excitation_reads_a_csv_file_ships_it_and_drives_from_it(t
     )  # fmt: skip
     with zipfile.ZipFile(path) as z:
         assert z.read("resources/model/tables/shake.csv") == table.read_bytes()
-    table.unlink()  # the FMU must read its own copy
+    table.unlink()  # the FMU must read its own copies
+    toml.unlink()
     res = fmu_driver.run(
         tmp_path, "run", path, inputs=np.zeros((n, 36)), h=H, outputs=list(OUTPUTS), params={"scenario.drive": True}
     )
