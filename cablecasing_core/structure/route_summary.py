@@ -35,15 +35,20 @@ def curvature_profile(model, n=DENSE):
     return cl.s, cl.curvature
 
 
-def _polyline_kinks(points):
-    """(arc length m, angle deg) of each corner of the polyline through ``points``."""
+def _corner_angles(points):
+    """(arc length m, turning angle deg) of the polyline through ``points`` at each interior point
+    (points[1] .. points[-2], in order)."""
     P = np.asarray(points, dtype=float)
     d = np.diff(P, axis=0)
     lengths = np.linalg.norm(d, axis=1)
     u = d / lengths[:, None]
     ang = np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", u[:-1], u[1:]), -1.0, 1.0)))
-    s = np.cumsum(lengths)[:-1]
-    return [(float(a), float(b)) for a, b in zip(s, ang) if b > KINK_DEG]
+    return np.cumsum(lengths)[:-1], ang
+
+
+def _polyline_kinks(points):
+    """(arc length m, angle deg) of each corner of the polyline through ``points``."""
+    return [(float(a), float(b)) for a, b in zip(*_corner_angles(points)) if b > KINK_DEG]
 
 
 def geometry_summary(model) -> dict:
@@ -131,15 +136,13 @@ def plausibility_warnings(model, summary=None, advice=True) -> list[str]:
     if short:
         out.append(f"the route is {length:.3g} m long, " + "; ".join(short))
     points = model.geometry.get("points") or []
-    chords = np.diff(np.asarray(points, dtype=float), axis=0) if len(points) > 2 else np.zeros((0, 3))
-    for i, (a, b) in enumerate(zip(chords, chords[1:]), 1):
-        cos = float(a @ b / (np.linalg.norm(a) * np.linalg.norm(b)))
-        if cos < -0.5:  # turns by more than 120 degrees at one point
-            out.append(
-                f"geometry.points[{i}]: the route turns by {np.degrees(np.arccos(max(cos, -1.0))):.0f} degrees "
-                "there: it doubles back on itself, and the centerline bends tighter than any cable or casing can"
-            )
-            break
+    turns = _corner_angles(points)[1] if len(points) > 2 else np.zeros(0)
+    back = np.flatnonzero(turns > 120.0)  # turns by more than 120 degrees at one point
+    if back.size:
+        out.append(
+            f"geometry.points[{back[0] + 1}]: the route turns by {turns[back[0]]:.0f} degrees there: it doubles "
+            "back on itself, and the centerline bends tighter than any cable or casing can"
+        )
     if g["source"] == "polyline":
         kinks = g["bends"]
         smooth = '(curve = "spline" or segments give a smooth route)'

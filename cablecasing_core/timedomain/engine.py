@@ -479,9 +479,11 @@ class Engine:
         """(n_clips, 6): the force and moment (N, N.m, global axes) the casing exerts through each
         clip on its support now, in file order."""
         b = self.bodies.get("casing")
-        if b is None:
-            return np.zeros((0, 6))
-        return np.array([b.mF[m] for m, mt in enumerate(b.mounts) if mt.support is None]).reshape(-1, 6)
+        n = 0 if b is None else int(np.count_nonzero(b.mi[:, 4] < 0))  # (a clip: a mount without a support slot)
+        out = np.zeros(6 * n)
+        if n:
+            K.clip_force_outputs(b.mi, b.mF, out, 0)  # (the selection the outputs and the FMU use)
+        return out.reshape(n, 6)
 
     def advance_reconstructed(
         self,

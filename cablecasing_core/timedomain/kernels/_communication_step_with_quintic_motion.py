@@ -54,7 +54,9 @@ def step_outputs(reac, cstate, gn, ledger, law, k_lin, k_hertz, pot0, out):
 def clip_force_outputs(mi, mF, out, first):
     """The force and moment through each clip of a body (N, N.m, global axes: the mounts without a
     support end, ``mi[m, 4] < 0``; ``mF`` the forces through the mounts) into ``out[first:]``, six
-    per clip in file order (``model.schema.clip_outputs``), as many clips as ``out`` has room for."""
+    per clip in file order (``model.schema.clip_outputs``), as many clips as ``out`` has room for.
+    (``run_steps`` writes the same columns of its record inline: a row view per step would bring
+    reference counting into the step loop.)"""
     o = first
     for m in range(mi.shape[0]):
         if mi[m, 4] < 0 and o + 6 <= out.shape[0]:
