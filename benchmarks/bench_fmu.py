@@ -30,6 +30,10 @@ Prints ``name: value`` lines:
   measured the same way (fmusim's own cost is then ~1 µs per step), and its ratio to the engine
   driven by the same scenario (``engine_drive_us_per_step``: the scenario's record evaluated on
   the engine's grid, as the slave does, costs ~1.5 µs per Newmark step);
+* ``fmusim_drive_realtime_us_per_step``, ``rtf_fmusim_drive_realtime``: the same fmusim run with
+  ``solver.dt`` = ``--realtime-dt`` (default 2e-5 s, five Newmark steps per communication step),
+  the setting docs/fmu.md ("Real time") gives a real-time master, whose band levels match the
+  default 1e-5 s on ensemble means (docs/time_domain.md, "The time step on 456 seeds");
 * ``instantiate_cold_s``: loading the FMU (unzipped) through ``fmi2Instantiate``, initialisation
   and the first step with an empty per-user cache (no numba cache, no copy of the code), and
   ``instantiate_warm_s`` with both in place;
@@ -175,6 +179,7 @@ def main():
     p.add_argument("--duration", type=float, default=1.0, help="simulated time of the long runs (s)")
     p.add_argument("--repeat", type=int, default=3, help="runs of each kind; the fastest counts (shared machine)")
     p.add_argument("--step", type=float, default=1e-4, help="communication step (s)")
+    p.add_argument("--realtime-dt", type=float, default=2e-5, help="solver.dt of the real-time fmusim run (s)")
     args = p.parse_args()
     h = args.step
     if not (h > 0 and args.duration >= 20 * h):
@@ -187,6 +192,7 @@ def main():
         subprocess.run([sys.executable, str(ROOT / "build_fmu.py")], check=True)
     table = np.hstack(scenario_motion(model)(h * np.arange(n + 1)))  # the master's samples at t = k h
     eng_s, eng_drive_s, lean_s, lists_s, fmpy_s, sim_long, drive_long, cold, warm, first_s = ([] for _ in range(10))
+    realtime_long = []
     clips_eng_s, clips_fmpy_s = [], []
     clipped = cc.load_model(CLIPPED)
     clips_table = np.hstack(scenario_motion(clipped)(h * np.arange(n + 1)))
@@ -214,6 +220,8 @@ def main():
                 sim_long.append(fmusim_wall(tmp / "inputs.csv", n * h, h, tmp / "long.csv"))
                 drive = ("--start-value", "scenario.drive", "true")
                 drive_long.append(fmusim_wall(None, n * h, h, tmp / "dlong.csv", *drive))
+                rt = (*drive, "--start-value", "solver.dt", repr(args.realtime_dt))
+                realtime_long.append(fmusim_wall(None, n * h, h, tmp / "rtlong.csv", *rt))
             env = {key: v for key, v in os.environ.items() if key != "NUMBA_CACHE_DIR"}
             env["XDG_CACHE_HOME"] = str(tmp / f"empty-cache-{k}")
             res_cold = fmu_driver.run(tmp, "run", FMU, inputs=table[:2], h=h, outputs=["casing.B.Fz"], env=env)
@@ -241,6 +249,10 @@ def main():
         print(f"fmu_overhead_fmusim_drive: {per_step / min(eng_drive_s):.3f}")
         print(f"rtf_fmusim_drive: {h / per_step:.3f}")
         print(f"rtf_fmusim_drive_whole_run: {n * h / min(w for w, _, _ in drive_long):.3f}")
+        per_step = min(stepping / calls for _, stepping, calls in realtime_long)
+        print(f"realtime_dt_s: {args.realtime_dt:g}")
+        print(f"fmusim_drive_realtime_us_per_step: {per_step * 1e6:.1f}")
+        print(f"rtf_fmusim_drive_realtime: {h / per_step:.3f}")
     print(f"rtf_engine: {h / engine:.3f}")
     print(f"instantiate_cold_s: {min(cold):.2f}")
     print(f"instantiate_warm_s: {min(warm):.2f}")

@@ -40,7 +40,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.interpolate import CubicSpline
 
 from ..errors import ModelError
 from ..files import read_csv_table
@@ -60,6 +59,10 @@ class _Tabulated:
     (u, v, a) as the module docstring says."""
 
     def __init__(self, path, quantity, key="scenario.excitation.file"):
+        # imported here: scipy.interpolate brings scipy.optimize and scipy.special, ~0.2 s of the
+        # start of every command that builds an engine, and only tabulated excitations need it
+        from scipy.interpolate import CubicSpline
+
         t, x = _read_table(path, key)
         self.t0, self.t1 = t[0], t[-1]
         if quantity == "displacement":

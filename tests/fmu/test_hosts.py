@@ -109,6 +109,31 @@ def test_fmusim_plain_environment_equals_fmpy(fmu, scenario_csv, fmu_driver):
 
 
 @needs_hosts
+def test_fmusim_runs_the_real_time_setting_as_the_core(fmu, tmp_path):
+    """The real-time setting of docs/fmu.md in fmusim, plain environment, no input file: the FMU
+    drives its supports with the default scenario (scenario.drive) at solver.dt = 2e-5 s, five
+    Newmark steps per 1e-4 s call. Exit 0, and casing.B.Fz after each call equals the core's run of
+    the same scenario at dt = 2e-5 (cc.simulate) at the same times to 1e-12 relative (fmusim writes
+    16 digits; fmusim's steps t_(k+1) - t_k differ from 1e-4 in the last bits, and the engine still
+    takes exactly five steps of 2e-5 per call, on the grid the core evaluates the scenario on)."""
+    n = 400
+    out, log = tmp_path / "rt.csv", tmp_path / "rt.log"
+    proc = subprocess.run(
+        [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", repr(n * H), "--output-interval", repr(H),
+         "--start-value", "scenario.drive", "true", "--start-value", "solver.dt", "2e-5",
+         "--output-file", str(out), "--log-file", str(log), "--logging-on", str(fmu)],
+        env=PLAIN, capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert proc.returncode == 0, f"exit {proc.returncode}\n{proc.stderr}\n{log.read_text()[-3000:]}"
+    names, data = read_csv(out)
+    j = OUTPUTS.index("casing.B.Fz")
+    ref = cc.simulate(cc.load_model(), duration=n * H, dt=2e-5).support_forces[4::5, j]
+    got = data[1 : n + 1, names.index("casing.B.Fz")]  # (row k + 1: after step k)
+    assert len(ref) == n and np.max(np.abs(ref)) > 0.1
+    assert np.max(np.abs(got - ref)) <= 1e-12 * np.max(np.abs(ref))
+
+
+@needs_hosts
 def test_compliance_checker_plain_environment(fmu, scenario_csv):
     """The FMU Compliance Checker (FMI Library) imports, validates and simulates the FMU: exit 0 in
     five fresh processes, no error in its report, and outputs with contact."""
