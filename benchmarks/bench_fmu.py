@@ -21,6 +21,8 @@ Prints ``name: value`` lines:
   ``../shared/hosts``) in the plain environment: the wall time from the first ``fmi2DoStep`` to
   ``fmi2Terminate`` over the calls, from the FMU's own log line at ``fmi2Terminate`` (so process
   start, Python start and instantiation are left out), and its ratio to the engine;
+* ``fmusim_host_us_per_step``: the part of it spent outside ``fmi2DoStep`` (fmusim's own work and
+  its other calls into the FMU), from the same log line;
 * ``rtf_fmusim``: simulated over wall seconds of fmusim's stepping (the same difference), and
   ``rtf_fmusim_whole_run``: of a whole ``--stop-time`` run including its start. fmusim looks up its
   input file from the first row at every step (``FMIApplyInput``, ``FMINextInputEvent`` of
@@ -157,7 +159,8 @@ def write_fmusim_inputs(path, table, h):
 
 def fmusim_wall(inputs, stop, h, out, *extra):
     """(wall time (s) of one fmusim run to ``stop`` s with communication step ``h`` s, the wall time
-    (s) from its first fmi2DoStep to fmi2Terminate and the calls, from the FMU's own log line)."""
+    (s) from its first fmi2DoStep to fmi2Terminate, the calls, and the part of that time spent
+    outside fmi2DoStep (s: fmusim's own work and its other calls), from the FMU's own log line)."""
     cmd = [str(FMUSIM), "--interface-type", "cs", "--stop-time", repr(stop), "--output-interval", repr(h)]
     if inputs is not None:
         cmd += ["--input-file", str(inputs)]
@@ -168,10 +171,10 @@ def fmusim_wall(inputs, stop, h, out, *extra):
     )
     wall = time.perf_counter() - t0
     m = re.search(
-        r"(\d+) doStep calls took .*?; ([0-9.]+) s passed from the first call",
+        r"(\d+) doStep calls took ([0-9.]+) s inside the FMU .*?; ([0-9.]+) s passed from the first call",
         res.stdout.decode() + res.stderr.decode(),
     )
-    return wall, float(m.group(2)), int(m.group(1))
+    return wall, float(m.group(3)), int(m.group(1)), float(m.group(3)) - float(m.group(2))
 
 
 def main():
@@ -238,18 +241,22 @@ def main():
     print(f"fmpy_driver_us_per_step: {min(fmpy_s) * 1e6:.1f}")
     print(f"fmu_overhead_fmpy_driver: {min(fmpy_s) / engine:.3f}")
     if sim_long:
-        per_step = min(stepping / calls for _, stepping, calls in sim_long)
+        per_step = min(stepping / calls for _, stepping, calls, _ in sim_long)
         print(f"fmusim_us_per_step: {per_step * 1e6:.1f}")
         print(f"fmu_overhead_fmusim: {per_step / engine:.3f}")
         print(f"rtf_fmusim: {h / per_step:.3f}")
-        print(f"rtf_fmusim_whole_run: {n * h / min(w for w, _, _ in sim_long):.3f}")
-        per_step = min(stepping / calls for _, stepping, calls in drive_long)
+        host = min(outside / calls for _, _, calls, outside in sim_long)
+        print(f"fmusim_host_us_per_step: {host * 1e6:.1f} (outside fmi2DoStep: fmusim's input-file lookup, its calls)")
+        print(f"rtf_fmusim_whole_run: {n * h / min(r[0] for r in sim_long):.3f}")
+        per_step = min(stepping / calls for _, stepping, calls, _ in drive_long)
         print(f"fmusim_drive_us_per_step: {per_step * 1e6:.1f}")
         print(f"engine_drive_us_per_step: {min(eng_drive_s) * 1e6:.1f}")
         print(f"fmu_overhead_fmusim_drive: {per_step / min(eng_drive_s):.3f}")
         print(f"rtf_fmusim_drive: {h / per_step:.3f}")
-        print(f"rtf_fmusim_drive_whole_run: {n * h / min(w for w, _, _ in drive_long):.3f}")
-        per_step = min(stepping / calls for _, stepping, calls in realtime_long)
+        host = min(outside / calls for _, _, calls, outside in drive_long)
+        print(f"fmusim_drive_host_us_per_step: {host * 1e6:.1f}")
+        print(f"rtf_fmusim_drive_whole_run: {n * h / min(r[0] for r in drive_long):.3f}")
+        per_step = min(stepping / calls for _, stepping, calls, _ in realtime_long)
         print(f"realtime_dt_s: {args.realtime_dt:g}")
         print(f"fmusim_drive_realtime_us_per_step: {per_step * 1e6:.1f}")
         print(f"rtf_fmusim_drive_realtime: {h / per_step:.3f}")
