@@ -177,6 +177,14 @@ def fmusim_wall(inputs, stop, h, out, *extra):
     return wall, float(m.group(3)), int(m.group(1)), float(m.group(3)) - float(m.group(2))
 
 
+def fmusim_figures(runs):
+    """(s per call from the first fmi2DoStep to fmi2Terminate, s per call outside fmi2DoStep, wall
+    s of a whole run), each the fastest of the ``fmusim_wall`` runs."""
+    per_step = min(stepping / calls for _, stepping, calls, _ in runs)
+    host = min(outside / calls for _, _, calls, outside in runs)
+    return per_step, host, min(r[0] for r in runs)
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--duration", type=float, default=1.0, help="simulated time of the long runs (s)")
@@ -241,22 +249,20 @@ def main():
     print(f"fmpy_driver_us_per_step: {min(fmpy_s) * 1e6:.1f}")
     print(f"fmu_overhead_fmpy_driver: {min(fmpy_s) / engine:.3f}")
     if sim_long:
-        per_step = min(stepping / calls for _, stepping, calls, _ in sim_long)
+        per_step, host, whole = fmusim_figures(sim_long)
         print(f"fmusim_us_per_step: {per_step * 1e6:.1f}")
         print(f"fmu_overhead_fmusim: {per_step / engine:.3f}")
         print(f"rtf_fmusim: {h / per_step:.3f}")
-        host = min(outside / calls for _, _, calls, outside in sim_long)
         print(f"fmusim_host_us_per_step: {host * 1e6:.1f} (outside fmi2DoStep: fmusim's input-file lookup, its calls)")
-        print(f"rtf_fmusim_whole_run: {n * h / min(r[0] for r in sim_long):.3f}")
-        per_step = min(stepping / calls for _, stepping, calls, _ in drive_long)
+        print(f"rtf_fmusim_whole_run: {n * h / whole:.3f}")
+        per_step, host, whole = fmusim_figures(drive_long)
         print(f"fmusim_drive_us_per_step: {per_step * 1e6:.1f}")
         print(f"engine_drive_us_per_step: {min(eng_drive_s) * 1e6:.1f}")
         print(f"fmu_overhead_fmusim_drive: {per_step / min(eng_drive_s):.3f}")
         print(f"rtf_fmusim_drive: {h / per_step:.3f}")
-        host = min(outside / calls for _, _, calls, outside in drive_long)
         print(f"fmusim_drive_host_us_per_step: {host * 1e6:.1f}")
-        print(f"rtf_fmusim_drive_whole_run: {n * h / min(r[0] for r in drive_long):.3f}")
-        per_step = min(stepping / calls for _, stepping, calls, _ in realtime_long)
+        print(f"rtf_fmusim_drive_whole_run: {n * h / whole:.3f}")
+        per_step = fmusim_figures(realtime_long)[0]
         print(f"realtime_dt_s: {args.realtime_dt:g}")
         print(f"fmusim_drive_realtime_us_per_step: {per_step * 1e6:.1f}")
         print(f"rtf_fmusim_drive_realtime: {h / per_step:.3f}")
