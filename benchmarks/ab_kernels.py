@@ -11,6 +11,7 @@ compiles both (~1.5 min).
 
 Run:  git archive HEAD cablecasing_core | tar -x -C /tmp/A    (and the change into /tmp/B)
       .venv/bin/python benchmarks/ab_kernels.py /tmp/A /tmp/B [--duration 1.0] [--no-contact] [--no-record]
+                                               [--model installed]
                                                [--step 1e-4]   (FMU-like calls: per-call costs)
 """
 
@@ -82,6 +83,11 @@ def main():
     p.add_argument("--no-contact", action="store_true")
     p.add_argument("--no-record", action="store_true")
     p.add_argument(
+        "--model",
+        default="default",
+        help="built-in specimen of both trees: default or installed (the latter from its static state)",
+    )
+    p.add_argument(
         "--step",
         type=float,
         default=None,
@@ -100,8 +106,8 @@ def main():
         specimen = next(
             f
             for f in (
-                f"{root}/cablecasing_core/model/specimens/default.toml",
-                f"{root}/cablecasing_core/data/default_model.toml",
+                f"{root}/cablecasing_core/model/specimens/{args.model}.toml",
+                f"{root}/cablecasing_core/data/{args.model}_model.toml",
             )
             if os.path.exists(f)
         )

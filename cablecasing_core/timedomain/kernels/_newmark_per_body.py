@@ -97,7 +97,8 @@ def respond_to_contact_forces(Kinv, fc, U, jl):
     """U += Keff^-1 fc: the bodies' exact response to the contact forces fc (linear structure).
     fc is nonzero on a few DOFs only (6 per cable contact node, 12 per casing element touched), so
     the response is the sum of those compliance rows (Kinv symmetric, zero on the prescribed
-    DOFs), not a full solve; four rows per pass over U (a quarter of its loads and stores).
+    DOFs), not a full solve; rows in groups of four, two groups per pass over U (an eighth of its
+    loads and stores; U + group 1 + group 2 in that order, the bits of one pass per group).
     jl: integer scratch of len(U)."""
     n = U.shape[0]
     m = 0
@@ -106,6 +107,17 @@ def respond_to_contact_forces(Kinv, fc, U, jl):
             jl[m] = j
             m += 1
     k = 0
+    while k + 8 <= m:  # two groups of four per pass: (U + group 1) + group 2, the order of two passes
+        a, b, c, d = jl[k], jl[k + 1], jl[k + 2], jl[k + 3]
+        e, f, g, h = jl[k + 4], jl[k + 5], jl[k + 6], jl[k + 7]
+        fa, fb, fc_, fd = fc[a], fc[b], fc[c], fc[d]
+        fe, ff, fg, fh = fc[e], fc[f], fc[g], fc[h]
+        ra, rb, rc, rd = Kinv[a], Kinv[b], Kinv[c], Kinv[d]
+        re, rf, rg, rh = Kinv[e], Kinv[f], Kinv[g], Kinv[h]
+        for i in range(n):
+            x = U[i] + ((fa * ra[i] + fb * rb[i]) + (fc_ * rc[i] + fd * rd[i]))
+            U[i] = x + ((fe * re[i] + ff * rf[i]) + (fg * rg[i] + fh * rh[i]))
+        k += 8
     while k + 4 <= m:
         a, b, c, d = jl[k], jl[k + 1], jl[k + 2], jl[k + 3]
         fa, fb, fc_, fd = fc[a], fc[b], fc[c], fc[d]
