@@ -30,12 +30,17 @@ Prints ``name: value`` lines:
 * ``fmusim_drive_us_per_step``, ``rtf_fmusim_drive``: the default scenario in fmusim without an
   input file, the FMU driving its supports with the model's own scenario (``scenario.drive``),
   measured the same way (fmusim's own cost is then ~1 µs per step), and its ratio to the engine
-  driven by the same scenario (``engine_drive_us_per_step``: the scenario's record evaluated on
-  the engine's grid, as the slave does, costs ~1.5 µs per Newmark step);
+  driven by the same scenario evaluated ahead, as the slave does in initialisation
+  (``engine_drive_prepared_us_per_step``; ``engine_drive_us_per_step``: evaluated within the steps,
+  chunk by chunk, as the core's ``simulate`` does);
+* ``fmusim_drive_longest_call_ms`` and ``fmusim_drive_late_calls``: the longest doStep call of that
+  run and the calls that took longer than their communication step (a real-time master's missed
+  deadlines), from the FMU's log line at ``fmi2Terminate`` (the least of the runs);
 * ``fmusim_drive_realtime_us_per_step``, ``rtf_fmusim_drive_realtime``: the same fmusim run with
   ``solver.dt`` = ``--realtime-dt`` (default 2e-5 s, five Newmark steps per communication step),
   the setting docs/fmu.md ("Real time") gives a real-time master, whose band levels match the
-  default 1e-5 s on ensemble means (docs/time_domain.md, "The time step on 456 seeds");
+  default 1e-5 s on ensemble means (docs/time_domain.md, "The time step on 456 seeds"), with its
+  longest call and late calls;
 * ``instantiate_cold_s``: loading the FMU (unzipped) through ``fmi2Instantiate``, initialisation
   and the first step with an empty per-user cache (no numba cache, no copy of the code), and
   ``instantiate_warm_s`` with both in place;
@@ -81,17 +86,22 @@ NCH = len(CHANNELS)
 PLAIN = {"HOME": os.environ.get("HOME", "/root"), "PATH": "/usr/bin:/bin"}
 
 
-def engine_run(model, table, h, drive=False):
+def engine_run(model, table, h, drive=False, prepared=False):
     """Wall time (s) of the core's engine over the communication steps with the FMU's reconstruction
     and outputs (``Engine.advance_reconstructed``, what the FMU's slave calls, on input buffers that
     persist from step to step as the FMU's do, so its remembered context serves every step; the
-    first two steps, which load the kernels, factorise and take the general path, are left out)."""
+    first two steps, which load the kernels, factorise and take the general path, are left out).
+    ``drive``: the scenario's motion added as the slave's ``scenario.drive`` does, evaluated ahead for
+    the whole run with ``prepared`` (as the slave does when the master gives a stop time), else
+    chunk by chunk within the steps."""
     eng = Engine(model, ledger=False)
     nch = len(eng.channels)  # (12, or more with excited clips)
     rec = SupportReconstruction(nch)
     out = np.zeros(len(eng.output_names))
     u, v, a = np.zeros(nch), np.zeros(nch), np.zeros(nch)
     base = GridMotion(scenario_motion(model, dt=eng.dt), eng.dt) if drive else None  # as the slave's
+    if base is not None and prepared:
+        base.prepare(len(table) * h)
 
     def step(row):
         u[:], v[:], a[:] = row[:nch], row[nch : 2 * nch], row[2 * nch :]
@@ -159,8 +169,9 @@ def write_fmusim_inputs(path, table, h):
 
 def fmusim_wall(inputs, stop, h, out, *extra):
     """(wall time (s) of one fmusim run to ``stop`` s with communication step ``h`` s, the wall time
-    (s) from its first fmi2DoStep to fmi2Terminate, the calls, and the part of that time spent
-    outside fmi2DoStep (s: fmusim's own work and its other calls), from the FMU's own log line)."""
+    (s) from its first fmi2DoStep to fmi2Terminate, the calls, the part of that time spent outside
+    fmi2DoStep (s: fmusim's own work and its other calls), the longest call (s) and the calls that
+    took longer than h, from the FMU's own log lines)."""
     cmd = [str(FMUSIM), "--interface-type", "cs", "--stop-time", repr(stop), "--output-interval", repr(h)]
     if inputs is not None:
         cmd += ["--input-file", str(inputs)]
@@ -170,19 +181,24 @@ def fmusim_wall(inputs, stop, h, out, *extra):
         [*cmd, *extra, "--output-file", str(out), str(FMU)], env=PLAIN, check=True, capture_output=True
     )
     wall = time.perf_counter() - t0
-    m = re.search(
-        r"(\d+) doStep calls took ([0-9.]+) s inside the FMU .*?; ([0-9.]+) s passed from the first call",
-        res.stdout.decode() + res.stderr.decode(),
-    )
-    return wall, float(m.group(3)), int(m.group(1)), float(m.group(3)) - float(m.group(2))
+    log = res.stdout.decode() + res.stderr.decode()
+    m = re.search(r"(\d+) doStep calls took ([0-9.]+) s inside the FMU .*?; ([0-9.]+) s passed from the first", log)
+    late = re.search(r"the longest doStep call took ([0-9.]+) ms .*?; (\d+) of \d+ calls took longer", log)
+    stepping, inside = float(m.group(3)), float(m.group(2))
+    return wall, stepping, int(m.group(1)), stepping - inside, 1e-3 * float(late.group(1)), int(late.group(2))
 
 
 def fmusim_figures(runs):
     """(s per call from the first fmi2DoStep to fmi2Terminate, s per call outside fmi2DoStep, wall
     s of a whole run), each the fastest of the ``fmusim_wall`` runs."""
-    per_step = min(stepping / calls for _, stepping, calls, _ in runs)
-    host = min(outside / calls for _, _, calls, outside in runs)
+    per_step = min(r[1] / r[2] for r in runs)
+    host = min(r[3] / r[2] for r in runs)
     return per_step, host, min(r[0] for r in runs)
+
+
+def late_figures(runs):
+    """The longest call (ms) and the calls longer than their step, each the least of the runs."""
+    return f"{min(r[4] for r in runs) * 1e3:.2f}", min(r[5] for r in runs)
 
 
 def main():
@@ -203,7 +219,7 @@ def main():
         subprocess.run([sys.executable, str(ROOT / "build_fmu.py")], check=True)
     table = np.hstack(scenario_motion(model)(h * np.arange(n + 1)))  # the master's samples at t = k h
     eng_s, eng_drive_s, lean_s, lists_s, fmpy_s, sim_long, drive_long, cold, warm, first_s = ([] for _ in range(10))
-    realtime_long = []
+    realtime_long, prep_s = [], []
     clips_eng_s, clips_fmpy_s = [], []
     clipped = cc.load_model(CLIPPED)
     clips_table = np.hstack(scenario_motion(clipped)(h * np.arange(n + 1)))
@@ -219,6 +235,7 @@ def main():
         for k in range(args.repeat):
             eng_s.append(engine_run(model, table[:n], h) / (n - 2))
             eng_drive_s.append(engine_run(model, np.zeros_like(table[:n]), h, drive=True) / (n - 2))
+            prep_s.append(engine_run(model, np.zeros_like(table[:n]), h, drive=True, prepared=True) / (n - 2))
             lean, lists, first = fmpy_run(table[:n], h)
             lean_s.append(lean)
             lists_s.append(lists)
@@ -257,15 +274,22 @@ def main():
         print(f"rtf_fmusim_whole_run: {n * h / whole:.3f}")
         per_step, host, whole = fmusim_figures(drive_long)
         print(f"fmusim_drive_us_per_step: {per_step * 1e6:.1f}")
-        print(f"engine_drive_us_per_step: {min(eng_drive_s) * 1e6:.1f}")
-        print(f"fmu_overhead_fmusim_drive: {per_step / min(eng_drive_s):.3f}")
+        print(f"engine_drive_us_per_step: {min(eng_drive_s) * 1e6:.1f} (the scenario evaluated within the steps)")
+        print(f"engine_drive_prepared_us_per_step: {min(prep_s) * 1e6:.1f} (evaluated ahead, as the FMU does)")
+        print(f"fmu_overhead_fmusim_drive: {per_step / min(prep_s):.3f}")
         print(f"rtf_fmusim_drive: {h / per_step:.3f}")
         print(f"fmusim_drive_host_us_per_step: {host * 1e6:.1f}")
+        longest, late = late_figures(drive_long)
+        print(f"fmusim_drive_longest_call_ms: {longest}")
+        print(f"fmusim_drive_late_calls: {late} of {n}")
         print(f"rtf_fmusim_drive_whole_run: {n * h / whole:.3f}")
         per_step = fmusim_figures(realtime_long)[0]
         print(f"realtime_dt_s: {args.realtime_dt:g}")
         print(f"fmusim_drive_realtime_us_per_step: {per_step * 1e6:.1f}")
         print(f"rtf_fmusim_drive_realtime: {h / per_step:.3f}")
+        longest, late = late_figures(realtime_long)
+        print(f"fmusim_drive_realtime_longest_call_ms: {longest}")
+        print(f"fmusim_drive_realtime_late_calls: {late} of {n}")
     print(f"rtf_engine: {h / engine:.3f}")
     print(f"instantiate_cold_s: {min(cold):.2f}")
     print(f"instantiate_warm_s: {min(warm):.2f}")

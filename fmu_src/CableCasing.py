@@ -137,6 +137,7 @@ class CableCasing(Fmi2Slave):
         self._applied = None  # the configuration the engine was built with
         self._recon.reset()
         self._start_time = 0.0
+        self._stop_time = None  # (s) the master's stopTime, when it gives one
         self._initialized = False
         self._error = None  # why stepping is refused (an initialisation that failed)
 
@@ -399,6 +400,7 @@ class CableCasing(Fmi2Slave):
             )
             return ERROR
         self._start_time = float(start_time)
+        self._stop_time = None if stop_time is None else float(stop_time)
         return OK
 
     def fmi2_exit_initialization_mode(self):
@@ -447,6 +449,22 @@ class CableCasing(Fmi2Slave):
         self._warm_up()
         self._recon.reset()
         self._engine.output_values(self.outputs_buffer)
+        if self._drive is not None:
+            # the scenario's motion now, not inside the steps (GridMotion.prepare): up to the master's
+            # stopTime, else over the scenario's own duration (fmusim, for one, gives no stopTime)
+            if self._stop_time is not None:
+                until, why = self._stop_time - self._start_time, f"stopTime = {self._stop_time:.6g} s"
+            else:
+                until = self._engine.model.scenario["duration"]
+                why = f"no stopTime: scenario.duration = {until:.6g} s"
+            try:
+                ahead = self._drive.prepare(until)
+            except MemoryError:  # (prepare then changes nothing: the steps evaluate the motion as they go)
+                ahead = 0.0
+            self.log(
+                f"scenario.drive: the scenario's support motion is evaluated ahead up to t = "
+                f"{self._start_time + ahead:.6g} s ({why}), later within the steps"
+            )
         return True
 
     # The communication step of the warm-up (s): the default experiment's; another h later costs

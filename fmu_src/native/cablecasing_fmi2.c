@@ -97,6 +97,9 @@ typedef struct {
     long step_calls;                    /* fmi2DoStep calls since instantiation or reset */
     double step_seconds;                /* wall time spent inside them (s) */
     double first_step_at;               /* monotonic clock at the first of them (s) */
+    double longest_step;                /* wall time of the longest of them (s) */
+    double longest_step_at;             /* its currentCommunicationPoint (s) */
+    long late_calls;                    /* calls that took longer than their communicationStepSize */
 } Instance;
 
 static double monotonic_seconds(void) {
@@ -676,6 +679,10 @@ FMI2_Export fmi2Status fmi2Terminate(fmi2Component c) {
              "call to fmi2Terminate, so the host spent %.3f s (%.1f us per call) between them",
              inst->step_calls, inst->step_seconds, 1e6 * inst->step_seconds / inst->step_calls, wall,
              wall - inst->step_seconds, 1e6 * (wall - inst->step_seconds) / inst->step_calls);
+        LOGI(inst, fmi2OK,
+             "real time: the longest doStep call took %.3f ms (from t = %.9g s); %ld of %ld calls took longer "
+             "than their communication step (a real-time master would have missed their deadlines)",
+             1e3 * inst->longest_step, inst->longest_step_at, inst->late_calls, inst->step_calls);
     }
     fmi2Status s = call0(inst, "terminate");
     inst->state = S_TERMINATED;
@@ -688,6 +695,8 @@ FMI2_Export fmi2Status fmi2Reset(fmi2Component c) {
     if (s <= fmi2Warning) inst->state = S_INSTANTIATED;
     inst->step_calls = 0;
     inst->step_seconds = 0.0;
+    inst->longest_step = 0.0;
+    inst->late_calls = 0;
     return s;
 }
 
@@ -987,8 +996,14 @@ FMI2_Export fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunication
         s = (v >= fmi2OK && v <= fmi2Error) ? (fmi2Status)v : fmi2Error;
     }
     P.PyGILState_Release(gil);
+    double took = monotonic_seconds() - t_enter;
     inst->step_calls += 1;
-    inst->step_seconds += monotonic_seconds() - t_enter;
+    inst->step_seconds += took;
+    if (took > inst->longest_step) {
+        inst->longest_step = took;
+        inst->longest_step_at = currentCommunicationPoint;
+    }
+    if (took > communicationStepSize) inst->late_calls += 1; /* a real-time master's missed deadline */
     return s;
 }
 

@@ -7,6 +7,7 @@ The C hosts are the ones in ../shared/hosts (see its README), built from their p
 """
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -115,7 +116,10 @@ def test_fmusim_runs_the_real_time_setting_as_the_core(fmu, tmp_path):
     Newmark steps per 1e-4 s call. Exit 0, and casing.B.Fz after each call equals the core's run of
     the same scenario at dt = 2e-5 (cc.simulate) at the same times to 1e-12 relative (fmusim writes
     16 digits; fmusim's steps t_(k+1) - t_k differ from 1e-4 in the last bits, and the engine still
-    takes exactly five steps of 2e-5 per call, on the grid the core evaluates the scenario on)."""
+    takes exactly five steps of 2e-5 per call, on the grid the core evaluates the scenario on).
+    fmusim gives no stop time, so the FMU evaluates the scenario over its duration (1 s, seven chunks
+    of the motion) ahead in initialisation (GridMotion.prepare) and says so; at fmi2Terminate it
+    reports its longest call and the calls that took longer than their step, no more than it made."""
     n = 400
     out, log = tmp_path / "rt.csv", tmp_path / "rt.log"
     proc = subprocess.run(
@@ -131,6 +135,36 @@ def test_fmusim_runs_the_real_time_setting_as_the_core(fmu, tmp_path):
     got = data[1 : n + 1, names.index("casing.B.Fz")]  # (row k + 1: after step k)
     assert len(ref) == n and np.max(np.abs(ref)) > 0.1
     assert np.max(np.abs(got - ref)) <= 1e-12 * np.max(np.abs(ref))
+    text = log.read_text()
+    assert "evaluated ahead up to t = 1.14688 s (no stopTime: scenario.duration = 1 s)" in text, text[-3000:]
+    longest, late, calls = real_time_line(text)
+    assert 0 < longest and 0 <= late <= calls == n
+
+
+def real_time_line(log):
+    """(the longest doStep call in s, the calls longer than their step, the calls) from the FMU's
+    log line at fmi2Terminate."""
+    m = re.search(r"the longest doStep call took ([0-9.]+) ms .*?; (\d+) of (\d+) calls took longer", log)
+    assert m, log[-3000:]
+    return 1e-3 * float(m.group(1)), int(m.group(2)), int(m.group(3))
+
+
+@needs_hosts
+def test_fmusim_hears_of_every_call_that_took_longer_than_its_step(fmu, tmp_path):
+    """A master that asks for communication steps of 1e-6 s (solver.dt 1e-6 s: one Newmark step per
+    call) cannot be served in real time: no call into Python and a Newmark step with contact take
+    less than 1 us, so every call of the run (fmusim makes ~90 over its 1e-4 s) is reported as late,
+    and the longest took at least 1 us."""
+    log = tmp_path / "late.log"
+    proc = subprocess.run(
+        [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", "1e-4", "--output-interval", "1e-6",
+         "--start-value", "solver.dt", "1e-6", "--output-file", str(tmp_path / "late.csv"),
+         "--log-file", str(log), "--logging-on", str(fmu)],
+        env=PLAIN, capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert proc.returncode == 0, f"exit {proc.returncode}\n{proc.stderr}\n{log.read_text()[-3000:]}"
+    longest, late, calls = real_time_line(log.read_text())
+    assert calls >= 90 and late == calls and longest >= 1e-6
 
 
 @needs_hosts

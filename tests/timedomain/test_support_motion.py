@@ -210,3 +210,30 @@ def test_the_fused_communication_step_equals_advance_accept_and_outputs(which, c
     assert fused.time == plain.time and np.array_equal(rf.state, rp.state)
     sf, sp = fused.get_state(), plain.get_state()
     assert all(np.array_equal(sf[k], sp[k]) for k in sp)
+
+
+def test_the_scenario_motion_evaluated_ahead_is_the_one_evaluated_within_the_steps(monkeypatch):
+    """GridMotion.prepare (what an FMU driven by its scenario does in initialisation when the master
+    gives a stop time) tabulates the motion the steps would otherwise evaluate chunk by chunk: over
+    communication steps of ten grid steps across the prepared range and past it (where evaluation
+    goes on chunk by chunk), the values are the same to the bit, whatever was tabulated ahead; the
+    memory bound PREPARE_BYTES limits how far it goes (here three chunks), and a run of one chunk
+    or less tabulates nothing (fill keeps one chunk anyway)."""
+    from cablecasing_core.model.load import load_model
+    from cablecasing_core.timedomain.scenario import scenario_motion
+    from cablecasing_core.timedomain.support_motion import GridMotion
+
+    dt = 1e-5
+    monkeypatch.setattr(GridMotion, "CHUNK", 1024)
+    monkeypatch.setattr(GridMotion, "PREPARE_BYTES", 3 * 1024 * 3 * 8 * 12)
+    model = load_model()
+    within = GridMotion(scenario_motion(model, dt=dt), dt)
+    ahead = GridMotion(scenario_motion(model, dt=dt), dt)
+    assert ahead.prepare(0.9 * 1024 * dt) == 0.0  # one chunk or less: nothing
+    assert ahead.prepare(1.0) == pytest.approx(3 * 1024 * dt)  # the memory bound: three chunks
+    a, b = np.empty((3, 10, 12)), np.empty((3, 10, 12))
+    for k0 in range(0, 5 * 1024, 10):  # five chunks: three prepared, two evaluated as they come
+        within.fill(k0, a)
+        ahead.fill(k0, b)
+        assert np.array_equal(a, b), k0
+    assert np.abs(a).max() > 0  # (the scenario moves the supports)
