@@ -157,3 +157,54 @@ def test_contact_compliance_is_the_inverse_of_the_effective_stiffness():
         free = slice(b.f0, b.f0 + b.nf)
         assert np.abs(inv[free, free] - ref).max() < 1e-12 * np.abs(ref).max()
         assert np.array_equal(inv, inv.T) and not inv[: b.f0].any() and not inv[:, b.f0 + b.nf :].any()
+
+
+def test_delassus_blocks_are_the_dense_products():
+    """The contact solve's Delassus blocks (Eq. 38's W = B^T K^-1 B, both bodies) against the dense
+    products in numpy: the casing's G_k^T K[dofs_k, dofs_l] G_l for every pair l >= k, built from
+    rows of compliance over spans of columns, here on a casing of 426 DOFs, more than one span
+    (SPAN), with contacts spread and out of order; the cable's B_k^T K[dofs_k, dofs_l] B_l with
+    B = [I; [a]x] written out on its nonzero entries. Tolerance 1e-13 of the largest entry: sums of
+    at most 144 products of numbers of order one."""
+    from cablecasing_core.timedomain.kernels._contact_forces_with_active_set import (
+        SPAN,
+        _cable_compliance_block,
+        _casing_compliance_row,
+    )
+
+    rng = np.random.default_rng(7)
+    ns = 6 * 71
+    assert ns > SPAN
+    A = rng.standard_normal((ns, ns))
+    Ks = A + A.T
+    elem = np.array([3, 4, 10, 69, 30, 31, 55, 0, 40])
+    nk = len(elem)
+    idx = np.arange(nk)
+    Gs = rng.standard_normal((nk, 12, 3))
+    W = np.zeros((3 * nk, 3 * nk))
+    U = np.zeros(3 * SPAN)
+    for k in range(nk):
+        _casing_compliance_row(Ks, Gs, idx, elem, k, nk, W, U)
+    for k in range(nk):
+        for l in range(nk):
+            dk, dl = slice(6 * elem[k], 6 * elem[k] + 12), slice(6 * elem[l], 6 * elem[l] + 12)
+            ref = Gs[k].T @ Ks[dk, dl] @ Gs[l] if l >= k else np.zeros((3, 3))
+            got = W[3 * k : 3 * k + 3, 3 * l : 3 * l + 3]
+            assert np.abs(got - ref).max() <= 1e-13 * np.abs(W).max(), (k, l)
+
+    nc = 6 * 37
+    A = rng.standard_normal((nc, nc))
+    Kc = A + A.T
+    arms = rng.standard_normal((2, 3)) * 1e-3
+    nodes = (5, 21)
+
+    def B(a):
+        b = np.zeros((6, 3))
+        b[:3] = np.eye(3)
+        b[3:] = [[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]]  # moment a x P
+        return b
+
+    Wc = np.zeros((3, 3))
+    _cable_compliance_block(Kc, 6 * nodes[0], *arms[0], 6 * nodes[1], *arms[1], Wc, 0, 0)
+    ref = B(arms[0]).T @ Kc[6 * nodes[0] : 6 * nodes[0] + 6, 6 * nodes[1] : 6 * nodes[1] + 6] @ B(arms[1])
+    assert np.abs(Wc - ref).max() <= 1e-13 * np.abs(ref).max()

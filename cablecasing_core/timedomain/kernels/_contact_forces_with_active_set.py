@@ -70,44 +70,109 @@ def contact_workspace(nn):
         z(m),
         np.zeros(max(nn, 1) + 1, np.int64),
         z(nn),
+        z(3 * SPAN),
     )
 
 
+#: Columns of casing compliance one pass of :func:`_casing_compliance_row` takes (the stride of its
+#: scratch: a constant, so that LLVM sees its three rows apart and vectorizes the pass).
+SPAN = 256
+
+
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
-def _compliance_block(Kinv, dof_k, Bk, dof_l, Bl, W, ok, ol, nq):
-    """W[ok:ok+3, ol:ol+3] += Bk^T Kinv[dofs_k, dofs_l] Bl: one body's part of a 3x3 Delassus block.
-    Bk, Bl map a contact force to generalized forces on the DOFs from dof_k, dof_l; Kinv is the
-    effective compliance over all DOFs (zero on the prescribed ones, which do not respond). nq: the
-    rows of Bk and Bl, 6 (a cable node) or 12 (a casing element), passed as a literal so that the
-    loops unroll once inlined (0.3 of 7.0 us per contact solve at 4.6 contacts)."""
-    w00 = w01 = w02 = w10 = w11 = w12 = w20 = w21 = w22 = 0.0
-    for p in range(nq):
-        row = Kinv[dof_k + p, dof_l : dof_l + nq]
-        t0 = t1 = t2 = 0.0
-        for q in range(nq):
-            kv = row[q]
-            t0 += kv * Bl[q, 0]
-            t1 += kv * Bl[q, 1]
-            t2 += kv * Bl[q, 2]
-        b0, b1, b2 = Bk[p, 0], Bk[p, 1], Bk[p, 2]
-        w00 += b0 * t0
-        w01 += b0 * t1
-        w02 += b0 * t2
-        w10 += b1 * t0
-        w11 += b1 * t1
-        w12 += b1 * t2
-        w20 += b2 * t0
-        w21 += b2 * t1
-        w22 += b2 * t2
-    W[ok, ol] += w00
-    W[ok, ol + 1] += w01
-    W[ok, ol + 2] += w02
-    W[ok + 1, ol] += w10
-    W[ok + 1, ol + 1] += w11
-    W[ok + 1, ol + 2] += w12
-    W[ok + 2, ol] += w20
-    W[ok + 2, ol + 1] += w21
-    W[ok + 2, ol + 2] += w22
+def _span_rows(Kinv, r0, G, q0, lo, span, U, first):
+    """U[a * SPAN + j] (+)= sum_p G[q0 + p, a] Kinv[r0 + p, lo + j] for p < 6 and j < span: six rows
+    of compliance times six rows of G, over a contiguous span of columns (the loop over j is the
+    one vectorized; lo, span unsigned so that no negative-index wraparound stops it)."""
+    for j in range(span):
+        c = lo + j
+        if first:
+            u0 = u1 = u2 = 0.0
+        else:
+            u0, u1, u2 = U[j], U[SPAN + j], U[2 * SPAN + j]
+        for p in range(6):
+            kv = Kinv[r0 + p][c]
+            u0 += kv * G[q0 + p, 0]
+            u1 += kv * G[q0 + p, 1]
+            u2 += kv * G[q0 + p, 2]
+        U[j], U[SPAN + j], U[2 * SPAN + j] = u0, u1, u2
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def _casing_compliance_row(Ks, Gs, idx, elem, k, nk, W, U):
+    """The casing's part of the Delassus blocks (k, l), l >= k: W[3k:3k+3, 3l:3l+3] += G_k^T
+    Ks[dofs_k, dofs_l] G_l, G (12 x 3, ``Gs``) the map of a contact force to the generalized forces
+    on the DOFs of its element. First U = G_k^T Ks[dofs_k, lo:hi] (3 x span) over the contiguous
+    span of columns that the elements of contacts l touch (vectorized, two passes of six rows), then
+    each block U[:, dofs_l] G_l. The contacts are taken in runs whose span fits SPAN columns (one
+    run when the casing has at most SPAN DOFs)."""
+    e6k = 6 * elem[idx[k]]
+    Gk = Gs[k]
+    l0 = k
+    while l0 < nk:
+        lo = 6 * elem[idx[l0]]
+        hi = lo + 12
+        l1 = l0 + 1
+        while l1 < nk:
+            e6 = 6 * elem[idx[l1]]
+            if max(hi, e6 + 12) - min(lo, e6) > SPAN:
+                break
+            lo, hi = min(lo, e6), max(hi, e6 + 12)
+            l1 += 1
+        span, ulo = np.uint64(hi - lo), np.uint64(lo)
+        _span_rows(Ks, e6k, Gk, 0, ulo, span, U, True)
+        _span_rows(Ks, e6k + 6, Gk, 6, ulo, span, U, False)
+        for l in range(l0, l1):
+            o = 6 * elem[idx[l]] - lo
+            Gl = Gs[l]
+            for a in range(3):
+                for c in range(3):
+                    s = 0.0
+                    for q in range(12):
+                        s += U[a * SPAN + o + q] * Gl[q, c]
+                    W[3 * k + a, 3 * l + c] += s
+        l0 = l1
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def _cable_compliance_block(Kinv, dof_k, ak0, ak1, ak2, dof_l, al0, al1, al2, W, ok, ol):
+    """The cable's part of a 3x3 Delassus block, B_k^T Kinv[dofs_k, dofs_l] B_l with B = [I; [a]x]
+    (the force on the node and its moment a x P, a the arm from the node; the rows of ``Bc``),
+    added to W[ok:ok+3, ol:ol+3]. Written out on the nonzero entries of B: 54 FMAs where
+    the dense product B_k^T K B_l takes 162 (a zero term adds exactly nothing; the contraction into
+    FMAs may differ from the dense loops', so the bits may differ at rounding level). The 18 values
+    of K B_l are named locals, set by row p, so that they stay in registers once the loop over p
+    is unrolled."""
+    t00 = t01 = t02 = t03 = t04 = t05 = 0.0  # t_c[p] = (Kinv_kl B_l)[p, c]
+    t10 = t11 = t12 = t13 = t14 = t15 = 0.0
+    t20 = t21 = t22 = t23 = t24 = t25 = 0.0
+    for p in range(6):
+        row = Kinv[dof_k + p, dof_l : dof_l + 6]
+        k0, k1, k2, k3, k4, k5 = row[0], row[1], row[2], row[3], row[4], row[5]
+        u0 = k0 + k4 * al2 - k5 * al1  # B_l columns: e_c + [a_l]x rows 3..5
+        u1 = k1 - k3 * al2 + k5 * al0
+        u2 = k2 + k3 * al1 - k4 * al0
+        if p == 0:
+            t00, t10, t20 = u0, u1, u2
+        elif p == 1:
+            t01, t11, t21 = u0, u1, u2
+        elif p == 2:
+            t02, t12, t22 = u0, u1, u2
+        elif p == 3:
+            t03, t13, t23 = u0, u1, u2
+        elif p == 4:
+            t04, t14, t24 = u0, u1, u2
+        else:
+            t05, t15, t25 = u0, u1, u2
+    W[ok, ol] += t00 + t04 * ak2 - t05 * ak1
+    W[ok, ol + 1] += t10 + t14 * ak2 - t15 * ak1
+    W[ok, ol + 2] += t20 + t24 * ak2 - t25 * ak1
+    W[ok + 1, ol] += t01 - t03 * ak2 + t05 * ak0
+    W[ok + 1, ol + 1] += t11 - t13 * ak2 + t15 * ak0
+    W[ok + 1, ol + 2] += t21 - t23 * ak2 + t25 * ak0
+    W[ok + 2, ol] += t02 + t03 * ak1 - t04 * ak0
+    W[ok + 2, ol + 1] += t12 + t13 * ak1 - t14 * ak0
+    W[ok + 2, ol + 2] += t22 + t23 * ak1 - t24 * ak0
 
 
 @njit(**NO_RT)
@@ -164,6 +229,7 @@ def solve_contact_forces(
         y,
         off,
         wkk,
+        Uspan,
     ) = ws
     nn = Xc.shape[0]
     nk = 0
@@ -249,16 +315,15 @@ def solve_contact_forces(
             W[i, j] = 0.0
     for k in range(nk):
         ik = idx[k]
-        ek = elem[ik]
+        ak0, ak1, ak2 = arm_c[k, 0], arm_c[k, 1], arm_c[k, 2]
         for l in range(k, nk):
-            il = idx[l]
-            el = elem[il]
-            _compliance_block(Kc, 6 * ik, Bc[k], 6 * il, Bc[l], W, 3 * k, 3 * l, 6)  # cable
-            _compliance_block(Ks, 6 * ek, Gs[k], 6 * el, Gs[l], W, 3 * k, 3 * l, 12)  # casing
-            if l != k:
-                for r in range(3):
-                    for c in range(3):
-                        W[3 * l + c, 3 * k + r] = W[3 * k + r, 3 * l + c]
+            al0, al1, al2 = arm_c[l, 0], arm_c[l, 1], arm_c[l, 2]
+            _cable_compliance_block(Kc, 6 * ik, ak0, ak1, ak2, 6 * idx[l], al0, al1, al2, W, 3 * k, 3 * l)
+        _casing_compliance_row(Ks, Gs, idx, elem, k, nk, W, Uspan)
+        for l in range(k + 1, nk):
+            for r in range(3):
+                for c in range(3):
+                    W[3 * l + c, 3 * k + r] = W[3 * k + r, 3 * l + c]
     for k in range(nk):
         tangent_basis(nrm[k, 0], nrm[k, 1], nrm[k, 2], ta[k], tb[k])
         i = idx[k]
