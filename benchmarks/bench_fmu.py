@@ -30,7 +30,7 @@ Prints ``name: value`` lines:
 * ``fmusim_drive_us_per_step``, ``rtf_fmusim_drive``: the default scenario in fmusim without an
   input file, the FMU driving its supports with the model's own scenario (``scenario.drive``),
   measured the same way (fmusim's own cost is then ~1 µs per step), and its ratio to the engine
-  driven by the same scenario evaluated ahead, as the slave does in initialisation
+  driven by the same scenario with its random record computed ahead, as the slave does in initialisation
   (``engine_drive_prepared_us_per_step``; ``engine_drive_us_per_step``: evaluated within the steps,
   chunk by chunk, as the core's ``simulate`` does);
 * ``fmusim_drive_longest_call_ms`` and ``fmusim_drive_late_calls``: the longest doStep call of that
@@ -91,7 +91,7 @@ def engine_run(model, table, h, drive=False, prepared=False):
     and outputs (``Engine.advance_reconstructed``, what the FMU's slave calls, on input buffers that
     persist from step to step as the FMU's do, so its remembered context serves every step; the
     first two steps, which load the kernels, factorise and take the general path, are left out).
-    ``drive``: the scenario's motion added as the slave's ``scenario.drive`` does, evaluated ahead for
+    ``drive``: the scenario's motion added as the slave's ``scenario.drive`` does, its costly part computed ahead for
     the whole run with ``prepared`` (as the slave does when the master gives a stop time), else
     chunk by chunk within the steps."""
     eng = Engine(model, ledger=False)
@@ -275,7 +275,7 @@ def main():
         per_step, host, whole = fmusim_figures(drive_long)
         print(f"fmusim_drive_us_per_step: {per_step * 1e6:.1f}")
         print(f"engine_drive_us_per_step: {min(eng_drive_s) * 1e6:.1f} (the scenario evaluated within the steps)")
-        print(f"engine_drive_prepared_us_per_step: {min(prep_s) * 1e6:.1f} (evaluated ahead, as the FMU does)")
+        print(f"engine_drive_prepared_us_per_step: {min(prep_s) * 1e6:.1f} (record computed ahead, as the FMU)")
         print(f"fmu_overhead_fmusim_drive: {per_step / min(prep_s):.3f}")
         print(f"rtf_fmusim_drive: {h / per_step:.3f}")
         print(f"fmusim_drive_host_us_per_step: {host * 1e6:.1f}")

@@ -450,8 +450,9 @@ class CableCasing(Fmi2Slave):
         self._recon.reset()
         self._engine.output_values(self.outputs_buffer)
         if self._drive is not None:
-            # the scenario's motion now, not inside the steps (GridMotion.prepare): up to the master's
-            # stopTime, else over the scenario's own duration (fmusim, for one, gives no stopTime)
+            # the costly part of the scenario's motion now, not inside the steps (GridMotion.prepare):
+            # up to the master's stopTime, else over the scenario's own duration (fmusim, for one,
+            # gives no stopTime)
             if self._stop_time is not None:
                 until, why = self._stop_time - self._start_time, f"stopTime = {self._stop_time:.6g} s"
             else:
@@ -459,12 +460,13 @@ class CableCasing(Fmi2Slave):
                 why = f"no stopTime: scenario.duration = {until:.6g} s"
             try:
                 ahead = self._drive.prepare(until)
-            except MemoryError:  # (prepare then changes nothing: the steps evaluate the motion as they go)
+            except MemoryError:  # (the steps then compute the blocks as they go)
                 ahead = 0.0
-            self.log(
-                f"scenario.drive: the scenario's support motion is evaluated ahead up to t = "
-                f"{self._start_time + ahead:.6g} s ({why}), later within the steps"
-            )
+            if math.isfinite(ahead):  # (inf: the scenario has no random record)
+                self.log(
+                    f"scenario.drive: the random excitation is computed ahead up to t = "
+                    f"{self._start_time + ahead:.6g} s ({why}), later within the steps"
+                )
         return True
 
     # The communication step of the warm-up (s): the default experiment's; another h later costs

@@ -98,6 +98,16 @@ class RandomRecord:
             out[:, sel] = self._block(int(b))[:, k[sel] - b * self.block]
         return out
 
+    def prepare(self, t_end):
+        """Compute now the blocks of the run's grid that cover [0, ``t_end``] (s), at most
+        :data:`KEEP_BLOCKS` of them, so that evaluating the record there only copies (the FMU does
+        this in initialisation: a block costs ~30 ms, which a real-time master would meet inside one
+        of its steps). Returns the time (s) up to which the blocks are ready."""
+        n = min(math.ceil(max(t_end, 0.0) / (self.block * self.dt)), KEEP_BLOCKS)
+        for b in range(n):
+            self._block(b)
+        return n * self.block * self.dt
+
     def _block(self, b):
         blk = self._blocks.get(b)
         if blk is None:

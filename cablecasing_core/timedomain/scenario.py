@@ -35,6 +35,7 @@ A to B (the cable's longitudinal excitation of Section 4.2).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
@@ -126,8 +127,7 @@ def _signal(e, dt, key="scenario.excitation.file"):
     its file's key in messages."""
     kind = e["kind"]
     if kind == "random":
-        rec = RandomRecord(e["rms"], e["band"], e["seed"], dt)
-        return lambda t, grid: rec(t, grid)
+        return RandomRecord(e["rms"], e["band"], e["seed"], dt)  # (called as (t, grid) too)
     if kind == "csv":
         tab = _Tabulated(e["file"], e.get("quantity", "displacement"), key)
         return lambda t, grid: tab(t)
@@ -164,6 +164,12 @@ class ScenarioMotion:
             col = CHANNELS.index(f"{body}.{support}.x")
             sig = _signal(e, self.dt, f"scenario.excitation.{name}.file")
             self.terms.append((col, np.asarray(weights, float), sig))
+
+    def prepare(self, t_end: float) -> float:
+        """Compute now what is costly to evaluate over [0, ``t_end``] (s): the blocks of the random
+        records (``RandomRecord.prepare``). Returns the time (s) up to which it is ready (``inf``
+        when the scenario has no random record)."""
+        return min((sig.prepare(t_end) for _, _, sig in self.terms if isinstance(sig, RandomRecord)), default=math.inf)
 
     def __call__(self, t):
         t = np.atleast_1d(np.asarray(t, float))

@@ -27,7 +27,6 @@ engine exactly as the FMU does.
 
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -205,46 +204,31 @@ class GridMotion:
         k = round(t / self.dt)
         return k if abs(t - k * self.dt) <= self.GRID_TOLERANCE * self.dt else None
 
-    #: The most bytes :meth:`prepare` tabulates ahead: 128 MiB, 4.6 s of the 12 support channels at
-    #: dt = 1e-5 s (u, v and a as doubles: 288 bytes per step).
-    PREPARE_BYTES = 128 * 2**20
-
     def _chunk(self, k: int) -> np.ndarray:
         """(3, CHUNK, width) = u, v, a at the times (k ... k + CHUNK - 1) dt."""
         return np.stack(self.motion(self.dt * np.arange(k, k + self.CHUNK)))
 
     def prepare(self, t_end: float) -> float:
-        """Evaluate the motion now on the grid times up to ``t_end`` (s), as far as
-        :data:`PREPARE_BYTES` allows, so that the calls that follow only copy: an FMU driven by its
-        scenario does this in initialisation when the master gives a stop time, and a real-time
-        master then meets no evaluation inside its steps (otherwise a chunk of :data:`CHUNK` steps
-        every 0.08 s, ~1-2 ms, and a block of a random record every 0.66 s, ~30 ms). The values are
-        those of :meth:`fill` to the bit: the same chunks, evaluated ahead. Returns the time (s) up
-        to which the motion is tabulated (0 when nothing was)."""
-        if self._width is None:
-            self._width = np.shape(self.motion(np.zeros(1))[0])[1]
-        chunks = min(
-            math.ceil(max(t_end, 0.0) / self.dt / self.CHUNK),
-            self.PREPARE_BYTES // (3 * 8 * self._width * self.CHUNK),
-        )
-        if chunks < 2:  # (one chunk is what fill keeps anyway)
-            return 0.0
-        values = np.empty((3, chunks * self.CHUNK, self._width))
-        for c in range(chunks):
-            values[:, c * self.CHUNK : (c + 1) * self.CHUNK] = self._chunk(1 + c * self.CHUNK)
-        self._k0, self._values = 1, values
-        return chunks * self.CHUNK * self.dt
+        """Compute now what is costly in the motion over [0, ``t_end``] (s) (the motion's own
+        ``prepare``: a scenario's random records, whose blocks cost ~30 ms each, one every 0.66 s at
+        dt = 1e-5 s), so that a real-time master does not meet it inside one of its steps: an FMU
+        driven by its scenario does this in initialisation. What is left within the steps is a chunk
+        of :data:`CHUNK` steps every 0.08 s (~1-2 ms), which stays in the cache for the calls that
+        read it. The values are the same to the bit. Returns the time (s) up to which the costly
+        part is ready (``inf``: nothing costly; 0: the motion has no ``prepare``)."""
+        prepare = getattr(self.motion, "prepare", None)
+        return prepare(t_end) if prepare is not None else 0.0
 
     def fill(self, k0: int, out: np.ndarray) -> None:
         """out (3, m, 12) = u, v, a at the times (k0 + 1 ... k0 + m) dt."""
         m, done = out.shape[1], 0
         while done < m:
             k = k0 + 1 + done
-            if self._k0 is None or not (self._k0 <= k < self._k0 + self._values.shape[1]):
+            if self._k0 is None or not (self._k0 <= k < self._k0 + self.CHUNK):
                 self._k0 = k
                 self._values = self._chunk(k)
             i = k - self._k0
-            take = min(m - done, self._values.shape[1] - i)
+            take = min(m - done, self.CHUNK - i)
             out[:, done : done + take] = self._values[:, i : i + take]
             done += take
 

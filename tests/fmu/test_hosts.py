@@ -117,9 +117,10 @@ def test_fmusim_runs_the_real_time_setting_as_the_core(fmu, tmp_path):
     the same scenario at dt = 2e-5 (cc.simulate) at the same times to 1e-12 relative (fmusim writes
     16 digits; fmusim's steps t_(k+1) - t_k differ from 1e-4 in the last bits, and the engine still
     takes exactly five steps of 2e-5 per call, on the grid the core evaluates the scenario on).
-    fmusim gives no stop time, so the FMU evaluates the scenario over its duration (1 s, seven chunks
-    of the motion) ahead in initialisation (GridMotion.prepare) and says so; at fmi2Terminate it
-    reports its longest call and the calls that took longer than their step, no more than it made."""
+    fmusim gives no stop time, so the FMU computes the random record over the scenario's duration
+    (1 s: one block of 65,536 samples at 2e-5 s) ahead in initialisation (GridMotion.prepare) and
+    says so; at fmi2Terminate it reports its longest call and the calls that took longer than their
+    step, no more than it made."""
     n = 400
     out, log = tmp_path / "rt.csv", tmp_path / "rt.log"
     proc = subprocess.run(
@@ -136,7 +137,7 @@ def test_fmusim_runs_the_real_time_setting_as_the_core(fmu, tmp_path):
     assert len(ref) == n and np.max(np.abs(ref)) > 0.1
     assert np.max(np.abs(got - ref)) <= 1e-12 * np.max(np.abs(ref))
     text = log.read_text()
-    assert "evaluated ahead up to t = 1.14688 s (no stopTime: scenario.duration = 1 s)" in text, text[-3000:]
+    assert "computed ahead up to t = 1.31072 s (no stopTime: scenario.duration = 1 s)" in text, text[-3000:]
     longest, late, calls = real_time_line(text)
     assert 0 < longest and 0 <= late <= calls == n
 

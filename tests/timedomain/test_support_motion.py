@@ -212,27 +212,38 @@ def test_the_fused_communication_step_equals_advance_accept_and_outputs(which, c
     assert all(np.array_equal(sf[k], sp[k]) for k in sp)
 
 
-def test_the_scenario_motion_evaluated_ahead_is_the_one_evaluated_within_the_steps(monkeypatch):
-    """GridMotion.prepare (what an FMU driven by its scenario does in initialisation when the master
-    gives a stop time) tabulates the motion the steps would otherwise evaluate chunk by chunk: over
-    communication steps of ten grid steps across the prepared range and past it (where evaluation
-    goes on chunk by chunk), the values are the same to the bit, whatever was tabulated ahead; the
-    memory bound PREPARE_BYTES limits how far it goes (here three chunks), and a run of one chunk
-    or less tabulates nothing (fill keeps one chunk anyway)."""
+def test_the_random_excitation_computed_ahead_is_the_one_computed_within_the_steps(monkeypatch):
+    """GridMotion.prepare (what an FMU driven by its scenario does in initialisation) computes the
+    random record's blocks (~30 ms each) that cover the run, so that over communication steps of
+    ten grid steps no block is computed within the steps, as far as the blocks kept allow
+    (KEEP_BLOCKS, here 3 of 64 samples: past them the steps compute blocks again); and the values
+    are those of a motion that computes its blocks as it goes, to the bit."""
     from cablecasing_core.model.load import load_model
+    from cablecasing_core.timedomain import random_record
+    from cablecasing_core.timedomain.random_record import RandomRecord
     from cablecasing_core.timedomain.scenario import scenario_motion
     from cablecasing_core.timedomain.support_motion import GridMotion
 
     dt = 1e-5
-    monkeypatch.setattr(GridMotion, "CHUNK", 1024)
-    monkeypatch.setattr(GridMotion, "PREPARE_BYTES", 3 * 1024 * 3 * 8 * 12)
+    monkeypatch.setattr(GridMotion, "CHUNK", 32)
+    monkeypatch.setattr(random_record, "KEEP_BLOCKS", 3)
     model = load_model()
     within = GridMotion(scenario_motion(model, dt=dt), dt)
     ahead = GridMotion(scenario_motion(model, dt=dt), dt)
-    assert ahead.prepare(0.9 * 1024 * dt) == 0.0  # one chunk or less: nothing
-    assert ahead.prepare(1.0) == pytest.approx(3 * 1024 * dt)  # the memory bound: three chunks
+    for g in (within, ahead):  # (blocks of 64 samples, so that a few steps cross several)
+        for _, _, sig in g.motion.terms:
+            if isinstance(sig, RandomRecord):
+                sig.block = 64
+    assert ahead.prepare(2.5 * 64 * dt) == pytest.approx(3 * 64 * dt)  # three blocks cover 2.5
+    assert ahead.prepare(1.0) == pytest.approx(3 * 64 * dt)  # no more than the blocks kept
+    computed = []
+    even = RandomRecord.even
+    monkeypatch.setattr(RandomRecord, "even", lambda self, *a: computed.append(a[0]) or even(self, *a))
     a, b = np.empty((3, 10, 12)), np.empty((3, 10, 12))
-    for k0 in range(0, 5 * 1024, 10):  # five chunks: three prepared, two evaluated as they come
+    for k0 in range(0, 160, 10):  # chunks of grid steps 1-160, inside the prepared blocks: nothing computed
+        ahead.fill(k0, b)
+    assert computed == []
+    for k0 in range(0, 6 * 64, 10):  # the same values as computed as they come, past the blocks too
         within.fill(k0, a)
         ahead.fill(k0, b)
         assert np.array_equal(a, b), k0
