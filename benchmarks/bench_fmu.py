@@ -91,9 +91,9 @@ def engine_run(model, table, h, drive=False, prepared=False):
     and outputs (``Engine.advance_reconstructed``, what the FMU's slave calls, on input buffers that
     persist from step to step as the FMU's do, so its remembered context serves every step; the
     first two steps, which load the kernels, factorise and take the general path, are left out).
-    ``drive``: the scenario's motion added as the slave's ``scenario.drive`` does, its costly part computed ahead for
-    the whole run with ``prepared`` (as the slave does when the master gives a stop time), else
-    chunk by chunk within the steps."""
+    ``drive``: the scenario's motion added as the slave's ``scenario.drive`` does; with ``prepared``
+    its random record computed ahead for the whole run (``GridMotion.prepare``, as the slave does in
+    initialisation), else block by block within the steps."""
     eng = Engine(model, ledger=False)
     nch = len(eng.channels)  # (12, or more with excited clips)
     rec = SupportReconstruction(nch)

@@ -204,10 +204,6 @@ class GridMotion:
         k = round(t / self.dt)
         return k if abs(t - k * self.dt) <= self.GRID_TOLERANCE * self.dt else None
 
-    def _chunk(self, k: int) -> np.ndarray:
-        """(3, CHUNK, width) = u, v, a at the times (k ... k + CHUNK - 1) dt."""
-        return np.stack(self.motion(self.dt * np.arange(k, k + self.CHUNK)))
-
     def prepare(self, t_end: float) -> float:
         """Compute now what is costly in the motion over [0, ``t_end``] (s) (the motion's own
         ``prepare``: a scenario's random records, whose blocks cost ~30 ms each, one every 0.66 s at
@@ -226,7 +222,7 @@ class GridMotion:
             k = k0 + 1 + done
             if self._k0 is None or not (self._k0 <= k < self._k0 + self.CHUNK):
                 self._k0 = k
-                self._values = self._chunk(k)
+                self._values = np.stack(self.motion(self.dt * np.arange(k, k + self.CHUNK)))
             i = k - self._k0
             take = min(m - done, self.CHUNK - i)
             out[:, done : done + take] = self._values[:, i : i + take]
