@@ -8,7 +8,12 @@ Run: .venv/bin/python benchmarks/bench_time.py [--duration 1.0] [--repeat 3] [--
 The installed specimen (docs/installed.md; the same scenario from the static state, the cable on
 the wall in the bends): rtf_installed, us_per_step_installed, mean_active_contacts_installed (and
 by tenth), its contact Newton iterations and stick/slip passes per step, the stick share of its
-closed contacts, engine_setup_installed_s, static_state_s, static_cli_wall_s (``cablecasing static
+closed contacts, engine_setup_installed_s; what bounds rtf_installed whatever the contacts cost:
+us_per_step_installed_contact_free (the same step without contact), us_per_step_installed_block_solves
+(its two block LDLT solves alone), installed_contact_us_per_contact (the contact part per contact,
+beside the budget that rtf 1 leaves it at dt = 1e-5), rtf_installed_bound_at_accurate_dt (the
+rtf at dt = 1.25e-6, the step whose band levels are within 5 %, with contacts that cost nothing, and
+with only the block solves); static_state_s, static_cli_wall_s (``cablecasing static
 installed --json`` in a fresh process) beside cli_help_wall_s (``cablecasing --help``: the
 interpreter and the imports), installed_over_default_step_cost (the two engines alternating in
 0.01 s chunks in one process: the ratio of their step costs, robust to the machine's drift).
@@ -61,12 +66,34 @@ import time
 from multiprocessing import get_context
 
 import numpy as np
+from numba import njit
 
 import cablecasing_core as cc
 from cablecasing_core.model.schema import SUPPORT_OUTPUTS
 from cablecasing_core.studies import octave_rms, paired_difference
 from cablecasing_core.timedomain.engine import Engine
+from cablecasing_core.timedomain.kernels import block_solve
 from cablecasing_core.timedomain.scenario import scenario_motion
+
+
+@njit
+def _block_solve_loop(n, Dinv, L, LT, x):
+    for _ in range(n):
+        block_solve(Dinv, L, LT, x)
+
+
+def block_solves_us(factors, n=20000):
+    """us per step of one block LDLT solve per body (``factors``: each body's (Dinv, L, LT)), in a
+    compiled loop (no Python call per solve; a zero right-hand side stays clear of subnormals)."""
+    total = 0.0
+    for Dinv, L, LT in factors:
+        x = np.zeros(6 * len(Dinv))
+        _block_solve_loop(1, Dinv, L, LT, x)
+        t0 = time.perf_counter()
+        _block_solve_loop(n, Dinv, L, LT, x)
+        total += (time.perf_counter() - t0) / n
+    return total * 1e6
+
 
 p = argparse.ArgumentParser()
 p.add_argument("--duration", type=float, default=1.0)
@@ -162,6 +189,36 @@ print(f"contact_unconverged_steps_installed: {int(failed)}")
 st_hist = eng.history()["contact_state"]
 print(f"stick_share_of_contacts_installed: {np.count_nonzero(st_hist == 1) / max(np.count_nonzero(st_hist), 1):.3f}")
 print(f"engine_setup_installed_s: {t_setup:.3f} (assembly, factors, the static state)")
+
+# What bounds rtf_installed whatever the contact solve costs (docs/performance.md, "The bounds of
+# rtf_installed"): the installed step without contact (the two bodies' Newmark step: predictor,
+# update, reactions, the constant load), and within it the two block-tridiagonal solves, the least
+# an implicit step of these bodies does. At the time step whose band levels the ensemble shows
+# within 5 % (docs/time_domain.md, "The time step on the installed specimen": 1.25e-6 s), real time
+# allows 1.25 us per step.
+ACCURATE_DT = 1.25e-6
+us_installed = min(walls) / (args.duration / DT) * 1e6
+free_walls = []
+for _ in range(args.repeat):
+    eng_free = Engine(installed, dt=DT, contact=False, ledger=False)
+    mo = scenario_motion(installed, dt=DT)
+    t0 = time.perf_counter()
+    eng_free.advance(args.duration, mo)
+    free_walls.append(time.perf_counter() - t0)
+us_free = min(free_walls) / (args.duration / DT) * 1e6
+solves = [b.factors(DT, False)[:3] for b in eng_free.bodies.values()]
+us_solves = min(block_solves_us(solves) for _ in range(args.repeat))
+contacts = float(np.mean(nc))
+print(f"us_per_step_installed_contact_free: {us_free:.2f} (the same step without contact)")
+print(f"us_per_step_installed_block_solves: {us_solves:.2f} (the two bodies' block LDLT solves alone)")
+print(
+    f"installed_contact_us_per_contact: {(us_installed - us_free) / contacts:.2f} (the contact part of a step per "
+    f"contact) against a budget for rtf 1 at dt 1e-5 of {(DT * 1e6 - us_free) / contacts:.2f}"
+)
+print(
+    f"rtf_installed_bound_at_accurate_dt: {ACCURATE_DT * 1e6 / us_free:.3f} (at dt {ACCURATE_DT:g} s with contacts "
+    f"that cost nothing); with only the block solves {ACCURATE_DT * 1e6 / us_solves:.3f}"
+)
 from cablecasing_core.timedomain.static_state import static_state  # noqa: E402
 
 t0 = time.perf_counter()
@@ -184,16 +241,17 @@ def fresh_process_wall_s(argv):
 cli_wall = fresh_process_wall_s(["-m", "cablecasing_core.cli", "static", "installed", "--json"])
 print(f"static_cli_wall_s: {cli_wall:.2f} (cablecasing static installed --json, a fresh process: imports included)")
 # What any process that does what `cablecasing static` does pays before our code runs: the
-# interpreter, numpy, scipy's linalg, sparse and interpolate (the spline of a point route) and numba's
-# first call of a cached kernel (its CPU target's set-up), and their teardown at exit.
+# interpreter, numpy, scipy's linalg and sparse, and numba's first call of a cached kernel (its CPU
+# target's set-up), and their teardown at exit.
 FLOOR = (
-    "import numpy as np, scipy.linalg, scipy.sparse, scipy.interpolate; "
+    "import numpy as np, scipy.linalg, scipy.sparse; "
     "from cablecasing_core.timedomain.kernels._banded_products_and_block_solve import copy_into; "
     "copy_into(np.zeros(3), np.ones(3))"
 )
 floor_wall = fresh_process_wall_s(["-c", FLOOR])
 print(
-    f"static_cli_library_floor_wall_s: {floor_wall:.2f} (the libraries alone: numpy, scipy, numba's first cached call)"
+    f"static_cli_library_floor_wall_s: {floor_wall:.2f} (the libraries alone: numpy, scipy.linalg and sparse, "
+    "numba's first cached call)"
 )
 print(f"static_cli_own_wall_s: {cli_wall - floor_wall:.2f} (the command's own part: its modules, the model, the solve)")
 help_wall = fresh_process_wall_s(["-m", "cablecasing_core.cli", "--help"])

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .routing import SegmentRoute
+from .spline import interpolating_spline
 
 
 @dataclass(frozen=True)
@@ -130,25 +131,20 @@ def build_centerline(points, n_elements, curve="spline", frames=True):
         s_out = s_nodes
         kvec = None  # from the corners of the discretised polyline, below
     else:
-        # Cubic spline in the chord parameter; with k = 3 points fall back to a quadratic.
-        from scipy.interpolate import CubicSpline, make_interp_spline  # (here: a segment route needs none)
-
-        k = 3 if len(P) >= 4 else 2
-        spl = CubicSpline(chord, P, bc_type="not-a-knot") if k == 3 else make_interp_spline(chord, P, k=2)
-        d1 = spl.derivative(1)
-        d2 = spl.derivative(2)
+        # Cubic spline (not-a-knot) in the chord parameter; through 3 points the parabola.
+        spl = interpolating_spline(chord, P)
         # Arc length by dense trapezoidal integration of |r'(u)| (error ~ h^2 on a smooth curve,
         # 200 samples per chord span keeps it below 1e-8 relative), then inverted by interpolation.
         u = np.linspace(0.0, chord[-1], 200 * (len(P) - 1) + 1)
-        speed = np.linalg.norm(d1(u), axis=1)
+        speed = np.linalg.norm(spl(u, 1), axis=1)
         # scipy.integrate.cumulative_trapezoid's own expression, written out: importing
         # scipy.integrate costs ~0.25 s of every command's start (it imports scipy.optimize)
         s_of_u = np.concatenate([[0.0], np.cumsum(np.diff(u) * (speed[1:] + speed[:-1]) / 2.0)])
         s_out = np.linspace(0.0, s_of_u[-1], n_elements + 1)
         u_nodes = np.interp(s_out, s_of_u, u)
         nodes = spl(u_nodes)
-        r1 = d1(u_nodes)
-        r2 = d2(u_nodes)
+        r1 = spl(u_nodes, 1)
+        r2 = spl(u_nodes, 2)
         tangents = r1 / np.linalg.norm(r1, axis=1)[:, None]  # Eq. (33)
         kvec = np.cross(r1, r2) / np.linalg.norm(r1, axis=1)[:, None] ** 3  # kappa b (Eq. 34)
         curvature = np.linalg.norm(kvec, axis=1)

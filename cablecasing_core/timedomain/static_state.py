@@ -243,7 +243,7 @@ class _NoContact:
         return 0.0
 
     def tangent(self, J, k_min=0.0, fresh=None):
-        pass
+        return 0
 
     @property
     def closed(self):
@@ -309,7 +309,9 @@ class _Evaluator:
         bool per node: closed since the last iterate) is taken at least ``k_min`` (N/m): the Hertz
         law's slope vanishes as a contact begins, where Newton would take it for no stiffness at
         all (and push the node deep into the wall); a contact that stays closed gets its true
-        slope, for Newton's quadratic convergence."""
+        slope, for Newton's quadratic convergence. Returns the bandwidth of the entries it touched
+        (the largest |row - column|)."""
+        bw = 0
         for i in np.flatnonzero(self.N > 0.0):
             e = self.elem[i]
             dofs = np.concatenate([self.index["cable"][6 * i : 6 * i + 6], self.index["casing"][6 * e : 6 * e + 12]])
@@ -318,6 +320,8 @@ class _Evaluator:
             keep = dofs >= 0
             d = dofs[keep]
             J[np.ix_(d, d)] -= dF[np.ix_(keep, keep)]
+            bw = max(bw, int(d.max() - d.min()))
+        return bw
 
     def _node_derivative(self, i, kn):
         """d(generalized contact forces)/d(DOFs) (N/m, 18 x 18) of cable node i's contact: its six
@@ -332,8 +336,10 @@ class _Evaluator:
         e, xi, h, N, n = self.elem[i], self.xi[i], self.h[i], self.N[i], self.nrm[i]
         Uc, Us = self.U["cable"], self.U["casing"]
         T0 = self.Tc[i]
-        tr = T0 + np.cross(Uc[6 * i + 3 : 6 * i + 6], T0)
-        tl = np.linalg.norm(tr)
+        # dtheta x T0 = C dtheta (the rotated tangent, small rotations)
+        cross = np.array([[0.0, T0[2], -T0[1]], [-T0[2], 0.0, T0[0]], [T0[1], -T0[0], 0.0]])
+        tr = T0 + cross @ Uc[6 * i + 3 : 6 * i + 6]
+        tl = np.sqrt(tr @ tr)
         t = tr / tl
         A = self.H[i, :3, :]
         Hp, Hm = np.zeros((6, 12)), np.zeros((6, 12))
@@ -347,7 +353,6 @@ class _Evaluator:
         Dx = np.zeros((3, 18))
         Dx[:, :3] = np.eye(3)
         Mt = np.zeros((3, 18))  # dt = (I - t t^T) (dtheta x T0) / |t_raw|
-        cross = np.array([[0.0, T0[2], -T0[1]], [-T0[2], 0.0, T0[0]], [T0[1], -T0[0], 0.0]])  # dtheta x T0
         Mt[:, 3:6] = (np.eye(3) - np.outer(t, t)) @ cross / tl
         Dq = np.zeros((3, 18))
         Dq[:, 6:] = A
@@ -361,20 +366,24 @@ class _Evaluator:
         return dF
 
 
-def banded_solve(J, b):
-    """J^-1 b for the static tangent J (dense, banded by the interleaved unknowns): LAPACK's banded
-    LU (scipy.linalg.solve_banded) over its actual bandwidth, some 50 times fewer operations than a
-    dense solve of the ~400 unknowns, and no threaded level-3 BLAS (which on a loaded machine made
-    a dense solve take 0.1 s instead of 2 ms)."""
-    n = J.shape[0]
+def bandwidth(J):
+    """The largest |i - j| over the nonzero entries of the square matrix J."""
     r, c = np.nonzero(J)
-    bw = int(np.abs(r - c).max()) if len(r) else 0
+    return int(np.abs(r - c).max()) if len(r) else 0
+
+
+def banded_solve(J, b, bw):
+    """J^-1 b for the static tangent J (dense, zero beyond the bandwidth bw: banded by the
+    interleaved unknowns): LAPACK's banded LU (scipy.linalg.solve_banded) over that bandwidth, some
+    50 times fewer operations than a dense solve of the ~400 unknowns, and no threaded level-3 BLAS
+    (which on a loaded machine made a dense solve take 0.1 s instead of 2 ms)."""
+    n = J.shape[0]
     if 4 * bw > n:
         return np.linalg.solve(J, b)
-    ab = np.zeros((2 * bw + 1, n))
-    for k in range(-bw, bw + 1):  # ab[bw + i - j, j] = J[i, j]
-        i = np.arange(max(0, k), min(n, n + k))
-        ab[bw + k, i - k] = J[i, i - k]
+    j = np.arange(n)
+    i = j + np.arange(-bw, bw + 1)[:, None]  # ab[bw + i - j, j] = J[i, j]
+    inside = (i >= 0) & (i < n)
+    ab = np.where(inside, J[np.clip(i, 0, n - 1), j], 0.0)
     return solve_banded((bw, bw), ab, b, check_finite=False)
 
 
@@ -394,6 +403,7 @@ class _Problem:
 
     def __init__(self, Kz, f, p, a, T, ev, k_min=0.0):
         self.Kz, self.f, self.p, self.a, self.T, self.ev, self.k_min = Kz, f, p, a, T, ev, k_min
+        self.bw = bandwidth(Kz)
         self.tension = T > 0.0
 
     def residual(self, x, lam):
@@ -418,10 +428,10 @@ class _Problem:
         """The Newton step of the bordered system [[J, -p], [-a p^T, 1]] (J: K and the contact's
         tangent at the last evaluated state; ``fresh``: the contacts closed since the last iterate)."""
         J = self.Kz.copy()
-        self.ev.tangent(J, self.k_min, fresh)
+        bw = max(self.bw, self.ev.tangent(J, self.k_min, fresh))
         if not self.tension:
-            return np.append(banded_solve(J, -R[:-1]), 0.0)
-        x1, x2 = banded_solve(J, np.column_stack([-R[:-1], self.p])).T
+            return np.append(banded_solve(J, -R[:-1], bw), 0.0)
+        x1, x2 = banded_solve(J, np.column_stack([-R[:-1], self.p]), bw).T
         ds = (-R[-1] + self.a * (self.p @ x1)) / (1.0 - self.a * (self.p @ x2))
         return np.append(x1 + ds * x2, ds)
 
