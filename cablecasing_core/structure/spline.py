@@ -1,5 +1,6 @@
-"""The interpolating spline of a centerline routed through points: a cubic spline with not-a-knot
-ends in the chord parameter, or the parabola through three points.
+"""The interpolating spline of a centerline routed through points, the parametric curve r(s) of
+Eq. (32): a cubic spline with not-a-knot ends in the chord parameter, or the parabola through three
+points (structure/geometry.py re-parametrises it by arc length).
 
 Written here rather than taken from ``scipy.interpolate`` (``CubicSpline``, ``make_interp_spline``,
 which give the same curve: the interpolant is unique, and tests/structure/test_spline.py checks
