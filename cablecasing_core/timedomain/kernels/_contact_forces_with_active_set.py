@@ -123,15 +123,40 @@ def _casing_compliance_row(Ks, Gs, idx, elem, k, nk, W, U):
         _span_rows(Ks, e6k, Gk, 0, ulo, span, U, True)
         _span_rows(Ks, e6k + 6, Gk, 6, ulo, span, U, False)
         for l in range(l0, l1):
-            o = 6 * elem[idx[l]] - lo
-            Gl = Gs[l]
-            for a in range(3):
-                for c in range(3):
-                    s = 0.0
-                    for q in range(12):
-                        s += U[a * SPAN + o + q] * Gl[q, c]
-                    W[3 * k + a, 3 * l + c] += s
+            _casing_block(U, 6 * elem[idx[l]] - lo, Gs[l], W, 3 * k, 3 * l)
         l0 = l1
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def _casing_block(U, o, Gl, W, r0, c0):
+    """W[r0:r0+3, c0:c0+3] += U[:, o:o+12] G_l (U: three rows at stride SPAN, see
+    :func:`_casing_compliance_row`). The nine sums are named locals that advance together over the
+    twelve terms: nine independent chains of multiply-adds instead of one chain of twelve after
+    another, each waiting for the last (there is no re-association; the package docstring), ~2 x
+    fewer cycles per block."""
+    u0, u1, u2 = U[o : o + 12], U[SPAN + o : SPAN + o + 12], U[2 * SPAN + o : 2 * SPAN + o + 12]
+    s00 = s01 = s02 = s10 = s11 = s12 = s20 = s21 = s22 = 0.0
+    for q in range(12):
+        g0, g1, g2 = Gl[q, 0], Gl[q, 1], Gl[q, 2]
+        x0, x1, x2 = u0[q], u1[q], u2[q]
+        s00 += x0 * g0
+        s01 += x0 * g1
+        s02 += x0 * g2
+        s10 += x1 * g0
+        s11 += x1 * g1
+        s12 += x1 * g2
+        s20 += x2 * g0
+        s21 += x2 * g1
+        s22 += x2 * g2
+    W[r0, c0] += s00
+    W[r0, c0 + 1] += s01
+    W[r0, c0 + 2] += s02
+    W[r0 + 1, c0] += s10
+    W[r0 + 1, c0 + 1] += s11
+    W[r0 + 1, c0 + 2] += s12
+    W[r0 + 2, c0] += s20
+    W[r0 + 2, c0 + 1] += s21
+    W[r0 + 2, c0 + 2] += s22
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
