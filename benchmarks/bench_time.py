@@ -190,12 +190,12 @@ st_hist = eng.history()["contact_state"]
 print(f"stick_share_of_contacts_installed: {np.count_nonzero(st_hist == 1) / max(np.count_nonzero(st_hist), 1):.3f}")
 print(f"engine_setup_installed_s: {t_setup:.3f} (assembly, factors, the static state)")
 
-# What bounds rtf_installed whatever the contact solve costs (docs/performance.md, "The bounds of
-# rtf_installed"): the installed step without contact (the two bodies' Newmark step: predictor,
-# update, reactions, the constant load), and within it the two block-tridiagonal solves, the least
-# an implicit step of these bodies does. At the time step whose band levels the ensemble shows
-# within 5 % (docs/time_domain.md, "The time step on the installed specimen": 1.25e-6 s), real time
-# allows 1.25 us per step.
+# What bounds rtf_installed whatever the contact solve costs (docs/performance.md, "What bounds
+# rtf_installed, and the decision on issue 23's speed goals"): the installed step without contact
+# (the two bodies' Newmark step: predictor, update, reactions, the constant load), and within it
+# the two block-tridiagonal solves, the least an implicit step of these bodies does. At the time
+# step whose band levels the ensemble shows within 5 % (docs/time_domain.md, "The time step on the
+# installed specimen": 1.25e-6 s), real time allows 1.25 us per step.
 ACCURATE_DT = 1.25e-6
 us_installed = min(walls) / (args.duration / DT) * 1e6
 free_walls = []

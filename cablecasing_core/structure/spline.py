@@ -3,8 +3,8 @@ Eq. (32): a cubic spline with not-a-knot ends in the chord parameter, or the par
 points (structure/geometry.py re-parametrises it by arc length).
 
 Written here rather than taken from ``scipy.interpolate`` (``CubicSpline``, ``make_interp_spline``,
-which give the same curve: the interpolant is unique, and tests/structure/test_spline.py checks
-both against it): importing scipy.interpolate costs 0.13 s on a quiet machine and 0.4-0.75 s on a
+which give the same curve: the interpolant is unique, and tests/model/test_spline.py checks
+both against it): importing scipy.interpolate costs 0.13 s on a quiet machine and 0.32-0.75 s on a
 slow one (scipy 1.17 imports scipy.optimize with it and parses the docstrings of some 300 functions
 at import), 15-30 % of ``cablecasing static``, and every command that builds a point-routed
 model paid it. The solve is scipy.linalg's banded LAPACK, imported by those commands anyway.
@@ -27,8 +27,8 @@ class PointSpline:
     c: np.ndarray
 
     def __call__(self, u, nu=0):
-        """The curve (nu = 0, m), its first (nu = 1, m/m) or second (nu = 2, 1/m) derivative at u
-        (m; clamped into the knots' range, which the callers never leave)."""
+        """The curve (nu = 0, m), its first (nu = 1, m/m) or second (nu = 2, 1/m) derivative at the
+        parameters u (m, an array); outside the knots' range the end spans' cubics continue."""
         u = np.asarray(u, dtype=float)
         i = np.clip(np.searchsorted(self.knots, u, side="right") - 1, 0, len(self.knots) - 2)
         t = (u - self.knots[i])[:, None]

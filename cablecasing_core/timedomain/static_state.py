@@ -320,7 +320,8 @@ class _Evaluator:
             keep = dofs >= 0
             d = dofs[keep]
             J[np.ix_(d, d)] -= dF[np.ix_(keep, keep)]
-            bw = max(bw, int(d.max() - d.min()))
+            if len(d):
+                bw = max(bw, int(d.max() - d.min()))
         return bw
 
     def _node_derivative(self, i, kn):
