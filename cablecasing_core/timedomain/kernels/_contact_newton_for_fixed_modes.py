@@ -50,20 +50,35 @@ def _dense_solve(A, b, m, x):
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
-def relative_displacement(W, P, m, d):
-    """d = W[:m, :m] P: the contact points' relative displacements (m) under the forces P (N), m =
-    3 per contact. Three rows at a time (one contact's), whose sums advance together: three
-    independent chains of multiply-adds share each P[j] (each row's own sum is the same as alone,
-    term by term, so the same bits)."""
-    for i in range(0, m, 3):
-        w0, w1, w2 = W[i], W[i + 1], W[i + 2]
+def matrix_times_vector(A, x, m, y):
+    """y = A[:m, :m] x. Three rows at a time, whose sums advance together: three independent chains
+    of multiply-adds share each x[j] instead of one chain after another, each waiting for its last
+    result (there is no re-association: the package docstring); the rows left over one by one.
+    Each row's sum takes its terms in order, as alone, so the bits do not depend on the grouping."""
+    i = 0
+    while i + 3 <= m:
+        a0, a1, a2 = A[i], A[i + 1], A[i + 2]
         s0 = s1 = s2 = 0.0
         for j in range(m):
-            p = P[j]
-            s0 += w0[j] * p
-            s1 += w1[j] * p
-            s2 += w2[j] * p
-        d[i], d[i + 1], d[i + 2] = s0, s1, s2
+            xj = x[j]
+            s0 += a0[j] * xj
+            s1 += a1[j] * xj
+            s2 += a2[j] * xj
+        y[i], y[i + 1], y[i + 2] = s0, s1, s2
+        i += 3
+    for i in range(i, m):
+        a0 = A[i]
+        s0 = 0.0
+        for j in range(m):
+            s0 += a0[j] * x[j]
+        y[i] = s0
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def relative_displacement(W, P, m, d):
+    """d = W[:m, :m] P: the contact points' relative displacements (m) under the forces P (N), m =
+    3 per contact (one contact's three rows at a time, :func:`matrix_times_vector`)."""
+    matrix_times_vector(W, P, m, d)
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
@@ -135,26 +150,6 @@ def reduced_delassus(W, nk, nrm, ta, tb, sdir, mu, off, Q):
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
-def _product(Q, x, r, y):
-    """y = Q[:r, :r] x, two rows at a time whose sums advance together (as in
-    :func:`relative_displacement`: each row's sum term by term as alone)."""
-    for i in range(0, r - 1, 2):
-        q0, q1 = Q[i], Q[i + 1]
-        s0 = s1 = 0.0
-        for j in range(r):
-            xj = x[j]
-            s0 += q0[j] * xj
-            s1 += q1[j] * xj
-        y[i], y[i + 1] = s0, s1
-    if r % 2:
-        q0 = Q[r - 1]
-        s0 = 0.0
-        for j in range(r):
-            s0 += q0[j] * x[j]
-        y[r - 1] = s0
-
-
-@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def _residual(
     Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, with_J
 ):
@@ -163,7 +158,7 @@ def _residual(
     rows (m/s) are scaled by 1 / (2/dt W_kk) and touch rows (m) by 1 / W_kk to newtons like them.
     Returns the norm of R (N)."""
     c2 = 2.0 / dt
-    _product(Q, x, r, y)
+    matrix_times_vector(Q, x, r, y)
     norm = 0.0
     for k in range(nk):
         i = off[k]
