@@ -17,6 +17,11 @@ with only the block solves); static_state_s, static_cli_wall_s (``cablecasing st
 installed --json`` in a fresh process) beside cli_help_wall_s (``cablecasing --help``: the
 interpreter and the imports), installed_over_default_step_cost (the two engines alternating in
 0.01 s chunks in one process: the ratio of their step costs, robust to the machine's drift).
+At its default settings (the sub-steps around stick-slip events, contact.event_substeps):
+installed_band_max_rel_err (the worst Table 3 band of seeds 1 and 2 against the finest step of
+``installed_reference_levels.json``, 3.125e-7 s, written by installed_time_step.py --json; with
+``--duration 1.0`` only, the reference's) with its per-band values, the reference's own distance from
+6.25e-7 s, and installed_refined_share (the steps recomputed in sub-steps).
 ``--model`` chooses the model of the accuracy checks and the ensemble below (default: the built-in
 specimen).
 
@@ -62,8 +67,10 @@ Run: .venv/bin/python benchmarks/bench_time.py --duration 1.0 --ensemble 16   (1
 """
 
 import argparse
+import json
 import time
 from multiprocessing import get_context
+from pathlib import Path
 
 import numpy as np
 from numba import njit
@@ -190,6 +197,30 @@ st_hist = eng.history()["contact_state"]
 print(f"stick_share_of_contacts_installed: {np.count_nonzero(st_hist == 1) / max(np.count_nonzero(st_hist), 1):.3f}")
 print(f"engine_setup_installed_s: {t_setup:.3f} (assembly, factors, the static state)")
 
+# Accuracy at the default settings (docs/time_domain.md, "The time step on the installed specimen"):
+# the band levels of seeds 1 and 2 against the finest step of installed_reference_levels.json
+# (3.125e-7 s without sub-steps; its own distance from 6.25e-7 printed beside, what it leaves open)
+reference = json.loads((Path(__file__).parent / "installed_reference_levels.json").read_text())
+if not args.speed_only and args.duration == reference["duration_s"]:
+    errs, spread = [], []
+    for seed in (1, 2):
+        if seed != installed.scenario["seed"]:
+            m = installed.with_overrides({"scenario.seed": seed})
+            eng = Engine(m, dt=DT, ledger=False, record=True)
+            eng.advance(args.duration, scenario_motion(m, dt=DT))
+        F = eng.history()["support_forces"][:, SUPPORT_OUTPUTS.index("casing.B.Fz")]
+        t = DT * np.arange(1, len(F) + 1)
+        level = octave_rms(F[t > reference["skip_s"]], 1 / DT).rms
+        ref = reference["levels_N"][str(seed)]
+        errs.append(np.abs(level / np.array(ref["dt3.125e-07"]) - 1))
+        spread.append(np.abs(np.array(ref["dt6.25e-07"]) / np.array(ref["dt3.125e-07"]) - 1))
+    worst, spread = np.max(errs, axis=0), np.max(spread, axis=0)
+    print(f"installed_band_max_rel_err: {worst.max():.4f} (seeds 1-2, against 3.125e-7 s)")
+    print(f"installed_band_max_rel_err_octaves_3_9: {worst[2:].max():.4f}")
+    print("installed_band_rel_err_per_band:", " ".join(f"{x:.4f}" for x in worst))
+    print("installed_reference_spread_per_band:", " ".join(f"{x:.4f}" for x in spread), "(6.25e-7 against 3.125e-7)")
+    print(f"installed_refined_share: {eng.refined_steps / (args.duration / DT):.3f} (steps recomputed in sub-steps)")
+
 # What bounds rtf_installed whatever the contact solve costs (docs/performance.md, "What bounds
 # rtf_installed, and the decision on issue 23's speed goals"): the installed step without contact
 # (the two bodies' Newmark step: predictor, update, reactions, the constant load), and within it
@@ -271,6 +302,29 @@ for k in range(int(round(args.duration / chunk))):
     ratios.append(walls["installed"] / walls["default"])
 q = np.percentile(ratios[min(10, len(ratios) // 2) :], [25, 50, 75])  # without the first 0.1 s: contacts build up
 print(f"installed_over_default_step_cost: {q[1]:.2f} (quartiles {q[0]:.2f}-{q[2]:.2f}, per 0.01 s chunk, alternating)")
+
+# The default settings of the installed specimen (1e-5 s, the steps around stick-slip events in 8
+# sub-steps) against the uniform step of the same accuracy (1.25e-6 s, docs/time_domain.md), and
+# against the plain 1e-5 s step without sub-steps, alternating in 0.01 s chunks in this process.
+variants = {
+    "default": Engine(installed, dt=DT, ledger=False),
+    "fine": Engine(installed.with_overrides({"contact.event_substeps": 1}), dt=ACCURATE_DT, ledger=False),
+    "plain": Engine(installed.with_overrides({"contact.event_substeps": 1}), dt=DT, ledger=False),
+}
+vmotions = {"default": motions["installed"], "fine": scenario_motion(installed, dt=ACCURATE_DT)}
+vmotions["plain"] = motions["installed"]
+cost = {"fine": [], "plain": []}
+for k in range(int(round(min(args.duration, 0.3) / chunk))):
+    walls = {}
+    for name in list(variants) if k % 2 == 0 else list(variants)[::-1]:
+        t0 = time.perf_counter()
+        variants[name].advance(chunk, vmotions[name])
+        walls[name] = time.perf_counter() - t0
+    for name in cost:
+        cost[name].append(walls["default"] / walls[name])
+for name, what in (("fine", "a uniform 1.25e-6 s, the same accuracy"), ("plain", "1e-5 s without sub-steps")):
+    q = np.percentile(cost[name][5:], [25, 50, 75])
+    print(f"installed_default_over_{name}_cost: {q[1]:.2f} (quartiles {q[0]:.2f}-{q[2]:.2f}; against {what})")
 if args.speed_only:
     raise SystemExit(0)
 model = cc.load_model(args.model)  # the accuracy checks and the ensemble below

@@ -8,15 +8,24 @@ without an ensemble. Runs the default scenario of a model (default: ``installed`
 casing.B.Fz after ``--skip`` s (N), their relative difference from the finest step, the contacts
 per step, the stick share of the closed contacts and the contact Newton iterations per step.
 
-Run: .venv/bin/python benchmarks/installed_time_step.py [--dts 1e-5 5e-6 2.5e-6 1.25e-6] [--seed 1]
+A run is ``DT`` or ``DT:SUBSTEPS`` (``contact.event_substeps``: the steps in which a contact
+switches between stick and slip recomputed in that many sub-steps; docs/time_domain.md); the finest
+DT without sub-steps is the reference. Each run also prints its wall time and the share of its
+steps that were recomputed.
+
+Run: .venv/bin/python benchmarks/installed_time_step.py [--dts 1e-5 1e-5:8 2.5e-6 6.25e-7] [--seed 1]
 [--duration 1.0] [--set contact.damping=0] (about 2 min for the default steps on the shared machine)
 """
 
 import argparse
+import json
+import time
 
 import numpy as np
 
 import cablecasing_core as cc
+from cablecasing_core.files import write_text
+from cablecasing_core.model.load import toml_value
 from cablecasing_core.model.schema import SUPPORT_OUTPUTS
 from cablecasing_core.studies import octave_rms
 from cablecasing_core.timedomain.engine import Engine
@@ -24,31 +33,47 @@ from cablecasing_core.timedomain.scenario import scenario_motion
 
 p = argparse.ArgumentParser()
 p.add_argument("--model", default="installed")
-p.add_argument("--dts", type=float, nargs="+", default=[1e-5, 5e-6, 2.5e-6, 1.25e-6])
+p.add_argument("--dts", nargs="+", default=["1e-5", "5e-6", "2.5e-6", "1.25e-6"], help="DT or DT:SUBSTEPS (s, 1)")
 p.add_argument("--seed", type=int, default=1)
 p.add_argument("--duration", type=float, default=1.0)
 p.add_argument("--skip", type=float, default=0.06, help="s left out (0.06: whole periods of the 50 Hz drive)")
 p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+p.add_argument(
+    "--json", help="write the band levels of every run to this file (bench_time.py reads it as the reference)"
+)
 args = p.parse_args()
-over = {k: float(v) for k, v in (kv.split("=", 1) for kv in args.set)}
+over = {k: toml_value(v) for k, v in (kv.split("=", 1) for kv in args.set)}
 model = cc.load_model(args.model).with_overrides({**over, "scenario.excitation.casing_random.seed": args.seed})
 col = SUPPORT_OUTPUTS.index("casing.B.Fz")
+runs = sorted(
+    ((float(d), int(n or 1)) for d, _, n in (x.partition(":") for x in args.dts)), key=lambda r: (-r[0], r[1])
+)
 levels = {}
-for dt in sorted(args.dts, reverse=True):
-    eng = Engine(model, dt=dt, ledger=False, record=True)
+for dt, nsub in runs:
+    eng = Engine(model.with_overrides({"contact.event_substeps": nsub}), dt=dt, ledger=False, record=True)
+    wall = time.perf_counter()
     eng.advance(args.duration, scenario_motion(model, dt=dt))
+    wall = time.perf_counter() - wall
+    name = f"dt{dt:g}" + (f"_sub{nsub}" if nsub > 1 else "")
     h = eng.history(sparse=True)
     F = h["support_forces"][:, col]
     t = dt * np.arange(1, len(F) + 1)
-    levels[dt] = octave_rms(F[t > args.skip], 1 / dt).rms
+    levels[name] = octave_rms(F[t > args.skip], 1 / dt).rms
     kept = t[h["contact_step"]] > args.skip  # the sparse contact entries after the skip
     s = h["contact_state"][kept]
     steps = args.duration / dt
-    print(f"octave_rms_dt{dt:g}: " + " ".join(f"{x:.5g}" for x in levels[dt]))
-    print(f"contacts_per_step_dt{dt:g}: {len(s) / np.count_nonzero(t > args.skip):.3f}")
-    print(f"stick_share_dt{dt:g}: {np.count_nonzero(s == 1) / max(np.count_nonzero(s), 1):.3f}")
-    print(f"contact_newton_iterations_per_step_dt{dt:g}: {eng.solver_counts[0] / steps:.3f}")
-finest = min(levels)
-for dt in sorted(levels, reverse=True)[:-1]:
-    r = (levels[dt] - levels[finest]) / levels[finest]
-    print(f"rel_diff_dt{dt:g}_vs_dt{finest:g}: " + " ".join(f"{x:+.4f}" for x in r))
+    print(f"octave_rms_{name}: " + " ".join(f"{x:.5g}" for x in levels[name]))
+    print(f"contacts_per_step_{name}: {len(s) / np.count_nonzero(t > args.skip):.3f}")
+    print(f"stick_share_{name}: {np.count_nonzero(s == 1) / max(np.count_nonzero(s), 1):.3f}")
+    print(f"contact_newton_iterations_per_step_{name}: {eng.solver_counts[0] / steps:.3f}")
+    print(f"refined_share_{name}: {eng.refined_steps / steps:.4f}")
+    print(f"wall_s_{name}: {wall:.2f}")
+if args.json:
+    meta = {"model": args.model, "seed": args.seed, "duration_s": args.duration, "skip_s": args.skip, "set": over}
+    write_text(args.json, json.dumps({**meta, "levels_N": {k: v.tolist() for k, v in levels.items()}}, indent=1))
+finest = f"dt{min(dt for dt, n in runs if n == 1):g}"
+for name in levels:
+    if name != finest:
+        r = (levels[name] - levels[finest]) / levels[finest]
+        print(f"rel_diff_{name}_vs_{finest}: " + " ".join(f"{x:+.4f}" for x in r))
+        print(f"max_abs_rel_diff_{name}_vs_{finest}: {np.abs(r).max():.4f}")

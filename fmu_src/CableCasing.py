@@ -540,6 +540,14 @@ class CableCasing(Fmi2Slave):
         return False
 
     def fmi2_terminate(self):
+        eng = self._engine
+        if eng is not None and eng.contact and eng.time > 0:
+            steps = round(eng.time / eng.dt)
+            self.log(
+                f"contact events: {eng.refined_steps} of {steps} steps of solver.dt = {eng.dt!r} s recomputed in "
+                f"{eng.event_substeps} sub-steps (contact.event_substeps; docs/time_domain.md, Events inside the step)",
+                Fmi2Status.ok,
+            )
         return OK
 
     def fmi2_reset(self):

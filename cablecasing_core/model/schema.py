@@ -48,7 +48,8 @@ SUPPORT_TYPES = ("clamped", "isolator", "free")
 DIRECTIONS = ("x", "y", "z")
 #: The components of a mount's stiffness and damping: its support's local axes (mount_element.py)
 MOUNT_AXES = ("axial", "lateral_1", "lateral_2")
-CONTACT_LAWS = ("hertz", "linear")
+#: the contact laws; a law's index here is its code in the kernels (ContactLaw.law)
+CONTACT_LAWS = ("hertz", "linear", "hunt_crossley")
 EXCITATION_KINDS = ("random", "harmonic", "impulse", "csv")
 CSV_QUANTITIES = ("displacement", "velocity", "acceleration")
 SECTIONS = ("geometry", "casing", "cable", "contact", "loads", "scenario")
@@ -438,7 +439,9 @@ _KEYS = [
         "str",
         "hertz",
         "",
-        "normal contact law: Hertz (Eq. 29, from both bodies' moduli and radii) or linear (Eq. 24)",
+        "normal contact law: Hertz (Eq. 29, from both bodies' moduli and radii) or linear (Eq. 24), each with "
+        "contact.damping while compressing (Eq. 16); or hunt_crossley: Hertz's force times (1 + 3/2 alpha g_dot), "
+        "alpha = contact.hunt_crossley_alpha, continuous at first touch (docs/time_domain.md)",
         Choice(*CONTACT_LAWS),
     ),
     KeySpec(
@@ -458,6 +461,15 @@ _KEYS = [
         Number(ge=0, le=1e12, unit="kg/s"),
     ),
     KeySpec(
+        "contact.hunt_crossley_alpha",
+        "float",
+        10.0,
+        "s/m",
+        "damping factor alpha of the Hunt-Crossley law (contact.law = hunt_crossley): N = k g^1.5 (1 + 3/2 alpha "
+        "g_dot); an impact at v_in rebounds with restitution e ~ 1 - alpha v_in",
+        Number(ge=0, le=1e6, unit="s/m"),
+    ),
+    KeySpec(
         "contact.friction",
         "float",
         0.15,
@@ -474,6 +486,16 @@ _KEYS = [
         "tangential relative speed below which a contact sticks (Section 2.1)",
         Number(ge=0, le=1e3, unit="m/s"),
         plausible=(0.0, 0.1, "a contact that sticks up to this speed hardly ever slips"),
+    ),
+    KeySpec(
+        "contact.event_substeps",
+        "int",
+        8,
+        "1",
+        "a Newmark step in which a contact switches between stick and slip, or slips so slowly that its "
+        "friction could reverse the slip within the step, is recomputed in this many equal sub-steps "
+        "(1: never; docs/time_domain.md, Events inside the step)",
+        Number(ge=1, le=64, integer=True),
     ),
     KeySpec(
         "scenario.duration",

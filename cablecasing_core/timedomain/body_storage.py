@@ -254,11 +254,12 @@ class BodyStorage:
 _DUMMY_BLOCK = np.zeros((0, 6, 6))
 
 
-def body_arrays(body, dt, contact, fc):
+def body_arrays(body, dt, contact, fc, nsub=1):
     """The step loop's record of ``body`` (a :class:`BodyStorage`, or None for an absent body) at
     time step ``dt`` (s), with the dense compliance when ``contact``, and ``fc`` the array of its
-    generalized contact forces (N, N.m): :class:`kernels.BodyArrays`. A body that is absent, or has
-    no free DOF, is off (its arrays are placeholders of the right types)."""
+    generalized contact forces (N, N.m): :class:`kernels.BodyArrays`, with the factors of the
+    sub-step dt / nsub of a step recomputed around a contact event (the same arrays when nsub is 1).
+    A body that is absent, or has no free DOF, is off (its arrays are placeholders of the right types)."""
     if body is None or body.nf == 0:
         z = np.zeros(1)
         i0 = np.zeros(0, np.int64)
@@ -272,13 +273,18 @@ def body_arrays(body, dt, contact, fc):
             sup=np.zeros((0, 2, 1)), sup_lo=i0, cpl_i=np.zeros((2, 0), np.int64), cpl_v=np.zeros(0), fc=fc,
             mi=np.zeros((0, 5), np.int64), mKC=np.zeros((0, 2, 6, 6)), mb=np.zeros((0, 2, 6)), mF=np.zeros((0, 6)),
             loaded=False, fext=z, uext=z,
+            fDinv=_DUMMY_BLOCK, fL=_DUMMY_BLOCK, fLT=_DUMMY_BLOCK, fKinv=np.zeros((n, n)), fuext=z,
         )  # fmt: skip
     Dinv, L, LT, inv = body.factors(dt, contact)
     uext = body.load_response(dt) if body.loaded else np.zeros(1)
+    fine = (Dinv, L, LT, inv, uext)
+    if nsub > 1:
+        fine = (*body.factors(dt / nsub, contact), body.load_response(dt / nsub) if body.loaded else uext)
     return K.BodyArrays(
         on=True, Md=body.Md, Kd=body.Kd, Dinv=Dinv, L=L, LT=LT, g0=body.g0, ng=body.ng, f0=body.f0, nf=body.nf,
         alpha=body.alpha, beta=body.beta, U=body.U, V=body.V, A=body.A, pres=body.pres, pchan=body.pchan,
         pslot=body.pslot, Kinv=inv, sup=body.sup, sup_lo=body.sup_lo, cpl_i=body.cpl_i, cpl_v=body.cpl_v, fc=fc,
         mi=body.mi, mKC=body.mKC, mb=body.mb, mF=body.mF,
         loaded=body.loaded, fext=body.f if body.loaded else np.zeros(1), uext=uext,
+        fDinv=fine[0], fL=fine[1], fLT=fine[2], fKinv=fine[3], fuext=fine[4],
     )  # fmt: skip

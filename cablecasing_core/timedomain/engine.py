@@ -27,10 +27,11 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import ModelError, SimulationError
-from ..model.schema import CHANNELS, OUTPUTS, channels_of, lookup, outputs_of
+from ..model.schema import CHANNELS, CONTACT_LAWS, OUTPUTS, channels_of, lookup, outputs_of
 from ..model.validators import seconds
 from . import kernels as K
 from .body_storage import FACTOR_CACHE_SIZE, BodyStorage, BoundedCache, body_arrays
+from .support_motion import _coefficient_matrix
 
 if TYPE_CHECKING:
     from ..model import Model
@@ -118,8 +119,15 @@ class Engine:
             self.Rs = np.zeros((0, 3, 3))
             self.Ls = np.zeros(0)
             self.gap = self.r_in = self.r_cable = self.k_hertz = 0.0
-        self.law = 0 if c["law"] == "hertz" else 1
-        self.k_lin, self.c_n, self.mu, self.v_stick = c["stiffness"], c["damping"], c["friction"], c["stick_velocity"]
+        self.law = CONTACT_LAWS.index(c["law"])  # the kernels' code of the law
+        self.k_lin, self.mu, self.v_stick = c["stiffness"], c["friction"], c["stick_velocity"]
+        # the damper's coefficient: c_n (kg/s, Eq. 16), or Hunt-Crossley's 3/2 alpha (s/m)
+        self.c_n = 1.5 * c["hunt_crossley_alpha"] if c["law"] == "hunt_crossley" else c["damping"]
+        #: sub-steps of a step in which a contact switches between stick and slip (1: none)
+        self.event_substeps = int(c["event_substeps"])
+        #: the sub-steps of a recomputed step after the first keep the Delassus matrix while the same
+        #: contacts are closed (docs/time_domain.md, "Events inside the step"); False recomputes it
+        self.reuse_delassus = True
         self._hist = []
         self._snap = None  # roll-back buffer of advance (see snapshot)
         self._ws = K.contact_workspace(len(self.Xc))
@@ -164,9 +172,10 @@ class Engine:
                 ("ledger", (K.LEDGER_SIZE,)),
                 ("contact_time", (nn,)),
                 ("_info", (K.INFO_SIZE,)),
+                ("chan", (3, len(self.channels))),
             )
         ]
-        ints = [(self, "cstate", (nn,)), (self, "celem", (nn,))]
+        ints = [(self, "cstate", (nn,)), (self, "celem", (nn,)), (self, "crefine", (1,))]
         for items, dtype, name in ((floats, float, "_fbuf"), (ints, np.int64, "_ibuf")):
             buf = np.zeros(sum(int(np.prod(shape)) for _, _, shape in items), dtype)
             o = 0
@@ -178,6 +187,12 @@ class Engine:
         # the step loop's info array (K.INFO_*): what failed, then the solver counters: contact Newton
         # iterations, stick/slip passes, unconverged steps
         self.solver_counts = self._info[K.INFO_NEWTON_ITERATIONS : K.INFO_UNCONVERGED_STEPS + 1]
+
+    @property
+    def refined_steps(self) -> int:
+        """Steps recomputed in :attr:`event_substeps` sub-steps around a stick-slip event since
+        the start (docs/time_domain.md, "Events inside the step")."""
+        return int(self._info[K.INFO_REFINED_STEPS])
 
     # -------------------------------------------------------------------------------- state
     def _install(self, model):
@@ -220,7 +235,10 @@ class Engine:
                 self.fcc[:] = st.generalized_contact["cable"]
         self._pot0 = self.contact_potential()
 
-    _ARRAYS = ("cstate", "celem", "cxi", "Pn", "vrel", "Nn", "gn", "fcs", "fcc", "reac", "ledger", "contact_time")
+    _ARRAYS = (
+        "cstate", "celem", "cxi", "Pn", "vrel", "Nn", "gn", "fcs", "fcc", "reac", "ledger", "contact_time", "chan",
+        "crefine",
+    )  # fmt: skip
 
     def get_state(self) -> dict[str, np.ndarray]:
         """The complete state as ``{name: array}`` (copies): time, U/V/A of each body, contact
@@ -309,10 +327,13 @@ class Engine:
                 self.gn,
                 self.contact_time,
                 self._ws,
+                self.chan,
+                _coefficient_matrix(dt),
+                self.crefine,
             )
             args = (
-                body_arrays(self.bodies.get("casing"), dt, self.contact, self.fcs),
-                body_arrays(self.bodies.get("cable"), dt, self.contact, self.fcc),
+                body_arrays(self.bodies.get("casing"), dt, self.contact, self.fcs, law.nsub),
+                body_arrays(self.bodies.get("cable"), dt, self.contact, self.fcc, law.nsub),
                 law,
                 contact,
                 self.reac,
@@ -337,7 +358,7 @@ class Engine:
         """The contact law's record (from the attributes, which a caller may change between steps)."""
         return K.ContactLaw(
             self.contact, self.gap, self.r_in, self.r_cable, self.law, self.k_lin, self.k_hertz, self.c_n, self.mu,
-            self.v_stick,
+            self.v_stick, self.event_substeps if self.contact else 1, self.reuse_delassus,
         )  # fmt: skip
 
     def _raise_for_status(self, status, up, vp, ap, times):
@@ -390,6 +411,10 @@ class Engine:
             if self.time == 0.0 and not self.ledger.any():
                 kin, strain = (sum(x) for x in zip(*(b.energy() for b in self.bodies.values())))
                 self.ledger[K.LEDGER_START_ENERGY] = kin + strain + self.contact_potential()
+                # the supports' state at the start: where a recomputed first step's sub-steps begin
+                for row, x in zip(self.chan, motion(np.array([self.time]))):
+                    x = np.asarray(x, dtype=float).reshape(-1)
+                    row[: min(len(x), len(row))] = x[: len(row)]
             for dt, m in segments:
                 t = self.time
                 for j0 in range(0, m, self.CHUNK):

@@ -44,7 +44,9 @@ class SimulationResult:
     normal_force (N) and penetration (m) per cable node; contact_time (s per cable node: the
     highest-contact-area histogram of Fig. 22); curvature (1/m per node); arc_length (m per node);
     energies (J); inputs: {name: (n,)} the support motion of the driven channels at ``time``
-    (``casing.A.az`` m/s2 etc., ``model.schema.INPUTS``).
+    (``casing.A.az`` m/s2 etc., ``model.schema.INPUTS``); solver: what the step loop did, ``steps``
+    (of dt), ``refined_steps`` (recomputed in ``event_substeps`` sub-steps around a contact event,
+    docs/time_domain.md), the contact Newton's ``newton_iterations`` and ``unconverged_steps``.
     """
 
     time: np.ndarray
@@ -58,6 +60,7 @@ class SimulationResult:
     energies: dict
     inputs: dict = field(default_factory=dict)
     force_names: tuple = SUPPORT_OUTPUTS
+    solver: dict = field(default_factory=dict)
 
     def support_force(self, name: str) -> np.ndarray:
         """History of one support output, e.g. ``"casing.B.Fz"`` or a clip's ``"casing.clip0.Fy"``
@@ -190,7 +193,21 @@ def simulate(
         energies=eng.energies(),
         inputs={name: table[:, j] for j, name in enumerate(inputs)},
         force_names=SUPPORT_OUTPUTS + clip_outputs(model),
+        solver=solver_report(eng, n),
     )
+
+
+def solver_report(eng: Engine, steps: int) -> dict:
+    """What the engine's step loop did over ``steps`` steps: {steps, event_substeps, refined_steps,
+    newton_iterations, unconverged_steps} (counts)."""
+    its, _, failed = (int(x) for x in eng.solver_counts)
+    return {
+        "steps": int(steps),
+        "event_substeps": eng.event_substeps,
+        "refined_steps": eng.refined_steps,
+        "newton_iterations": its,
+        "unconverged_steps": failed,
+    }
 
 
 def simulate_sampled(

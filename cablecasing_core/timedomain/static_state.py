@@ -33,7 +33,7 @@ import numpy as np
 from scipy.linalg import solve_banded
 
 from ..errors import SimulationError
-from ..model.schema import BODY_NAMES, FORCE_NAMES, SUPPORT_NAMES, SUPPORT_OUTPUTS
+from ..model.schema import BODY_NAMES, CONTACT_LAWS, FORCE_NAMES, SUPPORT_NAMES, SUPPORT_OUTPUTS
 from . import kernels as K
 
 if TYPE_CHECKING:
@@ -126,7 +126,7 @@ def _law(model):
     from .engine import hertz_constant
 
     c = model.contact
-    return (0 if c["law"] == "hertz" else 1), c["stiffness"], hertz_constant(model)
+    return CONTACT_LAWS.index(c["law"]), c["stiffness"], hertz_constant(model)
 
 
 def solve_static(model: Model, systems: dict, contact: bool) -> StaticState:

@@ -21,7 +21,26 @@ from cablecasing_core.model.schema import (
 
 ROOT = Path(__file__).resolve().parents[2]
 # the SI units the FMU's UnitDefinitions know (build_fmu.UNITS), and "" for text and booleans
-FMI_UNITS = {"", "1", "m", "m/s", "m/s2", "s", "1/s", "Hz", "rad", "N", "N.m", "J", "Pa", "kg/m3", "kg/s", "N/m", "m4"}
+FMI_UNITS = {
+    "",
+    "1",
+    "m",
+    "m/s",
+    "m/s2",
+    "s",
+    "1/s",
+    "Hz",
+    "rad",
+    "N",
+    "N.m",
+    "J",
+    "Pa",
+    "kg/m3",
+    "kg/s",
+    "s/m",
+    "N/m",
+    "m4",
+}
 
 
 def leaves(node, prefix=""):

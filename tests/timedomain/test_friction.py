@@ -26,7 +26,7 @@ def belt_run(v_stick, T, dt=1e-5):
     Pn, Nn, gn, diag = np.zeros((1, 3)), np.zeros(1), np.zeros(1), np.zeros(6)
     fcc, fcs = np.zeros(6), np.zeros(12)
     ws = K.contact_workspace(1)  # the solve's scratch, reused as the step loop does
-    law = (gap, gap + 1e-3, 1, k_lin, 0.0, 0.0, MU, v_stick, dt)  # linear law, no contact damping
+    law = (gap, gap + 1e-3, 1, k_lin, 0.0, 0.0, MU, v_stick, dt, False)  # linear law, no contact damping
     u, v, a = 0.0, V_BELT, 0.0  # start stuck to the belt, spring relaxed
     xs, states, fric = [], [], []
     for n in range(int(round(T / dt))):

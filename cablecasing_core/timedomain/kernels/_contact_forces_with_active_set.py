@@ -27,6 +27,7 @@ from ._step_loop_contract import (
     DIAG_MAX_PENETRATION,
     DIAG_NEWTON_FAILED,
     DIAG_NEWTON_ITERATIONS,
+    DIAG_SLOW_SLIP,
     OPEN,
     SLIP,
     STICK,
@@ -71,6 +72,7 @@ def contact_workspace(nn):
         np.zeros(max(nn, 1) + 1, np.int64),
         z(nn),
         z(3 * SPAN),
+        np.full(max(nn, 1) + 1, -1, np.int64),
     )
 
 
@@ -200,6 +202,28 @@ def _cable_compliance_block(Kinv, dof_k, ak0, ak1, ak2, dof_l, al0, al1, al2, W,
     W[ok + 2, ol + 2] += t22 + t23 * ak1 - t24 * ak0
 
 
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def _delassus(Kc, Ks, Gs, idx, elem, arm_c, nk, W, Uspan):
+    """The Delassus matrix W (3 nk x 3 nk, m/N) = Bc^T Kc Bc + Gs^T Ks Gs of the nk contacts: the
+    cable's blocks on the nonzero entries of B (``_cable_compliance_block``), the casing's by rows
+    (``_casing_compliance_row``), the lower triangle mirrored."""
+    m = 3 * nk
+    for i in range(m):
+        for j in range(m):
+            W[i, j] = 0.0
+    for k in range(nk):
+        ik = idx[k]
+        ak0, ak1, ak2 = arm_c[k, 0], arm_c[k, 1], arm_c[k, 2]
+        for l in range(k, nk):
+            al0, al1, al2 = arm_c[l, 0], arm_c[l, 1], arm_c[l, 2]
+            _cable_compliance_block(Kc, 6 * ik, ak0, ak1, ak2, 6 * idx[l], al0, al1, al2, W, 3 * k, 3 * l)
+        _casing_compliance_row(Ks, Gs, idx, elem, k, nk, W, Uspan)
+        for l in range(k + 1, nk):
+            for r in range(3):
+                for c in range(3):
+                    W[3 * l + c, 3 * k + r] = W[3 * k + r, 3 * l + c]
+
+
 @njit(**NO_RT)
 def solve_contact_forces(
     Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, par, state, elem, xi_arr, Pn, vrel, Nout, gout, fcc, fcs, diag, ws
@@ -220,7 +244,7 @@ def solve_contact_forces(
     arguments as a call with a built tuple (CALL_FUNCTION_EX), and numba then increments and
     decrements the reference count of every array in it around each call, ~100 atomic operations
     per step."""
-    gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt = par
+    gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt, reuse = par
     (
         idx,
         gst,
@@ -255,6 +279,7 @@ def solve_contact_forces(
         off,
         wkk,
         Uspan,
+        held,
     ) = ws
     nn = Xc.shape[0]
     nk = 0
@@ -313,6 +338,7 @@ def solve_contact_forces(
     fill(fcs, 0.0)
     diag[DIAG_DAMPING_POWER] = 0.0
     diag[DIAG_FRICTION_POWER] = 0.0
+    diag[DIAG_SLOW_SLIP] = 0.0
     if nk == 0:
         diag[DIAG_MAX_PENETRATION] = 0.0
         for i in range(nn):
@@ -335,20 +361,20 @@ def solve_contact_forces(
             G[r, 1] = -H[1, r] - (H[5, r] * s0 - H[3, r] * s2)
             G[r, 2] = -H[2, r] - (H[3, r] * s1 - H[4, r] * s0)
     m = 3 * nk
-    for i in range(m):
-        for j in range(m):
-            W[i, j] = 0.0
-    for k in range(nk):
-        ik = idx[k]
-        ak0, ak1, ak2 = arm_c[k, 0], arm_c[k, 1], arm_c[k, 2]
-        for l in range(k, nk):
-            al0, al1, al2 = arm_c[l, 0], arm_c[l, 1], arm_c[l, 2]
-            _cable_compliance_block(Kc, 6 * ik, ak0, ak1, ak2, 6 * idx[l], al0, al1, al2, W, 3 * k, 3 * l)
-        _casing_compliance_row(Ks, Gs, idx, elem, k, nk, W, Uspan)
-        for l in range(k + 1, nk):
-            for r in range(3):
-                for c in range(3):
-                    W[3 * l + c, 3 * k + r] = W[3 * k + r, 3 * l + c]
+    # W of the last solve is kept when ``reuse`` and the same nodes are in contact on the same casing
+    # elements (the sub-steps of a recomputed step: W moves with the contact points, by ~1e-4 of
+    # itself over a step; docs/time_domain.md); ``held`` = [nk, (node, element) ...] of the W in ws
+    same = reuse and held[0] == nk
+    if same:
+        for k in range(nk):
+            if held[1 + k] != idx[k] * (Ls.shape[0] + 1) + elem[idx[k]]:
+                same = False
+                break
+    if not same:
+        _delassus(Kc, Ks, Gs, idx, elem, arm_c, nk, W, Uspan)
+        held[0] = nk
+        for k in range(nk):
+            held[1 + k] = idx[k] * (Ls.shape[0] + 1) + elem[idx[k]]
     for k in range(nk):
         tangent_basis(nrm[k, 0], nrm[k, 1], nrm[k, 2], ta[k], tb[k])
         i = idx[k]
@@ -392,7 +418,7 @@ def solve_contact_forces(
             # the surface, so the step ends touching (g = 0, N <= c_n g_dot); a touching contact
             # whose force exceeds the damper's goes back to the law
             dn = nrm[k, 0] * d[o] + nrm[k, 1] * d[o + 1] + nrm[k, 2] * d[o + 2]
-            if not touch[k] and gst[k] + dn <= 0.0:
+            if not touch[k] and law != 2 and gst[k] + dn <= 0.0:  # (Hunt-Crossley: no force at g = 0)
                 touch[k] = True
                 changed = True
             elif touch[k] and N > c_n * max(gdst[k] + c2 * dn, 0.0) * (1 + 1e-12):
@@ -440,6 +466,9 @@ def solve_contact_forces(
         wt0, wt1, wt2 = w0 - wn * n0, w1 - wn * n1, w2 - wn * n2
         state[i] = mode[k]
         vrel[i] = np.sqrt(wt0 * wt0 + wt1 * wt1 + wt2 * wt2)
+        if mode[k] == SLIP and c2 * wkk[k] * mu * Nout[i] > vrel[i]:
+            # the friction force alone changes the slip velocity by more than it is within the step
+            diag[DIAG_SLOW_SLIP] = 1.0
         diag[DIAG_DAMPING_POWER] += Nd[k] * wn  # damping acts only while compressing
         pn = P[o] * n0 + P[o + 1] * n1 + P[o + 2] * n2
         diag[DIAG_FRICTION_POWER] -= (P[o] - pn * n0) * wt0 + (P[o + 1] - pn * n1) * wt1 + (P[o + 2] - pn * n2) * wt2

@@ -181,8 +181,14 @@ def _residual(
             # the caller checks g > 0 at the solution
             gd = gdst[k] + c2 * y[i]
             fe, ke = contact_law(g, law, k_lin, k_hertz)
-            fd = c_n * gd if gd > 0.0 else 0.0
-            gam = ke + (c_n * c2 if gd > 0.0 else 0.0)
+            if law == 2:
+                # Hunt-Crossley: fe (1 + c_n g_dot), c_n = 3/2 alpha, on compression and restitution
+                # alike; zero at first touch (fe = 0), so no switch (N <= 0 opens the contact)
+                fd = c_n * fe * gd
+                gam = ke * (1.0 + c_n * gd) + c_n * fe * c2
+            else:
+                fd = c_n * gd if gd > 0.0 else 0.0
+                gam = ke + (c_n * c2 if gd > 0.0 else 0.0)
             Ne[k], Nd[k] = fe, fd
             R[i] = fe + fd - x[i]
             if with_J:

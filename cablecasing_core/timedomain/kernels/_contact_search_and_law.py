@@ -13,11 +13,12 @@ from ._hermite_interpolation import axis_at, element_dofs
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def contact_law(g, law, k_lin, k_hertz):
-    """Normal elastic force (N) and its slope (N/m) at penetration g (m): linear (Eq. 24) or
-    Hertz (Eq. 29) with k_hertz = 4/3 E* r^1/2; zero for g <= 0 (no adhesion)."""
+    """Normal elastic force (N) and its slope (N/m) at penetration g (m): linear (Eq. 24, law 1) or
+    Hertz (Eq. 29, law 0, and the elastic part of Hunt-Crossley, law 2) with k_hertz = 4/3 E* r^1/2;
+    zero for g <= 0 (no adhesion)."""
     if g <= 0.0:
         return 0.0, 0.0
-    if law == 0:
+    if law != 1:
         sg = np.sqrt(g)
         return k_hertz * g * sg, 1.5 * k_hertz * sg
     return k_lin * g, k_lin
@@ -26,11 +27,11 @@ def contact_law(g, law, k_lin, k_hertz):
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def contact_potential(g, law, k_lin, k_hertz):
     """Elastic energy (J) stored in contacts of penetrations g (m, one per cable node): the integral
-    of :func:`contact_law`, 2/5 k_hertz g^5/2 (Hertz) or k_lin g^2 / 2 (linear), zero for g <= 0."""
+    of :func:`contact_law`, 2/5 k_hertz g^5/2 (Hertz, Hunt-Crossley) or k_lin g^2 / 2 (linear), zero for g <= 0."""
     e = 0.0
     for i in range(g.shape[0]):
         if g[i] > 0.0:
-            e += 0.4 * k_hertz * g[i] * g[i] * np.sqrt(g[i]) if law == 0 else 0.5 * k_lin * g[i] * g[i]
+            e += 0.4 * k_hertz * g[i] * g[i] * np.sqrt(g[i]) if law != 1 else 0.5 * k_lin * g[i] * g[i]
     return e
 
 

@@ -22,6 +22,7 @@ from ._newmark_per_body import (
     reactions,
     respond_to_contact_forces,
 )
+from ._quintic_support_motion import quintic_coefficients, quintic_values
 from ._step_loop_contract import (
     DIAG_ACTIVE_SET_PASSES,
     DIAG_DAMPING_POWER,
@@ -30,6 +31,7 @@ from ._step_loop_contract import (
     DIAG_NEWTON_FAILED,
     DIAG_NEWTON_ITERATIONS,
     DIAG_SIZE,
+    DIAG_SLOW_SLIP,
     ERR_INPUT,
     ERR_NAN,
     ERR_PENETRATION,
@@ -39,6 +41,7 @@ from ._step_loop_contract import (
     INFO_INPUT_ROW,
     INFO_NEWTON_ITERATIONS,
     INFO_NODE,
+    INFO_REFINED_STEPS,
     INFO_TIME,
     INFO_UNCONVERGED_STEPS,
     INFO_VALUE,
@@ -115,6 +118,46 @@ def _body_ledger(
         ledger[LEDGER_RAYLEIGH_DISSIPATION] += 0.25 * dt * dia_quadratic(Md, Kd, alpha, beta, y, t)
 
 
+@njit(**NO_RT)
+def _friction_event(state0, state):
+    """True when a cable node in contact at both ends of a step switched between stick and slip in
+    it (the step is then recomputed in sub-steps, ``ContactLaw.nsub``)."""
+    for i in range(state.shape[0]):
+        a, b = state0[i], state[i]
+        if a != OPEN and b != OPEN and a != b:
+            return True
+    return False
+
+
+@njit(**NO_RT)
+def _restore_step_start(U, V, A, Uo, Vo, Ao, mb, mbo, on):
+    """A body back to the start of its step: U, V, A from their copies Uo, Vo, Ao, the mounts'
+    supports mb from mbo (the predictor wrote both)."""
+    if on:
+        copy_into(U, Uo)
+        copy_into(V, Vo)
+        copy_into(A, Ao)
+        for m in range(mb.shape[0]):
+            for q in range(2):
+                for i in range(6):
+                    mb[m, q, i] = mbo[m, q, i]
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def _substep_motion(chan, up, vp, ap, k, G, rows, c, times, motion, dt, hf, nsub):
+    """motion (3 x nsub x channels): the supports' u, v, a (m, m/s, m/s2) at the ends of the nsub
+    sub-steps of hf (s) of step k (dt s), which starts with the supports in the state chan:
+    the quintic Hermite (``support_motion``, G its coefficient matrix for dt) from chan to row k of
+    up, vp, ap. rows, c and times are scratch."""
+    for j in range(chan.shape[1]):
+        rows[0, j], rows[1, j], rows[2, j] = chan[0, j], chan[1, j], chan[2, j]
+        rows[3, j], rows[4, j], rows[5, j] = up[k, j], vp[k, j], ap[k, j]
+    quintic_coefficients(G, rows, c)
+    for i in range(nsub):  # (from the step's start, so that its rounding does not enter)
+        times[i] = (i + 1) * hf
+    quintic_values(c, 0.0, dt, times, motion)
+
+
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, ledger_on, rec, info):
     """Advance both bodies by len(up) Newmark steps of size dt (s) from time t0 (s). Each step:
@@ -130,6 +173,13 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     status code (OK or ERR_*) with the INFO_* slots of info: what failed, and the running totals of
     the contact solve. Non-finite support motion is refused before any step is taken (ERR_INPUT,
     info = [row, channel, 0/1/2 for up/vp/ap]), so nothing is half-written.
+
+    Events inside the step (docs/time_domain.md): with law.nsub > 1, a step in which a contact that
+    is closed at both of its ends switches between stick and slip is taken back and recomputed as
+    law.nsub sub-steps of dt / nsub with the fine factors of the bodies (``BodyArrays.f*``), the
+    supports following the quintic Hermite from their state at the step's start (contact.chan) to
+    row k; everything else (records, the contact histogram, the ledger) sees the sub-steps as parts
+    of the step. info[INFO_REFINED_STEPS] counts the steps so recomputed.
 
     With rec.on, step k writes row rec.off + k of rec.F (the reactions, then the forces through
     the casing's clips when rec.F has the columns) and, sparse, the cable
@@ -187,234 +237,201 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     reac_new = np.zeros(24)
     jl = np.zeros(max(ns, nc), np.int64)
     diag = np.zeros(DIAG_SIZE)
-    cpar = (law.gap, law.r_in, law.law, law.k_lin, law.k_hertz, law.c_n, law.mu, law.v_stick, dt)
+    cpar = (law.gap, law.r_in, law.law, law.k_lin, law.k_hertz, law.c_n, law.mu, law.v_stick, dt, False)
     nn = Xc.shape[0]
+    # sub-steps of a step in which a closed contact switches between stick and slip (law.nsub;
+    # docs/time_domain.md, "Events inside the step"): the fine level's factors, the contact memory
+    # at the step's start, and the sub-steps' support motion (quintic Hermite from chan to the row)
+    nsub = law.nsub
+    refine = contact_on and nsub > 1
+    hf = dt / max(nsub, 1)
+    cparf = (law.gap, law.r_in, law.law, law.k_lin, law.k_hertz, law.c_n, law.mu, law.v_stick, hf, False)
+    # the sub-steps after the first keep the Delassus matrix while the contacts stay (law.reuse)
+    cparr = (law.gap, law.r_in, law.law, law.k_lin, law.k_hertz, law.c_n, law.mu, law.v_stick, hf, law.reuse)
+    sDif, sLf, sLTf, sKinvf, suextf = casing.fDinv, casing.fL, casing.fLT, casing.fKinv, casing.fuext
+    cDif, cLf, cLTf, cKinvf, cuextf = cable.fDinv, cable.fL, cable.fLT, cable.fKinv, cable.fuext
+    chan, subG, cagain = contact.chan, contact.subG, contact.again
+    nch = up.shape[1]
+    state0, elem0 = state.copy(), elem.copy()
+    xi0, Pn0, vrel0, Nn0, gn0 = xi_arr.copy(), Pn.copy(), vrel.copy(), Nn.copy(), gn.copy()
+    nm = max(nsub, 1)
+    subrows, subc, subt, subm = np.zeros((6, nch)), np.zeros((3, 6, nch)), np.zeros(nm), np.zeros((3, nm, nch))
     t = t0
+    again = cagain[0] != 0  # the previous step ended in sub-steps with an event on
     for k in range(nsteps):
-        t = t0 + (k + 1) * dt
-        if s_on:
-            copy_into(sUo, sU)
-            copy_into(sVo, sV)
-            copy_into(sAo, sA)
-            smbo[...] = smb
-            smFo[...] = smF
-            predict(
-                sMd,
-                sDi,
-                sL,
-                sLT,
-                sg0,
-                sng,
-                sf0,
-                snf,
-                salpha,
-                sbeta,
-                sU,
-                sV,
-                sA,
-                spres,
-                spchan,
-                scpl_i,
-                scpl_v,
-                up,
-                vp,
-                ap,
-                k,
-                dt,
-                sy1,
-                sr,
-                smi,
-                smKC,
-                smb,
-            )
-        if c_on:
-            copy_into(cUo, cU)
-            copy_into(cVo, cV)
-            copy_into(cAo, cA)
-            cmbo[...] = cmb
-            cmFo[...] = cmF
-            predict(
-                cMd,
-                cDi,
-                cL,
-                cLT,
-                cg0,
-                cng,
-                cf0,
-                cnf,
-                calpha,
-                cbeta,
-                cU,
-                cV,
-                cA,
-                cpres,
-                cpchan,
-                ccpl_i,
-                ccpl_v,
-                up,
-                vp,
-                ap,
-                k,
-                dt,
-                cy1,
-                cr,
-                cmi,
-                cmKC,
-                cmb,
-            )
-        # the constant loads at rest (an installed model): the predictor's response to them
-        if s_on and s_loaded:
-            add_into(sU, suext)
-        if c_on and c_loaded:
-            add_into(cU, cuext)
-        if contact_on:
-            predicted_velocity(sf0, snf, sU, sUo, sV, sVo, dt)
-            predicted_velocity(cf0, cnf, cU, cUo, cV, cVo, dt)
-            diag[DIAG_NEWTON_FAILED] = 0.0
-            nact = solve_contact_forces(
-                Xc,
-                Tc,
-                cU,
-                cV,
-                Xs,
-                Rs,
-                Ls,
-                sU,
-                sV,
-                cKinv,
-                sKinv,
-                cpar,
-                state,
-                elem,
-                xi_arr,
-                Pn,
-                vrel,
-                Nn,
-                gn,
-                fcc_new,
-                fcs_new,
-                diag,
-                ws,
-            )
-            info[INFO_UNCONVERGED_STEPS] += diag[DIAG_NEWTON_FAILED]
-            if nact > 0:
-                respond_to_contact_forces(sKinv, fcs_new, sU, jl)
-                respond_to_contact_forces(cKinv, fcc_new, cU, jl)
+        t_start = t0 + k * dt
+        if refine:
             for i in range(nn):
-                if state[i] != OPEN:
-                    contact_time[i] += dt
-            if diag[DIAG_MAX_PENETRATION] > r_cable:
-                info[INFO_TIME], info[INFO_VALUE] = t, diag[DIAG_MAX_PENETRATION]
+                state0[i], elem0[i], xi0[i], vrel0[i], Nn0[i], gn0[i] = (
+                    state[i],
+                    elem[i],
+                    xi_arr[i],
+                    vrel[i],
+                    Nn[i],
+                    gn[i],
+                )
+                Pn0[i, 0], Pn0[i, 1], Pn0[i, 2] = Pn[i, 0], Pn[i, 1], Pn[i, 2]
+        lev = 0  # 0: the step dt; 1: its nsub sub-steps
+        nrep = 1
+        j = 0
+        if refine and again:
+            # the last step ended in its sub-steps with an event still on: this one starts in them
+            # (its coarse trial would be taken back, docs/time_domain.md)
+            _substep_motion(chan, up, vp, ap, k, subG, subrows, subc, subt, subm, dt, hf, nsub)
+            info[INFO_REFINED_STEPS] += 1
+            lev, nrep = 1, nsub
+        again = False
+        while j < nrep:
+            if lev == 0:
+                h, cp, mu_, mv_, ma_, row = dt, cpar, up, vp, ap, k
+                sDc, sLc, sLTc, sKc, suc = sDi, sL, sLT, sKinv, suext
+                cDc, cLc, cLTc, cKc, cuc = cDi, cL, cLT, cKinv, cuext
+            else:
+                h, cp, mu_, mv_, ma_, row = hf, (cparf if j == 0 else cparr), subm[0], subm[1], subm[2], j
+                sDc, sLc, sLTc, sKc, suc = sDif, sLf, sLTf, sKinvf, suextf
+                cDc, cLc, cLTc, cKc, cuc = cDif, cLf, cLTf, cKinvf, cuextf
+            t = t_start + (j + 1) * h if lev == 1 else t0 + (k + 1) * dt
+            if s_on:
+                copy_into(sUo, sU)
+                copy_into(sVo, sV)
+                copy_into(sAo, sA)
+                smbo[...] = smb
+                smFo[...] = smF
+                predict(
+                    sMd, sDc, sLc, sLTc, sg0, sng, sf0, snf, salpha, sbeta, sU, sV, sA, spres, spchan, scpl_i,
+                    scpl_v, mu_, mv_, ma_, row, h, sy1, sr, smi, smKC, smb,
+                )  # fmt: skip
+            if c_on:
+                copy_into(cUo, cU)
+                copy_into(cVo, cV)
+                copy_into(cAo, cA)
+                cmbo[...] = cmb
+                cmFo[...] = cmF
+                predict(
+                    cMd, cDc, cLc, cLTc, cg0, cng, cf0, cnf, calpha, cbeta, cU, cV, cA, cpres, cpchan, ccpl_i,
+                    ccpl_v, mu_, mv_, ma_, row, h, cy1, cr, cmi, cmKC, cmb,
+                )  # fmt: skip
+            # the constant loads at rest (an installed model): the predictor's response to them
+            if s_on and s_loaded:
+                add_into(sU, suc)
+            if c_on and c_loaded:
+                add_into(cU, cuc)
+            if contact_on:
+                predicted_velocity(sf0, snf, sU, sUo, sV, sVo, h)
+                predicted_velocity(cf0, cnf, cU, cUo, cV, cVo, h)
+                diag[DIAG_NEWTON_FAILED] = 0.0
+                nact = solve_contact_forces(
+                    Xc, Tc, cU, cV, Xs, Rs, Ls, sU, sV, cKc, sKc, cp, state, elem, xi_arr, Pn, vrel, Nn, gn,
+                    fcc_new, fcs_new, diag, ws,
+                )  # fmt: skip
+                if lev == 1 and j == nrep - 1:
+                    again = diag[DIAG_SLOW_SLIP] > 0.0 or _friction_event(state0, state)
+                if lev == 0 and refine and (diag[DIAG_SLOW_SLIP] > 0.0 or _friction_event(state0, state)):
+                    # recompute the step in nsub sub-steps: back to its start (the bodies' state is
+                    # in the *o copies, the supports' in smbo, cmbo), the sub-steps' motion
+                    _restore_step_start(sU, sV, sA, sUo, sVo, sAo, smb, smbo, s_on)
+                    _restore_step_start(cU, cV, cA, cUo, cVo, cAo, cmb, cmbo, c_on)
+                    for i in range(nn):
+                        state[i], elem[i], xi_arr[i], vrel[i], Nn[i], gn[i] = (
+                            state0[i],
+                            elem0[i],
+                            xi0[i],
+                            vrel0[i],
+                            Nn0[i],
+                            gn0[i],
+                        )
+                        Pn[i, 0], Pn[i, 1], Pn[i, 2] = Pn0[i, 0], Pn0[i, 1], Pn0[i, 2]
+                    _substep_motion(chan, up, vp, ap, k, subG, subrows, subc, subt, subm, dt, hf, nsub)
+                    info[INFO_REFINED_STEPS] += 1
+                    lev, nrep, j = 1, nsub, 0
+                    continue
+                info[INFO_UNCONVERGED_STEPS] += diag[DIAG_NEWTON_FAILED]
+                if nact > 0:
+                    respond_to_contact_forces(sKc, fcs_new, sU, jl)
+                    respond_to_contact_forces(cKc, fcc_new, cU, jl)
                 for i in range(nn):
-                    if gn[i] == diag[DIAG_MAX_PENETRATION]:
-                        info[INFO_NODE] = i
-                return ERR_PENETRATION
-        if s_on:
-            finish(sf0, snf, sU, sV, sA, sUo, sVo, sAo, dt)
-            reactions(ssup, ssup_lo, salpha, sbeta, sU, sV, sA, fcs_new, spres, spslot, reac_new, 0)
-            if s_loaded:
-                load_reactions(sfext, spres, spslot, reac_new, 0)
-            mount_forces(smi, smKC, smb, sU, sV, smF, reac_new, 0)
-        if c_on:
-            finish(cf0, cnf, cU, cV, cA, cUo, cVo, cAo, dt)
-            reactions(csup, csup_lo, calpha, cbeta, cU, cV, cA, fcc_new, cpres, cpslot, reac_new, 12)
-            if c_loaded:
-                load_reactions(cfext, cpres, cpslot, reac_new, 12)
-            mount_forces(cmi, cmKC, cmb, cU, cV, cmF, reac_new, 12)
-        # blow-up check on the cheap aggregates
-        tot = 0.0
-        for i in range(24):
-            tot += reac_new[i]
-        if not np.isfinite(tot):
-            info[INFO_TIME], info[INFO_NODE], info[INFO_VALUE] = t, -1, tot
-            return ERR_NAN
-        # energy ledger (trapezoidal rule, consistent with the average-acceleration scheme)
-        if s_on:
-            _body_ledger(
-                sMd,
-                sKd,
-                salpha,
-                sbeta,
-                sU,
-                sUo,
-                sV,
-                sVo,
-                spres,
-                spslot,
-                reac,
-                reac_new,
-                0,
-                fcs,
-                fcs_new,
-                contact_on,
-                ledger_on,
-                sy1,
-                sq,
-                dt,
-                ledger,
-            )
-        if c_on:
-            _body_ledger(
-                cMd,
-                cKd,
-                calpha,
-                cbeta,
-                cU,
-                cUo,
-                cV,
-                cVo,
-                cpres,
-                cpslot,
-                reac,
-                reac_new,
-                12,
-                fcc,
-                fcc_new,
-                contact_on,
-                ledger_on,
-                cy1,
-                cq,
-                dt,
-                ledger,
-            )
-        if s_on:
-            w, d = mount_ledger(smi, smKC, smb, smbo, sU, sUo, sV, sVo, smF, smFo)
-            ledger[LEDGER_SUPPORT_WORK] += w
-            ledger[LEDGER_MOUNT_DISSIPATION] += d
-        if c_on:
-            w, d = mount_ledger(cmi, cmKC, cmb, cmbo, cU, cUo, cV, cVo, cmF, cmFo)
-            ledger[LEDGER_SUPPORT_WORK] += w
-            ledger[LEDGER_MOUNT_DISSIPATION] += d
-        if contact_on:
-            ledger[LEDGER_FRICTION_DISSIPATION] += (
-                0.5 * dt * (ledger[LEDGER_FRICTION_POWER] + diag[DIAG_FRICTION_POWER])
-            )
-            ledger[LEDGER_DAMPING_DISSIPATION] += 0.5 * dt * (ledger[LEDGER_DAMPING_POWER] + diag[DIAG_DAMPING_POWER])
-            ledger[LEDGER_FRICTION_POWER] = diag[DIAG_FRICTION_POWER]
-            ledger[LEDGER_DAMPING_POWER] = diag[DIAG_DAMPING_POWER]
-        copy_into(reac, reac_new)
-        if contact_on:
-            copy_into(fcs, fcs_new)
-            copy_into(fcc, fcc_new)
+                    if state[i] != OPEN:
+                        contact_time[i] += h
+                if diag[DIAG_MAX_PENETRATION] > r_cable:
+                    info[INFO_TIME], info[INFO_VALUE] = t, diag[DIAG_MAX_PENETRATION]
+                    for i in range(nn):
+                        if gn[i] == diag[DIAG_MAX_PENETRATION]:
+                            info[INFO_NODE] = i
+                    return ERR_PENETRATION
+            if s_on:
+                finish(sf0, snf, sU, sV, sA, sUo, sVo, sAo, h)
+                reactions(ssup, ssup_lo, salpha, sbeta, sU, sV, sA, fcs_new, spres, spslot, reac_new, 0)
+                if s_loaded:
+                    load_reactions(sfext, spres, spslot, reac_new, 0)
+                mount_forces(smi, smKC, smb, sU, sV, smF, reac_new, 0)
+            if c_on:
+                finish(cf0, cnf, cU, cV, cA, cUo, cVo, cAo, h)
+                reactions(csup, csup_lo, calpha, cbeta, cU, cV, cA, fcc_new, cpres, cpslot, reac_new, 12)
+                if c_loaded:
+                    load_reactions(cfext, cpres, cpslot, reac_new, 12)
+                mount_forces(cmi, cmKC, cmb, cU, cV, cmF, reac_new, 12)
+            # blow-up check on the cheap aggregates
+            tot = 0.0
+            for i in range(24):
+                tot += reac_new[i]
+            if not np.isfinite(tot):
+                info[INFO_TIME], info[INFO_NODE], info[INFO_VALUE] = t, -1, tot
+                return ERR_NAN
+            # energy ledger (trapezoidal rule, consistent with the average-acceleration scheme)
+            if s_on:
+                _body_ledger(
+                    sMd, sKd, salpha, sbeta, sU, sUo, sV, sVo, spres, spslot, reac, reac_new, 0, fcs, fcs_new,
+                    contact_on, ledger_on, sy1, sq, h, ledger,
+                )  # fmt: skip
+            if c_on:
+                _body_ledger(
+                    cMd, cKd, calpha, cbeta, cU, cUo, cV, cVo, cpres, cpslot, reac, reac_new, 12, fcc, fcc_new,
+                    contact_on, ledger_on, cy1, cq, h, ledger,
+                )  # fmt: skip
+            if s_on:
+                w, d = mount_ledger(smi, smKC, smb, smbo, sU, sUo, sV, sVo, smF, smFo)
+                ledger[LEDGER_SUPPORT_WORK] += w
+                ledger[LEDGER_MOUNT_DISSIPATION] += d
+            if c_on:
+                w, d = mount_ledger(cmi, cmKC, cmb, cmbo, cU, cUo, cV, cVo, cmF, cmFo)
+                ledger[LEDGER_SUPPORT_WORK] += w
+                ledger[LEDGER_MOUNT_DISSIPATION] += d
+            if contact_on:
+                ledger[LEDGER_FRICTION_DISSIPATION] += (
+                    0.5 * h * (ledger[LEDGER_FRICTION_POWER] + diag[DIAG_FRICTION_POWER])
+                )
+                ledger[LEDGER_DAMPING_DISSIPATION] += (
+                    0.5 * h * (ledger[LEDGER_DAMPING_POWER] + diag[DIAG_DAMPING_POWER])
+                )
+                ledger[LEDGER_FRICTION_POWER] = diag[DIAG_FRICTION_POWER]
+                ledger[LEDGER_DAMPING_POWER] = diag[DIAG_DAMPING_POWER]
+            copy_into(reac, reac_new)
+            if contact_on:
+                copy_into(fcs, fcs_new)
+                copy_into(fcc, fcc_new)
+            j += 1
+        cagain[0] = 1 if again else 0
+        for c in range(nch):  # the supports' state at the step's end: where the next one starts
+            chan[0, c], chan[1, c], chan[2, c] = up[k, c], vp[k, c], ap[k, c]
         if rec_on:
             r = rec_off + k
             for i in range(24):
                 rec_F[r, i] = reac[i]
-            j = 24  # then the forces through the casing's clips (mounts without a reaction slot)
+            jr = 24  # then the forces through the casing's clips (mounts without a reaction slot)
             for m in range(smi.shape[0]):
-                if smi[m, 4] < 0 and j + 6 <= rec_F.shape[1]:
+                if smi[m, 4] < 0 and jr + 6 <= rec_F.shape[1]:
                     for i in range(6):
-                        rec_F[r, j + i] = smF[m, i]
-                    j += 6
-            j = rec_ptr[r]
+                        rec_F[r, jr + i] = smF[m, i]
+                    jr += 6
+            jr = rec_ptr[r]
             for i in range(nn):  # only the nodes in contact (a few of them)
                 if state[i] != OPEN or Nn[i] != 0.0 or gn[i] != 0.0:
-                    rec_node[j] = i
-                    rec_state[j] = state[i]
-                    rec_N[j] = Nn[i]
-                    rec_g[j] = gn[i]
-                    j += 1
-            rec_ptr[r + 1] = j
+                    rec_node[jr] = i
+                    rec_state[jr] = state[i]
+                    rec_N[jr] = Nn[i]
+                    rec_g[jr] = gn[i]
+                    jr += 1
+            rec_ptr[r + 1] = jr
     info[INFO_TIME] = t
     info[INFO_NEWTON_ITERATIONS] += diag[DIAG_NEWTON_ITERATIONS]
     info[INFO_ACTIVE_SET_PASSES] += diag[DIAG_ACTIVE_SET_PASSES]

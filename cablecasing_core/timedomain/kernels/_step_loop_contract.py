@@ -36,7 +36,8 @@ INFO_INPUT_KIND = 2  #   0, 1, 2 for displacement, velocity, acceleration
 INFO_NEWTON_ITERATIONS = 3  # contact Newton iterations, summed over steps
 INFO_ACTIVE_SET_PASSES = 4  # stick/slip and active-set passes, summed over steps
 INFO_UNCONVERGED_STEPS = 5  # steps in which a contact Newton did not converge
-INFO_SIZE = 6
+INFO_REFINED_STEPS = 6  # steps recomputed in sub-steps around a contact event (ContactLaw.nsub)
+INFO_SIZE = 7
 
 # the diag array of one contact solve (one step)
 DIAG_MAX_PENETRATION = 0  # m
@@ -45,7 +46,8 @@ DIAG_DAMPING_POWER = 2  # W, N_d g_dot of the contact damper
 DIAG_FRICTION_POWER = 3  # W, -P_t . w_t
 DIAG_NEWTON_ITERATIONS = 4  # summed over the step's passes
 DIAG_ACTIVE_SET_PASSES = 5
-DIAG_SIZE = 6
+DIAG_SLOW_SLIP = 6  # 1.0 when a slipping contact's friction could reverse its slip within the step
+DIAG_SIZE = 7
 
 #: One body for the step loop (SI units; arrays in the engine's storage, see the engine's _Body).
 #: on: the body is there and has free DOFs; Md, Kd: M and K in diagonal storage; Dinv, L, LT: the
@@ -63,24 +65,35 @@ DIAG_SIZE = 6
 #: DOF of the node, channels of the support's x, y, z (-1: fixed), reaction slot (-1: a clip)],
 #: mKC (nm, 2, 6, 6) their stiffness K6 and damping C6 in global axes, mb (nm, 2, 6) the
 #: supports' displacement and velocity now, mF (nm, 6) the force through each mount now (N, N.m).
+#: fDinv, fL, fLT, fKinv, fuext: Dinv, L, LT, Kinv and uext at the sub-step dt / nsub of a step
+#: recomputed around a contact event (``ContactLaw.nsub``; the same arrays when nsub = 1).
 BodyArrays = namedtuple(
     "BodyArrays",
     "on Md Kd Dinv L LT g0 ng f0 nf alpha beta U V A pres pchan pslot Kinv sup sup_lo cpl_i cpl_v fc loaded fext uext "
-    "mi mKC mb mF",
+    "mi mKC mb mF fDinv fL fLT fKinv fuext",
 )
 
 #: The contact law and its switches: on (contact between the bodies), gap (m, radial gap e of
 #: Eqs. 30-31), r_in (m, casing inner radius), r_cable (m, the penetration that counts as a
-#: blow-up), law (0 Hertz, Eq. 29; 1 linear, Eq. 24), k_lin (N/m), k_hertz (N/m^1.5), c_n (kg/s,
-#: contact damping, Eq. 16), mu (Coulomb friction coefficient), v_stick (m/s, stick band).
-ContactLaw = namedtuple("ContactLaw", "on gap r_in r_cable law k_lin k_hertz c_n mu v_stick")
+#: blow-up), law (the index in ``model.schema.CONTACT_LAWS``: 0 Hertz, Eq. 29; 1 linear, Eq. 24;
+#: 2 Hunt-Crossley), k_lin (N/m), k_hertz (N/m^1.5), c_n (kg/s, contact damping, Eq. 16; for
+#: Hunt-Crossley its 3/2 alpha in s/m), mu (Coulomb friction coefficient), v_stick (m/s, stick
+#: band); nsub: a step in which a closed contact switches between stick and slip, or slips so slowly
+#: that its friction could reverse the slip within the step, is recomputed as nsub equal sub-steps
+#: (1: never; ``contact.event_substeps``, docs/time_domain.md "Events inside the step"); reuse: its
+#: sub-steps after the first keep the Delassus matrix while the same contacts are closed.
+ContactLaw = namedtuple("ContactLaw", "on gap r_in r_cable law k_lin k_hertz c_n mu v_stick nsub reuse")
 
 #: The contact's geometry at rest and its memory: Xc, Tc (cable nodes and unit tangents), Xs, Rs,
 #: Ls (casing nodes, element frames and lengths); per cable node: state (OPEN/STICK/SLIP), elem
 #: and xi (the casing element and its coordinate last found), Pn (N, contact force), vrel (m/s,
 #: tangential relative speed), N (N, normal force), g (m, penetration), time (s in contact);
-#: ws: the contact solve's scratch (``contact_workspace``).
-ContactArrays = namedtuple("ContactArrays", "Xc Tc Xs Rs Ls state elem xi Pn vrel N g time ws")
+#: ws: the contact solve's scratch (``contact_workspace``); chan (3, n channels): the support
+#: channels' displacement, velocity and acceleration now (m, m/s, m/s2), where the sub-steps' motion
+#: of a recomputed step starts; subG (18 x 6): the quintic Hermite's coefficient matrix of the step
+#: dt (``support_motion._coefficient_matrix``) that carries it to the step's end; again (1,): 1 when
+#: the last step ended in its sub-steps with an event still on, so that the next starts in them.
+ContactArrays = namedtuple("ContactArrays", "Xc Tc Xs Rs Ls state elem xi Pn vrel N g time ws chan subG again")
 
 #: Recorded histories, written by step k into row off + k: on, F (n x 24 reactions), and the
 #: sparse contact history ptr, node, state, N, g (see run_steps).
