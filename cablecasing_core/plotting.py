@@ -209,13 +209,10 @@ def plot_octave_bands(bands, path, ylabel="RMS"):
     """Bar chart of octave-band RMS values (``studies.octave_rms`` result), Table 3."""
     fig, ax = plt.subplots(figsize=(7, 3.5))
     ax.bar(range(1, len(bands.rms) + 1), bands.rms)
-    ax.set_xticks(
-        range(1, len(bands.rms) + 1),
-        [f"{lo:g}-{hi:g}" for lo, hi in zip(bands.lower, bands.upper)],
-        rotation=45,
-        fontsize=7,
-    )
-    ax.set_xlabel("octave band (Hz)")
+    from .nvh.plots import band_ticks
+
+    ax.set_xticks(range(1, len(bands.rms) + 1), band_ticks(bands), fontsize=7)
+    ax.set_xlabel("band: nominal mid-band frequency (Hz)")
     ax.set_ylabel(ylabel)
     save_figure(fig, path)
 

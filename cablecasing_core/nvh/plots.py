@@ -99,6 +99,20 @@ def plot_transfer(tr, path, reference_curves=None, log_frequency=True, f_range=N
     save_figure(fig, path)
 
 
+def band_ticks(bands) -> list:
+    """Tick labels of bands (``BandRMS``, ``Bands``, an ``Ensemble``: anything with ``labels``,
+    ``lower`` and ``upper``) by their nominal mid-band frequency (Hz; IEC 61260-1 names, or the
+    octave a Table 3 band stands in for under its own name, ``oct5`` over 250)."""
+    from ..studies.octave import nominal_of
+
+    centre = np.sqrt(np.asarray(bands.lower) * np.asarray(bands.upper))
+    ticks = []
+    for lab, c in zip(bands.labels, centre):
+        f = nominal_of(lab, c)
+        ticks.append(f"{f:g}" if lab == f"{f:g}Hz" else f"{lab}\n{f:g}")
+    return ticks
+
+
 def plot_band_levels(bands, path, unit="N", ref=None, labels=None, title=None):
     """Band RMS (``studies.octave.BandRMS``, one or several) as bars in ``unit`` (log axis) with the
     level in dB re ``ref`` (default the unit's reference) on the right."""
@@ -111,8 +125,8 @@ def plot_band_levels(bands, path, unit="N", ref=None, labels=None, title=None):
     for i, b in enumerate(bands):
         ax.bar(x + (i - (n - 1) / 2) * width, b.rms, width, label=None if labels is None else labels[i])
     ax.set_yscale("log")
-    ax.set_xticks(x, [f"{lo:.4g}-{hi:.4g}" for lo, hi in zip(bands[0].lower, bands[0].upper)], rotation=45, fontsize=7)
-    ax.set_xlabel("band (Hz)")
+    ax.set_xticks(x, band_ticks(bands[0]), fontsize=7)
+    ax.set_xlabel("band: nominal mid-band frequency (Hz)")
     ax.set_ylabel(f"band RMS ({unit})")
     db_axis(ax, r, unit, power=False)
     ax.grid(True, axis="y", which="both", alpha=0.3)
@@ -122,4 +136,4 @@ def plot_band_levels(bands, path, unit="N", ref=None, labels=None, title=None):
     save_figure(fig, path)
 
 
-__all__ = ["level_db", "plot_band_levels", "plot_psd", "plot_transfer"]
+__all__ = ["band_ticks", "level_db", "plot_band_levels", "plot_psd", "plot_transfer"]

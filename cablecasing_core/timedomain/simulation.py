@@ -249,16 +249,17 @@ def decimate(x: ArrayLike, m: int) -> np.ndarray:
     aliasing: ``scipy.signal.resample_poly`` (polyphase, zero phase: the FIR is symmetric and its
     delay compensated) with a Kaiser-window FIR from ``scipy.signal.kaiserord``/``firwin`` that is
     flat (0.01 dB) to 0.7 of the new Nyquist frequency fs/(2m) and at least 80 dB down above it;
-    the record is continued beyond its ends along the line through its first and last sample
-    (``padtype="line"``), so a static preload leaves no edge step. Samples within about 17 output
-    steps of either end see that continuation. Returns ``ceil(len(x) / m)`` samples (unit of x)."""
+    the record is continued beyond its ends by its first and last sample (``padtype="edge"``: a run
+    is at rest, or in its static state, before t = 0), so a static preload leaves no edge step.
+    Samples within about 17 output steps of either end see that continuation (and a sudden start
+    rings there as any low-passed step does). Returns ``ceil(len(x) / m)`` samples (unit of x)."""
     x = np.asarray(x, float)
     m = int(m)
     if m == 1:
         return x.copy()
     numtaps, beta = signal.kaiserord(80.0, 0.3 / m)
     h = signal.firwin(numtaps | 1, 0.85 / m, window=("kaiser", beta))
-    return signal.resample_poly(x, 1, m, window=h, padtype="line")
+    return signal.resample_poly(x, 1, m, window=h, padtype="edge")
 
 
 def simulate_sampled(
