@@ -22,8 +22,10 @@ def db_axis(ax, ref, unit, power):
     return sec
 
 
-def plot_psd(psds, path, ref=None, log_frequency=True, f_range=None, title=None):
-    """PSDs (``spectra.PSD``; unit^2/Hz, log axis) with their level in dB re ref^2/Hz on the right."""
+def plot_psd(psds, path, ref=None, log_frequency=True, f_range=None, title=None, dynamic_range_db=60.0):
+    """PSDs (``spectra.PSD``; unit^2/Hz, log axis) with their level in dB re ref^2/Hz on the right;
+    the y axis spans ``dynamic_range_db`` (dB) below the highest line shown (or down to the lowest
+    line, when that is less), so a record whose spectrum collapses above its band keeps its shape."""
     psds = list(psds)
     unit = psds[0].unit
     r = reference(unit, ref) if unit or ref else None
@@ -47,8 +49,8 @@ def plot_psd(psds, path, ref=None, log_frequency=True, f_range=None, title=None)
         plain_log_ticks(ax, [lo, hi])
     shown = np.concatenate([p.density[(p.f_hz >= lo) & (p.f_hz <= hi)] for p in psds])
     shown = shown[shown > 0]
-    if shown.size:  # the visible range, at most 10 decades below the peak
-        ax.set_ylim(max(shown.min(), shown.max() * 1e-10) / 2, shown.max() * 2)
+    if shown.size:  # the visible range, at most dynamic_range_db below the peak
+        ax.set_ylim(max(shown.min() / 2, shown.max() * 10 ** (-dynamic_range_db / 10)), shown.max() * 2)
     ax.set_xlabel("frequency (Hz)")
     ax.set_ylabel(f"PSD ({unit}$^2$/Hz)" if unit else "PSD (unit$^2$/Hz)")
     if r is not None:

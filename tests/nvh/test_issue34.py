@@ -301,3 +301,87 @@ def test_simulate_summarises_every_support_isolator_and_clip_output_with_the_dyn
     x = res.support_force("casing.clip0.Fz")
     row = next(s for s in out.splitlines() if s.strip().startswith("casing.clip0.Fz"))
     assert row.split()[1] == "clip" and float(row.split()[-2]) == pytest.approx(np.std(x), rel=1e-3)
+
+
+# ---------------------------------------------------------------- figures an engineer can read
+
+
+@pytest.fixture
+def figures(monkeypatch):
+    """The figures drawn, kept open instead of written (``save_figure`` replaced)."""
+    import matplotlib.pyplot as plt
+
+    import cablecasing_core.plotting as plotting
+
+    drawn = []
+    monkeypatch.setattr(plotting, "save_figure", lambda fig, path: drawn.append(fig))
+    import cablecasing_core.nvh.plots as nvh_plots
+
+    monkeypatch.setattr(nvh_plots, "save_figure", lambda fig, path: drawn.append(fig))
+    yield drawn
+    for fig in drawn:
+        plt.close(fig)
+
+
+def test_scalograms_mark_the_drive_on_its_panel_only_and_state_differing_colour_scales(figures):
+    from cablecasing_core.plotting import plot_scalograms
+
+    f = np.geomspace(20, 2000, 40)
+    t = np.linspace(0, 0.3, 50)
+    panels = [(t, np.full((50, 40), 0.1), "without the drive"), (t, np.full((50, 40), 1.3), "with the drive")]
+    harmonics = [50, 100, 150, 200, 250, 300, 350, 400]
+    plot_scalograms(panels, f, "x.png", natural_hz=[88, 132], harmonics_hz=harmonics, harmonics_on=[1])
+    a, b = figures[0].axes[:2]  # (the colour bars come after them)
+    red = [ln for ln in a.get_lines() if ln.get_color() == "tab:red"]
+    assert not red and not [x for x in a.texts if "Hz" in x.get_text()]  # nothing of the drive on (a)
+    labels = [x for x in b.texts if x.get_text().endswith(" Hz")]
+    assert 4 <= len(labels) <= len(harmonics)
+    assert all(x.xy[0] > 0 for x in labels)  # inside the panel, not on its left edge
+    assert "colour scale 0-0.1 N" in a.get_title(loc="left") and "13 x finer" in a.get_title(loc="left")
+
+
+def test_the_psd_axis_spans_a_sensible_dynamic_range(figures):
+    from cablecasing_core.nvh.plots import plot_psd
+
+    fs = 8192.0
+    x = np.sin(2 * np.pi * 100 * np.arange(2**15) / fs)  # a clean tone: lines down to ~1e-30 around it
+    plot_psd([psd(x, fs, nperseg=1024, unit="N", name="casing.B.Fz")], "p.png")
+    lo, hi = figures[0].axes[0].get_ylim()
+    assert 10 * np.log10(hi / lo) <= 60 + 10 * np.log10(2) + 1e-9  # 60 dB below the peak (x2 headroom)
+
+
+def test_a_flat_route_has_one_z_tick(figures):
+    import matplotlib.pyplot as plt
+
+    from cablecasing_core.plotting import _route_axes
+
+    fig = plt.figure()
+    figures.append(fig)
+    ax = fig.add_subplot(projection="3d")
+    s = np.linspace(0, 1, 30)
+    P = np.column_stack([s, 0.3 * s**2, np.zeros_like(s)])
+    ax.plot(*P.T)
+    _route_axes(ax, P)
+    assert list(ax.get_zticks()) == [0.0] and len(ax.get_xticks()) <= 6
+
+
+def test_the_report_names_the_specimen_and_every_image_has_alt_text():
+    from cablecasing_core.report.page import ALT, _with_alt, specimen_name
+
+    assert "<built-in>" not in specimen_name("<built-in>") and "built-in specimen" in specimen_name("<built-in>")
+    assert specimen_name("<built-in installed>") == "the built-in specimen 'installed'"
+    assert specimen_name("/a/b/route.toml") == "route.toml"
+    page = _with_alt("<img src='psd.png'><img src='other.png'>")
+    assert f"alt='{ALT['psd.png']}'" in page and "alt='other.png'" in page
+
+
+def test_the_demo_help_is_complete(capsys):
+    import runpy
+    from pathlib import Path
+
+    demo = Path(__file__).resolve().parents[2] / "examples" / "demo.py"
+    ns = runpy.run_path(str(demo))
+    with pytest.raises(SystemExit):
+        ns["main"](["--help"])
+    out = capsys.readouterr().out
+    assert "checked against the core driven by the same sampled record." in " ".join(out.split())
