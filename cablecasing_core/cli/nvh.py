@@ -21,7 +21,12 @@ def _window(rec, skip):
     seconds("--skip", skip, zero_ok=True)
     keep = rec.time > rec.time[0] + skip - 0.5 / rec.fs
     if keep.sum() < 16:
-        raise ModelError("--skip", skip, f"must leave part of the {rec.time[-1] - rec.time[0]:.6g} s record")
+        raise ModelError(
+            "--skip",
+            skip,
+            f"must leave at least 16 samples of the {rec.time[-1] - rec.time[0]:.6g} s record {rec.source} "
+            f"({rec.time.size} samples at dt = {1 / rec.fs:.4g} s)",
+        )
     return keep
 
 
@@ -215,6 +220,14 @@ def cmd_bands(args):
     unit = rec.unit(col)
     ref = reference(unit, args.ref) if unit or args.ref else 1.0
     x = _signal(rec, args.record, col, keep)
+    if band_set.upper[0] > rec.fs / 2:
+        raise ModelError(
+            "--column",
+            col,
+            f"of {args.record} is sampled at dt = {1 / rec.fs:.4g} s: its Nyquist frequency {rec.fs / 2:.4g} Hz lies "
+            f"below every {args.kind} band (the lowest ends at {band_set.upper[0]:.4g} Hz); the bands need dt <= "
+            f"{0.5 / band_set.upper[0]:.4g} s",
+        )
     bands = octave_rms(x, rec.fs, band_set, beyond_nyquist="drop", name=f"{col} in {args.record} (after --skip)")
     level = bands.level_db(ref)
     total = float(np.sqrt(np.sum(bands.mean_square)))

@@ -271,6 +271,7 @@ def study_figures(model, folder: Path, n_samples, duration, skip, progress):
         seed=0,
         scheduler="serial",
         evaluate_kwargs=kwargs,
+        quantity={"name": OUTPUT, "unit": "N", "what": "RMS in the octave bands of Table 3"},
         model=model,
         progress=progress,
     )

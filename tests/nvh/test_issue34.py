@@ -89,6 +89,11 @@ def test_a_record_without_a_line_in_the_range_is_refused_naming_the_file_and_col
     assert main(["spectrum", str(rec), "--skip", "0"]) == 2
     err = _err(capsys)
     assert fragment in err and str(rec) in err and "casing.B.Fz" in err and "fs =" not in err
+    assert main(["bands", str(rec), "--skip", "0"]) == 2  # and bands: no empty table with exit 0
+    err = _err(capsys)
+    assert str(rec) in err and "casing.B.Fz" in err and "fs =" not in err and "x =" not in err
+    assert main(["spectrum", str(rec)]) == 2  # the default --skip 0.05: more than 20 rows of 1e-5 s hold
+    assert str(rec) in _err(capsys)
 
 
 def test_a_constant_or_zero_signal_and_a_zero_reference_get_a_message_not_inf_or_nan(tmp_path, capsys):
