@@ -305,6 +305,7 @@ def test_simulate_summarises_every_support_isolator_and_clip_output_with_the_dyn
     res = cc.simulate(model, duration=0.002)
     x = res.support_force("casing.clip0.Fz")
     row = next(s for s in out.splitlines() if s.strip().startswith("casing.clip0.Fz"))
+    # (printed to 4 significant digits: 1e-3 holds the rounding)
     assert row.split()[1] == "clip" and float(row.split()[-2]) == pytest.approx(np.std(x), rel=1e-3)
 
 
