@@ -279,8 +279,9 @@ def add_parser(sub):
         "--resolution",
         type=float,
         default=None,
-        help="frequency resolution, Hz (a power of two of samples per segment; default: 1 Hz, at most an "
-        "eighth of the record)",
+        help="frequency resolution, Hz (a power of two of samples per segment; default for the PSD: the first "
+        "line at or below --fmin, with at least 7 averages, else a warning names the first line; for the transfer "
+        "kinds 1 Hz, at most an eighth of the record)",
     )
     s.add_argument("--skip", type=float, default=0.05, help="start of the record left out, s")
     s.add_argument("--fmin", type=float, default=1.0, help="lowest frequency written and drawn, Hz")
