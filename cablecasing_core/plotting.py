@@ -228,9 +228,9 @@ def plot_octave_bands(bands, path, ylabel="RMS"):
     """Bar chart of octave-band RMS values (``studies.octave_rms`` result), Table 3."""
     fig, ax = plt.subplots(figsize=(7, 3.5))
     ax.bar(range(1, len(bands.rms) + 1), bands.rms)
-    from .nvh.plots import band_ticks
+    from .nvh.plots import set_band_ticks
 
-    ax.set_xticks(range(1, len(bands.rms) + 1), band_ticks(bands), fontsize=7)
+    set_band_ticks(ax, np.arange(1, len(bands.rms) + 1), bands)
     ax.set_xlabel("band: nominal mid-band frequency (Hz)")
     ax.set_ylabel(ylabel)
     save_figure(fig, path)

@@ -115,6 +115,12 @@ def band_ticks(bands) -> list:
     return ticks
 
 
+def set_band_ticks(ax, x, bands):
+    """Ticks at ``x`` labelled by :func:`band_ticks`; upright up to 16 bands, turned beyond (a
+    third-octave set's four-digit names would run into each other)."""
+    ax.set_xticks(x, band_ticks(bands), fontsize=7, rotation=0 if len(x) <= 16 else 90)
+
+
 def plot_band_levels(bands, path, unit="N", ref=None, labels=None, title=None):
     """Band RMS (``studies.octave.BandRMS``, one or several) as bars in ``unit`` (log axis) with the
     level in dB re ``ref`` (default the unit's reference) on the right."""
@@ -127,7 +133,7 @@ def plot_band_levels(bands, path, unit="N", ref=None, labels=None, title=None):
     for i, b in enumerate(bands):
         ax.bar(x + (i - (n - 1) / 2) * width, b.rms, width, label=None if labels is None else labels[i])
     ax.set_yscale("log")
-    ax.set_xticks(x, band_ticks(bands[0]), fontsize=7)
+    set_band_ticks(ax, x, bands[0])
     ax.set_xlabel("band: nominal mid-band frequency (Hz)")
     ax.set_ylabel(f"band RMS ({unit})")
     db_axis(ax, r, unit, power=False)
@@ -138,4 +144,4 @@ def plot_band_levels(bands, path, unit="N", ref=None, labels=None, title=None):
     save_figure(fig, path)
 
 
-__all__ = ["band_ticks", "level_db", "plot_band_levels", "plot_psd", "plot_transfer"]
+__all__ = ["band_ticks", "level_db", "plot_band_levels", "set_band_ticks", "plot_psd", "plot_transfer"]

@@ -126,7 +126,7 @@ def plot_ensemble(ens, path, other=None, diff=None, confidence=0.95, labels=("ba
     its Student-t confidence interval (N, or N.m for a moment output; log axis, with the level in dB
     re 1 N or 1 N.m on the right), a second ensemble beside it, and, with ``diff``
     (``studies.paired_difference(other, ens)``), the relative change r (%) per band with its interval."""
-    from ..nvh.plots import band_ticks, db_axis
+    from ..nvh.plots import db_axis, set_band_ticks
 
     unit = output_spec(ens.output)[0]
     x = np.arange(1, len(ens.labels) + 1)
@@ -159,6 +159,6 @@ def plot_ensemble(ens, path, other=None, diff=None, confidence=0.95, labels=("ba
         a2.set_ylabel(f"{labels[1]} vs {labels[0]} (%)")
         a2.grid(True, alpha=0.3)
     last = axes[-1, 0]
-    last.set_xticks(x, band_ticks(ens), fontsize=7)
+    set_band_ticks(last, x, ens)
     last.set_xlabel("band: nominal mid-band frequency (Hz)")
     save_figure(fig, path)

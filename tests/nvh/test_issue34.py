@@ -10,6 +10,7 @@ import pytest
 import cablecasing_core as cc
 from cablecasing_core.cli import main
 from cablecasing_core.nvh import psd
+from cablecasing_core.studies import octave_rms
 from cablecasing_core.studies.octave import iec_nominal, octave_bands
 from cablecasing_core.timedomain.simulation import decimate
 
@@ -391,3 +392,14 @@ def test_the_demo_help_is_complete(capsys):
         ns["main"](["--help"])
     out = capsys.readouterr().out
     assert "checked against the core driven by the same sampled record." in " ".join(out.split())
+
+
+def test_many_band_names_are_turned_so_they_do_not_run_into_each_other(figures):
+    from cablecasing_core.nvh.plots import plot_band_levels
+
+    x = np.random.default_rng(1).standard_normal(20000)
+    plot_band_levels([octave_rms(x, 1e4, octave_bands("third", 16, 4000))], "b.png")  # 25 bands
+    ticks = figures[0].axes[0].get_xticklabels()
+    assert ticks[-1].get_text() == "4000" and ticks[-1].get_rotation() == 90
+    plot_band_levels([octave_rms(x, 1e4, "table3", beyond_nyquist="drop")], "c.png")  # 8 bands: upright
+    assert figures[1].axes[0].get_xticklabels()[0].get_rotation() == 0
