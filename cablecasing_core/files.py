@@ -139,6 +139,29 @@ def check_values(key: str, path, data) -> None:
         raise ModelError(key, str(path), f"{at} is not a finite number of magnitude at most {MAX_MAGNITUDE:g}")
 
 
+def _refuse_cut_last_row(key, shown, lines, rows):
+    """A file whose write was cut ends without a line break, often in the middle of a number
+    (``0.5,-5.`` of ``0.5,-5.12e-3``), which may still parse. Its last row is refused when the file
+    ends without a line break and the row's last field ends as a cut number does (in ``.``, ``e``
+    or a sign) or is shorter than every value of its column before it."""
+    if not lines or rows[-1][0] != len(lines) or len(rows) < 3:
+        return
+    with open(shown, "rb") as fh:
+        fh.seek(-1, os.SEEK_END)
+        if fh.read(1) in (b"\n", b"\r"):
+            return
+    last = rows[-1][1].rstrip().split(",")[-1].strip()
+    before = [r.split(",")[-1].strip() for _, r in rows[:-1]]
+    if last[-1:] in (".", "e", "E", "+", "-") or len(last) < min(len(b) for b in before):
+        raise ModelError(
+            key,
+            shown,
+            f"ends without a line break and its last line ({rows[-1][0]}) looks cut in column "
+            f"{rows[-1][1].count(',') + 1}: as a file whose write was interrupted; remove that line, or end the "
+            "file with a line break if the line is complete",
+        )
+
+
 def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: int = 2):
     """``(names, data)`` of the numeric CSV table in ``path``: one header line of ``,``-separated
     column names, then rows of as many finite numbers (blank lines and lines starting with ``#``
@@ -179,6 +202,7 @@ def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: i
         )
     if len(rows) < min_rows:
         raise ModelError(key, shown, f"has {len(rows)} rows of numbers; a table needs {need}")
+    _refuse_cut_last_row(key, shown, lines, rows)
     try:  # (numpy's C parser; the checks below only run to describe a failure)
         data = np.loadtxt([s for _, s in rows], delimiter=",", ndmin=2)
         ok = data.shape[1] == len(names)

@@ -82,6 +82,25 @@ def plain_log_ticks(ax, freqs_hz, axis="x"):
     a.set_minor_formatter(NullFormatter())
 
 
+def _route_axes(ax, P):
+    """The 3D axes of a route's nodes ``P`` (m): equal scales, at most four ticks per axis, and an
+    axis along which the route is flat (extent below 2 % of the largest: a route in a plane) drawn
+    thin with a single tick at its value, so its ticks do not pile up over the labels."""
+    from matplotlib.ticker import FixedLocator, MaxNLocator
+
+    ext = np.ptp(P, axis=0)
+    big = float(ext.max()) or 1.0
+    ax.set_box_aspect(np.maximum(ext, 0.08 * big) + 0.05 * big)
+    for k, axis in enumerate((ax.xaxis, ax.yaxis, ax.zaxis)):
+        if ext[k] < 0.02 * big:
+            mid = float(np.mean(P[:, k]))
+            (ax.set_xlim, ax.set_ylim, ax.set_zlim)[k](mid - 0.06 * big, mid + 0.06 * big)
+            axis.set_major_locator(FixedLocator([round(mid, 6) + 0.0]))
+        else:
+            axis.set_major_locator(MaxNLocator(4))
+    ax.tick_params(labelsize=7)
+
+
 def plot_geometry(centerline, path, values=None, label=None, title=None):
     """3D view of the centerline (m) with ends A and B; optional per-node ``values`` as colour
     (e.g. the contact time of Fig. 22a, with ``label`` for the colour bar)."""
@@ -99,7 +118,7 @@ def plot_geometry(centerline, path, values=None, label=None, title=None):
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.set_zlabel("z (m)")
-    ax.set_box_aspect(np.ptp(P, axis=0) + 0.05 * np.ptp(P))
+    _route_axes(ax, P)
     if title:
         ax.set_title(title, fontsize=10)
     save_figure(fig, path)
@@ -136,7 +155,7 @@ def plot_routing(model, path, summary=None):
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.set_zlabel("z (m)")
-    ax.set_box_aspect(np.ptp(P, axis=0) + 0.05 * np.ptp(P))
+    _route_axes(ax, P)
     ax.set_title(f"routing ({g['source']}): {g['length_m']:.4g} m, {g['n_elements']} elements", fontsize=9)
     a2 = fig.add_subplot(1, 2, 2)
     a2.plot(s, k, "r-", lw=1.2, label="curvature")
@@ -209,13 +228,10 @@ def plot_octave_bands(bands, path, ylabel="RMS"):
     """Bar chart of octave-band RMS values (``studies.octave_rms`` result), Table 3."""
     fig, ax = plt.subplots(figsize=(7, 3.5))
     ax.bar(range(1, len(bands.rms) + 1), bands.rms)
-    ax.set_xticks(
-        range(1, len(bands.rms) + 1),
-        [f"{lo:g}-{hi:g}" for lo, hi in zip(bands.lower, bands.upper)],
-        rotation=45,
-        fontsize=7,
-    )
-    ax.set_xlabel("octave band (Hz)")
+    from .nvh.plots import set_band_ticks
+
+    set_band_ticks(ax, np.arange(1, len(bands.rms) + 1), bands)
+    ax.set_xlabel("band: nominal mid-band frequency (Hz)")
     ax.set_ylabel(ylabel)
     save_figure(fig, path)
 
@@ -225,53 +241,67 @@ def plot_scalogram(t, freqs_hz, W, path, title="|W|", unit="N"):
     plot_scalograms([(t, W, title)], freqs_hz, path, unit=unit)
 
 
-def plot_scalograms(panels, freqs_hz, path, unit="N", natural_hz=(), harmonics_hz=(), title=None):
+def plot_scalograms(panels, freqs_hz, path, unit="N", natural_hz=(), harmonics_hz=(), title=None, harmonics_on=None):
     """Scalograms side by side (Figs. 20-21): ``panels`` = [(t s, |W| (n_t x n_f) in ``unit``, title),
     ...], each with its own colour bar of |W| in ``unit`` (a harmonic of amplitude A shows as |W| = A
     on its ridge: the Morlet transform of ``identification.wavelet``), so that a weak panel stays
-    readable beside a strong one. ``natural_hz`` are marked by dashed white lines labelled on the
-    right, ``harmonics_hz`` (a drive frequency and its multiples) by dotted red lines labelled on the
-    left."""
+    readable beside a strong one; each panel's title states its scale when the scales differ.
+    ``natural_hz`` are marked by dashed white lines labelled on the right of the last panel,
+    ``harmonics_hz`` (a drive frequency and its multiples) by dotted red lines labelled inside the
+    panels ``harmonics_on`` (indices; default every panel: a panel without the drive has none)."""
     fig, axes = plt.subplots(1, len(panels), figsize=(5.6 * len(panels), 4.4), sharey=True, squeeze=False)
+    tops = [float(np.max(W)) or 1.0 for _, W, _ in panels]
+    differ = max(tops) > 1.5 * min(tops)
+    marked = range(len(panels)) if harmonics_on is None else harmonics_on
     for k, (ax, (t, W, sub)) in enumerate(zip(axes[0], panels)):
         W = np.asarray(W)
-        mesh = ax.pcolormesh(t, freqs_hz, W.T, shading="auto", cmap="magma", vmin=0, vmax=float(W.max()) or 1.0)
+        mesh = ax.pcolormesh(t, freqs_hz, W.T, shading="auto", cmap="magma", vmin=0, vmax=tops[k])
         fig.colorbar(mesh, ax=ax, label=f"|W| ({unit})", pad=0.02 if k < len(panels) - 1 else 0.09)
         ax.set_yscale("log")
         ax.set_ylim(freqs_hz[0], freqs_hz[-1])
         plain_log_ticks(ax, freqs_hz, axis="y")
         ax.set_xlabel("time (s)")
-        ax.set_title(f"({chr(97 + k)}) {sub}", fontsize=9, loc="left")
+        scale = f"\ncolour scale 0-{tops[k]:.3g} {unit}"
+        if tops[k] < max(tops):
+            scale += f" ({max(tops) / tops[k]:.2g} x finer than panel ({chr(97 + tops.index(max(tops)))}))"
+        ax.set_title(f"({chr(97 + k)}) {sub}{scale if differ else ''}", fontsize=9, loc="left")
         for f in natural_hz:
             ax.axhline(f, color="w", ls="--", lw=0.6, alpha=0.7)
-        for f in harmonics_hz:
-            ax.axhline(f, color="tab:red", ls=":", lw=1.0)
+        if k in marked:
+            for f in harmonics_hz:
+                ax.axhline(f, color="tab:red", ls=":", lw=1.0)
+            _labels(ax, harmonics_hz, 0.01, 0, "left", "tab:red", "{:g} Hz", inside=True)
         if k == len(panels) - 1:
             _labels(ax, natural_hz, 1.0, 2, "left", "0.3", "{:.0f}")
-        if k == 0:
-            _labels(ax, harmonics_hz, 0.0, 2, "left", "tab:red", "{:g}")
     axes[0, 0].set_ylabel("frequency (Hz)")
     if title:
         fig.suptitle(title, fontsize=10)
     save_figure(fig, path)
 
 
-def _labels(ax, freqs, x, dx, ha, color, fmt):
-    """Labels of marked frequencies at the left or right edge of ``ax``, skipping any closer than 16 %
-    to the one before (log axis: they would overlap)."""
+def _labels(ax, freqs, x, dx, ha, color, fmt, inside=False):
+    """Labels of marked frequencies at the left or right edge of ``ax``, skipping any that would
+    overlap the one below (closer than 1.3 font heights on the axis as drawn); ``inside``: on a
+    dark box, for labels drawn over the image."""
+    size = 7 if inside else 6
+    fig = ax.figure
+    height_pt = ax.get_position().height * fig.get_figheight() * 72
+    lo, hi = (np.log(v) for v in ax.get_ylim())
     last = -np.inf
     for f in sorted(freqs):
-        if np.log(f) - last < 0.15:
+        y_pt = (np.log(f) - lo) / (hi - lo) * height_pt
+        if not lo <= np.log(f) <= hi or y_pt - last < 1.3 * size:
             continue
-        last = np.log(f)
+        last = y_pt
         ax.annotate(
             fmt.format(f),
             (x, f),
             xycoords=("axes fraction", "data"),
             xytext=(dx, 0),
             textcoords="offset points",
-            fontsize=6,
+            fontsize=size,
             va="center",
             ha=ha,
             color=color,
+            bbox=dict(boxstyle="square,pad=0.1", fc="black", ec="none", alpha=0.6) if inside else None,
         )

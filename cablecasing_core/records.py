@@ -158,6 +158,9 @@ def read_records(path: str | os.PathLike) -> Records:
         raise ModelError("file", path, "must end in .csv, .npz or .uff (the record's format goes by its suffix)")
     else:
         rec = _read_csv(path)
+    for name, values in [("time", rec.time), *rec.columns.items()]:
+        if np.iscomplexobj(values):
+            raise ModelError("file", path, f"column {name} holds complex numbers: a time record must be real")
     check_values("file", path, rec.time)
     for j, values in enumerate(rec.columns.values()):
         if values.shape != rec.time.shape:
@@ -201,6 +204,9 @@ def _read_npz(path):
     try:
         with np.load(path, allow_pickle=False) as z:
             arrays = {k: z[k] for k in z.files}
+        for k in ("time", "table"):  # integer or boolean samples are numbers, as in a CSV table
+            if k in arrays and arrays[k].dtype.kind in "iub":
+                arrays[k] = arrays[k].astype(float)
     except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile) as exc:
         raise ModelError("file", path, f"is not a readable .npz file ({type(exc).__name__})") from None
     if "table" in arrays and "names" in arrays and "time" in arrays:
@@ -218,7 +224,7 @@ def _read_npz(path):
         return Records(time, {n: table[:, i] for i, n in enumerate(names)}, dict(zip(names, units)), path, arrays)
     if "time" in arrays:  # any npz of 1-D arrays beside a time axis
         time = arrays.pop("time")
-        cols = {k: v for k, v in arrays.items() if v.shape == time.shape}
+        cols = {k: v.astype(float) if v.dtype.kind in "iub" else v for k, v in arrays.items() if v.shape == time.shape}
         if cols:
             return Records(time, cols, {k: unit_of(k) for k in cols}, path)
     raise ModelError("file", path, "must hold the arrays time, table, names (as 'cablecasing simulate --out' writes)")

@@ -61,7 +61,9 @@ def run_fmu(fmu_path, duration, out):
 
 def main(argv=None):
     p = argparse.ArgumentParser(
-        description=__doc__.splitlines()[0], formatter_class=argparse.ArgumentDefaultsHelpFormatter
+        description=" ".join(__doc__.split("\n\n")[0].split()),  # the first paragraph, whole
+        epilog=" ".join(__doc__.split("\n\n")[-1].split()),
+        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
     )
     p.add_argument("--out", default="results", help="folder of the report")
     p.add_argument("--duration", type=float, default=0.5, help="simulated time of every run (s)")

@@ -21,11 +21,60 @@ def _window(rec, skip):
     seconds("--skip", skip, zero_ok=True)
     keep = rec.time > rec.time[0] + skip - 0.5 / rec.fs
     if keep.sum() < 16:
-        raise ModelError("--skip", skip, f"must leave part of the {rec.time[-1] - rec.time[0]:.6g} s record")
+        raise ModelError(
+            "--skip",
+            skip,
+            f"must leave at least 16 samples of the {rec.time[-1] - rec.time[0]:.6g} s record {rec.source} "
+            f"({rec.time.size} samples at dt = {1 / rec.fs:.4g} s)",
+        )
     return keep
 
 
+def _columns(given, default):
+    """The ``--column`` options (all of them, in order): a column given twice is refused."""
+    from ..errors import ModelError
+
+    cols = list(given or default)
+    for c in cols:
+        if cols.count(c) > 1:
+            raise ModelError("--column", c, "is given twice: give each column once")
+    return cols
+
+
+def _signal(rec, path, name, keep, role="--column"):
+    """The samples of column ``name`` after --skip; a constant column (no spectrum, every line
+    and band 0 and a level of -inf dB) is refused naming the file and the column."""
+    from ..errors import ModelError
+
+    x = rec.column(name)[keep]
+    if np.ptp(x) == 0:
+        raise ModelError(
+            role,
+            rec.resolve(name),
+            f"is constant ({x[0]:g} {rec.unit(name)}) in {path} after --skip: it has no spectrum (every line and "
+            "band would be 0, a level of -inf dB)",
+        )
+    return x
+
+
+def _no_line(path, col, fs, n, fmin, fmax, df=None):
+    """The error of a record that holds no spectral line in --fmin..--fmax (Hz)."""
+    from ..errors import ModelError
+
+    first = f"from {df:.4g} Hz " if df else ""
+    return ModelError(
+        "--fmin/--fmax",
+        (fmin, fmax),
+        f"hold no spectral line of {path}, column {col}: its {n} samples after --skip at dt = {1 / fs:.4g} s "
+        f"({n / fs:.4g} s) give lines {first}up to the Nyquist frequency {fs / 2:.4g} Hz; lines down to {fmin:g} Hz "
+        f"need about {4 / fmin:.4g} s of record, lines up to {fmax:g} Hz need dt <= {1 / (2 * fmax):.4g} s",
+    )
+
+
 def cmd_spectrum(args):
+    import warnings
+
+    from ..errors import ModelError
     from ..nvh import apparent_mass, psd, reference, transmissibility
     from .paths import check_output_path, emit_table, kept
 
@@ -33,34 +82,68 @@ def cmd_spectrum(args):
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
     args.interrupted = "stopped: " + kept(args.out, args.plot)
     rec = _record(args.record)
-    columns = args.column or ["casing.B.Fz"]
+    columns = _columns(args.column, ["casing.B.Fz"])
     check_frequency_range(args.fmin, args.fmax)
     f_range = (args.fmin, args.fmax)
+    keep = _window(rec, args.skip)
+    fs, n = rec.fs, int(keep.sum())
+    if fs / 2 <= args.fmin:
+        raise _no_line(args.record, rec.resolve(columns[0]), fs, n, args.fmin, args.fmax)
     if args.kind == "psd":
-        keep = _window(rec, args.skip)
-        res = [
-            psd(rec.column(c)[keep], rec.fs, nperseg=_nperseg(rec, args), unit=rec.unit(c), name=rec.resolve(c))
-            for c in columns
-        ]
+        with warnings.catch_warnings(record=True) as said:  # (said after the range is checked)
+            warnings.simplefilter("always")
+            res = [
+                psd(
+                    _signal(rec, args.record, c, keep),
+                    fs,
+                    nperseg=_nperseg(rec, args),
+                    unit=rec.unit(c),
+                    name=rec.resolve(c),
+                    f_min=args.fmin,
+                )
+                for c in columns
+            ]
+        sel = (res[0].f_hz >= args.fmin) & (res[0].f_hz <= args.fmax) & (res[0].f_hz > 0)
+        if not sel.any():
+            raise _no_line(args.record, res[0].name, fs, n, args.fmin, args.fmax, res[0].df)
+        for w in said:
+            warnings.warn(w.message, w.category, stacklevel=1)
         unit = res[0].unit
         ref = reference(unit, args.ref) if unit or args.ref else 1.0
-        sel = (res[0].f_hz >= args.fmin) & (res[0].f_hz <= args.fmax)
         names = [f"{r.name} PSD [{r.unit}^2/Hz]" for r in res] + [
             f"{r.name} level [dB re {ref:g} {r.unit}^2/Hz]" for r in res
         ]
         table = np.column_stack([res[0].f_hz] + [r.density for r in res] + [r.level_db(args.ref) for r in res])[sel]
+        lo, hi = res[0].covered(args.fmin, args.fmax)
+        first, last = res[0].f_hz[sel][[0, -1]]
         print(
-            f"# {args.record}: PSD (Welch, Hann, 50 % overlap), df = {res[0].fs / res[0].nperseg:.4g} Hz, "
-            f"{res[0].n_averages} averages, after {args.skip:g} s"
+            f"# {args.record}: PSD (Welch, Hann, 50 % overlap), df = {res[0].df:.4g} Hz (lines {first:.4g}-{last:.4g} "
+            f"Hz written), {res[0].n_averages} averages, after {args.skip:g} s"
         )
         for r in res:
-            rms = np.sqrt(r.mean_square(args.fmin, args.fmax))
-            print(f"# {r.name}: RMS {rms:.6g} {r.unit} in {args.fmin:g}-{args.fmax:g} Hz")
+            rms = np.sqrt(r.mean_square(lo, hi))
+            print(
+                f"# {r.name}: RMS {rms:.6g} {r.unit} in {lo:.4g}-{hi:.4g} Hz (the PSD integrated over its lines, each "
+                "df wide, split at the edges; the band levels of 'bands' over the same range add up to it)"
+            )
     else:
         fn = apparent_mass if args.kind == "apparent-mass" else transmissibility
         inp = args.input or ("casing.A.az" if args.kind == "apparent-mass" else "casing.A.Fz")
+        _signal(rec, args.record, inp, keep, "--input")
+        for c in columns:
+            _signal(rec, args.record, c, keep)
         res = [fn(rec, inp, c, args.estimator, args.skip, nperseg=_nperseg(rec, args)) for c in columns]
-        sel = (res[0].f_hz >= args.fmin) & (res[0].f_hz <= args.fmax)
+        sel = (res[0].f_hz >= args.fmin) & (res[0].f_hz <= args.fmax) & (res[0].f_hz > 0)
+        if not sel.any():
+            raise _no_line(args.record, res[0].output, fs, n, args.fmin, args.fmax, res[0].f_hz[1])
+        bad = [r for r in res if not np.all(np.isfinite(r.H[sel]))]
+        if bad:
+            raise ModelError(
+                "--input",
+                bad[0].input,
+                f"has lines of zero power in {args.record} between --fmin and --fmax: the transfer function to "
+                f"{bad[0].output} is undefined there (0/0); choose a range the input excites",
+            )
         names = []
         cols = [res[0].f_hz]
         for r in res:
@@ -117,26 +200,46 @@ def _nperseg(rec, args):
 
 
 def cmd_bands(args):
+    from ..errors import ModelError
     from ..files import atomic_path
     from ..nvh import reference
     from ..studies import octave_rms
+    from ..studies.octave import octave_bands
     from .paths import check_output_path, kept
 
     check_output_path("--out", args.out, (".csv",))
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
     args.interrupted = "stopped: " + kept(args.out, args.plot)
+    columns = _columns(args.column, ["casing.B.Fz"])
+    if len(columns) > 1:
+        raise ModelError("--column", ", ".join(columns), "bands takes one column: run it once per column")
+    band_set = octave_bands(args.kind, args.fmin, args.fmax)
     rec = _record(args.record)
     keep = _window(rec, args.skip)
-    col = rec.resolve(args.column)
+    col = rec.resolve(columns[0])
     unit = rec.unit(col)
     ref = reference(unit, args.ref) if unit or args.ref else 1.0
-    bands = octave_rms(rec.column(col)[keep], rec.fs, args.kind, beyond_nyquist="drop")
+    x = _signal(rec, args.record, col, keep)
+    if band_set.upper[0] > rec.fs / 2:
+        raise ModelError(
+            "--column",
+            col,
+            f"of {args.record} is sampled at dt = {1 / rec.fs:.4g} s: its Nyquist frequency {rec.fs / 2:.4g} Hz lies "
+            f"below every {args.kind} band (the lowest ends at {band_set.upper[0]:.4g} Hz); the bands need dt <= "
+            f"{0.5 / band_set.upper[0]:.4g} s",
+        )
+    bands = octave_rms(x, rec.fs, band_set, beyond_nyquist="drop", name=f"{col} in {args.record} (after --skip)")
     level = bands.level_db(ref)
+    total = float(np.sqrt(np.sum(bands.mean_square)))
     print(f"# {args.record}: {col} after {args.skip:g} s, {args.kind} bands; level in dB re {ref:g} {unit}")
-    header = f"band,f_low [Hz],f_high [Hz],rms [{unit}],level [dB re {ref:g} {unit}]"
+    print(
+        f"# RMS over the bands, {bands.lower[0]:.4g}-{bands.upper[-1]:.4g} Hz: {total:.6g} {unit} (their mean "
+        "squares summed; 'spectrum --fmin/--fmax' over the same range gives it within its estimate's scatter)"
+    )
+    header = f"band,f_centre [Hz],f_low [Hz],f_high [Hz],rms [{unit}],level [dB re {ref:g} {unit}]"
     rows = [
-        f"{lab},{lo:.6g},{hi:.6g},{r:.6g},{L:.2f}"
-        for lab, lo, hi, r, L in zip(bands.labels, bands.lower, bands.upper, bands.rms, level)
+        f"{lab},{c:.6g},{lo:.6g},{hi:.6g},{r:.6g},{L:.2f}"
+        for lab, c, lo, hi, r, L in zip(bands.labels, bands.centre, bands.lower, bands.upper, bands.rms, level)
     ]
     print(header)
     print("\n".join(rows))
@@ -176,8 +279,9 @@ def add_parser(sub):
         "--resolution",
         type=float,
         default=None,
-        help="frequency resolution, Hz (a power of two of samples per segment; default: 1 Hz, at most an "
-        "eighth of the record)",
+        help="frequency resolution, Hz (a power of two of samples per segment; default for the PSD: the first "
+        "line at or below --fmin, with at least 7 averages, else a warning names the first line; for the transfer "
+        "kinds 1 Hz, at most an eighth of the record)",
     )
     s.add_argument("--skip", type=float, default=0.05, help="start of the record left out, s")
     s.add_argument("--fmin", type=float, default=1.0, help="lowest frequency written and drawn, Hz")
@@ -196,12 +300,25 @@ def add_parser(sub):
 
     b = sub.add_parser("bands", help="octave or third-octave band RMS and levels (dB) of a record column")
     b.add_argument("record", help=RECORD_HELP)
-    b.add_argument("--column", default="casing.B.Fz", help="record column, e.g. casing.B.Fz")
+    b.add_argument(
+        "--column", action="append", default=None, help="record column, e.g. casing.B.Fz (default: casing.B.Fz)"
+    )
     b.add_argument(
         "--kind",
         choices=["table3", "octave", "third"],
         default="table3",
-        help="table3: the paper's nine octaves 11-5680 Hz; octave, third: IEC 61260-1 base-10 bands",
+        help="table3: the paper's nine octaves 11-5680 Hz (oct1..oct9); octave, third: IEC 61260-1 base-10 bands, "
+        "named by their nominal mid-band frequencies (16Hz, 31.5Hz, ...)",
+    )
+    b.add_argument(
+        "--fmin",
+        type=float,
+        default=None,
+        help="lowest mid-band frequency kept, Hz (default: all of table3; 10 Hz for octave and third): leaves out "
+        "bands the record is too short to resolve",
+    )
+    b.add_argument(
+        "--fmax", type=float, default=None, help="highest mid-band frequency kept, Hz (default: all; 20000 Hz)"
     )
     b.add_argument("--skip", type=float, default=0.05, help="start of the record left out, s")
     b.add_argument(

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import numpy as np
+
 from .helptext import key_help
 
 OUT_SUFFIXES = (".csv", ".npz", ".uff")
@@ -16,7 +18,11 @@ def cmd_simulate(args):
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
     model = load_model(args.model)
     if args.output_interval is not None:  # checked before the run against the time step
-        _check_interval(args.output_interval, model.scenario["dt"] if args.dt is None else args.dt)
+        _check_interval(
+            args.output_interval,
+            model.scenario["dt"] if args.dt is None else args.dt,
+            model.scenario["duration"] if args.duration is None else args.duration,
+        )
     plot = args.plot if isinstance(args.plot, str) else ("simulation.png" if args.plot else None)
     if args.plot is True:
         check_output_path("--plot", plot)
@@ -24,10 +30,8 @@ def cmd_simulate(args):
     res = simulate(
         model, duration=args.duration, dt=args.dt, contact=False if args.no_contact else None, progress=args.progress
     )
-    rms = {n: float((res.support_force(n) ** 2).mean() ** 0.5) for n in ("casing.B.Fx", "casing.B.Fy", "casing.B.Fz")}
     print(f"simulated {res.time[-1]:.6g} s in {len(res.time)} steps")
-    for n, v in rms.items():
-        print(f"  RMS {n}: {v:.6g} N")
+    print(output_summary(model, res))
     print(
         f"  contact: {int((res.contact_state != 0).any(axis=0).sum())} cable nodes touched, "
         f"max penetration {res.penetration.max(initial=0.0):.3g} m"
@@ -39,8 +43,11 @@ def cmd_simulate(args):
             "(3-20 % scatter per octave);\n        for expected levels use 'cablecasing ensemble' (docs/studies.md)"
         )
     if args.out:
-        res.save(args.out, output_interval=args.output_interval)
-        every = f", every {args.output_interval:g} s" if args.output_interval else ""
+        res.save(args.out, output_interval=args.output_interval, decimation=args.decimation)
+        how = "low-pass filtered" if args.decimation == "filter" else "picked"
+        every = (
+            f", t = 0, {args.output_interval:g}, ... s ({how})" if args.output_interval else ", t = 0 and every step"
+        )
         print(f"wrote {args.out}{every}")
     if args.plot:
         from ..plotting import plot_time_result
@@ -51,7 +58,9 @@ def cmd_simulate(args):
     return 0
 
 
-def _check_interval(interval, dt):
+def _check_interval(interval, dt, duration):
+    """``--output-interval`` must be a whole number of time steps and the duration a whole number
+    of intervals (so that the record ends at T: the grid t = 0, S, 2S, ..., T)."""
     from ..errors import ModelError
     from ..model.validators import seconds
 
@@ -59,6 +68,46 @@ def _check_interval(interval, dt):
     m = round(interval / dt)
     if not interval > 0 or m < 1 or abs(m * dt - interval) > 1e-6 * dt:
         raise ModelError("--output-interval", interval, f"must be a whole number of time steps (dt = {dt:g} s)")
+    k = round(duration / interval)
+    if k < 1 or abs(k * interval - duration) > 1e-6 * dt:
+        raise ModelError(
+            "--output-interval",
+            interval,
+            f"must divide the duration ({duration:g} s) into whole intervals, so that the record ends at "
+            f"t = {duration:g} s (e.g. {duration / max(k, 1):.6g} s)",
+        )
+
+
+#: The kind of each support's output line in the summary, by support type.
+_SUPPORT_KIND = {"clamped": "support", "isolator": "isolator"}
+
+
+def output_summary(model, res) -> str:
+    """Lines of every support, isolator and clip output of a run (``res.force_names``; free supports
+    and absent bodies have none): the mean (the static part: preload, gravity), the total RMS, the
+    dynamic RMS (mean removed: what vibrates) and the peak of the dynamic part, in N or N.m."""
+    from ..model.schema import output_spec
+
+    rows = []
+    for i, name in enumerate(res.force_names):
+        body, where, _ = name.split(".")
+        if where.startswith("clip"):
+            kind = "clip"
+        else:
+            kind = _SUPPORT_KIND.get(model.data.get(body, {}).get("supports", {}).get(where))
+        if kind is None:
+            continue
+        x = res.support_forces[:, i]
+        mean = float(x.mean())
+        rows.append(
+            f"  {name:<18} {kind:<8} {output_spec(name)[0]:<4} {mean:>11.4g} {float(np.sqrt(np.mean(x**2))):>11.4g} "
+            f"{float(x.std()):>11.4g} {float(np.abs(x - mean).max()):>11.4g}"
+        )
+    head = (
+        f"  {'output':<18} {'kind':<8} {'unit':<4} {'mean':>11} {'RMS total':>11} {'RMS dynamic':>11} {'peak dyn.':>11}"
+    )
+    note = "  (RMS dynamic: the mean removed, what vibrates; the mean is the static part, e.g. an installed preload)"
+    return "\n".join(["  force each body exerts on its supports and clips, over the run:", head, *rows, note])
 
 
 def _j(x):
@@ -105,8 +154,15 @@ def add_parser(sub):
         type=float,
         default=None,
         metavar="S",
-        help="write every S seconds, a whole number of time steps (default: every step); samples are picked, "
-        "so content above 1/(2 S) Hz aliases",
+        help="write t = 0, S, 2S, ..., the duration: S a whole number of time steps dividing the duration "
+        "(default: every step); low-pass filtered against aliasing (see --decimation)",
+    )
+    p.add_argument(
+        "--decimation",
+        choices=["filter", "pick"],
+        default="filter",
+        help="with --output-interval: filter (a zero-phase FIR, flat to 0.7 and 80 dB down above 1/(2 S) Hz, "
+        "so nothing aliases) or pick the samples as they are (content above 1/(2 S) Hz aliases)",
     )
     p.add_argument(
         "--plot", nargs="?", const=True, default=None, help="write a figure (PNG path; default simulation.png)"

@@ -20,13 +20,41 @@ def study_bounds(args, model):
     checked against the model and the schema (before any run)."""
     from ..studies.sampling import check_bounds, parse_vary, read_vary_file
 
-    bounds = {}
-    if args.vary_file:
+    bounds, given = {}, {}
+    if args.vary_file:  # (its keys are named bounds.<key>, as in the file)
         bounds.update(read_vary_file(args.vary_file))
     for text in args.vary:
         key, b = parse_vary(text)
         bounds[key] = b
-    return check_bounds(bounds or None, model=model)
+        given[key] = "--vary"
+    try:
+        return check_bounds(bounds or None, model=model)
+    except ModelError as exc:  # (a --vary key named by the option and the key the user wrote)
+        key = exc.key[len("bounds.") :] if str(exc.key).startswith("bounds.") else None
+        if key in given:
+            raise ModelError(f"{given[key]} {key}", exc.value, exc.allowed) from None
+        raise
+
+
+def study_output(name, model):
+    """``--output``: a support, isolator or clip output of the model (force or moment, N or N.m)."""
+    from ..model.schema import SUPPORT_OUTPUTS, clip_outputs
+
+    known = SUPPORT_OUTPUTS + clip_outputs(model)
+    if name not in known:
+        import difflib
+
+        close = difflib.get_close_matches(str(name), list(known), n=1)
+        mean = f" (did you mean {close[0]}?)" if close else ""
+        raise ModelError(
+            "--output",
+            name,
+            f"must be a support, isolator or clip output of the model {model.source}{mean}: "
+            + ", ".join(known[:3])
+            + ", ..., "
+            + known[-1],
+        )
+    return name
 
 
 def cmd_study(args):
@@ -36,17 +64,25 @@ def cmd_study(args):
 
     model = load_model(args.model)
     bounds = study_bounds(args, model)  # (before anything is written)
+    output = study_output(args.output, model)
+    unit = output_spec(output)[0]
     integer("--samples", args.samples, 2, MAX_STUDY_SAMPLES)
     out = Path(args.out)  # (created by run_study once every setting is checked and the scheduler answers)
     model_file = str(Path(args.model).resolve()) if args.model else None  # (dask workers: any folder)
     kwargs = {"model_file": model_file, "duration": args.duration, "skip": args.skip}
+    if output != "casing.B.Fz":  # (the default's settings stay as earlier versions wrote them: they resume)
+        kwargs["output"] = output
+    quantity = {"name": output, "unit": unit, "what": "RMS in the octave bands of Table 3"}
     g = group_size(bounds)
     print(
-        f"# study of {model.source}: {len(bounds)} parameters, at least {args.samples} runs in groups of {g} "
-        f"(Saltelli's design on a scrambled Sobol' sequence, seed {args.seed}); results in {out / 'study.csv'}"
+        f"# study of {model.source}: {len(bounds)} parameters, the Table 3 band RMS of {output} ({unit}), "
+        f"Saltelli's design on a scrambled Sobol' sequence (seed {args.seed}); results in {out / 'study.csv'}"
     )
     nb = base_points(bounds, args.samples)
-    print(f"#   {nb} base points x {g} = {nb * g} runs asked for")
+    print(
+        f"#   {nb * g} runs: {nb} base points x {g} (d + 2 runs per base point for d = {len(bounds)} parameters, "
+        f"at least 2 base points; --samples {args.samples} is rounded up to whole groups)"
+    )
     args.interrupted = f"the rows finished so far are in {out / 'study.csv'}; run the same command again to go on"
     res = run_study(
         out / "study.csv",
@@ -57,6 +93,7 @@ def cmd_study(args):
         scheduler=args.scheduler,
         n_workers=args.workers,
         evaluate_kwargs=kwargs,
+        quantity=quantity,
         model=model,
         progress_timeout=number("--timeout", args.timeout, gt=0, unit="s"),
     )
@@ -101,10 +138,12 @@ def print_study(res):
     w = max([10] + [len(edges.get(o, o)) + 2 for o in res.outputs])
     head = "".join(f"{o:>{w}}" for o in res.outputs)
     hz = "".join(f"{edges.get(o, ''):>{w}}" for o in res.outputs)
+    q = res.quantity
+    of = f"{q['name']} ({q['unit']})" if q else "the output"
     for method in ("pearson", "spearman"):
         c = correlations(res, method)
         print(
-            f"\n{method.capitalize()} correlation r (-) of each parameter with the band RMS of the output "
+            f"\n{method.capitalize()} correlation r (-) of each parameter with the band RMS of {of} "
             f"({c.n} ok runs); bands (Hz):"
         )
         print(f"  {'band':40s}{head}\n  {'':40s}{hz}")
@@ -113,8 +152,8 @@ def print_study(res):
     sob = _sobol_or_none(res)
     if sob is not None:
         print(
-            f"\nSobol indices (-), first order S1 and total ST with their {sob.conf_level:.0%} intervals, from "
-            f"{sob.n_base} complete base points:"
+            f"\nSobol indices (-) of the band RMS of {of}, first order S1 and total ST with their "
+            f"{sob.conf_level:.0%} intervals, from {sob.n_base} complete base points:"
         )
         print(f"  {'band':40s}{head}\n  {'':40s}{hz}")
         for i, p in enumerate(sob.parameters):
@@ -297,6 +336,12 @@ def add_parser(sub):
         "--duration", type=float, default=None, help=key_help("scenario.duration", "simulated time per sample")
     )
     p.add_argument("--skip", type=float, default=0.05, help="start of each record left out, s")
+    p.add_argument(
+        "--output",
+        default="casing.B.Fz",
+        help="the support, isolator or clip output whose Table 3 band RMS the study records (N or N.m), e.g. "
+        "casing.A.Fx, cable.B.Mz, casing.clip0.Fz",
+    )
     p.add_argument("--out", default="study", help="folder of study.csv (resumed when it exists) and the figures")
     p.add_argument(
         "--timeout",

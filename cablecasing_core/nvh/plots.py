@@ -22,8 +22,10 @@ def db_axis(ax, ref, unit, power):
     return sec
 
 
-def plot_psd(psds, path, ref=None, log_frequency=True, f_range=None, title=None):
-    """PSDs (``spectra.PSD``; unit^2/Hz, log axis) with their level in dB re ref^2/Hz on the right."""
+def plot_psd(psds, path, ref=None, log_frequency=True, f_range=None, title=None, dynamic_range_db=60.0):
+    """PSDs (``spectra.PSD``; unit^2/Hz, log axis) with their level in dB re ref^2/Hz on the right;
+    the y axis spans ``dynamic_range_db`` (dB) below the highest line shown (or down to the lowest
+    line, when that is less), so a record whose spectrum collapses above its band keeps its shape."""
     psds = list(psds)
     unit = psds[0].unit
     r = reference(unit, ref) if unit or ref else None
@@ -47,8 +49,8 @@ def plot_psd(psds, path, ref=None, log_frequency=True, f_range=None, title=None)
         plain_log_ticks(ax, [lo, hi])
     shown = np.concatenate([p.density[(p.f_hz >= lo) & (p.f_hz <= hi)] for p in psds])
     shown = shown[shown > 0]
-    if shown.size:  # the visible range, at most 10 decades below the peak
-        ax.set_ylim(max(shown.min(), shown.max() * 1e-10) / 2, shown.max() * 2)
+    if shown.size:  # the visible range, at most dynamic_range_db below the peak
+        ax.set_ylim(max(shown.min() / 2, shown.max() * 10 ** (-dynamic_range_db / 10)), shown.max() * 2)
     ax.set_xlabel("frequency (Hz)")
     ax.set_ylabel(f"PSD ({unit}$^2$/Hz)" if unit else "PSD (unit$^2$/Hz)")
     if r is not None:
@@ -99,6 +101,26 @@ def plot_transfer(tr, path, reference_curves=None, log_frequency=True, f_range=N
     save_figure(fig, path)
 
 
+def band_ticks(bands) -> list:
+    """Tick labels of bands (``BandRMS``, ``Bands``, an ``Ensemble``: anything with ``labels``,
+    ``lower`` and ``upper``) by their nominal mid-band frequency (Hz; IEC 61260-1 names, or the
+    octave a Table 3 band stands in for under its own name, ``oct5`` over 250)."""
+    from ..studies.octave import nominal_of
+
+    centre = np.sqrt(np.asarray(bands.lower) * np.asarray(bands.upper))
+    ticks = []
+    for lab, c in zip(bands.labels, centre):
+        f = nominal_of(lab, c)
+        ticks.append(f"{f:g}" if lab == f"{f:g}Hz" else f"{lab}\n{f:g}")
+    return ticks
+
+
+def set_band_ticks(ax, x, bands):
+    """Ticks at ``x`` labelled by :func:`band_ticks`; upright up to 16 bands, turned beyond (a
+    third-octave set's four-digit names would run into each other)."""
+    ax.set_xticks(x, band_ticks(bands), fontsize=7, rotation=0 if len(x) <= 16 else 90)
+
+
 def plot_band_levels(bands, path, unit="N", ref=None, labels=None, title=None):
     """Band RMS (``studies.octave.BandRMS``, one or several) as bars in ``unit`` (log axis) with the
     level in dB re ``ref`` (default the unit's reference) on the right."""
@@ -111,8 +133,8 @@ def plot_band_levels(bands, path, unit="N", ref=None, labels=None, title=None):
     for i, b in enumerate(bands):
         ax.bar(x + (i - (n - 1) / 2) * width, b.rms, width, label=None if labels is None else labels[i])
     ax.set_yscale("log")
-    ax.set_xticks(x, [f"{lo:.4g}-{hi:.4g}" for lo, hi in zip(bands[0].lower, bands[0].upper)], rotation=45, fontsize=7)
-    ax.set_xlabel("band (Hz)")
+    set_band_ticks(ax, x, bands[0])
+    ax.set_xlabel("band: nominal mid-band frequency (Hz)")
     ax.set_ylabel(f"band RMS ({unit})")
     db_axis(ax, r, unit, power=False)
     ax.grid(True, axis="y", which="both", alpha=0.3)
@@ -122,4 +144,4 @@ def plot_band_levels(bands, path, unit="N", ref=None, labels=None, title=None):
     save_figure(fig, path)
 
 
-__all__ = ["level_db", "plot_band_levels", "plot_psd", "plot_transfer"]
+__all__ = ["band_ticks", "level_db", "plot_band_levels", "set_band_ticks", "plot_psd", "plot_transfer"]

@@ -21,6 +21,7 @@
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -29,6 +30,10 @@ from scipy import signal
 
 from ..errors import ModelError
 from ..model.validators import array_1d, number
+
+#: The fewest Welch averages the default resolution keeps, and below which psd() warns: the
+#: normalized random error of a PSD line is about 1/sqrt(averages) (Bendat & Piersol 11.5), 38 % at 7.
+MIN_AVERAGES = 7
 
 #: Reference values (in the unit itself) of levels in dB, by unit (module docstring).
 REFERENCES = {"N": 1.0, "N.m": 1.0, "m/s2": 1e-6, "m/s": 1e-9, "m": 1e-12}
@@ -67,12 +72,30 @@ class PSD:
     n_averages: int
     enbw: float
 
+    @property
+    def df(self) -> float:
+        """The line spacing (Hz), fs / nperseg."""
+        return self.fs / self.nperseg
+
+    def covered(self, f_low: float = 0.0, f_high: float = np.inf) -> tuple[float, float]:
+        """The part of ``[f_low, f_high]`` (Hz) that the lines cover: line k stands for
+        ``[f_k - df/2, f_k + df/2]``, the first line (f = df; the mean is removed, so the 0 Hz line
+        holds nothing) from df/2 Hz, the last up to the Nyquist frequency fs/2."""
+        return max(f_low, self.df / 2), min(f_high, self.fs / 2)
+
     def mean_square(self, f_low: float = 0.0, f_high: float = np.inf) -> float:
-        """The mean square (unit^2) between ``f_low`` and ``f_high`` (Hz): the PSD integrated by the
-        rectangle rule over the bins (Parseval)."""
-        df = self.f_hz[1] - self.f_hz[0]
-        sel = (self.f_hz >= f_low) & (self.f_hz <= f_high)
-        return float(np.sum(self.density[sel]) * df)
+        """The mean square (unit^2) between ``f_low`` and ``f_high`` (Hz): the PSD integrated over
+        the lines, each line standing for ``[f_k - df/2, f_k + df/2]`` and a line that straddles
+        an edge split in proportion, as the band levels split their FFT bins
+        (:func:`~cablecasing_core.studies.octave.band_sums`), so that the mean squares of adjacent
+        ranges add up to that of their union (Parseval)."""
+        from ..studies.octave import band_sums, bin_edges
+
+        lo, hi = max(f_low, 0.0), min(f_high, self.fs / 2)
+        if not hi > lo:
+            return 0.0
+        ms, _ = band_sums(self.density * self.df, bin_edges(self.nperseg, self.fs), np.array([lo]), np.array([hi]))
+        return float(ms[0])
 
     def level_db(self, ref: float | None = None) -> np.ndarray:
         """The PSD in dB re ref^2/Hz (default reference of the unit, :data:`REFERENCES`)."""
@@ -87,22 +110,38 @@ def psd(
     overlap: float = 0.5,
     unit: str = "",
     name: str = "",
+    f_min: float = 1.0,
 ) -> PSD:
     """Power spectral density of ``x`` (sampled at ``fs`` Hz) by Welch's method.
 
-    nperseg: samples per segment (default: the power of two nearest fs, i.e. about 1 Hz resolution,
-    but at most the largest power of two <= n / 8, so at least 15 averages, and at least 256 or the
-    record's largest power of two); window: a
-    ``scipy.signal.get_window`` spec (default Hann); overlap: the segments' overlap fraction (0 to
-    < 1). The density is one-sided, unit^2/Hz (``scaling="density"``), so ``sum(density) df`` is the
-    mean square of x (less its mean, removed per segment).
+    nperseg: samples per segment (resolution fs / nperseg Hz). Default: the power of two that
+    resolves ``f_min`` (Hz, default 1: the first line, at fs / nperseg, at or below f_min), but at
+    most the largest power of two <= n / 4, so at least :data:`MIN_AVERAGES` averages; when that
+    cap puts the first line above f_min, a warning names the first line and the record length
+    that would resolve f_min. Fewer than :data:`MIN_AVERAGES` averages (an nperseg asked for) warn
+    too. window: a ``scipy.signal.get_window`` spec (default Hann); overlap: the segments' overlap
+    fraction (0 to < 1). The density is one-sided, unit^2/Hz (``scaling="density"``), so
+    ``sum(density) df`` is the mean square of x (less its mean, removed per segment). ``name``
+    (the record's column) names the signal in every message.
     """
-    x = array_1d("x", x, min_len=16)
+    what = name or "x"
+    x = array_1d(what, x, min_len=16)
     fs = number("fs", fs, gt=0, unit="Hz")
     number("overlap", overlap, ge=0, lt=1)
+    number("f_min", f_min, gt=0, unit="Hz")
     if nperseg is None:
-        nperseg = int(2 ** np.round(np.log2(fs)))  # ~1 Hz
-        nperseg = max(min(256, 2 ** int(np.log2(x.size))), min(nperseg, 2 ** int(np.log2(max(x.size // 8, 1)))))
+        want = int(2 ** np.ceil(np.log2(fs / f_min) - 1e-9))  # first line fs / want <= f_min
+        cap = 2 ** int(np.log2(max(x.size // 4, 8)))
+        nperseg = max(8, min(want, cap))
+        if nperseg < want:
+            warnings.warn(
+                f"{what}: the first line of the PSD is at {fs / nperseg:.4g} Hz, above f_min = {f_min:g} Hz: the "
+                f"{x.size / fs:.4g} s record holds {MIN_AVERAGES} averages of segments of {nperseg / fs:.4g} s at "
+                f"most; a record of {4 * want / fs:.4g} s resolves {f_min:g} Hz (or ask for a finer resolution, "
+                "fewer averages)",
+                UserWarning,
+                stacklevel=2,
+            )
     nperseg = int(nperseg)
     if not 8 <= nperseg <= x.size:
         raise ModelError("nperseg", nperseg, f"must be between 8 and the record length ({x.size} samples)")
@@ -113,5 +152,12 @@ def psd(
     except (ValueError, TypeError) as exc:
         raise ModelError("window", window, f"must be a scipy.signal.get_window spec ({exc})") from None
     n_avg = 1 + (x.size - nperseg) // (nperseg - noverlap)
+    if n_avg < MIN_AVERAGES:
+        warnings.warn(
+            f"{what}: the PSD averages only {n_avg} segment(s) of {nperseg / fs:.4g} s: each line's random error is "
+            f"about {1 / np.sqrt(n_avg):.0%} (1/sqrt(averages)); a coarser resolution or a longer record gives more",
+            UserWarning,
+            stacklevel=2,
+        )
     enbw = fs * np.sum(w**2) / np.sum(w) ** 2
     return PSD(f, G, unit, name, fs, nperseg, int(n_avg), float(enbw))

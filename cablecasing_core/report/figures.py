@@ -89,13 +89,16 @@ def time_figure(variants, path):
 
 
 def scalogram_figure(variants, path, natural, harmonics, skip):
-    """Figs. 20-21: Morlet scalograms |W| (N) of casing.B.Fz of the reference records, side by side
-    on one colour scale, natural frequencies (dashed) and drive harmonics (dotted) marked."""
+    """Figs. 20-21: Morlet scalograms |W| (N) of casing.B.Fz of the reference records, side by side,
+    each on its own colour scale (stated when they differ), natural frequencies (dashed) marked on
+    both and the drive's harmonics (dotted) on the records with the drive only."""
     from ..identification.wavelet import cwt_morlet
     from ..plotting import plot_scalograms
 
-    panels = []
-    for v in variants:
+    panels, driven = [], []
+    for k, v in enumerate(variants):
+        if v.key != "nodrive":
+            driven.append(k)
         r = v.result
         fs = 1.0 / (r.time[1] - r.time[0])
         W = np.abs(cwt_morlet(r.support_force(OUTPUT), fs, SCALOGRAM_HZ))
@@ -109,6 +112,7 @@ def scalogram_figure(variants, path, natural, harmonics, skip):
         unit="N",
         natural_hz=natural,
         harmonics_hz=harmonics,
+        harmonics_on=driven,
         title=f"Wavelet transform |W| of {OUTPUT} (Figs. 20-21); dashed: natural frequencies of the casing, "
         "dotted: the drive and its harmonics",
     )
@@ -267,6 +271,7 @@ def study_figures(model, folder: Path, n_samples, duration, skip, progress):
         seed=0,
         scheduler="serial",
         evaluate_kwargs=kwargs,
+        quantity={"name": OUTPUT, "unit": "N", "what": "RMS in the octave bands of Table 3"},
         model=model,
         progress=progress,
     )

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import html
 import math
+import re
 
 import numpy as np
 
@@ -66,13 +67,46 @@ def _excitations(model):
     return rows
 
 
+#: The alt text of each figure of the report (what it shows, for a reader without the image).
+ALT = {
+    "trfam_xyz.png": "TRFAM in x, y and z with viscous and structural damping against frequency (Fig. 17)",
+    "simulation.png": "support forces of the reference records over time",
+    "scalograms.png": "wavelet scalograms of casing.B.Fz without and with the cable drive (Figs. 20-21)",
+    "routing_contact.png": "the routing in 3D coloured by the contact time (Fig. 22a)",
+    "contact_histogram.png": "contact time per cable node beside the curvature along the arc length (Fig. 22b)",
+    "psd.png": "power spectral density of casing.B.Fz of the reference records",
+    "apparent_mass.png": "apparent mass estimated from the record against the TRFAM, with coherence",
+    "band_levels.png": "band levels of casing.B.Fz as ensemble means over seeds with confidence intervals",
+    "study/correlations.png": "correlation of each parameter with the band RMS (Fig. 23)",
+    "study/sobol.png": "first-order and total Sobol indices of each parameter per band",
+}
+
+
+def _with_alt(text: str) -> str:
+    """Every ``<img src='X'>`` of the page with its alt text (:data:`ALT`; the file's name for another)."""
+    return re.sub(r"<img src='([^']+)'>", lambda m: f"<img src='{m[1]}' alt='{_e(ALT.get(m[1], m[1]))}'>", text)
+
+
+def specimen_name(source: str) -> str:
+    """What a model is called in the report: ``<built-in>`` is the built-in specimen (the paper's,
+    ``cablecasing_core/model/specimens/default.toml``), ``<built-in installed>`` the built-in
+    installed specimen, a file its name."""
+    import os
+
+    if source == "<built-in>":
+        return "the built-in specimen (the paper's cable in casing, default.toml)"
+    if source.startswith("<built-in ") and source.endswith(">"):
+        return f"the built-in specimen '{source[10:-1]}'"
+    return os.path.basename(source) or source
+
+
 def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, out):
     """The HTML text of the report (see :func:`cablecasing_core.report.write_report`)."""
     seeds = info["seeds"]
     parts = [
-        f"<!doctype html><html><head><meta charset='utf-8'><title>cablecasing report: {_e(model.source)}</title>"
-        f"<style>{_CSS}</style></head><body>",
-        f"<h1>Cable in casing: report of {_e(model.source)}</h1>",
+        f"<!doctype html><html lang='en'><head><meta charset='utf-8'><title>cablecasing report: "
+        f"{_e(specimen_name(model.source))}</title><style>{_CSS}</style></head><body>",
+        f"<h1>Cable in casing: report of {_e(specimen_name(model.source))}</h1>",
         _table(
             ["what", "value"],
             [
@@ -171,7 +205,7 @@ def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, o
             _table(["what", "value"], [(_e(k), _e(v)) for k, v in fmu.items()]),
         ]
     parts.append("</body></html>")
-    return "\n".join(parts)
+    return _with_alt("\n".join(parts))
 
 
 def _bands(variants):

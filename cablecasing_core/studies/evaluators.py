@@ -43,7 +43,8 @@ def default_evaluate(
     out of the RMS (the support fade-in and the first transient); dt (s): time step (default
     ``scenario.dt``); model_file: a model TOML (default the built-in specimen); model: a
     :class:`~cablecasing_core.model.Model` to use instead of ``model_file``; output: the support
-    output whose band levels are returned (N or N.m, a name of ``SUPPORT_OUTPUTS``); bands: the band
+    output whose band levels are returned (N or N.m: a support or isolator output of ``SUPPORT_OUTPUTS``
+    or a clip's, ``casing.clip0.Fz``); bands: the band
     set of :func:`~cablecasing_core.studies.octave.octave_rms`; contact_time: also return the contact
     time per cable node (s, Fig. 22) as ``"contact_time_<i>"``.
     """

@@ -24,12 +24,16 @@ Parseval's theorem over the FFT bins:
 Band sets (``octave_bands``):
 
 * ``"table3"`` (default): the paper's Table 3, lower edges 11, 22, 44, 88, 177, 355, 710, 1420,
-  2840 Hz, upper edges 22, ..., 5680 Hz, labels ``"oct1"`` .. ``"oct9"`` (the paper's labels 1..9).
+  2840 Hz, upper edges 22, ..., 5680 Hz, labels ``"oct1"`` .. ``"oct9"`` (the paper's labels 1..9);
+  ``nominal``: the nominal octave each stands in for (16, 31.5, 63, ..., 4000 Hz: their centres lie
+  within 2 % of those octaves'), for figures.
 * ``"octave"`` and ``"third"``: base-10 bands of IEC 61260-1:2014 with exact edges: ratio
   ``G = 10**(3/10)``, reference ``f_r = 1000`` Hz, mid-band ``f_m = f_r G**(x/b)`` (b = 1 or 3, x
-  integer), edges ``f_m G**(-1/(2b))`` and ``f_m G**(+1/(2b))``. Labels are the exact mid-band
-  frequency to four significant digits, e.g. ``"1000Hz"``, ``"1259Hz"``, ``"15850Hz"`` (not the rounded
-  nominal values of the standard).
+  integer), edges ``f_m G**(-1/(2b))`` and ``f_m G**(+1/(2b))``. Labels are the standard's nominal
+  mid-band frequencies (IEC 61260-1:2014, Annex E; the R10 series 1, 1.25, 1.6, 2, 2.5, 3.15, 4, 5,
+  6.3, 8 in every decade, the octaves every third of them): ``"16Hz"``, ``"31.5Hz"``, ``"125Hz"``,
+  ``"1000Hz"``, ``"2000Hz"``; the exact mid-band frequencies stay in ``centre`` (15.85, 31.62, 125.9,
+  1000, 1995 Hz).
 
 Nyquist rule: a band whose upper edge exceeds ``fs/2`` cannot be measured completely. By default
 (``beyond_nyquist="error"``) this raises :class:`~cablecasing_core.errors.ModelError` naming
@@ -54,6 +58,11 @@ TABLE3_UPPER = (22.0, 44.0, 88.0, 177.0, 355.0, 710.0, 1420.0, 2840.0, 5680.0)
 #: IEC 61260-1 base-10 octave ratio G = 10^(3/10) and reference frequency (Hz).
 IEC_G = 10.0**0.3
 IEC_FR = 1000.0
+#: The nominal mid-band frequencies of IEC 61260-1 (Annex E) in one decade, from 1000 Hz: the
+#: one-third-octave band x (f_m = 1000 G^(x/3)) is named R10[x mod 10] x 10^(3 + x // 10) Hz.
+R10 = (1.0, 1.25, 1.6, 2.0, 2.5, 3.15, 4.0, 5.0, 6.3, 8.0)
+#: Table 3's nine octaves by the nominal octave whose centre each lies next to (Hz).
+TABLE3_NOMINAL = (16.0, 31.5, 63.0, 125.0, 250.0, 500.0, 1000.0, 2000.0, 4000.0)
 BAND_KINDS = ("table3", "octave", "third")
 NYQUIST_RULES = ("error", "drop", "nan")
 
@@ -70,6 +79,7 @@ class Bands:
     lower: np.ndarray
     upper: np.ndarray
     labels: tuple
+    nominal: tuple = ()
 
     def __post_init__(self):
         lo = np.atleast_1d(np.asarray(self.lower, dtype=float))
@@ -85,9 +95,13 @@ class Bands:
         labels = tuple(str(s) for s in self.labels)
         if len(labels) != lo.size or len(set(labels)) != lo.size:
             raise ModelError("bands.labels", self.labels, f"must be {lo.size} unique names, one per band")
+        nominal = tuple(float(v) for v in self.nominal) or tuple(float(f"{c:.3g}") for c in np.sqrt(lo * up))
+        if len(nominal) != lo.size:
+            raise ModelError("bands.nominal", self.nominal, f"must be {lo.size} frequencies (Hz), one per band")
         object.__setattr__(self, "lower", lo)
         object.__setattr__(self, "upper", up)
         object.__setattr__(self, "labels", labels)
+        object.__setattr__(self, "nominal", nominal)
 
     @property
     def centre(self):
@@ -96,6 +110,38 @@ class Bands:
 
     def __len__(self):
         return self.lower.size
+
+    def select(self, keep) -> Bands:
+        """The bands where the boolean array ``keep`` is true."""
+        keep = np.asarray(keep, bool)
+        return Bands(
+            self.lower[keep], self.upper[keep], tuple(np.array(self.labels)[keep]), tuple(np.array(self.nominal)[keep])
+        )
+
+
+def nominal_label(f_hz: float) -> str:
+    """A band's name by its nominal mid-band frequency (Hz): ``"31.5Hz"``, ``"1000Hz"``."""
+    return f"{f_hz:g}Hz"
+
+
+def nominal_of(label: str, centre: float) -> float:
+    """The nominal mid-band frequency (Hz) of a band by its label: ``"31.5Hz"`` -> 31.5, Table 3's
+    ``"oct5"`` -> 250 (:data:`TABLE3_NOMINAL`); any other band: its centre (Hz) to 3 digits."""
+    if label.endswith("Hz"):
+        try:
+            return float(label[:-2])
+        except ValueError:
+            pass
+    if label.startswith("oct") and label[3:].isdigit() and 1 <= int(label[3:]) <= len(TABLE3_NOMINAL):
+        return TABLE3_NOMINAL[int(label[3:]) - 1]
+    return float(f"{centre:.3g}")
+
+
+def iec_nominal(x, b: int) -> np.ndarray:
+    """The nominal mid-band frequencies (Hz, IEC 61260-1 Annex E) of the base-10 bands of index
+    ``x`` (integers; f_m = 1000 G^(x/b)) for octaves (b = 1) or one-third octaves (b = 3)."""
+    k = np.asarray(x, int) * (3 // b)  # the one-third-octave index
+    return np.array([R10[i % 10] * 10.0 ** (3 + i // 10) for i in np.atleast_1d(k)])
 
 
 @dataclass(frozen=True)
@@ -115,6 +161,7 @@ class BandRMS:
     bins: np.ndarray
     fs: float
     n: int
+    nominal: tuple = ()
 
     @property
     def mean_square(self):
@@ -142,9 +189,9 @@ def octave_bands(kind: str = "table3", f_min: float | None = None, f_max: float 
         ``"octave"`` / ``"third"``: exact base-10 octave / one-third-octave bands, G = 10^(3/10),
         reference 1000 Hz.
     f_min, f_max : float, optional
-        Hz. Keep the bands whose mid-band frequency lies in ``[f_min, f_max]``. Defaults: all of
-        Table 3; 10 Hz and 20 kHz for the IEC sets (octaves 15.85 Hz .. 15.85 kHz, third-octaves
-        10 Hz .. 19.95 kHz).
+        Hz. Keep the bands whose nominal mid-band frequency (their name) lies in ``[f_min, f_max]``. Defaults: all of
+        Table 3; 10 Hz and 20 kHz for the IEC sets (octaves 16 Hz .. 16 kHz, third-octaves
+        10 Hz .. 20 kHz by their nominal names).
 
     Returns
     -------
@@ -155,6 +202,7 @@ def octave_bands(kind: str = "table3", f_min: float | None = None, f_max: float 
     if kind == "table3":
         lo, up = np.array(TABLE3_LOWER), np.array(TABLE3_UPPER)
         labels = [f"oct{i + 1}" for i in range(lo.size)]
+        nominal = np.array(TABLE3_NOMINAL)
         fmin = 0.0 if f_min is None else f_min
         fmax = np.inf if f_max is None else f_max
     else:
@@ -170,15 +218,16 @@ def octave_bands(kind: str = "table3", f_min: float | None = None, f_max: float 
         # x range: f_m = f_r G^(x/b) within [fmin, fmax]; the small slack admits 10 Hz exactly.
         x_lo = int(np.ceil(b * np.log10(max(fmin, 1e-12) / IEC_FR) / 0.3 - 1e-9))
         x_hi = int(np.floor(b * np.log10(fmax / IEC_FR) / 0.3 + 1e-9)) if np.isfinite(fmax) else x_lo + 60
-        x = np.arange(x_lo, x_hi + 1)
+        x = np.arange(x_lo - 1, x_hi + 2)  # (one more each side: the names decide, below)
         fm = IEC_FR * IEC_G ** (x / b)
         lo, up = fm * IEC_G ** (-1.0 / (2 * b)), fm * IEC_G ** (1.0 / (2 * b))
-        labels = [f"{float(f'{f:.4g}'):g}Hz" for f in fm]  # 4 significant digits, no exponent
-    centre = np.sqrt(lo * up)
-    keep = (centre >= fmin * (1 - 1e-12)) & (centre <= fmax * (1 + 1e-12))
+        nominal = iec_nominal(x, b)
+        labels = [nominal_label(f) for f in nominal]
+    nominal = np.asarray(nominal, float)  # (by the names: --fmin 16 keeps the 16 Hz octave, centre 15.85 Hz)
+    keep = (nominal >= fmin * (1 - 1e-12)) & (nominal <= fmax * (1 + 1e-12))
     if not keep.any():
         raise ModelError("f_min", fmin, f"leaves no {kind} band below f_max = {fmax} Hz")
-    return Bands(lo[keep], up[keep], tuple(np.array(labels)[keep]))
+    return Bands(lo, up, tuple(labels), tuple(nominal)).select(keep)
 
 
 def _bands_of(bands):
@@ -189,7 +238,7 @@ def _bands_of(bands):
     raise ModelError("bands", bands, "must be 'table3', 'octave', 'third' or a Bands object")
 
 
-def _bin_edges(n, fs):
+def bin_edges(n, fs):
     """Boundaries (Hz, length n//2 + 2) of the one-sided FFT bins: bin k covers [E_k, E_k+1],
     i.e. [f_k - df/2, f_k + df/2] clipped to [0, fs/2]."""
     nb = n // 2 + 1
@@ -197,7 +246,7 @@ def _bin_edges(n, fs):
     return np.concatenate([[0.0], (np.arange(1, nb) - 0.5) * df, [fs / 2]])
 
 
-def _band_sums(P, E, lower, upper):
+def band_sums(P, E, lower, upper):
     """Sum of P over each band [lower, upper] with edge bins split proportionally; also the
     (fractional) number of bins. Direct sums per band (no cumulative sum: no cancellation against
     a large 0 Hz component)."""
@@ -224,6 +273,7 @@ def octave_rms(
     detrend: str | None = None,
     window="boxcar",
     beyond_nyquist: str = "error",
+    name: str = "x",
 ) -> BandRMS:
     """RMS of a sampled signal in octave bands by Parseval over FFT bins (Section 4.4, Table 3, Fig. 23).
 
@@ -243,13 +293,15 @@ def octave_rms(
         windows are power-normalised by ``mean(w**2)``.
     beyond_nyquist : {"error", "drop", "nan"}
         What to do with a band whose upper edge exceeds fs/2 (see module docstring).
+    name : str
+        What the signal is in messages (a record's column, ``"casing.B.Fz in run.csv"``).
 
     Returns
     -------
     BandRMS
         Band edges and centres (Hz), labels, and RMS values in the signal's unit.
     """
-    x = array_1d("x", x)
+    x = array_1d(name, x)
     fs = number("fs", fs, gt=0, unit="Hz")
     Choice(*NYQUIST_RULES)("beyond_nyquist", beyond_nyquist)
     if detrend not in (None, "constant", "linear"):
@@ -270,17 +322,22 @@ def octave_rms(
     keep = ~over if beyond_nyquist == "drop" else np.ones(len(bands), bool)
     if not keep.any():
         raise ModelError("fs", fs, f"puts every band above the Nyquist frequency {nyq:g} Hz")
-    sel = Bands(bands.lower[keep], bands.upper[keep], tuple(np.array(bands.labels)[keep]))
+    sel = bands.select(keep)
     df = fs / n
     measurable = sel.upper <= nyq * (1 + 1e-12)
     narrow = measurable & (sel.upper - sel.lower < df * (1 - 1e-12))
     if narrow.any():
         i = int(np.argmax(narrow))
+        j = int(np.nonzero(narrow)[0][-1]) + 1  # the first band the record resolves
+        lowest = (
+            f"; or leave out the bands below {sel.labels[j]} (f_min, --fmin {sel.nominal[j]:g})" if j < len(sel) else ""
+        )
         raise ModelError(
-            "x",
-            f"{n} samples ({n / fs:g} s)",
-            f"must be long enough that band '{sel.labels[i]}' ({sel.upper[i] - sel.lower[i]:g} Hz wide) "
-            f"spans at least one FFT bin: at least {int(np.ceil(fs / (sel.upper[i] - sel.lower[i])))} samples",
+            name,
+            f"{n / fs:.4g} s",
+            f"is too short for band {sel.labels[i]} ({sel.lower[i]:.4g}-{sel.upper[i]:.4g} Hz, "
+            f"{sel.upper[i] - sel.lower[i]:.3g} Hz wide): a band needs at least one FFT line, a record of at least "
+            f"1 / {sel.upper[i] - sel.lower[i]:.3g} Hz = {1 / (sel.upper[i] - sel.lower[i]):.3g} s{lowest}",
         )
 
     if detrend is not None:
@@ -293,10 +350,18 @@ def octave_rms(
     P = np.abs(X) ** 2 / (n * n)
     P[1 : (n + 1) // 2] *= 2.0  # one-sided: double every bin except 0 and (even n) Nyquist
     P /= np.mean(w * w)  # power normalisation of the window (1 for boxcar)
-    ms, bins = _band_sums(P, _bin_edges(n, fs), sel.lower, sel.upper)
+    ms, bins = band_sums(P, bin_edges(n, fs), sel.lower, sel.upper)
     rms = np.sqrt(ms)
     if beyond_nyquist == "nan":
         rms = np.where(measurable, rms, np.nan)
     return BandRMS(
-        lower=sel.lower, upper=sel.upper, centre=sel.centre, labels=sel.labels, rms=rms, bins=bins, fs=fs, n=n
+        lower=sel.lower,
+        upper=sel.upper,
+        centre=sel.centre,
+        labels=sel.labels,
+        rms=rms,
+        bins=bins,
+        fs=fs,
+        n=n,
+        nominal=sel.nominal,
     )

@@ -60,9 +60,15 @@ def plot_correlations(results, path, parameters=None, methods=("pearson", "spear
             ax.axhline(sign * r_crit, color="0.4", lw=0.8, ls="--", label=label)
         _panel(ax, k, p, (-1, 1), "r (-)")
     _band_axis(axes, results.outputs)
-    fig.suptitle(title or f"Correlation with band RMS, {cors[0].n} ok runs (Fig. 23)", fontsize=10)
+    fig.suptitle(title or f"Correlation with the band RMS{_of(results)}, {cors[0].n} ok runs (Fig. 23)", fontsize=10)
     save_figure(fig, path)
     return path
+
+
+def _of(results):
+    """`` of casing.B.Fz (N)``: the quantity a study's outputs are values of, when it says."""
+    q = getattr(results, "quantity", None)
+    return f" of {q['name']} ({q['unit']})" if q else ""
 
 
 def _panel(ax, k, parameter, ylim, ylabel):
@@ -77,13 +83,16 @@ def _panel(ax, k, parameter, ylim, ylabel):
 def _band_axis(axes, outputs):
     """The shared band axis of a column of panels (Table 3's number over its edges in Hz, else the
     output's name) and the legend in the first panel."""
+    from ..nvh.plots import band_ticks
     from .octave import octave_bands
 
     t3 = octave_bands("table3")
-    edges = {lab: f"{lab[3:]}\n{lo:g}-{hi:g}" for lab, lo, hi in zip(t3.labels, t3.lower, t3.upper)}
+    edges = dict(zip(t3.labels, band_ticks(t3)))
     ticks = [edges.get(o, o) for o in outputs]
     axes[-1, 0].set_xticks(np.arange(len(outputs)), ticks, rotation=0 if len(outputs) <= 12 else 90, fontsize=7)
-    axes[-1, 0].set_xlabel("octave band of Table 3 (Hz)" if outputs[0] == "oct1" else "band")
+    axes[-1, 0].set_xlabel(
+        "octave band of Table 3 over the nominal octave it stands for (Hz)" if outputs[0] == "oct1" else "band"
+    )
     axes[0, 0].legend(fontsize=7, loc="best", framealpha=0.85)
 
 
@@ -104,7 +113,8 @@ def plot_sobol(results, path, title=None, conf_level=0.95):
         _panel(ax, k, p, (-0.2, 1.1), "index (-)")
     _band_axis(axes, sob.outputs)
     fig.suptitle(
-        title or f"Sobol indices of the band RMS, {sob.n_base} base points ({sob.conf_level:.0%} intervals)",
+        title
+        or f"Sobol indices of the band RMS{_of(results)}, {sob.n_base} base points ({sob.conf_level:.0%} intervals)",
         fontsize=10,
     )
     save_figure(fig, path)
@@ -116,7 +126,7 @@ def plot_ensemble(ens, path, other=None, diff=None, confidence=0.95, labels=("ba
     its Student-t confidence interval (N, or N.m for a moment output; log axis, with the level in dB
     re 1 N or 1 N.m on the right), a second ensemble beside it, and, with ``diff``
     (``studies.paired_difference(other, ens)``), the relative change r (%) per band with its interval."""
-    from ..nvh.plots import db_axis
+    from ..nvh.plots import db_axis, set_band_ticks
 
     unit = output_spec(ens.output)[0]
     x = np.arange(1, len(ens.labels) + 1)
@@ -149,6 +159,6 @@ def plot_ensemble(ens, path, other=None, diff=None, confidence=0.95, labels=("ba
         a2.set_ylabel(f"{labels[1]} vs {labels[0]} (%)")
         a2.grid(True, alpha=0.3)
     last = axes[-1, 0]
-    last.set_xticks(x, [f"{lo:g}-{hi:g}" for lo, hi in zip(ens.lower, ens.upper)], rotation=45, fontsize=7)
-    last.set_xlabel("band (Hz)")
+    set_band_ticks(last, x, ens)
+    last.set_xlabel("band: nominal mid-band frequency (Hz)")
     save_figure(fig, path)

@@ -20,7 +20,17 @@ TAIL_COLUMNS = ("elapsed_s", "error")
 STATUSES = ("ok", "failed", "infeasible")
 FORMAT_VERSION = 2  # 2: Saltelli's design on a Sobol' sequence (1 was a Latin hypercube)
 #: Settings of the sidecar that a resumed study must share with the file (the size may grow).
-RESUME_KEYS = ("format", "seed", "bounds", "outputs", "evaluate", "evaluate_kwargs", "constraints", "sampler")
+RESUME_KEYS = (
+    "format",
+    "seed",
+    "bounds",
+    "outputs",
+    "quantity",
+    "evaluate",
+    "evaluate_kwargs",
+    "constraints",
+    "sampler",
+)
 
 
 @dataclass
@@ -43,6 +53,9 @@ class StudyResults:
     elapsed_s: np.ndarray
     group_size: int = 0
     n_base: int = 0
+    #: what every output is a value of: {"name": "casing.B.Fz", "unit": "N", "what": "band RMS"}
+    #: (the sidecar's ``quantity``; None for a study that does not say)
+    quantity: dict | None = None
 
     @property
     def ok(self):
@@ -57,7 +70,11 @@ def _meta_path(path):
     return str(path) + ".meta.json"
 
 
-def _header(params, outputs):
+def _header(params, outputs, quantity=None):
+    """The CSV's header: the output columns name the quantity and its unit when the study says
+    (``casing.B.Fz oct1 [N]``), else the outputs' names alone (files of earlier versions)."""
+    if quantity:
+        outputs = [f"{quantity['name']} {o} [{quantity['unit']}]" for o in outputs]
     return list(META_COLUMNS) + list(params) + list(outputs) + list(TAIL_COLUMNS)
 
 
@@ -92,7 +109,7 @@ def load_results(path: str | os.PathLike) -> StudyResults:
         params, outputs = tuple(meta["bounds"]), tuple(meta["outputs"])
     except (OSError, ValueError, KeyError) as exc:
         raise ModelError("path", path, f"must be a study CSV with its {_meta_path(path)} sidecar ({exc})") from None
-    header = _header(params, outputs)
+    header = _header(params, outputs, meta.get("quantity"))
     try:
         with open(path, newline="") as fh:
             text = fh.read()
@@ -125,6 +142,7 @@ def load_results(path: str | os.PathLike) -> StudyResults:
         elapsed_s=np.array([num(rows[i][-2]) for i in order], float),
         group_size=len(params) + 2 if meta.get("format") == FORMAT_VERSION else 0,
         n_base=int(meta.get("n_base", 0)),
+        quantity=meta.get("quantity"),
     )
 
 
@@ -187,7 +205,8 @@ class LostLog:
 def study_lock(path):
     """Hold the lock of the study ``path`` (``fcntl.flock`` on ``<csv>.lock``) while the block runs;
     a second run on the same file is refused with a :class:`ModelError` naming the process that holds
-    it. The lock goes with the process (a killed run leaves no stale lock). On NFS, Linux emulates
+    it. The lock goes with the process (a killed run leaves no stale lock; a run that ends removes the
+    file, and a run checks that the file it locked is still the one at that path). On NFS, Linux emulates
     ``flock`` with byte-range locks of the server's lock manager: it holds between machines when the
     server runs one (NFSv4, or v3 with lockd), and is only local otherwise. Without ``fcntl``
     (Windows) there is no lock."""
@@ -197,22 +216,37 @@ def study_lock(path):
         yield
         return
     lock = str(path) + ".lock"
-    fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
-    try:
+    for _ in range(3):  # (a lock file removed by its last holder between our open and flock: again)
+        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
             holder = os.pread(fd, 64, 0).decode("ascii", "replace").strip() or "?"
+            os.close(fd)
             raise ModelError(
                 "path",
                 str(path),
                 f"is in use by another study run (process {excerpt(plain(holder), 20)}, {lock}); wait for it to end "
                 "or choose another output",
             ) from None
+        try:
+            same = os.path.samestat(os.fstat(fd), os.stat(lock))
+        except OSError:
+            same = False
+        if same:
+            break
+        os.close(fd)
+    else:  # pragma: no cover - three removals in a row
+        raise ModelError("path", str(path), f"its lock {lock} keeps being removed; try again")
+    try:
         os.ftruncate(fd, 0)
         os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
         yield
     finally:
+        try:  # removed while still held, so that no run ever locks a file that is gone
+            os.remove(lock)
+        except OSError:
+            pass
         os.close(fd)  # (releases the lock)
 
 
@@ -237,8 +271,10 @@ def prepare_file(path, meta, design, params):
     Returns the set of indices present."""
     from ..files import write_text
 
-    header = _header(params, meta["outputs"])
     old = read_meta(path)
+    if old is not None and "quantity" not in old:  # (a study of an earlier version: its header stays)
+        meta.pop("quantity", None)
+    header = _header(params, meta["outputs"], meta.get("quantity"))
     if old is None:
         d = os.path.dirname(os.path.abspath(path))
         os.makedirs(d, exist_ok=True)

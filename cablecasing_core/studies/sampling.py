@@ -68,11 +68,15 @@ def check_bounds(bounds: dict | None = None, model=None) -> dict[str, tuple[floa
         if not isinstance(key, str):
             raise ModelError("bounds", key, "parameter names must be dotted model keys such as 'casing.E'")
         if known is not None and key not in known:
+            import difflib
+
             hint = " (the paper's six parameters are the default; give others, e.g. --vary casing.E=2e9:1e10)"
+            close = difflib.get_close_matches(key, list(known), n=1)
+            mean = f" (did you mean {close[0]}?)" if close else ""
             raise ModelError(
                 f"bounds.{key}",
                 NOT_SHOWN,  # (the value of an unknown key, maybe of a file that is no study's, is not shown)
-                f"is not a numeric parameter of the model {m.source}{hint if paper else ''}; known: "
+                f"is not a numeric parameter of the model {m.source}{hint if paper else ''}{mean}; known: "
                 + ", ".join(sorted(known)),
             )
         try:

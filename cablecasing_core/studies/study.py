@@ -62,6 +62,7 @@ def run_study(
     seed=0,
     *,
     outputs=None,
+    quantity=None,
     evaluate_kwargs=None,
     scheduler=None,
     n_workers=None,
@@ -89,6 +90,10 @@ def run_study(
         study keeps its size; a smaller one is enlarged (the sequence continues; nothing is recomputed).
     outputs : sequence of str, optional
         Output names to record, default the Table 3 labels ``oct1`` .. ``oct9``.
+    quantity : dict, optional
+        What each output is a value of, ``{"name": "casing.B.Fz", "unit": "N", "what": "band RMS"}``:
+        kept in the sidecar and named in the CSV's header (``casing.B.Fz oct1 [N]``), the tables and
+        figures.
     evaluate_kwargs : dict, optional
         Extra keyword arguments of evaluate (JSON-serialisable; stored in the sidecar).
     scheduler : None, "serial", "local", str address or distributed.Client
@@ -125,6 +130,10 @@ def run_study(
     clash = set(outputs) & (set(bounds) | set(META_COLUMNS) | set(TAIL_COLUMNS))
     if clash:
         raise ModelError("outputs", sorted(clash), "must not reuse a parameter name or index/status/elapsed_s/error")
+    if quantity is not None and not (
+        isinstance(quantity, dict) and all(isinstance(quantity.get(k), str) for k in ("name", "unit"))
+    ):
+        raise ModelError("quantity", quantity, "must be a dict with the strings 'name' and 'unit' (and 'what')")
     if max_samples is not None:
         max_samples = integer("max_samples", max_samples, 0)
     evaluate_kwargs = dict(evaluate_kwargs or {})
@@ -168,6 +177,7 @@ def run_study(
                 "n_samples": n,
                 "bounds": {k: list(v) for k, v in bounds.items()},
                 "outputs": list(outputs),
+                "quantity": quantity,
                 "evaluate": spec_name(evaluate),
                 "evaluate_kwargs": evaluate_kwargs,
                 "constraints": [spec_name(c) for c in constraints],

@@ -14,10 +14,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
+from scipy import signal
 
 from ..errors import ModelError
 from ..model.limits import check_time_domain
-from ..model.schema import CONTACT_OUTPUTS, INPUTS, SUPPORT_OUTPUTS, clip_outputs, inputs_of, lookup
+from ..model.schema import CONTACT_OUTPUTS, INPUTS, OUTPUTS, SUPPORT_OUTPUTS, clip_outputs, inputs_of, lookup
 from ..model.validate import step_checks
 from ..model.validators import Choice, seconds
 from .engine import Engine
@@ -44,8 +45,10 @@ class SimulationResult:
     normal_force (N) and penetration (m) per cable node; contact_time (s per cable node: the
     highest-contact-area histogram of Fig. 22); curvature (1/m per node); arc_length (m per node);
     energies (J); inputs: {name: (n,)} the support motion of the driven channels at ``time``
-    (``casing.A.az`` m/s2 etc., ``model.schema.INPUTS``); solver: what the step loop did, ``steps``
-    (of dt), ``refined_steps`` (recomputed in ``event_substeps`` sub-steps around a contact event,
+    (``casing.A.az`` m/s2 etc., ``model.schema.INPUTS``). ``time`` holds the end of each step
+    (dt, 2 dt, ..., T); the state at t = 0 is kept apart (``initial_*``) and :meth:`records` puts it
+    first, so that a record starts at t = 0. solver: what the step loop did, ``steps`` (of dt),
+    ``refined_steps`` (recomputed in ``event_substeps`` sub-steps around a contact event,
     docs/time_domain.md), the contact Newton's ``newton_iterations`` and ``unconverged_steps``.
     """
 
@@ -61,6 +64,12 @@ class SimulationResult:
     inputs: dict = field(default_factory=dict)
     force_names: tuple = SUPPORT_OUTPUTS
     solver: dict = field(default_factory=dict)
+    #: the state at t = 0, before the first step: the support and clip outputs (in ``force_names``
+    #: order), (``contact.active``, ``contact.max_penetration``) and the driven inputs {name: value};
+    #: None for a result without it (then :meth:`records` starts at the first step's end)
+    initial_forces: np.ndarray | None = None
+    initial_contact: tuple = (0.0, 0.0)
+    initial_inputs: dict = field(default_factory=dict)
 
     def support_force(self, name: str) -> np.ndarray:
         """History of one support output, e.g. ``"casing.B.Fz"`` or a clip's ``"casing.clip0.Fy"``
@@ -68,23 +77,49 @@ class SimulationResult:
         Choice(*self.force_names)("output", name)
         return self.support_forces[:, self.force_names.index(name)]
 
-    def records(self, output_interval: float | None = None) -> Records:
-        """The run as a :class:`~cablecasing_core.records.Records`: the 24 support outputs,
+    def records(self, output_interval: float | None = None, decimation: str = "filter") -> Records:
+        """The run as a :class:`~cablecasing_core.records.Records` on the grid t = 0, Δ, 2Δ, ..., T
+        (Δ = ``output_interval`` s, a whole number of time steps; default every step; T the end of
+        the run when the duration is a whole number of Δ): the support and clip outputs,
         ``contact.active`` (cable nodes in contact), ``contact.max_penetration`` (m) and the driven
-        inputs, every ``output_interval`` s (a whole number of time steps; default every step).
-        Samples are picked, not filtered: content above 1 / (2 output_interval) Hz aliases."""
+        inputs. The row at t = 0 is the state the run starts from (at rest, or an installed model's
+        static state), as an FMU reports it at its first communication point.
+
+        ``decimation`` (when Δ > dt): ``"filter"`` (default) low-pass filters the forces and inputs
+        before taking every m-th sample (:func:`decimate`: a zero-phase FIR, flat to 0.7 of the new
+        Nyquist frequency 1/(2Δ), at least 80 dB down above it, so nothing aliases); ``"pick"``
+        takes the samples as they are (content above 1/(2Δ) Hz then aliases). ``contact.active`` and
+        ``contact.max_penetration`` are always picked (a count and a maximum are not filtered).
+        The per-node histories in ``extra`` are picked at the end of each interval (row k: t = (k+1) Δ).
+        """
         from ..records import Records, unit_of
 
-        keep = slice(None, None, self._stride(output_interval))
-        cols = {n: self.support_forces[keep, i] for i, n in enumerate(self.force_names)}
-        cols[CONTACT_OUTPUTS[0]] = np.count_nonzero(self.contact_state[keep], axis=1).astype(float)
-        pen = self.penetration[keep]
-        cols[CONTACT_OUTPUTS[1]] = pen.max(axis=1) if pen.shape[1] else np.zeros(len(cols[CONTACT_OUTPUTS[0]]))
-        cols.update({n: v[keep] for n, v in self.inputs.items()})
-        extra = {n: getattr(self, n)[keep] for n in _NODE_ARRAYS}
+        Choice("filter", "pick")("decimation", decimation)
+        m = self._stride(output_interval)
+        step = slice(m - 1, None, m)  # the per-node histories: rows at t = m dt, 2 m dt, ...
+        first = self.initial_forces is not None
+        time = np.concatenate([[0.0], self.time]) if first else self.time
+
+        def grid(values, initial, filtered):
+            v = np.concatenate([[initial], values]) if first else values
+            if m == 1:
+                return v
+            return decimate(v, m) if filtered else v[::m]
+
+        filt = decimation == "filter"
+        f0 = self.initial_forces if first else [None] * len(self.force_names)
+        cols = {n: grid(self.support_forces[:, i], f0[i], filt) for i, n in enumerate(self.force_names)}
+        active = np.count_nonzero(self.contact_state, axis=1).astype(float)
+        pen = self.penetration.max(axis=1) if self.penetration.shape[1] else np.zeros(len(self.time))
+        c0 = self.initial_contact if first else (None, None)
+        cols[CONTACT_OUTPUTS[0]] = grid(active, c0[0], False)
+        cols[CONTACT_OUTPUTS[1]] = grid(pen, c0[1], False)
+        cols.update({n: grid(v, self.initial_inputs.get(n, v[0]), filt) for n, v in self.inputs.items()})
+        extra = {n: getattr(self, n)[step] for n in _NODE_ARRAYS}
         extra.update(contact_time=self.contact_time, curvature=self.curvature, arc_length=self.arc_length)
         extra["energies"] = np.array([[k, repr(float(v))] for k, v in self.energies.items()]).reshape(-1, 2)
-        return Records(self.time[keep], cols, {n: unit_of(n) for n in cols}, "simulation", extra)
+        extra["starts_at_zero"] = np.array(first)
+        return Records(time[::m], cols, {n: unit_of(n) for n in cols}, "simulation", extra)
 
     def _stride(self, output_interval):
         if output_interval is None:
@@ -98,13 +133,14 @@ class SimulationResult:
             )
         return m
 
-    def save(self, path: str | os.PathLike, output_interval: float | None = None) -> None:
+    def save(self, path: str | os.PathLike, output_interval: float | None = None, decimation: str = "filter") -> None:
         """Write the run by suffix (``.csv``, ``.npz``, ``.uff``; :mod:`~cablecasing_core.records`),
-        atomically, every ``output_interval`` s (default every step). ``.npz`` also keeps the
-        per-node contact histories, so :meth:`load` gives the result back."""
+        atomically, on the grid t = 0, Δ, ..., T of :meth:`records` (Δ = ``output_interval`` s,
+        default every step; ``decimation`` as there). ``.npz`` also keeps the per-node contact
+        histories, so :meth:`load` gives the result back."""
         from ..records import write_records
 
-        write_records(path, self.records(output_interval))
+        write_records(path, self.records(output_interval, decimation))
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> SimulationResult:
@@ -117,6 +153,16 @@ class SimulationResult:
             raise ModelError("file", str(path), "must be an .npz file written by SimulationResult.save")
         x = rec.extra
         names = SUPPORT_OUTPUTS + tuple(n for n in rec.columns if n.startswith("casing.clip"))
+        first = bool(x.get("starts_at_zero", False))  # the row at t = 0 (records())
+        cols = {n: v[1:] for n, v in rec.columns.items()} if first else rec.columns
+        initial = {}
+        if first:
+            initial = dict(
+                initial_forces=np.array([rec.columns[n][0] for n in names]),
+                initial_contact=tuple(float(rec.columns[n][0]) for n in CONTACT_OUTPUTS[:2]),
+                initial_inputs={n: float(v[0]) for n, v in rec.columns.items() if n in INPUTS or n.count(".") == 1},
+            )
+        rec = type(rec)(rec.time[1:] if first else rec.time, cols, rec.units, rec.source, rec.extra)
         return cls(
             time=rec.time,
             support_forces=np.column_stack([rec.columns[n] for n in names]),
@@ -127,6 +173,7 @@ class SimulationResult:
             energies={str(k): float(v) for k, v in x["energies"]},
             inputs={n: rec.columns[n] for n in rec.columns if n in INPUTS or n.count(".") == 1},
             **{n: x[n] for n in _NODE_ARRAYS},
+            **initial,
         )
 
 
@@ -170,6 +217,7 @@ def simulate(
         motion = scenario_motion(model, dt=dt)
         inputs = driven_inputs(model)
     eng = Engine(model, dt=dt, contact=contact, ledger=True, record=True)
+    out0 = eng.output_values().copy()  # the state at t = 0 (records() puts it first)
     _advance(eng, duration, motion, progress)
     h = eng.history()
     n = len(h["support_forces"])
@@ -194,6 +242,9 @@ def simulate(
         inputs={name: table[:, j] for j, name in enumerate(inputs)},
         force_names=SUPPORT_OUTPUTS + clip_outputs(model),
         solver=solver_report(eng, n),
+        initial_forces=np.concatenate([out0[:24], out0[len(OUTPUTS) :]]),
+        initial_contact=(float(out0[24]), float(out0[25])),
+        initial_inputs=dict(zip(inputs, np.hstack(motion(np.zeros(1)))[0, cols].tolist())) if cols else {},
     )
 
 
@@ -208,6 +259,24 @@ def solver_report(eng: Engine, steps: int) -> dict:
         "newton_iterations": its,
         "unconverged_steps": failed,
     }
+
+
+def decimate(x: ArrayLike, m: int) -> np.ndarray:
+    """Every ``m``-th sample of ``x`` (starting with the first) after a low-pass filter against
+    aliasing: ``scipy.signal.resample_poly`` (polyphase, zero phase: the FIR is symmetric and its
+    delay compensated) with a Kaiser-window FIR from ``scipy.signal.kaiserord``/``firwin`` that is
+    flat (0.01 dB) to 0.7 of the new Nyquist frequency fs/(2m) and at least 80 dB down above it;
+    the record is continued beyond its ends by its first and last sample (``padtype="edge"``: a run
+    is at rest, or in its static state, before t = 0), so a static preload leaves no edge step.
+    Samples within about 17 output steps of either end see that continuation (and a sudden start
+    rings there as any low-passed step does). Returns ``ceil(len(x) / m)`` samples (unit of x)."""
+    x = np.asarray(x, float)
+    m = int(m)
+    if m == 1:
+        return x.copy()
+    numtaps, beta = signal.kaiserord(80.0, 0.3 / m)
+    h = signal.firwin(numtaps | 1, 0.85 / m, window=("kaiser", beta))
+    return signal.resample_poly(x, 1, m, window=h, padtype="edge")
 
 
 def simulate_sampled(

@@ -70,17 +70,26 @@ def test_simulate_cli_writes_csv_with_the_output_names_and_decimates(tmp_path, c
     assert "contact.active [1]" in header and "casing.A.az [m/s2]" in header  # and the driven input
     rec = read_records(out)
     ref = cc.simulate(load_model(), duration=0.002)
-    assert len(rec.time) == 200
-    np.testing.assert_allclose(rec.column("casing.B.Fz"), ref.support_force("casing.B.Fz"), rtol=1e-8, atol=1e-17)
+    assert len(rec.time) == 201 and rec.time[0] == 0 and rec.time[-1] == 0.002  # t = 0, dt, ..., T
+    assert np.all(rec.column("casing.B.Fz")[0] == 0)  # the state it starts from: at rest
+    np.testing.assert_allclose(rec.column("casing.B.Fz")[1:], ref.support_force("casing.B.Fz"), rtol=1e-8, atol=1e-17)
     assert rec.column("casing.B.Fz [N]") is rec.column("casing.B.Fz_N")  # the header form and the old form
-    # --output-interval: every 10th step of the same run (picked, not filtered)
-    assert main(["simulate", "--duration", "0.002", "--out", str(every), "--output-interval", "1e-4"]) == 0
+    # --output-interval --decimation pick: every 10th sample of the same grid, t = 0 to T
+    args = ["simulate", "--duration", "0.002", "--out", str(every), "--output-interval", "1e-4", "--no-progress"]
+    assert main([*args, "--decimation", "pick"]) == 0
     dec = read_records(every)
     np.testing.assert_array_equal(dec.time, rec.time[::10])
+    assert dec.time[0] == 0 and dec.time[-1] == 0.002
     for name in SUPPORT_OUTPUTS[:6]:
         np.testing.assert_array_equal(dec.column(name), rec.column(name)[::10])
+    assert main(args) == 0  # the default filters: the same grid, other values
+    filt = read_records(every)
+    np.testing.assert_array_equal(filt.time, dec.time)
+    assert not np.array_equal(filt.column("casing.B.Fz"), dec.column("casing.B.Fz"))
     assert main(["simulate", "--duration", "0.002", "--output-interval", "1.5e-5"]) == 2
     assert "whole number of time steps" in capsys.readouterr().err
+    assert main(["simulate", "--duration", "0.002", "--output-interval", "3e-4"]) == 2  # 0.002 / 3e-4 = 6.67
+    assert "must divide the duration (0.002 s) into whole intervals" in capsys.readouterr().err
     assert main(["simulate", "--duration", "-1"]) == 2
     assert "duration" in capsys.readouterr().err
 
@@ -114,9 +123,10 @@ def test_uff_round_trip_of_a_time_record_and_a_trfam_written_by_the_cli(tmp_path
     fz = by_name["casing.B.Fz"]
     assert (fz["rsp_node"], fz["rsp_dir"], fz["ordinate_spec_data_type"]) == (2, 3, 9)  # casing B, +Z, force
     assert fz["ordinate_axis_units_lab"].strip() == "N" and fz["abscissa_axis_units_lab"].strip() == "s"
-    for name in SUPPORT_OUTPUTS:
-        np.testing.assert_array_equal(by_name[name]["data"], ref.support_force(name))
-    np.testing.assert_allclose(by_name["casing.B.Fz"]["x"], ref.time, rtol=1e-12)
+    for name in SUPPORT_OUTPUTS:  # (the record's first row is t = 0, the state it starts from)
+        np.testing.assert_array_equal(by_name[name]["data"][1:], ref.support_force(name))
+    np.testing.assert_allclose(by_name["casing.B.Fz"]["x"][1:], ref.time, rtol=1e-12)
+    assert by_name["casing.B.Fz"]["x"][0] == 0
     assert by_name["casing.A.az"]["ordinate_spec_data_type"] == 12  # the driven input, an acceleration
 
     t = tmp_path / "t.uff"
@@ -138,8 +148,8 @@ def test_every_command_that_reads_records_reads_csv_npz_and_uff(tmp_path, capsys
     for suffix in ("csv", "npz", "uff"):
         assert main(["bands", str(tmp_path / f"r.{suffix}"), "--column", "casing.B.Fz"]) == 0
         out = capsys.readouterr().out.splitlines()
-        assert out[1] == "band,f_low [Hz],f_high [Hz],rms [N],level [dB re 1 N]"
-        tables[suffix] = np.array([[float(v) for v in row.split(",")[1:]] for row in out[2:]])
+        assert out[2] == "band,f_centre [Hz],f_low [Hz],f_high [Hz],rms [N],level [dB re 1 N]"
+        tables[suffix] = np.array([[float(v) for v in row.split(",")[1:]] for row in out[3:]])
         assert main(["spectrum", str(tmp_path / f"r.{suffix}"), "--kind", "apparent-mass", "--fmax", "500"]) == 0
         assert "apparent mass (H1)" in capsys.readouterr().out
     np.testing.assert_array_equal(tables["npz"], tables["uff"])  # both exact doubles

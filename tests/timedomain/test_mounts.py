@@ -169,7 +169,7 @@ def test_an_excited_clip_has_its_own_channels_outputs_and_trfam(tmp_path):
     rec = read_records(tmp_path / "r.csv")
     assert {"dash.z", "dash.vz", "dash.az", "casing.clip1.Fz", "casing.clip0.Mx"} <= set(rec.columns)
     assert rec.units["dash.az"] == "m/s2" and rec.units["casing.clip1.Fz"] == "N"
-    np.testing.assert_allclose(rec.columns["dash.az"][last], -(w**2) * u0 * np.sin(w * res.time[last]), atol=1e-9)
+    np.testing.assert_allclose(rec.columns["dash.az"][1:][last], -(w**2) * u0 * np.sin(w * res.time[last]), atol=1e-9)
     eng = Engine(m)
     assert eng.channels[12:] == ("dash.x", "dash.y", "dash.z") and len(eng.output_names) == 27 + 12
     eng.advance(0.01, zero_motion)  # 12 columns: the clip's support at rest, nothing moves

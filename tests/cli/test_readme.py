@@ -1,0 +1,41 @@
+"""The README's examples of the command line and the Python API run as written (the FMU's needs a
+built FMU: tests/fmu run it)."""
+
+import re
+import shlex
+import warnings
+from pathlib import Path
+
+from cablecasing_core.cli import main
+
+README = (Path(__file__).resolve().parents[2] / "README.md").read_text()
+
+
+def _blocks(lang):
+    return re.findall(rf"```{lang}\n(.*?)```", README, re.S)
+
+
+def test_the_readme_states_the_two_commands():
+    assert "make demo" in _blocks("sh")[0] and "make test" in _blocks("sh")[0]
+
+
+def test_the_readme_command_line_example_runs_without_a_warning(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    lines = [s.split("#")[0] for s in _blocks("sh")[1].splitlines() if s.strip()]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for line in lines:
+            argv = shlex.split(line)
+            assert argv[0] == ".venv/bin/cablecasing"
+            assert main(argv[1:] + (["--no-progress"] if argv[1] == "simulate" else [])) == 0, line
+    out, err = capsys.readouterr()
+    assert "warning" not in err and "RMS" in out and (tmp_path / "psd.png").exists()
+
+
+def test_the_readme_python_example_runs_without_a_warning(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    code = _blocks("python")[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        exec(compile(code, "README.md", "exec"), {})
+    assert "16Hz" in capsys.readouterr().out
