@@ -283,6 +283,7 @@ def validate(data: dict, base_dir: str | None = None) -> dict:
     out["contact"] = _table("contact", data.get("contact", {}), table("contact"))
     out["loads"] = _loads(data.get("loads", {}), bodies)
     out["scenario"] = _scenario(data.get("scenario", {}), bodies, base_dir)
+    _carried(out)
     plausibility(out)
     step_checks(out, out["scenario"]["dt"], "scenario.dt")
     return out
@@ -311,6 +312,15 @@ def _loads(data, bodies):
                     "(a static state needs one)",
                 )
     return out
+
+
+def _carried(out):
+    """Each body can carry its loads as built: structure/support_check.py (a free end under a
+    tension, a loaded body its supports and mounts leave free to move, mounts too soft to hold it)."""
+    from ..structure.support_check import check_supported
+    from .model import Model
+
+    check_supported(Model(out))
 
 
 def _warn(text):
