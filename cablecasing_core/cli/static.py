@@ -113,6 +113,8 @@ def add_parser(sub):
         "on it), balance_N ({body: weight, prestress, contact, reactions, residual}), buckling ({casing: load_N, "
         "at_m, supports, mechanism}), contact_nodes, max_penetration_m",
     )
-    p.add_argument("--plot", help="figure (.png, .pdf or .svg): contact force along the arc length beside the curvature")
+    p.add_argument(
+        "--plot", help="figure (.png, .pdf or .svg): contact force along the arc length beside the curvature"
+    )
     p.add_argument("--no-contact", action="store_true", help="the bodies under their loads without contact")
     p.set_defaults(func=cmd_static)

@@ -23,7 +23,7 @@ supports and the direction) when:
 * a tension (``loads.cable_tension``) is applied to a body with a free end: a free end carries no
   axial force, so the tension has nowhere to go;
 * a loaded body (gravity, a tension, a straight cable's rest shape) has a rigid motion that its
-  mounts do not hold (eigenvalue of S below :data:`NULL` times its largest): the static state would
+  mounts do not hold (eigenvalue of S below :data:`NULL` times its largest: rounding): the static state would
   be singular, however fine the mesh;
 * its mounts hold it, but so softly that its weight would move it rigidly by more than its length
   (S^-1 F): the linear static state means nothing there.
@@ -39,9 +39,10 @@ import numpy as np
 from ..errors import ModelError
 
 #: Eigenvalues of the mounts' rigid stiffness S below this fraction of its largest count as zero:
-#: a zero stiffness gives exact zeros up to rounding (~1e-16); anything above is a (soft) spring,
-#: whose effect the rigid displacement S^-1 F bounds.
-NULL = 1e-12
+#: 64 rounding units, above the error of a symmetric eigensolver (~ eps |S|), so that a zero
+#: stiffness gives a zero and any spring (however soft beside a rigid one: 1 N.m/rad beside 1e12 N/m
+#: is 5e-13) does not; a soft spring's effect is bounded by the rigid displacement S^-1 F.
+NULL = 64 * np.finfo(float).eps
 
 
 def _rows(r, L):
