@@ -13,10 +13,14 @@ def cmd_geometry(args):
     from .paths import check_output_path
 
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
-    with warnings.catch_warnings():  # (printed below with the figures, not twice)
-        warnings.simplefilter("ignore")
+    with warnings.catch_warnings(record=True) as said:  # (the route's are printed below with the figures, not twice)
+        warnings.simplefilter("always")
         model = load_model(args.model)
     g = geometry_summary(model)
+    route = plausibility_warnings(model, g)
+    for w in said:  # (the others: absurd values, the gravity, the gap)
+        if str(w.message) not in {f"{model.source}: {t}" for t in route}:
+            warnings.warn(w.message, w.category, stacklevel=1)
     keys = ("length_m", "min_radius_m", "min_radius_at_m", "total_bend_deg", "gap_m", "element_length_m", "bends")
     if args.json:
         print(json.dumps({k: g[k] for k in keys}))
@@ -33,7 +37,7 @@ def cmd_geometry(args):
             print(f"  radial gap        {g['gap_m']:.4g} m")
         for i, b in enumerate(g["bends"]):
             print(f"  bend {i}: from s = {b['start_m']:.4g} m, radius {b['radius_m']:.4g} m, {b['angle_deg']:.4g} deg")
-    for w in plausibility_warnings(model, g):
+    for w in route:
         warnings.warn(w, stacklevel=1)
     if args.plot:
         from ..plotting import plot_routing

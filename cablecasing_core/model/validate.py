@@ -29,6 +29,7 @@ import numpy as np
 
 from ..errors import NOT_SHOWN, ModelError, ModelWarning, excerpt
 from .schema import BODY_NAMES, OPTIONAL, SECTIONS, SUPPORT_NAMES, lookup, table
+from .validators import MIN_LENGTH
 
 
 def check_keys(prefix, data, allowed, required=()):
@@ -164,6 +165,21 @@ def _geometry(data):
     return out
 
 
+def _element_length(geometry):
+    """The route's elements at least :data:`~.validators.MIN_LENGTH` long, as every part of the
+    route (its length over geometry.n_elements; a route of points by its polyline, the spline's is a
+    little longer): shorter elements' bending stiffness EI / h^3 outgrows their mass's h by more than
+    double precision keeps (modes of 0.0000 Hz)."""
+    length, n = _route_length(geometry), geometry["n_elements"]
+    if length / n < MIN_LENGTH:
+        raise ModelError(
+            "geometry.n_elements",
+            n,
+            f"cuts the {length:.4g} m route into elements of {length / n:.3g} m, shorter than the least "
+            f"{MIN_LENGTH:g} m; at most {max(int(length // MIN_LENGTH), 1)} elements (are the lengths in m?)",
+        )
+
+
 def _unit(v, key):
     """v (three finite numbers, not all zero) over its length, or a ModelError naming ``key`` when
     the length is not a positive finite number in double precision (components near 1e-160 or 1e160)."""
@@ -234,6 +250,11 @@ def _excitation(key, e, scenario, bodies, base_dir):
         if not path.is_absolute() and base_dir is not None:
             path = Path(base_dir) / path
         out["file"] = str(path)
+        # read and checked now, by the reader of the run: every command that loads the model refuses a
+        # bad table alike (not only simulate)
+        from ..timedomain.scenario import _read_table
+
+        _read_table(out["file"], f"{key}.file")
     return out
 
 
@@ -260,7 +281,16 @@ def validate(data: dict, base_dir: str | None = None) -> dict:
         raise ModelError("<model>", data, "must be a TOML document with sections")
     check_keys("<model>", data, set(SECTIONS), required=("geometry",))
     out = {"geometry": _geometry(data["geometry"])}
-    bodies = {n: _body(n, data[n], out["geometry"]) for n in BODY_NAMES if n in data}
+    _element_length(out["geometry"])
+    try:
+        bodies = {n: _body(n, data[n], out["geometry"]) for n in BODY_NAMES if n in data}
+    except ModelError as exc:  # a clip placed on a route whose length is likely in the wrong unit: say so
+        from ..structure.route_summary import length_warning
+
+        hint = length_warning(_route_length(out["geometry"]))
+        if hint and str(exc.key).startswith("casing.clip"):
+            raise ModelError(exc.key, exc.value, f"{hint} ({exc.allowed})") from None
+        raise
     if not bodies:
         raise ModelError("<model>", sorted(data), "needs at least one body section, [casing] or [cable]")
     out.update(bodies)
@@ -327,6 +357,11 @@ def _warn(text):
     warnings.warn(text, ModelWarning, stacklevel=4)
 
 
+#: Standard gravity (m/s2), and the largest magnitude of loads.gravity that does not warn (3 g: a
+#: static load; a vehicle's shocks and vibration are the scenario's).
+EARTH = 9.81
+MAX_GRAVITY = 3 * EARTH
+
 #: The radial gap below which the contact law's smooth surfaces do not describe a wire in a casing:
 #: the surface roughness of a drawn steel wire and a casing's liner (Ra 0.1-1.6 um).
 ROUGHNESS = 1e-6  # m
@@ -354,6 +389,13 @@ def plausibility(out: dict) -> list[str]:
                 "fit, and the cable starts pressed against the wall wherever the route bends (the energy it "
                 "then takes is no vibration)"
             )
+    g = float(np.linalg.norm(out["loads"]["gravity"]))
+    if g > MAX_GRAVITY:
+        warn(
+            f"loads.gravity = {excerpt(out['loads']['gravity'])} is {g:.4g} m/s2, {g / EARTH:.3g} g: the static "
+            f"load of an installed cable is the Earth's {EARTH} m/s2 (above {MAX_GRAVITY / EARTH:g} g it is no "
+            "installation; shocks and vibration belong in the scenario)"
+        )
     n = out["geometry"]["n_elements"]
     if both and out["contact"]["enabled"] and n < 4:
         warn(
