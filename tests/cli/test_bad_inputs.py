@@ -226,7 +226,8 @@ def test_every_command_that_loads_a_model_reads_its_csv_excitation(tmp_path, cap
     (tmp_path / "m.toml").write_text(_csv_model(f))
     code, out, err = run(capsys, [command, tmp_path / "m.toml"])
     assert code == 2 and out == "" and len(err) == 1, err
-    assert err[0].startswith(f"cablecasing: error: scenario.excitation.k.file = '{f}': ") and "line 3, column 2" in err[0]
+    assert err[0].startswith(f"cablecasing: error: scenario.excitation.k.file = '{f}': ")
+    assert "line 3, column 2" in err[0]
 
 
 def test_dev_null_as_a_csv_excitation(tmp_path, capsys):
