@@ -215,14 +215,18 @@ def test_cli_geometry_json_plot_and_warnings(tmp_path, capsys):
         "gap_m",
         "element_length_m",
         "bends",
+        "buckling",
     }
+    assert out["buckling"]["casing"]["load_N"] > 0 and out["buckling"]["casing"]["supports"] == "A clamped; B clamped"
     assert out["length_m"] == pytest.approx(LENGTH, rel=1e-14)
     assert out["element_length_m"] == pytest.approx(LENGTH / 20, rel=1e-14)
     assert out["bends"][0] == {"start_m": 0.15, "radius_m": 0.15, "angle_deg": 60.0}
     assert "warning: the elements" in cap.err
     assert png.stat().st_size > 10_000
     assert main(["geometry"]) == 0
-    assert "routing (spline) of <built-in>" in capsys.readouterr().out
+    text = capsys.readouterr().out
+    assert "routing (spline) of <built-in>" in text
+    assert "buckling          casing: buckles under a compression of 54.72 N, its mode largest at s = " in text
 
 
 def test_loading_a_file_warns_of_a_likely_mistake(tmp_path):
