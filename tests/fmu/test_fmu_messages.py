@@ -42,7 +42,7 @@ s = FMU2Slave(guid=md.guid, unzipDirectory=extract(fmu), modelIdentifier=md.coSi
 s.instantiate(callbacks=cb, loggingOn=True)
 s.setupExperiment(startTime=0.0)
 s.enterInitializationMode()
-s.setString([var["model_file"].valueReference], [model_file.encode()])
+s.setString([var["model_file"].valueReference], [model_file])
 try:
     s.exitInitializationMode()
     status = 0
