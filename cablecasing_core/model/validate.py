@@ -4,14 +4,17 @@ Each table is checked key by key with the schema's validators (unknown keys and 
 keys first, then every value; defaults filled in), then against the other keys where the schema's
 ``note`` says so: the casing's inner diameter between the cable and the outer diameter, the
 duration at least one step, a random band below the Nyquist frequency, a target on a clamped
-support of a body that exists, a tension only with a cable and loads only on bodies that a clamped
-support holds. Every mistake raises :class:`~cablecasing_core.errors.ModelError`
-naming the dotted key, the value and what is allowed; nothing is half-built.
+support of a body that exists, a tension only with a cable, every part of the route and every
+element at least a micrometre long, and loads only on bodies that can carry them as built (a
+tension with both ends of both bodies held, every loaded body held against every rigid motion:
+structure/support_check.py), every CSV excitation read. Every mistake raises
+:class:`~cablecasing_core.errors.ModelError` naming the dotted key, the value and what is allowed;
+nothing is half-built.
 
 A valid model can still be physically absurd: a value outside its key's plausible range (the
 schema's ``plausible``), a radial gap far below a wire's roughness, a contact stiffness whose time
 scale the step does not resolve, an impulse resolved by a few steps, a contact sought on fewer
-than four elements. Each gives a :class:`~cablecasing_core.errors.ModelWarning` that says why the
+than four elements, a gravity above 3 g. Each gives a :class:`~cablecasing_core.errors.ModelWarning` that says why the
 result may be meaningless (:func:`plausibility`, :func:`step_checks`); the model is used as given.
 The route's own warnings (too long, too short, doubling back, kinked, bent too tightly) are in one
 list, ``structure.route_summary.plausibility_warnings``, issued when a model file or dictionary is
