@@ -95,6 +95,16 @@ def _apply(data, edit):
         node[value[0]] = value[1]
 
 
+def _edited(tmp_path, base, edit_list):
+    """The model file (a path in ``tmp_path``) of the tables ``base`` with ``edit_list`` applied."""
+    data = json.loads(json.dumps(base))
+    for e in edit_list:
+        _apply(data, e)
+    p = tmp_path / "m.toml"
+    p.write_text(_to_toml(data))
+    return p
+
+
 def _check(argv, capsys):
     tracemalloc.start()
     t0 = time.perf_counter()
@@ -146,12 +156,7 @@ def _run_both(path, capsys):
 def test_a_model_file_with_mutated_keys_types_and_magnitudes_gives_one_error_line_or_finite_results(
     tmp_path, capsys, edit_list
 ):
-    data = json.loads(json.dumps(BASE))
-    for e in edit_list:
-        _apply(data, e)
-    p = tmp_path / "m.toml"
-    p.write_text(_to_toml(data))
-    _run_both(p, capsys)
+    _run_both(_edited(tmp_path, BASE, edit_list), capsys)
 
 
 @_settings(30)
@@ -217,11 +222,7 @@ mounted_edits = st.one_of(
 def test_a_mounted_model_with_mutated_isolators_clips_segments_and_loads_gives_one_error_line_or_finite_results(
     tmp_path, capsys, edit_list
 ):
-    data = json.loads(json.dumps(MOUNTED))
-    for e in edit_list:
-        _apply(data, e)
-    p = tmp_path / "m.toml"
-    p.write_text(_to_toml(data))
+    p = _edited(tmp_path, MOUNTED, edit_list)
     out = _check(["geometry", str(p), "--json"], capsys)
     if out is False:
         return
