@@ -244,3 +244,21 @@ def test_every_command_refuses_a_structure_that_cannot_carry_its_loads(command, 
     assert main(args) == 2
     err = capsys.readouterr().err
     assert "loads.gravity" in err and "translation along [0, 0, -1]" in err and "internal error" not in err
+
+
+def test_the_newcomer_s_casing_in_an_isolator_a_clamp_and_a_clip_carries_8_n():
+    """The issue's case: the S-route with the casing in an isolator at A, clamped at B and a clip at
+    0.51 m was refused at 8 N as a cantilever (pi^2 EI / (4 L^2): 2.919 N on its route); as built it buckles
+    far above the cantilever's load, and 8 N is carried."""
+    from cablecasing_core.timedomain.static_state import static_state
+
+    raw = _installation(**{"casing.supports": {"A": "isolator", "B": "clamped"}, "loads.cable_tension": 8.0})
+    del raw["casing"]["isolator"]["B"]
+    raw["casing"]["clip"] = [dict(raw["casing"]["clip"][0], at=0.51)]
+    model = cc.model_from_dict(raw)
+    b = load_of(model)
+    L = assemble_body(model, "casing", check_buckling=False).centerline.length
+    assert 0.25 * np.pi**2 * EI / L**2 < 8.0 < b.load  # (3.5 N refused 8 N; 84.9 N: the clip and isolator hold it)
+    assert "A isolator" in b.supports and "B clamped" in b.supports and "clips at s = 0.51 m" in b.supports
+    st = static_state(model)
+    assert st.clip_reactions.shape == (1, 6) and st.prestretch_force > 0
