@@ -538,13 +538,14 @@ def main(argv=None):
 
     warnings.showwarning = lambda message, *a, **k: print(f"build_fmu.py: warning: {message}", file=sys.stderr)
 
+    model = model_path(args.model)
+    default = f"CableCasing-{model.stem}.fmu" if model else "CableCasing.fmu"
+    out = Path(args.out or ROOT / "dist" / default).resolve()
     try:
-        model = model_path(args.model)
-        default = f"CableCasing-{model.stem}.fmu" if model else "CableCasing.fmu"
-        out = Path(args.out or ROOT / "dist" / default).resolve()
         check_inputs(model, out)  # (before any folder or file is created)
     except cc.CableCasingError as exc:  # bad input: one line, exit status 2 (as the command line)
-        print(f"build_fmu.py: error: {exc}", file=sys.stderr)
+        where = f"--model {args.model}: " if model is not None and getattr(exc, "key", "") != "--output" else ""
+        print(f"build_fmu.py: error: {where}{exc}", file=sys.stderr)
         return 2
     out = build(out, model)
     print(f"wrote {out}")

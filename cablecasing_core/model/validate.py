@@ -7,7 +7,7 @@ duration at least one step, a random band below the Nyquist frequency, a target 
 support of a body that exists, a tension only with a cable, every part of the route and every
 element at least a micrometre long, and loads only on bodies that can carry them as built (a
 tension with both ends of both bodies held, every loaded body held against every rigid motion:
-structure/support_check.py), every CSV excitation read. Every mistake raises
+structure/support_check.py). Every mistake raises
 :class:`~cablecasing_core.errors.ModelError` naming the dotted key, the value and what is allowed;
 nothing is half-built.
 
@@ -252,12 +252,7 @@ def _excitation(key, e, scenario, bodies, base_dir):
         path = Path(out["file"])
         if not path.is_absolute() and base_dir is not None:
             path = Path(base_dir) / path
-        out["file"] = str(path)
-        # read and checked now, by the reader of the run: every command that loads the model refuses a
-        # bad table alike (not only simulate)
-        from ..timedomain.scenario import _read_table
-
-        _read_table(out["file"], f"{key}.file")
+        out["file"] = str(path)  # (read and checked by load_model: model.load.check_excitation_files)
     return out
 
 
