@@ -81,6 +81,28 @@ def test_a_column_on_an_elastic_rotational_spring_solves_its_transcendental_equa
     assert b.load < 0.25 * np.pi**2 * EI
 
 
+@pytest.mark.parametrize("share", [0.25, 0.5, 0.9, 2.0])
+def test_a_pinned_column_with_a_mid_span_clip_solves_its_transcendental_equation(share):
+    """Pinned ends (isolators of 1e12 N/m without bending stiffness), a clip of lateral stiffness k
+    at mid-span (its node: 20 of 40). The symmetric mode on the half span a = L / 2 (w = A sin(lx) +
+    B x, w'(a) = 0, the spring's k w(a) / 2 the half span's shear) buckles where k = 2 EI l^3
+    (-cos la) / (sin la - la cos la), P = EI l^2, from pi^2 EI / L^2 (k = 0) up to the antisymmetric
+    mode's 4 pi^2 EI / L^2, which a node at the clip leaves unchanged, from k = 16 pi^2 EI / L^3 on
+    (Timoshenko & Gere, Sec. 2.6). Tolerance: as above."""
+    k_full = 16 * np.pi**2 * EI  # N/m (L = 1 m)
+    k, a = share * k_full, 0.5
+    clip = {"at": 0.5, "stiffness": [0.0, k, k]}
+    pins = {"A": (RIGID, [1e6, 0.0, 0.0]), "B": (RIGID, [1e6, 0.0, 0.0])}
+    b = load_of(column(("isolator", "isolator"), isolator=pins, clips=[clip]))
+    if share >= 1.0:
+        expected = 4 * np.pi**2 * EI
+    else:
+        x = brentq(lambda x: 2 * EI * (x / a) ** 3 * -np.cos(x) / (np.sin(x) - x * np.cos(x)) - k, np.pi / 2, np.pi)
+        expected = EI * (x / a) ** 2
+    assert b.load == pytest.approx(expected, rel=1e-5)
+    assert np.pi**2 * EI < b.load <= 4 * np.pi**2 * EI * (1 + 1e-5)
+
+
 def test_stiffer_isolators_tend_to_the_clamped_value_from_below():
     stiff = [1.0, 1e2, 1e4, 1e9]  # N.m/rad
     loads = [load_of(column(("isolator", "isolator"), isolator={s: (RIGID, k) for s in "AB"})).load for k in stiff]
