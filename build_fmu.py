@@ -18,7 +18,10 @@ built-in specimen, so the FMU's inputs and outputs are that model's (``model.sch
 ``outputs_of``: the excited clips' channels, the clips' forces), its parameters start at its
 values, its GUID differs from every other model's, and its documentation names the file.
 
-Usage: python build_fmu.py [--model FILE.toml] [--output dist/CableCasing.fmu]
+Usage: python build_fmu.py [--model FILE.toml | default | installed] [--output dist/CableCasing.fmu]
+
+Bad input (a model file that does not load, an output that is no ``.fmu`` file) is one line on
+stderr and exit status 2, as on the command line, before any folder or file is created.
 """
 
 from __future__ import annotations
@@ -398,14 +401,11 @@ def compiled_kernels(entries):
 def model_files(model_file):
     """{path inside resources/model/: bytes} of an FMU built for ``model_file`` (a Path): the file
     itself and the CSV files its excitations read (at their paths relative to the file's folder,
-    where the model finds them again). Raises SystemExit naming the problem: a model file that
+    where the model finds them again). Raises ModelError naming the problem: a model file that
     does not load, or a CSV file outside the model file's folder."""
     import cablecasing_core as cc
 
-    try:
-        model = cc.load_model(model_file)
-    except cc.CableCasingError as exc:
-        raise SystemExit(f"build_fmu.py --model {model_file}: {exc}") from None
+    model = cc.load_model(model_file)
     files = {model_file.name: model_file.read_bytes()}
     for name, e in model.scenario.get("excitation", {}).items():
         if "file" in e:
@@ -413,13 +413,40 @@ def model_files(model_file):
             try:
                 rel = path.relative_to(model_file.parent)
             except ValueError:
-                raise SystemExit(
-                    f"build_fmu.py --model {model_file}: scenario.excitation.{name}.file = {str(path)!r} is not "
-                    f"inside the model file's folder {model_file.parent}: the FMU ships it beside the model file, "
-                    "so give it a path relative to that folder, inside it"
+                raise cc.ModelError(
+                    f"scenario.excitation.{name}.file",
+                    str(path),
+                    f"must be inside the model file's folder {model_file.parent}: the FMU ships it beside the model "
+                    "file, so give it a path relative to that folder, inside it",
                 ) from None
             files[rel.as_posix()] = path.read_bytes()
     return files
+
+
+def model_path(name):
+    """The model file of ``--model``: a TOML path, or the name of a built-in specimen (``default``,
+    ``installed``: its file in the package), as every command of the CLI takes it; None for None."""
+    from cablecasing_core.model import specimen_names
+
+    if name is None:
+        return None
+    if name in specimen_names():
+        return PACKAGE / "model" / "specimens" / f"{name}.toml"
+    return Path(name).resolve()
+
+
+def check_inputs(model, out):
+    """Check the build's inputs before anything is created: the model file loads (with its CSV
+    files, inside its folder) and the output is a ``.fmu`` file that can be written (no folder or
+    device there). Raises ModelError naming the option or key."""
+    import cablecasing_core as cc
+
+    if model is not None:
+        model_files(model)
+    if out.suffix != ".fmu":
+        raise cc.ModelError("--output", str(out), "must end in .fmu")
+    if out.exists() and not out.is_file():
+        raise cc.ModelError("--output", str(out), "must be a regular file or none yet (it is a folder or a device)")
 
 
 def build(out, model_file=None):
@@ -494,8 +521,8 @@ def main(argv=None):
     p.add_argument(
         "--model",
         metavar="FILE.toml",
-        help="build the FMU for this model file: its channels (excited clips), outputs (clip forces) and "
-        "parameter values (default: the built-in specimen)",
+        help="build the FMU for this model file or built-in specimen (default, installed): its channels "
+        "(excited clips), outputs (clip forces) and parameter values (default: the built-in specimen)",
     )
     p.add_argument(
         "--output",
@@ -506,10 +533,25 @@ def main(argv=None):
         "with --model)",
     )
     args = p.parse_args(argv)
-    default = f"CableCasing-{Path(args.model).stem}.fmu" if args.model else "CableCasing.fmu"
-    out = build(args.out or ROOT / "dist" / default, args.model)
+    import warnings
+
+    import cablecasing_core as cc
+
+    warnings.showwarning = lambda message, *a, **k: print(f"build_fmu.py: warning: {message}", file=sys.stderr)
+
+    model = model_path(args.model)
+    default = f"CableCasing-{model.stem}.fmu" if model else "CableCasing.fmu"
+    out = Path(args.out or ROOT / "dist" / default).resolve()
+    try:
+        check_inputs(model, out)  # (before any folder or file is created)
+    except cc.CableCasingError as exc:  # bad input: one line, exit status 2 (as the command line)
+        where = f"--model {args.model}: " if model is not None and getattr(exc, "key", "") != "--output" else ""
+        print(f"build_fmu.py: error: {where}{exc}", file=sys.stderr)
+        return 2
+    out = build(out, model)
     print(f"wrote {out}")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

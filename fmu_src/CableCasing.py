@@ -36,6 +36,7 @@ state and pythonfmu's methods; the bridge loads it as one file.
 import math
 import os
 import traceback
+import warnings
 
 import numpy as np
 from pythonfmu import Boolean, DefaultExperiment, Fmi2Causality, Fmi2Slave, Fmi2Variability, Integer, Real, String
@@ -88,6 +89,15 @@ SPECIAL = ("contact.enabled", "model_file", "solver.dt", "scenario.drive")
 _TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}
 
 
+def _one_line(exc):
+    """An unexpected exception in one line, ``Type: message`` (a bug: please report it); its
+    traceback too when ``CABLECASING_TRACEBACK`` is set, as on the command line."""
+    text = f"{type(exc).__name__}: {' '.join(str(exc).split())} (a bug; please report it)"
+    if os.environ.get("CABLECASING_TRACEBACK"):
+        text += "\n" + traceback.format_exc()
+    return text
+
+
 class CableCasing(Fmi2Slave):
     """Gear-shift cable in a curved casing, driven at its four supports (see module docstring)."""
 
@@ -102,7 +112,10 @@ class CableCasing(Fmi2Slave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self.base_file = base_model_file(kwargs.get("resources"))
-        self._base = cc.load_model(self.base_file) if self.base_file else cc.load_model()
+        with warnings.catch_warnings(record=True) as said:  # (logged when the engine is built: _build)
+            warnings.simplefilter("always")
+            self._base = cc.load_model(self.base_file) if self.base_file else cc.load_model()
+        self._base_warnings = [str(w.message) for w in said]
         self.input_names, self.output_names = inputs_of(self._base), outputs_of(self._base)
         self.nch = len(self.input_names) // 3  # support channels: 12, and 3 per excited clip
         self.units = {}  # variable name -> unit (read by build_fmu.py)
@@ -279,7 +292,9 @@ class CableCasing(Fmi2Slave):
         when initialisation ends), read once per path."""
         if self._file_cache[0] != path:
             try:
-                model = cc.load_model(path)
+                with warnings.catch_warnings():  # (the model's warnings are logged when it is built: _build)
+                    warnings.simplefilter("ignore")
+                    model = cc.load_model(path)
                 values = dict(model.parameters())
                 values.update(model.text_parameters())
                 values["contact.enabled"] = bool(model.contact["enabled"])
@@ -432,13 +447,17 @@ class CableCasing(Fmi2Slave):
         """Build the engine from the parameters; on a problem log it (fmi2Error) and refuse steps."""
         config = self._config()
         try:
-            self._engine = self._make_engine(config)
+            with warnings.catch_warnings(record=True) as said:
+                warnings.simplefilter("always")
+                self._engine = self._make_engine(config)
         except cc.ModelError as exc:
             self._engine = None
             return self._block(f"invalid parameter {exc}")
         except Exception as exc:  # noqa: BLE001  (never raise into the host)
             self._engine = None
-            return self._block(f"the model cannot be built: {exc!r}\n{traceback.format_exc()}")
+            return self._block(f"the model cannot be built: {_one_line(exc)}")
+        finally:
+            self._log_warnings(said)
         problem = self._variables_problem(self._engine)
         if problem:
             self._engine = None
@@ -494,6 +513,14 @@ class CableCasing(Fmi2Slave):
             eng.reset()
             self._recon.reset()
 
+    def _log_warnings(self, said):
+        """Python warnings of building the model (a ModelWarning: an absurd but valid value, the
+        route's plausibility) as log messages with fmi2Warning, each once, the base model's with the
+        first build: never as text on the host's stderr."""
+        texts, self._base_warnings = self._base_warnings + [str(w.message) for w in said], []
+        for text in dict.fromkeys(texts):
+            self.log(text, Fmi2Status.warning)
+
     def _variables_problem(self, engine):
         """Why the engine's model does not fit this FMU's variables (None if it does). An FMU built
         for a model file has that model's channels and outputs, and refuses a ``model_file`` with
@@ -503,12 +530,20 @@ class CableCasing(Fmi2Slave):
         channels, outputs = engine.channels, engine.output_names
         if self.base_file is None:
             extra = channels[len(CHANNELS) :]
+            clips = (len(outputs) - len(OUTPUTS)) // 6
             if extra:
                 self.log(
                     f"the model's excited clips have the channels {', '.join(extra)}, which are not inputs of "
                     "this FMU (its inputs are the 12 support channels): they follow the model's own scenario "
                     "with scenario.drive, else stay at rest; the clips' forces are not outputs (build an FMU "
                     "for the model file, build_fmu.py --model, to have them: docs/fmu.md)",
+                    Fmi2Status.warning,
+                )
+            elif clips:
+                self.log(
+                    f"the model's {clips} clips hold the casing as in the core, but their forces are not outputs "
+                    "of this FMU (its outputs are the built-in specimen's); build an FMU for the model file, "
+                    "build_fmu.py --model, to have them (docs/fmu.md)",
                     Fmi2Status.warning,
                 )
             return None
@@ -602,9 +637,8 @@ class CableCasing(Fmi2Slave):
                 step_size, self._recon, self._u, self._v, self._a, self.outputs_buffer, self._drive
             )
         except Exception as exc:  # noqa: BLE001  (never raise into the host)
-            msg = f"step from t = {current_time:.9g} s over {step_size:.6g} s discarded (state rolled back): {exc}"
-            if not isinstance(exc, cc.CableCasingError):
-                msg += "\n" + traceback.format_exc()
+            msg = f"step from t = {current_time:.9g} s over {step_size:.6g} s discarded (state rolled back): "
+            msg += str(exc) if isinstance(exc, cc.CableCasingError) else _one_line(exc)
             self.log(msg, Fmi2Status.discard)
             return DISCARD
         return OK

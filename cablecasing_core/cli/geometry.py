@@ -13,13 +13,18 @@ def cmd_geometry(args):
     from .paths import check_output_path
 
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
-    with warnings.catch_warnings():  # (printed below with the figures, not twice)
-        warnings.simplefilter("ignore")
+    with warnings.catch_warnings(record=True) as said:  # (the route's are printed below with the figures, not twice)
+        warnings.simplefilter("always")
         model = load_model(args.model)
     g = geometry_summary(model)
+    route = plausibility_warnings(model, g)
+    for w in said:  # (the others: absurd values, the gravity, the gap)
+        if str(w.message) not in {f"{model.source}: {t}" for t in route}:
+            warnings.warn(w.message, w.category, stacklevel=1)
     keys = ("length_m", "min_radius_m", "min_radius_at_m", "total_bend_deg", "gap_m", "element_length_m", "bends")
+    buckled = _buckling(model)
     if args.json:
-        print(json.dumps({k: g[k] for k in keys}))
+        print(json.dumps({**{k: g[k] for k in keys}, "buckling": {b.body: b.as_dict() for b in buckled}}))
     else:
         print(f"routing ({g['source']}) of {model.source}")
         print(f"  length            {g['length_m']:.6g} m")
@@ -33,7 +38,9 @@ def cmd_geometry(args):
             print(f"  radial gap        {g['gap_m']:.4g} m")
         for i, b in enumerate(g["bends"]):
             print(f"  bend {i}: from s = {b['start_m']:.4g} m, radius {b['radius_m']:.4g} m, {b['angle_deg']:.4g} deg")
-    for w in plausibility_warnings(model, g):
+        for b in buckled:
+            print(f"  buckling          {b.text()}")
+    for w in route:
         warnings.warn(w, stacklevel=1)
     if args.plot:
         from ..plotting import plot_routing
@@ -44,14 +51,27 @@ def cmd_geometry(args):
     return 0
 
 
+def _buckling(model):
+    """The casing's buckling load as built (structure/buckling.py; its reference modulus) when it
+    carries the cable's tension as compression (both bodies); else none."""
+    if not {"casing", "cable"} <= set(model.bodies):
+        return []
+    from ..structure.assembly import assemble_body
+    from ..structure.buckling import buckling
+
+    return [buckling(assemble_body(model, "casing", check_buckling=False))]
+
+
 def add_parser(sub):
     p = sub.add_parser("geometry", help="the routing: length, bends, min radius, gap, element length; warnings")
-    p.add_argument("model", nargs="?", default=None, help="model TOML file (default: built-in specimen)")
+    p.add_argument("model", nargs="?", default=None, help="model TOML or built-in specimen name (default: default)")
     p.add_argument(
         "--json",
         action="store_true",
         help="print JSON {length_m, min_radius_m, min_radius_at_m, total_bend_deg, gap_m, element_length_m, "
-        "bends: [{start_m, radius_m, angle_deg}]} (arc lengths from end A)",
+        "bends: [{start_m, radius_m, angle_deg}], buckling: {casing: {load_N, at_m, supports, mechanism}}} (arc "
+        "lengths from end A; the buckling load of the casing as built, the most compression, i.e. cable tension, it "
+        "carries)",
     )
     p.add_argument("--plot", help="figure to write (.png): 3D routing with supports and clips, curvature along it")
     p.set_defaults(func=cmd_geometry)

@@ -15,13 +15,16 @@ def cmd_static(args):
     from ..timedomain.static_state import static_state
     from .paths import check_output_path
 
-    check_output_path("--plot", args.plot)
+    check_output_path("--plot", args.plot, PLOT_SUFFIXES)
     model = load_model(args.model)
     st = static_state(model, contact=False if args.no_contact else None)
+    buckled = _buckling(model)
     if args.json:
-        print(json.dumps(st.as_dict()))
+        out = st.as_dict()
+        out["buckling"] = {b.body: b.as_dict() for b in buckled}
+        print(json.dumps(out))
     else:
-        _print(model, st)
+        _print(model, st, buckled)
     if args.plot:
         from ..timedomain.static_plot import plot_static_state
 
@@ -31,7 +34,22 @@ def cmd_static(args):
     return 0
 
 
-def _print(model, st):
+#: The figures ``--plot`` writes (matplotlib's formats by suffix), checked before the run.
+PLOT_SUFFIXES = (".png", ".pdf", ".svg")
+
+
+def _buckling(model):
+    """The casing's buckling load as built (structure/buckling.py), as the time domain assembles
+    it, when it carries the cable's tension as compression (both bodies); else none."""
+    if not {"casing", "cable"} <= set(model.bodies):
+        return []
+    from ..structure.buckling import buckling
+    from ..timedomain.body_storage import time_domain_system
+
+    return [buckling(time_domain_system(model, "casing"))]
+
+
+def _print(model, st, buckled=()):
     g, T = model.loads["gravity"], model.loads["cable_tension"]
     shape = model.bodies["cable"].rest_shape if "cable" in model.bodies else "-"
     print(f"static state of {model.source}: gravity {g} m/s2, cable tension {T:g} N, cable rest shape {shape}")
@@ -52,16 +70,33 @@ def _print(model, st):
             f"    {i:4d} {st.arc_length[i]:8.4f} {st.curvature[i]:10.4f}  {F[0]:10.4f}  {F[1]:10.4f}  {F[2]:10.4f}  "
             f"{np.linalg.norm(F):10.4f}   {st.penetration[i]:.4g}"
         )
-    print("  support reactions, force and moment each body exerts on its support (N, N.m):")
-    print("    support           Fx          Fy          Fz          Mx          My          Mz")
+    print(
+        "  reactions: force and moment each body exerts on its supports, isolators and clips (N, N.m, global; the "
+        "time-domain outputs' sign):"
+    )
+    print("    support                 Fx          Fy          Fz          Mx          My          Mz")
     for body in st.U:
         for s in SUPPORT_NAMES:
-            if model.bodies[body].supports[s] == "clamped":
+            kind = model.bodies[body].supports[s]
+            if kind != "free":
                 r = st.reaction(f"{body}.{s}")
-                print(f"    {body}.{s:3s}  " + " ".join(f"{v:11.5g}" for v in r))
+                print(f"    {f'{body}.{s} {kind}':22s}" + " ".join(f"{v:11.5g}" for v in r))
+    for i, r in enumerate(st.clip_reactions):
+        at = model.data["casing"]["clip"][i]["at"]
+        print(f"    {f'casing.clip{i} s={at:.4g}':22s}" + " ".join(f"{v:11.5g}" for v in r))
+    print("  force balance of each body (N, global): weight + prestress + contact = reactions")
+    for body, b in st.balance.items():
+        terms = " + ".join(f"{_vec(b[k])}" for k in ("weight", "prestress", "contact"))
+        print(f"    {body}: {terms} = {_vec(b['reactions'])} (residual {np.abs(b['residual']).max():.2g} N)")
     if any(g):
         W = sum(st.weight.values())
         print(f"  weight of the bodies (N): {np.round(W, 6).tolist()}")
+    for b in buckled:
+        print(f"  buckling: {b.text()}")
+
+
+def _vec(v):
+    return "[" + ", ".join(f"{x:.5g}" for x in np.where(np.abs(v) < 1e-12, 0.0, v) + 0.0) + "]"
 
 
 def add_parser(sub):
@@ -74,8 +109,12 @@ def add_parser(sub):
         "--json",
         action="store_true",
         help="print JSON: contact_force_N (per cable node [Fx, Fy, Fz], the casing's force on the cable), "
-        "support_reactions_N ({body.support: [Fx, Fy, Fz, Mx, My, Mz]}), contact_nodes, max_penetration_m",
+        "support_reactions_N ({body.support or casing.clip<i>: [Fx, Fy, Fz, Mx, My, Mz]}, the force the body exerts "
+        "on it), balance_N ({body: weight, prestress, contact, reactions, residual}), buckling ({casing: load_N, "
+        "at_m, supports, mechanism}), contact_nodes, max_penetration_m",
     )
-    p.add_argument("--plot", help="PNG: contact force along the arc length beside the curvature")
+    p.add_argument(
+        "--plot", help="figure (.png, .pdf or .svg): contact force along the arc length beside the curvature"
+    )
     p.add_argument("--no-contact", action="store_true", help="the bodies under their loads without contact")
     p.set_defaults(func=cmd_static)

@@ -63,8 +63,22 @@ def load_model(path: str | Path | None = None) -> Model:
         model = Model(validate(raw, base_dir=base), source=str(p), base_dir=base)
     except RecursionError:  # (tables nested thousands deep)
         raise ModelError("model_file", str(path), "nests tables or arrays too deeply to be a model file") from None
+    check_excitation_files(model)
     _warn_if_implausible(model)
     return model
+
+
+def check_excitation_files(model: Model) -> None:
+    """Read and check every CSV file of ``model``'s excitations now, with the reader of the run
+    (``timedomain.scenario``; ModelError naming ``scenario.excitation.<name>.file``, the file and the
+    line): every command that loads a model file (``static`` and ``geometry`` as ``simulate``, the
+    FMU's ``model_file``) refuses a bad table alike, before any work. (A model built from a
+    dictionary reads them when its scenario's motion is built.)"""
+    from ..timedomain.scenario import _read_table
+
+    for name, e in model.scenario.get("excitation", {}).items():
+        if e["kind"] == "csv":
+            _read_table(e["file"], f"scenario.excitation.{name}.file")
 
 
 def toml_file(path: str | Path, key: str, limit: int, other: str = "") -> dict:

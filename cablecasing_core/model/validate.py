@@ -4,14 +4,17 @@ Each table is checked key by key with the schema's validators (unknown keys and 
 keys first, then every value; defaults filled in), then against the other keys where the schema's
 ``note`` says so: the casing's inner diameter between the cable and the outer diameter, the
 duration at least one step, a random band below the Nyquist frequency, a target on a clamped
-support of a body that exists, a tension only with a cable and loads only on bodies that a clamped
-support holds. Every mistake raises :class:`~cablecasing_core.errors.ModelError`
-naming the dotted key, the value and what is allowed; nothing is half-built.
+support of a body that exists, a tension only with a cable, every part of the route and every
+element at least a micrometre long, and loads only on bodies that can carry them as built (a
+tension with both ends of both bodies held, every loaded body held against every rigid motion:
+structure/support_check.py). Every mistake raises
+:class:`~cablecasing_core.errors.ModelError` naming the dotted key, the value and what is allowed;
+nothing is half-built.
 
 A valid model can still be physically absurd: a value outside its key's plausible range (the
 schema's ``plausible``), a radial gap far below a wire's roughness, a contact stiffness whose time
 scale the step does not resolve, an impulse resolved by a few steps, a contact sought on fewer
-than four elements. Each gives a :class:`~cablecasing_core.errors.ModelWarning` that says why the
+than four elements, a gravity above 3 g. Each gives a :class:`~cablecasing_core.errors.ModelWarning` that says why the
 result may be meaningless (:func:`plausibility`, :func:`step_checks`); the model is used as given.
 The route's own warnings (too long, too short, doubling back, kinked, bent too tightly) are in one
 list, ``structure.route_summary.plausibility_warnings``, issued when a model file or dictionary is
@@ -29,6 +32,7 @@ import numpy as np
 
 from ..errors import NOT_SHOWN, ModelError, ModelWarning, excerpt
 from .schema import BODY_NAMES, OPTIONAL, SECTIONS, SUPPORT_NAMES, lookup, table
+from .validators import MIN_LENGTH
 
 
 def check_keys(prefix, data, allowed, required=()):
@@ -164,6 +168,21 @@ def _geometry(data):
     return out
 
 
+def _element_length(geometry):
+    """The route's elements at least :data:`~.validators.MIN_LENGTH` long, as every part of the
+    route (its length over geometry.n_elements; a route of points by its polyline, the spline's is a
+    little longer): shorter elements' bending stiffness EI / h^3 outgrows their mass's h by more than
+    double precision keeps (modes of 0.0000 Hz)."""
+    length, n = _route_length(geometry), geometry["n_elements"]
+    if length / n < MIN_LENGTH:
+        raise ModelError(
+            "geometry.n_elements",
+            n,
+            f"cuts the {length:.4g} m route into elements of {length / n:.3g} m, shorter than the least "
+            f"{MIN_LENGTH:g} m; at most {max(int(length // MIN_LENGTH), 1)} elements (are the lengths in m?)",
+        )
+
+
 def _unit(v, key):
     """v (three finite numbers, not all zero) over its length, or a ModelError naming ``key`` when
     the length is not a positive finite number in double precision (components near 1e-160 or 1e160)."""
@@ -233,7 +252,7 @@ def _excitation(key, e, scenario, bodies, base_dir):
         path = Path(out["file"])
         if not path.is_absolute() and base_dir is not None:
             path = Path(base_dir) / path
-        out["file"] = str(path)
+        out["file"] = str(path)  # (read and checked by load_model: model.load.check_excitation_files)
     return out
 
 
@@ -260,7 +279,16 @@ def validate(data: dict, base_dir: str | None = None) -> dict:
         raise ModelError("<model>", data, "must be a TOML document with sections")
     check_keys("<model>", data, set(SECTIONS), required=("geometry",))
     out = {"geometry": _geometry(data["geometry"])}
-    bodies = {n: _body(n, data[n], out["geometry"]) for n in BODY_NAMES if n in data}
+    _element_length(out["geometry"])
+    try:
+        bodies = {n: _body(n, data[n], out["geometry"]) for n in BODY_NAMES if n in data}
+    except ModelError as exc:  # a clip placed on a route whose length is likely in the wrong unit: say so
+        from ..structure.route_summary import length_warning
+
+        hint = length_warning(_route_length(out["geometry"]))
+        if hint and str(exc.key).startswith("casing.clip"):
+            raise ModelError(exc.key, exc.value, f"{hint} ({exc.allowed})") from None
+        raise
     if not bodies:
         raise ModelError("<model>", sorted(data), "needs at least one body section, [casing] or [cable]")
     out.update(bodies)
@@ -283,6 +311,7 @@ def validate(data: dict, base_dir: str | None = None) -> dict:
     out["contact"] = _table("contact", data.get("contact", {}), table("contact"))
     out["loads"] = _loads(data.get("loads", {}), bodies)
     out["scenario"] = _scenario(data.get("scenario", {}), bodies, base_dir)
+    _carried(out)
     plausibility(out)
     step_checks(out, out["scenario"]["dt"], "scenario.dt")
     return out
@@ -313,9 +342,23 @@ def _loads(data, bodies):
     return out
 
 
+def _carried(out):
+    """Each body can carry its loads as built: structure/support_check.py (a free end under a
+    tension, a loaded body its supports and mounts leave free to move, mounts too soft to hold it)."""
+    from ..structure.support_check import check_supported
+    from .model import Model
+
+    check_supported(Model(out))
+
+
 def _warn(text):
     warnings.warn(text, ModelWarning, stacklevel=4)
 
+
+#: Standard gravity (m/s2), and the largest magnitude of loads.gravity that does not warn (3 g: a
+#: static load; a vehicle's shocks and vibration are the scenario's).
+EARTH = 9.81
+MAX_GRAVITY = 3 * EARTH
 
 #: The radial gap below which the contact law's smooth surfaces do not describe a wire in a casing:
 #: the surface roughness of a drawn steel wire and a casing's liner (Ra 0.1-1.6 um).
@@ -344,6 +387,13 @@ def plausibility(out: dict) -> list[str]:
                 "fit, and the cable starts pressed against the wall wherever the route bends (the energy it "
                 "then takes is no vibration)"
             )
+    g = float(np.linalg.norm(out["loads"]["gravity"]))
+    if g > MAX_GRAVITY:
+        warn(
+            f"loads.gravity = {excerpt(out['loads']['gravity'])} is {g:.4g} m/s2, {g / EARTH:.3g} g: the static "
+            f"load of an installed cable is the Earth's {EARTH} m/s2 (above {MAX_GRAVITY / EARTH:g} g it is no "
+            "installation; shocks and vibration belong in the scenario)"
+        )
     n = out["geometry"]["n_elements"]
     if both and out["contact"]["enabled"] and n < 4:
         warn(

@@ -141,12 +141,21 @@ class Text:
         return value
 
 
+#: The least length of a route's part (m): a straight, a bend's radius, the step between two points.
+#: A micrometre is below any cable's roughness; shorter parts are a slip of units (or 1e-300), and
+#: their rounding (1e-16 of coordinates up to 1000 m) is no longer small beside them.
+MIN_LENGTH = 1e-6
+
+
 class Points:
     """At least two points [x, y, z] (m), each different from the one before; at most
     :attr:`MAX_POINTS` points, coordinates within +-1000 m."""
 
     MAX_POINTS = 10000  # (the spline's arc length is integrated on 200 samples per span)
-    allowed = f"2 to {MAX_POINTS} points [x, y, z] in m, coordinates within +-1000 m, consecutive points different"
+    allowed = (
+        f"2 to {MAX_POINTS} points [x, y, z] in m, coordinates within +-1000 m, consecutive points at least "
+        f"{MIN_LENGTH:g} m apart"
+    )
     coordinate = Number(ge=-1e3, le=1e3, unit="m")
 
     def __call__(self, key, value):
@@ -168,6 +177,13 @@ class Points:
                     f"{key}[{i + 1}]",
                     clean[i + 1],
                     f"repeats the previous point {clean[i]}; consecutive points must differ",
+                )
+            if s < MIN_LENGTH:
+                raise ModelError(
+                    f"{key}[{i + 1}]",
+                    clean[i + 1],
+                    f"is {s:.3g} m from the previous point {clean[i]}; consecutive points must be at least "
+                    f"{MIN_LENGTH:g} m apart",
                 )
         return clean
 
@@ -242,9 +258,10 @@ class Segments:
 
     allowed = (
         "a list of {straight = L_m} and {bend = {radius = R_m, angle_deg = phi, toward = [x, y, z]}}, "
-        "0 < L <= 1000, 0 < R <= 1000, 0 < phi < 360"
+        "1e-06 <= L <= 1000, 1e-06 <= R <= 1000, 0 < phi < 360"
     )
-    length = Number(gt=0, le=1e3, unit="m")  # (as the points' coordinates: within +-1000 m)
+    # (as the points' coordinates: within +-1000 m; and at least the points' least spacing)
+    length = Number(ge=MIN_LENGTH, le=1e3, unit="m")
     angle = Number(gt=0, lt=360, unit="deg")
     toward = Vector(unit="", nonzero=True)
 

@@ -1,43 +1,193 @@
-"""The buckling load of a body under axial compression: the honest check of a tension that the
-casing must carry as compression.
+"""The buckling load of a body as built: the lowest compression its supports, isolators and clips
+carry, and the refusal of a tension above it.
 
 The casing's compression P (the cable's tension) softens it by its geometric stiffness,
-K = K_E - P K_G1 (K_G1 the geometric stiffness of a unit tension, element_beam.py). It buckles at
-the smallest P that makes K singular on the free DOFs: the generalized eigenproblem
-K_G1 phi = mu K_E phi, P_cr = 1 / mu_max (K_E positive definite with a clamped support, K_G1
-positive semi-definite). For a straight clamped-clamped body this is Euler's 4 pi^2 EI / L^2
-(to the discretisation); for the routed casing it is the linearised buckling load of the curved,
-supported casing, which no closed form gives. Below it, and only below it, K is positive definite,
-which is what the check tests (a banded Cholesky factorisation); the load itself is computed for
-the message of a refusal.
+K = K_E - P K_G1 (K_G1 the geometric stiffness of a unit tension, element_beam.py). On the
+constrained structure, K_E is the beam's elastic stiffness on its free DOFs plus the static
+stiffness K6 of every isolator and clip joining a node to its (prescribed) support node
+(structure/mount_element.py, the same augmented system the modes and the time domain see). The
+body buckles at the smallest P that makes K singular: the generalised eigenproblem
+
+    K_G1 phi = mu K_E phi,        P_cr = 1 / mu_max  (mu_max > 0; none: P_cr = inf).
+
+For a straight body this is Euler's load of its supports (clamped-clamped 4 pi^2 EI / L^2,
+clamped-free pi^2 EI / (4 L^2), pinned-pinned pi^2 EI / L^2, to the discretisation's h^4 error);
+for the routed casing in its isolators and clips it is the linearised buckling load of the curved,
+elastically supported casing, which no closed form gives.
+
+K_E is positive definite only when the supports hold every rigid motion of the body. A body held
+by springs alone can leave some free (a mount of zero stiffness in a direction): the rigid motions
+are the null space of K_E, found exactly and explicitly from the mounts' stiffness on the six
+rigid motions (structure/support_check.py). Such a mechanism has no buckling load (P_cr = 0: any
+compression moves it) and is reported as one; otherwise K_E is positive definite, and LAPACK's
+symmetric-definite solver (scipy.linalg.eigh, a Cholesky factor of K_E) gives the pencil; should
+that factor fail on rounding (mounts soft beside the beam), the general QZ solver
+(scipy.linalg.eig on (K_E, K_G1)) gives its finite positive eigenvalues instead.
+
+Below P_cr, and only below it, K is positive definite, which is what the check at every assembly
+tests (a banded Cholesky factorisation, ~0.2 ms); the load itself, where its mode is largest and
+the supports assumed, are computed for the refusal's message and for ``cablecasing static`` and
+``cablecasing geometry`` (:func:`buckling`).
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
-from scipy.linalg import cholesky_banded, eigh
+import scipy.sparse as sp
+from scipy.linalg import cholesky_banded, eig, eigh
 
 from ..errors import ModelError
+from .element_beam import geometric_stiffness, transformation
+
+
+@dataclass(frozen=True)
+class Buckling:
+    """A body's lowest buckling load under the compression it carries (SI units).
+
+    body: "casing" or "cable"; load: the critical compression P_cr (N; inf when no compression
+    buckles it, 0 for a mechanism that any compression moves); at: the arc length (m from end A)
+    where the buckling mode's lateral displacement is largest (None without a mode); supports: the
+    supports, isolators and clips assumed, in words; mechanism: the rigid motion the supports leave
+    free, in words, or None."""
+
+    body: str
+    load: float
+    at: float | None
+    supports: str
+    mechanism: str | None = None
+
+    def as_dict(self) -> dict:
+        """The JSON form: ``load_N`` (None for inf), ``at_m``, ``supports``, ``mechanism``."""
+        load = None if not np.isfinite(self.load) else float(self.load)
+        return {"load_N": load, "at_m": self.at, "supports": self.supports, "mechanism": self.mechanism}
+
+    def text(self) -> str:
+        """One line: the load, where its mode is, the supports assumed."""
+        if self.mechanism:
+            return f"{self.body}: no buckling load, {self.mechanism} (supports: {self.supports})"
+        if not np.isfinite(self.load):
+            return f"{self.body}: no compression buckles it (supports: {self.supports})"
+        return (
+            f"{self.body}: buckles under a compression of {self.load:.4g} N, its mode largest at s = {self.at:.4g} m "
+            f"(supports: {self.supports})"
+        )
+
+
+def unit_geometric_stiffness(system) -> sp.csr_matrix:
+    """K_G1 (N/m, N, N.m per unit of axial force) of ``system``: its geometric stiffness of a unit
+    tension, K_G / N0 of a prestressed body, built element by element otherwise."""
+    if system.N0 != 0.0:
+        return system.K_G / system.N0
+    cl, sec = system.centerline, system.section
+    n = system.ndof
+    rows, cols, vals = [], [], []
+    for e in range(cl.n_elements):
+        T = transformation(cl.frames[e])
+        G = T.T @ geometric_stiffness(cl.lengths[e], 1.0, sec.A, sec.Ip) @ T
+        dofs = np.arange(6 * e, 6 * e + 12)
+        r, c = np.meshgrid(dofs, dofs, indexing="ij")
+        rows.append(r.ravel())
+        cols.append(c.ravel())
+        vals.append(G.ravel())
+    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
+
+
+def supports_text(system) -> str:
+    """The supports of ``system`` in words: each end clamped, free or an isolator with its
+    translational (N/m) and rotational (N.m/rad) stiffness [axial, lateral_1, lateral_2], then the
+    clips' arc lengths (m) and translational stiffness."""
+    parts = []
+    for s in ("A", "B"):
+        m = system.mount_of_support(s)
+        if m is None:
+            parts.append(f"{s} {system.spec.supports[s]}")
+        else:
+            k, kr = local_stiffness(system.mounts[m])
+            parts.append(f"{s} isolator k = {_short(k)} N/m, k_rot = {_short(kr)} N.m/rad")
+    clips = [m for m in system.mounts if m.support is None]
+    if clips:
+        ks = {_short(local_stiffness(m)[0]) for m in clips}
+        stiff = f", k = {ks.pop()} N/m" if len(ks) == 1 else ""
+        parts.append(f"clips at s = {', '.join(f'{m.at:.4g}' for m in clips)} m{stiff}")
+    return "; ".join(parts)
+
+
+def local_stiffness(mount):
+    """(translational N/m, rotational N.m/rad) stiffness of ``mount`` in its local axes [axial,
+    lateral_1, lateral_2]: the diagonal of K6's blocks turned back into them."""
+    R = mount.axes
+    return np.diag(R @ mount.K6[:3, :3] @ R.T), np.diag(R @ mount.K6[3:, 3:] @ R.T)
+
+
+def _short(v):
+    v = np.atleast_1d(np.asarray(v, dtype=float))
+    if np.all(v == v[0]):
+        return f"{v[0]:.3g}"
+    return "[" + ", ".join(f"{x:.3g}" for x in v) + "]"
+
+
+def _free_blocks(system):
+    """(K_E, K_G1) on the free DOFs of the augmented system, K_E with the mounts' static K6."""
+    KE = system.augmented(system.K_E if system.K_E is not None else system.K, [m.K6 for m in system.mounts])
+    KG = system.augmented(unit_geometric_stiffness(system))
+    f = system.free
+    return KE[np.ix_(f, f)], KG[np.ix_(f, f)]
+
+
+def buckling(system) -> Buckling:
+    """The lowest buckling load of ``system`` (an assembled
+    :class:`~cablecasing_core.structure.assembly.BodySystem`, any prestress) with its real
+    supports, isolators and clips: the generalised eigenproblem K_G1 phi = mu K_E phi on the
+    constrained structure (module docstring), P_cr = 1 / mu_max (N)."""
+    from .support_check import free_rigid_motion
+
+    text = supports_text(system)
+    free = free_rigid_motion(system)
+    if free is not None:
+        return Buckling(system.name, 0.0, None, text, mechanism=f"it is free to move: {free}")
+    KE, KG = _free_blocks(system)
+    try:
+        mu, phi = eigh(KG, KE, check_finite=False)  # (all of them: LAPACK's subset driver is slower here)
+        k = int(np.argmax(mu))
+        mu_max, mode = float(mu[k]), phi[:, k]
+    except np.linalg.LinAlgError:  # K_E positive definite but its Cholesky factor fails on rounding
+        w, v = eig(KE, KG, check_finite=False)  # QZ: P = alpha / beta, infinite where K_G1 is singular
+        ok = np.isfinite(w) & (np.abs(w.imag) <= 1e-8 * np.abs(w.real)) & (w.real > 0.0)
+        if not ok.any():
+            return Buckling(system.name, float("inf"), None, text)
+        k = np.flatnonzero(ok)[np.argmin(w.real[ok])]
+        mu_max, mode = 1.0 / float(w.real[k]), v[:, k].real
+    if not mu_max > 0.0:
+        return Buckling(system.name, float("inf"), None, text)
+    return Buckling(system.name, 1.0 / mu_max, _largest_lateral(system, mode), text)
 
 
 def buckling_load(system) -> float:
-    """The compression (N) at which the tangent stiffness of ``system`` (an assembled
-    :class:`~cablecasing_core.structure.assembly.BodySystem` with a prestress N0 != 0) turns
-    singular on its free DOFs; inf when no compression can."""
-    f = system.free
-    KE = system.K_E.toarray()[np.ix_(f, f)]
-    KG1 = system.K_G.toarray()[np.ix_(f, f)] / system.N0  # K_G1: of a unit tension (K_G is linear in N0)
-    mu = eigh(KG1, KE, eigvals_only=True)[-1]  # (all of them: LAPACK's subset driver is slower here)
-    return float(1.0 / mu) if mu > 0.0 else float("inf")
+    """The critical compression P_cr (N) of ``system`` as built: :func:`buckling`'s load (inf when
+    no compression buckles it, 0 for a mechanism)."""
+    return buckling(system).load
+
+
+def _largest_lateral(system, mode):
+    """Arc length (m) of the node where the mode's (free DOFs, augmented) displacement normal to
+    the centerline's tangent is largest."""
+    u = np.zeros(system.n_augmented)
+    u[system.free] = mode
+    d = u[: system.ndof].reshape(-1, 6)[:, :3]
+    t = system.centerline.tangents
+    lateral = d - np.einsum("ij,ij->i", d, t)[:, None] * t
+    return float(system.centerline.s[int(np.argmax(np.linalg.norm(lateral, axis=1)))])
 
 
 def is_positive_definite(system) -> bool:
-    """Whether the tangent stiffness of ``system`` on its free DOFs is positive definite (its
-    compression below the buckling load): a banded Cholesky factorisation (half-bandwidth 11)
-    succeeds, ~0.2 ms instead of an eigenproblem."""
-    f = system.free
-    A = system.K.toarray()[np.ix_(f, f)]
-    n, b = len(f), 11
+    """Whether the tangent stiffness of ``system`` on its free DOFs, with its mounts' K6, is
+    positive definite (its compression below the buckling load): a banded Cholesky factorisation
+    (half-bandwidth 11: a mount joins a node to its prescribed support) succeeds, ~0.2 ms instead
+    of an eigenproblem."""
+    A = system.K_blocks[0]
+    n, b = A.shape[0], 11
     ab = np.zeros((b + 1, n))
     for k in range(b + 1):  # upper form: ab[b - k, j] = A[j - k, j]
         j = np.arange(k, n)
@@ -51,21 +201,17 @@ def is_positive_definite(system) -> bool:
 
 def check_compression(system) -> None:
     """Refuse (ModelError naming loads.cable_tension) a body whose compression -N0 reaches its
-    buckling load; the message gives the load, and for a straight clamped body Euler's too."""
+    buckling load as built; the message gives the load, where its mode is largest and the supports
+    assumed."""
     P = -system.N0
     if P <= 0.0 or is_positive_definite(system):
         return
-    P_cr = buckling_load(system)
-    EI = system.E * system.section.I
-    L = system.centerline.length
-    euler = ""
-    if all(v == "clamped" for v in system.spec.supports.values()):
-        euler = f"; a straight clamped {system.name} of this length ({L:.4g} m) buckles at 4 pi^2 EI / L^2 = " + (
-            f"{4 * np.pi**2 * EI / L**2:.4g} N"
-        )
+    b = buckling(system)
+    where = f"its mode largest at s = {b.at:.4g} m" if b.at is not None else (b.mechanism or "")
+    load = f"{b.load:.4g} N" if np.isfinite(b.load) else "(none found)"
     raise ModelError(
         "loads.cable_tension",
         P,
-        f"must be below the {system.name}'s buckling load {P_cr:.4g} N (the compression it carries, equal to "
-        f"the cable's tension, at which its tangent stiffness K_E + K_G turns singular{euler})",
+        f"must be below the {system.name}'s buckling load {load} (the compression it carries, equal to the cable's "
+        f"tension, at which its tangent stiffness K_E + K_G turns singular; {where}; supports: {b.supports})",
     )

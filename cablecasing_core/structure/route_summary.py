@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..model.schema import MAX_ELEMENTS
 from .geometry import build_centerline, centerline_of, route_of
 
 BEND_CURVATURE = 2.0  # 1/m, curvature above which a point-defined route counts as bent
@@ -49,6 +50,57 @@ def _corner_angles(points):
 def _polyline_kinks(points):
     """(arc length m, angle deg) of each corner of the polyline through ``points``."""
     return [(float(a), float(b)) for a, b in zip(*_corner_angles(points)) if b > KINK_DEG]
+
+
+#: The most samples of the route in the search for places where it meets itself (pairs: its square).
+MEET_SAMPLES = 2000
+
+
+def _sampled(model, n):
+    """(s, points, unit tangents) of the routing at ``n`` + 1 points of equal arc length (m): exact
+    for a route by segments, the spline's or polyline's otherwise."""
+    route = route_of(model)
+    if route is not None:
+        s = np.linspace(0.0, route.length, n + 1)
+        p, t, _, _ = route._evaluate(s)
+        return s, p, t
+    g = model.geometry
+    cl = build_centerline(g["points"], n, g["curve"], frames=False)
+    return cl.s, cl.nodes, cl.tangents
+
+
+def self_approach(model, length=None):
+    """Where the route meets or crosses itself: (s1, s2, distance, turn) in m, m, m, degrees, the
+    closest pair of its points that are nearer than the bodies' outer diameter d (the casing's, or
+    the cable's alone) and between which the route turns by 180 degrees or more, or None.
+
+    Along a curve that turns by less than 180 degrees between two points their distance is at least
+    their arc length times cos(turn / 2): only there are points nearer than d neighbours (a bend, however
+    tight, above the radius d / 2 that validation asks); beyond, a pair nearer than d is the route
+    coming back onto itself (a loop, a crossing, a bend of nearly 360 degrees). The route is sampled at
+    spacing d / 2 (at most :data:`MEET_SAMPLES` points), so a crossing is always found and a near
+    pass to within a sample spacing. ``length``: the route's (m), if known."""
+    d = model.data["casing"]["d_outer"] if "casing" in model.data else model.data["cable"]["d"]
+    length = centerline_of(model).length if length is None else length
+    n = int(min(MEET_SAMPLES, max(16, np.ceil(2.0 * length / d))))
+    s, p, t = _sampled(model, n)
+    turn = np.concatenate([[0.0], np.cumsum(np.arccos(np.clip(np.einsum("ij,ij->i", t[:-1], t[1:]), -1.0, 1.0)))])
+    best = None
+    for i0 in range(0, len(s), 256):  # (blocks of rows: at most 256 x 2001 distances at a time)
+        i = np.arange(i0, min(i0 + 256, len(s)))
+        D = np.linalg.norm(p[i, None, :] - p[None, :, :], axis=2)
+        close = (D < d) & (turn[None, :] - turn[i, None] >= np.pi - 1e-9)
+        if close.any():
+            a, b = np.nonzero(close)
+            k = int(np.argmin(D[a, b]))
+            if best is None or D[a[k], b[k]] < best[2]:
+                best = (
+                    float(s[i[a[k]]]),
+                    float(s[b[k]]),
+                    float(D[a[k], b[k]]),
+                    float(np.degrees(turn[b[k]] - turn[i[a[k]]])),
+                )
+    return best
 
 
 def geometry_summary(model) -> dict:
@@ -111,6 +163,16 @@ def geometry_summary(model) -> dict:
     }
 
 
+def length_warning(length, long_only=False):
+    """The warning of a route of ``length`` (m) that is likely in the wrong unit (longer than 10 m,
+    or shorter than 1 cm unless ``long_only``), or None."""
+    if length > 10.0:
+        return f"the route is {length:.4g} m long, more than 10 m: are the points in mm?"
+    if length < 0.01 and not long_only:
+        return f"the route is {length:.3g} m long, less than 1 cm: are the points in m?"
+    return None
+
+
 def plausibility_warnings(model, summary=None, advice=True) -> list[str]:
     """Plain-language warnings (not errors) about a routing that is likely a mistake, the one
     list of them: a route longer than 10 m or shorter than 1 cm (points given in mm, or in km?)
@@ -122,8 +184,8 @@ def plausibility_warnings(model, summary=None, advice=True) -> list[str]:
     g = summary or geometry_summary(model)
     out = []
     length = g["length_m"]
-    if length > 10.0:
-        out.append(f"the route is {length:.3g} m long, more than 10 m: are the points in mm?")
+    if length_warning(length, long_only=True):
+        out.append(length_warning(length, long_only=True))
     diameters = [model.data[b][k] for b, k in (("casing", "d_outer"), ("cable", "d")) if b in model.data]
     short = []
     if diameters and length < 10 * max(diameters):
@@ -132,7 +194,7 @@ def plausibility_warnings(model, summary=None, advice=True) -> list[str]:
             "Euler-Bernoulli elements (which neglect shear) do not describe it"
         )
     if length < 0.01:
-        short.append("less than 1 cm: are the points in m?")
+        short.append("less than 1 cm: are the points in m?")  # (length_warning's)
     if short:
         out.append(f"the route is {length:.3g} m long, " + "; ".join(short))
     points = model.geometry.get("points") or []
@@ -142,6 +204,19 @@ def plausibility_warnings(model, summary=None, advice=True) -> list[str]:
         out.append(
             f"geometry.points[{back[0] + 1}]: the route turns by {turns[back[0]]:.0f} degrees there: it doubles "
             "back on itself, and the centerline bends tighter than any cable or casing can"
+        )
+    meet = self_approach(model, length)
+    if meet is not None:
+        s1, s2, dist, turn = meet
+        who = (
+            f"casing.d_outer = {model.data['casing']['d_outer']:g} m"
+            if "casing" in model.data
+            else (f"cable.d = {model.data['cable']['d']:g} m")
+        )
+        out.append(
+            f"the route meets itself: at s = {s1:.4g} m and s = {s2:.4g} m it is {dist:.3g} m from itself, less than "
+            f"the outer diameter {who}, and turns by {turn:.0f} deg between "
+            "them: the model has no contact of a body with itself, so it passes through"
         )
     if g["source"] == "polyline":
         kinks = g["bends"]
@@ -169,9 +244,16 @@ def plausibility_warnings(model, summary=None, advice=True) -> list[str]:
         i = int(np.argmin(arcs))
         if g["element_length_m"] > 0.1 * arcs[i]:
             need = int(np.ceil(10.0 * g["length_m"] / arcs[i]))
+            fix = (
+                f"about {need} elements (geometry.n_elements) resolve it"
+                if need <= MAX_ELEMENTS
+                else f"the {need} elements that would resolve it are more than the {MAX_ELEMENTS} allowed "
+                f"(geometry.n_elements = {MAX_ELEMENTS} gives {MAX_ELEMENTS * arcs[i] / g['length_m']:.3g} per "
+                "bend arc; "
+                "or widen the bend, or shorten the route)"
+            )
             out.append(
                 f"the elements ({g['element_length_m']:.4g} m) are longer than a tenth of the shortest bend's "
-                f"arc ({arcs[i]:.4g} m at s = {g['bends'][i]['start_m']:.4g} m): about {need} elements "
-                "(geometry.n_elements) resolve it"
+                f"arc ({arcs[i]:.4g} m at s = {g['bends'][i]['start_m']:.4g} m): {fix}"
             )
     return out

@@ -34,6 +34,7 @@ from scipy.linalg import solve_banded
 
 from ..errors import SimulationError
 from ..model.schema import BODY_NAMES, CONTACT_LAWS, FORCE_NAMES, SUPPORT_NAMES, SUPPORT_OUTPUTS
+from ..structure.loads import gravity_load
 from . import kernels as K
 
 if TYPE_CHECKING:
@@ -59,7 +60,13 @@ class StaticState:
     the cable's tension as its pre-stretch force: what the time domain applies throughout};
     prestretch_force (N): the cable's axial force at rest in the routing before it moves (the
     installation's shortening of the cable is prestretch_force L / EA); iterations (Newton, all load
-    steps), residual (N, |R|_inf at the end), load_steps; weight: {body: its weight, N, global}.
+    steps), residual (N, |R|_inf at the end), load_steps; weight: {body: its weight, N, global};
+    clip_reactions (clips x 6, N and N.m): the force and moment the casing exerts through each clip
+    on its support (as the time domain's ``casing.clip<i>.Fx .. Mz``); balance: {body: {"weight",
+    "prestress", "contact", "reactions", "residual"}}: the resultant forces (N, global) of the body's
+    weight, of the rest of its constant load (the tension's or the compression's in the routing, a
+    straight cable's rest shape), of the contact on it, the sum of its reactions (supports,
+    isolators, clips), and weight + prestress + contact - reactions (zero to the solver's tolerance).
     """
 
     U: dict
@@ -78,6 +85,8 @@ class StaticState:
     residual: float = 0.0
     load_steps: int = 0
     weight: dict = field(default_factory=dict)
+    clip_reactions: np.ndarray = field(default_factory=lambda: np.zeros((0, 6)))
+    balance: dict = field(default_factory=dict)
 
     @property
     def contact_nodes(self) -> int:
@@ -90,19 +99,27 @@ class StaticState:
         return float(self.penetration.max()) if len(self.penetration) else 0.0
 
     def reaction(self, support: str) -> np.ndarray:
-        """[Fx, Fy, Fz, Mx, My, Mz] (N, N.m) the body exerts on ``support``, e.g. ``"casing.A"``."""
+        """[Fx, Fy, Fz, Mx, My, Mz] (N, N.m) the body exerts on ``support``: a support
+        ``"casing.A"`` (clamped or an isolator; zeros when free) or a clip ``"casing.clip0"``."""
+        name = support.split(".", 1)[1]
+        if name.startswith("clip"):
+            return self.clip_reactions[int(name[4:])].copy()
         i = SUPPORT_OUTPUTS.index(f"{support}.Fx")
         return self.reactions[i : i + 6].copy()
 
     def as_dict(self) -> dict:
         """The JSON form of ``cablecasing static --json``: ``contact_force_N`` (per cable node,
         [Fx, Fy, Fz] of the casing on the cable, global), ``support_reactions_N`` (per support
-        ``<body>.<A|B>``: [Fx, Fy, Fz, Mx, My, Mz] the body exerts on it, N and N.m),
+        ``<body>.<A|B>`` and clip ``casing.clip<i>``: [Fx, Fy, Fz, Mx, My, Mz] the body exerts on
+        it, N and N.m: the sign of the time-domain outputs), ``balance_N`` (per body: the resultant
+        forces ``weight``, ``prestress``, ``contact``, ``reactions`` and ``residual``, N, global),
         ``contact_nodes`` and ``max_penetration_m``."""
         supports = sorted({n.rsplit(".", 1)[0] for n in SUPPORT_OUTPUTS if n.split(".")[0] in self.U})
+        supports += [f"casing.clip{i}" for i in range(len(self.clip_reactions))]
         return {
             "contact_force_N": self.contact_force.tolist(),
             "support_reactions_N": {s: self.reaction(s).tolist() for s in supports},
+            "balance_N": {b: {k: np.asarray(v).tolist() for k, v in d.items()} for b, d in self.balance.items()},
             "contact_nodes": self.contact_nodes,
             "max_penetration_m": self.max_penetration,
         }
@@ -161,9 +178,12 @@ def solve_static(model: Model, systems: dict, contact: bool) -> StaticState:
     nn = systems[names[0]].n_nodes
     fc = {n: (ev.fc[n].copy() if contact else np.zeros(systems[n].ndof)) for n in names}
     reac = np.zeros(len(SUPPORT_OUTPUTS))
+    clips = np.zeros((0, 6))
+    balance = {}
     for n in names:
         s = systems[n]
         r = loads[n] + fc[n] - s.K @ U[n]  # the force the body exerts on its supports
+        total = np.zeros(3)
         for sup in SUPPORT_NAMES:
             i = SUPPORT_OUTPUTS.index(f"{n}.{sup}.{FORCE_NAMES[0]}")
             if s.spec.supports[sup] == "clamped":
@@ -171,6 +191,20 @@ def solve_static(model: Model, systems: dict, contact: bool) -> StaticState:
             elif s.spec.supports[sup] == "isolator":  # the force through the isolator, K6 u_node
                 mt = s.mounts[s.mount_of_support(sup)]
                 reac[i : i + 6] = mt.K6 @ U[n][6 * mt.node : 6 * mt.node + 6]
+            total += reac[i : i + 3]
+        if n == "casing":  # the force through each clip, K6 u_node (its support at rest)
+            clips = np.array([m.K6 @ U[n][6 * m.node : 6 * m.node + 6] for m in s.mounts if m.support is None])
+            clips = clips.reshape(-1, 6)
+            total += clips[:, :3].sum(axis=0)
+        weight = _resultant(gravity_load(s.M, model.loads["gravity"]))
+        contact_n = _resultant(fc[n])
+        balance[n] = {
+            "weight": weight,
+            "prestress": _resultant(loads[n]) - weight,
+            "contact": contact_n,
+            "reactions": total,
+            "residual": _resultant(loads[n]) + contact_n - total,
+        }
     zeros = np.zeros(nn)
     return StaticState(
         U=U,
@@ -189,7 +223,14 @@ def solve_static(model: Model, systems: dict, contact: bool) -> StaticState:
         residual=residual,
         load_steps=steps,
         weight={n: _weight(systems[n], model) for n in names},
+        clip_reactions=clips,
+        balance=balance,
     )
+
+
+def _resultant(f):
+    """The resultant force (N, 3) of a load over all of a body's DOFs (its translations)."""
+    return np.asarray(f, dtype=float).reshape(-1, 6)[:, :3].sum(axis=0)
 
 
 def _slope_floor(model, f, T):

@@ -216,6 +216,20 @@ def test_a_bad_csv_excitation_is_one_line_that_quotes_nothing_of_it(tmp_path, ca
     assert f"scenario.excitation.k.file = '{f}'" in err[0] and SECRET not in err[0] and "hunter2" not in err[0]
 
 
+@pytest.mark.parametrize("command", ["static", "geometry", "modes", "simulate"])
+def test_every_command_that_loads_a_model_reads_its_csv_excitation(tmp_path, capsys, command):
+    """Issue 34: a CSV excitation with an empty value was caught by simulate only; static and
+    geometry accepted it. The model's loader reads every excitation file, so each command refuses it
+    alike, before any work."""
+    f = tmp_path / "x.csv"
+    f.write_text("time_s,u\n0,0\n0.001,\n0.002,0\n")
+    (tmp_path / "m.toml").write_text(_csv_model(f))
+    code, out, err = run(capsys, [command, tmp_path / "m.toml"])
+    assert code == 2 and out == "" and len(err) == 1, err
+    assert err[0].startswith(f"cablecasing: error: scenario.excitation.k.file = '{f}': ")
+    assert "line 3, column 2" in err[0]
+
+
 def test_dev_null_as_a_csv_excitation(tmp_path, capsys):
     (tmp_path / "m.toml").write_text(_csv_model("/dev/null"))
     code, out, err = run(capsys, ["simulate", tmp_path / "m.toml", "--no-progress"])

@@ -2,13 +2,16 @@
 built-in model with its keys, types and magnitudes (1e-300 to 1e300) mutated, keys removed and
 added, and bytes of its text replaced, gives either exit status 2 with one error line (warnings
 aside) or finite results; never a traceback or an internal error, each case within bounded time
-and memory (tracemalloc counts numpy's arrays)."""
+and memory (tracemalloc counts numpy's arrays). Issue 35: the same of a mounted model
+(examples/installation.toml with gravity and a tension) whose isolators, clips, segments, supports
+and loads are mutated, through ``geometry``, ``static`` and ``modes``."""
 
 import json
 import os
 import time
 import tracemalloc
 from importlib import resources
+from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -19,6 +22,9 @@ from cablecasing_core.model.load import tomllib
 from cablecasing_core.model.model import _to_toml  # (the TOML writer of Model.to_toml)
 
 TEXT = resources.files("cablecasing_core.model").joinpath("specimens/default.toml").read_text()
+MOUNTED_TEXT = (Path(__file__).resolve().parents[2] / "examples" / "installation.toml").read_text() + (
+    "\n[loads]\ngravity = [0.0, 0.0, -9.81]\ncable_tension = 2.0\n"
+)
 BASE = tomllib.loads(TEXT)
 SECONDS = 60.0  # per case: a modes run and a 20-step simulate take about 1 s; the limits refuse the rest
 BYTES = 1.5e9  # per case: the specimen needs about 50 MB; the limits refuse anything near the machine's
@@ -35,8 +41,8 @@ def _leaves(node, prefix=()):
 LEAVES = list(_leaves(BASE))
 
 
-def _get(path):
-    node = BASE
+def _get(path, base=BASE):
+    node = base
     for k in path:
         node = node[k]
     return node
@@ -87,6 +93,16 @@ def _apply(data, edit):
         node.pop(path[-1], None)
     else:
         node[value[0]] = value[1]
+
+
+def _edited(tmp_path, base, edit_list):
+    """The model file (a path in ``tmp_path``) of the tables ``base`` with ``edit_list`` applied."""
+    data = json.loads(json.dumps(base))
+    for e in edit_list:
+        _apply(data, e)
+    p = tmp_path / "m.toml"
+    p.write_text(_to_toml(data))
+    return p
 
 
 def _check(argv, capsys):
@@ -140,12 +156,7 @@ def _run_both(path, capsys):
 def test_a_model_file_with_mutated_keys_types_and_magnitudes_gives_one_error_line_or_finite_results(
     tmp_path, capsys, edit_list
 ):
-    data = json.loads(json.dumps(BASE))
-    for e in edit_list:
-        _apply(data, e)
-    p = tmp_path / "m.toml"
-    p.write_text(_to_toml(data))
-    _run_both(p, capsys)
+    _run_both(_edited(tmp_path, BASE, edit_list), capsys)
 
 
 @_settings(30)
@@ -157,3 +168,69 @@ def test_a_model_file_with_replaced_bytes_gives_one_error_line_or_finite_results
     p = tmp_path / "m.toml"
     p.write_bytes(bytes(raw))
     _check(["modes", str(p), "--count", "3", "--json"], capsys)
+
+
+# ------------------------------------------------------------------ issue 35: a mounted model
+MOUNTED = tomllib.loads(MOUNTED_TEXT)
+MOUNTED_LEAVES = [p for p in _leaves(MOUNTED) if p[0] != "scenario"]
+MOUNTED_NUMERIC = [
+    p for p in MOUNTED_LEAVES if isinstance(_get(p, MOUNTED), (int, float)) and not isinstance(_get(p, MOUNTED), bool)
+]
+plausible = st.floats(0.005, 0.6)  # m (most cases: a route that loads, so that static and modes run)
+lengths = st.one_of(plausible, plausible, plausible, magnitudes, st.sampled_from([0.0, 1e-300, 1e-9, 1e-6, 200.0]))
+directions = st.sampled_from([[0, 1, 0], [0, 0, 1], [1, 0, 0], [0, 0, 0], [0, 1e-170, 0], [-1, 1, 0]])
+segment = st.one_of(
+    st.builds(lambda L: {"straight": L}, lengths),
+    st.builds(
+        lambda R, a, t: {"bend": {"radius": R, "angle_deg": a, "toward": t}},
+        lengths,
+        st.one_of(st.floats(1.0, 120.0), st.floats(-10.0, 400.0), st.sampled_from([90.0, 180.0, 270.0, 359.999])),
+        directions,
+    ),
+)
+springs = st.one_of(st.floats(0.0, 1e7), st.floats(0.0, 1e7), magnitudes, st.just(0.0))  # N/m, N.m/rad
+stiffness = st.one_of(springs, st.lists(springs, min_size=3, max_size=3))
+clip = st.fixed_dictionaries(
+    {"at": st.one_of(st.floats(-0.1, 1.2), st.floats(-0.1, 1.2), magnitudes), "stiffness": stiffness},
+    optional={
+        "rotational_stiffness": stiffness,
+        "damping": st.one_of(magnitudes, st.just(0.0)),
+        "excitation": st.sampled_from(["dash", "casing", "x.y", ""]),
+    },
+)
+support_kinds = st.sampled_from(["clamped", "isolator", "free", "pinned"])
+mounted_edits = st.one_of(
+    st.tuples(st.just("set"), st.sampled_from(MOUNTED_NUMERIC), magnitudes),
+    st.tuples(st.just("set"), st.sampled_from(MOUNTED_NUMERIC), st.just(0.0)),
+    st.tuples(st.just("scale"), st.sampled_from(MOUNTED_NUMERIC), st.integers(-8, 8)),
+    st.tuples(st.just("set"), st.sampled_from(MOUNTED_LEAVES), values),
+    st.tuples(st.just("delete"), st.sampled_from(MOUNTED_LEAVES), st.none()),
+    st.tuples(st.just("set"), st.just(("geometry", "segments")), st.lists(segment, min_size=1, max_size=5)),
+    st.tuples(st.just("set"), st.just(("casing", "clip")), st.lists(clip, max_size=3)),
+    st.tuples(st.just("set"), st.just(("loads", "gravity")), st.lists(magnitudes, min_size=3, max_size=3)),
+    st.tuples(st.just("set"), st.just(("loads", "cable_tension")), st.one_of(magnitudes, st.floats(0.0, 300.0))),
+    st.tuples(st.just("set"), st.sampled_from([("casing", "supports", "A"), ("casing", "supports", "B"),
+                                               ("cable", "supports", "A"), ("cable", "supports", "B")]), support_kinds),
+    st.tuples(st.just("set"), st.sampled_from([("casing", "isolator", "A", "stiffness"),
+                                               ("casing", "isolator", "B", "rotational_stiffness")]), stiffness),
+)  # fmt: skip
+
+
+@_settings(int(os.environ.get("FUZZ_N", 40)))
+@given(edit_list=st.lists(mounted_edits, min_size=1, max_size=3))
+@pytest.mark.slow  # 40 cases of geometry, static and modes of a 64-element mounted model, about 2 s each
+def test_a_mounted_model_with_mutated_isolators_clips_segments_and_loads_gives_one_error_line_or_finite_results(
+    tmp_path, capsys, edit_list
+):
+    p = _edited(tmp_path, MOUNTED, edit_list)
+    out = _check(["geometry", str(p), "--json"], capsys)
+    if out is False:
+        return
+    assert "NaN" not in out and "Infinity" not in out.replace('"load_N": null', ""), out
+    out = _check(["static", str(p), "--json"], capsys)
+    if out is not False:
+        assert "NaN" not in out and "Infinity" not in out, out
+    out = _check(["modes", str(p), "--count", "3", "--json"], capsys)
+    if out is not False:
+        freqs = json.loads(out)
+        assert all(f == f and abs(f) != float("inf") for fs in freqs.values() for f in fs), freqs

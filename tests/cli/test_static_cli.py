@@ -17,7 +17,14 @@ def test_static_json_of_the_installed_specimen(capsys, tmp_path):
     assert main(["static", "installed", "--json", "--plot", str(png)]) == 0
     out = json.loads(capsys.readouterr().out)
     st = static_state(cc.load_model("installed"))
-    assert set(out) == {"contact_force_N", "support_reactions_N", "contact_nodes", "max_penetration_m"}
+    assert set(out) == {
+        "contact_force_N",
+        "support_reactions_N",
+        "balance_N",
+        "buckling",
+        "contact_nodes",
+        "max_penetration_m",
+    }
     np.testing.assert_array_equal(out["contact_force_N"], st.contact_force)  # same solve, same numbers
     assert set(out["support_reactions_N"]) == {"casing.A", "casing.B", "cable.A", "cable.B"}
     for name, r in out["support_reactions_N"].items():

@@ -141,11 +141,11 @@ def test_a_polyline_through_an_arc_warns_once_and_a_dictionary_warns_as_a_file()
         ({"segments": "straight"}, "geometry.segments", "a list of"),
         ({"segments": []}, "geometry.segments", "a list of"),
         ({"segments": [{"arc": 1.0}]}, "geometry.segments[0]", "straight = L_m"),
-        ({"segments": [{"straight": -0.1}]}, "geometry.segments[0].straight", "(0, 1000]"),
+        ({"segments": [{"straight": -0.1}]}, "geometry.segments[0].straight", "[1e-06, 1000]"),
         # beyond the points' +-1000 m: 1e300 m overflowed the element matrices into warnings and a
         # meaningless clip error
-        ({"segments": [{"straight": 1e300}]}, "geometry.segments[0].straight", "(0, 1000]"),
-        ({"segments": [{"bend": {"radius": 2e3, "angle_deg": 30, "toward": [0, 1, 0]}}]}, "radius", "(0, 1000]"),
+        ({"segments": [{"straight": 1e300}]}, "geometry.segments[0].straight", "[1e-06, 1000]"),
+        ({"segments": [{"bend": {"radius": 2e3, "angle_deg": 30, "toward": [0, 1, 0]}}]}, "radius", "[1e-06, 1000]"),
         # a centerline radius at or below the casing's outer radius (4.75 mm) folds the casing onto itself
         (
             {"segments": [{"bend": {"radius": 0.004, "angle_deg": 30, "toward": [0, 1, 0]}}]},
@@ -161,7 +161,7 @@ def test_a_polyline_through_an_arc_warns_once_and_a_dictionary_warns_as_a_file()
         ({"segments": SEGMENTS, "direction": [1e200, 1e200, 0]}, "geometry.direction", "(it is inf)"),
         ({"segments": SEGMENTS, "start": [1e9, 0, 0]}, "geometry.start", "within +-1000"),
         ({"segments": [{"bend": {"radius": 0.1, "angle_deg": 30}}]}, "geometry.segments[0].bend", "toward"),
-        ({"segments": [{"bend": {"radius": 0.0, "angle_deg": 30, "toward": [0, 1, 0]}}]}, "radius", "(0, 1000]"),
+        ({"segments": [{"bend": {"radius": 0.0, "angle_deg": 30, "toward": [0, 1, 0]}}]}, "radius", "[1e-06, 1000]"),
         ({"segments": [{"bend": {"radius": 0.1, "angle_deg": 360, "toward": [0, 1, 0]}}]}, "angle_deg", "(0, 360)"),
         (
             {"segments": [{"bend": {"radius": 0.1, "angle_deg": 30, "toward": [2, 0, 0]}}]},
@@ -215,14 +215,18 @@ def test_cli_geometry_json_plot_and_warnings(tmp_path, capsys):
         "gap_m",
         "element_length_m",
         "bends",
+        "buckling",
     }
+    assert out["buckling"]["casing"]["load_N"] > 0 and out["buckling"]["casing"]["supports"] == "A clamped; B clamped"
     assert out["length_m"] == pytest.approx(LENGTH, rel=1e-14)
     assert out["element_length_m"] == pytest.approx(LENGTH / 20, rel=1e-14)
     assert out["bends"][0] == {"start_m": 0.15, "radius_m": 0.15, "angle_deg": 60.0}
     assert "warning: the elements" in cap.err
     assert png.stat().st_size > 10_000
     assert main(["geometry"]) == 0
-    assert "routing (spline) of <built-in>" in capsys.readouterr().out
+    text = capsys.readouterr().out
+    assert "routing (spline) of <built-in>" in text
+    assert "buckling          casing: buckles under a compression of 54.72 N, its mode largest at s = " in text
 
 
 def test_loading_a_file_warns_of_a_likely_mistake(tmp_path):

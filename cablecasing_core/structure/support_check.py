@@ -1,0 +1,187 @@
+"""Whether the structure as built can carry its loads: each body held against every rigid motion
+its loads would move, checked before any work (when a model is validated).
+
+A body with a clamped support has no rigid motion left. A body held by springs alone (isolators
+at its ends, clips along it: structure/mount_element.py) is held against the rigid motions that
+its mounts' static stiffness resists. These are exact and mesh-independent: a rigid motion of the
+body is a translation t and a small rotation w about a reference point x0 (the centroid of its
+nodes), u(x) = t + w x (x - x0), rotations w, which the beam elements carry without strain; on the
+six coordinates a = [t, L w] (m, L the body's length) the mounts' stiffness is the 6 x 6 matrix
+
+    S = sum over mounts  Q_m^T K6_m Q_m,    Q_m = [[I, -[x_m - x0]x / L], [0, I / L]]
+
+(N/m; x_m the mount's node, K6_m its 6 x 6 stiffness in global axes), the elastic stiffness K_E of
+the structure on its rigid motions. Its null space is the null space of K_E: the rigid motions
+that nothing holds (a mechanism). The body's loads have the generalised force F = [W, M / L] on
+them: its weight W = m g (N) and the weight's moment M about x0 (N.m), from the element masses at
+their chords' midpoints (what the consistent mass matrix gives for a rigid motion). The prestress
+of a tension and the rest shape of a straight cable are self-equilibrated (no resultant).
+
+A model is refused (:class:`~cablecasing_core.errors.ModelError`, one line naming the load, the
+supports and the direction) when:
+
+* a tension (``loads.cable_tension``) is applied to a body with a free end: a free end carries no
+  axial force, so the tension has nowhere to go;
+* a loaded body (gravity, a tension, a straight cable's rest shape) has a rigid motion that its
+  mounts do not hold (eigenvalue of S below :data:`NULL` times its largest: rounding): the static state would
+  be singular, however fine the mesh;
+* its mounts hold it, but so softly that its weight would move it rigidly by more than its length
+  (S^-1 F): the linear static state means nothing there.
+
+The contact with the other body is not counted as a support: frictionless and one-sided at rest,
+it holds no axial load and no rotation about the centerline.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import ModelError
+
+#: Eigenvalues of the mounts' rigid stiffness S below this fraction of its largest count as zero:
+#: 64 rounding units, above the error of a symmetric eigensolver (~ eps |S|), so that a zero
+#: stiffness gives a zero and any spring (however soft beside a rigid one: 1 N.m/rad beside 1e12 N/m
+#: is 5e-13) does not; a soft spring's effect is bounded by the rigid displacement S^-1 F.
+NULL = 64 * np.finfo(float).eps
+
+
+def _rows(r, L):
+    """Q (6 x 6): a node's [u, theta] from the rigid coordinates [t, L w], r = x_node - x0 (m)."""
+    Q = np.zeros((6, 6))
+    Q[:3, :3] = np.eye(3)
+    Q[:3, 3:] = -np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]]) / L
+    Q[3:, 3:] = np.eye(3) / L
+    return Q
+
+
+def rigid_stiffness(nodes, mounts, L):
+    """(S, x0): the mounts' stiffness on the body's rigid motions (6 x 6, N/m, coordinates
+    [t, L w]) and the reference point x0 (m, the centroid of ``nodes``)."""
+    x0 = nodes.mean(axis=0)
+    S = np.zeros((6, 6))
+    for m in mounts:
+        Q = _rows(nodes[m.node] - x0, L)
+        S += Q.T @ m.K6 @ Q
+    return 0.5 * (S + S.T), x0
+
+
+def rigid_load(centerline, mass_per_length, gravity, x0, L):
+    """F (6): the weight (N) and its moment about x0 over L (N) of a body of ``mass_per_length``
+    (kg/m) on ``centerline`` under ``gravity`` (m/s2)."""
+    g = np.asarray(gravity, dtype=float)
+    mid = 0.5 * (centerline.nodes[1:] + centerline.nodes[:-1])
+    m = mass_per_length * centerline.lengths
+    W = m.sum() * g
+    M = np.cross(mid - x0, g).T @ m
+    return np.concatenate([W, M / L])
+
+
+def describe(a, x0, L):
+    """A rigid motion [t, L w] in words: a translation along a unit vector, or a rotation about an
+    axis through a point (m, three significant digits)."""
+    t, w = a[:3], a[3:] / L
+    if np.linalg.norm(w) * L <= 1e-6 * np.linalg.norm(a):
+        d = t / np.linalg.norm(t)
+        return f"a translation along {_vec(d)}"
+    axis = w / np.linalg.norm(w)
+    p = x0 + np.cross(w, t) / (w @ w)  # (the point of the screw axis nearest to x0)
+    return f"a rotation about {_vec(axis)} through {_vec(p)} m"
+
+
+def _vec(v):
+    v = np.where(np.abs(v) < 5e-4 * np.abs(v).max(), 0.0, v)  # (no -0.0 and 1e-17)
+    return "[" + ", ".join(f"{x:.3g}" for x in v + 0.0) + "]"
+
+
+def _analysis(centerline, mounts, clamped, mass_per_length, gravity):
+    """(null basis (6 x k), description of the free motion most loaded or None, rigid displacement
+    of the weight at its worst node (m), F, x0, L)."""
+    L = centerline.length
+    S, x0 = rigid_stiffness(centerline.nodes, mounts, L)
+    F = rigid_load(centerline, mass_per_length, gravity, x0, L)
+    if clamped:
+        return np.zeros((6, 0)), None, 0.0, F, x0, L
+    w, V = np.linalg.eigh(S)
+    null = w <= NULL * max(w.max(), 0.0) if w.max() > 0.0 else np.ones(6, bool)
+    Z = V[:, null]
+    free = None
+    if Z.shape[1]:
+        v = Z @ (Z.T @ F)  # (the free motion the loads drive; else the first one)
+        a = v if np.linalg.norm(v) > 1e-9 * max(np.linalg.norm(F), 1e-300) else Z[:, 0]
+        free = describe(a / np.linalg.norm(a), x0, L)
+        return Z, free, np.inf, F, x0, L
+    a = V @ ((V.T @ F) / w)
+    u = max(np.linalg.norm((_rows(x - x0, L) @ a)[:3]) for x in centerline.nodes[[0, -1]])
+    return Z, None, float(u), F, x0, L
+
+
+def free_rigid_motion(system):
+    """The rigid motion, in words, that the supports and mounts of ``system`` (an assembled
+    BodySystem) leave free, or None when a clamped support or the mounts hold every one."""
+    clamped = "clamped" in system.spec.supports.values()
+    if clamped:
+        return None
+    return _analysis(system.centerline, system.mounts, False, 0.0, np.zeros(3))[1]
+
+
+def _supports(name, supports, mounts):
+    ends = ", ".join(f"{s} {supports[s]}" for s in ("A", "B"))
+    clips = [m for m in mounts if m.support is None]
+    return ends + (f", clips at s = {', '.join(f'{m.at:.4g}' for m in clips)} m" if clips else ", no clip")
+
+
+def check_supported(model) -> None:
+    """Refuse (ModelError) a :class:`~cablecasing_core.model.Model` whose bodies cannot carry
+    their loads (module docstring): a free end under a tension, a loaded body that its supports
+    and mounts leave free to move rigidly, or one whose mounts are so soft that its weight would
+    move it by more than its length."""
+    from .geometry import centerline_of
+    from .mount_element import mounts_of
+    from .sections import section_of
+
+    loads = model.loads
+    g, T = loads["gravity"], loads["cable_tension"]
+    for name, spec in model.bodies.items():
+        causes = []
+        if any(g):
+            causes.append(("loads.gravity", g, "its weight"))
+        if T > 0.0:
+            causes.append(("loads.cable_tension", T, "the tension" if name == "cable" else "the compression"))
+        if name == "cable" and spec.rest_shape != "routing":
+            causes.append(("cable.rest_shape", spec.rest_shape, "the bending of its rest shape"))
+        if not causes:
+            continue
+        if T > 0.0:
+            for s in ("A", "B"):
+                if spec.supports[s] == "free":
+                    raise ModelError(
+                        "loads.cable_tension",
+                        T,
+                        f"needs both ends of the {name} held (clamped or isolator): {name}.supports.{s} is free, "
+                        f"and a free end carries no axial force, so nothing holds the {name} along its axis at {s} "
+                        "and the tension has nowhere to go",
+                    )
+        clamped = "clamped" in spec.supports.values()
+        if clamped:
+            continue
+        cl = centerline_of(model)
+        mounts = mounts_of(model, name, cl)
+        mass = spec.rho * section_of(spec).A
+        Z, free, u, F, x0, L = _analysis(cl, mounts, clamped, mass, g)
+        held = _supports(name, spec.supports, mounts)
+        key, value, what = causes[0]
+        if free is not None:
+            raise ModelError(
+                key,
+                value,
+                f"cannot be carried by the {name}: its supports ({held}) leave it free in {free} (a mechanism: the "
+                "mounts have no stiffness there), and a loaded body must be held against every rigid motion; clamp "
+                "a support or give the isolators or clips stiffness in that direction",
+            )
+        if u > L:
+            raise ModelError(
+                key,
+                value,
+                f"cannot be carried by the {name}: its mounts ({held}) are so soft that {what} would move it rigidly "
+                f"by {u:.3g} m, more than its length {L:.4g} m; stiffen the isolators or clips",
+            )
