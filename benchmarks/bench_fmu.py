@@ -84,6 +84,7 @@ CLIPPED = ROOT / "examples" / "clipped_specimen.toml"  # the model of the FMU bu
 FMUSIM = ROOT.parent / "shared" / "hosts" / "fmusim"
 NCH = len(CHANNELS)
 PLAIN = {"HOME": os.environ.get("HOME", "/root"), "PATH": "/usr/bin:/bin"}
+PLAIN |= {k: v for k, v in os.environ.items() if k.startswith("OPENBLAS_")}  # (as tests/fmu/test_hosts.py)
 
 
 def engine_run(model, table, h, drive=False, prepared=False):

@@ -29,7 +29,12 @@ ROOT = Path(__file__).resolve().parents[2]
 HOSTS = ROOT.parent / "shared" / "hosts"
 H = 1e-4
 NCH = len(CHANNELS)
+# The plain environment: HOME and PATH, and the machine's own OpenBLAS settings where it has them
+# (OPENBLAS_CORETYPE, OPENBLAS_L2_SIZE: set machine-wide on some processors, so an engineer's shell
+# has them too). They choose OpenBLAS's kernels, which round LAPACK's small factors differently, and
+# the contact response is chaotic: a host without them computes another, equally valid, record.
 PLAIN = {"HOME": os.environ.get("HOME", "/root"), "PATH": "/usr/bin:/bin"}
+PLAIN |= {k: v for k, v in os.environ.items() if k.startswith("OPENBLAS_")}
 
 needs_hosts = pytest.mark.skipif(not (HOSTS / "fmusim").exists(), reason=f"the C hosts are not in {HOSTS}")
 
