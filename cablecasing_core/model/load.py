@@ -20,7 +20,7 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
 
 from ..errors import ModelError
 from .model import Model
-from .validate import validate
+from .validate import derived_keys, validate
 
 #: The largest model file read (bytes): a model is a few kB; anything larger is not one (and a
 #: device such as /dev/zero would otherwise be read without end).
@@ -30,7 +30,7 @@ MAX_MODEL_BYTES = 1 << 20
 def model_from_dict(data: dict, source: str = "<dict>", base_dir: str | None = None) -> Model:
     """Validate a raw nested dictionary (as read from TOML) and return a :class:`Model`; ``base_dir``
     is the folder relative CSV paths are read from."""
-    model = Model(validate(data, base_dir=base_dir), source=source, base_dir=base_dir)
+    model = Model(validate(data, base_dir=base_dir), source=source, base_dir=base_dir, derived=derived_keys(data))
     _warn_if_implausible(model)
     return model
 
@@ -55,12 +55,14 @@ def load_model(path: str | Path | None = None) -> Model:
         path = "default"
     if isinstance(path, str) and path in specimen_names():
         text = resources.files("cablecasing_core.model").joinpath(f"specimens/{path}.toml").read_text()
-        return Model(validate(tomllib.loads(text)), source="<built-in>" if path == "default" else f"<built-in {path}>")
+        raw = tomllib.loads(text)
+        source = "<built-in>" if path == "default" else f"<built-in {path}>"
+        return Model(validate(raw), source=source, derived=derived_keys(raw))
     p = Path(path)
     raw = toml_file(p, "model_file", MAX_MODEL_BYTES, " or a built-in specimen: " + ", ".join(specimen_names()))
     base = str(p.resolve().parent)
     try:
-        model = Model(validate(raw, base_dir=base), source=str(p), base_dir=base)
+        model = Model(validate(raw, base_dir=base), source=str(p), base_dir=base, derived=derived_keys(raw))
     except RecursionError:  # (tables nested thousands deep)
         raise ModelError("model_file", str(path), "nests tables or arrays too deeply to be a model file") from None
     check_excitation_files(model)

@@ -76,6 +76,9 @@ class Model:
     source: str = "<built-in>"
     base_dir: str | None = None
     bodies: dict = field(default_factory=dict, compare=False)
+    #: the keys whose value came from another key because the file left them out
+    #: (``validate.derived_keys``: a random excitation's seed from scenario.seed)
+    derived: frozenset = frozenset()
 
     def __post_init__(self):
         bodies = {}
@@ -157,11 +160,20 @@ class Model:
     def with_overrides(self, overrides: Mapping[str, object]) -> Model:
         """A validated copy with ``{dotted.key: value}`` replaced (e.g. ``{"casing.E": 6e9}``).
 
-        Keys must already exist in the model, or be a known optional key of an existing section;
+        A key the file left out and the validation took from another (a random excitation's seed
+        from ``scenario.seed``) follows an override of that other key. Keys must already exist in
+        the model, or be a known optional key of an existing section;
         a vector key's component is set by its scalar key (``{"loads.gravity.z": -9.81}``); an
         unknown key raises :class:`ModelError`.
         """
         data = copy.deepcopy(self.data)
+        derived = self.derived - set(overrides)
+        for key in derived:  # taken again from their source, which an override may change
+            parts = key.split(".")
+            node = data
+            for p in parts[:-1]:
+                node = node[p]
+            node.pop(parts[-1], None)
         for key, value in overrides.items():
             parts = key.split(".")
             vector = _vector(".".join(parts[:-1]))
@@ -186,7 +198,8 @@ class Model:
                 node[parts[-1]][component] = value
             else:
                 raise ModelError(key, value, "is not a key of this model")
-        return Model(validate(data, base_dir=self.base_dir), source=self.source, base_dir=self.base_dir)
+        checked = validate(data, base_dir=self.base_dir)
+        return Model(checked, source=self.source, base_dir=self.base_dir, derived=derived)
 
     def fingerprint(self) -> str:
         """A short hash (16 hex digits) of the model's data (SI values, defaults filled in): equal for

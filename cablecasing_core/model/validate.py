@@ -230,6 +230,21 @@ def _on_a_clamped_support(key, target, bodies):
         )
 
 
+def derived_keys(raw: dict) -> frozenset:
+    """The dotted keys of a (valid) raw model dictionary whose value the validation takes from
+    another key because the file leaves them out (a random excitation's ``seed`` from
+    ``scenario.seed``): :meth:`Model.with_overrides` derives them again from an overridden source."""
+    out = set()
+    excitations = raw.get("scenario", {}).get("excitation", {})
+    for name, e in excitations.items():
+        if not isinstance(e, dict):
+            continue
+        for s in table("scenario.excitation.<name>"):
+            if s.default_from and s.name not in e and (not s.kinds or e.get("kind") in s.kinds):
+                out.add(f"scenario.excitation.{name}.{s.name}")
+    return frozenset(out)
+
+
 def _excitation(key, e, scenario, bodies, base_dir):
     if not isinstance(e, dict):
         raise ModelError(key, e, "must be a table with target and kind")

@@ -7,6 +7,7 @@ import pytest
 
 from cablecasing_core import ModelError, load_model, model_from_dict
 from cablecasing_core.structure.geometry import centerline_of
+from cablecasing_core.timedomain.scenario import scenario_motion
 
 
 def raw():
@@ -98,3 +99,18 @@ def test_unreadable_file(tmp_path):
     bad.write_text("[geometry\n")
     with pytest.raises(ModelError, match="valid TOML"):
         load_model(bad)
+
+
+def test_an_excitation_seed_left_out_follows_an_override_of_the_scenario_seed():
+    """A random excitation without a seed of its own takes scenario.seed (the schema's default_from);
+    an override of scenario.seed must move it too (before, the filled-in seed stayed and the 'seed 2'
+    run was seed 1's record), while a seed the file or an override gives stays."""
+    m = load_model("installed")
+    assert m.scenario["excitation"]["casing_random"]["seed"] == m.scenario["seed"] == 1
+    m2 = m.with_overrides({"scenario.seed": 2})
+    assert m2.scenario["excitation"]["casing_random"]["seed"] == 2
+    own = m.with_overrides({"scenario.excitation.casing_random.seed": 7}).with_overrides({"scenario.seed": 3})
+    assert own.scenario["excitation"]["casing_random"]["seed"] == 7
+    u2 = scenario_motion(m2, dt=1e-5)(np.array([0.05]))[2]
+    u1 = scenario_motion(m, dt=1e-5)(np.array([0.05]))[2]
+    assert not np.array_equal(u1, u2)  # another record
