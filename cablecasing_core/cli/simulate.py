@@ -30,7 +30,7 @@ def cmd_simulate(args):
     res = simulate(
         model, duration=args.duration, dt=args.dt, contact=False if args.no_contact else None, progress=args.progress
     )
-    print(f"simulated {res.time[-1]:.6g} s in {len(res.time)} steps")
+    print(f"simulated {res.time[-1]:.6g} s in {len(res.time)} steps{_refined(res.solver)}")
     print(output_summary(model, res))
     print(
         f"  contact: {int((res.contact_state != 0).any(axis=0).sum())} cable nodes touched, "
@@ -175,3 +175,12 @@ def add_parser(sub):
         help="no progress bar (default: a bar of the simulated time on stderr)",
     )
     p.set_defaults(func=cmd_simulate)
+
+
+def _refined(solver: dict) -> str:
+    """', N of them recomputed in k sub-steps around stick-slip events' when any were (the run's
+    ``SimulationResult.solver``; docs/time_domain.md, "Events inside the step")."""
+    n = solver.get("refined_steps", 0)
+    if not n:
+        return ""
+    return f", {n} of them recomputed in {solver['event_substeps']} sub-steps around stick-slip events"

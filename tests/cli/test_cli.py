@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from cablecasing_core import load_model, natural_frequencies, trfam
+from cablecasing_core import load_model, natural_frequencies, simulate, trfam
 from cablecasing_core.cli import main
 
 
@@ -278,3 +278,13 @@ def test_simulate_cli_model_dt_npz_plot_and_blow_up(tmp_path, capsys):
     assert main(["simulate", str(p), "--duration", "0.05"]) == 2
     err = capsys.readouterr().err
     assert "penetration" in err and "exceeds the cable radius" in err and "at t = " in err
+
+
+def test_simulate_says_how_many_steps_were_recomputed_in_sub_steps(capsys):
+    """The summary's first line names the steps recomputed around stick-slip events, as many as the
+    core's run of the same model counts (SimulationResult.solver; docs/time_domain.md)."""
+    assert main(["simulate", "installed", "--duration", "0.01", "--no-progress"]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    n = simulate(load_model("installed"), duration=0.01).solver["refined_steps"]
+    assert n > 0
+    assert first == f"simulated 0.01 s in 1000 steps, {n} of them recomputed in 8 sub-steps around stick-slip events"
