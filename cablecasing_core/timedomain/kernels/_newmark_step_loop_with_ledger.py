@@ -130,6 +130,16 @@ def _friction_event(state0, state):
 
 
 @njit(**NO_RT)
+def _copy_contact_memory(state, elem, xi, vrel, N, g, P, state_to, elem_to, xi_to, vrel_to, N_to, g_to, P_to):
+    """The contact's memory per cable node (state, element and coordinate found, relative speed,
+    normal force, penetration, force vector) into the *_to arrays: kept at a step's start, put back
+    when the step is recomputed in sub-steps."""
+    for i in range(state.shape[0]):
+        state_to[i], elem_to[i], xi_to[i], vrel_to[i], N_to[i], g_to[i] = state[i], elem[i], xi[i], vrel[i], N[i], g[i]
+        P_to[i, 0], P_to[i, 1], P_to[i, 2] = P[i, 0], P[i, 1], P[i, 2]
+
+
+@njit(**NO_RT)
 def _restore_step_start(U, V, A, Uo, Vo, Ao, mb, mbo, on):
     """A body back to the start of its step: U, V, A from their copies Uo, Vo, Ao, the mounts'
     supports mb from mbo (the predictor wrote both)."""
@@ -175,7 +185,8 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     info = [row, channel, 0/1/2 for up/vp/ap]), so nothing is half-written.
 
     Events inside the step (docs/time_domain.md): with law.nsub > 1, a step in which a contact that
-    is closed at both of its ends switches between stick and slip is taken back and recomputed as
+    is closed at both of its ends switches between stick and slip, or in which a slipping contact's
+    friction could reverse its slip (the contact solve's DIAG_SLOW_SLIP), is taken back and recomputed as
     law.nsub sub-steps of dt / nsub with the fine factors of the bodies (``BodyArrays.f*``), the
     supports following the quintic Hermite from their state at the step's start (contact.chan) to
     row k; everything else (records, the contact histogram, the ledger) sees the sub-steps as parts
@@ -239,8 +250,8 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     diag = np.zeros(DIAG_SIZE)
     cpar = (law.gap, law.r_in, law.law, law.k_lin, law.k_hertz, law.c_n, law.mu, law.v_stick, dt, False)
     nn = Xc.shape[0]
-    # sub-steps of a step in which a closed contact switches between stick and slip (law.nsub;
-    # docs/time_domain.md, "Events inside the step"): the fine level's factors, the contact memory
+    # sub-steps of a step with a stick-slip event (law.nsub; docs/time_domain.md, "Events inside
+    # the step"): the fine level's factors, the contact memory
     # at the step's start, and the sub-steps' support motion (quintic Hermite from chan to the row)
     nsub = law.nsub
     refine = contact_on and nsub > 1
@@ -261,16 +272,7 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     for k in range(nsteps):
         t_start = t0 + k * dt
         if refine:
-            for i in range(nn):
-                state0[i], elem0[i], xi0[i], vrel0[i], Nn0[i], gn0[i] = (
-                    state[i],
-                    elem[i],
-                    xi_arr[i],
-                    vrel[i],
-                    Nn[i],
-                    gn[i],
-                )
-                Pn0[i, 0], Pn0[i, 1], Pn0[i, 2] = Pn[i, 0], Pn[i, 1], Pn[i, 2]
+            _copy_contact_memory(state, elem, xi_arr, vrel, Nn, gn, Pn, state0, elem0, xi0, vrel0, Nn0, gn0, Pn0)
         lev = 0  # 0: the step dt; 1: its nsub sub-steps
         nrep = 1
         j = 0
@@ -324,23 +326,19 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
                     Xc, Tc, cU, cV, Xs, Rs, Ls, sU, sV, cKc, sKc, cp, state, elem, xi_arr, Pn, vrel, Nn, gn,
                     fcc_new, fcs_new, diag, ws,
                 )  # fmt: skip
+                event = False
+                if refine and (lev == 0 or j == nrep - 1):
+                    event = diag[DIAG_SLOW_SLIP] > 0.0 or _friction_event(state0, state)
                 if lev == 1 and j == nrep - 1:
-                    again = diag[DIAG_SLOW_SLIP] > 0.0 or _friction_event(state0, state)
-                if lev == 0 and refine and (diag[DIAG_SLOW_SLIP] > 0.0 or _friction_event(state0, state)):
+                    again = event
+                if lev == 0 and event:
                     # recompute the step in nsub sub-steps: back to its start (the bodies' state is
                     # in the *o copies, the supports' in smbo, cmbo), the sub-steps' motion
                     _restore_step_start(sU, sV, sA, sUo, sVo, sAo, smb, smbo, s_on)
                     _restore_step_start(cU, cV, cA, cUo, cVo, cAo, cmb, cmbo, c_on)
-                    for i in range(nn):
-                        state[i], elem[i], xi_arr[i], vrel[i], Nn[i], gn[i] = (
-                            state0[i],
-                            elem0[i],
-                            xi0[i],
-                            vrel0[i],
-                            Nn0[i],
-                            gn0[i],
-                        )
-                        Pn[i, 0], Pn[i, 1], Pn[i, 2] = Pn0[i, 0], Pn0[i, 1], Pn0[i, 2]
+                    _copy_contact_memory(
+                        state0, elem0, xi0, vrel0, Nn0, gn0, Pn0, state, elem, xi_arr, vrel, Nn, gn, Pn
+                    )
                     _substep_motion(chan, up, vp, ap, k, subG, subrows, subc, subt, subm, dt, hf, nsub)
                     info[INFO_REFINED_STEPS] += 1
                     lev, nrep, j = 1, nsub, 0
