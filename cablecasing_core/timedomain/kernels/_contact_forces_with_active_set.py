@@ -340,6 +340,7 @@ def solve_contact_forces(
     diag[DIAG_FRICTION_POWER] = 0.0
     diag[DIAG_SLOW_SLIP] = 0.0
     if nk == 0:
+        held[0] = -1  # (W was not formed: a later solve must not take the one in ws as this one's)
         diag[DIAG_MAX_PENETRATION] = 0.0
         for i in range(nn):
             Pn[i, 0], Pn[i, 1], Pn[i, 2] = 0.0, 0.0, 0.0
