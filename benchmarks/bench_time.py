@@ -311,8 +311,11 @@ variants = {
     "fine": Engine(installed.with_overrides({"contact.event_substeps": 1}), dt=ACCURATE_DT, ledger=False),
     "plain": Engine(installed.with_overrides({"contact.event_substeps": 1}), dt=DT, ledger=False),
 }
-vmotions = {"default": motions["installed"], "fine": scenario_motion(installed, dt=ACCURATE_DT)}
-vmotions["plain"] = motions["installed"]
+vmotions = {
+    "default": motions["installed"],
+    "fine": scenario_motion(installed, dt=ACCURATE_DT),
+    "plain": motions["installed"],
+}
 cost = {"fine": [], "plain": []}
 for k in range(int(round(min(args.duration, 0.3) / chunk))):
     walls = {}
