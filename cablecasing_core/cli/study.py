@@ -59,6 +59,7 @@ def study_output(name, model):
 
 def cmd_study(args):
     from ..model import load_model
+    from ..model.load import specimen_names
     from ..studies import DEFAULT_EVALUATE, plot_correlations, plot_sobol, run_study
     from ..studies.sampling import base_points, group_size
 
@@ -68,7 +69,8 @@ def cmd_study(args):
     unit = output_spec(output)[0]
     integer("--samples", args.samples, 2, MAX_STUDY_SAMPLES)
     out = Path(args.out)  # (created by run_study once every setting is checked and the scheduler answers)
-    model_file = str(Path(args.model).resolve()) if args.model else None  # (dask workers: any folder)
+    # a file by its absolute path (dask workers run in any folder); a built-in specimen by its name
+    model_file = args.model if args.model in (None, *specimen_names()) else str(Path(args.model).resolve())
     kwargs = {"model_file": model_file, "duration": args.duration, "skip": args.skip}
     if output != "casing.B.Fz":  # (the default's settings stay as earlier versions wrote them: they resume)
         kwargs["output"] = output

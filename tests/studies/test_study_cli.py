@@ -116,3 +116,20 @@ def test_a_study_whose_settings_make_every_run_fail_is_refused_before_it_creates
         "(11-22 Hz)"
     ]
     assert not out.exists()
+
+
+def test_a_study_of_a_built_in_specimen_by_name_runs_it_from_any_folder(tmp_path, monkeypatch, capsys):
+    """``cablecasing study installed`` (docs/studies.md; here ``default``, the same path and a
+    tenth of the cost) from a folder that holds no file of that name: the rows are the built-in
+    specimen's runs, not a refusal of a file './default'."""
+    monkeypatch.chdir(tmp_path)
+    out = tmp_path / "st"
+    args = ["study", "default", "--vary", "contact.friction=0.05:0.2", "--samples", "6", "--duration", "0.1"]
+    assert main(args + ["--skip", "0.0", "--scheduler", "serial", "--out", str(out)]) == 0
+    assert "study of <built-in>:" in capsys.readouterr().out
+    res = load_results(out / "study.csv")
+    assert len(res) == 6 and np.all(res.ok)
+    model = cc.load_model("default").with_overrides({"contact.friction": float(res.X[1, 0]), "scenario.duration": 0.1})
+    run = cc.simulate(model)
+    ref = octave_rms(run.support_force("casing.B.Fz"), 1 / (run.time[1] - run.time[0]), "table3")
+    np.testing.assert_array_equal(res.Y[1], ref.rms)
