@@ -31,8 +31,10 @@ def test_the_new_keys_are_parameters(fmu):
     assert "straight" in rest.description
 
 
-def table(model, duration):
-    t = H * np.arange(int(round(duration / H)))
+def table(model, duration, h=H):
+    """The model's scenario motion (u, v, a of every channel) at the start of each communication
+    step of h (s): one FMU input row per step."""
+    t = h * np.arange(int(round(duration / h)))
     u, v, a = scenario_motion(model)(t)
     return np.hstack([u, v, a])
 
@@ -97,8 +99,7 @@ def test_a_contact_run_does_not_depend_on_the_communication_step(fmu, tmp_path, 
     rms = np.sqrt(np.mean((ref[600:] - ref[600:].mean()) ** 2))
     bands = lambda x: octave_rms(x[600:], 1e4, beyond_nyquist="drop").rms[2:]  # noqa: E731
     for h in (1e-4, 5e-5, 2e-5, 1e-5):
-        t = h * np.arange(int(round(0.16 / h)))
-        rows = np.hstack(scenario_motion(model)(t))
+        rows = table(model, 0.16, h)
         _, out = core(model, rows, h)
         if h == 5e-5:
             res = fmu_driver.run(

@@ -77,7 +77,7 @@ def _bodies():
     return casing, cable
 
 
-def belt_run(dt, t_end, nsub, law="linear", v_stick=V_STICK, trace=None):
+def belt_run(dt, t_end, nsub):
     """Run the belt oscillator by ``kernels.run_steps`` at step dt (s) to t_end (s) with
     ``contact.event_substeps`` = nsub. Returns (t, x, v, state, refined): the step-end times, the
     mass's displacement (m) and velocity (m/s), its contact state (OPEN/STICK/SLIP) and the number
@@ -95,8 +95,7 @@ def belt_run(dt, t_end, nsub, law="linear", v_stick=V_STICK, trace=None):
     Xs = np.array([[-5.0, 0, 0], [5.0, 0, 0]])
     nn = 2
     fcs, fcc = np.zeros(12), np.zeros(12)
-    kn = K_LIN if law == "linear" else 0.0
-    claw = K.ContactLaw(True, GAP, GAP, 1e-3, CONTACT_LAWS.index(law), kn, 0.0, 0.0, MU, v_stick, nsub, True)
+    claw = K.ContactLaw(True, GAP, GAP, 1e-3, CONTACT_LAWS.index("linear"), K_LIN, 0.0, 0.0, MU, V_STICK, nsub, True)
     n = int(round(t_end / dt))
     t = dt * np.arange(1, n + 1)
     nch = len(CHANNELS)
@@ -122,8 +121,6 @@ def belt_run(dt, t_end, nsub, law="linear", v_stick=V_STICK, trace=None):
         )  # fmt: skip
         assert status == K.OK, status
         x[k], v[k], state[k] = cable.U[6], cable.V[6], contact.state[1]
-        if trace is not None:
-            trace.append((cable.A[6], contact.Pn[1, 0]))
     return t, x, v, state, int(info[K.INFO_REFINED_STEPS])
 
 
