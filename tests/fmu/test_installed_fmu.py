@@ -88,8 +88,9 @@ def test_a_contact_run_does_not_depend_on_the_communication_step(fmu, tmp_path, 
     1e-4 s grid. The reconstruction's own error is third order in H (docs/fmu.md, tested without
     contact in test_fmu.py::test_any_communication_step); with contact the differences do not shrink
     with H but stay at a floor the contact events set (a stick-slip decision that flips with a
-    rounding-level change of the motion): measured at most 7.3e-4 of the force's RMS pointwise and
-    1e-3 in octaves 3-8 after 0.06 s, at every H (bounds 2x). The FMU at H = 5e-5 is the core's path
+    rounding-level change of the motion; the refinement decisions are thresholds): measured at most
+    1.7e-3 of the force's RMS pointwise (the same at H = 1e-4, 5e-5 and 2e-5: one flipped decision)
+    and 1.8e-3 in octaves 3-8 after 0.06 s (bounds 2x). The FMU at H = 5e-5 is the core's path
     at that step to the bit, so the core's path stands for the FMU at the others."""
     model = cc.load_model("installed")
     fz = OUTPUTS.index("casing.B.Fz")
@@ -107,5 +108,5 @@ def test_a_contact_run_does_not_depend_on_the_communication_step(fmu, tmp_path, 
             )
             np.testing.assert_array_equal(res["out"][:, 0], out[:, fz])
         y = out[round(1e-4 / h) - 1 :: round(1e-4 / h), fz]
-        assert np.abs(y - ref).max() < 1.5e-3 * rms, (h, np.abs(y - ref).max() / rms)
-        assert np.abs(bands(y) / bands(ref) - 1).max() < 2e-3, (h, bands(y) / bands(ref) - 1)
+        assert np.abs(y - ref).max() < 3.5e-3 * rms, (h, np.abs(y - ref).max() / rms)
+        assert np.abs(bands(y) / bands(ref) - 1).max() < 3.6e-3, (h, bands(y) / bands(ref) - 1)

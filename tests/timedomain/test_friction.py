@@ -23,10 +23,10 @@ def belt_run(v_stick, T, dt=1e-5):
     Kc[0, 0] = 1 / Keff  # only x responds; the normal is rigid
     Ks = np.zeros((12, 12))  # the casing is rigid (zero compliance)
     state, elem, xi, vrel = np.zeros(1, np.int64), np.zeros(1, np.int64), np.zeros(1), np.zeros(1)
-    Pn, Nn, gn, diag = np.zeros((1, 3)), np.zeros(1), np.zeros(1), np.zeros(6)
+    Pn, Nn, gn, diag = np.zeros((1, 3)), np.zeros(1), np.zeros(1), np.zeros(K.DIAG_SIZE)
     fcc, fcs = np.zeros(6), np.zeros(12)
     ws = K.contact_workspace(1)  # the solve's scratch, reused as the step loop does
-    law = (gap, gap + 1e-3, 1, k_lin, 0.0, 0.0, MU, v_stick, dt, False)  # linear law, no contact damping
+    law = (gap, gap + 1e-3, 1, k_lin, 0.0, 0.0, MU, v_stick, dt, False, 0.0)  # linear law, no contact damping
     u, v, a = 0.0, V_BELT, 0.0  # start stuck to the belt, spring relaxed
     xs, states, fric = [], [], []
     for n in range(int(round(T / dt))):
@@ -82,3 +82,44 @@ def test_pure_slip_with_zero_stick_band():
     x, st, f, _ = belt_run(0.0, 0.1)
     assert (st[1:] == K.SLIP).all()
     assert np.allclose(np.abs(f[1:]), MU * N_, rtol=1e-9)
+
+
+def slow_slip_event(turned, v_over_dv=1.5, new=False, dt=1e-5):
+    """One contact solve of a node slipping along +x on a rigid wall (normal force N_, kernels'
+    contact law), its predicted slip speed v_over_dv times dv = 2/dt W mu N, the speed the friction
+    takes off in a step (W the node's compliance along x): slow for v_over_dv < 2 (its end speed
+    below dv). Its force at the last solve (Pn) had the same normal part and its friction turned by
+    ``turned`` rad from -x in the tangent plane (zero with new=True). Returns (DIAG_SLOW_SLIP, the
+    state, the end slip speed over dv)."""
+    gap, g0, k_lin = 1e-3, N_ / 1e6, 1e6
+    Xc, Tc = np.array([[0.0, 0, gap + g0]]), np.array([[1.0, 0, 0]])
+    Xs, Rs, Ls = np.array([[-5.0, 0, 0], [5.0, 0, 0]]), np.eye(3)[None].copy(), np.array([10.0])
+    Kc, Ks = np.zeros((6, 6)), np.zeros((12, 12))
+    Kc[0, 0] = Kc[1, 1] = dt**2 / (4 * M_)  # the mass's Newmark compliance in the tangent plane
+    dv = 2 / dt * Kc[0, 0] * MU * N_
+    Uc, Vc = np.zeros(6), np.zeros(6)
+    Vc[0] = v_over_dv * dv
+    state, elem, xi, vrel = np.array([K.SLIP]), np.zeros(1, np.int64), np.zeros(1), np.array([Vc[0]])
+    Pn = np.zeros((1, 3)) if new else np.array([[-MU * N_ * np.cos(turned), -MU * N_ * np.sin(turned), N_]])
+    Nn, gn, diag, fcc, fcs = np.zeros(1), np.zeros(1), np.zeros(K.DIAG_SIZE), np.zeros(6), np.zeros(12)
+    par = (gap, gap + 1e-3, 1, k_lin, 0.0, 0.0, MU, 0.0, dt, False, 1 - np.cos(K.EVENT_TURN))
+    z = np.zeros(12)
+    K.solve_contact_forces(
+        Xc, Tc, Uc, Vc, Xs, Rs, Ls, z, z, Kc, Ks, par, state, elem, xi, Pn, vrel, Nn, gn, fcc, fcs, diag,
+        K.contact_workspace(1),
+    )  # fmt: skip
+    return diag[K.DIAG_SLOW_SLIP], state[0], vrel[0] / dv
+
+
+def test_a_slow_slip_is_an_event_only_when_its_friction_turns():
+    """docs/time_domain.md, "Events inside the step": a slip whose friction takes off more than its
+    end speed in a step (end speed v - dv = 0.5 dv) is an event when the friction turned by more than
+    EVENT_TURN (0.2 rad) since the last solve, or the contact is new; not when it kept its direction,
+    nor when the slip is fast (end speed 9 dv)."""
+    flag, state, end = slow_slip_event(0.0)
+    assert state == K.SLIP and end == pytest.approx(0.5, rel=1e-9)  # slow, still slipping forwards
+    assert flag == 0.0
+    assert slow_slip_event(0.5 * K.EVENT_TURN)[0] == 0.0
+    assert slow_slip_event(1.5 * K.EVENT_TURN)[0] == 1.0
+    assert slow_slip_event(0.0, new=True)[0] == 1.0
+    assert slow_slip_event(1.5 * K.EVENT_TURN, v_over_dv=10.0)[0] == 0.0  # turned, but fast

@@ -32,9 +32,9 @@ All kernels are plain functions over arrays. The orchestration (building matrice
 evaluating the support motion, packing results) stays in plain Python in ``timedomain/engine.py``
 and ``timedomain/support_motion.py``. Nothing in a step allocates: the step loop owns a workspace
 (:func:`contact_workspace`) and scalar helpers return tuples. The effective compliance (dense, over
-all DOFs of a body, zero on the prescribed ones) gives the Delassus matrix of the contacts and the
-bodies' response to the contact forces. The small helpers of the contact solve are inlined into
-their callers (``inline="always"``).
+all DOFs of a body, zero on the prescribed ones) gives the Delassus matrix of the contacts; the
+bodies' response to the contact forces is one more solve with the step's block factor. The small
+helpers of the contact solve are inlined into their callers (``inline="always"``).
 
 ``fastmath`` (``_compile_options.py``): contraction into FMA and two harmless flags, no
 re-association, so a run is reproducible to the bit in any process (the FMU is checked against the
@@ -83,6 +83,7 @@ from ._step_loop_contract import (  # noqa: E402
     ERR_NAN,
     ERR_PENETRATION,
     ERR_SEARCH,
+    EVENT_TURN,
     INFO_ACTIVE_SET_PASSES,
     INFO_INPUT_CHANNEL,
     INFO_INPUT_KIND,
@@ -129,6 +130,7 @@ __all__ = [
     "DIAG_NEWTON_ITERATIONS",
     "DIAG_SIZE",
     "ERR_INPUT",
+    "EVENT_TURN",
     "ERR_NAN",
     "ERR_PENETRATION",
     "ERR_SEARCH",

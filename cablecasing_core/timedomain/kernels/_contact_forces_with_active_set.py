@@ -234,8 +234,10 @@ def solve_contact_forces(
     solved in), normal force (Nout, N), penetration (gout, m) and tangential relative speed at the
     end of the step (vrel, m/s: the next step sticks when it lies inside the band +-v_stick,
     Section 2.1). Kc, Ks: effective compliances (m/N) over all DOFs of each body (zero rows and
-    columns on the prescribed DOFs). par = (gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt)
-    (m, m, 0 Hertz / 1 linear, N/m, N/m^1.5, kg/s, -, m/s, s); ws: the scratch arrays of
+    columns on the prescribed DOFs). par = (gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
+    reuse, turn) (m, m, 0 Hertz / 1 linear / 2 Hunt-Crossley, N/m, N/m^1.5, kg/s or s/m, -, m/s, s,
+    keep the Delassus matrix of the last solve when the same contacts hold, the 1 - cos of the
+    friction direction's turn that marks a slow slip as an event, DIAG_SLOW_SLIP); ws: the scratch arrays of
     :func:`contact_workspace`. Returns the number of contacts examined (penetrating before the
     solve); the DIAG_* slots of diag (``_step_loop_contract.py``) say the largest penetration, a
     failed Newton, the damping and friction powers and the iterations and passes taken.
@@ -244,7 +246,7 @@ def solve_contact_forces(
     arguments as a call with a built tuple (CALL_FUNCTION_EX), and numba then increments and
     decrements the reference count of every array in it around each call, ~100 atomic operations
     per step."""
-    gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt, reuse = par
+    gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt, reuse, turn = par
     (
         idx,
         gst,
@@ -468,8 +470,16 @@ def solve_contact_forces(
         state[i] = mode[k]
         vrel[i] = np.sqrt(wt0 * wt0 + wt1 * wt1 + wt2 * wt2)
         if mode[k] == SLIP and c2 * wkk[k] * mu * Nout[i] > vrel[i]:
-            # the friction force alone changes the slip velocity by more than it is within the step
-            diag[DIAG_SLOW_SLIP] = 1.0
+            # the friction force alone changes the slip velocity by more than it is within the step,
+            # and its direction turned by more than the step allows (1 - cos > turn) since the last
+            # solve, or the contact is new: the slip is slow and not steady
+            pn = Pn[i, 0] * n0 + Pn[i, 1] * n1 + Pn[i, 2] * n2
+            a0, a1, a2 = Pn[i, 0] - pn * n0, Pn[i, 1] - pn * n1, Pn[i, 2] - pn * n2
+            pn = P[o] * n0 + P[o + 1] * n1 + P[o + 2] * n2
+            b0, b1, b2 = P[o] - pn * n0, P[o + 1] - pn * n1, P[o + 2] - pn * n2
+            ab = np.sqrt((a0 * a0 + a1 * a1 + a2 * a2) * (b0 * b0 + b1 * b1 + b2 * b2))
+            if ab == 0.0 or 1.0 - (a0 * b0 + a1 * b1 + a2 * b2) / ab > turn:
+                diag[DIAG_SLOW_SLIP] = 1.0
         diag[DIAG_DAMPING_POWER] += Nd[k] * wn  # damping acts only while compressing
         pn = P[o] * n0 + P[o + 1] * n1 + P[o + 2] * n2
         diag[DIAG_FRICTION_POWER] -= (P[o] - pn * n0) * wt0 + (P[o + 1] - pn * n1) * wt1 + (P[o + 2] - pn * n2) * wt2

@@ -20,7 +20,7 @@ from ._newmark_per_body import (
     predict,
     predicted_velocity,
     reactions,
-    respond_to_contact_forces,
+    respond_by_block_solve,
 )
 from ._quintic_support_motion import quintic_coefficients, quintic_values
 from ._step_loop_contract import (
@@ -35,6 +35,7 @@ from ._step_loop_contract import (
     ERR_INPUT,
     ERR_NAN,
     ERR_PENETRATION,
+    EVENT_TURN,
     INFO_ACTIVE_SET_PASSES,
     INFO_INPUT_CHANNEL,
     INFO_INPUT_KIND,
@@ -186,7 +187,8 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
 
     Events inside the step (docs/time_domain.md): with law.nsub > 1, a step in which a contact that
     is closed at both of its ends switches between stick and slip, or in which a slipping contact's
-    friction could reverse its slip (the contact solve's DIAG_SLOW_SLIP), is taken back and recomputed as
+    friction could reverse its slip while its direction turns by more than EVENT_TURN (the contact
+    solve's DIAG_SLOW_SLIP), is taken back and recomputed as
     law.nsub sub-steps of dt / nsub with the fine factors of the bodies (``BodyArrays.f*``), the
     supports following the quintic Hermite from their state at the step's start (contact.chan) to
     row k; everything else (records, the contact histogram, the ledger) sees the sub-steps as parts
@@ -246,9 +248,9 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     sq, cq = np.zeros((2, ns)), np.zeros((2, nc))
     fcs_new, fcc_new = np.zeros(ns), np.zeros(nc)
     reac_new = np.zeros(24)
-    jl = np.zeros(max(ns, nc), np.int64)
     diag = np.zeros(DIAG_SIZE)
-    cpar = (law.gap, law.r_in, law.law, law.k_lin, law.k_hertz, law.c_n, law.mu, law.v_stick, dt, False)
+    turn = 1.0 - np.cos(EVENT_TURN)  # (only a step recomputed in sub-steps looks at DIAG_SLOW_SLIP)
+    cpar = (law.gap, law.r_in, law.law, law.k_lin, law.k_hertz, law.c_n, law.mu, law.v_stick, dt, False, turn)
     nn = Xc.shape[0]
     # sub-steps of a step with a stick-slip event (law.nsub; docs/time_domain.md, "Events inside
     # the step"): the fine level's factors, the contact memory
@@ -256,9 +258,10 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     nsub = law.nsub
     refine = contact_on and nsub > 1
     hf = dt / max(nsub, 1)
-    cparf = (law.gap, law.r_in, law.law, law.k_lin, law.k_hertz, law.c_n, law.mu, law.v_stick, hf, False)
+    turnf = 1.0 - np.cos(EVENT_TURN / max(nsub, 1))  # the turn a sub-step allows
+    cparf = (law.gap, law.r_in, law.law, law.k_lin, law.k_hertz, law.c_n, law.mu, law.v_stick, hf, False, turnf)
     # the sub-steps after the first keep the Delassus matrix while the contacts stay (law.reuse)
-    cparr = (law.gap, law.r_in, law.law, law.k_lin, law.k_hertz, law.c_n, law.mu, law.v_stick, hf, law.reuse)
+    cparr = (law.gap, law.r_in, law.law, law.k_lin, law.k_hertz, law.c_n, law.mu, law.v_stick, hf, law.reuse, turnf)
     sDif, sLf, sLTf, sKinvf, suextf = casing.fDinv, casing.fL, casing.fLT, casing.fKinv, casing.fuext
     cDif, cLf, cLTf, cKinvf, cuextf = cable.fDinv, cable.fL, cable.fLT, cable.fKinv, cable.fuext
     chan, subG, cagain = contact.chan, contact.subG, contact.again
@@ -345,8 +348,10 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
                     continue
                 info[INFO_UNCONVERGED_STEPS] += diag[DIAG_NEWTON_FAILED]
                 if nact > 0:
-                    respond_to_contact_forces(sKc, fcs_new, sU, jl)
-                    respond_to_contact_forces(cKc, fcc_new, cU, jl)
+                    if s_on:
+                        respond_by_block_solve(sDc, sLc, sLTc, sg0, sng, sf0, snf, spres, fcs_new, sr, sU)
+                    if c_on:
+                        respond_by_block_solve(cDc, cLc, cLTc, cg0, cng, cf0, cnf, cpres, fcc_new, cr, cU)
                 for i in range(nn):
                     if state[i] != OPEN:
                         contact_time[i] += h

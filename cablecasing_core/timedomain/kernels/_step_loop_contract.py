@@ -46,8 +46,13 @@ DIAG_DAMPING_POWER = 2  # W, N_d g_dot of the contact damper
 DIAG_FRICTION_POWER = 3  # W, -P_t . w_t
 DIAG_NEWTON_ITERATIONS = 4  # summed over the step's passes
 DIAG_ACTIVE_SET_PASSES = 5
-DIAG_SLOW_SLIP = 6  # 1.0 when a slipping contact's friction could reverse its slip within the step
+DIAG_SLOW_SLIP = 6  # 1.0 when a slipping contact's friction could reverse its slip in the step, turning
 DIAG_SIZE = 7
+#: rad: a slowly slipping contact is an event of the step (DIAG_SLOW_SLIP) only when its friction force
+#: turned by more than this since the last solve (by EVENT_TURN / nsub in a sub-step); a slow slip that
+#: keeps its direction is integrated as well by the step as by its sub-steps (docs/time_domain.md, the
+#: table of the turn)
+EVENT_TURN = 0.2
 
 #: One body for the step loop (SI units; arrays in the engine's storage, see the engine's _Body).
 #: on: the body is there and has free DOFs; Md, Kd: M and K in diagonal storage; Dinv, L, LT: the
