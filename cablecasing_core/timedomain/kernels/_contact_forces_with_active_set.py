@@ -18,7 +18,7 @@ from ._contact_newton_for_fixed_modes import (
     relative_displacement,
     unknowns_from_forces,
 )
-from ._contact_search_and_law import cable_node, far_from_wall, search_node, tangent_basis
+from ._contact_search_and_law import cable_node, far_from_wall, follow_cut, search_node, tangent_basis
 from ._hermite_interpolation import hermite_matrix
 from ._step_loop_contract import (
     DIAG_ACTIVE_SET_PASSES,
@@ -299,7 +299,13 @@ def solve_contact_forces(
         x0, x1, x2, t0, t1, t2 = cable_node(Xc, Tc, Uc, i)
         tn = np.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
         t0, t1, t2 = t0 / tn, t1 / tn, t2 / tn
-        e, xi, far, px, py, pz = search_node(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, elem[i], gap)
+        found = False
+        if reuse and state[i] != OPEN and 0.0 < xi_arr[i] < 1.0:
+            # a sub-step after the first, the node in contact: its cut followed on its element
+            e, far = elem[i], False
+            found, xi, px, py, pz = follow_cut(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e, xi_arr[i])
+        if not found:
+            e, xi, far, px, py, pz = search_node(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, elem[i], gap)
         if e >= 0:
             elem[i] = e
         if e < 0 or far:

@@ -83,6 +83,39 @@ def _chord(x0, x1, x2, t0, t1, t2, Xs, Ls, Us, e):
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def _cut_on_axis(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e, xi):
+    """Where the normal plane of a cable node (point x, unit tangent t) cuts the Hermite axis of
+    casing element e (Eq. 39): Newton on phi(xi) = (p(xi) - x) . t from xi in [0, 1], kept in [0, 1].
+    Returns (xi, px, py, pz, converged): the axis point p (m) at xi."""
+    q = element_dofs(Rs, Us, e)
+    px, py, pz, dx, dy, dz = axis_at(Xs, Rs, Ls, e, xi, q)
+    for _ in range(4):
+        phi = (px - x0) * t0 + (py - x1) * t1 + (pz - x2) * t2
+        dphi = dx * t0 + dy * t1 + dz * t2
+        if abs(dphi) < 1e-300:
+            break
+        xn = min(max(xi - phi / dphi, 0.0), 1.0)
+        if abs(xn - xi) <= 1e-10:
+            # converged: xi within ~1e-10 of the root, a few pm along the element; the distance
+            # to the axis, measured in the normal plane, changes only to second order
+            return xi, px, py, pz, True
+        xi = xn
+        px, py, pz, dx, dy, dz = axis_at(Xs, Rs, Ls, e, xi, q)
+    return xi, px, py, pz, False
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def follow_cut(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e, xi):
+    """The cut of a node's normal plane on the casing axis followed from where it was (element e,
+    coordinate xi inside it; the sub-steps of a recomputed step, where it moves by ~1e-6 of the
+    element): (found, xi, px, py, pz), found when the Newton of :func:`_cut_on_axis` converges
+    strictly inside e, where :func:`search_node` would find the same cut (a plane that cuts e's axis
+    away from its ends cuts no neighbour; see there). Otherwise the caller searches."""
+    xi, px, py, pz, ok = _cut_on_axis(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e, xi)
+    return ok and 0.0 < xi < 1.0, xi, px, py, pz
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def search_node(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e_guess, far_below):
     """Contact search of one cable node (point x, unit tangent t, as scalars); see search_casing.
     Returns (element, xi, far, p): p = (px, py, pz) the axis point at xi when refined (else NaN)."""
@@ -105,21 +138,7 @@ def search_node(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e_guess, far_below):
             continue
         if reach < far_below:  # cheap exit: a node this far inside cannot touch (returned as far)
             return e, xi, True, np.nan, np.nan, np.nan
-        xi = min(max(xi, 0.0), 1.0)
-        q = element_dofs(Rs, Us, e)
-        px, py, pz, dx, dy, dz = axis_at(Xs, Rs, Ls, e, xi, q)
-        for _ in range(4):  # Newton on phi(xi) = (p(xi) - x) . t on the Hermite axis
-            phi = (px - x0) * t0 + (py - x1) * t1 + (pz - x2) * t2
-            dphi = dx * t0 + dy * t1 + dz * t2
-            if abs(dphi) < 1e-300:
-                break
-            xn = min(max(xi - phi / dphi, 0.0), 1.0)
-            if abs(xn - xi) <= 1e-10:
-                # converged: xi within ~1e-10 of the root, a few pm along the element; the distance
-                # to the axis, measured in the normal plane, changes only to second order
-                break
-            xi = xn
-            px, py, pz, dx, dy, dz = axis_at(Xs, Rs, Ls, e, xi, q)
+        xi, px, py, pz, _ = _cut_on_axis(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e, min(max(xi, 0.0), 1.0))
         d = (px - x0) ** 2 + (py - x1) ** 2 + (pz - x2) ** 2
         if best_e < 0 and 0.01 < xi < 0.99:
             # well inside the element: the plane cannot cut a neighbour within the +-2 elements
