@@ -249,7 +249,7 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     fcs_new, fcc_new = np.zeros(ns), np.zeros(nc)
     reac_new = np.zeros(24)
     diag = np.zeros(DIAG_SIZE)
-    turn = 1.0 - np.cos(EVENT_TURN)  # (only a step recomputed in sub-steps looks at DIAG_SLOW_SLIP)
+    turn = 1.0 - np.cos(EVENT_TURN)  # (DIAG_SLOW_SLIP is read only with refine, below)
     cpar = (law.gap, law.r_in, law.law, law.k_lin, law.k_hertz, law.c_n, law.mu, law.v_stick, dt, False, turn)
     nn = Xc.shape[0]
     # sub-steps of a step with a stick-slip event (law.nsub; docs/time_domain.md, "Events inside
