@@ -71,9 +71,10 @@ for dt, nsub in runs:
 if args.json:
     meta = {"model": args.model, "seed": args.seed, "duration_s": args.duration, "skip_s": args.skip, "set": over}
     write_text(args.json, json.dumps({**meta, "levels_N": {k: v.tolist() for k, v in levels.items()}}, indent=1))
-finest = f"dt{min(dt for dt, n in runs if n == 1):g}"
+plain = [dt for dt, n in runs if n == 1]  # the reference: the finest step without sub-steps, if any
+finest = f"dt{min(plain):g}" if plain else None
 for name in levels:
-    if name != finest:
+    if finest and name != finest:
         r = (levels[name] - levels[finest]) / levels[finest]
         print(f"rel_diff_{name}_vs_{finest}: " + " ".join(f"{x:+.4f}" for x in r))
         print(f"max_abs_rel_diff_{name}_vs_{finest}: {np.abs(r).max():.4f}")
