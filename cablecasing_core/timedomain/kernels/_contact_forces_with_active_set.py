@@ -224,6 +224,15 @@ def _delassus(Kc, Ks, Gs, idx, elem, arm_c, nk, W, Uspan):
                     W[3 * l + c, 3 * k + r] = W[3 * k + r, 3 * l + c]
 
 
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def contact_parameters(law, dt, reuse, max_turn):
+    """The ``par`` tuple of :func:`solve_contact_forces` for a (sub-)step of dt (s) from the step
+    loop's law record: reuse keeps the Delassus matrix while the same contacts hold, max_turn (rad)
+    is the turn of the friction direction that makes a slow slip an event (stored as 1 - cos)."""
+    turn = 1.0 - np.cos(max_turn)
+    return (law.gap, law.r_in, law.law, law.k_lin, law.k_hertz, law.c_n, law.mu, law.v_stick, dt, reuse, turn)
+
+
 @njit(**NO_RT)
 def solve_contact_forces(
     Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, par, state, elem, xi_arr, Pn, vrel, Nout, gout, fcc, fcs, diag, ws

@@ -10,7 +10,7 @@ from numba import njit
 
 from ._banded_products_and_block_solve import copy_into, dia_quadratic
 from ._compile_options import FM, NO_RT
-from ._contact_forces_with_active_set import solve_contact_forces
+from ._contact_forces_with_active_set import contact_parameters, solve_contact_forces
 from ._newmark_per_body import (
     add_into,
     finish,
@@ -249,8 +249,7 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     fcs_new, fcc_new = np.zeros(ns), np.zeros(nc)
     reac_new = np.zeros(24)
     diag = np.zeros(DIAG_SIZE)
-    turn = 1.0 - np.cos(EVENT_TURN)  # (DIAG_SLOW_SLIP is read only with refine, below)
-    cpar = (law.gap, law.r_in, law.law, law.k_lin, law.k_hertz, law.c_n, law.mu, law.v_stick, dt, False, turn)
+    cpar = contact_parameters(law, dt, False, EVENT_TURN)  # (DIAG_SLOW_SLIP is read only with refine, below)
     nn = Xc.shape[0]
     # sub-steps of a step with a stick-slip event (law.nsub; docs/time_domain.md, "Events inside
     # the step"): the fine level's factors, the contact memory
@@ -258,10 +257,10 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     nsub = law.nsub
     refine = contact_on and nsub > 1
     hf = dt / max(nsub, 1)
-    turnf = 1.0 - np.cos(EVENT_TURN / max(nsub, 1))  # the turn a sub-step allows
-    cparf = (law.gap, law.r_in, law.law, law.k_lin, law.k_hertz, law.c_n, law.mu, law.v_stick, hf, False, turnf)
+    turnf = EVENT_TURN / max(nsub, 1)  # the turn a sub-step allows (rad)
+    cparf = contact_parameters(law, hf, False, turnf)
     # the sub-steps after the first keep the Delassus matrix while the contacts stay (law.reuse)
-    cparr = (law.gap, law.r_in, law.law, law.k_lin, law.k_hertz, law.c_n, law.mu, law.v_stick, hf, law.reuse, turnf)
+    cparr = contact_parameters(law, hf, law.reuse, turnf)
     sDif, sLf, sLTf, sKinvf, suextf = casing.fDinv, casing.fL, casing.fLT, casing.fKinv, casing.fuext
     cDif, cLf, cLTf, cKinvf, cuextf = cable.fDinv, cable.fL, cable.fLT, cable.fKinv, cable.fuext
     chan, subG, cagain = contact.chan, contact.subG, contact.again
