@@ -19,9 +19,9 @@ interpreter and the imports), installed_over_default_step_cost (the two engines 
 0.01 s chunks in one process: the ratio of their step costs, robust to the machine's drift).
 At its default settings (the sub-steps around stick-slip events, contact.event_substeps):
 installed_band_max_rel_err (the worst Table 3 band of seeds 1 and 2 against the finest step of
-``installed_reference_levels.json``, 1.5625e-7 s, written by installed_time_step.py --json; with
+``installed_reference_levels.json``, 7.8125e-8 s, written by installed_time_step.py --json; with
 ``--duration 1.0`` only, the reference's) with its per-band values, the reference's own distance from
-the next coarser step (3.125e-7 s: what the reference leaves open), and installed_refined_share
+the next coarser step (1.5625e-7 s: what the reference leaves open), and installed_refined_share
 (the steps recomputed in sub-steps).
 ``--model`` chooses the model of the accuracy checks and the ensemble below (default: the built-in
 specimen).
