@@ -50,6 +50,7 @@ DIRECTIONS = ("x", "y", "z")
 MOUNT_AXES = ("axial", "lateral_1", "lateral_2")
 #: the contact laws; a law's index here is its code in the kernels (ContactLaw.law)
 CONTACT_LAWS = ("hertz", "linear", "hunt_crossley")
+FRICTION_LAWS = ("switch", "regularized")
 EXCITATION_KINDS = ("random", "harmonic", "impulse", "csv")
 CSV_QUANTITIES = ("displacement", "velocity", "acceleration")
 SECTIONS = ("geometry", "casing", "cable", "contact", "loads", "scenario")
@@ -483,9 +484,22 @@ _KEYS = [
         "float",
         1.0e-4,
         "m/s",
-        "tangential relative speed below which a contact sticks (Section 2.1)",
+        "tangential relative speed below which a contact sticks (Section 2.1); with contact.friction_law = "
+        "regularized, the slip speed over which Coulomb's force is regularised",
         Number(ge=0, le=1e3, unit="m/s"),
         plausible=(0.0, 0.1, "a contact that sticks up to this speed hardly ever slips"),
+    ),
+    KeySpec(
+        "contact.friction_law",
+        "str",
+        "switch",
+        "",
+        "friction law: switch (Section 2.1: a contact sticks while its tangential relative speed is below "
+        "contact.stick_velocity and its stick force below friction x N, else slips with friction x N), or "
+        "regularized: Coulomb's force continuous in the slip velocity, friction x N v / sqrt(v^2 + "
+        "stick_velocity^2), solved implicitly; it has no stick-slip events and its band levels converge with "
+        "the time step (docs/time_domain.md, A friction law whose limit exists)",
+        Choice(*FRICTION_LAWS),
     ),
     KeySpec(
         "contact.event_substeps",

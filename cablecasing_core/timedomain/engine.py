@@ -121,10 +121,18 @@ class Engine:
             self.gap = self.r_in = self.r_cable = self.k_hertz = 0.0
         self.law = CONTACT_LAWS.index(c["law"])  # the kernels' code of the law
         self.k_lin, self.mu, self.v_stick = c["stiffness"], c["friction"], c["stick_velocity"]
+        #: the slip speed over which Coulomb's law is regularised (m/s; 0: the switch law of Section 2.1)
+        self.vreg = c["stick_velocity"] if c["friction_law"] == "regularized" else 0.0
+        if c["friction_law"] == "regularized" and not self.vreg > 0.0 and self.contact and self.mu > 0.0:
+            raise ModelError(
+                "contact.stick_velocity",
+                self.vreg,
+                'must be > 0 m/s with contact.friction_law = "regularized" (the speed the law is regularised over)',
+            )
         # the damper's coefficient: c_n (kg/s, Eq. 16), or Hunt-Crossley's 3/2 alpha (s/m)
         self.c_n = 1.5 * c["hunt_crossley_alpha"] if c["law"] == "hunt_crossley" else c["damping"]
         #: sub-steps of a step in which a contact switches between stick and slip (1: none)
-        self.event_substeps = int(c["event_substeps"])
+        self.event_substeps = int(c["event_substeps"]) if self.vreg == 0.0 else 1  # (regularised: no events)
         #: the sub-steps of a recomputed step after the first keep the Delassus matrix while the same
         #: contacts are closed (docs/time_domain.md, "Events inside the step"); False recomputes it
         self.reuse_delassus = True
@@ -359,6 +367,7 @@ class Engine:
         return K.ContactLaw(
             self.contact, self.gap, self.r_in, self.r_cable, self.law, self.k_lin, self.k_hertz, self.c_n, self.mu,
             self.v_stick, self.event_substeps if self.contact else 1, self.reuse_delassus,
+            self.vreg,
         )  # fmt: skip
 
     def _raise_for_status(self, status, up, vp, ap, times):

@@ -34,7 +34,7 @@ def drop(law, c_n, dt, t_end):
     Pn, Nn, gn, diag = np.zeros((1, 3)), np.zeros(1), np.zeros(1), np.zeros(K.DIAG_SIZE)
     fcc, fcs = np.zeros(6), np.zeros(12)
     ws = K.contact_workspace(1)
-    par = (GAP, GAP + 1e-3, law, 0.0, K_H, c_n, 0.0, 0.0, dt, False, 0.0)  # frictionless
+    par = (GAP, GAP + 1e-3, law, 0.0, K_H, c_n, 0.0, 0.0, dt, False, 0.0, 0.0)  # frictionless
     u, v, a = 0.0, V_IN, 0.0
     closed, episodes, t_in, t_out, v_out = False, 0, None, None, None
     for n in range(int(round(t_end / dt))):

@@ -11,9 +11,11 @@ W0 = np.sqrt(K_ / M_)
 XK = MU * N_ / K_
 
 
-def belt_run(v_stick, T, dt=1e-5):
+def belt_run(v_stick, T, dt=1e-5, vreg=0.0):
     """A cable 'node' of mass M_ on a spring K_, pressed with N_ onto a rigid casing 'belt' that moves
-    along x at V_BELT. Newmark for the mass; friction from kernels.solve_contact_forces each step."""
+    along x at V_BELT. Newmark for the mass; friction from kernels.solve_contact_forces each step
+    (the switch law, or with vreg > 0 (m/s) Coulomb's law regularised over vreg). Returns the
+    displacement, state and friction force at each step, the normal force and the velocity."""
     gap, g0, k_lin = 1e-3, N_ / 1e6, 1e6
     Xc, Tc = np.array([[0.0, 0, gap + g0]]), np.array([[1.0, 0, 0]])
     Xs = np.array([[-5.0, 0, 0], [5.0, 0, 0]])
@@ -26,9 +28,9 @@ def belt_run(v_stick, T, dt=1e-5):
     Pn, Nn, gn, diag = np.zeros((1, 3)), np.zeros(1), np.zeros(1), np.zeros(K.DIAG_SIZE)
     fcc, fcs = np.zeros(6), np.zeros(12)
     ws = K.contact_workspace(1)  # the solve's scratch, reused as the step loop does
-    law = (gap, gap + 1e-3, 1, k_lin, 0.0, 0.0, MU, v_stick, dt, False, 0.0)  # linear law, no contact damping
+    law = (gap, gap + 1e-3, 1, k_lin, 0.0, 0.0, MU, v_stick, dt, False, 0.0, vreg)  # linear law, no contact damping
     u, v, a = 0.0, V_BELT, 0.0  # start stuck to the belt, spring relaxed
-    xs, states, fric = [], [], []
+    xs, states, fric, vs = [], [], [], []
     for n in range(int(round(T / dt))):
         t = (n + 1) * dt
         ustar = M_ * (4 / dt**2 * u + 4 / dt * v + a) / Keff
@@ -48,18 +50,19 @@ def belt_run(v_stick, T, dt=1e-5):
         xs.append(u)
         states.append(state[0])
         fric.append(fcc[0])
-    return np.array(xs), np.array(states), np.array(fric), Nn[0]
+        vs.append(v)
+    return np.array(xs), np.array(states), np.array(fric), Nn[0], np.array(vs)
 
 
 def test_normal_force_is_the_penalty_force():
-    _, _, _, N = belt_run(1e-5, 1e-3)
+    _, _, _, N, _ = belt_run(1e-5, 1e-3)
     assert N == pytest.approx(N_, rel=1e-9)
 
 
 def test_stick_slip_limit_cycle():
     """mu_s = mu_k: slip is harmonic about x_k = mu N / k with amplitude v / omega, period 2 pi / omega."""
     T = 2 * np.pi / W0
-    x, st, f, _ = belt_run(1e-5, 3.2 * T)
+    x, st, f, _, _ = belt_run(1e-5, 3.2 * T)
     dt = 1e-5
     t = dt * np.arange(1, len(x) + 1)
     assert st[0] == K.STICK and (st == K.SLIP).any()
@@ -79,9 +82,29 @@ def test_stick_slip_limit_cycle():
 
 
 def test_pure_slip_with_zero_stick_band():
-    x, st, f, _ = belt_run(0.0, 0.1)
+    x, st, f, _, _ = belt_run(0.0, 0.1)
     assert (st[1:] == K.SLIP).all()
     assert np.allclose(np.abs(f[1:]), MU * N_, rtol=1e-9)
+
+
+def test_regularized_coulomb_law_and_its_limit_cycle():
+    """contact.friction_law = "regularized" over vreg = 1e-5 m/s (a thousandth of the belt's speed):
+    at every step the friction force is -mu N v / sqrt(v^2 + vreg^2) of the slip velocity v at the
+    end of the step, which the kernel solves for (to 1e-9 of mu N: the Newton's tolerance), never
+    more than mu N, and the limit cycle is Coulomb's (the switch law's test above) to 1 %: the
+    regularisation's error is of order vreg / V_BELT = 1e-3."""
+    T = 2 * np.pi / W0
+    vreg = 1e-5
+    x, st, f, N, v = belt_run(0.0, 3.2 * T, vreg=vreg)
+    slip = v - V_BELT  # the mass against the belt (m/s)
+    assert np.abs(f + MU * N * slip / np.sqrt(slip**2 + vreg**2)).max() < 1e-9 * MU * N
+    assert np.abs(f).max() <= MU * N * (1 + 1e-12)
+    t = 1e-5 * np.arange(1, len(x) + 1)
+    late = t > T  # after the first creep phase
+    amp = V_BELT / W0
+    assert x[late].max() == pytest.approx(XK + amp, rel=1e-2)
+    assert x[late].min() == pytest.approx(XK - amp, rel=1e-2)
+    assert (st == K.STICK).any() and (st == K.SLIP).any()  # reported by |v| against vreg
 
 
 def slow_slip_event(turned, v_over_dv=1.5, new=False, dt=1e-5):
@@ -102,7 +125,7 @@ def slow_slip_event(turned, v_over_dv=1.5, new=False, dt=1e-5):
     state, elem, xi, vrel = np.array([K.SLIP]), np.zeros(1, np.int64), np.zeros(1), np.array([Vc[0]])
     Pn = np.zeros((1, 3)) if new else np.array([[-MU * N_ * np.cos(turned), -MU * N_ * np.sin(turned), N_]])
     Nn, gn, diag, fcc, fcs = np.zeros(1), np.zeros(1), np.zeros(K.DIAG_SIZE), np.zeros(6), np.zeros(12)
-    par = (gap, gap + 1e-3, 1, k_lin, 0.0, 0.0, MU, 0.0, dt, False, 1 - np.cos(K.EVENT_TURN))
+    par = (gap, gap + 1e-3, 1, k_lin, 0.0, 0.0, MU, 0.0, dt, False, 1 - np.cos(K.EVENT_TURN), 0.0)
     z = np.zeros(12)
     K.solve_contact_forces(
         Xc, Tc, Uc, Vc, Xs, Rs, Ls, z, z, Kc, Ks, par, state, elem, xi, Pn, vrel, Nn, gn, fcc, fcs, diag,

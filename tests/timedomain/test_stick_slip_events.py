@@ -95,7 +95,9 @@ def belt_run(dt, t_end, nsub):
     Xs = np.array([[-5.0, 0, 0], [5.0, 0, 0]])
     nn = 2
     fcs, fcc = np.zeros(12), np.zeros(12)
-    claw = K.ContactLaw(True, GAP, GAP, 1e-3, CONTACT_LAWS.index("linear"), K_LIN, 0.0, 0.0, MU, V_STICK, nsub, True)
+    claw = K.ContactLaw(
+        True, GAP, GAP, 1e-3, CONTACT_LAWS.index("linear"), K_LIN, 0.0, 0.0, MU, V_STICK, nsub, True, 0.0
+    )
     n = int(round(t_end / dt))
     t = dt * np.arange(1, n + 1)
     nch = len(CHANNELS)

@@ -230,7 +230,7 @@ def contact_parameters(law, dt, reuse, max_turn):
     loop's law record: reuse keeps the Delassus matrix while the same contacts hold, max_turn (rad)
     is the turn of the friction direction that makes a slow slip an event (stored as 1 - cos)."""
     turn = 1.0 - np.cos(max_turn)
-    return (law.gap, law.r_in, law.law, law.k_lin, law.k_hertz, law.c_n, law.mu, law.v_stick, dt, reuse, turn)
+    return (law.gap, law.r_in, law.law, law.k_lin, law.k_hertz, law.c_n, law.mu, law.v_stick, dt, reuse, turn, law.vreg)
 
 
 @njit(**NO_RT)
@@ -244,9 +244,12 @@ def solve_contact_forces(
     end of the step (vrel, m/s: the next step sticks when it lies inside the band +-v_stick,
     Section 2.1). Kc, Ks: effective compliances (m/N) over all DOFs of each body (zero rows and
     columns on the prescribed DOFs). par = (gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
-    reuse, turn) (m, m, 0 Hertz / 1 linear / 2 Hunt-Crossley, N/m, N/m^1.5, kg/s or s/m, -, m/s, s,
+    reuse, turn, vreg) (m, m, 0 Hertz / 1 linear / 2 Hunt-Crossley, N/m, N/m^1.5, kg/s or s/m, -, m/s, s,
     keep the Delassus matrix of the last solve when the same contacts hold, the 1 - cos of the
-    friction direction's turn that marks a slow slip as an event, DIAG_SLOW_SLIP); ws: the scratch arrays of
+    friction direction's turn that marks a slow slip as an event, DIAG_SLOW_SLIP; m/s: 0 for the
+    switch law of Section 2.1, > 0 for Coulomb's law regularised over that speed,
+    f_t = -mu N v_t / sqrt(|v_t|^2 + vreg^2) at the end of the step, every contact then solved with
+    three unknowns and reported STICK while |v_t| < vreg, else SLIP); ws: the scratch arrays of
     :func:`contact_workspace`. Returns the number of contacts examined (penetrating before the
     solve); the DIAG_* slots of diag (``_step_loop_contract.py``) say the largest penetration, a
     failed Newton, the damping and friction powers and the iterations and passes taken.
@@ -255,7 +258,7 @@ def solve_contact_forces(
     arguments as a call with a built tuple (CALL_FUNCTION_EX), and numba then increments and
     decrements the reference count of every array in it around each call, ~100 atomic operations
     per step."""
-    gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt, reuse, turn = par
+    gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt, reuse, turn, vreg = par
     (
         idx,
         gst,
@@ -400,7 +403,7 @@ def solve_contact_forces(
         wt0, wt1, wt2 = wst[k, 0] - wn * nrm[k, 0], wst[k, 1] - wn * nrm[k, 1], wst[k, 2] - wn * nrm[k, 2]
         sp = np.sqrt(wt0 * wt0 + wt1 * wt1 + wt2 * wt2)
         speed = sp if state[i] == OPEN else vrel[i]
-        mode[k] = STICK if speed < v_stick else SLIP
+        mode[k] = STICK if speed < v_stick or vreg > 0.0 else SLIP
         sdir[k, 0], sdir[k, 1], sdir[k, 2] = (wt0 / sp, wt1 / sp, wt2 / sp) if sp > 0.0 else (0.0, 0.0, 0.0)
         for c in range(3):
             P[3 * k + c] = Pn[i, c] if state[i] != OPEN else 0.0
@@ -413,8 +416,9 @@ def solve_contact_forces(
         r = unknowns_from_forces(nk, nrm, ta, tb, mode, active, P, off, x)
         reduced_delassus(W, nk, nrm, ta, tb, sdir, mu, off, Q)
         its = newton_for_fixed_modes(
-            Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, dx, y, Ne, Nd, xt
-        )
+            Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, dx, y, Ne, Nd, xt,
+            mu, vreg,
+        )  # fmt: skip
         forces_from_unknowns(nk, nrm, ta, tb, sdir, mu, off, x, P)
         relative_displacement(W, P, m, d)
         diag[DIAG_NEWTON_ITERATIONS] += abs(its)
@@ -445,6 +449,8 @@ def solve_contact_forces(
             pn = P[o] * nrm[k, 0] + P[o + 1] * nrm[k, 1] + P[o + 2] * nrm[k, 2]
             pt0, pt1, pt2 = P[o] - pn * nrm[k, 0], P[o + 1] - pn * nrm[k, 1], P[o + 2] - pn * nrm[k, 2]
             ft = np.sqrt(pt0 * pt0 + pt1 * pt1 + pt2 * pt2)
+            if vreg > 0.0:
+                continue  # the regularised law has no stick to break and no slip to reverse
             if mode[k] == STICK and ft > mu * N * (1 + 1e-12):
                 mode[k] = SLIP
                 sdir[k, 0], sdir[k, 1], sdir[k, 2] = -pt0 / ft, -pt1 / ft, -pt2 / ft
@@ -482,8 +488,8 @@ def solve_contact_forces(
         w0, w1, w2 = wst[k, 0] + c2 * d[o], wst[k, 1] + c2 * d[o + 1], wst[k, 2] + c2 * d[o + 2]
         wn = w0 * n0 + w1 * n1 + w2 * n2
         wt0, wt1, wt2 = w0 - wn * n0, w1 - wn * n1, w2 - wn * n2
-        state[i] = mode[k]
         vrel[i] = np.sqrt(wt0 * wt0 + wt1 * wt1 + wt2 * wt2)
+        state[i] = mode[k] if vreg == 0.0 else (STICK if vrel[i] < vreg else SLIP)
         if mode[k] == SLIP and c2 * wkk[k] * mu * Nout[i] > vrel[i]:
             # the friction force alone changes the slip velocity by more than it is within the step,
             # and its direction turned by more than the step allows (1 - cos > turn) since the last

@@ -151,8 +151,9 @@ def reduced_delassus(W, nk, nrm, ta, tb, sdir, mu, off, Q):
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def _residual(
-    Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, with_J
-):
+    Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, with_J,
+    mu, vreg,
+):  # fmt: skip
     """Residual R (and, with_J, its Jacobian J) of the contact conditions of :func:`newton_for_fixed_modes` at the
     unknowns x; y = Q x, the observed relative displacements (m). Normal rows are in newtons; stick
     rows (m/s) are scaled by 1 / (2/dt W_kk) and touch rows (m) by 1 / W_kk to newtons like them.
@@ -196,6 +197,30 @@ def _residual(
                     J[i, j] = gam * Q[i, j]
                 J[i, i] -= 1.0
         norm += R[i] * R[i]
+        if vreg > 0.0 and nu == 3:
+            # regularised Coulomb: f_t = -mu N v_t / sqrt(|v_t|^2 + vreg^2), v_t the tangential
+            # relative velocity at the end of the step (rows in newtons)
+            ia, ib = i + 1, i + 2
+            va = ta[k, 0] * wst[k, 0] + ta[k, 1] * wst[k, 1] + ta[k, 2] * wst[k, 2] + c2 * y[ia]
+            vb = tb[k, 0] * wst[k, 0] + tb[k, 1] * wst[k, 1] + tb[k, 2] * wst[k, 2] + c2 * y[ib]
+            sq = np.sqrt(va * va + vb * vb + vreg * vreg)
+            N = x[i]
+            R[ia] = x[ia] + mu * N * va / sq
+            R[ib] = x[ib] + mu * N * vb / sq
+            if with_J:
+                s3 = sq * sq * sq
+                daa = mu * N * (1.0 / sq - va * va / s3) * c2
+                dab = -mu * N * va * vb / s3 * c2
+                dbb = mu * N * (1.0 / sq - vb * vb / s3) * c2
+                for j in range(r):
+                    J[ia, j] = daa * Q[ia, j] + dab * Q[ib, j]
+                    J[ib, j] = dab * Q[ia, j] + dbb * Q[ib, j]
+                J[ia, ia] += 1.0
+                J[ib, ib] += 1.0
+                J[ia, i] += mu * va / sq
+                J[ib, i] += mu * vb / sq
+            norm += R[ia] * R[ia] + R[ib] * R[ib]
+            continue
         for a in range(1, nu):
             # stick: the tangential relative velocity at the end of the step vanishes; a direction
             # with no compliance at all (a contact at a clamped node) admits any force and zero is
@@ -220,8 +245,9 @@ def _residual(
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def newton_for_fixed_modes(
-    Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, dx, y, Ne, Nd, xt
-):
+    Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, dx, y, Ne, Nd, xt,
+    mu, vreg,
+):  # fmt: skip
     """Contact forces at the end of a Newmark step for fixed stick/slip modes and active set, as
     the unknowns x of :func:`unknowns_from_forces` (N).
 
@@ -235,17 +261,21 @@ def newton_for_fixed_modes(
         the bodies apart past the surface (Eq. 16's switch at g = 0, read as a set);
       stick (Eqs. 18-23): the tangential relative velocity at the end of the step is zero;
       slip (Coulomb):    P_t = -mu N s, s the unit slip direction: built into P's map, no equation;
+      regularised (vreg > 0, every active contact with three unknowns): P_t = -mu N v_t /
+        sqrt(|v_t|^2 + vreg^2), v_t the tangential relative velocity at the end of the step
+        (``contact.friction_law = "regularized"``), in place of the stick rows;
     an inactive contact has no unknown and no force. The caller keeps a contact in the law only
     while g > 0 and in touch only while 0 <= N <= c_n g_dot. Newton iterations (semi-smooth at the
     max()) from the given x, with a backtracking line search on |R|: near g = 0 the Hertz law's
     slope vanishes and full steps can cycle across the kink. At most 15 iterations: a stick that
     needs more friction than mu N has no solution here, and the caller switches it to slip.
     Returns the number of iterations, negative when not converged; Ne, Nd hold the elastic and
-    damping parts of N at the final x."""
+    damping parts of N at the final x. mu (-) and vreg (m/s) enter only the regularised rows."""
     its = -15
     r0 = _residual(
-        Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, True
-    )
+        Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, True,
+        mu, vreg,
+    )  # fmt: skip
     for it in range(15):
         for i in range(r):
             R[i] = -R[i]
@@ -260,30 +290,9 @@ def newton_for_fixed_modes(
             for i in range(r):
                 xt[i] = x[i] + alpha * dx[i]
             r1 = _residual(
-                Q,
-                r,
-                nk,
-                off,
-                touch,
-                gst,
-                gdst,
-                wst,
-                ta,
-                tb,
-                wkk,
-                xt,
-                law,
-                k_lin,
-                k_hertz,
-                c_n,
-                dt,
-                J,
-                R,
-                y,
-                Ne,
-                Nd,
-                False,
-            )
+                Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, xt, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd,
+                False, mu, vreg,
+            )  # fmt: skip
             if r1 <= (1.0 - 1e-4 * alpha) * r0 or r1 <= 1e-13 * max(scale, 1.0):
                 break
             alpha *= 0.5
@@ -293,6 +302,7 @@ def newton_for_fixed_modes(
             its = it + 1  # Ne, Nd already belong to x (the last trial point)
             break
         r0 = _residual(
-            Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, True
-        )
+            Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, True,
+            mu, vreg,
+        )  # fmt: skip
     return its

@@ -87,7 +87,9 @@ BodyArrays = namedtuple(
 #: that its friction could reverse the slip within the step, is recomputed as nsub equal sub-steps
 #: (1: never; ``contact.event_substeps``, docs/time_domain.md "Events inside the step"); reuse: its
 #: sub-steps after the first keep the Delassus matrix while the same contacts are closed.
-ContactLaw = namedtuple("ContactLaw", "on gap r_in r_cable law k_lin k_hertz c_n mu v_stick nsub reuse")
+#: vreg (m/s): 0 for the switch law of Section 2.1; > 0 for Coulomb's law regularised over that
+#: slip speed (``contact.friction_law = "regularized"``, docs/time_domain.md), no events, nsub 1.
+ContactLaw = namedtuple("ContactLaw", "on gap r_in r_cable law k_lin k_hertz c_n mu v_stick nsub reuse vreg")
 
 #: The contact's geometry at rest and its memory: Xc, Tc (cable nodes and unit tangents), Xs, Rs,
 #: Ls (casing nodes, element frames and lengths); per cable node: state (OPEN/STICK/SLIP), elem
