@@ -22,7 +22,10 @@ installed_band_max_rel_err (the worst Table 3 band of seeds 1 and 2 against the 
 ``installed_reference_levels.json``, 7.8125e-8 s, written by installed_time_step.py --json; with
 ``--duration 1.0`` only, the reference's) with its per-band values, the reference's own distance from
 the next coarser step (1.5625e-7 s: what the reference leaves open), and installed_refined_share
-(the steps recomputed in sub-steps).
+(the steps recomputed in sub-steps); the same with the regularised friction law
+(``contact.friction_law = "regularized"``, docs/time_domain.md "A friction law whose limit exists"):
+installed_band_max_rel_err_regularized against the finest step of its own levels in the file
+(``levels_regularized_N``: 3.125e-7 s), with the spread of the next coarser one.
 ``--model`` chooses the model of the accuracy checks and the ensemble below (default: the built-in
 specimen).
 
@@ -225,6 +228,26 @@ if not args.speed_only and args.duration == reference["duration_s"]:
     spread_txt = " ".join(f"{x:.4f}" for x in spread)
     print(f"installed_reference_spread_per_band: {spread_txt} ({next_finest[2:]} against {finest[2:]} s)")
     print(f"installed_refined_share: {eng.refined_steps / (args.duration / DT):.3f} (steps recomputed in sub-steps)")
+    # the same with the regularised friction law (contact.friction_law = "regularized", no events)
+    # against its own finest step in the file (levels_regularized_N)
+    errs, spread = [], []
+    for seed in (1, 2):
+        m = installed.with_overrides({"scenario.seed": seed, "contact.friction_law": "regularized"})
+        eng_r = Engine(m, dt=DT, ledger=False, record=True)
+        eng_r.advance(args.duration, scenario_motion(m, dt=DT))
+        F = eng_r.history()["support_forces"][:, SUPPORT_OUTPUTS.index("casing.B.Fz")]
+        t = DT * np.arange(1, len(F) + 1)
+        level = octave_rms(F[t > reference["skip_s"]], 1 / DT).rms
+        ref = reference["levels_regularized_N"][str(seed)]
+        steps = sorted(ref, key=lambda k: float(k[2:]))
+        errs.append(np.abs(level / np.array(ref[steps[0]]) - 1))
+        spread.append(np.abs(np.array(ref[steps[1]]) / np.array(ref[steps[0]]) - 1))
+    worst, spread = np.max(errs, axis=0), np.max(spread, axis=0)
+    print(f"installed_band_max_rel_err_regularized: {worst.max():.4f} (seeds 1-2, against {steps[0][2:]} s)")
+    print(f"installed_band_max_rel_err_regularized_octaves_3_9: {worst[2:].max():.4f}")
+    print("installed_band_rel_err_regularized_per_band:", " ".join(f"{x:.4f}" for x in worst))
+    spread_txt = " ".join(f"{x:.4f}" for x in spread)
+    print(f"installed_reference_regularized_spread_per_band: {spread_txt} ({steps[1][2:]} against {steps[0][2:]} s)")
 
 # What bounds rtf_installed whatever the contact solve costs (docs/performance.md, "What bounds
 # rtf_installed, and the decision on issue 23's speed goals"): the installed step without contact
