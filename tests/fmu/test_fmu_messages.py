@@ -88,6 +88,7 @@ def test_model_warnings_reach_the_host_as_log_messages(fmu, tmp_path):
 
 
 FREE_CABLE_END = INSTALLATION.replace("[scenario]", '[cable.supports]\nB = "free"\n\n[scenario]')
+REGULARIZED_OVER_NOTHING = INSTALLATION + '\n[contact]\nfriction_law = "regularized"\nstick_velocity = 0.0\n'
 
 
 @pytest.mark.parametrize(
@@ -95,8 +96,9 @@ FREE_CABLE_END = INSTALLATION.replace("[scenario]", '[cable.supports]\nB = "free
     [
         (INSTALLATION + "\n[loads]\ncable_tension = 400.0\n", "must be below the casing's buckling load 119.4 N"),
         (FREE_CABLE_END + "\n[loads]\ncable_tension = 2.0\n", "cable.supports.B is free"),
+        (REGULARIZED_OVER_NOTHING, "contact.stick_velocity"),
     ],
-    ids=["above the buckling load", "a free cable end"],
+    ids=["above the buckling load", "a free cable end", "a regularised friction law over no speed"],
 )
 def test_a_structure_that_cannot_carry_its_tension_is_an_error_without_a_traceback(fmu, tmp_path, text, words):
     path = tmp_path / "t.toml"

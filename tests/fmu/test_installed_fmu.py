@@ -81,6 +81,20 @@ def test_the_installed_specimen_through_the_fmu_is_the_core_s(fmu, tmp_path, fmu
     assert abs(static[0]) > 1.0  # casing.A.Fx: the static state's, not zero
 
 
+def test_the_regularized_friction_law_through_the_fmu_is_the_core_s(fmu, tmp_path, fmu_driver):
+    """contact.friction_law is a String parameter like the model's other word keys: the installed
+    specimen with the regularised law (docs/time_domain.md, "A friction law whose limit exists")
+    gives the core's outputs bit for bit, with no step recomputed."""
+    model = cc.load_model("installed").with_overrides({"contact.friction_law": "regularized"})
+    rows = table(model, 0.01)
+    _, ref = core(model, rows)
+    params = {"model_file": "installed", "contact.friction_law": "regularized"}
+    res = fmu_driver.run(tmp_path, "run", fmu, params=params, inputs=rows, h=H, outputs=list(OUTPUTS))
+    assert np.all(res["status"] == 0) and int(res["init_status"]) == 0
+    np.testing.assert_array_equal(res["out"], ref)
+    assert core.refined_steps == 0
+
+
 def test_a_contact_run_does_not_depend_on_the_communication_step(fmu, tmp_path, fmu_driver):
     """The installed specimen's own scenario (13 closed contacts, stick-slip at every reversal of the
     drive) for 0.16 s, its inputs given to the FMU at the start of each communication step of
