@@ -208,46 +208,43 @@ print(f"engine_setup_installed_s: {t_setup:.3f} (assembly, factors, the static s
 reference = json.loads((Path(__file__).parent / "installed_reference_levels.json").read_text())
 plain = sorted((k for k in reference["levels_N"]["1"] if "_sub" not in k), key=lambda k: float(k[2:]))
 finest, next_finest = plain[0], plain[1]
-if not args.speed_only and args.duration == reference["duration_s"]:
+
+
+def installed_band_errors(name, overrides, levels, finest, next_finest, done=None):
+    """Print installed_band_max_rel_err<name> and its companions: the band levels of seeds 1 and 2
+    at DT with the model overrides against levels[seed][finest], and next_finest's distance from it.
+    done: an engine that already ran the specimen's own seed with these overrides. Returns the
+    last seed's engine."""
     errs, spread = [], []
     for seed in (1, 2):
-        if seed != installed.scenario["seed"]:
-            m = installed.with_overrides({"scenario.seed": seed})
-            eng = Engine(m, dt=DT, ledger=False, record=True)
-            eng.advance(args.duration, scenario_motion(m, dt=DT))
-        F = eng.history()["support_forces"][:, SUPPORT_OUTPUTS.index("casing.B.Fz")]
+        run = done if done is not None and seed == installed.scenario["seed"] else None
+        if run is None:
+            m = installed.with_overrides({"scenario.seed": seed, **overrides})
+            run = Engine(m, dt=DT, ledger=False, record=True)
+            run.advance(args.duration, scenario_motion(m, dt=DT))
+        F = run.history()["support_forces"][:, SUPPORT_OUTPUTS.index("casing.B.Fz")]
         t = DT * np.arange(1, len(F) + 1)
         level = octave_rms(F[t > reference["skip_s"]], 1 / DT).rms
-        ref = reference["levels_N"][str(seed)]
+        ref = levels[str(seed)]
         errs.append(np.abs(level / np.array(ref[finest]) - 1))
         spread.append(np.abs(np.array(ref[next_finest]) / np.array(ref[finest]) - 1))
     worst, spread = np.max(errs, axis=0), np.max(spread, axis=0)
-    print(f"installed_band_max_rel_err: {worst.max():.4f} (seeds 1-2, against {finest[2:]} s)")
-    print(f"installed_band_max_rel_err_octaves_3_9: {worst[2:].max():.4f}")
-    print("installed_band_rel_err_per_band:", " ".join(f"{x:.4f}" for x in worst))
+    print(f"installed_band_max_rel_err{name}: {worst.max():.4f} (seeds 1-2, against {finest[2:]} s)")
+    print(f"installed_band_max_rel_err{name}_octaves_3_9: {worst[2:].max():.4f}")
+    print(f"installed_band_rel_err{name}_per_band:", " ".join(f"{x:.4f}" for x in worst))
     spread_txt = " ".join(f"{x:.4f}" for x in spread)
-    print(f"installed_reference_spread_per_band: {spread_txt} ({next_finest[2:]} against {finest[2:]} s)")
-    print(f"installed_refined_share: {eng.refined_steps / (args.duration / DT):.3f} (steps recomputed in sub-steps)")
-    # the same with the regularised friction law (contact.friction_law = "regularized", no events)
-    # against its own finest step in the file (levels_regularized_N)
-    errs, spread = [], []
-    for seed in (1, 2):
-        m = installed.with_overrides({"scenario.seed": seed, "contact.friction_law": "regularized"})
-        eng_r = Engine(m, dt=DT, ledger=False, record=True)
-        eng_r.advance(args.duration, scenario_motion(m, dt=DT))
-        F = eng_r.history()["support_forces"][:, SUPPORT_OUTPUTS.index("casing.B.Fz")]
-        t = DT * np.arange(1, len(F) + 1)
-        level = octave_rms(F[t > reference["skip_s"]], 1 / DT).rms
-        ref = reference["levels_regularized_N"][str(seed)]
-        steps = sorted(ref, key=lambda k: float(k[2:]))
-        errs.append(np.abs(level / np.array(ref[steps[0]]) - 1))
-        spread.append(np.abs(np.array(ref[steps[1]]) / np.array(ref[steps[0]]) - 1))
-    worst, spread = np.max(errs, axis=0), np.max(spread, axis=0)
-    print(f"installed_band_max_rel_err_regularized: {worst.max():.4f} (seeds 1-2, against {steps[0][2:]} s)")
-    print(f"installed_band_max_rel_err_regularized_octaves_3_9: {worst[2:].max():.4f}")
-    print("installed_band_rel_err_regularized_per_band:", " ".join(f"{x:.4f}" for x in worst))
-    spread_txt = " ".join(f"{x:.4f}" for x in spread)
-    print(f"installed_reference_regularized_spread_per_band: {spread_txt} ({steps[1][2:]} against {steps[0][2:]} s)")
+    print(f"installed_reference{name}_spread_per_band: {spread_txt} ({next_finest[2:]} against {finest[2:]} s)")
+    return run
+
+
+if not args.speed_only and args.duration == reference["duration_s"]:
+    last = installed_band_errors("", {}, reference["levels_N"], finest, next_finest, done=eng)
+    print(f"installed_refined_share: {last.refined_steps / (args.duration / DT):.3f} (steps recomputed in sub-steps)")
+    # the regularised friction law (contact.friction_law = "regularized", no events) against its own
+    # finest step in the file (levels_regularized_N)
+    reg = sorted(reference["levels_regularized_N"]["1"], key=lambda k: float(k[2:]))
+    regularized = {"contact.friction_law": "regularized"}
+    installed_band_errors("_regularized", regularized, reference["levels_regularized_N"], reg[0], reg[1])
 
 # What bounds rtf_installed whatever the contact solve costs (docs/performance.md, "What bounds
 # rtf_installed, and the decision on issue 23's speed goals"): the installed step without contact
