@@ -378,13 +378,22 @@ def scenario_libcosim(job, table):
 def scenario_cache(job, table):
     """Load the FMU from a fresh unpack folder, take one step, and report what numba did: cache
     hits and misses (compilations) of every kernel of the FMU's own package, where the cache and
-    the package live, and the FMU's log."""
+    the package live, and the FMU's log. With an input table (and ``params``, ``outputs``), the
+    first step is the table's first row and the outputs after each of its rows are returned too
+    (``out``), computed by the kernels as this process got them (compiled or loaded)."""
     from fmpy import extract
     from numba.core.registry import CPUDispatcher
 
     unzip = extract(job["fmu"])
-    inst = Instance(job["fmu"], unzip=unzip)
-    status = inst.step(np.zeros(len(INPUTS)), job["h"])
+    inst = Instance(job["fmu"], unzip=unzip, params=job.get("params"))
+    rows = table if len(table) else np.zeros((1, len(INPUTS)))
+    status = inst.step(rows[0], job["h"])
+    out = np.zeros((0, 0))
+    if job.get("outputs"):
+        out = np.zeros((len(rows), len(job["outputs"])))
+        out[0] = inst.get(job["outputs"])
+        out[1:], steps = simulate(inst, rows[1:], job["h"], job["outputs"])
+        status = max(status, int(steps.max(initial=0)))
     disp = [
         v
         for name, mod in list(sys.modules.items())
@@ -402,6 +411,7 @@ def scenario_cache(job, table):
         package_file=sys.modules["cablecasing_core"].__file__,
         unzip=str(unzip),
         log=_log(inst.log),
+        out=out,
     )
 
 

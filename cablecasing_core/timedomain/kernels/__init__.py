@@ -36,9 +36,11 @@ all DOFs of a body, zero on the prescribed ones) gives the Delassus matrix of th
 bodies' response to the contact forces is one more solve with the step's block factor. The small
 helpers of the contact solve are inlined into their callers (``inline="always"``).
 
-``fastmath`` (``_compile_options.py``): contraction into FMA and two harmless flags, no
-re-association, so a run is reproducible to the bit in any process (the FMU is checked against the
-core to the bit on a chaotic contact run).
+``fastmath`` (``_compile_options.py``): none. A flag such as contraction into FMA acts only where
+LLVM inlines a callee, and it inlines only callees compiled in the same process, not those loaded
+from numba's cache; so with it a cold and a warm cache gave different records. Without, a run is
+reproducible to the bit in any process, compiled or loaded (the FMU is checked against the core to
+the bit on a chaotic contact run, and a compiling FMU against a loading one).
 
 Reference counting: numba increments the reference count of every array a function receives on
 entry and decrements it on every exit (atomic operations, each a barrier for the memory pipeline).
