@@ -13,6 +13,10 @@ switches between stick and slip recomputed in that many sub-steps; docs/time_dom
 DT without sub-steps is the reference. Each run also prints its wall time and the share of its
 steps that were recomputed.
 
+The installed specimen's friction is regularised (no events; ``DT:SUBSTEPS`` then changes nothing);
+``--set contact.friction_law='"switch"'`` gives the paper's switch law, whose events the sub-steps
+treat.
+
 Run: .venv/bin/python benchmarks/installed_time_step.py [--dts 1e-5 1e-5:8 2.5e-6 6.25e-7] [--seed 1]
 [--duration 1.0] [--set contact.damping=0] (about 2 min for the default steps on the shared machine)
 """

@@ -578,11 +578,19 @@ class CableCasing(Fmi2Slave):
         eng = self._engine
         if eng is not None and eng.contact and eng.time > 0:
             steps = round(eng.time / eng.dt)
-            self.log(
-                f"contact events: {eng.refined_steps} of {steps} steps of solver.dt = {eng.dt!r} s recomputed in "
-                f"{eng.event_substeps} sub-steps (contact.event_substeps; docs/time_domain.md, Events inside the step)",
-                Fmi2Status.ok,
-            )
+            if eng.vreg > 0.0:
+                msg = (
+                    f"contact events: none, {steps} steps of solver.dt = {eng.dt!r} s with friction regularised over "
+                    f"contact.stick_velocity = {eng.vreg!r} m/s (contact.friction_law; docs/time_domain.md, "
+                    "A friction law whose limit exists)"
+                )
+            else:
+                msg = (
+                    f"contact events: {eng.refined_steps} of {steps} steps of solver.dt = {eng.dt!r} s recomputed in "
+                    f"{eng.event_substeps} sub-steps (contact.event_substeps; "
+                    "docs/time_domain.md, Events inside the step)"
+                )
+            self.log(msg, Fmi2Status.ok)
         return OK
 
     def fmi2_reset(self):

@@ -178,8 +178,11 @@ def add_parser(sub):
 
 
 def _refined(solver: dict) -> str:
-    """', N of them recomputed in k sub-steps around stick-slip events' when any were (the run's
-    ``SimulationResult.solver``; docs/time_domain.md, "Events inside the step")."""
+    """', N of them recomputed in k sub-steps around stick-slip events' when any were, ', friction
+    regularised (no stick-slip events)' with that law (the run's ``SimulationResult.solver``;
+    docs/time_domain.md, "Events inside the step", "A friction law whose limit exists")."""
+    if solver.get("friction_law") == "regularized":
+        return ", friction regularised (no stick-slip events)"
     n = solver.get("refined_steps", 0)
     if not n:
         return ""

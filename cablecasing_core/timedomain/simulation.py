@@ -250,9 +250,11 @@ def simulate(
 
 def solver_report(eng: Engine, steps: int) -> dict:
     """What the engine's step loop did over ``steps`` steps: {steps, event_substeps, refined_steps,
-    newton_iterations, unconverged_steps} (counts)."""
+    newton_iterations, unconverged_steps} (counts) and friction_law ("switch" or "regularized":
+    with the latter there are no stick-slip events, so no step is recomputed)."""
     its, _, failed = (int(x) for x in eng.solver_counts)
     return {
+        "friction_law": "regularized" if eng.vreg > 0.0 else "switch",
         "steps": int(steps),
         "event_substeps": eng.event_substeps,
         "refined_steps": eng.refined_steps,

@@ -280,11 +280,23 @@ def test_simulate_cli_model_dt_npz_plot_and_blow_up(tmp_path, capsys):
     assert "penetration" in err and "exceeds the cable radius" in err and "at t = " in err
 
 
-def test_simulate_says_how_many_steps_were_recomputed_in_sub_steps(capsys):
+def test_simulate_says_how_many_steps_were_recomputed_in_sub_steps(capsys, tmp_path):
     """The summary's first line names the steps recomputed around stick-slip events, as many as the
-    core's run of the same model counts (SimulationResult.solver; docs/time_domain.md)."""
-    assert main(["simulate", "installed", "--duration", "0.01", "--no-progress"]) == 0
+    core's run of the same model counts (SimulationResult.solver; docs/time_domain.md); with the
+    regularised friction law (the installed specimen's) it says there are no such events."""
+    from importlib import resources
+
+    text = resources.files("cablecasing_core.model").joinpath("specimens/installed.toml").read_text()
+    text = text.replace('friction_law = "regularized"', 'friction_law = "switch"')
+    (tmp_path / "switch.toml").write_text(text)
+    assert main(["simulate", str(tmp_path / "switch.toml"), "--duration", "0.01", "--no-progress"]) == 0
     first = capsys.readouterr().out.splitlines()[0]
-    n = simulate(load_model("installed"), duration=0.01).solver["refined_steps"]
+    model = load_model(tmp_path / "switch.toml")
+    assert model.contact["friction_law"] == "switch"
+    n = simulate(model, duration=0.01).solver["refined_steps"]
     assert n > 0
     assert first == f"simulated 0.01 s in 1000 steps, {n} of them recomputed in 8 sub-steps around stick-slip events"
+    assert main(["simulate", "installed", "--duration", "0.01", "--no-progress"]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    assert first == "simulated 0.01 s in 1000 steps, friction regularised (no stick-slip events)"
+    assert simulate(load_model("installed"), duration=0.01).solver["refined_steps"] == 0
