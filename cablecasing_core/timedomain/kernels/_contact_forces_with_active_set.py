@@ -73,6 +73,7 @@ def contact_workspace(nn):
         z(nn),
         z(3 * SPAN),
         np.full(max(nn, 1) + 1, -1, np.int64),
+        np.zeros(m, np.int64),
     )
 
 
@@ -294,6 +295,7 @@ def solve_contact_forces(
         wkk,
         Uspan,
         held,
+        piv,
     ) = ws
     nn = Xc.shape[0]
     nk = 0
@@ -417,7 +419,7 @@ def solve_contact_forces(
         reduced_delassus(W, nk, nrm, ta, tb, sdir, mu, off, Q)
         its = newton_for_fixed_modes(
             Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, dx, y, Ne, Nd, xt,
-            mu, vreg,
+            mu, vreg, piv,
         )  # fmt: skip
         forces_from_unknowns(nk, nrm, ta, tb, sdir, mu, off, x, P)
         relative_displacement(W, P, m, d)

@@ -13,12 +13,17 @@ from ._compile_options import FM
 from ._contact_search_and_law import contact_law
 from ._step_loop_contract import STICK
 
+#: the residual reduction per iteration below which the regularised law's Newton keeps its factors
+CHORD_RATE = 0.25
+
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
-def _dense_solve(A, b, m, x):
-    """Solve A[:m, :m] x = b[:m] by Gaussian elimination with partial pivoting (A and b are
-    overwritten). Written here for the few (3 per contact) unknowns inside the step loop, where a
-    LAPACK call would cost more than the solve; an exactly zero pivot leaves its unknown at zero."""
+def _lu_factor(A, m, piv):
+    """LU factors of A[:m, :m] by Gaussian elimination with partial pivoting, in place (the
+    multipliers below the diagonal, each in the row's place at its column's step; piv[c] the row
+    swapped with row c at column c, which :func:`_lu_solve` replays in the same order). Written here for
+    the few (3 per contact) unknowns inside the step loop, where a LAPACK call would cost more than
+    the solve."""
     for c in range(m):
         p = c
         big = abs(A[c, c])
@@ -26,18 +31,33 @@ def _dense_solve(A, b, m, x):
             if abs(A[r, c]) > big:
                 big = abs(A[r, c])
                 p = r
+        piv[c] = p
         if big == 0.0:
             continue
-        if p != c:
+        if p != c:  # the columns from c on: a multiplier stays where its row was when it was made
             for k in range(c, m):
                 A[c, k], A[p, k] = A[p, k], A[c, k]
-            b[c], b[p] = b[p], b[c]
         inv = 1.0 / A[c, c]
         for r in range(c + 1, m):
             f = A[r, c] * inv
+            A[r, c] = f
             if f != 0.0:
                 for k in range(c + 1, m):
                     A[r, k] -= f * A[c, k]
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def _lu_solve(A, piv, b, m, x):
+    """Solve with the factors of :func:`_lu_factor`: x = A^-1 b[:m] (b is overwritten); an exactly
+    zero pivot leaves its unknown at zero. The same operations in the same order as eliminating b
+    with A, so the bits do not depend on whether the factors are new or kept."""
+    for c in range(m):
+        p = piv[c]
+        if p != c:
+            b[c], b[p] = b[p], b[c]
+        for r in range(c + 1, m):
+            f = A[r, c]
+            if f != 0.0:
                 b[r] -= f * b[c]
     for c in range(m - 1, -1, -1):
         if A[c, c] == 0.0:
@@ -246,7 +266,7 @@ def _residual(
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def newton_for_fixed_modes(
     Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, dx, y, Ne, Nd, xt,
-    mu, vreg,
+    mu, vreg, piv,
 ):  # fmt: skip
     """Contact forces at the end of a Newmark step for fixed stick/slip modes and active set, as
     the unknowns x of :func:`unknowns_from_forces` (N).
@@ -270,8 +290,14 @@ def newton_for_fixed_modes(
     slope vanishes and full steps can cycle across the kink. At most 15 iterations: a stick that
     needs more friction than mu N has no solution here, and the caller switches it to slip (40 with
     the regularised law, which has no such case).
+    With the regularised law an iteration keeps the last factors of the Jacobian while they reduce
+    the residual at least CHORD_RATE-fold per iteration (a chord step, r^2 operations against the
+    r^3 / 3 of new factors; the Jacobian of 39 unknowns changes little between iterations where the
+    contacts slide), and takes new factors otherwise; the converged forces satisfy the same
+    conditions to the same tolerance.
     Returns the number of iterations, negative when not converged; Ne, Nd hold the elastic and
-    damping parts of N at the final x. mu (-) and vreg (m/s) enter only the regularised rows."""
+    damping parts of N at the final x. mu (-) and vreg (m/s) enter only the regularised rows; piv
+    (int, r) holds the factors' pivots."""
     # the switch law's cap is also its signal that a stick needs more than mu N (the caller then
     # slips it); the regularised law has a solution always, and 15 iterations left 2 steps in 30 000
     # of the installed specimen short of it (benchmarks/friction_laws.py)
@@ -281,10 +307,13 @@ def newton_for_fixed_modes(
         Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, True,
         mu, vreg,
     )  # fmt: skip
+    fresh = True  # J holds the Jacobian at x, not yet factored
     for it in range(cap):
         for i in range(r):
             R[i] = -R[i]
-        _dense_solve(J, R, r, dx)
+        if fresh:
+            _lu_factor(J, r, piv)
+        _lu_solve(J, piv, R, r, dx)
         scale = 1e-30
         step = 0.0
         for i in range(r):
@@ -306,8 +335,11 @@ def newton_for_fixed_modes(
         if alpha * step <= 1e-12 * max(scale, 1e-30) or r1 <= 1e-13 * max(scale, 1.0):
             its = it + 1  # Ne, Nd already belong to x (the last trial point)
             break
+        # the switch law takes new factors every iteration; the regularised law keeps them while
+        # they converge fast (a full chord step that cut the residual CHORD_RATE-fold)
+        fresh = vreg == 0.0 or alpha < 1.0 or r1 > CHORD_RATE * r0
         r0 = _residual(
-            Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, True,
+            Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, fresh,
             mu, vreg,
         )  # fmt: skip
     return its
