@@ -254,7 +254,7 @@ def solver_report(eng: Engine, steps: int) -> dict:
     with the latter there are no stick-slip events, so no step is recomputed)."""
     its, _, failed = (int(x) for x in eng.solver_counts)
     return {
-        "friction_law": "regularized" if eng.vreg > 0.0 else "switch",
+        "friction_law": eng.model.contact["friction_law"],
         "steps": int(steps),
         "event_substeps": eng.event_substeps,
         "refined_steps": eng.refined_steps,
