@@ -171,6 +171,7 @@ class Engine:
             for k, shape in (
                 ("cxi", (nn,)),
                 ("Pn", (nn, 3)),
+                ("Pn_prev", (nn, 3)),
                 ("vrel", (nn,)),
                 ("Nn", (nn,)),
                 ("gn", (nn,)),
@@ -244,8 +245,8 @@ class Engine:
         self._pot0 = self.contact_potential()
 
     _ARRAYS = (
-        "cstate", "celem", "cxi", "Pn", "vrel", "Nn", "gn", "fcs", "fcc", "reac", "ledger", "contact_time", "chan",
-        "crefine",
+        "cstate", "celem", "cxi", "Pn", "Pn_prev", "vrel", "Nn", "gn", "fcs", "fcc", "reac", "ledger", "contact_time",
+        "chan", "crefine",
     )  # fmt: skip
 
     def get_state(self) -> dict[str, np.ndarray]:
@@ -330,6 +331,7 @@ class Engine:
                 self.celem,
                 self.cxi,
                 self.Pn,
+                self.Pn_prev,
                 self.vrel,
                 self.Nn,
                 self.gn,

@@ -31,7 +31,7 @@ def drop(law, c_n, dt, t_end):
     Kc[2, 2] = 1 / Keff  # only z responds
     Ks = np.zeros((12, 12))  # rigid casing
     state, elem, xi, vrel = np.zeros(1, np.int64), np.zeros(1, np.int64), np.zeros(1), np.zeros(1)
-    Pn, Nn, gn, diag = np.zeros((1, 3)), np.zeros(1), np.zeros(1), np.zeros(K.DIAG_SIZE)
+    Pn, Pp, Nn, gn, diag = np.zeros((1, 3)), np.zeros((1, 3)), np.zeros(1), np.zeros(1), np.zeros(K.DIAG_SIZE)
     fcc, fcs = np.zeros(6), np.zeros(12)
     ws = K.contact_workspace(1)
     par = (GAP, GAP + 1e-3, law, 0.0, K_H, c_n, 0.0, 0.0, dt, False, 0.0, 0.0)  # frictionless
@@ -43,7 +43,7 @@ def drop(law, c_n, dt, t_end):
         Uc, Vc = np.zeros(6), np.zeros(6)
         Uc[2], Vc[2] = us, 2 / dt * (us - u) - v
         K.solve_contact_forces(
-            Xc, Tc, Uc, Vc, Xs, Rs, Ls, np.zeros(12), np.zeros(12), Kc, Ks, par, state, elem, xi, Pn, vrel, Nn, gn,
+            Xc, Tc, Uc, Vc, Xs, Rs, Ls, np.zeros(12), np.zeros(12), Kc, Ks, par, state, elem, xi, Pn, Pp, vrel, Nn, gn,
             fcc, fcs, diag, ws,
         )  # fmt: skip
         un = us + fcc[2] / Keff

@@ -117,6 +117,28 @@ def test_state_round_trip_is_bit_identical(pair_model, kick):
     assert e1.outputs() == e2.outputs()
 
 
+def test_state_round_trip_with_the_regularised_law_keeps_the_last_two_forces():
+    """The installed specimen (regularised friction, its contacts persistent): continued from its
+    saved state it equals the uninterrupted run to the bit. Its contact Newton starts from the
+    extrapolation of each contact's last two forces (Pn, Pn_prev), so Pn_prev is state: a state
+    without it continues differently."""
+    m = cc.load_model("installed")
+    motion = scenario_motion(m)
+    e1 = Engine(m)
+    e1.advance(0.002, motion)
+    s = state_from_bytes(state_to_bytes(e1.get_state()))
+    assert np.count_nonzero(s["Pn_prev"].any(axis=1)) >= 5  # contacts that persist over the saved step
+    e1.advance(0.002, motion)
+    runs = []
+    for state in (s, dict(s, Pn_prev=np.zeros_like(s["Pn_prev"]))):
+        e = Engine(m)
+        e.set_state(state)
+        e.advance(0.002, motion)
+        runs.append(e.outputs())
+    assert runs[0] == e1.outputs()
+    assert runs[1] != e1.outputs()
+
+
 def test_snapshot_restore_is_bit_identical_and_bad_states_change_nothing(pair_model, kick):
     """The FMU's roll-back (snapshot/restore) continues exactly like the uninterrupted run; a
     state with a wrong shape is refused before anything is written; output_values is outputs()."""

@@ -25,7 +25,7 @@ def belt_run(v_stick, T, dt=1e-5, vreg=0.0):
     Kc[0, 0] = 1 / Keff  # only x responds; the normal is rigid
     Ks = np.zeros((12, 12))  # the casing is rigid (zero compliance)
     state, elem, xi, vrel = np.zeros(1, np.int64), np.zeros(1, np.int64), np.zeros(1), np.zeros(1)
-    Pn, Nn, gn, diag = np.zeros((1, 3)), np.zeros(1), np.zeros(1), np.zeros(K.DIAG_SIZE)
+    Pn, Pp, Nn, gn, diag = np.zeros((1, 3)), np.zeros((1, 3)), np.zeros(1), np.zeros(1), np.zeros(K.DIAG_SIZE)
     fcc, fcs = np.zeros(6), np.zeros(12)
     ws = K.contact_workspace(1)  # the solve's scratch, reused as the step loop does
     law = (gap, gap + 1e-3, 1, k_lin, 0.0, 0.0, MU, v_stick, dt, False, 0.0, vreg)  # linear law, no contact damping
@@ -41,7 +41,7 @@ def belt_run(v_stick, T, dt=1e-5, vreg=0.0):
         Us[0] = Us[6] = V_BELT * t
         Vs[0] = Vs[6] = V_BELT
         K.solve_contact_forces(
-            Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, law, state, elem, xi, Pn, vrel, Nn, gn, fcc, fcs, diag, ws
+            Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, law, state, elem, xi, Pn, Pp, vrel, Nn, gn, fcc, fcs, diag, ws
         )
         un = ustar + fcc[0] / Keff
         an = 4 / dt**2 * (un - u) - 4 / dt * v - a
@@ -128,8 +128,8 @@ def slow_slip_event(turned, v_over_dv=1.5, new=False, dt=1e-5):
     par = (gap, gap + 1e-3, 1, k_lin, 0.0, 0.0, MU, 0.0, dt, False, 1 - np.cos(K.EVENT_TURN), 0.0)
     z = np.zeros(12)
     K.solve_contact_forces(
-        Xc, Tc, Uc, Vc, Xs, Rs, Ls, z, z, Kc, Ks, par, state, elem, xi, Pn, vrel, Nn, gn, fcc, fcs, diag,
-        K.contact_workspace(1),
+        Xc, Tc, Uc, Vc, Xs, Rs, Ls, z, z, Kc, Ks, par, state, elem, xi, Pn, np.zeros((1, 3)), vrel, Nn, gn, fcc, fcs,
+        diag, K.contact_workspace(1),
     )  # fmt: skip
     return diag[K.DIAG_SLOW_SLIP], state[0], vrel[0] / dv
 

@@ -131,13 +131,16 @@ def _friction_event(state0, state):
 
 
 @njit(**NO_RT)
-def _copy_contact_memory(state, elem, xi, vrel, N, g, P, state_to, elem_to, xi_to, vrel_to, N_to, g_to, P_to):
+def _copy_contact_memory(
+    state, elem, xi, vrel, N, g, P, Pp, state_to, elem_to, xi_to, vrel_to, N_to, g_to, P_to, Pp_to
+):  # fmt: skip
     """The contact's memory per cable node (state, element and coordinate found, relative speed,
-    normal force, penetration, force vector) into the *_to arrays: kept at a step's start, put back
-    when the step is recomputed in sub-steps."""
+    normal force, penetration, force vector at the step's end and the one before) into the *_to
+    arrays: kept at a step's start, put back when the step is recomputed in sub-steps."""
     for i in range(state.shape[0]):
         state_to[i], elem_to[i], xi_to[i], vrel_to[i], N_to[i], g_to[i] = state[i], elem[i], xi[i], vrel[i], N[i], g[i]
         P_to[i, 0], P_to[i, 1], P_to[i, 2] = P[i, 0], P[i, 1], P[i, 2]
+        Pp_to[i, 0], Pp_to[i, 1], Pp_to[i, 2] = Pp[i, 0], Pp[i, 1], Pp[i, 2]
 
 
 @njit(**NO_RT)
@@ -234,7 +237,7 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     c_loaded, cfext, cuext = cable.loaded, cable.fext, cable.uext
     contact_on, r_cable = law.on, law.r_cable
     Xc, Tc, Xs, Rs, Ls, ws = contact.Xc, contact.Tc, contact.Xs, contact.Rs, contact.Ls, contact.ws
-    state, elem, xi_arr, Pn, vrel = contact.state, contact.elem, contact.xi, contact.Pn, contact.vrel
+    state, elem, xi_arr, Pn, Pp, vrel = contact.state, contact.elem, contact.xi, contact.Pn, contact.Pp, contact.vrel
     Nn, gn, contact_time = contact.N, contact.g, contact.time
     rec_on, rec_F, rec_ptr, rec_node, rec_state, rec_N, rec_g, rec_off = rec
     ns = sU.shape[0]
@@ -266,7 +269,7 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     chan, subG, cagain = contact.chan, contact.subG, contact.again
     nch = up.shape[1]
     state0, elem0 = state.copy(), elem.copy()
-    xi0, Pn0, vrel0, Nn0, gn0 = xi_arr.copy(), Pn.copy(), vrel.copy(), Nn.copy(), gn.copy()
+    xi0, Pn0, Pp0, vrel0, Nn0, gn0 = xi_arr.copy(), Pn.copy(), Pp.copy(), vrel.copy(), Nn.copy(), gn.copy()
     nm = max(nsub, 1)
     subrows, subc, subt, subm = np.zeros((6, nch)), np.zeros((3, 6, nch)), np.zeros(nm), np.zeros((3, nm, nch))
     t = t0
@@ -274,7 +277,9 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     for k in range(nsteps):
         t_start = t0 + k * dt
         if refine:
-            _copy_contact_memory(state, elem, xi_arr, vrel, Nn, gn, Pn, state0, elem0, xi0, vrel0, Nn0, gn0, Pn0)
+            _copy_contact_memory(
+                state, elem, xi_arr, vrel, Nn, gn, Pn, Pp, state0, elem0, xi0, vrel0, Nn0, gn0, Pn0, Pp0
+            )  # fmt: skip
         lev = 0  # 0: the step dt; 1: its nsub sub-steps
         nrep = 1
         j = 0
@@ -325,7 +330,7 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
                 predicted_velocity(cf0, cnf, cU, cUo, cV, cVo, h)
                 diag[DIAG_NEWTON_FAILED] = 0.0
                 nact = solve_contact_forces(
-                    Xc, Tc, cU, cV, Xs, Rs, Ls, sU, sV, cKc, sKc, cp, state, elem, xi_arr, Pn, vrel, Nn, gn,
+                    Xc, Tc, cU, cV, Xs, Rs, Ls, sU, sV, cKc, sKc, cp, state, elem, xi_arr, Pn, Pp, vrel, Nn, gn,
                     fcc_new, fcs_new, diag, ws,
                 )  # fmt: skip
                 event = False
@@ -339,7 +344,7 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
                     _restore_step_start(sU, sV, sA, sUo, sVo, sAo, smb, smbo, s_on)
                     _restore_step_start(cU, cV, cA, cUo, cVo, cAo, cmb, cmbo, c_on)
                     _copy_contact_memory(
-                        state0, elem0, xi0, vrel0, Nn0, gn0, Pn0, state, elem, xi_arr, vrel, Nn, gn, Pn
+                        state0, elem0, xi0, vrel0, Nn0, gn0, Pn0, Pp0, state, elem, xi_arr, vrel, Nn, gn, Pn, Pp
                     )
                     _substep_motion(chan, up, vp, ap, k, subG, subrows, subc, subt, subm, dt, hf, nsub)
                     info[INFO_REFINED_STEPS] += 1

@@ -100,7 +100,7 @@ ContactLaw = namedtuple("ContactLaw", "on gap r_in r_cable law k_lin k_hertz c_n
 #: of a recomputed step starts; subG (18 x 6): the quintic Hermite's coefficient matrix of the step
 #: dt (``support_motion._coefficient_matrix``) that carries it to the step's end; again (1,): 1 when
 #: the last step ended in its sub-steps with an event still on, so that the next starts in them.
-ContactArrays = namedtuple("ContactArrays", "Xc Tc Xs Rs Ls state elem xi Pn vrel N g time ws chan subG again")
+ContactArrays = namedtuple("ContactArrays", "Xc Tc Xs Rs Ls state elem xi Pn Pp vrel N g time ws chan subG again")
 
 #: Recorded histories, written by step k into row off + k: on, F (n x 24 reactions), and the
 #: sparse contact history ptr, node, state, N, g (see run_steps).
