@@ -12,6 +12,7 @@ from numba import njit
 from ._banded_products_and_block_solve import fill
 from ._compile_options import FM, NO_RT
 from ._contact_newton_for_fixed_modes import (
+    BAND,
     forces_from_unknowns,
     newton_for_fixed_modes,
     reduced_delassus,
@@ -428,7 +429,7 @@ def solve_contact_forces(
         reduced_delassus(W, nk, nrm, ta, tb, sdir, mu, off, Q)
         its = newton_for_fixed_modes(
             Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, dx, y, Ne, Nd, xt,
-            mu, vreg, piv,
+            mu, vreg, piv, BAND,
         )  # fmt: skip
         forces_from_unknowns(nk, nrm, ta, tb, sdir, mu, off, x, P)
         relative_displacement(W, P, m, d)

@@ -15,6 +15,9 @@ from ._step_loop_contract import STICK
 
 #: the residual reduction per iteration below which the regularised law's Newton keeps its factors
 CHORD_RATE = 0.25
+#: half-bandwidth (unknowns) of the regularised law's approximate Jacobian: the bodies couple a
+#: contact mostly with its neighbours along the cable (docs/time_domain.md, "The contact solve")
+BAND = 8
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
@@ -68,6 +71,63 @@ def _lu_solve(A, piv, b, m, x):
             continue
         s = b[c]
         for k in range(c + 1, m):
+            s -= A[c, k] * x[k]
+        x[c] = s / A[c, c]
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def _band_lu_factor(A, m, b, piv):
+    """LU factors, in place, of the band of A[:m, :m] within b of its diagonal (the entries outside
+    it taken as zero), by Gaussian elimination with partial pivoting among the b rows below the
+    diagonal (LAPACK's dgbtrf scheme: the pivots widen the upper band of U to 2b). Storage and pivots
+    as :func:`_lu_factor`'s; solve with :func:`_band_lu_solve`. m b^2 operations against the m^3/3
+    of the dense factors: written here for the same reason as :func:`_lu_factor`."""
+    for i in range(m):  # the strip the pivots can fill in, zero as the band model has it
+        for k in range(i + b + 1, min(i + 2 * b + 1, m)):
+            A[i, k] = 0.0
+    for c in range(m):
+        last = min(c + b, m - 1)  # the last row with an entry in column c
+        right = min(c + 2 * b, m - 1)  # the last column of U's row c
+        p = c
+        big = abs(A[c, c])
+        for r in range(c + 1, last + 1):
+            if abs(A[r, c]) > big:
+                big = abs(A[r, c])
+                p = r
+        piv[c] = p
+        if big == 0.0:
+            continue
+        if p != c:
+            for k in range(c, right + 1):
+                A[c, k], A[p, k] = A[p, k], A[c, k]
+        inv = 1.0 / A[c, c]
+        lo, hi = np.uint64(c + 1), np.uint64(right + 1)
+        for r in range(c + 1, last + 1):
+            f = A[r, c] * inv
+            A[r, c] = f
+            if f != 0.0:
+                for k in range(lo, hi):
+                    A[r, k] -= f * A[c, k]
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def _band_lu_solve(A, piv, b, rhs, m, x):
+    """Solve with the factors of :func:`_band_lu_factor` (half-bandwidth b): x = A^-1 rhs[:m]
+    (rhs is overwritten); an exactly zero pivot leaves its unknown at zero."""
+    for c in range(m):
+        p = piv[c]
+        if p != c:
+            rhs[c], rhs[p] = rhs[p], rhs[c]
+        for r in range(c + 1, min(c + b, m - 1) + 1):
+            f = A[r, c]
+            if f != 0.0:
+                rhs[r] -= f * rhs[c]
+    for c in range(m - 1, -1, -1):
+        if A[c, c] == 0.0:
+            x[c] = 0.0
+            continue
+        s = rhs[c]
+        for k in range(c + 1, min(c + 2 * b, m - 1) + 1):
             s -= A[c, k] * x[k]
         x[c] = s / A[c, c]
 
@@ -270,7 +330,7 @@ def _residual(
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def newton_for_fixed_modes(
     Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, dx, y, Ne, Nd, xt,
-    mu, vreg, piv,
+    mu, vreg, piv, band,
 ):  # fmt: skip
     """Contact forces at the end of a Newmark step for fixed stick/slip modes and active set, as
     the unknowns x of :func:`unknowns_from_forces` (N).
@@ -298,7 +358,11 @@ def newton_for_fixed_modes(
     the residual at least CHORD_RATE-fold per iteration (a chord step, r^2 operations against the
     r^3 / 3 of new factors; the Jacobian of 39 unknowns changes little between iterations where the
     contacts slide), and takes new factors otherwise; the converged forces satisfy the same
-    conditions to the same tolerance.
+    conditions to the same tolerance. Its factors are first those of the Jacobian's band within
+    ``band`` unknowns of the diagonal (:func:`_band_lu_factor`, the couplings between contacts
+    farther apart along the cable left out: m band^2 operations instead of m^3 / 3); where new
+    band factors do not cut the residual CHORD_RATE-fold, the iteration goes on with the whole
+    Jacobian's. The approximation is only in the iteration's matrix: the residual is the exact one.
     Returns the number of iterations, negative when not converged; Ne, Nd hold the elastic and
     damping parts of N at the final x. mu (-) and vreg (m/s) enter only the regularised rows; piv
     (int, r) holds the factors' pivots."""
@@ -312,12 +376,20 @@ def newton_for_fixed_modes(
         mu, vreg,
     )  # fmt: skip
     fresh = True  # J holds the Jacobian at x, not yet factored
+    exact = vreg == 0.0 or band >= r - 1  # the whole Jacobian's factors, not its band's
     for it in range(cap):
         for i in range(r):
             R[i] = -R[i]
+        renewed = fresh
         if fresh:
-            _lu_factor(J, r, piv)
-        _lu_solve(J, piv, R, r, dx)
+            if exact:
+                _lu_factor(J, r, piv)
+            else:
+                _band_lu_factor(J, r, band, piv)
+        if exact:
+            _lu_solve(J, piv, R, r, dx)
+        else:
+            _band_lu_solve(J, piv, band, R, r, dx)
         scale = 1e-30
         step = 0.0
         for i in range(r):
@@ -342,6 +414,8 @@ def newton_for_fixed_modes(
         # the switch law takes new factors every iteration; the regularised law keeps them while
         # they converge fast (a full chord step that cut the residual CHORD_RATE-fold)
         fresh = vreg == 0.0 or alpha < 1.0 or r1 > CHORD_RATE * r0
+        if fresh and renewed and not exact:
+            exact = True  # new band factors were not enough: the whole Jacobian's from here on
         r0 = _residual(
             Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, fresh,
             mu, vreg,
