@@ -108,7 +108,7 @@ def belt_run(dt, t_end, nsub):
     chan[1, ja] = -V
     contact = K.ContactArrays(
         Xc, Tc, Xs, np.eye(3)[None].copy(), np.array([10.0]), np.zeros(nn, np.int64), np.zeros(nn, np.int64),
-        np.zeros(nn), np.zeros((nn, 3)), np.zeros(nn), np.zeros(nn), np.zeros(nn), np.zeros(nn),
+        np.zeros(nn), np.zeros((nn, 3)), np.zeros((nn, 3)), np.zeros(nn), np.zeros(nn), np.zeros(nn), np.zeros(nn),
         K.contact_workspace(nn), chan, _coefficient_matrix(dt), np.zeros(1, np.int64),
     )  # fmt: skip
     args = (body_arrays(casing, dt, True, fcs, nsub), body_arrays(cable, dt, True, fcc, nsub), claw, contact)

@@ -16,7 +16,7 @@ from ._step_loop_contract import STICK
 #: the residual reduction per iteration below which the regularised law's Newton keeps its factors
 CHORD_RATE = 0.25
 #: half-bandwidth (unknowns) of the regularised law's approximate Jacobian: the bodies couple a
-#: contact mostly with its neighbours along the cable (docs/time_domain.md, "The contact solve")
+#: contact mostly with its neighbours along the cable (docs/time_domain.md, "Contact", item 5)
 BAND = 8
 
 
