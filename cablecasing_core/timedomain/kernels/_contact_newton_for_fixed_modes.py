@@ -126,8 +126,11 @@ def _band_lu_solve(A, piv, b, rhs, m, x):
         if A[c, c] == 0.0:
             x[c] = 0.0
             continue
+        # the row's terms from its far end in: the chain of subtractions needs x[c + 1], the value
+        # just found, only at its last term, so the processor runs it beside the row before's
+        # (~2 x faster than from the near end, where every row waits for the last)
         s = rhs[c]
-        for k in range(c + 1, min(c + 2 * b, m - 1) + 1):
+        for k in range(min(c + 2 * b, m - 1), c, -1):
             s -= A[c, k] * x[k]
         x[c] = s / A[c, c]
 
@@ -377,6 +380,7 @@ def newton_for_fixed_modes(
     )  # fmt: skip
     fresh = True  # J holds the Jacobian at x, not yet factored
     exact = vreg == 0.0 or band >= r - 1  # the whole Jacobian's factors, not its band's
+    last = 0.0  # the last iteration's step when it was a full one (0: none)
     for it in range(cap):
         for i in range(r):
             R[i] = -R[i]
@@ -411,13 +415,29 @@ def newton_for_fixed_modes(
         if alpha * step <= 1e-12 * max(scale, 1e-30) or r1 <= 1e-13 * max(scale, 1.0):
             its = it + 1  # Ne, Nd already belong to x (the last trial point)
             break
+        if vreg > 0.0 and alpha == 1.0:
+            # a full chord step after a full step contracts at theta = |dx_k| / |dx_k-1| (the
+            # factors of step k-1 kept), so the error left after it is about theta / (1 - theta)
+            # |dx_k| (Hairer and Wanner, Solving ODEs II, IV.8): done when that is within the
+            # tolerance the step test asks of |dx_k| itself
+            if last > 0.0 and not renewed and step < last:
+                theta = step / last
+                if theta / (1.0 - theta) * step <= 1e-12 * max(scale, 1e-30):
+                    its = it + 1
+                    break
+            last = step
+        else:
+            last = 0.0
         # the switch law takes new factors every iteration; the regularised law keeps them while
         # they converge fast (a full chord step that cut the residual CHORD_RATE-fold)
         fresh = vreg == 0.0 or alpha < 1.0 or r1 > CHORD_RATE * r0
         if fresh and renewed and not exact:
             exact = True  # new band factors were not enough: the whole Jacobian's from here on
-        r0 = _residual(
-            Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, fresh,
-            mu, vreg,
-        )  # fmt: skip
+        if fresh:
+            r0 = _residual(
+                Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd,
+                True, mu, vreg,
+            )  # fmt: skip
+        else:
+            r0 = r1  # R, y, Ne and Nd are the last trial's, at x: the same numbers a new call would give
     return its
