@@ -27,7 +27,7 @@ def _band_lu_factor(A, m, b, piv):
     diagonal (LAPACK's dgbtrf scheme: the pivots widen the upper band of U to 2b): the multipliers
     below the diagonal, each in the row's place at its column's step; piv[c] the row swapped with
     row c at column c, which :func:`_band_lu_solve` replays in the same order. m b^2 operations;
-    b = m - 1 is the dense LU (:func:`_lu_factor`). Written here for the few (3 per contact)
+    b = m - 1 is the dense LU. Written here for the few (3 per contact)
     unknowns inside the step loop, where a LAPACK call would cost more than the solve."""
     for i in range(m):  # the strip the pivots can fill in, zero as the band model has it
         for k in range(i + b + 1, min(i + 2 * b + 1, m)):
@@ -88,21 +88,6 @@ def _band_lu_solve(A, piv, b, rhs, m, x, far_first):
             for k in range(c + 1, right + 1):
                 s -= A[c, k] * x[k]
         x[c] = s / A[c, c]
-
-
-@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
-def _lu_factor(A, m, piv):
-    """LU factors of A[:m, :m] by Gaussian elimination with partial pivoting, in place: the band
-    factors of :func:`_band_lu_factor` with the whole matrix as the band (the same operations as
-    the dense elimination)."""
-    _band_lu_factor(A, m, m - 1, piv)
-
-
-@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
-def _lu_solve(A, piv, b, m, x):
-    """Solve with the factors of :func:`_lu_factor`: x = A^-1 b[:m] (b is overwritten), the back
-    substitution from the near end of each row (the switch law's records keep their bits)."""
-    _band_lu_solve(A, piv, m - 1, b, m, x, False)
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
@@ -215,7 +200,7 @@ def _residual(
     rows (m/s) are scaled by 1 / (2/dt W_kk) and touch rows (m) by 1 / W_kk to newtons like them.
     Returns the norm of R (N)."""
     c2 = 2.0 / dt
-    ur = np.uint64(r)  # (the Jacobian's row fills vectorize over unsigned bounds, as in _lu_factor)
+    ur = np.uint64(r)  # (the Jacobian's row fills vectorize over unsigned bounds, as in _band_lu_factor)
     matrix_times_vector(Q, x, r, y)
     norm = 0.0
     for k in range(nk):
@@ -355,15 +340,12 @@ def newton_for_fixed_modes(
         for i in range(r):
             R[i] = -R[i]
         renewed = fresh
+        # the whole Jacobian is the band b = r - 1; its back substitution from the near end of each
+        # row, as the switch law's records have always been computed
+        b = r - 1 if exact else band
         if fresh:
-            if exact:
-                _lu_factor(J, r, piv)
-            else:
-                _band_lu_factor(J, r, band, piv)
-        if exact:
-            _lu_solve(J, piv, R, r, dx)
-        else:
-            _band_lu_solve(J, piv, band, R, r, dx, True)
+            _band_lu_factor(J, r, b, piv)
+        _band_lu_solve(J, piv, b, R, r, dx, not exact)
         scale = 1e-30
         step = 0.0
         for i in range(r):
