@@ -247,7 +247,7 @@ def solve_contact_forces(
     Section 2.1). Pn, Pp (N, nn x 3): each node's contact force at the end of the last step and of
     the one before (zero where the node was not in contact); the regularised law's Newton starts
     from their linear extrapolation, 2 Pn - Pp, where both are nonzero (its forces move smoothly
-    with the step; ~0.8 x the cost of starting from Pn, docs/performance.md), the switch law's from
+    with the step; ~0.8 x the cost of starting from Pn, docs/performance-history.md), the switch law's from
     Pn. Kc, Ks: effective compliances (m/N) over all DOFs of each body (zero rows and
     columns on the prescribed DOFs). par = (gap, r_in, law, k_lin, k_hertz, c_n, mu, v_stick, dt,
     reuse, turn, vreg) (m, m, 0 Hertz / 1 linear / 2 Hunt-Crossley, N/m, N/m^1.5, kg/s or s/m, -, m/s, s,
