@@ -26,7 +26,10 @@ values and the reference's own distance from the next coarser step (what the ref
 open); the same with the paper's switch law at its default settings (the sub-steps around
 stick-slip events, contact.event_substeps): installed_band_max_rel_err_switch against its finest
 plain step (``levels_N``: 7.8125e-8 s), and installed_refined_share_switch (the steps recomputed in
-sub-steps).
+sub-steps); the same with the specimen's own law and a tolerance on the step's local error
+(``contact.event_tolerance`` = 1e-9 m, docs/time_domain.md "A tolerance instead of a bare step"):
+installed_band_max_rel_err_tolerance, installed_refined_share_tolerance, and its cost
+installed_default_over_tolerance_cost (alternating chunks, as the switch law's).
 ``--model`` chooses the model of the accuracy checks and the ensemble below (default: the built-in
 specimen).
 
@@ -209,6 +212,7 @@ print(f"engine_setup_installed_s: {t_setup:.3f} (assembly, factors, the static s
 # settings (the sub-steps around stick-slip events) against the finest plain step of its levels
 # (levels_N), which do not converge (docs/time_domain.md, "How many events there are").
 reference = json.loads((Path(__file__).parent / "installed_reference_levels.json").read_text())
+TOLERANCE = 1e-9  # m: contact.event_tolerance of the *_tolerance lines
 
 
 def installed_band_errors(name, overrides, levels, done=None):
@@ -250,6 +254,11 @@ if not args.speed_only and args.duration == reference["duration_s"]:
         switch = installed_band_errors("_switch", {"contact.friction_law": "switch"}, reference["levels_N"])
         share = switch.refined_steps / (args.duration / DT)
         print(f"installed_refined_share_switch: {share:.3f} (steps recomputed in sub-steps with the switch law)")
+    # a tolerance on the step's local error (docs/time_domain.md, "A tolerance instead of a bare step")
+    tolerant = installed_band_errors("_tolerance", {"contact.event_tolerance": TOLERANCE}, levels)
+    share = tolerant.tolerance_steps / (args.duration / DT)
+    print(f"installed_tolerance_m: {TOLERANCE:g} (contact.event_tolerance of the _tolerance lines)")
+    print(f"installed_refined_share_tolerance: {share:.3f} (steps recomputed for their estimated local error)")
 
 # What bounds rtf_installed whatever the contact solve costs (docs/performance.md, "What bounds
 # rtf_installed, and the decision on issue 23's speed goals"): the installed step without contact
@@ -342,8 +351,9 @@ variants = {
     "default": Engine(installed, dt=DT, ledger=False),
     "switch": Engine(switch, dt=DT, ledger=False),
     "switch_plain": Engine(switch.with_overrides({"contact.event_substeps": 1}), dt=DT, ledger=False),
+    "tolerance": Engine(installed.with_overrides({"contact.event_tolerance": TOLERANCE}), dt=DT, ledger=False),
 }
-cost = {"switch": [], "switch_plain": []}
+cost = {"switch": [], "switch_plain": [], "tolerance": []}
 for k in range(int(round(min(args.duration, 0.3) / chunk))):
     walls = {}
     for name in list(variants) if k % 2 == 0 else list(variants)[::-1]:
@@ -355,6 +365,7 @@ for k in range(int(round(min(args.duration, 0.3) / chunk))):
 for name, what in (
     ("switch", "the switch law with its sub-steps"),
     ("switch_plain", "the switch law's 1e-5 s without sub-steps"),
+    ("tolerance", "its own law with contact.event_tolerance = 1e-9 m"),
 ):
     q = np.percentile(cost[name][min(5, len(cost[name]) // 2) :], [25, 50, 75])  # without the first 0.05 s
     print(f"installed_default_over_{name}_cost: {q[1]:.2f} (quartiles {q[0]:.2f}-{q[2]:.2f}; against {what})")

@@ -585,10 +585,17 @@ class CableCasing(Fmi2Slave):
                     "A friction law whose limit exists)"
                 )
             else:
+                events = eng.refined_steps - eng.tolerance_steps
                 msg = (
-                    f"contact events: {eng.refined_steps} of {steps} steps of solver.dt = {eng.dt!r} s recomputed in "
+                    f"contact events: {events} of {steps} steps of solver.dt = {eng.dt!r} s recomputed in "
                     f"{eng.event_substeps} sub-steps (contact.event_substeps; "
                     "docs/time_domain.md, Events inside the step)"
+                )
+            if eng.event_tolerance > 0.0:
+                msg += (
+                    f"; {eng.tolerance_steps} steps recomputed in {eng.event_substeps} sub-steps for their estimated "
+                    f"local error (contact.event_tolerance = {eng.event_tolerance!r} m); the largest estimated in a "
+                    f"step kept: {eng.max_local_error:.3g} m"
                 )
             self.log(msg, Fmi2Status.ok)
         return OK

@@ -179,11 +179,22 @@ def add_parser(sub):
 
 def _refined(solver: dict) -> str:
     """', N of them recomputed in k sub-steps around stick-slip events' when any were, ', friction
-    regularised (no stick-slip events)' with that law (the run's ``SimulationResult.solver``;
-    docs/time_domain.md, "Events inside the step", "A friction law whose limit exists")."""
+    regularised (no stick-slip events)' with that law, and with contact.event_tolerance how many
+    steps it recomputed and the largest local error estimated (the run's
+    ``SimulationResult.solver``; docs/time_domain.md, "Events inside the step", "A friction law
+    whose limit exists", "A tolerance instead of a bare step")."""
+    tol = solver.get("event_tolerance", 0.0)
+    n_tol = solver.get("tolerance_steps", 0)
+    n_events = solver.get("refined_steps", 0) - n_tol
     if solver.get("friction_law") == "regularized":
-        return ", friction regularised (no stick-slip events)"
-    n = solver.get("refined_steps", 0)
-    if not n:
-        return ""
-    return f", {n} of them recomputed in {solver['event_substeps']} sub-steps around stick-slip events"
+        text = ", friction regularised (no stick-slip events)"
+    elif n_events:
+        text = f", {n_events} of them recomputed in {solver['event_substeps']} sub-steps around stick-slip events"
+    else:
+        text = ""
+    if tol > 0.0:
+        text += (
+            f", {n_tol} recomputed in {solver['event_substeps']} sub-steps for contact.event_tolerance = {tol:g} m "
+            f"(largest local error estimated in a step kept {solver['max_local_error']:.3g} m)"
+        )
+    return text

@@ -131,8 +131,12 @@ class Engine:
             )
         # the damper's coefficient: c_n (kg/s, Eq. 16), or Hunt-Crossley's 3/2 alpha (s/m)
         self.c_n = 1.5 * c["hunt_crossley_alpha"] if c["law"] == "hunt_crossley" else c["damping"]
-        #: sub-steps of a step in which a contact switches between stick and slip (1: none)
-        self.event_substeps = int(c["event_substeps"]) if self.vreg == 0.0 else 1  # (regularised: no events)
+        #: m: a step whose estimated local error exceeds this is recomputed in sub-steps (0: off;
+        #: ``contact.event_tolerance``)
+        self.event_tolerance = float(c["event_tolerance"])
+        #: sub-steps of a step recomputed around a stick-slip event or for its local error (1: none;
+        #: the regularised law has no stick-slip events, so it takes them only with a tolerance)
+        self.event_substeps = int(c["event_substeps"]) if self.vreg == 0.0 or self.event_tolerance > 0.0 else 1
         #: the sub-steps of a recomputed step after the first keep the Delassus matrix while the same
         #: contacts are closed (docs/time_domain.md, "Events inside the step"); False recomputes it
         self.reuse_delassus = True
@@ -202,6 +206,19 @@ class Engine:
         """Steps recomputed in :attr:`event_substeps` sub-steps around a stick-slip event since
         the start (docs/time_domain.md, "Events inside the step")."""
         return int(self._info[K.INFO_REFINED_STEPS])
+
+    @property
+    def tolerance_steps(self) -> int:
+        """Of :attr:`refined_steps`, those recomputed because their estimated local error exceeded
+        :attr:`event_tolerance` (docs/time_domain.md, "A tolerance instead of a bare step")."""
+        return int(self._info[K.INFO_TOLERANCE_STEPS])
+
+    @property
+    def max_local_error(self) -> float:
+        """m: the largest estimated local error of a step or sub-step kept since the start (only
+        with :attr:`event_tolerance` > 0, else 0): dt^2 / 12 max |a_(n+1) - a_n| over the bodies'
+        translations."""
+        return float(self._info[K.INFO_MAX_LOCAL_ERROR])
 
     # -------------------------------------------------------------------------------- state
     def _install(self, model):
@@ -369,7 +386,7 @@ class Engine:
         return K.ContactLaw(
             self.contact, self.gap, self.r_in, self.r_cable, self.law, self.k_lin, self.k_hertz, self.c_n, self.mu,
             self.v_stick, self.event_substeps if self.contact else 1, self.reuse_delassus,
-            self.vreg,
+            self.vreg, self.event_tolerance,
         )  # fmt: skip
 
     def _raise_for_status(self, status, up, vp, ap, times):

@@ -249,15 +249,21 @@ def simulate(
 
 
 def solver_report(eng: Engine, steps: int) -> dict:
-    """What the engine's step loop did over ``steps`` steps: {steps, event_substeps, refined_steps,
-    newton_iterations, unconverged_steps} (counts) and friction_law ("switch" or "regularized":
-    with the latter there are no stick-slip events, so no step is recomputed)."""
+    """What the engine's step loop did over ``steps`` steps: {steps, event_substeps, refined_steps
+    (around events or for the tolerance), tolerance_steps (for the tolerance), newton_iterations,
+    unconverged_steps} (counts), friction_law ("switch" or "regularized": with the latter there
+    are no stick-slip events), event_tolerance (m, 0: off) and max_local_error (m: the largest
+    estimated local error of a step or sub-step kept, with a tolerance; docs/time_domain.md, "A
+    tolerance instead of a bare step")."""
     its, _, failed = (int(x) for x in eng.solver_counts)
     return {
         "friction_law": eng.model.contact["friction_law"],
         "steps": int(steps),
         "event_substeps": eng.event_substeps,
         "refined_steps": eng.refined_steps,
+        "event_tolerance": eng.event_tolerance,
+        "tolerance_steps": eng.tolerance_steps,
+        "max_local_error": eng.max_local_error,
         "newton_iterations": its,
         "unconverged_steps": failed,
     }

@@ -52,6 +52,7 @@ def core(model, rows, h=H):
         rec.accept(motion)
         out[k] = eng.output_values()
     core.refined_steps = eng.refined_steps  # (the last run's, for the FMU's log line)
+    core.tolerance_steps = eng.tolerance_steps
     return first, out
 
 
@@ -100,6 +101,25 @@ def test_the_switch_friction_law_through_the_fmu_is_the_core_s(fmu, tmp_path, fm
     steps = len(rows) * round(H / 1e-5)
     events = f"contact events: {core.refined_steps} of {steps} steps of solver.dt = 1e-05 s recomputed in 8 sub-steps"
     assert core.refined_steps > 0 and any(events in line for line in res["log"]), res["log"][-3:]
+
+
+def test_the_event_tolerance_through_the_fmu_is_the_core_s(fmu, tmp_path, fmu_driver):
+    """contact.event_tolerance is a Real parameter in m (docs/time_domain.md, "A tolerance instead
+    of a bare step"): the installed specimen with 1e-9 m gives the core's outputs bit for bit, and
+    the steps it recomputed, as many as the core's, are in the log at fmi2Terminate."""
+    from fmpy import read_model_description
+
+    var = {v.name: v for v in read_model_description(str(fmu)).modelVariables}["contact.event_tolerance"]
+    assert (var.type, var.causality, var.unit, float(var.start)) == ("Real", "parameter", "m", 0.0)
+    model = cc.load_model("installed").with_overrides({"contact.event_tolerance": 1e-9})
+    rows = table(model, 0.01)
+    _, ref = core(model, rows)
+    params = {"model_file": "installed", "contact.event_tolerance": 1e-9}
+    res = fmu_driver.run(tmp_path, "run", fmu, params=params, inputs=rows, h=H, outputs=list(OUTPUTS))
+    assert np.all(res["status"] == 0) and int(res["init_status"]) == 0
+    np.testing.assert_array_equal(res["out"], ref)
+    line = f"; {core.tolerance_steps} steps recomputed in 8 sub-steps for their estimated local error"
+    assert core.tolerance_steps > 0 and any(line in x for x in res["log"]), res["log"][-3:]
 
 
 def test_a_contact_run_does_not_depend_on_the_communication_step(fmu, tmp_path, fmu_driver):

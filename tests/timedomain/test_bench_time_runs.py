@@ -16,7 +16,8 @@ def test_bench_time_prints_the_installed_figures():
     out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
     values = dict(line.split(": ", 1) for line in out.splitlines() if ": " in line)
     names = ("rtf_installed", "mean_active_contacts_installed", "static_state_s", "static_cli_wall_s")
-    for name in (*names, "installed_default_over_switch_cost", "installed_default_over_switch_plain_cost"):
+    costs = ("installed_default_over_switch_cost", "installed_default_over_switch_plain_cost")
+    for name in (*names, *costs, "installed_default_over_tolerance_cost"):
         assert name in values, name
     # the installed run starts from the static state's 12 closed contacts, and the fade-in of the
     # first 0.01 s opens none of them all at once: at least 10 nodes in contact on average

@@ -96,7 +96,7 @@ def belt_run(dt, t_end, nsub):
     nn = 2
     fcs, fcc = np.zeros(12), np.zeros(12)
     claw = K.ContactLaw(
-        True, GAP, GAP, 1e-3, CONTACT_LAWS.index("linear"), K_LIN, 0.0, 0.0, MU, V_STICK, nsub, True, 0.0
+        True, GAP, GAP, 1e-3, CONTACT_LAWS.index("linear"), K_LIN, 0.0, 0.0, MU, V_STICK, nsub, True, 0.0, 0.0
     )
     n = int(round(t_end / dt))
     t = dt * np.arange(1, n + 1)

@@ -40,10 +40,12 @@ from ._step_loop_contract import (
     INFO_INPUT_CHANNEL,
     INFO_INPUT_KIND,
     INFO_INPUT_ROW,
+    INFO_MAX_LOCAL_ERROR,
     INFO_NEWTON_ITERATIONS,
     INFO_NODE,
     INFO_REFINED_STEPS,
     INFO_TIME,
+    INFO_TOLERANCE_STEPS,
     INFO_UNCONVERGED_STEPS,
     INFO_VALUE,
     LEDGER_CONTACT_WORK,
@@ -117,6 +119,22 @@ def _body_ledger(
         for i in range(n):
             z[i] = Vo[i] + V[i]
         ledger[LEDGER_RAYLEIGH_DISSIPATION] += 0.25 * dt * dia_quadratic(Md, Kd, alpha, beta, y, t)
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def local_error_estimate(f0, nf, A, Ao, h):
+    """Zienkiewicz and Xie's estimate of the local error (m) of a Newmark step of h (s) with
+    beta = 1/4: (beta - 1/6) h^2 max |a_(n+1) - a_n| = h^2 / 12 max |A - Ao| over the free
+    translations (DOFs 0-2 of each node's six) among the free DOFs f0 .. f0 + nf - 1. The step's
+    local error in displacement is (beta - 1/6) h^3 d3u/dt3 + O(h^4), and (A - Ao) / h is d3u/dt3
+    to O(h) (O. C. Zienkiewicz, Y. M. Xie, Earthquake Eng. Struct. Dyn. 20 (1991) 871-887)."""
+    m = 0.0
+    for i in range(f0, f0 + nf):
+        if i % 6 < 3:
+            d = abs(A[i] - Ao[i])
+            if d > m:
+                m = d
+    return h * h / 12.0 * m
 
 
 @njit(**NO_RT)
@@ -259,6 +277,10 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     # at the step's start, and the sub-steps' support motion (quintic Hermite from chan to the row)
     nsub = law.nsub
     refine = contact_on and nsub > 1
+    # the switch law's stick-slip events; the regularised law has none (its STICK/SLIP are a label)
+    switch_events = refine and law.vreg == 0.0
+    # the tolerance on the local error (ContactLaw.tol): a step whose estimate exceeds it is recomputed
+    tol = law.tol if refine else 0.0
     hf = dt / max(nsub, 1)
     turnf = EVENT_TURN / max(nsub, 1)  # the turn a sub-step allows (rad)
     cparf = contact_parameters(law, hf, False, turnf)
@@ -334,7 +356,7 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
                     fcc_new, fcs_new, diag, ws,
                 )  # fmt: skip
                 event = False
-                if refine and (lev == 0 or j == nrep - 1):
+                if switch_events and (lev == 0 or j == nrep - 1):
                     event = diag[DIAG_SLOW_SLIP] > 0.0 or _friction_event(state0, state)
                 if lev == 1 and j == nrep - 1:
                     again = event
@@ -350,15 +372,11 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
                     info[INFO_REFINED_STEPS] += 1
                     lev, nrep, j = 1, nsub, 0
                     continue
-                info[INFO_UNCONVERGED_STEPS] += diag[DIAG_NEWTON_FAILED]
                 if nact > 0:
                     if s_on:
                         respond_by_block_solve(sDc, sLc, sLTc, sg0, sng, sf0, snf, spres, fcs_new, sr, sU)
                     if c_on:
                         respond_by_block_solve(cDc, cLc, cLTc, cg0, cng, cf0, cnf, cpres, fcc_new, cr, cU)
-                for i in range(nn):
-                    if state[i] != OPEN:
-                        contact_time[i] += h
                 if diag[DIAG_MAX_PENETRATION] > r_cable:
                     info[INFO_TIME], info[INFO_VALUE] = t, diag[DIAG_MAX_PENETRATION]
                     for i in range(nn):
@@ -367,12 +385,38 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
                     return ERR_PENETRATION
             if s_on:
                 finish(sf0, snf, sU, sV, sA, sUo, sVo, sAo, h)
+            if c_on:
+                finish(cf0, cnf, cU, cV, cA, cUo, cVo, cAo, h)
+            if tol > 0.0:
+                est = 0.0
+                if s_on:
+                    est = local_error_estimate(sf0, snf, sA, sAo, h)
+                if c_on:
+                    est = max(est, local_error_estimate(cf0, cnf, cA, cAo, h))
+                if lev == 0 and est > tol:
+                    # recompute the step in nsub sub-steps, as for an event (above)
+                    _restore_step_start(sU, sV, sA, sUo, sVo, sAo, smb, smbo, s_on)
+                    _restore_step_start(cU, cV, cA, cUo, cVo, cAo, cmb, cmbo, c_on)
+                    _copy_contact_memory(
+                        state0, elem0, xi0, vrel0, Nn0, gn0, Pn0, Pp0, state, elem, xi_arr, vrel, Nn, gn, Pn, Pp
+                    )
+                    _substep_motion(chan, up, vp, ap, k, subG, subrows, subc, subt, subm, dt, hf, nsub)
+                    info[INFO_REFINED_STEPS] += 1
+                    info[INFO_TOLERANCE_STEPS] += 1
+                    lev, nrep, j = 1, nsub, 0
+                    continue
+                info[INFO_MAX_LOCAL_ERROR] = max(info[INFO_MAX_LOCAL_ERROR], est)
+            if contact_on:
+                info[INFO_UNCONVERGED_STEPS] += diag[DIAG_NEWTON_FAILED]
+                for i in range(nn):
+                    if state[i] != OPEN:
+                        contact_time[i] += h
+            if s_on:
                 reactions(ssup, ssup_lo, salpha, sbeta, sU, sV, sA, fcs_new, spres, spslot, reac_new, 0)
                 if s_loaded:
                     load_reactions(sfext, spres, spslot, reac_new, 0)
                 mount_forces(smi, smKC, smb, sU, sV, smF, reac_new, 0)
             if c_on:
-                finish(cf0, cnf, cU, cV, cA, cUo, cVo, cAo, h)
                 reactions(csup, csup_lo, calpha, cbeta, cU, cV, cA, fcc_new, cpres, cpslot, reac_new, 12)
                 if c_loaded:
                     load_reactions(cfext, cpres, cpslot, reac_new, 12)

@@ -36,8 +36,10 @@ INFO_INPUT_KIND = 2  #   0, 1, 2 for displacement, velocity, acceleration
 INFO_NEWTON_ITERATIONS = 3  # contact Newton iterations, summed over steps
 INFO_ACTIVE_SET_PASSES = 4  # stick/slip and active-set passes, summed over steps
 INFO_UNCONVERGED_STEPS = 5  # steps in which a contact Newton did not converge
-INFO_REFINED_STEPS = 6  # steps recomputed in sub-steps around a contact event (ContactLaw.nsub)
-INFO_SIZE = 7
+INFO_REFINED_STEPS = 6  # steps recomputed in sub-steps (ContactLaw.nsub): events and the tolerance's
+INFO_TOLERANCE_STEPS = 7  # of them, those recomputed for their estimated local error (ContactLaw.tol)
+INFO_MAX_LOCAL_ERROR = 8  # m: the largest local error estimated for a (sub-)step kept (with ContactLaw.tol > 0)
+INFO_SIZE = 9
 
 # the diag array of one contact solve (one step)
 DIAG_MAX_PENETRATION = 0  # m
@@ -88,8 +90,12 @@ BodyArrays = namedtuple(
 #: (1: never; ``contact.event_substeps``, docs/time_domain.md "Events inside the step"); reuse: its
 #: sub-steps after the first keep the Delassus matrix while the same contacts are closed.
 #: vreg (m/s): 0 for the switch law of Section 2.1; > 0 for Coulomb's law regularised over that
-#: slip speed (``contact.friction_law = "regularized"``, docs/time_domain.md), no events, nsub 1.
-ContactLaw = namedtuple("ContactLaw", "on gap r_in r_cable law k_lin k_hertz c_n mu v_stick nsub reuse vreg")
+#: slip speed (``contact.friction_law = "regularized"``, docs/time_domain.md), no stick-slip events.
+#: tol (m): 0, or a step whose estimated local error in displacement, dt^2 / 12 max |a_(n+1) - a_n|
+#: over the translations of both bodies (Zienkiewicz and Xie's estimate for beta = 1/4), exceeds it
+#: is recomputed as nsub sub-steps too (``contact.event_tolerance``, docs/time_domain.md "A tolerance
+#: instead of a bare step").
+ContactLaw = namedtuple("ContactLaw", "on gap r_in r_cable law k_lin k_hertz c_n mu v_stick nsub reuse vreg tol")
 
 #: The contact's geometry at rest and its memory: Xc, Tc (cable nodes and unit tangents), Xs, Rs,
 #: Ls (casing nodes, element frames and lengths); per cable node: state (OPEN/STICK/SLIP), elem
