@@ -342,6 +342,7 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
                     cMd, cDc, cLc, cLTc, cg0, cng, cf0, cnf, calpha, cbeta, cU, cV, cA, cpres, cpchan, ccpl_i,
                     ccpl_v, mu_, mv_, ma_, row, h, cy1, cr, cmi, cmKC, cmb,
                 )  # fmt: skip
+            back = False  # the step taken back and recomputed in sub-steps
             # the constant loads at rest (an installed model): the predictor's response to them
             if s_on and s_loaded:
                 add_into(sU, suc)
@@ -360,52 +361,48 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
                     event = diag[DIAG_SLOW_SLIP] > 0.0 or _friction_event(state0, state)
                 if lev == 1 and j == nrep - 1:
                     again = event
-                if lev == 0 and event:
-                    # recompute the step in nsub sub-steps: back to its start (the bodies' state is
-                    # in the *o copies, the supports' in smbo, cmbo), the sub-steps' motion
-                    _restore_step_start(sU, sV, sA, sUo, sVo, sAo, smb, smbo, s_on)
-                    _restore_step_start(cU, cV, cA, cUo, cVo, cAo, cmb, cmbo, c_on)
-                    _copy_contact_memory(
-                        state0, elem0, xi0, vrel0, Nn0, gn0, Pn0, Pp0, state, elem, xi_arr, vrel, Nn, gn, Pn, Pp
-                    )
-                    _substep_motion(chan, up, vp, ap, k, subG, subrows, subc, subt, subm, dt, hf, nsub)
-                    info[INFO_REFINED_STEPS] += 1
-                    lev, nrep, j = 1, nsub, 0
-                    continue
-                if nact > 0:
-                    if s_on:
-                        respond_by_block_solve(sDc, sLc, sLTc, sg0, sng, sf0, snf, spres, fcs_new, sr, sU)
-                    if c_on:
-                        respond_by_block_solve(cDc, cLc, cLTc, cg0, cng, cf0, cnf, cpres, fcc_new, cr, cU)
-                if diag[DIAG_MAX_PENETRATION] > r_cable:
-                    info[INFO_TIME], info[INFO_VALUE] = t, diag[DIAG_MAX_PENETRATION]
-                    for i in range(nn):
-                        if gn[i] == diag[DIAG_MAX_PENETRATION]:
-                            info[INFO_NODE] = i
-                    return ERR_PENETRATION
-            if s_on:
-                finish(sf0, snf, sU, sV, sA, sUo, sVo, sAo, h)
-            if c_on:
-                finish(cf0, cnf, cU, cV, cA, cUo, cVo, cAo, h)
-            if tol > 0.0:
-                est = 0.0
+                back = lev == 0 and event
+                if not back:
+                    if nact > 0:
+                        if s_on:
+                            respond_by_block_solve(sDc, sLc, sLTc, sg0, sng, sf0, snf, spres, fcs_new, sr, sU)
+                        if c_on:
+                            respond_by_block_solve(cDc, cLc, cLTc, cg0, cng, cf0, cnf, cpres, fcc_new, cr, cU)
+                    if diag[DIAG_MAX_PENETRATION] > r_cable:
+                        info[INFO_TIME], info[INFO_VALUE] = t, diag[DIAG_MAX_PENETRATION]
+                        for i in range(nn):
+                            if gn[i] == diag[DIAG_MAX_PENETRATION]:
+                                info[INFO_NODE] = i
+                        return ERR_PENETRATION
+            if not back:
                 if s_on:
-                    est = local_error_estimate(sf0, snf, sA, sAo, h)
+                    finish(sf0, snf, sU, sV, sA, sUo, sVo, sAo, h)
                 if c_on:
-                    est = max(est, local_error_estimate(cf0, cnf, cA, cAo, h))
-                if lev == 0 and est > tol:
-                    # recompute the step in nsub sub-steps, as for an event (above)
-                    _restore_step_start(sU, sV, sA, sUo, sVo, sAo, smb, smbo, s_on)
-                    _restore_step_start(cU, cV, cA, cUo, cVo, cAo, cmb, cmbo, c_on)
-                    _copy_contact_memory(
-                        state0, elem0, xi0, vrel0, Nn0, gn0, Pn0, Pp0, state, elem, xi_arr, vrel, Nn, gn, Pn, Pp
-                    )
-                    _substep_motion(chan, up, vp, ap, k, subG, subrows, subc, subt, subm, dt, hf, nsub)
-                    info[INFO_REFINED_STEPS] += 1
-                    info[INFO_TOLERANCE_STEPS] += 1
-                    lev, nrep, j = 1, nsub, 0
-                    continue
-                info[INFO_MAX_LOCAL_ERROR] = max(info[INFO_MAX_LOCAL_ERROR], est)
+                    finish(cf0, cnf, cU, cV, cA, cUo, cVo, cAo, h)
+                if tol > 0.0:
+                    est = 0.0
+                    if s_on:
+                        est = local_error_estimate(sf0, snf, sA, sAo, h)
+                    if c_on:
+                        est = max(est, local_error_estimate(cf0, cnf, cA, cAo, h))
+                    if lev == 0 and est > tol:
+                        back = True
+                        info[INFO_TOLERANCE_STEPS] += 1
+                    else:
+                        info[INFO_MAX_LOCAL_ERROR] = max(info[INFO_MAX_LOCAL_ERROR], est)
+            if back:
+                # recompute the step in nsub sub-steps (an event, or a local error above the
+                # tolerance): back to its start (the bodies' state is in the *o copies, the
+                # supports' in smbo, cmbo), the contact memory from its copy, the sub-steps' motion
+                _restore_step_start(sU, sV, sA, sUo, sVo, sAo, smb, smbo, s_on)
+                _restore_step_start(cU, cV, cA, cUo, cVo, cAo, cmb, cmbo, c_on)
+                _copy_contact_memory(
+                    state0, elem0, xi0, vrel0, Nn0, gn0, Pn0, Pp0, state, elem, xi_arr, vrel, Nn, gn, Pn, Pp
+                )
+                _substep_motion(chan, up, vp, ap, k, subG, subrows, subc, subt, subm, dt, hf, nsub)
+                info[INFO_REFINED_STEPS] += 1
+                lev, nrep, j = 1, nsub, 0
+                continue
             if contact_on:
                 info[INFO_UNCONVERGED_STEPS] += diag[DIAG_NEWTON_FAILED]
                 for i in range(nn):

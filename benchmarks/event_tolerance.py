@@ -1,4 +1,4 @@
-"""What a tolerance on the step's local error buys on the installed specimen (contact.event_tolerance;
+"""What a tolerance on the step's local error buys on a built-in specimen (contact.event_tolerance;
 docs/time_domain.md, "A tolerance instead of a bare step"), against uniformly shorter steps.
 
 For each setting: record_err_<name> (casing.B.Fz over the first --early s, on the 1e-5 s grid,
@@ -7,7 +7,7 @@ before the contact response decorrelates), refined_share_<name> (steps recompute
 and cost_<name> (the engine's wall time over the plain 1e-5 s step's, median of 0.01 s chunks over
 --duration s, every setting alternating in one process, so robust to the machine's drift; with the
 quartiles).
-Run: .venv/bin/python benchmarks/installed_tolerance.py [--duration 0.4] [--early 0.05]
+Run: .venv/bin/python benchmarks/event_tolerance.py [--model installed] [--duration 0.4] [--early 0.05]
 """
 
 import argparse
@@ -21,6 +21,7 @@ from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion
 
 p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+p.add_argument("--model", default="installed", help="a built-in specimen (installed, default) or a model file")
 p.add_argument("--duration", type=float, default=0.4, help="s of the cost comparison")
 p.add_argument("--early", type=float, default=0.05, help="s of the record compared with the reference")
 p.add_argument("--reference-dt", type=float, default=3.125e-7, help="s: the uniform step of the reference")
@@ -28,7 +29,7 @@ args = p.parse_args()
 
 DT = 1e-5
 FZ = SUPPORT_OUTPUTS.index("casing.B.Fz")
-installed = cc.load_model("installed")
+specimen = cc.load_model(args.model)
 # name: (time step s, contact.event_tolerance m)
 SETTINGS = {
     "plain": (DT, 0.0),
@@ -43,7 +44,7 @@ SETTINGS = {
 
 
 def engine(dt, tol):
-    model = installed.with_overrides({"contact.event_tolerance": tol})
+    model = specimen.with_overrides({"contact.event_tolerance": tol})
     return Engine(model, dt=dt, ledger=False, record=True), scenario_motion(model, dt=dt)
 
 
