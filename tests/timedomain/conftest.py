@@ -33,6 +33,36 @@ def line_plane_intersection(ia, ib, p0, p1, p2):
     return tuple(np.linalg.solve(A, ia - p0))
 
 
+def run_cut_and_resumed(model):
+    """The model's scenario over 0.02 s at 1e-5 s three ways, for the bitwise-reproducibility tests:
+    (whole: one call, steps: 200 calls of 1e-4 s (the FMU's), resumed: the second half from
+    ``get_state`` of the first), all with the motion on the exact grid (the calls' start times add
+    up in floating point)."""
+    from cablecasing_core.timedomain.engine import Engine
+    from cablecasing_core.timedomain.scenario import scenario_motion
+
+    grid = scenario_motion(model, dt=1e-5)
+    mo = lambda t: grid(np.round(t / 1e-5) * 1e-5)  # noqa: E731
+    whole = Engine(model, ledger=False, record=True)
+    whole.advance(0.02, mo)
+    steps = Engine(model, ledger=False, record=True)
+    for _ in range(100):
+        steps.advance(1e-4, mo)
+    mid = steps.get_state()
+    for _ in range(100):
+        steps.advance(1e-4, mo)
+    resumed = Engine(model, ledger=False)
+    resumed.set_state(mid)
+    resumed.advance(0.01, mo)
+    return whole, steps, resumed
+
+
+@pytest.fixture(scope="session")
+def cut_and_resumed():
+    """:func:`run_cut_and_resumed`, for the tests of a run's bitwise reproducibility."""
+    return run_cut_and_resumed
+
+
 @pytest.fixture(scope="session")
 def probes():
     """``probes.search_casing``, ``probes.casing_point``, ``probes.line_plane_intersection``."""

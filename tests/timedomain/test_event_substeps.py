@@ -51,24 +51,12 @@ def test_substeps_give_the_fine_steps_trajectory_through_stick_and_slip(installe
     assert abs(e["residual"]) < 0.01 * e["support_work"]  # the ledger closes with sub-steps
 
 
-def test_substeps_are_the_same_in_one_call_or_in_communication_steps(installed):
+def test_substeps_are_the_same_in_one_call_or_in_communication_steps(installed, cut_and_resumed):
     """The sub-steps' motion starts from the supports' state and a step that ends in its sub-steps
     with an event on makes the next start in them: both are engine state, so a run cut into 1e-4 s
     calls (the FMU's) or restored from get_state is the same to the bit as one call. (The motion is
     evaluated on the exact grid: the calls' start times add up in floating point.)"""
-    grid = scenario_motion(installed, dt=1e-5)
-    mo = lambda t: grid(np.round(t / 1e-5) * 1e-5)  # noqa: E731
-    whole = Engine(installed, ledger=False, record=True)
-    whole.advance(0.02, mo)
-    steps = Engine(installed, ledger=False, record=True)
-    for _ in range(100):
-        steps.advance(1e-4, mo)
-    mid = steps.get_state()
-    for _ in range(100):
-        steps.advance(1e-4, mo)
-    resumed = Engine(installed, ledger=False)
-    resumed.set_state(mid)
-    resumed.advance(0.01, mo)
+    whole, steps, resumed = cut_and_resumed(installed)
     assert whole.refined_steps > 0
     np.testing.assert_array_equal(whole.history()["support_forces"], steps.history()["support_forces"])
     np.testing.assert_array_equal(whole.output_values(), resumed.output_values())

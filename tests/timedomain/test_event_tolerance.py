@@ -79,24 +79,12 @@ def test_the_tolerance_brings_the_installed_record_to_a_fine_steps_at_a_fraction
 
 
 @pytest.mark.slow
-def test_a_run_with_a_tolerance_is_the_same_in_one_call_or_in_communication_steps():
+def test_a_run_with_a_tolerance_is_the_same_in_one_call_or_in_communication_steps(cut_and_resumed):
     """The tolerance's decisions depend only on the step's own state, so a run cut into the FMU's
     1e-4 s calls, or resumed from get_state, is the same to the bit as one call (the motion
     evaluated on the exact grid: the calls' start times add up in floating point)."""
     model = cc.load_model("installed").with_overrides({"contact.event_tolerance": 1e-9})
-    grid = scenario_motion(model, dt=1e-5)
-    mo = lambda t: grid(np.round(t / 1e-5) * 1e-5)  # noqa: E731
-    whole = Engine(model, ledger=False, record=True)
-    whole.advance(0.02, mo)
-    steps = Engine(model, ledger=False, record=True)
-    for _ in range(100):
-        steps.advance(1e-4, mo)
-    mid = steps.get_state()
-    for _ in range(100):
-        steps.advance(1e-4, mo)
-    resumed = Engine(model, ledger=False)
-    resumed.set_state(mid)
-    resumed.advance(0.01, mo)
+    whole, steps, resumed = cut_and_resumed(model)
     assert whole.tolerance_steps > 0
     np.testing.assert_array_equal(whole.history()["support_forces"], steps.history()["support_forces"])
     np.testing.assert_array_equal(whole.output_values(), resumed.output_values())
