@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .helptext import key_help
+from .assignments import with_assignments
+from .helptext import ASSIGNMENT_HELP, key_help
 
 OUT_SUFFIXES = (".csv", ".npz", ".uff")
 
@@ -16,7 +17,7 @@ def cmd_simulate(args):
 
     check_output_path("--out", args.out, OUT_SUFFIXES)
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
-    model = load_model(args.model)
+    model = with_assignments(load_model(args.model), "--set", args.set)
     if args.output_interval is not None:  # checked before the run against the time step
         _check_interval(
             args.output_interval,
@@ -145,6 +146,7 @@ def add_parser(sub):
     p.add_argument("model", nargs="?", default=None, help="model TOML (default: built-in specimen)")
     p.add_argument("--duration", type=float, default=None, help=key_help("scenario.duration", "simulated time"))
     p.add_argument("--dt", type=float, default=None, help=key_help("scenario.dt"))
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="model change; " + ASSIGNMENT_HELP)
     p.add_argument(
         "--out",
         help="record to write: .csv (columns 'casing.B.Fz [N]', ...), .npz (every array) or .uff (UFF 58 time records)",

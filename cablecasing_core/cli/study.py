@@ -11,6 +11,7 @@ from ..errors import ModelError
 from ..model.limits import MAX_SEEDS, MAX_STUDY_SAMPLES, PROGRESS_TIMEOUT
 from ..model.schema import MAX_SEED, output_spec
 from ..model.validators import integer, number
+from .assignments import assignment
 from .helptext import ASSIGNMENT_HELP, key_help
 from .paths import check_output_path, kept
 
@@ -173,19 +174,6 @@ def print_study(res):
         print(f"cablecasing: warning: {w}", file=sys.stderr)
 
 
-def _assignment(flag, text):
-    """``KEY=VALUE`` of ``--set``/``--against``; VALUE is read as a TOML value (a bare word as text)."""
-    from ..model.load import toml_value
-
-    key, sep, value = text.partition("=")
-    if not sep or not key.strip():
-        raise ModelError(flag, text, "must be KEY=VALUE with a dotted model key, e.g. contact.friction=0.2")
-    try:
-        return key.strip(), toml_value(value.strip())
-    except ValueError:  # (TOMLDecodeError) a bare word
-        return key.strip(), value.strip()
-
-
 def cmd_ensemble(args):
     from ..studies import paired_difference, seed_ensemble
 
@@ -210,8 +198,8 @@ def cmd_ensemble(args):
         n_workers=args.workers,
         progress=True,
     )
-    base = dict(_assignment("--set", a) for a in args.set)
-    against = dict(_assignment("--against", a) for a in args.against)
+    base = dict(assignment("--set", a) for a in args.set)
+    against = dict(assignment("--against", a) for a in args.against)
     from ..model import load_model
 
     model = load_model(args.model)
