@@ -48,8 +48,10 @@ class SimulationResult:
     (``casing.A.az`` m/s2 etc., ``model.schema.INPUTS``). ``time`` holds the end of each step
     (dt, 2 dt, ..., T); the state at t = 0 is kept apart (``initial_*``) and :meth:`records` puts it
     first, so that a record starts at t = 0. solver: what the step loop did, ``steps`` (of dt),
-    ``refined_steps`` (recomputed in ``event_substeps`` sub-steps around a contact event,
-    docs/time_domain.md), the contact Newton's ``newton_iterations`` and ``unconverged_steps``.
+    ``refined_steps`` (recomputed in ``event_substeps`` sub-steps around a contact event or for
+    the tolerance, docs/time_domain.md), ``tolerance_steps`` and ``max_local_error`` (m) with
+    ``event_tolerance`` (m; :func:`solver_report`), the contact Newton's ``newton_iterations`` and
+    ``unconverged_steps``.
     """
 
     time: np.ndarray
