@@ -134,9 +134,7 @@ class Engine:
         #: m: a step whose estimated local error exceeds this is recomputed in sub-steps (0: off;
         #: ``contact.event_tolerance``)
         self.event_tolerance = float(c["event_tolerance"])
-        #: sub-steps of a step recomputed around a stick-slip event or for its local error (1: none;
-        #: the regularised law has no stick-slip events, so it takes them only with a tolerance)
-        self.event_substeps = int(c["event_substeps"]) if self.vreg == 0.0 or self.event_tolerance > 0.0 else 1
+        self._substeps = int(c["event_substeps"])
         #: the sub-steps of a recomputed step after the first keep the Delassus matrix while the same
         #: contacts are closed (docs/time_domain.md, "Events inside the step"); False recomputes it
         self.reuse_delassus = True
@@ -206,6 +204,14 @@ class Engine:
         """Steps recomputed in :attr:`event_substeps` sub-steps around a stick-slip event since
         the start (docs/time_domain.md, "Events inside the step")."""
         return int(self._info[K.INFO_REFINED_STEPS])
+
+    @property
+    def event_substeps(self) -> int:
+        """Sub-steps of a step recomputed around a stick-slip event or for its local error
+        (``contact.event_substeps``; 1: none): the regularised law has no stick-slip events, so it
+        takes them only with a tolerance (:attr:`event_tolerance` and :attr:`vreg` may be changed
+        between calls, as the other attributes of the law)."""
+        return self._substeps if self.vreg == 0.0 or self.event_tolerance > 0.0 else 1
 
     @property
     def tolerance_steps(self) -> int:

@@ -89,3 +89,16 @@ def test_a_run_with_a_tolerance_is_the_same_in_one_call_or_in_communication_step
     np.testing.assert_array_equal(whole.history()["support_forces"], steps.history()["support_forces"])
     np.testing.assert_array_equal(whole.output_values(), resumed.output_values())
     assert whole.tolerance_steps == steps.tolerance_steps
+
+
+def test_a_tolerance_set_on_the_engine_takes_effect_from_the_next_call():
+    """Engine.event_tolerance is read with the law's other attributes at each call: set on an
+    engine of the regularised law (no sub-steps without it), the next call recomputes steps."""
+    model = cc.load_model("installed")
+    eng = Engine(model, ledger=False)
+    motion = scenario_motion(model)
+    eng.advance(0.005, motion)
+    assert eng.event_substeps == 1 and eng.refined_steps == 0
+    eng.event_tolerance = 1e-9
+    eng.advance(0.005, motion)
+    assert eng.event_substeps == 8 and eng.tolerance_steps > 0
