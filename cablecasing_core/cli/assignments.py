@@ -1,5 +1,5 @@
-"""``KEY=VALUE`` model changes on the command line (``--set`` of ``simulate``, ``study`` and
-``ensemble``, ``--against`` of ``ensemble``): a dotted model key of the schema and a TOML value."""
+"""``KEY=VALUE`` model changes on the command line (``--set`` of ``simulate`` and ``ensemble``,
+``--against`` of ``ensemble``): a dotted model key of the schema and a TOML value."""
 
 from __future__ import annotations
 
