@@ -518,8 +518,8 @@ _KEYS = [
         "m",
         "a Newmark step whose estimated local error in displacement, dt^2/12 max |a(t+dt) - a(t)| over "
         "both bodies' translations (Zienkiewicz and Xie), exceeds this is recomputed in "
-        "contact.event_substeps sub-steps, with either friction law (0: off; docs/time_domain.md, A "
-        "tolerance instead of a bare step)",
+        "contact.event_substeps sub-steps, with either friction law (0: off; > 0 needs "
+        "contact.event_substeps >= 2; docs/time_domain.md, A tolerance instead of a bare step)",
         Number(ge=0, le=1.0, unit="m"),
     ),
     KeySpec(

@@ -324,12 +324,25 @@ def validate(data: dict, base_dir: str | None = None) -> dict:
                 "ends has no free node: nothing moves but the supports)",
             )
     out["contact"] = _table("contact", data.get("contact", {}), table("contact"))
+    check_tolerance_substeps(out["contact"]["event_tolerance"], out["contact"]["event_substeps"])
     out["loads"] = _loads(data.get("loads", {}), bodies)
     out["scenario"] = _scenario(data.get("scenario", {}), bodies, base_dir)
     _carried(out)
     plausibility(out)
     step_checks(out, out["scenario"]["dt"], "scenario.dt")
     return out
+
+
+def check_tolerance_substeps(tolerance, substeps):
+    """contact.event_tolerance (m) > 0 recomputes a step in contact.event_substeps sub-steps: with
+    one there is nothing to recompute in, and the tolerance would silently do nothing."""
+    if tolerance > 0.0 and substeps < 2:
+        raise ModelError(
+            "contact.event_tolerance",
+            tolerance,
+            f"must be 0 with contact.event_substeps = {substeps}: a step above the tolerance is recomputed in "
+            "contact.event_substeps sub-steps, so set that to 2-64 (8 is the default) or the tolerance to 0",
+        )
 
 
 def _loads(data, bodies):

@@ -28,6 +28,7 @@ from numpy.typing import ArrayLike
 
 from ..errors import ModelError, SimulationError
 from ..model.schema import CHANNELS, CONTACT_LAWS, OUTPUTS, channels_of, lookup, outputs_of
+from ..model.validate import check_tolerance_substeps
 from ..model.validators import seconds
 from . import kernels as K
 from .body_storage import FACTOR_CACHE_SIZE, BodyStorage, BoundedCache, body_arrays
@@ -131,10 +132,8 @@ class Engine:
             )
         # the damper's coefficient: c_n (kg/s, Eq. 16), or Hunt-Crossley's 3/2 alpha (s/m)
         self.c_n = 1.5 * c["hunt_crossley_alpha"] if c["law"] == "hunt_crossley" else c["damping"]
-        #: m: a step whose estimated local error exceeds this is recomputed in sub-steps (0: off;
-        #: ``contact.event_tolerance``)
-        self.event_tolerance = float(c["event_tolerance"])
         self._substeps = int(c["event_substeps"])
+        self.event_tolerance = float(c["event_tolerance"])
         #: the sub-steps of a recomputed step after the first keep the Delassus matrix while the same
         #: contacts are closed (docs/time_domain.md, "Events inside the step"); False recomputes it
         self.reuse_delassus = True
@@ -212,6 +211,20 @@ class Engine:
         takes them only with a tolerance (:attr:`event_tolerance` and :attr:`vreg` may be changed
         between calls, as the other attributes of the law)."""
         return self._substeps if self.vreg == 0.0 or self.event_tolerance > 0.0 else 1
+
+    @property
+    def event_tolerance(self) -> float:
+        """m: a step whose estimated local error exceeds this is recomputed in :attr:`event_substeps`
+        sub-steps (0: off; ``contact.event_tolerance``); may be changed between calls, and is
+        refused (ModelError) where there are no sub-steps to recompute in."""
+        return self._tolerance
+
+    @event_tolerance.setter
+    def event_tolerance(self, value: float) -> None:
+        value = float(value)
+        lookup("contact.event_tolerance").check(value, "event_tolerance")
+        check_tolerance_substeps(value, self._substeps)
+        self._tolerance = value
 
     @property
     def tolerance_steps(self) -> int:
@@ -392,7 +405,7 @@ class Engine:
         return K.ContactLaw(
             self.contact, self.gap, self.r_in, self.r_cable, self.law, self.k_lin, self.k_hertz, self.c_n, self.mu,
             self.v_stick, self.event_substeps if self.contact else 1, self.reuse_delassus,
-            self.vreg, self.event_tolerance,
+            self.vreg, self._tolerance,
         )  # fmt: skip
 
     def _raise_for_status(self, status, up, vp, ap, times):

@@ -102,3 +102,18 @@ def test_a_tolerance_set_on_the_engine_takes_effect_from_the_next_call():
     eng.event_tolerance = 1e-9
     eng.advance(0.005, motion)
     assert eng.event_substeps == 8 and eng.tolerance_steps > 0
+
+
+def test_a_tolerance_without_substeps_is_refused_naming_both_keys():
+    """A tolerance recomputes a step in contact.event_substeps sub-steps: with one there is nothing
+    to recompute in, so the pair is refused, in a model file and on an engine, instead of the
+    tolerance silently doing nothing; the engine keeps its tolerance."""
+    model = cc.load_model("installed")
+    with pytest.raises(cc.ModelError, match=r"contact\.event_tolerance.*contact\.event_substeps = 1"):
+        model.with_overrides({"contact.event_tolerance": 1e-9, "contact.event_substeps": 1})
+    eng = Engine(model.with_overrides({"contact.event_substeps": 1}), ledger=False)
+    with pytest.raises(cc.ModelError, match=r"contact\.event_substeps = 1"):
+        eng.event_tolerance = 1e-9
+    with pytest.raises(cc.ModelError, match=r"event_tolerance = -1\.0"):
+        eng.event_tolerance = -1.0
+    assert eng.event_tolerance == 0.0
