@@ -122,6 +122,17 @@ def test_the_event_tolerance_through_the_fmu_is_the_core_s(fmu, tmp_path, fmu_dr
     assert core.tolerance_steps > 0 and any(line in x for x in res["log"]), res["log"][-3:]
 
 
+def test_a_tolerance_without_substeps_is_an_error_the_host_sees(fmu, tmp_path, fmu_driver):
+    """contact.event_tolerance > 0 with contact.event_substeps = 1 would do nothing: the FMU refuses
+    the pair at fmi2ExitInitializationMode with fmi2Error (3, not fmi2Fatal) and a log message that
+    names both parameters."""
+    params = {"model_file": "installed", "contact.event_tolerance": 1e-9, "contact.event_substeps": 1}
+    rows = np.zeros((0, 3 * len(CHANNELS)))
+    res = fmu_driver.run(tmp_path, "run", fmu, params=params, inputs=rows, h=H, outputs=list(OUTPUTS))
+    assert int(res["init_status"]) == 3
+    assert any("contact.event_tolerance = 1e-09: must be 0 with contact.event_substeps = 1" in x for x in res["log"])
+
+
 def test_a_contact_run_does_not_depend_on_the_communication_step(fmu, tmp_path, fmu_driver):
     """The installed specimen's own scenario (13 closed contacts, the cable sliding through them
     with the 50 Hz drive) for 0.16 s, its inputs given to the FMU at the start of each communication
