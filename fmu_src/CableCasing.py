@@ -585,9 +585,8 @@ class CableCasing(Fmi2Slave):
                     "A friction law whose limit exists)"
                 )
             else:
-                events = eng.refined_steps - eng.tolerance_steps
                 msg = (
-                    f"contact events: {events} of {steps} steps of solver.dt = {eng.dt!r} s recomputed in "
+                    f"contact events: {eng.event_steps} of {steps} steps of solver.dt = {eng.dt!r} s recomputed in "
                     f"{eng.event_substeps} sub-steps (contact.event_substeps; "
                     "docs/time_domain.md, Events inside the step)"
                 )

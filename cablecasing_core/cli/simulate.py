@@ -187,7 +187,7 @@ def _refined(solver: dict) -> str:
     whose limit exists", "A tolerance instead of a bare step")."""
     tol = solver.get("event_tolerance", 0.0)
     n_tol = solver.get("tolerance_steps", 0)
-    n_events = solver.get("refined_steps", 0) - n_tol
+    n_events = solver.get("event_steps", 0)
     if solver.get("friction_law") == "regularized":
         text = ", friction regularised (no stick-slip events)"
     elif n_events:

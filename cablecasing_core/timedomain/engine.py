@@ -227,6 +227,12 @@ class Engine:
         self._tolerance = value
 
     @property
+    def event_steps(self) -> int:
+        """Of :attr:`refined_steps`, those recomputed around a stick-slip event (the rest were
+        recomputed for :attr:`event_tolerance`)."""
+        return self.refined_steps - self.tolerance_steps
+
+    @property
     def tolerance_steps(self) -> int:
         """Of :attr:`refined_steps`, those recomputed because their estimated local error exceeded
         :attr:`event_tolerance` (docs/time_domain.md, "A tolerance instead of a bare step")."""

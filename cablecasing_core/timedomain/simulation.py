@@ -49,9 +49,9 @@ class SimulationResult:
     (dt, 2 dt, ..., T); the state at t = 0 is kept apart (``initial_*``) and :meth:`records` puts it
     first, so that a record starts at t = 0. solver: what the step loop did, ``steps`` (of dt),
     ``refined_steps`` (recomputed in ``event_substeps`` sub-steps around a contact event or for
-    the tolerance, docs/time_domain.md), ``tolerance_steps`` and ``max_local_error`` (m) with
-    ``event_tolerance`` (m; :func:`solver_report`), the contact Newton's ``newton_iterations`` and
-    ``unconverged_steps``.
+    the tolerance, docs/time_domain.md), ``event_steps`` (of them, around an event),
+    ``tolerance_steps`` and ``max_local_error`` (m) with ``event_tolerance`` (m;
+    :func:`solver_report`), the contact Newton's ``newton_iterations`` and ``unconverged_steps``.
     """
 
     time: np.ndarray
@@ -252,7 +252,8 @@ def simulate(
 
 def solver_report(eng: Engine, steps: int) -> dict:
     """What the engine's step loop did over ``steps`` steps: {steps, event_substeps, refined_steps
-    (around events or for the tolerance), tolerance_steps (for the tolerance), newton_iterations,
+    (around events or for the tolerance), event_steps (around events), tolerance_steps (for the
+    tolerance), newton_iterations,
     unconverged_steps} (counts), friction_law ("switch" or "regularized": with the latter there
     are no stick-slip events), event_tolerance (m, 0: off) and max_local_error (m: the largest
     estimated local error of a step or sub-step kept, with a tolerance; docs/time_domain.md, "A
@@ -263,6 +264,7 @@ def solver_report(eng: Engine, steps: int) -> dict:
         "steps": int(steps),
         "event_substeps": eng.event_substeps,
         "refined_steps": eng.refined_steps,
+        "event_steps": eng.event_steps,
         "event_tolerance": eng.event_tolerance,
         "tolerance_steps": eng.tolerance_steps,
         "max_local_error": eng.max_local_error,
