@@ -85,6 +85,7 @@ from numba import njit
 
 import cablecasing_core as cc
 from cablecasing_core.model.schema import SUPPORT_OUTPUTS
+from cablecasing_core.records import after_skip
 from cablecasing_core.studies import octave_rms, paired_difference
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.kernels import block_solve
@@ -386,7 +387,7 @@ def force(m, dt, duration, contact=None, motion=None):
 
 
 def bands(t, F, dt):
-    return octave_rms(F[t > args.skip], 1 / dt).rms
+    return octave_rms(F[after_skip(t, args.skip)], 1 / dt).rms
 
 
 def rel(a, b):

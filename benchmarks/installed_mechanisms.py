@@ -31,6 +31,7 @@ import argparse
 import numpy as np
 
 import cablecasing_core as cc
+from cablecasing_core.records import after_skip
 from cablecasing_core.studies import octave_rms
 from cablecasing_core.timedomain.static_state import static_state
 
@@ -74,7 +75,7 @@ for name in args.only:
         for seed in range(1, args.seeds + 1):
             m = cc.load_model(spec).with_overrides({**over, **EXTRA, key: value, SEED_KEY: seed})
             r = cc.simulate(m, duration=args.duration)
-            keep = r.time > args.skip
+            keep = after_skip(r.time, args.skip)
             s = r.contact_state[keep]
             N = r.normal_force[keep]
             first, second = bends(r.curvature)

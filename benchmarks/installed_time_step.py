@@ -31,6 +31,7 @@ import cablecasing_core as cc
 from cablecasing_core.files import write_text
 from cablecasing_core.model.load import toml_value
 from cablecasing_core.model.schema import SUPPORT_OUTPUTS
+from cablecasing_core.records import after_skip
 from cablecasing_core.studies import octave_rms
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion
@@ -62,12 +63,13 @@ for dt, nsub in runs:
     h = eng.history(sparse=True)
     F = h["support_forces"][:, col]
     t = dt * np.arange(1, len(F) + 1)
-    levels[name] = octave_rms(F[t > args.skip], 1 / dt).rms
-    kept = t[h["contact_step"]] > args.skip  # the sparse contact entries after the skip
+    after = after_skip(t, args.skip)
+    levels[name] = octave_rms(F[after], 1 / dt).rms
+    kept = after[h["contact_step"]]  # the sparse contact entries after the skip
     s = h["contact_state"][kept]
     steps = args.duration / dt
     print(f"octave_rms_{name}: " + " ".join(f"{x:.5g}" for x in levels[name]))
-    print(f"contacts_per_step_{name}: {len(s) / np.count_nonzero(t > args.skip):.3f}")
+    print(f"contacts_per_step_{name}: {len(s) / np.count_nonzero(after):.3f}")
     print(f"stick_share_{name}: {np.count_nonzero(s == 1) / max(np.count_nonzero(s), 1):.3f}")
     print(f"contact_newton_iterations_per_step_{name}: {eng.solver_counts[0] / steps:.3f}")
     print(f"refined_share_{name}: {eng.refined_steps / steps:.4f}")

@@ -17,15 +17,17 @@ def _record(path):
 def _window(rec, skip):
     from ..errors import ModelError
     from ..model.validators import seconds
+    from ..records import after_skip
 
     seconds("--skip", skip, zero_ok=True)
-    keep = rec.time > rec.time[0] + skip - 0.5 / rec.fs
+    dt = 1.0 / rec.fs  # (refuses an unevenly sampled record first)
+    keep = after_skip(rec.time, skip, rec.time[0])
     if keep.sum() < 16:
         raise ModelError(
             "--skip",
             skip,
             f"must leave at least 16 samples of the {rec.time[-1] - rec.time[0]:.6g} s record {rec.source} "
-            f"({rec.time.size} samples at dt = {1 / rec.fs:.4g} s)",
+            f"({rec.time.size} samples at dt = {dt:.4g} s)",
         )
     return keep
 
@@ -184,9 +186,10 @@ def _nperseg(rec, args):
         return None
     from ..errors import ModelError
     from ..model.validators import number
+    from ..records import after_skip
 
     number("--resolution", args.resolution, gt=0, unit="Hz")
-    n = int(np.sum(rec.time > rec.time[0] + args.skip - 0.5 / rec.fs))
+    n = int(np.sum(after_skip(rec.time, args.skip, rec.time[0])))
     seg = int(2 ** np.round(np.log2(rec.fs / args.resolution)))
     if seg > n:
         finest = rec.fs / 2 ** int(np.log2(n))

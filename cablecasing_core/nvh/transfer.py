@@ -25,7 +25,7 @@ import numpy as np
 from ..errors import ModelError
 from ..identification.frf import frf_estimate, random_error
 from ..model.validators import Choice, seconds
-from ..records import Records
+from ..records import Records, after_skip
 
 
 @dataclass(frozen=True)
@@ -54,7 +54,7 @@ def _estimate(rec, x_name, y_name, sign, kind, unit, estimator, skip, nperseg, r
     seconds("skip", skip, zero_ok=True)
     x, y = rec.column(x_name), sign * rec.column(y_name)
     fs = rec.fs
-    keep = rec.time > rec.time[0] + skip - 0.5 / fs
+    keep = after_skip(rec.time, skip, rec.time[0])
     if keep.sum() < 64:
         raise ModelError(
             "skip", skip, f"must leave at least 64 samples of the {rec.time[-1] - rec.time[0]:.6g} s record"

@@ -9,6 +9,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..files import atomic_path, write_text
+from ..records import after_skip
 from .runs import OUTPUT
 
 #: Frequencies of the TRFAM (Hz): Fig. 17's range, fine enough for the resonances' peaks.
@@ -171,7 +172,7 @@ def psd_figure(variants, path, skip):
     ps = []
     for v in variants:
         r = v.result
-        keep = r.time > skip
+        keep = after_skip(r.time, skip)
         fs = 1.0 / (r.time[1] - r.time[0])
         nper = min(2 ** int(np.round(np.log2(fs / 4.0))), 2 ** int(np.log2(keep.sum() // 4)))
         ps.append(psd(r.support_force(OUTPUT)[keep], fs, nperseg=nper, unit="N", name=f"{OUTPUT} {v.title}"))
@@ -218,7 +219,7 @@ def rms_table(variants, path, skip):
     rows = []
     for v in variants:
         r = v.result
-        keep = r.time > skip
+        keep = after_skip(r.time, skip)
         rows.append(
             (
                 v,

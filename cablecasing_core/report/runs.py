@@ -91,6 +91,7 @@ def variants(model: Model, out: Path, first_seed: int) -> list[Variant]:
 
 def run_variant(var: Variant, duration: float, seeds: list[int], skip: float, progress: bool) -> None:
     """The reference record (saved, then read back) and the band-level ensemble of one variant."""
+    from ..records import after_skip
     from ..studies import random_excitations, seed_ensemble
     from ..timedomain.simulation import SimulationResult, simulate
 
@@ -104,7 +105,7 @@ def run_variant(var: Variant, duration: float, seeds: list[int], skip: float, pr
         from ..studies import octave_rms
 
         r = var.result
-        keep = r.time > skip
+        keep = after_skip(r.time, skip)
         mine = octave_rms(r.support_force(OUTPUT)[keep], 1.0 / (r.time[1] - r.time[0]), "table3").rms
         var.member_check = float(np.max(np.abs(mine - var.ensemble.levels[0]) / var.ensemble.levels[0]))
 

@@ -49,11 +49,12 @@ def default_evaluate(
     time per cable node (s, Fig. 22) as ``"contact_time_<i>"``.
     """
     from ..model import load_model
+    from ..records import after_skip
     from ..timedomain.simulation import simulate
 
     model = (load_model(model_file) if model is None else model).with_overrides(overrides)
     res = simulate(model, duration=duration, dt=dt)
-    keep = res.time > skip
+    keep = after_skip(res.time, skip)
     if keep.sum() < 2:
         raise ModelError("skip", skip, f"must leave part of the {res.time[-1]:.6g} s record for the RMS")
     fs = 1.0 / (res.time[1] - res.time[0])

@@ -237,8 +237,8 @@ def test_bands_of_a_short_record_name_the_duration_needed_and_fmin_leaves_them_o
     t = np.arange(4000) / 2e4  # 0.2 s: the record ('x = 3000 samples (0.15 s)' after skip)
     rec = _write(tmp_path / "r.csv", t, np.sin(2 * np.pi * 300 * t) + 0.1 * np.sin(2 * np.pi * 60 * t))
     assert main(["bands", str(rec), "--kind", "third"]) == 2
-    err = _err(capsys)
-    assert "'0.15 s': is too short for band 10Hz" in err and "at least 1 / 2.31 Hz = 0.433 s" in err
+    err = _err(capsys)  # (the 2999 samples after 0.05 s: the one at 0.05 s is left out, records.after_skip)
+    assert "'0.1499 s': is too short for band 10Hz" in err and "at least 1 / 2.31 Hz = 0.433 s" in err
     assert "--fmin 31.5" in err and "samples" not in err and "x =" not in err
     assert main(["bands", str(rec), "--kind", "third", "--fmin", "31.5", "--out", str(tmp_path / "b.csv")]) == 0
     rows = (tmp_path / "b.csv").read_text().splitlines()

@@ -11,6 +11,7 @@ import cablecasing_core as cc
 from cablecasing_core.cli import main as cli_main
 from cablecasing_core.errors import ModelError
 from cablecasing_core.model import model_from_dict
+from cablecasing_core.records import after_skip
 from cablecasing_core.studies import (
     Ensemble,
     load_ensemble,
@@ -32,7 +33,7 @@ def single_run(model, seed, duration=T):
 
 def band_levels_of_single_run(model, seed, duration=T, skip=0.05):
     r = single_run(model, seed, duration)
-    keep = r.time > skip
+    keep = after_skip(r.time, skip)
     return octave_rms(r.support_force("casing.B.Fz")[keep], 1.0 / (r.time[1] - r.time[0])).rms
 
 

@@ -7,6 +7,7 @@ import pytest
 
 import cablecasing_core as cc
 from cablecasing_core.cli import main
+from cablecasing_core.records import after_skip
 from cablecasing_core.studies import load_results, octave_rms
 
 CASING_ONLY = """
@@ -51,7 +52,7 @@ def test_a_study_of_another_model_over_other_parameters(other_model, tmp_path, c
     model = cc.load_model(other_model)
     i = 5
     run = cc.simulate(model.with_overrides(dict(zip(res.parameters, res.X[i].tolist()))))
-    keep = run.time > 0.05
+    keep = after_skip(run.time, 0.05)
     ref = octave_rms(run.support_force("casing.B.Fz")[keep], 1 / (run.time[1] - run.time[0]), "table3")
     np.testing.assert_array_equal(res.Y[i], ref.rms)
     # the tables name the bands with their edges, and the study is too small to mean much: it says so

@@ -1,0 +1,79 @@
+"""The samples after ``skip`` are a whole number of steps (``records.after_skip``): t = k dt computed
+in floating point lands a hair above skip (6000 * 1e-5 > 0.06), and keeping the sample at skip
+made the record one step longer than whole periods of a line on its bins, which then leaked
+through the rectangular window into the bands below it (the installed specimen's octave 2 moved by
+5 % with dt for that reason alone: docs/time_domain.md, "The record's length")."""
+
+import numpy as np
+import pytest
+
+from cablecasing_core.cli import main
+from cablecasing_core.records import after_skip
+from cablecasing_core.studies import octave_rms
+
+DTS = (3.125e-5, 2.5e-5, 2e-5, 1e-5, 5e-6, 1.25e-6, 3.125e-7)
+
+
+@pytest.mark.parametrize("dt", DTS)
+def test_after_skip_keeps_the_steps_after_it_whatever_the_rounding(dt):
+    """A run's time axis (the ends of its steps, dt .. 1 s) and a file's (its start row, then the
+    steps, from t0 = 0.3 s): after 0.06 s exactly (1 - 0.06) / dt samples stay, the sample at
+    0.06 s itself left out; a skip a third of a step either side of 0.06 s keeps the samples
+    strictly after it (the same count, and one more)."""
+    n, kept = round(1.0 / dt), round(0.94 / dt)
+    run = dt * np.arange(1, n + 1)
+    assert after_skip(run, 0.06).sum() == kept
+    assert after_skip(run, 0.06 + dt / 3).sum() == kept
+    assert after_skip(run, 0.06 - dt / 3).sum() == kept + 1
+    file = 0.3 + dt * np.arange(n + 1)
+    assert after_skip(file, 0.06, file[0]).sum() == kept
+    assert after_skip(file, 0.0, file[0]).sum() == n + 1  # skipping nothing keeps every row
+    assert after_skip(file, dt / 2, file[0]).sum() == n  # and half a step leaves out the start row
+
+
+def test_a_line_on_the_records_bins_stays_in_its_band():
+    """A 50 Hz line of 27 N RMS (the installed specimen's drive in octave 3) over 1 s at 1e-5 s,
+    0.06 s left out: 47 whole periods, so the line sits on a bin of the rectangular window and
+    octaves 1-2 hold nothing of it (DFT orthogonality: 1e-9 N bounds the round-off of 94 000
+    samples of 38 N). Kept with the sample at 0.06 s (the selection t > 0.06 gave) the line lies
+    d = 5e-4 of a bin off (47.0005 periods) and leaks into bin 47 - m about A d / m (the tail of
+    the Dirichlet kernel, A = 27 N RMS): over octave 2's bins m = 6 .. 26 that is A d (sum 1/m^2)^1/2
+    = 5.1e-3 N, a third of the specimen's own octave-2 level (0.014 N); 20 % for the bins the
+    band's edges split, which the sum counts whole."""
+    dt = 1e-5
+    t = dt * np.arange(1, 100_001)
+    F = 27.0 * np.sqrt(2.0) * np.sin(2 * np.pi * 50.0 * t + 0.4)
+    whole = octave_rms(F[after_skip(t, 0.06)], 1 / dt).rms
+    assert np.all(whole[:2] < 1e-9) and whole[2] == pytest.approx(27.0, rel=1e-12)
+    one_more = octave_rms(F[t > 0.06], 1 / dt).rms  # (what the selection was)
+    m = np.arange(6, 27)
+    assert one_more[1] == pytest.approx(27.0 * 5e-4 * np.sqrt(np.sum(1.0 / m**2)), rel=0.2)
+
+
+def test_the_bands_command_takes_the_samples_after_skip(tmp_path, capsys):
+    """`cablecasing bands` on a file with its start row (t = 0 .. 1 s at 1e-5 s): octave 2 of the
+    line above stays empty after --skip 0.06 (the level of 1e-9 N, below -180 dB re 1 N)."""
+    dt = 1e-5
+    t = dt * np.arange(100_001)
+    F = 27.0 * np.sqrt(2.0) * np.sin(2 * np.pi * 50.0 * t + 0.4)
+    path = tmp_path / "tone.npz"
+    np.savez(path, time=t, table=F[:, None], names=np.array(["casing.B.Fz"]), units=np.array(["N"]))
+    assert main(["bands", str(path), "--skip", "0.06"]) == 0
+    rows = {r.split(",")[0]: r.split(",") for r in capsys.readouterr().out.splitlines() if r.startswith("oct")}
+    assert float(rows["oct2"][4]) < 1e-9 and float(rows["oct3"][4]) == pytest.approx(27.0, rel=1e-9)
+
+
+def test_the_bands_of_a_runs_file_are_the_studies_bands(tmp_path, capsys):
+    """A run saved with its start row (t = 0 .. T, `simulate --out`) and read back by `cablecasing
+    bands --skip 0.05` gives the band levels a study computes from the run itself (dt .. T, the
+    same 0.05 s left out): the same 10 000 samples, to the 6 digits printed."""
+    import cablecasing_core as cc
+    from cablecasing_core.studies.evaluators import default_evaluate
+
+    model = cc.load_model()
+    cc.simulate(model, duration=0.15).save(tmp_path / "run.npz")
+    study = default_evaluate({}, duration=0.15, skip=0.05, model=model)
+    assert main(["bands", str(tmp_path / "run.npz"), "--skip", "0.05"]) == 0
+    rows = {r.split(",")[0]: r.split(",") for r in capsys.readouterr().out.splitlines() if r.startswith("oct")}
+    for band, level in study.items():
+        assert float(rows[band][4]) == pytest.approx(level, rel=5e-6), band
