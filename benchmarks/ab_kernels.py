@@ -11,7 +11,7 @@ compiles both (~1.5 min).
 
 Run:  git archive HEAD cablecasing_core | tar -x -C /tmp/A    (and the change into /tmp/B)
       .venv/bin/python benchmarks/ab_kernels.py /tmp/A /tmp/B [--duration 1.0] [--no-contact] [--no-record]
-                                               [--model installed]
+                                               [--model installed] [--dt 1e-5]
                                                [--step 1e-4]   (FMU-like calls: per-call costs)
 """
 
@@ -80,6 +80,7 @@ def main():
     p.add_argument("a")
     p.add_argument("b")
     p.add_argument("--duration", type=float, default=1.0, help="simulated time per tree (s)")
+    p.add_argument("--dt", type=float, default=1e-5, help="time step of both trees (s)")
     p.add_argument("--no-contact", action="store_true")
     p.add_argument("--no-record", action="store_true")
     p.add_argument(
@@ -96,7 +97,7 @@ def main():
         "call per chunk",
     )
     args = p.parse_args()
-    dt, chunk = 1e-5, 0.01
+    dt, chunk = args.dt, 0.01
     runs = []
     for root, name in ((args.a, "ccA"), (args.b, "ccB")):
         cc = load(root, name)

@@ -16,10 +16,11 @@ from ._step_loop_contract import STICK
 #: the residual reduction per iteration below which the regularised law's Newton keeps its factors
 CHORD_RATE = 0.25
 #: the regularised law's Newton stops when its forces are within this fraction of the largest one
-#: (the switch law's: 1e-12). On the installed specimen 1e-8 moves the band levels by 2e-7 of
-#: themselves against 1e-12, where the step's own error is 1e-3 to 5e-2 (docs/time_domain.md,
-#: "Contact", item 5), and saves 1.6 of 4.7 iterations per step.
-NEWTON_TOL_REGULARIZED = 1e-8
+#: (the switch law's: 1e-12). On the installed specimen 1e-6 moves the band levels by at most 2e-5
+#: of themselves against 1e-8 (2e-7 against 1e-12), where the step's own error is 8e-3 at 1e-5 s and
+#: 4e-2 at 3.3e-5 s (docs/time_domain.md, "Contact", item 5), and saves 0.6-0.9 of 3.0-5.2
+#: iterations per step.
+NEWTON_TOL_REGULARIZED = 1e-6
 #: half-bandwidth (unknowns) of the regularised law's approximate Jacobian: the bodies couple a
 #: contact mostly with its neighbours along the cable (docs/time_domain.md, "Contact", item 5)
 BAND = 8
