@@ -41,6 +41,10 @@ Prints ``name: value`` lines:
   the setting docs/fmu.md ("Real time") gives a real-time master, whose band levels match the
   default 1e-5 s on ensemble means (docs/time_domain.md, "The time step on 456 seeds"), with its
   longest call and late calls;
+* ``fmusim_installed_realtime_us_per_step``, ``rtf_fmusim_installed_realtime``: the installed
+  specimen (``model_file`` = installed) driven by its own scenario in fmusim at its real-time
+  setting, ``solver.dt`` = 1/30000 s (docs/time_domain.md, "Real time on the installed specimen"),
+  with its longest call and late calls;
 * ``instantiate_cold_s``: loading the FMU (unzipped) through ``fmi2Instantiate``, initialisation
   and the first step with an empty per-user cache (no numba cache, no copy of the code), and
   ``instantiate_warm_s`` with both in place;
@@ -220,7 +224,7 @@ def main():
         subprocess.run([sys.executable, str(ROOT / "build_fmu.py")], check=True)
     table = np.hstack(scenario_motion(model)(h * np.arange(n + 1)))  # the master's samples at t = k h
     eng_s, eng_drive_s, lean_s, lists_s, fmpy_s, sim_long, drive_long, cold, warm, first_s = ([] for _ in range(10))
-    realtime_long, prep_s = [], []
+    realtime_long, installed_long, prep_s = [], [], []
     clips_eng_s, clips_fmpy_s = [], []
     clipped = cc.load_model(CLIPPED)
     clips_table = np.hstack(scenario_motion(clipped)(h * np.arange(n + 1)))
@@ -251,6 +255,8 @@ def main():
                 drive_long.append(fmusim_wall(None, n * h, h, tmp / "dlong.csv", *drive))
                 rt = (*drive, "--start-value", "solver.dt", repr(args.realtime_dt))
                 realtime_long.append(fmusim_wall(None, n * h, h, tmp / "rtlong.csv", *rt))
+                inst = (*drive, "--start-value", "model_file", "installed", "--start-value", "solver.dt")
+                installed_long.append(fmusim_wall(None, n * h, h, tmp / "ilong.csv", *inst, repr(1 / 30000)))
             env = {key: v for key, v in os.environ.items() if key != "NUMBA_CACHE_DIR"}
             env["XDG_CACHE_HOME"] = str(tmp / f"empty-cache-{k}")
             res_cold = fmu_driver.run(tmp, "run", FMU, inputs=table[:2], h=h, outputs=["casing.B.Fz"], env=env)
@@ -291,6 +297,12 @@ def main():
         longest, late = late_figures(realtime_long)
         print(f"fmusim_drive_realtime_longest_call_ms: {longest}")
         print(f"fmusim_drive_realtime_late_calls: {late} of {n}")
+        per_step = fmusim_figures(installed_long)[0]
+        print(f"fmusim_installed_realtime_us_per_step: {per_step * 1e6:.1f} (solver.dt = 1/30000 s)")
+        print(f"rtf_fmusim_installed_realtime: {h / per_step:.3f}")
+        longest, late = late_figures(installed_long)
+        print(f"fmusim_installed_realtime_longest_call_ms: {longest}")
+        print(f"fmusim_installed_realtime_late_calls: {late} of {n}")
     print(f"rtf_engine: {h / engine:.3f}")
     print(f"instantiate_cold_s: {min(cold):.2f}")
     print(f"instantiate_warm_s: {min(warm):.2f}")

@@ -184,32 +184,35 @@ print(f"simulate_wall_s: {time.perf_counter() - t0:.2f}")
 # The installed specimen (issue 23): the same scenario from the static state, with the cable on the
 # wall in the bends (the many-contact regime), and the static state itself.
 installed = cc.load_model("installed")
-walls = []
-for _ in range(args.repeat):
-    t0 = time.perf_counter()
-    eng = Engine(installed, dt=DT, ledger=False, record=True)
-    t_setup = time.perf_counter() - t0
-    mo = scenario_motion(installed, dt=DT)
-    t0 = time.perf_counter()
-    eng.advance(args.duration, mo)
-    walls.append(time.perf_counter() - t0)
+
+
+def timed_advance(m, dt, contact=None, record=False):
+    """(the fastest of --repeat wall times (s) of Engine.advance over --duration s of m's scenario at
+    dt s, the last engine's set-up time (s), the last engine)."""
+    walls = []
+    for _ in range(args.repeat):
+        t0 = time.perf_counter()
+        run = Engine(m, dt=dt, contact=contact, ledger=False, record=record)
+        setup = time.perf_counter() - t0
+        mo = scenario_motion(m, dt=dt)
+        t0 = time.perf_counter()
+        run.advance(args.duration, mo)
+        walls.append(time.perf_counter() - t0)
+    return min(walls), setup, run
+
+
+wall_installed, t_setup, eng = timed_advance(installed, DT, record=True)
 nc = np.count_nonzero(eng.history()["contact_state"], axis=1)
-print(f"rtf_installed: {args.duration / min(walls):.4f}")
+print(f"rtf_installed: {args.duration / wall_installed:.4f}")
 # The real-time setting of the installed specimen (docs/time_domain.md, "Real time on the installed
 # specimen"): scenario.dt = 1/30000 s, three steps per FMU communication step of 1e-4 s and 600 per
 # period of the 50 Hz drive; timed as rtf_installed, right after it
 REALTIME_DT = 1.0 / 30000.0
-rt_walls = []
-for _ in range(args.repeat):
-    rt = Engine(installed, dt=REALTIME_DT, ledger=False, record=True)
-    mo = scenario_motion(installed, dt=REALTIME_DT)
-    t0 = time.perf_counter()
-    rt.advance(args.duration, mo)
-    rt_walls.append(time.perf_counter() - t0)
-print(f"rtf_installed_realtime: {args.duration / min(rt_walls):.4f} (scenario.dt = {REALTIME_DT:.6g} s)")
+wall_realtime, _, rt = timed_advance(installed, REALTIME_DT, record=True)
+print(f"rtf_installed_realtime: {args.duration / wall_realtime:.4f} (scenario.dt = {REALTIME_DT:.6g} s)")
 rt_its = rt.solver_counts[0] / (args.duration / REALTIME_DT)
 print(f"contact_newton_iterations_per_step_installed_realtime: {rt_its:.3f}")
-print(f"us_per_step_installed: {min(walls) / (args.duration / DT) * 1e6:.2f}")
+print(f"us_per_step_installed: {wall_installed / (args.duration / DT) * 1e6:.2f}")
 print(f"mean_active_contacts_installed: {np.mean(nc):.3f}")
 print("mean_active_contacts_installed_by_tenth:", " ".join(f"{c.mean():.2f}" for c in np.array_split(nc, 10)))
 its, passes, failed = eng.solver_counts
@@ -284,15 +287,9 @@ if not args.speed_only and args.duration == reference["duration_s"]:
 # regularised friction the default step is the accurate one (within 0.8 % in octaves 3-9,
 # docs/time_domain.md, "A friction law whose limit exists"): real time allows 10 us per step.
 ACCURATE_DT = DT
-us_installed = min(walls) / (args.duration / DT) * 1e6
-free_walls = []
-for _ in range(args.repeat):
-    eng_free = Engine(installed, dt=DT, contact=False, ledger=False)
-    mo = scenario_motion(installed, dt=DT)
-    t0 = time.perf_counter()
-    eng_free.advance(args.duration, mo)
-    free_walls.append(time.perf_counter() - t0)
-us_free = min(free_walls) / (args.duration / DT) * 1e6
+us_installed = wall_installed / (args.duration / DT) * 1e6
+wall_free, _, eng_free = timed_advance(installed, DT, contact=False)
+us_free = wall_free / (args.duration / DT) * 1e6
 solves = [b.factors(DT, False)[:3] for b in eng_free.bodies.values()]
 us_solves = min(block_solves_us(solves) for _ in range(args.repeat))
 contacts = float(np.mean(nc))
