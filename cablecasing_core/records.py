@@ -55,8 +55,9 @@ def after_skip(time: np.ndarray, skip: float, start: float = 0.0) -> np.ndarray:
     """Which samples of an evenly spaced time axis ``time`` (s) lie after the first ``skip`` s from
     ``start`` (s): the mask of t - start > skip, a sample within 1e-6 of a step of start + skip
     counting as at it (left out); ``skip`` = 0 keeps every sample (a measured record of n samples
-    keeps its n). So a record of N steps of dt after ``skip`` > 0 keeps exactly N samples: t = k dt computed in floating point lands a hair above or below skip (6000 * 1e-5 >
-    0.06), and the sample at skip kept as well makes N + 1, whose periodic extension is one step
+    keeps its n). So a record of N steps of dt after ``skip`` > 0 keeps exactly N samples: t = k dt
+    computed in floating point lands a hair above or below skip (6000 * 1e-5 > 0.06), and the
+    sample at skip kept as well makes N + 1, whose periodic extension is one step
     longer than the whole periods of a line on the record's bins: through the rectangular window
     the installed specimen's 50 Hz line (27 N in octave 3) then leaks into octaves 1-2 in proportion
     to dt (docs/time_domain.md, "The record's length"). ``start``: 0 for a run's
