@@ -29,7 +29,11 @@ plain step (``levels_N``: 7.8125e-8 s), and installed_refined_share_switch (the 
 sub-steps); the same with the specimen's own law and a tolerance on the step's local error
 (``contact.event_tolerance`` = 1e-9 m, docs/time_domain.md "A tolerance instead of a bare step"):
 installed_band_max_rel_err_tolerance, installed_refined_share_tolerance, and its cost
-installed_default_over_tolerance_cost (alternating chunks, as the switch law's).
+installed_default_over_tolerance_cost (alternating chunks, as the switch law's). The real-time
+setting, scenario.dt = 1/30000 s (docs/time_domain.md, "Real time on the installed specimen"):
+rtf_installed_realtime (timed as rtf_installed), its Newton iterations per step, and
+installed_band_max_rel_err_realtime against the same reference. Band levels take the samples after
+``--skip`` with ``records.after_skip`` (47 whole periods of the drive after 0.06 s).
 ``--model`` chooses the model of the accuracy checks and the ensemble below (default: the built-in
 specimen).
 
