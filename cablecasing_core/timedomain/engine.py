@@ -383,15 +383,10 @@ class Engine:
                 _coefficient_matrix(dt),
                 self.crefine,
             )
-            args = (
-                body_arrays(self.bodies.get("casing"), dt, self.contact, self.fcs, law.nsub),
-                body_arrays(self.bodies.get("cable"), dt, self.contact, self.fcc, law.nsub),
-                law,
-                contact,
-                self.reac,
-                self.ledger,
-                self.ledger_on,
-            )
+            casing = body_arrays(self.bodies.get("casing"), dt, self.contact, self.fcs, law.nsub)
+            cable = body_arrays(self.bodies.get("cable"), dt, self.contact, self.fcc, law.nsub)
+            scratch = K.step_scratch(casing, cable, contact, len(self.channels), law.nsub)
+            args = (casing, cable, law, contact, self.reac, self.ledger, self.ledger_on, scratch)
         info = self._info  # info[K.INFO_NEWTON_ITERATIONS:] are the solver counters (a view)
         info[: K.INFO_NEWTON_ITERATIONS] = 0.0
         if step_loop is None:

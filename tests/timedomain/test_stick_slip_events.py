@@ -116,10 +116,11 @@ def belt_run(dt, t_end, nsub):
                       np.zeros(1), np.zeros(1), 0)  # fmt: skip
     x, v, state = np.zeros(n), np.zeros(n), np.zeros(n, np.int64)
     info = np.zeros(K.INFO_SIZE)
+    scratch = K.step_scratch(args[0], args[1], contact, nch, nsub)
     for k in range(n):  # one step per call, to read the mass's state at every step
         status = K.run_steps(
             k * dt, dt, up[k : k + 1], vp[k : k + 1], ap[k : k + 1], *args, np.zeros(24), np.zeros(K.LEDGER_SIZE),
-            False, rec, info,
+            False, scratch, rec, info,
         )  # fmt: skip
         assert status == K.OK, status
         x[k], v[k], state[k] = cable.U[6], cable.V[6], contact.state[1]

@@ -30,8 +30,9 @@ kernel of cablecasing_core in this package, and nothing else.
 
 All kernels are plain functions over arrays. The orchestration (building matrices, factorising,
 evaluating the support motion, packing results) stays in plain Python in ``timedomain/engine.py``
-and ``timedomain/support_motion.py``. Nothing in a step allocates: the step loop owns a workspace
-(:func:`contact_workspace`) and scalar helpers return tuples. The effective compliance (dense, over
+and ``timedomain/support_motion.py``. Nothing in a step or a call of the step loop allocates: the
+engine makes the contact solve's workspace (:func:`contact_workspace`) and the step loop's scratch
+(:func:`step_scratch`) once, and scalar helpers return tuples. The effective compliance (dense, over
 all DOFs of a body, zero on the prescribed ones) gives the Delassus matrix of the contacts; the
 bodies' response to the contact forces is one more solve with the step's block factor. The small
 helpers of the contact solve are inlined into their callers (``inline="always"``).
@@ -46,12 +47,13 @@ Reference counting: numba increments the reference count of every array a functi
 entry and decrements it on every exit (atomic operations, each a barrier for the memory pipeline).
 LLVM's pruning pass removes these pairs in small functions, but gives up on large ones. The
 kernels the step loop calls that would have them, and never allocate, are compiled without the
-runtime (``NO_RT``); only the step loop allocates (its scratch, once per call). For the same reason
+runtime (``NO_RT``), and so is :func:`run_steps` itself (its records' ~100 arrays are then not
+counted at each call: an FMU call of three steps 0.982 of its cost with them). For the same reason
 no call inside the step loop passes more than 30 arguments (Python then passes them as one built
 tuple, whose every array numba counts around the call), and :func:`run_steps` unpacks its records
-(:class:`BodyArrays`, :class:`ContactLaw`, :class:`ContactArrays`, :class:`Recording`) once, before
-its loop: a record's array read inside the loop would be counted at every step. docs/performance.md
-has the figures.
+(:class:`BodyArrays`, :class:`ContactLaw`, :class:`ContactArrays`, :class:`StepScratch`,
+:class:`Recording`) once, before its loop: a record's array read inside the loop would be counted at
+every step. docs/performance.md has the figures.
 """
 
 from ._numba_cache import KERNELS_HASH, install, kernels_cache_dir
@@ -117,6 +119,8 @@ from ._step_loop_contract import (  # noqa: E402
     ContactArrays,
     ContactLaw,
     Recording,
+    StepScratch,
+    step_scratch,
 )
 
 __all__ = [
@@ -170,6 +174,8 @@ __all__ = [
     "ContactArrays",
     "ContactLaw",
     "Recording",
+    "StepScratch",
+    "step_scratch",
     "axis_at",
     "block_solve",
     "contact_law",

@@ -68,7 +68,7 @@ def clip_force_outputs(mi, mF, out, first):
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def communication_step(
     t0, dt, m, h, pot0, G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact,
-    reac, ledger, ledger_on, rec, info, out, fbuf, ibuf, snap_f, snap_i,
+    reac, ledger, ledger_on, scratch, rec, info, out, fbuf, ibuf, snap_f, snap_i,
 ):  # fmt: skip
     """Advance from ``t0`` by ``m`` steps of ``dt`` (s), ``m dt`` = ``h``, with the support motion
     of the communication step ``[t0, t0 + h]``: the quintic Hermite (power-basis matrix ``G`` of
@@ -98,7 +98,7 @@ def communication_step(
                 for j in range(motion.shape[2]):
                     motion[d, i, j] += base[d, i, j]
     status = run_steps(t0, dt, motion[0], motion[1], motion[2], casing, cable, law, contact, reac, ledger,
-                       ledger_on, rec, info)  # fmt: skip
+                       ledger_on, scratch, rec, info)  # fmt: skip
     if status == 0:  # OK: a failed step leaves out and state alone (the engine rolls the step back)
         step_outputs(reac, contact.state, contact.g, ledger, law.law, law.k_lin, law.k_hertz, pot0, out)
         clip_force_outputs(casing.mi, casing.mF, out, 27)  # (27 = len(OUTPUTS), step_outputs' share)
@@ -124,7 +124,7 @@ structref.define_boxing(CommunicationContextType, CommunicationContext)
 
 CONTEXT_FIELDS = (
     "G", "state", "u", "v", "a", "rows", "coeffs", "times", "motion", "base", "use_base", "casing", "cable", "law",
-    "contact", "reac", "ledger", "ledger_on", "rec", "info", "out", "fbuf", "ibuf", "snap_f", "snap_i",
+    "contact", "reac", "ledger", "ledger_on", "scratch", "rec", "info", "out", "fbuf", "ibuf", "snap_f", "snap_i",
 )  # fmt: skip
 
 
@@ -139,8 +139,8 @@ def _new_context_overload(*fields):
     def build(*fields):
         ctx = structref.new(ty)
         (ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion, ctx.base, ctx.use_base,
-         ctx.casing, ctx.cable, ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on, ctx.rec, ctx.info,
-         ctx.out, ctx.fbuf, ctx.ibuf, ctx.snap_f, ctx.snap_i) = fields  # fmt: skip
+         ctx.casing, ctx.cable, ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on, ctx.scratch, ctx.rec,
+         ctx.info, ctx.out, ctx.fbuf, ctx.ibuf, ctx.snap_f, ctx.snap_i) = fields  # fmt: skip
         return ctx
 
     return build
@@ -149,13 +149,13 @@ def _new_context_overload(*fields):
 @njit(cache=True)
 def new_communication_context(
     G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact, reac, ledger,
-    ledger_on, rec, info, out, fbuf, ibuf, snap_f, snap_i,
+    ledger_on, scratch, rec, info, out, fbuf, ibuf, snap_f, snap_i,
 ):  # fmt: skip
     """The :class:`CommunicationContext` of these arrays (the arguments of :func:`communication_step`
     in its order, without t0, dt, m, h and pot0); it refers to them, it does not copy them."""
     return _new_context(
         G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact, reac, ledger,
-        ledger_on, rec, info, out, fbuf, ibuf, snap_f, snap_i,
+        ledger_on, scratch, rec, info, out, fbuf, ibuf, snap_f, snap_i,
     )  # fmt: skip
 
 
@@ -165,5 +165,5 @@ def communication_step_in_context(ctx, t0, dt, m, h, pot0):
     return communication_step(
         t0, dt, m, h, pot0, ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion,
         ctx.base, ctx.use_base, ctx.casing, ctx.cable, ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on,
-        ctx.rec, ctx.info, ctx.out, ctx.fbuf, ctx.ibuf, ctx.snap_f, ctx.snap_i,
+        ctx.scratch, ctx.rec, ctx.info, ctx.out, ctx.fbuf, ctx.ibuf, ctx.snap_f, ctx.snap_i,
     )  # fmt: skip

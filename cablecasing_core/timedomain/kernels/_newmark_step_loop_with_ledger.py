@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._banded_products_and_block_solve import copy_into, dia_quadratic
+from ._banded_products_and_block_solve import copy_into, dia_quadratic, fill
 from ._compile_options import FM, NO_RT
 from ._contact_forces_with_active_set import contact_parameters, solve_contact_forces
 from ._newmark_per_body import (
@@ -30,7 +30,6 @@ from ._step_loop_contract import (
     DIAG_MAX_PENETRATION,
     DIAG_NEWTON_FAILED,
     DIAG_NEWTON_ITERATIONS,
-    DIAG_SIZE,
     DIAG_SLOW_SLIP,
     ERR_INPUT,
     ERR_NAN,
@@ -162,6 +161,34 @@ def _copy_contact_memory(
 
 
 @njit(**NO_RT)
+def _copy_mounts(bo, Fo, b, F):
+    """bo, Fo = b, F: the mounts' support motion (nm x 2 x 6) and forces (nm x 6), as plain loops
+    (an array assignment would want numba's runtime, which run_steps is compiled without)."""
+    for m in range(b.shape[0]):
+        for s in range(b.shape[1]):
+            for i in range(b.shape[2]):
+                bo[m, s, i] = b[m, s, i]
+        for i in range(F.shape[1]):
+            Fo[m, i] = F[m, i]
+
+
+@njit(**NO_RT)
+def _zero_scratch(sq, cq, subrows, subc, subt, subm):
+    """The step loop's 2- and 3-D scratch set to zero, as run_steps made it (plain loops)."""
+    for q in (sq, cq, subrows):
+        for i in range(q.shape[0]):
+            for j in range(q.shape[1]):
+                q[i, j] = 0.0
+    for q in (subc, subm):
+        for i in range(q.shape[0]):
+            for j in range(q.shape[1]):
+                for k in range(q.shape[2]):
+                    q[i, j, k] = 0.0
+    for i in range(subt.shape[0]):
+        subt[i] = 0.0
+
+
+@njit(**NO_RT)
 def _restore_step_start(U, V, A, Uo, Vo, Ao, mb, mbo, on):
     """A body back to the start of its step: U, V, A from their copies Uo, Vo, Ao, the mounts'
     supports mb from mbo (the predictor wrote both)."""
@@ -190,8 +217,8 @@ def _substep_motion(chan, up, vp, ap, k, G, rows, c, times, motion, dt, hf, nsub
     quintic_values(c, 0.0, dt, times, motion)
 
 
-@njit(cache=True, fastmath=FM, error_model="numpy")
-def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, ledger_on, rec, info):
+@njit(**NO_RT)
+def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, ledger_on, scratch, rec, info):
     """Advance both bodies by len(up) Newmark steps of size dt (s) from time t0 (s). Each step:
     contact-free predictor of both bodies, contact search and implicit contact forces
     (:func:`solve_contact_forces`), the bodies' response to them, Newmark update, reactions.
@@ -201,7 +228,8 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     :class:`ContactArrays` (its memory is updated, its ``time`` accumulates each cable node's time
     in contact, s); reac (24): force each body exerts on each support, N and N.m, in the order
     casing A, casing B, cable A, cable B, each [Fx Fy Fz Mx My Mz]; ledger (LEDGER_SIZE, J): the
-    LEDGER_* slots, the Rayleigh dissipation only with ledger_on; rec: :class:`Recording`. Returns a
+    LEDGER_* slots, the Rayleigh dissipation only with ledger_on; scratch: :class:`StepScratch`
+    (``step_scratch``; set here as if made anew); rec: :class:`Recording`. Returns a
     status code (OK or ERR_*) with the INFO_* slots of info: what failed, and the running totals of
     the contact solve. Non-finite support motion is refused before any step is taken (ERR_INPUT,
     info = [row, channel, 0/1/2 for up/vp/ap]), so nothing is half-written.
@@ -222,7 +250,8 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     one entry per cable node and step.
 
     The records are unpacked once here, outside the loop, and the kernels the loop calls take
-    plain arrays: attributes read inside the loop would be reference-counted at every step (see
+    plain arrays. It allocates nothing (its scratch is the engine's) and is compiled without numba's
+    runtime (``NO_RT``): no reference counts of the ~100 arrays of its records, at any call (see
     the package docstring).
     """
     nsteps = up.shape[0]
@@ -250,7 +279,10 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     cKinv, csup, csup_lo, ccpl_i, ccpl_v, fcc = cable.Kinv, cable.sup, cable.sup_lo, cable.cpl_i, cable.cpl_v, cable.fc
     smi, smKC, smb, smF = casing.mi, casing.mKC, casing.mb, casing.mF
     cmi, cmKC, cmb, cmF = cable.mi, cable.mKC, cable.mb, cable.mF
-    smbo, smFo, cmbo, cmFo = smb.copy(), smF.copy(), cmb.copy(), cmF.copy()
+    sUo, sVo, sAo, cUo, cVo, cAo = scratch.sUo, scratch.sVo, scratch.sAo, scratch.cUo, scratch.cVo, scratch.cAo
+    smbo, smFo, cmbo, cmFo = scratch.smbo, scratch.smFo, scratch.cmbo, scratch.cmFo
+    _copy_mounts(smbo, smFo, smb, smF)
+    _copy_mounts(cmbo, cmFo, cmb, cmF)
     s_loaded, sfext, suext = casing.loaded, casing.fext, casing.uext
     c_loaded, cfext, cuext = cable.loaded, cable.fext, cable.uext
     contact_on, r_cable = law.on, law.r_cable
@@ -258,18 +290,12 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     state, elem, xi_arr, Pn, Pp, vrel = contact.state, contact.elem, contact.xi, contact.Pn, contact.Pp, contact.vrel
     Nn, gn, contact_time = contact.N, contact.g, contact.time
     rec_on, rec_F, rec_ptr, rec_node, rec_state, rec_N, rec_g, rec_off = rec
-    ns = sU.shape[0]
-    nc = cU.shape[0]
-    sb = (sMd.shape[0] - 1) // 2
-    cb = (cMd.shape[0] - 1) // 2
-    sUo, sVo, sAo = sU.copy(), sV.copy(), sA.copy()
-    cUo, cVo, cAo = cU.copy(), cV.copy(), cA.copy()
-    sy1, sr = np.zeros(ns + 2 * sb), np.zeros(max(sng, 1))
-    cy1, cr = np.zeros(nc + 2 * cb), np.zeros(max(cng, 1))
-    sq, cq = np.zeros((2, ns)), np.zeros((2, nc))
-    fcs_new, fcc_new = np.zeros(ns), np.zeros(nc)
-    reac_new = np.zeros(24)
-    diag = np.zeros(DIAG_SIZE)
+    for x, y in ((sUo, sU), (sVo, sV), (sAo, sA), (cUo, cU), (cVo, cV), (cAo, cA)):
+        copy_into(x, y)
+    sy1, sr, cy1, cr, sq, cq = scratch.sy1, scratch.sr, scratch.cy1, scratch.cr, scratch.sq, scratch.cq
+    fcs_new, fcc_new, reac_new, diag = scratch.fcs_new, scratch.fcc_new, scratch.reac_new, scratch.diag
+    for x in (sy1, sr, cy1, cr, fcs_new, fcc_new, reac_new, diag):
+        fill(x, 0.0)
     cpar = contact_parameters(law, dt, False, EVENT_TURN)  # (DIAG_SLOW_SLIP is read only with refine, below)
     nn = Xc.shape[0]
     # sub-steps of a step with a stick-slip event (law.nsub; docs/time_domain.md, "Events inside
@@ -290,10 +316,11 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     cDif, cLf, cLTf, cKinvf, cuextf = cable.fDinv, cable.fL, cable.fLT, cable.fKinv, cable.fuext
     chan, subG, cagain = contact.chan, contact.subG, contact.again
     nch = up.shape[1]
-    state0, elem0 = state.copy(), elem.copy()
-    xi0, Pn0, Pp0, vrel0, Nn0, gn0 = xi_arr.copy(), Pn.copy(), Pp.copy(), vrel.copy(), Nn.copy(), gn.copy()
-    nm = max(nsub, 1)
-    subrows, subc, subt, subm = np.zeros((6, nch)), np.zeros((3, 6, nch)), np.zeros(nm), np.zeros((3, nm, nch))
+    state0, elem0, xi0, Pn0, Pp0 = scratch.state0, scratch.elem0, scratch.xi0, scratch.Pn0, scratch.Pp0
+    vrel0, Nn0, gn0 = scratch.vrel0, scratch.Nn0, scratch.gn0
+    _copy_contact_memory(state, elem, xi_arr, vrel, Nn, gn, Pn, Pp, state0, elem0, xi0, vrel0, Nn0, gn0, Pn0, Pp0)
+    subrows, subc, subt, subm = scratch.subrows, scratch.subc, scratch.subt, scratch.subm
+    _zero_scratch(sq, cq, subrows, subc, subt, subm)
     t = t0
     again = cagain[0] != 0  # the previous step ended in sub-steps with an event on
     for k in range(nsteps):
@@ -326,8 +353,7 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
                 copy_into(sUo, sU)
                 copy_into(sVo, sV)
                 copy_into(sAo, sA)
-                smbo[...] = smb
-                smFo[...] = smF
+                _copy_mounts(smbo, smFo, smb, smF)
                 predict(
                     sMd, sDc, sLc, sLTc, sg0, sng, sf0, snf, salpha, sbeta, sU, sV, sA, spres, spchan, scpl_i,
                     scpl_v, mu_, mv_, ma_, row, h, sy1, sr, smi, smKC, smb,
@@ -336,8 +362,7 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
                 copy_into(cUo, cU)
                 copy_into(cVo, cV)
                 copy_into(cAo, cA)
-                cmbo[...] = cmb
-                cmFo[...] = cmF
+                _copy_mounts(cmbo, cmFo, cmb, cmF)
                 predict(
                     cMd, cDc, cLc, cLTc, cg0, cng, cf0, cnf, calpha, cbeta, cU, cV, cA, cpres, cpchan, ccpl_i,
                     ccpl_v, mu_, mv_, ma_, row, h, cy1, cr, cmi, cmKC, cmb,

@@ -108,6 +108,42 @@ ContactLaw = namedtuple("ContactLaw", "on gap r_in r_cable law k_lin k_hertz c_n
 #: the last step ended in its sub-steps with an event still on, so that the next starts in them.
 ContactArrays = namedtuple("ContactArrays", "Xc Tc Xs Rs Ls state elem xi Pn Pp vrel N g time ws chan subG again")
 
+#: The step loop's scratch, made once per engine and time step (``step_scratch``) instead of at every
+#: call of :func:`run_steps`, whose allocations and their reference counts cost ~5 us a call (a fifth
+#: of an FMU call of three steps, docs/performance-history.md): the bodies' state at the step's start
+#: (sUo .. cAo, the mounts' smbo .. cmFo), the predictors' and ledgers' work arrays (sy1, sr, cy1,
+#: cr, sq, cq), the step's new contact forces and reactions (fcs_new, fcc_new, reac_new), the contact
+#: solve's diag, the contact memory at the step's start (state0 .. gn0) and the sub-steps' motion
+#: (subrows, subc, subt, subm). run_steps sets each as it did when it made them.
+StepScratch = namedtuple(
+    "StepScratch",
+    "sUo sVo sAo cUo cVo cAo smbo smFo cmbo cmFo sy1 sr cy1 cr sq cq fcs_new fcc_new reac_new diag state0 elem0 "
+    "xi0 Pn0 Pp0 vrel0 Nn0 gn0 subrows subc subt subm",
+)
+
+
+def step_scratch(casing, cable, contact, nch, nsub):
+    """The :class:`StepScratch` of run_steps for these records (:class:`BodyArrays` of both bodies,
+    :class:`ContactArrays`), ``nch`` support channels and ``nsub`` sub-steps of a recomputed step."""
+    import numpy as np  # (the contract module itself needs no numpy)
+
+    def work(body):
+        n, b = body.U.shape[0], (body.Md.shape[0] - 1) // 2
+        return np.zeros(n + 2 * b), np.zeros(max(body.ng, 1)), np.zeros((2, n)), np.zeros(n)
+
+    sy1, sr, sq, fcs_new = work(casing)
+    cy1, cr, cq, fcc_new = work(cable)
+    like = [np.zeros_like(x) for x in (casing.U, casing.V, casing.A, cable.U, cable.V, cable.A)]
+    mounts = [np.zeros_like(x) for x in (casing.mb, casing.mF, cable.mb, cable.mF)]
+    memory = [np.zeros_like(x) for x in (contact.state, contact.elem, contact.xi, contact.Pn, contact.Pp)]
+    memory += [np.zeros_like(x) for x in (contact.vrel, contact.N, contact.g)]
+    nm = max(nsub, 1)
+    return StepScratch(
+        *like, *mounts, sy1, sr, cy1, cr, sq, cq, fcs_new, fcc_new, np.zeros(24), np.zeros(DIAG_SIZE), *memory,
+        np.zeros((6, nch)), np.zeros((3, 6, nch)), np.zeros(nm), np.zeros((3, nm, nch)),
+    )  # fmt: skip
+
+
 #: Recorded histories, written by step k into row off + k: on, F (n x 24 reactions), and the
 #: sparse contact history ptr, node, state, N, g (see run_steps).
 Recording = namedtuple("Recording", "on F ptr node state N g off")
