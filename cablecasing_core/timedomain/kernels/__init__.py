@@ -48,7 +48,7 @@ entry and decrements it on every exit (atomic operations, each a barrier for the
 LLVM's pruning pass removes these pairs in small functions, but gives up on large ones. The
 kernels the step loop calls that would have them, and never allocate, are compiled without the
 runtime (``NO_RT``), and so is :func:`run_steps` itself (its records' ~100 arrays are then not
-counted at each call: an FMU call of three steps 0.982 of its cost with them). For the same reason
+counted at each call: an FMU call 0.97-0.99 of its cost with them). For the same reason
 no call inside the step loop passes more than 30 arguments (Python then passes them as one built
 tuple, whose every array numba counts around the call), and :func:`run_steps` unpacks its records
 (:class:`BodyArrays`, :class:`ContactLaw`, :class:`ContactArrays`, :class:`StepScratch`,

@@ -67,10 +67,10 @@ def clip_force_outputs(mi, mF, out, first):
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def communication_step(
-    t0, dt, m, h, pot0, G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact,
+    t0, dt, h, pot0, G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact,
     reac, ledger, ledger_on, scratch, rec, info, out, fbuf, ibuf, snap_f, snap_i,
 ):  # fmt: skip
-    """Advance from ``t0`` by ``m`` steps of ``dt`` (s), ``m dt`` = ``h``, with the support motion
+    """Advance from ``t0`` by m = len(``times``) steps of ``dt`` (s), ``m dt`` = ``h``, with the support motion
     of the communication step ``[t0, t0 + h]``: the quintic Hermite (power-basis matrix ``G`` of
     ``support_motion``) from ``state`` (3 x n: u, v, a of the n support channels at t0, the engine's
     ``channels``: 12, and 3 per excited clip) to the Taylor target of the inputs ``u, v, a`` (n
@@ -80,7 +80,10 @@ def communication_step(
     ``fbuf`` and ``ibuf`` are the engine's state buffers, copied into ``snap_f`` and ``snap_i``
     first (the engine rolls back from them after a failed step); ``info``'s per-call slots are
     zeroed. Returns run_steps' status; only if it is OK are ``out`` written and ``state``
-    replaced by the supports' state at t0 + h (``rows[3:]``) (``pot0``: as :func:`step_outputs`)."""
+    replaced by the supports' state at t0 + h (``rows[3:]``) (``pot0``: as :func:`step_outputs`).
+    Thirty arguments at most: a call with more is compiled as a call with a built tuple, whose
+    every array numba reference-counts around the call (the package docstring)."""
+    m = times.shape[0]
     for i in range(fbuf.shape[0]):
         snap_f[i] = fbuf[i]
     for i in range(ibuf.shape[0]):
@@ -161,9 +164,9 @@ def new_communication_context(
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def communication_step_in_context(ctx, t0, dt, m, h, pot0):
-    """:func:`communication_step` with its arrays from ``ctx``."""
+    """:func:`communication_step` with its arrays from ``ctx`` (m, the steps, is ``ctx.times``' length)."""
     return communication_step(
-        t0, dt, m, h, pot0, ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion,
+        t0, dt, h, pot0, ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion,
         ctx.base, ctx.use_base, ctx.casing, ctx.cable, ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on,
         ctx.scratch, ctx.rec, ctx.info, ctx.out, ctx.fbuf, ctx.ibuf, ctx.snap_f, ctx.snap_i,
     )  # fmt: skip
