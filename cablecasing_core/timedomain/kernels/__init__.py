@@ -47,8 +47,10 @@ Reference counting: numba increments the reference count of every array a functi
 entry and decrements it on every exit (atomic operations, each a barrier for the memory pipeline).
 LLVM's pruning pass removes these pairs in small functions, but gives up on large ones. The
 kernels the step loop calls that would have them, and never allocate, are compiled without the
-runtime (``NO_RT``), and so is :func:`run_steps` itself (its records' ~100 arrays are then not
-counted at each call: an FMU call 0.97-0.99 of its cost with them). For the same reason
+runtime (``NO_RT``), and so are :func:`run_steps` itself and the FMU's :func:`communication_step`
+(their records' ~100 arrays are then not counted at each call: an FMU call 0.96-0.98 of its cost
+with them; the context's fields are still counted as it reads them, which a structref needs the
+runtime for). For the same reason
 no call inside the step loop passes more than 30 arguments (Python then passes them as one built
 tuple, whose every array numba counts around the call), and :func:`run_steps` unpacks its records
 (:class:`BodyArrays`, :class:`ContactLaw`, :class:`ContactArrays`, :class:`StepScratch`,

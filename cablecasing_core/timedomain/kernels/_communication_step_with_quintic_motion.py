@@ -22,7 +22,7 @@ from numba import njit, types
 from numba.core.extending import overload
 from numba.experimental import structref
 
-from ._compile_options import FM
+from ._compile_options import FM, NO_RT
 from ._contact_search_and_law import contact_potential
 from ._newmark_step_loop_with_ledger import run_steps
 from ._quintic_support_motion import quintic_coefficients, quintic_values, taylor_rows
@@ -65,7 +65,7 @@ def clip_force_outputs(mi, mF, out, first):
             o += 6
 
 
-@njit(cache=True, fastmath=FM, error_model="numpy")
+@njit(**NO_RT)
 def communication_step(
     t0, dt, h, pot0, G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact,
     reac, ledger, ledger_on, scratch, rec, info, out, fbuf, ibuf, snap_f, snap_i,
