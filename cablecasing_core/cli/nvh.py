@@ -98,7 +98,7 @@ def cmd_spectrum(args):
                 psd(
                     _signal(rec, args.record, c, keep),
                     fs,
-                    nperseg=_nperseg(rec, args),
+                    nperseg=_nperseg(rec, args, n),
                     unit=rec.unit(c),
                     name=rec.resolve(c),
                     f_min=args.fmin,
@@ -134,7 +134,7 @@ def cmd_spectrum(args):
         _signal(rec, args.record, inp, keep, "--input")
         for c in columns:
             _signal(rec, args.record, c, keep)
-        res = [fn(rec, inp, c, args.estimator, args.skip, nperseg=_nperseg(rec, args)) for c in columns]
+        res = [fn(rec, inp, c, args.estimator, args.skip, nperseg=_nperseg(rec, args, n)) for c in columns]
         sel = (res[0].f_hz >= args.fmin) & (res[0].f_hz <= args.fmax) & (res[0].f_hz > 0)
         if not sel.any():
             raise _no_line(args.record, res[0].output, fs, n, args.fmin, args.fmax, res[0].f_hz[1])
@@ -180,16 +180,15 @@ def check_frequency_range(fmin, fmax):
         raise ModelError("--fmin/--fmax", (fmin, fmax), "need fmin < fmax (Hz)")
 
 
-def _nperseg(rec, args):
-    """Samples per Welch segment for ``--resolution`` Hz (a power of two), or None (the default)."""
+def _nperseg(rec, args, n):
+    """Samples per Welch segment for ``--resolution`` Hz (a power of two), or None (the default);
+    n: the record's samples after --skip (:func:`_window`)."""
     if args.resolution is None:
         return None
     from ..errors import ModelError
     from ..model.validators import number
-    from ..records import after_skip
 
     number("--resolution", args.resolution, gt=0, unit="Hz")
-    n = int(np.sum(after_skip(rec.time, args.skip, rec.time[0])))
     seg = int(2 ** np.round(np.log2(rec.fs / args.resolution)))
     if seg > n:
         finest = rec.fs / 2 ** int(np.log2(n))
