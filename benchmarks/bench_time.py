@@ -151,14 +151,24 @@ t0 = time.perf_counter()
 Engine(model, dt=DT, ledger=False).advance(DT, scenario_motion(model))
 print(f"numba_compile_or_cache_load_s: {time.perf_counter() - t0:.2f}")
 
-for contact, label in ((True, "coupled"), (False, "linear")):
+
+def timed_advance(m, dt, contact=None, record=False):
+    """(the wall times (s) of Engine.advance over --duration s of m's scenario at dt s, one per
+    --repeat run, the last engine's set-up time (s), the last engine)."""
     walls = []
     for _ in range(args.repeat):
-        eng = Engine(model, dt=DT, contact=contact, ledger=False, record=contact)
-        mo = scenario_motion(model, dt=DT)
         t0 = time.perf_counter()
-        eng.advance(args.duration, mo)
+        run = Engine(m, dt=dt, contact=contact, ledger=False, record=record)
+        setup = time.perf_counter() - t0
+        mo = scenario_motion(m, dt=dt)
+        t0 = time.perf_counter()
+        run.advance(args.duration, mo)
         walls.append(time.perf_counter() - t0)
+    return walls, setup, run
+
+
+for contact, label in ((True, "coupled"), (False, "linear")):
+    walls, _, eng = timed_advance(model, DT, contact=contact, record=contact)
     wall = min(walls)
     steps = args.duration / DT
     print(f"rtf_{label}: {args.duration / wall:.4f}")
@@ -188,32 +198,16 @@ print(f"simulate_wall_s: {time.perf_counter() - t0:.2f}")
 # The installed specimen (issue 23): the same scenario from the static state, with the cable on the
 # wall in the bends (the many-contact regime), and the static state itself.
 installed = cc.load_model("installed")
-
-
-def timed_advance(m, dt, contact=None, record=False):
-    """(the fastest of --repeat wall times (s) of Engine.advance over --duration s of m's scenario at
-    dt s, the last engine's set-up time (s), the last engine)."""
-    walls = []
-    for _ in range(args.repeat):
-        t0 = time.perf_counter()
-        run = Engine(m, dt=dt, contact=contact, ledger=False, record=record)
-        setup = time.perf_counter() - t0
-        mo = scenario_motion(m, dt=dt)
-        t0 = time.perf_counter()
-        run.advance(args.duration, mo)
-        walls.append(time.perf_counter() - t0)
-    return min(walls), setup, run
-
-
-wall_installed, t_setup, eng = timed_advance(installed, DT, record=True)
+walls, t_setup, eng = timed_advance(installed, DT, record=True)
+wall_installed = min(walls)
 nc = np.count_nonzero(eng.history()["contact_state"], axis=1)
 print(f"rtf_installed: {args.duration / wall_installed:.4f}")
 # The real-time setting of the installed specimen (docs/time_domain.md, "Real time on the installed
 # specimen"): scenario.dt = 1/30000 s, three steps per FMU communication step of 1e-4 s and 600 per
 # period of the 50 Hz drive; timed as rtf_installed, right after it
 REALTIME_DT = 1.0 / 30000.0
-wall_realtime, _, rt = timed_advance(installed, REALTIME_DT, record=True)
-print(f"rtf_installed_realtime: {args.duration / wall_realtime:.4f} (scenario.dt = {REALTIME_DT:.6g} s)")
+walls, _, rt = timed_advance(installed, REALTIME_DT, record=True)
+print(f"rtf_installed_realtime: {args.duration / min(walls):.4f} (scenario.dt = {REALTIME_DT:.6g} s)")
 rt_its = rt.solver_counts[0] / (args.duration / REALTIME_DT)
 print(f"contact_newton_iterations_per_step_installed_realtime: {rt_its:.3f}")
 print(f"us_per_step_installed: {wall_installed / (args.duration / DT) * 1e6:.2f}")
@@ -292,8 +286,8 @@ if not args.speed_only and args.duration == reference["duration_s"]:
 # docs/time_domain.md, "A friction law whose limit exists"): real time allows 10 us per step.
 ACCURATE_DT = DT
 us_installed = wall_installed / (args.duration / DT) * 1e6
-wall_free, _, eng_free = timed_advance(installed, DT, contact=False)
-us_free = wall_free / (args.duration / DT) * 1e6
+walls, _, eng_free = timed_advance(installed, DT, contact=False)
+us_free = min(walls) / (args.duration / DT) * 1e6
 solves = [b.factors(DT, False)[:3] for b in eng_free.bodies.values()]
 us_solves = min(block_solves_us(solves) for _ in range(args.repeat))
 contacts = float(np.mean(nc))
