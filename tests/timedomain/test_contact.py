@@ -267,3 +267,67 @@ def test_band_newton_finds_the_dense_newtons_forces():
     (xb, itb), (xd, itd) = found
     assert np.abs(xb - xd).max() <= 10 * NW.NEWTON_TOL_REGULARIZED * np.abs(xd).max()
     assert itb <= 2 * itd + 2
+
+
+def test_regularised_newtons_matrix_is_the_jacobian_at_the_solution():
+    """The regularised friction rows take the primal-dual linearisation (the iterate's own friction
+    force in the direction term); at the converged forces it must be the residual's Jacobian, or
+    the iteration would lose its quadratic end. The installed specimen's contacts at the real-time
+    step (1/30000 s), solved with the whole Jacobian: the matrix against central differences of
+    the exact residual, to 1e-6 of its largest entry (the differences' truncation error, h^2 R''' with
+    h = 1e-7 of the largest force, is far below that, and the contacts' damper kinks are not within
+    h of the solution at these instants)."""
+    from cablecasing_core.timedomain.kernels import _contact_newton_for_fixed_modes as NW
+
+    m = cc.load_model("installed")
+    dt = 1 / 30000
+    eng = Engine(m, dt=dt)
+    eng.advance(0.01, scenario_motion(m, dt=dt))
+    ws = eng._ws
+    (idx, gst, gdst, wst, nrm, _, _, _, _, _, W, J, R, dx, P, d, ta, tb, mode, sdir, Ne, Nd, active, _, xt, touch) = ws[
+        :26
+    ]
+    Q, x, y, off, wkk, held, piv = ws[27], ws[28], ws[29], ws[30], ws[31], ws[33], ws[34]
+    nk = int(held[0])
+    r = int(off[nk])
+    assert nk >= 8 and r == 3 * nk
+    law = eng._law()
+    args = (law.law, law.k_lin, law.k_hertz, law.c_n, dt)
+
+    def residual(xv, with_J):
+        return NW._residual(
+            Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, xv, *args, J, R, y, Ne, Nd, with_J, law.mu, law.vreg
+        )
+
+    xs = x.copy()
+    its = NW.newton_for_fixed_modes(
+        Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, xs, *args, J, R, dx, y, Ne, Nd, xt, law.mu, law.vreg, piv, r
+    )  # fmt: skip
+    assert its > 0
+    residual(xs, True)
+    Jm = J[:r, :r].copy()
+    h = 1e-7 * np.abs(xs[:r]).max()
+    Jfd = np.empty((r, r))
+    for j in range(r):
+        xp, xm = xs.copy(), xs.copy()
+        xp[j] += h
+        xm[j] -= h
+        residual(xp, False)
+        Rp = R[:r].copy()
+        residual(xm, False)
+        Jfd[:, j] = (Rp - R[:r]) / (2 * h)
+    assert np.abs(Jm - Jfd).max() <= 1e-6 * np.abs(Jfd).max()
+    # away from the solution the linearisation is not the tangent (a test that it is in use)
+    xo = xs.copy()
+    xo[1:r:3] *= -0.5  # friction turned against the slip
+    residual(xo, True)
+    Jo = J[:r, :r].copy()
+    for j in range(r):
+        xp, xm = xo.copy(), xo.copy()
+        xp[j] += h
+        xm[j] -= h
+        residual(xp, False)
+        Rp = R[:r].copy()
+        residual(xm, False)
+        Jfd[:, j] = (Rp - R[:r]) / (2 * h)
+    assert np.abs(Jo - Jfd).max() > 1e-3 * np.abs(Jfd).max()

@@ -204,7 +204,8 @@ def _residual(
     """Residual R (and, with_J, its Jacobian J) of the contact conditions of :func:`newton_for_fixed_modes` at the
     unknowns x; y = Q x, the observed relative displacements (m). Normal rows are in newtons; stick
     rows (m/s) are scaled by 1 / (2/dt W_kk) and touch rows (m) by 1 / W_kk to newtons like them.
-    Returns the norm of R (N)."""
+    J is the exact Jacobian of R except in the regularised friction rows, whose primal-dual
+    linearisation equals it at the solution. Returns the norm of R (N)."""
     c2 = 2.0 / dt
     ur = np.uint64(r)  # (the Jacobian's row fills vectorize over unsigned bounds, as in _band_lu_factor)
     matrix_times_vector(Q, x, r, y)
@@ -256,13 +257,26 @@ def _residual(
             R[ia] = x[ia] + mu * N * va / sq
             R[ib] = x[ib] + mu * N * vb / sq
             if with_J:
-                s3 = sq * sq * sq
-                daa = mu * N * (1.0 / sq - va * va / s3) * c2
-                dab = -mu * N * va * vb / s3 * c2
-                dbb = mu * N * (1.0 / sq - vb * vb / s3) * c2
+                # the primal-dual linearisation (Chan, Golub and Mulet, SIAM J. Sci. Comput. 20
+                # (1999) 1964-1977): the rows' Jacobian as that of (f_t s + mu N v_t) / s, s =
+                # sqrt(|v_t|^2 + vreg^2), whose direction term takes the iterate's own f_t (held in
+                # the cone |f_t| <= mu |N|) where the tangent takes -mu N v_t / s. The two agree at
+                # the solution (the same quadratic end); away from it the iteration does not
+                # follow the law's turn across a slip reversal, where the tangent's steps overshoot
+                # from one side of the turn to the other (docs/time_domain.md, "Contact", item 5)
+                fa, fb = x[ia], x[ib]
+                cone = abs(mu * N)
+                fn = np.sqrt(fa * fa + fb * fb)
+                if fn > cone:
+                    fa, fb = fa * (cone / fn), fb * (cone / fn)
+                s2 = sq * sq
+                daa = c2 * (mu * N / sq + fa * va / s2)
+                dab = c2 * fa * vb / s2
+                dba = c2 * fb * va / s2
+                dbb = c2 * (mu * N / sq + fb * vb / s2)
                 for j in range(ur):
                     J[ia, j] = daa * Q[ia, j] + dab * Q[ib, j]
-                    J[ib, j] = dab * Q[ia, j] + dbb * Q[ib, j]
+                    J[ib, j] = dba * Q[ia, j] + dbb * Q[ib, j]
                 J[ia, ia] += 1.0
                 J[ib, ib] += 1.0
                 J[ia, i] += mu * va / sq
