@@ -426,7 +426,7 @@ def solve_contact_forces(
         wkk[k] = max(W[o, o], W[o + 1, o + 1], W[o + 2, o + 2])
     for outer in range(8):
         r = unknowns_from_forces(nk, nrm, ta, tb, mode, active, P, off, x)
-        reduced_delassus(W, nk, nrm, ta, tb, sdir, mu, off, Q)
+        reduced_delassus(W, nk, nrm, ta, tb, sdir, mu, off, Q, J)  # (J: its scratch, before the Newton fills it)
         its = newton_for_fixed_modes(
             Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, dx, y, Ne, Nd, xt,
             mu, vreg, piv, BAND,
