@@ -234,6 +234,22 @@ def test_band_factors_solve_the_band_of_the_matrix(m, b):
         assert np.abs(x - ref).max() <= 1e-11 * np.abs(ref).max()
 
 
+def _installed_contacts(dt):
+    """The installed specimen after 0.01 s at the step dt (s): (the engine, the arrays of its last
+    contact solve that the Newton takes, the contacts nk, the unknowns r), every contact with its
+    three unknowns (the regularised law)."""
+    m = cc.load_model("installed")
+    eng = Engine(m, dt=dt)
+    eng.advance(0.01, scenario_motion(m, dt=dt))
+    ws = eng._ws
+    (_, gst, gdst, wst, _, _, _, _, _, _, _, J, R, dx, _, _, ta, tb, _, _, Ne, Nd, _, _, xt, touch) = ws[:26]
+    Q, x, y, off, wkk, held, piv = ws[27], ws[28], ws[29], ws[30], ws[31], ws[33], ws[34]
+    nk = int(held[0])
+    r = int(off[nk])
+    assert nk >= 8 and r == 3 * nk  # every contact with three unknowns
+    return eng, (gst, gdst, wst, ta, tb, J, R, dx, Ne, Nd, xt, touch, Q, x, y, off, wkk, piv), nk, r
+
+
 def test_band_newton_finds_the_dense_newtons_forces():
     """The installed specimen's contacts (regularised friction), solved from zero forces: the
     Newton that iterates with the band factors of its Jacobian (BAND) converges to the same forces
@@ -243,17 +259,9 @@ def test_band_newton_finds_the_dense_newtons_forces():
     and in a comparable number of iterations."""
     from cablecasing_core.timedomain.kernels import _contact_newton_for_fixed_modes as NW
 
-    m = cc.load_model("installed")
-    eng = Engine(m)
-    eng.advance(0.01, scenario_motion(m))
-    ws = eng._ws
-    (idx, gst, gdst, wst, nrm, _, _, _, _, _, W, J, R, dx, P, d, ta, tb, mode, sdir, Ne, Nd, active, _, xt, touch) = ws[
-        :26
-    ]
-    Q, x, y, off, wkk, held, piv = ws[27], ws[28], ws[29], ws[30], ws[31], ws[33], ws[34]
-    nk = int(held[0])
-    r = int(off[nk])
-    assert nk >= 8 and r == 3 * nk  # every contact with three unknowns
+    eng, (gst, gdst, wst, ta, tb, J, R, dx, Ne, Nd, xt, touch, Q, x, y, off, wkk, piv), nk, r = _installed_contacts(
+        1e-5
+    )
     law = eng._law()
     found = []
     for band in (NW.BAND, r):
@@ -279,18 +287,8 @@ def test_regularised_newtons_matrix_is_the_jacobian_at_the_solution():
     h of the solution at these instants)."""
     from cablecasing_core.timedomain.kernels import _contact_newton_for_fixed_modes as NW
 
-    m = cc.load_model("installed")
     dt = 1 / 30000
-    eng = Engine(m, dt=dt)
-    eng.advance(0.01, scenario_motion(m, dt=dt))
-    ws = eng._ws
-    (idx, gst, gdst, wst, nrm, _, _, _, _, _, W, J, R, dx, P, d, ta, tb, mode, sdir, Ne, Nd, active, _, xt, touch) = ws[
-        :26
-    ]
-    Q, x, y, off, wkk, held, piv = ws[27], ws[28], ws[29], ws[30], ws[31], ws[33], ws[34]
-    nk = int(held[0])
-    r = int(off[nk])
-    assert nk >= 8 and r == 3 * nk
+    eng, (gst, gdst, wst, ta, tb, J, R, dx, Ne, Nd, xt, touch, Q, x, y, off, wkk, piv), nk, r = _installed_contacts(dt)
     law = eng._law()
     args = (law.law, law.k_lin, law.k_hertz, law.c_n, dt)
 
@@ -299,35 +297,30 @@ def test_regularised_newtons_matrix_is_the_jacobian_at_the_solution():
             Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, xv, *args, J, R, y, Ne, Nd, with_J, law.mu, law.vreg
         )
 
+    def matrix_and_differences(xv, h):
+        """(the Newton's matrix at xv, the central differences of the residual with step h)."""
+        residual(xv, True)
+        Jm, Jfd = J[:r, :r].copy(), np.empty((r, r))
+        for j in range(r):
+            xp, xm = xv.copy(), xv.copy()
+            xp[j] += h
+            xm[j] -= h
+            residual(xp, False)
+            Rp = R[:r].copy()
+            residual(xm, False)
+            Jfd[:, j] = (Rp - R[:r]) / (2 * h)
+        return Jm, Jfd
+
     xs = x.copy()
     its = NW.newton_for_fixed_modes(
         Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, xs, *args, J, R, dx, y, Ne, Nd, xt, law.mu, law.vreg, piv, r
     )  # fmt: skip
     assert its > 0
-    residual(xs, True)
-    Jm = J[:r, :r].copy()
     h = 1e-7 * np.abs(xs[:r]).max()
-    Jfd = np.empty((r, r))
-    for j in range(r):
-        xp, xm = xs.copy(), xs.copy()
-        xp[j] += h
-        xm[j] -= h
-        residual(xp, False)
-        Rp = R[:r].copy()
-        residual(xm, False)
-        Jfd[:, j] = (Rp - R[:r]) / (2 * h)
+    Jm, Jfd = matrix_and_differences(xs, h)
     assert np.abs(Jm - Jfd).max() <= 1e-6 * np.abs(Jfd).max()
     # away from the solution the linearisation is not the tangent (a test that it is in use)
     xo = xs.copy()
     xo[1:r:3] *= -0.5  # friction turned against the slip
-    residual(xo, True)
-    Jo = J[:r, :r].copy()
-    for j in range(r):
-        xp, xm = xo.copy(), xo.copy()
-        xp[j] += h
-        xm[j] -= h
-        residual(xp, False)
-        Rp = R[:r].copy()
-        residual(xm, False)
-        Jfd[:, j] = (Rp - R[:r]) / (2 * h)
+    Jo, Jfd = matrix_and_differences(xo, h)
     assert np.abs(Jo - Jfd).max() > 1e-3 * np.abs(Jfd).max()
