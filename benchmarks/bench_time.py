@@ -282,7 +282,7 @@ if not args.speed_only and args.duration == reference["duration_s"]:
 # rtf_installed, and the decision on issue 23's speed goals"): the installed step without contact
 # (the two bodies' Newmark step: predictor, update, reactions, the constant load), and within it
 # the two block-tridiagonal solves, the least an implicit step of these bodies does. With the
-# regularised friction the default step is the accurate one (within 0.8 % in octaves 3-9,
+# regularised friction the default step is the accurate one (within 0.8 % in every band,
 # docs/time_domain.md, "A friction law whose limit exists"): real time allows 10 us per step.
 ACCURATE_DT = DT
 us_installed = wall_installed / (args.duration / DT) * 1e6

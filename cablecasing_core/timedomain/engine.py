@@ -613,10 +613,10 @@ class Engine:
         # the step itself saves the state for the roll-back, zeroes the per-call counters, and
         # accepts the supports' new state into recon.state when it succeeds
         if self._cstep_entry is None:
-            status = K.communication_step_in_context(ctx, t0, self.dt, m, h, self._pot0)  # compiles or loads it
-            self._cstep_entry = compiled_entry(K.communication_step_in_context, (ctx, t0, self.dt, m, h, self._pot0))
+            status = K.communication_step_in_context(ctx, t0, self.dt, h, self._pot0)  # compiles or loads it
+            self._cstep_entry = compiled_entry(K.communication_step_in_context, (ctx, t0, self.dt, h, self._pot0))
         else:
-            status = self._cstep_entry(ctx, t0, self.dt, m, h, self._pot0)
+            status = self._cstep_entry(ctx, t0, self.dt, h, self._pot0)
         if status != K.OK:
             self.restore([t0, *self._cstep_scratch[5:]])  # the snapshot the step took of itself
             _, _, times, motion, *_ = self._cstep_scratch

@@ -155,7 +155,7 @@ def new_communication_context(
     ledger_on, scratch, rec, info, out, fbuf, ibuf, snap_f, snap_i,
 ):  # fmt: skip
     """The :class:`CommunicationContext` of these arrays (the arguments of :func:`communication_step`
-    in its order, without t0, dt, m, h and pot0); it refers to them, it does not copy them."""
+    in its order, without t0, dt, h and pot0); it refers to them, it does not copy them."""
     return _new_context(
         G, state, u, v, a, rows, coeffs, times, motion, base, use_base, casing, cable, law, contact, reac, ledger,
         ledger_on, scratch, rec, info, out, fbuf, ibuf, snap_f, snap_i,
@@ -163,8 +163,8 @@ def new_communication_context(
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def communication_step_in_context(ctx, t0, dt, m, h, pot0):
-    """:func:`communication_step` with its arrays from ``ctx`` (m, the steps, is ``ctx.times``' length)."""
+def communication_step_in_context(ctx, t0, dt, h, pot0):
+    """:func:`communication_step` with its arrays from ``ctx`` (its steps: ``ctx.times``' length)."""
     return communication_step(
         t0, dt, h, pot0, ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion,
         ctx.base, ctx.use_base, ctx.casing, ctx.cable, ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on,
