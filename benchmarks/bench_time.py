@@ -289,7 +289,7 @@ if not args.speed_only and args.duration == reference["duration_s"]:
     installed_band_errors("_realtime", {}, levels, dt=REALTIME_DT)
 
 # What bounds rtf_installed whatever the contact solve costs (docs/performance.md, "What bounds
-# rtf_installed, and the decision on issue 23's speed goals"): the installed step without contact
+# rtf_installed at 1e-5 s, part by part"): the installed step without contact
 # (the two bodies' Newmark step: predictor, update, reactions, the constant load), and within it
 # the two block-tridiagonal solves, the least an implicit step of these bodies does. With the
 # regularised friction the default step is the accurate one (within 0.8 % in every band,

@@ -9,7 +9,7 @@ run with a warm one at the rounding level, which a chaotic contact run turns int
 record (measured on an AVX-512 machine: the FMU's process, loading the cache, disagreed with the
 test process that had just compiled; tests/fmu/test_fmu.py checks a compiling and a loading
 cache to the bit). Without the flags the two are the same machine arithmetic; the cost was within
-the A/B method's resolution (installed 1.03, default 0.995, docs/performance.md). NaN and infinity
+the A/B method's resolution (installed 1.03, default 0.995, docs/performance-history.md). NaN and infinity
 keep their meaning too, so the blow-up checks work.
 
 ``NO_RT``: kernels that allocate nothing are compiled without numba's runtime (no reference
