@@ -1,0 +1,59 @@
+"""The default specimen's cost per step against its time step, in one process.
+
+One engine per time step (the built-in model, its scenario, records on, ledger off, as
+``cc.simulate`` runs it), advanced in turn by ``--chunk`` s (0.02 by default; the order reversed
+every other round, so the machine's drift within the run falls on every step alike), ``--duration``
+s each after a 2 ms warm-up. Printed per step (``<dt>`` to four digits, 1.333e-05 for 1/75000 s):
+* rtf_coupled_dt<dt>: simulated over wall-clock time;
+* us_per_step_dt<dt>: wall-clock µs per step;
+* contacts_per_step_dt<dt>: closed contacts per recorded step (mean);
+* contact_newton_iterations_per_step_dt<dt>: the contact solve's Newton iterations per step.
+What each step does to the expected band levels (456 seeds against 2.5e-6 s) is the table in
+docs/time_domain.md, "The time step on 456 seeds", with the commands that produce it.
+Run: .venv/bin/python benchmarks/default_time_step.py [--dt 1e-5,1.3333333333333333e-5,...]
+[--duration 2.0] (about 10 s on one core at the defaults).
+"""
+
+import argparse
+import time
+
+import numpy as np
+
+import cablecasing_core as cc
+from cablecasing_core.timedomain.engine import Engine
+from cablecasing_core.timedomain.scenario import scenario_motion
+
+p = argparse.ArgumentParser()
+p.add_argument(
+    "--dt",
+    default="1e-5,1.3333333333333333e-5,1.6666666666666667e-5,2e-5",
+    help="comma-separated time steps (s); each must divide --chunk",
+)
+p.add_argument("--duration", type=float, default=2.0, help="s simulated per time step")
+p.add_argument("--chunk", type=float, default=0.02, help="s simulated per turn")
+args = p.parse_args()
+dts = [float(x) for x in args.dt.split(",")]
+names = [f"{dt:.4g}" for dt in dts]
+model = cc.load_model()
+engines = [Engine(model, dt=dt, ledger=False, record=True) for dt in dts]
+motions = [scenario_motion(model, dt=dt) for dt in dts]
+for eng, motion in zip(engines, motions):
+    eng.advance(0.002, motion)  # compiles, and starts every engine past its first contacts
+before = [eng.solver_counts[0] for eng in engines]
+walls = np.zeros(len(dts))
+rounds = int(round(args.duration / args.chunk))
+for k in range(rounds):
+    order = range(len(dts)) if k % 2 == 0 else reversed(range(len(dts)))
+    for j in order:
+        t0 = time.perf_counter()
+        engines[j].advance(args.chunk, motions[j])
+        walls[j] += time.perf_counter() - t0
+simulated = rounds * args.chunk
+for name, dt, eng, wall, start in zip(names, dts, engines, walls, before):
+    steps = simulated / dt
+    closed = np.count_nonzero(eng.history()["contact_state"], axis=1).mean()  # warm-up included
+    iterations = eng.solver_counts[0] - start
+    print(f"rtf_coupled_dt{name}: {simulated / wall:.4f}")
+    print(f"us_per_step_dt{name}: {wall / steps * 1e6:.3f}")
+    print(f"contacts_per_step_dt{name}: {closed:.3f}")
+    print(f"contact_newton_iterations_per_step_dt{name}: {iterations / steps:.3f}")
