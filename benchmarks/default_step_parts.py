@@ -57,5 +57,6 @@ for name, value in us.items():
     print(f"us_per_step_{name}: {value:.3f}")
 print(f"contacts_per_step: {closed:.3f}")
 print(f"contact_bookkeeping_us_per_step: {us['all_far'] - us['contact_free']:.3f}")
-print(f"contact_work_us_per_contact: {(us['full'] - us['all_far']) / closed:.3f}")
+work = (us["full"] - us["all_far"]) / closed if closed else float("nan")  # nan: no contact closed yet
+print(f"contact_work_us_per_contact: {work:.3f}")
 print(f"rtf_coupled_from_full_median: {args.dt / (us['full'] * 1e-6):.4f}")
