@@ -4,13 +4,14 @@ and the figures (docs/model_file.md, "Limits").
 
 * **Frequency domain** (modes, TRFAM, a time-domain run with a frequency-dependent modulus): the
   dense eigenproblem of a body's free DOFs, 6 (n_elements + 1) of them. LAPACK's dense solver takes
-  time growing as DOFs^3 (12.7 s for one body of 400 elements on the 2-core reference machine,
-  ``benchmarks/limits.py``; 200 s at 1000) and :data:`DENSE_COPIES` matrices of DOFs^2 doubles;
-  beyond :data:`MAX_DENSE_ELEMENTS` elements a run of ``modes`` would look like a hang.
+  time growing as DOFs^3 (2.6 s for one body of 400 elements on one core of the 2-core reference
+  machine, :data:`DENSE_SECONDS_AT_400`, ``benchmarks/limits.py``; about 40 s at 1000) and
+  :data:`DENSE_COPIES` matrices of DOFs^2 doubles; :data:`MAX_DENSE_ELEMENTS` is 14 times the paper's
+  mesh of 35 elements.
 * **Time domain**: each body holds :data:`TIME_DOMAIN_COPIES` dense matrices of its DOFs (stiffness,
-  mass, factors, compliance; 2.8 GB peak for two bodies of 1000 elements), and the record keeps
-  :data:`BYTES_PER_STEP` bytes per time step (support forces, driven inputs, contact summary,
-  and their copies when written). The sum must fit in :data:`MEMORY_SHARE` of the memory available.
+  mass, factors, compliance, and the work arrays of their set-up; 3.3 GB peak for two bodies of 1000
+  elements), and the record keeps :data:`BYTES_PER_STEP` bytes per time step (support forces,
+  driven inputs, contact summary, and their copies when written). The sum must fit in :data:`MEMORY_SHARE` of the memory available.
 """
 
 from __future__ import annotations
@@ -19,14 +20,19 @@ import math
 
 from ..errors import ModelError
 
-#: The most elements of a body in the frequency domain's dense eigenproblem (3006 DOFs: about
-#: 0.6 GB and 25 s per body on the idle 2-core machine, 72 s at 600 elements under load).
+#: The most elements of a body in the frequency domain's dense eigenproblem (3006 DOFs: 0.5 GB peak
+#: and 4.9 s per body on one core of the 2-core machine, 2.8 s on both; 14 times the paper's mesh).
 MAX_DENSE_ELEMENTS = 500
+#: Seconds the dense eigenproblem of one body of 400 elements (2406 free DOFs) takes on one core of
+#: the 2-core reference machine (benchmarks/limits.py, 2026-12-05): the base of the estimate in the
+#: refusal's message, which grows as DOFs^3.
+DENSE_SECONDS_AT_400 = 2.6
 #: Dense DOFs x DOFs matrices alive in the dense eigenproblem (K, M, modes, workspace; measured:
 #: 1.8 GB for 6006 DOFs).
 DENSE_COPIES = 6
-#: Dense DOFs x DOFs matrices a body holds in the time domain (measured: 2.8 GB, two bodies of 6006 DOFs).
-TIME_DOMAIN_COPIES = 5
+#: Dense DOFs x DOFs matrices a body holds at the time domain's peak (measured: 3.3 GB, two bodies
+#: of 6006 DOFs, 3.1 GB above the process's own 0.24 GB: 5.35 matrices per body, 2026-12-05).
+TIME_DOMAIN_COPIES = 6
 #: Bytes a recorded time step takes: 24 support outputs, up to 36 driven inputs and the contact
 #: summary as doubles, twice (the run's arrays and the record being written).
 BYTES_PER_STEP = 2 * 8 * (24 + 36 + 8)
@@ -59,13 +65,14 @@ def check_dense_eigenproblem(n_free: int, n_elements: int | None = None) -> None
     elements or the memory available (``geometry.n_elements`` named in the message)."""
     n_elements = max(n_free // 6 - 1, 1) if n_elements is None else n_elements
     need = DENSE_COPIES * 8.0 * n_free**2
+    seconds = DENSE_SECONDS_AT_400 * (n_free / 2406) ** 3
     if n_elements > MAX_DENSE_ELEMENTS or need > MEMORY_SHARE * _available():
         raise ModelError(
             "geometry.n_elements",
             n_elements,
             f"is too many for the frequency domain: its dense eigenproblem of {n_free} DOFs would need "
-            f"{_gb(need)} and time growing as DOFs^3 (about {12.7 * (n_free / 2406) ** 3:.3g} s per body on a 2-core "
-            f"machine); at most {MAX_DENSE_ELEMENTS} elements (docs/model_file.md, Limits)",
+            f"{_gb(need)} and time growing as DOFs^3 (about {seconds:.3g} s per body on one core "
+            f"of a 2-core machine); at most {MAX_DENSE_ELEMENTS} elements (docs/model_file.md, Limits)",
         )
 
 
