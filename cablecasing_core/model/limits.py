@@ -11,7 +11,8 @@ and the figures (docs/model_file.md, "Limits").
 * **Time domain**: each body holds :data:`TIME_DOMAIN_COPIES` dense matrices of its DOFs (stiffness,
   mass, factors, compliance, and the work arrays of their set-up; 3.3 GB peak for two bodies of 1000
   elements), and the record keeps :data:`BYTES_PER_STEP` bytes per time step (support forces,
-  driven inputs, contact summary, and their copies when written). The sum must fit in :data:`MEMORY_SHARE` of the memory available.
+  driven inputs, contact summary, and their copies when written). The sum must fit in
+  :data:`MEMORY_SHARE` of the memory available.
 """
 
 from __future__ import annotations
