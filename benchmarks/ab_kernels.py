@@ -24,7 +24,6 @@ import os
 import shutil
 import sys
 import tempfile
-import time
 
 # numba's cache is keyed by source file, but a cached function remembers the module it was compiled
 # in: kernels compiled here as ccA.kernels would be loaded by a later normal import of the same
@@ -35,6 +34,7 @@ os.environ["NUMBA_CACHE_DIR"] = _CACHE
 atexit.register(shutil.rmtree, _CACHE, True)
 
 import numpy as np  # noqa: E402
+from _alternating import alternate  # noqa: E402
 
 
 def load(root, name):
@@ -120,16 +120,12 @@ def main():
         motion = scenario.scenario_motion(model, dt=dt, **({"duration": args.duration} if periodic else {}))
         if args.step:
             motion = fmu_like(module(name, "timedomain.support_motion", "kinematics"), eng, motion, args.step)
-        runs.append((eng, motion, []))
-    for k in range(int(round(args.duration / chunk))):
-        for eng, motion, walls in runs if k % 2 == 0 else runs[::-1]:
-            t0 = time.perf_counter()
-            if args.step:
-                motion(chunk)
-            else:
-                eng.advance(chunk, motion)
-            walls.append(time.perf_counter() - t0)
-    ta, tb = (np.array(r[2]) for r in runs)
+        runs.append((eng, motion))
+    calls = [
+        (lambda mo=motion: mo(chunk)) if args.step else (lambda e=eng, mo=motion: e.advance(chunk, mo))
+        for eng, motion in runs
+    ]
+    ta, tb = alternate(calls, int(round(args.duration / chunk))).T
     r = tb / ta
     per_step = lambda w: np.median(w) / chunk * dt * 1e6  # noqa: E731
     print(f"us_per_step_median_A: {per_step(ta):.2f}")

@@ -2,7 +2,7 @@
 near the wall, and what the contacts themselves cost.
 
 Three engines of the built-in model (its scenario, records on, ledger off, Δt = ``--dt``), advanced
-in turn by 0.01 s chunks (the order reversed every other round) after a 2 ms warm-up:
+in turn by 0.01 s chunks (``_alternating.alternate``) after a 2 ms warm-up:
 * contact_free: ``contact=False``, the bodies' Newmark step alone;
 * all_far: contact on with ``Engine.gap`` = 1 m, so every cable node passes the far-from-wall test
   and no contact closes: the step plus the contact's bookkeeping (the far test, the zeroed
@@ -19,9 +19,9 @@ Run: .venv/bin/python benchmarks/default_step_parts.py [--rounds 100] [--dt 1e-5
 """
 
 import argparse
-import time
 
 import numpy as np
+from _alternating import alternate
 
 import cablecasing_core as cc
 from cablecasing_core.timedomain.engine import Engine
@@ -42,13 +42,8 @@ engines = {
 engines["all_far"].gap = 1.0  # m: wider than any displacement, so no node is near the wall
 for eng in engines.values():
     eng.advance(0.002, motion)
-walls = {name: [] for name in engines}
-for k in range(args.rounds):
-    for name in list(engines) if k % 2 == 0 else reversed(list(engines)):
-        t0 = time.perf_counter()
-        engines[name].advance(CHUNK, motion)
-        walls[name].append(time.perf_counter() - t0)
-us = {name: np.median(w) / (CHUNK / args.dt) * 1e6 for name, w in walls.items()}
+walls = alternate([lambda e=eng: e.advance(CHUNK, motion) for eng in engines.values()], args.rounds)
+us = {name: np.median(w) / (CHUNK / args.dt) * 1e6 for name, w in zip(engines, walls.T)}
 closed = np.count_nonzero(engines["full"].history()["contact_state"], axis=1).mean()
 far_closed = np.count_nonzero(engines["all_far"].history()["contact_state"])
 if far_closed:

@@ -1,9 +1,9 @@
 """The default specimen's cost per step against its time step, in one process.
 
 One engine per time step (the built-in model, its scenario, records on, ledger off, as
-``cc.simulate`` runs it), advanced in turn by ``--chunk`` s (0.02 by default; the order reversed
-every other round, so the machine's drift within the run falls on every step alike), ``--duration``
-s each after a 2 ms warm-up. Printed per step (``<dt>`` to four digits, 1.333e-05 for 1/75000 s):
+``cc.simulate`` runs it), advanced in turn by ``--chunk`` s (0.02 by default;
+``_alternating.alternate``), ``--duration`` s each after a 2 ms warm-up. Printed per step
+(``<dt>`` to four digits, 1.333e-05 for 1/75000 s):
 * rtf_coupled_dt<dt>: simulated over wall-clock time;
 * us_per_step_dt<dt>: wall-clock µs per step;
 * contacts_per_step_dt<dt>: closed contacts per recorded step (mean);
@@ -15,9 +15,9 @@ Run: .venv/bin/python benchmarks/default_time_step.py [--dt 1e-5,1.3333333333333
 """
 
 import argparse
-import time
 
 import numpy as np
+from _alternating import alternate
 
 import cablecasing_core as cc
 from cablecasing_core.timedomain.engine import Engine
@@ -40,14 +40,9 @@ motions = [scenario_motion(model, dt=dt) for dt in dts]
 for eng, motion in zip(engines, motions):
     eng.advance(0.002, motion)  # compiles, and starts every engine past its first contacts
 before = [eng.solver_counts[0] for eng in engines]
-walls = np.zeros(len(dts))
 rounds = int(round(args.duration / args.chunk))
-for k in range(rounds):
-    order = range(len(dts)) if k % 2 == 0 else reversed(range(len(dts)))
-    for j in order:
-        t0 = time.perf_counter()
-        engines[j].advance(args.chunk, motions[j])
-        walls[j] += time.perf_counter() - t0
+calls = [lambda e=eng, mo=motion: e.advance(args.chunk, mo) for eng, motion in zip(engines, motions)]
+walls = alternate(calls, rounds).sum(axis=0)
 simulated = rounds * args.chunk
 for name, dt, eng, wall, start in zip(names, dts, engines, walls, before):
     steps = simulated / dt
