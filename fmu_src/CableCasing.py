@@ -597,6 +597,9 @@ class CableCasing(Fmi2Slave):
                     f"step kept: {eng.max_local_error:.3g} m"
                 )
             self.log(msg, Fmi2Status.ok)
+            shortfall = eng.tolerance_shortfall()
+            if shortfall:  # (the run itself is whole: a warning, fmi2Terminate still returns fmi2OK)
+                self.log(shortfall, Fmi2Status.warning)
         return OK
 
     def fmi2_reset(self):

@@ -245,6 +245,23 @@ class Engine:
         translations."""
         return float(self._info[K.INFO_MAX_LOCAL_ERROR])
 
+    def tolerance_shortfall(self) -> str:
+        """Why the run so far did not meet :attr:`event_tolerance` (m), as one sentence for a
+        warning, or "" when it did or there is none. A step whose estimate exceeds the tolerance is
+        recomputed in :attr:`event_substeps` sub-steps once, and the sub-steps are not refined
+        further: where the acceleration jumps (an impact, a release) their estimate can stay above
+        the tolerance, and :attr:`max_local_error` then exceeds it (docs/time_domain.md, "A
+        tolerance instead of a bare step")."""
+        tol, worst = self.event_tolerance, self.max_local_error
+        if tol <= 0.0 or worst <= tol:
+            return ""
+        return (
+            f"contact.event_tolerance = {tol:g} m was not met: the largest local error estimated in a (sub-)step "
+            f"kept is {worst:.3g} m, in the {self.event_substeps} sub-steps of a step recomputed for it (they are "
+            "not refined further); raise contact.event_substeps or shorten the time step "
+            "(docs/time_domain.md, A tolerance instead of a bare step)"
+        )
+
     # -------------------------------------------------------------------------------- state
     def _install(self, model):
         """The static state the run starts from (an installed model: gravity, a cable tension, a

@@ -50,7 +50,7 @@ class SimulationResult:
     first, so that a record starts at t = 0. solver: what the step loop did, ``steps`` (of dt),
     ``refined_steps`` (recomputed in ``event_substeps`` sub-steps around a contact event or for
     the tolerance, docs/time_domain.md), ``event_steps`` (of them, around an event),
-    ``tolerance_steps`` and ``max_local_error`` (m) with ``event_tolerance`` (m;
+    ``tolerance_steps``, ``max_local_error`` (m) and ``tolerance_met`` with ``event_tolerance`` (m;
     :func:`solver_report`), the contact Newton's ``newton_iterations`` and ``unconverged_steps``.
     """
 
@@ -221,6 +221,9 @@ def simulate(
     eng = Engine(model, dt=dt, contact=contact, ledger=True, record=True)
     out0 = eng.output_values().copy()  # the state at t = 0 (records() puts it first)
     _advance(eng, duration, motion, progress)
+    shortfall = eng.tolerance_shortfall()
+    if shortfall:
+        warnings.warn(shortfall, UserWarning, stacklevel=2)
     h = eng.history()
     n = len(h["support_forces"])
     cl = eng.bodies[next(iter(eng.bodies))].system.centerline
@@ -255,9 +258,10 @@ def solver_report(eng: Engine, steps: int) -> dict:
     (around events or for the tolerance), event_steps (around events), tolerance_steps (for the
     tolerance), newton_iterations,
     unconverged_steps} (counts), friction_law ("switch" or "regularized": with the latter there
-    are no stick-slip events), event_tolerance (m, 0: off) and max_local_error (m: the largest
+    are no stick-slip events), event_tolerance (m, 0: off), max_local_error (m: the largest
     estimated local error of a step or sub-step kept, with a tolerance; docs/time_domain.md, "A
-    tolerance instead of a bare step")."""
+    tolerance instead of a bare step") and tolerance_met (False when max_local_error exceeds a
+    tolerance: :meth:`Engine.tolerance_shortfall` says why)."""
     its, _, failed = (int(x) for x in eng.solver_counts)
     return {
         "friction_law": eng.model.contact["friction_law"],
@@ -268,6 +272,7 @@ def solver_report(eng: Engine, steps: int) -> dict:
         "event_tolerance": eng.event_tolerance,
         "tolerance_steps": eng.tolerance_steps,
         "max_local_error": eng.max_local_error,
+        "tolerance_met": not eng.tolerance_shortfall(),
         "newton_iterations": its,
         "unconverged_steps": failed,
     }
