@@ -597,9 +597,8 @@ class CableCasing(Fmi2Slave):
                     f"step kept: {eng.max_local_error:.3g} m"
                 )
             self.log(msg, Fmi2Status.ok)
-            shortfall = eng.tolerance_shortfall()
-            if shortfall:  # (the run itself is whole: a warning, fmi2Terminate still returns fmi2OK)
-                self.log(shortfall, Fmi2Status.warning)
+            for said in eng.solver_warnings():  # (the run itself is whole: fmi2Terminate still returns fmi2OK)
+                self.log(said, Fmi2Status.warning)
         return OK
 
     def fmi2_reset(self):

@@ -245,22 +245,34 @@ class Engine:
         translations."""
         return float(self._info[K.INFO_MAX_LOCAL_ERROR])
 
-    def tolerance_shortfall(self) -> str:
-        """Why the run so far did not meet :attr:`event_tolerance` (m), as one sentence for a
-        warning, or "" when it did or there is none. A step whose estimate exceeds the tolerance is
-        recomputed in :attr:`event_substeps` sub-steps once, and the sub-steps are not refined
-        further: where the acceleration jumps (an impact, a release) their estimate can stay above
-        the tolerance, and :attr:`max_local_error` then exceeds it (docs/time_domain.md, "A
-        tolerance instead of a bare step")."""
+    def solver_warnings(self) -> list[str]:
+        """What the step loop did not achieve since the start, one sentence each (for a warning;
+        empty when it achieved everything asked):
+
+        - ``contact.event_tolerance`` not met (:attr:`max_local_error` above it): a step over the
+          tolerance is recomputed in :attr:`event_substeps` sub-steps once and they are not refined
+          further, so where the acceleration jumps (an impact, a release) their estimate can stay
+          above it (docs/time_domain.md, "A tolerance instead of a bare step");
+        - the contact Newton not converged in some steps (``solver_counts[2]``): their forces are
+          its last iterate (docs/time_domain.md, "Contact", item 5)."""
+        said = []
         tol, worst = self.event_tolerance, self.max_local_error
-        if tol <= 0.0 or worst <= tol:
-            return ""
-        return (
-            f"contact.event_tolerance = {tol:g} m was not met: the largest local error estimated in a (sub-)step "
-            f"kept is {worst:.3g} m, in the {self.event_substeps} sub-steps of a step recomputed for it (they are "
-            "not refined further); raise contact.event_substeps or shorten the time step "
-            "(docs/time_domain.md, A tolerance instead of a bare step)"
-        )
+        if tol > 0.0 and worst > tol:
+            said.append(
+                f"contact.event_tolerance = {tol:g} m was not met: the largest local error estimated in a (sub-)step "
+                f"kept is {worst:.3g} m, in the {self.event_substeps} sub-steps of a step recomputed for it (they are "
+                "not refined further); raise contact.event_substeps or shorten the time step "
+                "(docs/time_domain.md, A tolerance instead of a bare step)"
+            )
+        failed = int(self.solver_counts[2])
+        if failed:
+            said.append(
+                f"the contact Newton did not converge in {failed} of the {round(self.time / self.dt)} steps (or "
+                "sub-steps): their contact forces are its last iterate; it happens where the contact law is near "
+                "its limits, such as contact.friction > 1 or a contact.stick_velocity far below the slip speeds "
+                "(docs/time_domain.md, Contact, item 5)"
+            )
+        return said
 
     # -------------------------------------------------------------------------------- state
     def _install(self, model):

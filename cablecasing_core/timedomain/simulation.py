@@ -221,9 +221,8 @@ def simulate(
     eng = Engine(model, dt=dt, contact=contact, ledger=True, record=True)
     out0 = eng.output_values().copy()  # the state at t = 0 (records() puts it first)
     _advance(eng, duration, motion, progress)
-    shortfall = eng.tolerance_shortfall()
-    if shortfall:
-        warnings.warn(shortfall, UserWarning, stacklevel=2)
+    for said in eng.solver_warnings():
+        warnings.warn(said, UserWarning, stacklevel=2)
     h = eng.history()
     n = len(h["support_forces"])
     cl = eng.bodies[next(iter(eng.bodies))].system.centerline
@@ -261,7 +260,8 @@ def solver_report(eng: Engine, steps: int) -> dict:
     are no stick-slip events), event_tolerance (m, 0: off), max_local_error (m: the largest
     estimated local error of a step or sub-step kept, with a tolerance; docs/time_domain.md, "A
     tolerance instead of a bare step") and tolerance_met (False when max_local_error exceeds a
-    tolerance: :meth:`Engine.tolerance_shortfall` says why)."""
+    tolerance; :meth:`Engine.solver_warnings` says why, and
+    ``simulate`` warns it)."""
     its, _, failed = (int(x) for x in eng.solver_counts)
     return {
         "friction_law": eng.model.contact["friction_law"],
@@ -272,7 +272,7 @@ def solver_report(eng: Engine, steps: int) -> dict:
         "event_tolerance": eng.event_tolerance,
         "tolerance_steps": eng.tolerance_steps,
         "max_local_error": eng.max_local_error,
-        "tolerance_met": not eng.tolerance_shortfall(),
+        "tolerance_met": eng.event_tolerance == 0.0 or eng.max_local_error <= eng.event_tolerance,
         "newton_iterations": its,
         "unconverged_steps": failed,
     }

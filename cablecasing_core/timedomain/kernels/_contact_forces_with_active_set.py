@@ -435,8 +435,9 @@ def solve_contact_forces(
         relative_displacement(W, P, m, d)
         diag[DIAG_NEWTON_ITERATIONS] += abs(its)
         diag[DIAG_ACTIVE_SET_PASSES] += 1
-        if its < 0:
-            diag[DIAG_NEWTON_FAILED] = 1.0
+        # the last pass's Newton decides (an earlier one that ran out, a stick that needed more than
+        # mu N, is then switched to slip and solved again)
+        diag[DIAG_NEWTON_FAILED] = 1.0 if its < 0 else 0.0
         changed = False
         for k in range(nk):
             if not active[k]:

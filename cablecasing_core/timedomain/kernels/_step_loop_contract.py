@@ -43,7 +43,7 @@ INFO_SIZE = 9
 
 # the diag array of one contact solve (one step)
 DIAG_MAX_PENETRATION = 0  # m
-DIAG_NEWTON_FAILED = 1  # 1.0 when a Newton did not converge
+DIAG_NEWTON_FAILED = 1  # 1.0 when the last pass's Newton did not converge (the forces kept are its last iterate)
 DIAG_DAMPING_POWER = 2  # W, N_d g_dot of the contact damper
 DIAG_FRICTION_POWER = 3  # W, -P_t . w_t
 DIAG_NEWTON_ITERATIONS = 4  # summed over the step's passes
