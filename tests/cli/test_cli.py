@@ -1,6 +1,7 @@
 """The command line: modes, trfam, errors (run in-process through cli.main)."""
 
 import json
+import warnings
 
 import numpy as np
 import pytest
@@ -306,12 +307,20 @@ def test_simulate_says_what_the_event_tolerance_did(capsys):
     """``--set contact.event_tolerance=1e-9`` (a model change on the command line, as in a model
     file): the summary's first line adds the steps recomputed for their estimated local error and
     the largest estimate kept, the core's own counts (docs/time_domain.md, "A tolerance instead of a
-    bare step"); a value the schema refuses is named with the flag, before anything runs."""
+    bare step"), and stderr the core's warnings; a value the schema refuses is named with the flag,
+    before anything runs."""
     argv = ["simulate", "installed", "--duration", "0.01", "--no-progress", "--set", "contact.event_tolerance=1e-9"]
     assert main(argv) == 0
-    first = capsys.readouterr().out.splitlines()[0]
+    said_cli = capsys.readouterr()
+    first = said_cli.out.splitlines()[0]
     model = load_model("installed").with_overrides({"contact.event_tolerance": 1e-9})
-    solver = simulate(model, duration=0.01).solver
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        solver = simulate(model, duration=0.01).solver
+    # the core's warnings (here the tolerance not met in the worst sub-steps, 1.03e-9 m) one line each
+    warned = [line for line in said_cli.err.splitlines() if line.startswith("cablecasing: warning: ")]
+    assert warned == [f"cablecasing: warning: {w.message}" for w in said]
+    assert bool(said) == (not solver["tolerance_met"])
     n, worst = solver["tolerance_steps"], solver["max_local_error"]
     assert n > 0 and n == solver["refined_steps"] and solver["event_steps"] == 0 and worst > 0.0
     assert first == (
