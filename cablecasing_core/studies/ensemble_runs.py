@@ -136,7 +136,8 @@ def seed_ensemble(
     rows = _Rows()
     bar = _progress_bar(len(todo), progress)
     try:
-        execute(todo, DEFAULT_EVALUATE, kwargs, outputs, rows, bar, scheduler, n_workers)
+        label = lambda i: f"seed {seeds[i]}"  # noqa: E731
+        execute(todo, DEFAULT_EVALUATE, kwargs, outputs, rows, bar, scheduler, n_workers, label=label)
     finally:
         bar.close()
     failed = [(seeds[i], r["error"]) for i, r in sorted(rows.rows.items()) if r["status"] != "ok"]

@@ -12,6 +12,11 @@ When no sample finishes within ``progress_timeout`` seconds (:data:`PROGRESS_TIM
 dead or stalled, the scheduler gone) the loop ends with an InfrastructureError that names the
 cause. A scheduler address is connected to within :data:`CONNECT_TIMEOUT` seconds, before a study
 creates any file (:class:`Workers`).
+
+The warnings a sample's evaluation gives (the model's, a run's: a contact Newton that did not
+converge, a tolerance not met) are kept with its row, in this process or on a worker, and said
+again here, prefixed with the sample's label (``sample 3``, an ensemble's ``seed 3``); a message
+that several samples give word for word (a model warning) is said once, for the first of them.
 """
 
 from __future__ import annotations
@@ -21,6 +26,7 @@ import concurrent.futures
 import importlib
 import os
 import time
+import warnings
 
 from ..errors import InfrastructureError, ModelError
 from ..model.limits import PROGRESS_TIMEOUT
@@ -62,8 +68,11 @@ def evaluate_sample(spec, kwargs, index, overrides, outputs):
     """Run one sample (in the main process or on a dask worker); never raises for an Exception."""
     t0 = time.perf_counter()
     row = {"index": index, "status": "ok", "error": ""}
+    said = []
     try:
-        res = resolve_evaluate(spec)(dict(overrides), **kwargs)
+        with warnings.catch_warnings(record=True) as said:  # (said again by the executor: _say)
+            warnings.simplefilter("always")
+            res = resolve_evaluate(spec)(dict(overrides), **kwargs)
         if not isinstance(res, dict):
             raise TypeError(f"evaluate returned {type(res).__name__}, expected dict of output name -> float")
         missing = [o for o in outputs if o not in res]
@@ -74,7 +83,23 @@ def evaluate_sample(spec, kwargs, index, overrides, outputs):
     except Exception as exc:  # a failed sample is recorded, the study goes on
         row = {"index": index, "status": "failed", "error": f"{type(exc).__name__}: {exc}".replace("\n", " | ")}
     row["elapsed_s"] = time.perf_counter() - t0
+    row[WARNINGS] = [(w.category, str(w.message)) for w in said]
     return row
+
+
+#: The key of a row from :func:`evaluate_sample` that holds its warnings, (category, message) each;
+#: taken out of the row before it is written.
+WARNINGS = "_warnings"
+
+
+def _say(row, label, said):
+    """Warn, in this process, what the sample of ``row`` gave (its WARNINGS, removed from the row),
+    each message prefixed with ``label(index)``; a message already in the set ``said`` is not said
+    again (several samples of one model give its warnings word for word)."""
+    for category, message in row.pop(WARNINGS, ()):
+        if message not in said:
+            said.add(message)
+            warnings.warn(f"{label(row['index'])}: {message}", category, stacklevel=3)
 
 
 class Workers:
@@ -141,22 +166,32 @@ def execute(
     *,
     progress_timeout=PROGRESS_TIMEOUT,
     lost=None,
+    label=None,
 ):
     """Evaluate the samples ``todo`` = [(index, overrides), ...] with ``evaluate(overrides, **kwargs)``
     in this process (``scheduler="serial"``) or on dask (``scheduler``: as :class:`Workers` takes
     it, or a :class:`Workers`), passing each row to ``writer.write`` as it completes and counting it
     on ``bar``. A sample whose evaluation fails is a row with status "failed"; one lost to the
-    infrastructure is passed to ``lost(index, cause)`` and no row is written (module docstring)."""
+    infrastructure is passed to ``lost(index, cause)`` and no row is written (module docstring).
+    The samples' warnings are said here, each prefixed with ``label(index)`` (default
+    ``"sample <index>"``), a message several samples give once."""
+    said = set()
+    label = label or (lambda i: f"sample {i}")
+
+    def write(row):
+        _say(row, label, said)
+        writer.write(row)
+
     if scheduler == "serial" or getattr(scheduler, "scheduler", None) == "serial":
         for i, p in todo:
-            writer.write(evaluate_sample(evaluate, kwargs, i, p, outputs))
+            write(evaluate_sample(evaluate, kwargs, i, p, outputs))
             bar.update(1)
         return
     if isinstance(scheduler, Workers):
-        _run_dask(todo, evaluate, kwargs, outputs, writer, bar, scheduler.client, max_in_flight, progress_timeout, lost)
+        _run_dask(todo, evaluate, kwargs, outputs, write, bar, scheduler.client, max_in_flight, progress_timeout, lost)
         return
     with Workers(scheduler, n_workers) as workers:
-        _run_dask(todo, evaluate, kwargs, outputs, writer, bar, workers.client, max_in_flight, progress_timeout, lost)
+        _run_dask(todo, evaluate, kwargs, outputs, write, bar, workers.client, max_in_flight, progress_timeout, lost)
 
 
 def _cause(exc):
@@ -189,9 +224,9 @@ def _lost_scheduler(exc):
     )
 
 
-def _run_dask(todo, evaluate, kwargs, outputs, writer, bar, client, max_in_flight, progress_timeout, lost):
-    """Submit the samples to dask.distributed and write each result as it completes (the errors of the
-    client's calls are the infrastructure's; those of ``writer`` are not caught)."""
+def _run_dask(todo, evaluate, kwargs, outputs, write, bar, client, max_in_flight, progress_timeout, lost):
+    """Submit the samples to dask.distributed and ``write`` each result row as it completes (the errors
+    of the client's calls are the infrastructure's; those of ``write`` are not caught)."""
     from distributed import wait
 
     if not todo:
@@ -239,7 +274,7 @@ def _run_dask(todo, evaluate, kwargs, outputs, writer, bar, client, max_in_fligh
                 if client.status != "running":  # the scheduler is gone: the rest would wait for nothing
                     raise _lost_scheduler(exc) from None
             else:
-                writer.write(row)
+                write(row)
                 bar.update(1)
             fut.release()
             submit_next()

@@ -370,3 +370,23 @@ def test_members_on_dask_workers_equal_the_serial_ones():
     serial = seed_ensemble(cc.load_model(), [1, 2], duration=T)
     parallel = seed_ensemble(cc.load_model(), [1, 2], duration=T, scheduler="local", n_workers=2)
     np.testing.assert_array_equal(parallel.levels, serial.levels)
+
+
+def test_a_members_warnings_are_said_with_its_seed_in_this_process_and_from_workers():
+    """A member whose run warns (here the installed specimen with contact.friction = 1.5, where the
+    contact Newton does not converge in a few steps: docs/time_domain.md, "Contact", item 5) is
+    named by its seed, the same whether it ran here or on a dask worker, whose warnings would
+    otherwise go to the worker's stderr without the seed."""
+    import warnings
+
+    pytest.importorskip("distributed")
+    model = cc.load_model("installed").with_overrides({"contact.friction": 1.5})
+    said = {}
+    for scheduler in ("serial", "local"):
+        with warnings.catch_warnings(record=True) as got:
+            warnings.simplefilter("always")
+            seed_ensemble(model, [1, 2], duration=T, scheduler=scheduler, n_workers=2)
+        said[scheduler] = sorted(str(w.message) for w in got if w.category is UserWarning)
+    assert said["serial"] == said["local"], said
+    assert [m[:7] for m in said["serial"]] == ["seed 1:", "seed 2:"], said
+    assert all("the contact Newton did not converge in" in m for m in said["serial"]), said

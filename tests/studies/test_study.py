@@ -166,6 +166,33 @@ def test_evaluate_errors_are_recorded_per_sample(tmp_path):
     assert all(e.startswith("KeyError") and "'y'" in e for e in res.error[~big])
 
 
+def test_a_samples_warnings_are_said_with_its_index_and_a_shared_one_once(tmp_path):
+    """What a sample's evaluation warns is said in the caller's process, prefixed with the sample's
+    index; a message every sample gives word for word (a model's warning) once, for the first; the
+    study's file holds no trace of them (its columns are the study's)."""
+    import warnings
+
+    from cablecasing_core.errors import ModelWarning
+
+    def warning(overrides):
+        warnings.warn("the same for every sample", ModelWarning, stacklevel=1)
+        if overrides["casing.E"] > 6e9:
+            warnings.warn(f"at {sorted(overrides.items())}", UserWarning, stacklevel=1)  # (its own text)
+        return evaluators.analytic_evaluate(overrides)
+
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        res = _run(tmp_path / "s.csv", evaluate=warning, n_samples=12)
+    big = [int(i) for i, E in zip(res.index, res.X[:, list(res.parameters).index("casing.E")]) if E > 6e9]
+    assert 0 < len(big) < 12
+    shared = [w for w in said if "the same for every sample" in str(w.message)]
+    assert [(w.category, str(w.message)) for w in shared] == [(ModelWarning, "sample 0: the same for every sample")]
+    own = [str(w.message) for w in said if w.category is UserWarning]
+    assert all(m.split(": ", 1)[1].startswith("at [('cable.E'") for m in own), own
+    assert sorted(int(m.split(":")[0].removeprefix("sample ")) for m in own) == sorted(big)
+    assert "_warnings" not in (tmp_path / "s.csv").read_text()
+
+
 def test_resume_after_max_samples_repeats_nothing(tmp_path):
     calls = []
 
