@@ -268,9 +268,9 @@ class Engine:
         if failed:
             said.append(
                 f"the contact Newton did not converge in {failed} of the {round(self.time / self.dt)} steps (or "
-                "sub-steps): their contact forces are its last iterate; it happens where the contact law is near "
-                "its limits, such as contact.friction > 1 or a contact.stick_velocity far below the slip speeds "
-                "(docs/time_domain.md, Contact, item 5)"
+                "sub-steps): their contact forces are its last iterate; it happens where the contact law is nearly "
+                "non-smooth, such as a contact.stick_velocity far below the slip speeds or a contact.damping far "
+                "above the specimens' (docs/time_domain.md, Contact, item 5)"
             )
         return said
 

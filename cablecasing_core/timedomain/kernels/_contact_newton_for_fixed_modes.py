@@ -215,13 +215,14 @@ def reduced_delassus(W, nk, nrm, ta, tb, sdir, mu, off, Q, S):
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def _residual(
     Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, with_J,
-    mu, vreg,
+    mu, vreg, tangent,
 ):  # fmt: skip
     """Residual R (and, with_J, its Jacobian J) of the contact conditions of :func:`newton_for_fixed_modes` at the
     unknowns x; y = Q x, the observed relative displacements (m). Normal rows are in newtons; stick
     rows (m/s) are scaled by 1 / (2/dt W_kk) and touch rows (m) by 1 / W_kk to newtons like them.
     J is the exact Jacobian of R except in the regularised friction rows, whose primal-dual
-    linearisation equals it at the solution. Returns the norm of R (N)."""
+    linearisation equals it at the solution (tangent: their exact Jacobian too). Returns the norm
+    of R (N)."""
     c2 = 2.0 / dt
     ur = np.uint64(r)  # (the Jacobian's row fills vectorize over unsigned bounds, as in _band_lu_factor)
     matrix_times_vector(Q, x, r, y)
@@ -280,11 +281,14 @@ def _residual(
                 # the solution (the same quadratic end); away from it the iteration does not
                 # follow the law's turn across a slip reversal, where the tangent's steps overshoot
                 # from one side of the turn to the other (docs/time_domain.md, "Contact", item 5)
-                fa, fb = x[ia], x[ib]
-                cone = abs(mu * N)
-                fn = np.sqrt(fa * fa + fb * fb)
-                if fn > cone:
-                    fa, fb = fa * (cone / fn), fb * (cone / fn)
+                if tangent:  # the exact Jacobian: the law's own force in the direction term
+                    fa, fb = -mu * N * va / sq, -mu * N * vb / sq
+                else:
+                    fa, fb = x[ia], x[ib]
+                    cone = abs(mu * N)
+                    fn = np.sqrt(fa * fa + fb * fb)
+                    if fn > cone:
+                        fa, fb = fa * (cone / fn), fb * (cone / fn)
                 s2 = sq * sq
                 daa = c2 * (mu * N / sq + fa * va / s2)
                 dab = c2 * fa * vb / s2
@@ -357,6 +361,11 @@ def newton_for_fixed_modes(
     farther apart along the cable left out: m band^2 operations instead of m^3 / 3); where new
     band factors do not cut the residual CHORD_RATE-fold, the iteration goes on with the whole
     Jacobian's. The approximation is only in the iteration's matrix: the residual is the exact one.
+    The friction rows' matrix is their primal-dual linearisation (:func:`_residual`), which is not
+    the residual's derivative away from the solution, so its step need not descend: where it runs
+    out of iterations (its line search stalled; contact.friction > 1 does this), the Newton goes on
+    from its last iterate with the exact Jacobian, whose step descends |R| wherever R is smooth,
+    for as many iterations again (the converged steps are untouched, to the bit).
     Returns the number of iterations, negative when not converged; Ne, Nd hold the elastic and
     damping parts of N at the final x. mu (-) and vreg (m/s) enter only the regularised rows; piv
     (int, r) holds the factors' pivots."""
@@ -368,65 +377,78 @@ def newton_for_fixed_modes(
     its = -cap
     r0 = _residual(
         Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, True,
-        mu, vreg,
+        mu, vreg, False,
     )  # fmt: skip
     fresh = True  # J holds the Jacobian at x, not yet factored
     exact = vreg == 0.0 or band >= r - 1  # the whole Jacobian's factors, not its band's
     last = 0.0  # the last iteration's step when it was a full one (0: none)
-    for it in range(cap):
-        for i in range(r):
-            R[i] = -R[i]
-        renewed = fresh
-        # the whole Jacobian is the band b = r - 1; its back substitution from the near end of each
-        # row, as the switch law's records have always been computed
-        b = r - 1 if exact else band
-        if fresh:
-            _band_lu_factor(J, r, b, piv)
-        _band_lu_solve(J, piv, b, R, r, dx, not exact)
-        scale = 1e-30
-        step = 0.0
-        for i in range(r):
-            scale = max(scale, abs(x[i]))
-            step = max(step, abs(dx[i]))
-        alpha = 1.0
-        for _ in range(12):
-            for i in range(r):
-                xt[i] = x[i] + alpha * dx[i]
-            r1 = _residual(
-                Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, xt, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd,
-                False, mu, vreg,
-            )  # fmt: skip
-            if r1 <= (1.0 - 1e-4 * alpha) * r0 or r1 <= 1e-13 * max(scale, 1.0):
+    tangent = False
+    for attempt in range(2 if vreg > 0.0 else 1):
+        if attempt == 1:
+            if its > 0:
                 break
-            alpha *= 0.5
-        for i in range(r):
-            x[i] = xt[i]
-        if alpha * step <= tol * max(scale, 1e-30) or r1 <= 1e-13 * max(scale, 1.0):
-            its = it + 1  # Ne, Nd already belong to x (the last trial point)
-            break
-        if vreg > 0.0 and alpha == 1.0:
-            # a full chord step after a full step contracts at theta = |dx_k| / |dx_k-1| (the
-            # factors of step k-1 kept), so the error left after it is about theta / (1 - theta)
-            # |dx_k| (Hairer and Wanner, Solving ODEs II, IV.8): done when that is within the
-            # tolerance the step test asks of |dx_k| itself
-            if last > 0.0 and not renewed and step < last:
-                theta = step / last
-                if theta / (1.0 - theta) * step <= tol * max(scale, 1e-30):
-                    its = it + 1
-                    break
-            last = step
-        else:
-            last = 0.0
-        # the switch law takes new factors every iteration; the regularised law keeps them while
-        # they converge fast (a full chord step that cut the residual CHORD_RATE-fold)
-        fresh = vreg == 0.0 or alpha < 1.0 or r1 > CHORD_RATE * r0
-        if fresh and renewed and not exact:
-            exact = True  # new band factors were not enough: the whole Jacobian's from here on
-        if fresh:
+            # the primal-dual linearisation ran out of iterations (its line search stalled: its
+            # matrix is not the residual's derivative, so its step need not descend): on from the
+            # last iterate with the exact Jacobian, whose Newton step descends |R| always
+            tangent, exact, fresh, last = True, True, True, 0.0
             r0 = _residual(
                 Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd,
-                True, mu, vreg,
+                True, mu, vreg, True,
             )  # fmt: skip
-        else:
-            r0 = r1  # R, y, Ne and Nd are the last trial's, at x: the same numbers a new call would give
+        for it in range(cap):
+            for i in range(r):
+                R[i] = -R[i]
+            renewed = fresh
+            # the whole Jacobian is the band b = r - 1; its back substitution from the near end of
+            # each row, as the switch law's records have always been computed
+            b = r - 1 if exact else band
+            if fresh:
+                _band_lu_factor(J, r, b, piv)
+            _band_lu_solve(J, piv, b, R, r, dx, not exact)
+            scale = 1e-30
+            step = 0.0
+            for i in range(r):
+                scale = max(scale, abs(x[i]))
+                step = max(step, abs(dx[i]))
+            alpha = 1.0
+            for _ in range(12):
+                for i in range(r):
+                    xt[i] = x[i] + alpha * dx[i]
+                r1 = _residual(
+                    Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, xt, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne,
+                    Nd, False, mu, vreg, tangent,
+                )  # fmt: skip
+                if r1 <= (1.0 - 1e-4 * alpha) * r0 or r1 <= 1e-13 * max(scale, 1.0):
+                    break
+                alpha *= 0.5
+            for i in range(r):
+                x[i] = xt[i]
+            if alpha * step <= tol * max(scale, 1e-30) or r1 <= 1e-13 * max(scale, 1.0):
+                its = attempt * cap + it + 1  # Ne, Nd already belong to x (the last trial point)
+                break
+            if vreg > 0.0 and alpha == 1.0:
+                # a full chord step after a full step contracts at theta = |dx_k| / |dx_k-1| (the
+                # factors of step k-1 kept), so the error left after it is about theta / (1 - theta)
+                # |dx_k| (Hairer and Wanner, Solving ODEs II, IV.8): done when that is within the
+                # tolerance the step test asks of |dx_k| itself
+                if last > 0.0 and not renewed and step < last:
+                    theta = step / last
+                    if theta / (1.0 - theta) * step <= tol * max(scale, 1e-30):
+                        its = attempt * cap + it + 1
+                        break
+                last = step
+            else:
+                last = 0.0
+            # the switch law takes new factors every iteration; the regularised law keeps them while
+            # they converge fast (a full chord step that cut the residual CHORD_RATE-fold)
+            fresh = vreg == 0.0 or alpha < 1.0 or r1 > CHORD_RATE * r0
+            if fresh and renewed and not exact:
+                exact = True  # new band factors were not enough: the whole Jacobian's from here on
+            if fresh:
+                r0 = _residual(
+                    Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd,
+                    True, mu, vreg, tangent,
+                )  # fmt: skip
+            else:
+                r0 = r1  # R, y, Ne and Nd are the last trial's, at x: the same numbers a new call would give
     return its
