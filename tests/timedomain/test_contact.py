@@ -284,7 +284,8 @@ def test_regularised_newtons_matrix_is_the_jacobian_at_the_solution():
     step (1/30000 s), solved with the whole Jacobian: the matrix against central differences of
     the exact residual, to 1e-6 of its largest entry (the differences' truncation error, h^2 R''' with
     h = 1e-7 of the largest force, is far below that, and the contacts' damper kinks are not within
-    h of the solution at these instants)."""
+    h of the solution at these instants). With ``tangent`` (the fall-back of a stalled Newton) the
+    matrix is the Jacobian away from the solution too."""
     from cablecasing_core.timedomain.kernels import _contact_newton_for_fixed_modes as NW
 
     dt = 1 / 30000
@@ -292,14 +293,15 @@ def test_regularised_newtons_matrix_is_the_jacobian_at_the_solution():
     law = eng._law()
     args = (law.law, law.k_lin, law.k_hertz, law.c_n, dt)
 
-    def residual(xv, with_J):
+    def residual(xv, with_J, tangent=False):
         return NW._residual(
-            Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, xv, *args, J, R, y, Ne, Nd, with_J, law.mu, law.vreg
-        )
+            Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, xv, *args, J, R, y, Ne, Nd, with_J, law.mu, law.vreg,
+            tangent,
+        )  # fmt: skip
 
-    def matrix_and_differences(xv, h):
+    def matrix_and_differences(xv, h, tangent=False):
         """(the Newton's matrix at xv, the central differences of the residual with step h)."""
-        residual(xv, True)
+        residual(xv, True, tangent)
         Jm, Jfd = J[:r, :r].copy(), np.empty((r, r))
         for j in range(r):
             xp, xm = xv.copy(), xv.copy()
@@ -324,6 +326,9 @@ def test_regularised_newtons_matrix_is_the_jacobian_at_the_solution():
     xo[1:r:3] *= -0.5  # friction turned against the slip
     Jo, Jfd = matrix_and_differences(xo, h)
     assert np.abs(Jo - Jfd).max() > 1e-3 * np.abs(Jfd).max()
+    # the fall-back where the linearisation's Newton stalls takes the exact Jacobian: it is there too
+    Jt, Jfd = matrix_and_differences(xo, h, tangent=True)
+    assert np.abs(Jt - Jfd).max() <= 1e-6 * np.abs(Jfd).max()
 
 
 def test_steps_whose_contact_newton_did_not_converge_are_said():
