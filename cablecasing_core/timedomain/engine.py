@@ -245,6 +245,12 @@ class Engine:
         translations."""
         return float(self._info[K.INFO_MAX_LOCAL_ERROR])
 
+    @property
+    def tolerance_met(self) -> bool:
+        """Whether every step and sub-step kept since the start is within :attr:`event_tolerance`
+        (True without a tolerance): :attr:`max_local_error` at most the tolerance."""
+        return self.event_tolerance == 0.0 or self.max_local_error <= self.event_tolerance
+
     def solver_warnings(self) -> list[str]:
         """What the step loop did not achieve since the start, one sentence each (for a warning;
         empty when it achieved everything asked):
@@ -256,13 +262,13 @@ class Engine:
         - the contact Newton not converged in some steps (``solver_counts[2]``): their forces are
           its last iterate (docs/time_domain.md, "Contact", item 5)."""
         said = []
-        tol, worst = self.event_tolerance, self.max_local_error
-        if tol > 0.0 and worst > tol:
+        if not self.tolerance_met:
             said.append(
-                f"contact.event_tolerance = {tol:g} m was not met: the largest local error estimated in a (sub-)step "
-                f"kept is {worst:.3g} m, in the {self.event_substeps} sub-steps of a step recomputed for it (they are "
-                "not refined further); raise contact.event_substeps or shorten the time step "
-                "(docs/time_domain.md, A tolerance instead of a bare step)"
+                f"contact.event_tolerance = {self.event_tolerance:g} m was not met: the largest local error "
+                f"estimated in a (sub-)step kept is {self.max_local_error:.3g} m, in the {self.event_substeps} "
+                "sub-steps of a step recomputed for it (they are not refined further); raise "
+                "contact.event_substeps or shorten the time step (docs/time_domain.md, A tolerance instead of a "
+                "bare step)"
             )
         failed = int(self.solver_counts[2])
         if failed:

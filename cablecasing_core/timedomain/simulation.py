@@ -272,7 +272,7 @@ def solver_report(eng: Engine, steps: int) -> dict:
         "event_tolerance": eng.event_tolerance,
         "tolerance_steps": eng.tolerance_steps,
         "max_local_error": eng.max_local_error,
-        "tolerance_met": eng.event_tolerance == 0.0 or eng.max_local_error <= eng.event_tolerance,
+        "tolerance_met": eng.tolerance_met,
         "newton_iterations": its,
         "unconverged_steps": failed,
     }

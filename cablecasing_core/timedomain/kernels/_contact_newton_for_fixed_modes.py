@@ -389,11 +389,11 @@ def newton_for_fixed_modes(
                 break
             # the primal-dual linearisation ran out of iterations (its line search stalled: its
             # matrix is not the residual's derivative, so its step need not descend): on from the
-            # last iterate with the exact Jacobian, whose Newton step descends |R| always
+            # last iterate with the exact Jacobian, whose Newton step descends |R| wherever R is smooth
             tangent, exact, fresh, last = True, True, True, 0.0
             r0 = _residual(
                 Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd,
-                True, mu, vreg, True,
+                True, mu, vreg, tangent,
             )  # fmt: skip
         for it in range(cap):
             for i in range(r):
