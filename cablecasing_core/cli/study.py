@@ -102,6 +102,13 @@ def cmd_study(args):
     )
     n_ok = int(np.sum(res.ok))
     print(f"{n_ok} of {len(res.status)} runs ok ({res.n_base} base points); results in {out / 'study.csv'}")
+    n_warned = int(np.sum(res.warned))
+    if n_warned:
+        print(
+            f"cablecasing: warning: {n_warned} of {len(res.status)} runs warned (the column 'warnings' of "
+            f"{out / 'study.csv'} says which and what)",
+            file=sys.stderr,
+        )
     if n_ok == 0:
         first = next((e for e in res.error if e), "")
         print(f"cablecasing: error: every run failed; the first: {first}", file=sys.stderr)
@@ -265,6 +272,14 @@ def _print_ensemble(ens, confidence):
     print("band,f_low_hz,f_high_hz,mean,se,ci_low,ci_high,cv")
     for row in ens.as_rows(confidence):
         print(",".join([row["band"]] + [f"{row[k]:.6g}" for k in list(row)[1:]]))
+    if ens.warnings:
+        warned = sorted(ens.warnings)
+        shown = ", ".join(map(str, warned[:10])) + (", ..." if len(warned) > 10 else "")
+        print(
+            f"cablecasing: warning: {len(warned)} of {ens.n} members warned (seeds {shown}; the ensemble's CSV "
+            "keeps what each said)",
+            file=sys.stderr,
+        )
 
 
 def _print_change(other, d, change, confidence):

@@ -37,7 +37,10 @@ class Ensemble:
     columns without a cable). ``overrides`` are the model changes common to all members;
     ``settings`` the run settings ``duration``, ``dt``, ``skip`` (s) and ``model``, a fingerprint of
     the model data with the overrides applied (what :func:`pool_ensembles` requires to be equal; a
-    tabulated excitation enters by its file name, not by the file's content).
+    tabulated excitation enters by its file name, not by the file's content). ``warnings`` maps
+    the seed of each member whose run warned (a contact Newton that did not converge in some steps,
+    a tolerance not met: docs/time_domain.md) to its messages, joined by `` | ``; members that
+    warned nothing are not in it.
     """
 
     seeds: np.ndarray
@@ -49,6 +52,7 @@ class Ensemble:
     overrides: dict = field(default_factory=dict)
     contact_time: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     settings: dict = field(default_factory=dict)
+    warnings: dict = field(default_factory=dict)
 
     @property
     def contact_share(self):
@@ -106,10 +110,11 @@ class Ensemble:
 
     def save(self, path: str | os.PathLike) -> None:
         """Write the members as CSV: the header ``seed, <band labels> (N or N.m), contact_time_node<k>_s``,
-        then one line ``# cablecasing-ensemble {JSON}`` with the output, band edges (Hz), overrides and
-        settings (a comment line: ``numpy.genfromtxt(path, delimiter=",", names=True)`` and
-        ``pandas.read_csv(path, comment="#")`` read the table), then one row per member, written
-        to 17 significant digits so that :func:`load_ensemble` gives back the same numbers."""
+        then one line ``# cablecasing-ensemble {JSON}`` with the output, band edges (Hz), overrides,
+        settings and the members' warnings by seed (a comment line: ``numpy.genfromtxt(path,
+        delimiter=",", names=True)`` and ``pandas.read_csv(path, comment="#")`` read the table),
+        then one row per member, written to 17 significant digits so that :func:`load_ensemble` gives
+        back the same numbers."""
         nodes = self.contact_time.shape[1] if self.contact_time.size else 0
         header = ",".join(("seed",) + tuple(self.labels) + tuple(f"contact_time_node{k}_s" for k in range(nodes)))
         meta = {
@@ -121,6 +126,8 @@ class Ensemble:
             "overrides": _canonical(self.overrides),
             "settings": _canonical(self.settings),
         }
+        if self.warnings:
+            meta["warnings"] = {str(int(s)): str(w) for s, w in sorted(self.warnings.items())}
         parts = [self.seeds[:, None], self.levels] + ([self.contact_time] if nodes else [])
         from ..files import atomic_path
 
@@ -176,7 +183,24 @@ def load_ensemble(path: str | os.PathLike) -> Ensemble:
         meta["overrides"],
         table[:, 1 + nb :],
         meta["settings"],
+        _warnings_by_seed(shown, meta.get("warnings", {}), seeds),
     )
+
+
+def _warnings_by_seed(shown, given, seeds):
+    """The settings line's ``warnings`` ({"seed": "messages"}) as {seed: messages}, each seed one of
+    the file's members (a :class:`ModelError` otherwise)."""
+    members = set(int(s) for s in seeds)
+    out = {}
+    if not isinstance(given, dict):
+        raise ModelError("path", shown, "must be an unaltered ensemble CSV: its warnings are not a table")
+    for key, text in given.items():
+        if not (isinstance(key, str) and key.isdigit() and int(key) in members and isinstance(text, str)):
+            raise ModelError(
+                "path", shown, "must be an unaltered ensemble CSV: its warnings must name members' seeds with text"
+            )
+        out[int(key)] = text
+    return out
 
 
 def _settings_line(shown, text):
@@ -264,6 +288,7 @@ def pool_ensembles(ensembles: Sequence[Ensemble | str | os.PathLike]) -> Ensembl
         first.overrides,
         np.concatenate([e.contact_time for e in parts])[order],
         first.settings,
+        {s: w for e in parts for s, w in e.warnings.items()},
     )
 
 

@@ -162,6 +162,7 @@ def seed_ensemble(
         overrides,
         table[:, nb:],
         settings,
+        {int(seeds[i]): r["warnings"] for i, r in sorted(rows.rows.items()) if r.get("warnings")},
     )
 
 

@@ -17,6 +17,8 @@ The warnings a sample's evaluation gives (the model's, a run's: a contact Newton
 converge, a tolerance not met) are kept with its row, in this process or on a worker, and said
 again here, prefixed with the sample's label (``sample 3``, an ensemble's ``seed 3``); a message
 that several samples give word for word (a model warning) is said once, for the first of them.
+Every sample's own are kept in its row as one line (``row["warnings"]``), which the study's CSV
+and the ensemble store, so that the samples that warned can be told afterwards.
 """
 
 from __future__ import annotations
@@ -92,14 +94,21 @@ def evaluate_sample(spec, kwargs, index, overrides, outputs):
 WARNINGS = "_warnings"
 
 
+#: What joins a sample's messages in the one line ``row["warnings"]`` (``""`` when it gave none).
+WARNING_SEPARATOR = " | "
+
+
 def _say(row, label, said):
-    """Warn, in this process, what the sample of ``row`` gave (its WARNINGS, removed from the row),
-    each message prefixed with ``label(index)``; a message already in the set ``said`` is not said
-    again (several samples of one model give its warnings word for word)."""
-    for category, message in row.pop(WARNINGS, ()):
+    """Warn, in this process, what the sample of ``row`` gave (its WARNINGS, taken out of the row
+    and kept in it as the line ``row["warnings"]``, every message, for the results), each message
+    prefixed with ``label(index)``; a message already in the set ``said`` is not said again (several
+    samples of one model give its warnings word for word)."""
+    given = row.pop(WARNINGS, ())
+    for category, message in given:
         if message not in said:
             said.add(message)
             warnings.warn(f"{label(row['index'])}: {message}", category, stacklevel=3)
+    row["warnings"] = WARNING_SEPARATOR.join(" ".join(str(m).split()) for _, m in given)
 
 
 class Workers:

@@ -17,6 +17,9 @@ from ..errors import ModelError, excerpt, plain
 
 META_COLUMNS = ("index", "status")
 TAIL_COLUMNS = ("elapsed_s", "error")
+#: The column of a sample's warnings, before TAIL_COLUMNS (studies begun before it have none: a
+#: sidecar without ``"warnings": true``, whose header a resume keeps)
+WARNINGS_COLUMN = "warnings"
 STATUSES = ("ok", "failed", "infeasible")
 FORMAT_VERSION = 2  # 2: Saltelli's design on a Sobol' sequence (1 was a Latin hypercube)
 #: Settings of the sidecar that a resumed study must share with the file (the size may grow).
@@ -39,6 +42,8 @@ class StudyResults:
 
     index (n,) int; parameters (names); X (n, d) parameter values (SI); outputs (names);
     Y (n, m) output values (NaN where not ok); status (n,) str; error (n,) str; elapsed_s (n,) s;
+    warnings (n,) str: what the sample's run warned, its messages joined by `` | `` (``""`` when it
+    warned nothing, and for every row of a study begun before the CSV had the column);
     group_size: runs per base point of Saltelli's design (d + 2; 0 when the file has no such design);
     n_base: base points of the design (the study's size is n_base * group_size runs).
     """
@@ -51,16 +56,26 @@ class StudyResults:
     status: np.ndarray
     error: np.ndarray
     elapsed_s: np.ndarray
+    warnings: np.ndarray | None = None
     group_size: int = 0
     n_base: int = 0
     #: what every output is a value of: {"name": "casing.B.Fz", "unit": "N", "what": "band RMS"}
     #: (the sidecar's ``quantity``; None for a study that does not say)
     quantity: dict | None = None
 
+    def __post_init__(self):
+        if self.warnings is None:
+            self.warnings = np.full(self.index.size, "", dtype=object).astype(str)
+
     @property
     def ok(self):
         """Boolean mask of the successful samples."""
         return self.status == "ok"
+
+    @property
+    def warned(self):
+        """Boolean mask of the samples whose run warned (:attr:`warnings` not empty)."""
+        return np.char.str_len(self.warnings.astype(str)) > 0
 
     def __len__(self):
         return self.index.size
@@ -70,12 +85,14 @@ def _meta_path(path):
     return str(path) + ".meta.json"
 
 
-def _header(params, outputs, quantity=None):
+def _header(params, outputs, quantity=None, warnings=False):
     """The CSV's header: the output columns name the quantity and its unit when the study says
-    (``casing.B.Fz oct1 [N]``), else the outputs' names alone (files of earlier versions)."""
+    (``casing.B.Fz oct1 [N]``), else the outputs' names alone (files of earlier versions); the
+    warnings column when the sidecar says ``"warnings": true`` (files since it was added)."""
     if quantity:
         outputs = [f"{quantity['name']} {o} [{quantity['unit']}]" for o in outputs]
-    return list(META_COLUMNS) + list(params) + list(outputs) + list(TAIL_COLUMNS)
+    extra = [WARNINGS_COLUMN] if warnings else []
+    return list(META_COLUMNS) + list(params) + list(outputs) + extra + list(TAIL_COLUMNS)
 
 
 def _fmt(v):
@@ -109,7 +126,8 @@ def load_results(path: str | os.PathLike) -> StudyResults:
         params, outputs = tuple(meta["bounds"]), tuple(meta["outputs"])
     except (OSError, ValueError, KeyError) as exc:
         raise ModelError("path", path, f"must be a study CSV with its {_meta_path(path)} sidecar ({exc})") from None
-    header = _header(params, outputs, meta.get("quantity"))
+    has_warnings = meta.get("warnings") is True
+    header = _header(params, outputs, meta.get("quantity"), has_warnings)
     try:
         with open(path, newline="") as fh:
             text = fh.read()
@@ -140,6 +158,7 @@ def load_results(path: str | os.PathLike) -> StudyResults:
         status=np.array([rows[i][1] for i in order], dtype=object).astype(str),
         error=np.array([rows[i][-1] for i in order], dtype=object).astype(str),
         elapsed_s=np.array([num(rows[i][-2]) for i in order], float),
+        warnings=np.array([rows[i][-3] if has_warnings else "" for i in order], dtype=object).astype(str),
         group_size=len(params) + 2 if meta.get("format") == FORMAT_VERSION else 0,
         n_base=int(meta.get("n_base", 0)),
         quantity=meta.get("quantity"),
@@ -149,8 +168,9 @@ def load_results(path: str | os.PathLike) -> StudyResults:
 class ResultsWriter:
     """Append-only CSV writer, one flushed and fsynced row per sample."""
 
-    def __init__(self, path, params, outputs, design):
+    def __init__(self, path, params, outputs, design, warnings=True):
         self.path, self.params, self.outputs, self.design = path, params, outputs, design
+        self.warnings = warnings  # (the file has the warnings column: its sidecar says so)
         self.fh = open(path, "a", newline="")
         self.w = csv.writer(self.fh)
 
@@ -158,6 +178,8 @@ class ResultsWriter:
         i = row["index"]
         vals = [i, row["status"]] + [_fmt(float(v)) for v in self.design[i]]
         vals += [_fmt(row[o]) if o in row else "" for o in self.outputs]
+        if self.warnings:
+            vals.append(row.get(WARNINGS_COLUMN, ""))
         vals += [f"{row.get('elapsed_s', 0.0):.6g}", row.get("error", "")]
         self.w.writerow(vals)
         self.fh.flush()
@@ -274,7 +296,9 @@ def prepare_file(path, meta, design, params):
     old = read_meta(path)
     if old is not None and "quantity" not in old:  # (a study of an earlier version: its header stays)
         meta.pop("quantity", None)
-    header = _header(params, meta["outputs"], meta.get("quantity"))
+    if old is not None and old.get("warnings") is not True:  # (the same: no warnings column)
+        meta.pop("warnings", None)
+    header = _header(params, meta["outputs"], meta.get("quantity"), meta.get("warnings") is True)
     if old is None:
         d = os.path.dirname(os.path.abspath(path))
         os.makedirs(d, exist_ok=True)

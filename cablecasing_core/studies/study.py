@@ -15,9 +15,9 @@ and every row goes to a resumable CSV (:mod:`.results_store`).
   :func:`~.evaluators.default_evaluate` is the time-domain evaluation (engine run, octave RMS of
   ``casing.B.Fz``). A function with the attribute ``placeholder = True`` is refused before starting.
 * **Results**: an append-only CSV, one row per run, flushed and fsynced per row: ``index, status,
-  <parameters>, <outputs>, elapsed_s, error``. Status is ``ok``, ``failed`` (the exception is in
-  ``error``; the study goes on) or ``infeasible`` (a constraint rejected the sample before
-  evaluation; the reason is in ``error``). A sidecar ``<csv>.meta.json`` holds the seed, bounds,
+  <parameters>, <outputs>, warnings, elapsed_s, error``. Status is ``ok``, ``failed`` (the exception
+  is in ``error``; the study goes on) or ``infeasible`` (a constraint rejected the sample before
+  evaluation; the reason is in ``error``); ``warnings`` holds what the run warned. A sidecar ``<csv>.meta.json`` holds the seed, bounds,
   size, outputs and evaluate; a restart with the same settings reads the CSV and skips every index
   already present (a failed sample is *not* retried), so no sample is repeated; a restart with more
   samples continues the sequence and runs only the new ones. A torn last line (process killed
@@ -39,6 +39,7 @@ from .results_store import (
     FORMAT_VERSION,
     META_COLUMNS,
     TAIL_COLUMNS,
+    WARNINGS_COLUMN,
     LostLog,
     ResultsWriter,
     StudyResults,
@@ -127,9 +128,11 @@ def run_study(
     outputs = tuple(DEFAULT_OUTPUTS if outputs is None else outputs)
     if not outputs or len(set(outputs)) != len(outputs) or not all(isinstance(o, str) and o for o in outputs):
         raise ModelError("outputs", outputs, "must be a non-empty sequence of unique output names")
-    clash = set(outputs) & (set(bounds) | set(META_COLUMNS) | set(TAIL_COLUMNS))
+    clash = set(outputs) & (set(bounds) | set(META_COLUMNS) | {WARNINGS_COLUMN} | set(TAIL_COLUMNS))
     if clash:
-        raise ModelError("outputs", sorted(clash), "must not reuse a parameter name or index/status/elapsed_s/error")
+        raise ModelError(
+            "outputs", sorted(clash), "must not reuse a parameter name or index/status/warnings/elapsed_s/error"
+        )
     if quantity is not None and not (
         isinstance(quantity, dict) and all(isinstance(quantity.get(k), str) for k in ("name", "unit"))
     ):
@@ -182,10 +185,11 @@ def run_study(
                 "evaluate_kwargs": evaluate_kwargs,
                 "constraints": [spec_name(c) for c in constraints],
                 "sampler": SAMPLER,
+                "warnings": True,  # (the CSV has the warnings column; prepare_file drops it for an older study)
             }
             done = prepare_file(path, meta, design, params)
 
-            writer = ResultsWriter(path, params, outputs, design)
+            writer = ResultsWriter(path, params, outputs, design, warnings=meta.get("warnings") is True)
             try:
                 todo = []
                 for i in range(n):

@@ -3,6 +3,7 @@ and the ensemble statistics have the sampling properties they claim (checked by 
 synthetic ensembles from a known distribution)."""
 
 import copy
+import dataclasses
 
 import numpy as np
 import pytest
@@ -381,12 +382,56 @@ def test_a_members_warnings_are_said_with_its_seed_in_this_process_and_from_work
 
     pytest.importorskip("distributed")
     model = cc.load_model().with_overrides({"contact.damping": 1e5})
-    said = {}
+    said, kept = {}, {}
     for scheduler in ("serial", "local"):
         with warnings.catch_warnings(record=True) as got:
             warnings.simplefilter("always")
-            seed_ensemble(model, [1, 2], duration=T, scheduler=scheduler, n_workers=2)
+            kept[scheduler] = seed_ensemble(model, [1, 2], duration=T, scheduler=scheduler, n_workers=2).warnings
         said[scheduler] = sorted(str(w.message) for w in got if w.category is UserWarning)
     assert said["serial"] == said["local"], said
     assert [m[:7] for m in said["serial"]] == ["seed 1:", "seed 2:"], said
     assert all("the contact Newton did not converge in" in m for m in said["serial"]), said
+    assert kept["serial"] == kept["local"] and sorted(kept["serial"]) == [1, 2]
+
+
+def test_a_members_warnings_are_kept_by_seed_and_round_trip_through_its_file(tmp_path):
+    """The ensemble keeps each member's warnings by seed (the same messages the run said), its CSV
+    keeps them, and pooling two parts keeps both parts'."""
+    import warnings
+
+    model = cc.load_model().with_overrides({"contact.damping": 1e5})
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always")
+        ens = seed_ensemble(model, [1, 2], duration=T)
+    said = sorted(str(w.message) for w in got if w.category is UserWarning)
+    assert sorted(ens.warnings) == [1, 2]
+    # every member's messages were said, for it or for a member that gave them word for word first
+    for s in (1, 2):
+        assert any(m == f"seed {j}: {ens.warnings[s]}" for j in (1, 2) for m in said), said
+    assert set(said) <= {f"seed {s}: {ens.warnings[s]}" for s in (1, 2)}
+    ens.save(tmp_path / "e.csv")
+    back = load_ensemble(tmp_path / "e.csv")
+    assert back.warnings == ens.warnings
+    a, b = (
+        dataclasses.replace(
+            ens,
+            seeds=ens.seeds[k : k + 1],
+            levels=ens.levels[k : k + 1],
+            contact_time=ens.contact_time[k : k + 1],
+            warnings={int(ens.seeds[k]): ens.warnings[int(ens.seeds[k])]},
+        )
+        for k in (0, 1)
+    )
+    assert pool_ensembles([b, a]).warnings == ens.warnings
+    quiet = seed_ensemble(cc.load_model(), [1, 2], duration=T)
+    assert quiet.warnings == {}
+
+
+def test_cli_says_which_members_warned_and_its_file_keeps_what(tmp_path, capsys):
+    out = tmp_path / "levels.csv"
+    args = ["ensemble", "--seeds", "2", "--duration", str(T), "--set", "contact.damping=1e5", "--out", str(out)]
+    assert cli_main(args + ["--scheduler", "serial"]) == 0
+    err = capsys.readouterr().err
+    assert "cablecasing: warning: 2 of 2 members warned (seeds 1, 2;" in err, err
+    kept = load_ensemble(out).warnings
+    assert sorted(kept) == [1, 2] and all(any(f"seed {j}: {kept[s]}" in err for j in kept) for s in kept), err

@@ -38,6 +38,7 @@ def _same(a, b):
     np.testing.assert_array_equal(a.Y, b.Y)  # NaN == NaN for failed rows
     np.testing.assert_array_equal(a.status, b.status)
     np.testing.assert_array_equal(a.error, b.error)
+    np.testing.assert_array_equal(a.warnings, b.warnings)
 
 
 def _indices_in_file(path):
@@ -168,8 +169,9 @@ def test_evaluate_errors_are_recorded_per_sample(tmp_path):
 
 def test_a_samples_warnings_are_said_with_its_index_and_a_shared_one_once(tmp_path):
     """What a sample's evaluation warns is said in the caller's process, prefixed with the sample's
-    index; a message every sample gives word for word (a model's warning) once, for the first; the
-    study's file holds no trace of them (its columns are the study's)."""
+    index; a message every sample gives word for word (a model's warning) once, for the first. The
+    study's file keeps every sample's own messages in its warnings column, the shared one too, so
+    that the samples that warned can be told afterwards."""
     import warnings
 
     from cablecasing_core.errors import ModelWarning
@@ -191,6 +193,32 @@ def test_a_samples_warnings_are_said_with_its_index_and_a_shared_one_once(tmp_pa
     assert all(m.split(": ", 1)[1].startswith("at [('cable.E'") for m in own), own
     assert sorted(int(m.split(":")[0].removeprefix("sample ")) for m in own) == sorted(big)
     assert "_warnings" not in (tmp_path / "s.csv").read_text()
+    again = load_results(tmp_path / "s.csv")
+    for i, text in zip(again.index, again.warnings):
+        parts = text.split(" | ")
+        assert parts[0] == "the same for every sample", text
+        assert len(parts) == (2 if i in big else 1) and (i not in big or parts[1].startswith("at [('cable.E'")), text
+    assert again.warned.all()
+
+
+def test_a_study_begun_without_the_warnings_column_resumes_with_its_header(tmp_path):
+    """A study whose CSV was begun before the warnings column (its sidecar does not say
+    ``"warnings": true``) resumes with the header it has, the new rows the width of the old, and
+    reads with no warnings."""
+    path = tmp_path / "s.csv"
+    _run(path, n_samples=12, max_samples=5)
+    meta_path = tmp_path / "s.csv.meta.json"
+    meta = json.loads(meta_path.read_text())
+    assert meta.pop("warnings") is True
+    meta_path.write_text(json.dumps(meta))
+    lines = path.read_text().splitlines()
+    cut = lambda line: ",".join(line.split(",")[:-3] + line.split(",")[-2:])  # noqa: E731 (no comma inside)
+    path.write_text("\n".join(cut(line) for line in lines) + "\n")
+    res = _run(path, n_samples=12)
+    assert len(res) == res.n_base * res.group_size and res.ok.all() and not res.warned.any()
+    head = path.read_text().splitlines()[0].split(",")
+    assert "warnings" not in head and head[-2:] == ["elapsed_s", "error"]
+    assert "warnings" not in json.loads(meta_path.read_text())
 
 
 def test_resume_after_max_samples_repeats_nothing(tmp_path):

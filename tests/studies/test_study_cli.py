@@ -134,3 +134,21 @@ def test_a_study_of_a_built_in_specimen_by_name_runs_it_from_any_folder(tmp_path
     run = cc.simulate(model)
     ref = octave_rms(run.support_force("casing.B.Fz"), 1 / (run.time[1] - run.time[0]), "table3")
     np.testing.assert_array_equal(res.Y[1], ref.rms)
+
+
+def test_a_study_says_how_many_runs_warned_and_its_file_which(tmp_path, capsys):
+    """A study whose runs warn (contact.damping of 5e4-2e5 kg/s on the built-in specimen, where the
+    switch law's contact Newton does not converge in a few steps: docs/time_domain.md, "Contact",
+    item 5) says each run's warnings and then how many runs warned; its CSV says which, word for
+    word what the runs said."""
+    out = tmp_path / "st"
+    args = ["study", "default", "--vary", "contact.damping=5e4:2e5", "--samples", "6", "--duration", "0.1"]
+    assert main(args + ["--skip", "0.0", "--scheduler", "serial", "--out", str(out)]) == 0
+    err = capsys.readouterr().err
+    res = load_results(out / "study.csv")
+    n = int(res.warned.sum())
+    assert n >= 1 and f"{n} of 6 runs warned" in err, err
+    for text in res.warnings[res.warned]:  # (each message said above, by this run or one that said it first)
+        for m in text.split(" | "):
+            assert "the contact Newton did not converge in" in m, text
+            assert any(f"sample {j}: {m}" in err for j in res.index), (m, err)
