@@ -3,6 +3,7 @@ serial, Fig. 23; a study over other parameters of another model."""
 
 import json
 import os
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -256,7 +257,7 @@ def test_enlarging_a_study_runs_only_the_new_samples(tmp_path):
     assert len({tuple(sorted(c.items())) for c in calls}) == 40
     np.testing.assert_array_equal(big.X[:16], small.X)
     np.testing.assert_array_equal(big.Y[:16], small.Y)
-    assert json.loads(open(str(p) + ".meta.json").read())["n_base"] == 5
+    assert json.loads(Path(str(p) + ".meta.json").read_text())["n_base"] == 5
     _same(big, _run(tmp_path / "clean.csv", evaluate=counting, n_samples=40))
     assert _run(p, evaluate=counting, n_samples=8).n_base == 5 and len(calls) == 80  # never shrunk
 
@@ -291,7 +292,7 @@ def test_resume_with_other_settings_is_refused(tmp_path):
     with pytest.raises(ModelError) as e:
         _run(p, bounds={"casing.E": (2e9, 1e10), "contact.friction": (0.05, 0.2)})
     assert e.value.key == "bounds"
-    meta = json.loads(open(str(p) + ".meta.json").read())
+    meta = json.loads(Path(str(p) + ".meta.json").read_text())
     assert meta["seed"] == 7 and meta["evaluate"] == ANALYTIC
 
 
