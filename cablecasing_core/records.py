@@ -8,7 +8,8 @@ A record is a time axis (s, evenly spaced) and named columns: the outputs of the
 :func:`write_records`.
 
 * **CSV**: one header line ``time [s],casing.A.Fx [N],...,contact.active [1],...``: each column is
-  named by its output or input name with its unit in brackets; 9 significant digits. A column is
+  named by its output or input name with its unit in brackets; 9 significant digits (the time
+  15, so that steps such as 1/30000 s stay equal). A column is
   found by its name alone (``casing.B.Fz``), by the whole header (``casing.B.Fz [N]``), or by the
   ``<name>_<unit>`` form of earlier versions (``casing.B.Fz_N``); a file with bare names (the FMU's
   outputs written by fmpy) takes the units from the schema.
@@ -87,9 +88,13 @@ class Records:
 
     @property
     def fs(self) -> float:
-        """Sampling rate (Hz); the time axis must be evenly spaced (to 1e-6 of a step)."""
+        """Sampling rate (Hz); the time axis must be evenly spaced: its steps equal to 1e-6 of a
+        step, or to what a text file of 9 significant digits keeps of the times (a CSV of other
+        tools, and of this one before its time column had 15: the steps of 1/30000 s then differ by
+        up to 3e-5 of themselves)."""
         d = np.diff(self.time)
-        if d.size == 0 or not (np.all(d > 0) and np.ptp(d) <= 1e-6 * d.mean()):
+        tol = max(1e-6 * d.mean(), 1.1e-8 * np.abs(self.time).max()) if d.size else 0.0
+        if d.size == 0 or not (np.all(d > 0) and np.ptp(d) <= tol):
             raise ModelError(
                 "file",
                 self.source or "record",
@@ -131,7 +136,9 @@ def write_records(path: str | os.PathLike, rec: Records) -> str:
     if suffix == ".csv":
         header = ",".join(["time [s]"] + [f"{n} [{u}]" if u else n for n, u in zip(names, units)])
         with atomic_path(path) as tmp:
-            np.savetxt(tmp, table, delimiter=",", header=header, comments="", fmt="%.9g")
+            # (the time with 15 digits: with 9, the steps of 1/30000 s would differ by 3e-5 of themselves)
+            fmt = ["%.15g"] + ["%.9g"] * len(names)
+            np.savetxt(tmp, table, delimiter=",", header=header, comments="", fmt=fmt)
     elif suffix == ".npz":
         with atomic_path(path) as tmp:
             np.savez_compressed(

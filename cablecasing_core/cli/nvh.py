@@ -134,7 +134,8 @@ def cmd_spectrum(args):
         _signal(rec, args.record, inp, keep, "--input")
         for c in columns:
             _signal(rec, args.record, c, keep)
-        res = [fn(rec, inp, c, args.estimator, args.skip, nperseg=_nperseg(rec, args, n)) for c in columns]
+        seg = _nperseg(rec, args, n, averages=3)
+        res = [fn(rec, inp, c, args.estimator, args.skip, nperseg=seg) for c in columns]
         sel = (res[0].f_hz >= args.fmin) & (res[0].f_hz <= args.fmax) & (res[0].f_hz > 0)
         if not sel.any():
             raise _no_line(args.record, res[0].output, fs, n, args.fmin, args.fmax, res[0].f_hz[1])
@@ -170,19 +171,22 @@ def cmd_spectrum(args):
 
 
 def check_frequency_range(fmin, fmax):
-    """``--fmin``/``--fmax`` (Hz): 0 <= fmin < fmax <= 1e6 (the model and its records lie far below)."""
+    """``--fmin``/``--fmax`` (Hz): 0 < fmin < fmax <= 1e6 (the model and its records lie far below; a
+    spectrum has no line at 0 Hz to resolve, and the TRFAM none to compute)."""
     from ..errors import ModelError
     from ..model.validators import number
 
-    number("--fmin", fmin, ge=0, le=1e6, unit="Hz")
+    number("--fmin", fmin, gt=0, le=1e6, unit="Hz")
     number("--fmax", fmax, gt=0, le=1e6, unit="Hz")
     if not fmin < fmax:
         raise ModelError("--fmin/--fmax", (fmin, fmax), "need fmin < fmax (Hz)")
 
 
-def _nperseg(rec, args, n):
+def _nperseg(rec, args, n, averages=1):
     """Samples per Welch segment for ``--resolution`` Hz (a power of two), or None (the default);
-    n: the record's samples after --skip (:func:`_window`)."""
+    n: the record's samples after --skip (:func:`_window`); averages: the fewest Welch averages (50 %
+    overlap) the segment must leave (a transfer function's coherence needs 3,
+    ``nvh.transfer.MIN_AVERAGES``)."""
     if args.resolution is None:
         return None
     from ..errors import ModelError
@@ -190,13 +194,16 @@ def _nperseg(rec, args, n):
 
     number("--resolution", args.resolution, gt=0, unit="Hz")
     seg = int(2 ** np.round(np.log2(rec.fs / args.resolution)))
-    if seg > n:
-        finest = rec.fs / 2 ** int(np.log2(n))
+    longest = 2 * n // (averages + 1)  # (k averages of half-overlapping segments span (k + 1) / 2 of them)
+    if seg > longest:
+        finest = rec.fs / 2 ** int(np.log2(max(longest, 1)))
+        what = "one segment" if averages == 1 else f"{averages} averages of half-overlapping segments"
+        why = "" if averages == 1 else "; from one the coherence is 1 whatever the signals"
         raise ModelError(
             "--resolution",
             args.resolution,
             f"must be at least {finest:.4g} Hz for the {n / rec.fs:.4g} s of record after --skip "
-            "(one segment of a power of two samples)",
+            f"({what} of a power of two samples{why})",
         )
     return seg
 
@@ -215,7 +222,13 @@ def cmd_bands(args):
     columns = _columns(args.column, ["casing.B.Fz"])
     if len(columns) > 1:
         raise ModelError("--column", ", ".join(columns), "bands takes one column: run it once per column")
-    band_set = octave_bands(args.kind, args.fmin, args.fmax)
+    try:
+        band_set = octave_bands(args.kind, args.fmin, args.fmax)
+    except ModelError as exc:  # (named by the options the user wrote)
+        flag = {"f_min": "--fmin", "f_max": "--fmax"}.get(exc.key)
+        if flag is None:
+            raise
+        raise ModelError(flag, exc.value, exc.allowed.replace("f_min", "--fmin").replace("f_max", "--fmax")) from None
     rec = _record(args.record)
     keep = _window(rec, args.skip)
     col = rec.resolve(columns[0])

@@ -4,14 +4,22 @@ from __future__ import annotations
 
 
 def cmd_report(args):
+    from ..errors import ModelError
     from ..files import output_folder
-    from ..report import write_report
+    from ..report import check_report_settings, write_report
 
+    try:  # (the settings before the folder: a refused report creates nothing)
+        model, _, _ = check_report_settings(args.model, args.duration, args.seeds, args.study_samples)
+    except ModelError as exc:
+        flag = {"duration": "--duration", "seeds": "--seeds", "study_samples": "--study-samples"}.get(exc.key)
+        if flag is None:
+            raise
+        raise ModelError(flag, exc.value, exc.allowed) from None
     output_folder("--out", args.out, "report.html")  # (before the runs)
     args.interrupted = "the report was not finished; files in --out from earlier reports are as they were"
     html = write_report(
         args.out,
-        model=args.model,
+        model=model,
         duration=args.duration,
         seeds=args.seeds,
         study_samples=args.study_samples,

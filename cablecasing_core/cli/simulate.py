@@ -49,6 +49,11 @@ def cmd_simulate(args):
         every = (
             f", t = 0, {args.output_interval:g}, ... s ({how})" if args.output_interval else ", t = 0 and every step"
         )
+        if res.whole_steps < len(res.time):
+            every += (
+                f"; the last step, {res.time[-1] - res.time[-2]:.3g} s, is shorter than dt (the duration is not a "
+                f"whole number of steps): the record ends at the last whole step, t = {res.time[-2]:.6g} s"
+            )
         print(f"wrote {args.out}{every}")
     if args.plot:
         from ..plotting import plot_time_result

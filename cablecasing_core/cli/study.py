@@ -26,14 +26,20 @@ def study_bounds(args, model):
         bounds.update(read_vary_file(args.vary_file))
     for text in args.vary:
         key, b = parse_vary(text)
+        if key in given:
+            raise ModelError("--vary", text, f"must name each key once: {key} is already varied by {given[key]}")
+        if key in bounds:
+            raise ModelError(
+                "--vary", text, f"must not vary a key the --vary-file {args.vary_file} varies too: {key} is in both"
+            )
         bounds[key] = b
-        given[key] = "--vary"
+        given[key] = f"--vary {text}"
     try:
         return check_bounds(bounds or None, model=model)
     except ModelError as exc:  # (a --vary key named by the option and the key the user wrote)
         key = exc.key[len("bounds.") :] if str(exc.key).startswith("bounds.") else None
         if key in given:
-            raise ModelError(f"{given[key]} {key}", exc.value, exc.allowed) from None
+            raise ModelError(f"--vary {key}", exc.value, exc.allowed) from None
         raise
 
 
@@ -242,7 +248,14 @@ def cmd_pool(args):
     change = {}
     if args.against:
         other = pool_ensembles(args.against)
-        d = paired_difference(other, ens)  # refuses parts whose seeds do not pair
+        if not np.array_equal(other.seeds, ens.seeds):
+            raise ModelError(
+                "--against",
+                " ".join(map(str, args.against)),
+                f"must pool to the seeds of the files it is compared with, {_seed_list(ens.seeds)}, to pair them; "
+                f"they pool to {_seed_list(other.seeds)}",
+            )
+        d = paired_difference(other, ens)
     _print_ensemble(ens, args.confidence)
     _save(ens, args.out, "")
     if other is not None:
@@ -251,6 +264,14 @@ def cmd_pool(args):
         _save(other, args.out, "_against")
     _plot(ens, other, d, args, (_as_assignments(ens.overrides) or "model", _as_assignments(change)))
     return 0
+
+
+def _seed_list(seeds):
+    """Seeds as ``1..4`` when consecutive, else listed (at most ten shown)."""
+    seeds = [int(s) for s in seeds]
+    if len(seeds) > 2 and seeds == list(range(seeds[0], seeds[-1] + 1)):
+        return f"{seeds[0]}..{seeds[-1]}"
+    return ", ".join(map(str, seeds[:10])) + (", ..." if len(seeds) > 10 else "")
 
 
 def _as_assignments(overrides):

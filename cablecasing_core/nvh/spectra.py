@@ -135,10 +135,10 @@ def psd(
         nperseg = max(8, min(want, cap))
         if nperseg < want:
             warnings.warn(
-                f"{what}: the first line of the PSD is at {fs / nperseg:.4g} Hz, above f_min = {f_min:g} Hz: the "
-                f"{x.size / fs:.4g} s record holds {MIN_AVERAGES} averages of segments of {nperseg / fs:.4g} s at "
-                f"most; a record of {4 * want / fs:.4g} s resolves {f_min:g} Hz (or ask for a finer resolution, "
-                "fewer averages)",
+                f"{what}: the first line of the PSD is at {fs / nperseg:.4g} Hz, above f_min = {f_min:g} Hz: its "
+                f"segments are kept to at most a quarter of the {x.size / fs:.4g} s record ({nperseg / fs:.4g} s) "
+                f"so that it averages at least {MIN_AVERAGES} of them; a record of {4 * want / fs:.4g} s resolves "
+                f"{f_min:g} Hz (or ask for a finer resolution, fewer averages)",
                 UserWarning,
                 stacklevel=2,
             )

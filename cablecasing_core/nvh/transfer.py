@@ -27,6 +27,9 @@ from ..identification.frf import frf_estimate, random_error
 from ..model.validators import Choice, seconds
 from ..records import Records, after_skip
 
+#: The fewest Welch averages a transfer estimate takes: with one, the coherence is 1 by construction.
+MIN_AVERAGES = 3
+
 
 @dataclass(frozen=True)
 class Transfer:
@@ -64,6 +67,15 @@ def _estimate(rec, x_name, y_name, sign, kind, unit, estimator, skip, nperseg, r
         seg = int(2 ** np.round(np.log2(fs / res)))
         cap = keep.sum() // (8 if resolution_hz is None else 2)
         nperseg = max(64, min(seg, 2 ** int(np.log2(cap or 1))))
+    n = int(keep.sum())
+    if 1 + (n - int(nperseg)) // (int(nperseg) - int(nperseg) // 2) < MIN_AVERAGES:
+        raise ModelError(
+            "nperseg",
+            nperseg,
+            f"must leave at least {MIN_AVERAGES} Welch averages (50 % overlap) of the {n} samples after skip, so "
+            f"at most {n // 2}: from one average the coherence is 1 whatever the signals, and the random error "
+            "that follows from it means nothing",
+        )
     est = frf_estimate(x[keep], y[keep], fs, nperseg=nperseg)
     H = est.H1 if estimator == "H1" else est.H2
     return Transfer(

@@ -33,6 +33,26 @@ def _say(text, progress):
         print(f"report: {text}", file=sys.stderr, flush=True)
 
 
+def check_report_settings(model=None, duration=0.5, seeds=6, study_samples=32, skip=0.05):
+    """The settings of :func:`write_report` checked before anything is run or written: returns
+    ``(model, seeds, study_samples)``, the model loaded (a Model, a TOML path, or None for the
+    built-in specimen); a :class:`ModelError` naming the setting otherwise."""
+    from ..model import Model, load_model
+    from ..model.validators import integer, seconds
+
+    model = model if isinstance(model, Model) else load_model(model)
+    seconds("duration", duration)
+    seconds("skip", skip, zero_ok=True)
+    n_seeds = integer("seeds", seeds, 2)
+    study_samples = integer("study_samples", study_samples, 0)
+    need = skip + 1.0 / (22.0 - 11.0)  # one FFT bin in the narrowest band of Table 3 (octave_rms's rule)
+    if duration < need:
+        raise ModelError(
+            "duration", duration, f"must be at least {need:.4g} s: skip = {skip:g} s and one bin of the 11-22 Hz band"
+        )
+    return model, n_seeds, study_samples
+
+
 def write_report(
     out: str | Path,
     model=None,
@@ -55,20 +75,9 @@ def write_report(
     """
     import cablecasing_core as cc
 
-    from ..model import Model, load_model
-    from ..model.validators import integer, seconds
     from . import figures, page
 
-    model = model if isinstance(model, Model) else load_model(model)
-    seconds("duration", duration)
-    seconds("skip", skip, zero_ok=True)
-    n_seeds = integer("seeds", seeds, 2)
-    study_samples = integer("study_samples", study_samples, 0)
-    need = skip + 1.0 / (22.0 - 11.0)  # one FFT bin in the narrowest band of Table 3 (octave_rms's rule)
-    if duration < need:
-        raise ModelError(
-            "duration", duration, f"must be at least {need:.4g} s: skip = {skip:g} s and one bin of the 11-22 Hz band"
-        )
+    model, n_seeds, study_samples = check_report_settings(model, duration, seeds, study_samples, skip)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     seed_list = list(range(1, n_seeds + 1))

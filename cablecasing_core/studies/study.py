@@ -17,11 +17,11 @@ and every row goes to a resumable CSV (:mod:`.results_store`).
 * **Results**: an append-only CSV, one row per run, flushed and fsynced per row: ``index, status,
   <parameters>, <outputs>, warnings, elapsed_s, error``. Status is ``ok``, ``failed`` (the exception
   is in ``error``; the study goes on) or ``infeasible`` (a constraint rejected the sample before
-  evaluation; the reason is in ``error``); ``warnings`` holds what the run warned. A sidecar ``<csv>.meta.json`` holds the seed, bounds,
-  size, outputs and evaluate; a restart with the same settings reads the CSV and skips every index
-  already present (a failed sample is *not* retried), so no sample is repeated; a restart with more
-  samples continues the sequence and runs only the new ones. A torn last line (process killed
-  mid-write) is cut off and that sample is run again.
+  evaluation; the reason is in ``error``); ``warnings`` holds what the run warned. A sidecar
+  ``<csv>.meta.json`` holds the seed, bounds, size, outputs and evaluate; a restart with the same
+  settings reads the CSV and skips every index already present (a failed sample is *not* retried),
+  so no sample is repeated; a restart with more samples continues the sequence and runs only the new
+  ones. A torn last line (process killed mid-write) is cut off and that sample is run again.
 """
 
 from __future__ import annotations

@@ -82,7 +82,9 @@ class SimulationResult:
     def records(self, output_interval: float | None = None, decimation: str = "filter") -> Records:
         """The run as a :class:`~cablecasing_core.records.Records` on the grid t = 0, Δ, 2Δ, ..., T
         (Δ = ``output_interval`` s, a whole number of time steps; default every step; T the end of
-        the run when the duration is a whole number of Δ): the support and clip outputs,
+        the run when the duration is a whole number of Δ; a run whose duration is not a whole number
+        of steps ends with a shorter step, off the grid, which the record leaves out: it ends at the
+        last whole step, so that it is evenly sampled): the support and clip outputs,
         ``contact.active`` (cable nodes in contact), ``contact.max_penetration`` (m) and the driven
         inputs. The row at t = 0 is the state the run starts from (at rest, or an installed model's
         static state), as an FMU reports it at its first communication point.
@@ -98,11 +100,13 @@ class SimulationResult:
 
         Choice("filter", "pick")("decimation", decimation)
         m = self._stride(output_interval)
-        step = slice(m - 1, None, m)  # the per-node histories: rows at t = m dt, 2 m dt, ...
+        whole = self.whole_steps
+        step = slice(m - 1, whole, m)  # the per-node histories: rows at t = m dt, 2 m dt, ...
         first = self.initial_forces is not None
-        time = np.concatenate([[0.0], self.time]) if first else self.time
+        time = np.concatenate([[0.0], self.time[:whole]]) if first else self.time[:whole]
 
         def grid(values, initial, filtered):
+            values = values[:whole]
             v = np.concatenate([[initial], values]) if first else values
             if m == 1:
                 return v
@@ -122,6 +126,15 @@ class SimulationResult:
         extra["energies"] = np.array([[k, repr(float(v))] for k, v in self.energies.items()]).reshape(-1, 2)
         extra["starts_at_zero"] = np.array(first)
         return Records(time[::m], cols, {n: unit_of(n) for n in cols}, "simulation", extra)
+
+    @property
+    def whole_steps(self) -> int:
+        """The number of steps of the run that are whole time steps: all of them, or all but the last
+        when the duration is not a whole number of steps and the run ended with a shorter one."""
+        n = len(self.time)
+        if n > 1 and self.time[-1] - self.time[-2] < (self.time[1] - self.time[0]) * (1 - 1e-6):
+            return n - 1
+        return n
 
     def _stride(self, output_interval):
         if output_interval is None:

@@ -437,7 +437,16 @@ OPTION_ERRORS = [
     (["simulate", "--output-interval", "nan", "--duration", "0.001"], "--output-interval = nan: must be a positive"),
     (
         ["trfam", "--fmin", "1e300", "--fmax", "1e301", "--df", "1e299"],
-        "--fmin = 1e+300: must be a number in [0, 1e+06]",
+        "--fmin = 1e+300: must be a number in (0, 1e+06]",
+    ),
+    (["trfam", "--fmin", "0"], "--fmin = 0.0: must be a number in (0, 1e+06] in Hz"),  # (one range for every command)
+    (["spectrum", "{record}", "--fmin", "0"], "--fmin = 0.0: must be a number in (0, 1e+06] in Hz"),
+    (["bands", "{record}", "--fmin", "30", "--fmax", "20"], "--fmax = 20.0: must exceed --fmin = 30.0 Hz"),
+    (["report", "--seeds", "1", "--out", "rep/sub"], "--seeds = 1: must be an integer >= 2"),  # (no folder made)
+    (["report", "--duration", "0.05", "--out", "rep"], "--duration = 0.05: must be at least 0.1409 s"),
+    (
+        ["study", "--vary", "casing.E=2e9:1e10", "--vary", "casing.E=3e9:1e10", "--scheduler", "serial"],
+        "--vary = 'casing.E=3e9:1e10': must name each key once: casing.E is already varied by --vary casing.E=2e9:1e10",
     ),
     (["trfam", "--fmin", "1", "--fmax", "2", "--df", "1e-300"], "give 1e+300 frequencies; at most 200000"),
     (["ensemble", "--seeds", "100000000000"], "--seeds = 100000000000: must be an integer from 2 to 100000"),

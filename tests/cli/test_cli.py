@@ -246,7 +246,8 @@ def test_simulate_cli_refuses_output_paths_before_the_run(tmp_path, capsys):
 
 def test_simulate_cli_model_dt_npz_plot_and_blow_up(tmp_path, capsys):
     """The CLI is a shell over cc.simulate: the same histories for the same model file and dt; a
-    duration that is not a whole number of steps ends on it; a blow-up exits with status 2 and the
+    duration that is not a whole number of steps ends on it (the run), while its record ends at the
+    last whole step (the shorter last one is off the grid); a blow-up exits with status 2 and the
     error's when, where and what."""
     import cablecasing_core as cc
 
@@ -262,9 +263,11 @@ def test_simulate_cli_model_dt_npz_plot_and_blow_up(tmp_path, capsys):
 
     z = SimulationResult.load(out)
     ref = cc.simulate(model, duration=0.0030025, dt=2e-5)
-    assert len(z.time) == 151 and z.time[-1] == 0.0030025 and z.time[-2] == pytest.approx(0.003)
-    np.testing.assert_array_equal(z.support_forces, ref.support_forces)
+    assert len(ref.time) == 151 and ref.time[-1] == 0.0030025 and ref.whole_steps == 150
+    assert len(z.time) == 150 and z.time[-1] == pytest.approx(0.003)
+    np.testing.assert_array_equal(z.support_forces, ref.support_forces[:150])
     np.testing.assert_array_equal(z.contact_time, ref.contact_time)
+    assert "the record ends at the last whole step, t = 0.003 s" in capsys.readouterr().out
     assert png.stat().st_size > 10_000
     capsys.readouterr()
     soft = model.with_overrides(

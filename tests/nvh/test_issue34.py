@@ -198,6 +198,49 @@ def test_decimation_attenuates_a_tone_above_the_new_nyquist_as_the_filter_promis
     np.testing.assert_allclose(decimate(np.full(1001, 12.5), m), 12.5, rtol=1e-12)
 
 
+def test_a_record_at_a_step_of_many_digits_reads_back_from_csv_with_its_step(tmp_path):
+    """1 s at 1/30000 s (the installed specimen's real-time step) written to CSV and read back: the
+    time column keeps its steps equal (15 digits at t <= 1 s leave ~1e-15 s, 3e-11 of a step), and
+    a CSV of 9 digits (other tools, earlier versions: steps that differ by 3e-5 of themselves)
+    still reads, its steps equal to what 9 digits keep (5e-9 of the largest time). A record that
+    is not evenly sampled is still refused."""
+    from cablecasing_core.records import Records, read_records, write_records
+
+    dt = 1 / 30000
+    t = dt * np.arange(30001)
+    rec = Records(t, {"casing.B.Fz": np.sin(2 * np.pi * 50 * t)}, {"casing.B.Fz": "N"})
+    write_records(tmp_path / "r.csv", rec)
+    back = read_records(tmp_path / "r.csv")
+    assert back.fs == pytest.approx(30000, rel=1e-9)
+    np.testing.assert_allclose(back.time, t, rtol=0, atol=1e-14)
+    table = np.loadtxt(tmp_path / "r.csv", delimiter=",", skiprows=1)
+    header = (tmp_path / "r.csv").read_text().splitlines()[0]
+    np.savetxt(tmp_path / "nine.csv", table, delimiter=",", header=header, comments="", fmt="%.9g")
+    assert np.ptp(np.diff(np.loadtxt(tmp_path / "nine.csv", delimiter=",", skiprows=1)[:, 0])) > 1e-5 * dt
+    assert read_records(tmp_path / "nine.csv").fs == pytest.approx(30000, rel=1e-6)
+    table[15000, 0] += 0.01 * dt  # one sample 1 % of a step late
+    np.savetxt(tmp_path / "uneven.csv", table, delimiter=",", header=header, comments="", fmt="%.17g")
+    with pytest.raises(cc.ModelError, match="must be evenly sampled"):
+        _ = read_records(tmp_path / "uneven.csv").fs
+
+
+def test_a_run_that_ends_with_a_shorter_step_is_recorded_to_its_last_whole_step(tmp_path, capsys):
+    """A duration that is not a whole number of steps (0.001 s at 3e-5 s: 33 steps and one of 1e-5
+    s) ends the run with a shorter step, off the grid: the record leaves it out, evenly sampled to
+    the last whole step, and ``simulate`` says so."""
+    res = cc.simulate(cc.load_model(), duration=0.001, dt=3e-5)
+    assert len(res.time) == 34 and res.whole_steps == 33
+    rec = res.records()
+    np.testing.assert_allclose(rec.time, 3e-5 * np.arange(34), rtol=0, atol=1e-15)
+    assert rec.fs == pytest.approx(1 / 3e-5, rel=1e-9)
+    np.testing.assert_array_equal(rec.columns["casing.B.Fz"][1:], res.support_force("casing.B.Fz")[:33])
+    out = tmp_path / "r.csv"
+    assert main(["simulate", "--duration", "0.001", "--dt", "3e-5", "--out", str(out)]) == 0
+    said = capsys.readouterr().out
+    assert "the record ends at the last whole step, t = 0.00099 s" in said, said
+    assert main(["spectrum", str(out), "--skip", "0", "--fmin", "5000", "--fmax", "15000"]) == 0  # (it reads)
+
+
 def test_output_interval_must_divide_the_duration_and_pick_is_an_option(tmp_path, capsys):
     out = tmp_path / "r.csv"
     assert main(["simulate", "--duration", "0.001", "--output-interval", "3e-4", "--out", str(out)]) == 2

@@ -71,3 +71,31 @@ def test_transmissibility_is_the_ratio_of_the_support_forces_and_checks_its_sign
         apparent_mass(rec, "casing.A.Fz", "casing.B.Fz")
     with pytest.raises(ModelError, match="one unit"):
         transmissibility(rec, "casing.A.az", "casing.B.Fz")
+
+
+def test_a_transfer_estimate_of_fewer_than_three_averages_is_refused(tmp_path, capsys):
+    """From one Welch average the coherence is 1 whatever the signals (|G_xy|^2 = G_xx G_yy for one
+    segment), so an estimate that would average fewer than three is refused, by the API naming
+    nperseg and by ``spectrum`` naming --resolution with the finest one the record allows; at three
+    the coherence of two independent noises is already well below 1."""
+    from cablecasing_core.cli import main
+    from cablecasing_core.records import Records
+
+    rng = np.random.default_rng(1)
+    n, fs = 4096, 4096.0
+    t = np.arange(n) / fs
+    rec = Records(t, {"casing.A.az": rng.normal(size=n), "casing.B.Fz": rng.normal(size=n)})
+    rec.units.update({"casing.A.az": "m/s2", "casing.B.Fz": "N"})
+    with pytest.raises(ModelError, match=r"nperseg = 4096: must leave at least 3 Welch averages .* at most 2048"):
+        apparent_mass(rec, skip=0.0, nperseg=4096)
+    three = apparent_mass(rec, skip=0.0, nperseg=2048)
+    assert three.n_averages == 3 and np.median(three.coherence[1:]) < 0.6
+    cc.records.write_records(tmp_path / "r.npz", rec)
+    args = ["spectrum", str(tmp_path / "r.npz"), "--kind", "apparent-mass", "--skip", "0", "--fmin", "4"]
+    assert main(args + ["--resolution", "1"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == (
+        "cablecasing: error: --resolution = 1.0: must be at least 2 Hz for the 1 s of record after --skip (3 averages "
+        "of half-overlapping segments of a power of two samples; from one the coherence is 1 whatever the signals)"
+    ), err
+    assert main(args + ["--resolution", "2"]) == 0 and "3 averages" in capsys.readouterr().out

@@ -343,6 +343,11 @@ def test_cli_pools_parts_and_prints_the_paired_change(tmp_path, capsys):
     np.testing.assert_allclose([float(r[2]) for r in rows[2:]], d.r, atol=6e-5)  # printed to 4 decimals
     assert "{'contact.friction': 0.2}" in text
     np.testing.assert_array_equal(load_ensemble(tmp_path / "all_against.csv").levels, a)
+    # parts that do not pair: refused naming --against and both sets of seeds, before anything is written
+    assert cli_main(["pool", *files, "--against", str(tmp_path / "q0.csv"), "--out", str(tmp_path / "x.csv")]) == 2
+    err = capsys.readouterr().err
+    assert "--against = " in err and "must pool to the seeds of the files it is compared with, 1..6" in err, err
+    assert "they pool to 1..3" in err and not (tmp_path / "x.csv").exists()
     assert cli_main(["pool", files[0], files[0]]) == 2  # seeds twice
     assert cli_main(["pool", *files, "--against", str(tmp_path / "q0.csv")]) == 2  # seeds do not pair
     assert "seeds" in capsys.readouterr().err

@@ -129,6 +129,9 @@ def test_nyquist_rules():
     with pytest.raises(ModelError) as e:
         octave_rms(x, 10000.0)  # 2840-5680 Hz above fs/2 = 5000 Hz
     assert e.value.key == "fs" and "oct9" in e.value.allowed
+    with pytest.raises(ModelError) as e:
+        octave_rms(x, 5000.0)  # oct8 and oct9 above 2500 Hz: the rate named is the one that holds both
+    assert "at least 2 x 5680 Hz = 11360 Hz so that bands 'oct8' to 'oct9'" in e.value.allowed, e.value.allowed
     r = octave_rms(x, 10000.0, beyond_nyquist="drop")
     assert r.labels == tuple(f"oct{i}" for i in range(1, 9))
     r = octave_rms(x, 10000.0, beyond_nyquist="nan")
