@@ -117,6 +117,7 @@ class CableCasing(Fmi2Slave):
             self._base = cc.load_model(self.base_file) if self.base_file else cc.load_model()
         self._base_warnings = [str(w.message) for w in said]
         self.input_names, self.output_names = inputs_of(self._base), outputs_of(self._base)
+        self._base_fingerprint = self._base.fingerprint()  # (a state names the model its FMU was built for)
         self.nch = len(self.input_names) // 3  # support channels: 12, and 3 per excited clip
         self.units = {}  # variable name -> unit (read by build_fmu.py)
         self._start = dict(self._base.parameters())
@@ -153,6 +154,8 @@ class CableCasing(Fmi2Slave):
         self._stop_time = None  # (s) the master's stopTime, when it gives one
         self._initialized = False
         self._error = None  # why stepping is refused (an initialisation that failed)
+        self._discarded = None  # (t, h, inputs) of the step last discarded, until a step is taken
+        self._wants_to_end = False  # fmi2Terminated: that step was asked for again, and discarded again
 
     # ------------------------------------------------------------------ variables
     def _register_variables(self):
@@ -441,7 +444,12 @@ class CableCasing(Fmi2Slave):
         model = cc.load_model(model_file) if model_file else self._base
         if over:
             model = model.with_overrides(over)
-        return Engine(model, dt=seconds("solver.dt", dt), ledger=False)
+        try:
+            return Engine(model, dt=seconds("solver.dt", dt), ledger=False)
+        except cc.ModelError as exc:  # (the engine's range of dt, named as the FMU's parameter)
+            if exc.key != "dt":
+                raise
+            raise cc.ModelError("solver.dt", exc.value, exc.allowed) from None
 
     def _build(self):
         """Build the engine from the parameters; on a problem log it (fmi2Error) and refuse steps."""
@@ -630,7 +638,7 @@ class CableCasing(Fmi2Slave):
                 "communication steps",
                 Fmi2Status.discard,
             )
-            return DISCARD
+            return self._discard(current_time, step_size)
         here = self._start_time + eng.time
         if abs(current_time - here) > 1e-6 * step_size + 1e-12 * abs(here):
             self.log(
@@ -638,7 +646,7 @@ class CableCasing(Fmi2Slave):
                 "each other (or restore an FMU state first)",
                 Fmi2Status.discard,
             )
-            return DISCARD
+            return self._discard(current_time, step_size)
         x = self.inputs_buffer
         if not math.isfinite(x @ x) and not np.isfinite(x).all():  # (x @ x: the cheap test of all inputs)
             i = int(np.flatnonzero(~np.isfinite(x))[0])
@@ -647,7 +655,7 @@ class CableCasing(Fmi2Slave):
                 f"must be a finite number ({input_spec(self.input_names[i])[0]}); step discarded",
                 Fmi2Status.discard,
             )
-            return DISCARD
+            return self._discard(current_time, step_size)
         try:  # on any error the engine and the reconstruction are left as they were
             eng.advance_reconstructed(
                 step_size, self._recon, self._u, self._v, self._a, self.outputs_buffer, self._drive
@@ -656,8 +664,33 @@ class CableCasing(Fmi2Slave):
             msg = f"step from t = {current_time:.9g} s over {step_size:.6g} s discarded (state rolled back): "
             msg += str(exc) if isinstance(exc, cc.CableCasingError) else _one_line(exc)
             self.log(msg, Fmi2Status.discard)
-            return DISCARD
+            return self._discard(current_time, step_size)
+        if self._discarded is not None:
+            self._discarded, self._wants_to_end = None, False
         return OK
+
+    def _discard(self, current_time, step_size):
+        """fmi2Discard for the step (t, h) just refused, whose reason is logged. The FMU is as before
+        it, so a master may retry with other inputs, a shorter step or a restored state; the same step
+        with the same inputs would be discarded again (the FMU is deterministic), so when it is asked
+        for again, fmi2Terminated reports true from then on (until a step is taken): a master that
+        repeats a discarded step from fmi2LastSuccessfulTime until the slave asks to end (fmusim does)
+        ends there instead of looping for ever."""
+        key = (current_time, step_size, self.inputs_buffer.tobytes())
+        if key == self._discarded and not self._wants_to_end:
+            self._wants_to_end = True
+            self.log(
+                f"the step from t = {current_time:.9g} s over {step_size:.6g} s was asked for again with the same "
+                "inputs and discarded again: it cannot be taken, so the FMU asks to end the simulation here "
+                "(fmi2Terminated = true); change the inputs or the step, or restore an FMU state, to go on",
+                Fmi2Status.error,
+            )
+        self._discarded = key
+        return DISCARD
+
+    def terminated(self):
+        """fmi2Terminated: whether the FMU asks the master to end the simulation (:meth:`_discard`)."""
+        return self._wants_to_end
 
     # ------------------------------------------------------------------ FMU state (complete, no pickle)
     def fmi2_get_state(self):
@@ -665,6 +698,7 @@ class CableCasing(Fmi2Slave):
         the support state of the reconstruction, the start time, and the engine's complete state."""
         numeric = [k for k in self._start if k != "model_file" and k not in self._text_keys]
         s = {
+            "fmu.base_model": np.array(self._base_fingerprint),
             "fmu.inputs": self.inputs_buffer.copy(),
             "fmu.support": self._recon.state.copy(),
             "fmu.start_time": np.array(self._start_time),
@@ -693,6 +727,7 @@ class CableCasing(Fmi2Slave):
         )
         self.inputs_buffer[:] = inputs
         self._recon.state[...] = support
+        self._discarded, self._wants_to_end = None, False  # (another state: a discarded step may now be taken)
         if self._engine is not None:
             self._drive = self._drive_motion(self._engine)
             self._engine.output_values(self.outputs_buffer)
@@ -701,6 +736,8 @@ class CableCasing(Fmi2Slave):
     def _prepare_restore(self, state):
         if "fmu.invalid" in state:
             raise ValueError(str(state["fmu.invalid"]))
+        if "fmu.base_model" in state and str(state["fmu.base_model"]) != self._base_fingerprint:
+            raise ValueError("it is a state of an FMU built for another model (its parameters and outputs differ)")
         keys = [str(k) for k in np.asarray(state["fmu.set_keys"]).reshape(-1) if str(k)]
         values = np.asarray(state["fmu.set_values"], dtype=float).reshape(-1)
         if len(keys) != len(values) or any(k not in self._start for k in keys):

@@ -354,6 +354,9 @@ class Instance:
     def last_successful_time(self):
         return float(self._slave.last_successful_time())
 
+    def terminated(self):
+        return bool(self._slave.terminated())
+
     # ---------------------------------------------------------------------------------- variables
     def get_real(self, vr_addr, n, out_addr):
         vrs = (ctypes.c_uint * n).from_address(vr_addr)

@@ -653,9 +653,11 @@ class Engine:
         else:
             status = self._cstep_entry(ctx, t0, self.dt, h, self._pot0)
         if status != K.OK:
-            self.restore([t0, *self._cstep_scratch[5:]])  # the snapshot the step took of itself
             _, _, times, motion, *_ = self._cstep_scratch
-            self._raise_for_status(status, motion[0], motion[1], motion[2], times)
+            try:  # (the error is worded from the step's _info before the restore overwrites it)
+                self._raise_for_status(status, motion[0], motion[1], motion[2], times)
+            finally:
+                self.restore([t0, *self._cstep_scratch[5:]])  # the snapshot the step took of itself
         self.time = float(t0 + m * self.dt)
 
     def _widen(self, x):

@@ -111,12 +111,46 @@ static double monotonic_seconds(void) {
 #define INSTANCE_MAGIC 0xCAB1EC45u
 #define STATE_MAGIC 0x57A7E0CCu
 
-typedef struct {
+typedef struct State {
     unsigned magic;
     Instance *owner;
     PyObject *state;                    /* the bridge's state object */
     PyObject *bytes;                    /* its serialisation, while the host asks for size then data */
+    struct State *next;                 /* the list of live states (live_states) */
 } State;
+
+/* Every state this FMU made and has not freed. A pointer from the host is looked up here before it
+ * is dereferenced, so that a pointer that is not one of them (freed, another FMU's, or a host that
+ * passes the state where fmi2FreeFMUstate takes its address, as fmusim 0.0.39 does when it saves or
+ * restores a state file) is told apart without reading the memory it points at. */
+static State *live_states = NULL;
+static pthread_mutex_t live_states_lock = PTHREAD_MUTEX_INITIALIZER;
+
+static int is_live_state(const void *p) {
+    int found = 0;
+    pthread_mutex_lock(&live_states_lock);
+    for (State *st = live_states; st && !found; st = st->next) found = (const void *)st == p;
+    pthread_mutex_unlock(&live_states_lock);
+    return found;
+}
+
+static void add_live_state(State *st) {
+    pthread_mutex_lock(&live_states_lock);
+    st->next = live_states;
+    live_states = st;
+    pthread_mutex_unlock(&live_states_lock);
+}
+
+static void remove_live_state(State *st) {
+    pthread_mutex_lock(&live_states_lock);
+    for (State **q = &live_states; *q; q = &(*q)->next) {
+        if (*q == st) {
+            *q = st->next;
+            break;
+        }
+    }
+    pthread_mutex_unlock(&live_states_lock);
+}
 
 /* ------------------------------------------------------------------------------------------------
  * Logging: to the host's logger (errors and warnings always, the rest when logging is on) and,
@@ -321,7 +355,9 @@ static int ensure_python(const char *resources, char *err, size_t errsize) {
     void *in_process = dlsym(RTLD_DEFAULT, "Py_IsInitialized");
     if (in_process && ((int (*)(void))in_process)()) {
         if (!resolve_api(RTLD_DEFAULT, err, errsize)) goto done;
-        snprintf(g_python_note, sizeof g_python_note, "attached to the host process's Python %.40s", P.Py_GetVersion());
+        const char *ver = P.Py_GetVersion();  /* "3.11.7 (main, ...) [GCC ...]": its first word */
+        snprintf(g_python_note, sizeof g_python_note, "attached to the host process's Python %.*s",
+                 (int)strcspn(ver, " "), ver);
         ok = g_python_ready = 1;
         goto done;
     }
@@ -341,8 +377,9 @@ static int ensure_python(const char *resources, char *err, size_t errsize) {
         goto done;
     }
     if (!P.Py_IsInitialized() && !start_python(exe, err, errsize)) goto done;
-    snprintf(g_python_note, sizeof g_python_note, "started Python %.40s from %s (%s; library %s)",
-             P.Py_GetVersion(), exe, how, lib);
+    const char *ver = P.Py_GetVersion();
+    snprintf(g_python_note, sizeof g_python_note, "started Python %.*s from %s (%s; library %s)",
+             (int)strcspn(ver, " "), ver, exe, how, lib);
     ok = g_python_ready = 1;
 done:
     pthread_mutex_unlock(&g_python_lock);
@@ -804,12 +841,21 @@ FMI2_Export fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference v
  * FMU state
  */
 static State *checked_state(Instance *inst, fmi2FMUstate s) {
-    State *st = s;
-    if (!st || st->magic != STATE_MAGIC) {
+    if (!s || !is_live_state(s)) {
         LOGI(inst, fmi2Error, "the FMU state %p was not made by this FMU (or was freed)", s);
         return NULL;
     }
-    return st;
+    return (State *)s;
+}
+
+static void free_state(State *st) {
+    remove_live_state(st);
+    PyGILState_STATE gil = gil_enter();
+    P.Py_DecRef(st->state);
+    if (st->bytes) P.Py_DecRef(st->bytes);
+    P.PyGILState_Release(gil);
+    st->magic = 0;
+    free(st);
 }
 
 FMI2_Export fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
@@ -819,7 +865,7 @@ FMI2_Export fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) 
     PyGILState_STATE gil = gil_enter();
     fmi2Status s = call(inst, "get_state", &obj, 0);
     State *st = *FMUstate;
-    if (s == fmi2OK && st && st->magic == STATE_MAGIC) {   /* update the host's earlier state in place */
+    if (s == fmi2OK && st && is_live_state(st)) {   /* update the host's earlier state in place */
         P.Py_DecRef(st->state);
         if (st->bytes) P.Py_DecRef(st->bytes);
         st->state = obj;
@@ -833,6 +879,7 @@ FMI2_Export fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) 
             st->magic = STATE_MAGIC;
             st->owner = inst;
             st->state = obj;
+            add_live_state(st);
             *FMUstate = st;
         }
     }
@@ -854,15 +901,17 @@ FMI2_Export fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate FMUstate) {
 
 FMI2_Export fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
     ENTER(c);
-    if (!FMUstate || !*FMUstate) return fmi2OK;
+    if (!FMUstate) return fmi2OK;
+    if (is_live_state(FMUstate)) {
+        /* the state itself where its address belongs (fmusim 0.0.39's state files): it is freed as
+         * asked, and the host's copy of the pointer, which cannot be reached, is left as it is */
+        free_state((State *)FMUstate);
+        return fmi2OK;
+    }
+    if (!*FMUstate) return fmi2OK;
     State *st = checked_state(inst, *FMUstate);
     if (!st) return fmi2Error;
-    PyGILState_STATE gil = gil_enter();
-    P.Py_DecRef(st->state);
-    if (st->bytes) P.Py_DecRef(st->bytes);
-    P.PyGILState_Release(gil);
-    st->magic = 0;
-    free(st);
+    free_state(st);
     *FMUstate = NULL;
     return fmi2OK;
 }
@@ -932,6 +981,7 @@ FMI2_Export fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte s
             st->magic = STATE_MAGIC;
             st->owner = inst;
             st->state = obj;
+            add_live_state(st);
             *FMUstate = st;
         }
     }
@@ -1050,8 +1100,16 @@ FMI2_Export fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKin
 FMI2_Export fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *value) {
     ENTER(c);
     if (s == fmi2Terminated && value) {
-        *value = fmi2False;   /* the slave never asks to end the simulation */
-        return fmi2OK;
+        /* true once a discarded step was asked for again with the same inputs (CableCasing._discard) */
+        PyObject *r = NULL;
+        PyGILState_STATE gil = gil_enter();
+        fmi2Status st = call(inst, "terminated", &r, 0);
+        if (st == fmi2OK) {
+            *value = P.PyObject_IsTrue(r) > 0 ? fmi2True : fmi2False;
+            P.Py_DecRef(r);
+        }
+        P.PyGILState_Release(gil);
+        return st;
     }
     LOGI(inst, fmi2Discard, "fmi2GetBooleanStatus: only fmi2Terminated is available");
     return fmi2Discard;

@@ -60,3 +60,17 @@ def model_fmu(tmp_path_factory, clipped_specimen):
         capture_output=True,
     )
     return path, toml, clipped_specimen
+
+
+@pytest.fixture(scope="session")
+def installed_fmu(tmp_path_factory):
+    """The path of the FMU built for the built-in installed specimen (``build_fmu.py --model
+    installed``): the default FMU's variables, another model."""
+    path = tmp_path_factory.mktemp("installed_fmu") / "CableCasing-installed.fmu"
+    subprocess.run(
+        [sys.executable, str(ROOT / "build_fmu.py"), "--model", "installed", "--output", str(path)],
+        check=True,
+        cwd=ROOT,
+        capture_output=True,
+    )
+    return path

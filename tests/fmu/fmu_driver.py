@@ -273,6 +273,28 @@ def scenario_state(job, table):
     )
 
 
+def scenario_foreign_state(job, table):
+    """A state of one FMU set into an instance of another (``fmu2``, built for another model with the
+    same variables): its status and log, and the second instance's outputs over the table's second
+    half after it, against those of an instance of fmu2 that never saw the state."""
+    h, names = job["h"], job["outputs"]
+    n = len(table) // 2
+    one = Instance(job["fmu"], name="one")
+    simulate(one, table[:n], h, names)
+    blob = one.fmu.serializeFMUstate(one.fmu.getFMUstate())
+    res = {}
+    for key in ("two", "alone"):
+        inst = Instance(job["fmu2"], name=key)
+        simulate(inst, table[:n], h, names)
+        if key == "two":
+            state = inst.fmu.deSerializeFMUstate(blob)
+            res["set_status"] = np.array(Instance.call(inst.fmu.setFMUstate, state))
+            res["log"] = np.array(_log(inst.log) or [""])
+            inst.fmu.freeFMUstate(state)
+        res[key], res[f"{key}_status"] = simulate(inst, table[n:], h, names)
+    return res
+
+
 def scenario_two(job, table):
     """Two instances with different parameters, stepped alternately in this process; the second
     of another FMU when the job names one (``fmu2``, with its ``input_names2``, ``outputs2`` and
@@ -322,6 +344,8 @@ def scenario_errors(job, table):
     record("badfile", inst, [inst.status_init, inst.step(zero, h)])
     inst = Instance(job["fmu"], name="baddt", params={"solver.dt": -1e-5})
     record("baddt", inst, [inst.status_init, inst.step(zero, h)])
+    inst = Instance(job["fmu"], name="tinydt", params={"solver.dt": 1e-12})
+    record("tinydt", inst, [inst.status_init])
 
     inst = Instance(job["fmu"], name="blowup")
     jump = zero.copy()
@@ -329,6 +353,14 @@ def scenario_errors(job, table):
     record("blowup", inst, inst.step(jump, h))
     record("after_blowup", inst, [inst.step(row, h) for row in table[:5]])
     res["after_blowup_out"] = inst.get(names)
+    # the same blow-up later (inside one compiled call), asked for twice, then a step with the inputs
+    # of the table: fmi2Terminated (kind 3) after each
+    terminated = []
+    for k, row in enumerate([jump, jump, table[-1]]):
+        record(f"late_blowup{k}", inst, inst.step(row, h))
+        terminated.append(inst.fmu.getBooleanStatus(3))
+    res["late_blowup_terminated"] = np.array(terminated)
+    res["late_blowup_t"] = np.array(inst.t)
 
     inst = Instance(job["fmu"], name="badstate")
     record("badstate", inst, [Instance.call(inst.fmu.deSerializeFMUstate, b"not a state at all"), inst.step(zero, h)])
@@ -561,6 +593,7 @@ SCENARIOS = {
     "steps": scenario_steps,
     "state": scenario_state,
     "two": scenario_two,
+    "foreign_state": scenario_foreign_state,
     "errors": scenario_errors,
     "libcosim": scenario_libcosim,
     "cache": scenario_cache,

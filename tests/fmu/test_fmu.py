@@ -8,6 +8,7 @@ This module is over 400 lines because every FMU scenario is checked against the 
 one build of the FMU and one driver (fmu_driver.py).
 """
 
+import re
 import subprocess
 import sys
 import zipfile
@@ -265,6 +266,17 @@ def test_state_get_set_serialize_and_reset(fmu, tmp_path, contact_case, run):
     assert res["a"][:, OUTPUTS.index("contact.active")].max() >= 1  # the state includes contacts
 
 
+def test_a_state_of_an_fmu_built_for_another_model_is_refused(fmu, installed_fmu, tmp_path, contact_case, run):
+    """The default FMU's state set into an instance of the installed specimen's FMU (the same
+    variables, another model): fmi2Error naming why, and that instance goes on as if it had never
+    seen it, to the bit. (It was taken: the outputs became a mix of the two models.)"""
+    model, table, _ = contact_case
+    res = run(tmp_path, "foreign_state", fmu, inputs=table[:40], fmu2=str(installed_fmu))
+    assert int(res["set_status"]) == 3
+    assert "an FMU built for another model" in " ".join(res["log"]), res["log"]
+    assert np.all(res["two_status"] == 0) and np.array_equal(res["two"], res["alone"])
+
+
 def test_two_instances_are_independent(fmu, tmp_path, contact_case, run, core_run):
     model, table, _ = contact_case
     table = table[: int(0.03 / H)]
@@ -352,9 +364,20 @@ def test_errors_are_reported_and_the_process_goes_on(fmu, tmp_path, contact_case
         "badfile", "model_file", "/nonexistent/model.toml"
     )
     assert np.all(res["baddt_status"] == [error, error]) and logged("baddt", "solver.dt", "-1e-05")
+    assert res["tinydt_status"] == error and logged("tinydt", "solver.dt = 1e-12: must be a number in [1e-10, 1]")
     assert res["blowup_status"] == discard and logged("blowup", "penetration", "rolled back")
     assert np.all(res["after_blowup_status"] == 0)  # the failed step was rolled back whole
     np.testing.assert_array_equal(res["after_blowup_out"], ref[4])
+    # later, the message words the step that blew up (it once read the state the roll-back restored:
+    # the step before's time, node 0 and a penetration of 0 m); asked for again, the FMU asks to end
+    # (fmi2Terminated, so that a master such as fmusim that repeats a discarded step stops); a step it
+    # can take clears that
+    t0 = 5 * 1e-4
+    m = re.search(r"at t = ([0-9.e-]+) s, cable node \d+: penetration ([0-9.e-]+) m", " ".join(res["late_blowup0_log"]))
+    assert m and t0 < float(m.group(1)) <= t0 + 1e-4 + 1e-12 and float(m.group(2)) > 0.0015, res["late_blowup0_log"]
+    assert [int(res[f"late_blowup{k}_status"]) for k in range(3)] == [discard, discard, 0]
+    assert "asked for again with the same inputs" in " ".join(res["late_blowup1_log"])
+    assert res["late_blowup_terminated"].tolist() == [False, True, False]
     # unreadable serialised bytes: fmi2DeSerializeFMUstate fails (fmi2Error, logged), the instance goes on
     assert np.all(res["badstate_status"] == [error, 0])
     assert logged("badstate", "error:", "not a serialised CableCasing FMU state")

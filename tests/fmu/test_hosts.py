@@ -104,7 +104,8 @@ def test_fmusim_plain_environment_equals_fmpy(fmu, scenario_csv, fmu_driver):
         assert proc.returncode == 0, f"run {k}: exit {proc.returncode}\n{proc.stderr}\n{log.read_text()}"
         names, data = read_csv(out)
         outs.append(data[:, names.index("casing.B.Fz")])
-        assert "started Python" in log.read_text()  # the FMU says which interpreter it uses
+        # the FMU says which interpreter it uses, its version whole (it was once cut inside "[GCC …]")
+        assert re.search(rf"started Python {sys.version.split()[0]} from ", log.read_text()), log.read_text()[:500]
     assert all(np.array_equal(o, outs[0]) for o in outs)
     steps = np.diff(np.arange(401) * H)
     res = fmu_driver.run(folder, "steps", fmu, inputs=table[:400], h=H, steps=steps.tolist(), outputs=["casing.B.Fz"])
@@ -145,6 +146,57 @@ def test_fmusim_runs_the_real_time_setting_as_the_core(fmu, tmp_path):
     assert "computed ahead up to t = 1.31072 s (no stopTime: scenario.duration = 1 s)" in text, text[-3000:]
     longest, late, calls = real_time_line(text)
     assert 0 < longest and 0 <= late <= calls == n
+
+
+@needs_hosts
+def test_fmusim_saves_and_restores_a_state_file(fmu, tmp_path):
+    """fmusim's --final-fmu-state-file and --initial-fmu-state-file, plain environment: fmusim 0.0.39
+    passes the state itself to fmi2FreeFMUstate, which takes its address; the FMU tells the two apart
+    (it crashed fmusim with SIGSEGV). A run to 1 ms saved and continued to 2 ms from the file gives
+    the outputs of one run to 2 ms, to the bit (fmusim writes 16 digits of the same doubles)."""
+    fmusim = [str(HOSTS / "fmusim"), "--interface-type", "cs", "--output-interval", repr(H)]
+    drive = ["--start-value", "scenario.drive", "true"]
+    state = tmp_path / "state.bin"
+    runs = {
+        "first": ["--stop-time", "0.001", "--final-fmu-state-file", str(state)],
+        "rest": ["--start-time", "0.001", "--stop-time", "0.002", "--initial-fmu-state-file", str(state)],
+        "whole": ["--stop-time", "0.002"],
+    }
+    for name, args in runs.items():
+        log = tmp_path / f"{name}.log"
+        proc = subprocess.run(
+            fmusim + drive + args + ["--output-file", str(tmp_path / f"{name}.csv"), "--log-file", str(log), str(fmu)],
+            env=PLAIN, capture_output=True, text=True, timeout=300,
+        )  # fmt: skip
+        assert proc.returncode == 0, f"{name}: exit {proc.returncode}\n{proc.stderr}\n{log.read_text()[-3000:]}"
+        assert state.stat().st_size > 1000
+    names, whole = read_csv(tmp_path / "whole.csv")
+    _, rest = read_csv(tmp_path / "rest.csv")
+    j = names.index("casing.B.Fz")
+    assert rest[0, 0] == 0.001 and len(rest) == 11 and np.max(np.abs(whole[-11:, j])) > 0
+    np.testing.assert_array_equal(rest[:, j], whole[-11:, j])
+
+
+@needs_hosts
+def test_fmusim_ends_at_an_input_it_cannot_take_instead_of_retrying_it_for_ever(fmu, tmp_path):
+    """A NaN in fmusim's input file: the step is discarded, fmusim repeats it from
+    fmi2LastSuccessfulTime with the same input, and the FMU, asked for the same step again, asks to
+    end the simulation (fmi2Terminated); fmusim stops there, exit 0, with the reasons in its log. (It
+    repeated the step for ever, 38 million log lines in 5 minutes.)"""
+    inp, out, log = tmp_path / "nan.csv", tmp_path / "out.csv", tmp_path / "nan.log"
+    rows = [f"{k * H!r},{'nan' if 48 <= k <= 50 else repr(1e-6 * k)}" for k in range(101)]
+    inp.write_text('"time","casing.A.z"\n' + "\n".join(rows) + "\n")
+    proc = subprocess.run(
+        [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", "0.01", "--output-interval", repr(H),
+         "--input-file", str(inp), "--output-file", str(out), "--log-file", str(log), str(fmu)],
+        env=PLAIN, capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    text = log.read_text()
+    assert proc.returncode == 0, f"exit {proc.returncode}\n{proc.stderr}\n{text[-3000:]}"
+    assert "input casing.A.z = nan" in text and "asked for again with the same inputs" in text, text[-3000:]
+    assert len(text.splitlines()) < 20
+    _, data = read_csv(out)
+    assert 0.0045 < data[-1, 0] < 0.0051  # where the input turned NaN
 
 
 def real_time_line(log):
