@@ -67,10 +67,15 @@ def _spectrum_peaks(x, fs, count):
 def cmd_damping(args):
     try:
         _check_outputs(args)
-        from ..identification import parameters_toml, rayleigh_fit, read_time_record, wavelet_damping
+        from ..identification import parameters_toml, rayleigh_fit, read_time_record_from, wavelet_damping
+        from ..model.validators import integer, number
 
-        x, fs, name = read_time_record(args.file, args.channel)
-        freqs = args.freqs if args.freqs else _spectrum_peaks(x, fs, args.count)
+        x, fs, name, t_start = read_time_record_from(args.file, args.channel)
+        freqs = args.freqs if args.freqs else _spectrum_peaks(x, fs, integer("--count", args.count, 1))
+        t_max = None
+        if args.t_max is not None:  # (on the file's time axis; the fit's times count from its first sample)
+            number("--t-max", args.t_max, gt=t_start, unit="s")
+            t_max = args.t_max - t_start
         res = wavelet_damping(
             x,
             fs,
@@ -79,15 +84,18 @@ def cmd_damping(args):
             edge_factor=args.edge_factor,
             search=args.search,
             noise_floor=args.noise_floor,
-            t_max=args.t_max,
+            t_max=t_max,
         )
-        print(f"# {args.file} ({name}): {x.size} samples at {fs:g} Hz; Morlet gamma = {args.gamma:g}")
+        print(
+            f"# {args.file} ({name}): {x.size} samples at {fs:g} Hz from t = {t_start:g} s; Morlet gamma = "
+            f"{args.gamma:g}; the fit's times on the file's time axis"
+        )
         print(
             f"{'mode':>4} {'f_req_Hz':>10} {'f_ridge_Hz':>11} {'f_n_Hz':>10} {'zeta':>9} {'fit_from_s':>10} "
             f"{'fit_to_s':>9}"
         )
         for i, r in enumerate(res, 1):
-            t0, t1 = r.t_fit
+            t0, t1 = (t_start + t for t in r.t_fit)
             print(
                 f"{i:>4} {r.f_requested_hz:>10.3f} {r.f_ridge_hz:>11.3f} {r.f_natural_hz:>10.3f} "
                 f"{r.zeta:>9.5f} {t0:>10.4f} {t1:>9.4f}"
@@ -122,6 +130,7 @@ def cmd_loss_factor(args):
     try:
         _check_outputs(args)
         from ..identification import loss_factor_circle, parameters_toml, read_frf
+        from ..model.validators import integer
 
         f, H = read_frf(args.file, args.channel)
         res = loss_factor_circle(
@@ -129,7 +138,7 @@ def cmd_loss_factor(args):
             H,
             args.freqs,
             kind=args.kind,
-            count=args.count,
+            count=None if args.count is None else integer("--count", args.count, 1),
             bandwidths=args.bandwidths,
             correct_neighbours=not args.no_correction,
         )
@@ -179,6 +188,7 @@ def cmd_modulus(args):
         _check_outputs(args)
         from ..identification import identify_modulus_model, parameters_toml
         from ..model import load_model
+        from ..model.validators import integer
 
         model = load_model(args.model)
         f_meas, modes = _read_measured(args.file, args.modes, args.channel)
@@ -189,7 +199,7 @@ def cmd_modulus(args):
             modes,
             freq_resolution_hz=args.resolution,
             degree=None if args.degree < 0 else args.degree,
-            n_table=args.n_table,
+            n_table=integer("--n-table", args.n_table, 2),
         )
         print(f"# {args.body} of {model.source}: E_start = {model.bodies[args.body].E_ref:.6g} Pa")
         print(f"{'mode':>4} {'f_meas_Hz':>10} {'f_comp_Hz':>10} {'E_Pa':>12} {'steps':>5}")

@@ -45,7 +45,7 @@ from scipy.optimize import least_squares
 from scipy.signal import find_peaks
 
 from ..errors import ModelError
-from ..model.validators import array_1d
+from ..model.validators import array_1d, integer
 
 FRF_KINDS = ("displacement", "velocity", "acceleration", "apparent_mass")
 
@@ -159,7 +159,8 @@ def find_resonances(freqs_hz, H, count=None, kind="displacement"):
         raise ModelError("H", "FRF without a peak", "needs at least one resonance (interior maximum of |H|)")
     order = np.argsort(props["prominences"])[::-1]
     if count is not None:
-        order = order[: int(count)]
+        count = integer("count", count, 1)
+        order = order[:count]
     return np.sort(f[peaks[order]])
 
 
@@ -184,7 +185,11 @@ def _fit_one(f, Hd, f0, eta_prev, fr_prev, search, bandwidths, min_side):
         band = np.nonzero((f >= f0 * (1.0 - search)) & (f <= f0 * (1.0 + search)))[0]
         if band.size < 3:
             raise ModelError("f_res_hz", float(f0), f"fewer than 3 FRF points within +-{100 * search:g} %")
-        j = band[np.argmax(A[band])]
+        # the local maximum of |H| nearest f0, not the window's largest: a stronger neighbour within
+        # the window would take the request of a weaker mode
+        inner = band[1:-1]
+        peaks = inner[(A[inner] >= A[inner - 1]) & (A[inner] >= A[inner + 1])]
+        j = peaks[np.argmin(np.abs(f[peaks] - f0))] if peaks.size else band[np.argmax(A[band])]
         if j == band[0] or j == band[-1]:
             raise ModelError(
                 "f_res_hz",
@@ -354,6 +359,7 @@ def loss_factor_circle(
                 "f_res_hz", float(f_res[bad][0]), f"must lie inside the FRF's frequency range ({f[0]:g}, {f[-1]:g}) Hz"
             )
     fits = [_fit_one(f, Hd, f0, None, None, search, bandwidths, min_side) for f0 in f_res]
+    _check_distinct(f_res, fits, search)
     it = 0
     if correct_neighbours and len(fits) > 1:
         for it in range(1, int(max_iter) + 1):  # noqa: B007  (it is the count read after the loop)
@@ -365,6 +371,16 @@ def loss_factor_circle(
                 )
                 for i, f0 in enumerate(f_res)
             ]
+            for f0, r in zip(f_res, new):
+                if not r["eta"] > 0.0:
+                    raise ModelError(
+                        "f_res_hz",
+                        float(f0),
+                        f"the mode's loss factor came out {r['eta']:.3g} once its neighbours' fitted terms were "
+                        "subtracted: the modes overlap too much for circles (try --no-correction, "
+                        "correct_neighbours=False, or fewer modes)",
+                    )
+            _check_distinct(f_res, new, search)
             change = max(abs(a["eta"] - b["eta"]) / b["eta"] for a, b in zip(new, fits))
             fits = new
             if change < 1e-7:
@@ -374,6 +390,31 @@ def loss_factor_circle(
         spread = r.pop("spread")
         out.append(CircleFitResult(f_requested_hz=float(f0), iterations=it, extra={"angle_span": spread}, **r))
     return out
+
+
+def _check_distinct(f_res, fits, search):
+    """Each requested mode's fitted resonance lies within +-search of its request, and no two
+    requests found the same resonance (their resonances closer than a half-power bandwidth): a
+    :class:`ModelError` naming them otherwise, rather than one mode reported twice."""
+    for f0, r in zip(f_res, fits):
+        if abs(r["f_r_hz"] - f0) > search * f0:
+            raise ModelError(
+                "f_res_hz",
+                float(f0),
+                f"the circle near it has its resonance at {r['f_r_hz']:.6g} Hz, outside +-{100 * search:g} % of "
+                "the request: give the frequency of this mode's own peak",
+            )
+    order = np.argsort([r["f_r_hz"] for r in fits])
+    for i, j in zip(order[:-1], order[1:]):
+        a, b = fits[i], fits[j]
+        width = max(a["eta"], b["eta"], 0.0) * max(a["f_r_hz"], b["f_r_hz"])
+        if abs(b["f_r_hz"] - a["f_r_hz"]) < width:
+            raise ModelError(
+                "f_res_hz",
+                [float(f_res[i]), float(f_res[j])],
+                f"found the same resonance ({a['f_r_hz']:.6g} and {b['f_r_hz']:.6g} Hz, within a half-power "
+                "bandwidth): request each mode once, at its own peak",
+            )
 
 
 def _term(r, f):

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError
-from ..model.validators import array_1d, number
+from ..model.validators import array_1d, integer, number
 
 
 @dataclass(frozen=True)
@@ -168,7 +168,7 @@ def identify_modulus(
             if f_m.min() == f_m.max():
                 tf = np.array([f_m.min()])
             else:
-                tf = np.geomspace(f_m.min(), f_m.max(), max(2, int(n_table)))
+                tf = np.geomspace(f_m.min(), f_m.max(), integer("n_table", n_table, 2))
         else:
             tf = np.unique(array_1d("table_freqs_hz", table_freqs_hz, min_len=1))
             if np.any(tf < 0):

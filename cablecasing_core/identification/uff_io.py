@@ -213,6 +213,11 @@ def read_csv_time(path, channel=None):
     record files): returns ``(x, fs, name)``; ``channel`` is a column name (``casing.B.Fz``, its header
     form ``casing.B.Fz [N]``) or an index among the signal columns (default the first). The first
     column is the time (s), evenly spaced."""
+    return _csv_time_from(path, channel)[:3]
+
+
+def _csv_time_from(path, channel=None):
+    """:func:`read_csv_time` and the time of the record's first sample (s): ``(x, fs, name, t0)``."""
     from ..records import read_records
 
     rec = read_records(path)
@@ -228,7 +233,7 @@ def read_csv_time(path, channel=None):
         j = int(channel)
         if not 0 <= j < len(cols):
             raise ModelError("channel", channel, f"must be 0..{len(cols) - 1} or a column name")
-    return rec.columns[cols[j]], rec.fs, cols[j]
+    return rec.columns[cols[j]], rec.fs, cols[j], float(rec.time[0])
 
 
 def read_csv_frf(path):
@@ -257,21 +262,40 @@ def _uff_record(path, kind, channel, missing):
     recs = [r for r in read_uff(path) if r.kind == kind]
     if not recs:
         raise ModelError("file", str(path), f"contains no {missing}")
-    j = 0 if channel is None else int(channel)
-    if not 0 <= j < len(recs):
-        raise ModelError("channel", channel, f"must be 0..{len(recs) - 1}")
+    names = [r.name for r in recs]
+    if channel is None:
+        j = 0
+    elif isinstance(channel, str) and not channel.strip().isdigit():  # a function's name (its id1)
+        bare = channel.split(" [")[0]
+        if bare not in names:
+            raise ModelError(
+                "channel", channel, f"must be 0..{len(recs) - 1} or a name in the file: " + ", ".join(names)
+            )
+        j = names.index(bare)
+    else:
+        j = int(channel)
+        if not 0 <= j < len(recs):
+            raise ModelError(
+                "channel", channel, f"must be 0..{len(recs) - 1} or a name in the file: " + ", ".join(names)
+            )
     return recs[j]
 
 
 def read_time_record(path, channel=None):
-    """``(x, fs, name)`` from a CSV, NPZ or UFF (.uff/.unv) file; ``channel`` selects a column or the
-    n-th time function of a UFF file."""
+    """``(x, fs, name)`` from a CSV, NPZ or UFF (.uff/.unv) file; ``channel`` selects a column (by
+    name or index) or a time function of a UFF file (by its name, id1, or its place among them)."""
+    return read_time_record_from(path, channel)[:3]
+
+
+def read_time_record_from(path, channel=None):
+    """``(x, fs, name, t0)``: :func:`read_time_record` and the time of its first sample (s), which
+    the wavelet analysis counts its times from."""
     if not is_uff(path):
-        return read_csv_time(path, channel)
+        return _csv_time_from(path, channel)
     r = _uff_record(path, "time", channel, "time record (UFF 58, function type 1)")
     if not _even(r.x):
         raise ModelError(f"{path}", "uneven abscissa", "a time record must be evenly sampled")
-    return np.asarray(r.data, dtype=float), r.fs, r.name
+    return np.asarray(r.data, dtype=float), r.fs, r.name, float(r.x[0])
 
 
 def read_frf(path, channel=None):

@@ -415,4 +415,21 @@ def wavelet_damping(
                 fit_mask=fit,
             )
         )
+    _check_distinct_ridges(results)
     return results
+
+
+def _check_distinct_ridges(results):
+    """No two requests found the same ridge (natural frequencies closer than a half-power bandwidth,
+    2 zeta f_n): a :class:`ModelError` naming both, rather than one mode twice (which a Rayleigh fit
+    of the results would take as two)."""
+    order = sorted(results, key=lambda r: r.f_natural_hz)
+    for a, b in zip(order[:-1], order[1:]):
+        width = 2.0 * max(a.zeta, b.zeta, 0.0) * b.f_natural_hz
+        if b.f_natural_hz - a.f_natural_hz < width:
+            raise ModelError(
+                "freqs_hz",
+                [a.f_requested_hz, b.f_requested_hz],
+                f"found the same ridge ({a.f_natural_hz:.6g} and {b.f_natural_hz:.6g} Hz, within a half-power "
+                "bandwidth): request each mode once, near its own peak",
+            )

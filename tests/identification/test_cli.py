@@ -109,3 +109,35 @@ def test_registered_in_main_cli(tmp_path, capsys):
     write_csv_time(path, np.exp(-0.02 * 2 * np.pi * 100 * t) * np.sin(2 * np.pi * 100 * t), fs)
     assert cli.main(["identify", "damping", str(path), "--freqs", "100"]) == 0
     assert "100.0" in capsys.readouterr().out
+
+
+def test_counts_channels_and_the_time_axis_as_a_user_gives_them(tmp_path, capsys):
+    """--count and --n-table below their least refused by name (a negative count dropped a peak, at
+    rc 0); a UFF time record chosen by its name, as `simulate` names its columns (an internal error
+    before); --t-max and the fit's times on the file's own time axis (a record from t = 12.5 s: the
+    limit was taken from its first sample, and a limit after its end passed unseen)."""
+    from cablecasing_core.identification import write_uff_time
+
+    fs = 1000.0
+    t = np.arange(4000) / fs
+    x = sum(np.exp(-z * 2 * np.pi * f * t) * np.sin(2 * np.pi * f * t) for f, z in ((40.0, 0.02), (95.0, 0.01)))
+    late = tmp_path / "late.csv"
+    write_csv_time(late, x, fs, names=["acc"], t0=12.5)
+    assert run(["identify", "damping", str(late), "--count", "-1"]) == 2
+    assert "--count = -1: must be an integer >= 1" in capsys.readouterr().err
+    assert run(["identify", "damping", str(late), "--freqs", "40", "95", "--t-max", "13.0"]) == 0
+    rows = [line.split() for line in capsys.readouterr().out.splitlines() if line[:4].strip().isdigit()]
+    assert [float(r[6]) for r in rows] == [13.0, 13.0] and all(12.5 < float(r[5]) < 12.7 for r in rows)
+    np.testing.assert_allclose([float(r[4]) for r in rows], [0.02, 0.01], rtol=0.01)
+    assert run(["identify", "damping", str(late), "--freqs", "40", "--t-max", "1.0"]) == 2
+    assert "--t-max = 1.0: must be a number > 12.5" in capsys.readouterr().err
+    named = tmp_path / "named.uff"
+    write_uff_time(named, x, fs, name="casing.B.Fz")
+    assert run(["identify", "damping", str(named), "--channel", "casing.B.Fz", "--freqs", "40"]) == 0
+    assert "(casing.B.Fz)" in capsys.readouterr().out
+    assert run(["identify", "damping", str(named), "--channel", "abc", "--freqs", "40"]) == 2
+    assert "channel = 'abc': must be 0..0 or a name in the file: casing.B.Fz" in capsys.readouterr().err
+    measured = tmp_path / "measured.csv"
+    measured.write_text("mode,f_hz\n1,100.0\n2,300.0\n")
+    assert run(["identify", "modulus", str(measured), "--n-table", "0"]) == 2
+    assert "--n-table = 0: must be an integer >= 2" in capsys.readouterr().err

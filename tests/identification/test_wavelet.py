@@ -167,3 +167,11 @@ def test_lightly_damped_record_that_never_reaches_the_noise():
     (r,) = wavelet_damping(x, fs, [100.0])
     assert r.zeta == pytest.approx(z, rel=1e-3)
     assert r.t_fit[1] == pytest.approx(1.0 - r.edge_s, abs=2 / fs)
+
+
+def test_two_requests_of_one_ridge_are_refused():
+    """113 and 118 Hz both settle on the 115.8 Hz mode's ridge: refused naming both (a Rayleigh fit
+    of the two took them as two modes at rc 0: alpha = 0, beta 12 times the true one)."""
+    with pytest.raises(ModelError, match=r"found the same ridge \(115.79") as e:
+        wavelet_damping(impulse_response(), FS, [113.0, 118.0])
+    assert e.value.key == "freqs_hz"
