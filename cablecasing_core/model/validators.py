@@ -258,7 +258,7 @@ class Segments:
 
     allowed = (
         "a list of {straight = L_m} and {bend = {radius = R_m, angle_deg = phi, toward = [x, y, z]}}, "
-        "1e-06 <= L <= 1000, 1e-06 <= R <= 1000, 0 < phi < 360"
+        "1e-06 <= L <= 1000, 1e-06 <= R <= 1000, 0 < phi < 360, each bend's arc R phi at least 1e-06 m"
     )
     # (as the points' coordinates: within +-1000 m; and at least the points' least spacing)
     length = Number(ge=MIN_LENGTH, le=1e3, unit="m")
@@ -282,15 +282,20 @@ class Segments:
             names = ("radius", "angle_deg", "toward")
             if not isinstance(b, dict) or set(b) != set(names):
                 raise ModelError(f"{k}.bend", b, "must be {radius = R_m, angle_deg = phi, toward = [x, y, z]}")
-            out.append(
-                {
-                    "bend": {
-                        "radius": self.length(f"{k}.bend.radius", b["radius"]),
-                        "angle_deg": self.angle(f"{k}.bend.angle_deg", b["angle_deg"]),
-                        "toward": self.toward(f"{k}.bend.toward", b["toward"]),
-                    }
-                }
-            )
+            bend = {
+                "radius": self.length(f"{k}.bend.radius", b["radius"]),
+                "angle_deg": self.angle(f"{k}.bend.angle_deg", b["angle_deg"]),
+                "toward": self.toward(f"{k}.bend.toward", b["toward"]),
+            }
+            arc = bend["radius"] * math.radians(bend["angle_deg"])
+            if not arc >= MIN_LENGTH:  # (as short as a straight may be: a shorter one is no bend to mesh)
+                raise ModelError(
+                    f"{k}.bend.angle_deg",
+                    bend["angle_deg"],
+                    f"gives an arc of {arc:.3g} m with radius {bend['radius']:g} m: a bend's arc must be at least "
+                    f"{MIN_LENGTH:g} m, as a straight's length",
+                )
+            out.append({"bend": bend})
         return out
 
 

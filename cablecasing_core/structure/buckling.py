@@ -104,26 +104,20 @@ def supports_text(system) -> str:
         if m is None:
             parts.append(f"{s} {system.spec.supports[s]}")
         else:
-            k, kr = local_stiffness(system.mounts[m])
+            k, kr = system.mounts[m].local_stiffness()
             parts.append(f"{s} isolator k = {_short(k)} N/m, k_rot = {_short(kr)} N.m/rad")
     clips = [m for m in system.mounts if m.support is None]
     if clips:
-        ks = {_short(local_stiffness(m)[0]) for m in clips}
+        ks = {_short(m.local_stiffness()[0]) for m in clips}
         stiff = f", k = {ks.pop()} N/m" if len(ks) == 1 else ""
         parts.append(f"clips at s = {', '.join(f'{m.at:.4g}' for m in clips)} m{stiff}")
     return "; ".join(parts)
 
 
-def local_stiffness(mount):
-    """(translational N/m, rotational N.m/rad) stiffness of ``mount`` in its local axes [axial,
-    lateral_1, lateral_2]: the diagonal of K6's blocks turned back into them."""
-    R = mount.axes
-    return np.diag(R @ mount.K6[:3, :3] @ R.T), np.diag(R @ mount.K6[3:, 3:] @ R.T)
-
-
 def _short(v):
+    """A stiffness as given: one number when its three agree (to rounding), else the three."""
     v = np.atleast_1d(np.asarray(v, dtype=float))
-    if np.all(v == v[0]):
+    if np.allclose(v, v[0], rtol=1e-9, atol=0.0):
         return f"{v[0]:.3g}"
     return "[" + ", ".join(f"{x:.3g}" for x in v) + "]"
 

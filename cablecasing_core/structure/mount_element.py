@@ -45,6 +45,18 @@ class Mount:
     support: str | None = None
     at: float | None = None
 
+    def local_stiffness(self):
+        """(translational N/m, rotational N.m/rad): the stiffnesses in the local axes [axial,
+        lateral_1, lateral_2], the diagonal of K6's blocks turned back into them; a value within
+        the rounding of that turn (64 units of the block's largest) is exactly 0, so that a zero
+        given stays zero."""
+        out = []
+        for block in (self.K6[:3, :3], self.K6[3:, 3:]):
+            d = np.diag(self.axes @ block @ self.axes.T).copy()
+            d[np.abs(d) <= 64 * np.finfo(float).eps * np.abs(block).max()] = 0.0
+            out.append(d)
+        return out[0], out[1]
+
     def dynamic_stiffness(self, freqs_hz, damped=True):
         """(nf, 6, 6) complex dynamic stiffness (N/m, N.m/rad) at ``freqs_hz`` (Hz): K6 + i omega C6,
         or with a table K6 k_scale(f) (1 + i loss(f)) (linear in f, held at the ends); without

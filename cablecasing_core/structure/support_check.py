@@ -4,8 +4,9 @@ its loads would move, checked before any work (when a model is validated).
 A body with a clamped support has no rigid motion left. A body held by springs alone (isolators
 at its ends, clips along it: structure/mount_element.py) is held against the rigid motions that
 its mounts' static stiffness resists. These are exact and mesh-independent: a rigid motion of the
-body is a translation t and a small rotation w about a reference point x0 (the centroid of its
-nodes), u(x) = t + w x (x - x0), rotations w, which the beam elements carry without strain; on the
+body is a translation t and a small rotation w about a reference point x0 (its centre of mass: the
+centroid of its elements' midpoints weighted by their lengths, where its weight has no moment),
+u(x) = t + w x (x - x0), rotations w, which the beam elements carry without strain; on the
 six coordinates a = [t, L w] (m, L the body's length) the mounts' stiffness is the 6 x 6 matrix
 
     S = sum over mounts  Q_m^T K6_m Q_m,    Q_m = [[I, -[x_m - x0]x / L], [0, I / L]]
@@ -20,8 +21,9 @@ of a tension and the rest shape of a straight cable are self-equilibrated (no re
 A model is refused (:class:`~cablecasing_core.errors.ModelError`, one line naming the load, the
 supports and the direction) when:
 
-* a tension (``loads.cable_tension``) is applied to a body with a free end: a free end carries no
-  axial force, so the tension has nowhere to go;
+* a tension (``loads.cable_tension``) is applied to a body with a free end, or an end on an
+  isolator with no stiffness along the body's axis: neither carries an axial force, so the tension
+  has nowhere to go;
 * a loaded body (gravity, a tension, a straight cable's rest shape) has a rigid motion that its
   mounts do not hold (eigenvalue of S below :data:`NULL` times its largest: rounding): the static state would
   be singular, however fine the mesh;
@@ -54,15 +56,21 @@ def _rows(r, L):
     return Q
 
 
-def rigid_stiffness(nodes, mounts, L):
-    """(S, x0): the mounts' stiffness on the body's rigid motions (6 x 6, N/m, coordinates
-    [t, L w]) and the reference point x0 (m, the centroid of ``nodes``)."""
-    x0 = nodes.mean(axis=0)
+def centre_of_mass(centerline):
+    """The centroid (m) of a uniform body on ``centerline``: its elements' chord midpoints weighted
+    by their lengths (what the consistent mass matrix gives for a rigid motion)."""
+    mid = 0.5 * (centerline.nodes[1:] + centerline.nodes[:-1])
+    return (centerline.lengths @ mid) / centerline.lengths.sum()
+
+
+def rigid_stiffness(nodes, mounts, L, x0):
+    """S: the mounts' stiffness on the body's rigid motions (6 x 6, N/m, coordinates [t, L w] about
+    the reference point x0, m)."""
     S = np.zeros((6, 6))
     for m in mounts:
         Q = _rows(nodes[m.node] - x0, L)
         S += Q.T @ m.K6 @ Q
-    return 0.5 * (S + S.T), x0
+    return 0.5 * (S + S.T)
 
 
 def rigid_load(centerline, mass_per_length, gravity, x0, L):
@@ -97,7 +105,8 @@ def _analysis(centerline, mounts, clamped, mass_per_length, gravity):
     """(null basis (6 x k), description of the free motion most loaded or None, rigid displacement
     of the weight at its worst node (m), F, x0, L)."""
     L = centerline.length
-    S, x0 = rigid_stiffness(centerline.nodes, mounts, L)
+    x0 = centre_of_mass(centerline)
+    S = rigid_stiffness(centerline.nodes, mounts, L, x0)
     F = rigid_load(centerline, mass_per_length, gravity, x0, L)
     if clamped:
         return np.zeros((6, 0)), None, 0.0, F, x0, L
@@ -122,6 +131,12 @@ def free_rigid_motion(system):
     if clamped:
         return None
     return _analysis(system.centerline, system.mounts, False, 0.0, np.zeros(3))[1]
+
+
+def _axial_stiffness(mounts, end):
+    """The stiffness (N/m) of the isolator at ``end`` ("A" or "B") along the body's axis there
+    (its local axial direction, the centerline's tangent)."""
+    return next((float(m.local_stiffness()[0][0]) for m in mounts if m.support == end), float("inf"))
 
 
 def _supports(name, supports, mounts):
@@ -151,6 +166,8 @@ def check_supported(model) -> None:
             causes.append(("cable.rest_shape", spec.rest_shape, "the bending of its rest shape"))
         if not causes:
             continue
+        cl = centerline_of(model)
+        mounts = mounts_of(model, name, cl) if set(spec.supports.values()) != {"clamped"} else []
         if T > 0.0:
             for s in ("A", "B"):
                 if spec.supports[s] == "free":
@@ -161,11 +178,17 @@ def check_supported(model) -> None:
                         f"and a free end carries no axial force, so nothing holds the {name} along its axis at {s} "
                         "and the tension has nowhere to go",
                     )
+                if spec.supports[s] == "isolator" and _axial_stiffness(mounts, s) == 0.0:
+                    raise ModelError(
+                        "loads.cable_tension",
+                        T,
+                        f"needs both ends of the {name} held along its axis: {name}.isolator.{s} has no stiffness "
+                        f"along the {name}'s axis at {s}, and a spring of no stiffness carries no axial force, so the "
+                        "tension has nowhere to go; give the isolator an axial stiffness or clamp the end",
+                    )
         clamped = "clamped" in spec.supports.values()
         if clamped:
             continue
-        cl = centerline_of(model)
-        mounts = mounts_of(model, name, cl)
         mass = spec.rho * section_of(spec).A
         Z, free, u, F, x0, L = _analysis(cl, mounts, clamped, mass, g)
         held = _supports(name, spec.supports, mounts)

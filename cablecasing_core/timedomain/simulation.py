@@ -221,17 +221,23 @@ def simulate(
     if dt != sc["dt"]:
         step_checks(model.data, dt, "dt")
     inputs = ()
+    still = motion is None and not sc["excitation"]
     if motion is None:
-        if not sc["excitation"]:
-            warnings.warn(
-                f"the model {model.source} has no excitation ([scenario.excitation.<name>]): its supports stay "
-                "at rest and every output stays zero (docs/model_file.md, Excitations)",
-                UserWarning,
-                stacklevel=2,
-            )
         motion = scenario_motion(model, dt=dt)
         inputs = driven_inputs(model)
     eng = Engine(model, dt=dt, contact=contact, ledger=True, record=True)
+    if still:
+        stays = (
+            "every output stays at its static value (the reactions of its static state)"
+            if eng.static is not None
+            else "every output stays zero"
+        )
+        warnings.warn(
+            f"the model {model.source} has no excitation ([scenario.excitation.<name>]): its supports stay at rest "
+            f"and {stays} (docs/model_file.md, Excitations)",
+            UserWarning,
+            stacklevel=2,
+        )
     out0 = eng.output_values().copy()  # the state at t = 0 (records() puts it first)
     _advance(eng, duration, motion, progress)
     for said in eng.solver_warnings():

@@ -163,6 +163,12 @@ def test_a_polyline_through_an_arc_warns_once_and_a_dictionary_warns_as_a_file()
         ({"segments": [{"bend": {"radius": 0.1, "angle_deg": 30}}]}, "geometry.segments[0].bend", "toward"),
         ({"segments": [{"bend": {"radius": 0.0, "angle_deg": 30, "toward": [0, 1, 0]}}]}, "radius", "[1e-06, 1000]"),
         ({"segments": [{"bend": {"radius": 0.1, "angle_deg": 360, "toward": [0, 1, 0]}}]}, "angle_deg", "(0, 360)"),
+        # a bend shorter than a straight may be: no arc to mesh (`geometry` overflowed on 5e-324 deg)
+        (
+            {"segments": [{"straight": 0.3}, {"bend": {"radius": 0.1, "angle_deg": 5e-324, "toward": [0, 1, 0]}}]},
+            "geometry.segments[1].bend.angle_deg",
+            "gives an arc of 0 m with radius 0.1 m: a bend's arc must be at least 1e-06 m",
+        ),
         (
             {"segments": [{"bend": {"radius": 0.1, "angle_deg": 30, "toward": [2, 0, 0]}}]},
             "toward",

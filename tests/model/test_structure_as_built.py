@@ -194,6 +194,39 @@ def test_zero_stiffness_isolators_under_gravity_are_refused_alike_on_every_mesh(
     )
 
 
+@pytest.mark.parametrize("n", [40, 200])
+def test_mounts_that_hold_nothing_name_the_translation_the_weight_drives_on_every_mesh(n):
+    """Isolators of no stiffness at all, rotations too: every rigid motion is free, and the weight
+    drives a translation along g, not a rotation (the weight's moment was taken about the nodes'
+    centroid, which on a curved route is not the centre of mass: "a rotation about [0.276, 0.961,
+    0] through [-481, 138, 0] m" at 40 elements, [-2.35e+03, 705, 0] m at 200)."""
+    raw = _installation(
+        **{f"casing.isolator.{s}.{k}": 0.0 for s in "AB" for k in ("stiffness", "rotational_stiffness")}
+        | {"casing.clip": None, "loads.gravity": [0.0, 0.0, -9.81], "geometry.n_elements": n}
+    )
+    with pytest.raises(cc.ModelError) as err:
+        cc.model_from_dict(raw)
+    assert "leave it free in a translation along [0, 0, -1] (a mechanism" in str(err.value), str(err.value)
+
+
+@pytest.mark.parametrize("body", ["cable", "casing"])
+def test_an_isolator_without_axial_stiffness_under_tension_is_refused(body):
+    """An end isolator with no stiffness along the body's axis carries no axial force, as a free end
+    carries none: under a tension the model is refused at once, naming the isolator (it ran the
+    static Newton for 2-3 s and blamed a contact too soft or a tension near buckling)."""
+    changes = {"loads.cable_tension": 2.0, f"{body}.isolator.A.stiffness": [0.0, 1e5, 1e5]}
+    if body == "cable":
+        changes |= {"cable.supports": {"A": "isolator", "B": "clamped"}}
+    with pytest.raises(cc.ModelError) as err:
+        cc.model_from_dict(_installation(**changes))
+    assert str(err.value).startswith(
+        f"loads.cable_tension = 2.0: needs both ends of the {body} held along its axis: {body}.isolator.A has no "
+        f"stiffness along the {body}'s axis at A"
+    ), str(err.value)
+    changes[f"{body}.isolator.A.stiffness"] = [1e3, 1e5, 1e5]  # (any axial stiffness carries it)
+    cc.model_from_dict(_installation(**changes))
+
+
 @pytest.mark.parametrize("n", [40, 64])
 def test_a_free_casing_on_one_zero_stiffness_clip_is_refused_alike_on_every_mesh(n):
     with pytest.raises(cc.ModelError) as err:
@@ -284,3 +317,15 @@ def test_the_newcomer_s_casing_in_an_isolator_a_clamp_and_a_clip_carries_8_n():
     assert "A isolator" in b.supports and "B clamped" in b.supports and "clips at s = 0.51 m" in b.supports
     st = static_state(model)
     assert st.clip_reactions.shape == (1, 6) and st.prestretch_force > 0
+
+
+def test_the_buckling_message_gives_a_curved_body_s_isolators_as_they_were_given():
+    """On a bent route the isolator's stiffness is turned into global axes and back for the message:
+    a zero stays 0 (it read 3.32e-12) and three equal rotational stiffnesses one number (it read
+    [100, 100, 100])."""
+    segments = [{"straight": 0.3}, {"bend": {"radius": 0.2, "angle_deg": 40, "toward": [0, 1, 0]}}, {"straight": 0.3}]
+    b = load_of(
+        column(("isolator", "isolator"), segments=segments, isolator={s: ([0.0, 1e5, 1e5], 100.0) for s in "AB"})
+    )
+    assert "A isolator k = [0, 1e+05, 1e+05] N/m, k_rot = 100 N.m/rad" in b.supports, b.supports
+    assert "B isolator k = [0, 1e+05, 1e+05] N/m, k_rot = 100 N.m/rad" in b.supports, b.supports
