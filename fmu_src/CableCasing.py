@@ -436,7 +436,12 @@ class CableCasing(Fmi2Slave):
         if not self._value("scenario.drive"):
             return None
         model = engine.model
-        return GridMotion(scenario_motion(model, dt=engine.dt), engine.dt)
+        try:
+            return GridMotion(scenario_motion(model, dt=engine.dt), engine.dt)
+        except cc.ModelError as exc:  # (a random band above the Nyquist frequency of the FMU's step)
+            if exc.key != "dt":
+                raise
+            raise cc.ModelError("solver.dt", exc.value, exc.allowed) from None
 
     def _make_engine(self, config):
         """A new Engine for ``config``; raises ModelError naming the parameter."""
@@ -458,6 +463,7 @@ class CableCasing(Fmi2Slave):
             with warnings.catch_warnings(record=True) as said:
                 warnings.simplefilter("always")
                 self._engine = self._make_engine(config)
+                drive = self._drive_motion(self._engine)
         except cc.ModelError as exc:
             self._engine = None
             return self._block(f"invalid parameter {exc}")
@@ -471,7 +477,7 @@ class CableCasing(Fmi2Slave):
             self._engine = None
             return self._block(problem)
         self._applied = config
-        self._drive = self._drive_motion(self._engine)
+        self._drive = drive
         self._error = None
         self._warm_up()
         self._recon.reset()

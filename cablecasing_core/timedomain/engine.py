@@ -89,6 +89,8 @@ class Engine:
     ):
         dt = model.scenario["dt"] if dt is None else dt
         lookup("scenario.dt").check(dt, "dt")
+        if contact is not None and not isinstance(contact, (bool, np.bool_)):
+            raise ModelError("contact", contact, "must be None (the model's contact.enabled), True or False")
         self.model = model
         self.dt = float(dt)
         #: the support channels (``channels_of``: the 12 of CHANNELS, then the excited clips') and

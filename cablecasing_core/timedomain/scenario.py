@@ -150,6 +150,14 @@ class ScenarioMotion:
         cl = None
         for name, e in sc["excitation"].items():
             key = f"scenario.excitation.{name}.file"
+            if e["kind"] == "random" and e["band"][1] >= 0.5 / self.dt:
+                # (load_model checks scenario.dt; a run's own dt is checked here, where the record is made)
+                raise ModelError(
+                    "dt",
+                    self.dt,
+                    f"must resolve the random excitation scenario.excitation.{name}'s band up to {e['band'][1]:g} Hz: "
+                    f"its Nyquist frequency 1 / (2 dt) must lie above the band, so dt < {0.5 / e['band'][1]:g} s",
+                )
             if e["target"].count(".") == 1:  # a clip's own channel
                 clip, direction = e["target"].split(".")
                 col = self.channels.index(f"{clip}.x")

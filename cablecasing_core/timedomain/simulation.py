@@ -87,7 +87,9 @@ class SimulationResult:
         last whole step, so that it is evenly sampled): the support and clip outputs,
         ``contact.active`` (cable nodes in contact), ``contact.max_penetration`` (m) and the driven
         inputs. The row at t = 0 is the state the run starts from (at rest, or an installed model's
-        static state), as an FMU reports it at its first communication point.
+        static state), as an FMU reports it at its first communication point: exactly so where the
+        samples are picked; the filter blends the first and last ~17 rows with the record's
+        continuation by its end samples (:func:`decimate`).
 
         ``decimation`` (when Δ > dt): ``"filter"`` (default) low-pass filters the forces and inputs
         before taking every m-th sample (:func:`decimate`: a zero-phase FIR, flat to 0.7 of the new
@@ -128,19 +130,26 @@ class SimulationResult:
         return Records(time[::m], cols, {n: unit_of(n) for n in cols}, "simulation", extra)
 
     @property
+    def dt(self) -> float:
+        """The run's time step (s): ``solver["dt"]``, or for a result read from a file (whose steps
+        are whole) the spacing of its times."""
+        if "dt" in self.solver:
+            return float(self.solver["dt"])
+        return float(self.time[1] - self.time[0]) if len(self.time) > 1 else float(self.time[0])
+
+    @property
     def whole_steps(self) -> int:
         """The number of steps of the run that are whole time steps: all of them, or all but the last
         when the duration is not a whole number of steps and the run ended with a shorter one."""
         n = len(self.time)
-        if n > 1 and self.time[-1] - self.time[-2] < (self.time[1] - self.time[0]) * (1 - 1e-6):
-            return n - 1
-        return n
+        last = self.time[-1] - (self.time[-2] if n > 1 else 0.0)
+        return n - 1 if n and last < self.dt * (1 - 1e-6) else n
 
     def _stride(self, output_interval):
         if output_interval is None:
             return 1
         seconds("--output-interval", output_interval)
-        dt = self.time[1] - self.time[0] if len(self.time) > 1 else output_interval
+        dt = self.dt
         m = round(output_interval / dt)
         if m < 1 or abs(m * dt - output_interval) > 1e-6 * dt:
             raise ModelError(
@@ -272,7 +281,8 @@ def simulate(
 
 
 def solver_report(eng: Engine, steps: int) -> dict:
-    """What the engine's step loop did over ``steps`` steps: {steps, event_substeps, refined_steps
+    """What the engine's step loop did over ``steps`` steps: {dt (s, its time step), steps,
+    event_substeps, refined_steps
     (around events or for the tolerance), event_steps (around events), tolerance_steps (for the
     tolerance), newton_iterations,
     unconverged_steps} (counts), friction_law ("switch" or "regularized": with the latter there
@@ -284,6 +294,7 @@ def solver_report(eng: Engine, steps: int) -> dict:
     its, _, failed = (int(x) for x in eng.solver_counts)
     return {
         "friction_law": eng.model.contact["friction_law"],
+        "dt": eng.dt,
         "steps": int(steps),
         "event_substeps": eng.event_substeps,
         "refined_steps": eng.refined_steps,

@@ -346,6 +346,8 @@ def scenario_errors(job, table):
     record("baddt", inst, [inst.status_init, inst.step(zero, h)])
     inst = Instance(job["fmu"], name="tinydt", params={"solver.dt": 1e-12})
     record("tinydt", inst, [inst.status_init])
+    inst = Instance(job["fmu"], name="coarsedrive", params={"scenario.drive": True, "solver.dt": 1e-3})
+    record("coarsedrive", inst, [inst.status_init])
 
     inst = Instance(job["fmu"], name="blowup")
     jump = zero.copy()

@@ -365,6 +365,8 @@ def test_errors_are_reported_and_the_process_goes_on(fmu, tmp_path, contact_case
     )
     assert np.all(res["baddt_status"] == [error, error]) and logged("baddt", "solver.dt", "-1e-05")
     assert res["tinydt_status"] == error and logged("tinydt", "solver.dt = 1e-12: must be a number in [1e-10, 1]")
+    # the model's own scenario on a grid whose Nyquist frequency (500 Hz) lies inside its random band
+    assert res["coarsedrive_status"] == error and logged("coarsedrive", "solver.dt = 0.001: must resolve the random")
     assert res["blowup_status"] == discard and logged("blowup", "penetration", "rolled back")
     assert np.all(res["after_blowup_status"] == 0)  # the failed step was rolled back whole
     np.testing.assert_array_equal(res["after_blowup_out"], ref[4])

@@ -239,6 +239,12 @@ def test_a_run_that_ends_with_a_shorter_step_is_recorded_to_its_last_whole_step(
     said = capsys.readouterr().out
     assert "the record ends at the last whole step, t = 0.00099 s" in said, said
     assert main(["spectrum", str(out), "--skip", "0", "--fmin", "5000", "--fmax", "15000"]) == 0  # (it reads)
+    # a run of one and a half steps: its dt is the run's, not the spacing of its two times
+    short = cc.simulate(cc.load_model(), duration=1.5e-5)
+    assert short.whole_steps == 1 and short.dt == 1e-5
+    np.testing.assert_allclose(short.records().time, [0.0, 1e-5], rtol=0, atol=1e-18)
+    with pytest.raises(cc.ModelError, match=r"--output-interval = 5e-06: must be a whole number of time steps"):
+        short.records(output_interval=5e-6)
 
 
 def test_output_interval_must_divide_the_duration_and_pick_is_an_option(tmp_path, capsys):

@@ -264,3 +264,17 @@ def test_missing_csv_file_is_refused(tmp_path):
     m = _model({"c": {"target": "casing.A.z", "kind": "csv", "file": "nowhere.csv"}}, base_dir=tmp_path)
     with pytest.raises(cc.ModelError, match="does not exist"):
         scenario_motion(m)
+
+
+def test_a_run_s_own_step_must_resolve_the_random_band_and_contact_is_a_bool():
+    """The built-in random band reaches 1000 Hz: a run at dt = 1e-3 s (Nyquist 500 Hz) is refused
+    naming dt, as the model file's scenario.dt is (it ran, half the band aliased); 4e-4 s runs.
+    ``contact`` takes None, True or False only (a string was taken as True)."""
+    m = cc.load_model()
+    with pytest.raises(cc.ModelError, match=r"dt = 0.001: must resolve the random excitation .* dt < 0.0005 s"):
+        cc.simulate(m, duration=0.01, dt=1e-3)
+    with pytest.raises(cc.ModelError, match="upper frequency must be below the Nyquist frequency 500 Hz"):
+        m.with_overrides({"scenario.dt": 1e-3})
+    cc.simulate(m, duration=0.002, dt=4e-4)
+    with pytest.raises(cc.ModelError, match=r"contact = 'no': must be None .*, True or False"):
+        cc.simulate(m, duration=1e-4, contact="no")
