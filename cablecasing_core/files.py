@@ -113,7 +113,8 @@ def output_folder(flag: str, folder: str | os.PathLike, probe_name: str) -> Path
     return folder
 
 
-def _number(text):
+def is_number(text) -> bool:
+    """Whether ``text`` reads as a float (what a CSV cell must hold to be a number)."""
     try:
         float(text)
         return True
@@ -196,7 +197,7 @@ def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: i
         sep = next((c for c in (";", "\t", " ") if c in head.strip()), None)
         found = f"columns separated by {sep!r}" if sep else "one column"
         raise ModelError(key, shown, f"line {hline} has {found}; a table needs {need}")
-    if all(_number(h) for h in names):
+    if all(is_number(h) for h in names):
         raise ModelError(
             key, shown, f"has no header line (line {hline} holds numbers); its first line must name the columns"
         )
@@ -216,7 +217,7 @@ def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: i
                     key, shown, f"line {lineno} has {len(fields)} fields; the header has {len(names)} columns"
                 )
             for j, f in enumerate(fields):
-                if not _number(f):
+                if not is_number(f):
                     raise ModelError(key, shown, f"line {lineno}, column {j + 1} is not a number")
         raise ModelError(key, shown, f"must be {need}")  # pragma: no cover - loadtxt agrees with the scan
     bad = np.argwhere(~np.isfinite(data) | (np.abs(data) > MAX_MAGNITUDE))

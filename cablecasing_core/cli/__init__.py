@@ -171,8 +171,14 @@ def build_parser():
 
 
 def _warning_line(message, category, filename, lineno, file=None, line=None):
-    """Warnings as one line on stderr, without the file and line of the code that warned."""
-    print(f"cablecasing: warning: {message}", file=sys.stderr if file is None else file)
+    """Warnings as one line on stderr, without the file and line of the code that warned; on a line
+    of its own above a progress bar that is being drawn (tqdm's write), not after it."""
+    text = f"cablecasing: warning: {message}"
+    bars = sys.modules.get("tqdm.auto")
+    if file is None and bars is not None:
+        bars.tqdm.write(text, file=sys.stderr)
+    else:
+        print(text, file=sys.stderr if file is None else file)
 
 
 def main(argv=None):

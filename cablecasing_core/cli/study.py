@@ -9,8 +9,9 @@ import numpy as np
 
 from ..errors import ModelError
 from ..model.limits import MAX_SEEDS, MAX_STUDY_SAMPLES, PROGRESS_TIMEOUT
-from ..model.schema import MAX_SEED, output_spec
+from ..model.schema import output_spec
 from ..model.validators import integer, number
+from ..studies.ensemble import MAX_ENSEMBLE_SEED
 from .assignments import assignment
 from .helptext import ASSIGNMENT_HELP, key_help
 from .paths import check_output_path, kept
@@ -191,7 +192,13 @@ def cmd_ensemble(args):
     from ..studies import paired_difference, seed_ensemble
 
     integer("--seeds", args.seeds, 2, MAX_SEEDS)
-    integer("--first-seed", args.first_seed, 0, MAX_SEED + 1 - args.seeds, " (the last seed must fit a seed's range)")
+    integer(
+        "--first-seed",
+        args.first_seed,
+        0,
+        MAX_ENSEMBLE_SEED + 1 - args.seeds,
+        " (the last seed must be at most 2**53: an ensemble's CSV holds its seeds exactly up to there)",
+    )
     _check_confidence(args.confidence)
     check_output_path("--out", args.out)
     check_output_path("--out", _against_path(args.out) if args.against else None)
@@ -223,12 +230,14 @@ def cmd_ensemble(args):
         raise ModelError(f"{flag} {exc.key}", exc.value, exc.allowed) from None
     ens = seed_ensemble(model, overrides=base, **common)
     _print_ensemble(ens, args.confidence)
-    _save(ens, args.out, "")
     other = d = None
     if against:
         other = seed_ensemble(model, overrides={**base, **against}, **common)
         d = paired_difference(other, ens)
         _print_change(other, d, against, args.confidence)
+    # (both files once both ensembles are done: a run stopped in the second leaves the pair as it was)
+    _save(ens, args.out, "")
+    if other is not None:
         _save(other, args.out, "_against")
     _plot(ens, other, d, args, (", ".join(args.set) or "model", ", ".join(args.against)))
     return 0
@@ -248,6 +257,16 @@ def cmd_pool(args):
     change = {}
     if args.against:
         other = pool_ensembles(args.against)
+        mine, theirs = ({k: v for k, v in e.settings.items() if k != "model"} for e in (ens, other))
+        differ = sorted(k for k in set(mine) | set(theirs) if mine.get(k) != theirs.get(k))
+        if differ:
+            k = differ[0]
+            raise ModelError(
+                "--against",
+                " ".join(map(str, args.against)),
+                f"must be run with the settings of the files it is compared with: its {k} is {theirs.get(k)!r}, "
+                f"theirs {mine.get(k)!r}",
+            )
         if not np.array_equal(other.seeds, ens.seeds):
             raise ModelError(
                 "--against",
@@ -259,7 +278,12 @@ def cmd_pool(args):
     _print_ensemble(ens, args.confidence)
     _save(ens, args.out, "")
     if other is not None:
-        change = {k: v for k, v in other.overrides.items() if ens.overrides.get(k) != v}
+        keys = sorted(set(ens.overrides) | set(other.overrides))
+        change = {
+            k: other.overrides.get(k, "(the model's value)")
+            for k in keys
+            if ens.overrides.get(k) != other.overrides.get(k)
+        }
         _print_change(other, d, change, args.confidence)
         _save(other, args.out, "_against")
     _plot(ens, other, d, args, (_as_assignments(ens.overrides) or "model", _as_assignments(change)))

@@ -38,13 +38,16 @@ def check_report_settings(model=None, duration=0.5, seeds=6, study_samples=32, s
     ``(model, seeds, study_samples)``, the model loaded (a Model, a TOML path, or None for the
     built-in specimen); a :class:`ModelError` naming the setting otherwise."""
     from ..model import Model, load_model
+    from ..model.limits import MAX_STUDY_SAMPLES
     from ..model.validators import integer, seconds
 
     model = model if isinstance(model, Model) else load_model(model)
     seconds("duration", duration)
     seconds("skip", skip, zero_ok=True)
     n_seeds = integer("seeds", seeds, 2)
-    study_samples = integer("study_samples", study_samples, 0)
+    study_samples = integer("study_samples", study_samples, 0, MAX_STUDY_SAMPLES)
+    if study_samples == 1:
+        raise ModelError("study_samples", 1, f"must be 0 (no study) or 2 to {MAX_STUDY_SAMPLES} (a study's runs)")
     need = skip + 1.0 / (22.0 - 11.0)  # one FFT bin in the narrowest band of Table 3 (octave_rms's rule)
     if duration < need:
         raise ModelError(

@@ -26,6 +26,9 @@ from scipy import stats
 from ..errors import ModelError
 from ..model.validators import number
 
+#: The largest seed of an ensemble: its CSV holds the seeds among the levels as doubles, exact to 2**53.
+MAX_ENSEMBLE_SEED = 2**53
+
 
 @dataclass(frozen=True)
 class Ensemble:
@@ -164,7 +167,7 @@ def load_ensemble(path: str | os.PathLike) -> Ensemble:
     if len(names) < 1 + nb or names[0] != "seed" or tuple(names[1 : 1 + nb]) != labels:
         raise ModelError("path", shown, "its header must be 'seed' and the band labels of its settings line")
     seeds = table[:, 0]
-    bad = np.nonzero((seeds != np.round(seeds)) | (seeds < 0) | (seeds > 2**53))[0]
+    bad = np.nonzero((seeds != np.round(seeds)) | (seeds < 0) | (seeds > MAX_ENSEMBLE_SEED))[0]
     if bad.size:
         raise ModelError("path", shown, f"data row {bad[0] + 1}: the seed must be a whole number from 0 to 2**53")
     neg = np.argwhere(table[:, 1:] < 0)

@@ -20,7 +20,7 @@ from ..errors import ModelError
 from ..model.limits import MAX_SEEDS
 from ..model.schema import SUPPORT_OUTPUTS, clip_outputs
 from ..model.validators import Choice, integer, seconds
-from .ensemble import Ensemble
+from .ensemble import MAX_ENSEMBLE_SEED, Ensemble
 from .evaluators import DEFAULT_EVALUATE, check_record_settings
 from .executor import execute
 from .octave import Bands, octave_bands
@@ -201,7 +201,8 @@ def _check_seeds(seeds):
             raise ModelError("seeds", seeds, f"must be 2 to {MAX_SEEDS} (seeds 1..n), or a sequence of seeds")
         return list(range(1, int(seeds) + 1))
     try:
-        out = [integer("seeds", s, 0) for s in seeds]
+        why = " (an ensemble's CSV holds its seeds exactly up to 2**53)"
+        out = [integer("seeds", s, 0, MAX_ENSEMBLE_SEED, why) for s in seeds]
     except TypeError:
         raise ModelError("seeds", seeds, "must be a count n >= 2 or a sequence of non-negative integer seeds") from None
     if len(out) < 2 or len(out) > MAX_SEEDS or len(set(out)) != len(out):

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError, excerpt, plain
+from ..files import is_number
 
 META_COLUMNS = ("index", "status")
 TAIL_COLUMNS = ("elapsed_s", "error")
@@ -140,12 +141,24 @@ def load_results(path: str | os.PathLike) -> StudyResults:
     if head != header:
         raise ModelError("path", path, f"must have the header {','.join(header)} (found {head})")
     rows = {}
+    d, m = len(params), len(outputs)
+    numeric = list(range(2, 2 + d + m)) + [len(header) - 2]  # (parameters, outputs, elapsed_s)
     for lineno, r in enumerate(reader, start=2):
         if len(r) != len(header):
             raise ModelError("path", path, f"line {lineno} has {len(r)} fields, expected {len(header)}")
+        bad = next((c for c in numeric if r[c] != "" and not is_number(r[c])), None)
+        if not r[0].isdigit() or r[1] not in STATUSES or bad is not None:
+            col = 0 if not r[0].isdigit() else 1 if r[1] not in STATUSES else bad
+            what = (
+                "a sample index (a whole number)"
+                if col == 0
+                else "a status: " + ", ".join(STATUSES)
+                if col == 1
+                else "a number"
+            )
+            raise ModelError("path", path, f"line {lineno}, column {header[col]!r} must hold {what} (it was edited?)")
         rows.setdefault(int(r[0]), r)
     order = sorted(rows)
-    d, m = len(params), len(outputs)
     num = lambda s: float(s) if s != "" else np.nan  # noqa: E731
     X = np.array([[num(rows[i][2 + k]) for k in range(d)] for i in order], float).reshape(len(order), d)
     Y = np.array([[num(rows[i][2 + d + k]) for k in range(m)] for i in order], float).reshape(len(order), m)
@@ -312,6 +325,13 @@ def prepare_file(path, meta, design, params):
             "format",
             old.get("format"),
             f"the study in {path} has another format ({meta['format']} is read); choose a new file to start a study",
+        )
+    if list(old.get("bounds", {})) != list(meta["bounds"]):  # (dicts compare equal in any order)
+        raise ModelError(
+            "bounds",
+            list(meta["bounds"]),
+            f"must name the parameters in the order of the study in {path}, {list(old.get('bounds', {}))} (its "
+            "columns and design follow that order), to resume it (or choose a new file)",
         )
     for key in RESUME_KEYS:
         if old.get(key) != meta.get(key):

@@ -444,6 +444,8 @@ OPTION_ERRORS = [
     (["bands", "{record}", "--fmin", "30", "--fmax", "20"], "--fmax = 20.0: must exceed --fmin = 30.0 Hz"),
     (["report", "--seeds", "1", "--out", "rep/sub"], "--seeds = 1: must be an integer >= 2"),  # (no folder made)
     (["report", "--duration", "0.05", "--out", "rep"], "--duration = 0.05: must be at least 0.1409 s"),
+    (["report", "--study-samples", "1", "--out", "rep"], "--study-samples = 1: must be 0 (no study) or 2 to"),
+    (["ensemble", "--seeds", "2", "--first-seed", str(2**53)], "(the last seed must be at most 2**53: an ensemble's"),
     (
         ["study", "--vary", "casing.E=2e9:1e10", "--vary", "casing.E=3e9:1e10", "--scheduler", "serial"],
         "--vary = 'casing.E=3e9:1e10': must name each key once: casing.E is already varied by --vary casing.E=2e9:1e10",

@@ -440,3 +440,49 @@ def test_cli_says_which_members_warned_and_its_file_keeps_what(tmp_path, capsys)
     assert "cablecasing: warning: 2 of 2 members warned (seeds 1, 2;" in err, err
     kept = load_ensemble(out).warnings
     assert sorted(kept) == [1, 2] and all(any(f"seed {j}: {kept[s]}" in err for j in kept) for s in kept), err
+
+
+def test_an_ensemble_stopped_in_its_against_run_leaves_the_pair_of_files_as_it_was(tmp_path, capsys, monkeypatch):
+    """The two CSVs of `ensemble --against` are written once both ensembles are done: stopped in the
+    second, neither file changes (the first was written already and sat beside a stale second), and
+    the message says so."""
+    import cablecasing_core.studies as studies
+
+    calls = []
+
+    def fake(model, overrides=None, **kw):
+        calls.append(overrides)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return synthetic([[1.0, 2.0], [1.1, 2.1]])
+
+    monkeypatch.setattr(studies, "seed_ensemble", fake)
+    out = tmp_path / "levels.csv"
+    out.write_text("earlier\n")
+    code = cli_main(["ensemble", "--seeds", "2", "--against", "contact.friction=0.2", "--out", str(out)])
+    assert code == 130 and len(calls) == 2
+    assert out.read_text() == "earlier\n" and not (tmp_path / "levels_against.csv").exists()
+    assert "levels.csv" in capsys.readouterr().err
+
+
+def test_pool_against_parts_of_other_settings_is_refused_and_the_change_names_removed_overrides(tmp_path, capsys):
+    base = dataclasses.replace(
+        synthetic([[1.0, 2.0], [1.1, 2.1]]), overrides={"casing.E": 6e9}, settings={"duration": 0.2, "skip": 0.05}
+    )
+    other = dataclasses.replace(base, overrides={"contact.friction": 0.2}, levels=base.levels * 1.1)
+    longer = dataclasses.replace(other, settings={"duration": 0.25, "skip": 0.05})
+    for name, e in (("a", base), ("b", other), ("c", longer)):
+        e.save(tmp_path / f"{name}.csv")
+    assert cli_main(["pool", str(tmp_path / "a.csv"), "--against", str(tmp_path / "c.csv")]) == 2
+    err = capsys.readouterr().err
+    assert "--against = " in err and "its duration is 0.25, theirs 0.2" in err, err
+    assert cli_main(["pool", str(tmp_path / "a.csv"), "--against", str(tmp_path / "b.csv")]) == 0
+    said = capsys.readouterr().out
+    assert "{'casing.E': \"(the model's value)\", 'contact.friction': 0.2}" in said, said
+
+
+def test_seeds_beyond_what_the_csv_holds_exactly_are_refused():
+    """An ensemble's CSV holds its seeds among doubles, exact up to 2**53: a seed above it was
+    written as its neighbour (2**53 + 1 as 2**53), and the file then refused on reading."""
+    with pytest.raises(ModelError, match=r"seeds = 9007199254740993: must be an integer from 0 to 9007199254740992"):
+        seed_ensemble(cc.load_model(), [1, 2**53 + 1], duration=T)

@@ -328,3 +328,26 @@ def test_correlations_against_constructed_dependences(tmp_path):
     png = plot_correlations(res, str(tmp_path / "fig23.png"))
     assert os.path.getsize(png) > 10_000
     assert load_results(tmp_path / "s.csv").outputs == ("a", "b", "c")
+
+
+def test_a_study_resumed_with_its_parameters_in_another_order_is_refused(tmp_path):
+    """The design and the CSV's columns follow the order of the bounds: a resume that names them in
+    another order is refused (a study stopped before its first row took it, and wrote the values
+    of one parameter under the other's heading)."""
+    bounds = {"casing.E": (2e9, 1e10), "contact.friction": (0.05, 0.2)}
+    _run(tmp_path / "s.csv", bounds=bounds, n_samples=8, max_samples=0)
+    swapped = dict(reversed(list(bounds.items())))
+    with pytest.raises(ModelError, match=r"must name the parameters in the order of the study") as e:
+        _run(tmp_path / "s.csv", bounds=swapped, n_samples=8)
+    assert e.value.key == "bounds"
+
+
+def test_a_hand_edited_value_that_is_no_number_is_named_by_line_and_column(tmp_path):
+    res = _run(tmp_path / "s.csv", n_samples=8)
+    lines = (tmp_path / "s.csv").read_text().splitlines()
+    cells = lines[2].split(",")
+    cells[2 + len(res.parameters)] = "abc"
+    lines[2] = ",".join(cells)
+    (tmp_path / "s.csv").write_text("\n".join(lines) + "\n")
+    with pytest.raises(ModelError, match=rf"line 3, column {res.outputs[0]!r} must hold a number"):
+        load_results(tmp_path / "s.csv")
