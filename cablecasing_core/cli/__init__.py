@@ -61,9 +61,11 @@ def _model(path):
 
 def cmd_modes(args):
     from ..frequency.modal import natural_frequencies
+    from ..model.validators import integer
 
     model = _model(args.model)
-    res = {b: natural_frequencies(model, b, args.count).tolist() for b in model.bodies}
+    count = integer("--count", args.count, 1)
+    res = {b: natural_frequencies(model, b, count).tolist() for b in model.bodies}
     if args.json:
         print(json.dumps(res))
     else:
@@ -82,6 +84,10 @@ def cmd_trfam(args):
     check_frequency_range(args.fmin, args.fmax)
     if not (args.fmin > 0 and args.fmax > args.fmin and args.df > 0):
         raise ModelError("--fmin/--fmax/--df", (args.fmin, args.fmax, args.df), "need 0 < fmin < fmax and df > 0 (Hz)")
+    if args.df > args.fmax - args.fmin:
+        raise ModelError(
+            "--df", args.df, f"must be at most fmax - fmin = {args.fmax - args.fmin:g} Hz (two frequencies or more)"
+        )
     from ..model.limits import MAX_FREQUENCIES
 
     count = (args.fmax - args.fmin) / args.df + 1
@@ -91,11 +97,17 @@ def cmd_trfam(args):
             (args.fmin, args.fmax, args.df),
             f"give {count:.3g} frequencies; at most {MAX_FREQUENCIES}",
         )
-    f = np.arange(args.fmin, args.fmax + 0.5 * args.df, args.df)
+    # fmin, fmin + df, ... up to fmax, never beyond it (arange's end overshot by up to df / 2)
+    f = args.fmin + args.df * np.arange(int(np.floor((args.fmax - args.fmin) / args.df * (1 + 1e-12))) + 1)
     check_output_path("--out", args.out, (".csv", ".uff"))
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
     args.interrupted = "stopped: " + kept(args.out, args.plot)
-    H = trfam(model, args.input, args.output, f, damping=args.damping)
+    try:
+        H = trfam(model, args.input, args.output, f, damping=args.damping)
+    except ModelError as exc:  # (the ports named by the options the user wrote)
+        if exc.key not in ("input", "output"):
+            raise
+        raise ModelError(f"--{exc.key}", exc.value, exc.allowed) from None
     table = np.column_stack([f, H.real, H.imag, np.abs(H), np.degrees(np.angle(H))])
     header = "frequency_hz,re_kg,im_kg,magnitude_kg,phase_deg"
     if args.out and args.out.lower().endswith(".uff"):

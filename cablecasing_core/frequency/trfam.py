@@ -50,6 +50,7 @@ from numpy.typing import ArrayLike
 from scipy.linalg import solve_banded
 
 from ..errors import ModelError
+from ..model.limits import MAX_FREQUENCIES
 from ..model.schema import DIRECTIONS, SUPPORT_NAMES
 from ..model.validators import Choice, frequencies
 from ..structure.assembly import assemble_body
@@ -74,15 +75,16 @@ def parse_port(key, value, model):
     if len(parts) == 3 and parts[0] == "casing" and parts[1] in [f"clip{i}" for i in range(len(clips))]:
         if parts[2] in DIRECTIONS:
             return "casing", parts[1], DIRECTIONS.index(parts[2])
-    if len(parts) != 3 or parts[1] not in SUPPORT_NAMES or parts[2] not in DIRECTIONS:
+    if len(parts) != 3 or parts[1] not in SUPPORT_NAMES or parts[2] not in DIRECTIONS or parts[0] not in model.bodies:
+        ports = [f"{b}.{s}" for b, spec in model.bodies.items() for s in SUPPORT_NAMES if spec.supports[s] != "free"]
+        ports += [f"casing.clip{i}" for i in range(len(clips))]
+        ports += [c["excitation"] for c in clips if c.get("excitation")]
         raise ModelError(
             key,
             value,
-            "must be '<body>.<A|B>.<x|y|z>' (e.g. 'casing.A.x'), 'casing.clip<i>.<x|y|z>' or '<excitation>.<x|y|z>'",
+            f"must be '<port>.<x|y|z>' with a port of the model {model.source}: " + ", ".join(ports),
         )
     body, support, d = parts
-    if body not in model.bodies:
-        raise ModelError(key, value, "body must be one of " + ", ".join(repr(b) for b in model.bodies))
     if model.bodies[body].supports[support] == "free":
         raise ModelError(key, value, f"support {body}.{support} is free; TRFAM needs clamped or isolator supports")
     return body, support, DIRECTIONS.index(d)
@@ -200,7 +202,7 @@ def trfam(model: Model, input: str, output: str, freqs_hz: ArrayLike, damping: s
     freqs_hz : array of positive frequencies in Hz.
     damping : "viscous" (Eq. 10, Rayleigh alpha/beta), "structural" (Eq. 11, loss factor) or "none".
     """
-    f = frequencies("freqs_hz", freqs_hz)
+    f = frequencies("freqs_hz", freqs_hz, at_most=MAX_FREQUENCIES)
     bi, si, di = parse_port("input", input, model)
     bo, so, do = parse_port("output", output, model)
     if bi != bo:
@@ -223,7 +225,7 @@ def trfam_matrix(
 ) -> np.ndarray:
     """The 3x3 TRFAM block (kg), shape (nf, 3 outputs x/y/z, 3 inputs x/y/z), between two supports
     of one body: the force at ``output_support`` over the acceleration of ``input_support``."""
-    f = frequencies("freqs_hz", freqs_hz)
+    f = frequencies("freqs_hz", freqs_hz, at_most=MAX_FREQUENCIES)
     parse_port("input", f"{body}.{input_support}.x", model)
     parse_port("output", f"{body}.{output_support}.x", model)
     system = assemble_body(model, body)

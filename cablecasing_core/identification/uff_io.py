@@ -71,6 +71,9 @@ def _even(x):
 def _dataset(rec, binary):
     pyuff = _pyuff()
     x = np.asarray(rec.x, dtype=float)
+    if x.size < 2:  # (pyuff cannot write one abscissa value; nor could a reader tell its spacing)
+        what = "time record" if rec.kind == "time" else "FRF"
+        raise ModelError("x", f"{x.size} value", f"a UFF 58 {what} needs at least 2 abscissa values")
     even = _even(x)
     dx = float(x[1] - x[0]) if even else 0.0
     is_time = rec.kind == "time"

@@ -405,12 +405,17 @@ def array_1d(key, x, min_len=2, complex_ok=False):
     return a
 
 
-def frequencies(key, freqs_hz, fs=None):
+def frequencies(key, freqs_hz, fs=None, at_most=None):
     """A non-empty 1-D array of positive finite frequencies (Hz); with the sampling rate ``fs`` (Hz)
-    each must also lie below fs/2."""
-    f = np.atleast_1d(np.asarray(freqs_hz, dtype=float))
+    each must also lie below fs/2; at most ``at_most`` of them (model/limits.py), when given."""
+    try:
+        f = np.atleast_1d(np.asarray(freqs_hz, dtype=float))
+    except (TypeError, ValueError):
+        raise ModelError(key, freqs_hz, "must be one or more frequencies in Hz (numbers)") from None
     if f.ndim != 1 or f.size == 0:
         raise ModelError(key, freqs_hz, "must be one or more frequencies in Hz")
+    if at_most is not None and f.size > at_most:
+        raise ModelError(key, f"{f.size} frequencies", f"must be at most {at_most} (model/limits.py)")
     bad = ~np.isfinite(f) | (f <= 0.0)
     if fs is not None:
         bad |= f >= fs / 2.0

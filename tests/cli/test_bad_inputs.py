@@ -439,7 +439,8 @@ OPTION_ERRORS = [
         ["trfam", "--fmin", "1e300", "--fmax", "1e301", "--df", "1e299"],
         "--fmin = 1e+300: must be a number in (0, 1e+06]",
     ),
-    (["trfam", "--fmin", "0"], "--fmin = 0.0: must be a number in (0, 1e+06] in Hz"),  # (one range for every command)
+    (["trfam", "--fmin", "0"], "--fmin = 0.0: must be a number in (0, 1e+06] in Hz"),
+    (["modes", "--count", "0"], "--count = 0: must be an integer >= 1"),  # (one range for every command)
     (["spectrum", "{record}", "--fmin", "0"], "--fmin = 0.0: must be a number in (0, 1e+06] in Hz"),
     (["bands", "{record}", "--fmin", "30", "--fmax", "20"], "--fmax = 20.0: must exceed --fmin = 30.0 Hz"),
     (["report", "--seeds", "1", "--out", "rep/sub"], "--seeds = 1: must be an integer >= 2"),  # (no folder made)

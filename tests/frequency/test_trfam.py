@@ -128,3 +128,36 @@ def test_trfam_rejects_bad_ports():
         trfam(m, "casing.A.x", "casing.B.x", [0.0, 10.0])
     with pytest.raises(ModelError, match="damping"):
         trfam(m, "casing.A.x", "casing.B.x", [10.0], damping="coulomb")
+
+
+def test_a_port_the_model_does_not_have_is_refused_with_the_ports_it_has_and_frequencies_are_checked():
+    """A clip index beyond the model's clips (it got the generic pattern, which it fits) is refused
+    with the ports of this model; non-numeric frequencies are a ModelError (a bare ValueError
+    before), and more than MAX_FREQUENCIES are refused before any work, as the CLI refuses them."""
+    from pathlib import Path
+
+    from cablecasing_core import ModelError
+    from cablecasing_core.model.limits import MAX_FREQUENCIES
+
+    m = load_model(str(Path(__file__).resolve().parents[2] / "examples" / "installation.toml"))
+    with pytest.raises(ModelError) as e:
+        trfam(m, "casing.clip7.z", "casing.B.z", [10.0])
+    assert str(e.value).endswith("casing.A, casing.B, cable.A, cable.B, casing.clip0, casing.clip1"), str(e.value)
+    with pytest.raises(ModelError, match=r"freqs_hz = \['a'\]: must be one or more frequencies in Hz \(numbers\)"):
+        trfam(m, "casing.A.z", "casing.B.z", ["a"])
+    with pytest.raises(ModelError, match=rf"frequencies': must be at most {MAX_FREQUENCIES}"):
+        trfam_matrix(m, "casing", "A", "B", np.ones(MAX_FREQUENCIES + 1))
+
+
+def test_the_cli_grid_ends_at_fmax_and_needs_two_frequencies(tmp_path, capsys):
+    """`trfam --fmin 10 --fmax 11 --df 0.6` computes 10 and 10.6 Hz, not 11.2 (beyond --fmax);
+    a --df wider than the range is refused (it computed fmin alone, and a UFF of one frequency
+    then failed inside pyuff)."""
+    from cablecasing_core.cli import main
+
+    out = tmp_path / "t.csv"
+    assert main(["trfam", "--fmin", "10", "--fmax", "11", "--df", "0.6", "--out", str(out)]) == 0
+    np.testing.assert_allclose(np.loadtxt(out, delimiter=",", skiprows=1)[:, 0], [10.0, 10.6])
+    assert main(["trfam", "--fmin", "10", "--fmax", "11", "--df", "5", "--out", str(tmp_path / "one.uff")]) == 2
+    assert "--df = 5.0: must be at most fmax - fmin = 1 Hz" in capsys.readouterr().err
+    assert not (tmp_path / "one.uff").exists()

@@ -160,3 +160,12 @@ def test_parameters_toml_rejects_what_the_model_rejects():
     with pytest.raises(ModelError) as e:
         parameters_toml("housing", alpha=1.0)
     assert e.value.key == "body"
+
+
+def test_a_uff_function_of_one_value_is_refused_by_name(tmp_path):
+    """pyuff cannot write one abscissa value (an internal error before)."""
+    from cablecasing_core.identification import write_uff_frf
+
+    with pytest.raises(ModelError, match=r"a UFF 58 FRF needs at least 2 abscissa values"):
+        write_uff_frf(tmp_path / "one.uff", [10.0], [1.0 + 0.0j])
+    assert not (tmp_path / "one.uff").exists()
