@@ -1073,21 +1073,27 @@ FMI2_Export fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fm
     return fmi2Discard;
 }
 
+/* A status from the bridge's method of no arguments: its result as a number, or as a truth value. */
+static fmi2Status query(Instance *inst, const char *method, fmi2Real *number, fmi2Boolean *truth) {
+    PyObject *r = NULL;
+    PyGILState_STATE gil = gil_enter();
+    fmi2Status st = call(inst, method, &r, 0);
+    if (st == fmi2OK) {
+        if (number) *number = P.PyFloat_AsDouble(r);
+        if (truth) *truth = P.PyObject_IsTrue(r) > 0 ? fmi2True : fmi2False;
+        P.Py_DecRef(r);
+    }
+    P.PyGILState_Release(gil);
+    return st;
+}
+
 FMI2_Export fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value) {
     ENTER(c);
     if (s != fmi2LastSuccessfulTime || !value) {
         LOGI(inst, fmi2Discard, "fmi2GetRealStatus: only fmi2LastSuccessfulTime is available");
         return fmi2Discard;
     }
-    PyObject *t = NULL;
-    PyGILState_STATE gil = gil_enter();
-    fmi2Status st = call(inst, "last_successful_time", &t, 0);
-    if (st == fmi2OK) {
-        *value = P.PyFloat_AsDouble(t);
-        P.Py_DecRef(t);
-    }
-    P.PyGILState_Release(gil);
-    return st;
+    return query(inst, "last_successful_time", value, NULL);
 }
 
 FMI2_Export fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Integer *value) {
@@ -1101,15 +1107,7 @@ FMI2_Export fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKin
     ENTER(c);
     if (s == fmi2Terminated && value) {
         /* true once a discarded step was asked for again with the same inputs (CableCasing._discard) */
-        PyObject *r = NULL;
-        PyGILState_STATE gil = gil_enter();
-        fmi2Status st = call(inst, "terminated", &r, 0);
-        if (st == fmi2OK) {
-            *value = P.PyObject_IsTrue(r) > 0 ? fmi2True : fmi2False;
-            P.Py_DecRef(r);
-        }
-        P.PyGILState_Release(gil);
-        return st;
+        return query(inst, "terminated", NULL, value);
     }
     LOGI(inst, fmi2Discard, "fmi2GetBooleanStatus: only fmi2Terminated is available");
     return fmi2Discard;
