@@ -207,7 +207,7 @@ def late_figures(runs):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])  # the first paragraph
     p.add_argument("--duration", type=float, default=1.0, help="simulated time of the long runs (s)")
     p.add_argument("--repeat", type=int, default=3, help="runs of each kind; the fastest counts (shared machine)")
     p.add_argument("--step", type=float, default=1e-4, help="communication step (s)")
@@ -216,7 +216,6 @@ def main():
     h = args.step
     if not (h > 0 and args.duration >= 20 * h):
         p.error(f"--step {h!r}: must be positive and at most a twentieth of --duration ({args.duration!r} s)")
-        subprocess.run([sys.executable, str(ROOT / "build_fmu.py")], check=True)
 
     model = cc.load_model()
     n = int(round(args.duration / h))

@@ -25,9 +25,9 @@ from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.random_record import RandomRecord
 from cablecasing_core.timedomain.scenario import scenario_motion
 
-p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-p.add_argument("--duration", type=float, default=1.0)
-p.add_argument("--repeat", type=int, default=3)
+p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])  # the first paragraph
+p.add_argument("--duration", type=float, default=1.0, help="s simulated by the motion and the simulate run")
+p.add_argument("--repeat", type=int, default=3, help="runs of each kind; the fastest counts (shared machine)")
 args = p.parse_args()
 DT = 1e-5
 model = cc.load_model()

@@ -87,6 +87,7 @@ from multiprocessing import get_context
 from pathlib import Path
 
 import numpy as np
+from _record_length import require_band_record
 from numba import njit
 
 import cablecasing_core as cc
@@ -146,6 +147,8 @@ p.add_argument(
 args = p.parse_args()
 if not 1e-8 <= args.ensemble_reference_dt < 1e-5:
     p.error(f"--ensemble-reference-dt {args.ensemble_reference_dt}: must lie in [1e-8 s, 1e-5 s)")
+if not args.speed_only:  # the accuracy checks take band levels of the records
+    require_band_record(p, args.duration, args.skip)
 REF = args.ensemble_reference_dt
 model = cc.load_model()
 DT = 1e-5

@@ -20,7 +20,7 @@ from cablecasing_core.model.schema import SUPPORT_OUTPUTS
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion
 
-p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])  # the first paragraph
 p.add_argument("--model", default="installed", help="a built-in specimen (installed, default) or a model file")
 p.add_argument("--duration", type=float, default=0.4, help="s of the cost comparison")
 p.add_argument("--early", type=float, default=0.05, help="s of the record compared with the reference")

@@ -29,6 +29,7 @@ Run: .venv/bin/python benchmarks/installed_mechanisms.py [--seeds 2] [--duration
 import argparse
 
 import numpy as np
+from _record_length import require_band_record
 
 import cablecasing_core as cc
 from cablecasing_core.records import after_skip
@@ -51,6 +52,7 @@ p.add_argument("--only", nargs="*", default=list(INSTALLATIONS), help="installat
 p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="another override for every run")
 p.add_argument("--vary", nargs=3, default=["contact.friction", "0.05", "0.2"], metavar=("KEY", "LOW", "HIGH"))
 args = p.parse_args()
+require_band_record(p, args.duration, args.skip)
 EXTRA = {k: float(v) for k, v in (kv.split("=", 1) for kv in args.set)}
 
 

@@ -26,6 +26,7 @@ import json
 import time
 
 import numpy as np
+from _record_length import require_band_record
 
 import cablecasing_core as cc
 from cablecasing_core.files import write_text
@@ -47,6 +48,7 @@ p.add_argument(
     "--json", help="write the band levels of every run to this file (bench_time.py reads it as the reference)"
 )
 args = p.parse_args()
+require_band_record(p, args.duration, args.skip)
 over = {k: toml_value(v) for k, v in (kv.split("=", 1) for kv in args.set)}
 model = cc.load_model(args.model).with_overrides({**over, "scenario.excitation.casing_random.seed": args.seed})
 col = SUPPORT_OUTPUTS.index("casing.B.Fz")
