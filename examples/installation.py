@@ -51,6 +51,11 @@ def main(argv=None):
     p.add_argument("--duration", type=float, default=1.0, help="s per member (0.1 s skipped)")
     p.add_argument("--out", default=str(HERE.parent / "docs" / "img"), help="folder of the figures")
     args = p.parse_args(argv)
+    if args.seeds < 2:
+        p.error(f"--seeds {args.seeds}: the ensembles need at least 2 members (their scatter is a standard deviation)")
+    need = 0.1 + 1.0 / 11.0  # the skipped 0.1 s and one FFT line in octave 1 (11-22 Hz)
+    if not args.duration >= need:
+        p.error(f"--duration {args.duration:g}: the band levels need at least {need:.4g} s (0.1 s is skipped)")
     out = Path(args.out)
     model = cc.load_model(HERE / "installation.toml")
     plot_routing(model, out / "installation_routing.png")

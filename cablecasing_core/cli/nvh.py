@@ -77,7 +77,7 @@ def cmd_spectrum(args):
     import warnings
 
     from ..errors import ModelError
-    from ..nvh import apparent_mass, psd, reference, transmissibility
+    from ..nvh import apparent_mass, level_unit, psd, reference, transmissibility
     from .paths import check_output_path, emit_table, kept
 
     check_output_path("--out", args.out, (".csv",))
@@ -102,6 +102,7 @@ def cmd_spectrum(args):
                     unit=rec.unit(c),
                     name=rec.resolve(c),
                     f_min=args.fmin,
+                    f_max=args.fmax,
                 )
                 for c in columns
             ]
@@ -110,11 +111,9 @@ def cmd_spectrum(args):
             raise _no_line(args.record, res[0].name, fs, n, args.fmin, args.fmax, res[0].df)
         for w in said:
             warnings.warn(w.message, w.category, stacklevel=1)
-        unit = res[0].unit
-        ref = reference(unit, args.ref) if unit or args.ref else 1.0
-        names = [f"{r.name} PSD [{r.unit}^2/Hz]" for r in res] + [
-            f"{r.name} level [dB re {ref:g} {r.unit}^2/Hz]" for r in res
-        ]
+        refs = [reference(r.unit, args.ref) if r.unit or args.ref else 1.0 for r in res]  # (each its unit's)
+        names = [f"{r.name} PSD [{r.unit}^2/Hz]" for r in res]
+        names += [f"{r.name} level [{level_unit(ref, r.unit, power=True)}]" for r, ref in zip(res, refs)]
         table = np.column_stack([res[0].f_hz] + [r.density for r in res] + [r.level_db(args.ref) for r in res])[sel]
         lo, hi = res[0].covered(args.fmin, args.fmax)
         first, last = res[0].f_hz[sel][[0, -1]]

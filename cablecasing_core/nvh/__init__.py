@@ -15,7 +15,7 @@ octaves and thirds). See docs/nvh.md.
 """
 
 from ..studies.octave import octave_rms
-from .spectra import PSD, REFERENCES, level_db, psd, reference
+from .spectra import PSD, REFERENCES, level_db, level_unit, psd, reference
 from .transfer import Transfer, apparent_mass, transmissibility
 
 __all__ = [
@@ -24,6 +24,7 @@ __all__ = [
     "Transfer",
     "apparent_mass",
     "level_db",
+    "level_unit",
     "octave_rms",
     "psd",
     "reference",

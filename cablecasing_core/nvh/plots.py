@@ -6,7 +6,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..plotting import plain_log_ticks, save_figure  # (also selects the Agg backend)
-from .spectra import level_db, reference
+from .spectra import level_db, level_unit, reference
 
 
 def db_axis(ax, ref, unit, power):
@@ -18,7 +18,7 @@ def db_axis(ax, ref, unit, power):
         functions=(lambda v: k * np.log10(np.maximum(v, 1e-300) / sq), lambda L: sq * 10 ** (L / k)),
     )
     sec.set_yscale("linear")  # (dB is linear in the log of the left axis; it would inherit "log")
-    sec.set_ylabel(f"dB re {ref:g} {unit}{'$^2$/Hz' if power else ''}")
+    sec.set_ylabel(level_unit(ref, unit, power).replace("^2", "$^2$"))
     return sec
 
 
@@ -28,7 +28,8 @@ def plot_psd(psds, path, ref=None, log_frequency=True, f_range=None, title=None,
     line, when that is less), so a record whose spectrum collapses above its band keeps its shape."""
     psds = list(psds)
     unit = psds[0].unit
-    r = reference(unit, ref) if unit or ref else None
+    one_unit = all(p.unit == unit for p in psds)  # (lines of several units share no dB axis)
+    r = reference(unit, ref) if one_unit and (unit or ref) else None
     fig, ax = plt.subplots(figsize=(7.5, 4))
     for p in psds:
         sel = p.f_hz > 0
@@ -36,7 +37,8 @@ def plot_psd(psds, path, ref=None, log_frequency=True, f_range=None, title=None,
             p.f_hz[sel],
             p.density[sel],
             lw=0.8,
-            label=f"{p.name} (df {p.fs / p.nperseg:.3g} Hz, {p.n_averages} averages)",
+            label=f"{p.name}{'' if one_unit else f' ({p.unit}$^2$/Hz)'} (df {p.fs / p.nperseg:.3g} Hz, "
+            f"{p.n_averages} averages)",
         )
     ax.set_yscale("log")
     if log_frequency:
@@ -52,7 +54,7 @@ def plot_psd(psds, path, ref=None, log_frequency=True, f_range=None, title=None,
     if shown.size:  # the visible range, at most dynamic_range_db below the peak
         ax.set_ylim(max(shown.min() / 2, shown.max() * 10 ** (-dynamic_range_db / 10)), shown.max() * 2)
     ax.set_xlabel("frequency (Hz)")
-    ax.set_ylabel(f"PSD ({unit}$^2$/Hz)" if unit else "PSD (unit$^2$/Hz)")
+    ax.set_ylabel(f"PSD ({unit}$^2$/Hz)" if unit and one_unit else "PSD (unit$^2$/Hz: each line's in the legend)")
     if r is not None:
         db_axis(ax, r, unit, power=True)
     ax.grid(True, which="both", alpha=0.3)

@@ -34,6 +34,8 @@ from ..model.validators import array_1d, number
 #: The fewest Welch averages the default resolution keeps, and below which psd() warns: the
 #: normalized random error of a PSD line is about 1/sqrt(averages) (Bendat & Piersol 11.5), 38 % at 7.
 MIN_AVERAGES = 7
+#: The fewest lines the default resolution puts within f_min..f_max (``psd(..., f_max=)``).
+LINES_PER_RANGE = 16
 
 #: Reference values (in the unit itself) of levels in dB, by unit (module docstring).
 REFERENCES = {"N": 1.0, "N.m": 1.0, "m/s2": 1e-6, "m/s": 1e-9, "m": 1e-12}
@@ -47,6 +49,16 @@ def reference(unit: str, ref: float | None = None) -> float:
     if unit not in REFERENCES:
         raise ModelError("--ref", None, f"must be given for a quantity in '{unit}' (known: {', '.join(REFERENCES)})")
     return REFERENCES[unit]
+
+
+def level_unit(ref: float, unit: str, power: bool = False) -> str:
+    """What a level in dB is relative to: ``dB re 1e-06 m/s2`` for an amplitude, ``dB re (1e-06
+    m/s2)^2/Hz`` for a density (the reference squared, per Hz; ``dB re 1 N^2/Hz`` where the
+    reference is 1)."""
+    if not power:
+        return f"dB re {ref:g} {unit}".rstrip()
+    base = f"{ref:g} {unit}".rstrip()
+    return f"dB re {base}^2/Hz" if ref == 1.0 or not unit else f"dB re ({base})^2/Hz"
 
 
 def level_db(x: ArrayLike, ref: float, power: bool = False) -> np.ndarray:
@@ -111,11 +123,15 @@ def psd(
     unit: str = "",
     name: str = "",
     f_min: float = 1.0,
+    f_max: float | None = None,
 ) -> PSD:
     """Power spectral density of ``x`` (sampled at ``fs`` Hz) by Welch's method.
 
     nperseg: samples per segment (resolution fs / nperseg Hz). Default: the power of two that
-    resolves ``f_min`` (Hz, default 1: the first line, at fs / nperseg, at or below f_min), but at
+    resolves ``f_min`` (Hz, default 1: the first line, at fs / nperseg, at or below f_min) and, with
+    ``f_max`` (Hz), puts at least :data:`LINES_PER_RANGE` lines within f_min..f_max (a narrow range
+    gets lines, and its edges cut little of a line's window leakage, so its RMS agrees with the
+    band levels over it), but at
     most the largest power of two <= n / 4, so at least :data:`MIN_AVERAGES` averages; when that
     cap puts the first line above f_min, a warning names the first line and the record length
     that would resolve f_min. Fewer than :data:`MIN_AVERAGES` averages (an nperseg asked for) warn
@@ -131,8 +147,11 @@ def psd(
     number("f_min", f_min, gt=0, unit="Hz")
     if nperseg is None:
         want = int(2 ** np.ceil(np.log2(fs / f_min) - 1e-9))  # first line fs / want <= f_min
+        lines = want
+        if f_max is not None and number("f_max", f_max, gt=f_min, unit="Hz") < np.inf:
+            lines = max(want, int(2 ** np.ceil(np.log2(LINES_PER_RANGE * fs / (f_max - f_min)) - 1e-9)))
         cap = 2 ** int(np.log2(max(x.size // 4, 8)))
-        nperseg = max(8, min(want, cap))
+        nperseg = max(8, min(lines, cap))
         if nperseg < want:
             warnings.warn(
                 f"{what}: the first line of the PSD is at {fs / nperseg:.4g} Hz, above f_min = {f_min:g} Hz: its "

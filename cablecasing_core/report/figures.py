@@ -64,7 +64,7 @@ def trfam_figure(model, body, out):
         TRFAM_HZ,
         curves,
         out / "trfam_xyz.png",
-        title=f"TRFAM of the {body} from end A to end B, Eq. 12 (Fig. 17); grey: natural frequencies",
+        title=f"TRFAM of the {body} from end A to end B, Eq. 12 (Fig. 17); green: natural frequencies",
         natural_hz=[f for f in natural if f <= TRFAM_HZ[-1]],
     )
     return curves
@@ -98,7 +98,7 @@ def scalogram_figure(variants, path, natural, harmonics, skip):
 
     panels, driven = [], []
     for k, v in enumerate(variants):
-        if v.key != "nodrive":
+        if v.key == "drive":
             driven.append(k)
         r = v.result
         fs = 1.0 / (r.time[1] - r.time[0])
@@ -114,8 +114,8 @@ def scalogram_figure(variants, path, natural, harmonics, skip):
         natural_hz=natural,
         harmonics_hz=harmonics,
         harmonics_on=driven,
-        title=f"Wavelet transform |W| of {OUTPUT} (Figs. 20-21); dashed: natural frequencies of the casing, "
-        "dotted: the drive and its harmonics",
+        title=f"Wavelet transform |W| of {OUTPUT} (Figs. 20-21)\ndashed: natural frequencies of the casing"
+        + (", dotted: the drive and its harmonics" if driven and len(harmonics) else ""),
     )
 
 
@@ -205,11 +205,13 @@ def apparent_mass_figure(model, var, path, skip):
         f_range=(10.0, 1000.0),
         title=f"Apparent mass {OUTPUT}/{inp} from the record {var.title} (H1)",
     )
+    contact = var.result is not None and float(np.sum(var.result.contact_time)) > 0.0
     return {
         "input": inp,
         "n_averages": tr.n_averages,
         "df": float(tr.f_hz[1]),
         "median_coherence": float(np.median(tr.coherence[sel])),
+        "contact": contact,
     }
 
 

@@ -44,10 +44,18 @@ def parameter_rows(model, duration):
     and parameters.csv."""
     from ..model.model import dotted
 
-    rows = []
+    leaves = {}
     for key, v in dotted(model.data).items():
+        if isinstance(v, list) and v and all(isinstance(x, dict) for x in v):  # (a list of tables: the clips)
+            for i, item in enumerate(v):
+                for k, x in dotted(item).items():
+                    leaves[f"{key}[{i}].{k}"] = x
+        else:
+            leaves[key] = v
+    rows = []
+    for key, v in leaves.items():
         try:
-            spec = lookup(key)
+            spec = lookup(re.sub(r"\[\d+\]", "[]", key))  # (casing.clip[0].stiffness: the key casing.clip[].stiffness)
             unit, desc = spec.unit or "-", spec.description
         except ModelError:
             unit, desc = "-", ""
@@ -71,7 +79,7 @@ def _excitations(model):
 ALT = {
     "trfam_xyz.png": "TRFAM in x, y and z with viscous and structural damping against frequency (Fig. 17)",
     "simulation.png": "support forces of the reference records over time",
-    "scalograms.png": "wavelet scalograms of casing.B.Fz without and with the cable drive (Figs. 20-21)",
+    "scalograms.png": "wavelet scalograms of casing.B.Fz of the reference records (Figs. 20-21)",
     "routing_contact.png": "the routing in 3D coloured by the contact time (Fig. 22a)",
     "contact_histogram.png": "contact time per cable node beside the curvature along the arc length (Fig. 22b)",
     "psd.png": "power spectral density of casing.B.Fz of the reference records",
@@ -177,10 +185,18 @@ def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, o
             numeric=(2, 3, 4),
         ),
         f"<p class='note'>RMS after {info['skip']:g} s, from the saved records (rms.csv at full precision).</p>",
-        "<h2>Wavelet transform of the support force without and with the cable drive (Figs. 20-21)</h2>",
+        "<h2>Wavelet transform of the support force "
+        + ("without and with the cable drive" if len(variants) == 2 else f"of {_e(variants[0].title)}")
+        + " (Figs. 20-21)</h2>",
         "<img src='scalograms.png'>",
-        f"<p class='note'>Reference records; dashed: natural frequencies of the casing; dotted red: the drive and its "
-        f"harmonics ({_e(', '.join(f'{f:g}' for f in harmonics[:8]))}{' ...' if len(harmonics) > 8 else ''} Hz).</p>",
+        "<p class='note'>Reference records; dashed: natural frequencies of the casing"
+        + (
+            f"; dotted red: the drive and its harmonics ({_e(', '.join(f'{f:g}' for f in harmonics[:8]))}"
+            f"{' ...' if len(harmonics) > 8 else ''} Hz)"
+            if len(harmonics)
+            else ""
+        )
+        + ".</p>",
         "<h2>Contact: routing and contact time beside the curvature (Fig. 22)</h2>",
         "<img src='routing_contact.png'><img src='contact_histogram.png'>"
         if {"casing", "cable"} <= set(model.bodies)
@@ -195,8 +211,13 @@ def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, o
             "<img src='apparent_mass.png'>",
             f"<p class='note'>H1 from {_e(am['input'])} to {OUTPUT} of the reference record {variants[0].title} "
             f"({am['n_averages']} averages, {am['df']:.3g} Hz), in the TRFAM's sign convention, against the TRFAM of "
-            f"the frequency domain; median coherence {am['median_coherence']:.2f} (10-1000 Hz): the contact makes "
-            "the transmission non-linear where the coherence drops.</p>",
+            f"the frequency domain; median coherence {am['median_coherence']:.2f} (10-1000 Hz): "
+            + (
+                "the contact makes the transmission non-linear where the coherence drops.</p>"
+                if am.get("contact")
+                else "the record has no contact, so the system is linear: where the coherence drops, the estimate's "
+                f"{am['n_averages']} averages (its random error) and the bands the input barely excites do.</p>"
+            ),
         ]
     parts += _study(study)
     if fmu is not None:

@@ -78,12 +78,14 @@ def variants(model: Model, out: Path, first_seed: int) -> list[Variant]:
     """The report's variants (module docstring), each with the seed overrides of ``first_seed``."""
     from ..studies import random_excitations, seed_overrides
 
-    v = [Variant("drive", "with the cable drive", model, out / "records" / "drive.npz")]
     bare = without_cable_drive(model)
-    if bare is not None:
-        v.insert(0, Variant("nodrive", "without the cable drive", bare, out / "records" / "nodrive.npz"))
+    if bare is None:  # (no cable drive to take away: the one record is the model's scenario)
+        v = [Variant("scenario", "the model's scenario", model, out / "records" / "scenario.npz")]
     else:
-        v[0].title = "the model's scenario"
+        v = [
+            Variant("nodrive", "without the cable drive", bare, out / "records" / "nodrive.npz"),
+            Variant("drive", "with the cable drive", model, out / "records" / "drive.npz"),
+        ]
     for var in v:
         var.seed_overrides = seed_overrides(var.model, first_seed) if random_excitations(var.model) else {}
     return v

@@ -211,8 +211,8 @@ def octave_bands(kind: str = "table3", f_min: float | None = None, f_max: float 
     for key, v in (("f_min", fmin), ("f_max", fmax)):
         if v != np.inf:  # (inf: no upper limit)
             number(key, v, ge=0, unit="Hz")
-    if fmax <= fmin:
-        raise ModelError("f_max", fmax, f"must exceed f_min = {fmin} Hz")
+    if fmax < fmin:  # (equal: the one band of that nominal frequency, the range being closed)
+        raise ModelError("f_max", fmax, f"must be at least f_min = {fmin} Hz")
     if kind != "table3":
         b = 1 if kind == "octave" else 3
         # x range: f_m = f_r G^(x/b) within [fmin, fmax]; the small slack admits 10 Hz exactly.
@@ -226,7 +226,9 @@ def octave_bands(kind: str = "table3", f_min: float | None = None, f_max: float 
     nominal = np.asarray(nominal, float)  # (by the names: --fmin 16 keeps the 16 Hz octave, centre 15.85 Hz)
     keep = (nominal >= fmin * (1 - 1e-12)) & (nominal <= fmax * (1 + 1e-12))
     if not keep.any():
-        raise ModelError("f_min", fmin, f"leaves no {kind} band below f_max = {fmax} Hz")
+        raise ModelError(
+            "f_min", fmin, f"leaves no {kind} band whose nominal frequency lies in {fmin:g}..{fmax:g} Hz (f_min..f_max)"
+        )
     return Bands(lo, up, tuple(labels), tuple(nominal)).select(keep)
 
 

@@ -442,7 +442,7 @@ OPTION_ERRORS = [
     (["trfam", "--fmin", "0"], "--fmin = 0.0: must be a number in (0, 1e+06] in Hz"),
     (["modes", "--count", "0"], "--count = 0: must be an integer >= 1"),  # (one range for every command)
     (["spectrum", "{record}", "--fmin", "0"], "--fmin = 0.0: must be a number in (0, 1e+06] in Hz"),
-    (["bands", "{record}", "--fmin", "30", "--fmax", "20"], "--fmax = 20.0: must exceed --fmin = 30.0 Hz"),
+    (["bands", "{record}", "--fmin", "30", "--fmax", "20"], "--fmax = 20.0: must be at least --fmin = 30.0 Hz"),
     (["report", "--seeds", "1", "--out", "rep/sub"], "--seeds = 1: must be an integer >= 2"),  # (no folder made)
     (["report", "--duration", "0.05", "--out", "rep"], "--duration = 0.05: must be at least 0.1409 s"),
     (["report", "--study-samples", "1", "--out", "rep"], "--study-samples = 1: must be 0 (no study) or 2 to"),

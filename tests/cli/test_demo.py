@@ -118,3 +118,29 @@ def test_report_writes_only_under_out(tmp_path):
     )
     assert _tree(ROOT) == before
     assert [p.name for p in work.iterdir()] == ["rep"] and (work / "rep" / "report.html").exists()
+    # the page says what its records hold: the H1 comes from the record without the cable drive,
+    # which has no contact, so its coherence drops are not the contact's (the note said they were)
+    import cablecasing_core as cc
+
+    nodrive = cc.timedomain.simulation.SimulationResult.load(work / "rep" / "records" / "nodrive.npz")
+    html = (work / "rep" / "report.html").read_text()
+    assert "without and with the cable drive" in html
+    if not nodrive.contact_time.any():
+        assert "the record has no contact, so the system is linear" in html
+        assert "the contact makes the transmission non-linear" not in html
+
+
+def test_the_report_of_a_model_without_cable_drive_names_its_one_record_and_its_clips_units():
+    """A model whose scenario has no cable drive (examples/installation.toml) has one record, the
+    model's scenario, filed under that name (it was filed as drive.npz); its clips' keys are rows
+    with their units (one row `casing.clip` without a unit before)."""
+    import cablecasing_core as cc
+    from cablecasing_core.report.page import parameter_rows
+    from cablecasing_core.report.runs import variants
+
+    model = cc.load_model(str(ROOT / "examples" / "installation.toml"))
+    (only,) = variants(model, Path("out"), 1)
+    assert (only.key, only.title, only.record.name) == ("scenario", "the model's scenario", "scenario.npz")
+    rows = {key: (value, unit) for key, value, unit, _ in parameter_rows(model, 0.15)}
+    assert rows["casing.clip[0].stiffness"] == ("[20000.0, 50000.0, 50000.0]", "N/m")
+    assert rows["casing.clip[1].damping"][1] == "N.s/m" and "casing.clip" not in rows

@@ -3,6 +3,7 @@ the output grid t = 0, Δ, ..., T with decimation filtered against aliasing, ban
 61260-1 has them, and every defect the issue lists as its own regression test."""
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -452,3 +453,44 @@ def test_many_band_names_are_turned_so_they_do_not_run_into_each_other(figures):
     assert ticks[-1].get_text() == "4000" and ticks[-1].get_rotation() == 90
     plot_band_levels([octave_rms(x, 1e4, "table3", beyond_nyquist="drop")], "c.png")  # 8 bands: upright
     assert figures[1].axes[0].get_xticklabels()[0].get_rotation() == 0
+
+
+def test_spectrum_levels_each_column_against_its_own_unit_and_resolves_a_narrow_range(tmp_path, capsys):
+    """A force (N) and an acceleration (m/s2) in one `spectrum`: each level column names its own
+    reference (the acceleration's said 1 m/s2 while its values were re 1e-6 m/s2, 120 dB apart),
+    the density's squared in brackets; and the default resolution puts lines in a narrow range
+    (10-110 Hz of an 8 s record got 64 Hz lines, and was refused), so that the RMS of a 1 N tone at
+    100 Hz over 88-177 Hz is the `bands` octave's (within 0.1 %: Hann leakage cut at the range's
+    edges; it read 0.77 N, -2.2 dB, with 64 Hz lines)."""
+    from cablecasing_core.records import Records, write_records
+
+    fs = 8192.0
+    t = np.arange(int(2.05 * fs)) / fs
+    tone = np.sqrt(2) * np.sin(2 * np.pi * 100 * t) + 5.0
+    acc = np.random.default_rng(0).normal(size=t.size)
+    write_records(
+        tmp_path / "r.npz",
+        Records(t, {"casing.B.Fz": tone, "casing.A.az": acc}, {"casing.B.Fz": "N", "casing.A.az": "m/s2"}),
+    )
+    out = tmp_path / "s.csv"
+    args = ["spectrum", str(tmp_path / "r.npz"), "--column", "casing.B.Fz", "--column", "casing.A.az", "--skip", "0"]
+    assert main(args + ["--fmin", "5", "--fmax", "3000", "--out", str(out)]) == 0
+    header = out.read_text().splitlines()[0].split(",")
+    assert "casing.B.Fz level [dB re 1 N^2/Hz]" in header and "casing.A.az level [dB re (1e-06 m/s2)^2/Hz]" in header
+    table = np.loadtxt(out, delimiter=",", skiprows=1)
+    j = header.index("casing.A.az PSD [m/s2^2/Hz]")
+    np.testing.assert_allclose(
+        table[:, header.index("casing.A.az level [dB re (1e-06 m/s2)^2/Hz]")], 10 * np.log10(table[:, j] / 1e-12)
+    )
+    capsys.readouterr()
+    one = ["spectrum", str(tmp_path / "r.npz"), "--skip", "0"]
+    assert main(one + ["--fmin", "100", "--fmax", "110"]) == 0
+    capsys.readouterr()
+    assert main(one + ["--fmin", "88", "--fmax", "177"]) == 0
+    rms = float(re.search(r"RMS ([0-9.e-]+) N in 88-177 Hz", capsys.readouterr().out).group(1))
+    assert rms == pytest.approx(1.0, rel=1e-3)
+    assert (
+        main(["bands", str(tmp_path / "r.npz"), "--skip", "0", "--kind", "octave", "--fmin", "125", "--fmax", "125"])
+        == 0
+    )
+    assert "125Hz" in capsys.readouterr().out
