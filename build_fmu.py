@@ -6,7 +6,9 @@ rewrites the archive with what pythonfmu does not write:
 
 * a unit on every Real variable and the ``UnitDefinitions`` (SI base-unit exponents);
 * ``ModelStructure``: ``Outputs`` with ``dependencies=""`` (no direct feedthrough: an output is the
-  result of the last step, not of the inputs set since) and ``InitialUnknowns`` (the outputs);
+  result of the last step, not of the inputs set since) and ``InitialUnknowns`` (the outputs, which
+  depend on the parameters: the reactions of an installed model's static state; no
+  ``dependencies`` attribute, so on every known);
 * ``documentation/index.html`` (model, variables with units, sign conventions, geometry figure),
   ``documentation/externalDependencies.txt`` and ``model.png``;
 * a GUID derived from the content, a generation date from the newest source file and fixed
@@ -131,10 +133,12 @@ def complete_description(xml_bytes, units, guid, date, model_name=None):
     ms = root.find("ModelStructure")
     for child in list(ms):
         ms.remove(child)
-    for tag in ("Outputs", "InitialUnknowns"):
-        node = ET.SubElement(ms, tag)
-        for index in outputs:
-            ET.SubElement(node, "Unknown", index=index, dependencies="")
+    node = ET.SubElement(ms, "Outputs")
+    for index in outputs:  # (no direct feedthrough: the result of the last step, not of the inputs set since)
+        ET.SubElement(node, "Unknown", index=index, dependencies="")
+    node = ET.SubElement(ms, "InitialUnknowns")
+    for index in outputs:  # (no dependencies attribute: the static reactions depend on the parameters)
+        ET.SubElement(node, "Unknown", index=index)
     ET.indent(root, space="  ")
     return ET.tostring(root, encoding="UTF-8", xml_declaration=True) + b"\n"
 
@@ -233,7 +237,9 @@ takes steps of <code>solver.dt</code> and a shorter last one.</p>
 <p>Every numeric key of the model is a parameter under its dotted name. A parameter whose value
 differs from its start value (the built-in specimen's) overrides the model: the built-in one, or the
 TOML file named by <code>model_file</code>. <code>scenario.*</code> keys describe the model file's own
-excitation and have no effect in the FMU. Parameters are fixed: set them before
+excitation: they act when <code>scenario.drive</code> is true (the FMU then drives its supports with
+it), and not otherwise (<code>scenario.dt</code> never: <code>solver.dt</code> is the FMU's step).
+Parameters are fixed: set them before
 <code>fmi2ExitInitializationMode</code>.</p>
 
 <h2>Errors</h2>

@@ -72,10 +72,29 @@ def base_model_file(resources):
 
 def parameter_info(key):
     """(unit, description) of a model key such as 'casing.E' or 'scenario.excitation.x.rms' (the
-    model schema); the scenario's keys describe the model file's own run, which the FMU does not make."""
+    model schema); the scenario's keys describe the model file's own run, which the FMU makes only
+    with scenario.drive."""
     spec = lookup(key)
-    note = " (not used: the FMU's inputs drive the supports)" if key.startswith("scenario.") else ""
+    note = ""
+    if key == "scenario.dt":
+        note = " (not used: solver.dt is the FMU's step)"
+    elif key.startswith("scenario."):
+        note = " (used with scenario.drive = true, which drives the supports with the model's scenario)"
     return spec.unit, spec.description + note
+
+
+#: FMI 2.0's Integer: a 32-bit signed int (the model schema's seeds go further)
+FMI_INTEGER = (-(2**31), 2**31 - 1)
+
+
+def fmi_integer(key, value):
+    """``value`` of the Integer parameter ``key``, or a ModelError when FMI 2.0's Integer cannot hold
+    it (a master would read another number)."""
+    if not FMI_INTEGER[0] <= value <= FMI_INTEGER[1]:
+        raise cc.ModelError(
+            key, value, f"must be within FMI 2.0's Integer range {FMI_INTEGER[0]}..{FMI_INTEGER[1]} in an FMU"
+        )
+    return value
 
 
 OK, WARNING, DISCARD, ERROR = (
@@ -212,6 +231,8 @@ class CableCasing(Fmi2Slave):
                 continue
             unit, text = parameter_info(key)
             kind = Integer if isinstance(value, int) else Real
+            if kind is Integer:
+                fmi_integer(key, value)
             self._add_parameter(
                 kind(key, causality=Fmi2Causality.parameter, variability=Fmi2Variability.fixed, description=text),
                 unit if kind is Real else "",
@@ -449,6 +470,10 @@ class CableCasing(Fmi2Slave):
         model = cc.load_model(model_file) if model_file else self._base
         if over:
             model = model.with_overrides(over)
+        values = model.parameters()
+        for key, start in self._start.items():  # (a model file's seeds, read back through fmi2GetInteger)
+            if isinstance(start, int) and not isinstance(start, bool) and key in values:
+                fmi_integer(key, values[key])
         try:
             return Engine(model, dt=seconds("solver.dt", dt), ledger=False)
         except cc.ModelError as exc:  # (the engine's range of dt, named as the FMU's parameter)

@@ -266,6 +266,22 @@ def test_state_get_set_serialize_and_reset(fmu, tmp_path, contact_case, run):
     assert res["a"][:, OUTPUTS.index("contact.active")].max() >= 1  # the state includes contacts
 
 
+def test_a_seed_beyond_fmi_integers_is_refused_not_wrapped(fmu, tmp_path, contact_case, run):
+    """FMI 2.0's Integer is 32-bit; the model file's seeds go to 2**63 - 1. A model file whose seed
+    does not fit is refused at initialisation, naming the key (fmi2GetInteger read 5e9 as
+    705032704), and the master is told."""
+    import cablecasing_core as cc
+
+    data = cc.load_model().data
+    model = cc.model_from_dict({**data, "scenario": {**data["scenario"], "seed": 5_000_000_000}})
+    path = tmp_path / "big_seed.toml"
+    path.write_text(model.to_toml())
+    _, table, _ = contact_case
+    res = run(tmp_path, "run", fmu, inputs=table[:2], params={"model_file": str(path)})
+    assert int(res["init_status"]) == 3
+    assert "scenario.seed = 5000000000: must be within FMI 2.0's Integer range" in " ".join(res["log"]), res["log"]
+
+
 def test_a_state_of_an_fmu_built_for_another_model_is_refused(fmu, installed_fmu, tmp_path, contact_case, run):
     """The default FMU's state set into an instance of the installed specimen's FMU (the same
     variables, another model): fmi2Error naming why, and that instance goes on as if it had never
