@@ -223,11 +223,17 @@ def trfam(model: Model, input: str, output: str, freqs_hz: ArrayLike, damping: s
 def trfam_matrix(
     model: Model, body: str, input_support: str, output_support: str, freqs_hz: ArrayLike, damping: str = "viscous"
 ) -> np.ndarray:
-    """The 3x3 TRFAM block (kg), shape (nf, 3 outputs x/y/z, 3 inputs x/y/z), between two supports
-    of one body: the force at ``output_support`` over the acceleration of ``input_support``."""
+    """The 3x3 TRFAM block (kg, Eq. 12), shape (nf, 3 outputs x/y/z, 3 inputs x/y/z), between two
+    supports of one body at ``freqs_hz`` (Hz): the force at ``output_support`` over the acceleration
+    of ``input_support`` ("A" or "B"); ``damping`` as :func:`trfam`'s."""
     f = frequencies("freqs_hz", freqs_hz, at_most=MAX_FREQUENCIES)
-    parse_port("input", f"{body}.{input_support}.x", model)
-    parse_port("output", f"{body}.{output_support}.x", model)
+    if body not in model.bodies:
+        raise ModelError("body", body, "must be one of " + ", ".join(repr(b) for b in model.bodies))
+    for key, support in (("input_support", input_support), ("output_support", output_support)):
+        if support not in SUPPORT_NAMES:
+            raise ModelError(key, support, "must be 'A' or 'B'")
+    parse_port("input_support", f"{body}.{input_support}.x", model)
+    parse_port("output_support", f"{body}.{output_support}.x", model)
     system = assemble_body(model, body)
     fr = FrequencyResponse(system)
     cols = [system.prescribed_index(input_support, d) for d in range(3)]

@@ -72,6 +72,8 @@ def frf_estimate(
     nperseg = int(nperseg)
     if nperseg < 8 or nperseg > x.size:
         raise ModelError("nperseg", nperseg, f"must be between 8 and the record length ({x.size})")
+    if np.ptp(x) == 0.0:  # (Gxx = 0 at every line: H1 and the coherence would be 0/0)
+        raise ModelError("x", "a constant signal", "must vary: an FRF needs an input with power")
     if noverlap is None:
         noverlap = nperseg // 2
     kw = dict(fs=fs, window=window, nperseg=nperseg, noverlap=noverlap, detrend=detrend)

@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike
 from scipy.optimize import nnls
 
 from ..errors import ModelError
-from ..model.validators import array_1d
+from ..model.validators import array_1d, frequencies, number
 
 
 @dataclass(frozen=True)
@@ -43,14 +43,17 @@ class RayleighFit:
 
 
 def rayleigh_zeta(freqs_hz: ArrayLike, alpha: float, beta: float) -> np.ndarray:
-    """Damping ratios (dimensionless) of Rayleigh damping at natural frequencies ``freqs_hz`` (Hz), Eq. (41)."""
-    w = 2.0 * np.pi * np.asarray(freqs_hz, dtype=float)
+    """Damping ratios (dimensionless) of Rayleigh damping at natural frequencies ``freqs_hz`` (Hz), Eq. (41),
+    with ``alpha`` (1/s) and ``beta`` (s)."""
+    w = 2.0 * np.pi * frequencies("freqs_hz", freqs_hz)
+    alpha, beta = number("alpha", alpha, unit="1/s"), number("beta", beta, unit="s")
     return alpha / (2.0 * w) + beta * w / 2.0
 
 
 def rayleigh_matrix(freqs_hz: ArrayLike) -> np.ndarray:
-    """The matrix ``A`` of Eqs. (42)-(43): rows ``[1 / (2 omega_i), omega_i / 2]`` (omega in rad/s)."""
-    w = 2.0 * np.pi * np.asarray(freqs_hz, dtype=float)
+    """The matrix ``A`` of Eqs. (42)-(43): rows ``[1 / (2 omega_i), omega_i / 2]`` (omega in rad/s) at
+    natural frequencies ``freqs_hz`` (Hz)."""
+    w = 2.0 * np.pi * frequencies("freqs_hz", freqs_hz)
     return np.column_stack([1.0 / (2.0 * w), w / 2.0])
 
 

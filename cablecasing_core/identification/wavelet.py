@@ -79,13 +79,14 @@ MIN_GAMMA = 3.0
 def wavelet_time_spread(f_hz, gamma=DEFAULT_GAMMA):
     """Standard deviation ``sigma_t = gamma / (2 pi f)`` (s) of the wavelet's Gaussian envelope at ``f_hz`` (Hz)
     (the Morlet wavelet of Section 3.2.1; ``gamma`` dimensionless)."""
-    return float(gamma) / (2.0 * np.pi * np.asarray(f_hz, dtype=float))
+    spread = number("gamma", gamma, gt=0) / (2.0 * np.pi * frequencies("f_hz", f_hz))
+    return float(spread[0]) if np.ndim(f_hz) == 0 else spread
 
 
 def edge_length(f_hz, gamma=DEFAULT_GAMMA, edge_factor=3.0):
     """Length (s) at each end of a record spoiled by edge effects at ``f_hz`` (Hz): ``edge_factor * sigma_t``
     (for an undamped signal; :func:`wavelet_damping` adds ``sigma sigma_t^2`` for a decay rate sigma), Section 3.2.1."""
-    return float(edge_factor) * wavelet_time_spread(f_hz, gamma)
+    return number("edge_factor", edge_factor, gt=0) * wavelet_time_spread(f_hz, gamma)
 
 
 def cwt_morlet(x, fs, freqs_hz, gamma=DEFAULT_GAMMA, max_block_bytes=64e6):

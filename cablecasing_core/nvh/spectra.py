@@ -63,7 +63,8 @@ def level_unit(ref: float, unit: str, power: bool = False) -> str:
 
 def level_db(x: ArrayLike, ref: float, power: bool = False) -> np.ndarray:
     """Level in dB of amplitudes ``x`` (RMS; ``20 log10(x / ref)``) or, with ``power``, of power
-    quantities such as a PSD (``10 log10(x / ref**2)``). Zero gives -inf."""
+    quantities such as a PSD (``10 log10(x / ref**2)``). Zero gives -inf. ``ref`` > 0 in x's unit."""
+    ref = number("ref", ref, gt=0)
     x = np.asarray(x, float)
     with np.errstate(divide="ignore"):
         return 10 * np.log10(x / ref**2) if power else 20 * np.log10(x / ref)

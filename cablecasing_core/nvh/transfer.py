@@ -24,7 +24,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..identification.frf import frf_estimate, random_error
-from ..model.validators import Choice, seconds
+from ..model.validators import Choice, array_1d, integer, number, seconds
 from ..records import Records, after_skip
 
 #: The fewest Welch averages a transfer estimate takes: with one, the coherence is 1 by construction.
@@ -55,7 +55,16 @@ class Transfer:
 def _estimate(rec, x_name, y_name, sign, kind, unit, estimator, skip, nperseg, resolution_hz):
     Choice("H1", "H2")("estimator", estimator)
     seconds("skip", skip, zero_ok=True)
-    x, y = rec.column(x_name), sign * rec.column(y_name)
+    if nperseg is not None:
+        nperseg = integer("nperseg", nperseg, 8)
+    if resolution_hz is not None:
+        resolution_hz = number("resolution_hz", resolution_hz, gt=0, unit="Hz")
+    x = array_1d(rec.resolve(x_name), rec.column(x_name))
+    y = sign * array_1d(rec.resolve(y_name), rec.column(y_name))
+    if x.size != rec.time.size or y.size != rec.time.size:
+        raise ModelError(
+            "rec", f"{x.size}, {y.size} and {rec.time.size} samples", "columns must be as long as the time"
+        )
     fs = rec.fs
     keep = after_skip(rec.time, skip, rec.time[0])
     if keep.sum() < 64:
@@ -75,6 +84,10 @@ def _estimate(rec, x_name, y_name, sign, kind, unit, estimator, skip, nperseg, r
             f"must leave at least {MIN_AVERAGES} Welch averages (50 % overlap) of the {n} samples after skip, so "
             f"at most {n // 2}: from one average the coherence is 1 whatever the signals, and the random error "
             "that follows from it means nothing",
+        )
+    if np.ptp(x[keep]) == 0.0:
+        raise ModelError(
+            rec.resolve(x_name), "constant after skip", "must vary: a transfer function needs an input with power"
         )
     est = frf_estimate(x[keep], y[keep], fs, nperseg=nperseg)
     H = est.H1 if estimator == "H1" else est.H2

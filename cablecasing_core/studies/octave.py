@@ -175,8 +175,9 @@ class BandRMS:
     def level_db(self, ref: float = 1.0) -> np.ndarray:
         """Band levels ``20 log10(rms / ref)`` in dB re ``ref`` (in the signal's unit; e.g. 1 N, or
         1e-6 m/s2 for accelerations, ``nvh.spectra.REFERENCES``)."""
-        with np.errstate(divide="ignore"):
-            return 20.0 * np.log10(self.rms / ref)
+        from ..nvh.spectra import level_db
+
+        return level_db(self.rms, ref)
 
 
 def octave_bands(kind: str = "table3", f_min: float | None = None, f_max: float | None = None) -> Bands:

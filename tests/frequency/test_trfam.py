@@ -161,3 +161,17 @@ def test_the_cli_grid_ends_at_fmax_and_needs_two_frequencies(tmp_path, capsys):
     assert main(["trfam", "--fmin", "10", "--fmax", "11", "--df", "5", "--out", str(tmp_path / "one.uff")]) == 2
     assert "--df = 5.0: must be at most fmax - fmin = 1 Hz" in capsys.readouterr().err
     assert not (tmp_path / "one.uff").exists()
+
+
+def test_trfam_matrix_names_the_argument_that_is_wrong():
+    from cablecasing_core import ModelError
+
+    m = load_model()
+    for args, key in (
+        (("hose", "A", "B"), "body"),
+        (("casing", "C", "B"), "input_support"),
+        (("casing", "A", "x"), "output_support"),
+    ):
+        with pytest.raises(ModelError) as e:
+            trfam_matrix(m, *args, [10.0])
+        assert e.value.key == key

@@ -67,3 +67,18 @@ def test_errors():
     with pytest.raises(ModelError) as e:
         rayleigh_fit([-1.0, 100.0], [0.01, 0.02])
     assert e.value.key == "freqs_hz"
+
+
+@pytest.mark.parametrize(
+    "call, key",
+    [
+        (lambda: rayleigh_zeta([0.0], 1.0, 1e-5), "freqs_hz"),  # (0 Hz gave inf)
+        (lambda: rayleigh_zeta([10.0], float("nan"), 1e-5), "alpha"),  # (gave NaN)
+        (lambda: rayleigh_zeta([10.0], 1.0, "x"), "beta"),
+        (lambda: rayleigh_matrix([-5.0, 10.0]), "freqs_hz"),  # (accepted)
+    ],
+)
+def test_rayleigh_helpers_refuse_bad_input_by_name(call, key):
+    with pytest.raises(ModelError) as e:
+        call()
+    assert e.value.key == key

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from cablecasing_core.errors import ModelError
-from cablecasing_core.identification import cwt_morlet, wavelet_damping
+from cablecasing_core.identification import cwt_morlet, edge_length, wavelet_damping, wavelet_time_spread
 
 # Table 1 of the paper: natural frequencies (Hz) and damping ratios of the numerical example
 F_TABLE1 = np.array([115.8, 182.0, 254.1])
@@ -175,3 +175,19 @@ def test_two_requests_of_one_ridge_are_refused():
     with pytest.raises(ModelError, match=r"found the same ridge \(115.79") as e:
         wavelet_damping(impulse_response(), FS, [113.0, 118.0])
     assert e.value.key == "freqs_hz"
+
+
+@pytest.mark.parametrize(
+    "call, key",
+    [
+        (lambda: edge_length(0.0), "f_hz"),  # (gave inf)
+        (lambda: edge_length(10.0, gamma=-1.0), "gamma"),  # (gave a negative time)
+        (lambda: edge_length(10.0, edge_factor=float("nan")), "edge_factor"),
+        (lambda: wavelet_time_spread("x"), "f_hz"),
+    ],
+)
+def test_the_wavelet_s_time_helpers_refuse_bad_input_by_name(call, key):
+    with pytest.raises(ModelError) as e:
+        call()
+    assert e.value.key == key
+    assert edge_length(10.0) == pytest.approx(3 * 12 / (2 * np.pi * 10.0))  # (a float for a float)

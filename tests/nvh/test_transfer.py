@@ -99,3 +99,29 @@ def test_a_transfer_estimate_of_fewer_than_three_averages_is_refused(tmp_path, c
         "of half-overlapping segments of a power of two samples; from one the coherence is 1 whatever the signals)"
     ), err
     assert main(args + ["--resolution", "2"]) == 0 and "3 averages" in capsys.readouterr().out
+
+
+def test_transfer_and_level_helpers_refuse_bad_input_by_name():
+    """nperseg, resolution_hz and a level's reference are checked (0 gave ZeroDivisionError, NaN a
+    ValueError, a reference of 0 inf), a NaN in a column is named by the column, and a constant
+    input is refused before Gxx = 0 makes H1 and the coherence 0/0."""
+    from cablecasing_core.identification import frf_estimate
+    from cablecasing_core.nvh import level_db
+    from cablecasing_core.records import Records
+
+    rng = np.random.default_rng(2)
+    t = np.arange(2048) / 1024.0
+    acc, force = rng.normal(size=t.size), rng.normal(size=t.size)
+    rec = Records(t, {"casing.A.az": acc, "casing.B.Fz": force}, {"casing.A.az": "m/s2", "casing.B.Fz": "N"})
+    for kwargs, key in (({"nperseg": 0}, "nperseg"), ({"resolution_hz": float("nan")}, "resolution_hz")):
+        with pytest.raises(ModelError) as e:
+            apparent_mass(rec, skip=0.0, **kwargs)
+        assert e.value.key == key
+    bad = Records(t, {"casing.A.az": np.where(t > 1, np.nan, acc), "casing.B.Fz": force}, rec.units)
+    with pytest.raises(ModelError, match=r"casing.A.az = 'array with nan/inf'"):
+        apparent_mass(bad, skip=0.0)
+    with pytest.raises(ModelError) as e:
+        level_db([1.0], 0.0)
+    assert e.value.key == "ref"
+    with pytest.raises(ModelError, match=r"x = 'a constant signal': must vary"):
+        frf_estimate(np.zeros(256), force[:256], 1024.0)
