@@ -30,11 +30,16 @@ import numpy as np
 from .errors import ModelError
 
 
-def _target(path) -> Path:
-    """The file that a write to ``path`` replaces: ``path``, or where it points if it is a link."""
-    path = Path(path)
-    if path.is_symlink():
-        path = Path(os.path.realpath(path))
+def _target(path, flag="path") -> Path:
+    """The file that a write to ``path`` replaces: ``path``, or where it points if it is a link; a
+    :class:`ModelError` naming ``flag`` for a name the file system refuses (over 255 bytes)."""
+    shown, path = path, Path(path)
+    try:
+        if path.is_symlink():
+            path = Path(os.path.realpath(path))
+        path.exists()
+    except OSError as exc:
+        raise ModelError(flag, str(shown), f"is not a usable file name ({exc.strerror})") from None
     return path
 
 
@@ -53,7 +58,8 @@ def atomic_path(path: str | os.PathLike):
     shown = path
     path = _target(path)
     _regular_or_missing("path", path, shown)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".part{path.suffix}", dir=path.parent)
+    # (a short prefix: the temporary name must fit wherever the target's name does)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem[:32]}.", suffix=f".part{path.suffix}", dir=path.parent)
     os.close(fd)
     os.remove(tmp)  # the writer creates it (some refuse or append to an existing file)
     try:
@@ -79,7 +85,7 @@ def check_writable(flag: str, path: str | os.PathLike) -> None:
     ``flag``): its folder must exist, the target must be a regular file or not exist yet, and a
     byte written, flushed and synced to a temporary file in the folder must succeed (a full disk,
     a read-only or a pseudo file system such as ``/proc`` fail here). The probe is removed."""
-    target = _target(path)
+    target = _target(path, flag)
     _regular_or_missing(flag, target, path)
     folder = target.parent
     if not folder.is_dir():
@@ -170,7 +176,7 @@ def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: i
     the file, and the line and column that are wrong, and says what is allowed; it quotes no part
     of the file (which may be any file). ``data`` is (rows, columns), float."""
     shown = str(path)
-    p = Path(path)
+    p = _target(path, key)
     if not p.exists():
         raise ModelError(key, shown, "does not exist")
     if not p.is_file():
@@ -179,7 +185,7 @@ def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: i
         size = p.stat().st_size
         if size > memory_available() // 4:  # (the parsed table takes up to 4x the text in memory)
             raise ModelError(key, shown, f"is {size / 1e9:.3g} GB: larger than the memory free to read it")
-        with open(p, encoding="utf-8", newline="") as fh:
+        with open(p, encoding="utf-8-sig", newline="") as fh:  # (-sig: a byte-order mark some editors write)
             lines = fh.read().splitlines()
     except UnicodeDecodeError as exc:
         raise ModelError(

@@ -140,9 +140,10 @@ def write_records(path: str | os.PathLike, rec: Records) -> str:
             fmt = ["%.15g"] + ["%.9g"] * len(names)
             np.savetxt(tmp, table, delimiter=",", header=header, comments="", fmt=fmt)
     elif suffix == ".npz":
-        with atomic_path(path) as tmp:
+        # (to an open file: numpy appends .npz to a name that does not end in it, such as "r.NPZ")
+        with atomic_path(path) as tmp, open(tmp, "wb") as fh:
             np.savez_compressed(
-                tmp, time=rec.time, table=table[:, 1:], names=np.array(names), units=np.array(units), **rec.extra
+                fh, time=rec.time, table=table[:, 1:], names=np.array(names), units=np.array(units), **rec.extra
             )
     else:
         from .identification.uff_io import Record, write_uff

@@ -30,7 +30,7 @@ import numpy as np
 from ..errors import CableCasingError, InfrastructureError, ModelError, excerpt, plain
 from ..model import load_model
 from . import geometry, identify, nvh, report, simulate, static, study
-from .paths import check_output_path, emit_table, kept
+from .paths import check_distinct, check_output_path, emit_table, kept
 
 
 class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
@@ -101,6 +101,7 @@ def cmd_trfam(args):
     f = args.fmin + args.df * np.arange(int(np.floor((args.fmax - args.fmin) / args.df * (1 + 1e-12))) + 1)
     check_output_path("--out", args.out, (".csv", ".uff"))
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    check_distinct(("--out", args.out), ("--plot", args.plot))
     args.interrupted = "stopped: " + kept(args.out, args.plot)
     try:
         H = trfam(model, args.input, args.output, f, damping=args.damping)

@@ -28,10 +28,11 @@ def _fail(exc):
 
 def _check_outputs(args):
     """--toml and --plot writable before the identification starts (cli/paths.py)."""
-    from .paths import check_output_path
+    from .paths import check_distinct, check_output_path
 
     check_output_path("--toml", args.toml, (".toml",))
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    check_distinct(("file", args.file), ("--model", getattr(args, "model", None)), ("--toml", args.toml))
 
 
 def _write_toml(path, text):

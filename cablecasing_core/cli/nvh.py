@@ -78,10 +78,12 @@ def cmd_spectrum(args):
 
     from ..errors import ModelError
     from ..nvh import apparent_mass, level_unit, psd, reference, transmissibility
-    from .paths import check_output_path, emit_table, kept
+    from ..nvh.spectra import squared
+    from .paths import check_distinct, check_output_path, emit_table, kept
 
     check_output_path("--out", args.out, (".csv",))
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    check_distinct(("record", args.record), ("--out", args.out), ("--plot", args.plot))
     args.interrupted = "stopped: " + kept(args.out, args.plot)
     rec = _record(args.record)
     columns = _columns(args.column, ["casing.B.Fz"])
@@ -112,7 +114,7 @@ def cmd_spectrum(args):
         for w in said:
             warnings.warn(w.message, w.category, stacklevel=1)
         refs = [reference(r.unit, args.ref) if r.unit or args.ref else 1.0 for r in res]  # (each its unit's)
-        names = [f"{r.name} PSD [{r.unit}^2/Hz]" for r in res]
+        names = [f"{r.name} PSD [{squared(r.unit)}/Hz]" for r in res]
         names += [f"{r.name} level [{level_unit(ref, r.unit, power=True)}]" for r, ref in zip(res, refs)]
         table = np.column_stack([res[0].f_hz] + [r.density for r in res] + [r.level_db(args.ref) for r in res])[sel]
         lo, hi = res[0].covered(args.fmin, args.fmax)
@@ -213,10 +215,11 @@ def cmd_bands(args):
     from ..nvh import reference
     from ..studies import octave_rms
     from ..studies.octave import octave_bands
-    from .paths import check_output_path, kept
+    from .paths import check_distinct, check_output_path, kept
 
     check_output_path("--out", args.out, (".csv",))
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    check_distinct(("record", args.record), ("--out", args.out), ("--plot", args.plot))
     args.interrupted = "stopped: " + kept(args.out, args.plot)
     columns = _columns(args.column, ["casing.B.Fz"])
     if len(columns) > 1:

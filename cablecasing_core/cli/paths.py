@@ -17,9 +17,23 @@ def check_output_path(flag, path, suffixes=None):
 
     if path is None or path is True:
         return
-    if suffixes and not str(path).endswith(tuple(suffixes)):
-        raise ModelError(flag, path, "must end in " + " or ".join(suffixes))
+    if suffixes and Path(str(path)).suffix.lower() not in tuple(suffixes):  # (".png" alone is a name, no suffix)
+        raise ModelError(flag, path, "must be a name ending in " + " or ".join(suffixes))
     check_writable(flag, path)
+
+
+def check_distinct(*named):
+    """Refuse two options naming the same file, ``named`` = (flag, path) pairs in order: ``--out``
+    and ``--plot``, or an output and the input it is read from (the second write would replace the
+    first, or the output its input). A path of None passes."""
+    seen = {}
+    for flag, path in named:
+        if path in (None, True, False):
+            continue
+        key = Path(str(path)).resolve()
+        if key in seen:
+            raise ModelError(flag, str(path), f"must be another file than {seen[key]}'s (it would be written over)")
+        seen[key] = flag
 
 
 def kept(*paths) -> str:

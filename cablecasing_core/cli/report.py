@@ -16,7 +16,10 @@ def cmd_report(args):
             raise
         raise ModelError(flag, exc.value, exc.allowed) from None
     output_folder("--out", args.out, "report.html")  # (before the runs)
-    args.interrupted = "the report was not finished; files in --out from earlier reports are as they were"
+    args.interrupted = (
+        "the report was not finished: --out may hold some of this run's files beside an earlier report's (each "
+        "file whole); run the report again"
+    )
     html = write_report(
         args.out,
         model=model,

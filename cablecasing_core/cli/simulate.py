@@ -13,10 +13,11 @@ OUT_SUFFIXES = (".csv", ".npz", ".uff")
 def cmd_simulate(args):
     from ..model import load_model
     from ..timedomain.simulation import simulate
-    from .paths import check_output_path, kept
+    from .paths import check_distinct, check_output_path, kept
 
     check_output_path("--out", args.out, OUT_SUFFIXES)
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    check_distinct(("--out", args.out), ("--plot", args.plot))
     model = with_assignments(load_model(args.model), "--set", args.set)
     if args.output_interval is not None:  # checked before the run against the time step
         _check_interval(
@@ -90,7 +91,7 @@ _SUPPORT_KIND = {"clamped": "support", "isolator": "isolator"}
 
 def output_summary(model, res) -> str:
     """Lines of every support, isolator and clip output of a run (``res.force_names``; free supports
-    and absent bodies have none): the mean (the static part: preload, gravity), the total RMS, the
+    and absent bodies have none): the mean (over the run: preload, gravity, what friction holds), the total RMS, the
     dynamic RMS (mean removed: what vibrates) and the peak of the dynamic part, in N or N.m."""
     from ..model.schema import output_spec
 
@@ -112,7 +113,10 @@ def output_summary(model, res) -> str:
     head = (
         f"  {'output':<18} {'kind':<8} {'unit':<4} {'mean':>11} {'RMS total':>11} {'RMS dynamic':>11} {'peak dyn.':>11}"
     )
-    note = "  (RMS dynamic: the mean removed, what vibrates; the mean is the static part, e.g. an installed preload)"
+    note = (
+        "  (RMS dynamic: the mean removed, what vibrates; the mean is the force averaged over the run: an installed "
+        "preload, and what friction has shifted between the bodies since)"
+    )
     return "\n".join(["  force each body exerts on its supports and clips, over the run:", head, *rows, note])
 
 

@@ -109,9 +109,9 @@ def add_parser(sub):
         "--json",
         action="store_true",
         help="print JSON: contact_force_N (per cable node [Fx, Fy, Fz], the casing's force on the cable), "
-        "support_reactions_N ({body.support or casing.clip<i>: [Fx, Fy, Fz, Mx, My, Mz]}, the force the body exerts "
-        "on it), balance_N ({body: weight, prestress, contact, reactions, residual}), buckling ({casing: load_N, "
-        "at_m, supports, mechanism}), contact_nodes, max_penetration_m",
+        "support_reactions_N ({body.support or casing.clip<i>: [Fx, Fy, Fz, Mx, My, Mz]}, the force (N) and moment "
+        "(N.m) the body exerts on it), balance_N ({body: weight, prestress, contact, reactions, residual}), "
+        "buckling ({casing: load_N, at_m, supports, mechanism}), contact_nodes, max_penetration_m",
     )
     p.add_argument(
         "--plot", help="figure (.png, .pdf or .svg): contact force along the arc length beside the curvature"

@@ -14,7 +14,7 @@ from ..model.validators import integer, number
 from ..studies.ensemble import MAX_ENSEMBLE_SEED
 from .assignments import assignment
 from .helptext import ASSIGNMENT_HELP, key_help
-from .paths import check_output_path, kept
+from .paths import check_distinct, check_output_path, kept
 
 
 def study_bounds(args, model):
@@ -200,9 +200,10 @@ def cmd_ensemble(args):
         " (the last seed must be at most 2**53: an ensemble's CSV holds its seeds exactly up to there)",
     )
     _check_confidence(args.confidence)
-    check_output_path("--out", args.out)
-    check_output_path("--out", _against_path(args.out) if args.against else None)
-    check_output_path("--plot", args.plot)
+    check_output_path("--out", args.out, (".csv",))
+    check_output_path("--out", _against_path(args.out) if args.against else None, (".csv",))
+    check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    check_distinct(("--out", args.out), ("--plot", args.plot))
     args.interrupted = "the ensemble was stopped: " + kept(
         args.out, _against_path(args.out) if args.against else None, args.plot
     )
@@ -248,9 +249,10 @@ def cmd_pool(args):
     from ..studies import paired_difference, pool_ensembles
 
     _check_confidence(args.confidence)
-    check_output_path("--out", args.out)
-    check_output_path("--out", _against_path(args.out) if args.against else None)
-    check_output_path("--plot", args.plot)
+    check_output_path("--out", args.out, (".csv",))
+    check_output_path("--out", _against_path(args.out) if args.against else None, (".csv",))
+    check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    check_distinct(("--out", args.out), ("--plot", args.plot))
     args.interrupted = "stopped: " + kept(args.out, _against_path(args.out) if args.against else None, args.plot)
     ens = pool_ensembles(args.files)
     other = d = None

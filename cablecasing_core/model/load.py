@@ -95,7 +95,7 @@ def toml_file(path: str | Path, key: str, limit: int, other: str = "") -> dict:
     if len(data) > limit:
         raise ModelError(key, str(path), f"is larger than {limit} bytes: not a TOML file of this program")
     try:
-        text = data.decode("utf-8")
+        text = data.decode("utf-8-sig")  # (-sig: a byte-order mark some editors write)
     except UnicodeDecodeError as exc:
         raise ModelError(
             key, str(path), f"must be a UTF-8 text TOML file (byte {exc.start} is not UTF-8: a binary or Latin-1 file?)"

@@ -51,14 +51,19 @@ def reference(unit: str, ref: float | None = None) -> float:
     return REFERENCES[unit]
 
 
+def squared(unit: str) -> str:
+    """``unit`` squared as text: ``N^2``, and a compound one in brackets, ``(m/s2)^2``, ``(N.m)^2``."""
+    return f"({unit})^2" if any(c in unit for c in "./ ") else f"{unit}^2"
+
+
 def level_unit(ref: float, unit: str, power: bool = False) -> str:
     """What a level in dB is relative to: ``dB re 1e-06 m/s2`` for an amplitude, ``dB re (1e-06
     m/s2)^2/Hz`` for a density (the reference squared, per Hz; ``dB re 1 N^2/Hz`` where the
-    reference is 1)."""
+    reference is 1 in a simple unit)."""
     if not power:
         return f"dB re {ref:g} {unit}".rstrip()
-    base = f"{ref:g} {unit}".rstrip()
-    return f"dB re {base}^2/Hz" if ref == 1.0 or not unit else f"dB re ({base})^2/Hz"
+    simple = ref == 1.0 and squared(unit) == f"{unit}^2"
+    return f"dB re 1 {squared(unit)}/Hz" if simple else f"dB re {squared(f'{ref:g} {unit}'.rstrip())}/Hz"
 
 
 def level_db(x: ArrayLike, ref: float, power: bool = False) -> np.ndarray:

@@ -84,8 +84,10 @@ class Ensemble:
 
     @property
     def cv(self):
-        """Seed-to-seed coefficient of variation of a single record's band level (-)."""
-        return self.se * math.sqrt(self.n) / self.mean
+        """Seed-to-seed coefficient of variation of a single record's band level (-); NaN where the
+        mean is 0 (an output zero by construction, such as a moment that no spring carries)."""
+        positive = self.mean > 0
+        return np.where(positive, self.se * math.sqrt(self.n) / np.where(positive, self.mean, 1.0), np.nan)
 
     def ci(self, confidence=0.95):
         """Student-t confidence interval of the mean per band, ``(low, high)`` (N or N.m)."""

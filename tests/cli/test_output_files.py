@@ -141,3 +141,45 @@ def test_a_link_is_written_where_it_points(tmp_path, capsys):
     (tmp_path / "link.csv").symlink_to(real)
     assert main(["trfam", "--fmin", "10", "--fmax", "12", "--df", "1", "--out", str(tmp_path / "link.csv")]) == 0
     assert (tmp_path / "link.csv").is_symlink() and real.read_text().startswith("frequency_hz,")
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["--out", "{long}.csv"], None),  # a name of 250 characters is written (its temporary name fit no more)
+        (["--out", "{toolong}.csv"], "is not a usable file name (File name too long)"),  # (an internal error)
+        (["--out", ".csv"], "--out = '.csv': must be a name ending in .csv or .npz or .uff"),  # (refused after the run)
+    ],
+)
+def test_output_names_are_checked_before_the_run_and_a_long_one_is_written(
+    tmp_path, capsys, monkeypatch, argv, message
+):
+    monkeypatch.chdir(tmp_path)
+    argv = [a.format(long="x" * 246, toolong="x" * 300) for a in argv]
+    if message is not None:
+        _no_run(monkeypatch)
+    code = main(["simulate", "--duration", "0.001", "--no-progress", *argv])
+    err = capsys.readouterr().err
+    if message is None:
+        assert code == 0 and (tmp_path / argv[1]).is_file() and sorted(p.name for p in tmp_path.iterdir()) == [argv[1]]
+    else:
+        assert code == 2 and message in err and list(tmp_path.iterdir()) == [], err
+
+
+def test_an_output_over_its_input_is_refused_and_upper_case_npz_and_a_byte_order_mark_are_read(tmp_path, capsys):
+    """`spectrum in.csv --out in.csv` would replace the record by its PSD: refused. A record saved as
+    `r.NPZ` is written whole (numpy appended .npz to the temporary name, and the save failed); a CSV
+    and a model file that begin with a UTF-8 byte-order mark read as without it."""
+    import cablecasing_core as cc
+    from cablecasing_core.files import read_csv_table
+
+    res = cc.simulate(cc.load_model(), duration=0.01)
+    res.save(tmp_path / "r.NPZ")
+    assert [p.name for p in tmp_path.iterdir()] == ["r.NPZ"]
+    res.save(tmp_path / "in.csv")
+    assert main(["spectrum", str(tmp_path / "in.csv"), "--out", str(tmp_path / "in.csv")]) == 2
+    assert "must be another file than record's" in capsys.readouterr().err
+    (tmp_path / "bom.csv").write_bytes(b"\xef\xbb\xbfmode,f_hz\n1,10.0\n2,30.0\n")
+    assert read_csv_table(tmp_path / "bom.csv", "file")[0] == ["mode", "f_hz"]
+    (tmp_path / "m.toml").write_bytes(b"\xef\xbb\xbf" + cc.load_model().to_toml().encode())
+    assert cc.load_model(str(tmp_path / "m.toml")).fingerprint() == cc.load_model().fingerprint()

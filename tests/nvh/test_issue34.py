@@ -478,7 +478,7 @@ def test_spectrum_levels_each_column_against_its_own_unit_and_resolves_a_narrow_
     header = out.read_text().splitlines()[0].split(",")
     assert "casing.B.Fz level [dB re 1 N^2/Hz]" in header and "casing.A.az level [dB re (1e-06 m/s2)^2/Hz]" in header
     table = np.loadtxt(out, delimiter=",", skiprows=1)
-    j = header.index("casing.A.az PSD [m/s2^2/Hz]")
+    j = header.index("casing.A.az PSD [(m/s2)^2/Hz]")
     np.testing.assert_allclose(
         table[:, header.index("casing.A.az level [dB re (1e-06 m/s2)^2/Hz]")], 10 * np.log10(table[:, j] / 1e-12)
     )
