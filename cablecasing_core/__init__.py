@@ -8,9 +8,10 @@ The package follows the paper: ``model`` (the model file, its schema and the bui
 with contact: Eqs. 14-39), ``identification`` (Section 3), ``studies`` (Section 4), ``nvh`` (PSD,
 levels, transfer functions of any record), ``records`` (record files by suffix), ``report``, ``cli``.
 
-A tutorial (it runs as a doctest, ``python -m doctest -v cablecasing_core/__init__.py`` or
-``pytest --doctest-modules``). Load the built-in specimen; every key is in ``model.data``, checked
-against the schema (docs/model_file.md), and a change is a validated copy:
+A tutorial (it runs as a doctest: ``python -m pytest --doctest-modules cablecasing_core/__init__.py``,
+or ``python -c "import doctest, cablecasing_core as cc; doctest.testmod(cc)"``). Load the built-in
+specimen; every key is in ``model.data``, checked against the schema (docs/model_file.md), and a
+change is a validated copy:
 
 >>> import numpy as np
 >>> import cablecasing_core as cc

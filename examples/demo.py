@@ -5,7 +5,9 @@ FMU's run checked against the core driven by the same sampled record.
     python examples/demo.py [--out results] [--duration 0.5] [--seeds 6] [--study-samples 32]
 
 Writes fmu_outputs.csv (the default scenario through the FMU) besides the report's files (see
-``cablecasing_core.report``: report.html, the figures, the records and tables of its runs).
+``cablecasing_core.report``: report.html, the figures, the records and tables of its runs), and
+the FMU it builds to dist/CableCasing.fmu in the repository (``make fmu``'s file), whatever
+``--out`` is.
 """
 
 from __future__ import annotations

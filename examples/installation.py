@@ -57,6 +57,7 @@ def main(argv=None):
     if not args.duration >= need:
         p.error(f"--duration {args.duration:g}: the band levels need at least {need:.4g} s (0.1 s is skipped)")
     out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
     model = cc.load_model(HERE / "installation.toml")
     plot_routing(model, out / "installation_routing.png")
 

@@ -8,6 +8,7 @@ import hashlib
 import json
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -203,8 +204,21 @@ class Model:
 
     def fingerprint(self) -> str:
         """A short hash (16 hex digits) of the model's data (SI values, defaults filled in): equal for
-        equal models, whatever their source (a tabulated excitation enters by its file name)."""
-        text = json.dumps(self.data, sort_keys=True, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o))
+        equal models, whatever their source or folder (a tabulated excitation enters by its file's
+        content, not its path, so that the same files in two folders give one fingerprint and an
+        edited file another)."""
+        data = dict(self.data)
+        excitation = self.data.get("scenario", {}).get("excitation", {})
+        if any(isinstance(e, dict) and "file" in e for e in excitation.values()):
+            data["scenario"] = {**self.data["scenario"], "excitation": {}}
+            for name, e in excitation.items():
+                if isinstance(e, dict) and "file" in e:
+                    try:
+                        e = {**e, "file": "sha256:" + hashlib.sha256(Path(e["file"]).read_bytes()).hexdigest()}
+                    except OSError:  # (a file gone since the model was loaded: its path stands for it)
+                        pass
+                data["scenario"]["excitation"][name] = e
+        text = json.dumps(data, sort_keys=True, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o))
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
     def to_toml(self) -> str:

@@ -40,7 +40,7 @@ class Ensemble:
     columns without a cable). ``overrides`` are the model changes common to all members;
     ``settings`` the run settings ``duration``, ``dt``, ``skip`` (s) and ``model``, a fingerprint of
     the model data with the overrides applied (what :func:`pool_ensembles` requires to be equal; a
-    tabulated excitation enters by its file name, not by the file's content). ``warnings`` maps
+    tabulated excitation enters by its file's content, not its path). ``warnings`` maps
     the seed of each member whose run warned (a contact Newton that did not converge in some steps,
     a tolerance not met: docs/time_domain.md) to its messages, joined by `` | ``; members that
     warned nothing are not in it.

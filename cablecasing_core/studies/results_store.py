@@ -311,6 +311,8 @@ def prepare_file(path, meta, design, params):
         meta.pop("quantity", None)
     if old is not None and old.get("warnings") is not True:  # (the same: no warnings column)
         meta.pop("warnings", None)
+    if old is not None and "model_fingerprint" not in old:  # (a study of an earlier version: not recorded)
+        meta.pop("model_fingerprint", None)
     header = _header(params, meta["outputs"], meta.get("quantity"), meta.get("warnings") is True)
     if old is None:
         d = os.path.dirname(os.path.abspath(path))
@@ -332,6 +334,13 @@ def prepare_file(path, meta, design, params):
             list(meta["bounds"]),
             f"must name the parameters in the order of the study in {path}, {list(old.get('bounds', {}))} (its "
             "columns and design follow that order), to resume it (or choose a new file)",
+        )
+    if old.get("model_fingerprint") != meta.get("model_fingerprint"):
+        raise ModelError(
+            "model_file",
+            meta["evaluate_kwargs"].get("model_file"),
+            f"holds another model than when the study in {path} began (an edited file, or its CSV excitation): "
+            "a resume runs the same model; choose a new file to start a study",
         )
     for key in RESUME_KEYS:
         if old.get(key) != meta.get(key):

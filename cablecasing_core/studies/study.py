@@ -187,6 +187,10 @@ def run_study(
                 "sampler": SAMPLER,
                 "warnings": True,  # (the CSV has the warnings column; prepare_file drops it for an older study)
             }
+            if "model_file" in evaluate_kwargs:  # (what the file holds: a resume must run the same model)
+                from ..model import load_model
+
+                meta["model_fingerprint"] = load_model(evaluate_kwargs["model_file"]).fingerprint()
             done = prepare_file(path, meta, design, params)
 
             writer = ResultsWriter(path, params, outputs, design, warnings=meta.get("warnings") is True)

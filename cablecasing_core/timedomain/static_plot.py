@@ -5,12 +5,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..plotting import plt, save_figure
-
 
 def plot_static_state(st, path, title="static state"):
     """Contact force magnitude per cable node (N, bars) and curvature (1/m, line) over the arc
     length from end A (m) of a :class:`~cablecasing_core.timedomain.static_state.StaticState`."""
+    from ..plotting import plt, save_figure  # (figures are the data flow's last stage: imported when drawn)
+
     fig, ax = plt.subplots(figsize=(7, 3.8))
     s = st.arc_length
     F = np.linalg.norm(st.contact_force, axis=1)

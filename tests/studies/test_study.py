@@ -351,3 +351,38 @@ def test_a_hand_edited_value_that_is_no_number_is_named_by_line_and_column(tmp_p
     (tmp_path / "s.csv").write_text("\n".join(lines) + "\n")
     with pytest.raises(ModelError, match=rf"line 3, column {res.outputs[0]!r} must hold a number"):
         load_results(tmp_path / "s.csv")
+
+
+def test_a_study_whose_model_file_changed_does_not_resume_and_the_fingerprint_follows_the_files(tmp_path):
+    """A model file edited between two runs of a study would add samples of another model to it
+    (they were taken): the study records the model's fingerprint and refuses the resume. The
+    fingerprint follows the content of a tabulated excitation, not its folder: the same files in
+    two folders give one fingerprint (pool refused such parts), an edited CSV another (it did not
+    change)."""
+    import cablecasing_core as cc
+
+    def evaluate(overrides, model_file=None):
+        return evaluators.analytic_evaluate(overrides)
+
+    text = cc.load_model().to_toml()
+    (tmp_path / "m.toml").write_text(text)
+    _run(tmp_path / "s.csv", evaluate=evaluate, n_samples=8, evaluate_kwargs={"model_file": str(tmp_path / "m.toml")})
+    (tmp_path / "m.toml").write_text(text.replace("rms = 5.0", "rms = 50.0"))
+    with pytest.raises(ModelError, match="holds another model than when the study") as e:
+        _run(
+            tmp_path / "s.csv",
+            evaluate=evaluate,
+            n_samples=16,
+            evaluate_kwargs={"model_file": str(tmp_path / "m.toml")},
+        )
+    assert e.value.key == "model_file"
+
+    base = cc.load_model().data
+    shaker = {"target": "casing.A.z", "kind": "csv", "file": "motion.csv", "quantity": "displacement"}
+    data = {**base, "scenario": {**base["scenario"], "excitation": {"shaker": shaker}}}
+    prints = []
+    for folder, amplitude in (("a", 1e-4), ("b", 1e-4), ("c", 5e-4)):
+        (tmp_path / folder).mkdir()
+        (tmp_path / folder / "motion.csv").write_text(f"time_s,u_m\n0.0,0.0\n0.01,{amplitude}\n0.02,0.0\n")
+        prints.append(cc.model_from_dict(data, base_dir=tmp_path / folder).fingerprint())
+    assert prints[0] == prints[1] != prints[2]

@@ -94,5 +94,5 @@ def test_static_refuses_a_plot_of_another_format_before_the_run(tmp_path, capsys
     for name in ("s.txt", "s"):
         assert main(["static", "installed", "--plot", str(tmp_path / name)]) == 2
         err = capsys.readouterr().err
-        assert "--plot" in err and "must end in .png or .pdf or .svg" in err
+        assert "--plot" in err and "must be a name ending in .png or .pdf or .svg" in err
         assert not (tmp_path / name).exists()
