@@ -8,10 +8,9 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ModelError
-from ..model.limits import MAX_SEEDS, MAX_STUDY_SAMPLES, PROGRESS_TIMEOUT
+from ..model.limits import MAX_ENSEMBLE_SEED, MAX_SEEDS, MAX_STUDY_SAMPLES, PROGRESS_TIMEOUT
 from ..model.schema import output_spec
 from ..model.validators import integer, number
-from ..studies.ensemble import MAX_ENSEMBLE_SEED
 from .assignments import assignment
 from .helptext import ASSIGNMENT_HELP, key_help
 from .paths import check_distinct, check_output_path, kept

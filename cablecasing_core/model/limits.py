@@ -46,6 +46,8 @@ MEMORY_SHARE = 0.8
 MAX_STUDY_SAMPLES = 1_000_000
 #: The most seeds of an ensemble (its runs are held in memory until it is saved).
 MAX_SEEDS = 100_000
+#: The largest seed of an ensemble: its CSV holds the seeds among the levels as doubles, exact to 2**53.
+MAX_ENSEMBLE_SEED = 2**53
 #: The most frequencies of a TRFAM (its (frequencies x modes x supports) complex arrays: about 3 GB
 #: for the specimen at this size).
 MAX_FREQUENCIES = 200_000

@@ -24,10 +24,8 @@ import numpy as np
 from scipy import stats
 
 from ..errors import ModelError
+from ..model.limits import MAX_ENSEMBLE_SEED
 from ..model.validators import number
-
-#: The largest seed of an ensemble: its CSV holds the seeds among the levels as doubles, exact to 2**53.
-MAX_ENSEMBLE_SEED = 2**53
 
 
 @dataclass(frozen=True)

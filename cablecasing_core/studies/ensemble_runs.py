@@ -17,10 +17,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ModelError
-from ..model.limits import MAX_SEEDS
+from ..model.limits import MAX_ENSEMBLE_SEED, MAX_SEEDS
 from ..model.schema import SUPPORT_OUTPUTS, clip_outputs
 from ..model.validators import Choice, integer, seconds
-from .ensemble import MAX_ENSEMBLE_SEED, Ensemble
+from .ensemble import Ensemble
 from .evaluators import DEFAULT_EVALUATE, check_record_settings
 from .executor import execute
 from .octave import Bands, octave_bands

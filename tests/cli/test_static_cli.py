@@ -51,3 +51,18 @@ def test_static_runs_as_a_command():
     exe = [sys.executable, "-m", "cablecasing_core.cli", "static", "installed", "--json"]
     out = json.loads(subprocess.run(exe, check=True, capture_output=True, text=True).stdout)
     assert out["contact_nodes"] >= 10
+
+
+def test_the_static_command_loads_no_figures_statistics_or_studies():
+    """docs/performance.md: the static command loads neither matplotlib nor scipy.stats, and the CLI
+    imports a sub-command's modules only when it runs (the studies once came in with a constant the
+    ensemble command's option check read). In a fresh process, as a user starts it."""
+    code = (
+        "import contextlib, io, sys\n"
+        "from cablecasing_core.cli import main\n"
+        "with contextlib.redirect_stdout(io.StringIO()):\n"
+        "    assert main(['static', 'installed', '--json']) == 0\n"
+        "print(sorted(m for m in ('matplotlib', 'scipy.stats', 'cablecasing_core.studies') if m in sys.modules))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]", out
