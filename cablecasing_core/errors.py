@@ -11,6 +11,8 @@ or an FMU's log in full.
 
 from __future__ import annotations
 
+import contextlib
+
 #: The longest excerpt of a value (characters) that a message quotes.
 EXCERPT = 80
 
@@ -71,6 +73,24 @@ class ModelError(CableCasingError, ValueError):
         name = excerpt(_Plain(key) if isinstance(key, str) else key, 2 * EXCERPT)
         shown = "" if value is NOT_SHOWN else f" = {excerpt(value)}"
         super().__init__(f"{name}{shown}: {_one_line(allowed)}")
+
+
+@contextlib.contextmanager
+def renamed(names: dict, in_text: bool = False):
+    """A :class:`ModelError` raised in the block whose key is one of ``names`` ({key: name}) is raised
+    again under the name the caller's user knows it by: a CLI option (``--duration``), an FMU
+    parameter (``solver.dt``), a record's column; with ``in_text`` the keys are renamed in what is
+    allowed too (``must be at least f_min``). Other errors pass unchanged."""
+    try:
+        yield
+    except ModelError as exc:
+        if exc.key not in names:
+            raise
+        allowed = exc.allowed
+        if in_text:
+            for key, name in names.items():
+                allowed = allowed.replace(key, name)
+        raise ModelError(names[exc.key], exc.value, allowed) from None
 
 
 class SimulationError(CableCasingError, RuntimeError):

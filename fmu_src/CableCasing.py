@@ -45,6 +45,7 @@ from pythonfmu.enums import Fmi2Status
 # The kernels' numba cache (a per-user folder keyed by the kernels' sources, so it outlives the
 # unpacked FMU) is installed by the bundled package itself: cablecasing_core.timedomain.kernels.
 import cablecasing_core as cc
+from cablecasing_core.errors import renamed
 from cablecasing_core.model import specimen_names
 from cablecasing_core.model.schema import CHANNELS, OUTPUTS, input_spec, inputs_of, lookup, output_spec, outputs_of
 from cablecasing_core.model.validators import seconds
@@ -457,12 +458,8 @@ class CableCasing(Fmi2Slave):
         if not self._value("scenario.drive"):
             return None
         model = engine.model
-        try:
+        with renamed({"dt": "solver.dt"}):  # (a random band above the Nyquist frequency of the FMU's step)
             return GridMotion(scenario_motion(model, dt=engine.dt), engine.dt)
-        except cc.ModelError as exc:  # (a random band above the Nyquist frequency of the FMU's step)
-            if exc.key != "dt":
-                raise
-            raise cc.ModelError("solver.dt", exc.value, exc.allowed) from None
 
     def _make_engine(self, config):
         """A new Engine for ``config``; raises ModelError naming the parameter."""
@@ -474,12 +471,8 @@ class CableCasing(Fmi2Slave):
         for key, start in self._start.items():  # (a model file's seeds, read back through fmi2GetInteger)
             if isinstance(start, int) and not isinstance(start, bool) and key in values:
                 fmi_integer(key, values[key])
-        try:
+        with renamed({"dt": "solver.dt"}):  # (the engine's range of dt, named as the FMU's parameter)
             return Engine(model, dt=seconds("solver.dt", dt), ledger=False)
-        except cc.ModelError as exc:  # (the engine's range of dt, named as the FMU's parameter)
-            if exc.key != "dt":
-                raise
-            raise cc.ModelError("solver.dt", exc.value, exc.allowed) from None
 
     def _build(self):
         """Build the engine from the parameters; on a problem log it (fmi2Error) and refuse steps."""

@@ -27,7 +27,7 @@ import warnings
 
 import numpy as np
 
-from ..errors import CableCasingError, InfrastructureError, ModelError, excerpt, plain
+from ..errors import CableCasingError, InfrastructureError, ModelError, excerpt, plain, renamed
 from ..model import load_model
 from . import geometry, identify, nvh, report, simulate, static, study
 from .paths import check_distinct, check_output_path, emit_table, kept
@@ -103,12 +103,8 @@ def cmd_trfam(args):
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
     check_distinct(("--out", args.out), ("--plot", args.plot))
     args.interrupted = "stopped: " + kept(args.out, args.plot)
-    try:
+    with renamed({"input": "--input", "output": "--output"}):
         H = trfam(model, args.input, args.output, f, damping=args.damping)
-    except ModelError as exc:  # (the ports named by the options the user wrote)
-        if exc.key not in ("input", "output"):
-            raise
-        raise ModelError(f"--{exc.key}", exc.value, exc.allowed) from None
     table = np.column_stack([f, H.real, H.imag, np.abs(H), np.degrees(np.angle(H))])
     header = "frequency_hz,re_kg,im_kg,magnitude_kg,phase_deg"
     if args.out and args.out.lower().endswith(".uff"):

@@ -79,6 +79,7 @@ def cmd_spectrum(args):
     from ..errors import ModelError
     from ..nvh import apparent_mass, level_unit, psd, reference, transmissibility
     from ..nvh.spectra import squared
+    from ..nvh.transfer import MIN_AVERAGES
     from .paths import check_distinct, check_output_path, emit_table, kept
 
     check_output_path("--out", args.out, (".csv",))
@@ -135,7 +136,7 @@ def cmd_spectrum(args):
         _signal(rec, args.record, inp, keep, "--input")
         for c in columns:
             _signal(rec, args.record, c, keep)
-        seg = _nperseg(rec, args, n, averages=3)
+        seg = _nperseg(rec, args, n, averages=MIN_AVERAGES)
         res = [fn(rec, inp, c, args.estimator, args.skip, nperseg=seg) for c in columns]
         sel = (res[0].f_hz >= args.fmin) & (res[0].f_hz <= args.fmax) & (res[0].f_hz > 0)
         if not sel.any():
@@ -210,7 +211,7 @@ def _nperseg(rec, args, n, averages=1):
 
 
 def cmd_bands(args):
-    from ..errors import ModelError
+    from ..errors import ModelError, renamed
     from ..files import atomic_path
     from ..nvh import reference
     from ..studies import octave_rms
@@ -224,13 +225,8 @@ def cmd_bands(args):
     columns = _columns(args.column, ["casing.B.Fz"])
     if len(columns) > 1:
         raise ModelError("--column", ", ".join(columns), "bands takes one column: run it once per column")
-    try:
+    with renamed({"f_min": "--fmin", "f_max": "--fmax"}, in_text=True):
         band_set = octave_bands(args.kind, args.fmin, args.fmax)
-    except ModelError as exc:  # (named by the options the user wrote)
-        flag = {"f_min": "--fmin", "f_max": "--fmax"}.get(exc.key)
-        if flag is None:
-            raise
-        raise ModelError(flag, exc.value, exc.allowed.replace("f_min", "--fmin").replace("f_max", "--fmax")) from None
     rec = _record(args.record)
     keep = _window(rec, args.skip)
     col = rec.resolve(columns[0])

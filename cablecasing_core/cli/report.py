@@ -4,17 +4,13 @@ from __future__ import annotations
 
 
 def cmd_report(args):
-    from ..errors import ModelError
+    from ..errors import renamed
     from ..files import output_folder
     from ..report import check_report_settings, write_report
 
-    try:  # (the settings before the folder: a refused report creates nothing)
+    # (the settings before the folder: a refused report creates nothing)
+    with renamed({"duration": "--duration", "seeds": "--seeds", "study_samples": "--study-samples"}):
         model, _, _ = check_report_settings(args.model, args.duration, args.seeds, args.study_samples)
-    except ModelError as exc:
-        flag = {"duration": "--duration", "seeds": "--seeds", "study_samples": "--study-samples"}.get(exc.key)
-        if flag is None:
-            raise
-        raise ModelError(flag, exc.value, exc.allowed) from None
     output_folder("--out", args.out, "report.html")  # (before the runs)
     args.interrupted = (
         "the report was not finished: --out may hold some of this run's files beside an earlier report's (each "

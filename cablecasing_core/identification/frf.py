@@ -39,6 +39,13 @@ class FRFEstimate:
     n_averages: int
 
 
+def welch_averages(n: int, nperseg: int, noverlap: int | None = None) -> int:
+    """The number of segments Welch's method averages over ``n`` samples: segments of ``nperseg``
+    overlapping by ``noverlap`` samples (default half of them), as ``scipy.signal.welch`` takes them."""
+    noverlap = nperseg // 2 if noverlap is None else noverlap
+    return 1 + (n - nperseg) // (nperseg - noverlap)
+
+
 def frf_estimate(
     x: ArrayLike, y: ArrayLike, fs: float, nperseg: int | None = None, window="hann", noverlap=None, detrend="constant"
 ) -> FRFEstimate:
@@ -84,7 +91,7 @@ def frf_estimate(
         H1 = Gxy / Gxx
         H2 = Gyy / np.conj(Gxy)
         coh = np.abs(Gxy) ** 2 / (Gxx * Gyy)
-    n_avg = 1 + (x.size - nperseg) // (nperseg - noverlap)
+    n_avg = welch_averages(x.size, nperseg, noverlap)
     return FRFEstimate(f_hz=f, H1=H1, H2=H2, coherence=np.real(coh), Gxx=Gxx, Gyy=Gyy, Gxy=Gxy, n_averages=int(n_avg))
 
 

@@ -29,6 +29,7 @@ from numpy.typing import ArrayLike
 from scipy import signal
 
 from ..errors import ModelError
+from ..identification.frf import welch_averages
 from ..model.validators import array_1d, number
 
 #: The fewest Welch averages the default resolution keeps, and below which psd() warns: the
@@ -176,7 +177,7 @@ def psd(
         w = signal.get_window(window, nperseg)
     except (ValueError, TypeError) as exc:
         raise ModelError("window", window, f"must be a scipy.signal.get_window spec ({exc})") from None
-    n_avg = 1 + (x.size - nperseg) // (nperseg - noverlap)
+    n_avg = welch_averages(x.size, nperseg, noverlap)
     if n_avg < MIN_AVERAGES:
         warnings.warn(
             f"{what}: the PSD averages only {n_avg} segment(s) of {nperseg / fs:.4g} s: each line's random error is "

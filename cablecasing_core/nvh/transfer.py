@@ -22,8 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ModelError
-from ..identification.frf import frf_estimate, random_error
+from ..errors import ModelError, renamed
+from ..identification.frf import frf_estimate, random_error, welch_averages
 from ..model.validators import Choice, array_1d, integer, number, seconds
 from ..records import Records, after_skip
 
@@ -77,7 +77,7 @@ def _estimate(rec, x_name, y_name, sign, kind, unit, estimator, skip, nperseg, r
         cap = keep.sum() // (8 if resolution_hz is None else 2)
         nperseg = max(64, min(seg, 2 ** int(np.log2(cap or 1))))
     n = int(keep.sum())
-    if 1 + (n - int(nperseg)) // (int(nperseg) - int(nperseg) // 2) < MIN_AVERAGES:
+    if welch_averages(n, nperseg) < MIN_AVERAGES:
         raise ModelError(
             "nperseg",
             nperseg,
@@ -85,11 +85,8 @@ def _estimate(rec, x_name, y_name, sign, kind, unit, estimator, skip, nperseg, r
             f"at most {n // 2}: from one average the coherence is 1 whatever the signals, and the random error "
             "that follows from it means nothing",
         )
-    if np.ptp(x[keep]) == 0.0:
-        raise ModelError(
-            rec.resolve(x_name), "constant after skip", "must vary: a transfer function needs an input with power"
-        )
-    est = frf_estimate(x[keep], y[keep], fs, nperseg=nperseg)
+    with renamed({"x": rec.resolve(x_name), "y": rec.resolve(y_name)}):  # (frf_estimate's checks, by column)
+        est = frf_estimate(x[keep], y[keep], fs, nperseg=nperseg)
     H = est.H1 if estimator == "H1" else est.H2
     return Transfer(
         est.f_hz,
