@@ -166,8 +166,11 @@ def check_supported(model) -> None:
             causes.append(("cable.rest_shape", spec.rest_shape, "the bending of its rest shape"))
         if not causes:
             continue
-        cl = centerline_of(model)
-        mounts = mounts_of(model, name, cl) if set(spec.supports.values()) != {"clamped"} else []
+        clamped = "clamped" in spec.supports.values()
+        # (the mounts only where they are looked at: an isolator under a tension, or no clamped end)
+        mounted = not clamped or (T > 0.0 and "isolator" in spec.supports.values())
+        cl = centerline_of(model) if mounted else None
+        mounts = mounts_of(model, name, cl) if mounted else []
         if T > 0.0:
             for s in ("A", "B"):
                 if spec.supports[s] == "free":
@@ -186,7 +189,6 @@ def check_supported(model) -> None:
                         f"along the {name}'s axis at {s}, and a spring of no stiffness carries no axial force, so the "
                         "tension has nowhere to go; give the isolator an axial stiffness or clamp the end",
                     )
-        clamped = "clamped" in spec.supports.values()
         if clamped:
             continue
         mass = spec.rho * section_of(spec).A
