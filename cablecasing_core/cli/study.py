@@ -199,13 +199,7 @@ def cmd_ensemble(args):
         " (the last seed must be at most 2**53: an ensemble's CSV holds its seeds exactly up to there)",
     )
     _check_confidence(args.confidence)
-    check_output_path("--out", args.out, (".csv",))
-    check_output_path("--out", _against_path(args.out) if args.against else None, (".csv",))
-    check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
-    check_distinct(("--out", args.out), ("--plot", args.plot))
-    args.interrupted = "the ensemble was stopped: " + kept(
-        args.out, _against_path(args.out) if args.against else None, args.plot
-    )
+    args.interrupted = "the ensemble was stopped: " + kept(*_check_outputs(args))
     seeds = list(range(args.first_seed, args.first_seed + args.seeds))
     common = dict(
         seeds=seeds,
@@ -248,11 +242,7 @@ def cmd_pool(args):
     from ..studies import paired_difference, pool_ensembles
 
     _check_confidence(args.confidence)
-    check_output_path("--out", args.out, (".csv",))
-    check_output_path("--out", _against_path(args.out) if args.against else None, (".csv",))
-    check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
-    check_distinct(("--out", args.out), ("--plot", args.plot))
-    args.interrupted = "stopped: " + kept(args.out, _against_path(args.out) if args.against else None, args.plot)
+    args.interrupted = "stopped: " + kept(*_check_outputs(args))
     ens = pool_ensembles(args.files)
     other = d = None
     change = {}
@@ -291,6 +281,17 @@ def cmd_pool(args):
     return 0
 
 
+def _check_outputs(args):
+    """``--out`` (and its ``_against`` twin) and ``--plot`` of ``ensemble`` and ``pool`` checked
+    before any run; returns the three paths (None where not asked for), as :func:`kept` takes them."""
+    against = _against_path(args.out) if args.against else None
+    check_output_path("--out", args.out, (".csv",))
+    check_output_path("--out", against, (".csv",))
+    check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    check_distinct(("--out", args.out), ("--plot", args.plot))
+    return args.out, against, args.plot
+
+
 def _seed_list(seeds):
     """Seeds as ``1..4`` when consecutive, else listed (at most ten shown)."""
     seeds = [int(s) for s in seeds]
@@ -319,10 +320,9 @@ def _print_ensemble(ens, confidence):
     for row in ens.as_rows(confidence):
         print(",".join([row["band"]] + [f"{row[k]:.6g}" for k in list(row)[1:]]))
     if ens.warnings:
-        warned = sorted(ens.warnings)
-        shown = ", ".join(map(str, warned[:10])) + (", ..." if len(warned) > 10 else "")
         print(
-            f"cablecasing: warning: {len(warned)} of {ens.n} members warned (seeds {shown}; the ensemble's CSV "
+            f"cablecasing: warning: {len(ens.warnings)} of {ens.n} members warned (seeds "
+            f"{_seed_list(sorted(ens.warnings))}; the ensemble's CSV "
             "keeps what each said)",
             file=sys.stderr,
         )
