@@ -270,17 +270,11 @@ def _uff_record(path, kind, channel, missing):
         j = 0
     elif isinstance(channel, str) and not channel.strip().isdigit():  # a function's name (its id1)
         bare = channel.split(" [")[0]
-        if bare not in names:
-            raise ModelError(
-                "channel", channel, f"must be 0..{len(recs) - 1} or a name in the file: " + ", ".join(names)
-            )
-        j = names.index(bare)
+        j = names.index(bare) if bare in names else -1
     else:
         j = int(channel)
-        if not 0 <= j < len(recs):
-            raise ModelError(
-                "channel", channel, f"must be 0..{len(recs) - 1} or a name in the file: " + ", ".join(names)
-            )
+    if not 0 <= j < len(recs):
+        raise ModelError("channel", channel, f"must be 0..{len(recs) - 1} or a name in the file: " + ", ".join(names))
     return recs[j]
 
 

@@ -316,18 +316,16 @@ def octave_rms(
     if over.any() and beyond_nyquist == "error":
         i = int(np.argmax(bands.upper))  # (the highest band: the rate that holds it holds them all)
         j = int(np.argmax(over))
-        top = f"up to {bands.upper[i]:g} Hz"
         which = (
             f"band '{bands.labels[i]}' ({bands.lower[i]:g}-{bands.upper[i]:g} Hz) lies"
             if i == j
-            else f"bands '{bands.labels[j]}' to '{bands.labels[i]}' ({top}) lie"
+            else f"bands '{bands.labels[j]}' to '{bands.labels[i]}' (up to {bands.upper[i]:g} Hz) lie"
         )
         raise ModelError(
             "fs",
             fs,
             f"must be at least 2 x {bands.upper[i]:g} Hz = {2 * bands.upper[i]:g} Hz so that {which} below "
-            f"the Nyquist frequency; or pass beyond_nyquist='drop' or "
-            "'nan'",
+            "the Nyquist frequency; or pass beyond_nyquist='drop' or 'nan'",
         )
     keep = ~over if beyond_nyquist == "drop" else np.ones(len(bands), bool)
     if not keep.any():

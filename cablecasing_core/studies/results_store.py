@@ -142,21 +142,20 @@ def load_results(path: str | os.PathLike) -> StudyResults:
         raise ModelError("path", path, f"must have the header {','.join(header)} (found {head})")
     rows = {}
     d, m = len(params), len(outputs)
-    numeric = list(range(2, 2 + d + m)) + [len(header) - 2]  # (parameters, outputs, elapsed_s)
+    # (what each column must hold: the index, the status, then the parameters, outputs and elapsed_s)
+    cells = [
+        (0, str.isdigit, "a sample index (a whole number)"),
+        (1, STATUSES.__contains__, "a status: " + ", ".join(STATUSES)),
+    ]
+    cells += [(c, lambda v: v == "" or is_number(v), "a number") for c in [*range(2, 2 + d + m), len(header) - 2]]
     for lineno, r in enumerate(reader, start=2):
         if len(r) != len(header):
             raise ModelError("path", path, f"line {lineno} has {len(r)} fields, expected {len(header)}")
-        bad = next((c for c in numeric if r[c] != "" and not is_number(r[c])), None)
-        if not r[0].isdigit() or r[1] not in STATUSES or bad is not None:
-            col = 0 if not r[0].isdigit() else 1 if r[1] not in STATUSES else bad
-            what = (
-                "a sample index (a whole number)"
-                if col == 0
-                else "a status: " + ", ".join(STATUSES)
-                if col == 1
-                else "a number"
+        bad = next(((c, what) for c, holds, what in cells if not holds(r[c])), None)
+        if bad is not None:
+            raise ModelError(
+                "path", path, f"line {lineno}, column {header[bad[0]]!r} must hold {bad[1]} (it was edited?)"
             )
-            raise ModelError("path", path, f"line {lineno}, column {header[col]!r} must hold {what} (it was edited?)")
         rows.setdefault(int(r[0]), r)
     order = sorted(rows)
     num = lambda s: float(s) if s != "" else np.nan  # noqa: E731
