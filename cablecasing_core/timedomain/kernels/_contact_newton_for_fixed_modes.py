@@ -375,10 +375,6 @@ def newton_for_fixed_modes(
     cap = 40 if vreg > 0.0 else 15
     tol = NEWTON_TOL_REGULARIZED if vreg > 0.0 else 1e-12  # of the largest force
     its = -cap
-    r0 = _residual(
-        Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, True,
-        mu, vreg, False,
-    )  # fmt: skip
     fresh = True  # J holds the Jacobian at x, not yet factored
     exact = vreg == 0.0 or band >= r - 1  # the whole Jacobian's factors, not its band's
     last = 0.0  # the last iteration's step when it was a full one (0: none)
@@ -391,10 +387,10 @@ def newton_for_fixed_modes(
             # matrix is not the residual's derivative, so its step need not descend): on from the
             # last iterate with the exact Jacobian, whose Newton step descends |R| wherever R is smooth
             tangent, exact, fresh, last = True, True, True, 0.0
-            r0 = _residual(
-                Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd,
-                True, mu, vreg, tangent,
-            )  # fmt: skip
+        r0 = _residual(
+            Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, True,
+            mu, vreg, tangent,
+        )  # fmt: skip
         for it in range(cap):
             for i in range(r):
                 R[i] = -R[i]
