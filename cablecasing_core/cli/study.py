@@ -214,6 +214,14 @@ def cmd_ensemble(args):
     )
     base = dict(assignment("--set", a) for a in args.set)
     against = dict(assignment("--against", a) for a in args.against)
+    for flag, given in (("--set", base), ("--against", against)):
+        if args.dt is not None and "scenario.dt" in given:  # (--dt would silently win over it)
+            raise ModelError(
+                f"{flag} scenario.dt",
+                given["scenario.dt"],
+                f"cannot be given with --dt {args.dt!r} (--dt is the step of both ensembles); "
+                "compare time steps with --set scenario.dt=... --against scenario.dt=... and no --dt",
+            )
     from ..model import load_model
 
     model = load_model(args.model)

@@ -252,6 +252,10 @@ def test_cli_prints_the_ensemble_and_the_paired_change(tmp_path, capsys):
     assert cli_main(["ensemble", "--plot", str(tmp_path / "no" / "such.png")]) == 2  # refused before any run
     assert cli_main(["ensemble", "--set", "friction"]) == 2
     assert "KEY=VALUE" in capsys.readouterr().err
+    # --dt is both ensembles' step: with a scenario.dt to compare it would compare a step with itself
+    assert cli_main(["ensemble", "--dt", "2e-5", "--against", "scenario.dt=1e-5"]) == 2
+    err = capsys.readouterr().err
+    assert "--against scenario.dt" in err and "--dt" in err and "1e-05" in err
 
 
 def test_an_ensemble_run_in_parts_and_pooled_is_the_whole(tmp_path):
