@@ -8,7 +8,8 @@ Only an adapter over ``cablecasing_core``'s time-domain ``Engine``; there is no 
 * inputs: displacement (m), velocity (m/s) and acceleration (m/s2) of the base model's support
   channels (the 12 of the four supports, then ``<excitation>.x/.y/.z`` of each excited clip) at
   the start of each communication step; the core's support-motion reconstruction fills the
-  motion inside the step (quintic Hermite from the supports' state to the Taylor extrapolation);
+  motion inside the step (quintic Hermite from the supports' state to the inputs' Taylor
+  extrapolation to third order, the jerk from the last two acceleration inputs);
 * outputs: the engine's outputs after the step (force and moment each body exerts on each
   support, contact summary, then the force and moment through each clip of the base model);
 * parameters: every numeric key of the base model under its dotted name (a vector key by its
@@ -35,6 +36,7 @@ state and pythonfmu's methods; the bridge loads it as one file.
 
 import math
 import os
+import threading
 import traceback
 import warnings
 
@@ -105,13 +107,37 @@ OK, WARNING, DISCARD, ERROR = (
 # the default 1e-5 s, some 10-20 s of wall time): a longer step is refused with fmi2Discard
 # instead of running for hours (a master that asks for 1e12 s by mistake).
 MAX_STEPS_PER_DOSTEP = 10**6
+# The FMI 2.0 life-cycle phases, numbered as the binary's (native/cablecasing_fmi2.c, enum S_*): a
+# restored FMU state puts the instance back in the phase it was saved in (FMI 2.0, 2.1.8).
+INSTANTIATED, INITIALIZATION, STEPPING, TERMINATED = range(4)
+# warnings.catch_warnings swaps the process's warning filters and display function and restores them
+# on exit: two instances doing so at once on threads could restore each other's (the host's own
+# warnings then vanish for good). Every such block of this module holds this lock (reentrant: a
+# block may call another).
+_WARNINGS_LOCK = threading.RLock()
 SPECIAL = ("contact.enabled", "model_file", "solver.dt", "scenario.drive")
 _TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}
+
+
+def _phase_of(state):
+    """The life-cycle phase an FMU state was saved in (``fmu.phase``; a state without it: stepping
+    if it was initialised, else instantiated)."""
+    if "fmu.phase" in state:
+        phase = int(state["fmu.phase"])
+        if phase not in (INSTANTIATED, INITIALIZATION, STEPPING, TERMINATED):
+            raise ValueError(f"its life-cycle phase {phase} is not one of FMI's")
+        return phase
+    return STEPPING if bool(state["fmu.initialized"]) else INSTANTIATED
 
 
 def _one_line(exc):
     """An unexpected exception in one line, ``Type: message`` (a bug: please report it); its
     traceback too when ``CABLECASING_TRACEBACK`` is set, as on the command line."""
+    if isinstance(exc, MemoryError):  # (not a bug: the model does not fit in this machine's memory)
+        return (
+            "out of memory (MemoryError): the model is too large for this machine; use fewer elements "
+            "(geometry.n_elements)"
+        )
     text = f"{type(exc).__name__}: {' '.join(str(exc).split())} (a bug; please report it)"
     if os.environ.get("CABLECASING_TRACEBACK"):
         text += "\n" + traceback.format_exc()
@@ -132,7 +158,7 @@ class CableCasing(Fmi2Slave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self.base_file = base_model_file(kwargs.get("resources"))
-        with warnings.catch_warnings(record=True) as said:  # (logged when the engine is built: _build)
+        with _WARNINGS_LOCK, warnings.catch_warnings(record=True) as said:  # (logged when the engine is built: _build)
             warnings.simplefilter("always")
             self._base = cc.load_model(self.base_file) if self.base_file else cc.load_model()
         self._base_warnings = [str(w.message) for w in said]
@@ -173,6 +199,7 @@ class CableCasing(Fmi2Slave):
         self._start_time = 0.0
         self._stop_time = None  # (s) the master's stopTime, when it gives one
         self._initialized = False
+        self.phase = INSTANTIATED  # the FMI life-cycle phase (a restored state brings its own)
         self._error = None  # why stepping is refused (an initialisation that failed)
         self._discarded = None  # (t, h, inputs) of the step last discarded, until a step is taken
         self._wants_to_end = False  # fmi2Terminated: that step was asked for again, and discarded again
@@ -317,7 +344,7 @@ class CableCasing(Fmi2Slave):
         when initialisation ends), read once per path."""
         if self._file_cache[0] != path:
             try:
-                with warnings.catch_warnings():  # (the model's warnings are logged when it is built: _build)
+                with _WARNINGS_LOCK, warnings.catch_warnings():  # (the model's warnings are logged when built: _build)
                     warnings.simplefilter("ignore")
                     model = cc.load_model(path)
                 values = dict(model.parameters())
@@ -443,8 +470,13 @@ class CableCasing(Fmi2Slave):
         self._stop_time = None if stop_time is None else float(stop_time)
         return OK
 
+    def fmi2_enter_initialization_mode(self):
+        self.phase = INITIALIZATION
+        return OK
+
     def fmi2_exit_initialization_mode(self):
         self._initialized = True
+        self.phase = STEPPING
         return OK if self._build() else ERROR
 
     def _config(self):
@@ -478,7 +510,7 @@ class CableCasing(Fmi2Slave):
         """Build the engine from the parameters; on a problem log it (fmi2Error) and refuse steps."""
         config = self._config()
         try:
-            with warnings.catch_warnings(record=True) as said:
+            with _WARNINGS_LOCK, warnings.catch_warnings(record=True) as said:
                 warnings.simplefilter("always")
                 self._engine = self._make_engine(config)
                 drive = self._drive_motion(self._engine)
@@ -607,6 +639,7 @@ class CableCasing(Fmi2Slave):
         return False
 
     def fmi2_terminate(self):
+        self.phase = TERMINATED
         eng = self._engine
         if eng is not None and eng.contact and eng.time > 0:
             steps = round(eng.time / eng.dt)
@@ -671,6 +704,11 @@ class CableCasing(Fmi2Slave):
                 Fmi2Status.discard,
             )
             return self._discard(current_time, step_size)
+        if step_size <= 1e-9 * eng.dt:
+            # below the engine's resolution of time (Engine.advance leaves such a rest untaken): the
+            # FMU's clock moves with the master's and the state stays, within 1e-9 solver.dt
+            self._start_time += step_size
+            return OK
         x = self.inputs_buffer
         if not math.isfinite(x @ x) and not np.isfinite(x).all():  # (x @ x: the cheap test of all inputs)
             i = int(np.flatnonzero(~np.isfinite(x))[0])
@@ -727,6 +765,7 @@ class CableCasing(Fmi2Slave):
             "fmu.support": self._recon.state.copy(),
             "fmu.start_time": np.array(self._start_time),
             "fmu.initialized": np.array(self._initialized),
+            "fmu.phase": np.array(self.phase),
             "fmu.built": np.array(self._engine is not None),
             "fmu.error": np.array(self._error or ""),
             "fmu.model_file": np.array(self._set.get("model_file", "")),
@@ -747,8 +786,9 @@ class CableCasing(Fmi2Slave):
             self.log(f"the FMU state cannot be restored ({exc}); the instance is unchanged", Fmi2Status.error)
             return ERROR
         (self._set, self._engine, self._applied, inputs, support, self._start_time, self._initialized, self._error) = (
-            new
+            new[:8]
         )
+        self.phase = new[8]
         self.inputs_buffer[:] = inputs
         self._recon.state[...] = support
         self._discarded, self._wants_to_end = None, False  # (another state: a discarded step may now be taken)
@@ -815,6 +855,7 @@ class CableCasing(Fmi2Slave):
             float(state["fmu.start_time"]),
             bool(state["fmu.initialized"]),
             str(state["fmu.error"]) or None,
+            _phase_of(state),
         )
 
     @staticmethod

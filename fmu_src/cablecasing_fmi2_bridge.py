@@ -27,6 +27,8 @@ import importlib.util
 import os
 import shutil
 import sys
+import tempfile
+import threading
 import time
 import traceback
 
@@ -34,6 +36,9 @@ OK, WARNING, DISCARD, ERROR = 0, 1, 2, 3
 _LOG_FN = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_char_p, ctypes.c_int)
 _CATEGORY = {OK: b"logAll", WARNING: b"logStatusWarning", DISCARD: b"logStatusDiscard", ERROR: b"logStatusError"}
 _LOADED = {}  # GUID -> the slave module of that FMU, imported once per process
+# Held while an FMU's code is looked up or loaded: a master that instantiates on several threads at
+# once (a thread pool on a cold cache) loads it once, the others wait and take that module.
+_LOAD_LOCK = threading.Lock()
 
 
 def _sources_digest(package):
@@ -115,9 +120,7 @@ def _stable_copy(resources, guid, names):
         return dest
     try:
         os.makedirs(root, exist_ok=True)
-        tmp = os.path.join(root, f".{guid}.{os.getpid()}.tmp")
-        shutil.rmtree(tmp, ignore_errors=True)
-        os.makedirs(tmp)
+        tmp = tempfile.mkdtemp(prefix=f".{guid}.", suffix=".tmp", dir=root)  # (unique in any process)
         for name in names:
             src = os.path.join(resources, name)
             if os.path.isdir(src):
@@ -144,9 +147,14 @@ def _seed_numba_cache(shipped, target):
     for name in os.listdir(shipped):
         dst = os.path.join(target, name)
         if not os.path.exists(dst):
-            tmp = f"{dst}.{os.getpid()}.tmp"
-            shutil.copy2(os.path.join(shipped, name), tmp)
-            os.replace(tmp, dst)
+            fd, tmp = tempfile.mkstemp(prefix=f".{name}.", suffix=".tmp", dir=target)  # (unique in any process)
+            os.close(fd)
+            try:
+                shutil.copy2(os.path.join(shipped, name), tmp)
+                os.replace(tmp, dst)
+            except BaseException:
+                os.unlink(tmp)
+                raise
             copied += 1
     return copied
 
@@ -180,8 +188,9 @@ def _compile_notice(log, cache_dir):
             log(
                 WARNING,
                 "compiling the model's numba kernels for this machine (no cached machine code in "
-                f"{cache_dir} fits this CPU, Python and numba); this takes 30-60 s once, later starts "
-                f"load them from there (first kernel: {name})",
+                f"{cache_dir} fits this model's kernels on this CPU, Python and numba: the FMU ships those "
+                "of its base model, the installed specimen and gravity); this takes 30-60 s once, later "
+                f"starts load them from there (first kernel: {name})",
             )
 
         def on_end(self, ev):
@@ -221,9 +230,10 @@ class Instance:
                 + " ".join(f'"{r}"' for r in env.get("requirements", "").split(";") if r)
                 + "', or point CABLECASING_PYTHON at a Python that has them"
             )
-        module = _LOADED.get(guid)
-        if module is None:
-            module = self._load(resources, guid)
+        with _LOAD_LOCK:
+            module = _LOADED.get(guid)
+            if module is None:
+                module = self._load(resources, guid)
         self._module = module
         self._install_compile_notice(", ".join(module.numba_cache_dirs) or "(no cache folder)")
         self._slave = module.CableCasing(instance_name=name, resources=resources, visible=visible)
@@ -329,7 +339,7 @@ class Instance:
         )
 
     def enter_initialization_mode(self):
-        return OK
+        return self._guard("fmi2EnterInitializationMode", self._slave.fmi2_enter_initialization_mode)
 
     def exit_initialization_mode(self):
         return self._guard("fmi2ExitInitializationMode", self._slave.fmi2_exit_initialization_mode)
@@ -356,6 +366,11 @@ class Instance:
 
     def terminated(self):
         return bool(self._slave.terminated())
+
+    def phase(self):
+        """The life-cycle phase (0 instantiated, 1 initialisation mode, 2 stepping, 3 terminated):
+        the binary asks after fmi2SetFMUstate, which restores the phase the state was saved in."""
+        return float(self._slave.phase)
 
     # ---------------------------------------------------------------------------------- variables
     def get_real(self, vr_addr, n, out_addr):

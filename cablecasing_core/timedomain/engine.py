@@ -677,7 +677,7 @@ class Engine:
         m = math.floor(h / self.dt * (1 + 1e-12))
         if not (0 < m <= self.CHUNK and h - m * self.dt <= 1e-9 * self.dt and not self.record and self.time != 0.0):
             return m, None
-        if not (len(u) == len(v) == len(a) == recon.state.shape[1] == len(self.channels)):
+        if not (len(u) == len(v) == len(a) == recon.state.shape[1] == len(self.channels)) or len(recon.state) != 5:
             return m, None  # (inputs of the 12 channels alone for a model with excited clips: widened in advance)
         cached = self._call_args.get((self.dt, self.ledger_on, False, law))
         if cached is None:

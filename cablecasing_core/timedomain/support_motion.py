@@ -5,21 +5,34 @@ A co-simulation master gives the support inputs only at the start ``t`` of a com
 of the 12 channels (``model.schema.CHANNELS``). The engine needs the motion at every internal time step
 inside the interval. The reconstruction used here:
 
-* **target at the step end** - the Taylor extrapolation of the inputs,
-  ``u1 = u + v h + a h^2/2``, ``v1 = v + a h``, ``a1 = a`` (:func:`taylor_target`);
+* **target at the step end** - the Taylor extrapolation of the inputs to third order,
+  ``u1 = u + v h + a h^2/2 + j h^3/6``, ``v1 = v + a h + j h^2/2``, ``a1 = a + j h``, with the
+  jerk ``j`` the backward difference of the acceleration inputs, ``(a - a_prev) / (t - t_prev)``
+  (the previous communication point's; ``j = 0`` at the first step) (:func:`taylor_target`);
 * **start** - the support state the engine has actually reached at ``t`` (the previous step's
   target; zero before the first step, where the engine is at rest);
 * **inside** - the quintic Hermite polynomial matching displacement, velocity and acceleration at
   both ends (:class:`QuinticStep`).
 
 So the prescribed support motion is C2-continuous across steps (it never jumps, whatever the
-inputs do), and a polynomial input of degree <= 2 is reproduced exactly. For smooth inputs the
-displacement error is the Taylor remainder ``u''' h^3 / 6``; it does not accumulate, because each
-target is built from the current inputs, not from the previous reconstruction. For a harmonic input
-of angular frequency w the component of the reconstructed motion at w differs from the true one by
-a factor of 1 + O((w h)^4) in magnitude (+1.1 % at w h = 0.50, e.g. 800 Hz with h = 1e-4 s) and
-by a phase lead of about (w h)^3 / 6 (0.020 rad there); the rest of the error lies at w + 2 pi m / h
-(m != 0), i.e. at and above the communication rate.
+inputs do); a polynomial input of degree <= 2 is reproduced exactly, and one of degree 3 from the
+third step on. For smooth inputs the errors at the step ends are the remainders of the jerk's
+difference: O(h^4) in displacement, O(h^3) in velocity and O(h^2) in acceleration; they do not
+accumulate, because each target is built from the current inputs, not from the previous
+reconstruction. For a harmonic input of angular frequency w, x = w h, the targets carry, against
+the true values at the communication points, the gains (1 + ix - x^2/2 - x^2 (1 - e^{-ix})/6)
+e^{-ix} = 1 - x^4/8 + O(x^5) (displacement), (1 + ix + ix (1 - e^{-ix})/2) e^{-ix} = 1 + 5i x^3/12
++ O(x^4) (velocity) and 2 e^{-ix} - e^{-2ix} = 1 + x^2 - i x^3 + O(x^4) (acceleration); the component at w of the
+reconstructed motion (the same for all three, as they are one function) is the displacement's
+gain times the Hermite blend's 1 + O(x^4) (|1 - gain| = 1.8e-4 at 300 Hz and 0.9 % at 800 Hz with
+h = 1e-4 s). The acceleration matters beyond the motion itself: the force a driven support
+exerts contains the inertia of the support's own node, mass times the support's acceleration at
+the output instant, so a target acceleration held at ``a`` (Taylor to second order, gain e^{-ix})
+would make that output's error first order in h (19 % of the inertial part at 300 Hz with h = 1e-4
+s; 3.5 % with the jerk). The rest of
+the error lies at w + 2 pi m / h (m != 0), i.e. at and above the communication rate, and the
+jerk's difference amplifies input content near the Nyquist rate of h (a gain of up to 3 at
+w h = pi): the inputs should be band-limited well below it, as they must be anyway.
 
 Nothing here is physics: it is interpolation, shared by the FMU and by tests that drive the core
 engine exactly as the FMU does.
@@ -56,15 +69,25 @@ _K1 = np.arange(1, 6, dtype=float)[:, None]  # k for the first derivative
 _K2 = (np.arange(2, 6) * np.arange(1, 5)).astype(float)[:, None]  # k (k - 1)
 
 
-def taylor_target(u: ArrayLike, v: ArrayLike, a: ArrayLike, h: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(u, v, a) at ``t + h`` extrapolated from the values at ``t`` (m, m/s, m/s2; h in s):
-    ``u + v h + a h^2/2``, ``v + a h``, ``a``. Arrays of any (equal) shape; new arrays (the
+def taylor_target(
+    u: ArrayLike, v: ArrayLike, a: ArrayLike, h: float, a_prev: ArrayLike | None = None, h_prev: float | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(u, v, a) at ``t + h`` extrapolated from the inputs at ``t`` (m, m/s, m/s2; h in s):
+    ``u + v h + a h^2/2 + j h^3/6``, ``v + a h + j h^2/2``, ``a + j h``, with the jerk
+    ``j = (a - a_prev) / h_prev`` from the acceleration inputs ``a_prev`` (m/s2) given ``h_prev``
+    (s) before t (both None: j = 0, the first step). Arrays of any (equal) shape; new arrays (the
     arithmetic of :func:`kernels.taylor_rows`, which the reconstruction calls)."""
+    if (a_prev is None) != (h_prev is None):
+        raise ValueError("a_prev and h_prev go together: give both or neither")
     u, v, a = (np.asarray(x, dtype=float) for x in (u, v, a))
-    shape = np.broadcast_shapes(u.shape, v.shape, a.shape)
-    u, v, a = (np.ascontiguousarray(np.broadcast_to(x, shape)).reshape(-1) for x in (u, v, a))
+    ap = np.zeros(()) if a_prev is None else np.asarray(a_prev, dtype=float)
+    shape = np.broadcast_shapes(u.shape, v.shape, a.shape, ap.shape)
+    u, v, a, ap = (np.ascontiguousarray(np.broadcast_to(x, shape)).reshape(-1) for x in (u, v, a, ap))
+    state = np.zeros((5, u.size))
+    state[3] = ap
+    state[4] = np.nan if h_prev is None else -seconds("h_prev", h_prev)  # (the inputs at t = 0)
     rows = np.empty((6, u.size))
-    K.taylor_rows(np.zeros((3, u.size)), u, v, a, float(h), rows)
+    K.taylor_rows(state, u, v, a, 0.0, float(h), rows)
     return tuple(rows[3 + q].reshape(shape) for q in range(3))
 
 
@@ -100,15 +123,18 @@ class QuinticStep:
         self._setup(float(t0), h, rows, _coefficient_matrix(h))
 
     @classmethod
-    def from_rows(cls, t0, h, rows, G):
+    def from_rows(cls, t0, h, rows, G, inputs_a=None):
         """The step from ``rows`` (6 x n: start u, v, a, end u, v, a) and ``G`` =
-        ``_coefficient_matrix(h)`` (no checks; for :class:`SupportReconstruction`)."""
+        ``_coefficient_matrix(h)`` (no checks; for :class:`SupportReconstruction`, which passes the
+        acceleration inputs ``inputs_a`` at t0 that the next step's jerk needs)."""
         self = cls.__new__(cls)
         self._setup(t0, h, rows, G)
+        self.inputs_a = inputs_a
         return self
 
     def _setup(self, t0, h, rows, G):
         self.t0, self.h = t0, h
+        self.rows, self.inputs_a = rows, None
         self.start, self.end = rows[:3], rows[3:]  # (3, n) each
         # (3, 6, n): the power-basis coefficients of u, v and a
         self._c = np.empty((3, 6, rows.shape[1]))
@@ -127,16 +153,22 @@ class QuinticStep:
 
 class SupportReconstruction:
     """Input reconstruction with memory: the support state (u, v, a) of every channel at the
-    engine's current time, and the motion of the next communication step.
+    engine's current time, the acceleration inputs of the last communication point and its time
+    (the jerk of the next target is their backward difference), and the motion of the next
+    communication step.
 
     >>> rec = SupportReconstruction(12)
     >>> motion = rec.motion(t0, h, u, v, a)      # inputs at t0 -> QuinticStep over [t0, t0 + h]
     >>> engine.advance(h, motion)
     >>> rec.accept(motion)                       # the supports are now at the step's end state
+
+    :attr:`state` (5 x n): rows u (m), v (m/s), a (m/s2) of the supports, then the last acceleration
+    inputs (m/s2) and their time (s, the same in every column; NaN before the first step).
     """
 
     def __init__(self, n):
-        self.state = np.zeros((3, int(n)))  # rows u (m), v (m/s), a (m/s2)
+        self.state = np.zeros((5, int(n)))
+        self.state[4] = np.nan
         self._h = None
         self._Gs = {}  # h -> G of the last few step sizes
 
@@ -166,18 +198,23 @@ class SupportReconstruction:
         u, v, a = (np.ascontiguousarray(x, dtype=float) for x in (u, v, a))
         if u.shape != (n,) or v.shape != (n,) or a.shape != (n,):  # (the kernel does not check bounds)
             raise ValueError(f"inputs of shapes {u.shape}, {v.shape}, {a.shape}: each must have shape ({n},)")
+        if self.state.shape != (5, n):
+            raise ValueError(f"state of shape {self.state.shape}: it must have shape (5, {n}) (see the class)")
         rows = np.empty((6, n))
-        K.taylor_rows(self.state, u, v, a, self._h, rows)
-        return QuinticStep.from_rows(float(t0), self._h, rows, self._G)
+        K.taylor_rows(self.state, u, v, a, float(t0), self._h, rows)
+        return QuinticStep.from_rows(float(t0), self._h, rows, self._G, a.copy())
 
     def accept(self, motion: QuinticStep) -> None:
-        """Advance the support state to the end of ``motion`` (after the engine took the step); in
-        place, so the array stays the one a caller holds."""
-        self.state[...] = motion.end
+        """Advance the support state to the end of ``motion`` (a step of :meth:`motion`, after the
+        engine took it) and remember its inputs; in place, so the array stays the one a caller holds."""
+        if motion.inputs_a is None:
+            raise ValueError("accept takes a step made by SupportReconstruction.motion (it carries the inputs)")
+        K.accept_rows(self.state, motion.rows, motion.inputs_a, motion.t0)
 
     def reset(self) -> None:
-        """Supports at rest at their reference position."""
+        """Supports at rest at their reference position, no inputs remembered."""
         self.state[:] = 0.0
+        self.state[4] = np.nan
 
 
 class GridMotion:

@@ -858,6 +858,8 @@ static void free_state(State *st) {
     free(st);
 }
 
+static fmi2Status query(Instance *inst, const char *method, fmi2Real *number, fmi2Boolean *truth);
+
 FMI2_Export fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
     ENTER(c);
     if (!FMUstate) return refuse(inst, "fmi2GetFMUstate with a NULL pointer");
@@ -895,7 +897,13 @@ FMI2_Export fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate FMUstate) {
     P.Py_IncRef(st->state);
     fmi2Status s = call(inst, "set_state", NULL, 1, st->state);
     P.PyGILState_Release(gil);
-    if (s <= fmi2Warning) inst->state = S_STEPPING;
+    if (s <= fmi2Warning) {   /* the phase the state was saved in (FMI 2.0, 2.1.8): the slave's */
+        fmi2Real phase = S_STEPPING;
+        if (query(inst, "phase", &phase, NULL) == fmi2OK && phase >= S_INSTANTIATED && phase <= S_TERMINATED)
+            inst->state = (int)phase;
+        else
+            inst->state = S_STEPPING;
+    }
     return s;
 }
 

@@ -510,6 +510,97 @@ def scenario_careless(job, table):
     return res
 
 
+def scenario_phases(job, table):
+    """FMU states saved before initialisation restore the phase they were saved in (FMI 2.0,
+    2.1.8), and a step shorter than the engine's resolution of time moves the FMU's clock."""
+    h, names, res = job["h"], job["outputs"], {}
+    # saved while instantiated (the experiment set up), restored after a step: the instance is
+    # instantiated again, so it sets up, initialises and steps as a new one, to the same outputs
+    inst = Instance(job["fmu"], name="phases", initialize=False)
+    inst.fmu.setupExperiment(startTime=0.0)
+    early = inst.fmu.getFMUstate()
+    inst.fmu.enterInitializationMode()
+    inst.fmu.exitInitializationMode()
+    res["first_step"] = np.array(inst.step(table[0], h))
+    res["first_out"] = inst.get(names)
+    res["restore_instantiated"] = np.array(Instance.call(inst.fmu.setFMUstate, early))
+    inst.t = 0.0
+    res["again"] = np.array(
+        [
+            Instance.call(inst.fmu.setupExperiment, None, 0.0, None),
+            Instance.call(inst.fmu.enterInitializationMode),
+            Instance.call(inst.fmu.exitInitializationMode),
+            inst.step(table[0], h),
+        ]
+    )
+    res["again_out"] = inst.get(names)
+    # saved in initialisation mode with a parameter set: restored after a step, it exits
+    # initialisation mode again (with that parameter) and steps
+    inst.fmu.reset()
+    inst.t = 0.0
+    inst.fmu.setupExperiment(startTime=0.0)
+    inst.fmu.enterInitializationMode()
+    inst.set({"contact.friction": 0.3})
+    in_init = inst.fmu.getFMUstate()
+    inst.fmu.exitInitializationMode()
+    inst.step(table[0], h)
+    res["restore_initialization"] = np.array(Instance.call(inst.fmu.setFMUstate, in_init))
+    inst.t = 0.0
+    res["init_again"] = np.array([Instance.call(inst.fmu.exitInitializationMode), inst.step(table[0], h)])
+    res["friction_after"] = np.array(inst.fmu.getReal([inst.var["contact.friction"].valueReference])[0])
+    # a step of 1e-15 s (below 1e-9 solver.dt): OK, the clock moves by it, the next step follows
+    from fmpy.fmi2 import fmi2LastSuccessfulTime
+
+    res["tiny"] = np.array(inst.step(table[1], 1e-15))
+    res["tiny_time"] = np.array(inst.fmu.getRealStatus(fmi2LastSuccessfulTime))
+    res["tiny_master"] = np.array(inst.t)
+    res["after_tiny"] = np.array(inst.step(table[1], h))
+    res["log"] = np.array(_log(inst.log) or [""])
+    inst.fmu.terminate()
+    inst.fmu.freeInstance()
+    return res
+
+
+def scenario_threads(job, table):
+    """Two instances started at once on two threads in a process that never loaded the FMU (the
+    per-user cache empty: the test sets XDG_CACHE_HOME), then a third after fmpy deleted their
+    unpack folders; and the process's own warnings still shown afterwards."""
+    import contextlib
+    import io
+    import threading
+    import warnings
+
+    from fmpy import simulate_fmu
+
+    results, errors = {}, {}
+    gate = threading.Barrier(2)
+
+    def one(name):
+        try:
+            gate.wait()
+            r = simulate_fmu(job["fmu"], stop_time=0.002, output_interval=1e-4, output=job["outputs"])
+            results[name] = np.column_stack([r[n] for n in job["outputs"]])
+        except Exception as exc:  # noqa: BLE001  (reported to the test)
+            errors[name] = repr(exc)
+
+    threads = [threading.Thread(target=one, args=(f"t{i}",)) for i in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    one_more = simulate_fmu(job["fmu"], stop_time=0.002, output_interval=1e-4, output=job["outputs"])
+    shown = io.StringIO()
+    with contextlib.redirect_stderr(shown):
+        warnings.warn("the host's own warning", UserWarning, stacklevel=1)
+    return dict(
+        errors=np.array(sorted(f"{k}: {v}" for k, v in errors.items()) or [""]),
+        t0=results.get("t0", np.zeros(0)),
+        t1=results.get("t1", np.zeros(0)),
+        after=np.column_stack([one_more[n] for n in job["outputs"]]),
+        host_warning=np.array(shown.getvalue()),
+    )
+
+
 def scenario_memory(job, table):
     """Resident memory over many steps of ever-changing size (a variable-step master)."""
     inst = Instance(job["fmu"], params={"contact.enabled": False})
@@ -600,6 +691,8 @@ SCENARIOS = {
     "libcosim": scenario_libcosim,
     "cache": scenario_cache,
     "careless": scenario_careless,
+    "phases": scenario_phases,
+    "threads": scenario_threads,
     "memory": scenario_memory,
     "model_file": scenario_model_file,
 }

@@ -143,13 +143,14 @@ def test_a_contact_run_does_not_depend_on_the_communication_step(fmu, tmp_path, 
     """The installed specimen's own scenario (13 closed contacts, the cable sliding through them
     with the 50 Hz drive) for 0.16 s, its inputs given to the FMU at the start of each communication
     step of H = 1e-4, 5e-5, 2e-5, 1e-5 s, against the engine driven by the exact motion: casing.B.Fz
-    on the 1e-4 s grid. The reconstruction's error is third order in H (docs/fmu.md, tested without
-    contact in test_fmu.py::test_any_communication_step); with the regularised friction the contacts
-    have no event that a rounding-level change of the motion could flip, so it shrinks with H here
-    too: measured 5.9e-4 of the force's RMS pointwise at H = 1e-4 (2.2e-4 in octaves 3-8 after
-    0.06 s), 4.4e-6 at 5e-5 and 0.8-1.6e-6 below, a floor of the rounding (bounds 2x; the switch
-    law's events left a floor of 1.7e-3 at every H). The FMU at H = 5e-5 is the core's path at that
-    step to the bit, so the core's path stands for the FMU at the others."""
+    on the 1e-4 s grid. The reconstruction's error shrinks with H (docs/fmu.md, tested without
+    contact in test_fmu.py::test_any_communication_step and test_support_motion.py); with the
+    regularised friction the contacts have no event that a rounding-level change of the motion
+    could flip, so it shrinks with H here too: measured 2.4e-5 of the force's RMS pointwise at
+    H = 1e-4 (4.3e-6 in octaves 3-8 after 0.06 s), 1.6e-6 (3.9e-7) at 5e-5 and 6e-8 (1.1e-7) at
+    2e-5 and 1e-5, a floor (bounds 2x; the switch law's events left a floor of 1.7e-3 at every H).
+    The FMU at H = 5e-5 is the core's path at that step to the bit, so the core's path stands for
+    the FMU at the others."""
     model = cc.load_model("installed")
     fz = OUTPUTS.index("casing.B.Fz")
     eng = Engine(model, ledger=False, record=True)
@@ -157,7 +158,7 @@ def test_a_contact_run_does_not_depend_on_the_communication_step(fmu, tmp_path, 
     ref = eng.history()["support_forces"][9::10, fz]
     rms = np.sqrt(np.mean((ref[600:] - ref[600:].mean()) ** 2))
     bands = lambda x: octave_rms(x[600:], 1e4, beyond_nyquist="drop").rms[2:]  # noqa: E731
-    bound = {1e-4: (1.2e-3, 4.5e-4), 5e-5: (9e-6, 9.5e-6), 2e-5: (3.2e-6, 4.7e-6), 1e-5: (3.2e-6, 4.7e-6)}
+    bound = {1e-4: (5e-5, 9e-6), 5e-5: (3.3e-6, 8e-7), 2e-5: (1.3e-7, 2.2e-7), 1e-5: (1.3e-7, 2.2e-7)}
     for h, (pointwise, banded) in bound.items():
         rows = table(model, 0.16, h)
         _, out = core(model, rows, h)

@@ -74,7 +74,7 @@ from ._contact_forces_with_active_set import contact_workspace, solve_contact_fo
 from ._contact_search_and_law import contact_law, contact_potential, search_node  # noqa: E402
 from ._hermite_interpolation import axis_at, element_dofs, hermite_matrix  # noqa: E402
 from ._newmark_step_loop_with_ledger import run_steps  # noqa: E402
-from ._quintic_support_motion import quintic_coefficients, quintic_values, taylor_rows  # noqa: E402
+from ._quintic_support_motion import accept_rows, quintic_coefficients, quintic_values, taylor_rows  # noqa: E402
 from ._static_contact import static_contact  # noqa: E402
 from ._step_loop_contract import (  # noqa: E402
     DIAG_ACTIVE_SET_PASSES,
@@ -178,6 +178,7 @@ __all__ = [
     "Recording",
     "StepScratch",
     "step_scratch",
+    "accept_rows",
     "axis_at",
     "block_solve",
     "contact_law",

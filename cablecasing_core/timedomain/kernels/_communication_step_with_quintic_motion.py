@@ -25,7 +25,7 @@ from numba.experimental import structref
 from ._compile_options import FM, NO_RT
 from ._contact_search_and_law import contact_potential
 from ._newmark_step_loop_with_ledger import run_steps
-from ._quintic_support_motion import quintic_coefficients, quintic_values, taylor_rows
+from ._quintic_support_motion import accept_rows, quintic_coefficients, quintic_values, taylor_rows
 from ._step_loop_contract import INFO_NEWTON_ITERATIONS, LEDGER_CONTACT_WORK
 
 
@@ -72,15 +72,16 @@ def communication_step(
 ):  # fmt: skip
     """Advance from ``t0`` by m = len(``times``) steps of ``dt`` (s), ``m dt`` = ``h``, with the support motion
     of the communication step ``[t0, t0 + h]``: the quintic Hermite (power-basis matrix ``G`` of
-    ``support_motion``) from ``state`` (3 x n: u, v, a of the n support channels at t0, the engine's
-    ``channels``: 12, and 3 per excited clip) to the Taylor target of the inputs ``u, v, a`` (n
+    ``support_motion``) from ``state`` (5 x n: u, v, a of the n support channels at t0, the engine's
+    ``channels``: 12, and 3 per excited clip, then the previous inputs' acceleration and time, as
+    :func:`taylor_rows` reads them) to the Taylor target of the inputs ``u, v, a`` (n
     each, m, m/s, m/s2), plus ``base`` (3 x m x n: u, v, a at the m step ends) when ``use_base``.
     ``rows`` (6 x n), ``coeffs`` (3 x 6 x n), ``times`` (m) and ``motion`` (3 x m x n) are scratch;
     ``out`` receives the outputs (``OUTPUTS``, then the casing's clip forces as far as it is long).
     ``fbuf`` and ``ibuf`` are the engine's state buffers, copied into ``snap_f`` and ``snap_i``
     first (the engine rolls back from them after a failed step); ``info``'s per-call slots are
     zeroed. Returns run_steps' status; only if it is OK are ``out`` written and ``state``
-    replaced by the supports' state at t0 + h (``rows[3:]``) (``pot0``: as :func:`step_outputs`).
+    replaced by the supports' state at t0 + h (:func:`accept_rows`) (``pot0``: as :func:`step_outputs`).
     Thirty arguments at most: a call with more is compiled as a call with a built tuple, whose
     every array numba reference-counts around the call (the package docstring)."""
     m = times.shape[0]
@@ -90,7 +91,7 @@ def communication_step(
         snap_i[i] = ibuf[i]
     for i in range(INFO_NEWTON_ITERATIONS):
         info[i] = 0.0
-    taylor_rows(state, u, v, a, h, rows)
+    taylor_rows(state, u, v, a, t0, h, rows)
     quintic_coefficients(G, rows, coeffs)
     for i in range(m):
         times[i] = t0 + dt * (i + 1)
@@ -105,9 +106,7 @@ def communication_step(
     if status == 0:  # OK: a failed step leaves out and state alone (the engine rolls the step back)
         step_outputs(reac, contact.state, contact.g, ledger, law.law, law.k_lin, law.k_hertz, pot0, out)
         clip_force_outputs(casing.mi, casing.mF, out, 27)  # (27 = len(OUTPUTS), step_outputs' share)
-        for r in range(state.shape[0]):
-            for j in range(state.shape[1]):
-                state[r, j] = rows[3 + r, j]
+        accept_rows(state, rows, a, t0)
     return status
 
 

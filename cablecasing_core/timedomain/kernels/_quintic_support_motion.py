@@ -1,7 +1,8 @@
 """The support motion inside a communication step (``timedomain.support_motion.QuinticStep``, used
-by the FMU): the Taylor target of the inputs, the quintic Hermite's power-basis coefficients and
-its values by Horner's scheme. The arithmetic is a few hundred operations; as numpy calls it cost
-~10 us per communication step in call overhead alone, as much as one Newmark step."""
+by the FMU): the Taylor target of the inputs and the state the next step starts from, the quintic
+Hermite's power-basis coefficients and its values by Horner's scheme. The arithmetic is a few
+hundred operations; as numpy calls it cost ~10 us per communication step in call overhead alone,
+as much as one Newmark step."""
 
 from __future__ import annotations
 
@@ -11,14 +12,32 @@ from ._compile_options import FM
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def taylor_rows(state, u, v, a, h, rows):
-    """rows (6 x n) = [state (u, v, a at the step start); u + v h + a h^2/2; v + a h; a]: the start
-    and the Taylor target at t + h of the inputs u (m), v (m/s), a (m/s2) given at t (h in s)."""
+def taylor_rows(state, u, v, a, t0, h, rows):
+    """rows (6 x n) = [state[:3] (u, v, a at the step start); the Taylor target at t0 + h of the
+    inputs u (m), v (m/s), a (m/s2) given at t0 (s), h in s]. The target is Taylor's to third
+    order, u + v h + a h^2/2 + j h^3/6, v + a h + j h^2/2, a + j h, with the jerk j (m/s3) the
+    backward difference of the acceleration inputs, (a - state[3]) / (t0 - state[4]): state[3] is
+    the acceleration input of the previous communication point and state[4] its time (NaN, or a
+    time not before t0: none, and j = 0)."""
+    dt_in = t0 - state[4, 0] if state.shape[1] else 0.0
+    has = dt_in > 0.0  # (False for NaN)
     for j in range(state.shape[1]):
         rows[0, j], rows[1, j], rows[2, j] = state[0, j], state[1, j], state[2, j]
-        rows[3, j] = u[j] + v[j] * h + (0.5 * h * h) * a[j]
-        rows[4, j] = v[j] + a[j] * h
-        rows[5, j] = a[j]
+        jerk = (a[j] - state[3, j]) / dt_in if has else 0.0
+        rows[3, j] = u[j] + v[j] * h + (0.5 * h * h) * a[j] + (h * h * h / 6.0) * jerk
+        rows[4, j] = v[j] + a[j] * h + (0.5 * h * h) * jerk
+        rows[5, j] = a[j] + jerk * h
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def accept_rows(state, rows, a, t0):
+    """The support state after a communication step from t0 (s) that took the motion of ``rows``
+    (:func:`taylor_rows`): state[:3] = its end (u, v, a), state[3] = the acceleration inputs a
+    (m/s2) and state[4] = t0, the memory the next step's jerk is taken from."""
+    for j in range(state.shape[1]):
+        state[0, j], state[1, j], state[2, j] = rows[3, j], rows[4, j], rows[5, j]
+        state[3, j] = a[j]
+        state[4, j] = t0
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
