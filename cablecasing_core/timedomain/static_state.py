@@ -22,6 +22,12 @@ enough away from g = 0, where its slope vanishes and the line search keeps a ste
 across. The loads are applied in steps of a load factor (continuation): a step that does not
 converge is halved. The result is an equilibrium of the time domain's own discrete equations, so a
 run that starts from it at rest stays there (to the solver's tolerance).
+
+The contact search keeps each node's casing element from one evaluation to the next (its guess):
+a trial point of the line search that is rejected, and a load step that fails, leave it as it was
+at the iterate they started from. The residual converges to the larger of a fraction of the loads
+and the rounding floor of K z and of the contact forces (a stiff contact's force is its slope times
+the rounding of the positions whose difference is its distance; see ``_Problem.tolerance``).
 """
 
 from __future__ import annotations
@@ -42,6 +48,10 @@ if TYPE_CHECKING:
 
 #: Newton's tolerance: |R|_inf below this fraction of the largest load or contact force (N)
 TOLERANCE = 1e-10
+#: the contact forces' rounding floor in units of eps |X| max dN/dg (``_Evaluator.rounding``): a few
+#: roundings of positions of size |X| in x - P; the stalls it ends sat at 0.02-0.2 of one unit, and
+#: the installed specimen's tolerance (1e-10 of its forces, 14 units) stays what decides there
+CONTACT_ROUNDING_ULPS = 4.0
 MAX_ITERATIONS = 60  # Newton iterations per load step
 MIN_LOAD_STEP = 1e-4  # the smallest load-factor step before the solve gives up
 
@@ -170,7 +180,7 @@ def solve_static(model: Model, systems: dict, contact: bool) -> StaticState:
     U = {n: np.zeros(systems[n].ndof) for n in names}
     ev = _Evaluator(model, systems, U, offs) if contact else _NoContact(o)
     problem = _Problem(Kz, fz, p, a, T, ev, _slope_floor(model, fz, T) if contact else 0.0)
-    z, sigma, iterations, steps, residual = _continuation(problem)
+    z, sigma, iterations, steps, residual = _continuation(problem, model.data["cable"]["d"] / 2 if contact else 0.0)
     _scatter(z, U, systems, offs)
     ev.evaluate(z)
     if T > 0.0:
@@ -283,6 +293,15 @@ class _NoContact:
     def potential(self):
         return 0.0
 
+    def rounding(self):
+        return 0.0
+
+    def search_state(self):
+        return None
+
+    def restore(self, state):
+        pass
+
     def tangent(self, J, k_min=0.0, fresh=None):
         return 0
 
@@ -303,6 +322,7 @@ class _Evaluator:
         self.law, self.k_lin, self.k_hertz = _law(model)
         nn = len(self.Xc)
         self.elem = np.clip(np.arange(nn) - 1, 0, len(self.Ls) - 1).astype(np.int64)
+        self.extent = max(np.abs(self.Xc).max(initial=0.0), np.abs(self.Xs).max(initial=0.0))  # m
         self.g, self.h, self.N, self.kn, self.xi = (np.zeros(nn) for _ in range(5))
         self.nrm = np.zeros((nn, 3))
         self.H = np.zeros((nn, 6, 12))
@@ -342,6 +362,25 @@ class _Evaluator:
     def potential(self):
         """Elastic energy in the contacts (J) at the last evaluated state (the time domain's)."""
         return K.contact_potential(self.g, self.law, self.k_lin, self.k_hertz)
+
+    def rounding(self):
+        """The rounding of the contact forces (N) at the last evaluated state: the largest slope
+        dN/dg times CONTACT_ROUNDING_ULPS eps |X| (|X| = ``extent``). A distance h = |x - P| is the
+        difference of positions of size ``extent`` (x = X + u, P a sum of Hermite terms of that
+        size), each rounded to eps/2 of it: h, and so N, cannot be resolved more finely (the
+        linear law at 1e7 N/m on a 0.83 m route: eps |X| k = 1.8e-9 N, against forces of 0.2 N)."""
+        return CONTACT_ROUNDING_ULPS * np.finfo(float).eps * self.extent * self.kn.max(initial=0.0)
+
+    def search_state(self):
+        """A copy of the search's guess (each node's casing element), for :meth:`restore`."""
+        return self.elem.copy()
+
+    def restore(self, state):
+        """Put back the guess of :meth:`search_state`: a rejected trial point must not leave the
+        search starting from an element it found there (a trial step can carry a node past the end
+        of the casing, or across several elements, where the search from the iterate's own element
+        would not go)."""
+        self.elem[:] = state
 
     def tangent(self, J, k_min=0.0, fresh=None):
         """Subtract the contact forces' derivative (N/m) at the last evaluated state from J (over
@@ -480,12 +519,15 @@ class _Problem:
     def tolerance(self, x, lam, tol):
         """|R|_inf (N) that counts as converged: ``tol`` times the force scale (the loads, the
         contact forces, the tension), and at least the rounding floor of K z, 64 eps (|K| |z|)_inf
-        (a stiff body's residual cannot be smaller)."""
+        (a stiff body's residual cannot be smaller), plus that of the contact forces
+        (:meth:`_Evaluator.rounding`: a stiff linear contact's, eps |X| k = 1.8e-9 N at 1e7 N/m, is far
+        above 1e-10 of loads of 0.2 N, where Newton used to cycle at |R| ~ 1e-10 N to its last
+        load step)."""
         z = x[:-1]
         fc = self.ev.evaluate(z)
         scale = max(np.abs(lam * self.f).max(initial=0.0), np.abs(fc).max(initial=0.0), lam * self.T, 1e-30)
         floor = 64.0 * np.finfo(float).eps * (np.abs(self.Kz) @ np.abs(z)).max(initial=0.0)
-        return max(tol * scale, floor)
+        return max(tol * scale, floor + self.ev.rounding())
 
 
 def _newton(problem, x, lam, tol):
@@ -494,43 +536,97 @@ def _newton(problem, x, lam, tol):
     linearised at each iterate), and along a Newton step the energy tells a step that pushes
     nodes deep into the wall from one that closes them, where |R| jumps either way. A step that
     lowers the energy too little is taken when it lowers |R| (the forces are the energy's gradient
-    only to first order). Returns (x, its, |R|_inf, converged)."""
+    only to first order). Every trial point is searched from the iterate's own casing elements (a
+    rejected one leaves no guess behind), and a Newton that fails leaves the search where it found
+    it. Returns (x, its, |R|_inf, converged, failure): failure, when not converged, the evidence for
+    the message of :func:`_continuation` (the tolerance, the nodes whose contact opened or closed in
+    the last SWITCH_WINDOW iterations, the largest penetration)."""
+    ev = problem.ev
+    start = ev.search_state()
     R, Pi = problem.residual(x, lam)
-    closed = problem.ev.closed
+    closed = ev.closed
     fresh = None  # the first iterate: every contact is new to this load step
+    switched = []  # per accepted iterate: the nodes whose contact opened or closed
     for it in range(1, MAX_ITERATIONS + 1):
         dx = problem.step(x, R, fresh)
         slope = problem.gradient(R) @ dx  # < 0: a descent direction
         alpha = 1.0
+        guess = ev.search_state()
         for _ in range(40):
             xt = x + alpha * dx
+            ev.restore(guess)
             Rt, Pt = problem.residual(xt, lam)
             if Pt <= Pi + 1e-4 * alpha * min(slope, 0.0) or np.linalg.norm(Rt) < 0.5 * np.linalg.norm(R):
                 break
             alpha *= 0.5
         else:  # no step lowers the energy or |R|: converged if |R| is at its rounding floor
+            ev.restore(guess)
             problem.residual(x, lam)  # (leaves the evaluator at x)
-            ok = np.abs(R).max() <= problem.tolerance(x, lam, tol)
-            return x, it, float(np.abs(R).max()), ok
+            limit = problem.tolerance(x, lam, tol)
+            ok = np.abs(R).max() <= limit
+            return x, it, float(np.abs(R).max()), ok, None if ok else _failure(ev, start, limit, switched)
         x, R, Pi = xt, Rt, Pt
-        now = problem.ev.closed
+        now = ev.closed
         fresh = None if now is None else (now & ~closed)
+        switched.append(np.zeros(0, np.int64) if now is None else np.flatnonzero(now != closed))
         closed = now
         if np.abs(R).max() <= problem.tolerance(x, lam, tol):
             problem.residual(x, lam)
-            return x, it, float(np.abs(R).max()), True
-    return x, MAX_ITERATIONS, float(np.abs(R).max()), False
+            return x, it, float(np.abs(R).max()), True, None
+    limit = problem.tolerance(x, lam, tol)
+    return x, MAX_ITERATIONS, float(np.abs(R).max()), False, _failure(ev, start, limit, switched)
 
 
-def _continuation(problem):
+SWITCH_WINDOW = 5  # the last Newton iterations whose contact changes name a failure's cause
+
+
+def _failure(ev, start, limit, switched):
+    """The evidence of a failed Newton (at its last evaluated state), and the search put back as
+    the Newton found it: {"tolerance": N, "switching": the nodes whose contact opened or closed in
+    the last SWITCH_WINDOW iterations, "penetration": the largest, m}."""
+    recent = switched[-SWITCH_WINDOW:]
+    nodes = np.unique(np.concatenate(recent)) if recent else np.zeros(0, np.int64)
+    pen = float(ev.g.max(initial=0.0)) if hasattr(ev, "g") else 0.0
+    ev.restore(start)
+    return {"tolerance": float(limit), "switching": nodes, "penetration": pen}
+
+
+def _cause(failure, residual, r_cable):
+    """Why the last Newton failed, for the SimulationError: from its evidence (:func:`_failure`)."""
+    head = f"|R| = {residual:.3g} N against a tolerance of {failure['tolerance']:.3g} N"
+    if r_cable > 0.0 and failure["penetration"] > r_cable:
+        return (
+            f"{head}; the contact is too soft for the loads: a penetration of {failure['penetration']:.3g} m "
+            f"exceeds the cable radius {r_cable:.3g} m"
+        )
+    nodes = failure["switching"]
+    if len(nodes):
+        shown = ", ".join(str(int(n)) for n in nodes[:8]) + (", ..." if len(nodes) > 8 else "")
+        return (
+            f"{head}; Newton cycles between sets of closed contacts (cable nodes {shown} opened or closed in its "
+            f"last {SWITCH_WINDOW} iterations)"
+        )
+    if residual <= 1e3 * failure["tolerance"]:
+        return (
+            f"{head}, the same contacts closed throughout: Newton stalled just above its tolerance (the "
+            "equilibrium's rounding larger than the tolerance allows for)"
+        )
+    return (
+        f"{head}, the same contacts closed throughout: no equilibrium near the last one (the tension close to "
+        "the casing's buckling load, or loads the supports and contacts cannot hold)"
+    )
+
+
+def _continuation(problem, r_cable=0.0):
     """Load stepping in the load factor lam from 0 to 1: Newton at each step from the last
-    converged state; a step that fails is halved. Returns (z, sigma, iterations, steps, |R|_inf)."""
+    converged state; a step that fails is halved. ``r_cable`` (m): the cable's radius, for the
+    message of a failure. Returns (z, sigma, iterations, steps, |R|_inf)."""
     x = np.zeros(len(problem.f) + 1)
     lam, step, total, steps = 0.0, 1.0, 0, 0
     residual = 0.0
     while lam < 1.0:
         target = min(1.0, lam + step)
-        xt, its, residual, ok = _newton(problem, x, target, TOLERANCE)
+        xt, its, residual, ok, failure = _newton(problem, x, target, TOLERANCE)
         total += its
         if ok:
             x, lam, steps = xt, target, steps + 1
@@ -540,7 +636,6 @@ def _continuation(problem):
             if step < MIN_LOAD_STEP:
                 raise SimulationError(
                     f"the static state did not converge: at load factor {lam:.4g} a step of {2 * step:.3g} "
-                    f"failed ({total} Newton iterations, |R| = {residual:.3g} N); the contact is too soft for the "
-                    "loads, or the tension close to the casing's buckling load"
+                    f"failed ({total} Newton iterations): {_cause(failure, residual, r_cable)}"
                 )
     return x[:-1], x[-1], total, steps, residual

@@ -115,26 +115,35 @@ def follow_cut(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e, xi):
     return ok and 0.0 < xi < 1.0, xi, px, py, pz
 
 
+#: the elements on either side of a node's last one that its contact search looks at (search_node)
+SEARCH_WINDOW = 2
+
+
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def search_node(x0, x1, x2, t0, t1, t2, Xs, Rs, Ls, Us, e_guess, far_below):
     """Contact search of one cable node (point x, unit tangent t, as scalars); see search_casing.
-    Returns (element, xi, far, p): p = (px, py, pz) the axis point at xi when refined (else NaN)."""
+    Returns (element, xi, far, p): p = (px, py, pz) the axis point at xi when refined (else NaN);
+    element -1 when the normal plane cuts no chord within SEARCH_WINDOW elements of e_guess.
+
+    Only the elements e_guess, +1, -1, +2, -2 are looked at, in that order: between two searches of
+    a node (a step of the time domain; an accepted iterate of the static Newton, whose rejected
+    trials do not move the guess) it moves along the casing by far less than an element, and the
+    normal planes leave no gap at an interior casing node (a plane near the vertex cuts one chord
+    or the other), so a plane that cuts none of them lies beyond an end of the casing: no contact.
+    A cut farther along the casing is on another part of it, not the node's own section (on a route
+    that comes back past its start, ~0.3 m away: it was read as a penetration of 0.28 m)."""
     ne = Ls.shape[0]
     best_e, best_xi, best_d = -1, np.nan, 1e300
     bx, by, bz = np.nan, np.nan, np.nan
-    for de in range(0, 2 * ne + 1):
+    for de in range(0, 2 * SEARCH_WINDOW + 1):
         off = (de + 1) // 2 * (1 if de % 2 == 1 else -1)
         e = e_guess + off
         if e < 0 or e >= ne:
-            if abs(off) > ne:
-                break
             continue
         den, xi, reach = _chord(x0, x1, x2, t0, t1, t2, Xs, Ls, Us, e)  # Eq. (39) on the chord
         if abs(den) < 1e-300:
             continue
         if xi < -1e-9 or xi > 1 + 1e-9:
-            if best_e >= 0 and abs(off) > 2:
-                break
             continue
         if reach < far_below:  # cheap exit: a node this far inside cannot touch (returned as far)
             return e, xi, True, np.nan, np.nan, np.nan
