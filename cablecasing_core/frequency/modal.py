@@ -4,7 +4,9 @@ The undamped eigenproblem K_ff phi = omega^2 M_ff phi on the free DOFs of Eq. (1
 with LAPACK (scipy.linalg.eigh; a body has a few hundred DOFs, where a dense solver is faster than
 a sparse iterative one and returns every mode). Modes are mass-normalised. K is the tangent
 stiffness K_E + K_G of a prestressed body (an installed model: the cable's tension stiffens it, the
-casing's compression softens it; structure/assembly.py).
+casing's compression softens it; structure/assembly.py), with the springs K6 of its isolators and
+clips. A frequency-dependent modulus E(f) or mount stiffness k_scale(f) makes K depend on the
+frequency: each mode then solves its own frequency (:func:`natural_frequencies`).
 """
 
 from __future__ import annotations
@@ -13,8 +15,10 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy.linalg import eigh
+from scipy.linalg import cholesky, eigh, eigvalsh, solve_triangular
+from scipy.optimize import brentq
 
+from ..errors import NOT_SHOWN, ModelError
 from ..model.limits import check_dense_eigenproblem
 from ..model.validators import Choice, integer
 from ..structure.assembly import assemble_body
@@ -49,60 +53,172 @@ def modal_basis(system: BodySystem) -> ModalBasis:
 def natural_frequencies(model: Model, body: str, count: int | None = None) -> np.ndarray:
     """Natural frequencies (Hz, ascending) of ``body`` ("casing" or "cable") with its supports.
 
-    With a frequency-dependent modulus E(f) each frequency solves f = f_ref sqrt(E(f) / E_ref)
-    (K scales with E), iterated to a relative change below 1e-12; for a prestressed body, whose
-    geometric stiffness does not scale with E, mode i solves f_i = i-th frequency of
-    (E(f_i) / E_ref K_E + K_G, M), iterated alike.
+    With a frequency-dependent stiffness, a modulus table E(f) (the dynamic modulus E_d(omega) of
+    the paper's complex modulus, Section 2, identified against frequency in Section 3.1, Figs. 8-9)
+    or a mount's table k_scale(f) (``structure/mount_element.py``), mode i solves its own fixed
+    point f_i = g_i(f_i), g_i(f) the i-th frequency of (K(f), M) on the free DOFs of Eq. (13) with
+
+        K(f) = E(f) / E_ref K_E + K_G + sum over the mounts of k_scale(f) K6
+
+    (K_E is linear in E, Eq. 6; the geometric stiffness K_G of a prestress and the mounts' springs
+    are not; k_scale = 1 for a mount without a table): the frequency at which the undamped TRFAM
+    (damping "none", which applies E(f) and k_scale(f) at each frequency) has its resonance. It is
+    solved by the secant method from the reference frequency (Brent's method on the bracket of the
+    tables' extreme values if the secant fails) until a step changes f_i by less than 1e-10 f_i, or
+    changes f_i^2 by less than the eigensolver's round-off (16 eps lambda_max); a ModelError naming
+    the table if it does not converge. Without a prestress or mounts K(f) = E(f) / E_ref K, so each
+    frequency is f_ref sqrt(E(f) / E_ref) (no eigenproblem per step). A constant modulus with mounts
+    without tables needs no iteration: those frequencies are the reference eigenproblem's.
     """
     return modes(model, body, count)[0]
 
 
 def modes(model: Model, body: str, count: int | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """(frequencies in Hz, mode shapes) of ``body``; shapes are (ndof, count) arrays over all DOFs
-    (zero at prescribed DOFs), mass-normalised for the reference modulus."""
+    """(frequencies in Hz, as :func:`natural_frequencies`, and mode shapes) of ``body``; shapes are
+    (ndof, count) arrays over all DOFs (zero at prescribed DOFs), the mass-normalised modes of the
+    reference stiffness (the reference modulus E_ref, the mounts' ``stiffness`` K6)."""
     Choice(*model.bodies)("body", body)
     if count is not None:
         integer("count", count, 1)
     basis = modal_basis(assemble_body(model, body))
-    spec = basis.system.spec
+    system = basis.system
+    spec = system.spec
     n = len(basis.lam) if count is None else min(count, len(basis.lam))
     f = basis.frequencies_hz[:n].copy()
-    if spec.frequency_dependent and basis.system.prestressed:
-        f = _prestressed_frequencies(basis.system, f)
-    elif spec.frequency_dependent:
-        f_ref = f.copy()
-        for _ in range(200):
-            f_new = f_ref * np.sqrt(spec.modulus(f) / spec.E_ref)
-            done = np.allclose(f_new, f, rtol=1e-12, atol=0.0)
-            f = f_new
-            if done:
-                break
-    shapes = np.zeros((basis.system.ndof, n))
-    shapes[basis.system.free] = basis.phi[:, :n]
+    tabled = any(m.table is not None for m in system.mounts)
+    if spec.frequency_dependent and not system.prestressed and not system.mounts:
+        f = _scaled_frequencies(system, f)
+    elif spec.frequency_dependent or tabled:
+        f = _own_frequencies(system, basis.lam, n)
+    shapes = np.zeros((system.ndof, n))
+    shapes[system.free] = basis.phi[:, :n]
     return f, shapes
 
 
-def _prestressed_frequencies(system, f):
-    """Frequencies (Hz) of a prestressed body with E(f): mode i at the modulus of its own frequency,
-    f_i = g_i(f_i), g_i(f) = the i-th frequency of (E(f)/E K_E + K_G, M), solved from the reference
-    ``f`` by the secant method on g_i(f) - f (|g_i'| is small, ~f E'/(2 E): a few eigenproblems per
-    mode instead of a fixed-point iteration's dozen), to a relative change below 1e-12."""
+#: Convergence of a mode's frequency: a step of the iteration changes f_i by less than RTOL f_i.
+RTOL = 1e-10
+#: The round-off of a computed eigenvalue, in units of eps lambda_max (steps within it have converged).
+ROUNDOFF = 16.0
+MAX_SECANT = 30
+MAX_BRENT = 200
+
+
+def _scaled_frequencies(system, f_ref):
+    """Frequencies (Hz) of a body whose whole stiffness is E(f) / E_ref K: f_i = f_ref,i sqrt(E(f_i) /
+    E_ref), a scalar equation per mode."""
     spec = system.spec
-    f = f.copy()
-    KE, KG, M = (system.blocks(A)[0] for A in (system.K_E, system.K_G, system.M))
+    E = np.asarray(spec.E, dtype=float)[:, 1]
+    bracket = np.sqrt(np.array([E.min(), E.max()]) / system.E)
+    out = np.empty_like(f_ref)
+    for i, fr in enumerate(f_ref):
+        g = lambda x, fr=fr: fr * np.sqrt(float(spec.modulus(x)) / system.E)  # noqa: E731
+        out[i] = _fixed_point(g, fr, lambda fr=fr: tuple(fr * bracket), 0.0, lambda i=i: _not_converged(system, i))
+    return out
 
-    def g(i, fi):
-        s = float(spec.modulus(fi)) / system.E
-        lam = eigh(s * KE + KG, M, eigvals_only=True)[i]  # (all: LAPACK's subset driver is slower here)
-        return np.sqrt(max(lam, 0.0)) / (2.0 * np.pi)
 
-    for i in range(len(f)):
-        x0, x1 = f[i], g(i, f[i])
-        r0 = x1 - x0
-        for _ in range(50):
-            if abs(x1 - x0) <= 1e-12 * abs(x1):
-                break
-            r1 = g(i, x1) - x1
-            x0, x1, r0 = x1, (x1 - r1 * (x1 - x0) / (r1 - r0)) if r1 != r0 else x1 + r1, r1
-        f[i] = x1
+def _own_frequencies(system, lam_ref, n):
+    """The first ``n`` frequencies (Hz) of a body with a prestress or mounts and a frequency table:
+    f_i = g_i(f_i), g_i(f) the i-th frequency of (K(f), M) (see :func:`natural_frequencies`), each
+    from its reference value sqrt(lam_ref[i]) / 2 pi. The eigenproblem is reduced once to standard
+    form with M's Cholesky factor L: L^-1 K(f) L^-T = sum_j c_j(f) A_j, A_j = L^-1 K_j L^-T."""
+    spec = system.spec
+    L = cholesky(system.M_blocks[0], lower=True)
+
+    def standard(A):
+        X = solve_triangular(L, solve_triangular(L, A, lower=True).T, lower=True)
+        return 0.5 * (X + X.T)
+
+    def springs(selected):  # the free-free block of the springs K6 of the mounts ``selected``
+        K6 = [mt.K6 if j in selected else np.zeros((6, 6)) for j, mt in enumerate(system.mounts)]
+        return system.blocks(system.augmented(np.zeros((system.ndof, system.ndof)), K6))[0]
+
+    tabled = [j for j, mt in enumerate(system.mounts) if mt.table is not None]
+    others = [j for j in range(len(system.mounts)) if j not in tabled]
+    A0 = standard(system.blocks(system.K_G)[0] + springs(others))  # the part that does not scale
+    parts = []  # (c_j(f), (min c_j, max c_j), A_j)
+    if spec.frequency_dependent:
+        E = np.asarray(spec.E, dtype=float)[:, 1] / system.E
+        A_E = standard(system.blocks(system.K_E)[0])
+        parts.append((lambda x: float(spec.modulus(x)) / system.E, (E.min(), E.max()), A_E))
+    else:
+        A0 += standard(system.blocks(system.K_E)[0])
+    for j in tabled:
+        t = system.mounts[j].table
+        scale = lambda x, t=t: float(np.interp(x, t[:, 0], t[:, 1]))  # noqa: E731 (as Mount.dynamic_stiffness)
+        parts.append((scale, (t[:, 1].min(), t[:, 1].max()), standard(springs([j]))))
+    c_max = max([1.0] + [hi for _, (_, hi), _ in parts])
+    tol_lam = ROUNDOFF * np.finfo(float).eps * max(lam_ref[-1], 0.0) * c_max
+
+    cache = {}  # scales -> every eigenvalue: the modes above the tables' last rows share one matrix
+
+    def frequency(i, c):  # the i-th frequency (Hz) at the scales c
+        key = tuple(c)
+        if key not in cache:
+            A = A0 + sum(cj * Aj for cj, (_, _, Aj) in zip(c, parts))
+            cache[key] = eigvalsh(A, check_finite=False)
+        return np.sqrt(max(cache[key][i], 0.0)) / (2.0 * np.pi)
+
+    f = np.sqrt(np.clip(lam_ref[:n], 0.0, None)) / (2.0 * np.pi)
+    for i in range(n):
+        f[i] = _fixed_point(
+            lambda x, i=i: frequency(i, [c(x) for c, _, _ in parts]),
+            f[i],
+            lambda i=i: tuple(frequency(i, [r[k] for _, r, _ in parts]) for k in (0, 1)),
+            tol_lam,
+            lambda i=i: _not_converged(system, i),
+        )
     return f
+
+
+def _fixed_point(g, x0, bracket, tol_lam, fail):
+    """The solution f >= 0 of f = g(f) near ``x0`` (Hz): the secant method on g(f) - f, or, when it
+    does not converge in MAX_SECANT steps, Brent's method on ``bracket()`` = (lo, hi), g's values at
+    the tables' extremes (g(f) lies between them for every f, as the scales multiply positive
+    semi-definite parts: so g(lo) >= lo and g(hi) <= hi). A step has converged when it changes f by
+    less than RTOL f or (2 pi f)^2 by less than ``tol_lam`` (the eigenvalue's round-off, rad^2/s^2).
+    ``fail()`` raises the error of a solution not found."""
+
+    def close(a, b):
+        return abs(a - b) <= RTOL * max(a, b) or (2.0 * np.pi) ** 2 * abs(a * a - b * b) <= tol_lam
+
+    x1 = g(x0)
+    if close(x0, x1):
+        return x1
+    r0 = x1 - x0
+    for _ in range(MAX_SECANT):
+        r1 = g(x1) - x1
+        x2 = x1 - r1 * (x1 - x0) / (r1 - r0) if r1 != r0 else x1 + r1
+        if not np.isfinite(x2) or x2 < 0.0:
+            break
+        x0, x1, r0 = x1, x2, r1
+        if close(x0, x1):
+            return x1
+    lo, hi = bracket()
+    h = lambda x: g(x) - x  # noqa: E731
+    if h(lo) <= 0.0:  # g(lo) >= lo but for round-off: lo is the solution
+        return lo
+    if h(hi) >= 0.0:
+        return hi
+    try:
+        root, res = brentq(h, lo, hi, xtol=1e-12, rtol=RTOL, maxiter=MAX_BRENT, full_output=True, disp=False)
+    except (ValueError, RuntimeError):
+        res = None
+    if res is None or not res.converged:
+        fail()
+    return root
+
+
+def _not_converged(system, i):
+    """Raise the ModelError of mode ``i`` (0-based) of ``system`` whose frequency was not found,
+    naming its frequency tables."""
+    keys = [f"{system.name}.E"] if system.spec.frequency_dependent else []
+    for mt in system.mounts:
+        if mt.table is not None:
+            where = f"isolator.{mt.support}" if mt.support else f"clip[{mt.label[4:]}]"
+            keys.append(f"{system.name}.{where}.table")
+    raise ModelError(
+        keys[0],
+        NOT_SHOWN,
+        f"mode {i + 1} of the {system.name}: no frequency f found at which the mode's frequency, with the "
+        f"frequency tables ({', '.join(keys)}) at f, is f (to a relative {RTOL:g}); make the tables less steep",
+    )
