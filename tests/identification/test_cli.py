@@ -44,6 +44,19 @@ def test_damping_end_to_end(tmp_path, capsys):
     np.testing.assert_allclose(zeta, ZETA, rtol=0.01)  # same accuracy as the API (1 %)
     data = tomllib.loads(toml.read_text())["casing"]
     assert data["alpha"] >= 0 and data["beta"] >= 0
+    # the written alpha, beta are the least-squares fit of Eq. (41) to the identified (f_n, zeta) it
+    # printed: numpy's lstsq on the Eq. (42) matrix, written out here. The printed zeta carry 4
+    # significant digits (+-0.5e-5), which moves (alpha, beta) by at most |A+| 0.5e-5 (3e-4 and 1.5e-3
+    # of them here; measured 1e-4 and 4e-4); the printed f_n's rounding (4e-6 relative) is far below
+    w = 2 * np.pi * np.array([float(r[3]) for r in rows])
+    A = np.column_stack([1 / (2 * w), w / 2])
+    c = np.linalg.lstsq(A, zeta, rcond=None)[0]
+    bound = 1.2 * np.abs(np.linalg.pinv(A)).sum(axis=1) * 0.5e-5
+    assert np.all(np.abs([data["alpha"], data["beta"]] - c) < bound), ([data["alpha"], data["beta"]], c, bound)
+    # and the printed Rayleigh column is Eq. (41) of the written factors (printed to 4 digits)
+    ray = np.array([float(line.split()[-1]) for line in out.splitlines() if "Rayleigh 0" in line])
+    assert len(ray) == len(rows) == 3
+    np.testing.assert_allclose(ray, data["alpha"] / (2 * w) + data["beta"] * w / 2, atol=0.5e-5 + 1e-12)
     assert png.stat().st_size > 10000
 
 

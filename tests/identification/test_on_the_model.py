@@ -106,5 +106,9 @@ def test_eta_against_two_zeta_as_in_table_1(straight_casing):
     w = 2 * np.pi * f
     zeta = ALPHA / (2 * w) + BETA * w / 2
     # a viscous mode's circle gives eta = 2 zeta exactly at resonance; off resonance the viscous
-    # damping force grows with frequency, so the angle-pair estimate differs by O(zeta) ~ 2 %
-    np.testing.assert_allclose(eta, 2 * zeta, rtol=0.05)
+    # damping force grows with frequency (c omega / k varies by +-zeta across the fitted window), but
+    # that first-order change cancels between the angle pairs below and above resonance: on a single
+    # viscous mode the estimate is 2 zeta (1 + 1.5 zeta^2) (measured for zeta = 0.005..0.04), <= 4e-4
+    # here (zeta <= 0.016); the other modes' residue adds the rest: measured 5.4e-4, 3e-5 and
+    # 1.1e-3 for the three modes, the same at half the frequency step. 3e-3 bounds it with margin.
+    np.testing.assert_allclose(eta, 2 * zeta, rtol=3e-3)

@@ -9,9 +9,31 @@ from cablecasing_core.identification import rayleigh_fit, rayleigh_matrix, rayle
 F = np.array([115.8, 182.0, 254.1, 410.0])
 
 
+def eq41(f_hz, alpha, beta):
+    """The paper's Eq. (41), written out: zeta_i = alpha / (2 omega_i) + beta omega_i / 2."""
+    w = 2 * np.pi * np.asarray(f_hz, float)
+    return alpha / (2 * w) + beta * w / 2
+
+
+def eq42(f_hz):
+    """The paper's Eq. (42) matrix, written out: rows [1 / (2 omega_i), omega_i / 2]."""
+    w = 2 * np.pi * np.asarray(f_hz, float)
+    return np.column_stack([1 / (2 * w), w / 2])
+
+
+def test_helpers_are_eqs_41_and_42():
+    # the module's helpers against the equations as printed (same arithmetic: rounding only, 1e-15)
+    for alpha, beta in ((35.0, 2.2e-5), (11.1, 4.23e-5), (0.0, 1e-4), (60.0, 0.0)):
+        np.testing.assert_allclose(rayleigh_zeta(F, alpha, beta), eq41(F, alpha, beta), rtol=1e-15)
+    np.testing.assert_allclose(rayleigh_matrix(F), eq42(F), rtol=1e-15)
+    # the paper's casing (alpha = 11.1 1/s, beta = 4.23e-5 s, Fig. 16a) at 115.8 Hz, by hand:
+    # omega = 727.593 1/s: 11.1 / (2 omega) + 4.23e-5 omega / 2 = 0.0076279 + 0.0153886 = 0.0230165
+    assert rayleigh_zeta([115.8], 11.1, 4.23e-5)[0] == pytest.approx(0.0230165, abs=1e-7)
+
+
 def test_exact_rayleigh_data_recovered():
     alpha, beta = 35.0, 2.2e-5
-    fit = rayleigh_fit(F, rayleigh_zeta(F, alpha, beta))
+    fit = rayleigh_fit(F, eq41(F, alpha, beta))
     # exactly Rayleigh data: the solution is exact up to rounding (condition number ~1e1 after scaling)
     assert fit.alpha == pytest.approx(alpha, rel=1e-12)
     assert fit.beta == pytest.approx(beta, rel=1e-12)
@@ -21,7 +43,7 @@ def test_exact_rayleigh_data_recovered():
 def test_least_squares_matches_lstsq_and_normal_equations():
     zeta = np.array([0.0359, 0.0263, 0.0216, 0.0190])
     fit = rayleigh_fit(F, zeta)
-    A = rayleigh_matrix(F)
+    A = eq42(F)
     c_lstsq = np.linalg.lstsq(A, zeta, rcond=None)[0]
     c_pinv = np.linalg.solve(A.T @ A, A.T @ zeta)  # Eq. (44) literally
     # same minimiser; 1e-9 allows for the conditioning of the unscaled normal equations
@@ -42,7 +64,7 @@ def test_table1_values_and_nonnegative_option():
     nn = rayleigh_fit(F, zeta_fast, nonnegative=True)
     assert nn.beta == 0.0 and nn.alpha > 0
     # with beta = 0 the best alpha is the 1-D least squares a = <A1, z> / <A1, A1>
-    a1 = rayleigh_matrix(F)[:, 0]
+    a1 = 1 / (4 * np.pi * F)  # Eq. (42)'s first column, 1 / (2 omega)
     assert nn.alpha == pytest.approx(a1 @ zeta_fast / (a1 @ a1), rel=1e-12)
 
 
@@ -50,7 +72,7 @@ def test_weights():
     zeta = np.array([0.0359, 0.0263, 0.0216, 0.0190])
     w = np.array([1.0, 2.0, 3.0, 0.5])
     fit = rayleigh_fit(F, zeta, weights=w)
-    c = np.linalg.lstsq(rayleigh_matrix(F) * w[:, None], zeta * w, rcond=None)[0]
+    c = np.linalg.lstsq(eq42(F) * w[:, None], zeta * w, rcond=None)[0]
     np.testing.assert_allclose([fit.alpha, fit.beta], c, rtol=1e-9)
 
 

@@ -30,18 +30,21 @@ def test_harmonic_response_matches_trfam(d):
     m = cc.load_model().with_overrides({"casing.alpha": 60.0, "contact.enabled": False})
     f0, amp, dt = 63.0, 1e-5, 1e-5
     eng = Engine(m, dt=dt, contact=False, record=True, ledger=False)
-    eng.advance(0.4, harmonic(f"casing.A.{d}", amp, f0))
+    eng.advance(0.5, harmonic(f"casing.A.{d}", amp, f0))
     F = eng.history()["support_forces"][:, 6 + "xyz".index(d)]  # casing.B.F<d>
     t = dt * np.arange(1, len(F) + 1)
-    last = t > 0.3  # transients decayed (e^-8)
+    last = t > 0.4  # transients decayed: alpha = 60 1/s damps every mode as e^(-alpha t / 2), e^-12 = 6e-6
     w = 2 * np.pi * f0
     X = np.column_stack([np.sin(w * t[last]), np.cos(w * t[last])])
     c = np.linalg.lstsq(X, F[last], rcond=None)[0]
     measured = c[0] + 1j * c[1]  # F = Im(measured e^{iwt})
     H = cc.trfam(m, f"casing.A.{d}", f"casing.B.{d}", [f0], "viscous")[0]
     expected = -H * (-(w**2) * amp)  # body-on-support = -reaction
-    # Newmark phase error (w dt)^2/12 ~ 1e-5 and the residual transient are far below the 1% bound
-    assert abs(measured / expected - 1) < 0.01
+    # what is left is Newmark's frequency warping: it responds as the continuous system at
+    # w' = (2/dt) tan(w dt/2), 1.3e-6 above w, which the slope of H turns into 4.5e-6 (y), 1.3e-5 (z)
+    # (H(w')/H(w) - 1; measured 4.1e-6, 1.2e-5); 5e-5 bounds it, and reactions without the alpha M v
+    # term miss by 2.5e-4 (y), 4.8e-4 (z)
+    assert abs(measured / expected - 1) < 5e-5
 
 
 def test_newmark_period_elongation(straight):
@@ -67,22 +70,34 @@ def test_newmark_period_elongation(straight):
 
 
 def test_energy_conserved_without_dissipation(pair_model, kick):
+    """Kinetic + strain + contact energy stays what the kick gave, sampled every 10 steps over 0.5 s
+    (65 impacts), the samples in contact included: there the contact holds up to 10 % of the energy,
+    so a contact energy that is not the integral of the contact force would show."""
     m = pair_model()
-    dt = 5e-6
-    eng = Engine(m, dt=dt, contact=True, ledger=True, record=True)
+    dt = 2.5e-6
+    eng = Engine(m, dt=dt, contact=True, ledger=True)
     kick(eng, 0.3)
     E0 = sum(eng.energies()[k] for k in ("kinetic", "strain", "contact_potential"))
-    Es = []
-    for _ in range(10):
-        eng.advance(dt * 10_000, zero_motion)
+    E, pot = [], []
+    for _ in range(20_000):
+        eng.advance(dt * 10, zero_motion)
         e = eng.energies()
-        Es.append(e["kinetic"] + e["strain"] + e["contact_potential"])
-    hist = eng.history()
-    assert (hist["contact_state"] != K.OPEN).any(), "the kick must bring the cable into contact"
-    assert len(hist["penetration"]) == 100_000
+        E.append((e["kinetic"] + e["strain"] + e["contact_potential"]) / E0)
+        pot.append(e["contact_potential"] / E0)
+    E, pot = np.array(E), np.array(pot)
+    on = pot > 0
+    assert on.sum() > 100, "the kick must bring the cable into contact"  # (217 samples)
     # Newmark conserves a linear system's energy exactly; the penalty contact adds an O(dt^2) error per
-    # impact (measured: 2.6 %, 0.9 %, 0.12 % at dt = 20, 10, 5 us), so 5 us keeps it under the 0.5 % bound
-    assert np.max(np.abs(np.array(Es) / E0 - 1)) < 5e-3
+    # impact, a drift over the impacts (measured: 0.39 %, 0.14 % at dt = 5, 2.5 us): 0.3 % at 2.5 us
+    assert np.max(np.abs(E - 1)) < 3e-3
+    # within a contact episode the energy stays what it was before it, while the contact holds a share:
+    # against the last sample out of contact before it, in the samples where the contact holds > 2 %
+    # (measured: 4.5e-4 at most, 1.3e-3 at 5 us); a contact energy off by a quarter (0.5 for Hertz's
+    # 2/5) would move these by 0.25 x 2 % = 5e-3 or more
+    before = np.maximum.accumulate(np.where(~on, np.arange(len(on)), -1))
+    deep = on & (pot > 0.02) & (before >= 0)
+    assert deep.sum() >= 20  # (40)
+    assert np.max(np.abs(E[deep] - E[before[deep]])) < 1.5e-3
 
 
 def test_ledger_closes_with_damping_and_friction(pair_model, kick):
@@ -93,8 +108,14 @@ def test_ledger_closes_with_damping_and_friction(pair_model, kick):
     E0 = e0["kinetic"] + e0["strain"]
     eng.advance(0.5, zero_motion)
     e = eng.energies()
-    assert (eng.history()["normal_force"] >= 0).all()  # never adhesive (Eq. 16)
+    # (the contact force's sign, no pull while the gap opens: test_contact_law_impact.py, the linear
+    # law with its damper; the recorded normal force holds only contacts that push, so N >= 0 here
+    # could not fail)
     assert e["contact_dissipation"] > 0 and e["rayleigh_dissipation"] > 0
+    # the contact dissipation is defined as what balances the contact forces' work against the stored
+    # contact energy, so this residual cannot see an error of the contact law or of its dissipated
+    # parts: those are checked against independent solutions in test_friction.py (friction power =
+    # mu N |v_rel|) and test_contact_law_impact.py (the damper's loss against solve_ivp)
     assert abs(e["residual"]) < 0.01 * E0  # the ledger closes within 1%
     # the two parts, integrated from their powers, add up to the work-based contact dissipation
     # (trapezoidal rule on impacts resolved by a few steps: a few per cent)
