@@ -71,32 +71,46 @@ def cmd_damping(args):
         from ..identification import parameters_toml, rayleigh_fit, read_time_record_from, wavelet_damping
         from ..model.validators import integer, number
 
+        number("gamma", args.gamma, gt=0, le=1e3)  # (the option's range before any work on the record)
         x, fs, name, t_start = read_time_record_from(args.file, args.channel)
         freqs = args.freqs if args.freqs else _spectrum_peaks(x, fs, integer("--count", args.count, 1))
-        t_max = None
-        if args.t_max is not None:  # (on the file's time axis; the fit's times count from its first sample)
+        if args.t_max is not None:  # (on the file's time axis, as the fit's times)
             number("--t-max", args.t_max, gt=t_start, unit="s")
-            t_max = args.t_max - t_start
-        res = wavelet_damping(
-            x,
-            fs,
-            freqs,
-            gamma=args.gamma,
-            edge_factor=args.edge_factor,
-            search=args.search,
-            noise_floor=args.noise_floor,
-            t_max=t_max,
-        )
+        try:
+            res = wavelet_damping(
+                x,
+                fs,
+                freqs,
+                gamma=args.gamma,
+                edge_factor=args.edge_factor,
+                search=args.search,
+                noise_floor=args.noise_floor,
+                t_max=args.t_max,
+                t0=t_start,
+                window_tau=args.window_tau,
+            )
+        except ModelError as exc:
+            if args.freqs or exc.key != "freqs_hz":
+                raise
+            found = ", ".join(f"{v:.6g}" for v in freqs)
+            raise ModelError(
+                exc.key,
+                exc.value,
+                f"{exc.allowed} (the frequencies were the amplitude spectrum's {len(freqs)} most prominent peaks, "
+                f"{found} Hz, not given: on a noisy record these may be noise; give --freqs)",
+            ) from None
+        pre = " (a pre-trigger: the impulse at t = 0)" if t_start < 0 else ""
+        win = "" if args.window_tau is None else f"; exponential window tau = {args.window_tau:g} s taken off"
         print(
-            f"# {args.file} ({name}): {x.size} samples at {fs:g} Hz from t = {t_start:g} s; Morlet gamma = "
-            f"{args.gamma:g}; the fit's times on the file's time axis"
+            f"# {args.file} ({name}): {x.size} samples at {fs:g} Hz from t = {t_start:g} s{pre}; Morlet gamma = "
+            f"{args.gamma:g}; the fit's times on the file's time axis{win}"
         )
         print(
             f"{'mode':>4} {'f_req_Hz':>10} {'f_ridge_Hz':>11} {'f_n_Hz':>10} {'zeta':>9} {'fit_from_s':>10} "
             f"{'fit_to_s':>9}"
         )
         for i, r in enumerate(res, 1):
-            t0, t1 = (t_start + t for t in r.t_fit)
+            t0, t1 = r.t_fit
             print(
                 f"{i:>4} {r.f_requested_hz:>10.3f} {r.f_ridge_hz:>11.3f} {r.f_natural_hz:>10.3f} "
                 f"{r.zeta:>9.5f} {t0:>10.4f} {t1:>9.4f}"
@@ -130,20 +144,31 @@ def cmd_damping(args):
 def cmd_loss_factor(args):
     try:
         _check_outputs(args)
-        from ..identification import loss_factor_circle, parameters_toml, read_frf
+        from ..identification import loss_factor_circle, parameters_toml, read_frf_kind
         from ..model.validators import integer
 
-        f, H = read_frf(args.file, args.channel)
+        f, H, declared = read_frf_kind(args.file, args.channel)
+        if args.kind is not None and declared is not None and args.kind != declared:
+            raise ModelError(
+                "--kind",
+                args.kind,
+                f"the header of {args.file} declares the FRF as {declared!r}: give --kind {declared} or leave "
+                "--kind out (the header's kind is taken)",
+            )
+        kind = args.kind or declared or "apparent_mass"
+        source = "given" if args.kind else ("from the file's header" if declared else "default")
         res = loss_factor_circle(
             f,
             H,
             args.freqs,
-            kind=args.kind,
+            kind=kind,
             count=None if args.count is None else integer("--count", args.count, 1),
             bandwidths=args.bandwidths,
             correct_neighbours=not args.no_correction,
+            window_tau=args.window_tau,
         )
-        print(f"# {args.file}: {f.size} points, {f[0]:g}..{f[-1]:g} Hz, kind {args.kind}")
+        win = "" if args.window_tau is None else f"; exponential window tau = {args.window_tau:g} s taken off"
+        print(f"# {args.file}: {f.size} points, {f[0]:g}..{f[-1]:g} Hz, kind {kind} ({source}){win}")
         print(
             f"{'mode':>4} {'f_r_Hz':>10} {'eta':>9} {'eta/2':>9} {'diag_spread':>11} {'circle_rms/R':>12} {'points':>6}"
         )
@@ -163,7 +188,7 @@ def cmd_loss_factor(args):
 def _read_measured(path, modes_arg, channel):
     """(frequencies Hz, mode numbers) from a CSV table ``mode,f_hz`` or from the peaks of an FRF file."""
     from ..identification.circlefit import find_resonances
-    from ..identification.uff_io import is_uff, read_frf
+    from ..identification.uff_io import is_uff, read_frf_kind
 
     if not is_uff(path):
         from ..files import read_csv_table
@@ -180,8 +205,9 @@ def _read_measured(path, modes_arg, channel):
             return data[:, fcol], modes.astype(int)
     if not modes_arg:
         raise ModelError("--modes", None, "an FRF file needs the mode number of each resonance (--modes 1 2 ...)")
-    f, H = read_frf(path, channel)
-    return find_resonances(f, H, count=len(modes_arg)), np.asarray(modes_arg, dtype=int)
+    f, H, declared = read_frf_kind(path, channel)
+    kind = declared or "displacement"  # (the peaks of |H| in displacement form; a CSV's |H| as it is)
+    return find_resonances(f, H, count=len(modes_arg), kind=kind), np.asarray(modes_arg, dtype=int)
 
 
 def cmd_modulus(args):
@@ -233,6 +259,12 @@ def add_parser(subparsers):
         "--noise-floor", type=float, default=None, help="|W| noise level (signal unit); default from the tail"
     )
     d.add_argument("--t-max", type=float, default=None, help="latest time used in the fit (s)")
+    d.add_argument(
+        "--window-tau",
+        type=float,
+        default=None,
+        help="time constant (s) of an exponential window applied to the record; its decay 1/tau is taken off",
+    )
     d.add_argument("--nonnegative", action="store_true", help="constrain alpha, beta >= 0")
     d.add_argument("--body", choices=["casing", "cable"], default="casing", help="TOML section")
     d.add_argument("--plot", help="PNG: record, scalogram and ridges (Figs. 10-11)")
@@ -246,9 +278,16 @@ def add_parser(subparsers):
     lf.add_argument("--count", type=int, default=None, help="number of peaks when --freqs is not given")
     lf.add_argument(
         "--kind",
-        default="apparent_mass",
+        default=None,
         choices=["displacement", "velocity", "acceleration", "apparent_mass"],
-        help="FRF type (the paper's TRFAM is apparent_mass, kg)",
+        help="FRF type (the paper's TRFAM is apparent_mass, kg); default: the UFF header's, else apparent_mass; "
+        "a kind that contradicts the header is refused",
+    )
+    lf.add_argument(
+        "--window-tau",
+        type=float,
+        default=None,
+        help="time constant (s) of an exponential window applied to the response; its damping is taken off",
     )
     lf.add_argument("--bandwidths", type=float, default=2.0, help="window half-width in half-power bandwidths")
     lf.add_argument("--no-correction", action="store_true", help="skip the neighbouring-mode correction")

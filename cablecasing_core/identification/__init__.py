@@ -21,9 +21,11 @@ from .params_toml import loss_factor_table, parameters_toml
 from .rayleigh import RayleighFit, rayleigh_fit, rayleigh_matrix, rayleigh_zeta
 from .uff_io import (
     Record,
+    frf_kind,
     read_csv_frf,
     read_csv_time,
     read_frf,
+    read_frf_kind,
     read_time_record,
     read_time_record_from,
     read_uff,
@@ -60,7 +62,9 @@ __all__ = [
     "rayleigh_zeta",
     "read_csv_frf",
     "read_csv_time",
+    "frf_kind",
     "read_frf",
+    "read_frf_kind",
     "read_time_record",
     "read_time_record_from",
     "read_uff",

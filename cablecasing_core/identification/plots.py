@@ -28,7 +28,7 @@ def plot_ridges(results, path, x=None, fs=None):
     fig, axes = plt.subplots(n + (2 if top else 0), 1, figsize=(7, 2.3 * (n + (2 if top else 0))), squeeze=False)
     axes = axes[:, 0]
     if top:
-        t = np.arange(len(x)) / fs
+        t = results[0].t if len(results[0].t) == len(x) else np.arange(len(x)) / fs  # (the record's time axis)
         axes[0].plot(t, x, "k-", lw=0.7)
         axes[0].set_xlabel("time (s)")
         axes[0].set_ylabel("response")
@@ -50,7 +50,7 @@ def plot_ridges(results, path, x=None, fs=None):
         ax.plot(r.t[r.fit_mask], r.log_w[r.fit_mask], "b-", lw=1.2, label="fitted part")
         tf = np.array(r.t_fit)
         ax.plot(tf, r.intercept + r.slope * tf, "r--", lw=1.2, label=f"slope {r.slope:.4g} 1/s, zeta = {r.zeta:.4g}")
-        ax.axvspan(r.t[0], r.edge_s, color="0.9")
+        ax.axvspan(r.t[0], r.valid_from_s, color="0.9")
         ax.axvspan(r.t[-1] - r.edge_s, r.t[-1], color="0.9")
         if r.noise_floor > 0:
             ax.axhline(np.log(r.noise_floor), color="0.4", ls=":", lw=0.8, label="noise floor")

@@ -29,10 +29,12 @@ UFF_EXTENSIONS = (".uff", ".unv", ".uf")
 
 @dataclass(frozen=True)
 class Record:
-    """One function read from a file: ``kind`` ("time" or "frf"), abscissa ``x`` (s or Hz),
-    ``data`` (real for time, complex for an FRF), ``name``, the UFF node/direction fields, and the
-    ordinate's unit label and UFF data type (0 unknown, 8 displacement, 9 reaction force, 11
-    velocity, 12 acceleration, 13 excitation force; for an FRF also those of its denominator)."""
+    """One function read from a file: ``kind`` ("time" for UFF function type 1, "frf" for type 4,
+    "other" for the rest: coherence, spectra, ...), abscissa ``x`` (s or Hz, converted from the
+    header's abscissa unit, whose label is kept in ``abscissa_unit``), ``data`` (real for time,
+    complex for an FRF), ``name``, the UFF node/direction fields, the ordinate's unit label and UFF
+    data type (0 unknown, 8 displacement, 9 reaction force, 11 velocity, 12 acceleration, 13
+    excitation force; for an FRF also those of its denominator) and the UFF function type."""
 
     kind: str
     x: np.ndarray
@@ -46,6 +48,8 @@ class Record:
     data_type: int = 0
     denominator_unit: str = ""
     denominator_type: int = 0
+    func_type: int = 0
+    abscissa_unit: str = ""
 
     @property
     def fs(self):
@@ -156,7 +160,11 @@ def read_uff(path):
         m = _TAG.search(str(s.get("id4", "")))
         if m and int(s.get("abscissa_spacing", 0)) == 1:
             x = float(m.group(1)) + np.arange(x.size) * float(m.group(2))
-        kind = "time" if int(s["func_type"]) == 1 else "frf"
+        func_type = int(s.get("func_type", 0))
+        kind = {1: "time", 4: "frf"}.get(func_type, "other")
+        abscissa_unit = _label(s, "abscissa_axis_units_lab")
+        if kind != "other":
+            x = x * _abscissa_scale(path, str(s.get("id1", "")).strip(), kind, abscissa_unit)
         data = np.asarray(s["data"])
         data = data.real.astype(float) if kind == "time" and not np.iscomplexobj(data) else data
         out.append(
@@ -173,9 +181,73 @@ def read_uff(path):
                 int(s.get("ordinate_spec_data_type", 0)),
                 _label(s, "orddenom_axis_units_lab"),
                 int(s.get("orddenom_spec_data_type", 0)),
+                func_type,
+                abscissa_unit,
             )
         )
     return out
+
+
+#: Abscissa unit labels of UFF 58 headers (lower case, spaces removed) and their factor to s or Hz.
+_TIME_UNITS = {"": 1.0, "s": 1.0, "sec": 1.0, "second": 1.0, "seconds": 1.0, "ms": 1e-3, "msec": 1e-3}
+_FREQ_UNITS = {
+    "": 1.0,
+    "hz": 1.0,
+    "1/s": 1.0,
+    "cps": 1.0,
+    "khz": 1e3,
+    "rad/s": 1.0 / (2.0 * np.pi),
+    "rad/sec": 1.0 / (2.0 * np.pi),
+    "rads/s": 1.0 / (2.0 * np.pi),
+    "r/s": 1.0 / (2.0 * np.pi),
+    "rpm": 1.0 / 60.0,
+    "cpm": 1.0 / 60.0,
+    "1/min": 1.0 / 60.0,
+}
+
+#: FRF kind (circlefit.FRF_KINDS) from the UFF 58 data types of ordinate (numerator) and denominator:
+#: 8 displacement, 9 reaction force, 11 velocity, 12 acceleration, 13 excitation force.
+_FORCE = (9, 13)
+
+
+def _abscissa_scale(path, name, kind, label):
+    """Factor from the header's abscissa unit to s (time) or Hz (FRF); a ModelError for a unit it does not know."""
+    table = _TIME_UNITS if kind == "time" else _FREQ_UNITS
+    key = label.lower().replace(" ", "")
+    if key not in table:
+        allowed = ", ".join(repr(k) for k in table if k)
+        raise ModelError(
+            "file",
+            f"{path} ({name or kind})",
+            f"its abscissa unit {label!r} is not one this reader converts; a "
+            f"{'time record' if kind == 'time' else 'FRF'} needs one of {allowed} "
+            f"(or none: {'s' if kind == 'time' else 'Hz'})",
+        )
+    return table[key]
+
+
+def frf_kind(record):
+    """The FRF kind (see ``circlefit.FRF_KINDS``) a UFF record's header declares, from its ordinate
+    and denominator data types; None when they do not say (a type 0), a ModelError for a ratio
+    the circle fit does not take (F/v, a/a, ...)."""
+    num, den = int(record.data_type), int(record.denominator_type)
+    if num == 0 or den == 0:
+        return None
+    if den in _FORCE:
+        kind = {8: "displacement", 11: "velocity", 12: "acceleration"}.get(num)
+    elif num in _FORCE:
+        kind = {12: "apparent_mass", 8: "displacement"}.get(den)  # (F/x, dynamic stiffness: as it is)
+    else:
+        kind = None
+    if kind is None:
+        names = {8: "displacement", 9: "reaction force", 11: "velocity", 12: "acceleration", 13: "excitation force"}
+        raise ModelError(
+            "file",
+            f"{record.name or 'FRF'}: {names.get(num, f'type {num}')} / {names.get(den, f'type {den}')}",
+            "the header declares an FRF the circle fit does not take; it needs x/F (receptance), v/F "
+            "(mobility), a/F (accelerance), F/a (apparent mass) or F/x (dynamic stiffness)",
+        )
+    return kind
 
 
 def _label(dataset, key):
@@ -236,7 +308,52 @@ def _csv_time_from(path, channel=None):
         j = int(channel)
         if not 0 <= j < len(cols):
             raise ModelError("channel", channel, f"must be 0..{len(cols) - 1} or a column name")
-    return rec.columns[cols[j]], rec.fs, cols[j], float(rec.time[0])
+    return rec.columns[cols[j]], _record_fs(path, rec), cols[j], float(rec.time[0])
+
+
+_NUMBER = re.compile(r"^[+-]?(\d*)(?:\.(\d*))?(?:[eE]([+-]?\d+))?$")
+
+
+def _record_fs(path, rec):
+    """Sampling rate (Hz) of a record; a text file's time column printed with few digits (an
+    analyser's ``%.6g``: at 2048 Hz the steps then differ by up to 1e-2 of themselves) is accepted
+    when every time lies on the uniform grid through the first and last time to within half its last
+    printed digit (plus the rounding of those two), and that digit resolves the step to 10 % (median
+    over the rows); the rate is then the least-squares slope's."""
+    try:
+        return rec.fs
+    except ModelError:
+        if os.path.splitext(str(path))[1].lower() not in (".csv", ".txt"):
+            raise
+    t = np.asarray(rec.time, dtype=float)
+    q = []  # the last printed digit of each time (s)
+    with open(path, encoding="utf-8", errors="replace") as fh:
+        for line in fh:
+            m = _NUMBER.match(line.split(",")[0].strip())
+            if m and (m.group(1) or m.group(2)):
+                # (a whole number, "0" or "2", says nothing of the digits kept: the column's median is taken)
+                whole = m.group(2) is None and m.group(3) is None
+                q.append(np.nan if whole else 10.0 ** (int(m.group(3) or 0) - len(m.group(2) or "")))
+    k = np.arange(t.size)
+    ok = len(q) == t.size > 2 and not np.all(np.isnan(q))
+    q = np.asarray(q) if ok else np.ones(t.size)
+    q = np.where(np.isnan(q), np.nanmedian(q), q)
+    # the grid through the first and last time: each time within half its last digit, plus the ends' own rounding
+    step = (t[-1] - t[0]) / (t.size - 1) if t.size > 1 else 0.0
+    resid = np.abs(t - (t[0] + step * k))
+    worst = float(resid.max()) if t.size else np.inf
+    quantum = float(np.median(q))
+    allowed = 0.5 * (q + q[0] + q[-1]) * (1 + 1e-6) + 1e-12 * np.abs(t).max()
+    if ok and step > 0 and quantum <= 0.1 * step and np.all(resid <= allowed):
+        return 1.0 / float(np.polyfit(k, t, 1)[0])  # (least squares: the rounding averages out)
+    raise ModelError(
+        "file",
+        str(path),
+        f"must be evenly sampled: its times depart from a uniform grid of step {step:.6g} s by up to {worst:.3g} s "
+        f"({worst / step:.2g} of a step), more than the rounding of their printed digits allows (typically "
+        f"+-{0.5 * quantum:.3g} s); "
+        "the time (the first column) must increase in equal steps, rows in time order, no sample missing",
+    ) from None
 
 
 def read_csv_frf(path):
@@ -262,9 +379,16 @@ def is_uff(path):
 def _uff_record(path, kind, channel, missing):
     """The ``channel``-th record (default the first) of ``kind`` in a UFF file; ``missing`` says
     what the file lacks when it has none."""
-    recs = [r for r in read_uff(path) if r.kind == kind]
+    every = read_uff(path)
+    recs = [r for r in every if r.kind == kind]
     if not recs:
-        raise ModelError("file", str(path), f"contains no {missing}")
+        held = sorted({r.func_type for r in every})
+        raise ModelError(
+            "file",
+            str(path),
+            f"contains no {missing}; it holds UFF 58 function type(s) {', '.join(map(str, held))} "
+            "(1 time response, 4 FRF, 6 coherence, ...)",
+        )
     names = [r.name for r in recs]
     if channel is None:
         j = 0
@@ -296,8 +420,16 @@ def read_time_record_from(path, channel=None):
 
 
 def read_frf(path, channel=None):
-    """``(freqs_hz, H)`` from a CSV or UFF file (the n-th FRF of a UFF file, default the first)."""
+    """``(freqs_hz, H)`` from a CSV or UFF file (the n-th FRF of a UFF file, default the first; only
+    function type 4 counts: a coherence or spectrum stored with it is skipped; an abscissa in rad/s,
+    rpm, kHz is converted to Hz)."""
+    return read_frf_kind(path, channel)[:2]
+
+
+def read_frf_kind(path, channel=None):
+    """``(freqs_hz, H, kind)``: :func:`read_frf` and the FRF kind its UFF header declares
+    (:func:`frf_kind`; None for CSV or a header that does not say)."""
     if not is_uff(path):
-        return read_csv_frf(path)
+        return (*read_csv_frf(path), None)
     r = _uff_record(path, "frf", channel, "FRF (UFF 58, function type 4)")
-    return r.x, np.asarray(r.data, dtype=complex)
+    return r.x, np.asarray(r.data, dtype=complex), frf_kind(r)
