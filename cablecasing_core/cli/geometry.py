@@ -37,7 +37,11 @@ def cmd_geometry(args):
         if g["gap_m"] is not None:
             print(f"  radial gap        {g['gap_m']:.4g} m")
         for i, b in enumerate(g["bends"]):
-            print(f"  bend {i}: from s = {b['start_m']:.4g} m, radius {b['radius_m']:.4g} m, {b['angle_deg']:.4g} deg")
+            smallest = f" (smallest {b['min_radius_m']:.4g} m)" if b["min_radius_m"] != b["radius_m"] else ""
+            print(
+                f"  bend {i}: from s = {b['start_m']:.4g} m, radius {b['radius_m']:.4g} m{smallest}, "
+                f"{b['angle_deg']:.4g} deg"
+            )
         for b in buckled:
             print(f"  buckling          {b.text()}")
     for w in route:

@@ -6,9 +6,12 @@ For a route given by segments the bends are the model's own (exact radius and an
 through points the bends are the runs of the curve where the curvature exceeds
 :data:`BEND_CURVATURE` (2 1/m: a radius below 0.5 m; a spline through the built-in specimen's
 points ripples up to 1.3 1/m on its straights) and that turn by more than :data:`BEND_MIN_DEG`,
-sampled on :data:`DENSE` points: each bend's angle is the integral of the curvature over its run
-and its radius the run's arc length over that angle (the mean radius). A polyline has no
-curvature but kinks: each kink is a bend of radius 0 and the angle between its two chords.
+sampled on :data:`DENSE` points: each bend's angle is the integral of the curvature over its run,
+its radius the run's arc length over that angle (the mean radius) and its smallest radius one over
+the run's largest curvature. A polyline has no curvature but corners: each corner above
+:data:`KINK_DEG` is a kink, a bend of radius 0 and the angle between its two chords; a corner
+below it, as in a polyline through many points of an arc, turns by its angle over the mean of its
+two chords, which is the radius of that arc (the total bend counts every corner).
 """
 
 from __future__ import annotations
@@ -50,6 +53,21 @@ def _corner_angles(points):
 def _polyline_kinks(points):
     """(arc length m, angle deg) of each corner of the polyline through ``points``."""
     return [(float(a), float(b)) for a, b in zip(*_corner_angles(points)) if b > KINK_DEG]
+
+
+def _polyline_corner_radius(points):
+    """(arc length m, radius m) of the tightest corner of the polyline through ``points`` that is
+    not a kink (at most :data:`KINK_DEG`, above zero): the mean of its two chords over its angle,
+    the radius of an arc the polyline samples; (None, None) when there is no such corner."""
+    s, ang = _corner_angles(points)
+    lengths = np.linalg.norm(np.diff(np.asarray(points, dtype=float), axis=0), axis=1)
+    mean_chord = 0.5 * (lengths[:-1] + lengths[1:])
+    soft = (ang > 0.0) & (ang <= KINK_DEG)
+    if not soft.any():
+        return None, None
+    r = np.where(soft, mean_chord / np.radians(np.where(soft, ang, 1.0)), np.inf)
+    i = int(np.argmin(r))
+    return float(s[i]), float(r[i])
 
 
 #: The most samples of the route in the search for places where it meets itself (pairs: its square).
@@ -107,12 +125,13 @@ def geometry_summary(model) -> dict:
     """The routing's figures (SI units, arc lengths from end A): ``length_m``, ``min_radius_m``
     and ``min_radius_at_m`` (None on a straight route), ``total_bend_deg``, ``gap_m`` (None without
     both bodies), ``element_length_m``, ``n_elements``, ``bends`` (a list of {"start_m",
-    "radius_m", "angle_deg"}) and ``source`` ("segments", "spline" or "polyline")."""
+    "radius_m" (the mean), "min_radius_m", "angle_deg"}) and ``source`` ("segments", "spline" or
+    "polyline")."""
     g = model.geometry
     cl = centerline_of(model)
     route = route_of(model)
     if route is not None:
-        bends = [{"start_m": s0, "radius_m": r, "angle_deg": a} for s0, r, a in route.bends]
+        bends = [{"start_m": s0, "radius_m": r, "min_radius_m": r, "angle_deg": a} for s0, r, a in route.bends]
         source = "segments"
         if bends:
             i = int(np.argmin([b["radius_m"] for b in bends]))
@@ -122,9 +141,12 @@ def geometry_summary(model) -> dict:
         total = float(sum(b["angle_deg"] for b in bends))
     elif g["curve"] == "polyline" and len(g["points"]) > 2:
         source = "polyline"
-        bends = [{"start_m": s, "radius_m": 0.0, "angle_deg": a} for s, a in _polyline_kinks(g["points"])]
-        total = float(sum(b["angle_deg"] for b in bends))
+        kinks = _polyline_kinks(g["points"])
+        bends = [{"start_m": s, "radius_m": 0.0, "min_radius_m": 0.0, "angle_deg": a} for s, a in kinks]
+        total = float(np.sum(_corner_angles(g["points"])[1]))  # (every corner: an arc's points turn by < 1 deg)
         rmin, at = (0.0, bends[0]["start_m"]) if bends else (None, None)
+        if not bends:
+            at, rmin = _polyline_corner_radius(g["points"])
     else:
         source = "spline" if len(g["points"]) > 2 else "polyline"
         s, k = curvature_profile(model)
@@ -141,7 +163,14 @@ def geometry_summary(model) -> dict:
                     j += 1
                 angle = float(np.sum(kmid[i:j] * ds[i:j]))
                 if np.degrees(angle) > BEND_MIN_DEG:
-                    bends.append({"start_m": s[i], "radius_m": (s[j] - s[i]) / angle, "angle_deg": np.degrees(angle)})
+                    bends.append(
+                        {
+                            "start_m": s[i],
+                            "radius_m": (s[j] - s[i]) / angle,
+                            "min_radius_m": 1.0 / float(np.max(k[i : j + 1])),
+                            "angle_deg": np.degrees(angle),
+                        }
+                    )
                 i = j
             else:
                 i += 1
@@ -230,13 +259,22 @@ def plausibility_warnings(model, summary=None, advice=True) -> list[str]:
                 f"the polyline has {len(kinks)} kinks, of {min(b['angle_deg'] for b in kinks):.3g} to "
                 f"{worst['angle_deg']:.3g} deg (the largest at s = {worst['start_m']:.4g} m) {smooth}"
             )
+        d = model.data["casing"]["d_outer"] if "casing" in model.data else None
+        at, r = _polyline_corner_radius(model.geometry["points"])
+        if d is not None and r is not None and r < 10.0 * d:  # (the arc its dense points sample)
+            out.append(
+                f"the polyline turns with a radius of {r:.4g} m at s = {at:.4g} m (a corner's angle over its "
+                f"chords), below ten casing diameters ({10.0 * d:.4g} m)"
+            )
         return out
     d = model.data["casing"]["d_outer"] if "casing" in model.data else None
     if d is not None:
         for b in g["bends"]:
-            if b["radius_m"] < 10.0 * d:
+            r = b.get("min_radius_m", b["radius_m"])
+            if r < 10.0 * d:
+                where = "a radius" if r == b["radius_m"] else f"a smallest radius (its mean {b['radius_m']:.4g} m)"
                 out.append(
-                    f"the bend at s = {b['start_m']:.4g} m has a radius of {b['radius_m']:.4g} m, below ten "
+                    f"the bend at s = {b['start_m']:.4g} m has {where} of {r:.4g} m, below ten "
                     f"casing diameters ({10.0 * d:.4g} m)"
                 )
     if g["bends"] and advice:

@@ -122,6 +122,45 @@ def test_plausibility_warnings():
     assert any("kink of 90 deg at s = 0.5 m" in x for x in plausibility_warnings(kinked))
 
 
+def test_a_polyline_through_a_finely_sampled_arc_is_summarised_as_that_arc():
+    """Points on a 90 deg arc of R = 0.02 m (two casing diameters) every 0.9 deg, between two
+    straights, joined by a polyline: no corner is a kink (each turns by 0.9 deg), yet the route
+    bends by 90 deg (the sum of its corners, exactly: the first and last chords lie along the
+    straights) with the arc's radius (a corner's mean chord over its angle is 2 R sin(a/2) / a =
+    R (1 - a^2/24), within 1e-5 of R), below ten casing diameters: warned."""
+    R, step = 0.02, 0.9
+    th = np.radians(np.arange(0.0, 90.0 + 1e-9, step))
+    P = np.column_stack([R * np.sin(th), R * (1 - np.cos(th)), 0 * th])
+    P = np.vstack([[-0.2, 0, 0], P, P[-1] + [0, 0.2, 0]]).tolist()
+    base = copy.deepcopy(load_model().data)
+    m = model_from_dict({**base, "geometry": {"points": P, "curve": "polyline", "n_elements": 100}})
+    g = geometry_summary(m)
+    assert g["bends"] == [] and g["total_bend_deg"] == pytest.approx(90.0, rel=1e-12)
+    assert g["min_radius_m"] == pytest.approx(R, rel=1e-4)
+    d = base["casing"]["d_outer"]
+    assert any("radius of 0.02 m" in w and f"({10 * d:.4g} m)" in w for w in plausibility_warnings(m))
+
+
+def test_a_spline_bend_is_warned_by_its_smallest_radius_not_its_mean():
+    """A bend whose curvature ramps linearly to 1/0.07 1/m and back (clothoid in and out, 163.7
+    deg): its mean radius (0.123 m) is above ten casing diameters (0.095 m), its smallest (0.07 m,
+    at its middle) below: the bend reports both and the warning names the smallest."""
+    ds = 1e-4
+    s = np.arange(0, 0.8 + ds, ds)
+    kpk = 1 / 0.07
+    k = np.where(s < 0.2, 0, np.where(s < 0.4, kpk * (s - 0.2) / 0.2, np.where(s < 0.6, kpk * (0.6 - s) / 0.2, 0)))
+    ang = np.concatenate([[0], np.cumsum(0.5 * (k[1:] + k[:-1]) * ds)])
+    t = np.column_stack([np.cos(ang), np.sin(ang)])
+    xy = np.concatenate([[[0, 0]], np.cumsum(ds * 0.5 * (t[1:] + t[:-1]), axis=0)])
+    P = np.column_stack([xy, 0 * s])[::40]
+    base = copy.deepcopy(load_model().data)
+    m = model_from_dict({**base, "geometry": {"points": P.tolist(), "n_elements": 200}})
+    (b,) = geometry_summary(m)["bends"]
+    assert b["min_radius_m"] == pytest.approx(0.07, rel=2e-3)  # (the spline through points 4 mm apart)
+    assert b["radius_m"] > 10 * base["casing"]["d_outer"]
+    assert any("smallest radius" in w and "of 0.06998 m" in w for w in plausibility_warnings(m))
+
+
 def test_a_polyline_through_an_arc_warns_once_and_a_dictionary_warns_as_a_file():
     # 30 points on a quarter circle of 1 m: 28 corners of 90/29 = 3.1 deg, said in one line
     from cablecasing_core.errors import PlausibilityWarning
@@ -226,7 +265,7 @@ def test_cli_geometry_json_plot_and_warnings(tmp_path, capsys):
     assert out["buckling"]["casing"]["load_N"] > 0 and out["buckling"]["casing"]["supports"] == "A clamped; B clamped"
     assert out["length_m"] == pytest.approx(LENGTH, rel=1e-14)
     assert out["element_length_m"] == pytest.approx(LENGTH / 20, rel=1e-14)
-    assert out["bends"][0] == {"start_m": 0.15, "radius_m": 0.15, "angle_deg": 60.0}
+    assert out["bends"][0] == {"start_m": 0.15, "radius_m": 0.15, "min_radius_m": 0.15, "angle_deg": 60.0}
     assert "warning: the elements" in cap.err
     assert png.stat().st_size > 10_000
     assert main(["geometry"]) == 0
