@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .assignments import with_assignments
@@ -77,11 +79,17 @@ def _check_interval(interval, dt, duration):
         raise ModelError("--output-interval", interval, f"must be a whole number of time steps (dt = {dt:g} s)")
     k = round(duration / interval)
     if k < 1 or abs(k * interval - duration) > 1e-6 * dt:
+        n = round(duration / dt)  # the run's steps; an interval of d steps with d dividing n ends at T
+        whole = n >= 1 and abs(n * dt - duration) <= 1e-6 * dt
+        small = [d for d in range(1, math.isqrt(n) + 1) if n % d == 0] if whole else []
+        divisors = small + [n // d for d in small]
+        near = min(divisors, key=lambda d: (abs(d - m), -d)) if divisors else None
+        hint = f" (e.g. {near * dt:.6g} s, {near} steps)" if near else ""
         raise ModelError(
             "--output-interval",
             interval,
-            f"must divide the duration ({duration:g} s) into whole intervals, so that the record ends at "
-            f"t = {duration:g} s (e.g. {duration / max(k, 1):.6g} s)",
+            f"must divide the duration ({duration:g} s) into whole intervals of whole time steps, so that "
+            f"the record ends at t = {duration:g} s{hint}",
         )
 
 

@@ -321,7 +321,9 @@ def decimate(x: ArrayLike, m: int) -> np.ndarray:
     m = int(m)
     if m == 1:
         return x.copy()
-    numtaps, beta = signal.kaiserord(80.0, 0.3 / m)
+    # (designed for 82 dB: kaiserord's estimate for 80 dB falls short by up to 1.3 dB near the band
+    # edge for small m, 78.7 dB at m = 2; 82 dB gives at least 81 dB for every m)
+    numtaps, beta = signal.kaiserord(82.0, 0.3 / m)
     h = signal.firwin(numtaps | 1, 0.85 / m, window=("kaiser", beta))
     return signal.resample_poly(x, 1, m, window=h, padtype="edge")
 
