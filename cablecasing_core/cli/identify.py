@@ -18,7 +18,7 @@ import sys
 
 import numpy as np
 
-from ..errors import CableCasingError, ModelError
+from ..errors import CableCasingError, ModelError, renamed
 
 
 def _fail(exc):
@@ -65,30 +65,56 @@ def _spectrum_peaks(x, fs, count):
     return find_resonances(f[1:-1], X[1:-1], count=count)
 
 
+#: The wavelet's arguments by the options that give them (their errors name the option).
+_DAMPING_OPTIONS = {"gamma": "--gamma", "window_tau": "--window-tau", "max_departure": "--max-departure",
+                    "edge_factor": "--edge-factor", "search": "--search", "noise_floor": "--noise-floor"}  # fmt: skip
+
+
+def _max_departure(text):
+    """``--max-departure``: None (the check off) for 'off', else a number of nepers > 0 (default the
+    wavelet's MAX_DEPARTURE)."""
+    from ..identification.wavelet import MAX_DEPARTURE
+    from ..model.validators import number
+
+    if text is None:
+        return MAX_DEPARTURE
+    if str(text).strip().lower() == "off":
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        raise ModelError("max_departure", text, "must be a number of nepers > 0, or off") from None
+    return number("max_departure", value, gt=0)
+
+
 def cmd_damping(args):
     try:
         _check_outputs(args)
         from ..identification import parameters_toml, rayleigh_fit, read_time_record_from, wavelet_damping
         from ..model.validators import integer, number
 
-        number("gamma", args.gamma, gt=0, le=1e3)  # (the option's range before any work on the record)
+        with renamed(_DAMPING_OPTIONS):  # (the options' ranges before any work on the record)
+            number("gamma", args.gamma, gt=0, le=1e3)
+            departure = _max_departure(args.max_departure)
         x, fs, name, t_start = read_time_record_from(args.file, args.channel)
         freqs = args.freqs if args.freqs else _spectrum_peaks(x, fs, integer("--count", args.count, 1))
         if args.t_max is not None:  # (on the file's time axis, as the fit's times)
             number("--t-max", args.t_max, gt=t_start, unit="s")
         try:
-            res = wavelet_damping(
-                x,
-                fs,
-                freqs,
-                gamma=args.gamma,
-                edge_factor=args.edge_factor,
-                search=args.search,
-                noise_floor=args.noise_floor,
-                t_max=args.t_max,
-                t0=t_start,
-                window_tau=args.window_tau,
-            )
+            with renamed(_DAMPING_OPTIONS):
+                res = wavelet_damping(
+                    x,
+                    fs,
+                    freqs,
+                    max_departure=departure,
+                    gamma=args.gamma,
+                    edge_factor=args.edge_factor,
+                    search=args.search,
+                    noise_floor=args.noise_floor,
+                    t_max=args.t_max,
+                    t0=t_start,
+                    window_tau=args.window_tau,
+                )
         except ModelError as exc:
             if args.freqs or exc.key != "freqs_hz":
                 raise
@@ -147,7 +173,7 @@ def cmd_loss_factor(args):
         from ..identification import loss_factor_circle, parameters_toml, read_frf_kind
         from ..model.validators import integer
 
-        f, H, declared = read_frf_kind(args.file, args.channel)
+        f, H, declared = read_frf_kind(args.file, args.channel, strict=args.kind is None)
         if args.kind is not None and declared is not None and args.kind != declared:
             raise ModelError(
                 "--kind",
@@ -157,16 +183,17 @@ def cmd_loss_factor(args):
             )
         kind = args.kind or declared or "apparent_mass"
         source = "given" if args.kind else ("from the file's header" if declared else "default")
-        res = loss_factor_circle(
-            f,
-            H,
-            args.freqs,
-            kind=kind,
-            count=None if args.count is None else integer("--count", args.count, 1),
-            bandwidths=args.bandwidths,
-            correct_neighbours=not args.no_correction,
-            window_tau=args.window_tau,
-        )
+        with renamed({"window_tau": "--window-tau", "bandwidths": "--bandwidths"}):
+            res = loss_factor_circle(
+                f,
+                H,
+                args.freqs,
+                kind=kind,
+                count=None if args.count is None else integer("--count", args.count, 1),
+                bandwidths=args.bandwidths,
+                correct_neighbours=not args.no_correction,
+                window_tau=args.window_tau,
+            )
         win = "" if args.window_tau is None else f"; exponential window tau = {args.window_tau:g} s taken off"
         print(f"# {args.file}: {f.size} points, {f[0]:g}..{f[-1]:g} Hz, kind {kind} ({source}){win}")
         print(
@@ -205,7 +232,7 @@ def _read_measured(path, modes_arg, channel):
             return data[:, fcol], modes.astype(int)
     if not modes_arg:
         raise ModelError("--modes", None, "an FRF file needs the mode number of each resonance (--modes 1 2 ...)")
-    f, H, declared = read_frf_kind(path, channel)
+    f, H, declared = read_frf_kind(path, channel, strict=False)
     kind = declared or "displacement"  # (the peaks of |H| in displacement form; a CSV's |H| as it is)
     return find_resonances(f, H, count=len(modes_arg), kind=kind), np.asarray(modes_arg, dtype=int)
 
@@ -259,6 +286,12 @@ def add_parser(subparsers):
         "--noise-floor", type=float, default=None, help="|W| noise level (signal unit); default from the tail"
     )
     d.add_argument("--t-max", type=float, default=None, help="latest time used in the fit (s)")
+    d.add_argument(
+        "--max-departure",
+        default=None,
+        help="largest departure (nepers) of ln|W| from the fitted line before the record is refused as not one "
+        "free decay (default 0.25; 'off' skips the check: a clean record with a close neighbour's leakage)",
+    )
     d.add_argument(
         "--window-tau",
         type=float,

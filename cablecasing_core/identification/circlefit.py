@@ -548,9 +548,10 @@ def loss_factor_circle(
         if ratio > RMS_RATIO_WARN:
             warnings.warn(
                 f"the circle at {r['f_r_hz']:.6g} Hz scatters by rms/R = {ratio:.3g} (above {RMS_RATIO_WARN:g}) "
-                f"over its {npts} points: eta = {r['eta']:.4g} carries a random error of about "
-                f"{100 * extra['eta_rel_uncertainty']:.2g} % (noise on the FRF, or a mode that is not one circle: a "
-                "close mode, nonlinearity); average more, or check the circle plot",
+                f"over its {npts} points: if that is noise on the FRF, eta = {r['eta']:.4g} carries a random "
+                f"error of about {100 * extra['eta_rel_uncertainty']:.2g} % (average more); if the FRF is not noisy "
+                "(a model's, or many averages), the mode is not one circle there (a close mode's tail, "
+                "nonlinearity): check the circle plot",
                 ModelWarning,
                 stacklevel=2,
             )

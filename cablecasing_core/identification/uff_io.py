@@ -226,10 +226,11 @@ def _abscissa_scale(path, name, kind, label):
     return table[key]
 
 
-def frf_kind(record):
+def frf_kind(record, strict=True):
     """The FRF kind (see ``circlefit.FRF_KINDS``) a UFF record's header declares, from its ordinate
-    and denominator data types; None when they do not say (a type 0), a ModelError for a ratio
-    the circle fit does not take (F/v, a/a, ...)."""
+    and denominator data types; None when they do not say (a type 0); for a ratio the circle fit
+    does not take (F/v, a/a, ...) a ModelError, or None when not ``strict`` (the caller then says
+    which kind to fit it as)."""
     num, den = int(record.data_type), int(record.denominator_type)
     if num == 0 or den == 0:
         return None
@@ -239,13 +240,16 @@ def frf_kind(record):
         kind = {12: "apparent_mass", 8: "displacement"}.get(den)  # (F/x, dynamic stiffness: as it is)
     else:
         kind = None
+    if kind is None and not strict:
+        return None
     if kind is None:
         names = {8: "displacement", 9: "reaction force", 11: "velocity", 12: "acceleration", 13: "excitation force"}
         raise ModelError(
             "file",
             f"{record.name or 'FRF'}: {names.get(num, f'type {num}')} / {names.get(den, f'type {den}')}",
             "the header declares an FRF the circle fit does not take; it needs x/F (receptance), v/F "
-            "(mobility), a/F (accelerance), F/a (apparent mass) or F/x (dynamic stiffness)",
+            "(mobility), a/F (accelerance), F/a (apparent mass) or F/x (dynamic stiffness); to fit it as one "
+            "of them anyway, give its kind (--kind)",
         )
     return kind
 
@@ -423,13 +427,18 @@ def read_frf(path, channel=None):
     """``(freqs_hz, H)`` from a CSV or UFF file (the n-th FRF of a UFF file, default the first; only
     function type 4 counts: a coherence or spectrum stored with it is skipped; an abscissa in rad/s,
     rpm, kHz is converted to Hz)."""
-    return read_frf_kind(path, channel)[:2]
+    return read_frf_kind(path, channel, strict=False)[:2]
 
 
-def read_frf_kind(path, channel=None):
+def read_frf_kind(path, channel=None, strict=True):
     """``(freqs_hz, H, kind)``: :func:`read_frf` and the FRF kind its UFF header declares
-    (:func:`frf_kind`; None for CSV or a header that does not say)."""
+    (:func:`frf_kind`; None for CSV or a header that does not say; a ratio the circle fit does not
+    take is a ModelError naming the file, or None when not ``strict``)."""
     if not is_uff(path):
         return (*read_csv_frf(path), None)
     r = _uff_record(path, "frf", channel, "FRF (UFF 58, function type 4)")
-    return r.x, np.asarray(r.data, dtype=complex), frf_kind(r)
+    try:
+        kind = frf_kind(r, strict)
+    except ModelError as exc:
+        raise ModelError(exc.key, f"{path}: {exc.value}", exc.allowed) from None
+    return r.x, np.asarray(r.data, dtype=complex), kind

@@ -318,20 +318,39 @@ def _late_rise_hint(t, w, valid, edge):
 
 def _clipped_samples(x):
     """Indices of samples stuck at the record's extreme values (a clipped ADC): a rail (the maximum or
-    the minimum) counts when at least two samples sit on it (to 1e-9 of the range); the record is
-    taken as clipped when three or more samples do, or two neighbours. Empty otherwise."""
+    the minimum, to 1e-9 of the range) counts when the record reaches it in two or more separate runs
+    of samples, as a clipped decay does over consecutive cycles; a free decay reaches its extreme at
+    one peak only (the next is lower by its decay), however many neighbouring samples a quantised
+    record holds there. Empty otherwise."""
     span = float(np.ptp(x))
     if span == 0.0:
         return np.zeros(0, dtype=int)
     tol = 1e-9 * span
     stuck = []
     for rail in (x >= x.max() - tol, x <= x.min() + tol):
-        if rail.sum() >= 2:
-            stuck.append(np.nonzero(rail)[0])
-    idx = np.sort(np.concatenate(stuck)) if stuck else np.zeros(0, dtype=int)
-    if idx.size >= 3 or (idx.size == 2 and idx[1] - idx[0] == 1):
-        return idx
-    return np.zeros(0, dtype=int)
+        on = np.nonzero(rail)[0]
+        if on.size >= 2 and np.count_nonzero(np.diff(on) > 1) >= 1:  # (two runs or more)
+            stuck.append(on)
+    return np.sort(np.concatenate(stuck)) if stuck else np.zeros(0, dtype=int)
+
+
+def _quantisation_floor(x, f0, fs, gamma):
+    """|W| (unit of x) that the rounding of a quantised record leaves on the ridge at f0 (Hz): the
+    record's step q (its values all whole multiples of q, at most 2**24 steps across its range: an
+    ADC's grid; 0 for a record that is not quantised) as white noise of rms q / sqrt(12), through
+    the wavelet's gain |Psi(f)| = 2 exp(-((f - f0) gamma / f0)^2 / 2) of :func:`cwt_morlet`: rms
+    = q / sqrt(12) * 2 pi^(1/4) sqrt(f0 / (gamma fs)). A clean record whose tail rounds to zero then
+    has this floor instead of none."""
+    v = np.unique(x)
+    if v.size < 3:
+        return 0.0
+    q = float(np.min(np.diff(v)))
+    if not q > 0.0 or (v[-1] - v[0]) / q > 2.0**24:
+        return 0.0
+    k = (v - v[0]) / q
+    if np.max(np.abs(k - np.round(k))) > 1e-6:
+        return 0.0
+    return q / np.sqrt(12.0) * 2.0 * np.pi**0.25 * np.sqrt(f0 / (gamma * fs))
 
 
 def wavelet_damping(
@@ -513,9 +532,11 @@ def wavelet_damping(
         dev = np.abs(log_w[fit] - (intercept + slope * t[fit]))
         departure = float(dev.max())
         # beyond max_departure and beyond DEPARTURE_NOISE times the noise's scatter of ln|W| (floor / |W|)
-        # (where |W| is below 1e-3 of its largest value in the window the fit's weight, |W|^2, is below 1e-6)
+        # (where |W| is below 1e-2 of its largest value in the window the fit's weight, |W|^2, is below 1e-4:
+        # a neighbouring mode's leakage late in the window departs there without moving the fit)
         wf = w_r[fit]
-        bad = (dev > (max_departure or np.inf)) & (dev * wf > DEPARTURE_NOISE * floor) & (wf >= 1e-3 * wf.max())
+        floor = max(floor, _quantisation_floor(x, f_r, fs, gamma))
+        bad = (dev > (max_departure or np.inf)) & (dev * wf > DEPARTURE_NOISE * floor) & (wf >= 1e-2 * wf.max())
         if bad.any():
             k_dev = int(np.argmax(np.where(bad, dev, -1.0)))
             tf = t[fit]
@@ -527,8 +548,9 @@ def wavelet_damping(
                 f"the noise's scatter) at t = {tf[k_dev]:.4g} s, within the fit window {tf[0]:.4g}..{tf[-1]:.4g} s "
                 f"(allowed: max_departure = {max_departure:g} nepers): not the single free decay the method "
                 "needs. Likely a second impact (a double hit), a record starting before the impulse (give t0) "
-                "or a close mode beating with this one; cut the record (t_max) before the departure, or measure "
-                "again",
+                "or a close mode beating with this one (or, in a clean record, a slower neighbouring mode's "
+                "leakage late in the window); cut the record (t_max) before the departure, measure again, or "
+                "skip the check (max_departure None, --max-departure off)",
             )
         sigma_obs = sigma
         if window_tau is not None:
