@@ -113,8 +113,9 @@ INSTANTIATED, INITIALIZATION, STEPPING, TERMINATED = range(4)
 # warnings.catch_warnings swaps the process's warning filters and display function and restores them
 # on exit: two instances doing so at once on threads could restore each other's (the host's own
 # warnings then vanish for good). Every such block of this module holds this lock (reentrant: a
-# block may call another).
-_WARNINGS_LOCK = threading.RLock()
+# block may call another). It is kept on the warnings module, the one thing every FMU of a process
+# shares: each FMU (each GUID) imports this file as a module of its own.
+_WARNINGS_LOCK = warnings.__dict__.setdefault("_cablecasing_fmu_lock", threading.RLock())
 SPECIAL = ("contact.enabled", "model_file", "solver.dt", "scenario.drive")
 _TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}
 

@@ -84,7 +84,13 @@ def _check_interval(interval, dt, duration):
         small = [d for d in range(1, math.isqrt(n) + 1) if n % d == 0] if whole else []
         divisors = small + [n // d for d in small]
         near = min(divisors, key=lambda d: (abs(d - m), -d)) if divisors else None
-        hint = f" (e.g. {near * dt:.6g} s, {near} steps)" if near else ""
+        if near:
+            hint = f" (e.g. {near * dt:.6g} s, {near} steps)"
+        else:
+            hint = (
+                f"; the duration itself is not a whole number of time steps (dt = {dt:g} s), so no interval "
+                "does: give a duration of whole steps"
+            )
         raise ModelError(
             "--output-interval",
             interval,

@@ -8,7 +8,9 @@ inside the interval. The reconstruction used here:
 * **target at the step end** - the Taylor extrapolation of the inputs to third order,
   ``u1 = u + v h + a h^2/2 + j h^3/6``, ``v1 = v + a h + j h^2/2``, ``a1 = a + j h``, with the
   jerk ``j`` the backward difference of the acceleration inputs, ``(a - a_prev) / (t - t_prev)``
-  (the previous communication point's; ``j = 0`` at the first step) (:func:`taylor_target`);
+  (the previous communication point's; ``j = 0`` at the first step; over ``h`` instead when the
+  step is longer than the last, so that ``j h`` never exceeds the inputs' last change)
+  (:func:`taylor_target`);
 * **start** - the support state the engine has actually reached at ``t`` (the previous step's
   target; zero before the first step, where the engine is at rest);
 * **inside** - the quintic Hermite polynomial matching displacement, velocity and acceleration at
@@ -74,8 +76,8 @@ def taylor_target(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(u, v, a) at ``t + h`` extrapolated from the inputs at ``t`` (m, m/s, m/s2; h in s):
     ``u + v h + a h^2/2 + j h^3/6``, ``v + a h + j h^2/2``, ``a + j h``, with the jerk
-    ``j = (a - a_prev) / h_prev`` from the acceleration inputs ``a_prev`` (m/s2) given ``h_prev``
-    (s) before t (both None: j = 0, the first step). Arrays of any (equal) shape; new arrays (the
+    ``j = (a - a_prev) / max(h_prev, h)`` from the acceleration inputs ``a_prev`` (m/s2) given
+    ``h_prev`` (s) before t (both None: j = 0, the first step). Arrays of any (equal) shape; new arrays (the
     arithmetic of :func:`kernels.taylor_rows`, which the reconstruction calls)."""
     if (a_prev is None) != (h_prev is None):
         raise ValueError("a_prev and h_prev go together: give both or neither")

@@ -120,6 +120,24 @@ def test_reconstruction_is_continuous_and_starts_from_the_support_state():
         a_prev = a
 
 
+def test_a_short_step_does_not_magnify_the_next_steps_extrapolation():
+    """A master that shortens one step (1e-7 s) to meet an event, the acceleration input jumping
+    from 0 to 1 m/s2 there: the next step of 1e-4 s takes the jerk over its own length, so its
+    target acceleration is a + (a - a_prev) = 2 m/s2, as with equal steps, not a + 1000 (a - a_prev)
+    (the backward difference over 1e-7 s carried over 1e-4 s). Over equal or shorter steps the
+    difference is the plain backward one (the cubic tests above)."""
+    rec = SupportReconstruction(1)
+    t = 0.0
+    for h, a in ((1e-4, 0.0), (1e-4, 0.0), (1e-7, 0.0), (1e-4, 1.0)):
+        m = rec.motion(t, h, [0.0], [0.0], [a])
+        rec.accept(m)
+        t += h
+    assert rec.state[2, 0] == pytest.approx(2.0, rel=1e-12)
+    # and a step shorter than the last keeps the backward difference over the last interval
+    m = rec.motion(t, 1e-5, [0.0], [0.0], [1.5])
+    assert m.end_state()[2][0] == pytest.approx(1.5 + (1.5 - 1.0) / 1e-4 * 1e-5, rel=1e-12)
+
+
 def test_reset_forgets_the_inputs():
     rec = SupportReconstruction(2)
     rec.accept(rec.motion(0.0, 1e-4, [1e-3, 0.0], [0.1, 0.0], [5.0, 1.0]))

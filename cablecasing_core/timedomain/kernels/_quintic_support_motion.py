@@ -16,14 +16,18 @@ def taylor_rows(state, u, v, a, t0, h, rows):
     """rows (6 x n) = [state[:3] (u, v, a at the step start); the Taylor target at t0 + h of the
     inputs u (m), v (m/s), a (m/s2) given at t0 (s), h in s]. The target is Taylor's to third
     order, u + v h + a h^2/2 + j h^3/6, v + a h + j h^2/2, a + j h, with the jerk j (m/s3) the
-    backward difference of the acceleration inputs, (a - state[3]) / (t0 - state[4]): state[3] is
-    the acceleration input of the previous communication point and state[4] its time (NaN, or a
-    time not before t0: none, and j = 0)."""
+    backward difference of the acceleration inputs, (a - state[3]) / max(t0 - state[4], h): state[3]
+    is the acceleration input of the previous communication point and state[4] its time (NaN, or a
+    time not before t0: none, and j = 0). Over a step longer than the last one the difference is
+    taken over h, so the target's change of acceleration, j h, never exceeds the inputs' last change
+    (a master that shortens one step to meet an event would otherwise have the next step
+    extrapolate the event's jump by h over that short step: 1000 times for 1e-7 s before 1e-4 s)."""
     dt_in = t0 - state[4, 0] if state.shape[1] else 0.0
     has = dt_in > 0.0  # (False for NaN)
+    over = max(dt_in, h) if has else 1.0
     for j in range(state.shape[1]):
         rows[0, j], rows[1, j], rows[2, j] = state[0, j], state[1, j], state[2, j]
-        jerk = (a[j] - state[3, j]) / dt_in if has else 0.0
+        jerk = (a[j] - state[3, j]) / over if has else 0.0
         rows[3, j] = u[j] + v[j] * h + (0.5 * h * h) * a[j] + (h * h * h / 6.0) * jerk
         rows[4, j] = v[j] + a[j] * h + (0.5 * h * h) * jerk
         rows[5, j] = a[j] + jerk * h
