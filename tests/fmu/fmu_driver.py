@@ -699,7 +699,12 @@ SCENARIOS = {
 
 
 def main():
+    import tempfile
+
     scenario, path = sys.argv[1], sys.argv[2]
+    # fmpy's extract() unpacks each FMU into a new temporary folder that it never removes (~12 MB):
+    # under the job's own folder (the test's tmp_path, which pytest prunes) a test run leaks none
+    tempfile.tempdir = str(Path(path).resolve().parent)
     job = json.loads(Path(path).read_text())
     table = np.load(job["inputs"]) if "inputs" in job else np.zeros((0, len(INPUTS)))
     res = SCENARIOS[scenario](job, table)
