@@ -121,14 +121,14 @@ _TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String
 
 
 def _phase_of(state):
-    """The life-cycle phase an FMU state was saved in (``fmu.phase``; a state without it: stepping
-    if it was initialised, else instantiated)."""
-    if "fmu.phase" in state:
-        phase = int(state["fmu.phase"])
-        if phase not in (INSTANTIATED, INITIALIZATION, STEPPING, TERMINATED):
-            raise ValueError(f"its life-cycle phase {phase} is not one of FMI's")
-        return phase
-    return STEPPING if bool(state["fmu.initialized"]) else INSTANTIATED
+    """The life-cycle phase an FMU state was saved in (``fmu.phase``, which every state of this FMU
+    holds: one without it is of another version, whose support state does not fit either)."""
+    if "fmu.phase" not in state:
+        raise ValueError("it holds no life-cycle phase (a state of another version of this FMU)")
+    phase = int(state["fmu.phase"])
+    if phase not in (INSTANTIATED, INITIALIZATION, STEPPING, TERMINATED):
+        raise ValueError(f"its life-cycle phase {phase} is not one of FMI's")
+    return phase
 
 
 def _one_line(exc):
@@ -786,10 +786,17 @@ class CableCasing(Fmi2Slave):
         except Exception as exc:  # noqa: BLE001
             self.log(f"the FMU state cannot be restored ({exc}); the instance is unchanged", Fmi2Status.error)
             return ERROR
-        (self._set, self._engine, self._applied, inputs, support, self._start_time, self._initialized, self._error) = (
-            new[:8]
-        )
-        self.phase = new[8]
+        (
+            self._set,
+            self._engine,
+            self._applied,
+            inputs,
+            support,
+            self._start_time,
+            self._initialized,
+            self._error,
+            self.phase,
+        ) = new
         self.inputs_buffer[:] = inputs
         self._recon.state[...] = support
         self._discarded, self._wants_to_end = None, False  # (another state: a discarded step may now be taken)

@@ -334,13 +334,9 @@ def _clipped_samples(x):
     return np.sort(np.concatenate(stuck)) if stuck else np.zeros(0, dtype=int)
 
 
-def _quantisation_floor(x, f0, fs, gamma):
-    """|W| (unit of x) that the rounding of a quantised record leaves on the ridge at f0 (Hz): the
-    record's step q (its values all whole multiples of q, at most 2**24 steps across its range: an
-    ADC's grid; 0 for a record that is not quantised) as white noise of rms q / sqrt(12), through
-    the wavelet's gain |Psi(f)| = 2 exp(-((f - f0) gamma / f0)^2 / 2) of :func:`cwt_morlet`: rms
-    = q / sqrt(12) * 2 pi^(1/4) sqrt(f0 / (gamma fs)). A clean record whose tail rounds to zero then
-    has this floor instead of none."""
+def _quantisation_step(x):
+    """The record's step q (unit of x): its values all whole multiples of q, at most 2**24 steps
+    across its range (an ADC's grid); 0 for a record that is not quantised."""
     v = np.unique(x)
     if v.size < 3:
         return 0.0
@@ -350,6 +346,14 @@ def _quantisation_floor(x, f0, fs, gamma):
     k = (v - v[0]) / q
     if np.max(np.abs(k - np.round(k))) > 1e-6:
         return 0.0
+    return q
+
+
+def _quantisation_floor(q, f0, fs, gamma):
+    """|W| (unit of x) that the rounding of a record quantised in steps of q leaves on the ridge at
+    f0 (Hz): white noise of rms q / sqrt(12) through the wavelet's gain |Psi(f)| = 2 exp(-((f - f0)
+    gamma / f0)^2 / 2) of :func:`cwt_morlet`: rms = q / sqrt(12) * 2 pi^(1/4) sqrt(f0 / (gamma fs)).
+    A clean record whose tail rounds to zero then has this floor instead of none."""
     return q / np.sqrt(12.0) * 2.0 * np.pi**0.25 * np.sqrt(f0 / (gamma * fs))
 
 
@@ -473,6 +477,7 @@ def wavelet_damping(
             stacklevel=2,
         )
         t_impulse = max(t_impulse, t_clip)
+    q = _quantisation_step(x)  # (the record's, once for all its modes)
     results = []
     for f0 in f_req:
         f_hi = f0 * (1.0 + search)
@@ -535,7 +540,7 @@ def wavelet_damping(
         # (where |W| is below 1e-2 of its largest value in the window the fit's weight, |W|^2, is below 1e-4:
         # a neighbouring mode's leakage late in the window departs there without moving the fit)
         wf = w_r[fit]
-        floor = max(floor, _quantisation_floor(x, f_r, fs, gamma))
+        floor = max(floor, _quantisation_floor(q, f_r, fs, gamma))
         bad = (dev > (max_departure or np.inf)) & (dev * wf > DEPARTURE_NOISE * floor) & (wf >= 1e-2 * wf.max())
         if bad.any():
             k_dev = int(np.argmax(np.where(bad, dev, -1.0)))
