@@ -19,6 +19,10 @@ from pathlib import Path
 
 import numpy as np
 
+from cablecasing_core.errors import ModelError, renamed
+from cablecasing_core.files import atomic_path, output_folder
+from cablecasing_core.report import check_report_settings
+
 ROOT = Path(__file__).resolve().parent.parent
 
 
@@ -49,14 +53,10 @@ def run_fmu(fmu_path, duration, out):
         output=list(SUPPORT_OUTPUTS) + ["contact.active"],
     )
     cols = list(r.dtype.names)
-    np.savetxt(
-        Path(out) / "fmu_outputs.csv",
-        np.column_stack([r[c] for c in cols]),
-        delimiter=",",
-        header=",".join(cols),
-        comments="",
-        fmt="%.9g",
-    )
+    with atomic_path(Path(out) / "fmu_outputs.csv") as tmp:
+        np.savetxt(
+            tmp, np.column_stack([r[c] for c in cols]), delimiter=",", header=",".join(cols), comments="", fmt="%.9g"
+        )
     print(f"wrote {Path(out) / 'fmu_outputs.csv'} (default scenario through the FMU)")
     return r["time"], r["casing.B.Fz"]
 
@@ -70,11 +70,27 @@ def main(argv=None):
     p.add_argument("--out", default="results", help="folder of the report")
     p.add_argument("--duration", type=float, default=0.5, help="simulated time of every run (s)")
     p.add_argument("--seeds", type=int, default=6, help="excitation seeds of the report's ensembles")
-    p.add_argument("--study-samples", type=int, default=32, help="runs of the report's small study (0: none)")
+    p.add_argument(
+        "--study-samples",
+        type=int,
+        default=32,
+        help="runs of the report's small study, rounded up to whole base points of d + 2 runs (0: none)",
+    )
     args = p.parse_args(argv)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    try:  # (the settings and the folder before the FMU is built: a refused demo creates nothing)
+        with renamed({"duration": "--duration", "seeds": "--seeds", "study_samples": "--study-samples"}):
+            check_report_settings(None, args.duration, args.seeds, args.study_samples)
+        out = output_folder("--out", args.out, "report.html")
+    except ModelError as exc:
+        p.exit(2, f"{p.prog}: error: {exc}\n")
+    try:
+        return _run(args, out)
+    except KeyboardInterrupt:
+        print(f"{p.prog}: stopped: {out} may hold some of this run's files (each file whole)", file=sys.stderr)
+        return 130
 
+
+def _run(args, out):
     r = subprocess.run([sys.executable, str(ROOT / "build_fmu.py")], cwd=ROOT)
     if r.returncode != 0:
         print(f"FMU build failed ({r.returncode})", file=sys.stderr)

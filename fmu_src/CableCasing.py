@@ -409,6 +409,10 @@ class CableCasing(Fmi2Slave):
     def fmi2_get(self, kind, vrs, out):
         """fmi2Get<kind> of any variables into ``out`` (a sequence as long as ``vrs``); status."""
         status = OK
+        if self.phase == INITIALIZATION and any(vr in self._output_vr for vr in vrs):
+            status = self._initial_outputs()
+            if status > WARNING:
+                return status
         for k, vr in enumerate(vrs):
             i = self._output_vr.get(vr)
             integer = self.output_names[i] in INTEGER_OUTPUTS if i is not None else False
@@ -474,6 +478,15 @@ class CableCasing(Fmi2Slave):
     def fmi2_enter_initialization_mode(self):
         self.phase = INITIALIZATION
         return OK
+
+    def _initial_outputs(self):
+        """The outputs read in Initialization Mode are initial unknowns (FMI 2.0, 2.2.8 and 4.2.4):
+        those of the parameters set so far, so the engine is built for them (again when one has
+        changed since; fmi2ExitInitializationMode builds it afresh in any case). OK, or ERROR when
+        the parameters make no model (logged, as at fmi2ExitInitializationMode)."""
+        if self._engine is not None and self._applied == self._config():
+            return OK
+        return OK if self._build() else ERROR
 
     def fmi2_exit_initialization_mode(self):
         self._initialized = True
@@ -915,7 +928,7 @@ class CableCasing(Fmi2Slave):
         idx = self._get_plans.get(key)
         if idx is None:
             idx = self._get_plans[key] = self._plan(key, self._output_vr)
-        if idx is not False:  # outputs only
+        if idx is not False and self.phase != INITIALIZATION:  # outputs only (fmi2_get: in initialisation)
             return self.outputs_buffer[idx].tolist()
         out = [0.0] * len(vrs)
         self.fmi2_get("Real", vrs, out)

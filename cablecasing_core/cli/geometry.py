@@ -73,7 +73,8 @@ def add_parser(sub):
         "--json",
         action="store_true",
         help="print JSON {length_m, min_radius_m, min_radius_at_m, total_bend_deg, gap_m, element_length_m, "
-        "bends: [{start_m, radius_m, angle_deg}], buckling: {casing: {load_N, at_m, supports, mechanism}}} (arc "
+        "bends: [{start_m, radius_m, min_radius_m, angle_deg}], "
+        "buckling: {casing: {load_N, at_m, supports, mechanism}}} (arc "
         "lengths from end A; the buckling load of the casing as built, the most compression, i.e. cable tension, it "
         "carries)",
     )

@@ -42,7 +42,12 @@ def add_parser(sub):
         help="simulated time of every run of the report, s (the model's scenario.duration is not used)",
     )
     r.add_argument("--seeds", type=int, default=6, help="excitation seeds of the band-level ensembles (1..N)")
-    r.add_argument("--study-samples", type=int, default=32, help="runs of the small study of Fig. 23 (0: no study)")
+    r.add_argument(
+        "--study-samples",
+        type=int,
+        default=32,
+        help="runs of the small study of Fig. 23, rounded up to whole base points of d + 2 runs (0: no study)",
+    )
     r.add_argument(
         "--no-progress", dest="progress", action="store_false", help="no progress bars (default: bars on stderr)"
     )

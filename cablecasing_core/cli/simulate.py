@@ -13,6 +13,7 @@ OUT_SUFFIXES = (".csv", ".npz", ".uff")
 
 
 def cmd_simulate(args):
+    from ..errors import renamed
     from ..model import load_model
     from ..timedomain.simulation import simulate
     from .paths import check_distinct, check_output_path, kept
@@ -31,9 +32,9 @@ def cmd_simulate(args):
     if args.plot is True:
         check_output_path("--plot", plot)
     args.interrupted = "the run was stopped: " + kept(args.out, plot)
-    res = simulate(
-        model, duration=args.duration, dt=args.dt, contact=False if args.no_contact else None, progress=args.progress
-    )
+    with renamed({"duration": "--duration", "dt": "--dt"}):
+        contact = False if args.no_contact else None
+        res = simulate(model, duration=args.duration, dt=args.dt, contact=contact, progress=args.progress)
     print(f"simulated {res.time[-1]:.6g} s in {len(res.time)} steps{_refined(res.solver)}")
     print(output_summary(model, res))
     print(

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import sys
 from pathlib import Path
 
@@ -75,6 +76,8 @@ def cmd_study(args):
     output = study_output(args.output, model)
     unit = output_spec(output)[0]
     integer("--samples", args.samples, 2, MAX_STUDY_SAMPLES)
+    integer("--seed", args.seed, 0)
+    progress_timeout = number("--timeout", args.timeout, gt=0, unit="s")
     out = Path(args.out)  # (created by run_study once every setting is checked and the scheduler answers)
     # a file by its absolute path (dask workers run in any folder); a built-in specimen by its name
     model_file = args.model if args.model in (None, *specimen_names()) else str(Path(args.model).resolve())
@@ -104,7 +107,7 @@ def cmd_study(args):
         evaluate_kwargs=kwargs,
         quantity=quantity,
         model=model,
-        progress_timeout=number("--timeout", args.timeout, gt=0, unit="s"),
+        progress_timeout=progress_timeout,
     )
     n_ok = int(np.sum(res.ok))
     print(f"{n_ok} of {len(res.status)} runs ok ({res.n_base} base points); results in {out / 'study.csv'}")
@@ -164,7 +167,9 @@ def print_study(res):
         )
         print(f"  {'band':40s}{head}\n  {'':40s}{hz}")
         for i, p in enumerate(c.parameters):
-            print(f"  {p:40s}" + "".join(f"{v:+{w}.2f}" for v in c.r[i]))
+            cells = (f"{v:+.2f}{'*' if q < 0.05 else ' '}" for v, q in zip(c.r[i], c.pvalue[i]))
+            print(f"  {p:40s}" + "".join(f"{cell:>{w + 1}}" for cell in cells))
+        print(f"  (* p < 0.05, two-sided, by {c.pvalue_from})")
     sob = _sobol_or_none(res)
     if sob is not None:
         print(
@@ -235,12 +240,13 @@ def cmd_ensemble(args):
     other = d = None
     if against:
         other = seed_ensemble(model, overrides={**base, **against}, **common)
-        d = paired_difference(other, ens)
-        _print_change(other, d, against, args.confidence)
-    # (both files once both ensembles are done: a run stopped in the second leaves the pair as it was)
+    # (both files once both ensembles are done: a run stopped in the second leaves the pair as it
+    # was; and before anything is derived from them)
     _save(ens, args.out, "")
     if other is not None:
         _save(other, args.out, "_against")
+        d = paired_difference(other, ens)
+        _print_change(other, d, against, args.confidence)
     _plot(ens, other, d, args, (", ".join(args.set) or "model", ", ".join(args.against)))
     return 0
 
@@ -341,7 +347,7 @@ def _print_change(other, d, change, confidence):
     print(f"# relative change of the mean level with {change} (paired on the same seeds)")
     print("band,mean_against,rel_diff,se,ci_low,ci_high,diff_over_se")
     for lab, m, r, se, a, b in zip(d.labels, other.mean, d.r, d.se, lo, hi):
-        print(f"{lab},{m:.6g},{r:+.4f},{se:.4f},{a:+.4f},{b:+.4f},{r / se:+.1f}")
+        print(f"{lab},{m:.6g},{r:+.4f},{se:.4f},{a:+.4f},{b:+.4f},{r / se if se > 0 else math.nan:+.1f}")
 
 
 def _against_path(out, suffix="_against"):

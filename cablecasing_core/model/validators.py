@@ -264,6 +264,13 @@ class Segments:
     length = Number(ge=MIN_LENGTH, le=1e3, unit="m")
     angle = Number(gt=0, lt=360, unit="deg")
     toward = Vector(unit="", nonzero=True)
+    #: What each of a segment's numbers is: {leaf: (unit, description)} (the report's parameter table)
+    leaves = {
+        "straight": ("m", "length of a straight segment"),
+        "bend.radius": ("m", "radius of a circular bend"),
+        "bend.angle_deg": ("deg", "angle a bend turns through"),
+        "bend.toward": ("", "the direction a bend turns to (global axes)"),
+    }
 
     def __call__(self, key, value):
         if not isinstance(value, list) or not value:

@@ -73,8 +73,7 @@ def write_report(
     ensembles (>= 2; the first seed gives the reference records); study_samples: runs of the small
     Monte-Carlo study of Fig. 23 (0: none); skip (s): start of each record left out of levels and
     spectra; progress: bars and notes on stderr; fmu: the FMU check of ``examples/demo.py`` (a dict
-    with ``file``, ``step`` (s), ``duration`` (s), ``max_rel_dev``, ``outputs`` (CSV name), shown as
-    it is).
+    of labels to values, :func:`.runs.fmu_check`'s, shown as it is).
     """
     import cablecasing_core as cc
 
@@ -122,9 +121,10 @@ def write_report(
     am = figures.apparent_mass_figure(model, vs[0], out / "apparent_mass.png", skip)
     rms = figures.rms_table(vs, out / "rms.csv", skip)
     study = None
+    figures.clear_study(out / "study")  # (a report's study starts afresh; none leaves none)
     if study_samples:
-        _say(f"a small study of {study_samples} runs (Fig. 23)", progress)
-        study = figures.study_figures(model, out / "study", study_samples, duration, skip, progress)
+        say = lambda runs: _say(f"a small study of {runs} runs (Fig. 23)", progress)  # noqa: E731
+        study = figures.study_figures(model, out / "study", study_samples, duration, skip, progress, say)
     runs = {
         **info,
         "variants": [

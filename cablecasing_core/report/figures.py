@@ -64,7 +64,8 @@ def trfam_figure(model, body, out):
         TRFAM_HZ,
         curves,
         out / "trfam_xyz.png",
-        title=f"TRFAM of the {body} from end A to end B, Eq. 12 (Fig. 17); green: natural frequencies",
+        title=f"TRFAM of the {body} from end A to end B, Eq. 12 (Fig. 17); green: its first {len(natural)} "
+        f"natural frequencies (to {natural[-1]:.0f} Hz)",
         natural_hz=[f for f in natural if f <= TRFAM_HZ[-1]],
     )
     return curves
@@ -165,7 +166,9 @@ def band_figure(variants, path):
 
 
 def psd_figure(variants, path, skip):
-    """PSD (Welch, 4 Hz resolution) of casing.B.Fz of the reference records, N^2/Hz and dB re 1 N^2/Hz."""
+    """PSD (Welch, segments of the power of two nearest fs / 4 samples or a quarter of the record,
+    whichever is shorter: the resolution the legend states) of casing.B.Fz of the reference
+    records, N^2/Hz and dB re 1 N^2/Hz."""
     from ..nvh import psd
     from ..nvh.plots import plot_psd
 
@@ -237,10 +240,22 @@ def rms_table(variants, path, skip):
     return rows
 
 
-def study_figures(model, folder: Path, n_samples, duration, skip, progress):
+#: The files of a report's study in its folder ``study/`` (:func:`study_figures`)
+STUDY_FILES = ("study.csv", "study.csv.meta.json", "model.toml", "correlations.png", "sobol.png")
+
+
+def clear_study(folder: Path):
+    """Remove an earlier report's study files from ``folder`` (a report whose study shows fewer, or
+    none, would otherwise leave them beside its page)."""
+    for name in STUDY_FILES:
+        (folder / name).unlink(missing_ok=True)
+
+
+def study_figures(model, folder: Path, n_samples, duration, skip, progress, say=lambda runs: None):
     """A small study (Fig. 23) over the paper's parameters that the model has (every run the model's
-    scenario for ``duration`` s): study.csv, correlations.png and, with enough complete groups,
-    sobol.png. Returns a summary dict, or None when the model has none of those parameters."""
+    scenario for ``duration`` s; ``n_samples`` rounded up to whole base points, whose number of runs
+    is passed to ``say`` before they run): study.csv, correlations.png and, with enough complete
+    groups, sobol.png. Returns a summary dict, or None when the model has none of those parameters."""
     from ..studies import (
         DEFAULT_EVALUATE,
         PAPER_BOUNDS,
@@ -251,7 +266,7 @@ def study_figures(model, folder: Path, n_samples, duration, skip, progress):
         size_warnings,
         sobol_indices,
     )
-    from ..studies.sampling import check_bounds
+    from ..studies.sampling import base_points, check_bounds, group_size
 
     known = model.parameters()
     bounds = {k: b for k, b in PAPER_BOUNDS.items() if k in known}
@@ -261,8 +276,8 @@ def study_figures(model, folder: Path, n_samples, duration, skip, progress):
         return None
     bounds = check_bounds(bounds, model=model)
     folder.mkdir(parents=True, exist_ok=True)
-    for old in (folder / "study.csv", folder / "study.csv.meta.json"):  # a report's study starts afresh
-        old.unlink(missing_ok=True)
+    clear_study(folder)
+    say(base_points(bounds, n_samples) * group_size(bounds))
     model_file = folder / "model.toml"  # the model the runs load (each run is this file with its overrides)
     write_text(model_file, model.to_toml())
     kwargs = {"model_file": str(model_file.resolve()), "duration": duration, "skip": skip}

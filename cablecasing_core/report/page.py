@@ -54,11 +54,15 @@ def parameter_rows(model, duration):
             leaves[key] = v
     rows = []
     for key, v in leaves.items():
+        unit, desc = "-", ""
         try:
             spec = lookup(re.sub(r"\[\d+\]", "[]", key))  # (casing.clip[0].stiffness: the key casing.clip[].stiffness)
             unit, desc = spec.unit or "-", spec.description
-        except ModelError:
-            unit, desc = "-", ""
+        except ModelError:  # (a segment's number, geometry.segments[1].bend.radius: its validator says)
+            m = re.fullmatch(r"([\w.]+)\[\d+\]\.(.+)", key)
+            leaves = getattr(lookup(m[1]).validator, "leaves", {}) if m else {}
+            if m and m[2] in leaves:
+                unit, desc = leaves[m[2]][0] or "-", leaves[m[2]][1]
         value = f"table of {len(v)} rows" if isinstance(v, list) and v and isinstance(v[0], list) else v
         if key == "scenario.duration":
             value = f"{v} (the report's runs: {duration:g} s)"
@@ -247,9 +251,9 @@ def _bands(variants):
             m = e.mean[b]
             row += [
                 _g(m, 4),
-                f"{_g(lo, 3)} - {_g(hi, 3)}",
+                f"{_g(lo, 3)} to {_g(hi, 3)}",
                 f"{_db(m)}",
-                f"{_db(lo)} - {_db(hi)}",
+                f"{_db(lo)} to {_db(hi)}",
                 f"{100 * e.cv[b]:.0f} %",
             ]
         rows.append(row)

@@ -326,7 +326,8 @@ def paired_difference(a: Ensemble | np.ndarray, b: Ensemble | np.ndarray) -> Pai
     """Relative difference of the mean band levels of ``a`` against ``b`` and its standard error.
 
     ``a`` and ``b`` are :class:`Ensemble` objects run on the same seeds (or arrays ``(n, bands)`` whose
-    rows are paired; the standard error is NaN for one pair). Per band,
+    rows are paired; the standard error is NaN for one pair; r and its standard error are NaN in a
+    band where every level of ``b`` is 0, an output the setting leaves at rest). Per band,
     ``r = (mean a - mean b) / mean b``: the relative change of the expected level. Its standard
     error comes from the linearisation of the ratio estimator, ``e_i = (a_i - b_i) - r b_i``,
     ``SE(r) = sd(e) / (sqrt(n) mean b)``; pairing removes the part of the scatter that the excitation
@@ -352,11 +353,12 @@ def paired_difference(a: Ensemble | np.ndarray, b: Ensemble | np.ndarray) -> Pai
     b = np.asarray(b, float)
     if a.ndim != 2 or a.shape != b.shape or a.shape[0] < 1:
         raise ModelError("a, b", f"shapes {a.shape}, {b.shape}", "must be equal (n, bands) arrays with n >= 1 pairs")
+    if np.any(a < 0) or np.any(b < 0):
+        raise ModelError("a, b", "a negative level", "must be band levels (RMS, at least 0)")
     n, mb = len(a), b.mean(axis=0)
-    if np.any(mb <= 0):
-        raise ModelError("b", mb.tolist(), "must have a positive mean level in every band")
-    r = (a.mean(axis=0) - mb) / mb
-    se = np.std((a - b) - r * b, axis=0, ddof=1) / math.sqrt(n) / mb if n > 1 else np.full_like(r, np.nan)
+    with np.errstate(divide="ignore", invalid="ignore"):  # (a band b never reaches: NaN, docstring)
+        r = np.where(mb > 0, (a.mean(axis=0) - mb) / mb, np.nan)
+        se = np.std((a - b) - r * b, axis=0, ddof=1) / math.sqrt(n) / mb if n > 1 else np.full_like(r, np.nan)
     return PairedDifference(tuple(labels or (f"band{i + 1}" for i in range(a.shape[1]))), r, se, n)
 
 

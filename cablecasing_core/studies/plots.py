@@ -27,7 +27,8 @@ _LABELS = {
 
 def plot_correlations(results, path, parameters=None, methods=("pearson", "spearman"), title=None):
     """Write a figure like Fig. 23 (Section 4.4): one panel per parameter, bars of the correlation
-    coefficient (-1..1) per output band, one bar colour per method. Returns ``path``.
+    coefficient (-1..1) per output band, one bar colour per method; a bar whose p-value
+    (:func:`.correlations`) is 0.05 or more is faded. Returns ``path``.
 
     ``parameters`` defaults to Fig. 23's five panels (E_jv, E_op, gap, axial amplitude, friction)
     when they were sampled, else every sampled parameter. Matplotlib, Agg backend.
@@ -43,24 +44,25 @@ def plot_correlations(results, path, parameters=None, methods=("pearson", "spear
     bad = [p for p in parameters if p not in names]
     if bad:
         raise ModelError("parameters", bad, "must be sampled parameters (or 'gap'): " + ", ".join(names))
-    from .sensitivity import complete_groups, critical_correlation
-
     nb = len(results.outputs)
     fig, axes = plt.subplots(len(parameters), 1, figsize=(7, 1.9 * len(parameters) + 0.6), sharex=True, squeeze=False)
     width = 0.8 / len(cors)
     x = np.arange(nb)
-    n_ind = min(cors[0].n, 2 * len(complete_groups(results))) if results.group_size else cors[0].n
-    r_crit = critical_correlation(n_ind)
     for k, (ax, p) in enumerate(zip(axes[:, 0], parameters)):
         row = names.index(p)
         for m, c in enumerate(cors):
-            ax.bar(x + (m - (len(cors) - 1) / 2) * width, c.r[row], width, label=c.method)
-        for sign in (1, -1):
-            label = f"|r| = {r_crit:.2f}: 95 % significance ({n_ind} independent points)" if sign > 0 else None
-            ax.axhline(sign * r_crit, color="0.4", lw=0.8, ls="--", label=label)
+            bars = ax.bar(x + (m - (len(cors) - 1) / 2) * width, c.r[row], width, label=c.method)
+            for bar, q in zip(bars, c.pvalue[row]):
+                if not q < 0.05:  # (faded: not different from zero at 95 %)
+                    bar.set_alpha(0.3)
         _panel(ax, k, p, (-1, 1), "r (-)")
     _band_axis(axes, results.outputs)
-    fig.suptitle(title or f"Correlation with the band RMS{_of(results)}, {cors[0].n} ok runs (Fig. 23)", fontsize=10)
+    fig.suptitle(
+        title
+        or f"Correlation with the band RMS{_of(results)}, {cors[0].n} ok runs (Fig. 23)\n"
+        f"faded: p >= 0.05 (two-sided, by {cors[0].pvalue_from})",
+        fontsize=9,
+    )
     save_figure(fig, path)
     return path
 

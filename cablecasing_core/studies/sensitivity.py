@@ -33,6 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError
+from ..model.validators import integer, number
 from .results_store import StudyResults, load_results
 
 #: Above this critical correlation (95 %, Fisher z) a correlation table is called indicative only.
@@ -69,6 +70,14 @@ def complete_groups(results: StudyResults) -> np.ndarray:
     return np.array(sorted(j for j, oks in groups.items() if len(oks) == g and all(oks)), int)
 
 
+def group_rows(results: StudyResults, groups: np.ndarray) -> np.ndarray:
+    """Row numbers of the runs of the base points ``groups`` (complete ones: :func:`complete_groups`),
+    an int array (len(groups), group_size), each group's runs in the design's order."""
+    g = results.group_size
+    row_of = {int(i): k for k, i in enumerate(results.index)}
+    return np.array([[row_of[j * g + m] for m in range(g)] for j in groups], int).reshape(len(groups), g)
+
+
 def sobol_indices(
     results: StudyResults | str, conf_level: float = 0.95, num_resamples: int = 200, seed: int = 0
 ) -> SobolIndices:
@@ -77,14 +86,16 @@ def sobol_indices(
     seeded (``seed``), so the intervals are reproducible. Needs at least 4 complete groups."""
     from SALib.analyze import sobol
 
+    number("conf_level", conf_level, gt=0, lt=1)
+    integer("num_resamples", num_resamples, 2)
+    integer("seed", seed, 0)
     if not isinstance(results, StudyResults):
         results = load_results(results)
     groups = complete_groups(results)
     if groups.size < 4:
         raise ModelError("results", f"{groups.size} complete groups", "Sobol indices need at least 4 complete groups")
-    g, d = results.group_size, len(results.parameters)
-    row = {int(i): k for k, i in enumerate(results.index)}
-    take = np.array([row[j * g + r] for j in groups for r in range(g)])
+    d = len(results.parameters)
+    take = group_rows(results, groups).ravel()
     problem = {"num_vars": d, "names": list(results.parameters), "bounds": [[0.0, 1.0]] * d}
     out = {k: np.full((d, len(results.outputs)), np.nan) for k in ("S1", "S1_conf", "ST", "ST_conf")}
     for b in range(len(results.outputs)):
@@ -127,7 +138,8 @@ def size_warnings(results: StudyResults, sobol: SobolIndices | None = None) -> l
             f"that threshold exceeds {R_CRIT_LIMIT})"
         )
     if sobol is not None:
-        worst = float(np.nanmax(np.concatenate([sobol.S1_conf.ravel(), sobol.ST_conf.ravel()])))
+        conf = np.concatenate([sobol.S1_conf.ravel(), sobol.ST_conf.ravel()])
+        worst = float(np.nanmax(conf)) if np.isfinite(conf).any() else 0.0  # (all NaN: constant outputs)
         if worst > SOBOL_CONF_LIMIT:
             out.append(
                 f"Sobol indices from {sobol.n_base} base points are uncertain by up to +-{worst:.2f} "

@@ -18,7 +18,8 @@
  *  - A host thread gets one Python thread state for good on its first call (PyGILState_Ensure
  *    otherwise creates and destroys one per call, ~7 us).
  *  - Support inputs and outputs live in two arrays that the Python instance allocated and fills:
- *    fmi2SetReal of inputs and fmi2GetReal/fmi2GetInteger of outputs never enter Python.
+ *    fmi2SetReal of inputs and fmi2GetReal/fmi2GetInteger of outputs never enter Python (outside
+ *    Initialization Mode, where the outputs are computed from the parameters set so far).
  *  - Every other call returns the status the Python side decided (fmi2Error and fmi2Discard
  *    with a message for the host's logger); an exception that escapes anyway becomes fmi2Error.
  *    Nothing here returns fmi2Fatal.
@@ -757,10 +758,12 @@ static fmi2Status slow_access(Instance *inst, const char *method, const fmi2Valu
 
 static int setters_allowed(Instance *inst) { return inst->state != S_TERMINATED; }
 
+/* In Initialization Mode the outputs are computed from the parameters set so far: through Python */
 FMI2_Export fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]) {
     ENTER(c);
     size_t i = 0;
-    if (nvr && (!vr || !value)) return slow_access(inst, "get_real", vr, nvr, value);
+    if ((nvr && (!vr || !value)) || inst->state == S_INITIALIZATION)
+        return slow_access(inst, "get_real", vr, nvr, value);
     for (; i < nvr; i++) {
         fmi2ValueReference r = vr[i];
         if (r - inst->out0 < inst->nout) {
@@ -793,7 +796,8 @@ FMI2_Export fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference 
                                       fmi2Integer value[]) {
     ENTER(c);
     size_t i = 0;
-    if (nvr && (!vr || !value)) return slow_access(inst, "get_integer", vr, nvr, value);
+    if ((nvr && (!vr || !value)) || inst->state == S_INITIALIZATION)
+        return slow_access(inst, "get_integer", vr, nvr, value);
     for (; i < nvr; i++) {
         size_t k = 0;
         while (k < inst->nint && vr[i] != inst->int_vr[k]) k++;

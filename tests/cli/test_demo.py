@@ -24,6 +24,26 @@ def _run(args, cwd, **kw):
     )
 
 
+@pytest.mark.parametrize(
+    "args, said",
+    [
+        (["--seeds", "1"], "--seeds = 1: must be an integer >= 2"),
+        (["--duration", "-1"], "--duration = -1.0: must be a positive number"),
+        (["--out", "{file}"], "must be a folder that can be created"),
+    ],
+)
+def test_the_demo_refuses_bad_settings_before_it_builds_anything(tmp_path, args, said):
+    """It built and ran the FMU, then stopped with a traceback."""
+    (tmp_path / "afile").write_text("")
+    args = [a.format(file=tmp_path / "afile") for a in args]
+    out = [] if "--out" in args else ["--out", str(tmp_path / "results")]
+    r = subprocess.run(
+        [sys.executable, str(ROOT / "examples" / "demo.py"), *out, *args], capture_output=True, text=True
+    )
+    assert r.returncode == 2 and said in r.stderr and "Traceback" not in r.stderr, r.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["afile"]
+
+
 def test_the_demo_report_is_one_set_of_runs_and_the_fmu_is_the_core(tmp_path):
     from cablecasing_core.records import after_skip
     from cablecasing_core.timedomain.simulation import SimulationResult
@@ -133,7 +153,7 @@ def test_report_writes_only_under_out(tmp_path):
 def test_the_report_of_a_model_without_cable_drive_names_its_one_record_and_its_clips_units():
     """A model whose scenario has no cable drive (examples/installation.toml) has one record, the
     model's scenario, filed under that name (it was filed as drive.npz); its clips' keys are rows
-    with their units (one row `casing.clip` without a unit before)."""
+    with their units (one row `casing.clip` without a unit before), and so are its segments'."""
     import cablecasing_core as cc
     from cablecasing_core.report.page import parameter_rows
     from cablecasing_core.report.runs import variants
@@ -144,3 +164,7 @@ def test_the_report_of_a_model_without_cable_drive_names_its_one_record_and_its_
     rows = {key: (value, unit) for key, value, unit, _ in parameter_rows(model, 0.15)}
     assert rows["casing.clip[0].stiffness"] == ("[20000.0, 50000.0, 50000.0]", "N/m")
     assert rows["casing.clip[1].damping"][1] == "N.s/m" and "casing.clip" not in rows
+    # the route's segments as the file gives them (m, degrees; they had no unit)
+    assert rows["geometry.segments[0].straight"] == ("0.15", "m")
+    assert rows["geometry.segments[1].bend.radius"] == ("0.15", "m")
+    assert rows["geometry.segments[1].bend.angle_deg"] == ("60.0", "deg")

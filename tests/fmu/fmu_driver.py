@@ -561,6 +561,30 @@ def scenario_phases(job, table):
     return res
 
 
+def scenario_initial_outputs(job, table):
+    """Outputs read in Initialization Mode, after each of ``params`` (a list of {name: value}) is
+    set, then after fmi2ExitInitializationMode; the status of every call (set up, enter, then a set
+    and a read per item, exit)."""
+    names = job["outputs"]
+    inst = Instance(job["fmu"], name="initial", initialize=False)
+    status = [Instance.call(inst.fmu.setupExperiment, None, 0.0, None), Instance.call(inst.fmu.enterInitializationMode)]
+    during = []
+    for values in job["params"]:
+        status.append(inst.set(values))
+        got = []
+        status.append(Instance.call(lambda: got.append(inst.get(names))))  # noqa: B023
+        during.append(got[0] if got else np.full(len(names), np.nan))
+    status.append(Instance.call(inst.fmu.exitInitializationMode))
+    after = inst.get(names)
+    inst.free()
+    return {
+        "during": np.array(during),
+        "after": after,
+        "status": np.array(status),
+        "log": np.array(_log(inst.log) or [""]),
+    }
+
+
 def scenario_threads(job, table):
     """Two instances started at once on two threads in a process that never loaded the FMU (the
     per-user cache empty: the test sets XDG_CACHE_HOME), then a third after fmpy deleted their
@@ -693,6 +717,7 @@ SCENARIOS = {
     "careless": scenario_careless,
     "phases": scenario_phases,
     "threads": scenario_threads,
+    "initial_outputs": scenario_initial_outputs,
     "memory": scenario_memory,
     "model_file": scenario_model_file,
 }

@@ -87,6 +87,25 @@ def test_the_installed_specimen_through_the_fmu_is_the_core_s(fmu, tmp_path, fmu
     assert abs(static[0]) > 1.0  # casing.A.Fx: the static state's, not zero
 
 
+def test_outputs_read_in_initialization_mode_are_those_of_the_parameters_set(fmu, tmp_path, fmu_driver):
+    """The outputs are initial unknowns (FMI 2.0): read in Initialization Mode they are the static
+    reactions of the parameters set so far (they were 0 until fmi2ExitInitializationMode), bit for
+    bit the core's, follow a parameter set after them, and equal what the FMU gives after
+    initialisation; a parameter that makes no model is fmi2Error at the read, with its message."""
+    tensions = (10.0, 20.0)
+    params = [{"model_file": "installed"}, {"loads.cable_tension": tensions[1]}]
+    res = fmu_driver.run(tmp_path, "initial_outputs", fmu, params=params, outputs=list(OUTPUTS))
+    assert np.all(res["status"] == 0), res["log"]
+    for k, tension in enumerate(tensions):
+        model = cc.load_model("installed").with_overrides({"loads.cable_tension": tension})
+        np.testing.assert_array_equal(res["during"][k], Engine(model, ledger=False).output_values())
+    assert abs(res["during"][0][0]) > 1.0 and res["during"][0][0] != res["during"][1][0]
+    np.testing.assert_array_equal(res["after"], res["during"][1])
+    bad = fmu_driver.run(tmp_path, "initial_outputs", fmu, params=[{"casing.E": -1.0}], outputs=list(OUTPUTS))
+    assert bad["status"].tolist() == [0, 0, 0, 3, 3]  # set (checked when the model is built), read, exit
+    assert any("casing.E" in line for line in bad["log"]), bad["log"]
+
+
 def test_the_switch_friction_law_through_the_fmu_is_the_core_s(fmu, tmp_path, fmu_driver):
     """contact.friction_law is a String parameter like the model's other word keys: the installed
     specimen with the paper's switch law gives the core's outputs bit for bit, and the steps

@@ -163,6 +163,13 @@ def test_paired_difference_of_ensembles_checks_the_pairing():
     assert np.all(np.isnan(one.se))
     with pytest.raises(ModelError, match="n >= 1"):
         paired_difference(a.levels[:0], b.levels[:0])
+    # a band the compared output never reaches (a support left at rest): no relative change there,
+    # the others as before
+    zero = paired_difference(np.c_[a.levels, np.zeros(3)], np.c_[b.levels, np.zeros(3)])
+    np.testing.assert_array_equal(zero.r[:2], d.r)
+    assert np.isnan(zero.r[2]) and np.isnan(zero.se[2])
+    with pytest.raises(ModelError, match="at least 0"):
+        paired_difference(a.levels, -b.levels)
 
 
 @pytest.mark.parametrize(

@@ -87,3 +87,32 @@ def test_the_bootstrap_intervals_do_not_depend_on_numpy_s_global_random_state():
         np.random.seed(state)
         conf.append(sobol_indices(_results(X, y)).S1_conf)
     np.testing.assert_array_equal(conf[0], conf[1])
+
+
+@pytest.mark.parametrize(
+    "kwargs, key",
+    [({"seed": -1}, "seed"), ({"conf_level": 1.5}, "conf_level"), ({"num_resamples": 1}, "num_resamples")],
+)
+def test_sobol_settings_are_checked(kwargs, key):
+    """seed -1 had reached SALib as 0, its "no seed" (an unseeded bootstrap); 1.5 and 1 had given
+    SALib's RuntimeError and NaN intervals."""
+    from cablecasing_core.errors import ModelError
+    from cablecasing_core.studies.results_store import StudyResults
+
+    n = 5 * 8  # (never read: the settings are checked first)
+    res = StudyResults(
+        np.arange(n),
+        ("a", "b", "c"),
+        np.zeros((n, 3)),
+        ("y",),
+        np.zeros((n, 1)),
+        np.full(n, "ok"),
+        np.full(n, ""),
+        np.zeros(n),
+        None,
+        5,
+        8,
+    )
+    with pytest.raises(ModelError) as e:
+        sobol_indices(res, **kwargs)
+    assert e.value.key == key
