@@ -1,6 +1,8 @@
 """The correlations' p-values in Saltelli's design: a test of the right size where the t distribution
 of independent samples is not (docs/studies.md, "Correlations, Sobol indices and the figures")."""
 
+import itertools
+
 import numpy as np
 import pytest
 from scipy import stats
@@ -65,3 +67,27 @@ def test_the_p_value_counts_whole_base_points():
     p = correlations(plain, "pearson", include_gap=False)
     assert p.pvalue[AMPLITUDE, 0] == pytest.approx(stats.pearsonr(res.X[:, AMPLITUDE], res.Y[:, 0]).pvalue)
     assert "t distribution of 24 independent samples" in p.pvalue_from
+
+
+def test_block_permutation_p_values_equal_an_exact_enumeration_of_the_base_points():
+    """5 complete base points of Saltelli's design (8 runs each): all 5! = 120 orders of the blocks of
+    a parameter's values are enumerated, the coefficient over all 40 runs computed for each by
+    scipy.stats.pearsonr / spearmanr (ranks over all runs), the two-sided p-value taken as
+    scipy.stats.permutation_test defines it, 2 min(P(T >= t), P(T <= t)) at most 1. Both are
+    multiples of 1/120 from the same 120 values: equal to round-off (a relative 1e-9 on the ties)."""
+    n_base, g = 5, len(NAMES) + 2
+    X = sobol_design(PAPER_BOUNDS, n_base, 4)
+    U = (X - LO) / (HI - LO)
+    y = U[:, AMPLITUDE] ** 3 + 0.3 * np.random.default_rng(4).standard_normal(len(X))
+    n = len(X)
+    ok = np.full(n, "ok")
+    res = StudyResults(np.arange(n), NAMES, X, ("y",), y[:, None], ok, np.full(n, ""), np.zeros(n), None, g, n_base)
+    for method, fn in (("pearson", stats.pearsonr), ("spearman", stats.spearmanr)):
+        c = correlations(res, method, include_gap=False)
+        for a in range(len(NAMES)):
+            xb = X[:, a].reshape(n_base, g)
+            t_obs = fn(X[:, a], y).statistic
+            T = np.array([fn(xb[list(p)].ravel(), y).statistic for p in itertools.permutations(range(n_base))])
+            tol = 1e-9 * max(1.0, abs(t_obs))
+            p = min(1.0, 2 * min(np.mean(T >= t_obs - tol), np.mean(T <= t_obs + tol)))
+            assert c.pvalue[a, 0] == pytest.approx(p, abs=1e-12), (method, NAMES[a], c.pvalue[a, 0], p)
