@@ -100,8 +100,9 @@ def load_slave():
 
 
 # ------------------------------------------------------------------------------------ model description
-def complete_description(xml_bytes, units, guid, date, model_name=None):
-    """The modelDescription.xml with units, UnitDefinitions, ModelStructure, GUID and date (and,
+def complete_description(xml_bytes, units, guid, date, model_name=None, ranges=None):
+    """The modelDescription.xml with units, the parameters' min and max (``ranges``: name -> (min,
+    max), the model schema's allowed values), UnitDefinitions, ModelStructure, GUID and date (and,
     for an FMU built for a model file, its name in the description)."""
     root = ET.fromstring(xml_bytes)
     root.set("guid", guid)
@@ -117,6 +118,10 @@ def complete_description(xml_bytes, units, guid, date, model_name=None):
                 raise SystemExit(f"variable {sv.get('name')}: unit {unit!r} has no UnitDefinitions entry")
             real.set("unit", unit)
             used.add(unit)
+        number = real if real is not None else sv.find("Integer")
+        for attr, bound in zip(("min", "max"), (ranges or {}).get(sv.get("name"), (None, None))):
+            if bound is not None:  # (repr: the shortest text that reads back as the same double)
+                number.set(attr, repr(float(bound)) if real is not None else str(int(bound)))
         if not sv.get("description"):
             raise SystemExit(f"variable {sv.get('name')} has no description")
     for old in root.findall("UnitDefinitions"):
@@ -510,12 +515,17 @@ def build(out, model_file=None):
             canBeInstantiatedOnlyOncePerProcess=False,
             needsExecutionTool=True,
         )
-        units = slave_module.CableCasing(instance_name="units", resources=str(tmp)).units
+        described = slave_module.CableCasing(instance_name="units", resources=str(tmp))
         with zipfile.ZipFile(raw) as src:
             entries = {i.filename: src.read(i.filename) for i in src.infolist() if not i.is_dir()}
         entries = {k: v for k, v in entries.items() if "__pycache__" not in k}
         entries["modelDescription.xml"] = complete_description(
-            entries["modelDescription.xml"], units, guid, date, model_file.name if model_file else None
+            entries["modelDescription.xml"],
+            described.units,
+            guid,
+            date,
+            model_file.name if model_file else None,
+            described.ranges,
         )
         if compile_native(tmp / "CableCasing.so"):
             entries["binaries/linux64/CableCasing.so"] = (tmp / "CableCasing.so").read_bytes()

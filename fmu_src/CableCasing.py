@@ -49,7 +49,16 @@ from pythonfmu.enums import Fmi2Status
 import cablecasing_core as cc
 from cablecasing_core.errors import renamed
 from cablecasing_core.model import specimen_names
-from cablecasing_core.model.schema import CHANNELS, OUTPUTS, input_spec, inputs_of, lookup, output_spec, outputs_of
+from cablecasing_core.model.schema import (
+    CHANNELS,
+    OUTPUTS,
+    input_spec,
+    inputs_of,
+    lookup,
+    output_spec,
+    outputs_of,
+    value_range,
+)
 from cablecasing_core.model.validators import seconds
 from cablecasing_core.timedomain.engine import Engine, state_from_bytes, state_to_bytes
 from cablecasing_core.timedomain.scenario import scenario_motion
@@ -167,6 +176,7 @@ class CableCasing(Fmi2Slave):
         self._base_fingerprint = self._base.fingerprint()  # (a state names the model its FMU was built for)
         self.nch = len(self.input_names) // 3  # support channels: 12, and 3 per excited clip
         self.units = {}  # variable name -> unit (read by build_fmu.py)
+        self.ranges = {}  # parameter name -> (min, max), None for a side without a bound (build_fmu.py)
         self._start = dict(self._base.parameters())
         self._text_keys = tuple(self._base.text_parameters())  # the String parameters besides model_file
         self._start.update(self._base.text_parameters())
@@ -325,6 +335,11 @@ class CableCasing(Fmi2Slave):
         var.setter = lambda v: self._set_parameter(key, type(var).__name__, v)
         self._add(var, unit)
         self._param[var.value_reference] = (key, type(var).__name__)
+        if isinstance(var, (Real, Integer)):  # the schema's allowed values (solver.dt: scenario.dt's)
+            lo, hi = value_range("scenario.dt" if key == "solver.dt" else key)
+            if isinstance(var, Integer):  # (and what FMI 2.0's Integer holds)
+                lo, hi = max(lo, FMI_INTEGER[0]) if lo is not None else FMI_INTEGER[0], min(hi, FMI_INTEGER[1])
+            self.ranges[key] = (lo, hi)
 
     def _value(self, key):
         """The value in force: the master's, else the model file's (when one is set), else the

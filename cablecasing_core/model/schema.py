@@ -23,6 +23,7 @@ in one place on purpose; the validators are in ``validators.py``.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 
 from ..errors import ModelError
@@ -740,6 +741,21 @@ def lookup(key: str) -> KeySpec:
     if spec is None:
         raise ModelError(key, None, "is not a key of the model file (see docs/model_file.md)")
     return spec
+
+
+def value_range(key: str) -> tuple:
+    """``(min, max)``, the closed interval of the values a number key allows (an FMU parameter's
+    min and max attributes): an exclusive bound is the nearest value inside it (the next double, or
+    whole number); None for a side without a bound and for a key that is not a number. What the
+    loader checks against other keys (``KeySpec.note``) is not in it."""
+    v = lookup(key).validator
+    v = getattr(v, "number", v)  # (a number or a table of them: the number's range)
+    if not isinstance(v, Number):
+        return None, None
+    inward = (lambda b, d: b + d) if v.integer else (lambda b, d: math.nextafter(b, d * math.inf))
+    lo = v.ge if v.ge is not None else None if v.gt is None else inward(v.gt, 1)
+    hi = v.le if v.le is not None else None if v.lt is None else inward(v.lt, -1)
+    return lo, hi
 
 
 def component_spec(vector: KeySpec, component: str) -> KeySpec:

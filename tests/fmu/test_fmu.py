@@ -88,6 +88,35 @@ def test_fmpy_validate_finds_no_problem(fmu):
     assert validate_fmu(str(fmu)) == []
 
 
+def test_parameters_declare_the_values_the_fmu_takes(fmu, tmp_path, fmu_driver):
+    """Every number parameter carries min and max (FMI 2.0: inclusive): the schema's allowed values,
+    an exclusive bound as the next double inside it (casing.E > 0: min 5e-324), an Integer also
+    within FMI's 32 bits; its start lies inside. A value just outside (the next double past max)
+    is refused at initialisation naming the parameter, the bound itself is taken."""
+    import math
+
+    from fmpy import read_model_description
+
+    md = read_model_description(str(fmu))
+    var = {v.name: v for v in md.modelVariables}
+    numbers = [v for v in md.modelVariables if v.causality == "parameter" and v.type in ("Real", "Integer")]
+    assert len(numbers) > 30
+    for v in numbers:
+        lo, hi = (-math.inf if v.min is None else float(v.min)), (math.inf if v.max is None else float(v.max))
+        assert lo <= float(v.start) <= hi, v.name
+    assert sum(v.min is None or v.max is None for v in numbers) == 1  # the phase, below
+    assert var["scenario.excitation.cable_axial.phase"].min is None  # (any angle)
+    assert (float(var["casing.E"].min), float(var["casing.E"].max)) == (5e-324, 1e16)
+    assert (float(var["casing.nu"].min), float(var["casing.nu"].max)) == (-0.999, 0.4999)
+    assert (var["scenario.seed"].min, var["scenario.seed"].max) == ("0", str(2**31 - 1))
+    assert (float(var["solver.dt"].min), float(var["solver.dt"].max)) == (1e-10, 1.0)
+    past = math.nextafter(0.4999, 1.0)
+    refused = fmu_driver.run(tmp_path, "initial_outputs", fmu, params=[{"casing.nu": past}], outputs=["casing.B.Fz"])
+    assert refused["status"][-1] == 3 and any("casing.nu" in line for line in refused["log"]), refused["log"]
+    taken = fmu_driver.run(tmp_path, "initial_outputs", fmu, params=[{"casing.nu": 0.4999}], outputs=["casing.B.Fz"])
+    assert np.all(taken["status"] == 0), taken["log"]
+
+
 def test_model_description_is_complete(fmu, fmu_driver):
     from fmpy import read_model_description
 
