@@ -169,7 +169,8 @@ def print_study(res):
         for i, p in enumerate(c.parameters):
             cells = (f"{v:+.2f}{'*' if q < 0.05 else ' '}" for v, q in zip(c.r[i], c.pvalue[i]))
             print(f"  {p:40s}" + "".join(f"{cell:>{w + 1}}" for cell in cells))
-        print(f"  (* p < 0.05, two-sided, by {c.pvalue_from})")
+        tested = np.isfinite(c.pvalue).any()
+        print(f"  (* p < 0.05, two-sided, by {c.pvalue_from})" if tested else f"  (p-values {c.pvalue_from})")
     sob = _sobol_or_none(res)
     if sob is not None:
         print(

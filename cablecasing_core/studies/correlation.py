@@ -106,7 +106,9 @@ def correlations(
         groups = complete_groups(results)
         pvalue_from = f"a permutation test over {len(groups)} complete base points"
         pv = np.full_like(r, np.nan)
-        if len(groups) >= 3:
+        if len(groups) < 3:
+            pvalue_from = f"none: {len(groups)} complete base points, a permutation test needs 3"
+        else:
             rows = group_rows(results, groups)
             rng = np.random.default_rng(seed)
             for a in range(len(names)):

@@ -53,14 +53,18 @@ def plot_correlations(results, path, parameters=None, methods=("pearson", "spear
         for m, c in enumerate(cors):
             bars = ax.bar(x + (m - (len(cors) - 1) / 2) * width, c.r[row], width, label=c.method)
             for bar, q in zip(bars, c.pvalue[row]):
-                if not q < 0.05:  # (faded: not different from zero at 95 %)
+                if q >= 0.05:  # (faded: not different from zero at 95 %; NaN, untested, not)
                     bar.set_alpha(0.3)
         _panel(ax, k, p, (-1, 1), "r (-)")
     _band_axis(axes, results.outputs)
     fig.suptitle(
         title
         or f"Correlation with the band RMS{_of(results)}, {cors[0].n} ok runs (Fig. 23)\n"
-        f"faded: p >= 0.05 (two-sided, by {cors[0].pvalue_from})",
+        + (
+            f"faded: p >= 0.05 (two-sided, by {cors[0].pvalue_from})"
+            if np.isfinite(cors[0].pvalue).any()
+            else f"p-values {cors[0].pvalue_from}"
+        ),
         fontsize=9,
     )
     save_figure(fig, path)

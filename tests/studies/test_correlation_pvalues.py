@@ -59,7 +59,7 @@ def test_a_parameter_the_output_depends_on_is_found_and_spearman_takes_the_same_
 def test_the_p_value_counts_whole_base_points():
     """With 3 complete base points there are 3! = 6 orders of them, enumerated exactly: no p-value
     can fall below 1/3 (two-sided, 2 of 6), whatever r; results without a design keep the t
-    distribution."""
+    distribution; below 3 base points there is no p-value."""
     res = _study(3, n_base=3)
     c = correlations(res, "pearson", include_gap=False)
     assert np.nanmin(c.pvalue) == pytest.approx(1 / 3)
@@ -67,6 +67,8 @@ def test_the_p_value_counts_whole_base_points():
     p = correlations(plain, "pearson", include_gap=False)
     assert p.pvalue[AMPLITUDE, 0] == pytest.approx(stats.pearsonr(res.X[:, AMPLITUDE], res.Y[:, 0]).pvalue)
     assert "t distribution of 24 independent samples" in p.pvalue_from
+    two = correlations(_study(3, n_base=2), "pearson", include_gap=False)  # 2! orders: no test
+    assert np.all(np.isnan(two.pvalue)) and two.pvalue_from.startswith("none: 2 complete base points")
 
 
 def test_block_permutation_p_values_equal_an_exact_enumeration_of_the_base_points():
