@@ -111,6 +111,24 @@ def _say(row, label, said):
     row["warnings"] = WARNING_SEPARATOR.join(" ".join(str(m).split()) for _, m in given)
 
 
+def _cluster_deaf_to_ctrl_c(LocalCluster, n_workers):
+    """A LocalCluster whose processes ignore SIGINT: a Ctrl-C at the terminal reaches the whole
+    process group, and each worker printed its KeyboardInterrupt traceback while this process
+    closed the cluster and said what was kept. A process started while SIGINT is ignored keeps
+    ignoring it (Python installs its KeyboardInterrupt handler only where SIGINT is not ignored),
+    so it is ignored here while the workers start, in the main thread (signal handlers live there)."""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, dashboard_address=None)
+    before = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, dashboard_address=None)
+    finally:
+        signal.signal(signal.SIGINT, before)
+
+
 class Workers:
     """Where the samples run: ``"serial"`` (this process), ``None``/``"local"`` (a LocalCluster of
     ``n_workers`` processes, default one per core), an address ``"tcp://host:8786"`` (reached within
@@ -125,7 +143,7 @@ class Workers:
 
         if scheduler is None or scheduler == "local":
             nw = os.cpu_count() if n_workers is None else integer("n_workers", n_workers, 1)
-            self._cluster = LocalCluster(n_workers=nw, threads_per_worker=1, processes=True, dashboard_address=None)
+            self._cluster = _cluster_deaf_to_ctrl_c(LocalCluster, nw)
             self.client = self._own = Client(self._cluster)
         elif isinstance(scheduler, str):
             try:

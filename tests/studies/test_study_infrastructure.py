@@ -196,3 +196,37 @@ def test_stalled_workers_end_with_a_message_within_the_timeout(tmp_path):
     # machine only makes it longer; no upper bound on the wall clock)
     assert elapsed >= 3.0
     assert _rows(p) == [] and load_results(p).index.size == 0
+
+
+def test_ctrl_c_on_a_study_with_local_workers_says_what_was_kept_and_nothing_else(tmp_path):
+    """Ctrl-C at a terminal reaches the whole process group: the CLI says in one line where the rows
+    it kept are and exits 130; its workers, which printed their own KeyboardInterrupt tracebacks
+    (or, interrupted in the middle of their shutdown, were killed after 4 s), ignore SIGINT and are
+    closed by it. The rows kept are whole. (dask's own warning that a cancelled task ended with
+    CancelledError remains.)"""
+    import os
+    import signal
+
+    out = tmp_path / "st"
+    cmd = [sys.executable, "-m", "cablecasing_core.cli", "study", "--samples", "200", "--workers", "2"]
+    proc = subprocess.Popen(
+        [*cmd, "--duration", "0.5", "--out", str(out)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        start_new_session=True,  # (its own process group, as a terminal's job)
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
+    deadline = time.monotonic() + 120  # (the cluster up and two rows written)
+    while time.monotonic() < deadline and not (
+        (out / "study.csv").exists() and len(load_results(out / "study.csv")) >= 2
+    ):
+        time.sleep(0.5)
+    os.killpg(proc.pid, signal.SIGINT)
+    text = proc.communicate(timeout=60)[0]
+    assert proc.returncode == 130, text[-2000:]
+    assert "Traceback" not in text and "KeyboardInterrupt" not in text, text[-2000:]
+    assert "still alive" not in text, text[-2000:]  # (a worker killed after 4 s: it was interrupted first)
+    assert "interrupted: the rows finished so far are in" in text
+    res = load_results(out / "study.csv")
+    assert len(res) >= 2 and np.all(res.ok) and np.all(np.isfinite(res.Y))
