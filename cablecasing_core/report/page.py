@@ -287,11 +287,14 @@ def _study(study):
     if "pearson" in study:
         parts.append("<img src='study/correlations.png'>")
         for c in (study["pearson"], study["spearman"]):
-            parts.append(f"<p>{c.method.capitalize()} r (-), {c.n} ok runs:</p>")
+            tested = np.isfinite(c.pvalue).any()
+            said = f"* p &lt; 0.05, two-sided, by {_e(c.pvalue_from)}" if tested else f"p-values {_e(c.pvalue_from)}"
+            parts.append(f"<p>{c.method.capitalize()} r (-), {c.n} ok runs ({said}):</p>")
+            cells = [[f"{x:+.2f}{'*' if q < 0.05 else ''}" for x, q in zip(r, p)] for r, p in zip(c.r, c.pvalue)]
             parts.append(
                 _table(
                     ["parameter"] + list(c.outputs),
-                    [[_e(p)] + [f"{x:+.2f}" for x in c.r[i]] for i, p in enumerate(c.parameters)],
+                    [[_e(p)] + cells[i] for i, p in enumerate(c.parameters)],
                     numeric=tuple(range(1, len(c.outputs) + 1)),
                 )
             )
