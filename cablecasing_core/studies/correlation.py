@@ -13,6 +13,7 @@ points) and the statistic is the coefficient over all the blocks' runs."""
 
 from __future__ import annotations
 
+import math
 import warnings
 from dataclasses import dataclass
 
@@ -105,6 +106,9 @@ def correlations(
     if results.group_size:
         groups = complete_groups(results)
         pvalue_from = f"a permutation test over {len(groups)} complete base points"
+        if 3 <= len(groups) <= 4:  # (all n! orders are enumerated: the smallest two-sided p is 2 / n!)
+            smallest = 2 / math.factorial(len(groups))
+            pvalue_from += f" (its smallest p-value is 2/{len(groups)}! = {smallest:.2g}: none can reach 0.05)"
         pv = np.full_like(r, np.nan)
         if len(groups) < 3:
             pvalue_from = f"none: {len(groups)} complete base points, a permutation test needs 3"

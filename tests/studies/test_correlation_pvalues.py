@@ -63,6 +63,7 @@ def test_the_p_value_counts_whole_base_points():
     res = _study(3, n_base=3)
     c = correlations(res, "pearson", include_gap=False)
     assert np.nanmin(c.pvalue) == pytest.approx(1 / 3)
+    assert "smallest p-value is 2/3! = 0.33: none can reach 0.05" in c.pvalue_from
     plain = StudyResults(res.index, NAMES, res.X, res.outputs, res.Y, res.status, res.error, res.elapsed_s)
     p = correlations(plain, "pearson", include_gap=False)
     assert p.pvalue[AMPLITUDE, 0] == pytest.approx(stats.pearsonr(res.X[:, AMPLITUDE], res.Y[:, 0]).pvalue)
