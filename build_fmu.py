@@ -156,7 +156,13 @@ def variable_rows(slave_module, resources):
         start = ""
         if v.causality.name in ("parameter", "input"):
             start = repr(v.getter())
-        rows.append((v.name, v.causality.name, type(v).__name__, slave.units[v.name], start, v.description))
+        lo, hi = slave.ranges.get(v.name, (None, None))
+        allowed = (
+            ""
+            if lo is None and hi is None
+            else f"{'-inf' if lo is None else repr(lo)} .. {'inf' if hi is None else repr(hi)}"
+        )
+        rows.append((v.name, v.causality.name, type(v).__name__, slave.units[v.name], start, allowed, v.description))
     return rows
 
 
@@ -260,7 +266,8 @@ are logged whether or not logging is on; a problem that keeps the FMU from start
 Python, a missing package) is also written to stderr.</p>
 
 <h2>Variables</h2>
-<table><tr><th>name</th><th>causality</th><th>type</th><th>unit</th><th>start</th><th>description</th></tr>
+<table><tr><th>name</th><th>causality</th><th>type</th><th>unit</th><th>start</th><th>min .. max</th>
+<th>description</th></tr>
 {table}
 </table>
 </body></html>

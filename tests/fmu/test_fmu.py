@@ -189,6 +189,7 @@ def test_model_description_is_complete(fmu, fmu_driver):
     assert shipped and all(f.startswith("resources/numba_cache/") for f in shipped)
     assert any("run_steps" in f for f in shipped)
     assert all(name in doc for name in ("casing.A.vx", "cable.B.Mz", "contact.friction", "geometry.png", "N.m"))
+    assert "<td>casing.nu</td><td>parameter</td><td>Real</td><td>1</td><td>0.3</td><td>-0.999 .. 0.4999</td>" in doc
 
 
 def test_build_is_reproducible(tmp_path):
