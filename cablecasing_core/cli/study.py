@@ -125,8 +125,8 @@ def cmd_study(args):
     if n_ok < 3:
         print("cablecasing: warning: fewer than 3 ok runs: no correlation", file=sys.stderr)
         return 0
-    print_study(res)
-    plot_correlations(res, out / "correlations.png")
+    cors = print_study(res)
+    plot_correlations(res, out / "correlations.png", cors=cors)
     print(f"wrote {out / 'correlations.png'}")
     if _sobol_or_none(res) is not None:
         plot_sobol(res, out / "sobol.png")
@@ -145,7 +145,7 @@ def _sobol_or_none(res):
 
 def print_study(res):
     """Correlation (Pearson, Spearman) and Sobol tables of a study, one column per band with its
-    edges, and the warnings when it is too small to mean anything."""
+    edges, and the warnings when it is too small to mean anything; returns the two correlations."""
     from ..studies import correlations, size_warnings
     from ..studies.octave import octave_bands
     from ..studies.sensitivity import complete_groups
@@ -159,18 +159,17 @@ def print_study(res):
     hz = "".join(f"{edges.get(o, ''):>{w}}" for o in res.outputs)
     q = res.quantity
     of = f"{q['name']} ({q['unit']})" if q else "the output"
-    for method in ("pearson", "spearman"):
-        c = correlations(res, method)
+    cors = [correlations(res, method) for method in ("pearson", "spearman")]
+    for c in cors:
         print(
-            f"\n{method.capitalize()} correlation r (-) of each parameter with the band RMS of {of} "
+            f"\n{c.method.capitalize()} correlation r (-) of each parameter with the band RMS of {of} "
             f"({c.n} ok runs); bands (Hz):"
         )
         print(f"  {'band':40s}{head}\n  {'':40s}{hz}")
         for i, p in enumerate(c.parameters):
             cells = (f"{v:+.2f}{'*' if q < 0.05 else ' '}" for v, q in zip(c.r[i], c.pvalue[i]))
             print(f"  {p:40s}" + "".join(f"{cell:>{w + 1}}" for cell in cells))
-        tested = np.isfinite(c.pvalue).any()
-        print(f"  (* p < 0.05, two-sided, by {c.pvalue_from})" if tested else f"  (p-values {c.pvalue_from})")
+        print(f"  ({c.legend()})")
     sob = _sobol_or_none(res)
     if sob is not None:
         print(

@@ -295,8 +295,8 @@ def study_figures(model, folder: Path, n_samples, duration, skip, progress, say=
     )
     out = {"csv": "study/study.csv", "runs": len(res.status), "ok": int(res.ok.sum()), "bounds": bounds, "res": res}
     if out["ok"] >= 3:
-        plot_correlations(res, folder / "correlations.png")
         out["pearson"], out["spearman"] = correlations(res, "pearson"), correlations(res, "spearman")
+        plot_correlations(res, folder / "correlations.png", cors=(out["pearson"], out["spearman"]))
     try:
         sob = sobol_indices(res)
     except ModelError as exc:  # too few complete groups: the page says so

@@ -60,9 +60,9 @@ def parameter_rows(model, duration):
             unit, desc = spec.unit or "-", spec.description
         except ModelError:  # (a segment's number, geometry.segments[1].bend.radius: its validator says)
             m = re.fullmatch(r"([\w.]+)\[\d+\]\.(.+)", key)
-            leaves = getattr(lookup(m[1]).validator, "leaves", {}) if m else {}
-            if m and m[2] in leaves:
-                unit, desc = leaves[m[2]][0] or "-", leaves[m[2]][1]
+            parts = getattr(lookup(m[1]).validator, "leaves", {}) if m else {}
+            if m and m[2] in parts:
+                unit, desc = parts[m[2]][0] or "-", parts[m[2]][1]
         value = f"table of {len(v)} rows" if isinstance(v, list) and v and isinstance(v[0], list) else v
         if key == "scenario.duration":
             value = f"{v} (the report's runs: {duration:g} s)"
@@ -287,9 +287,7 @@ def _study(study):
     if "pearson" in study:
         parts.append("<img src='study/correlations.png'>")
         for c in (study["pearson"], study["spearman"]):
-            tested = np.isfinite(c.pvalue).any()
-            said = f"* p &lt; 0.05, two-sided, by {_e(c.pvalue_from)}" if tested else f"p-values {_e(c.pvalue_from)}"
-            parts.append(f"<p>{c.method.capitalize()} r (-), {c.n} ok runs ({said}):</p>")
+            parts.append(f"<p>{c.method.capitalize()} r (-), {c.n} ok runs ({_e(c.legend())}):</p>")
             cells = [[f"{x:+.2f}{'*' if q < 0.05 else ''}" for x, q in zip(r, p)] for r, p in zip(c.r, c.pvalue)]
             parts.append(
                 _table(

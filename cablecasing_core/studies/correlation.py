@@ -45,6 +45,13 @@ class Correlation:
     n: int
     pvalue_from: str = ""
 
+    def legend(self, mark="*"):
+        """What marks the coefficients with p < 0.05 and by which test, e.g. ``"* p < 0.05, two-sided,
+        by a permutation test over 38 complete base points"`` (or that there are no p-values)."""
+        if np.isfinite(self.pvalue).any():
+            return f"{mark} p < 0.05, two-sided, by {self.pvalue_from}"
+        return f"p-values {self.pvalue_from}"
+
     def as_dict(self):
         """``{parameter: {output: r}}``."""
         return {p: {o: float(self.r[i, j]) for j, o in enumerate(self.outputs)} for i, p in enumerate(self.parameters)}
@@ -92,7 +99,7 @@ def correlations(
         raise ModelError("results", f"{n_ok} ok samples", "need at least 3 successful samples for a correlation")
     fn = stats.pearsonr if method == "pearson" else stats.spearmanr
     r = np.full((len(names), len(results.outputs)), np.nan)
-    pv = np.full_like(r, np.nan)
+    pv = np.full_like(r, np.nan)  # (the t distribution's, replaced below in Saltelli's design)
     for a in range(len(names)):
         for b in range(len(results.outputs)):
             x, y = X[ok, a], results.Y[ok, b]
@@ -105,14 +112,14 @@ def correlations(
     pvalue_from = f"the t distribution of {n_ok} independent samples"
     if results.group_size:
         groups = complete_groups(results)
-        pvalue_from = f"a permutation test over {len(groups)} complete base points"
-        if 3 <= len(groups) <= 4:  # (all n! orders are enumerated: the smallest two-sided p is 2 / n!)
-            smallest = 2 / math.factorial(len(groups))
-            pvalue_from += f" (its smallest p-value is 2/{len(groups)}! = {smallest:.2g}: none can reach 0.05)"
+        n = len(groups)
         pv = np.full_like(r, np.nan)
-        if len(groups) < 3:
-            pvalue_from = f"none: {len(groups)} complete base points, a permutation test needs 3"
+        if n < 3:
+            pvalue_from = f"none: {n} complete base points, a permutation test needs 3"
         else:
+            pvalue_from = f"a permutation test over {n} complete base points"
+            if n <= 4:  # (all n! orders are enumerated: the smallest two-sided p is 2 / n!)
+                pvalue_from += f" (its smallest p-value is 2/{n}! = {2 / math.factorial(n):.2g}: none can reach 0.05)"
             rows = group_rows(results, groups)
             rng = np.random.default_rng(seed)
             for a in range(len(names)):

@@ -25,17 +25,19 @@ _LABELS = {
 }
 
 
-def plot_correlations(results, path, parameters=None, methods=("pearson", "spearman"), title=None):
+def plot_correlations(results, path, parameters=None, methods=("pearson", "spearman"), title=None, cors=None):
     """Write a figure like Fig. 23 (Section 4.4): one panel per parameter, bars of the correlation
     coefficient (-1..1) per output band, one bar colour per method; a bar whose p-value
     (:func:`.correlations`) is 0.05 or more is faded. Returns ``path``.
 
     ``parameters`` defaults to Fig. 23's five panels (E_jv, E_op, gap, axial amplitude, friction)
-    when they were sampled, else every sampled parameter. Matplotlib, Agg backend.
+    when they were sampled, else every sampled parameter. ``cors``: the :class:`Correlation` of
+    ``results`` per method when the caller has them (their permutation tests are not cheap).
+    Matplotlib, Agg backend.
     """
     if not isinstance(results, StudyResults):
         results = load_results(results)
-    cors = [correlations(results, m) for m in methods]
+    cors = list(cors) if cors is not None else [correlations(results, m) for m in methods]
     names = cors[0].parameters
     if parameters is None:
         parameters = [p for p in FIG23_PARAMETERS if p in names]
@@ -63,7 +65,7 @@ def plot_correlations(results, path, parameters=None, methods=("pearson", "spear
         + (
             f"faded: p >= 0.05 (two-sided, by {cors[0].pvalue_from})"
             if np.isfinite(cors[0].pvalue).any()
-            else f"p-values {cors[0].pvalue_from}"
+            else cors[0].legend()  # (no p-values: it says why)
         ),
         fontsize=9,
     )
