@@ -125,11 +125,11 @@ def cmd_study(args):
     if n_ok < 3:
         print("cablecasing: warning: fewer than 3 ok runs: no correlation", file=sys.stderr)
         return 0
-    cors = print_study(res)
+    cors, sob = print_study(res)
     plot_correlations(res, out / "correlations.png", cors=cors)
     print(f"wrote {out / 'correlations.png'}")
-    if _sobol_or_none(res) is not None:
-        plot_sobol(res, out / "sobol.png")
+    if sob is not None:
+        plot_sobol(res, out / "sobol.png", sob=sob)
         print(f"wrote {out / 'sobol.png'}")
     return 0
 
@@ -145,7 +145,8 @@ def _sobol_or_none(res):
 
 def print_study(res):
     """Correlation (Pearson, Spearman) and Sobol tables of a study, one column per band with its
-    edges, and the warnings when it is too small to mean anything; returns the two correlations."""
+    edges, and the warnings when it is too small to mean anything; returns the two correlations and
+    the Sobol indices (None when the study has too few complete base points)."""
     from ..studies import correlations, size_warnings
     from ..studies.octave import octave_bands
     from ..studies.sensitivity import complete_groups
@@ -190,6 +191,7 @@ def print_study(res):
         )
     for w in size_warnings(res, sob):
         print(f"cablecasing: warning: {w}", file=sys.stderr)
+    return cors, sob
 
 
 def cmd_ensemble(args):

@@ -311,7 +311,7 @@ def study_figures(model, folder: Path, n_samples, duration, skip, progress, say=
         )
     out["sobol"] = sob
     if sob is not None:
-        plot_sobol(res, folder / "sobol.png")
+        plot_sobol(res, folder / "sobol.png", sob=sob)
     return out
 
 

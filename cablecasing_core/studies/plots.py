@@ -104,14 +104,15 @@ def _band_axis(axes, outputs):
     axes[0, 0].legend(fontsize=7, loc="best", framealpha=0.85)
 
 
-def plot_sobol(results, path, title=None, conf_level=0.95):
+def plot_sobol(results, path, title=None, conf_level=0.95, sob=None):
     """First-order (S1) and total (ST) Sobol indices per output band with their confidence intervals
-    (``sensitivity.sobol_indices``), one panel per parameter. Returns ``path``."""
+    (``sensitivity.sobol_indices``), one panel per parameter. ``sob``: the :class:`SobolIndices` of
+    ``results`` when the caller has them (then ``conf_level`` is theirs). Returns ``path``."""
     from .sensitivity import sobol_indices
 
     if not isinstance(results, StudyResults):
         results = load_results(results)
-    sob = sobol_indices(results, conf_level=conf_level)
+    sob = sob if sob is not None else sobol_indices(results, conf_level=conf_level)
     d, nb = len(sob.parameters), len(sob.outputs)
     fig, axes = plt.subplots(d, 1, figsize=(7, 1.8 * d + 0.8), sharex=True, squeeze=False)
     x = np.arange(nb)

@@ -116,3 +116,23 @@ def test_sobol_settings_are_checked(kwargs, key):
     with pytest.raises(ModelError) as e:
         sobol_indices(res, **kwargs)
     assert e.value.key == key
+
+
+def test_the_study_command_prints_and_plots_the_indices_it_computed_once(tmp_path, capsys, monkeypatch):
+    from cablecasing_core.cli.study import print_study
+    from cablecasing_core import studies
+    from cablecasing_core.studies import plots, sensitivity
+
+    X = sobol_design(BOUNDS, 64, seed=1)
+    res = _results(X, [ishigami_evaluate(dict(zip(BOUNDS, x)))["f"] for x in X])
+    calls = []
+    real = sensitivity.sobol_indices
+    counted = lambda *a, **k: calls.append(1) or real(*a, **k)  # noqa: E731
+    monkeypatch.setattr(sensitivity, "sobol_indices", counted)
+    monkeypatch.setattr(studies, "sobol_indices", counted)
+    cors, sob = print_study(res)
+    plots.plot_sobol(res, tmp_path / "sobol.png", sob=sob)
+    assert len(calls) == 1 and (tmp_path / "sobol.png").stat().st_size > 10_000
+    np.testing.assert_array_equal(sob.ST, real(res).ST)  # the indices printed are the study's
+    out = capsys.readouterr().out
+    assert f"x2 S1{'':35s}{sob.S1[1, 0]:+10.2f}" in out and [c.method for c in cors] == ["pearson", "spearman"]
