@@ -119,8 +119,8 @@ def test_sobol_settings_are_checked(kwargs, key):
 
 
 def test_the_study_command_prints_and_plots_the_indices_it_computed_once(tmp_path, capsys, monkeypatch):
-    from cablecasing_core.cli.study import print_study
     from cablecasing_core import studies
+    from cablecasing_core.cli.study import print_study
     from cablecasing_core.studies import plots, sensitivity
 
     X = sobol_design(BOUNDS, 64, seed=1)
