@@ -60,7 +60,7 @@ from cablecasing_core.model.schema import (
     value_range,
 )
 from cablecasing_core.model.validators import seconds
-from cablecasing_core.timedomain.engine import Engine, state_from_bytes, state_to_bytes
+from cablecasing_core.timedomain.engine import Engine, state_from_bytes, state_to_bytes, whole_steps
 from cablecasing_core.timedomain.scenario import scenario_motion
 from cablecasing_core.timedomain.support_motion import GridMotion, SupportReconstruction
 
@@ -733,9 +733,9 @@ class CableCasing(Fmi2Slave):
                 Fmi2Status.discard,
             )
             return self._discard(current_time, step_size)
-        if step_size <= 1e-9 * eng.dt:
-            # below the engine's resolution of time (Engine.advance leaves such a rest untaken): the
-            # FMU's clock moves with the master's and the state stays, within 1e-9 solver.dt
+        if whole_steps(step_size, eng.dt) == (0, 0.0):
+            # within the rounding of a clock (Engine.advance integrates no such rest): the FMU's clock
+            # moves with the master's and the state stays, within 1e-6 solver.dt
             self._start_time += step_size
             return OK
         x = self.inputs_buffer
@@ -756,6 +756,10 @@ class CableCasing(Fmi2Slave):
             msg += str(exc) if isinstance(exc, cc.CableCasingError) else _one_line(exc)
             self.log(msg, Fmi2Status.discard)
             return self._discard(current_time, step_size)
+        # the FMU's clock is the master's: the engine's time (a sum of its steps, which leaves a rest
+        # within the rounding of a clock untaken) is offset so that the next step is expected at
+        # current_time + step_size as the master computed it, whatever its clock's rounding
+        self._start_time = (current_time + step_size) - eng.time
         if self._discarded is not None:
             self._discarded, self._wants_to_end = None, False
         return OK

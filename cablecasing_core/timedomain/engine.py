@@ -9,7 +9,9 @@ to them through their effective compliance, exactly, because the structure is li
 reactions (Eq. 13) follow from the partitioned equations at the prescribed DOFs.
 
 The engine can advance from any time by any step (a step that is not a multiple of ``dt`` ends
-with one shorter sub-step, whose factorisation is cached) and can copy out and restore its
+with one shorter sub-step, whose factorisation is cached; a rest within the rounding of a clock is
+no time, and one too short for Newmark is taken by the last step: :func:`whole_steps`) and can copy
+out and restore its
 complete state (:meth:`Engine.get_state`, :meth:`Engine.set_state`).
 
 This module is over 400 lines because it is one class whose state, stepping and outputs belong
@@ -63,6 +65,29 @@ def compiled_entry(dispatcher, args):
         return dispatcher.overloads[tuple(dispatcher.typeof_pyval(a) for a in args)].entry_point
     except (AttributeError, KeyError):  # (another numba, or not compiled for these types)
         return dispatcher
+
+
+#: A step that differs from a whole number of time steps by at most this share of dt is that whole
+#: number: the rest is the rounding of a master's clock (t_(k+1) - t_k at t = 1e4 s is 1e-4 s
+#: within 2e-12 s, 2e-7 dt at dt = 1e-5 s), not time to integrate.
+ROUNDING_OF_TIME = 1e-6
+
+#: The shortest step Newmark takes on its own, as a share of dt: the update a = 4 (u - u_old) / dt**2
+#: - ... (Eq. 18) cancels digits as (dt / h)**2, and an extra step of 2e-5 dt put an error of the
+#: support forces' RMS into them (1e-3 dt: ~4e-4 of it; 1e-2 dt: ~4e-6). A shorter rest of a longer
+#: step is taken by its last step (dt + rest).
+SHORTEST_STEP = 1e-2
+
+
+def whole_steps(h: float, dt: float) -> tuple[int, float]:
+    """(n, rest): h (s) = n dt + rest with 0 <= rest < dt (s), rest 0.0 when h is within
+    :data:`ROUNDING_OF_TIME` dt of a whole number of steps (then n is that number)."""
+    x = h / dt
+    n = round(x)  # (math and builtins: numpy's scalar calls cost ~1 µs each)
+    if abs(x - n) <= ROUNDING_OF_TIME:
+        return int(n), 0.0
+    n = math.floor(x)
+    return n, h - n * dt
 
 
 class Engine:
@@ -472,6 +497,11 @@ class Engine:
         (callable t -> (u, v, a), each (len(t), 12), in m, m/s, m/s2 over ``CHANNELS``; a function
         of t alone, evaluated in chunks of :attr:`CHUNK` steps).
 
+        h is taken as whole steps of dt and a rest (:func:`whole_steps`): a rest within
+        :data:`ROUNDING_OF_TIME` dt is the rounding of the caller's clock and is not integrated (the
+        engine's time advances by the whole steps), a rest shorter than :data:`SHORTEST_STEP` dt is
+        taken by the last step (dt + rest), and an h that is such a rest alone is a ``ModelError``.
+
         The motion is evaluated chunk by chunk, so its arrays stay small and in cache whatever the
         duration (1 s at dt = 1e-5 in one piece would be 29 MB of motion alone, and faulting them
         in cost ~10 % of the step loop's time). Bad input (a non-finite or misshaped motion, or an
@@ -481,13 +511,24 @@ class Engine:
         what): the engine is then as it was before the call, and can be advanced again (e.g. by
         a smaller step, or after :meth:`set_state`)."""
         seconds("h", h)
-        n = math.floor(h / self.dt * (1 + 1e-12))  # (math: numpy's scalar calls cost ~1 µs each)
-        rest = h - n * self.dt
+        n, rest = whole_steps(h, self.dt)
         segments = []
-        if n:
-            segments.append((self.dt, n))
-        if rest > 1e-9 * self.dt:
-            segments.append((rest, 1))
+        if 0 < rest < SHORTEST_STEP * self.dt:  # too short for a step of its own: the last step takes it
+            if n == 0:
+                raise ModelError(
+                    "h",
+                    h,
+                    f"must be 0 (up to {ROUNDING_OF_TIME:g} of the time step: the rounding of a clock) or at "
+                    f"least {SHORTEST_STEP:g} of the time step dt = {self.dt!r} s: a Newmark step of h << dt "
+                    "loses the digits of its accelerations as (dt / h)**2 (Eq. 18); take a longer step",
+                )
+            segments = [(self.dt, n - 1)] if n > 1 else []
+            segments.append((self.dt + rest, 1))
+        else:
+            if n:
+                segments.append((self.dt, n))
+            if rest:
+                segments.append((rest, 1))
         # roll-back for a blow-up, or for bad input in a later chunk (the shorter last substep is a
         # chunk of its own); the snapshot buffer is reused (two buffer copies per call)
         self._snap = snap = self.snapshot(self._snap)
@@ -674,8 +715,8 @@ class Engine:
         recorded, not the first step, the step loop's arguments built, an input per channel of
         :attr:`channels`), else (m, None); remembered for the next call with the same key and buffers."""
         h, law = key[0], key[3]
-        m = math.floor(h / self.dt * (1 + 1e-12))
-        if not (0 < m <= self.CHUNK and h - m * self.dt <= 1e-9 * self.dt and not self.record and self.time != 0.0):
+        m, rest = whole_steps(h, self.dt)
+        if not (0 < m <= self.CHUNK and rest == 0.0 and not self.record and self.time != 0.0):
             return m, None
         if not (len(u) == len(v) == len(a) == recon.state.shape[1] == len(self.channels)) or len(recon.state) != 5:
             return m, None  # (inputs of the 12 channels alone for a model with excited clips: widened in advance)

@@ -388,6 +388,30 @@ def test_any_communication_step(fmu, tmp_path, run):
     assert np.max(err) < 5e-3 * np.max(np.abs(ref))
 
 
+def test_the_masters_clock_is_the_fmus_whatever_its_rounding(fmu, tmp_path, run):
+    """Three masters' clocks over the same 300 input rows (the default scenario, contact off): t_k =
+    k H from 0 (the reference); t_k = 1000 s + k H, whose steps t_(k+1) - t_k differ from H by
+    ulp(1000 s) = 1.1e-13 s (1.1e-8 solver.dt: a clock's rounding, no time to integrate; a step of
+    its own would cancel digits as (dt / 1e-13 s)**2); and t_k = k h with h = 1e-5 (1 + 5e-10)
+    s, whose rest of 5e-10 solver.dt each step the FMU's time must not drift from. Every step is
+    taken, and the outputs equal the reference's to 1e-7 of their RMS (the reconstruction of a step
+    of H (1 + 1e-9) on a linear model)."""
+    model = cc.load_model()
+    table = scenario_table(model, 300 * H)
+    p = {"contact.enabled": False}
+    outs = ["casing.B.Fz", "casing.A.Fy"]
+    k = np.arange(len(table) + 1)
+    ref = run(tmp_path, "clock", fmu, inputs=table, times=(k * H).tolist(), outputs=outs, params=p)
+    late = run(tmp_path, "clock", fmu, inputs=table, times=(1000.0 + k * H).tolist(), outputs=outs, params=p)
+    assert np.all(ref["status"] == 0) and np.all(late["status"] == 0), late["log"]
+    rms = np.sqrt(np.mean(ref["out"] ** 2, axis=0))
+    assert np.all(np.abs(late["out"] - ref["out"]) <= 1e-7 * rms)
+    h = 1e-5 * (1 + 5e-10)  # (one row per step: the first 3000 rows of a scenario on the step of 1e-5)
+    fine = scenario_table(model, 3000 * 1e-5, h=1e-5)
+    drift = run(tmp_path, "clock", fmu, inputs=fine, times=(np.arange(3001) * h).tolist(), outputs=outs, params=p)
+    assert np.all(drift["status"] == 0), drift["log"]
+
+
 def test_errors_are_reported_and_the_process_goes_on(fmu, tmp_path, contact_case, run):
     model, table, ref = contact_case
     res = run(tmp_path, "errors", fmu, inputs=table[:5])
@@ -550,7 +574,7 @@ def test_a_restored_state_brings_back_its_phase_and_a_tiny_step_moves_the_clock(
     too. A state saved while instantiated, restored after a step, lets the master set up,
     initialise and step again (the same outputs: the FMU is deterministic); one saved in
     initialisation mode exits it again with the parameter it held. A step of 1e-15 s (below
-    1e-9 solver.dt, the engine's resolution of time) returns fmi2OK, moves fmi2LastSuccessfulTime
+    1e-6 solver.dt, the rounding of a clock) returns fmi2OK, moves fmi2LastSuccessfulTime
     by it, and the next step from there is taken (it was discarded as out of time)."""
     outs = ["casing.B.Fz", "casing.A.Fx"]
     table = scenario_table(cc.load_model(), 3 * H)
