@@ -187,6 +187,7 @@ class CableCasing(Fmi2Slave):
         self._log_sink = None
         # the two arrays the FMU's binary reads and writes directly
         self.inputs_buffer = np.zeros(3 * self.nch)  # u (m), v (m/s), a (m/s2) of the channels
+        self._finite_inputs = np.zeros(3 * self.nch, dtype=bool)
         self.outputs_buffer = np.zeros(len(self.output_names))  # the outputs after the last step
         n = self.nch
         self._u, self._v, self._a = (self.inputs_buffer[k * n : (k + 1) * n] for k in range(3))  # views
@@ -739,7 +740,7 @@ class CableCasing(Fmi2Slave):
             self._start_time += step_size
             return OK
         x = self.inputs_buffer
-        if not math.isfinite(x @ x) and not np.isfinite(x).all():  # (x @ x: the cheap test of all inputs)
+        if not np.isfinite(x, out=self._finite_inputs).all():  # (not x @ x: it overflows, with a warning, past 1e154)
             i = int(np.flatnonzero(~np.isfinite(x))[0])
             self.log(
                 f"input {self.input_names[i]} = {float(x[i])!r} at t = {current_time:.9g} s: "
@@ -862,6 +863,9 @@ class CableCasing(Fmi2Slave):
         support = np.array(state["fmu.support"], dtype=float)
         if inputs.shape != self.inputs_buffer.shape or support.shape != self._recon.state.shape:
             raise ValueError("its inputs or support state do not fit this FMU")
+        start_time = float(state["fmu.start_time"])
+        if not math.isfinite(start_time):  # (the clock every later step is checked against)
+            raise ValueError(f"its start time {start_time!r} s is not a finite number")
         engine, applied = None, None
         if bool(state["fmu.built"]):
             saved, self._set = self._set, new_set
@@ -892,7 +896,7 @@ class CableCasing(Fmi2Slave):
             applied,
             inputs,
             support,
-            float(state["fmu.start_time"]),
+            start_time,
             bool(state["fmu.initialized"]),
             str(state["fmu.error"]) or None,
             _phase_of(state),

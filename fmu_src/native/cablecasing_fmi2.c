@@ -16,7 +16,11 @@
  *    everything. No thread, atexit handler or static destructor of this library outlives
  *    fmi2FreeInstance, so a host may unload the binary at any time.
  *  - A host thread gets one Python thread state for good on its first call (PyGILState_Ensure
- *    otherwise creates and destroys one per call, ~7 us).
+ *    otherwise creates and destroys one per call, ~7 us), the first MAX_KEPT_THREAD_STATES threads
+ *    only: a host that calls from a new thread each time (std::async, a thread per task) would
+ *    otherwise leave one (~4.4 kB) per call; its later threads pay the ~7 us instead.
+ *  - A component pointer is looked up among the live instances before it is read, so that a
+ *    pointer that is not one (freed, another FMU's, garbage) is fmi2Error, not a crash.
  *  - Support inputs and outputs live in two arrays that the Python instance allocated and fills:
  *    fmi2SetReal of inputs and fmi2GetReal/fmi2GetInteger of outputs never enter Python (outside
  *    Initialization Mode, where the outputs are computed from the parameters set so far).
@@ -387,9 +391,22 @@ done:
     return ok;
 }
 
+/* Host threads given a Python thread state for good (see the file's header). */
+#define MAX_KEPT_THREAD_STATES 64u
+static unsigned g_kept_thread_states = 0;
+
+static int keep_a_thread_state(void) {
+    unsigned n = __atomic_load_n(&g_kept_thread_states, __ATOMIC_RELAXED);
+    while (n < MAX_KEPT_THREAD_STATES)
+        if (__atomic_compare_exchange_n(&g_kept_thread_states, &n, n + 1, 0, __ATOMIC_RELAXED, __ATOMIC_RELAXED))
+            return 1;
+    return 0;
+}
+
 static PyGILState_STATE gil_enter(void) {
-    if (!P.PyGILState_GetThisThreadState()) {
-        /* a thread Python has not seen: give it a thread state for good (see the file's header) */
+    if (!P.PyGILState_GetThisThreadState() && keep_a_thread_state()) {
+        /* a thread Python has not seen: give it a thread state for good (see the file's header);
+           past the first MAX_KEPT_THREAD_STATES, the Ensure below makes one that its Release frees */
         P.PyGILState_Ensure();
         P.PyEval_SaveThread();
     }
@@ -450,9 +467,48 @@ static fmi2Status call(Instance *inst, const char *method, PyObject **result, in
 #define PTR(p) P.PyLong_FromVoidPtr((void *)(p))
 #define SIZE(n) P.PyLong_FromSize_t((size_t)(n))
 
+/* Every instance made and not freed, looked up before a component pointer is read (as the FMU
+ * states are: live_states); a short array, as a host holds a few instances. */
+static Instance **live_instances = NULL;
+static size_t n_live_instances = 0, cap_live_instances = 0;
+static pthread_mutex_t live_instances_lock = PTHREAD_MUTEX_INITIALIZER;
+
+static int add_live_instance(Instance *inst) {
+    int ok = 1;
+    pthread_mutex_lock(&live_instances_lock);
+    if (n_live_instances == cap_live_instances) {
+        size_t cap = cap_live_instances ? 2 * cap_live_instances : 16;
+        Instance **grown = realloc(live_instances, cap * sizeof *grown);
+        if (grown) {
+            live_instances = grown;
+            cap_live_instances = cap;
+        } else {
+            ok = 0;
+        }
+    }
+    if (ok) live_instances[n_live_instances++] = inst;
+    pthread_mutex_unlock(&live_instances_lock);
+    return ok;
+}
+
+static void remove_live_instance(Instance *inst) {
+    pthread_mutex_lock(&live_instances_lock);
+    for (size_t k = 0; k < n_live_instances; k++) {
+        if (live_instances[k] == inst) {
+            live_instances[k] = live_instances[--n_live_instances];
+            break;
+        }
+    }
+    pthread_mutex_unlock(&live_instances_lock);
+}
+
 static Instance *checked(fmi2Component c) {
+    int found = 0;
+    pthread_mutex_lock(&live_instances_lock);
+    for (size_t k = 0; k < n_live_instances && !found; k++) found = (void *)live_instances[k] == c;
+    pthread_mutex_unlock(&live_instances_lock);
     Instance *inst = c;
-    return (inst && inst->magic == INSTANCE_MAGIC) ? inst : NULL;
+    return (found && inst->magic == INSTANCE_MAGIC) ? inst : NULL;
 }
 
 /* ------------------------------------------------------------------------------------------------
@@ -631,6 +687,15 @@ FMI2_Export fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuT
     }
     P.Py_DecRef(globals);
     P.PyGILState_Release(gil);
+    if (ok && !add_live_instance(inst)) {
+        logf_to_host(functions, name, 1, fmi2Error, 1, "CableCasing.fmu: out of memory for the instance list");
+        gil = gil_enter();
+        call(inst, "free", NULL, 0);
+        P.Py_DecRef(inst->m_do_step);
+        P.Py_DecRef(inst->py);
+        P.PyGILState_Release(gil);
+        ok = 0;
+    }
     if (!ok) {
         inst->magic = 0;
         free(inst);
@@ -642,6 +707,7 @@ FMI2_Export fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuT
 FMI2_Export void fmi2FreeInstance(fmi2Component c) {
     Instance *inst = checked(c);
     if (!inst) return;
+    remove_live_instance(inst);
     PyGILState_STATE gil = gil_enter();
     call(inst, "free", NULL, 0);
     P.Py_DecRef(inst->m_do_step);
@@ -758,9 +824,13 @@ static fmi2Status slow_access(Instance *inst, const char *method, const fmi2Valu
 
 static int setters_allowed(Instance *inst) { return inst->state != S_TERMINATED; }
 
+/* FMI 2.0, 4.2.4: no fmi2Get* before fmi2EnterInitializationMode (there is no value yet) */
+static int getters_allowed(Instance *inst) { return inst->state != S_INSTANTIATED; }
+
 /* In Initialization Mode the outputs are computed from the parameters set so far: through Python */
 FMI2_Export fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]) {
     ENTER(c);
+    if (!getters_allowed(inst)) return refuse(inst, "fmi2GetReal");
     size_t i = 0;
     if ((nvr && (!vr || !value)) || inst->state == S_INITIALIZATION)
         return slow_access(inst, "get_real", vr, nvr, value);
@@ -795,6 +865,7 @@ FMI2_Export fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[
 FMI2_Export fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                       fmi2Integer value[]) {
     ENTER(c);
+    if (!getters_allowed(inst)) return refuse(inst, "fmi2GetInteger");
     size_t i = 0;
     if ((nvr && (!vr || !value)) || inst->state == S_INITIALIZATION)
         return slow_access(inst, "get_integer", vr, nvr, value);
@@ -818,6 +889,7 @@ FMI2_Export fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference 
 FMI2_Export fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                       fmi2Boolean value[]) {
     ENTER(c);
+    if (!getters_allowed(inst)) return refuse(inst, "fmi2GetBoolean");
     return slow_access(inst, "get_boolean", vr, nvr, value);
 }
 
@@ -831,6 +903,7 @@ FMI2_Export fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference 
 FMI2_Export fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                      fmi2String value[]) {
     ENTER(c);
+    if (!getters_allowed(inst)) return refuse(inst, "fmi2GetString");
     return slow_access(inst, "get_string", vr, nvr, value);
 }
 

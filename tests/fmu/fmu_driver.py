@@ -508,6 +508,15 @@ def scenario_careless(job, table):
     res["after_bad_restore_out"] = inst.get(names)
     res["before_bad_restore_out"] = before
     record("after_bad_restore_step", inst, inst.step(table[4], h))
+    z["engine.casing.U"] = np.load(io.BytesIO(bytes(inst.fmu.serializeFMUstate(good))))["engine.casing.U"]
+    z["fmu.start_time"] = np.array(np.nan)  # a clock every later step would be checked against
+    buf = io.BytesIO()
+    np.savez(buf, **z)
+    record("nan_clock_restore", inst, Instance.call(inst.fmu.setFMUstate, inst.fmu.deSerializeFMUstate(buf.getvalue())))
+    record("after_nan_clock_step", inst, inst.step(table[5], h))
+    # a step too short for Newmark to take alone (1e-3 solver.dt), then one as long as a clock's rounding
+    record("short_step", inst, Instance.call(inst.fmu.doStep, inst.t, 1e-8))
+    record("rounding_step", inst, Instance.call(inst.fmu.doStep, inst.t, 1e-13))
     # parameters are fixed after initialisation
     record("late_parameter", inst, inst.set({"contact.friction": 0.3}))
     record("same_parameter", inst, inst.set({"contact.friction": 0.15}))
@@ -517,9 +526,25 @@ def scenario_careless(job, table):
     record("set_after_terminate", inst, inst.set({"casing.A.z": 1e-3}))
     inst.fmu.freeInstance()
 
-    # NaN start time
+    # NaN start time; getters before initialisation (FMI 2.0, 4.2.4: not allowed, there is no value yet)
     inst = Instance(job["fmu"], name="nanstart", initialize=False)
+    record("get_instantiated", inst, Instance.call(inst.fmu.getReal, [inst.var["casing.A.Fz"].valueReference]))
+    record(
+        "get_bool_instantiated", inst, Instance.call(inst.fmu.getBoolean, [inst.var["contact.enabled"].valueReference])
+    )
     record("nan_start", inst, Instance.call(inst.fmu.setupExperiment, None, float("nan"), None))
+    # a component pointer that is no instance: unmapped memory, then a freed instance (fmi2Error, no
+    # crash), through the library this instance keeps loaded (fmpy unloads it with the last instance)
+    import ctypes
+
+    do_step = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_double, ctypes.c_double, ctypes.c_int)(
+        ctypes.cast(inst.fmu.dll.fmi2DoStep, ctypes.c_void_p).value
+    )
+    res["bogus_component_status"] = np.array(do_step(0xDEADBEEF, 0.0, h, 1))
+    other = Instance(job["fmu"], name="freed", initialize=False)
+    freed = other.fmu.component
+    other.fmu.freeInstance()
+    res["freed_component_status"] = np.array(do_step(freed, 0.0, h, 1))
     inst.fmu.freeInstance()
     return res
 
