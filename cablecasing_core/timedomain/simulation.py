@@ -21,7 +21,7 @@ from ..model.limits import check_time_domain
 from ..model.schema import CONTACT_OUTPUTS, INPUTS, OUTPUTS, SUPPORT_OUTPUTS, clip_outputs, inputs_of, lookup
 from ..model.validate import step_checks
 from ..model.validators import Choice, seconds
-from .engine import Engine
+from .engine import ROUNDING_OF_TIME, SHORTEST_STEP, Engine
 from .scenario import scenario_motion
 
 if TYPE_CHECKING:
@@ -374,8 +374,9 @@ def _advance(eng, duration, motion, progress):
     piece = PROGRESS_STEPS * eng.dt
     with tqdm(total=duration, unit="s", desc="simulate", dynamic_ncols=True, bar_format=_BAR) as bar:
         done = 0.0
-        while duration - done > 1e-9 * eng.dt:
-            h = piece if duration - done > piece * (1 + 1e-9) else duration - done
+        while duration - done > ROUNDING_OF_TIME * eng.dt:
+            # (a rest shorter than SHORTEST_STEP dt goes with the last piece, whose last step takes it)
+            h = piece if duration - done > piece + SHORTEST_STEP * eng.dt else duration - done
             eng.advance(h, motion)
             done += h
             bar.update(h)

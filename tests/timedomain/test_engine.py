@@ -468,3 +468,15 @@ def test_a_step_shorter_than_newmark_takes_alone_is_refused_and_a_clocks_roundin
         eng.advance(1e-8, motion)
     eng.advance(1e-12, motion)  # within 1e-6 dt: the rounding of a clock
     assert state_to_bytes(eng.get_state()) == before
+
+
+def test_a_run_with_a_short_rest_is_the_same_in_pieces():
+    """A duration of whole pieces of the progress bar and 1e-3 dt: the bar's pieces leave the rest to
+    the last piece (alone it would be a step too short for Newmark, refused), so the run equals the
+    one call's to the bit."""
+    from cablecasing_core.timedomain.simulation import PROGRESS_STEPS
+
+    m = cc.load_model().with_overrides({"contact.enabled": False})
+    d = PROGRESS_STEPS * 1e-5 + 1e-3 * 1e-5
+    whole, pieces = (cc.simulate(m, duration=d, progress=p) for p in (False, True))
+    np.testing.assert_array_equal(whole.support_forces, pieces.support_forces)
