@@ -16,7 +16,7 @@ from numpy.typing import ArrayLike
 from ..errors import ModelError
 from .schema import BODY_NAMES, SCHEMA, lookup
 from .validate import validate
-from .validators import Choice
+from .validators import BARE_KEY, Choice
 
 
 def _interp_table(value, f_hz):
@@ -253,29 +253,60 @@ def dotted(data: Mapping) -> dict:
     return out
 
 
+#: How a TOML basic string writes the characters it cannot hold as they are (TOML 1.0, "String").
+_ESCAPES = {"\\": "\\\\", '"': '\\"', "\b": "\\b", "\t": "\\t", "\n": "\\n", "\f": "\\f", "\r": "\\r"}
+
+
+def _toml_string(s: str) -> str:
+    """``s`` as a TOML basic string: quotes and backslashes escaped, and every control character
+    (U+0000 to U+001F, U+007F), which a basic string may not hold, as its escape."""
+    out = []
+    for c in s:
+        if c in _ESCAPES:
+            out.append(_ESCAPES[c])
+        elif c < " " or c == "\x7f":
+            out.append(f"\\u{ord(c):04X}")
+        else:
+            out.append(c)
+    return '"' + "".join(out) + '"'
+
+
+def _toml_key(k) -> str:
+    """A key of a TOML table: bare when it is a bare key (letters, digits, _ and -), else quoted
+    (an empty name, one with a space or a dot, which bare would be a nested table)."""
+    k = str(k)
+    return k if BARE_KEY.fullmatch(k) else _toml_string(k)
+
+
 def _to_toml(data):
+    """The checked model ``data`` as TOML text: tables as [sections], the supports and the
+    segments inline; every key that is not a bare key quoted, every string escaped, so that
+    ``tomllib.loads(_to_toml(data)) == data`` for every valid model."""
+
     def fmt(v):
-        if isinstance(v, bool):
+        if isinstance(v, (bool, np.bool_)):
             return "true" if v else "false"
         if isinstance(v, str):
-            return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
-        if isinstance(v, list):
+            return _toml_string(v)
+        if isinstance(v, (list, tuple)):
             return "[" + ", ".join(fmt(x) for x in v) + "]"
         if isinstance(v, dict):
-            return "{ " + ", ".join(f"{k} = {fmt(x)}" for k, x in v.items()) + " }"
-        return repr(float(v)) if isinstance(v, float) else repr(v)
+            return "{ " + ", ".join(f"{_toml_key(k)} = {fmt(x)}" for k, x in v.items()) + " }"
+        if isinstance(v, (int, np.integer)):
+            return str(int(v))
+        return repr(float(v))
 
     lines = []
 
-    def section(prefix, node):
+    def section(path, node):
         scalars = {k: v for k, v in node.items() if not (isinstance(v, dict) and k != "supports")}
         subs = {k: v for k, v in node.items() if isinstance(v, dict) and k != "supports"}
-        lines.append(f"[{prefix}]")
-        lines.extend(f"{k} = {fmt(v)}" for k, v in scalars.items())
+        lines.append("[" + ".".join(_toml_key(p) for p in path) + "]")
+        lines.extend(f"{_toml_key(k)} = {fmt(v)}" for k, v in scalars.items())
         lines.append("")
         for k, v in subs.items():
-            section(f"{prefix}.{k}", v)
+            section((*path, k), v)
 
     for name, node in data.items():
-        section(name, node)
+        section((name,), node)
     return "\n".join(lines)

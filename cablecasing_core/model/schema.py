@@ -611,6 +611,7 @@ _KEYS = [
         "Hz",
         "frequency of the harmonic excitation",
         Number(gt=0, le=1e6, unit="Hz"),
+        note="below the Nyquist frequency 1 / (2 scenario.dt)",
         kinds=("harmonic",),
     ),
     KeySpec(

@@ -3,11 +3,11 @@
 Each table is checked key by key with the schema's validators (unknown keys and missing required
 keys first, then every value; defaults filled in), then against the other keys where the schema's
 ``note`` says so: the casing's inner diameter between the cable and the outer diameter, the
-duration at least one step, a random band below the Nyquist frequency, a target on a clamped
-support of a body that exists, a tension only with a cable, every part of the route and every
-element at least a micrometre long, and loads only on bodies that can carry them as built (a
-tension with both ends of both bodies held, every loaded body held against every rigid motion:
-structure/support_check.py). Every mistake raises
+duration at least one step, a random band and a harmonic's frequency below the Nyquist frequency,
+excitations named by TOML bare keys, a target on a clamped support of a body that exists, a tension
+only with a cable, every part of the route and every element at least a micrometre long, and loads
+only on bodies that can carry them as built (a tension with both ends of both bodies held, every
+loaded body held against every rigid motion: structure/support_check.py). Every mistake raises
 :class:`~cablecasing_core.errors.ModelError` naming the dotted key, the value and what is allowed;
 nothing is half-built.
 
@@ -32,7 +32,7 @@ import numpy as np
 
 from ..errors import NOT_SHOWN, ModelError, ModelWarning, excerpt
 from .schema import BODY_NAMES, OPTIONAL, SECTIONS, SUPPORT_NAMES, lookup, table
-from .validators import MIN_LENGTH
+from .validators import MIN_LENGTH, ExcitationName
 
 
 def check_keys(prefix, data, allowed, required=()):
@@ -263,12 +263,28 @@ def _excitation(key, e, scenario, bodies, base_dir):
                 e.get("band", out["band"]),
                 f"upper frequency must be below the Nyquist frequency {nyquist:.6g} Hz",
             )
+    elif kind == "harmonic":
+        f, dt = out["frequency"], scenario["dt"]
+        if f >= 0.5 / dt:
+            raise ModelError(
+                f"{key}.frequency",
+                f,
+                f"must be below the Nyquist frequency 1 / (2 scenario.dt) = {0.5 / dt:.6g} Hz "
+                f"(scenario.dt = {dt:g} s): the steps would sample it as its alias at {alias(f, dt):.6g} Hz",
+            )
     elif kind == "csv":
         path = Path(out["file"])
         if not path.is_absolute() and base_dir is not None:
             path = Path(base_dir) / path
         out["file"] = str(path)  # (read and checked by load_model: model.load.check_excitation_files)
     return out
+
+
+def alias(f: float, dt: float) -> float:
+    """The frequency (Hz, 0 to 1 / (2 dt)) that samples at the step ``dt`` (s) show of a harmonic of
+    ``f`` Hz: f folded about the nearest multiple of the sampling rate 1 / dt."""
+    fs = 1.0 / dt
+    return abs(f - fs * round(f / fs))
 
 
 def _scenario(data, bodies, base_dir):
@@ -280,6 +296,8 @@ def _scenario(data, bodies, base_dir):
     exc = data.get("excitation", {})
     if not isinstance(exc, dict):
         raise ModelError("scenario.excitation", exc, "must be a table of named excitations")
+    for name in exc:
+        ExcitationName()("scenario.excitation.<name>", name)
     out["excitation"] = {
         name: _excitation(f"scenario.excitation.{name}", e, out, bodies, base_dir) for name, e in exc.items()
     }

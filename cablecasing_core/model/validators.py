@@ -13,6 +13,7 @@ steps, frequencies, counts, seeds), either directly or through the schema's key
 from __future__ import annotations
 
 import math
+import re
 from numbers import Integral, Real
 
 import numpy as np
@@ -64,12 +65,16 @@ class Number:
                 raise ModelError(key, value, "must be " + self.allowed)
         elif self.integer and kind is float:
             raise ModelError(key, value, "must be " + self.allowed)
-        try:
-            v = float(value)
-        except OverflowError:  # an integer beyond any float
-            raise ModelError(key, value, "must be " + self.allowed) from None
-        if not math.isfinite(v):
-            raise ModelError(key, value, "must be a finite number" + _unit_phrase(self.unit))
+        if self.integer:
+            # compared as an int: float() rounds the 512 largest seeds up to 2**63, above MAX_SEED
+            v = int(value)
+        else:
+            try:
+                v = float(value)
+            except OverflowError:  # an integer beyond any float
+                raise ModelError(key, value, "must be " + self.allowed) from None
+            if not math.isfinite(v):
+                raise ModelError(key, value, "must be a finite number" + _unit_phrase(self.unit))
         if (
             (self.gt is not None and not v > self.gt)
             or (self.ge is not None and not v >= self.ge)
@@ -77,7 +82,7 @@ class Number:
             or (self.le is not None and not v <= self.le)
         ):
             raise ModelError(key, value, "must be " + self.allowed)
-        return int(value) if self.integer else v
+        return v
 
 
 class NumberOrTable:
@@ -351,6 +356,23 @@ class ChannelName:
 
     def __call__(self, key, value):
         if not isinstance(value, str) or not value or not value[0].isalpha() or not value.replace("_", "a").isalnum():
+            raise ModelError(key, value, "must be " + self.allowed)
+        return value
+
+
+#: A TOML bare key: what a table's name may be without quotes (``[scenario.excitation.NAME]``).
+BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
+
+
+class ExcitationName:
+    """The name of an excitation, ``[scenario.excitation.<name>]``: a TOML bare key (ASCII letters,
+    digits, _ and -), so that it is one part of the dotted keys ``scenario.excitation.<name>.rms``
+    (``with_overrides``, ``--set``, the FMU's parameters) and a table name written without quotes."""
+
+    allowed = "a name of ASCII letters, digits, _ and - (a TOML bare key, such as cable_axial)"
+
+    def __call__(self, key, value):
+        if not isinstance(value, str) or not BARE_KEY.fullmatch(value):
             raise ModelError(key, value, "must be " + self.allowed)
         return value
 

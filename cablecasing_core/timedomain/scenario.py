@@ -45,6 +45,7 @@ from numpy.typing import ArrayLike
 from ..errors import ModelError
 from ..files import read_csv_table
 from ..model.schema import CHANNELS, DIRECTIONS, channels_of
+from ..model.validate import alias
 from ..structure.geometry import centerline_of
 from .random_record import RandomRecord
 
@@ -95,8 +96,16 @@ def _zero_mean(pp, t):
 
 def _read_table(path, key):
     """(t, x) of a CSV table with a header and two columns time_s, <value>; checked (errors name
-    ``key``, the file and the line, and quote none of its content)."""
-    _, data = read_csv_table(path, key)
+    ``key``, the file and the line, and quote none of its content). A third column is refused, not
+    ignored: it may be the column that was meant."""
+    names, data = read_csv_table(path, key)
+    if len(names) != 2:
+        raise ModelError(
+            key,
+            str(path),
+            f"must have two columns, time_s and the values; its header line names {len(names)} columns "
+            "(one excitation per file: give each column its own file and excitation)",
+        )
     t, x = data[:, 0], data[:, 1]
     bad = np.nonzero(np.diff(t) <= 0)[0]
     if bad.size:
@@ -157,6 +166,16 @@ class ScenarioMotion:
                     self.dt,
                     f"must resolve the random excitation scenario.excitation.{name}'s band up to {e['band'][1]:g} Hz: "
                     f"its Nyquist frequency 1 / (2 dt) must lie above the band, so dt < {0.5 / e['band'][1]:g} s",
+                )
+            if e["kind"] == "harmonic" and e["frequency"] >= 0.5 / self.dt:
+                # (as the random band: a harmonic above 1 / (2 dt) would run as its alias)
+                raise ModelError(
+                    "dt",
+                    self.dt,
+                    f"must resolve the harmonic excitation scenario.excitation.{name}'s frequency "
+                    f"{e['frequency']:g} Hz: its Nyquist frequency 1 / (2 dt) must lie above it, so dt < "
+                    f"{0.5 / e['frequency']:g} s (the steps would sample it as its alias at "
+                    f"{alias(e['frequency'], self.dt):.6g} Hz)",
                 )
             if e["target"].count(".") == 1:  # a clip's own channel
                 clip, direction = e["target"].split(".")
