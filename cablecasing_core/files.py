@@ -4,9 +4,12 @@ output target before a run, and the one reader of numeric CSV tables.
 **Writing.** A file is written under a temporary name in its target folder and renamed over the
 target only when it is complete and flushed to disk (``os.replace``, atomic on POSIX and Windows
 within a folder). An error or an interrupt (Ctrl-C) while writing leaves the target as it was, the
-previous version bitwise intact, and no half-written file; the temporary file is removed. A target
-that is a symbolic link is written where the link points (the link stays); a target that is not a
-regular file (a device such as ``/dev/full``, a folder) is refused.
+previous version bitwise intact, and no half-written file; the temporary file is removed. A file
+that the system fails to write (a full disk, a quota, an I/O error) raises :class:`WriteError`, an
+``OSError`` naming the target and the cause. A file written over an earlier one keeps its
+permissions (mode bits). A target that is a symbolic link is written where the link points (the
+link stays); a target that is not a regular file (a device such as ``/dev/full``, a folder) is
+refused.
 
 >>> check_writable("--out", "results.npz")     # before a long run: can a file be written there?
 >>> with atomic_path("results.npz") as tmp:    # a writer that takes a path (numpy, pyuff, matplotlib)
@@ -22,6 +25,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import stat
 import tempfile
 from pathlib import Path
 
@@ -49,12 +53,25 @@ def _regular_or_missing(flag, path, shown):
         raise ModelError(flag, str(shown), f"is {what} ({path}), not a regular file: output goes to regular files")
 
 
+class WriteError(OSError):
+    """An output file the system failed to write (a full disk, a quota, an I/O error, a folder made
+    read-only during the run): an ``OSError`` with the cause's ``errno`` and ``strerror``, and
+    ``filename`` the target as it was given. ``kept``: an earlier file at the target was left as it
+    was (False: there was none, and none was made). Not a bug of the program, nor a bad input."""
+
+    def __init__(self, errno, strerror, filename, kept):
+        super().__init__(errno, strerror, filename)
+        self.kept = kept
+
+
 @contextlib.contextmanager
 def atomic_path(path: str | os.PathLike):
     """Yield a temporary path in ``path``'s folder with the same suffix (writers such as
     ``numpy.savez`` and ``savefig`` go by it); when the block ends without an exception, the file
-    written there is flushed to disk and renamed to ``path``. On any exception (KeyboardInterrupt
-    too) it is deleted and ``path`` is left as it was. A link is written where it points."""
+    written there is given the mode bits of the file it replaces (if any), flushed to disk and
+    renamed to ``path``. On any exception (KeyboardInterrupt too) it is deleted and ``path`` is left
+    as it was; an ``OSError`` of the writing (``ENOSPC``: the disk is full) is raised again as
+    :class:`WriteError`. A link is written where it points."""
     shown = path
     path = _target(path)
     _regular_or_missing("path", path, shown)
@@ -66,11 +83,25 @@ def atomic_path(path: str | os.PathLike):
         yield tmp
         with open(tmp, "rb+") as fh:
             os.fsync(fh.fileno())
+        _keep_mode(path, tmp)
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         with contextlib.suppress(OSError):
             os.remove(tmp)
+        if isinstance(exc, OSError) and not isinstance(exc, WriteError):
+            raise WriteError(exc.errno, exc.strerror or str(exc), str(shown), path.exists()) from exc
         raise
+
+
+def _keep_mode(path, tmp):
+    """The mode bits of the file at ``path`` (if there is one) given to ``tmp``, which replaces it:
+    a file of 0600 stays 0600 (the writer created ``tmp`` with the umask's default, 0644)."""
+    try:
+        mode = stat.S_IMODE(os.stat(path).st_mode)
+    except FileNotFoundError:
+        return
+    with contextlib.suppress(OSError):  # (a file system without modes, such as FAT: what it gives)
+        os.chmod(tmp, mode)
 
 
 def write_text(path: str | os.PathLike, text: str) -> Path:

@@ -16,10 +16,12 @@ A record is a time axis (s, evenly spaced) and named columns: the outputs of the
 * **NPZ**: ``time`` (n,), ``table`` (n, m), ``names`` and ``units`` (m,), full double precision, and
   any further arrays of the writer (a run's per-node contact histories; :meth:`SimulationResult.load`).
 * **UFF 58** (binary, through pyuff, :mod:`.identification.uff_io`): one function of type 1 (time
-  response) per column, ``id1`` the column's name, the ordinate's unit label and data type (9 reaction
-  force for forces and moments, 8 displacement, 11 velocity, 12 acceleration), the response node the
-  support (casing A 1, casing B 2, cable A 3, cable B 4; 0 for the contact summary) and direction 1-3
-  for x, y, z, 4-6 for moments about them.
+  response) per column, ``id1`` the column's name, the ordinate's unit label and data type (9
+  reaction force for forces and moments, 8 displacement, 11 velocity, 12 acceleration), the
+  response node the support (casing A 1, casing B 2, cable A 3, cable B 4; 0 for the contact
+  summary) and direction 1-3 for x, y, z, 4-6 for moments about them. Read, an ``id1`` that several
+  functions share (an analyser's ``Response``) names each of them ``<id1>@<node><direction>``
+  (``Response@2z``; :func:`~.identification.uff_io.function_names`).
 
 Files are written atomically (:mod:`.files`): an interrupted write leaves an earlier file intact.
 """
@@ -102,9 +104,10 @@ class Records:
             )
         return 1.0 / float(d.mean())
 
-    def resolve(self, name: str) -> str:
+    def resolve(self, name: str, key: str = "--column") -> str:
         """The column called ``name``, its header form ``name [unit]`` or ``name_unit``; a
-        :class:`ModelError` lists the columns when there is none."""
+        :class:`ModelError` naming ``key`` (the option that gave the name: ``--column``, ``--input``)
+        lists the columns when there is none."""
         if name in self.columns:
             return name
         bare = name.split(" [")[0]
@@ -112,16 +115,14 @@ class Records:
             u = self.units.get(col, "")
             if bare == col or name in (f"{col} [{u}]", f"{col}_{u}", f"{col}_{u.replace('.', '')}"):
                 return col
-        raise ModelError(
-            "--column", name, f"must be a column of {self.source or 'the record'}: " + ", ".join(self.columns)
-        )
+        raise ModelError(key, name, f"must be a column of {self.source or 'the record'}: " + ", ".join(self.columns))
 
-    def column(self, name: str) -> np.ndarray:
+    def column(self, name: str, key: str = "--column") -> np.ndarray:
         """The values of a column (see :meth:`resolve`), in its unit."""
-        return self.columns[self.resolve(name)]
+        return self.columns[self.resolve(name, key)]
 
-    def unit(self, name: str) -> str:
-        return self.units.get(self.resolve(name), "")
+    def unit(self, name: str, key: str = "--column") -> str:
+        return self.units.get(self.resolve(name, key), "")
 
 
 def write_records(path: str | os.PathLike, rec: Records) -> str:
@@ -258,19 +259,25 @@ def _read_npz(path):
 
 
 def _read_uff(path):
-    from .identification.uff_io import read_uff
+    from .identification.uff_io import function_names, read_uff
 
     funcs = [r for r in read_uff(path) if r.kind == "time"]
     if not funcs:
         raise ModelError("file", path, "contains no time record (UFF 58, function type 1)")
     t = funcs[0].x
     cols, units = {}, {}
-    for i, r in enumerate(funcs):
+    # (each column its id1; an id1 that repeats, as an analyser's "Response", <id1>@<node><direction>)
+    names = function_names(funcs, [r.name or f"x{i + 1}" for i, r in enumerate(funcs)])
+    for i, (r, name) in enumerate(zip(funcs, names)):
         if r.x.shape != t.shape or not np.allclose(r.x, t, rtol=0, atol=1e-9 * max(1.0, abs(t[-1]))):
             raise ModelError("file", path, f"time function {i} ({r.name}) has another time axis than the first")
-        name = r.name or f"x{i + 1}"
         if name in cols:
-            raise ModelError("file", path, f"time function {i} repeats an earlier name (names must be unique)")
+            raise ModelError(
+                "file",
+                path,
+                f"time function {i} repeats the name of an earlier one, {name} (its id1, and its node and "
+                "direction where the id1 repeats): names must be unique",
+            )
         cols[name] = np.asarray(r.data, float)
         units[name] = r.unit or unit_of(name)
     return Records(t, cols, units, path)

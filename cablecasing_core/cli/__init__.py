@@ -7,22 +7,30 @@ Sub-commands: ``modes``, ``trfam``, ``keys`` (the model file's keys, from the sc
 file or the name of a built-in specimen (``default``, ``installed``). Every ``--help`` shows the
 defaults. Every error in the input prints one line naming the key, the value and what is
 allowed, and exits with status 2; an interrupt (Ctrl-C) prints one line and exits with status
-130, leaving earlier output files intact (they are written atomically, at the end); a warning
-prints one line ``cablecasing: warning: ...``. A failure of the
+130, leaving earlier output files intact (they are written atomically, at the end); SIGTERM (a
+``kill``) and SIGHUP (a terminal closed) take the same way out (:class:`Terminated`) with status
+128 + the signal's number, 143 and 129; a warning prints one line ``cablecasing: warning: ...``. An
+output the system fails to write (a full disk: :class:`~cablecasing_core.files.WriteError`) prints
+one line naming the option, the file and the cause, and exits with status 1. A failure of the
 computing infrastructure (a study's dask scheduler lost, no worker left or making progress) prints
 one line and exits with status 3 (the same command resumes). Anything else is a bug: one line
 ``cablecasing: internal error: ...`` and status 1 (``CABLECASING_TRACEBACK=1`` shows the traceback).
 
-Exit statuses: 0 done, 1 every run of a study failed or an internal error, 2 bad input (or a run
-that cannot work: too large for the machine, a blow-up), 3 infrastructure, 130 interrupted.
+Exit statuses: 0 done, 1 every run of a study failed, an output could not be written or an internal
+error, 2 bad input (or a run that cannot work: too large for the machine, a blow-up), 3
+infrastructure, 130 interrupted (Ctrl-C), 143 and 129 stopped by SIGTERM and SIGHUP.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import errno
 import json
 import os
+import signal
 import sys
+import threading
 import warnings
 
 import numpy as np
@@ -66,6 +74,13 @@ def cmd_modes(args):
     model = _model(args.model)
     count = integer("--count", args.count, 1)
     res = {b: natural_frequencies(model, b, count).tolist() for b in model.bodies}
+    for b, f in res.items():  # (a body has as many modes as free degrees of freedom: all of them printed)
+        if len(f) < count:
+            warnings.warn(
+                f"--count = {count}: the {b} of {model.source} has only {len(f)} modes (one per free degree of "
+                f"freedom of its {model.geometry['n_elements']} elements); all {len(f)} are printed",
+                stacklevel=1,
+            )
     if args.json:
         print(json.dumps(res))
     else:
@@ -190,13 +205,100 @@ def _warning_line(message, category, filename, lineno, file=None, line=None):
         print(text, file=sys.stderr if file is None else file)
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM or SIGHUP (a ``kill``, a terminal closed), raised in the main thread as Ctrl-C's
+    KeyboardInterrupt is, so that it takes the same way out: every cleanup of an interrupt runs (a
+    file being written is removed, its target kept as it was; a study's cluster is closed)."""
+
+    def __init__(self, signum):
+        super().__init__(signum)
+        self.signum = signum
+
+
+#: The signals that stop the command line as Ctrl-C does (those the platform has).
+_STOP_SIGNALS = tuple(getattr(signal, n) for n in ("SIGTERM", "SIGHUP") if hasattr(signal, n))
+
+
+@contextlib.contextmanager
+def _stopped_by_signals():
+    """SIGTERM and SIGHUP raise :class:`Terminated` while the block runs (in the main thread only:
+    signal handlers live there); a signal that is ignored (``nohup``) stays ignored. The first one
+    raises; those that follow while the interrupt is handled are ignored, so that its cleanup runs
+    to the end (Ctrl-C and SIGKILL still stop it). The handlers before are restored at the end.
+    (Processes started meanwhile, a study's dask workers, run a new interpreter: a Python handler is
+    not inherited, they keep the default action.)"""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    raised = []
+
+    def stop(signum, frame):
+        if not raised:
+            raised.append(signum)
+            raise Terminated(signum)
+
+    before = {}
+    for sig in _STOP_SIGNALS:
+        old = signal.getsignal(sig)
+        if old is signal.SIG_IGN:
+            continue
+        before[sig] = signal.SIG_DFL if old is None else old
+        signal.signal(sig, stop)
+    try:
+        yield
+    finally:
+        for sig, old in before.items():
+            signal.signal(sig, old)
+
+
+#: Causes of an OSError that are the machine's, never the program's (a full disk, a quota, a device).
+_SYSTEM_ERRNOS = {getattr(errno, n) for n in ("ENOSPC", "EDQUOT", "EFBIG", "EIO", "EROFS") if hasattr(errno, n)}
+
+
+def _output_option(args, filename):
+    """The option of ``args`` that named the output ``filename`` (``--out``, its ``_against`` twin
+    included, ``--plot``, ``--toml``; a file in an output folder by that folder's option), or None."""
+    from pathlib import Path
+
+    from .study import _against_path
+
+    target = Path(str(filename)).resolve()
+    for attr in ("out", "plot", "toml"):
+        given = getattr(args, attr, None)
+        if attr == "plot" and given is True:
+            given = "simulation.png"
+        if not isinstance(given, str):
+            continue
+        named = [Path(p).resolve() for p in (given, _against_path(given))]
+        if target in named or named[0] in target.parents:
+            return f"--{attr}"
+    return None
+
+
+def _write_failed(args, exc):
+    """The one line of an output that the system failed to write (:class:`~cablecasing_core.files.WriteError`:
+    the option and the file, the cause, what was kept) or of another OSError of the machine (a full
+    disk while a study appends its rows)."""
+    from ..files import WriteError
+
+    if exc.filename is None:
+        return f"{exc.strerror or type(exc).__name__} (an error of the machine, not of the program)"
+    key = _output_option(args, exc.filename)
+    cause = exc.strerror or type(exc).__name__
+    if isinstance(exc, WriteError):
+        kept_ = "the previous file is kept as it was" if exc.kept else "no file was made"
+        return str(ModelError(key or "output", str(exc.filename), f"could not be written ({cause}); {kept_}"))
+    return str(ModelError(key or "file", str(exc.filename), f"failed ({cause})"))
+
+
 def main(argv=None):
     parser = build_parser()
     args = parser.parse_args(argv)
     shown = warnings.showwarning
     warnings.showwarning = _warning_line
     try:
-        return args.func(args)
+        with _stopped_by_signals():
+            return args.func(args)
     except InfrastructureError as exc:
         print(f"cablecasing: error: {exc}", file=sys.stderr)
         return 3
@@ -213,18 +315,34 @@ def main(argv=None):
     except BrokenPipeError:  # output piped into head and the like: stop quietly
         sys.stdout = open(os.devnull, "w")  # (Python flushes stdout at exit)
         return 0
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         hint = getattr(args, "interrupted", "nothing was written; files written before are as they were")
+        if isinstance(exc, Terminated):  # (SIGTERM, SIGHUP: 128 + its number, as a shell reports it)
+            with contextlib.suppress(OSError):  # (the terminal of a hang-up may be gone: the status stays)
+                print(f"cablecasing: terminated ({signal.Signals(exc.signum).name}): {hint}", file=sys.stderr)
+            return 128 + exc.signum
         print(f"\ncablecasing: interrupted: {hint}", file=sys.stderr)
         return 130
-    except Exception as exc:  # a bug: one line, not a traceback (the variable shows it)
-        if os.environ.get("CABLECASING_TRACEBACK"):
-            raise
-        print(
-            f"cablecasing: internal error: {type(exc).__name__}: {excerpt(plain(str(exc)), 200)} (a bug; please report "
-            "it with the command; CABLECASING_TRACEBACK=1 shows the traceback)",
-            file=sys.stderr,
-        )
+    except OSError as exc:  # an output the system failed to write (a full disk): not a bug
+        from ..files import WriteError
+
+        if not isinstance(exc, WriteError) and exc.errno not in _SYSTEM_ERRNOS:
+            return _internal_error(exc)
+        print(f"cablecasing: error: {_write_failed(args, exc)}", file=sys.stderr)
         return 1
+    except Exception as exc:
+        return _internal_error(exc)
     finally:
         warnings.showwarning = shown
+
+
+def _internal_error(exc):
+    """A bug: one line, not a traceback (CABLECASING_TRACEBACK=1 shows it); status 1."""
+    if os.environ.get("CABLECASING_TRACEBACK"):
+        raise exc
+    print(
+        f"cablecasing: internal error: {type(exc).__name__}: {excerpt(plain(str(exc)), 200)} (a bug; please report "
+        "it with the command; CABLECASING_TRACEBACK=1 shows the traceback)",
+        file=sys.stderr,
+    )
+    return 1

@@ -14,6 +14,7 @@ The main CLI registers them with :func:`add_parser`; every handler returns an ex
 
 from __future__ import annotations
 
+import contextlib
 import sys
 
 import numpy as np
@@ -33,6 +34,26 @@ def _check_outputs(args):
     check_output_path("--toml", args.toml, (".toml",))
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
     check_distinct(("file", args.file), ("--model", getattr(args, "model", None)), ("--toml", args.toml))
+
+
+#: find_resonances' advice when an FRF has fewer peaks than asked for, in the words of its arguments.
+_PEAKS_HINT = "give the resonances themselves (f_res_hz, --freqs) or a smaller count"
+
+
+@contextlib.contextmanager
+def _hint(replacements):
+    """A :class:`ModelError` raised in the block again with the texts ``replacements`` ({text: new})
+    replaced in what it says is allowed (advice in the words of a function's arguments put in the
+    command line's)."""
+    try:
+        yield
+    except ModelError as exc:
+        allowed = exc.allowed
+        for text, new in replacements.items():
+            allowed = allowed.replace(text, new)
+        if allowed == exc.allowed:
+            raise
+        raise ModelError(exc.key, exc.value, allowed) from None
 
 
 def _write_toml(path, text):
@@ -56,18 +77,38 @@ def _emit(args, toml, plot_name, res, **plot_kw):
         print(f"wrote {args.plot}")
 
 
-def _spectrum_peaks(x, fs, count):
-    """Frequencies (Hz) of the ``count`` most prominent peaks of the record's amplitude spectrum."""
+def _spectrum_peaks(x, fs, count, path):
+    """Frequencies (Hz) of the ``count`` (``--count``) most prominent peaks of the record's amplitude
+    spectrum; a :class:`ModelError` naming ``--count`` when the spectrum of the record in ``path`` has
+    fewer peaks above its noise."""
     from ..identification.circlefit import find_resonances
 
     X = np.abs(np.fft.rfft(x * np.hanning(x.size)))
     f = np.fft.rfftfreq(x.size, 1.0 / fs)
+    try:
+        found = find_resonances(f[1:-1], X[1:-1])  # (every peak above the noise, in frequency order)
+    except ModelError as exc:  # (no peak at all: said of the record, not of an FRF)
+        if exc.key != "H":
+            raise
+        raise ModelError(
+            "file",
+            str(path),
+            "has no peak above its noise in its amplitude spectrum: give the natural frequencies (--freqs)",
+        ) from None
+    if found.size < count:
+        raise ModelError(
+            "--count",
+            count,
+            f"must be at most {found.size}: the amplitude spectrum of {path} has {found.size} peak(s) above its "
+            "noise; give a smaller --count, or the natural frequencies themselves (--freqs)",
+        )
     return find_resonances(f[1:-1], X[1:-1], count=count)
 
 
 #: The wavelet's arguments by the options that give them (their errors name the option).
 _DAMPING_OPTIONS = {"gamma": "--gamma", "window_tau": "--window-tau", "max_departure": "--max-departure",
-                    "edge_factor": "--edge-factor", "search": "--search", "noise_floor": "--noise-floor"}  # fmt: skip
+                    "edge_factor": "--edge-factor", "search": "--search", "noise_floor": "--noise-floor",
+                    "t_max": "--t-max", "channel": "--channel"}  # fmt: skip
 
 
 def _max_departure(text):
@@ -91,17 +132,23 @@ def cmd_damping(args):
     try:
         _check_outputs(args)
         from ..identification import parameters_toml, rayleigh_fit, read_time_record_from, wavelet_damping
-        from ..model.validators import integer, number
+        from ..model.validators import frequencies, integer, number
 
         with renamed(_DAMPING_OPTIONS):  # (the options' ranges before any work on the record)
             number("gamma", args.gamma, gt=0, le=1e3)
             departure = _max_departure(args.max_departure)
-        x, fs, name, t_start = read_time_record_from(args.file, args.channel)
-        freqs = args.freqs if args.freqs else _spectrum_peaks(x, fs, integer("--count", args.count, 1))
+            if args.noise_floor is not None:
+                number("noise_floor", args.noise_floor, gt=0)
+            if not args.freqs:
+                integer("--count", args.count, 1)
+            x, fs, name, t_start = read_time_record_from(args.file, args.channel)
+        if args.freqs:  # (each in (0, fs/2): named as the option before any work)
+            frequencies("--freqs", args.freqs, fs)
+        freqs = args.freqs if args.freqs else _spectrum_peaks(x, fs, args.count, args.file)
         if args.t_max is not None:  # (on the file's time axis, as the fit's times)
             number("--t-max", args.t_max, gt=t_start, unit="s")
         try:
-            with renamed(_DAMPING_OPTIONS):
+            with renamed({**_DAMPING_OPTIONS, "freqs_hz": "--freqs"}):
                 res = wavelet_damping(
                     x,
                     fs,
@@ -116,11 +163,11 @@ def cmd_damping(args):
                     window_tau=args.window_tau,
                 )
         except ModelError as exc:
-            if args.freqs or exc.key != "freqs_hz":
+            if args.freqs or exc.key != "--freqs":
                 raise
             found = ", ".join(f"{v:.6g}" for v in freqs)
             raise ModelError(
-                exc.key,
+                "--freqs",
                 exc.value,
                 f"{exc.allowed} (the frequencies were the amplitude spectrum's {len(freqs)} most prominent peaks, "
                 f"{found} Hz, not given: on a noisy record these may be noise; give --freqs)",
@@ -171,9 +218,13 @@ def cmd_loss_factor(args):
     try:
         _check_outputs(args)
         from ..identification import loss_factor_circle, parameters_toml, read_frf_kind
-        from ..model.validators import integer
+        from ..model.validators import frequencies, integer
 
-        f, H, declared = read_frf_kind(args.file, args.channel, strict=args.kind is None)
+        if args.freqs:
+            frequencies("--freqs", args.freqs)
+        count = None if args.count is None else integer("--count", args.count, 1)
+        with renamed({"channel": "--channel"}):
+            f, H, declared = read_frf_kind(args.file, args.channel, strict=args.kind is None)
         if args.kind is not None and declared is not None and args.kind != declared:
             raise ModelError(
                 "--kind",
@@ -183,13 +234,14 @@ def cmd_loss_factor(args):
             )
         kind = args.kind or declared or "apparent_mass"
         source = "given" if args.kind else ("from the file's header" if declared else "default")
-        with renamed({"window_tau": "--window-tau", "bandwidths": "--bandwidths"}):
+        names = {"window_tau": "--window-tau", "bandwidths": "--bandwidths", "f_res_hz": "--freqs", "count": "--count"}
+        with renamed(names), _hint({_PEAKS_HINT: "give the resonances themselves (--freqs) or a smaller --count"}):
             res = loss_factor_circle(
                 f,
                 H,
                 args.freqs,
                 kind=kind,
-                count=None if args.count is None else integer("--count", args.count, 1),
+                count=count,
                 bandwidths=args.bandwidths,
                 correct_neighbours=not args.no_correction,
                 window_tau=args.window_tau,
@@ -213,9 +265,11 @@ def cmd_loss_factor(args):
 
 
 def _read_measured(path, modes_arg, channel):
-    """(frequencies Hz, mode numbers) from a CSV table ``mode,f_hz`` or from the peaks of an FRF file."""
+    """(frequencies Hz, mode numbers, where the mode numbers came from: "file" or "--modes") from a CSV
+    table ``mode,f_hz`` or from the peaks of an FRF file."""
     from ..identification.circlefit import find_resonances
     from ..identification.uff_io import is_uff, read_frf_kind
+    from ..model.validators import integer
 
     if not is_uff(path):
         from ..files import read_csv_table
@@ -229,12 +283,22 @@ def _read_measured(path, modes_arg, channel):
             modes = data[:, header.index("mode")]
             if np.any(modes != np.round(modes)) or np.any(modes < 1) or np.any(modes > 1000):
                 raise ModelError("file", str(path), "the column mode must hold whole numbers 1 to 1000")
-            return data[:, fcol], modes.astype(int)
+            return data[:, fcol], modes.astype(int), "file"
     if not modes_arg:
         raise ModelError("--modes", None, "an FRF file needs the mode number of each resonance (--modes 1 2 ...)")
-    f, H, declared = read_frf_kind(path, channel, strict=False)
+    for m in modes_arg:  # (the range of a table's column mode)
+        integer("--modes", m, 1, 1000, " (mode numbers: 1 = the lowest)")
+    with renamed({"channel": "--channel"}):
+        f, H, declared = read_frf_kind(path, channel, strict=False)
     kind = declared or "displacement"  # (the peaks of |H| in displacement form; a CSV's |H| as it is)
-    return find_resonances(f, H, count=len(modes_arg), kind=kind), np.asarray(modes_arg, dtype=int)
+    try:  # (as many peaks as --modes gives mode numbers)
+        peaks = find_resonances(f, H, count=len(modes_arg), kind=kind)
+    except ModelError as exc:
+        if exc.key != "count":
+            raise
+        allowed = exc.allowed.replace(_PEAKS_HINT, "give fewer --modes, or a table mode,f_hz of the frequencies")
+        raise ModelError("--modes", list(modes_arg), allowed) from None
+    return peaks, np.asarray(modes_arg, dtype=int), "--modes"
 
 
 def cmd_modulus(args):
@@ -242,19 +306,26 @@ def cmd_modulus(args):
         _check_outputs(args)
         from ..identification import identify_modulus_model, parameters_toml
         from ..model import load_model
-        from ..model.validators import integer
+        from ..model.validators import integer, number
 
         model = load_model(args.model)
-        f_meas, modes = _read_measured(args.file, args.modes, args.channel)
-        res = identify_modulus_model(
-            model,
-            args.body,
-            f_meas,
-            modes,
-            freq_resolution_hz=args.resolution,
-            degree=None if args.degree < 0 else args.degree,
-            n_table=integer("--n-table", args.n_table, 2),
-        )
+        number("--resolution", args.resolution, gt=0, unit="Hz")
+        if not (args.degree == -1 or args.degree >= 0):
+            raise ModelError("--degree", args.degree, "must be -1 (no smoothing) or an integer >= 0")
+        n_table = integer("--n-table", args.n_table, 2)
+        f_meas, modes, given_by = _read_measured(args.file, args.modes, args.channel)
+        names = {"freq_resolution_hz": "--resolution", "degree": "--degree"}
+        names["modes"] = given_by if given_by == "--modes" else f"{args.file}, column mode"
+        with renamed(names):
+            res = identify_modulus_model(
+                model,
+                args.body,
+                f_meas,
+                modes,
+                freq_resolution_hz=args.resolution,
+                degree=None if args.degree == -1 else args.degree,
+                n_table=n_table,
+            )
         print(f"# {args.body} of {model.source}: E_start = {model.bodies[args.body].E_ref:.6g} Pa")
         print(f"{'mode':>4} {'f_meas_Hz':>10} {'f_comp_Hz':>10} {'E_Pa':>12} {'steps':>5}")
         for m, fm, fc, E, h in zip(res.modes, res.f_measured_hz, res.f_computed_hz, res.E_mode, res.history):

@@ -48,7 +48,7 @@ def _signal(rec, path, name, keep, role="--column"):
     and band 0 and a level of -inf dB) is refused naming the file and the column."""
     from ..errors import ModelError
 
-    x = rec.column(name)[keep]
+    x = rec.column(name, role)[keep]
     if np.ptp(x) == 0:
         raise ModelError(
             role,

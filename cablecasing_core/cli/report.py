@@ -6,11 +6,14 @@ from __future__ import annotations
 def cmd_report(args):
     from ..errors import renamed
     from ..files import output_folder
+    from ..model.limits import check_time_domain
     from ..report import check_report_settings, write_report
 
     # (the settings before the folder: a refused report creates nothing)
-    with renamed({"duration": "--duration", "seeds": "--seeds", "study_samples": "--study-samples"}):
+    names = {"duration": "--duration", "scenario.duration": "--duration", "seeds": "--seeds"}
+    with renamed({**names, "study_samples": "--study-samples"}):
         model, _, _ = check_report_settings(args.model, args.duration, args.seeds, args.study_samples)
+        check_time_domain(model, args.duration, model.scenario["dt"])  # (a run too large for the machine)
     output_folder("--out", args.out, "report.html")  # (before the runs)
     args.interrupted = (
         "the report was not finished: --out may hold some of this run's files beside an earlier report's (each "

@@ -32,7 +32,10 @@ def cmd_simulate(args):
     if args.plot is True:
         check_output_path("--plot", plot)
     args.interrupted = "the run was stopped: " + kept(args.out, plot)
-    with renamed({"duration": "--duration", "dt": "--dt"}):
+    names = {"duration": "--duration", "dt": "--dt"}
+    if args.duration is not None:  # (the memory check names the scenario's key: here the option gave it)
+        names["scenario.duration"] = "--duration"
+    with renamed(names):
         contact = False if args.no_contact else None
         res = simulate(model, duration=args.duration, dt=args.dt, contact=contact, progress=args.progress)
     print(f"simulated {res.time[-1]:.6g} s in {len(res.time)} steps{_refined(res.solver)}")

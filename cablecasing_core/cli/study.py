@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, renamed
 from ..model.limits import MAX_ENSEMBLE_SEED, MAX_SEEDS, MAX_STUDY_SAMPLES, PROGRESS_TIMEOUT
 from ..model.schema import output_spec
 from ..model.validators import integer, number
@@ -69,6 +69,7 @@ def cmd_study(args):
     from ..model import load_model
     from ..model.load import specimen_names
     from ..studies import DEFAULT_EVALUATE, plot_correlations, plot_sobol, run_study
+    from ..studies.results_store import read_meta
     from ..studies.sampling import base_points, group_size
 
     model = load_model(args.model)
@@ -78,7 +79,10 @@ def cmd_study(args):
     integer("--samples", args.samples, 2, MAX_STUDY_SAMPLES)
     integer("--seed", args.seed, 0)
     progress_timeout = number("--timeout", args.timeout, gt=0, unit="s")
+    _check_record_settings(args, model)
     out = Path(args.out)  # (created by run_study once every setting is checked and the scheduler answers)
+    if out.exists() and not out.is_dir():
+        raise ModelError("--out", args.out, "must be a folder (of study.csv and the figures); it is a file")
     # a file by its absolute path (dask workers run in any folder); a built-in specimen by its name
     model_file = args.model if args.model in (None, *specimen_names()) else str(Path(args.model).resolve())
     kwargs = {"model_file": model_file, "duration": args.duration, "skip": args.skip}
@@ -91,24 +95,34 @@ def cmd_study(args):
         f"Saltelli's design on a scrambled Sobol' sequence (seed {args.seed}); results in {out / 'study.csv'}"
     )
     nb = base_points(bounds, args.samples)
-    print(
-        f"#   {nb * g} runs: {nb} base points x {g} (d + 2 runs per base point for d = {len(bounds)} parameters, "
-        f"at least 2 base points; --samples {args.samples} is rounded up to whole groups)"
-    )
+    with renamed({"path": "--out"}):
+        old = read_meta(out / "study.csv")
+    if old is not None and isinstance(old.get("n_base"), int) and old["n_base"] > nb:  # (run_study's rule)
+        print(
+            f"#   {old['n_base'] * g} runs: {old['n_base']} base points x {g}, the size of the study in "
+            f"{out / 'study.csv'}: --samples {args.samples} asks for {nb * g} runs, and a study is never shrunk "
+            "(it resumes at its size)"
+        )
+    else:
+        print(
+            f"#   {nb * g} runs: {nb} base points x {g} (d + 2 runs per base point for d = {len(bounds)} "
+            f"parameters, at least 2 base points; --samples {args.samples} is rounded up to whole groups)"
+        )
     args.interrupted = f"the rows finished so far are in {out / 'study.csv'}; run the same command again to go on"
-    res = run_study(
-        out / "study.csv",
-        DEFAULT_EVALUATE,
-        bounds=bounds,
-        n_samples=args.samples,
-        seed=args.seed,
-        scheduler=args.scheduler,
-        n_workers=args.workers,
-        evaluate_kwargs=kwargs,
-        quantity=quantity,
-        model=model,
-        progress_timeout=progress_timeout,
-    )
+    with renamed({"path": "--out"}):
+        res = run_study(
+            out / "study.csv",
+            DEFAULT_EVALUATE,
+            bounds=bounds,
+            n_samples=args.samples,
+            seed=args.seed,
+            scheduler=args.scheduler,
+            n_workers=args.workers,
+            evaluate_kwargs=kwargs,
+            quantity=quantity,
+            model=model,
+            progress_timeout=progress_timeout,
+        )
     n_ok = int(np.sum(res.ok))
     print(f"{n_ok} of {len(res.status)} runs ok ({res.n_base} base points); results in {out / 'study.csv'}")
     n_warned = int(np.sum(res.warned))
@@ -132,6 +146,19 @@ def cmd_study(args):
         plot_sobol(res, out / "sobol.png", sob=sob)
         print(f"wrote {out / 'sobol.png'}")
     return 0
+
+
+def _check_record_settings(args, model):
+    """``--duration`` and ``--skip`` of a study (and a run too large for the machine) checked before
+    anything is printed, named by their options (run_study checks them again, by the names of its
+    settings)."""
+    from ..studies.evaluators import check_record_settings
+
+    names = {"duration": "--duration", "skip": "--skip"}
+    if args.duration is not None:  # (else the model's scenario.duration, named as in its file)
+        names["scenario.duration"] = "--duration"
+    with renamed(names):
+        check_record_settings(model, duration=args.duration, skip=args.skip)
 
 
 def _sobol_or_none(res):
@@ -237,11 +264,17 @@ def cmd_ensemble(args):
     except ModelError as exc:
         flag = "--against" if exc.key in against else "--set"
         raise ModelError(f"{flag} {exc.key}", exc.value, exc.allowed) from None
-    ens = seed_ensemble(model, overrides=base, **common)
+    names = {"duration": "--duration", "dt": "--dt", "skip": "--skip", "output": "--output"}
+    for key, given in (("scenario.duration", args.duration), ("scenario.dt", args.dt)):
+        if given is not None:  # (else the model's value, named by its key)
+            names[key] = f"--{key.split('.')[1]}"
+    with renamed(names):  # (the settings are checked before the first run)
+        ens = seed_ensemble(model, overrides=base, **common)
     _print_ensemble(ens, args.confidence)
     other = d = None
     if against:
-        other = seed_ensemble(model, overrides={**base, **against}, **common)
+        with renamed(names):
+            other = seed_ensemble(model, overrides={**base, **against}, **common)
     # (both files once both ensembles are done: a run stopped in the second leaves the pair as it
     # was; and before anything is derived from them)
     _save(ens, args.out, "")
@@ -258,12 +291,16 @@ def cmd_pool(args):
     from ..studies import paired_difference, pool_ensembles
 
     _check_confidence(args.confidence)
-    args.interrupted = "stopped: " + kept(*_check_outputs(args))
-    ens = pool_ensembles(args.files)
+    outputs = _check_outputs(args)
+    _check_not_inputs(args, outputs)
+    args.interrupted = "stopped: " + kept(*outputs)
+    with renamed({"path": "file"}):  # (a part's error names it as the command line does)
+        ens = pool_ensembles(args.files)
     other = d = None
     change = {}
     if args.against:
-        other = pool_ensembles(args.against)
+        with renamed({"path": "--against"}):
+            other = pool_ensembles(args.against)
         mine, theirs = ({k: v for k, v in e.settings.items() if k != "model"} for e in (ens, other))
         differ = sorted(k for k in set(mine) | set(theirs) if mine.get(k) != theirs.get(k))
         if differ:
@@ -306,6 +343,25 @@ def _check_outputs(args):
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
     check_distinct(("--out", args.out), ("--plot", args.plot))
     return args.out, against, args.plot
+
+
+def _check_not_inputs(args, outputs):
+    """``pool``'s outputs (``--out``, its ``_against`` twin, ``--plot``) must not be one of the parts
+    it reads (the files, the ``--against`` files): a part written over would lose its members."""
+    parts = [("a file it pools", p) for p in args.files] + [("an --against file", p) for p in args.against]
+    for flag, out in zip(("--out", "--out", "--plot"), outputs):
+        if out is None:
+            continue
+        for role, part in parts:
+            if Path(out).resolve() != Path(part).resolve():
+                continue
+            same = role if part == out else f"{part}, {role}"  # (the part as it was spelled, if otherwise)
+            said = f"its _against twin {out} is {same}" if flag == "--out" and out != args.out else f"it is {same}"
+            raise ModelError(
+                flag,
+                args.out if flag == "--out" else out,
+                f"must not name an input of pool: {said}, which it would write over",
+            )
 
 
 def _seed_list(seeds):

@@ -116,7 +116,27 @@ def write_uff(path, records, binary=True):
     pyuff = _pyuff()
     sets = [_dataset(r, binary) for r in records]
     with atomic_path(path) as tmp:
-        pyuff.UFF(str(tmp)).write_sets(sets, mode="add")
+        try:
+            pyuff.UFF(str(tmp)).write_sets(sets, mode="add")
+        except Exception as exc:
+            cause = _write_failure(exc)
+            if cause is exc:
+                raise
+            raise cause from None
+
+
+def _write_failure(exc):
+    """What stopped pyuff's write: pyuff turns every exception of its writing, an ``OSError`` (a full
+    disk) and a ``KeyboardInterrupt`` (Ctrl-C) too, into a bare ``Exception("Error writing data-set
+    #58")`` whose context holds it; that is returned (the caller raises it: an interrupt stays one,
+    a failed write an ``OSError``), else ``exc``."""
+    seen, cause = set(), exc
+    while cause is not None and id(cause) not in seen:
+        if isinstance(cause, (KeyboardInterrupt, OSError)):
+            return cause
+        seen.add(id(cause))
+        cause = cause.__cause__ or cause.__context__
+    return exc
 
 
 def write_uff_time(path, x, fs, name="x", t0=0.0, binary=True, **dof):
@@ -140,6 +160,9 @@ def read_uff(path):
     pyuff = _pyuff()
     if not os.path.exists(path):
         raise ModelError("file", str(path), "does not exist")
+    if not os.path.isfile(path):
+        what = "a folder" if os.path.isdir(path) else "a device or another special file"
+        raise ModelError("file", str(path), f"is {what}, not a UFF file: a UFF file is a regular file")
     try:
         u = pyuff.UFF(str(path))
         types = list(u.get_set_types())
@@ -380,6 +403,27 @@ def is_uff(path):
     return os.path.splitext(str(path))[1].lower() in UFF_EXTENSIONS
 
 
+#: A UFF 58 response direction's letters in a function's name (:func:`function_names`); 0 (a scalar) none.
+_DIRECTIONS = {0: "", 1: "x", 2: "y", 3: "z", 4: "rx", 5: "ry", 6: "rz"}
+
+
+def function_names(records, names=None):
+    """The names a reader gives the UFF functions ``records``: each its ``id1`` (or ``names``, one
+    per record), except where that repeats among them (an analyser's export names every function
+    "Response" and tells them apart by node and direction): those are named
+    ``<id1>@<node><direction>``, the response node and direction (x, y, z; rx, ry, rz for the
+    rotations 4-6; a minus for a negative direction), ``Response@2z``. A name may still repeat (two
+    functions of one node and direction); the caller refuses it."""
+    names = [r.name for r in records] if names is None else list(names)
+    out = []
+    for r, name in zip(records, names):
+        if names.count(name) > 1:
+            d = int(r.rsp_dir)
+            name = f"{name}@{int(r.rsp_node)}{'-' if d < 0 else ''}{_DIRECTIONS.get(abs(d), str(abs(d)))}"
+        out.append(name)
+    return out
+
+
 def _uff_record(path, kind, channel, missing):
     """The ``channel``-th record (default the first) of ``kind`` in a UFF file; ``missing`` says
     what the file lacks when it has none."""
@@ -393,7 +437,7 @@ def _uff_record(path, kind, channel, missing):
             f"contains no {missing}; it holds UFF 58 function type(s) {', '.join(map(str, held))} "
             "(1 time response, 4 FRF, 6 coherence, ...)",
         )
-    names = [r.name for r in recs]
+    names = function_names(recs)
     if channel is None:
         j = 0
     elif isinstance(channel, str) and not channel.strip().isdigit():  # a function's name (its id1)

@@ -116,17 +116,22 @@ def _cluster_deaf_to_ctrl_c(LocalCluster, n_workers):
     process group, and each worker printed its KeyboardInterrupt traceback while this process
     closed the cluster and said what was kept. A process started while SIGINT is ignored keeps
     ignoring it (Python installs its KeyboardInterrupt handler only where SIGINT is not ignored),
-    so it is ignored here while the workers start, in the main thread (signal handlers live there)."""
+    so it is ignored here while the workers start, in the main thread (signal handlers live there).
+    So is SIGHUP (a closed terminal reaches the group too; the command line turns it into the same
+    stop as Ctrl-C): multiprocessing's resource tracker, which ignores SIGINT and SIGTERM itself,
+    died of it and was restarted during the shutdown with tracebacks on stderr."""
     import signal
     import threading
 
     main = threading.current_thread() is threading.main_thread()
-    before = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+    stops = [signal.SIGINT] + ([signal.SIGHUP] if hasattr(signal, "SIGHUP") else [])
+    before = [signal.signal(s, signal.SIG_IGN) for s in stops] if main else None
     try:
         return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, dashboard_address=None)
     finally:
         if main:
-            signal.signal(signal.SIGINT, before)
+            for s, handler in zip(stops, before):
+                signal.signal(s, handler)
 
 
 class Workers:

@@ -113,7 +113,7 @@ def test_a_study_whose_settings_make_every_run_fail_is_refused_before_it_creates
     assert main(args + ["--duration", "0.05", "--out", str(out)]) == 2  # 0.05 s leaves nothing after skip
     err = capsys.readouterr().err.strip().splitlines()
     assert err == [
-        "cablecasing: error: duration = 0.05: must leave at least 0.09091 s after skip = 0.05 s for band 'oct1' "
+        "cablecasing: error: --duration = 0.05: must leave at least 0.09091 s after skip = 0.05 s for band 'oct1' "
         "(11-22 Hz)"
     ]
     assert not out.exists()

@@ -198,12 +198,14 @@ def test_stalled_workers_end_with_a_message_within_the_timeout(tmp_path):
     assert _rows(p) == [] and load_results(p).index.size == 0
 
 
-def test_ctrl_c_on_a_study_with_local_workers_says_what_was_kept_and_nothing_else(tmp_path):
-    """Ctrl-C at a terminal reaches the whole process group: the CLI says in one line where the rows
-    it kept are and exits 130; its workers, which printed their own KeyboardInterrupt tracebacks
-    (or, interrupted in the middle of their shutdown, were killed after 4 s), ignore SIGINT and are
-    closed by it. The rows kept are whole. (dask's own warning that a cancelled task ended with
-    CancelledError remains.)"""
+@pytest.mark.parametrize("name, code", [("SIGINT", 130), ("SIGHUP", 129)])
+def test_ctrl_c_on_a_study_with_local_workers_says_what_was_kept_and_nothing_else(tmp_path, name, code):
+    """Ctrl-C at a terminal (or its closing, SIGHUP) reaches the whole process group: the CLI says in
+    one line where the rows it kept are and exits 128 + the signal's number; its workers, which
+    printed their own KeyboardInterrupt tracebacks (or, interrupted in the middle of their
+    shutdown, were killed after 4 s; on SIGHUP multiprocessing's resource tracker died and was
+    restarted with KeyError tracebacks), ignore both and are closed by it. The rows kept are whole.
+    (dask's own warning that a cancelled task ended with CancelledError remains.)"""
     import os
     import signal
 
@@ -215,18 +217,19 @@ def test_ctrl_c_on_a_study_with_local_workers_says_what_was_kept_and_nothing_els
         stderr=subprocess.STDOUT,
         text=True,
         start_new_session=True,  # (its own process group, as a terminal's job)
-        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+        preexec_fn=lambda: signal.signal(getattr(signal, name), signal.SIG_DFL),
     )
     deadline = time.monotonic() + 120  # (the cluster up and two rows written)
     while time.monotonic() < deadline and not (
         (out / "study.csv").exists() and len(load_results(out / "study.csv")) >= 2
     ):
         time.sleep(0.5)
-    os.killpg(proc.pid, signal.SIGINT)
+    os.killpg(proc.pid, getattr(signal, name))
     text = proc.communicate(timeout=60)[0]
-    assert proc.returncode == 130, text[-2000:]
+    assert proc.returncode == code, text[-2000:]
     assert "Traceback" not in text and "KeyboardInterrupt" not in text, text[-2000:]
     assert "still alive" not in text, text[-2000:]  # (a worker killed after 4 s: it was interrupted first)
-    assert "interrupted: the rows finished so far are in" in text
+    said = "interrupted: " if name == "SIGINT" else "terminated (SIGHUP): "
+    assert said + "the rows finished so far are in" in text
     res = load_results(out / "study.csv")
     assert len(res) >= 2 and np.all(res.ok) and np.all(np.isfinite(res.Y))
