@@ -3,9 +3,12 @@ stiff casing on two isolators (bounce sqrt(2k/M), rocking sqrt(6k/M)), the TRFAM
 isolator (k + i omega c, or its complex stiffness table), a mass on an isolator, and a beam with a
 mid-span clip (from pinned-pinned with a spring to clamped-pinned half spans as the clip stiffens)."""
 
+import copy
+
 import numpy as np
 import pytest
 
+import cablecasing_core as cc
 from cablecasing_core import model_from_dict, natural_frequencies, trfam
 
 STEEL = dict(E=2.1e11, nu=0.3, rho=7850.0, alpha=0.0, beta=0.0, loss_factor=0.0)
@@ -104,6 +107,22 @@ def test_a_very_stiff_isolator_is_a_clamp():
         a = trfam(clamped, port, port.replace("A", "B"), f)
         b = trfam(isolated, port, port.replace("A", "B"), f)
         np.testing.assert_allclose(b, a, rtol=1e-5)
+
+
+@pytest.mark.parametrize("k, k_rot", [(1e14, 1e12), (1e8, 1e12)])
+def test_isolators_as_stiff_as_the_schema_allows_are_clamps_on_the_built_in_casing(k, k_rot):
+    """The built-in casing (its thin section: the end node's torsional rotary inertia is small) on two
+    isolators of the largest rotational stiffness the schema allows: its first six frequencies are
+    the clamped casing's. A dense solve of (K, M) gets each eigenvalue to ~eps lambda_max, here
+    k_rot over that inertia ~1e20 rad^2/s^2, and took the first modes 27 % off; the inverted pencil
+    gets them to ~eps lambda_i / (2 pi 1 Hz)^2. The rest is the translational springs' compliance
+    (1e8 N/m against the casing's end stiffness: ~2e-5), so 1e-4 and 1e-8."""
+    clamped = cc.load_model()
+    d = copy.deepcopy(clamped.data)
+    d["casing"]["supports"] = {"A": "isolator", "B": "isolator"}
+    d["casing"]["isolator"] = {s: {"stiffness": k, "rotational_stiffness": k_rot} for s in "AB"}
+    f, ref = (natural_frequencies(m, "casing", 6) for m in (cc.model_from_dict(d), clamped))
+    np.testing.assert_allclose(f, ref, rtol=1e-4 if k < 1e10 else 1e-8)
 
 
 def _spring_supported_beam_frequencies(L, EI, mass_per_length, k, count):
