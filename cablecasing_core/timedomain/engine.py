@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import ModelError, SimulationError
+from ..errors import CableCasingError, ModelError, SimulationError
 from ..model.schema import CHANNELS, CONTACT_LAWS, OUTPUTS, channels_of, lookup, outputs_of
 from ..model.validate import check_tolerance_substeps
 from ..model.validators import seconds
@@ -88,6 +88,22 @@ def whole_steps(h: float, dt: float) -> tuple[int, float]:
         return int(n), 0.0
     n = math.floor(x)
     return n, h - n * dt
+
+
+def _motion_arrays(motion, times):
+    """(u, v, a) of ``motion(times)`` as C-contiguous float arrays, or a ModelError naming
+    ``motion`` (not three real arrays; an error the motion raises itself passes as it is)."""
+    try:
+        got = motion(times)
+        if len(got) != 3 or any(np.iscomplexobj(x) for x in got):
+            raise TypeError
+        return tuple(np.ascontiguousarray(x, dtype=float) for x in got)
+    except CableCasingError:
+        raise
+    except (TypeError, ValueError):
+        raise ModelError(
+            "motion", type(motion).__name__, "must be a callable t -> (u, v, a) of three real arrays (m, m/s, m/s2)"
+        ) from None
 
 
 class Engine:
@@ -377,7 +393,14 @@ class Engine:
         return into
 
     def restore(self, snap: list) -> None:
-        """Return to a :meth:`snapshot` of this engine (continuation is bit-identical)."""
+        """Return to a :meth:`snapshot` of this engine (continuation is bit-identical); what is not
+        one (its buffers' shapes and types) is a ModelError, with nothing changed."""
+        ok = len(snap) == 3 and all(
+            isinstance(x, np.ndarray) and x.shape == b.shape and x.dtype == b.dtype
+            for x, b in ((snap[1], self._fbuf), (snap[2], self._ibuf))
+        )
+        if not ok or not math.isfinite(snap[0]):
+            raise ModelError("snap", type(snap).__name__, "must be a snapshot of this engine (Engine.snapshot)")
         self.time = snap[0]
         np.copyto(self._fbuf, snap[1])
         np.copyto(self._ibuf, snap[2])
@@ -393,9 +416,22 @@ class Engine:
             new = [(dst, np.asarray(state[key], dst.dtype)) for key, dst in targets]
         except KeyError as exc:
             raise ModelError("state", str(exc), "is missing from the state") from None
+        except (TypeError, ValueError, IndexError):
+            raise ModelError("state", type(state).__name__, "must be a state of Engine.get_state") from None
+        if not (math.isfinite(time) and time >= 0.0):
+            raise ModelError("state.time", time, "must be a finite number of seconds >= 0")
+        n_elem = len(self.Ls) if hasattr(self, "Ls") else 0
         for (key, dst), (_, arr) in zip(targets, new):
             if arr.shape != dst.shape:
                 raise ModelError(f"state.{key}", arr.shape, f"must have shape {dst.shape}")
+            if arr.dtype.kind == "f" and not np.isfinite(arr).all():
+                raise ModelError(f"state.{key}", "a non-finite value", "must hold finite numbers")
+            if arr.dtype.kind in "iu" and not np.array_equal(np.asarray(state[key]), arr):
+                raise ModelError(f"state.{key}", np.asarray(state[key]).tolist(), "must hold whole numbers")
+            if key == "cstate" and not np.isin(arr, (K.OPEN, K.STICK, K.SLIP)).all():
+                raise ModelError("state.cstate", arr.tolist(), f"must hold {K.OPEN}, {K.STICK} or {K.SLIP}")
+            if key == "celem" and n_elem and not ((arr >= 0) & (arr < n_elem)).all():
+                raise ModelError("state.celem", arr.tolist(), f"must hold casing elements 0 to {n_elem - 1}")
         for dst, arr in new:
             dst[...] = arr
         self.time = time
@@ -463,8 +499,20 @@ class Engine:
             self._hist.append((rec.F, rec.ptr) + tuple(x[:m].copy() for x in (rec.node, rec.state, rec.N, rec.g)))
         self.time = float(info[K.INFO_TIME])
 
+    def _on_grid(self, t: float) -> float:
+        """t (s), or the multiple k dt of the time step it lies within :data:`ROUNDING_OF_TIME` dt
+        of: a run split into calls stays on the grid of one call (the sum t + m dt of each call's
+        steps drifts from it by its rounding, past 1e-9 steps after 8 s of 16384-step pieces, where
+        the scenario's motion is then evaluated off its grid: other values, ~1e4 times the cost)."""
+        k = round(t / self.dt)
+        return float(k * self.dt) if abs(t / self.dt - k) <= ROUNDING_OF_TIME else float(t)
+
     def _law(self):
-        """The contact law's record (from the attributes, which a caller may change between steps)."""
+        """The contact law's record (from the attributes, which a caller may change between steps;
+        mu and vreg are checked here, as :attr:`event_tolerance` is in its setter)."""
+        for key, value in (("mu", self.mu), ("vreg", self.vreg)):
+            if not (math.isfinite(value) and value >= 0.0):
+                raise ModelError(key, value, "must be a finite number >= 0 (the friction coefficient, -; m/s)")
         return K.ContactLaw(
             self.contact, self.gap, self.r_in, self.r_cable, self.law, self.k_lin, self.k_hertz, self.c_n, self.mu,
             self.v_stick, self.event_substeps if self.contact else 1, self.reuse_delassus,
@@ -518,9 +566,9 @@ class Engine:
                 raise ModelError(
                     "h",
                     h,
-                    f"must be 0 (up to {ROUNDING_OF_TIME:g} of the time step: the rounding of a clock) or at "
-                    f"least {SHORTEST_STEP:g} of the time step dt = {self.dt!r} s: a Newmark step of h << dt "
-                    "loses the digits of its accelerations as (dt / h)**2 (Eq. 18); take a longer step",
+                    f"must be at least {SHORTEST_STEP:g} of the time step dt = {self.dt!r} s (a step of at most "
+                    f"{ROUNDING_OF_TIME:g} dt is taken as the rounding of a clock: no time): a Newmark step of "
+                    "h << dt loses the digits of its accelerations as (dt / h)**2 (Eq. 18); take a longer step",
                 )
             segments = [(self.dt, n - 1)] if n > 1 else []
             segments.append((self.dt + rest, 1))
@@ -538,7 +586,7 @@ class Engine:
                 kin, strain = (sum(x) for x in zip(*(b.energy() for b in self.bodies.values())))
                 self.ledger[K.LEDGER_START_ENERGY] = kin + strain + self.contact_potential()
                 # the supports' state at the start: where a recomputed first step's sub-steps begin
-                for row, x in zip(self.chan, motion(np.array([self.time]))):
+                for row, x in zip(self.chan, _motion_arrays(motion, np.array([self.time]))):
                     x = np.asarray(x, dtype=float).reshape(-1)
                     row[: min(len(x), len(row))] = x[: len(row)]
             for dt, m in segments:
@@ -546,7 +594,7 @@ class Engine:
                 for j0 in range(0, m, self.CHUNK):
                     j1 = min(m, j0 + self.CHUNK)
                     times = t + dt * np.arange(j0 + 1, j1 + 1)  # as if evaluated in one piece
-                    u, v, a = (np.ascontiguousarray(x, dtype=float) for x in motion(times))
+                    u, v, a = _motion_arrays(motion, times)
                     nch = len(self.channels)
                     if nch > len(CHANNELS) and u.shape == (j1 - j0, len(CHANNELS)):
                         # a motion of the 12 fixed channels (an FMU's): the clips' supports stay at rest
@@ -555,7 +603,7 @@ class Engine:
                         if x.shape != (j1 - j0, nch):
                             raise ModelError("motion", x.shape, f"must return arrays of shape ({j1 - j0}, {nch})")
                     self._run(dt, u, v, a, times)  # (non-finite motion is refused there, before any step)
-                self.time = float(t + m * dt)
+                self.time = self._on_grid(t + m * dt)
         except BaseException:
             self.restore(snap)
             del self._hist[nhist:]
@@ -610,20 +658,37 @@ class Engine:
             "contact_damping_dissipation": d_damp,
             "friction_dissipation": d_fric,
             "mount_dissipation": d_mount,
-            "residual": residual,
+            "residual": residual if self.ledger_on else np.nan,  # (it holds the Rayleigh dissipation)
         }
 
     def output_values(self, out: np.ndarray | None = None) -> np.ndarray:
         """The values of :meth:`outputs` as an array in the order of :attr:`output_names`
         (:data:`OUTPUTS`, then the clips' forces; written into ``out`` when given, which may hold
         OUTPUTS only): one call instead of a dict, for the FMU's per-step reads."""
-        out = np.empty(len(self.output_names)) if out is None else out
+        out = np.empty(len(self.output_names)) if out is None else self._checked_out(out)
         K.step_outputs(
             self.reac, self.cstate, self.gn, self.ledger, self.law, self.k_lin, self.k_hertz, self._pot0, out
         )
         b = self.bodies.get("casing")
         if b is not None and len(out) > len(OUTPUTS):  # the clips' forces, as the fused step writes them
             K.clip_force_outputs(b.mi, b.mF, out, len(OUTPUTS))
+        return out
+
+    def _checked_out(self, out):
+        """``out`` if the compiled output writer may fill it: a writable, C-contiguous 1-D float64
+        array of at least len(OUTPUTS) values (it writes them without bounds checks)."""
+        if not (
+            isinstance(out, np.ndarray)
+            and out.dtype == np.float64
+            and out.ndim == 1
+            and out.flags.c_contiguous
+            and out.flags.writeable
+            and len(out) >= len(OUTPUTS)
+        ):
+            shown = f"{type(out).__name__} {getattr(out, 'dtype', '')} of shape {getattr(out, 'shape', '?')}"
+            raise ModelError(
+                "out", shown, f"must be a writable, C-contiguous 1-D float64 array of at least {len(OUTPUTS)} values"
+            )
         return out
 
     def clip_forces(self) -> np.ndarray:
@@ -701,7 +766,7 @@ class Engine:
                 self._raise_for_status(status, motion[0], motion[1], motion[2], times)
             finally:
                 self.restore([t0, *self._cstep_scratch[5:]])  # the snapshot the step took of itself
-        self.time = float(t0 + m * self.dt)
+        self.time = self._on_grid(t0 + m * self.dt)
 
     def _widen(self, x):
         """A motion's (n, 12) array with zero columns for the model's further channels (an excited
@@ -715,6 +780,7 @@ class Engine:
         recorded, not the first step, the step loop's arguments built, an input per channel of
         :attr:`channels`), else (m, None); remembered for the next call with the same key and buffers."""
         h, law = key[0], key[3]
+        self._checked_out(out)
         m, rest = whole_steps(h, self.dt)
         if not (0 < m <= self.CHUNK and rest == 0.0 and not self.record and self.time != 0.0):
             return m, None

@@ -480,3 +480,71 @@ def test_a_run_with_a_short_rest_is_the_same_in_pieces():
     d = PROGRESS_STEPS * 1e-5 + 1e-3 * 1e-5
     whole, pieces = (cc.simulate(m, duration=d, progress=p) for p in (False, True))
     np.testing.assert_array_equal(whole.support_forces, pieces.support_forces)
+    assert whole.time[-1] == pytest.approx(d, rel=1e-12)  # the last step, dt + rest, ends at d
+
+
+def test_a_run_split_into_calls_stays_on_the_grid_of_one_call():
+    """The default scenario (contact, chaos) over 0.6 s in calls of 37 steps equals one call to the
+    bit: each call's end time is put back on the grid k dt its steps' sum lies within 1e-6 dt of
+    (the sums had drifted, and the record's motion left its grid, from step 49752 on)."""
+    from cablecasing_core.timedomain.scenario import scenario_motion
+
+    m = cc.load_model()
+    one, split = Engine(m, ledger=False), Engine(m, ledger=False)
+    motion = scenario_motion(m)
+    one.advance(0.6, motion)
+    for _ in range(int(0.6 / (37 * 1e-5))):
+        split.advance(37 * 1e-5, motion)
+    split.advance(0.6 - split.time, motion)
+    assert split.time == one.time == 60000 * 1e-5
+    np.testing.assert_array_equal(split.output_values(), one.output_values())
+
+
+def test_what_the_engine_takes_from_a_caller_is_checked():
+    """An output buffer the compiled writer would overrun (it crashed the process), a motion that
+    is not three real arrays, a negative friction coefficient (it created energy) and a residual
+    without the ledger's Rayleigh dissipation: each a ModelError naming it, or NaN."""
+    m = cc.load_model().with_overrides({"contact.enabled": False})
+    eng = Engine(m, ledger=False)
+    motion = harmonic("casing.A.y", 1e-5, 60.0)
+    for bad in (np.zeros(5), np.zeros(len(OUTPUTS), dtype=np.int64), np.zeros((len(OUTPUTS), 2))[:, 0]):
+        with pytest.raises(cc.ModelError, match=r"^out = .*at least \d+ values"):
+            eng.output_values(bad)
+    for wrong in (lambda t: motion(t)[:2], lambda t: None, lambda t: tuple(x + 0j for x in motion(t))):
+        with pytest.raises(cc.ModelError, match=r"^motion = 'function': must be a callable"):
+            eng.advance(1e-4, wrong)
+    assert eng.time == 0.0
+    eng.mu = -0.5
+    with pytest.raises(cc.ModelError, match=r"^mu = -0.5: must be a finite number >= 0"):
+        eng.advance(1e-4, motion)
+    eng.mu = 0.15
+    eng.advance(1e-4, motion)
+    assert np.isnan(eng.energies()["residual"]) and np.isnan(eng.energies()["rayleigh_dissipation"])
+
+
+def test_a_state_that_is_not_one_is_refused_and_changes_nothing(pair_model, kick):
+    """set_state and restore check before they write: non-finite displacements, a NaN or negative
+    time, a contact state outside open/stick/slip (1.7 was cast to 1), a casing element past the
+    last, something that is not a state or a snapshot: a ModelError naming it, the engine as it was."""
+    eng = Engine(pair_model(friction=0.2, damping=50.0), dt=2e-5)
+    kick(eng, 0.3)
+    eng.advance(0.005, zero_motion)
+    good, before = eng.get_state(), state_to_bytes(eng.get_state())
+    bad_cases = [
+        ("casing.U", lambda s: s["casing.U"].__setitem__(3, np.nan)),
+        ("time", lambda s: s.__setitem__("time", np.array([np.nan]))),
+        ("time", lambda s: s.__setitem__("time", np.array([-1.0]))),
+        ("cstate", lambda s: s.__setitem__("cstate", s["cstate"] + 1.7)),
+        ("cstate", lambda s: s.__setitem__("cstate", s["cstate"] + 7)),
+        ("celem", lambda s: s.__setitem__("celem", s["celem"] + 10_000)),
+    ]
+    for key, spoil in bad_cases:
+        state = {k: np.array(v, copy=True) for k, v in good.items()}
+        spoil(state)
+        with pytest.raises(cc.ModelError, match=rf"^state\.{key} = "):
+            eng.set_state(state)
+    with pytest.raises(cc.ModelError, match=r"^state = 'dict': must be a state of Engine.get_state"):
+        eng.set_state({"time": "soon", **{k: v for k, v in good.items() if k != "time"}})
+    with pytest.raises(cc.ModelError, match=r"^snap = "):
+        eng.restore([0.0, np.zeros(3), np.zeros(3)])
+    assert state_to_bytes(eng.get_state()) == before
