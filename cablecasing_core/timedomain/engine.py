@@ -531,8 +531,9 @@ class Engine:
         what = {
             K.ERR_NAN: "the solution is no longer finite (NaN/inf): the step is unstable or the input is",
             K.ERR_PENETRATION: f"penetration {info[K.INFO_VALUE]:.4g} m exceeds the cable radius "
-            f"{self.r_cable:.4g} m (contact too soft for this load, or the time step too "
-            "large)",
+            f"{self.r_cable:.4g} m (contact too soft for this load, the time step too large, or a "
+            "contact stiffness so far above the bodies' that the contact solve loses its digits: a linear "
+            "contact.stiffness of 1e25 N/m did)",
         }[status]
         node = info[K.INFO_NODE]
         where = f"cable node {int(node)}" if node >= 0 else "the support forces"

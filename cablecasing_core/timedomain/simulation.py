@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy import signal
 
-from ..errors import ModelError
+from ..errors import ModelError, ModelWarning
 from ..model.limits import check_time_domain
 from ..model.schema import CONTACT_OUTPUTS, INPUTS, OUTPUTS, SUPPORT_OUTPUTS, clip_outputs, inputs_of, lookup
 from ..model.validate import step_checks
@@ -231,6 +231,9 @@ def simulate(
     check_time_domain(model, duration, dt)  # (before any work: model/limits.py)
     if dt != sc["dt"]:
         step_checks(model.data, dt, "dt")
+        why = lookup("scenario.dt").implausible(dt)  # (as scenario.dt is checked in a model file)
+        if why:
+            warnings.warn(f"dt = {dt:g} s is {why}", ModelWarning, stacklevel=2)
     inputs = ()
     still = motion is None and not sc["excitation"]
     if motion is None:

@@ -548,3 +548,12 @@ def test_a_state_that_is_not_one_is_refused_and_changes_nothing(pair_model, kick
     with pytest.raises(cc.ModelError, match=r"^snap = "):
         eng.restore([0.0, np.zeros(3), np.zeros(3)])
     assert state_to_bytes(eng.get_state()) == before
+
+
+def test_a_run_step_outside_the_plausible_range_warns_as_in_a_model_file():
+    data = cc.load_model().data
+    m = cc.model_from_dict({**data, "scenario": {**data["scenario"], "excitation": {}}})
+    from cablecasing_core.errors import ModelWarning
+
+    with pytest.warns(ModelWarning, match=r"dt = 0.002 s is outside the plausible 1e-08 to 0.001 s"):
+        cc.simulate(m, duration=0.01, dt=2e-3)
