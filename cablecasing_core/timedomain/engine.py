@@ -829,7 +829,9 @@ class Engine:
     def history(self, sparse: bool = False) -> dict[str, np.ndarray]:
         """Recorded histories (``record=True``) over all steps so far: ``support_forces`` (n x 24,
         N and N.m, :data:`SUPPORT_OUTPUTS`) and, per cable node, ``contact_state`` (0 open, 1 stick,
-        2 slip), ``normal_force`` (N) and ``penetration`` (m), each n x nodes.
+        2 slip), ``normal_force`` (N) and ``penetration`` (m), each n x nodes. The rows are the steps
+        this engine took, in order: :meth:`set_state` does not rewind or extend them (a state is not
+        a history), only a failed :meth:`advance` drops its own.
 
         The engine stores the contact histories sparse (the nodes in contact at the end of each
         step: about 2 of 36 in the default scenario, some 40 bytes per step instead of 600);
