@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy.linalg import cholesky, eigh, eigvalsh, solve_triangular
+from scipy.linalg import eigh, eigvalsh
 from scipy.optimize import brentq
 
 from ..errors import NOT_SHOWN, ModelError
@@ -137,14 +137,11 @@ def _scaled_frequencies(system, f_ref):
 def _own_frequencies(system, lam_ref, n):
     """The first ``n`` frequencies (Hz) of a body with a prestress or mounts and a frequency table:
     f_i = g_i(f_i), g_i(f) the i-th frequency of (K(f), M) (see :func:`natural_frequencies`), each
-    from its reference value sqrt(lam_ref[i]) / 2 pi. The eigenproblem is reduced once to standard
-    form with M's Cholesky factor L: L^-1 K(f) L^-T = sum_j c_j(f) A_j, A_j = L^-1 K_j L^-T."""
+    from its reference value sqrt(lam_ref[i]) / 2 pi. K(f) = K_0 + sum_j c_j(f) K_j on the free
+    DOFs, each pencil solved inverted and shifted as :func:`modal_basis` does (M psi = mu (K(f) +
+    s M) psi), so that a stiff mount's largest eigenvalue does not swamp the low ones."""
     spec = system.spec
-    L = cholesky(system.M_blocks[0], lower=True)
-
-    def standard(A):
-        X = solve_triangular(L, solve_triangular(L, A, lower=True).T, lower=True)
-        return 0.5 * (X + X.T)
+    Mff = system.M_blocks[0]
 
     def springs(selected):  # the free-free block of the springs K6 of the mounts ``selected``
         K6 = [mt.K6 if j in selected else np.zeros((6, 6)) for j, mt in enumerate(system.mounts)]
@@ -152,18 +149,17 @@ def _own_frequencies(system, lam_ref, n):
 
     tabled = [j for j, mt in enumerate(system.mounts) if mt.table is not None]
     others = [j for j in range(len(system.mounts)) if j not in tabled]
-    A0 = standard(system.blocks(system.K_G)[0] + springs(others))  # the part that does not scale
-    parts = []  # (c_j(f), (min c_j, max c_j), A_j)
+    K0 = system.blocks(system.K_G)[0] + springs(others) + SHIFT * Mff  # the part that does not scale
+    parts = []  # (c_j(f), (min c_j, max c_j), K_j)
     if spec.frequency_dependent:
         E = np.asarray(spec.E, dtype=float)[:, 1] / system.E
-        A_E = standard(system.blocks(system.K_E)[0])
-        parts.append((lambda x: float(spec.modulus(x)) / system.E, (E.min(), E.max()), A_E))
+        parts.append((lambda x: float(spec.modulus(x)) / system.E, (E.min(), E.max()), system.blocks(system.K_E)[0]))
     else:
-        A0 += standard(system.blocks(system.K_E)[0])
+        K0 = K0 + system.blocks(system.K_E)[0]
     for j in tabled:
         t = system.mounts[j].table
         scale = lambda x, t=t: float(np.interp(x, t[:, 0], t[:, 1]))  # noqa: E731 (as Mount.dynamic_stiffness)
-        parts.append((scale, (t[:, 1].min(), t[:, 1].max()), standard(springs([j]))))
+        parts.append((scale, (t[:, 1].min(), t[:, 1].max()), springs([j])))
     c_max = max([1.0] + [hi for _, (_, hi), _ in parts])
     tol_lam = ROUNDOFF * np.finfo(float).eps * max(lam_ref[-1], 0.0) * c_max
 
@@ -172,8 +168,8 @@ def _own_frequencies(system, lam_ref, n):
     def frequency(i, c):  # the i-th frequency (Hz) at the scales c
         key = tuple(c)
         if key not in cache:
-            A = A0 + sum(cj * Aj for cj, (_, _, Aj) in zip(c, parts))
-            cache[key] = eigvalsh(A, check_finite=False)
+            K = K0 + sum(cj * Kj for cj, (_, _, Kj) in zip(c, parts))
+            cache[key] = 1.0 / eigvalsh(Mff, K, check_finite=False)[::-1] - SHIFT
         return np.sqrt(max(cache[key][i], 0.0)) / (2.0 * np.pi)
 
     f = np.sqrt(np.clip(lam_ref[:n], 0.0, None)) / (2.0 * np.pi)

@@ -109,18 +109,23 @@ def test_a_very_stiff_isolator_is_a_clamp():
         np.testing.assert_allclose(b, a, rtol=1e-5)
 
 
+@pytest.mark.parametrize("table", [False, True])
 @pytest.mark.parametrize("k, k_rot", [(1e14, 1e12), (1e8, 1e12)])
-def test_isolators_as_stiff_as_the_schema_allows_are_clamps_on_the_built_in_casing(k, k_rot):
+def test_isolators_as_stiff_as_the_schema_allows_are_clamps_on_the_built_in_casing(k, k_rot, table):
     """The built-in casing (its thin section: the end node's torsional rotary inertia is small) on two
     isolators of the largest rotational stiffness the schema allows: its first six frequencies are
     the clamped casing's. A dense solve of (K, M) gets each eigenvalue to ~eps lambda_max, here
     k_rot over that inertia ~1e20 rad^2/s^2, and took the first modes 27 % off; the inverted pencil
     gets them to ~eps lambda_i / (2 pi 1 Hz)^2. The rest is the translational springs' compliance
-    (1e8 N/m against the casing's end stiffness: ~2e-5), so 1e-4 and 1e-8."""
+    (1e8 N/m against the casing's end stiffness: ~2e-5), so 1e-4 and 1e-8. With a frequency table
+    (a scale of 1 to 1.001 over 0-1000 Hz: the iteration of each mode's own frequency) as without."""
     clamped = cc.load_model()
     d = copy.deepcopy(clamped.data)
     d["casing"]["supports"] = {"A": "isolator", "B": "isolator"}
     d["casing"]["isolator"] = {s: {"stiffness": k, "rotational_stiffness": k_rot} for s in "AB"}
+    if table:
+        for iso in d["casing"]["isolator"].values():
+            iso["table"] = [[0.0, 1.0, 0.0], [1000.0, 1.001, 0.0]]
     f, ref = (natural_frequencies(m, "casing", 6) for m in (cc.model_from_dict(d), clamped))
     np.testing.assert_allclose(f, ref, rtol=1e-4 if k < 1e10 else 1e-8)
 
