@@ -85,7 +85,45 @@ static char g_python_note[2048] = "";   /* which interpreter, and how it was fou
 enum { S_INSTANTIATED, S_INITIALIZATION, S_STEPPING, S_TERMINATED };
 #define MAX_INT_OUTPUTS 8
 
+/* A link of a list of live objects (live_has), the first member of each, so that its address is
+ * the object's: a pointer from the host is looked up among the objects this FMU made and has not
+ * freed before it is read, and one that is none of them (freed, another FMU's, garbage, or a host
+ * that passes a state where fmi2FreeFMUstate takes its address, as fmusim 0.0.39 does when it saves
+ * or restores a state file) is told apart without reading the memory it points at. */
+typedef struct Live {
+    struct Live *next;
+} Live;
+
+static pthread_mutex_t live_lock = PTHREAD_MUTEX_INITIALIZER;
+
+static int live_has(Live *const *list, const void *p) {
+    int found = 0;
+    pthread_mutex_lock(&live_lock);
+    for (const Live *l = *list; l && !found; l = l->next) found = (const void *)l == p;
+    pthread_mutex_unlock(&live_lock);
+    return found;
+}
+
+static void live_add(Live **list, Live *l) {
+    pthread_mutex_lock(&live_lock);
+    l->next = *list;
+    *list = l;
+    pthread_mutex_unlock(&live_lock);
+}
+
+static void live_remove(Live **list, const Live *l) {
+    pthread_mutex_lock(&live_lock);
+    for (Live **q = list; *q; q = &(*q)->next) {
+        if (*q == l) {
+            *q = l->next;
+            break;
+        }
+    }
+    pthread_mutex_unlock(&live_lock);
+}
+
 typedef struct {
+    Live live;                          /* first: the list of live instances (live_instances) */
     unsigned magic;
     fmi2CallbackFunctions cb;
     char name[256];
@@ -117,45 +155,16 @@ static double monotonic_seconds(void) {
 #define STATE_MAGIC 0x57A7E0CCu
 
 typedef struct State {
+    Live live;                          /* first: the list of live states (live_states) */
     unsigned magic;
     Instance *owner;
     PyObject *state;                    /* the bridge's state object */
     PyObject *bytes;                    /* its serialisation, while the host asks for size then data */
-    struct State *next;                 /* the list of live states (live_states) */
 } State;
 
-/* Every state this FMU made and has not freed. A pointer from the host is looked up here before it
- * is dereferenced, so that a pointer that is not one of them (freed, another FMU's, or a host that
- * passes the state where fmi2FreeFMUstate takes its address, as fmusim 0.0.39 does when it saves or
- * restores a state file) is told apart without reading the memory it points at. */
-static State *live_states = NULL;
-static pthread_mutex_t live_states_lock = PTHREAD_MUTEX_INITIALIZER;
-
-static int is_live_state(const void *p) {
-    int found = 0;
-    pthread_mutex_lock(&live_states_lock);
-    for (State *st = live_states; st && !found; st = st->next) found = (const void *)st == p;
-    pthread_mutex_unlock(&live_states_lock);
-    return found;
-}
-
-static void add_live_state(State *st) {
-    pthread_mutex_lock(&live_states_lock);
-    st->next = live_states;
-    live_states = st;
-    pthread_mutex_unlock(&live_states_lock);
-}
-
-static void remove_live_state(State *st) {
-    pthread_mutex_lock(&live_states_lock);
-    for (State **q = &live_states; *q; q = &(*q)->next) {
-        if (*q == st) {
-            *q = st->next;
-            break;
-        }
-    }
-    pthread_mutex_unlock(&live_states_lock);
-}
+/* Every state and every instance this FMU made and has not freed (see Live). */
+static Live *live_states = NULL;
+static Live *live_instances = NULL;
 
 /* ------------------------------------------------------------------------------------------------
  * Logging: to the host's logger (errors and warnings always, the rest when logging is on) and,
@@ -467,48 +476,9 @@ static fmi2Status call(Instance *inst, const char *method, PyObject **result, in
 #define PTR(p) P.PyLong_FromVoidPtr((void *)(p))
 #define SIZE(n) P.PyLong_FromSize_t((size_t)(n))
 
-/* Every instance made and not freed, looked up before a component pointer is read (as the FMU
- * states are: live_states); a short array, as a host holds a few instances. */
-static Instance **live_instances = NULL;
-static size_t n_live_instances = 0, cap_live_instances = 0;
-static pthread_mutex_t live_instances_lock = PTHREAD_MUTEX_INITIALIZER;
-
-static int add_live_instance(Instance *inst) {
-    int ok = 1;
-    pthread_mutex_lock(&live_instances_lock);
-    if (n_live_instances == cap_live_instances) {
-        size_t cap = cap_live_instances ? 2 * cap_live_instances : 16;
-        Instance **grown = realloc(live_instances, cap * sizeof *grown);
-        if (grown) {
-            live_instances = grown;
-            cap_live_instances = cap;
-        } else {
-            ok = 0;
-        }
-    }
-    if (ok) live_instances[n_live_instances++] = inst;
-    pthread_mutex_unlock(&live_instances_lock);
-    return ok;
-}
-
-static void remove_live_instance(Instance *inst) {
-    pthread_mutex_lock(&live_instances_lock);
-    for (size_t k = 0; k < n_live_instances; k++) {
-        if (live_instances[k] == inst) {
-            live_instances[k] = live_instances[--n_live_instances];
-            break;
-        }
-    }
-    pthread_mutex_unlock(&live_instances_lock);
-}
-
 static Instance *checked(fmi2Component c) {
-    int found = 0;
-    pthread_mutex_lock(&live_instances_lock);
-    for (size_t k = 0; k < n_live_instances && !found; k++) found = (void *)live_instances[k] == c;
-    pthread_mutex_unlock(&live_instances_lock);
     Instance *inst = c;
-    return (found && inst->magic == INSTANCE_MAGIC) ? inst : NULL;
+    return (live_has(&live_instances, c) && inst->magic == INSTANCE_MAGIC) ? inst : NULL;
 }
 
 /* ------------------------------------------------------------------------------------------------
@@ -687,27 +657,19 @@ FMI2_Export fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuT
     }
     P.Py_DecRef(globals);
     P.PyGILState_Release(gil);
-    if (ok && !add_live_instance(inst)) {
-        logf_to_host(functions, name, 1, fmi2Error, 1, "CableCasing.fmu: out of memory for the instance list");
-        gil = gil_enter();
-        call(inst, "free", NULL, 0);
-        P.Py_DecRef(inst->m_do_step);
-        P.Py_DecRef(inst->py);
-        P.PyGILState_Release(gil);
-        ok = 0;
-    }
     if (!ok) {
         inst->magic = 0;
         free(inst);
         return NULL;
     }
+    live_add(&live_instances, &inst->live);
     return inst;
 }
 
 FMI2_Export void fmi2FreeInstance(fmi2Component c) {
     Instance *inst = checked(c);
     if (!inst) return;
-    remove_live_instance(inst);
+    live_remove(&live_instances, &inst->live);
     PyGILState_STATE gil = gil_enter();
     call(inst, "free", NULL, 0);
     P.Py_DecRef(inst->m_do_step);
@@ -918,7 +880,7 @@ FMI2_Export fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference v
  * FMU state
  */
 static State *checked_state(Instance *inst, fmi2FMUstate s) {
-    if (!s || !is_live_state(s)) {
+    if (!s || !live_has(&live_states, s)) {
         LOGI(inst, fmi2Error, "the FMU state %p was not made by this FMU (or was freed)", s);
         return NULL;
     }
@@ -926,7 +888,7 @@ static State *checked_state(Instance *inst, fmi2FMUstate s) {
 }
 
 static void free_state(State *st) {
-    remove_live_state(st);
+    live_remove(&live_states, &st->live);
     PyGILState_STATE gil = gil_enter();
     P.Py_DecRef(st->state);
     if (st->bytes) P.Py_DecRef(st->bytes);
@@ -944,7 +906,7 @@ FMI2_Export fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) 
     PyGILState_STATE gil = gil_enter();
     fmi2Status s = call(inst, "get_state", &obj, 0);
     State *st = *FMUstate;
-    if (s == fmi2OK && st && is_live_state(st)) {   /* update the host's earlier state in place */
+    if (s == fmi2OK && st && live_has(&live_states, st)) {   /* update the host's earlier state in place */
         P.Py_DecRef(st->state);
         if (st->bytes) P.Py_DecRef(st->bytes);
         st->state = obj;
@@ -958,7 +920,7 @@ FMI2_Export fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) 
             st->magic = STATE_MAGIC;
             st->owner = inst;
             st->state = obj;
-            add_live_state(st);
+            live_add(&live_states, &st->live);
             *FMUstate = st;
         }
     }
@@ -987,7 +949,7 @@ FMI2_Export fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate FMUstate) {
 FMI2_Export fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
     ENTER(c);
     if (!FMUstate) return fmi2OK;
-    if (is_live_state(FMUstate)) {
+    if (live_has(&live_states, FMUstate)) {
         /* the state itself where its address belongs (fmusim 0.0.39's state files): it is freed as
          * asked, and the host's copy of the pointer, which cannot be reached, is left as it is */
         free_state((State *)FMUstate);
@@ -1066,7 +1028,7 @@ FMI2_Export fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte s
             st->magic = STATE_MAGIC;
             st->owner = inst;
             st->state = obj;
-            add_live_state(st);
+            live_add(&live_states, &st->live);
             *FMUstate = st;
         }
     }
