@@ -741,7 +741,7 @@ class CableCasing(Fmi2Slave):
             return OK
         x = self.inputs_buffer
         if not np.isfinite(x, out=self._finite_inputs).all():  # (not x @ x: it overflows, with a warning, past 1e154)
-            i = int(np.flatnonzero(~np.isfinite(x))[0])
+            i = int(np.flatnonzero(~self._finite_inputs)[0])
             self.log(
                 f"input {self.input_names[i]} = {float(x[i])!r} at t = {current_time:.9g} s: "
                 f"must be a finite number ({input_spec(self.input_names[i])[0]}); step discarded",

@@ -420,7 +420,7 @@ class Engine:
             raise ModelError("state", type(state).__name__, "must be a state of Engine.get_state") from None
         if not (math.isfinite(time) and time >= 0.0):
             raise ModelError("state.time", time, "must be a finite number of seconds >= 0")
-        n_elem = len(self.Ls) if hasattr(self, "Ls") else 0
+        n_elem = len(self.Ls)  # (0 without a casing)
         for (key, dst), (_, arr) in zip(targets, new):
             if arr.shape != dst.shape:
                 raise ModelError(f"state.{key}", arr.shape, f"must have shape {dst.shape}")
@@ -504,8 +504,8 @@ class Engine:
         of: a run split into calls stays on the grid of one call (the sum t + m dt of each call's
         steps drifts from it by its rounding, past 1e-9 steps after 8 s of 16384-step pieces, where
         the scenario's motion is then evaluated off its grid: other values, ~1e4 times the cost)."""
-        k = round(t / self.dt)
-        return float(k * self.dt) if abs(t / self.dt - k) <= ROUNDING_OF_TIME else float(t)
+        k, rest = whole_steps(t, self.dt)
+        return float(k * self.dt) if rest == 0.0 else float(t)
 
     def _law(self):
         """The contact law's record (from the attributes, which a caller may change between steps;

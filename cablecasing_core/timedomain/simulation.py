@@ -259,10 +259,11 @@ def simulate(
     h = eng.history()
     n = len(h["support_forces"])
     cl = eng.bodies[next(iter(eng.bodies))].system.centerline
-    # the step ends; a duration that is not a whole number of steps ends with a shorter one
-    time = np.minimum(dt * np.arange(1, n + 1), eng.time)
+    # the step ends; the last ends where the engine is (a duration that is not a whole number of
+    # steps ends with a shorter step, or a rest under 1e-2 dt taken by the last step)
+    time = dt * np.arange(1, n + 1)
     if n:
-        time[-1] = eng.time  # (a rest under 1e-2 dt is taken by the last step: it ends there)
+        time[-1] = eng.time
     names = inputs_of(model)
     cols = [names.index(name) for name in inputs]
     table = np.empty((n, len(cols)))
