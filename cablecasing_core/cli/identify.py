@@ -234,8 +234,13 @@ def cmd_loss_factor(args):
             )
         kind = args.kind or declared or "apparent_mass"
         source = "given" if args.kind else ("from the file's header" if declared else "default")
-        names = {"window_tau": "--window-tau", "bandwidths": "--bandwidths", "f_res_hz": "--freqs", "count": "--count"}
-        with renamed(names), _hint({_PEAKS_HINT: "give the resonances themselves (--freqs) or a smaller --count"}):
+        names = {"window_tau": "--window-tau", "bandwidths": "--bandwidths", "search": "--search"}
+        names.update({"f_res_hz": "--freqs", "count": "--count"})
+        hints = {
+            _PEAKS_HINT: "give the resonances themselves (--freqs) or a smaller --count",
+            "give a smaller search": "give a smaller --search",
+        }
+        with renamed(names), _hint(hints):
             res = loss_factor_circle(
                 f,
                 H,
@@ -243,11 +248,17 @@ def cmd_loss_factor(args):
                 kind=kind,
                 count=count,
                 bandwidths=args.bandwidths,
+                search=args.search,
                 correct_neighbours=not args.no_correction,
                 window_tau=args.window_tau,
             )
         win = "" if args.window_tau is None else f"; exponential window tau = {args.window_tau:g} s taken off"
         print(f"# {args.file}: {f.size} points, {f[0]:g}..{f[-1]:g} Hz, kind {kind} ({source}){win}")
+        if f[0] == 0.0:
+            print("# the 0 Hz line is left out (no resonance uses it)")
+        if res[0].extra["unrequested_hz"]:
+            found = ", ".join(f"{v:.6g}" for v in res[0].extra["unrequested_hz"])
+            print(f"# also fitted and subtracted, not requested (a peak within --search of a request): {found} Hz")
         print(
             f"{'mode':>4} {'f_r_Hz':>10} {'eta':>9} {'eta/2':>9} {'diag_spread':>11} {'circle_rms/R':>12} {'points':>6}"
         )
@@ -393,7 +404,14 @@ def add_parser(subparsers):
         default=None,
         help="time constant (s) of an exponential window applied to the response; its damping is taken off",
     )
-    lf.add_argument("--bandwidths", type=float, default=2.0, help="window half-width in half-power bandwidths")
+    lf.add_argument("--bandwidths", type=float, default=2.0, help="window half-width in half-power bandwidths (> 0)")
+    lf.add_argument(
+        "--search",
+        type=float,
+        default=0.1,
+        help="relative half-width (0 < search < 1) around each resonance searched for its peak, no further than "
+        "halfway to the next; other peaks within it are fitted and subtracted too",
+    )
     lf.add_argument("--no-correction", action="store_true", help="skip the neighbouring-mode correction")
     lf.add_argument("--body", choices=["casing", "cable"], default="casing", help="TOML section")
     lf.add_argument("--plot", help="PNG: Nyquist circles, loss-factor planes, diagonal ridges (Fig. 13)")

@@ -8,15 +8,20 @@ Method, for each resonance
    damping model of Eq. (11) is the term ``A_r / (omega_r^2 (1 + i eta_r) - omega^2)``, an exact
    circle): receptance and dynamic stiffness (F/x) as they are, mobility divided by ``i omega``,
    accelerance by ``-omega^2``, apparent mass (F/a, the paper's TRFAM, Eq. 12) multiplied by
-   ``-omega^2``.
-2. Points within ``omega_r^2 (1 +- bandwidths * eta)`` (start: the half-power estimate around the
-   peak of ``|H|``) are fitted by a circle in the *geometric* least-squares sense (sum of squared
-   distances to the circle, ``scipy.optimize.least_squares``, started from the algebraic Kasa fit),
-   the "nonlinear curve-fitting technique" of the paper.
+   ``-omega^2``. A 0 Hz (DC) line is left out: no resonance uses it, and its displacement form is
+   undefined for every kind but displacement.
+2. Points within ``omega_r^2 (1 +- bandwidths * eta)`` (``omega_r``, ``eta``: a one-mode fit started
+   from the half-power estimate around the peak of ``|H|``, both sought within ``+-search`` of the
+   request and no further than halfway to the neighbouring requests) are fitted by a circle in the
+   *geometric* least-squares sense (sum of squared distances to the circle,
+   ``scipy.optimize.least_squares``, started from the algebraic Kasa fit), the "nonlinear
+   curve-fitting technique" of the paper.
 3. The resonance is the point of fastest sweep of the angle ``phi`` (seen from the centre) per unit
-   ``omega^2``: the largest discrete sweep rate, refined by fitting the law of a hysteretic mode,
+   ``omega^2``: the law of a hysteretic mode,
    ``phi = phi_r + s 2 atan((omega_r^2 - omega^2) / (eta omega_r^2))`` (``s = +-1``, the sense of
-   travel), whose sweep rate peaks exactly at ``omega_r``.
+   travel), whose sweep rate peaks exactly at ``omega_r``, fitted to the angles from the one-mode
+   fit's ``omega_r`` and ``eta``; a fitted resonance with fewer than ``min_side`` points on one side
+   is no resonance in the window.
 4. Loss-factor plane: for every point ``b`` below and ``a`` above the resonance, with centre angles
    ``theta = |phi - phi_r|``,
 
@@ -33,7 +38,9 @@ Method, for each resonance
    identified modes, ``A_k / (omega_k^2 (1 + i s eta_k) - omega^2)`` with
    ``A_k = 2 R_k exp(i phi_rk) i s eta_k omega_k^2``, are subtracted from the FRF and each mode is
    fitted again; this repeats until the loss factors change by less than 1e-7 (relative).
-   Modes that were not requested remain as the circle's offset.
+   Resonance peaks of ``|H|`` within ``+-search`` of a request but not requested are fitted and
+   subtracted too (not returned: ``extra["unrequested_hz"]``); modes further away remain as the
+   circle's offset.
 """
 
 from __future__ import annotations
@@ -58,6 +65,22 @@ RMS_RATIO_WARN = 0.05
 #: the half-power bandwidth eta f_r (Hz) and df the line spacing (review's simulation: +6-11 % at 4-5.5
 #: lines per bandwidth, +2-3 % at 8-11; the window's second moment alone gives (4/3)(df / B)^2).
 LEAKAGE_BIAS_WARN = 0.01
+#: The circle fit of a *viscously* damped mode (receptance ``1 / (omega_n^2 - omega^2 + 2 i zeta omega_n omega)``,
+#: any kind: all go to displacement form) with the default window: rows (fitted eta, eta / (2 zeta) - 1,
+#: f_r / f_n - 1), computed from that closed form at zeta = 0.05, 0.08, 0.1, 0.125, 0.15, 0.2, 0.25
+#: (tests/identification/test_circlefit.py recomputes them). Both grow as about 1.5 zeta^2 and -zeta^2.
+VISCOUS_BIAS = (
+    (0.1004, 0.0038, -0.0025),
+    (0.1616, 0.0099, -0.0065),
+    (0.2032, 0.0158, -0.0102),
+    (0.2562, 0.0249, -0.0160),
+    (0.3108, 0.0361, -0.0231),
+    (0.4269, 0.0674, -0.0419),
+    (0.5563, 0.1127, -0.0673),
+)
+#: Warning bound on the fitted eta: above it, were the damping viscous, eta / 2 would be more than 1 %
+#: above zeta (VISCOUS_BIAS: 0.99 % at eta = 0.1616).
+VISCOUS_ETA_WARN = 0.16
 
 
 def to_displacement_form(freqs_hz, H, kind="displacement"):
@@ -193,7 +216,7 @@ def find_resonances(freqs_hz, H, count=None, kind="displacement"):
         No resonance; fewer significant peaks than ``count`` (naming those found): two modes
         closer than their bandwidth show as one peak, a weak mode may sink into the noise.
     """
-    f = array_1d("freqs_hz", freqs_hz, min_len=5)
+    f, H = _without_dc(array_1d("freqs_hz", freqs_hz, min_len=5), H)
     Hd = np.abs(to_displacement_form(f, H, kind))
     if count is not None:
         count = integer("count", count, 1)
@@ -235,18 +258,24 @@ def find_resonances(freqs_hz, H, count=None, kind="displacement"):
     return np.sort(f[peaks[order]])
 
 
-def _half_power_eta(f, A, j):
-    """Loss factor estimate from the half-power points around index j of |H| (None when not found)."""
+def _half_power_eta(f, A, j, lo, hi):
+    """Loss factor estimate from the half-power points of |H| around its peak at index j, sought
+    within indices lo..hi (the search band, which stops halfway to a neighbouring requested mode).
+    Half-power points at ``omega_r^2 (1 -+ eta)``: from both sides ``(f_hi^2 - f_lo^2) / (2 f_j^2)``;
+    where |H| does not fall to half power on one side within the band (a neighbour of opposite sign
+    keeps it high between the two peaks), from the side where it does, ``|f_side^2 - f_j^2| / f_j^2``.
+    None when it falls on neither side."""
     half = A[j] / np.sqrt(2.0)
-    lo = j
-    while lo > 0 and A[lo] > half:
-        lo -= 1
-    hi = j
-    while hi < A.size - 1 and A[hi] > half:
-        hi += 1
-    if A[lo] > half or A[hi] > half:
+    below = np.nonzero(A[lo:j] <= half)[0]
+    above = np.nonzero(A[j + 1 : hi + 1] <= half)[0]
+    widths = []
+    if below.size:
+        widths.append(f[j] ** 2 - f[lo + below[-1]] ** 2)
+    if above.size:
+        widths.append(f[j + 1 + above[0]] ** 2 - f[j] ** 2)
+    if not widths:
         return None
-    return (f[hi] ** 2 - f[lo] ** 2) / (2.0 * f[j] ** 2)
+    return float(np.mean(widths)) / f[j] ** 2
 
 
 def _modal_estimate(f, Hd, fc, eta0, bandwidths, lo_hz, hi_hz):
@@ -302,8 +331,20 @@ def _modal_estimate(f, Hd, fc, eta0, bandwidths, lo_hz, hi_hz):
     return fr, eta
 
 
-def _fit_one(f, Hd, f0, eta_prev, fr_prev, search, bandwidths, min_side):
-    """Circle, resonance and loss-factor plane of the mode near f0 on displacement-form data Hd."""
+def _without_dc(f, H):
+    """``f`` and ``H`` without a 0 Hz (DC) line: an analyser's export often starts with one, whose
+    displacement form is undefined for every kind but ``"displacement"`` (``-omega^2`` times an
+    apparent mass that is infinite there, or a division by ``omega``) and which no resonance uses."""
+    H = np.asarray(H)
+    if f[0] == 0.0 and H.ndim == 1 and H.size == f.size:
+        return f[1:], H[1:]
+    return f, H
+
+
+def _fit_one(f, Hd, f0, search, lo_hz, hi_hz, eta_prev, fr_prev, bandwidths, min_side):
+    """Circle, resonance and loss-factor plane of the mode near f0 on displacement-form data Hd: its
+    peak is the one nearest f0 within +-search, which must lie within lo_hz..hi_hz (no further than
+    halfway to a neighbouring request), where its half-power points and one-mode fit are sought."""
     A = np.abs(Hd)
     if fr_prev is None:
         band = np.nonzero((f >= f0 * (1.0 - search)) & (f <= f0 * (1.0 + search)))[0]
@@ -321,13 +362,21 @@ def _fit_one(f, Hd, f0, eta_prev, fr_prev, search, bandwidths, min_side):
                 f"no resonance in the window {f[band[0]]:g}..{f[band[-1]]:g} Hz: |H| has no "
                 "interior maximum there (give the frequency of a peak)",
             )
-        eta0 = _half_power_eta(f, A, j)
-        if eta0 is None or eta0 <= 0.0:
-            eta0 = search / bandwidths
+        if not lo_hz <= f[j] <= hi_hz:
+            raise ModelError(
+                "f_res_hz",
+                float(f0),
+                f"the peak of |H| nearest it, at {f[j]:g} Hz, lies beyond halfway to a neighbouring request "
+                f"({lo_hz:g}..{hi_hz:g} Hz): give each mode once, at its own peak",
+            )
+        own = np.nonzero((f >= lo_hz) & (f <= hi_hz))[0]
+        eta0 = _half_power_eta(f, A, j, own[0], own[-1])
+        if eta0 is None or eta0 <= 0.0:  # (the band's half-width in omega^2, as bandwidths eta)
+            eta0 = (hi_hz**2 - lo_hz**2) / (2.0 * f[j] ** 2) / bandwidths
         fc = f[j]
     else:
         eta0, fc = eta_prev, fr_prev
-    fc, eta0 = _modal_estimate(f, Hd, fc, eta0, bandwidths, f0 * (1.0 - search), f0 * (1.0 + search))
+    fc, eta0 = _modal_estimate(f, Hd, fc, eta0, bandwidths, lo_hz, hi_hz)
     lo2 = fc**2 * (1.0 - bandwidths * eta0)
     hi2 = fc**2 * (1.0 + bandwidths * eta0)
     win = np.nonzero((f**2 >= lo2) & (f**2 <= hi2))[0]
@@ -342,27 +391,8 @@ def _fit_one(f, Hd, f0, eta_prev, fr_prev, search, bandwidths, min_side):
     c, R, rms = fit_circle(zw)
     phi = np.unwrap(np.angle(zw - c))
     w2 = (2.0 * np.pi * fw) ** 2
-    rate = np.abs(np.diff(phi)) / np.diff(w2)
-    k = int(np.argmax(rate))
-    mid = 0.5 * (w2[1:] + w2[:-1])
-    if 0 < k < rate.size - 1:
-        x0, x1, x2 = mid[k - 1 : k + 2]
-        y0, y1, y2 = rate[k - 1 : k + 2]
-        d01, d12, d02 = x0 - x1, x1 - x2, x0 - x2
-        a = y0 / (d01 * d02) - y1 / (d01 * d12) + y2 / (d02 * d12)
-        b = (y1 - y0) / (x1 - x0) - a * (x0 + x1)
-        wr2 = -b / (2 * a) if a < 0 else x1
-        wr2 = float(np.clip(wr2, mid[k - 1], mid[k + 1]))
-    else:
-        wr2 = float(mid[k])
-    if not (w2[0] < wr2 < w2[-1]) or k == 0 or k == rate.size - 1:
-        raise ModelError(
-            "f_res_hz",
-            float(f0),
-            "no resonance in the window: the angle on the fitted circle sweeps fastest at "
-            f"its edge ({np.sqrt(wr2) / (2 * np.pi):g} Hz)",
-        )
     sense = 1 if phi[-1] < phi[0] else -1
+    wr2 = (2.0 * np.pi * fc) ** 2  # (the modal estimate: the window's centre)
     phi_r0 = float(np.interp(wr2, w2, phi))
     spread = float(np.ptp(phi))
     eta_init = max(eta0, 1e-6)
@@ -387,8 +417,8 @@ def _fit_one(f, Hd, f0, eta_prev, fr_prev, search, bandwidths, min_side):
         raise ModelError(
             "f_res_hz",
             float(f0),
-            f"the resonance at {np.sqrt(wr2) / (2 * np.pi):g} Hz has fewer than {min_side} "
-            "circle points on one side: no resonance inside the window",
+            f"no resonance in the window {fw[0]:g}..{fw[-1]:g} Hz: the angle on the fitted circle sweeps fastest "
+            f"at {np.sqrt(wr2) / (2 * np.pi):g} Hz, with fewer than {min_side} circle points on one side",
         )
     tb = np.tan(np.abs(phi[below] - phi_r) / 2.0)
     ta = np.tan(np.abs(phi[above] - phi_r) / 2.0)
@@ -448,9 +478,11 @@ def loss_factor_circle(
         Half-width of the fitted window in half-power bandwidths: ``omega^2`` within
         ``omega_r^2 (1 +- bandwidths * eta)`` (2: centre angles up to about 127 degrees).
     search : float
-        Relative half-width around each ``f_res_hz`` searched for the peak of ``|H|``.
+        Relative half-width (0 < search < 1) around each ``f_res_hz`` searched for the peak of ``|H|``
+        and its one-mode estimate; the search stops halfway to the neighbouring requests.
     correct_neighbours : bool
-        Subtract the fitted terms of the other requested modes and refit (module docstring, step 5).
+        Subtract the fitted terms of the other requested modes, and of resonance peaks within
+        ``+-search`` of a request that were not requested, and refit (module docstring, step 5).
     max_iter : int
         Limit of correction sweeps.
     min_side : int
@@ -470,7 +502,9 @@ def loss_factor_circle(
     -------
     list of :class:`CircleFitResult`, ascending in frequency order of ``f_res_hz``.
     ``extra["eta_rel_uncertainty"]`` estimates the loss factor's relative random error,
-    ``2.8 (rms / R) / sqrt(points)``; ``extra["lines_per_bandwidth"]`` is ``eta f_r / df``.
+    ``2.8 (rms / R) / sqrt(points)``; ``extra["lines_per_bandwidth"]`` is ``eta f_r / df``;
+    ``extra["unrequested_hz"]`` the resonances fitted and subtracted without being requested.
+    A 0 Hz line of ``freqs_hz`` is left out.
 
     Warns
     -----
@@ -478,22 +512,27 @@ def loss_factor_circle(
         A circle whose rms radial residual exceeds 5 % of its radius (noise or a distorted circle:
         the loss factor's random error is then above about 2 %), and fewer than 14 frequency lines
         per half-power bandwidth (if the FRF is a Welch estimate with a Hann window its leakage
-        biases eta by about ``+2 (df / B)^2``, above 1 %).
+        biases eta by about ``+2 (df / B)^2``, above 1 %), and a loss factor above
+        :data:`VISCOUS_ETA_WARN` (were the damping viscous, eta / 2 would be above zeta by more than
+        1 %, and f_r below f_n: :data:`VISCOUS_BIAS`).
 
     Raises
     ------
     ModelError
-        Frequencies not increasing, mismatched lengths, no resonance (interior peak / fastest angle
-        sweep) in a window, a resolution too coarse for the circle.
+        Frequencies not increasing, mismatched lengths, ``bandwidths`` not a finite number > 0,
+        ``search`` not in (0, 1), no resonance (interior peak / fastest angle sweep) in a window, a
+        resolution too coarse for the circle.
     """
-    f = array_1d("freqs_hz", freqs_hz, min_len=7)
-    Hc = array_1d("H", H, min_len=7, complex_ok=True).astype(complex)
+    bandwidths = number("bandwidths", bandwidths, gt=0)
+    search = number("search", search, gt=0, lt=1)
+    min_side = integer("min_side", min_side, 1)
+    max_iter = integer("max_iter", max_iter, 0)
+    f, Hc = _without_dc(array_1d("freqs_hz", freqs_hz, min_len=7), H)
+    Hc = array_1d("H", Hc, min_len=7, complex_ok=True).astype(complex)
     if Hc.size != f.size:
         raise ModelError("H", f"{Hc.size} values", f"must have one value per frequency ({f.size})")
     if np.any(np.diff(f) <= 0):
         raise ModelError("freqs_hz", "not increasing", "frequencies must be strictly increasing")
-    if bandwidths <= 0:
-        raise ModelError("bandwidths", bandwidths, "must be positive")
     Hd = to_displacement_form(f, Hc, kind)
     if f_res_hz is None:
         f_res = find_resonances(f, Hd, count=count)
@@ -504,37 +543,29 @@ def loss_factor_circle(
             raise ModelError(
                 "f_res_hz", float(f_res[bad][0]), f"must lie inside the FRF's frequency range ({f[0]:g}, {f[-1]:g}) Hz"
             )
-    fits = [_fit_one(f, Hd, f0, None, None, search, bandwidths, min_side) for f0 in f_res]
-    _check_distinct(f_res, fits, search)
-    it = 0
-    if correct_neighbours and len(fits) > 1:
-        for it in range(1, int(max_iter) + 1):  # noqa: B007  (it is the count read after the loop)
-            terms = [_term(r, f) for r in fits]
-            total = np.sum(terms, axis=0)
-            new = [
-                _fit_one(
-                    f, Hd - (total - terms[i]), f0, fits[i]["eta"], fits[i]["f_r_hz"], search, bandwidths, min_side
-                )
-                for i, f0 in enumerate(f_res)
-            ]
-            for f0, r in zip(f_res, new):
-                if not r["eta"] > 0.0:
-                    raise ModelError(
-                        "f_res_hz",
-                        float(f0),
-                        f"the mode's loss factor came out {r['eta']:.3g} once its neighbours' fitted terms were "
-                        "subtracted: the modes overlap too much for circles (try --no-correction, "
-                        "correct_neighbours=False, or fewer modes)",
-                    )
-            _check_distinct(f_res, new, search)
-            change = max(abs(a["eta"] - b["eta"]) / b["eta"] for a, b in zip(new, fits))
-            fits = new
-            if change < 1e-7:
-                break
+    if np.any(np.diff(f_res) == 0.0):
+        raise ModelError("f_res_hz", f_res.tolist(), "must name each mode once (a frequency is given twice)")
+    requested = f_res
+    others = _unrequested_peaks(f, Hd, f_res, search) if correct_neighbours else np.empty(0)
+    f_res = np.sort(np.concatenate([f_res, others]))
+    try:
+        fits, it = _fit_all(f, Hd, f_res, search, bandwidths, min_side, correct_neighbours, max_iter)
+    except ModelError as exc:
+        if not others.size:
+            raise
+        listed = ", ".join(f"{v:.6g}" for v in others)
+        raise ModelError(
+            exc.key,
+            exc.value,
+            f"{exc.allowed} ({listed} Hz: a resonance peak within +-{100 * search:g} % of a request but not requested, "
+            "fitted to subtract its tail: request it at its own peak, or give a smaller search)",
+        ) from None
     if window_tau is not None:
         window_tau = number("window_tau", window_tau, gt=0, unit="s")
     out = []
     for f0, r in zip(f_res, fits):
+        if f0 not in requested:
+            continue
         spread = r.pop("spread")
         npts = r["freqs_hz"].size
         ratio = r["rms"] / r["radius"] if r["radius"] > 0 else np.inf
@@ -544,6 +575,7 @@ def loss_factor_circle(
             "angle_span": spread,
             "eta_rel_uncertainty": float(2.8 * ratio / np.sqrt(npts)),
             "lines_per_bandwidth": float(lines),
+            "unrequested_hz": [r2["f_r_hz"] for g, r2 in zip(f_res, fits) if g not in requested],
         }
         if ratio > RMS_RATIO_WARN:
             warnings.warn(
@@ -579,8 +611,71 @@ def loss_factor_circle(
                     f"(eta = {r['eta']:.4g} measured) leaves no damping: give the window's time constant in s",
                 )
             r["eta"], r["f_r_hz"] = float(eta_s), float(np.sqrt(lam2.real) / (2.0 * np.pi))
+        if r["eta"] > VISCOUS_ETA_WARN:
+            table = np.array(VISCOUS_BIAS)
+            b_eta, b_f = (np.interp(r["eta"], table[:, 0], table[:, k]) for k in (1, 2))
+            more = " or more" if r["eta"] > table[-1, 0] else ""
+            warnings.warn(
+                f"eta = {r['eta']:.4g} at {r['f_r_hz']:.6g} Hz is large: the circle fit assumes structural "
+                f"damping; were the damping viscous, eta / 2 would be about {100 * b_eta:+.2g} %{more} off zeta and "
+                f"f_r {100 * b_f:+.2g} %{more} off the natural frequency (docs/identification.md, Limits): for "
+                "viscous damping take zeta from the wavelet ridges of an impulse response (identify damping)",
+                ModelWarning,
+                stacklevel=2,
+            )
         out.append(CircleFitResult(f_requested_hz=float(f0), iterations=it, extra=extra, **r))
     return out
+
+
+def _unrequested_peaks(f, Hd, f_res, search):
+    """Resonance peaks of |H| (:func:`find_resonances`) within +-search of a request other than the
+    request's own (the peak nearest it): neighbours whose tails the correction subtracts too."""
+    try:
+        peaks = find_resonances(f, Hd)
+    except ModelError:  # (no peak at all: each request's own search says so)
+        return np.empty(0)
+    near = [peaks[np.abs(peaks - f0) <= search * f0] for f0 in f_res]
+    own = {float(p[np.argmin(np.abs(p - f0))]) for p, f0 in zip(near, f_res) if p.size}
+    return np.array(sorted({float(q) for p in near for q in p} - own))
+
+
+def _fit_all(f, Hd, f_res, search, bandwidths, min_side, correct_neighbours, max_iter):
+    """Every mode of ``f_res`` (ascending) fitted, then refitted with the other modes' fitted terms
+    subtracted until the loss factors settle (module docstring, step 5). Each mode's peak and modal
+    estimate are sought within +-search of it and no further than halfway to its neighbours in
+    ``f_res``. Returns (fits, correction sweeps)."""
+    lo, hi = f_res * (1.0 - search), f_res * (1.0 + search)
+    mids = 0.5 * (f_res[1:] + f_res[:-1])
+    lo[1:], hi[:-1] = np.maximum(lo[1:], mids), np.minimum(hi[:-1], mids)
+    fits = [_fit_one(f, Hd, f0, search, a, b, None, None, bandwidths, min_side) for f0, a, b in zip(f_res, lo, hi)]
+    it = 0
+    if correct_neighbours and len(fits) > 1:
+        for it in range(1, max_iter + 1):  # noqa: B007  (it is the count read after the loop)
+            terms = [_term(r, f) for r in fits]
+            total = np.sum(terms, axis=0)
+            new = [
+                _fit_one(
+                    f, Hd - (total - terms[i]), f0, search, lo[i], hi[i], r["eta"], r["f_r_hz"], bandwidths, min_side
+                )
+                for i, (f0, r) in enumerate(zip(f_res, fits))
+            ]
+            for f0, r in zip(f_res, new):
+                if not r["eta"] > 0.0:
+                    raise ModelError(
+                        "f_res_hz",
+                        float(f0),
+                        f"the mode's loss factor came out {r['eta']:.3g} once its neighbours' fitted terms were "
+                        "subtracted: the modes overlap too much for circles (try --no-correction, "
+                        "correct_neighbours=False, or fewer modes)",
+                    )
+            change = max(abs(a["eta"] - b["eta"]) / b["eta"] for a, b in zip(new, fits))
+            fits = new
+            if change < 1e-7:
+                break
+    # (checked on the final fits: a first fit next to a strong neighbour, 1.4 bandwidths away, sits near
+    # it until the neighbour's term is subtracted)
+    _check_distinct(f_res, fits, search)
+    return fits, it
 
 
 def _check_distinct(f_res, fits, search):

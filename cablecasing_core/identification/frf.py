@@ -101,7 +101,10 @@ def apparent_mass(acceleration, force, fs, estimator="H1", **kw):
     The paper's TRFAM (Eq. 12) as measured: input the driven support's acceleration, output the
     force at the other support. ``estimator`` is ``"H1"`` (noise on the force) or ``"H2"``
     (noise on the acceleration); ``kw`` go to :func:`frf_estimate`. Returns
-    ``(f_hz, H, coherence)``.
+    ``(f_hz, H, coherence)``; ``f_hz`` starts at 0 Hz (Welch's DC line), where the apparent mass of a
+    structure held by stiffness is infinite and the estimate means nothing: ``loss_factor_circle``
+    and ``find_resonances`` leave that line out (in displacement form, ``-omega^2`` times the
+    apparent mass, i.e. the dynamic stiffness F/x, it has no value there).
     """
     if estimator not in ("H1", "H2"):
         raise ModelError("estimator", estimator, "must be 'H1' or 'H2'")

@@ -3,12 +3,22 @@
 The paper's Section 3.1 (Figs. 8-9, after its Ref. [20]): for every measured natural frequency
 ``f_i`` of a known mode (its index in the ascending list of computed frequencies), the model's
 modulus is adapted until the computed frequency of that mode is within half the frequency
-resolution of the measurement (0.25 Hz in the paper). The adaptive step uses that a body's
+resolution of the measurement (0.25 Hz in the paper). The first adaptive step uses that a body's
 stiffness matrix is proportional to ``E`` while the mass matrix is not, so ``f ~ sqrt(E)``:
 
-    E_{k+1} = E_k (f_measured / f_computed(E_k))^2          (Fig. 8)
+    E_1 = E_0 (f_measured / f_computed(E_0))^2          (Fig. 8)
 
-(exact in one step for a homogeneous body; a few steps otherwise). The pairs ``(f_i, E_i)``
+(exact in one step for a homogeneous body). Where part of the stiffness does not scale with ``E``
+(isolators, clips, cable tension, the other body), ``f^2 = a E + b`` with ``b > 0`` for a linear
+model, and repeating that step converges only linearly, at a rate equal to the share ``b / f^2``
+(0.7-0.8 took 40 steps and more). The following steps are therefore secant steps in ``f^2``
+against ``E``,
+
+    E_{k+1} = E_k - (f_k^2 - f_measured^2) (E_k - E_{k-1}) / (f_k^2 - f_{k-1}^2),
+
+exact (up to rounding) on the affine ``f^2 = a E + b``, so one or two steps after the first; a
+secant step that does not give a positive modulus within a factor 10 of ``E_k`` (``f^2`` not
+rising with ``E``, or nearly flat) falls back to the first step's rule. The pairs ``(f_i, E_i)``
 (Fig. 9, circles) are then approximated by a smooth curve, a least-squares polynomial in
 ``ln(f / f_ref)`` (degree 2 by default, lower when there are fewer modes, ``f_ref`` the geometric mean
 of the measured frequencies) and tabulated as ``[[f_Hz, E_Pa], ...]`` rows, the form the model
@@ -137,7 +147,7 @@ def identify_modulus(
                 break
             if fc <= 0:
                 raise ModelError("f_measured_hz", float(fi), f"mode {mi} has a non-positive computed frequency")
-            E = E * (fi / fc) ** 2
+            E = _next_modulus(steps, fi)
             fc = freqs(E)[mi - 1]
             steps.append((E, fc))
         else:
@@ -191,6 +201,30 @@ def identify_modulus(
         table=table,
         tolerance_hz=0.5 * float(freq_resolution_hz) if freq_resolution_hz is not None else 0.0,
     )
+
+
+#: Largest factor by which a secant step may change the modulus; beyond it (f^2 nearly flat in E)
+#: the fixed-point step is taken instead.
+_MAX_SECANT_FACTOR = 10.0
+
+
+def _next_modulus(steps, f_target):
+    """The next modulus (Pa) from the steps ``[(E, f_computed), ...]`` so far: the fixed-point step
+    ``E (f_target / f)^2`` first, then the secant in ``f^2`` against ``E`` through the last two steps
+    (module docstring), or the fixed-point step when the secant does not give a positive modulus
+    within a factor :data:`_MAX_SECANT_FACTOR` of the last."""
+    E1, f1 = steps[-1]
+    fixed_point = E1 * (f_target / f1) ** 2
+    if len(steps) < 2:
+        return fixed_point
+    E0, f0 = steps[-2]
+    slope = (f1**2 - f0**2) / (E1 - E0) if E1 != E0 else 0.0
+    if not slope > 0.0:
+        return fixed_point
+    E = E1 - (f1**2 - f_target**2) / slope
+    if not E1 / _MAX_SECANT_FACTOR <= E <= E1 * _MAX_SECANT_FACTOR:
+        return fixed_point
+    return E
 
 
 def identify_modulus_model(

@@ -9,18 +9,31 @@ The pseudo-inverse is applied through ``numpy.linalg.lstsq`` (SVD) rather than b
 scale, so the normal equations square an already large condition number. Columns are scaled to
 unit norm before solving for the same reason. With ``nonnegative=True`` the model file's
 constraint ``alpha, beta >= 0`` is imposed by ``scipy.optimize.nnls`` (Lawson-Hanson).
+
+Close frequencies cannot separate ``alpha`` (the ``1/omega`` trend) from ``beta`` (the ``omega``
+trend): for two modes at the ratio ``r = omega_2 / omega_1`` the scaled columns meet at an angle
+whose cosine is ``2 r / (r^2 + 1)``, and the scaled matrix's condition number is
+``sqrt((1 + cos) / (1 - cos)) = (r + 1) / (r - 1)`` (3 at r = 2, 21 at 1.1). A relative error of
+the damping ratios reaches ``alpha`` and ``beta`` multiplied by up to that number, so above
+:data:`MAX_CONDITION` (100: damping ratios identified to 1 % then leave the factors uncertain by up
+to 100 %; two modes within 2 % of each other) a ModelWarning says so.
 """
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
 from scipy.optimize import nnls
 
-from ..errors import ModelError
+from ..errors import ModelError, ModelWarning
 from ..model.validators import array_1d, frequencies, number
+
+#: Condition number of the scaled least-squares matrix above which alpha and beta are not separated
+#: (module docstring: a 1 % error of the damping ratios may then change them by 100 %).
+MAX_CONDITION = 100.0
 
 
 @dataclass(frozen=True)
@@ -79,6 +92,12 @@ def rayleigh_fit(
     Returns
     -------
     :class:`RayleighFit` with the factors and the residuals ``zeta - zeta_fit``.
+
+    Warns
+    -----
+    ModelWarning
+        Frequencies too close to separate ``alpha`` and ``beta`` (the scaled matrix's condition
+        number above :data:`MAX_CONDITION`; module docstring).
     """
     f = array_1d("freqs_hz", freqs_hz, min_len=2)
     z = array_1d("zetas", zetas, min_len=2)
@@ -95,6 +114,17 @@ def rayleigh_fit(
     b = z * w
     scale = np.linalg.norm(A, axis=0)
     As = A / scale
+    cond = np.linalg.cond(As)
+    if cond > MAX_CONDITION:
+        warnings.warn(
+            f"freqs_hz: the natural frequencies ({f.min():.6g} .. {f.max():.6g} Hz, spread {f.max() / f.min() - 1:.2g} "
+            "of the lowest) are too close to separate alpha (the 1/omega trend) from beta (the omega trend): "
+            f"the scaled least-squares matrix has condition number {cond:.3g} (above {MAX_CONDITION:g}), which "
+            "multiplies the relative error of the damping ratios in alpha and beta (1 % becomes up to "
+            f"{cond:.3g} %); use modes further apart (a frequency ratio of 2 gives 3)",
+            ModelWarning,
+            stacklevel=2,
+        )
     if nonnegative:
         c, _ = nnls(As, b)
     else:

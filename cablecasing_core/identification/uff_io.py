@@ -5,7 +5,11 @@ needed). Function type 1 is a time response, type 4 a frequency response functio
 written in binary (58b) double precision, so values round-trip exactly. The dataset's header
 stores an even abscissa's start and increment in E13.5 format (six significant digits); the exact
 values are also written, as text, into the ID line 4 (``cablecasing x0=... dx=...``) and used on
-reading when present. Unevenly spaced abscissae are stored point by point (exact in binary).
+reading when they agree with the header's to its rounding (5e-6 relative); otherwise (a file
+another tool re-saved in rad/s or shifted, keeping the ID lines) the header's are used, with a
+ModelWarning. Unevenly spaced abscissae are stored point by point (exact in binary). Writers check
+their input before anything is written: finite values, one per abscissa value, a strictly
+increasing abscissa, real time records (a ModelError naming the argument otherwise).
 
 CSV files have one header line. Time records: ``time_s,<channel>,...``. FRFs:
 ``frequency_hz,re_<name>,im_<name>[,...]`` (the first ``re_``/``im_`` pair is read; the ``trfam``
@@ -17,11 +21,13 @@ from __future__ import annotations
 
 import os
 import re
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, ModelWarning, renamed
+from ..model.validators import array_1d, number
 
 _TAG = re.compile(r"cablecasing x0=(\S+) dx=(\S+)")
 UFF_EXTENSIONS = (".uff", ".unv", ".uf")
@@ -72,15 +78,34 @@ def _even(x):
     return d.size > 0 and np.all(d > 0) and np.allclose(d, d[0], rtol=1e-9, atol=0.0)
 
 
-def _dataset(rec, binary):
+def _function(x, data, x_key, data_key, real, min_len=2):
+    """The abscissa ``x`` and ordinate ``data`` of one function to write, checked before anything is
+    written (the one check of every writer): finite numbers, one value per abscissa value, the
+    abscissa strictly increasing, ``data`` real where the function is (a time record). A ModelError
+    names the argument (``x_key``, ``data_key``)."""
+    x = array_1d(x_key, x, min_len=min_len)
+    data = array_1d(data_key, data, min_len=min_len, complex_ok=not real)
+    if data.size != x.size:
+        raise ModelError(data_key, f"{data.size} values", f"must have one value per abscissa value ({x.size})")
+    if np.any(np.diff(x) <= 0.0):
+        k = int(np.argmax(np.diff(x) <= 0.0))
+        raise ModelError(
+            x_key,
+            f"{float(x[k])!r} then {float(x[k + 1])!r} at index {k + 1}",
+            "the abscissa must increase strictly (no repeats)",
+        )
+    return x, data
+
+
+def _dataset(rec, binary, x_key="x", data_key="data"):
     pyuff = _pyuff()
-    x = np.asarray(rec.x, dtype=float)
-    if x.size < 2:  # (pyuff cannot write one abscissa value; nor could a reader tell its spacing)
-        what = "time record" if rec.kind == "time" else "FRF"
-        raise ModelError("x", f"{x.size} value", f"a UFF 58 {what} needs at least 2 abscissa values")
+    is_time = rec.kind == "time"
+    if np.size(rec.x) < 2:  # (pyuff cannot write one abscissa value; nor could a reader tell its spacing)
+        what = "time record" if is_time else "FRF"
+        raise ModelError(x_key, f"{np.size(rec.x)} value", f"a UFF 58 {what} needs at least 2 abscissa values")
+    x, data = _function(rec.x, rec.data, x_key, data_key, real=is_time)
     even = _even(x)
     dx = float(x[1] - x[0]) if even else 0.0
-    is_time = rec.kind == "time"
     return pyuff.prepare_58(
         binary=1 if binary else 0,
         func_type=1 if is_time else 4,
@@ -95,7 +120,7 @@ def _dataset(rec, binary):
         ref_dir=int(rec.ref_dir),
         rsp_ent_name="NONE",
         ref_ent_name="NONE",  # 10-character fields
-        data=np.asarray(rec.data, dtype=float if is_time else complex),
+        data=data if is_time else data.astype(complex),
         x=x,
         abscissa_spacing=1 if even else 0,
         abscissa_spec_data_type=17 if is_time else 18,
@@ -110,11 +135,13 @@ def _dataset(rec, binary):
 
 def write_uff(path, records, binary=True):
     """Write :class:`Record` objects to ``path`` as UFF dataset 58, atomically (a file that was
-    there is replaced only when the new one is complete)."""
+    there is replaced only when the new one is complete). Every record is checked first (finite
+    values, one per abscissa value, a strictly increasing abscissa, a real time record): a
+    ModelError naming ``records[i].x`` or ``records[i].data`` leaves ``path`` as it was."""
     from ..files import atomic_path
 
     pyuff = _pyuff()
-    sets = [_dataset(r, binary) for r in records]
+    sets = [_dataset(r, binary, f"records[{i}].x", f"records[{i}].data") for i, r in enumerate(records)]
     with atomic_path(path) as tmp:
         try:
             pyuff.UFF(str(tmp)).write_sets(sets, mode="add")
@@ -140,19 +167,17 @@ def _write_failure(exc):
 
 
 def write_uff_time(path, x, fs, name="x", t0=0.0, binary=True, **dof):
-    """Write one time record (samples ``x`` at ``fs`` Hz from ``t0`` s) as UFF 58, function type 1."""
-    x = np.asarray(x, dtype=float)
-    t = t0 + np.arange(x.size) / float(fs)
-    write_uff(path, [Record("time", t, x, name, **dof)], binary=binary)
+    """Write one time record (real samples ``x`` at ``fs`` Hz from ``t0`` s) as UFF 58, function type 1."""
+    x = array_1d("x", x)  # (real: a complex record is refused, not cut to its real part)
+    t = number("t0", t0, unit="s") + np.arange(x.size) / number("fs", fs, gt=0, unit="Hz")
+    with renamed({"records[0].data": "x"}):
+        write_uff(path, [Record("time", t, x, name, **dof)], binary=binary)
 
 
 def write_uff_frf(path, freqs_hz, H, name="H", binary=True, **dof):
     """Write one complex FRF (at ``freqs_hz`` Hz) as UFF 58, function type 4."""
-    write_uff(
-        path,
-        [Record("frf", np.asarray(freqs_hz, dtype=float), np.asarray(H, dtype=complex), name, **dof)],
-        binary=binary,
-    )
+    with renamed({"records[0].x": "freqs_hz", "records[0].data": "H"}):
+        write_uff(path, [Record("frf", freqs_hz, H, name, **dof)], binary=binary)
 
 
 def read_uff(path):
@@ -179,10 +204,7 @@ def read_uff(path):
         sets = [sets]
     out = []
     for s in sets:
-        x = np.asarray(s["x"], dtype=float)
-        m = _TAG.search(str(s.get("id4", "")))
-        if m and int(s.get("abscissa_spacing", 0)) == 1:
-            x = float(m.group(1)) + np.arange(x.size) * float(m.group(2))
+        x = _abscissa(path, s)
         func_type = int(s.get("func_type", 0))
         kind = {1: "time", 4: "frf"}.get(func_type, "other")
         abscissa_unit = _label(s, "abscissa_axis_units_lab")
@@ -209,6 +231,36 @@ def read_uff(path):
             )
         )
     return out
+
+
+#: Relative rounding of the header's abscissa start and increment, E13.5 (six significant digits):
+#: at most half a unit of the sixth digit, 5e-6 of the value (a mantissa of at least 1).
+_E13_5 = 5e-6
+
+
+def _abscissa(path, dataset):
+    """A dataset's abscissa (in the header's unit): an even one from the exact start and increment of
+    the ID line 4 tag (``cablecasing x0=... dx=...``) when they agree with the header's (E13.5) to
+    its rounding, else from the header (another tool re-saved the file, in rad/s or shifted, keeping
+    the ID lines: a ModelWarning says so)."""
+    x = np.asarray(dataset["x"], dtype=float)
+    m = _TAG.search(str(dataset.get("id4", "")))
+    if not m or int(dataset.get("abscissa_spacing", 0)) != 1:
+        return x
+    x0, dx = float(m.group(1)), float(m.group(2))
+    h0, hdx = float(dataset.get("abscissa_min", np.nan)), float(dataset.get("abscissa_inc", np.nan))
+    if abs(h0 - x0) <= _E13_5 * abs(x0) and abs(hdx - dx) <= _E13_5 * abs(dx):
+        return x0 + np.arange(x.size) * dx
+    warnings.warn(
+        f"file {path} ({str(dataset.get('id1', '')).strip() or 'function'}): the ID line 4 tag "
+        f"'cablecasing x0={x0!r} dx={dx!r}' disagrees with the header's abscissa (start {h0:g}, increment "
+        f"{hdx:g} {_label(dataset, 'abscissa_axis_units_lab') or 'in its unit'}) beyond the header's "
+        "6-digit rounding: the file was changed after it was written (re-saved in another unit, shifted); "
+        "the header's abscissa is used",
+        ModelWarning,
+        stacklevel=3,
+    )
+    return x
 
 
 #: Abscissa unit labels of UFF 58 headers (lower case, spaces removed) and their factor to s or Hz.
@@ -287,13 +339,18 @@ def _label(dataset, key):
 
 
 def write_csv_time(path, x, fs, names=None, t0=0.0):
-    """Time record(s) to CSV: columns ``time_s`` and one per channel (``x`` of shape (n,) or (n, k))."""
-    x = np.asarray(x, dtype=float)
-    x2 = x[:, None] if x.ndim == 1 else x
-    names = names or (["x"] if x2.shape[1] == 1 else [f"x{i + 1}" for i in range(x2.shape[1])])
-    t = t0 + np.arange(x2.shape[0]) / float(fs)
+    """Time record(s) to CSV: columns ``time_s`` and one per channel (``x`` of shape (n,) or (n, k),
+    real and finite: checked before anything is written)."""
     from ..files import atomic_path
 
+    a = np.asarray(x)
+    if a.ndim not in (1, 2):
+        raise ModelError("x", f"array of shape {a.shape}", "must be samples (n,) or channels of samples (n, k)")
+    x2 = array_1d("x", a.reshape(a.shape[0], -1).ravel(), min_len=1).reshape(a.shape[0], -1)
+    names = list(names) if names else (["x"] if x2.shape[1] == 1 else [f"x{i + 1}" for i in range(x2.shape[1])])
+    if len(names) != x2.shape[1]:
+        raise ModelError("names", names, f"must give one name per channel ({x2.shape[1]})")
+    t = number("t0", t0, unit="s") + np.arange(x2.shape[0]) / number("fs", fs, gt=0, unit="Hz")
     with atomic_path(path) as tmp:
         np.savetxt(
             tmp, np.column_stack([t, x2]), delimiter=",", header=",".join(["time_s", *names]), comments="", fmt="%.17g"
@@ -301,11 +358,12 @@ def write_csv_time(path, x, fs, names=None, t0=0.0):
 
 
 def write_csv_frf(path, freqs_hz, H, name="H"):
-    """A complex FRF to CSV: ``frequency_hz,re_<name>,im_<name>``."""
-    H = np.asarray(H, dtype=complex)
+    """A complex FRF to CSV: ``frequency_hz,re_<name>,im_<name>`` (finite values, one per frequency,
+    the frequencies strictly increasing: checked before anything is written)."""
     from ..files import atomic_path
 
-    table = np.column_stack([np.asarray(freqs_hz, dtype=float), H.real, H.imag])
+    f, H = _function(freqs_hz, H, "freqs_hz", "H", real=False, min_len=1)
+    table = np.column_stack([f, H.real, H.imag])
     with atomic_path(path) as tmp:
         np.savetxt(tmp, table, delimiter=",", header=f"frequency_hz,re_{name},im_{name}", comments="", fmt="%.17g")
 
@@ -447,7 +505,19 @@ def _uff_record(path, kind, channel, missing):
         j = int(channel)
     if not 0 <= j < len(recs):
         raise ModelError("channel", channel, f"must be 0..{len(recs) - 1} or a name in the file: " + ", ".join(names))
-    return recs[j]
+    r = recs[j]
+    bad = ~(np.isfinite(r.x) & np.isfinite(r.data))
+    if bad.any():
+        k = int(np.argmax(bad))
+        unit = "s" if kind == "time" else "Hz"
+        raise ModelError(
+            "file",
+            f"{path} ({names[j]})",
+            f"holds a value that is not a finite number (nan or inf) at {r.x[k]:.6g} {unit} (point {k + 1} of "
+            f"{r.x.size}{', and ' + str(int(bad.sum()) - 1) + ' more' if bad.sum() > 1 else ''}): an overloaded or "
+            "missing measurement; measure again, or cut the function before it",
+        )
+    return r
 
 
 def read_time_record(path, channel=None):

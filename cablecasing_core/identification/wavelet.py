@@ -268,12 +268,7 @@ def _ridge_and_window(x, fs, t, A, inv_f, f0, gamma, valid, noise_floor, floor_f
             prof = np.log(np.sum(A[fit] ** 2, axis=0))
         f_new = _ridge_of_profile(inv_f, prof, f0)
         if f_new is None:
-            raise ModelError(
-                "freqs_hz",
-                float(f0),
-                f"no ridge (local maximum of |W|) within +-{100 * search:g} % of this "
-                "frequency: give the frequency of a mode present in the record",
-            )
+            raise ModelError("freqs_hz", float(f0), _no_ridge(prof, f0, search))
         w_r = np.abs(cwt_morlet(x, fs, [f_new], gamma)[:, 0])
         if noise_floor is None:
             floor = _tail_noise_floor(t, w_r, valid)
@@ -299,6 +294,28 @@ def _ridge_and_window(x, fs, t, A, inv_f, f0, gamma, valid, noise_floor, floor_f
     return f_r, w_r, fit, floor
 
 
+def _no_ridge(prof, f0, search):
+    """What a ModelError says when the energy profile ``prof`` (over 1/f ascending: its last value at the
+    band's lower edge) has no interior maximum within +-search of f0: where |W| is largest, and for
+    the lower edge that heavy damping puts the ridge below the natural frequency (module docstring:
+    omega_ridge = omega_d - sigma^2 / omega_d = (1 - 2 zeta^2) / sqrt(1 - zeta^2) omega_n, 6 % below at
+    zeta = 0.2, 14 % at 0.3)."""
+    text = f"no ridge (local maximum of |W|) within +-{100 * search:g} % of this frequency"
+    if not np.all(np.isfinite(prof)) or np.argmax(prof) not in (0, prof.size - 1):
+        return text + ": give the frequency of a mode present in the record"
+    if np.argmax(prof) == prof.size - 1:
+        return (
+            f"{text}: |W| is largest at the band's lower edge, {f0 * (1 - search):.6g} Hz. A heavily damped "
+            "mode's ridge lies below its natural frequency, at (1 - 2 zeta^2) / sqrt(1 - zeta^2) f_n (6 % below "
+            "at zeta = 0.2, 14 % at 0.3): widen the search band (search, the CLI's --search, e.g. "
+            f"{min(2 * search, 0.45):g}), or give the frequency of a mode present in the record"
+        )
+    return (
+        f"{text}: |W| is largest at the band's upper edge, {f0 * (1 + search):.6g} Hz (a mode above the band): "
+        "give the frequency of a mode present in the record, or widen the search band (search, the CLI's --search)"
+    )
+
+
 def _late_rise_hint(t, w, valid, edge):
     """Extra text for a failed window when |W| on the ridge peaks well after the start of the usable
     interval: a free decay is largest at its start, so a late maximum means the record starts
@@ -318,18 +335,30 @@ def _late_rise_hint(t, w, valid, edge):
 
 def _clipped_samples(x):
     """Indices of samples stuck at the record's extreme values (a clipped ADC): a rail (the maximum or
-    the minimum, to 1e-9 of the range) counts when the record reaches it in two or more separate runs
-    of samples, as a clipped decay does over consecutive cycles; a free decay reaches its extreme at
-    one peak only (the next is lower by its decay), however many neighbouring samples a quantised
-    record holds there. Empty otherwise."""
+    the minimum, to 1e-9 of the range) counts when the record sits on it in two or more separate flat
+    runs, as a clipped decay does over consecutive cycles. A run of L samples is flat when L >= 2 and
+    its phase span (L - 1) theta exceeds twice the most a sine keeps within one quantisation step q of
+    its crest, 2 sqrt(2 q / a) (a the rail's distance from the mean, theta = omega / fs the phase step
+    per sample; the factor 2 for theta's estimate); an unclipped quantised decay reaches its top code
+    at single samples of several crests (a 12-bit record at 90 % of full scale, zeta 2e-5: four
+    crests), or at a few when it is sampled finely. ``theta^2`` is
+    the record's own, ``-sum(x'' x) / sum(x^2)`` with the second difference for x'' (a sine obeys
+    x'' = -theta^2 x; for several modes their power-weighted mean). Empty otherwise."""
     span = float(np.ptp(x))
     if span == 0.0:
         return np.zeros(0, dtype=int)
     tol = 1e-9 * span
+    step = max(_quantisation_step(x), tol)
+    xc = x - np.mean(x)
+    theta2 = -np.sum(xc[1:-1] * np.diff(x, 2)) / max(np.sum(xc[1:-1] ** 2), 1e-300)
     stuck = []
-    for rail in (x >= x.max() - tol, x <= x.min() + tol):
+    for rail, level in ((x >= x.max() - tol, x.max()), (x <= x.min() + tol, x.min())):
         on = np.nonzero(rail)[0]
-        if on.size >= 2 and np.count_nonzero(np.diff(on) > 1) >= 1:  # (two runs or more)
+        runs = np.split(on, np.nonzero(np.diff(on) > 1)[0] + 1)
+        a = abs(level - np.mean(x))
+        sine_span = 2.0 * np.sqrt(2.0 * step / a) if a > 0 else np.inf  # (radians)
+        flat = [r for r in runs if r.size >= 2 and (r.size - 1) * np.sqrt(max(theta2, 0.0)) > 2.0 * sine_span]
+        if len(flat) >= 2:
             stuck.append(on)
     return np.sort(np.concatenate(stuck)) if stuck else np.zeros(0, dtype=int)
 
@@ -434,7 +463,8 @@ def wavelet_damping(
         periods), a frequency outside (0, fs/2) or one whose ridge search band comes within four
         wavelet bandwidths (4 f / gamma) of its alias at ``fs - f (1 + search)`` (below
         ``fs = f (1 + search)(2 + 4 / gamma)``, 2.45 f with the defaults: at 2.15 f the damping
-        came out 83 % low), no ridge near a requested frequency, a mode that sinks into the noise
+        came out 83 % low), no ridge near a requested frequency (heavy damping puts it below f_n:
+        6 % at zeta = 0.2; the message then suggests a wider ``search``), a mode that sinks into the noise
         floor before the edge effect ends, a response that grows, ``ln|W|`` departing from the
         fitted line by more than ``max_departure`` (not a single free decay: a double hit, a
         pre-trigger, a close mode), a window time constant that leaves no damping.

@@ -154,3 +154,54 @@ def test_counts_channels_and_the_time_axis_as_a_user_gives_them(tmp_path, capsys
     measured.write_text("mode,f_hz\n1,100.0\n2,300.0\n")
     assert run(["identify", "modulus", str(measured), "--n-table", "0"]) == 2
     assert "--n-table = 0: must be an integer >= 2" in capsys.readouterr().err
+
+
+def test_loss_factor_takes_a_0_hz_line_and_checks_search_and_bandwidths(tmp_path, capsys):
+    """An analyser's apparent mass (F/a, infinite at 0 Hz, written as 0 there) from 0 Hz was refused
+    ("0 Hz cannot be converted ...; leave it out") with no option to leave it out: the line is left
+    out and the modal sum's loss factors come out exact (1e-5, as the same file without the line).
+    --search is an option (a request at 108 Hz reaches the 115.8 Hz peak within +-10 %, not within
+    +-5 %); it and --bandwidths are refused by name when out of range."""
+    f = np.arange(0.0, 400.0, 0.5)
+    w2 = (2 * np.pi * f) ** 2
+    Hd = sum(1.0 / ((2 * np.pi * fk) ** 2 * (1 + 1j * e) - w2) for fk, e in zip(F[[0, 2]], ETA[[0, 2]]))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        mass = np.where(f > 0, Hd / -w2, 0.0)
+    path = tmp_path / "trfam.uff"
+    write_uff_frf(path, f, mass, name="TRFAM")
+    for request in (["--count", "2"], ["--freqs", "115.8", "254.1"]):
+        toml = tmp_path / "eta.toml"
+        assert run(["identify", "loss-factor", str(path), *request, "--toml", str(toml)]) == 0
+        assert "the 0 Hz line is left out" in capsys.readouterr().out
+        table = np.array(tomllib.loads(toml.read_text())["casing"]["loss_factor"])
+        np.testing.assert_allclose(table, np.column_stack([F[[0, 2]], ETA[[0, 2]]]), rtol=1e-5)
+    assert run(["identify", "loss-factor", str(path), "--freqs", "108"]) == 0
+    (row,) = [line.split() for line in capsys.readouterr().out.splitlines() if line[:4].strip().isdigit()]
+    assert float(row[1]) == pytest.approx(115.8, rel=1e-3)  # (the 254.1 Hz mode's slope, uncorrected: 1e-4)
+    assert run(["identify", "loss-factor", str(path), "--freqs", "108", "--search", "0.05"]) == 2
+    assert "--freqs = 108.0: no resonance in the window" in capsys.readouterr().err
+    for option, value, allowed in (
+        ("--search", "1.5", "must be a number in (0, 1)"),
+        ("--search", "0", "must be a number in (0, 1)"),
+        ("--search", "nan", "must be a finite number"),
+        ("--bandwidths", "nan", "must be a finite number"),
+        ("--bandwidths", "-1", "must be a positive number"),
+    ):
+        assert run(["identify", "loss-factor", str(path), "--count", "2", option, value]) == 2
+        assert f"{option} = {float(value)}: {allowed}" in capsys.readouterr().err
+
+
+def test_loss_factor_names_the_unrequested_neighbour_it_subtracts(tmp_path, capsys):
+    """100 Hz requested alone beside a mode of opposite sign at 110 Hz (eta 0.05 and 0.03): f_r was
+    106.99 Hz and eta +68 %. The 110 Hz peak lies within --search: it is fitted and subtracted, a #
+    line names it, and f_r and eta are exact to their printed digits (the FRF is the two modal terms)."""
+    f = np.arange(40.0, 200.0, 0.05)
+    w2 = (2 * np.pi * f) ** 2
+    H = 1 / ((2 * np.pi * 100) ** 2 * (1 + 0.05j) - w2) - 1 / ((2 * np.pi * 110) ** 2 * (1 + 0.03j) - w2)
+    path = tmp_path / "pair.uff"
+    write_uff_frf(path, f, H, name="H")
+    assert run(["identify", "loss-factor", str(path), "--kind", "displacement", "--freqs", "100"]) == 0
+    out = capsys.readouterr().out
+    assert "# also fitted and subtracted, not requested (a peak within --search of a request): 110 Hz" in out
+    (row,) = [line.split() for line in out.splitlines() if line[:4].strip().isdigit()]
+    assert float(row[1]) == pytest.approx(100.0, abs=5e-4) and float(row[2]) == pytest.approx(0.05, abs=5e-6)

@@ -1,12 +1,13 @@
 """UFF dataset 58 and CSV round trips; identified parameters as model-file TOML."""
 
 import sys
+import warnings
 
 import numpy as np
 import pytest
 
 from cablecasing_core import load_model
-from cablecasing_core.errors import ModelError
+from cablecasing_core.errors import ModelError, ModelWarning
 from cablecasing_core.identification import (
     Record,
     loss_factor_circle,
@@ -169,3 +170,118 @@ def test_a_uff_function_of_one_value_is_refused_by_name(tmp_path):
     with pytest.raises(ModelError, match=r"a UFF 58 FRF needs at least 2 abscissa values"):
         write_uff_frf(tmp_path / "one.uff", [10.0], [1.0 + 0.0j])
     assert not (tmp_path / "one.uff").exists()
+
+
+# ------------------------------------------------------------------ writers refuse bad input (review t14/t15)
+
+
+def _good_time():
+    return np.sin(np.arange(64) * 0.3)
+
+
+def _writer_cases():
+    f, H = _frf()
+    H_nan = H.copy()
+    H_nan[10] = np.nan  # (pyuff wrote it as 0 and read it back as 0j)
+    f_uneven = np.sort(np.r_[f[:400], f[400:] + 0.01 * np.arange(399)])
+    x_nan = _good_time()
+    x_nan[5] = np.inf
+    rec = Record("time", np.arange(64) / 1000.0, _good_time(), "t")
+    return [
+        ("uff nan", lambda p: write_uff_frf(p, f, H_nan), "H"),
+        ("uff fewer values", lambda p: write_uff_frf(p, f, H[:-5]), "H"),  # (was cut to 794 frequencies)
+        ("uff more values", lambda p: write_uff_frf(p, f[:-5], H), "H"),  # (5 frequencies were made up)
+        ("uff uneven mismatch", lambda p: write_uff_frf(p, f_uneven, H[:-5]), "H"),  # (pyuff's bare Exception)
+        ("uff decreasing", lambda p: write_uff_frf(p, f[::-1], H[::-1]), "freqs_hz"),
+        ("uff repeated", lambda p: write_uff_frf(p, np.r_[f[:5], f[4:-1]], H), "freqs_hz"),
+        ("uff nan frequency", lambda p: write_uff_frf(p, np.r_[np.nan, f[1:]], H), "freqs_hz"),
+        ("uff time complex", lambda p: write_uff_time(p, np.exp(1j * np.arange(100.0)), 1000.0), "x"),  # (real part)
+        ("uff time inf", lambda p: write_uff_time(p, x_nan, 1000.0), "x"),
+        ("uff time fs", lambda p: write_uff_time(p, _good_time(), 0.0), "fs"),
+        (
+            "uff record complex",
+            lambda p: write_uff(p, [rec, Record("time", rec.x, rec.data * 1j, "c")]),
+            "records[1].data",
+        ),
+        ("uff record decreasing", lambda p: write_uff(p, [Record("time", rec.x[::-1], rec.data)]), "records[0].x"),
+        ("csv nan", lambda p: write_csv_frf(p, f, H_nan), "H"),
+        ("csv mismatch", lambda p: write_csv_frf(p, f, H[:-5]), "H"),  # (numpy's ValueError)
+        ("csv decreasing", lambda p: write_csv_frf(p, f[::-1], H[::-1]), "freqs_hz"),
+        ("csv time inf", lambda p: write_csv_time(p, x_nan, 1000.0), "x"),
+        ("csv time complex", lambda p: write_csv_time(p, _good_time() * 1j, 1000.0), "x"),
+        ("csv time names", lambda p: write_csv_time(p, np.column_stack([x_nan, x_nan]), 1e3, names=["a"]), "x"),
+        ("csv time names2", lambda p: write_csv_time(p, np.ones((5, 2)), 1e3, names=["a"]), "names"),
+    ]
+
+
+@pytest.mark.parametrize("case", _writer_cases(), ids=lambda c: c[0])
+def test_writers_refuse_bad_input_and_keep_the_old_file(tmp_path, case):
+    _, write, key = case
+    f, H = _frf()
+    p = tmp_path / "out.csv" if "csv" in case[0] else tmp_path / "out.uff"
+    if p.suffix == ".csv":
+        write_csv_frf(p, f, H)
+    else:
+        write_uff_frf(p, f, H)
+    before = p.read_bytes()
+    with pytest.raises(ModelError) as e:
+        write(p)
+    assert e.value.key == key
+    # checked before anything is written: the good file byte for byte, and no temporary file left
+    assert p.read_bytes() == before
+    assert sorted(q.name for q in tmp_path.iterdir()) == [p.name]
+
+
+def _pyuff_frf(path, x, unit, id4):
+    import pyuff
+
+    f, H = _frf()
+    s = pyuff.prepare_58(
+        binary=1, func_type=4, rsp_node=1, rsp_dir=3, ref_node=1, ref_dir=3, data=H, x=x, id1="H", id4=id4,
+        abscissa_spacing=1, abscissa_spec_data_type=18, abscissa_axis_units_lab=unit, ordinate_spec_data_type=8,
+        orddenom_spec_data_type=13, ordinate_axis_units_lab="m", orddenom_axis_units_lab="N", z_axis_spec_data_type=0,
+    )  # fmt: skip
+    pyuff.UFF(str(path)).write_sets([s], mode="add")
+
+
+@pytest.mark.parametrize("unit, x_of_f", [("rad/s", lambda f: 2 * np.pi * f), ("Hz", lambda f: f + 100.0)])
+def test_a_stale_id_line_tag_does_not_override_the_header(tmp_path, unit, x_of_f):
+    """A file re-saved in rad/s or shifted by another tool that kept ID line 4's tag (review t30: it read
+    2 pi too low, or 100.5 Hz as 0.5 Hz): the header's abscissa is used, with a warning."""
+    f, _ = _frf()
+    p = tmp_path / "stale.uff"
+    _pyuff_frf(p, x_of_f(f), unit, "cablecasing x0=0.5 dx=0.5")
+    with pytest.warns(ModelWarning, match="header's abscissa is used"):
+        f_read, _ = read_frf(p)
+    truth = x_of_f(f) / (2 * np.pi) if unit == "rad/s" else x_of_f(f)
+    # the header stores start and step in E13.5: each within 5e-6 relative, the k-th point within 5e-6 (1 + k)
+    np.testing.assert_allclose(f_read, truth, rtol=5e-6 * f.size)
+    assert f_read[0] == pytest.approx(truth[0], rel=5e-6)
+
+
+def test_a_tag_that_agrees_with_the_header_gives_the_exact_abscissa(tmp_path):
+    # 0.123456789 and 0.0123456789 round in E13.5 by 2.5e-6 and 4.6e-6 of themselves: the tag agrees
+    f = 0.123456789 + np.arange(50) * 0.0123456789
+    p = tmp_path / "exact.uff"
+    write_uff_frf(p, f, 1.0 / (1.0 + 1j * f))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ModelWarning)
+        f_read, _ = read_frf(p)
+    # the tag's start and step, exact (the header's 0.123457 would be 2.5e-6 off)
+    assert f_read[0] == f[0]
+    np.testing.assert_array_equal(f_read, f[0] + np.arange(50) * (f[1] - f[0]))
+
+
+def test_a_nan_in_a_read_frf_names_the_file_and_frequency(tmp_path):
+    """An ASCII UFF from another tool with a literal NaN (review t17: reported as H = 'array with nan/inf')."""
+    f, H = _frf()
+    p = tmp_path / "a.uff"
+    write_uff_frf(p, f, H, binary=False)
+    lines = p.read_text().split("\n")
+    k = 364  # the data start on line 13, two complex values (four numbers) per line
+    lines[13 + k // 2] = f"{'NaN':>20}" + lines[13 + k // 2][20:]
+    p.write_text("\n".join(lines))
+    with pytest.raises(ModelError) as e:
+        read_frf(p)
+    assert e.value.key == "file" and str(p) in e.value.value
+    assert f"at {f[k]:g} Hz (point {k + 1} of {f.size})" in e.value.allowed

@@ -123,6 +123,43 @@ def test_clipped_record_warns_and_fits_past_the_clipping():
     assert all(r.valid_from_s > 0.031 for r in res)  # the last clipped sample is at 0.031 s
 
 
+def _light_decay(z, rail=None, bits=12):
+    """A 100 Hz free decay at 90 % of an ADC's +-1 full scale, clipped at +-rail, rounded to `bits` bits."""
+    t = np.arange(int(2 * FS)) / FS
+    wn = 2 * np.pi * 100.0
+    x = 0.9 * np.exp(-z * wn * t) * np.sin(wn * np.sqrt(1 - z * z) * t)
+    xc = x if rail is None else np.clip(x, -rail, rail)
+    q = 2.0 / 2**bits if bits else 0.0
+    return t, x, (np.round(xc / q) * q if q else xc)
+
+
+def test_a_quantised_unclipped_decay_is_not_taken_as_clipped():
+    """zeta = 2e-5, 12 bits: four crests round to the top code, each a single sample; a sine's crest keeps
+    within one step q = 4.9e-4 for 2 sqrt(2 q / 0.9) = 0.066 rad, a fifth of the 0.31 rad between samples
+    (review t24: 'looks clipped', the fit moved to 0.123 s)."""
+    t, _, x = _light_decay(2e-5)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ModelWarning)
+        (r,) = wavelet_damping(x, FS, [100.0])
+    assert r.valid_from_s == pytest.approx(r.edge_s, rel=1e-12)  # the fit starts an edge after the impulse
+    assert r.zeta == pytest.approx(2e-5, rel=1e-3)  # measured 1e-4 (the rounding)
+
+
+@pytest.mark.parametrize("bits", [None, 12])
+def test_a_decay_clipped_at_95_percent_is_detected(bits):
+    """Flat tops of 2 samples (2 arccos(0.95) = 0.63 rad at 0.31 rad per sample) over the first 0.08 s."""
+    rail = 0.95 * 0.9
+    t, x_true, x = _light_decay(1e-3, rail, bits)
+    with pytest.warns(ModelWarning, match="clipped"):
+        (r,) = wavelet_damping(x, FS, [100.0])
+    t_last = t[np.nonzero(np.abs(x_true) >= rail)[0][-1]]  # the last sample beyond the ADC's range
+    if bits is None:  # (the fit starts an edge after the last clipped sample)
+        assert r.valid_from_s == pytest.approx(t_last + r.edge_s, rel=1e-12)
+    else:  # (samples up to q/2 below the rail round onto it too: within a period of the last one beyond it)
+        assert t_last + r.edge_s <= r.valid_from_s <= t_last + 0.01 + r.edge_s
+    assert r.zeta == pytest.approx(1e-3, rel=1e-3)  # a clean record fitted past the clipping: 1e-6 measured
+
+
 def test_exponential_window_is_taken_off_the_wavelet_damping():
     t = np.arange(2048) / FS
     for tau in (0.25, 0.5):

@@ -111,3 +111,35 @@ def test_modulus_errors():
     with pytest.raises(ModelError) as e:
         identify_modulus(lambda E: np.array([50.0 * np.tanh(E / 1e9)]), [80.0], [1], E_start=1e9, max_iter=20)
     assert e.value.key == "f_measured_hz" and e.value.value == 80.0
+    assert "no modulus reproduces this frequency" in e.value.allowed
+
+
+@pytest.mark.parametrize("share", [0.5, 0.7, 0.8])
+def test_stiffness_not_scaling_with_E_converges_in_a_few_evaluations(share):
+    """f^2 = a E + b, b the share of the stiffness that does not scale with E (isolators, clips, tension):
+    the fixed point E (f_m / f_c)^2 alone converged at the rate `share` (0.7 and 0.8: no convergence in
+    50 steps, review t28); the secant in f^2 is exact on this affine law after the first step."""
+    a, f_meas = 1e-6, 100.0  # Hz^2 / Pa, Hz
+    b = share * f_meas**2
+    E_closed = (f_meas**2 - b) / a  # the closed form
+
+    def freqs(E):
+        return np.array([np.sqrt(a * E + b)])
+
+    res = identify_modulus(freqs, [f_meas], [1], E_start=1.3 * E_closed)
+    # stop at 1e-10 relative in f: E within 2e-10 f^2 / (a E) = 2e-10 / (1 - share) <= 1e-9 of the closed form
+    assert res.E_mode[0] == pytest.approx(E_closed, rel=1e-9)
+    assert len(res.history[0]) <= 4  # evaluations: the start, the fixed-point step, the secant (+ rounding)
+    res = identify_modulus(freqs, [f_meas], [1], E_start=1.3 * E_closed, freq_resolution_hz=0.5)
+    assert abs(res.f_computed_hz[0] - f_meas) <= 0.25 and len(res.history[0]) <= 3
+
+
+def test_a_frequency_below_the_E_independent_stiffness_is_still_refused():
+    # f^2 = a E + b with sqrt(b) = 83.7 Hz: no positive modulus gives 50 Hz; the secant would ask for E < 0
+    def freqs(E):
+        return np.array([np.sqrt(1e-6 * E + 7000.0)])
+
+    with pytest.raises(ModelError) as e:
+        identify_modulus(freqs, [50.0], [1], E_start=3e9, max_iter=30)
+    assert e.value.key == "f_measured_hz" and e.value.value == 50.0
+    assert "no modulus reproduces this frequency" in e.value.allowed

@@ -1,9 +1,11 @@
 """Rayleigh factors by least squares (Eqs. 41-44)."""
 
+import warnings
+
 import numpy as np
 import pytest
 
-from cablecasing_core.errors import ModelError
+from cablecasing_core.errors import ModelError, ModelWarning
 from cablecasing_core.identification import rayleigh_fit, rayleigh_matrix, rayleigh_zeta
 
 F = np.array([115.8, 182.0, 254.1, 410.0])
@@ -104,3 +106,16 @@ def test_rayleigh_helpers_refuse_bad_input_by_name(call, key):
     with pytest.raises(ModelError) as e:
         call()
     assert e.value.key == key
+
+
+def test_close_frequencies_warn_that_alpha_and_beta_are_not_separated():
+    """Two modes at the ratio r: the scaled matrix's condition number is (r + 1) / (r - 1) (module
+    docstring), 100 at r = 1.0202 (review t08: 1e-6 apart gave alpha = -1.26e6, beta = 3.18 silently)."""
+    with pytest.warns(ModelWarning, match="too close to separate alpha"):
+        rayleigh_fit([100.0, 100.0 * (1 + 1e-6)], [0.010, 0.012])
+    with pytest.warns(ModelWarning, match="too close"):
+        rayleigh_fit([100.0, 101.9], [0.010, 0.012])  # (r + 1) / (r - 1) = 106
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ModelWarning)
+        rayleigh_fit([100.0, 102.1], [0.010, 0.012])  # 96
+        rayleigh_fit(F[:3], [0.0359, 0.0263, 0.0216])  # Table 1
