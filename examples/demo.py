@@ -7,7 +7,8 @@ FMU's run checked against the core driven by the same sampled record.
 Writes fmu_outputs.csv (the default scenario through the FMU) besides the report's files (see
 ``cablecasing_core.report``: report.html, the figures, the records and tables of its runs), and
 the FMU it builds to dist/CableCasing.fmu in the repository (``make fmu``'s file), whatever
-``--out`` is.
+``--out`` is. A deviation of the FMU from the core beyond 1e-8 of an output's largest value stops
+it with exit status 1 before the report.
 """
 
 from __future__ import annotations
@@ -24,6 +25,9 @@ from cablecasing_core.files import atomic_path, output_folder
 from cablecasing_core.report import check_report_settings
 
 ROOT = Path(__file__).resolve().parent.parent
+
+FMU_TOLERANCE = 1e-8  # the FMU equals the core (docs/fmu.md); fmu_outputs.csv's 9 digits round by <= 5e-9
+DEVIATION = "largest deviation, relative to the output's largest value"  # (of report.runs.fmu_check's summary)
 
 
 def run_fmu(fmu_path, duration, out):
@@ -102,9 +106,25 @@ def _run(args, out):
 
     check = {"FMU": "dist/CableCasing.fmu (built by build_fmu.py), run with fmpy"}
     check.update(fmu_check(out / "fmu_outputs.csv", 1e-4, args.duration))
+    failed = fmu_failure(check)
+    if failed:
+        print(f"demo.py: error: {failed}", file=sys.stderr)
+        return 1
     html = write_report(out, duration=args.duration, seeds=args.seeds, study_samples=args.study_samples, fmu=check)
     print(f"wrote {out}/ (see {html.name})")
     return 0
+
+
+def fmu_failure(check):
+    """What is wrong when the FMU's largest deviation from the core in ``check`` (the summary of
+    ``fmu_check``) exceeds :data:`FMU_TOLERANCE` (or is not a number); None when it is within it."""
+    said = check[DEVIATION]
+    if float(said.split()[0]) <= FMU_TOLERANCE:
+        return None
+    return (
+        f"the FMU deviates from the core driven by the same sampled record by {said} of the output's largest "
+        f"value; they agree to {FMU_TOLERANCE:g} (docs/fmu.md): the FMU is broken, the report was not written"
+    )
 
 
 if __name__ == "__main__":

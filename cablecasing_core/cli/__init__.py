@@ -36,8 +36,8 @@ import warnings
 import numpy as np
 
 from ..errors import CableCasingError, InfrastructureError, ModelError, excerpt, plain, renamed
-from ..model import load_model
 from . import geometry, identify, nvh, report, simulate, static, study
+from .assignments import add_model_argument, model_argument
 from .paths import check_distinct, check_output_path, emit_table, kept
 
 
@@ -63,15 +63,11 @@ class Parser(argparse.ArgumentParser):
         super().__init__(*args, **kwargs)
 
 
-def _model(path):
-    return load_model(path)
-
-
 def cmd_modes(args):
     from ..frequency.modal import natural_frequencies
     from ..model.validators import integer
 
-    model = _model(args.model)
+    model = model_argument(args.model)
     count = integer("--count", args.count, 1)
     res = {b: natural_frequencies(model, b, count).tolist() for b in model.bodies}
     for b, f in res.items():  # (a body has as many modes as free degrees of freedom: all of them printed)
@@ -95,7 +91,7 @@ def cmd_trfam(args):
     from ..frequency.trfam import trfam
     from .nvh import check_frequency_range
 
-    model = _model(args.model)
+    model = model_argument(args.model)
     check_frequency_range(args.fmin, args.fmax)
     if not (args.fmin > 0 and args.fmax > args.fmin and args.df > 0):
         raise ModelError("--fmin/--fmax/--df", (args.fmin, args.fmax, args.df), "need 0 < fmin < fmax and df > 0 (Hz)")
@@ -150,11 +146,25 @@ def cmd_keys(args):
 
     rows = [s for k, s in SCHEMA.items() if k.startswith(args.prefix or "")]
     if not rows:
-        raise ModelError("prefix", args.prefix, "matches no key of the model file; try 'casing' or 'scenario'")
+        raise ModelError(
+            "PREFIX", args.prefix, "matches no key of the model file; " + _closest_keys(args.prefix, SCHEMA)
+        )
     for s in rows:
         default = s.default_from or s.default
         print(f"{s.key}\t{s.type}\t{default}\t{s.unit or '-'}\t{s.allowed}\t{s.description}")
     return 0
+
+
+def _closest_keys(prefix, keys):
+    """``did you mean ...?`` with the sections, tables and keys of the model file closest to
+    ``prefix`` (difflib), or the sections when none is close."""
+    import difflib
+
+    names = sorted({".".join(k.split(".")[:n]) for k in keys for n in range(1, k.count(".") + 2)})
+    close = difflib.get_close_matches(prefix, names, n=3)
+    if close:
+        return "did you mean " + " or ".join(repr(c) for c in close) + "?"
+    return "its sections are " + ", ".join(sorted({k.split(".")[0] for k in keys}))
 
 
 def build_parser():
@@ -162,13 +172,13 @@ def build_parser():
     sub = p.add_subparsers(dest="command", required=True)
 
     m = sub.add_parser("modes", help="natural frequencies of each body (Hz)")
-    m.add_argument("model", nargs="?", default=None, help="model TOML file (default: built-in specimen)")
+    add_model_argument(m)
     m.add_argument("--count", type=int, default=10, help="number of modes per body")
     m.add_argument("--json", action="store_true", help="print JSON {body: [Hz, ...]}")
     m.set_defaults(func=cmd_modes)
 
     t = sub.add_parser("trfam", help="apparent-mass transfer function (kg), Eq. (12)")
-    t.add_argument("model", nargs="?", default=None, help="model TOML file (default: built-in specimen)")
+    add_model_argument(t)
     t.add_argument("--input", default="casing.A.x", help="driven support DOF, e.g. casing.A.x")
     t.add_argument("--output", default="casing.B.x", help="support DOF whose force is the output")
     t.add_argument("--fmin", type=float, default=10.0, help="lowest frequency, Hz")
@@ -186,7 +196,9 @@ def build_parser():
     t.set_defaults(func=cmd_trfam)
 
     k = sub.add_parser("keys", help="the keys of the model file: type, default, unit, allowed values, meaning")
-    k.add_argument("prefix", nargs="?", default=None, help="only keys that start with this, e.g. contact")
+    k.add_argument(
+        "prefix", nargs="?", default=None, metavar="PREFIX", help="only keys that start with this, e.g. contact"
+    )
     k.set_defaults(func=cmd_keys)
 
     for module in (geometry, simulate, static, nvh, identify, study, report):

@@ -1,9 +1,30 @@
-"""``KEY=VALUE`` model changes on the command line (``--set`` of ``simulate`` and ``ensemble``,
-``--against`` of ``ensemble``): a dotted model key of the schema and a TOML value."""
+"""The model of the command line: the MODEL argument (a TOML file or a built-in specimen) and the
+``KEY=VALUE`` model changes (``--set`` of ``simulate`` and ``ensemble``, ``--against`` of
+``ensemble``): a dotted model key of the schema and a TOML value."""
 
 from __future__ import annotations
 
-from ..errors import ModelError
+from ..errors import NOT_SHOWN, ModelError, excerpt, renamed
+
+
+def add_model_argument(parser):
+    """The optional MODEL argument of a command (read by :func:`model_argument`)."""
+    parser.add_argument(
+        "model",
+        nargs="?",
+        metavar="MODEL",
+        default=None,
+        help="model TOML file or built-in specimen name, e.g. installed (default: the built-in specimen)",
+    )
+
+
+def model_argument(path):
+    """The model of the MODEL argument ``path`` (None: the built-in specimen); a file that cannot be
+    read is named as the argument (``MODEL = 'nope.toml': ...``)."""
+    from ..model import load_model
+
+    with renamed({"model_file": "MODEL"}):
+        return load_model(path)
 
 
 def assignment(flag, text):
@@ -23,10 +44,62 @@ def assignment(flag, text):
 def with_assignments(model, flag, texts):
     """``model`` with the ``KEY=VALUE`` changes ``texts`` of ``flag`` (validated as a model file's
     keys; an error names the flag, the key, the value and what is allowed)."""
-    changes = dict(assignment(flag, t) for t in texts)
+    return with_changes(model, {key: (flag, value) for key, value in (assignment(flag, t) for t in texts)})
+
+
+def with_changes(model, changes):
+    """``model`` with ``changes`` ({key: (flag, value)}) applied and validated. A refused value is
+    named by the flag that gave it (``--set casing.E = -1: ...``); a key the model file gives that
+    the changes make invalid (its random band above the Nyquist frequency of a ``--set scenario.dt``)
+    is named as the change that did it, with the model file's value it conflicts with."""
     if not changes:
         return model
     try:
-        return model.with_overrides(changes)
+        return model.with_overrides({key: value for key, (_, value) in changes.items()})
     except ModelError as exc:
-        raise ModelError(f"{flag} {exc.key}", exc.value, exc.allowed) from None
+        given = next((k for k in changes if _same_key(str(exc.key), k)), None)
+        if given is not None:
+            raise ModelError(f"{changes[given][0]} {exc.key}", exc.value, exc.allowed) from None
+        raise _conflict(model, changes, exc) from None
+
+
+def _same_key(refused, key):
+    """Whether the refused key is the changed ``key``, a component of it (``band[1]``) or the vector
+    it is a component of (``loads.gravity`` of ``loads.gravity.z``)."""
+    return refused == key or refused.startswith((key + ".", key + "[")) or key.startswith(refused + ".")
+
+
+def _conflict(model, changes, exc):
+    """The error ``exc`` of a key of the model that ``changes`` did not set, named as the change(s)
+    that make it fail alone (all of them if none does): the value of the model it conflicts with and
+    what is allowed; for a time step, the largest that the model's excitations allow."""
+
+    def refused(key):
+        try:
+            model.with_overrides({key: changes[key][1]})
+        except ModelError:
+            return True
+        return False
+
+    culprits = [k for k in changes if refused(k)] or list(changes)
+    allowed = exc.allowed
+    if culprits == ["scenario.dt"]:
+        allowed = _step_rule(model, changes["scenario.dt"][1]) or allowed
+    what = f"conflicts with {exc.key} = {excerpt(exc.value)} of the model {model.source}: {allowed}"
+    if len(culprits) == 1:
+        flag, value = changes[culprits[0]]
+        return ModelError(f"{flag} {culprits[0]}", value, what)
+    named = ", ".join(f"{changes[k][0]} {k}={excerpt(changes[k][1])}" for k in culprits)
+    return ModelError(named, NOT_SHOWN, what)
+
+
+def _step_rule(model, dt):
+    """What the excitations of ``model`` allow of a time step ``dt`` (s) that they refuse (the
+    message ``--dt`` gives: the largest step allowed), or None."""
+    from ..timedomain.scenario import ScenarioMotion
+
+    try:
+        ScenarioMotion(model, dt)
+    except ModelError as exc:
+        return exc.allowed if exc.key == "dt" else None
+    return None

@@ -6,16 +6,17 @@ from __future__ import annotations
 import json
 import warnings
 
+from .assignments import add_model_argument, model_argument
+
 
 def cmd_geometry(args):
-    from ..model import load_model
     from ..structure.route_summary import geometry_summary, plausibility_warnings
     from .paths import check_output_path
 
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
     with warnings.catch_warnings(record=True) as said:  # (the route's are printed below with the figures, not twice)
         warnings.simplefilter("always")
-        model = load_model(args.model)
+        model = model_argument(args.model)
     g = geometry_summary(model)
     route = plausibility_warnings(model, g)
     for w in said:  # (the others: absurd values, the gravity, the gap)
@@ -68,7 +69,7 @@ def _buckling(model):
 
 def add_parser(sub):
     p = sub.add_parser("geometry", help="the routing: length, bends, min radius, gap, element length; warnings")
-    p.add_argument("model", nargs="?", default=None, help="model TOML or built-in specimen name (default: default)")
+    add_model_argument(p)
     p.add_argument(
         "--json",
         action="store_true",

@@ -9,8 +9,28 @@ RECORD_HELP = "time record: .csv, .npz or .uff (as 'cablecasing simulate --out' 
 
 
 def _record(path):
-    from ..records import read_records
+    """The time record in ``path``; an ensemble CSV (``ensemble --out``: band levels per seed, whose
+    seed column would be read as a time axis) is refused as what it is."""
+    import contextlib
+    import os
 
+    from ..errors import ModelError
+    from ..records import read_records
+    from ..studies.ensemble import _META
+
+    ensemble = False
+    with contextlib.suppress(OSError):  # (what is not a readable file is read_records's to name)
+        if os.path.isfile(path):
+            with open(path, encoding="utf-8", errors="replace") as f:
+                f.readline(1 << 16)  # (the header; the second line marks an ensemble)
+                ensemble = f.readline(1 << 16).startswith(_META)
+    if ensemble:
+        raise ModelError(
+            "file",
+            path,
+            "is an ensemble CSV (band levels per seed, written by 'cablecasing ensemble --out'), not a time "
+            f"record: 'cablecasing pool {path}' prints its statistics",
+        )
     return read_records(path)
 
 

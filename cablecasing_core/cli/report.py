@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from .assignments import add_model_argument, model_argument
+
 
 def cmd_report(args):
     from ..errors import renamed
@@ -12,7 +14,7 @@ def cmd_report(args):
     # (the settings before the folder: a refused report creates nothing)
     names = {"duration": "--duration", "scenario.duration": "--duration", "seeds": "--seeds"}
     with renamed({**names, "study_samples": "--study-samples"}):
-        model, _, _ = check_report_settings(args.model, args.duration, args.seeds, args.study_samples)
+        model, _, _ = check_report_settings(model_argument(args.model), args.duration, args.seeds, args.study_samples)
         check_time_domain(model, args.duration, model.scenario["dt"])  # (a run too large for the machine)
     output_folder("--out", args.out, "report.html")  # (before the runs)
     args.interrupted = (
@@ -36,7 +38,7 @@ def add_parser(sub):
         "report",
         help="run a model (default: the built-in specimen) and write its report: figures, tables, report.html",
     )
-    r.add_argument("model", nargs="?", default=None, help="model TOML (default: built-in specimen)")
+    add_model_argument(r)
     r.add_argument("--out", default="results", help="folder to write into (nothing is written elsewhere)")
     r.add_argument(
         "--duration",

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from .assignments import with_assignments
+from .assignments import add_model_argument, model_argument, with_assignments
 from .helptext import ASSIGNMENT_HELP, key_help
 
 OUT_SUFFIXES = (".csv", ".npz", ".uff")
@@ -14,14 +14,13 @@ OUT_SUFFIXES = (".csv", ".npz", ".uff")
 
 def cmd_simulate(args):
     from ..errors import renamed
-    from ..model import load_model
     from ..timedomain.simulation import simulate
     from .paths import check_distinct, check_output_path, kept
 
     check_output_path("--out", args.out, OUT_SUFFIXES)
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
     check_distinct(("--out", args.out), ("--plot", args.plot))
-    model = with_assignments(load_model(args.model), "--set", args.set)
+    model = with_assignments(model_argument(args.model), "--set", args.set)
     if args.output_interval is not None:  # checked before the run against the time step
         _check_interval(
             args.output_interval,
@@ -170,7 +169,7 @@ def energy_report(e):
 
 def add_parser(sub):
     p = sub.add_parser("simulate", help="time-domain run of the scenario (Newmark + contact)")
-    p.add_argument("model", nargs="?", default=None, help="model TOML (default: built-in specimen)")
+    add_model_argument(p)
     p.add_argument("--duration", type=float, default=None, help=key_help("scenario.duration", "simulated time"))
     p.add_argument("--dt", type=float, default=None, help=key_help("scenario.dt"))
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="model change; " + ASSIGNMENT_HELP)

@@ -8,15 +8,15 @@ import json
 import numpy as np
 
 from ..model.schema import SUPPORT_NAMES
+from .assignments import add_model_argument, model_argument
 
 
 def cmd_static(args):
-    from ..model import load_model
     from ..timedomain.static_state import static_state
     from .paths import check_output_path
 
     check_output_path("--plot", args.plot, PLOT_SUFFIXES)
-    model = load_model(args.model)
+    model = model_argument(args.model)
     st = static_state(model, contact=False if args.no_contact else None)
     buckled = _buckling(model)
     if args.json:
@@ -104,7 +104,7 @@ def add_parser(sub):
         "static",
         help="the static state: contact forces and support reactions under gravity, tension and rest shape",
     )
-    p.add_argument("model", nargs="?", default=None, help="model TOML or built-in specimen name (default: default)")
+    add_model_argument(p)
     p.add_argument(
         "--json",
         action="store_true",

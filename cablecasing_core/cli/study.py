@@ -12,7 +12,7 @@ from ..errors import ModelError, renamed
 from ..model.limits import MAX_ENSEMBLE_SEED, MAX_SEEDS, MAX_STUDY_SAMPLES, PROGRESS_TIMEOUT
 from ..model.schema import output_spec
 from ..model.validators import integer, number
-from .assignments import assignment
+from .assignments import add_model_argument, assignment, model_argument, with_changes
 from .helptext import ASSIGNMENT_HELP, key_help
 from .paths import check_distinct, check_output_path, kept
 
@@ -66,13 +66,12 @@ def study_output(name, model):
 
 
 def cmd_study(args):
-    from ..model import load_model
     from ..model.load import specimen_names
     from ..studies import DEFAULT_EVALUATE, plot_correlations, plot_sobol, run_study
     from ..studies.results_store import read_meta
     from ..studies.sampling import base_points, group_size
 
-    model = load_model(args.model)
+    model = model_argument(args.model)
     bounds = study_bounds(args, model)  # (before anything is written)
     output = study_output(args.output, model)
     unit = output_spec(output)[0]
@@ -89,14 +88,15 @@ def cmd_study(args):
     if output != "casing.B.Fz":  # (the default's settings stay as earlier versions wrote them: they resume)
         kwargs["output"] = output
     quantity = {"name": output, "unit": unit, "what": "RMS in the octave bands of Table 3"}
+    with renamed({"path": "--out"}):
+        old = read_meta(out / "study.csv")
+    _check_resume(args, old, out / "study.csv", bounds, kwargs, model)
     g = group_size(bounds)
     print(
         f"# study of {model.source}: {len(bounds)} parameters, the Table 3 band RMS of {output} ({unit}), "
         f"Saltelli's design on a scrambled Sobol' sequence (seed {args.seed}); results in {out / 'study.csv'}"
     )
     nb = base_points(bounds, args.samples)
-    with renamed({"path": "--out"}):
-        old = read_meta(out / "study.csv")
     if old is not None and isinstance(old.get("n_base"), int) and old["n_base"] > nb:  # (run_study's rule)
         print(
             f"#   {old['n_base'] * g} runs: {old['n_base']} base points x {g}, the size of the study in "
@@ -146,6 +146,49 @@ def cmd_study(args):
         plot_sobol(res, out / "sobol.png", sob=sob)
         print(f"wrote {out / 'sobol.png'}")
     return 0
+
+
+def _check_resume(args, old, path, bounds, kwargs, model):
+    """A study in ``path`` (its sidecar ``old``; None: a new study) resumes only with its settings:
+    checked before anything is printed, each named by the option that differs (run_study checks
+    them again, by the names of its settings)."""
+    if old is None:
+        return
+    if "bounds" in old and list(old["bounds"]) != list(bounds):  # (dicts compare equal in any order)
+        flag = "--vary" if args.vary else "--vary-file" if args.vary_file else "--vary (not given: the paper's six)"
+        raise ModelError(
+            flag,
+            list(bounds),
+            f"must name the parameters of the study in {path} in its order, {list(old['bounds'])} (its "
+            "columns and design follow that order), to resume it; or choose another --out",
+        )
+    was = {"seed": old["seed"]} if "seed" in old else {}
+    if isinstance(old.get("evaluate_kwargs"), dict):  # (an output of its own only when not casing.B.Fz)
+        was.update({"output": "casing.B.Fz"} | old["evaluate_kwargs"])
+    now = {"seed": args.seed, "output": "casing.B.Fz"} | kwargs
+    for flag, key, typed in (
+        ("--seed", "seed", args.seed),
+        ("MODEL", "model_file", args.model),
+        ("--duration", "duration", args.duration),
+        ("--skip", "skip", args.skip),
+        ("--output", "output", args.output),
+    ):
+        then = was.get(key, now[key])  # (what the sidecar does not hold is run_study's to check)
+        if then != now[key]:
+            raise ModelError(
+                flag,
+                typed,
+                f"must be what the study in {path} was run with, {'none given' if then is None else repr(then)}, "
+                "to resume it; or choose another --out",
+            )
+    fingerprint = model.fingerprint()
+    if old.get("model_fingerprint", fingerprint) != fingerprint:
+        raise ModelError(
+            "MODEL",
+            args.model or "default",
+            f"holds another model than when the study in {path} began (an edited file, or its CSV excitation): "
+            "a resume runs the same model; choose another --out to start a study",
+        )
 
 
 def _check_record_settings(args, model):
@@ -256,14 +299,9 @@ def cmd_ensemble(args):
                 f"cannot be given with --dt {args.dt!r} (--dt is the step of both ensembles); "
                 "compare time steps with --set scenario.dt=... --against scenario.dt=... and no --dt",
             )
-    from ..model import load_model
-
-    model = load_model(args.model)
-    try:  # both variants checked before the first run
-        model.with_overrides({**base, **against})
-    except ModelError as exc:
-        flag = "--against" if exc.key in against else "--set"
-        raise ModelError(f"{flag} {exc.key}", exc.value, exc.allowed) from None
+    model = model_argument(args.model)
+    # (both variants checked before the first run)
+    with_changes(model, {k: ("--set", v) for k, v in base.items()} | {k: ("--against", v) for k, v in against.items()})
     names = {"duration": "--duration", "dt": "--dt", "skip": "--skip", "output": "--output"}
     for key, given in (("scenario.duration", args.duration), ("scenario.dt", args.dt)):
         if given is not None:  # (else the model's value, named by its key)
@@ -301,8 +339,13 @@ def cmd_pool(args):
     if args.against:
         with renamed({"path": "--against"}):
             other = pool_ensembles(args.against)
+        change = _changed_overrides(ens, other)
         mine, theirs = ({k: v for k, v in e.settings.items() if k != "model"} for e in (ens, other))
-        differ = sorted(k for k in set(mine) | set(theirs) if mine.get(k) != theirs.get(k))
+        # (a setting the --against parts declare as their override, --against scenario.dt=..., is what they compare)
+        declared = {k for k in change if k in other.overrides}
+        differ = sorted(
+            k for k in set(mine) | set(theirs) if mine.get(k) != theirs.get(k) and f"scenario.{k}" not in declared
+        )
         if differ:
             k = differ[0]
             raise ModelError(
@@ -322,16 +365,19 @@ def cmd_pool(args):
     _print_ensemble(ens, args.confidence)
     _save(ens, args.out, "")
     if other is not None:
-        keys = sorted(set(ens.overrides) | set(other.overrides))
-        change = {
-            k: other.overrides.get(k, "(the model's value)")
-            for k in keys
-            if ens.overrides.get(k) != other.overrides.get(k)
-        }
         _print_change(other, d, change, args.confidence)
         _save(other, args.out, "_against")
     _plot(ens, other, d, args, (_as_assignments(ens.overrides) or "model", _as_assignments(change)))
     return 0
+
+
+def _changed_overrides(ens, other):
+    """The overrides of ``other`` that differ from those of ``ens``, ``(the model's value)`` for one
+    that ``other`` does not have."""
+    keys = sorted(set(ens.overrides) | set(other.overrides))
+    return {
+        k: other.overrides.get(k, "(the model's value)") for k in keys if ens.overrides.get(k) != other.overrides.get(k)
+    }
 
 
 def _check_outputs(args):
@@ -434,7 +480,7 @@ def _plot(ens, other, d, args, labels):
 
 def add_parser(sub):
     p = sub.add_parser("study", help="Monte-Carlo study of Section 4.4: correlations and Sobol indices (dask)")
-    p.add_argument("model", nargs="?", default=None, help="model TOML (default: built-in specimen)")
+    add_model_argument(p)
     p.add_argument(
         "--vary",
         action="append",
@@ -476,7 +522,7 @@ def add_parser(sub):
     p.set_defaults(func=cmd_study)
 
     e = sub.add_parser("ensemble", help="band levels of a support output as means over excitation seeds")
-    e.add_argument("model", nargs="?", default=None, help="model TOML (default: built-in specimen)")
+    add_model_argument(e)
     e.add_argument("--seeds", type=int, default=8, help="number of seeds (default 8)")
     e.add_argument("--first-seed", type=int, default=1, help="seeds first..first+n-1 (default 1)")
     e.add_argument("--duration", type=float, default=None, help=key_help("scenario.duration", "simulated time per run"))

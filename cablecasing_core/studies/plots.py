@@ -59,7 +59,8 @@ def plot_correlations(results, path, parameters=None, methods=("pearson", "spear
                     bar.set_alpha(0.3)
         _panel(ax, k, p, (-1, 1), "r (-)")
     _band_axis(axes, results.outputs)
-    fig.suptitle(
+    _suptitle(
+        fig,
         title
         or f"Correlation with the band RMS{_of(results)}, {cors[0].n} ok runs (Fig. 23)\n"
         + (
@@ -67,10 +68,19 @@ def plot_correlations(results, path, parameters=None, methods=("pearson", "spear
             if np.isfinite(cors[0].pvalue).any()
             else cors[0].legend()  # (no p-values: it says why)
         ),
-        fontsize=9,
+        9,
     )
     save_figure(fig, path)
     return path
+
+
+def _suptitle(fig, text, fontsize):
+    """The figure's title, each line wrapped to the figure's width (a character taken as 0.6 of the
+    font size: wider than the average of its font), so that no part of it is cut off."""
+    import textwrap
+
+    width = int(fig.get_figwidth() * 72 / (0.6 * fontsize))
+    fig.suptitle("\n".join(textwrap.fill(line, width) for line in text.split("\n")), fontsize=fontsize)
 
 
 def _of(results):
@@ -121,10 +131,11 @@ def plot_sobol(results, path, title=None, conf_level=0.95, sob=None):
         ax.bar(x + 0.2, sob.ST[k], 0.4, yerr=sob.ST_conf[k], capsize=2, label="total ST")
         _panel(ax, k, p, (-0.2, 1.1), "index (-)")
     _band_axis(axes, sob.outputs)
-    fig.suptitle(
+    _suptitle(
+        fig,
         title
         or f"Sobol indices of the band RMS{_of(results)}, {sob.n_base} base points ({sob.conf_level:.0%} intervals)",
-        fontsize=10,
+        10,
     )
     save_figure(fig, path)
     return path

@@ -480,7 +480,7 @@ def test_a_device_as_the_model_file_is_one_line_not_a_hang(capsys):
     code, _, err = run(capsys, ["modes", "/dev/zero"])
     assert (code, err) == (
         2,
-        ["cablecasing: error: model_file = '/dev/zero': is larger than 1048576 bytes: not a TOML file of this program"],
+        ["cablecasing: error: MODEL = '/dev/zero': is larger than 1048576 bytes: not a TOML file of this program"],
     )
 
 

@@ -334,3 +334,37 @@ def test_simulate_says_what_the_event_tolerance_did(capsys):
     assert main(["simulate", "installed", "--no-progress", "--set", "contact.event_tolerance=-1"]) == 2
     err = capsys.readouterr().err
     assert "--set contact.event_tolerance" in err and "-1" in err, err
+
+
+def test_ensembles_run_in_parts_pool_with_their_against_parts(tmp_path, capsys, monkeypatch):
+    """docs/studies.md, "Ensembles run in parts", and docs/time_domain.md's time-step comparison: the
+    --against parts of another scenario.dt were refused ('its dt is 5e-06, theirs 1e-05'), though
+    that Δt is what they compare. A setting that differs without an override still is."""
+    import dataclasses
+
+    from cablecasing_core.studies import load_ensemble
+
+    monkeypatch.chdir(tmp_path)
+    run = ["--seeds", "2", "--duration", "0.1", "--skip", "0", "--against", "scenario.dt=2e-5"]
+    for first, out in (("1", "part1.csv"), ("3", "part2.csv")):
+        assert main(["ensemble", *run, "--first-seed", first, "--out", out]) == 0
+    capsys.readouterr()
+    parts = ["part1.csv", "part2.csv", "--against", "part1_against.csv", "part2_against.csv"]
+    assert main(["pool", *parts, "--out", "all.csv"]) == 0
+    out = capsys.readouterr().out
+    assert "# relative change of the mean level with {'scenario.dt': 2e-05} (paired on the same seeds)" in out
+    assert list(load_ensemble("all_against.csv").seeds) == [1, 2, 3, 4]
+    # the base parts run with a step of their own (--set scenario.dt=1e-5), as in docs/time_domain.md
+    base = load_ensemble("part1.csv")
+    dataclasses.replace(base, overrides={"scenario.dt": 1e-5}).save("set.csv")
+    assert main(["pool", "set.csv", "--against", "part1_against.csv"]) == 0
+    capsys.readouterr()
+    # refused: a step the --against parts do not declare, a skip of their own
+    against = load_ensemble("part1_against.csv")
+    dataclasses.replace(against, overrides={}).save("undeclared.csv")
+    dataclasses.replace(against, settings={**against.settings, "skip": 0.01}).save("skip.csv")
+    refused = {"undeclared.csv": "its dt is 2e-05, theirs 1e-05", "skip.csv": "its skip is 0.01, theirs 0.0"}
+    for name, said in refused.items():
+        assert main(["pool", "part1.csv", "--against", name]) == 2
+        err = capsys.readouterr().err
+        assert f"--against = '{name}': must be run with the settings of the files it is compared with: {said}" in err

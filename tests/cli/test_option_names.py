@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from cablecasing_core.cli import main
+from cablecasing_core.studies import Ensemble
 
 
 @pytest.fixture
@@ -31,6 +32,10 @@ def files(tmp_path, monkeypatch):
     )
     (tmp_path / "dir.uff").mkdir()
     (tmp_path / "not.folder").write_text("a file\n")
+    levels = rng.random((3, 9))  # (an ensemble CSV: a seed column, then the band levels)
+    Ensemble(np.arange(1, 4), "casing.B.Fz", tuple(f"oct{k}" for k in range(1, 10)), t[1:10], t[2:11], levels).save(
+        tmp_path / "ens.csv"
+    )
     return tmp_path
 
 
@@ -58,8 +63,34 @@ CASES = [
     (["ensemble", "--seeds", "2", "--skip", "-1"], "--skip = -1.0: must be zero or a positive number of s"),
     (["ensemble", "--seeds", "2", "--duration", "1e5"], "--duration = 100000.0: with dt = 1e-05 s"),
     (["report", "--duration", "1e5", "--out", "rep"], "--duration = 100000.0: with dt = 1e-05 s"),
+    # a positional argument by its name in --help, not the function's model_file or prefix
+    (["modes", "nope.toml"], "MODEL = 'nope.toml': must be a readable TOML file (No such file or directory)"),
+    (["report", "nope.toml", "--out", "rep"], "MODEL = 'nope.toml': must be a readable TOML file"),
+    (["simulate", "nope.toml", "--no-progress"], "MODEL = 'nope.toml': must be a readable TOML file"),
+    (["study", "nope.toml", "--scheduler", "serial"], "MODEL = 'nope.toml': must be a readable TOML file"),
+    (["keys", "contcat"], "PREFIX = 'contcat': matches no key of the model file; did you mean 'contact'"),
+    (["keys", "zzzz"], "PREFIX = 'zzzz': matches no key of the model file; its sections are cable, casing, contact"),
+    # a change that makes a value of the model file invalid: named as the change, with what it conflicts with
+    (
+        ["simulate", "--set", "scenario.dt=1e-3", "--no-progress"],
+        "--set scenario.dt = 0.001: conflicts with scenario.excitation.casing_random.band = [10.0, 1000.0] of the "
+        "model <built-in>: must resolve the random excitation scenario.excitation.casing_random's band up to 1000 Hz: "
+        "its Nyquist frequency 1 / (2 dt) must lie above the band, so dt < 0.0005 s",
+    ),
+    (
+        ["ensemble", "--seeds", "2", "--against", "cable.d=0.02"],
+        "--against cable.d = 0.02: conflicts with casing.d_inner = 0.004 of the model <built-in>: must be larger "
+        "than cable.d = 0.02 m",
+    ),
+    (["simulate", "--set", "casing.d_inner=0.001", "--no-progress"], "--set casing.d_inner = 0.001: must be larger"),
+    # an ensemble CSV is no time record
+    (["bands", "ens.csv"], "file = 'ens.csv': is an ensemble CSV (band levels per seed, written by 'cablecasing "),
+    (["spectrum", "ens.csv"], "file = 'ens.csv': is an ensemble CSV (band levels per seed, written by 'cablecasing "),
 ]
-INTERNAL = ("freqs_hz", "f_res_hz", "freq_resolution_hz", "modes =", "count =", "skip =", "duration =", "path =")
+INTERNAL = (
+    *("freqs_hz", "f_res_hz", "freq_resolution_hz", "modes =", "count =", "skip =", "duration =", "path ="),
+    *("model_file", "prefix =", "bounds =", "seed =", "--set scenario.excitation"),
+)
 
 
 @pytest.mark.parametrize("argv,message", CASES, ids=[" ".join(c[0]) for c in CASES])
@@ -112,3 +143,51 @@ def test_a_study_says_the_size_it_resumes_at(tmp_path, capsys, monkeypatch):
         "asks for 16 runs, and a study is never shrunk"
     ), head
     assert len(head) == 2
+
+
+def test_bands_of_an_ensemble_csv_names_pool(files, capsys):
+    """It read the seed column as the time axis: '--skip = 0.05: must leave at least 16 samples of the
+    2 s record ens.csv (3 samples at dt = 1 s)'."""
+    assert main(["bands", "ens.csv"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.endswith("not a time record: 'cablecasing pool ens.csv' prints its statistics"), err
+
+
+@pytest.mark.parametrize(
+    "argv,message",
+    [
+        (
+            ["--vary", "casing.E=2e9:1e10"],
+            "--vary = ['casing.E']: must name the parameters of the study in {csv} in its order, ['casing.E', "
+            "'contact.friction'] (its columns and design follow that order), to resume it; or choose another --out",
+        ),
+        (
+            ["--vary", "contact.friction=0.05:0.2", "--vary", "casing.E=2e9:1e10"],
+            "--vary = ['contact.friction', 'casing.E']: must name the parameters of the study in {csv} in its order",
+        ),
+        (
+            ["--vary", "casing.E=2e9:1e10", "--vary", "contact.friction=0.05:0.2", "--seed", "2"],
+            "--seed = 2: must be what the study in {csv} was run with, 0, to resume it; or choose another --out",
+        ),
+        (
+            ["--vary", "casing.E=2e9:1e10", "--vary", "contact.friction=0.05:0.2", "--duration", "0.25"],
+            "--duration = 0.25: must be what the study in {csv} was run with, 0.3, to resume it",
+        ),
+    ],
+)
+def test_a_study_that_would_not_resume_names_the_option_before_its_header(tmp_path, capsys, monkeypatch, argv, message):
+    """A study in --out of other parameters printed the study's header, then 'bounds = [...]'."""
+    from cablecasing_core import studies
+
+    st = tmp_path / "st"
+    st.mkdir()
+    (st / "study.csv").write_text("index,status\n")
+    meta = {"seed": 0, "bounds": {"casing.E": [2e9, 1e10], "contact.friction": [0.05, 0.2]}}
+    meta["evaluate_kwargs"] = {"model_file": None, "duration": 0.3, "skip": 0.05}
+    (st / "study.csv.meta.json").write_text(json.dumps(meta))
+    monkeypatch.setattr(studies, "run_study", lambda *a, **k: pytest.fail("a study started"))
+    assert main(["study", "--duration", "0.3", *argv, "--scheduler", "serial", "--out", str(st)]) == 2
+    out, err = capsys.readouterr()
+    err = err.strip().splitlines()
+    assert out == "" and len(err) == 1, err
+    assert err[0].startswith(f"cablecasing: error: {message.format(csv=st / 'study.csv')}"), err

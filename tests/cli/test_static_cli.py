@@ -41,7 +41,7 @@ def test_static_table_and_errors(capsys):
     assert main(["static"]) == 0  # the paper's specimen: nothing loads it
     assert "0 cable nodes in contact" in capsys.readouterr().out
     assert main(["static", "no_such_model.toml"]) == 2
-    assert "model_file" in capsys.readouterr().err
+    assert "MODEL = 'no_such_model.toml': must be a readable TOML file" in capsys.readouterr().err
 
 
 @pytest.mark.slow
