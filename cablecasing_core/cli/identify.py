@@ -105,6 +105,32 @@ def _spectrum_peaks(x, fs, count, path):
     return find_resonances(f[1:-1], X[1:-1], count=count)
 
 
+#: The wavelet's advice in the words of its arguments, in the command line's.
+_DAMPING_HINTS = {
+    "skip the check (max_departure None, --max-departure off)": "skip the check (--max-departure off)",
+    "(allowed: max_departure = ": "(allowed: --max-departure = ",
+    "cut the record (t_max)": "cut the record (--t-max)",
+    "(give t0)": "(the file's time must be 0 at the impulse)",
+    "a smaller gamma or a noise_floor": "a smaller --gamma or a --noise-floor",
+    "(search, the CLI's --search,": "(--search,",
+    "(search, the CLI's --search)": "(--search)",
+}
+
+
+@contextlib.contextmanager
+def _record_named(args, channel, keys=("x",)):
+    """A :class:`ModelError` about the data read from the file (the function's arguments ``keys``:
+    the wavelet's record ``x``, the circle fit's ``freqs_hz`` and ``H``) raised again naming the file
+    and the channel (None: the file's only one) it was read from."""
+    try:
+        yield
+    except ModelError as exc:
+        if exc.key not in keys:
+            raise
+        where = "" if channel is None else f"channel {channel}, "
+        raise ModelError("file", str(args.file), f"{where}{exc.value}: {exc.allowed}") from None
+
+
 #: The wavelet's arguments by the options that give them (their errors name the option).
 _DAMPING_OPTIONS = {"gamma": "--gamma", "window_tau": "--window-tau", "max_departure": "--max-departure",
                     "edge_factor": "--edge-factor", "search": "--search", "noise_floor": "--noise-floor",
@@ -148,7 +174,7 @@ def cmd_damping(args):
         if args.t_max is not None:  # (on the file's time axis, as the fit's times)
             number("--t-max", args.t_max, gt=t_start, unit="s")
         try:
-            with renamed({**_DAMPING_OPTIONS, "freqs_hz": "--freqs"}):
+            with renamed({**_DAMPING_OPTIONS, "freqs_hz": "--freqs"}), _hint(_DAMPING_HINTS), _record_named(args, name):
                 res = wavelet_damping(
                     x,
                     fs,
@@ -214,6 +240,23 @@ def cmd_damping(args):
         return _fail(exc)
 
 
+@contextlib.contextmanager
+def _peaks_found(args):
+    """Without --freqs, a :class:`ModelError` about one of the resonances (``f_res_hz``) names
+    ``--count``, their number, and says that the command took it from the peaks of |H|."""
+    try:
+        yield
+    except ModelError as exc:
+        if args.freqs or exc.key != "f_res_hz" or not isinstance(exc.value, float):
+            raise
+        raise ModelError(
+            "--count",
+            args.count,
+            f"the resonance near {exc.value:g} Hz, one of the peaks of |H| taken for want of --freqs: {exc.allowed}; "
+            "give the resonances themselves (--freqs)",
+        ) from None
+
+
 def cmd_loss_factor(args):
     try:
         _check_outputs(args)
@@ -240,7 +283,9 @@ def cmd_loss_factor(args):
             _PEAKS_HINT: "give the resonances themselves (--freqs) or a smaller --count",
             "give a smaller search": "give a smaller --search",
         }
-        with renamed(names), _hint(hints):
+        if not args.freqs:
+            hints["(give the frequency of a peak)"] = "(give the frequencies of the peaks, --freqs)"
+        with renamed(names), _hint(hints), _peaks_found(args), _record_named(args, args.channel, ("freqs_hz", "H")):
             res = loss_factor_circle(
                 f,
                 H,
@@ -319,7 +364,8 @@ def cmd_modulus(args):
         from ..model import load_model
         from ..model.validators import integer, number
 
-        model = load_model(args.model)
+        with renamed({"model_file": "--model"}):
+            model = load_model(args.model)
         number("--resolution", args.resolution, gt=0, unit="Hz")
         if not (args.degree == -1 or args.degree >= 0):
             raise ModelError("--degree", args.degree, "must be -1 (no smoothing) or an integer >= 0")

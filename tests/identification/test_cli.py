@@ -6,8 +6,9 @@ import sys
 import numpy as np
 import pytest
 
-from cablecasing_core import load_model, natural_frequencies
+from cablecasing_core import identification, load_model, natural_frequencies
 from cablecasing_core.cli.identify import add_parser
+from cablecasing_core.errors import ModelError
 from cablecasing_core.identification import write_csv_time, write_uff_frf
 
 if sys.version_info >= (3, 11):
@@ -205,3 +206,37 @@ def test_loss_factor_names_the_unrequested_neighbour_it_subtracts(tmp_path, caps
     assert "# also fitted and subtracted, not requested (a peak within --search of a request): 110 Hz" in out
     (row,) = [line.split() for line in out.splitlines() if line[:4].strip().isdigit()]
     assert float(row[1]) == pytest.approx(100.0, abs=5e-4) and float(row[2]) == pytest.approx(0.05, abs=5e-6)
+
+
+def test_errors_name_the_file_and_the_options_not_the_functions_arguments(tmp_path, capsys, monkeypatch):
+    """The command's errors name what the user gave: --model, the record's file and channel (not the
+    wavelet's argument x, nor its advice in the API's words), --count for peaks found, not given."""
+    assert run(["identify", "modulus", str(tmp_path / "f.csv"), "--model", str(tmp_path / "nope.toml")]) == 2
+    assert "error: --model = " in capsys.readouterr().err
+    # a decay that grows: no free decay, said of the file and its channel, with the CLI's options
+    fs = 2048.0
+    t = np.arange(4096) / fs
+    path = tmp_path / "growing.csv"
+    write_csv_time(path, np.exp(3.0 * t) * np.sin(2 * np.pi * 100.0 * t), fs, names=["force_N"])
+    assert run(["identify", "damping", str(path), "--freqs", "100"]) == 2
+    err = capsys.readouterr().err
+    assert "error: file = '" in err and "growing.csv': channel force_N, record at 100 Hz: ln|W| grows" in err, err
+    assert "max_departure" not in err and " x = " not in err
+    # the circle fit's data are the file's; a resonance the command picked from |H| itself (no
+    # --freqs) and could not fit is named as --count, with its frequency
+    f = np.linspace(50.0, 150.0, 401)
+    frf = tmp_path / "frf.uff"
+    write_uff_frf(frf, f, 1.0 / (100.0**2 * (1 + 0.0002j) - f**2))
+    assert run(["identify", "loss-factor", str(frf), "--count", "1", "--kind", "displacement"]) == 2
+    err = capsys.readouterr().err
+    assert "error: file = '" in err and "frf.uff': 4 points near 100 Hz: too coarse a resolution" in err, err
+
+    def unfit(*args, **kw):
+        raise ModelError("f_res_hz", 743.5, "no resonance in the window 700..780 Hz")
+
+    monkeypatch.setattr(identification, "loss_factor_circle", unfit)
+    assert run(["identify", "loss-factor", str(frf), "--count", "1", "--kind", "displacement"]) == 2
+    err = capsys.readouterr().err
+    assert "error: --count = 1: the resonance near 743.5 Hz, one of the peaks of |H| taken for want of --freqs" in err
+    assert run(["identify", "loss-factor", str(frf), "--freqs", "743.5", "--kind", "displacement"]) == 2
+    assert "error: --freqs = 743.5: no resonance in the window" in capsys.readouterr().err
