@@ -78,6 +78,7 @@ def cmd_study(args):
     integer("--samples", args.samples, 2, MAX_STUDY_SAMPLES)
     integer("--seed", args.seed, 0)
     progress_timeout = number("--timeout", args.timeout, gt=0, unit="s")
+    _check_workers(args)
     _check_record_settings(args, model)
     out = Path(args.out)  # (created by run_study once every setting is checked and the scheduler answers)
     if out.exists() and not out.is_dir():
@@ -266,6 +267,7 @@ def print_study(res):
 
 def cmd_ensemble(args):
     from ..studies import paired_difference, seed_ensemble
+    from ..studies.ensemble_runs import seed_overrides
 
     integer("--seeds", args.seeds, 2, MAX_SEEDS)
     integer(
@@ -276,6 +278,7 @@ def cmd_ensemble(args):
         " (the last seed must be at most 2**53: an ensemble's CSV holds its seeds exactly up to there)",
     )
     _check_confidence(args.confidence)
+    _check_workers(args)
     args.interrupted = "the ensemble was stopped: " + kept(*_check_outputs(args))
     seeds = list(range(args.first_seed, args.first_seed + args.seeds))
     common = dict(
@@ -300,7 +303,12 @@ def cmd_ensemble(args):
                 "compare time steps with --set scenario.dt=... --against scenario.dt=... and no --dt",
             )
     model = model_argument(args.model)
-    # (both variants checked before the first run)
+    # (both variants checked before the first run: seed_ensemble would find --against's clash only
+    # after the first ensemble had run)
+    varied = set(seed_overrides(model, 0))
+    for flag, given in (("--set", base), ("--against", against)):
+        if varied & set(given):
+            raise ModelError(flag, sorted(varied & set(given)), "must not set the seeds that the ensemble varies")
     with_changes(model, {k: ("--set", v) for k, v in base.items()} | {k: ("--against", v) for k, v in against.items()})
     names = {"duration": "--duration", "dt": "--dt", "skip": "--skip", "output": "--output"}
     for key, given in (("scenario.duration", args.duration), ("scenario.dt", args.dt)):
@@ -421,6 +429,21 @@ def _seed_list(seeds):
 def _as_assignments(overrides):
     """``{"a.b": 1}`` as ``"a.b=1"``, the form of ``--set``/``--against`` (figure labels)."""
     return ", ".join(f"{k}={v}" for k, v in overrides.items())
+
+
+def _check_workers(args):
+    """--workers: a whole number >= 1, and only where a local cluster is started (the serial runs and
+    a cluster of one's own, --scheduler tcp://..., have no workers of the command's)."""
+    if args.workers is None:
+        return
+    integer("--workers", args.workers, 1)
+    if args.scheduler not in (None, "local"):
+        raise ModelError(
+            "--workers",
+            args.workers,
+            f"is the number of workers of a local cluster; with --scheduler {args.scheduler} there is none to size "
+            "(leave --workers out, or give --scheduler local)",
+        )
 
 
 def _check_confidence(confidence):

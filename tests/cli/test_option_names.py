@@ -83,13 +83,24 @@ CASES = [
         "than cable.d = 0.02 m",
     ),
     (["simulate", "--set", "casing.d_inner=0.001", "--no-progress"], "--set casing.d_inner = 0.001: must be larger"),
+    # --workers sizes a local cluster only; a varied seed set by hand is named as the option, before any run
+    (["study", "--scheduler", "serial", "--workers", "0"], "--workers = 0: must be an integer >= 1"),
+    (["ensemble", "--seeds", "2", "--workers", "2"], "--workers = 2: is the number of workers of a local cluster"),
+    (
+        ["ensemble", "--seeds", "2", "--against", "scenario.excitation.casing_random.seed=3"],
+        "--against = ['scenario.excitation.casing_random.seed']: must not set the seeds that the ensemble varies",
+    ),
+    (
+        ["ensemble", "--seeds", "2", "--set", "scenario.excitation.casing_random.seed=3"],
+        "--set = ['scenario.excitation.casing_random.seed']: must not set the seeds",
+    ),
     # an ensemble CSV is no time record
     (["bands", "ens.csv"], "file = 'ens.csv': is an ensemble CSV (band levels per seed, written by 'cablecasing "),
     (["spectrum", "ens.csv"], "file = 'ens.csv': is an ensemble CSV (band levels per seed, written by 'cablecasing "),
 ]
 INTERNAL = (
     *("freqs_hz", "f_res_hz", "freq_resolution_hz", "modes =", "count =", "skip =", "duration =", "path ="),
-    *("model_file", "prefix =", "bounds =", "seed =", "--set scenario.excitation"),
+    *("model_file", "prefix =", "bounds =", "seed =", "--set scenario.excitation", "n_workers", "overrides"),
 )
 
 
