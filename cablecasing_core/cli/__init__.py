@@ -238,7 +238,7 @@ def _stopped_by_signals():
     raises; those that follow while the interrupt is handled are ignored, so that its cleanup runs
     to the end (Ctrl-C and SIGKILL still stop it). The handlers before are restored at the end.
     (Processes started meanwhile, a study's dask workers, run a new interpreter: a Python handler is
-    not inherited; they are started ignoring SIGINT and SIGHUP, studies/executor.py, and keep
+    not inherited; they are started with SIGINT and SIGHUP blocked, studies/executor.py, and keep
     SIGTERM's default action.)"""
     if threading.current_thread() is not threading.main_thread():
         yield

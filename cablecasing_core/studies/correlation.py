@@ -9,7 +9,8 @@ test rejected 11-14 % of the time for an output independent of the parameter, 30
 installed specimen's bounds). Under the null hypothesis "the output does not depend on this
 parameter" the blocks of the parameter's values can be exchanged between base points while each
 keeps its outputs; ``scipy.stats.permutation_test`` permutes them (exactly when there are few base
-points) and the statistic is the coefficient over all the blocks' runs."""
+points) and the statistic is the coefficient over all the blocks' runs, which is the r reported:
+with failed or infeasible runs, r is taken over the runs of the complete base points only."""
 
 from __future__ import annotations
 
@@ -32,9 +33,9 @@ class Correlation:
     """Correlation coefficients (dimensionless, -1..1) of parameters (rows) with outputs (columns).
 
     ``method`` is "pearson" or "spearman"; ``r`` and ``pvalue`` are (len(parameters), len(outputs));
-    ``n`` is the number of ok samples used; ``pvalue_from`` says how the p-values were found (a
-    permutation test over the complete base points of Saltelli's design, or the t distribution of
-    independent samples). Section 4.4, Fig. 23.
+    ``n`` is the number of runs r uses, the same the p-values test; ``pvalue_from`` says how the
+    p-values were found (a permutation test over the complete base points of Saltelli's design, or
+    the t distribution of independent samples) and over which runs. Section 4.4, Fig. 23.
     """
 
     method: str
@@ -74,15 +75,19 @@ def correlations(
     n_resamples: int = 9999,
     seed: int = 0,
 ) -> Correlation:
-    """Pearson or Spearman correlation of every parameter with every output over the ok samples.
+    """Pearson or Spearman correlation of every parameter with every output over the ok samples
+    (in Saltelli's design those of its complete base points, which the p-values test).
 
     ``results`` is a :class:`StudyResults` or a CSV path. With ``include_gap`` and both diameters
     sampled, the derived ``gap = casing.d_inner - cable.d`` (m; Fig. 23(c)) is added as a parameter.
     The coefficients are ``scipy.stats.pearsonr`` / ``spearmanr``'s; a constant column gives NaN.
     The p-values (two-sided) of a study in Saltelli's design come from a permutation test over its
     complete base points (module docstring; ``n_resamples`` random permutations seeded by ``seed``,
-    all of them when there are fewer; NaN below 3 complete base points), those of other results from
-    the t distribution of independent samples. Section 4.4, Fig. 23.
+    all of them when there are fewer), and r is taken over the same runs, those of the complete
+    base points (an ok run of a base point with a failed or infeasible run is left out; the result's
+    ``n`` and ``pvalue_from`` say how many runs r uses); below 3 complete base points the p-values
+    are NaN and r is over all ok runs. Those of other results come from the t distribution of their
+    independent samples. Section 4.4, Fig. 23.
     """
     from scipy import stats
 
@@ -93,13 +98,30 @@ def correlations(
     integer("n_resamples", n_resamples, 99)
     integer("seed", seed, 0)
     names, X = _columns(results, include_gap)
-    ok = results.ok & np.all(np.isfinite(results.Y), axis=1)
-    n_ok = int(ok.sum())
+    ok = np.flatnonzero(results.ok & np.all(np.isfinite(results.Y), axis=1))
+    n_ok = int(ok.size)
     if n_ok < 3:
         raise ModelError("results", f"{n_ok} ok samples", "need at least 3 successful samples for a correlation")
+    groups = complete_groups(results) if results.group_size else None
+    blocks = None  # (the runs of the complete base points, (groups, runs per group): the permutation test's)
+    if groups is None:
+        pvalue_from = f"the t distribution of {n_ok} independent samples"
+    elif len(groups) < 3:
+        pvalue_from = f"none: {len(groups)} complete base points, a permutation test needs 3 (r over {n_ok} ok runs)"
+    else:
+        blocks = group_rows(results, groups)
+        ok = blocks.ravel()
+        left = n_ok - ok.size
+        pvalue_from = f"a permutation test over {len(groups)} complete base points, r over their {ok.size} runs" + (
+            f" ({left} ok runs of incomplete base points left out)" if left else ""
+        )
+        if len(groups) <= 4:  # (all n! orders are enumerated: the smallest two-sided p is 2 / n!)
+            n = len(groups)
+            pvalue_from += f" (its smallest p-value is 2/{n}! = {2 / math.factorial(n):.2g}: none can reach 0.05)"
     fn = stats.pearsonr if method == "pearson" else stats.spearmanr
     r = np.full((len(names), len(results.outputs)), np.nan)
-    pv = np.full_like(r, np.nan)  # (the t distribution's, replaced below in Saltelli's design)
+    pv = np.full_like(r, np.nan)
+    rng = np.random.default_rng(seed)
     for a in range(len(names)):
         for b in range(len(results.outputs)):
             x, y = X[ok, a], results.Y[ok, b]
@@ -108,31 +130,18 @@ def correlations(
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 res = fn(x, y)
-            r[a, b], pv[a, b] = float(res.statistic), float(res.pvalue)
-    pvalue_from = f"the t distribution of {n_ok} independent samples"
-    if results.group_size:
-        groups = complete_groups(results)
-        n = len(groups)
-        pv = np.full_like(r, np.nan)
-        if n < 3:
-            pvalue_from = f"none: {n} complete base points, a permutation test needs 3"
-        else:
-            pvalue_from = f"a permutation test over {n} complete base points"
-            if n <= 4:  # (all n! orders are enumerated: the smallest two-sided p is 2 / n!)
-                pvalue_from += f" (its smallest p-value is 2/{n}! = {2 / math.factorial(n):.2g}: none can reach 0.05)"
-            rows = group_rows(results, groups)
-            rng = np.random.default_rng(seed)
-            for a in range(len(names)):
-                for b in range(len(results.outputs)):
-                    if np.isfinite(r[a, b]):
-                        pv[a, b] = _block_permutation_pvalue(X[rows, a], results.Y[rows, b], method, n_resamples, rng)
+            r[a, b] = float(res.statistic)
+            if groups is None:
+                pv[a, b] = float(res.pvalue)
+            elif blocks is not None:
+                pv[a, b] = _block_permutation_pvalue(X[blocks, a], results.Y[blocks, b], method, n_resamples, rng)
     return Correlation(
         method=method,
         parameters=names,
         outputs=tuple(results.outputs),
         r=r,
         pvalue=pv,
-        n=n_ok,
+        n=int(ok.size),
         pvalue_from=pvalue_from,
     )
 

@@ -26,6 +26,7 @@ from __future__ import annotations
 import asyncio
 import concurrent.futures
 import importlib
+import math
 import os
 import time
 import warnings
@@ -67,7 +68,9 @@ def spec_name(spec):
 
 
 def evaluate_sample(spec, kwargs, index, overrides, outputs):
-    """Run one sample (in the main process or on a dask worker); never raises for an Exception."""
+    """Run one sample (in the main process or on a dask worker); never raises for an Exception. A
+    row is ``failed`` when evaluate raises, returns no dict, no value of an output or one that is not
+    a finite number (NaN, inf: ``ValueError: evaluate returned nan for oct5``)."""
     t0 = time.perf_counter()
     row = {"index": index, "status": "ok", "error": ""}
     said = []
@@ -82,6 +85,8 @@ def evaluate_sample(spec, kwargs, index, overrides, outputs):
             raise KeyError(f"evaluate returned no value for {missing}; it gave {sorted(res)}")
         for o in outputs:
             row[o] = float(res[o])
+            if not math.isfinite(row[o]):  # (an ok row's outputs are numbers: the statistics use them all)
+                raise ValueError(f"evaluate returned {row[o]!r} for {o}")
     except Exception as exc:  # a failed sample is recorded, the study goes on
         row = {"index": index, "status": "failed", "error": f"{type(exc).__name__}: {exc}".replace("\n", " | ")}
     row["elapsed_s"] = time.perf_counter() - t0
@@ -112,26 +117,54 @@ def _say(row, label, said):
 
 
 def _cluster_deaf_to_ctrl_c(LocalCluster, n_workers):
-    """A LocalCluster whose processes ignore SIGINT: a Ctrl-C at the terminal reaches the whole
-    process group, and each worker printed its KeyboardInterrupt traceback while this process
-    closed the cluster and said what was kept. A process started while SIGINT is ignored keeps
-    ignoring it (Python installs its KeyboardInterrupt handler only where SIGINT is not ignored),
-    so it is ignored here while the workers start, in the main thread (signal handlers live there).
-    So is SIGHUP (a closed terminal reaches the group too; the command line turns it into the same
-    stop as Ctrl-C): multiprocessing's resource tracker, which ignores SIGINT and SIGTERM itself,
-    died of it and was restarted during the shutdown with tracebacks on stderr."""
+    """A LocalCluster whose processes do not take SIGINT or SIGHUP, started so that a Ctrl-C meanwhile
+    still stops this process. A Ctrl-C at the terminal reaches the whole process group: each worker
+    printed its KeyboardInterrupt traceback while this process closed the cluster and said what was
+    kept; a closed terminal's SIGHUP killed multiprocessing's resource tracker, which was restarted
+    during the shutdown with tracebacks on stderr.
+
+    While the cluster starts, both signals are blocked in the main thread (signal handlers live
+    there), so the threads it starts (dask's event loop, which starts the workers, and restarts
+    them later) and every process started from them (a spawned or forked worker, the resource
+    tracker) inherit them blocked and never take them; the resource tracker is started first, in
+    the window, since starting it unblocks SIGINT in the calling thread. A signal that arrives
+    meanwhile is kept: pending while blocked, or recorded by a handler when another thread of this
+    process takes it. After the start the previous handlers and mask are restored and a signal that
+    arrived is delivered again, so that the caller's way out runs (a KeyboardInterrupt, the command
+    line's exit status 130; the cluster is closed then). A signal that was ignored stays ignored."""
     import signal
     import threading
 
-    main = threading.current_thread() is threading.main_thread()
-    stops = [signal.SIGINT] + ([signal.SIGHUP] if hasattr(signal, "SIGHUP") else [])
-    before = [signal.signal(s, signal.SIG_IGN) for s in stops] if main else None
-    try:
+    def start():
         return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, dashboard_address=None)
+
+    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "pthread_sigmask"):
+        return start()  # pragma: no cover - (another thread; Windows)
+    from multiprocessing import resource_tracker
+
+    stops = {signal.SIGINT} | ({signal.SIGHUP} if hasattr(signal, "SIGHUP") else set())
+    arrived = []
+    before = {s: signal.getsignal(s) for s in stops if signal.getsignal(s) is not signal.SIG_IGN}
+    for s in before:
+        signal.signal(s, lambda signum, frame: arrived.append(signum))
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, stops)
+    cluster = None
+    try:
+        resource_tracker.ensure_running()
+        signal.pthread_sigmask(signal.SIG_BLOCK, stops)
+        cluster = start()
     finally:
-        if main:
-            for s, handler in zip(stops, before):
-                signal.signal(s, handler)
+        try:
+            for s, handler in before.items():
+                signal.signal(s, signal.SIG_DFL if handler is None else handler)
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # (a pending signal is delivered here)
+            for s in dict.fromkeys(arrived):
+                signal.raise_signal(s)
+        except BaseException:  # (the caller's handler stopped it: the cluster is not returned)
+            if cluster is not None:
+                cluster.close()
+            raise
+    return cluster
 
 
 class Workers:

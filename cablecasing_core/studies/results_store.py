@@ -284,19 +284,38 @@ def study_lock(path):
         os.close(fd)  # (releases the lock)
 
 
-def recover_header(path) -> bool:
+def recover_header(path, params, outputs, quantity=None) -> bool:
     """A study CSV torn inside its header line (killed while it was created, by earlier versions
-    that wrote it in place) holds no row: it is removed, so the study starts afresh in this run.
-    Returns True if it was."""
+    that wrote it in place) holds no row: it is removed, so the study starts afresh in this run, and
+    True returned. Such a file is one without a newline whose content begins the header of this
+    study (``params``, ``outputs``, ``quantity``) or of the study its sidecar describes; any other
+    file without a newline is no study and is refused (ModelError naming ``path``), left as it is."""
     try:
         with open(path, "rb") as fh:
             head = fh.read(1 << 16)
     except OSError:
         return False
-    if b"\n" not in head:
-        os.remove(path)
-        return True
-    return False
+    if b"\n" in head:
+        return False
+    headers = [_header(params, outputs, quantity, warnings=True)]
+    try:
+        with open(_meta_path(path)) as fh:
+            meta = json.load(fh)
+        headers.append(_header(meta["bounds"], meta["outputs"], meta.get("quantity"), meta.get("warnings") is True))
+    except (OSError, ValueError, KeyError, TypeError):  # (no sidecar, or none of a study)
+        pass
+    for header in headers:
+        line = io.StringIO(newline="")
+        csv.writer(line).writerow(header)
+        if line.getvalue().encode().startswith(head):
+            os.remove(path)
+            return True
+    raise ModelError(
+        "path",
+        str(path),
+        "exists and is no study's CSV (its content does not begin a study's header); choose a new file to start a "
+        "study, or move that one away",
+    )
 
 
 def prepare_file(path, meta, design, params):
@@ -310,8 +329,8 @@ def prepare_file(path, meta, design, params):
         meta.pop("quantity", None)
     if old is not None and old.get("warnings") is not True:  # (the same: no warnings column)
         meta.pop("warnings", None)
-    if old is not None and "model_fingerprint" not in old:  # (a study of an earlier version: not recorded)
-        meta.pop("model_fingerprint", None)
+    if old is not None and "model_fingerprint" not in old and "model_file" in (old.get("evaluate_kwargs") or {}):
+        meta.pop("model_fingerprint", None)  # (a study of an earlier version ran it but did not record it)
     header = _header(params, meta["outputs"], meta.get("quantity"), meta.get("warnings") is True)
     if old is None:
         d = os.path.dirname(os.path.abspath(path))
@@ -335,11 +354,13 @@ def prepare_file(path, meta, design, params):
             "columns and design follow that order), to resume it (or choose a new file)",
         )
     if old.get("model_fingerprint") != meta.get("model_fingerprint"):
+        named = "model_file" in meta["evaluate_kwargs"]
+        was = old.get("model_fingerprint") or "none: evaluate was given no model"
         raise ModelError(
-            "model_file",
-            meta["evaluate_kwargs"].get("model_file"),
-            f"holds another model than when the study in {path} began (an edited file, or its CSV excitation): "
-            "a resume runs the same model; choose a new file to start a study",
+            "model_file" if named else "model",
+            meta["evaluate_kwargs"]["model_file"] if named else plain(f"fingerprint {meta.get('model_fingerprint')}"),
+            f"holds another model than when the study in {path} began (fingerprint {was}; an edited file, or its CSV "
+            "excitation): a resume runs the same model; choose a new file to start a study",
         )
     for key in RESUME_KEYS:
         if old.get(key) != meta.get(key):

@@ -16,13 +16,16 @@ otherwise; the warning is silenced here, the indices stay valid with their boots
 Infeasible samples: the cable must fit in the casing (``cable.d < casing.d_inner``). With the
 paper's bounds this always holds (max cable.d 3.3 mm < min casing.d_inner 3.4 mm). For other bounds
 the study *rejects* such samples (status ``infeasible``, reason recorded; their groups are left out of
-the Sobol indices).
+the Sobol indices), also when only one diameter is varied: it is compared with the model's value
+of the other (the constraints see the sample's values over the model's).
 """
 
 from __future__ import annotations
 
 import math
+import numbers
 import warnings
+from collections.abc import Iterable, Mapping
 
 import numpy as np
 
@@ -45,16 +48,21 @@ PAPER_BOUNDS = {
 }
 
 
+_NAMES = "parameter names must be dotted model keys such as 'casing.E'"
+
+
 def check_bounds(bounds: dict | None = None, model=None) -> dict[str, tuple[float, float]]:
     """Validated ``{dotted.key: (low, high)}`` (SI units of the key). Section 4.4.
 
-    ``None`` gives :data:`PAPER_BOUNDS`. Every key must be a numeric parameter of ``model`` (a Model,
-    a TOML path, or None for the built-in specimen; ``False`` skips the model checks) and a float key
-    of the schema whose allowed range holds both bounds. Raises ModelError for an unknown key, an
-    integer or text key, a bound outside the allowed range, non-finite bounds or ``low >= high``.
+    ``bounds`` is a dict or a sequence of ``(key, (low, high))`` pairs; ``None`` gives
+    :data:`PAPER_BOUNDS`. Every key must be a numeric parameter of ``model`` (a Model, a TOML path,
+    or None for the built-in specimen; ``False`` skips the model checks) and a float key of the
+    schema whose allowed range holds both bounds. Raises ModelError for an unknown key, a key given
+    twice, an integer or text key, bounds that are not two real numbers (text such as ``"2e9"``,
+    True/False), a bound outside the allowed range, non-finite bounds or ``low >= high``.
     """
     paper = bounds is None
-    bounds = dict(PAPER_BOUNDS if paper else bounds)
+    bounds = _pairs(PAPER_BOUNDS if paper else bounds)
     if not bounds:
         raise ModelError("bounds", bounds, "must name at least one parameter")
     known = None
@@ -66,7 +74,7 @@ def check_bounds(bounds: dict | None = None, model=None) -> dict[str, tuple[floa
     out = {}
     for key, b in bounds.items():
         if not isinstance(key, str):
-            raise ModelError("bounds", key, "parameter names must be dotted model keys such as 'casing.E'")
+            raise ModelError("bounds", key, _NAMES)
         if known is not None and key not in known:
             import difflib
 
@@ -80,9 +88,12 @@ def check_bounds(bounds: dict | None = None, model=None) -> dict[str, tuple[floa
                 + ", ".join(sorted(known)),
             )
         try:
-            lo, hi = (float(v) for v in b)
-        except (TypeError, ValueError):
-            raise ModelError(f"bounds.{key}", b, "must be a pair (low, high) of numbers") from None
+            pair = tuple(b)
+        except TypeError:
+            pair = ()
+        if len(pair) != 2 or not all(isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_)) for v in pair):
+            raise ModelError(f"bounds.{key}", b, "must be a pair (low, high) of numbers (not text or True/False)")
+        lo, hi = (float(v) for v in pair)
         if not (math.isfinite(lo) and math.isfinite(hi)):
             raise ModelError(f"bounds.{key}", b, "must be finite numbers")
         if lo >= hi:
@@ -90,6 +101,26 @@ def check_bounds(bounds: dict | None = None, model=None) -> dict[str, tuple[floa
         out[key] = (lo, hi)
     if known is not None:
         _check_schema(m, out)
+    return out
+
+
+def _pairs(bounds):
+    """``bounds`` as a dict: a mapping, or a sequence of (key, (low, high)) pairs that names each
+    key once (a key given twice is refused: a dict would keep only its last bounds)."""
+    if isinstance(bounds, Mapping):
+        return dict(bounds)
+    if isinstance(bounds, (str, bytes)) or not isinstance(bounds, Iterable):
+        raise ModelError("bounds", bounds, "must be a dict {key: (low, high)} or a sequence of (key, (low, high))")
+    out = {}
+    for item in bounds:
+        if not (isinstance(item, (tuple, list)) and len(item) == 2):
+            raise ModelError("bounds", item, "must be a dict {key: (low, high)} or a sequence of (key, (low, high))")
+        key, b = item
+        if not isinstance(key, str):
+            raise ModelError("bounds", key, _NAMES)
+        if key in out:
+            raise ModelError(f"bounds.{key}", b, f"names {key!r} again (first {out[key]!r}); give each key once")
+        out[key] = b
     return out
 
 
@@ -168,8 +199,9 @@ def read_vary_file(path) -> dict[str, tuple[float, float]]:
 
 def gap_constraint(params):
     """Feasibility of a sample (Section 4.4; the radial gap of Eqs. 30-31 must be positive):
-    ``None`` if ``cable.d < casing.d_inner`` (both in m), else the reason. Only checked when both
-    diameters are sampled; the model's own validation catches the rest at evaluation."""
+    ``None`` if ``cable.d < casing.d_inner`` (both in m), else the reason. ``params`` are the
+    sample's values over the model's (:func:`~.study.run_study`), so that a diameter varied alone is
+    compared with the model's value of the other; checked when ``params`` hold both."""
     if "cable.d" in params and "casing.d_inner" in params and params["cable.d"] >= params["casing.d_inner"]:
         return (
             f"infeasible: cable.d = {params['cable.d']!r} m is not below casing.d_inner = "

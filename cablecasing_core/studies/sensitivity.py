@@ -93,7 +93,16 @@ def sobol_indices(
         results = load_results(results)
     groups = complete_groups(results)
     if groups.size < 4:
-        raise ModelError("results", f"{groups.size} complete groups", "Sobol indices need at least 4 complete groups")
+        bad = [
+            f"{int(np.sum(results.status == k))} {k}" for k in ("failed", "infeasible") if (results.status == k).any()
+        ]
+        why = f"; of the {len(results)} runs, {' and '.join(bad)} (their errors say why)" if bad else ""
+        raise ModelError(
+            "results",
+            f"{groups.size} complete groups",
+            f"Sobol indices need at least 4 complete groups (base points whose {results.group_size} runs are all "
+            f"ok){why}",
+        )
     d = len(results.parameters)
     take = group_rows(results, groups).ravel()
     problem = {"num_vars": d, "names": list(results.parameters), "bounds": [[0.0, 1.0]] * d}

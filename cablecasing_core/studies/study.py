@@ -15,10 +15,11 @@ and every row goes to a resumable CSV (:mod:`.results_store`).
   :func:`~.evaluators.default_evaluate` is the time-domain evaluation (engine run, octave RMS of
   ``casing.B.Fz``). A function with the attribute ``placeholder = True`` is refused before starting.
 * **Results**: an append-only CSV, one row per run, flushed and fsynced per row: ``index, status,
-  <parameters>, <outputs>, warnings, elapsed_s, error``. Status is ``ok``, ``failed`` (the exception
-  is in ``error``; the study goes on) or ``infeasible`` (a constraint rejected the sample before
-  evaluation; the reason is in ``error``); ``warnings`` holds what the run warned. A sidecar
-  ``<csv>.meta.json`` holds the seed, bounds, size, outputs and evaluate; a restart with the same
+  <parameters>, <outputs>, warnings, elapsed_s, error``. Status is ``ok``, ``failed`` (the exception,
+  or the output that was not a finite number, is in ``error``; the study goes on) or ``infeasible``
+  (a constraint rejected the sample before evaluation; the reason is in ``error``); ``warnings``
+  holds what the run warned. A sidecar ``<csv>.meta.json`` holds the seed, bounds, size, outputs,
+  evaluate and the fingerprint of the model evaluate runs; a restart with the same
   settings reads the CSV and skips every index already present (a failed sample is *not* retried),
   so no sample is repeated; a restart with more samples continues the sequence and runs only the new
   ones. A torn last line (process killed mid-write) is cut off and that sample is run again.
@@ -26,10 +27,12 @@ and every row goes to a resumable CSV (:mod:`.results_store`).
 
 from __future__ import annotations
 
+import inspect
 import json
 import os
+import warnings
 
-from ..errors import ModelError
+from ..errors import ModelError, ModelWarning
 from ..files import output_folder
 from ..model.limits import MAX_STUDY_SAMPLES
 from ..model.validators import integer
@@ -104,10 +107,17 @@ def run_study(
     max_samples : int, optional
         Evaluate at most this many new samples in this call (the rest on a later resume).
     constraints : sequence of callables
-        ``constraint(params) -> None or reason``; a rejected sample is written as ``infeasible``
-        without evaluation. Default: the cable must fit in the casing (:func:`gap_constraint`).
+        ``constraint(params) -> None or reason``, ``params`` the sample's values over the model's
+        other numeric parameters (``Model.parameters()``; the sample's alone with ``model=False``); a
+        rejected sample is written as ``infeasible`` without evaluation (a warning when most of
+        those to run are). Default: the cable must fit in the casing (:func:`gap_constraint`).
     model : Model, str, None or False
-        The model whose keys ``bounds`` must name (None: built-in specimen; False: no check).
+        The model of the study: ``bounds`` must name its keys, the constraints see its values, and
+        evaluate runs it: a TOML path or a specimen's name is given to evaluate as ``model_file``
+        (stored in the sidecar), a Model as ``model`` (an evaluate without that parameter is
+        refused), and its fingerprint is recorded (a resume must run the same model). None: the
+        model of ``evaluate_kwargs["model_file"]``, else the built-in specimen (evaluate gets no
+        model); False: no model checks.
     progress : bool
         Show a tqdm bar (samples done, rate, time left).
     max_in_flight : int, optional
@@ -122,7 +132,13 @@ def run_study(
     StudyResults
         Everything in the file after this call.
     """
-    bounds = check_bounds(bounds, model=model)
+    if not (isinstance(evaluate, str) or callable(evaluate)):
+        raise ModelError("evaluate", evaluate, "must be a callable or a dotted import path 'package.module:function'")
+    fn = resolve_evaluate(evaluate)
+    evaluate_kwargs = dict(evaluate_kwargs or {})
+    the_model, stored, passed, fingerprint = _study_model(evaluate, fn, model, evaluate_kwargs)
+    evaluate_kwargs.update(stored)
+    bounds = check_bounds(bounds, model=False if the_model is None else the_model)
     n = integer("n_samples", n_samples, 2, MAX_STUDY_SAMPLES, " (model/limits.py: its design and CSV would not fit)")
     seed = integer("seed", seed, 0)
     outputs = tuple(DEFAULT_OUTPUTS if outputs is None else outputs)
@@ -139,14 +155,10 @@ def run_study(
         raise ModelError("quantity", quantity, "must be a dict with the strings 'name' and 'unit' (and 'what')")
     if max_samples is not None:
         max_samples = integer("max_samples", max_samples, 0)
-    evaluate_kwargs = dict(evaluate_kwargs or {})
     try:
         json.dumps(evaluate_kwargs)
     except TypeError as exc:
         raise ModelError("evaluate_kwargs", evaluate_kwargs, f"must be JSON-serialisable ({exc})") from None
-    if not (isinstance(evaluate, str) or callable(evaluate)):
-        raise ModelError("evaluate", evaluate, "must be a callable or a dotted import path 'package.module:function'")
-    fn = resolve_evaluate(evaluate)
     if getattr(fn, "placeholder", False):  # fail early on a bad path or a placeholder
         fn({})
     if not (scheduler is None or isinstance(scheduler, str) or type(scheduler).__name__ == "Client"):
@@ -158,14 +170,14 @@ def run_study(
     constraints = tuple(constraints or ())
     check = getattr(fn, "check_settings", None)  # settings that make every sample fail, refused first
     if check is not None:
-        check(evaluate_kwargs, model=model)
+        check(evaluate_kwargs, model=the_model)
     path = str(path)
     params = tuple(bounds)
     with Workers(scheduler, n_workers) as workers:  # (an unreachable scheduler is refused before any file)
         folder, name = os.path.split(os.path.abspath(path))
         output_folder("path", folder, name)
         with study_lock(path):
-            recover_header(path)
+            recover_header(path, params, outputs, quantity)
             # (the design, the file prepared or resumed, the samples not yet done run)
             n_base = base_points(bounds, n)
             old = read_meta(path)
@@ -187,25 +199,33 @@ def run_study(
                 "sampler": SAMPLER,
                 "warnings": True,  # (the CSV has the warnings column; prepare_file drops it for an older study)
             }
-            if "model_file" in evaluate_kwargs:  # (what the file holds: a resume must run the same model)
-                from ..model import load_model
-
-                meta["model_fingerprint"] = load_model(evaluate_kwargs["model_file"]).fingerprint()
+            if fingerprint is not None:  # (the model evaluate runs: a resume must run the same)
+                meta["model_fingerprint"] = fingerprint
             done = prepare_file(path, meta, design, params)
 
             writer = ResultsWriter(path, params, outputs, design, warnings=meta.get("warnings") is True)
+            fixed = {} if the_model is None else the_model.parameters()  # (what the constraints see besides)
             try:
-                todo = []
+                todo, rejected = [], []
                 for i in range(n):
                     if i in done:
                         continue
                     p = {k: float(v) for k, v in zip(params, design[i])}
-                    reason = next((r for r in (c(p) for c in constraints) if r), None)
+                    reason = next((r for r in (c({**fixed, **p}) for c in constraints) if r), None)
                     if reason:
                         writer.write({"index": i, "status": "infeasible", "error": reason, "elapsed_s": 0.0})
                         done.add(i)
+                        rejected.append((i, reason))
                         continue
                     todo.append((i, p))
+                if 2 * len(rejected) > len(rejected) + len(todo):
+                    warnings.warn(
+                        f"{len(rejected)} of the {len(rejected) + len(todo)} samples to run are infeasible (sample "
+                        f"{rejected[0][0]}: {rejected[0][1]}): the bounds put most of the box outside the constraints; "
+                        "narrow them",
+                        ModelWarning,
+                        stacklevel=2,
+                    )
                 if max_samples is not None:
                     todo = todo[:max_samples]
                 from tqdm.auto import tqdm
@@ -223,7 +243,7 @@ def run_study(
                     execute(
                         todo,
                         evaluate,
-                        evaluate_kwargs,
+                        {**evaluate_kwargs, **passed},
                         outputs,
                         writer,
                         bar,
@@ -237,3 +257,54 @@ def run_study(
             finally:
                 writer.close()
     return load_results(path)
+
+
+def _study_model(evaluate, fn, model, evaluate_kwargs):
+    """The model of a study: ``(model, stored, passed, fingerprint)``: the Model the bounds are
+    checked against and whose values the constraints see besides the sample's (None with
+    ``model=False``), the keyword arguments of evaluate that give it (``stored`` in the sidecar's
+    evaluate_kwargs, or only ``passed``) and its fingerprint when evaluate runs it (None otherwise).
+
+    A ``model_file`` of ``evaluate_kwargs`` is the study's model (``model``, if given too, must be the
+    same). Else a given ``model`` is given to evaluate, a path or a specimen's name as ``model_file``
+    (a path made absolute: workers run in any folder), a Model as ``model``; an evaluate without that
+    parameter is refused (it would run a model other than the one checked). With ``model=None``
+    evaluate gets nothing and the bounds are checked against the built-in specimen."""
+    from pathlib import Path
+
+    from ..model import Model, load_model
+    from ..model.load import specimen_names
+
+    if not (model is None or model is False or isinstance(model, (Model, str, os.PathLike))):
+        raise ModelError("model", model, "must be a Model, a model TOML path, a specimen's name, None or False")
+    if "model_file" in evaluate_kwargs:
+        runs = load_model(evaluate_kwargs["model_file"])
+        given = model if isinstance(model, Model) or model in (None, False) else load_model(model)
+        if isinstance(given, Model) and given.fingerprint() != runs.fingerprint():
+            raise ModelError(
+                "model",
+                given.source,
+                f"must be the model of evaluate_kwargs['model_file'] = {evaluate_kwargs['model_file']!r} (which "
+                "evaluate runs), or None",
+            )
+        return (None if model is False else runs), {}, {}, runs.fingerprint()
+    if model is None or model is False:
+        return (None if model is False else load_model(None)), {}, {}, None
+    name = "model" if isinstance(model, Model) else "model_file"
+    try:
+        takes = inspect.signature(fn).parameters.get(name)
+    except (TypeError, ValueError):  # (no signature to read)
+        takes = None
+    if takes is None or takes.kind not in (takes.POSITIONAL_OR_KEYWORD, takes.KEYWORD_ONLY):
+        raise ModelError(
+            "model",
+            model.source if isinstance(model, Model) else str(model),
+            f"is given, but evaluate {spec_name(evaluate)} has no parameter {name!r} to run it (a "
+            f"{type(model).__name__} is given as {name}=); give an evaluate that takes it, or model=None (the bounds "
+            "checked against the built-in specimen) or False (against no model)",
+        )
+    if isinstance(model, Model):
+        return model, {}, {"model": model}, model.fingerprint()
+    m = load_model(model)
+    file = model if isinstance(model, str) and model in specimen_names() else str(Path(model).resolve())
+    return m, {"model_file": file}, {}, m.fingerprint()

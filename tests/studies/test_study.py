@@ -17,6 +17,7 @@ from cablecasing_core.studies import (
     plot_correlations,
     run_study,
     sobol_design,
+    sobol_indices,
 )
 
 ANALYTIC = "cablecasing_core.studies.evaluators:analytic_evaluate"
@@ -386,3 +387,148 @@ def test_a_study_whose_model_file_changed_does_not_resume_and_the_fingerprint_fo
         (tmp_path / folder / "motion.csv").write_text(f"time_s,u_m\n0.0,0.0\n0.01,{amplitude}\n0.02,0.0\n")
         prints.append(cc.model_from_dict(data, base_dir=tmp_path / folder).fingerprint())
     assert prints[0] == prints[1] != prints[2]
+
+
+def test_a_study_of_a_given_model_runs_that_model(tmp_path):
+    """``model=`` names the model the study runs, not only the one its bounds are checked against:
+    the rows of a study of the installed specimen equal default_evaluate on the installed specimen
+    with the rows' parameters (exact: the same computation in this process), and the sidecar holds
+    its name and fingerprint (a resume must run the same model)."""
+    import cablecasing_core as cc
+
+    bounds = {"contact.friction": (0.05, 0.2)}
+    res = run_study(
+        tmp_path / "s.csv",
+        bounds=bounds,
+        n_samples=2,
+        model="installed",
+        evaluate_kwargs={"duration": 0.15},
+        scheduler="serial",
+        progress=False,
+        max_samples=2,
+    )
+    assert list(res.status) == ["ok", "ok"], res.error
+    for x, y in zip(res.X, res.Y):
+        ref = evaluators.default_evaluate(dict(zip(res.parameters, x.tolist())), duration=0.15, model_file="installed")
+        assert y.tolist() == [ref[o] for o in res.outputs]
+    meta = json.loads((tmp_path / "s.csv.meta.json").read_text())
+    assert meta["evaluate_kwargs"]["model_file"] == "installed"
+    assert meta["model_fingerprint"] == cc.load_model("installed").fingerprint()
+
+
+def test_a_given_model_reaches_a_custom_evaluate_or_is_refused(tmp_path, monkeypatch):
+    """A Model given to a custom evaluate is passed as ``model=`` (and its fingerprint recorded: a
+    resume with another model is refused); a path as ``model_file=`` (absolute); an evaluate without
+    that parameter is refused before anything is written (it would run another model than the one
+    checked)."""
+    import cablecasing_core as cc
+
+    seen = []
+
+    def with_model(overrides, model=None):
+        seen.append(model)
+        return {"E": float(model.data["casing"]["E"])}
+
+    model = cc.load_model().with_overrides({"casing.E": 3e9})
+    bounds = {"contact.friction": (0.05, 0.2)}
+    res = _run(tmp_path / "s.csv", evaluate=with_model, bounds=bounds, model=model, outputs=["E"], n_samples=6)
+    assert res.ok.all() and np.all(res.Y == 3e9) and all(m is model for m in seen)
+    other = model.with_overrides({"casing.E": 4e9})
+    with pytest.raises(ModelError, match="holds another model than when the study") as e:
+        _run(tmp_path / "s.csv", evaluate=with_model, bounds=bounds, model=other, outputs=["E"], n_samples=9)
+    assert e.value.key == "model"
+
+    files = []
+
+    def with_file(overrides, model_file=None):
+        files.append(model_file)
+        return evaluators.analytic_evaluate(overrides)
+
+    (tmp_path / "m.toml").write_text(cc.load_model().to_toml())
+    monkeypatch.chdir(tmp_path)  # (a relative path: evaluate gets it absolute, as dask workers need it)
+    _run(tmp_path / "f.csv", evaluate=with_file, bounds=bounds, model="m.toml", n_samples=6)
+    assert files and set(files) == {str(tmp_path / "m.toml")}
+
+    with pytest.raises(ModelError, match="has no parameter 'model_file' to run it") as e:
+        _run(tmp_path / "n.csv", bounds=bounds, model="installed")  # analytic_evaluate takes no model
+    assert e.value.key == "model" and not (tmp_path / "n.csv").exists()
+
+
+def test_non_finite_outputs_are_failed_runs_that_say_which(tmp_path):
+    """An evaluate that returns NaN or inf (a diverged run) gives a failed row naming the output and
+    the value: an ok row's outputs are all finite, so correlations and Sobol indices use them all."""
+
+    def diverging(overrides):
+        out = evaluators.analytic_evaluate(overrides)
+        fr = overrides["contact.friction"]
+        out["oct5"] = float("nan") if fr > 0.17 else float("-inf") if fr < 0.07 else out["oct5"]
+        return out
+
+    res = _run(tmp_path / "s.csv", evaluate=diverging, n_samples=32)
+    fr = res.X[:, res.parameters.index("contact.friction")]
+    np.testing.assert_array_equal(res.status == "failed", (fr > 0.17) | (fr < 0.07))
+    assert 0 < (res.status == "failed").sum() < len(res)
+    for f, err in zip(fr[~res.ok], res.error[~res.ok]):
+        assert err == (
+            "ValueError: evaluate returned nan for oct5" if f > 0.17 else "ValueError: evaluate returned -inf for oct5"
+        )
+    assert np.all(np.isfinite(res.Y[res.ok])) and np.all(np.isnan(res.Y[~res.ok]))
+    n_failed = int((res.status == "failed").sum())
+    with pytest.raises(ModelError, match=rf"of the 32 runs, {n_failed} failed \(their errors say why\)"):
+        sobol_indices(res)  # (4 base points, some incomplete: the message says why)
+
+
+def test_a_diameter_varied_alone_is_compared_with_the_models_other_one(tmp_path):
+    """Varying cable.d past the model's fixed casing.d_inner (the built-in's, read here from the model)
+    rejects those samples as infeasible without evaluating them, and says so when most of them are;
+    with model=False there is no model value to compare with."""
+    import warnings
+
+    import cablecasing_core as cc
+    from cablecasing_core.errors import ModelWarning
+
+    d_inner = cc.load_model().data["casing"]["d_inner"]
+    calls = []
+
+    def ev(overrides):
+        calls.append(overrides)
+        return evaluators.analytic_evaluate(overrides)
+
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        res = _run(tmp_path / "s.csv", evaluate=ev, bounds={"cable.d": (0.003, 0.01)}, n_samples=30)
+    bad = res.X[:, 0] >= d_inner
+    np.testing.assert_array_equal(res.status == "infeasible", bad)
+    assert bad.sum() > len(res) / 2 and len(calls) == len(res) - bad.sum() and res.ok[~bad].all()
+    assert all(
+        e.startswith("infeasible: cable.d = ") and f"casing.d_inner = {d_inner!r} m" in e for e in res.error[bad]
+    )
+    most = [str(w.message) for w in said if w.category is ModelWarning]
+    assert len(most) == 1 and most[0].startswith(f"{bad.sum()} of the {len(res)} samples to run are infeasible")
+    res = _run(tmp_path / "f.csv", evaluate=ev, bounds={"cable.d": (0.003, 0.01)}, n_samples=30, model=False)
+    assert res.ok.all()
+
+
+@pytest.mark.parametrize(
+    "bounds, fragment",
+    [
+        ([("casing.E", (2e9, 1e10)), ("casing.E", (3e9, 4e9))], "names 'casing.E' again (first (2000000000.0"),
+        ({"casing.E": ("2e9", 1e10)}, "must be a pair (low, high) of numbers (not text or True/False)"),
+        ({"contact.friction": (False, 0.2)}, "must be a pair (low, high) of numbers (not text or True/False)"),
+        ({"contact.friction": (0.05,)}, "must be a pair (low, high) of numbers"),
+    ],
+)
+def test_check_bounds_refuses_a_key_twice_and_bounds_that_are_not_numbers(bounds, fragment):
+    from cablecasing_core.studies import check_bounds
+
+    with pytest.raises(ModelError) as e:
+        check_bounds(bounds)
+    key = next(iter(dict(bounds)))
+    assert e.value.key == f"bounds.{key}" and fragment in str(e.value), str(e.value)
+
+
+def test_check_bounds_takes_a_sequence_of_pairs_and_numpy_numbers():
+    from cablecasing_core.studies import check_bounds
+
+    pairs = [("casing.E", (np.float64(2e9), np.int64(10**10))), ("contact.friction", [0.05, 0.2])]
+    assert check_bounds(pairs) == {"casing.E": (2e9, 1e10), "contact.friction": (0.05, 0.2)}

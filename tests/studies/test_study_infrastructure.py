@@ -63,6 +63,69 @@ def test_a_torn_header_is_recovered_in_one_run(tmp_path):
     p.write_text("index,status,contact.fri")  # a header torn by a kill (as versions before issue 26 wrote it)
     _same(_run(p, scheduler="serial"), ref)
     assert [i for i, _ in _rows(p)] == [str(i) for i in range(8)]
+    q = tmp_path / "q.csv"  # (torn before its sidecar was written: the beginning of this study's header)
+    q.write_text("index,status,contact.friction,casing.E,oct1,oc")
+    _same(_run(q, scheduler="serial"), ref)
+
+
+def test_a_file_without_a_newline_that_is_no_study_is_refused_and_kept(tmp_path):
+    """A file at the study's path that has no newline but is not the beginning of a study's header
+    (a user's file) is no torn header: it is refused, naming the path, and left byte for byte."""
+    p = tmp_path / "s.csv"
+    text = b"x,y;1,2;3,4 -- a user's file without a final newline"
+    p.write_bytes(text)
+    with pytest.raises(ModelError, match="exists and is no study's CSV") as e:
+        _run(p, scheduler="serial")
+    assert e.value.key == "path" and e.value.value == str(p)
+    assert p.read_bytes() == text and not (tmp_path / "s.csv.meta.json").exists()
+
+
+def test_a_ctrl_c_while_the_local_cluster_starts_stops_the_run_after_the_start(monkeypatch):
+    """A Ctrl-C (SIGINT) while the workers start was discarded (it was ignored then, so that the
+    workers inherit ignoring it) and the study ran to its end. Now it is blocked meanwhile (what the
+    threads and processes started then inherit: a process started from a thread of the start
+    window has SIGINT and SIGHUP blocked) and delivered after the start: a KeyboardInterrupt once
+    the start returns, the cluster it made closed, the handler before restored."""
+    import os
+    import signal
+    import threading
+
+    from cablecasing_core.studies import executor
+
+    events, child = [], {}
+
+    class Dummy:
+        def close(self):
+            events.append("closed")
+
+    def starting(**kwargs):  # a LocalCluster that receives a Ctrl-C while it starts its workers
+        def spawn():  # (what dask's event loop thread does: start a worker process)
+            out = subprocess.run(
+                [
+                    sys.executable,
+                    "-c",
+                    "import signal; print(*sorted(int(s) for s in signal.pthread_sigmask(signal.SIG_BLOCK, [])))",
+                ],
+                capture_output=True,
+                text=True,
+            ).stdout
+            child["blocked"] = out.strip()
+
+        t = threading.Thread(target=spawn)
+        t.start()
+        t.join()
+        os.kill(os.getpid(), signal.SIGINT)
+        events.append("started")
+        return Dummy()
+
+    before = signal.getsignal(signal.SIGINT)
+    with pytest.raises(KeyboardInterrupt):
+        executor._cluster_deaf_to_ctrl_c(starting, 1)
+    assert events == ["started", "closed"]
+    assert signal.getsignal(signal.SIGINT) is before
+    assert signal.SIGINT not in signal.pthread_sigmask(signal.SIG_BLOCK, [])
+    blocked = {int(n) for n in child["blocked"].split()}
+    assert {signal.SIGINT, signal.SIGHUP} <= blocked, child
 
 
 @pytest.mark.slow  # waits for the connection timeout (10 s)
@@ -198,6 +261,40 @@ def test_stalled_workers_end_with_a_message_within_the_timeout(tmp_path):
     assert _rows(p) == [] and load_results(p).index.size == 0
 
 
+def _without_heartbeat_race(text):
+    """``text`` without dask's own log of a worker whose heartbeat found the scheduler already gone
+    while the cluster closed ("Failed to communicate with scheduler during heartbeat." and its
+    traceback, which ends at the exception's line: the next line that is not indented): a race of
+    dask's shutdown, about one run in 25 with or without this project's handling of the signals."""
+    lines, out, skip = text.splitlines(keepends=True), [], False
+    for line in lines:
+        if "Failed to communicate with scheduler during heartbeat" in line:
+            skip = True
+            continue
+        if skip:
+            if line.startswith("Traceback") or line.startswith((" ", "\t")) or not line.strip():
+                continue
+            skip = False  # (the exception's own line closes the traceback)
+            continue
+        out.append(line)
+    return "".join(out)
+
+
+@pytest.mark.parametrize(
+    "text,kept",
+    [
+        (
+            "a\n2026 - distributed.worker - ERROR - Failed to communicate with scheduler during heartbeat.\n"
+            "Traceback (most recent call last):\n  File x\n    raise\nCommClosedError: in <TCP>\nb\n",
+            "a\nb\n",
+        ),
+        ("a\nTraceback (most recent call last):\n  File x\nKeyboardInterrupt\n", None),
+    ],
+)
+def test_only_the_heartbeat_race_is_left_out_of_a_stopped_studys_output(text, kept):
+    assert _without_heartbeat_race(text) == (text if kept is None else kept)
+
+
 @pytest.mark.parametrize("name, code", [("SIGINT", 130), ("SIGHUP", 129)])
 def test_ctrl_c_on_a_study_with_local_workers_says_what_was_kept_and_nothing_else(tmp_path, name, code):
     """Ctrl-C at a terminal (or its closing, SIGHUP) reaches the whole process group: the CLI says in
@@ -225,7 +322,7 @@ def test_ctrl_c_on_a_study_with_local_workers_says_what_was_kept_and_nothing_els
     ):
         time.sleep(0.5)
     os.killpg(proc.pid, getattr(signal, name))
-    text = proc.communicate(timeout=60)[0]
+    text = _without_heartbeat_race(proc.communicate(timeout=60)[0])
     assert proc.returncode == code, text[-2000:]
     assert "Traceback" not in text and "KeyboardInterrupt" not in text, text[-2000:]
     assert "still alive" not in text, text[-2000:]  # (a worker killed after 4 s: it was interrupted first)
