@@ -76,7 +76,8 @@ def after_skip(time: np.ndarray, skip: float, start: float = 0.0) -> np.ndarray:
 @dataclass
 class Records:
     """A time record: ``time`` (s, n), ``columns`` {name: (n,) array}, ``units`` {name: unit},
-    ``source`` (file or run), ``extra`` (further arrays of an NPZ file)."""
+    ``source`` (file or run), ``extra`` (further arrays of an NPZ file; ``passband_hz``, see
+    :attr:`passband_hz`)."""
 
     time: np.ndarray
     columns: dict
@@ -94,6 +95,12 @@ class Records:
         step, or to what a text file of 9 significant digits keeps of the times (a CSV of other
         tools, and of this one before its time column had 15: the steps of 1/30000 s then differ by
         up to 3e-5 of themselves)."""
+        if self.time.size < 2:
+            raise ModelError(
+                "file",
+                self.source or "record",
+                f"holds {self.time.size} row(s): a record needs at least two samples for its time step",
+            )
         d = np.diff(self.time)
         tol = max(1e-6 * d.mean(), 1.1e-8 * np.abs(self.time).max()) if d.size else 0.0
         if d.size == 0 or not (np.all(d > 0) and np.ptp(d) <= tol):
@@ -103,6 +110,17 @@ class Records:
                 "must be evenly sampled: its time (the first column) must increase in equal steps, rows in time order",
             )
         return 1.0 / float(d.mean())
+
+    @property
+    def passband_hz(self) -> float:
+        """The frequency (Hz) up to which the record holds its content unaltered: ``extra["passband_hz"]``
+        where the record says so (a run's record decimated by its anti-alias filter,
+        :func:`~cablecasing_core.timedomain.simulation.decimate`: flat within 0.01 dB up to 0.7 of
+        its Nyquist frequency, less above), else the Nyquist frequency fs/2."""
+        nyquist = self.fs / 2
+        if "passband_hz" not in self.extra:
+            return nyquist
+        return min(float(np.asarray(self.extra["passband_hz"])), nyquist)
 
     def resolve(self, name: str, key: str = "--column") -> str:
         """The column called ``name``, its header form ``name [unit]`` or ``name_unit``; a

@@ -96,7 +96,7 @@ def _no_line(path, col, fs, n, fmin, fmax, df=None):
 def cmd_spectrum(args):
     import warnings
 
-    from ..errors import ModelError
+    from ..errors import ModelError, renamed
     from ..nvh import apparent_mass, level_unit, psd, reference, transmissibility
     from ..nvh.spectra import squared
     from ..nvh.transfer import MIN_AVERAGES
@@ -114,6 +114,10 @@ def cmd_spectrum(args):
     fs, n = rec.fs, int(keep.sum())
     if fs / 2 <= args.fmin:
         raise _no_line(args.record, rec.resolve(columns[0]), fs, n, args.fmin, args.fmax)
+    if rec.passband_hz <= args.fmin:
+        raise ModelError(
+            "--fmin", args.fmin, f"must lie below the record's passband: {_passband_note(rec, args.record)}"
+        )
     if args.kind == "psd":
         with warnings.catch_warnings(record=True) as said:  # (said after the range is checked)
             warnings.simplefilter("always")
@@ -129,7 +133,8 @@ def cmd_spectrum(args):
                 )
                 for c in columns
             ]
-        sel = (res[0].f_hz >= args.fmin) & (res[0].f_hz <= args.fmax) & (res[0].f_hz > 0)
+        top = min(args.fmax, rec.passband_hz)
+        sel = (res[0].f_hz >= args.fmin) & (res[0].f_hz <= top) & (res[0].f_hz > 0)
         if not sel.any():
             raise _no_line(args.record, res[0].name, fs, n, args.fmin, args.fmax, res[0].df)
         for w in said:
@@ -137,19 +142,23 @@ def cmd_spectrum(args):
         refs = [reference(r.unit, args.ref) if r.unit or args.ref else 1.0 for r in res]  # (each its unit's)
         names = [f"{r.name} PSD [{squared(r.unit)}/Hz]" for r in res]
         names += [f"{r.name} level [{level_unit(ref, r.unit, power=True)}]" for r, ref in zip(res, refs)]
-        table = np.column_stack([res[0].f_hz] + [r.density for r in res] + [r.level_db(args.ref) for r in res])[sel]
-        lo, hi = res[0].covered(args.fmin, args.fmax)
+        table = np.column_stack([res[0].f_hz] + [r.density for r in res] + [r.level_db(f) for r, f in zip(res, refs)])
+        lo, hi = res[0].covered(args.fmin, top)
         first, last = res[0].f_hz[sel][[0, -1]]
         print(
             f"# {args.record}: PSD (Welch, Hann, 50 % overlap), df = {res[0].df:.4g} Hz (lines {first:.4g}-{last:.4g} "
             f"Hz written), {res[0].n_averages} averages, after {args.skip:g} s"
         )
+        if top < args.fmax and rec.passband_hz < fs / 2:
+            print(f"# {_passband_note(rec, args.record)}: lines and RMS end there")
         for r in res:
             rms = np.sqrt(r.mean_square(lo, hi))
             print(
                 f"# {r.name}: RMS {rms:.6g} {r.unit} in {lo:.4g}-{hi:.4g} Hz (the PSD integrated over its lines, each "
-                "df wide, split at the edges; the band levels of 'bands' over the same range add up to it)"
+                "df wide, split at the edges, from 2 df: lines below hold only part of a tone's power; the band "
+                "levels of 'bands' over the same range add up to it)"
             )
+        table = table[sel]
     else:
         fn = apparent_mass if args.kind == "apparent-mass" else transmissibility
         inp = args.input or ("casing.A.az" if args.kind == "apparent-mass" else "casing.A.Fz")
@@ -157,7 +166,8 @@ def cmd_spectrum(args):
         for c in columns:
             _signal(rec, args.record, c, keep)
         seg = _nperseg(rec, args, n, averages=MIN_AVERAGES)
-        res = [fn(rec, inp, c, args.estimator, args.skip, nperseg=seg) for c in columns]
+        with renamed({"input": "--input", "output": "--column", "input/output": "--input/--column"}):
+            res = [fn(rec, inp, c, args.estimator, args.skip, nperseg=seg) for c in columns]
         sel = (res[0].f_hz >= args.fmin) & (res[0].f_hz <= args.fmax) & (res[0].f_hz > 0)
         if not sel.any():
             raise _no_line(args.record, res[0].output, fs, n, args.fmin, args.fmax, res[0].f_hz[1])
@@ -190,6 +200,14 @@ def cmd_spectrum(args):
             plot_transfer(res[0], args.plot, log_frequency=not args.linear_frequency, f_range=f_range)
         print(f"# wrote {args.plot}")
     return 0
+
+
+def _passband_note(rec, path):
+    """What a decimated record's passband (``Records.passband_hz``) is, for a note or an error."""
+    return (
+        f"{path} was decimated to dt = {1 / rec.fs:.4g} s: its anti-alias filter is flat (0.01 dB) up to "
+        f"{rec.passband_hz:.4g} Hz, 0.7 of its Nyquist frequency {rec.fs / 2:.4g} Hz, and attenuates above"
+    )
 
 
 def check_frequency_range(fmin, fmax):
@@ -261,6 +279,20 @@ def cmd_bands(args):
             f"below every {args.kind} band (the lowest ends at {band_set.upper[0]:.4g} Hz); the bands need dt <= "
             f"{0.5 / band_set.upper[0]:.4g} s",
         )
+    passband = rec.passband_hz
+    if passband < rec.fs / 2:  # a decimated record: bands beyond its passband as bands beyond Nyquist
+        k = int(np.sum(band_set.upper <= passband))  # (the bands go up in frequency)
+        if k == 0:
+            raise ModelError(
+                "--column",
+                col,
+                f"has no {args.kind} band within its passband: {_passband_note(rec, args.record)}; the lowest "
+                f"band ends at {band_set.upper[0]:.4g} Hz (write the record with an output interval <= "
+                f"{0.35 / band_set.upper[0]:.4g} s)",
+            )
+        if k < len(band_set.labels):
+            print(f"# {_passband_note(rec, args.record)}: the bands above it are left out")
+        band_set = type(band_set)(band_set.lower[:k], band_set.upper[:k], band_set.labels[:k], band_set.nominal[:k])
     bands = octave_rms(x, rec.fs, band_set, beyond_nyquist="drop", name=f"{col} in {args.record} (after --skip)")
     level = bands.level_db(ref)
     total = float(np.sqrt(np.sum(bands.mean_square)))
@@ -312,9 +344,10 @@ def add_parser(sub):
         "--resolution",
         type=float,
         default=None,
-        help="frequency resolution, Hz (a power of two of samples per segment; default for the PSD: the first "
-        "line at or below --fmin, with at least 7 averages, else a warning names the first line; for the transfer "
-        "kinds 1 Hz, at most an eighth of the record)",
+        help="frequency resolution, Hz (a power of two of samples per segment; default for the PSD: twice the "
+        "resolution, where its lines measure from, at or below --fmin, with at least 7 averages, else the first "
+        "line at or below --fmin, else a warning names where they start; for the transfer kinds 1 Hz, at most an "
+        "eighth of the record)",
     )
     s.add_argument("--skip", type=float, default=0.05, help="start of the record left out, s")
     s.add_argument("--fmin", type=float, default=1.0, help="lowest frequency written and drawn, Hz")

@@ -38,6 +38,9 @@ MIN_AVERAGES = 7
 #: The fewest lines the default resolution puts within f_min..f_max (``psd(..., f_max=)``).
 LINES_PER_RANGE = 16
 
+#: The lowest frequency, in lines (df), from which the PSD's lines hold a tone's power (:meth:`PSD.covered`).
+COVERED_FROM_DF = 2.0
+
 #: Reference values (in the unit itself) of levels in dB, by unit (module docstring).
 REFERENCES = {"N": 1.0, "N.m": 1.0, "m/s2": 1e-6, "m/s": 1e-9, "m": 1e-12}
 
@@ -97,10 +100,12 @@ class PSD:
         return self.fs / self.nperseg
 
     def covered(self, f_low: float = 0.0, f_high: float = np.inf) -> tuple[float, float]:
-        """The part of ``[f_low, f_high]`` (Hz) that the lines cover: line k stands for
-        ``[f_k - df/2, f_k + df/2]``, the first line (f = df; the mean is removed, so the 0 Hz line
-        holds nothing) from df/2 Hz, the last up to the Nyquist frequency fs/2."""
-        return max(f_low, self.df / 2), min(f_high, self.fs / 2)
+        """The part of ``[f_low, f_high]`` (Hz) that the lines measure: from 2 df (:data:`COVERED_FROM_DF`)
+        up to the Nyquist frequency fs/2. Below 2 df the per-segment mean removal takes part of a
+        tone's power and the Hann window's main lobe (4 df wide) spills part onto the 0 Hz line:
+        the lines there integrate a tone at 0.6 df to 0.33 of its power, at 1 df 0.83, at 1.5 df 1.11;
+        from 2 df to its power (the lines, each ``[f_k - df/2, f_k + df/2]``, hold all of it)."""
+        return max(f_low, COVERED_FROM_DF * self.df), min(f_high, self.fs / 2)
 
     def mean_square(self, f_low: float = 0.0, f_high: float = np.inf) -> float:
         """The mean square (unit^2) between ``f_low`` and ``f_high`` (Hz): the PSD integrated over
@@ -135,13 +140,14 @@ def psd(
     """Power spectral density of ``x`` (sampled at ``fs`` Hz) by Welch's method.
 
     nperseg: samples per segment (resolution fs / nperseg Hz). Default: the power of two that
-    resolves ``f_min`` (Hz, default 1: the first line, at fs / nperseg, at or below f_min) and, with
-    ``f_max`` (Hz), puts at least :data:`LINES_PER_RANGE` lines within f_min..f_max (a narrow range
-    gets lines, and its edges cut little of a line's window leakage, so its RMS agrees with the
-    band levels over it), but at
-    most the largest power of two <= n / 4, so at least :data:`MIN_AVERAGES` averages; when that
-    cap puts the first line above f_min, a warning names the first line and the record length
-    that would resolve f_min. Fewer than :data:`MIN_AVERAGES` averages (an nperseg asked for) warn
+    resolves ``f_min`` (Hz, default 1: the lines measure from 2 df, :meth:`PSD.covered`, at or below
+    f_min) and, with ``f_max`` (Hz), puts at least :data:`LINES_PER_RANGE` lines within
+    f_min..f_max (a narrow range gets lines, and its edges cut little of a line's window leakage,
+    so its RMS agrees with the band levels over it), but at most the largest power of two <= n / 4,
+    so at least :data:`MIN_AVERAGES` averages (the measured range then starts between f_min and
+    2 f_min where the first line, df, is still at or below f_min); when that cap puts the first line
+    above f_min, a warning names where the lines start and the record length that would resolve
+    f_min. Fewer than :data:`MIN_AVERAGES` averages (an nperseg asked for) warn
     too. window: a ``scipy.signal.get_window`` spec (default Hann); overlap: the segments' overlap
     fraction (0 to < 1). The density is one-sided, unit^2/Hz (``scaling="density"``), so
     ``sum(density) df`` is the mean square of x (less its mean, removed per segment). ``name``
@@ -154,16 +160,17 @@ def psd(
     number("f_min", f_min, gt=0, unit="Hz")
     if nperseg is None:
         want = int(2 ** np.ceil(np.log2(fs / f_min) - 1e-9))  # first line fs / want <= f_min
-        lines = want
+        lines = int(COVERED_FROM_DF) * want  # (covered from 2 df <= f_min where the record allows)
         if f_max is not None and number("f_max", f_max, gt=f_min, unit="Hz") < np.inf:
-            lines = max(want, int(2 ** np.ceil(np.log2(LINES_PER_RANGE * fs / (f_max - f_min)) - 1e-9)))
+            lines = max(lines, int(2 ** np.ceil(np.log2(LINES_PER_RANGE * fs / (f_max - f_min)) - 1e-9)))
         cap = 2 ** int(np.log2(max(x.size // 4, 8)))
         nperseg = max(8, min(lines, cap))
         if nperseg < want:
             warnings.warn(
-                f"{what}: the first line of the PSD is at {fs / nperseg:.4g} Hz, above f_min = {f_min:g} Hz: its "
+                f"{what}: the PSD measures from {COVERED_FROM_DF * fs / nperseg:.4g} Hz (2 lines, df = "
+                f"{fs / nperseg:.4g} Hz), above f_min = {f_min:g} Hz: its "
                 f"segments are kept to at most a quarter of the {x.size / fs:.4g} s record ({nperseg / fs:.4g} s) "
-                f"so that it averages at least {MIN_AVERAGES} of them; a record of {4 * want / fs:.4g} s resolves "
+                f"so that it averages at least {MIN_AVERAGES} of them; a record of {8 * want / fs:.4g} s resolves "
                 f"{f_min:g} Hz (or ask for a finer resolution, fewer averages)",
                 UserWarning,
                 stacklevel=2,

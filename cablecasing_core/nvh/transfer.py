@@ -29,6 +29,9 @@ from ..records import Records, after_skip
 
 #: The fewest Welch averages a transfer estimate takes: with one, the coherence is 1 by construction.
 MIN_AVERAGES = 3
+#: The shortest default segment (samples; 8 lines): the default takes at most an eighth of the record
+#: (at least 15 averages), so it needs at least 8 * MIN_SEGMENT samples.
+MIN_SEGMENT = 16
 
 
 @dataclass(frozen=True)
@@ -52,6 +55,11 @@ class Transfer:
     estimator: str
 
 
+def _units(units):
+    """The units read of a transfer function's input and output, for a message: 'm/s^2' and 'N'."""
+    return " and ".join(f"'{u}'" for u in units)
+
+
 def _estimate(rec, x_name, y_name, sign, kind, unit, estimator, skip, nperseg, resolution_hz):
     Choice("H1", "H2")("estimator", estimator)
     seconds("skip", skip, zero_ok=True)
@@ -59,8 +67,8 @@ def _estimate(rec, x_name, y_name, sign, kind, unit, estimator, skip, nperseg, r
         nperseg = integer("nperseg", nperseg, 8)
     if resolution_hz is not None:
         resolution_hz = number("resolution_hz", resolution_hz, gt=0, unit="Hz")
-    x = array_1d(rec.resolve(x_name), rec.column(x_name))
-    y = sign * array_1d(rec.resolve(y_name), rec.column(y_name))
+    x = array_1d(rec.resolve(x_name, "input"), rec.column(x_name, "input"))
+    y = sign * array_1d(rec.resolve(y_name, "output"), rec.column(y_name, "output"))
     if x.size != rec.time.size or y.size != rec.time.size:
         raise ModelError(
             "rec", f"{x.size}, {y.size} and {rec.time.size} samples", "columns must be as long as the time"
@@ -71,12 +79,18 @@ def _estimate(rec, x_name, y_name, sign, kind, unit, estimator, skip, nperseg, r
         raise ModelError(
             "skip", skip, f"must leave at least 64 samples of the {rec.time[-1] - rec.time[0]:.6g} s record"
         )
-    if nperseg is None:  # 1 Hz with >= 15 averages at most; a resolution asked for with >= 3 of them
-        res = 1.0 if resolution_hz is None else resolution_hz
-        seg = int(2 ** np.round(np.log2(fs / res)))
-        cap = keep.sum() // (8 if resolution_hz is None else 2)
-        nperseg = max(64, min(seg, 2 ** int(np.log2(cap or 1))))
     n = int(keep.sum())
+    if nperseg is None:  # 1 Hz with >= 15 averages at most; a resolution asked for with >= 3 of them
+        share = 8 if resolution_hz is None else 2  # (segments of at most n / share: >= 15 or >= 3 averages)
+        if n < share * MIN_SEGMENT:
+            raise ModelError(
+                "record",
+                f"{n} samples after skip ({n / fs:.4g} s)",
+                f"must hold at least {share * MIN_SEGMENT} samples for the default segment (at most 1/{share} of "
+                f"the record, at least {MIN_SEGMENT} samples); give nperseg for a shorter one, with fewer averages",
+            )
+        seg = int(2 ** np.round(np.log2(fs / (1.0 if resolution_hz is None else resolution_hz))))
+        nperseg = max(MIN_SEGMENT, min(seg, 2 ** int(np.log2(n // share))))
     if welch_averages(n, nperseg) < MIN_AVERAGES:
         raise ModelError(
             "nperseg",
@@ -118,10 +132,15 @@ def apparent_mass(
 
     skip (s): the start of the record left out (fade-in and transient); nperseg: samples per Welch
     segment, or ``resolution_hz`` (a power of two of samples; at most half the record, so at least 3
-    averages; default 1 Hz but at most an eighth of the record, so at least 15 averages)."""
-    if rec.unit(input) != "m/s2" or rec.unit(output) != "N":
+    averages; default 1 Hz but at most an eighth of the record, so at least 15 averages; the
+    default segment is at least 16 samples, so a record of fewer than 128 samples after skip is
+    refused naming its length)."""
+    units = rec.unit(input, "input"), rec.unit(output, "output")
+    if units != ("m/s2", "N"):
         raise ModelError(
-            "--input/--column", (input, output), "the apparent mass needs an acceleration (m/s2) and a force (N)"
+            "input/output",
+            (input, output),
+            f"the apparent mass needs an acceleration (m/s2) and a force (N); their units read: {_units(units)}",
         )
     return _estimate(rec, input, output, -1.0, "apparent mass", "kg", estimator, skip, nperseg, resolution_hz)
 
@@ -137,6 +156,11 @@ def transmissibility(
 ) -> Transfer:
     """The force transmissibility (dimensionless) from the support force ``input`` (N, the driven
     end) to the support force ``output`` (N) of the record ``rec`` (arguments as :func:`apparent_mass`)."""
-    if rec.unit(input) != rec.unit(output):
-        raise ModelError("--input/--column", (input, output), "a transmissibility needs two signals of one unit")
+    units = rec.unit(input, "input"), rec.unit(output, "output")
+    if units[0] != units[1]:
+        raise ModelError(
+            "input/output",
+            (input, output),
+            f"a transmissibility needs two signals of one unit; their units read: {_units(units)}",
+        )
     return _estimate(rec, input, output, 1.0, "transmissibility", "1", estimator, skip, nperseg, resolution_hz)

@@ -32,6 +32,8 @@ if TYPE_CHECKING:
 #: Steps per call of Engine.advance when a run shows its progress: a whole number of the engine's
 #: chunks, so the run is split where the engine splits it anyway (the record is bitwise the same).
 PROGRESS_STEPS = 8 * Engine.CHUNK
+#: The part of the new Nyquist frequency up to which :func:`decimate` is flat (0.01 dB).
+PASSBAND = 0.7
 _NODE_ARRAYS = ("contact_state", "normal_force", "penetration")
 
 
@@ -96,7 +98,10 @@ class SimulationResult:
         Nyquist frequency 1/(2Δ), at least 80 dB down above it, so nothing aliases); ``"pick"``
         takes the samples as they are (content above 1/(2Δ) Hz then aliases). ``contact.active`` and
         ``contact.max_penetration`` are always picked (a count and a maximum are not filtered).
-        The per-node histories in ``extra`` are picked at the end of each interval (row k: t = (k+1) Δ).
+        The per-node histories in ``extra`` are picked at the end of each interval (row k: t = (k+1) Δ);
+        a filtered record states its passband, 0.7/(2Δ) Hz, in ``extra["passband_hz"]`` (kept in
+        ``.npz`` files; :attr:`~cablecasing_core.records.Records.passband_hz`). Δ longer than the
+        run (a record of one row) is refused.
         """
         from ..records import Records, unit_of
 
@@ -127,6 +132,8 @@ class SimulationResult:
         extra.update(contact_time=self.contact_time, curvature=self.curvature, arc_length=self.arc_length)
         extra["energies"] = np.array([[k, repr(float(v))] for k, v in self.energies.items()]).reshape(-1, 2)
         extra["starts_at_zero"] = np.array(first)
+        if m > 1 and filt:  # (read by Records.passband_hz: bands and lines above it are left out)
+            extra["passband_hz"] = np.array(PASSBAND / (2 * m * self.dt))
         return Records(time[::m], cols, {n: unit_of(n) for n in cols}, "simulation", extra)
 
     @property
@@ -154,6 +161,13 @@ class SimulationResult:
         if m < 1 or abs(m * dt - output_interval) > 1e-6 * dt:
             raise ModelError(
                 "--output-interval", output_interval, f"must be a whole number of time steps (dt = {dt:g} s)"
+            )
+        whole = self.whole_steps
+        if (whole // m + 1 if self.initial_forces is not None else -(-whole // m)) < 2:
+            raise ModelError(
+                "--output-interval",
+                output_interval,
+                f"must be at most the run's duration ({whole * dt:g} s): a record needs at least two rows",
             )
         return m
 
@@ -331,7 +345,7 @@ def decimate(x: ArrayLike, m: int) -> np.ndarray:
         return x.copy()
     # (designed for 82 dB: kaiserord's estimate for 80 dB falls short by up to 1.3 dB near the band
     # edge for small m, 78.7 dB at m = 2; 82 dB gives at least 81 dB for every m)
-    numtaps, beta = signal.kaiserord(82.0, 0.3 / m)
+    numtaps, beta = signal.kaiserord(82.0, (1 - PASSBAND) / m)
     h = signal.firwin(numtaps | 1, 0.85 / m, window=("kaiser", beta))
     return signal.resample_poly(x, 1, m, window=h, padtype="edge")
 

@@ -39,17 +39,17 @@ def test_a_sum_of_sines_below_inside_and_above_the_first_line_against_parseval()
     inside, above = [(1.0, 6.0), (0.7, 50.0), (0.3, 94.0)], [(5.0, 200.0)]
     x = 3.0 + sum(A * np.sin(2 * np.pi * f * t + 0.3) for A, f in inside + above)
     p = psd(x, fs, unit="N", name="casing.B.Fz", f_min=f_min)
-    assert p.df <= f_min  # the first line at or below f_min
+    assert 2 * p.df <= f_min  # the lines measure from 2 df, at or below f_min
     assert p.mean_square(f_min, f_max) == pytest.approx(sum(A * A / 2 for A, _ in inside), rel=1e-9)
     # adjacent ranges add up to their union (edge lines split in proportion, as the bands split bins)
     assert p.mean_square(f_min, 31.0) + p.mean_square(31.0, f_max) == pytest.approx(p.mean_square(f_min, f_max))
     # a range that the lines do not cover says where they start
-    assert p.covered(0.0, f_max) == (p.df / 2, f_max)
+    assert p.covered(0.0, f_max) == (2 * p.df, f_max)
 
 
 def test_the_default_resolution_warns_naming_the_first_line_when_the_record_cannot_resolve_fmin():
     x = np.sin(2 * np.pi * 300 * np.arange(2000) / 1e4)  # 0.2 s at 1e4 Hz: the record
-    with pytest.warns(UserWarning, match=r"first line of the PSD is at 39.06 Hz, above f_min = 1 Hz"):
+    with pytest.warns(UserWarning, match=r"measures from 78.12 Hz \(2 lines, df = 39.06 Hz\), above f_min = 1 Hz"):
         p = psd(x, 1e4, name="casing.B.Fz")
     assert p.n_averages >= 7
     with pytest.warns(UserWarning, match=r"averages only 1 segment"):  # one average: said
@@ -70,7 +70,7 @@ def test_spectrum_prints_the_rms_with_the_band_it_integrates_equal_to_the_bands_
     expect = np.sqrt(sum(A * A / 2 for A, _ in tones))
     line = next(s for s in out.splitlines() if s.startswith("# casing.B.Fz: RMS"))
     assert f"RMS {expect:.6g} N in 11-1420 Hz" in line
-    assert "warning" not in err  # 1 s holds 15 averages of the 8 Hz lines that resolve 11 Hz
+    assert "warning" not in err  # 1 s holds 7 averages of the 4 Hz lines, measuring from 8 Hz
     assert main(["bands", str(rec), "--skip", "0", "--fmax", "1000"]) == 0  # oct1..oct7, 11-1420 Hz
     out = capsys.readouterr().out
     assert f"11-1420 Hz: {expect:.6g} N" in out
