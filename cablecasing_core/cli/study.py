@@ -135,7 +135,10 @@ def cmd_study(args):
         )
     if n_ok == 0:
         first = next((e for e in res.error if e), "")
-        print(f"cablecasing: error: every run failed; the first: {first}", file=sys.stderr)
+        kinds = set(np.asarray(res.status).tolist())  # ({"failed"}, {"infeasible"} or both)
+        what = {"infeasible": "was infeasible", "failed": "failed"}.get(kinds.pop()) if len(kinds) == 1 else None
+        what = what or "failed or was infeasible"
+        print(f"cablecasing: error: every run {what}; the first: {first}", file=sys.stderr)
         return 1
     if n_ok < 3:
         print("cablecasing: warning: fewer than 3 ok runs: no correlation", file=sys.stderr)

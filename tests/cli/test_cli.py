@@ -368,3 +368,12 @@ def test_ensembles_run_in_parts_pool_with_their_against_parts(tmp_path, capsys, 
         assert main(["pool", "part1.csv", "--against", name]) == 2
         err = capsys.readouterr().err
         assert f"--against = '{name}': must be run with the settings of the files it is compared with: {said}" in err
+
+
+def test_a_study_whose_every_run_is_infeasible_says_so(tmp_path, capsys):
+    """The cable's diameter varied above the casing's bore (4 mm in the built-in specimen): every
+    sample is infeasible, no run starts, and the command says that (not that the runs failed)."""
+    argv = ["study", "--vary", "cable.d=0.005:0.01", "--samples", "3", "--duration", "0.2", "--scheduler", "serial"]
+    assert main([*argv, "--out", str(tmp_path / "st")]) == 1
+    err = capsys.readouterr().err
+    assert "error: every run was infeasible; the first: infeasible: cable.d = " in err, err
