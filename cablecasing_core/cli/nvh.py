@@ -206,7 +206,8 @@ def _passband_note(rec, path):
     """What a decimated record's passband (``Records.passband_hz``) is, for a note or an error."""
     return (
         f"{path} was decimated to dt = {1 / rec.fs:.4g} s: its anti-alias filter is flat (0.01 dB) up to "
-        f"{rec.passband_hz:.4g} Hz, 0.7 of its Nyquist frequency {rec.fs / 2:.4g} Hz, and attenuates above"
+        f"{rec.passband_hz:.4g} Hz, {rec.passband_hz / (rec.fs / 2):.2g} of its Nyquist frequency {rec.fs / 2:.4g} Hz, "
+        "and attenuates above"
     )
 
 
@@ -281,18 +282,19 @@ def cmd_bands(args):
         )
     passband = rec.passband_hz
     if passband < rec.fs / 2:  # a decimated record: bands beyond its passband as bands beyond Nyquist
-        k = int(np.sum(band_set.upper <= passband))  # (the bands go up in frequency)
-        if k == 0:
+        within = band_set.upper <= passband
+        if not within.any():
+            share = passband / (rec.fs / 2)  # (of the Nyquist frequency: the filter's, whatever the interval)
             raise ModelError(
                 "--column",
                 col,
                 f"has no {args.kind} band within its passband: {_passband_note(rec, args.record)}; the lowest "
                 f"band ends at {band_set.upper[0]:.4g} Hz (write the record with an output interval <= "
-                f"{0.35 / band_set.upper[0]:.4g} s)",
+                f"{share / (2 * band_set.upper[0]):.4g} s)",
             )
-        if k < len(band_set.labels):
+        if not within.all():
             print(f"# {_passband_note(rec, args.record)}: the bands above it are left out")
-        band_set = type(band_set)(band_set.lower[:k], band_set.upper[:k], band_set.labels[:k], band_set.nominal[:k])
+        band_set = band_set.select(within)
     bands = octave_rms(x, rec.fs, band_set, beyond_nyquist="drop", name=f"{col} in {args.record} (after --skip)")
     level = bands.level_db(ref)
     total = float(np.sqrt(np.sum(bands.mean_square)))

@@ -135,9 +135,8 @@ def cmd_study(args):
         )
     if n_ok == 0:
         first = next((e for e in res.error if e), "")
-        kinds = set(np.asarray(res.status).tolist())  # ({"failed"}, {"infeasible"} or both)
-        what = {"infeasible": "was infeasible", "failed": "failed"}.get(kinds.pop()) if len(kinds) == 1 else None
-        what = what or "failed or was infeasible"
+        kinds = tuple(sorted(set(np.asarray(res.status).tolist())))  # (failed, infeasible or both)
+        what = {("failed",): "failed", ("infeasible",): "was infeasible"}.get(kinds, "failed or was infeasible")
         print(f"cablecasing: error: every run {what}; the first: {first}", file=sys.stderr)
         return 1
     if n_ok < 3:

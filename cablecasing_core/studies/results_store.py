@@ -96,6 +96,13 @@ def _header(params, outputs, quantity=None, warnings=False):
     return list(META_COLUMNS) + list(params) + list(outputs) + extra + list(TAIL_COLUMNS)
 
 
+def _header_line(header):
+    """The CSV text of the header line ``header`` (:func:`_header`), as the file holds it."""
+    line = io.StringIO(newline="")
+    csv.writer(line).writerow(header)
+    return line.getvalue()
+
+
 def _fmt(v):
     if isinstance(v, float):
         return repr(v)  # shortest repr round-trips the float exactly
@@ -305,9 +312,7 @@ def recover_header(path, params, outputs, quantity=None) -> bool:
     except (OSError, ValueError, KeyError, TypeError):  # (no sidecar, or none of a study)
         pass
     for header in headers:
-        line = io.StringIO(newline="")
-        csv.writer(line).writerow(header)
-        if line.getvalue().encode().startswith(head):
+        if _header_line(header).encode().startswith(head):
             os.remove(path)
             return True
     raise ModelError(
@@ -336,9 +341,7 @@ def prepare_file(path, meta, design, params):
         d = os.path.dirname(os.path.abspath(path))
         os.makedirs(d, exist_ok=True)
         write_text(_meta_path(path), json.dumps(meta, indent=1))
-        line = io.StringIO(newline="")
-        csv.writer(line).writerow(header)
-        write_text(path, line.getvalue())  # (atomic: a header is whole or absent)
+        write_text(path, _header_line(header))  # (atomic: a header is whole or absent)
         return set()
     if old.get("format") != meta["format"]:
         raise ModelError(

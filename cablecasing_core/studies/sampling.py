@@ -49,6 +49,7 @@ PAPER_BOUNDS = {
 
 
 _NAMES = "parameter names must be dotted model keys such as 'casing.E'"
+_FORM = "must be a dict {key: (low, high)} or a sequence of (key, (low, high))"
 
 
 def check_bounds(bounds: dict | None = None, model=None) -> dict[str, tuple[float, float]]:
@@ -110,11 +111,11 @@ def _pairs(bounds):
     if isinstance(bounds, Mapping):
         return dict(bounds)
     if isinstance(bounds, (str, bytes)) or not isinstance(bounds, Iterable):
-        raise ModelError("bounds", bounds, "must be a dict {key: (low, high)} or a sequence of (key, (low, high))")
+        raise ModelError("bounds", bounds, _FORM)
     out = {}
     for item in bounds:
         if not (isinstance(item, (tuple, list)) and len(item) == 2):
-            raise ModelError("bounds", item, "must be a dict {key: (low, high)} or a sequence of (key, (low, high))")
+            raise ModelError("bounds", item, _FORM)
         key, b = item
         if not isinstance(key, str):
             raise ModelError("bounds", key, _NAMES)
