@@ -295,7 +295,8 @@ def cmd_bands(args):
         if not within.all():
             print(f"# {_passband_note(rec, args.record)}: the bands above it are left out")
         band_set = band_set.select(within)
-    bands = octave_rms(x, rec.fs, band_set, beyond_nyquist="drop", name=f"{col} in {args.record} (after --skip)")
+    name = f"{col} in {args.record} (after --skip)"
+    bands = octave_rms(x, rec.fs, band_set, beyond_nyquist="drop", name=name, passband=passband)
     level = bands.level_db(ref)
     total = float(np.sqrt(np.sum(bands.mean_square)))
     print(f"# {args.record}: {col} after {args.skip:g} s, {args.kind} bands; level in dB re {ref:g} {unit}")

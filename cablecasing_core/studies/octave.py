@@ -39,6 +39,8 @@ Nyquist rule: a band whose upper edge exceeds ``fs/2`` cannot be measured comple
 (``beyond_nyquist="error"``) this raises :class:`~cablecasing_core.errors.ModelError` naming
 ``fs``; ``"drop"`` leaves such bands out of the result, ``"nan"`` keeps them with RMS ``nan``.
 A band narrower than one bin (``df`` larger than the bandwidth: record too short) also raises.
+A decimated record (``Records.passband_hz``) passes ``passband``: the same rule then holds at the
+frequency its anti-alias filter keeps flat instead of at fs/2.
 """
 
 from __future__ import annotations
@@ -277,6 +279,7 @@ def octave_rms(
     window="boxcar",
     beyond_nyquist: str = "error",
     name: str = "x",
+    passband: float | None = None,
 ) -> BandRMS:
     """RMS of a sampled signal in octave bands by Parseval over FFT bins (Section 4.4, Table 3, Fig. 23).
 
@@ -298,6 +301,11 @@ def octave_rms(
         What to do with a band whose upper edge exceeds fs/2 (see module docstring).
     name : str
         What the signal is in messages (a record's column, ``"casing.B.Fz in run.csv"``).
+    passband : float, optional
+        Hz. The frequency up to which the record holds its content unaltered (default the Nyquist
+        frequency fs/2): a record decimated through an anti-alias filter is flat only to 0.7 of its
+        Nyquist frequency (``Records.passband_hz``). A band whose upper edge lies above it is treated
+        as a band beyond Nyquist, by ``beyond_nyquist``.
 
     Returns
     -------
@@ -312,7 +320,9 @@ def octave_rms(
     bands = _bands_of(bands)
     n = x.size
     nyq = fs / 2
-    over = bands.upper > nyq * (1 + 1e-12)
+    top = nyq if passband is None else min(number("passband", passband, gt=0, unit="Hz"), nyq)
+    limit = "Nyquist frequency" if top == nyq else f"passband {top:.4g} Hz ({top / nyq:.2g} of the Nyquist frequency)"
+    over = bands.upper > top * (1 + 1e-12)
     if over.any() and beyond_nyquist == "error":
         i = int(np.argmax(bands.upper))  # (the highest band: the rate that holds it holds them all)
         j = int(np.argmax(over))
@@ -324,15 +334,15 @@ def octave_rms(
         raise ModelError(
             "fs",
             fs,
-            f"must be at least 2 x {bands.upper[i]:g} Hz = {2 * bands.upper[i]:g} Hz so that {which} below "
-            "the Nyquist frequency; or pass beyond_nyquist='drop' or 'nan'",
+            f"must be at least {2 * nyq / top:.3g} x {bands.upper[i]:g} Hz = {2 * nyq / top * bands.upper[i]:.6g} Hz "
+            f"so that {which} below the {limit}; or pass beyond_nyquist='drop' or 'nan'",
         )
     keep = ~over if beyond_nyquist == "drop" else np.ones(len(bands), bool)
     if not keep.any():
-        raise ModelError("fs", fs, f"puts every band above the Nyquist frequency {nyq:g} Hz")
+        raise ModelError("fs", fs, f"puts every band above the {limit}: {top:g} Hz")
     sel = bands.select(keep)
     df = fs / n
-    measurable = sel.upper <= nyq * (1 + 1e-12)
+    measurable = sel.upper <= top * (1 + 1e-12)
     narrow = measurable & (sel.upper - sel.lower < df * (1 - 1e-12))
     if narrow.any():
         i = int(np.argmax(narrow))

@@ -148,6 +148,30 @@ def test_nyquist_rules():
     assert e.value.key == "fs"
 
 
+def test_a_decimated_records_passband_bounds_the_bands_as_nyquist_does():
+    """A 5000 Hz tone (RMS 1/sqrt 2) decimated from 120 kHz to 12 kHz lies in oct9 (2840-5680 Hz),
+    below the new Nyquist frequency 6000 Hz but above the filter's flat passband, 0.7 x 6000 =
+    4200 Hz: oct9 reads it low, so with the record's passband the band is handled as beyond Nyquist
+    (refused, dropped or nan) and the bands below keep their levels exactly."""
+    from cablecasing_core.timedomain.simulation import decimate
+
+    fs0, m = 120000.0, 10
+    t = np.arange(240000) / fs0
+    x = decimate(np.sin(2 * np.pi * 5000 * t) + np.sin(2 * np.pi * 1000 * t), m)[20:-20]  # (off the ends)
+    fs, passband = fs0 / m, 0.7 * fs0 / m / 2
+    blind = octave_rms(x, fs)  # (no passband: oct9 taken as measured)
+    assert blind.as_dict()["oct9"] < 0.9 / np.sqrt(2)  # more than 1 dB low through the filter's edge
+    with pytest.raises(ModelError) as e:
+        octave_rms(x, fs, passband=passband)
+    assert e.value.key == "fs" and "band 'oct9'" in e.value.allowed and "passband 4200 Hz" in e.value.allowed
+    dropped = octave_rms(x, fs, beyond_nyquist="drop", passband=passband)
+    assert dropped.labels == tuple(f"oct{i}" for i in range(1, 9))
+    assert dropped.as_dict()["oct7"] == pytest.approx(1 / np.sqrt(2), rel=1e-3)  # (flat to 0.01 dB: 1.2e-3)
+    assert np.isnan(octave_rms(x, fs, beyond_nyquist="nan", passband=passband).rms[8])
+    with pytest.raises(ModelError, match="passband"):
+        octave_rms(x, fs, passband=-1.0)
+
+
 @pytest.mark.parametrize(
     "kwargs, key",
     [
