@@ -1,6 +1,7 @@
 """The model of the command line: the MODEL argument (a TOML file or a built-in specimen) and the
 ``KEY=VALUE`` model changes (``--set`` of ``simulate`` and ``ensemble``, ``--against`` of
-``ensemble``): a dotted model key of the schema and a TOML value."""
+``ensemble``): a dotted model key of the schema and a TOML value. A table (``contact``) is refused,
+naming it (its keys are set one by one: ``Model.with_overrides``), and so is a key given twice."""
 
 from __future__ import annotations
 
@@ -43,8 +44,20 @@ def assignment(flag, text):
 
 def with_assignments(model, flag, texts):
     """``model`` with the ``KEY=VALUE`` changes ``texts`` of ``flag`` (validated as a model file's
-    keys; an error names the flag, the key, the value and what is allowed)."""
-    return with_changes(model, {key: (flag, value) for key, value in (assignment(flag, t) for t in texts)})
+    keys; an error names the flag, the key, the value and what is allowed). A key given twice is
+    refused, naming both values, as a TOML file refuses a key given twice (the first value would
+    never be checked)."""
+    changes = {}
+    for key, value in (assignment(flag, t) for t in texts):
+        if key in changes:
+            first = changes[key][1]
+            raise ModelError(
+                f"{flag} {key}",
+                NOT_SHOWN,
+                f"is given twice ({excerpt(first)} and {excerpt(value)}): give each key once",
+            )
+        changes[key] = (flag, value)
+    return with_changes(model, changes)
 
 
 def with_changes(model, changes):
@@ -85,7 +98,8 @@ def _conflict(model, changes, exc):
     allowed = exc.allowed
     if culprits == ["scenario.dt"]:
         allowed = _step_rule(model, changes["scenario.dt"][1]) or allowed
-    what = f"conflicts with {exc.key} = {excerpt(exc.value)} of the model {model.source}: {allowed}"
+    shown = "" if exc.value is NOT_SHOWN else f" = {excerpt(exc.value)}"
+    what = f"conflicts with {exc.key}{shown} of the model {model.source}: {allowed}"
     if len(culprits) == 1:
         flag, value = changes[culprits[0]]
         return ModelError(f"{flag} {culprits[0]}", value, what)

@@ -33,6 +33,14 @@ def _checked(body, key, value):
     return _num(lookup(f"{body}.{key}").check(float(value), key))
 
 
+def _negative(v):
+    """Whether ``v`` is a number below 0 (a fit without the nonnegative bound)."""
+    try:
+        return float(v) < 0.0
+    except (TypeError, ValueError):
+        return False
+
+
 def loss_factor_table(circle_results):
     """``[[f_Hz, eta], ...]`` rows from :class:`~.circlefit.CircleFitResult` objects, sorted by frequency."""
     return sorted([[float(r.f_r_hz), float(r.eta)] for r in circle_results])
@@ -62,9 +70,11 @@ def parameters_toml(
             continue
         try:
             lines.append(f"{key} = {_checked(rules, key, v)}")
-        except ModelError:
+        except ModelError as exc:
+            if not _negative(v):  # (above the bound, not finite, not a number: the schema's own rule)
+                raise
             raise ModelError(
-                key, v, "the model file needs a Rayleigh factor >= 0; refit with nonnegative=True"
+                key, v, f"the model file needs a Rayleigh factor >= 0 ({exc.allowed}); refit with nonnegative=True"
             ) from None
     if loss_factor is not None:
         lf = loss_factor

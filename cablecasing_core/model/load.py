@@ -3,13 +3,14 @@ built from the schema, :mod:`.validate`); the built-in specimens in ``specimens/
 (``load_model("installed")``).
 
 A model is a TOML file with the sections ``[geometry]``, ``[casing]``, ``[cable]`` (either body may
-be left out, at least one must be present), ``[contact]`` and ``[scenario]``; docs/model_file.md
+be left out, at least one must be present), ``[contact]``, ``[loads]`` and ``[scenario]``; docs/model_file.md
 lists every key. Every mistake raises :class:`~cablecasing_core.errors.ModelError` naming the dotted
 key, the value and what is allowed; nothing is half-built.
 """
 
 from __future__ import annotations
 
+import re
 from importlib import resources
 from pathlib import Path
 
@@ -103,9 +104,33 @@ def toml_file(path: str | Path, key: str, limit: int, other: str = "") -> dict:
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:  # (its message gives the line and column, not the content)
-        raise ModelError(key, str(path), f"must be valid TOML ({exc})") from None
+        raise ModelError(key, str(path), f"must be valid TOML ({exc}){_given_twice(text, str(exc))}") from None
     except RecursionError:
         raise ModelError(key, str(path), "nests tables or arrays too deeply to be read") from None
+
+
+def _given_twice(text, message):
+    """For tomllib's error of a key given twice (``Cannot overwrite a value (at line 9, column 9)``):
+    ``": casing.nu is given twice"``, the dotted key read from the line the error names under the
+    table header above it (the key's name only, never a value of the file); else ``""``."""
+    found = re.match(r"Cannot overwrite a value \(at line (\d+), column \d+\)", message)
+    lines = text.splitlines()
+    if not found or not 0 < int(found.group(1)) <= len(lines):
+        return ""
+    n = int(found.group(1)) - 1
+    name = re.match(r"\s*([A-Za-z0-9_.\- ]+?)\s*=", lines[n])  # (bare keys only: a quoted one is not named)
+    if not name:
+        return ""
+    table = next(
+        (
+            m.group(1)
+            for line in reversed(lines[:n])
+            if (m := re.match(r"\s*\[+\s*([A-Za-z_][A-Za-z0-9_.\- ]*?)\s*\]+\s*(#.*)?$", line))
+        ),
+        "",
+    )
+    dotted = ".".join(p.strip() for p in (table.split(".") if table else []) + name.group(1).split("."))
+    return f": {dotted} is given twice (the second time on line {n + 1})"
 
 
 def _warn_if_implausible(model):

@@ -6,6 +6,7 @@ from __future__ import annotations
 import copy
 import hashlib
 import json
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -13,8 +14,8 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import ModelError
-from .schema import BODY_NAMES, SCHEMA, lookup
+from ..errors import NOT_SHOWN, ModelError
+from .schema import BODY_NAMES, SCHEMA, SUPPORT_NAMES, KeySpec, lookup
 from .validate import validate
 from .validators import BARE_KEY, Choice
 
@@ -161,11 +162,15 @@ class Model:
     def with_overrides(self, overrides: Mapping[str, object]) -> Model:
         """A validated copy with ``{dotted.key: value}`` replaced (e.g. ``{"casing.E": 6e9}``).
 
-        A key the file left out and the validation took from another (a random excitation's seed
-        from ``scenario.seed``) follows an override of that other key. Keys must already exist in
-        the model, or be a known optional key of an existing section;
-        a vector key's component is set by its scalar key (``{"loads.gravity.z": -9.81}``); an
-        unknown key raises :class:`ModelError`.
+        Each key is a key of the schema, as a model file writes it: a value (``contact.friction``),
+        a vector (``loads.gravity``) or a vector's component (``{"loads.gravity.z": -9.81}``,
+        ``casing.isolator.A.stiffness.lateral_1``). A table (``contact``, ``loads``,
+        ``scenario.excitation.casing_random``) is refused, naming it: its keys are set one by one,
+        so that none the change leaves out is lost. A key the model does not give yet is added,
+        with the tables it is in (``casing.isolator.A.stiffness`` with an isolator support A); a
+        body the model does not have is not. An unknown key raises :class:`ModelError` listing the
+        keys allowed where it is. A key the file left out and the validation took from another (a
+        random excitation's seed from ``scenario.seed``) follows an override of that other key.
         """
         data = copy.deepcopy(self.data)
         derived = self.derived - set(overrides)
@@ -176,29 +181,38 @@ class Model:
                 node = node[p]
             node.pop(parts[-1], None)
         for key, value in overrides.items():
-            parts = key.split(".")
-            vector = _vector(".".join(parts[:-1]))
-            component = None
-            if vector is not None and parts[-1] in vector.components:  # a vector's component
-                component = vector.components.index(parts[-1])
-                parts = parts[:-1]
-            node = data
-            for p in parts[:-1]:
-                if not isinstance(node, dict) or p not in node:
-                    raise ModelError(key, value, "is not a key of this model")
-                node = node[p]
-            if not isinstance(node, dict):
-                raise ModelError(key, value, "is not a key of this model")
             if isinstance(value, np.generic):
                 value = value.item()
             if isinstance(value, np.ndarray):
                 value = value.tolist()
+            spec = override_spec(key)
+            parts = key.split(".")
+            vector = _vector(".".join(parts[:-1]))
+            component = None
+            if vector is not None and parts[-1] in vector.components:  # a vector's component
+                spec.check(value, key)  # (refused under the key given, not the vector's)
+                component = vector.components.index(parts[-1])
+                parts = parts[:-1]
+            node = data
+            for i, p in enumerate(parts[:-1]):
+                if not isinstance(node, dict):
+                    break
+                if p not in node:
+                    if i == 0:  # (a body the model does not have)
+                        raise ModelError(key, value, f"belongs to the [{p}], which this model does not have")
+                    node[p] = {}
+                node = node[p]
+            if not isinstance(node, dict):  # (a clip: an array of tables)
+                raise ModelError(key, value, _CLIP_KEYS)
             if component is None:
                 node[parts[-1]] = value
             elif isinstance(node.get(parts[-1]), list) and len(node[parts[-1]]) == 3:
                 node[parts[-1]][component] = value
             else:
-                raise ModelError(key, value, "is not a key of this model")
+                raise ModelError(
+                    key, value, f"is a component of {'.'.join(parts)}, which the model does not give: set that first"
+                )
+            _one_route(key, value, data["geometry"])
         checked = validate(data, base_dir=self.base_dir)
         return Model(checked, source=self.source, base_dir=self.base_dir, derived=derived)
 
@@ -222,8 +236,93 @@ class Model:
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
     def to_toml(self) -> str:
-        """The model as TOML text (round-trips through :func:`load_model`)."""
-        return _to_toml(self.data)
+        """The model as TOML text (round-trips through :func:`load_model`: the model it loads is
+        this one). The keys the validation derived from another because the file left them out
+        (:attr:`derived`: a random excitation's seed from ``scenario.seed``) are left out again, so
+        that a change of their source (``--set scenario.seed=2``) changes them in the written file
+        as in this model."""
+        return _to_toml(self.data, skip=self.derived)
+
+
+#: Why a clip's key cannot be set by its dotted key.
+_CLIP_KEYS = (
+    "is a key of a clip (an array of tables [[casing.clip]]), which cannot be set by a dotted key: "
+    "change the clip in the model file"
+)
+
+
+def override_spec(key) -> KeySpec:
+    """The :class:`KeySpec` of ``key`` to set with :meth:`Model.with_overrides` (``--set``), or a
+    :class:`ModelError` naming it: a table is refused with an example of its keys (a table given
+    whole would replace the keys it leaves out by their defaults), an unknown key lists the keys
+    allowed where it is (the wording of an unknown key of a model file)."""
+    if not isinstance(key, str):
+        raise ModelError(str(key), NOT_SHOWN, "must be a dotted model key, e.g. contact.friction")
+    try:
+        spec = lookup(key)
+    except ModelError:
+        spec = None
+    if spec is not None:
+        if ".clip[" in key:
+            raise ModelError(key, NOT_SHOWN, _CLIP_KEYS)
+        return spec
+    parts = key.split(".")
+    if parts[0] == "casing" and len(parts) > 1 and parts[1].startswith("clip"):
+        raise ModelError(key, NOT_SHOWN, _CLIP_KEYS)
+    below = [k[len(parts)] for k in _schema_keys_under(parts)]  # (in schema order)
+    if below:
+        example = ".".join(parts + [below[0] if below[0] != "<support>" else SUPPORT_NAMES[0]])
+        example = next((f"{example}.{k}" for k in _schema_keys_under(example.split("."), full=True)), example)
+        raise ModelError(
+            key,
+            NOT_SHOWN,
+            f"is a table, not a key: set its keys one by one (e.g. {example}); a table given whole would "
+            "replace every key it leaves out by its default",
+        )
+    for n in range(len(parts) - 1, -1, -1):  # the innermost table it is in: the keys allowed there
+        names = {k[n] for k in _schema_keys_under(parts[:n])}
+        if names:
+            shown = {"<support>": SUPPORT_NAMES, "clip[]": ("clip",), "<name>": ("<name>",)}
+            return _unknown(key, sorted({x for name in names for x in shown.get(name, (name,))}))
+    return _unknown(key, [])  # pragma: no cover (the top level has keys)
+
+
+def _unknown(key, names):
+    raise ModelError(key, NOT_SHOWN, "unknown key; allowed keys are " + ", ".join(names))
+
+
+def _schema_keys_under(parts, full=False):
+    """The schema's keys in the table ``parts`` (a named table by any name, a support by A or B),
+    each as its parts; with ``full`` the rest of the key after ``parts``, as text."""
+    out = []
+    for k in SCHEMA:
+        ks = k.split(".")
+        if len(ks) > len(parts) and all(_part_matches(a, b) for a, b in zip(ks, parts)):
+            out.append(".".join(ks[len(parts) :]) if full else ks)
+    return out
+
+
+def _part_matches(pattern, part):
+    if pattern == "<name>":
+        return True
+    if pattern == "<support>":
+        return part in SUPPORT_NAMES
+    if pattern == "clip[]":
+        return part == "clip" or re.fullmatch(r"clip\[\d+\]", part) is not None
+    return pattern == part
+
+
+def _one_route(key, value, geometry):
+    """A route is given by points or by segments: a change that gives the other refuses, naming it
+    (a dotted key cannot remove the one the model gives)."""
+    if key in ("geometry.points", "geometry.segments") and "points" in geometry and "segments" in geometry:
+        other = "geometry.segments" if key == "geometry.points" else "geometry.points"
+        raise ModelError(
+            key,
+            value,
+            f"cannot be set on a model whose route is given by {other}: a route is given by points or by "
+            f"segments, not both, and {other} must go (change the route in the model file)",
+        )
 
 
 def _vector(key):
@@ -278,10 +377,11 @@ def _toml_key(k) -> str:
     return k if BARE_KEY.fullmatch(k) else _toml_string(k)
 
 
-def _to_toml(data):
+def _to_toml(data, skip=frozenset()):
     """The checked model ``data`` as TOML text: tables as [sections], the supports and the
     segments inline; every key that is not a bare key quoted, every string escaped, so that
-    ``tomllib.loads(_to_toml(data)) == data`` for every valid model."""
+    ``tomllib.loads(_to_toml(data)) == data`` for every valid model; the dotted keys ``skip`` (a
+    model's derived keys) left out."""
 
     def fmt(v):
         if isinstance(v, (bool, np.bool_)):
@@ -299,7 +399,11 @@ def _to_toml(data):
     lines = []
 
     def section(path, node):
-        scalars = {k: v for k, v in node.items() if not (isinstance(v, dict) and k != "supports")}
+        scalars = {
+            k: v
+            for k, v in node.items()
+            if not (isinstance(v, dict) and k != "supports") and ".".join((*path, k)) not in skip
+        }
         subs = {k: v for k, v in node.items() if isinstance(v, dict) and k != "supports"}
         lines.append("[" + ".".join(_toml_key(p) for p in path) + "]")
         lines.extend(f"{_toml_key(k)} = {fmt(v)}" for k, v in scalars.items())

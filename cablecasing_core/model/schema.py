@@ -17,7 +17,7 @@ Keys under named tables are written with ``<name>`` (``scenario.excitation.<name
 :func:`lookup` accepts them under any name. Units are FMI-style strings ("1": dimensionless,
 "m/s2", "N.m", "kg/m3", ...; "" for text and booleans).
 
-This module is over 400 lines because the schema is one table of the model file's keys (68), kept
+This module is over 400 lines because the schema is one table of all the model file's keys, kept
 in one place on purpose; the validators are in ``validators.py``.
 """
 
@@ -272,6 +272,10 @@ def _body(body):
             f"effective second moment of area of {the}'s section, instead of the one of its diameters "
             "(I_op of Table 2)",
             Number(gt=0, le=1.0, unit="m4"),
+            note="a warning above the solid circle's pi d^4 / 64 of "
+            + ("casing.d_outer" if body == "casing" else "cable.d")
+            + " or below 1e-3 of the section of the diameters"
+            + (", pi (d_outer^4 - d_inner^4) / 64" if body == "casing" else ""),
         )
     )
     keys += [
@@ -355,6 +359,7 @@ def _mount_keys(prefix, what):
             unit,
             f"{kind} of {what} {axes}",
             Triple(Number(ge=0, le=top, unit=unit)),
+            note="with rotational_stiffness, above 0 in some direction" if name == "stiffness" else "",
             components=MOUNT_AXES,
         )
         for name, default, unit, kind, axes, top in triples
@@ -382,6 +387,7 @@ _KEYS = [
         "",
         "the centerline through the points: a cubic spline by arc length, or the polyline (Eqs. 32-35)",
         Choice("spline", "polyline"),
+        note="only with geometry.points",
     ),
     KeySpec(
         "geometry.n_elements",
@@ -488,6 +494,7 @@ _KEYS = [
         "tangential relative speed below which a contact sticks (Section 2.1); with contact.friction_law = "
         "regularized, the slip speed over which Coulomb's force is regularised",
         Number(ge=0, le=1e3, unit="m/s"),
+        note='> 0 with contact.friction_law = "regularized"',
         plausible=(0.0, 0.1, "a contact that sticks up to this speed hardly ever slips"),
     ),
     KeySpec(
@@ -556,6 +563,7 @@ _KEYS = [
         "s",
         "half-cosine fade-in of the support motion (0: none)",
         Number(ge=0, le=1e6, unit="s"),
+        note="a warning above scenario.duration (with an excitation)",
     ),
     KeySpec(
         f"{_EXC}.target",
@@ -564,7 +572,8 @@ _KEYS = [
         "",
         "the driven support channel; axial acts along the body's tangent at that end, from A to B",
         Target(BODY_NAMES, SUPPORT_NAMES, DIRECTIONS + ("axial",)),
-        note="a clamped support of a body of the model",
+        note="a clamped or isolator support of a body of the model, or a clip's excitation; an isolator or clip "
+        "with stiffness or damping along the driven direction",
     ),
     KeySpec(
         f"{_EXC}.kind",
@@ -650,6 +659,7 @@ _KEYS = [
         "s",
         "start time of the impulse",
         Number(ge=0, le=1e6, unit="s"),
+        note="a warning at or after scenario.duration",
         kinds=("impulse",),
     ),
     KeySpec(

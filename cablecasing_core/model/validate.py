@@ -4,17 +4,21 @@ Each table is checked key by key with the schema's validators (unknown keys and 
 keys first, then every value; defaults filled in), then against the other keys where the schema's
 ``note`` says so: the casing's inner diameter between the cable and the outer diameter, the
 duration at least one step, a random band and a harmonic's frequency below the Nyquist frequency,
-excitations named by TOML bare keys, a target on a clamped support of a body that exists, a tension
-only with a cable, every part of the route and every element at least a micrometre long, and loads
-only on bodies that can carry them as built (a tension with both ends of both bodies held, every
-loaded body held against every rigid motion: structure/support_check.py). Every mistake raises
+excitations named by TOML bare keys, a target on a clamped or isolator support of a body that exists
+(or an excited clip) whose mount passes the driven direction, a tension only with a cable, a stick
+velocity above 0 with the regularized friction law, isolators and clips with some stiffness, every
+part of the route and every element at least a micrometre long, and loads only on bodies that can
+carry them as built (a tension with both ends of both bodies held, every loaded body held against
+every rigid motion: structure/support_check.py). Every mistake raises
 :class:`~cablecasing_core.errors.ModelError` naming the dotted key, the value and what is allowed;
 nothing is half-built.
 
 A valid model can still be physically absurd: a value outside its key's plausible range (the
-schema's ``plausible``), a radial gap far below a wire's roughness, a contact stiffness whose time
-scale the step does not resolve, an impulse resolved by a few steps, a contact sought on fewer
-than four elements, a gravity above 3 g. Each gives a :class:`~cablecasing_core.errors.ModelWarning` that says why the
+schema's ``plausible``), a second moment of area I outside its diameters' bounds, an impulse after
+the run's end or a ramp longer than the run, a radial gap far below a wire's roughness, a contact
+stiffness whose time scale the step does not resolve, an impulse resolved by a few steps, a contact
+sought on fewer than four elements, a gravity above 3 g. Each gives a
+:class:`~cablecasing_core.errors.ModelWarning` that says why the
 result may be meaningless (:func:`plausibility`, :func:`step_checks`); the model is used as given.
 The route's own warnings (too long, too short, doubling back, kinked, bent too tightly) are in one
 list, ``structure.route_summary.plausibility_warnings``, issued when a model file or dictionary is
@@ -39,13 +43,14 @@ def check_keys(prefix, data, allowed, required=()):
     """``data`` must be a table whose keys are among ``allowed`` and hold every one of ``required``."""
     if not isinstance(data, dict):
         raise ModelError(prefix, data, "must be a table (section)")
+    name = (lambda k: k) if prefix == "<model>" else (lambda k: f"{prefix}.{k}")  # (a section by its name)
     for k in data:
         if k not in allowed:
             # (an unknown key's value is not shown: the file may be no model file at all, e.g. one of secrets)
-            raise ModelError(f"{prefix}.{k}", NOT_SHOWN, "unknown key; allowed keys are " + ", ".join(sorted(allowed)))
+            raise ModelError(name(k), NOT_SHOWN, "unknown key; allowed keys are " + ", ".join(sorted(allowed)))
     for k in required:
         if k not in data:
-            raise ModelError(f"{prefix}.{k}", NOT_SHOWN, "is required")
+            raise ModelError(name(k), NOT_SHOWN, "is required")
 
 
 def _table(prefix, data, specs, extra=()):
@@ -89,8 +94,14 @@ def _mounts(name, data, supports, geometry):
         key = f"{name}.isolator.{s}"
         if supports[s] == "isolator":
             if s not in iso:
-                raise ModelError(key, None, f"is required: {name}.supports.{s} is an isolator")
+                raise ModelError(
+                    key,
+                    NOT_SHOWN,
+                    f"the table [{key}] with its stiffness ({key}.stiffness, N/m) is required when "
+                    f"{name}.supports.{s} = 'isolator'",
+                )
             out.setdefault("isolator", {})[s] = _table(key, iso[s], table(f"{name}.isolator.<support>"))
+            _holds(key, iso[s], out["isolator"][s], f"make {name}.supports.{s} free instead")
         elif s in iso:
             raise ModelError(key, iso[s], f"belongs to an isolator support, but {name}.supports.{s} = '{supports[s]}'")
     if name != "casing" or "clip" not in data:
@@ -103,7 +114,8 @@ def _mounts(name, data, supports, geometry):
     out["clip"] = []
     for i, c in enumerate(clips):
         key = f"casing.clip[{i}]"
-        c = _table(key, c, table("casing.clip[]"))
+        raw, c = c, _table(key, c, table("casing.clip[]"))
+        _holds(key, raw, c, "leave the clip out")
         if c["at"] >= length:
             raise ModelError(f"{key}.at", c["at"], f"must be inside the route, below its length {length:.6g} m")
         node = int(np.argmin(np.abs(s_nodes - c["at"])))
@@ -124,6 +136,21 @@ def _mounts(name, data, supports, geometry):
     return out
 
 
+def _holds(key, raw, mount, instead):
+    """A mount (an isolator or a clip, ``key``) has a stiffness in some direction, translational or
+    rotational: one with none holds nothing (a body on it alone has modes of 0 Hz; damping alone has
+    no static stiffness either)."""
+    if any(mount["stiffness"]) or any(mount["rotational_stiffness"]):
+        return
+    raise ModelError(
+        f"{key}.stiffness",
+        raw.get("stiffness"),
+        f"must be above 0 in some direction, or else {key}.rotational_stiffness: a mount with no stiffness in "
+        f"any direction, translational or rotational, holds nothing (a body held by it alone has modes of 0 Hz, "
+        f"with damping or without); {instead}",
+    )
+
+
 def _node_arc_lengths(geometry):
     """Arc lengths (m) of the centerline's nodes (the route built as the structure builds it)."""
     from ..structure.geometry import build_centerline, centerline_from_route
@@ -140,11 +167,21 @@ def _geometry(data):
     tangent where the bend starts."""
     out = _table("geometry", data, table("geometry"))
     given = [k for k in ("points", "segments") if k in out]
-    if len(given) != 1:
+    if not given:
         raise ModelError(
-            "geometry", sorted(data), "needs exactly one of points (a curve through points) and segments (a route)"
+            "geometry", NOT_SHOWN, "needs geometry.points (a curve through points) or geometry.segments (a route)"
+        )
+    if len(given) == 2:
+        raise ModelError(
+            "geometry.segments",
+            data["segments"],
+            "cannot be given together with geometry.points: a route is given by points or by segments, not both; "
+            "leave one of them out",
         )
     if "segments" in out:
+        if "curve" in data:
+            raise ModelError("geometry.curve", data["curve"], "belongs to a route given by points, not by segments")
+        del out["curve"]  # (its default belongs to points only)
         t = _unit(out["direction"], "geometry.direction")
         for i, seg in enumerate(out["segments"]):
             if "bend" in seg:
@@ -248,7 +285,9 @@ def derived_keys(raw: dict) -> frozenset:
 def _excitation(key, e, scenario, bodies, base_dir):
     if not isinstance(e, dict):
         raise ModelError(key, e, "must be a table with target and kind")
-    kind = lookup(f"{key}.kind").check(e.get("kind"), f"{key}.kind")
+    if "kind" not in e:
+        raise ModelError(f"{key}.kind", NOT_SHOWN, "is required: " + lookup(f"{key}.kind").validator.allowed)
+    kind = lookup(f"{key}.kind").check(e["kind"], f"{key}.kind")
     specs = [s for s in table("scenario.excitation.<name>") if not s.kinds or kind in s.kinds]
     out = _table(key, e, specs)
     _on_a_clamped_support(f"{key}.target", out["target"], bodies)
@@ -301,7 +340,24 @@ def _scenario(data, bodies, base_dir):
     out["excitation"] = {
         name: _excitation(f"scenario.excitation.{name}", e, out, bodies, base_dir) for name, e in exc.items()
     }
+    T = out["duration"]
+    for name, e in out["excitation"].items():
+        if e.get("start", 0.0) >= T:
+            _warn(
+                f"scenario.excitation.{name}.start = {e['start']:g} s is at or after the end of the run, "
+                f"scenario.duration = {T:g} s: the excitation moves nothing during it"
+            )
+    if out["ramp"] > T and out["excitation"]:
+        _warn(
+            f"scenario.ramp = {out['ramp']:g} s is longer than scenario.duration = {T:g} s: the support motion "
+            f"never reaches its full amplitude (at the end {_ramp_share(T / out['ramp']):.3g} of it)"
+        )
     return out
+
+
+def _ramp_share(x):
+    """The half-cosine fade-in's factor at the fraction ``x`` (0 to 1) of the ramp."""
+    return 0.5 * (1.0 - math.cos(math.pi * min(x, 1.0)))
 
 
 def validate(data: dict, base_dir: str | None = None) -> dict:
@@ -343,9 +399,11 @@ def validate(data: dict, base_dir: str | None = None) -> dict:
             )
     out["contact"] = _table("contact", data.get("contact", {}), table("contact"))
     check_tolerance_substeps(out["contact"]["event_tolerance"], out["contact"]["event_substeps"])
+    check_regularized(out["contact"])
     out["loads"] = _loads(data.get("loads", {}), bodies)
     out["scenario"] = _scenario(data.get("scenario", {}), bodies, base_dir)
     _carried(out)
+    _driven_through_mounts(out)
     plausibility(out)
     step_checks(out, out["scenario"]["dt"], "scenario.dt")
     return out
@@ -360,6 +418,19 @@ def check_tolerance_substeps(tolerance, substeps):
             tolerance,
             f"must be 0 with contact.event_substeps = {substeps}: a step above the tolerance is recomputed in "
             "contact.event_substeps sub-steps, so set that to 2-64 (8 is the default) or the tolerance to 0",
+        )
+
+
+def check_regularized(contact):
+    """The regularized friction law's force, friction x N v / sqrt(v^2 + stick_velocity^2), needs a
+    contact.stick_velocity > 0 (with 0 it is the switch law's discontinuous force, which the
+    implicit solve of the regularized law cannot take)."""
+    if contact["friction_law"] == "regularized" and contact["stick_velocity"] <= 0.0:
+        raise ModelError(
+            "contact.stick_velocity",
+            contact["stick_velocity"],
+            'must be > 0 m/s with contact.friction_law = "regularized": it is the slip speed over which '
+            "Coulomb's force is regularised (1e-4 m/s is the default)",
         )
 
 
@@ -397,6 +468,62 @@ def _carried(out):
     check_supported(Model(out))
 
 
+def _driven_through_mounts(out):
+    """Each excitation on an isolator support or an excited clip drives the mount in a direction in
+    which it has stiffness or damping: a mount with neither along the driven direction (global x, y,
+    z, or the tangent for axial) transmits nothing, and the excitation would move nothing (every
+    output it causes zero)."""
+    from ..structure.geometry import centerline_of
+    from ..structure.mount_element import mounts_of
+    from .model import Model
+
+    excitations = out["scenario"]["excitation"]
+    mounted = {}  # target channel prefix -> (body, mount label)
+    for body in BODY_NAMES:
+        if body in out:
+            for s in SUPPORT_NAMES:
+                if out[body]["supports"][s] == "isolator":
+                    mounted[f"{body}.{s}"] = (body, s)
+    for i, c in enumerate(out.get("casing", {}).get("clip", [])):
+        if "excitation" in c:
+            mounted[c["excitation"]] = ("casing", f"clip{i}")
+    hits = [(n, e["target"]) for n, e in excitations.items() if e["target"].rsplit(".", 1)[0] in mounted]
+    if not hits:
+        return
+    model = Model(out)
+    centerline = centerline_of(model)
+    mounts = {(b, m.label): m for b in {b for b, _ in mounted.values()} for m in mounts_of(model, b, centerline)}
+    for name, target in hits:
+        where, direction = target.rsplit(".", 1)
+        body, label = mounted[where]
+        m = mounts[(body, label)]
+        d = m.axes[0] if direction == "axial" else np.eye(3)["xyz".index(direction)]
+        keys = out[body]["isolator"][label] if label in SUPPORT_NAMES else out["casing"]["clip"][int(label[4:])]
+        if not _carries(m.axes, keys, d):
+            mount = f"{body}.isolator.{label}" if label in SUPPORT_NAMES else f"casing.clip[{label[4:]}]"
+            raise ModelError(
+                f"scenario.excitation.{name}.target",
+                target,
+                f"drives {mount} along {'its axis' if direction == 'axial' else direction}, in which it has "
+                "neither stiffness nor damping: it transmits nothing, and the excitation would move nothing; "
+                "drive another direction or give the mount stiffness in this one",
+            )
+
+
+#: The least share of a driven direction along a mount's axes with stiffness or damping that counts
+#: as a drive through it: below it the direction lies along the mount's free axes to within 1e-6 rad
+#: (a route's round-off out of its plane, ~1e-7, is no drive).
+LEAST_DRIVE = 1e-6
+
+
+def _carries(axes, keys, d):
+    """Whether a mount (local ``axes``, rows axial, lateral_1, lateral_2; its checked ``keys``)
+    passes a support motion along the unit ``d`` (global) through its stiffness or damping: the
+    share of ``d`` along its axes with either above :data:`LEAST_DRIVE`."""
+    held = (np.asarray(keys["stiffness"]) > 0) | (np.asarray(keys["damping"]) > 0)
+    return float(np.linalg.norm((axes @ d)[held])) > LEAST_DRIVE
+
+
 def _warn(text):
     warnings.warn(text, ModelWarning, stacklevel=4)
 
@@ -411,9 +538,15 @@ MAX_GRAVITY = 3 * EARTH
 ROUGHNESS = 1e-6  # m
 
 
+#: The least share of its diameters' section (the tube's, the solid wire's) a body's I may be without
+#: a warning: a stranded wire's effective I is a few per cent of its solid circle's, a lined casing's
+#: (I_op of Table 2) most of its tube's.
+I_LEAST = 1e-3
+
+
 def plausibility(out: dict) -> list[str]:
     """The warnings (also issued as :class:`ModelWarning`) of a checked model whose values are
-    valid but whose result may be meaningless: the gap, the elements (docs/model_file.md,
+    valid but whose result may be meaningless: the gap, the bodies' I, the gravity, the elements (docs/model_file.md,
     "Warnings"; the route's are ``structure.route_summary.plausibility_warnings``, which loading a
     model file or dictionary issues). Returns their texts."""
     said = []
@@ -432,6 +565,25 @@ def plausibility(out: dict) -> list[str]:
                 "roughness of a drawn wire and a casing's liner: the smooth contact law does not describe such a "
                 "fit, and the cable starts pressed against the wall wherever the route bends (the energy it "
                 "then takes is no vibration)"
+            )
+    for name in bodies:
+        b = out[name]
+        if "I" not in b:
+            continue
+        d_o, d_i = (b["d_outer"], b["d_inner"]) if name == "casing" else (b["d"], 0.0)
+        solid, tube = math.pi * d_o**4 / 64, math.pi * (d_o**4 - d_i**4) / 64
+        size = "casing.d_outer" if name == "casing" else "cable.d"
+        if b["I"] > solid * (1 + 1e-9):
+            warn(
+                f"{name}.I = {b['I']:g} m4 is {b['I'] / solid:.3g} times the solid circle's pi d^4 / 64 = "
+                f"{solid:.4g} m4 of {size} = {d_o:g} m: no homogeneous section inside that diameter is so stiff "
+                "(an effective I_op may exceed it a little; is the unit m4?)"
+            )
+        elif b["I"] < I_LEAST * tube:
+            section = "tube pi (d_outer^4 - d_inner^4) / 64" if name == "casing" else "section pi d^4 / 64"
+            warn(
+                f"{name}.I = {b['I']:g} m4 is below {I_LEAST:g} of its {section} = {tube:.4g} m4: the "
+                f"{name} bends as a string, its bending modes near 0 Hz (is the unit m4?)"
             )
     g = float(np.linalg.norm(out["loads"]["gravity"]))
     if g > MAX_GRAVITY:

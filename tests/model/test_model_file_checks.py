@@ -153,13 +153,20 @@ def test_every_valid_model_round_trips_through_to_toml(tmp_path):
     (before, a tab or a line break in a CSV file's path, or a name needing quotes, gave invalid TOML)."""
     for i, m in enumerate(_models(tmp_path)):
         text = m.to_toml()
-        assert tomllib.loads(text) == m.data
+        written = copy.deepcopy(m.data)
+        for key in m.derived:  # (left out: derived again from their source when read back)
+            *path, last = key.split(".")
+            node = written
+            for p in path:
+                node = node[p]
+            del node[last]
+        assert tomllib.loads(text) == written
         p = tmp_path / f"written{i}.toml"
         p.write_text(text, encoding="utf-8")
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             again = load_model(p)
-        assert again.data == m.data
+        assert again.data == m.data and again.derived == m.derived
     assert again.scenario["excitation"]["from-file"]["file"].endswith(AWKWARD.replace("\x00", "") + ".csv")
 
 

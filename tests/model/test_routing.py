@@ -216,8 +216,12 @@ def test_a_polyline_through_an_arc_warns_once_and_a_dictionary_warns_as_a_file()
         ({"segments": [{"bend": {"radius": 0.1, "angle_deg": 30, "toward": [0, 0, 0]}}]}, "toward", "not all zero"),
         ({"segments": SEGMENTS, "direction": [0, 0, 0]}, "geometry.direction", "not all zero"),
         ({"segments": SEGMENTS, "start": [0, 0]}, "geometry.start", "[x, y, z]"),
-        ({"segments": SEGMENTS, "points": [[0, 0, 0], [1, 0, 0]]}, "geometry", "exactly one of points"),
-        ({}, "geometry", "exactly one of points"),
+        (
+            {"segments": SEGMENTS, "points": [[0, 0, 0], [1, 0, 0]]},
+            "geometry.segments",
+            "by points or by segments, not both",
+        ),
+        ({}, "geometry", "needs geometry.points (a curve through points) or geometry.segments"),
         ({"points": [[0, 0, 0], [1, 0, 0]], "start": [0, 0, 0]}, "geometry.start", "segments"),
     ],
 )

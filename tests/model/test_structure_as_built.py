@@ -196,12 +196,14 @@ def test_zero_stiffness_isolators_under_gravity_are_refused_alike_on_every_mesh(
 
 @pytest.mark.parametrize("n", [40, 200])
 def test_mounts_that_hold_nothing_name_the_translation_the_weight_drives_on_every_mesh(n):
-    """Isolators of no stiffness at all, rotations too: every rigid motion is free, and the weight
-    drives a translation along g, not a rotation (the weight's moment was taken about the nodes'
-    centroid, which on a curved route is not the centre of mass: "a rotation about [0.276, 0.961,
-    0] through [-481, 138, 0] m" at 40 elements, [-2.35e+03, 705, 0] m at 200)."""
+    """Isolators of no translational stiffness, and of a torsional one alone (a mount of no stiffness
+    at all is refused by name first: test_review_model_file.py): every translation and most rotations
+    are free, and the weight drives a translation along g, not a rotation (the weight's moment was
+    taken about the nodes' centroid, which on a curved route is not the centre of mass: "a rotation
+    about [0.276, 0.961, 0] through [-481, 138, 0] m" at 40 elements, [-2.35e+03, 705, 0] m at 200)."""
     raw = _installation(
-        **{f"casing.isolator.{s}.{k}": 0.0 for s in "AB" for k in ("stiffness", "rotational_stiffness")}
+        **{f"casing.isolator.{s}.stiffness": 0.0 for s in "AB"}
+        | {f"casing.isolator.{s}.rotational_stiffness": [1.0, 0.0, 0.0] for s in "AB"}
         | {"casing.clip": None, "loads.gravity": [0.0, 0.0, -9.81], "geometry.n_elements": n}
     )
     with pytest.raises(cc.ModelError) as err:
@@ -230,7 +232,12 @@ def test_an_isolator_without_axial_stiffness_under_tension_is_refused(body):
 @pytest.mark.parametrize("n", [40, 64])
 def test_a_free_casing_on_one_zero_stiffness_clip_is_refused_alike_on_every_mesh(n):
     with pytest.raises(cc.ModelError) as err:
-        column(("free", "free"), n=n, clips=[{"at": 0.5, "stiffness": 0.0}], loads={"gravity": [0, 0, -9.81]})
+        column(  # (a clip of rotational stiffness only: one of no stiffness at all is refused by name first)
+            ("free", "free"),
+            n=n,
+            clips=[{"at": 0.5, "stiffness": 0.0, "rotational_stiffness": 1.0}],
+            loads={"gravity": [0, 0, -9.81]},
+        )
     assert "translation along [0, 0, -1]" in str(err.value) and "clips at s = 0.5 m" in str(err.value)
 
 
