@@ -140,8 +140,22 @@ def check_writable(flag: str, path: str | os.PathLike) -> None:
 
 def output_folder(flag: str, folder: str | os.PathLike, probe_name: str) -> Path:
     """Create the output folder ``folder`` (and its parents) and check that ``probe_name`` can be
-    written in it (:func:`check_writable`); a :class:`ModelError` naming ``flag`` otherwise."""
+    written in it (:func:`check_writable`); a :class:`ModelError` naming ``flag`` otherwise: an
+    empty path (which would be the current folder), a path that is an existing file or lies under
+    one, a folder that cannot be created or written in."""
+    if not os.fspath(folder):
+        raise ModelError(flag, str(folder), "must name a folder (an empty path would write into the current folder)")
     folder = Path(folder)
+    for path in (folder, *folder.parents):  # (the nearest that exists must be a folder)
+        try:
+            found, is_folder = path.exists(), path.is_dir()
+        except OSError:  # (not readable: mkdir below says why)
+            break
+        if found:
+            if not is_folder:
+                where = "is an existing file" if path == folder else f"lies under {path}, an existing file"
+                raise ModelError(flag, str(folder), f"{where}, not a folder: must be a folder (or one to create)")
+            break
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as exc:

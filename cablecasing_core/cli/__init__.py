@@ -64,13 +64,15 @@ class Parser(argparse.ArgumentParser):
 
 
 def cmd_modes(args):
-    from ..frequency.modal import natural_frequencies
+    from ..frequency.modal import mode_count, natural_frequencies
     from ..model.validators import integer
 
     model = model_argument(args.model)
     count = integer("--count", args.count, 1)
-    res = {b: natural_frequencies(model, b, count).tolist() for b in model.bodies}
-    for b, f in res.items():  # (a body has as many modes as free degrees of freedom: all of them printed)
+    # (a body has as many modes as free degrees of freedom: all of them printed, and the warning below
+    # names --count; asked for no more than there are, the API does not warn a second time)
+    res = {b: natural_frequencies(model, b, min(count, mode_count(model, b))).tolist() for b in model.bodies}
+    for b, f in res.items():
         if len(f) < count:
             warnings.warn(
                 f"--count = {count}: the {b} of {model.source} has only {len(f)} modes (one per free degree of "
@@ -88,11 +90,13 @@ def cmd_modes(args):
 
 
 def cmd_trfam(args):
-    from ..frequency.trfam import trfam
+    from ..frequency.trfam import MIN_FREQUENCY_HZ, parse_port, trfam
+    from ..model.validators import number
     from .nvh import check_frequency_range
 
     model = model_argument(args.model)
     check_frequency_range(args.fmin, args.fmax)
+    number("--fmin", args.fmin, ge=MIN_FREQUENCY_HZ, unit="Hz")  # (the TRFAM's own lower limit)
     if not (args.fmin > 0 and args.fmax > args.fmin and args.df > 0):
         raise ModelError("--fmin/--fmax/--df", (args.fmin, args.fmax, args.df), "need 0 < fmin < fmax and df > 0 (Hz)")
     if args.df > args.fmax - args.fmin:
@@ -115,7 +119,9 @@ def cmd_trfam(args):
     check_distinct(("--out", args.out), ("--plot", args.plot))
     args.interrupted = "stopped: " + kept(args.out, args.plot)
     with renamed({"input": "--input", "output": "--output"}):
+        body = parse_port("input", args.input, model)[0]
         H = trfam(model, args.input, args.output, f, damping=args.damping)
+    _warn_coarse_grid(model, body, args)
     table = np.column_stack([f, H.real, H.imag, np.abs(H), np.degrees(np.angle(H))])
     header = "frequency_hz,re_kg,im_kg,magnitude_kg,phase_deg"
     if args.out and args.out.lower().endswith(".uff"):
@@ -138,6 +144,50 @@ def cmd_trfam(args):
         plot_trfam(f, {f"{args.damping}": H}, args.plot, title=title, log_frequency=args.log_frequency)
         print(f"wrote {args.plot}")
     return 0
+
+
+def _warn_coarse_grid(model, body, args):
+    """Warn when the grid step ``--df`` may miss the peak of a resonance between --fmin and --fmax.
+
+    A grid of step df lands at worst df/2 from a peak of half-power bandwidth b, where |TRFAM| is
+    1/sqrt(1 + (df/b)^2) of the peak's height (a single mode's resonance): the criterion is df <= b/2,
+    which keeps each peak within 11 % (1/sqrt(1.25) = 0.894). Undamped (b = 0), no grid resolves a
+    peak, which is infinite."""
+    from ..frequency.trfam import half_power_bandwidths
+
+    fn, bw = half_power_bandwidths(model, body, args.damping, args.fmin, args.fmax)
+    if not len(fn):
+        return
+    where = f"between --fmin {args.fmin:g} and --fmax {args.fmax:g} Hz"
+    if not np.all(bw > 0):
+        zero = fn[bw <= 0]
+        why = "--damping none" if args.damping == "none" else f"the {body} has no {args.damping} damping"
+        at = (
+            f"the natural frequency {zero[0]:.6g} Hz"
+            if len(zero) == 1
+            else (f"each of the {len(zero)} natural frequencies (the first at {zero[0]:.6g} Hz)")
+        )
+        warnings.warn(
+            f"--df = {args.df:g} Hz: {why}, so the TRFAM is infinite at {at} of the {body} {where}: no grid "
+            "resolves such a peak, and the values near it are the grid's, not the peak's height",
+            stacklevel=1,
+        )
+        return
+    coarse = args.df > bw / 2.0
+    if not np.any(coarse):
+        return
+    k = int(np.argmin(bw))
+    low = 1.0 / np.sqrt(1.0 + (args.df / bw[k]) ** 2)
+    unit = 10.0 ** (np.floor(np.log10(bw[k] / 2.0)) - 2)  # (three digits, rounded down: a step that resolves)
+    fine = float(f"{np.floor(bw[k] / 2.0 / unit) * unit:.3g}")
+    warnings.warn(
+        f"--df = {args.df:g} Hz is wider than half the half-power bandwidth of {int(coarse.sum())} of the "
+        f"{len(fn)} mode(s) of the {body} {where} ({args.damping} damping): the narrowest, at {fn[k]:.6g} Hz, is "
+        f"{bw[k]:.4g} Hz wide, and a grid of step df may miss its peak by df/2, where |TRFAM| is down to "
+        f"1/sqrt(1 + (df/bandwidth)^2) = {100 * low:.0f} % of it; --df {fine:g} or less keeps every peak "
+        "within 11 %",
+        stacklevel=1,
+    )
 
 
 def cmd_keys(args):

@@ -215,10 +215,11 @@ def check_frequency_range(fmin, fmax):
     """``--fmin``/``--fmax`` (Hz): 0 < fmin < fmax <= 1e6 (the model and its records lie far below; a
     spectrum has no line at 0 Hz to resolve, and the TRFAM none to compute)."""
     from ..errors import ModelError
+    from ..frequency.trfam import MAX_FREQUENCY_HZ
     from ..model.validators import number
 
-    number("--fmin", fmin, gt=0, le=1e6, unit="Hz")
-    number("--fmax", fmax, gt=0, le=1e6, unit="Hz")
+    number("--fmin", fmin, gt=0, le=MAX_FREQUENCY_HZ, unit="Hz")
+    number("--fmax", fmax, gt=0, le=MAX_FREQUENCY_HZ, unit="Hz")
     if not fmin < fmax:
         raise ModelError("--fmin/--fmax", (fmin, fmax), "need fmin < fmax (Hz)")
 

@@ -12,7 +12,7 @@ def cmd_report(args):
     from ..report import check_report_settings, write_report
 
     # (the settings before the folder: a refused report creates nothing)
-    names = {"duration": "--duration", "scenario.duration": "--duration", "seeds": "--seeds"}
+    names = {"model": "MODEL", "duration": "--duration", "scenario.duration": "--duration", "seeds": "--seeds"}
     with renamed({**names, "study_samples": "--study-samples"}):
         model, _, _ = check_report_settings(model_argument(args.model), args.duration, args.seeds, args.study_samples)
         check_time_domain(model, args.duration, model.scenario["dt"])  # (a run too large for the machine)

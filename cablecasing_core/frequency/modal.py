@@ -11,6 +11,7 @@ frequency: each mode then solves its own frequency (:func:`natural_frequencies`)
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -18,9 +19,9 @@ import numpy as np
 from scipy.linalg import eigh, eigvalsh
 from scipy.optimize import brentq
 
-from ..errors import NOT_SHOWN, ModelError
+from ..errors import NOT_SHOWN, ModelError, ModelWarning
 from ..model.limits import check_dense_eigenproblem
-from ..model.validators import Choice, integer
+from ..model.validators import Choice, integer, number
 from ..structure.assembly import assemble_body
 
 if TYPE_CHECKING:
@@ -71,6 +72,10 @@ def modal_basis(system: BodySystem) -> ModalBasis:
 def natural_frequencies(model: Model, body: str, count: int | None = None) -> np.ndarray:
     """Natural frequencies (Hz, ascending) of ``body`` ("casing" or "cable") with its supports.
 
+    ``count`` (None: all) is the number of modes wanted; a body has one mode per free degree of
+    freedom (:func:`mode_count`), and a larger ``count`` returns all of them with a
+    :class:`~cablecasing_core.errors.ModelWarning` that says how many there are.
+
     With a frequency-dependent stiffness, a modulus table E(f) (the dynamic modulus E_d(omega) of
     the paper's complex modulus, Section 2, identified against frequency in Section 3.1, Figs. 8-9)
     or a mount's table k_scale(f) (``structure/mount_element.py``), mode i solves its own fixed
@@ -88,13 +93,19 @@ def natural_frequencies(model: Model, body: str, count: int | None = None) -> np
     frequency is f_ref sqrt(E(f) / E_ref) (no eigenproblem per step). A constant modulus with mounts
     without tables needs no iteration: those frequencies are the reference eigenproblem's.
     """
-    return modes(model, body, count)[0]
+    return _modes(model, body, count)[0]
 
 
 def modes(model: Model, body: str, count: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """(frequencies in Hz, as :func:`natural_frequencies`, and mode shapes) of ``body``; shapes are
     (ndof, count) arrays over all DOFs (zero at prescribed DOFs), the mass-normalised modes of the
-    reference stiffness (the reference modulus E_ref, the mounts' ``stiffness`` K6)."""
+    reference stiffness (the reference modulus E_ref, the mounts' ``stiffness`` K6). A ``count``
+    beyond the body's modes returns all of them and warns (:class:`ModelWarning`)."""
+    return _modes(model, body, count)
+
+
+def _modes(model, body, count):
+    """:func:`modes`, called by it and by :func:`natural_frequencies` (its warning points at their caller)."""
     Choice(*model.bodies)("body", body)
     if count is not None:
         integer("count", count, 1)
@@ -102,6 +113,14 @@ def modes(model: Model, body: str, count: int | None = None) -> tuple[np.ndarray
     system = basis.system
     spec = system.spec
     n = len(basis.lam) if count is None else min(count, len(basis.lam))
+    if count is not None and count > n:
+        warnings.warn(
+            ModelWarning(
+                f"count = {count}: the {body} of {model.source} has only {n} modes (one per free degree of "
+                f"freedom of its {model.geometry['n_elements']} elements); all {n} are returned"
+            ),
+            stacklevel=3,
+        )
     f = basis.frequencies_hz[:n].copy()
     tabled = any(m.table is not None for m in system.mounts)
     if spec.frequency_dependent and not system.prestressed and not system.mounts:
@@ -111,6 +130,32 @@ def modes(model: Model, body: str, count: int | None = None) -> tuple[np.ndarray
     shapes = np.zeros((system.ndof, n))
     shapes[system.free] = basis.phi[:, :n]
     return f, shapes
+
+
+def mode_count(model: Model, body: str) -> int:
+    """The number of modes of ``body``: its free degrees of freedom with its supports (and its
+    mounts' nodes), the most that :func:`natural_frequencies` returns (no eigenproblem solved)."""
+    Choice(*model.bodies)("body", body)
+    return len(assemble_body(model, body).free)
+
+
+def modes_up_to(model: Model, body: str, f_max: float) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`modes` of ``body`` whose frequency is at most ``f_max`` (Hz): (frequencies in Hz, shapes).
+    Asks for modes in growing counts until one lies above ``f_max`` or the body has no more."""
+    number("f_max", f_max, gt=0, unit="Hz")
+    n_all = mode_count(model, body)
+    count = 16
+    while True:
+        f, shapes = _modes(model, body, min(count, n_all))
+        if len(f) == n_all or f[-1] > f_max:
+            keep = f <= f_max
+            return f[keep], shapes[:, keep]
+        count *= 4
+
+
+def frequencies_up_to(model: Model, body: str, f_max: float) -> np.ndarray:
+    """The natural frequencies (Hz, as :func:`natural_frequencies`) of ``body`` up to ``f_max`` Hz."""
+    return modes_up_to(model, body, f_max)[0]
 
 
 #: Convergence of a mode's frequency: a step of the iteration changes f_i by less than RTOL f_i.

@@ -54,12 +54,71 @@ from ..model.limits import MAX_FREQUENCIES
 from ..model.schema import DIRECTIONS, SUPPORT_NAMES
 from ..model.validators import Choice, frequencies
 from ..structure.assembly import assemble_body
-from .modal import modal_basis
+from .modal import modal_basis, modes_up_to
 
 if TYPE_CHECKING:
     from ..model import Model
 
 DAMPING_MODELS = ("viscous", "structural", "none")
+
+#: The frequencies (Hz) a TRFAM is computed at: the lowest, below which nothing vibrates (a period of
+#: 12 days; the apparent mass there is the static stiffness over omega^2, 1e12 kg and more, and below
+#: about 1e-150 Hz omega^2 underflows to nan and inf), and the highest (the ``trfam`` command's
+#: --fmin/--fmax limit: the model's modes and records lie far below).
+MIN_FREQUENCY_HZ = 1e-6
+MAX_FREQUENCY_HZ = 1e6
+
+
+def trfam_frequencies(key: str, freqs_hz: ArrayLike) -> np.ndarray:
+    """``freqs_hz`` checked for :func:`trfam`: a non-empty 1-D array of at most
+    :data:`~cablecasing_core.model.limits.MAX_FREQUENCIES` numbers (not bools) from
+    :data:`MIN_FREQUENCY_HZ` to :data:`MAX_FREQUENCY_HZ` Hz; a :class:`ModelError` naming ``key``."""
+    raw = np.asarray(freqs_hz, dtype=object) if not isinstance(freqs_hz, np.ndarray) else freqs_hz
+    if raw.dtype.kind == "b" or (
+        raw.dtype == object and any(isinstance(v, (bool, np.bool_)) for v in np.ravel(raw).tolist())
+    ):
+        raise ModelError(key, freqs_hz, "must be frequencies in Hz (numbers, not True or False)")
+    f = frequencies(key, freqs_hz, at_most=MAX_FREQUENCIES)
+    bad = (f < MIN_FREQUENCY_HZ) | (f > MAX_FREQUENCY_HZ)
+    if np.any(bad):
+        raise ModelError(
+            key,
+            float(f[bad][0]),
+            f"every frequency must lie from {MIN_FREQUENCY_HZ:g} to {MAX_FREQUENCY_HZ:g} Hz (a TRFAM outside "
+            "is no vibration, or overflows)",
+        )
+    return f
+
+
+def half_power_bandwidths(model: Model, body: str, damping: str, f_lo: float, f_hi: float):
+    """(natural frequencies f_n in Hz, their half-power bandwidths in Hz) of the modes of ``body``
+    from ``f_lo`` to ``f_hi`` Hz under ``damping``: the width of a resonance peak of the TRFAM where
+    |H| is at least 1/sqrt(2) of its height.
+
+    * structural: eta(f_n) r_E f_n, eta the loss factor at f_n,
+    * viscous: 2 zeta_n f_n = (alpha + beta omega_n^2 r_T) / (2 pi), i.e. zeta = alpha / (2 omega) +
+      beta omega / 2 (Rayleigh),
+    * none: 0 (the peak is infinite),
+
+    with r_E = s(f_n) phi^T K_E phi / omega_n^2 and r_T = phi^T (s K_E + K_G) phi / omega_n^2 the
+    shares of the mode's stiffness that carry the body's loss (phi the mass-normalised mode; both 1
+    for a body without prestress or mounts, where the bandwidths are exact for separated modes). A
+    mount's own damping is not counted: it widens the peaks further."""
+    Choice(*DAMPING_MODELS)("damping", damping)
+    f, shapes = modes_up_to(model, body, f_hi)
+    keep = f >= f_lo
+    f, shapes = f[keep], shapes[:, keep]
+    if damping == "none" or not len(f):
+        return f, np.zeros_like(f)
+    system = assemble_body(model, body)
+    spec = system.spec
+    w2 = (2.0 * np.pi * f) ** 2
+    s = np.asarray(spec.modulus(f), dtype=float) / system.E
+    e_part = s * np.einsum("im,im->m", shapes, system.K_E @ shapes) / w2
+    if damping == "structural":
+        return f, np.asarray(spec.loss(f), dtype=float) * e_part * f
+    g_part = np.einsum("im,im->m", shapes, system.K_G @ shapes) / w2 if system.prestressed else 0.0
+    return f, (spec.alpha + spec.beta * w2 * (e_part + g_part)) / (2.0 * np.pi)
 
 
 def parse_port(key, value, model):
@@ -199,10 +258,11 @@ def trfam(model: Model, input: str, output: str, freqs_hz: ArrayLike, damping: s
     model : Model
     input : str, the driven support DOF, e.g. ``"casing.A.x"`` (its acceleration is the input).
     output : str, the support DOF whose force is the output, e.g. ``"casing.B.x"`` (same body).
-    freqs_hz : array of positive frequencies in Hz.
+    freqs_hz : array of frequencies in Hz, from :data:`MIN_FREQUENCY_HZ` (1e-6) to
+        :data:`MAX_FREQUENCY_HZ` (1e6) (a ModelError otherwise; True and False are refused).
     damping : "viscous" (Eq. 10, Rayleigh alpha/beta), "structural" (Eq. 11, loss factor) or "none".
     """
-    f = frequencies("freqs_hz", freqs_hz, at_most=MAX_FREQUENCIES)
+    f = trfam_frequencies("freqs_hz", freqs_hz)
     bi, si, di = parse_port("input", input, model)
     bo, so, do = parse_port("output", output, model)
     if bi != bo:
@@ -225,8 +285,8 @@ def trfam_matrix(
 ) -> np.ndarray:
     """The 3x3 TRFAM block (kg, Eq. 12), shape (nf, 3 outputs x/y/z, 3 inputs x/y/z), between two
     supports of one body at ``freqs_hz`` (Hz): the force at ``output_support`` over the acceleration
-    of ``input_support`` ("A" or "B"); ``damping`` as :func:`trfam`'s."""
-    f = frequencies("freqs_hz", freqs_hz, at_most=MAX_FREQUENCIES)
+    of ``input_support`` ("A" or "B"); ``freqs_hz`` and ``damping`` as :func:`trfam`'s."""
+    f = trfam_frequencies("freqs_hz", freqs_hz)
     if body not in model.bodies:
         raise ModelError("body", body, "must be one of " + ", ".join(repr(b) for b in model.bodies))
     for key, support in (("input_support", input_support), ("output_support", output_support)):

@@ -42,6 +42,13 @@ def check_report_settings(model=None, duration=0.5, seeds=6, study_samples=32, s
     from ..model.validators import integer, seconds
 
     model = model if isinstance(model, Model) else load_model(model)
+    if "casing" not in model.bodies:  # (its output, band levels, scalograms and spectra are the casing's)
+        raise ModelError(
+            "model",
+            model.source,
+            f"must have a casing: the report shows the support force {OUTPUT}; this model has only the "
+            + " and the ".join(model.bodies),
+        )
     seconds("duration", duration)
     seconds("skip", skip, zero_ok=True)
     n_seeds = integer("seeds", seeds, 2)
@@ -77,6 +84,7 @@ def write_report(
     """
     import cablecasing_core as cc
 
+    from ..frequency.modal import frequencies_up_to, mode_count
     from . import figures, page
 
     model, n_seeds, study_samples = check_report_settings(model, duration, seeds, study_samples, skip)
@@ -94,11 +102,15 @@ def write_report(
         "seeds": seed_list,
         "output": OUTPUT,
     }
-    body = "casing" if "casing" in model.bodies else next(iter(model.bodies))
+    body = "casing"  # (check_report_settings: the model has one)
     _say("natural frequencies and TRFAM (frequency domain)", progress)
-    modes = {b: cc.natural_frequencies(model, b, 10) for b in model.bodies}
+    # the first 10 modes of each body, or all it has (a coarse mesh has fewer: one per free DOF)
+    modes = {b: cc.natural_frequencies(model, b, min(10, mode_count(model, b))) for b in model.bodies}
     lines = ["mode," + ",".join(f"{b} [Hz]" for b in modes)]
-    lines += [f"{i + 1}," + ",".join(repr(float(f[i])) for f in modes.values()) for i in range(10)]
+    lines += [
+        f"{i + 1}," + ",".join(repr(float(f[i])) if i < len(f) else "" for f in modes.values())
+        for i in range(max(len(f) for f in modes.values()))
+    ]
     write_text(out / "modes.csv", "\n".join(lines) + "\n")
     with atomic_path(out / "parameters.csv") as tmp, open(tmp, "w", newline="", encoding="utf-8") as fh:
         csv.writer(fh).writerows([("key", "value", "unit", "description"), *page.parameter_rows(model, duration)])
@@ -111,8 +123,8 @@ def write_report(
             v.ensemble.save(out / f"bands_{v.key}.csv")
     _say("figures", progress)
     f_max = 2000.0
-    harmonics = drive_harmonics(model, f_max)[:8]  # the drive and its first harmonics (more would hide the rest)
-    natural = [f for f in cc.natural_frequencies(model, body, 40) if 20.0 <= f <= f_max]
+    harmonics = drive_harmonics(model, f_max)  # all of them up to f_max; the scalogram draws the first few
+    natural = [f for f in frequencies_up_to(model, body, f_max) if f >= 20.0]
     figures.time_figure(vs, out / "simulation.png")
     figures.scalogram_figure(vs, out / "scalograms.png", natural, harmonics, skip)
     figures.contact_figures(model, vs[-1], out)

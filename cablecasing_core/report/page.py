@@ -112,6 +112,20 @@ def specimen_name(source: str) -> str:
     return os.path.basename(source) or source
 
 
+def _harmonics_note(harmonics):
+    """The scalograms' note on the drive's harmonics (Hz), all of those up to the plotted maximum:
+    the lines drawn (:data:`.figures.HARMONICS_DRAWN`), and how many there are when more exist."""
+    from .figures import HARMONICS_DRAWN
+
+    shown = ", ".join(f"{f:g}" for f in harmonics[:HARMONICS_DRAWN])
+    if len(harmonics) <= HARMONICS_DRAWN:
+        return f"; dotted red: the drive and its harmonics ({_e(shown)} Hz)"
+    return (
+        f"; dotted red: the drive and its first harmonics ({_e(shown)}, ... Hz: {HARMONICS_DRAWN} drawn of the "
+        f"{len(harmonics)} up to {harmonics[-1]:g} Hz)"
+    )
+
+
 def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, out):
     """The HTML text of the report (see :func:`cablecasing_core.report.write_report`)."""
     seeds = info["seeds"]
@@ -194,12 +208,7 @@ def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, o
         + " (Figs. 20-21)</h2>",
         "<img src='scalograms.png'>",
         "<p class='note'>Reference records; dashed: natural frequencies of the casing"
-        + (
-            f"; dotted red: the drive and its harmonics ({_e(', '.join(f'{f:g}' for f in harmonics[:8]))}"
-            f"{' ...' if len(harmonics) > 8 else ''} Hz)"
-            if len(harmonics)
-            else ""
-        )
+        + (_harmonics_note(harmonics) if len(harmonics) else "")
         + ".</p>",
         "<h2>Contact: routing and contact time beside the curvature (Fig. 22)</h2>",
         "<img src='routing_contact.png'><img src='contact_histogram.png'>"

@@ -129,7 +129,8 @@ def seed_ensemble(
         "bands": band_set,
         "contact_time": True,
     }
-    nodes = base.geometry["n_elements"] + 1 if "cable" in base.bodies else 0
+    # (contact, and so a contact time per cable node, needs the cable and the casing)
+    nodes = base.geometry["n_elements"] + 1 if {"cable", "casing"} <= set(base.bodies) else 0
     outputs = tuple(band_set.labels) + tuple(f"contact_time_{k}" for k in range(nodes))
     todo = [(i, seed_overrides(base, s, names)) for i, s in enumerate(seeds)]
 
