@@ -6,6 +6,9 @@ from __future__ import annotations
 import json
 import warnings
 
+import numpy as np
+
+from ..errors import ModelWarning
 from .assignments import add_model_argument, model_argument
 
 
@@ -47,6 +50,8 @@ def cmd_geometry(args):
             print(f"  buckling          {b.text()}")
     for w in route:
         warnings.warn(w, stacklevel=1)
+    for w in _buckling_warnings(model, buckled):
+        warnings.warn(w, ModelWarning, stacklevel=1)
     if args.plot:
         from ..plotting import plot_routing
 
@@ -65,6 +70,19 @@ def _buckling(model):
     from ..structure.buckling import buckling
 
     return [buckling(assemble_body(model, "casing", check_buckling=False))]
+
+
+def _buckling_warnings(model, buckled):
+    """The warnings of a tension (N) at or above a body's buckling load (N) as built: what
+    ``static`` and the time domain refuse (structure/buckling.py ``check_compression``)."""
+    T = model.loads["cable_tension"]
+    return [
+        f"loads.cable_tension = {T}: at or above the {b.body}'s buckling load {b.load:.4g} N (the compression it "
+        "carries, equal to the cable's tension), so `cablecasing static` and the time domain refuse the model; "
+        f"lower the tension below {b.load:.4g} N or hold the {b.body} more stiffly"
+        for b in buckled
+        if T > 0.0 and np.isfinite(b.load) and T >= b.load
+    ]
 
 
 def add_parser(sub):

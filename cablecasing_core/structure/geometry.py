@@ -15,7 +15,11 @@ r' x r'' / |r'|^3 = kappa b (Eq. 34's binormal) is the bending strain a cable th
 straight carries in the routing (structure/loads.py). On a polyline the curvature is concentrated
 in its corners; there the curvature vector of a node is its turning angle over the mean length of
 its two elements, about the axis t_before x t_after, and an end node takes its neighbour's (the
-scalar curvature stays zero: a polyline has no smooth curvature to show).
+scalar curvature stays zero: a polyline has no smooth curvature to show). On a route by segments,
+whose curvature jumps where a straight meets a bend, each element also carries its own end
+curvature vectors (``element_curvature``, :meth:`.routing.SegmentRoute.element_curvature`): the
+exact curvature of its own stretch of the route, which the nodal vectors, one per junction node,
+cannot give to the elements on both of its sides.
 """
 
 from __future__ import annotations
@@ -43,6 +47,9 @@ class Centerline:
     lengths : (n,) array, element lengths (chords).
     curvature_vectors : (n+1, 3) array, kappa b at each node in 1/m (global): the tangent's rate
         of turning, t x dt/ds.
+    element_curvature : (n, 2, 3) array or None, the curvature vectors (1/m, global) at each
+        element's two ends, from the route on the element's own side of a junction (a route by
+        segments); None where the nodal ``curvature_vectors`` serve (a spline, a polyline).
     """
 
     nodes: np.ndarray
@@ -52,6 +59,7 @@ class Centerline:
     frames: np.ndarray | None
     lengths: np.ndarray
     curvature_vectors: np.ndarray
+    element_curvature: np.ndarray | None = None
 
     @property
     def n_elements(self):
@@ -195,12 +203,20 @@ def route_of(model):
 
 def centerline_from_route(route, n_elements):
     """Discretise a :class:`~.routing.SegmentRoute` into ``n_elements`` elements of equal arc
-    length: nodes on the exact curve, with its exact unit tangent and curvature (1/m)."""
+    length: nodes on the exact curve, with its exact unit tangent and curvature (1/m), and each
+    element's end curvature vectors from its own stretch of the route (``element_curvature``)."""
     s = np.linspace(0.0, route.length, n_elements + 1)
     nodes, tangents, curvature, kvec = route._evaluate(s)
     frames, lengths = element_frames(nodes)
     return Centerline(
-        nodes=nodes, s=s, tangents=tangents, curvature=curvature, frames=frames, lengths=lengths, curvature_vectors=kvec
+        nodes=nodes,
+        s=s,
+        tangents=tangents,
+        curvature=curvature,
+        frames=frames,
+        lengths=lengths,
+        curvature_vectors=kvec,
+        element_curvature=route.element_curvature(s, lengths),
     )
 
 

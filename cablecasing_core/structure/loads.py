@@ -11,8 +11,12 @@ prestress's own load in the routing, and the load of a cable that is stress-free
   casing's compression, and N0 t along the tangent at the supports (the tension pulls on them).
 * rest shape "straight": the cable bent into the routing carries the curvature strain
   eps0 = kappa b of the routing; its load is the consistent initial-strain load
-  -int B^T D eps0 dx of each element (``element_beam.initial_curvature_load``), with the nodal
-  curvature vectors of the centerline in each element's bending axes. It assumes, like the whole
+  -int B^T D eps0 dx of each element (``element_beam.initial_curvature_load``), with the
+  centerline's curvature vectors in each element's bending axes: on a route by segments each
+  element's own end vectors (``Centerline.element_curvature``: the exact moments of the route's
+  piecewise constant curvature over the element, a junction on its own side), so that a cantilever
+  released from the route turns by exactly its total turning; on a spline or a polyline the nodal
+  vectors, linear in each element. It assumes, like the whole
   linear model, small displacements: the wire's deflection within the gap (0.5 mm) is small
   against the bend radii (0.15 m), so the moment it carries is EI kappa of the routing.
 
@@ -51,14 +55,16 @@ def prestress_load(centerline, N0):
 
 def rest_shape_load(centerline, EI):
     """The load (N, N.m, all DOFs) of a body that is stress-free straight, bent into the centerline:
-    per element the initial-strain load of the routing's curvature vectors at its two nodes (their
-    components about the element's local y and z axes), in global axes. EI in N.m2."""
+    per element the initial-strain load of the routing's curvature vectors at its two ends (the
+    element's own, ``element_curvature``, where the route gives them, else those of its two nodes;
+    their components about the element's local y and z axes), in global axes. EI in N.m2."""
     ne = centerline.n_elements
     f = np.zeros(6 * (ne + 1))
     kv = centerline.curvature_vectors
+    ke = centerline.element_curvature
     for e in range(ne):
         R = centerline.frames[e]
-        k1, k2 = R @ kv[e], R @ kv[e + 1]
+        k1, k2 = (R @ kv[e], R @ kv[e + 1]) if ke is None else (R @ ke[e, 0], R @ ke[e, 1])
         fl = initial_curvature_load(centerline.lengths[e], EI, k1[1:], k2[1:])
         f[6 * e : 6 * e + 12] += transformation(R).T @ fl
     return f

@@ -8,7 +8,10 @@ at p + R n). On a bend the position is p + R sin(theta) t + R (1 - cos theta) n,
 cos(theta) t + sin(theta) n and the curvature exactly 1/R (Eqs. 33-34 of a circle), at arc length
 R theta from the bend's start; its curvature vector t x dt/ds = kappa b is (t x n) / R.
 :class:`SegmentRoute` evaluates them at any arc length, so the nodes of the discretisation lie on
-the exact arcs and carry the exact tangent and curvature.
+the exact arcs and carry the exact tangent and curvature. The curvature vector is constant on each
+piece and jumps where a straight meets a bend; :meth:`SegmentRoute.element_curvature` gives each
+element the exact moments of the curvature over its own stretch of the route, so that the
+rest-shape load (structure/loads.py) sees a junction where it is, not a blend of its two sides.
 """
 
 from __future__ import annotations
@@ -102,6 +105,36 @@ class SegmentRoute:
                 pos[m] = q.p0 + d * q.t0
                 tan[m] = q.t0
         return pos, tan, kap, kvec
+
+    def element_curvature(self, s_nodes, lengths):
+        """Per element between the arc lengths ``s_nodes`` (m, n+1, increasing) with chords
+        ``lengths`` (m, n): the curvature vectors (1/m, global, (n, 2, 3)) at its two ends of the
+        linear field k(x) on the chord (x in m from its first node) that has the same integral and
+        first moment as the route's own kappa b over the element's stretch [a, b] of arc length h,
+        taken onto the chord by x = (s - a) L / h and k = kappa b h / L. The consistent
+        initial-strain load of a cubic element (Eq. 6's B linear in x) depends on these two moments
+        alone, so it is exact for the piecewise constant curvature of straights and arcs wherever a
+        junction falls; the integral of k over the chord is the route's turning over the element,
+        int kappa b ds, so the elements' loads add up to the route's whole turning. Inside an arc
+        k = (h / R) / L: the element's turning over its chord, as a polyline's corner curvature."""
+        s_nodes = np.asarray(s_nodes, dtype=float)
+        lengths = np.asarray(lengths, dtype=float)
+        a, b = s_nodes[:-1], s_nodes[1:]
+        m0 = np.zeros((len(a), 3))  # int kappa b ds over [a, b] (rad, a vector)
+        m1 = np.zeros((len(a), 3))  # int kappa b (s - a) ds over [a, b] (m)
+        for q in self.pieces:
+            if not q.is_bend:
+                continue
+            kb = np.cross(q.t0, q.n0) / q.radius  # (constant on the arc: t x inward = t0 x n0)
+            lo = np.clip(q.s0, a, b) - a
+            hi = np.clip(q.s0 + q.length, a, b) - a
+            m0 += np.outer(hi - lo, kb)
+            m1 += np.outer(0.5 * (hi * hi - lo * lo), kb)
+        h, L = (b - a)[:, None], lengths[:, None]
+        M0, M1 = m0, m1 * L / h  # the moments of k(x) on the chord
+        k1 = 4.0 * M0 / L - 6.0 * M1 / L**2
+        k2 = 6.0 * M1 / L**2 - 2.0 * M0 / L
+        return np.stack([k1, k2], axis=1)
 
     def position(self, s):
         """Points (n, 3) in m at arc lengths ``s`` (m)."""

@@ -23,7 +23,13 @@ supports and the direction) when:
 
 * a tension (``loads.cable_tension``) is applied to a body with a free end, or an end on an
   isolator with no stiffness along the body's axis: neither carries an axial force, so the tension
-  has nowhere to go;
+  (the casing's compression) has nowhere to go;
+* the isolators at a body's ends are so soft along its axis that the tension would stretch them by
+  T (1/k_A + 1/k_B) > :data:`STRETCH` of the body's length L (k_A, k_B their axial stiffness,
+  N/m; a clamped end counts 1/k = 0): the linear static state holds the body's mean axial force
+  at T, but its ends move in by the stretch, a mean strain eps = -stretch / L on which the
+  geometric stiffness's axial term (T / L_e per element) carries a share, so the isolators carry
+  T / (1 + stretch / L) instead of T (k = 1e3 N/m, T = 10 N, L = 1 m: 9.80 N; k = 1e-3: 0.0005 N);
 * a loaded body (gravity, a tension, a straight cable's rest shape) has a rigid motion that its
   mounts do not hold (eigenvalue of S below :data:`NULL` times its largest: rounding): the static state would
   be singular, however fine the mesh;
@@ -45,6 +51,12 @@ from ..errors import ModelError
 #: stiffness gives a zero and any spring (however soft beside a rigid one: 1 N.m/rad beside 1e12 N/m
 #: is 5e-13) does not; a soft spring's effect is bounded by the rigid displacement S^-1 F.
 NULL = 64 * np.finfo(float).eps
+
+#: The largest axial stretch of a body's end isolators under the tension, T (1/k_A + 1/k_B), as a
+#: fraction of the body's length: the force the isolators carry in the linear static state is
+#: T / (1 + stretch / L), so at 1 % it is within 1 % of T (a tension given to a few percent), and
+#: beyond it the static state's tension drifts from the one given (to nothing as k goes to 0).
+STRETCH = 0.01
 
 
 def _rows(r, L):
@@ -145,11 +157,39 @@ def _supports(name, supports, mounts):
     return ends + (f", clips at s = {', '.join(f'{m.at:.4g}' for m in clips)} m" if clips else ", no clip")
 
 
+def _check_axial_stretch(name, spec, mounts, T, cl):
+    """Refuse a tension T (N) that would stretch the axial springs of the isolators at the ends of
+    body ``name`` by more than :data:`STRETCH` of its length (module docstring)."""
+    ends = [s for s in ("A", "B") if spec.supports[s] == "isolator"]
+    if not ends:
+        return
+    k = {s: _axial_stiffness(mounts, s) for s in ends}
+    stretch = T * sum(1.0 / k[s] for s in ends)  # (a clamped end: 1/k = 0)
+    L = cl.length
+    if stretch <= STRETCH * L:
+        return
+    named = " and ".join(f"{name}.isolator.{s} (axial stiffness {k[s]:.4g} N/m)" for s in ends)
+    if name == "cable":
+        load, then = "tension", f"the isolators would carry {T / (1.0 + stretch / L):.4g} N instead of {T:g} N"
+    else:
+        load, then = "compression", f"the casing's compression of {T:g} N would relax into them"
+    k_min = T * len(ends) / (STRETCH * L)
+    raise ModelError(
+        "loads.cable_tension",
+        T,
+        f"is too much for the {name}'s end isolators along its axis: {named} stretch by T (1/k_A + 1/k_B) = "
+        f"{stretch:.4g} m under the {load}, {100 * stretch / L:.3g} % of the {name}'s length {L:.4g} m (at most "
+        f"{100 * STRETCH:g} %), and in the linear static state {then}; stiffen the isolators along the axis (to "
+        f"at least {k_min:.3g} N/m each), clamp the end or lower the tension",
+    )
+
+
 def check_supported(model) -> None:
     """Refuse (ModelError) a :class:`~cablecasing_core.model.Model` whose bodies cannot carry
-    their loads (module docstring): a free end under a tension, a loaded body that its supports
-    and mounts leave free to move rigidly, or one whose mounts are so soft that its weight would
-    move it by more than its length."""
+    their loads (module docstring): a free end under a tension, end isolators that the tension
+    would stretch by more than :data:`STRETCH` of the body's length, a loaded body that its
+    supports and mounts leave free to move rigidly, or one whose mounts are so soft that its weight
+    would move it by more than its length."""
     from .geometry import centerline_of
     from .mount_element import mounts_of
     from .sections import section_of
@@ -172,6 +212,7 @@ def check_supported(model) -> None:
         cl = centerline_of(model) if mounted else None
         mounts = mounts_of(model, name, cl) if mounted else []
         if T > 0.0:
+            what = "the tension" if name == "cable" else "the compression"
             for s in ("A", "B"):
                 if spec.supports[s] == "free":
                     raise ModelError(
@@ -179,16 +220,17 @@ def check_supported(model) -> None:
                         T,
                         f"needs both ends of the {name} held (clamped or isolator): {name}.supports.{s} is free, "
                         f"and a free end carries no axial force, so nothing holds the {name} along its axis at {s} "
-                        "and the tension has nowhere to go",
+                        f"and {what} has nowhere to go",
                     )
                 if spec.supports[s] == "isolator" and _axial_stiffness(mounts, s) == 0.0:
                     raise ModelError(
                         "loads.cable_tension",
                         T,
                         f"needs both ends of the {name} held along its axis: {name}.isolator.{s} has no stiffness "
-                        f"along the {name}'s axis at {s}, and a spring of no stiffness carries no axial force, so the "
-                        "tension has nowhere to go; give the isolator an axial stiffness or clamp the end",
+                        f"along the {name}'s axis at {s}, and a spring of no stiffness carries no axial force, so "
+                        f"{what} has nowhere to go; give the isolator an axial stiffness or clamp the end",
                     )
+            _check_axial_stretch(name, spec, mounts, T, cl)
         if clamped:
             continue
         mass = spec.rho * section_of(spec).A

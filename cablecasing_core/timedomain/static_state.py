@@ -32,13 +32,14 @@ the rounding of the positions whose difference is its distance; see ``_Problem.t
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.linalg import solve_banded
 
-from ..errors import SimulationError
+from ..errors import ModelWarning, SimulationError
 from ..model.schema import BODY_NAMES, CONTACT_LAWS, FORCE_NAMES, SUPPORT_NAMES, SUPPORT_OUTPUTS
 from ..structure.loads import gravity_load
 from . import kernels as K
@@ -182,6 +183,7 @@ def solve_static(model: Model, systems: dict, contact: bool) -> StaticState:
     problem = _Problem(Kz, fz, p, a, T, ev, _slope_floor(model, fz, T) if contact else 0.0)
     z, sigma, iterations, steps, residual = _continuation(problem, model.data["cable"]["d"] / 2 if contact else 0.0)
     _scatter(z, U, systems, offs)
+    check_kept_prestress(systems, U, exclude=("cable",) if T > 0.0 else ())
     ev.evaluate(z)
     if T > 0.0:
         loads["cable"] += sigma * systems["cable"].f_axial
@@ -236,6 +238,51 @@ def solve_static(model: Model, systems: dict, contact: bool) -> StaticState:
         clip_reactions=clips,
         balance=balance,
     )
+
+
+#: The largest difference, as a fraction of |N0|, between the axial force a body's end elements
+#: carry in the static state and the prestress N0 its K_G and buckling check take as given.
+KEPT_PRESTRESS = 0.05
+
+
+def end_axial_forces(system, U):
+    """The axial force (N, tension positive) in the first and the last element of an assembled
+    body (``system``, with its given prestress N0) at the displacements U (all its DOFs, m):
+    N0 + EA / L_e t_e . (u2 - u1), t_e the element's chord."""
+    cl = system.centerline
+    EA = system.E * system.section.A
+    u = U.reshape(-1, 6)[:, :3]
+    out = []
+    for e in (0, cl.n_elements - 1):
+        out.append(system.N0 + EA / cl.lengths[e] * (cl.frames[e, 0] @ (u[e + 1] - u[e])))
+    return np.array(out)
+
+
+def check_kept_prestress(systems, U, exclude=()):
+    """Warn (ModelWarning) when a body with a given prestress N0 (the casing's compression -T) and
+    an isolator end keeps, in the static state U ({body: displacements}), an axial force in an end
+    element more than KEPT_PRESTRESS |N0| from N0: on axially compliant end mounts its outward end
+    loads are carried partly by the body's own axial stiffness (a straight body of length L on
+    isolators of axial stiffness k keeps about k / (k + 2 EA / L) of N0), while its geometric
+    stiffness K_G and the buckling check assume N0. ``exclude``: bodies whose axial force the
+    static state solves for (the cable's pre-stretch force under a tension)."""
+    for name, s in systems.items():
+        if name in exclude or s.N0 == 0.0 or "isolator" not in s.spec.supports.values():
+            continue
+        N = end_axial_forces(s, U[name])
+        if np.abs(N - s.N0).max() <= KEPT_PRESTRESS * abs(s.N0):
+            continue
+        word = "compression" if s.N0 < 0.0 else "tension"
+        EA_L = s.E * s.section.A / s.centerline.length
+        warnings.warn(
+            f"{name}: the static state leaves an axial force of {N[0]:.4g} N at end A and {N[1]:.4g} N at end B "
+            f"(its end elements, tension positive), not the given {word} N0 = {s.N0:.4g} N of loads.cable_tension: "
+            f"its isolator ends give way along its axis and its own axial stiffness carries part of its end loads; "
+            f"its geometric stiffness K_G and the buckling check assume the given N0 (the two agree when the "
+            f"isolators' axial stiffness is well above EA/L = {EA_L:.3g} N/m, or with clamped ends)",
+            ModelWarning,
+            stacklevel=3,
+        )
 
 
 def _resultant(f):

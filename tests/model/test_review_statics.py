@@ -1,0 +1,156 @@
+"""The statics found wrong by a review (CHANGELOG, "Fixed: statics (found by a review)"): end
+isolators too soft along the axis for the tension are refused; the casing's compression that its
+isolators let relax is said; a straight cable released from a route by segments turns by exactly
+the route's turning; ``geometry`` warns of a tension above the buckling load; the casing's free end
+speaks of its compression."""
+
+import copy
+import warnings
+
+import numpy as np
+import pytest
+
+import cablecasing_core as cc
+from cablecasing_core.cli import main
+from cablecasing_core.errors import ModelWarning
+from cablecasing_core.structure.assembly import assemble_body
+from cablecasing_core.structure.geometry import centerline_of
+from cablecasing_core.timedomain.static_state import end_axial_forces, static_state
+
+L, T = 1.0, 10.0  # m, N
+CASING = dict(E=5e9, rho=4850.0, d_outer=0.0095, d_inner=0.004, I=2.7261e-10)  # the paper's (Table 2)
+CABLE = dict(E=5.5e10, rho=7850.0, d=0.003)
+EA_CASING = CASING["E"] * np.pi / 4 * (CASING["d_outer"] ** 2 - CASING["d_inner"] ** 2)  # N
+
+
+def straight(casing=None, cable=None, loads=None, geometry=None, n=20):
+    """Both bodies on a straight 1 m polyline along x, clamped unless ``casing``/``cable`` say
+    otherwise (``False``: the body left out)."""
+    d = {"geometry": geometry or {"curve": "polyline", "n_elements": n, "points": [[0, 0, 0], [L, 0, 0]]}}
+    for name, base, extra in (("casing", CASING, casing), ("cable", CABLE, cable)):
+        if extra is not False:
+            d[name] = {**base, "supports": {"A": "clamped", "B": "clamped"}, **(extra or {})}
+    if loads:
+        d["loads"] = loads
+    return copy.deepcopy(d)
+
+
+def on_isolators(k, ends="AB"):
+    """A body's keys for isolators of axial stiffness k (N/m; laterally stiff) at ``ends``."""
+    iso = {"stiffness": [k, 1e6, 1e6], "rotational_stiffness": 1e3}
+    supports = {s: "isolator" if s in ends else "clamped" for s in "AB"}
+    return {"supports": supports, "isolator": {s: dict(iso) for s in ends}}
+
+
+# ---------------------------------------------------------------- 1. isolators too soft along the axis
+@pytest.mark.parametrize("body", ["cable", "casing"])
+@pytest.mark.parametrize("k", [1e-3, 1e3, 2 * T / (0.0101 * L)])
+def test_end_isolators_the_tension_stretches_by_more_than_1_percent_are_refused(body, k):
+    """T (1/k_A + 1/k_B) > 1 % of L: refused, naming the isolators, their axial stiffness, the stretch
+    against the length and what to do (k = 1e-3 N/m: the cable's isolators carried 0.0005 N of 10 N)."""
+    with pytest.raises(cc.ModelError) as err:
+        cc.model_from_dict(straight(**{body: on_isolators(k)}, loads={"cable_tension": T}))
+    text = str(err.value)
+    assert err.value.key == "loads.cable_tension" and err.value.value == T
+    for s in "AB":
+        assert f"{body}.isolator.{s} (axial stiffness {k:.4g} N/m)" in text, text
+    assert f"stretch by T (1/k_A + 1/k_B) = {2 * T / k:.4g} m" in text
+    assert f"{100 * 2 * T / k:.3g} % of the {body}'s length 1 m (at most 1 %)" in text
+    assert "stiffen the isolators along the axis (to at least 2e+03 N/m each)" in text
+
+
+@pytest.mark.parametrize("k", [2 * T / (0.0099 * L), 1e4, 1e6])
+def test_isolators_within_1_percent_carry_the_tension_to_within_their_stretch(k):
+    """Accepted below 1 %: the cable's isolators carry T / (1 + 2T/(kL)) (the geometric stiffness's
+    axial term's share), so within 2T/(kL) of T (at most 1 %)."""
+    st = static_state(cc.model_from_dict(straight(cable=on_isolators(k), loads={"cable_tension": T})))
+    for s, sign in (("A", 1.0), ("B", -1.0)):  # (the cable pulls its supports towards each other)
+        F = sign * st.reaction(f"cable.{s}")[0]
+        assert F == pytest.approx(T, rel=2 * T / (k * L)), (k, F)
+        assert F < T
+
+
+def test_one_isolator_and_a_clamp_count_the_isolator_alone():
+    """A clamped end stretches nothing: T/k against 1 % of L."""
+    k = T / (0.0101 * L)
+    with pytest.raises(cc.ModelError, match=r"cable.isolator.A \(axial stiffness 990.1 N/m\) stretch by"):
+        cc.model_from_dict(straight(cable=on_isolators(k, ends="A"), loads={"cable_tension": T}))
+    cc.model_from_dict(straight(cable=on_isolators(T / (0.0099 * L), ends="A"), loads={"cable_tension": T}))
+
+
+# ---------------------------------------------------------------- 2. the casing's compression on isolators
+@pytest.mark.parametrize("k", [1e5, 1e6])
+def test_a_casing_on_isolators_keeps_part_of_its_compression_and_it_is_said(k):
+    """A straight casing on isolators of axial stiffness k: its end loads T outwards are shared by the
+    isolators and its own axial stiffness, so it keeps -T k / (k + 2EA/L) (-1.46 N and -6.3 N of
+    -10 N), and the static state warns, naming the given and the found compression. Tolerance 1e-3:
+    the closed form leaves out the geometric stiffness's axial term, 2T/(kL) <= 2e-4 beside k."""
+    model = cc.model_from_dict(straight(casing=on_isolators(k), loads={"cable_tension": T}))
+    with pytest.warns(ModelWarning, match="casing: the static state leaves an axial force of") as said:
+        st = static_state(model)
+    N = end_axial_forces(assemble_body(model, "casing"), st.U["casing"])
+    kept = -T * k / (k + 2 * EA_CASING / L)
+    np.testing.assert_allclose(N, [kept, kept], rtol=1e-3)
+    text = str(said[0].message)
+    assert f"{N[0]:.4g} N at end A and {N[1]:.4g} N at end B" in text
+    assert "not the given compression N0 = -10 N of loads.cable_tension" in text
+    assert "K_G and the buckling check assume the given N0" in text
+
+
+@pytest.mark.parametrize("casing", [{}, on_isolators(1e10)])
+def test_a_casing_that_keeps_its_compression_is_not_warned_of(casing):
+    """Clamped, the casing keeps -T exactly; on isolators of 1e10 N/m within 6e-5 of it."""
+    model = cc.model_from_dict(straight(casing=casing, loads={"cable_tension": T}))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        st = static_state(model)
+    N = end_axial_forces(assemble_body(model, "casing"), st.U["casing"])
+    np.testing.assert_allclose(N, -T, rtol=1e-4)  # (2EA/(L k) = 6e-5 on the isolators, rounding clamped)
+
+
+# ---------------------------------------------------------------- 3. the rest shape on a route by segments
+@pytest.mark.parametrize("n", [35, 60])
+def test_a_straight_cable_released_from_a_segment_route_turns_by_the_route_s_angle(n):
+    """Straight 0.1 m, a 60 degree arc of R = 0.2 m, straight 0.1 m; the cable alone, straight off the
+    reel, clamped at A and free at B: its tip turns back by exactly -60 degrees (the released rotation
+    is the integral of the curvature change), with the junctions inside elements (they were off by
+    +0.53 % and +1.00 % at 35 and 60 elements). Tolerance 2e-9: the static solve's tolerance and
+    rounding (1e-10 of the loads)."""
+    theta = np.radians(60.0)
+    segments = [{"straight": 0.1}, {"bend": {"radius": 0.2, "angle_deg": 60.0, "toward": [0, 1, 0]}}, {"straight": 0.1}]
+    d = straight(casing=False, cable={"rest_shape": "straight", "supports": {"A": "clamped", "B": "free"}})
+    d["geometry"] = {"n_elements": n, "segments": segments}
+    st = static_state(cc.model_from_dict(d))
+    assert st.U["cable"].reshape(-1, 6)[-1, 5] == pytest.approx(-theta, rel=2e-9)
+
+
+def test_the_element_curvature_of_an_arc_is_its_turning_over_the_chord_and_splines_keep_the_nodes():
+    """Inside an arc each element's end curvature is its turning h/R over its chord L (as a
+    polyline's corner); a spline route (the installed specimen) keeps the nodal curvature vectors."""
+    d = straight(casing=False)
+    d["geometry"] = {"n_elements": 8, "segments": [{"bend": {"radius": 0.2, "angle_deg": 90.0, "toward": [0, 1, 0]}}]}
+    cl = centerline_of(cc.model_from_dict(d))
+    h = cl.s[1] - cl.s[0]
+    expected = np.repeat((h / 0.2 / cl.lengths)[:, None], 2, axis=1)
+    np.testing.assert_allclose(cl.element_curvature[:, :, 2], expected, rtol=1e-12)
+    assert centerline_of(cc.load_model("installed")).element_curvature is None
+
+
+# ---------------------------------------------------------------- 4. geometry and the buckling load
+@pytest.mark.parametrize("tension, warned", [(60.0, True), (50.0, False)])
+def test_geometry_warns_of_a_tension_above_the_buckling_load(tmp_path, capsys, tension, warned):
+    """Clamped-clamped 1 m casing, 4 pi^2 EI / L^2 = 53.81 N: 60 N is what ``static`` refuses."""
+    path = tmp_path / "m.toml"
+    path.write_text(cc.model_from_dict(straight(loads={"cable_tension": tension})).to_toml())
+    assert main(["geometry", str(path)]) == 0
+    err = capsys.readouterr().err
+    said = f"loads.cable_tension = {tension}: at or above the casing's buckling load 53.81 N" in err
+    assert said is warned, err
+
+
+# ---------------------------------------------------------------- 5. the casing's free end
+def test_a_casing_with_a_free_end_is_refused_for_its_compression():
+    with pytest.raises(cc.ModelError) as err:
+        cc.model_from_dict(straight(casing={"supports": {"A": "clamped", "B": "free"}}, loads={"cable_tension": 50.0}))
+    text = str(err.value)
+    assert text.endswith("along its axis at B and the compression has nowhere to go"), text
