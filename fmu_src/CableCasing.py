@@ -34,8 +34,10 @@ modelDescription is built from: variables, parameters in force, life cycle and s
 state and pythonfmu's methods; the bridge loads it as one file.
 """
 
+import copy
 import math
 import os
+import re
 import threading
 import traceback
 import warnings
@@ -49,6 +51,7 @@ from pythonfmu.enums import Fmi2Status
 import cablecasing_core as cc
 from cablecasing_core.errors import renamed
 from cablecasing_core.model import specimen_names
+from cablecasing_core.model.model import Model
 from cablecasing_core.model.schema import (
     CHANNELS,
     OUTPUTS,
@@ -292,7 +295,9 @@ class CableCasing(Fmi2Slave):
                 causality=Fmi2Causality.parameter,
                 variability=Fmi2Variability.fixed,
                 description="path of a model TOML file (a relative path is taken from the "
-                "host's working folder when it is set); empty = "
+                "host's working folder when it is set), or the name of a built-in specimen ("
+                + ", ".join(f"'{n}'" for n in specimen_names())
+                + "); empty = "
                 + (
                     f"the model file this FMU was built for, {os.path.basename(self.base_file)} (another file "
                     "must have the same excited clips and number of clips)"
@@ -511,9 +516,10 @@ class CableCasing(Fmi2Slave):
 
     def _config(self):
         """The configuration that decides the engine: the model file, the overrides (the
-        parameters the master set) and the internal step."""
+        parameters the master set), the internal step and scenario.drive (which decides whether
+        the model's excitations must fit its supports: :meth:`_undriven`)."""
         over = {k: v for k, v in self._set.items() if k not in ("model_file", "solver.dt", "scenario.drive")}
-        return self._set.get("model_file", ""), over, self._value("solver.dt")
+        return self._set.get("model_file", ""), over, self._value("solver.dt"), bool(self._value("scenario.drive"))
 
     def _drive_motion(self, engine):
         """The model's scenario motion on the engine's grid when ``scenario.drive`` is on, else None."""
@@ -525,8 +531,9 @@ class CableCasing(Fmi2Slave):
 
     def _make_engine(self, config):
         """A new Engine for ``config``; raises ModelError naming the parameter."""
-        model_file, over, dt = config
+        model_file, over, dt, drive = config
         model = cc.load_model(model_file) if model_file else self._base
+        model, over = self._undriven(model, over, drive, model_file)
         if over:
             model = model.with_overrides(over)
         values = model.parameters()
@@ -535,6 +542,74 @@ class CableCasing(Fmi2Slave):
                 fmi_integer(key, values[key])
         with renamed({"dt": "solver.dt"}):  # (the engine's range of dt, named as the FMU's parameter)
             return Engine(model, dt=seconds("solver.dt", dt), ledger=False)
+
+    def _undriven(self, model, over, drive, model_file):
+        """(model, overrides) for the supports the master set: a support set ``free`` that an
+        excitation of the model's [scenario] drives (the built-in specimen's drive casing.A.z and
+        cable.A.axial) cannot be driven. Without scenario.drive the scenario does not run, so such
+        excitations (and the master's values of their keys) are left out of the model: the Engine
+        does not use them, and the core's validation would refuse the support through the
+        excitation's ``target``, which is no FMU variable. With scenario.drive a ModelError names
+        the support's variable and the scenario's excitation that drives it."""
+        excitations = model.scenario.get("excitation", {})
+        unused = []
+        for name, e in excitations.items():
+            parts = str(e.get("target", "")).split(".")
+            if len(parts) != 3 or parts[0] not in model.data:  # (a clip's excitation: no support of a body)
+                continue
+            key = f"{parts[0]}.supports.{parts[1]}"
+            if over.get(key, model.data[parts[0]]["supports"][parts[1]]) != "free":
+                continue
+            if drive:
+                raise cc.ModelError(
+                    key,
+                    "free",
+                    f"is not allowed with scenario.drive = true: {self._whose(model_file)} drives support "
+                    f"{parts[0]}.{parts[1]} (its excitation {name} targets '{e['target']}'), and only a clamped or "
+                    "isolator support can be driven; set scenario.drive = false (the inputs alone then move the "
+                    "supports), or give a model_file whose [scenario] drives no free support",
+                )
+            unused.append(name)
+        if not unused:
+            return model, over
+        prefixes = tuple(f"scenario.excitation.{name}." for name in unused)
+        data = copy.deepcopy(model.data)
+        for name in unused:
+            del data["scenario"]["excitation"][name]
+        derived = frozenset(k for k in model.derived if not k.startswith(prefixes))
+        model = Model(data, source=model.source, base_dir=model.base_dir, derived=derived)
+        return model, {k: v for k, v in over.items() if not k.startswith(prefixes)}
+
+    def _whose(self, model_file):
+        """Whose [scenario] the model runs, in words: "the built-in specimen's scenario", ..."""
+        if model_file in specimen_names():
+            return f"the scenario of the built-in specimen '{model_file}'"
+        if model_file:
+            return f"the scenario of model_file {os.path.basename(model_file)}"
+        if self.base_file is None:
+            return "the built-in specimen's scenario"
+        return f"the scenario of {os.path.basename(self.base_file)} (the model file this FMU was built for)"
+
+    def _fmu_message(self, exc):
+        """The core's ModelError as a C host's user can act on it (who sees only the
+        modelDescription's variables): an isolator support's stiffness table, which is no FMU
+        parameter, and the range of an Integer the master set as the modelDescription declares it (a
+        model file's value keeps the core's range, or fmi_integer's message)."""
+        m = re.fullmatch(r"(casing|cable)\.isolator\.([AB])", str(exc.key))
+        body, s = m.groups() if m else ("", "")
+        # (the whole table is missing, not one of its keys, for a support the master set isolator)
+        if m and "required" in str(exc.allowed) and self._set.get(f"{body}.supports.{s}") == "isolator":
+            return (
+                f"{body}.supports.{s} = 'isolator': an isolator support needs the isolator's table "
+                f"[{body}.isolator.{s}] (its stiffness), which is not a parameter of this FMU: it comes from a model "
+                f"file; set model_file to a model TOML file with a [{body}.isolator.{s}] table (docs/model_file.md, "
+                f"Isolators and clips), or set {body}.supports.{s} to 'clamped' or 'free'"
+            )
+        if (exc.key, "Integer") in self._param.values() and exc.key in self._set:  # (the master's value)
+            lo, hi = self.ranges[exc.key]
+            if value_range(exc.key) != (lo, hi) and isinstance(exc.value, int) and not lo <= exc.value <= hi:
+                return f"{exc.key} = {exc.value}: must be a whole number in [{lo}, {hi}] (the modelDescription's range)"
+        return str(exc)
 
     def _build(self):
         """Build the engine from the parameters; on a problem log it (fmi2Error) and refuse steps."""
@@ -546,7 +621,7 @@ class CableCasing(Fmi2Slave):
                 drive = self._drive_motion(self._engine)
         except cc.ModelError as exc:
             self._engine = None
-            return self._block(f"invalid parameter {exc}")
+            return self._block(f"invalid parameter {self._fmu_message(exc)}")
         except Exception as exc:  # noqa: BLE001  (never raise into the host)
             self._engine = None
             return self._block(f"the model cannot be built: {_one_line(exc)}")
@@ -718,6 +793,16 @@ class CableCasing(Fmi2Slave):
                 Fmi2Status.error,
             )
             return ERROR
+        end = current_time + step_size
+        if self._stop_time is not None and end - self._stop_time > self._clock_rounding(self._stop_time, step_size):
+            self.log(
+                f"doStep from t = {current_time!r} s over {step_size!r} s would end at t = {end!r} s, past "
+                f"stopTime = {self._stop_time!r} s that the master set in fmi2SetupExperiment (stopTimeDefined): "
+                "FMI 2.0 (2.1.6) does not allow computing past stopTime; end the simulation at stopTime, or reset "
+                "the FMU and set up the experiment with a later stopTime",
+                Fmi2Status.error,
+            )
+            return ERROR
         if step_size > MAX_STEPS_PER_DOSTEP * eng.dt:
             self.log(
                 f"doStep over {step_size!r} s refused: at most {MAX_STEPS_PER_DOSTEP} internal steps of "
@@ -727,7 +812,7 @@ class CableCasing(Fmi2Slave):
             )
             return self._discard(current_time, step_size)
         here = self._start_time + eng.time
-        if abs(current_time - here) > 1e-6 * step_size + 1e-12 * abs(here):
+        if abs(current_time - here) > self._clock_rounding(here, step_size):
             self.log(
                 f"doStep from t = {current_time!r} s, but the FMU is at t = {here!r} s: steps must follow "
                 "each other (or restore an FMU state first)",
@@ -753,8 +838,10 @@ class CableCasing(Fmi2Slave):
                 step_size, self._recon, self._u, self._v, self._a, self.outputs_buffer, self._drive
             )
         except Exception as exc:  # noqa: BLE001  (never raise into the host)
-            msg = f"step from t = {current_time:.9g} s over {step_size:.6g} s discarded (state rolled back): "
-            msg += str(exc) if isinstance(exc, cc.CableCasingError) else _one_line(exc)
+            msg = self._input_overflow(exc, current_time, step_size)
+            if msg is None:
+                msg = f"step from t = {current_time:.9g} s over {step_size:.6g} s discarded (state rolled back): "
+                msg += str(exc) if isinstance(exc, cc.CableCasingError) else _one_line(exc)
             self.log(msg, Fmi2Status.discard)
             return self._discard(current_time, step_size)
         # the FMU's clock is the master's: the engine's time (a sum of its steps, which leaves a rest
@@ -764,6 +851,43 @@ class CableCasing(Fmi2Slave):
         if self._discarded is not None:
             self._discarded, self._wants_to_end = None, False
         return OK
+
+    @staticmethod
+    def _clock_rounding(t, step_size):
+        """How far (s) two times near ``t`` may differ and still be one instant of a master's clock
+        that steps by ``step_size``: the tolerance of both the check that a step starts where the
+        last ended and of stopTime. A clock t_k = t_0 + k h (fmpy, fmusim) is within a few ulp of
+        its exact value; a sum t += h (fmuCheck) drifts by up to k / 2 ulp after k steps: 1e-12 |t|
+        (~4500 ulp) holds thousands of steps' drift, and 1e-6 h the rest (10 s of steps of 1e-4 s
+        drift by at most 9e-11 s < 1e-10 s). A last step that lands on stopTime by such sums (ten
+        steps of 1e-4 s end at 0.0010000000000000002 s) is taken; one that ends later than this
+        (a step past stopTime by any length a master means) is refused."""
+        return 1e-6 * step_size + 1e-12 * abs(t)
+
+    def _input_overflow(self, exc, current_time, step_size):
+        """When the step's error ``exc`` is the engine's refusal of a non-finite support motion
+        (``<channel> <displacement|velocity|acceleration> = nan``) of a channel that is an input,
+        while every input is finite: the message naming the inputs the host gave for that channel
+        (a huge value whose reconstruction over the step overflows), else None."""
+        if not isinstance(exc, cc.ModelError):
+            return None
+        channel, _, what = str(exc.key).rpartition(" ")
+        channels = self.input_names[: self.nch]
+        if what not in ("displacement", "velocity", "acceleration") or channel not in channels:
+            return None
+        c, n = channels.index(channel), self.nch
+        given = [(self.input_names[c + k * n], float(self.inputs_buffer[c + k * n])) for k in range(3)]
+        # the input that weighs most in the quintic's acceleration: u / h**2, v / h, a
+        k = max(range(3), key=lambda k: abs(given[k][1]) * step_size ** (k - 2))
+        if given[k][1] == 0.0:  # (the supports' own state, not an input, is what overflows)
+            return None
+        others = ", ".join(f"{nm} = {x!r} {input_spec(nm)[0]}" for j, (nm, x) in enumerate(given) if j != k)
+        name, value = given[k]
+        return (
+            f"input {name} = {value!r} {input_spec(name)[0]} at t = {current_time:.9g} s (with {others}): finite, but "
+            f"the support motion reconstructed from it over the step of {step_size:.6g} s is not ({exc}); give "
+            "inputs whose motion over a step fits in double precision; step discarded (state rolled back)"
+        )
 
     def _discard(self, current_time, step_size):
         """fmi2Discard for the step (t, h) just refused, whose reason is logged. The FMU is as before

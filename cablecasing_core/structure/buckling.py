@@ -196,16 +196,49 @@ def is_positive_definite(system) -> bool:
 def check_compression(system) -> None:
     """Refuse (ModelError naming loads.cable_tension) a body whose compression -N0 reaches its
     buckling load as built; the message gives the load, where its mode is largest and the supports
-    assumed."""
+    assumed. A mechanism has none (it says what moves); a load of 0 N or none found on a body
+    whose tangent stiffness is not positive definite comes of a bending stiffness too small for
+    double precision (casing.E = 5e-324 Pa: K_E underflows): the message then names that stiffness
+    (``<body>.E``, and ``<body>.I`` when set) and its value."""
     P = -system.N0
     if P <= 0.0 or is_positive_definite(system):
         return
     b = buckling(system)
-    where = f"its mode largest at s = {b.at:.4g} m" if b.at is not None else (b.mechanism or "")
-    load = f"{b.load:.4g} N" if np.isfinite(b.load) else "(none found)"
-    raise ModelError(
-        "loads.cable_tension",
-        P,
-        f"must be below the {system.name}'s buckling load {load} (the compression it carries, equal to the cable's "
-        f"tension, at which its tangent stiffness K_E + K_G turns singular; {where}; supports: {b.supports})",
-    )
+    name = system.name
+    if b.mechanism:
+        allowed = (
+            f"must be below the {name}'s buckling load, but it has none: {b.mechanism}, so any compression moves it "
+            f"(supports: {b.supports})"
+        )
+    elif np.isfinite(b.load) and b.load > 0.0:
+        allowed = (
+            f"must be below the {name}'s buckling load {b.load:.4g} N (the compression it carries, equal to the "
+            f"cable's tension, at which its tangent stiffness K_E + K_G turns singular; its mode largest at "
+            f"s = {b.at:.4g} m; supports: {b.supports})"
+        )
+    else:
+        found = "it is 0 N" if b.load == 0.0 else "none is found"
+        allowed = (
+            f"must be below the {name}'s buckling load, but {found} for its bending stiffness "
+            f"({_stiffness(system)}): its tangent stiffness K_E + K_G is singular under any compression, as a "
+            f"stiffness too small for double precision makes it; give {name}.E the {name}'s modulus "
+            f"(supports: {b.supports})"
+        )
+    raise ModelError("loads.cable_tension", P, allowed)
+
+
+def _stiffness(system) -> str:
+    """The keys that set ``system``'s bending stiffness EI, with their values: ``<body>.E = … Pa``
+    (a table by its first value), and ``<body>.I = … m4`` when the model sets the second moment."""
+    spec, name = system.spec, system.name
+    text = f"{name}.E = {_number(spec.E_ref)} Pa" + (" (its table's first value)" if spec.frequency_dependent else "")
+    if spec.I_override is not None:
+        text += f", {name}.I = {_number(spec.I_override)} m4"
+    return text
+
+
+def _number(x) -> str:
+    """``x`` in the shortest of its %.6g and repr forms that gives it back (5e-324, 5e+09)."""
+    x = float(x)
+    forms = [f for f in (f"{x:.6g}", repr(x)) if float(f) == x]
+    return min(forms, key=len) if forms else repr(x)

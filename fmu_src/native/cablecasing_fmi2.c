@@ -137,7 +137,8 @@ typedef struct {
     fmi2ValueReference int_vr[MAX_INT_OUTPUTS];
     size_t int_idx[MAX_INT_OUTPUTS];
     size_t nint;
-    long step_calls;                    /* fmi2DoStep calls since instantiation or reset */
+    long step_calls;                    /* fmi2DoStep calls that took their step (status OK or Warning)
+                                           since instantiation or reset; refused calls are not counted */
     double step_seconds;                /* wall time spent inside them (s) */
     double first_step_at;               /* monotonic clock at the first of them (s) */
     double longest_step;                /* wall time of the longest of them (s) */
@@ -1072,7 +1073,6 @@ FMI2_Export fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunication
     (void)noSetFMUStatePriorToCurrentPoint;
     if (inst->state != S_STEPPING) return refuse(inst, "fmi2DoStep");
     double t_enter = monotonic_seconds();
-    if (inst->step_calls == 0) inst->first_step_at = t_enter;
     PyGILState_STATE gil = gil_enter();
     PyObject *args[2] = {P.PyFloat_FromDouble(currentCommunicationPoint),
                          P.PyFloat_FromDouble(communicationStepSize)};
@@ -1093,14 +1093,20 @@ FMI2_Export fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunication
         s = (v >= fmi2OK && v <= fmi2Error) ? (fmi2Status)v : fmi2Error;
     }
     P.PyGILState_Release(gil);
-    double took = monotonic_seconds() - t_enter;
-    inst->step_calls += 1;
-    inst->step_seconds += took;
-    if (took > inst->longest_step) {
-        inst->longest_step = took;
-        inst->longest_step_at = currentCommunicationPoint;
+    /* the timing and real-time report counts the steps taken, not the calls refused (a step of 0 or
+     * less, at the wrong time, past stopTime, discarded): their wall time is no step's, and any of it
+     * exceeds a step <= 0 */
+    if (s <= fmi2Warning) {
+        double took = monotonic_seconds() - t_enter;
+        if (inst->step_calls == 0) inst->first_step_at = t_enter;
+        inst->step_calls += 1;
+        inst->step_seconds += took;
+        if (took > inst->longest_step) {
+            inst->longest_step = took;
+            inst->longest_step_at = currentCommunicationPoint;
+        }
+        if (took > communicationStepSize) inst->late_calls += 1; /* a real-time master's missed deadline */
     }
-    if (took > communicationStepSize) inst->late_calls += 1; /* a real-time master's missed deadline */
     return s;
 }
 
