@@ -27,6 +27,7 @@ def u_route_specimen(target):
     """The built-in specimen (all supports clamped) on the U-route, its shaker on casing end A."""
     d = copy.deepcopy(cc.load_model().data)
     del d["geometry"]["points"]
+    d["geometry"].pop("curve")  # (a points route's interpolation: a route of segments has none)
     d["geometry"].update({"n_elements": 40, "segments": U_ROUTE})
     d["scenario"]["excitation"]["casing_random"]["target"] = target
     return cc.model_from_dict(d)
