@@ -24,7 +24,10 @@ never the content of a line: the file need not be a model file and may hold anyt
 from __future__ import annotations
 
 import contextlib
+import csv
+import errno
 import os
+import re
 import stat
 import tempfile
 from pathlib import Path
@@ -71,12 +74,22 @@ def atomic_path(path: str | os.PathLike):
     written there is given the mode bits of the file it replaces (if any), flushed to disk and
     renamed to ``path``. On any exception (KeyboardInterrupt too) it is deleted and ``path`` is left
     as it was; an ``OSError`` of the writing (``ENOSPC``: the disk is full) is raised again as
-    :class:`WriteError`. A link is written where it points."""
+    :class:`WriteError`, and so is a folder that does not exist or in which no file can be created
+    (naming the target, not the temporary file). A link is written where it points."""
     shown = path
     path = _target(path)
     _regular_or_missing("path", path, shown)
+    if not path.parent.is_dir():  # (else mkstemp's error would name the temporary file, not the target)
+        raise WriteError(
+            errno.ENOENT, f"its folder {path.parent} does not exist (it is not created)", str(shown), False
+        )
     # (a short prefix: the temporary name must fit wherever the target's name does)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem[:32]}.", suffix=f".part{path.suffix}", dir=path.parent)
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.stem[:32]}.", suffix=f".part{path.suffix}", dir=path.parent)
+    except OSError as exc:  # (a folder that is read-only or full: the target named, not the temporary file)
+        raise WriteError(
+            exc.errno, f"no file can be created in {path.parent} ({exc.strerror})", str(shown), path.exists()
+        ) from exc
     os.close(fd)
     os.remove(tmp)  # the writer creates it (some refuse or append to an existing file)
     try:
@@ -202,8 +215,8 @@ def _refuse_cut_last_row(key, shown, lines, rows):
         fh.seek(-1, os.SEEK_END)
         if fh.read(1) in (b"\n", b"\r"):
             return
-    last = rows[-1][1].rstrip().split(",")[-1].strip()
-    before = [r.split(",")[-1].strip() for _, r in rows[:-1]]
+    last = rows[-1][1].rstrip().split(",")[-1].strip().strip('"')
+    before = [r.split(",")[-1].strip().strip('"') for _, r in rows[:-1]]
     if last[-1:] in (".", "e", "E", "+", "-") or len(last) < min(len(b) for b in before):
         raise ModelError(
             key,
@@ -216,10 +229,11 @@ def _refuse_cut_last_row(key, shown, lines, rows):
 
 def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: int = 2):
     """``(names, data)`` of the numeric CSV table in ``path``: one header line of ``,``-separated
-    column names, then rows of as many finite numbers (blank lines and lines starting with ``#``
-    are skipped). A :class:`ModelError` names ``key`` (the field or option that gave the path),
-    the file, and the line and column that are wrong, and says what is allowed; it quotes no part
-    of the file (which may be any file). ``data`` is (rows, columns), float."""
+    column names (a name in double quotes is read without them), then rows of as many finite
+    numbers (in quotes or not; blank lines and lines starting with ``#`` are skipped). A
+    :class:`ModelError` names ``key`` (the field or option that gave the path), the file, and the
+    line and column that are wrong, and says what is allowed; it quotes no part of the file (which
+    may be any file). ``data`` is (rows, columns), float."""
     shown = str(path)
     p = _target(path, key)
     if not p.exists():
@@ -243,7 +257,9 @@ def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: i
     if not numbered:
         raise ModelError(key, shown, f"is empty; a table needs {need}")
     (hline, head), rows = numbered[0], numbered[1:]
-    names = [h.strip() for h in head.split(",")]
+    # (the header by the csv module: a name in quotes, as Excel and pandas write them, loses its
+    # quotes, and a quoted name may hold a comma; the rows are plain numbers, read below by numpy)
+    names = [h.strip() for h in next(csv.reader([head], skipinitialspace=True))]
     if len(names) < min_columns:
         sep = next((c for c in (";", "\t", " ") if c in head.strip()), None)
         found = f"columns separated by {sep!r}" if sep else "one column"
@@ -260,6 +276,10 @@ def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: i
         ok = data.shape[1] == len(names)
     except ValueError:
         ok = False
+    if not ok and any('"' in s for _, s in rows):  # numbers in quotes (a spreadsheet's "quote all")
+        fields = [[f.strip() for f in r] for r in csv.reader([s for _, s in rows])]
+        if all(len(r) == len(names) and all(is_number(f) for f in r) for r in fields):
+            data, ok = np.array(fields, dtype=float).reshape(len(rows), len(names)), True
     if not ok:
         for lineno, s in rows:
             fields = s.split(",")
@@ -278,6 +298,47 @@ def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: i
             key, shown, f"line {rows[r][0]}, column {c + 1} is not a finite number of magnitude at most 1e100"
         )
     return names, data
+
+
+#: The units of a CSV table's time column (its first) and their factors to s.
+TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "\u00b5s": 1e-6, "\u03bcs": 1e-6}
+#: The names of a time column that need no unit (s).
+TIME_NAMES = ("time", "t")
+_BRACKETS = re.compile(r"(.*?)\s*[\[(]\s*([^\])]*?)\s*[\])]")
+
+
+def time_column(key: str, path, header: str, *, named: bool = False) -> tuple[str, float | None]:
+    """``(name, factor)`` of a table's time column (its first) from its header ``header``: the
+    unit in brackets (``time [ms]``, also ``time (ms)``) or, as a record's other columns, the
+    ``<name>_<unit>`` form (``time_ms``) of ``time`` and ``t``; ``factor`` converts the unit to s
+    (:data:`TIME_UNITS`: s, ms, us or µs), None where the header gives no unit (a record's time is
+    then in s). A unit that is not one of time raises a :class:`ModelError` naming ``key`` and
+    the file (quoting none of it). ``named``: a header without a unit must be ``time`` or ``t``
+    (a CSV excitation, whose first column must be the time: not a swapped pair of columns)."""
+    text = header.strip()
+    found = _BRACKETS.fullmatch(text)
+    if found:
+        name, unit = found.group(1), found.group(2)
+    else:
+        name, sep, unit = text.rpartition("_")
+        if not sep or name.lower() not in TIME_NAMES:
+            if named and text.lower() not in TIME_NAMES:
+                raise ModelError(
+                    key,
+                    str(path),
+                    "must have the time in its first column, headed time_s (or time [s]; a time in ms or us, "
+                    "time_ms or time [ms], is converted to s); its header names another column first",
+                )
+            return text, None
+    factor = TIME_UNITS.get(unit, TIME_UNITS.get(unit.lower()))
+    if factor is None:
+        raise ModelError(
+            key,
+            str(path),
+            "must give the time of its first column in s, ms or us (time [s], time_s, time [ms], time_ms, "
+            "time [us]); the unit its header gives that column is not one of time",
+        )
+    return name, factor
 
 
 def memory_available() -> int:

@@ -9,10 +9,13 @@ A record is a time axis (s, evenly spaced) and named columns: the outputs of the
 
 * **CSV**: one header line ``time [s],casing.A.Fx [N],...,contact.active [1],...``: each column is
   named by its output or input name with its unit in brackets; 9 significant digits (the time
-  15, so that steps such as 1/30000 s stay equal). A column is
+  15, so that steps such as 1/30000 s stay equal). Read, the time column (the first) may be in
+  ms or us (µs), in the header's brackets or as ``time_ms``: it is converted to s; a unit that is
+  not one of time is refused. A column is
   found by its name alone (``casing.B.Fz``), by the whole header (``casing.B.Fz [N]``), or by the
   ``<name>_<unit>`` form of earlier versions (``casing.B.Fz_N``); a file with bare names (the FMU's
-  outputs written by fmpy) takes the units from the schema.
+  outputs written by fmpy) takes the units from the schema. Two columns of one name (in either
+  form) are refused; a header in quotes (``"time [s]"``, as spreadsheets write it) is read without them.
 * **NPZ**: ``time`` (n,), ``table`` (n, m), ``names`` and ``units`` (m,), full double precision, and
   any further arrays of the writer (a run's per-node contact histories; :meth:`SimulationResult.load`).
 * **UFF 58** (binary, through pyuff, :mod:`.identification.uff_io`): one function of type 1 (time
@@ -34,7 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import ModelError
-from .files import atomic_path, check_values, read_csv_table
+from .files import atomic_path, check_values, read_csv_table, time_column
 from .model.schema import INPUTS, OUTPUTS, channels_of, input_spec, inputs_of, output_spec
 
 SUFFIXES = (".csv", ".npz", ".uff")
@@ -144,11 +147,14 @@ class Records:
 
 
 def write_records(path: str | os.PathLike, rec: Records) -> str:
-    """Write ``rec`` to ``path`` by its suffix (``.csv``, ``.npz``, ``.uff``; atomically). Returns the path."""
+    """Write ``rec`` to ``path`` by its suffix (``.csv``, ``.npz``, ``.uff``; atomically). Returns the
+    path. A suffix it does not write raises :class:`ModelError` naming ``path`` (the CLI renames it
+    to its option, ``errors.renamed``); a folder that does not exist, or a failed write,
+    :class:`~cablecasing_core.files.WriteError`."""
     path = str(path)
     suffix = os.path.splitext(path)[1].lower()
     if suffix not in SUFFIXES:
-        raise ModelError("--out", path, "must end in " + ", ".join(SUFFIXES))
+        raise ModelError("path", path, "must end in " + ", ".join(SUFFIXES))
     names = list(rec.columns)
     table = np.column_stack([rec.time] + [np.asarray(rec.columns[n], float) for n in names])
     units = [rec.units.get(n, "") for n in names]
@@ -219,6 +225,8 @@ def _read_csv(path):
     header, data = read_csv_table(path, "file")
     names, units = [], {}
     _unique(path, header)
+    _, to_s = time_column("file", path, header[0])  # (time [ms], time_ms: converted to s)
+    time = data[:, 0] if to_s in (None, 1.0) else data[:, 0] * to_s
     for h in header[1:]:
         h = h.strip()
         name, _, unit = h.partition(" [")
@@ -228,20 +236,26 @@ def _read_csv(path):
                 name = known
         names.append(name)
         units[name] = unit or unit_of(name)
+    _unique(path, [header[0], *names])  # (again with the earlier '<name>_<unit>' forms mapped to their names)
     cols = {n: data[:, i + 1] for i, n in enumerate(names)}
-    return Records(data[:, 0], cols, units, path)
+    return Records(time, cols, units, path)
 
 
 def _unique(path, names):
-    """Column names must be unique (a second column of a name would be ignored silently)."""
-    seen = set()
+    """Column names must be unique (a second column of a name would be ignored silently); a
+    column's name is its header without the unit (``casing.B.Fz [N]`` and the earlier form
+    ``casing.B.Fz_N``, mapped to its name before this check, are the same)."""
+    seen = {}
     for j, n in enumerate(names):
         bare = str(n).split(" [")[0].strip()
         if bare in seen:
             raise ModelError(
-                "file", path, f"column {j + 1} repeats the name of an earlier column (names must be unique)"
+                "file",
+                path,
+                f"column {j + 1} repeats the name of column {seen[bare] + 1} (names must be unique; "
+                "'<name> [<unit>]' and '<name>_<unit>' are the same name)",
             )
-        seen.add(bare)
+        seen[bare] = j
 
 
 def _read_npz(path):

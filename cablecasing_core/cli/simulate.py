@@ -50,7 +50,9 @@ def cmd_simulate(args):
             "(3-20 % scatter per octave);\n        for expected levels use 'cablecasing ensemble' (docs/studies.md)"
         )
     if args.out:
-        res.save(args.out, output_interval=args.output_interval, decimation=args.decimation)
+        # (the core names its arguments; here the options gave them)
+        with renamed({"path": "--out", "output_interval": "--output-interval", "decimation": "--decimation"}):
+            res.save(args.out, output_interval=args.output_interval, decimation=args.decimation)
         how = "low-pass filtered" if args.decimation == "filter" else "picked"
         every = (
             f", t = 0, {args.output_interval:g}, ... s ({how})" if args.output_interval else ", t = 0 and every step"

@@ -553,7 +553,8 @@ _KEYS = [
         "int",
         0,
         "1",
-        "seed of the random excitations that give none of their own",
+        "seed of the random excitations that give none of their own: the first random excitation in file order "
+        "takes it, each later one a seed derived from it and the excitation's name (independent records)",
         Number(ge=0, le=MAX_SEED, integer=True),
     ),
     KeySpec(
@@ -608,7 +609,8 @@ _KEYS = [
         "int",
         OPTIONAL,
         "1",
-        "seed of the random excitation's phases",
+        "seed of the random excitation's phases; left out: scenario.seed for the model's first random excitation, "
+        "for each later one a seed derived from scenario.seed and its name",
         Number(ge=0, le=MAX_SEED, integer=True),
         kinds=("random",),
         default_from="scenario.seed",

@@ -28,6 +28,7 @@ loaded (``model.load``).
 from __future__ import annotations
 
 import copy
+import hashlib
 import math
 import warnings
 from pathlib import Path
@@ -282,6 +283,31 @@ def derived_keys(raw: dict) -> frozenset:
     return frozenset(out)
 
 
+def _random_seeds(raw: dict, excitations: dict, seed: int) -> None:
+    """The seed of each random excitation that gives none of its own (``derived_keys``): the first
+    random excitation in file order keeps ``scenario.seed`` itself (a model with one random
+    excitation, as the built-in specimens, keeps its record bit for bit); every later one takes
+    :func:`derived_seed` of ``scenario.seed`` and its name, so that two excitations are two
+    independent records, not one record twice. By file order, not by the count: a random excitation
+    added after the others leaves the records of those before it as they were."""
+    first = True
+    for name, e in excitations.items():
+        if e["kind"] != "random":
+            continue
+        if not first and "seed" not in raw[name]:
+            e["seed"] = derived_seed(seed, name)
+        first = False
+
+
+def derived_seed(seed: int, name: str) -> int:
+    """The seed (0 to 2**63 - 1) of the random excitation ``name`` that gives none of its own and is
+    not the model's first random excitation: the first 8 bytes of the SHA-256 digest of
+    ``"<seed>/<name>"`` (``seed``: ``scenario.seed``), big-endian, shifted right by one bit. A
+    function of the two alone, the same on every machine and in every version of Python and numpy."""
+    digest = hashlib.sha256(f"{int(seed)}/{name}".encode()).digest()
+    return int.from_bytes(digest[:8], "big") >> 1
+
+
 def _excitation(key, e, scenario, bodies, base_dir):
     if not isinstance(e, dict):
         raise ModelError(key, e, "must be a table with target and kind")
@@ -340,6 +366,7 @@ def _scenario(data, bodies, base_dir):
     out["excitation"] = {
         name: _excitation(f"scenario.excitation.{name}", e, out, bodies, base_dir) for name, e in exc.items()
     }
+    _random_seeds(exc, out["excitation"], out["seed"])
     T = out["duration"]
     for name, e in out["excitation"].items():
         if e.get("start", 0.0) >= T:

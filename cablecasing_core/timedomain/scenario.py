@@ -19,7 +19,10 @@ the 12 support channels ``model.schema.CHANNELS``. The scenario's motion is the 
   displacement have zero mean over the table (the support vibrates about its rest position).
   Derivatives come from the same spline, so u, v, a stay consistent. Past the table's end the
   support holds its last displacement at rest (velocity and acceleration 0); before its start, the
-  first.
+  first. A table that ends before the run is warned of (:func:`warn_short_tables`): a support
+  still moving at the table's end stops within one step. The time column is ``time_s`` (or
+  ``time [s]``, ``time``, ``t``); ``time_ms``, ``time [ms]``, ``time_us``, ``time [us]`` are
+  converted to s, another unit refused.
 
 The summed motion fades in over ``scenario.ramp`` seconds (default 0.01 s; 0 switches it off) with
 a half-cosine window r(t), differentiated exactly (u r, v r + u r', a r + 2 v r' + u r''), so the
@@ -36,14 +39,15 @@ A to B (the cable's longitudinal excitation of Section 4.2).
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import ModelError
-from ..files import read_csv_table
+from ..errors import ModelError, ModelWarning
+from ..files import read_csv_table, time_column
 from ..model.schema import CHANNELS, DIRECTIONS, channels_of
 from ..model.validate import alias
 from ..structure.geometry import centerline_of
@@ -97,7 +101,10 @@ def _zero_mean(pp, t):
 def _read_table(path, key):
     """(t, x) of a CSV table with a header and two columns time_s, <value>; checked (errors name
     ``key``, the file and the line, and quote none of its content). A third column is refused, not
-    ignored: it may be the column that was meant."""
+    ignored: it may be the column that was meant. The first column's header must name the time
+    (:func:`~cablecasing_core.files.time_column`): ``time_s``, ``time [s]`` (as a record's CSV),
+    ``time`` or ``t`` are in s; ``time_ms``, ``time [ms]``, ``time_us``, ``time [us]`` are converted to
+    s; another unit, or a first column that is not the time, is refused."""
     names, data = read_csv_table(path, key)
     if len(names) != 2:
         raise ModelError(
@@ -106,11 +113,44 @@ def _read_table(path, key):
             f"must have two columns, time_s and the values; its header line names {len(names)} columns "
             "(one excitation per file: give each column its own file and excitation)",
         )
-    t, x = data[:, 0], data[:, 1]
+    _, to_s = time_column(key, path, names[0], named=True)
+    t, x = data[:, 0] if to_s in (None, 1.0) else data[:, 0] * to_s, data[:, 1]
     bad = np.nonzero(np.diff(t) <= 0)[0]
     if bad.size:
         raise ModelError(key, path, f"time (its first column) must increase strictly; data row {bad[0] + 2} does not")
     return t, x
+
+
+def short_tables(model: Model, duration: float | None = None, key: str = "scenario.duration") -> list[str]:
+    """What to warn of ``model``'s CSV excitations whose table ends before the run does (at
+    ``duration`` s, default ``scenario.duration``, named ``key`` in the text): after its last time the
+    support holds its last displacement at rest, so a support that is still moving there stops
+    within one step (a force spike; the energy ledger need not close). One line per such table,
+    naming the excitation, the file, its last time and the duration; [] when every table covers the
+    run. A table read here is checked as the run reads it (:func:`_read_table`)."""
+    sc = model.scenario
+    T = float(sc["duration"] if duration is None else duration)
+    said = []
+    for name, e in sc.get("excitation", {}).items():
+        if e["kind"] != "csv":
+            continue
+        t, _ = _read_table(e["file"], f"scenario.excitation.{name}.file")
+        if t[-1] < T * (1 - 1e-9):
+            said.append(
+                f"scenario.excitation.{name}.file = {e['file']} ends at t = {t[-1]:.6g} s, before the end of the "
+                f"run, {key} = {T:.6g} s: after it the support holds its last displacement at rest (velocity "
+                "and acceleration 0), so a support still moving there stops within one step (a force spike); "
+                "tabulate the motion over the whole run, ending at rest, if that is not meant"
+            )
+    return said
+
+
+def warn_short_tables(model: Model, duration: float | None = None, key: str = "scenario.duration") -> None:
+    """Warn (:class:`~cablecasing_core.errors.ModelWarning`) of each line of :func:`short_tables`: the
+    check of a model's tabulated excitations against the duration of its run (``simulate`` calls
+    it with the run's duration; the load of a model file may call it with ``scenario.duration``)."""
+    for text in short_tables(model, duration, key):
+        warnings.warn(text, ModelWarning, stacklevel=3)
 
 
 def _harmonic(p, t):

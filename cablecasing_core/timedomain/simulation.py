@@ -16,13 +16,13 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy import signal
 
-from ..errors import ModelError, ModelWarning
+from ..errors import ModelError, ModelWarning, plain
 from ..model.limits import check_time_domain
 from ..model.schema import CONTACT_OUTPUTS, INPUTS, OUTPUTS, SUPPORT_OUTPUTS, clip_outputs, inputs_of, lookup
 from ..model.validate import step_checks
 from ..model.validators import Choice, seconds
 from .engine import ROUNDING_OF_TIME, SHORTEST_STEP, Engine
-from .scenario import scenario_motion
+from .scenario import scenario_motion, warn_short_tables
 
 if TYPE_CHECKING:
     from ..model import Model
@@ -74,6 +74,10 @@ class SimulationResult:
     initial_forces: np.ndarray | None = None
     initial_contact: tuple = (0.0, 0.0)
     initial_inputs: dict = field(default_factory=dict)
+    #: the frequency (Hz) up to which the histories hold the run's content unaltered: None for a
+    #: run, which holds it up to the Nyquist frequency; a result loaded from a record decimated with
+    #: the filter (:meth:`load`) keeps that record's passband, and :meth:`records` passes it on
+    passband_hz: float | None = None
 
     def support_force(self, name: str) -> np.ndarray:
         """History of one support output, e.g. ``"casing.B.Fz"`` or a clip's ``"casing.clip0.Fy"``
@@ -100,8 +104,10 @@ class SimulationResult:
         ``contact.max_penetration`` are always picked (a count and a maximum are not filtered).
         The per-node histories in ``extra`` are picked at the end of each interval (row k: t = (k+1) Δ);
         a filtered record states its passband, 0.7/(2Δ) Hz, in ``extra["passband_hz"]`` (kept in
-        ``.npz`` files; :attr:`~cablecasing_core.records.Records.passband_hz`). Δ longer than the
-        run (a record of one row) is refused.
+        ``.npz`` files; :attr:`~cablecasing_core.records.Records.passband_hz`); a result loaded from
+        such a file keeps its passband (:attr:`passband_hz`), the lower of the two when filtered
+        again. Δ longer than the run (a record of one row) is refused; a bad ``output_interval``
+        raises :class:`~cablecasing_core.errors.ModelError` naming it.
         """
         from ..records import Records, unit_of
 
@@ -132,8 +138,11 @@ class SimulationResult:
         extra.update(contact_time=self.contact_time, curvature=self.curvature, arc_length=self.arc_length)
         extra["energies"] = np.array([[k, repr(float(v))] for k, v in self.energies.items()]).reshape(-1, 2)
         extra["starts_at_zero"] = np.array(first)
+        passband = [] if self.passband_hz is None else [float(self.passband_hz)]  # (of a loaded record)
         if m > 1 and filt:  # (read by Records.passband_hz: bands and lines above it are left out)
-            extra["passband_hz"] = np.array(PASSBAND / (2 * m * self.dt))
+            passband.append(PASSBAND / (2 * m * self.dt))
+        if passband:
+            extra["passband_hz"] = np.array(min(passband))
         return Records(time[::m], cols, {n: unit_of(n) for n in cols}, "simulation", extra)
 
     @property
@@ -155,17 +164,17 @@ class SimulationResult:
     def _stride(self, output_interval):
         if output_interval is None:
             return 1
-        seconds("--output-interval", output_interval)
+        seconds("output_interval", output_interval)
         dt = self.dt
         m = round(output_interval / dt)
         if m < 1 or abs(m * dt - output_interval) > 1e-6 * dt:
             raise ModelError(
-                "--output-interval", output_interval, f"must be a whole number of time steps (dt = {dt:g} s)"
+                "output_interval", output_interval, f"must be a whole number of time steps (dt = {dt:g} s)"
             )
         whole = self.whole_steps
         if (whole // m + 1 if self.initial_forces is not None else -(-whole // m)) < 2:
             raise ModelError(
-                "--output-interval",
+                "output_interval",
                 output_interval,
                 f"must be at most the run's duration ({whole * dt:g} s): a record needs at least two rows",
             )
@@ -175,14 +184,18 @@ class SimulationResult:
         """Write the run by suffix (``.csv``, ``.npz``, ``.uff``; :mod:`~cablecasing_core.records`),
         atomically, on the grid t = 0, Δ, ..., T of :meth:`records` (Δ = ``output_interval`` s,
         default every step; ``decimation`` as there). ``.npz`` also keeps the per-node contact
-        histories, so :meth:`load` gives the result back."""
+        histories, so :meth:`load` gives the result back. A bad argument raises
+        :class:`~cablecasing_core.errors.ModelError` naming it (``path``: a suffix it does not
+        write; ``output_interval``); a folder that does not exist, or a failed write,
+        :class:`~cablecasing_core.files.WriteError`."""
         from ..records import write_records
 
         write_records(path, self.records(output_interval, decimation))
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> SimulationResult:
-        """A result written by :meth:`save` to ``.npz`` (every array as it was saved)."""
+        """A result written by :meth:`save` to ``.npz`` (every array as it was saved; a decimated
+        record's passband too, :attr:`passband_hz`)."""
         from ..records import read_records
 
         rec = read_records(path)
@@ -198,7 +211,7 @@ class SimulationResult:
             initial = dict(
                 initial_forces=np.array([rec.columns[n][0] for n in names]),
                 initial_contact=tuple(float(rec.columns[n][0]) for n in CONTACT_OUTPUTS[:2]),
-                initial_inputs={n: float(v[0]) for n, v in rec.columns.items() if n in INPUTS or n.count(".") == 1},
+                initial_inputs={n: float(v[0]) for n, v in rec.columns.items() if _is_input(n)},
             )
         rec = type(rec)(rec.time[1:] if first else rec.time, cols, rec.units, rec.source, rec.extra)
         return cls(
@@ -209,10 +222,18 @@ class SimulationResult:
             curvature=x["curvature"],
             arc_length=x["arc_length"],
             energies={str(k): float(v) for k, v in x["energies"]},
-            inputs={n: rec.columns[n] for n in rec.columns if n in INPUTS or n.count(".") == 1},
+            inputs={n: rec.columns[n] for n in rec.columns if _is_input(n)},
+            passband_hz=float(x["passband_hz"]) if "passband_hz" in x else None,
             **{n: x[n] for n in _NODE_ARRAYS},
             **initial,
         )
+
+
+def _is_input(name: str) -> bool:
+    """Whether a column of a run's record is one of its driven inputs: a support's (``casing.A.az``,
+    :data:`INPUTS`) or an excited clip's, ``<excitation>.z`` (one dot, as ``contact.active`` has,
+    which is an output)."""
+    return name in INPUTS or (name.count(".") == 1 and name not in CONTACT_OUTPUTS)
 
 
 def simulate(
@@ -229,7 +250,8 @@ def simulate(
     shows a tqdm bar of the simulated time (the run is the same with or without it, bit for bit when
     the duration is a whole number of steps; otherwise the shorter last step's length may differ in
     its last bits, and with it the last row). A model
-    without excitations warns (its supports stay at rest). Returns a :class:`SimulationResult`.
+    without excitations warns (its supports stay at rest), and so does a CSV excitation whose table
+    ends before the run (its support then holds its last displacement at rest). Returns a :class:`SimulationResult`.
     Raises :class:`~cablecasing_core.errors.SimulationError` on blow-up; an interrupt (Ctrl-C)
     propagates as KeyboardInterrupt.
     """
@@ -253,6 +275,8 @@ def simulate(
     if motion is None:
         motion = scenario_motion(model, dt=dt)
         inputs = driven_inputs(model)
+        given = duration != sc["duration"]  # (a CSV excitation that ends before the run: warned)
+        warn_short_tables(model, duration, "duration" if given else "scenario.duration")
     eng = Engine(model, dt=dt, contact=contact, ledger=True, record=True)
     if still:
         stays = (
@@ -362,15 +386,43 @@ def simulate_sampled(
     as a master computes them in floating point (fmpy: ``(k + 1) h - k h``, which differs from h in
     the last bits; the contact's chaos would make any such difference visible within ~0.1 s).
     Returns the times (s, n: the end of each step) and the outputs after each step (n x
-    ``len(OUTPUTS)``, ``model.schema.OUTPUTS``): what the FMU returns at those times."""
-    from ..model.schema import CHANNELS, OUTPUTS
+    ``len(OUTPUTS)``, ``model.schema.OUTPUTS``): what the FMU returns at those times.
+
+    The run takes n = round(``duration`` / ``step``) steps, at least one, with or without a
+    ``table``; a given ``table`` must have a row for each of them (rows beyond the n-th are not
+    used) and ``3 * len(channels_of(model))`` columns (36: ``model.schema.INPUTS``), or a
+    :class:`~cablecasing_core.errors.ModelError` names ``duration`` or ``table``. A CSV excitation
+    of the scenario that ends before ``duration`` warns (as :func:`simulate`)."""
+    from ..model.schema import CHANNELS, OUTPUTS, channels_of
     from .support_motion import SupportReconstruction
 
     seconds("step", step)
     seconds("duration", duration)
+    n = int(round(duration / step))
+    if n < 1:
+        raise ModelError("duration", duration, f"must be at least one communication step (step = {step:g} s)")
+    width = 3 * len(channels_of(model))
     if table is None:
-        t = step * np.arange(int(round(duration / step)))
+        warn_short_tables(model, duration, "duration")
+        t = step * np.arange(n)
         table = np.hstack(scenario_motion(model)(t))
+    else:
+        try:
+            table = np.asarray(table, float)
+            what = f"an array of shape {table.shape}"
+        except (TypeError, ValueError):
+            table, what = None, "not an array of numbers"
+        if table is None or table.ndim != 2 or table.shape[1] != width or len(table) < n:
+            raise ModelError(
+                "table",
+                plain(what),
+                f"must be an array of shape (n, {width}): per row the displacement, velocity and acceleration of "
+                f"the model's {width // 3} channels (model.schema.INPUTS), a row for each of the n = duration / "
+                f"step = {n} steps (duration = {duration:g} s, step = {step:g} s)",
+            )
+        if not np.all(np.isfinite(table[:n])):
+            raise ModelError("table", plain(what), "must hold finite numbers (it holds nan or inf)")
+        table = table[:n]
     nch = len(CHANNELS)
     eng = Engine(model, contact=contact, ledger=False)
     rec = SupportReconstruction(nch)

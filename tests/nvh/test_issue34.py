@@ -258,7 +258,7 @@ def test_a_run_that_ends_with_a_shorter_step_is_recorded_to_its_last_whole_step(
     short = cc.simulate(cc.load_model(), duration=1.5e-5)
     assert short.whole_steps == 1 and short.dt == 1e-5
     np.testing.assert_allclose(short.records().time, [0.0, 1e-5], rtol=0, atol=1e-18)
-    with pytest.raises(cc.ModelError, match=r"--output-interval = 5e-06: must be a whole number of time steps"):
+    with pytest.raises(cc.ModelError, match=r"^output_interval = 5e-06: must be a whole number of time steps"):
         short.records(output_interval=5e-6)
 
 

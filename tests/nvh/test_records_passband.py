@@ -43,5 +43,5 @@ def test_a_filtered_record_states_its_passband_through_its_npz_file(tmp_path):
 def test_an_output_interval_longer_than_the_run_is_refused_naming_the_duration():
     res = _result()
     assert res.records(0.01).time.size == 2  # t = 0 and T
-    with pytest.raises(ModelError, match=r"^--output-interval = 0.5: must be at most the run's duration \(0.01 s\)"):
+    with pytest.raises(ModelError, match=r"^output_interval = 0.5: must be at most the run's duration \(0.01 s\)"):
         res.records(0.5)
