@@ -300,18 +300,37 @@ def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: i
     return names, data
 
 
-#: The units of a CSV table's time column (its first) and their factors to s.
-TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6, "\u00b5s": 1e-6, "\u03bcs": 1e-6}
+#: The units of time and their factors to s: the one table of a CSV table's time column (its
+#: first; :func:`time_column`) and of a UFF 58 time record's abscissa label
+#: (:mod:`.identification.uff_io`), both read through :func:`time_factor` (case-insensitive).
+TIME_UNITS = {
+    "s": 1.0,
+    "sec": 1.0,
+    "second": 1.0,
+    "seconds": 1.0,
+    "ms": 1e-3,
+    "msec": 1e-3,
+    "us": 1e-6,
+    "usec": 1e-6,
+    "\u00b5s": 1e-6,  # (micro sign)
+    "\u03bcs": 1e-6,  # (Greek mu)
+}
 #: The names of a time column that need no unit (s).
 TIME_NAMES = ("time", "t")
 _BRACKETS = re.compile(r"(.*?)\s*[\[(]\s*([^\])]*?)\s*[\])]")
+
+
+def time_factor(unit: str) -> float | None:
+    """The factor from the time unit ``unit`` to s (:data:`TIME_UNITS`, as given or in lower case:
+    ``ms``, ``MS``, ``sec``, ``µs``), None for a unit that is not one of time."""
+    return TIME_UNITS.get(unit, TIME_UNITS.get(unit.lower()))
 
 
 def time_column(key: str, path, header: str, *, named: bool = False) -> tuple[str, float | None]:
     """``(name, factor)`` of a table's time column (its first) from its header ``header``: the
     unit in brackets (``time [ms]``, also ``time (ms)``) or, as a record's other columns, the
     ``<name>_<unit>`` form (``time_ms``) of ``time`` and ``t``; ``factor`` converts the unit to s
-    (:data:`TIME_UNITS`: s, ms, us or µs), None where the header gives no unit (a record's time is
+    (:data:`TIME_UNITS`: s, ms, us or µs, also sec, msec, usec), None where the header gives no unit (a record's time is
     then in s). A unit that is not one of time raises a :class:`ModelError` naming ``key`` and
     the file (quoting none of it). ``named``: a header without a unit must be ``time`` or ``t``
     (a CSV excitation, whose first column must be the time: not a swapped pair of columns)."""
@@ -330,13 +349,13 @@ def time_column(key: str, path, header: str, *, named: bool = False) -> tuple[st
                     "time_ms or time [ms], is converted to s); its header names another column first",
                 )
             return text, None
-    factor = TIME_UNITS.get(unit, TIME_UNITS.get(unit.lower()))
+    factor = time_factor(unit)
     if factor is None:
         raise ModelError(
             key,
             str(path),
             "must give the time of its first column in s, ms or us (time [s], time_s, time [ms], time_ms, "
-            "time [us]); the unit its header gives that column is not one of time",
+            "time [us]; also sec, msec, usec, µs); the unit its header gives that column is not one of time",
         )
     return name, factor
 

@@ -10,8 +10,9 @@ A record is a time axis (s, evenly spaced) and named columns: the outputs of the
 * **CSV**: one header line ``time [s],casing.A.Fx [N],...,contact.active [1],...``: each column is
   named by its output or input name with its unit in brackets; 9 significant digits (the time
   15, so that steps such as 1/30000 s stay equal). Read, the time column (the first) may be in
-  ms or us (µs), in the header's brackets or as ``time_ms``: it is converted to s; a unit that is
-  not one of time is refused. A column is
+  any unit of :data:`~cablecasing_core.files.TIME_UNITS` (s, sec, ms, msec, us, µs, ...), in the
+  header's brackets or as ``time_ms``: it is converted to s; a unit that is not one of time is
+  refused. A column is
   found by its name alone (``casing.B.Fz``), by the whole header (``casing.B.Fz [N]``), or by the
   ``<name>_<unit>`` form of earlier versions (``casing.B.Fz_N``); a file with bare names (the FMU's
   outputs written by fmpy) takes the units from the schema. Two columns of one name (in either

@@ -42,22 +42,27 @@ def assignment(flag, text):
         return key.strip(), value.strip()
 
 
-def with_assignments(model, flag, texts):
-    """``model`` with the ``KEY=VALUE`` changes ``texts`` of ``flag`` (validated as a model file's
-    keys; an error names the flag, the key, the value and what is allowed). A key given twice is
-    refused, naming both values, as a TOML file refuses a key given twice (the first value would
-    never be checked)."""
-    changes = {}
+def assignments(flag, texts):
+    """``{key: value}`` of the ``KEY=VALUE`` texts of ``flag`` (:func:`assignment`). A key given
+    twice is refused, naming both values, as a TOML file refuses a key given twice (the first value
+    would never be checked)."""
+    out = {}
     for key, value in (assignment(flag, t) for t in texts):
-        if key in changes:
-            first = changes[key][1]
+        if key in out:
             raise ModelError(
                 f"{flag} {key}",
                 NOT_SHOWN,
-                f"is given twice ({excerpt(first)} and {excerpt(value)}): give each key once",
+                f"is given twice ({excerpt(out[key])} and {excerpt(value)}): give each key once",
             )
-        changes[key] = (flag, value)
-    return with_changes(model, changes)
+        out[key] = value
+    return out
+
+
+def with_assignments(model, flag, texts):
+    """``model`` with the ``KEY=VALUE`` changes ``texts`` of ``flag`` (validated as a model file's
+    keys; an error names the flag, the key, the value and what is allowed; a key given twice is
+    refused, :func:`assignments`)."""
+    return with_changes(model, {key: (flag, value) for key, value in assignments(flag, texts).items()})
 
 
 def with_changes(model, changes):

@@ -212,14 +212,15 @@ def _passband_note(rec, path):
 
 
 def check_frequency_range(fmin, fmax):
-    """``--fmin``/``--fmax`` (Hz): 0 < fmin < fmax <= 1e6 (the model and its records lie far below; a
-    spectrum has no line at 0 Hz to resolve, and the TRFAM none to compute)."""
+    """``--fmin``/``--fmax`` (Hz): 1e-6 <= fmin < fmax <= 1e6 (``frequency.trfam.MIN_FREQUENCY_HZ`` and
+    ``MAX_FREQUENCY_HZ``: the model and its records lie far inside; a spectrum has no line at 0 Hz to
+    resolve, and the TRFAM none to compute)."""
     from ..errors import ModelError
-    from ..frequency.trfam import MAX_FREQUENCY_HZ
+    from ..frequency.trfam import MAX_FREQUENCY_HZ, MIN_FREQUENCY_HZ
     from ..model.validators import number
 
-    number("--fmin", fmin, gt=0, le=MAX_FREQUENCY_HZ, unit="Hz")
-    number("--fmax", fmax, gt=0, le=MAX_FREQUENCY_HZ, unit="Hz")
+    number("--fmin", fmin, ge=MIN_FREQUENCY_HZ, le=MAX_FREQUENCY_HZ, unit="Hz")
+    number("--fmax", fmax, ge=MIN_FREQUENCY_HZ, le=MAX_FREQUENCY_HZ, unit="Hz")
     if not fmin < fmax:
         raise ModelError("--fmin/--fmax", (fmin, fmax), "need fmin < fmax (Hz)")
 

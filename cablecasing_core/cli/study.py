@@ -12,7 +12,7 @@ from ..errors import ModelError, renamed
 from ..model.limits import MAX_ENSEMBLE_SEED, MAX_SEEDS, MAX_STUDY_SAMPLES, PROGRESS_TIMEOUT
 from ..model.schema import output_spec
 from ..model.validators import integer, number
-from .assignments import add_model_argument, assignment, model_argument, with_changes
+from .assignments import add_model_argument, assignments, model_argument, with_changes
 from .helptext import ASSIGNMENT_HELP, key_help
 from .paths import check_distinct, check_output_path, kept
 
@@ -294,8 +294,8 @@ def cmd_ensemble(args):
         n_workers=args.workers,
         progress=True,
     )
-    base = dict(assignment("--set", a) for a in args.set)
-    against = dict(assignment("--against", a) for a in args.against)
+    base = assignments("--set", args.set)
+    against = assignments("--against", args.against)
     for flag, given in (("--set", base), ("--against", against)):
         if args.dt is not None and "scenario.dt" in given:  # (--dt would silently win over it)
             raise ModelError(

@@ -19,6 +19,7 @@ Units are SI: s, Hz, and the unit of the quantity.
 
 from __future__ import annotations
 
+import csv
 import os
 import re
 import warnings
@@ -27,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError, ModelWarning, renamed
+from ..files import TIME_UNITS, time_column, time_factor
 from ..model.validators import array_1d, number
 
 _TAG = re.compile(r"cablecasing x0=(\S+) dx=(\S+)")
@@ -263,8 +265,8 @@ def _abscissa(path, dataset):
     return x
 
 
-#: Abscissa unit labels of UFF 58 headers (lower case, spaces removed) and their factor to s or Hz.
-_TIME_UNITS = {"": 1.0, "s": 1.0, "sec": 1.0, "second": 1.0, "seconds": 1.0, "ms": 1e-3, "msec": 1e-3}
+#: Abscissa unit labels of UFF 58 headers (lower case, spaces removed) and their factor to Hz; a
+#: time record's are those of a CSV record's time column, :data:`cablecasing_core.files.TIME_UNITS`.
 _FREQ_UNITS = {
     "": 1.0,
     "hz": 1.0,
@@ -287,10 +289,10 @@ _FORCE = (9, 13)
 
 def _abscissa_scale(path, name, kind, label):
     """Factor from the header's abscissa unit to s (time) or Hz (FRF); a ModelError for a unit it does not know."""
-    table = _TIME_UNITS if kind == "time" else _FREQ_UNITS
     key = label.lower().replace(" ", "")
-    if key not in table:
-        allowed = ", ".join(repr(k) for k in table if k)
+    factor = (time_factor(key) if key else 1.0) if kind == "time" else _FREQ_UNITS.get(key)
+    if factor is None:
+        allowed = ", ".join(repr(k) for k in (TIME_UNITS if kind == "time" else _FREQ_UNITS) if k)
         raise ModelError(
             "file",
             f"{path} ({name or kind})",
@@ -298,7 +300,7 @@ def _abscissa_scale(path, name, kind, label):
             f"{'time record' if kind == 'time' else 'FRF'} needs one of {allowed} "
             f"(or none: {'s' if kind == 'time' else 'Hz'})",
         )
-    return table[key]
+    return factor
 
 
 def frf_kind(record, strict=True):
@@ -404,21 +406,27 @@ def _record_fs(path, rec):
     analyser's ``%.6g``: at 2048 Hz the steps then differ by up to 1e-2 of themselves) is accepted
     when every time lies on the uniform grid through the first and last time to within half its last
     printed digit (plus the rounding of those two), and that digit resolves the step to 10 % (median
-    over the rows); the rate is then the least-squares slope's."""
+    over the rows); the rate is then the least-squares slope's. The digits are those of the column's
+    unit (``time [ms]``: a digit of 1e-2 is 1e-5 s), scaled to s as the record's time is."""
     try:
         return rec.fs
     except ModelError:
         if os.path.splitext(str(path))[1].lower() not in (".csv", ".txt"):
             raise
-    t = np.asarray(rec.time, dtype=float)
+    t = np.asarray(rec.time, dtype=float)  # (s: converted from the header's unit)
     q = []  # the last printed digit of each time (s)
-    with open(path, encoding="utf-8", errors="replace") as fh:
+    to_s = None  # the factor of the header's time unit to s (time [ms]: 1e-3), found on its line
+    with open(path, encoding="utf-8-sig", errors="replace") as fh:  # (-sig: as read_csv_table reads it)
         for line in fh:
+            if to_s is None and line.strip() and not line.lstrip().startswith("#"):  # the header line
+                head = next(csv.reader([line], skipinitialspace=True))[0]
+                to_s = time_column("file", path, head)[1] or 1.0
+                continue
             m = _NUMBER.match(line.split(",")[0].strip())
             if m and (m.group(1) or m.group(2)):
                 # (a whole number, "0" or "2", says nothing of the digits kept: the column's median is taken)
                 whole = m.group(2) is None and m.group(3) is None
-                q.append(np.nan if whole else 10.0 ** (int(m.group(3) or 0) - len(m.group(2) or "")))
+                q.append(np.nan if whole else 10.0 ** (int(m.group(3) or 0) - len(m.group(2) or "")) * to_s)
     k = np.arange(t.size)
     ok = len(q) == t.size > 2 and not np.all(np.isnan(q))
     q = np.asarray(q) if ok else np.ones(t.size)

@@ -300,12 +300,13 @@ def _random_seeds(raw: dict, excitations: dict, seed: int) -> None:
 
 
 def derived_seed(seed: int, name: str) -> int:
-    """The seed (0 to 2**63 - 1) of the random excitation ``name`` that gives none of its own and is
-    not the model's first random excitation: the first 8 bytes of the SHA-256 digest of
+    """The seed (0 to 2**31 - 1) of the random excitation ``name`` that gives none of its own and is
+    not the model's first random excitation: the first 4 bytes of the SHA-256 digest of
     ``"<seed>/<name>"`` (``seed``: ``scenario.seed``), big-endian, shifted right by one bit. A
-    function of the two alone, the same on every machine and in every version of Python and numpy."""
+    function of the two alone, the same on every machine and in every version of Python and numpy;
+    31 bits so that it is an FMI 2.0 Integer (an FMU exposes every seed as a parameter)."""
     digest = hashlib.sha256(f"{int(seed)}/{name}".encode()).digest()
-    return int.from_bytes(digest[:8], "big") >> 1
+    return int.from_bytes(digest[:4], "big") >> 1
 
 
 def _excitation(key, e, scenario, bodies, base_dir):

@@ -122,9 +122,9 @@ def write_report(
         if v.ensemble is not None:
             v.ensemble.save(out / f"bands_{v.key}.csv")
     _say("figures", progress)
-    f_max = 2000.0
+    f_min, f_max = figures.SCALOGRAM_HZ[0], figures.SCALOGRAM_HZ[-1]  # (the scalograms' range, Hz)
     harmonics = drive_harmonics(model, f_max)  # all of them up to f_max; the scalogram draws the first few
-    natural = [f for f in frequencies_up_to(model, body, f_max) if f >= 20.0]
+    natural = [f for f in frequencies_up_to(model, body, f_max) if f >= f_min]
     figures.time_figure(vs, out / "simulation.png")
     figures.scalogram_figure(vs, out / "scalograms.png", natural, harmonics, skip)
     figures.contact_figures(model, vs[-1], out)

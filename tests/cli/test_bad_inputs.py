@@ -438,11 +438,11 @@ OPTION_ERRORS = [
     (["simulate", "--output-interval", "nan", "--duration", "0.001"], "--output-interval = nan: must be a positive"),
     (
         ["trfam", "--fmin", "1e300", "--fmax", "1e301", "--df", "1e299"],
-        "--fmin = 1e+300: must be a number in (0, 1e+06]",
+        "--fmin = 1e+300: must be a number in [1e-06, 1e+06]",
     ),
-    (["trfam", "--fmin", "0"], "--fmin = 0.0: must be a number in (0, 1e+06] in Hz"),
+    (["trfam", "--fmin", "0"], "--fmin = 0.0: must be a number in [1e-06, 1e+06] in Hz"),
     (["modes", "--count", "0"], "--count = 0: must be an integer >= 1"),  # (one range for every command)
-    (["spectrum", "{record}", "--fmin", "0"], "--fmin = 0.0: must be a number in (0, 1e+06] in Hz"),
+    (["spectrum", "{record}", "--fmin", "0"], "--fmin = 0.0: must be a number in [1e-06, 1e+06] in Hz"),
     (["bands", "{record}", "--fmin", "30", "--fmax", "20"], "--fmax = 20.0: must be at least --fmin = 30.0 Hz"),
     (["report", "--seeds", "1", "--out", "rep/sub"], "--seeds = 1: must be an integer >= 2"),  # (no folder made)
     (["report", "--duration", "0.05", "--out", "rep"], "--duration = 0.05: must be at least 0.1409 s"),

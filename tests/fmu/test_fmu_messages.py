@@ -141,3 +141,21 @@ def test_build_takes_a_built_in_specimen_s_name(tmp_path):
     with zipfile.ZipFile(out) as z:
         shipped = z.read("resources/model/installed.toml").decode()
     assert shipped == (ROOT / "cablecasing_core" / "model" / "specimens" / "installed.toml").read_text()
+
+
+def test_build_takes_a_model_with_two_random_excitations(tmp_path):
+    """The second random excitation's seed is derived from scenario.seed (model/validate.py
+    derived_seed) and every seed is an FMI 2.0 Integer parameter: a derived seed of 63 bits was
+    refused as beyond the Integer range, so no FMU could be built for two shakers."""
+    two = tmp_path / "two.toml"
+    two.write_text(
+        INSTALLATION
+        + '\n[scenario.excitation.shaker2]\ntarget = "casing.B.z"\nkind = "random"\nrms = 5.0\nband = [10.0, 1000.0]\n'
+    )
+    out = tmp_path / "two.fmu"
+    proc = build("--model", two, "--output", out)
+    assert proc.returncode == 0, proc.stderr
+    import cablecasing_core as cc
+
+    seed = cc.load_model(two).scenario["excitation"]["shaker2"]["seed"]
+    assert 0 <= seed <= 2**31 - 1 and seed != 1  # (an Integer, and not the first shaker's)

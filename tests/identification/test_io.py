@@ -285,3 +285,65 @@ def test_a_nan_in_a_read_frf_names_the_file_and_frequency(tmp_path):
         read_frf(p)
     assert e.value.key == "file" and str(p) in e.value.value
     assert f"at {f[k]:g} Hz (point {k + 1} of {f.size})" in e.value.allowed
+
+
+def test_a_csv_time_in_ms_printed_with_few_digits_reads_as_the_same_time_in_s(tmp_path):
+    """An analyser's time [ms] printed %.6g (review: its digits were taken as s, a quantum of 1e-2 s
+    against a step of 4.9e-4 s, and the 2048 Hz record refused; the same time in s read fine)."""
+    fs, t = 2048.0, np.arange(4096) / 2048.0
+    x = np.sin(2 * np.pi * 115.8 * t) * np.exp(-t / 0.4)
+    got = {}
+    for head, scale in (("time [s]", 1.0), ("time [ms]", 1e3), ("time_ms", 1e3), ("time [sec]", 1.0)):
+        p = tmp_path / f"{head.replace(' ', '')}.csv"
+        np.savetxt(p, np.column_stack([scale * t, x]), delimiter=",", header=f"{head},acc", comments="", fmt="%.6g")
+        got[head] = read_csv_time(p)[1]
+    # %.6g of t and of 1e3 t keep the same digits (t = k/2048 and 1e3 t are exact in binary): the ms times
+    # differ from the s times by the rounding of the product by 1e-3 (1e-16 relative), not by the printing
+    assert got["time [ms]"] == pytest.approx(got["time [s]"], rel=1e-12)
+    assert got["time_ms"] == pytest.approx(got["time [s]"], rel=1e-12)
+    assert got["time [sec]"] == got["time [s]"]  # (sec is s: the same file but for the header)
+    assert got["time [s]"] == pytest.approx(fs, rel=1e-7)  # least squares over 4096 times rounded to <= 5e-6 s
+
+
+def test_a_csv_time_in_ms_off_its_grid_is_refused_with_the_departure_in_s(tmp_path):
+    t = np.delete(np.arange(2048) / 2048.0, 1000)
+    p = tmp_path / "gap.csv"
+    np.savetxt(p, np.column_stack([1e3 * t, np.sin(t)]), delimiter=",", header="time [ms],acc", comments="", fmt="%.6g")
+    with pytest.raises(ModelError, match=r"no sample missing") as e:
+        read_csv_time(p)
+    # half the printing's median digit in s: times of 100 to 999 ms printed %.6g to 1e-3 ms, 5e-7 s (not 0.0005)
+    assert "(typically +-5e-07 s)" in str(e.value)
+
+
+@pytest.mark.parametrize(("unit", "scale"), [("sec", 1.0), ("Seconds", 1.0), ("msec", 1e3), ("usec", 1e6), ("us", 1e6)])
+def test_a_uff_time_abscissa_in_a_unit_of_the_csv_time_table_is_converted_to_s(tmp_path, unit, scale):
+    import pyuff
+
+    t = np.arange(500) / 1000.0
+    s = pyuff.prepare_58(
+        binary=1, func_type=1, rsp_node=1, rsp_dir=3, ref_node=0, ref_dir=0, data=np.sin(2 * np.pi * 50 * t),
+        x=scale * t, id1="acc", id4="NONE", abscissa_spacing=1, abscissa_spec_data_type=17,
+        abscissa_axis_units_lab=unit, ordinate_spec_data_type=12, ordinate_axis_units_lab="m/s2",
+        orddenom_spec_data_type=0, orddenom_axis_units_lab="NONE", z_axis_spec_data_type=0,
+    )  # fmt: skip
+    p = tmp_path / "t.uff"
+    pyuff.UFF(str(p)).write_sets([s], mode="add")
+    (r,) = read_uff(p)
+    np.testing.assert_allclose(r.x, t, rtol=1e-12, atol=1e-15)  # (a step of 1e-3 s is exact in the header's E13.5)
+    assert read_time_record(p)[1] == pytest.approx(1000.0, rel=1e-12)
+
+
+def test_a_uff_time_abscissa_in_a_unit_not_of_time_is_refused(tmp_path):
+    import pyuff
+
+    t = np.arange(100) / 1000.0
+    s = pyuff.prepare_58(
+        binary=1, func_type=1, rsp_node=1, rsp_dir=3, ref_node=0, ref_dir=0, data=np.sin(t), x=t, id1="acc",
+        id4="NONE", abscissa_spacing=1, abscissa_spec_data_type=17, abscissa_axis_units_lab="Hz",
+        ordinate_spec_data_type=12, ordinate_axis_units_lab="m/s2", orddenom_spec_data_type=0,
+        orddenom_axis_units_lab="NONE", z_axis_spec_data_type=0,
+    )  # fmt: skip
+    p = tmp_path / "t.uff"
+    pyuff.UFF(str(p)).write_sets([s], mode="add")
+    with pytest.raises(ModelError, match=r"abscissa unit 'Hz' is not one this reader converts; a time record.*'usec'"):
+        read_uff(p)

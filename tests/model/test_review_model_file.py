@@ -293,3 +293,15 @@ def test_the_targets_note_says_what_the_loader_accepts():
     """An isolator support and an excited clip are driven (model_from_dict above), not only clamps."""
     note = lookup("scenario.excitation.x.target").note
     assert "isolator" in note and "clip" in note
+
+
+def test_ensemble_refuses_a_set_or_against_key_given_twice_before_any_run(tmp_path, capsys):
+    """ensemble built its changes with dict(), so the last value won and the first (a friction of
+    -5) was never checked; it is refused as simulate refuses it, before any run is made."""
+    for flag in ("--set", "--against"):
+        argv = ["ensemble", "--seeds", "2", "--duration", "0.1", "--skip", "0", "--scheduler", "serial"]
+        argv += [flag, "contact.friction=-5", flag, "contact.friction=0.1", "--out", str(tmp_path / "e.csv")]
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert f"{flag} contact.friction" in err and "is given twice (-5 and 0.1)" in err
+        assert not (tmp_path / "e.csv").exists()

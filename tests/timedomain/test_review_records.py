@@ -35,7 +35,13 @@ def run():
 
 @pytest.mark.parametrize(
     ("head", "fs"),
-    [("time [s]", 10.0), ("time [ms]", 1e4), ("time_ms", 1e4), ("time [us]", 1e7), ("time [µs]", 1e7), ("t", 10.0)],
+    [
+        *[("time [s]", 10.0), ("time [ms]", 1e4), ("time_ms", 1e4), ("time [us]", 1e7), ("time [µs]", 1e7)],
+        ("t", 10.0),
+        # (the units a UFF 58 abscissa label takes, one table: time [sec] was read as s before the ms change)
+        *[("time [sec]", 10.0), ("time_sec", 10.0), ("Time [Seconds]", 10.0), ("time (msec)", 1e4)],
+        *[("time [usec]", 1e7), ("time [MS]", 1e4)],
+    ],
 )
 def test_a_csv_records_time_is_read_in_its_unit(tmp_path, head, fs):
     path = tmp_path / "r.csv"
