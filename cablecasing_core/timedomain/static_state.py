@@ -13,7 +13,8 @@ generalized contact forces of the time domain's own contact search and law (Eqs.
 normal n (from the casing axis towards the node), the normal force N(g) pushes the cable back, -N n,
 and the casing out, H^T N n. Without friction and damping this is the contact of a body at rest.
 
-The solver is a semi-smooth Newton method with a backtracking line search on |R|, on the whole
+The solver is a semi-smooth Newton method with a backtracking (Armijo) line search on the potential
+energy that also accepts a step halving |R| (:func:`_newton`), on the whole
 system, with every node's contact searched anew at every iterate (contacts open and close as they
 go). Its tangent is K plus, per contact, dN/dg b b^T (b = D^T n, D the map of the DOFs to the
 relative displacement of the cable node and the casing axis point) and the rotation of the normal,

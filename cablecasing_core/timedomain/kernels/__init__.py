@@ -8,7 +8,7 @@ module                                   what
                                          states, the names of the ledger, info and diag slots
 ``_banded_products_and_block_solve.py``  products in diagonal storage, the block-tridiagonal solve
 ``_hermite_interpolation.py``            the casing axis and the interpolation matrix on an element (Eq. 9)
-``_contact_search_and_law.py``           normal-plane search (Eqs. 32-39), contact law (Eqs. 24, 29)
+``_contact_search_and_law.py``           normal-plane search (Eqs. 36-39; frame Eqs. 32-35), contact law (Eqs. 24, 29)
 ``_contact_newton_for_fixed_modes.py``   the contact forces for fixed stick/slip modes (Eqs. 15-23)
 ``_contact_forces_with_active_set.py``   the implicit contact solve of a step (Eqs. 14-39)
 ``_newmark_per_body.py``                 one body's predictor, update and reactions (Eqs. 13, 18)

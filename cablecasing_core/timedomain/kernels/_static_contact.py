@@ -1,8 +1,9 @@
 """The frictionless contact of every cable node at a given state, for the static equilibrium
-(timedomain/static_state.py): the time domain's own normal-plane search (Eqs. 32-39), penetration
-(Eqs. 14, 30-31) and law (Eq. 24 or 29), and the generalized forces on both bodies that the step
-loop's contact solve applies for a normal force (its moment arms lie along the normal, so a
-frictionless contact has no moment), with what the static Newton needs for its tangent."""
+(timedomain/static_state.py): the time domain's own normal-plane search (Eqs. 36-39, in the frame
+of Eqs. 32-35), penetration (Eqs. 14, 30-31) and law (Eq. 24 or 29), and the generalized forces on
+both bodies that the step loop's contact solve applies for a normal force (its moment arms lie
+along the normal, so a frictionless contact has no moment), with what the static Newton needs for
+its tangent."""
 
 from __future__ import annotations
 
