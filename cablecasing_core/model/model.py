@@ -216,13 +216,17 @@ class Model:
         checked = validate(data, base_dir=self.base_dir)
         return Model(checked, source=self.source, base_dir=self.base_dir, derived=derived)
 
-    def fingerprint(self) -> str:
+    def fingerprint(self, scenario: bool = True) -> str:
         """A short hash (16 hex digits) of the model's data (SI values, defaults filled in): equal for
         equal models, whatever their source or folder (a tabulated excitation enters by its file's
         content, not its path, so that the same files in two folders give one fingerprint and an
-        edited file another)."""
+        edited file another). ``scenario=False``: of the structure alone (everything but
+        ``[scenario]``: the bodies, their supports and mounts, the loads and the contact), what a
+        state of :class:`~cablecasing_core.timedomain.engine.Engine` belongs to."""
         data = dict(self.data)
-        excitation = self.data.get("scenario", {}).get("excitation", {})
+        if not scenario:
+            data.pop("scenario", None)
+        excitation = self.data.get("scenario", {}).get("excitation", {}) if scenario else {}
         if any(isinstance(e, dict) and "file" in e for e in excitation.values()):
             data["scenario"] = {**self.data["scenario"], "excitation": {}}
             for name, e in excitation.items():

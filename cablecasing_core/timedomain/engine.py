@@ -133,6 +133,7 @@ class Engine:
         if contact is not None and not isinstance(contact, (bool, np.bool_)):
             raise ModelError("contact", contact, "must be None (the model's contact.enabled), True or False")
         self.model = model
+        self._structure = model.fingerprint(scenario=False)  # (what a state of this engine belongs to)
         self.dt = float(dt)
         #: the support channels (``channels_of``: the 12 of CHANNELS, then the excited clips') and
         #: the outputs (``outputs_of``: OUTPUTS, then the clips' forces) of this model
@@ -371,8 +372,10 @@ class Engine:
 
     def get_state(self) -> dict[str, np.ndarray]:
         """The complete state as ``{name: array}`` (copies): time, U/V/A of each body, contact
-        memory (state, element, forces), last reactions and the energy ledger."""
-        s = {"time": np.array([self.time])}
+        memory (state, element, forces), last reactions and the energy ledger, and ``model``, the
+        fingerprint of the structure it belongs to (``Model.fingerprint(scenario=False)``: the same
+        bodies, mounts, loads and contact; the scenario may differ)."""
+        s = {"time": np.array([self.time]), "model": np.array(self._structure)}
         for n, b in self.bodies.items():
             s[f"{n}.U"], s[f"{n}.V"], s[f"{n}.A"] = b.U.copy(), b.V.copy(), b.A.copy()
             if b.mounts:
@@ -411,6 +414,13 @@ class Engine:
         targets = [(f"{n}.{k}", getattr(b, k)) for n, b in self.bodies.items() for k in "UVA"]
         targets += [(f"{n}.{k}", getattr(b, k)) for n, b in self.bodies.items() if b.mounts for k in ("mb", "mF")]
         targets += [(a, getattr(self, a)) for a in self._ARRAYS]
+        if "model" in state and str(np.asarray(state["model"])) != self._structure:  # (older states have none)
+            raise ModelError(
+                "state.model",
+                str(np.asarray(state["model"])),
+                f"is the fingerprint of another model's structure (this engine's is {self._structure}): a state "
+                "continues only the bodies, mounts, loads and contact it was taken from",
+            )
         try:
             time = float(np.asarray(state["time"]).reshape(-1)[0])
             new = [(dst, np.asarray(state[key], dst.dtype)) for key, dst in targets]

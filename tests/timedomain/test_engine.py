@@ -557,3 +557,25 @@ def test_a_run_step_outside_the_plausible_range_warns_as_in_a_model_file():
 
     with pytest.warns(ModelWarning, match=r"dt = 0.002 s is outside the plausible 1e-08 to 0.001 s"):
         cc.simulate(m, duration=0.01, dt=2e-3)
+
+
+def test_a_state_continues_only_the_structure_it_was_taken_from(pair_model, kick):
+    """A state of the same shapes from another model (another casing modulus, same mesh) was taken
+    silently, and the run went on with displacements in equilibrium with other stiffnesses. It is
+    refused, naming the structures' fingerprints; another scenario of the same structure is
+    accepted (a state may be continued under a new drive), and so is an older state without one."""
+    m = pair_model(friction=0.2, damping=50.0)
+    e1 = Engine(m, dt=2e-5)
+    kick(e1, 0.3)
+    e1.advance(0.002, zero_motion)
+    s = state_from_bytes(state_to_bytes(e1.get_state()))
+    other = Engine(m.with_overrides({"casing.E": 1.1 * m.bodies["casing"].E_ref}), dt=2e-5)
+    before = other.get_state()
+    with pytest.raises(cc.ModelError) as err:
+        other.set_state(s)
+    assert err.value.key == "state.model" and "another model's structure" in str(err.value)
+    assert all(np.array_equal(before[k], v) for k, v in other.get_state().items())  # (nothing written)
+    redriven = Engine(m.with_overrides({"scenario.seed": 7}), dt=2e-5)
+    redriven.set_state(s)
+    redriven.set_state({k: v for k, v in s.items() if k != "model"})
+    assert redriven.time == e1.time
