@@ -197,9 +197,8 @@ def cmd_keys(args):
         raise ModelError(
             "PREFIX", args.prefix, "matches no key of the model file; " + _closest_keys(args.prefix, SCHEMA)
         )
-    for s in rows:
-        default = s.default_from or s.default
-        print(f"{s.key}\t{s.type}\t{default}\t{s.unit or '-'}\t{s.allowed}\t{s.description}")
+    for s in rows:  # (the columns of docs/model_file.md's key table, schema.markdown_table)
+        print(f"{s.key}\t{s.type}\t{s.default_text}\t{s.unit or '-'}\t{s.allowed_text}\t{s.description}")
     return 0
 
 

@@ -154,6 +154,25 @@ class KeySpec:
         return self.validator.allowed + (f"; {self.note}" if self.note else "")
 
     @property
+    def allowed_text(self) -> str:
+        """:attr:`allowed` with the plausible range (``a warning outside ...``), as the key table and
+        ``cablecasing keys`` show it."""
+        return self.allowed + (f"; a warning outside {self.plausible_text}" if self.plausible else "")
+
+    @property
+    def default_text(self) -> str:
+        """The default as the key table shows it: a value (TOML), ``required``, ``(none)`` or the key
+        it is taken from."""
+        if self.default_from:
+            return self.default_from
+        if self.default is REQUIRED:
+            return "required"
+        if self.default is OPTIONAL:
+            return "(none)"
+        value = self.default
+        return ("true" if value else "false") if isinstance(value, bool) else repr(value).replace("'", '"')
+
+    @property
     def plausible_text(self) -> str:
         """The plausible range as text (empty when the key has none)."""
         if not self.plausible:
@@ -843,21 +862,13 @@ def markdown_table() -> str:
     """The key table of docs/model_file.md (Markdown), generated from the schema."""
 
     def default(spec):
-        if spec.default_from:
-            return f"`{spec.default_from}`"
-        if spec.default is REQUIRED:
-            return "required"
-        if spec.default is OPTIONAL:
-            return "(none)"
-        value = spec.default
-        text = ("true" if value else "false") if isinstance(value, bool) else repr(value).replace("'", '"')
-        return f"`{text}`"
+        text = spec.default_text
+        return text if spec.default_from is None and spec.default in (REQUIRED, OPTIONAL) else f"`{text}`"
 
     lines = ["| key | type | default | unit | allowed | description |", "|---|---|---|---|---|---|"]
     for spec in _KEYS:
         kinds = f" (kind {' or '.join(spec.kinds)})" if spec.kinds else ""
-        allowed = spec.allowed + (f"; a warning outside {spec.plausible_text}" if spec.plausible else "")
-        allowed = allowed.replace("|", "\\|")  # a | inside a Markdown table cell
+        allowed = spec.allowed_text.replace("|", "\\|")  # a | inside a Markdown table cell
         lines.append(
             f"| `{spec.key}` | {spec.type} | {default(spec)} | {spec.unit or '-'} | "
             f"{allowed} | {spec.description}{kinds} |"

@@ -305,3 +305,21 @@ def test_ensemble_refuses_a_set_or_against_key_given_twice_before_any_run(tmp_pa
         err = capsys.readouterr().err
         assert f"{flag} contact.friction" in err and "is given twice (-5 and 0.1)" in err
         assert not (tmp_path / "e.csv").exists()
+
+
+def test_keys_prints_the_rows_of_the_key_table(capsys):
+    """docs/model_file.md says `cablecasing keys` prints the key table; it printed the sentinels
+    REQUIRED and OPTIONAL as defaults and left out the plausible ranges. Each printed row now has
+    the table's default and allowed cells (without the table's Markdown quoting)."""
+    from cablecasing_core.model.schema import markdown_table
+
+    assert main(["keys"]) == 0
+    printed = {r.split("\t")[0]: r.split("\t") for r in capsys.readouterr().out.splitlines()}
+    table = {}
+    for row in markdown_table().splitlines()[2:]:
+        cells = [c.strip() for c in row.strip("|").split(" | ")]
+        table[cells[0].strip("`")] = cells
+    assert printed.keys() == table.keys()
+    for key, cells in table.items():
+        assert printed[key][2] == cells[2].strip("`") and printed[key][4] == cells[4].replace("\\|", "|"), key
+    assert "REQUIRED" not in str(printed) and "a warning outside" in printed["casing.E"][4]
