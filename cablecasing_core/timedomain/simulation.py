@@ -378,22 +378,24 @@ def simulate_sampled(
     model: Model, step: float, duration: float, table: np.ndarray | None = None, contact: bool | None = None
 ) -> tuple[np.ndarray, np.ndarray]:
     """The core's run of what an FMU master gets that sends the model's scenario sampled every
-    ``step`` s: the inputs (u, v, a of the 12 channels, m, m/s, m/s2) at the communication points
-    t_k = k step (``table`` (n, 36) in the order of ``model.schema.INPUTS``; default the scenario's
-    record at k = 0..n-1, n = round(duration / step)), each communication step's motion
+    ``step`` s: the inputs (u, v, a of the model's channels, m, m/s, m/s2: the 12 supports', then an
+    excited clip's) at the communication points t_k = k step (``table`` (n, 3 x channels): the channels'
+    displacements, then their velocities, then their accelerations, as the FMU's inputs; for the 12
+    supports ``model.schema.INPUTS``; default the scenario's record at k = 0..n-1, n = round(duration / step)), each communication step's motion
     reconstructed as the FMU does (:class:`~.support_motion.SupportReconstruction`), one
     ``Engine.advance(t_(k+1) - t_k)`` per input row. The steps are the differences of the points
     as a master computes them in floating point (fmpy: ``(k + 1) h - k h``, which differs from h in
     the last bits; the contact's chaos would make any such difference visible within ~0.1 s).
-    Returns the times (s, n: the end of each step) and the outputs after each step (n x
-    ``len(OUTPUTS)``, ``model.schema.OUTPUTS``): what the FMU returns at those times.
+    Returns the times (s, n: the end of each step) and the outputs after each step (n x the
+    engine's outputs, ``Engine.output_names``: ``model.schema.OUTPUTS``, then a clip's forces):
+    what the FMU returns at those times.
 
     The run takes n = round(``duration`` / ``step``) steps, at least one, with or without a
     ``table``; a given ``table`` must have a row for each of them (rows beyond the n-th are not
     used) and ``3 * len(channels_of(model))`` columns (36: ``model.schema.INPUTS``), or a
     :class:`~cablecasing_core.errors.ModelError` names ``duration`` or ``table``. A CSV excitation
     of the scenario that ends before ``duration`` warns (as :func:`simulate`)."""
-    from ..model.schema import CHANNELS, OUTPUTS, channels_of
+    from ..model.schema import channels_of
     from .support_motion import SupportReconstruction
 
     seconds("step", step)
@@ -401,7 +403,8 @@ def simulate_sampled(
     n = int(round(duration / step))
     if n < 1:
         raise ModelError("duration", duration, f"must be at least one communication step (step = {step:g} s)")
-    width = 3 * len(channels_of(model))
+    nch = len(channels_of(model))  # (the 12 supports' channels, then an excited clip's)
+    width = 3 * nch
     if table is None:
         warn_short_tables(model, duration, "duration")
         t = step * np.arange(n)
@@ -423,12 +426,11 @@ def simulate_sampled(
         if not np.all(np.isfinite(table[:n])):
             raise ModelError("table", plain(what), "must hold finite numbers (it holds nan or inf)")
         table = table[:n]
-    nch = len(CHANNELS)
     eng = Engine(model, contact=contact, ledger=False)
     rec = SupportReconstruction(nch)
-    out = np.zeros((len(table), len(OUTPUTS)))
+    out = np.zeros((len(table), len(eng.output_names)))
     points = step * np.arange(len(table) + 1)
-    for k, row in enumerate(np.asarray(table, float)):
+    for k, row in enumerate(table):
         h = float(points[k + 1] - points[k])
         motion = rec.motion(eng.time, h, row[:nch], row[nch : 2 * nch], row[2 * nch :])
         eng.advance(h, motion)
