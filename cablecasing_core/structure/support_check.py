@@ -145,9 +145,9 @@ def free_rigid_motion(system):
     return _analysis(system.centerline, system.mounts, False, 0.0, np.zeros(3))[1]
 
 
-def _axial_stiffness(mounts, end):
+def axial_stiffness(mounts, end):
     """The stiffness (N/m) of the isolator at ``end`` ("A" or "B") along the body's axis there
-    (its local axial direction, the centerline's tangent)."""
+    (its local axial direction, the centerline's tangent); inf where ``end`` has no isolator."""
     return next((float(m.local_stiffness()[0][0]) for m in mounts if m.support == end), float("inf"))
 
 
@@ -163,7 +163,7 @@ def _check_axial_stretch(name, spec, mounts, T, cl):
     ends = [s for s in ("A", "B") if spec.supports[s] == "isolator"]
     if not ends:
         return
-    k = {s: _axial_stiffness(mounts, s) for s in ends}
+    k = {s: axial_stiffness(mounts, s) for s in ends}
     stretch = T * sum(1.0 / k[s] for s in ends)  # (a clamped end: 1/k = 0)
     L = cl.length
     if stretch <= STRETCH * L:
@@ -222,7 +222,7 @@ def check_supported(model) -> None:
                         f"and a free end carries no axial force, so nothing holds the {name} along its axis at {s} "
                         f"and {what} has nowhere to go",
                     )
-                if spec.supports[s] == "isolator" and _axial_stiffness(mounts, s) == 0.0:
+                if spec.supports[s] == "isolator" and axial_stiffness(mounts, s) == 0.0:
                     raise ModelError(
                         "loads.cable_tension",
                         T,

@@ -378,12 +378,13 @@ def simulate_sampled(
     model: Model, step: float, duration: float, table: np.ndarray | None = None, contact: bool | None = None
 ) -> tuple[np.ndarray, np.ndarray]:
     """The core's run of what an FMU master gets that sends the model's scenario sampled every
-    ``step`` s: the inputs (u, v, a of the model's channels, m, m/s, m/s2: the 12 supports', then an
-    excited clip's) at the communication points t_k = k step (``table`` (n, 3 x channels): the channels'
-    displacements, then their velocities, then their accelerations, as the FMU's inputs; for the 12
-    supports ``model.schema.INPUTS``; default the scenario's record at k = 0..n-1, n = round(duration / step)), each communication step's motion
-    reconstructed as the FMU does (:class:`~.support_motion.SupportReconstruction`), one
-    ``Engine.advance(t_(k+1) - t_k)`` per input row. The steps are the differences of the points
+    ``step`` s: the inputs (u, v, a of the model's channels, m, m/s, m/s2: the 12 supports', then
+    an excited clip's) at the communication points t_k = k step (``table`` (n, 3 x channels): the
+    channels' displacements, then their velocities, then their accelerations, as the FMU's inputs;
+    for the 12 supports ``model.schema.INPUTS``; default the scenario's record at k = 0..n-1,
+    n = round(duration / step)), each communication step's motion reconstructed as the FMU does
+    (:class:`~.support_motion.SupportReconstruction`), one ``Engine.advance(t_(k+1) - t_k)`` per
+    input row. The steps are the differences of the points
     as a master computes them in floating point (fmpy: ``(k + 1) h - k h``, which differs from h in
     the last bits; the contact's chaos would make any such difference visible within ~0.1 s).
     Returns the times (s, n: the end of each step) and the outputs after each step (n x the

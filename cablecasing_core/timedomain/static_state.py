@@ -314,7 +314,9 @@ def check_kept_prestress(systems, U, exclude=(), gravity=(0.0, 0.0, 0.0), contac
 def _prestress_causes(system, gravity, contact):
     """The causes the model has of an axial force other than N0 along ``system``, in words, not
     weighed against each other."""
-    kA = [system.mounts[m].local_stiffness()[0][0] for m in map(system.mount_of_support, "AB") if m is not None]
+    from ..structure.support_check import axial_stiffness
+
+    kA = [axial_stiffness(system.mounts, s) for s in "AB"]  # (a clamped end: inf, 1/k = 0)
     EA_L = system.E * system.section.A / system.centerline.length
     k = 1.0 / sum(1.0 / x for x in kA) if all(x > 0.0 for x in kA) else 0.0  # (the isolators in series)
     causes = [
