@@ -326,18 +326,18 @@ def time_factor(unit: str) -> float | None:
     return TIME_UNITS.get(unit, TIME_UNITS.get(unit.lower()))
 
 
-def time_column(key: str, path, header: str, *, named: bool = False) -> tuple[str, float | None]:
-    """``(name, factor)`` of a table's time column (its first) from its header ``header``: the
+def time_column(key: str, path, header: str, *, named: bool = False) -> float:
+    """The factor (to s) of a table's time column (its first) from its header ``header``: the
     unit in brackets (``time [ms]``, also ``time (ms)``) or, as a record's other columns, the
-    ``<name>_<unit>`` form (``time_ms``) of ``time`` and ``t``; ``factor`` converts the unit to s
-    (:data:`TIME_UNITS`: s, ms, us or µs, also sec, msec, usec), None where the header gives no unit (a record's time is
-    then in s). A unit that is not one of time raises a :class:`ModelError` naming ``key`` and
-    the file (quoting none of it). ``named``: a header without a unit must be ``time`` or ``t``
+    ``<name>_<unit>`` form (``time_ms``) of ``time`` and ``t`` (:data:`TIME_UNITS`: s, ms, us or
+    µs, also sec, msec, usec); 1.0 where the header gives no unit (a record's time is then in s).
+    A unit that is not one of time raises a :class:`ModelError` naming ``key`` and the file
+    (quoting none of it). ``named``: a header without a unit must be ``time`` or ``t``
     (a CSV excitation, whose first column must be the time: not a swapped pair of columns)."""
     text = header.strip()
     found = _BRACKETS.fullmatch(text)
     if found:
-        name, unit = found.group(1), found.group(2)
+        unit = found.group(2)
     else:
         name, sep, unit = text.rpartition("_")
         if not sep or name.lower() not in TIME_NAMES:
@@ -348,7 +348,7 @@ def time_column(key: str, path, header: str, *, named: bool = False) -> tuple[st
                     "must have the time in its first column, headed time_s (or time [s]; a time in ms or us, "
                     "time_ms or time [ms], is converted to s); its header names another column first",
                 )
-            return text, None
+            return 1.0
     factor = time_factor(unit)
     if factor is None:
         raise ModelError(
@@ -357,7 +357,7 @@ def time_column(key: str, path, header: str, *, named: bool = False) -> tuple[st
             "must give the time of its first column in s, ms or us (time [s], time_s, time [ms], time_ms, "
             "time [us]; also sec, msec, usec, µs); the unit its header gives that column is not one of time",
         )
-    return name, factor
+    return factor
 
 
 def memory_available() -> int:

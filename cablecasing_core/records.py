@@ -106,8 +106,8 @@ class Records:
                 f"holds {self.time.size} row(s): a record needs at least two samples for its time step",
             )
         d = np.diff(self.time)
-        tol = max(1e-6 * d.mean(), 1.1e-8 * np.abs(self.time).max()) if d.size else 0.0
-        if d.size == 0 or not (np.all(d > 0) and np.ptp(d) <= tol):
+        tol = max(1e-6 * d.mean(), 1.1e-8 * np.abs(self.time).max())
+        if not (np.all(d > 0) and np.ptp(d) <= tol):
             raise ModelError(
                 "file",
                 self.source or "record",
@@ -225,9 +225,8 @@ def read_records(path: str | os.PathLike) -> Records:
 def _read_csv(path):
     header, data = read_csv_table(path, "file")
     names, units = [], {}
-    _unique(path, header)
-    _, to_s = time_column("file", path, header[0])  # (time [ms], time_ms: converted to s)
-    time = data[:, 0] if to_s in (None, 1.0) else data[:, 0] * to_s
+    to_s = time_column("file", path, header[0])  # (time [ms], time_ms: converted to s)
+    time = data[:, 0] if to_s == 1.0 else data[:, 0] * to_s
     for h in header[1:]:
         h = h.strip()
         name, _, unit = h.partition(" [")
@@ -237,7 +236,7 @@ def _read_csv(path):
                 name = known
         names.append(name)
         units[name] = unit or unit_of(name)
-    _unique(path, [header[0], *names])  # (again with the earlier '<name>_<unit>' forms mapped to their names)
+    _unique(path, [header[0], *names])  # (with the earlier '<name>_<unit>' forms mapped to their names)
     cols = {n: data[:, i + 1] for i, n in enumerate(names)}
     return Records(time, cols, units, path)
 

@@ -294,9 +294,8 @@ def cmd_bands(args):
                 f"band ends at {band_set.upper[0]:.4g} Hz (write the record with an output interval <= "
                 f"{share / (2 * band_set.upper[0]):.4g} s)",
             )
-        if not within.all():
+        if not within.all():  # (octave_rms leaves them out: passband, beyond_nyquist="drop")
             print(f"# {_passband_note(rec, args.record)}: the bands above it are left out")
-        band_set = band_set.select(within)
     name = f"{col} in {args.record} (after --skip)"
     bands = octave_rms(x, rec.fs, band_set, beyond_nyquist="drop", name=name, passband=passband)
     level = bands.level_db(ref)

@@ -420,7 +420,7 @@ def _record_fs(path, rec):
         for line in fh:
             if to_s is None and line.strip() and not line.lstrip().startswith("#"):  # the header line
                 head = next(csv.reader([line], skipinitialspace=True))[0]
-                to_s = time_column("file", path, head)[1] or 1.0
+                to_s = time_column("file", path, head)
                 continue
             m = _NUMBER.match(line.split(",")[0].strip())
             if m and (m.group(1) or m.group(2)):

@@ -193,17 +193,13 @@ class Model:
                 spec.check(value, key)  # (refused under the key given, not the vector's)
                 component = vector.components.index(parts[-1])
                 parts = parts[:-1]
-            node = data
+            node = data  # (every table on the way is a table: override_spec refuses a clip's keys)
             for i, p in enumerate(parts[:-1]):
-                if not isinstance(node, dict):
-                    break
                 if p not in node:
                     if i == 0:  # (a body the model does not have)
                         raise ModelError(key, value, f"belongs to the [{p}], which this model does not have")
                     node[p] = {}
                 node = node[p]
-            if not isinstance(node, dict):  # (a clip: an array of tables)
-                raise ModelError(key, value, _CLIP_KEYS)
             if component is None:
                 node[parts[-1]] = value
             elif isinstance(node.get(parts[-1]), list) and len(node[parts[-1]]) == 3:
@@ -262,17 +258,13 @@ def override_spec(key) -> KeySpec:
     allowed where it is (the wording of an unknown key of a model file)."""
     if not isinstance(key, str):
         raise ModelError(str(key), NOT_SHOWN, "must be a dotted model key, e.g. contact.friction")
-    try:
-        spec = lookup(key)
-    except ModelError:
-        spec = None
-    if spec is not None:
-        if ".clip[" in key:
-            raise ModelError(key, NOT_SHOWN, _CLIP_KEYS)
-        return spec
     parts = key.split(".")
-    if parts[0] == "casing" and len(parts) > 1 and parts[1].startswith("clip"):
+    if parts[0] == "casing" and len(parts) > 1 and parts[1].startswith("clip"):  # (casing.clip[0].at too)
         raise ModelError(key, NOT_SHOWN, _CLIP_KEYS)
+    try:
+        return lookup(key)
+    except ModelError:
+        pass
     below = [k[len(parts)] for k in _schema_keys_under(parts)]  # (in schema order)
     if below:
         example = ".".join(parts + [below[0] if below[0] != "<support>" else SUPPORT_NAMES[0]])

@@ -113,8 +113,8 @@ def _read_table(path, key):
             f"must have two columns, time_s and the values; its header line names {len(names)} columns "
             "(one excitation per file: give each column its own file and excitation)",
         )
-    _, to_s = time_column(key, path, names[0], named=True)
-    t, x = data[:, 0] if to_s in (None, 1.0) else data[:, 0] * to_s, data[:, 1]
+    to_s = time_column(key, path, names[0], named=True)
+    t, x = data[:, 0] if to_s == 1.0 else data[:, 0] * to_s, data[:, 1]
     bad = np.nonzero(np.diff(t) <= 0)[0]
     if bad.size:
         raise ModelError(key, path, f"time (its first column) must increase strictly; data row {bad[0] + 2} does not")
