@@ -162,7 +162,7 @@ def contact_figures(model, var, out):
     from ..plotting import plot_contact_histogram, plot_geometry, save_figure
     from ..structure.geometry import centerline_of
 
-    if "cable" not in model.bodies or "casing" not in model.bodies:
+    if "cable" not in model.bodies:  # (a report's model has a casing: check_report_settings)
         return
     r = var.result
     if var.ensemble is not None and var.ensemble.contact_time.size:
@@ -228,7 +228,7 @@ def apparent_mass_figure(model, var, path, skip):
     rec = read_records(var.record)
     d = OUTPUT[-1]
     inp = f"casing.A.a{d}"
-    if inp not in rec.columns or "casing" not in model.bodies:
+    if inp not in rec.columns:
         return None
     tr = apparent_mass(rec, inp, OUTPUT, skip=skip, resolution_hz=8.0)
     sel = (tr.f_hz >= 10) & (tr.f_hz <= 1000)
