@@ -110,8 +110,6 @@ def _modes(model, body, count):
     if count is not None:
         integer("count", count, 1)
     basis = modal_basis(assemble_body(model, body))
-    system = basis.system
-    spec = system.spec
     n = len(basis.lam) if count is None else min(count, len(basis.lam))
     if count is not None and count > n:
         warnings.warn(
@@ -121,6 +119,14 @@ def _modes(model, body, count):
             ),
             stacklevel=3,
         )
+    return _first_modes(basis, n)
+
+
+def _first_modes(basis, n):
+    """(frequencies in Hz, shapes on all DOFs) of the first ``n`` modes of a :class:`ModalBasis`, each
+    at its own frequency where the modulus or a mount's stiffness depends on it."""
+    system = basis.system
+    spec = system.spec
     f = basis.frequencies_hz[:n].copy()
     tabled = any(m.table is not None for m in system.mounts)
     if spec.frequency_dependent and not system.prestressed and not system.mounts:
@@ -142,14 +148,23 @@ def mode_count(model: Model, body: str) -> int:
 def modes_up_to(model: Model, body: str, f_max: float) -> tuple[np.ndarray, np.ndarray]:
     """:func:`modes` of ``body`` whose frequency is at most ``f_max`` (Hz): (frequencies in Hz, shapes).
     Asks for modes in growing counts until one lies above ``f_max`` or the body has no more."""
+    return _modes_up_to(model, body, f_max)[:2]
+
+
+def _modes_up_to(model, body, f_max):
+    """:func:`modes_up_to` and the assembled body (frequencies in Hz, shapes, BodySystem): one
+    eigenproblem; the modes' own frequencies (E(f), mount tables) are found for growing counts
+    until one lies above ``f_max`` or the body has no more."""
     number("f_max", f_max, gt=0, unit="Hz")
-    n_all = mode_count(model, body)
+    Choice(*model.bodies)("body", body)
+    basis = modal_basis(assemble_body(model, body))
+    n_all = len(basis.lam)
     count = 16
     while True:
-        f, shapes = _modes(model, body, min(count, n_all))
+        f, shapes = _first_modes(basis, min(count, n_all))
         if len(f) == n_all or f[-1] > f_max:
             keep = f <= f_max
-            return f[keep], shapes[:, keep]
+            return f[keep], shapes[:, keep], basis.system
         count *= 4
 
 

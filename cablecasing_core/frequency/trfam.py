@@ -54,7 +54,7 @@ from ..model.limits import MAX_FREQUENCIES
 from ..model.schema import DIRECTIONS, SUPPORT_NAMES
 from ..model.validators import Choice, frequencies
 from ..structure.assembly import assemble_body
-from .modal import modal_basis, modes_up_to
+from .modal import _modes_up_to, modal_basis
 
 if TYPE_CHECKING:
     from ..model import Model
@@ -105,12 +105,11 @@ def half_power_bandwidths(model: Model, body: str, damping: str, f_lo: float, f_
     for a body without prestress or mounts, where the bandwidths are exact for separated modes). A
     mount's own damping is not counted: it widens the peaks further."""
     Choice(*DAMPING_MODELS)("damping", damping)
-    f, shapes = modes_up_to(model, body, f_hi)
+    f, shapes, system = _modes_up_to(model, body, f_hi)
     keep = f >= f_lo
     f, shapes = f[keep], shapes[:, keep]
     if damping == "none" or not len(f):
         return f, np.zeros_like(f)
-    system = assemble_body(model, body)
     spec = system.spec
     w2 = (2.0 * np.pi * f) ** 2
     s = np.asarray(spec.modulus(f), dtype=float) / system.E
