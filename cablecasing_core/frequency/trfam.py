@@ -71,13 +71,9 @@ MAX_FREQUENCY_HZ = 1e6
 
 def trfam_frequencies(key: str, freqs_hz: ArrayLike) -> np.ndarray:
     """``freqs_hz`` checked for :func:`trfam`: a non-empty 1-D array of at most
-    :data:`~cablecasing_core.model.limits.MAX_FREQUENCIES` numbers (not bools) from
-    :data:`MIN_FREQUENCY_HZ` to :data:`MAX_FREQUENCY_HZ` Hz; a :class:`ModelError` naming ``key``."""
-    raw = np.asarray(freqs_hz, dtype=object) if not isinstance(freqs_hz, np.ndarray) else freqs_hz
-    if raw.dtype.kind == "b" or (
-        raw.dtype == object and any(isinstance(v, (bool, np.bool_)) for v in np.ravel(raw).tolist())
-    ):
-        raise ModelError(key, freqs_hz, "must be frequencies in Hz (numbers, not True or False)")
+    :data:`~cablecasing_core.model.limits.MAX_FREQUENCIES` numbers (not bools:
+    :func:`~cablecasing_core.model.validators.frequencies`) from :data:`MIN_FREQUENCY_HZ` to
+    :data:`MAX_FREQUENCY_HZ` Hz; a :class:`ModelError` naming ``key``."""
     f = frequencies(key, freqs_hz, at_most=MAX_FREQUENCIES)
     bad = (f < MIN_FREQUENCY_HZ) | (f > MAX_FREQUENCY_HZ)
     if np.any(bad):

@@ -422,7 +422,8 @@ def _record_fs(path, rec):
                 head = next(csv.reader([line], skipinitialspace=True))[0]
                 to_s = time_column("file", path, head)
                 continue
-            m = _NUMBER.match(line.split(",")[0].strip())
+            cells = next(csv.reader([line], skipinitialspace=True), [""])  # (a quoted time too: "0.001")
+            m = _NUMBER.match(cells[0].strip() if cells else "")
             if m and (m.group(1) or m.group(2)):
                 # (a whole number, "0" or "2", says nothing of the digits kept: the column's median is taken)
                 whole = m.group(2) is None and m.group(3) is None

@@ -435,8 +435,14 @@ def array_1d(key, x, min_len=2, complex_ok=False):
 
 
 def frequencies(key, freqs_hz, fs=None, at_most=None):
-    """A non-empty 1-D array of positive finite frequencies (Hz); with the sampling rate ``fs`` (Hz)
-    each must also lie below fs/2; at most ``at_most`` of them (model/limits.py), when given."""
+    """A non-empty 1-D array of positive finite frequencies (Hz), numbers and not bools (True would
+    read as 1 Hz); with the sampling rate ``fs`` (Hz) each must also lie below fs/2; at most
+    ``at_most`` of them (model/limits.py), when given."""
+    raw = freqs_hz if isinstance(freqs_hz, np.ndarray) else np.asarray(freqs_hz, dtype=object)
+    if raw.dtype.kind == "b" or (
+        raw.dtype == object and any(isinstance(v, (bool, np.bool_)) for v in np.ravel(raw).tolist())
+    ):
+        raise ModelError(key, freqs_hz, "must be frequencies in Hz (numbers, not True or False)")
     try:
         f = np.atleast_1d(np.asarray(freqs_hz, dtype=float))
     except (TypeError, ValueError):

@@ -305,6 +305,19 @@ def test_a_csv_time_in_ms_printed_with_few_digits_reads_as_the_same_time_in_s(tm
     assert got["time [s]"] == pytest.approx(fs, rel=1e-7)  # least squares over 4096 times rounded to <= 5e-6 s
 
 
+def test_a_csv_with_quoted_times_printed_with_few_digits_reads_as_unquoted(tmp_path):
+    """A spreadsheet's export quotes every cell ("0.000488281"): the printed digits of a quoted time
+    were not read, so a %.6g record (uneven in its last digit) was refused as unevenly sampled."""
+    t = np.arange(2048) / 2048.0
+    x = np.sin(2 * np.pi * 115.8 * t)
+    rows = [f"{v:.6g},{w:.6g}" for v, w in zip(t, x)]
+    plain, quoted = tmp_path / "plain.csv", tmp_path / "quoted.csv"
+    plain.write_text("time [s],acc\n" + "\n".join(rows) + "\n")
+    quoted.write_text('"time [s]","acc"\n' + "\n".join('"' + r.replace(",", '","') + '"' for r in rows) + "\n")
+    # the same numbers either way: the same rate (2048 Hz to the least squares' 1e-7, as above)
+    assert read_csv_time(quoted)[1] == read_csv_time(plain)[1] == pytest.approx(2048.0, rel=1e-7)
+
+
 def test_a_csv_time_in_ms_off_its_grid_is_refused_with_the_departure_in_s(tmp_path):
     t = np.delete(np.arange(2048) / 2048.0, 1000)
     p = tmp_path / "gap.csv"

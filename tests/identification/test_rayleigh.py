@@ -119,3 +119,10 @@ def test_close_frequencies_warn_that_alpha_and_beta_are_not_separated():
         warnings.simplefilter("error", ModelWarning)
         rayleigh_fit([100.0, 102.1], [0.010, 0.012])  # 96
         rayleigh_fit(F[:3], [0.0359, 0.0263, 0.0216])  # Table 1
+
+
+@pytest.mark.parametrize("freqs", [[True, 20.0], np.array([True, False])])
+def test_a_bool_is_not_a_frequency(freqs):
+    # True would read as 1 Hz: damping ratios at a frequency nobody gave.
+    with pytest.raises(ModelError, match=r"freqs_hz = .*not True or False"):
+        rayleigh_zeta(freqs, 1.0, 1e-4)
