@@ -34,7 +34,6 @@ modelDescription is built from: variables, parameters in force, life cycle and s
 state and pythonfmu's methods; the bridge loads it as one file.
 """
 
-import copy
 import math
 import os
 import re
@@ -51,7 +50,6 @@ from pythonfmu.enums import Fmi2Status
 import cablecasing_core as cc
 from cablecasing_core.errors import renamed
 from cablecasing_core.model import specimen_names
-from cablecasing_core.model.model import Model
 from cablecasing_core.model.schema import (
     CHANNELS,
     OUTPUTS,
@@ -573,12 +571,7 @@ class CableCasing(Fmi2Slave):
         if not unused:
             return model, over
         prefixes = tuple(f"scenario.excitation.{name}." for name in unused)
-        data = copy.deepcopy(model.data)
-        for name in unused:
-            del data["scenario"]["excitation"][name]
-        derived = frozenset(k for k in model.derived if not k.startswith(prefixes))
-        model = Model(data, source=model.source, base_dir=model.base_dir, derived=derived)
-        return model, {k: v for k, v in over.items() if not k.startswith(prefixes)}
+        return model.without_excitations(unused), {k: v for k, v in over.items() if not k.startswith(prefixes)}
 
     def _whose(self, model_file):
         """Whose [scenario] the model runs, in words: "the built-in specimen's scenario", ..."""

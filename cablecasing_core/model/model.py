@@ -212,6 +212,24 @@ class Model:
         checked = validate(data, base_dir=self.base_dir)
         return Model(checked, source=self.source, base_dir=self.base_dir, derived=derived)
 
+    def without_excitations(self, names, source: str | None = None) -> Model:
+        """A validated copy without the scenario's excitations ``names`` (their keys, derived ones
+        too, leave with them; every other key and what it was derived from stay), its source
+        ``source`` or this one's. An unknown name raises :class:`ModelError` listing the model's."""
+        have = self.data["scenario"]["excitation"]
+        for name in names:
+            if name not in have:
+                raise ModelError(
+                    "scenario.excitation", name, f"must name an excitation of the model: {sorted(have) or 'none'}"
+                )
+        data = copy.deepcopy(self.data)
+        for name in names:
+            del data["scenario"]["excitation"][name]
+        prefixes = tuple(f"scenario.excitation.{name}." for name in names)
+        derived = frozenset(k for k in self.derived if not k.startswith(prefixes))
+        checked = validate(data, base_dir=self.base_dir)
+        return Model(checked, source=self.source if source is None else source, base_dir=self.base_dir, derived=derived)
+
     def fingerprint(self, scenario: bool = True) -> str:
         """A short hash (16 hex digits) of the model's data (SI values, defaults filled in): equal for
         equal models, whatever their source or folder (a tabulated excitation enters by its file's

@@ -17,13 +17,12 @@ folder, from which every figure and table is drawn.
 
 from __future__ import annotations
 
-import copy
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from ..model import Model, model_from_dict
+from ..model import Model
 from ..studies import Ensemble
 
 #: The output whose band levels, scalograms and spectra the report shows (Section 4.4: the support
@@ -56,12 +55,7 @@ def cable_excitations(model: Model) -> list[str]:
 def without_cable_drive(model: Model) -> Model | None:
     """The model with its excitations on the cable removed (None when it has none)."""
     names = cable_excitations(model)
-    if not names:
-        return None
-    data = copy.deepcopy(model.data)
-    for n in names:
-        del data["scenario"]["excitation"][n]
-    return model_from_dict(data, source=f"{model.source} without the cable drive", base_dir=model.base_dir)
+    return model.without_excitations(names, source=f"{model.source} without the cable drive") if names else None
 
 
 def drive_harmonics(model: Model, f_max: float) -> list[float]:

@@ -101,13 +101,14 @@ def check_record_settings(model, duration=None, dt=None, skip=0.05, bands="table
 
 def _check_default_evaluate(kwargs, model=None):
     """The settings ``kwargs`` of a study of :func:`default_evaluate` checked before anything runs
-    (:func:`check_record_settings` on the model of ``kwargs["model_file"]``, or ``model``)."""
+    (:func:`check_record_settings` on ``model``, the study's loaded Model: run_study's is that of
+    ``kwargs["model_file"]`` when given; else the model of ``kwargs["model_file"]``, of a path
+    ``model`` or the built-in specimen, loaded here)."""
     from ..model import Model, load_model
 
-    if kwargs.get("model_file") is not None:
-        model = load_model(kwargs["model_file"])
-    elif not isinstance(model, Model):
-        model = load_model(model if isinstance(model, str) else None)
+    if not isinstance(model, Model):
+        path = kwargs.get("model_file")
+        model = load_model(path if path is not None else (model if isinstance(model, str) else None))
     known = {"duration", "skip", "dt", "bands"}
     check_record_settings(model, **{k: v for k, v in kwargs.items() if k in known})
 

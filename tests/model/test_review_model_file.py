@@ -323,3 +323,24 @@ def test_keys_prints_the_rows_of_the_key_table(capsys):
     for key, cells in table.items():
         assert printed[key][2] == cells[2].strip("`") and printed[key][4] == cells[4].replace("\\|", "|"), key
     assert "REQUIRED" not in str(printed) and "a warning outside" in printed["casing.E"][4]
+
+
+def test_without_excitations_keeps_the_rest_and_what_follows_scenario_seed():
+    """The report's run without the cable drive and the FMU's undriven supports remove excitations
+    by one route: the rest of the model is the one a file without them loads, and a derived seed of
+    an excitation kept still follows scenario.seed (so --set scenario.seed=2 on its TOML moves it)."""
+    m = load_model("default")
+    bare = m.without_excitations(["cable_axial"])
+    assert list(bare.scenario["excitation"]) == ["casing_random"]
+    data = copy.deepcopy(m.data)
+    del data["scenario"]["excitation"]["cable_axial"]
+    assert bare.data == model_from_dict(data).data
+    assert bare.derived == m.derived == {"scenario.excitation.casing_random.seed"}
+    # derived keys of a removed excitation leave with it
+    assert m.without_excitations(["casing_random"]).derived == frozenset()
+    assert "seed = " not in bare.to_toml().split("[scenario.excitation.casing_random]")[1].split("[")[0]
+
+
+def test_without_excitations_refuses_a_name_the_model_does_not_have():
+    with pytest.raises(ModelError, match=r"scenario.excitation = 'shaker': must name an excitation of the model"):
+        load_model("default").without_excitations(["shaker"])
