@@ -26,6 +26,7 @@ from __future__ import annotations
 import asyncio
 import concurrent.futures
 import importlib
+import logging
 import math
 import os
 import time
@@ -214,8 +215,19 @@ class Workers:
     def __enter__(self):
         return self
 
-    def __exit__(self, *exc):
-        self.close()
+    def __exit__(self, exc_type, exc, tb):
+        if exc_type is not None and issubclass(exc_type, KeyboardInterrupt):  # (Ctrl-C, cli's Terminated)
+            # A worker still in a sample is killed after dask's grace of 4 s, on purpose (the rows are
+            # written by this process, not by it): dask's warning that it killed it is no news then.
+            nanny = logging.getLogger("distributed.nanny")
+            level = nanny.level
+            nanny.setLevel(logging.ERROR)
+            try:
+                self.close()
+            finally:
+                nanny.setLevel(level)
+        else:
+            self.close()
 
 
 def execute(
