@@ -169,7 +169,12 @@ def solve_static(model: Model, systems: dict, contact: bool) -> StaticState:
     T = model.loads["cable_tension"] if "cable" in systems else 0.0
     p = np.zeros(o)  # the cable's load per newton of pre-stretch force, on the unknowns
     a = 0.0  # EA / L of the cable: its mean axial force per unit of mean shortening
-    if T > 0.0:
+    # The tension pulls the cable taut against the inside of every bend, where the contact holds it
+    # (Problem). Without contact nothing holds it there, and solving for sigma would straighten the
+    # cable through the wall (sigma ~ 8e4 N on the installed specimen): the tension is then a fixed
+    # prestress, sigma = T, carried by the curved cable's hoop stiffness (it moves by ~ T R / EA).
+    pulled = T > 0.0 and contact
+    if pulled:
         cab = systems["cable"]
         loads["cable"] -= T * cab.f_axial  # the tension's share is the pre-stretch force's, solved for
         p[offs["cable"]] = cab.f_axial[cab.free]
@@ -181,7 +186,7 @@ def solve_static(model: Model, systems: dict, contact: bool) -> StaticState:
         fz[i] = loads[n][s.free]
     U = {n: np.zeros(systems[n].ndof) for n in names}
     ev = _Evaluator(model, systems, U, offs) if contact else _NoContact(o)
-    problem = _Problem(Kz, fz, p, a, T, ev, _slope_floor(model, fz, T) if contact else 0.0)
+    problem = _Problem(Kz, fz, p, a, T if pulled else 0.0, ev, _slope_floor(model, fz, T) if contact else 0.0)
     z, sigma, iterations, steps, residual = _continuation(problem, model.data["cable"]["d"] / 2 if contact else 0.0)
     _scatter(z, U, systems, offs)
     ev.evaluate(z)
@@ -189,8 +194,10 @@ def solve_static(model: Model, systems: dict, contact: bool) -> StaticState:
     check_kept_prestress(
         systems, U, exclude=("cable",) if T > 0.0 else (), gravity=model.loads["gravity"], contact=touching
     )
-    if T > 0.0:
+    if pulled:
         loads["cable"] += sigma * systems["cable"].f_axial
+    else:
+        sigma = T
     nn = systems[names[0]].n_nodes
     fc = {n: (ev.fc[n].copy() if contact else np.zeros(systems[n].ndof)) for n in names}
     reac = np.zeros(len(SUPPORT_OUTPUTS))

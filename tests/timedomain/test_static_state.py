@@ -332,3 +332,21 @@ def test_without_contact_the_bodies_hang_in_their_loads():
     eng = Engine(model, contact=False)
     for n in eng.bodies:
         np.testing.assert_array_equal(eng.bodies[n].U, st.U[n])
+
+
+def test_without_contact_the_tension_is_a_fixed_prestress():
+    """Review: with contact off, the condition that pulls the cable taut against the bends had
+    nothing to hold it there and straightened the cable through the wall (the installed specimen:
+    sigma = 7.9e4 N, the cable moved by 0.1 m, 6.8 kJ of strain energy). Without contact the
+    tension is the fixed prestress sigma = T, under which a curved cable moves by micrometres."""
+    model = cc.load_model("default").with_overrides({"loads.cable_tension": 10.0, "loads.gravity.z": 0.0})
+    for st in (static_state(model, contact=False), static_state(model.with_overrides({"contact.enabled": False}))):
+        assert st.prestretch_force == 10.0
+        from cablecasing_core.timedomain.body_storage import time_domain_system
+
+        s = time_domain_system(model, "cable")
+        EA, L = s.E * s.section.A, s.centerline.lengths.sum()
+        # the cable's hoop shortening under the capstan load T/R is of order T R / EA; its whole
+        # length's stretch T L / EA bounds it (measured 1.35e-5 m against 2.6e-5 m)
+        assert np.abs(st.U["cable"].reshape(-1, 6)[:, :3]).max() < 10.0 * L / EA
+    assert static_state(cc.load_model("installed"), contact=False).prestretch_force == 10.0
