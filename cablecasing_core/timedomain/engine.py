@@ -636,10 +636,15 @@ class Engine:
         """Energy ledger in J: kinetic, strain (with the mounts' springs), contact potential, work
         done by the supports (through the mounts too) and by the constant loads at rest (an
         installed model's gravity, tension and rest shape), dissipated by Rayleigh damping, by the
-        mounts' dampers (``mount_dissipation``), dissipated in the contacts (damping and friction
-        together: the work of the contact forces less the change of the stored contact energy), and
-        the balance residual (energy now minus the energy at the start plus supplied work less
-        dissipation). Strain and contact energy are totals, the static state's included."""
+        mounts' dampers (``mount_dissipation``), dissipated in the contacts (``contact_dissipation``:
+        the work of the contact forces less the change of the stored contact energy, which the
+        balance uses), its parts integrated from their powers (``contact_damping_dissipation``,
+        ``friction_dissipation``) and what is left of it (``contact_normal_dissipation``: the work of
+        the normal forces beyond their law's potential and damper; zero for a conservative contact,
+        made non-zero by the normal-plane search on a curved casing, negative where it makes energy,
+        falling as the mesh is refined: docs/time_domain.md, "Energy ledger"), and the balance
+        residual (energy now minus the energy at the start plus supplied work less dissipation).
+        Strain and contact energy are totals, the static state's included."""
         kin = sum(b.energy()[0] for b in self.bodies.values())
         strain = sum(b.energy()[1] for b in self.bodies.values())
         pot = self.contact_potential()
@@ -668,6 +673,7 @@ class Engine:
             "contact_dissipation": d_con,
             "contact_damping_dissipation": d_damp,
             "friction_dissipation": d_fric,
+            "contact_normal_dissipation": d_con - d_damp - d_fric,
             "mount_dissipation": d_mount,
             "residual": residual if self.ledger_on else np.nan,  # (it holds the Rayleigh dissipation)
         }
