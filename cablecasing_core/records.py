@@ -17,10 +17,16 @@ A record is a time axis (s, evenly spaced) and named columns: the outputs of the
   ``<name>_<unit>`` form of earlier versions (``casing.B.Fz_N``); a file with bare names (the FMU's
   outputs written by fmpy) takes the units from the schema. Two columns of one name (in either
   form) are refused; a header in quotes (``"time [s]"``, as spreadsheets write it) is read without them.
+  A record that states its passband (:attr:`Records.passband_hz`: a run's record decimated with the
+  anti-alias filter) has a comment line after the header, ``# passband_hz = 3500 (...)``, Hz; read,
+  such a line before the first row of numbers gives the record its passband. Every reader of these
+  files skips lines starting with ``#`` (:func:`~cablecasing_core.files.read_csv_table`;
+  ``numpy.loadtxt(path, delimiter=",", skiprows=1)``, ``numpy.genfromtxt(path, delimiter=",",
+  names=True)``; ``pandas.read_csv(path, comment="#")``).
 * **NPZ**: ``time`` (n,), ``table`` (n, m), ``names`` and ``units`` (m,), full double precision, and
   any further arrays of the writer (a run's per-node contact histories; :meth:`SimulationResult.load`).
-* **UFF 58** (binary, through pyuff, :mod:`.identification.uff_io`): one function of type 1 (time
-  response) per column, ``id1`` the column's name, the ordinate's unit label and data type (9
+* **UFF 58** (binary, through pyuff, :mod:`.identification.uff_io`; it keeps no passband): one
+  function of type 1 (time response) per column, ``id1`` the column's name, the ordinate's unit label and data type (9
   reaction force for forces and moments, 8 displacement, 11 velocity, 12 acceleration), the
   response node the support (casing A 1, casing B 2, cable A 3, cable B 4; 0 for the contact
   summary) and direction 1-3 for x, y, z, 4-6 for moments about them. Read, an ``id1`` that several
@@ -33,6 +39,7 @@ Files are written atomically (:mod:`.files`): an interrupted write leaves an ear
 from __future__ import annotations
 
 import os
+import re
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -80,8 +87,8 @@ def after_skip(time: np.ndarray, skip: float, start: float = 0.0) -> np.ndarray:
 @dataclass
 class Records:
     """A time record: ``time`` (s, n), ``columns`` {name: (n,) array}, ``units`` {name: unit},
-    ``source`` (file or run), ``extra`` (further arrays of an NPZ file; ``passband_hz``, see
-    :attr:`passband_hz`)."""
+    ``source`` (file or run), ``extra`` (further arrays of an NPZ file; ``passband_hz``, of an NPZ
+    file or a CSV file's comment line, see :attr:`passband_hz`)."""
 
     time: np.ndarray
     columns: dict
@@ -120,7 +127,9 @@ class Records:
         """The frequency (Hz) up to which the record holds its content unaltered: ``extra["passband_hz"]``
         where the record says so (a run's record decimated by its anti-alias filter,
         :func:`~cablecasing_core.timedomain.simulation.decimate`: flat within 0.01 dB up to 0.7 of
-        its Nyquist frequency, less above), else the Nyquist frequency fs/2."""
+        its Nyquist frequency, less above; kept in ``.npz`` and ``.csv`` files, not in ``.uff``), else
+        the Nyquist frequency fs/2. A record that states none may hold content of its source above
+        the Nyquist frequency aliased below it (an FMU's outputs sampled at its communication points)."""
         nyquist = self.fs / 2
         if "passband_hz" not in self.extra:
             return nyquist
@@ -161,6 +170,8 @@ def write_records(path: str | os.PathLike, rec: Records) -> str:
     units = [rec.units.get(n, "") for n in names]
     if suffix == ".csv":
         header = ",".join(["time [s]"] + [f"{n} [{u}]" if u else n for n, u in zip(names, units)])
+        if "passband_hz" in rec.extra:  # (a comment line after the header: _read_csv reads it back)
+            header += "\n" + passband_line(float(np.asarray(rec.extra["passband_hz"])))
         with atomic_path(path) as tmp:
             # (the time with 15 digits: with 9, the steps of 1/30000 s would differ by 3e-5 of themselves)
             fmt = ["%.15g"] + ["%.9g"] * len(names)
@@ -180,6 +191,20 @@ def write_records(path: str | os.PathLike, rec: Records) -> str:
         ]
         write_uff(path, funcs)
     return path
+
+
+#: The comment line of a CSV record that states its passband (Hz; :func:`passband_line`).
+_PASSBAND_LINE = re.compile(r"#\s*passband_hz\s*=([^(]*)")
+
+
+def passband_line(passband_hz: float) -> str:
+    """The comment line by which a CSV record states its passband (Hz): ``# passband_hz = 3500
+    (...)``, the frequency to 15 significant digits and what it means (no comma: a reader that
+    splits the line at commas still finds a single field starting with ``#``)."""
+    return (
+        f"# passband_hz = {passband_hz:.15g} (Hz: the columns hold the run's content unaltered up to this frequency "
+        "and nothing aliased from above it: a run's every step, or its record low-pass filtered against aliasing)"
+    )
 
 
 def uff_dof(name: str) -> tuple:
@@ -238,7 +263,47 @@ def _read_csv(path):
         units[name] = unit or unit_of(name)
     _unique(path, [header[0], *names])  # (with the earlier '<name>_<unit>' forms mapped to their names)
     cols = {n: data[:, i + 1] for i, n in enumerate(names)}
-    return Records(time, cols, units, path)
+    passband = _csv_passband(path)
+    return Records(time, cols, units, path, {} if passband is None else {"passband_hz": np.array(passband)})
+
+
+def _csv_passband(path):
+    """The passband (Hz) a CSV record states in a comment line before its first row of numbers
+    (:func:`passband_line`), or None. Called after :func:`read_csv_table` has read the file (a
+    UTF-8 text file). A line that states it other than as one positive number of Hz, or two such
+    lines, raise :class:`ModelError` naming the file and the line (quoting none of it)."""
+    found = []
+    header = False
+    with open(path, encoding="utf-8-sig") as fh:
+        for lineno, line in enumerate(fh, start=1):
+            text = line.strip()
+            if not text:
+                continue
+            if not text.startswith("#"):
+                if header:  # (the first row of numbers: the statement comes before it)
+                    break
+                header = True
+                continue
+            m = _PASSBAND_LINE.match(text)
+            if m is None:
+                continue
+            try:
+                value = float(m.group(1).strip())
+            except ValueError:
+                value = np.nan
+            if not (np.isfinite(value) and value > 0):
+                raise ModelError(
+                    "file",
+                    path,
+                    f"line {lineno} states passband_hz, but not as a positive number of Hz "
+                    "('# passband_hz = 3500', as 'cablecasing simulate --output-interval' writes it)",
+                )
+            found.append((lineno, value))
+    if len(found) > 1:
+        raise ModelError(
+            "file", path, f"lines {found[0][0]} and {found[1][0]} both state passband_hz: a record has one passband"
+        )
+    return found[0][1] if found else None
 
 
 def _unique(path, names):

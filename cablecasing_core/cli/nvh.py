@@ -151,12 +151,14 @@ def cmd_spectrum(args):
         )
         if top < args.fmax and rec.passband_hz < fs / 2:
             print(f"# {_passband_note(rec, args.record)}: lines and RMS end there")
+        if note := _alias_note(rec, args.record, "lines"):
+            print(note)
         for r in res:
             rms = np.sqrt(r.mean_square(lo, hi))
             print(
                 f"# {r.name}: RMS {rms:.6g} {r.unit} in {lo:.4g}-{hi:.4g} Hz (the PSD integrated over its lines, each "
-                "df wide, split at the edges, from 2 df: lines below hold only part of a tone's power; the band "
-                "levels of 'bands' over the same range add up to it)"
+                "df wide, split at the edges, from 2 df: lines below hold a tone's power only in part, or more; the "
+                "band levels of 'bands' over the same range add up to it)"
             )
         table = table[sel]
     else:
@@ -190,6 +192,8 @@ def cmd_spectrum(args):
             f"# {args.record}: {res[0].kind} ({args.estimator}), df = {res[0].f_hz[1]:.4g} Hz, "
             f"{res[0].n_averages} averages, after {args.skip:g} s"
         )
+        if note := _alias_note(rec, args.record, "lines"):
+            print(note)
     emit_table(args.out, ",".join(["frequency [Hz]"] + names), table, 9)
     if args.plot:
         from ..nvh.plots import plot_psd, plot_transfer
@@ -200,6 +204,21 @@ def cmd_spectrum(args):
             plot_transfer(res[0], args.plot, log_frequency=not args.linear_frequency, f_range=f_range)
         print(f"# wrote {args.plot}")
     return 0
+
+
+def _alias_note(rec, path, what):
+    """The note on a record that states no passband (``passband_hz``: a CSV of an FMU's outputs
+    written by a host such as fmpy or fmusim, a measurement, a run's record picked or at every
+    step): its samples hold what lay above their Nyquist frequency folded below it, unless the
+    signal was low-pass filtered before it was sampled; None for a record that states its passband
+    (``simulate --output-interval``'s filter)."""
+    if "passband_hz" in rec.extra:
+        return None
+    return (
+        f"# {path} states no passband: content above its Nyquist frequency {rec.fs / 2:.6g} Hz (dt = {1 / rec.fs:.4g} "
+        f"s) may have aliased into the {what} unless it was filtered before sampling (an FMU's outputs are samples "
+        'at its communication points; docs/nvh.md, "Sampled records")'
+    )
 
 
 def _passband_note(rec, path):
@@ -301,6 +320,8 @@ def cmd_bands(args):
     level = bands.level_db(ref)
     total = float(np.sqrt(np.sum(bands.mean_square)))
     print(f"# {args.record}: {col} after {args.skip:g} s, {args.kind} bands; level in dB re {ref:g} {unit}")
+    if note := _alias_note(rec, args.record, "bands"):
+        print(note)
     print(
         f"# RMS over the bands, {bands.lower[0]:.4g}-{bands.upper[-1]:.4g} Hz: {total:.6g} {unit} (their mean "
         "squares summed; 'spectrum --fmin/--fmax' over the same range gives it within its estimate's scatter)"

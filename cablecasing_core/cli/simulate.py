@@ -53,10 +53,10 @@ def cmd_simulate(args):
         # (the core names its arguments; here the options gave them)
         with renamed({"path": "--out", "output_interval": "--output-interval", "decimation": "--decimation"}):
             res.save(args.out, output_interval=args.output_interval, decimation=args.decimation)
-        how = "low-pass filtered" if args.decimation == "filter" else "picked"
-        every = (
-            f", t = 0, {args.output_interval:g}, ... s ({how})" if args.output_interval else ", t = 0 and every step"
-        )
+        every = ", t = 0 and every step"
+        if args.output_interval:
+            how = _decimated(args.out, args.output_interval, args.decimation, res.dt)
+            every = f", t = 0, {args.output_interval:g}, ... s ({how})"
         if res.whole_steps < len(res.time):
             every += (
                 f"; the last step, {res.time[-1] - res.time[-2]:.3g} s, is shorter than dt (the duration is not a "
@@ -70,6 +70,26 @@ def cmd_simulate(args):
         plot_time_result(res, path)
         print(f"wrote {path}")
     return 0
+
+
+def _decimated(path, interval, decimation, dt):
+    """How a record written every ``interval`` s of a run of step ``dt`` (s) was decimated: picked,
+    or low-pass filtered with its passband in Hz (``SimulationResult.records``: 0.7 of the new
+    Nyquist frequency, stated in a .csv or .npz file, not kept by a .uff file)."""
+    from ..timedomain.simulation import PASSBAND
+
+    m = round(interval / dt)
+    if m == 1:
+        return "every step"
+    if decimation != "filter":
+        return f"picked: content above the Nyquist frequency {1 / (2 * interval):.4g} Hz aliases"
+    passband = PASSBAND / (2 * m * dt)
+    kept = (
+        "which a .uff file does not keep: read its bands and lines up to it only"
+        if str(path).lower().endswith(".uff")
+        else "which the file states"
+    )
+    return f"low-pass filtered against aliasing, flat within 0.01 dB up to its passband {passband:.4g} Hz, {kept}"
 
 
 def _check_interval(interval, dt, duration):
@@ -155,12 +175,11 @@ def energy_report(e):
         "  (work of the contact forces less the energy they store; the balance uses this)",
     ]
     if e["contact_dissipation"] or split:
-        off = (split - e["contact_dissipation"]) / e["contact_dissipation"] if e["contact_dissipation"] else 0.0
         lines += [
             f"      its parts, from their powers: contact damping {_j(e['contact_damping_dissipation'])}, friction "
-            f"{_j(e['friction_dissipation'])} (sum {_j(split)}, {off:+.1%} off the total:",
-            "      the powers change within a step at impacts, so their time integrals are estimates of the split;",
-            "      the total is the work the contact forces did on the bodies, which closes the balance)",
+            f"{_j(e['friction_dissipation'])} (sum {_j(split)}); the rest, {_j(e['contact_normal_dissipation'])}, is",
+            "      the normal forces' own work (negative: energy made; the normal-plane contact on a mesh of a curved",
+            "      casing, falling as its elements shorten: docs/time_domain.md, 'Energy ledger')",
         ]
     lines += [
         f"    stored now: kinetic {_j(e['kinetic'])}, strain {_j(e['strain'])}, contact {_j(e['contact_potential'])}",

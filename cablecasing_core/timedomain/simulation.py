@@ -103,8 +103,9 @@ class SimulationResult:
         takes the samples as they are (content above 1/(2Δ) Hz then aliases). ``contact.active`` and
         ``contact.max_penetration`` are always picked (a count and a maximum are not filtered).
         The per-node histories in ``extra`` are picked at the end of each interval (row k: t = (k+1) Δ);
-        a filtered record states its passband, 0.7/(2Δ) Hz, in ``extra["passband_hz"]`` (kept in
-        ``.npz`` files; :attr:`~cablecasing_core.records.Records.passband_hz`); a result loaded from
+        a filtered record states its passband, 0.7/(2Δ) Hz, in ``extra["passband_hz"]``, a record of
+        every step its Nyquist frequency (nothing aliased; kept in ``.npz`` and ``.csv`` files, not
+        ``.uff``; :attr:`~cablecasing_core.records.Records.passband_hz`); a picked one none; a result loaded from
         such a file keeps its passband (:attr:`passband_hz`), the lower of the two when filtered
         again. Δ longer than the run (a record of one row) is refused; a bad ``output_interval``
         raises :class:`~cablecasing_core.errors.ModelError` naming it.
@@ -141,6 +142,8 @@ class SimulationResult:
         passband = [] if self.passband_hz is None else [float(self.passband_hz)]  # (of a loaded record)
         if m > 1 and filt:  # (read by Records.passband_hz: bands and lines above it are left out)
             passband.append(PASSBAND / (2 * m * self.dt))
+        elif m == 1:  # (every step: the run's own samples, nothing aliased from above the Nyquist frequency)
+            passband.append(1.0 / (2.0 * self.dt))
         if passband:
             extra["passband_hz"] = np.array(min(passband))
         return Records(time[::m], cols, {n: unit_of(n) for n in cols}, "simulation", extra)
