@@ -59,6 +59,8 @@ class Number:
     def __call__(self, key, value):
         kind = type(value)
         if kind is not float and kind is not int:  # (the common cases first: this runs per FMU step)
+            if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "fiu":
+                value = value.item()  # (a 0-d array: numpy's reduction of an array subclass, as fmpy's results)
             if isinstance(value, (bool, np.bool_)) or not isinstance(value, Real):
                 raise ModelError(key, value, "must be " + self.allowed)
             if self.integer and not isinstance(value, Integral):

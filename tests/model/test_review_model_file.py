@@ -344,3 +344,20 @@ def test_without_excitations_keeps_the_rest_and_what_follows_scenario_seed():
 def test_without_excitations_refuses_a_name_the_model_does_not_have():
     with pytest.raises(ModelError, match=r"scenario.excitation = 'shaker': must name an excitation of the model"):
         load_model("default").without_excitations(["shaker"])
+
+
+def test_a_number_from_a_reduction_of_an_array_subclass_is_a_number():
+    """fmpy's results are an ndarray subclass, whose np.mean is a 0-d array of that subclass, not a
+    float: `fs = 1 / np.mean(np.diff(r["time"]))` was refused as 'fs = 1000.0: must be a positive
+    number'. A 0-d array of numbers is its number; one of bools, or a 1-element vector, is not."""
+    from cablecasing_core.model.validators import number
+
+    class Result(np.ndarray):
+        pass
+
+    fs = 1.0 / np.mean(np.diff(np.arange(0.0, 0.01, 1e-3).view(Result)))
+    assert type(fs) is Result and fs.shape == ()
+    assert number("fs", fs, gt=0, unit="Hz") == pytest.approx(1000.0, rel=1e-12)
+    for bad in (np.array(True), np.array([1000.0])):
+        with pytest.raises(ModelError, match="fs = .*must be a positive number"):
+            number("fs", bad, gt=0, unit="Hz")
