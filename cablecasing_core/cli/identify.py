@@ -268,15 +268,18 @@ def cmd_loss_factor(args):
         count = None if args.count is None else integer("--count", args.count, 1)
         with renamed({"channel": "--channel"}):
             f, H, declared = read_frf_kind(args.file, args.channel, strict=args.kind is None)
+        from ..identification.uff_io import is_uff
+
+        where = "the header" if is_uff(args.file) else "the line '# kind = ...'"
         if args.kind is not None and declared is not None and args.kind != declared:
             raise ModelError(
                 "--kind",
                 args.kind,
-                f"the header of {args.file} declares the FRF as {declared!r}: give --kind {declared} or leave "
-                "--kind out (the header's kind is taken)",
+                f"{where} of {args.file} declares the FRF as {declared!r}: give --kind {declared} or leave "
+                "--kind out (the file's kind is taken)",
             )
         kind = args.kind or declared or "apparent_mass"
-        source = "given" if args.kind else ("from the file's header" if declared else "default")
+        source = "given" if args.kind else (f"from {where} of the file" if declared else "default")
         names = {"window_tau": "--window-tau", "bandwidths": "--bandwidths", "search": "--search"}
         names.update({"f_res_hz": "--freqs", "count": "--count"})
         hints = {
@@ -339,6 +342,13 @@ def _read_measured(path, modes_arg, channel):
             modes = data[:, header.index("mode")]
             if np.any(modes != np.round(modes)) or np.any(modes < 1) or np.any(modes > 1000):
                 raise ModelError("file", str(path), "the column mode must hold whole numbers 1 to 1000")
+            if modes_arg and [int(m) for m in modes] != [int(m) for m in modes_arg]:
+                raise ModelError(
+                    "--modes",
+                    list(modes_arg),
+                    f"contradicts the column mode of {path} ({', '.join(str(int(m)) for m in modes)}): a table "
+                    "mode,f_hz gives its own mode numbers; leave --modes out (it is for an FRF file)",
+                )
             return data[:, fcol], modes.astype(int), "file"
     if not modes_arg:
         raise ModelError("--modes", None, "an FRF file needs the mode number of each resonance (--modes 1 2 ...)")
@@ -441,8 +451,9 @@ def add_parser(subparsers):
         "--kind",
         default=None,
         choices=["displacement", "velocity", "acceleration", "apparent_mass"],
-        help="FRF type (the paper's TRFAM is apparent_mass, kg); default: the UFF header's, else apparent_mass; "
-        "a kind that contradicts the header is refused",
+        help="FRF type (the paper's TRFAM is apparent_mass, kg); default: the kind the file declares (a UFF "
+        "header's data types, a CSV's line '# kind = ...'), else apparent_mass; a kind that contradicts the file's "
+        "is refused",
     )
     lf.add_argument(
         "--window-tau",

@@ -108,8 +108,8 @@ def identify_modulus(
     Raises
     ------
     ModelError
-        Mismatched lengths, non-positive frequencies or moduli, a mode number beyond the computed
-        list, no convergence (the frequency cannot be reached by changing E).
+        Mismatched lengths, non-positive frequencies or moduli, a mode number given twice or beyond
+        the computed list, no convergence (the frequency cannot be reached by changing E).
     """
     f_m = array_1d("f_measured_hz", f_measured_hz, min_len=1)
     if np.any(f_m <= 0):
@@ -120,6 +120,14 @@ def identify_modulus(
     if not np.all(np.equal(np.mod(md, 1), 0)) or np.any(md < 1):
         raise ModelError("modes", md.tolist(), "mode numbers are whole numbers >= 1 (1 = lowest mode)")
     md = md.astype(int)
+    values, counts = np.unique(md, return_counts=True)
+    if np.any(counts > 1):
+        raise ModelError(
+            "modes",
+            md.tolist(),
+            f"must name each mode once: mode {int(values[counts > 1][0])} is given {int(counts.max())} times "
+            "(one measured frequency per mode; a circular section's near-equal pair is two modes, 1 and 2)",
+        )
     E0 = number("E_start", E_start, gt=0, unit="Pa")
     if freq_resolution_hz is not None:
         number("freq_resolution_hz", freq_resolution_hz, gt=0, unit="Hz")

@@ -13,7 +13,11 @@ increasing abscissa, real time records (a ModelError naming the argument otherwi
 
 CSV files have one header line. Time records: ``time_s,<channel>,...``. FRFs:
 ``frequency_hz,re_<name>,im_<name>[,...]`` (the first ``re_``/``im_`` pair is read; the ``trfam``
-CLI's ``frequency_hz,re_kg,im_kg,magnitude_kg,phase_deg`` files are accepted as they are).
+CLI's ``frequency_hz,re_kg,im_kg,magnitude_kg,phase_deg`` files are accepted as they are), after an
+optional line ``# kind = <kind>`` (displacement, velocity, acceleration, apparent_mass) that
+:func:`write_csv_frf` writes when given the kind and :func:`read_frf_kind` reads back. A UFF 58 time
+record stored point by point (another tool's, with the uneven-abscissa flag) is accepted when its
+times lie on an even grid to the rounding of its abscissa (ASCII: E13.5).
 Units are SI: s, Hz, and the unit of the quantity.
 """
 
@@ -42,7 +46,8 @@ class Record:
     header's abscissa unit, whose label is kept in ``abscissa_unit``), ``data`` (real for time,
     complex for an FRF), ``name``, the UFF node/direction fields, the ordinate's unit label and UFF
     data type (0 unknown, 8 displacement, 9 reaction force, 11 velocity, 12 acceleration, 13
-    excitation force; for an FRF also those of its denominator) and the UFF function type."""
+    excitation force; for an FRF also those of its denominator), the UFF function type and whether the
+    dataset was binary (58b)."""
 
     kind: str
     x: np.ndarray
@@ -58,6 +63,7 @@ class Record:
     denominator_type: int = 0
     func_type: int = 0
     abscissa_unit: str = ""
+    binary: bool = False
 
     @property
     def fs(self):
@@ -230,6 +236,7 @@ def read_uff(path):
                 int(s.get("orddenom_spec_data_type", 0)),
                 func_type,
                 abscissa_unit,
+                bool(int(s.get("binary", 0))),
             )
         )
     return out
@@ -359,15 +366,52 @@ def write_csv_time(path, x, fs, names=None, t0=0.0):
         )
 
 
-def write_csv_frf(path, freqs_hz, H, name="H"):
+def write_csv_frf(path, freqs_hz, H, name="H", kind=None):
     """A complex FRF to CSV: ``frequency_hz,re_<name>,im_<name>`` (finite values, one per frequency,
-    the frequencies strictly increasing: checked before anything is written)."""
+    the frequencies strictly increasing: checked before anything is written). ``kind`` (one of
+    ``circlefit.FRF_KINDS``: "displacement", "velocity", "acceleration", "apparent_mass") is written
+    as a first line ``# kind = <kind>``, which :func:`read_frf_kind` reads back; None writes no such
+    line (the reader's caller then takes its default)."""
     from ..files import atomic_path
 
+    if kind is not None:
+        kind = _known_kind("kind", kind)
     f, H = _function(freqs_hz, H, "freqs_hz", "H", real=False, min_len=1)
     table = np.column_stack([f, H.real, H.imag])
+    head = f"frequency_hz,re_{name},im_{name}"
+    if kind is not None:
+        head = f"# kind = {kind}\n{head}"
     with atomic_path(path) as tmp:
-        np.savetxt(tmp, table, delimiter=",", header=f"frequency_hz,re_{name},im_{name}", comments="", fmt="%.17g")
+        np.savetxt(tmp, table, delimiter=",", header=head, comments="", fmt="%.17g")
+
+
+def _known_kind(key, kind, where="the FRF kind"):
+    from .circlefit import FRF_KINDS
+
+    if kind not in FRF_KINDS:
+        raise ModelError(key, kind, f"{where} must be one of " + ", ".join(repr(k) for k in FRF_KINDS))
+    return kind
+
+
+#: The kind line of an FRF CSV (:func:`write_csv_frf`): ``# kind = acceleration`` (``:`` too, any case).
+_KIND_LINE = re.compile(r"^#\s*kind\s*[=:]\s*(\S+)\s*$", re.IGNORECASE)
+
+
+def _csv_frf_kind(path):
+    """The FRF kind a CSV's comment line ``# kind = <kind>`` before its header declares, None without
+    one (a file of other tools, or written without a kind); a ModelError naming ``file`` for a kind
+    the circle fit does not know."""
+    with open(path, encoding="utf-8-sig", errors="replace") as fh:
+        for line in fh:
+            text = line.strip()
+            if not text:
+                continue
+            if not text.startswith("#"):
+                return None  # (the header: the kind line comes before it)
+            m = _KIND_LINE.match(text)
+            if m:
+                return _known_kind("file", m.group(1).lower(), f"the line '# kind = ...' of {path}")
+    return None
 
 
 def read_csv_time(path, channel=None):
@@ -415,6 +459,7 @@ def _record_fs(path, rec):
             raise
     t = np.asarray(rec.time, dtype=float)  # (s: converted from the header's unit)
     q = []  # the last printed digit of each time (s)
+    lead = []  # the decimal exponent of each time's leading digit (in the column's unit; nan for 0)
     to_s = None  # the factor of the header's time unit to s (time [ms]: 1e-3), found on its line
     with open(path, encoding="utf-8-sig", errors="replace") as fh:  # (-sig: as read_csv_table reads it)
         for line in fh:
@@ -428,15 +473,19 @@ def _record_fs(path, rec):
                 # (a whole number, "0" or "2", says nothing of the digits kept: the column's median is taken)
                 whole = m.group(2) is None and m.group(3) is None
                 q.append(np.nan if whole else 10.0 ** (int(m.group(3) or 0) - len(m.group(2) or "")) * to_s)
+                v = abs(float(m.group(0)))
+                lead.append(np.floor(np.log10(v)) if v > 0 else np.nan)
     k = np.arange(t.size)
     ok = len(q) == t.size > 2 and not np.all(np.isnan(q))
     q = np.asarray(q) if ok else np.ones(t.size)
-    q = np.where(np.isnan(q), np.nanmedian(q), q)
+    quantum = float(np.nanmedian(q))
+    if ok:
+        q = np.minimum(q, _digit_cap(q, np.asarray(lead), to_s, quantum))
+    q = np.where(np.isnan(q), quantum, q)
     # the grid through the first and last time: each time within half its last digit, plus the ends' own rounding
     step = (t[-1] - t[0]) / (t.size - 1) if t.size > 1 else 0.0
     resid = np.abs(t - (t[0] + step * k))
     worst = float(resid.max()) if t.size else np.inf
-    quantum = float(np.median(q))
     allowed = 0.5 * (q + q[0] + q[-1]) * (1 + 1e-6) + 1e-12 * np.abs(t).max()
     if ok and step > 0 and quantum <= 0.1 * step and np.all(resid <= allowed):
         return 1.0 / float(np.polyfit(k, t, 1)[0])  # (least squares: the rounding averages out)
@@ -448,6 +497,21 @@ def _record_fs(path, rec):
         f"+-{0.5 * quantum:.3g} s); "
         "the time (the first column) must increase in equal steps, rows in time order, no sample missing",
     ) from None
+
+
+def _digit_cap(q, lead, to_s, quantum):
+    """The coarsest last digit (s) each printed time may be credited with: a time printed short ("0.5",
+    "-0.02": ``%g`` strips trailing zeros) is no evidence of a coarse resolution, and its own digit would
+    widen the allowance of every row (a CSV with a sample missing was read at 2045.5 Hz). The cap is
+    the larger of the column's median digit (``%.9f``: fixed decimals) and the digit its median number of
+    significant digits gives at the time's own magnitude (``%.6g``: 1e-6 s from 0.1 s, 1e-5 s from 1 s,
+    so a record that crosses 1 s keeps its coarser rows past it)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        sig = np.round(lead - np.log10(q / to_s)) + 1.0  # significant digits printed
+    if np.all(np.isnan(sig)):
+        return np.full(q.shape, quantum)
+    by_magnitude = 10.0 ** (lead - float(np.nanmedian(sig)) + 1.0) * to_s
+    return np.fmax(quantum, by_magnitude)  # (fmax: a 0's nan magnitude gives the median)
 
 
 def read_csv_frf(path):
@@ -541,9 +605,41 @@ def read_time_record_from(path, channel=None):
     if not is_uff(path):
         return _csv_time_from(path, channel)
     r = _uff_record(path, "time", channel, "time record (UFF 58, function type 1)")
-    if not _even(r.x):
-        raise ModelError(f"{path}", "uneven abscissa", "a time record must be evenly sampled")
-    return np.asarray(r.data, dtype=float), r.fs, r.name, float(r.x[0])
+    fs = r.fs if _even(r.x) else _uneven_abscissa_fs(path, r)
+    return np.asarray(r.data, dtype=float), fs, r.name, float(r.x[0])
+
+
+def _uneven_abscissa_fs(path, r):
+    """Sampling rate (Hz) of a UFF 58 time record stored point by point (the uneven-abscissa flag, as
+    another tool writes an even record): accepted when every time lies on the uniform grid through the
+    first and last time to within the rounding of the file's abscissa (ASCII: E13.5, six significant
+    digits, at most 5e-6 of the value; binary: single precision at worst, 6e-8), plus the rounding of
+    those two, and that rounding resolves the step to 10 %; the rate is then the least-squares slope's
+    (the rounding averages out). A ModelError naming ``file`` and the largest departure otherwise."""
+    t = np.asarray(r.x, dtype=float)
+    rel = 2.0**-24 if r.binary else _E13_5
+    k = np.arange(t.size)
+    step = (t[-1] - t[0]) / (t.size - 1)
+    resid = np.abs(t - (t[0] + step * k))
+    worst = float(resid.max())
+    allowed = rel * (np.abs(t) + abs(t[0]) + abs(t[-1])) * (1 + 1e-6)
+    quantum = 2.0 * rel * float(np.abs(t).max())  # (a digit of the largest time)
+    if step > 0 and np.all(np.diff(t) > 0) and quantum <= 0.1 * step and np.all(resid <= allowed):
+        return 1.0 / float(np.polyfit(k, t, 1)[0])
+    j = int(np.argmax(resid))
+    what = (
+        f"its times depart from a uniform grid of step {step:.6g} s by up to {worst:.3g} s ({worst / step:.2g} "
+        f"of a step, at point {j + 1} of {t.size}, t = {t[j]:.6g} s), more than the rounding of its abscissa "
+        f"({'E13.5, six digits' if rel == _E13_5 else 'binary'}: +-{rel * abs(t[j]):.3g} s there) allows"
+        if quantum <= 0.1 * step
+        else f"its abscissa's rounding ({'E13.5, six digits' if rel == _E13_5 else 'binary'}: up to "
+        f"+-{0.5 * quantum:.3g} s) does not resolve its step of {step:.6g} s"
+    )
+    raise ModelError(
+        "file",
+        f"{path} ({r.name or 'time record'}, stored with an uneven abscissa)",
+        f"must be evenly sampled: {what}; the time must increase in equal steps, no sample missing",
+    )
 
 
 def read_frf(path, channel=None):
@@ -554,11 +650,13 @@ def read_frf(path, channel=None):
 
 
 def read_frf_kind(path, channel=None, strict=True):
-    """``(freqs_hz, H, kind)``: :func:`read_frf` and the FRF kind its UFF header declares
-    (:func:`frf_kind`; None for CSV or a header that does not say; a ratio the circle fit does not
-    take is a ModelError naming the file, or None when not ``strict``)."""
+    """``(freqs_hz, H, kind)``: :func:`read_frf` and the FRF kind the file declares: a UFF header's
+    (:func:`frf_kind`; None when it does not say; a ratio the circle fit does not take is a ModelError
+    naming the file, or None when not ``strict``), a CSV's line ``# kind = <kind>`` before its header
+    (:func:`write_csv_frf` writes it; None without one)."""
     if not is_uff(path):
-        return (*read_csv_frf(path), None)
+        f, H = read_csv_frf(path)
+        return f, H, _csv_frf_kind(path)
     r = _uff_record(path, "frf", channel, "FRF (UFF 58, function type 4)")
     try:
         kind = frf_kind(r, strict)
