@@ -303,6 +303,42 @@ def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: i
 #: The units of time and their factors to s: the one table of a CSV table's time column (its
 #: first; :func:`time_column`) and of a UFF 58 time record's abscissa label
 #: (:mod:`.identification.uff_io`), both read through :func:`time_factor` (case-insensitive).
+#: A statement a comment line of a CSV table makes about it: ``# name = value (what it means)``
+#: (``:`` for ``=`` too; the name in any case; the parenthesis is not part of the value).
+_STATEMENT = re.compile(r"^#\s*([A-Za-z_]\w*)\s*[=:]\s*([^(]*?)\s*(?:\(.*)?$")
+
+
+def csv_statements(path, names, key: str = "file") -> dict:
+    """What the comment lines of the CSV table ``path`` state about it before its first row of
+    numbers (before or after the header line), for the statement names ``names`` (lower case):
+    ``{name: (line number, value text)}``, as a run's record states its passband (``# passband_hz =
+    3500 (...)``, records.py) and an FRF its kind (``# kind = acceleration``, identification).
+    Call it after :func:`read_csv_table` has read the file. A name stated twice raises
+    :class:`ModelError` naming ``key``, the file and both lines."""
+    found = {}
+    header = False
+    with open(path, encoding="utf-8-sig", errors="replace") as fh:
+        for lineno, line in enumerate(fh, start=1):
+            text = line.strip()
+            if not text:
+                continue
+            if not text.startswith("#"):
+                if header:  # (the first row of numbers: statements come before it)
+                    break
+                header = True
+                continue
+            m = _STATEMENT.match(text)
+            if m is None or m.group(1).lower() not in names:
+                continue
+            name = m.group(1).lower()
+            if name in found:
+                raise ModelError(
+                    key, str(path), f"lines {found[name][0]} and {lineno} both state {name}: a table states it once"
+                )
+            found[name] = (lineno, m.group(2))
+    return found
+
+
 TIME_UNITS = {
     "s": 1.0,
     "sec": 1.0,

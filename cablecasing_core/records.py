@@ -39,13 +39,12 @@ Files are written atomically (:mod:`.files`): an interrupted write leaves an ear
 from __future__ import annotations
 
 import os
-import re
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .errors import ModelError
-from .files import atomic_path, check_values, read_csv_table, time_column
+from .files import atomic_path, check_values, csv_statements, read_csv_table, time_column
 from .model.schema import INPUTS, OUTPUTS, channels_of, input_spec, inputs_of, output_spec
 
 SUFFIXES = (".csv", ".npz", ".uff")
@@ -193,17 +192,13 @@ def write_records(path: str | os.PathLike, rec: Records) -> str:
     return path
 
 
-#: The comment line of a CSV record that states its passband (Hz; :func:`passband_line`).
-_PASSBAND_LINE = re.compile(r"#\s*passband_hz\s*=([^(]*)")
-
-
 def passband_line(passband_hz: float) -> str:
     """The comment line by which a CSV record states its passband (Hz): ``# passband_hz = 3500
     (...)``, the frequency to 15 significant digits and what it means (no comma: a reader that
     splits the line at commas still finds a single field starting with ``#``)."""
     return (
         f"# passband_hz = {passband_hz:.15g} (Hz: the columns hold the run's content unaltered up to this frequency "
-        "and nothing aliased from above it: a run's every step, or its record low-pass filtered against aliasing)"
+        "and nothing aliased from above it: a run's every step or its record low-pass filtered against aliasing)"
     )
 
 
@@ -269,41 +264,25 @@ def _read_csv(path):
 
 def _csv_passband(path):
     """The passband (Hz) a CSV record states in a comment line before its first row of numbers
-    (:func:`passband_line`), or None. Called after :func:`read_csv_table` has read the file (a
-    UTF-8 text file). A line that states it other than as one positive number of Hz, or two such
-    lines, raise :class:`ModelError` naming the file and the line (quoting none of it)."""
-    found = []
-    header = False
-    with open(path, encoding="utf-8-sig") as fh:
-        for lineno, line in enumerate(fh, start=1):
-            text = line.strip()
-            if not text:
-                continue
-            if not text.startswith("#"):
-                if header:  # (the first row of numbers: the statement comes before it)
-                    break
-                header = True
-                continue
-            m = _PASSBAND_LINE.match(text)
-            if m is None:
-                continue
-            try:
-                value = float(m.group(1).strip())
-            except ValueError:
-                value = np.nan
-            if not (np.isfinite(value) and value > 0):
-                raise ModelError(
-                    "file",
-                    path,
-                    f"line {lineno} states passband_hz, but not as a positive number of Hz "
-                    "('# passband_hz = 3500', as 'cablecasing simulate --output-interval' writes it)",
-                )
-            found.append((lineno, value))
-    if len(found) > 1:
+    (:func:`passband_line`, read by :func:`~cablecasing_core.files.csv_statements`), or None. One
+    stated other than as one positive number of Hz, or stated twice, raises :class:`ModelError`
+    naming the file and the line."""
+    stated = csv_statements(path, ("passband_hz",)).get("passband_hz")
+    if stated is None:
+        return None
+    lineno, text = stated
+    try:
+        value = float(text)
+    except ValueError:
+        value = np.nan
+    if not (np.isfinite(value) and value > 0):
         raise ModelError(
-            "file", path, f"lines {found[0][0]} and {found[1][0]} both state passband_hz: a record has one passband"
+            "file",
+            path,
+            f"line {lineno} states passband_hz, but not as a positive number of Hz "
+            "('# passband_hz = 3500', as 'cablecasing simulate --output-interval' writes it)",
         )
-    return found[0][1] if found else None
+    return value
 
 
 def _unique(path, names):

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError, ModelWarning, renamed
-from ..files import TIME_UNITS, time_column, time_factor
+from ..files import TIME_UNITS, csv_statements, time_column, time_factor
 from ..model.validators import array_1d, number
 
 _TAG = re.compile(r"cablecasing x0=(\S+) dx=(\S+)")
@@ -393,25 +393,27 @@ def _known_kind(key, kind, where="the FRF kind"):
     return kind
 
 
-#: The kind line of an FRF CSV (:func:`write_csv_frf`): ``# kind = acceleration`` (``:`` too, any case).
-_KIND_LINE = re.compile(r"^#\s*kind\s*[=:]\s*(\S+)\s*$", re.IGNORECASE)
+def _csv_frf_kind(path, strict=True):
+    """The FRF kind a CSV's comment line ``# kind = <kind>`` states before its first row of numbers
+    (:func:`~cablecasing_core.files.csv_statements`; :func:`write_csv_frf` writes it before the
+    header), None without one (a file of other tools, or written without a kind); for a kind the
+    circle fit does not take a ModelError naming ``file`` (None when not ``strict``)."""
+    stated = csv_statements(path, ("kind",)).get("kind")
+    if stated is None:
+        return None
+    lineno, kind = stated[0], stated[1].lower()
+    from .circlefit import FRF_KINDS
 
-
-def _csv_frf_kind(path):
-    """The FRF kind a CSV's comment line ``# kind = <kind>`` before its header declares, None without
-    one (a file of other tools, or written without a kind); a ModelError naming ``file`` for a kind
-    the circle fit does not know."""
-    with open(path, encoding="utf-8-sig", errors="replace") as fh:
-        for line in fh:
-            text = line.strip()
-            if not text:
-                continue
-            if not text.startswith("#"):
-                return None  # (the header: the kind line comes before it)
-            m = _KIND_LINE.match(text)
-            if m:
-                return _known_kind("file", m.group(1).lower(), f"the line '# kind = ...' of {path}")
-    return None
+    if kind in FRF_KINDS:
+        return kind
+    if not strict:
+        return None
+    raise ModelError(
+        "file",
+        str(path),
+        f"its line {lineno}, '# kind = {stated[1]}', names no FRF kind the circle fit takes: one of "
+        + ", ".join(repr(k) for k in FRF_KINDS),
+    )
 
 
 def read_csv_time(path, channel=None):
@@ -652,11 +654,11 @@ def read_frf(path, channel=None):
 def read_frf_kind(path, channel=None, strict=True):
     """``(freqs_hz, H, kind)``: :func:`read_frf` and the FRF kind the file declares: a UFF header's
     (:func:`frf_kind`; None when it does not say; a ratio the circle fit does not take is a ModelError
-    naming the file, or None when not ``strict``), a CSV's line ``# kind = <kind>`` before its header
-    (:func:`write_csv_frf` writes it; None without one)."""
+    naming the file, or None when not ``strict``), a CSV's line ``# kind = <kind>`` before its first
+    row of numbers (:func:`write_csv_frf` writes it; None without one; an unknown kind as a UFF's)."""
     if not is_uff(path):
         f, H = read_csv_frf(path)
-        return f, H, _csv_frf_kind(path)
+        return f, H, _csv_frf_kind(path, strict)
     r = _uff_record(path, "frf", channel, "FRF (UFF 58, function type 4)")
     try:
         kind = frf_kind(r, strict)

@@ -7,6 +7,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 import warnings
 from dataclasses import dataclass, field
@@ -78,6 +79,9 @@ class SimulationResult:
     #: run, which holds it up to the Nyquist frequency; a result loaded from a record decimated with
     #: the filter (:meth:`load`) keeps that record's passband, and :meth:`records` passes it on
     passband_hz: float | None = None
+    #: True for a result loaded from a record that states no passband (a picked one): its histories
+    #: may hold content aliased from above their Nyquist frequency, and no record of it states one
+    aliased: bool = False
 
     def support_force(self, name: str) -> np.ndarray:
         """History of one support output, e.g. ``"casing.B.Fz"`` or a clip's ``"casing.clip0.Fy"``
@@ -104,11 +108,12 @@ class SimulationResult:
         ``contact.max_penetration`` are always picked (a count and a maximum are not filtered).
         The per-node histories in ``extra`` are picked at the end of each interval (row k: t = (k+1) Δ);
         a filtered record states its passband, 0.7/(2Δ) Hz, in ``extra["passband_hz"]``, a record of
-        every step its Nyquist frequency (nothing aliased; kept in ``.npz`` and ``.csv`` files, not
-        ``.uff``; :attr:`~cablecasing_core.records.Records.passband_hz`); a picked one none; a result loaded from
+        every step its Nyquist frequency (nothing aliased; kept in ``.npz`` and ``.csv`` files;
+        :attr:`~cablecasing_core.records.Records.passband_hz`); a picked one none; a result loaded from
         such a file keeps its passband (:attr:`passband_hz`), the lower of the two when filtered
-        again. Δ longer than the run (a record of one row) is refused; a bad ``output_interval``
-        raises :class:`~cablecasing_core.errors.ModelError` naming it.
+        again, and one loaded from a record that states none states none (:attr:`aliased`). Δ longer
+        than the run (a record of one row) is refused; a bad ``output_interval`` raises
+        :class:`~cablecasing_core.errors.ModelError` naming it.
         """
         from ..records import Records, unit_of
 
@@ -139,13 +144,14 @@ class SimulationResult:
         extra.update(contact_time=self.contact_time, curvature=self.curvature, arc_length=self.arc_length)
         extra["energies"] = np.array([[k, repr(float(v))] for k, v in self.energies.items()]).reshape(-1, 2)
         extra["starts_at_zero"] = np.array(first)
-        passband = [] if self.passband_hz is None else [float(self.passband_hz)]  # (of a loaded record)
-        if m > 1 and filt:  # (read by Records.passband_hz: bands and lines above it are left out)
-            passband.append(PASSBAND / (2 * m * self.dt))
-        elif m == 1:  # (every step: the run's own samples, nothing aliased from above the Nyquist frequency)
-            passband.append(1.0 / (2.0 * self.dt))
-        if passband:
-            extra["passband_hz"] = np.array(min(passband))
+        # (read by Records.passband_hz: bands and lines above it are left out; a record that states none
+        # may hold aliases: a picked one, or one of a loaded result that stated none)
+        if not (self.aliased or (m > 1 and not filt)):
+            loaded = math.inf if self.passband_hz is None else float(self.passband_hz)
+            # every step: the run's own samples, nothing aliased from above the Nyquist frequency
+            extra["passband_hz"] = np.array(
+                min(loaded, PASSBAND / (2 * m * self.dt) if m > 1 else 1.0 / (2.0 * self.dt))
+            )
         return Records(time[::m], cols, {n: unit_of(n) for n in cols}, "simulation", extra)
 
     @property
@@ -227,6 +233,7 @@ class SimulationResult:
             energies={str(k): float(v) for k, v in x["energies"]},
             inputs={n: rec.columns[n] for n in rec.columns if _is_input(n)},
             passband_hz=float(x["passband_hz"]) if "passband_hz" in x else None,
+            aliased="passband_hz" not in x,
             **{n: x[n] for n in _NODE_ARRAYS},
             **initial,
         )

@@ -13,6 +13,7 @@ from cablecasing_core.errors import ModelError, ModelWarning
 from cablecasing_core.identification import (
     identify_modulus,
     loss_factor_circle,
+    read_frf,
     read_frf_kind,
     read_time_record_from,
     wavelet_damping,
@@ -209,9 +210,24 @@ def test_a_csv_frf_without_a_kind_line_keeps_the_default_and_a_bad_kind_is_refus
         write_csv_frf(tmp_path / "x.csv", f, _accelerance(f), kind="accelerance")
     assert e.value.key == "kind" and not (tmp_path / "x.csv").exists()
     (tmp_path / "bad.csv").write_text("# kind = inertance\nfrequency_hz,re_a,im_a\n1,0,0\n2,0,0\n3,0,0\n")
-    with pytest.raises(ModelError, match=r"inertance") as e:
+    with pytest.raises(ModelError, match=r"its line 1, '# kind = inertance', names no FRF kind") as e:
         read_frf_kind(tmp_path / "bad.csv")
-    assert e.value.key == "file"
+    assert e.value.key == "file" and e.value.value == str(tmp_path / "bad.csv")
+    assert read_frf(tmp_path / "bad.csv")[0].tolist() == [1.0, 2.0, 3.0]  # (read_frf does not need the kind)
+
+
+@pytest.mark.parametrize("line", ["# kind = acceleration", "# Kind: acceleration", "# KIND = Acceleration (a/F)"])
+def test_a_kind_line_after_the_header_or_in_another_spelling_is_read(tmp_path, line):
+    """Review: a '# kind' line after the header was ignored (the default apparent mass taken, eta
+    +11.7 %), while the passband line is read there; one parser reads both (files.csv_statements)."""
+    f = np.arange(60.0, 320.0, 0.5)
+    write_csv_frf(tmp_path / "a.csv", f, _accelerance(f))
+    head, *rows = (tmp_path / "a.csv").read_text().splitlines()
+    (tmp_path / "b.csv").write_text("\n".join([head, line, *rows]) + "\n")
+    assert read_frf_kind(tmp_path / "b.csv")[2] == "acceleration"
+    (tmp_path / "c.csv").write_text("\n".join([line, head, "# kind = displacement", *rows]) + "\n")
+    with pytest.raises(ModelError, match=r"lines 1 and 3 both state kind"):
+        read_frf_kind(tmp_path / "c.csv")
 
 
 # ------------------------------------------------------------------------- 6. modulus, modes

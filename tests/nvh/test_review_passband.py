@@ -8,9 +8,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from scipy import signal
 
-from cablecasing_core import ModelError
+from cablecasing_core import ModelError, load_model
 from cablecasing_core.cli import main
 from cablecasing_core.errors import ModelWarning
 from cablecasing_core.identification.uff_io import read_csv_time
@@ -84,7 +83,7 @@ def test_simulate_states_the_passband_of_the_record_it_filters(tmp_path, capsys)
     assert "passband 3500 Hz, which a .uff file does not keep" in capsys.readouterr().out
     assert main([*base, str(tmp_path / "p.csv"), "--decimation", "pick"]) == 0
     assert "picked: content above the Nyquist frequency 5000 Hz aliases" in capsys.readouterr().out
-    assert read_records(tmp_path / "p.csv").passband_hz == pytest.approx(5000.0, rel=1e-12)  # (none stated)
+    assert "passband_hz" not in read_records(tmp_path / "p.csv").extra  # (none stated)
 
 
 @pytest.mark.parametrize("value", ["-1", "0", "nan", "", "3.5 kHz"])
@@ -101,6 +100,15 @@ def test_two_passband_lines_are_refused(tmp_path):
     path.write_text("# passband_hz = 3500\ntime [s],casing.B.Fz [N]\n# passband_hz = 3000\n0,1\n0.001,2\n0.002,3\n")
     with pytest.raises(ModelError, match="lines 1 and 3 both state passband_hz"):
         read_records(path)
+
+
+@pytest.mark.parametrize("line", ["# PASSBAND_HZ: 3500", "# Passband_hz = 3500 (Hz)"])
+def test_a_passband_line_in_another_spelling_is_read(tmp_path, line):
+    """One parser for the CSV's statements (files.csv_statements; the FRF's kind line too): the
+    name in any case, '=' or ':', a parenthesis after the value."""
+    path = tmp_path / "r.csv"
+    path.write_text(f"time [s],casing.B.Fz [N]\n{line}\n0,1\n0.001,2\n0.002,3\n")
+    assert read_records(path).extra["passband_hz"] == 3500.0
 
 
 # ------------------------------------------------------------------ D2. a record that states no passband
@@ -148,6 +156,25 @@ def test_a_runs_every_step_states_its_nyquist_frequency_and_a_picked_record_none
     assert "pick.csv states no passband" in capsys.readouterr().out
 
 
+def test_a_loaded_run_picked_or_loaded_from_a_picked_record_states_no_passband(tmp_path):
+    """A run saved every step states its Nyquist frequency; loaded and picked every 10 steps it
+    states none (what lay above the new Nyquist frequency folds into it); a result loaded from a
+    picked record states none however it is saved again, even every step; filtered, 0.7 of the new
+    Nyquist frequency."""
+    from cablecasing_core import simulate
+    from cablecasing_core.timedomain.simulation import SimulationResult
+
+    res = simulate(load_model(), duration=0.02)
+    res.save(tmp_path / "every.npz")
+    every = SimulationResult.load(tmp_path / "every.npz")
+    assert every.records().extra["passband_hz"] == pytest.approx(5e4, rel=1e-12)  # 1/(2 dt)
+    assert "passband_hz" not in every.records(1e-4, "pick").extra
+    assert every.records(1e-4).extra["passband_hz"] == pytest.approx(3500.0, rel=1e-12)
+    every.save(tmp_path / "picked.npz", 1e-4, "pick")
+    picked = SimulationResult.load(tmp_path / "picked.npz")
+    assert "passband_hz" not in picked.records().extra and "passband_hz" not in picked.records(2e-4).extra
+
+
 # ------------------------------------------------------- D4. mean_square below the lines' coverage
 
 
@@ -183,14 +210,14 @@ def test_mean_square_warns_below_the_covered_range_and_not_within_it(tmp_path, c
 
 
 def _held(k, n=16384, nperseg=1024, phases=8):
-    """What the lines of a Welch PSD (scipy.signal.welch as psd() calls it: Hann, 50 % overlap,
-    mean removed per segment), all of them summed, hold of a unit sine's power at ``k`` lines (k df),
-    for ``phases`` phases over [0, pi) (the power's period)."""
+    """What the lines of the package's PSD (:func:`psd`: Hann, 50 % overlap, mean removed per
+    segment), all of them summed (``PSD.mean_square()``), hold of a unit sine's power at ``k`` lines
+    (k df), for ``phases`` phases over [0, pi) (the power's period)."""
     t = np.arange(n)
-    ph = np.arange(phases)[:, None] * np.pi / phases
-    x = np.sin(2 * np.pi * k * t / nperseg + ph)
-    f, G = signal.welch(x, fs=1.0, window="hann", nperseg=nperseg, noverlap=nperseg // 2, detrend="constant")
-    return G.sum(axis=-1) * f[1] / 0.5
+    return np.array(
+        [psd(np.sin(2 * np.pi * k * t / nperseg + ph), 1.0, nperseg=nperseg).mean_square() / 0.5
+         for ph in np.arange(phases) * np.pi / phases]
+    )  # fmt: skip
 
 
 def test_the_coverage_figures_quoted_are_those_measured():
