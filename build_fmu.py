@@ -230,7 +230,8 @@ support applies to the body (the one used by the apparent mass TRFAM). A rigid m
 acceleration a gives F = &minus;m a.</li>
 <li><code>contact.active</code>: cable nodes in contact (stick or slip); <code>contact.max_penetration</code>
 (m): largest penetration into the wall; <code>contact.dissipated_energy</code> (J): energy dissipated
-by contact damping and friction since t = 0.</li>
+in the contacts since t = 0, the contact forces' work less the energy they store (damping and friction,
+and on a curved casing's mesh the normal forces' own work).</li>
 <li>Outputs are the values at the end of the last communication step; they do not depend directly
 on inputs set since (no direct feedthrough).</li>
 </ul>

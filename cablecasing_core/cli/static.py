@@ -57,11 +57,13 @@ def _print(model, st, buckled=()):
         f"  {st.contact_nodes} cable nodes in contact, max penetration {st.max_penetration:.4g} m; "
         f"Newton {st.iterations} iterations in {st.load_steps} load steps, |R| = {st.residual:.2g} N"
     )
-    if T > 0.0:
+    if T > 0.0 and st.pulled:
         print(
             f"  cable pre-stretch force {st.prestretch_force:.4g} N (its axial force at rest in the routing "
             "before it is pulled against the walls)"
         )
+    elif T > 0.0:
+        print(f"  contact off: the tension {T:g} N is a fixed prestress (nothing pulls the cable against the walls)")
     print("  contact force of the casing on each cable node (N, global axes):")
     print("    node    s (m)   kappa (1/m)        Fx          Fy          Fz         |F|   penetration (m)")
     for i in np.flatnonzero(st.normal_force > 0.0):

@@ -820,7 +820,11 @@ def output_spec(name: str) -> tuple:
     if name == "contact.max_penetration":
         return "m", "largest penetration of a cable node into the casing wall (0 without contact)"
     if name == "contact.dissipated_energy":
-        return "J", "energy dissipated by contact damping and friction together since t = 0"
+        return "J", (
+            "energy dissipated in the contacts since t = 0: the contact forces' work less the energy they store "
+            "(damping and friction, and on a curved casing's mesh the normal forces' own work: docs/time_domain.md, "
+            "Energy ledger)"
+        )
     parts = name.split(".") if isinstance(name, str) else []
     if len(parts) == 3 and parts[0] == "casing" and parts[1][:4] == "clip" and parts[1][4:].isdigit():
         if parts[2] in FORCE_NAMES:

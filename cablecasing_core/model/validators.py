@@ -59,8 +59,7 @@ class Number:
     def __call__(self, key, value):
         kind = type(value)
         if kind is not float and kind is not int:  # (the common cases first: this runs per FMU step)
-            if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "fiu":
-                value = value.item()  # (a 0-d array: numpy's reduction of an array subclass, as fmpy's results)
+            value = _scalar(value)
             if isinstance(value, (bool, np.bool_)) or not isinstance(value, Real):
                 raise ModelError(key, value, "must be " + self.allowed)
             if self.integer and not isinstance(value, Integral):
@@ -385,9 +384,18 @@ def number(key, value, **bounds):
     return Number(**bounds)(key, value)
 
 
+def _scalar(value):
+    """A 0-d array of a number as that number (numpy's reduction of an array subclass, such as
+    fmpy's results, is a 0-d array of the subclass, not a numpy scalar); anything else as it is."""
+    if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "fiu":
+        return value.item()
+    return value
+
+
 def integer(key, value, minimum, maximum=None, why=""):
     """A whole number >= ``minimum`` (and <= ``maximum``, which ``why`` explains) (Python or numpy
-    integer; not a bool); returns an int."""
+    integer, or a 0-d array of one; not a bool); returns an int."""
+    value = _scalar(value)
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, Integral) or value < minimum:
         raise ModelError(key, value, f"must be an integer >= {minimum}" + (f" and <= {maximum}" if maximum else ""))
     if maximum is not None and value > maximum:

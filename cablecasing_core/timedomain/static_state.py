@@ -71,7 +71,8 @@ class StaticState:
     of the cable nodes; loads: {body: the constant load at rest over all its DOFs, N and N.m, with
     the cable's tension as its pre-stretch force: what the time domain applies throughout};
     prestretch_force (N): the cable's axial force at rest in the routing before it moves (the
-    installation's shortening of the cable is prestretch_force L / EA); iterations (Newton, all load
+    installation's shortening of the cable is prestretch_force L / EA) when the contact pulls it
+    taut against the bends (``pulled``), else the tension as a fixed prestress; iterations (Newton, all load
     steps), residual (N, |R|_inf at the end), load_steps; weight: {body: its weight, N, global};
     clip_reactions (clips x 6, N and N.m): the force and moment the casing exerts through each clip
     on its support (as the time domain's ``casing.clip<i>.Fx .. Mz``); balance: {body: {"weight",
@@ -93,6 +94,7 @@ class StaticState:
     curvature: np.ndarray
     loads: dict = field(default_factory=dict)
     prestretch_force: float = 0.0
+    pulled: bool = False
     iterations: int = 0
     residual: float = 0.0
     load_steps: int = 0
@@ -242,6 +244,7 @@ def solve_static(model: Model, systems: dict, contact: bool) -> StaticState:
         curvature=systems[names[0]].centerline.curvature.copy(),
         loads=loads,
         prestretch_force=sigma if T > 0.0 else 0.0,
+        pulled=pulled,
         iterations=iterations,
         residual=residual,
         load_steps=steps,

@@ -361,3 +361,8 @@ def test_a_number_from_a_reduction_of_an_array_subclass_is_a_number():
     for bad in (np.array(True), np.array([1000.0])):
         with pytest.raises(ModelError, match="fs = .*must be a positive number"):
             number("fs", bad, gt=0, unit="Hz")
+    from cablecasing_core.model.validators import integer
+
+    assert integer("count", np.sum(np.arange(3).view(Result)), 1) == 3
+    with pytest.raises(ModelError, match="count = 1.5: must be an integer"):
+        integer("count", np.mean(np.arange(1.0, 3.0).view(Result)), 1)

@@ -341,7 +341,7 @@ def test_without_contact_the_tension_is_a_fixed_prestress():
     tension is the fixed prestress sigma = T, under which a curved cable moves by micrometres."""
     model = cc.load_model("default").with_overrides({"loads.cable_tension": 10.0, "loads.gravity.z": 0.0})
     for st in (static_state(model, contact=False), static_state(model.with_overrides({"contact.enabled": False}))):
-        assert st.prestretch_force == 10.0
+        assert st.prestretch_force == 10.0 and not st.pulled
         from cablecasing_core.timedomain.body_storage import time_domain_system
 
         s = time_domain_system(model, "cable")
@@ -350,3 +350,4 @@ def test_without_contact_the_tension_is_a_fixed_prestress():
         # length's stretch T L / EA bounds it (measured 1.35e-5 m against 2.6e-5 m)
         assert np.abs(st.U["cable"].reshape(-1, 6)[:, :3]).max() < 10.0 * L / EA
     assert static_state(cc.load_model("installed"), contact=False).prestretch_force == 10.0
+    assert static_state(cc.load_model("installed")).pulled
