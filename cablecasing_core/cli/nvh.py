@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
 RECORD_HELP = "time record: .csv, .npz or .uff (as 'cablecasing simulate --out' writes, or with a time column first)"
@@ -12,7 +14,6 @@ def _record(path):
     """The time record in ``path``; an ensemble CSV (``ensemble --out``: band levels per seed, whose
     seed column would be read as a time axis) is refused as what it is."""
     import contextlib
-    import os
 
     from ..errors import ModelError
     from ..records import read_records
@@ -208,15 +209,17 @@ def cmd_spectrum(args):
 
 def _alias_note(rec, path, what):
     """The note on a record that states no passband (``passband_hz``: a CSV of an FMU's outputs
-    written by a host such as fmpy or fmusim, a measurement, a run's record picked or at every
-    step): its samples hold what lay above their Nyquist frequency folded below it, unless the
-    signal was low-pass filtered before it was sampled; None for a record that states its passband
-    (``simulate --output-interval``'s filter)."""
+    written by a host such as fmpy or fmusim, a measurement, a run's record picked, any UFF file):
+    its samples hold what lay above their Nyquist frequency folded below it, unless the signal was
+    low-pass filtered before it was sampled; None for a record that states its passband (a run's
+    record every step or filtered by ``simulate --output-interval``, in ``.csv`` or ``.npz``)."""
     if "passband_hz" in rec.extra:
         return None
+    uff = os.path.splitext(str(path))[1].lower() in (".uff", ".unv", ".uf")
     return (
-        f"# {path} states no passband: content above its Nyquist frequency {rec.fs / 2:.6g} Hz (dt = {1 / rec.fs:.4g} "
-        f"s) may have aliased into the {what} unless it was filtered before sampling (an FMU's outputs are samples "
+        f"# {path} {'is a UFF file, which keeps no passband' if uff else 'states no passband'}: content above its "
+        f"Nyquist frequency {rec.fs / 2:.6g} Hz (dt = {1 / rec.fs:.4g} s) may have aliased into the {what} unless it "
+        "was filtered before sampling (a run's record every step or filtered holds none; an FMU's outputs are samples "
         'at its communication points; docs/nvh.md, "Sampled records")'
     )
 

@@ -52,10 +52,10 @@ def cmd_simulate(args):
     if args.out:
         # (the core names its arguments; here the options gave them)
         with renamed({"path": "--out", "output_interval": "--output-interval", "decimation": "--decimation"}):
-            res.save(args.out, output_interval=args.output_interval, decimation=args.decimation)
+            rec = res.save(args.out, output_interval=args.output_interval, decimation=args.decimation)
         every = ", t = 0 and every step"
         if args.output_interval:
-            how = _decimated(args.out, args.output_interval, args.decimation, res.dt)
+            how = _decimated(args.out, rec, args.output_interval, res.dt)
             every = f", t = 0, {args.output_interval:g}, ... s ({how})"
         if res.whole_steps < len(res.time):
             every += (
@@ -72,18 +72,15 @@ def cmd_simulate(args):
     return 0
 
 
-def _decimated(path, interval, decimation, dt):
-    """How a record written every ``interval`` s of a run of step ``dt`` (s) was decimated: picked,
-    or low-pass filtered with its passband in Hz (``SimulationResult.records``: 0.7 of the new
-    Nyquist frequency, stated in a .csv or .npz file, not kept by a .uff file)."""
-    from ..timedomain.simulation import PASSBAND
-
-    m = round(interval / dt)
-    if m == 1:
+def _decimated(path, rec, interval, dt):
+    """How the record ``rec`` written every ``interval`` s of a run of step ``dt`` (s) was decimated:
+    picked, or low-pass filtered with its passband in Hz (the one ``rec`` states,
+    ``SimulationResult.records``: stated in a .csv or .npz file, not kept by a .uff file)."""
+    if round(interval / dt) == 1:
         return "every step"
-    if decimation != "filter":
+    if "passband_hz" not in rec.extra:
         return f"picked: content above the Nyquist frequency {1 / (2 * interval):.4g} Hz aliases"
-    passband = PASSBAND / (2 * m * dt)
+    passband = float(rec.extra["passband_hz"])
     kept = (
         "which a .uff file does not keep: read its bands and lines up to it only"
         if str(path).lower().endswith(".uff")

@@ -189,17 +189,22 @@ class SimulationResult:
             )
         return m
 
-    def save(self, path: str | os.PathLike, output_interval: float | None = None, decimation: str = "filter") -> None:
+    def save(
+        self, path: str | os.PathLike, output_interval: float | None = None, decimation: str = "filter"
+    ) -> Records:
         """Write the run by suffix (``.csv``, ``.npz``, ``.uff``; :mod:`~cablecasing_core.records`),
         atomically, on the grid t = 0, Δ, ..., T of :meth:`records` (Δ = ``output_interval`` s,
         default every step; ``decimation`` as there). ``.npz`` also keeps the per-node contact
         histories, so :meth:`load` gives the result back. A bad argument raises
         :class:`~cablecasing_core.errors.ModelError` naming it (``path``: a suffix it does not
         write; ``output_interval``); a folder that does not exist, or a failed write,
-        :class:`~cablecasing_core.files.WriteError`."""
+        :class:`~cablecasing_core.files.WriteError`. Returns the record written (its passband in
+        ``extra``, which a ``.uff`` file does not keep)."""
         from ..records import write_records
 
-        write_records(path, self.records(output_interval, decimation))
+        rec = self.records(output_interval, decimation)
+        write_records(path, rec)
+        return rec
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> SimulationResult:

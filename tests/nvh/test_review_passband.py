@@ -255,3 +255,12 @@ def test_every_simulate_fmu_call_in_the_docs_gives_the_output_interval():
                 calls += 1
                 assert "output_interval=" in call, (doc, call[:60])
     assert calls >= 2
+
+
+def test_a_uff_record_is_noted_as_a_file_that_keeps_no_passband(tmp_path, capsys):
+    """A UFF file keeps no passband, whatever the run was: `bands` says that of the file (not that
+    the record states none, as of a host's CSV)."""
+    assert main(["simulate", "--duration", "0.06", "--no-progress", "--out", str(tmp_path / "r.uff")]) == 0
+    capsys.readouterr()
+    assert main(["bands", str(tmp_path / "r.uff"), "--kind", "third", "--fmin", "500", "--skip", "0"]) == 0
+    assert "r.uff is a UFF file, which keeps no passband: content above" in capsys.readouterr().out
