@@ -477,20 +477,17 @@ def _record_fs(path, rec):
                 q.append(np.nan if whole else 10.0 ** (int(m.group(3) or 0) - len(m.group(2) or "")) * to_s)
                 v = abs(float(m.group(0)))
                 lead.append(np.floor(np.log10(v)) if v > 0 else np.nan)
-    k = np.arange(t.size)
     ok = len(q) == t.size > 2 and not np.all(np.isnan(q))
     q = np.asarray(q) if ok else np.ones(t.size)
     quantum = float(np.nanmedian(q))
     if ok:
         q = np.minimum(q, _digit_cap(q, np.asarray(lead), to_s, quantum))
     q = np.where(np.isnan(q), quantum, q)
-    # the grid through the first and last time: each time within half its last digit, plus the ends' own rounding
-    step = (t[-1] - t[0]) / (t.size - 1) if t.size > 1 else 0.0
-    resid = np.abs(t - (t[0] + step * k))
+    # each time within half its last digit (and the conversion's rounding, 1e-12 of the largest)
+    fs, step, resid = _fs_on_grid(t, 0.5 * q + 1e-12 / 3 * np.abs(t).max(), quantum)
+    if ok and fs is not None:
+        return fs
     worst = float(resid.max()) if t.size else np.inf
-    allowed = 0.5 * (q + q[0] + q[-1]) * (1 + 1e-6) + 1e-12 * np.abs(t).max()
-    if ok and step > 0 and quantum <= 0.1 * step and np.all(resid <= allowed):
-        return 1.0 / float(np.polyfit(k, t, 1)[0])  # (least squares: the rounding averages out)
     raise ModelError(
         "file",
         str(path),
@@ -499,6 +496,20 @@ def _record_fs(path, rec):
         f"+-{0.5 * quantum:.3g} s); "
         "the time (the first column) must increase in equal steps, rows in time order, no sample missing",
     ) from None
+
+
+def _fs_on_grid(t, half_digit, quantum):
+    """``(fs, step, departures)`` of the times ``t`` (s, increasing) against the uniform grid through
+    the first and the last: ``fs`` (Hz), the least-squares slope's (the rounding averages out), when
+    each time lies on the grid within ``half_digit`` (s per time: its printing's rounding) plus that
+    of the two ends and ``quantum`` (s, the printing's digit) resolves the step to 10 %, else None;
+    the grid's ``step`` (s) and each time's departure from it (s)."""
+    k = np.arange(t.size)
+    step = (t[-1] - t[0]) / (t.size - 1) if t.size > 1 else 0.0
+    resid = np.abs(t - (t[0] + step * k))
+    allowed = (half_digit + half_digit[0] + half_digit[-1]) * (1 + 1e-6)
+    on = step > 0 and quantum <= 0.1 * step and bool(np.all(np.diff(t) > 0)) and bool(np.all(resid <= allowed))
+    return (1.0 / float(np.polyfit(k, t, 1)[0]) if on else None), step, resid
 
 
 def _digit_cap(q, lead, to_s, quantum):
@@ -620,14 +631,11 @@ def _uneven_abscissa_fs(path, r):
     (the rounding averages out). A ModelError naming ``file`` and the largest departure otherwise."""
     t = np.asarray(r.x, dtype=float)
     rel = 2.0**-24 if r.binary else _E13_5
-    k = np.arange(t.size)
-    step = (t[-1] - t[0]) / (t.size - 1)
-    resid = np.abs(t - (t[0] + step * k))
-    worst = float(resid.max())
-    allowed = rel * (np.abs(t) + abs(t[0]) + abs(t[-1])) * (1 + 1e-6)
     quantum = 2.0 * rel * float(np.abs(t).max())  # (a digit of the largest time)
-    if step > 0 and np.all(np.diff(t) > 0) and quantum <= 0.1 * step and np.all(resid <= allowed):
-        return 1.0 / float(np.polyfit(k, t, 1)[0])
+    fs, step, resid = _fs_on_grid(t, rel * np.abs(t), quantum)
+    if fs is not None:
+        return fs
+    worst = float(resid.max())
     j = int(np.argmax(resid))
     what = (
         f"its times depart from a uniform grid of step {step:.6g} s by up to {worst:.3g} s ({worst / step:.2g} "

@@ -167,10 +167,10 @@ class _Scalogram:
     when the whole would exceed ``budget`` bytes: block ``[lo, hi)`` from the samples
     ``[lo - pad, hi + pad)``, ``pad`` ten sigma_t at the lowest frequency (the Gaussian's weight beyond
     it below exp(-50), as :func:`cwt_morlet`'s own zero padding), so every row equals the whole
-    record's transform to rounding; a record that fits in one block is transformed whole, as
-    :func:`cwt_morlet` does. Blocks are kept up to ``budget`` bytes in all (the first, where the fit
-    windows lie, are the ones used again). A 60 s record at 25.6 kHz held a complex (n x 41) transform,
-    1.8 GB, of which the fit used less than 1 s."""
+    record's transform to rounding; a record that fits in one block is transformed whole. Blocks
+    are kept up to ``budget`` bytes in all (the first, where the fit windows lie, are the ones used
+    again). A 60 s record at 25.6 kHz held a complex (n x 41) transform, 1.8 GB, of which the fit
+    used less than 1 s."""
 
     def __init__(self, x, fs, inv_f, gamma, budget=None):
         budget = SCALOGRAM_BYTES if budget is None else budget
@@ -184,11 +184,8 @@ class _Scalogram:
             return self.kept[b]
         n = self.x.size
         lo, hi = b * self.rows, min(n, (b + 1) * self.rows)
-        if lo == 0 and hi == n:
-            a = np.abs(cwt_morlet(self.x, self.fs, self.f, self.gamma))  # (as before: the record whole)
-        else:
-            s0, s1 = max(0, lo - self.pad), min(n, hi + self.pad)
-            a = cwt_morlet(self.x[s0:s1], self.fs, self.f, self.gamma, magnitude=True)[lo - s0 : hi - s0]
+        s0, s1 = max(0, lo - self.pad), min(n, hi + self.pad)  # (the record whole when it fits in one block)
+        a = cwt_morlet(self.x[s0:s1], self.fs, self.f, self.gamma, magnitude=True)[lo - s0 : hi - s0]
         if (len(self.kept) + 1) * a.nbytes <= self.budget:
             self.kept[b] = a
         return a
