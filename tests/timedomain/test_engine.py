@@ -117,8 +117,9 @@ def test_ledger_closes_with_damping_and_friction(pair_model, kick):
     # parts: those are checked against independent solutions in test_friction.py (friction power =
     # mu N |v_rel|) and test_contact_law_impact.py (the damper's loss against solve_ivp)
     assert abs(e["residual"]) < 0.01 * E0  # the ledger closes within 1%
-    # the two parts, integrated from their powers, add up to the work-based contact dissipation
-    # (trapezoidal rule on impacts resolved by a few steps: a few per cent)
+    # the two parts, integrated from their powers, add up to the work-based contact dissipation: on an
+    # arc kicked out of its plane the normal forces do next to no work of their own (docs/time_domain.md,
+    # "The normal force's work on a mesh"); what is left is the impacts' quadrature, a few per cent
     parts = e["contact_damping_dissipation"] + e["friction_dissipation"]
     assert e["friction_dissipation"] > 0 and e["contact_damping_dissipation"] > 0
     assert abs(parts / e["contact_dissipation"] - 1) < 0.05

@@ -315,10 +315,12 @@ def test_the_energy_ledger_closes_with_the_preload():
     assert e["support_work"] > 0 and e["friction_dissipation"] > 0
     # the friction (92 % of the supplied work) and damper dissipation, integrated from the powers the
     # contact solve reports, against the contact dissipation from the contact forces' work over the
-    # steps' displacements less the stored contact energy: two quadratures of the same loss, equal to
-    # second order in dt (measured 8e-5); friction power off by 20 % misses by 20 %
+    # steps' displacements less the stored contact energy: they differ by the normal forces' own work
+    # (docs/time_domain.md, "The normal force's work on a mesh"), which on this specimen, its contacts
+    # sliding along the wall, stays within 0.55 % of the total over 0.05-0.5 s (changing sign; +8e-5 at
+    # 0.1 s); friction power off by 20 % misses by 20 %
     parts = e["friction_dissipation"] + e["contact_damping_dissipation"]
-    assert abs(parts / e["contact_dissipation"] - 1) < 1e-3
+    assert abs(parts / e["contact_dissipation"] - 1) < 1e-2
     assert abs(e["residual"]) < 0.01 * (e["support_work"] + abs(e["load_work"]))
     assert abs(e["residual"]) < 1e-6 * e["support_work"]
 
