@@ -300,9 +300,6 @@ def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: i
     return names, data
 
 
-#: The units of time and their factors to s: the one table of a CSV table's time column (its
-#: first; :func:`time_column`) and of a UFF 58 time record's abscissa label
-#: (:mod:`.identification.uff_io`), both read through :func:`time_factor` (case-insensitive).
 #: A statement a comment line of a CSV table makes about it: ``# name = value (what it means)``
 #: (``:`` for ``=`` too; the name in any case; the parenthesis is not part of the value).
 _STATEMENT = re.compile(r"^#\s*([A-Za-z_]\w*)\s*[=:]\s*([^(]*?)\s*(?:\(.*)?$")
@@ -339,6 +336,9 @@ def csv_statements(path, names, key: str = "file") -> dict:
     return found
 
 
+#: The units of time and their factors to s: the one table of a CSV table's time column (its
+#: first; :func:`time_column`) and of a UFF 58 time record's abscissa label
+#: (:mod:`.identification.uff_io`), both read through :func:`time_factor` (case-insensitive).
 TIME_UNITS = {
     "s": 1.0,
     "sec": 1.0,

@@ -17,9 +17,10 @@ A record is a time axis (s, evenly spaced) and named columns: the outputs of the
   ``<name>_<unit>`` form of earlier versions (``casing.B.Fz_N``); a file with bare names (the FMU's
   outputs written by fmpy) takes the units from the schema. Two columns of one name (in either
   form) are refused; a header in quotes (``"time [s]"``, as spreadsheets write it) is read without them.
-  A record that states its passband (:attr:`Records.passband_hz`: a run's record decimated with the
-  anti-alias filter) has a comment line after the header, ``# passband_hz = 3500 (...)``, Hz; read,
-  such a line before the first row of numbers gives the record its passband. Every reader of these
+  A record that states its passband (:attr:`Records.passband_hz`: a run's record at every step, its
+  Nyquist frequency, or decimated with the anti-alias filter) has a comment line after the header,
+  ``# passband_hz = 3500 (...)``, Hz; read, such a line before the first row of numbers
+  (:func:`~cablecasing_core.files.csv_statements`) gives the record its passband. Every reader of these
   files skips lines starting with ``#`` (:func:`~cablecasing_core.files.read_csv_table`;
   ``numpy.loadtxt(path, delimiter=",", skiprows=1)``, ``numpy.genfromtxt(path, delimiter=",",
   names=True)``; ``pandas.read_csv(path, comment="#")``).

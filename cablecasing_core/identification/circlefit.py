@@ -53,7 +53,7 @@ from scipy.optimize import least_squares
 from scipy.signal import find_peaks
 
 from ..errors import ModelError, ModelWarning
-from ..model.validators import array_1d, integer, number
+from ..model.validators import Choice, array_1d, integer, number
 
 FRF_KINDS = ("displacement", "velocity", "acceleration", "apparent_mass")
 #: Warning bound on the circle's rms radial residual over its radius. With complex noise of a relative
@@ -92,8 +92,7 @@ def to_displacement_form(freqs_hz, H, kind="displacement"):
     ``-omega^2``), ``"apparent_mass"`` (F/a in kg, e.g. the TRFAM of Eq. 12, times ``-omega^2``).
     Frequencies in Hz; ``omega = 2 pi f``.
     """
-    if kind not in FRF_KINDS:
-        raise ModelError("kind", kind, "must be one of " + ", ".join(repr(k) for k in FRF_KINDS))
+    Choice(*FRF_KINDS)("kind", kind)
     w = 2.0 * np.pi * np.asarray(freqs_hz, dtype=float)
     H = np.asarray(H, dtype=complex)
     if kind == "displacement":

@@ -33,7 +33,7 @@ import numpy as np
 
 from ..errors import ModelError, ModelWarning, renamed
 from ..files import TIME_UNITS, csv_statements, time_column, time_factor
-from ..model.validators import array_1d, number
+from ..model.validators import Choice, array_1d, number
 
 _TAG = re.compile(r"cablecasing x0=(\S+) dx=(\S+)")
 UFF_EXTENSIONS = (".uff", ".unv", ".uf")
@@ -375,7 +375,9 @@ def write_csv_frf(path, freqs_hz, H, name="H", kind=None):
     from ..files import atomic_path
 
     if kind is not None:
-        kind = _known_kind("kind", kind)
+        from .circlefit import FRF_KINDS
+
+        kind = Choice(*FRF_KINDS)("kind", kind)
     f, H = _function(freqs_hz, H, "freqs_hz", "H", real=False, min_len=1)
     table = np.column_stack([f, H.real, H.imag])
     head = f"frequency_hz,re_{name},im_{name}"
@@ -383,14 +385,6 @@ def write_csv_frf(path, freqs_hz, H, name="H", kind=None):
         head = f"# kind = {kind}\n{head}"
     with atomic_path(path) as tmp:
         np.savetxt(tmp, table, delimiter=",", header=head, comments="", fmt="%.17g")
-
-
-def _known_kind(key, kind, where="the FRF kind"):
-    from .circlefit import FRF_KINDS
-
-    if kind not in FRF_KINDS:
-        raise ModelError(key, kind, f"{where} must be one of " + ", ".join(repr(k) for k in FRF_KINDS))
-    return kind
 
 
 def _csv_frf_kind(path, strict=True):
