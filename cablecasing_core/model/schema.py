@@ -497,6 +497,18 @@ _KEYS = [
         Number(ge=0, le=1e6, unit="s/m"),
     ),
     KeySpec(
+        "contact.law_length",
+        "float",
+        0.0,
+        "m",
+        "the length of cable the contact law stands for: 0 applies the law (its stiffness, Eqs. 24/29, and "
+        "damping, Eq. 16) whole at every cable node, as the paper; > 0 gives each node the share l_i / "
+        "law_length of it, l_i the node's tributary length, a law per unit length whose wall does not change "
+        "with the mesh (the paper's wall at its 35 elements: the cable's length / 35; docs/time_domain.md, "
+        "A contact law per unit length)",
+        Number(ge=0, le=100.0, unit="m"),
+    ),
+    KeySpec(
         "contact.friction",
         "float",
         0.15,

@@ -54,6 +54,24 @@ def hertz_constant(model: Model) -> float:
     return 4.0 / 3.0 * Es * np.sqrt(r)
 
 
+def contact_shares(model: Model, element_lengths: np.ndarray) -> np.ndarray:
+    """Each cable node's share of the contact law (dimensionless, one per node; ``element_lengths``
+    in m, those of the cable's elements in order). With ``contact.law_length`` = 0 every node
+    carries the whole law, its stiffness (Eqs. 24, 29) and damper (Eq. 16), as in the paper: 1
+    everywhere. With ``contact.law_length`` = L_c > 0 (m) the law stands for that length of cable,
+    so node i carries l_i / L_c of it, l_i its tributary length (half of each element it ends;
+    m): a law per unit length, whose wall does not change with the mesh (docs/time_domain.md, "A
+    contact law per unit length")."""
+    lengths = np.asarray(element_lengths, dtype=float)
+    L_c = float(model.contact["law_length"])
+    if L_c == 0.0:
+        return np.ones(len(lengths) + 1)
+    l = np.zeros(len(lengths) + 1)
+    l[:-1] += 0.5 * lengths
+    l[1:] += 0.5 * lengths
+    return l / L_c
+
+
 def compiled_entry(dispatcher, args):
     """The compiled entry point of the numba ``dispatcher`` for the types of ``args``, or the
     dispatcher itself when there is none. Calling it skips numba's type dispatch, which types the
@@ -158,12 +176,15 @@ class Engine:
             self.r_in = cas.section.r_inner
             self.r_cable = cab.section.r_outer
             self.k_hertz = hertz_constant(model)
+            #: each cable node's share of the contact law (dimensionless; :func:`contact_shares`)
+            self.share = contact_shares(model, cab.centerline.lengths)
         else:
             self.Xc = np.zeros((0, 3))
             self.Tc = self.Xs = np.zeros((0, 3))
             self.Rs = np.zeros((0, 3, 3))
             self.Ls = np.zeros(0)
             self.gap = self.r_in = self.r_cable = self.k_hertz = 0.0
+            self.share = np.zeros(0)
         self.law = CONTACT_LAWS.index(c["law"])  # the kernels' code of the law
         self.k_lin, self.mu, self.v_stick = c["stiffness"], c["friction"], c["stick_velocity"]
         #: the slip speed over which Coulomb's law is regularised (m/s; 0: the switch law of Section 2.1)
@@ -490,6 +511,7 @@ class Engine:
                 self.chan,
                 _coefficient_matrix(dt),
                 self.crefine,
+                self.share,
             )
             casing = body_arrays(self.bodies.get("casing"), dt, self.contact, self.fcs, law.nsub)
             cable = body_arrays(self.bodies.get("cable"), dt, self.contact, self.fcc, law.nsub)
@@ -623,7 +645,7 @@ class Engine:
     # -------------------------------------------------------------------------------- outputs
     def contact_potential(self) -> float:
         """Elastic energy stored in the contacts (J), from the penetrations at the current time."""
-        return K.contact_potential(self.gn, self.law, self.k_lin, self.k_hertz)
+        return K.contact_potential(self.gn, self.law, self.k_lin, self.k_hertz, self.share)
 
     def load_work(self) -> float:
         """Work (J) of the constant loads at rest since t = 0: f . (U - U_static) over all DOFs of
@@ -684,7 +706,16 @@ class Engine:
         OUTPUTS only): one call instead of a dict, for the FMU's per-step reads."""
         out = np.empty(len(self.output_names)) if out is None else self._checked_out(out)
         K.step_outputs(
-            self.reac, self.cstate, self.gn, self.ledger, self.law, self.k_lin, self.k_hertz, self._pot0, out
+            self.reac,
+            self.cstate,
+            self.gn,
+            self.ledger,
+            self.law,
+            self.k_lin,
+            self.k_hertz,
+            self.share,
+            self._pot0,
+            out,
         )
         b = self.bodies.get("casing")
         if b is not None and len(out) > len(OUTPUTS):  # the clips' forces, as the fused step writes them

@@ -429,6 +429,9 @@ class _Evaluator:
         self.Xs, self.Rs, self.Ls = cas.centerline.nodes, cas.centerline.frames, cas.centerline.lengths
         self.gap = model.radial_gap
         self.law, self.k_lin, self.k_hertz = _law(model)
+        from .engine import contact_shares
+
+        self.share = contact_shares(model, cab.centerline.lengths)
         nn = len(self.Xc)
         self.elem = np.clip(np.arange(nn) - 1, 0, len(self.Ls) - 1).astype(np.int64)
         self.extent = max(np.abs(self.Xc).max(initial=0.0), np.abs(self.Xs).max(initial=0.0))  # m
@@ -458,8 +461,8 @@ class _Evaluator:
         _scatter(z, self.U, self.systems, self.offs)
         K.static_contact(
             self.Xc, self.Tc, self.U["cable"], self.Xs, self.Rs, self.Ls, self.U["casing"], self.elem,
-            self.gap, self.law, self.k_lin, self.k_hertz, self.g, self.h, self.N, self.kn, self.nrm, self.xi,
-            self.H, self.fc["cable"], self.fc["casing"],
+            self.gap, self.law, self.k_lin, self.k_hertz, self.share, self.g, self.h, self.N, self.kn, self.nrm,
+            self.xi, self.H, self.fc["cable"], self.fc["casing"],
         )  # fmt: skip
         out = np.zeros(len(z))
         for n in ("cable", "casing"):
@@ -470,7 +473,7 @@ class _Evaluator:
 
     def potential(self):
         """Elastic energy in the contacts (J) at the last evaluated state (the time domain's)."""
-        return K.contact_potential(self.g, self.law, self.k_lin, self.k_hertz)
+        return K.contact_potential(self.g, self.law, self.k_lin, self.k_hertz, self.share)
 
     def rounding(self):
         """The rounding of the contact forces (N) at the last evaluated state: the largest slope

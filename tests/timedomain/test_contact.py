@@ -243,11 +243,11 @@ def _installed_contacts(dt):
     eng.advance(0.01, scenario_motion(m, dt=dt))
     ws = eng._ws
     (_, gst, gdst, wst, _, _, _, _, _, _, _, J, R, dx, _, _, ta, tb, _, _, Ne, Nd, _, _, xt, touch) = ws[:26]
-    Q, x, y, off, wkk, held, piv = ws[27], ws[28], ws[29], ws[30], ws[31], ws[33], ws[34]
+    Q, x, y, off, wkk, held, piv, sk = ws[27], ws[28], ws[29], ws[30], ws[31], ws[33], ws[34], ws[35]
     nk = int(held[0])
     r = int(off[nk])
     assert nk >= 8 and r == 3 * nk  # every contact with three unknowns
-    return eng, (gst, gdst, wst, ta, tb, J, R, dx, Ne, Nd, xt, touch, Q, x, y, off, wkk, piv), nk, r
+    return eng, (gst, gdst, wst, ta, tb, J, R, dx, Ne, Nd, xt, touch, Q, x, y, off, wkk, piv, sk), nk, r
 
 
 def test_band_newton_finds_the_dense_newtons_forces():
@@ -259,7 +259,7 @@ def test_band_newton_finds_the_dense_newtons_forces():
     and in a comparable number of iterations."""
     from cablecasing_core.timedomain.kernels import _contact_newton_for_fixed_modes as NW
 
-    eng, (gst, gdst, wst, ta, tb, J, R, dx, Ne, Nd, xt, touch, Q, x, y, off, wkk, piv), nk, r = _installed_contacts(
+    eng, (gst, gdst, wst, ta, tb, J, R, dx, Ne, Nd, xt, touch, Q, x, y, off, wkk, piv, sk), nk, r = _installed_contacts(
         1e-5
     )
     law = eng._law()
@@ -268,7 +268,7 @@ def test_band_newton_finds_the_dense_newtons_forces():
         xs = np.zeros_like(x)
         its = NW.newton_for_fixed_modes(
             Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, xs, law.law, law.k_lin, law.k_hertz, law.c_n,
-            eng.dt, J, R, dx, y, Ne, Nd, xt, law.mu, law.vreg, piv, band,
+            sk, eng.dt, J, R, dx, y, Ne, Nd, xt, law.mu, law.vreg, piv, band,
         )  # fmt: skip
         assert its > 0
         found.append((xs[:r].copy(), its))
@@ -289,9 +289,11 @@ def test_regularised_newtons_matrix_is_the_jacobian_at_the_solution():
     from cablecasing_core.timedomain.kernels import _contact_newton_for_fixed_modes as NW
 
     dt = 1 / 30000
-    eng, (gst, gdst, wst, ta, tb, J, R, dx, Ne, Nd, xt, touch, Q, x, y, off, wkk, piv), nk, r = _installed_contacts(dt)
+    eng, (gst, gdst, wst, ta, tb, J, R, dx, Ne, Nd, xt, touch, Q, x, y, off, wkk, piv, sk), nk, r = _installed_contacts(
+        dt
+    )
     law = eng._law()
-    args = (law.law, law.k_lin, law.k_hertz, law.c_n, dt)
+    args = (law.law, law.k_lin, law.k_hertz, law.c_n, sk, dt)
 
     def residual(xv, with_J, tangent=False):
         return NW._residual(

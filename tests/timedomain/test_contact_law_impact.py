@@ -20,15 +20,17 @@ V_IN = 0.05  # m/s, towards the wall
 GAP = 1.0e-3  # m, radial gap
 HERTZ, HUNT_CROSSLEY = CONTACT_LAWS.index("hertz"), CONTACT_LAWS.index("hunt_crossley")
 LINEAR = CONTACT_LAWS.index("linear")
+ONE = np.ones(1)  # a node's whole share of the law (contact.law_length = 0, the paper)
 
 
-def drop(law, c_n, dt, t_end, k_lin=0.0, z0=GAP - 1e-6, a0=0.0, record=None):
+def drop(law, c_n, dt, t_end, k_lin=0.0, z0=GAP - 1e-6, a0=0.0, record=None, share=1.0):
     """The node starts at z0 (default 1 um short of the wall; the wall is at GAP), moving at V_IN
     along +z (the wall's normal) with acceleration a0, the casing rigid. Returns (time of first
     touch, time of release, rebound speed, episodes): the first two from the free flights before and
     after (straight lines in t, so their crossing of the wall is exact), the rebound speed of the
     free flight after. ``record``, a list, receives (t, v, N, g, damping power) of every step (s,
-    m/s, N, m, W: the kernel's normal force, penetration and DIAG_DAMPING_POWER)."""
+    m/s, N, m, W: the kernel's normal force, penetration and DIAG_DAMPING_POWER). ``share``: the
+    node's share of the law (``engine.contact_shares``; 1 as in the paper)."""
     Xc, Tc = np.array([[0.0, 0, z0]]), np.array([[1.0, 0, 0]])
     Xs, Rs, Ls = np.array([[-5.0, 0, 0], [5.0, 0, 0]]), np.eye(3)[None].copy(), np.array([10.0])
     Keff = 4 * M_ / dt**2
@@ -49,7 +51,7 @@ def drop(law, c_n, dt, t_end, k_lin=0.0, z0=GAP - 1e-6, a0=0.0, record=None):
         Uc[2], Vc[2] = us, 2 / dt * (us - u) - v
         K.solve_contact_forces(
             Xc, Tc, Uc, Vc, Xs, Rs, Ls, np.zeros(12), np.zeros(12), Kc, Ks, par, state, elem, xi, Pn, Pp, vrel, Nn, gn,
-            fcc, fcs, diag, ws,
+            fcc, fcs, diag, ws, np.full(1, share),
         )  # fmt: skip
         un = us + fcc[2] / Keff
         an = 4 / dt**2 * (un - u) - 4 / dt * v - a
@@ -68,10 +70,11 @@ def drop(law, c_n, dt, t_end, k_lin=0.0, z0=GAP - 1e-6, a0=0.0, record=None):
     return t_in, t_out, v_out, episodes
 
 
-def hertz_theory():
-    """Duration and rebound of an elastic Hertz impact: max penetration (5 m v^2 / (4 k))^(2/5),
-    duration 2 (delta / v) int_0^1 dx / sqrt(1 - x^(5/2)), rebound -v."""
-    delta = (5 * M_ * V_IN**2 / (4 * K_H)) ** 0.4
+def hertz_theory(k=K_H):
+    """Duration and rebound of an elastic Hertz impact against the law k g^1.5 (N/m^1.5): max
+    penetration (5 m v^2 / (4 k))^(2/5), duration 2 (delta / v) int_0^1 dx / sqrt(1 - x^(5/2)),
+    rebound -v."""
+    delta = (5 * M_ * V_IN**2 / (4 * k)) ** 0.4
     integral = quad(lambda x: 1 / np.sqrt(1 - x**2.5), 0, 1, limit=200)[0]
     return 2 * delta / V_IN * integral, -V_IN
 
@@ -138,11 +141,11 @@ def test_contact_energy_is_the_integral_of_each_law():
         for gi in g:
             assert K.contact_law(gi, law, k_lin, K_H)[0] == pytest.approx(force(gi), rel=1e-13)
             energy = quad(force, 0.0, gi, epsabs=0.0, epsrel=1e-13)[0]
-            assert K.contact_potential(np.array([gi]), law, k_lin, K_H) == pytest.approx(energy, rel=1e-10)
+            assert K.contact_potential(np.array([gi]), law, k_lin, K_H, ONE) == pytest.approx(energy, rel=1e-10)
         # summed over nodes, the open ones (g <= 0) adding nothing
         total = sum(quad(force, 0.0, gi, epsabs=0.0, epsrel=1e-13)[0] for gi in g)
         both = np.concatenate([g, [0.0, -1e-6]])
-        assert K.contact_potential(both, law, k_lin, K_H) == pytest.approx(total, rel=1e-10)
+        assert K.contact_potential(both, law, k_lin, K_H, np.ones(len(both))) == pytest.approx(total, rel=1e-10)
         assert K.contact_law(-1e-6, law, k_lin, K_H) == (0.0, 0.0)
 
 
@@ -161,7 +164,7 @@ def test_hertz_impact_keeps_kinetic_plus_contact_energy():
         drop(HERTZ, 0.0, T / n, 2 * T, record=rec)
         t, v, N, g, _ = np.array(rec).T
         on = N > 0
-        pot = np.array([K.contact_potential(np.array([gi]), HERTZ, 0.0, K_H) for gi in g[on]])
+        pot = np.array([K.contact_potential(np.array([gi]), HERTZ, 0.0, K_H, ONE) for gi in g[on]])
         assert pot.max() > 0.99 * E0  # the deepest step holds nearly all the energy in the contact
         worst.append(np.abs((0.5 * M_ * v[on] ** 2 + pot) / E0 - 1).max())
     worst = np.array(worst)
@@ -230,3 +233,31 @@ def test_linear_law_with_its_one_sided_damper_against_an_independent_integration
     errs = np.array(errs)
     assert np.all(errs[:-1] / errs[1:] > 3.0), errs  # second order in all three
     assert errs[-1, :2].max() < 1e-4 and errs[-1, 2] < 3e-4, errs
+
+
+@pytest.mark.parametrize("share", [0.5, 2.0])
+def test_a_node_with_a_share_of_the_law_meets_the_wall_of_that_share(share):
+    """contact.law_length > 0 (docs/time_domain.md, "A contact law per unit length") gives each node
+    the share s = l_i / law_length of the law: its stiffness and its damper, and so its stored
+    energy. Against the theories of that wall: Hertz's impact against s K_H (duration within 1e-3 at
+    160 steps, as the whole law's test), the linear law with its one-sided damper against the
+    independent integration with s k and s c (duration and rebound within 1e-4 at 160 steps, as
+    there), and the stored energy s times the quadrature of the whole law's (to 1e-10). Without the
+    share in the damper the linear rebound would be off by 13 % (s = 0.5) and 16 % (s = 2)."""
+    T, v_ref = hertz_theory(share * K_H)
+    t_in, t_out, v_out, episodes = drop(HERTZ, 0.0, T / 160, 4 * T, share=share)
+    assert episodes == 1
+    assert abs((t_out - t_in) / T - 1) < 1e-3 and abs(v_out / v_ref - 1) < 1e-3
+
+    T, v_ref = linear_damper_reference(share * K_LIN, share * C_N)
+    a0 = -share * C_N * V_IN / M_  # (the damper's force at the touch, as the whole law's test)
+    t_in, t_out, v_out, episodes = drop(LINEAR, C_N, T / 160, 3 * T, k_lin=K_LIN, z0=GAP, a0=a0, share=share)
+    assert episodes == 1 and t_in == 0.0
+    assert abs(t_out / T - 1) < 1e-4 and abs(v_out / v_ref - 1) < 1e-4
+
+    g = np.array([2.5e-6, -1e-6, 1e-5])
+    whole = K.contact_potential(g, HERTZ, 0.0, K_H, np.ones(3))
+    assert K.contact_potential(g, HERTZ, 0.0, K_H, np.array([share, share, share])) == pytest.approx(
+        share * whole, rel=1e-10
+    )
+    assert whole == pytest.approx(sum(quad(lambda x: K_H * x**1.5, 0.0, gi)[0] for gi in g[g > 0]), rel=1e-10)

@@ -43,7 +43,31 @@ def belt_run(v_stick, T, dt=1e-5, vreg=0.0, powers=None):
         Us[0] = Us[6] = V_BELT * t
         Vs[0] = Vs[6] = V_BELT
         K.solve_contact_forces(
-            Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, law, state, elem, xi, Pn, Pp, vrel, Nn, gn, fcc, fcs, diag, ws
+            Xc,
+            Tc,
+            Uc,
+            Vc,
+            Xs,
+            Rs,
+            Ls,
+            Us,
+            Vs,
+            Kc,
+            Ks,
+            law,
+            state,
+            elem,
+            xi,
+            Pn,
+            Pp,
+            vrel,
+            Nn,
+            gn,
+            fcc,
+            fcs,
+            diag,
+            ws,
+            np.ones(1),
         )
         un = ustar + fcc[0] / Keff
         an = 4 / dt**2 * (un - u) - 4 / dt * v - a
@@ -162,7 +186,7 @@ def slow_slip_event(turned, v_over_dv=1.5, new=False, dt=1e-5):
     z = np.zeros(12)
     K.solve_contact_forces(
         Xc, Tc, Uc, Vc, Xs, Rs, Ls, z, z, Kc, Ks, par, state, elem, xi, Pn, np.zeros((1, 3)), vrel, Nn, gn, fcc, fcs,
-        diag, K.contact_workspace(1),
+        diag, K.contact_workspace(1), np.ones(1),
     )  # fmt: skip
     return diag[K.DIAG_SLOW_SLIP], state[0], vrel[0] / dv
 

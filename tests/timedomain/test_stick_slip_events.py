@@ -109,7 +109,7 @@ def belt_run(dt, t_end, nsub):
     contact = K.ContactArrays(
         Xc, Tc, Xs, np.eye(3)[None].copy(), np.array([10.0]), np.zeros(nn, np.int64), np.zeros(nn, np.int64),
         np.zeros(nn), np.zeros((nn, 3)), np.zeros((nn, 3)), np.zeros(nn), np.zeros(nn), np.zeros(nn), np.zeros(nn),
-        K.contact_workspace(nn), chan, _coefficient_matrix(dt), np.zeros(1, np.int64),
+        K.contact_workspace(nn), chan, _coefficient_matrix(dt), np.zeros(1, np.int64), np.ones(nn),
     )  # fmt: skip
     args = (body_arrays(casing, dt, True, fcs, nsub), body_arrays(cable, dt, True, fcc, nsub), claw, contact)
     rec = K.Recording(False, np.zeros((1, 24)), np.zeros(2, np.int64), *(np.zeros(1, d) for d in ("i4", "i1")),

@@ -30,7 +30,7 @@ from ._step_loop_contract import INFO_NEWTON_ITERATIONS, LEDGER_CONTACT_WORK
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def step_outputs(reac, cstate, gn, ledger, law, k_lin, k_hertz, pot0, out):
+def step_outputs(reac, cstate, gn, ledger, law, k_lin, k_hertz, share, pot0, out):
     """The engine's outputs (``model.schema.OUTPUTS``) into ``out``: the 24 support reactions (N,
     N.m), the cable nodes in contact, the largest penetration (m, 0 without contact) and the energy
     dissipated in the contacts (J: their work less the change of the energy they store since the
@@ -47,7 +47,7 @@ def step_outputs(reac, cstate, gn, ledger, law, k_lin, k_hertz, pot0, out):
         if i == 0 or gn[i] > g:
             g = gn[i]
     out[25] = g
-    out[26] = -ledger[LEDGER_CONTACT_WORK] - (contact_potential(gn, law, k_lin, k_hertz) - pot0)
+    out[26] = -ledger[LEDGER_CONTACT_WORK] - (contact_potential(gn, law, k_lin, k_hertz, share) - pot0)
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
@@ -104,7 +104,7 @@ def communication_step(
     status = run_steps(t0, dt, motion[0], motion[1], motion[2], casing, cable, law, contact, reac, ledger,
                        ledger_on, scratch, rec, info)  # fmt: skip
     if status == 0:  # OK: a failed step leaves out and state alone (the engine rolls the step back)
-        step_outputs(reac, contact.state, contact.g, ledger, law.law, law.k_lin, law.k_hertz, pot0, out)
+        step_outputs(reac, contact.state, contact.g, ledger, law.law, law.k_lin, law.k_hertz, contact.share, pot0, out)
         clip_force_outputs(casing.mi, casing.mF, out, 27)  # (27 = len(OUTPUTS), step_outputs' share)
         accept_rows(state, rows, a, t0)
     return status

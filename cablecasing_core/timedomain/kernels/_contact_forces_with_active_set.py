@@ -75,6 +75,7 @@ def contact_workspace(nn):
         z(3 * SPAN),
         np.full(max(nn, 1) + 1, -1, np.int64),
         np.zeros(m, np.int64),
+        z(nn),
     )
 
 
@@ -237,7 +238,31 @@ def contact_parameters(law, dt, reuse, max_turn):
 
 @njit(**NO_RT)
 def solve_contact_forces(
-    Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, par, state, elem, xi_arr, Pn, Pp, vrel, Nout, gout, fcc, fcs, diag, ws
+    Xc,
+    Tc,
+    Uc,
+    Vc,
+    Xs,
+    Rs,
+    Ls,
+    Us,
+    Vs,
+    Kc,
+    Ks,
+    par,
+    state,
+    elem,
+    xi_arr,
+    Pn,
+    Pp,
+    vrel,
+    Nout,
+    gout,
+    fcc,
+    fcs,
+    diag,
+    ws,
+    share,
 ):
     """Contact of the cable nodes with the casing at the end of a step, from the predicted
     (contact-free) state (Eqs. 14-39). Writes the generalized contact forces on the cable (fcc, N
@@ -256,9 +281,11 @@ def solve_contact_forces(
     switch law of Section 2.1, > 0 for Coulomb's law regularised over that speed,
     f_t = -mu N v_t / sqrt(|v_t|^2 + vreg^2) at the end of the step, every contact then solved with
     three unknowns and reported STICK while |v_t| < vreg, else SLIP); ws: the scratch arrays of
-    :func:`contact_workspace`. Returns the number of contacts examined (penetrating before the
-    solve); the DIAG_* slots of diag (``_step_loop_contract.py``) say the largest penetration, a
-    failed Newton, the damping and friction powers and the iterations and passes taken.
+    :func:`contact_workspace`; share (one per cable node, dimensionless): each node's share of the
+    law, its stiffness and damper (``engine.contact_shares``). Returns the number of contacts
+    examined (penetrating before the solve); the DIAG_* slots of diag (``_step_loop_contract.py``)
+    say the largest penetration, a failed Newton, the damping and friction powers and the
+    iterations and passes taken.
 
     At most 30 arguments on purpose: Python compiles a call with more than 30 positional
     arguments as a call with a built tuple (CALL_FUNCTION_EX), and numba then increments and
@@ -301,6 +328,7 @@ def solve_contact_forces(
         Uspan,
         held,
         piv,
+        sk,
     ) = ws
     nn = Xc.shape[0]
     nk = 0
@@ -354,6 +382,7 @@ def solve_contact_forces(
         w1 = Vc[o + 1] + om2 * ac0 - om0 * ac2 - (vs[1] + vs[5] * as0 - vs[3] * as2)
         w2 = Vc[o + 2] + om0 * ac1 - om1 * ac0 - (vs[2] + vs[3] * as1 - vs[4] * as0)
         idx[nk] = i
+        sk[nk] = share[i]
         gst[nk] = g
         gdst[nk] = n0 * w0 + n1 * w1 + n2 * w2
         wst[nk, 0], wst[nk, 1], wst[nk, 2] = w0, w1, w2
@@ -428,8 +457,8 @@ def solve_contact_forces(
         r = unknowns_from_forces(nk, nrm, ta, tb, mode, active, P, off, x)
         reduced_delassus(W, nk, nrm, ta, tb, sdir, mu, off, Q, J)  # (J: its scratch, before the Newton fills it)
         its = newton_for_fixed_modes(
-            Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, dx, y, Ne, Nd, xt,
-            mu, vreg, piv, BAND,
+            Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, sk, dt, J, R, dx, y, Ne, Nd,
+            xt, mu, vreg, piv, BAND,
         )  # fmt: skip
         forces_from_unknowns(nk, nrm, ta, tb, sdir, mu, off, x, P)
         relative_displacement(W, P, m, d)
@@ -456,7 +485,7 @@ def solve_contact_forces(
             if not touch[k] and law != 2 and gst[k] + dn <= 0.0:  # (Hunt-Crossley: no force at g = 0)
                 touch[k] = True
                 changed = True
-            elif touch[k] and N > c_n * max(gdst[k] + c2 * dn, 0.0) * (1 + 1e-12):
+            elif touch[k] and N > c_n * sk[k] * max(gdst[k] + c2 * dn, 0.0) * (1 + 1e-12):
                 touch[k] = False
                 changed = True
             pn = P[o] * nrm[k, 0] + P[o + 1] * nrm[k, 1] + P[o + 2] * nrm[k, 2]

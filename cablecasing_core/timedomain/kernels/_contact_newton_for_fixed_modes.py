@@ -214,7 +214,7 @@ def reduced_delassus(W, nk, nrm, ta, tb, sdir, mu, off, Q, S):
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def _residual(
-    Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, with_J,
+    Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, sk, dt, J, R, y, Ne, Nd, with_J,
     mu, vreg, tangent,
 ):  # fmt: skip
     """Residual R (and, with_J, its Jacobian J) of the contact conditions of :func:`newton_for_fixed_modes` at the
@@ -248,14 +248,16 @@ def _residual(
             # the caller checks g > 0 at the solution
             gd = gdst[k] + c2 * y[i]
             fe, ke = contact_law(g, law, k_lin, k_hertz)
+            s = sk[k]  # the contact's share of the law (1 unless contact.law_length > 0)
+            fe, ke = fe * s, ke * s
             if law == 2:
                 # Hunt-Crossley: fe (1 + c_n g_dot), c_n = 3/2 alpha, on compression and restitution
                 # alike; zero at first touch (fe = 0), so no switch (N <= 0 opens the contact)
                 fd = c_n * fe * gd
                 gam = ke * (1.0 + c_n * gd) + c_n * fe * c2
             else:
-                fd = c_n * gd if gd > 0.0 else 0.0
-                gam = ke + (c_n * c2 if gd > 0.0 else 0.0)
+                fd = c_n * s * gd if gd > 0.0 else 0.0
+                gam = ke + (c_n * s * c2 if gd > 0.0 else 0.0)
             Ne[k], Nd[k] = fe, fd
             R[i] = fe + fd - x[i]
             if with_J:
@@ -327,7 +329,7 @@ def _residual(
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def newton_for_fixed_modes(
-    Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, dx, y, Ne, Nd, xt,
+    Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, sk, dt, J, R, dx, y, Ne, Nd, xt,
     mu, vreg, piv, band,
 ):  # fmt: skip
     """Contact forces at the end of a Newmark step for fixed stick/slip modes and active set, as
@@ -337,8 +339,9 @@ def newton_for_fixed_modes(
     Delassus matrix W (m/N, from the effective stiffness of both bodies): delta = W P, and so the
     observed displacements to the unknowns through Q = O W C (:func:`reduced_delassus`). With the
     predicted penetration g* and rates (contact-free step), each active contact k satisfies
-      normal (Eqs. 15-17, 24/29): N = law(max(g, 0)) + c_n max(g_dot, 0), g = g* + n.delta,
-        g_dot = g_dot* + 2/dt n.delta;
+      normal (Eqs. 15-17, 24/29): N = s_k (law(max(g, 0)) + c_n max(g_dot, 0)), g = g* + n.delta,
+        g_dot = g_dot* + 2/dt n.delta, s_k = sk[k] the contact's share of the law (1 unless
+        ``contact.law_length`` > 0: ``engine.contact_shares``);
       touch (touch[k]):  g = 0 with N free: the step in which the implicit damper alone would push
         the bodies apart past the surface (Eq. 16's switch at g = 0, read as a set);
       stick (Eqs. 18-23): the tangential relative velocity at the end of the step is zero;
@@ -388,8 +391,8 @@ def newton_for_fixed_modes(
             # last iterate with the exact Jacobian, whose Newton step descends |R| wherever R is smooth
             tangent, exact, fresh, last = True, True, True, 0.0
         r0 = _residual(
-            Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd, True,
-            mu, vreg, tangent,
+            Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, sk, dt, J, R, y, Ne, Nd,
+            True, mu, vreg, tangent,
         )  # fmt: skip
         for it in range(cap):
             for i in range(r):
@@ -411,8 +414,8 @@ def newton_for_fixed_modes(
                 for i in range(r):
                     xt[i] = x[i] + alpha * dx[i]
                 r1 = _residual(
-                    Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, xt, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne,
-                    Nd, False, mu, vreg, tangent,
+                    Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, xt, law, k_lin, k_hertz, c_n, sk, dt, J, R, y,
+                    Ne, Nd, False, mu, vreg, tangent,
                 )  # fmt: skip
                 if r1 <= (1.0 - 1e-4 * alpha) * r0 or r1 <= 1e-13 * max(scale, 1.0):
                     break
@@ -442,8 +445,8 @@ def newton_for_fixed_modes(
                 exact = True  # new band factors were not enough: the whole Jacobian's from here on
             if fresh:
                 r0 = _residual(
-                    Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, dt, J, R, y, Ne, Nd,
-                    True, mu, vreg, tangent,
+                    Q, r, nk, off, touch, gst, gdst, wst, ta, tb, wkk, x, law, k_lin, k_hertz, c_n, sk, dt, J, R, y,
+                    Ne, Nd, True, mu, vreg, tangent,
                 )  # fmt: skip
             else:
                 r0 = r1  # R, y, Ne and Nd are the last trial's, at x: the same numbers a new call would give

@@ -25,13 +25,14 @@ def contact_law(g, law, k_lin, k_hertz):
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def contact_potential(g, law, k_lin, k_hertz):
+def contact_potential(g, law, k_lin, k_hertz, share):
     """Elastic energy (J) stored in contacts of penetrations g (m, one per cable node): the integral
-    of :func:`contact_law`, 2/5 k_hertz g^5/2 (Hertz, Hunt-Crossley) or k_lin g^2 / 2 (linear), zero for g <= 0."""
+    of :func:`contact_law`, 2/5 k_hertz g^5/2 (Hertz, Hunt-Crossley) or k_lin g^2 / 2 (linear), zero for g <= 0,
+    times each node's share of the law (``share``, dimensionless, one per node: ``engine.contact_shares``)."""
     e = 0.0
     for i in range(g.shape[0]):
         if g[i] > 0.0:
-            e += 0.4 * k_hertz * g[i] * g[i] * np.sqrt(g[i]) if law != 1 else 0.5 * k_lin * g[i] * g[i]
+            e += share[i] * (0.4 * k_hertz * g[i] * g[i] * np.sqrt(g[i]) if law != 1 else 0.5 * k_lin * g[i] * g[i])
     return e
 
 

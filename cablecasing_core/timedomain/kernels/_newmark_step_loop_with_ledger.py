@@ -288,7 +288,7 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     contact_on, r_cable = law.on, law.r_cable
     Xc, Tc, Xs, Rs, Ls, ws = contact.Xc, contact.Tc, contact.Xs, contact.Rs, contact.Ls, contact.ws
     state, elem, xi_arr, Pn, Pp, vrel = contact.state, contact.elem, contact.xi, contact.Pn, contact.Pp, contact.vrel
-    Nn, gn, contact_time = contact.N, contact.g, contact.time
+    Nn, gn, contact_time, share = contact.N, contact.g, contact.time, contact.share
     rec_on, rec_F, rec_ptr, rec_node, rec_state, rec_N, rec_g, rec_off = rec
     for x, y in ((sUo, sU), (sVo, sV), (sAo, sA), (cUo, cU), (cVo, cV), (cAo, cA)):
         copy_into(x, y)
@@ -379,7 +379,7 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
                 diag[DIAG_NEWTON_FAILED] = 0.0
                 nact = solve_contact_forces(
                     Xc, Tc, cU, cV, Xs, Rs, Ls, sU, sV, cKc, sKc, cp, state, elem, xi_arr, Pn, Pp, vrel, Nn, gn,
-                    fcc_new, fcs_new, diag, ws,
+                    fcc_new, fcs_new, diag, ws, share,
                 )  # fmt: skip
                 event = False
                 if switch_events and (lev == 0 or j == nrep - 1):

@@ -16,13 +16,16 @@ from ._hermite_interpolation import hermite_matrix
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
-def static_contact(Xc, Tc, Uc, Xs, Rs, Ls, Us, elem, gap, law, k_lin, k_hertz, g, h, N, kn, nrm, xi, H, fcc, fcs):
+def static_contact(
+    Xc, Tc, Uc, Xs, Rs, Ls, Us, elem, gap, law, k_lin, k_hertz, share, g, h, N, kn, nrm, xi, H, fcc, fcs
+):
     """Contact of each cable node with the casing at the displacements Uc, Us (m, rad; all DOFs of
     cable and casing) for the frictionless static state.
 
     Xc, Tc: cable nodes and unit tangents at rest; Xs, Rs, Ls: casing nodes, element frames and
     lengths; elem: each node's casing element of the last search (updated); gap (m): the radial
-    gap e; law, k_lin (N/m), k_hertz (N/m^1.5): the contact law (0 Hertz, 1 linear). Writes per
+    gap e; law, k_lin (N/m), k_hertz (N/m^1.5): the contact law (0 Hertz, 1 linear), times each
+    node's share of it (``share``, dimensionless, one per node: ``engine.contact_shares``). Writes per
     node g (m, penetration, 0 where none), h (m, distance of the cable node from the casing axis
     where in contact), N (N, normal force) and kn (N/m, its slope dN/dg), nrm (unit normal from
     the casing axis towards the cable node), xi and H (the 6 x 12 interpolation matrix of the
@@ -44,6 +47,7 @@ def static_contact(Xc, Tc, Uc, Xs, Rs, Ls, Us, elem, gap, law, k_lin, k_hertz, g
             continue
         n0, n1, n2 = r0 / d, r1 / d, r2 / d
         fe, ke = contact_law(d - gap, law, k_lin, k_hertz)
+        fe, ke = fe * share[i], ke * share[i]
         g[i], h[i], N[i], kn[i], xi[i] = d - gap, d, fe, ke, x
         nrm[i, 0], nrm[i, 1], nrm[i, 2] = n0, n1, n2
         Hi = H[i]

@@ -105,8 +105,10 @@ ContactLaw = namedtuple("ContactLaw", "on gap r_in r_cable law k_lin k_hertz c_n
 #: channels' displacement, velocity and acceleration now (m, m/s, m/s2), where the sub-steps' motion
 #: of a recomputed step starts; subG (18 x 6): the quintic Hermite's coefficient matrix of the step
 #: dt (``support_motion._coefficient_matrix``) that carries it to the step's end; again (1,): 1 when
-#: the last step ended in its sub-steps with an event still on, so that the next starts in them.
-ContactArrays = namedtuple("ContactArrays", "Xc Tc Xs Rs Ls state elem xi Pn Pp vrel N g time ws chan subG again")
+#: the last step ended in its sub-steps with an event still on, so that the next starts in them;
+#: share (one per cable node, dimensionless): the node's share of the contact law, its stiffness and
+#: damper (``engine.contact_shares``: 1 everywhere unless ``contact.law_length`` > 0).
+ContactArrays = namedtuple("ContactArrays", "Xc Tc Xs Rs Ls state elem xi Pn Pp vrel N g time ws chan subG again share")
 
 #: The step loop's scratch, made once per engine and time step (``step_scratch``) instead of at every
 #: call of :func:`run_steps`, whose allocations and their reference counts cost ~5 us a call (a fifth
