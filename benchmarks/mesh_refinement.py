@@ -43,7 +43,10 @@ Options: ``--specimen``, ``--elements``, ``--modal-elements``, ``--seeds``, ``--
 ``--workers`` (processes, default 2); ``--mesh-seeds N=K`` runs mesh N on seeds 1..K only (a costly
 finest mesh: its differences are then taken on those seeds); ``--dt-check N DT K`` also runs mesh N
 at the time step DT on seeds 1..K and prints its paired difference from mesh N at the specimen's own
-step (is that step still converged on a fine mesh?); ``--no-modal``, ``--no-bands``.
+step (is that step still converged on a fine mesh?); ``--law-length M|paper`` runs the band part's
+members with ``contact.law_length`` = M m (``paper``: the cable's length / 35, the law per unit
+length with the paper's wall at 35 elements; docs/time_domain.md "A contact law per unit length",
+whose cache is ``benchmarks/mesh_refinement_per_length.json``); ``--no-modal``, ``--no-bands``.
 
 Cache: every member is written to ``--json`` (default benchmarks/mesh_refinement.json, atomically,
 every 20 s and at the end) with its conditions: the date, the duration, Δt, the skip, a hash of the
@@ -98,10 +101,24 @@ def source_hash():
     return h.hexdigest()[:16]
 
 
-def mesh_model(spec, n):
+def mesh_model(spec, n, law_length=0.0):
+    """The specimen ``spec`` at ``n`` elements, its contact law per node (``law_length`` 0 m, the
+    paper's) or per unit length (``contact.law_length``, m)."""
     import cablecasing_core as cc
 
-    return cc.load_model(spec).with_overrides({"geometry.n_elements": int(n)})
+    over = {"geometry.n_elements": int(n)}
+    if law_length:
+        over["contact.law_length"] = float(law_length)
+    return cc.load_model(spec).with_overrides(over)
+
+
+def paper_law_length(spec):
+    """The cable's length over the paper's 35 elements (m): the law per unit length that gives the
+    specimen's nodes at 35 elements the wall of the law per node (``--law-length paper``)."""
+    import cablecasing_core as cc
+    from cablecasing_core.timedomain.engine import Engine
+
+    return float(Engine(cc.load_model(spec)).bodies["cable"].system.centerline.lengths.sum() / 35)
 
 
 # ---------------------------------------------------------------- the members (in worker processes)
@@ -130,15 +147,15 @@ def linear_member(job):
 
 
 def member(job):
-    """One ensemble member: (spec, n, seed, duration, skip, dt) -> its record of levels and energies
-    (dt None: the scenario's)."""
+    """One ensemble member: (spec, n, seed, duration, skip, dt, law_length) -> its record of levels and
+    energies (dt None: the scenario's; law_length m, 0: the law per node)."""
     import cablecasing_core as cc
     from cablecasing_core.records import after_skip
     from cablecasing_core.studies import octave_rms
     from cablecasing_core.studies.ensemble_runs import seed_overrides
 
-    spec, n, seed, duration, skip, dt = job
-    base = mesh_model(spec, n)
+    spec, n, seed, duration, skip, dt, law_length = job
+    base = mesh_model(spec, n, law_length)
     model = base.with_overrides(seed_overrides(base, seed))
     t0 = time.perf_counter()
     res = cc.simulate(model, duration=duration, dt=dt)
@@ -152,6 +169,7 @@ def member(job):
         "n_elements": int(n),
         "seed": int(seed),
         "dt_s": float(model.scenario["dt"] if dt is None else dt),
+        "law_length_m": float(law_length),
         "levels_N": [float(x) for x in levels],
         "contact_dissipation_J": float(e["contact_dissipation"]),
         "contact_normal_dissipation_J": float(e["contact_normal_dissipation"]),
@@ -374,6 +392,14 @@ def main():
         help="also the band levels with the contact off, seed 1, on every mesh of --modal-elements "
         "(the linear response, not chaotic: the mesh's error without the contact)",
     )
+    p.add_argument(
+        "--law-length",
+        default="0",
+        metavar="M|paper",
+        help="contact.law_length of the band part's members (m; 0, the default: the law per node, as the "
+        "specimens; paper: the cable's length / 35, the law per unit length with the paper's wall at 35 "
+        "elements). Give each its own --json",
+    )
     p.add_argument("--workers", type=int, default=2)
     p.add_argument("--json", default=str(HERE / "mesh_refinement.json"))
     p.add_argument("--fresh", action="store_true", help="reuse no cached member")
@@ -413,6 +439,12 @@ def main():
 
     code = source_hash()
     dt0 = {sp: float(cc.load_model(sp).scenario["dt"]) for sp in specs}
+    try:
+        law_length = {
+            sp: paper_law_length(sp) if args.law_length == "paper" else float(args.law_length) for sp in specs
+        }
+    except ValueError:
+        p.error(f"--law-length {args.law_length!r}: a length in m or 'paper'")
     variants = {sp: {(n, dt0[sp]): min(seeds[sp], cap.get(n, seeds[sp])) for n in meshes} for sp in specs}
     if args.dt_check:
         n, dt, k = args.dt_check
@@ -420,7 +452,7 @@ def main():
             p.error(f"--dt-check {n}: must be one of --elements")
         for sp in specs:
             variants[sp][(int(n), float(dt))] = int(k)
-    fingerprints = {f"{sp}/{n}": mesh_model(sp, n).fingerprint() for sp in specs for n in meshes}
+    fingerprints = {f"{sp}/{n}": mesh_model(sp, n, law_length[sp]).fingerprint() for sp in specs for n in meshes}
     cache = json.loads(path.read_text()) if path.exists() else {}
     cached = cache.get("members", [])
 
@@ -518,7 +550,7 @@ def main():
 
     have = {(m["specimen"], m["n_elements"], m["dt_s"], m["seed"]) for m in members}
     jobs = [
-        (sp, n, s, args.duration, skips[sp], None if dt == dt0[sp] else dt)
+        (sp, n, s, args.duration, skips[sp], None if dt == dt0[sp] else dt, law_length[sp])
         for s in range(1, max(seeds.values()) + 1)
         for sp in sorted(specs, key=lambda x: x != "installed")  # the costlier specimen first
         for (n, dt), k in sorted(variants[sp].items(), key=lambda v: (-v[0][0], v[0][1]))  # costlier first
@@ -572,6 +604,7 @@ def main():
             "duration_s": args.duration,
             "dt_s": dt0[sp],
             "skip_s": skips[sp],
+            "law_length_m": law_length[sp],
             "seeds": {f"{n}@{dt:g}": f"1..{k}" for (n, dt), k in variants[sp].items()},
             "workers": args.workers,
             "member_source_hashes": sorted({m["conditions"]["source_hash"] for m in members if m["specimen"] == sp}),
