@@ -1,0 +1,40 @@
+"""``benchmarks/contact_points.py`` (docs/time_domain.md, "The cable between its nodes"): its
+strided contact keeps the wall per metre (the shares sum to the same total), and it runs against
+the present API."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cablecasing_core as cc
+
+BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
+
+
+@pytest.mark.parametrize("stride", [5, 7])  # (strides that divide the 35 elements)
+def test_a_strided_contact_keeps_the_total_share_of_the_law(stride, monkeypatch):
+    monkeypatch.syspath_prepend(str(BENCH))
+    import contact_points
+
+    import cablecasing_core.timedomain.engine as E
+
+    monkeypatch.setattr(E, "_contact_shares_of_the_model", E.contact_shares, raising=False)
+    monkeypatch.setattr(contact_points, "STRIDE", stride)
+    model = cc.load_model("installed").with_overrides({"contact.law_length": 0.0243})
+    lengths = np.full(35, 0.85 / 35)
+    whole = E.contact_shares(model, lengths)
+    strided = contact_points._strided_shares(model, lengths)
+    assert strided.sum() == pytest.approx(whole.sum(), rel=1e-12)  # (the same wall per metre)
+    assert np.count_nonzero(strided) == 35 // stride + 1 and strided[0] > 0 and strided[-1] > 0
+
+
+def test_the_contact_points_print_their_figures():
+    cmd = [sys.executable, str(BENCH / "contact_points.py"), "--specimen", "installed", "--seeds", "2"]
+    cmd += ["--variants", "35/1", "35/5", "--workers", "2"]
+    out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+    values = dict(line.split(": ", 1) for line in out.splitlines() if ": " in line)
+    assert len(values["levels_N_35/5"].split()) == 9  # (the nine bands of Table 3)
+    assert "rel_diff_35/5_vs_35/1 (same mesh)" in values
