@@ -106,3 +106,23 @@ def kick():
         eng.set_state(s)
 
     return give
+
+
+@pytest.fixture(scope="session")
+def energy_samples():
+    """``energy_samples(eng, samples, every)``: advance the engine at rest supports ``samples`` times
+    by ``every`` s; returns (kinetic + strain + contact energy, contact energy), each per sample
+    over their value at the start (arrays), for the energy-conservation tests."""
+    from cablecasing_core.timedomain.scenario import zero_motion
+
+    def run(eng, samples, every):
+        E0 = sum(eng.energies()[k] for k in ("kinetic", "strain", "contact_potential"))
+        E, pot = np.empty(samples), np.empty(samples)
+        for i in range(samples):
+            eng.advance(every, zero_motion)
+            e = eng.energies()
+            E[i] = (e["kinetic"] + e["strain"] + e["contact_potential"]) / E0
+            pot[i] = e["contact_potential"] / E0
+        return E, pot
+
+    return run

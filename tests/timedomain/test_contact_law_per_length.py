@@ -13,7 +13,6 @@ import pytest
 
 import cablecasing_core as cc
 from cablecasing_core.timedomain.engine import Engine, contact_shares, hertz_constant
-from cablecasing_core.timedomain.scenario import zero_motion
 from cablecasing_core.timedomain.static_state import static_state
 
 R, T = 0.1, 10.0  # m, N: the bend's radius and the cable's tension
@@ -77,7 +76,7 @@ def test_a_cable_pulled_round_a_bend_presses_the_same_wall_at_every_mesh_with_th
     assert g[L_c, 35] == pytest.approx(g[0.0, 35], rel=1e-3)
 
 
-def test_energy_is_conserved_with_the_law_per_length(pair_model, kick):
+def test_energy_is_conserved_with_the_law_per_length(pair_model, kick, energy_samples):
     """The engine's contact energy is each node's share of the law's integral: kinetic + strain +
     contact energy stays what a kick gave (no damping, no friction) through the impacts of a cable on
     a 60 degree arc, each node carrying twice the law (law_length = half an element). Over 0.2 s at
@@ -93,14 +92,7 @@ def test_energy_is_conserved_with_the_law_per_length(pair_model, kick):
     eng = Engine(m, dt=dt, contact=True, ledger=True)
     assert eng.share[1:-1] == pytest.approx(2.0, rel=1e-5)  # (the arc's elements differ by 1e-6)
     kick(eng, 0.3)
-    E0 = sum(eng.energies()[k] for k in ("kinetic", "strain", "contact_potential"))
-    E, pot = [], []
-    for _ in range(8_000):
-        eng.advance(dt * 10, zero_motion)
-        e = eng.energies()
-        E.append((e["kinetic"] + e["strain"] + e["contact_potential"]) / E0)
-        pot.append(e["contact_potential"] / E0)
-    E, pot = np.array(E), np.array(pot)
+    E, pot = energy_samples(eng, 8_000, dt * 10)
     on = pot > 0
     assert on.sum() > 40, "the kick must bring the cable into contact"
     assert np.max(np.abs(E - 1)) < 3e-3

@@ -69,7 +69,7 @@ def test_newmark_period_elongation(straight):
     assert abs(ratio / expected - 1) < 1e-4  # zero-crossing interpolation error over ~100 periods
 
 
-def test_energy_conserved_without_dissipation(pair_model, kick):
+def test_energy_conserved_without_dissipation(pair_model, kick, energy_samples):
     """Kinetic + strain + contact energy stays what the kick gave, sampled every 10 steps over 0.5 s
     (65 impacts), the samples in contact included: there the contact holds up to 10 % of the energy,
     so a contact energy that is not the integral of the contact force would show."""
@@ -77,14 +77,7 @@ def test_energy_conserved_without_dissipation(pair_model, kick):
     dt = 2.5e-6
     eng = Engine(m, dt=dt, contact=True, ledger=True)
     kick(eng, 0.3)
-    E0 = sum(eng.energies()[k] for k in ("kinetic", "strain", "contact_potential"))
-    E, pot = [], []
-    for _ in range(20_000):
-        eng.advance(dt * 10, zero_motion)
-        e = eng.energies()
-        E.append((e["kinetic"] + e["strain"] + e["contact_potential"]) / E0)
-        pot.append(e["contact_potential"] / E0)
-    E, pot = np.array(E), np.array(pot)
+    E, pot = energy_samples(eng, 20_000, dt * 10)
     on = pot > 0
     assert on.sum() > 100, "the kick must bring the cable into contact"  # (217 samples)
     # Newmark conserves a linear system's energy exactly; the penalty contact adds an O(dt^2) error per

@@ -43,32 +43,9 @@ def belt_run(v_stick, T, dt=1e-5, vreg=0.0, powers=None):
         Us[0] = Us[6] = V_BELT * t
         Vs[0] = Vs[6] = V_BELT
         K.solve_contact_forces(
-            Xc,
-            Tc,
-            Uc,
-            Vc,
-            Xs,
-            Rs,
-            Ls,
-            Us,
-            Vs,
-            Kc,
-            Ks,
-            law,
-            state,
-            elem,
-            xi,
-            Pn,
-            Pp,
-            vrel,
-            Nn,
-            gn,
-            fcc,
-            fcs,
-            diag,
-            ws,
+            Xc, Tc, Uc, Vc, Xs, Rs, Ls, Us, Vs, Kc, Ks, law, state, elem, xi, Pn, Pp, vrel, Nn, gn, fcc, fcs, diag, ws,
             np.ones(1),
-        )
+        )  # fmt: skip
         un = ustar + fcc[0] / Keff
         an = 4 / dt**2 * (un - u) - 4 / dt * v - a
         v = v + dt / 2 * (a + an)
