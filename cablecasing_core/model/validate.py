@@ -646,7 +646,8 @@ def _route_length(geometry) -> float:
 def step_checks(out: dict, dt: float, key: str) -> list[str]:
     """The checks of a checked model against the time step ``dt`` (s; ``key`` names it): an impulse
     of fewer than two steps is refused; one of fewer than ten steps, and a linear contact stiffness
-    whose period the step does not resolve, warn. Returns the warnings' texts."""
+    whose period the step does not resolve (on a node carrying its share of the law per unit length,
+    ``contact.law_length``), warn. Returns the warnings' texts."""
     said = []
     for name, e in out["scenario"]["excitation"].items():
         if e["kind"] == "impulse":
@@ -668,10 +669,13 @@ def step_checks(out: dict, dt: float, key: str) -> list[str]:
         n = out["geometry"]["n_elements"]
         length = _route_length(out["geometry"])
         node_mass = c["rho"] * math.pi * c["d"] ** 2 / 4 * length / n
-        w = math.sqrt(out["contact"]["stiffness"] / node_mass)
+        L_c = out["contact"]["law_length"]
+        share = length / n / L_c if L_c > 0 else 1.0  # (an interior node's, engine.contact_shares)
+        w = math.sqrt(share * out["contact"]["stiffness"] / node_mass)
         if w * dt > 0.5:
+            per = f" ({share:.3g} times on each node: contact.law_length = {L_c:g} m)" if L_c > 0 else ""
             said.append(
-                f"contact.stiffness = {out['contact']['stiffness']:g} N/m on a cable node of {node_mass:.3g} kg "
+                f"contact.stiffness = {out['contact']['stiffness']:g} N/m{per} on a cable node of {node_mass:.3g} kg "
                 f"oscillates with a period of {2 * math.pi / w:.3g} s, which the step {key} = {dt:g} s does not "
                 "resolve (12 or more steps per period): the contact forces and their energy are meaningless"
             )

@@ -256,6 +256,13 @@ WARNINGS = [
         "contact.stiffness = 1e+20 N/m on a cable node of 0.00135 kg oscillates with a period of 2.31e-11 s, "
         "which the step scenario.dt = 1e-05 s does not resolve",
     ),
+    (
+        "a linear contact law per 0.1 mm of cable",
+        _sub('law = "hertz"', 'law = "linear"\nlaw_length = 1e-4'),
+        # (1e6 N/m whole on a node is resolved: period 2.3e-4 s; 243 times it is not)
+        "contact.stiffness = 1e+06 N/m (243 times on each node: contact.law_length = 0.0001 m) on a cable node of "
+        "0.00135 kg oscillates with a period of 1.48e-05 s",
+    ),
     ("an 85 um route", _scaled(1e-4), "the route is 8.5e-05 m long, less than ten times the diameter 0.0095 m"),
     (
         "a route that doubles back",
