@@ -30,15 +30,16 @@ from multiprocessing import get_context
 import numpy as np
 from mesh_refinement import DEFAULT_SKIP, member, paper_law_length
 
-STRIDE = 1  # (set in each worker by _use_stride)
+from cablecasing_core.timedomain import engine
+from cablecasing_core.timedomain.engine import contact_shares
+
+STRIDE = 1  # (set in each worker by run)
 
 
 def _strided_shares(model, element_lengths):
     """engine.contact_shares with the contact kept at every STRIDE-th cable node only (STRIDE
     times its share there, zero elsewhere)."""
-    import cablecasing_core.timedomain.engine as E
-
-    s = E._contact_shares_of_the_model(model, element_lengths)
+    s = contact_shares(model, element_lengths)
     keep = np.zeros_like(s)
     keep[::STRIDE] = STRIDE
     return s * keep
@@ -47,12 +48,8 @@ def _strided_shares(model, element_lengths):
 def run(job):
     """(spec, n, stride, seed, skip, law_length) -> (n, stride, seed, levels)."""
     global STRIDE
-    import cablecasing_core.timedomain.engine as E
-
     spec, n, stride, seed, skip, law_length = job
-    if not hasattr(E, "_contact_shares_of_the_model"):
-        E._contact_shares_of_the_model = E.contact_shares
-        E.contact_shares = _strided_shares
+    engine.contact_shares = _strided_shares  # (the engine and the static state call it through the module)
     if n % stride:
         raise SystemExit(f"--variants {n}/{stride}: the stride must divide the mesh (both ends keep the contact)")
     STRIDE = stride

@@ -116,9 +116,9 @@ def paper_law_length(spec):
     """The cable's length over the paper's 35 elements (m): the law per unit length that gives the
     specimen's nodes at 35 elements the wall of the law per node (``--law-length paper``)."""
     import cablecasing_core as cc
-    from cablecasing_core.timedomain.engine import Engine
+    from cablecasing_core.structure.geometry import centerline_of
 
-    return float(Engine(cc.load_model(spec)).bodies["cable"].system.centerline.lengths.sum() / 35)
+    return float(centerline_of(cc.load_model(spec)).lengths.sum() / 35)
 
 
 # ---------------------------------------------------------------- the members (in worker processes)

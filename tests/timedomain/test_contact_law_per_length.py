@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import cablecasing_core as cc
+from cablecasing_core.structure.geometry import centerline_of
 from cablecasing_core.timedomain.engine import Engine, contact_shares, hertz_constant
 from cablecasing_core.timedomain.static_state import static_state
 
@@ -40,7 +41,7 @@ def test_each_node_carries_its_tributary_length_over_the_laws_length():
     """contact_shares: 1 at every node with law_length = 0 (the paper's law per node); else half of
     each adjoining element over law_length, so the shares sum to the cable's length over it."""
     m = bend_model(20, 0.0)
-    lengths = Engine(m).bodies["cable"].system.centerline.lengths
+    lengths = centerline_of(m).lengths
     assert np.array_equal(contact_shares(m, lengths), np.ones(21))
     L_c = 0.03
     s = contact_shares(bend_model(20, L_c), lengths)
@@ -86,7 +87,7 @@ def test_energy_is_conserved_with_the_law_per_length(pair_model, kick, energy_sa
     energy without the share (half the stored energy, which peaks at 10 % of the kick's) is off by
     5.1e-2 in both."""
     m = pair_model(n=12)
-    lengths = Engine(m).bodies["cable"].system.centerline.lengths
+    lengths = centerline_of(m).lengths
     m = m.with_overrides({"contact.law_length": float(lengths.mean() / 2)})
     dt = 2.5e-6
     eng = Engine(m, dt=dt, contact=True, ledger=True)

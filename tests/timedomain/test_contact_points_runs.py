@@ -19,13 +19,12 @@ def test_a_strided_contact_keeps_the_total_share_of_the_law(stride, monkeypatch)
     monkeypatch.syspath_prepend(str(BENCH))
     import contact_points
 
-    import cablecasing_core.timedomain.engine as E
+    from cablecasing_core.timedomain.engine import contact_shares
 
-    monkeypatch.setattr(E, "_contact_shares_of_the_model", E.contact_shares, raising=False)
     monkeypatch.setattr(contact_points, "STRIDE", stride)
     model = cc.load_model("installed").with_overrides({"contact.law_length": 0.0243})
     lengths = np.full(35, 0.85 / 35)
-    whole = E.contact_shares(model, lengths)
+    whole = contact_shares(model, lengths)
     strided = contact_points._strided_shares(model, lengths)
     assert strided.sum() == pytest.approx(whole.sum(), rel=1e-12)  # (the same wall per metre)
     assert np.count_nonzero(strided) == 35 // stride + 1 and strided[0] > 0 and strided[-1] > 0
