@@ -14,7 +14,7 @@ def cmd_report(args):
     # (the settings before the folder: a refused report creates nothing)
     names = {"model": "MODEL", "duration": "--duration", "scenario.duration": "--duration", "seeds": "--seeds"}
     with renamed({**names, "study_samples": "--study-samples"}):
-        model, _, _ = check_report_settings(model_argument(args.model), args.duration, args.seeds, args.study_samples)
+        model = check_report_settings(model_argument(args.model), args.duration, args.seeds, args.study_samples)[0]
         check_time_domain(model, args.duration, model.scenario["dt"])  # (a run too large for the machine)
     output_folder("--out", args.out, "report.html")  # (before the runs)
     args.interrupted = (

@@ -33,13 +33,16 @@ def _say(text, progress):
         print(f"report: {text}", file=sys.stderr, flush=True)
 
 
-def check_report_settings(model=None, duration=0.5, seeds=6, study_samples=32, skip=0.05):
+def check_report_settings(model=None, duration=0.5, seeds=6, study_samples=32, skip=None):
     """The settings of :func:`write_report` checked before anything is run or written: returns
-    ``(model, seeds, study_samples)``, the model loaded (a Model, a TOML path, or None for the
-    built-in specimen); a :class:`ModelError` naming the setting otherwise."""
+    ``(model, seeds, study_samples, skip)``: the model loaded (a Model, a TOML path, or None for the
+    built-in specimen), skip (s) resolved (None: the model's
+    :func:`~cablecasing_core.timedomain.scenario.whole_period_skip`); a :class:`ModelError` naming
+    the setting otherwise."""
     from ..model import Model, load_model
     from ..model.limits import MAX_STUDY_SAMPLES
     from ..model.validators import integer, seconds
+    from ..timedomain.scenario import whole_period_skip
 
     model = model if isinstance(model, Model) else load_model(model)
     if "casing" not in model.bodies:  # (its output, band levels, scalograms and spectra are the casing's)
@@ -50,7 +53,9 @@ def check_report_settings(model=None, duration=0.5, seeds=6, study_samples=32, s
             + " and the ".join(model.bodies),
         )
     seconds("duration", duration)
-    seconds("skip", skip, zero_ok=True)
+    seconds("skip", skip, zero_ok=True, none_ok=True)
+    if skip is None:
+        skip = whole_period_skip(model, duration)
     n_seeds = integer("seeds", seeds, 2)
     study_samples = integer("study_samples", study_samples, 0, MAX_STUDY_SAMPLES)
     if study_samples == 1:
@@ -60,7 +65,7 @@ def check_report_settings(model=None, duration=0.5, seeds=6, study_samples=32, s
         raise ModelError(
             "duration", duration, f"must be at least {need:.4g} s: skip = {skip:g} s and one bin of the 11-22 Hz band"
         )
-    return model, n_seeds, study_samples
+    return model, n_seeds, study_samples, skip
 
 
 def write_report(
@@ -69,7 +74,7 @@ def write_report(
     duration: float = 0.5,
     seeds: int = 6,
     study_samples: int = 32,
-    skip: float = 0.05,
+    skip: float | None = None,
     progress: bool = True,
     fmu: dict | None = None,
 ) -> Path:
@@ -79,15 +84,17 @@ def write_report(
     duration (s): simulated time of every run; seeds: excitation seeds 1..seeds of the band-level
     ensembles (>= 2; the first seed gives the reference records); study_samples: runs of the small
     Monte-Carlo study of Fig. 23 (0: none); skip (s): start of each record left out of levels and
-    spectra; progress: bars and notes on stderr; fmu: the FMU check of ``examples/demo.py`` (a dict
-    of labels to values, :func:`.runs.fmu_check`'s, shown as it is).
+    spectra (default 0.05 s lengthened to whole periods of the harmonic excitations,
+    :func:`~cablecasing_core.timedomain.scenario.whole_period_skip`); progress: bars and notes on
+    stderr; fmu: the FMU check of ``examples/demo.py`` (a dict of labels to values,
+    :func:`.runs.fmu_check`'s, shown as it is).
     """
     import cablecasing_core as cc
 
     from ..frequency.modal import frequencies_up_to, mode_count
     from . import figures, page
 
-    model, n_seeds, study_samples = check_report_settings(model, duration, seeds, study_samples, skip)
+    model, n_seeds, study_samples, skip = check_report_settings(model, duration, seeds, study_samples, skip)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     seed_list = list(range(1, n_seeds + 1))

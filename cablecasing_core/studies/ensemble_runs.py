@@ -57,7 +57,7 @@ def seed_ensemble(
     bands: str | Bands = "table3",
     duration: float | None = None,
     dt: float | None = None,
-    skip: float = 0.05,
+    skip: float | None = None,
     overrides: Mapping[str, object] | None = None,
     excitations: Sequence[str] | None = None,
     scheduler="serial",
@@ -79,8 +79,11 @@ def seed_ensemble(
         Band set (``"table3"``, ``"octave"``, ``"third"``; Hz).
     duration, dt : float, optional
         s; default the scenario's.
-    skip : float
-        s; start of each record left out of the band levels (fade-in and first transient).
+    skip : float, optional
+        s; start of each record left out of the band levels (fade-in and first transient); default
+        0.05 s lengthened so that the rest holds whole periods of the harmonic excitations
+        (:func:`~cablecasing_core.timedomain.scenario.whole_period_skip` of the model with
+        ``overrides``; the ensemble's ``settings["skip"]`` holds the value taken).
     overrides : dict, optional
         ``{dotted.key: value}`` applied to every member (e.g. ``{"contact.friction": 0.2}``).
     excitations : sequence of str, optional
@@ -101,6 +104,7 @@ def seed_ensemble(
         For bad input (before any run), and when a member fails (naming its seed and the error).
     """
     from ..model import Model, load_model
+    from ..timedomain.scenario import whole_period_skip
 
     if model is None or isinstance(model, (str, os.PathLike)):
         model = load_model(model)
@@ -109,7 +113,7 @@ def seed_ensemble(
     seeds = _check_seeds(seeds)
     seconds("duration", duration, none_ok=True)
     seconds("dt", dt, none_ok=True)
-    seconds("skip", skip, zero_ok=True)
+    seconds("skip", skip, zero_ok=True, none_ok=True)
     Choice(*SUPPORT_OUTPUTS, *clip_outputs(model))("output", output)  # (a clip's force too)
     band_set = bands if isinstance(bands, Bands) else octave_bands(bands)
     names = _check_excitations(model, excitations)
@@ -118,6 +122,8 @@ def seed_ensemble(
     if clash:
         raise ModelError("overrides", clash, "must not set the seeds that the ensemble varies")
     base = model.with_overrides(overrides)  # validates the overrides before any run
+    if skip is None:
+        skip = whole_period_skip(base, duration, dt)
     check_record_settings(base, duration, dt, skip, band_set)
     step = base.scenario["dt"] if dt is None else dt
     kwargs = {

@@ -25,7 +25,7 @@ DEFAULT_EVALUATE = "cablecasing_core.studies.evaluators:default_evaluate"
 def default_evaluate(
     overrides,
     duration=None,
-    skip=0.05,
+    skip=None,
     dt=None,
     model_file=None,
     *,
@@ -40,7 +40,9 @@ def default_evaluate(
     B in z, ``{"oct1": N, ..., "oct9": N}``.
 
     duration (s): simulated time (default ``scenario.duration``); skip (s): start of the record left
-    out of the RMS (the support fade-in and the first transient); dt (s): time step (default
+    out of the RMS (the support fade-in and the first transient; default None: 0.05 s lengthened so
+    that the rest holds whole periods of the harmonic excitations of the sample's model,
+    :func:`~cablecasing_core.timedomain.scenario.whole_period_skip`); dt (s): time step (default
     ``scenario.dt``); model_file: a model TOML (default the built-in specimen); model: a
     :class:`~cablecasing_core.model.Model` to use instead of ``model_file``; output: the support
     output whose band levels are returned (N or N.m: a support or isolator output of ``SUPPORT_OUTPUTS``
@@ -50,9 +52,12 @@ def default_evaluate(
     """
     from ..model import load_model
     from ..records import after_skip
+    from ..timedomain.scenario import whole_period_skip
     from ..timedomain.simulation import simulate
 
     model = (load_model(model_file) if model is None else model).with_overrides(overrides)
+    if skip is None:
+        skip = whole_period_skip(model, duration, dt)
     res = simulate(model, duration=duration, dt=dt)
     keep = after_skip(res.time, skip)
     if keep.sum() < 2:
@@ -64,19 +69,23 @@ def default_evaluate(
     return out
 
 
-def check_record_settings(model, duration=None, dt=None, skip=0.05, bands="table3"):
+def check_record_settings(model, duration=None, dt=None, skip=None, bands="table3"):
     """Refuse before any run the record settings of :func:`default_evaluate` that make every run
     fail: ``duration - skip`` (s) shorter than one bin of the narrowest band (1 / its width), a
     time step ``dt`` (s) whose Nyquist frequency lies below the highest band edge, a duration that
     does not fit the machine (:func:`~cablecasing_core.model.limits.check_time_domain`).
-    ``duration``, ``dt``: None takes the model's scenario; ``bands``: a band set or its name."""
+    ``duration``, ``dt``: None takes the model's scenario; ``skip`` None, the model's
+    :func:`~cablecasing_core.timedomain.scenario.whole_period_skip`; ``bands``: a band set or its name."""
     from ..model.limits import check_time_domain
     from ..model.validators import seconds
+    from ..timedomain.scenario import whole_period_skip
     from .octave import Bands
 
     seconds("duration", duration, none_ok=True)
     seconds("dt", dt, none_ok=True)
-    seconds("skip", skip, zero_ok=True)
+    seconds("skip", skip, zero_ok=True, none_ok=True)
+    if skip is None:
+        skip = whole_period_skip(model, duration, dt)
     band_set = bands if isinstance(bands, Bands) else octave_bands(bands)
     length = (model.scenario["duration"] if duration is None else duration) - skip
     narrow = int(np.argmin(band_set.upper - band_set.lower))

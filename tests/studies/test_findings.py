@@ -71,7 +71,8 @@ SETTINGS = {
 @functools.cache
 def run(setting, seed):
     """RMS of casing.B.Fz after the 0.01 s fade-in (0.02 s on), its nine Table 3 band levels after
-    0.05 s (as ``studies.evaluators.default_evaluate``), the contact time per cable node, curvature."""
+    0.05 s (the skip of docs/studies.md's findings table, computed before ``default_evaluate``'s
+    whole periods of the drive, ``whole_period_skip``), the contact time per cable node, curvature."""
     r = cc.simulate(cc.load_model().with_overrides({**SETTINGS[setting], SEED_KEY: seed}), duration=T)
     F = r.support_force("casing.B.Fz")
     total = float(np.sqrt(np.mean(F[r.time > 0.02] ** 2)))

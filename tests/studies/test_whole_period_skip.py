@@ -1,0 +1,72 @@
+"""The default skip of the band levels of a run, an ensemble, a study and the report
+(``timedomain.scenario.whole_period_skip``): 0.05 s lengthened so that the rest of the record holds
+whole periods of the scenario's harmonic excitations, whose lines then stay in their bins of the
+rectangular window (docs/time_domain.md, "The record's length")."""
+
+import numpy as np
+import pytest
+
+import cablecasing_core as cc
+from cablecasing_core.records import after_skip
+from cablecasing_core.studies import octave_rms, seed_ensemble
+from cablecasing_core.timedomain.scenario import LEAST_SKIP, whole_period_skip
+
+DRIVE = "scenario.excitation.cable_axial"
+
+
+@pytest.fixture(scope="module")
+def specimen():
+    return cc.load_model()
+
+
+def test_the_specimens_keep_whole_periods_of_their_50_hz_drive(specimen):
+    """1 s keeps 0.94 s (47 periods of 20 ms), 0.5 s keeps 0.44 s (22), whatever the step; a record
+    that holds whole periods after 0.05 s keeps them (0.15 s: 5 periods)."""
+    assert whole_period_skip(specimen) == 0.06
+    assert whole_period_skip(cc.load_model("installed")) == 0.06
+    assert whole_period_skip(specimen, duration=0.5) == 0.06
+    assert whole_period_skip(specimen, dt=2e-5) == 0.06
+    assert whole_period_skip(specimen, duration=0.15) == 0.05
+
+
+def test_the_common_period_of_several_lines_and_when_there_is_none(specimen):
+    """50 and 75 Hz repeat together every 40 ms (their gcd 25 Hz): 23 periods of 1 s - 0.05 s, skip
+    0.08 s. 50 and 50.5 Hz repeat every 2 s, longer than the record: 0.05 s. No line, or one of
+    zero amplitude: 0.05 s. A fade-in longer than 0.05 s is left out too (0.2 s: 40 periods after it)."""
+    keys = (("target", "casing.B.z"), ("kind", "harmonic"), ("amplitude", 1e-5))
+    second = {f"scenario.excitation.second.{k}": v for k, v in keys}
+    both = specimen.with_overrides(second | {"scenario.excitation.second.frequency": 75.0})
+    assert whole_period_skip(both) == pytest.approx(0.08, abs=1e-12)
+    near = specimen.with_overrides(second | {"scenario.excitation.second.frequency": 50.5})
+    assert whole_period_skip(near) == LEAST_SKIP
+    assert whole_period_skip(specimen.with_overrides({f"{DRIVE}.amplitude": 0.0})) == LEAST_SKIP
+    assert whole_period_skip(specimen.without_excitations(["cable_axial"])) == LEAST_SKIP
+    assert whole_period_skip(specimen.with_overrides({"scenario.ramp": 0.2})) == pytest.approx(0.2, abs=1e-12)
+
+
+def test_a_line_of_whole_periods_stays_in_its_band_and_half_a_period_leaks(specimen):
+    """The installed specimen's drive line (27 N RMS at 50 Hz in octave 3) over 1 s at 1e-5 s. After
+    the default skip octaves 1-2 hold nothing of it (DFT orthogonality: 1e-9 N bounds the round-off
+    of 94 000 samples). After 0.05 s (47.5 periods) it lies half a bin off every bin and leaks into
+    bin 47.5 - m the share sin(pi/2) / (pi m) of its RMS (the Dirichlet kernel's tail): over octave
+    2's bins m = 6.5 .. 26.5 that is 27 N (sum 1 / (pi m)^2)^1/2 = 3.1 N, 200 times the installed
+    specimen's own octave-2 level; 20 % allowed for the bins the band's edges split."""
+    dt = 1e-5
+    t = dt * np.arange(1, 100_001)
+    F = 27.0 * np.sqrt(2.0) * np.sin(2 * np.pi * 50.0 * t + 0.4)
+    whole = octave_rms(F[after_skip(t, whole_period_skip(specimen))], 1 / dt).rms
+    assert np.all(whole[:2] < 1e-9) and whole[2] == pytest.approx(27.0, rel=1e-12)
+    half = octave_rms(F[after_skip(t, 0.05)], 1 / dt).rms
+    m = np.arange(6.5, 27.0)
+    assert half[1] == pytest.approx(27.0 * np.sqrt(np.sum(1.0 / (np.pi * m) ** 2)), rel=0.2)
+
+
+def test_an_ensemble_takes_and_states_the_default_skip(specimen):
+    """An ensemble of 0.3 s runs leaves out 0.05 s -> 0.06 s (12 whole periods) by default, says so in
+    its settings, and a member's levels are the single run's after 0.06 s."""
+    ens = seed_ensemble(specimen, [3, 4], duration=0.3)
+    assert ens.settings["skip"] == 0.06
+    run = cc.simulate(specimen.with_overrides({"scenario.excitation.casing_random.seed": 4}), duration=0.3)
+    fs = 1.0 / (run.time[1] - run.time[0])  # (as the evaluator takes it)
+    ref = octave_rms(run.support_force("casing.B.Fz")[after_skip(run.time, 0.06)], fs, "table3").rms
+    np.testing.assert_array_equal(ens.levels[1], ref)
