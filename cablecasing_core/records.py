@@ -20,7 +20,10 @@ A record is a time axis (s, evenly spaced) and named columns: the outputs of the
   A record that states its passband (:attr:`Records.passband_hz`: a run's record at every step, its
   Nyquist frequency, or decimated with the anti-alias filter) has a comment line after the header,
   ``# passband_hz = 3500 (...)``, Hz; read, such a line before the first row of numbers
-  (:func:`~cablecasing_core.files.csv_statements`) gives the record its passband. Every reader of these
+  (:func:`~cablecasing_core.files.csv_statements`) gives the record its passband. A run's record
+  states the lines of its scenario's harmonic excitations the same way, ``# lines_hz = 50 (...)``
+  (Hz, separated by spaces; :attr:`Records.lines_hz`), from which :meth:`Records.default_skip`
+  keeps whole periods of them. Every reader of these
   files skips lines starting with ``#`` (:func:`~cablecasing_core.files.read_csv_table`;
   ``numpy.loadtxt(path, delimiter=",", skiprows=1)``, ``numpy.genfromtxt(path, delimiter=",",
   names=True)``; ``pandas.read_csv(path, comment="#")``).
@@ -41,6 +44,8 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field
+from fractions import Fraction
+from math import floor, gcd, lcm
 
 import numpy as np
 
@@ -51,6 +56,33 @@ from .model.schema import INPUTS, OUTPUTS, channels_of, input_spec, inputs_of, o
 SUFFIXES = (".csv", ".npz", ".uff")
 _NODES = {"casing.A": 1, "casing.B": 2, "cable.A": 3, "cable.B": 4}
 _UNIT_TYPES = {"N": 9, "N.m": 9, "m": 8, "m/s": 11, "m/s2": 12}
+
+
+#: The least start of a record left out of its band levels by default (s): the supports' fade-in
+#: (``scenario.ramp``, 0.01 s in the specimens) and the first transient.
+LEAST_SKIP = 0.05
+
+
+def skip_for_whole_periods(lines_hz, length: float, dt: float, least: float = LEAST_SKIP) -> float:
+    """The least skip (s) at or above ``least`` (s) after which the rest of a record ``length`` s long
+    (its last time less its first) holds whole periods of every line of ``lines_hz`` (Hz): of their
+    common period, 1 / the greatest common divisor of the frequencies read as fractions, on the grid
+    of the step ``dt`` (s). Through the rectangular window of ``studies.octave_rms`` a line of whole
+    periods stays in its bin; 47.5 periods of the specimens' 50 Hz drive (a skip of 0.05 s of 1 s)
+    leak it into the neighbouring bands (docs/time_domain.md, "The record's length"). So 1 s with a
+    50 Hz line keeps 0.94 s, 0.5 s keeps 0.44 s. Without lines, or when their common period is longer
+    than what ``least`` leaves (50 and 50.5 Hz: 2 s), it is ``least``."""
+    lines = [Fraction(float(f)).limit_denominator(10**6) for f in lines_hz if f > 0]
+    if not lines:
+        return float(least)
+    # (the gcd of fractions p_i / q_i is gcd(p_i L / q_i) / L over L = lcm(q_i); numpy's gcd is of integers)
+    common = lcm(*(f.denominator for f in lines))
+    f0 = Fraction(gcd(*(int(f * common) for f in lines)), common)
+    periods = floor((length - least) * f0 + 1e-9)
+    if periods < 1:
+        return float(least)
+    skip = length - float(periods / f0)
+    return round(max(round(skip / dt) * dt, 0.0), 12)  # (0.06, not 6000 * 1e-5 = 0.060000000000000005)
 
 
 def unit_of(name: str) -> str:
@@ -135,6 +167,18 @@ class Records:
             return nyquist
         return min(float(np.asarray(self.extra["passband_hz"])), nyquist)
 
+    @property
+    def lines_hz(self) -> tuple:
+        """The frequencies (Hz) of the harmonic excitations the record states (``extra["lines_hz"]``:
+        a run's record, in ``.npz`` and ``.csv`` files, not in ``.uff``), or () when it states none."""
+        return tuple(float(f) for f in np.atleast_1d(self.extra.get("lines_hz", ())))
+
+    def default_skip(self) -> float:
+        """The start of the record (s) the band levels and spectra leave out by default:
+        :data:`LEAST_SKIP` lengthened so that the rest holds whole periods of :attr:`lines_hz`
+        (:func:`skip_for_whole_periods`); :data:`LEAST_SKIP` for a record that states no lines."""
+        return skip_for_whole_periods(self.lines_hz, float(self.time[-1] - self.time[0]), 1.0 / self.fs)
+
     def resolve(self, name: str, key: str = "--column") -> str:
         """The column called ``name``, its header form ``name [unit]`` or ``name_unit``; a
         :class:`ModelError` naming ``key`` (the option that gave the name: ``--column``, ``--input``)
@@ -170,8 +214,10 @@ def write_records(path: str | os.PathLike, rec: Records) -> str:
     units = [rec.units.get(n, "") for n in names]
     if suffix == ".csv":
         header = ",".join(["time [s]"] + [f"{n} [{u}]" if u else n for n, u in zip(names, units)])
-        if "passband_hz" in rec.extra:  # (a comment line after the header: _read_csv reads it back)
+        if "passband_hz" in rec.extra:  # (comment lines after the header: _read_csv reads them back)
             header += "\n" + passband_line(float(np.asarray(rec.extra["passband_hz"])))
+        if rec.lines_hz:
+            header += "\n" + lines_line(rec.lines_hz)
         with atomic_path(path) as tmp:
             # (the time with 15 digits: with 9, the steps of 1/30000 s would differ by 3e-5 of themselves)
             fmt = ["%.15g"] + ["%.9g"] * len(names)
@@ -200,6 +246,19 @@ def passband_line(passband_hz: float) -> str:
     return (
         f"# passband_hz = {passband_hz:.15g} (Hz: the columns hold the run's content unaltered up to this frequency "
         "and nothing aliased from above it: a run's every step or its record low-pass filtered against aliasing)"
+    )
+
+
+def lines_line(lines_hz) -> str:
+    """The comment line by which a CSV record states the lines of its harmonic excitations (Hz):
+    ``# lines_hz = 50 (...)``, several separated by spaces (no comma, as :func:`passband_line`)."""
+    return (
+        "# lines_hz = "
+        + " ".join(f"{f:.15g}" for f in lines_hz)
+        + (
+            " (Hz: the harmonic excitations of the run; band levels leave out by default the start that keeps "
+            "whole periods of them after it)"
+        )
     )
 
 
@@ -259,31 +318,41 @@ def _read_csv(path):
         units[name] = unit or unit_of(name)
     _unique(path, [header[0], *names])  # (with the earlier '<name>_<unit>' forms mapped to their names)
     cols = {n: data[:, i + 1] for i, n in enumerate(names)}
-    passband = _csv_passband(path)
-    return Records(time, cols, units, path, {} if passband is None else {"passband_hz": np.array(passband)})
+    passband, lines = _csv_stated(path)
+    extra = {} if passband is None else {"passband_hz": np.array(passband)}
+    if lines is not None:
+        extra["lines_hz"] = np.array(lines)
+    return Records(time, cols, units, path, extra)
 
 
-def _csv_passband(path):
-    """The passband (Hz) a CSV record states in a comment line before its first row of numbers
-    (:func:`passband_line`, read by :func:`~cablecasing_core.files.csv_statements`), or None. One
-    stated other than as one positive number of Hz, or stated twice, raises :class:`ModelError`
+def _csv_stated(path):
+    """The passband (Hz) and the lines (Hz, a tuple) a CSV record states in comment lines before its
+    first row of numbers (:func:`passband_line`, :func:`lines_line`, read by
+    :func:`~cablecasing_core.files.csv_statements`), each None when not stated. One stated other
+    than as positive numbers of Hz (one passband), or stated twice, raises :class:`ModelError`
     naming the file and the line."""
-    stated = csv_statements(path, ("passband_hz",)).get("passband_hz")
-    if stated is None:
-        return None
-    lineno, text = stated
-    try:
-        value = float(text)
-    except ValueError:
-        value = np.nan
-    if not (np.isfinite(value) and value > 0):
-        raise ModelError(
-            "file",
-            path,
-            f"line {lineno} states passband_hz, but not as a positive number of Hz "
-            "('# passband_hz = 3500', as 'cablecasing simulate --output-interval' writes it)",
-        )
-    return value
+    stated = csv_statements(path, ("passband_hz", "lines_hz"))
+    out = []
+    for name, example in (("passband_hz", "3500"), ("lines_hz", "50")):
+        if name not in stated:
+            out.append(None)
+            continue
+        lineno, text = stated[name]
+        try:
+            values = tuple(float(v) for v in text.split())
+        except ValueError:
+            values = ()
+        one = name == "passband_hz"
+        if not (values and all(np.isfinite(v) and v > 0 for v in values)) or (one and len(values) > 1):
+            what = "a positive number of Hz" if one else "positive numbers of Hz separated by spaces"
+            raise ModelError(
+                "file",
+                path,
+                f"line {lineno} states {name}, but not as {what} ('# {name} = {example}', as "
+                "'cablecasing simulate --out' writes it)",
+            )
+        out.append(values[0] if one else values)
+    return tuple(out)
 
 
 def _unique(path, names):

@@ -35,13 +35,19 @@ def _record(path):
     return read_records(path)
 
 
-def _window(rec, skip):
+def _window(rec, args):
+    """The samples after ``args.skip`` (s; None takes the record's
+    :meth:`~cablecasing_core.records.Records.default_skip`, stored back in ``args.skip`` for what the
+    command prints)."""
     from ..errors import ModelError
     from ..model.validators import seconds
     from ..records import after_skip
 
-    seconds("--skip", skip, zero_ok=True)
+    seconds("--skip", args.skip, zero_ok=True, none_ok=True)
     dt = 1.0 / rec.fs  # (refuses an unevenly sampled record first)
+    if args.skip is None:
+        args.skip = rec.default_skip()
+    skip = args.skip
     keep = after_skip(rec.time, skip, rec.time[0])
     if keep.sum() < 16:
         raise ModelError(
@@ -111,7 +117,7 @@ def cmd_spectrum(args):
     columns = _columns(args.column, ["casing.B.Fz"])
     check_frequency_range(args.fmin, args.fmax)
     f_range = (args.fmin, args.fmax)
-    keep = _window(rec, args.skip)
+    keep = _window(rec, args)
     fs, n = rec.fs, int(keep.sum())
     if fs / 2 <= args.fmin:
         raise _no_line(args.record, rec.resolve(columns[0]), fs, n, args.fmin, args.fmax)
@@ -291,7 +297,7 @@ def cmd_bands(args):
     with renamed({"f_min": "--fmin", "f_max": "--fmax"}, in_text=True):
         band_set = octave_bands(args.kind, args.fmin, args.fmax)
     rec = _record(args.record)
-    keep = _window(rec, args.skip)
+    keep = _window(rec, args)
     col = rec.resolve(columns[0])
     unit = rec.unit(col)
     ref = reference(unit, args.ref) if unit or args.ref else 1.0
@@ -377,7 +383,13 @@ def add_parser(sub):
         "line at or below --fmin, else a warning names where they start; for the transfer kinds 1 Hz, at most an "
         "eighth of the record)",
     )
-    s.add_argument("--skip", type=float, default=0.05, help="start of the record left out, s")
+    s.add_argument(
+        "--skip",
+        type=float,
+        default=None,
+        help="start of the record left out, s (default: 0.05 s, lengthened so that the rest holds whole periods of "
+        "the lines a run's record states, # lines_hz: 0.06 s of 1 s with a 50 Hz drive)",
+    )
     s.add_argument("--fmin", type=float, default=1.0, help="lowest frequency written and drawn, Hz")
     s.add_argument("--fmax", type=float, default=2000.0, help="highest frequency written and drawn, Hz")
     s.add_argument(
@@ -414,7 +426,13 @@ def add_parser(sub):
     b.add_argument(
         "--fmax", type=float, default=None, help="highest mid-band frequency kept, Hz (default: all; 20000 Hz)"
     )
-    b.add_argument("--skip", type=float, default=0.05, help="start of the record left out, s")
+    b.add_argument(
+        "--skip",
+        type=float,
+        default=None,
+        help="start of the record left out, s (default: 0.05 s, lengthened so that the rest holds whole periods of "
+        "the lines a run's record states, # lines_hz: 0.06 s of 1 s with a 50 Hz drive)",
+    )
     b.add_argument(
         "--ref", type=float, default=None, help="reference of the dB levels (default: by unit, as 'spectrum')"
     )

@@ -46,7 +46,6 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Callable
-from fractions import Fraction
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -56,6 +55,7 @@ from ..errors import ModelError, ModelWarning
 from ..files import read_csv_table, time_column
 from ..model.schema import CHANNELS, DIRECTIONS, channels_of
 from ..model.validate import alias
+from ..records import LEAST_SKIP, skip_for_whole_periods
 from ..structure.geometry import centerline_of
 from .random_record import RandomRecord
 
@@ -275,44 +275,29 @@ def scenario_motion(model: Model, dt: float | None = None) -> ScenarioMotion:
     return ScenarioMotion(model, dt)
 
 
-#: The least start of a record left out of its band levels by default (s): the supports' fade-in
-#: (``scenario.ramp``, 0.01 s in the specimens) and the first transient.
-LEAST_SKIP = 0.05
+def harmonic_lines(model: Model) -> tuple[float, ...]:
+    """The frequencies (Hz) of the scenario's harmonic excitations of non-zero amplitude, in the
+    order of the model file (a run's record states them: ``records.Records.lines_hz``)."""
+    return tuple(
+        float(e["frequency"])
+        for e in model.scenario["excitation"].values()
+        if e["kind"] == "harmonic" and e["amplitude"] != 0 and e["frequency"] > 0
+    )
 
 
 def whole_period_skip(
     model: Model, duration: float | None = None, dt: float | None = None, least: float = LEAST_SKIP
 ) -> float:
-    """The default start of a record left out of its band levels (s): the least skip at or above
-    ``least`` (s) and ``scenario.ramp`` after which the rest of the record, ``duration`` (s, default
-    ``scenario.duration``), holds whole periods of every harmonic excitation of the scenario (their
-    common period: 1 / the greatest common divisor of their frequencies, read as fractions), on the
-    grid of the time step ``dt`` (s, default ``scenario.dt``). Through the rectangular window of
-    ``studies.octave_rms`` a line of whole periods stays in its bin; 47.5 periods of the specimens'
-    50 Hz drive (a skip of 0.05 s of 1 s) leak it into the neighbouring bands (docs/time_domain.md,
-    "The record's length"). So 1 s of a specimen keeps 0.94 s, and 0.5 s keeps 0.44 s. Without a
-    harmonic excitation, or when their common period is longer than what ``least`` leaves (50 and
-    50.5 Hz: 2 s), it is ``max(least, scenario.ramp)``."""
+    """The default start of a record of ``model``'s scenario left out of its band levels (s): the
+    least skip at or above ``least`` (s) and ``scenario.ramp`` after which the rest of the record,
+    ``duration`` (s, default ``scenario.duration``), holds whole periods of the scenario's harmonic
+    excitations (:func:`harmonic_lines`; :func:`~cablecasing_core.records.skip_for_whole_periods`,
+    on the grid of ``dt``, s, default ``scenario.dt``): 0.06 s of the specimens' 1 s and 0.5 s
+    records with their 50 Hz drive."""
     sc = model.scenario
     T = float(sc["duration"] if duration is None else duration)
     step = float(sc["dt"] if dt is None else dt)
-    least = max(float(least), float(sc["ramp"]))
-    lines = [
-        Fraction(float(e["frequency"])).limit_denominator(10**6)
-        for e in sc["excitation"].values()
-        if e["kind"] == "harmonic" and e["amplitude"] != 0 and e["frequency"] > 0
-    ]
-    if not lines:
-        return least
-    # (the gcd of fractions p_i / q_i: the gcd of the p_i L / q_i over L = lcm of the q_i; numpy and
-    # scipy have integer gcds only)
-    common = math.lcm(*(f.denominator for f in lines))
-    f0 = Fraction(math.gcd(*(int(f * common) for f in lines)), common)
-    periods = math.floor((T - least) * f0 + 1e-9)
-    if periods < 1:
-        return least
-    skip = T - float(periods / f0)
-    return round(max(round(skip / step) * step, 0.0), 12)  # (0.06, not 6000 * 1e-5 = 0.060000000000000005)
+    return skip_for_whole_periods(harmonic_lines(model), T, step, max(float(least), float(sc["ramp"])))
 
 
 def zero_motion(t: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

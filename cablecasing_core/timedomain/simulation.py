@@ -23,7 +23,7 @@ from ..model.schema import CONTACT_OUTPUTS, INPUTS, OUTPUTS, SUPPORT_OUTPUTS, cl
 from ..model.validate import step_checks
 from ..model.validators import Choice, seconds
 from .engine import ROUNDING_OF_TIME, SHORTEST_STEP, Engine
-from .scenario import scenario_motion, warn_short_tables
+from .scenario import harmonic_lines, scenario_motion, warn_short_tables
 
 if TYPE_CHECKING:
     from ..model import Model
@@ -82,6 +82,10 @@ class SimulationResult:
     #: True for a result loaded from a record that states no passband (a picked one): its histories
     #: may hold content aliased from above their Nyquist frequency, and no record of it states one
     aliased: bool = False
+    #: the frequencies (Hz) of the scenario's harmonic excitations (``scenario.harmonic_lines``; ()
+    #: for a run of a motion of its own): its records state them, so that band levels keep whole
+    #: periods of them by default (``records.Records.default_skip``)
+    lines_hz: tuple = ()
 
     def support_force(self, name: str) -> np.ndarray:
         """History of one support output, e.g. ``"casing.B.Fz"`` or a clip's ``"casing.clip0.Fy"``
@@ -144,6 +148,8 @@ class SimulationResult:
         extra.update(contact_time=self.contact_time, curvature=self.curvature, arc_length=self.arc_length)
         extra["energies"] = np.array([[k, repr(float(v))] for k, v in self.energies.items()]).reshape(-1, 2)
         extra["starts_at_zero"] = np.array(first)
+        if self.lines_hz:
+            extra["lines_hz"] = np.array(self.lines_hz, dtype=float)
         # (read by Records.passband_hz: bands and lines above it are left out; a record that states none
         # may hold aliases: a picked one, or one of a loaded result that stated none)
         if not (self.aliased or (m > 1 and not filt)):
@@ -239,6 +245,7 @@ class SimulationResult:
             inputs={n: rec.columns[n] for n in rec.columns if _is_input(n)},
             passband_hz=float(x["passband_hz"]) if "passband_hz" in x else None,
             aliased="passband_hz" not in x,
+            lines_hz=tuple(float(f) for f in np.atleast_1d(x.get("lines_hz", ()))),
             **{n: x[n] for n in _NODE_ARRAYS},
             **initial,
         )
@@ -286,6 +293,7 @@ def simulate(
         if why:
             warnings.warn(f"dt = {dt:g} s is {why}", ModelWarning, stacklevel=2)
     inputs = ()
+    given_motion = motion
     still = motion is None and not sc["excitation"]
     if motion is None:
         motion = scenario_motion(model, dt=dt)
@@ -338,6 +346,7 @@ def simulate(
         initial_forces=np.concatenate([out0[:24], out0[len(OUTPUTS) :]]),
         initial_contact=(float(out0[24]), float(out0[25])),
         initial_inputs=dict(zip(inputs, np.hstack(motion(np.zeros(1)))[0, cols].tolist())) if cols else {},
+        lines_hz=harmonic_lines(model) if given_motion is None else (),
     )
 
 

@@ -1,15 +1,18 @@
-"""The default skip of the band levels of a run, an ensemble, a study and the report
-(``timedomain.scenario.whole_period_skip``): 0.05 s lengthened so that the rest of the record holds
-whole periods of the scenario's harmonic excitations, whose lines then stay in their bins of the
-rectangular window (docs/time_domain.md, "The record's length")."""
+"""The default skip of the band levels of an ensemble, a study, the report
+(``timedomain.scenario.whole_period_skip``) and of ``bands``/``spectrum`` on a run's record (which
+states its lines, ``records.Records.default_skip``): 0.05 s lengthened so that the rest of the
+record holds whole periods of the scenario's harmonic excitations, whose lines then stay in their
+bins of the rectangular window (docs/time_domain.md, "The record's length")."""
 
 import numpy as np
 import pytest
 
 import cablecasing_core as cc
-from cablecasing_core.records import after_skip
+from cablecasing_core.cli import main
+from cablecasing_core.errors import ModelError
+from cablecasing_core.records import LEAST_SKIP, after_skip, read_records
 from cablecasing_core.studies import octave_rms, seed_ensemble
-from cablecasing_core.timedomain.scenario import LEAST_SKIP, whole_period_skip
+from cablecasing_core.timedomain.scenario import whole_period_skip
 
 DRIVE = "scenario.excitation.cable_axial"
 
@@ -70,3 +73,34 @@ def test_an_ensemble_takes_and_states_the_default_skip(specimen):
     fs = 1.0 / (run.time[1] - run.time[0])  # (as the evaluator takes it)
     ref = octave_rms(run.support_force("casing.B.Fz")[after_skip(run.time, 0.06)], fs, "table3").rms
     np.testing.assert_array_equal(ens.levels[1], ref)
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".npz"])
+def test_a_runs_record_states_its_lines_and_bands_keeps_whole_periods(specimen, tmp_path, capsys, suffix):
+    """A run of 0.3 s writes its 50 Hz line (``# lines_hz = 50`` in a CSV, an array in an NPZ);
+    read back, its default skip is 0.06 s (0.24 s = 12 periods after it), and `cablecasing bands`
+    without --skip gives the levels after 0.06 s, as octave_rms of the run's samples after it
+    (to the 6 digits of its table). A run of a motion of its own states no line (its default 0.05 s)."""
+    run = cc.simulate(specimen, duration=0.3)
+    path = tmp_path / f"run{suffix}"
+    run.save(path)
+    rec = read_records(path)
+    assert rec.lines_hz == (50.0,) and rec.default_skip() == 0.06
+    assert main(["bands", str(path), "--out", str(tmp_path / "b.csv")]) == 0
+    assert "after 0.06 s" in capsys.readouterr().out
+    got = np.loadtxt(tmp_path / "b.csv", delimiter=",", skiprows=1, usecols=4, comments="#")
+    ref = octave_rms(run.support_force("casing.B.Fz")[after_skip(run.time, 0.06)], 1e5, "table3").rms
+    np.testing.assert_allclose(got, ref, rtol=6e-6)  # (the table's 6 digits, the record's 9)
+    still = cc.simulate(specimen, duration=0.3, motion=cc.timedomain.scenario.zero_motion)
+    assert still.records().lines_hz == () and still.records().default_skip() == LEAST_SKIP
+
+
+def test_a_csv_that_states_its_lines_badly_is_refused(tmp_path):
+    """``# lines_hz`` must be positive numbers of Hz separated by spaces."""
+    path = tmp_path / "r.csv"
+    for bad in ("fifty", "50, 75", "-50"):
+        path.write_text(f"time [s],casing.B.Fz [N]\n# lines_hz = {bad}\n0,1\n0.001,2\n")
+        with pytest.raises(ModelError, match="line 2 states lines_hz, but not as positive numbers of Hz"):
+            read_records(path)
+    path.write_text("time [s],casing.B.Fz [N]\n# lines_hz = 50 75 (Hz)\n0,1\n0.001,2\n")
+    assert read_records(path).lines_hz == (50.0, 75.0)
