@@ -353,8 +353,10 @@ def _resultant(f):
 
 
 def _slope_floor(model, f, T):
-    """The least contact slope (N/m) of Newton's tangent: the law's slope at a tenth of the largest
-    nodal load or tension (the forces the contacts will carry are of that order)."""
+    """The least contact slope (N/m) of Newton's tangent: the whole law's slope at a tenth of the
+    largest nodal load or tension (the forces the contacts will carry are of that order); a node
+    carrying the share s of the law (``contact.law_length``) takes it times s (linear) or s^(2/3)
+    (Hertz, at the same force: :meth:`_Evaluator.tangent`)."""
     law, k_lin, k_hertz = _law(model)
     F = 0.1 * max(np.abs(f).max(initial=0.0), T, 1e-6)
     return k_lin if law == 1 else 1.5 * k_hertz ** (2.0 / 3.0) * F ** (1.0 / 3.0)
@@ -498,7 +500,9 @@ class _Evaluator:
         """Subtract the contact forces' derivative (N/m) at the last evaluated state from J (over
         the unknowns): J = K - d f_c / dz, the exact first-order derivative of the time domain's
         contact forces (see :meth:`_node_derivative`). The slope dN/dg of a ``fresh`` contact (a
-        bool per node: closed since the last iterate) is taken at least ``k_min`` (N/m): the Hertz
+        bool per node: closed since the last iterate) is taken at least ``k_min`` (N/m, the whole
+        law's; times the node's share s, or s^(2/3) for Hertz's law, whose slope at a force F is
+        1.5 (s k_H)^(2/3) F^(1/3)): the Hertz
         law's slope vanishes as a contact begins, where Newton would take it for no stiffness at
         all (and push the node deep into the wall); a contact that stays closed gets its true
         slope, for Newton's quadratic convergence. Returns the bandwidth of the entries it touched
@@ -507,7 +511,8 @@ class _Evaluator:
         for i in np.flatnonzero(self.N > 0.0):
             e = self.elem[i]
             dofs = np.concatenate([self.index["cable"][6 * i : 6 * i + 6], self.index["casing"][6 * e : 6 * e + 12]])
-            kn = max(self.kn[i], k_min) if fresh is None or fresh[i] else self.kn[i]
+            least = k_min * (self.share[i] if self.law == 1 else self.share[i] ** (2.0 / 3.0))
+            kn = max(self.kn[i], least) if fresh is None or fresh[i] else self.kn[i]
             dF = self._node_derivative(i, kn)
             keep = dofs >= 0
             d = dofs[keep]
