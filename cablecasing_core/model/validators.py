@@ -416,7 +416,7 @@ def seconds(key, value, *, zero_ok=False, none_ok=False):
         return rule(key, value)
     except ModelError:
         raise ModelError(
-            key, value, "must be " + rule.allowed + (" (or None: the default)" if none_ok else "")
+            key, value, "must be " + rule.allowed + (" (or left out: the default)" if none_ok else "")
         ) from None
 
 

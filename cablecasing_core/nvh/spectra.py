@@ -14,6 +14,7 @@
   m/s2      1e-6 m/s2        ISO 1683:2015 (acceleration)
   m/s       1e-9 m/s         ISO 1683:2015 (velocity)
   m         1e-12 m          ISO 1683:2015 (displacement)
+  1         1                a count or a ratio (``contact.active``)
   ========= ================ ==============================================================
 
   A PSD level is ``10 log10(G / x_ref^2)`` in dB re x_ref^2/Hz (e.g. dB re 1 N^2/Hz).
@@ -42,7 +43,7 @@ LINES_PER_RANGE = 16
 COVERED_FROM_DF = 2.0
 
 #: Reference values (in the unit itself) of levels in dB, by unit (module docstring).
-REFERENCES = {"N": 1.0, "N.m": 1.0, "m/s2": 1e-6, "m/s": 1e-9, "m": 1e-12}
+REFERENCES = {"N": 1.0, "N.m": 1.0, "m/s2": 1e-6, "m/s": 1e-9, "m": 1e-12, "1": 1.0}
 
 
 def reference(unit: str, ref: float | None = None) -> float:

@@ -259,6 +259,8 @@ def pool_ensembles(ensembles: Sequence[Ensemble | str | os.PathLike]) -> Ensembl
     if not parts or not all(isinstance(e, Ensemble) for e in parts):
         raise ModelError("ensembles", ensembles, "must be a non-empty sequence of Ensemble objects or CSV paths")
     first = parts[0]
+    # (a part by its file where it came from one: the CLI's pool names the files, not this argument)
+    names = [str(e) if isinstance(e, (str, os.PathLike)) else f"ensembles[{i}]" for i, e in enumerate(ensembles)]
     for i, e in enumerate(parts[1:], 1):
         for name, mine, theirs in (
             ("output", e.output, first.output),
@@ -272,9 +274,7 @@ def pool_ensembles(ensembles: Sequence[Ensemble | str | os.PathLike]) -> Ensembl
             ("contact_time columns", e.contact_time.shape[1:], first.contact_time.shape[1:]),
         ):
             if mine != theirs:
-                raise ModelError(
-                    f"ensembles[{i}].{name}", mine, f"must equal that of ensembles[0], {theirs}, to pool them"
-                )
+                raise ModelError(f"{names[i]}.{name}", mine, f"must equal that of {names[0]}, {theirs}, to pool them")
     seeds = np.concatenate([e.seeds for e in parts])
     unique, count = np.unique(seeds, return_counts=True)
     twice = unique[count > 1].tolist()

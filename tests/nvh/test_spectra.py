@@ -54,7 +54,8 @@ def test_psd_of_white_noise_is_flat_at_its_known_level():
 
 
 def test_level_references_and_errors():
-    assert REFERENCES == {"N": 1.0, "N.m": 1.0, "m/s2": 1e-6, "m/s": 1e-9, "m": 1e-12}
+    # ISO 1683:2015's references of the motions, 1 N for forces (vehicle NVH), 1 for a count (contact.active)
+    assert REFERENCES == {"N": 1.0, "N.m": 1.0, "m/s2": 1e-6, "m/s": 1e-9, "m": 1e-12, "1": 1.0}
     assert level_db(10.0, 1.0) == pytest.approx(20.0) and level_db(10.0, 1.0, power=True) == pytest.approx(10.0)
     assert reference("Pa", 2e-5) == 2e-5
     with pytest.raises(ModelError, match="--ref"):

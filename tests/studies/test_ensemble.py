@@ -301,7 +301,12 @@ def test_pooling_refuses_parts_of_different_runs(tmp_path):
     for e, key in zip(other, ("output", "bands", "overrides", "settings")):
         with pytest.raises(ModelError) as exc:
             pool_ensembles([a, e])
-        assert exc.value.key == f"ensembles[1].{key}"
+        assert exc.value.key == f"ensembles[1].{key}"  # (a part given as an Ensemble, by its place)
+    a.save(tmp_path / "a1.csv")  # a part given as a file is named by it (`cablecasing pool` gives files)
+    other[3].save(tmp_path / "a2.csv")
+    with pytest.raises(ModelError) as exc:
+        pool_ensembles([tmp_path / "a1.csv", tmp_path / "a2.csv"])
+    assert exc.value.key == f"{tmp_path / 'a2.csv'}.settings" and f"that of {tmp_path / 'a1.csv'}" in str(exc.value)
     # the model is part of the settings: a changed parameter gives another fingerprint
     model = cc.load_model()
     assert model.fingerprint() == cc.load_model().fingerprint()

@@ -10,7 +10,7 @@ import pytest
 import cablecasing_core as cc
 from cablecasing_core.cli import main
 from cablecasing_core.errors import ModelError
-from cablecasing_core.records import LEAST_SKIP, after_skip, read_records
+from cablecasing_core.records import LEAST_SKIP, after_skip, read_records, skip_for_whole_periods
 from cablecasing_core.studies import octave_rms, seed_ensemble
 from cablecasing_core.timedomain.scenario import whole_period_skip
 
@@ -30,6 +30,30 @@ def test_the_specimens_keep_whole_periods_of_their_50_hz_drive(specimen):
     assert whole_period_skip(specimen, duration=0.5) == 0.06
     assert whole_period_skip(specimen, dt=2e-5) == 0.06
     assert whole_period_skip(specimen, duration=0.15) == 0.05
+
+
+@pytest.mark.parametrize("dt", [7e-5, 3e-5, 1 / 30000])
+def test_the_skip_lies_on_the_steps_grid_and_never_before_the_least(specimen, dt):
+    """A step that does not divide the period (7e-5 s into 20 ms) puts the skip on the nearest step
+    of the grid (a whole number of steps, within dt / 2 of 0.06 s); a grid step nearest to it
+    but before 0.05 s gives way to the first step after 0.05 s (0.15 s with steps of 0.7 ms:
+    0.0504 s, not 0.0497 s)."""
+    skip = whole_period_skip(specimen, dt=dt)
+    assert abs(skip / dt - round(skip / dt)) < 1e-9 and abs(skip - 0.06) <= dt / 2
+    short = skip_for_whole_periods([50.0], 0.15, 7e-4)
+    assert short >= LEAST_SKIP and short == pytest.approx(72 * 7e-4, abs=1e-15)
+
+
+def test_a_study_sample_and_the_report_take_the_default_skip(specimen):
+    """default_evaluate (a study's sample) without skip gives the levels after 0.06 s, not after
+    0.05 s; the report's 0.5 s records leave out 0.06 s."""
+    from cablecasing_core.report import check_report_settings
+    from cablecasing_core.studies.evaluators import default_evaluate
+
+    got = default_evaluate({}, duration=0.3, model=specimen)
+    assert got == default_evaluate({}, duration=0.3, skip=0.06, model=specimen)
+    assert got != default_evaluate({}, duration=0.3, skip=0.05, model=specimen)
+    assert check_report_settings(specimen, 0.5)[3] == 0.06
 
 
 def test_the_common_period_of_several_lines_and_when_there_is_none(specimen):
