@@ -20,7 +20,8 @@ own Δt (scenario.dt, 1e-5 s) for ``--duration`` s, the levels of the samples af
 (``records.after_skip``; default 0.05 s for ``default`` and 0.06 s for ``installed``, whose 0.94 s
 then hold whole periods of its 50 Hz drive, docs/time_domain.md "The record's length"). A member
 is the run of the ensemble member of ``cablecasing ensemble SPEC --set geometry.n_elements=N`` (the
-same overrides, ``simulate``, ``after_skip`` and ``octave_rms`` as ``default_evaluate``; checked on
+same overrides, ``simulate``, ``after_skip`` and ``octave_rms`` as ``default_evaluate`` (with the rectangular
+window of its cached tables, ``default_evaluate(..., window="boxcar")``); checked on
 0.2 s: the same levels bitwise on the default specimen, within 2e-10 on the installed one), run
 here to read its energies too. With contact the response is chaotic, so meshes are compared on ensemble
 means: per band the mean level and its standard error (sd / sqrt(n), ddof 1), and the relative
@@ -133,8 +134,8 @@ def linear_member(job):
     (deterministic: one seed shows the mesh's own error), and the wall time."""
     import cablecasing_core as cc
     from cablecasing_core.records import after_skip
-    from cablecasing_core.studies import octave_rms
     from cablecasing_core.studies.ensemble_runs import seed_overrides
+    from cablecasing_core.studies.octave import octave_rms, window_options  # (boxcar: the cached tables')
 
     spec, n, seed, duration, skip = job
     base = mesh_model(spec, n)
@@ -142,7 +143,9 @@ def linear_member(job):
     res = cc.simulate(base.with_overrides(seed_overrides(base, seed)), duration=duration, contact=False)
     wall = time.perf_counter() - t0
     keep = after_skip(res.time, skip)
-    levels = octave_rms(res.support_force(OUTPUT)[keep], 1.0 / (res.time[1] - res.time[0]), "table3").rms
+    levels = octave_rms(
+        res.support_force(OUTPUT)[keep], 1.0 / (res.time[1] - res.time[0]), "table3", **window_options("boxcar")
+    ).rms
     return spec, int(n), [float(x) for x in levels], wall
 
 
@@ -151,8 +154,8 @@ def member(job):
     energies (dt None: the scenario's; law_length m, 0: the law per node)."""
     import cablecasing_core as cc
     from cablecasing_core.records import after_skip
-    from cablecasing_core.studies import octave_rms
     from cablecasing_core.studies.ensemble_runs import seed_overrides
+    from cablecasing_core.studies.octave import octave_rms, window_options  # (boxcar: the cached tables')
 
     spec, n, seed, duration, skip, dt, law_length = job
     base = mesh_model(spec, n, law_length)
@@ -162,7 +165,7 @@ def member(job):
     wall = time.perf_counter() - t0
     keep = after_skip(res.time, skip)
     fs = 1.0 / (res.time[1] - res.time[0])
-    levels = octave_rms(res.support_force(OUTPUT)[keep], fs, "table3").rms
+    levels = octave_rms(res.support_force(OUTPUT)[keep], fs, "table3", **window_options("boxcar")).rms
     e = res.energies
     return {
         "specimen": spec,

@@ -16,3 +16,15 @@ def key_help(key, what=None):
 
 
 ASSIGNMENT_HELP = "KEY=VALUE: a dotted model key (see 'cablecasing keys') and a TOML value, e.g. contact.friction=0.2"
+
+
+def add_window_argument(parser):
+    """``--window`` of the band levels (``bands``, ``ensemble``, ``study``): Hann's, the default of
+    ``studies.octave_rms``, or the rectangular window of the docs' tables before 2026-12-06."""
+    parser.add_argument(
+        "--window",
+        choices=["hann", "boxcar"],
+        default="hann",
+        help="window of the band levels: Hann's (mean removed), or the rectangular one, whose leakage biases weak "
+        "bands upward (docs/time_domain.md, 'The window of the band levels')",
+    )

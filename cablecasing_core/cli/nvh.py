@@ -7,6 +7,8 @@ import os
 
 import numpy as np
 
+from .helptext import add_window_argument
+
 RECORD_HELP = "time record: .csv, .npz or .uff (as 'cablecasing simulate --out' writes, or with a time column first)"
 
 
@@ -284,7 +286,7 @@ def cmd_bands(args):
     from ..files import atomic_path
     from ..nvh import reference
     from ..studies import octave_rms
-    from ..studies.octave import octave_bands
+    from ..studies.octave import octave_bands, window_options
     from .paths import check_distinct, check_output_path, kept
 
     check_output_path("--out", args.out, (".csv",))
@@ -325,7 +327,9 @@ def cmd_bands(args):
         if not within.all():  # (octave_rms leaves them out: passband, beyond_nyquist="drop")
             print(f"# {_passband_note(rec, args.record)}: the bands above it are left out")
     name = f"{col} in {args.record} (after --skip)"
-    bands = octave_rms(x, rec.fs, band_set, beyond_nyquist="drop", name=name, passband=passband)
+    bands = octave_rms(
+        x, rec.fs, band_set, beyond_nyquist="drop", name=name, passband=passband, **window_options(args.window)
+    )
     level = bands.level_db(ref)
     total = float(np.sqrt(np.sum(bands.mean_square)))
     print(f"# {args.record}: {col} after {args.skip:g} s, {args.kind} bands; level in dB re {ref:g} {unit}")
@@ -426,6 +430,7 @@ def add_parser(sub):
     b.add_argument(
         "--fmax", type=float, default=None, help="highest mid-band frequency kept, Hz (default: all; 20000 Hz)"
     )
+    add_window_argument(b)
     b.add_argument(
         "--skip",
         type=float,

@@ -13,7 +13,7 @@ from ..model.limits import MAX_ENSEMBLE_SEED, MAX_SEEDS, MAX_STUDY_SAMPLES, PROG
 from ..model.schema import output_spec
 from ..model.validators import integer, number
 from .assignments import add_model_argument, assignments, model_argument, with_changes
-from .helptext import ASSIGNMENT_HELP, key_help
+from .helptext import ASSIGNMENT_HELP, add_window_argument, key_help
 from .paths import check_distinct, check_output_path, kept
 
 
@@ -85,7 +85,7 @@ def cmd_study(args):
         raise ModelError("--out", args.out, "must be a folder (of study.csv and the figures); it is a file")
     # a file by its absolute path (dask workers run in any folder); a built-in specimen by its name
     model_file = args.model if args.model in (None, *specimen_names()) else str(Path(args.model).resolve())
-    kwargs = {"model_file": model_file, "duration": args.duration, "skip": args.skip}
+    kwargs = {"model_file": model_file, "duration": args.duration, "skip": args.skip, "window": args.window}
     if output != "casing.B.Fz":  # (the default's settings stay as earlier versions wrote them: they resume)
         kwargs["output"] = output
     quantity = {"name": output, "unit": unit, "what": "RMS in the octave bands of Table 3"}
@@ -166,14 +166,16 @@ def _check_resume(args, old, path, bounds, kwargs, model):
             "columns and design follow that order), to resume it; or choose another --out",
         )
     was = {"seed": old["seed"]} if "seed" in old else {}
-    if isinstance(old.get("evaluate_kwargs"), dict):  # (an output of its own only when not casing.B.Fz)
-        was.update({"output": "casing.B.Fz"} | old["evaluate_kwargs"])
+    if isinstance(old.get("evaluate_kwargs"), dict):  # (an output of its own only when not casing.B.Fz;
+        # a study begun before the window was a setting took the rectangular one)
+        was.update({"output": "casing.B.Fz", "window": "boxcar"} | old["evaluate_kwargs"])
     now = {"seed": args.seed, "output": "casing.B.Fz"} | kwargs
     for flag, key, typed in (
         ("--seed", "seed", args.seed),
         ("MODEL", "model_file", args.model),
         ("--duration", "duration", args.duration),
         ("--skip", "skip", args.skip),
+        ("--window", "window", args.window),
         ("--output", "output", args.output),
     ):
         then = was.get(key, now[key])  # (what the sidecar does not hold is run_study's to check)
@@ -290,6 +292,7 @@ def cmd_ensemble(args):
         duration=args.duration,
         dt=args.dt,
         skip=args.skip,
+        window=args.window,
         scheduler=args.scheduler,
         n_workers=args.workers,
         progress=True,
@@ -530,6 +533,7 @@ def add_parser(sub):
     p.add_argument(
         "--duration", type=float, default=None, help=key_help("scenario.duration", "simulated time per sample")
     )
+    add_window_argument(p)
     p.add_argument(
         "--skip",
         type=float,
@@ -559,6 +563,7 @@ def add_parser(sub):
     e.add_argument("--first-seed", type=int, default=1, help="seeds first..first+n-1 (default 1)")
     e.add_argument("--duration", type=float, default=None, help=key_help("scenario.duration", "simulated time per run"))
     e.add_argument("--dt", type=float, default=None, help=key_help("scenario.dt"))
+    add_window_argument(e)
     e.add_argument(
         "--skip",
         type=float,

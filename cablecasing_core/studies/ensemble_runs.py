@@ -23,7 +23,7 @@ from ..model.validators import Choice, integer, seconds
 from .ensemble import Ensemble
 from .evaluators import DEFAULT_EVALUATE, check_record_settings
 from .executor import execute
-from .octave import Bands, octave_bands
+from .octave import WINDOWS, Bands, octave_bands
 
 if TYPE_CHECKING:
     from ..model import Model
@@ -58,6 +58,7 @@ def seed_ensemble(
     duration: float | None = None,
     dt: float | None = None,
     skip: float | None = None,
+    window: str = "hann",
     overrides: Mapping[str, object] | None = None,
     excitations: Sequence[str] | None = None,
     scheduler="serial",
@@ -84,6 +85,9 @@ def seed_ensemble(
         0.05 s lengthened so that the rest holds whole periods of the harmonic excitations
         (:func:`~cablecasing_core.timedomain.scenario.whole_period_skip` of the model with
         ``overrides``; the ensemble's ``settings["skip"]`` holds the value taken).
+    window : {"hann", "boxcar"}
+        The window of the band levels (:func:`~cablecasing_core.studies.octave.octave_rms`; the
+        rectangular one as the docs' tables before 2026-12-06); kept in ``settings``.
     overrides : dict, optional
         ``{dotted.key: value}`` applied to every member (e.g. ``{"contact.friction": 0.2}``).
     excitations : sequence of str, optional
@@ -114,6 +118,7 @@ def seed_ensemble(
     seconds("duration", duration, none_ok=True)
     seconds("dt", dt, none_ok=True)
     seconds("skip", skip, zero_ok=True, none_ok=True)
+    Choice(*WINDOWS)("window", window)
     Choice(*SUPPORT_OUTPUTS, *clip_outputs(model))("output", output)  # (a clip's force too)
     band_set = bands if isinstance(bands, Bands) else octave_bands(bands)
     names = _check_excitations(model, excitations)
@@ -134,6 +139,7 @@ def seed_ensemble(
         "output": output,
         "bands": band_set,
         "contact_time": True,
+        "window": window,
     }
     # (contact, and so a contact time per cable node, needs the cable and the casing)
     nodes = base.geometry["n_elements"] + 1 if {"cable", "casing"} <= set(base.bodies) else 0
@@ -157,6 +163,7 @@ def seed_ensemble(
         "duration": float(base.scenario["duration"] if duration is None else duration),
         "dt": float(step),
         "skip": float(skip),
+        "window": window,
         "model": base.fingerprint(),
     }
     return Ensemble(

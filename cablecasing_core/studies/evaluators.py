@@ -13,7 +13,7 @@ import zlib
 import numpy as np
 
 from ..errors import ModelError
-from .octave import octave_bands, octave_rms
+from .octave import octave_bands, octave_rms, window_options
 from .sampling import AXIAL_AMPLITUDE_KEY
 
 #: Output names of the default study: the Table 3 band labels "oct1" .. "oct9".
@@ -33,6 +33,7 @@ def default_evaluate(
     output="casing.B.Fz",
     bands="table3",
     contact_time=False,
+    window="hann",
     **kwargs,
 ):
     """The per-sample function of Section 4.4: run the time-domain model (the scenario of the model,
@@ -48,7 +49,8 @@ def default_evaluate(
     output whose band levels are returned (N or N.m: a support or isolator output of ``SUPPORT_OUTPUTS``
     or a clip's, ``casing.clip0.Fz``); bands: the band
     set of :func:`~cablecasing_core.studies.octave.octave_rms`; contact_time: also return the contact
-    time per cable node (s, Fig. 22) as ``"contact_time_<i>"``.
+    time per cable node (s, Fig. 22) as ``"contact_time_<i>"``; window: the window of the band
+    levels (``octave_rms``'s: ``"hann"``, or ``"boxcar"`` as the docs' tables before 2026-12-06).
     """
     from ..model import load_model
     from ..records import after_skip
@@ -63,7 +65,7 @@ def default_evaluate(
     if keep.sum() < 2:
         raise ModelError("skip", skip, f"must leave part of the {res.time[-1]:.6g} s record for the RMS")
     fs = 1.0 / (res.time[1] - res.time[0])
-    out = octave_rms(res.support_force(output)[keep], fs, bands).as_dict()
+    out = octave_rms(res.support_force(output)[keep], fs, bands, **window_options(window)).as_dict()
     if contact_time:
         out.update({f"contact_time_{i}": float(v) for i, v in enumerate(res.contact_time)})
     return out

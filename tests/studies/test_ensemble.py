@@ -277,7 +277,13 @@ def test_an_ensemble_run_in_parts_and_pooled_is_the_whole(tmp_path):
     for name in ("seeds", "levels", "contact_time", "lower", "upper"):
         np.testing.assert_array_equal(getattr(back, name), getattr(part_a, name))
     assert (back.output, back.labels, back.settings) == (part_a.output, part_a.labels, part_a.settings)
-    assert whole.settings == {"duration": T, "dt": 1e-5, "skip": 0.05, "model": whole.settings["model"]}
+    assert whole.settings == {
+        "duration": T,
+        "dt": 1e-5,
+        "skip": 0.05,
+        "window": "hann",
+        "model": whole.settings["model"],
+    }
     pooled = pool_ensembles([tmp_path / "b.csv", str(tmp_path / "a.csv")])
     for name in ("seeds", "levels", "contact_time"):
         np.testing.assert_array_equal(getattr(pooled, name), getattr(whole, name))
