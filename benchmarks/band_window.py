@@ -12,12 +12,17 @@ level per band and record length relative to Hann's over the whole record (the e
 record converges to), and the standard error over the records; and the ratio of the two windows'
 levels on the same records (``boxcar_over_hann_*``, paired), the rectangular window's bias.
 
+``--ratio KEY=LO:HI``: the paired ratio of the ensemble means (HI / LO, 1 s records of ``--spec``
+after 0.06 s, seeds ``--seeds``) through both windows from the same runs, with |r| / SE: what a
+one-at-a-time ensemble of docs/studies.md reads through each.
+
 ``--time-step``: the installed specimen's band levels after 0.06 s of 1 s at ``--dts`` against
 ``--ref-dt`` (6.25e-7 s: within 8e-4 of 3.125e-7 s in every band, docs/time_domain.md), seeds
 ``--seeds``, with both windows: the time step's error does not depend on the window.
 
     .venv/bin/python benchmarks/band_window.py --bias --spec default --seeds 1 2 --long 16
     .venv/bin/python benchmarks/band_window.py --time-step --seeds 1 2
+    .venv/bin/python benchmarks/band_window.py --ratio contact.friction=0.05:0.2 casing.E=2e9:1e10 --seeds $(seq 16)
 """
 
 from __future__ import annotations
@@ -43,6 +48,13 @@ p.add_argument("--seeds", type=int, nargs="+", default=[1, 2])
 p.add_argument("--long", type=float, default=16.0, help="s of each --bias run after its 0.06 s")
 p.add_argument("--dts", type=float, nargs="+", default=[1e-5, 1 / 30000])
 p.add_argument("--ref-dt", type=float, default=6.25e-7)
+p.add_argument(
+    "--ratio",
+    nargs="+",
+    default=[],
+    metavar="KEY=LO:HI",
+    help="paired ratios of the mean levels (HI / LO) of --spec over --seeds (1 s, after 0.06 s) through both windows",
+)
 args = p.parse_args()
 print(f"date: {datetime.datetime.now():%Y-%m-%d %H:%M}")
 
@@ -100,3 +112,25 @@ if args.time_step:
         print(f"time_step_levels_ref_seed{seed}_boxcar_N: " + " ".join(f"{x:.4g}" for x in lv[args.ref_dt]["boxcar"]))
         print(f"time_step_levels_ref_seed{seed}_hann_N: " + " ".join(f"{x:.4g}" for x in lv[args.ref_dt]["hann"]))
     print(f"time_step_wall_s: {time.perf_counter() - start:.0f}")
+
+for spec in args.ratio:
+    start = time.perf_counter()
+    key, _, bounds = spec.partition("=")
+    lo, hi = (float(v) for v in bounds.split(":"))
+    model = cc.load_model(args.spec)
+    lv = {(w, v): [] for w in WINDOWS for v in (lo, hi)}
+    for seed in args.seeds:
+        for v in (lo, hi):
+            run = cc.simulate(model.with_overrides({SEED_KEY: seed, key: v}), duration=1.0)
+            F = run.support_force("casing.B.Fz")[after_skip(run.time, 0.06)]
+            for w in WINDOWS:
+                lv[(w, v)].append(levels(F, 1.0 / model.scenario["dt"], w))
+    for w in WINDOWS:
+        a, b = np.array(lv[(w, hi)]), np.array(lv[(w, lo)])
+        r = a.mean(axis=0) / b.mean(axis=0)
+        # (the ratio's SE by the delta method over paired seeds)
+        d = a / a.mean(axis=0) - b / b.mean(axis=0)
+        se = r * d.std(axis=0, ddof=1) / np.sqrt(len(d))
+        print(f"ratio_{key}_{w}: " + " ".join(f"x{x:.2f}" for x in r))
+        print(f"ratio_{key}_{w}_over_se: " + " ".join(f"{(x - 1) / e:+.1f}" for x, e in zip(r, se)))
+    print(f"ratio_{key}_wall_s: {time.perf_counter() - start:.0f}")
