@@ -23,6 +23,8 @@ one-at-a-time ensemble of docs/studies.md reads through each.
     .venv/bin/python benchmarks/band_window.py --bias --spec default --seeds 1 2 --long 16
     .venv/bin/python benchmarks/band_window.py --time-step --seeds 1 2
     .venv/bin/python benchmarks/band_window.py --ratio contact.friction=0.05:0.2 casing.E=2e9:1e10 --seeds $(seq 16)
+    .venv/bin/python benchmarks/band_window.py --ratio geometry.n_elements=35:140 --seeds $(seq 32)
+    .venv/bin/python benchmarks/band_window.py --ratio scenario.dt=2.5e-6:1e-5 --seeds $(seq 64)
 """
 
 from __future__ import annotations
@@ -34,6 +36,7 @@ import time
 import numpy as np
 
 import cablecasing_core as cc
+from cablecasing_core.model.load import toml_value
 from cablecasing_core.records import after_skip
 from cablecasing_core.studies import octave_rms
 
@@ -116,7 +119,7 @@ if args.time_step:
 for spec in args.ratio:
     start = time.perf_counter()
     key, _, bounds = spec.partition("=")
-    lo, hi = (float(v) for v in bounds.split(":"))
+    lo, hi = (toml_value(v) for v in bounds.split(":"))  # (as --set reads a value: 140 an integer)
     model = cc.load_model(args.spec)
     lv = {(w, v): [] for w in WINDOWS for v in (lo, hi)}
     for seed in args.seeds:
@@ -124,7 +127,7 @@ for spec in args.ratio:
             run = cc.simulate(model.with_overrides({SEED_KEY: seed, key: v}), duration=1.0)
             F = run.support_force("casing.B.Fz")[after_skip(run.time, 0.06)]
             for w in WINDOWS:
-                lv[(w, v)].append(levels(F, 1.0 / model.scenario["dt"], w))
+                lv[(w, v)].append(levels(F, 1.0 / (run.time[1] - run.time[0]), w))
     for w in WINDOWS:
         a, b = np.array(lv[(w, hi)]), np.array(lv[(w, lo)])
         r = a.mean(axis=0) / b.mean(axis=0)

@@ -47,7 +47,8 @@ def _window(rec, args):
 
     seconds("--skip", args.skip, zero_ok=True, none_ok=True)
     dt = 1.0 / rec.fs  # (refuses an unevenly sampled record first)
-    if args.skip is None:
+    default = args.skip is None
+    if default:
         args.skip = rec.default_skip()
     skip = args.skip
     keep = after_skip(rec.time, skip, rec.time[0])
@@ -56,7 +57,8 @@ def _window(rec, args):
             "--skip",
             skip,
             f"must leave at least 16 samples of the {rec.time[-1] - rec.time[0]:.6g} s record {rec.source} "
-            f"({rec.time.size} samples at dt = {dt:.4g} s)",
+            f"({rec.time.size} samples at dt = {dt:.4g} s)"
+            + ("; it is the default: give a shorter one" if default else ""),
         )
     return keep
 

@@ -221,6 +221,8 @@ def octave_bands(kind: str = "table3", f_min: float | None = None, f_max: float 
         if v != np.inf:  # (inf: no upper limit)
             number(key, v, ge=0, unit="Hz")
     if fmax < fmin:  # (equal: the one band of that nominal frequency, the range being closed)
+        if f_max is None:  # (the default upper limit: the lower one given is what is wrong)
+            raise ModelError("f_min", fmin, f"must be at most f_max, by default {fmax:g} Hz (give f_max too)")
         raise ModelError("f_max", fmax, f"must be at least f_min = {fmin} Hz")
     if kind != "table3":
         b = 1 if kind == "octave" else 3

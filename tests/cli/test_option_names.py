@@ -42,6 +42,7 @@ def files(tmp_path, monkeypatch):
 # (argv, the start of the message after "error: ", the internal names it must not show)
 CASES = [
     (["spectrum", "r.csv", "--kind", "apparent-mass", "--input", "nope"], "--input = 'nope': must be a column of r"),
+    (["bands", "r.csv", "--kind", "octave", "--fmin", "30000"], "--fmin = 30000.0: must be at most --fmax, by default"),
     (["identify", "damping", "r.csv", "--freqs", "0"], "--freqs = 0.0: every frequency must lie in the open interval"),
     (["identify", "damping", "r.csv", "--count", "100000"], "--count = 100000: must be at most "),
     (["identify", "damping", "r.csv", "--noise-floor", "-1"], "--noise-floor = -1.0: must be a positive number"),
