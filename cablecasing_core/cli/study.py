@@ -93,9 +93,16 @@ def cmd_study(args):
         old = read_meta(out / "study.csv")
     _check_resume(args, old, out / "study.csv", bounds, kwargs, model)
     g = group_size(bounds)
+    if args.skip is None:  # (each sample takes whole periods of its own drive: the model's, unless a study varies it)
+        from ..timedomain.scenario import whole_period_skip
+
+        skip = f"after {whole_period_skip(model, args.duration):g} s (whole periods of the model's drive)"
+    else:
+        skip = f"after {args.skip:g} s"
     print(
-        f"# study of {model.source}: {len(bounds)} parameters, the Table 3 band RMS of {output} ({unit}), "
-        f"Saltelli's design on a scrambled Sobol' sequence (seed {args.seed}); results in {out / 'study.csv'}"
+        f"# study of {model.source}: {len(bounds)} parameters, the Table 3 band RMS of {output} ({unit}) {skip} "
+        f"through the {'Hann' if args.window == 'hann' else 'rectangular'} window, Saltelli's design on a "
+        f"scrambled Sobol' sequence (seed {args.seed}); results in {out / 'study.csv'}"
     )
     nb = base_points(bounds, args.samples)
     if old is not None and isinstance(old.get("n_base"), int) and old["n_base"] > nb:  # (run_study's rule)

@@ -141,7 +141,8 @@ def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, o
                 ("date", _e(info["date"])),
                 (
                     "every run",
-                    f"{info['duration']:g} s at dt = {info['dt']:g} s; levels and spectra after {info['skip']:g} s",
+                    f"{info['duration']:g} s at dt = {info['dt']:g} s; levels and spectra after {info['skip']:g} s "
+                    "(whole periods of the harmonic drive after it); band levels through Hann's window",
                 ),
                 ("excitation seeds", f"{seeds[0]}..{seeds[-1]} ({len(seeds)}; the reference records: seed {seeds[0]})"),
                 ("output", f"{OUTPUT} (N): force the casing exerts on its support B in z"),
