@@ -334,7 +334,11 @@ def cmd_bands(args):
     )
     level = bands.level_db(ref)
     total = float(np.sqrt(np.sum(bands.mean_square)))
-    print(f"# {args.record}: {col} after {args.skip:g} s, {args.kind} bands; level in dB re {ref:g} {unit}")
+    window = "Hann" if args.window == "hann" else "rectangular"
+    print(
+        f"# {args.record}: {col} after {args.skip:g} s, {args.kind} bands, {window} window; "
+        f"level in dB re {ref:g} {unit}"
+    )
     if note := _alias_note(rec, args.record, "bands"):
         print(note)
     print(

@@ -162,6 +162,8 @@ def _check_resume(args, old, path, bounds, kwargs, model):
     """A study in ``path`` (its sidecar ``old``; None: a new study) resumes only with its settings:
     checked before anything is printed, each named by the option that differs (run_study checks
     them again, by the names of its settings)."""
+    from ..studies.evaluators import EARLIER_RECORD_SETTINGS
+
     if old is None:
         return
     if "bounds" in old and list(old["bounds"]) != list(bounds):  # (dicts compare equal in any order)
@@ -174,8 +176,9 @@ def _check_resume(args, old, path, bounds, kwargs, model):
         )
     was = {"seed": old["seed"]} if "seed" in old else {}
     if isinstance(old.get("evaluate_kwargs"), dict):  # (an output of its own only when not casing.B.Fz;
-        # a study begun before the window was a setting took the rectangular one)
-        was.update({"output": "casing.B.Fz", "window": "boxcar"} | old["evaluate_kwargs"])
+        # a study begun before the window was a setting took the earlier skip and window)
+        earlier = EARLIER_RECORD_SETTINGS if "window" not in old["evaluate_kwargs"] else {}
+        was.update({"output": "casing.B.Fz"} | earlier | old["evaluate_kwargs"])
     now = {"seed": args.seed, "output": "casing.B.Fz"} | kwargs
     for flag, key, typed in (
         ("--seed", "seed", args.seed),
@@ -189,7 +192,7 @@ def _check_resume(args, old, path, bounds, kwargs, model):
         if then != now[key]:
             raise ModelError(
                 flag,
-                typed,
+                "not given" if typed is None else typed,
                 f"must be what the study in {path} was run with, {'none given' if then is None else repr(then)}, "
                 "to resume it; or choose another --out",
             )
@@ -322,6 +325,10 @@ def cmd_ensemble(args):
         if varied & set(given):
             raise ModelError(flag, sorted(varied & set(given)), "must not set the seeds that the ensemble varies")
     with_changes(model, {k: ("--set", v) for k, v in base.items()} | {k: ("--against", v) for k, v in against.items()})
+    if args.skip is None and against:  # (paired: both ensembles take the first's samples, its drive's whole periods)
+        from ..timedomain.scenario import whole_period_skip
+
+        common["skip"] = whole_period_skip(model.with_overrides(base), args.duration, args.dt)
     names = {"duration": "--duration", "dt": "--dt", "skip": "--skip", "output": "--output"}
     for key, given in (("scenario.duration", args.duration), ("scenario.dt", args.dt)):
         if given is not None:  # (else the model's value, named by its key)
@@ -469,6 +476,11 @@ def _print_ensemble(ens, confidence):
         f"# {ens.output} band RMS ({unit}) over {ens.n} seeds {seeds}"
         f"{' with ' + str(ens.overrides) if ens.overrides else ''}; CI {confidence:g} (Student t)"
         + (f"; the records after {ens.settings['skip']:g} s" if "skip" in ens.settings else "")
+        + (
+            f", {'Hann' if ens.settings['window'] == 'hann' else 'rectangular'} window"
+            if "window" in ens.settings
+            else ""
+        )
     )
     print("band,f_low_hz,f_high_hz,mean,se,ci_low,ci_high,cv")
     for row in ens.as_rows(confidence):

@@ -36,7 +36,7 @@ class Ensemble:
     with seed ``seeds[i]``; the bands' edges are in Hz. ``contact_time[i, k]`` is the time (s) cable
     node ``k`` spent in contact in that run (the highest-contact-area histogram of Fig. 22; no
     columns without a cable). ``overrides`` are the model changes common to all members;
-    ``settings`` the run settings ``duration``, ``dt``, ``skip`` (s) and ``model``, a fingerprint of
+    ``settings`` the run settings ``duration``, ``dt``, ``skip`` (s), ``window`` and ``model``, a fingerprint of
     the model data with the overrides applied (what :func:`pool_ensembles` requires to be equal; a
     tabulated excitation enters by its file's content, not its path). ``warnings`` maps
     the seed of each member whose run warned (a contact Newton that did not converge in some steps,
@@ -185,9 +185,18 @@ def load_ensemble(path: str | os.PathLike) -> Ensemble:
         table[:, 1 : 1 + nb],
         meta["overrides"],
         table[:, 1 + nb :],
-        meta["settings"],
+        _with_window(meta["settings"]),
         _warnings_by_seed(shown, meta.get("warnings", {}), seeds),
     )
+
+
+def _with_window(settings):
+    """An ensemble's settings with its window: one saved before the window was a setting
+    (2026-12-06; it has a skip but no window) took the rectangular one, so it pools with a part of
+    ``--window boxcar``."""
+    if "skip" in settings and "window" not in settings:
+        return {**settings, "window": "boxcar"}
+    return settings
 
 
 def _warnings_by_seed(shown, given, seeds):
@@ -252,7 +261,7 @@ def pool_ensembles(ensembles: Sequence[Ensemble | str | os.PathLike]) -> Ensembl
 
     ``ensembles`` is a sequence of :class:`Ensemble` objects or paths of their CSV files
     (:func:`load_ensemble`). They must have the same output, bands, overrides and settings (model,
-    duration, dt, skip), and no seed twice. Pooling parts run on different machines is sound for the
+    duration, dt, skip, window), and no seed twice. Pooling parts run on different machines is sound for the
     statistics; single records may differ between machines after ~0.1 s (docs/time_domain.md).
     """
     parts = [load_ensemble(e) if isinstance(e, (str, os.PathLike)) else e for e in ensembles]

@@ -20,6 +20,12 @@ from .sampling import AXIAL_AMPLITUDE_KEY
 DEFAULT_OUTPUTS = octave_bands("table3").labels
 #: The dotted path of :func:`default_evaluate` (what dask workers import).
 DEFAULT_EVALUATE = "cablecasing_core.studies.evaluators:default_evaluate"
+#: The record settings of :func:`default_evaluate` a study stores with its arguments: skip None (the
+#: whole periods of ``whole_period_skip``) and Hann's window ...
+RECORD_SETTINGS = {"skip": None, "window": "hann"}
+#: ... and what a study whose stored arguments lack them took (before 2026-12-06): a resume compares
+#: them, so that its samples are not mixed with samples of the present defaults.
+EARLIER_RECORD_SETTINGS = {"skip": 0.05, "window": "boxcar"}
 
 
 def default_evaluate(
@@ -122,6 +128,7 @@ def _check_default_evaluate(kwargs, model=None):
         model = load_model(path if path is not None else (model if isinstance(model, str) else None))
     known = {"duration", "skip", "dt", "bands"}
     check_record_settings(model, **{k: v for k, v in kwargs.items() if k in known})
+    window_options(kwargs.get("window", "hann"))  # (a bad window refused before any sample)
 
 
 default_evaluate.check_settings = _check_default_evaluate

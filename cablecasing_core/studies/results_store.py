@@ -15,6 +15,7 @@ import numpy as np
 
 from ..errors import ModelError, excerpt, plain
 from ..files import is_number
+from .evaluators import DEFAULT_EVALUATE, EARLIER_RECORD_SETTINGS
 
 META_COLUMNS = ("index", "status")
 TAIL_COLUMNS = ("elapsed_s", "error")
@@ -336,6 +337,9 @@ def prepare_file(path, meta, design, params):
         meta.pop("warnings", None)
     if old is not None and "model_fingerprint" not in old and "model_file" in (old.get("evaluate_kwargs") or {}):
         meta.pop("model_fingerprint", None)  # (a study of an earlier version ran it but did not record it)
+    if old is not None and old.get("evaluate") == DEFAULT_EVALUATE and isinstance(old.get("evaluate_kwargs"), dict):
+        if "window" not in old["evaluate_kwargs"]:  # (its samples took the earlier skip and window)
+            old["evaluate_kwargs"] = EARLIER_RECORD_SETTINGS | old["evaluate_kwargs"]
     header = _header(params, meta["outputs"], meta.get("quantity"), meta.get("warnings") is True)
     if old is None:
         d = os.path.dirname(os.path.abspath(path))

@@ -36,7 +36,7 @@ from ..errors import ModelError, ModelWarning
 from ..files import output_folder
 from ..model.limits import MAX_STUDY_SAMPLES
 from ..model.validators import integer
-from .evaluators import DEFAULT_EVALUATE, DEFAULT_OUTPUTS
+from .evaluators import DEFAULT_EVALUATE, DEFAULT_OUTPUTS, RECORD_SETTINGS
 from .executor import PROGRESS_TIMEOUT, Workers, execute, resolve_evaluate, spec_name
 from .results_store import (
     FORMAT_VERSION,
@@ -136,6 +136,8 @@ def run_study(
         raise ModelError("evaluate", evaluate, "must be a callable or a dotted import path 'package.module:function'")
     fn = resolve_evaluate(evaluate)
     evaluate_kwargs = dict(evaluate_kwargs or {})
+    if spec_name(evaluate) == DEFAULT_EVALUATE:  # (stored, so that a resume compares them: results_store)
+        evaluate_kwargs = RECORD_SETTINGS | evaluate_kwargs
     the_model, stored, passed, fingerprint = _study_model(evaluate, fn, model, evaluate_kwargs)
     evaluate_kwargs.update(stored)
     bounds = check_bounds(bounds, model=False if the_model is None else the_model)

@@ -166,8 +166,9 @@ def test_a_contact_run_does_not_depend_on_the_communication_step(fmu, tmp_path, 
     contact in test_fmu.py::test_any_communication_step and test_support_motion.py); with the
     regularised friction the contacts have no event that a rounding-level change of the motion
     could flip, so it shrinks with H here too: measured 2.4e-5 of the force's RMS pointwise at
-    H = 1e-4 (4.3e-6 in octaves 3-8 after 0.06 s), 1.6e-6 (3.9e-7) at 5e-5 and 6e-8 (1.1e-7) at
-    2e-5 and 1e-5, a floor (bounds 2x; the switch law's events left a floor of 1.7e-3 at every H).
+    H = 1e-4 (in octaves 3-8 after 0.06 s: 5.7e-6 through Hann's window, 4.3e-6 through the
+    rectangular one, whose figures follow), 1.6e-6 (3.9e-7) at 5e-5 and 6e-8 (1.1e-7) at 2e-5 and
+    1e-5, a floor (bounds 2x; the switch law's events left a floor of 1.7e-3 at every H).
     The FMU at H = 5e-5 is the core's path at that step to the bit, so the core's path stands for
     the FMU at the others."""
     model = cc.load_model("installed")
