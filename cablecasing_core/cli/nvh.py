@@ -9,6 +9,11 @@ import numpy as np
 
 from .helptext import add_window_argument
 
+#: --skip of spectrum and bands.
+SKIP_HELP = (
+    "start of the record left out, s (default: 0.05 s, lengthened so that the rest holds whole periods of the "
+    "lines a run's record states, # lines_hz: 0.06 s of 1 s with a 50 Hz drive)"
+)
 RECORD_HELP = "time record: .csv, .npz or .uff (as 'cablecasing simulate --out' writes, or with a time column first)"
 
 
@@ -288,7 +293,7 @@ def cmd_bands(args):
     from ..files import atomic_path
     from ..nvh import reference
     from ..studies import octave_rms
-    from ..studies.octave import octave_bands, window_options
+    from ..studies.octave import WINDOW_NAMES, octave_bands, window_options
     from .paths import check_distinct, check_output_path, kept
 
     check_output_path("--out", args.out, (".csv",))
@@ -334,9 +339,8 @@ def cmd_bands(args):
     )
     level = bands.level_db(ref)
     total = float(np.sqrt(np.sum(bands.mean_square)))
-    window = "Hann" if args.window == "hann" else "rectangular"
     print(
-        f"# {args.record}: {col} after {args.skip:g} s, {args.kind} bands, {window} window; "
+        f"# {args.record}: {col} after {args.skip:g} s, {args.kind} bands, {WINDOW_NAMES[args.window]} window; "
         f"level in dB re {ref:g} {unit}"
     )
     if note := _alias_note(rec, args.record, "bands"):
@@ -397,8 +401,7 @@ def add_parser(sub):
         "--skip",
         type=float,
         default=None,
-        help="start of the record left out, s (default: 0.05 s, lengthened so that the rest holds whole periods of "
-        "the lines a run's record states, # lines_hz: 0.06 s of 1 s with a 50 Hz drive)",
+        help=SKIP_HELP,
     )
     s.add_argument("--fmin", type=float, default=1.0, help="lowest frequency written and drawn, Hz")
     s.add_argument("--fmax", type=float, default=2000.0, help="highest frequency written and drawn, Hz")
@@ -441,8 +444,7 @@ def add_parser(sub):
         "--skip",
         type=float,
         default=None,
-        help="start of the record left out, s (default: 0.05 s, lengthened so that the rest holds whole periods of "
-        "the lines a run's record states, # lines_hz: 0.06 s of 1 s with a 50 Hz drive)",
+        help=SKIP_HELP,
     )
     b.add_argument(
         "--ref", type=float, default=None, help="reference of the dB levels (default: by unit, as 'spectrum')"

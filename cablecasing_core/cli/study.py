@@ -16,6 +16,12 @@ from .assignments import add_model_argument, assignments, model_argument, with_c
 from .helptext import ASSIGNMENT_HELP, add_window_argument, key_help
 from .paths import check_distinct, check_output_path, kept
 
+#: --skip of study and ensemble.
+SKIP_HELP = (
+    "start of each record left out, s (default: 0.05 s lengthened so that the rest of the record holds whole "
+    "periods of the model's harmonic excitations: 0.06 s of 1 s with a 50 Hz drive; docs/studies.md)"
+)
+
 
 def study_bounds(args, model):
     """The study's parameters and bounds from ``--vary`` and ``--vary-file`` (default: the paper's six),
@@ -68,6 +74,7 @@ def study_output(name, model):
 def cmd_study(args):
     from ..model.load import specimen_names
     from ..studies import DEFAULT_EVALUATE, plot_correlations, plot_sobol, run_study
+    from ..studies.octave import WINDOW_NAMES
     from ..studies.results_store import read_meta
     from ..studies.sampling import base_points, group_size
 
@@ -101,7 +108,7 @@ def cmd_study(args):
         skip = f"after {args.skip:g} s"
     print(
         f"# study of {model.source}: {len(bounds)} parameters, the Table 3 band RMS of {output} ({unit}) {skip} "
-        f"through the {'Hann' if args.window == 'hann' else 'rectangular'} window, Saltelli's design on a "
+        f"through the {WINDOW_NAMES[args.window]} window, Saltelli's design on a "
         f"scrambled Sobol' sequence (seed {args.seed}); results in {out / 'study.csv'}"
     )
     nb = base_points(bounds, args.samples)
@@ -470,17 +477,15 @@ def _check_confidence(confidence):
 
 
 def _print_ensemble(ens, confidence):
+    from ..studies.octave import WINDOW_NAMES
+
     unit = output_spec(ens.output)[0]
     seeds = f"{ens.seeds[0]}..{ens.seeds[-1]}" if np.all(np.diff(ens.seeds) == 1) else "(see the CSV)"
     print(
         f"# {ens.output} band RMS ({unit}) over {ens.n} seeds {seeds}"
         f"{' with ' + str(ens.overrides) if ens.overrides else ''}; CI {confidence:g} (Student t)"
         + (f"; the records after {ens.settings['skip']:g} s" if "skip" in ens.settings else "")
-        + (
-            f", {'Hann' if ens.settings['window'] == 'hann' else 'rectangular'} window"
-            if "window" in ens.settings
-            else ""
-        )
+        + (f", {WINDOW_NAMES[ens.settings['window']]} window" if "window" in ens.settings else "")
     )
     print("band,f_low_hz,f_high_hz,mean,se,ci_low,ci_high,cv")
     for row in ens.as_rows(confidence):
@@ -557,8 +562,7 @@ def add_parser(sub):
         "--skip",
         type=float,
         default=None,
-        help="start of each record left out, s (default: 0.05 s lengthened so that the rest of the record holds "
-        "whole periods of the model's harmonic excitations: 0.06 s of 1 s with a 50 Hz drive; docs/studies.md)",
+        help=SKIP_HELP,
     )
     p.add_argument(
         "--output",
@@ -587,8 +591,7 @@ def add_parser(sub):
         "--skip",
         type=float,
         default=None,
-        help="start of each record left out, s (default: 0.05 s lengthened so that the rest of the record holds "
-        "whole periods of the model's harmonic excitations: 0.06 s of 1 s with a 50 Hz drive; docs/studies.md)",
+        help=SKIP_HELP,
     )
     e.add_argument("--output", default="casing.B.Fz", help="support output, e.g. casing.B.Fz")
     e.add_argument("--kind", choices=["table3", "octave", "third"], default="table3", help="band set (docs/studies.md)")

@@ -12,9 +12,10 @@ Parseval's theorem over the FFT bins:
    the record for one period of a periodic signal, and the jump between its last and first sample
    and its strong bands leak into the weak ones with a tail of power falling as 1/m^2 (m bins away),
    a bias that falls as 1 / the record's length: on the built-in specimen's casing.B.Fz octave 9
-   read +59 % at 0.44 s, +32 % at 1 s and +12 % at 4 s against Hann's over 16 s, Hann's within
-   its scatter at every length (``benchmarks/band_window.py``, docs/time_domain.md "The window of
-   the band levels"). Hann's tail falls as 1/m^6. With ``window="boxcar"`` and ``detrend=None``
+   read +59 % at 0.44 s, +33 % at 1 s, +8 % at 4 s and +1.5 % at 16 s against Hann's on the same
+   records, Hann's within its scatter of its 16 s levels at every length
+   (``benchmarks/band_window.py``, docs/time_domain.md "The window of the band levels"). Hann's
+   tail falls as 1/m^6. With ``window="boxcar"`` and ``detrend=None``
    Parseval holds exactly (the band mean squares over 0..fs/2 sum to ``mean(x**2)``): a line of
    whole periods then stays in its bin.
 2. One-sided power spectrum (mean square per bin, signal unit squared):
@@ -281,6 +282,8 @@ def band_sums(P, E, lower, upper):
 #: The windows of the band levels a study, an ensemble and ``bands`` offer (``octave_rms``'s default,
 #: and the rectangular window the docs' earlier tables were computed with).
 WINDOWS = ("hann", "boxcar")
+#: What the commands call them when they say which window their levels took.
+WINDOW_NAMES = {"hann": "Hann", "boxcar": "rectangular"}
 
 
 def window_options(window: str) -> dict:
