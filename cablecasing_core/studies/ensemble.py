@@ -112,14 +112,20 @@ class Ensemble:
         ]
 
     def save(self, path: str | os.PathLike) -> None:
-        """Write the members as CSV: the header ``seed, <band labels> (N or N.m), contact_time_node<k>_s``,
+        """Write the members as CSV: the header ``seed, <band label> [<unit>], ..., contact_time_node<k>_s``
+        (``oct1 [N]``: the output's unit, N or N.m; a file written before the units were named has
+        the bare labels, and reads the same),
         then one line ``# cablecasing-ensemble {JSON}`` with the output, band edges (Hz), overrides,
         settings and the members' warnings by seed (a comment line: ``numpy.genfromtxt(path,
         delimiter=",", names=True)`` and ``pandas.read_csv(path, comment="#")`` read the table),
         then one row per member, written to 17 significant digits so that :func:`load_ensemble` gives
         back the same numbers."""
+        from ..records import unit_of
+
         nodes = self.contact_time.shape[1] if self.contact_time.size else 0
-        header = ",".join(("seed",) + tuple(self.labels) + tuple(f"contact_time_node{k}_s" for k in range(nodes)))
+        unit = unit_of(self.output)
+        bands = tuple(f"{b} [{unit}]" if unit else b for b in self.labels)
+        header = ",".join(("seed",) + bands + tuple(f"contact_time_node{k}_s" for k in range(nodes)))
         meta = {
             "format": 1,
             "output": self.output,
@@ -164,7 +170,8 @@ def load_ensemble(path: str | os.PathLike) -> Ensemble:
         )
     meta = _settings_line(shown, meta_line[len(_META) :])
     labels, nb = tuple(meta["labels"]), len(meta["labels"])
-    if len(names) < 1 + nb or names[0] != "seed" or tuple(names[1 : 1 + nb]) != labels:
+    bands = tuple(n.split(" [")[0].strip() for n in names[1 : 1 + nb])  # (the unit in brackets, or none before)
+    if len(names) < 1 + nb or names[0] != "seed" or bands != labels:
         raise ModelError("path", shown, "its header must be 'seed' and the band labels of its settings line")
     seeds = table[:, 0]
     bad = np.nonzero((seeds != np.round(seeds)) | (seeds < 0) | (seeds > MAX_ENSEMBLE_SEED))[0]

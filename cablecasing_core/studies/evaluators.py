@@ -92,19 +92,18 @@ def check_record_settings(model, duration=None, dt=None, skip=None, bands="table
     seconds("duration", duration, none_ok=True)
     seconds("dt", dt, none_ok=True)
     seconds("skip", skip, zero_ok=True, none_ok=True)
+    given_skip = skip is not None
     if skip is None:
         skip = whole_period_skip(model, duration, dt)
     band_set = bands if isinstance(bands, Bands) else octave_bands(bands)
-    length = (model.scenario["duration"] if duration is None else duration) - skip
+    total = model.scenario["duration"] if duration is None else duration
     narrow = int(np.argmin(band_set.upper - band_set.lower))
     need = 1.0 / (band_set.upper[narrow] - band_set.lower[narrow])
-    if not length >= need:  # the band would hold less than one FFT bin (octave_rms refuses it)
-        raise ModelError(
-            "duration",
-            duration,
-            f"must leave at least {need:.4g} s after skip = {skip} s for band "
-            f"{band_set.labels[narrow]!r} ({band_set.lower[narrow]:g}-{band_set.upper[narrow]:g} Hz)",
-        )
+    if not total - skip >= need:  # the band would hold less than one FFT bin (octave_rms refuses it)
+        band = f"band {band_set.labels[narrow]!r} ({band_set.lower[narrow]:g}-{band_set.upper[narrow]:g} Hz)"
+        if given_skip and (duration is None or skip >= total):  # (the skip the user gave is what is wrong)
+            raise ModelError("skip", skip, f"must leave at least {need:.4g} s of the {total:g} s record for {band}")
+        raise ModelError("duration", duration, f"must leave at least {need:.4g} s after skip = {skip} s for {band}")
     step = model.scenario["dt"] if dt is None else dt
     if not 0.5 / step >= band_set.upper.max():  # (octave_rms's rule, checked before the runs)
         raise ModelError(

@@ -137,7 +137,16 @@ def _cluster_deaf_to_ctrl_c(LocalCluster, n_workers):
     import threading
 
     def start():
-        return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, dashboard_address=None)
+        # (dashboard_address=None leaves out the dashboard, but distributed's scheduler still opens its
+        # HTTP routes on port 8787 and warns "Port 8787 is already in use" when another cluster holds
+        # it: a port the system picks on this machine's loopback keeps two studies at once quiet)
+        return LocalCluster(
+            n_workers=n_workers,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
+        )
 
     if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "pthread_sigmask"):
         return start()  # pragma: no cover - (another thread; Windows)

@@ -252,8 +252,9 @@ def test_cli_prints_the_ensemble_and_the_paired_change(tmp_path, capsys):
     mean = np.mean(lv, axis=0)
     rows = [line.split(",") for line in text.splitlines() if line.startswith("oct")]
     np.testing.assert_allclose([float(r[3]) for r in rows[:9]], mean, rtol=1e-5)  # printed to 6 digits
-    saved = np.genfromtxt(out, delimiter=",", names=True)
-    np.testing.assert_allclose(saved["oct3"], [x[2] for x in lv], rtol=1e-8)
+    saved = np.genfromtxt(out, delimiter=",", names=True)  # (it names the header's 'oct3 [N]' oct3_N)
+    np.testing.assert_allclose(saved["oct3_N"], [x[2] for x in lv], rtol=1e-8)
+    assert open(out).readline().startswith("seed,oct1 [N],oct2 [N],")  # the levels' unit in the header
     assert (tmp_path / "levels_against.csv").exists() and "relative change" in text
     assert cli_main(["ensemble", "--seeds", "1"]) == 2
     assert cli_main(["ensemble", "--plot", str(tmp_path / "no" / "such.png")]) == 2  # refused before any run
@@ -290,7 +291,13 @@ def test_an_ensemble_run_in_parts_and_pooled_is_the_whole(tmp_path):
     np.testing.assert_array_equal(pooled.se, whole.se)
     # the CSV stays a plain table for other readers: the settings line is a comment
     table = np.genfromtxt(tmp_path / "a.csv", delimiter=",", names=True)
-    np.testing.assert_array_equal(table["oct3"], part_a.levels[:, 2])
+    np.testing.assert_array_equal(table["oct3_N"], part_a.levels[:, 2])  # (the header's 'oct3 [N]')
+    # a part saved before the header named the unit (bare labels) reads and pools the same
+    lines = (tmp_path / "a.csv").read_text().splitlines(keepends=True)
+    (tmp_path / "old.csv").write_text(lines[0].replace(" [N]", "") + "".join(lines[1:]))
+    assert "[" not in lines[0].replace(" [N]", "")
+    old = pool_ensembles([tmp_path / "b.csv", tmp_path / "old.csv"])
+    np.testing.assert_array_equal(old.levels, whole.levels)
 
 
 def test_pooling_refuses_parts_of_different_runs(tmp_path):

@@ -117,6 +117,13 @@ def test_a_study_whose_settings_make_every_run_fail_is_refused_before_it_creates
         "(11-22 Hz)"
     ]
     assert not out.exists()
+    # a skip the user gave that leaves too little of the record is the option blamed, not --duration
+    assert main(args + ["--duration", "0.2", "--skip", "0.3", "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [
+        "cablecasing: error: --skip = 0.3: must leave at least 0.09091 s of the 0.2 s record for band 'oct1' (11-22 Hz)"
+    ]
+    assert not out.exists()
 
 
 def test_a_study_of_a_built_in_specimen_by_name_runs_it_from_any_folder(tmp_path, monkeypatch, capsys):

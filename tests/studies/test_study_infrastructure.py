@@ -128,6 +128,39 @@ def test_a_ctrl_c_while_the_local_cluster_starts_stops_the_run_after_the_start(m
     assert {signal.SIGINT, signal.SIGHUP} <= blocked, child
 
 
+@pytest.mark.slow  # a dask cluster
+def test_a_local_cluster_leaves_port_8787_alone_and_says_nothing_when_another_holds_it():
+    """distributed's scheduler opens its HTTP routes on port 8787 even without a dashboard, and
+    warns 'Port 8787 is already in use' when another cluster (a second study on the machine) holds
+    it; the project's cluster takes a port the system picks on the loopback, so it says nothing."""
+    import socket
+    import warnings
+
+    from distributed import LocalCluster
+
+    from cablecasing_core.studies import executor
+
+    holder = socket.socket()
+    holder.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    try:
+        holder.bind(("127.0.0.1", 8787))  # (already held by another process: the same case)
+        holder.listen(1)
+    except OSError:
+        pass
+    try:
+        with warnings.catch_warnings(record=True) as got:
+            warnings.simplefilter("always")
+            cluster = executor._cluster_deaf_to_ctrl_c(LocalCluster, 1)
+            try:
+                bound = [sock.getsockname() for sock in cluster.scheduler.http_server._sockets.values()]
+            finally:
+                cluster.close()
+    finally:
+        holder.close()
+    assert not [str(w.message) for w in got if "8787" in str(w.message)]
+    assert bound and all(addr[0] == "127.0.0.1" and addr[1] != 8787 for addr in bound), bound
+
+
 @pytest.mark.slow  # waits for the connection timeout (10 s)
 def test_settings_that_cannot_work_are_refused_before_anything_is_created(tmp_path, monkeypatch):
     import distributed
