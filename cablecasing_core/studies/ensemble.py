@@ -88,9 +88,12 @@ class Ensemble:
         return np.where(positive, self.se * math.sqrt(self.n) / np.where(positive, self.mean, 1.0), np.nan)
 
     def ci(self, confidence=0.95):
-        """Student-t confidence interval of the mean per band, ``(low, high)`` (N or N.m)."""
+        """Student-t confidence interval of the mean per band, ``(low, high)`` (N or N.m), its lower
+        end at least 0: a band level is not negative, so neither is its mean, and the interval cut
+        to [0, inf) holds the mean whenever the whole one does (few seeds of a scattered band gave
+        negative levels before)."""
         h = _t_factor(confidence, self.n) * self.se
-        return self.mean - h, self.mean + h
+        return np.maximum(self.mean - h, 0.0), self.mean + h
 
     def as_rows(self, confidence=0.95):
         """One dict per band: label, f_low_hz, f_high_hz, mean, se, ci_low, ci_high, cv."""

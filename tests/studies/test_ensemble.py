@@ -538,9 +538,12 @@ def test_ensemble_statistics_of_three_members_by_hand():
     assert e.cv[0] == pytest.approx(0.5, rel=1e-12)
     lo, hi = e.ci(0.95)
     assert hi[0] - 2.0 == pytest.approx(4.302653 / np.sqrt(3), rel=1e-6)
-    assert 2.0 - lo[0] == pytest.approx(4.302653 / np.sqrt(3), rel=1e-6)
+    assert lo[0] == 0.0  # (2 - 2.484 < 0: cut to 0, a mean level is not negative)
+    lo1, _ = _one_band([[5.0], [6.0], [7.0]]).ci(0.95)  # the same spread about 6: the whole interval
+    assert 6.0 - lo1[0] == pytest.approx(4.302653 / np.sqrt(3), rel=1e-6)
     lo2, hi2 = _one_band([[1.0], [3.0]]).ci(0.95)  # n = 2: t(0.975, 1 dof) = 12.706205, se = 1
-    assert (lo2[0], hi2[0]) == pytest.approx((2.0 - 12.706205, 2.0 + 12.706205), rel=1e-6)
+    # (2 - 12.7 < 0: a level's mean is not negative, so the interval ends at 0 below)
+    assert lo2[0] == 0.0 and hi2[0] == pytest.approx(2.0 + 12.706205, rel=1e-6)
 
 
 def test_paired_difference_of_three_pairs_by_hand():
