@@ -23,7 +23,8 @@ A record is a time axis (s, evenly spaced) and named columns: the outputs of the
   (:func:`~cablecasing_core.files.csv_statements`) gives the record its passband. A run's record
   states the lines of its scenario's harmonic excitations the same way, ``# lines_hz = 50 (...)``
   (Hz, separated by spaces; :attr:`Records.lines_hz`), from which :meth:`Records.default_skip`
-  keeps whole periods of them. Every reader of these
+  keeps whole periods of them, and the supports' fade-in, ``# ramp_s = 0.01 (...)`` (s,
+  ``scenario.ramp``; :attr:`Records.ramp_s`), before which that skip does not start. Every reader of these
   files skips lines starting with ``#`` (:func:`~cablecasing_core.files.read_csv_table`;
   ``numpy.loadtxt(path, delimiter=",", skiprows=1)``, ``numpy.genfromtxt(path, delimiter=",",
   names=True)``; ``pandas.read_csv(path, comment="#")``).
@@ -178,11 +179,19 @@ class Records:
         a run's record, in ``.npz`` and ``.csv`` files, not in ``.uff``), or () when it states none."""
         return tuple(float(f) for f in np.atleast_1d(self.extra.get("lines_hz", ())))
 
+    @property
+    def ramp_s(self) -> float:
+        """The supports' fade-in (s) the record states (``extra["ramp_s"]``: a run of a scenario
+        whose ``scenario.ramp`` is not 0, in ``.npz`` and ``.csv`` files, not in ``.uff``), or 0."""
+        return float(np.asarray(self.extra.get("ramp_s", 0.0)))
+
     def default_skip(self) -> float:
-        """The start of the record (s) the band levels and spectra leave out by default:
-        :data:`LEAST_SKIP` lengthened so that the rest holds whole periods of :attr:`lines_hz`
-        (:func:`skip_for_whole_periods`); :data:`LEAST_SKIP` for a record that states no lines."""
-        return skip_for_whole_periods(self.lines_hz, float(self.time[-1] - self.time[0]), 1.0 / self.fs)
+        """The start of the record (s) the band levels and spectra leave out by default: the longer
+        of :data:`LEAST_SKIP` and :attr:`ramp_s`, lengthened so that the rest holds whole periods of
+        :attr:`lines_hz` (:func:`skip_for_whole_periods`); as ``ensemble`` and ``study`` take for a
+        run of the same scenario (``timedomain.scenario.whole_period_skip``)."""
+        least = max(LEAST_SKIP, self.ramp_s)
+        return skip_for_whole_periods(self.lines_hz, float(self.time[-1] - self.time[0]), 1.0 / self.fs, least)
 
     def resolve(self, name: str, key: str = "--column") -> str:
         """The column called ``name``, its header form ``name [unit]`` or ``name_unit``; a
@@ -223,6 +232,8 @@ def write_records(path: str | os.PathLike, rec: Records) -> str:
             header += "\n" + passband_line(float(np.asarray(rec.extra["passband_hz"])))
         if rec.lines_hz:
             header += "\n" + lines_line(rec.lines_hz)
+        if rec.ramp_s > 0:
+            header += "\n" + ramp_line(rec.ramp_s)
         with atomic_path(path) as tmp:
             # (the time with 15 digits: with 9, the steps of 1/30000 s would differ by 3e-5 of themselves)
             fmt = ["%.15g"] + ["%.9g"] * len(names)
@@ -264,6 +275,15 @@ def lines_line(lines_hz) -> str:
             " (Hz: the harmonic excitations of the run; band levels leave out by default the start that keeps "
             "whole periods of them after it)"
         )
+    )
+
+
+def ramp_line(ramp_s: float) -> str:
+    """The comment line by which a CSV record states the supports' fade-in (s): ``# ramp_s = 0.01
+    (...)``, to 15 significant digits (no comma, as :func:`passband_line`)."""
+    return (
+        f"# ramp_s = {ramp_s:.15g} (s: the supports' motion fades in over this time, scenario.ramp; band levels "
+        "leave out by default at least this start)"
     )
 
 
@@ -323,22 +343,24 @@ def _read_csv(path):
         units[name] = unit or unit_of(name)
     _unique(path, [header[0], *names])  # (with the earlier '<name>_<unit>' forms mapped to their names)
     cols = {n: data[:, i + 1] for i, n in enumerate(names)}
-    passband, lines = _csv_stated(path)
+    passband, lines, ramp = _csv_stated(path)
     extra = {} if passband is None else {"passband_hz": np.array(passband)}
     if lines is not None:
         extra["lines_hz"] = np.array(lines)
+    if ramp is not None:
+        extra["ramp_s"] = np.array(ramp)
     return Records(time, cols, units, path, extra)
 
 
 def _csv_stated(path):
-    """The passband (Hz) and the lines (Hz, a tuple) a CSV record states in comment lines before its
-    first row of numbers (:func:`passband_line`, :func:`lines_line`, read by
-    :func:`~cablecasing_core.files.csv_statements`), each None when not stated. One stated other
-    than as positive numbers of Hz (one passband), or stated twice, raises :class:`ModelError`
-    naming the file and the line."""
-    stated = csv_statements(path, ("passband_hz", "lines_hz"))
+    """The passband (Hz), the lines (Hz, a tuple) and the fade-in (s) a CSV record states in comment
+    lines before its first row of numbers (:func:`passband_line`, :func:`lines_line`,
+    :func:`ramp_line`, read by :func:`~cablecasing_core.files.csv_statements`), each None when not
+    stated. One stated other than as positive numbers (one passband, one fade-in), or stated twice,
+    raises :class:`ModelError` naming the file and the line."""
+    stated = csv_statements(path, ("passband_hz", "lines_hz", "ramp_s"))
     out = []
-    for name, example in (("passband_hz", "3500"), ("lines_hz", "50")):
+    for name, example in (("passband_hz", "3500"), ("lines_hz", "50"), ("ramp_s", "0.01")):
         if name not in stated:
             out.append(None)
             continue
@@ -347,9 +369,10 @@ def _csv_stated(path):
             values = tuple(float(v) for v in text.split())
         except ValueError:
             values = ()
-        one = name == "passband_hz"
+        one = name != "lines_hz"
         if not (values and all(np.isfinite(v) and v > 0 for v in values)) or (one and len(values) > 1):
-            what = "a positive number of Hz" if one else "positive numbers of Hz separated by spaces"
+            unit = "s" if name == "ramp_s" else "Hz"
+            what = f"a positive number of {unit}" if one else "positive numbers of Hz separated by spaces"
             raise ModelError(
                 "file",
                 path,

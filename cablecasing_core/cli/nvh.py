@@ -11,8 +11,9 @@ from .helptext import add_window_argument
 
 #: --skip of spectrum and bands.
 SKIP_HELP = (
-    "start of the record left out, s (default: 0.05 s, lengthened so that the rest holds whole periods of the "
-    "lines a run's record states, # lines_hz: 0.06 s of 1 s with a 50 Hz drive)"
+    "start of the record left out, s (default: 0.05 s, or the fade-in a run's record states if longer, # ramp_s, "
+    "lengthened so that the rest holds whole periods of the lines it states, # lines_hz: 0.06 s of 1 s with a "
+    "50 Hz drive)"
 )
 RECORD_HELP = "time record: .csv, .npz or .uff (as 'cablecasing simulate --out' writes, or with a time column first)"
 

@@ -86,6 +86,9 @@ class SimulationResult:
     #: for a run of a motion of its own): its records state them, so that band levels keep whole
     #: periods of them by default (``records.Records.default_skip``)
     lines_hz: tuple = ()
+    #: the supports' fade-in (s; ``scenario.ramp``, 0 for a run of a motion of its own): its records
+    #: state it, so that band levels leave out at least that start by default
+    ramp_s: float = 0.0
 
     def support_force(self, name: str) -> np.ndarray:
         """History of one support output, e.g. ``"casing.B.Fz"`` or a clip's ``"casing.clip0.Fy"``
@@ -150,6 +153,8 @@ class SimulationResult:
         extra["starts_at_zero"] = np.array(first)
         if self.lines_hz:
             extra["lines_hz"] = np.array(self.lines_hz, dtype=float)
+        if self.ramp_s > 0:
+            extra["ramp_s"] = np.array(float(self.ramp_s))
         # (read by Records.passband_hz: bands and lines above it are left out; a record that states none
         # may hold aliases: a picked one, or one of a loaded result that stated none)
         if not (self.aliased or (m > 1 and not filt)):
@@ -246,6 +251,7 @@ class SimulationResult:
             passband_hz=float(x["passband_hz"]) if "passband_hz" in x else None,
             aliased="passband_hz" not in x,
             lines_hz=tuple(float(f) for f in np.atleast_1d(x.get("lines_hz", ()))),
+            ramp_s=float(x.get("ramp_s", 0.0)),
             **{n: x[n] for n in _NODE_ARRAYS},
             **initial,
         )
@@ -347,6 +353,7 @@ def simulate(
         initial_contact=(float(out0[24]), float(out0[25])),
         initial_inputs=dict(zip(inputs, np.hstack(motion(np.zeros(1)))[0, cols].tolist())) if cols else {},
         lines_hz=harmonic_lines(model) if given_motion is None else (),
+        ramp_s=float(model.scenario["ramp"]) if given_motion is None else 0.0,
     )
 
 

@@ -132,6 +132,41 @@ def test_a_runs_record_states_its_lines_and_bands_keeps_whole_periods(specimen, 
     assert still.records().lines_hz == () and still.records().default_skip() == LEAST_SKIP
 
 
+@pytest.mark.parametrize("suffix", [".csv", ".npz"])
+def test_a_runs_record_states_its_fade_in_and_bands_starts_after_it_as_the_ensemble_does(
+    specimen, tmp_path, capsys, suffix
+):
+    """A scenario fading in over 0.123 s (``scenario.ramp``) writes ``# ramp_s = 0.123``; read back,
+    the record's default skip starts after it and keeps whole periods of the 50 Hz drive after that:
+    0.14 s of 0.3 s (8 periods after it), the skip ``ensemble`` and ``study`` take for the same
+    scenario (``whole_period_skip``), and `bands` without --skip says so. The specimen's own 0.01 s
+    ramp is stated too and changes nothing (0.05 s is longer); a motion of its own has none."""
+    model = specimen.with_overrides({"scenario.ramp": 0.123})
+    run = cc.simulate(model, duration=0.3)
+    path = tmp_path / f"run{suffix}"
+    run.save(path)
+    rec = read_records(path)
+    assert rec.ramp_s == 0.123 and rec.default_skip() == pytest.approx(0.14, abs=1e-12)
+    assert rec.default_skip() == pytest.approx(whole_period_skip(model, 0.3), abs=1e-12)
+    if suffix == ".csv":
+        assert "\n# ramp_s = 0.123 (s: " in path.read_text()[:2000]
+    assert main(["bands", str(path)]) == 0
+    assert "after 0.14 s" in capsys.readouterr().out
+    plain = cc.simulate(specimen, duration=0.3).records()
+    assert plain.ramp_s == 0.01 and plain.default_skip() == 0.06
+    still = cc.simulate(specimen, duration=0.3, motion=cc.timedomain.scenario.zero_motion)
+    assert still.records().ramp_s == 0.0
+
+
+def test_a_csv_that_states_its_fade_in_badly_is_refused(tmp_path):
+    """``# ramp_s`` must be one positive number of s."""
+    path = tmp_path / "r.csv"
+    for bad in ("soon", "0.1 0.2", "-0.1", "0"):
+        path.write_text(f"time [s],casing.B.Fz [N]\n# ramp_s = {bad}\n0,1\n0.001,2\n")
+        with pytest.raises(ModelError, match="line 2 states ramp_s, but not as a positive number of s"):
+            read_records(path)
+
+
 def test_a_csv_that_states_its_lines_badly_is_refused(tmp_path):
     """``# lines_hz`` must be positive numbers of Hz separated by spaces."""
     path = tmp_path / "r.csv"
