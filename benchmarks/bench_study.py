@@ -35,6 +35,7 @@ from distributed import Client, LocalCluster
 
 from cablecasing_core.studies import PAPER_BOUNDS, resolve_evaluate, run_study, sobol_design
 from cablecasing_core.studies.evaluators import cpu_burn_evaluate
+from cablecasing_core.studies.executor import LOCAL_CLUSTER_OPTIONS
 from cablecasing_core.studies.sampling import base_points
 
 BURN = "cablecasing_core.studies.evaluators:cpu_burn_evaluate"
@@ -82,9 +83,7 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         for workers in (1, 2):
             with (
-                LocalCluster(
-                    n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
-                ) as cluster,
+                LocalCluster(n_workers=workers, **LOCAL_CLUSTER_OPTIONS) as cluster,
                 Client(cluster) as client,
             ):
                 client.run(resolve_evaluate, spec)  # import on every worker before timing

@@ -64,6 +64,12 @@ _UNIT_TYPES = {"N": 9, "N.m": 9, "m": 8, "m/s": 11, "m/s2": 12}
 LEAST_SKIP = 0.05
 
 
+def least_skip(ramp_s: float = 0.0) -> float:
+    """The least start (s) the band levels leave out by default: :data:`LEAST_SKIP`, or the
+    supports' fade-in ``ramp_s`` (s, ``scenario.ramp``) where that is longer."""
+    return max(LEAST_SKIP, float(ramp_s))
+
+
 def skip_for_whole_periods(lines_hz, length: float, dt: float, least: float = LEAST_SKIP) -> float:
     """The least skip (s) at or above ``least`` (s) after which the rest of a record ``length`` s long
     (its last time less its first) holds whole periods of every line of ``lines_hz`` (Hz): of their
@@ -187,11 +193,11 @@ class Records:
 
     def default_skip(self) -> float:
         """The start of the record (s) the band levels and spectra leave out by default: the longer
-        of :data:`LEAST_SKIP` and :attr:`ramp_s`, lengthened so that the rest holds whole periods of
-        :attr:`lines_hz` (:func:`skip_for_whole_periods`); as ``ensemble`` and ``study`` take for a
-        run of the same scenario (``timedomain.scenario.whole_period_skip``)."""
-        least = max(LEAST_SKIP, self.ramp_s)
-        return skip_for_whole_periods(self.lines_hz, float(self.time[-1] - self.time[0]), 1.0 / self.fs, least)
+        of :data:`LEAST_SKIP` and :attr:`ramp_s` (:func:`least_skip`), lengthened so that the rest
+        holds whole periods of :attr:`lines_hz` (:func:`skip_for_whole_periods`); as ``ensemble``
+        and ``study`` take for a run of the same scenario (``timedomain.scenario.whole_period_skip``)."""
+        length = float(self.time[-1] - self.time[0])
+        return skip_for_whole_periods(self.lines_hz, length, 1.0 / self.fs, least_skip(self.ramp_s))
 
     def resolve(self, name: str, key: str = "--column") -> str:
         """The column called ``name``, its header form ``name [unit]`` or ``name_unit``; a
@@ -369,18 +375,43 @@ def _csv_stated(path):
             values = tuple(float(v) for v in text.split())
         except ValueError:
             values = ()
-        one = name != "lines_hz"
-        if not (values and all(np.isfinite(v) and v > 0 for v in values)) or (one and len(values) > 1):
-            unit = "s" if name == "ramp_s" else "Hz"
-            what = f"a positive number of {unit}" if one else "positive numbers of Hz separated by spaces"
+        if not _stated_well(name, values):
             raise ModelError(
                 "file",
                 path,
-                f"line {lineno} states {name}, but not as {what} ('# {name} = {example}', as "
+                f"line {lineno} states {name}, but not as {_STATED[name]} ('# {name} = {example}', as "
                 "'cablecasing simulate --out' writes it)",
             )
-        out.append(values[0] if one else values)
+        out.append(values if name == "lines_hz" else values[0])
     return tuple(out)
+
+
+#: What a record may state beside its columns, and how (CSV comment lines, NPZ arrays).
+_STATED = {
+    "passband_hz": "a positive number of Hz",
+    "lines_hz": "positive numbers of Hz separated by spaces",
+    "ramp_s": "a number of s, 0 or more",
+}
+
+
+def _stated_well(name, values) -> bool:
+    """Whether ``values`` (a sequence of floats) is what a record may state as ``name`` (:data:`_STATED`)."""
+    values = tuple(values)
+    if not values or not all(np.isfinite(v) for v in values) or (name != "lines_hz" and len(values) > 1):
+        return False
+    return all(v >= 0 for v in values) if name == "ramp_s" else all(v > 0 for v in values)
+
+
+def _check_npz_stated(path, arrays):
+    """The statements of an NPZ record (``passband_hz``, ``lines_hz``, ``ramp_s`` arrays) checked as a
+    CSV's are (:func:`_csv_stated`): a :class:`ModelError` naming the file and the array otherwise."""
+    for name, what in _STATED.items():
+        if name not in arrays:
+            continue
+        a = np.asarray(arrays[name])
+        ok = a.dtype.kind in "iuf" and a.ndim <= 1 and _stated_well(name, np.atleast_1d(a).astype(float).tolist())
+        if not ok:
+            raise ModelError("file", path, f"its array {name} must be {what.replace(' separated by spaces', '')}")
 
 
 def _unique(path, names):
@@ -423,6 +454,7 @@ def _read_npz(path):
                 f"{table.shape}, {len(names)} names and {len(units)} units",
             )
         _unique(path, names)
+        _check_npz_stated(path, arrays)
         return Records(time, {n: table[:, i] for i, n in enumerate(names)}, dict(zip(names, units)), path, arrays)
     if "time" in arrays:  # any npz of 1-D arrays beside a time axis
         time = arrays.pop("time")

@@ -64,7 +64,12 @@ def _window(rec, args):
             skip,
             f"must leave at least 16 samples of the {rec.time[-1] - rec.time[0]:.6g} s record {rec.source} "
             f"({rec.time.size} samples at dt = {dt:.4g} s)"
-            + ("; it is the default: give a shorter one" if default else ""),
+            + (
+                f"; it is the default (0.05 s, the fade-in the record states, # ramp_s = {rec.ramp_s:g} s, if longer, "
+                "and whole periods of its lines): give a shorter one"
+                if default
+                else ""
+            ),
         )
     return keep
 

@@ -332,14 +332,18 @@ def cmd_ensemble(args):
         if varied & set(given):
             raise ModelError(flag, sorted(varied & set(given)), "must not set the seeds that the ensemble varies")
     with_changes(model, {k: ("--set", v) for k, v in base.items()} | {k: ("--against", v) for k, v in against.items()})
-    if args.skip is None and against:  # (paired: both ensembles take the first's samples, its drive's whole periods)
-        from ..timedomain.scenario import whole_period_skip
-
-        common["skip"] = whole_period_skip(model.with_overrides(base), args.duration, args.dt)
     names = {"duration": "--duration", "dt": "--dt", "skip": "--skip", "output": "--output"}
     for key, given in (("scenario.duration", args.duration), ("scenario.dt", args.dt)):
         if given is not None:  # (else the model's value, named by its key)
             names[key] = f"--{key.split('.')[1]}"
+    if args.skip is None and against:  # (paired: both ensembles take the first's samples, its drive's whole periods)
+        from ..studies.evaluators import check_record_settings
+        from ..timedomain.scenario import whole_period_skip
+
+        first = model.with_overrides(base)
+        with renamed(names):  # (the default skip checked as the default, before it is passed on as given)
+            check_record_settings(first, args.duration, args.dt, None, args.kind)
+        common["skip"] = whole_period_skip(first, args.duration, args.dt)
     with renamed(names):  # (the settings are checked before the first run)
         ens = seed_ensemble(model, overrides=base, **common)
     _print_ensemble(ens, args.confidence)

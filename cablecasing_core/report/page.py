@@ -256,8 +256,7 @@ def _bands(variants):
         row = [lab, f"{e0.lower[b]:g}-{e0.upper[b]:g}"]
         for v in ens:
             e = v.ensemble
-            lo, hi = (x[b] for x in e.ci(0.95))
-            lo = max(lo, 0.0)  # (a level is positive: the interval is cut at 0)
+            lo, hi = (x[b] for x in e.ci(0.95))  # (cut at 0 below by Ensemble.ci: a level is not negative)
             m = e.mean[b]
             row += [
                 _g(m, 4),

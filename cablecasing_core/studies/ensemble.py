@@ -172,10 +172,19 @@ def load_ensemble(path: str | os.PathLike) -> Ensemble:
             "'# cablecasing-ensemble' line)",
         )
     meta = _settings_line(shown, meta_line[len(_META) :])
+    from ..records import unit_of
+
     labels, nb = tuple(meta["labels"]), len(meta["labels"])
-    bands = tuple(n.split(" [")[0].strip() for n in names[1 : 1 + nb])  # (the unit in brackets, or none before)
-    if len(names) < 1 + nb or names[0] != "seed" or bands != labels:
-        raise ModelError("path", shown, "its header must be 'seed' and the band labels of its settings line")
+    unit = unit_of(str(meta["output"]))
+    named = all(  # (each band 'label [unit]' with the output's unit, or a bare label: a file saved before)
+        n in (lab, f"{lab} [{unit}]") for n, lab in zip(names[1 : 1 + nb], labels)
+    )
+    if len(names) < 1 + nb or names[0] != "seed" or not named:
+        raise ModelError(
+            "path",
+            shown,
+            "its header must be 'seed' and the band labels of its settings line, each with its output's unit",
+        )
     seeds = table[:, 0]
     bad = np.nonzero((seeds != np.round(seeds)) | (seeds < 0) | (seeds > MAX_ENSEMBLE_SEED))[0]
     if bad.size:

@@ -127,9 +127,9 @@ def seed_ensemble(
     if clash:
         raise ModelError("overrides", clash, "must not set the seeds that the ensemble varies")
     base = model.with_overrides(overrides)  # validates the overrides before any run
+    check_record_settings(base, duration, dt, skip, band_set)  # (the skip as given: None, the default)
     if skip is None:
         skip = whole_period_skip(base, duration, dt)
-    check_record_settings(base, duration, dt, skip, band_set)
     step = base.scenario["dt"] if dt is None else dt
     kwargs = {
         "duration": duration,

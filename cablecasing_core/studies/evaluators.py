@@ -101,9 +101,10 @@ def check_record_settings(model, duration=None, dt=None, skip=None, bands="table
     need = 1.0 / (band_set.upper[narrow] - band_set.lower[narrow])
     if not total - skip >= need:  # the band would hold less than one FFT bin (octave_rms refuses it)
         band = f"band {band_set.labels[narrow]!r} ({band_set.lower[narrow]:g}-{band_set.upper[narrow]:g} Hz)"
-        if given_skip and (duration is None or skip >= total):  # (the skip the user gave is what is wrong)
+        if given_skip and total >= need:  # (the record would do: the skip the user gave is what is wrong)
             raise ModelError("skip", skip, f"must leave at least {need:.4g} s of the {total:g} s record for {band}")
-        raise ModelError("duration", duration, f"must leave at least {need:.4g} s after skip = {skip} s for {band}")
+        key, value = ("duration", duration) if duration is not None else ("scenario.duration", total)
+        raise ModelError(key, value, f"must leave at least {need:.4g} s after skip = {skip:g} s for {band}")
     step = model.scenario["dt"] if dt is None else dt
     if not 0.5 / step >= band_set.upper.max():  # (octave_rms's rule, checked before the runs)
         raise ModelError(

@@ -117,6 +117,18 @@ def _say(row, label, said):
     row["warnings"] = WARNING_SEPARATOR.join(" ".join(str(m).split()) for _, m in given)
 
 
+#: The options of the project's local dask clusters: worker processes of one thread, no dashboard.
+#: (dashboard_address=None leaves out the dashboard, but distributed's scheduler still opens its HTTP
+#: routes, on port 8787, and warns "Port 8787 is already in use" into the run's output when another
+#: cluster holds it: a port the system picks on this machine's loopback keeps two studies at once quiet.)
+LOCAL_CLUSTER_OPTIONS = {
+    "threads_per_worker": 1,
+    "processes": True,
+    "dashboard_address": None,
+    "scheduler_kwargs": {"dashboard_address": "127.0.0.1:0"},
+}
+
+
 def _cluster_deaf_to_ctrl_c(LocalCluster, n_workers):
     """A LocalCluster whose processes do not take SIGINT or SIGHUP, started so that a Ctrl-C meanwhile
     still stops this process. A Ctrl-C at the terminal reaches the whole process group: each worker
@@ -137,16 +149,7 @@ def _cluster_deaf_to_ctrl_c(LocalCluster, n_workers):
     import threading
 
     def start():
-        # (dashboard_address=None leaves out the dashboard, but distributed's scheduler still opens its
-        # HTTP routes on port 8787 and warns "Port 8787 is already in use" when another cluster holds
-        # it: a port the system picks on this machine's loopback keeps two studies at once quiet)
-        return LocalCluster(
-            n_workers=n_workers,
-            threads_per_worker=1,
-            processes=True,
-            dashboard_address=None,
-            scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
-        )
+        return LocalCluster(n_workers=n_workers, **LOCAL_CLUSTER_OPTIONS)
 
     if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "pthread_sigmask"):
         return start()  # pragma: no cover - (another thread; Windows)

@@ -55,7 +55,7 @@ from ..errors import ModelError, ModelWarning
 from ..files import read_csv_table, time_column
 from ..model.schema import CHANNELS, DIRECTIONS, channels_of
 from ..model.validate import alias
-from ..records import LEAST_SKIP, skip_for_whole_periods
+from ..records import least_skip, skip_for_whole_periods
 from ..structure.geometry import centerline_of
 from .random_record import RandomRecord
 
@@ -285,19 +285,18 @@ def harmonic_lines(model: Model) -> tuple[float, ...]:
     )
 
 
-def whole_period_skip(
-    model: Model, duration: float | None = None, dt: float | None = None, least: float = LEAST_SKIP
-) -> float:
+def whole_period_skip(model: Model, duration: float | None = None, dt: float | None = None) -> float:
     """The default start of a record of ``model``'s scenario left out of its band levels (s): the
-    least skip at or above ``least`` (s) and ``scenario.ramp`` after which the rest of the record,
-    ``duration`` (s, default ``scenario.duration``), holds whole periods of the scenario's harmonic
-    excitations (:func:`harmonic_lines`; :func:`~cablecasing_core.records.skip_for_whole_periods`,
-    on the grid of ``dt``, s, default ``scenario.dt``): 0.06 s of the specimens' 1 s and 0.5 s
-    records with their 50 Hz drive."""
+    least skip at or above 0.05 s and ``scenario.ramp`` (:func:`~cablecasing_core.records.least_skip`)
+    after which the rest of the record, ``duration`` (s, default ``scenario.duration``), holds whole
+    periods of the scenario's harmonic excitations (:func:`harmonic_lines`;
+    :func:`~cablecasing_core.records.skip_for_whole_periods`, on the grid of ``dt``, s, default
+    ``scenario.dt``): 0.06 s of the specimens' 1 s and 0.5 s records with their 50 Hz drive. A run's
+    record states the lines and the ramp, so that ``Records.default_skip`` gives the same start."""
     sc = model.scenario
     T = float(sc["duration"] if duration is None else duration)
     step = float(sc["dt"] if dt is None else dt)
-    return skip_for_whole_periods(harmonic_lines(model), T, step, max(float(least), float(sc["ramp"])))
+    return skip_for_whole_periods(harmonic_lines(model), T, step, least_skip(sc["ramp"]))
 
 
 def zero_motion(t: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

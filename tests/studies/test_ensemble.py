@@ -295,9 +295,12 @@ def test_an_ensemble_run_in_parts_and_pooled_is_the_whole(tmp_path):
     # a part saved before the header named the unit (bare labels) reads and pools the same
     lines = (tmp_path / "a.csv").read_text().splitlines(keepends=True)
     (tmp_path / "old.csv").write_text(lines[0].replace(" [N]", "") + "".join(lines[1:]))
-    assert "[" not in lines[0].replace(" [N]", "")
     old = pool_ensembles([tmp_path / "b.csv", tmp_path / "old.csv"])
     np.testing.assert_array_equal(old.levels, whole.levels)
+    # a header whose unit is not the output's is not this ensemble's file
+    (tmp_path / "other.csv").write_text(lines[0].replace(" [N]", " [N.m]") + "".join(lines[1:]))
+    with pytest.raises(ModelError, match="header must be 'seed' and the band labels .* with its output's unit"):
+        load_ensemble(tmp_path / "other.csv")
 
 
 def test_pooling_refuses_parts_of_different_runs(tmp_path):
@@ -531,8 +534,8 @@ def _one_band(levels):
 
 def test_ensemble_statistics_of_three_members_by_hand():
     """Levels 1, 2, 3: mean 2, sample sd 1 (ddof 1), se 1/sqrt(3), cv = sd / mean = 0.5 (a single
-    record's scatter), 95 % interval 2 -/+ t(0.975, 2 dof) se with t = 4.302653 (Student's table):
-    exact up to the table's 7 digits."""
+    record's scatter), 95 % interval 2 -/+ t(0.975, 2 dof) se with t = 4.302653 (Student's table),
+    cut at 0 below; exact up to the table's 7 digits."""
     e = _one_band([[1.0], [2.0], [3.0]])
     assert e.mean[0] == 2.0 and e.se[0] == pytest.approx(1 / np.sqrt(3), rel=1e-12)
     assert e.cv[0] == pytest.approx(0.5, rel=1e-12)

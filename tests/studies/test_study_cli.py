@@ -123,7 +123,35 @@ def test_a_study_whose_settings_make_every_run_fail_is_refused_before_it_creates
     assert err == [
         "cablecasing: error: --skip = 0.3: must leave at least 0.09091 s of the 0.2 s record for band 'oct1' (11-22 Hz)"
     ]
+    # (also a skip shorter than the record, where the record alone would do)
+    assert main(args + ["--duration", "0.2", "--skip", "0.15", "--out", str(out)]) == 2
+    assert "error: --skip = 0.15: must leave at least 0.09091 s of the 0.2 s record" in capsys.readouterr().err
     assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    "given, said",
+    [
+        (
+            ["--set", "scenario.duration=0.08", "--skip", "0"],
+            "scenario.duration = 0.08: must leave at least 0.09091 s after skip = 0 s",
+        ),
+        (
+            ["--set", "scenario.duration=0.1"],
+            "scenario.duration = 0.1: must leave at least 0.09091 s after skip = 0.06 s",
+        ),
+        (["--set", "scenario.duration=0.1", "--against", "scenario.dt=5e-6"], "scenario.duration = 0.1: must leave"),
+        (["--duration", "0.2", "--skip", "0.15", "--against", "scenario.dt=5e-6"], "--skip = 0.15: must leave"),
+    ],
+)
+def test_an_ensemble_too_short_for_its_bands_blames_what_the_user_gave(given, said, capsys):
+    """A record too short whatever the skip is the duration's fault (the model's, named by its key,
+    when --duration is not given); a skip the user gave that leaves too little of a long enough
+    record is the skip's; the default skip is never blamed as if given (also with --against, where
+    both ensembles take the first's default skip). Refused before any run."""
+    assert main(["ensemble", "--seeds", "2", *given]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("cablecasing: error: " + said), err
 
 
 def test_a_study_of_a_built_in_specimen_by_name_runs_it_from_any_folder(tmp_path, monkeypatch, capsys):

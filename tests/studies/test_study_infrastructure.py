@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from cablecasing_core.errors import InfrastructureError, ModelError
-from cablecasing_core.studies import load_results, run_study
+from cablecasing_core.studies import executor, load_results, run_study
 
 FAULTY = "cablecasing_core.studies.evaluators:faulty_evaluate"
 BOUNDS = {"contact.friction": (0.05, 0.2), "casing.E": (2e9, 1e10)}  # groups of 4: 8 samples at n = 8
@@ -90,8 +90,6 @@ def test_a_ctrl_c_while_the_local_cluster_starts_stops_the_run_after_the_start(m
     import signal
     import threading
 
-    from cablecasing_core.studies import executor
-
     events, child = [], {}
 
     class Dummy:
@@ -137,8 +135,6 @@ def test_a_local_cluster_leaves_port_8787_alone_and_says_nothing_when_another_ho
     import warnings
 
     from distributed import LocalCluster
-
-    from cablecasing_core.studies import executor
 
     holder = socket.socket()
     holder.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
@@ -199,7 +195,7 @@ def test_every_worker_killed_then_resumed_equals_the_serial_study(tmp_path):
     p = tmp_path / "s.csv"
     trigger, kw = _kwargs(tmp_path, "kill_worker")
     with dask.config.set({"distributed.scheduler.allowed-failures": 0}):  # (one kill makes a KilledWorker)
-        with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        with LocalCluster(n_workers=2, **executor.LOCAL_CLUSTER_OPTIONS) as cluster:
             with Client(cluster) as client:
                 with pytest.raises(InfrastructureError, match="samples were lost to the infrastructure") as err:
                     _run(p, scheduler=client, evaluate_kwargs=kw, progress_timeout=120)
@@ -278,7 +274,7 @@ def test_stalled_workers_end_with_a_message_within_the_timeout(tmp_path):
 
     p = tmp_path / "s.csv"
     _, kw = _kwargs(tmp_path, "stall")
-    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+    with LocalCluster(n_workers=1, **executor.LOCAL_CLUSTER_OPTIONS) as cluster:
         with Client(cluster) as client:
             t0 = time.perf_counter()
             with pytest.raises(InfrastructureError) as err:

@@ -152,19 +152,41 @@ def test_a_runs_record_states_its_fade_in_and_bands_starts_after_it_as_the_ensem
         assert "\n# ramp_s = 0.123 (s: " in path.read_text()[:2000]
     assert main(["bands", str(path)]) == 0
     assert "after 0.14 s" in capsys.readouterr().out
+    if suffix == ".npz":  # (a loaded run passes it on to its records)
+        assert cc.SimulationResult.load(path).records().ramp_s == 0.123
     plain = cc.simulate(specimen, duration=0.3).records()
     assert plain.ramp_s == 0.01 and plain.default_skip() == 0.06
     still = cc.simulate(specimen, duration=0.3, motion=cc.timedomain.scenario.zero_motion)
     assert still.records().ramp_s == 0.0
 
 
-def test_a_csv_that_states_its_fade_in_badly_is_refused(tmp_path):
-    """``# ramp_s`` must be one positive number of s."""
+def test_a_record_that_states_its_fade_in_badly_is_refused(tmp_path):
+    """``# ramp_s`` (CSV) or the array ``ramp_s`` (NPZ) must be one finite number of s, 0 or more
+    (``scenario.ramp = 0`` is no fade-in); the NPZ's other statements are checked as a CSV's."""
     path = tmp_path / "r.csv"
-    for bad in ("soon", "0.1 0.2", "-0.1", "0"):
+    for bad in ("soon", "0.1 0.2", "-0.1", "inf", "nan"):
         path.write_text(f"time [s],casing.B.Fz [N]\n# ramp_s = {bad}\n0,1\n0.001,2\n")
-        with pytest.raises(ModelError, match="line 2 states ramp_s, but not as a positive number of s"):
+        with pytest.raises(ModelError, match="line 2 states ramp_s, but not as a number of s, 0 or more"):
             read_records(path)
+    path.write_text("time [s],casing.B.Fz [N]\n# ramp_s = 0\n0,1\n0.001,2\n")
+    assert read_records(path).ramp_s == 0.0
+    npz = tmp_path / "r.npz"
+    good = {"time": np.array([0.0, 1e-3]), "table": np.ones((2, 1)), "names": np.array(["casing.B.Fz"])}
+    for name, bad in [
+        ("ramp_s", np.inf),
+        ("ramp_s", [0.1, 0.2]),
+        ("ramp_s", -1.0),
+        ("ramp_s", np.nan),
+        ("ramp_s", "soon"),
+        ("lines_hz", [50.0, -1.0]),
+        ("passband_hz", 0.0),
+    ]:
+        np.savez(npz, **good, **{name: np.array(bad)})
+        with pytest.raises(ModelError, match=f"its array {name} must be"):
+            read_records(npz)
+    np.savez(npz, **good, ramp_s=np.array(0.2), lines_hz=np.array([50.0, 75.0]), passband_hz=np.array(300.0))
+    rec = read_records(npz)
+    assert (rec.ramp_s, rec.lines_hz, rec.passband_hz) == (0.2, (50.0, 75.0), 300.0)
 
 
 def test_a_csv_that_states_its_lines_badly_is_refused(tmp_path):
