@@ -41,7 +41,10 @@ band levels relative to the finest: the bodies' own error in the forced response
 one record shows it).
 
 Options: ``--specimen``, ``--elements``, ``--modal-elements``, ``--seeds``, ``--skip``, ``--duration``,
-``--workers`` (processes, default 2); ``--mesh-seeds N=K`` runs mesh N on seeds 1..K only (a costly
+``--workers`` (processes, default 2), ``--window boxcar|hann`` (of the band members' levels; default
+boxcar, the window of the cached tables of ``mesh_refinement.json`` and ``mesh_refinement_per_length.json``;
+``mesh_refinement_hann.json`` holds a run through Hann's window, the package's default);
+``--mesh-seeds N=K`` runs mesh N on seeds 1..K only (a costly
 finest mesh: its differences are then taken on those seeds); ``--dt-check N DT K`` also runs mesh N
 at the time step DT on seeds 1..K and prints its paired difference from mesh N at the specimen's own
 step (is that step still converged on a fine mesh?); ``--law-length M|paper`` runs the band part's
@@ -150,14 +153,15 @@ def linear_member(job):
 
 
 def member(job):
-    """One ensemble member: (spec, n, seed, duration, skip, dt, law_length) -> its record of levels and
-    energies (dt None: the scenario's; law_length m, 0: the law per node)."""
+    """One ensemble member: (spec, n, seed, duration, skip, dt, law_length, window) -> its record of
+    levels and energies (dt None: the scenario's; law_length m, 0: the law per node; window of the
+    band levels, "boxcar" for the cached tables of benchmarks/mesh_refinement.json)."""
     import cablecasing_core as cc
     from cablecasing_core.records import after_skip
     from cablecasing_core.studies.ensemble_runs import seed_overrides
-    from cablecasing_core.studies.octave import octave_rms, window_options  # (boxcar: the cached tables')
+    from cablecasing_core.studies.octave import octave_rms, window_options
 
-    spec, n, seed, duration, skip, dt, law_length = job
+    spec, n, seed, duration, skip, dt, law_length, window = job
     base = mesh_model(spec, n, law_length)
     model = base.with_overrides(seed_overrides(base, seed))
     t0 = time.perf_counter()
@@ -165,7 +169,7 @@ def member(job):
     wall = time.perf_counter() - t0
     keep = after_skip(res.time, skip)
     fs = 1.0 / (res.time[1] - res.time[0])
-    levels = octave_rms(res.support_force(OUTPUT)[keep], fs, "table3", **window_options("boxcar")).rms
+    levels = octave_rms(res.support_force(OUTPUT)[keep], fs, "table3", **window_options(window)).rms
     e = res.energies
     return {
         "specimen": spec,
@@ -383,6 +387,13 @@ def main():
     p.add_argument("--skip", nargs="+", metavar="S|SPEC=S", help="s (default default=0.05 installed=0.06)")
     p.add_argument("--duration", type=float, default=1.0)
     p.add_argument(
+        "--window",
+        choices=("boxcar", "hann"),
+        default="boxcar",
+        help="window of the band members' levels (default boxcar: the cached tables'; the package's default "
+        "is hann, docs/time_domain.md 'The window of the band levels')",
+    )
+    p.add_argument(
         "--dt-check",
         nargs=3,
         metavar=("N", "DT", "K"),
@@ -467,6 +478,7 @@ def main():
             and (n, m["dt_s"]) in variants[sp]
             and cond.get("duration_s") == args.duration
             and cond.get("skip_s") == skips[sp]
+            and cond.get("window", "boxcar") == args.window  # (members before the option: boxcar)
             and (args.reuse_other_sources or cond.get("source_hash") == code)
             and cond.get("model_fingerprint") == fingerprints[f"{sp}/{n}"]
         )
@@ -553,7 +565,7 @@ def main():
 
     have = {(m["specimen"], m["n_elements"], m["dt_s"], m["seed"]) for m in members}
     jobs = [
-        (sp, n, s, args.duration, skips[sp], None if dt == dt0[sp] else dt, law_length[sp])
+        (sp, n, s, args.duration, skips[sp], None if dt == dt0[sp] else dt, law_length[sp], args.window)
         for s in range(1, max(seeds.values()) + 1)
         for sp in sorted(specs, key=lambda x: x != "installed")  # the costlier specimen first
         for (n, dt), k in sorted(variants[sp].items(), key=lambda v: (-v[0][0], v[0][1]))  # costlier first
@@ -583,6 +595,7 @@ def main():
                 rec["conditions"] = {
                     "duration_s": args.duration,
                     "skip_s": skips[sp],
+                    "window": args.window,
                     "source_hash": code,
                     "model_fingerprint": fingerprints[f"{sp}/{n}"],
                     "date": datetime.datetime.now().isoformat(timespec="seconds"),
@@ -607,6 +620,7 @@ def main():
             "duration_s": args.duration,
             "dt_s": dt0[sp],
             "skip_s": skips[sp],
+            "window": args.window,
             "law_length_m": law_length[sp],
             "seeds": {f"{n}@{dt:g}": f"1..{k}" for (n, dt), k in variants[sp].items()},
             "workers": args.workers,
