@@ -19,13 +19,15 @@ interpreter and the imports), installed_over_default_step_cost (the two engines 
 0.01 s chunks in one process: the ratio of their step costs, robust to the machine's drift).
 At its default settings (Coulomb's friction regularised, ``contact.friction_law = "regularized"``,
 docs/time_domain.md "A friction law whose limit exists"): installed_band_max_rel_err (the worst
-Table 3 band of seeds 1 and 2 against the finest step of its levels in
-``installed_reference_levels.json``, ``levels_regularized_N``: 3.125e-7 s, written by
-installed_time_step.py --json; with ``--duration 1.0`` only, the reference's) with its per-band
-values and the reference's own distance from the next coarser step (what the reference leaves
-open); the same with the paper's switch law at its default settings (the sub-steps around
-stick-slip events, contact.event_substeps): installed_band_max_rel_err_switch against its finest
-plain step (``levels_N``: 7.8125e-8 s), and installed_refined_share_switch (the steps recomputed in
+Table 3 band of seeds 1 and 2 through Hann's window, the package's default, against the finest step
+of its levels in ``installed_reference_levels.json``, ``levels_regularized_hann_N``: 3.125e-7 s,
+written by installed_time_step.py --window hann --json; with ``--duration 1.0`` only, the
+reference's) with its per-band values and the reference's own distance from the next coarser step
+(what the reference leaves open), and ``_boxcar`` the same through the rectangular window against
+``levels_regularized_N`` (the docs' earlier tables); the same with the paper's switch law at its
+default settings (the sub-steps around stick-slip events, contact.event_substeps):
+installed_band_max_rel_err_switch against its finest plain step (``levels_N``: 7.8125e-8 s, the
+rectangular window), and installed_refined_share_switch (the steps recomputed in
 sub-steps); the same with the specimen's own law and a tolerance on the step's local error
 (``contact.event_tolerance`` = 1e-9 m, docs/time_domain.md "A tolerance instead of a bare step"):
 installed_band_max_rel_err_tolerance, installed_refined_share_tolerance, and its cost
@@ -242,23 +244,24 @@ print(f"engine_setup_installed_s: {t_setup:.3f} (assembly, factors, the static s
 
 # Accuracy at the default settings (docs/time_domain.md, "A friction law whose limit exists"): the
 # band levels of seeds 1 and 2 with the specimen's own regularised friction against the finest step
-# of its levels in installed_reference_levels.json (levels_regularized_N; the next finest's distance
-# printed beside, what the reference leaves open); then the paper's switch law at its default
+# of its levels in installed_reference_levels.json (levels_regularized_hann_N through Hann's window,
+# levels_regularized_N through the rectangular one; the next finest's distance printed beside, what
+# the reference leaves open); then the paper's switch law at its default
 # settings (the sub-steps around stick-slip events) against the finest plain step of its levels
 # (levels_N), which do not converge (docs/time_domain.md, "How many events there are").
 reference = json.loads((Path(__file__).parent / "installed_reference_levels.json").read_text())
 TOLERANCE = 1e-9  # m: contact.event_tolerance of the *_tolerance lines
 
 
-def installed_band_errors(name, overrides, levels, done=None, dt=DT):
+def installed_band_errors(name, overrides, refs, done=None, dt=DT):
     """Print installed_band_max_rel_err<name> and its companions: the band levels of seeds 1 and 2
-    at dt (s) with the model overrides against the finest plain step of ``levels`` (levels[seed][key],
-    keys "dt<seconds>", "_sub" for sub-stepped runs), and the next finest's distance from it.
+    at dt (s) with the model overrides against the finest plain step of each reference in ``refs``,
+    a list of (suffix, window, levels): levels[seed][key], keys "dt<seconds>", "_sub" for
+    sub-stepped runs, computed through ``window`` ("hann" or "boxcar"); the figures of a reference
+    are named <name><suffix>, with the next finest step's distance from the finest beside them.
     done: an engine that already ran the specimen's own seed with these overrides. Returns the
     last seed's engine."""
-    plain = sorted((k for k in levels["1"] if "_sub" not in k), key=lambda k: float(k[2:]))
-    finest, next_finest = plain[0], plain[1]
-    errs, spread = [], []
+    records = {}
     for seed in (1, 2):
         run = done if done is not None and seed == installed.scenario["seed"] else None
         if run is None:
@@ -266,36 +269,51 @@ def installed_band_errors(name, overrides, levels, done=None, dt=DT):
             run = Engine(m, dt=dt, ledger=False, record=True)
             run.advance(args.duration, scenario_motion(m, dt=dt))
         F = run.history()["support_forces"][:, SUPPORT_OUTPUTS.index("casing.B.Fz")]
-        t = dt * np.arange(1, len(F) + 1)
-        level = octave_rms(F[after_skip(t, reference["skip_s"])], 1 / dt, **RECT).rms
-        ref = levels[str(seed)]
-        errs.append(np.abs(level / np.array(ref[finest]) - 1))
-        spread.append(np.abs(np.array(ref[next_finest]) / np.array(ref[finest]) - 1))
-    worst, spread = np.max(errs, axis=0), np.max(spread, axis=0)
-    print(f"installed_band_max_rel_err{name}: {worst.max():.4f} (seeds 1-2, against {finest[2:]} s)")
-    print(f"installed_band_max_rel_err{name}_octaves_3_9: {worst[2:].max():.4f}")
-    print(f"installed_band_rel_err{name}_per_band:", " ".join(f"{x:.4f}" for x in worst))
-    spread_txt = " ".join(f"{x:.4f}" for x in spread)
-    print(f"installed_reference{name}_spread_per_band: {spread_txt} ({next_finest[2:]} against {finest[2:]} s)")
+        records[seed] = F[after_skip(dt * np.arange(1, len(F) + 1), reference["skip_s"])]
+    for suffix, window, levels in refs:
+        plain = sorted((k for k in levels["1"] if "_sub" not in k), key=lambda k: float(k[2:]))
+        finest, next_finest = plain[0], plain[1]
+        errs, spread = [], []
+        for seed in (1, 2):
+            level = octave_rms(records[seed], 1 / dt, **window_options(window)).rms
+            ref = levels[str(seed)]
+            errs.append(np.abs(level / np.array(ref[finest]) - 1))
+            spread.append(np.abs(np.array(ref[next_finest]) / np.array(ref[finest]) - 1))
+        worst, spread = np.max(errs, axis=0), np.max(spread, axis=0)
+        key = name + suffix
+        what = f"seeds 1-2, against {finest[2:]} s, {window} window"
+        print(f"installed_band_max_rel_err{key}: {worst.max():.4f} ({what})")
+        print(f"installed_band_max_rel_err{key}_octaves_3_9: {worst[2:].max():.4f}")
+        print(f"installed_band_rel_err{key}_per_band:", " ".join(f"{x:.4f}" for x in worst))
+        spread_txt = " ".join(f"{x:.4f}" for x in spread)
+        print(f"installed_reference{key}_spread_per_band: {spread_txt} ({next_finest[2:]} against {finest[2:]} s)")
     return run
 
 
 if not args.speed_only and args.duration == reference["duration_s"]:
     own = installed.contact["friction_law"]
     print(f"installed_friction_law: {own}")
-    levels = reference["levels_regularized_N" if own == "regularized" else "levels_N"]
-    installed_band_errors("", {}, levels, done=eng)
+    # the regularised law's references through Hann's window (the package's default) and the
+    # rectangular one (the docs' earlier tables); the switch law's through the rectangular one only
+    # (its finest step, 7.8125e-8 s, costs ~8 min per seed)
     if own == "regularized":
-        switch = installed_band_errors("_switch", {"contact.friction_law": "switch"}, reference["levels_N"])
+        refs = [("", "hann", reference["levels_regularized_hann_N"])]
+        refs.append(("_boxcar", "boxcar", reference["levels_regularized_N"]))
+    else:
+        refs = [("", "boxcar", reference["levels_N"])]
+    installed_band_errors("", {}, refs, done=eng)
+    if own == "regularized":
+        switch_refs = [("", "boxcar", reference["levels_N"])]
+        switch = installed_band_errors("_switch", {"contact.friction_law": "switch"}, switch_refs)
         share = switch.refined_steps / (args.duration / DT)
         print(f"installed_refined_share_switch: {share:.3f} (steps recomputed in sub-steps with the switch law)")
     # a tolerance on the step's local error (docs/time_domain.md, "A tolerance instead of a bare step")
-    tolerant = installed_band_errors("_tolerance", {"contact.event_tolerance": TOLERANCE}, levels)
+    tolerant = installed_band_errors("_tolerance", {"contact.event_tolerance": TOLERANCE}, refs[:1])
     share = tolerant.tolerance_steps / (args.duration / DT)
     print(f"installed_tolerance_m: {TOLERANCE:g} (contact.event_tolerance of the _tolerance lines)")
     print(f"installed_refined_share_tolerance: {share:.3f} (steps recomputed for their estimated local error)")
     # the real-time setting (docs/time_domain.md, "Real time on the installed specimen")
-    installed_band_errors("_realtime", {}, levels, dt=REALTIME_DT)
+    installed_band_errors("_realtime", {}, refs, dt=REALTIME_DT)
 
 # What bounds rtf_installed whatever the contact solve costs (docs/performance.md, "What bounds
 # rtf_installed at 1e-5 s, part by part"): the installed step without contact

@@ -17,8 +17,13 @@ The installed specimen's friction is regularised (no events; ``DT:SUBSTEPS`` the
 ``--set contact.friction_law='"switch"'`` gives the paper's switch law, whose events the sub-steps
 treat.
 
+``--window boxcar|hann``: the window of the band levels (default boxcar, the window of the docs'
+tables and of the cached references ``levels_N`` and ``levels_regularized_N``; ``hann``, the package's
+default, that of ``levels_regularized_hann_N`` in ``installed_reference_levels.json``).
+
 Run: .venv/bin/python benchmarks/installed_time_step.py [--dts 1e-5 1e-5:8 2.5e-6 6.25e-7] [--seed 1]
-[--duration 1.0] [--set contact.damping=0] (about 2 min for the default steps on the shared machine)
+[--duration 1.0] [--set contact.damping=0] [--window hann] (about 2 min for the default steps on the
+shared machine)
 """
 
 import argparse
@@ -38,10 +43,6 @@ from cablecasing_core.studies.octave import window_options
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion
 
-#: the rectangular window (no detrending) of this script's cached references and of the docs' tables
-#: it made, before Hann's became the default of the band levels (benchmarks/band_window.py compares them)
-RECT = window_options("boxcar")
-
 p = argparse.ArgumentParser()
 p.add_argument("--model", default="installed")
 p.add_argument("--dts", nargs="+", default=["1e-5", "5e-6", "2.5e-6", "1.25e-6"], help="DT or DT:SUBSTEPS (s, 1)")
@@ -49,6 +50,13 @@ p.add_argument("--seed", type=int, default=1)
 p.add_argument("--duration", type=float, default=1.0)
 p.add_argument("--skip", type=float, default=0.06, help="s left out (0.06: whole periods of the 50 Hz drive)")
 p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+p.add_argument(
+    "--window",
+    choices=("boxcar", "hann"),
+    default="boxcar",
+    help="window of the band levels (default boxcar: the docs' tables and the cached references levels_N and "
+    "levels_regularized_N; hann, the package's default: levels_regularized_hann_N)",
+)
 p.add_argument(
     "--json", help="write the band levels of every run to this file (bench_time.py reads it as the reference)"
 )
@@ -71,7 +79,7 @@ for dt, nsub in runs:
     F = h["support_forces"][:, col]
     t = dt * np.arange(1, len(F) + 1)
     after = after_skip(t, args.skip)
-    levels[name] = octave_rms(F[after], 1 / dt, **RECT).rms
+    levels[name] = octave_rms(F[after], 1 / dt, **window_options(args.window)).rms
     kept = after[h["contact_step"]]  # the sparse contact entries after the skip
     s = h["contact_state"][kept]
     steps = args.duration / dt
@@ -83,6 +91,7 @@ for dt, nsub in runs:
     print(f"wall_s_{name}: {wall:.2f}")
 if args.json:
     meta = {"model": args.model, "seed": args.seed, "duration_s": args.duration, "skip_s": args.skip, "set": over}
+    meta["window"] = args.window
     write_text(args.json, json.dumps({**meta, "levels_N": {k: v.tolist() for k, v in levels.items()}}, indent=1))
 plain = [dt for dt, n in runs if n == 1]  # the reference: the finest step without sub-steps, if any
 finest = f"dt{min(plain):g}" if plain else None
