@@ -336,21 +336,13 @@ def cmd_ensemble(args):
     for key, given in (("scenario.duration", args.duration), ("scenario.dt", args.dt)):
         if given is not None:  # (else the model's value, named by its key)
             names[key] = f"--{key.split('.')[1]}"
-    if args.skip is None and against:  # (paired: both ensembles take the first's samples, its drive's whole periods)
-        from ..studies.evaluators import check_record_settings
-        from ..timedomain.scenario import whole_period_skip
-
-        first = model.with_overrides(base)
-        with renamed(names):  # (the default skip checked as the default, before it is passed on as given)
-            check_record_settings(first, args.duration, args.dt, None, args.kind)
-        common["skip"] = whole_period_skip(first, args.duration, args.dt)
     with renamed(names):  # (the settings are checked before the first run)
         ens = seed_ensemble(model, overrides=base, **common)
     _print_ensemble(ens, args.confidence)
     other = d = None
-    if against:
+    if against:  # (paired: on the first's samples, the skip it took: its drive's whole periods by default)
         with renamed(names):
-            other = seed_ensemble(model, overrides={**base, **against}, **common)
+            other = seed_ensemble(model, overrides={**base, **against}, **{**common, "skip": ens.settings["skip"]})
     # (both files once both ensembles are done: a run stopped in the second leaves the pair as it
     # was; and before anything is derived from them)
     _save(ens, args.out, "")

@@ -493,7 +493,8 @@ def test_an_ensemble_stopped_in_its_against_run_leaves_the_pair_of_files_as_it_w
         calls.append(overrides)
         if len(calls) == 2:
             raise KeyboardInterrupt
-        return synthetic([[1.0, 2.0], [1.1, 2.1]])
+        # (as seed_ensemble's: its settings hold the skip it took, on which --against pairs)
+        return dataclasses.replace(synthetic([[1.0, 2.0], [1.1, 2.1]]), settings={"skip": 0.06})
 
     monkeypatch.setattr(studies, "seed_ensemble", fake)
     out = tmp_path / "levels.csv"
