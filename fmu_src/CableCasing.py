@@ -347,9 +347,12 @@ class CableCasing(Fmi2Slave):
 
     def _value(self, key):
         """The value in force: the master's, else the model file's (when one is set), else the
-        base model's (the built-in specimen, or the model file the FMU was built for)."""
+        base model's (the built-in specimen, or the model file the FMU was built for); for
+        ``solver.dt`` unset, the model's ``scenario.dt``, the master's if it set that."""
         if key in self._set:
             return self._set[key]
+        if key == "solver.dt" and "scenario.dt" in self._set:  # (the model's step, as the master set it)
+            return self._set["scenario.dt"]
         if key == "model_file":
             return ""
         path = self._set.get("model_file")
@@ -542,23 +545,29 @@ class CableCasing(Fmi2Slave):
             return Engine(model, dt=seconds("solver.dt", dt), ledger=False)
 
     def _undriven(self, model, over, drive, model_file):
-        """(model, overrides) for the supports the master set: a support set ``free`` that an
+        """(model, overrides) without what the run does not use. Without scenario.drive the
+        scenario does not run, so the excitations of the bodies' supports (and the master's values
+        of their keys, each checked against the schema alone, and of keys of excitations the model
+        does not have) are left out of the model: the Engine does not use them, and the core's
+        validation would otherwise hold them against the rest (a random band above the Nyquist
+        frequency of a ``scenario.dt`` the master set; a support set ``free`` that an excitation's
+        ``target``, no FMU variable, drives; a master writing every start value for a model_file
+        without the built-in specimen's excitations). An excited clip's excitation stays: its
+        support is an input of the FMU. With scenario.drive a support set ``free`` that an
         excitation of the model's [scenario] drives (the built-in specimen's drive casing.A.z and
-        cable.A.axial) cannot be driven. Without scenario.drive the scenario does not run, so such
-        excitations (and the master's values of their keys) are left out of the model: the Engine
-        does not use them, and the core's validation would refuse the support through the
-        excitation's ``target``, which is no FMU variable. With scenario.drive a ModelError names
-        the support's variable and the scenario's excitation that drives it."""
+        cable.A.axial) cannot be driven: a ModelError names the support's variable and the
+        scenario's excitation that drives it."""
         excitations = model.scenario.get("excitation", {})
         unused = []
         for name, e in excitations.items():
             parts = str(e.get("target", "")).split(".")
             if len(parts) != 3 or parts[0] not in model.data:  # (a clip's excitation: no support of a body)
                 continue
-            key = f"{parts[0]}.supports.{parts[1]}"
-            if over.get(key, model.data[parts[0]]["supports"][parts[1]]) != "free":
+            if not drive:
+                unused.append(name)
                 continue
-            if drive:
+            key = f"{parts[0]}.supports.{parts[1]}"
+            if over.get(key, model.data[parts[0]]["supports"][parts[1]]) == "free":
                 raise cc.ModelError(
                     key,
                     "free",
@@ -567,11 +576,15 @@ class CableCasing(Fmi2Slave):
                     "isolator support can be driven; set scenario.drive = false (the inputs alone then move the "
                     "supports), or give a model_file whose [scenario] drives no free support",
                 )
-            unused.append(name)
-        if not unused:
+        if drive:
             return model, over
-        prefixes = tuple(f"scenario.excitation.{name}." for name in unused)
-        return model.without_excitations(unused), {k: v for k, v in over.items() if not k.startswith(prefixes)}
+        kept = tuple(f"scenario.excitation.{name}." for name in excitations if name not in unused)
+        left_out = {k for k in over if k.startswith("scenario.excitation.") and not k.startswith(kept)}
+        for k in left_out:
+            lookup(k).check(over[k], k)  # (a value no model could take is still refused)
+        if unused:
+            model = model.without_excitations(unused)
+        return model, {k: v for k, v in over.items() if k not in left_out}
 
     def _whose(self, model_file):
         """Whose [scenario] the model runs, in words: "the built-in specimen's scenario", ..."""

@@ -171,9 +171,15 @@ class Model:
         body the model does not have is not. An unknown key raises :class:`ModelError` listing the
         keys allowed where it is. A key the file left out and the validation took from another (a
         random excitation's seed from ``scenario.seed``) follows an override of that other key.
+        An excitation the model does not have is not added from its keys (it needs its kind and
+        target, which the model file gives): such a key raises :class:`ModelError` naming the
+        model's excitations. A support set to ``clamped`` or ``free`` leaves its isolator's table
+        (``casing.isolator.A`` when ``casing.supports.A`` was an isolator) behind, unless a key of
+        that table is set with it: the table belonged to the support the change replaced.
         """
         data = copy.deepcopy(self.data)
-        derived = self.derived - set(overrides)
+        replaced = _replaced_isolators(data, overrides)
+        derived = frozenset(k for k in self.derived - set(overrides) if not k.startswith(replaced))
         for key in derived:  # taken again from their source, which an override may change
             parts = key.split(".")
             node = data
@@ -187,6 +193,7 @@ class Model:
                 value = value.tolist()
             spec = override_spec(key)
             parts = key.split(".")
+            _on_an_excitation_it_has(key, value, data)
             vector = _vector(".".join(parts[:-1]))
             component = None
             if vector is not None and parts[-1] in vector.components:  # a vector's component
@@ -267,6 +274,49 @@ _CLIP_KEYS = (
     "is a key of a clip (an array of tables [[casing.clip]]), which cannot be set by a dotted key: "
     "change the clip in the model file"
 )
+
+
+def _on_an_excitation_it_has(key, value, data) -> None:
+    """A :class:`ModelError` for ``key`` when it belongs to an excitation the model data does not
+    have (``scenario.excitation.NAME.rms`` without [scenario.excitation.NAME]): a key alone cannot
+    make one, whose kind and target only a model file gives."""
+    parts = key.split(".")
+    have = data.get("scenario", {}).get("excitation", {})
+    if len(parts) > 3 and parts[:2] == ["scenario", "excitation"] and parts[2] not in have:
+        raise ModelError(
+            key,
+            value,
+            f"belongs to the excitation '{parts[2]}', which this model does not have (its excitations: "
+            f"{', '.join(sorted(have)) or 'none'}): an excitation comes with its kind and target from the model "
+            "file (docs/model_file.md, Excitations)",
+        )
+
+
+def _replaced_isolators(data, overrides) -> tuple[str, ...]:
+    """Removes from the model ``data`` each isolator table whose support ``overrides`` set to
+    ``clamped`` or ``free`` without setting a key of the table itself (it belonged to the isolator
+    the change replaced); returns the removed tables' key prefixes (``"casing.isolator.A."``)."""
+    removed = []
+    for body in BODY_NAMES:
+        tables = data.get(body, {}).get("isolator", {})
+        for s in SUPPORT_NAMES:
+            prefix = f"{body}.isolator.{s}"
+            key = f"{body}.supports.{s}"
+            if s not in tables or key not in overrides:
+                continue
+            try:
+                kind = lookup(key).check(overrides[key], key)
+            except ModelError:
+                continue  # (refused by with_overrides, naming it)
+            if kind == "isolator":
+                continue
+            if any(k == prefix or k.startswith(prefix + ".") for k in overrides):
+                continue  # (both set: validation names the contradiction)
+            del tables[s]
+            removed.append(prefix + ".")
+        if body in data and "isolator" in data[body] and not tables:
+            del data[body]["isolator"]
+    return tuple(removed)
 
 
 def override_spec(key) -> KeySpec:

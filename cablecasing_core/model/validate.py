@@ -104,7 +104,12 @@ def _mounts(name, data, supports, geometry):
             out.setdefault("isolator", {})[s] = _table(key, iso[s], table(f"{name}.isolator.<support>"))
             _holds(key, iso[s], out["isolator"][s], f"make {name}.supports.{s} free instead")
         elif s in iso:
-            raise ModelError(key, iso[s], f"belongs to an isolator support, but {name}.supports.{s} = '{supports[s]}'")
+            raise ModelError(
+                key,
+                iso[s],
+                f"belongs to an isolator support, but {name}.supports.{s} = '{supports[s]}': leave the table out, "
+                f"or make {name}.supports.{s} = 'isolator'",
+            )
     if name != "casing" or "clip" not in data:
         return out
     clips = data["clip"]
@@ -327,7 +332,8 @@ def _excitation(key, e, scenario, bodies, base_dir):
             raise ModelError(
                 f"{key}.band",
                 e.get("band", out["band"]),
-                f"upper frequency must be below the Nyquist frequency {nyquist:.6g} Hz",
+                f"upper frequency must be below the Nyquist frequency 1 / (2 scenario.dt) = {nyquist:.6g} Hz "
+                f"(scenario.dt = {scenario['dt']:g} s): take a shorter scenario.dt or a lower band",
             )
     elif kind == "harmonic":
         f, dt = out["frequency"], scenario["dt"]

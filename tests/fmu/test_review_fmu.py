@@ -36,6 +36,7 @@ sys.path.insert(0, sys.argv[3])
 from fmu_driver import INPUTS, Instance
 
 fmu, table = sys.argv[1], np.load(sys.argv[2])
+INSTALLATION = sys.argv[3] + "/../../examples/installation.toml"
 res = {}
 
 def log(inst):
@@ -87,11 +88,28 @@ cases = {
     "isolator": {"casing.supports.A": "isolator"},
     "seed": {"scenario.seed": -1},
     "excitation_seed": {"scenario.excitation.casing_random.seed": -1},
+    # a second review: a support set clamped where the model file has an isolator; a key of an
+    # excitation the model file does not have (as a master writing every start value sets it),
+    # without and with scenario.drive; scenario.dt without scenario.drive (the internal step)
+    "isolator_clamped": {"model_file": INSTALLATION, "casing.supports.A": "clamped"},
+    "missing_excitation": {"model_file": INSTALLATION, "scenario.excitation.casing_random.rms": 5.0},
+    "missing_excitation_drive": {
+        "model_file": INSTALLATION, "scenario.excitation.casing_random.rms": 5.0, "scenario.drive": True
+    },
+    "missing_excitation_bad": {"model_file": INSTALLATION, "scenario.excitation.casing_random.rms": -5.0},
+    "coarse_scenario_dt": {"scenario.dt": 1e-3},
+    "scenario_dt": {"scenario.dt": 2e-5},
 }
 for name, params in cases.items():
     inst = Instance(fmu, name=name, params=params)
     res[name] = inst.status_init
     res[name + "_log"] = [m for s, m in inst.log if s >= 2]
+    try:  # (the parameter in force, also after a refused initialisation)
+        res[name + "_dt"] = inst.fmu.getReal([inst.var["solver.dt"].valueReference])[0]
+    except Exception as exc:
+        res[name + "_dt"] = repr(exc)
+    if name in ("isolator_clamped", "missing_excitation", "scenario_dt"):
+        res[name + "_steps"] = [inst.step(row, 1e-4) for row in table[:2]]
     if name == "casing_free":  # its run, for the core's
         out, status = [], []
         for row in table:
@@ -202,6 +220,39 @@ def test_an_isolator_support_says_its_table_comes_from_a_model_file(host):
     text = " ".join(host["isolator_log"])
     assert "casing.supports.A = 'isolator'" in text and "not a parameter of this FMU" in text, text
     assert "model_file" in text and "[casing.isolator.A]" in text and "None" not in text, text
+
+
+def test_a_support_set_clamped_drops_the_model_file_s_isolator_table(host):
+    """examples/installation.toml holds casing end A in an isolator; casing.supports.A = 'clamped'
+    leaves the isolator's table behind (no FMU parameter could remove it), and the run steps."""
+    assert host["isolator_clamped"] <= 1, host["isolator_clamped_log"]  # (a warning: its clips have no outputs)
+    assert not any("isolator" in m for m in host["isolator_clamped_log"]), host["isolator_clamped_log"]
+    assert host["isolator_clamped_steps"] == [0, 0]
+
+
+def test_a_key_of_an_excitation_the_model_file_lacks(host):
+    """A master writing every start value sets scenario.excitation.casing_random.rms for a model file
+    whose only excitation is 'shaker': without scenario.drive the scenario does not run and the key
+    is left out (its value still checked against the schema); with it, an fmi2Error names the key
+    and the model's excitations, not a key the master never set."""
+    assert host["missing_excitation"] <= 1 and host["missing_excitation_steps"] == [0, 0], host[
+        "missing_excitation_log"
+    ]
+    assert host["missing_excitation_drive"] == 3
+    text = " ".join(host["missing_excitation_drive_log"])
+    assert "scenario.excitation.casing_random.rms = 5.0: belongs to the excitation 'casing_random'" in text, text
+    assert "(its excitations: shaker)" in text and ".kind" not in text, text
+    assert host["missing_excitation_bad"] == 3
+    assert "scenario.excitation.casing_random.rms = -5.0" in " ".join(host["missing_excitation_bad_log"])
+
+
+def test_scenario_dt_is_the_internal_step_when_solver_dt_is_unset(host):
+    """docs/fmu.md: solver.dt, unset, is the model's scenario.dt, the master's when it set it. Without
+    scenario.drive the scenario's random band (to 1000 Hz) does not run, so a step of 1e-3 s is not
+    refused for its Nyquist frequency."""
+    assert host["scenario_dt"] == 0 and host["scenario_dt_dt"] == 2e-5 and host["scenario_dt_steps"] == [0, 0]
+    assert host["coarse_scenario_dt"] == 0 and host["coarse_scenario_dt_dt"] == 1e-3, host["coarse_scenario_dt_log"]
+    assert host["seed_dt"] == 1e-5  # (unset: the built-in specimen's scenario.dt)
 
 
 def test_an_integer_out_of_range_quotes_the_model_descriptions_range(host, fmu):

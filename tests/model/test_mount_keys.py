@@ -163,3 +163,41 @@ def test_mount_components_are_parameters_a_study_can_vary():
         ModelError, match=r"casing.isolator.A.stiffness.lateral_1 = -1.0: must be a number in \[0, 1e\+14\]"
     ):
         m.with_overrides({"casing.isolator.A.stiffness.lateral_1": -1.0})
+
+
+def test_a_support_changed_from_an_isolator_leaves_its_table_behind():
+    """with_overrides: casing.supports.B set to 'clamped' or 'free' drops [casing.isolator.B] (it
+    belonged to the isolator the change replaced), the same model as one written without it; a key
+    of that table set with it is the contradiction validation names, with the two ways out."""
+    iso = with_casing(supports={"A": "clamped", "B": "isolator"}, isolator={"B": dict(ISO)})
+    m = model_from_dict(iso)
+    for kind in ("clamped", "free"):
+        changed = m.with_overrides({"casing.supports.B": kind})
+        assert "isolator" not in changed.data["casing"]
+        assert changed.fingerprint() == model_from_dict(with_casing(supports={"A": "clamped", "B": kind})).fingerprint()
+    assert m.with_overrides({"casing.supports.B": "isolator"}).data["casing"]["isolator"]["B"]["stiffness"] == [
+        2e5,
+        1e5,
+        1e5,
+    ]
+    with pytest.raises(
+        ModelError, match=r"casing.supports.B = 'clamped': leave the table out, or make casing.supports.B"
+    ):
+        m.with_overrides({"casing.supports.B": "clamped", "casing.isolator.B.stiffness.axial": 3e5})
+
+
+def test_a_key_of_an_excitation_the_model_lacks_names_the_model_s_excitations():
+    """An excitation needs its kind and target, which only a model file gives: a key of one the
+    model does not have is refused naming the key and the model's excitations (it was refused
+    naming a '.kind' that nobody set)."""
+    m = load_model()
+    with pytest.raises(
+        ModelError,
+        match=r"scenario.excitation.shaker.rms = 2.0: belongs to the excitation 'shaker', which this model does not "
+        r"have \(its excitations: cable_axial, casing_random\)",
+    ):
+        m.with_overrides({"scenario.excitation.shaker.rms": 2.0})
+    assert (
+        m.with_overrides({"scenario.excitation.casing_random.rms": 2.0}).scenario["excitation"]["casing_random"]["rms"]
+        == 2.0
+    )
