@@ -353,11 +353,50 @@ def _write_failed(args, exc):
     return str(ModelError(key or "file", str(exc.filename), f"failed ({cause})"))
 
 
+class _ReaderGone:
+    """Standard output for a command whose reader may leave early (``| head``): once the pipe is
+    broken, what the command prints is dropped and the command goes on, so that it still writes the
+    files it was asked for (a run printed its summary before saving and stopped there). The pipe's
+    file descriptor is then pointed at /dev/null (Python flushes stdout again at exit; the Python
+    docs' "Note on SIGPIPE"). Everything else is the wrapped stream's."""
+
+    def __init__(self, stream):
+        self._stream = stream
+        self.gone = False
+
+    def write(self, text):
+        if not self.gone:
+            try:
+                return self._stream.write(text)
+            except BrokenPipeError:
+                self._left()
+        return len(text)
+
+    def flush(self):
+        if not self.gone:
+            try:
+                self._stream.flush()
+            except BrokenPipeError:
+                self._left()
+
+    def _left(self):
+        self.gone = True
+        with contextlib.suppress(OSError, ValueError):  # (a stream without a descriptor: its text is dropped)
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, self._stream.fileno())
+            os.close(devnull)
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
+
+
 def main(argv=None):
     parser = build_parser()
     args = parser.parse_args(argv)
     shown = warnings.showwarning
     warnings.showwarning = _warning_line
+    stdout = sys.stdout
+    sys.stdout = _ReaderGone(stdout)
     try:
         with _stopped_by_signals():
             return args.func(args)
@@ -374,8 +413,7 @@ def main(argv=None):
             file=sys.stderr,
         )
         return 2
-    except BrokenPipeError:  # output piped into head and the like: stop quietly
-        sys.stdout = open(os.devnull, "w")  # (Python flushes stdout at exit)
+    except BrokenPipeError:  # (a pipe of the command's own, not stdout: _ReaderGone keeps it going)
         return 0
     except KeyboardInterrupt as exc:
         hint = getattr(args, "interrupted", "nothing was written; files written before are as they were")
@@ -396,6 +434,7 @@ def main(argv=None):
         return _internal_error(exc)
     finally:
         warnings.showwarning = shown
+        sys.stdout = stdout
 
 
 def _internal_error(exc):

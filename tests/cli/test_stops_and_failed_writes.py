@@ -4,6 +4,7 @@ file written over keeps its permissions; in each case the previous file is bitwi
 temporary part file is left behind. `pool` refuses an output that is one of its own inputs."""
 
 import errno
+import io
 import os
 import signal
 import stat
@@ -237,3 +238,42 @@ def test_pool_refuses_an_output_that_is_one_of_its_parts(tmp_path, capsys, monke
     line = _one_line(capsys)
     assert line.startswith(f"cablecasing: error: {message}") and line.endswith("which it would write over"), line
     assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
+
+
+SIMULATE = ["simulate", "--duration", "0.002", "--no-progress", "--out", "t.csv"]  # (prints, then saves)
+
+
+class _ReaderLeft(io.StringIO):
+    """A standard output whose reader has gone (``| head`` after its line): every write fails."""
+
+    def write(self, text):
+        raise BrokenPipeError(errno.EPIPE, "Broken pipe")
+
+    def fileno(self):
+        raise io.UnsupportedOperation("fileno")
+
+
+def test_a_reader_that_leaves_early_does_not_stop_the_output_files(tmp_path, monkeypatch):
+    """`cablecasing simulate ... --out t.csv | head -1`: the command prints its summary before it saves;
+    once the reader is gone it goes on without printing and writes its file, status 0 (it stopped at
+    the first print, status 0, and the file was never written)."""
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(sys, "stdout", _ReaderLeft())
+    assert main(SIMULATE) == 0
+    assert (tmp_path / "t.csv").stat().st_size > 0
+
+
+@pytest.mark.slow
+def test_a_closed_pipe_on_standard_output_leaves_no_message_and_the_file_written(tmp_path):
+    """The same through a real pipe whose reading end is closed before the command prints: status 0,
+    the file written, and nothing on stderr (Python's own flush at exit finds /dev/null, not the pipe)."""
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "cablecasing_core", *SIMULATE],
+        cwd=tmp_path,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    proc.stdout.close()
+    err = proc.stderr.read().decode()
+    assert proc.wait(timeout=300) == 0, err
+    assert err == "" and (tmp_path / "t.csv").stat().st_size > 0
