@@ -54,22 +54,20 @@ def _window(rec, args):
     seconds("--skip", args.skip, zero_ok=True, none_ok=True)
     dt = 1.0 / rec.fs  # (refuses an unevenly sampled record first)
     default = args.skip is None
+    args.skip_words = "the default skip" if default else "--skip"  # (what the messages call it)
     if default:
         args.skip = rec.default_skip()
     skip = args.skip
     keep = after_skip(rec.time, skip, rec.time[0])
+    ramp = f", or the fade-in the record states (# ramp_s = {rec.ramp_s:g} s) if longer" if rec.ramp_s > 0 else ""
+    lines = ", lengthened to whole periods of the lines it states" if rec.lines_hz else ""
     if keep.sum() < 16:
         raise ModelError(
             "--skip",
             skip,
             f"must leave at least 16 samples of the {rec.time[-1] - rec.time[0]:.6g} s record {rec.source} "
             f"({rec.time.size} samples at dt = {dt:.4g} s)"
-            + (
-                f"; it is the default (0.05 s, the fade-in the record states, # ramp_s = {rec.ramp_s:g} s, if longer, "
-                "and whole periods of its lines): give a shorter one"
-                if default
-                else ""
-            ),
+            + (f"; it is the default (0.05 s{ramp}{lines}): give a shorter one" if default else ""),
         )
     return keep
 
@@ -95,7 +93,7 @@ def _signal(rec, path, name, keep, role="--column"):
         raise ModelError(
             role,
             rec.resolve(name),
-            f"is constant ({x[0]:g} {rec.unit(name)}) in {path} after --skip: it has no spectrum (every line and "
+            f"is constant ({x[0]:g} {rec.unit(name)}) in {path} after the skip: it has no spectrum (every line and "
             "band would be 0, a level of -inf dB)",
         )
     return x
@@ -109,7 +107,7 @@ def _no_line(path, col, fs, n, fmin, fmax, df=None):
     return ModelError(
         "--fmin/--fmax",
         (fmin, fmax),
-        f"hold no spectral line of {path}, column {col}: its {n} samples after --skip at dt = {1 / fs:.4g} s "
+        f"hold no spectral line of {path}, column {col}: its {n} samples after the skip at dt = {1 / fs:.4g} s "
         f"({n / fs:.4g} s) give lines {first}up to the Nyquist frequency {fs / 2:.4g} Hz; lines down to {fmin:g} Hz "
         f"need about {4 / fmin:.4g} s of record, lines up to {fmax:g} Hz need dt <= {1 / (2 * fmax):.4g} s",
     )
@@ -288,7 +286,7 @@ def _nperseg(rec, args, n, averages=1):
         raise ModelError(
             "--resolution",
             args.resolution,
-            f"must be at least {finest:.4g} Hz for the {n / rec.fs:.4g} s of record after --skip "
+            f"must be at least {finest:.4g} Hz for the {n / rec.fs:.4g} s of record after the skip "
             f"({what} of a power of two samples{why})",
         )
     return seg
@@ -339,7 +337,7 @@ def cmd_bands(args):
             )
         if not within.all():  # (octave_rms leaves them out: passband, beyond_nyquist="drop")
             print(f"# {_passband_note(rec, args.record)}: the bands above it are left out")
-    name = f"{col} in {args.record} (after --skip)"
+    name = f"{col} in {args.record} (the record after {args.skip_words}, {args.skip:g} s)"
     bands = octave_rms(
         x, rec.fs, band_set, beyond_nyquist="drop", name=name, passband=passband, **window_options(args.window)
     )

@@ -79,3 +79,23 @@ def test_the_bands_of_a_runs_file_are_the_studies_bands(tmp_path, capsys):
     rows = {r.split(",")[0]: r.split(",") for r in capsys.readouterr().out.splitlines() if r.startswith("oct")}
     for band, level in study.items():
         assert float(rows[band][4]) == pytest.approx(level, rel=5e-6), band
+
+
+def test_a_short_record_s_messages_say_which_skip_took_it(tmp_path, capsys):
+    """A record too short after the default skip is named by that skip, not an --skip nobody gave;
+    a record that states no fade-in and no lines (a host's CSV) is not said to state them."""
+    t = 1e-4 * np.arange(1, 3001)  # 0.3 s at 1e-4 s
+    path = tmp_path / "host.csv"
+    np.savetxt(
+        path, np.column_stack([t, np.sin(2 * np.pi * 100 * t)]), delimiter=",", header="time,casing.B.Fz", comments=""
+    )
+    assert main(["bands", str(path), "--kind", "third", "--fmin", "16"]) == 2
+    err = capsys.readouterr().err
+    assert "(the record after the default skip, 0.05 s) = '0.2499 s': is too short for band 16Hz" in err, err
+    assert main(["bands", str(path), "--kind", "third", "--fmin", "16", "--skip", "0.1"]) == 2
+    assert "(the record after --skip, 0.1 s) = '0.1999 s'" in capsys.readouterr().err
+    short = tmp_path / "short.csv"
+    np.savetxt(short, np.column_stack([t[:300], t[:300]]), delimiter=",", header="time,casing.B.Fz", comments="")
+    assert main(["bands", str(short)]) == 2
+    err = capsys.readouterr().err
+    assert "it is the default (0.05 s): give a shorter one" in err and "ramp_s" not in err, err

@@ -95,8 +95,9 @@ def test_a_transfer_estimate_of_fewer_than_three_averages_is_refused(tmp_path, c
     assert main(args + ["--resolution", "1"]) == 2
     err = capsys.readouterr().err.strip()
     assert err == (
-        "cablecasing: error: --resolution = 1.0: must be at least 2 Hz for the 1 s of record after --skip (3 averages "
-        "of half-overlapping segments of a power of two samples; from one the coherence is 1 whatever the signals)"
+        "cablecasing: error: --resolution = 1.0: must be at least 2 Hz for the 1 s of record after the skip "
+        "(3 averages of half-overlapping segments of a power of two samples; from one the coherence is 1 whatever "
+        "the signals)"
     ), err
     assert main(args + ["--resolution", "2"]) == 0 and "3 averages" in capsys.readouterr().out
 
