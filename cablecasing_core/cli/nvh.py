@@ -43,6 +43,18 @@ def _record(path):
     return read_records(path)
 
 
+#: What the total of the band levels weights, by window (``bands``' RMS line): Hann's weights the
+#: middle of the record (w^2 falls to 0 at both ends), so on a record whose level drifts along it
+#: (a chaotic contact run) the total differs from the evenly weighted PSD's by that drift.
+_WEIGHTS = {
+    "hann": "Hann's window weights the middle of the record, 'spectrum --fmin/--fmax' and --window boxcar weight "
+    "it evenly: they agree within the estimates' scatter where the level does not drift along the record, and "
+    "differ by the drift where it does",
+    "boxcar": "the rectangular window weights the record evenly: 'spectrum --fmin/--fmax' over the same range gives "
+    "it within its estimate's scatter",
+}
+
+
 def _window(rec, args):
     """The samples after ``args.skip`` (s; None takes the record's
     :meth:`~cablecasing_core.records.Records.default_skip`, stored back in ``args.skip`` for what the
@@ -177,8 +189,9 @@ def cmd_spectrum(args):
             rms = np.sqrt(r.mean_square(lo, hi))
             print(
                 f"# {r.name}: RMS {rms:.6g} {r.unit} in {lo:.4g}-{hi:.4g} Hz (the PSD integrated over its lines, each "
-                "df wide, split at the edges, from 2 df: lines below hold a tone's power only in part, or more; the "
-                "band levels of 'bands' over the same range add up to it)"
+                "df wide, split at the edges, from 2 df: lines below hold a tone's power only in part, or more; its "
+                "averages weight the record evenly, as 'bands --window boxcar' over the same range does, whose levels "
+                "add up to it within the estimates' scatter; 'bands' through Hann's window weights the middle)"
             )
         table = table[sel]
     else:
@@ -351,7 +364,7 @@ def cmd_bands(args):
         print(note)
     print(
         f"# RMS over the bands, {bands.lower[0]:.4g}-{bands.upper[-1]:.4g} Hz: {total:.6g} {unit} (their mean "
-        "squares summed; 'spectrum --fmin/--fmax' over the same range gives it within its estimate's scatter)"
+        f"squares summed; {_WEIGHTS[args.window]})"
     )
     header = f"band,f_centre [Hz],f_low [Hz],f_high [Hz],rms [{unit}],level [dB re {ref:g} {unit}]"
     rows = [
