@@ -30,13 +30,18 @@ A record is a time axis (s, evenly spaced) and named columns: the outputs of the
   names=True)``; ``pandas.read_csv(path, comment="#")``).
 * **NPZ**: ``time`` (n,), ``table`` (n, m), ``names`` and ``units`` (m,), full double precision, and
   any further arrays of the writer (a run's per-node contact histories; :meth:`SimulationResult.load`).
-* **UFF 58** (binary, through pyuff, :mod:`.identification.uff_io`; it keeps no passband): one
+* **UFF 58** (binary, through pyuff, :mod:`.identification.uff_io`): one
   function of type 1 (time response) per column, ``id1`` the column's name, the ordinate's unit label and data type (9
   reaction force for forces and moments, 8 displacement, 11 velocity, 12 acceleration), the
   response node the support (casing A 1, casing B 2, cable A 3, cable B 4; 0 for the contact
   summary) and direction 1-3 for x, y, z, 4-6 for moments about them. Read, an ``id1`` that several
   functions share (an analyser's ``Response``) names each of them ``<id1>@<node><direction>``
-  (``Response@2z``; :func:`~.identification.uff_io.function_names`).
+  (``Response@2z``; :func:`~.identification.uff_io.function_names`). What a run's record states
+  (passband, lines, fade-in, as the CSV's comment lines) every function states in its ID lines
+  (80 characters each): ID line 5 ``cablecasing passband_hz=3500 ramp_s=0.01``, ID line 3
+  ``cablecasing lines_hz=50 100`` (:data:`~.identification.uff_io.STATEMENTS`; a file of other
+  tools, whose ID lines do not start with ``cablecasing``, states none). So a run's ``.uff`` file
+  gives the same :meth:`Records.default_skip` and passband as its ``.csv`` and ``.npz``.
 
 Files are written atomically (:mod:`.files`): an interrupted write leaves an earlier file intact.
 """
@@ -132,7 +137,7 @@ def after_skip(time: np.ndarray, skip: float, start: float = 0.0) -> np.ndarray:
 class Records:
     """A time record: ``time`` (s, n), ``columns`` {name: (n,) array}, ``units`` {name: unit},
     ``source`` (file or run), ``extra`` (further arrays of an NPZ file; ``passband_hz``, of an NPZ
-    file or a CSV file's comment line, see :attr:`passband_hz`)."""
+    file, a CSV file's comment line or a UFF file's ID line, see :attr:`passband_hz`)."""
 
     time: np.ndarray
     columns: dict
@@ -171,7 +176,7 @@ class Records:
         """The frequency (Hz) up to which the record holds its content unaltered: ``extra["passband_hz"]``
         where the record says so (a run's record decimated by its anti-alias filter,
         :func:`~cablecasing_core.timedomain.simulation.decimate`: flat within 0.01 dB up to 0.7 of
-        its Nyquist frequency, less above; kept in ``.npz`` and ``.csv`` files, not in ``.uff``), else
+        its Nyquist frequency, less above; kept in ``.npz``, ``.csv`` and ``.uff`` files), else
         the Nyquist frequency fs/2. A record that states none may hold content of its source above
         the Nyquist frequency aliased below it (an FMU's outputs sampled at its communication points)."""
         nyquist = self.fs / 2
@@ -182,13 +187,13 @@ class Records:
     @property
     def lines_hz(self) -> tuple:
         """The frequencies (Hz) of the harmonic excitations the record states (``extra["lines_hz"]``:
-        a run's record, in ``.npz`` and ``.csv`` files, not in ``.uff``), or () when it states none."""
+        a run's record, in ``.npz``, ``.csv`` and ``.uff`` files), or () when it states none."""
         return tuple(float(f) for f in np.atleast_1d(self.extra.get("lines_hz", ())))
 
     @property
     def ramp_s(self) -> float:
         """The supports' fade-in (s) the record states (``extra["ramp_s"]``: a run of a scenario
-        whose ``scenario.ramp`` is not 0, in ``.npz`` and ``.csv`` files, not in ``.uff``), or 0."""
+        whose ``scenario.ramp`` is not 0, in ``.npz``, ``.csv`` and ``.uff`` files), or 0."""
         return float(np.asarray(self.extra.get("ramp_s", 0.0)))
 
     def default_skip(self) -> float:
@@ -253,8 +258,25 @@ def write_records(path: str | os.PathLike, rec: Records) -> str:
     else:
         from .identification.uff_io import Record, write_uff
 
+        # (what the CSV's comment lines state, to the same 15 digits: the ID lines 3 and 5 of every function)
+        stated = {}
+        if "passband_hz" in rec.extra:
+            stated["passband_hz"] = f"{float(np.asarray(rec.extra['passband_hz'])):.15g}"
+        if rec.lines_hz:
+            stated["lines_hz"] = " ".join(f"{f:.15g}" for f in rec.lines_hz)
+        if rec.ramp_s > 0:
+            stated["ramp_s"] = f"{rec.ramp_s:.15g}"
         funcs = [
-            Record("time", rec.time, table[:, 1 + i], n, *uff_dof(n), unit=u, data_type=_UNIT_TYPES.get(u, 0))
+            Record(
+                "time",
+                rec.time,
+                table[:, 1 + i],
+                n,
+                *uff_dof(n),
+                unit=u,
+                data_type=_UNIT_TYPES.get(u, 0),
+                stated=stated,
+            )
             for i, (n, u) in enumerate(zip(names, units))
         ]
         write_uff(path, funcs)
@@ -465,7 +487,7 @@ def _read_npz(path):
 
 
 def _read_uff(path):
-    from .identification.uff_io import function_names, read_uff
+    from .identification.uff_io import STATEMENTS, function_names, read_uff
 
     funcs = [r for r in read_uff(path) if r.kind == "time"]
     if not funcs:
@@ -484,9 +506,31 @@ def _read_uff(path):
                 f"time function {i} repeats the name of an earlier one, {name} (its id1, and its node and "
                 "direction where the id1 repeats): names must be unique",
             )
+        if r.stated != funcs[0].stated:  # (one record: every function states the same)
+            raise ModelError(
+                "file",
+                path,
+                f"time function {i} ({r.name}) states {r.stated or 'nothing'} in its ID lines 3 and 5, time function "
+                f"0 ({funcs[0].name}) {funcs[0].stated or 'nothing'}: the functions of one record state the same",
+            )
         cols[name] = np.asarray(r.data, float)
         units[name] = r.unit or unit_of(name)
-    return Records(t, cols, units, path)
+    extra = {}
+    for name, text in funcs[0].stated.items():  # (as a CSV's comment lines, _csv_stated)
+        try:
+            values = tuple(float(v) for v in text.split())
+        except ValueError:
+            values = ()
+        if not _stated_well(name, values):
+            example = {"passband_hz": "3500", "lines_hz": "50", "ramp_s": "0.01"}[name]
+            raise ModelError(
+                "file",
+                path,
+                f"its ID line {STATEMENTS[name]} states {name}, but not as {_STATED[name]} ('cablecasing "
+                f"{name}={example}', as 'cablecasing simulate --out' writes it)",
+            )
+        extra[name] = np.array(values if name == "lines_hz" else values[0])
+    return Records(t, cols, units, path, extra)
 
 
 def driven_inputs(model) -> tuple:

@@ -10,7 +10,8 @@ Method, for each resonance
    accelerance by ``-omega^2``, apparent mass (F/a, the paper's TRFAM, Eq. 12) multiplied by
    ``-omega^2``. A 0 Hz (DC) line is left out: no resonance uses it, and its displacement form is
    undefined for every kind but displacement.
-2. Points within ``omega_r^2 (1 +- bandwidths * eta)`` (``omega_r``, ``eta``: a one-mode fit started
+2. Points within ``omega_r^2 (1 +- bandwidths * eta)``, a window ``bandwidths`` half-power bandwidths
+   ``B = eta f_r`` wide (``f_r +- (bandwidths / 2) B``; ``omega_r``, ``eta``: a one-mode fit started
    from the half-power estimate around the peak of ``|H|``, both sought within ``+-search`` of the
    request and no further than halfway to the neighbouring requests) are fitted by a circle in the
    *geometric* least-squares sense (sum of squared distances to the circle,
@@ -52,7 +53,7 @@ import numpy as np
 from scipy.optimize import least_squares
 from scipy.signal import find_peaks
 
-from ..errors import ModelError, ModelWarning
+from ..errors import ModelError, ModelWarning, plain
 from ..model.validators import Choice, array_1d, integer, number
 
 FRF_KINDS = ("displacement", "velocity", "acceleration", "apparent_mass")
@@ -384,8 +385,9 @@ def _fit_one(f, Hd, f0, search, lo_hz, hi_hz, eta_prev, fr_prev, bandwidths, min
             "freqs_hz",
             f"{win.size} points near {f0:g} Hz",
             f"too coarse a resolution, or too noisy an FRF: the circle needs at least {2 * min_side + 1} points "
-            f"within {np.sqrt(max(lo2, 0)):g}..{np.sqrt(max(hi2, 0)):g} Hz (+-{bandwidths:g} half-power "
-            f"bandwidths of the one-mode estimate, eta = {eta0:.3g}, at df = {float(np.median(np.diff(f))):.4g} Hz); "
+            f"within {np.sqrt(max(lo2, 0)):g}..{np.sqrt(max(hi2, 0)):g} Hz (a window {bandwidths:g} half-power "
+            f"bandwidths eta f_r wide, f_r +-{bandwidths / 2:g} eta f_r, of the one-mode estimate, eta = {eta0:.3g}, "
+            f"at df = {float(np.median(np.diff(f))):.4g} Hz); "
             "noise on H can take that estimate far below the mode's loss factor though the lines are fine "
             "enough for it (10 % complex noise, 17 lines per bandwidth: 5 of 200 draws): average more, or give "
             "a larger bandwidths",
@@ -478,8 +480,9 @@ def loss_factor_circle(
     kind : str
         FRF type, see :func:`to_displacement_form`.
     bandwidths : float
-        Half-width of the fitted window in half-power bandwidths: ``omega^2`` within
-        ``omega_r^2 (1 +- bandwidths * eta)`` (2: centre angles up to about 127 degrees).
+        Full width of the fitted window in half-power bandwidths ``B = eta f_r``: ``omega^2`` within
+        ``omega_r^2 (1 +- bandwidths * eta)``, so ``f`` within about ``f_r +- (bandwidths / 2) B``
+        (2: ``f_r +- B``, centre angles up to about +-127 degrees; 1: the half-power points, +-90).
     search : float
         Relative half-width (0 < search < 1) around each ``f_res_hz`` searched for the peak of ``|H|``
         and its one-mode estimate; the search stops halfway to the neighbouring requests.
@@ -524,7 +527,8 @@ def loss_factor_circle(
     Raises
     ------
     ModelError
-        Frequencies not increasing, mismatched lengths, ``bandwidths`` not a finite number > 0,
+        Frequencies not increasing, mismatched lengths, an FRF of real values only (a magnitude:
+        no circle), ``bandwidths`` not a finite number > 0,
         ``search`` not in (0, 1), no resonance (interior peak / fastest angle sweep) in a window, too
         few points for the circle (a resolution too coarse, or noise), two requests of one resonance
         (fitted within :data:`SAME_POLE_BANDWIDTHS` of a half-power bandwidth).
@@ -537,6 +541,14 @@ def loss_factor_circle(
     Hc = array_1d("H", Hc, min_len=7, complex_ok=True).astype(complex)
     if Hc.size != f.size:
         raise ModelError("H", f"{Hc.size} values", f"must have one value per frequency ({f.size})")
+    if not np.any(Hc.imag):  # (a magnitude-only export: its |H| peaks, but it has no Nyquist circle)
+        raise ModelError(
+            "H",
+            plain("an FRF of real values only (its imaginary part 0 at every frequency)"),
+            "a circle fit needs the complex FRF, real and imaginary parts (or magnitude and phase): a magnitude "
+            "|H| alone draws no Nyquist circle; export the complex FRF (natural frequencies for the modulus can "
+            "still be taken from the peaks of a magnitude)",
+        )
     if np.any(np.diff(f) <= 0):
         k = int(np.argmax(np.diff(f) <= 0))
         raise ModelError(

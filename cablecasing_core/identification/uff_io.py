@@ -27,11 +27,11 @@ import csv
 import os
 import re
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import ModelError, ModelWarning, renamed
+from ..errors import ModelError, ModelWarning, excerpt, renamed
 from ..files import TIME_UNITS, csv_statements, time_column, time_factor
 from ..model.validators import Choice, array_1d, number
 
@@ -46,8 +46,9 @@ class Record:
     header's abscissa unit, whose label is kept in ``abscissa_unit``), ``data`` (real for time,
     complex for an FRF), ``name``, the UFF node/direction fields, the ordinate's unit label and UFF
     data type (0 unknown, 8 displacement, 9 reaction force, 11 velocity, 12 acceleration, 13
-    excitation force; for an FRF also those of its denominator), the UFF function type and whether the
-    dataset was binary (58b)."""
+    excitation force; for an FRF also those of its denominator), the UFF function type, whether the
+    dataset was binary (58b) and what it states beside its values in its ID lines, ``stated``
+    ({name: text}, :data:`STATEMENTS`: a run's record's passband, harmonic lines and fade-in)."""
 
     kind: str
     x: np.ndarray
@@ -64,6 +65,7 @@ class Record:
     func_type: int = 0
     abscissa_unit: str = ""
     binary: bool = False
+    stated: dict = field(default_factory=dict)
 
     @property
     def fs(self):
@@ -86,6 +88,50 @@ def _even(x):
     return d.size > 0 and np.all(d > 0) and np.allclose(d, d[0], rtol=1e-9, atol=0.0)
 
 
+#: What a run's record states beside its columns (``records.Records``: ``passband_hz``, Hz; ``lines_hz``, Hz
+#: separated by spaces; ``ramp_s``, s), by the UFF 58 ID line that carries it in every function of the
+#: record: ID line 5 ``cablecasing passband_hz=3500 ramp_s=0.01``, ID line 3 ``cablecasing lines_hz=50 100``
+#: (ID lines are 80 characters; ID line 4 holds the abscissa's tag, ID line 1 the name). A line without
+#: the leading ``cablecasing`` (another tool's, a date) states nothing.
+STATEMENTS = {"passband_hz": 5, "ramp_s": 5, "lines_hz": 3}
+_ID_LINE = 80
+_STATED = re.compile(r"(\w+)=(.*?)(?=\s+\w+=|\s*$)")
+
+
+def _statement_lines(rec):
+    """``({3: ID line 3, 5: ID line 5}, [names left out])`` of a function that states ``rec.stated``
+    (:data:`STATEMENTS`), "NONE" for a line that states nothing; a statement the 80 characters of its
+    line cannot hold (many harmonic lines) is left out (:func:`write_uff` warns)."""
+    lines = {3: [], 5: []}
+    for name, text in rec.stated.items():
+        if name not in STATEMENTS:
+            raise ModelError("stated", name, "must be one of " + ", ".join(STATEMENTS))
+        lines[STATEMENTS[name]].append(f"{name}={' '.join(str(text).split())}")
+    out, left = {}, []
+    for line, parts in lines.items():
+        kept = []
+        for part in parts:
+            if len(" ".join(["cablecasing", *kept, part])) <= _ID_LINE:
+                kept.append(part)
+            else:
+                left.append(part.partition("=")[0])
+        out[line] = " ".join(["cablecasing", *kept]) if kept else "NONE"
+    return out, left
+
+
+def _statements(dataset):
+    """What a dataset states in its ID lines 3 and 5 (:data:`STATEMENTS`): {name: text}."""
+    found = {}
+    for name, line in STATEMENTS.items():
+        text = str(dataset.get(f"id{line}", "")).strip()
+        if not text.startswith("cablecasing "):
+            continue
+        for key, value in _STATED.findall(text[len("cablecasing ") :]):
+            if key == name:
+                found[name] = value.strip()
+    return found
+
+
 def _function(x, data, x_key, data_key, real, min_len=2):
     """The abscissa ``x`` and ordinate ``data`` of one function to write, checked before anything is
     written (the one check of every writer): finite numbers, one value per abscissa value, the
@@ -105,7 +151,7 @@ def _function(x, data, x_key, data_key, real, min_len=2):
     return x, data
 
 
-def _dataset(rec, binary, x_key="x", data_key="data"):
+def _dataset(rec, binary, x_key="x", data_key="data", id_lines=None):
     pyuff = _pyuff()
     is_time = rec.kind == "time"
     if np.size(rec.x) < 2:  # (pyuff cannot write one abscissa value; nor could a reader tell its spacing)
@@ -114,14 +160,15 @@ def _dataset(rec, binary, x_key="x", data_key="data"):
     x, data = _function(rec.x, rec.data, x_key, data_key, real=is_time)
     even = _even(x)
     dx = float(x[1] - x[0]) if even else 0.0
+    stated = _statement_lines(rec)[0] if id_lines is None else id_lines
     return pyuff.prepare_58(
         binary=1 if binary else 0,
         func_type=1 if is_time else 4,
         id1=(rec.name or ("time record" if is_time else "FRF"))[:80],
         id2="cablecasing",
-        id3="NONE",
+        id3=stated[3],
         id4=f"cablecasing x0={float(x[0])!r} dx={dx!r}" if even else "NONE",
-        id5="NONE",
+        id5=stated[5],
         rsp_node=int(rec.rsp_node),
         rsp_dir=int(rec.rsp_dir),
         ref_node=int(rec.ref_node),
@@ -145,11 +192,26 @@ def write_uff(path, records, binary=True):
     """Write :class:`Record` objects to ``path`` as UFF dataset 58, atomically (a file that was
     there is replaced only when the new one is complete). Every record is checked first (finite
     values, one per abscissa value, a strictly increasing abscissa, a real time record): a
-    ModelError naming ``records[i].x`` or ``records[i].data`` leaves ``path`` as it was."""
+    ModelError naming ``records[i].x`` or ``records[i].data`` leaves ``path`` as it was. What a
+    record states (``Record.stated``, :data:`STATEMENTS`) goes into its ID lines 3 and 5; a
+    statement longer than the line's 80 characters is left out with a ModelWarning."""
     from ..files import atomic_path
 
     pyuff = _pyuff()
-    sets = [_dataset(r, binary, f"records[{i}].x", f"records[{i}].data") for i, r in enumerate(records)]
+    lines = [_statement_lines(r) for r in records]
+    sets = [
+        _dataset(r, binary, f"records[{i}].x", f"records[{i}].data", id_lines)
+        for i, (r, (id_lines, _)) in enumerate(zip(records, lines))
+    ]
+    left = sorted({name for _, names in lines for name in names})
+    if left:
+        warnings.warn(
+            f"{path}: the 80 characters of a UFF 58 ID line cannot hold the record's {', '.join(left)} (too many "
+            "harmonic lines): the file leaves it out, and a reader takes the default (no lines, no fade-in, the "
+            "Nyquist frequency); a .csv or .npz file keeps it",
+            ModelWarning,
+            stacklevel=2,
+        )
     with atomic_path(path) as tmp:
         try:
             pyuff.UFF(str(tmp)).write_sets(sets, mode="add")
@@ -237,6 +299,7 @@ def read_uff(path):
                 func_type,
                 abscissa_unit,
                 bool(int(s.get("binary", 0))),
+                _statements(s),
             )
         )
     return out
@@ -272,14 +335,14 @@ def _abscissa(path, dataset):
     return x
 
 
-#: Abscissa unit labels of UFF 58 headers (lower case, spaces removed) and their factor to Hz; a
-#: time record's are those of a CSV record's time column, :data:`cablecasing_core.files.TIME_UNITS`.
-_FREQ_UNITS = {
-    "": 1.0,
-    "hz": 1.0,
+#: Units of a frequency (an FRF's abscissa: a UFF 58 header's label, a CSV FRF's first column) and
+#: their factor to Hz; looked up in lower case with spaces removed (:func:`frequency_factor`). A time
+#: record's are those of a CSV record's time column, :data:`cablecasing_core.files.TIME_UNITS`.
+FREQUENCY_UNITS = {
+    "Hz": 1.0,
     "1/s": 1.0,
     "cps": 1.0,
-    "khz": 1e3,
+    "kHz": 1e3,
     "rad/s": 1.0 / (2.0 * np.pi),
     "rad/sec": 1.0 / (2.0 * np.pi),
     "rads/s": 1.0 / (2.0 * np.pi),
@@ -288,6 +351,21 @@ _FREQ_UNITS = {
     "cpm": 1.0 / 60.0,
     "1/min": 1.0 / 60.0,
 }
+_FREQUENCY_KEYS = {k.lower(): v for k, v in FREQUENCY_UNITS.items()}
+
+
+def frequency_factor(unit: str) -> float | None:
+    """The factor from the frequency unit ``unit`` to Hz (:data:`FREQUENCY_UNITS`, in any case, spaces
+    ignored: ``kHz``, ``KHZ``, ``rad / s``); 1.0 for no unit (""), None for a unit that is not one of
+    frequency."""
+    key = unit.lower().replace(" ", "")
+    return 1.0 if not key else _FREQUENCY_KEYS.get(key)
+
+
+def frequency_units_text() -> str:
+    """The units :func:`frequency_factor` converts, for a message: ``'Hz', '1/s', ...``."""
+    return ", ".join(repr(k) for k in FREQUENCY_UNITS)
+
 
 #: FRF kind (circlefit.FRF_KINDS) from the UFF 58 data types of ordinate (numerator) and denominator:
 #: 8 displacement, 9 reaction force, 11 velocity, 12 acceleration, 13 excitation force.
@@ -297,9 +375,9 @@ _FORCE = (9, 13)
 def _abscissa_scale(path, name, kind, label):
     """Factor from the header's abscissa unit to s (time) or Hz (FRF); a ModelError for a unit it does not know."""
     key = label.lower().replace(" ", "")
-    factor = (time_factor(key) if key else 1.0) if kind == "time" else _FREQ_UNITS.get(key)
+    factor = (time_factor(key) if key else 1.0) if kind == "time" else frequency_factor(key)
     if factor is None:
-        allowed = ", ".join(repr(k) for k in (TIME_UNITS if kind == "time" else _FREQ_UNITS) if k)
+        allowed = ", ".join(repr(k) for k in TIME_UNITS) if kind == "time" else frequency_units_text()
         raise ModelError(
             "file",
             f"{path} ({name or kind})",
@@ -521,17 +599,80 @@ def _digit_cap(q, lead, to_s, quantum):
     return np.fmax(quantum, by_magnitude)  # (fmax: a 0's nan magnitude gives the median)
 
 
+#: The names of a CSV FRF's frequency column (its first), before its unit (``frequency [rad/s]``,
+#: ``f_hz``); :func:`frequency_column`.
+FREQUENCY_NAMES = ("frequency", "freq", "f")
+_UNIT_IN_BRACKETS = re.compile(r"(.*?)\s*[\[(]\s*([^\])]*?)\s*[\])]")
+
+
+def _frequency_header(header):
+    """``(is a frequency, unit text)`` of a CSV column header: ``frequency [rad/s]``, ``Frequency (Hz)``,
+    ``frequency_hz``, ``f_khz``, ``freq`` (no unit: Hz) or a bare unit, ``Hz``, ``rpm``."""
+    text = header.strip()
+    found = _UNIT_IN_BRACKETS.fullmatch(text)
+    if found:
+        name, unit = found.group(1), found.group(2)
+    else:
+        name, _, unit = text.partition("_")
+        if frequency_factor(text) is not None and text:  # (the header a unit alone: Hz, rpm)
+            return True, text
+    if name.strip().lower() not in FREQUENCY_NAMES:
+        return False, ""
+    return True, unit
+
+
+def is_frequency_header(header) -> bool:
+    """Whether a CSV column header names a frequency (:func:`frequency_column`'s forms, whatever its unit)."""
+    return _frequency_header(header)[0]
+
+
+def frequency_column(path, names, key="file"):
+    """The factor (to Hz) of a CSV FRF's frequency column, the first of the header's column names
+    ``names``: :data:`FREQUENCY_NAMES` with a unit of :data:`FREQUENCY_UNITS` in brackets,
+    ``frequency [rad/s]``, or after an underscore, ``frequency_khz`` (no unit: Hz), or a unit alone,
+    ``Hz``. A :class:`ModelError` naming ``key`` and the file, quoting the header, for a first column
+    that is no frequency (naming the column that is, if one is) or a unit that is not one of frequency."""
+    header = names[0]
+    is_frequency, unit = _frequency_header(header)
+    shown = excerpt(header.strip(), 40)
+    if not is_frequency:
+        other = next((j for j, n in enumerate(names) if j and _frequency_header(n)[0]), None)
+        where = "" if other is None else f" (its column {other + 1}, {excerpt(names[other].strip(), 40)}, is one)"
+        raise ModelError(
+            key,
+            str(path),
+            f"its first column, headed {shown}, is not a frequency{where}: an FRF CSV has the frequency first, "
+            "headed frequency_hz (or frequency [Hz]; frequency [rad/s], frequency [kHz], ... are converted to Hz), "
+            "then re_<name>,im_<name>",
+        )
+    factor = frequency_factor(unit)
+    if factor is None and "_" in unit:  # (frequency_rad_s: the slash written as an underscore)
+        factor = frequency_factor(unit.replace("_", "/"))
+    if factor is None:
+        raise ModelError(
+            key,
+            str(path),
+            f"the header of its frequency column, {shown}, gives the frequency in {excerpt(unit, 20)}, a unit "
+            f"this reader does not convert: one of {frequency_units_text()} (frequency [rad/s] or frequency_rpm; "
+            "no unit: Hz)",
+        )
+    return factor
+
+
 def read_csv_frf(path):
-    """A complex FRF from CSV: returns ``(freqs_hz, H)`` from the first column and the first
-    ``re_*``/``im_*`` column pair."""
+    """A complex FRF from CSV: returns ``(freqs_hz, H)`` from the first column, the frequency (its unit
+    from its header, :func:`frequency_column`: ``frequency [rad/s]``, ``frequency_khz`` converted to Hz),
+    and the first ``re_*``/``im_*`` column pair."""
     from ..files import read_csv_table
 
     names, data = read_csv_table(path, "file", min_rows=3, min_columns=3)
-    re_i = next((i for i, n in enumerate(names) if n.lower().startswith("re")), None)
-    im_i = next((i for i, n in enumerate(names) if n.lower().startswith("im")), None)
+    to_hz = frequency_column(path, names)
+    re_i = next((i for i, n in enumerate(names) if i and n.lower().startswith("re")), None)
+    im_i = next((i for i, n in enumerate(names) if i and n.lower().startswith("im")), None)
     if re_i is None or im_i is None:
         raise ModelError("file", str(path), "an FRF CSV needs columns frequency_hz,re_<name>,im_<name>")
-    return data[:, 0], data[:, re_i] + 1j * data[:, im_i]
+    f = data[:, 0] if to_hz == 1.0 else data[:, 0] * to_hz
+    return f, data[:, re_i] + 1j * data[:, im_i]
 
 
 # ------------------------------------------------------------------------------ by file extension

@@ -113,10 +113,15 @@ def test_no_resonance_in_window():
     with pytest.raises(ModelError) as e:
         loss_factor_circle(f, H, [330.0])  # no mode near 330 Hz: |H| falls monotonically there
     assert e.value.key == "f_res_hz" and e.value.value == 330.0
-    mass_line = -1.0 / (2 * np.pi * f) ** 2
+    # a damped rigid-body (mass) line, -1 / (omega^2 (1 + i eta)): |H| falls monotonically, no peak
+    mass_line = -1.0 / ((2 * np.pi * f) ** 2 * (1 + 0.02j))
     with pytest.raises(ModelError) as e:
         loss_factor_circle(f, mass_line, [100.0])
     assert e.value.key == "f_res_hz" and "no resonance" in e.value.allowed
+    # the undamped (real) mass line has no imaginary part at all: said so, not "no resonance"
+    with pytest.raises(ModelError) as e:
+        loss_factor_circle(f, mass_line.real, [100.0])
+    assert e.value.key == "H" and "a circle fit needs the complex FRF" in e.value.allowed
 
 
 def test_bad_frf_inputs():

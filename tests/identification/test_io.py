@@ -360,3 +360,67 @@ def test_a_uff_time_abscissa_in_a_unit_not_of_time_is_refused(tmp_path):
     pyuff.UFF(str(p)).write_sets([s], mode="add")
     with pytest.raises(ModelError, match=r"abscissa unit 'Hz' is not one this reader converts; a time record.*'usec'"):
         read_uff(p)
+
+
+def _two_modes(f):
+    w2 = (2 * np.pi * f) ** 2
+    return 1 / ((2 * np.pi * 100) ** 2 * (1 + 0.03j) - w2) + 1 / ((2 * np.pi * 230) ** 2 * (1 + 0.05j) - w2)
+
+
+@pytest.mark.parametrize(
+    "header,per_hz",
+    [
+        ("frequency [rad/s]", 2 * np.pi),
+        ("frequency [kHz]", 1e-3),
+        ("Frequency (Hz)", 1.0),
+        ("frequency_rpm", 60.0),
+        ("f_khz", 1e-3),
+        ("freq", 1.0),
+    ],
+)
+def test_a_csv_frf_frequency_column_is_read_in_its_unit(tmp_path, capsys, header, per_hz):
+    """Review B 2: the frequency column's unit was ignored (rad/s read as Hz: resonances 2 pi too high,
+    E 39.5 times too high; kHz 1000 times too low). It is converted as a UFF abscissa label is (one
+    table, uff_io.FREQUENCY_UNITS). The written values are exact (%.17g), so the frequencies come back
+    to the two roundings of the scaling (1e-14); the circle fit then finds the modes at 100 and 230 Hz
+    with their loss factors (an exact modal sum: 1e-6)."""
+    from cablecasing_core.cli import main
+
+    f = np.arange(60.0, 300.0, 0.1)
+    H = _two_modes(f)
+    path = tmp_path / "frf.csv"
+    np.savetxt(path, np.column_stack([f * per_hz, H.real, H.imag]), delimiter=",", fmt="%.17g",
+               header=f"# kind = displacement\n{header},re_m_N,im_m_N", comments="")  # fmt: skip
+    got, H2 = read_csv_frf(path)
+    np.testing.assert_allclose(got, f, rtol=1e-14)
+    np.testing.assert_array_equal(H2, H)
+    assert main(["identify", "loss-factor", str(path), "--count", "2"]) == 0
+    rows = [line.split() for line in capsys.readouterr().out.splitlines() if line[:4].strip().isdigit()]
+    np.testing.assert_allclose([[float(r[1]), float(r[2])] for r in rows], [[100, 0.03], [230, 0.05]], rtol=1e-6)
+
+
+def test_a_csv_frf_of_an_unknown_unit_or_without_the_frequency_first_is_refused(tmp_path, capsys):
+    """An unknown unit is refused naming the file, the header and the units converted; a first column
+    that is no frequency (the header puts it elsewhere) naming the column that is."""
+    from cablecasing_core.cli import main
+
+    f = np.arange(60.0, 300.0, 0.5)
+    H = _two_modes(f)
+    path = tmp_path / "frf.csv"
+    np.savetxt(path, np.column_stack([f / 60, H.real, H.imag]), delimiter=",", header="frequency [min],re_H,im_H",
+               comments="")  # fmt: skip
+    with pytest.raises(ModelError) as e:
+        read_csv_frf(path)
+    assert e.value.key == "file" and e.value.value == str(path)
+    assert e.value.allowed.startswith("the header of its frequency column, 'frequency [min]', gives the frequency in")
+    assert "one of 'Hz', '1/s', 'cps', 'kHz', 'rad/s', 'rad/sec', 'rads/s', 'r/s', 'rpm', 'cpm', '1/min'" in (
+        e.value.allowed
+    )
+    assert main(["identify", "loss-factor", str(path), "--count", "2"]) == 2
+    assert f"error: file = '{path}': the header of its frequency column, 'frequency [min]'" in capsys.readouterr().err
+    np.savetxt(path, np.column_stack([H.real, H.imag, f]), delimiter=",", header="re_H,im_H,frequency_hz", comments="")
+    with pytest.raises(ModelError, match=r"its first column, headed 're_H', is not a frequency \(its column 3, "):
+        read_csv_frf(path)
+    np.savetxt(path, np.column_stack([f, H.real, H.imag]), delimiter=",", header="time_s,re_H,im_H", comments="")
+    with pytest.raises(ModelError, match=r"its first column, headed 'time_s', is not a frequency: an FRF CSV"):
+        read_csv_frf(path)

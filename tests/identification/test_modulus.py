@@ -143,3 +143,15 @@ def test_a_frequency_below_the_E_independent_stiffness_is_still_refused():
         identify_modulus(freqs, [50.0], [1], E_start=3e9, max_iter=30)
     assert e.value.key == "f_measured_hz" and e.value.value == 50.0
     assert "no modulus reproduces this frequency" in e.value.allowed
+
+
+def test_a_start_already_within_the_tolerance_is_still_updated():
+    """Review B 1: the stop test ran before the first update, so a mode the start already put within
+    half the resolution kept the start's modulus (5e9 Pa for a mode of 5.2e9 Pa, 0.2 Hz away at 0.5 Hz).
+    One update E (f_m / f_c)^2 is taken first; on the closed form f ~ sqrt(E) it is exact (rounding:
+    1e-12 relative)."""
+    f_meas = beam_frequencies(5.2e9)[:1]
+    tol = 2.0 * abs(f_meas[0] - beam_frequencies(5.0e9)[0])  # (the start within half the resolution)
+    res = identify_modulus(beam_frequencies, f_meas, [1], E_start=5.0e9, freq_resolution_hz=4 * tol)
+    assert res.E_mode[0] == pytest.approx(5.2e9, rel=1e-12)
+    assert len(res.history[0]) == 2  # (the start and the one update)
