@@ -36,6 +36,10 @@ def _check_outputs(args):
     check_distinct(("file", args.file), ("--model", getattr(args, "model", None)), ("--toml", args.toml))
 
 
+#: ``identify modulus --resolution`` (Hz) for a table ``mode,f_hz`` (the paper's 0.5 Hz); an FRF's is
+#: its line spacing.
+TABLE_RESOLUTION_HZ = 0.5
+
 #: find_resonances' advice when an FRF has fewer peaks than asked for, in the words of its arguments.
 _PEAKS_HINT = "give the resonances themselves (f_res_hz, --freqs) or a smaller count"
 
@@ -154,6 +158,22 @@ def _max_departure(text):
     return number("max_departure", value, gt=0)
 
 
+def _check_rayleigh_toml(args):
+    """``--toml`` writes the Rayleigh factors, whose fit needs two modes or more: one mode (``--freqs``
+    of one frequency, ``--count 1``) with ``--toml`` is a :class:`ModelError` naming --toml before the
+    record is read (it wrote nothing, said nothing and returned 0)."""
+    modes = len(args.freqs) if args.freqs else args.count
+    if args.toml and modes < 2:
+        given = f"--freqs gives one frequency ({args.freqs[0]:g} Hz)" if args.freqs else "--count is 1"
+        raise ModelError(
+            "--toml",
+            args.toml,
+            f"writes the Rayleigh factors alpha, beta, whose fit needs the damping of two modes or more: {given}; "
+            "give two natural frequencies or more (--freqs, --count), or leave --toml out (the table of zeta "
+            "is printed)",
+        )
+
+
 def cmd_damping(args):
     try:
         _check_outputs(args)
@@ -167,6 +187,7 @@ def cmd_damping(args):
                 number("noise_floor", args.noise_floor, gt=0)
             if not args.freqs:
                 integer("--count", args.count, 1)
+            _check_rayleigh_toml(args)
             x, fs, name, t_start = read_time_record_from(args.file, args.channel)
         if args.freqs:  # (each in (0, fs/2): named as the option before any work)
             frequencies("--freqs", args.freqs, fs)
@@ -243,12 +264,22 @@ def cmd_damping(args):
 @contextlib.contextmanager
 def _peaks_found(args):
     """Without --freqs, a :class:`ModelError` about one of the resonances (``f_res_hz``) names
-    ``--count``, their number, and says that the command took it from the peaks of |H|."""
+    ``--count``, their number, and says that the command took it from the peaks of |H|; without
+    --count too (every peak above the noise fitted) it names the file and asks for --count or --freqs."""
     try:
         yield
     except ModelError as exc:
         if args.freqs or exc.key != "f_res_hz" or not isinstance(exc.value, float):
             raise
+        if args.count is None:  # (every peak above the noise: no option to name, the file's peaks are at fault)
+            raise ModelError(
+                "file",
+                str(args.file),
+                f"the resonance near {exc.value:g} Hz, one of the peaks of |H| above its noise, all of which are "
+                f"fitted when neither --freqs nor --count is given: {exc.allowed}; a broad maximum of |H| (the rise "
+                "after an anti-resonance) is such a peak too: give the number of resonances to fit, the most "
+                "prominent peaks (--count N), or the resonances themselves (--freqs)",
+            ) from None
         raise ModelError(
             "--count",
             args.count,
@@ -285,6 +316,7 @@ def cmd_loss_factor(args):
         hints = {
             _PEAKS_HINT: "give the resonances themselves (--freqs) or a smaller --count",
             "give a smaller search": "give a smaller --search",
+            "give a larger bandwidths": "give a larger --bandwidths",
         }
         if not args.freqs:
             hints["(give the frequency of a peak)"] = "(give the frequencies of the peaks, --freqs)"
@@ -324,21 +356,27 @@ def cmd_loss_factor(args):
 
 
 def _read_measured(path, modes_arg, channel):
-    """(frequencies Hz, mode numbers, where the mode numbers came from: "file" or "--modes") from a CSV
-    table ``mode,f_hz`` or from the peaks of an FRF file."""
+    """(frequencies Hz, mode numbers, where the mode numbers came from: "file" or "--modes", the FRF's
+    line spacing in Hz or None for a table) from a CSV table ``mode,f_hz`` (the frequency's unit from
+    its header, as an FRF's: ``f [rad/s]``, ``frequency_khz``) or from the peaks of an FRF file."""
     from ..identification.circlefit import find_resonances
-    from ..identification.uff_io import is_uff, read_frf_kind
+    from ..identification.uff_io import frequency_column, is_frequency_header, is_uff, read_frf_kind
     from ..model.validators import integer
 
     if not is_uff(path):
         from ..files import read_csv_table
 
         names, data = read_csv_table(path, "file", min_rows=1)
-        header = [h.lower() for h in names]
+        header = [h.strip().lower() for h in names]
         if "mode" in header:
-            fcol = next((i for i, h in enumerate(header) if h in ("f_hz", "frequency_hz", "f")), None)
+            fcol = next((i for i, h in enumerate(names) if header[i] != "mode" and is_frequency_header(h)), None)
             if fcol is None:
-                raise ModelError("file", str(path), "a measured-frequency table needs columns mode,f_hz")
+                raise ModelError(
+                    "file",
+                    str(path),
+                    "a measured-frequency table needs columns mode,f_hz (f [rad/s], f [kHz], ... are converted to Hz)",
+                )
+            to_hz = frequency_column(path, [names[fcol]])
             modes = data[:, header.index("mode")]
             if np.any(modes != np.round(modes)) or np.any(modes < 1) or np.any(modes > 1000):
                 raise ModelError("file", str(path), "the column mode must hold whole numbers 1 to 1000")
@@ -349,7 +387,7 @@ def _read_measured(path, modes_arg, channel):
                     f"contradicts the column mode of {path} ({', '.join(str(int(m)) for m in modes)}): a table "
                     "mode,f_hz gives its own mode numbers; leave --modes out (it is for an FRF file)",
                 )
-            return data[:, fcol], modes.astype(int), "file"
+            return data[:, fcol] * to_hz, modes.astype(int), "file", None
     if not modes_arg:
         raise ModelError("--modes", None, "an FRF file needs the mode number of each resonance (--modes 1 2 ...)")
     for m in modes_arg:  # (the range of a table's column mode)
@@ -364,7 +402,7 @@ def _read_measured(path, modes_arg, channel):
             raise
         allowed = exc.allowed.replace(_PEAKS_HINT, "give fewer --modes, or a table mode,f_hz of the frequencies")
         raise ModelError("--modes", list(modes_arg), allowed) from None
-    return peaks, np.asarray(modes_arg, dtype=int), "--modes"
+    return peaks, np.asarray(modes_arg, dtype=int), "--modes", float(np.median(np.diff(f)))
 
 
 def cmd_modulus(args):
@@ -376,12 +414,19 @@ def cmd_modulus(args):
 
         with renamed({"model_file": "--model"}):
             model = load_model(args.model)
-        number("--resolution", args.resolution, gt=0, unit="Hz")
+        if args.resolution is not None:
+            number("--resolution", args.resolution, gt=0, unit="Hz")
         if not (args.degree == -1 or args.degree >= 0):
             raise ModelError("--degree", args.degree, "must be -1 (no smoothing) or an integer >= 0")
         n_table = integer("--n-table", args.n_table, 2)
-        f_meas, modes, given_by = _read_measured(args.file, args.modes, args.channel)
-        names = {"freq_resolution_hz": "--resolution", "degree": "--degree"}
+        f_meas, modes, given_by, df = _read_measured(args.file, args.modes, args.channel)
+        if args.resolution is not None:
+            resolution, said = args.resolution, "--resolution"
+        elif df is not None:  # (an FRF's peak is known to its line spacing)
+            resolution, said = df, "the FRF's line spacing"
+        else:
+            resolution, said = TABLE_RESOLUTION_HZ, "the paper's, the default for a table"
+        names = {"freq_resolution_hz": "--resolution", "degree": "--degree", "body": "--body"}
         names["modes"] = given_by if given_by == "--modes" else f"{args.file}, column mode"
         with renamed(names):
             res = identify_modulus_model(
@@ -389,11 +434,15 @@ def cmd_modulus(args):
                 args.body,
                 f_meas,
                 modes,
-                freq_resolution_hz=args.resolution,
+                freq_resolution_hz=resolution,
                 degree=None if args.degree == -1 else args.degree,
                 n_table=n_table,
             )
-        print(f"# {args.body} of {model.source}: E_start = {model.bodies[args.body].E_ref:.6g} Pa")
+        print(
+            f"# {args.body} of {model.source}: E_start = {model.bodies[args.body].E_ref:.6g} Pa; each mode updated "
+            f"at least once, then until within {resolution / 2:.4g} Hz (half the resolution {resolution:.4g} Hz, "
+            f"{said})"
+        )
         print(f"{'mode':>4} {'f_meas_Hz':>10} {'f_comp_Hz':>10} {'E_Pa':>12} {'steps':>5}")
         for m, fm, fc, E, h in zip(res.modes, res.f_measured_hz, res.f_computed_hz, res.E_mode, res.history):
             print(f"{m:>4} {fm:>10.3f} {fc:>10.3f} {E:>12.5g} {len(h) - 1:>5}")
@@ -461,7 +510,13 @@ def add_parser(subparsers):
         default=None,
         help="time constant (s) of an exponential window applied to the response; its damping is taken off",
     )
-    lf.add_argument("--bandwidths", type=float, default=2.0, help="window half-width in half-power bandwidths (> 0)")
+    lf.add_argument(
+        "--bandwidths",
+        type=float,
+        default=2.0,
+        help="full width (> 0) of each circle's window in half-power bandwidths B = eta f_r: omega^2 within "
+        "omega_r^2 (1 +- bandwidths eta), f_r +- (bandwidths/2) B (2: +-B; 1: the half-power points)",
+    )
     lf.add_argument(
         "--search",
         type=float,
@@ -484,8 +539,10 @@ def add_parser(subparsers):
     m.add_argument(
         "--resolution",
         type=float,
-        default=0.5,
-        help="frequency resolution of the measurement (Hz); stop within half of it",
+        default=None,
+        help="frequency resolution of the measurement (Hz): each mode's modulus is updated at least once, then "
+        f"until its frequency is within half of it (default: an FRF's line spacing; {TABLE_RESOLUTION_HZ:g} Hz, "
+        "the paper's, for a table mode,f_hz)",
     )
     m.add_argument("--degree", type=int, default=2, help="degree of the smooth fit in ln f (-1: no smoothing)")
     m.add_argument("--n-table", type=int, default=12, help="rows of the E(f) table")

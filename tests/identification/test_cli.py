@@ -240,3 +240,177 @@ def test_errors_name_the_file_and_the_options_not_the_functions_arguments(tmp_pa
     assert "error: --count = 1: the resonance near 743.5 Hz, one of the peaks of |H| taken for want of --freqs" in err
     assert run(["identify", "loss-factor", str(frf), "--freqs", "743.5", "--kind", "displacement"]) == 2
     assert "error: --freqs = 743.5: no resonance in the window" in capsys.readouterr().err
+
+
+# ------------------------------------------------------------------------- review B
+
+
+def test_modulus_under_the_cli_defaults_updates_every_mode(tmp_path, capsys):
+    """Review B 1: with the CLI's --resolution 0.5 Hz, mode 1 of the built-in casing at E = 5.2e9 Pa
+    (10.19 Hz) lies 0.2 Hz from the start's (5e9 Pa): it was reported with 0 steps and E = 5e9. Every
+    mode now gives 5.2e9. The built-in casing's frequencies scale as sqrt(E) to 2e-12 (its stiffness
+    is proportional to E), so the one update is exact to the eigen-solver's rounding: 1e-9 with margin."""
+    model = load_model()
+    modes = (1, 2, 4, 6)
+    f_all = natural_frequencies(model.with_overrides({"casing.E": 5.2e9}), "casing", 6)
+    path = tmp_path / "meas52.csv"
+    path.write_text("mode,f_hz\n" + "".join(f"{m},{float(f_all[m - 1])!r}\n" for m in modes))
+    toml = tmp_path / "E.toml"
+    assert run(["identify", "modulus", str(path), "--toml", str(toml)]) == 0
+    out = capsys.readouterr().out
+    assert "then until within 0.25 Hz (half the resolution 0.5 Hz, the paper's, the default for a table)" in out
+    rows = [line.split() for line in out.splitlines() if line[:4].strip().isdigit()]
+    assert [int(r[0]) for r in rows] == list(modes) and all(int(r[4]) >= 1 for r in rows)
+    np.testing.assert_allclose([float(r[3]) for r in rows], 5.2e9, rtol=1e-9)  # (printed to 5 digits: exact)
+    E = np.array(tomllib.loads(toml.read_text())["casing"]["E"])
+    np.testing.assert_allclose(E[:, 1], 5.2e9, rtol=1e-9)
+
+
+def test_modulus_from_an_frf_stops_within_half_its_line_spacing(tmp_path, capsys):
+    """Without --resolution an FRF's peaks are judged to its own line spacing (0.02 Hz: within 0.01 Hz),
+    not to the table's 0.5 Hz; the peaks of a modal sum at the built-in casing's frequencies at 5.2e9 Pa,
+    on a 0.02 Hz grid, give E within 2 df / f of 5.2e9 (f ~ sqrt(E): a peak off by df / 2 moves E by df / f)."""
+    model = load_model()
+    f_n = natural_frequencies(model.with_overrides({"casing.E": 5.2e9}), "casing", 4)
+    f = np.arange(5.0, 60.0, 0.02)
+    w2 = (2 * np.pi * f) ** 2
+    H = sum(1.0 / ((2 * np.pi * fk) ** 2 * (1 + 0.01j) - w2) for fk in f_n[[0, 3]])
+    path = tmp_path / "frf.csv"
+    identification.write_csv_frf(path, f, H, kind="displacement")
+    assert run(["identify", "modulus", str(path), "--modes", "1", "4", "--degree", "-1"]) == 0
+    out = capsys.readouterr().out
+    assert "until within 0.01 Hz (half the resolution 0.02 Hz, the FRF's line spacing)" in out
+    rows = [line.split() for line in out.splitlines() if line[:4].strip().isdigit()]
+    assert all(abs(float(r[1]) - float(r[2])) <= 0.01 + 5e-4 for r in rows)  # (printed to 3 decimals)
+    np.testing.assert_allclose([float(r[3]) for r in rows], 5.2e9, rtol=2 * 0.02 / f_n[0])
+
+
+def test_damping_with_one_mode_and_toml_is_refused_before_anything_is_printed(tmp_path, capsys):
+    """Review B 5: --toml writes the Rayleigh factors, whose fit needs two modes: one mode wrote no
+    file, said nothing and returned 0."""
+    fs = 2048.0
+    t = np.arange(2048) / fs
+    path = tmp_path / "imp.csv"
+    write_csv_time(path, np.exp(-0.02 * 2 * np.pi * 50 * t) * np.sin(2 * np.pi * 50 * t), fs)
+    toml = tmp_path / "one.toml"
+    for request, given in (
+        (["--freqs", "50"], "--freqs gives one frequency (50 Hz)"),
+        (["--count", "1"], "--count is 1"),
+    ):
+        assert run(["identify", "damping", str(path), *request, "--toml", str(toml)]) == 2
+        out, err = capsys.readouterr()
+        assert out == "" and not toml.exists()
+        assert f"--toml = '{toml}': writes the Rayleigh factors alpha, beta, whose fit needs the damping of two" in err
+        assert given in err
+    assert run(["identify", "damping", str(path), "--freqs", "50"]) == 0  # (the table alone: as before)
+
+
+def _hump_frf(path):
+    """Review B 6: modes at 100 Hz (eta 0.03) and 230 Hz (eta 0.05, half the modal constant, opposite
+    sign), 0-400 Hz: above the anti-resonance |H| rises to a broad maximum at 394.5 Hz, no mode."""
+    f = np.arange(0.0, 400.0001, 0.1)
+    w2 = (2 * np.pi * f) ** 2
+    H = 1 / ((2 * np.pi * 100) ** 2 * (1 + 0.03j) - w2) - 0.5 / ((2 * np.pi * 230) ** 2 * (1 + 0.05j) - w2)
+    identification.write_csv_frf(path, f, H, kind="displacement")
+    return path
+
+
+def test_loss_factor_without_count_names_no_option_the_user_did_not_give(tmp_path, capsys):
+    """Review B 6: the hump was fitted as a peak and the error blamed '--count = None'. It names the
+    file and asks for --count N or --freqs; --count 2 gives both loss factors (exact modal sum: 1e-6)."""
+    path = _hump_frf(tmp_path / "rec.csv")
+    assert run(["identify", "loss-factor", str(path)]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and "--count = None" not in err and "None" not in err
+    assert f"error: file = '{path}': the resonance near 394.5 Hz, one of the peaks of |H| above its noise" in err
+    assert "give the number of resonances to fit, the most prominent peaks (--count N), or the resonances" in err
+    toml = tmp_path / "eta.toml"
+    assert run(["identify", "loss-factor", str(path), "--count", "2", "--toml", str(toml)]) == 0
+    table = np.array(tomllib.loads(toml.read_text())["casing"]["loss_factor"])
+    np.testing.assert_allclose(table, [[100.0, 0.03], [230.0, 0.05]], rtol=1e-6)
+
+
+def test_bandwidths_is_the_full_width_of_the_window_in_half_power_bandwidths(tmp_path, capsys):
+    """Review B 7: the window is omega^2 within omega_r^2 (1 +- bandwidths eta), i.e. f_r +- (bandwidths / 2)
+    eta f_r: its full width is `bandwidths` half-power bandwidths B = eta f_r (it was called the
+    half-width). The message's interval is `bandwidths` times eta f_r wide to 1 %: its printed rounding
+    (6 digits of the edges, 1e-4 Hz of 0.08-1 Hz; 3 of eta, 0.5 %); sqrt(1 +- bandwidths eta) departs from
+    1 +- bandwidths eta / 2 by 1e-5 relative at most here."""
+    f = np.linspace(50.0, 150.0, 401)
+    frf = tmp_path / "frf.uff"
+    write_uff_frf(frf, f, 1.0 / (100.0**2 * (1 + 0.0002j) - f**2))
+    for bw in (2.0, 4.0):
+        argv = ["identify", "loss-factor", str(frf), "--count", "1", "--kind", "displacement", "--bandwidths", str(bw)]
+        assert run(argv) == 2
+        err = capsys.readouterr().err
+        assert f"(a window {bw:g} half-power bandwidths eta f_r wide, f_r +-{bw / 2:g} eta f_r, of the one-mode" in err
+        assert "give a larger --bandwidths" in err
+        lo, hi = (float(v) for v in err.split(" points within ")[1].split(" Hz")[0].split(".."))
+        eta = float(err.split("eta = ")[1].split(",")[0])
+        assert (hi - lo) / (eta * 100.0) == pytest.approx(bw, rel=0.01)
+    p = argparse.ArgumentParser(prog="cablecasing")
+    add_parser(p.add_subparsers(dest="command"))
+    option = next(a for a in _subcommand(p, "loss-factor")._actions if "--bandwidths" in a.option_strings)
+    assert option.default == 2.0 and "half-width" not in option.help
+    assert option.help.startswith("full width (> 0) of each circle's window in half-power bandwidths B = eta f_r")
+
+
+def _subcommand(parser, name):
+    identify = parser._subparsers._group_actions[0].choices["identify"]
+    return identify._subparsers._group_actions[0].choices[name]
+
+
+def test_modulus_body_not_in_the_model_is_named_as_the_option(tmp_path, capsys):
+    """Review B 8: a model without a cable and --body cable said "body = 'cable'"."""
+    m = load_model()
+    data = {
+        "geometry": {"points": [[0.0, 0, 0], [0.85, 0, 0]], "n_elements": 20, "curve": "polyline"},
+        "casing": m.data["casing"],
+        "contact": m.data["contact"],
+    }
+    from cablecasing_core import model_from_dict
+
+    model_file = tmp_path / "beam.toml"
+    model_file.write_text(model_from_dict(data).to_toml())
+    meas = tmp_path / "meas.csv"
+    meas.write_text("mode,f_hz\n1,11.0\n")
+    assert run(["identify", "modulus", str(meas), "--model", str(model_file), "--body", "cable"]) == 2
+    err = capsys.readouterr().err
+    assert f"error: --body = 'cable': must be a body of the model {model_file}: 'casing'" in err, err
+
+
+def test_a_magnitude_only_uff_frf_is_said_to_need_the_complex_frf(tmp_path, capsys):
+    """Review B 10: a UFF 58 FRF of real values (|H|, as some tools export; 8/13 receptance) got "no
+    resonance in the window"; it is said to hold real values only. Its peaks still give the modulus."""
+    pyuff = pytest.importorskip("pyuff")
+    f = np.arange(0.5, 400.0, 0.25)
+    w2 = (2 * np.pi * f) ** 2
+    H = 1 / ((2 * np.pi * 100) ** 2 * (1 + 0.03j) - w2) + 1 / ((2 * np.pi * 230) ** 2 * (1 + 0.05j) - w2)
+    d = pyuff.prepare_58(
+        binary=0, func_type=4, id1="mag", rsp_node=1, rsp_dir=3, ref_node=1, ref_dir=3, data=np.abs(H), x=f,
+        abscissa_spacing=1, abscissa_spec_data_type=18, abscissa_axis_units_lab="Hz", ordinate_spec_data_type=8,
+        orddenom_spec_data_type=13, ordinate_axis_units_lab="m", orddenom_axis_units_lab="N",
+    )  # fmt: skip
+    path = tmp_path / "mag.uff"
+    pyuff.UFF(str(path)).write_sets(d, mode="overwrite")
+    assert run(["identify", "loss-factor", str(path), "--count", "2"]) == 2
+    err = capsys.readouterr().err
+    assert f"error: file = '{path}': an FRF of real values only (its imaginary part 0 at every frequency)" in err
+    assert "a circle fit needs the complex FRF" in err and "no resonance" not in err
+    assert run(["identify", "modulus", str(path), "--modes", "1", "2"]) == 0
+    rows = [line.split() for line in capsys.readouterr().out.splitlines() if line[:4].strip().isdigit()]
+    np.testing.assert_allclose([float(r[1]) for r in rows], [100.0, 230.0], atol=0.25)  # (the peaks, to df)
+
+
+def test_a_measured_frequency_table_is_read_in_its_unit(tmp_path):
+    """A table mode,f reads its frequency column's unit as an FRF's does (it was refused unless f_hz)."""
+    from cablecasing_core.cli.identify import _read_measured
+
+    path = tmp_path / "meas.csv"
+    path.write_text("mode,f [kHz]\n1,0.1\n3,0.25\n")
+    f, modes, given_by, df = _read_measured(path, None, None)
+    np.testing.assert_allclose(f, [100.0, 250.0], rtol=1e-15)
+    assert modes.tolist() == [1, 3] and given_by == "file" and df is None
+    path.write_text("mode,f [min]\n1,0.1\n")
+    with pytest.raises(ModelError, match=r"'f \[min\]', gives the frequency in 'min', a unit this reader"):
+        _read_measured(path, None, None)
