@@ -171,11 +171,11 @@ class Model:
         body the model does not have is not. An unknown key raises :class:`ModelError` listing the
         keys allowed where it is. A key the file left out and the validation took from another (a
         random excitation's seed from ``scenario.seed``) follows an override of that other key.
-        An excitation the model does not have is not added from its keys (it needs its kind and
-        target, which the model file gives): such a key raises :class:`ModelError` naming the
-        model's excitations. A support set to ``clamped`` or ``free`` leaves its isolator's table
-        (``casing.isolator.A`` when ``casing.supports.A`` was an isolator) behind, unless a key of
-        that table is set with it: the table belonged to the support the change replaced.
+        A key of an excitation the model does not have raises :class:`ModelError` naming the
+        model's excitations, unless the overrides make that excitation, its kind among them. A
+        support set to ``clamped`` or ``free`` leaves its isolator's table (``casing.isolator.A``
+        when ``casing.supports.A`` was an isolator) behind, unless a key of that table is set with
+        it: the table belonged to the support the change replaced.
         """
         data = copy.deepcopy(self.data)
         replaced = _replaced_isolators(data, overrides)
@@ -193,7 +193,7 @@ class Model:
                 value = value.tolist()
             spec = override_spec(key)
             parts = key.split(".")
-            _on_an_excitation_it_has(key, value, data)
+            _on_an_excitation_it_has(key, value, data, overrides)
             vector = _vector(".".join(parts[:-1]))
             component = None
             if vector is not None and parts[-1] in vector.components:  # a vector's component
@@ -276,19 +276,22 @@ _CLIP_KEYS = (
 )
 
 
-def _on_an_excitation_it_has(key, value, data) -> None:
-    """A :class:`ModelError` for ``key`` when it belongs to an excitation the model data does not
-    have (``scenario.excitation.NAME.rms`` without [scenario.excitation.NAME]): a key alone cannot
-    make one, whose kind and target only a model file gives."""
+def _on_an_excitation_it_has(key, value, data, overrides) -> None:
+    """A :class:`ModelError` for ``key`` when it belongs to an excitation that neither the model
+    data has nor ``overrides`` make (``scenario.excitation.NAME.rms`` without
+    [scenario.excitation.NAME] and without ``scenario.excitation.NAME.kind``): a value alone
+    cannot make one, which needs its kind and target."""
     parts = key.split(".")
     have = data.get("scenario", {}).get("excitation", {})
     if len(parts) > 3 and parts[:2] == ["scenario", "excitation"] and parts[2] not in have:
+        if f"scenario.excitation.{parts[2]}.kind" in overrides:
+            return  # (a new excitation, made key by key: validation checks it whole)
         raise ModelError(
             key,
             value,
             f"belongs to the excitation '{parts[2]}', which this model does not have (its excitations: "
-            f"{', '.join(sorted(have)) or 'none'}): an excitation comes with its kind and target from the model "
-            "file (docs/model_file.md, Excitations)",
+            f"{', '.join(sorted(have)) or 'none'}): an excitation needs its kind and target (in the model file, "
+            "docs/model_file.md, Excitations, or set with it)",
         )
 
 

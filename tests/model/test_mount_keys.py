@@ -187,9 +187,9 @@ def test_a_support_changed_from_an_isolator_leaves_its_table_behind():
 
 
 def test_a_key_of_an_excitation_the_model_lacks_names_the_model_s_excitations():
-    """An excitation needs its kind and target, which only a model file gives: a key of one the
-    model does not have is refused naming the key and the model's excitations (it was refused
-    naming a '.kind' that nobody set)."""
+    """An excitation needs its kind and target: a key of one the model does not have is refused
+    naming the key and the model's excitations (it was refused naming a '.kind' that nobody set),
+    unless the overrides make it, its kind among them."""
     m = load_model()
     with pytest.raises(
         ModelError,
@@ -201,3 +201,6 @@ def test_a_key_of_an_excitation_the_model_lacks_names_the_model_s_excitations():
         m.with_overrides({"scenario.excitation.casing_random.rms": 2.0}).scenario["excitation"]["casing_random"]["rms"]
         == 2.0
     )
+    made = {"target": "casing.B.z", "kind": "harmonic", "amplitude": 1e-5, "frequency": 75.0}
+    new = m.with_overrides({f"scenario.excitation.second.{k}": v for k, v in made.items()})
+    assert {k: new.scenario["excitation"]["second"][k] for k in made} == made  # (made key by key, kind among them)
