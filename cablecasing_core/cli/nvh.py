@@ -264,15 +264,15 @@ def _beyond_table3_note(col, top_hz):
 
 def _alias_note(rec, path, what):
     """The note on a record that states no passband (``passband_hz``: a CSV of an FMU's outputs
-    written by a host such as fmpy or fmusim, a measurement, a run's record picked, any UFF file):
-    its samples hold what lay above their Nyquist frequency folded below it, unless the signal was
-    low-pass filtered before it was sampled; None for a record that states its passband (a run's
-    record every step or filtered by ``simulate --output-interval``, in ``.csv`` or ``.npz``)."""
+    written by a host such as fmpy or fmusim, a measurement, a run's record picked, another tool's
+    UFF file): its samples hold what lay above their Nyquist frequency folded below it, unless the
+    signal was low-pass filtered before it was sampled; None for a record that states its passband
+    (a run's record every step or filtered by ``simulate --output-interval``, in ``.csv``, ``.npz``
+    or ``.uff``)."""
     if "passband_hz" in rec.extra:
         return None
-    uff = os.path.splitext(str(path))[1].lower() in (".uff", ".unv", ".uf")
     return (
-        f"# {path} {'is a UFF file, which keeps no passband' if uff else 'states no passband'}: content above its "
+        f"# {path} states no passband: content above its "
         f"Nyquist frequency {rec.fs / 2:.6g} Hz (dt = {1 / rec.fs:.4g} s) may have aliased into the {what} unless it "
         "was filtered before sampling (a run's record every step or filtered holds none; an FMU's outputs are samples "
         'at its communication points; docs/nvh.md, "Sampled records")'

@@ -210,7 +210,7 @@ class SimulationResult:
         :class:`~cablecasing_core.errors.ModelError` naming it (``path``: a suffix it does not
         write; ``output_interval``); a folder that does not exist, or a failed write,
         :class:`~cablecasing_core.files.WriteError`. Returns the record written (its passband in
-        ``extra``, which a ``.uff`` file does not keep)."""
+        ``extra``, which every suffix keeps)."""
         from ..records import write_records
 
         rec = self.records(output_interval, decimation)

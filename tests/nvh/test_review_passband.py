@@ -262,10 +262,18 @@ def test_every_simulate_fmu_call_in_the_docs_gives_the_output_interval():
     assert calls >= 2
 
 
-def test_a_uff_record_is_noted_as_a_file_that_keeps_no_passband(tmp_path, capsys):
-    """A UFF file keeps no passband, whatever the run was: `bands` says that of the file (not that
-    the record states none, as of a host's CSV)."""
+def test_a_run_s_uff_record_keeps_its_passband_another_tool_s_states_none(tmp_path, capsys):
+    """A run's UFF file states its passband (ID line 5), so `bands` notes no aliasing of it; the same
+    functions without that statement (another tool's file) are noted as stating none."""
+    import dataclasses
+
+    from cablecasing_core.identification.uff_io import read_uff, write_uff
+
     assert main(["simulate", "--duration", "0.06", "--no-progress", "--out", str(tmp_path / "r.uff")]) == 0
     capsys.readouterr()
-    assert main(["bands", str(tmp_path / "r.uff"), "--kind", "third", "--fmin", "500", "--skip", "0"]) == 0
-    assert "r.uff is a UFF file, which keeps no passband: content above" in capsys.readouterr().out
+    args = ["--kind", "third", "--fmin", "500", "--skip", "0"]
+    assert main(["bands", str(tmp_path / "r.uff"), *args]) == 0
+    assert "passband" not in capsys.readouterr().out
+    write_uff(tmp_path / "other.uff", [dataclasses.replace(r, stated={}) for r in read_uff(tmp_path / "r.uff")])
+    assert main(["bands", str(tmp_path / "other.uff"), *args]) == 0
+    assert "other.uff states no passband: content above" in capsys.readouterr().out
