@@ -280,8 +280,10 @@ def pool_ensembles(ensembles: Sequence[Ensemble | str | os.PathLike]) -> Ensembl
 
     ``ensembles`` is a sequence of :class:`Ensemble` objects or paths of their CSV files
     (:func:`load_ensemble`). They must have the same output, bands, overrides and settings (model,
-    duration, dt, skip, window), and no seed twice. Pooling parts run on different machines is sound for the
-    statistics; single records may differ between machines after ~0.1 s (docs/time_domain.md).
+    duration, dt, skip, window), and no seed twice (a :class:`ModelError` names the part, by its path
+    where it came from a file, the seeds and the part that holds them too). Pooling parts run on
+    different machines is sound for the statistics; single records may differ between machines after
+    ~0.1 s (docs/time_domain.md).
     """
     parts = [load_ensemble(e) if isinstance(e, (str, os.PathLike)) else e for e in ensembles]
     if not parts or not all(isinstance(e, Ensemble) for e in parts):
@@ -303,11 +305,8 @@ def pool_ensembles(ensembles: Sequence[Ensemble | str | os.PathLike]) -> Ensembl
         ):
             if mine != theirs:
                 raise ModelError(f"{names[i]}.{name}", mine, f"must equal that of {names[0]}, {theirs}, to pool them")
+    _check_seeds_once(ensembles, parts, names)
     seeds = np.concatenate([e.seeds for e in parts])
-    unique, count = np.unique(seeds, return_counts=True)
-    twice = unique[count > 1].tolist()
-    if twice:
-        raise ModelError("seeds", twice, "must each be in one of the pooled ensembles only")
     order = np.argsort(seeds, kind="stable")
     return Ensemble(
         seeds[order],
@@ -321,6 +320,42 @@ def pool_ensembles(ensembles: Sequence[Ensemble | str | os.PathLike]) -> Ensembl
         first.settings,
         {s: w for e in parts for s, w in e.warnings.items()},
     )
+
+
+def _check_seeds_once(given, parts, names):
+    """Each seed in one of the pooled ``parts`` only, and once in it: else a :class:`ModelError` naming
+    the part (``path`` and its file where it came from one, as :func:`load_ensemble` names it; else
+    ``ensembles[i].seeds``), the seeds and the part that holds them too (a file given twice as such)."""
+
+    def refuse(j, seeds, other):
+        where = "more than once" if other is None else f"that {names[other]} holds too"
+        why = "each member must have a seed of its own" if other is None else "each seed must be in one part only"
+        if isinstance(given[j], (str, os.PathLike)):
+            return ModelError(
+                "path", names[j], f"holds seed{'s' if len(seeds) > 1 else ''} {_shown(seeds)} {where}: {why}"
+            )
+        return ModelError(f"{names[j]}.seeds", seeds, f"{why} (the part holds {_shown(seeds)} {where})")
+
+    held = []
+    for j, e in enumerate(parts):
+        unique, count = np.unique(e.seeds, return_counts=True)
+        if np.any(count > 1):
+            raise refuse(j, unique[count > 1].tolist(), None)
+        mine = set(unique.tolist())
+        for i, theirs in enumerate(held):
+            both = sorted(mine & theirs)
+            if not both:
+                continue
+            paths = [given[k] for k in (i, j) if isinstance(given[k], (str, os.PathLike))]
+            if len(paths) == 2 and os.path.realpath(paths[0]) == os.path.realpath(paths[1]):
+                raise ModelError("path", names[j], f"is given twice (parts {i + 1} and {j + 1}): give each part once")
+            raise refuse(j, both, i)
+        held.append(mine)
+
+
+def _shown(seeds):
+    """Seeds as a message shows them: ``1, 2, 3`` (at most ten, then ``...``)."""
+    return ", ".join(str(int(s)) for s in seeds[:10]) + (", ..." if len(seeds) > 10 else "")
 
 
 _META = "# cablecasing-ensemble "

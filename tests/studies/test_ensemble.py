@@ -307,7 +307,7 @@ def test_pooling_refuses_parts_of_different_runs(tmp_path):
     a = synthetic([[1.0, 2.0], [1.1, 2.1]])
     with pytest.raises(ModelError) as exc:  # a seed in two parts
         pool_ensembles([a, synthetic([[1.0, 2.0], [1.2, 2.2]], seeds=[2, 3])])
-    assert exc.value.key == "seeds" and exc.value.value == [2]
+    assert exc.value.key == "ensembles[1].seeds" and exc.value.value == [2]  # (the part, by its place)
     other = [
         Ensemble(np.array([5, 6]), "casing.A.Fz", a.labels, a.lower, a.upper, a.levels),
         Ensemble(np.array([5, 6]), a.output, a.labels, a.lower, 2 * a.upper, a.levels),
