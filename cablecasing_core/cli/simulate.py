@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from .assignments import add_model_argument, model_argument, with_assignments
+from .assignments import add_model_argument, assignments, model_argument, with_assignments
 from .helptext import ASSIGNMENT_HELP, key_help
 
 OUT_SUFFIXES = (".csv", ".npz", ".uff")
@@ -20,7 +20,21 @@ def cmd_simulate(args):
     check_output_path("--out", args.out, OUT_SUFFIXES)
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
     check_distinct(("--out", args.out), ("--plot", args.plot))
-    model = with_assignments(model_argument(args.model), "--set", args.set)
+    model = model_argument(args.model)
+    if args.set:  # (a key that --duration, --dt or --no-contact takes the place of would do nothing: refused)
+        from ..studies.evaluators import check_not_overridden
+
+        check_not_overridden(
+            {k: (f"--set {k}", v) for k, v in assignments("--set", args.set).items()},
+            {
+                "duration": ("--duration", args.duration),
+                "dt": ("--dt", args.dt),
+                "contact": ("--no-contact", False if args.no_contact else None),
+            },
+            "the run",
+            "; give one of them",
+        )
+    model = with_assignments(model, "--set", args.set)
     if args.output_interval is not None:  # checked before the run against the time step
         _check_interval(
             args.output_interval,

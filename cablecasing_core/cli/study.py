@@ -25,12 +25,14 @@ SKIP_HELP = (
 
 def study_bounds(args, model):
     """The study's parameters and bounds from ``--vary`` and ``--vary-file`` (default: the paper's six),
-    checked against the model and the schema (before any run)."""
+    checked against the model and the schema (before any run); an error names the option as typed
+    and the key (``--vary casing.E``, ``--vary-file vf.toml: casing.E``)."""
     from ..studies.sampling import check_bounds, parse_vary, read_vary_file
 
     bounds, given = {}, {}
-    if args.vary_file:  # (its keys are named bounds.<key>, as in the file)
+    if args.vary_file:
         bounds.update(read_vary_file(args.vary_file))
+    in_file = set(bounds)
     for text in args.vary:
         key, b = parse_vary(text)
         if key in given:
@@ -41,12 +43,14 @@ def study_bounds(args, model):
             )
         bounds[key] = b
         given[key] = f"--vary {text}"
-    try:
-        return check_bounds(bounds or None, model=model)
-    except ModelError as exc:  # (a --vary key named by the option and the key the user wrote)
+    try:  # (--duration takes the place of scenario.duration in every sample: not varied beside it)
+        return check_bounds(bounds or None, model=model, settings={"duration": ("--duration", args.duration)})
+    except ModelError as exc:  # (check_bounds names a key bounds.<key>: here the option and the key the user wrote)
         key = exc.key[len("bounds.") :] if str(exc.key).startswith("bounds.") else None
         if key in given:
             raise ModelError(f"--vary {key}", exc.value, exc.allowed) from None
+        if key in in_file:
+            raise ModelError(f"--vary-file {args.vary_file}: {key}", exc.value, exc.allowed) from None
         raise
 
 
@@ -288,7 +292,8 @@ def print_study(res):
 
 def cmd_ensemble(args):
     from ..studies import paired_difference, seed_ensemble
-    from ..studies.ensemble_runs import seed_overrides
+    from ..studies.ensemble_runs import seed_keys, seeds_varied
+    from ..studies.evaluators import check_not_overridden
 
     integer("--seeds", args.seeds, 2, MAX_SEEDS)
     integer(
@@ -316,21 +321,24 @@ def cmd_ensemble(args):
     )
     base = assignments("--set", args.set)
     against = assignments("--against", args.against)
+    # (a key that --duration or --dt takes the place of would be recorded and do nothing)
+    settings = {"duration": ("--duration", args.duration), "dt": ("--dt", args.dt)}
+    runs = "every run of both ensembles" if against else "every run"
     for flag, given in (("--set", base), ("--against", against)):
-        if args.dt is not None and "scenario.dt" in given:  # (--dt would silently win over it)
-            raise ModelError(
-                f"{flag} scenario.dt",
-                given["scenario.dt"],
-                f"cannot be given with --dt {args.dt!r} (--dt is the step of both ensembles); "
-                "compare time steps with --set scenario.dt=... --against scenario.dt=... and no --dt",
-            )
+        check_not_overridden(
+            {k: (f"{flag} {k}", v) for k, v in given.items()},
+            settings,
+            runs,
+            "; give one of them (compare two values with --set {key}=... --against {key}=... and no {name})",
+        )
     model = model_argument(args.model)
     # (both variants checked before the first run: seed_ensemble would find --against's clash only
     # after the first ensemble had run)
-    varied = set(seed_overrides(model, 0))
+    varied = seed_keys(model)
     for flag, given in (("--set", base), ("--against", against)):
         if varied & set(given):
-            raise ModelError(flag, sorted(varied & set(given)), "must not set the seeds that the ensemble varies")
+            clash = sorted(varied & set(given))
+            raise ModelError(flag, clash, seeds_varied(clash))
     with_changes(model, {k: ("--set", v) for k, v in base.items()} | {k: ("--against", v) for k, v in against.items()})
     names = {"duration": "--duration", "dt": "--dt", "skip": "--skip", "output": "--output"}
     for key, given in (("scenario.duration", args.duration), ("scenario.dt", args.dt)):

@@ -21,7 +21,7 @@ from ..model.limits import MAX_ENSEMBLE_SEED, MAX_SEEDS
 from ..model.schema import SUPPORT_OUTPUTS, clip_outputs
 from ..model.validators import Choice, integer, seconds
 from .ensemble import Ensemble
-from .evaluators import DEFAULT_EVALUATE, check_record_settings
+from .evaluators import DEFAULT_EVALUATE, check_not_overridden, check_record_settings
 from .executor import execute
 from .octave import WINDOWS, Bands, octave_bands
 
@@ -47,6 +47,29 @@ def seed_overrides(model: Model, seed: int, excitations: Sequence[str] | None = 
     s = integer("seeds", seed, 0)
     k = len(names)
     return {f"scenario.excitation.{n}.seed": s * k + j for j, n in enumerate(names)}
+
+
+def seeds_varied(clash) -> str:
+    """Why an ensemble refuses the changes ``clash`` of keys its members set (:func:`seed_keys`)."""
+    why = (
+        "; scenario.seed would do nothing: it gives only the seeds of random excitations that give none, and the "
+        "ensemble varies all of them"
+        if "scenario.seed" in clash
+        else ""
+    )
+    return f"must not set the seeds that the ensemble varies (each member sets them{why})"
+
+
+def seed_keys(model: Model, excitations: Sequence[str] | None = None) -> set[str]:
+    """The model keys whose values the members of an ensemble over ``excitations`` (default: every
+    random excitation of ``model``) take the place of: each varied excitation's seed
+    (:func:`seed_overrides`), and ``scenario.seed`` when every random excitation is varied (it gives
+    only the seeds of random excitations that give none: a change of it would do nothing)."""
+    names = _check_excitations(model, excitations)
+    keys = set(seed_overrides(model, 0, names))
+    if set(names) == set(random_excitations(model)):
+        keys.add("scenario.seed")
+    return keys
 
 
 def seed_ensemble(
@@ -89,7 +112,10 @@ def seed_ensemble(
         The window of the band levels (:func:`~cablecasing_core.studies.octave.octave_rms`; the
         rectangular one as the docs' tables before 2026-12-06); kept in ``settings``.
     overrides : dict, optional
-        ``{dotted.key: value}`` applied to every member (e.g. ``{"contact.friction": 0.2}``).
+        ``{dotted.key: value}`` applied to every member (e.g. ``{"contact.friction": 0.2}``); not a
+        key the members set (:func:`seed_keys`: a varied seed, ``scenario.seed``), nor
+        ``scenario.duration`` with ``duration`` given or ``scenario.dt`` with ``dt`` (the setting
+        would win: the change would do nothing).
     excitations : sequence of str, optional
         Random excitations whose seed is varied (default all; :func:`seed_overrides`).
     scheduler : "serial", None, "local", address or distributed.Client
@@ -123,9 +149,15 @@ def seed_ensemble(
     band_set = bands if isinstance(bands, Bands) else octave_bands(bands)
     names = _check_excitations(model, excitations)
     overrides = dict(overrides or {})
-    clash = sorted(set(overrides) & set(seed_overrides(model, 0, names)))
+    clash = sorted(set(overrides) & seed_keys(model, names))
     if clash:
-        raise ModelError("overrides", clash, "must not set the seeds that the ensemble varies")
+        raise ModelError("overrides", clash, seeds_varied(clash))
+    check_not_overridden(
+        {k: (f"overrides[{k!r}]", v) for k, v in overrides.items()},
+        {"duration": ("duration", duration), "dt": ("dt", dt)},
+        "every member",
+        "; give one of them",
+    )
     base = model.with_overrides(overrides)  # validates the overrides before any run
     check_record_settings(base, duration, dt, skip, band_set)  # (the skip as given: None, the default)
     if skip is None:

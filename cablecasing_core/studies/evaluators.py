@@ -12,7 +12,7 @@ import zlib
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, excerpt
 from .octave import octave_bands, octave_rms, window_options
 from .sampling import AXIAL_AMPLITUDE_KEY
 
@@ -26,6 +26,45 @@ RECORD_SETTINGS = {"skip": None, "window": "hann"}
 #: ... and what a study whose stored arguments lack them took (before 2026-12-06): a resume compares
 #: them, so that its samples are not mixed with samples of the present defaults.
 EARLIER_RECORD_SETTINGS = {"skip": 0.05, "window": "boxcar"}
+#: The model key whose value a run setting takes the place of when it is given (not None): the
+#: ``duration`` and ``dt`` (s) of :func:`default_evaluate`, :func:`~.ensemble_runs.seed_ensemble` and
+#: :func:`~cablecasing_core.timedomain.simulation.simulate`, and simulate's ``contact``. A change of
+#: that key beside the setting would do nothing (:func:`check_not_overridden`).
+SETTING_KEYS = {"duration": "scenario.duration", "dt": "scenario.dt", "contact": "contact.enabled"}
+_SETTING_WHAT = {"duration": "the simulated time", "dt": "the time step", "contact": "the contact switch"}
+
+
+def check_not_overridden(changes, settings, runs="every run", instead=""):
+    """Refuse, before any run, a model change of a key that a run setting given beside it takes the
+    place of (:data:`SETTING_KEYS`: ``duration`` wins over ``scenario.duration``, ``dt`` over
+    ``scenario.dt``, ``contact`` over ``contact.enabled``): the change would be recorded and do
+    nothing (an ensemble's paired change of +0.0000 +- 0.0000, a study's nan correlations).
+
+    changes : {model key: (name, value)}
+        The model changes, each with the name its error gives it (``"--set scenario.dt"``,
+        ``"bounds.scenario.duration"``) and its value.
+    settings : {setting: (name, value)}
+        Run settings (keys of :data:`SETTING_KEYS`), each with the name it was given by (``"--dt"``,
+        ``"duration"``) and its value; None is not given (the model's key is in force). A setting
+        whose value is True or False is named alone (``--no-contact``).
+    runs : str
+        Whose setting it is, in the message (``"every run of both ensembles"``).
+    instead : str
+        What to do instead, appended to the message; ``{key}`` and ``{name}`` stand for the key and
+        the setting's name.
+    """
+    for setting, (name, value) in settings.items():
+        key = SETTING_KEYS[setting]
+        if value is None or key not in changes:
+            continue
+        label, given = changes[key]
+        typed = name if isinstance(value, bool) else f"{name} {excerpt(value)}"
+        raise ModelError(
+            label,
+            given,
+            f"cannot be given with {typed} ({name} is {_SETTING_WHAT[setting]} of {runs} and takes the place of "
+            f"{key}, which would be ignored){instead.format(key=key, name=name)}",
+        )
 
 
 def default_evaluate(
@@ -132,6 +171,8 @@ def _check_default_evaluate(kwargs, model=None):
 
 
 default_evaluate.check_settings = _check_default_evaluate
+#: The settings of default_evaluate that take the place of a model key (run_study refuses bounds on that key).
+default_evaluate.run_settings = ("duration", "dt")
 
 
 def analytic_evaluate(overrides, fail_above=None, **_):

@@ -52,20 +52,29 @@ _NAMES = "parameter names must be dotted model keys such as 'casing.E'"
 _FORM = "must be a dict {key: (low, high)} or a sequence of (key, (low, high))"
 
 
-def check_bounds(bounds: dict | None = None, model=None) -> dict[str, tuple[float, float]]:
+def check_bounds(bounds: dict | None = None, model=None, settings=None) -> dict[str, tuple[float, float]]:
     """Validated ``{dotted.key: (low, high)}`` (SI units of the key). Section 4.4.
 
     ``bounds`` is a dict or a sequence of ``(key, (low, high))`` pairs; ``None`` gives
     :data:`PAPER_BOUNDS`. Every key must be a numeric parameter of ``model`` (a Model, a TOML path,
     or None for the built-in specimen; ``False`` skips the model checks) and a float key of the
-    schema whose allowed range holds both bounds. Raises ModelError for an unknown key, a key given
-    twice, an integer or text key, bounds that are not two real numbers (text such as ``"2e9"``,
-    True/False), a bound outside the allowed range, non-finite bounds or ``low >= high``.
+    schema whose allowed range holds both bounds. ``settings`` are the run settings of the samples
+    that take the place of a model key, ``{setting: (name, value)}`` as
+    :func:`~.evaluators.check_not_overridden` takes them (``{"duration": ("duration", 0.2)}``): a key
+    a given setting takes the place of (``scenario.duration``) is refused, the samples would not vary
+    it. Raises ModelError for an unknown key (listing the keys a study can vary: the model's float
+    keys but those), a key given twice, an integer or text key, a key a setting takes the place of,
+    bounds that are not two real numbers (text such as ``"2e9"``, True/False), a bound outside the
+    allowed range, non-finite bounds or ``low >= high``.
     """
+    from .evaluators import SETTING_KEYS, check_not_overridden
+
     paper = bounds is None
     bounds = _pairs(PAPER_BOUNDS if paper else bounds)
     if not bounds:
         raise ModelError("bounds", bounds, "must name at least one parameter")
+    settings = dict(settings or {})
+    fixed = {SETTING_KEYS[s] for s, (_, value) in settings.items() if value is not None}
     known = None
     if model is not False:
         from ..model import Model, load_model
@@ -76,17 +85,24 @@ def check_bounds(bounds: dict | None = None, model=None) -> dict[str, tuple[floa
     for key, b in bounds.items():
         if not isinstance(key, str):
             raise ModelError("bounds", key, _NAMES)
+        check_not_overridden(
+            {key: (f"bounds.{key}", b)},
+            settings,
+            "every sample",
+            "; vary {key} without {name} (each sample runs its own)",
+        )
         if known is not None and key not in known:
             import difflib
 
+            varied = sorted(k for k in known if _float_key(k) and k not in fixed)  # (what a study can vary)
             hint = " (the paper's six parameters are the default; give others, e.g. --vary casing.E=2e9:1e10)"
-            close = difflib.get_close_matches(key, list(known), n=1)
+            close = difflib.get_close_matches(key, varied, n=1)
             mean = f" (did you mean {close[0]}?)" if close else ""
             raise ModelError(
                 f"bounds.{key}",
                 NOT_SHOWN,  # (the value of an unknown key, maybe of a file that is no study's, is not shown)
-                f"is not a numeric parameter of the model {m.source}{hint if paper else ''}{mean}; known: "
-                + ", ".join(sorted(known)),
+                f"is not a numeric parameter of the model {m.source}{hint if paper else ''}{mean}; those a study "
+                "can vary: " + ", ".join(varied),
             )
         try:
             pair = tuple(b)
@@ -125,6 +141,17 @@ def _pairs(bounds):
     return out
 
 
+def _float_key(key):
+    """Whether the model key ``key`` takes a continuous value (a float key of the schema), as a study
+    samples it (:func:`_check_schema`)."""
+    from ..model.schema import lookup
+
+    return lookup(key).type in _FLOAT_TYPES
+
+
+_FLOAT_TYPES = ("float", "float or table")
+
+
 def _check_schema(model, bounds):
     """Every parameter must be a float key of the schema whose allowed range holds both bounds.
     (Cross-checks between keys, such as the gap, are the constraints' and the model's at each run.)"""
@@ -132,7 +159,7 @@ def _check_schema(model, bounds):
 
     for key, (lo, hi) in bounds.items():
         spec = lookup(key)
-        if spec.type not in ("float", "float or table"):
+        if spec.type not in _FLOAT_TYPES:
             raise ModelError(
                 f"bounds.{key}", [lo, hi], f"is a key of type {spec.type}; a study samples continuous (float) keys only"
             )

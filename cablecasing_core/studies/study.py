@@ -87,7 +87,10 @@ def run_study(
         ``evaluate(overrides, **evaluate_kwargs) -> {output: value}``; a dotted path
         ``"package.module:function"`` is imported on each worker. Default :func:`default_evaluate`.
     bounds : dict, optional
-        ``{dotted.key: (low, high)}`` in SI units; default :data:`PAPER_BOUNDS` (Section 4.4).
+        ``{dotted.key: (low, high)}`` in SI units; default :data:`PAPER_BOUNDS` (Section 4.4). A key
+        that a setting of evaluate given in ``evaluate_kwargs`` takes the place of (its attribute
+        ``run_settings``: ``duration`` of :func:`default_evaluate` over ``scenario.duration``, ``dt``
+        over ``scenario.dt``) is refused: the samples would not vary it.
     n_samples, seed : int
         Runs asked for (>= 2), rounded up to whole groups of d + 2 runs of Saltelli's design (at least
         two base points), and the seed of the scrambled Sobol' sequence (>= 0). A file holding a larger
@@ -140,7 +143,10 @@ def run_study(
         evaluate_kwargs = RECORD_SETTINGS | evaluate_kwargs
     the_model, stored, passed, fingerprint = _study_model(evaluate, fn, model, evaluate_kwargs)
     evaluate_kwargs.update(stored)
-    bounds = check_bounds(bounds, model=False if the_model is None else the_model)
+    # (a setting of evaluate that takes the place of a model key, default_evaluate's duration and dt: that key
+    # is not varied beside it)
+    settings = {k: (k, evaluate_kwargs.get(k)) for k in getattr(fn, "run_settings", ())}
+    bounds = check_bounds(bounds, model=False if the_model is None else the_model, settings=settings)
     n = integer("n_samples", n_samples, 2, MAX_STUDY_SAMPLES, " (model/limits.py: its design and CSV would not fit)")
     seed = integer("seed", seed, 0)
     outputs = tuple(DEFAULT_OUTPUTS if outputs is None else outputs)
