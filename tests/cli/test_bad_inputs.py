@@ -428,7 +428,11 @@ def test_a_vary_file_of_secrets_shows_no_value(tmp_path, capsys):
     p = tmp_path / "v.toml"
     p.write_text(f'password = "{SECRET}"\n')
     code, _, err = run(capsys, ["study", "--vary-file", p, "--scheduler", "serial", "--out", tmp_path / "st"])
-    assert code == 2 and len(err) == 1 and err[0].startswith("cablecasing: error: bounds.password: is not a numeric")
+    assert (
+        code == 2
+        and len(err) == 1
+        and err[0].startswith(f"cablecasing: error: --vary-file {p}: password: is not a numeric")
+    )
     assert SECRET not in err[0] and not (tmp_path / "st").exists()
 
 
