@@ -61,7 +61,8 @@ def cmd_simulate(args):
     if res.contact_state.any():
         print(
             "  note: with contact the response is chaotic, so one record's band levels are one draw "
-            "(3-20 % scatter per octave);\n        for expected levels use 'cablecasing ensemble' (docs/studies.md)"
+            "(9-26 % scatter per octave in 1 s records of the built-in specimen, more in shorter ones);\n"
+            "        for expected levels use 'cablecasing ensemble' (docs/studies.md)"
         )
     if args.out:
         # (the core names its arguments; here the options gave them)
@@ -89,17 +90,13 @@ def cmd_simulate(args):
 def _decimated(path, rec, interval, dt):
     """How the record ``rec`` written every ``interval`` s of a run of step ``dt`` (s) was decimated:
     picked, or low-pass filtered with its passband in Hz (the one ``rec`` states,
-    ``SimulationResult.records``: stated in a .csv or .npz file, not kept by a .uff file)."""
+    ``SimulationResult.records``: stated in a .csv, .npz or .uff file)."""
     if round(interval / dt) == 1:
         return "every step"
     if "passband_hz" not in rec.extra:
         return f"picked: content above the Nyquist frequency {1 / (2 * interval):.4g} Hz aliases"
     passband = float(rec.extra["passband_hz"])
-    kept = (
-        "which a .uff file does not keep: read its bands and lines up to it only"
-        if str(path).lower().endswith(".uff")
-        else "which the file states"
-    )
+    kept = "which the file states"
     return f"low-pass filtered against aliasing, flat within 0.01 dB up to its passband {passband:.4g} Hz, {kept}"
 
 

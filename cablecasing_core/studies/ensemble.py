@@ -7,7 +7,8 @@ ensembles run on the same seeds (:func:`paired_difference`). The runs are made b
 With contact, the model's response is chaotic (docs/time_domain.md, "How two records separate"):
 two runs that differ by a rounding error, or by the time step, are two different draws of the same
 random process after about 0.1 s. A single record's octave-band level then scatters from seed to seed
-by 3-20 % (1 s records of the built-in scenario), so a design question (does a higher friction lower
+by 9-26 % (the coefficient of variation of 1 s records of the built-in scenario through Hann's
+window, docs/time_domain.md "The mesh"), so a design question (does a higher friction lower
 the transmission?) or a numerical one (is dt = 1e-5 s fine enough?) is answered by the expected
 band level, estimated as the mean over an ensemble of excitation seeds, with its standard error.
 """

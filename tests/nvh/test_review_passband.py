@@ -79,13 +79,14 @@ def test_a_filtered_csv_states_its_passband_and_reads_as_its_npz(tmp_path, capsy
 
 def test_simulate_states_the_passband_of_the_record_it_filters(tmp_path, capsys):
     """`simulate --output-interval 1e-4` writes the passband, 0.7 / (2 1e-4) = 3500 Hz, into its
-    CSV and says so; a .uff file, which keeps none, is said not to; picked samples are said to alias."""
+    CSV and its UFF file and says so; picked samples are said to alias."""
     base = ["simulate", "--duration", "0.01", "--output-interval", "1e-4", "--no-progress", "--out"]
     assert main([*base, str(tmp_path / "r.csv")]) == 0
     assert "flat within 0.01 dB up to its passband 3500 Hz, which the file states" in capsys.readouterr().out
     assert read_records(tmp_path / "r.csv").passband_hz == pytest.approx(3500.0, rel=1e-14)  # (15 digits)
     assert main([*base, str(tmp_path / "r.uff")]) == 0
-    assert "passband 3500 Hz, which a .uff file does not keep" in capsys.readouterr().out
+    assert "passband 3500 Hz, which the file states" in capsys.readouterr().out
+    assert read_records(tmp_path / "r.uff").passband_hz == pytest.approx(3500.0, rel=1e-14)  # (ID line 5)
     assert main([*base, str(tmp_path / "p.csv"), "--decimation", "pick"]) == 0
     assert "picked: content above the Nyquist frequency 5000 Hz aliases" in capsys.readouterr().out
     assert "passband_hz" not in read_records(tmp_path / "p.csv").extra  # (none stated)
