@@ -8,11 +8,12 @@ stand-ins for the tests and the study benchmark (no physics).
 
 from __future__ import annotations
 
+import warnings
 import zlib
 
 import numpy as np
 
-from ..errors import ModelError, excerpt
+from ..errors import ModelError, ModelWarning, excerpt
 from .octave import octave_bands, octave_rms, window_options
 from .sampling import AXIAL_AMPLITUDE_KEY
 
@@ -110,7 +111,9 @@ def default_evaluate(
     if keep.sum() < 2:
         raise ModelError("skip", skip, f"must leave part of the {res.time[-1]:.6g} s record for the RMS")
     fs = 1.0 / (res.time[1] - res.time[0])
-    out = octave_rms(res.support_force(output)[keep], fs, bands, **window_options(window)).as_dict()
+    # (check_record_settings warned before the runs of bands with few lines: not once per run)
+    x = res.support_force(output)[keep]
+    out = octave_rms(x, fs, bands, warn_few_lines=False, **window_options(window)).as_dict()
     if contact_time:
         out.update({f"contact_time_{i}": float(v) for i, v in enumerate(res.contact_time)})
     return out
@@ -122,11 +125,13 @@ def check_record_settings(model, duration=None, dt=None, skip=None, bands="table
     time step ``dt`` (s) whose Nyquist frequency lies below the highest band edge, a duration that
     does not fit the machine (:func:`~cablecasing_core.model.limits.check_time_domain`).
     ``duration``, ``dt``: None takes the model's scenario; ``skip`` None, the model's
-    :func:`~cablecasing_core.timedomain.scenario.whole_period_skip`; ``bands``: a band set or its name."""
+    :func:`~cablecasing_core.timedomain.scenario.whole_period_skip`; ``bands``: a band set or its name.
+    Records that put fewer than ``LINES_PER_BAND`` FFT lines in a band warn here, once
+    (:func:`~cablecasing_core.studies.octave.few_lines`), and not from each run."""
     from ..model.limits import check_time_domain
     from ..model.validators import seconds
     from ..timedomain.scenario import whole_period_skip
-    from .octave import Bands
+    from .octave import Bands, few_lines
 
     seconds("duration", duration, none_ok=True)
     seconds("dt", dt, none_ok=True)
@@ -144,6 +149,8 @@ def check_record_settings(model, duration=None, dt=None, skip=None, bands="table
             raise ModelError("skip", skip, f"must leave at least {need:.4g} s of the {total:g} s record for {band}")
         key, value = ("duration", duration) if duration is not None else ("scenario.duration", total)
         raise ModelError(key, value, f"must leave at least {need:.4g} s after skip = {skip:g} s for {band}")
+    if note := few_lines(band_set, total - skip):  # (once here, not from every run)
+        warnings.warn(f"the records after skip = {skip:g} s: {note}", ModelWarning, stacklevel=2)
     step = model.scenario["dt"] if dt is None else dt
     if not 0.5 / step >= band_set.upper.max():  # (octave_rms's rule, checked before the runs)
         raise ModelError(

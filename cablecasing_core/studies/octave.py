@@ -52,13 +52,14 @@ frequency its anti-alias filter keeps flat instead of at fs/2.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
 from scipy import signal as _signal
 
-from ..errors import ModelError
+from ..errors import ModelError, ModelWarning
 from ..model.validators import Choice, array_1d, number
 
 #: Table 3 of the paper: lower and upper edges (Hz) of the nine octave bands.
@@ -73,6 +74,13 @@ R10 = (1.0, 1.25, 1.6, 2.0, 2.5, 3.15, 4.0, 5.0, 6.3, 8.0)
 #: Table 3's nine octaves by the nominal octave whose centre each lies next to (Hz).
 TABLE3_NOMINAL = (16.0, 31.5, 63.0, 125.0, 250.0, 500.0, 1000.0, 2000.0, 4000.0)
 BAND_KINDS = ("table3", "octave", "third")
+#: The fewest FFT lines a band holds without a warning. Through Hann's window a tone's content
+#: spreads over the lines within 2 of its own (on a line: 1/6 of its power on each neighbour; off a
+#: line: a main lobe 4 lines wide, then side lobes below -31 dB), so a band narrower than 4 lines
+#: has most of its width within reach of what lies beyond its edges: a 1 N tone 20 Hz beside the
+#: 16 Hz third (3.66 Hz wide) puts 0.3 N into it from a 0.44 s record (1.6 lines) and under 0.02 N
+#: from a 0.94 s one (3.4 lines).
+LINES_PER_BAND = 4
 NYQUIST_RULES = ("error", "drop", "nan")
 
 
@@ -294,6 +302,33 @@ def window_options(window: str) -> dict:
     return {"window": "hann", "detrend": "constant"} if window == "hann" else {"window": "boxcar", "detrend": None}
 
 
+def few_lines(bands: str | Bands, length: float) -> str | None:
+    """Why the bands that a record of ``length`` s puts fewer than :data:`LINES_PER_BAND` FFT lines
+    in (df = 1 / length Hz) hold much of what lies beside them, with the record that would give the
+    lowest of them its lines; None when every band has them. The one rule of :func:`octave_rms`'s
+    warning and of the ensembles' and studies' check before their runs."""
+    sel = _bands_of(bands)
+    df = 1.0 / length
+    few = sel.upper - sel.lower < LINES_PER_BAND * df * (1 - 1e-12)
+    if not few.any():
+        return None
+    i = int(np.argmax(few))
+    j = int(np.nonzero(few)[0][-1]) + 1  # the first band with its lines
+    width = sel.upper[i] - sel.lower[i]
+    return (
+        f"its {length:.4g} s put fewer than {LINES_PER_BAND} FFT lines (df = {df:.3g} Hz) in band(s) "
+        f"{', '.join(sel.labels[k] for k in np.nonzero(few)[0])}: each line's content spreads over the lines beside "
+        "it (a tone one line beyond a band's edge puts up to 1/6 of its power into the band through Hann's window), "
+        f"so such a band holds much of what lies beside it; {LINES_PER_BAND} lines in {sel.labels[i]} need a record "
+        f"of {LINES_PER_BAND} / {width:.3g} Hz = {LINES_PER_BAND / width:.3g} s{_leave_out_below(sel, j)}"
+    )
+
+
+def _leave_out_below(sel, j) -> str:
+    """The advice to leave out the bands of ``sel`` below its ``j``-th (none when there is none)."""
+    return f"; or leave out the bands below {sel.labels[j]} (f_min, --fmin {sel.nominal[j]:g})" if j < len(sel) else ""
+
+
 def octave_rms(
     x: ArrayLike,
     fs: float,
@@ -304,6 +339,7 @@ def octave_rms(
     beyond_nyquist: str = "error",
     name: str = "x",
     passband: float | None = None,
+    warn_few_lines: bool = True,
 ) -> BandRMS:
     """RMS of a sampled signal in octave bands by Parseval over FFT bins (Section 4.4, Table 3, Fig. 23).
 
@@ -332,6 +368,10 @@ def octave_rms(
         frequency fs/2): a record decimated through an anti-alias filter is flat only to 0.7 of its
         Nyquist frequency (``Records.passband_hz``). A band whose upper edge lies above it is treated
         as a band beyond Nyquist, by ``beyond_nyquist``.
+    warn_few_lines : bool
+        Warn (:class:`~cablecasing_core.errors.ModelWarning`, :func:`few_lines`) when a band holds
+        fewer than :data:`LINES_PER_BAND` FFT lines of the record (default True; the ensembles and
+        studies warn once before their runs instead).
 
     Returns
     -------
@@ -373,9 +413,7 @@ def octave_rms(
     if narrow.any():
         i = int(np.argmax(narrow))
         j = int(np.nonzero(narrow)[0][-1]) + 1  # the first band the record resolves
-        lowest = (
-            f"; or leave out the bands below {sel.labels[j]} (f_min, --fmin {sel.nominal[j]:g})" if j < len(sel) else ""
-        )
+        lowest = _leave_out_below(sel, j)
         raise ModelError(
             name,
             f"{n / fs:.4g} s",
@@ -383,6 +421,8 @@ def octave_rms(
             f"{sel.upper[i] - sel.lower[i]:.3g} Hz wide): a band needs at least one FFT line, a record of at least "
             f"1 / {sel.upper[i] - sel.lower[i]:.3g} Hz = {1 / (sel.upper[i] - sel.lower[i]):.3g} s{lowest}",
         )
+    if warn_few_lines and (note := few_lines(sel.select(measurable), n / fs)):
+        warnings.warn(f"{name}: {note}", ModelWarning, stacklevel=2)
 
     if detrend is not None:
         x = _signal.detrend(x, type=detrend)

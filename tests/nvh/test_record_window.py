@@ -4,6 +4,8 @@ made the record one step longer than whole periods of a line on its bins, which 
 through the rectangular window into the bands below it (the installed specimen's octave 2 moved by
 5 % with dt for that reason alone: docs/time_domain.md, "The record's length")."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -137,3 +139,47 @@ def test_a_model_output_s_bands_beyond_table_3_carry_a_note(tmp_path, capsys):
             assert "period error is 16 % at 22387 Hz (1.1 % at 5680 Hz)" in out, out
     assert main(["bands", str(tmp_path / "casing.B.Fz.csv")]) == 0
     assert "beyond the paper's Table 3" not in capsys.readouterr().out
+
+
+def test_a_band_of_fewer_than_four_lines_warns_and_holds_what_lies_beside_it():
+    """A 1 N RMS tone at 20 Hz and the 16 Hz third (14.1-17.8 Hz, 3.66 Hz wide) beside it: from
+    0.44 s (df = 2.27 Hz, 1.6 lines in the band, the tone one line beyond its edge) the third reads
+    0.30 N through Hann's window, about the 1/6 of the tone's power (0.41 N) a neighbouring line
+    takes, and octave_rms warns naming the bands and the 1.09 s that give the 16 Hz third 4 lines;
+    from 1.1 s (4 lines) it reads under 0.02 N, the tone beyond the main lobe's reach, and no band
+    warns."""
+    from cablecasing_core.errors import ModelWarning
+    from cablecasing_core.studies.octave import few_lines, octave_bands
+
+    fs, bands = 1e4, octave_bands("third", 16, 25)
+    for length, low, warns in ((0.44, (0.25, 0.41), True), (1.1, (0.0, 0.02), False)):
+        t = np.arange(int(length * fs)) / fs
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            got = octave_rms(np.sqrt(2) * np.sin(2 * np.pi * 20 * t), fs, bands, name="tone").as_dict()
+        assert low[0] <= got["16Hz"] <= low[1], (length, got)
+        assert got["20Hz"] == pytest.approx(1.0, abs=0.08)  # (what the neighbours took)
+        texts = [str(w.message) for w in said if issubclass(w.category, ModelWarning)]
+        assert bool(texts) == warns == bool(few_lines(bands, length)), texts
+        if warns:
+            assert texts[0].startswith(
+                "tone: its 0.44 s put fewer than 4 FFT lines (df = 2.27 Hz) in band(s) 16Hz, 20Hz"
+            )
+            assert "4 lines in 16Hz need a record of 4 / 3.66 Hz = 1.09 s" in texts[0], texts[0]
+
+
+def test_an_ensemble_s_records_of_few_lines_warn_once_before_the_runs():
+    """check_record_settings warns of the bands a record puts fewer than 4 lines in, once, where the
+    ensembles and studies check their settings; the runs themselves do not warn again."""
+    import cablecasing_core as cc
+    from cablecasing_core.errors import ModelWarning
+    from cablecasing_core.studies.evaluators import check_record_settings
+
+    model = cc.load_model()
+    with pytest.warns(
+        ModelWarning, match=r"the records after skip = 0.06 s: its 0.24 s put fewer than 4 FFT lines .* oct1"
+    ):
+        check_record_settings(model, duration=0.3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        check_record_settings(model, duration=0.5)  # (0.44 s: 4.8 lines in oct1)
