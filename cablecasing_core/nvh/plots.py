@@ -24,32 +24,38 @@ def db_axis(ax, ref, unit, power):
 
 def plot_psd(psds, path, ref=None, log_frequency=True, f_range=None, title=None, dynamic_range_db=60.0):
     """PSDs (``spectra.PSD``; unit^2/Hz, log axis) with their level in dB re ref^2/Hz on the right;
-    the y axis spans ``dynamic_range_db`` (dB) below the highest line shown (or down to the lowest
-    line, when that is less), so a record whose spectrum collapses above its band keeps its shape."""
+    each line drawn over the part of ``f_range`` (Hz; default all) that its lines measure,
+    :meth:`~cablecasing_core.nvh.spectra.PSD.covered`: from 2 df (below it they are no measurement,
+    docs/nvh.md) to fs/2. The y axis spans ``dynamic_range_db`` (dB) below the highest line shown
+    (or down to the lowest line, when that is less), so a record whose spectrum collapses above its
+    band keeps its shape."""
     psds = list(psds)
     unit = psds[0].unit
     one_unit = all(p.unit == unit for p in psds)  # (lines of several units share no dB axis)
     r = reference(unit, ref) if one_unit and (unit or ref) else None
     fig, ax = plt.subplots(figsize=(7.5, 4))
-    for p in psds:
-        sel = p.f_hz > 0
+    lo, hi = f_range or (0.0, np.inf)
+    spans = [p.covered(lo, hi) for p in psds]
+    shown = []
+    for p, (a, b) in zip(psds, spans):
+        sel = (p.f_hz >= a * (1 - 1e-12)) & (p.f_hz <= b)  # (2 df itself is a line: kept against round-off)
+        shown.append(p.density[sel])
         ax.plot(
             p.f_hz[sel],
             p.density[sel],
             lw=0.8,
-            label=f"{p.name}{'' if one_unit else f' ({p.unit}$^2$/Hz)'} (df {p.fs / p.nperseg:.3g} Hz, "
-            f"{p.n_averages} averages)",
+            label=f"{p.name}{'' if one_unit else f' ({p.unit}$^2$/Hz)'} (df {p.df:.3g} Hz, "
+            f"{p.n_averages} averages; from 2 df)",
         )
     ax.set_yscale("log")
     if log_frequency:
         ax.set_xscale("log")
-    lo, hi = f_range or (0.0, np.inf)
-    lo = max(lo, min(p.f_hz[1] for p in psds))
-    hi = min(hi, max(p.f_hz[-1] for p in psds))
+    lo = min(a for a, _ in spans)
+    hi = max(min(hi, max(p.f_hz[-1] for p in psds)), 2 * lo)  # (a range wholly below 2 df: an empty axis)
     ax.set_xlim(lo, hi)
     if log_frequency:
         plain_log_ticks(ax, [lo, hi])
-    shown = np.concatenate([p.density[(p.f_hz >= lo) & (p.f_hz <= hi)] for p in psds])
+    shown = np.concatenate(shown)
     shown = shown[shown > 0]
     if shown.size:  # the visible range, at most dynamic_range_db below the peak
         ax.set_ylim(max(shown.min() / 2, shown.max() * 10 ** (-dynamic_range_db / 10)), shown.max() * 2)
