@@ -252,24 +252,28 @@ def apparent_mass_figure(model, var, path, skip):
     }
 
 
+def _rms(x):
+    """(mean, RMS total, RMS dynamic) of ``x`` (N): the total includes the mean, the dynamic one
+    (the standard deviation) is what vibrates, as in ``simulate``'s table and the band levels."""
+    return float(np.mean(x)), float(np.sqrt(np.mean(x**2))), float(np.std(x))
+
+
+#: The columns of rms.csv and of the report's RMS table (N).
+RMS_COLUMNS = ("mean", "RMS total", "RMS dynamic")
+
+
 def rms_table(variants, path, skip):
-    """RMS (N) of the casing's support forces at B of every reference record after ``skip`` s, from
-    the saved records; written to rms.csv at full precision. Returns [(variant, {name: rms})]."""
+    """The mean, the RMS total (with the mean) and the RMS dynamic (the mean removed: what
+    vibrates, what the band levels and the PSD hold) (N) of the casing's support forces at B of every
+    reference record after ``skip`` s, from the saved records; written to rms.csv at full precision.
+    Returns [(variant, {name: (mean, total, dynamic)})]."""
     rows = []
     for v in variants:
         r = v.result
         keep = after_skip(r.time, skip)
-        rows.append(
-            (
-                v,
-                {
-                    n: float(np.sqrt(np.mean(r.support_force(n)[keep] ** 2)))
-                    for n in ("casing.B.Fx", "casing.B.Fy", "casing.B.Fz")
-                },
-            )
-        )
-    lines = ["variant,record,output,rms [N]"]
-    lines += [f"{v.key},{v.record.name},{n},{x!r}" for v, d in rows for n, x in d.items()]
+        rows.append((v, {n: _rms(r.support_force(n)[keep]) for n in ("casing.B.Fx", "casing.B.Fy", "casing.B.Fz")}))
+    lines = ["variant,record,output," + ",".join(f"{c.lower()} [N]" for c in RMS_COLUMNS)]
+    lines += [f"{v.key},{v.record.name},{n}," + ",".join(repr(x) for x in t) for v, d in rows for n, t in d.items()]
     write_text(path, "\n".join(lines) + "\n")
     return rows
 

@@ -198,12 +198,7 @@ def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, o
         "<img src='trfam_xyz.png'><p class='note'>Frequency domain; files trfam_x.csv, trfam_y.csv, trfam_z.csv "
         "and trfam.uff (UFF 58, six FRFs, kg).</p>",
         "<h2>Support forces of the reference records</h2><img src='simulation.png'>",
-        _table(
-            ["variant", "record"] + [f"RMS {k} (N)" for k in rms[0][1]],
-            [(_e(v.title), _e(v.record.name), *(_g(x, 6) for x in d.values())) for v, d in rms],
-            numeric=(2, 3, 4),
-        ),
-        f"<p class='note'>RMS after {info['skip']:g} s, from the saved records (rms.csv at full precision).</p>",
+        *_rms_parts(rms, info),
         "<h2>Wavelet transform of the support force "
         + ("without and with the cable drive" if len(variants) == 2 else f"of {_e(variants[0].title)}")
         + " (Figs. 20-21)</h2>",
@@ -241,6 +236,22 @@ def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, o
         ]
     parts.append("</body></html>")
     return _with_alt("\n".join(parts))
+
+
+def _rms_parts(rms, info):
+    """The RMS table of the reference records' support forces: mean, RMS total (with the mean) and
+    RMS dynamic (without it), N, one row per variant and force."""
+    from .figures import RMS_COLUMNS
+
+    rows = [(_e(v.title), _e(v.record.name), _e(n), *(_g(x, 6) for x in t)) for v, d in rms for n, t in d.items()]
+    return [
+        _table(["variant", "record", "output"] + [f"{c} (N)" for c in RMS_COLUMNS], rows, numeric=(3, 4, 5)),
+        f"<p class='note'>After {info['skip']:g} s, from the saved records (rms.csv at full precision). RMS total "
+        "includes the mean, the force's static part; "
+        "RMS dynamic is the RMS with the mean removed (the standard deviation), what vibrates, as in "
+        "<code>simulate</code>'s table: the band levels and the PSD remove the mean too, so compare them with "
+        "it.</p>",
+    ]
 
 
 def _bands(variants):

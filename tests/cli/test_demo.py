@@ -82,17 +82,21 @@ def test_the_demo_report_is_one_set_of_runs_and_the_fmu_is_the_core(tmp_path):
     for name in imgs:
         data = (out / name).read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 5000, name
-    # the RMS table is the saved record's: recomputed from records/<variant>.npz after skip
+    # the RMS table is the saved record's: recomputed from records/<variant>.npz after skip, the
+    # mean, the RMS with it (total) and without it (dynamic: the standard deviation)
     runs = json.loads((out / "runs.json").read_text())
     assert runs["duration"] == 0.15 and runs["seeds"] == [1, 2, 3] and runs["version"] and runs["date"]
-    rows = [line.split(",") for line in (out / "rms.csv").read_text().splitlines()[1:]]
+    lines = (out / "rms.csv").read_text().splitlines()
+    assert lines[0] == "variant,record,output,mean [N],rms total [N],rms dynamic [N]"
+    rows = [line.split(",") for line in lines[1:]]
     for v in runs["variants"]:
         rec = SimulationResult.load(out / v["record"])
         keep = after_skip(rec.time, runs["skip"])
-        for _, _, name, value in (r for r in rows if r[0] == v["key"]):
-            rms = float(np.sqrt(np.mean(rec.support_force(name)[keep] ** 2)))
-            assert float(value) == rms  # (written with repr: exact)
-            assert f"{rms:.6g}" in html
+        for _, _, name, *values in (r for r in rows if r[0] == v["key"]):
+            x = rec.support_force(name)[keep]
+            expected = [float(np.mean(x)), float(np.sqrt(np.mean(x**2))), float(np.std(x))]
+            assert [float(y) for y in values] == expected  # (written with repr: exact)
+            assert all(f"{y:.6g}" in html for y in expected)
         assert v["ensemble_first_member_vs_record"] == 0.0  # the ensemble's seed 1 is this record's run
     assert "without the cable drive" in html and "with the cable drive" in html and "Table 3" in html
     assert "casing.E" in html and "Pa" in html  # the parameter table, with units from the schema
