@@ -211,7 +211,7 @@ def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, o
         if {"casing", "cable"} <= set(model.bodies)
         else "<p>The model has no cable in a casing: no contact.</p>",
     ]
-    parts += _bands(variants)
+    parts += _bands(variants, model, info)
     parts += [
         "<h2>Spectra</h2><img src='psd.png'>",
     ]
@@ -254,7 +254,76 @@ def _rms_parts(rms, info):
     ]
 
 
-def _bands(variants):
+#: The model's numerical accuracy, quoted from the docs for the report's band levels:
+#: {built-in source: [(the docs' section, the sentence quoting it)]}; figures for the specimens at
+#: their own mesh (35 elements) and step (1e-5 s), on 1 s records (tests/cli/test_report_bands.py
+#: finds each figure in its section).
+ACCURACY_QUOTES = {
+    "<built-in>": [
+        (
+            "The mesh",
+            "the mesh, with contact (the specimen's scenario, with the cable drive): against 140 elements (within "
+            "2 SE of 280 in every band) every band's expected level at 35 elements differs by more than 2 SE: "
+            "octave 2 (22–44 Hz) +50.9 ± 9.2 %, octave 9 +21.3 %, octave 5 −11.0 %, the others −5.9 to +6.8 % "
+            "(128 seeds, through Hann's window); geometry.n_elements = 140 gives levels converged in the mesh, "
+            "at about 4 × the cost",
+        ),
+        (
+            "The mesh",
+            "the mesh, without contact (as in the variant without the cable drive): at 35 elements the levels "
+            "are within 1.5 % of those at 280 elements up to 355 Hz and −4.1 to −20.4 % off in octaves 6-9 (seed "
+            "1, contact off, through the rectangular window)",
+        ),
+        (
+            "The time step on 456 seeds",
+            "the time step: at 1e-5 s every band's expected level is within 1.6 % of that at 2.5e-6 s, "
+            "bounded below 4 % at two standard errors (456 seeds, through Hann's window)",
+        ),
+    ],
+    "<built-in installed>": [
+        (
+            "The mesh",
+            "the mesh: against 140 elements octave 3 (the drive's line) is within 1.0 % and octaves 1-2 within "
+            "2.4 %, but octaves 4, 5 and 7-9 are off by −7.5 to +27.0 % (16 seeds), and octaves 7-9 have no "
+            "mesh-converged value up to 280 elements",
+        ),
+        (
+            "A friction law whose limit exists",
+            "the time step: 1e-5 s is within 1.0 % of the converged levels in every band of every seed measured",
+        ),
+    ],
+}
+#: The mesh and step at which :data:`ACCURACY_QUOTES` were measured (geometry.n_elements, dt in s).
+ACCURACY_SETTINGS = (35, 1e-5)
+
+
+def accuracy_note(model, info):
+    """What the band levels' intervals cover and what they do not (HTML): the seed scatter of this
+    model at its mesh and step, not the model's numerical error, quoted from docs/time_domain.md
+    (:data:`ACCURACY_QUOTES`) for a built-in specimen at the mesh and step they were measured at,
+    and named with where it is measured for another model."""
+    n_el, dt = model.data["geometry"]["n_elements"], info["dt"]
+    head = (
+        f"<b>What the intervals cover.</b> The 95 % intervals and the CVs are the seed-to-seed scatter of this "
+        f"model's records, at its mesh (geometry.n_elements = {n_el}) and time step (dt = {dt:g} s): how well "
+        f"{len(info['seeds'])} seeds pin down this model's expected level. They do not cover the model's "
+        "numerical error, its distance from the same model converged in the mesh and the step"
+    )
+    quotes = ACCURACY_QUOTES.get(model.source)
+    if quotes and (n_el, dt) == ACCURACY_SETTINGS:
+        items = "".join(f'<li>{_e(q)} (docs/time_domain.md, "{_e(sec)}").</li>' for sec, q in quotes)
+        return f"{head}, measured on this specimen at these settings on 1 s records:<ul>{items}</ul>"
+    return (
+        f'{head}: docs/time_domain.md measures it on the built-in specimens only ("The mesh": at 35 '
+        'elements octave 2 of the built-in specimen +50.9 ± 9.2 % against 140 elements; "The time step on 456 '
+        'seeds": 1e-5 s within 1.6 % of 2.5e-6 s), not on this model or at these settings; <code>cablecasing '
+        "ensemble --set geometry.n_elements=N --against ...</code> (docs/studies.md) measures this model's."
+    )
+
+
+def _bands(variants, model, info):
+    from .figures import NO_RESPONSE_DB, no_response
+
     ens = [v for v in variants if v.ensemble is not None]
     if not ens:
         return ["<h2>Band levels</h2><p>No random excitation: no ensemble over seeds.</p>"]
@@ -262,11 +331,15 @@ def _bands(variants):
     head = ["band", "Hz"]
     for v in ens:
         head += [f"{v.title}: mean (N)", "95 % CI (N)", "mean (dB re 1 N)", "95 % CI (dB)", "CV of one record"]
+    off = {v.key: no_response(v.ensemble.mean) for v in ens}
     rows = []
     for b, lab in enumerate(e0.labels):
         row = [lab, f"{e0.lower[b]:g}-{e0.upper[b]:g}"]
         for v in ens:
             e = v.ensemble
+            if off[v.key][b]:
+                row += ["–", "–", "–", "–", "no response"]
+                continue
             lo, hi = (x[b] for x in e.ci(0.95))  # (cut at 0 below by Ensemble.ci: a level is not negative)
             m = e.mean[b]
             row += [
@@ -277,13 +350,53 @@ def _bands(variants):
                 f"{100 * e.cv[b]:.0f} %",
             ]
         rows.append(row)
-    return [
+    parts = [
         f"<h2>Band levels of {OUTPUT} (Table 3): ensemble means over excitation seeds</h2>",
         "<img src='band_levels.png'>",
         _table(head, rows, numeric=tuple(range(2, len(head)))),
         "<p class='note'>Means over the seeds of the ensembles (bands_&lt;variant&gt;.csv: one row per seed); "
         "Student-t 95 % intervals (cut at 0); CV: the seed-to-seed scatter of a single record's level.</p>",
     ]
+    for v in ens:
+        gone = [lab for lab, o in zip(e0.labels, off[v.key]) if o]
+        if gone:
+            top = 20 * np.log10(np.max(v.ensemble.mean))
+            parts.append(
+                f"<p class='note'>–: no response. In the variant {_e(v.title)}, {_and([_e(g) for g in gone])} "
+                f"{'lies' if len(gone) == 1 else 'lie'} more than {NO_RESPONSE_DB:g} dB below its strongest band "
+                f"({top:.1f} dB re 1 N): below the level that Hann's window leaks from content 32 lines away, so "
+                "the window, not a response, sets such a level, and it is neither drawn nor given an interval "
+                f"(its values are in bands_{v.key}.csv)."
+                + (
+                    " Its excitation ends at "
+                    + " and ".join(f"{hi:g} Hz" for hi in sorted({e["band"][1] for e in _random(v.model)}))
+                    + " and it has no contact."
+                    if _random(v.model)
+                    and len(_random(v.model)) == len(v.model.scenario["excitation"])
+                    and not _touched(v)
+                    else ""
+                )
+                + "</p>"
+            )
+    parts.append(f"<div class='note'>{accuracy_note(model, info)}</div>")
+    return parts
+
+
+def _and(items):
+    """'a', 'a and b', 'a, b and c'."""
+    return " and ".join([", ".join(items[:-1]), items[-1]] if len(items) > 1 else items)
+
+
+def _random(model):
+    """The model's random excitations (their scenario tables)."""
+    return [e for e in model.scenario["excitation"].values() if e["kind"] == "random"]
+
+
+def _touched(v):
+    """Whether a variant's ensemble or reference record had any contact."""
+    ct = getattr(v.ensemble, "contact_time", None)
+    rec = getattr(v.result, "contact_time", None)
+    return bool((ct is not None and np.any(ct > 0)) or (rec is not None and np.any(np.asarray(rec) > 0)))
 
 
 def _db(x):
