@@ -69,10 +69,20 @@ def plot_psd(psds, path, ref=None, log_frequency=True, f_range=None, title=None,
     save_figure(fig, path)
 
 
-def plot_transfer(tr, path, reference_curves=None, log_frequency=True, f_range=None, title=None):
+#: The styles of a transfer plot's reference curves, in the order given (a curve's own style, the
+#: third item of its tuple, overrides it).
+REFERENCE_STYLES = ({"color": "k", "ls": "--", "lw": 0.9}, {"color": "0.55", "ls": ":", "lw": 0.9})
+
+
+def plot_transfer(
+    tr, path, reference_curves=None, log_frequency=True, f_range=None, title=None, reference_coherence=None
+):
     """A :class:`~cablecasing_core.nvh.transfer.Transfer`: magnitude (log), phase (deg) and coherence,
     with a band of +-2 random errors around |H1| and optional ``reference_curves`` {label: (f_hz, H)}
-    (e.g. the TRFAM of the frequency domain)."""
+    or {label: (f_hz, H, style)} (e.g. the TRFAM of the frequency domain; styles
+    :data:`REFERENCE_STYLES` in turn, or the matplotlib keywords of ``style``), and
+    ``reference_coherence`` {label: (f_hz, coherence)} drawn dashed in the coherence panel (e.g. the
+    coherence the window alone leaves of a noise-free linear system); every curve is named in a legend."""
     fig, (am, ap, ac) = plt.subplots(3, 1, figsize=(7.5, 7), sharex=True, gridspec_kw={"height_ratios": [3, 2, 1.2]})
     f = tr.f_hz
     sel = f > 0 if f_range is None else (f >= f_range[0]) & (f <= f_range[1])
@@ -88,10 +98,14 @@ def plot_transfer(tr, path, reference_curves=None, log_frequency=True, f_range=N
     )
     am.plot(f[sel], mag[sel], lw=0.9, label=f"{tr.estimator} estimate ({tr.n_averages} averages)")
     ap.plot(f[sel], np.degrees(np.angle(tr.H[sel])), lw=0.8)
-    for label, (fr, Hr) in (reference_curves or {}).items():
-        am.plot(fr, np.abs(Hr), "k--", lw=0.8, label=label)
-        ap.plot(fr, np.degrees(np.angle(Hr)), "k--", lw=0.8)
-    ac.plot(f[sel], tr.coherence[sel], lw=0.8, color="tab:green")
+    for k, (label, curve) in enumerate((reference_curves or {}).items()):
+        fr, Hr = curve[:2]
+        style = {**REFERENCE_STYLES[k % len(REFERENCE_STYLES)], **(curve[2] if len(curve) > 2 else {})}
+        am.plot(fr, np.abs(Hr), label=label, **style)
+        ap.plot(fr, np.degrees(np.angle(Hr)), **style)
+    ac.plot(f[sel], tr.coherence[sel], lw=0.8, color="tab:green", label=f"coherence of the {tr.estimator} estimate")
+    for label, (fr, g) in (reference_coherence or {}).items():
+        ac.plot(fr, g, color="k", ls="--", lw=0.8, label=label)
     am.set_yscale("log")
     am.set_ylabel(f"|{tr.kind}| ({tr.unit})" if tr.unit != "1" else f"|{tr.kind}| (-)")
     ap.set_ylabel("phase (deg)")
@@ -104,7 +118,9 @@ def plot_transfer(tr, path, reference_curves=None, log_frequency=True, f_range=N
         plain_log_ticks(ac, f[sel])
     for ax in (am, ap, ac):
         ax.grid(True, which="both", alpha=0.3)
-    am.legend(fontsize=8)
+    am.legend(fontsize=7 if reference_curves else 8)
+    if reference_coherence:
+        ac.legend(fontsize=7, loc="lower right")
     am.set_title(title or f"{tr.kind}: {tr.output} / {tr.input}", fontsize=10)
     save_figure(fig, path)
 

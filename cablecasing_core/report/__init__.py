@@ -5,12 +5,17 @@ and one ``report.html`` (:mod:`.page`), all under ``out`` and nowhere else.
 
 Files: ``report.html``; ``runs.json`` (the runs: model fingerprint, overrides, seeds, duration, dt,
 files); ``parameters.csv``; ``modes.csv`` (Hz); ``trfam.uff`` and ``trfam_<x|y|z>.csv`` with
-``trfam_xyz.png`` (Fig. 17); ``records/<variant>.npz`` (the reference records); ``rms.csv``;
-``simulation.png`` (time histories); ``scalograms.png`` (Figs. 20-21); ``routing_contact.png`` and
-``contact_histogram.png`` (Fig. 22); ``bands_<variant>.csv`` and ``band_levels.png`` (ensemble means
-with confidence intervals, N and dB re 1 N); ``psd.png``; ``apparent_mass.png`` (H1 of a reference
-record against the TRFAM); ``study/study.csv``, ``study/correlations.png`` (Fig. 23) and
-``study/sobol.png``.
+``trfam_xyz.png`` (Fig. 17); ``records/<variant>.npz`` (the reference records); ``rms.csv`` (the
+support forces' mean, RMS total and RMS dynamic, N); ``simulation.png`` (time histories);
+``scalograms.png`` (Figs. 20-21); ``routing_contact.png`` and ``contact_histogram.png`` (Fig. 22);
+``bands_<variant>.csv`` and ``band_levels.png`` (ensemble means with confidence intervals, N and dB
+re 1 N; a band more than :data:`.figures.NO_RESPONSE_DB` below its variant's strongest holds no
+response and is left out of the figure and dashed in the table); ``psd.png`` (from 2 df, where
+Welch's lines measure); ``apparent_mass.png`` (H1 of a reference record against the TRFAM averaged
+over the estimator's window, what H1 estimates, and the TRFAM as computed); ``study/study.csv``,
+``study/correlations.png`` (Fig. 23) and ``study/sobol.png``. The page states what the band levels'
+intervals cover (the seeds' scatter) and quotes the model's numerical error they do not cover
+(docs/time_domain.md).
 """
 
 from __future__ import annotations

@@ -216,18 +216,7 @@ def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, o
         "<h2>Spectra</h2><img src='psd.png'>",
     ]
     if am is not None:
-        parts += [
-            "<img src='apparent_mass.png'>",
-            f"<p class='note'>H1 from {_e(am['input'])} to {OUTPUT} of the reference record {variants[0].title} "
-            f"({am['n_averages']} averages, {am['df']:.3g} Hz), in the TRFAM's sign convention, against the TRFAM of "
-            f"the frequency domain; median coherence {am['median_coherence']:.2f} (10-1000 Hz): "
-            + (
-                "the contact makes the transmission non-linear where the coherence drops.</p>"
-                if am.get("contact")
-                else "the record has no contact, so the system is linear: where the coherence drops, the estimate's "
-                f"{am['n_averages']} averages (its random error) and the bands the input barely excites do.</p>"
-            ),
-        ]
+        parts += ["<img src='apparent_mass.png'>", f"<p class='note'>{apparent_mass_note(am, variants[0].title)}</p>"]
     parts += _study(study)
     if fmu is not None:
         parts += [
@@ -252,6 +241,90 @@ def _rms_parts(rms, info):
         "<code>simulate</code>'s table: the band levels and the PSD remove the mean too, so compare them with "
         "it.</p>",
     ]
+
+
+def apparent_mass_note(am, title):
+    """The note under apparent_mass.png (HTML): what the estimate is compared with and why its
+    coherence drops, from :func:`.figures.apparent_mass_figure`'s summary ``am``."""
+    n, df = am["n_averages"], am["df"]
+    m, x = am["median_coherence"], am["expected_coherence"]
+    head = (
+        f"H1 from {_e(am['input'])} to {OUTPUT} of the reference record {_e(title)} ({n} averages of {df:.3g} Hz "
+        "lines, Hann's window), in the TRFAM's sign convention, against what it estimates: the TRFAM (viscous) "
+        "averaged over the window's spectral window (dashed; Bendat &amp; Piersol 11.4, as docs/nvh.md, "
+        '"Against the TRFAM", compares them), with the TRFAM as computed for reference (dotted). '
+    )
+    coh = (
+        f"The coherence has median {m.get('10-100', float('nan')):.2f} over 10-100 Hz and {m['10-1000']:.2f} over "
+        f"10-1000 Hz; the window's smoothing alone leaves {x.get('10-100', float('nan')):.2f} and "
+        f"{x['10-1000']:.2f} of the noise-free TRFAM (dashed, lower panel; with {n} averages a low coherence "
+        f"reads higher, by about (1 - &gamma;&sup2;)&sup2;/{n}). "
+    )
+    narrow = am.get("narrow_modes") or []
+    why = ""
+    if narrow:
+        b = [w for _, w in narrow]
+        why = (
+            f"{len(narrow)} of the casing's modes between 10 and 1000 Hz ({', '.join(f'{f:.1f}' for f, _ in narrow)} "
+            f"Hz) are narrower than the lines (half-power bandwidths {min(b):.2g}-{max(b):.2g} Hz, viscous "
+            f"damping), and Hann's window spreads each line over &plusmn;{2 * df:.3g} Hz, across which the TRFAM "
+            "rises and falls by a factor of several: H1 then reads the window's average, below the TRFAM at its "
+            "peaks and above it in its notches, and the coherence drops by as much as the TRFAM varies within "
+            "the window. "
+        )
+    c = am.get("coarser")
+    more = ""
+    if c:
+        cm = c["median_coherence"]
+        worse = cm["10-1000"] < m["10-1000"]
+        more = (
+            ("More averages at coarser lines make it worse, not better: at " if worse else "At ")
+            + f"{c['df']:.3g} Hz lines ({c['n_averages']} averages) the median coherence is "
+            f"{cm.get('10-100', float('nan')):.2f} over 10-100 Hz and {cm['10-1000']:.2f} over 10-1000 Hz. "
+        )
+        if narrow:
+            half = min(b) / 2
+            more += (
+                f"Only finer lines remove the bias: lines of half the narrowest bandwidth ({half:.2g} Hz) need "
+                f"segments of {1 / half:.2g} s, a record of at least {2 / half:.2g} s after the skip for 3 averages. "
+            )
+    others = am.get("other_inputs") or []
+    also = (
+        f"The casing is driven at {_and([_e(t) for t in others])} too, which the input does not explain: that "
+        "lowers the coherence besides the window's bias. "
+        if others
+        else ""
+    )
+    if am.get("contact"):
+        return (
+            head + coh + "The record has contact, so the transmission is not linear: impacts put force into the "
+            "casing that the support's motion does not explain, and lower the coherence below what the window "
+            "leaves. " + also + why + "The band of &plusmn;2 random errors covers the random error only."
+        )
+    bands = am.get("input_bands") or []
+    flat = f"the input is the scenario's random excitation, flat over {_and([f'{lo:g}-{hi:g}' for lo, hi in bands])} Hz"
+    if others:
+        cause = (
+            "The record has no contact, so the system is linear. "
+            + also
+            + (f"{flat[0].upper()}{flat[1:]}. " if bands else "")
+        )
+    else:
+        covered = any(lo <= 10.0 and hi >= 1000.0 for lo, hi in bands)
+        cause = (
+            "The record has no contact, so the system is linear and the record noise-free: the coherence drops "
+            "are the resolution's bias, not random error (which cannot lower the coherence of a noise-free "
+            "linear record)" + (f" nor a lack of input: {flat}. " if covered else f"; {flat}. " if bands else ". ")
+        )
+    return (
+        head
+        + cause
+        + why
+        + coh
+        + more
+        + "The band of &plusmn;2 random errors covers the random error, not this bias: compare H1 with the dashed "
+        "curve, not with the dotted one."
+    )
 
 
 #: The model's numerical accuracy, quoted from the docs for the report's band levels:
