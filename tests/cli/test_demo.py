@@ -143,15 +143,17 @@ def test_report_writes_only_under_out(tmp_path):
     assert _tree(ROOT) == before
     assert [p.name for p in work.iterdir()] == ["rep"] and (work / "rep" / "report.html").exists()
     # the page says what its records hold: the H1 comes from the record without the cable drive,
-    # which has no contact, so its coherence drops are not the contact's (the note said they were)
+    # which has no contact, so its coherence drops are not the contact's (the note said they were),
+    # nor its random error's (review C, 3): the resolution's bias
     from cablecasing_core.timedomain.simulation import SimulationResult
 
     nodrive = SimulationResult.load(work / "rep" / "records" / "nodrive.npz")
     html = (work / "rep" / "report.html").read_text()
     assert "without and with the cable drive" in html
     if not nodrive.contact_time.any():
-        assert "the record has no contact, so the system is linear" in html
-        assert "the contact makes the transmission non-linear" not in html
+        assert "The record has no contact, so the system is linear" in html
+        assert "the coherence drops are the resolution's bias, not random error" in html
+        assert "the contact makes the transmission non-linear" not in html and "record has contact" not in html
 
 
 def test_the_report_of_a_model_without_cable_drive_names_its_one_record_and_its_clips_units():
