@@ -130,6 +130,7 @@ def plot_routing(model, path, summary=None):
     clips, and the curvature (1/m) along the arc length (m) with the bends shaded, the nodes marked
     and the smallest radius noted."""
     from .structure.geometry import centerline_of
+    from .structure.mount_element import clip_node
     from .structure.route_summary import curvature_profile, geometry_summary
 
     g = summary or geometry_summary(model)
@@ -148,7 +149,7 @@ def plot_routing(model, path, summary=None):
         ax.scatter(*P[node], marker=m, color=c, s=70, depthshade=False)
         ax.text(*P[node], f"  {end} ({kind})", fontsize=8)
     for i, clip in enumerate(model.data.get("casing", {}).get("clip", [])):
-        node = int(np.argmin(np.abs(cl.s - clip["at"])))
+        node = clip_node(cl.s, clip["at"])
         ax.scatter(*P[node], marker="D", color="tab:blue", s=50, depthshade=False)
         name = clip.get("excitation", f"clip {i}")
         ax.text(*P[node], f"  {name} ({cl.s[node]:.3g} m)", fontsize=7, color="tab:blue")
@@ -164,7 +165,7 @@ def plot_routing(model, path, summary=None):
         a2.axvspan(b["start_m"], b["start_m"] + max(arc, 1e-3 * g["length_m"]), color="tab:orange", alpha=0.15)
     a2.plot(cl.s, cl.curvature, "k.", ms=4, label="at the nodes")
     for clip in model.data.get("casing", {}).get("clip", []):
-        a2.axvline(clip["at"], color="tab:blue", lw=0.8, ls="--")
+        a2.axvline(cl.s[clip_node(cl.s, clip["at"])], color="tab:blue", lw=0.8, ls="--")  # (where it acts)
     if g["min_radius_m"]:
         a2.set_title(
             f"min radius {g['min_radius_m']:.4g} m at s = {g['min_radius_at_m']:.4g} m, "

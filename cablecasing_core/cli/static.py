@@ -50,6 +50,8 @@ def _buckling(model):
 
 
 def _print(model, st, buckled=()):
+    from ..structure.mount_element import clip_positions
+
     g, T = model.loads["gravity"], model.loads["cable_tension"]
     shape = model.bodies["cable"].rest_shape if "cable" in model.bodies else "-"
     print(f"static state of {model.source}: gravity {g} m/s2, cable tension {T:g} N, cable rest shape {shape}")
@@ -83,9 +85,10 @@ def _print(model, st, buckled=()):
             if kind != "free":
                 r = st.reaction(f"{body}.{s}")
                 print(f"    {f'{body}.{s} {kind}':22s}" + " ".join(f"{v:11.5g}" for v in r))
-    for i, r in enumerate(st.clip_reactions):
-        at = model.data["casing"]["clip"][i]["at"]
+    for i, (r, at) in enumerate(zip(st.clip_reactions, clip_positions(model))):  # (where each acts: its node)
         print(f"    {f'casing.clip{i} s={at:.4g}':22s}" + " ".join(f"{v:11.5g}" for v in r))
+    moved = [f"{body} {d:.4g} m at s = {at:.4g} m" for body, (d, at) in st.largest_displacement.items()]
+    print(f"  largest displacement from the routing: {', '.join(moved)}")
     print("  force balance of each body (N, global): weight + prestress + contact = reactions")
     for body, b in st.balance.items():
         terms = " + ".join(f"{_vec(b[k])}" for k in ("weight", "prestress", "contact"))

@@ -746,8 +746,9 @@ _KEYS += [
         "float",
         0.0,
         "N",
-        "static axial tension of the cable; the casing carries the equal compression (geometric stiffness "
-        "of both bodies, and the tension's pull towards the inside of every bend)",
+        "static axial tension of the cable; the casing carries the equal compression between clamped ends, on "
+        "isolators part of it (their axial springs relax it; docs/installed.md) (geometric stiffness of both "
+        "bodies, and the tension's pull towards the inside of every bend)",
         Number(ge=0, le=1e7, unit="N"),
         plausible=(0.0, 1e4, "a steel wire of a few mm yields below 10 kN"),
         note="needs the cable, and below the casing's buckling load (checked when the casing is assembled)",

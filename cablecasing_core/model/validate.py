@@ -115,6 +115,8 @@ def _mounts(name, data, supports, geometry):
     clips = data["clip"]
     if not isinstance(clips, list) or not all(isinstance(c, dict) for c in clips):
         raise ModelError("casing.clip", clips, "must be an array of tables [[casing.clip]], each with at and stiffness")
+    from ..structure.mount_element import clip_node
+
     s_nodes = _node_arc_lengths(geometry)
     length, taken, names = s_nodes[-1], {}, {}
     out["clip"] = []
@@ -124,7 +126,7 @@ def _mounts(name, data, supports, geometry):
         _holds(key, raw, c, "leave the clip out")
         if c["at"] >= length:
             raise ModelError(f"{key}.at", c["at"], f"must be inside the route, below its length {length:.6g} m")
-        node = int(np.argmin(np.abs(s_nodes - c["at"])))
+        node = clip_node(s_nodes, c["at"])
         if node in (0, len(s_nodes) - 1):
             raise ModelError(
                 f"{key}.at", c["at"], f"is nearest to an end node (s = {s_nodes[node]:.6g} m); clip the casing inside"
@@ -134,6 +136,12 @@ def _mounts(name, data, supports, geometry):
                 f"{key}.at", c["at"], f"is nearest to node {node}, which casing.clip[{taken[node]}] holds already"
             )
         taken[node] = i
+        if abs(s_nodes[node] - c["at"]) > CLIP_OFF_NODE * length:
+            _warn(
+                f"{key}.at = {c['at']:g} m: a clip acts at a node, the nearest, at s = {s_nodes[node]:.4g} m "
+                f"({len(s_nodes) - 1} elements of {length / (len(s_nodes) - 1):.3g} m): more elements "
+                "(geometry.n_elements) bring a node nearer"
+            )
         if "excitation" in c:
             if c["excitation"] in names or c["excitation"] in BODY_NAMES:
                 raise ModelError(f"{key}.excitation", c["excitation"], "must be unique among the clips and not a body")
@@ -556,6 +564,12 @@ def _carries(axes, keys, d):
     share of ``d`` along its axes with either above :data:`LEAST_DRIVE`."""
     held = (np.asarray(keys["stiffness"]) > 0) | (np.asarray(keys["damping"]) > 0)
     return float(np.linalg.norm((axes @ d)[held])) > LEAST_DRIVE
+
+
+#: The largest distance (a share of the route's length) between a clip's ``at`` and the node it acts
+#: at that is taken without a warning: 2 % (17 mm of the 0.85 m specimens, whose 35 elements put a
+#: node within 12 mm of any point).
+CLIP_OFF_NODE = 0.02
 
 
 def _warn(text):

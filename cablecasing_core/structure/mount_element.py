@@ -32,8 +32,8 @@ class Mount:
     stiffness (N/m, N.m/rad) and damping (N.s/m, N.m.s/rad) in global axes; axes: rows (axial,
     lateral_1, lateral_2) in global axes; table: (n, 3) array [f_Hz, k_scale, loss_factor] or None;
     channels: the three support channels of its translations (x, y, z) or None for a fixed clip;
-    support: "A"/"B" for an isolator, None for a clip; at: the clip's arc length (m) asked for
-    (its node is the nearest), None for an isolator."""
+    support: "A"/"B" for an isolator, None for a clip; at: the arc length (m) of the node the clip
+    acts at (:func:`clip_node`: the nearest to the ``at`` its file asked for), None for an isolator."""
 
     label: str
     node: int
@@ -104,6 +104,25 @@ def _mount(label, node, keys, cl, channels, support=None, at=None):
     )
 
 
+def clip_node(s_nodes, at) -> int:
+    """The node a clip at arc length ``at`` (m) acts at: the nearest of the nodes at arc lengths
+    ``s_nodes`` (m). A clip joins one node to its support (its 6 x 6 block within the band); the
+    model file's validation warns where that node lies far from ``at``."""
+    return int(np.argmin(np.abs(np.asarray(s_nodes) - at)))
+
+
+def clip_positions(model):
+    """Arc lengths (m) of the nodes the casing's clips act at, in file order (each clip's
+    :func:`clip_node` on the model's centerline)."""
+    from .geometry import centerline_of
+
+    clips = model.data.get("casing", {}).get("clip", [])
+    if not clips:
+        return []
+    s = centerline_of(model).s
+    return [float(s[clip_node(s, c["at"])]) for c in clips]
+
+
 def mounts_of(model, body, centerline):
     """The :class:`Mount` s of ``body`` of ``model`` on its ``centerline``: its isolator supports
     (end nodes, driven by the support's channels ``<body>.<A|B>.<x|y|z>``), then, for the casing,
@@ -116,7 +135,7 @@ def mounts_of(model, body, centerline):
             chans = tuple(f"{body}.{s}.{d}" for d in DIRECTIONS)
             out.append(_mount(s, node, data["isolator"][s], centerline, chans, support=s))
     for i, clip in enumerate(data.get("clip", [])):
-        node = int(np.argmin(np.abs(centerline.s - clip["at"])))
+        node = clip_node(centerline.s, clip["at"])
         chans = tuple(f"{clip['excitation']}.{d}" for d in DIRECTIONS) if "excitation" in clip else None
-        out.append(_mount(f"clip{i}", node, clip, centerline, chans, at=clip["at"]))
+        out.append(_mount(f"clip{i}", node, clip, centerline, chans, at=float(centerline.s[node])))
     return tuple(out)

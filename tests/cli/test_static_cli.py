@@ -24,7 +24,11 @@ def test_static_json_of_the_installed_specimen(capsys, tmp_path):
         "buckling",
         "contact_nodes",
         "max_penetration_m",
+        "largest_displacement_m",
     }
+    for body, (d, at) in out["largest_displacement_m"].items():  # (the node that moves most, and its arc length)
+        u = np.linalg.norm(st.U[body].reshape(-1, 6)[:, :3], axis=1)
+        assert d == np.max(u) and at == st.arc_length[np.argmax(u)]
     np.testing.assert_array_equal(out["contact_force_N"], st.contact_force)  # same solve, same numbers
     assert set(out["support_reactions_N"]) == {"casing.A", "casing.B", "cable.A", "cable.B"}
     for name, r in out["support_reactions_N"].items():

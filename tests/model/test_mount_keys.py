@@ -204,3 +204,37 @@ def test_a_key_of_an_excitation_the_model_lacks_names_the_model_s_excitations():
     made = {"target": "casing.B.z", "kind": "harmonic", "amplitude": 1e-5, "frequency": 75.0}
     new = m.with_overrides({f"scenario.excitation.second.{k}": v for k, v in made.items()})
     assert {k: new.scenario["excitation"]["second"][k] for k in made} == made  # (made key by key, kind among them)
+
+
+def test_a_clip_far_from_a_node_warns_and_is_said_where_it_acts(tmp_path, capsys):
+    """A clip acts at its nearest node: on 4 elements of 0.25 m clips asked at 0.37 and 0.7 m act at
+    0.25 and 0.75 m, farther than CLIP_OFF_NODE (2 % of the route) from where they were asked: the
+    model warns naming each, and `static` prints where they act (it printed 0.37 and 0.7 m beside
+    the reactions of clips at 0.25 and 0.75 m). A clip within 2 % of its node does not warn."""
+    import warnings
+
+    from cablecasing_core.cli import main
+    from cablecasing_core.errors import ModelWarning
+    from cablecasing_core.structure.mount_element import clip_positions
+
+    data = copy.deepcopy(load_model().data)
+    data["geometry"] = {"points": [[0.0, 0, 0], [1.0, 0, 0]], "n_elements": 4, "curve": "polyline"}
+    data.pop("cable")
+    data["scenario"].pop("excitation")
+    clip = {"stiffness": 1e6, "rotational_stiffness": 10.0}
+    data["casing"].update(supports={"A": "free", "B": "free"}, clip=[dict(clip, at=0.37), dict(clip, at=0.7)])
+    with pytest.warns(ModelWarning) as said:
+        m = model_from_dict(data)
+    texts = [str(w.message) for w in said]
+    assert any("casing.clip[0].at = 0.37 m: a clip acts at a node, the nearest, at s = 0.25 m" in t for t in texts)
+    assert any("casing.clip[1].at = 0.7 m: a clip acts at a node, the nearest, at s = 0.75 m" in t for t in texts)
+    assert clip_positions(m) == pytest.approx([0.25, 0.75], abs=1e-12)
+    path = tmp_path / "clips.toml"
+    path.write_text(m.to_toml())
+    assert main(["static", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "casing.clip0 s=0.25 " in out and "casing.clip1 s=0.75 " in out, out
+    data["casing"]["clip"] = [dict(clip, at=0.26), dict(clip, at=0.74)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ModelWarning)
+        assert clip_positions(model_from_dict(data)) == pytest.approx([0.25, 0.75], abs=1e-12)

@@ -372,3 +372,35 @@ def test_without_contact_the_tension_is_a_fixed_prestress():
         assert np.abs(st.U["cable"].reshape(-1, 6)[:, :3]).max() < 10.0 * L / EA
     assert static_state(cc.load_model("installed"), contact=False).prestretch_force == 10.0
     assert static_state(cc.load_model("installed")).pulled
+
+
+def test_a_static_motion_beyond_two_per_cent_of_the_length_warns_and_is_reported():
+    """A 1 m casing clamped at A, free at B, under its weight: its tip sags by q L^4 / (8 E I) =
+    0.254 m (within 1e-3: the Hermite beam's nodal values are exact for a uniform load, the
+    consistent load's resultant the weight), 25 % of its length, beyond SMALL_DISPLACEMENT: the
+    linear statics warn, and the state reports the motion and where it is largest. The installed
+    specimen (its cable moves by 7.6 mm of 0.85 m) does not warn."""
+    import warnings
+
+    from cablecasing_core.errors import ModelWarning
+
+    casing = dict(
+        E=5e9, rho=4850.0, d_outer=0.0095, d_inner=0.004, I=2.7261e-10, supports={"A": "clamped", "B": "free"}
+    )
+    model = cc.model_from_dict({"geometry": {"points": [[0.0, 0, 0], [1.0, 0, 0]], "n_elements": 20},
+                                "casing": casing, "loads": {"gravity": [0.0, 0.0, -9.81]}})  # fmt: skip
+    q = 4850.0 * np.pi / 4 * (0.0095**2 - 0.004**2) * 9.81
+    with pytest.warns(
+        ModelWarning, match=r"casing: the static state moves it by up to 0.254\d* m \(at s = 1 m\), 25.4 %"
+    ):
+        st = static_state(model)
+    d, at = st.largest_displacement["casing"]
+    assert d == pytest.approx(q / (8 * 5e9 * 2.7261e-10), rel=1e-3) and at == pytest.approx(1.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        installed = cc.load_model("installed")
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        st = static_state(installed)
+    assert not [w for w in said if "moves it by" in str(w.message)]
+    assert st.largest_displacement["cable"][0] == pytest.approx(7.6e-3, rel=0.05)
