@@ -108,6 +108,11 @@ def cmd_study(args):
         from ..timedomain.scenario import whole_period_skip
 
         skip = f"after {whole_period_skip(model, args.duration):g} s (whole periods of the model's drive)"
+        if any(k.startswith("scenario.") for k in bounds):  # (a sample's drive or fade-in may differ)
+            skip = (
+                f"after {whole_period_skip(model, args.duration):g} s at the model's values (whole periods of its "
+                "drive; each sample takes the whole periods of its own drive and fade-in)"
+            )
     else:
         skip = f"after {args.skip:g} s"
     print(
@@ -260,7 +265,7 @@ def print_study(res):
     for c in cors:
         print(
             f"\n{c.method.capitalize()} correlation r (-) of each parameter with the band RMS of {of} "
-            f"({c.n} ok runs); bands (Hz):"
+            f"({c.n} runs used); bands (Hz):"
         )
         print(f"  {'band':40s}{head}\n  {'':40s}{hz}")
         for i, p in enumerate(c.parameters):
@@ -379,6 +384,17 @@ def cmd_pool(args):
             other = pool_ensembles(args.against)
         change = _changed_overrides(ens, other)
         mine, theirs = ({k: v for k, v in e.settings.items() if k != "model"} for e in (ens, other))
+        if "base_model" not in mine or "base_model" not in theirs:  # (an ensemble saved before it was kept)
+            mine.pop("base_model", None)
+            theirs.pop("base_model", None)
+        elif mine["base_model"] != theirs["base_model"]:
+            raise ModelError(
+                "--against",
+                " ".join(map(str, args.against)),
+                "must be an ensemble of the model the files it is compared with ran, with other overrides: it is "
+                f"of another model (its fingerprint before the overrides {theirs['base_model']}, theirs "
+                f"{mine['base_model']}), so the change would not be its overrides' alone",
+            )
         # (a setting the --against parts declare as their override, --against scenario.dt=..., is what they compare)
         declared = {k for k in change if k in other.overrides}
         differ = sorted(

@@ -37,9 +37,11 @@ class Ensemble:
     with seed ``seeds[i]``; the bands' edges are in Hz. ``contact_time[i, k]`` is the time (s) cable
     node ``k`` spent in contact in that run (the highest-contact-area histogram of Fig. 22; no
     columns without a cable). ``overrides`` are the model changes common to all members;
-    ``settings`` the run settings ``duration``, ``dt``, ``skip`` (s), ``window`` and ``model``, a fingerprint of
+    ``settings`` the run settings ``duration``, ``dt``, ``skip`` (s), ``window``, ``model``, a fingerprint of
     the model data with the overrides applied (what :func:`pool_ensembles` requires to be equal; a
-    tabulated excitation enters by its file's content, not its path). ``warnings`` maps
+    tabulated excitation enters by its file's content, not its path), and ``base_model``, the
+    fingerprint of the model before the overrides (what a paired comparison of two ensembles,
+    ``pool --against``, requires to be equal). ``warnings`` maps
     the seed of each member whose run warned (a contact Newton that did not converge in some steps,
     a tolerance not met: docs/time_domain.md) to its messages, joined by `` | ``; members that
     warned nothing are not in it.
@@ -237,7 +239,7 @@ def _warnings_by_seed(shown, given, seeds):
 
 def _settings_line(shown, text):
     """The settings of an ensemble CSV's second line, checked (a :class:`ModelError` otherwise)."""
-    from ..model.schema import OUTPUTS
+    from ..model.schema import output_spec
 
     def bad(what):
         return ModelError("path", shown, f"must be an unaltered ensemble CSV: its '# cablecasing-ensemble' line {what}")
@@ -259,8 +261,10 @@ def _settings_line(shown, text):
         if not isinstance(meta.get(key, {}), dict):
             raise bad(f"has a {key} that is not a table")
         meta.setdefault(key, {})
-    if meta["output"] not in OUTPUTS:
-        raise bad("names an output that is not one of the model's outputs")
+    try:  # (OUTPUTS, or a clip's casing.clip<i>.Fx .. Mz)
+        output_spec(meta["output"])
+    except ModelError:
+        raise bad("names an output that is not one of the model's outputs") from None
     nb = len(meta["labels"])
     if not nb or not all(isinstance(b, str) and b for b in meta["labels"]):
         raise bad("has no band labels")
@@ -301,7 +305,7 @@ def pool_ensembles(ensembles: Sequence[Ensemble | str | os.PathLike]) -> Ensembl
                 (first.labels, first.lower.tolist(), first.upper.tolist()),
             ),
             ("overrides", _canonical(e.overrides), _canonical(first.overrides)),
-            ("settings", _canonical(e.settings), _canonical(first.settings)),
+            ("settings", _canonical(_run_settings(e)), _canonical(_run_settings(first))),
             ("contact_time columns", e.contact_time.shape[1:], first.contact_time.shape[1:]),
         ):
             if mine != theirs:
@@ -318,9 +322,15 @@ def pool_ensembles(ensembles: Sequence[Ensemble | str | os.PathLike]) -> Ensembl
         np.concatenate([e.levels for e in parts])[order],
         first.overrides,
         np.concatenate([e.contact_time for e in parts])[order],
-        first.settings,
+        first.settings if all("base_model" in e.settings for e in parts) else _run_settings(first),
         {s: w for e in parts for s, w in e.warnings.items()},
     )
+
+
+def _run_settings(ens):
+    """An ensemble's settings without ``base_model``, which its ``model`` fingerprint (the model with
+    the same overrides) implies, and which parts saved before it was kept do not have."""
+    return {k: v for k, v in ens.settings.items() if k != "base_model"}
 
 
 def _check_seeds_once(given, parts, names):

@@ -197,6 +197,7 @@ def seed_ensemble(
         "skip": float(skip),
         "window": window,
         "model": base.fingerprint(),
+        "base_model": model.fingerprint(),  # (before the overrides: two ensembles compared must share it)
     }
     return Ensemble(
         np.array(seeds),

@@ -149,8 +149,9 @@ def check_record_settings(model, duration=None, dt=None, skip=None, bands="table
             raise ModelError("skip", skip, f"must leave at least {need:.4g} s of the {total:g} s record for {band}")
         key, value = ("duration", duration) if duration is not None else ("scenario.duration", total)
         raise ModelError(key, value, f"must leave at least {need:.4g} s after skip = {skip:g} s for {band}")
-    if note := few_lines(band_set, total - skip):  # (once here, not from every run)
-        warnings.warn(f"the records after skip = {skip:g} s: {note}", ModelWarning, stacklevel=2)
+    if note := few_lines(band_set, total - skip, fmin_advice=False):  # (once here, not from every run)
+        # (stacklevel 1: one place, so that a command checking twice, as the study's does, says it once)
+        warnings.warn(f"the records after skip = {skip:g} s: {note}", ModelWarning, stacklevel=1)
     step = model.scenario["dt"] if dt is None else dt
     if not 0.5 / step >= band_set.upper.max():  # (octave_rms's rule, checked before the runs)
         raise ModelError(

@@ -302,11 +302,12 @@ def window_options(window: str) -> dict:
     return {"window": "hann", "detrend": "constant"} if window == "hann" else {"window": "boxcar", "detrend": None}
 
 
-def few_lines(bands: str | Bands, length: float) -> str | None:
+def few_lines(bands: str | Bands, length: float, fmin_advice: bool = True) -> str | None:
     """Why the bands that a record of ``length`` s puts fewer than :data:`LINES_PER_BAND` FFT lines
     in (df = 1 / length Hz) hold much of what lies beside them, with the record that would give the
-    lowest of them its lines; None when every band has them. The one rule of :func:`octave_rms`'s
-    warning and of the ensembles' and studies' check before their runs."""
+    lowest of them its lines, and (``fmin_advice``) the ``f_min`` that leaves them out; None when
+    every band has them. The one rule of :func:`octave_rms`'s warning and of the ensembles' and
+    studies' check before their runs (whose band sets have no ``f_min``)."""
     sel = _bands_of(bands)
     df = 1.0 / length
     few = sel.upper - sel.lower < LINES_PER_BAND * df * (1 - 1e-12)
@@ -320,7 +321,8 @@ def few_lines(bands: str | Bands, length: float) -> str | None:
         f"{', '.join(sel.labels[k] for k in np.nonzero(few)[0])}: each line's content spreads over the lines beside "
         "it (a tone one line beyond a band's edge puts up to 1/6 of its power into the band through Hann's window), "
         f"so such a band holds much of what lies beside it; {LINES_PER_BAND} lines in {sel.labels[i]} need a record "
-        f"of {LINES_PER_BAND} / {width:.3g} Hz = {LINES_PER_BAND / width:.3g} s{_leave_out_below(sel, j)}"
+        f"of {LINES_PER_BAND} / {width:.3g} Hz = {LINES_PER_BAND / width:.3g} s"
+        + (_leave_out_below(sel, j) if fmin_advice else "")
     )
 
 

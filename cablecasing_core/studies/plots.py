@@ -62,7 +62,7 @@ def plot_correlations(results, path, parameters=None, methods=("pearson", "spear
     _suptitle(
         fig,
         title
-        or f"Correlation with the band RMS{_of(results)}, {cors[0].n} ok runs (Fig. 23)\n"
+        or f"Correlation with the band RMS{_of(results)}, {cors[0].n} runs used (Fig. 23)\n"
         + (
             f"faded: p >= 0.05 (two-sided, by {cors[0].pvalue_from})"
             if np.isfinite(cors[0].pvalue).any()
@@ -114,6 +114,21 @@ def _band_axis(axes, outputs):
     axes[0, 0].legend(fontsize=7, loc="best", framealpha=0.85)
 
 
+def _percent(level):
+    """A confidence level in per cent as given (0.995: ``99.5%``; ``.0%`` would print 100%)."""
+    return f"{100 * level:.10g}%"
+
+
+def _sobol_limits(sob, k):
+    """The y limits of parameter ``k``'s Sobol panel: the indices' range (-0.2 to 1.1) widened to hold
+    every bar and interval (an estimate from few base points reaches beyond [0, 1], and a bar or an
+    interval cut at the panel's edge would hide by how much)."""
+    lo = np.nanmin(np.concatenate([sob.S1[k] - sob.S1_conf[k], sob.ST[k] - sob.ST_conf[k], [-0.2]]))
+    hi = np.nanmax(np.concatenate([sob.S1[k] + sob.S1_conf[k], sob.ST[k] + sob.ST_conf[k], [1.1]]))
+    pad = 0.05 * (hi - lo)
+    return (lo - pad if lo < -0.2 else lo, hi + pad if hi > 1.1 else hi)
+
+
 def plot_sobol(results, path, title=None, conf_level=0.95, sob=None):
     """First-order (S1) and total (ST) Sobol indices per output band with their confidence intervals
     (``sensitivity.sobol_indices``), one panel per parameter. ``sob``: the :class:`SobolIndices` of
@@ -129,12 +144,13 @@ def plot_sobol(results, path, title=None, conf_level=0.95, sob=None):
     for k, (ax, p) in enumerate(zip(axes[:, 0], sob.parameters)):
         ax.bar(x - 0.2, sob.S1[k], 0.4, yerr=sob.S1_conf[k], capsize=2, label="first order S1")
         ax.bar(x + 0.2, sob.ST[k], 0.4, yerr=sob.ST_conf[k], capsize=2, label="total ST")
-        _panel(ax, k, p, (-0.2, 1.1), "index (-)")
+        _panel(ax, k, p, _sobol_limits(sob, k), "index (-)")
     _band_axis(axes, sob.outputs)
     _suptitle(
         fig,
         title
-        or f"Sobol indices of the band RMS{_of(results)}, {sob.n_base} base points ({sob.conf_level:.0%} intervals)",
+        or f"Sobol indices of the band RMS{_of(results)}, {sob.n_base} base points ({_percent(sob.conf_level)} "
+        "intervals)",
         10,
     )
     save_figure(fig, path)
@@ -162,7 +178,7 @@ def plot_ensemble(ens, path, other=None, diff=None, confidence=0.95, labels=("ba
             yerr=[e.mean - lo, hi - e.mean],
             fmt="o",
             capsize=3,
-            label=f"{lab}: mean of {e.n} seeds, {confidence:.0%} CI",
+            label=f"{lab}: mean of {e.n} seeds, {_percent(confidence)} CI",
         )
     ax.set_yscale("log")
     ax.set_ylabel(f"RMS {ens.output} ({unit})")

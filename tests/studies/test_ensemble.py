@@ -284,6 +284,7 @@ def test_an_ensemble_run_in_parts_and_pooled_is_the_whole(tmp_path):
         "skip": 0.05,
         "window": "hann",
         "model": whole.settings["model"],
+        "base_model": cc.load_model().fingerprint(),  # (no overrides: the same model)
     }
     pooled = pool_ensembles([tmp_path / "b.csv", str(tmp_path / "a.csv")])
     for name in ("seeds", "levels", "contact_time"):
