@@ -84,3 +84,20 @@ def fmu():
     if not path.exists() or path.stat().st_mtime < newest:
         subprocess.run([sys.executable, str(ROOT / "build_fmu.py")], check=True, cwd=ROOT)
     return path
+
+
+@pytest.fixture
+def drawn(monkeypatch):
+    """The figures the package draws (cablecasing_core.plotting's and nvh.plots' save_figure), kept
+    open in this list instead of written, and closed after the test."""
+    import matplotlib.pyplot as plt
+
+    import cablecasing_core.nvh.plots as nvh_plots
+    import cablecasing_core.plotting as plotting
+
+    figs = []
+    for module in (plotting, nvh_plots):
+        monkeypatch.setattr(module, "save_figure", lambda fig, path: figs.append(fig))
+    yield figs
+    for fig in figs:
+        plt.close(fig)

@@ -18,20 +18,6 @@ ROOT = Path(__file__).resolve().parents[2]
 FS = 1e5  # (the built-in specimen's records: dt = 1e-5 s)
 
 
-@pytest.fixture
-def drawn(monkeypatch):
-    """The figures drawn, kept open instead of written."""
-    import matplotlib.pyplot as plt
-
-    import cablecasing_core.plotting as plotting
-
-    figs = []
-    monkeypatch.setattr(plotting, "save_figure", lambda fig, path: figs.append(fig))
-    yield figs
-    for fig in figs:
-        plt.close(fig)
-
-
 def band_limited(seed, n=44000, band=(10.0, 1000.0), rms=0.1):
     """Gaussian noise (N) flat over ``band`` and nothing outside it, cut from a record four times as
     long so that it is not periodic in its own length (as a run's record after its skip)."""

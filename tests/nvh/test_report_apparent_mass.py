@@ -14,20 +14,6 @@ from cablecasing_core.nvh import apparent_mass, psd
 from cablecasing_core.report.figures import input_spectrum, window_expectation
 
 
-@pytest.fixture
-def drawn(monkeypatch):
-    """The figures of nvh.plots, kept open instead of written."""
-    import matplotlib.pyplot as plt
-
-    import cablecasing_core.nvh.plots as nvh_plots
-
-    figs = []
-    monkeypatch.setattr(nvh_plots, "save_figure", lambda fig, path: figs.append(fig))
-    yield figs
-    for fig in figs:
-        plt.close(fig)
-
-
 def resonator(fs, fn, bandwidth):
     """A digital two-pole resonator (b, a) at fn Hz whose poles lie at radius exp(-pi bandwidth / fs):
     a half-power bandwidth of ``bandwidth`` Hz."""

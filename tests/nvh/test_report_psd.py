@@ -7,20 +7,6 @@ import pytest
 from cablecasing_core.nvh import psd
 
 
-@pytest.fixture
-def drawn(monkeypatch):
-    """The figures of nvh.plots, kept open instead of written."""
-    import matplotlib.pyplot as plt
-
-    import cablecasing_core.nvh.plots as nvh_plots
-
-    figs = []
-    monkeypatch.setattr(nvh_plots, "save_figure", lambda fig, path: figs.append(fig))
-    yield figs
-    for fig in figs:
-        plt.close(fig)
-
-
 def test_the_psd_is_drawn_from_two_lines_where_welch_measures(drawn):
     """docs/nvh.md: Welch's lines below 2 df are no measurement (``PSD.covered``). The plot began at
     df (12.2 Hz for the report's 9-average PSD) and `spectrum --plot` drew the segment from df
