@@ -561,7 +561,8 @@ class Engine:
                 f"{self.channels[c]} {name}", float((up, vp, ap)[q][r, c]), f"must be finite (at t = {times[r]:.6g} s)"
             )
         what = {
-            K.ERR_NAN: "the solution is no longer finite (NaN/inf): the step is unstable or the input is",
+            K.ERR_NAN: "the solution is no longer finite (NaN/inf): the step is unstable (a time step too long "
+            "for the model), or the support motion is too large for double precision",
             K.ERR_PENETRATION: f"penetration {info[K.INFO_VALUE]:.4g} m exceeds the cable radius "
             f"{self.r_cable:.4g} m (contact too soft for this load, the time step too large, or a "
             "contact stiffness so far above the bodies' that the contact solve loses its digits: a linear "
@@ -569,7 +570,9 @@ class Engine:
         }[status]
         node = info[K.INFO_NODE]
         where = f"cable node {int(node)}" if node >= 0 else "the support forces"
-        raise SimulationError(f"at t = {info[K.INFO_TIME]:.6g} s, {where}: {what}")
+        error = SimulationError(f"at t = {info[K.INFO_TIME]:.6g} s, {where}: {what}")
+        error.non_finite = status == K.ERR_NAN  # (a caller may name the input that overflowed: the FMU does)
+        raise error
 
     CHUNK = 2048  # steps per evaluation of the support motion (see advance)
 
