@@ -50,6 +50,7 @@ from pythonfmu.enums import Fmi2Status
 import cablecasing_core as cc
 from cablecasing_core.errors import renamed
 from cablecasing_core.model import specimen_names
+from cablecasing_core.model.limits import check_time_domain
 from cablecasing_core.model.schema import (
     CHANNELS,
     OUTPUTS,
@@ -139,6 +140,15 @@ def _phase_of(state):
     if phase not in (INSTANTIATED, INITIALIZATION, STEPPING, TERMINATED):
         raise ValueError(f"its life-cycle phase {phase} is not one of FMI's")
     return phase
+
+
+class ModelFileError(cc.ModelError):
+    """A ``model_file`` that gives no model: its message names model_file and the whole path (the
+    core's ModelError cuts a long value short)."""
+
+    def __init__(self, path, allowed):
+        super().__init__("model_file", path, allowed)
+        self.args = (f"model_file = {path!r}: {allowed}",)
 
 
 def _one_line(exc):
@@ -374,7 +384,7 @@ class CableCasing(Fmi2Slave):
                 values.update(model.text_parameters())
                 values["contact.enabled"] = bool(model.contact["enabled"])
                 values["solver.dt"] = float(model.scenario["dt"])
-            except cc.CableCasingError:
+            except Exception:  # noqa: BLE001  (any failure, named with the path when initialisation ends: _load_file)
                 values = None
             self._file_cache = (path, values)
         return self._file_cache[1]
@@ -382,15 +392,18 @@ class CableCasing(Fmi2Slave):
     def _set_parameter(self, key, kind, value):
         """Store a parameter the master set; returns the status (an int)."""
         if kind == "String":
+            path = key == "model_file"
             if value is None:
                 self.log(
-                    f"{key} = NULL: a string parameter needs a value (an empty string selects the built-in specimen)",
+                    f"{key} = NULL: a string parameter needs a value ("
+                    + ("an empty string selects the built-in specimen)" if path else f"{lookup(key).allowed})"),
                     Fmi2Status.error,
                 )
                 return ERROR
             if isinstance(value, bytes):
                 self.log(
-                    f"{key} = {value[:200]!r}: not valid UTF-8; FMI strings are UTF-8 (give the path in UTF-8)",
+                    f"{key} = {value[:200]!r}: not valid UTF-8; FMI strings are UTF-8 ("
+                    + ("give the path in UTF-8)" if path else f"{lookup(key).allowed})"),
                     Fmi2Status.error,
                 )
                 return ERROR
@@ -513,6 +526,10 @@ class CableCasing(Fmi2Slave):
     def fmi2_exit_initialization_mode(self):
         self._initialized = True
         self.phase = STEPPING
+        if self._engine is not None and self._applied == self._config():
+            # built for these parameters when the master read outputs in Initialization Mode
+            # (:meth:`_initial_outputs`): not built again, so the model's warnings are logged once
+            return OK
         return OK if self._build() else ERROR
 
     def _config(self):
@@ -533,7 +550,7 @@ class CableCasing(Fmi2Slave):
     def _make_engine(self, config):
         """A new Engine for ``config``; raises ModelError naming the parameter."""
         model_file, over, dt, drive = config
-        model = cc.load_model(model_file) if model_file else self._base
+        model = self._load_file(model_file) if model_file else self._base
         model, over = self._undriven(model, over, drive, model_file)
         if over:
             model = model.with_overrides(over)
@@ -541,8 +558,39 @@ class CableCasing(Fmi2Slave):
         for key, start in self._start.items():  # (a model file's seeds, read back through fmi2GetInteger)
             if isinstance(start, int) and not isinstance(start, bool) and key in values:
                 fmi_integer(key, values[key])
+        dt = seconds("solver.dt", dt)
+        self._check_memory(model, dt)
         with renamed({"dt": "solver.dt"}):  # (the engine's range of dt, named as the FMU's parameter)
-            return Engine(model, dt=seconds("solver.dt", dt), ledger=False)
+            return Engine(model, dt=dt, ledger=False)
+
+    @staticmethod
+    def _load_file(path):
+        """The model of ``model_file`` = ``path``; any failure (a file that is no model, a path
+        the file system cannot take) is a ModelError that names model_file and the whole path."""
+        try:
+            return cc.load_model(path)
+        except cc.ModelError as exc:
+            if exc.key == "model_file":
+                raise ModelFileError(path, str(exc.allowed)) from None
+            if str(exc.allowed).startswith("is required") and "." not in str(exc.key):
+                raise ModelFileError(path, f"its [{exc.key}] table is required; the file has none") from None
+            raise ModelFileError(path, f"the file's model is invalid: {exc}") from None
+        except Exception as exc:  # noqa: BLE001  (an OSError, UnicodeError, ...: no internal error)
+            raise ModelFileError(path, f"cannot be read: {type(exc).__name__}: {' '.join(str(exc).split())}") from None
+
+    @staticmethod
+    def _check_memory(model, dt):
+        """The core's check that the engine's matrices fit the memory available (model/limits.py,
+        as ``simulate`` and the command line do; the FMU keeps no record, so only the matrices
+        count): a model too large is a ModelError naming geometry.n_elements, before any is built."""
+        try:
+            check_time_domain(model, 0.0, dt)
+        except cc.ModelError as exc:
+            raise cc.ModelError(
+                "geometry.n_elements",
+                model.geometry["n_elements"],
+                f"is too many for this machine: {exc.allowed}",
+            ) from None
 
     def _undriven(self, model, over, drive, model_file):
         """(model, overrides) without what the run does not use. Without scenario.drive the
@@ -643,25 +691,29 @@ class CableCasing(Fmi2Slave):
         self._warm_up()
         self._recon.reset()
         self._engine.output_values(self.outputs_buffer)
-        if self._drive is not None:
-            # the costly part of the scenario's motion now, not inside the steps (GridMotion.prepare):
-            # up to the master's stopTime, else over the scenario's own duration (fmusim, for one,
-            # gives no stopTime)
-            if self._stop_time is not None:
-                until, why = self._stop_time - self._start_time, f"stopTime = {self._stop_time:.6g} s"
-            else:
-                until = self._engine.model.scenario["duration"]
-                why = f"no stopTime: scenario.duration = {until:.6g} s"
-            try:
-                ahead = self._drive.prepare(until)
-            except MemoryError:  # (the steps then compute the blocks as they go)
-                ahead = 0.0
-            if math.isfinite(ahead):  # (inf: the scenario has no random record)
-                self.log(
-                    f"scenario.drive: the random excitation is computed ahead up to t = "
-                    f"{self._start_time + ahead:.6g} s ({why}), later within the steps"
-                )
+        self._prepare_drive(say=True)
         return True
+
+    def _prepare_drive(self, say=False):
+        """With scenario.drive, the costly part of the scenario's motion now, not inside the steps
+        (GridMotion.prepare): up to the master's stopTime, else over the scenario's own duration
+        (fmusim, for one, gives no stopTime); ``say``: log how far."""
+        if self._drive is None:
+            return
+        if self._stop_time is not None:
+            until, why = self._stop_time - self._start_time, f"stopTime = {self._stop_time:.6g} s"
+        else:
+            until = self._engine.model.scenario["duration"]
+            why = f"no stopTime: scenario.duration = {until:.6g} s"
+        try:
+            ahead = self._drive.prepare(until)
+        except MemoryError:  # (the steps then compute the blocks as they go)
+            ahead = 0.0
+        if say and math.isfinite(ahead):  # (inf: the scenario has no random record)
+            self.log(
+                f"scenario.drive: the random excitation is computed ahead up to t = "
+                f"{self._start_time + ahead:.6g} s ({why}), later within the steps"
+            )
 
     # The communication step of the warm-up (s): the default experiment's; another h later costs
     # only its quintic matrix (the kernels are the same).
@@ -781,6 +833,22 @@ class CableCasing(Fmi2Slave):
         self._clear()
         return OK
 
+    def fmi2_free_instance(self):
+        """fmi2FreeInstance: drop what the instance holds (the engine, the scenario's motion, the
+        log sink) and the variables' getters and setters, closures that refer back to the slave: the
+        slave and its engine are then freed at once by reference counting, not when Python's cyclic
+        garbage collector next runs (a C host that makes an instance per run grew by ~1.75 MB per
+        instance, 60 MB at 140 elements)."""
+        self._engine = self._drive = self._applied = None
+        self._log_sink = None
+        for var in self.vars.values():
+            var.getter = var.setter = None
+        self.vars.clear()
+        self._param.clear()
+        self._set_plans.clear()
+        self._get_plans.clear()
+        return OK
+
     def last_successful_time(self):
         return self._start_time + (self._engine.time if self._engine is not None else 0.0)
 
@@ -870,18 +938,33 @@ class CableCasing(Fmi2Slave):
         (a step past stopTime by any length a master means) is refused."""
         return 1e-6 * step_size + 1e-12 * abs(t)
 
+    # The weighted size of an input (|u| / h**2, |v| / h, |a|: m/s2) past which a step whose solution
+    # is no longer finite is blamed on it: no physical support motion comes near, and the squares
+    # the engine forms of the forces and energies overflow double precision from ~1e154.
+    OVERFLOWING_INPUT = 1e100
+
     def _input_overflow(self, exc, current_time, step_size):
         """When the step's error ``exc`` is the engine's refusal of a non-finite support motion
         (``<channel> <displacement|velocity|acceleration> = nan``) of a channel that is an input,
-        while every input is finite: the message naming the inputs the host gave for that channel
-        (a huge value whose reconstruction over the step overflows), else None."""
-        if not isinstance(exc, cc.ModelError):
+        or a solution that is no longer finite (``SimulationError.non_finite``) while an input
+        weighs at least :data:`OVERFLOWING_INPUT` (every input being finite): the message naming
+        the inputs the host gave for that channel (a huge value whose reconstruction over the step,
+        or the forces from it, overflow), else None."""
+        channels, n = self.input_names[: self.nch], self.nch
+        if isinstance(exc, cc.SimulationError) and getattr(exc, "non_finite", False):
+            weight = [abs(float(x)) * step_size ** (j // n - 2) for j, x in enumerate(self.inputs_buffer)]
+            j = max(range(len(weight)), key=weight.__getitem__)
+            if not weight[j] >= self.OVERFLOWING_INPUT:  # (an unstable step, not an input)
+                return None
+            channel, what = channels[j % n], "the solution driven by the support motion reconstructed from it"
+        elif isinstance(exc, cc.ModelError):
+            channel, _, what = str(exc.key).rpartition(" ")
+            if what not in ("displacement", "velocity", "acceleration") or channel not in channels:
+                return None
+            what = "the support motion reconstructed from it"
+        else:
             return None
-        channel, _, what = str(exc.key).rpartition(" ")
-        channels = self.input_names[: self.nch]
-        if what not in ("displacement", "velocity", "acceleration") or channel not in channels:
-            return None
-        c, n = channels.index(channel), self.nch
+        c = channels.index(channel)
         given = [(self.input_names[c + k * n], float(self.inputs_buffer[c + k * n])) for k in range(3)]
         # the input that weighs most in the quintic's acceleration: u / h**2, v / h, a
         k = max(range(3), key=lambda k: abs(given[k][1]) * step_size ** (k - 2))
@@ -891,7 +974,7 @@ class CableCasing(Fmi2Slave):
         name, value = given[k]
         return (
             f"input {name} = {value!r} {input_spec(name)[0]} at t = {current_time:.9g} s (with {others}): finite, but "
-            f"the support motion reconstructed from it over the step of {step_size:.6g} s is not ({exc}); give "
+            f"{what} over the step of {step_size:.6g} s is not ({exc}); give "
             "inputs whose motion over a step fits in double precision; step discarded (state rolled back)"
         )
 
@@ -949,6 +1032,7 @@ class CableCasing(Fmi2Slave):
         except Exception as exc:  # noqa: BLE001
             self.log(f"the FMU state cannot be restored ({exc}); the instance is unchanged", Fmi2Status.error)
             return ERROR
+        kept = new[1] is not None and new[1] is self._engine
         (
             self._set,
             self._engine,
@@ -963,8 +1047,15 @@ class CableCasing(Fmi2Slave):
         self.inputs_buffer[:] = inputs
         self._recon.state[...] = support
         self._discarded, self._wants_to_end = None, False  # (another state: a discarded step may now be taken)
-        if self._engine is not None:
-            self._drive = self._drive_motion(self._engine)
+        if self._engine is None:
+            self._drive = None
+        else:
+            if not (kept and self._drive is not None):
+                # another configuration (or none before): its scenario's motion, computed ahead as
+                # at initialisation; the same engine keeps its motion, whose values depend on the
+                # time alone, with the random blocks already computed
+                self._drive = self._drive_motion(self._engine)
+                self._prepare_drive()
             self._engine.output_values(self.outputs_buffer)
         return OK
 

@@ -358,7 +358,14 @@ class Instance:
                 event.unregister("numba:compile", self._notice)
             except Exception:  # noqa: BLE001
                 pass
-        self._slave = None
+        # The slave, its engine and this instance go at once, by reference counting, not at the
+        # cyclic garbage collector's next run (a C host's instance per run held every engine until
+        # then): the slave drops its variables' closures (which refer back to it), and this instance
+        # its references to the slave (do_step is its bound method) and the compile notice's
+        # listener (whose log is this instance's bound method).
+        slave, self._slave, self.do_step, self._notice = self._slave, None, None, None
+        if slave is not None:
+            slave.fmi2_free_instance()
         return OK
 
     def last_successful_time(self):

@@ -8,8 +8,8 @@
  *    host's interpreter (its symbols are already in the process); in any other host it reads the
  *    interpreter recorded at build time (resources/python-environment.txt), or the one named by
  *    CABLECASING_PYTHON, loads its libpython with RTLD_GLOBAL and starts it with an isolated
- *    configuration (PYTHONHOME/PYTHONPATH of the host's environment are ignored), so a plain
- *    environment is enough. Every Python function is called through a pointer from dlsym, so no
+ *    configuration (PYTHONHOME/PYTHONPATH of the host's environment are ignored) in UTF-8 mode
+ *    (paths with non-ASCII characters work under the "C" locale), so a plain environment is enough. Every Python function is called through a pointer from dlsym, so no
  *    Python symbol is left for the dynamic loader to resolve.
  *  - It never finalises the interpreter. Py_Finalize with numpy/scipy/numba loaded crashes at
  *    exit (the C host's SIGSEGV of pythonfmu's worker thread); the process's own exit reclaims
@@ -68,7 +68,7 @@
     X(PyFloat_FromDouble) X(PyFloat_AsDouble) X(PyUnicode_FromString) X(PyUnicode_AsUTF8)             \
     X(PyBytes_FromStringAndSize) X(PyErr_Occurred) X(PyErr_Fetch) X(PyErr_NormalizeException)         \
     X(PyErr_Clear) X(Py_DecRef) X(Py_IncRef) X(PyBool_FromLong) X(PyBytes_Size) X(PyBytes_AsString)     \
-    X(PyObject_IsTrue) X(PyStatus_Exception)
+    X(PyObject_IsTrue) X(PyStatus_Exception) X(PyPreConfig_InitIsolatedConfig) X(Py_PreInitialize)
 
 #define PYAPI_MEMBER(name) __typeof__(&name) name;
 static struct { PYAPI(PYAPI_MEMBER) } P;
@@ -345,6 +345,19 @@ static int find_interpreter(const char *resources, char *exe, char *lib, char *h
 }
 
 static int start_python(const char *exe, char *err, size_t errsize) {
+    /* UTF-8 mode: the isolated pre-configuration leaves it off and the locale alone, so in a host
+       that never calls setlocale (the "C" locale: fmusim, fmuCheck) the filesystem encoding would
+       be ASCII, and a path with "ü" in it (the unpack folder, a model_file) could not be opened.
+       FMI's strings and URIs are UTF-8; everything else of the isolation stays. */
+    PyPreConfig preconfig;
+    P.PyPreConfig_InitIsolatedConfig(&preconfig);
+    preconfig.utf8_mode = 1;
+    PyStatus pre = P.Py_PreInitialize(&preconfig);
+    if (P.PyStatus_Exception(pre)) {
+        snprintf(err, errsize, "CPython at %s failed to pre-initialise: %s%s%s", exe, pre.func ? pre.func : "",
+                 pre.func ? ": " : "", pre.err_msg ? pre.err_msg : "unknown error");
+        return 0;
+    }
     PyConfig config;
     P.PyConfig_InitIsolatedConfig(&config);
     config.install_signal_handlers = 0;      /* SIGINT and friends stay the host's */
@@ -702,9 +715,34 @@ static fmi2Status refuse(Instance *inst, const char *what) {
 FMI2_Export fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nCategories,
                                            const fmi2String categories[]) {
     ENTER(c);
-    (void)nCategories;
-    (void)categories;
-    inst->logging_on = loggingOn ? 1 : 0;
+    /* The modelDescription's <LogCategories>. Warnings, discards and errors reach the host's logger
+     * whatever the setting (docs/fmu.md, "Messages you may see"), so of the listed categories only
+     * logAll (the informational messages) changes what is logged; with no category loggingOn
+     * applies to all of them (FMI 2.0, 2.1.5). An unknown category is an error, naming it, and
+     * changes nothing. */
+    static const char *known[] = {"logStatusWarning", "logStatusDiscard", "logStatusError", "logStatusFatal",
+                                  "logAll", NULL};
+    if (nCategories > 0 && !categories) {
+        LOGI(inst, fmi2Error, "fmi2SetDebugLogging: nCategories = %zu but categories = NULL; logging unchanged",
+             nCategories);
+        return fmi2Error;
+    }
+    int all = nCategories == 0;
+    for (size_t i = 0; i < nCategories; i++) {
+        const char *name = categories[i];
+        int found = 0;
+        for (int k = 0; known[k] && !found; k++) found = name && strcmp(name, known[k]) == 0;
+        if (!found) {
+            LOGI(inst, fmi2Error,
+                 "fmi2SetDebugLogging: category %s%.200s%s is not one of this FMU's (logStatusWarning, "
+                 "logStatusDiscard, logStatusError, logStatusFatal, logAll: the modelDescription's "
+                 "LogCategories); logging unchanged",
+                 name ? "'" : "", name ? name : "NULL", name ? "'" : "");
+            return fmi2Error;
+        }
+        all = all || strcmp(name, "logAll") == 0;
+    }
+    if (all) inst->logging_on = loggingOn ? 1 : 0;
     return fmi2OK;
 }
 
