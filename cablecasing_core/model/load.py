@@ -10,7 +10,9 @@ key, the value and what is allowed; nothing is half-built.
 
 from __future__ import annotations
 
+import os
 import re
+import stat
 from importlib import resources
 from pathlib import Path
 
@@ -87,8 +89,12 @@ def check_excitation_files(model: Model) -> None:
 def toml_file(path: str | Path, key: str, limit: int, other: str = "") -> dict:
     """The TOML document in ``path``, read as UTF-8 (at most ``limit`` bytes); a :class:`ModelError`
     names ``key`` (the option or field that gave the path) and the file, and says what is wrong
-    without quoting the file's content."""
+    without quoting the file's content. Only a regular file is read: a FIFO would block the read
+    until something writes into it (an FMU's initialisation hung on one), a device is no file."""
     try:
+        if not stat.S_ISREG(os.stat(path).st_mode):
+            what = "must be a TOML file, a regular file (not a pipe, a device or a folder)"
+            raise ModelError(key, str(path), what + other)
         with open(path, "rb") as fh:
             data = fh.read(limit + 1)
     except OSError as exc:

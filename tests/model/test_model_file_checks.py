@@ -233,3 +233,29 @@ def test_whole_numbers_are_compared_as_whole_numbers():
     assert small("k", 2**60 + 1) == 2**60 + 1
     with pytest.raises(ModelError):
         small("k", 2**60)
+
+
+def test_a_model_file_that_is_no_regular_file_is_refused_without_reading_it(tmp_path):
+    """A FIFO as model_file hung the reading (an FMU's initialisation with it): it is refused, as a
+    folder and a device are, naming the path. (Should the check go, a writer thread opens and closes
+    the FIFO after 2 s, so that the read ends and the test fails instead of hanging.)"""
+    import os
+    import threading
+
+    fifo = tmp_path / "model.toml"
+    os.mkfifo(fifo)
+
+    def unblock():
+        try:
+            os.close(os.open(fifo, os.O_WRONLY | os.O_NONBLOCK))  # (ENXIO when nobody reads: fine)
+        except OSError:
+            pass
+
+    timer = threading.Timer(2.0, unblock)
+    timer.start()
+    try:
+        for path in (fifo, tmp_path, "/dev/null"):
+            with pytest.raises(ModelError, match="must be a TOML file, a regular file"):
+                load_model(path)
+    finally:
+        timer.cancel()
