@@ -492,7 +492,10 @@ def test_a_device_as_the_model_file_is_one_line_not_a_hang(capsys):
     code, _, err = run(capsys, ["modes", "/dev/zero"])
     assert (code, err) == (
         2,
-        ["cablecasing: error: MODEL = '/dev/zero': is larger than 1048576 bytes: not a TOML file of this program"],
+        [
+            "cablecasing: error: MODEL = '/dev/zero': must be a TOML file, a regular file (not a pipe, a device or a "
+            "folder) or a built-in specimen: default, installed"
+        ],
     )
 
 
