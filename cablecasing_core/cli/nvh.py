@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import os
-import re
 
 import numpy as np
 
@@ -246,11 +245,10 @@ def _beyond_table3_note(col, top_hz):
     columns (a measurement's) or bands within it. Above it Newmark's period error grows as
     (ω Δt)² / 12 (1.1 % at 5.68 kHz, 13 % at 20 kHz at Δt = 1e-5 s) and the 35 elements' mesh
     resolves fewer bending waves (about one element per wavelength of the casing at 20 kHz)."""
-    from ..model.schema import FORCE_NAMES, OUTPUTS
+    from ..model.schema import is_output
     from ..studies.octave import TABLE3_UPPER
 
-    clip = re.fullmatch(r"casing\.clip\d+\.(\w+)", col)
-    if top_hz <= TABLE3_UPPER[-1] or not (col in OUTPUTS or (clip and clip.group(1) in FORCE_NAMES)):
+    if top_hz <= TABLE3_UPPER[-1] or not is_output(col):
         return None
     dt = 1e-5  # (the specimens' step: the record does not say the run's)
     err = ((2 * np.pi * top_hz * dt) ** 2 / 12, (2 * np.pi * TABLE3_UPPER[-1] * dt) ** 2 / 12)

@@ -70,7 +70,7 @@ def cmd_simulate(args):
             rec = res.save(args.out, output_interval=args.output_interval, decimation=args.decimation)
         every = ", t = 0 and every step"
         if args.output_interval:
-            how = _decimated(args.out, rec, args.output_interval, res.dt)
+            how = _decimated(rec, args.output_interval, res.dt)
             every = f", t = 0, {args.output_interval:g}, ... s ({how})"
         if res.whole_steps < len(res.time):
             every += (
@@ -87,7 +87,7 @@ def cmd_simulate(args):
     return 0
 
 
-def _decimated(path, rec, interval, dt):
+def _decimated(rec, interval, dt):
     """How the record ``rec`` written every ``interval`` s of a run of step ``dt`` (s) was decimated:
     picked, or low-pass filtered with its passband in Hz (the one ``rec`` states,
     ``SimulationResult.records``: stated in a .csv, .npz or .uff file)."""
@@ -96,8 +96,10 @@ def _decimated(path, rec, interval, dt):
     if "passband_hz" not in rec.extra:
         return f"picked: content above the Nyquist frequency {1 / (2 * interval):.4g} Hz aliases"
     passband = float(rec.extra["passband_hz"])
-    kept = "which the file states"
-    return f"low-pass filtered against aliasing, flat within 0.01 dB up to its passband {passband:.4g} Hz, {kept}"
+    return (
+        f"low-pass filtered against aliasing, flat within 0.01 dB up to its passband {passband:.4g} Hz, which the "
+        "file states"
+    )
 
 
 def _check_interval(interval, dt, duration):

@@ -851,6 +851,16 @@ def output_spec(name: str) -> tuple:
     return unit, f"{kind} the {body} exerts on its support {support}, component along global {comp[1].lower()}"
 
 
+def is_output(name) -> bool:
+    """Whether ``name`` is a time-domain output of some model: one of :data:`OUTPUTS` or a clip's
+    ``casing.clip<i>.Fx`` .. ``Mz`` (what :func:`output_spec` describes)."""
+    try:
+        output_spec(name)
+    except ModelError:
+        return False
+    return True
+
+
 def input_name(channel: str, quantity: str) -> str:
     """The input of a support channel: ``("casing.A.z", "acceleration")`` -> ``"casing.A.az"``."""
     prefix = next(k for k, q, _ in INPUT_KINDS if q == quantity)

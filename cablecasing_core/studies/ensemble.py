@@ -239,7 +239,7 @@ def _warnings_by_seed(shown, given, seeds):
 
 def _settings_line(shown, text):
     """The settings of an ensemble CSV's second line, checked (a :class:`ModelError` otherwise)."""
-    from ..model.schema import output_spec
+    from ..model.schema import is_output
 
     def bad(what):
         return ModelError("path", shown, f"must be an unaltered ensemble CSV: its '# cablecasing-ensemble' line {what}")
@@ -261,10 +261,8 @@ def _settings_line(shown, text):
         if not isinstance(meta.get(key, {}), dict):
             raise bad(f"has a {key} that is not a table")
         meta.setdefault(key, {})
-    try:  # (OUTPUTS, or a clip's casing.clip<i>.Fx .. Mz)
-        output_spec(meta["output"])
-    except ModelError:
-        raise bad("names an output that is not one of the model's outputs") from None
+    if not is_output(meta["output"]):  # (OUTPUTS, or a clip's casing.clip<i>.Fx .. Mz)
+        raise bad("names an output that is not one of the model's outputs")
     nb = len(meta["labels"])
     if not nb or not all(isinstance(b, str) and b for b in meta["labels"]):
         raise bad("has no band labels")

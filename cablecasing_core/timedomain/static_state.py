@@ -201,7 +201,8 @@ def solve_static(model: Model, systems: dict, contact: bool) -> StaticState:
     check_kept_prestress(
         systems, U, exclude=("cable",) if T > 0.0 else (), gravity=model.loads["gravity"], contact=touching
     )
-    check_small_displacements(systems, U)
+    moved = {n: largest_displacement(systems[n], U[n]) for n in names}
+    check_small_displacements(systems, moved)
     if pulled:
         loads["cable"] += sigma * systems["cable"].f_axial
     else:
@@ -257,7 +258,7 @@ def solve_static(model: Model, systems: dict, contact: bool) -> StaticState:
         weight={n: _weight(systems[n], model) for n in names},
         clip_reactions=clips,
         balance=balance,
-        largest_displacement={n: largest_displacement(systems[n], U[n]) for n in names},
+        largest_displacement=moved,
     )
 
 
@@ -287,13 +288,13 @@ def largest_displacement(system, U):
     return float(d[i]), float(system.centerline.s[i])
 
 
-def check_small_displacements(systems, U):
-    """Warn (ModelWarning) when a body moves, in the static state ``U`` ({body: displacements}, m),
-    by more than :data:`SMALL_DISPLACEMENT` of its length: a linear model (Eqs. 1-9, small
-    displacements and rotations) then answers for a shape far from its own (a cantilever casing
-    under its weight, isolators so soft that the body sags on them)."""
+def check_small_displacements(systems, moved):
+    """Warn (ModelWarning) when a body moves, in the static state (``moved``: {body: its
+    :func:`largest_displacement`, (m, m)}), by more than :data:`SMALL_DISPLACEMENT` of its length:
+    a linear model (Eqs. 1-9, small displacements and rotations) then answers for a shape far from
+    its own (a cantilever casing under its weight, isolators so soft that the body sags on them)."""
     for name, s in systems.items():
-        d, at = largest_displacement(s, U[name])
+        d, at = moved[name]
         length = s.centerline.length
         if d > SMALL_DISPLACEMENT * length:
             warnings.warn(
