@@ -291,44 +291,6 @@ def psd_figure(variants, path, skip):
     plot_psd(ps, path, f_range=(5.0, 3000.0), title=f"PSD of {OUTPUT}, reference records after {skip:g} s")
 
 
-def window_expectation(H_of, fs, nperseg, f_low, f_high, input_psd=None, oversample=16, half_width=8):
-    """What a Welch H1 estimate (Hann's window, segments of ``nperseg`` samples at ``fs`` Hz) of a
-    noise-free linear system of frequency response ``H_of(f)`` (f in Hz, > 0) tends to with many
-    averages, where the lines are coarser than its resonances: the densities averaged over the
-    window's spectral window |W(f' - f)|^2 (Bendat & Piersol, *Random Data*, 11.4: E[G_xy(f)] =
-    integral |W(f' - f)|^2 H(f') G_xx(f') df', and E[G_xx], E[G_yy] with 1 and |H|^2), under the input
-    spectrum ``input_psd(f)`` (flat if None). Returns ``(f, E_H1, coherence)`` on a grid of df /
-    ``oversample`` (df = fs / nperseg; every line k df lies on it) over [f_low, f_high] Hz:
-    ``E_H1 = E[G_xy] / E[G_xx]`` (the TRFAM averaged over the window, H1's expectation; docs/nvh.md,
-    "Against the TRFAM") and the coherence of those expectations, |E[G_xy]|^2 / (E[G_xx] E[G_yy]) (<=
-    1 by Cauchy-Schwarz): what the window's smoothing alone leaves of a coherence of 1, with no noise
-    and no random error. A finite number of averages n_d reads a coherence higher by about (1 -
-    gamma^2)^2 / n_d (Bendat & Piersol's bias of the coherence estimate). The window's |W|^2 is taken
-    over +-``half_width`` lines (beyond 8 lines it is below 3e-7 of its peak); components below 0 Hz
-    (their images) are left out."""
-    from scipy.signal import get_window
-
-    df = fs / nperseg
-    step = df / oversample
-    j0 = max(1, int(np.floor((f_low - half_width * df) / step)))
-    j1 = int(np.ceil((f_high + half_width * df) / step))
-    g = np.arange(j0, j1 + 1) * step
-    G = np.ones_like(g) if input_psd is None else np.asarray(input_psd(g), dtype=float)
-    H = np.zeros(g.size, dtype=complex)
-    H[G > 0] = H_of(g[G > 0])
-    w2 = np.abs(np.fft.fft(get_window("hann", nperseg), oversample * nperseg)) ** 2
-    m = half_width * oversample
-    kernel = np.concatenate([w2[-m:], w2[: m + 1]])  # (offsets -m..m steps: symmetric, as np.convolve wants it)
-
-    def smooth(a):
-        return np.convolve(a, kernel, mode="same")
-
-    gxy, gxx, gyy = smooth(H * G), smooth(G), smooth(np.abs(H) ** 2 * G)
-    keep = (g >= f_low - 1e-9 * step) & (g <= f_high + 1e-9 * step) & (gxx > 0)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return g[keep], (gxy / gxx)[keep], (np.abs(gxy) ** 2 / (gxx * gyy))[keep]
-
-
 def input_spectrum(model, target):
     """The PSD ((m/s2)^2/Hz) of the model's random excitations of the support channel ``target``
     (``casing.A.z``): flat over each one's band, rms^2 / bandwidth; None when it has none."""
@@ -359,17 +321,18 @@ AM_RESOLUTION_HZ = 8.0
 def apparent_mass_figure(model, var, path, skip):
     """H1 apparent mass of the reference record ``var`` from the driven support's acceleration to
     casing.B.Fz, with coherence, against what it estimates: the TRFAM (viscous) averaged over the
-    estimator's window (:func:`window_expectation`, under the scenario's input spectrum), and the
-    TRFAM as computed for reference; in the coherence panel the coherence that window leaves of
-    the noise-free TRFAM. Returns a summary dict (resolution, averages, the median coherence
-    measured and expected from the window alone over 10-100 and 10-1000 Hz, the same at 4 times
-    coarser lines, the casing's modes narrower than the lines), or None when the record has no such
-    input."""
+    estimator's window (:func:`~cablecasing_core.nvh.transfer.window_expectation`, under the
+    scenario's input spectrum), and the TRFAM as computed for reference; in the coherence panel
+    the coherence that window leaves of the noise-free TRFAM. Returns a summary dict (resolution,
+    averages, the median coherence measured and expected from the window alone over 10-100 and
+    10-1000 Hz, the same at 4 times coarser lines, the casing's modes narrower than the lines), or
+    None when the record has no such input."""
     import cablecasing_core as cc
 
     from ..frequency.trfam import half_power_bandwidths
     from ..nvh import apparent_mass
     from ..nvh.plots import plot_transfer
+    from ..nvh.transfer import window_expectation
     from ..records import read_records
 
     rec = read_records(var.record)

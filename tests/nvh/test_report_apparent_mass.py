@@ -11,7 +11,8 @@ from scipy.signal import freqz, lfilter
 import cablecasing_core as cc
 from cablecasing_core.identification.frf import frf_estimate
 from cablecasing_core.nvh import apparent_mass, psd
-from cablecasing_core.report.figures import input_spectrum, window_expectation
+from cablecasing_core.nvh.transfer import window_expectation
+from cablecasing_core.report.figures import input_spectrum
 
 
 def resonator(fs, fn, bandwidth):
