@@ -105,11 +105,13 @@ def describe(a, x0, L):
         return f"a translation along {_vec(d)}"
     axis = w / np.linalg.norm(w)
     p = x0 + np.cross(w, t) / (w @ w)  # (the point of the screw axis nearest to x0)
-    return f"a rotation about {_vec(axis)} through {_vec(p)} m"
+    return f"a rotation about {_vec(axis)} through {_vec(p, L)} m"
 
 
-def _vec(v):
-    v = np.where(np.abs(v) < 5e-4 * np.abs(v).max(), 0.0, v)  # (no -0.0 and 1e-17)
+def _vec(v, scale=0.0):
+    """``v`` to three digits, its components below 5e-4 of ``scale`` or of its largest written 0
+    (a point at the origin is [0, 0, 0], not rounding's [-1.11e-16, ...])."""
+    v = np.where(np.abs(v) < 5e-4 * max(np.abs(v).max(), scale), 0.0, v)  # (no -0.0 and 1e-17)
     return "[" + ", ".join(f"{x:.3g}" for x in v + 0.0) + "]"
 
 
@@ -237,12 +239,20 @@ def check_supported(model) -> None:
         Z, free, u, F, x0, L = _analysis(cl, mounts, clamped, mass, g)
         held = _supports(name, spec.supports, mounts)
         key, value, what = causes[0]
+        # (a cable lying in its casing looks carried to its author: say why the contact does not count)
+        besides = (
+            "; the contact with the casing is not counted (one-sided and frictionless at rest, it holds no axial "
+            "load and no rotation about the centerline)"
+            if name == "cable" and len(model.bodies) == 2 and model.contact["enabled"]
+            else ""
+        )
         if free is not None:
             raise ModelError(
                 key,
                 value,
                 f"cannot be carried by the {name}: its supports ({held}) leave it free in {free} (a mechanism: the "
-                "mounts have no stiffness there), and a loaded body must be held against every rigid motion; clamp "
+                "mounts have no stiffness there), and a loaded body must be held against every rigid motion"
+                f"{besides}; clamp "
                 "a support or give the isolators or clips stiffness in that direction",
             )
         if u > L:
@@ -250,5 +260,5 @@ def check_supported(model) -> None:
                 key,
                 value,
                 f"cannot be carried by the {name}: its mounts ({held}) are so soft that {what} would move it rigidly "
-                f"by {u:.3g} m, more than its length {L:.4g} m; stiffen the isolators or clips",
+                f"by {u:.3g} m, more than its length {L:.4g} m{besides}; stiffen the isolators or clips",
             )

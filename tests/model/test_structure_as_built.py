@@ -194,6 +194,33 @@ def test_zero_stiffness_isolators_under_gravity_are_refused_alike_on_every_mesh(
     )
 
 
+def test_a_cable_lying_in_its_casing_is_not_carried_by_the_contact_and_the_message_says_so():
+    """A cable on one soft isolator, its other end free, under its weight: the casing under it does
+    not hold it axially nor about its centerline (one-sided, frictionless at rest), so the model is
+    refused as any other mechanism, and the message says why the contact was not counted (a
+    reviewer read "the mounts" as blaming the isolator alone). The mechanism's point is the origin
+    (the isolator's node), written [0, 0, 0], not rounding's 1e-16."""
+    raw = _installation(
+        **{
+            "cable.supports": {"A": "isolator", "B": "free"},
+            "cable.isolator.A.stiffness": [1e3, 1.0, 1.0],
+            "loads.gravity": [0.0, 0.0, -9.81],
+        }
+    )
+    with pytest.raises(cc.ModelError) as err:
+        cc.model_from_dict(raw)
+    text = str(err.value)
+    assert "cannot be carried by the cable: its supports (A isolator, B free, no clip) leave it free in a rotation" in (
+        text
+    )
+    assert "through [0, 0, 0] m" in text
+    assert "; the contact with the casing is not counted (one-sided and frictionless at rest" in text
+    raw["contact"] = {**raw.get("contact", {}), "enabled": False}
+    with pytest.raises(cc.ModelError) as err:
+        cc.model_from_dict(raw)
+    assert "contact with the casing" not in str(err.value)  # (no contact, nothing to explain)
+
+
 @pytest.mark.parametrize("n", [40, 200])
 def test_mounts_that_hold_nothing_name_the_translation_the_weight_drives_on_every_mesh(n):
     """Isolators of no translational stiffness, and of a torsional one alone (a mount of no stiffness
