@@ -50,12 +50,13 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
 
 import numpy as np
 
-from .errors import ModelError
+from .errors import ModelError, plain
 from .files import atomic_path, check_values, csv_statements, read_csv_table, time_column
 from .model.schema import INPUTS, OUTPUTS, channels_of, input_spec, inputs_of, output_spec
 
@@ -137,13 +138,47 @@ def after_skip(time: np.ndarray, skip: float, start: float = 0.0) -> np.ndarray:
 class Records:
     """A time record: ``time`` (s, n), ``columns`` {name: (n,) array}, ``units`` {name: unit},
     ``source`` (file or run), ``extra`` (further arrays of an NPZ file; ``passband_hz``, of an NPZ
-    file, a CSV file's comment line or a UFF file's ID line, see :attr:`passband_hz`)."""
+    file, a CSV file's comment line or a UFF file's ID line, see :attr:`passband_hz`).
+
+    Checked when made: ``time`` a 1-D array (or list) of finite real numbers (s), ``columns`` a
+    mapping of names to 1-D arrays (or lists) of as many samples as ``time``; a
+    :class:`ModelError` names ``time``, or the column and both lengths, otherwise. The columns are
+    kept as numpy arrays in a new dict (the caller's is not changed); their values are not checked
+    (a column may hold NaN where a measurement has gaps: :func:`~.nvh.transfer.apparent_mass` and
+    the band levels refuse it naming the column, :func:`read_records` refuses it in a file)."""
 
     time: np.ndarray
     columns: dict
     units: dict = field(default_factory=dict)
     source: str = ""
     extra: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        time = np.asarray(self.time)
+        if time.dtype.kind not in "iuf" or time.ndim != 1:
+            raise ModelError(
+                "time",
+                self.time,
+                f"must be a 1-D array of real numbers (s), one per sample; got {time.ndim}-D of dtype {time.dtype}",
+            )
+        time = time.astype(float, copy=False)
+        if not np.all(np.isfinite(time)):
+            k = int(np.argmax(~np.isfinite(time)))
+            raise ModelError("time", plain(f"{float(time[k])} at sample {k}"), "must hold finite numbers (s) only")
+        if not isinstance(self.columns, Mapping):
+            raise ModelError("columns", self.columns, "must be a dict of column names and 1-D arrays of samples")
+        columns = {}
+        for name, values in self.columns.items():
+            a = np.asarray(values)
+            if a.ndim != 1 or a.size != time.size:
+                shape = f"{a.size} samples" if a.ndim == 1 else f"an array of shape {a.shape}"
+                raise ModelError(
+                    f"columns[{name!r}]",
+                    plain(shape),
+                    f"must be a 1-D array as long as the time: {time.size} samples (one value per time)",
+                )
+            columns[name] = a
+        self.time, self.columns = time, columns
 
     @property
     def names(self) -> tuple:
@@ -238,7 +273,7 @@ def write_records(path: str | os.PathLike, rec: Records) -> str:
     table = np.column_stack([rec.time] + [np.asarray(rec.columns[n], float) for n in names])
     units = [rec.units.get(n, "") for n in names]
     if suffix == ".csv":
-        header = ",".join(["time [s]"] + [f"{n} [{u}]" if u else n for n, u in zip(names, units)])
+        header = _csv_header(["time [s]"] + [_csv_field(n, u) for n, u in zip(names, units)])
         if "passband_hz" in rec.extra:  # (comment lines after the header: _read_csv reads them back)
             header += "\n" + passband_line(float(np.asarray(rec.extra["passband_hz"])))
         if rec.lines_hz:
@@ -344,15 +379,26 @@ def read_records(path: str | os.PathLike) -> Records:
         raise ModelError("file", path, "must end in .csv, .npz or .uff (the record's format goes by its suffix)")
     else:
         rec = _read_csv(path)
-    for name, values in [("time", rec.time), *rec.columns.items()]:
+    return rec
+
+
+def _file_record(path, time, columns, units, extra=None) -> Records:
+    """The :class:`Records` of a file's time and columns, checked first as a file's (a
+    :class:`ModelError` naming the file, the column and what is wrong): real, finite numbers, every
+    column as long as the time."""
+    for name, values in [("time", time), *columns.items()]:
         if np.iscomplexobj(values):
             raise ModelError("file", path, f"column {name} holds complex numbers: a time record must be real")
-    check_values("file", path, rec.time)
-    for j, values in enumerate(rec.columns.values()):
-        if values.shape != rec.time.shape:
-            raise ModelError("file", path, f"column {j + 2} has {values.size} samples, the time axis {rec.time.size}")
-        check_values("file", path, np.column_stack([rec.time, values]))
-    return rec
+    check_values("file", path, time)
+    if np.ndim(time) != 1:
+        raise ModelError("file", path, f"its time must be one column of samples, not of shape {np.shape(time)}")
+    for j, values in enumerate(columns.values()):
+        if np.shape(values) != np.shape(time):
+            raise ModelError(
+                "file", path, f"column {j + 2} has {np.size(values)} samples, the time axis {np.size(time)}"
+            )
+        check_values("file", path, np.column_stack([time, values]))
+    return Records(time, columns, units, path, {} if extra is None else extra)
 
 
 def _read_csv(path):
@@ -361,12 +407,7 @@ def _read_csv(path):
     to_s = time_column("file", path, header[0])  # (time [ms], time_ms: converted to s)
     time = data[:, 0] if to_s == 1.0 else data[:, 0] * to_s
     for h in header[1:]:
-        h = h.strip()
-        name, _, unit = h.partition(" [")
-        name, unit = name.strip(), unit.rstrip("]")
-        for known in OUTPUTS + INPUTS:  # the '<name>_<unit>' form of earlier versions
-            if h in (f"{known}_{unit_of(known)}", f"{known}_{unit_of(known).replace('.', '')}"):
-                name = known
+        name, unit = _csv_name(h)
         names.append(name)
         units[name] = unit or unit_of(name)
     _unique(path, [header[0], *names])  # (with the earlier '<name>_<unit>' forms mapped to their names)
@@ -377,7 +418,58 @@ def _read_csv(path):
         extra["lines_hz"] = np.array(lines)
     if ramp is not None:
         extra["ramp_s"] = np.array(ramp)
-    return Records(time, cols, units, path, extra)
+    return _file_record(path, time, cols, units, extra)
+
+
+def _csv_name(h: str) -> tuple:
+    """``(name, unit)`` of a CSV header's field (as the csv module gives it, quotes removed):
+    ``name [unit]``, or ``<name>_<unit>`` of an output or input (earlier versions), or a bare name
+    (unit "")."""
+    h = h.strip()
+    name, _, unit = h.partition(" [")
+    name, unit = name.strip(), unit.rstrip("]")
+    for known in OUTPUTS + INPUTS:  # the '<name>_<unit>' form of earlier versions
+        if h in (f"{known}_{unit_of(known)}", f"{known}_{unit_of(known).replace('.', '')}"):
+            name = known
+    return name, unit
+
+
+def _csv_field(name: str, unit: str) -> str:
+    """A column's field of a CSV header, ``name [unit]`` (or ``name`` without a unit), checked to be
+    read back as that name and unit (:func:`_csv_name`): a name or unit with a line break (the reader
+    takes a line for a row), a name with `` [`` (the reader's start of the unit), with spaces around
+    it (the reader strips them), or in the earlier ``<name>_<unit>`` form of another column raises
+    :class:`ModelError` naming the column. A comma or a double quote is fine: the header quotes
+    such a field (:func:`_csv_header`)."""
+    field_ = f"{name} [{unit}]" if unit else str(name)
+    back = _csv_name(field_)
+    why = None
+    if any(c in field_ for c in "\n\r"):
+        why = "a line break, which a CSV header cannot hold (its reader takes it for a row)"
+    elif back[0] != name or (unit and back[1] != unit):
+        why = (
+            "what a CSV header cannot give back: it would be read as "
+            + (f"'{back[0]}' [{back[1]}]" if back[1] else f"'{back[0]}'")
+            + " (a name has no ' [', which starts its unit, no spaces around it, and is not an output's or input's "
+            "earlier form <name>_<unit>)"
+        )
+    if why:
+        raise ModelError(
+            "column", name, f"holds {why}; rename the column, or write the record as .npz or .uff, which keep any name"
+        )
+    return field_
+
+
+def _csv_header(fields) -> str:
+    """The header line of ``fields``, separated by commas; a field with a comma or a double quote in
+    double quotes (its quotes doubled), as the csv module writes it and :func:`read_records` reads it
+    (``files.read_csv_table``)."""
+    import csv
+    import io
+
+    out = io.StringIO()
+    csv.writer(out, lineterminator="").writerow(fields)
+    return out.getvalue()
 
 
 def _csv_stated(path):
@@ -477,12 +569,12 @@ def _read_npz(path):
             )
         _unique(path, names)
         _check_npz_stated(path, arrays)
-        return Records(time, {n: table[:, i] for i, n in enumerate(names)}, dict(zip(names, units)), path, arrays)
+        return _file_record(path, time, {n: table[:, i] for i, n in enumerate(names)}, dict(zip(names, units)), arrays)
     if "time" in arrays:  # any npz of 1-D arrays beside a time axis
         time = arrays.pop("time")
         cols = {k: v.astype(float) if v.dtype.kind in "iub" else v for k, v in arrays.items() if v.shape == time.shape}
         if cols:
-            return Records(time, cols, {k: unit_of(k) for k in cols}, path)
+            return _file_record(path, time, cols, {k: unit_of(k) for k in cols})
     raise ModelError("file", path, "must hold the arrays time, table, names (as 'cablecasing simulate --out' writes)")
 
 
@@ -530,7 +622,7 @@ def _read_uff(path):
                 f"{name}={example}', as 'cablecasing simulate --out' writes it)",
             )
         extra[name] = np.array(values if name == "lines_hz" else values[0])
-    return Records(t, cols, units, path, extra)
+    return _file_record(path, t, cols, units, extra)
 
 
 def driven_inputs(model) -> tuple:
