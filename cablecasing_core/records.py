@@ -239,10 +239,10 @@ class Records:
         length = float(self.time[-1] - self.time[0])
         return skip_for_whole_periods(self.lines_hz, length, 1.0 / self.fs, least_skip(self.ramp_s))
 
-    def resolve(self, name: str, key: str = "--column") -> str:
+    def resolve(self, name: str, key: str = "name") -> str:
         """The column called ``name``, its header form ``name [unit]`` or ``name_unit``; a
-        :class:`ModelError` naming ``key`` (the option that gave the name: ``--column``, ``--input``)
-        lists the columns when there is none."""
+        :class:`ModelError` naming ``key`` (the argument that gave the name: ``name`` by default; the
+        command line passes its option, ``--column``, ``--input``) lists the columns when there is none."""
         if name in self.columns:
             return name
         bare = name.split(" [")[0]
@@ -252,11 +252,12 @@ class Records:
                 return col
         raise ModelError(key, name, f"must be a column of {self.source or 'the record'}: " + ", ".join(self.columns))
 
-    def column(self, name: str, key: str = "--column") -> np.ndarray:
+    def column(self, name: str, key: str = "name") -> np.ndarray:
         """The values of a column (see :meth:`resolve`), in its unit."""
         return self.columns[self.resolve(name, key)]
 
-    def unit(self, name: str, key: str = "--column") -> str:
+    def unit(self, name: str, key: str = "name") -> str:
+        """The unit of a column (see :meth:`resolve`), "" where none is known."""
         return self.units.get(self.resolve(name, key), "")
 
 

@@ -145,7 +145,7 @@ def cmd_spectrum(args):
     keep = _window(rec, args)
     fs, n = rec.fs, int(keep.sum())
     if fs / 2 <= args.fmin:
-        raise _no_line(args.record, rec.resolve(columns[0]), fs, n, args.fmin, args.fmax)
+        raise _no_line(args.record, rec.resolve(columns[0], "--column"), fs, n, args.fmin, args.fmax)
     if rec.passband_hz <= args.fmin:
         raise ModelError(
             "--fmin", args.fmin, f"must lie below the record's passband: {_passband_note(rec, args.record)}"
@@ -171,7 +171,8 @@ def cmd_spectrum(args):
             raise _no_line(args.record, res[0].name, fs, n, args.fmin, args.fmax, res[0].df)
         for w in said:
             warnings.warn(w.message, w.category, stacklevel=1)
-        refs = [reference(r.unit, args.ref) if r.unit or args.ref else 1.0 for r in res]  # (each its unit's)
+        with renamed({"ref": "--ref"}):
+            refs = [reference(r.unit, args.ref) if r.unit or args.ref else 1.0 for r in res]  # (each its unit's)
         names = [f"{r.name} PSD [{squared(r.unit)}/Hz]" for r in res]
         names += [f"{r.name} level [{level_unit(ref, r.unit, power=True)}]" for r, ref in zip(res, refs)]
         table = np.column_stack([res[0].f_hz] + [r.density for r in res] + [r.level_db(f) for r, f in zip(res, refs)])
@@ -326,7 +327,20 @@ def _nperseg(rec, args, n, averages=1):
     return seg
 
 
+def _fmin_option(text):
+    """``text`` of ``octave_rms`` (an error or a warning) with its advice to leave out the lowest bands
+    by ``octave_bands``' f_min (``studies.octave.FMIN_ADVICE``) said as this command's ``--fmin``."""
+    import re
+
+    from ..studies.octave import FMIN_ADVICE
+
+    pattern = re.escape(FMIN_ADVICE).replace(re.escape("{f_min:g}"), r"([^)\s]+)")
+    return re.sub(pattern, r"--fmin \1", text)
+
+
 def cmd_bands(args):
+    import warnings
+
     from ..errors import ModelError, renamed
     from ..files import atomic_path
     from ..nvh import reference
@@ -345,9 +359,10 @@ def cmd_bands(args):
         band_set = octave_bands(args.kind, args.fmin, args.fmax)
     rec = _record(args.record)
     keep = _window(rec, args)
-    col = rec.resolve(columns[0])
+    col = rec.resolve(columns[0], "--column")
     unit = rec.unit(col)
-    ref = reference(unit, args.ref) if unit or args.ref else 1.0
+    with renamed({"ref": "--ref"}):  # (BandRMS.level_db's rule: the unit's reference, 1 where none is known)
+        ref = reference(unit, args.ref) if unit or args.ref else 1.0
     x = _signal(rec, args.record, col, keep)
     if band_set.upper[0] > rec.fs / 2:
         raise ModelError(
@@ -372,9 +387,23 @@ def cmd_bands(args):
         if not within.all():  # (octave_rms leaves them out: passband, beyond_nyquist="drop")
             print(f"# {_passband_note(rec, args.record)}: the bands above it are left out")
     name = f"{col} in {args.record} (the record after {args.skip_words}, {args.skip:g} s)"
-    bands = octave_rms(
-        x, rec.fs, band_set, beyond_nyquist="drop", name=name, passband=passband, **window_options(args.window)
-    )
+    with warnings.catch_warnings(record=True) as said:  # (its advice said as this command's option, below)
+        warnings.simplefilter("always")
+        try:
+            bands = octave_rms(
+                x,
+                rec.fs,
+                band_set,
+                beyond_nyquist="drop",
+                name=name,
+                passband=passband,
+                unit=unit,
+                **window_options(args.window),
+            )
+        except ModelError as exc:
+            raise ModelError(exc.key, exc.value, _fmin_option(exc.allowed)) from None
+    for w in said:
+        warnings.warn(_fmin_option(str(w.message)), w.category, stacklevel=1)
     level = bands.level_db(ref)
     total = float(np.sqrt(np.sum(bands.mean_square)))
     print(

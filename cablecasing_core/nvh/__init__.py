@@ -7,7 +7,8 @@ apparent mass and force transmissibility estimated from the support signals with
 >>> p = psd(rec.column("casing.B.Fz"), rec.fs, unit="N")          # N^2/Hz
 >>> p.level_db()                                      # dB re 1 N^2/Hz
 >>> M = apparent_mass(rec, "casing.A.az", "casing.B.Fz")         # kg, H1 with coherence
->>> bands = octave_rms(rec.column("casing.B.Fz"), rec.fs, "third"); bands.level_db(1.0)   # dB re 1 N
+>>> bands = octave_rms(rec.column("casing.B.Fz"), rec.fs, "third", unit="N")   # band RMS, N
+>>> bands.level_db()                                  # dB re 1 N (the unit's reference, as the PSD's)
 
 Modules: ``spectra`` (PSD, levels, references), ``transfer`` (apparent mass, transmissibility),
 ``plots``; band RMS is :func:`cablecasing_core.studies.octave.octave_rms` (Table 3, IEC 61260-1

@@ -31,7 +31,7 @@ from scipy import signal
 
 from ..errors import ModelError, ModelWarning
 from ..identification.frf import welch_averages
-from ..model.validators import array_1d, number
+from ..model.validators import array_1d, integer, number
 
 #: The fewest Welch averages the default resolution keeps, and below which psd() warns: the
 #: normalized random error of a PSD line is about 1/sqrt(averages) (Bendat & Piersol 11.5), 38 % at 7.
@@ -48,11 +48,12 @@ REFERENCES = {"N": 1.0, "N.m": 1.0, "m/s2": 1e-6, "m/s": 1e-9, "m": 1e-12, "1": 
 
 def reference(unit: str, ref: float | None = None) -> float:
     """The reference value of levels of a quantity in ``unit`` (:data:`REFERENCES`), or ``ref``
-    when given (a positive number in that unit)."""
+    when given (a positive number in that unit). A :class:`ModelError` names ``ref`` (the command
+    line renames it ``--ref``)."""
     if ref is not None:
-        return number("--ref", ref, gt=0, unit=unit)
+        return number("ref", ref, gt=0, unit=unit)
     if unit not in REFERENCES:
-        raise ModelError("--ref", None, f"must be given for a quantity in '{unit}' (known: {', '.join(REFERENCES)})")
+        raise ModelError("ref", None, f"must be given for a quantity in '{unit}' (known: {', '.join(REFERENCES)})")
     return REFERENCES[unit]
 
 
@@ -108,6 +109,7 @@ class PSD:
         (by the sine's phase: at 1 df every segment sees it alike), 1.21 at 1.5 df; from 2 df with
         its power within 1.2 % (0.5 % from 4 df; Welch with nperseg 1024 over 16384 samples, the
         extremes over 8 phases, ``tests/nvh/test_review_passband.py``)."""
+        f_low, f_high = _limits(f_low, f_high)
         return max(f_low, COVERED_FROM_DF * self.df), min(f_high, self.fs / 2)
 
     def mean_square(self, f_low: float | None = None, f_high: float = np.inf) -> float:
@@ -121,9 +123,12 @@ class PSD:
         absent with ``f_high`` below fs/2) warns
         (:class:`~cablecasing_core.errors.ModelWarning`, naming the covered range): the lines there
         hold a tone's power only in part, or more than it; ``mean_square(*p.covered(f_low, f_high))``
-        integrates what the lines measure."""
+        integrates what the lines measure. A limit that is not a number, NaN, negative, or
+        ``f_low`` >= ``f_high`` raises :class:`~cablecasing_core.errors.ModelError` naming it
+        (``f_high`` may be ``inf``)."""
         from ..studies.octave import band_sums, bin_edges
 
+        f_low, f_high = _limits(0.0 if f_low is None else f_low, f_high, none_low=f_low is None)
         whole = f_low is None and f_high >= self.fs / 2  # (every line: Parseval's total, no warning)
         f_low = 0.0 if f_low is None else f_low
         if not whole:
@@ -138,7 +143,7 @@ class PSD:
                     stacklevel=2,
                 )
         lo, hi = max(f_low, 0.0), min(f_high, self.fs / 2)
-        if not hi > lo:
+        if not hi > lo:  # (a range wholly above fs/2: no line lies there)
             return 0.0
         ms, _ = band_sums(self.density * self.df, bin_edges(self.nperseg, self.fs), np.array([lo]), np.array([hi]))
         return float(ms[0])
@@ -146,6 +151,17 @@ class PSD:
     def level_db(self, ref: float | None = None) -> np.ndarray:
         """The PSD in dB re ref^2/Hz (default reference of the unit, :data:`REFERENCES`)."""
         return level_db(self.density, reference(self.unit, ref), power=True)
+
+
+def _limits(f_low, f_high, none_low=False):
+    """The frequency limits (Hz) of :meth:`PSD.mean_square` and :meth:`PSD.covered` checked: numbers,
+    0 <= f_low < f_high, f_high may be inf; ``none_low``: f_low was left out (returned as None)."""
+    f_low = number("f_low", f_low, ge=0, unit="Hz")
+    if f_high != np.inf:
+        f_high = number("f_high", f_high, gt=0, unit="Hz")
+    if not f_low < f_high:
+        raise ModelError("f_low/f_high", (f_low, f_high), "need f_low < f_high (Hz)")
+    return (None if none_low else f_low), f_high
 
 
 def psd(
@@ -194,12 +210,10 @@ def psd(
                 f"segments are kept to at most a quarter of the {x.size / fs:.4g} s record ({nperseg / fs:.4g} s) "
                 f"so that it averages at least {MIN_AVERAGES} of them; a record of {8 * want / fs:.4g} s resolves "
                 f"{f_min:g} Hz (or ask for a finer resolution, fewer averages)",
-                UserWarning,
+                ModelWarning,
                 stacklevel=2,
             )
-    nperseg = int(nperseg)
-    if not 8 <= nperseg <= x.size:
-        raise ModelError("nperseg", nperseg, f"must be between 8 and the record length ({x.size} samples)")
+    nperseg = integer("nperseg", nperseg, 8, x.size, why=f" (the record's length, {x.size} samples)")
     noverlap = int(round(overlap * nperseg))
     try:
         f, G = signal.welch(x, fs=fs, window=window, nperseg=nperseg, noverlap=noverlap, detrend="constant")
@@ -211,7 +225,7 @@ def psd(
         warnings.warn(
             f"{what}: the PSD averages only {n_avg} segment(s) of {nperseg / fs:.4g} s: each line's random error is "
             f"about {1 / np.sqrt(n_avg):.0%} (1/sqrt(averages)); a coarser resolution or a longer record gives more",
-            UserWarning,
+            ModelWarning,
             stacklevel=2,
         )
     enbw = fs * np.sum(w**2) / np.sum(w) ** 2

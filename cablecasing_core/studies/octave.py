@@ -165,7 +165,12 @@ def iec_nominal(x, b: int) -> np.ndarray:
 class BandRMS:
     """Result of :func:`octave_rms` (Section 4.4): the bands (Hz) and the RMS in each (signal unit).
 
-    ``bins`` is the (fractional) number of FFT bins in each band, the number of degrees of freedom
+    ``lower``, ``upper``, ``centre``: the bands' edges and geometric centres (Hz); ``labels`` their
+    names and ``nominal`` their nominal mid-band frequencies (Hz); ``rms``: the RMS in each band, in
+    the signal's unit (N for a force; not a level in dB: :meth:`level_db` gives those); ``fs`` the
+    sample rate (Hz) and ``n`` the samples of the record; ``unit`` the signal's unit as
+    :func:`octave_rms` was told it ("" when it was not), which gives :meth:`level_db` its default
+    reference. ``bins`` is the (fractional) number of FFT bins in each band, the number of degrees of freedom
     / 2 of a noise band estimate (relative standard deviation of a band mean square of Gaussian
     noise is about ``1/sqrt(bins)``).
     """
@@ -179,6 +184,7 @@ class BandRMS:
     fs: float
     n: int
     nominal: tuple = ()
+    unit: str = ""
 
     @property
     def mean_square(self):
@@ -189,12 +195,23 @@ class BandRMS:
         """``{label: rms}`` (signal unit), the form a study's ``evaluate`` returns (Section 4.4)."""
         return {lab: float(v) for lab, v in zip(self.labels, self.rms)}
 
-    def level_db(self, ref: float = 1.0) -> np.ndarray:
-        """Band levels ``20 log10(rms / ref)`` in dB re ``ref`` (in the signal's unit; e.g. 1 N, or
-        1e-6 m/s2 for accelerations, ``nvh.spectra.REFERENCES``)."""
+    def level_db(self, ref: float | None = None) -> np.ndarray:
+        """Band levels ``20 log10(rms / ref)`` in dB re ``ref`` (in the signal's unit). Default: the
+        reference of :attr:`unit` (``nvh.spectra.REFERENCES``: 1 N for a force, 1e-6 m/s2 for an
+        acceleration), as :meth:`~cablecasing_core.nvh.spectra.PSD.level_db` takes it, so that the
+        band levels and the PSD levels of one signal are against one reference; 1 (dB re 1 of the
+        signal's unit) when the unit is not known (``unit=""``, :func:`octave_rms` told none). A unit
+        without a reference in that table needs ``ref`` (:class:`ModelError` naming ``ref``)."""
         from ..nvh.spectra import level_db
 
-        return level_db(self.rms, ref)
+        return level_db(self.rms, self.reference(ref))
+
+    def reference(self, ref: float | None = None) -> float:
+        """The reference (signal unit) of :meth:`level_db`: ``ref`` when given, else that of
+        :attr:`unit`, or 1 when the unit is not known."""
+        from ..nvh.spectra import reference
+
+        return reference(self.unit, ref) if self.unit or ref is not None else 1.0
 
 
 def octave_bands(kind: str = "table3", f_min: float | None = None, f_max: float | None = None) -> Bands:
@@ -328,7 +345,14 @@ def few_lines(bands: str | Bands, length: float, fmin_advice: bool = True) -> st
 
 def _leave_out_below(sel, j) -> str:
     """The advice to leave out the bands of ``sel`` below its ``j``-th (none when there is none)."""
-    return f"; or leave out the bands below {sel.labels[j]} (f_min, --fmin {sel.nominal[j]:g})" if j < len(sel) else ""
+    if j >= len(sel):
+        return ""
+    return f"; or leave out the bands below {sel.labels[j]} ({FMIN_ADVICE.format(f_min=sel.nominal[j])})"
+
+
+#: How the advice of :func:`few_lines` and :func:`octave_rms` names the lowest band to keep (the
+#: ``f_min`` of :func:`octave_bands`); the command line says ``--fmin`` instead.
+FMIN_ADVICE = "octave_bands(kind, f_min={f_min:g})"
 
 
 def octave_rms(
@@ -342,6 +366,7 @@ def octave_rms(
     name: str = "x",
     passband: float | None = None,
     warn_few_lines: bool = True,
+    unit: str = "",
 ) -> BandRMS:
     """RMS of a sampled signal in octave bands by Parseval over FFT bins (Section 4.4, Table 3, Fig. 23).
 
@@ -374,6 +399,10 @@ def octave_rms(
         Warn (:class:`~cablecasing_core.errors.ModelWarning`, :func:`few_lines`) when a band holds
         fewer than :data:`LINES_PER_BAND` FFT lines of the record (default True; the ensembles and
         studies warn once before their runs instead).
+    unit : str
+        The signal's unit (``"N"``, ``"m/s2"``; a record's ``Records.unit(name)``), kept in
+        :attr:`BandRMS.unit`: :meth:`BandRMS.level_db` then defaults to its reference
+        (``nvh.spectra.REFERENCES``), as the PSD's levels do. Default "": not known, levels re 1.
 
     Returns
     -------
@@ -383,6 +412,8 @@ def octave_rms(
     x = array_1d(name, x)
     fs = number("fs", fs, gt=0, unit="Hz")
     Choice(*NYQUIST_RULES)("beyond_nyquist", beyond_nyquist)
+    if not isinstance(unit, str):
+        raise ModelError("unit", unit, "must be a unit as text ('N', 'm/s2'), or '' when it is not known")
     if detrend not in (None, "constant", "linear"):
         raise ModelError("detrend", detrend, "must be None, 'constant' or 'linear'")
     bands = _bands_of(bands)
@@ -450,4 +481,5 @@ def octave_rms(
         fs=fs,
         n=n,
         nominal=sel.nominal,
+        unit=unit,
     )
