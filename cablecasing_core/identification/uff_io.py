@@ -213,6 +213,11 @@ def write_uff(path, records, binary=True):
             stacklevel=2,
         )
     with atomic_path(path) as tmp:
+        if binary:  # (by hand, to one handle: _write_58b)
+            with open(tmp, "wb") as fh:
+                for d in sets:
+                    _write_58b(fh, d)
+            return
         try:
             pyuff.UFF(str(tmp)).write_sets(sets, mode="add")
         except Exception as exc:
@@ -220,6 +225,58 @@ def write_uff(path, records, binary=True):
             if cause is exc:
                 raise
             raise cause from None
+
+
+def _write_58b(fh, d):
+    """Write the dataset ``d`` (a dict of ``pyuff.prepare_58``, checked by :func:`_dataset`) as UFF 58b
+    (binary, double precision) to the open binary file ``fh``: byte for byte what pyuff 2.5's
+    ``UFF.write_sets`` writes (``tests/identification/test_review_i_uff.py`` compares them), the header
+    lines as in its ``_write58``, then the values in the machine's byte order, then the end line.
+
+    Written by hand because pyuff's writer of a binary dataset 58 leaves a file open per dataset:
+    ``_write58`` closes the handle it is given, opens the file again in binary to append the values,
+    closes that, and opens it a third time in text mode for the end line, a handle it never closes
+    (its caller closes the first one). A record of 38 columns left 38 handles to the garbage
+    collector: a ``ResourceWarning`` each (an error under ``-W error``), the file open until
+    collected (on Windows the atomic write's rename of a file still open fails). Its ``write_sets``
+    also re-reads the whole file after each dataset. The ASCII form (``binary=False``) goes through
+    pyuff: it writes to the one handle it opens."""
+    import sys
+
+    data, x = np.asarray(d["data"]), np.asarray(d["x"], float)
+    real = not np.iscomplexobj(data)
+    n = data.size
+    even = int(bool(d.get("abscissa_spacing", 0)))
+    little = sys.byteorder == "little"
+
+    def g(key, default=0):
+        return d.get(key, default)
+
+    def i(key):
+        return int(g(key))
+
+    dx = even * (x[1] - x[0])
+    lines = [
+        f"{-1:6d}",
+        f"{58:6d}b{1 if little else 2:6d}{2:6d}{11:12d}{n * 8:12d}{0:6d}{0:6d}{0:12d}{0:12d}",
+        *(f"{g(f'id{k}', 'NONE'):<80}" for k in range(1, 6)),
+        f"{i('func_type'):5d}{i('func_id'):10d}{i('ver_num'):5d}{i('load_case_id'):10d} "
+        f"{g('rsp_ent_name', 'NONE'):>10}{i('rsp_node'):10d}{i('rsp_dir'):4d} "
+        f"{g('ref_ent_name', 'NONE'):>10}{i('ref_node'):10d}{i('ref_dir'):4d}",
+        f"{4 if real else 6:10d}{n:10d}{even:10d}{even * x[0]:13.5e}{dx:13.5e}{float(g('z_axis_value')):13.5e}",
+        *(
+            f"{i(f'{a}_spec_data_type'):10d}{i(f'{a}_len_unit_exp'):5d}{i(f'{a}_force_unit_exp'):5d}"
+            f"{i(f'{a}_temp_unit_exp'):5d} {g(f'{a}_axis_lab', 'NONE'):<20} {g(f'{a}_axis_units_lab', 'NONE'):<20}"
+            for a in ("abscissa", "ordinate", "orddenom", "z_axis")
+        ),
+    ]
+    columns = [data] if real else [data.real, data.imag]
+    if not even:  # (an uneven abscissa is stored point by point beside the values)
+        columns.insert(0, x)
+    values = np.column_stack(columns).ravel()  # (x0, y0, x1, y1, ... or re0, im0, ...)
+    fh.write(("\n".join(lines) + "\n").encode("utf-8"))
+    fh.write(values.astype("<f8" if little else ">f8").tobytes())
+    fh.write(f"{-1:6d}\n".encode())
 
 
 def _write_failure(exc):
