@@ -33,18 +33,27 @@ from ..model.validators import number
 class Ensemble:
     """Band levels of one support output over an ensemble of excitation seeds.
 
-    ``levels[i, b]`` is the RMS (N for a force, N.m for a moment) of ``output`` in band ``b`` of the run
-    with seed ``seeds[i]``; the bands' edges are in Hz. ``contact_time[i, k]`` is the time (s) cable
-    node ``k`` spent in contact in that run (the highest-contact-area histogram of Fig. 22; no
-    columns without a cable). ``overrides`` are the model changes common to all members;
-    ``settings`` the run settings ``duration``, ``dt``, ``skip`` (s), ``window``, ``model``, a fingerprint of
-    the model data with the overrides applied (what :func:`pool_ensembles` requires to be equal; a
-    tabulated excitation enters by its file's content, not its path), and ``base_model``, the
-    fingerprint of the model before the overrides (what a paired comparison of two ensembles,
-    ``pool --against``, requires to be equal). ``warnings`` maps
-    the seed of each member whose run warned (a contact Newton that did not converge in some steps,
-    a tolerance not met: docs/time_domain.md) to its messages, joined by `` | ``; members that
-    warned nothing are not in it.
+    "Level" here is a band's RMS in the output's unit, not a level in dB (the name is kept: the
+    saved files and the scripts that read them use it; :attr:`rms` is the same array under the name
+    :class:`~cablecasing_core.studies.octave.BandRMS` gives it). What each attribute holds:
+
+    * ``seeds`` (n,): the members' excitation seeds; ``output``: the support output (``casing.B.Fz``);
+    * ``labels`` (m,), ``lower`` and ``upper`` (m,): the bands' names and edges (Hz; ``BandRMS``
+      calls them the same, :meth:`as_rows` ``f_low_hz`` and ``f_high_hz``);
+    * ``levels`` (n, m): ``levels[i, b]`` is the RMS (N for a force, N.m for a moment; not dB) of
+      ``output`` in band ``b`` of the run with seed ``seeds[i]``; :attr:`mean`, :attr:`se`,
+      :meth:`ci` are in that unit too, :attr:`cv` is a ratio (-);
+    * ``contact_time`` (n, nodes): ``contact_time[i, k]`` is the time (s) cable node ``k`` spent in
+      contact in that run (the highest-contact-area histogram of Fig. 22; no columns without a cable);
+    * ``overrides``: the model changes common to all members;
+    * ``settings``: the run settings ``duration``, ``dt``, ``skip`` (s), ``window``, ``model``, a
+      fingerprint of the model data with the overrides applied (what :func:`pool_ensembles` requires to
+      be equal; a tabulated excitation enters by its file's content, not its path), and ``base_model``,
+      the fingerprint of the model before the overrides (what a paired comparison of two ensembles,
+      ``pool --against``, requires to be equal);
+    * ``warnings``: the seed of each member whose run warned (a contact Newton that did not converge in
+      some steps, a tolerance not met: docs/time_domain.md) to its messages, joined by `` | ``;
+      members that warned nothing are not in it.
     """
 
     seeds: np.ndarray
@@ -65,6 +74,11 @@ class Ensemble:
         shape. NaN where no member touched."""
         total = self.contact_time.sum()
         return self.contact_time.sum(axis=0) / total if total > 0 else np.full(self.contact_time.shape[1], np.nan)
+
+    @property
+    def rms(self):
+        """The band RMS of each member (N or N.m, not dB): :attr:`levels` under its other name."""
+        return self.levels
 
     @property
     def n(self):
@@ -99,7 +113,9 @@ class Ensemble:
         return np.maximum(self.mean - h, 0.0), self.mean + h
 
     def as_rows(self, confidence=0.95):
-        """One dict per band: label, f_low_hz, f_high_hz, mean, se, ci_low, ci_high, cv."""
+        """One dict per band: ``band`` (its label), ``f_low_hz`` and ``f_high_hz`` (its edges, Hz),
+        ``mean``, ``se``, ``ci_low``, ``ci_high`` (the band RMS's mean over the members, its standard
+        error and confidence interval: N or N.m, not dB), ``cv`` (-)."""
         lo, hi = self.ci(confidence)
         return [
             {
