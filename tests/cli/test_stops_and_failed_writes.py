@@ -160,15 +160,33 @@ def _pyuff_fails_in_its_second_dataset(monkeypatch, exc):
     monkeypatch.setattr(dataset_58, "_opt_fields", second_fails)
 
 
+def _binary_writer_fails_in_its_second_dataset(monkeypatch, exc):
+    """The binary writer (the command line's) writes the first dataset and half the second, then
+    ``exc()`` is raised."""
+    from cablecasing_core.identification import uff_io
+
+    real, calls = uff_io._write_58b, []
+
+    def second_fails(fh, d):
+        calls.append(1)
+        if len(calls) > 1:
+            fh.write(b"half a dataset")
+            raise exc()
+        return real(fh, d)
+
+    monkeypatch.setattr(uff_io, "_write_58b", second_fails)
+
+
 @pytest.mark.parametrize("exc,code", [(_full, 1), (KeyboardInterrupt, 130)])
-def test_a_full_disk_or_ctrl_c_inside_pyuff_is_not_an_internal_error(tmp_path, capsys, monkeypatch, exc, code):
-    """pyuff reports a failed write (and a Ctrl-C) as a bare Exception: the cause is what counts."""
+def test_a_full_disk_or_ctrl_c_during_a_uff_write_is_not_an_internal_error(tmp_path, capsys, monkeypatch, exc, code):
+    """A failed write (a full disk) of the command line's binary UFF is one line naming the option,
+    a Ctrl-C an interruption; the earlier file is intact and no part file is left."""
     from cablecasing_core.identification.uff_io import Record, write_uff
 
     out = tmp_path / "r.uff"
     write_uff(out, [Record("time", np.arange(4.0), np.ones(4), "before")])
     old = out.read_bytes()
-    _pyuff_fails_in_its_second_dataset(monkeypatch, exc)
+    _binary_writer_fails_in_its_second_dataset(monkeypatch, exc)
     assert main(["simulate", "--duration", "0.001", "--no-progress", "--out", str(out)]) == code
     line = _one_line(capsys)
     if code == 1:
@@ -179,6 +197,24 @@ def test_a_full_disk_or_ctrl_c_inside_pyuff_is_not_an_internal_error(tmp_path, c
     else:
         assert line == f"cablecasing: interrupted: the run was stopped: the previous {out} kept as it was"
     assert out.read_bytes() == old and sorted(p.name for p in tmp_path.iterdir()) == ["r.uff"]
+
+
+@pytest.mark.parametrize("exc", [_full, KeyboardInterrupt])
+def test_a_full_disk_or_ctrl_c_inside_pyuff_is_what_it_was(tmp_path, monkeypatch, exc):
+    """pyuff (the ASCII form, ``binary=False``) reports a failed write and a Ctrl-C as a bare
+    Exception: the cause is raised instead (a WriteError, an OSError; a KeyboardInterrupt)."""
+    from cablecasing_core.files import WriteError
+    from cablecasing_core.identification.uff_io import Record, write_uff
+
+    out = tmp_path / "r.uff"
+    out.write_bytes(b"OLD")
+    records = [Record("time", np.arange(4.0), np.full(4, float(k)), f"r{k}") for k in range(2)]
+    _pyuff_fails_in_its_second_dataset(monkeypatch, exc)
+    with pytest.raises(WriteError if exc is _full else KeyboardInterrupt) as err:
+        write_uff(out, records, binary=False)
+    if exc is _full:
+        assert err.value.errno == errno.ENOSPC and err.value.kept
+    assert out.read_bytes() == b"OLD" and sorted(p.name for p in tmp_path.iterdir()) == ["r.uff"]
 
 
 # (a file-size limit: the kernel refuses the write past it, EFBIG, as a full disk refuses it, with no root;
