@@ -54,6 +54,13 @@ Traceback (most recent call last):
 ...
 cablecasing_core.errors.ModelError: casing.nu = 0.7: must be a number in [-0.999, 0.4999]
 
+A model is read-only (``model.data["casing"]["E"] = 1e9`` raises ``TypeError``): a change is a
+validated copy, as above. Warnings are :class:`ModelWarning` (``cc.ModelWarning``; a run's solver
+warnings :class:`SolverWarning`, one of them), to filter as one. Also at this level:
+:func:`static_state` (an installed model at rest) and :func:`body_buckling` (a body's buckling load,
+:class:`Buckling`); the other public names are in their modules (``cablecasing_core.nvh``,
+``.studies``, ``.records``, ``.identification``; docs/architecture.md lists them).
+
 For a step-by-step engine (the FMU's), see :class:`~cablecasing_core.timedomain.engine.Engine`.
 """
 
@@ -62,7 +69,7 @@ from __future__ import annotations
 from importlib import import_module as _import_module
 from importlib import metadata as _metadata
 
-from .errors import CableCasingError, ModelError, SimulationError
+from .errors import CableCasingError, ModelError, ModelWarning, PlausibilityWarning, SimulationError, SolverWarning
 from .model import BodySpec, Model, default_model, load_model, model_from_dict
 
 # The solvers are imported when first used (PEP 562): importing them pulls in scipy's solvers and
@@ -74,6 +81,10 @@ _LAZY = {
     "trfam": ".frequency.trfam",
     "trfam_matrix": ".frequency.trfam",
     "SimulationResult": ".timedomain.simulation",
+    "StaticState": ".timedomain.static_state",
+    "static_state": ".timedomain.static_state",
+    "body_buckling": ".structure.buckling",
+    "Buckling": ".structure.buckling",
     "contact_episodes": ".timedomain.simulation",
     "simulate": ".timedomain.simulation",
 }
@@ -98,12 +109,18 @@ except _metadata.PackageNotFoundError:  # a copy that is not installed (e.g. bun
 
 __all__ = [
     "BodySpec",
+    "Buckling",
     "CableCasingError",
     "Model",
     "ModelError",
+    "ModelWarning",
+    "PlausibilityWarning",
     "SimulationError",
     "SimulationResult",
+    "SolverWarning",
+    "StaticState",
     "__version__",
+    "body_buckling",
     "contact_episodes",
     "default_model",
     "load_model",
@@ -111,6 +128,7 @@ __all__ = [
     "modes",
     "natural_frequencies",
     "simulate",
+    "static_state",
     "trfam",
     "trfam_matrix",
 ]

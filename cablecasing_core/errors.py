@@ -115,5 +115,11 @@ class ModelWarning(UserWarning):
     meaningless; the message says why."""
 
 
+class SolverWarning(ModelWarning):
+    """What a time-domain run's step loop did not achieve (a contact Newton that did not converge,
+    a step whose estimated local error stays above ``contact.event_tolerance``): the run went on,
+    and the message says where and how much. A :class:`ModelWarning`, filterable on its own."""
+
+
 #: The plausibility warnings of a routing (issue 24) are :class:`ModelWarning` under their own name.
 PlausibilityWarning = ModelWarning

@@ -21,7 +21,7 @@ from scipy.optimize import brentq
 
 from ..errors import NOT_SHOWN, ModelError, ModelWarning
 from ..model.limits import check_dense_eigenproblem
-from ..model.validators import Choice, integer, number
+from ..model.validators import Choice, check_model, integer, number
 from ..structure.assembly import assemble_body
 
 if TYPE_CHECKING:
@@ -70,7 +70,9 @@ def modal_basis(system: BodySystem) -> ModalBasis:
 
 
 def natural_frequencies(model: Model, body: str, count: int | None = None) -> np.ndarray:
-    """Natural frequencies (Hz, ascending) of ``body`` ("casing" or "cable") with its supports.
+    """Natural frequencies (Hz, ascending) of ``body`` ("casing" or "cable") of ``model`` (a
+    :class:`~cablecasing_core.Model`; anything else, a dict or a file's name, raises a ModelError
+    naming ``model``) with its supports: the undamped eigenproblem of Eq. (13) on the free DOFs.
 
     ``count`` (None: all) is the number of modes wanted; a body has one mode per free degree of
     freedom (:func:`mode_count`), and a larger ``count`` returns all of them with a
@@ -97,7 +99,8 @@ def natural_frequencies(model: Model, body: str, count: int | None = None) -> np
 
 
 def modes(model: Model, body: str, count: int | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """(frequencies in Hz, as :func:`natural_frequencies`, and mode shapes) of ``body``; shapes are
+    """(frequencies in Hz, as :func:`natural_frequencies`, and mode shapes) of ``body`` (Eq. 13's
+    free DOFs; ``model`` a :class:`~cablecasing_core.Model`, else a ModelError naming it); shapes are
     (ndof, count) arrays over all DOFs (zero at prescribed DOFs), the mass-normalised modes of the
     reference stiffness (the reference modulus E_ref, the mounts' ``stiffness`` K6). A ``count``
     beyond the body's modes returns all of them and warns (:class:`ModelWarning`)."""
@@ -106,6 +109,7 @@ def modes(model: Model, body: str, count: int | None = None) -> tuple[np.ndarray
 
 def _modes(model, body, count):
     """:func:`modes`, called by it and by :func:`natural_frequencies` (its warning points at their caller)."""
+    check_model(model)
     Choice(*model.bodies)("body", body)
     if count is not None:
         integer("count", count, 1)

@@ -52,7 +52,7 @@ from scipy.linalg import solve_banded
 from ..errors import ModelError
 from ..model.limits import MAX_FREQUENCIES
 from ..model.schema import DIRECTIONS, SUPPORT_NAMES
-from ..model.validators import Choice, frequencies
+from ..model.validators import Choice, check_model, frequencies
 from ..structure.assembly import assemble_body
 from .modal import _modes_up_to, modal_basis
 
@@ -71,7 +71,7 @@ MAX_FREQUENCY_HZ = 1e6
 
 def trfam_frequencies(key: str, freqs_hz: ArrayLike) -> np.ndarray:
     """``freqs_hz`` checked for :func:`trfam`: a non-empty 1-D array of at most
-    :data:`~cablecasing_core.model.limits.MAX_FREQUENCIES` numbers (not bools:
+    :data:`~cablecasing_core.model.limits.MAX_FREQUENCIES` real numbers (not bools, not complex:
     :func:`~cablecasing_core.model.validators.frequencies`) from :data:`MIN_FREQUENCY_HZ` to
     :data:`MAX_FREQUENCY_HZ` Hz; a :class:`ModelError` naming ``key``."""
     f = frequencies(key, freqs_hz, at_most=MAX_FREQUENCIES)
@@ -250,13 +250,15 @@ def trfam(model: Model, input: str, output: str, freqs_hz: ArrayLike, damping: s
 
     Parameters
     ----------
-    model : Model
+    model : Model (a :class:`~cablecasing_core.Model`; anything else raises a ModelError naming ``model``)
     input : str, the driven support DOF, e.g. ``"casing.A.x"`` (its acceleration is the input).
     output : str, the support DOF whose force is the output, e.g. ``"casing.B.x"`` (same body).
     freqs_hz : array of frequencies in Hz, from :data:`MIN_FREQUENCY_HZ` (1e-6) to
-        :data:`MAX_FREQUENCY_HZ` (1e6) (a ModelError otherwise; True and False are refused).
+        :data:`MAX_FREQUENCY_HZ` (1e6), real (a ModelError otherwise; True and False, and complex
+        numbers, whose imaginary part would be lost, are refused).
     damping : "viscous" (Eq. 10, Rayleigh alpha/beta), "structural" (Eq. 11, loss factor) or "none".
     """
+    check_model(model)
     f = trfam_frequencies("freqs_hz", freqs_hz)
     bi, si, di = parse_port("input", input, model)
     bo, so, do = parse_port("output", output, model)
@@ -281,6 +283,7 @@ def trfam_matrix(
     """The 3x3 TRFAM block (kg, Eq. 12), shape (nf, 3 outputs x/y/z, 3 inputs x/y/z), between two
     supports of one body at ``freqs_hz`` (Hz): the force at ``output_support`` over the acceleration
     of ``input_support`` ("A" or "B"); ``freqs_hz`` and ``damping`` as :func:`trfam`'s."""
+    check_model(model)
     f = trfam_frequencies("freqs_hz", freqs_hz)
     if body not in model.bodies:
         raise ModelError("body", body, "must be one of " + ", ".join(repr(b) for b in model.bodies))

@@ -52,10 +52,19 @@ def load_model(path: str | Path | None = None) -> Model:
     folder or suffix) gives that specimen, so ``cablecasing simulate installed`` works wherever a
     model file is accepted.
 
-    Raises :class:`ModelError` for a file that cannot be read or any invalid key.
+    Raises :class:`ModelError` for a file that cannot be read or any invalid key, and naming
+    ``path`` for one that is no path (an ``int``, a ``dict``).
     """
     if path is None:
         path = "default"
+    if not isinstance(path, (str, os.PathLike)):
+        raise ModelError(
+            "path",
+            path,
+            "must be a model file's path (a str or pathlib.Path), a built-in specimen's name ("
+            + ", ".join(specimen_names())
+            + ") or None (the built-in specimen); a dict of the model file's tables goes to cc.model_from_dict",
+        )
     if isinstance(path, str) and path in specimen_names():
         text = resources.files("cablecasing_core.model").joinpath(f"specimens/{path}.toml").read_text()
         raw = tomllib.loads(text)

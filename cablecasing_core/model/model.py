@@ -14,10 +14,82 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import NOT_SHOWN, ModelError
+from ..errors import NOT_SHOWN, ModelError, plain
 from .schema import BODY_NAMES, SCHEMA, SUPPORT_NAMES, KeySpec, lookup
 from .validate import validate
-from .validators import BARE_KEY, Choice
+from .validators import BARE_KEY, Choice, mapping, names_of
+
+_READ_ONLY = (
+    "a validated Model is read-only (its checks would not see the change): make a changed copy with "
+    "model.with_overrides({'casing.E': 6e9}) or model.without_excitations([...]), or take a mutable deep copy "
+    "with model.to_dict() (copy.deepcopy(model.data)) and validate it with cc.model_from_dict"
+)
+
+
+def _refuse(self, *args, **kwargs):
+    raise TypeError(_READ_ONLY)
+
+
+class FrozenDict(dict):
+    """A table of a validated :class:`Model` (``model.data`` and the tables in it, ``model.bodies``):
+    a ``dict`` for reading (``isinstance(x, dict)``, ``json.dumps``, ``==`` with a dict), whose
+    every change raises ``TypeError`` saying how to change a model. ``copy.deepcopy`` gives a
+    plain, mutable deep copy (``dict``s and ``list``s: yours to change, as
+    :meth:`Model.to_dict`); ``copy.copy`` a plain shallow ``dict``; pickling keeps it frozen."""
+
+    __slots__ = ()
+    __setitem__ = __delitem__ = __ior__ = _refuse
+    clear = pop = popitem = setdefault = update = _refuse
+
+    def __reduce__(self):
+        return (FrozenDict, (dict(self),))
+
+    def __copy__(self):
+        return dict(self)
+
+    def __deepcopy__(self, memo):
+        return thaw(self)
+
+
+class FrozenList(list):
+    """A list of a validated :class:`Model` (a table of values ``[[f, E], ...]``, the route's
+    points, the clips): a ``list`` for reading whose every change raises ``TypeError``;
+    ``copy.deepcopy`` gives a plain, mutable deep copy, pickling keeps it frozen."""
+
+    __slots__ = ()
+    __setitem__ = __delitem__ = __iadd__ = __imul__ = _refuse
+    append = clear = extend = insert = pop = remove = reverse = sort = _refuse
+
+    def __reduce__(self):
+        return (FrozenList, (list(self),))
+
+    def __copy__(self):
+        return list(self)
+
+    def __deepcopy__(self, memo):
+        return thaw(self)
+
+
+def freeze(value):
+    """``value`` with every ``dict`` in it a :class:`FrozenDict` and every ``list`` a :class:`FrozenList`
+    (a new structure: the value given is neither changed nor aliased)."""
+    if isinstance(value, dict):
+        return FrozenDict((k, freeze(v)) for k, v in value.items())
+    if isinstance(value, list):
+        return FrozenList(freeze(v) for v in value)
+    if isinstance(value, tuple):
+        return tuple(freeze(v) for v in value)
+    return value
+
+
+def thaw(value):
+    """A plain, mutable deep copy of ``value`` (:class:`FrozenDict` -> ``dict``, :class:`FrozenList`
+    -> ``list``, any other dict or list copied alike)."""
+    if isinstance(value, dict):
+        return {k: thaw(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [thaw(v) for v in value]
+    return copy.deepcopy(value)
 
 
 def _interp_table(value, f_hz):
@@ -63,6 +135,9 @@ class BodySpec:
         """Loss factor eta(f) (dimensionless) at frequencies ``f_hz`` (Hz)."""
         return _interp_table(self.loss_factor, f_hz)
 
+    def __deepcopy__(self, memo):
+        return self  # (read-only, as the model it belongs to)
+
     @property
     def frequency_dependent(self) -> bool:
         return isinstance(self.E, list)
@@ -72,7 +147,15 @@ class BodySpec:
 class Model:
     """A validated model (SI units). Build it with :func:`~cablecasing_core.load_model` or
     :func:`~cablecasing_core.model_from_dict`; ``data`` is the checked nested dictionary with every
-    default filled in (docs/model_file.md), ``bodies`` its :class:`BodySpec` views."""
+    default filled in (docs/model_file.md), ``bodies`` its :class:`BodySpec` views.
+
+    A model is read-only, so that nothing changes behind its checks: ``data`` (every table and list
+    in it) and ``bodies`` are :class:`FrozenDict` and :class:`FrozenList`, which read as ``dict`` and
+    ``list`` and raise ``TypeError`` on any change. A changed model is a validated copy
+    (:meth:`with_overrides`, :meth:`without_excitations`); :meth:`to_dict` (or
+    ``copy.deepcopy(model.data)``) gives a plain mutable copy of the data to edit and validate again
+    (:func:`~cablecasing_core.model_from_dict`). A model pickles, deep-copies and hashes (equal
+    models, equal hashes), so it can key a cache."""
 
     data: dict
     source: str = "<built-in>"
@@ -83,6 +166,8 @@ class Model:
     derived: frozenset = frozenset()
 
     def __post_init__(self):
+        if not isinstance(self.data, FrozenDict):  # (a copy: the caller's dict is neither frozen nor aliased)
+            object.__setattr__(self, "data", freeze(self.data))
         bodies = {}
         for n in BODY_NAMES:
             if n in self.data:
@@ -95,13 +180,26 @@ class Model:
                     alpha=b["alpha"],
                     beta=b["beta"],
                     loss_factor=b["loss_factor"],
-                    supports=dict(b["supports"]),
+                    supports=b["supports"],
                     d_outer=b["d_outer"] if n == "casing" else b["d"],
                     d_inner=b["d_inner"] if n == "casing" else 0.0,
                     I_override=b.get("I"),
                     rest_shape=b.get("rest_shape", "routing"),
                 )
-        object.__setattr__(self, "bodies", bodies)
+        object.__setattr__(self, "bodies", FrozenDict(bodies))
+
+    def __hash__(self):
+        # (from the data alone, as equality: the fingerprint's text without the excitation files'
+        # contents, which may change on disk while the model is a key)
+        return hash(_data_text(self.data))
+
+    def __deepcopy__(self, memo):
+        return self  # (read-only: a copy would be equal in every way)
+
+    def to_dict(self) -> dict:
+        """A plain, mutable deep copy of :attr:`data` (``dict``s and ``list``s), to edit and validate
+        again with :func:`~cablecasing_core.model_from_dict`."""
+        return thaw(self.data)
 
     @property
     def geometry(self) -> dict:
@@ -131,7 +229,16 @@ class Model:
 
     @property
     def radial_gap(self) -> float:
-        """Radial gap e = (casing.d_inner - cable.d) / 2 in m (Eqs. 30-31); needs both bodies."""
+        """Radial gap e = (casing.d_inner - cable.d) / 2 in m (Eqs. 30-31); needs both bodies (a
+        :class:`ModelError` names the one missing)."""
+        for body in BODY_NAMES:
+            if body not in self.data:
+                raise ModelError(
+                    "radial_gap",
+                    plain(f"model {self.source}"),
+                    f"needs a [{body}]: the radial gap lies between the "
+                    "casing and the cable, and this model has only one body",
+                )
         return 0.5 * (self.data["casing"]["d_inner"] - self.data["cable"]["d"])
 
     def parameters(self) -> dict[str, float]:
@@ -177,7 +284,8 @@ class Model:
         when ``casing.supports.A`` was an isolator) behind, unless a key of that table is set with
         it: the table belonged to the support the change replaced.
         """
-        data = copy.deepcopy(self.data)
+        overrides = mapping("overrides", overrides, "{dotted.key: value}, e.g. {'casing.E': 6e9}")
+        data = self.to_dict()
         replaced = _replaced_isolators(data, overrides)
         derived = frozenset(k for k in self.derived - set(overrides) if not k.startswith(replaced))
         for key in derived:  # taken again from their source, which an override may change
@@ -222,14 +330,16 @@ class Model:
     def without_excitations(self, names, source: str | None = None) -> Model:
         """A validated copy without the scenario's excitations ``names`` (their keys, derived ones
         too, leave with them; every other key and what it was derived from stay), its source
-        ``source`` or this one's. An unknown name raises :class:`ModelError` listing the model's."""
+        ``source`` or this one's. ``names`` is a list of names or one name (a ``str``). An unknown
+        name raises :class:`ModelError` listing the model's."""
         have = self.data["scenario"]["excitation"]
+        names = names_of("names", names, "excitations of the model: " + (", ".join(sorted(have)) or "none"))
         for name in names:
             if name not in have:
                 raise ModelError(
                     "scenario.excitation", name, f"must name an excitation of the model: {sorted(have) or 'none'}"
                 )
-        data = copy.deepcopy(self.data)
+        data = self.to_dict()
         for name in names:
             del data["scenario"]["excitation"][name]
         prefixes = tuple(f"scenario.excitation.{name}." for name in names)
@@ -257,8 +367,7 @@ class Model:
                     except OSError:  # (a file gone since the model was loaded: its path stands for it)
                         pass
                 data["scenario"]["excitation"][name] = e
-        text = json.dumps(data, sort_keys=True, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o))
-        return hashlib.sha256(text.encode()).hexdigest()[:16]
+        return hashlib.sha256(_data_text(data).encode()).hexdigest()[:16]
 
     def to_toml(self) -> str:
         """The model as TOML text (round-trips through :func:`load_model`: the model it loads is
@@ -267,6 +376,11 @@ class Model:
         that a change of their source (``--set scenario.seed=2``) changes them in the written file
         as in this model."""
         return _to_toml(self.data, skip=self.derived)
+
+
+def _data_text(data) -> str:
+    """The model ``data`` as canonical JSON text (sorted keys), what :meth:`Model.fingerprint` hashes."""
+    return json.dumps(data, sort_keys=True, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o))
 
 
 #: Why a clip's key cannot be set by its dotted key.

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import re
+from collections.abc import Mapping
 from numbers import Integral, Real
 
 import numpy as np
@@ -379,6 +380,61 @@ class ExcitationName:
 
 
 # ------------------------------------------------------------------------------ argument checks
+def _kind(value) -> str:
+    """``value``'s type in words for a message: ``a dict``, ``a str``, ``an int``."""
+    if value is None:
+        return "None"
+    name = "dict" if isinstance(value, dict) else "list" if isinstance(value, list) else type(value).__name__
+    return ("an " if name[:1].lower() in "aeiou" else "a ") + name
+
+
+def check_model(value, key: str = "model"):
+    """``value`` when it is a validated :class:`~cablecasing_core.model.model.Model`, else a
+    :class:`ModelError` naming ``key``, the value (a short excerpt) and how to get a model: the
+    check of every entry point that takes one (modes, TRFAM, the time domain, the statics)."""
+    from .model import Model
+
+    if isinstance(value, Model):
+        return value
+    how = "cc.load_model(path or specimen name) or cc.model_from_dict(a dict of the model file's tables)"
+    if isinstance(value, str):
+        how = f"load it first: cc.load_model({value!r}), or cc.model_from_dict(a dict of the model file's tables)"
+    elif isinstance(value, Mapping):
+        how = "validate the dict first: cc.model_from_dict(data), or cc.load_model(path or specimen name)"
+    raise ModelError(key, value, f"must be a cablecasing_core.Model, not {_kind(value)}: {how}")
+
+
+def check_contact(value):
+    """The ``contact`` argument of the time domain and the statics (``simulate``, ``Engine``,
+    ``static_state``): None (the model's ``contact.enabled``), True or False (a numpy bool too);
+    anything else, ``"no"`` among them, a :class:`ModelError` naming ``contact``."""
+    if value is not None and not isinstance(value, (bool, np.bool_)):
+        raise ModelError("contact", value, "must be None (the model's contact.enabled), True or False")
+    return value
+
+
+def mapping(key: str, value, what: str) -> Mapping:
+    """``value`` when it is a mapping (a ``dict``), else a :class:`ModelError` naming ``key``, the
+    value and ``what`` it must hold."""
+    if isinstance(value, Mapping):
+        return value
+    raise ModelError(key, value, f"must be a mapping (a dict) {what}, not {_kind(value)}")
+
+
+def names_of(key: str, value, what: str) -> tuple[str, ...]:
+    """``value`` as a tuple of names: one ``str`` is one name, else an iterable of ``str`` (a
+    :class:`ModelError` naming ``key``, the value and ``what`` the names must be, otherwise)."""
+    if isinstance(value, str):
+        return (value,)
+    try:
+        names = tuple(value)
+    except TypeError:
+        names = None
+    if names is None or isinstance(value, Mapping) or not all(isinstance(n, str) for n in names):
+        raise ModelError(key, value, f"must be a name or a list of names ({what})")
+    return names
+
+
 def number(key, value, **bounds):
     """:class:`Number` ``(**bounds)`` applied to ``value`` (e.g. ``number("fs", fs, gt=0, unit="Hz")``)."""
     return Number(**bounds)(key, value)
@@ -445,10 +501,15 @@ def array_1d(key, x, min_len=2, complex_ok=False):
 
 
 def frequencies(key, freqs_hz, fs=None, at_most=None):
-    """A non-empty 1-D array of positive finite frequencies (Hz), numbers and not bools (True would
-    read as 1 Hz); with the sampling rate ``fs`` (Hz) each must also lie below fs/2; at most
-    ``at_most`` of them (model/limits.py), when given."""
+    """A non-empty 1-D array of positive finite frequencies (Hz), real numbers and not bools (True
+    would read as 1 Hz; a complex number would lose its imaginary part); with the sampling rate
+    ``fs`` (Hz) each must also lie below fs/2; at most ``at_most`` of them (model/limits.py), when
+    given."""
     raw = freqs_hz if isinstance(freqs_hz, np.ndarray) else np.asarray(freqs_hz, dtype=object)
+    if raw.dtype.kind == "c" or (
+        raw.dtype == object and any(isinstance(v, (complex, np.complexfloating)) for v in np.ravel(raw).tolist())
+    ):  # (float() would drop the imaginary part with numpy's ComplexWarning)
+        raise ModelError(key, freqs_hz, "must be real frequencies in Hz (a complex number is none)")
     if raw.dtype.kind == "b" or (
         raw.dtype == object and any(isinstance(v, (bool, np.bool_)) for v in np.ravel(raw).tolist())
     ):

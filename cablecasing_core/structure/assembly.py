@@ -27,6 +27,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..model.schema import SUPPORT_NAMES
+from ..model.validators import Choice, check_model
 from .buckling import check_compression
 from .element_beam import geometric_stiffness, global_matrices, transformation
 from .geometry import centerline_of
@@ -164,7 +165,13 @@ def assemble_body(model, name, E=None, check_buckling=True):
         the scalar ``E`` or the first row of its table).
     check_buckling : refuse a compression at or above the body's buckling load (a ModelError naming
         loads.cable_tension; structure/buckling.py).
+
+    A ``model`` that is no :class:`~cablecasing_core.Model`, or a ``name`` that is not one of its
+    bodies, raises :class:`~cablecasing_core.errors.ModelError` naming it (Eqs. 4-9: K_E, M; Eq. 32:
+    K_G of the prestress).
     """
+    check_model(model)
+    Choice(*model.bodies)("name", name)
     spec = model.bodies[name]
     sec = section_of(spec)
     cl = centerline_of(model)

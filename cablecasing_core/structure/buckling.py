@@ -38,7 +38,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.linalg import cholesky_banded, eig, eigh
 
-from ..errors import ModelError
+from ..errors import ModelError, plain
+from ..model.model import Model
 from .element_beam import geometric_stiffness, transformation
 
 
@@ -130,12 +131,47 @@ def _free_blocks(system):
     return KE[np.ix_(f, f)], KG[np.ix_(f, f)]
 
 
+def body_buckling(model, body: str = "casing") -> Buckling:
+    """The lowest buckling load of ``body`` ("casing", the default, or "cable") of ``model`` (a
+    :class:`~cablecasing_core.Model`) as the time domain and ``cablecasing static`` assemble it (a
+    frequency-dependent modulus at its first natural frequency), with its real supports, isolators
+    and clips: :func:`buckling` of that body, P_cr in N (``Buckling.load``; inf when no compression
+    buckles it, 0 for a mechanism). The compression the body carries does not enter it: with a
+    constant modulus the load of a casing whose tension exceeds it is given, not refused. A
+    ``model`` that is no Model, or a ``body`` it does not have, raises :class:`ModelError` naming
+    it. ``cc.body_buckling``."""
+    from ..model.validators import Choice, check_model
+    from .assembly import assemble_body
+
+    check_model(model)
+    Choice(*model.bodies)("body", body)
+    spec = model.bodies[body]
+    E = None
+    if spec.frequency_dependent:  # (as timedomain.body_storage.time_domain_system)
+        from ..frequency.modal import natural_frequencies
+
+        E = float(spec.modulus(natural_frequencies(model, body, 1)[0]))
+    return buckling(assemble_body(model, body, E=E, check_buckling=False))
+
+
 def buckling(system) -> Buckling:
     """The lowest buckling load of ``system`` (an assembled
     :class:`~cablecasing_core.structure.assembly.BodySystem`, any prestress) with its real
     supports, isolators and clips: the generalised eigenproblem K_G1 phi = mu K_E phi on the
-    constrained structure (module docstring), P_cr = 1 / mu_max (N)."""
+    constrained structure (module docstring), P_cr = 1 / mu_max (N). Anything else (a
+    :class:`~cablecasing_core.Model`: :func:`body_buckling` takes one) raises :class:`ModelError`
+    naming ``system``."""
+    from .assembly import BodySystem
     from .support_check import free_rigid_motion
+
+    if not isinstance(system, BodySystem):
+        source = getattr(system, "source", None)
+        raise ModelError(
+            "system",
+            plain(f"<Model {source}>") if isinstance(system, Model) else system,
+            "must be an assembled body (structure.assembly.assemble_body(model, 'casing')); for a model, "
+            "cc.body_buckling(model, 'casing') gives its buckling load",
+        )
 
     text = supports_text(system)
     free = free_rigid_motion(system)

@@ -101,7 +101,9 @@ def test_a_minimal_file_gets_every_default_of_the_schema():
         node = clean
         for part in table.split("."):
             node = node[part]
-        assert node[name] == spec.default and type(node[name]) is type(spec.default), key
+        assert node[name] == spec.default and isinstance(node[name], type(spec.default)), (
+            key
+        )  # (a FrozenList is a list)
     r = clean["scenario"]["excitation"]["r"]
     assert r["rms"] == lookup("scenario.excitation.r.rms").default and r["band"] == [10.0, 1000.0]
     assert r["seed"] == 7  # default_from scenario.seed

@@ -1,0 +1,139 @@
+"""Review I (the public API's edges), the model's part: a validated Model is read-only (D1), and a
+wrong argument's type is a ModelError naming it (D7); complex frequencies are refused (D12); a
+body's buckling load has a public entry point (D16)."""
+
+import copy
+import pickle
+
+import numpy as np
+import pytest
+
+import cablecasing_core as cc
+from cablecasing_core.structure.assembly import assemble_body
+from cablecasing_core.structure.buckling import buckling
+
+
+@pytest.fixture(scope="module")
+def model():
+    return cc.load_model()
+
+
+@pytest.mark.parametrize(
+    "change",
+    [
+        lambda m: m.data["casing"].__setitem__("E", 10e9),
+        lambda m: m.data["scenario"].update(dt=5e-5),
+        lambda m: m.data["geometry"].pop("n_elements"),
+        lambda m: m.data["geometry"]["points"].append([0.0, 0.0, 0.0]),
+        lambda m: m.data["geometry"]["points"][0].__setitem__(0, 1.0),
+        lambda m: m.data.__delitem__("contact"),
+        lambda m: m.bodies.__setitem__("casing", None),
+        lambda m: m.bodies["casing"].supports.__setitem__("A", "free"),
+    ],
+)
+def test_a_validated_model_cannot_be_changed_behind_its_checks(model, change):
+    before = model.fingerprint()
+    with pytest.raises(TypeError, match=r"read-only.*with_overrides.*to_dict"):
+        change(model)
+    assert model.fingerprint() == before == cc.load_model().fingerprint()
+    assert model.bodies["casing"].E == 5e9 and model.bodies["casing"].supports["A"] == "clamped"
+
+
+def test_a_read_only_model_reads_as_before_and_its_copies_are_yours(model):
+    data = model.data
+    assert isinstance(data, dict) and isinstance(data["geometry"]["points"], list) and data == cc.load_model().data
+    mine = model.to_dict()
+    mine["casing"]["E"] = 6e9  # a plain copy: changes freely, and leaves the model as it was
+    assert type(mine) is dict and type(mine["geometry"]["points"][0]) is list and model.data["casing"]["E"] == 5e9
+    assert cc.model_from_dict(mine).bodies["casing"].E == 6e9
+    deep = copy.deepcopy(model.data)  # (how many callers take their copy)
+    deep["contact"]["friction"] = 0.9
+    assert deep == {**mine, "contact": deep["contact"], "casing": model.to_dict()["casing"]}
+    # the dict a model is built from is not aliased: changing it later does not change the model
+    raw = model.to_dict()
+    built = cc.model_from_dict(raw)
+    raw["casing"]["E"] = 1.0
+    assert built.bodies["casing"].E == 5e9
+    assert model.with_overrides({"casing.E": 6e9}).bodies["casing"].E == 6e9
+    assert cc.load_model(None).to_toml() == model.to_toml()
+
+
+@pytest.mark.parametrize("name", ["default", "installed", "examples/installation.toml"])
+def test_a_model_pickles_deep_copies_and_hashes(name):
+    m = cc.load_model(name)
+    for other in (pickle.loads(pickle.dumps(m)), copy.deepcopy(m), copy.copy(m)):
+        assert other == m and hash(other) == hash(m) and other.fingerprint() == m.fingerprint()
+        with pytest.raises(TypeError):
+            other.data["contact"]["friction"] = 0.5
+    assert {m: 1}[cc.load_model(name)] == 1  # equal models key one entry of a cache
+    assert hash(m) != hash(m.with_overrides({"contact.friction": 0.11}))
+
+
+def test_a_one_body_models_radial_gap_is_a_model_error(model):
+    data = model.to_dict()
+    del data["cable"]
+    data["scenario"]["excitation"].pop("cable_axial")
+    with pytest.raises(cc.ModelError, match=r"radial_gap = .*needs a \[cable\]"):
+        _ = cc.model_from_dict(data).radial_gap
+    assert model.radial_gap == pytest.approx(0.5 * (model.data["casing"]["d_inner"] - model.data["cable"]["d"]))
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda m: cc.natural_frequencies(m.data, "casing", count=3),
+        lambda m: cc.natural_frequencies("default", "casing"),
+        lambda m: cc.modes(m.to_dict(), "casing", count=3),
+        lambda m: cc.trfam(m.data, "casing.A.z", "casing.B.z", [10.0]),
+        lambda m: cc.trfam_matrix("default", "casing", "A", "B", [10.0]),
+        lambda m: assemble_body(m.data, "casing"),
+        lambda m: cc.body_buckling(None),
+    ],
+)
+def test_an_entry_point_given_no_model_names_it(model, call):
+    with pytest.raises(cc.ModelError, match=r"^model = .*must be a cablecasing_core\.Model, not (a dict|a str|None)"):
+        call(model)
+
+
+def test_other_wrong_arguments_are_named(model):
+    with pytest.raises(cc.ModelError, match=r"^path = 3: must be a model file's path .*default, installed"):
+        cc.load_model(3)
+    with pytest.raises(cc.ModelError, match=r"^overrides = .*must be a mapping \(a dict\).* not a list"):
+        model.with_overrides([("contact.friction", 0.1)])
+    with pytest.raises(cc.ModelError, match=r"^names = 3: must be a name or a list of names"):
+        model.without_excitations(3)
+    with pytest.raises(cc.ModelError, match=r"^name = 'wire': must be one of 'casing', 'cable'"):
+        assemble_body(model, "wire")
+    with pytest.raises(cc.ModelError, match=r"^body = 'wire': must be one of 'casing', 'cable'"):
+        cc.body_buckling(model, "wire")
+    with pytest.raises(cc.ModelError, match=r"^system = <Model <built-in>>: .*cc\.body_buckling\(model, 'casing'\)"):
+        buckling(model)
+
+
+def test_one_excitation_name_is_one_name_not_its_letters(model):
+    one = model.without_excitations("cable_axial")
+    assert set(one.data["scenario"]["excitation"]) == {"casing_random"}
+    assert one == model.without_excitations(["cable_axial"])
+
+
+@pytest.mark.parametrize("freqs", [np.array([50 + 1j]), [50.0, 60 + 0j], np.array([50.0, 60.0], dtype=complex)])
+def test_complex_frequencies_are_refused_not_cut_to_their_real_part(model, freqs):
+    with pytest.raises(cc.ModelError, match=r"^freqs_hz = .*must be real frequencies in Hz"):
+        cc.trfam(model, "casing.A.z", "casing.B.z", freqs)
+
+
+def test_the_buckling_load_of_a_body_is_the_static_commands(model):
+    installed = cc.load_model("installed")
+    b = cc.body_buckling(installed)  # the casing, as `cablecasing static` assembles it
+    assert isinstance(b, cc.Buckling) and b.body == "casing"
+    assert b.load == pytest.approx(54.72, rel=1e-3) and b.load > installed.loads["cable_tension"]
+    assert cc.body_buckling(installed, "cable").load == pytest.approx(8.78, rel=1e-3)
+    # the same load as the existing route, structure.buckling.buckling of the assembled body
+    assert b.load == buckling(assemble_body(installed, "casing")).load
+
+
+def test_the_top_level_names_the_warnings_and_the_statics():
+    assert issubclass(cc.SolverWarning, cc.ModelWarning) and issubclass(cc.ModelWarning, UserWarning)
+    assert cc.PlausibilityWarning is cc.ModelWarning
+    for name in ("ModelWarning", "SolverWarning", "static_state", "StaticState", "body_buckling", "Buckling"):
+        assert name in cc.__all__ and getattr(cc, name) is not None
