@@ -17,11 +17,11 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy import signal
 
-from ..errors import ModelError, ModelWarning, plain
+from ..errors import ModelError, ModelWarning, SolverWarning, plain
 from ..model.limits import check_time_domain
 from ..model.schema import CONTACT_OUTPUTS, INPUTS, OUTPUTS, SUPPORT_OUTPUTS, clip_outputs, inputs_of, lookup
 from ..model.validate import step_checks
-from ..model.validators import Choice, seconds
+from ..model.validators import Choice, check_model, seconds
 from .engine import ROUNDING_OF_TIME, SHORTEST_STEP, Engine
 from .scenario import harmonic_lines, scenario_motion, warn_short_tables
 
@@ -47,11 +47,13 @@ class SimulationResult:
     through the clip: ``force_names``); contact_state (n x nodes: 0 open, 1 stick, 2 slip);
     normal_force (N) and penetration (m) per cable node; contact_time (s per cable node: the
     highest-contact-area histogram of Fig. 22); curvature (1/m per node); arc_length (m per node);
-    energies (J); inputs: {name: (n,)} the support motion of the driven channels at ``time``
-    (``casing.A.az`` m/s2 etc., ``model.schema.INPUTS``). ``time`` holds the end of each step
-    (dt, 2 dt, ..., T); the state at t = 0 is kept apart (``initial_*``) and :meth:`records` puts it
-    first, so that a record starts at t = 0. solver: what the step loop did, ``steps`` (of dt),
-    ``refined_steps`` (recomputed in ``event_substeps`` sub-steps around a contact event or for
+    energies (J, plain floats: :meth:`Engine.energies`); inputs: {name: (n,)} the support motion
+    of the driven channels at ``time`` (``casing.A.az`` m/s2 etc., ``model.schema.INPUTS``): the
+    channels the scenario's excitations drive, or, for a run of a motion of its own, the channels
+    whose displacement, velocity or acceleration that motion makes non-zero in the run. ``time``
+    holds the end of each step (dt, 2 dt, ..., T); the state at t = 0 is kept apart (``initial_*``)
+    and :meth:`records` puts it first, so that a record starts at t = 0. solver: what the step loop
+    did, ``steps`` (of dt), ``refined_steps`` (recomputed in ``event_substeps`` sub-steps around a contact event or for
     the tolerance, docs/time_domain.md), ``event_steps`` (of them, around an event),
     ``tolerance_steps``, ``max_local_error`` (m) and ``tolerance_met`` with ``event_tolerance`` (m;
     :func:`solver_report`), the contact Newton's ``newton_iterations`` and ``unconverged_steps``.
@@ -92,9 +94,11 @@ class SimulationResult:
 
     def support_force(self, name: str) -> np.ndarray:
         """History of one support output, e.g. ``"casing.B.Fz"`` or a clip's ``"casing.clip0.Fy"``
-        (N or N.m)."""
+        (N or N.m): a copy, yours to change (``f -= f.mean()`` leaves the result, its
+        :meth:`records` and :meth:`save` as they were). A name not among :attr:`force_names` raises
+        :class:`~cablecasing_core.errors.ModelError` naming ``output``."""
         Choice(*self.force_names)("output", name)
-        return self.support_forces[:, self.force_names.index(name)]
+        return self.support_forces[:, self.force_names.index(name)].copy()
 
     def records(self, output_interval: float | None = None, decimation: str = "filter") -> Records:
         """The run as a :class:`~cablecasing_core.records.Records` on the grid t = 0, Δ, 2Δ, ..., T
@@ -225,7 +229,7 @@ class SimulationResult:
 
         rec = read_records(path)
         missing = [n for n in (*_NODE_ARRAYS, "contact_time", "energies") if n not in rec.extra]
-        if missing or not str(path).endswith(".npz"):
+        if missing or not str(path).lower().endswith(".npz"):  # (X.NPZ too, as save writes it)
             raise ModelError("file", str(path), "must be an .npz file written by SimulationResult.save")
         x = rec.extra
         names = SUPPORT_OUTPUTS + tuple(n for n in rec.columns if n.startswith("casing.clip"))
@@ -274,17 +278,26 @@ def simulate(
 ) -> SimulationResult:
     """Run the model's scenario (or ``motion``) for ``duration`` s with time step ``dt`` s.
 
-    Defaults come from ``[scenario]``; ``contact`` defaults to ``[contact] enabled``. ``progress``
+    ``model`` is a :class:`~cablecasing_core.Model` (anything else raises a ModelError naming
+    ``model``). Defaults come from ``[scenario]``; ``contact`` defaults to ``[contact] enabled``.
+    ``motion`` (a callable of the times, s, returning the channels' displacements, velocities and
+    accelerations, m, m/s, m/s2) replaces the scenario's excitations; the result's
+    :attr:`SimulationResult.inputs` then holds the channels it moves (non-zero in the run). ``progress``
     shows a tqdm bar of the simulated time (the run is the same with or without it, bit for bit when
     the duration is a whole number of steps; otherwise the shorter last step's length may differ in
     its last bits, and with it the last row). A model
     without excitations warns (its supports stay at rest), and so does a CSV excitation whose table
-    ends before the run (its support then holds its last displacement at rest). Returns a :class:`SimulationResult`.
+    ends before the run (its support then holds its last displacement at rest): both
+    :class:`~cablecasing_core.errors.ModelWarning`; what the step loop did not achieve (a contact
+    Newton that did not converge, a step above the event tolerance) warns
+    :class:`~cablecasing_core.errors.SolverWarning`, a ModelWarning too. The step loop integrates
+    Eqs. (14-39) (Newmark, docs/time_domain.md). Returns a :class:`SimulationResult`.
     Raises :class:`~cablecasing_core.errors.SimulationError` on blow-up; an interrupt (Ctrl-C)
     propagates as KeyboardInterrupt.
     """
     from ..records import driven_inputs
 
+    check_model(model)
     sc = model.scenario
     duration = sc["duration"] if duration is None else duration
     dt = sc["dt"] if dt is None else dt
@@ -316,13 +329,13 @@ def simulate(
         warnings.warn(
             f"the model {model.source} has no excitation ([scenario.excitation.<name>]): its supports stay at rest "
             f"and {stays} (docs/model_file.md, Excitations)",
-            UserWarning,
+            ModelWarning,
             stacklevel=2,
         )
     out0 = eng.output_values().copy()  # the state at t = 0 (records() puts it first)
     _advance(eng, duration, motion, progress)
     for said in eng.solver_warnings():
-        warnings.warn(said, UserWarning, stacklevel=2)
+        warnings.warn(said, SolverWarning, stacklevel=2)
     h = eng.history()
     n = len(h["support_forces"])
     cl = eng.bodies[next(iter(eng.bodies))].system.centerline
@@ -332,6 +345,8 @@ def simulate(
     if n:
         time[-1] = eng.time
     names = inputs_of(model)
+    if given_motion is not None:  # the channels the motion moves (those it leaves at zero are not driven)
+        inputs = _moved_inputs(motion, time, names)
     cols = [names.index(name) for name in inputs]
     table = np.empty((n, len(cols)))
     for i in range(0, n if cols else 0, 65536):  # (in pieces: all 36 inputs of a long run would not fit)
@@ -345,7 +360,7 @@ def simulate(
         contact_time=eng.contact_time.copy(),
         curvature=cl.curvature,
         arc_length=cl.s,
-        energies=eng.energies(),
+        energies={k: float(v) for k, v in eng.energies().items()},
         inputs={name: table[:, j] for j, name in enumerate(inputs)},
         force_names=SUPPORT_OUTPUTS + clip_outputs(model),
         solver=solver_report(eng, n),
@@ -355,6 +370,19 @@ def simulate(
         lines_hz=harmonic_lines(model) if given_motion is None else (),
         ramp_s=float(model.scenario["ramp"]) if given_motion is None else 0.0,
     )
+
+
+def _moved_inputs(motion, time, names) -> tuple:
+    """The inputs (``names``: the model's :func:`~cablecasing_core.model.schema.inputs_of`,
+    kind-major) of the channels whose displacement, velocity or acceleration ``motion`` makes
+    non-zero at t = 0 or at any of ``time`` (s): for each such channel its three inputs, as
+    :func:`~cablecasing_core.records.driven_inputs` gives a scenario's."""
+    moved = np.any(np.hstack(motion(np.zeros(1))) != 0.0, axis=0)
+    for i in range(0, len(time), 65536):  # (in pieces, as the record's table)
+        moved |= np.any(np.hstack(motion(time[i : i + 65536])) != 0.0, axis=0)
+    nch = len(names) // 3
+    channel = moved.reshape(3, nch).any(axis=0)
+    return tuple(names[k * nch + c] for k in range(3) for c in np.flatnonzero(channel))
 
 
 def solver_report(eng: Engine, steps: int) -> dict:

@@ -42,6 +42,7 @@ from scipy.linalg import solve_banded
 
 from ..errors import ModelWarning, SimulationError
 from ..model.schema import BODY_NAMES, CONTACT_LAWS, FORCE_NAMES, SUPPORT_NAMES, SUPPORT_OUTPUTS
+from ..model.validators import Choice, check_contact, check_model
 from ..structure.loads import gravity_load
 from . import kernels as K
 
@@ -115,9 +116,19 @@ class StaticState:
         """Largest penetration (m), 0 without contact."""
         return float(self.penetration.max()) if len(self.penetration) else 0.0
 
+    @property
+    def support_names(self) -> tuple[str, ...]:
+        """The names :meth:`reaction` takes: ``<body>.A``, ``<body>.B`` of each body of the model,
+        then ``casing.clip0`` .. ``casing.clip<N-1>`` of its clips."""
+        supports = tuple(n.rsplit(".", 1)[0] for n in SUPPORT_OUTPUTS[::6] if n.split(".")[0] in self.U)
+        return supports + tuple(f"casing.clip{i}" for i in range(len(self.clip_reactions)))
+
     def reaction(self, support: str) -> np.ndarray:
-        """[Fx, Fy, Fz, Mx, My, Mz] (N, N.m) the body exerts on ``support``: a support
-        ``"casing.A"`` (clamped or an isolator; zeros when free) or a clip ``"casing.clip0"``."""
+        """[Fx, Fy, Fz, Mx, My, Mz] (N, N.m) the body exerts on ``support`` (a copy): a support
+        ``"casing.A"`` (clamped or an isolator; zeros when free) or a clip ``"casing.clip0"``
+        (:attr:`support_names`; any other name raises
+        :class:`~cablecasing_core.errors.ModelError` naming ``support``, the value and those)."""
+        Choice(*self.support_names)("support", support)
         name = support.split(".", 1)[1]
         if name.startswith("clip"):
             return self.clip_reactions[int(name[4:])].copy()
@@ -132,8 +143,8 @@ class StaticState:
         forces ``weight``, ``prestress``, ``contact``, ``reactions`` and ``residual``, N, global),
         ``contact_nodes``, ``max_penetration_m`` and ``largest_displacement_m`` (per body:
         [its largest translation from the routing, the arc length of that node], m)."""
-        supports = sorted({n.rsplit(".", 1)[0] for n in SUPPORT_OUTPUTS if n.split(".")[0] in self.U})
-        supports += [f"casing.clip{i}" for i in range(len(self.clip_reactions))]
+        supports = sorted(s for s in self.support_names if ".clip" not in s)
+        supports += [s for s in self.support_names if ".clip" in s]
         return {
             "contact_force_N": self.contact_force.tolist(),
             "support_reactions_N": {s: self.reaction(s).tolist() for s in supports},
@@ -146,16 +157,22 @@ class StaticState:
 
 def static_state(model: Model, contact: bool | None = None) -> StaticState:
     """The static state of ``model`` (see the module docstring): both bodies at rest under their
-    constant loads, with frictionless contact when ``contact`` (default ``contact.enabled``; needs
-    both bodies). The bodies as the time domain assembles them (a frequency-dependent modulus at
-    the first natural frequency). Raises :class:`~cablecasing_core.errors.SimulationError` when the
-    Newton method does not converge, and ModelError for a model that cannot be installed (a
-    tension above the casing's buckling load)."""
+    constant loads, with frictionless contact when ``contact`` (None: ``contact.enabled``, True or
+    False, as :func:`~cablecasing_core.simulate`'s; needs both bodies): R(z) = K z - f - f_c(z) = 0
+    with the contact of Eqs. (30-39). The bodies as the time domain assembles them (a
+    frequency-dependent modulus at the first natural frequency). Raises
+    :class:`~cablecasing_core.errors.SimulationError` when the Newton method does not converge, and
+    ModelError for a model that cannot be installed (a tension above the casing's buckling load),
+    for a ``model`` that is no :class:`~cablecasing_core.Model` and for a ``contact`` that is not
+    None, True or False. Its warnings (ModelWarning: a large displacement, a prestress not kept)
+    point at the caller's line."""
     from .body_storage import time_domain_system
 
+    check_model(model)
+    check_contact(contact)
     systems = {n: time_domain_system(model, n) for n in model.bodies}
     contact = model.contact["enabled"] if contact is None else bool(contact)
-    return solve_static(model, systems, contact and len(systems) == 2)
+    return solve_static(model, systems, contact and len(systems) == 2, warn_at=2)
 
 
 def _law(model):
@@ -165,9 +182,10 @@ def _law(model):
     return CONTACT_LAWS.index(c["law"]), c["stiffness"], hertz_constant(model)
 
 
-def solve_static(model: Model, systems: dict, contact: bool) -> StaticState:
+def solve_static(model: Model, systems: dict, contact: bool, warn_at: int = 1) -> StaticState:
     """The static state for the assembled ``systems`` ({body: BodySystem}) of ``model``; the engine
-    passes its own (:class:`~cablecasing_core.timedomain.engine.Engine`)."""
+    passes its own (:class:`~cablecasing_core.timedomain.engine.Engine`). Its warnings point at the
+    line ``warn_at`` frames above this function's caller (1: the caller's caller's call)."""
     names = [n for n in BODY_NAMES if n in systems]
     offs = _unknowns(systems, names)
     o = sum(len(v) for v in offs.values())
@@ -199,10 +217,15 @@ def solve_static(model: Model, systems: dict, contact: bool) -> StaticState:
     ev.evaluate(z)
     touching = contact and bool(np.any(ev.N > 0.0))
     check_kept_prestress(
-        systems, U, exclude=("cable",) if T > 0.0 else (), gravity=model.loads["gravity"], contact=touching
+        systems,
+        U,
+        exclude=("cable",) if T > 0.0 else (),
+        gravity=model.loads["gravity"],
+        contact=touching,
+        stacklevel=2 + warn_at,
     )
     moved = {n: largest_displacement(systems[n], U[n]) for n in names}
-    check_small_displacements(systems, moved)
+    check_small_displacements(systems, moved, stacklevel=2 + warn_at)
     if pulled:
         loads["cable"] += sigma * systems["cable"].f_axial
     else:
@@ -288,7 +311,7 @@ def largest_displacement(system, U):
     return float(d[i]), float(system.centerline.s[i])
 
 
-def check_small_displacements(systems, moved):
+def check_small_displacements(systems, moved, stacklevel=3):
     """Warn (ModelWarning) when a body moves, in the static state (``moved``: {body: its
     :func:`largest_displacement`, (m, m)}), by more than :data:`SMALL_DISPLACEMENT` of its length:
     a linear model (Eqs. 1-9, small displacements and rotations) then answers for a shape far from
@@ -303,7 +326,7 @@ def check_small_displacements(systems, moved):
                 "so its answer for so large a motion is a linear extrapolation; stiffer supports, isolators or clips "
                 "hold it nearer to its routing",
                 ModelWarning,
-                stacklevel=3,
+                stacklevel=stacklevel,
             )
 
 
@@ -320,7 +343,7 @@ def end_axial_forces(system, U):
     return np.array(out)
 
 
-def check_kept_prestress(systems, U, exclude=(), gravity=(0.0, 0.0, 0.0), contact=False):
+def check_kept_prestress(systems, U, exclude=(), gravity=(0.0, 0.0, 0.0), contact=False, stacklevel=3):
     """Warn (ModelWarning) when a body with a given prestress N0 (the casing's compression -T) and
     an isolator end carries, in the static state U ({body: displacements}), an axial force N in an
     end element that differs from N0 by more than KEPT_PRESTRESS |N0| and by more than
@@ -359,7 +382,7 @@ def check_kept_prestress(systems, U, exclude=(), gravity=(0.0, 0.0, 0.0), contac
             f"{ratio:.3g} of its buckling load as built P_cr = {P_cr:.4g} N, about the error of K_G against its "
             f"bending stiffness in its lowest mode; {_prestress_causes(s, gravity, contact)}",
             ModelWarning,
-            stacklevel=3,
+            stacklevel=stacklevel,
         )
 
 

@@ -345,7 +345,7 @@ def test_steps_whose_contact_newton_did_not_converge_are_said():
     import warnings
 
     model = cc.load_model()
-    with pytest.warns(UserWarning, match=r"the contact Newton did not converge in \d+ of the 10000 steps") as said:
+    with pytest.warns(cc.SolverWarning, match=r"the contact Newton did not converge in \d+ of the 10000 steps") as said:
         res = cc.simulate(model.with_overrides({"contact.damping": 1e5}), duration=0.1)
     count = int(re.search(r"in (\d+) of", str(said[0].message)).group(1))
     assert count == res.solver["unconverged_steps"] > 0, res.solver

@@ -131,7 +131,7 @@ def test_a_tolerance_the_substeps_do_not_meet_is_said_and_one_they_meet_is_not()
     import warnings
 
     model = cc.load_model("installed")
-    with pytest.warns(UserWarning, match=r"contact\.event_tolerance = 1e-09 m was not met: .* (\d\.\d+e-09) m"):
+    with pytest.warns(cc.SolverWarning, match=r"contact\.event_tolerance = 1e-09 m was not met: .* (\d\.\d+e-09) m"):
         res = cc.simulate(model.with_overrides({"contact.event_tolerance": 1e-9}), duration=0.05)
     s = res.solver
     assert not s["tolerance_met"] and s["max_local_error"] > 1.5e-9 and s["tolerance_steps"] > 0, s
