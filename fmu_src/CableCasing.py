@@ -62,7 +62,14 @@ from cablecasing_core.model.schema import (
     value_range,
 )
 from cablecasing_core.model.validators import seconds
-from cablecasing_core.timedomain.engine import Engine, state_from_bytes, state_to_bytes, whole_steps
+from cablecasing_core.timedomain.engine import (
+    ROUNDING_OF_TIME,
+    SHORTEST_LONE_STEP,
+    Engine,
+    state_from_bytes,
+    state_to_bytes,
+    whole_steps,
+)
 from cablecasing_core.timedomain.scenario import scenario_motion
 from cablecasing_core.timedomain.support_motion import GridMotion, SupportReconstruction
 
@@ -196,6 +203,7 @@ class CableCasing(Fmi2Slave):
         self._start["solver.dt"] = float(self._base.scenario["dt"])
         self._start["scenario.drive"] = False
         self._log_sink = None
+        self._tolerance_said = False  # fmi2SetupExperiment's tolerance is said unused once per instance
         # the two arrays the FMU's binary reads and writes directly
         self.inputs_buffer = np.zeros(3 * self.nch)  # u (m), v (m/s), a (m/s2) of the channels
         self._finite_inputs = np.zeros(3 * self.nch, dtype=bool)
@@ -226,6 +234,7 @@ class CableCasing(Fmi2Slave):
         self._error = None  # why stepping is refused (an initialisation that failed)
         self._discarded = None  # (t, h, inputs) of the step last discarded, until a step is taken
         self._wants_to_end = False  # fmi2Terminated: that step was asked for again, and discarded again
+        self._start_said = False  # whether the first step's position inputs were checked (_say_start_offset)
 
     # ------------------------------------------------------------------ variables
     def _register_variables(self):
@@ -462,7 +471,7 @@ class CableCasing(Fmi2Slave):
             if key_kind is not None and key_kind[1] == kind:
                 out[k] = self._value(key_kind[0])
                 continue
-            status = max(status, self._refuse(f"get a {kind}", vr))
+            status = max(status, self._refuse(f"get {'an' if kind == 'Integer' else 'a'} {kind}", vr))
         return status
 
     def fmi2_set(self, kind, vrs, values):
@@ -477,7 +486,7 @@ class CableCasing(Fmi2Slave):
             if key_kind is not None and key_kind[1] == kind:
                 status = max(status, self._set_parameter(key_kind[0], kind, value))
                 continue
-            status = max(status, self._refuse(f"set a {kind}", vr, value))
+            status = max(status, self._refuse(f"set {'an' if kind == 'Integer' else 'a'} {kind}", vr, value))
         return status
 
     # ------------------------------------------------------------------ logging
@@ -493,7 +502,9 @@ class CableCasing(Fmi2Slave):
             super().log(msg, status, category)
 
     # ------------------------------------------------------------------ life cycle
-    def fmi2_setup_experiment(self, start_time, stop_time=None):
+    def fmi2_setup_experiment(self, start_time, stop_time=None, tolerance=None):
+        """fmi2SetupExperiment: ``stop_time`` and ``tolerance`` None when not defined. The tolerance is
+        checked, and said once (logging on) not to be used: the FMU steps with the fixed solver.dt."""
         if not math.isfinite(start_time):
             self.log(
                 f"fmi2SetupExperiment: startTime = {start_time!r}: must be a finite number of seconds", Fmi2Status.error
@@ -506,6 +517,20 @@ class CableCasing(Fmi2Slave):
                 Fmi2Status.error,
             )
             return ERROR
+        if tolerance is not None and not (math.isfinite(tolerance) and tolerance > 0):
+            self.log(
+                f"fmi2SetupExperiment: tolerance = {tolerance!r} (toleranceDefined): must be a finite number > 0, "
+                "or not defined (the FMU does not use it)",
+                Fmi2Status.error,
+            )
+            return ERROR
+        if tolerance is not None and not self._tolerance_said:
+            self._tolerance_said = True
+            self.log(
+                f"fmi2SetupExperiment: tolerance = {tolerance!r} is not used: the FMU steps with the fixed "
+                "internal step solver.dt (s), the parameter that sets its accuracy; the contact's tolerance on a "
+                "step's local error is the parameter contact.event_tolerance (m)"
+            )
         self._start_time = float(start_time)
         self._stop_time = None if stop_time is None else float(stop_time)
         return OK
@@ -688,6 +713,7 @@ class CableCasing(Fmi2Slave):
         self._applied = config
         self._drive = drive
         self._error = None
+        self._start_said = False
         self._warm_up()
         self._recon.reset()
         self._engine.output_values(self.outputs_buffer)
@@ -893,11 +919,16 @@ class CableCasing(Fmi2Slave):
                 Fmi2Status.discard,
             )
             return self._discard(current_time, step_size)
-        if whole_steps(step_size, eng.dt) == (0, 0.0):
+        n, rest = whole_steps(step_size, eng.dt)
+        if (n, rest) == (0, 0.0):
             # within the rounding of a clock (Engine.advance integrates no such rest): the FMU's clock
-            # moves with the master's and the state stays, within 1e-6 solver.dt
+            # moves with the master's and the state stays, within 1e-6 solver.dt; a step taken
             self._start_time += step_size
+            self._discarded, self._wants_to_end = None, False
             return OK
+        if n == 0 and rest < SHORTEST_LONE_STEP * eng.dt:
+            self.log(self._too_short(current_time, step_size, eng.dt), Fmi2Status.discard)
+            return self._discard(current_time, step_size)
         x = self.inputs_buffer
         if not np.isfinite(x, out=self._finite_inputs).all():  # (not x @ x: it overflows, with a warning, past 1e154)
             i = int(np.flatnonzero(~self._finite_inputs)[0])
@@ -907,6 +938,8 @@ class CableCasing(Fmi2Slave):
                 Fmi2Status.discard,
             )
             return self._discard(current_time, step_size)
+        if not self._start_said and math.isnan(self._recon.state[4, 0]):  # (the first step from rest)
+            self._say_start_offset(current_time, step_size)
         try:  # on any error the engine and the reconstruction are left as they were
             eng.advance_reconstructed(
                 step_size, self._recon, self._u, self._v, self._a, self.outputs_buffer, self._drive
@@ -925,6 +958,55 @@ class CableCasing(Fmi2Slave):
         if self._discarded is not None:
             self._discarded, self._wants_to_end = None, False
         return OK
+
+    def _say_start_offset(self, current_time, step_size):
+        """Warn (once per initialisation) when the first step starts with position inputs that are not
+        zero: the model starts from rest at its reference position, and the reconstruction moves the
+        supports from there to the inputs within the step. Starting it from the inputs instead would
+        be right only for a rigid shift of every support alike; unequal offsets would need the bodies'
+        static state under them, which the FMU does not compute (docs/fmu.md, Variables)."""
+        self._start_said = True
+        moved = [(name, float(x)) for name, x in zip(self.input_names[: self.nch], self._u) if x != 0.0]
+        if not moved:
+            return
+        listed = ", ".join(f"{name} = {x!r} m" for name, x in moved[:6])
+        if len(moved) > 6:
+            listed += f" and {len(moved) - 6} more"
+        self.log(
+            f"position inputs not zero at the start time t = {current_time:.9g} s: {listed}; the model starts "
+            "from rest at its reference position (the supports at 0), so these supports move from 0 to those "
+            f"positions within the first step (h = {step_size:.6g} s), a jump the bodies feel as a transient force "
+            "(an equal offset of every support too: it is no rigid shift here); give the inputs relative to their "
+            "values at the start time, i.e. the motion about the installed position (docs/fmu.md, Variables)",
+            Fmi2Status.warning,
+        )
+
+    @staticmethod
+    def _too_short(current_time, step_size, dt):
+        """The message of a step too short for a Newmark step of its own (between 1e-6 and 1e-3
+        solver.dt, Engine.advance): nothing is computed; it names solver.dt and the largest value,
+        three digits rounded down, with which the step would be taken."""
+        need = step_size / SHORTEST_LONE_STEP
+        digits = 10.0 ** (math.floor(math.log10(need)) - 2)
+        fit = math.floor(need / digits) * digits
+        while fit > digits and whole_steps(step_size, fit)[1] < SHORTEST_LONE_STEP * fit:  # (n = 0 here)
+            fit -= digits  # (the rounding of the division put it just past the limit)
+        lo = value_range("scenario.dt")[0]
+        fix = (
+            f"set solver.dt to at most {fit:.3g} s (h / {SHORTEST_LONE_STEP:g}) before fmi2ExitInitializationMode "
+            "(reset the FMU to change it; a master whose every step is this short does best with solver.dt = h)"
+            if lo is None or fit >= lo
+            else f"solver.dt cannot be that small (at least {lo:g} s)"
+        )
+        return (
+            f"doStep from t = {current_time!r} s over h = {step_size!r} s refused, nothing computed (the FMU stays "
+            f"at t = {current_time!r} s): the step is {step_size / dt:.3g} of solver.dt = {dt!r} s, too short for "
+            f"a Newmark step of its own, which must be at least {SHORTEST_LONE_STEP:g} solver.dt "
+            f"({SHORTEST_LONE_STEP * dt:.6g} s; a step of at most {ROUNDING_OF_TIME:g} solver.dt is a clock's "
+            "rounding: no time): its accelerations lose their digits; "
+            f"{fix}, or take a longer step (a master that shortens its last step to land on stopTime can add "
+            "that rest to the step before it)"
+        )
 
     @staticmethod
     def _clock_rounding(t, step_size):
@@ -1136,7 +1218,7 @@ class CableCasing(Fmi2Slave):
             return state
         except Exception as exc:  # noqa: BLE001
             self.log(
-                f"the FMU state cannot be restored ({len(data)} bytes are not a serialised CableCasing FMU "
+                f"the FMU state cannot be deserialised ({len(data)} bytes are not a serialised CableCasing FMU "
                 f"state: {exc!r})",
                 Fmi2Status.error,
             )
@@ -1146,7 +1228,7 @@ class CableCasing(Fmi2Slave):
     # pythonfmu calls these; a Python exception there is fmi2Fatal, and it can report fmi2Discard
     # (do_step returning False) but no fmi2Error, so errors are logged and steps refused.
     def setup_experiment(self, start_time=0.0, stop_time=None, tolerance=None):
-        self.fmi2_setup_experiment(float(start_time or 0.0), stop_time)
+        self.fmi2_setup_experiment(float(start_time or 0.0), stop_time, None if tolerance is None else float(tolerance))
 
     def exit_initialization_mode(self):
         self.fmi2_exit_initialization_mode()

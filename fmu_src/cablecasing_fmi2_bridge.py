@@ -335,7 +335,11 @@ class Instance:
     # ---------------------------------------------------------------------------------- life cycle
     def setup_experiment(self, tol_defined, tol, start, stop_defined, stop):
         return self._guard(
-            "fmi2SetupExperiment", self._slave.fmi2_setup_experiment, start, stop if stop_defined else None
+            "fmi2SetupExperiment",
+            self._slave.fmi2_setup_experiment,
+            start,
+            stop if stop_defined else None,
+            tol if tol_defined else None,
         )
 
     def enter_initialization_mode(self):

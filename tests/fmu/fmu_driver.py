@@ -514,8 +514,8 @@ def scenario_careless(job, table):
     np.savez(buf, **z)
     record("nan_clock_restore", inst, Instance.call(inst.fmu.setFMUstate, inst.fmu.deSerializeFMUstate(buf.getvalue())))
     record("after_nan_clock_step", inst, inst.step(table[5], h))
-    # a step too short for Newmark to take alone (1e-3 solver.dt), then one as long as a clock's rounding
-    record("short_step", inst, Instance.call(inst.fmu.doStep, inst.t, 1e-8))
+    # a step too short for Newmark to take alone (5e-4 solver.dt), then one as long as a clock's rounding
+    record("short_step", inst, Instance.call(inst.fmu.doStep, inst.t, 5e-9))
     record("rounding_step", inst, Instance.call(inst.fmu.doStep, inst.t, 1e-13))
     # parameters are fixed after initialisation
     record("late_parameter", inst, inst.set({"contact.friction": 0.3}))
