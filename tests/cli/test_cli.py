@@ -216,7 +216,7 @@ def test_an_interrupted_write_leaves_the_earlier_file(tmp_path):
 def test_a_model_without_excitation_warns_in_one_line(tmp_path, capsys):
     from cablecasing_core.model import model_from_dict
 
-    data = load_model().data
+    data = load_model().to_dict()  # (a model is read-only: a mutable copy)
     data["scenario"]["excitation"] = {}
     p = tmp_path / "m.toml"
     p.write_text(model_from_dict(data).to_toml())
