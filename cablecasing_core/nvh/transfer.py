@@ -60,9 +60,26 @@ def _units(units):
     return " and ".join(f"'{u}'" for u in units)
 
 
+def _finest(fs, n, averages=MIN_AVERAGES):
+    """The finest resolution (Hz) of Welch segments of a power of two samples that leave at least
+    ``averages`` half-overlapping averages of ``n`` samples at ``fs`` Hz (k averages span (k + 1) / 2
+    segments: a segment of at most 2 n / (k + 1) samples); the rule ``spectrum --resolution`` applies."""
+    longest = 2 * n // (averages + 1)
+    return fs / 2 ** int(np.log2(max(longest, 1)))
+
+
+def finest_resolution(rec: Records, skip: float | None = None) -> float:
+    """The finest ``resolution_hz`` (Hz) that :func:`apparent_mass` and :func:`transmissibility` take
+    of the record ``rec`` after ``skip`` s (None: ``rec.default_skip()``): fs / the longest power of two
+    of samples that leaves :data:`MIN_AVERAGES` averages (at most half of the samples after the skip)."""
+    seconds("skip", skip, zero_ok=True, none_ok=True)
+    skip = rec.default_skip() if skip is None else skip
+    return _finest(rec.fs, int(after_skip(rec.time, skip, rec.time[0]).sum()))
+
+
 def _estimate(rec, x_name, y_name, sign, kind, unit, estimator, skip, nperseg, resolution_hz):
     Choice("H1", "H2")("estimator", estimator)
-    seconds("skip", skip, zero_ok=True)
+    seconds("skip", skip, zero_ok=True, none_ok=True)
     if nperseg is not None:
         nperseg = integer("nperseg", nperseg, 8)
     if resolution_hz is not None:
@@ -74,6 +91,8 @@ def _estimate(rec, x_name, y_name, sign, kind, unit, estimator, skip, nperseg, r
             "rec", f"{x.size}, {y.size} and {rec.time.size} samples", "columns must be as long as the time"
         )
     fs = rec.fs
+    if skip is None:  # (the record's default, as spectrum and bands take it)
+        skip = rec.default_skip()
     keep = after_skip(rec.time, skip, rec.time[0])
     if keep.sum() < 64:
         raise ModelError(
@@ -90,6 +109,14 @@ def _estimate(rec, x_name, y_name, sign, kind, unit, estimator, skip, nperseg, r
                 f"the record, at least {MIN_SEGMENT} samples); give nperseg for a shorter one, with fewer averages",
             )
         seg = int(2 ** np.round(np.log2(fs / (1.0 if resolution_hz is None else resolution_hz))))
+        if resolution_hz is not None and seg > 2 * n // (MIN_AVERAGES + 1):  # (refused as spectrum --resolution)
+            raise ModelError(
+                "resolution_hz",
+                resolution_hz,
+                f"must be at least {_finest(fs, n):.4g} Hz for the {n / fs:.4g} s of record after the skip "
+                f"({MIN_AVERAGES} averages of half-overlapping segments of a power of two samples; from one the "
+                "coherence is 1 whatever the signals)",
+            )
         nperseg = max(MIN_SEGMENT, min(seg, 2 ** int(np.log2(n // share))))
     if welch_averages(n, nperseg) < MIN_AVERAGES:
         raise ModelError(
@@ -123,18 +150,22 @@ def apparent_mass(
     input: str = "casing.A.az",
     output: str = "casing.B.Fz",
     estimator: str = "H1",
-    skip: float = 0.05,
+    skip: float | None = None,
     nperseg: int | None = None,
     resolution_hz: float | None = None,
 ) -> Transfer:
     """The apparent mass (kg) from a support acceleration ``input`` (m/s2) to a support force
     ``output`` (N) of the record ``rec``, in the TRFAM's sign convention (module docstring).
 
-    skip (s): the start of the record left out (fade-in and transient); nperseg: samples per Welch
-    segment, or ``resolution_hz`` (a power of two of samples; at most half the record, so at least 3
-    averages; default 1 Hz but at most an eighth of the record, so at least 15 averages; the
-    default segment is at least 16 samples, so a record of fewer than 128 samples after skip is
-    refused naming its length)."""
+    skip (s): the start of the record left out (fade-in and transient); None (the default) takes the
+    record's :meth:`~cablecasing_core.records.Records.default_skip`, as ``spectrum`` and ``bands`` do
+    (0.05 s, or the fade-in the record states if longer, lengthened so that the rest holds whole
+    periods of the lines it states). nperseg: samples per Welch segment, or ``resolution_hz`` (the
+    nearest power of two of samples; at most half the record after the skip, so at least 3 averages: a
+    finer one is refused naming ``resolution_hz`` and the finest the record allows,
+    :func:`finest_resolution`, as ``spectrum --resolution`` is); default 1 Hz but at most an eighth of
+    the record, so at least 15 averages; the default segment is at least 16 samples, so a record of
+    fewer than 128 samples after skip is refused naming its length."""
     units = rec.unit(input, "input"), rec.unit(output, "output")
     if units != ("m/s2", "N"):
         raise ModelError(
@@ -150,7 +181,7 @@ def transmissibility(
     input: str = "casing.A.Fz",
     output: str = "casing.B.Fz",
     estimator: str = "H1",
-    skip: float = 0.05,
+    skip: float | None = None,
     nperseg: int | None = None,
     resolution_hz: float | None = None,
 ) -> Transfer:

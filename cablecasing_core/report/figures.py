@@ -314,7 +314,8 @@ AM_RANGE_HZ = (10.0, 1000.0)
 #: coherence drops by the window's bias: on the built-in specimen's record without the drive (seed
 #: 1, 0.5 s, no contact) its median is 0.54 over 10-100 Hz and 0.99 over 10-1000 Hz, the window
 #: alone predicts 0.50 and 0.99, and at 24.4 Hz lines (20 averages) it falls to 0.22 and 0.84
-#: (tests/nvh/test_report_apparent_mass.py).
+#: (tests/nvh/test_report_apparent_mass.py). A shorter record takes the finest it allows
+#: (``nvh.transfer.finest_resolution``).
 AM_RESOLUTION_HZ = 8.0
 
 
@@ -332,7 +333,7 @@ def apparent_mass_figure(model, var, path, skip):
     from ..frequency.trfam import half_power_bandwidths
     from ..nvh import apparent_mass
     from ..nvh.plots import plot_transfer
-    from ..nvh.transfer import window_expectation
+    from ..nvh.transfer import finest_resolution, window_expectation
     from ..records import read_records
 
     rec = read_records(var.record)
@@ -341,7 +342,8 @@ def apparent_mass_figure(model, var, path, skip):
     if inp not in rec.columns:
         return None
     lo, hi = AM_RANGE_HZ
-    tr = apparent_mass(rec, inp, OUTPUT, skip=skip, resolution_hz=AM_RESOLUTION_HZ)
+    # (AM_RESOLUTION_HZ, or the finest a short record allows: a finer resolution_hz is refused)
+    tr = apparent_mass(rec, inp, OUTPUT, skip=skip, resolution_hz=max(AM_RESOLUTION_HZ, finest_resolution(rec, skip)))
     nper = 2 * (len(tr.f_hz) - 1)  # (the one-sided lines of an even segment: nperseg / 2 + 1)
     df = float(tr.f_hz[1])
 

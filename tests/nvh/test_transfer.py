@@ -189,3 +189,72 @@ def test_the_default_resolution_keeps_at_least_15_averages():
         x = rng.standard_normal(int(seconds * fs))
         tr = apparent_mass(_records(x, -x + rng.standard_normal(x.size), fs), skip=0.0)
         assert tr.f_hz[1] == df and tr.n_averages == averages
+
+
+def _record_with_a_line(fs=10000.0, duration=0.5):
+    """Noise through a simple linear filter with a 50 Hz line, stating the line (lines_hz) as a
+    run's record does: its default skip is 0.06 s (whole periods of 50 Hz in the rest), not 0.05 s."""
+    from cablecasing_core.records import Records
+
+    rng = np.random.default_rng(3)
+    t = np.arange(int(round(duration * fs)) + 1) / fs
+    a = rng.normal(size=t.size) + np.sin(2 * np.pi * 50 * t)
+    f = np.convolve(a, [0.5, 0.3, 0.2], mode="same") + 0.1 * rng.normal(size=t.size)
+    cols = {"casing.A.az": a, "casing.A.Fz": a + 0.2 * rng.normal(size=t.size), "casing.B.Fz": f}
+    units = {"casing.A.az": "m/s2", "casing.A.Fz": "N", "casing.B.Fz": "N"}
+    return Records(t, cols, units, extra={"lines_hz": np.array([50.0])})
+
+
+def test_a_resolution_finer_than_the_record_allows_is_refused_by_the_api_as_by_spectrum(tmp_path, capsys):
+    """One rule for ``resolution_hz`` and ``spectrum --resolution``: a segment that leaves fewer than
+    3 averages after the skip is refused naming the value and the finest resolution the record allows
+    (the API used to coarsen it silently); one it allows is kept, rounded to the nearest power of two
+    of samples (6 Hz and 4.9 Hz both give 2048 samples at 10 kHz)."""
+    from cablecasing_core.cli import main
+    from cablecasing_core.nvh.transfer import finest_resolution
+
+    rec = _record_with_a_line()  # 0.44 s after the default skip of 0.06 s: 4400 samples, at most 2048
+    finest = finest_resolution(rec)
+    assert finest == pytest.approx(10000.0 / 2048)
+    for fn, inp in ((apparent_mass, "casing.A.az"), (transmissibility, "casing.A.Fz")):
+        with pytest.raises(ModelError) as e:
+            fn(rec, inp, "casing.B.Fz", resolution_hz=3.0)  # (4096 samples: one average of 4400)
+        assert e.value.key == "resolution_hz"
+        assert str(e.value).startswith("resolution_hz = 3.0: must be at least 4.883 Hz for the 0.44 s of record")
+    assert np.diff(apparent_mass(rec, resolution_hz=finest).f_hz)[0] == pytest.approx(finest)
+    assert np.diff(apparent_mass(rec, resolution_hz=6.0).f_hz)[0] == pytest.approx(finest)  # (2048 samples)
+    cc.records.write_records(tmp_path / "r.npz", rec)
+    assert main(["spectrum", str(tmp_path / "r.npz"), "--kind", "apparent-mass", "--resolution", "3"]) == 2
+    cli = capsys.readouterr().err.strip()
+    api = str(e.value).split(": ", 1)[1]
+    assert cli == f"cablecasing: error: --resolution = 3.0: {api}", (cli, api)
+
+
+def test_the_api_and_spectrum_take_the_same_samples_by_default(tmp_path, capsys):
+    """skip=None (the default) is the record's default_skip(), as ``spectrum`` and ``bands`` take
+    it: 0.06 s of a 0.5 s record stating a 50 Hz line, so the API's estimate and the command's table
+    of one record are the same numbers (the API took a bare 0.05 s)."""
+    from cablecasing_core.cli import main
+    from cablecasing_core.records import read_records
+
+    rec = _record_with_a_line()
+    path = tmp_path / "r.npz"
+    cc.records.write_records(path, rec)
+    rec = read_records(path)
+    assert rec.default_skip() == pytest.approx(0.06)
+    for kind, fn, inp in (
+        ("apparent-mass", apparent_mass, "casing.A.az"),
+        ("transmissibility", transmissibility, "casing.A.Fz"),
+    ):
+        out = tmp_path / f"{kind}.csv"
+        assert main(["spectrum", str(path), "--kind", kind, "--input", inp, "--out", str(out)]) == 0
+        assert "after 0.06 s" in capsys.readouterr().out
+        table = np.loadtxt(out, delimiter=",", skiprows=1)
+        tr = fn(rec, inp, "casing.B.Fz")
+        assert tr.n_averages == fn(rec, inp, "casing.B.Fz", skip=0.06).n_averages
+        k = np.searchsorted(tr.f_hz, table[:, 0])
+        np.testing.assert_allclose(tr.f_hz[k], table[:, 0])
+        np.testing.assert_allclose(tr.H.real[k], table[:, 1], rtol=1e-8, atol=1e-12)
+        np.testing.assert_allclose(tr.coherence[k], table[:, 3], rtol=1e-8)
+        np.testing.assert_array_equal(fn(rec, inp, "casing.B.Fz", skip=0.06).H, tr.H)
+        assert not np.array_equal(fn(rec, inp, "casing.B.Fz", skip=0.05).H, tr.H)
