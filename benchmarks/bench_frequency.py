@@ -1,15 +1,24 @@
 """Speed of the frequency domain: full 3x3 TRFAM of the default model at 2000 lines.
 
 Run: .venv/bin/python benchmarks/bench_frequency.py   (prints name: value lines)
+
+BLAS runs on one thread (OPENBLAS_NUM_THREADS, OMP_NUM_THREADS, MKL_NUM_THREADS = 1, set before numpy
+is imported unless the environment sets them): on the shared 2-core machine OpenBLAS's default of one
+thread per core contends with the other jobs and made the 216-DOF eigenproblem 35-110 times slower.
 """
 
-import time
+import os
 
-import numpy as np
+for _v in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_v, "1")  # (before numpy: BLAS reads it when it loads)
 
-import cablecasing_core as cc
-from cablecasing_core.frequency.trfam import FrequencyResponse
-from cablecasing_core.structure.assembly import assemble_body
+import time  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+import cablecasing_core as cc  # noqa: E402
+from cablecasing_core.frequency.trfam import FrequencyResponse  # noqa: E402
+from cablecasing_core.structure.assembly import assemble_body  # noqa: E402
 
 model = cc.load_model()
 f = np.linspace(10.0, 1000.0, 2000)

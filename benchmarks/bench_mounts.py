@@ -6,19 +6,28 @@ alternated in one process so that the shared machine's load affects both alike; 
 TRFAM casing.A.z -> casing.B.z on 1981 frequencies (10-1000 Hz) by the modal sum (clamped) and by
 the banded direct solve (mounts).
 Run: .venv/bin/python benchmarks/bench_mounts.py [--duration 0.2] [--repeat 3]   (prints name: value)
+
+BLAS runs on one thread (OPENBLAS_NUM_THREADS, OMP_NUM_THREADS, MKL_NUM_THREADS = 1, set before numpy
+is imported unless the environment sets them), as benchmarks/bench_frequency.py: with OpenBLAS's
+default of a thread per core the TRFAM's timing on the shared machine varied tenfold (0.073 / 0.73 s).
 """
 
 from __future__ import annotations
 
-import argparse
-import copy
-import time
+import os
 
-import numpy as np
+for _v in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_v, "1")  # (before numpy: BLAS reads it when it loads)
 
-import cablecasing_core as cc
-from cablecasing_core.timedomain.engine import Engine
-from cablecasing_core.timedomain.scenario import scenario_motion
+import argparse  # noqa: E402
+import copy  # noqa: E402
+import time  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+import cablecasing_core as cc  # noqa: E402
+from cablecasing_core.timedomain.engine import Engine  # noqa: E402
+from cablecasing_core.timedomain.scenario import scenario_motion  # noqa: E402
 
 ISO = {"stiffness": [4e5, 1e5, 1e5], "rotational_stiffness": [5.0, 20.0, 20.0], "damping": [60.0, 25.0, 25.0]}
 CLIPS = [{"at": 0.40, "stiffness": [2e4, 5e4, 5e4], "damping": 8.0}, {"at": 0.60, "stiffness": [2e4, 5e4, 5e4]}]
@@ -33,9 +42,9 @@ def mounted():
 
 
 def main():
-    p = argparse.ArgumentParser()
-    p.add_argument("--duration", type=float, default=0.2)
-    p.add_argument("--repeat", type=int, default=3)
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--duration", type=float, default=0.2, help="model time per timed run, s (default 0.2)")
+    p.add_argument("--repeat", type=int, default=3, help="alternations of the two models, fastest kept (default 3)")
     args = p.parse_args()
     models = {"clamped": cc.load_model(), "mounted": mounted()}
     best = {}
