@@ -2,9 +2,11 @@
 memory of the frequency domain's dense eigenproblem and of a short time-domain run against the
 number of elements, each in a fresh process (peak memory is per process).
 
-Run: .venv/bin/python benchmarks/limits.py   (prints name: value lines; about 2 minutes)
+Run: .venv/bin/python benchmarks/limits.py   (prints name: value lines; about 2 minutes, and at its
+largest sizes several GB of memory per process)
 """
 
+import argparse
 import subprocess
 import sys
 
@@ -21,18 +23,42 @@ else:
 print(time.perf_counter() - t0, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6)
 """
 
-# 600 elements lies beyond the frequency domain's limit (MAX_DENSE_ELEMENTS = 500): its line shows the
-# refusal, which costs nothing, where a run would have taken a minute
-for what, sizes in (("modes", (100, 200, 400, 500, 600)), ("simulate", (35, 200, 500, 1000))):
-    for n in sizes:
-        out = subprocess.run([sys.executable, "-c", CHILD, str(n), what], capture_output=True, text=True)
-        if out.returncode:
-            last = (out.stderr.strip().splitlines() or ["(no message)"])[-1]
-            if "ModelError" not in last:
-                raise SystemExit(f"{what} at {n} elements failed: {out.stderr}")
-            print(f"{what}_{n}_elements: refused  # {last}")
-            continue
-        seconds, gb = map(float, out.stdout.split())
-        label = "one body's modes" if what == "modes" else "20 steps of two bodies"
-        print(f"{what}_{n}_elements_s: {seconds:.3g}  # {label}")
-        print(f"{what}_{n}_elements_peak_GB: {gb:.3g}")
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    # 600 elements lies beyond the frequency domain's limit (MAX_DENSE_ELEMENTS = 500): its line shows the
+    # refusal, which costs nothing, where a run would have taken a minute
+    p.add_argument(
+        "--modes",
+        type=int,
+        nargs="+",
+        default=[100, 200, 400, 500, 600],
+        metavar="N",
+        help="elements of the dense eigenproblems timed (default: 100 200 400 500 600; 600 shows the refusal)",
+    )
+    p.add_argument(
+        "--simulate",
+        type=int,
+        nargs="+",
+        default=[35, 200, 500, 1000],
+        metavar="N",
+        help="elements of the 20-step runs timed (default: 35 200 500 1000)",
+    )
+    args = p.parse_args(argv)
+    for what, sizes in (("modes", args.modes), ("simulate", args.simulate)):
+        for n in sizes:
+            out = subprocess.run([sys.executable, "-c", CHILD, str(n), what], capture_output=True, text=True)
+            if out.returncode:
+                last = (out.stderr.strip().splitlines() or ["(no message)"])[-1]
+                if "ModelError" not in last:
+                    raise SystemExit(f"{what} at {n} elements failed: {out.stderr}")
+                print(f"{what}_{n}_elements: refused  # {last}")
+                continue
+            seconds, gb = map(float, out.stdout.split())
+            label = "one body's modes" if what == "modes" else "20 steps of two bodies"
+            print(f"{what}_{n}_elements_s: {seconds:.3g}  # {label}")
+            print(f"{what}_{n}_elements_peak_GB: {gb:.3g}")
+
+
+if __name__ == "__main__":
+    main()

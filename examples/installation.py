@@ -1,12 +1,14 @@
-"""The worked example of docs/installation.md: a gear-shift cable as installed (examples/
-installation.toml: segment routing, isolated ends, two clips), its routing, its TRFAM with and
+"""The worked example of docs/installation.md: a gear-shift cable as installed
+(examples/installation.toml: segment routing, isolated ends, two clips), its routing, its TRFAM with and
 without the isolators and clips, and what the isolators do to the force transmitted to the gearbox
 bracket (a time-domain ensemble with the cable inside and contact on).
 
     .venv/bin/python examples/installation.py [--seeds 6] [--duration 1.0] [--out docs/img]
 
 Prints ``name: value`` lines (the figures quoted in docs/installation.md) and writes
-installation_routing.png, installation_trfam.png and installation_force.png.
+installation_routing.png, installation_trfam.png and installation_force.png into --out: by default
+docs/img, over the committed figures that docs/installation.md shows (this script makes them; give
+--out DIR to keep them).
 """
 
 from __future__ import annotations
@@ -46,10 +48,16 @@ def variants(model):
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p = argparse.ArgumentParser(
+        description=__doc__.split("\n\n")[0], formatter_class=argparse.ArgumentDefaultsHelpFormatter
+    )
     p.add_argument("--seeds", type=int, default=6, help="ensemble members per variant")
     p.add_argument("--duration", type=float, default=1.0, help="s per member (0.1 s skipped)")
-    p.add_argument("--out", default=str(HERE.parent / "docs" / "img"), help="folder of the figures")
+    p.add_argument(
+        "--out",
+        default=str(HERE.parent / "docs" / "img"),
+        help="folder of the figures (the default overwrites the committed docs/img/installation_*.png)",
+    )
     args = p.parse_args(argv)
     if args.seeds < 2:
         p.error(f"--seeds {args.seeds}: the ensembles need at least 2 members (their scatter is a standard deviation)")
