@@ -354,10 +354,11 @@ def _write_failed(args, exc):
 
 
 class _ReaderGone:
-    """Standard output for a command whose reader may leave early (``| head``): once the pipe is
-    broken, what the command prints is dropped and the command goes on, so that it still writes the
-    files it was asked for (a run printed its summary before saving and stopped there). The pipe's
-    file descriptor is then pointed at /dev/null (Python flushes stdout again at exit; the Python
+    """Standard output or standard error for a command whose reader may leave early (``| head``,
+    ``2>&1 | head``): once the pipe is broken, what the command prints there is dropped and the
+    command goes on, so that it still writes the files it was asked for (a run printed its summary,
+    a warning or a progress bar before saving and stopped there, with status 0). The pipe's file
+    descriptor is then pointed at /dev/null (Python flushes the stream again at exit; the Python
     docs' "Note on SIGPIPE"). Everything else is the wrapped stream's."""
 
     def __init__(self, stream):
@@ -395,8 +396,8 @@ def main(argv=None):
     args = parser.parse_args(argv)
     shown = warnings.showwarning
     warnings.showwarning = _warning_line
-    stdout = sys.stdout
-    sys.stdout = _ReaderGone(stdout)
+    stdout, stderr = sys.stdout, sys.stderr
+    sys.stdout, sys.stderr = _ReaderGone(stdout), _ReaderGone(stderr)
     try:
         with _stopped_by_signals():
             return args.func(args)
@@ -413,8 +414,14 @@ def main(argv=None):
             file=sys.stderr,
         )
         return 2
-    except BrokenPipeError:  # (a pipe of the command's own, not stdout: _ReaderGone keeps it going)
-        return 0
+    except BrokenPipeError as exc:  # (a pipe of the command's own, not stdout or stderr, which _ReaderGone
+        # keeps going): it stopped the work, which is not done, so never status 0
+        print(
+            f"cablecasing: error: a pipe the command wrote to was closed ({exc.strerror or 'broken pipe'}): it "
+            "stopped before the end, and the files it was to write may be missing",
+            file=sys.stderr,
+        )
+        return 1
     except KeyboardInterrupt as exc:
         hint = getattr(args, "interrupted", "nothing was written; files written before are as they were")
         if isinstance(exc, Terminated):  # (SIGTERM, SIGHUP: 128 + its number, as a shell reports it)
@@ -434,7 +441,7 @@ def main(argv=None):
         return _internal_error(exc)
     finally:
         warnings.showwarning = shown
-        sys.stdout = stdout
+        sys.stdout, sys.stderr = stdout, stderr
 
 
 def _internal_error(exc):

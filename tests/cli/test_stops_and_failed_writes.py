@@ -312,6 +312,43 @@ def test_a_reader_that_leaves_early_does_not_stop_the_output_files(tmp_path, mon
     assert (tmp_path / "t.csv").stat().st_size > 0
 
 
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["simulate", "--duration", "0.002", "--out", "t.csv"],  # (its progress bar, on stderr, before it saves)
+        ["ensemble", "--seeds", "2", "--duration", "0.16", "--out", "t.csv"],  # (a warning, then its bar)
+    ],
+    ids=["simulate", "ensemble"],
+)
+def test_a_closed_pipe_on_standard_error_does_not_stop_the_output_files(tmp_path, argv):
+    """`cablecasing ensemble ... --out t.csv 2>&1 | head -1`: through a real pipe whose reading end is
+    closed before the command writes to stderr (a progress bar, a warning), the command goes on and
+    writes its file, status 0 (it stopped at the first write to stderr, status 0, no file)."""
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "cablecasing_core", *argv],
+        cwd=tmp_path,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+    )
+    proc.stderr.close()
+    assert proc.wait(timeout=300) == 0
+    assert (tmp_path / "t.csv").stat().st_size > 0
+
+
+def test_a_broken_pipe_that_stopped_the_work_is_not_success(tmp_path, capsys, monkeypatch):
+    """A BrokenPipeError that reaches the command line (a pipe of the command's own, not stdout or
+    stderr) stopped the work: one line and status 1, never 0."""
+    from cablecasing_core.cli import simulate
+
+    def pipe_closed(args):
+        raise BrokenPipeError(errno.EPIPE, "Broken pipe")
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(simulate, "cmd_simulate", pipe_closed)
+    assert main(SIMULATE) == 1
+    assert "a pipe the command wrote to was closed" in _one_line(capsys)
+
+
 @pytest.mark.slow
 def test_a_closed_pipe_on_standard_output_leaves_no_message_and_the_file_written(tmp_path):
     """The same through a real pipe whose reading end is closed before the command prints: status 0,
