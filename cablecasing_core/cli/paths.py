@@ -10,15 +10,26 @@ from ..errors import ModelError
 
 def check_output_path(flag, path, suffixes=None):
     """Refuse an output file before a long run rather than after it: with ``suffixes``, its name
-    must end in one of them, and a file must be writable there (:func:`~cablecasing_core.files.check_writable`:
+    must end in one of them, the optional package that writes its suffix must be installed (pyuff
+    for ``.uff``), and a file must be writable there (:func:`~cablecasing_core.files.check_writable`:
     an existing folder, a regular file or none yet, a byte written and synced to a temporary file in
     the folder). ``None`` (no output asked for) passes."""
     from ..files import check_writable
 
     if path is None or path is True:
         return
-    if suffixes and Path(str(path)).suffix.lower() not in tuple(suffixes):  # (".png" alone is a name, no suffix)
+    suffix = Path(str(path)).suffix.lower()
+    if suffixes and suffix not in tuple(suffixes):  # (".png" alone is a name, no suffix)
         raise ModelError(flag, path, "must be a name ending in " + " or ".join(suffixes))
+    if suffix == ".uff":
+        try:
+            import pyuff  # noqa: F401
+        except ImportError:
+            from ..identification.uff_io import PYUFF_MISSING
+
+            others = [s for s in suffixes or () if s != ".uff"]
+            instead = f" (or write {' or '.join(others)})" if others else ""
+            raise ModelError(flag, path, f"writing UFF {PYUFF_MISSING}{instead}") from None
     check_writable(flag, path)
 
 

@@ -73,13 +73,17 @@ class Record:
         return 1.0 / float(self.x[1] - self.x[0])
 
 
-def _pyuff():
+#: What reading or writing a UFF file needs when pyuff is missing (the command line checks an output's
+#: suffix with it before a run, cli/paths.py).
+PYUFF_MISSING = "needs the optional package pyuff, which is not installed: pip install 'cablecasing[identify]'"
+
+
+def _pyuff(path=None, doing="reading/writing"):
+    """The module pyuff, or a ModelError naming the file ``path`` that needs it (``doing`` it)."""
     try:
         import pyuff
-    except ImportError as exc:  # pragma: no cover - pyuff is installed with the 'identify' extra
-        raise ModelError(
-            "file", "UFF", "reading/writing UFF needs the optional package pyuff (pip install 'cablecasing[identify]')"
-        ) from exc
+    except ImportError as exc:  # (pyuff is installed with the 'identify' extra)
+        raise ModelError("file", "UFF" if path is None else str(path), f"{doing} UFF {PYUFF_MISSING}") from exc
     return pyuff
 
 
@@ -197,7 +201,7 @@ def write_uff(path, records, binary=True):
     statement longer than the line's 80 characters is left out with a ModelWarning."""
     from ..files import atomic_path
 
-    pyuff = _pyuff()
+    pyuff = _pyuff(path, "writing")
     lines = [_statement_lines(r) for r in records]
     sets = [
         _dataset(r, binary, f"records[{i}].x", f"records[{i}].data", id_lines)
@@ -309,7 +313,7 @@ def write_uff_frf(path, freqs_hz, H, name="H", binary=True, **dof):
 
 def read_uff(path):
     """All dataset-58 functions of a UFF file as a list of :class:`Record` (type 1 -> "time", else "frf")."""
-    pyuff = _pyuff()
+    pyuff = _pyuff(path, "reading")
     if not os.path.exists(path):
         raise ModelError("file", str(path), "does not exist")
     if not os.path.isfile(path):

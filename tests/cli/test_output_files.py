@@ -183,3 +183,35 @@ def test_an_output_over_its_input_is_refused_and_upper_case_npz_and_a_byte_order
     assert read_csv_table(tmp_path / "bom.csv", "file")[0] == ["mode", "f_hz"]
     (tmp_path / "m.toml").write_bytes(b"\xef\xbb\xbf" + cc.load_model().to_toml().encode())
     assert cc.load_model(str(tmp_path / "m.toml")).fingerprint() == cc.load_model().fingerprint()
+
+
+def _without(modules, argv, cwd):
+    """``cablecasing argv`` in a new interpreter where ``modules`` cannot be imported (an install
+    without the extra that brings them): (status, stdout, stderr lines)."""
+    import subprocess
+    import sys
+
+    hide = f"import sys\nfor m in {tuple(modules)!r}: sys.modules[m] = None\n"
+    code = hide + "from cablecasing_core.cli import main\nsys.exit(main(sys.argv[1:]))"
+    proc = subprocess.run([sys.executable, "-c", code, *argv], cwd=cwd, capture_output=True, text=True, timeout=120)
+    return proc.returncode, proc.stdout, proc.stderr.strip().splitlines()
+
+
+@pytest.mark.parametrize(
+    "argv,instead",
+    [
+        (["simulate", "--duration", "0.3", "--no-progress", "--out", "x.uff"], "(or write .csv or .npz)"),
+        (["trfam", "--out", "x.uff"], "(or write .csv)"),
+    ],
+    ids=["simulate", "trfam"],
+)
+def test_a_uff_output_without_pyuff_is_refused_before_the_run(tmp_path, argv, instead):
+    """Without pyuff (the extra 'identify') `--out x.uff` is refused with the other output checks,
+    naming --out and the extra, before the run (the whole run, then `file = 'UFF': ...`)."""
+    code, out, err = _without(["pyuff"], argv, tmp_path)
+    assert code == 2 and out == "", out
+    assert err == [
+        "cablecasing: error: --out = 'x.uff': writing UFF needs the optional package pyuff, which is not installed: "
+        f"pip install 'cablecasing[identify]' {instead}"
+    ]
+    assert list(tmp_path.iterdir()) == []
