@@ -12,6 +12,7 @@ from ..errors import ModelError, renamed
 from ..model.limits import MAX_ENSEMBLE_SEED, MAX_SEEDS, MAX_STUDY_SAMPLES, PROGRESS_TIMEOUT
 from ..model.schema import output_spec
 from ..model.validators import integer, number
+from ..studies.executor import check_packages
 from .assignments import add_model_argument, assignments, model_argument, with_changes
 from .helptext import ASSIGNMENT_HELP, add_window_argument, key_help
 from .paths import check_distinct, check_output_path, kept
@@ -90,6 +91,7 @@ def cmd_study(args):
     integer("--seed", args.seed, 0)
     progress_timeout = number("--timeout", args.timeout, gt=0, unit="s")
     _check_workers(args)
+    check_packages(args.scheduler, key="--scheduler")  # (SALib, and dask unless serial: before anything is made)
     _check_record_settings(args, model)
     out = Path(args.out)  # (created by run_study once every setting is checked and the scheduler answers)
     if out.exists() and not out.is_dir():
@@ -310,6 +312,7 @@ def cmd_ensemble(args):
     )
     _check_confidence(args.confidence)
     _check_workers(args)
+    check_packages(args.scheduler, salib=False, key="--scheduler", name="ensemble")  # (dask unless serial)
     args.interrupted = "the ensemble was stopped: " + kept(*_check_outputs(args))
     seeds = list(range(args.first_seed, args.first_seed + args.seeds))
     common = dict(

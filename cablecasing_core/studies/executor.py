@@ -32,12 +32,59 @@ import os
 import time
 import warnings
 
-from ..errors import InfrastructureError, ModelError
+from ..errors import NOT_SHOWN, InfrastructureError, ModelError
 from ..model.limits import PROGRESS_TIMEOUT
 from ..model.validators import integer
 
 #: Seconds to reach a scheduler address.
 CONNECT_TIMEOUT = 10.0
+
+#: How to install the optional packages of studies and ensembles (pyproject.toml's extra ``study``).
+STUDY_EXTRA = "pip install 'cablecasing[study]'"
+
+
+def missing_packages(scheduler=None, salib=True):
+    """The optional packages that a study (``salib``: its Saltelli design and Sobol' indices need
+    SALib) or an ensemble (``salib=False``) on ``scheduler`` needs and that cannot be imported: SALib,
+    and dask's distributed unless ``scheduler`` is ``"serial"`` (a serial run needs no dask)."""
+    wanted = ([("SALib", "SALib")] if salib else []) + (
+        [] if _serial(scheduler) else [("distributed", "dask[distributed]")]
+    )
+    missing = []
+    for module, name in wanted:
+        try:
+            importlib.import_module(module)
+        except ImportError:
+            missing.append(name)
+    return missing
+
+
+def check_packages(scheduler=None, salib=True, key="scheduler", name="study"):
+    """Refuse, before anything is created, a study (``salib``) or an ensemble (not ``salib``) whose
+    optional packages are not installed (:func:`missing_packages`): a ModelError naming ``key`` (the
+    option or argument of the scheduler) and its value when dask is missing, else ``name`` (what
+    needs SALib), with the packages and the extra to install."""
+    missing = missing_packages(scheduler, salib)
+    if not missing:
+        return
+    what = "a study" if salib else "an ensemble"
+    pkgs = " and ".join(missing)
+    packages = (
+        f"the optional package{'' if len(missing) == 1 else 's'} {pkgs}, which {'is' if len(missing) == 1 else 'are'}"
+    )
+    if "dask[distributed]" not in missing:  # (SALib alone: its design and Sobol' indices, whatever the scheduler)
+        raise ModelError(name, NOT_SHOWN, f"needs {packages} not installed: {STUDY_EXTRA}")
+    where = "a local dask cluster" if scheduler in (None, "local") else "a dask scheduler"
+    serial = f"; or {key} serial, which needs {'SALib only' if salib else 'no dask'}" if len(missing) == 1 else ""
+    raise ModelError(
+        key,
+        "local" if scheduler is None else scheduler,
+        f"{what} on {where} needs {packages} not installed: {STUDY_EXTRA}{serial}",
+    )
+
+
+def _serial(scheduler):
+    return scheduler == "serial" or getattr(scheduler, "scheduler", None) == "serial"
 
 
 def resolve_evaluate(spec):
@@ -190,6 +237,8 @@ class Workers:
         self.scheduler, self.client, self._own, self._cluster = scheduler, None, None, None
         if scheduler == "serial":
             return
+        if isinstance(scheduler, str) or scheduler is None:  # (a Client passed in: distributed is there)
+            check_packages(scheduler, salib=False)
         from distributed import Client, LocalCluster
 
         if scheduler is None or scheduler == "local":

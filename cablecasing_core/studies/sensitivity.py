@@ -84,6 +84,9 @@ def sobol_indices(
     """First-order and total Sobol indices of every output over the complete groups of the study
     (module docstring). ``results``: :class:`StudyResults` or a study CSV path; the bootstrap is
     seeded (``seed``), so the intervals are reproducible. Needs at least 4 complete groups."""
+    from .executor import check_packages
+
+    check_packages("serial", name="sobol_indices")
     from SALib.analyze import sobol
 
     number("conf_level", conf_level, gt=0, lt=1)

@@ -37,7 +37,7 @@ from ..files import output_folder
 from ..model.limits import MAX_STUDY_SAMPLES
 from ..model.validators import integer
 from .evaluators import DEFAULT_EVALUATE, DEFAULT_OUTPUTS, RECORD_SETTINGS
-from .executor import PROGRESS_TIMEOUT, Workers, execute, resolve_evaluate, spec_name
+from .executor import PROGRESS_TIMEOUT, Workers, check_packages, execute, resolve_evaluate, spec_name
 from .results_store import (
     FORMAT_VERSION,
     META_COLUMNS,
@@ -179,6 +179,7 @@ def run_study(
     check = getattr(fn, "check_settings", None)  # settings that make every sample fail, refused first
     if check is not None:
         check(evaluate_kwargs, model=the_model)
+    check_packages(scheduler)  # (SALib's design, and dask unless serial: refused before any file)
     path = str(path)
     params = tuple(bounds)
     with Workers(scheduler, n_workers) as workers:  # (an unreachable scheduler is refused before any file)

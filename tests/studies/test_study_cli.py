@@ -187,3 +187,74 @@ def test_a_study_says_how_many_runs_warned_and_its_file_which(tmp_path, capsys):
         for m in text.split(" | "):
             assert "the contact Newton did not converge in" in m, text
             assert any(f"sample {j}: {m}" in err for j in res.index), (m, err)
+
+
+def _without(modules, code, args, cwd):
+    """``code`` (Python) with ``args`` in a new interpreter where ``modules`` cannot be imported (an
+    install without the extra 'study'): (status, stdout, stderr lines)."""
+    import subprocess
+    import sys
+
+    hide = f"import sys\nfor m in {tuple(modules)!r}: sys.modules[m] = None\n"
+    proc = subprocess.run(
+        [sys.executable, "-c", hide + code, *args], cwd=cwd, capture_output=True, text=True, timeout=120
+    )
+    return proc.returncode, proc.stdout, proc.stderr.strip().splitlines()
+
+
+CLI = "from cablecasing_core.cli import main\nsys.exit(main(sys.argv[1:]))"
+DASK = ("dask", "distributed")
+STUDY = ["study", "--samples", "3", "--vary", "casing.E=2e9:1e10", "--duration", "0.16", "--out", "st"]
+EXTRA = "which is not installed: pip install 'cablecasing[study]'"
+
+
+@pytest.mark.parametrize(
+    "hidden,argv,message",
+    [
+        (
+            ("SALib", *DASK),
+            STUDY,
+            "--scheduler = 'local': a study on a local dask cluster needs the optional packages SALib and "
+            "dask[distributed], which are not installed: pip install 'cablecasing[study]'",
+        ),
+        (
+            DASK,
+            STUDY,
+            f"--scheduler = 'local': a study on a local dask cluster needs the optional package "
+            f"dask[distributed], {EXTRA}; or --scheduler serial, which needs SALib only",
+        ),
+        (("SALib",), [*STUDY, "--scheduler", "serial"], f"study: needs the optional package SALib, {EXTRA}"),
+        (
+            DASK,
+            ["ensemble", "--seeds", "2", "--duration", "0.16", "--scheduler", "local", "--out", "e.csv"],
+            f"--scheduler = 'local': an ensemble on a local dask cluster needs the optional package dask[distributed], "
+            f"{EXTRA}; or --scheduler serial, which needs no dask",
+        ),
+        (
+            ("SALib",),
+            ["report", "--duration", "0.16", "--seeds", "2", "--out", "rep"],
+            f"--study-samples = 32: must be 0 (no study): a study needs the optional package SALib, {EXTRA}",
+        ),
+    ],
+    ids=["study-local", "study-no-dask", "study-serial", "ensemble-local", "report"],
+)
+def test_a_study_without_its_extra_is_one_line_before_anything_is_made(tmp_path, hidden, argv, message):
+    """Without dask or SALib (the extra 'study') a study, an ensemble on dask and a report with a study
+    are refused with one line naming the packages and the extra, status 2, before any file or folder
+    (an internal error, status 1, and an empty --out folder)."""
+    code, out, err = _without(hidden, CLI, argv, tmp_path)
+    assert (code, err) == (2, [f"cablecasing: error: {message}"]), (out, err)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_serial_study_needs_no_dask(tmp_path):
+    """A serial study runs without dask installed (SALib only)."""
+    code = (
+        "from cablecasing_core.studies import run_study\n"
+        "res = run_study('s.csv', 'cablecasing_core.studies.evaluators:analytic_evaluate', n_samples=8, seed=1,\n"
+        "    bounds={'casing.E': (2e9, 1e10), 'contact.friction': (0.05, 0.2)}, scheduler='serial')\n"
+        "print(len(res.index), 'dask' in sys.modules and sys.modules['dask'] is not None)"
+    )
+    status, out, err = _without(DASK, code, [], tmp_path)
+    assert status == 0, err
+    assert out.split() == ["8", "False"]
