@@ -59,6 +59,7 @@ def check_report_settings(model=None, duration=0.5, seeds=6, study_samples=32, s
         )
     seconds("duration", duration)
     seconds("skip", skip, zero_ok=True, none_ok=True)
+    given_skip = skip
     if skip is None:
         skip = whole_period_skip(model, duration)
     n_seeds = integer("seeds", seeds, 2)
@@ -75,12 +76,51 @@ def check_report_settings(model=None, duration=0.5, seeds=6, study_samples=32, s
                 "must be 0 (no study): a study needs the optional package SALib, which is not installed: "
                 + STUDY_EXTRA,
             )
-    need = skip + 1.0 / (22.0 - 11.0)  # one FFT bin in the narrowest band of Table 3 (octave_rms's rule)
-    if duration < need:
+    bin_ = 1.0 / (22.0 - 11.0)  # one FFT bin in the narrowest band of Table 3 (octave_rms's rule)
+    if duration < skip + bin_:
+        if given_skip is not None:
+            raise ModelError(
+                "duration",
+                duration,
+                f"must be at least {skip + bin_:.4g} s: skip = {skip:g} s and one bin of the 11-22 Hz band",
+            )
+        least = shortest_report_duration(model)
         raise ModelError(
-            "duration", duration, f"must be at least {need:.4g} s: skip = {skip:g} s and one bin of the 11-22 Hz band"
+            "duration",
+            duration,
+            f"must be at least {least:.4g} s: one bin of the 11-22 Hz band ({bin_:.4g} s) after the skip, "
+            f"{whole_period_skip(model, least):g} s at that duration (the start left out so that the rest holds "
+            "whole periods of the drive, which changes with the duration)",
         )
     return model, n_seeds, study_samples, skip
+
+
+def shortest_report_duration(model) -> float:
+    """The shortest duration (s, to 4 significant digits, rounded up) that :func:`check_report_settings`
+    takes with the default skip: the rest after :func:`~cablecasing_core.timedomain.scenario.whole_period_skip`,
+    which grows with the duration, must hold one bin of the 11-22 Hz band. The rest never shrinks as
+    the duration grows (whole periods of the drive), so the bound is found by bisection."""
+    import math
+
+    from ..timedomain.scenario import whole_period_skip
+
+    bin_ = 1.0 / (22.0 - 11.0)
+
+    def passes(t):
+        return not t < whole_period_skip(model, t) + bin_
+
+    lo, hi = 0.0, bin_
+    while not passes(hi):  # (a passing duration: the rest grows by at least one common period per doubling)
+        lo, hi = hi, 2.0 * hi
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if passes(mid) else (mid, hi)
+    unit = 10.0 ** (math.floor(math.log10(hi)) - 3)
+    for t in (round(hi / unit) * unit, math.ceil(hi / unit) * unit, (math.ceil(hi / unit) + 1) * unit):
+        t = float(f"{t:.4g}")
+        if passes(t):
+            return t
+    return hi  # pragma: no cover - (a 4-digit duration at or above hi passes)
 
 
 def write_report(

@@ -456,7 +456,7 @@ OPTION_ERRORS = [
     (["spectrum", "{record}", "--fmin", "0"], "--fmin = 0.0: must be a number in [1e-06, 1e+06] in Hz"),
     (["bands", "{record}", "--fmin", "30", "--fmax", "20"], "--fmax = 20.0: must be at least --fmin = 30.0 Hz"),
     (["report", "--seeds", "1", "--out", "rep/sub"], "--seeds = 1: must be an integer >= 2"),  # (no folder made)
-    (["report", "--duration", "0.05", "--out", "rep"], "--duration = 0.05: must be at least 0.1409 s"),
+    (["report", "--duration", "0.05", "--out", "rep"], "--duration = 0.05: must be at least 0.15 s"),
     (["report", "--study-samples", "1", "--out", "rep"], "--study-samples = 1: must be 0 (no study) or 2 to"),
     (["ensemble", "--seeds", "2", "--first-seed", str(2**53)], "(the last seed must be at most 2**53: an ensemble's"),
     (
@@ -486,6 +486,27 @@ def test_a_bad_option_is_one_line_before_any_work(tmp_path, capsys, argv, messag
     code, _, err = run(capsys, [a.format(record=record) for a in argv])
     assert code == 2 and len(err) == 1 and message in err[0], err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r.csv"]  # nothing created
+
+
+@pytest.mark.parametrize("model", ["default", "installed"])
+@pytest.mark.parametrize("duration", ["0.05", "0.1409", "0.145"])
+def test_the_shortest_report_duration_named_is_taken(tmp_path, capsys, model, duration):
+    """`report --duration` too short names the shortest duration it takes: the skip grows with the
+    duration (whole periods of the drive), and the minimum computed with the refused duration's skip
+    (0.1409 s, then 0.1518 s, ...) was refused in turn."""
+    from cablecasing_core import load_model
+    from cablecasing_core.errors import ModelError
+    from cablecasing_core.report import check_report_settings
+
+    code, _, err = run(capsys, ["report", model, "--duration", duration, "--out", str(tmp_path / "rep")])
+    least = re.search(r"--duration = [0-9.]+: must be at least ([0-9.]+) s", err[0])
+    assert code == 2 and len(err) == 1 and least, err
+    least = float(least.group(1))
+    m = load_model(model)
+    check_report_settings(m, least, 2, 0)  # (taken)
+    with pytest.raises(ModelError, match="--duration|duration"):
+        check_report_settings(m, least - 1e-4, 2, 0)  # (and the shortest, to its 4 digits)
+    assert not (tmp_path / "rep").exists()
 
 
 def test_a_device_as_the_model_file_is_one_line_not_a_hang(capsys):
