@@ -237,7 +237,7 @@ def add_parser(sub):
 
 
 def _refined(solver: dict) -> str:
-    """', N of them recomputed in k sub-steps around stick-slip events' when any were, ', friction
+    """', N of them recomputed, each in k sub-steps, around stick-slip events' when any were, ', friction
     regularised (no stick-slip events)' with that law, and with contact.event_tolerance how many
     steps it recomputed and the largest local error estimated (the run's
     ``SimulationResult.solver``; docs/time_domain.md, "Events inside the step", "A friction law
@@ -248,12 +248,14 @@ def _refined(solver: dict) -> str:
     if solver.get("friction_law") == "regularized":
         text = ", friction regularised (no stick-slip events)"
     elif n_events:
-        text = f", {n_events} of them recomputed in {solver['event_substeps']} sub-steps around stick-slip events"
+        k = solver["event_substeps"]
+        text = f", {n_events} of them recomputed, each in {k} sub-steps, around stick-slip events"
     else:
         text = ""
     if tol > 0.0:
         text += (
-            f", {n_tol} recomputed in {solver['event_substeps']} sub-steps for contact.event_tolerance = {tol:g} m "
+            f", {n_tol} recomputed, each in {solver['event_substeps']} sub-steps, for contact.event_tolerance "
+            f"= {tol:g} m "
             f"(largest local error estimated in a step kept {solver['max_local_error']:.3g} m)"
         )
     return text

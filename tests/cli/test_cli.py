@@ -299,7 +299,9 @@ def test_simulate_says_how_many_steps_were_recomputed_in_sub_steps(capsys, tmp_p
     assert model.contact["friction_law"] == "switch"
     n = simulate(model, duration=0.01).solver["refined_steps"]
     assert n > 0
-    assert first == f"simulated 0.01 s in 1000 steps, {n} of them recomputed in 8 sub-steps around stick-slip events"
+    assert first == (
+        f"simulated 0.01 s in 1000 steps, {n} of them recomputed, each in 8 sub-steps, around stick-slip events"
+    )
     assert main(["simulate", "installed", "--duration", "0.01", "--no-progress"]) == 0
     first = capsys.readouterr().out.splitlines()[0]
     assert first == "simulated 0.01 s in 1000 steps, friction regularised (no stick-slip events)"
@@ -328,7 +330,7 @@ def test_simulate_says_what_the_event_tolerance_did(capsys):
     assert n > 0 and n == solver["refined_steps"] and solver["event_steps"] == 0 and worst > 0.0
     assert first == (
         "simulated 0.01 s in 1000 steps, friction regularised (no stick-slip events), "
-        f"{n} recomputed in 8 sub-steps for contact.event_tolerance = 1e-09 m "
+        f"{n} recomputed, each in 8 sub-steps, for contact.event_tolerance = 1e-09 m "
         f"(largest local error estimated in a step kept {worst:.3g} m)"
     )
     assert main(["simulate", "installed", "--no-progress", "--set", "contact.event_tolerance=-1"]) == 2
