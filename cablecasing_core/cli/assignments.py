@@ -1,11 +1,12 @@
 """The model of the command line: the MODEL argument (a TOML file or a built-in specimen) and the
 ``KEY=VALUE`` model changes (``--set`` of ``simulate`` and ``ensemble``, ``--against`` of
 ``ensemble``): a dotted model key of the schema and a TOML value. A table (``contact``) is refused,
-naming it (its keys are set one by one: ``Model.with_overrides``), and so is a key given twice."""
+naming it (its keys are set one by one: ``Model.with_overrides``), and so is a key given twice. An
+error echoes a value as it was typed (``true``, ``{stiffness=1e5}``), not in Python's spelling."""
 
 from __future__ import annotations
 
-from ..errors import NOT_SHOWN, ModelError, excerpt, renamed
+from ..errors import NOT_SHOWN, ModelError, excerpt, plain, renamed
 
 
 def add_model_argument(parser):
@@ -42,43 +43,65 @@ def assignment(flag, text):
         return key.strip(), value.strip()
 
 
+def typed(texts):
+    """``{key: VALUE}`` of ``KEY=VALUE`` texts: each value as it was typed, to be echoed in a message
+    (:func:`~cablecasing_core.errors.plain`: ``true``, ``{stiffness=1e5}``, not ``True``,
+    ``{'stiffness': 100000.0}``)."""
+    out = {}
+    for text in texts:
+        key, _, value = text.partition("=")
+        out.setdefault(key.strip(), plain(value.strip()))
+    return out
+
+
 def assignments(flag, texts):
     """``{key: value}`` of the ``KEY=VALUE`` texts of ``flag`` (:func:`assignment`). A key given
-    twice is refused, naming both values, as a TOML file refuses a key given twice (the first value
-    would never be checked)."""
-    out = {}
-    for key, value in (assignment(flag, t) for t in texts):
+    twice is refused, naming both values as typed, as a TOML file refuses a key given twice (the
+    first value would never be checked)."""
+    out, shown = {}, {}
+    for text in texts:
+        key, value = assignment(flag, text)
         if key in out:
             raise ModelError(
                 f"{flag} {key}",
                 NOT_SHOWN,
-                f"is given twice ({excerpt(out[key])} and {excerpt(value)}): give each key once",
+                f"is given twice ({excerpt(shown[key])} and {excerpt(typed([text])[key])}): give each key once",
             )
-        out[key] = value
+        out[key], shown[key] = value, typed([text])[key]
     return out
 
 
 def with_assignments(model, flag, texts):
     """``model`` with the ``KEY=VALUE`` changes ``texts`` of ``flag`` (validated as a model file's
-    keys; an error names the flag, the key, the value and what is allowed; a key given twice is
-    refused, :func:`assignments`)."""
-    return with_changes(model, {key: (flag, value) for key, value in assignments(flag, texts).items()})
+    keys; an error names the flag, the key, the value as typed and what is allowed; a key given
+    twice is refused, :func:`assignments`)."""
+    shown = typed(texts)
+    return with_changes(model, {key: (flag, value, shown[key]) for key, value in assignments(flag, texts).items()})
 
 
 def with_changes(model, changes):
-    """``model`` with ``changes`` ({key: (flag, value)}) applied and validated. A refused value is
-    named by the flag that gave it (``--set casing.E = -1: ...``); a key the model file gives that
-    the changes make invalid (its random band above the Nyquist frequency of a ``--set scenario.dt``)
-    is named as the change that did it, with the model file's value it conflicts with."""
+    """``model`` with ``changes`` ({key: (flag, value)} or (flag, value, the value as typed)) applied
+    and validated. A refused value is named by the flag that gave it (``--set casing.E = -1: ...``),
+    as typed when it is the value of the key refused; a key the model file gives that the changes
+    make invalid (its random band above the Nyquist frequency of a ``--set scenario.dt``) is named
+    as the change that did it, with the model file's value it conflicts with."""
     if not changes:
         return model
     try:
-        return model.with_overrides({key: value for key, (_, value) in changes.items()})
+        return model.with_overrides({key: change[1] for key, change in changes.items()})
     except ModelError as exc:
         given = next((k for k in changes if _same_key(str(exc.key), k)), None)
         if given is not None:
-            raise ModelError(f"{changes[given][0]} {exc.key}", exc.value, exc.allowed) from None
+            value = exc.value
+            if exc.key == given and exc.value is not NOT_SHOWN:
+                value = _shown(changes[given])
+            raise ModelError(f"{changes[given][0]} {exc.key}", value, exc.allowed) from None
         raise _conflict(model, changes, exc) from None
+
+
+def _shown(change):
+    """The value of a change (flag, value[, typed]) as it is echoed: as typed when known."""
+    return change[2] if len(change) > 2 else change[1]
 
 
 def _same_key(refused, key):
@@ -106,9 +129,8 @@ def _conflict(model, changes, exc):
     shown = "" if exc.value is NOT_SHOWN else f" = {excerpt(exc.value)}"
     what = f"conflicts with {exc.key}{shown} of the model {model.source}: {allowed}"
     if len(culprits) == 1:
-        flag, value = changes[culprits[0]]
-        return ModelError(f"{flag} {culprits[0]}", value, what)
-    named = ", ".join(f"{changes[k][0]} {k}={excerpt(changes[k][1])}" for k in culprits)
+        return ModelError(f"{changes[culprits[0]][0]} {culprits[0]}", _shown(changes[culprits[0]]), what)
+    named = ", ".join(f"{changes[k][0]} {k}={excerpt(_shown(changes[k]))}" for k in culprits)
     return ModelError(named, NOT_SHOWN, what)
 
 

@@ -86,7 +86,9 @@ def _buckling_warnings(model, buckled):
 
 
 def add_parser(sub):
-    p = sub.add_parser("geometry", help="the routing: length, bends, min radius, gap, element length; warnings")
+    p = sub.add_parser(
+        "geometry", help="the routing: length, bends, min radius, gap, element length, buckling load; warnings"
+    )
     add_model_argument(p)
     p.add_argument(
         "--json",

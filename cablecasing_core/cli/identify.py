@@ -23,7 +23,8 @@ from ..errors import CableCasingError, ModelError, renamed
 
 
 def _fail(exc):
-    print(f"cablecasing identify: error: {exc}", file=sys.stderr)
+    """One line and status 2, in the form of every command's errors (``cablecasing: error: ...``)."""
+    print(f"cablecasing: error: {exc}", file=sys.stderr)
     return 2
 
 
@@ -533,7 +534,12 @@ def add_parser(subparsers):
     m = sub.add_parser("modulus", help="dynamic modulus E(f) from measured natural frequencies (Section 3.1)")
     m.add_argument("file", help="CSV table with columns mode,f_hz; or an FRF (CSV/UFF) whose peaks are taken")
     m.add_argument("--model", default=None, help="model TOML file (default: built-in specimen)")
-    m.add_argument("--body", choices=["casing", "cable"], default="casing")
+    m.add_argument(
+        "--body",
+        choices=["casing", "cable"],
+        default="casing",
+        help="the body of --model whose modes were measured; TOML section",
+    )
     m.add_argument("--modes", type=int, nargs="+", help="mode number of each measured frequency (1 = lowest)")
     m.add_argument("--channel", default=None, help="n-th UFF FRF (default first)")
     m.add_argument(

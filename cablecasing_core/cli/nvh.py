@@ -448,7 +448,11 @@ def add_parser(sub):
         "sign convention; transmissibility: --column / --input (two forces)",
     )
     s.add_argument(
-        "--column", action="append", default=None, help="record column(s), e.g. casing.B.Fz (default: casing.B.Fz)"
+        "--column",
+        action="append",
+        default=None,
+        help="record column, e.g. casing.B.Fz; repeat --column for more columns, --column casing.B.Fz --column "
+        "casing.A.Fz (default: casing.B.Fz)",
     )
     s.add_argument(
         "--input",

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from .assignments import add_model_argument, assignments, model_argument, with_assignments
+from .assignments import add_model_argument, assignments, model_argument, typed, with_assignments
 from .helptext import ASSIGNMENT_HELP, key_help
 
 OUT_SUFFIXES = (".csv", ".npz", ".uff")
@@ -25,7 +25,7 @@ def cmd_simulate(args):
         from ..studies.evaluators import check_not_overridden
 
         check_not_overridden(
-            {k: (f"--set {k}", v) for k, v in assignments("--set", args.set).items()},
+            {k: (f"--set {k}", typed(args.set)[k]) for k in assignments("--set", args.set)},
             {
                 "duration": ("--duration", args.duration),
                 "dt": ("--dt", args.dt),

@@ -116,7 +116,8 @@ def add_parser(sub):
         help="print JSON: contact_force_N (per cable node [Fx, Fy, Fz], the casing's force on the cable), "
         "support_reactions_N ({body.support or casing.clip<i>: [Fx, Fy, Fz, Mx, My, Mz]}, the force (N) and moment "
         "(N.m) the body exerts on it), balance_N ({body: weight, prestress, contact, reactions, residual}), "
-        "buckling ({casing: load_N, at_m, supports, mechanism}), contact_nodes, max_penetration_m",
+        "contact_nodes, max_penetration_m, largest_displacement_m ({body: [largest translation from the routing, m; "
+        "the arc length of its node, m]}), buckling ({casing: load_N, at_m, supports, mechanism})",
     )
     p.add_argument(
         "--plot", help="figure (.png, .pdf or .svg): contact force along the arc length beside the curvature"

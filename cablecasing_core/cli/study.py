@@ -12,8 +12,7 @@ from ..errors import ModelError, renamed
 from ..model.limits import MAX_ENSEMBLE_SEED, MAX_SEEDS, MAX_STUDY_SAMPLES, PROGRESS_TIMEOUT
 from ..model.schema import output_spec
 from ..model.validators import integer, number
-from ..studies.executor import check_packages
-from .assignments import add_model_argument, assignments, model_argument, with_changes
+from .assignments import add_model_argument, assignments, model_argument, typed, with_changes
 from .helptext import ASSIGNMENT_HELP, add_window_argument, key_help
 from .paths import check_distinct, check_output_path, kept
 
@@ -91,6 +90,8 @@ def cmd_study(args):
     integer("--seed", args.seed, 0)
     progress_timeout = number("--timeout", args.timeout, gt=0, unit="s")
     _check_workers(args)
+    from ..studies.executor import check_packages
+
     check_packages(args.scheduler, key="--scheduler")  # (SALib, and dask unless serial: before anything is made)
     _check_record_settings(args, model)
     out = Path(args.out)  # (created by run_study once every setting is checked and the scheduler answers)
@@ -198,7 +199,7 @@ def _check_resume(args, old, path, bounds, kwargs, model):
         earlier = EARLIER_RECORD_SETTINGS if "window" not in old["evaluate_kwargs"] else {}
         was.update({"output": "casing.B.Fz"} | earlier | old["evaluate_kwargs"])
     now = {"seed": args.seed, "output": "casing.B.Fz"} | kwargs
-    for flag, key, typed in (
+    for flag, key, given in (
         ("--seed", "seed", args.seed),
         ("MODEL", "model_file", args.model),
         ("--duration", "duration", args.duration),
@@ -210,7 +211,7 @@ def _check_resume(args, old, path, bounds, kwargs, model):
         if then != now[key]:
             raise ModelError(
                 flag,
-                "not given" if typed is None else typed,
+                "not given" if given is None else given,
                 f"must be what the study in {path} was run with, {'none given' if then is None else repr(then)}, "
                 "to resume it; or choose another --out",
             )
@@ -312,6 +313,8 @@ def cmd_ensemble(args):
     )
     _check_confidence(args.confidence)
     _check_workers(args)
+    from ..studies.executor import check_packages
+
     check_packages(args.scheduler, salib=False, key="--scheduler", name="ensemble")  # (dask unless serial)
     args.interrupted = "the ensemble was stopped: " + kept(*_check_outputs(args))
     seeds = list(range(args.first_seed, args.first_seed + args.seeds))
@@ -332,9 +335,10 @@ def cmd_ensemble(args):
     # (a key that --duration or --dt takes the place of would be recorded and do nothing)
     settings = {"duration": ("--duration", args.duration), "dt": ("--dt", args.dt)}
     runs = "every run of both ensembles" if against else "every run"
+    shown = {"--set": typed(args.set), "--against": typed(args.against)}  # (the values as typed, for messages)
     for flag, given in (("--set", base), ("--against", against)):
         check_not_overridden(
-            {k: (f"{flag} {k}", v) for k, v in given.items()},
+            {k: (f"{flag} {k}", shown[flag][k]) for k in given},
             settings,
             runs,
             "; give one of them (compare two values with --set {key}=... --against {key}=... and no {name})",
@@ -347,7 +351,11 @@ def cmd_ensemble(args):
         if varied & set(given):
             clash = sorted(varied & set(given))
             raise ModelError(flag, clash, seeds_varied(clash))
-    with_changes(model, {k: ("--set", v) for k, v in base.items()} | {k: ("--against", v) for k, v in against.items()})
+    with_changes(
+        model,
+        {k: ("--set", v, shown["--set"][k]) for k, v in base.items()}
+        | {k: ("--against", v, shown["--against"][k]) for k, v in against.items()},
+    )
     names = {"duration": "--duration", "dt": "--dt", "skip": "--skip", "output": "--output"}
     for key, given in (("scenario.duration", args.duration), ("scenario.dt", args.dt)):
         if given is not None:  # (else the model's value, named by its key)

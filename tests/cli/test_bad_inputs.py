@@ -416,9 +416,7 @@ def test_identify_refuses_bad_measured_frequencies_in_one_line(tmp_path, capsys)
     p = tmp_path / "f.csv"
     p.write_text("mode,f_hz\n1.5,20\n2,30\n")
     code, _, err = run(capsys, ["identify", "modulus", p])
-    assert code == 2 and err == [
-        f"cablecasing identify: error: file = '{p}': the column mode must hold whole numbers 1 to 1000"
-    ]
+    assert code == 2 and err == [f"cablecasing: error: file = '{p}': the column mode must hold whole numbers 1 to 1000"]
     p.write_text("mode,f_hz\n1,nan\n2,30\n")
     code, _, err = run(capsys, ["identify", "modulus", p])
     assert code == 2 and len(err) == 1 and "line 2, column 2 is not a finite number" in err[0]
@@ -532,3 +530,40 @@ def test_an_infrastructure_failure_exits_3_in_one_line(capsys, monkeypatch):
     assert code == 3 and err == [
         "cablecasing: error: the dask scheduler was lost (...); run the same command again to go on"
     ]
+
+
+@pytest.mark.parametrize(
+    "argv,message",
+    [
+        (["simulate", "--set", "casing.E=true"], "--set casing.E = true: must be a number"),
+        (["simulate", "--set", "geometry.segments=[{straight=0.5}]"], "--set geometry.segments = [{straight=0.5}]: "),
+        (["simulate", "--no-contact", "--set", "contact.enabled=true"], "--set contact.enabled = true: cannot be"),
+        (["simulate", "--set", "scenario.dt=1e-3"], "--set scenario.dt = 1e-3: conflicts with"),
+        (["ensemble", "--seeds", "2", "--against", "casing.E=1e9", "--against", "casing.E=2e9"], "(1e9 and 2e9)"),
+    ],
+    ids=["bool", "table", "bool-setting", "conflict", "twice"],
+)
+def test_a_set_value_is_echoed_as_typed(capsys, argv, message, monkeypatch):
+    """A refused `--set`/`--against` value is echoed as the TOML the user typed (`true`,
+    `[{straight=0.5}]`, `1e-3`), not in Python's spelling (`True`, `[{'straight': 0.5}]`, `0.001`)."""
+    from cablecasing_core.timedomain import simulation
+
+    monkeypatch.setattr(simulation.Engine, "advance", lambda *a, **k: pytest.fail("a run started"))
+    code, _, err = run(capsys, argv)
+    assert code == 2 and len(err) == 1 and message in err[0], err
+
+
+def test_the_helps_name_what_the_commands_print(capsys):
+    """`static --help` lists every --json key, `identify modulus --help` says what --body is, and the
+    list of commands says that `geometry` prints the buckling load."""
+    import contextlib
+
+    def help_of(*argv):
+        with contextlib.suppress(SystemExit):
+            main([*argv, "--help"])
+        return " ".join(capsys.readouterr().out.split())
+
+    assert "largest_displacement_m" in help_of("static")
+    body = help_of("identify", "modulus")
+    assert "--body {casing,cable} the body of --model whose modes were measured" in body
+    assert "element length, buckling load; warnings" in " ".join(help_of().split())

@@ -74,7 +74,7 @@ CASES = [
     # a change that makes a value of the model file invalid: named as the change, with what it conflicts with
     (
         ["simulate", "--set", "scenario.dt=1e-3", "--no-progress"],
-        "--set scenario.dt = 0.001: conflicts with scenario.excitation.casing_random.band = [10.0, 1000.0] of the "
+        "--set scenario.dt = 1e-3: conflicts with scenario.excitation.casing_random.band = [10.0, 1000.0] of the "
         "model <built-in>: must resolve the random excitation scenario.excitation.casing_random's band up to 1000 Hz: "
         "its Nyquist frequency 1 / (2 dt) must lie above the band, so dt < 0.0005 s",
     ),

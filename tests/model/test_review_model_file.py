@@ -236,10 +236,10 @@ def test_missing_tables_and_keys_are_named_as_required():
     [
         (
             "geometry.segments=[{straight=0.85}]",
-            "--set geometry.segments = [{'straight': 0.85}]: cannot be set on a "
+            "--set geometry.segments = [{straight=0.85}]: cannot be set on a "
             "model whose route is given by geometry.points",
         ),
-        ("loads.gravity.z=abc", "--set loads.gravity.z = 'abc': must be a number"),
+        ("loads.gravity.z=abc", "--set loads.gravity.z = abc: must be a number"),  # (as typed)
         ("casing.Ex=1", "--set casing.Ex: unknown key; allowed keys are E, I, alpha"),
         ("foo.bar=1", "--set foo.bar: unknown key; allowed keys are cable, casing, contact"),
         ("casing.clip[0].at=0.3", "--set casing.clip[0].at: is a key of a clip"),

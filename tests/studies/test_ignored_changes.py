@@ -51,8 +51,8 @@ ENSEMBLE_CASES = [
         ["--duration", "0.2", "--set", "contact.friction=0.1", "--against", "scenario.duration=0.15"],
         "--against scenario.duration = 0.15: cannot be given with --duration 0.2",
     ),
-    (["--dt", "2e-5", "--set", "scenario.dt=1e-5"], "--set scenario.dt = 1e-05: cannot be given with --dt 2e-05 (--dt"),
-    (["--dt", "2e-5", "--against", "scenario.dt=1e-5"], "--against scenario.dt = 1e-05: cannot be given with --dt"),
+    (["--dt", "2e-5", "--set", "scenario.dt=1e-5"], "--set scenario.dt = 1e-5: cannot be given with --dt 2e-05 (--dt"),
+    (["--dt", "2e-5", "--against", "scenario.dt=1e-5"], "--against scenario.dt = 1e-5: cannot be given with --dt"),
     # the members set every random excitation's seed: scenario.seed, which gives only seeds left out, does nothing
     (["--set", "scenario.seed=4"], "--set = ['scenario.seed']: must not set the seeds that the ensemble varies"),
     (["--against", "scenario.seed=4"], "--against = ['scenario.seed']: must not set the seeds that the ensemble"),
@@ -131,12 +131,12 @@ SIMULATE_CASES = [
     ),
     (
         ["--dt", "1e-5", "--set", "scenario.dt=2e-5"],
-        "--set scenario.dt = 2e-05: cannot be given with --dt 1e-05 (--dt is the time step of the run and takes the "
+        "--set scenario.dt = 2e-5: cannot be given with --dt 1e-05 (--dt is the time step of the run and takes the "
         "place of scenario.dt, which would be ignored); give one of them",
     ),
     (
         ["--no-contact", "--set", "contact.enabled=true"],
-        "--set contact.enabled = True: cannot be given with --no-contact (--no-contact is the contact switch of the "
+        "--set contact.enabled = true: cannot be given with --no-contact (--no-contact is the contact switch of the "
         "run and takes the place of contact.enabled, which would be ignored); give one of them",
     ),
 ]
