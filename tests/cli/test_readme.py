@@ -19,9 +19,26 @@ def test_the_readme_states_the_two_commands():
     assert "make demo" in _blocks("sh")[0] and "make test" in _blocks("sh")[0]
 
 
+def test_the_readme_says_how_to_install_with_every_extra():
+    """`pip install .` and one line with every optional extra of pyproject.toml (but `test`), each
+    extra named with what needs it."""
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # (Python 3.10)
+        import tomli as tomllib
+
+    pyproject = tomllib.loads((Path(__file__).resolve().parents[2] / "pyproject.toml").read_text())
+    extras = set(pyproject["project"]["optional-dependencies"]) - {"test"}
+    install = next(b for b in _blocks("sh") if "pip install" in b)
+    assert re.search(r"^pip install \.\s", install, re.M)
+    assert set(re.search(r"pip install '\.\[([a-z,]+)\]'", install).group(1).split(",")) == extras
+    assert all(f"`{e}`:" in README for e in extras) and "make venv" in README
+
+
 def test_the_readme_command_line_example_runs_without_a_warning(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
-    lines = [s.split("#")[0] for s in _blocks("sh")[1].splitlines() if s.strip()]
+    block = next(b for b in _blocks("sh") if ".venv/bin/cablecasing" in b)
+    lines = [s.split("#")[0] for s in block.splitlines() if s.strip()]
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         for line in lines:
