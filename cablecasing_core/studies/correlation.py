@@ -1,5 +1,7 @@
 """Correlation of the study's parameters with its outputs (Section 4.4, Fig. 23): Pearson and
-Spearman coefficients over the ok samples, with the derived radial gap, and their p-values.
+Spearman coefficients over the ok samples, with the derived gap, and their p-values. The gap
+(``GAP``, m) is the diametral clearance casing.d_inner − cable.d, twice the model's radial gap;
+it is added when both diameters are varied.
 
 The p-value of a study run in Saltelli's design is a permutation test over its base points, not
 the t distribution of independent samples: the d + 2 runs of a base point share coordinates (d of
@@ -25,6 +27,7 @@ from ..model.validators import integer
 from .results_store import StudyResults, load_results
 from .sensitivity import complete_groups, group_rows
 
+#: The derived parameter: the diametral clearance casing.d_inner − cable.d (m), twice the radial gap.
 GAP = "gap"
 
 
