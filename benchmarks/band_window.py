@@ -59,6 +59,8 @@ p.add_argument(
     help="paired ratios of the mean levels (HI / LO) of --spec over --seeds (1 s, after 0.06 s) through both windows",
 )
 args = p.parse_args()
+if args.bias and args.long < 4.0:
+    p.error(f"--long = {args.long:g}: must be at least 4 s with --bias (the records are cut into 0.44, 1 and 4 s)")
 print(f"date: {datetime.datetime.now():%Y-%m-%d %H:%M}")
 
 

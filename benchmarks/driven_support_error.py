@@ -11,8 +11,10 @@ the error relative to the force's RMS grows about as (ωh)². Prints ``name: val
 ``coefficient_<f>Hz_h<h>`` (that error over (ωh)²). The FMU gives the core's reconstruction bit for
 bit (tests/fmu), so these are the FMU's figures; they do not depend on the machine's speed.
 
-    .venv/bin/python benchmarks/driven_support_error.py
+    .venv/bin/python benchmarks/driven_support_error.py [--frequencies 100 300 600 1000] [--steps 1e-4 5e-5 2e-5]
 """
+
+import argparse
 
 import numpy as np
 
@@ -42,11 +44,17 @@ def force(model, h, exact):
 
 
 def main():
+    parser = argparse.ArgumentParser(
+        description=__doc__.split("\n\n")[0], formatter_class=argparse.RawTextHelpFormatter
+    )
+    parser.add_argument("--frequencies", type=float, nargs="+", default=[100.0, 300.0, 600.0, 1000.0], help="Hz")
+    parser.add_argument("--steps", type=float, nargs="+", default=[1e-4, 5e-5, 2e-5], help="communication steps h, s")
+    args = parser.parse_args()
     assert "casing.A.y" in CHANNELS
     base = (
         cc.load_model().without_excitations(["casing_random", "cable_axial"]).with_overrides({"contact.enabled": False})
     )
-    for f in (100.0, 300.0, 600.0, 1000.0):
+    for f in args.frequencies:
         model = base.with_overrides(
             {
                 "scenario.excitation.tone.kind": "harmonic",
@@ -55,7 +63,7 @@ def main():
                 "scenario.excitation.tone.amplitude": AMPLITUDE,
             }
         )
-        for h in (1e-4, 5e-5, 2e-5):
+        for h in args.steps:
             ref, got = force(model, h, True), force(model, h, False)
             err = float(np.sqrt(np.mean((got - ref) ** 2) / np.mean(ref**2)))
             print(f"rel_err_{f:g}Hz_h{h:g}: {err:.4g}")

@@ -274,7 +274,7 @@ def write_records(path: str | os.PathLike, rec: Records) -> str:
     table = np.column_stack([rec.time] + [np.asarray(rec.columns[n], float) for n in names])
     units = [rec.units.get(n, "") for n in names]
     if suffix == ".csv":
-        header = _csv_header(["time [s]"] + [_csv_field(n, u) for n, u in zip(names, units)])
+        header = csv_header(["time [s]"] + [_csv_field(n, u) for n, u in zip(names, units)])
         if "passband_hz" in rec.extra:  # (comment lines after the header: _read_csv reads them back)
             header += "\n" + passband_line(float(np.asarray(rec.extra["passband_hz"])))
         if rec.lines_hz:
@@ -441,11 +441,11 @@ def _csv_field(name: str, unit: str) -> str:
     takes a line for a row), a name with `` [`` (the reader's start of the unit), with spaces around
     it (the reader strips them), or in the earlier ``<name>_<unit>`` form of another column raises
     :class:`ModelError` naming the column. A comma or a double quote is fine: the header quotes
-    such a field (:func:`_csv_header`)."""
+    such a field (:func:`csv_header`)."""
     field_ = f"{name} [{unit}]" if unit else str(name)
     back = _csv_name(field_)
     why = None
-    if any(c in field_ for c in "\n\r"):
+    if len(f"{field_}x".splitlines()) > 1:  # (\n, \r and what else str.splitlines, the reader's, splits at)
         why = "a line break, which a CSV header cannot hold (its reader takes it for a row)"
     elif back[0] != name or (unit and back[1] != unit):
         why = (
@@ -461,7 +461,7 @@ def _csv_field(name: str, unit: str) -> str:
     return field_
 
 
-def _csv_header(fields) -> str:
+def csv_header(fields) -> str:
     """The header line of ``fields``, separated by commas; a field with a comma or a double quote in
     double quotes (its quotes doubled), as the csv module writes it and :func:`read_records` reads it
     (``files.read_csv_table``)."""

@@ -121,7 +121,7 @@ def cmd_trfam(args):
         H = trfam(model, args.input, args.output, f, damping=args.damping)
     _warn_coarse_grid(model, body, args)
     table = np.column_stack([f, H.real, H.imag, np.abs(H), np.degrees(np.angle(H))])
-    header = "frequency_hz,re_kg,im_kg,magnitude_kg,phase_deg"
+    header = ["frequency_hz", "re_kg", "im_kg", "magnitude_kg", "phase_deg"]
     if args.out and args.out.lower().endswith(".uff"):
         from ..identification.uff_io import Record, write_uff
         from ..records import uff_dof
@@ -359,9 +359,13 @@ class _ReaderGone:
     command goes on, so that it still writes the files it was asked for (a run printed its summary,
     a warning or a progress bar before saving and stopped there, with status 0). The pipe's file
     descriptor is then pointed at /dev/null (Python flushes the stream again at exit; the Python
-    docs' "Note on SIGPIPE"). Everything else is the wrapped stream's."""
+    docs' "Note on SIGPIPE"). Everything else is the wrapped stream's. A stream that is not there
+    (``sys.stderr`` is None when the command starts with it closed, ``2>&-``) is /dev/null: the text
+    is dropped, the command runs and its status says how it ended."""
 
     def __init__(self, stream):
+        if stream is None:
+            stream = open(os.devnull, "w", encoding="utf-8")  # noqa: SIM115 (open while the command runs)
         self._stream = stream
         self.gone = False
 

@@ -228,7 +228,7 @@ def cmd_spectrum(args):
         )
         if note := _alias_note(rec, args.record, "lines"):
             print(note)
-    emit_table(args.out, ",".join(["frequency [Hz]"] + names), table, 9)
+    emit_table(args.out, ["frequency [Hz]", *names], table, 9)
     if args.plot:
         from ..nvh.plots import plot_psd, plot_transfer
 

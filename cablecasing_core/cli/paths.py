@@ -59,12 +59,17 @@ def kept(*paths) -> str:
     return "; ".join(parts) or "nothing was written"
 
 
-def emit_table(path, header, table, digits, note="#"):
-    """A numeric table: written to ``path`` as CSV with the one-line ``header`` (atomically,
-    ``digits`` significant digits) and a line ``<note> wrote <path>``; or printed when ``path`` is None."""
+def emit_table(path, fields, table, digits, note="#"):
+    """A numeric table: written to ``path`` as CSV under a one-line header of ``fields`` (the column
+    names; one with a comma or a quote is quoted as the csv module writes it, so that a name such as
+    ``acc, sensor 3`` stays one column), atomically, ``digits`` significant digits, and a line
+    ``<note> wrote <path>``; or printed when ``path`` is None."""
     import numpy as np
 
     from ..files import atomic_path
+    from ..records import csv_header
+
+    header = csv_header(fields)
 
     if path:
         with atomic_path(path) as tmp:

@@ -335,6 +335,26 @@ def test_a_closed_pipe_on_standard_error_does_not_stop_the_output_files(tmp_path
     assert (tmp_path / "t.csv").stat().st_size > 0
 
 
+@pytest.mark.parametrize(
+    "argv,status,written",
+    [
+        (["simulate", "--duration", "0.002", "--out", "t.csv"], 0, True),  # (its progress bar goes nowhere)
+        (["simulate", "no_such_model.toml"], 2, False),  # (an error: its status, though its line goes nowhere)
+    ],
+    ids=["run", "error"],
+)
+def test_a_command_started_with_standard_error_closed_runs_and_keeps_its_status(tmp_path, argv, status, written):
+    """`cablecasing ... 2>&-` (a daemon without stderr: Python's sys.stderr is None): the command
+    runs, writes its files and returns its status; the wrapper of stderr wrote to None, so an error
+    ended as an AttributeError with status 1, and a progress bar stopped the run."""
+    code = f"import sys; from cablecasing_core.cli import main; sys.exit(main({argv!r}))"
+    res = subprocess.run(
+        f'"{sys.executable}" -c "{code}" 2>&-', shell=True, cwd=tmp_path, stdout=subprocess.DEVNULL, timeout=300
+    )
+    assert res.returncode == status
+    assert (tmp_path / "t.csv").exists() == written
+
+
 def test_a_broken_pipe_that_stopped_the_work_is_not_success(tmp_path, capsys, monkeypatch):
     """A BrokenPipeError that reaches the command line (a pipe of the command's own, not stdout or
     stderr) stopped the work: one line and status 1, never 0."""

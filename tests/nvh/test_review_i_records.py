@@ -67,6 +67,8 @@ def test_a_name_with_a_comma_or_a_quote_is_quoted_in_the_header_and_reads_back(t
     [
         ("a\nb", "a line break"),
         ("a\rb", "a line break"),
+        ("a\x0cb", "a line break"),  # (a form feed, U+2028: str.splitlines, the reader's, splits there too)
+        ("a\u2028b", "a line break"),
         ("x [y]", "read as 'x' \\[y\\]"),
         (" padded", "read as 'padded'"),
         ("casing.B.Fz_N", "read as 'casing.B.Fz'"),
@@ -78,3 +80,23 @@ def test_a_name_a_csv_header_cannot_give_back_is_refused_before_writing(tmp_path
     assert not list(tmp_path.iterdir())
     write_records(tmp_path / "r.npz", Records(T, {name: A}))  # (.npz keeps any name)
     assert read_records(tmp_path / "r.npz").names == (name,)
+
+
+def test_spectrum_out_of_a_column_named_with_a_comma_reads_back_as_its_columns(tmp_path, capsys):
+    """`spectrum --out` of a column ``acc, sensor 3`` (a name a record's CSV holds, quoted): its
+    table's header is quoted as the record's is, so it reads back as one column per field (it was
+    joined with bare commas: 5 names over 3 columns, which the package's own reader refused)."""
+    from cablecasing_core.cli import main
+    from cablecasing_core.files import read_csv_table
+
+    write_records(tmp_path / "r.csv", Records(T, {"acc, sensor 3": A}, {"acc, sensor 3": "m/s2"}))
+    out = tmp_path / "s.csv"
+    assert main(["spectrum", str(tmp_path / "r.csv"), "--column", "acc, sensor 3", "--out", str(out)]) == 0
+    capsys.readouterr()
+    names, data = read_csv_table(out)
+    assert list(names) == [
+        "frequency [Hz]",
+        "acc, sensor 3 PSD [(m/s2)^2/Hz]",
+        "acc, sensor 3 level [dB re (1e-06 m/s2)^2/Hz]",
+    ]
+    assert data.shape[1] == 3
