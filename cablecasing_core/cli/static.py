@@ -65,7 +65,7 @@ def _print(model, st, buckled=()):
             "before it is pulled against the walls)"
         )
     elif T > 0.0:
-        print(f"  contact off: the tension {T:g} N is a fixed prestress (nothing pulls the cable against the walls)")
+        print(f"  contact off: {_unheld(model, st, T)}")
     print("  contact force of the casing on each cable node (N, global axes):")
     print("    node    s (m)   kappa (1/m)        Fx          Fy          Fz         |F|   penetration (m)")
     for i in np.flatnonzero(st.normal_force > 0.0):
@@ -98,6 +98,23 @@ def _print(model, st, buckled=()):
         print(f"  weight of the bodies (N): {np.round(W, 6).tolist()}")
     for b in buckled:
         print(f"  buckling: {b.text()}")
+
+
+def _unheld(model, st, T):
+    """What a tension does without contact, with the end elements' axial forces it leaves."""
+    from ..timedomain.body_storage import time_domain_system
+    from ..timedomain.static_state import end_axial_forces
+
+    ends = []
+    for body in st.U:
+        N = end_axial_forces(time_domain_system(model, body), st.U[body])
+        ends.append(f"{body} {N[0]:.4g} and {N[1]:.4g} N")
+    return (
+        f"the tension {T:g} N is applied as a fixed prestress (nothing pulls the cable against the walls), which "
+        f"relaxes where the route bends: the end elements carry {', '.join(ends)} (tension positive) against "
+        f"+{T:g} N (cable) and -{T:g} N (casing), which the geometric stiffness K_G and the buckling check assume, "
+        "and the support reactions carry what the ends carry"
+    )
 
 
 def _vec(v):
