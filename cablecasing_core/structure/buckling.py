@@ -18,8 +18,13 @@ elastically supported casing, which no closed form gives.
 K_E is positive definite only when the supports hold every rigid motion of the body. A body held
 by springs alone can leave some free (a mount of zero stiffness in a direction): the rigid motions
 are the null space of K_E, found exactly and explicitly from the mounts' stiffness on the six
-rigid motions (structure/support_check.py). Such a mechanism has no buckling load (P_cr = 0: any
-compression moves it) and is reported as one; otherwise K_E is positive definite, and LAPACK's
+rigid motions (structure/support_check.py). When the compression does work on one of them
+(K_G1 Phi not 0: a rotation about an axis across the body) it is a mechanism, P_cr = 0: any
+compression moves it, reported as one. When it does none (K_G1 Phi = 0 to rounding, UNDRIVEN: a
+twist about a straight body's own axis, a translation) both K_E and K_G1 vanish on Phi and the
+pencil is solved on the complement of Phi (Q^T K_E Q, Q^T K_G1 Q, Q an orthonormal basis of it),
+where K_E is positive definite: the load of the other motions, the free one named beside it. Then
+LAPACK's
 symmetric-definite solver (scipy.linalg.eigh, a Cholesky factor of K_E) gives the pencil; should
 that factor fail on rounding (mounts soft beside the beam), the general QZ solver
 (scipy.linalg.eig on (K_E, K_G1)) gives its finite positive eigenvalues instead.
@@ -51,28 +56,44 @@ class Buckling:
     buckles it, 0 for a mechanism that any compression moves); at: the arc length (m from end A)
     where the buckling mode's lateral displacement is largest (None without a mode); supports: the
     supports, isolators and clips assumed, in words; mechanism: the rigid motion the supports leave
-    free, in words, or None."""
+    free and the compression drives, in words, or None; undriven: a rigid motion the supports
+    leave free that the compression does not drive (a twist about a straight body's own axis), in
+    words, or None (the load is then that of the other motions)."""
 
     body: str
     load: float
     at: float | None
     supports: str
     mechanism: str | None = None
+    undriven: str | None = None
 
     def as_dict(self) -> dict:
-        """The JSON form: ``load_N`` (None for inf), ``at_m``, ``supports``, ``mechanism``."""
+        """The JSON form: ``load_N`` (None for inf, 0 for a mechanism), ``at_m``, ``supports``,
+        ``mechanism``, and ``free_motion`` (a rigid motion left free that the compression does not
+        drive, in words) only when there is one."""
         load = None if not np.isfinite(self.load) else float(self.load)
-        return {"load_N": load, "at_m": self.at, "supports": self.supports, "mechanism": self.mechanism}
+        out = {"load_N": load, "at_m": self.at, "supports": self.supports, "mechanism": self.mechanism}
+        if self.undriven:
+            out["free_motion"] = self.undriven
+        return out
 
     def text(self) -> str:
         """One line: the load, where its mode is, the supports assumed."""
         if self.mechanism:
-            return f"{self.body}: no buckling load, {self.mechanism} (supports: {self.supports})"
+            return (
+                f"{self.body}: buckles under any compression (buckling load 0 N), {self.mechanism} "
+                f"(supports: {self.supports})"
+            )
+        free = (
+            f"; free in {self.undriven}, which the compression does not drive (the load is that of the other motions)"
+            if self.undriven
+            else ""
+        )
         if not np.isfinite(self.load):
-            return f"{self.body}: no compression buckles it (supports: {self.supports})"
+            return f"{self.body}: no compression buckles it (supports: {self.supports}){free}"
         return (
             f"{self.body}: buckles under a compression of {self.load:.4g} N, its mode largest at s = {self.at:.4g} m "
-            f"(supports: {self.supports})"
+            f"(supports: {self.supports}){free}"
         )
 
 
@@ -162,7 +183,7 @@ def buckling(system) -> Buckling:
     :class:`~cablecasing_core.Model`: :func:`body_buckling` takes one) raises :class:`ModelError`
     naming ``system``."""
     from .assembly import BodySystem
-    from .support_check import free_rigid_motion
+    from .support_check import free_rigid_basis, free_rigid_motion
 
     if not isinstance(system, BodySystem):
         source = getattr(system, "source", None)
@@ -175,9 +196,18 @@ def buckling(system) -> Buckling:
 
     text = supports_text(system)
     free = free_rigid_motion(system)
-    if free is not None:
-        return Buckling(system.name, 0.0, None, text, mechanism=f"it is free to move: {free}")
     KE, KG = _free_blocks(system)
+    KE, KG = np.asarray(KE.todense() if sp.issparse(KE) else KE), np.asarray(KG.todense() if sp.issparse(KG) else KG)
+    undriven, Q = None, None
+    if free is not None:
+        Phi = free_rigid_basis(system)  # (orthonormal: the null space of K_E)
+        if _drives(KG, Phi):
+            return Buckling(system.name, 0.0, None, text, mechanism=f"it is free to move: {free}")
+        # The compression does no work on the free motions (a twist about a straight body's own axis,
+        # a translation): K_E and K_G1 both vanish on them, and the pencil is solved on the rest.
+        undriven = free
+        Q = np.linalg.qr(Phi, mode="complete")[0][:, Phi.shape[1] :]
+        KE, KG = Q.T @ KE @ Q, Q.T @ KG @ Q
     try:
         mu, phi = eigh(KG, KE, check_finite=False)  # (all of them: LAPACK's subset driver is slower here)
         k = int(np.argmax(mu))
@@ -190,8 +220,23 @@ def buckling(system) -> Buckling:
         k = np.flatnonzero(ok)[np.argmin(w.real[ok])]
         mu_max, mode = 1.0 / float(w.real[k]), v[:, k].real
     if not mu_max > 0.0:
-        return Buckling(system.name, float("inf"), None, text)
-    return Buckling(system.name, 1.0 / mu_max, _largest_lateral(system, mode), text)
+        return Buckling(system.name, float("inf"), None, text, undriven=undriven)
+    if Q is not None:
+        mode = Q @ mode
+    return Buckling(system.name, 1.0 / mu_max, _largest_lateral(system, mode), text, undriven=undriven)
+
+
+#: |K_G1 Phi| below this fraction of max|K_G1| (Phi's columns of unit norm) is no work of the
+#: compression on the free rigid motions Phi: exact rigid motions leave rounding alone (~1e-15 of
+#: the entries), a rotation about an axis across the body ~1e-2 or more (1 / (number of elements)).
+UNDRIVEN = 1e-8
+
+
+def _drives(KG, Phi):
+    """Whether the geometric stiffness KG (free DOFs) does work on any of the free rigid motions
+    Phi (orthonormal columns): |KG Phi| above UNDRIVEN of max|KG|."""
+    scale = np.abs(KG).max(initial=0.0)
+    return bool(np.abs(KG @ Phi).max(initial=0.0) > UNDRIVEN * scale)
 
 
 def buckling_load(system) -> float:
@@ -244,6 +289,13 @@ def check_compression(system) -> None:
     if b.mechanism:
         allowed = (
             f"must be below the {name}'s buckling load, but it has none: {b.mechanism}, so any compression moves it "
+            f"(supports: {b.supports})"
+        )
+    elif b.undriven and P < b.load:  # (refused before by check_supported; a system assembled by hand)
+        allowed = (
+            f"needs the {name} held against every rigid motion: it is free in {b.undriven}, which the compression "
+            f"does not drive (its buckling load {b.load:.4g} N is that of the other motions), but its tangent "
+            f"stiffness is singular there; give the isolators a stiffness in that direction, however small "
             f"(supports: {b.supports})"
         )
     elif np.isfinite(b.load) and b.load > 0.0:

@@ -147,6 +147,23 @@ def free_rigid_motion(system):
     return _analysis(system.centerline, system.mounts, False, 0.0, np.zeros(3))[1]
 
 
+def free_rigid_basis(system):
+    """The rigid motions the supports and mounts of ``system`` (an assembled BodySystem) leave free,
+    as displacements of its free DOFs (augmented: the mounts' support nodes stay at rest):
+    (n_free x k, orthonormal columns; k = 0 when a clamped support or the mounts hold every one)."""
+    n = len(system.free)
+    if "clamped" in system.spec.supports.values():
+        return np.zeros((n, 0))
+    cl = system.centerline
+    Z, _, _, _, x0, L = _analysis(cl, system.mounts, False, 0.0, np.zeros(3))
+    if not Z.shape[1]:
+        return np.zeros((n, 0))
+    U = np.zeros((system.n_augmented, Z.shape[1]))
+    for i, x in enumerate(cl.nodes):
+        U[6 * i : 6 * i + 6] = _rows(x - x0, L) @ Z
+    return np.linalg.qr(U[system.free])[0]
+
+
 def axial_stiffness(mounts, end):
     """The stiffness (N/m) of the isolator at ``end`` ("A" or "B") along the body's axis there
     (its local axial direction, the centerline's tangent); inf where ``end`` has no isolator."""
@@ -246,6 +263,25 @@ def check_supported(model) -> None:
             if name == "cable" and len(model.bodies) == 2 and model.contact["enabled"]
             else ""
         )
+        pushed = free is not None and np.linalg.norm(Z @ (Z.T @ F)) > 1e-9 * max(np.linalg.norm(F), 1e-300)
+        if free is not None and not pushed:
+            # (the motion is free, not loaded: the static solve and the time domain need it held all
+            # the same, their stiffness singular on it; the loads are not what is wrong)
+            hint = (
+                " (for a rotation, a rotational stiffness about its axis: a twist about the body's own axis needs "
+                "a torsional stiffness, which may be far below the others)"
+                if free.startswith("a rotation")
+                else ""
+            )
+            pushes = "its weight does not push it there" if any(g) else "its loads have no resultant on it"
+            raise ModelError(
+                key,
+                value,
+                f"needs the {name} held against every rigid motion, but its supports ({held}) leave it free in {free} "
+                f"(the mounts have no stiffness there): {pushes}, yet the static state and the time domain of a "
+                f"loaded body are singular on a free motion{besides}; give the isolators or clips a stiffness in "
+                f"that direction, however small{hint}, or clamp a support",
+            )
         if free is not None:
             raise ModelError(
                 key,

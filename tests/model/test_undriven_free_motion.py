@@ -1,0 +1,112 @@
+"""A rigid motion the supports leave free that the compression does not drive (review M, D3, D2):
+a straight casing on isolators without torsional stiffness buckles at the load of its other
+motions, text and JSON agree, and a loaded body with a free motion its loads do not push is
+refused naming the free motion, not the load."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+import cablecasing_core as cc
+
+L, EI, K_ROT = 0.85, 5e9 * 2.7261e-10, 20.0
+CASING = {
+    "E": 5e9,
+    "nu": 0.3,
+    "rho": 4850.0,
+    "alpha": 0.0,
+    "beta": 0.0,
+    "loss_factor": 0.05,
+    "d_outer": 0.0095,
+    "d_inner": 0.004,
+    "I": 2.7261e-10,
+}
+CABLE = {"E": 5.5e10, "nu": 0.3, "rho": 7850.0, "d": 0.003, "alpha": 0.0, "beta": 0.0, "loss_factor": 0.02}
+
+
+def _model(stiffness, rotational, gravity=(0.0, 0.0, 0.0), T=0.0, cable=True):
+    iso = {"stiffness": stiffness, "rotational_stiffness": rotational}
+    d = {
+        "geometry": {"n_elements": 40, "curve": "polyline", "points": [[0, 0, 0], [L, 0, 0]]},
+        "casing": dict(CASING, supports={"A": "isolator", "B": "isolator"}, isolator={"A": iso, "B": iso}),
+        "loads": {"gravity": list(gravity), "cable_tension": T},
+        "scenario": {"duration": 0.01, "dt": 1e-5},
+    }
+    if cable:
+        d["cable"] = dict(CABLE, supports={"A": "clamped", "B": "clamped"})
+    return cc.model_from_dict(d)
+
+
+def _symmetric_euler_load():
+    """The lowest buckling load of a column of length L on equal end springs (k_t, k_r): its
+    symmetric mode w = A cos(lam x) + C (x from mid-span) leaves no shear at the ends (EI w''' + P w'
+    = 0), so k_t carries nothing and the moment condition EI w'' = -k_r w' gives
+    EI lam cos(lam L/2) + k_r sin(lam L/2) = 0, lam L/2 in (pi/2, pi), P = EI lam^2 (56.2036 N, the
+    reviewer's full characteristic determinant with k_t = 1e5 N/m, whose lowest root it is)."""
+    a = L / 2
+
+    def f(lam):
+        return EI * lam * np.cos(lam * a) + K_ROT * np.sin(lam * a)
+
+    lam = brentq(f, np.pi / (2 * a) * (1 + 1e-12), np.pi / a * (1 - 1e-12), xtol=1e-15)
+    return EI * lam * lam
+
+
+def test_a_casing_free_to_twist_buckles_at_the_load_of_its_other_motions():
+    """Isolators [4e5, 1e5, 1e5] N/m, rotational [0, 20, 20] N.m/rad: the twist about the casing's
+    own axis is free, and the compression does no work on it (the Wagner term acts on the twist's
+    difference), so the load is that of the bending on the complement: 56.204 N, to 2e-6 (the FE's
+    h^4 error at 40 elements, within 8.4e-7 on 40 such spring cases in the review). Text and JSON
+    say the same: the load, and the twist left free."""
+    b = cc.body_buckling(_model([4e5, 1e5, 1e5], [0.0, K_ROT, K_ROT]), "casing")
+    assert b.load == pytest.approx(_symmetric_euler_load(), rel=2e-6)
+    assert b.mechanism is None and b.at == pytest.approx(L / 2)
+    d = b.as_dict()
+    assert d["load_N"] == b.load and d["free_motion"] == "a rotation about [1, 0, 0] through [0.425, 0, 0] m"
+    assert f"{b.load:.4g} N" in b.text() and "free in a rotation about [1, 0, 0]" in b.text()
+    held = cc.body_buckling(_model([4e5, 1e5, 1e5], [5.0, K_ROT, K_ROT]), "casing")  # (torsion held: same)
+    assert held.load == pytest.approx(b.load, rel=1e-9) and "free_motion" not in held.as_dict()
+
+
+def test_a_casing_free_to_slide_sideways_sways_at_its_closed_form():
+    """Isolators without lateral stiffness, rotational [5, 20, 20] N.m/rad: the lateral translations
+    are free and not driven (K_G1 of a rigid translation is 0), and the lowest mode is the sway
+    w = A sin(lam x) (x from mid-span; the end shear EI w''' + P w' vanishes by itself): the moment
+    condition EI w'' = -k_r w' gives tan(lam L/2) = k_r / (EI lam), P = EI lam^2 = 13.888 N; to 2e-6,
+    the FE's h^4 error as above."""
+    b = cc.body_buckling(_model([4e5, 0.0, 0.0], [5.0, K_ROT, K_ROT]), "casing")
+    lam = brentq(lambda x: np.tan(x * L / 2) - K_ROT / (EI * x), 1e-9, np.pi / L * (1 - 1e-12), xtol=1e-15)
+    assert b.load == pytest.approx(EI * lam * lam, rel=2e-6)
+    assert b.as_dict()["free_motion"].startswith("a translation along [0, ")
+
+
+def test_a_mechanism_reads_alike_in_text_and_json():
+    """Isolators without lateral stiffness nor rotational stiffness across: the compression drives
+    the rigid rotation across the casing, P_cr = 0 in both outputs."""
+    b = cc.body_buckling(_model([4e5, 0.0, 0.0], [5.0, 0.0, 0.0]), "casing")
+    assert b.load == 0.0 and b.as_dict()["load_N"] == 0.0 and b.mechanism.startswith("it is free to move: ")
+    assert "buckles under any compression (buckling load 0 N)" in b.text()
+
+
+@pytest.mark.parametrize(
+    "stiffness, rotational, gravity, T, free",
+    [
+        ([4e5, 1e5, 0.0], [5.0, K_ROT, K_ROT], [0.0, 0.0, -9.81], 0.0, "a translation along [0, 1, 0]"),
+        ([4e5, 1e5, 1e5], [0.0, K_ROT, K_ROT], [0.0, 0.0, -9.81], 0.0, "a rotation about [1, 0, 0]"),
+        ([4e5, 1e5, 1e5], [0.0, K_ROT, K_ROT], [0.0, 0.0, 0.0], 2.0, "a rotation about [1, 0, 0]"),
+    ],
+)
+def test_a_free_motion_the_loads_do_not_push_is_named_as_the_problem(stiffness, rotational, gravity, T, free):
+    """The weight along -z does no work on a y translation or on a twist about x; the tension has no
+    resultant: the refusal names the free motion and how to hold it, not the load as uncarried."""
+    with pytest.raises(cc.ModelError) as err:
+        _model(stiffness, rotational, gravity=gravity, T=T)
+    text = str(err.value)
+    assert err.value.key == ("loads.gravity" if any(gravity) else "loads.cable_tension")
+    assert "cannot be carried" not in text
+    assert "needs the casing held against every rigid motion, but its supports" in text and free in text
+    assert "however small" in text
+    if free.startswith("a rotation"):
+        assert "torsional stiffness" in text
