@@ -98,7 +98,12 @@ def parameter_info(key):
     spec = lookup(key)
     note = ""
     if key == "scenario.dt":
-        note = " (not used: solver.dt is the FMU's step)"
+        note = " (the FMU's internal step when solver.dt is not set)"
+    elif key == "scenario.duration":
+        note = (
+            " (in the FMU the master's stop time ends the run; this is how far the scenario's random "
+            "record is computed ahead when the master sets no stop time, with scenario.drive = true)"
+        )
     elif key.startswith("scenario."):
         note = " (used with scenario.drive = true, which drives the supports with the model's scenario)"
     return spec.unit, spec.description + note

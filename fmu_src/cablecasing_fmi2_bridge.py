@@ -267,7 +267,15 @@ class Instance:
         finally:
             sys.path.remove(home)
         here = os.path.dirname(os.path.abspath(module.cc.__file__))
-        if os.path.dirname(here) != os.path.abspath(home):
+        hosts = os.path.dirname(here) != os.path.abspath(home)
+        if not hosts:
+            self._log(
+                OK,
+                f"cablecasing_core imported from this FMU ({here}): in a Python host, a later "
+                "'import cablecasing_core' in the same process gets this copy; to compare the FMU with "
+                "your own copy of the package, import it before the first FMU is loaded",
+            )
+        if hosts:
             own = os.path.join(home, "cablecasing_core")
             same = _sources_digest(here) == _sources_digest(own)
             self._log(
@@ -289,7 +297,9 @@ class Instance:
         _LOADED[guid] = module
         self._log(
             OK,
-            f"model code imported from {home} in {time.perf_counter() - t0:.2f} s; numba cache "
+            f"slave code imported from {home}"
+            + (f", model code the host's cablecasing_core ({here})" if hosts else "")
+            + f" in {time.perf_counter() - t0:.2f} s; numba cache "
             f"{', '.join(caches)} ({seeded} files copied from the FMU)",
         )
         return module

@@ -501,6 +501,8 @@ def test_first_start_on_an_empty_cache_compiles_nothing(fmu, tmp_path, run, para
     assert res["misses"] == 0 and res["run_steps_hits"] >= 1, res["log"]
     assert str(res["cache_path"]).startswith(str(tmp_path / "empty-cache"))
     assert any("files copied from the FMU" in line for line in res["log"])
+    # (its own copy of the package: a Python host's later import gets it, and the FMU says so)
+    assert any("cablecasing_core imported from this FMU" in line for line in res["log"]), res["log"]
 
 
 def test_a_first_start_that_must_compile_says_so(fmu, tmp_path, run):
@@ -543,6 +545,8 @@ def test_a_host_that_imported_the_package_first_is_told_whether_it_is_the_fmus_c
     line = [m for m in same["log"] if "was already imported" in m]
     assert same["status"] == 0 and len(line) == 1 and line[0].startswith("ok: "), same["log"]
     assert "its Python sources are the FMU's own" in line[0]
+    assert not any("imported from this FMU" in m for m in same["log"])
+    assert any("model code the host's cablecasing_core" in m for m in same["log"]), same["log"]
 
     other = tmp_path / "other"
     shutil.copytree(root / "cablecasing_core", other / "cablecasing_core", ignore=shutil.ignore_patterns("__pycache__"))

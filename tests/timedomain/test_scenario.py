@@ -86,6 +86,24 @@ def test_random_record_is_the_sum_of_its_lines_at_any_time_and_grid():
     np.testing.assert_allclose(np.angle(narrow.coef[2]), np.angle(rec.coef[2, j : j + narrow.n_lines]), atol=1e-12)
 
 
+@pytest.mark.parametrize("dt", [1e-5, 2e-5, 1 / 30000])
+def test_random_record_between_grid_points_is_the_sum_of_its_lines(dt):
+    """A time off the run's grid (a shorter last step: an FMU's communication step of 2.5e-5 s at
+    dt = 1e-5 s) takes the quintic Hermite polynomial through its two grid neighbours' u, v, a,
+    not the direct sum of 63 000 lines (which made such a call 20 times dearer): against that sum,
+    within 1e-10 of the RMS in u, 1e-8 in v and 1e-5 in a (measured 3e-12, 2e-9 and 9e-7 at
+    worst: the polynomial's error grows as (w dt)^(6 - d) for the d-th derivative)."""
+    from cablecasing_core.timedomain.random_record import RandomRecord
+
+    rec = RandomRecord(5.0, [10.0, 1000.0], 7, dt)
+    t = np.sort(np.random.default_rng(0).uniform(0.01, 0.3, 60))
+    assert not np.any(np.abs(t / dt - np.rint(t / dt)) < 1e-9)  # (all off the grid)
+    ref = rec.direct(t)
+    rms = [np.sqrt(np.mean(x**2)) for x in rec(dt * np.arange(int(0.3 / dt)))]
+    for got, want, scale, bound in zip(rec(t), ref, rms, (1e-10, 1e-8, 1e-5)):
+        assert np.abs(got - want).max() < bound * scale
+
+
 def test_harmonic_and_impulse_are_their_closed_forms():
     f, A, ph = 50.0, 5e-4, 0.3
     mo = scenario_motion(
