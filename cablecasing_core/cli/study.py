@@ -381,6 +381,7 @@ def cmd_ensemble(args):
 def cmd_pool(args):
     """Pool ensemble CSVs run in parts (same model and settings) and print what ``ensemble`` prints."""
     from ..studies import paired_difference, pool_ensembles
+    from ..studies.ensemble import unpaired_setting
 
     _check_confidence(args.confidence)
     outputs = _check_outputs(args)
@@ -390,39 +391,38 @@ def cmd_pool(args):
         ens = pool_ensembles(args.files)
     other = d = None
     change = {}
+    if args.other_model and not args.against:
+        raise ModelError("--other-model", True, "compares the --against files with the files: give --against too")
     if args.against:
         with renamed({"path": "--against"}):
             other = pool_ensembles(args.against)
         change = _changed_overrides(ens, other)
-        mine, theirs = ({k: v for k, v in e.settings.items() if k != "model"} for e in (ens, other))
-        if "base_model" not in mine or "base_model" not in theirs:  # (an ensemble saved before it was kept)
-            mine.pop("base_model", None)
-            theirs.pop("base_model", None)
-        elif mine["base_model"] != theirs["base_model"]:
+        mine, theirs = (e.settings.get("base_model") for e in (ens, other))
+        files = " ".join(map(str, args.against))
+        if mine is not None and theirs is not None and mine != theirs and not args.other_model:
             raise ModelError(
                 "--against",
-                " ".join(map(str, args.against)),
+                files,
                 "must be an ensemble of the model the files it is compared with ran, with other overrides: it is "
-                f"of another model (its fingerprint before the overrides {theirs['base_model']}, theirs "
-                f"{mine['base_model']}), so the change would not be its overrides' alone",
+                f"of another model (its fingerprint before the overrides {theirs}, theirs {mine}), so the change "
+                "would not be its overrides' alone; to compare two model files (a clip moved, say) on the same "
+                "seeds and settings, add --other-model",
             )
-        # (a setting the --against parts declare as their override, --against scenario.dt=..., is what they compare)
-        declared = {k for k in change if k in other.overrides}
-        differ = sorted(
-            k for k in set(mine) | set(theirs) if mine.get(k) != theirs.get(k) and f"scenario.{k}" not in declared
-        )
-        if differ:
-            k = differ[0]
+        if args.other_model and mine != theirs:  # (the change is the two models' whole difference, overrides and all)
+            change = _other_model_change(ens, other, change)
+        unpaired = unpaired_setting(ens, other)  # (the check paired_difference makes, said with the files)
+        if unpaired:
+            k, said_mine, said_theirs = unpaired
             raise ModelError(
                 "--against",
-                " ".join(map(str, args.against)),
-                f"must be run with the settings of the files it is compared with: its {k} is {theirs.get(k)!r}, "
-                f"theirs {mine.get(k)!r}",
+                files,
+                f"must be run with the settings of the files it is compared with: its {k} is {said_theirs!r}, "
+                f"theirs {said_mine!r}",
             )
         if not np.array_equal(other.seeds, ens.seeds):
             raise ModelError(
                 "--against",
-                " ".join(map(str, args.against)),
+                files,
                 f"must pool to the seeds of the files it is compared with, {_seed_list(ens.seeds)}, to pair them; "
                 f"they pool to {_seed_list(other.seeds)}",
             )
@@ -432,8 +432,19 @@ def cmd_pool(args):
     if other is not None:
         _print_change(other, d, change, args.confidence)
         _save(other, args.out, "_against")
-    _plot(ens, other, d, args, (_as_assignments(ens.overrides) or "model", _as_assignments(change)))
+    said = _as_assignments(change) if isinstance(change, dict) else "--against model"  # (--other-model: a str)
+    _plot(ens, other, d, args, (_as_assignments(ens.overrides) or "model", said))
     return 0
+
+
+def _other_model_change(ens, other, change):
+    """What ``pool --other-model`` says the paired change is of: the --against files' model (by its
+    fingerprint) against the files' model, the two models' whole difference, with the overrides that
+    differ too."""
+    fp = other.settings.get("base_model") or other.settings.get("model")
+    mine = ens.settings.get("base_model") or ens.settings.get("model")
+    said = f"the --against files' model (fingerprint {fp}) instead of the files' ({mine}): the models' whole difference"
+    return said + (f", and the overrides {change}" if change else "")
 
 
 def _changed_overrides(ens, other):
@@ -657,6 +668,12 @@ def add_parser(sub):
         default=[],
         metavar="CSV",
         help="the parts' _against.csv files: print the paired change as 'ensemble --against' does",
+    )
+    q.add_argument(
+        "--other-model",
+        action="store_true",
+        help="the --against files may be of another model file (a clip moved, say) run on the same seeds and "
+        "settings: the change printed is then the two models' whole difference",
     )
     q.add_argument("--confidence", type=float, default=0.95, help="level of the confidence intervals")
     q.add_argument("--out", default=None, help="CSV of the pooled members (and OUT_against.csv)")

@@ -386,7 +386,8 @@ def _data_text(data) -> str:
 #: Why a clip's key cannot be set by its dotted key.
 _CLIP_KEYS = (
     "is a key of a clip (an array of tables [[casing.clip]]), which cannot be set by a dotted key: "
-    "change the clip in the model file"
+    "change the clip in the model file (to compare two clip layouts, run an ensemble of each file on the same "
+    "seeds and settings and pair them: pool A.csv --against B.csv --other-model, docs/studies.md 'Two model files')"
 )
 
 

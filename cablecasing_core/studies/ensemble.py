@@ -319,11 +319,26 @@ def pool_ensembles(ensembles: Sequence[Ensemble | str | os.PathLike]) -> Ensembl
                 (first.labels, first.lower.tolist(), first.upper.tolist()),
             ),
             ("overrides", _canonical(e.overrides), _canonical(first.overrides)),
-            ("settings", _canonical(_run_settings(e)), _canonical(_run_settings(first))),
             ("contact_time columns", e.contact_time.shape[1:], first.contact_time.shape[1:]),
         ):
             if mine != theirs:
                 raise ModelError(f"{names[i]}.{name}", mine, f"must equal that of {names[0]}, {theirs}, to pool them")
+        mine, theirs = _canonical(_run_settings(e)), _canonical(_run_settings(first))
+        differ = sorted(k for k in set(mine) | set(theirs) if mine.get(k) != theirs.get(k))
+        if differ:  # (each setting that differs by name, with both values: not the whole table cut off)
+            raise ModelError(
+                f"{names[i]}.settings",
+                ", ".join(differ),
+                f"must equal those of {names[0]} to pool them: "
+                + "; ".join(
+                    f"its {_setting(k)} is {mine.get(k)!r}, that of {names[0]} {theirs.get(k)!r}" for k in differ
+                )
+                + (
+                    " (to compare two models rather than pool them: paired_difference, or pool --against --other-model)"
+                    if "model" in differ
+                    else ""
+                ),
+            )
     _check_seeds_once(ensembles, parts, names)
     seeds = np.concatenate([e.seeds for e in parts])
     order = np.argsort(seeds, kind="stable")
@@ -345,6 +360,27 @@ def _run_settings(ens):
     """An ensemble's settings without ``base_model``, which its ``model`` fingerprint (the model with
     the same overrides) implies, and which parts saved before it was kept do not have."""
     return {k: v for k, v in ens.settings.items() if k != "base_model"}
+
+
+def _setting(key):
+    """A setting's name as a message gives it (the ``model`` fingerprint said as what it is)."""
+    return "model (the fingerprint of the model data with its overrides)" if key == "model" else key
+
+
+def unpaired_setting(a, b):
+    """The first run setting (``duration``, ``dt``, ``skip``, ``window``) in which the ensembles ``a``
+    and ``b`` differ, as ``(name, a's value, b's value)``, or None: what two ensembles compared on
+    the same seeds (:func:`paired_difference`, ``pool --against``) must share. The model
+    fingerprints (``model``, ``base_model``) may differ, as may a setting that an override changed
+    between the two declares (``scenario.dt`` set to another value in one: what they compare)."""
+    changed = {k for k in set(a.overrides) | set(b.overrides) if a.overrides.get(k) != b.overrides.get(k)}
+    mine, theirs = (
+        {k: v for k, v in _canonical(e.settings).items() if k not in ("model", "base_model")} for e in (a, b)
+    )
+    for k in sorted(set(mine) | set(theirs)):
+        if mine.get(k) != theirs.get(k) and f"scenario.{k}" not in changed:
+            return k, mine.get(k), theirs.get(k)
+    return None
 
 
 def _check_seeds_once(given, parts, names):
@@ -413,8 +449,11 @@ class PairedDifference:
 def paired_difference(a: Ensemble | np.ndarray, b: Ensemble | np.ndarray) -> PairedDifference:
     """Relative difference of the mean band levels of ``a`` against ``b`` and its standard error.
 
-    ``a`` and ``b`` are :class:`Ensemble` objects run on the same seeds (or arrays ``(n, bands)`` whose
-    rows are paired; the standard error is NaN for one pair; r and its standard error are NaN in a
+    ``a`` and ``b`` are :class:`Ensemble` objects run on the same seeds, output, bands and run settings
+    (duration, dt, skip, window: a :class:`ModelError` names a setting that differs and both values,
+    :func:`unpaired_setting`; the models may differ, two model files of two designs, as may a setting
+    an override changed between them declares) (or arrays ``(n, bands)`` whose rows are paired; the
+    standard error is NaN for one pair; r and its standard error are NaN in a
     band where every level of ``b`` is 0, an output the setting leaves at rest). Per band,
     ``r = (mean a - mean b) / mean b``: the relative change of the expected level. Its standard
     error comes from the linearisation of the ratio estimator, ``e_i = (a_i - b_i) - r b_i``,
@@ -436,6 +475,16 @@ def paired_difference(a: Ensemble | np.ndarray, b: Ensemble | np.ndarray) -> Pai
             )
         if not np.array_equal(a.seeds, b.seeds):
             raise ModelError("b.seeds", b.seeds.tolist(), f"must be the seeds of a, {a.seeds.tolist()}, in that order")
+        unpaired = unpaired_setting(a, b)
+        if unpaired:
+            k, mine, theirs = unpaired
+            raise ModelError(
+                f"b.settings['{k}']",
+                theirs,
+                f"must equal that of a, {mine!r}, to pair them: two ensembles compared on the same seeds must "
+                "share duration, dt, skip and window (they may differ by the model and its overrides, and by "
+                "a setting an override changed between them declares, such as scenario.dt)",
+            )
         labels, a, b = a.labels, a.levels, b.levels
     a = np.asarray(a, float)
     b = np.asarray(b, float)
