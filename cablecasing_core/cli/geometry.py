@@ -27,8 +27,11 @@ def cmd_geometry(args):
             warnings.warn(w.message, w.category, stacklevel=1)
     keys = ("length_m", "min_radius_m", "min_radius_at_m", "total_bend_deg", "gap_m", "element_length_m", "bends")
     buckled = _buckling(model)
+    clips = _clips(model)
     if args.json:
-        print(json.dumps({**{k: g[k] for k in keys}, "buckling": {b.body: b.as_dict() for b in buckled}}))
+        print(
+            json.dumps({**{k: g[k] for k in keys}, "clips": clips, "buckling": {b.body: b.as_dict() for b in buckled}})
+        )
     else:
         print(f"routing ({g['source']}) of {model.source}")
         print(f"  length            {g['length_m']:.6g} m")
@@ -45,6 +48,11 @@ def cmd_geometry(args):
             print(
                 f"  bend {i}: from s = {b['start_m']:.4g} m, radius {b['radius_m']:.4g} m{smallest}, "
                 f"{b['angle_deg']:.4g} deg"
+            )
+        for i, c in enumerate(clips):
+            print(
+                f"  clip {i}: at {c['at_m']:.4g} m, acts at the node at s = {c['node_s_m']:.4g} m "
+                f"({1e3 * (c['node_s_m'] - c['at_m']):+.3g} mm)"
             )
         for b in buckled:
             print(f"  buckling          {b.text()}")
@@ -101,3 +109,12 @@ def add_parser(sub):
     )
     p.add_argument("--plot", help="figure to write (.png): 3D routing with supports and clips, curvature along it")
     p.set_defaults(func=cmd_geometry)
+
+
+def _clips(model):
+    """The casing's clips in file order: ``at_m`` (the arc length asked for, m) and ``node_s_m``
+    (the arc length of the node it acts at, m: structure/mount_element.py, ``clip_node``)."""
+    from ..structure.mount_element import clip_positions
+
+    asked = model.data.get("casing", {}).get("clip", [])
+    return [{"at_m": float(c["at"]), "node_s_m": s} for c, s in zip(asked, clip_positions(model))]

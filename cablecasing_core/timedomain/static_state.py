@@ -344,6 +344,14 @@ def end_axial_forces(system, U):
     return np.array(out)
 
 
+def _frequency_effect(ratio, N0, P_cr):
+    """The relative shift of the lowest bending frequency that a K_G off by ``ratio`` P_cr gives a
+    body under the axial force ``N0`` (N, compression negative): f = f0 sqrt(1 - P / P_cr) with P the
+    compression, so f^2 moves by ``ratio`` of f0^2 and f by about ratio / (2 (1 - P / P_cr))."""
+    P = max(-N0, 0.0)
+    return 0.5 * ratio / max(1.0 - P / P_cr, 1e-3) if P_cr > 0.0 else float("inf")
+
+
 def check_kept_prestress(systems, U, exclude=(), gravity=(0.0, 0.0, 0.0), contact=False, held=True, stacklevel=3):
     """Warn (ModelWarning) when a body with a given prestress N0 (the casing's compression -T, the
     cable's tension +T when it is a fixed prestress) carries, in the static state U ({body:
@@ -396,7 +404,10 @@ def check_kept_prestress(systems, U, exclude=(), gravity=(0.0, 0.0, 0.0), contac
             f"which its geometric stiffness K_G and the buckling check assume: |N - N0| = {dN:.4g} N is "
             f"{ratio:.3g} of its buckling load as built P_cr = {P_cr:.4g} N (warned above both "
             f"{KEPT_PRESTRESS:g} |N0| and {KEPT_PRESTRESS_OF_BUCKLING:g} P_cr), about the error of K_G against its "
-            f"bending stiffness in its lowest mode; {_prestress_causes(s, gravity, contact, held)}",
+            f"bending stiffness in its lowest mode; {_prestress_causes(s, gravity, contact, held)}. So its lowest "
+            f"bending frequency may be off by about {_frequency_effect(ratio, s.N0, P_cr):.2g} (relative; f goes "
+            "as sqrt(1 - P / P_cr)); the model keeps N0 as given (a linear prestress), so this is a limit of the "
+            "model to read the results with, not an input to correct",
             ModelWarning,
             stacklevel=stacklevel,
         )

@@ -111,6 +111,12 @@ def test_a_casing_on_isolators_keeps_part_of_its_compression_and_it_is_said(k):
     assert "not the given compression N0 = -10 N of loads.cable_tension" in text
     assert "K_G and the buckling check assume" in text
     assert f"|N - N0| = {dN:.4g} N is {dN / P_cr:.3g} of its buckling load as built P_cr = {P_cr:.4g} N" in text
+    # the effect it names: the lowest bending frequency with K_G at N0 against the one at the force
+    # the casing keeps (the model at that tension), within a third of it (the estimate is first order)
+    said_shift = float(text.split("lowest bending frequency may be off by about ")[1].split(" ")[0])
+    other = cc.model_from_dict(straight(casing=on_isolators(k), loads={"cable_tension": -float(N.mean())}))
+    f0, f1 = (cc.natural_frequencies(m, "casing", count=1)[0] for m in (model, other))
+    assert said_shift == pytest.approx(abs(f1 / f0 - 1), rel=1 / 3), (said_shift, f0, f1)
     assert f"keeps about k_s/(k_s + EA/L) = {k / (k + 2 * EA_CASING / L):.3g} of N0" in text
     for absent in ("weight", "contact", "agree when"):  # (none on this model; no advice to stiffen)
         assert absent not in text, text

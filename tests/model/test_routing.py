@@ -264,8 +264,10 @@ def test_cli_geometry_json_plot_and_warnings(tmp_path, capsys):
         "gap_m",
         "element_length_m",
         "bends",
+        "clips",
         "buckling",
     }
+    assert out["clips"] == []  # (no clip on this route)
     assert out["buckling"]["casing"]["load_N"] > 0 and out["buckling"]["casing"]["supports"] == "A clamped; B clamped"
     assert out["length_m"] == pytest.approx(LENGTH, rel=1e-14)
     assert out["element_length_m"] == pytest.approx(LENGTH / 20, rel=1e-14)
@@ -293,3 +295,22 @@ def test_loading_a_file_warns_of_a_likely_mistake(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         load_model(coarse)
+
+
+def test_cli_geometry_names_the_node_each_clip_acts_at(capsys):
+    """A clip acts at the node nearest to its ``at``: `geometry` says which, in the text and the JSON
+    (the installation example: 64 elements of 15.35 mm, so each node within half an element of it,
+    and the nearest of the route's nodes)."""
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[2] / "examples" / "installation.toml"
+    assert main(["geometry", str(path), "--json"]) == 0
+    clips = json.loads(capsys.readouterr().out)["clips"]
+    s = centerline_of(load_model(path)).s
+    assert [c["at_m"] for c in clips] == [0.4, 0.6]
+    for c in clips:
+        assert c["node_s_m"] == s[np.argmin(np.abs(s - c["at_m"]))]
+        assert abs(c["node_s_m"] - c["at_m"]) <= 0.5 * (s[1] - s[0])
+    assert main(["geometry", str(path)]) == 0
+    text = capsys.readouterr().out
+    assert f"clip 0: at 0.4 m, acts at the node at s = {clips[0]['node_s_m']:.4g} m" in text
