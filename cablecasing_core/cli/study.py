@@ -532,6 +532,14 @@ def _print_ensemble(ens, confidence):
     print("band,f_low_hz,f_high_hz,mean,se,ci_low,ci_high,cv")
     for row in ens.as_rows(confidence):
         print(",".join([row["band"]] + [f"{row[k]:.6g}" for k in list(row)[1:]]))
+    from ..studies.octave import NO_RESPONSE_DB, no_response
+
+    if (off := no_response(ens.mean)).any():  # (their levels are the window's leakage, not a response)
+        gone = ", ".join(lab for lab, o in zip(ens.labels, off) if o)
+        print(
+            f"# no response in {gone}: their mean lies more than {NO_RESPONSE_DB:g} dB below the strongest band's, "
+            "where Hann's window's leakage from the other bands, not the response, sets a level"
+        )
     if ens.warnings:
         print(
             f"cablecasing: warning: {len(ens.warnings)} of {ens.n} members warned (seeds "

@@ -9,7 +9,7 @@ files); ``parameters.csv``; ``modes.csv`` (Hz); ``trfam.uff`` and ``trfam_<x|y|z
 support forces' mean, RMS total and RMS dynamic, N); ``simulation.png`` (time histories);
 ``scalograms.png`` (Figs. 20-21); ``routing_contact.png`` and ``contact_histogram.png`` (Fig. 22);
 ``bands_<variant>.csv`` and ``band_levels.png`` (ensemble means with confidence intervals, N and dB
-re 1 N; a band more than :data:`.figures.NO_RESPONSE_DB` below its variant's strongest holds no
+re 1 N; a band more than :data:`~cablecasing_core.studies.octave.NO_RESPONSE_DB` below its variant's strongest holds no
 response and is left out of the figure and dashed in the table); ``psd.png`` (from 2 df, where
 Welch's lines measure); ``apparent_mass.png`` (H1 of a reference record against the TRFAM averaged
 over the estimator's window, what H1 estimates, and the TRFAM as computed); ``study/study.csv``,

@@ -395,7 +395,7 @@ def accuracy_note(model, info):
 
 
 def _bands(variants, model, info):
-    from .figures import NO_RESPONSE_DB, no_response
+    from ..studies.octave import NO_RESPONSE_DB, no_response
 
     ens = [v for v in variants if v.ensemble is not None]
     if not ens:

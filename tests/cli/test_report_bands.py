@@ -171,3 +171,18 @@ def test_the_accuracy_figures_of_the_page_are_the_docs():
     assert "geometry.n_elements = 140" in fine and "not on this model or at these settings" in fine
     generic = re.sub(r"<[^>]+>", "", fine.split("They do not cover")[1])
     _assert_quoted(generic.split(":", 1)[1], [_section(docs, "The mesh"), _section(docs, "The time step on 456 seeds")])
+
+
+def test_ensemble_names_the_bands_that_hold_no_response(capsys):
+    """`ensemble` prints every band's row and, below the table, names those more than
+    NO_RESPONSE_DB below the strongest (the report's dashes): without contact and the cable drive
+    the excitation ends at 1 kHz, and octaves 8-9 read 150-170 dB below octave 4 (the comment of
+    NO_RESPONSE_DB), the window's leakage; the bands up to 1 kHz hold the response."""
+    from cablecasing_core.cli import main
+
+    argv = ["ensemble", "--seeds", "2", "--duration", "0.2", "--kind", "octave", "--set", "contact.enabled=false"]
+    assert main([*argv, "--set", "scenario.excitation.cable_axial.amplitude=0"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    note = [line for line in out if line.startswith("# no response in ")]
+    assert len(note) == 1 and "8000Hz, 16000Hz" in note[0] and "1000Hz" not in note[0].split(":")[0], note
+    assert any(line.startswith("16000Hz,") for line in out)  # (the row is still printed)
