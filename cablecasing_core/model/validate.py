@@ -443,6 +443,7 @@ def validate(data: dict, base_dir: str | None = None) -> dict:
     check_tolerance_substeps(out["contact"]["event_tolerance"], out["contact"]["event_substeps"])
     check_regularized(out["contact"])
     out["loads"] = _loads(data.get("loads", {}), bodies)
+    _installed_friction_law(out)
     out["scenario"] = _scenario(data.get("scenario", {}), bodies, base_dir)
     _carried(out)
     _driven_through_mounts(out)
@@ -473,6 +474,29 @@ def check_regularized(contact):
             contact["stick_velocity"],
             'must be > 0 m/s with contact.friction_law = "regularized": it is the slip speed over which '
             "Coulomb's force is regularised (1e-4 m/s is the default)",
+        )
+
+
+def _installed_friction_law(out):
+    """Warn of a cable under a tension (loads.cable_tension > 0: it lies on the casing's wall in the
+    bends) with the paper's switch friction law: there its stick-slip switches multiply as the time
+    step shrinks and the band levels do not converge (10.7 % off a 128 times finer step), and a run
+    recomputes most of its steps (81 % on a user's installed model, 3 times the regularised law's
+    cost); the built-in installed specimen and the docs' installed models take the regularised law
+    (docs/time_domain.md, "A friction law whose limit exists")."""
+    c = out["contact"]
+    if (
+        out["loads"]["cable_tension"] > 0.0
+        and "casing" in out
+        and c["enabled"]
+        and c["friction"] > 0.0
+        and c["friction_law"] == "switch"
+    ):
+        _warn(
+            f"loads.cable_tension = {out['loads']['cable_tension']:g} N lays the cable on the wall, where "
+            'contact.friction_law = "switch" (the default) does not converge with the time step (its stick-slip '
+            "switches multiply as it shrinks) and recomputes most steps: set contact.friction_law = "
+            '"regularized", as the built-in installed specimen does (docs/time_domain.md)'
         )
 
 

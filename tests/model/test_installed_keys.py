@@ -116,3 +116,20 @@ def test_an_unknown_specimen_name_says_what_exists():
     with pytest.raises(cc.ModelError) as err:
         cc.load_model("instaled")
     assert err.value.key == "model_file" and "installed" in str(err.value)
+
+
+def test_a_tension_on_the_switch_friction_law_warns_naming_the_regularized_law():
+    """A cable under a tension lies on the wall, where the switch law's stick-slip switches multiply
+    as the step shrinks (docs/time_domain.md): loading such a model warns and names the law to set;
+    the built-in installed specimen (regularised), a model without friction and one without a
+    tension do not warn."""
+    import warnings
+
+    installed = cc.load_model("installed")
+    with pytest.warns(cc.ModelWarning, match=r'loads.cable_tension = 10 N .* set contact.friction_law = "regularized"'):
+        installed.with_overrides({"contact.friction_law": "switch"})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", cc.ModelWarning)
+        cc.load_model("installed")
+        installed.with_overrides({"contact.friction_law": "switch", "contact.friction": 0.0})
+        cc.load_model("default")
