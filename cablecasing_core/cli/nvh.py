@@ -308,23 +308,11 @@ def _nperseg(rec, args, n, averages=1):
     ``nvh.transfer.MIN_AVERAGES``)."""
     if args.resolution is None:
         return None
-    from ..errors import ModelError
     from ..model.validators import number
+    from ..nvh.spectra import segment_for_resolution
 
     number("--resolution", args.resolution, gt=0, unit="Hz")
-    seg = int(2 ** np.round(np.log2(rec.fs / args.resolution)))
-    longest = 2 * n // (averages + 1)  # (k averages of half-overlapping segments span (k + 1) / 2 of them)
-    if seg > longest:
-        finest = rec.fs / 2 ** int(np.log2(max(longest, 1)))
-        what = "one segment" if averages == 1 else f"{averages} averages of half-overlapping segments"
-        why = "" if averages == 1 else "; from one the coherence is 1 whatever the signals"
-        raise ModelError(
-            "--resolution",
-            args.resolution,
-            f"must be at least {finest:.4g} Hz for the {n / rec.fs:.4g} s of record after the skip "
-            f"({what} of a power of two samples{why})",
-        )
-    return seg
+    return segment_for_resolution("--resolution", args.resolution, rec.fs, n, averages)
 
 
 def _fmin_option(text):

@@ -46,6 +46,33 @@ COVERED_FROM_DF = 2.0
 REFERENCES = {"N": 1.0, "N.m": 1.0, "m/s2": 1e-6, "m/s": 1e-9, "m": 1e-12, "1": 1.0}
 
 
+def finest_segment_resolution(fs: float, n: int, averages: int = 1) -> float:
+    """The finest resolution (Hz) of Welch segments of a power of two samples that leave at least
+    ``averages`` half-overlapping averages of ``n`` samples at ``fs`` Hz (k averages span (k + 1) / 2
+    segments: a segment of at most 2 n / (k + 1) samples)."""
+    return fs / 2 ** int(np.log2(max(2 * n // (averages + 1), 1)))
+
+
+def segment_for_resolution(key: str, resolution_hz: float, fs: float, n: int, averages: int = 1) -> int:
+    """Samples per Welch segment for a resolution of ``resolution_hz`` Hz (the nearest power of two
+    of samples at ``fs`` Hz) in a record of ``n`` samples, leaving at least ``averages``
+    half-overlapping averages (a transfer function's coherence needs 3: from one it is 1 whatever
+    the signals); a finer resolution raises :class:`ModelError` naming ``key`` (``resolution_hz``,
+    the command line's ``--resolution``) and the finest the record allows
+    (:func:`finest_segment_resolution`)."""
+    seg = int(2 ** np.round(np.log2(fs / resolution_hz)))
+    if seg > 2 * n // (averages + 1):  # (k averages of half-overlapping segments span (k + 1) / 2 of them)
+        what = "one segment" if averages == 1 else f"{averages} averages of half-overlapping segments"
+        why = "" if averages == 1 else "; from one the coherence is 1 whatever the signals"
+        raise ModelError(
+            key,
+            resolution_hz,
+            f"must be at least {finest_segment_resolution(fs, n, averages):.4g} Hz for the {n / fs:.4g} s of record "
+            f"after the skip ({what} of a power of two samples{why})",
+        )
+    return seg
+
+
 def reference(unit: str, ref: float | None = None) -> float:
     """The reference value of levels of a quantity in ``unit`` (:data:`REFERENCES`), or ``ref``
     when given (a positive number in that unit). A :class:`ModelError` names ``ref`` (the command

@@ -26,6 +26,7 @@ from ..errors import ModelError, renamed
 from ..identification.frf import frf_estimate, random_error, welch_averages
 from ..model.validators import Choice, array_1d, integer, number, seconds
 from ..records import Records, after_skip
+from .spectra import finest_segment_resolution, segment_for_resolution
 
 #: The fewest Welch averages a transfer estimate takes: with one, the coherence is 1 by construction.
 MIN_AVERAGES = 3
@@ -60,21 +61,13 @@ def _units(units):
     return " and ".join(f"'{u}'" for u in units)
 
 
-def _finest(fs, n, averages=MIN_AVERAGES):
-    """The finest resolution (Hz) of Welch segments of a power of two samples that leave at least
-    ``averages`` half-overlapping averages of ``n`` samples at ``fs`` Hz (k averages span (k + 1) / 2
-    segments: a segment of at most 2 n / (k + 1) samples); the rule ``spectrum --resolution`` applies."""
-    longest = 2 * n // (averages + 1)
-    return fs / 2 ** int(np.log2(max(longest, 1)))
-
-
 def finest_resolution(rec: Records, skip: float | None = None) -> float:
     """The finest ``resolution_hz`` (Hz) that :func:`apparent_mass` and :func:`transmissibility` take
     of the record ``rec`` after ``skip`` s (None: ``rec.default_skip()``): fs / the longest power of two
     of samples that leaves :data:`MIN_AVERAGES` averages (at most half of the samples after the skip)."""
     seconds("skip", skip, zero_ok=True, none_ok=True)
     skip = rec.default_skip() if skip is None else skip
-    return _finest(rec.fs, int(after_skip(rec.time, skip, rec.time[0]).sum()))
+    return finest_segment_resolution(rec.fs, int(after_skip(rec.time, skip, rec.time[0]).sum()), MIN_AVERAGES)
 
 
 def _estimate(rec, x_name, y_name, sign, kind, unit, estimator, skip, nperseg, resolution_hz):
@@ -108,15 +101,10 @@ def _estimate(rec, x_name, y_name, sign, kind, unit, estimator, skip, nperseg, r
                 f"must hold at least {share * MIN_SEGMENT} samples for the default segment (at most 1/{share} of "
                 f"the record, at least {MIN_SEGMENT} samples); give nperseg for a shorter one, with fewer averages",
             )
-        seg = int(2 ** np.round(np.log2(fs / (1.0 if resolution_hz is None else resolution_hz))))
-        if resolution_hz is not None and seg > 2 * n // (MIN_AVERAGES + 1):  # (refused as spectrum --resolution)
-            raise ModelError(
-                "resolution_hz",
-                resolution_hz,
-                f"must be at least {_finest(fs, n):.4g} Hz for the {n / fs:.4g} s of record after the skip "
-                f"({MIN_AVERAGES} averages of half-overlapping segments of a power of two samples; from one the "
-                "coherence is 1 whatever the signals)",
-            )
+        if resolution_hz is None:
+            seg = int(2 ** np.round(np.log2(fs / 1.0)))
+        else:  # (refused as spectrum --resolution: one rule)
+            seg = segment_for_resolution("resolution_hz", resolution_hz, fs, n, MIN_AVERAGES)
         nperseg = max(MIN_SEGMENT, min(seg, 2 ** int(np.log2(n // share))))
     if welch_averages(n, nperseg) < MIN_AVERAGES:
         raise ModelError(

@@ -196,8 +196,7 @@ def buckling(system) -> Buckling:
 
     text = supports_text(system)
     free = free_rigid_motion(system)
-    KE, KG = _free_blocks(system)
-    KE, KG = np.asarray(KE.todense() if sp.issparse(KE) else KE), np.asarray(KG.todense() if sp.issparse(KG) else KG)
+    KE, KG = _free_blocks(system)  # (dense: BodySystem.augmented)
     undriven, Q = None, None
     if free is not None:
         Phi = free_rigid_basis(system)  # (orthonormal: the null space of K_E)
@@ -216,7 +215,7 @@ def buckling(system) -> Buckling:
         w, v = eig(KE, KG, check_finite=False)  # QZ: P = alpha / beta, infinite where K_G1 is singular
         ok = np.isfinite(w) & (np.abs(w.imag) <= 1e-8 * np.abs(w.real)) & (w.real > 0.0)
         if not ok.any():
-            return Buckling(system.name, float("inf"), None, text)
+            return Buckling(system.name, float("inf"), None, text, undriven=undriven)
         k = np.flatnonzero(ok)[np.argmin(w.real[ok])]
         mu_max, mode = 1.0 / float(w.real[k]), v[:, k].real
     if not mu_max > 0.0:
