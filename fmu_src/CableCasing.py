@@ -1038,8 +1038,9 @@ class CableCasing(Fmi2Slave):
         the inputs the host gave for that channel (a huge value whose reconstruction over the step,
         or the forces from it, overflow), else None."""
         channels, n = self.input_names[: self.nch], self.nch
+        # each input's weight in the quintic's acceleration (m/s2): u / h**2, v / h, a
+        weight = [abs(float(x)) * step_size ** (j // n - 2) for j, x in enumerate(self.inputs_buffer)]
         if isinstance(exc, cc.SimulationError) and getattr(exc, "non_finite", False):
-            weight = [abs(float(x)) * step_size ** (j // n - 2) for j, x in enumerate(self.inputs_buffer)]
             j = max(range(len(weight)), key=weight.__getitem__)
             if not weight[j] >= self.OVERFLOWING_INPUT:  # (an unstable step, not an input)
                 return None
@@ -1053,8 +1054,7 @@ class CableCasing(Fmi2Slave):
             return None
         c = channels.index(channel)
         given = [(self.input_names[c + k * n], float(self.inputs_buffer[c + k * n])) for k in range(3)]
-        # the input that weighs most in the quintic's acceleration: u / h**2, v / h, a
-        k = max(range(3), key=lambda k: abs(given[k][1]) * step_size ** (k - 2))
+        k = max(range(3), key=lambda k: weight[c + k * n])  # (the channel's input that weighs most)
         if given[k][1] == 0.0:  # (the supports' own state, not an input, is what overflows)
             return None
         others = ", ".join(f"{nm} = {x!r} {input_spec(nm)[0]}" for j, (nm, x) in enumerate(given) if j != k)

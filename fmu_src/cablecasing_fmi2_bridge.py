@@ -275,7 +275,7 @@ class Instance:
                 "'import cablecasing_core' in the same process gets this copy; to compare the FMU with "
                 "your own copy of the package, import it before the first FMU is loaded",
             )
-        if hosts:
+        else:
             own = os.path.join(home, "cablecasing_core")
             same = _sources_digest(here) == _sources_digest(own)
             self._log(

@@ -61,13 +61,14 @@ def assignments(flag, texts):
     out, shown = {}, {}
     for text in texts:
         key, value = assignment(flag, text)
+        said = typed([text])[key]
         if key in out:
             raise ModelError(
                 f"{flag} {key}",
                 NOT_SHOWN,
-                f"is given twice ({excerpt(shown[key])} and {excerpt(typed([text])[key])}): give each key once",
+                f"is given twice ({excerpt(shown[key])} and {excerpt(said)}): give each key once",
             )
-        out[key], shown[key] = value, typed([text])[key]
+        out[key], shown[key] = value, said
     return out
 
 

@@ -31,7 +31,7 @@ from numpy.typing import ArrayLike
 from ..errors import CableCasingError, ModelError, SimulationError
 from ..model.schema import CHANNELS, CONTACT_LAWS, OUTPUTS, channels_of, lookup, outputs_of
 from ..model.validate import check_tolerance_substeps
-from ..model.validators import seconds
+from ..model.validators import check_contact, seconds
 from . import kernels as K
 from .body_storage import FACTOR_CACHE_SIZE, BodyStorage, BoundedCache, body_arrays
 from .support_motion import _coefficient_matrix
@@ -157,8 +157,7 @@ class Engine:
     ):
         dt = model.scenario["dt"] if dt is None else dt
         lookup("scenario.dt").check(dt, "dt")
-        if contact is not None and not isinstance(contact, (bool, np.bool_)):
-            raise ModelError("contact", contact, "must be None (the model's contact.enabled), True or False")
+        check_contact(contact)
         self.model = model
         self._structure = model.fingerprint(scenario=False)  # (what a state of this engine belongs to)
         self.dt = float(dt)
