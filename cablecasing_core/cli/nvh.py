@@ -129,8 +129,8 @@ def cmd_spectrum(args):
     import warnings
 
     from ..errors import ModelError, renamed
-    from ..nvh import apparent_mass, level_unit, psd, reference, transmissibility
-    from ..nvh.spectra import squared
+    from ..nvh import apparent_mass, level_unit, psd, transmissibility
+    from ..nvh.spectra import level_reference, squared
     from ..nvh.transfer import MIN_AVERAGES
     from .paths import check_distinct, check_output_path, emit_table, kept
 
@@ -172,7 +172,7 @@ def cmd_spectrum(args):
         for w in said:
             warnings.warn(w.message, w.category, stacklevel=1)
         with renamed({"ref": "--ref"}):
-            refs = [reference(r.unit, args.ref) if r.unit or args.ref else 1.0 for r in res]  # (each its unit's)
+            refs = [level_reference(r.unit, args.ref) for r in res]  # (each its unit's)
         names = [f"{r.name} PSD [{squared(r.unit)}/Hz]" for r in res]
         names += [f"{r.name} level [{level_unit(ref, r.unit, power=True)}]" for r, ref in zip(res, refs)]
         table = np.column_stack([res[0].f_hz] + [r.density for r in res] + [r.level_db(f) for r, f in zip(res, refs)])
@@ -331,7 +331,7 @@ def cmd_bands(args):
 
     from ..errors import ModelError, renamed
     from ..files import atomic_path
-    from ..nvh import reference
+    from ..nvh.spectra import level_reference
     from ..studies import octave_rms
     from ..studies.octave import WINDOW_NAMES, octave_bands, window_options
     from .paths import check_distinct, check_output_path, kept
@@ -350,7 +350,7 @@ def cmd_bands(args):
     col = rec.resolve(columns[0], "--column")
     unit = rec.unit(col)
     with renamed({"ref": "--ref"}):  # (BandRMS.level_db's rule: the unit's reference, 1 where none is known)
-        ref = reference(unit, args.ref) if unit or args.ref else 1.0
+        ref = level_reference(unit, args.ref)
     x = _signal(rec, args.record, col, keep)
     if band_set.upper[0] > rec.fs / 2:
         raise ModelError(

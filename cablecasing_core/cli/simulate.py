@@ -24,8 +24,9 @@ def cmd_simulate(args):
     if args.set:  # (a key that --duration, --dt or --no-contact takes the place of would do nothing: refused)
         from ..studies.evaluators import check_not_overridden
 
+        shown = typed(args.set)  # (the values as typed, for the message)
         check_not_overridden(
-            {k: (f"--set {k}", typed(args.set)[k]) for k in assignments("--set", args.set)},
+            {k: (f"--set {k}", shown[k]) for k in assignments("--set", args.set)},
             {
                 "duration": ("--duration", args.duration),
                 "dt": ("--dt", args.dt),

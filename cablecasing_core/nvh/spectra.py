@@ -46,6 +46,12 @@ COVERED_FROM_DF = 2.0
 REFERENCES = {"N": 1.0, "N.m": 1.0, "m/s2": 1e-6, "m/s": 1e-9, "m": 1e-12, "1": 1.0}
 
 
+def level_reference(unit: str, ref: float | None = None) -> float:
+    """The reference of levels in dB of a signal in ``unit``: ``ref`` when given, else the unit's
+    (:func:`reference`), or 1 (dB re 1 of the signal's unit) when the unit is not known (``""``)."""
+    return reference(unit, ref) if unit or ref is not None else 1.0
+
+
 def finest_segment_resolution(fs: float, n: int, averages: int = 1) -> float:
     """The finest resolution (Hz) of Welch segments of a power of two samples that leave at least
     ``averages`` half-overlapping averages of ``n`` samples at ``fs`` Hz (k averages span (k + 1) / 2

@@ -209,9 +209,9 @@ class BandRMS:
     def reference(self, ref: float | None = None) -> float:
         """The reference (signal unit) of :meth:`level_db`: ``ref`` when given, else that of
         :attr:`unit`, or 1 when the unit is not known."""
-        from ..nvh.spectra import reference
+        from ..nvh.spectra import level_reference
 
-        return reference(self.unit, ref) if self.unit or ref is not None else 1.0
+        return level_reference(self.unit, ref)
 
 
 def octave_bands(kind: str = "table3", f_min: float | None = None, f_max: float | None = None) -> Bands:
