@@ -43,7 +43,10 @@ A record is a time axis (s, evenly spaced) and named columns: the outputs of the
   tools, whose ID lines do not start with ``cablecasing``, states none). So a run's ``.uff`` file
   gives the same :meth:`Records.default_skip` and passband as its ``.csv`` and ``.npz``.
 
-Files are written atomically (:mod:`.files`): an interrupted write leaves an earlier file intact.
+Files are written atomically (:mod:`.files`): an interrupted write leaves an earlier file intact. A
+record is written only if a reader takes it back (:func:`write_records`): a column that holds NaN, an
+infinity or a magnitude beyond :data:`~cablecasing_core.files.MAX_MAGNITUDE` (a run that diverged) is
+refused naming the column and the time of its first such value, and nothing is written.
 """
 
 from __future__ import annotations
@@ -57,7 +60,7 @@ from fractions import Fraction
 import numpy as np
 
 from .errors import ModelError, plain
-from .files import atomic_path, check_values, csv_statements, read_csv_table, time_column
+from .files import MAX_MAGNITUDE, atomic_path, check_values, csv_statements, read_csv_table, time_column
 from .model.schema import INPUTS, OUTPUTS, channels_of, input_spec, inputs_of, output_spec
 
 SUFFIXES = (".csv", ".npz", ".uff")
@@ -145,7 +148,8 @@ class Records:
     :class:`ModelError` names ``time``, or the column and both lengths, otherwise. The columns are
     kept as numpy arrays in a new dict (the caller's is not changed); their values are not checked
     (a column may hold NaN where a measurement has gaps: :func:`~.nvh.transfer.apparent_mass` and
-    the band levels refuse it naming the column, :func:`read_records` refuses it in a file)."""
+    the band levels refuse it naming the column, :func:`read_records` refuses it in a file, and
+    :func:`write_records` refuses to write it)."""
 
     time: np.ndarray
     columns: dict
@@ -265,12 +269,17 @@ def write_records(path: str | os.PathLike, rec: Records) -> str:
     """Write ``rec`` to ``path`` by its suffix (``.csv``, ``.npz``, ``.uff``; atomically). Returns the
     path. A suffix it does not write raises :class:`ModelError` naming ``path`` (the CLI renames it
     to its option, ``errors.renamed``); a folder that does not exist, or a failed write,
-    :class:`~cablecasing_core.files.WriteError`."""
+    :class:`~cablecasing_core.files.WriteError`. Nothing is written that :func:`read_records` would
+    refuse to read back: a column that is not real, or holds NaN, an infinity or a magnitude beyond
+    :data:`~cablecasing_core.files.MAX_MAGNITUDE` (a run that diverged), raises :class:`ModelError`
+    naming the column and the time of its first such value (:func:`check_writable`), and an earlier
+    file of that name is left as it was."""
     path = str(path)
     suffix = os.path.splitext(path)[1].lower()
     if suffix not in SUFFIXES:
         raise ModelError("path", path, "must end in " + ", ".join(SUFFIXES))
     names = list(rec.columns)
+    check_writable(path, rec)
     table = np.column_stack([rec.time] + [np.asarray(rec.columns[n], float) for n in names])
     units = [rec.units.get(n, "") for n in names]
     if suffix == ".csv":
@@ -317,6 +326,40 @@ def write_records(path: str | os.PathLike, rec: Records) -> str:
         ]
         write_uff(path, funcs)
     return path
+
+
+def check_writable(path, rec: Records) -> None:
+    """Refuse (:class:`ModelError` naming the column, ``time`` for the time) a record that a file
+    written from it would not give back (:func:`read_records` reads real, finite numbers of magnitude
+    at most :data:`~cablecasing_core.files.MAX_MAGNITUDE` only): a column of complex or non-numeric
+    values, or one that holds NaN, an infinity or a larger magnitude, named with the time (s) and
+    the row of its first such value, and with ``path``, to which nothing is written."""
+    n = rec.time.size
+    for key, shown, values in [("time", plain("the time axis"), rec.time)] + [
+        ("column", name, v) for name, v in rec.columns.items()
+    ]:
+        a = np.asarray(values)
+        if a.dtype.kind not in "biuf":
+            raise ModelError(
+                key,
+                shown,
+                f"holds values of type {a.dtype}: a record's file holds real numbers only; nothing was written to "
+                f"{path}",
+            )
+        a = a.astype(float, copy=False)
+        bad = ~np.isfinite(a) | (np.abs(a) > MAX_MAGNITUDE)
+        if bad.any():
+            k = int(np.argmax(bad))
+            what = str(a[k]) if not np.isfinite(a[k]) else f"{a[k]:.3g}"
+            raise ModelError(
+                key,
+                shown,
+                f"holds {what} at t = {rec.time[k]:.9g} s (row {k + 1} of {n}), its first value a record's file "
+                f"cannot hold (read_records reads finite numbers of magnitude at most {MAX_MAGNITUDE:g} only): nothing "
+                f"was written to {path}. Values not finite or this large come from a run that diverged (a time "
+                "step too long for the model, or a motion or load beyond it); a gap in a measurement can be written "
+                "by the part before it",
+            )
 
 
 def passband_line(passband_hz: float) -> str:
