@@ -21,8 +21,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import cablecasing_core as cc
+from cablecasing_core.frequency.trfam import trfam_band_rms
 from cablecasing_core.plotting import plot_routing, save_figure
-from cablecasing_core.studies import octave_rms
+from cablecasing_core.studies import Bands, octave_rms
 
 HERE = Path(__file__).resolve().parent
 
@@ -69,7 +70,7 @@ def main(argv=None):
     model = cc.load_model(HERE / "installation.toml")
     plot_routing(model, out / "installation_routing.png")
 
-    f = np.arange(5.0, 1000.0, 0.25)
+    f = np.arange(5.0, 1000.0 + 0.125, 0.25)  # Hz, to 1000 Hz: the last band's upper edge
     curves = {}
     for label, m in variants(model).items():
         # one damping model of the casing for all (its loss factor 0.05, Eq. 11), so that the curves
@@ -87,12 +88,19 @@ def main(argv=None):
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     save_figure(fig, out / "installation_trfam.png")
+    # the RMS of |TRFAM| over each band (trfam_band_rms: sqrt of the integral of |TRFAM|^2 over the band
+    # / its width), relative to the clamped casing with its clips: docs/installation.md's bands, then
+    # Table 3's octaves (`cablecasing trfam --bands table3`, the report's bands) within the grid
+    edges = ((10, 50), (50, 100), (100, 200), (200, 500), (500, 1000))
+    own = Bands([lo for lo, _ in edges], [hi for _, hi in edges], [f"{lo}-{hi} Hz" for lo, hi in edges])
     ref = curves["clamped ends, two clips"]
-    for lo, hi in ((10, 50), (50, 100), (100, 200), (200, 500), (500, 1000)):
-        band = (f >= lo) & (f < hi)
+    for bands, key in ((own, "trfam_rms_ratio"), ("table3", "trfam_table3_rms_ratio")):
+        base = trfam_band_rms(f, ref, bands)
         for label in ("isolators + clips (viscous c)", "isolators + clips (rubber table)"):
-            r = np.sqrt(np.mean(np.abs(curves[label][band]) ** 2) / np.mean(np.abs(ref[band]) ** 2))
-            print(f"trfam_rms_ratio[{label}, {lo}-{hi} Hz]: {r:.3g}")
+            mine = trfam_band_rms(f, curves[label], bands)
+            for lab, lo, hi, r in zip(mine.labels, mine.lower, mine.upper, mine.rms / base.rms):
+                where = lab if bands is own else f"{lab} {lo:g}-{hi:g} Hz"
+                print(f"{key}[{label}, {where}]: {r:.3g}")
 
     # the transmitted force in the time domain, cable inside and contact on: band levels over seeds
     runs = {}

@@ -112,7 +112,7 @@ def cmd_trfam(args):
         )
     # fmin, fmin + df, ... up to fmax, never beyond it (arange's end overshot by up to df / 2)
     f = args.fmin + args.df * np.arange(int(np.floor((args.fmax - args.fmin) / args.df * (1 + 1e-12))) + 1)
-    check_output_path("--out", args.out, (".csv", ".uff"))
+    check_output_path("--out", args.out, (".csv",) if args.bands else (".csv", ".uff"))  # (bands: a CSV table)
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
     check_distinct(("--out", args.out), ("--plot", args.plot))
     args.interrupted = "stopped: " + kept(args.out, args.plot)
@@ -122,7 +122,11 @@ def cmd_trfam(args):
     _warn_coarse_grid(model, body, args)
     table = np.column_stack([f, H.real, H.imag, np.abs(H), np.degrees(np.angle(H))])
     header = ["frequency_hz", "re_kg", "im_kg", "magnitude_kg", "phase_deg"]
-    if args.out and args.out.lower().endswith(".uff"):
+    if args.bands:
+        from .nvh import trfam_bands
+
+        trfam_bands(args, f, H)
+    elif args.out and args.out.lower().endswith(".uff"):
         from ..identification.uff_io import Record, write_uff
         from ..records import uff_dof
 
@@ -239,7 +243,18 @@ def build_parser():
         default="viscous",
         help="viscous: Rayleigh alpha, beta (as the time domain); structural: the loss factor (Eq. 11)",
     )
-    t.add_argument("--out", help="file to write: .csv (frequency, re, im, magnitude, phase) or .uff (UFF 58 FRF)")
+    t.add_argument(
+        "--bands",
+        choices=["table3", "octave", "third"],
+        default=None,
+        help="write the band values instead of the lines: the RMS of |TRFAM| over each band within --fmin..--fmax "
+        "(table3: the paper's octaves 11-5680 Hz, the report's bands; octave, third: IEC 61260-1), kg",
+    )
+    t.add_argument(
+        "--out",
+        help="file to write: .csv (frequency, re, im, magnitude, phase; with --bands the band table) or .uff "
+        "(UFF 58 FRF)",
+    )
     t.add_argument("--plot", help="figure to write (.png), magnitude and phase")
     t.add_argument("--log-frequency", action="store_true", help="logarithmic frequency axis in --plot")
     t.set_defaults(func=cmd_trfam)

@@ -406,11 +406,7 @@ def cmd_bands(args):
         f"# RMS over the bands, {bands.lower[0]:.4g}-{bands.upper[-1]:.4g} Hz: {total:.6g} {unit} (their mean "
         f"squares summed; {_WEIGHTS[args.window]})"
     )
-    header = f"band,f_centre [Hz],f_low [Hz],f_high [Hz],rms [{unit}],level [dB re {ref:g} {unit}]"
-    rows = [
-        f"{lab},{c:.6g},{lo:.6g},{hi:.6g},{r:.6g},{L:.2f}"
-        for lab, c, lo, hi, r, L in zip(bands.labels, bands.centre, bands.lower, bands.upper, bands.rms, level)
-    ]
+    header, rows = band_table(bands, unit, ref, level)
     print(header)
     print("\n".join(rows))
     if args.out:
@@ -423,6 +419,66 @@ def cmd_bands(args):
         plot_band_levels([bands], args.plot, unit, ref, title=f"{col}: {args.kind} band levels ({args.record})")
         print(f"# wrote {args.plot}")
     return 0
+
+
+def band_table(bands, unit, ref=None, level=None):
+    """(header, rows) of a band table as ``bands`` and ``trfam --bands`` print and write it:
+    ``band,f_centre [Hz],f_low [Hz],f_high [Hz],rms [unit]`` and, with ``level`` (dB re ``ref``,
+    one per band), ``level [dB re ref unit]``; the values to 6 significant digits, a level to 0.01 dB."""
+    header = f"band,f_centre [Hz],f_low [Hz],f_high [Hz],rms [{unit}]"
+    rows = [
+        f"{lab},{c:.6g},{lo:.6g},{hi:.6g},{r:.6g}"
+        for lab, c, lo, hi, r in zip(bands.labels, bands.centre, bands.lower, bands.upper, bands.rms)
+    ]
+    if level is not None:
+        header += f",level [dB re {ref:g} {unit}]"
+        rows = [f"{row},{L:.2f}" for row, L in zip(rows, level)]
+    return header, rows
+
+
+def trfam_bands(args, f, H):
+    """``cablecasing trfam --bands KIND``: the band values of the TRFAM ``H`` (kg) computed at ``f``
+    (Hz), :func:`~cablecasing_core.frequency.trfam.trfam_band_rms` (the RMS of |TRFAM| over each
+    band), printed, or written to ``--out`` (.csv), after a note of what they are and of the bands
+    the grid --fmin..--fmax leaves out."""
+    from ..errors import renamed
+    from ..files import atomic_path
+    from ..frequency.trfam import trfam_band_rms
+    from ..studies.octave import octave_bands
+
+    every = octave_bands(args.bands)
+    with renamed({"freqs_hz": "--fmin/--fmax"}):
+        bands = trfam_band_rms(f, H, every)
+    print(
+        f"# TRFAM {args.output} / {args.input} ({args.damping} damping), kg: the RMS of |TRFAM| over each "
+        f"{args.bands} band, sqrt(integral of |TRFAM|^2 df / (f_high - f_low)), over the grid {f[0]:g}-{f[-1]:g} Hz "
+        f"(--df {args.df:g}): the force's band RMS per acceleration band RMS of an input flat in the band"
+    )
+    gone = [lab for lab in every.labels if lab not in bands.labels]
+    if gone:
+        import math
+
+        def rounded(x, up):  # (to 4 significant digits, outwards: the grid then covers the band)
+            u = 10.0 ** (math.floor(math.log10(x)) - 3)
+            return float(f"{(math.ceil(x / u) if up else math.floor(x / u)) * u:.4g}")
+
+        need = []
+        if every.lower[0] < f[0]:
+            need.append(f"down to {rounded(every.lower[0], False):g} Hz (--fmin)")
+        if every.upper[-1] > f[-1]:
+            need.append(f"up to {rounded(every.upper[-1], True):g} Hz (--fmax)")
+        print(
+            f"# the grid leaves out band(s) {', '.join(gone)}, which reach beyond it: they need frequencies "
+            + " and ".join(need)
+        )
+    header, rows = band_table(bands, "kg")
+    if args.out:
+        with atomic_path(args.out) as tmp, open(tmp, "w", encoding="utf-8") as fh:
+            fh.write(header + "\n" + "\n".join(rows) + "\n")
+        print(f"# wrote {args.out}")
+    else:
+        print(header)
+        print("\n".join(rows))
 
 
 def add_parser(sub):

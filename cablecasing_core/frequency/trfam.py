@@ -49,7 +49,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy.linalg import solve_banded
 
-from ..errors import ModelError
+from ..errors import ModelError, plain
 from ..model.limits import MAX_FREQUENCIES
 from ..model.schema import DIRECTIONS, SUPPORT_NAMES
 from ..model.validators import Choice, check_model, frequencies
@@ -297,3 +297,81 @@ def trfam_matrix(
     cols = [system.prescribed_index(input_support, d) for d in range(3)]
     rows = [system.prescribed_index(output_support, d) for d in range(3)]
     return fr.support_forces(f, damping, rows=rows, cols=cols) / (-((2.0 * np.pi * f) ** 2))[:, None, None]
+
+
+#: What :func:`trfam_band_rms` does with a band that reaches beyond the grid's frequencies.
+OUTSIDE_RULES = ("drop", "nan", "error")
+
+
+def trfam_band_rms(freqs_hz: ArrayLike, H: ArrayLike, bands="table3", *, unit: str = "kg", outside: str = "drop"):
+    """Band values of a transfer function ``H`` sampled at ``freqs_hz`` (Hz; the TRFAM of
+    :func:`trfam`, kg, or any other): in each band [f_low, f_high] (Hz) of ``bands`` (Table 3's
+    octaves by default, the bands of the report's and the studies' levels; ``"octave"``,
+    ``"third"`` or a :class:`~cablecasing_core.studies.octave.Bands`) the RMS of |H| over the band,
+
+        sqrt( 1 / (f_high - f_low) * integral from f_low to f_high of |H(f)|^2 df )      (H's unit),
+
+    what relates the band RMS of the output to that of an input flat in the band: a white
+    acceleration of band RMS a through the apparent mass gives a force of band RMS this times a.
+
+    The integral takes each frequency of the grid as standing for the interval halfway to its
+    neighbours (the first and the last frequency for the half towards the grid), a frequency
+    whose interval straddles a band's edge split in proportion, as the band levels split their FFT
+    bins (:func:`~cablecasing_core.studies.octave.band_sums`): within a band of an even grid whose
+    edges fall on the grid, the trapezoidal rule. A peak narrower than the grid's step is not
+    resolved: the step that keeps a peak's height within 11 % (``cablecasing trfam`` warns of a
+    coarser one, at most half the narrowest half-power bandwidth) integrates its area within about 1 %.
+
+    ``freqs_hz``: increasing, positive, finite (Hz), at least two; ``H``: as many finite values,
+    complex or real. ``unit``: H's unit (kept in the result; kg for a TRFAM). ``outside``: a band
+    that reaches beyond the grid [freqs_hz[0], freqs_hz[-1]] is left out (``"drop"``, the default),
+    kept with a nan (``"nan"``) or refused (``"error"``, a :class:`ModelError` naming ``freqs_hz``);
+    no band within the grid is refused whatever the rule.
+
+    Returns a :class:`~cablecasing_core.studies.octave.BandRMS`: ``rms`` in H's unit per band,
+    ``bins`` the grid's frequencies in each band (fractional), ``n`` the grid's length and ``fs``
+    nan (no record)."""
+    from ..model.validators import array_1d
+    from ..studies.octave import BandRMS, _bands_of, band_sums
+
+    f = frequencies("freqs_hz", freqs_hz)
+    if f.size < 2 or not np.all(np.diff(f) > 0):
+        raise ModelError(
+            "freqs_hz", freqs_hz, "must be two or more frequencies in Hz in increasing order (the grid of H)"
+        )
+    h = array_1d("H", H, min_len=2, complex_ok=True)
+    if h.shape != f.shape:
+        raise ModelError("H", plain(f"{h.size} values"), f"must hold one value per frequency: {f.size}")
+    Choice(*OUTSIDE_RULES)("outside", outside)
+    if not isinstance(unit, str):
+        raise ModelError("unit", unit, "must be a unit as text ('kg', '1'), or '' when it is not known")
+    b = _bands_of(bands)
+    edges = np.concatenate([[f[0]], 0.5 * (f[1:] + f[:-1]), [f[-1]]])  # (each frequency's interval)
+    inside = (b.lower >= f[0] * (1 - 1e-12)) & (b.upper <= f[-1] * (1 + 1e-12))
+    if not inside.all() and outside == "error" or not inside.any():
+        beyond = ", ".join(
+            f"{lab} ({lo:g}-{hi:g} Hz)" for lab, lo, hi, i in zip(b.labels, b.lower, b.upper, inside) if not i
+        )
+        raise ModelError(
+            "freqs_hz",
+            plain(f"{f[0]:g}..{f[-1]:g} Hz"),
+            f"must reach from a band's lower edge to its upper one: the grid leaves out {beyond}"
+            + ("" if inside.any() else ", every band asked for"),
+        )
+    sel = b if outside == "nan" else b.select(inside)
+    power, cells = band_sums(np.abs(h) ** 2 * np.diff(edges), edges, sel.lower, sel.upper)
+    rms = np.sqrt(power / (sel.upper - sel.lower))
+    if outside == "nan":
+        rms = np.where(inside, rms, np.nan)
+    return BandRMS(
+        lower=sel.lower,
+        upper=sel.upper,
+        centre=sel.centre,
+        labels=sel.labels,
+        rms=rms,
+        bins=cells,
+        fs=float("nan"),
+        n=int(f.size),
+        nominal=sel.nominal,
+        unit=unit,
+    )
