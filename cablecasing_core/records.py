@@ -47,6 +47,16 @@ Files are written atomically (:mod:`.files`): an interrupted write leaves an ear
 record is written only if a reader takes it back (:func:`write_records`): a column that holds NaN, an
 infinity or a magnitude beyond :data:`~cablecasing_core.files.MAX_MAGNITUDE` (a run that diverged) is
 refused naming the column and the time of its first such value, and nothing is written.
+
+**Net forces and paths** (:func:`derived_terms`; docs/nvh.md, "Net forces and paths"). Every column
+a record's support and clip outputs add up to is a column of the record by its name:
+``net.A.Fz``, ``net.B.Fz`` (``casing.<end>.<c>`` + ``cable.<end>.<c>``: at each end the casing's
+abutment and the cable's end attach to one part, the shifter housing at A, the transmission at B),
+``paths.Fz`` (both ends of both bodies and every clip: the whole force the cable and casing pass to
+their mounts), and any sum of columns, ``net.A.Fz+casing.clip0.Fz``. Every output is the force the
+body exerts on its support, in global axes, so the sum of the samples is the force on the part they
+share; its spectrum and band levels are those of the summed samples (the spectrum of a sum is not
+the sum of the spectra: the casing's and the cable's forces at an end cancel in part).
 """
 
 from __future__ import annotations
@@ -59,9 +69,19 @@ from fractions import Fraction
 
 import numpy as np
 
-from .errors import ModelError, plain
+from .errors import ModelError, plain, renamed
 from .files import MAX_MAGNITUDE, atomic_path, check_values, csv_statements, read_csv_table, time_column
-from .model.schema import INPUTS, OUTPUTS, channels_of, input_spec, inputs_of, output_spec
+from .model.schema import (
+    BODY_NAMES,
+    FORCE_NAMES,
+    INPUTS,
+    OUTPUTS,
+    SUPPORT_NAMES,
+    channels_of,
+    input_spec,
+    inputs_of,
+    output_spec,
+)
 
 SUFFIXES = (".csv", ".npz", ".uff")
 _NODES = {"casing.A": 1, "casing.B": 2, "cable.A": 3, "cable.B": 4}
@@ -137,6 +157,71 @@ def after_skip(time: np.ndarray, skip: float, start: float = 0.0) -> np.ndarray:
     return time - start > skip + 1e-6 * step
 
 
+#: The force components a sum over paths adds: the moments of the paths are about their own points
+#: (the ends' and the clips' nodes) and do not add to a moment about one.
+PATH_FORCES = ("Fx", "Fy", "Fz")
+
+
+def derived_terms(name: str, names) -> tuple | None:
+    """The columns whose samples add up to the derived column ``name`` of a record whose columns
+    are ``names``, or None when ``name`` is no derived column's name (docs/nvh.md, "Net forces and
+    paths"). Every support and clip output is the force (N) or moment (N.m) the body exerts on its
+    support, in global axes, so a sum of them is the force on what those supports hold:
+
+    * ``net.<A|B>.<Fx..Mz>``: ``casing.<end>.<c>`` + ``cable.<end>.<c>``. At each end the casing's
+      abutment and the cable's end attach to one part (the shifter housing at A, the transmission
+      at B), and this is what that part receives: with a cable tension the casing pushes the part
+      with about T and the cable pulls it with T, which cancel. The moments are about the end's node,
+      where both bodies' end nodes lie (one centreline).
+    * ``paths.<Fx|Fy|Fz>``: every end of both bodies and every clip of the casing in ``names``
+      (``casing.clip0.Fz``, ...): the force the cable and casing pass to all their mounts together,
+      their weight less the rate of change of their momentum (and of the Rayleigh damping's force
+      against absolute motion, alpha M v). A moment is refused: those of the paths are about
+      different points.
+    * ``<a>+<b>+...``: the columns named, each a column or one of the above (the paths into a
+      vehicle's body of a shifter mounted on it: ``net.A.Fz+casing.clip0.Fz+casing.clip1.Fz``).
+
+    Raises :class:`ModelError` naming ``name`` for a ``paths`` moment, a sum with an empty term, or
+    clips in ``names`` that skip an index (``casing.clip0`` and ``clip2`` without ``clip1``)."""
+    if not isinstance(name, str):
+        return None
+    if "+" in name:
+        terms = tuple(t.strip() for t in name.split("+"))
+        if not all(terms):
+            raise ModelError("name", name, "must be columns joined by '+', each named (no empty term)")
+        return terms
+    parts = name.split(".")
+    if len(parts) == 3 and parts[0] == "net" and parts[1] in SUPPORT_NAMES and parts[2] in FORCE_NAMES:
+        return tuple(f"{b}.{parts[1]}.{parts[2]}" for b in BODY_NAMES)
+    if len(parts) == 2 and parts[0] == "paths" and parts[1] in FORCE_NAMES:
+        c = parts[1]
+        if c not in PATH_FORCES:
+            raise ModelError(
+                "name",
+                name,
+                "must be a force, paths.Fx, paths.Fy or paths.Fz: the paths' moments are about their own points (the "
+                "ends' and the clips' nodes) and do not add; net.A.Mx and net.B.Mx are about one point",
+            )
+        clips = sorted(int(n[11:].split(".")[0]) for n in names if _is_clip_column(n, c))
+        if clips != list(range(len(clips))):
+            gap = min(set(range(len(clips) + 1)) - set(clips))
+            raise ModelError(
+                "name",
+                name,
+                f"must sum every clip: the record holds casing.clip{clips[-1]}.{c} but not casing.clip{gap}.{c}",
+            )
+        ends = tuple(f"{b}.{s}.{c}" for b in BODY_NAMES for s in SUPPORT_NAMES)
+        return ends + tuple(f"casing.clip{i}.{c}" for i in clips)
+    return None
+
+
+def _is_clip_column(name, component) -> bool:
+    """Whether ``name`` is the output ``casing.clip<i>.<component>`` of a clip."""
+    parts = str(name).split(".")
+    clip = len(parts) == 3 and parts[0] == "casing" and parts[1][:4] == "clip" and parts[1][4:].isdigit()
+    return clip and parts[2] == component
+
+
 @dataclass
 class Records:
     """A time record: ``time`` (s, n), ``columns`` {name: (n,) array}, ``units`` {name: unit},
@@ -149,13 +234,19 @@ class Records:
     kept as numpy arrays in a new dict (the caller's is not changed); their values are not checked
     (a column may hold NaN where a measurement has gaps: :func:`~.nvh.transfer.apparent_mass` and
     the band levels refuse it naming the column, :func:`read_records` refuses it in a file, and
-    :func:`write_records` refuses to write it)."""
+    :func:`write_records` refuses to write it).
+
+    A derived column (:func:`derived_terms`: ``net.B.Fz``, ``paths.Fz``, ``casing.B.Fz+cable.B.Fz``)
+    is found by :meth:`resolve`, :meth:`column` and :meth:`unit` as any column: the first time it is
+    asked for, the sum of its terms' samples is added to ``columns`` (so a file written afterwards
+    holds it), its unit to ``units`` and its terms to ``derived`` ({name: terms})."""
 
     time: np.ndarray
     columns: dict
     units: dict = field(default_factory=dict)
     source: str = ""
     extra: dict = field(default_factory=dict)
+    derived: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self):
         time = np.asarray(self.time)
@@ -183,6 +274,7 @@ class Records:
                 )
             columns[name] = a
         self.time, self.columns = time, columns
+        self.units = dict(self.units or {})  # (a copy: a derived column's unit is added to it)
 
     @property
     def names(self) -> tuple:
@@ -244,17 +336,62 @@ class Records:
         return skip_for_whole_periods(self.lines_hz, length, 1.0 / self.fs, least_skip(self.ramp_s))
 
     def resolve(self, name: str, key: str = "name") -> str:
-        """The column called ``name``, its header form ``name [unit]`` or ``name_unit``; a
-        :class:`ModelError` naming ``key`` (the argument that gave the name: ``name`` by default; the
-        command line passes its option, ``--column``, ``--input``) lists the columns when there is none."""
+        """The column called ``name``, its header form ``name [unit]`` or ``name_unit``, or a derived
+        column (:func:`derived_terms`, added to the record when first asked for; a name with ``+``
+        is a sum unless a column of the record has that name); a :class:`ModelError` naming ``key``
+        (the argument that gave the name: ``name`` by default; the command line passes its option,
+        ``--column``, ``--input``) lists the columns when there is none, and names a derived
+        column's term that the record lacks, or terms of different units."""
         if name in self.columns:
             return name
         bare = name.split(" [")[0]
         for col in self.columns:
             u = self.units.get(col, "")
             if bare == col or name in (f"{col} [{u}]", f"{col}_{u}", f"{col}_{u.replace('.', '')}"):
-                return col
+                if "+" not in name or "+" in col:  # (casing.B.Fz [N]+cable.B.Fz [N] is a sum)
+                    return col
+        derived = self._derive(name, key)
+        if derived is not None:
+            return derived
         raise ModelError(key, name, f"must be a column of {self.source or 'the record'}: " + ", ".join(self.columns))
+
+    def _derive(self, name, key):
+        """The derived column ``name`` (:func:`derived_terms`) added to the record; None when
+        ``name`` names none."""
+        with renamed({"name": key}):  # (named as the caller's argument or option: --column)
+            terms = derived_terms(name, self.columns)
+        if terms is None:
+            return None
+        cols = []
+        for t in terms:
+            try:
+                cols.append(self.resolve(t, key))
+            except ModelError:
+                raise ModelError(
+                    key,
+                    name,
+                    f"is the sum {' + '.join(terms)}, but {t} is not a column of {self.source or 'the record'} "
+                    "(its columns: " + ", ".join(self.columns) + ")",
+                ) from None
+        twice = [c for c in cols if cols.count(c) > 1]
+        if twice:
+            raise ModelError(key, name, f"names {twice[0]} twice: give each term of a sum once")
+        units = [self.units.get(c, "") for c in cols]
+        if len(set(units)) > 1:
+            shown = ", ".join(f"{c} [{u or 'no unit'}]" for c, u in zip(cols, units))
+            raise ModelError(key, name, f"adds columns of different units ({shown}): the terms of a sum need one unit")
+        canon = "+".join(cols) if "+" in name else name
+        if canon not in self.columns:
+            self.columns[canon] = np.sum([np.asarray(self.columns[c], dtype=float) for c in cols], axis=0)
+            self.units[canon] = units[0]
+            self.derived[canon] = tuple(cols)
+        return canon
+
+    def terms(self, name: str, key: str = "name") -> tuple:
+        """The columns whose sum the column ``name`` is (a derived one's terms, :func:`derived_terms`;
+        a column's own name, as a 1-tuple, otherwise)."""
+        col = self.resolve(name, key)
+        return self.derived.get(col, (col,))
 
     def column(self, name: str, key: str = "name") -> np.ndarray:
         """The values of a column (see :meth:`resolve`), in its unit."""

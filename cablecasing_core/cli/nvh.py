@@ -240,16 +240,18 @@ def cmd_spectrum(args):
     return 0
 
 
-def _beyond_table3_note(col, top_hz):
+def _beyond_table3_note(terms, top_hz):
     """The note on a model output's bands that reach above the paper's Table 3 (its top octave ends
     at 5680 Hz), over which the model's accuracy is shown (docs/time_domain.md); None for other
-    columns (a measurement's) or bands within it. Above it Newmark's period error grows as
-    (ω Δt)² / 12 (1.1 % at 5.68 kHz, 13 % at 20 kHz at Δt = 1e-5 s) and the 35 elements' mesh
-    resolves fewer bending waves (about one element per wavelength of the casing at 20 kHz)."""
+    columns (a measurement's) or bands within it. ``terms``: the columns the column sums
+    (``Records.terms``: ``net.B.Fz`` is a model output's if its terms are). Above it Newmark's
+    period error grows as (ω Δt)² / 12 (1.1 % at 5.68 kHz, 13 % at 20 kHz at Δt = 1e-5 s) and the
+    35 elements' mesh resolves fewer bending waves (about one element per wavelength of the casing
+    at 20 kHz)."""
     from ..model.schema import is_output
     from ..studies.octave import TABLE3_UPPER
 
-    if top_hz <= TABLE3_UPPER[-1] or not is_output(col):
+    if top_hz <= TABLE3_UPPER[-1] or not all(is_output(t) for t in terms):
         return None
     dt = 1e-5  # (the specimens' step: the record does not say the run's)
     err = ((2 * np.pi * top_hz * dt) ** 2 / 12, (2 * np.pi * TABLE3_UPPER[-1] * dt) ** 2 / 12)
@@ -400,7 +402,7 @@ def cmd_bands(args):
     )
     if note := _alias_note(rec, args.record, "bands"):
         print(note)
-    if note := _beyond_table3_note(col, bands.upper[-1]):
+    if note := _beyond_table3_note(rec.terms(col), bands.upper[-1]):
         print(note)
     print(
         f"# RMS over the bands, {bands.lower[0]:.4g}-{bands.upper[-1]:.4g} Hz: {total:.6g} {unit} (their mean "
@@ -495,8 +497,9 @@ def add_parser(sub):
         "--column",
         action="append",
         default=None,
-        help="record column, e.g. casing.B.Fz; repeat --column for more columns, --column casing.B.Fz --column "
-        "casing.A.Fz (default: casing.B.Fz)",
+        help="record column, e.g. casing.B.Fz, or a sum of columns: net.B.Fz (casing.B.Fz + cable.B.Fz, the force "
+        "into the part both ends attach to), paths.Fz (every end and clip), a+b; repeat --column for more columns, "
+        "--column casing.B.Fz --column net.B.Fz (default: casing.B.Fz)",
     )
     s.add_argument(
         "--input",
@@ -537,7 +540,11 @@ def add_parser(sub):
     b = sub.add_parser("bands", help="octave or third-octave band RMS and levels (dB) of a record column")
     b.add_argument("record", help=RECORD_HELP)
     b.add_argument(
-        "--column", action="append", default=None, help="record column, e.g. casing.B.Fz (default: casing.B.Fz)"
+        "--column",
+        action="append",
+        default=None,
+        help="record column, e.g. casing.B.Fz, or a sum of columns: net.B.Fz (casing.B.Fz + cable.B.Fz, the force "
+        "into the part both ends attach to), paths.Fz (every end and clip), a+b (default: casing.B.Fz)",
     )
     b.add_argument(
         "--kind",

@@ -10,7 +10,9 @@ support forces' mean, RMS total and RMS dynamic, N); ``simulation.png`` (time hi
 ``scalograms.png`` (Figs. 20-21); ``routing_contact.png`` and ``contact_histogram.png`` (Fig. 22);
 ``bands_<variant>.csv`` and ``band_levels.png`` (ensemble means with confidence intervals, N and dB
 re 1 N; a band more than :data:`~cablecasing_core.studies.octave.NO_RESPONSE_DB` below its variant's strongest holds no
-response and is left out of the figure and dashed in the table); ``psd.png`` (from 2 df, where
+response and is left out of the figure and dashed in the table); ``bands_net_B.csv`` (a model with a
+cable: the band levels of the reference records' casing.B.Fz, cable.B.Fz and their sum net.B.Fz, the
+force the transmission at B receives); ``psd.png`` (casing.B.Fz and net.B.Fz, from 2 df, where
 Welch's lines measure); ``apparent_mass.png`` (H1 of a reference record against the TRFAM averaged
 over the estimator's window, what H1 estimates, and the TRFAM as computed); ``study/study.csv``,
 ``study/correlations.png`` (Fig. 23) and ``study/sobol.png``. The page states what the band levels'
@@ -192,6 +194,7 @@ def write_report(
     figures.contact_figures(model, vs[-1], out)
     figures.band_figure(vs, out / "band_levels.png")
     figures.psd_figure(vs, out / "psd.png", skip)
+    figures.net_table(vs, out / "bands_net_B.csv")
     am = figures.apparent_mass_figure(model, vs[0], out / "apparent_mass.png", skip)
     rms = figures.rms_table(vs, out / "rms.csv", skip)
     study = None

@@ -11,7 +11,7 @@ from ..errors import ModelError
 from ..files import atomic_path, write_text
 from ..records import after_skip
 from ..studies.octave import NO_RESPONSE_DB, no_response
-from .runs import OUTPUT
+from .runs import NET_OUTPUT, OUTPUT
 
 #: Frequencies of the TRFAM (Hz): Fig. 17's range on a 0.25 Hz grid, to which :func:`trfam_grid` adds
 #: points around each resonance that the grid alone would not resolve.
@@ -252,18 +252,45 @@ def band_figure(variants, path, confidence=0.95):
 def psd_figure(variants, path, skip):
     """PSD (Welch, segments of the power of two nearest fs / 4 samples or a quarter of the record,
     whichever is shorter: the resolution the legend states) of casing.B.Fz of the reference
-    records, N^2/Hz and dB re 1 N^2/Hz."""
+    records, and beside it, for a model with a cable, of the force into B, net.B.Fz
+    (casing.B.Fz + cable.B.Fz), N^2/Hz and dB re 1 N^2/Hz."""
     from ..nvh import psd
     from ..nvh.plots import plot_psd
 
     ps = []
+    net = False
     for v in variants:
         r = v.result
         keep = after_skip(r.time, skip)
         fs = 1.0 / (r.time[1] - r.time[0])
         nper = min(2 ** int(np.round(np.log2(fs / 4.0))), 2 ** int(np.log2(keep.sum() // 4)))
         ps.append(psd(r.support_force(OUTPUT)[keep], fs, nperseg=nper, unit="N", name=f"{OUTPUT} {v.title}"))
-    plot_psd(ps, path, f_range=(5.0, 3000.0), title=f"PSD of {OUTPUT}, reference records after {skip:g} s")
+        if v.net_bands is not None:  # (a model with a cable: the record's net.B.Fz, records.derived_terms)
+            rec = r.records()
+            x = rec.column(NET_OUTPUT)[after_skip(rec.time, skip, rec.time[0])]
+            ps.append(psd(x, fs, nperseg=nper, unit="N", name=f"{NET_OUTPUT} {v.title}"))
+            net = True
+    shown = f"{OUTPUT} and {NET_OUTPUT} (+ cable.B.Fz)" if net else OUTPUT
+    plot_psd(ps, path, f_range=(5.0, 3000.0), title=f"PSD of {shown}, reference records after {skip:g} s")
+
+
+def net_table(variants, path):
+    """The Table 3 band RMS (N) of casing.B.Fz, cable.B.Fz and net.B.Fz of the reference records
+    (``Variant.net_bands``, :func:`.runs.net_bands`) written to ``path`` (bands_net_B.csv) at full
+    precision, one row per variant and band; the variants that have them (a model with a cable), or
+    none (no file)."""
+    rows = [v for v in variants if v.net_bands is not None]
+    if not rows:
+        return []
+    names = list(rows[0].net_bands)
+    lines = ["variant,band,f_low [Hz],f_high [Hz]," + ",".join(f"{n} [N]" for n in names)]
+    for v in rows:
+        b0 = v.net_bands[names[0]]
+        for i, lab in enumerate(b0.labels):
+            values = ",".join(repr(float(v.net_bands[n].rms[i])) for n in names)
+            lines.append(f"{v.key},{lab},{b0.lower[i]:g},{b0.upper[i]:g},{values}")
+    write_text(path, "\n".join(lines) + "\n")
+    return rows
 
 
 def input_spectrum(model, target):

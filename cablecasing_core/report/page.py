@@ -11,7 +11,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..model.schema import lookup
-from .runs import OUTPUT
+from .runs import NET_OUTPUT, OUTPUT
 
 _CSS = """body{font-family:sans-serif;max-width:70em;margin:1em auto;line-height:1.4}
 table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #bbb;padding:2px 6px;font-size:90%}
@@ -86,7 +86,7 @@ ALT = {
     "scalograms.png": "wavelet scalograms of casing.B.Fz of the reference records (Figs. 20-21)",
     "routing_contact.png": "the routing in 3D coloured by the contact time (Fig. 22a)",
     "contact_histogram.png": "contact time per cable node beside the curvature along the arc length (Fig. 22b)",
-    "psd.png": "power spectral density of casing.B.Fz of the reference records",
+    "psd.png": "power spectral density of casing.B.Fz (and of net.B.Fz, the force into B) of the reference records",
     "apparent_mass.png": "apparent mass estimated from the record against the TRFAM, with coherence",
     "band_levels.png": "band levels of casing.B.Fz as ensemble means over seeds with confidence intervals",
     "study/correlations.png": "correlation of each parameter with the band RMS (Fig. 23)",
@@ -212,6 +212,7 @@ def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, o
         else "<p>The model has no cable in a casing: no contact.</p>",
     ]
     parts += _bands(variants, model, info)
+    parts += net_parts(variants, info)
     parts += [
         "<h2>Spectra</h2><img src='psd.png'>",
     ]
@@ -453,6 +454,47 @@ def _bands(variants, model, info):
             )
     parts.append(f"<div class='note'>{accuracy_note(model, info)}</div>")
     return parts
+
+
+def net_parts(variants, info):
+    """The band levels of the force into B, net.B.Fz = casing.B.Fz + cable.B.Fz, beside casing.B.Fz
+    and cable.B.Fz, of each variant's reference record (``Variant.net_bands``; bands_net_B.csv):
+    HTML, or nothing for a model without a cable."""
+    from ..studies.octave import NO_RESPONSE_DB, no_response
+
+    vs = [v for v in variants if v.net_bands is not None]
+    if not vs:
+        return []
+    names = list(vs[0].net_bands)
+    b0 = vs[0].net_bands[names[0]]
+    head = ["band", "Hz"]
+    for v in vs:
+        head += [f"{v.title}: {n} (N)" for n in names] + [f"{v.title}: {NET_OUTPUT} re {OUTPUT} (dB)"]
+    # (a band more than NO_RESPONSE_DB below its column's strongest holds no response: a dash, as in the
+    # ensembles' table; its value is in bands_net_B.csv)
+    off = {(v.key, n): no_response(v.net_bands[n].rms) for v in vs for n in names}
+    rows = []
+    for i, lab in enumerate(b0.labels):
+        row = [lab, f"{b0.lower[i]:g}-{b0.upper[i]:g}"]
+        for v in vs:
+            row += ["–" if off[v.key, n][i] else _g(v.net_bands[n].rms[i], 4) for n in names]
+            a, b = v.net_bands[OUTPUT].rms[i], v.net_bands[NET_OUTPUT].rms[i]
+            shown = not (off[v.key, OUTPUT][i] or off[v.key, NET_OUTPUT][i])
+            row.append(f"{20 * np.log10(b / a):+.1f}" if shown else "–")
+        rows.append(row)
+    return [
+        f"<h2>The force into the transmission at B: {NET_OUTPUT} beside {OUTPUT} (Table 3, reference records)</h2>",
+        _table(head, rows, numeric=tuple(range(2, len(head)))),
+        f"<p class='note'>At end B the casing's abutment and the cable's end attach to one part, the transmission, "
+        f'so what it receives is their sum, {NET_OUTPUT} = {OUTPUT} + cable.B.Fz (docs/nvh.md, "Net forces and '
+        'paths"; <code>cablecasing bands RECORD --column net.B.Fz</code> gives it from any record). Its band '
+        "levels are those of the summed samples, not the sum of the two bodies' levels: where the cable and the "
+        "casing carry one loop (the cable's drive pulls the part the casing pushes), their forces cancel in part. "
+        f"–: no response (more than {NO_RESPONSE_DB:g} dB below the column's strongest band, as above). "
+        f"From the reference records after {info['skip']:g} s, through Hann's window, as the ensembles: one "
+        f"record each, one draw of the seeds' scatter (the ensemble means above are of {OUTPUT}); files "
+        "bands_net_B.csv at full precision.</p>",
+    ]
 
 
 def _and(items):

@@ -28,13 +28,19 @@ from ..studies import Ensemble
 #: The output whose band levels, scalograms and spectra the report shows (Section 4.4: the support
 #: force at casing end B in z).
 OUTPUT = "casing.B.Fz"
+#: What the transmission at B receives, shown beside :data:`OUTPUT` (band levels of the reference
+#: records, their PSD): the casing's and the cable's end forces at B together (``records.derived_terms``;
+#: docs/nvh.md, "Net forces and paths"), of a model with a cable.
+NET_OUTPUT = "net.B.Fz"
 
 
 @dataclass
 class Variant:
     """One scenario of the report: ``key`` (file names), ``title``, its ``model``, the saved
-    reference record ``record`` (path), the reference ``result`` (read back from it) and the
-    band-level ``ensemble`` (None without a random excitation)."""
+    reference record ``record`` (path), the reference ``result`` (read back from it), the
+    band-level ``ensemble`` (None without a random excitation) and ``net_bands``, the Table 3 band
+    RMS (``BandRMS``, N) of the reference record's casing.B.Fz, cable.B.Fz and
+    :data:`NET_OUTPUT` ({name: BandRMS}; None for a model without a cable)."""
 
     key: str
     title: str
@@ -45,6 +51,7 @@ class Variant:
     ensemble: Ensemble | None = None
     member_check: float = float("nan")
     files: list = field(default_factory=list)
+    net_bands: dict | None = None
 
 
 def cable_excitations(model: Model) -> list[str]:
@@ -86,7 +93,8 @@ def variants(model: Model, out: Path, first_seed: int) -> list[Variant]:
 
 
 def run_variant(var: Variant, duration: float, seeds: list[int], skip: float, progress: bool) -> None:
-    """The reference record (saved, then read back) and the band-level ensemble of one variant."""
+    """The reference record (saved, then read back), the band-level ensemble of one variant and, for
+    a model with a cable, the reference record's band levels of the force into B (:data:`NET_OUTPUT`)."""
     from ..records import after_skip
     from ..studies import random_excitations, seed_ensemble
     from ..timedomain.simulation import SimulationResult, simulate
@@ -96,6 +104,8 @@ def run_variant(var: Variant, duration: float, seeds: list[int], skip: float, pr
     var.record.parent.mkdir(parents=True, exist_ok=True)
     res.save(var.record)
     var.result = SimulationResult.load(var.record)
+    if "cable" in var.model.bodies:
+        var.net_bands = net_bands(var.result.records(), skip)
     if random_excitations(var.model) and len(seeds) >= 2:
         var.ensemble = seed_ensemble(var.model, seeds, output=OUTPUT, duration=duration, skip=skip, progress=progress)
         from ..studies import octave_rms
@@ -106,6 +116,19 @@ def run_variant(var: Variant, duration: float, seeds: list[int], skip: float, pr
         fs = 1.0 / (r.time[1] - r.time[0])
         mine = octave_rms(r.support_force(OUTPUT)[keep], fs, "table3", name=OUTPUT, warn_few_lines=False).rms
         var.member_check = float(np.max(np.abs(mine - var.ensemble.levels[0]) / var.ensemble.levels[0]))
+
+
+def net_bands(rec, skip: float) -> dict:
+    """Table 3 band RMS (N; Hann's window, as the report's ensembles) of casing.B.Fz, cable.B.Fz
+    and their sum :data:`NET_OUTPUT` in the record ``rec`` (a run's, from t = 0) after ``skip`` s:
+    ``{name: BandRMS}``; the sum's bands are those of the summed samples, as ``cablecasing bands
+    --column net.B.Fz`` gives them."""
+    from ..records import after_skip
+    from ..studies import octave_rms
+
+    keep = after_skip(rec.time, skip, rec.time[0])
+    names = (*rec.terms(NET_OUTPUT), NET_OUTPUT)
+    return {n: octave_rms(rec.column(n)[keep], rec.fs, "table3", name=n, warn_few_lines=False, unit="N") for n in names}
 
 
 def fmu_check(outputs_csv, step: float, duration: float, model: Model | None = None) -> dict:
