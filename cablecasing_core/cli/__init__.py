@@ -67,7 +67,7 @@ def cmd_modes(args):
     from ..frequency.modal import mode_count, natural_frequencies
     from ..model.validators import integer
 
-    model = model_argument(args.model)
+    model = model_argument(args.model, args.set)
     count = integer("--count", args.count, 1)
     # (a body has as many modes as free degrees of freedom: all of them printed, and the warning below
     # names --count; asked for no more than there are, the API does not warn a second time)
@@ -94,7 +94,7 @@ def cmd_trfam(args):
     from ..model.validators import number
     from .nvh import check_frequency_range
 
-    model = model_argument(args.model)
+    model = model_argument(args.model, args.set)
     check_frequency_range(args.fmin, args.fmax)
     number("--df", args.df, gt=0, unit="Hz")
     if args.df > args.fmax - args.fmin:
@@ -223,13 +223,13 @@ def build_parser():
     sub = p.add_subparsers(dest="command", required=True)
 
     m = sub.add_parser("modes", help="natural frequencies of each body (Hz)")
-    add_model_argument(m)
+    add_model_argument(m, settable=True)
     m.add_argument("--count", type=int, default=10, help="number of modes per body")
     m.add_argument("--json", action="store_true", help="print JSON {body: [Hz, ...]}")
     m.set_defaults(func=cmd_modes)
 
     t = sub.add_parser("trfam", help="apparent-mass transfer function (kg), Eq. (12)")
-    add_model_argument(t)
+    add_model_argument(t, settable=True)
     t.add_argument("--input", default="casing.A.x", help="driven support DOF, e.g. casing.A.x")
     t.add_argument("--output", default="casing.B.x", help="support DOF whose force is the output")
     t.add_argument("--fmin", type=float, default=10.0, help="lowest frequency, Hz")

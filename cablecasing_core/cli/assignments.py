@@ -1,6 +1,7 @@
 """The model of the command line: the MODEL argument (a TOML file or a built-in specimen) and the
-``KEY=VALUE`` model changes (``--set`` of ``simulate`` and ``ensemble``, ``--against`` of
-``ensemble``): a dotted model key of the schema and a TOML value. A table (``contact``) is refused,
+``KEY=VALUE`` model changes (``--set`` of ``simulate``, ``ensemble``, ``modes``, ``trfam``,
+``geometry`` and ``static``, ``--against`` of ``ensemble``): a dotted model key of the schema and a
+TOML value. A table (``contact``) is refused,
 naming it (its keys are set one by one: ``Model.with_overrides``), and so is a key given twice. An
 error echoes a value as it was typed (``true``, ``{stiffness=1e5}``), not in Python's spelling."""
 
@@ -9,8 +10,12 @@ from __future__ import annotations
 from ..errors import NOT_SHOWN, ModelError, excerpt, plain, renamed
 
 
-def add_model_argument(parser):
-    """The optional MODEL argument of a command (read by :func:`model_argument`)."""
+def add_model_argument(parser, settable=False):
+    """The optional MODEL argument of a command (read by :func:`model_argument`); ``settable`` adds
+    ``--set KEY=VALUE`` (model changes, e.g. ``geometry.n_elements=70`` for a mesh check without a
+    copied model file), given to :func:`model_argument` as ``args.set``."""
+    from .helptext import ASSIGNMENT_HELP
+
     parser.add_argument(
         "model",
         nargs="?",
@@ -18,15 +23,21 @@ def add_model_argument(parser):
         default=None,
         help="model TOML file or built-in specimen name, e.g. installed (default: the built-in specimen)",
     )
+    if settable:
+        parser.add_argument(
+            "--set", action="append", default=[], metavar="KEY=VALUE", help="model change; " + ASSIGNMENT_HELP
+        )
 
 
-def model_argument(path):
-    """The model of the MODEL argument ``path`` (None: the built-in specimen); a file that cannot be
-    read is named as the argument (``MODEL = 'nope.toml': ...``)."""
+def model_argument(path, sets=()):
+    """The model of the MODEL argument ``path`` (None: the built-in specimen) with the ``--set``
+    changes ``sets`` (:func:`with_assignments`); a file that cannot be read is named as the argument
+    (``MODEL = 'nope.toml': ...``)."""
     from ..model import load_model
 
     with renamed({"model_file": "MODEL"}):
-        return load_model(path)
+        model = load_model(path)
+    return with_assignments(model, "--set", sets)
 
 
 def assignment(flag, text):

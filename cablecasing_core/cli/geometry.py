@@ -19,7 +19,7 @@ def cmd_geometry(args):
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
     with warnings.catch_warnings(record=True) as said:  # (the route's are printed below with the figures, not twice)
         warnings.simplefilter("always")
-        model = model_argument(args.model)
+        model = model_argument(args.model, args.set)
     g = geometry_summary(model)
     route = plausibility_warnings(model, g)
     for w in said:  # (the others: absurd values, the gravity, the gap)
@@ -97,7 +97,7 @@ def add_parser(sub):
     p = sub.add_parser(
         "geometry", help="the routing: length, bends, min radius, gap, element length, buckling load; warnings"
     )
-    add_model_argument(p)
+    add_model_argument(p, settable=True)
     p.add_argument(
         "--json",
         action="store_true",

@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from .assignments import add_model_argument, assignments, model_argument, typed, with_assignments
-from .helptext import ASSIGNMENT_HELP, key_help
+from .helptext import key_help
 
 OUT_SUFFIXES = (".csv", ".npz", ".uff")
 
@@ -201,10 +201,9 @@ def energy_report(e):
 
 def add_parser(sub):
     p = sub.add_parser("simulate", help="time-domain run of the scenario (Newmark + contact)")
-    add_model_argument(p)
+    add_model_argument(p, settable=True)
     p.add_argument("--duration", type=float, default=None, help=key_help("scenario.duration", "simulated time"))
     p.add_argument("--dt", type=float, default=None, help=key_help("scenario.dt"))
-    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="model change; " + ASSIGNMENT_HELP)
     p.add_argument(
         "--out",
         help="record to write: .csv (columns 'casing.B.Fz [N]', ...), .npz (every array) or .uff (UFF 58 time records)",

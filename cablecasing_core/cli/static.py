@@ -8,7 +8,7 @@ import json
 import numpy as np
 
 from ..model.schema import SUPPORT_NAMES
-from .assignments import add_model_argument, model_argument
+from .assignments import add_model_argument, model_argument, typed
 
 
 def cmd_static(args):
@@ -16,7 +16,16 @@ def cmd_static(args):
     from .paths import check_output_path
 
     check_output_path("--plot", args.plot, PLOT_SUFFIXES)
-    model = model_argument(args.model)
+    if args.no_contact:  # (a change of contact.enabled that --no-contact takes the place of would do nothing)
+        from ..studies.evaluators import check_not_overridden
+
+        check_not_overridden(
+            {k: (f"--set {k}", v) for k, v in typed(args.set).items()},
+            {"contact": ("--no-contact", False)},
+            "the static state",
+            "; give one of them",
+        )
+    model = model_argument(args.model, args.set)
     st = static_state(model, contact=False if args.no_contact else None)
     buckled = _buckling(model)
     if args.json:
@@ -126,7 +135,7 @@ def add_parser(sub):
         "static",
         help="the static state: contact forces and support reactions under gravity, tension and rest shape",
     )
-    add_model_argument(p)
+    add_model_argument(p, settable=True)
     p.add_argument(
         "--json",
         action="store_true",
