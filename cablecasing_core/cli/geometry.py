@@ -13,6 +13,7 @@ from .assignments import add_model_argument, model_argument
 
 
 def cmd_geometry(args):
+    from ..structure.buckling import buckling
     from ..structure.route_summary import geometry_summary, plausibility_warnings
     from .paths import check_output_path
 
@@ -26,8 +27,9 @@ def cmd_geometry(args):
         if str(w.message) not in {f"{model.source}: {t}" for t in route}:
             warnings.warn(w.message, w.category, stacklevel=1)
     keys = ("length_m", "min_radius_m", "min_radius_at_m", "total_bend_deg", "gap_m", "element_length_m", "bends")
-    buckled = _buckling(model)
-    clips = _clips(model)
+    casing = _compressed_casing(model)
+    buckled = [] if casing is None else [buckling(casing)]
+    clips = _clips(model, casing)
     if args.json:
         print(
             json.dumps({**{k: g[k] for k in keys}, "clips": clips, "buckling": {b.body: b.as_dict() for b in buckled}})
@@ -69,15 +71,15 @@ def cmd_geometry(args):
     return 0
 
 
-def _buckling(model):
-    """The casing's buckling load as built (structure/buckling.py; its reference modulus) when it
-    carries the cable's tension as compression (both bodies); else none."""
+def _compressed_casing(model):
+    """The casing as built (structure/assembly.py; its reference modulus) when it carries the
+    cable's tension as compression (both bodies), for its buckling load (structure/buckling.py);
+    else None."""
     if not {"casing", "cable"} <= set(model.bodies):
-        return []
+        return None
     from ..structure.assembly import assemble_body
-    from ..structure.buckling import buckling
 
-    return [buckling(assemble_body(model, "casing", check_buckling=False))]
+    return assemble_body(model, "casing", check_buckling=False)
 
 
 def _buckling_warnings(model, buckled):
@@ -111,10 +113,16 @@ def add_parser(sub):
     p.set_defaults(func=cmd_geometry)
 
 
-def _clips(model):
+def _clips(model, casing=None):
     """The casing's clips in file order: ``at_m`` (the arc length asked for, m) and ``node_s_m``
-    (the arc length of the node it acts at, m: structure/mount_element.py, ``clip_node``)."""
+    (the arc length of the node it acts at, m: structure/mount_element.py, ``clip_node``): those of
+    the clips' mounts of ``casing`` (the casing as built, :func:`_compressed_casing`) when given, so
+    that the centerline is not built again for them; else ``clip_positions``'s."""
     from ..structure.mount_element import clip_positions
 
     asked = model.data.get("casing", {}).get("clip", [])
-    return [{"at_m": float(c["at"]), "node_s_m": s} for c, s in zip(asked, clip_positions(model))]
+    if casing is None:
+        at_nodes = clip_positions(model)
+    else:  # (a mount without a support is a clip, in file order)
+        at_nodes = [m.at for m in casing.mounts if m.support is None]
+    return [{"at_m": float(c["at"]), "node_s_m": s} for c, s in zip(asked, at_nodes)]

@@ -12,7 +12,8 @@ from .assignments import add_model_argument, model_argument, typed
 
 
 def cmd_static(args):
-    from ..timedomain.static_state import static_state
+    from ..timedomain.body_storage import time_domain_system
+    from ..timedomain.static_state import solve_static
     from .paths import check_output_path
 
     check_output_path("--plot", args.plot, PLOT_SUFFIXES)
@@ -26,14 +27,18 @@ def cmd_static(args):
             "; give one of them",
         )
     model = model_argument(args.model, args.set)
-    st = static_state(model, contact=False if args.no_contact else None)
-    buckled = _buckling(model)
+    # (the bodies as the time domain assembles them, once: the solve, the buckling load and the end
+    # forces of a tension without contact all read these; static_state would assemble its own)
+    systems = {n: time_domain_system(model, n) for n in model.bodies}
+    contact = not args.no_contact and model.contact["enabled"] and len(systems) == 2
+    st = solve_static(model, systems, contact)
+    buckled = _buckling(systems)
     if args.json:
         out = st.as_dict()
         out["buckling"] = {b.body: b.as_dict() for b in buckled}
         print(json.dumps(out))
     else:
-        _print(model, st, buckled)
+        _print(model, st, systems, buckled)
     if args.plot:
         from ..timedomain.static_plot import plot_static_state
 
@@ -47,18 +52,18 @@ def cmd_static(args):
 PLOT_SUFFIXES = (".png", ".pdf", ".svg")
 
 
-def _buckling(model):
-    """The casing's buckling load as built (structure/buckling.py), as the time domain assembles
-    it, when it carries the cable's tension as compression (both bodies); else none."""
-    if not {"casing", "cable"} <= set(model.bodies):
+def _buckling(systems):
+    """The casing's buckling load as built (structure/buckling.py), of the bodies as the time domain
+    assembles them (``systems``: {body: BodySystem}), when it carries the cable's tension as
+    compression (both bodies); else none."""
+    if not {"casing", "cable"} <= set(systems):
         return []
     from ..structure.buckling import buckling
-    from ..timedomain.body_storage import time_domain_system
 
-    return [buckling(time_domain_system(model, "casing"))]
+    return [buckling(systems["casing"])]
 
 
-def _print(model, st, buckled=()):
+def _print(model, st, systems, buckled=()):
     from ..structure.mount_element import clip_positions
 
     g, T = model.loads["gravity"], model.loads["cable_tension"]
@@ -74,7 +79,7 @@ def _print(model, st, buckled=()):
             "before it is pulled against the walls)"
         )
     elif T > 0.0:
-        print(f"  contact off: {_unheld(model, st, T)}")
+        print(f"  contact off: {_unheld(st, systems, T)}")
     print("  contact force of the casing on each cable node (N, global axes):")
     print("    node    s (m)   kappa (1/m)        Fx          Fy          Fz         |F|   penetration (m)")
     for i in np.flatnonzero(st.normal_force > 0.0):
@@ -109,14 +114,14 @@ def _print(model, st, buckled=()):
         print(f"  buckling: {b.text()}")
 
 
-def _unheld(model, st, T):
-    """What a tension does without contact, with the end elements' axial forces it leaves."""
-    from ..timedomain.body_storage import time_domain_system
+def _unheld(st, systems, T):
+    """What a tension does without contact, with the end elements' axial forces it leaves (of the
+    bodies as solved, ``systems``)."""
     from ..timedomain.static_state import end_axial_forces
 
     ends = []
     for body in st.U:
-        N = end_axial_forces(time_domain_system(model, body), st.U[body])
+        N = end_axial_forces(systems[body], st.U[body])
         ends.append(f"{body} {N[0]:.4g} and {N[1]:.4g} N")
     return (
         f"the tension {T:g} N is applied as a fixed prestress (nothing pulls the cable against the walls), which "
