@@ -87,6 +87,20 @@ def _serial(scheduler):
     return scheduler == "serial" or getattr(scheduler, "scheduler", None) == "serial"
 
 
+def check_scheduler(scheduler):
+    """Refuse, with a ModelError naming ``scheduler``, what :class:`Workers` cannot run samples on:
+    anything but None, ``"serial"``, ``"local"``, an address (a str) or a ``distributed.Client``
+    (its class or a subclass, told by the class's name and module, so that distributed, which a
+    serial run does without, is not imported for it)."""
+    client = any(c.__name__ == "Client" and c.__module__.startswith("distributed.") for c in type(scheduler).__mro__)
+    if not (scheduler is None or isinstance(scheduler, str) or client):
+        raise ModelError(
+            "scheduler",
+            scheduler,
+            "must be None, 'serial', 'local', an address 'tcp://host:8786' or a distributed.Client",
+        )
+
+
 def resolve_evaluate(spec):
     """The per-sample function of the study (Section 4.4) named by ``spec``: a callable (returned as
     is) or ``"package.module:function"`` (also ``"package.module.function"``). Raises ModelError if
@@ -235,6 +249,7 @@ class Workers:
 
     def __init__(self, scheduler=None, n_workers=None):
         self.scheduler, self.client, self._own, self._cluster = scheduler, None, None, None
+        check_scheduler(scheduler)
         if scheduler == "serial":
             return
         if isinstance(scheduler, str) or scheduler is None:  # (a Client passed in: distributed is there)
@@ -255,14 +270,8 @@ class Workers:
                     "must be 'serial', 'local' or a scheduler address such as tcp://host:8786 that answers within "
                     f"{CONNECT_TIMEOUT:g} s ({type(exc).__name__})",
                 ) from None
-        elif isinstance(scheduler, Client):
+        else:  # (a distributed.Client: check_scheduler)
             self.client = scheduler
-        else:
-            raise ModelError(
-                "scheduler",
-                scheduler,
-                "must be None, 'serial', 'local', an address 'tcp://host:8786' or a distributed.Client",
-            )
 
     def close(self):
         for thing in (self._own, self._cluster):
@@ -320,7 +329,7 @@ def execute(
         _say(row, label, said)
         writer.write(row)
 
-    if scheduler == "serial" or getattr(scheduler, "scheduler", None) == "serial":
+    if _serial(scheduler):
         for i, p in todo:
             write(evaluate_sample(evaluate, kwargs, i, p, outputs))
             bar.update(1)

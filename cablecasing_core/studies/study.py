@@ -37,7 +37,7 @@ from ..files import output_folder
 from ..model.limits import MAX_STUDY_SAMPLES
 from ..model.validators import integer
 from .evaluators import DEFAULT_EVALUATE, DEFAULT_OUTPUTS, RECORD_SETTINGS
-from .executor import PROGRESS_TIMEOUT, Workers, check_packages, execute, resolve_evaluate, spec_name
+from .executor import PROGRESS_TIMEOUT, Workers, check_packages, check_scheduler, execute, resolve_evaluate, spec_name
 from .results_store import (
     FORMAT_VERSION,
     META_COLUMNS,
@@ -169,12 +169,7 @@ def run_study(
         raise ModelError("evaluate_kwargs", evaluate_kwargs, f"must be JSON-serialisable ({exc})") from None
     if getattr(fn, "placeholder", False):  # fail early on a bad path or a placeholder
         fn({})
-    if not (scheduler is None or isinstance(scheduler, str) or type(scheduler).__name__ == "Client"):
-        raise ModelError(
-            "scheduler",
-            scheduler,
-            "must be None, 'serial', 'local', an address 'tcp://host:8786' or a distributed.Client",
-        )
+    check_scheduler(scheduler)
     constraints = tuple(constraints or ())
     check = getattr(fn, "check_settings", None)  # settings that make every sample fail, refused first
     if check is not None:
