@@ -30,44 +30,43 @@ def _refuse(self, *args, **kwargs):
     raise TypeError(_READ_ONLY)
 
 
-class FrozenDict(dict):
-    """A table of a validated :class:`Model` (``model.data`` and the tables in it, ``model.bodies``):
-    a ``dict`` for reading (``isinstance(x, dict)``, ``json.dumps``, ``==`` with a dict), whose
-    every change raises ``TypeError`` saying how to change a model. ``copy.deepcopy`` gives a
-    plain, mutable deep copy (``dict``s and ``list``s: yours to change, as
-    :meth:`Model.to_dict`); ``copy.copy`` a plain shallow ``dict``; pickling keeps it frozen."""
+class _Frozen:
+    """A validated :class:`Model`'s container, read-only (its type's mutators refuse, :func:`_refuse`):
+    ``copy.copy`` gives a plain shallow copy (its ``_plain`` type), ``copy.deepcopy`` a plain, mutable
+    deep one (:func:`thaw`: yours to change, as :meth:`Model.to_dict`), and pickling keeps it frozen."""
 
     __slots__ = ()
+
+    def __reduce__(self):
+        return (type(self), (self._plain(self),))
+
+    def __copy__(self):
+        return self._plain(self)
+
+    def __deepcopy__(self, memo):
+        return thaw(self)
+
+
+class FrozenDict(_Frozen, dict):
+    """A table of a validated :class:`Model` (``model.data`` and the tables in it, ``model.bodies``):
+    a ``dict`` for reading (``isinstance(x, dict)``, ``json.dumps``, ``==`` with a dict), whose every
+    change raises ``TypeError`` saying how to change a model; copied and pickled as :class:`_Frozen`."""
+
+    __slots__ = ()
+    _plain = dict
     __setitem__ = __delitem__ = __ior__ = _refuse
     clear = pop = popitem = setdefault = update = _refuse
 
-    def __reduce__(self):
-        return (FrozenDict, (dict(self),))
 
-    def __copy__(self):
-        return dict(self)
-
-    def __deepcopy__(self, memo):
-        return thaw(self)
-
-
-class FrozenList(list):
+class FrozenList(_Frozen, list):
     """A list of a validated :class:`Model` (a table of values ``[[f, E], ...]``, the route's
-    points, the clips): a ``list`` for reading whose every change raises ``TypeError``;
-    ``copy.deepcopy`` gives a plain, mutable deep copy, pickling keeps it frozen."""
+    points, the clips): a ``list`` for reading whose every change raises ``TypeError``; copied and
+    pickled as :class:`_Frozen`."""
 
     __slots__ = ()
+    _plain = list
     __setitem__ = __delitem__ = __iadd__ = __imul__ = _refuse
     append = clear = extend = insert = pop = remove = reverse = sort = _refuse
-
-    def __reduce__(self):
-        return (FrozenList, (list(self),))
-
-    def __copy__(self):
-        return list(self)
-
-    def __deepcopy__(self, memo):
-        return thaw(self)
 
 
 def freeze(value):
