@@ -117,20 +117,27 @@ def whole_steps(h: float, dt: float) -> tuple[int, float]:
     return n, h - n * dt
 
 
-def _motion_arrays(motion, times):
-    """(u, v, a) of ``motion(times)`` as C-contiguous float arrays, or a ModelError naming
-    ``motion`` (not three real arrays; an error the motion raises itself passes as it is)."""
+def motion_arrays(motion, times, nch=None):
+    """(u, v, a) of ``motion(times)`` (``times`` s) as C-contiguous float arrays (m, m/s, m/s2), or
+    a ModelError naming ``motion`` (not three real arrays; an error the motion raises itself passes
+    as it is). A model of ``nch`` channels (None: as the motion gives them), more than the 12 of
+    CHANNELS (excited clips'), takes a motion of those 12 alone (an FMU's): its arrays of shape
+    (len(times), 12) are given the clips' supports at rest (zeros) up to (len(times), nch)."""
     try:
         got = motion(times)
         if len(got) != 3 or any(np.iscomplexobj(x) for x in got):
             raise TypeError
-        return tuple(np.ascontiguousarray(x, dtype=float) for x in got)
+        u, v, a = (np.ascontiguousarray(x, dtype=float) for x in got)
     except CableCasingError:
         raise
     except (TypeError, ValueError):
         raise ModelError(
             "motion", type(motion).__name__, "must be a callable t -> (u, v, a) of three real arrays (m, m/s, m/s2)"
         ) from None
+    n = len(times)
+    if nch is not None and nch > len(CHANNELS) and u.shape == (n, len(CHANNELS)):
+        u, v, a = (np.hstack([x, np.zeros((n, nch - len(CHANNELS)))]) for x in (u, v, a))
+    return u, v, a
 
 
 class Engine:
@@ -633,7 +640,7 @@ class Engine:
                 kin, strain = (sum(x) for x in zip(*(b.energy() for b in self.bodies.values())))
                 self.ledger[K.LEDGER_START_ENERGY] = kin + strain + self.contact_potential()
                 # the supports' state at the start: where a recomputed first step's sub-steps begin
-                for row, x in zip(self.chan, _motion_arrays(motion, np.array([self.time]))):
+                for row, x in zip(self.chan, motion_arrays(motion, np.array([self.time]))):
                     x = np.asarray(x, dtype=float).reshape(-1)
                     row[: min(len(x), len(row))] = x[: len(row)]
             for dt, m in segments:
@@ -641,11 +648,8 @@ class Engine:
                 for j0 in range(0, m, self.CHUNK):
                     j1 = min(m, j0 + self.CHUNK)
                     times = t + dt * np.arange(j0 + 1, j1 + 1)  # as if evaluated in one piece
-                    u, v, a = _motion_arrays(motion, times)
                     nch = len(self.channels)
-                    if nch > len(CHANNELS) and u.shape == (j1 - j0, len(CHANNELS)):
-                        # a motion of the 12 fixed channels (an FMU's): the clips' supports stay at rest
-                        u, v, a = (np.hstack([x, np.zeros((j1 - j0, nch - len(CHANNELS)))]) for x in (u, v, a))
+                    u, v, a = motion_arrays(motion, times, nch)  # (a motion of the 12 fixed channels: clips at rest)
                     for x in (u, v, a):
                         if x.shape != (j1 - j0, nch):
                             raise ModelError("motion", x.shape, f"must return arrays of shape ({j1 - j0}, {nch})")

@@ -22,7 +22,7 @@ from ..model.limits import check_time_domain
 from ..model.schema import CONTACT_OUTPUTS, INPUTS, OUTPUTS, SUPPORT_OUTPUTS, clip_outputs, inputs_of, lookup
 from ..model.validate import step_checks
 from ..model.validators import Choice, check_model, seconds
-from .engine import ROUNDING_OF_TIME, SHORTEST_STEP, Engine
+from .engine import ROUNDING_OF_TIME, SHORTEST_STEP, Engine, motion_arrays
 from .scenario import harmonic_lines, scenario_motion, warn_short_tables
 
 if TYPE_CHECKING:
@@ -36,6 +36,9 @@ PROGRESS_STEPS = 8 * Engine.CHUNK
 #: The part of the new Nyquist frequency up to which :func:`decimate` is flat (0.01 dB).
 PASSBAND = 0.7
 _NODE_ARRAYS = ("contact_state", "normal_force", "penetration")
+#: Rows of the support motion evaluated at once when a run's inputs are recorded (65536 rows of 36
+#: inputs: 19 MB), so that a long run's motion is never held whole (:func:`_recorded_inputs`).
+INPUT_PIECE = 65536
 
 
 @dataclass
@@ -344,13 +347,9 @@ def simulate(
     time = dt * np.arange(1, n + 1)
     if n:
         time[-1] = eng.time
-    names = inputs_of(model)
-    if given_motion is not None:  # the channels the motion moves (those it leaves at zero are not driven)
-        inputs = _moved_inputs(motion, time, names)
-    cols = [names.index(name) for name in inputs]
-    table = np.empty((n, len(cols)))
-    for i in range(0, n if cols else 0, 65536):  # (in pieces: all 36 inputs of a long run would not fit)
-        table[i : i + 65536] = np.hstack(motion(time[i : i + 65536]))[:, cols]
+    # (of a motion of its own, the channels it moves: those it leaves at zero are not driven)
+    recorded = inputs if given_motion is None else None
+    inputs, histories, initial = _recorded_inputs(motion, time, inputs_of(model), recorded)
     return SimulationResult(
         time=time,
         support_forces=h["support_forces"],
@@ -361,28 +360,53 @@ def simulate(
         curvature=cl.curvature,
         arc_length=cl.s,
         energies={k: float(v) for k, v in eng.energies().items()},
-        inputs={name: table[:, j] for j, name in enumerate(inputs)},
+        inputs=histories,
         force_names=SUPPORT_OUTPUTS + clip_outputs(model),
         solver=solver_report(eng, n),
         initial_forces=np.concatenate([out0[:24], out0[len(OUTPUTS) :]]),
         initial_contact=(float(out0[24]), float(out0[25])),
-        initial_inputs=dict(zip(inputs, np.hstack(motion(np.zeros(1)))[0, cols].tolist())) if cols else {},
+        initial_inputs=initial,
         lines_hz=harmonic_lines(model) if given_motion is None else (),
         ramp_s=float(model.scenario["ramp"]) if given_motion is None else 0.0,
     )
 
 
-def _moved_inputs(motion, time, names) -> tuple:
-    """The inputs (``names``: the model's :func:`~cablecasing_core.model.schema.inputs_of`,
-    kind-major) of the channels whose displacement, velocity or acceleration ``motion`` makes
-    non-zero at t = 0 or at any of ``time`` (s): for each such channel its three inputs, as
-    :func:`~cablecasing_core.records.driven_inputs` gives a scenario's."""
-    moved = np.any(np.hstack(motion(np.zeros(1))) != 0.0, axis=0)
-    for i in range(0, len(time), 65536):  # (in pieces, as the record's table)
-        moved |= np.any(np.hstack(motion(time[i : i + 65536])) != 0.0, axis=0)
+def _recorded_inputs(motion, time, names, inputs=None):
+    """The support inputs a run records, ``motion`` evaluated once at t = 0 and once at each of
+    ``time`` (s, the step ends), in pieces of :data:`INPUT_PIECE` rows: (the inputs, {input: its
+    history at ``time``}, {input: its value at t = 0}), the inputs (m, m/s, m/s2) of ``names`` (the
+    model's :func:`~cablecasing_core.model.schema.inputs_of`, kind-major) in that order. ``inputs``:
+    the ones to record (a scenario's :func:`~cablecasing_core.records.driven_inputs`); None: those of
+    the channels whose displacement, velocity or acceleration the motion makes non-zero at t = 0 or
+    at any of ``time``, for each such channel its three, as ``driven_inputs`` gives a scenario's.
+
+    The channels moved are learned as the pieces come, so that only their histories are held, not
+    those of every input of a long run (10 s at dt = 1e-5 s: 8 MB an input, 288 MB for 36): an
+    input's history is kept from the first piece in which it is not +0.0 throughout, and the rows
+    before it, +0.0 all, are so in the history (an input at -0.0 is kept as such, bit for bit, until
+    it is known not to move)."""
     nch = len(names) // 3
-    channel = moved.reshape(3, nch).any(axis=0)
-    return tuple(names[k * nch + c] for k in range(3) for c in np.flatnonzero(channel))
+    cols = None if inputs is None else [names.index(name) for name in inputs]
+    if cols == []:
+        return (), {}, {}
+    start = np.hstack(motion_arrays(motion, np.zeros(1), nch))[0]
+    moved = start != 0.0
+    kept = {}  # (column: its history, from the first piece in which it is not +0.0 throughout)
+    for i in range(0, len(time), INPUT_PIECE):
+        x = np.hstack(motion_arrays(motion, time[i : i + INPUT_PIECE], nch))
+        if inputs is None:
+            moved |= np.any(x != 0.0, axis=0)
+            cols = np.flatnonzero(np.any((x != 0.0) | np.signbit(x), axis=0))
+        for c in cols:
+            if c not in kept:
+                kept[c] = np.zeros(len(time))
+            kept[c][i : i + len(x)] = x[:, c]
+    if inputs is None:
+        channel = moved.reshape(3, nch).any(axis=0)
+        inputs = tuple(names[k * nch + c] for k in range(3) for c in np.flatnonzero(channel))
+    cols = [names.index(name) for name in inputs]
+    histories = {name: kept[c] if c in kept else np.zeros(len(time)) for name, c in zip(inputs, cols)}
+    return inputs, histories, {name: float(start[c]) for name, c in zip(inputs, cols)}
 
 
 def solver_report(eng: Engine, steps: int) -> dict:
