@@ -74,7 +74,7 @@ def test_geometry_builds_no_centerline_for_the_clips_nodes(monkeypatch, capsys):
     bare = cc.model_from_dict(data)
     counts = {}
     for name, model in (("clipped", clipped), ("bare", bare)):
-        monkeypatch.setattr("cablecasing_core.cli.geometry.model_argument", lambda _path, _m=model: _m)
+        monkeypatch.setattr("cablecasing_core.cli.geometry.model_argument", lambda _path, _sets=(), _m=model: _m)
         builds = _centerline_builds(monkeypatch)
         assert main(["geometry", "model.toml", "--json"]) == 0
         counts[name] = len(builds)
@@ -82,7 +82,7 @@ def test_geometry_builds_no_centerline_for_the_clips_nodes(monkeypatch, capsys):
     monkeypatch.undo()
     assert counts["clipped"] == counts["bare"] > 0  # (the clips' nodes come from the casing as built)
     assert out["clips"] == []
-    monkeypatch.setattr("cablecasing_core.cli.geometry.model_argument", lambda _path: clipped)
+    monkeypatch.setattr("cablecasing_core.cli.geometry.model_argument", lambda _path, _sets=(): clipped)
     assert main(["geometry", "model.toml", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     # a segments route is cut into elements of equal arc length: a clip acts at the node nearest to it
