@@ -418,6 +418,18 @@ _KEYS = [
         note="a run checks the memory it needs first (docs/model_file.md, Limits)",
     ),
     KeySpec(
+        "geometry.nodes_at_clips",
+        "bool",
+        False,
+        "",
+        "a node at each casing clip's at: the elements are equal within each span between the ends and the clips, "
+        "the spans sharing geometry.n_elements in proportion to their lengths (false: n_elements equal elements, "
+        "each clip at its nearest node, which a change of n_elements moves)",
+        Boolean(),
+        note="each span at least half the mean element (route length / geometry.n_elements / 2); geometry.n_elements "
+        "at least the number of spans",
+    ),
+    KeySpec(
         "geometry.points",
         "points",
         OPTIONAL,

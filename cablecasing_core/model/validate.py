@@ -126,8 +126,18 @@ def _mounts(name, data, supports, geometry):
         _holds(key, raw, c, "leave the clip out")
         if c["at"] >= length:
             raise ModelError(f"{key}.at", c["at"], f"must be inside the route, below its length {length:.6g} m")
+        if "excitation" in c:
+            if c["excitation"] in names or c["excitation"] in BODY_NAMES:
+                raise ModelError(f"{key}.excitation", c["excitation"], "must be unique among the clips and not a body")
+            names[c["excitation"]] = i
+        out["clip"].append(c)
+    if geometry["nodes_at_clips"]:
+        s_nodes = _nodes_at_clips(geometry, out["clip"], length)
+    n = len(s_nodes) - 1
+    for i, c in enumerate(out["clip"]):
+        key = f"casing.clip[{i}]"
         node = clip_node(s_nodes, c["at"])
-        if node in (0, len(s_nodes) - 1):
+        if node in (0, n):
             raise ModelError(
                 f"{key}.at", c["at"], f"is nearest to an end node (s = {s_nodes[node]:.6g} m); clip the casing inside"
             )
@@ -136,18 +146,57 @@ def _mounts(name, data, supports, geometry):
                 f"{key}.at", c["at"], f"is nearest to node {node}, which casing.clip[{taken[node]}] holds already"
             )
         taken[node] = i
-        if abs(s_nodes[node] - c["at"]) > CLIP_OFF_NODE * length:
+        off = s_nodes[node] - c["at"]
+        if abs(off) > CLIP_OFF_NODE * length / n:
             _warn(
-                f"{key}.at = {c['at']:g} m: a clip acts at a node, the nearest, at s = {s_nodes[node]:.4g} m "
-                f"({len(s_nodes) - 1} elements of {length / (len(s_nodes) - 1):.3g} m): more elements "
-                "(geometry.n_elements) bring a node nearer"
+                f"{key}.at = {c['at']:g} m: a clip acts at a node, the nearest, at s = {s_nodes[node]:.4g} m, "
+                f"{1e3 * off:+.3g} mm from its at ({n} elements of {1e3 * length / n:.3g} mm; more than "
+                f"{CLIP_OFF_NODE:.0%} of an element off): a refinement (more geometry.n_elements) moves the clip too, "
+                "so a mesh study would mix the two; geometry.nodes_at_clips = true puts a node at each clip's at"
             )
-        if "excitation" in c:
-            if c["excitation"] in names or c["excitation"] in BODY_NAMES:
-                raise ModelError(f"{key}.excitation", c["excitation"], "must be unique among the clips and not a body")
-            names[c["excitation"]] = i
-        out["clip"].append(c)
     return out
+
+
+def _nodes_at_clips(geometry, clips, length):
+    """The nodes' arc lengths (m) of ``geometry.nodes_at_clips = true``: a node at each of the checked
+    ``clips``' at (structure/geometry.py, ``node_stations``), on a route of ``length`` m. Refused: a
+    span between two clips, or a clip and an end, shorter than half the mean element (an element
+    far shorter than the rest; two clips at one place), and fewer elements than spans."""
+    n = geometry["n_elements"]
+    half = 0.5 * length / n
+    at = [c["at"] for c in clips]
+    order = sorted(range(len(at)), key=lambda i: at[i])
+    edges = [(0.0, None), *((at[i], i) for i in order), (length, None)]
+    for (a, ia), (b, ib) in zip(edges[:-1], edges[1:]):
+        if b - a < half:
+            # (the clip named: the span's far one, else its only one; the other end said with its place)
+            i, (s_other, i_other) = (ib, (a, ia)) if ib is not None else (ia, (b, ib))
+            if i_other is not None:
+                other = f"casing.clip[{i_other}].at = {s_other:g} m"
+            else:
+                other = "end A (s = 0)" if s_other == 0.0 else f"end B (s = {length:.6g} m)"
+            need = math.ceil(length / (2.0 * (b - a))) if b > a else None
+            raise ModelError(
+                f"casing.clip[{i}].at",
+                at[i],
+                f"is {1e3 * (b - a):.3g} mm from {other}, less than half the mean element (route length / "
+                f"geometry.n_elements / 2 = {1e3 * half:.3g} mm): geometry.nodes_at_clips = true puts a node at each "
+                "clip, and that span would hold an element far shorter than the rest; "
+                + (
+                    f"move the clip, or give geometry.n_elements at least {need}, or set "
+                    "geometry.nodes_at_clips = false"
+                    if need
+                    else "two clips at one place hold one node: give one clip"
+                ),
+            )
+    if n < len(edges) - 1:
+        raise ModelError(
+            "geometry.n_elements",
+            n,
+            f"must be at least {len(edges) - 1} with geometry.nodes_at_clips = true: the {len(clips)} clips cut "
+            f"the route into {len(edges) - 1} spans, each of at least one element",
+        )
+    return _node_arc_lengths(geometry, sorted(at))
 
 
 def _holds(key, raw, mount, instead):
@@ -165,15 +214,17 @@ def _holds(key, raw, mount, instead):
     )
 
 
-def _node_arc_lengths(geometry):
-    """Arc lengths (m) of the centerline's nodes (the route built as the structure builds it)."""
+def _node_arc_lengths(geometry, breaks=None):
+    """Arc lengths (m) of the centerline's nodes (the route built as the structure builds it; with
+    ``breaks``, m, a node at each: structure/geometry.py, ``node_stations``)."""
     from ..structure.geometry import build_centerline, centerline_from_route
     from ..structure.routing import SegmentRoute
 
     if "segments" in geometry:
         route = SegmentRoute(geometry["start"], geometry["direction"], geometry["segments"])
-        return centerline_from_route(route, geometry["n_elements"]).s
-    return build_centerline(geometry["points"], geometry["n_elements"], geometry["curve"], frames=False).s
+        return centerline_from_route(route, geometry["n_elements"], breaks).s
+    n, curve = geometry["n_elements"], geometry["curve"]
+    return build_centerline(geometry["points"], n, curve, frames=False, breaks=breaks).s
 
 
 def _geometry(data):
@@ -590,10 +641,11 @@ def _carries(axes, keys, d):
     return float(np.linalg.norm((axes @ d)[held])) > LEAST_DRIVE
 
 
-#: The largest distance (a share of the route's length) between a clip's ``at`` and the node it acts
-#: at that is taken without a warning: 2 % (17 mm of the 0.85 m specimens, whose 35 elements put a
-#: node within 12 mm of any point).
-CLIP_OFF_NODE = 0.02
+#: The largest distance (a share of an element's length) between a clip's ``at`` and the node it acts
+#: at that is taken without a warning: 10 % (2.4 mm of the 0.85 m specimens' 24 mm elements). A clip
+#: a few mm off its place changes the band levels below ~100 Hz by factors (docs/model_file.md,
+#: Clips), and a refinement moves it; ``geometry.nodes_at_clips = true`` puts it on a node.
+CLIP_OFF_NODE = 0.10
 
 
 def _warn(text):

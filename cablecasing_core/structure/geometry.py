@@ -5,9 +5,12 @@ The centerline at rest is shared by both bodies. Routed by segments (``[geometry
 and carry the exact tangent and curvature (1/R in a bend). Through the model's points it is either
 a cubic spline (``curve = "spline"``, parametrised by chord length and then re-parametrised by arc
 length) or the polyline itself (``curve = "polyline"``). It is cut into ``n_elements`` straight
-elements of equal arc length; each element carries a right-handed local frame (x along the element chord). The
-frame's y axis is carried from element to element by parallel transport (the minimal rotation that
-takes one chord direction into the next), so the frame is well defined on straight and on curved
+elements of equal arc length, or, with ``geometry.nodes_at_clips = true``, of equal arc length within
+each span between the ends and the casing's clips (:func:`node_stations`: a node at each clip's
+``at``, on the cable as on the casing, for both bodies share the centerline); each element
+carries a right-handed local frame (x along the element chord). The frame's y axis is carried
+from element to element by parallel transport (the minimal rotation that takes one chord
+direction into the next), so the frame is well defined on straight and on curved
 segments alike. Of the Frenet frame of Eqs. (33)-(35) the model needs the unit tangent (Eq. 33) at
 the nodes (each cable node's normal plane in the contact search, Eqs. 36-39) and the curvature
 |r' x r''| / |r'|^3 (the norm in Eq. 34), for the figures and the studies; its vector
@@ -117,8 +120,51 @@ def element_frames(nodes, first_y=None):
     return frames, lengths
 
 
-def build_centerline(points, n_elements, curve="spline", frames=True):
-    """Discretise the curve through ``points`` (m) into ``n_elements`` equal-arc elements.
+def share_elements(spans, n_elements):
+    """How many of ``n_elements`` elements each of the ``spans`` (lengths, m, each > 0) gets: in
+    proportion to its length, by the largest remainder (Hamilton's rule), and at least 1 each (a
+    span whose share rounds to 0 takes 1 from the span that then has the shortest elements); the
+    counts add up to ``n_elements``, which must be at least ``len(spans)``."""
+    spans = np.asarray(spans, dtype=float)
+    quota = n_elements * spans / spans.sum()
+    counts = np.floor(quota).astype(int)
+    rest = n_elements - int(counts.sum())
+    order = np.argsort(-(quota - counts), kind="stable")  # (largest remainder first; ties: end A first)
+    counts[order[:rest]] += 1
+    for i in np.flatnonzero(counts == 0):
+        donors = np.flatnonzero(counts >= 2)
+        j = donors[np.argmin(spans[donors] / (counts[donors] - 1))]  # (the finest after giving one)
+        counts[j] -= 1
+        counts[i] = 1
+    return counts
+
+
+def node_stations(length, n_elements, breaks=None):
+    """Arc lengths (m, ``n_elements`` + 1, from 0 to ``length``) of the nodes of a route of
+    ``length`` m. Without ``breaks``, ``n_elements`` equal elements (``np.linspace``). With
+    ``breaks`` (arc lengths in m strictly inside the route, distinct: the clips' ``at`` of
+    ``geometry.nodes_at_clips``), the union of equal subdivisions of the spans [0, b_1, ..., b_k,
+    length], which share the elements by :func:`share_elements`: each break is a node, exactly (its
+    span's ends are those of ``np.linspace``), at any ``n_elements``."""
+    if breaks is None:
+        return np.linspace(0.0, length, n_elements + 1)
+    edges = np.concatenate([[0.0], np.sort(np.asarray(breaks, dtype=float)), [length]])
+    counts = share_elements(np.diff(edges), n_elements)
+    parts = [np.linspace(a, b, c + 1)[:-1] for a, b, c in zip(edges[:-1], edges[1:], counts)]
+    return np.concatenate([*parts, [length]])
+
+
+def clip_breaks(geometry, casing):
+    """The arc lengths (m) a node must sit at: the clips' ``at`` of the checked ``casing`` table
+    when the checked ``geometry`` has ``nodes_at_clips = true``, else None (equal elements)."""
+    if not geometry.get("nodes_at_clips", False):
+        return None
+    return sorted(float(c["at"]) for c in (casing or {}).get("clip", []))
+
+
+def build_centerline(points, n_elements, curve="spline", frames=True, breaks=None):
+    """Discretise the curve through ``points`` (m) into ``n_elements`` equal-arc elements (with
+    ``breaks``, arc lengths in m, equal within the spans between them: :func:`node_stations`).
 
     Parameters
     ----------
@@ -132,7 +178,7 @@ def build_centerline(points, n_elements, curve="spline", frames=True):
     P = np.asarray(points, dtype=float)
     chord = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(P, axis=0), axis=1))])
     if curve == "polyline" or len(P) == 2:
-        s_nodes = np.linspace(0.0, chord[-1], n_elements + 1)
+        s_nodes = node_stations(chord[-1], n_elements, breaks)
         nodes = np.column_stack([np.interp(s_nodes, chord, P[:, k]) for k in range(3)])
         seg = np.clip(np.searchsorted(chord, s_nodes, side="right") - 1, 0, len(P) - 2)
         tangents = (P[seg + 1] - P[seg]) / (chord[seg + 1] - chord[seg])[:, None]
@@ -149,7 +195,7 @@ def build_centerline(points, n_elements, curve="spline", frames=True):
         # scipy.integrate.cumulative_trapezoid's own expression, written out: importing
         # scipy.integrate costs ~0.25 s of every command's start (it imports scipy.optimize)
         s_of_u = np.concatenate([[0.0], np.cumsum(np.diff(u) * (speed[1:] + speed[:-1]) / 2.0)])
-        s_out = np.linspace(0.0, s_of_u[-1], n_elements + 1)
+        s_out = node_stations(s_of_u[-1], n_elements, breaks)
         u_nodes = np.interp(s_out, s_of_u, u)
         nodes = spl(u_nodes)
         r1 = spl(u_nodes, 1)
@@ -220,11 +266,13 @@ def route_of(model):
     return SegmentRoute(g["start"], g["direction"], g["segments"])
 
 
-def centerline_from_route(route, n_elements):
+def centerline_from_route(route, n_elements, breaks=None):
     """Discretise a :class:`~.routing.SegmentRoute` into ``n_elements`` elements of equal arc
-    length: nodes on the exact curve, with its exact unit tangent and curvature (1/m), and each
-    element's end curvature vectors from its own stretch of the route (``element_curvature``)."""
-    s = np.linspace(0.0, route.length, n_elements + 1)
+    length (with ``breaks``, arc lengths in m, equal within the spans between them:
+    :func:`node_stations`): nodes on the exact curve, with its exact unit tangent and curvature
+    (1/m), and each element's end curvature vectors from its own stretch of the route
+    (``element_curvature``)."""
+    s = node_stations(route.length, n_elements, breaks)
     nodes, tangents, curvature, kvec = route._evaluate(s)
     frames, lengths = element_frames(nodes)
     return Centerline(
@@ -241,10 +289,12 @@ def centerline_from_route(route, n_elements):
 
 def centerline_of(model, n_elements=None):
     """The centerline of a :class:`~cablecasing_core.model.Model` (shared by both bodies), with
-    the model's ``geometry.n_elements`` or ``n_elements`` elements."""
+    the model's ``geometry.n_elements`` or ``n_elements`` elements; with ``geometry.nodes_at_clips``
+    a node at each casing clip's ``at`` (:func:`node_stations`)."""
     g = model.geometry
     n = g["n_elements"] if n_elements is None else int(n_elements)
+    breaks = clip_breaks(g, model.data.get("casing"))
     route = route_of(model)
     if route is not None:
-        return centerline_from_route(route, n)
-    return build_centerline(g["points"], n, g["curve"])
+        return centerline_from_route(route, n, breaks)
+    return build_centerline(g["points"], n, g["curve"], breaks=breaks)

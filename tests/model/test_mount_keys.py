@@ -208,9 +208,10 @@ def test_a_key_of_an_excitation_the_model_lacks_names_the_model_s_excitations():
 
 def test_a_clip_far_from_a_node_warns_and_is_said_where_it_acts(tmp_path, capsys):
     """A clip acts at its nearest node: on 4 elements of 0.25 m clips asked at 0.37 and 0.7 m act at
-    0.25 and 0.75 m, farther than CLIP_OFF_NODE (2 % of the route) from where they were asked: the
+    0.25 and 0.75 m, farther than CLIP_OFF_NODE (10 % of an element) from where they were asked: the
     model warns naming each, and `static` prints where they act (it printed 0.37 and 0.7 m beside
-    the reactions of clips at 0.25 and 0.75 m). A clip within 2 % of its node does not warn."""
+    the reactions of clips at 0.25 and 0.75 m). A clip within 10 % of an element of its node (10 mm
+    of 250 mm) does not warn."""
     import warnings
 
     from cablecasing_core.cli import main
