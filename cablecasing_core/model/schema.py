@@ -318,7 +318,8 @@ def _body(body):
                 "float",
                 REQUIRED,
                 "m",
-                "arc length from end A of a clip holding the casing (the nearest node is clipped)",
+                "arc length from end A of a clip holding the casing (the nearest node is clipped; "
+                "geometry.nodes_at_clips = true puts a node there)",
                 Number(gt=0, unit="m"),
                 note="inside the route, its nearest node not an end node and not another clip's",
             ),
