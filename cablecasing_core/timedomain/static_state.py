@@ -33,6 +33,7 @@ the rounding of the positions whose difference is its distance; see ``_Problem.t
 
 from __future__ import annotations
 
+import sys
 import warnings
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
@@ -212,7 +213,11 @@ def solve_static(model: Model, systems: dict, contact: bool, warn_at: int = 1) -
     U = {n: np.zeros(systems[n].ndof) for n in names}
     ev = _Evaluator(model, systems, U, offs) if contact else _NoContact(o)
     problem = _Problem(Kz, fz, p, a, T if pulled else 0.0, ev, _slope_floor(model, fz, T) if contact else 0.0)
-    z, sigma, iterations, steps, residual = _continuation(problem, model.data["cable"]["d"] / 2 if contact else 0.0)
+    try:
+        z, sigma, iterations, steps, residual = _continuation(problem, model.data["cable"]["d"] / 2 if contact else 0.0)
+    except np.linalg.LinAlgError:
+        check_stiffness_representable(systems)  # (a body's stiffness underflowed: named; else a bug)
+        raise
     _scatter(z, U, systems, offs)
     ev.evaluate(z)
     touching = contact and bool(np.any(ev.N > 0.0))
@@ -286,6 +291,79 @@ def solve_static(model: Model, systems: dict, contact: bool, warn_at: int = 1) -
     )
 
 
+def check_stiffness_representable(systems):
+    """Refuse (ModelError naming ``<body>.E``, or ``<body>.I`` when the model sets a second moment
+    below 1e-3 of its tube's, the bound below which the loader warns) a body whose tangent stiffness
+    on its free DOFs is not positive definite: a modulus or second moment so small that K_E underflows
+    in double precision (cable.E = 5e-324 Pa, inside the schema's bounds, under gravity made the static
+    state's solve an internal LinAlgError). The buckling check names a tension's share
+    (``loads.cable_tension``) before the static state is solved; this is the stiffness alone."""
+    from ..errors import ModelError
+    from ..structure.buckling import _stiffness, is_positive_definite
+
+    for name, s in systems.items():
+        if is_positive_definite(s):
+            continue
+        spec = s.spec
+        small_I = spec.I_override is not None and spec.I_override < 1e-3 * s.section.Ip / 2.0
+        key, value = (f"{name}.I", spec.I_override) if small_I else (f"{name}.E", spec.E_ref)
+        raise ModelError(
+            key,
+            value,
+            f"makes the {name}'s stiffness matrix singular in double precision ({_stiffness(s)}: its bending "
+            f"stiffness underflows), so its static state under the model's loads has no solution; give {name}.E "
+            f"the {name}'s modulus (Pa)" + (f" and {name}.I its section's second moment (m4)" if small_I else ""),
+        )
+
+
+class KeptPrestressWarning(ModelWarning):
+    """A body's static state carries another axial force than the prestress its geometric stiffness
+    assumes (:func:`check_kept_prestress`). A property of the model, not of a run: said once per
+    process and model (:func:`warn_once_per_process`), not again in every run of a command or every
+    seed of an ensemble; a :class:`ModelWarning`, filterable on its own."""
+
+
+#: The messages :func:`warn_once_per_process` has said in this process (by their key).
+_SAID_ONCE: set[str] = set()
+
+
+def _filter_action(text, category, frame):
+    """The action the warnings filters give ``text`` of ``category`` warned at ``frame`` (or the
+    default action), matched as warnings.warn matches them: message, category, module, line."""
+    module = frame.f_globals.get("__name__", "<string>") if frame is not None else "sys"
+    lineno = frame.f_lineno if frame is not None else 1
+    for action, msg, cat, mod, ln in warnings.filters:
+        if (
+            (msg is None or msg.match(text))
+            and issubclass(category, cat)
+            and (mod is None or mod.match(module))
+            and (ln == 0 or ln == lineno)
+        ):
+            return action
+    return warnings.defaultaction
+
+
+def warn_once_per_process(text, category=KeptPrestressWarning, stacklevel=2, key=None):
+    """``warnings.warn(text, category, stacklevel)`` unless the message ``key`` (default ``text``)
+    was said before in this process. The warnings filters still decide: under "always" (a test's
+    ``pytest.warns``, a study's sample recording its warnings to say them once itself) or "error"
+    the message is warned every time and not counted as said; under "ignore" it is not said; under
+    the other actions ("default", "module", "once") it is said the first time only, whatever filters
+    other code swapped in meanwhile (``catch_warnings`` resets Python's own record of what was
+    said, so a command that runs the model in several such blocks said it again in each)."""
+    key = text if key is None else key
+    try:
+        frame = sys._getframe(stacklevel)
+    except ValueError:
+        frame = None
+    action = _filter_action(text, category, frame)
+    if action in ("default", "module", "once"):
+        if key in _SAID_ONCE:
+            return
+        _SAID_ONCE.add(key)
+    warnings.warn(text, category, stacklevel=stacklevel + 1)
+
+
 #: The least difference, as a fraction of |N0|, between the axial force a body's end elements
 #: carry in the static state and the prestress N0 its K_G and buckling check take as given, that
 #: is warned of (with :data:`KEPT_PRESTRESS_OF_BUCKLING`).
@@ -353,7 +431,8 @@ def _frequency_effect(ratio, N0, P_cr):
 
 
 def check_kept_prestress(systems, U, exclude=(), gravity=(0.0, 0.0, 0.0), contact=False, held=True, stacklevel=3):
-    """Warn (ModelWarning) when a body with a given prestress N0 (the casing's compression -T, the
+    """Warn (KeptPrestressWarning, a ModelWarning; once per process and model:
+    :func:`warn_once_per_process`) when a body with a given prestress N0 (the casing's compression -T, the
     cable's tension +T when it is a fixed prestress) carries, in the static state U ({body:
     displacements}), an axial force N in an end element that differs from N0 by more than
     KEPT_PRESTRESS |N0| and by more than KEPT_PRESTRESS_OF_BUCKLING P_cr (its buckling load as
@@ -398,7 +477,7 @@ def check_kept_prestress(systems, U, exclude=(), gravity=(0.0, 0.0, 0.0), contac
         if ratio <= KEPT_PRESTRESS_OF_BUCKLING:
             continue
         word = "compression" if s.N0 < 0.0 else "tension"
-        warnings.warn(
+        warn_once_per_process(
             f"{name}: the static state leaves an axial force of {N[0]:.4g} N at end A and {N[1]:.4g} N at end B "
             f"(its end elements, tension positive), not the given {word} N0 = {s.N0:.4g} N of loads.cable_tension, "
             f"which its geometric stiffness K_G and the buckling check assume: |N - N0| = {dN:.4g} N is "
@@ -408,7 +487,7 @@ def check_kept_prestress(systems, U, exclude=(), gravity=(0.0, 0.0, 0.0), contac
             f"bending frequency may be off by about {_frequency_effect(ratio, s.N0, P_cr):.2g} (relative; f goes "
             "as sqrt(1 - P / P_cr)); the model keeps N0 as given (a linear prestress), so this is a limit of the "
             "model to read the results with, not an input to correct",
-            ModelWarning,
+            KeptPrestressWarning,
             stacklevel=stacklevel,
         )
 

@@ -1,6 +1,8 @@
 """The kept-prestress warning (timedomain/static_state.py, ``check_kept_prestress``) on the cases of
 review M: a tension with contact off in a bent route (D6), and a clamped casing against the same
-casing on isolators of 1e12 N/m (D1)."""
+casing on isolators of 1e12 N/m (D1); said once per process and model (an ensemble's seeds, a
+command's several runs), the warnings filters still deciding. And the static state of a body whose
+stiffness underflows in double precision, named."""
 
 from __future__ import annotations
 
@@ -139,3 +141,75 @@ def test_soft_isolators_are_named_with_the_share_they_keep():
     EA_L = 5e9 * np.pi / 4 * (0.0095**2 - 0.004**2) / 0.85
     N = end_axial_forces(assemble_body(model, "casing"), st.U["casing"])
     assert N == pytest.approx(-10.0 * 1e5 / (1e5 + 2 * EA_L), rel=1e-3)
+
+
+def _bent_file(tmp_path, extra=""):
+    """The bent route of the CLI test above as a model file (T = 10 N), with contact off and a random
+    excitation of casing.A.z for an ensemble."""
+    path = tmp_path / "bent.toml"
+    path.write_text(
+        "[geometry]\nn_elements = 30\nsegments = [{straight = 0.2}, {bend = {radius = 0.15, angle_deg = 90, "
+        "toward = [0, 1, 0]}}, {straight = 0.2}]\n[loads]\ncable_tension = 10.0\n[contact]\nenabled = false\n"
+        + "".join(f"[{name}]\n" + "".join(f"{k} = {v!r}\n" for k, v in body.items()) for name, body in BODIES)
+        + "[scenario]\nduration = 0.12\ndt = 1e-5\n[scenario.excitation.x]\nkind = 'random'\ntarget = 'casing.A.z'\n"
+        "rms = 0.1\nband = [10, 2000]\n" + extra
+    )
+    return path
+
+
+@pytest.fixture
+def said_afresh(monkeypatch):
+    """This process as if it had said no kept-prestress warning yet (they are said once per process)."""
+    from cablecasing_core.timedomain import static_state
+
+    monkeypatch.setattr(static_state, "_SAID_ONCE", set())
+
+
+@pytest.mark.slow  # (two ensembles of 3 runs of 0.12 s)
+def test_an_ensemble_of_three_seeds_says_it_once(tmp_path, capsys, said_afresh):
+    """Every seed's static state gives the same warning (a property of the model, not of the run),
+    and 'ensemble --against' runs a second ensemble of the same model: each body's warning is said
+    once in the whole command, not per seed nor per ensemble."""
+    path = _bent_file(tmp_path)
+    args = ["ensemble", str(path), "--seeds", "3", "--skip", "0.01", "--against", "contact.friction=0.2"]
+    assert main(args) == 0
+    err = capsys.readouterr().err
+    for body in ("casing", "cable"):
+        lines = [ln for ln in err.splitlines() if f"{body}: the static state leaves an axial force" in ln]
+        assert len(lines) == 1, err
+        assert lines[0].startswith("cablecasing: warning: seed 1: ")
+
+
+def test_the_warning_is_said_once_per_process_and_the_filters_still_apply(bent, said_afresh):
+    """Under the default action the second static state of the same model says nothing; a filter
+    'always' (what pytest.warns and a study's recording set) or 'error' still gets it every time, and
+    the category is a ModelWarning, filterable on its own."""
+    from cablecasing_core.timedomain.static_state import KeptPrestressWarning
+
+    def said(action):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter(action, KeptPrestressWarning)
+            cc.static_state(bent, contact=False)
+        return [str(w.message) for w in caught if issubclass(w.category, KeptPrestressWarning)]
+
+    assert issubclass(KeptPrestressWarning, ModelWarning)
+    first = said("default")
+    assert sorted(m.split(":")[0] for m in first) == ["cable", "casing"]
+    assert said("default") == []  # (said once in this process)
+    assert said("always") == first  # (a recording filter gets it every time)
+    for _ in range(2):
+        with warnings.catch_warnings(), pytest.raises(KeptPrestressWarning):
+            warnings.simplefilter("error", KeptPrestressWarning)
+            cc.static_state(bent, contact=False)
+    assert said("default") == []
+
+
+def test_a_stiffness_too_small_for_double_precision_is_named(bent):
+    """cable.E = 5e-324 Pa lies inside the schema's bounds (E > 0), but its stiffness matrix underflows:
+    the static state under gravity had no solution and its solve raised LinAlgError (an internal
+    error to the command line and the FMU); it names cable.E, its value and what to give."""
+    model = bent.with_overrides({"cable.E": 5e-324, "loads.gravity": [0.0, 0.0, -9.81], "loads.cable_tension": 0.0})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        with pytest.raises(cc.ModelError, match=r"^cable\.E = 5e-324: makes the cable's stiffness matrix singular"):
+            cc.static_state(model, contact=False)
