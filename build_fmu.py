@@ -360,9 +360,11 @@ def runtime_requirements():
     return ";".join(reqs)
 
 
-def environment_record(guid, version):
+def environment_record(guid, version, model_name=None):
     """resources/python-environment.txt: the interpreter the FMU's binary starts in a host without
-    Python (this build's), the packages it needs, and the GUID the binary checks."""
+    Python (this build's), the packages it needs, the GUID the binary checks and the name of the
+    model file the FMU was built for (``model_name``; empty for the built-in specimen), which the
+    FMU's first log message names."""
     lib = Path(sysconfig.get_config_var("LIBDIR") or "") / (sysconfig.get_config_var("INSTSONAME") or "")
     lines = {
         "executable": sys.executable,
@@ -371,6 +373,7 @@ def environment_record(guid, version):
         "version": version,
         "requirements": runtime_requirements(),
         "guid": guid,
+        "model": model_name or "",
     }
     return "".join(f"{k}={v}\n" for k, v in lines.items()).encode()
 
@@ -537,7 +540,9 @@ def build(out, model_file=None):
         )
         if compile_native(tmp / "CableCasing.so"):
             entries["binaries/linux64/CableCasing.so"] = (tmp / "CableCasing.so").read_bytes()
-        entries["resources/python-environment.txt"] = environment_record(guid, slave_module.CableCasing.version)
+        entries["resources/python-environment.txt"] = environment_record(
+            guid, slave_module.CableCasing.version, model_file.name if model_file else None
+        )
         entries.update(compiled_kernels(entries))
         entries["model.png"] = (doc / "geometry.png").read_bytes()
         part = out.with_name(out.name + ".part")

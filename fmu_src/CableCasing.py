@@ -61,7 +61,6 @@ from cablecasing_core.model.schema import (
     outputs_of,
     value_range,
 )
-from cablecasing_core.model.validators import seconds
 from cablecasing_core.timedomain.engine import (
     ROUNDING_OF_TIME,
     SHORTEST_LONE_STEP,
@@ -154,24 +153,37 @@ def _phase_of(state):
     return phase
 
 
+#: The longest ``model_file`` path a message shows whole; a longer one (no file system takes a name of
+#: 5000 characters) is shown by its start and end, so that what is allowed, after it, still fits the
+#: host's buffer for a log message (fmpy's holds 2047 characters).
+LONGEST_PATH_SHOWN = 600
+
+
+def _path_text(path):
+    """``path`` as a message shows it: repr, whole up to LONGEST_PATH_SHOWN characters."""
+    if len(path) <= LONGEST_PATH_SHOWN:
+        return repr(path)
+    return f"{path[:400]!r}...{path[-150:]!r} ({len(path)} characters)"
+
+
 class ModelFileError(cc.ModelError):
     """A ``model_file`` that gives no model: its message names model_file and the whole path (the
-    core's ModelError cuts a long value short)."""
+    core's ModelError cuts a long value short), up to LONGEST_PATH_SHOWN characters."""
 
     def __init__(self, path, allowed):
         super().__init__("model_file", path, allowed)
-        self.args = (f"model_file = {path!r}: {allowed}",)
+        self.args = (f"model_file = {_path_text(path)}: {allowed}",)
 
 
-def _one_line(exc):
-    """An unexpected exception in one line, ``Type: message`` (a bug: please report it); its
-    traceback too when ``CABLECASING_TRACEBACK`` is set, as on the command line."""
+def _one_line(exc, note=""):
+    """An unexpected exception in one line, ``Type: message`` (a bug: please report it), then
+    ``note``; its traceback too when ``CABLECASING_TRACEBACK`` is set, as on the command line."""
     if isinstance(exc, MemoryError):  # (not a bug: the model does not fit in this machine's memory)
         return (
             "out of memory (MemoryError): the model is too large for this machine; use fewer elements "
             "(geometry.n_elements)"
         )
-    text = f"{type(exc).__name__}: {' '.join(str(exc).split())} (a bug; please report it)"
+    text = f"{type(exc).__name__}: {' '.join(str(exc).split())} (a bug; please report it){note}"
     if os.environ.get("CABLECASING_TRACEBACK"):
         text += "\n" + traceback.format_exc()
     return text
@@ -209,6 +221,8 @@ class CableCasing(Fmi2Slave):
         self._start["scenario.drive"] = False
         self._log_sink = None
         self._tolerance_said = False  # fmi2SetupExperiment's tolerance is said unused once per instance
+        self._end_offset_said = False  # the bodies' end supports set apart across the gap: warned once per instance
+        self._ends, self._ends_engine = None, None  # (_end_offsets: its rows, and the engine they are of)
         # the two arrays the FMU's binary reads and writes directly
         self.inputs_buffer = np.zeros(3 * self.nch)  # u (m), v (m/s), a (m/s2) of the channels
         self._finite_inputs = np.zeros(3 * self.nch, dtype=bool)
@@ -429,6 +443,12 @@ class CableCasing(Fmi2Slave):
                     return ERROR
             else:  # a path (from the host's working folder), or the name of a built-in specimen
                 value = os.path.abspath(value) if value and value not in specimen_names() else value
+        elif kind == "Boolean" and value not in (0, 1):  # (False == 0, True == 1)
+            self.log(
+                f"parameter {key} = {value!r} refused: an fmi2Boolean must be fmi2True (1) or fmi2False (0)",
+                Fmi2Status.error,
+            )
+            return ERROR
         else:
             value = {"Real": float, "Integer": int, "Boolean": bool}[kind](value)
         if self._initialized:
@@ -588,7 +608,7 @@ class CableCasing(Fmi2Slave):
         for key, start in self._start.items():  # (a model file's seeds, read back through fmi2GetInteger)
             if isinstance(start, int) and not isinstance(start, bool) and key in values:
                 fmi_integer(key, values[key])
-        dt = seconds("solver.dt", dt)
+        dt = lookup("scenario.dt").check(dt, "solver.dt")  # (the modelDescription's range of solver.dt, by name)
         self._check_memory(model, dt)
         with renamed({"dt": "solver.dt"}):  # (the engine's range of dt, named as the FMU's parameter)
             return Engine(model, dt=dt, ledger=False)
@@ -706,9 +726,12 @@ class CableCasing(Fmi2Slave):
         except cc.ModelError as exc:
             self._engine = None
             return self._block(f"invalid parameter {self._fmu_message(exc)}")
+        except cc.CableCasingError as exc:  # (the model's own failure, a static state that does not converge)
+            self._engine = None
+            return self._block(f"the model cannot be built: {' '.join(str(exc).split())}{self._set_text()}")
         except Exception as exc:  # noqa: BLE001  (never raise into the host)
             self._engine = None
-            return self._block(f"the model cannot be built: {_one_line(exc)}")
+            return self._block(f"the model cannot be built: {_one_line(exc, self._set_text())}")
         finally:
             self._log_warnings(said)
         problem = self._variables_problem(self._engine)
@@ -724,6 +747,16 @@ class CableCasing(Fmi2Slave):
         self._engine.output_values(self.outputs_buffer)
         self._prepare_drive(say=True)
         return True
+
+    def _set_text(self):
+        """The parameters the master set, for a message of a model that cannot be built without one
+        key to blame (``; parameters set: casing.I = 5e-324, loads.gravity.y = 10000.0``), else ''."""
+        if not self._set:
+            return ""
+        shown = [f"{k} = {v!r}" for k, v in self._set.items()]
+        if len(shown) > 12:
+            shown = shown[:12] + [f"and {len(shown) - 12} more"]
+        return "; parameters set: " + ", ".join(shown)
 
     def _prepare_drive(self, say=False):
         """With scenario.drive, the costly part of the scenario's motion now, not inside the steps
@@ -932,7 +965,7 @@ class CableCasing(Fmi2Slave):
             self._discarded, self._wants_to_end = None, False
             return OK
         if n == 0 and rest < SHORTEST_LONE_STEP * eng.dt:
-            self.log(self._too_short(current_time, step_size, eng.dt), Fmi2Status.discard)
+            self.log(self._too_short(current_time, step_size, eng.dt, self._dt_source()), Fmi2Status.discard)
             return self._discard(current_time, step_size)
         x = self.inputs_buffer
         if not np.isfinite(x, out=self._finite_inputs).all():  # (not x @ x: it overflows, with a warning, past 1e154)
@@ -962,6 +995,14 @@ class CableCasing(Fmi2Slave):
         self._start_time = (current_time + step_size) - eng.time
         if self._discarded is not None:
             self._discarded, self._wants_to_end = None, False
+        if not self._end_offset_said:  # (of a step taken: a discarded one has its own message)
+            if self._ends_engine is not eng:
+                self._ends, self._ends_engine = self._end_offsets(eng), eng
+            if self._ends is not None:
+                r = (self._ends[0] @ self._u).tolist()  # (m: the ends' offsets across the route, 2 components each)
+                g2 = self._ends[1]
+                if r[0] * r[0] + r[1] * r[1] > g2 or r[2] * r[2] + r[3] * r[3] > g2:
+                    self._say_end_offset(r, current_time)
         return OK
 
     def _say_start_offset(self, current_time, step_size):
@@ -986,11 +1027,79 @@ class CableCasing(Fmi2Slave):
             Fmi2Status.warning,
         )
 
+    def _end_offsets(self, eng):
+        """(rows, gap^2) of the check that the position inputs do not set the casing's and the cable's
+        supports at one end apart across the route by more than the radial gap (:meth:`_say_end_offset`),
+        or None when it cannot matter (contact off, one body). The bodies share their end nodes (one
+        centerline: cable node 0 is casing node 0), and the contact measures the cable node's distance
+        from the casing's axis in the node's normal plane, across the route's tangent t there; an offset
+        along t slides the cable in the casing. rows (4 x channels): for end A then B, two unit vectors
+        normal to t applied to (casing's inputs - cable's inputs) at that end; an end where either body's
+        support is free (its input moves nothing) has zero rows."""
+        if not eng.contact:
+            return None
+        rows = np.zeros((4, self.nch))
+        model = eng.model
+        for k, (end, node) in enumerate((("A", 0), ("B", -1))):
+            if "free" in (model.data[body]["supports"][end] for body in ("casing", "cable")):
+                continue
+            t = eng.Tc[node] / np.linalg.norm(eng.Tc[node])
+            e1 = np.cross(t, np.eye(3)[int(np.argmin(np.abs(t)))])
+            e1 /= np.linalg.norm(e1)
+            e2 = np.cross(t, e1)
+            casing, cable = (CHANNELS.index(f"{body}.{end}.x") for body in ("casing", "cable"))
+            for j, e in enumerate((e1, e2)):
+                rows[2 * k + j, casing : casing + 3] = e
+                rows[2 * k + j, cable : cable + 3] = -e
+        if not rows.any():
+            return None
+        return rows, eng.gap * eng.gap
+
+    def _say_end_offset(self, r, current_time):
+        """Warn (once per instance) that the position inputs set the two bodies' supports at an end
+        apart across the route by more than the radial gap: the bodies share their end position, so
+        the cable is pressed into the casing's wall there by the excess (1 mm at a clamped end of the
+        built-in specimen, 0.5 mm past its gap, gives 5.9 kN); said after the step, which was taken as given."""
+        self._end_offset_said = True
+        eng = self._engine
+        for k, end in enumerate("AB"):
+            across = math.hypot(r[2 * k], r[2 * k + 1])
+            if across * across <= self._ends[1]:
+                continue
+            given = []
+            for d in "xyz":
+                a, b = (float(self._u[CHANNELS.index(f"{body}.{end}.{d}")]) for body in ("casing", "cable"))
+                if a != b:
+                    given.append(f"casing.{end}.{d} = {a!r} m, cable.{end}.{d} = {b!r} m")
+            t = eng.Tc[0 if end == "A" else -1]
+            t = t / np.linalg.norm(t)
+            self.log(
+                f"position inputs at t = {current_time:.9g} s set the casing's and the cable's supports at end {end} "
+                f"{across * 1e3:.4g} mm apart across the route ({'; '.join(given)}: their difference normal to the "
+                f"route's tangent [{t[0]:.4g}, {t[1]:.4g}, {t[2]:.4g}] there), more than the radial gap "
+                f"{eng.gap * 1e3:.4g} mm between cable and casing (contact.enabled, casing.d_inner, cable.d): the two "
+                f"bodies share their end position, so the cable is pressed into the casing's wall there by the excess, "
+                f"{(across - eng.gap) * 1e3:.3g} mm, with a contact force that grows steeply with it (0.5 mm at a "
+                "clamped end of the built-in specimen: 5.9 kN); give both bodies' supports at an end the same motion "
+                "across the route (along it the cable slides in the casing), or check how these inputs are "
+                "connected (said once per instance; this step was taken with them)",
+                Fmi2Status.warning,
+            )
+            return
+
+    def _dt_source(self):
+        """Where solver.dt's value comes from, for a message that names it: '' when the master set it,
+        else the model's scenario.dt (the master's, when it set that)."""
+        if "solver.dt" in self._set:
+            return ""
+        return f" (the model's scenario.dt{', as set' if 'scenario.dt' in self._set else ''}: solver.dt is not set)"
+
     @staticmethod
-    def _too_short(current_time, step_size, dt):
+    def _too_short(current_time, step_size, dt, source=""):
         """The message of a step too short for a Newmark step of its own (between 1e-6 and 1e-3
-        solver.dt, Engine.advance): nothing is computed; it names solver.dt and the largest value,
-        three digits rounded down, with which the step would be taken."""
+        solver.dt, Engine.advance): nothing is computed; it names solver.dt (and ``source``, where its
+        value comes from) and the largest value, three digits rounded down, with which the step would
+        be taken."""
         need = step_size / SHORTEST_LONE_STEP
         digits = 10.0 ** (math.floor(math.log10(need)) - 2)
         fit = math.floor(need / digits) * digits
@@ -1005,8 +1114,8 @@ class CableCasing(Fmi2Slave):
         )
         return (
             f"doStep from t = {current_time!r} s over h = {step_size!r} s refused, nothing computed (the FMU stays "
-            f"at t = {current_time!r} s): the step is {step_size / dt:.3g} of solver.dt = {dt!r} s, too short for "
-            f"a Newmark step of its own, which must be at least {SHORTEST_LONE_STEP:g} solver.dt "
+            f"at t = {current_time!r} s): the step is {step_size / dt:.3g} of solver.dt = {dt!r} s{source}, too short "
+            f"for a Newmark step of its own, which must be at least {SHORTEST_LONE_STEP:g} solver.dt "
             f"({SHORTEST_LONE_STEP * dt:.6g} s; a step of at most {ROUNDING_OF_TIME:g} solver.dt is a clock's "
             "rounding: no time): its accelerations lose their digits; "
             f"{fix}, or take a longer step (a master that shortens its last step to land on stopTime can add "

@@ -17,7 +17,8 @@ What happens once per process and FMU (keyed by the FMU's GUID):
   same process: the modules stay imported and every file they read later is still there;
 * the numba cache shipped in ``resources/numba_cache`` seeds the kernels' cache folder, so a first
   start does not compile; if the machine code does not fit (another CPU, Python or numba), numba
-  compiles and this module says so in the log while it happens.
+  compiles and this module says so in the log while it happens: once per process (whichever
+  CableCasing FMUs it holds), in the log of the instance whose call compiles (:class:`_CompileNotice`).
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ import tempfile
 import threading
 import time
 import traceback
+import types
 
 OK, WARNING, DISCARD, ERROR = 0, 1, 2, 3
 _LOG_FN = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_char_p, ctypes.c_int)
@@ -172,31 +174,93 @@ def kernel_cache_dirs():
     return sorted(dirs)
 
 
-def _compile_notice(log, cache_dir):
-    """A numba event listener that says, while it happens, that numba compiles a kernel of the
-    model (no cached machine code fits this CPU, Python and numba): the log's first message."""
-    from numba.core import event
+# The compile notice's state, one per process: every FMU (every GUID) of a process imports this file
+# as a bridge module of its own, so it is kept on the sys module, the one thing they all share (as the
+# slave keeps its warnings lock on the warnings module).
+_NOTICE = sys.__dict__.setdefault(
+    "_cablecasing_fmu_compile_notice",
+    types.SimpleNamespace(lock=threading.Lock(), live=[], caller=threading.local(), listener=None, said_in=None),
+)
 
-    class CompileNotice(event.Listener):
-        said = False
 
-        def on_start(self, ev):
-            if self.said:
+class _CompileNotice:
+    """The notice that numba compiles the model's kernels (no cached machine code fits this CPU,
+    Python and numba): said once per process, while it happens, as the first message of the
+    compilation, whichever instance of whichever CableCasing FMU compiles. One numba event listener
+    serves every instance of the process (:data:`_NOTICE`); it is registered while an instance lives
+    and unregistered with the last (nothing of it outlives fmi2FreeInstance). The notice goes to the
+    instance whose FMI call runs on the compiling thread (``_NOTICE.caller``, set by
+    :meth:`Instance._guard`), else to the oldest live instance; an instance whose call compiles after
+    the notice was said in another one gets one short line (info). Compilations of other code (the
+    host's own numba functions) are not the model's and are not announced."""
+
+    @staticmethod
+    def join(instance):
+        """``instance`` lives: it may hear the notice; the listener is registered with the first."""
+        with _NOTICE.lock:
+            _NOTICE.live.append(instance)
+            if _NOTICE.listener is None:
+                try:
+                    from numba.core import event
+
+                    class Listener(event.Listener):
+                        def on_start(self, ev):
+                            _CompileNotice.compiling(ev)
+
+                        def on_end(self, ev):
+                            pass
+
+                    listener = Listener()
+                    event.register("numba:compile", listener)
+                    _NOTICE.listener = listener
+                except Exception:  # noqa: BLE001  (a numba without the event API: no notice, nothing else changes)
+                    pass
+
+    @staticmethod
+    def leave(instance):
+        """``instance`` is freed; the listener goes with the last live instance."""
+        with _NOTICE.lock:
+            if instance in _NOTICE.live:
+                _NOTICE.live.remove(instance)
+            listener = _NOTICE.listener if not _NOTICE.live else None
+            if listener is not None:
+                _NOTICE.listener = None
+                try:
+                    from numba.core import event
+
+                    event.unregister("numba:compile", listener)
+                except Exception:  # noqa: BLE001
+                    pass
+
+    @staticmethod
+    def compiling(ev):
+        dispatcher = (ev.data or {}).get("dispatcher")
+        module = str(getattr(getattr(dispatcher, "py_func", None), "__module__", None) or "")
+        if module.split(".")[0] != "cablecasing_core":  # (the host's own numba code)
+            return
+        with _NOTICE.lock:
+            instance = getattr(_NOTICE.caller, "instance", None)
+            if instance is None or instance not in _NOTICE.live:
+                instance = _NOTICE.live[0] if _NOTICE.live else None
+            if instance is None or instance._compile_told:
                 return
-            self.said = True
-            name = getattr((ev.data or {}).get("dispatcher"), "__qualname__", "?")
-            log(
+            instance._compile_told = True
+            first, _NOTICE.said_in = _NOTICE.said_in is None, _NOTICE.said_in or instance._name
+        name = getattr(dispatcher, "__qualname__", "?")
+        if first:
+            instance._log(
                 WARNING,
                 "compiling the model's numba kernels for this machine (no cached machine code in "
-                f"{cache_dir} fits this model's kernels on this CPU, Python and numba: the FMU ships those "
-                "of its base model, the installed specimen and gravity); this takes 30-60 s once, later "
-                f"starts load them from there (first kernel: {name})",
+                f"{instance._cache_text} fits this model's kernels on this CPU, Python and numba: the FMU ships "
+                "those of its base model, the installed specimen and gravity); this takes 30-60 s once, later "
+                f"starts load them from there (first kernel: {name}; said once per process)",
             )
-
-        def on_end(self, ev):
-            pass
-
-    return CompileNotice()
+        else:
+            instance._log(
+                OK,
+                f"compiling more of the model's numba kernels (first: {name}); said in full once per process, "
+                f"in the log of instance {_NOTICE.said_in!r}",
+            )
 
 
 def _c_strings(addr, n):
@@ -210,10 +274,12 @@ class Instance:
         self._log_c = _LOG_FN(log_addr)
         self._handle = handle
         self._keep = []  # strings handed to C by get_string, alive until the next call
+        self._name = name
         env = _read_environment(resources)
+        built_for = f" built for the model file {env['model']}" if env.get("model") else ""
         self._log(
             OK,
-            f"CableCasing.fmu {env.get('version', '?')} (FMI {fmi_version}): {python_note}; "
+            f"CableCasing.fmu {env.get('version', '?')}{built_for} (FMI {fmi_version}): {python_note}; "
             f"Python executable {sys.executable}",
         )
         if env.get("guid") and guid != env["guid"]:
@@ -235,8 +301,18 @@ class Instance:
             if module is None:
                 module = self._load(resources, guid)
         self._module = module
-        self._install_compile_notice(", ".join(module.numba_cache_dirs) or "(no cache folder)")
-        self._slave = module.CableCasing(instance_name=name, resources=resources, visible=visible)
+        self._cache_text = ", ".join(module.numba_cache_dirs) or "(no cache folder)"
+        self._compile_told = False  # (told of numba compiling: _CompileNotice, once per instance at most)
+        self._slave = None
+        _CompileNotice.join(self)
+        outer, _NOTICE.caller.instance = getattr(_NOTICE.caller, "instance", None), self
+        try:
+            self._slave = module.CableCasing(instance_name=name, resources=resources, visible=visible)
+        except BaseException:
+            _CompileNotice.leave(self)
+            raise
+        finally:
+            _NOTICE.caller.instance = outer
         self._slave.attach_log_sink(self._log)
         # the binary calls this every step: the slave's own method, which raises nothing (an
         # exception that escapes anyway is fmi2Error with its message in the C side)
@@ -304,15 +380,6 @@ class Instance:
         )
         return module
 
-    def _install_compile_notice(self, cache):
-        try:
-            from numba.core import event
-
-            self._notice = _compile_notice(self._log, cache)
-            event.register("numba:compile", self._notice)
-        except Exception:  # noqa: BLE001  (a numba without the event API: no notice, nothing else changes)
-            self._notice = None
-
     def _bind(self):
         s = self._slave
         self.input_address = s.inputs_buffer.ctypes.data
@@ -335,12 +402,17 @@ class Instance:
         raise FMUStartError(message)
 
     def _guard(self, what, fn, *args):
-        """Run ``fn``; an exception becomes fmi2Error with its traceback in the log."""
+        """Run ``fn`` as this instance's call (the compile notice's hearer: _CompileNotice); an
+        exception becomes fmi2Error with its traceback in the log."""
+        caller = _NOTICE.caller
+        outer, caller.instance = getattr(caller, "instance", None), self
         try:
             return fn(*args)
         except Exception as exc:  # noqa: BLE001
             self._log(ERROR, f"internal error in {what}: {exc!r}\n{traceback.format_exc()}")
             return ERROR
+        finally:
+            caller.instance = outer
 
     # ---------------------------------------------------------------------------------- life cycle
     def setup_experiment(self, tol_defined, tol, start, stop_defined, stop):
@@ -365,19 +437,12 @@ class Instance:
         return self._guard("fmi2Reset", self._slave.fmi2_reset)
 
     def free(self):
-        if getattr(self, "_notice", None) is not None:
-            try:
-                from numba.core import event
-
-                event.unregister("numba:compile", self._notice)
-            except Exception:  # noqa: BLE001
-                pass
+        _CompileNotice.leave(self)  # (the last instance takes the process's numba listener along)
         # The slave, its engine and this instance go at once, by reference counting, not at the
         # cyclic garbage collector's next run (a C host's instance per run held every engine until
         # then): the slave drops its variables' closures (which refer back to it), and this instance
-        # its references to the slave (do_step is its bound method) and the compile notice's
-        # listener (whose log is this instance's bound method).
-        slave, self._slave, self.do_step, self._notice = self._slave, None, None, None
+        # its references to the slave (do_step is its bound method).
+        slave, self._slave, self.do_step = self._slave, None, None
         if slave is not None:
             slave.fmi2_free_instance()
         return OK
@@ -433,7 +498,7 @@ class Instance:
 
     def set_boolean(self, vr_addr, n, in_addr):
         vrs = (ctypes.c_uint * n).from_address(vr_addr)
-        values = [bool(v) for v in (ctypes.c_int * n).from_address(in_addr)]
+        values = list((ctypes.c_int * n).from_address(in_addr))  # (ints: the slave refuses one that is not 0 or 1)
         return self._guard("fmi2SetBoolean", self._slave.fmi2_set, "Boolean", vrs, values)
 
     def set_string(self, vr_addr, n, in_addr):

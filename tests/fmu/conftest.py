@@ -1,10 +1,14 @@
 """The FMU's test driver as a fixture: tests/fmu/fmu_driver.py runs each scenario in a fresh
 process (it is a script; the test process only prepares inputs and reads the results); the core's
-run of an FMU's input table; the FMU built for a model file with clips."""
+run of an FMU's input table; the FMU built for a model file with clips; tests/fmu/fmu_probe.py, a
+host of FMUs in a process of its own that a test sends requests to (``fmu_probe``)."""
 
 import importlib.util
+import json
+import select
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -74,3 +78,66 @@ def installed_fmu(tmp_path_factory):
         capture_output=True,
     )
     return path
+
+
+class ProbeHost:
+    """A running tests/fmu/fmu_probe.py (a Python host of FMUs in a process of its own):
+    ``call(op, **arguments)`` sends one request and returns its answer (a dict); a host that died
+    (the FMU crashed it) or stays silent past ``timeout`` s fails the test with its exit status and
+    stderr."""
+
+    def __init__(self, env=None, timeout=120.0):
+        self.timeout = timeout
+        self.err = tempfile.TemporaryFile(mode="w+")
+        self.proc = subprocess.Popen(
+            [sys.executable, str(Path(__file__).with_name("fmu_probe.py"))],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            stderr=self.err,
+            text=True,
+            env=env,
+        )
+
+    def _died(self, what):
+        self.err.seek(0)
+        return f"the FMU's host {what} (exit status {self.proc.poll()}):\n{self.err.read()[-4000:]}"
+
+    def call(self, op, **arguments):
+        self.proc.stdin.write(json.dumps({"op": op, **arguments}) + "\n")
+        self.proc.stdin.flush()
+        ready, _, _ = select.select([self.proc.stdout], [], [], self.timeout)
+        if not ready:
+            self.proc.kill()
+            pytest.fail(self._died(f"did not answer {op} {arguments} within {self.timeout} s"))
+        line = self.proc.stdout.readline()
+        if not line:
+            self.proc.wait(10)
+            pytest.fail(self._died(f"died in {op} {arguments}"))
+        answer = json.loads(line)
+        assert answer.pop("ok"), answer["error"]
+        return answer
+
+    def close(self):
+        if self.proc.poll() is None:
+            self.proc.stdin.close()
+            try:
+                self.proc.wait(30)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+        self.err.close()
+        return self.proc.returncode
+
+
+@pytest.fixture
+def fmu_probe():
+    """``start(env=None, timeout=120)``: a new :class:`ProbeHost`; the test's hosts are closed after
+    it, each of which must then exit with status 0 (no crash at the end of the process either)."""
+    hosts = []
+
+    def start(env=None, timeout=120.0):
+        hosts.append(ProbeHost(env, timeout))
+        return hosts[-1]
+
+    yield start
+    codes = [h.close() for h in hosts]
+    assert codes == [0] * len(codes), codes
