@@ -183,7 +183,7 @@ def buckling(system) -> Buckling:
     :class:`~cablecasing_core.Model`: :func:`body_buckling` takes one) raises :class:`ModelError`
     naming ``system``."""
     from .assembly import BodySystem
-    from .support_check import free_rigid_basis, free_rigid_motion
+    from .support_check import free_rigid
 
     if not isinstance(system, BodySystem):
         source = getattr(system, "source", None)
@@ -195,11 +195,10 @@ def buckling(system) -> Buckling:
         )
 
     text = supports_text(system)
-    free = free_rigid_motion(system)
+    free, Phi = free_rigid(system)  # (Phi orthonormal: the null space of K_E)
     KE, KG = _free_blocks(system)  # (dense: BodySystem.augmented)
     undriven, Q = None, None
     if free is not None:
-        Phi = free_rigid_basis(system)  # (orthonormal: the null space of K_E)
         if _drives(KG, Phi):
             return Buckling(system.name, 0.0, None, text, mechanism=f"it is free to move: {free}")
         # The compression does no work on the free motions (a twist about a straight body's own axis,

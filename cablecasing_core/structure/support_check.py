@@ -138,30 +138,22 @@ def _analysis(centerline, mounts, clamped, mass_per_length, gravity):
     return Z, None, float(u), F, x0, L
 
 
-def free_rigid_motion(system):
-    """The rigid motion, in words, that the supports and mounts of ``system`` (an assembled
-    BodySystem) leave free, or None when a clamped support or the mounts hold every one."""
-    clamped = "clamped" in system.spec.supports.values()
-    if clamped:
-        return None
-    return _analysis(system.centerline, system.mounts, False, 0.0, np.zeros(3))[1]
-
-
-def free_rigid_basis(system):
-    """The rigid motions the supports and mounts of ``system`` (an assembled BodySystem) leave free,
-    as displacements of its free DOFs (augmented: the mounts' support nodes stay at rest):
-    (n_free x k, orthonormal columns; k = 0 when a clamped support or the mounts hold every one)."""
+def free_rigid(system):
+    """What the supports and mounts of ``system`` (an assembled BodySystem) leave free, from one
+    analysis of its rigid motions: (the rigid motion, in words, or None when a clamped support or
+    the mounts hold every one; those motions as displacements of its free DOFs, augmented: the
+    mounts' support nodes stay at rest, n_free x k with orthonormal columns, k = 0 when held)."""
     n = len(system.free)
     if "clamped" in system.spec.supports.values():
-        return np.zeros((n, 0))
+        return None, np.zeros((n, 0))
     cl = system.centerline
-    Z, _, _, _, x0, L = _analysis(cl, system.mounts, False, 0.0, np.zeros(3))
+    Z, free, _, _, x0, L = _analysis(cl, system.mounts, False, 0.0, np.zeros(3))
     if not Z.shape[1]:
-        return np.zeros((n, 0))
+        return None, np.zeros((n, 0))
     U = np.zeros((system.n_augmented, Z.shape[1]))
     for i, x in enumerate(cl.nodes):
         U[6 * i : 6 * i + 6] = _rows(x - x0, L) @ Z
-    return np.linalg.qr(U[system.free])[0]
+    return free, np.linalg.qr(U[system.free])[0]
 
 
 def axial_stiffness(mounts, end):
