@@ -12,6 +12,7 @@ from .assignments import add_model_argument, model_argument, typed
 
 
 def cmd_static(args):
+    from ..model.validators import contact_in_force
     from ..timedomain.body_storage import time_domain_system
     from ..timedomain.static_state import solve_static
     from .paths import check_output_path
@@ -30,7 +31,7 @@ def cmd_static(args):
     # (the bodies as the time domain assembles them, once: the solve, the buckling load and the end
     # forces of a tension without contact all read these; static_state would assemble its own)
     systems = {n: time_domain_system(model, n) for n in model.bodies}
-    contact = not args.no_contact and model.contact["enabled"] and len(systems) == 2
+    contact = contact_in_force(model, False if args.no_contact else None)
     st = solve_static(model, systems, contact)
     buckled = _buckling(systems)
     if args.json:

@@ -413,6 +413,14 @@ def check_contact(value):
     return value
 
 
+def contact_in_force(model, contact=None) -> bool:
+    """Whether a run or a static state of ``model`` has contact: ``contact`` (:func:`check_contact`:
+    None takes the model's ``contact.enabled``) and both bodies (the contact is between them). One
+    rule for ``simulate``, ``Engine``, ``static_state`` and ``cablecasing static``."""
+    contact = model.contact["enabled"] if check_contact(contact) is None else bool(contact)
+    return contact and "casing" in model.bodies and "cable" in model.bodies
+
+
 def mapping(key: str, value, what: str) -> Mapping:
     """``value`` when it is a mapping (a ``dict``), else a :class:`ModelError` naming ``key``, the
     value and ``what`` it must hold."""

@@ -31,7 +31,7 @@ from numpy.typing import ArrayLike
 from ..errors import CableCasingError, ModelError, SimulationError
 from ..model.schema import CHANNELS, CONTACT_LAWS, OUTPUTS, channels_of, lookup, outputs_of
 from ..model.validate import check_tolerance_substeps
-from ..model.validators import check_contact, seconds
+from ..model.validators import contact_in_force, seconds
 from . import kernels as K
 from .body_storage import FACTOR_CACHE_SIZE, BodyStorage, BoundedCache, body_arrays
 from .support_motion import _coefficient_matrix
@@ -164,7 +164,7 @@ class Engine:
     ):
         dt = model.scenario["dt"] if dt is None else dt
         lookup("scenario.dt").check(dt, "dt")
-        check_contact(contact)
+        contact = contact_in_force(model, contact)
         self.model = model
         self._structure = model.fingerprint(scenario=False)  # (what a state of this engine belongs to)
         self.dt = float(dt)
@@ -174,8 +174,7 @@ class Engine:
         self.bodies = {n: BodyStorage(model, n, channels=self.channels) for n in model.bodies}
         self.n_forces = 24 + (len(self.output_names) - len(OUTPUTS))  # recorded: the supports', the clips' forces
         both = "casing" in self.bodies and "cable" in self.bodies
-        contact = model.contact["enabled"] if contact is None else bool(contact)
-        self.contact = contact and both
+        self.contact = contact
         self.static = self._install(model)
         self.ledger_on = bool(ledger)
         self.record = bool(record)

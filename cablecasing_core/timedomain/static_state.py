@@ -43,7 +43,7 @@ from scipy.linalg import solve_banded
 
 from ..errors import ModelWarning, SimulationError
 from ..model.schema import BODY_NAMES, CONTACT_LAWS, FORCE_NAMES, SUPPORT_NAMES, SUPPORT_OUTPUTS
-from ..model.validators import Choice, check_contact, check_model
+from ..model.validators import Choice, check_model, contact_in_force
 from ..structure.loads import gravity_load
 from . import kernels as K
 
@@ -170,10 +170,9 @@ def static_state(model: Model, contact: bool | None = None) -> StaticState:
     from .body_storage import time_domain_system
 
     check_model(model)
-    check_contact(contact)
+    contact = contact_in_force(model, contact)
     systems = {n: time_domain_system(model, n) for n in model.bodies}
-    contact = model.contact["enabled"] if contact is None else bool(contact)
-    return solve_static(model, systems, contact and len(systems) == 2, warn_at=2)
+    return solve_static(model, systems, contact, warn_at=2)
 
 
 def _law(model):
