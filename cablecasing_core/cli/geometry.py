@@ -14,7 +14,7 @@ from .assignments import add_model_argument, model_argument
 
 def cmd_geometry(args):
     from ..structure.buckling import buckling
-    from ..structure.route_summary import geometry_summary, plausibility_warnings
+    from ..structure.route_summary import band_advice, band_advice_lines, geometry_summary, plausibility_warnings
     from .paths import check_output_path
 
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
@@ -30,10 +30,10 @@ def cmd_geometry(args):
     casing = _compressed_casing(model)
     buckled = [] if casing is None else [buckling(casing)]
     clips = _clips(model, casing)
+    band = band_advice(model, g)
     if args.json:
-        print(
-            json.dumps({**{k: g[k] for k in keys}, "clips": clips, "buckling": {b.body: b.as_dict() for b in buckled}})
-        )
+        loads = {b.body: b.as_dict() for b in buckled}
+        print(json.dumps({**{k: g[k] for k in keys}, "clips": clips, "buckling": loads, "band_advice": band}))
     else:
         print(f"routing ({g['source']}) of {model.source}")
         print(f"  length            {g['length_m']:.6g} m")
@@ -58,6 +58,7 @@ def cmd_geometry(args):
             )
         for b in buckled:
             print(f"  buckling          {b.text()}")
+        print("\n".join(band_advice_lines(band)))
     for w in route:
         warnings.warn(w, stacklevel=1)
     for w in _buckling_warnings(model, buckled):
@@ -105,9 +106,11 @@ def add_parser(sub):
         action="store_true",
         help="print JSON {length_m, min_radius_m, min_radius_at_m, total_bend_deg, gap_m, element_length_m, "
         "bends: [{start_m, radius_m, min_radius_m, angle_deg}], "
-        "buckling: {casing: {load_N, at_m, supports, mechanism}}} (arc "
+        "buckling: {casing: {load_N, at_m, supports, mechanism}}, band_advice: {f_top_hz, set_by, dt_s, "
+        "period_error, dt_for_advised_s, n_elements, bodies: {casing: {wavelength_m, axial_force_N, "
+        "elements_per_wavelength}}, n_elements_for_advised, not_counted} or null} (arc "
         "lengths from end A; the buckling load of the casing as built, the most compression, i.e. cable tension, it "
-        "carries)",
+        "carries; the bending wavelength at the excitation's top, Newmark's period error there, 0.01 is 1 %%)",
     )
     p.add_argument("--plot", help="figure to write (.png): 3D routing with supports and clips, curvature along it")
     p.set_defaults(func=cmd_geometry)

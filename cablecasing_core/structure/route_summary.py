@@ -12,6 +12,10 @@ the run's largest curvature. A polyline has no curvature but corners: each corne
 :data:`KINK_DEG` is a kink, a bend of radius 0 and the angle between its two chords; a corner
 below it, as in a polyline through many points of an arc, turns by its angle over the mean of its
 two chords, which is the radius of that arc (the total bend counts every corner).
+
+The band advice (:func:`band_advice`) sets the mesh and the time step against the scenario's
+excitation band: each body's bending wavelength at the band's top and the elements on it, and
+Newmark's period error there with ``scenario.dt``.
 """
 
 from __future__ import annotations
@@ -19,7 +23,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..model.schema import MAX_ELEMENTS
+from .assembly import axial_prestress
 from .geometry import build_centerline, centerline_of, route_of
+from .sections import section_of
 
 BEND_CURVATURE = 2.0  # 1/m, curvature above which a point-defined route counts as bent
 BEND_MIN_DEG = 2.0  # degrees: a run above BEND_CURVATURE that turns less is ripple, not a bend
@@ -202,14 +208,197 @@ def length_warning(length, long_only=False):
     return None
 
 
+# The band advice's thresholds, from the built-in specimen's mesh study (docs/time_domain.md, "The mesh":
+# the largest error of the modes in each Table 3 band at 35 elements, whose tops 1420, 2840 and 5680 Hz
+# put 4.1, 2.9 and 2.0 elements on the casing's bending wavelength and 3.9, 2.7 and 1.9 on the cable's):
+# the modes are at most 0.5-0.6 % high with 4 per wavelength at the band's top (710-1420 Hz), 1.7-2.5 %
+# with 2.7-2.9 (1420-2840 Hz) and 9.5-10.3 % with 2 (2840-5680 Hz), so the bodies' own error grows about
+# as the fourth power of the element length, and 6 per wavelength puts it near 0.1 %. The levels with
+# contact converge more slowly than the modes (the same section); these bound the bodies' share only.
+MIN_PER_WAVELENGTH = 4.0  # elements per bending wavelength at the band's top below which geometry warns
+ADVISED_PER_WAVELENGTH = 6.0  # what the warning's n_elements gives
+# Newmark's relative period error (2 pi f dt)^2 / 12 above which geometry warns, and the one its dt gives:
+# 1 % is the error at the top of Table 3 (5680 Hz) at the specimens' 1e-5 s; their own band's top, 1 kHz,
+# has 0.033 %, and the time step's tables (docs/time_domain.md) show their levels converged there.
+MAX_PERIOD_ERROR = 0.01
+ADVISED_PERIOD_ERROR = 0.005
+
+
+def newmark_period_error(f_hz, dt):
+    """Newmark's relative period error at ``f_hz`` (Hz) with the step ``dt`` (s), (2 pi f dt)^2 / 12
+    (dimensionless; 0.01 is 1 %): the average acceleration rule (gamma = 1/2, beta = 1/4, the time
+    domain's) steps an undamped oscillator of angular frequency w at the frequency W of
+    tan(W dt / 2) = w dt / 2, so its period is T (w dt / 2) / arctan(w dt / 2), too long by
+    (w dt)^2 / 12 - (w dt)^4 / 180 + ...: the leading term (docs/time_domain.md), which overstates the
+    error by (w dt)^2 / 15 of itself (0.8 % of a 1 % error). Verified against the average acceleration
+    rule stepped by hand in tests/model/test_mesh_advice.py."""
+    return (2.0 * np.pi * np.asarray(f_hz, dtype=float) * dt) ** 2 / 12.0
+
+
+def step_for_period_error(f_hz, error):
+    """The longest step dt (s) of two significant digits (a value to type) at which
+    :func:`newmark_period_error` at ``f_hz`` (Hz) is at most ``error`` (0.005: 0.5 %)."""
+    dt = float(np.sqrt(12.0 * error) / (2.0 * np.pi * f_hz))
+    e = int(np.floor(np.log10(dt))) - 1
+    return float(f"{int(np.floor(dt / 10.0**e * (1 + 1e-12)))}e{e}")  # (1.9e-05, not 1.8999999999999998e-05)
+
+
+def bending_wavelength(EI, rho_A, P, f_hz):
+    """The bending wavelength (m) at ``f_hz`` (Hz) of an Euler-Bernoulli beam of bending stiffness
+    ``EI`` (N m2) and mass per length ``rho_A`` (kg/m) under the axial force ``P`` (N, tension
+    positive): 2 pi / k with EI k^4 + P k^2 = rho_A w^2, k^2 = (-P + sqrt(P^2 + 4 EI rho_A w^2)) / (2 EI).
+    A tension lengthens the wave, a compression shortens it."""
+    w = 2.0 * np.pi * f_hz
+    k2 = (-P + np.sqrt(P * P + 4.0 * EI * rho_A * w * w)) / (2.0 * EI)
+    return float(2.0 * np.pi / np.sqrt(k2))
+
+
+def excitation_top(model):
+    """The top of the scenario's excitation band: (f_top in Hz, which excitation sets it and how, in words),
+    the highest of each random excitation's upper band edge, each harmonic's frequency and each
+    impulse's 1 / width (Hz; a Hann bump of width w holds most of its spectrum below 1 / w), counting
+    those that move (a non-zero RMS or amplitude); None when there is none. A CSV table's content is
+    not known without reading the file and is not counted (:func:`band_advice` names them)."""
+    top = None
+    for name, e in model.scenario.get("excitation", {}).items():
+        kind = e["kind"]
+        key = f"scenario.excitation.{name}"
+        if kind == "random" and e["rms"] > 0:
+            f, what = float(e["band"][1]), f"the upper edge of {key}'s random band"
+        elif kind == "harmonic" and e["amplitude"] != 0:
+            f, what = float(e["frequency"]), f"the frequency of {key}, harmonic"
+        elif kind == "impulse" and e["amplitude"] != 0:
+            f, what = 1.0 / float(e["width"]), f"one over the width of {key}, an impulse of {e['width']:g} s"
+        else:
+            continue
+        if top is None or f > top[0]:
+            top = (f, what)
+    return top
+
+
+def _band_modulus(spec, f_hz):
+    """The modulus (Pa) for the waves of body ``spec`` up to ``f_hz``: the scalar ``E``, or a table's
+    smallest value over [0, f_hz] (the time domain takes the table at the first natural frequency,
+    the frequency domain at each frequency: both are at least this, so the wavelength is not
+    overstated)."""
+    if not spec.frequency_dependent:
+        return spec.E_ref
+    f = np.array([0.0, f_hz] + [float(row[0]) for row in spec.E if float(row[0]) <= f_hz])
+    return float(np.min(spec.modulus(f)))
+
+
+def band_advice(model, summary=None):
+    """The mesh and time step against the scenario's excitation band (SI units), or None when the
+    scenario has no excitation :func:`excitation_top` counts: ``f_top_hz`` and ``set_by`` (which
+    excitation sets it and how, in words), ``dt_s`` (``scenario.dt``), ``period_error`` (Newmark's relative period error
+    at f_top, :func:`newmark_period_error`; 0.01 is 1 %), ``dt_for_advised_s`` (the step for
+    :data:`ADVISED_PERIOD_ERROR`), ``n_elements``, ``bodies`` {name: {``wavelength_m`` (the bending
+    wavelength at f_top, :func:`bending_wavelength`, with the body's EI (its I, or the effective
+    ``I``; the modulus of :func:`_band_modulus`), rho A (the geometric area) and axial force, the
+    cable's tension and the casing's equal compression, ``structure.assembly.axial_prestress``),
+    ``axial_force_N``, ``elements_per_wavelength`` (at ``n_elements``)}}, ``n_elements_for_advised``
+    (the fewest elements that put :data:`ADVISED_PER_WAVELENGTH` on every body's wavelength) and
+    ``not_counted`` (the CSV excitations, whose content is not read)."""
+    top = excitation_top(model)
+    if top is None:
+        return None
+    f_top, what = top
+    g = summary or geometry_summary(model)
+    length, n = g["length_m"], g["n_elements"]
+    dt = float(model.scenario["dt"])
+    bodies = {}
+    for body, spec in model.bodies.items():
+        sec = section_of(spec)
+        P = float(axial_prestress(model, body)) + 0.0  # (+ 0.0: no -0.0 for the casing without a tension)
+        lam = bending_wavelength(_band_modulus(spec, f_top) * sec.I, spec.rho * sec.A, P, f_top)
+        bodies[body] = {"wavelength_m": lam, "axial_force_N": P, "elements_per_wavelength": lam * n / length}
+    shortest = min(b["wavelength_m"] for b in bodies.values())
+    return {
+        "f_top_hz": f_top,
+        "set_by": what,
+        "dt_s": dt,
+        "period_error": float(newmark_period_error(f_top, dt)),
+        "dt_for_advised_s": step_for_period_error(f_top, ADVISED_PERIOD_ERROR),
+        "n_elements": n,
+        "bodies": bodies,
+        "n_elements_for_advised": int(np.ceil(ADVISED_PER_WAVELENGTH * length / shortest * (1 - 1e-12))),
+        "not_counted": [
+            f"scenario.excitation.{k}" for k, e in model.scenario.get("excitation", {}).items() if e["kind"] == "csv"
+        ],
+    }
+
+
+def band_advice_lines(advice) -> list[str]:
+    """The text lines of a :func:`band_advice` as ``cablecasing geometry`` prints them (one that says
+    there is none for None)."""
+    if advice is None:
+        return ["  band advice       none (the scenario has no excitation with a known top frequency)"]
+    f = advice["f_top_hz"]
+    bodies = ", ".join(
+        f"{k} {b['elements_per_wavelength']:.2g} (wavelength {b['wavelength_m']:.4g} m)"
+        for k, b in advice["bodies"].items()
+    )
+    lines = [
+        f"  band top          {f:.4g} Hz: {advice['set_by']}",
+        f"  per wavelength    {bodies}: elements on the bending wavelength at {f:.4g} Hz; "
+        f"{advice['n_elements_for_advised']} elements give {ADVISED_PER_WAVELENGTH:g} on each",
+        f"  time step         {advice['dt_s']:g} s: Newmark's period error {100 * advice['period_error']:.2g} % at "
+        f"{f:.4g} Hz ({100 * ADVISED_PERIOD_ERROR:g} % at {advice['dt_for_advised_s']:.2g} s)",
+    ]
+    if advice["not_counted"]:
+        lines.append(f"  not counted       {', '.join(advice['not_counted'])} (CSV tables: their content is not read)")
+    return lines
+
+
+def band_advice_warnings(advice) -> list[str]:
+    """The warnings of a :func:`band_advice` (None: none): fewer than :data:`MIN_PER_WAVELENGTH`
+    elements on a body's bending wavelength at the band's top, naming the ``geometry.n_elements``
+    that gives :data:`ADVISED_PER_WAVELENGTH`; Newmark's period error there above
+    :data:`MAX_PERIOD_ERROR`, naming the ``scenario.dt`` that gives :data:`ADVISED_PERIOD_ERROR`."""
+    if advice is None:
+        return []
+    out = []
+    where = f"at the excitation's top, {advice['f_top_hz']:.4g} Hz ({advice['set_by']}),"
+    coarse = {k: b for k, b in advice["bodies"].items() if b["elements_per_wavelength"] < MIN_PER_WAVELENGTH}
+    if coarse:
+        need = advice["n_elements_for_advised"]
+        each = " and ".join(
+            f"{b['elements_per_wavelength']:.2g} on the {k}'s bending wavelength ({b['wavelength_m']:.4g} m)"
+            for k, b in coarse.items()
+        )
+        fix = (
+            f"geometry.n_elements = {need} gives {ADVISED_PER_WAVELENGTH:g} on each"
+            if need <= MAX_ELEMENTS
+            else f"the {need} elements that give {ADVISED_PER_WAVELENGTH:g} on each are more than the "
+            f"{MAX_ELEMENTS} allowed (lower the band or shorten the route)"
+        )
+        out.append(
+            f"{where} the {advice['n_elements']} elements put {each}, fewer than {MIN_PER_WAVELENGTH:g} per "
+            "wavelength (the built-in specimen's modes are 0.5 % high at 4, 2.5 % at 2.9 and 10 % at 2; band "
+            f'levels with contact converge more slowly: docs/time_domain.md, "The mesh"): {fix}; check it with '
+            f"`cablecasing ensemble MODEL --against geometry.n_elements={min(need, MAX_ELEMENTS)}`"
+        )
+    if advice["period_error"] > MAX_PERIOD_ERROR:
+        out.append(
+            f"{where} Newmark's period error (2 pi f dt)^2 / 12 at scenario.dt = {advice['dt_s']:g} s is "
+            f"{100 * advice['period_error']:.2g} %, above {100 * MAX_PERIOD_ERROR:g} %: scenario.dt = "
+            f"{advice['dt_for_advised_s']:.2g} s gives {100 * ADVISED_PERIOD_ERROR:g} %; check it with "
+            f"`cablecasing ensemble MODEL --against scenario.dt={advice['dt_for_advised_s']:.2g}`"
+        )
+    return out
+
+
 def plausibility_warnings(model, summary=None, advice=True) -> list[str]:
     """Plain-language warnings (not errors) about a routing that is likely a mistake, the one
     list of them: a route longer than 10 m or shorter than 1 cm (points given in mm, or in km?)
     or shorter than ten times the largest diameter (no slender beam), points at which the route
     doubles back (turns by more than 120 degrees), a kink in a polyline, a bend radius below ten
     casing diameters; and, with ``advice``, an element longer than a tenth of the shortest bend's
-    arc (the built-in specimen has 6.5 elements per bend: loading a file warns without this one,
-    ``cablecasing geometry`` gives it)."""
+    arc (the built-in specimen has 6.5 elements per bend) and the band advice's
+    (:func:`band_advice_warnings`: too few elements on a bending wavelength, or too long a step, for
+    the scenario's excitation band). Loading a file warns without the advice, which is a matter of
+    accuracy, not a likely mistake, and concerns the time domain's scenario alone (``modes``,
+    ``trfam`` and ``static`` do not run it); ``cablecasing geometry`` gives it."""
     g = summary or geometry_summary(model)
     out = []
     length = g["length_m"]
@@ -266,7 +455,7 @@ def plausibility_warnings(model, summary=None, advice=True) -> list[str]:
                 f"the polyline turns with a radius of {r:.4g} m at s = {at:.4g} m (a corner's angle over its "
                 f"chords), below ten casing diameters ({10.0 * d:.4g} m)"
             )
-        return out
+        return out + (band_advice_warnings(band_advice(model, g)) if advice else [])
     d = model.data["casing"]["d_outer"] if "casing" in model.data else None
     if d is not None:
         for b in g["bends"]:
@@ -294,4 +483,4 @@ def plausibility_warnings(model, summary=None, advice=True) -> list[str]:
                 f"the elements ({g['element_length_m']:.4g} m) are longer than a tenth of the shortest bend's "
                 f"arc ({arcs[i]:.4g} m at s = {g['bends'][i]['start_m']:.4g} m): {fix}"
             )
-    return out
+    return out + (band_advice_warnings(band_advice(model, g)) if advice else [])

@@ -266,6 +266,7 @@ def test_cli_geometry_json_plot_and_warnings(tmp_path, capsys):
         "bends",
         "clips",
         "buckling",
+        "band_advice",
     }
     assert out["clips"] == []  # (no clip on this route)
     assert out["buckling"]["casing"]["load_N"] > 0 and out["buckling"]["casing"]["supports"] == "A clamped; B clamped"
