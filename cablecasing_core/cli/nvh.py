@@ -240,26 +240,62 @@ def cmd_spectrum(args):
     return 0
 
 
-def _beyond_table3_note(terms, top_hz):
+def _run_step(rec):
+    """What the record ``rec`` says of the time step (s) of the run it holds: ``(dt, "every step")`` for
+    a run's record of every step, which states its Nyquist frequency as its passband
+    (``SimulationResult.records``), so that its sample interval 1 / fs is the step; ``(dt_max,
+    "decimated")`` for a decimated one, which states less (0.7 of its Nyquist frequency, after the
+    anti-alias filter; a record of a result loaded from such a file keeps it) and holds at least two steps
+    per sample without saying how many, so that the step is at most half its sample interval; None for
+    a record that states no passband (picked samples, a CSV of an FMU's outputs written by its host, a
+    measurement), whose samples say nothing of a step."""
+    if "passband_hz" not in rec.extra:
+        return None
+    nyquist = rec.fs / 2
+    if abs(float(np.asarray(rec.extra["passband_hz"])) - nyquist) <= 1e-6 * nyquist:
+        return 1.0 / rec.fs, "every step"
+    return 0.5 / rec.fs, "decimated"
+
+
+def _beyond_table3_note(terms, top_hz, step):
     """The note on a model output's bands that reach above the paper's Table 3 (its top octave ends
     at 5680 Hz), over which the model's accuracy is shown (docs/time_domain.md); None for other
     columns (a measurement's) or bands within it. ``terms``: the columns the column sums
-    (``Records.terms``: ``net.B.Fz`` is a model output's if its terms are). Above it Newmark's
-    period error grows as (ω Δt)² / 12 (1.1 % at 5.68 kHz, 13 % at 20 kHz at Δt = 1e-5 s) and the
-    35 elements' mesh resolves fewer bending waves (about one element per wavelength of the casing
-    at 20 kHz)."""
-    from ..model.schema import is_output
+    (``Records.terms``: ``net.B.Fz`` is a model output's if its terms are); ``step``: what the record says
+    of its run's time step (:func:`_run_step`). Above it Newmark's period error grows as (ω Δt)² / 12
+    (``structure.route_summary.newmark_period_error``: 1.1 % at 5.68 kHz, 13 % at 20 kHz at Δt = 1e-5 s),
+    quoted at the run's step where the record tells it, at most at its bound for a decimated record, and
+    at the default step, as such, where it cannot be known; and the 35 elements' mesh resolves fewer
+    bending waves (about one element per wavelength of the casing at 20 kHz)."""
+    from ..model.schema import is_output, lookup
+    from ..structure.route_summary import newmark_period_error
     from ..studies.octave import TABLE3_UPPER
 
     if top_hz <= TABLE3_UPPER[-1] or not all(is_output(t) for t in terms):
         return None
-    dt = 1e-5  # (the specimens' step: the record does not say the run's)
-    err = ((2 * np.pi * top_hz * dt) ** 2 / 12, (2 * np.pi * TABLE3_UPPER[-1] * dt) ** 2 / 12)
+    f3, default = TABLE3_UPPER[-1], lookup("scenario.dt").default
+
+    def errors(dt):
+        at = (newmark_period_error(top_hz, dt), newmark_period_error(f3, dt))
+        return f"{100 * at[0]:.2g} % at {top_hz:.0f} Hz ({100 * at[1]:.2g} % at {f3:g} Hz)"
+
+    if step is None:
+        said = (
+            "the run's step is unknown (the record states no passband: picked samples, or another program's), so "
+            f"Newmark's period error (2 pi f dt)^2 / 12 is too; at the default step, {default:g} s, it would be "
+            f"{errors(default)}"
+        )
+    elif step[1] == "every step":
+        said = f"at the run's step, {step[0]:.6g} s (the record holds every step), Newmark's period error is "
+        said += errors(step[0])
+    else:
+        said = (
+            "the record is decimated and does not state the run's step, at most half its sample interval, "
+            f"{step[0]:.6g} s, where Newmark's period error is at most {errors(step[0])}"
+        )
     return (
-        f"# the bands above {TABLE3_UPPER[-1]:g} Hz lie beyond the paper's Table 3, over which the model's accuracy "
-        f"is shown (docs/time_domain.md): at the specimens' default step, {dt:g} s, Newmark's period error is "
-        f"{100 * err[0]:.2g} % at {top_hz:.0f} Hz ({100 * err[1]:.2g} % at {TABLE3_UPPER[-1]:g} Hz), and the mesh "
-        "resolves fewer waves"
+        f"# the bands above {f3:g} Hz lie beyond the paper's Table 3, over which the model's accuracy is shown "
+        f"(docs/time_domain.md): {said}, and the mesh resolves fewer waves"
     )
 
 
@@ -402,7 +438,7 @@ def cmd_bands(args):
     )
     if note := _alias_note(rec, args.record, "bands"):
         print(note)
-    if note := _beyond_table3_note(rec.terms(col), bands.upper[-1]):
+    if note := _beyond_table3_note(rec.terms(col), bands.upper[-1], _run_step(rec)):
         print(note)
     print(
         f"# RMS over the bands, {bands.lower[0]:.4g}-{bands.upper[-1]:.4g} Hz: {total:.6g} {unit} (their mean "

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from cablecasing_core.cli import main
-from cablecasing_core.records import after_skip
+from cablecasing_core.records import after_skip, passband_line
 from cablecasing_core.studies import octave_rms
 from cablecasing_core.studies.octave import window_options
 
@@ -125,12 +125,14 @@ def test_hann_s_band_levels_weight_the_middle_of_a_record_whose_level_drifts():
 def test_a_model_output_s_bands_beyond_table_3_carry_a_note(tmp_path, capsys):
     """Third-octave bands of a model output up to 20 kHz (top edge 22 387 Hz) are noted as beyond the
     paper's Table 3, with the trapezoidal rule's period error (ω Δt)² / 12 at Δt = 1e-5 s: 16 % at
-    22 387 Hz, 1.1 % at 5680 Hz; a measurement's column and Table 3's bands carry no such note."""
+    22 387 Hz, 1.1 % at 5680 Hz (the record of every step, which states its Nyquist frequency as its
+    passband, gives its run's step); a measurement's column and Table 3's bands carry no such note."""
     t = 1e-5 * np.arange(1, 100_001)  # 1 s at 1e-5 s, the specimens' full-rate record
     x = np.sin(2 * np.pi * 300 * t) + 0.01 * np.sin(2 * np.pi * 9000 * t)
     for col in ("casing.B.Fz", "accel"):
         path = tmp_path / f"{col}.csv"
-        np.savetxt(path, np.column_stack([t, x]), delimiter=",", header=f"time,{col}", comments="")
+        header = f"time,{col}\n{passband_line(0.5 / 1e-5)}"
+        np.savetxt(path, np.column_stack([t, x]), delimiter=",", header=header, comments="")
         assert main(["bands", str(path), "--column", col, "--kind", "third", "--fmin", "25"]) == 0
         out = capsys.readouterr().out
         noted = "# the bands above 5680 Hz lie beyond the paper's Table 3" in out
