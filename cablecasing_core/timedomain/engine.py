@@ -372,7 +372,37 @@ class Engine:
         st = solve_static(model, {n: b.system for n, b in self.bodies.items()}, self.contact)
         for n, b in self.bodies.items():
             b.set_load(st.loads[n])
+        self._warn_switch_law_at_rest_on_the_wall(model, st)
         return st
+
+    def _warn_switch_law_at_rest_on_the_wall(self, model, st):
+        """Warn (a ModelWarning, once per process and model) when the static state lays the cable on
+        the casing's wall and the friction is the paper's switch law: there its stick-slip switches
+        multiply as the step shrinks and the band levels do not converge (docs/time_domain.md, "A
+        friction law whose limit exists"). The loader warns of a cable tension on that law already
+        (model/validate.py); this is the case it cannot judge, gravity or a rest shape alone, where
+        only the static state tells whether the cable touches the wall."""
+        c = model.contact
+        if not self.contact or c["friction"] <= 0.0 or c["friction_law"] != "switch":
+            return
+        if model.loads["cable_tension"] > 0.0:  # (warned when the model was loaded)
+            return
+        touching = int(np.count_nonzero(st.normal_force > 0.0))
+        if not touching:
+            return
+        from ..errors import ModelWarning
+        from .static_state import warn_once_per_process
+
+        warn_once_per_process(
+            f"{model.source}: the cable rests on the casing's wall at {touching} nodes in its static state (its "
+            f'largest contact force {float(np.max(st.normal_force)):.3g} N), where contact.friction_law = "switch" '
+            "does not converge with the time step (its stick-slip switches multiply as it shrinks) and recomputes "
+            'most steps: set contact.friction_law = "regularized", as the built-in installed specimen does '
+            '(docs/time_domain.md, "A friction law whose limit exists")',
+            ModelWarning,
+            stacklevel=5,  # (simulate's caller, through Engine.__init__ and _install)
+            key=f"switch law at rest on the wall: {model.fingerprint()}",
+        )
 
     def reset(self) -> None:
         """Back to t = 0 with both bodies at rest: in the static state of an installed model
