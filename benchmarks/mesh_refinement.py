@@ -1,14 +1,26 @@
 """The mesh: do the natural frequencies and the expected band levels converge in geometry.n_elements?
 
 Both built-in specimens use the paper's 35 elements per body. This script refines the mesh of the
-``default`` and the ``installed`` specimen (``--specimen``) and prints ``name: value`` lines
-(docs/time_domain.md, "The mesh", holds the tables of the cached run):
+``default`` and the ``installed`` specimen (``--specimen``), or of one model (``--model MODEL``: a
+model file or a built-in specimen's name, as the CLI's MODEL argument and ``installed_time_step.py``'s
+``--model``; a file's label in the printed names is its name without ``.toml``), and prints
+``name: value`` lines (docs/time_domain.md, "The mesh", holds the tables of the cached run). A model
+file's defaults: ``--seeds 16``, ``--skip`` the CLI's (``whole_period_skip``: 0.05 s or the ramp,
+lengthened to whole periods of its drives), ``--json`` beside the file (``NAME_mesh_refinement.json``).
+
+Clips (a model with casing clips): each clip's node offset on every mesh of both parts (the node it
+acts at minus its ``at``, mm: ``clip_node_offset_mm_SPEC_i``) and ``clips_stay_across_meshes_SPEC``,
+false when the clips move between the meshes (``geometry.nodes_at_clips = false``: each clip at its
+nearest node, which a finer mesh moves by up to half an element). The study runs either way: the
+model as written is the one its user runs, and ``nodes_at_clips = true`` would change it at its own
+mesh too; the lines say when a difference between meshes holds the clips' movement as well.
 
 Modal part (``--modal-elements``, default 35 70 140 280): the natural frequencies of each body
 (``cc.natural_frequencies``, all modes) matched by their index in ascending order. The reference is
 the finest mesh; every mode of the reference below 5680 Hz (the top edge of Table 3) is compared.
 Per Table 3 band (of the reference's frequency; "<11 Hz" below it): the number of modes, the
-largest |f_n - f_ref| / f_ref at each coarser mesh n, and the median observed order of the modes in
+largest |f_n - f_ref| / f_ref at each coarser mesh n (as many modes as the coarsest mesh has in all, when fewer:
+``modes_compared_SPEC_BODY``), and the median observed order of the modes in
 the band from the three coarsest meshes, p = log2(|f_35 - f_70| / |f_70 - f_140|), and from the
 three finest ones (each independent of the reference). Also the number of modes below 5680 Hz at
 each mesh.
@@ -40,7 +52,7 @@ Linear part (``--linear``): seed 1 with the contact off on every mesh of ``--mod
 band levels relative to the finest: the bodies' own error in the forced response (not chaotic, so
 one record shows it).
 
-Options: ``--specimen``, ``--elements``, ``--modal-elements``, ``--seeds``, ``--skip``, ``--duration``,
+Options: ``--specimen`` or ``--model``, ``--elements``, ``--modal-elements``, ``--seeds``, ``--skip``, ``--duration``,
 ``--workers`` (processes, default 2), ``--window boxcar|hann`` (of the band members' levels; default
 boxcar, the window of the cached tables of ``mesh_refinement.json`` and ``mesh_refinement_per_length.json``;
 ``mesh_refinement_hann.json`` holds a run through Hann's window, the package's default);
@@ -89,6 +101,7 @@ HERE = Path(__file__).resolve().parent
 SPECIMENS = ("default", "installed")
 DEFAULT_SEEDS = {"default": 128, "installed": 32}
 DEFAULT_SKIP = {"default": 0.05, "installed": 0.06}
+MODEL_SEEDS = 16  # a model file's default --seeds (docs/model_file.md: 16 or more with impacts)
 FMAX = 5680.0  # Hz: the top edge of Table 3
 OUTPUT = "casing.B.Fz"
 
@@ -105,24 +118,74 @@ def source_hash():
     return h.hexdigest()[:16]
 
 
-def mesh_model(spec, n, law_length=0.0):
-    """The specimen ``spec`` at ``n`` elements, its contact law per node (``law_length`` 0 m, the
-    paper's) or per unit length (``contact.law_length``, m)."""
+def mesh_model(source, n, law_length=0.0):
+    """The model ``source`` (a built-in specimen's name or a model file's path, ``cc.load_model``'s
+    argument) at ``n`` elements, its contact law per node (``law_length`` 0 m, the paper's) or per
+    unit length (``contact.law_length``, m)."""
     import cablecasing_core as cc
 
     over = {"geometry.n_elements": int(n)}
     if law_length:
         over["contact.law_length"] = float(law_length)
-    return cc.load_model(spec).with_overrides(over)
+    return cc.load_model(source).with_overrides(over)
 
 
-def paper_law_length(spec):
+def paper_law_length(source):
     """The cable's length over the paper's 35 elements (m): the law per unit length that gives the
-    specimen's nodes at 35 elements the wall of the law per node (``--law-length paper``)."""
+    model's nodes at 35 elements the wall of the law per node (``--law-length paper``)."""
     import cablecasing_core as cc
     from cablecasing_core.structure.geometry import centerline_of
 
-    return float(centerline_of(cc.load_model(spec)).lengths.sum() / 35)
+    return float(centerline_of(cc.load_model(source)).lengths.sum() / 35)
+
+
+def clip_offsets(source, meshes):
+    """Where the casing's clips act on each mesh: ``geometry.nodes_at_clips`` of the model
+    ``source`` and, per clip in file order, its ``at`` (m) and {n: the arc length of the node it acts
+    at minus its at (m)} for n in ``meshes`` (``structure.mount_element.clip_positions``); None
+    without clips."""
+    import warnings
+
+    import cablecasing_core as cc
+    from cablecasing_core.structure.mount_element import clip_positions
+
+    base = cc.load_model(source)
+    clips = base.data.get("casing", {}).get("clip", [])
+    if not clips:
+        return None
+    with warnings.catch_warnings():  # (the loader's clip warning, once per mesh: the lines printed say it)
+        warnings.simplefilter("ignore")
+        at_nodes = {n: clip_positions(mesh_model(source, n)) for n in meshes}
+    return {
+        "nodes_at_clips": bool(base.geometry["nodes_at_clips"]),
+        "clips": [
+            {"at_m": float(c["at"]), "offset_m": {str(n): at_nodes[n][i] - float(c["at"]) for n in meshes}}
+            for i, c in enumerate(clips)
+        ],
+    }
+
+
+def print_clips(spec, d):
+    """The lines of :func:`clip_offsets`: each clip's node offset per mesh, and whether the clips
+    stay in place across the meshes (a movement above 1e-9 m, round-off of the arc lengths, is one)."""
+    print(f"clips_{spec}: {len(d['clips'])} (geometry.nodes_at_clips = {str(d['nodes_at_clips']).lower()})")
+    move = 0.0
+    for i, c in enumerate(d["clips"]):
+        off = c["offset_m"]
+        print(
+            f"clip_node_offset_mm_{spec}_{i}: "
+            + " ".join(f"{n}:{1e3 * v:+.3f}" for n, v in off.items())
+            + f" (the node it acts at minus its at = {c['at_m']:g} m, per mesh)"
+        )
+        move = max(move, max(off.values()) - min(off.values()))
+    if move > 1e-9:
+        print(
+            f"clips_stay_across_meshes_{spec}: false (the clips move by up to {1e3 * move:.3f} mm between the "
+            "meshes, so a difference between meshes mixes the clips' movement with the mesh's error; "
+            "geometry.nodes_at_clips = true keeps each clip at its at on every mesh)"
+        )
+    else:
+        print(f"clips_stay_across_meshes_{spec}: true (each clip acts at one place on every mesh)")
 
 
 # ---------------------------------------------------------------- the members (in worker processes)
@@ -133,15 +196,15 @@ def _warm():
 
 
 def linear_member(job):
-    """(spec, n, seed, duration, skip) with the contact off: the band levels of the linear response
+    """(spec, source, n, seed, duration, skip) with the contact off: the band levels of the linear response
     (deterministic: one seed shows the mesh's own error), and the wall time."""
     import cablecasing_core as cc
     from cablecasing_core.records import after_skip
     from cablecasing_core.studies.ensemble_runs import seed_overrides
     from cablecasing_core.studies.octave import octave_rms, window_options  # (boxcar: the cached tables')
 
-    spec, n, seed, duration, skip = job
-    base = mesh_model(spec, n)
+    spec, source, n, seed, duration, skip = job
+    base = mesh_model(source, n)
     t0 = time.perf_counter()
     res = cc.simulate(base.with_overrides(seed_overrides(base, seed)), duration=duration, contact=False)
     wall = time.perf_counter() - t0
@@ -153,16 +216,17 @@ def linear_member(job):
 
 
 def member(job):
-    """One ensemble member: (spec, n, seed, duration, skip, dt, law_length, window) -> its record of
-    levels and energies (dt None: the scenario's; law_length m, 0: the law per node; window of the
-    band levels, "boxcar" for the cached tables of benchmarks/mesh_refinement.json)."""
+    """One ensemble member: (spec, source, n, seed, duration, skip, dt, law_length, window) -> its
+    record of levels and energies (spec: the label of the model ``source``, :func:`mesh_model`; dt
+    None: the scenario's; law_length m, 0: the law per node; window of the band levels, "boxcar" for
+    the cached tables of benchmarks/mesh_refinement.json)."""
     import cablecasing_core as cc
     from cablecasing_core.records import after_skip
     from cablecasing_core.studies.ensemble_runs import seed_overrides
     from cablecasing_core.studies.octave import octave_rms, window_options
 
-    spec, n, seed, duration, skip, dt, law_length, window = job
-    base = mesh_model(spec, n, law_length)
+    spec, source, n, seed, duration, skip, dt, law_length, window = job
+    base = mesh_model(source, n, law_length)
     model = base.with_overrides(seed_overrides(base, seed))
     t0 = time.perf_counter()
     res = cc.simulate(model, duration=duration, dt=dt)
@@ -187,7 +251,9 @@ def member(job):
 
 
 # ---------------------------------------------------------------- the modal part
-def modal_part(specs, meshes):
+def modal_part(sources, meshes):
+    """The modal part of the models ``sources`` (label -> a built-in specimen's name or a model
+    file's path) on ``meshes``."""
     import warnings
 
     import cablecasing_core as cc
@@ -199,15 +265,16 @@ def modal_part(specs, meshes):
     meshes = sorted(meshes)
     ref_n = meshes[-1]
     out = {}
-    for spec in specs:
+    for spec, source in sources.items():
         out[spec] = {}
-        for body in ("casing", "cable"):
+        for body in [b for b in ("casing", "cable") if b in cc.load_model(source).data]:  # (a model may lack one)
             t0 = time.perf_counter()
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
-                f = {n: np.asarray(cc.natural_frequencies(mesh_model(spec, n), body)) for n in meshes}
+                f = {n: np.asarray(cc.natural_frequencies(mesh_model(source, n), body)) for n in meshes}
             ref = f[ref_n]
-            k = int(np.count_nonzero(ref <= FMAX))
+            below = int(np.count_nonzero(ref <= FMAX))
+            k = min(below, *(len(f[n]) for n in meshes))  # (a coarse mesh of a model may have fewer modes in all)
             rel = {n: (f[n][:k] - ref[:k]) / ref[:k] for n in meshes[:-1]}
             band_of = np.searchsorted(edges, ref[:k], side="right") - 1
             rows = []
@@ -226,6 +293,8 @@ def modal_part(specs, meshes):
                 rows.append(row)
             out[spec][body] = {
                 "reference_elements": ref_n,
+                "modes_compared": k,
+                "reference_modes_below_fmax": below,
                 "modes_below_fmax": {str(n): int(np.count_nonzero(f[n] <= FMAX)) for n in meshes},
                 "frequencies_hz": {str(n): f[n][: k + 8].tolist() for n in meshes},
                 "rel_change_vs_reference": {str(n): rel[n].tolist() for n in meshes[:-1]},
@@ -241,6 +310,12 @@ def print_modal(modal):
             key = f"{spec}_{body}"
             print(f"modes_below_5680hz_{key}: " + " ".join(f"{n}:{c}" for n, c in d["modes_below_fmax"].items()))
             meshes = [int(n) for n in d["modes_below_fmax"]][:-1]
+            if d.get("modes_compared", 0) < d.get("reference_modes_below_fmax", 0):
+                print(
+                    f"modes_compared_{key}: {d['modes_compared']} (of the reference's "
+                    f"{d['reference_modes_below_fmax']} below 5680 Hz: the coarsest mesh has {d['modes_compared']} "
+                    "modes in all)"
+                )
             for n in meshes:
                 r = np.abs(d["rel_change_vs_reference"][str(n)])
                 print(f"freq_max_abs_rel_change_{key}_{n}: {r.max():.5f} (median {np.median(r):.5f})")
@@ -286,6 +361,11 @@ def paired(members_a, members_b):
     }
 
 
+def _ratio(a, b):
+    """a / b, nan when b is 0 (a model without contact: no contact work)."""
+    return a / b if b else math.nan
+
+
 def summarise(members, spec, variants, dt0):
     """Per variant (n_elements, dt): mean, SE, CV of the band levels on its own seeds, the normal
     work share, contacts, cost; the paired differences of every mesh at ``dt0`` from every finer
@@ -303,8 +383,8 @@ def summarise(members, spec, variants, dt0):
             continue
         L = np.array([m["levels_N"] for m in rows.values()])
         mean = L.mean(axis=0)
-        share = np.array([m["contact_normal_dissipation_J"] / m["contact_dissipation_J"] for m in rows.values()])
-        of_work = np.array([m["contact_normal_dissipation_J"] / m["support_work_J"] for m in rows.values()])
+        share = np.array([_ratio(m["contact_normal_dissipation_J"], m["contact_dissipation_J"]) for m in rows.values()])
+        of_work = np.array([_ratio(m["contact_normal_dissipation_J"], m["support_work_J"]) for m in rows.values()])
         d = {
             "n_elements": n,
             "dt_s": dt,
@@ -359,21 +439,43 @@ def print_bands(spec, s):
 
 # ---------------------------------------------------------------- main
 def parse_per_spec(values, kind, defaults, specs):
+    """``N`` (every model) or ``SPEC=N`` values of ``kind`` over ``defaults`` (label -> value), for the
+    labels ``specs``."""
     out = dict(defaults)
     for v in values or []:
         if "=" in v:
             k, _, x = v.partition("=")
-            if k not in SPECIMENS:
-                raise SystemExit(f"{kind} {v!r}: the specimen must be one of {', '.join(SPECIMENS)}")
+            if k not in defaults:
+                raise SystemExit(f"{kind} {v!r}: the specimen must be one of {', '.join(defaults)}")
             out[k] = x
         else:
-            out = {k: v for k in SPECIMENS}
+            out = {k: v for k in defaults}
     return {k: out[k] for k in specs}
+
+
+def model_label(arg):
+    """(label, source) of ``--model``'s ``arg``: a built-in specimen's name is its own label and
+    source; a model file's label is its name without the suffix (``_file`` added when that is a
+    built-in's name), its source the absolute path (the workers load it)."""
+    from cablecasing_core.model import specimen_names
+
+    if arg in specimen_names():
+        return arg, arg
+    path = Path(arg)
+    label = path.stem + ("_file" if path.stem in specimen_names() else "")
+    return label, str(path.resolve())
 
 
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("--specimen", nargs="+", default=list(SPECIMENS), choices=SPECIMENS)
+    which = p.add_mutually_exclusive_group()
+    which.add_argument("--specimen", nargs="+", choices=SPECIMENS, help="built-in specimens (default: both)")
+    which.add_argument(
+        "--model",
+        metavar="MODEL",
+        help="a model file (TOML) or a built-in specimen's name, as the CLI's MODEL: its own scenario on the meshes "
+        f"(default --seeds {MODEL_SEEDS}, --skip: the CLI's, --json: FILE's name + _mesh_refinement.json beside it)",
+    )
     p.add_argument("--elements", nargs="+", type=int, default=[35, 70, 140], help="meshes of the band part")
     p.add_argument(
         "--mesh-seeds",
@@ -415,7 +517,7 @@ def main():
         "elements). Give each its own --json",
     )
     p.add_argument("--workers", type=int, default=2)
-    p.add_argument("--json", default=str(HERE / "mesh_refinement.json"))
+    p.add_argument("--json", help="the cache (default benchmarks/mesh_refinement.json; see --model)")
     p.add_argument("--fresh", action="store_true", help="reuse no cached member")
     p.add_argument(
         "--reuse-other-sources",
@@ -427,9 +529,32 @@ def main():
     p.add_argument("--no-bands", action="store_true")
     p.add_argument("--report", action="store_true", help="print the tables of the cache; run nothing")
     args = p.parse_args()
-    specs = list(dict.fromkeys(args.specimen))
-    seeds = {k: int(v) for k, v in parse_per_spec(args.seeds, "--seeds", DEFAULT_SEEDS, specs).items()}
-    skips = {k: float(v) for k, v in parse_per_spec(args.skip, "--skip", DEFAULT_SKIP, specs).items()}
+
+    import cablecasing_core as cc
+    from cablecasing_core.errors import ModelError
+    from cablecasing_core.files import write_text
+    from cablecasing_core.timedomain.scenario import whole_period_skip
+
+    default_seeds, default_skip = dict(DEFAULT_SEEDS), dict(DEFAULT_SKIP)
+    if args.model is None:
+        sources = {sp: sp for sp in dict.fromkeys(args.specimen or SPECIMENS)}
+    else:
+        label, source = model_label(args.model)
+        sources = {label: source}
+        try:
+            own = cc.load_model(source)
+        except ModelError as e:
+            p.error(f"--model {args.model!r}: {e}")
+        if label not in SPECIMENS:  # (a built-in keeps its own defaults and its cache)
+            default_seeds[label] = MODEL_SEEDS
+            default_skip[label] = whole_period_skip(own, args.duration)
+            if args.json is None:
+                args.json = str(Path(source).with_name(Path(source).stem + "_mesh_refinement.json"))
+    if args.json is None:
+        args.json = str(HERE / "mesh_refinement.json")
+    specs = list(sources)
+    seeds = {k: int(v) for k, v in parse_per_spec(args.seeds, "--seeds", default_seeds, specs).items()}
+    skips = {k: float(v) for k, v in parse_per_spec(args.skip, "--skip", default_skip, specs).items()}
     if any(v < 2 for v in seeds.values()):
         p.error("--seeds: at least 2 per specimen")
     if args.workers < 1:
@@ -448,14 +573,11 @@ def main():
             p.error(f"--mesh-seeds {v!r}: N=K, two integers")
     path = Path(args.json)
 
-    import cablecasing_core as cc
-    from cablecasing_core.files import write_text
-
     code = source_hash()
-    dt0 = {sp: float(cc.load_model(sp).scenario["dt"]) for sp in specs}
+    dt0 = {sp: float(cc.load_model(sources[sp]).scenario["dt"]) for sp in specs}
     try:
         law_length = {
-            sp: paper_law_length(sp) if args.law_length == "paper" else float(args.law_length) for sp in specs
+            sp: paper_law_length(sources[sp]) if args.law_length == "paper" else float(args.law_length) for sp in specs
         }
     except ValueError:
         p.error(f"--law-length {args.law_length!r}: a length in m or 'paper'")
@@ -466,7 +588,15 @@ def main():
             p.error(f"--dt-check {n}: must be one of --elements")
         for sp in specs:
             variants[sp][(int(n), float(dt))] = int(k)
-    fingerprints = {f"{sp}/{n}": mesh_model(sp, n, law_length[sp]).fingerprint() for sp in specs for n in meshes}
+    for sp in specs:  # (a mesh the model refuses, e.g. fewer elements than its clips' spans: before any run)
+        for n in sorted(set(meshes) | set(args.modal_elements)):
+            try:
+                mesh_model(sources[sp], n, law_length[sp])
+            except ModelError as e:
+                p.error(f"{sp} at geometry.n_elements = {n}: {e}")
+    fingerprints = {
+        f"{sp}/{n}": mesh_model(sources[sp], n, law_length[sp]).fingerprint() for sp in specs for n in meshes
+    }
     cache = json.loads(path.read_text()) if path.exists() else {}
     cached = cache.get("members", [])
 
@@ -501,6 +631,7 @@ def main():
         "modal": cache.get("modal", {}),
         "bands": cache.get("bands", {}),
         "linear": cache.get("linear", {}),
+        "clips": cache.get("clips", {}),
         "members": members + others,
     }
 
@@ -511,9 +642,14 @@ def main():
     date = datetime.datetime.now().isoformat(timespec="seconds")
     print(f"source_hash: {code}")
     print(f"date: {date}")
+    for sp in specs:  # where the clips act on the meshes compared (both parts')
+        clips = clip_offsets(sources[sp], sorted(set(args.elements) | set(args.modal_elements)))
+        if clips is not None:
+            state["clips"][sp] = clips
+            print_clips(sp, clips)
     if not args.no_modal and not args.report:
         t0 = time.perf_counter()
-        state["modal"] = {**state["modal"], **modal_part(specs, args.modal_elements)}  # (other specimens kept)
+        state["modal"] = {**state["modal"], **modal_part(sources, args.modal_elements)}  # (other specimens kept)
         state["modal"]["conditions"] = {
             "date": date,
             "source_hash": code,
@@ -528,7 +664,7 @@ def main():
     if args.linear and not args.report:
         os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
         lin_meshes = sorted(set(args.modal_elements))
-        jobs = [(sp, n, 1, args.duration, skips[sp]) for sp in specs for n in reversed(lin_meshes)]
+        jobs = [(sp, sources[sp], n, 1, args.duration, skips[sp]) for sp in specs for n in reversed(lin_meshes)]
         with get_context("spawn").Pool(args.workers, initializer=_warm) as pool:
             got = pool.map(linear_member, jobs, chunksize=1)
         lin = state.setdefault("linear", {})
@@ -565,7 +701,7 @@ def main():
 
     have = {(m["specimen"], m["n_elements"], m["dt_s"], m["seed"]) for m in members}
     jobs = [
-        (sp, n, s, args.duration, skips[sp], None if dt == dt0[sp] else dt, law_length[sp], args.window)
+        (sp, sources[sp], n, s, args.duration, skips[sp], None if dt == dt0[sp] else dt, law_length[sp], args.window)
         for s in range(1, max(seeds.values()) + 1)
         for sp in sorted(specs, key=lambda x: x != "installed")  # the costlier specimen first
         for (n, dt), k in sorted(variants[sp].items(), key=lambda v: (-v[0][0], v[0][1]))  # costlier first
@@ -577,7 +713,7 @@ def main():
         walls = {}
         for m in members:
             walls.setdefault((m["specimen"], m["n_elements"], m["dt_s"]), []).append(m["wall_s"])
-        keys = [(j[0], j[1], j[5] or dt0[j[0]]) for j in jobs]
+        keys = [(j[0], j[2], j[6] or dt0[j[0]]) for j in jobs]
         est = [np.median(walls[k]) for k in keys if k in walls]
         if est:
             print(
