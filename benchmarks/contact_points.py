@@ -53,7 +53,7 @@ def run(job):
     if n % stride:
         raise SystemExit(f"--variants {n}/{stride}: the stride must divide the mesh (both ends keep the contact)")
     STRIDE = stride
-    rec = member((spec, n, seed, 1.0, skip, None, law_length, "boxcar"))  # (the table's window)
+    rec = member((spec, spec, n, seed, 1.0, skip, None, law_length, "boxcar"))  # (its own source; the table's window)
     return n, stride, seed, np.array(rec["levels_N"]), rec["wall_s"]
 
 
