@@ -60,6 +60,42 @@ def arc_points():
     return points
 
 
+@pytest.fixture
+def paper_bodies():
+    """``{"casing": {...}, "cable": {...}}``: the two bodies' materials as a model file's tables (fresh
+    copies, to change freely), without damping but for the loss factors. The casing's section is the
+    paper's Table 2 (I = 2.7261e-10 m4, rho = 4850 kg/m3, d_2 = 0.0095 m outer, d_5 = 0.004 m inner),
+    E = 5 GPa, nu 0.3, loss factor 0.05; the cable a 3 mm steel wire, E = 55 GPa, rho = 7850 kg/m3,
+    nu 0.3, loss factor 0.02 (the built-in specimen's moduli)."""
+    undamped = {"alpha": 0.0, "beta": 0.0}
+    return {
+        "casing": {"E": 5e9, "nu": 0.3, "rho": 4850.0, **undamped, "loss_factor": 0.05, "d_outer": 0.0095,
+                   "d_inner": 0.004, "I": 2.7261e-10},
+        "cable": {"E": 5.5e10, "nu": 0.3, "rho": 7850.0, "d": 0.003, **undamped, "loss_factor": 0.02},
+    }  # fmt: skip
+
+
+@pytest.fixture(scope="session")
+def drive_casing_b_120hz():
+    """``drive_casing_b_120hz(n, h=1e-4)``: an FMU's input table (n, 3 x len(CHANNELS)), the rows at
+    t = k h (s), k = 0..n-1: casing end B moving in y as 2e-5 sin(2 pi 120 t) m, with its velocity
+    (m/s) and acceleration (m/s2) in the second and third blocks of columns, every other input 0;
+    zero displacement at t = 0."""
+    from cablecasing_core.model.schema import CHANNELS
+
+    def table(n, h=1e-4):
+        t = h * np.arange(n)
+        w = 2 * np.pi * 120.0
+        out = np.zeros((n, 3 * len(CHANNELS)))
+        c = CHANNELS.index("casing.B.y")
+        out[:, c] = 2e-5 * np.sin(w * t)
+        out[:, len(CHANNELS) + c] = 2e-5 * w * np.cos(w * t)
+        out[:, 2 * len(CHANNELS) + c] = -2e-5 * w * w * np.sin(w * t)
+        return out
+
+    return table
+
+
 @pytest.fixture(scope="session")
 def clipped_specimen():
     """examples/clipped_specimen.toml: the built-in specimen held by two clips along its casing

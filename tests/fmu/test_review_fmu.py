@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 import cablecasing_core as cc
-from cablecasing_core.model.schema import CHANNELS, OUTPUTS
+from cablecasing_core.model.schema import OUTPUTS
 
 pytestmark = pytest.mark.slow  # the FMU in a fresh process
 
@@ -131,22 +131,10 @@ print(json.dumps(res))
 """
 
 
-def inputs(n):
-    """(n, 36) inputs: a 120 Hz motion of casing end B in y (displacement, velocity, acceleration)."""
-    t = H * np.arange(n)
-    w = 2 * np.pi * 120.0
-    table = np.zeros((n, 3 * len(CHANNELS)))
-    c = CHANNELS.index("casing.B.y")
-    table[:, c] = 2e-5 * np.sin(w * t)
-    table[:, len(CHANNELS) + c] = 2e-5 * w * np.cos(w * t)
-    table[:, 2 * len(CHANNELS) + c] = -2e-5 * w * w * np.sin(w * t)
-    return table
-
-
 @pytest.fixture(scope="module")
-def host(fmu, tmp_path_factory):
+def host(fmu, tmp_path_factory, drive_casing_b_120hz):
     path = tmp_path_factory.mktemp("review") / "inputs.npy"
-    np.save(path, inputs(N))
+    np.save(path, drive_casing_b_120hz(N, H))
     proc = subprocess.run(
         [sys.executable, "-c", HOST, str(fmu), str(path), str(HERE), ",".join(OUTPUTS)],
         capture_output=True,
@@ -188,7 +176,7 @@ def _without_excitation(model, name):
     return cc.model_from_dict(data)
 
 
-def test_a_free_support_that_the_scenario_drives_runs_without_scenario_drive(host, core_run):
+def test_a_free_support_that_the_scenario_drives_runs_without_scenario_drive(host, core_run, drive_casing_b_120hz):
     """casing.supports.A = 'free' (an allowed value) with scenario.drive off: the scenario does not
     run, so its excitation of casing.A.z is not checked against the support; the run equals the
     core's on the model without that excitation, to the bit. The same for cable.supports.A."""
@@ -197,7 +185,7 @@ def test_a_free_support_that_the_scenario_drives_runs_without_scenario_drive(hos
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         model = _without_excitation(cc.load_model(), "casing_random").with_overrides({"casing.supports.A": "free"})
-    ref = core_run(model, inputs(N))
+    ref = core_run(model, drive_casing_b_120hz(N, H))
     np.testing.assert_array_equal(np.array(host["casing_free_out"]), ref)
 
 

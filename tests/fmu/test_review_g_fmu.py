@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cablecasing_core.model.schema import CHANNELS, value_range
+from cablecasing_core.model.schema import value_range
 
 pytestmark = pytest.mark.slow  # the FMU in a fresh process
 
@@ -139,23 +139,10 @@ print(json.dumps(res))
 """
 
 
-def inputs(n):
-    """(n, 36) inputs: a 120 Hz motion of casing end B in y (displacement, velocity, acceleration),
-    zero at t = 0."""
-    t = H * np.arange(n)
-    w = 2 * np.pi * 120.0
-    table = np.zeros((n, 3 * len(CHANNELS)))
-    c = CHANNELS.index("casing.B.y")
-    table[:, c] = 2e-5 * np.sin(w * t)
-    table[:, len(CHANNELS) + c] = 2e-5 * w * np.cos(w * t)
-    table[:, 2 * len(CHANNELS) + c] = -2e-5 * w * w * np.sin(w * t)
-    return table
-
-
 @pytest.fixture(scope="module")
-def host(fmu, tmp_path_factory):
+def host(fmu, tmp_path_factory, drive_casing_b_120hz):
     path = tmp_path_factory.mktemp("review_g") / "inputs.npy"
-    np.save(path, inputs(12))
+    np.save(path, drive_casing_b_120hz(12, H))
     proc = subprocess.run(
         [sys.executable, "-c", HOST, str(fmu), str(path), str(HERE)],
         capture_output=True,
@@ -186,14 +173,16 @@ def test_position_inputs_not_zero_at_the_start_warn_naming_them(host):
 
 def test_a_last_step_clamped_to_the_stop_time_is_taken(host):
     """A last step of 5e-8 s (5e-3 solver.dt) to land on stopTime is one Newmark step of it: OK, and
-    the forces are the last step's moved by 5e-4 of the next full step's change (linear
-    interpolation), within 2 % of that change plus 1e-9 N: the core's lone step is within 1.5e-4 of
-    a force's RMS of the interpolated run (tests/timedomain/test_engine.py), and a full step of
-    this 120 Hz drive changes the forces by some 0.02-0.08 of their amplitude."""
+    the forces move (a step not computed leaves them as they were to the bit) by less than 1 % of the
+    next full step's change. The move is not resolved beyond that: linear interpolation would move
+    them by 5e-4 of that change, and the digits such a short step loses (within 1e-3 of a force's
+    RMS, tests/timedomain/test_engine.py) are larger; measured, 0.1-0.4 % of the change."""
     assert host["clamped_status"] == 0, host["clamped_log"]
     before, after, full = (np.array(host[k]) for k in ("clamped_before", "clamped", "full"))
-    expected = before + 5e-4 * (full - before)
-    assert np.all(np.abs(after - expected) <= 0.02 * np.abs(full - before) + 1e-9), (after, expected, full)
+    moving = full != before  # (cable.B.Fx stays 0: the cable's end B is clamped and not driven)
+    assert moving.sum() == 3 and np.all(after[~moving] == before[~moving]), (before, full)
+    assert np.all(after[moving] != before[moving]), (after, before)
+    assert np.all(np.abs(after - before)[moving] <= 0.01 * np.abs(full - before)[moving]), (after, before, full)
     assert host["fixed_short"] == [0] * 20
     assert host["fixed_short_t"] == pytest.approx(20 * 1e-7, rel=1e-9)
 

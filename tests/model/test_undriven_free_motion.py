@@ -11,35 +11,39 @@ from scipy.optimize import brentq
 
 import cablecasing_core as cc
 
-L, EI, K_ROT = 0.85, 5e9 * 2.7261e-10, 20.0
-CASING = {
-    "E": 5e9,
-    "nu": 0.3,
-    "rho": 4850.0,
-    "alpha": 0.0,
-    "beta": 0.0,
-    "loss_factor": 0.05,
-    "d_outer": 0.0095,
-    "d_inner": 0.004,
-    "I": 2.7261e-10,
-}
-CABLE = {"E": 5.5e10, "nu": 0.3, "rho": 7850.0, "d": 0.003, "alpha": 0.0, "beta": 0.0, "loss_factor": 0.02}
+L, K_ROT = 0.85, 20.0  # m, N.m/rad
 
 
-def _model(stiffness, rotational, gravity=(0.0, 0.0, 0.0), T=0.0, cable=True):
-    iso = {"stiffness": stiffness, "rotational_stiffness": rotational}
-    d = {
-        "geometry": {"n_elements": 40, "curve": "polyline", "points": [[0, 0, 0], [L, 0, 0]]},
-        "casing": dict(CASING, supports={"A": "isolator", "B": "isolator"}, isolator={"A": iso, "B": iso}),
-        "loads": {"gravity": list(gravity), "cable_tension": T},
-        "scenario": {"duration": 0.01, "dt": 1e-5},
-    }
-    if cable:
-        d["cable"] = dict(CABLE, supports={"A": "clamped", "B": "clamped"})
-    return cc.model_from_dict(d)
+@pytest.fixture
+def model(paper_bodies):
+    """``model(stiffness, rotational, gravity=(0, 0, 0), T=0.0, cable=True)``: the casing (and the
+    cable, clamped) of tests/conftest.py's paper_bodies along a straight 0.85 m, 40 elements, on
+    isolators of translational ``stiffness`` (N/m) and ``rotational`` stiffness (N.m/rad) at both ends."""
+
+    def build(stiffness, rotational, gravity=(0.0, 0.0, 0.0), T=0.0, cable=True):
+        iso = {"stiffness": stiffness, "rotational_stiffness": rotational}
+        d = {
+            "geometry": {"n_elements": 40, "curve": "polyline", "points": [[0, 0, 0], [L, 0, 0]]},
+            "casing": dict(
+                paper_bodies["casing"], supports={"A": "isolator", "B": "isolator"}, isolator={"A": iso, "B": iso}
+            ),
+            "loads": {"gravity": list(gravity), "cable_tension": T},
+            "scenario": {"duration": 0.01, "dt": 1e-5},
+        }
+        if cable:
+            d["cable"] = dict(paper_bodies["cable"], supports={"A": "clamped", "B": "clamped"})
+        return cc.model_from_dict(d)
+
+    return build
 
 
-def _symmetric_euler_load():
+@pytest.fixture
+def EI(paper_bodies):
+    """The casing's bending stiffness E I (N m2)."""
+    return paper_bodies["casing"]["E"] * paper_bodies["casing"]["I"]
+
+
+def _symmetric_euler_load(EI):
     """The lowest buckling load of a column of length L on equal end springs (k_t, k_r): its
     symmetric mode w = A cos(lam x) + C (x from mid-span) leaves no shear at the ends (EI w''' + P w'
     = 0), so k_t carries nothing and the moment condition EI w'' = -k_r w' gives
@@ -54,38 +58,38 @@ def _symmetric_euler_load():
     return EI * lam * lam
 
 
-def test_a_casing_free_to_twist_buckles_at_the_load_of_its_other_motions():
+def test_a_casing_free_to_twist_buckles_at_the_load_of_its_other_motions(model, EI):
     """Isolators [4e5, 1e5, 1e5] N/m, rotational [0, 20, 20] N.m/rad: the twist about the casing's
     own axis is free, and the compression does no work on it (the Wagner term acts on the twist's
     difference), so the load is that of the bending on the complement: 56.204 N, to 2e-6 (the FE's
     h^4 error at 40 elements, within 8.4e-7 on 40 such spring cases in the review). Text and JSON
     say the same: the load, and the twist left free."""
-    b = cc.body_buckling(_model([4e5, 1e5, 1e5], [0.0, K_ROT, K_ROT]), "casing")
-    assert b.load == pytest.approx(_symmetric_euler_load(), rel=2e-6)
+    b = cc.body_buckling(model([4e5, 1e5, 1e5], [0.0, K_ROT, K_ROT]), "casing")
+    assert b.load == pytest.approx(_symmetric_euler_load(EI), rel=2e-6)
     assert b.mechanism is None and b.at == pytest.approx(L / 2)
     d = b.as_dict()
     assert d["load_N"] == b.load and d["free_motion"] == "a rotation about [1, 0, 0] through [0.425, 0, 0] m"
     assert f"{b.load:.4g} N" in b.text() and "free in a rotation about [1, 0, 0]" in b.text()
-    held = cc.body_buckling(_model([4e5, 1e5, 1e5], [5.0, K_ROT, K_ROT]), "casing")  # (torsion held: same)
+    held = cc.body_buckling(model([4e5, 1e5, 1e5], [5.0, K_ROT, K_ROT]), "casing")  # (torsion held: same)
     assert held.load == pytest.approx(b.load, rel=1e-9) and "free_motion" not in held.as_dict()
 
 
-def test_a_casing_free_to_slide_sideways_sways_at_its_closed_form():
+def test_a_casing_free_to_slide_sideways_sways_at_its_closed_form(model, EI):
     """Isolators without lateral stiffness, rotational [5, 20, 20] N.m/rad: the lateral translations
     are free and not driven (K_G1 of a rigid translation is 0), and the lowest mode is the sway
     w = A sin(lam x) (x from mid-span; the end shear EI w''' + P w' vanishes by itself): the moment
     condition EI w'' = -k_r w' gives tan(lam L/2) = k_r / (EI lam), P = EI lam^2 = 13.888 N; to 2e-6,
     the FE's h^4 error as above."""
-    b = cc.body_buckling(_model([4e5, 0.0, 0.0], [5.0, K_ROT, K_ROT]), "casing")
+    b = cc.body_buckling(model([4e5, 0.0, 0.0], [5.0, K_ROT, K_ROT]), "casing")
     lam = brentq(lambda x: np.tan(x * L / 2) - K_ROT / (EI * x), 1e-9, np.pi / L * (1 - 1e-12), xtol=1e-15)
     assert b.load == pytest.approx(EI * lam * lam, rel=2e-6)
     assert b.as_dict()["free_motion"].startswith("a translation along [0, ")
 
 
-def test_a_mechanism_reads_alike_in_text_and_json():
+def test_a_mechanism_reads_alike_in_text_and_json(model):
     """Isolators without lateral stiffness nor rotational stiffness across: the compression drives
     the rigid rotation across the casing, P_cr = 0 in both outputs."""
-    b = cc.body_buckling(_model([4e5, 0.0, 0.0], [5.0, 0.0, 0.0]), "casing")
+    b = cc.body_buckling(model([4e5, 0.0, 0.0], [5.0, 0.0, 0.0]), "casing")
     assert b.load == 0.0 and b.as_dict()["load_N"] == 0.0 and b.mechanism.startswith("it is free to move: ")
     assert "buckles under any compression (buckling load 0 N)" in b.text()
 
@@ -98,11 +102,11 @@ def test_a_mechanism_reads_alike_in_text_and_json():
         ([4e5, 1e5, 1e5], [0.0, K_ROT, K_ROT], [0.0, 0.0, 0.0], 2.0, "a rotation about [1, 0, 0]"),
     ],
 )
-def test_a_free_motion_the_loads_do_not_push_is_named_as_the_problem(stiffness, rotational, gravity, T, free):
+def test_a_free_motion_the_loads_do_not_push_is_named_as_the_problem(model, stiffness, rotational, gravity, T, free):
     """The weight along -z does no work on a y translation or on a twist about x; the tension has no
     resultant: the refusal names the free motion and how to hold it, not the load as uncarried."""
     with pytest.raises(cc.ModelError) as err:
-        _model(stiffness, rotational, gravity=gravity, T=T)
+        model(stiffness, rotational, gravity=gravity, T=T)
     text = str(err.value)
     assert err.value.key == ("loads.gravity" if any(gravity) else "loads.cable_tension")
     assert "cannot be carried" not in text
