@@ -29,8 +29,6 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover
     import tomli as tomllib
 
-pytest.importorskip("pyuff")
-
 
 def _frf():
     f = np.arange(0.5, 400.0, 0.5)

@@ -6,13 +6,11 @@ import gc
 import warnings
 
 import numpy as np
-import pytest
+import pyuff
 
 from cablecasing_core.identification import uff_io
 from cablecasing_core.identification.uff_io import Record, read_uff, write_uff
 from cablecasing_core.records import Records, read_records, write_records
-
-pyuff = pytest.importorskip("pyuff")
 
 T = np.arange(200) * 1e-4
 

@@ -94,7 +94,8 @@ def test_a_second_hit_20_ms_after_the_first_is_refused():
 
 def _pyuff_time(path, t, x):
     """A time record as another tool writes it: pyuff, abscissa point by point (uneven flag)."""
-    pyuff = pytest.importorskip("pyuff")
+    import pyuff
+
     zeros = dict.fromkeys(
         [f"{a}_{b}_unit_exp" for a in ("abscissa", "ordinate", "orddenom", "z_axis") for b in ("len", "force", "temp")],
         0,

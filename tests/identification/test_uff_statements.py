@@ -5,13 +5,12 @@ the 16 Hz band 6 % apart)."""
 
 import numpy as np
 import pytest
+import pyuff
 
 import cablecasing_core as cc
 from cablecasing_core.cli import main
 from cablecasing_core.errors import ModelError, ModelWarning
 from cablecasing_core.records import Records, read_records, write_records
-
-pyuff = pytest.importorskip("pyuff")
 
 
 @pytest.fixture(scope="module")

@@ -405,7 +405,8 @@ def test_a_seed_gives_the_same_record_at_every_time_step():
 def test_members_on_dask_workers_equal_the_serial_ones():
     # workers run one BLAS thread; a record does not depend on that (the compliance comes from the
     # step loop's block solve), so the ensemble is the same in parallel as in this process
-    pytest.importorskip("distributed")
+    import distributed  # noqa: F401  (required by the [test] extra: a missing one fails the test, not skips it)
+
     serial = seed_ensemble(cc.load_model(), [1, 2], duration=T)
     parallel = seed_ensemble(cc.load_model(), [1, 2], duration=T, scheduler="local", n_workers=2)
     np.testing.assert_array_equal(parallel.levels, serial.levels)
@@ -418,7 +419,8 @@ def test_a_members_warnings_are_said_with_its_seed_in_this_process_and_from_work
     otherwise go to the worker's stderr without the seed."""
     import warnings
 
-    pytest.importorskip("distributed")
+    import distributed  # noqa: F401  (required by the [test] extra: a missing one fails the test, not skips it)
+
     model = cc.load_model().with_overrides({"contact.damping": 1e5})
     said, kept = {}, {}
     for scheduler in ("serial", "local"):
