@@ -78,7 +78,7 @@ def test_pool_against_another_model_file_with_other_model(tmp_path, capsys, monk
     assert "instead of the files' (" in out and "the models' whole difference (paired on the same seeds)" in out
     d = paired_difference(load_ensemble("b.csv"), load_ensemble("a.csv"))
     row = [line for line in out.splitlines() if line.startswith("oct4,")][-1]  # (the change table)
-    assert float(row.split(",")[2]) == pytest.approx(d.r[3], abs=1e-4)
+    assert float(row.split(",")[2]) == pytest.approx(d.r[3], abs=1e-4)  # (printed as {r:+.4f}: 5e-5, and rounding)
     # the settings must still match: another duration is refused naming it
     assert main(["ensemble", "b.toml", "--seeds", "2", "--duration", "0.12", "--skip", "0", "--out", "b2.csv"]) == 0
     capsys.readouterr()
