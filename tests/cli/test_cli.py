@@ -48,6 +48,7 @@ def test_trfam_csv(tmp_path):
     data = np.genfromtxt(out, delimiter=",", names=True)
     assert data.dtype.names == ("frequency_hz", "re_kg", "im_kg", "magnitude_kg", "phase_deg")
     H = trfam(load_model(), "casing.A.y", "casing.B.y", data["frequency_hz"], "structural")
+    # (the table is written with 10 significant digits: 5e-10)
     np.testing.assert_allclose(data["re_kg"] + 1j * data["im_kg"], H, rtol=1e-8)
     assert png.stat().st_size > 1000
 
@@ -73,6 +74,7 @@ def test_simulate_cli_writes_csv_with_the_output_names_and_decimates(tmp_path, c
     ref = cc.simulate(load_model(), duration=0.002)
     assert len(rec.time) == 201 and rec.time[0] == 0 and rec.time[-1] == 0.002  # t = 0, dt, ..., T
     assert np.all(rec.column("casing.B.Fz")[0] == 0)  # the state it starts from: at rest
+    # (the record's CSV keeps 9 significant digits: 5e-9; atol for the force's zeros)
     np.testing.assert_allclose(rec.column("casing.B.Fz")[1:], ref.support_force("casing.B.Fz"), rtol=1e-8, atol=1e-17)
     assert rec.column("casing.B.Fz [N]") is rec.column("casing.B.Fz_N")  # the header form and the old form
     # --output-interval --decimation pick: every 10th sample of the same grid, t = 0 to T

@@ -38,7 +38,10 @@ def test_the_fmu_check_reads_the_summary_of_fmu_check(demo, tmp_path):
     t = np.arange(0.0, 0.0105, 1e-3)
     (tmp_path / "fmu.csv").write_text("time,casing.B.Fz\n" + "".join(f"{x:.9g},1\n" for x in t))
     check = fmu_check(tmp_path / "fmu.csv", 1e-3, 0.01)  # (a constant 1 N: far from the core's force)
-    assert demo.fmu_failure(check) is not None
+    failed = demo.fmu_failure(check)
+    said = check[demo.DEVIATION]  # (the one column given, at the ten steps of 1e-3 s in 0.01 s)
+    assert said.endswith(" (casing.B.Fz, over 10 steps)") and float(said.split()[0]) > 1e-8, said
+    assert failed.startswith(f"the FMU deviates from the core driven by the same sampled record by {said}"), failed
 
 
 def test_the_study_figure_title_of_the_demo_lies_inside_the_figure(monkeypatch, tmp_path):

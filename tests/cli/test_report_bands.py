@@ -113,6 +113,7 @@ def test_the_table_gives_a_dash_for_a_band_without_response_and_the_figure_spans
     for lab in ("oct8", "oct9"):
         cells = _cells(html, lab)
         assert cells[1:6] == ["–", "–", "–", "–", "no response"]
+        # (the page prints the mean to 4 significant digits: 5e-4)
         assert float(cells[6]) == pytest.approx(vs[1].ensemble.mean[int(lab[-1]) - 1], rel=1e-3)
     assert all(c != "–" for c in _cells(html, "oct7"))
     assert "In the variant without the cable drive, oct8 and oct9 lie more than 100 dB below its strongest" in html

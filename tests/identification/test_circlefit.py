@@ -72,7 +72,8 @@ def test_table1_loss_factors_within_1_percent_after_neighbour_correction():
     eta = np.array([r.eta for r in res])
     # spec: 1 %; the remaining error comes from the out-of-band mode (curvature of its term over a window)
     np.testing.assert_allclose(eta, ETA_TABLE1, rtol=0.01)
-    np.testing.assert_allclose([r.f_r_hz for r in res], F_TABLE1, rtol=1e-3)
+    # the out-of-band mode moves the circle's resonance far less than its loss factor: measured 8.7e-6
+    np.testing.assert_allclose([r.f_r_hz for r in res], F_TABLE1, rtol=1e-4)
     # without the correction the neighbours' slope distorts the circles by more than 1 % for some mode
     raw = np.array([r.eta for r in loss_factor_circle(f, H, F_TABLE1, correct_neighbours=False)])
     assert np.max(np.abs(raw / ETA_TABLE1 - 1)) > 0.01

@@ -87,6 +87,7 @@ def test_loss_factor_end_to_end_uff(tmp_path, capsys):
         == 0
     )
     table = np.array(tomllib.loads(toml.read_text())["cable"]["loss_factor"])
+    # (an exact modal sum: the circle fit's resonance to its solver's tolerance, as eta below)
     np.testing.assert_allclose(table[:, 0], F, rtol=1e-6)
     np.testing.assert_allclose(table[:, 1], ETA, rtol=1e-5)  # exact modal sum: solver tolerance
     assert png.stat().st_size > 10000

@@ -139,6 +139,7 @@ def test_parameters_toml_is_accepted_by_the_model():
     )
     data = tomllib.loads(text)["casing"]
     assert data["E"] == [[100.0, 5.1e9], [200.0, 5.3e9]]
+    # (an exact two-mode sum: the circle fits' neighbour correction converges to its tolerance, < 1e-6)
     np.testing.assert_allclose(np.array(data["loss_factor"])[:, 1], [0.0764, 0.046], rtol=1e-6)
     m = load_model().with_overrides({f"casing.{k}": v for k, v in data.items()})
     spec = m.bodies["casing"]

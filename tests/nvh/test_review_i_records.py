@@ -59,6 +59,7 @@ def test_a_name_with_a_comma_or_a_quote_is_quoted_in_the_header_and_reads_back(t
     back = read_records(tmp_path / "odd.csv")
     assert back.names == ("my force, N", 'say "x"', "acc")
     assert back.units == {"my force, N": "N", 'say "x"': "", "acc": "m/s2"}
+    # (the CSV keeps 9 significant digits: 5e-9)
     np.testing.assert_allclose(back.column("my force, N"), F, rtol=1e-8)
 
 

@@ -254,6 +254,7 @@ def test_the_api_and_spectrum_take_the_same_samples_by_default(tmp_path, capsys)
         assert tr.n_averages == fn(rec, inp, "casing.B.Fz", skip=0.06).n_averages
         k = np.searchsorted(tr.f_hz, table[:, 0])
         np.testing.assert_allclose(tr.f_hz[k], table[:, 0])
+        # (the command's table keeps 9 significant digits: 5e-9; atol for values near 0)
         np.testing.assert_allclose(tr.H.real[k], table[:, 1], rtol=1e-8, atol=1e-12)
         np.testing.assert_allclose(tr.coherence[k], table[:, 3], rtol=1e-8)
         np.testing.assert_array_equal(fn(rec, inp, "casing.B.Fz", skip=0.06).H, tr.H)

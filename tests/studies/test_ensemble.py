@@ -371,6 +371,7 @@ def test_cli_pools_parts_and_prints_the_paired_change(tmp_path, capsys):
     )
     text = capsys.readouterr().out
     rows = [line.split(",") for line in text.splitlines() if line[:3] in ("b1,", "b2,")]
+    # (printed to 6 significant digits: 5e-6)
     np.testing.assert_allclose([float(r[3]) for r in rows[:2]], b.mean(axis=0), rtol=1e-5)
     d = paired_difference(a, b)
     np.testing.assert_allclose([float(r[2]) for r in rows[2:]], d.r, atol=6e-5)  # printed to 4 decimals

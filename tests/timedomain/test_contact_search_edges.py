@@ -72,6 +72,7 @@ def test_a_node_beyond_the_casing_end_cuts_no_far_leg(shift):
     if shift > 0:
         assert e == -1  # beyond the end: no contact
     else:
+        # (Eq. (39)'s cut on the chord in closed form, as here: the rounding of positions ~1 m over the shift)
         assert (e, far) == (0, True) and xi == pytest.approx(-shift / cl.lengths[0], rel=1e-6)
 
 

@@ -75,12 +75,14 @@ def test_stick_slip_limit_cycle():
     assert x[first_slip] == pytest.approx(XK, rel=1e-2)  # sticks until the spring reaches mu N
     late = t > t[first_slip]
     amp = V_BELT / W0
+    # (a switch is caught within a step of 1e-5 s: omega dt = 1e-3 of the amplitude; 1e-2 is ten steps)
     assert x[late].max() == pytest.approx(XK + amp, rel=1e-2)
     assert x[late].min() == pytest.approx(XK - amp, rel=1e-2)
     # period from successive maxima
     from scipy.signal import find_peaks
 
     pk, _ = find_peaks(x)
+    # (the peaks on the 1e-5 s grid: dt / T = 1.6e-4 each; 1e-2 as above)
     assert np.mean(np.diff(t[pk])) == pytest.approx(T, rel=1e-2)
     # friction never exceeds mu N
     assert np.abs(f).max() <= MU * N_ * (1 + 1e-9)
