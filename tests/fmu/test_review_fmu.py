@@ -112,6 +112,7 @@ for name, params in cases.items():
         res[name + "_steps"] = [inst.step(row, 1e-4) for row in table[:2]]
     if name == "isolator_clamped":  # on to N steps, its outputs for the core's on the model with end A clamped
         res[name + "_more"] = [inst.step(row, 1e-4) for row in table[2:]]
+    if name in ("isolator_clamped", "scenario_dt"):
         res[name + "_out"] = inst.get(sys.argv[4].split(",")).tolist()
     if name == "casing_free":  # its run, for the core's
         out, status = [], []
@@ -251,11 +252,15 @@ def test_a_key_of_an_excitation_the_model_file_lacks(host):
     assert "scenario.excitation.casing_random.rms = -5.0" in " ".join(host["missing_excitation_bad_log"])
 
 
-def test_scenario_dt_is_the_internal_step_when_solver_dt_is_unset(host):
-    """docs/fmu.md: solver.dt, unset, is the model's scenario.dt, the master's when it set it. Without
-    scenario.drive the scenario's random band (to 1000 Hz) does not run, so a step of 1e-3 s is not
-    refused for its Nyquist frequency."""
+def test_scenario_dt_is_the_internal_step_when_solver_dt_is_unset(host, core_run, drive_casing_b_120hz):
+    """docs/fmu.md: solver.dt, unset, is the model's scenario.dt, the master's when it set it: the
+    outputs of two steps with scenario.dt = 2e-5 s are, to the bit, the core's at dt = 2e-5 s (an FMU
+    that said 2e-5 s and stepped at 1e-5 s passed before). Without scenario.drive the scenario's random
+    band (to 1000 Hz) does not run, so a step of 1e-3 s is not refused for its Nyquist frequency."""
     assert host["scenario_dt"] == 0 and host["scenario_dt_dt"] == 2e-5 and host["scenario_dt_steps"] == [0, 0]
+    model = cc.load_model().with_overrides({"scenario.dt": 2e-5})
+    ref = core_run(model, drive_casing_b_120hz(2, H), dt=2e-5)[-1]
+    np.testing.assert_array_equal(host["scenario_dt_out"], ref[: len(OUTPUTS)])
     assert host["coarse_scenario_dt"] == 0 and host["coarse_scenario_dt_dt"] == 1e-3, host["coarse_scenario_dt_log"]
     assert host["seed_dt"] == 1e-5  # (unset: the built-in specimen's scenario.dt)
 
