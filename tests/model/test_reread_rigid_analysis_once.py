@@ -12,28 +12,18 @@ from cablecasing_core.structure import support_check
 from cablecasing_core.structure.assembly import assemble_body
 from cablecasing_core.structure.buckling import buckling
 
-L, EI, K_ROT = 0.85, 5e9 * 2.7261e-10, 20.0  # m, N.m2, N.m/rad: the casing of Table 2, its end isolators
-CASING = {
-    "E": 5e9,
-    "nu": 0.3,
-    "rho": 4850.0,
-    "alpha": 0.0,
-    "beta": 0.0,
-    "loss_factor": 0.05,
-    "d_outer": 0.0095,
-    "d_inner": 0.004,
-    "I": 2.7261e-10,
-}
-CABLE = {"E": 5.5e10, "nu": 0.3, "rho": 7850.0, "d": 0.003, "alpha": 0.0, "beta": 0.0, "loss_factor": 0.02}
+L, EI, K_ROT = 0.85, 5e9 * 2.7261e-10, 20.0  # m, N.m2, N.m/rad: the casing of Table 2 (paper_bodies), its end isolators
 
 
-def test_a_free_motion_is_analysed_once(monkeypatch):
+def test_a_free_motion_is_analysed_once(monkeypatch, paper_bodies):
     iso = {"stiffness": [4e5, 1e5, 1e5], "rotational_stiffness": [0.0, K_ROT, K_ROT]}  # (free to twist)
     model = cc.model_from_dict(
         {
             "geometry": {"n_elements": 40, "curve": "polyline", "points": [[0, 0, 0], [L, 0, 0]]},
-            "casing": dict(CASING, supports={"A": "isolator", "B": "isolator"}, isolator={"A": iso, "B": iso}),
-            "cable": dict(CABLE, supports={"A": "clamped", "B": "clamped"}),
+            "casing": dict(
+                paper_bodies["casing"], supports={"A": "isolator", "B": "isolator"}, isolator={"A": iso, "B": iso}
+            ),
+            "cable": dict(paper_bodies["cable"], supports={"A": "clamped", "B": "clamped"}),
             "scenario": {"duration": 0.01, "dt": 1e-5},
         }
     )
