@@ -421,7 +421,7 @@ _KEYS = [
     KeySpec(
         "geometry.nodes_at_clips",
         "bool",
-        False,
+        True,
         "",
         "a node at each casing clip's at: the elements are equal within each span between the ends and the clips, "
         "the spans sharing geometry.n_elements in proportion to their lengths (false: n_elements equal elements, "

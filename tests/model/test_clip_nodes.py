@@ -82,9 +82,11 @@ def test_both_bodies_keep_one_set_of_node_stations():
 
 
 @pytest.mark.parametrize("route", list(ROUTES))
-def test_without_the_key_the_elements_stay_equal_and_the_default_is_false(route):
+def test_the_default_puts_the_clips_on_nodes_and_false_keeps_the_elements_equal(route):
     m = clipped(route, 35, on_nodes=None)
-    assert m.geometry["nodes_at_clips"] is False
+    assert m.geometry["nodes_at_clips"] is True
+    assert clip_positions(m) == pytest.approx(AT, abs=1e-12)  # (each clip at its at, as with the key true)
+    m = clipped(route, 35, on_nodes=False)
     s = centerline_of(m).s
     assert np.array_equal(s, np.linspace(0.0, s[-1], 36))  # equal elements, as np.linspace gives them
     no_clips = clipped(route, 35, on_nodes=True, at=[])

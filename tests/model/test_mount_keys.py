@@ -126,8 +126,12 @@ ISO = {"stiffness": [2e5, 1e5, 1e5]}
     ],
 )
 def test_bad_mount_keys_name_key_value_and_what_is_allowed(changes, key, words):
+    # (a clip on an end node, two clips on one node: the refusals of the nearest-node convention,
+    # geometry.nodes_at_clips = false; the default's own, spans too short: tests/model/test_clip_nodes.py)
+    data = with_casing(**changes)
+    data["geometry"]["nodes_at_clips"] = False
     with pytest.raises(ModelError) as e:
-        model_from_dict(with_casing(**changes))
+        model_from_dict(data)
     assert key in e.value.key, (e.value.key, str(e.value))
     assert words in str(e.value)
 
@@ -207,11 +211,11 @@ def test_a_key_of_an_excitation_the_model_lacks_names_the_model_s_excitations():
 
 
 def test_a_clip_far_from_a_node_warns_and_is_said_where_it_acts(tmp_path, capsys):
-    """A clip acts at its nearest node: on 4 elements of 0.25 m clips asked at 0.37 and 0.7 m act at
-    0.25 and 0.75 m, farther than CLIP_OFF_NODE (10 % of an element) from where they were asked: the
-    model warns naming each, and `static` prints where they act (it printed 0.37 and 0.7 m beside
-    the reactions of clips at 0.25 and 0.75 m). A clip within 10 % of an element of its node (10 mm
-    of 250 mm) does not warn."""
+    """With geometry.nodes_at_clips = false a clip acts at its nearest node: on 4 elements of 0.25 m
+    clips asked at 0.37 and 0.7 m act at 0.25 and 0.75 m, farther than CLIP_OFF_NODE (10 % of an
+    element) from where they were asked: the model warns naming each, and `static` prints where they
+    act (it printed 0.37 and 0.7 m beside the reactions of clips at 0.25 and 0.75 m). A clip within
+    10 % of an element of its node (10 mm of 250 mm) does not warn."""
     import warnings
 
     from cablecasing_core.cli import main
@@ -219,7 +223,12 @@ def test_a_clip_far_from_a_node_warns_and_is_said_where_it_acts(tmp_path, capsys
     from cablecasing_core.structure.mount_element import clip_positions
 
     data = copy.deepcopy(load_model().data)
-    data["geometry"] = {"points": [[0.0, 0, 0], [1.0, 0, 0]], "n_elements": 4, "curve": "polyline"}
+    data["geometry"] = {
+        "points": [[0.0, 0, 0], [1.0, 0, 0]],
+        "n_elements": 4,
+        "curve": "polyline",
+        "nodes_at_clips": False,
+    }
     data.pop("cable")
     data["scenario"].pop("excitation")
     clip = {"stiffness": 1e6, "rotational_stiffness": 10.0}

@@ -154,7 +154,7 @@ def test_the_installation_example_carries_a_tension_its_isolators_carry():
     text = str(err.value)
     assert err.value.key == "loads.cable_tension" and f"buckling load {b.load:.4g} N" in text
     assert "its mode largest at s = " in text and "A isolator k = [4e+05, 1e+05, 1e+05] N/m" in text
-    assert "clips at s = 0.3991, 0.5987 m" in text
+    assert "clips at s = 0.4, 0.6 m" in text  # (each clip at the at the file gives it, a node there)
 
 
 # ---------------------------------------------------------------- structures that cannot carry their loads
@@ -348,8 +348,8 @@ def test_the_newcomer_s_casing_in_an_isolator_a_clamp_and_a_clip_carries_8_n():
     model = cc.model_from_dict(raw)
     b = load_of(model)
     L = assemble_body(model, "casing", check_buckling=False).centerline.length
-    assert 0.25 * np.pi**2 * EI / L**2 < 8.0 < b.load  # (3.5 N refused 8 N; 84.9 N: the clip and isolator hold it)
-    assert "A isolator" in b.supports and "B clamped" in b.supports and "clips at s = 0.5066 m" in b.supports
+    assert 0.25 * np.pi**2 * EI / L**2 < 8.0 < b.load  # (3.5 N refused 8 N; 84.0 N: the clip and isolator hold it)
+    assert "A isolator" in b.supports and "B clamped" in b.supports and "clips at s = 0.51 m" in b.supports
     st = static_state(model)
     assert st.clip_reactions.shape == (1, 6) and st.prestretch_force > 0
 
