@@ -85,8 +85,17 @@ def test_geometry_builds_no_centerline_for_the_clips_nodes(monkeypatch, capsys):
     monkeypatch.setattr("cablecasing_core.cli.geometry.model_argument", lambda _path, _sets=(): clipped)
     assert main(["geometry", "model.toml", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    # a segments route is cut into elements of equal arc length: a clip acts at the node nearest to it
-    n, L = clipped.geometry["n_elements"], out["length_m"]
-    s = np.linspace(0.0, L, n + 1)
+    # geometry.nodes_at_clips (true by default) puts a node at each clip's at: it acts there
     at = [c["at"] for c in clipped.data["casing"]["clip"]]
+    assert [c["at_m"] for c in out["clips"]] == at
+    assert [c["node_s_m"] for c in out["clips"]] == pytest.approx(at, abs=1e-12)  # (the spans' ends, rounded)
+    # with it false a segments route is cut into elements of equal arc length: a clip acts at the node nearest to it
+    data = clipped.to_dict()
+    data["geometry"]["nodes_at_clips"] = False
+    nearest = cc.model_from_dict(data)
+    monkeypatch.setattr("cablecasing_core.cli.geometry.model_argument", lambda _path, _sets=(): nearest)
+    assert main(["geometry", "model.toml", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    n, L = nearest.geometry["n_elements"], out["length_m"]
+    s = np.linspace(0.0, L, n + 1)
     assert out["clips"] == [{"at_m": a, "node_s_m": float(s[round(a * n / L)])} for a in at]
