@@ -318,10 +318,11 @@ def _body(body):
                 "float",
                 REQUIRED,
                 "m",
-                "arc length from end A of a clip holding the casing (the nearest node is clipped; "
-                "geometry.nodes_at_clips = true puts a node there)",
+                "arc length from end A of a clip holding the casing (a node there by default; with "
+                "geometry.nodes_at_clips = false the nearest node is clipped)",
                 Number(gt=0, unit="m"),
-                note="inside the route, its nearest node not an end node and not another clip's",
+                note="inside the route, at least half a mean element from an end and from another clip (with "
+                "geometry.nodes_at_clips = false: its nearest node not an end node and not another clip's)",
             ),
             *_mount_keys("casing.clip[]", "the clip"),
             KeySpec(
