@@ -87,7 +87,9 @@ def _body(name, data, geometry):
 def _mounts(name, data, supports, geometry):
     """The isolators of ``name``'s isolator supports and the casing's clips, checked: a table
     [<body>.isolator.<A|B>] for each isolator support and none for another, each clip inside the
-    route on a node of its own (the nearest node, not an end node), excitation names unique."""
+    route on a node of its own (with ``geometry.nodes_at_clips``, the default, a node at its ``at``:
+    :func:`_nodes_at_clips`; without, the nearest node of equal elements, not an end node),
+    excitation names unique."""
     iso = data.get("isolator", {})
     check_keys(f"{name}.isolator", iso, set(SUPPORT_NAMES))
     out = {}

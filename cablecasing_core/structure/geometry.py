@@ -1,4 +1,4 @@
-"""Centerline geometry: arc-length curve, equal-arc nodes, element frames, curvature.
+"""Centerline geometry: arc-length curve, equal-arc nodes (within the spans between clips), element frames, curvature.
 
 The centerline at rest is shared by both bodies. Routed by segments (``[geometry] segments``,
 :mod:`.routing`) it is the exact curve of straights and circular arcs: the nodes lie on the arcs
