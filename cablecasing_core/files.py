@@ -190,6 +190,13 @@ def is_number(text) -> bool:
 MAX_MAGNITUDE = 1e100
 
 
+def unreadable(data) -> np.ndarray:
+    """Where the array ``data`` holds a value no record or table of this package reads: NaN, an
+    infinity or a magnitude above :data:`MAX_MAGNITUDE` (a boolean array of ``data``'s shape). The
+    one rule of :func:`check_values`, :func:`read_csv_table` and ``records.check_record_values``."""
+    return ~np.isfinite(data) | (np.abs(data) > MAX_MAGNITUDE)
+
+
 def check_values(key: str, path, data) -> None:
     """Every value of the array ``data`` (samples, or rows x columns) read from ``path`` must be
     finite and at most :data:`MAX_MAGNITUDE` in magnitude; the :class:`ModelError` names the row
@@ -197,7 +204,7 @@ def check_values(key: str, path, data) -> None:
     data = np.asarray(data)
     if data.dtype.kind not in "fc":
         raise ModelError(key, str(path), "must hold numbers only")
-    bad = np.argwhere(~np.isfinite(data) | (np.abs(data) > MAX_MAGNITUDE))
+    bad = np.argwhere(unreadable(data))
     if bad.size:
         where = bad[0]
         at = f"row {where[0] + 1}, column {where[1] + 1}" if data.ndim > 1 else f"sample {where[0] + 1}"
@@ -291,7 +298,7 @@ def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: i
                 if not is_number(f):
                     raise ModelError(key, shown, f"line {lineno}, column {j + 1} is not a number")
         raise ModelError(key, shown, f"must be {need}")  # pragma: no cover - loadtxt agrees with the scan
-    bad = np.argwhere(~np.isfinite(data) | (np.abs(data) > MAX_MAGNITUDE))
+    bad = np.argwhere(unreadable(data))
     if bad.size:
         r, c = bad[0]
         raise ModelError(

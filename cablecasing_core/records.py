@@ -70,7 +70,7 @@ from fractions import Fraction
 import numpy as np
 
 from .errors import ModelError, plain, renamed
-from .files import MAX_MAGNITUDE, atomic_path, check_values, csv_statements, read_csv_table, time_column
+from .files import MAX_MAGNITUDE, atomic_path, check_values, csv_statements, read_csv_table, time_column, unreadable
 from .model.schema import (
     BODY_NAMES,
     FORCE_NAMES,
@@ -409,14 +409,14 @@ def write_records(path: str | os.PathLike, rec: Records) -> str:
     :class:`~cablecasing_core.files.WriteError`. Nothing is written that :func:`read_records` would
     refuse to read back: a column that is not real, or holds NaN, an infinity or a magnitude beyond
     :data:`~cablecasing_core.files.MAX_MAGNITUDE` (a run that diverged), raises :class:`ModelError`
-    naming the column and the time of its first such value (:func:`check_writable`), and an earlier
+    naming the column and the time of its first such value (:func:`check_record_values`), and an earlier
     file of that name is left as it was."""
     path = str(path)
     suffix = os.path.splitext(path)[1].lower()
     if suffix not in SUFFIXES:
         raise ModelError("path", path, "must end in " + ", ".join(SUFFIXES))
     names = list(rec.columns)
-    check_writable(path, rec)
+    check_record_values(path, rec)
     table = np.column_stack([rec.time] + [np.asarray(rec.columns[n], float) for n in names])
     units = [rec.units.get(n, "") for n in names]
     if suffix == ".csv":
@@ -465,7 +465,7 @@ def write_records(path: str | os.PathLike, rec: Records) -> str:
     return path
 
 
-def check_writable(path, rec: Records) -> None:
+def check_record_values(path, rec: Records) -> None:
     """Refuse (:class:`ModelError` naming the column, ``time`` for the time) a record that a file
     written from it would not give back (:func:`read_records` reads real, finite numbers of magnitude
     at most :data:`~cablecasing_core.files.MAX_MAGNITUDE` only): a column of complex or non-numeric
@@ -484,7 +484,7 @@ def check_writable(path, rec: Records) -> None:
                 f"{path}",
             )
         a = a.astype(float, copy=False)
-        bad = ~np.isfinite(a) | (np.abs(a) > MAX_MAGNITUDE)
+        bad = unreadable(a)
         if bad.any():
             k = int(np.argmax(bad))
             what = str(a[k]) if not np.isfinite(a[k]) else f"{a[k]:.3g}"

@@ -1,4 +1,4 @@
-"""A record is written only as ``read_records`` reads it back (records.check_writable): a column
+"""A record is written only as ``read_records`` reads it back (records.check_record_values): a column
 with NaN, an infinity or a magnitude above files.MAX_MAGNITUDE (1e100) is refused before anything
 is written, naming the column and the time of its first such value; an earlier file stays."""
 
