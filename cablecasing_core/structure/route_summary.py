@@ -24,7 +24,7 @@ import numpy as np
 
 from ..model.schema import MAX_ELEMENTS
 from .assembly import axial_prestress
-from .geometry import build_centerline, centerline_of, route_of
+from .geometry import build_centerline, centerline_of, clip_breaks, node_stations, route_of
 from .sections import section_of
 
 BEND_CURVATURE = 2.0  # 1/m, curvature above which a point-defined route counts as bent
@@ -287,6 +287,15 @@ def _band_modulus(spec, f_hz):
     return float(np.min(spec.modulus(f)))
 
 
+def _longest_element(length, n, breaks):
+    """The arc length (m) of the longest of ``n`` elements on a route of ``length`` m with a node at
+    each of ``breaks`` (m; None: equal elements, ``length / n``): structure/geometry.py's
+    :func:`~.geometry.node_stations`, as the centerline is cut."""
+    if not breaks:
+        return length / n
+    return float(np.max(np.diff(node_stations(length, n, breaks))))
+
+
 def band_advice(model, summary=None):
     """The mesh and time step against the scenario's excitation band (SI units), or None when the
     scenario has no excitation :func:`excitation_top` counts: ``f_top_hz`` and ``set_by`` (which
@@ -296,23 +305,40 @@ def band_advice(model, summary=None):
     wavelength at f_top, :func:`bending_wavelength`, with the body's EI (its I, or the effective
     ``I``; the modulus of :func:`_band_modulus`), rho A (the geometric area) and axial force, the
     cable's tension and the casing's equal compression, ``structure.assembly.axial_prestress``),
-    ``axial_force_N``, ``elements_per_wavelength`` (at ``n_elements``)}}, ``n_elements_for_advised``
-    (the fewest elements that put :data:`ADVISED_PER_WAVELENGTH` on every body's wavelength) and
-    ``not_counted`` (the CSV excitations, whose content is not read)."""
+    ``axial_force_N``, ``elements_per_wavelength`` (the wavelength over the longest element at
+    ``n_elements``: the route length over ``n_elements``, or, where ``geometry.nodes_at_clips`` cuts the
+    route at the clips into spans of their own elements, the longest of those, :func:`_longest_element`)}},
+    ``n_elements_for_advised`` (the fewest elements that put :data:`ADVISED_PER_WAVELENGTH` on every body's
+    wavelength, so counted) and ``not_counted`` (the CSV excitations, whose content is not read)."""
     top = excitation_top(model)
     if top is None:
         return None
     f_top, what = top
     g = summary or geometry_summary(model)
     length, n = g["length_m"], g["n_elements"]
+    breaks = clip_breaks(model.geometry, model.data.get("casing"))
+    h = _longest_element(length, n, breaks)  # (m: length / n without clips)
     dt = float(model.scenario["dt"])
     bodies = {}
     for body, spec in model.bodies.items():
         sec = section_of(spec)
         P = float(axial_prestress(model, body)) + 0.0  # (+ 0.0: no -0.0 for the casing without a tension)
         lam = bending_wavelength(_band_modulus(spec, f_top) * sec.I, spec.rho * sec.A, P, f_top)
-        bodies[body] = {"wavelength_m": lam, "axial_force_N": P, "elements_per_wavelength": lam * n / length}
+        bodies[body] = {
+            "wavelength_m": lam,
+            "axial_force_N": P,
+            "elements_per_wavelength": lam / h if breaks else lam * n / length,
+        }
     shortest = min(b["wavelength_m"] for b in bodies.values())
+    advised = int(np.ceil(ADVISED_PER_WAVELENGTH * length / shortest * (1 - 1e-12)))
+    if breaks:  # (at least one element a span)
+        advised = max(advised, len(breaks) + 1)
+    while (
+        breaks
+        and advised < MAX_ELEMENTS
+        and _longest_element(length, advised, breaks) * ADVISED_PER_WAVELENGTH > (shortest * (1 + 1e-12))
+    ):
+        advised += 1  # (a span's elements are longer than the mean by less than twice: a few more at most)
     return {
         "f_top_hz": f_top,
         "set_by": what,
@@ -321,7 +347,7 @@ def band_advice(model, summary=None):
         "dt_for_advised_s": step_for_period_error(f_top, ADVISED_PERIOD_ERROR),
         "n_elements": n,
         "bodies": bodies,
-        "n_elements_for_advised": int(np.ceil(ADVISED_PER_WAVELENGTH * length / shortest * (1 - 1e-12))),
+        "n_elements_for_advised": advised,
         "not_counted": [
             f"scenario.excitation.{k}" for k, e in model.scenario.get("excitation", {}).items() if e["kind"] == "csv"
         ],
