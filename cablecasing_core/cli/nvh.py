@@ -257,6 +257,23 @@ def _run_step(rec):
     return 0.5 / rec.fs, "decimated"
 
 
+def _model_output(name):
+    """Whether the column ``name`` is a model output, or the sum of model outputs that a derived
+    column's name says it is (``net.B.Fz`` read back from a file written after it was derived:
+    ``records.derived_terms``)."""
+    from ..errors import ModelError
+    from ..model.schema import is_output
+    from ..records import derived_terms
+
+    if is_output(name):
+        return True
+    try:
+        terms = derived_terms(name, ())
+    except ModelError:
+        return False
+    return terms is not None and all(is_output(t) for t in terms)
+
+
 def _beyond_table3_note(terms, top_hz, step):
     """The note on a model output's bands that reach above the paper's Table 3 (its top octave ends
     at 5680 Hz), over which the model's accuracy is shown (docs/time_domain.md); None for other
@@ -267,11 +284,11 @@ def _beyond_table3_note(terms, top_hz, step):
     quoted at the run's step where the record tells it, at most at its bound for a decimated record, and
     at the default step, as such, where it cannot be known; and the 35 elements' mesh resolves fewer
     bending waves (about one element per wavelength of the casing at 20 kHz)."""
-    from ..model.schema import is_output, lookup
+    from ..model.schema import lookup
     from ..structure.route_summary import newmark_period_error
     from ..studies.octave import TABLE3_UPPER
 
-    if top_hz <= TABLE3_UPPER[-1] or not all(is_output(t) for t in terms):
+    if top_hz <= TABLE3_UPPER[-1] or not all(_model_output(t) for t in terms):
         return None
     f3, default = TABLE3_UPPER[-1], lookup("scenario.dt").default
 

@@ -62,3 +62,16 @@ def test_a_record_that_states_no_passband_leaves_the_step_unknown(records, capsy
     note = _note(capsys, records / "pick.csv")
     assert "the run's step is unknown" in note
     assert f"at the default step, 1e-05 s, it would be {_error(22387, 1e-5):.2g} % at 22387 Hz" in note
+
+
+def test_a_derived_column_read_back_from_a_file_is_a_model_output_s(records, capsys, tmp_path):
+    """net.B.Fy, derived and then written with the record (Records.resolve adds it to the columns), is a
+    plain column of the file read back: still the sum of two model outputs, so it gets the note."""
+    from cablecasing_core.records import read_records, write_records
+
+    rec = read_records(records / "full.csv")
+    rec.column("net.B.Fy")
+    write_records(tmp_path / "net.csv", rec)
+    assert "net.B.Fy" in read_records(tmp_path / "net.csv").columns
+    assert main(["bands", str(tmp_path / "net.csv"), "--column", "net.B.Fy", "--kind", "third", "--fmin", "100"]) == 0
+    assert "beyond the paper's Table 3" in capsys.readouterr().out
