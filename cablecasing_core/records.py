@@ -82,6 +82,7 @@ from .model.schema import (
     inputs_of,
     output_spec,
 )
+from .model.validators import Choice
 
 SUFFIXES = (".csv", ".npz", ".uff")
 _NODES = {"casing.A": 1, "casing.B": 2, "cable.A": 3, "cable.B": 4}
@@ -135,7 +136,28 @@ def unit_of(name: str) -> str:
             return spec(name)[0]
         except ModelError:
             pass
-    return ""
+    try:  # a derived column (net.B.Fz, paths.Fz, a+b): its terms' unit when they share one
+        terms = derived_terms(name, ())
+    except ModelError:
+        terms = None
+    units = {unit_of(t) for t in terms or ()}
+    return units.pop() if len(units) == 1 else ""
+
+
+def check_column_name(name, names, key: str) -> None:
+    """Refuse, as :meth:`Records.resolve` would on a record of the columns ``names``, a ``name``
+    that is neither one of them nor a derived column of them (:func:`derived_terms`: ``net.B.Fz``,
+    ``paths.Fz``, ``a+b`` of one unit): a :class:`ModelError` naming ``key`` (a run's output, checked
+    before the run)."""
+    if name in names:
+        return
+    with renamed({"name": key}):
+        derived = isinstance(name, str) and derived_terms(name, names) is not None
+    if not derived:
+        Choice(*names)(key, name)
+    Records(time=np.zeros(2), columns={n: np.zeros(2) for n in names}, units={n: unit_of(n) for n in names}).resolve(
+        name, key
+    )
 
 
 def after_skip(time: np.ndarray, skip: float, start: float = 0.0) -> np.ndarray:

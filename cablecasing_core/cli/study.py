@@ -10,8 +10,8 @@ import numpy as np
 
 from ..errors import ModelError, renamed
 from ..model.limits import MAX_ENSEMBLE_SEED, MAX_SEEDS, MAX_STUDY_SAMPLES, PROGRESS_TIMEOUT
-from ..model.schema import output_spec
 from ..model.validators import integer, number
+from ..records import unit_of
 from .assignments import add_model_argument, assignments, model_argument, typed, with_changes
 from .helptext import ASSIGNMENT_HELP, add_window_argument, key_help
 from .paths import check_distinct, check_output_path, kept
@@ -55,11 +55,17 @@ def study_bounds(args, model):
 
 
 def study_output(name, model):
-    """``--output``: a support, isolator or clip output of the model (force or moment, N or N.m)."""
+    """``--output``: a support, isolator or clip output of the model (force or moment, N or N.m),
+    or a sum of them (``net.B.Fz``, ``paths.Fz``, ``a+b``: records.derived_terms)."""
     from ..model.schema import SUPPORT_OUTPUTS, clip_outputs
+    from ..records import check_column_name, derived_terms
 
     known = SUPPORT_OUTPUTS + clip_outputs(model)
-    if name not in known:
+    with renamed({"name": "--output"}):
+        derived = name not in known and derived_terms(name, known) is not None
+    if derived:
+        check_column_name(name, known, "--output")
+    elif name not in known:
         import difflib
 
         close = difflib.get_close_matches(str(name), list(known), n=1)
@@ -85,7 +91,7 @@ def cmd_study(args):
     model = model_argument(args.model)
     bounds = study_bounds(args, model)  # (before anything is written)
     output = study_output(args.output, model)
-    unit = output_spec(output)[0]
+    unit = unit_of(output)
     integer("--samples", args.samples, 2, MAX_STUDY_SAMPLES)
     integer("--seed", args.seed, 0)
     progress_timeout = number("--timeout", args.timeout, gt=0, unit="s")
@@ -521,7 +527,7 @@ def _check_confidence(confidence):
 def _print_ensemble(ens, confidence):
     from ..studies.octave import WINDOW_NAMES
 
-    unit = output_spec(ens.output)[0]
+    unit = unit_of(ens.output)
     seeds = f"{ens.seeds[0]}..{ens.seeds[-1]}" if np.all(np.diff(ens.seeds) == 1) else "(see the CSV)"
     print(
         f"# {ens.output} band RMS ({unit}) over {ens.n} seeds {seeds}"

@@ -20,6 +20,7 @@ from ..errors import ModelError
 from ..model.limits import MAX_ENSEMBLE_SEED, MAX_SEEDS
 from ..model.schema import SUPPORT_OUTPUTS, clip_outputs
 from ..model.validators import Choice, integer, seconds
+from ..records import check_column_name
 from .ensemble import Ensemble
 from .evaluators import DEFAULT_EVALUATE, check_not_overridden, check_record_settings
 from .executor import execute
@@ -98,7 +99,8 @@ def seed_ensemble(
     seeds : int or sequence of int
         ``n`` gives seeds 1..n (n >= 2); or the seeds themselves (unique, >= 0).
     output : str
-        Support output, e.g. ``"casing.B.Fz"`` (N) or ``"casing.B.Mx"`` (N.m), or a clip's ``"casing.clip0.Fz"``.
+        Support output, e.g. ``"casing.B.Fz"`` (N) or ``"casing.B.Mx"`` (N.m), a clip's ``"casing.clip0.Fz"``,
+        or a sum of them: ``"net.B.Fz"`` (the force into the part end B attaches to), ``"paths.Fz"``, ``"a+b"``.
     bands : str or Bands
         Band set (``"table3"``, ``"octave"``, ``"third"``; Hz).
     duration, dt : float, optional
@@ -145,7 +147,8 @@ def seed_ensemble(
     seconds("dt", dt, none_ok=True)
     seconds("skip", skip, zero_ok=True, none_ok=True)
     Choice(*WINDOWS)("window", window)
-    Choice(*SUPPORT_OUTPUTS, *clip_outputs(model))("output", output)  # (a clip's force too)
+    # (a clip's force too, and a sum of them: net.B.Fz, paths.Fz, a+b, docs/nvh.md "Net forces and paths")
+    check_column_name(output, SUPPORT_OUTPUTS + clip_outputs(model), "output")
     band_set = bands if isinstance(bands, Bands) else octave_bands(bands)
     names = _check_excitations(model, excitations)
     overrides = dict(overrides or {})

@@ -6,8 +6,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..errors import ModelError
-from ..model.schema import output_spec
 from ..plotting import save_figure  # (also selects the Agg backend)
+from ..records import unit_of
 from .correlation import GAP, correlations
 from .results_store import StudyResults, load_results
 from .sampling import AXIAL_AMPLITUDE_KEY
@@ -164,7 +164,7 @@ def plot_ensemble(ens, path, other=None, diff=None, confidence=0.95, labels=("ba
     (``studies.paired_difference(other, ens)``), the relative change r (%) per band with its interval."""
     from ..nvh.plots import db_axis, set_band_ticks
 
-    unit = output_spec(ens.output)[0]
+    unit = unit_of(ens.output)
     x = np.arange(1, len(ens.labels) + 1)
     rows = 2 if diff is not None else 1
     fig, axes = plt.subplots(rows, 1, figsize=(7, 3.2 * rows + 0.6), sharex=True, squeeze=False)

@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy import signal
 
-from ..errors import ModelError, ModelWarning, SolverWarning, plain
+from ..errors import ModelError, ModelWarning, SolverWarning, plain, renamed
 from ..model.limits import check_time_domain
 from ..model.schema import CONTACT_OUTPUTS, INPUTS, OUTPUTS, SUPPORT_OUTPUTS, clip_outputs, inputs_of, lookup
 from ..model.validate import step_checks
@@ -97,11 +97,22 @@ class SimulationResult:
 
     def support_force(self, name: str) -> np.ndarray:
         """History of one support output, e.g. ``"casing.B.Fz"`` or a clip's ``"casing.clip0.Fy"``
-        (N or N.m): a copy, yours to change (``f -= f.mean()`` leaves the result, its
-        :meth:`records` and :meth:`save` as they were). A name not among :attr:`force_names` raises
+        (N or N.m), or of a sum of them (``"net.B.Fz"``, ``"paths.Fz"``, ``"a+b"``: the force on
+        what those supports hold, :func:`~cablecasing_core.records.derived_terms`): a copy, yours to
+        change (``f -= f.mean()`` leaves the result, its :meth:`records` and :meth:`save` as they
+        were). A name that is neither among :attr:`force_names` nor a sum of them raises
         :class:`~cablecasing_core.errors.ModelError` naming ``output``."""
-        Choice(*self.force_names)("output", name)
-        return self.support_forces[:, self.force_names.index(name)].copy()
+        if name in self.force_names:
+            return self.support_forces[:, self.force_names.index(name)].copy()
+        from ..records import Records, derived_terms, unit_of
+
+        with renamed({"name": "output"}):
+            derived = isinstance(name, str) and derived_terms(name, self.force_names) is not None
+        if not derived:
+            Choice(*self.force_names)("output", name)
+        forces = {n: self.support_forces[:, i] for i, n in enumerate(self.force_names)}
+        rec = Records(time=self.time, columns=forces, units={n: unit_of(n) for n in forces})
+        return rec.column(name, "output").copy()
 
     def records(self, output_interval: float | None = None, decimation: str = "filter") -> Records:
         """The run as a :class:`~cablecasing_core.records.Records` on the grid t = 0, Δ, 2Δ, ..., T
