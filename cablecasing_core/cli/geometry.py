@@ -58,7 +58,7 @@ def cmd_geometry(args):
             )
         for b in buckled:
             print(f"  buckling          {b.text()}")
-        print("\n".join(band_advice_lines(band)))
+        print("\n".join(band_advice_lines(band, model)))
     for w in route:
         warnings.warn(w, stacklevel=1)
     for w in _buckling_warnings(model, buckled):

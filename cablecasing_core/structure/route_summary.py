@@ -348,16 +348,27 @@ def band_advice(model, summary=None):
         "n_elements": n,
         "bodies": bodies,
         "n_elements_for_advised": advised,
-        "not_counted": [
-            f"scenario.excitation.{k}" for k, e in model.scenario.get("excitation", {}).items() if e["kind"] == "csv"
-        ],
+        "not_counted": csv_excitations(model),
     }
 
 
-def band_advice_lines(advice) -> list[str]:
+def csv_excitations(model) -> list[str]:
+    """The keys of the scenario's CSV excitations (``scenario.excitation.NAME``): their content is not
+    read, so :func:`excitation_top` does not count them."""
+    return [f"scenario.excitation.{k}" for k, e in model.scenario.get("excitation", {}).items() if e["kind"] == "csv"]
+
+
+def band_advice_lines(advice, model=None) -> list[str]:
     """The text lines of a :func:`band_advice` as ``cablecasing geometry`` prints them (one that says
-    there is none for None)."""
+    there is none for None, naming ``model``'s CSV excitations when those are all it has)."""
     if advice is None:
+        tables = csv_excitations(model) if model is not None else []
+        if tables:
+            return [
+                f"  band advice       none: {', '.join(tables)} (CSV tables) are the scenario's only excitations, "
+                "and their content is not read; check the mesh and the step against the table's band by hand "
+                '(docs/model_file.md, "Your own model")'
+            ]
         return ["  band advice       none (the scenario has no excitation with a known top frequency)"]
     f = advice["f_top_hz"]
     bodies = ", ".join(

@@ -3,6 +3,7 @@ wavelength at the excitation's top against the dispersion relation by hand and a
 clamped-clamped beam, the elements per wavelength against how far those modes have converged,
 Newmark's period error against the average acceleration rule stepped by hand, and which models warn."""
 
+import importlib.resources
 import json
 import math
 import warnings
@@ -296,3 +297,18 @@ def test_with_clips_the_elements_per_wavelength_are_counted_on_the_longest_eleme
     # 6 per wavelength on the advised mesh, and not on one element fewer (rel 1e-9: rounding of the chords)
     assert longest_at(need) * ADVISED_PER_WAVELENGTH <= shortest * (1 + 1e-9)
     assert longest_at(need - 1) * ADVISED_PER_WAVELENGTH > shortest * (1 + 1e-9)
+
+
+def test_a_scenario_of_csv_tables_alone_is_named_not_counted_in_geometry(tmp_path, capsys):
+    """Only a CSV excitation: no band top is known (the table is not read), and geometry says so
+    naming the table, not that there is no excitation."""
+    table = tmp_path / "drive.csv"
+    table.write_text("time_s,u\n0,0\n0.001,1e-6\n0.002,0\n")
+    text = (importlib.resources.files("cablecasing_core.model") / "specimens" / "default.toml").read_text()
+    head = text.split("[scenario.excitation")[0]
+    model = tmp_path / "tabled.toml"
+    model.write_text(head + f'\n[scenario.excitation.table]\ntarget = "cable.A.x"\nkind = "csv"\nfile = "{table}"\n')
+    assert band_advice(load_model(str(model))) is None
+    assert main(["geometry", str(model)]) == 0
+    out = capsys.readouterr().out
+    assert "scenario.excitation.table (CSV tables) are the scenario's only excitations" in out, out
