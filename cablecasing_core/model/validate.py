@@ -198,7 +198,9 @@ def _nodes_at_clips(geometry, clips, length):
             f"must be at least {len(edges) - 1} with geometry.nodes_at_clips = true: the {len(clips)} clips cut "
             f"the route into {len(edges) - 1} spans, each of at least one element",
         )
-    return _node_arc_lengths(geometry, sorted(at))
+    from ..structure.geometry import node_stations
+
+    return node_stations(length, n, sorted(at))  # (the centerline's s, without building it again)
 
 
 def _holds(key, raw, mount, instead):
@@ -216,17 +218,16 @@ def _holds(key, raw, mount, instead):
     )
 
 
-def _node_arc_lengths(geometry, breaks=None):
-    """Arc lengths (m) of the centerline's nodes (the route built as the structure builds it; with
-    ``breaks``, m, a node at each: structure/geometry.py, ``node_stations``)."""
+def _node_arc_lengths(geometry):
+    """Arc lengths (m) of the centerline's nodes of equal elements (the route built as the structure
+    builds it)."""
     from ..structure.geometry import build_centerline, centerline_from_route
     from ..structure.routing import SegmentRoute
 
     if "segments" in geometry:
         route = SegmentRoute(geometry["start"], geometry["direction"], geometry["segments"])
-        return centerline_from_route(route, geometry["n_elements"], breaks).s
-    n, curve = geometry["n_elements"], geometry["curve"]
-    return build_centerline(geometry["points"], n, curve, frames=False, breaks=breaks).s
+        return centerline_from_route(route, geometry["n_elements"]).s
+    return build_centerline(geometry["points"], geometry["n_elements"], geometry["curve"], frames=False).s
 
 
 def _geometry(data):

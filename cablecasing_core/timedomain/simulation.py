@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from scipy import signal
 
-from ..errors import ModelError, ModelWarning, SolverWarning, plain, renamed
+from ..errors import ModelError, ModelWarning, SolverWarning, plain
 from ..model.limits import check_time_domain
 from ..model.schema import CONTACT_OUTPUTS, INPUTS, OUTPUTS, SUPPORT_OUTPUTS, clip_outputs, inputs_of, lookup
 from ..model.validate import step_checks
@@ -104,12 +104,9 @@ class SimulationResult:
         :class:`~cablecasing_core.errors.ModelError` naming ``output``."""
         if name in self.force_names:
             return self.support_forces[:, self.force_names.index(name)].copy()
-        from ..records import Records, derived_terms, unit_of
+        from ..records import Records, check_column_name, unit_of
 
-        with renamed({"name": "output"}):
-            derived = isinstance(name, str) and derived_terms(name, self.force_names) is not None
-        if not derived:
-            Choice(*self.force_names)("output", name)
+        check_column_name(name, self.force_names, "output")
         forces = {n: self.support_forces[:, i] for i, n in enumerate(self.force_names)}
         rec = Records(time=self.time, columns=forces, units={n: unit_of(n) for n in forces})
         return rec.column(name, "output").copy()
