@@ -86,11 +86,11 @@ class ProbeHost:
     (the FMU crashed it) or stays silent past ``timeout`` s fails the test with its exit status and
     stderr."""
 
-    def __init__(self, env=None, timeout=120.0):
+    def __init__(self, env=None, timeout=120.0, folder=None):
         self.timeout = timeout
         self.err = tempfile.TemporaryFile(mode="w+")
         self.proc = subprocess.Popen(
-            [sys.executable, str(Path(__file__).with_name("fmu_probe.py"))],
+            [sys.executable, str(Path(__file__).with_name("fmu_probe.py")), *([str(folder)] if folder else [])],
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
             stderr=self.err,
@@ -129,13 +129,14 @@ class ProbeHost:
 
 
 @pytest.fixture
-def fmu_probe():
-    """``start(env=None, timeout=120)``: a new :class:`ProbeHost`; the test's hosts are closed after
-    it, each of which must then exit with status 0 (no crash at the end of the process either)."""
+def fmu_probe(tmp_path):
+    """``start(env=None, timeout=120)``: a new :class:`ProbeHost` (its FMUs unpacked under the test's
+    ``tmp_path``); the test's hosts are closed after it, each of which must then exit with status 0
+    (no crash at the end of the process either)."""
     hosts = []
 
     def start(env=None, timeout=120.0):
-        hosts.append(ProbeHost(env, timeout))
+        hosts.append(ProbeHost(env, timeout, folder=tmp_path))
         return hosts[-1]
 
     yield start

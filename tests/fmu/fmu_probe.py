@@ -2,7 +2,10 @@
 own (fmpy's FMU2Slave): so a crash of the FMU is a dead host the test sees (its exit status, a
 signal), not the end of the test run, and many cases share one process.
 
-    python tests/fmu/fmu_probe.py          # requests on stdin, one JSON object a line; answers on stdout
+    python tests/fmu/fmu_probe.py [FOLDER] # requests on stdin, one JSON object a line; answers on stdout
+
+FOLDER: where fmpy unpacks the FMUs (its extract() makes a new temporary folder it never removes,
+~12 MB: under the test's tmp_path, which pytest prunes, a test run leaks none, as fmu_driver.py).
 
 Requests (``op`` and its arguments); every answer is one JSON line, ``{"ok": true, ...}``, or
 ``{"ok": false, "error": ...}`` for a request the host itself could not serve:
@@ -192,6 +195,10 @@ OPS = {
 
 
 def main():
+    if len(sys.argv) > 1:
+        import tempfile
+
+        tempfile.tempdir = sys.argv[1]
     for line in sys.stdin:
         request = json.loads(line)
         op = request.pop("op")
