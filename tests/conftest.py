@@ -6,8 +6,10 @@ studies/, fmu/, cli/. Tests that take more than a few seconds on a warm numba ca
 processes (the FMU, dask clusters, the demo), are marked ``slow``; ``make test-fast`` leaves them out.
 """
 
+import os
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -17,6 +19,25 @@ from cablecasing_core import model_from_dict
 
 ROOT = Path(__file__).resolve().parent.parent
 STEEL = dict(E=2.1e11, nu=0.3, rho=7850.0)  # Pa, -, kg/m3: the beams' material
+
+
+@pytest.fixture(scope="session", autouse=True)
+def temporary_files_under_pytests_own_folder(tmp_path_factory):
+    """Every temporary file of the run, in this process and in the processes it starts that keep
+    its environment, goes below pytest's own temporary folder (which pytest prunes to the last three
+    runs), not /tmp: fmpy's ``extract`` makes a folder it never removes, and its ``simulate_fmu``
+    removes its unpack folder only when the run does not raise (~11 MB of FMU each; about 54 per run
+    of the suite were left in /tmp). The C hosts' plain environment does not keep it; they leave
+    nothing behind."""
+    folder = tmp_path_factory.mktemp("tmpdir")
+    saved_env, saved_tempdir = os.environ.get("TMPDIR"), tempfile.tempdir
+    os.environ["TMPDIR"], tempfile.tempdir = str(folder), str(folder)
+    yield folder
+    tempfile.tempdir = saved_tempdir
+    if saved_env is None:
+        os.environ.pop("TMPDIR", None)
+    else:
+        os.environ["TMPDIR"] = saved_env
 
 
 @pytest.fixture(scope="session")

@@ -581,7 +581,7 @@ def test_a_c_host_of_our_own_in_the_plain_environment(fmu, tmp_path, fmu_driver)
     np.ascontiguousarray(table[:, [c, NCH + c, 2 * NCH + c]]).tofile(tmp_path / "inputs.bin")
     md = read_model_description(str(fmu))
     vr = {v.name: v.valueReference for v in md.modelVariables}
-    unzip = Path(extract(str(fmu)))
+    unzip = Path(extract(str(fmu), unzipdir=tmp_path / "unzip"))
     proc = subprocess.run(
         [
             str(tmp_path / "host"),
@@ -628,7 +628,7 @@ def test_a_c_host_that_calls_from_a_new_thread_each_time_keeps_its_memory(fmu, t
     exe = tmp_path / "threads"
     cmd = [compiler, "-O1", f"-I{inc}", "-o", str(exe), str(tmp_path / "threads.c"), "-ldl", "-lpthread"]
     subprocess.run(cmd, check=True, capture_output=True)
-    unzip = Path(extract(str(fmu)))
+    unzip = Path(extract(str(fmu), unzipdir=tmp_path / "unzip"))
     so = unzip / "binaries" / "linux64" / "CableCasing.so"
     guid = read_model_description(str(fmu)).guid
     args = [str(exe), str(so), guid, (unzip / "resources").as_uri(), "4000"]
