@@ -14,7 +14,13 @@ from .assignments import add_model_argument, model_argument
 
 def cmd_geometry(args):
     from ..structure.buckling import buckling
-    from ..structure.route_summary import band_advice, band_advice_lines, geometry_summary, plausibility_warnings
+    from ..structure.route_summary import (
+        band_advice,
+        band_advice_lines,
+        element_lengths_text,
+        geometry_summary,
+        plausibility_warnings,
+    )
     from .paths import check_output_path
 
     check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
@@ -26,7 +32,8 @@ def cmd_geometry(args):
     for w in said:  # (the others: absurd values, the gravity, the gap)
         if str(w.message) not in {f"{model.source}: {t}" for t in route}:
             warnings.warn(w.message, w.category, stacklevel=1)
-    keys = ("length_m", "min_radius_m", "min_radius_at_m", "total_bend_deg", "gap_m", "element_length_m", "bends")
+    keys = ("length_m", "min_radius_m", "min_radius_at_m", "total_bend_deg", "gap_m", "element_length_m",
+            "element_length_min_m", "element_length_max_m", "bends")  # fmt: skip
     casing = _compressed_casing(model)
     buckled = [] if casing is None else [buckling(casing)]
     clips = _clips(model, casing)
@@ -37,7 +44,7 @@ def cmd_geometry(args):
     else:
         print(f"routing ({g['source']}) of {model.source}")
         print(f"  length            {g['length_m']:.6g} m")
-        print(f"  elements          {g['n_elements']} of {g['element_length_m']:.4g} m")
+        print(f"  elements          {g['n_elements']} of {element_lengths_text(g)}")
         if g["min_radius_m"] is None:
             print("  straight (no bend)")
         else:
@@ -105,6 +112,7 @@ def add_parser(sub):
         "--json",
         action="store_true",
         help="print JSON {length_m, min_radius_m, min_radius_at_m, total_bend_deg, gap_m, element_length_m, "
+        "element_length_min_m, element_length_max_m, "
         "bends: [{start_m, radius_m, min_radius_m, angle_deg}], "
         "buckling: {casing: {load_N, at_m, supports, mechanism}}, band_advice: {f_top_hz, set_by, dt_s, "
         "period_error, dt_for_advised_s, n_elements, bodies: {casing: {wavelength_m, axial_force_N, "

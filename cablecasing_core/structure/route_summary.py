@@ -130,7 +130,9 @@ def self_approach(model, length=None):
 def geometry_summary(model) -> dict:
     """The routing's figures (SI units, arc lengths from end A): ``length_m``, ``min_radius_m``
     and ``min_radius_at_m`` (None on a straight route), ``total_bend_deg``, ``gap_m`` (None without
-    both bodies), ``element_length_m``, ``n_elements``, ``bends`` (a list of {"start_m",
+    both bodies), ``element_length_m`` (the mean, length / n_elements), ``element_length_min_m`` and
+    ``element_length_max_m`` (the shortest and longest element's arc: they differ with
+    ``geometry.nodes_at_clips``, whose spans share the elements), ``n_elements``, ``bends`` (a list of {"start_m",
     "radius_m" (the mean), "min_radius_m", "angle_deg"}) and ``source`` ("segments", "spline" or
     "polyline")."""
     g = model.geometry
@@ -192,6 +194,8 @@ def geometry_summary(model) -> dict:
         "total_bend_deg": total,
         "gap_m": gap,
         "element_length_m": float(cl.length / cl.n_elements),
+        "element_length_min_m": float(np.min(np.diff(cl.s))),
+        "element_length_max_m": float(np.max(np.diff(cl.s))),
         "n_elements": int(cl.n_elements),
         "bends": [{k: float(v) for k, v in b.items()} for b in bends],
         "source": source,
@@ -285,6 +289,13 @@ def _band_modulus(spec, f_hz):
         return spec.E_ref
     f = np.array([0.0, f_hz] + [float(row[0]) for row in spec.E if float(row[0]) <= f_hz])
     return float(np.min(spec.modulus(f)))
+
+
+def element_lengths_text(g):
+    """The elements' length in a :func:`geometry_summary` ``g`` as text: "0.02428 m", or "0.0219 to
+    0.0262 m" when they differ (clips on nodes)."""
+    lo, hi = g["element_length_min_m"], g["element_length_max_m"]
+    return f"{hi:.4g} m" if f"{lo:.4g}" == f"{hi:.4g}" else f"{lo:.4g} to {hi:.4g} m"
 
 
 def _longest_element(length, n, breaks):
@@ -506,7 +517,7 @@ def plausibility_warnings(model, summary=None, advice=True) -> list[str]:
     if g["bends"] and advice:
         arcs = [np.radians(b["angle_deg"]) * b["radius_m"] for b in g["bends"]]
         i = int(np.argmin(arcs))
-        if g["element_length_m"] > 0.1 * arcs[i]:
+        if g["element_length_max_m"] > 0.1 * arcs[i]:  # (the longest element: with clips on nodes they differ)
             need = int(np.ceil(10.0 * g["length_m"] / arcs[i]))
             fix = (
                 f"about {need} elements (geometry.n_elements) resolve it"
@@ -517,7 +528,7 @@ def plausibility_warnings(model, summary=None, advice=True) -> list[str]:
                 "or widen the bend, or shorten the route)"
             )
             out.append(
-                f"the elements ({g['element_length_m']:.4g} m) are longer than a tenth of the shortest bend's "
+                f"the elements ({element_lengths_text(g)}) are longer than a tenth of the shortest bend's "
                 f"arc ({arcs[i]:.4g} m at s = {g['bends'][i]['start_m']:.4g} m): {fix}"
             )
     return out + (band_advice_warnings(band_advice(model, g)) if advice else [])

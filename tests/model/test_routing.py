@@ -263,6 +263,8 @@ def test_cli_geometry_json_plot_and_warnings(tmp_path, capsys):
         "total_bend_deg",
         "gap_m",
         "element_length_m",
+        "element_length_min_m",
+        "element_length_max_m",
         "bends",
         "clips",
         "buckling",
@@ -272,6 +274,9 @@ def test_cli_geometry_json_plot_and_warnings(tmp_path, capsys):
     assert out["buckling"]["casing"]["load_N"] > 0 and out["buckling"]["casing"]["supports"] == "A clamped; B clamped"
     assert out["length_m"] == pytest.approx(LENGTH, rel=1e-14)
     assert out["element_length_m"] == pytest.approx(LENGTH / 20, rel=1e-14)
+    # (equal elements: the nodes at LENGTH k / 20, each element LENGTH / 20 to rounding)
+    assert out["element_length_min_m"] == pytest.approx(LENGTH / 20, rel=1e-12)
+    assert out["element_length_max_m"] == pytest.approx(LENGTH / 20, rel=1e-12)
     assert out["bends"][0] == {"start_m": 0.15, "radius_m": 0.15, "min_radius_m": 0.15, "angle_deg": 60.0}
     assert "warning: the elements" in cap.err
     assert png.stat().st_size > 10_000
@@ -315,3 +320,22 @@ def test_cli_geometry_names_the_node_each_clip_acts_at(capsys):
     assert main(["geometry", str(path)]) == 0
     text = capsys.readouterr().out
     assert f"clip 0: at 0.4 m, acts at the node at s = {clips[0]['node_s_m']:.4g} m" in text
+
+
+def test_with_clips_on_nodes_the_bend_check_takes_the_longest_element():
+    """A clip 0.02 m from end A with 63 elements: the spans 0.02 m and LENGTH - 0.02 m (0.9825 m)
+    share them by their largest remainders, 63 x 0.02 / LENGTH = 1.28 and 61.72, so 1 and 62 (by
+    hand). The mean element, LENGTH / 63 = 0.01560 m, is within a tenth of the first bend's arc
+    (0.15 pi / 3 = 0.1571 m); the clip's span, one element of 0.02 m, is not, and the check says so
+    with both lengths."""
+
+    data = copy.deepcopy(routed(n=63).data)
+    data["casing"]["clip"] = [{"at": 0.02, "stiffness": [2e4, 5e4, 5e4], "damping": 8.0}]
+    model = model_from_dict(data)
+    g = geometry_summary(model)
+    assert g["element_length_m"] == pytest.approx(LENGTH / 63, rel=1e-14)
+    assert g["element_length_max_m"] == pytest.approx(0.02, rel=1e-12)  # (round-off of the stations)
+    assert g["element_length_min_m"] == pytest.approx((LENGTH - 0.02) / 62, rel=1e-12)
+    assert g["element_length_m"] < 0.1 * 0.15 * np.pi / 3 < g["element_length_max_m"]
+    said = [w for w in plausibility_warnings(model, g) if w.startswith("the elements")]
+    assert said and said[0].startswith(f"the elements ({(LENGTH - 0.02) / 62:.4g} to 0.02 m) are longer than")
