@@ -307,6 +307,18 @@ def _longest_element(length, n, breaks):
     return float(np.max(np.diff(node_stations(length, n, breaks))))
 
 
+def _fewest_elements(length, breaks, longest):
+    """The fewest elements (at least one a span) on a route of ``length`` m with a node at each of
+    ``breaks`` (m, or None) whose longest element is at most ``longest`` m (to 1e-12 relative);
+    it may exceed :data:`MAX_ELEMENTS`, which the callers say."""
+    n = int(np.ceil(length / longest * (1 - 1e-12)))
+    if breaks:  # (at least one element a span)
+        n = max(n, len(breaks) + 1)
+    while breaks and n < MAX_ELEMENTS and _longest_element(length, n, breaks) > longest * (1 + 1e-12):
+        n += 1  # (a span's elements are longer than the mean by less than twice: a few more at most)
+    return n
+
+
 def band_advice(model, summary=None):
     """The mesh and time step against the scenario's excitation band (SI units), or None when the
     scenario has no excitation :func:`excitation_top` counts: ``f_top_hz`` and ``set_by`` (which
@@ -341,15 +353,7 @@ def band_advice(model, summary=None):
             "elements_per_wavelength": lam / h if breaks else lam * n / length,
         }
     shortest = min(b["wavelength_m"] for b in bodies.values())
-    advised = int(np.ceil(ADVISED_PER_WAVELENGTH * length / shortest * (1 - 1e-12)))
-    if breaks:  # (at least one element a span)
-        advised = max(advised, len(breaks) + 1)
-    while (
-        breaks
-        and advised < MAX_ELEMENTS
-        and _longest_element(length, advised, breaks) * ADVISED_PER_WAVELENGTH > (shortest * (1 + 1e-12))
-    ):
-        advised += 1  # (a span's elements are longer than the mean by less than twice: a few more at most)
+    advised = _fewest_elements(length, breaks, shortest / ADVISED_PER_WAVELENGTH)
     return {
         "f_top_hz": f_top,
         "set_by": what,
@@ -518,7 +522,7 @@ def plausibility_warnings(model, summary=None, advice=True) -> list[str]:
         arcs = [np.radians(b["angle_deg"]) * b["radius_m"] for b in g["bends"]]
         i = int(np.argmin(arcs))
         if g["element_length_max_m"] > 0.1 * arcs[i]:  # (the longest element: with clips on nodes they differ)
-            need = int(np.ceil(10.0 * g["length_m"] / arcs[i]))
+            need = _fewest_elements(g["length_m"], clip_breaks(model.geometry, model.data.get("casing")), 0.1 * arcs[i])
             fix = (
                 f"about {need} elements (geometry.n_elements) resolve it"
                 if need <= MAX_ELEMENTS

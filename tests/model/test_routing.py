@@ -339,3 +339,7 @@ def test_with_clips_on_nodes_the_bend_check_takes_the_longest_element():
     assert g["element_length_m"] < 0.1 * 0.15 * np.pi / 3 < g["element_length_max_m"]
     said = [w for w in plausibility_warnings(model, g) if w.startswith("the elements")]
     assert said and said[0].startswith(f"the elements ({(LENGTH - 0.02) / 62:.4g} to 0.02 m) are longer than")
+    # the advice: the fewest elements whose longest is within 0.01571 m. The clip's span needs 2, which
+    # the largest remainders give it first at 74 (quotas 1.506 and 72.49: floors 1 and 72, the one left
+    # to the larger remainder, 0.506); the other span's 72 are then 0.01337 m. Below 74 it keeps 1.
+    assert "about 74 elements (geometry.n_elements) resolve it" in said[0]
