@@ -285,18 +285,21 @@ def harmonic_lines(model: Model) -> tuple[float, ...]:
     )
 
 
-def whole_period_skip(model: Model, duration: float | None = None, dt: float | None = None) -> float:
+def whole_period_skip(
+    model: Model, duration: float | None = None, dt: float | None = None, least: float = 0.0
+) -> float:
     """The default start of a record of ``model``'s scenario left out of its band levels (s): the
-    least skip at or above 0.05 s and ``scenario.ramp`` (:func:`~cablecasing_core.records.least_skip`)
-    after which the rest of the record, ``duration`` (s, default ``scenario.duration``), holds whole
-    periods of the scenario's harmonic excitations (:func:`harmonic_lines`;
+    least skip at or above 0.05 s, ``scenario.ramp`` (:func:`~cablecasing_core.records.least_skip`)
+    and ``least`` (s; the report's :data:`~cablecasing_core.report.HARMONIC_START_SKIP` with a
+    harmonic drive) after which the rest of the record, ``duration`` (s, default
+    ``scenario.duration``), holds whole periods of the scenario's harmonic excitations (:func:`harmonic_lines`;
     :func:`~cablecasing_core.records.skip_for_whole_periods`, on the grid of ``dt``, s, default
     ``scenario.dt``): 0.06 s of the specimens' 1 s and 0.5 s records with their 50 Hz drive. A run's
     record states the lines and the ramp, so that ``Records.default_skip`` gives the same start."""
     sc = model.scenario
     T = float(sc["duration"] if duration is None else duration)
     step = float(sc["dt"] if dt is None else dt)
-    return skip_for_whole_periods(harmonic_lines(model), T, step, least_skip(sc["ramp"]))
+    return skip_for_whole_periods(harmonic_lines(model), T, step, max(least_skip(sc["ramp"]), float(least)))
 
 
 def zero_motion(t: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
