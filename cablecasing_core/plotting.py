@@ -242,14 +242,30 @@ def plot_scalogram(t, freqs_hz, W, path, title="|W|", unit="N"):
     plot_scalograms([(t, W, title)], freqs_hz, path, unit=unit)
 
 
-def plot_scalograms(panels, freqs_hz, path, unit="N", natural_hz=(), harmonics_hz=(), title=None, harmonics_on=None):
+def plot_scalograms(
+    panels,
+    freqs_hz,
+    path,
+    unit="N",
+    natural_hz=(),
+    harmonics_hz=(),
+    title=None,
+    harmonics_on=None,
+    skip_s=None,
+    cone_gamma=None,
+):
     """Scalograms side by side (Figs. 20-21): ``panels`` = [(t s, |W| (n_t x n_f) in ``unit``, title),
     ...], each with its own colour bar of |W| in ``unit`` (a harmonic of amplitude A shows as |W| = A
     on its ridge: the Morlet transform of ``identification.wavelet``), so that a weak panel stays
     readable beside a strong one; each panel's title states its scale when the scales differ.
     ``natural_hz`` are marked by dashed white lines labelled on the right of the last panel,
     ``harmonics_hz`` (a drive frequency and its multiples) by dotted red lines labelled inside the
-    panels ``harmonics_on`` (indices; default every panel: a panel without the drive has none)."""
+    panels ``harmonics_on`` (indices; default every panel: a panel without the drive has none).
+    ``skip_s``: a grey vertical line at that time (s; the start left out of the levels);
+    ``cone_gamma``: the Morlet gamma of the transform, whose cone of influence is drawn in grey
+    dash-dot: within sqrt(2) gamma / (2 pi f) s of either end of the record the transform feels the
+    record's edges (the e-folding time of an edge's effect on the wavelet power, Torrence & Compo
+    1998, with the envelope's standard deviation gamma / (2 pi f) of ``cwt_morlet``)."""
     fig, axes = plt.subplots(1, len(panels), figsize=(5.6 * len(panels), 4.4), sharey=True, squeeze=False)
     tops = [float(np.max(W)) or 1.0 for _, W, _ in panels]
     differ = max(tops) > 1.5 * min(tops)
@@ -268,6 +284,15 @@ def plot_scalograms(panels, freqs_hz, path, unit="N", natural_hz=(), harmonics_h
         ax.set_title(f"({chr(97 + k)}) {sub}{scale if differ else ''}", fontsize=9, loc="left")
         for f in natural_hz:
             ax.axhline(f, color="w", ls="--", lw=0.6, alpha=0.7)
+        if skip_s is not None:
+            ax.axvline(skip_s, color="0.75", ls="-", lw=1.0)
+        if cone_gamma is not None and len(t):
+            f = np.asarray(freqs_hz, dtype=float)
+            tau = np.sqrt(2.0) * cone_gamma / (2.0 * np.pi * f)
+            for edge in (t[0] + tau, t[-1] - tau):
+                inside = (edge >= t[0]) & (edge <= t[-1])
+                ax.plot(edge[inside], f[inside], color="0.75", ls="-.", lw=0.9)
+            ax.set_xlim(t[0], t[-1])
         if k in marked:
             for f in harmonics_hz:
                 ax.axhline(f, color="tab:red", ls=":", lw=1.0)

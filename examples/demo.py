@@ -2,18 +2,21 @@
 write the report of the built-in specimen (``cablecasing_core.report``) under ``results/``, with the
 FMU's run checked against the core driven by the same sampled record.
 
-    python examples/demo.py [--out results] [--duration 0.5] [--seeds 6] [--study-samples 32]
+    python examples/demo.py [--out results] [--duration S] [--skip S] [--seeds 6] [--study-samples 32]
 
 Writes fmu_outputs.csv (the default scenario through the FMU) besides the report's files (see
 ``cablecasing_core.report``: report.html, the figures, the records and tables of its runs), and
 the FMU it builds to dist/CableCasing.fmu in the repository (``make fmu``'s file), whatever
-``--out`` is. A deviation of the FMU from the core beyond 1e-8 of an output's largest value stops
-it with exit status 1 before the report.
+``--out`` is. The run is written into a folder of its own inside --out and moved in at the end
+(``report.staged_report``): stopped or failed before, it leaves --out as it was. A deviation of the
+FMU from the core beyond 1e-8 of an output's largest value stops it with exit status 1 before the
+report.
 """
 
 from __future__ import annotations
 
 import argparse
+import shlex
 import subprocess
 import sys
 from pathlib import Path
@@ -28,6 +31,10 @@ ROOT = Path(__file__).resolve().parent.parent
 
 FMU_TOLERANCE = 1e-8  # the FMU equals the core (docs/fmu.md); fmu_outputs.csv's 9 digits round by <= 5e-9
 DEVIATION = "largest deviation, relative to the output's largest value"  # (of report.runs.fmu_check's summary)
+
+
+class FMUFailed(Exception):
+    """The FMU deviates from the core (:func:`fmu_failure`'s message): the run is not moved in."""
 
 
 def run_fmu(fmu_path, duration, out):
@@ -61,7 +68,7 @@ def run_fmu(fmu_path, duration, out):
         np.savetxt(
             tmp, np.column_stack([r[c] for c in cols]), delimiter=",", header=",".join(cols), comments="", fmt="%.9g"
         )
-    print(f"wrote {Path(out) / 'fmu_outputs.csv'} (default scenario through the FMU)")
+    print("ran the default scenario through the FMU (fmu_outputs.csv)")
     return r["time"], r["casing.B.Fz"]
 
 
@@ -72,7 +79,19 @@ def main(argv=None):
         formatter_class=argparse.ArgumentDefaultsHelpFormatter,
     )
     p.add_argument("--out", default="results", help="folder of the report")
-    p.add_argument("--duration", type=float, default=0.5, help="simulated time of every run (s)")
+    p.add_argument(
+        "--duration",
+        type=float,
+        default=None,
+        help="simulated time of every run, s (default: the scenario's, 1 s)",
+    )
+    p.add_argument(
+        "--skip",
+        type=float,
+        default=None,
+        help="start of every record left out of the levels, s (default: at least 0.25 s with the 50 Hz drive, its "
+        "start transient, in whole periods of it: 0.26 s of 1 s)",
+    )
     p.add_argument("--seeds", type=int, default=6, help="excitation seeds of the report's ensembles")
     p.add_argument(
         "--study-samples",
@@ -80,17 +99,25 @@ def main(argv=None):
         default=32,
         help="runs of the report's small study, rounded up to whole base points of d + 2 runs (0: none)",
     )
-    args = p.parse_args(argv)
+    raw = list(sys.argv[1:] if argv is None else argv)
+    args = p.parse_args(raw)
     try:  # (the settings and the folder before the FMU is built: a refused demo creates nothing)
-        with renamed({"duration": "--duration", "seeds": "--seeds", "study_samples": "--study-samples"}):
-            check_report_settings(None, args.duration, args.seeds, args.study_samples)
+        names = {"duration": "--duration", "seeds": "--seeds", "study_samples": "--study-samples", "skip": "--skip"}
+        with renamed(names):
+            args.duration = check_report_settings(None, args.duration, args.seeds, args.study_samples, args.skip)[4]
         out = output_folder("--out", args.out, "report.html")
     except ModelError as exc:
         p.exit(2, f"{p.prog}: error: {exc}\n")
+    args.command = "python examples/demo.py " + shlex.join(raw)
     try:
         return _run(args, out)
     except KeyboardInterrupt:
-        print(f"{p.prog}: stopped: {out} may hold some of this run's files (each file whole)", file=sys.stderr)
+        print(
+            f"{p.prog}: stopped: {out} is as it was, an earlier report in it whole (this run's files were written "
+            "into a folder of their own, now removed; stopped while they were moved in, it holds no report.html or "
+            "runs.json)",
+            file=sys.stderr,
+        )
         return 130
 
 
@@ -99,19 +126,36 @@ def _run(args, out):
     if r.returncode != 0:
         print(f"FMU build failed ({r.returncode})", file=sys.stderr)
         return r.returncode
-    run_fmu(ROOT / "dist" / "CableCasing.fmu", args.duration, out)
-
-    from cablecasing_core.report import write_report
+    from cablecasing_core.report import staged_report, write_report
+    from cablecasing_core.report.provenance import sha256_of
     from cablecasing_core.report.runs import fmu_check
 
-    check = {"FMU": "dist/CableCasing.fmu (built by build_fmu.py), run with fmpy"}
-    check.update(fmu_check(out / "fmu_outputs.csv", 1e-4, args.duration))
-    failed = fmu_failure(check)
-    if failed:
-        print(f"demo.py: error: {failed}", file=sys.stderr)
+    fmu = ROOT / "dist" / "CableCasing.fmu"
+    try:
+        with staged_report(out) as stage:  # (moved into out at the end, with the report)
+            run_fmu(fmu, args.duration, stage)
+            check = {
+                "FMU": "dist/CableCasing.fmu (built by build_fmu.py), run with fmpy",
+                "FMU SHA-256": sha256_of(fmu),
+            }
+            check.update(fmu_check(stage / "fmu_outputs.csv", 1e-4, args.duration))
+            failed = fmu_failure(check)
+            if failed:
+                raise FMUFailed(failed)
+            write_report(
+                stage,
+                duration=args.duration,
+                seeds=args.seeds,
+                study_samples=args.study_samples,
+                skip=args.skip,
+                fmu=check,
+                command=args.command,
+                staged=False,
+            )
+    except FMUFailed as exc:
+        print(f"demo.py: error: {exc}", file=sys.stderr)
         return 1
-    html = write_report(out, duration=args.duration, seeds=args.seeds, study_samples=args.study_samples, fmu=check)
-    print(f"wrote {out}/ (see {html.name})")
+    print(f"wrote {out}/ (see report.html)")
     return 0
 
 

@@ -413,6 +413,7 @@ class _ReaderGone:
 def main(argv=None):
     parser = build_parser()
     args = parser.parse_args(argv)
+    args.argv = list(sys.argv[1:] if argv is None else argv)  # (the command line, which a report states)
     shown = warnings.showwarning
     warnings.showwarning = _warning_line
     stdout, stderr = sys.stdout, sys.stderr

@@ -6,6 +6,8 @@ from .assignments import add_model_argument, model_argument
 
 
 def cmd_report(args):
+    import shlex
+
     from ..errors import renamed
     from ..files import output_folder
     from ..model.limits import check_time_domain
@@ -13,21 +15,26 @@ def cmd_report(args):
 
     # (the settings before the folder: a refused report creates nothing)
     names = {"model": "MODEL", "duration": "--duration", "scenario.duration": "--duration", "seeds": "--seeds"}
-    with renamed({**names, "study_samples": "--study-samples"}):
-        model = check_report_settings(model_argument(args.model), args.duration, args.seeds, args.study_samples)[0]
-        check_time_domain(model, args.duration, model.scenario["dt"])  # (a run too large for the machine)
+    with renamed({**names, "study_samples": "--study-samples", "skip": "--skip"}):
+        model, _, _, _, duration = check_report_settings(
+            model_argument(args.model), args.duration, args.seeds, args.study_samples, args.skip
+        )
+        check_time_domain(model, duration, model.scenario["dt"])  # (a run too large for the machine)
     output_folder("--out", args.out, "report.html")  # (before the runs)
     args.interrupted = (
-        "the report was not finished: --out may hold some of this run's files beside an earlier report's (each "
-        "file whole); run the report again"
+        "the report was not finished: --out is as it was, an earlier report in it whole (this run's files are "
+        "written into a folder of their own and moved in only at the end; interrupted while they were moved in, "
+        "--out holds no report.html or runs.json); run the report again"
     )
     html = write_report(
         args.out,
         model=model,
-        duration=args.duration,
+        duration=duration,
         seeds=args.seeds,
         study_samples=args.study_samples,
+        skip=args.skip,
         progress=args.progress,
+        command="cablecasing " + shlex.join(getattr(args, "argv", [])),
     )
     print(f"wrote {html}")
     return 0
@@ -43,8 +50,16 @@ def add_parser(sub):
     r.add_argument(
         "--duration",
         type=float,
-        default=0.5,
-        help="simulated time of every run of the report, s (the model's scenario.duration is not used)",
+        default=None,
+        help="simulated time of every run of the report, s (default: the model's scenario.duration, 1 s for the "
+        "built-in specimens)",
+    )
+    r.add_argument(
+        "--skip",
+        type=float,
+        default=None,
+        help="start of every record left out of levels and spectra, s (default: 0.05 s, at least 0.25 s with a "
+        "harmonic excitation, its start transient, then whole periods of it: 0.26 s of 1 s with a 50 Hz drive)",
     )
     r.add_argument("--seeds", type=int, default=6, help="excitation seeds of the band-level ensembles (1..N)")
     r.add_argument(

@@ -98,31 +98,47 @@ def trfam_figure(model, body, out):
     return curves
 
 
-def time_figure(variants, path):
-    """casing.B.Fz of every variant's reference record over time (N), one panel per variant."""
+def run_label(info, seed=True) -> str:
+    """The settings of the report's runs for a figure's title: ``seed 1, 1 s at dt = 1e-05 s,
+    levels after 0.26 s`` (``info``: :func:`~cablecasing_core.report.write_report`'s; without the
+    seed for a figure of every seed)."""
+    if not info:
+        return ""
+    head = f"seed {info['seeds'][0]}, " if seed else ""
+    return f"{head}{info['duration']:g} s at dt = {info['dt']:g} s, levels after {info['skip']:g} s"
+
+
+def time_figure(variants, path, info=None):
+    """The support forces at B of every variant's reference record over time (N), one panel per
+    variant, the start the levels leave out (``info["skip"]``) shaded."""
     import matplotlib.pyplot as plt
 
     from ..plotting import save_figure
 
-    fig, axes = plt.subplots(len(variants), 1, figsize=(8, 2.6 * len(variants) + 0.4), sharex=True, squeeze=False)
+    fig, axes = plt.subplots(len(variants), 1, figsize=(8, 2.6 * len(variants) + 0.7), sharex=True, squeeze=False)
     for ax, v in zip(axes[:, 0], variants):
         r = v.result
         for name in ("casing.B.Fx", "casing.B.Fy", "casing.B.Fz"):
             ax.plot(r.time, r.support_force(name), lw=0.5, label=name)
+        if info:
+            ax.axvspan(0.0, info["skip"], color="0.85", zorder=0, label=f"left out of the levels ({info['skip']:g} s)")
         ax.set_ylabel("force (N)")
         ax.set_title(f"{v.title}: reference record ({v.record.name})", fontsize=9, loc="left")
         ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7, ncol=3, loc="upper right")
+        ax.legend(fontsize=7, ncol=4, loc="upper right")
     axes[-1, 0].set_xlabel("time (s)")
+    if info:
+        fig.suptitle(f"Support forces at B of the reference records: {run_label(info)}", fontsize=9)
     save_figure(fig, path)
 
 
-def scalogram_figure(variants, path, natural, harmonics, skip):
+def scalogram_figure(variants, path, natural, harmonics, skip, info=None):
     """Figs. 20-21: Morlet scalograms |W| (N) of casing.B.Fz of the reference records, side by side,
     each on its own colour scale (stated when they differ), natural frequencies (dashed) marked on
     both and the drive's harmonics (dotted; the first :data:`HARMONICS_DRAWN` of ``harmonics``) on the
-    records with the drive only."""
-    from ..identification.wavelet import cwt_morlet
+    records with the drive only; the skip (s) and the cone of influence (``plot_scalograms``) marked,
+    the wavelet's gamma and the seed in the title."""
+    from ..identification.wavelet import DEFAULT_GAMMA, cwt_morlet
     from ..plotting import plot_scalograms
 
     panels, driven = [], []
@@ -143,54 +159,83 @@ def scalogram_figure(variants, path, natural, harmonics, skip):
         natural_hz=natural,
         harmonics_hz=harmonics[:HARMONICS_DRAWN],
         harmonics_on=driven,
-        title=f"Wavelet transform |W| of {OUTPUT} (Figs. 20-21)\ndashed: natural frequencies of the casing"
+        skip_s=skip,
+        cone_gamma=DEFAULT_GAMMA,
+        title=f"Wavelet transform |W| of {OUTPUT} (Figs. 20-21), Morlet gamma = {DEFAULT_GAMMA:g}"
+        + (f"; {run_label(info)}" if info else "")
+        + "\ndashed: natural frequencies of the casing"
         + (
             ""
             if not (driven and len(harmonics))
             else ", dotted: the drive and its harmonics"
             if len(harmonics) <= HARMONICS_DRAWN
             else f", dotted: the drive and its first harmonics ({HARMONICS_DRAWN} of {len(harmonics)})"
-        ),
+        )
+        + "; grey: the skip and the cone of influence",
     )
 
 
-def contact_figures(model, var, out):
+def contact_figures(model, var, out, info=None):
     """Fig. 22 from the ensemble with the cable drive (contact time pooled over its seeds; else the
     reference record): the routing in 3D coloured by the contact time, and the histogram beside the
-    curvature."""
+    curvature. The contact time is counted over each whole run, from t = 0 (the skip included), as
+    the labels say. Returns where the most contact is and where the curvature is highest
+    (``{"what", "s_most", "kappa_most", "s_curviest", "kappa_max", "duration"}``, m and 1/m), or None
+    for a model without a cable."""
     import matplotlib.pyplot as plt
 
     from ..plotting import plot_contact_histogram, plot_geometry, save_figure
     from ..structure.geometry import centerline_of
 
     if "cable" not in model.bodies:  # (a report's model has a casing: check_report_settings)
-        return
+        return None
     r = var.result
     if var.ensemble is not None and var.ensemble.contact_time.size:
         ct = var.ensemble.contact_time.mean(axis=0)
         what = f"mean of seeds {var.ensemble.seeds[0]}..{var.ensemble.seeds[-1]}, {var.title}"
     else:
         ct, what = r.contact_time, f"reference record, {var.title}"
+    duration = float(r.time[-1])
+    label = f"contact time per run of {duration:g} s (s)"
+    counted = f"counted from t = 0 over the whole run, the first {info['skip']:g} s included" if info else ""
     cl = centerline_of(model)
     plot_geometry(
         cl,
         out / "routing_contact.png",
         values=ct,
-        label="contact time per run (s)",
-        title=f"(a) routing and contact time (Fig. 22a)\n{what}",
+        label=label,
+        title=f"(a) routing and contact time (Fig. 22a)\n{what}" + (f"\n{counted}" if counted else ""),
     )
-    fig, ax = plt.subplots(figsize=(7, 3.4))
-    plot_contact_histogram(ax, r.arc_length, ct, r.curvature, label="contact time per run (s)")
-    ax.set_title(f"(b) contact time per cable node and curvature (Fig. 22b): {what}", fontsize=8, loc="left")
+    fig, ax = plt.subplots(figsize=(7, 3.6))
+    plot_contact_histogram(ax, r.arc_length, ct, r.curvature, label=label)
+    ax.set_title(
+        f"(b) contact time per cable node and curvature (Fig. 22b): {what}" + (f"\n{counted}" if counted else ""),
+        fontsize=8,
+        loc="left",
+    )
     save_figure(fig, out / "contact_histogram.png")
+    ct = np.asarray(ct, dtype=float)
+    kappa = np.asarray(r.curvature, dtype=float)
+    most, curviest = int(np.argmax(ct)), int(np.argmax(kappa))
+    return {
+        "what": what,
+        "duration": duration,
+        "any": bool(np.any(ct > 0)),
+        "s_most": float(r.arc_length[most]),
+        "kappa_most": float(kappa[most]),
+        "s_curviest": float(r.arc_length[curviest]),
+        "kappa_max": float(kappa[curviest]),
+    }
 
 
-def band_figure(variants, path, confidence=0.95):
+def band_figure(variants, path, confidence=0.95, info=None, bias=None):
     """Band levels of casing.B.Fz as ensemble means with their 95 % confidence intervals (N, log
     axis, and dB re 1 N), one series per variant. A band that holds no response
     (:func:`no_response`) is not drawn but named at the foot of the axis, so that the axis spans the
     bands that hold one (the no-drive variant's octaves 8-9, window artefacts near -180 dB re 1 N,
-    stretched it over 10 decades)."""
+    stretched it over 10 decades). ``info``: the runs' settings, in the title; ``bias``: the known
+    mesh bias per band of each variant (``{key: [%, ...]}``, :func:`.page.mesh_bias`), written above
+    a level where it is larger than the level's interval (half-width, relative)."""
     import matplotlib.pyplot as plt
 
     from ..nvh.plots import db_axis, set_band_ticks
@@ -219,6 +264,19 @@ def band_figure(variants, path, confidence=0.95):
         )
         shown += [e.mean[on], lo[on], hi[on]]
         gaps += [(xi + dx, bar[0].get_color()) for xi in x[off]]
+        for b, pct in enumerate((bias or {}).get(v.key) or ()):
+            half = max(hi[b] - e.mean[b], e.mean[b] - lo[b]) / e.mean[b] if e.mean[b] > 0 else np.inf
+            if on[b] and abs(pct) / 100.0 > half:
+                ax.annotate(
+                    f"mesh {pct:+.0f} %",
+                    (x[b] + dx, hi[b]),
+                    xytext=(0, 3),
+                    textcoords="offset points",
+                    fontsize=6,
+                    color=bar[0].get_color(),
+                    ha="center",
+                    va="bottom",
+                )
     ax.set_yscale("log")
     vals = np.concatenate(shown)
     vals = vals[vals > 0]
@@ -239,6 +297,13 @@ def band_figure(variants, path, confidence=0.95):
     ax.set_ylabel(f"RMS {OUTPUT} (N)")
     db_axis(ax, 1.0, "N", power=False)
     title = f"Band levels of {OUTPUT} (Table 3): ensemble means over excitation seeds"
+    if info:
+        title += (
+            f"\n{info['duration']:g} s runs at dt = {info['dt']:g} s, after {info['skip']:g} s, "
+            f"Hann's window, seeds {info['seeds'][0]}..{info['seeds'][-1]}"
+        )
+    if bias:
+        title += "\nmesh ±N %: the bias of 35 elements beyond the interval (docs/time_domain.md, 'The mesh')"
     if gaps:
         title += f"\n(not drawn: bands more than {NO_RESPONSE_DB:g} dB below the variant's strongest, no response)"
     ax.set_title(title, fontsize=9)
@@ -249,29 +314,53 @@ def band_figure(variants, path, confidence=0.95):
     save_figure(fig, path)
 
 
-def psd_figure(variants, path, skip):
-    """PSD (Welch, segments of the power of two nearest fs / 4 samples or a quarter of the record,
-    whichever is shorter: the resolution the legend states) of casing.B.Fz of the reference
-    records, and beside it, for a model with a cable, of the force into B, net.B.Fz
-    (casing.B.Fz + cable.B.Fz), N^2/Hz and dB re 1 N^2/Hz."""
+def psd_figure(variants, path, skip, info=None):
+    """PSD (Welch, Hann's window, segments of the power of two nearest fs / 4 samples or a quarter
+    of the record, whichever is shorter: the resolution the legend states) of casing.B.Fz of the
+    reference records, and beside it, for a model with a cable, of the force into B, net.B.Fz
+    (casing.B.Fz + cable.B.Fz), N^2/Hz and dB re 1 N^2/Hz, over Table 3's bands (11-5680 Hz) from 2
+    df on. A variant whose net.B.Fz is its casing.B.Fz (cable.B.Fz zero: no drive) draws one line,
+    named as both. Returns the lowest frequency drawn (Hz, 2 df) and the variants whose net.B.Fz is
+    their casing.B.Fz (their titles)."""
     from ..nvh import psd
     from ..nvh.plots import plot_psd
+    from ..studies.octave import octave_bands
 
     ps = []
-    net = False
+    net, same = False, []
     for v in variants:
         r = v.result
         keep = after_skip(r.time, skip)
         fs = 1.0 / (r.time[1] - r.time[0])
         nper = min(2 ** int(np.round(np.log2(fs / 4.0))), 2 ** int(np.log2(keep.sum() // 4)))
-        ps.append(psd(r.support_force(OUTPUT)[keep], fs, nperseg=nper, unit="N", name=f"{OUTPUT} {v.title}"))
+        x = r.support_force(OUTPUT)[keep]
+        name = f"{OUTPUT} {v.title}"
         if v.net_bands is not None:  # (a model with a cable: the record's net.B.Fz, records.derived_terms)
             rec = r.records()
-            x = rec.column(NET_OUTPUT)[after_skip(rec.time, skip, rec.time[0])]
-            ps.append(psd(x, fs, nperseg=nper, unit="N", name=f"{NET_OUTPUT} {v.title}"))
+            y = rec.column(NET_OUTPUT)[after_skip(rec.time, skip, rec.time[0])]
             net = True
+            if np.array_equal(x, y):  # (no force of the cable at B: one curve, not one hidden under the other)
+                same.append(v.title)
+                name += f" (= {NET_OUTPUT}: cable.B.Fz is 0 N)"
+            else:
+                ps.append(psd(x, fs, nperseg=nper, unit="N", name=name))
+                ps.append(psd(y, fs, nperseg=nper, unit="N", name=f"{NET_OUTPUT} {v.title}"))
+                continue
+        ps.append(psd(x, fs, nperseg=nper, unit="N", name=name))
     shown = f"{OUTPUT} and {NET_OUTPUT} (+ cable.B.Fz)" if net else OUTPUT
-    plot_psd(ps, path, f_range=(5.0, 3000.0), title=f"PSD of {shown}, reference records after {skip:g} s")
+    t3 = octave_bands("table3")
+    lo, hi = float(t3.lower[0]), float(t3.upper[-1])
+    first = max(lo, min(p.covered(lo, hi)[0] for p in ps))
+    plot_psd(
+        ps,
+        path,
+        f_range=(lo, hi),
+        title=f"PSD of {shown}, reference records\n"
+        + (run_label(info) if info else f"after {skip:g} s")
+        + f"; Welch, Hann's window\nTable 3's bands {lo:g}-{hi:g} Hz"
+        + (f" from 2 df = {first:.3g} Hz (below it Welch's lines do not measure)" if first > lo else ""),
+    )
+    return {"from_hz": first, "same": same}
 
 
 def net_table(variants, path):
@@ -310,8 +399,9 @@ def input_spectrum(model, target):
 
 #: The apparent mass's range in the report (Hz): the input's band on the built-in specimens.
 AM_RANGE_HZ = (10.0, 1000.0)
-#: The report's H1 resolution asked for (Hz): with the 0.44 s record of a 0.5 s run, 6.1 Hz lines
-#: and 4 averages, the finest with at least 3 (``nvh.transfer.MIN_AVERAGES``). The casing's modes
+#: The report's H1 resolution asked for (Hz): 6.1 Hz lines (16384 samples at 1e-5 s), 8 averages of
+#: the 0.74 s after the skip of a 1 s run; of the 0.44 s of a 0.5 s run 4, there the finest lines with
+#: at least 3 averages (``nvh.transfer.MIN_AVERAGES``). The casing's modes
 #: below 100 Hz are 1.9-3.9 Hz wide (half power, viscous), so the lines do not resolve them and the
 #: coherence drops by the window's bias: on the built-in specimen's record without the drive (seed
 #: 1, 0.5 s, no contact) its median is 0.54 over 10-100 Hz and 0.99 over 10-1000 Hz, the window
@@ -467,9 +557,11 @@ def study_figures(model, folder: Path, n_samples, duration, skip, progress, say=
     folder.mkdir(parents=True, exist_ok=True)
     clear_study(folder)
     say(base_points(bounds, n_samples) * group_size(bounds))
-    model_file = folder / "model.toml"  # the model the runs load (each run is this file with its overrides)
-    write_text(model_file, model.to_toml())
-    kwargs = {"model_file": str(model_file.resolve()), "duration": duration, "skip": skip}
+    # the model the runs take (each run is it with its overrides), for the reader; the runs are given the
+    # Model itself, so that study.csv.meta.json names it by its fingerprint, not by a path that the report's
+    # staging folder (report.staged_report) would leave pointing nowhere
+    write_text(folder / "model.toml", model.to_toml())
+    kwargs = {"duration": duration, "skip": skip}
     res = run_study(
         folder / "study.csv",
         DEFAULT_EVALUATE,
@@ -482,7 +574,15 @@ def study_figures(model, folder: Path, n_samples, duration, skip, progress, say=
         model=model,
         progress=progress,
     )
-    out = {"csv": "study/study.csv", "runs": len(res.status), "ok": int(res.ok.sum()), "bounds": bounds, "res": res}
+    seeds = {f"scenario.excitation.{n}.seed": e["seed"] for n, e in model.scenario["excitation"].items() if "seed" in e}
+    out = {
+        "csv": "study/study.csv",
+        "runs": len(res.status),
+        "ok": int(res.ok.sum()),
+        "bounds": bounds,
+        "seeds": seeds,
+        "res": res,
+    }
     if out["ok"] >= 3:
         out["pearson"], out["spearman"] = correlations(res, "pearson"), correlations(res, "spearman")
         plot_correlations(res, folder / "correlations.png", cors=(out["pearson"], out["spearman"]))

@@ -126,7 +126,65 @@ def _harmonics_note(harmonics):
     )
 
 
-def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, out):
+def _code_rows(info):
+    """The header's rows that say what made the report (D3 of review S): the code, the libraries,
+    the command line."""
+    from .provenance import describe_code
+
+    libs = ", ".join(f"{k} {v}" for k, v in (info.get("libraries") or {}).items())
+    rows = []
+    if info.get("code"):
+        rows.append(("code", _e(describe_code(info["code"]))))
+    rows.append(("cablecasing version (installed metadata)", _e(info["version"])))
+    if libs:
+        rows.append(("Python and libraries", _e(libs)))
+    if info.get("command"):
+        rows.append(("command", f"<code>{_e(info['command'])}</code>"))
+    return rows
+
+
+def skip_note(info):
+    """Why the records' first ``info["skip"]`` s are left out (HTML): the fade-in, and with a harmonic
+    drive its start transient (docs/nvh.md, "The start transient of a harmonic drive"); a warning
+    when a given skip is shorter than the report's least with a drive."""
+    least = info.get("skip_least")
+    text = (
+        f"Every record's first {info['skip']:g} s are left out of the levels, spectra and tables (shaded or "
+        "marked in the figures): the supports' fade-in and the first response"
+    )
+    if least:
+        text += (
+            f", and the start transient of the harmonic drive: the free vibration its start sets off lies in "
+            f'the levels until it has decayed, about {least:g} s on the built-in specimen (docs/nvh.md, "The '
+            "start transient of a harmonic drive\": 16 seeds, against the same seeds' level at 1-2 s, the "
+            "window 0.06-0.5 s that the report used read octave 3 +66 ± 29 % and octave 2 −24 ± 10 %, the "
+            "window 0.25-1 s is within 2 SE in every band), then lengthened so that the rest holds whole periods "
+            "of the drive."
+        )
+        if info["skip"] < least:
+            text += (
+                f"</p><p class='warn'>The skip given, {info['skip']:g} s, is shorter than {least:g} s: the levels "
+                "with the drive hold part of its start transient."
+            )
+    else:
+        text += "."
+    return f"<p class='note'>{text}</p>"
+
+
+def record_line(info):
+    """The records' length after the skip, their FFT resolution and the lines in octave 1 (item 4 of
+    review S): what the band levels of octaves 1-2 rest on."""
+    from ..studies.octave import LINES_PER_BAND
+
+    few = info["lines_oct1"] < LINES_PER_BAND
+    return (
+        f"{info['record_after_skip']:.4g} s after the skip: FFT lines every df = {info['df']:.3g} Hz, "
+        f"{info['lines_oct1']:.3g} lines in octave 1 (11-22 Hz; the package warns below {LINES_PER_BAND})"
+        + (" <span class='warn'>too few: octave 1 holds much of what lies beside it</span>" if few else "")
+    )
+
+
+def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, out, contact=None):
     """The HTML text of the report (see :func:`cablecasing_core.report.write_report`)."""
     seeds = info["seeds"]
     parts = [
@@ -136,18 +194,27 @@ def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, o
         _table(
             ["what", "value"],
             [
-                ("model", f"{_e(model.source)} (fingerprint {info['fingerprint']})"),
-                ("cablecasing version", _e(info["version"])),
-                ("date", _e(info["date"])),
-                (
-                    "every run",
-                    f"{info['duration']:g} s at dt = {info['dt']:g} s; levels and spectra after {info['skip']:g} s "
-                    "(whole periods of the harmonic drive after it); band levels through Hann's window",
-                ),
-                ("excitation seeds", f"{seeds[0]}..{seeds[-1]} ({len(seeds)}; the reference records: seed {seeds[0]})"),
-                ("output", f"{OUTPUT} (N): force the casing exerts on its support B in z"),
+                r
+                for r in [
+                    ("model", f"{_e(model.source)} (fingerprint {info['fingerprint']})"),
+                    *_code_rows(info),
+                    ("date", _e(info["date"])),
+                    (
+                        "every run",
+                        f"{info['duration']:g} s at dt = {info['dt']:g} s; levels and spectra after {info['skip']:g} s "
+                        "(below); band levels through Hann's window",
+                    ),
+                    ("record for the levels", record_line(info)) if "df" in info else None,
+                    (
+                        "excitation seeds",
+                        f"{seeds[0]}..{seeds[-1]} ({len(seeds)}; the reference records: seed {seeds[0]})",
+                    ),
+                    ("output", f"{OUTPUT} (N): force the casing exerts on its support B in z"),
+                ]
+                if r
             ],
         ),
+        skip_note(info),
         "<h2>Scenario</h2>",
         _table(["excitation", "target", "kind", "parameters"], _excitations(model)),
         "<h2>The runs</h2><p>Every figure and table below comes from these runs (also in runs.json):</p>",
@@ -159,7 +226,7 @@ def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, o
             (
                 _e(v.title),
                 _e(", ".join(f"{k} = {x}" for k, x in v.seed_overrides.items()) or "-"),
-                f"<a href='{v.record.relative_to(out)}'>{_e(v.record.relative_to(out))}</a>",
+                f"<a href='{v.record.relative_to(out).as_posix()}'>{_e(v.record.relative_to(out).as_posix())}</a>",
                 f"<a href='bands_{v.key}.csv'>bands_{v.key}.csv</a> ({ens.n} seeds)" if ens is not None else "-",
                 _g(v.member_check, 3),
             )
@@ -196,51 +263,184 @@ def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, o
         _table(["mode"] + [f"{b} (Hz)" for b in modes], mrows, numeric=tuple(range(1, len(modes) + 1))),
         "<h2>TRFAM (Eq. 12), structural and viscous damping (Fig. 17)</h2>",
         "<img src='trfam_xyz.png'><p class='note'>Frequency domain; files trfam_x.csv, trfam_y.csv, trfam_z.csv "
-        "and trfam.uff (UFF 58, six FRFs, kg).</p>",
+        "and trfam.uff (UFF 58, six FRFs, kg). The model's, with its constant moduli and loss factors: the "
+        "paper's Fig. 17 uses frequency-dependent ones (its Figs. 9 and 16) and measured data, neither shown "
+        "here, so the curves are Fig. 17's kind of plot, not a check against it.</p>",
         "<h2>Support forces of the reference records</h2><img src='simulation.png'>",
         *_rms_parts(rms, info),
+        *energy_parts(variants, model),
         "<h2>Wavelet transform of the support force "
         + ("without and with the cable drive" if len(variants) == 2 else f"of {_e(variants[0].title)}")
         + " (Figs. 20-21)</h2>",
         "<img src='scalograms.png'>",
-        "<p class='note'>Reference records; dashed: natural frequencies of the casing"
+        "<p class='note'>Reference records (seed "
+        + f"{seeds[0]}); Morlet wavelet, gamma = 12 (identification.wavelet); dashed: natural frequencies of "
+        "the casing"
         + (_harmonics_note(harmonics) if len(harmonics) else "")
-        + ".</p>",
+        + f"; grey line: the skip ({info['skip']:g} s); grey dash-dot: the cone of influence, within "
+        "&radic;2 gamma / (2&pi; f) of the record's ends, where the transform feels the edges.</p>",
         "<h2>Contact: routing and contact time beside the curvature (Fig. 22)</h2>",
-        "<img src='routing_contact.png'><img src='contact_histogram.png'>"
+        "<img src='routing_contact.png'><img src='contact_histogram.png'>" + contact_note(contact, info)
         if {"casing", "cable"} <= set(model.bodies)
         else "<p>The model has no cable in a casing: no contact.</p>",
     ]
     parts += _bands(variants, model, info)
     parts += net_parts(variants, info)
-    parts += [
-        "<h2>Spectra</h2><img src='psd.png'>",
-    ]
+    parts += ["<h2>Spectra</h2><img src='psd.png'>", psd_note(variants, info)]
     if am is not None:
         parts += ["<img src='apparent_mass.png'>", f"<p class='note'>{apparent_mass_note(am, variants[0].title)}</p>"]
-    parts += _study(study)
+    parts += _study(study, variants)
     if fmu is not None:
-        parts += [
-            "<h2>The FMU</h2>",
-            _table(["what", "value"], [(_e(k), _e(v)) for k, v in fmu.items()]),
-        ]
+        parts += fmu_parts(fmu)
     parts.append("</body></html>")
     return _with_alt("\n".join(parts))
 
 
+def contact_note(contact, info):
+    """Under Fig. 22: what the contact time counts (the whole run, the skip included) and where the
+    most contact is against where the curvature is highest (item 7 of review S)."""
+    if not contact:
+        return ""
+    text = (
+        f"<p class='note'>Contact time per run of {contact['duration']:g} s, counted from t = 0 over the whole "
+        f"run: the first {info['skip']:g} s, which the levels leave out, included ({_e(contact['what'])})."
+    )
+    if contact["any"]:
+        text += (
+            f" The most contact is at s = {contact['s_most']:.3g} m (curvature {contact['kappa_most']:.3g} 1/m); "
+            f"the curvature is highest at s = {contact['s_curviest']:.3g} m ({contact['kappa_max']:.3g} 1/m)"
+            + (
+                ": the paper puts the highest contact area at the highest curvature, this run does not."
+                if abs(contact["s_most"] - contact["s_curviest"]) > 0.05
+                else ", as the paper finds."
+            )
+        )
+    return text + "</p>"
+
+
+def psd_note(variants, info):
+    """Under psd.png: the window, the seed, the range and a curve drawn once for two names."""
+    same = [v.title for v in variants if v.net_bands is not None and _net_is_casing(v)]
+    text = (
+        f"Welch's estimate, Hann's window, of the reference records (seed {info['seeds'][0]}) after "
+        f"{info['skip']:g} s, over Table 3's bands 11-5680 Hz from 2 df (the legend gives df), where Welch's "
+        "lines measure."
+    )
+    if same:
+        text += (
+            f" In the variant {_and([_e(t) for t in same])} cable.B.Fz is 0 N, so {NET_OUTPUT} is {OUTPUT}: one "
+            "curve, named as both."
+        )
+    return f"<p class='note'>{text}</p>"
+
+
+def _net_is_casing(v):
+    """Whether a variant's reference record has net.B.Fz equal to casing.B.Fz in every band (cable.B.Fz 0)."""
+    b = v.net_bands or {}
+    return OUTPUT in b and NET_OUTPUT in b and np.array_equal(b[OUTPUT].rms, b[NET_OUTPUT].rms)
+
+
+def fmu_parts(fmu):
+    """The FMU's section: its check as given, the output file linked, and what it is compared with."""
+    rows = []
+    for k, v in fmu.items():
+        cell = f"<a href='{_e(v)}'>{_e(v)}</a>" if k == "FMU outputs" else _e(v)
+        rows.append((_e(k), cell))
+    return [
+        "<h2>The FMU</h2>",
+        _table(["what", "value"], rows),
+        "<p class='note'>The FMU is checked against the core driven by the same sampled record (the scenario's "
+        "support motion sampled every communication step and reconstructed over each step, as a host gives it), "
+        "not against the report's records: the core's own runs take the excitation at every time step, and with "
+        "contact the response is chaotic, so fmu_outputs.csv need not retrace the reference record with the drive "
+        "beyond its first hundredths of a second: it is another draw of the same process.</p>",
+    ]
+
+
+def _band_total(v):
+    """sqrt of the sum of the squared Table 3 band levels (N) of the reference record's casing.B.Fz
+    (its bands: ``net_bands`` of a model with a cable, else the ensemble's first member, the same
+    run), or None."""
+    if v.net_bands is not None and OUTPUT in v.net_bands:
+        b = v.net_bands[OUTPUT].rms
+    elif v.ensemble is not None:
+        b = v.ensemble.levels[0]
+    else:
+        return None
+    return float(np.sqrt(np.sum(np.square(b))))
+
+
 def _rms_parts(rms, info):
     """The RMS table of the reference records' support forces: mean, RMS total (with the mean) and
-    RMS dynamic (without it), N, one row per variant and force."""
+    RMS dynamic (without it), N, one row per variant and force; and, beside casing.B.Fz's RMS
+    dynamic, the root of the sum of its squared Table 3 band levels, with when the two agree."""
     from .figures import RMS_COLUMNS
 
     rows = [(_e(v.title), _e(v.record.name), _e(n), *(_g(x, 6) for x in t)) for v, d in rms for n, t in d.items()]
+    sums = []
+    for v, d in rms:
+        total = _band_total(v)
+        if total is not None and OUTPUT in d:
+            dyn = d[OUTPUT][2]
+            sums.append(f"{_e(v.title)}: {_g(total, 4)} N against {_g(dyn, 4)} N ({100 * (total / dyn - 1):+.1f} %)")
+    compare = (
+        f" The Table 3 band levels of {OUTPUT}, root of the sum of their squares: {'; '.join(sums)}." if sums else ""
+    )
     return [
         _table(["variant", "record", "output"] + [f"{c} (N)" for c in RMS_COLUMNS], rows, numeric=(3, 4, 5)),
         f"<p class='note'>After {info['skip']:g} s, from the saved records (rms.csv at full precision). RMS total "
         "includes the mean, the force's static part; "
         "RMS dynamic is the RMS with the mean removed (the standard deviation), what vibrates, as in "
-        "<code>simulate</code>'s table: the band levels and the PSD remove the mean too, so compare them with "
-        "it.</p>",
+        "<code>simulate</code>'s table: the band levels and the PSD remove the mean too, but they weight the "
+        "record through Hann's window, most in its middle. So the band levels' root sum of squares equals the RMS "
+        "dynamic only for a record whose level is steady along it and whose power lies within Table 3's "
+        f"11-5680 Hz; a level that changes along the record (a transient, a burst of contact) makes them differ, "
+        f"and the band levels are then the window's weighted average.{compare}</p>",
+    ]
+
+
+def energy_parts(variants, model):
+    """The energy ledger (J) of each reference record since t = 0 (item 10 of review S): the supports'
+    work, what Rayleigh damping and the contacts dissipated, the normal force's own work
+    (``contact_normal_dissipation``: negative where the normal-plane contact on a mesh of a curved
+    casing makes energy, a model-quality indicator) and the balance's residual."""
+    vs = [v for v in variants if getattr(v.result, "energies", None)]
+    if not vs:
+        return []
+    keys = [
+        ("support_work", "work of the supports"),
+        ("rayleigh_dissipation", "dissipated by Rayleigh damping"),
+        ("contact_dissipation", "dissipated in the contacts"),
+        ("contact_damping_dissipation", "of which contact damping"),
+        ("friction_dissipation", "of which friction"),
+        ("contact_normal_dissipation", "of which the normal force's own work"),
+        ("residual", "residual of the balance"),
+    ]
+    rows = []
+    for key, label in keys:
+        row = [_e(label)]
+        for v in vs:
+            e = v.result.energies
+            x = float(e.get(key, float("nan")))
+            w = float(e.get("support_work", float("nan")))
+            share = f" ({100 * x / w + 0.0:+.2f} % of the supports' work)" if key != "support_work" and w else ""
+            row.append(f"{_g(x, 4)}{share}")
+        rows.append(row)
+    n_el = model.data["geometry"]["n_elements"]
+    docs = (
+        " docs/time_domain.md (\"The mesh\", the normal force's work) gives −2.38 % of the supports' work at "
+        "35 elements on the built-in specimen's 1 s records with the drive, −0.07 % at 140."
+        if model.source == "<built-in>" and n_el == 35
+        else ""
+    )
+    return [
+        "<h3>Energy ledger of the reference records (J, since t = 0)</h3>",
+        _table(["quantity"] + [_e(v.title) for v in vs], rows, numeric=tuple(range(1, len(vs) + 1))),
+        "<p class='note'>From the saved records (their <code>energies</code>; <code>cablecasing simulate</code> "
+        "prints the same ledger), over the whole run. The normal force's own work is what the contacts "
+        "dissipate beyond their damping and friction: zero for a conservative contact law, negative where the "
+        "normal-plane contact on the mesh of a curved casing makes energy, falling as the mesh is refined; the "
+        f"residual is the ledger's error (stored now − stored at t = 0 − supplied + dissipated).{docs}</p>",
     ]
 
 
@@ -371,6 +571,47 @@ ACCURACY_QUOTES = {
 ACCURACY_SETTINGS = (35, 1e-5)
 
 
+#: The mesh's bias per Table 3 band of the built-in specimens at :data:`ACCURACY_SETTINGS`, quoted
+#: from docs/time_domain.md, "The mesh" (tests/cli/test_report_bands.py finds each in its table):
+#: {source: {variant key: (what it is measured against, on what, [9 figures in %, as printed])}}.
+MESH_BIAS = {
+    "<built-in>": {
+        "drive": (
+            "35 against 140 elements, the specimen's scenario with contact, 128 seeds, Hann's window, 1 s records "
+            "after 0.06 s, ± 2 SE",
+            ["+6.8 ± 5.3", "+50.9 ± 9.2", "−5.1 ± 2.9", "−5.9 ± 2.2", "−11.0 ± 2.6", "−5.2 ± 1.9", "+6.5 ± 3.2",
+             "+6.5 ± 5.0", "+21.3 ± 5.7"],
+        ),
+        "nodrive": (
+            "35 against 280 elements, without contact (as this variant, which has none), seed 1, the rectangular "
+            "window",
+            ["+1.5", "+0.3", "−1.5", "−0.6", "−0.6", "−4.1", "−7.4", "−7.0", "−20.4"],
+        ),
+    },
+    "<built-in installed>": {
+        "drive": (
+            "35 against 140 elements, the specimen's scenario, 16 seeds, Hann's window (± 2 SE in octaves 1-2; "
+            "octaves 3-9, the drive's response, within 0.2)",
+            ["+2.4 ± 1.1", "+0.9 ± 2.2", "+1.0", "+10.6", "−7.5", "−0.7", "+16.4", "+7.8", "+27.0"],
+        ),
+    },
+}  # fmt: skip
+
+
+def _percent(text):
+    """The figure of a quoted bias ('−11.0 ± 2.6' -> -11.0)."""
+    return float(text.split("±")[0].replace("−", "-").strip())
+
+
+def mesh_bias(model, info):
+    """{variant key: [bias in %, ...]} of :data:`MESH_BIAS` for a built-in specimen at the mesh and
+    step the figures were measured at, else {} (another model's bias is not known)."""
+    n_el, dt = model.data["geometry"]["n_elements"], info["dt"]
+    if (n_el, dt) != ACCURACY_SETTINGS:
+        return {}
+    return {k: [_percent(x) for x in figs] for k, (_, figs) in MESH_BIAS.get(model.source, {}).items()}
+
+
 def accuracy_note(model, info):
     """What the band levels' intervals cover and what they do not (HTML): the seed scatter of this
     model at its mesh and step, not the model's numerical error, quoted from docs/time_domain.md
@@ -402,17 +643,22 @@ def _bands(variants, model, info):
     if not ens:
         return ["<h2>Band levels</h2><p>No random excitation: no ensemble over seeds.</p>"]
     e0 = ens[0].ensemble
+    n_el, dt = model.data["geometry"]["n_elements"], info["dt"]
+    known = MESH_BIAS.get(model.source, {}) if (n_el, dt) == ACCURACY_SETTINGS else {}
     head = ["band", "Hz"]
     for v in ens:
         head += [f"{v.title}: mean (N)", "95 % CI (N)", "mean (dB re 1 N)", "95 % CI (dB)", "CV of one record"]
+        if v.key in known:
+            head.append(f"{v.title}: mesh bias of {n_el} elements (%)")
     off = {v.key: no_response(v.ensemble.mean) for v in ens}
     rows = []
     for b, lab in enumerate(e0.labels):
         row = [lab, f"{e0.lower[b]:g}-{e0.upper[b]:g}"]
         for v in ens:
             e = v.ensemble
+            bias = known.get(v.key, (None, None))[1]
             if off[v.key][b]:
-                row += ["–", "–", "–", "–", "no response"]
+                row += ["–", "–", "–", "–", "no response"] + (["–"] if bias else [])
                 continue
             lo, hi = (x[b] for x in e.ci(0.95))  # (cut at 0 below by Ensemble.ci: a level is not negative)
             m = e.mean[b]
@@ -423,6 +669,10 @@ def _bands(variants, model, info):
                 f"{_db(lo)} to {_db(hi)}",
                 f"{100 * e.cv[b]:.0f} %",
             ]
+            if bias:
+                half = max(hi - m, m - lo) / m if m > 0 else math.inf
+                beyond = abs(_percent(bias[b])) / 100.0 > half  # (a bias larger than the interval's half-width)
+                row.append(f"<span class='warn'>{_e(bias[b])}</span>" if beyond else _e(bias[b]))
         rows.append(row)
     parts = [
         f"<h2>Band levels of {OUTPUT} (Table 3): ensemble means over excitation seeds</h2>",
@@ -431,6 +681,19 @@ def _bands(variants, model, info):
         "<p class='note'>Means over the seeds of the ensembles (bands_&lt;variant&gt;.csv: one row per seed); "
         "Student-t 95 % intervals (cut at 0); CV: the seed-to-seed scatter of a single record's level.</p>",
     ]
+    if known:
+        parts.append(
+            "<p class='note'><b>Mesh bias</b> (docs/time_domain.md, \"The mesh\"): how far this model's expected "
+            f"level at its {n_el} elements lies from the level converged in the mesh, measured on this specimen "
+            + "; ".join(
+                f"{_e(next(v.title for v in ens if v.key == k))}: {_e(what)}"
+                for k, (what, _) in known.items()
+                if any(v.key == k for v in ens)
+            )
+            + ". <span class='warn'>Bold</span>: a bias larger than the interval's half-width, so the interval "
+            "does not hold the converged level; a model file with geometry.n_elements = 140 (about 4 × the cost) "
+            "gives levels converged in the mesh.</p>"
+        )
     for v in ens:
         gone = [lab for lab, o in zip(e0.labels, off[v.key]) if o]
         if gone:
@@ -494,7 +757,33 @@ def net_parts(variants, info):
         f"From the reference records after {info['skip']:g} s, through Hann's window, as the ensembles: one "
         f"record each, one draw of the seeds' scatter (the ensemble means above are of {OUTPUT}); files "
         "bands_net_B.csv at full precision.</p>",
+        f"<p class='warn'>One record only: these levels carry a single record's scatter{_cv_span(vs)}, and no "
+        f"interval; for a decision take the ensemble of {NET_OUTPUT} itself: <code>cablecasing ensemble "
+        f"--output {NET_OUTPUT}</code> (docs/studies.md).</p>",
     ]
+
+
+def _cv_span(variants):
+    """', which for casing.B.Fz with the cable drive is 5-17 % per band (...)': the CV of one record
+    over the bands with a response of the model's own scenario (the last variant, which the study
+    runs and whose net.B.Fz differs from casing.B.Fz), or ''."""
+    v = next((v for v in reversed(list(variants)) if v.ensemble is not None), None)
+    if v is None:
+        return ""
+    cvs = 100 * v.ensemble.cv[~no_response_of(v.ensemble.mean)]
+    if not cvs.size:
+        return ""
+    return (
+        f", which for {OUTPUT} {_e(v.title)} is {cvs.min():.0f}-{cvs.max():.0f} % per band (the CV of one record, "
+        "above)"
+    )
+
+
+def no_response_of(levels):
+    """:func:`~cablecasing_core.studies.octave.no_response` of ``levels``."""
+    from ..studies.octave import no_response
+
+    return no_response(levels)
 
 
 def _and(items):
@@ -519,17 +808,29 @@ def _db(x):
     return f"{20 * np.log10(x):.1f}" if x > 0 else "-inf"
 
 
-def _study(study):
+def _study(study, variants=()):
     if study is None:
         return [
             "<h2>Study (Fig. 23)</h2><p>No study: the model has none of the paper's parameters, or it was "
             "not asked for.</p>"
         ]
     bounds = ", ".join(f"{k} {lo:g}..{hi:g}" for k, (lo, hi) in study["bounds"].items())
+    seeds = study.get("seeds") or {}
+    said = ", ".join(f"{k} = {x}" for k, x in seeds.items())
     parts = [
         "<h2>A small Monte-Carlo study (Fig. 23)</h2>",
         f"<p>{study['runs']} runs ({study['ok']} ok) of Saltelli's design, parameters: {_e(bounds)} "
         f"(<a href='{study['csv']}'>{study['csv']}</a>).</p>",
+        "<p class='note'>"
+        + (
+            f"Every run uses the scenario's excitation seed ({_e(said)}): one record per point, so each output "
+            f"carries a single record's chaotic scatter{_cv_span(variants)}, besides the parameters' effect. "
+            if said
+            else ""
+        )
+        + "The bounds are the package's (studies.PAPER_BOUNDS: the paper's where it gives them; for the axial "
+        "amplitude, which it does not, 0.5-2 × the specimen's). docs/studies.md, \"The paper's conclusions in "
+        "this model\", compares a study of this model with the paper's Fig. 23.</p>",
     ]
     parts += [f"<p class='warn'>{_e(w)}</p>" for w in study.get("warnings", [])]
     if "pearson" in study:

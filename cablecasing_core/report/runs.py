@@ -135,7 +135,8 @@ def fmu_check(outputs_csv, step: float, duration: float, model: Model | None = N
     """The FMU's outputs (``outputs_csv``, written by ``examples/demo.py`` from an fmpy run of the
     scenario's record sampled every ``step`` s) against the core driven by the same sampled record
     (``timedomain.simulation.simulate_sampled``): the largest deviation of each support output,
-    relative to its largest value, over the run. Returns a summary for the report."""
+    relative to its largest value, over the run. Returns a summary for the report, which names the
+    outputs' file by its name: it lies in the report's folder, and the report links it from there."""
     from ..model import load_model
     from ..model.schema import OUTPUTS, SUPPORT_OUTPUTS
     from ..records import read_records
@@ -158,7 +159,7 @@ def fmu_check(outputs_csv, step: float, duration: float, model: Model | None = N
         if dev >= worst:
             worst, where = dev, name
     return {
-        "FMU outputs": str(outputs_csv),
+        "FMU outputs": Path(outputs_csv).name,
         "communication step (s)": step,
         "duration (s)": duration,
         "compared with": "the core driven by the same sampled record with the FMU's input reconstruction "

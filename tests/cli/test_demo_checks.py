@@ -41,6 +41,7 @@ def test_the_fmu_check_reads_the_summary_of_fmu_check(demo, tmp_path):
     failed = demo.fmu_failure(check)
     said = check[demo.DEVIATION]  # (the one column given, at the ten steps of 1e-3 s in 0.01 s)
     assert said.endswith(" (casing.B.Fz, over 10 steps)") and float(said.split()[0]) > 1e-8, said
+    assert check["FMU outputs"] == "fmu.csv"  # (its name, relative to the report's folder: review S, D4)
     assert failed.startswith(f"the FMU deviates from the core driven by the same sampled record by {said}"), failed
 
 

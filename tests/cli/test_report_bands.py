@@ -112,9 +112,10 @@ def test_the_table_gives_a_dash_for_a_band_without_response_and_the_figure_spans
     html = "\n".join(page._bands(vs, model, info))
     for lab in ("oct8", "oct9"):
         cells = _cells(html, lab)
-        assert cells[1:6] == ["–", "–", "–", "–", "no response"]
+        # (the sixth: the known mesh bias of the built-in specimen's variant, none where no response)
+        assert cells[1:7] == ["–", "–", "–", "–", "no response", "–"]
         # (the page prints the mean to 4 significant digits: 5e-4)
-        assert float(cells[6]) == pytest.approx(vs[1].ensemble.mean[int(lab[-1]) - 1], rel=1e-3)
+        assert float(cells[7]) == pytest.approx(vs[1].ensemble.mean[int(lab[-1]) - 1], rel=1e-3)
     assert all(c != "–" for c in _cells(html, "oct7"))
     assert "In the variant without the cable drive, oct8 and oct9 lie more than 100 dB below its strongest" in html
     assert "Its excitation ends at 1000 Hz and it has no contact" in html
@@ -187,3 +188,54 @@ def test_ensemble_names_the_bands_that_hold_no_response(capsys):
     note = [line for line in out if line.startswith("# no response in ")]
     assert len(note) == 1 and "8000Hz, 16000Hz" in note[0] and "1000Hz" not in note[0].split(":")[0], note
     assert any(line.startswith("16000Hz,") for line in out)  # (the row is still printed)
+
+
+def test_the_reports_default_records_leave_out_the_drives_start_in_whole_periods():
+    """Review S, D1: the report's records are the scenario's own 1 s (they were 0.5 s) and, with the
+    50 Hz drive, leave out at least 0.25 s (its start transient, docs/nvh.md) then whole periods:
+    0.26 s, 37 periods of 20 ms after it, 8.1 FFT lines in octave 1 (the package warns below 4). A
+    model without a harmonic excitation leaves out 0.05 s."""
+    from cablecasing_core.report import HARMONIC_START_SKIP, check_report_settings, report_skip
+    from cablecasing_core.studies.octave import LINES_PER_BAND
+
+    model = cc.load_model()
+    _, _, _, skip, duration = check_report_settings(model, study_samples=0)
+    assert duration == model.scenario["duration"] == 1.0 and skip == report_skip(model, 1.0) == 0.26
+    assert skip >= HARMONIC_START_SKIP and (duration - skip) * 50.0 == pytest.approx(37, abs=1e-9)
+    assert (duration - skip) * 11.0 >= 2 * LINES_PER_BAND  # (octave 1, the narrowest band: 11 Hz wide)
+    plain = cc.load_model(str(ROOT / "examples" / "installation.toml"))
+    assert not [e for e in plain.scenario["excitation"].values() if e["kind"] == "harmonic"]
+    assert report_skip(plain, 1.0) == 0.05
+
+
+def _row(text, first_cell):
+    """The cells of the markdown table row that starts with ``| first_cell |``, '*' marks and bold dropped."""
+    line = next(x for x in text.splitlines() if x.startswith(f"| {first_cell} |"))
+    return [c.strip().replace("\\*", "").strip("*") for c in line.strip().strip("|").split("|")[1:]]
+
+
+def test_the_mesh_bias_beside_the_bands_is_the_docs():
+    """Review S, 1: the bias per band the table gives beside the built-in specimens' levels is the
+    row of docs/time_domain.md, "The mesh", measured as the page says (Hann's window against 140
+    elements with contact; the linear table against 280 without), figure for figure."""
+    docs = _section((ROOT / "docs" / "time_domain.md").read_text(encoding="utf-8"), "The mesh")
+    assert page.MESH_BIAS["<built-in>"]["drive"][1] == _row(docs, "**default, 35** (128)")[:9]
+    assert page.MESH_BIAS["<built-in installed>"]["drive"][1] == _row(docs, "**installed, 35** (16)")[:9]
+    assert page.MESH_BIAS["<built-in>"]["nodrive"][1] == _row(docs, "35")[:9]
+    info = {"dt": 1e-5, "seeds": [1, 2]}
+    assert page.mesh_bias(cc.load_model(), info)["drive"][1] == 50.9
+    assert page.mesh_bias(cc.load_model().with_overrides({"geometry.n_elements": 140}), info) == {}
+
+
+def test_the_start_transients_figures_on_the_page_are_the_docs():
+    """The page's note on the skip quotes docs/nvh.md's table (the window 0.06-0.5 s, octaves 2-3),
+    rounded as printed."""
+    text = (ROOT / "docs" / "nvh.md").read_text(encoding="utf-8")
+    sec = text[text.index("### The start transient of a harmonic drive") :]
+    cells = _row(sec, "0.06–0.50")
+    note = page.skip_note({"skip": 0.26, "skip_least": 0.25})
+    for k in (1, 2):  # (octave 2, octave 3)
+        mean, se2 = (float(x.replace("−", "-")) for x in cells[k].split("±"))
+        assert f"octave {k + 1} {mean:+.0f} ± {se2:.0f} %".replace("-", "−") in note, (cells[k], note)
+    assert "warn" not in note and "shorter than" not in note
+    assert "shorter than 0.25 s" in page.skip_note({"skip": 0.06, "skip_least": 0.25})

@@ -48,7 +48,7 @@ def quick_report(monkeypatch):
     monkeypatch.setattr(
         figures,
         "scalogram_figure",
-        lambda vs, path, natural, harmonics, skip: seen.update(natural=natural, harmonics=harmonics),
+        lambda vs, path, natural, harmonics, skip, info=None: seen.update(natural=natural, harmonics=harmonics),
     )
     monkeypatch.setattr(page, "render", lambda *a: seen.update(harmonics_page=a[9]) or "<html></html>")
     return report.write_report, seen
@@ -61,7 +61,7 @@ def test_the_report_writes_the_modes_a_coarse_body_has(tmp_path, quick_report):
     model = coarse(2)
     with warnings.catch_warnings(record=True) as said:
         warnings.simplefilter("always")
-        write_report(tmp_path / "r", model=model, duration=0.2, seeds=2, study_samples=0, progress=False)
+        write_report(tmp_path / "r", model=model, duration=0.2, skip=0.06, seeds=2, study_samples=0, progress=False)
     lines = (tmp_path / "r" / "modes.csv").read_text().splitlines()
     assert lines[0] == "mode,casing [Hz],cable [Hz]"
     # clamped at both ends: 6 DOFs at each of the 3 nodes less the 12 clamped = 6 modes per body
@@ -187,7 +187,7 @@ def test_the_reports_trfam_grid_resolves_every_peak():
 def test_the_scalogram_gets_every_mode_and_harmonic_to_2000_hz(tmp_path, quick_report):
     write_report, seen = quick_report
     model = cc.load_model()
-    write_report(tmp_path / "r", model=model, duration=0.2, seeds=2, study_samples=0, progress=False)
+    write_report(tmp_path / "r", model=model, duration=0.2, skip=0.06, seeds=2, study_samples=0, progress=False)
     every = cc.natural_frequencies(model, "casing")  # (all 204: an independent list)
     np.testing.assert_array_equal(seen["natural"], every[(every >= 20) & (every <= 2000)])
     assert max(seen["natural"]) > 1900  # (it stopped at mode 40, 1461 Hz)
