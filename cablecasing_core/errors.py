@@ -36,6 +36,23 @@ def excerpt(value, limit: int = EXCERPT) -> str:
     return text
 
 
+def closest(word, names, n: int = 1) -> list[str]:
+    """At most ``n`` of ``names`` closest to ``word``, best first, for a "did you mean ...?" hint:
+    the names equal to it but for case first, then ``difflib``'s close matches compared without
+    case (a key typed in the wrong case, ``casing.e``, is ``casing.E``, not ``casing.I``, which
+    difflib's case-sensitive ratio ranks higher). The one helper of every such hint."""
+    import difflib
+
+    word = str(word)
+    by_lower = {}
+    for name in dict.fromkeys(map(str, names)):
+        by_lower.setdefault(name.lower(), []).append(name)
+    found = list(by_lower.get(word.lower(), []))
+    for low in difflib.get_close_matches(word.lower(), list(by_lower), n=n):
+        found += by_lower[low]
+    return list(dict.fromkeys(found))[:n]
+
+
 class _Plain(str):
     """A value shown as it is, without quotes (a description such as ``"array with nan"``)."""
 

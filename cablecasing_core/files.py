@@ -151,14 +151,17 @@ def check_writable(flag: str, path: str | os.PathLike) -> None:
             os.remove(probe)
 
 
-def output_folder(flag: str, folder: str | os.PathLike, probe_name: str) -> Path:
+def output_folder(flag: str, folder: str | os.PathLike, probe_name: str, create: bool = True) -> Path:
     """Create the output folder ``folder`` (and its parents) and check that ``probe_name`` can be
     written in it (:func:`check_writable`); a :class:`ModelError` naming ``flag`` otherwise: an
     empty path (which would be the current folder), a path that is an existing file or lies under
-    one, a folder that cannot be created or written in."""
+    one, a folder that cannot be created or written in. ``create=False`` checks without creating
+    anything: an existing folder as above, a missing one by a file written in the nearest folder
+    that exists (where it would be created: ``/sys/x`` is refused)."""
     if not os.fspath(folder):
         raise ModelError(flag, str(folder), "must name a folder (an empty path would write into the current folder)")
     folder = Path(folder)
+    nearest = None
     for path in (folder, *folder.parents):  # (the nearest that exists must be a folder)
         try:
             found, is_folder = path.exists(), path.is_dir()
@@ -168,7 +171,17 @@ def output_folder(flag: str, folder: str | os.PathLike, probe_name: str) -> Path
             if not is_folder:
                 where = "is an existing file" if path == folder else f"lies under {path}, an existing file"
                 raise ModelError(flag, str(folder), f"{where}, not a folder: must be a folder (or one to create)")
+            nearest = path
             break
+    if not create:
+        if nearest == folder:
+            check_writable(flag, folder / probe_name)
+        elif nearest is not None:
+            try:
+                check_writable(flag, nearest / ".cablecasing-folder-probe")  # (a name no output takes)
+            except ModelError as exc:
+                raise ModelError(flag, str(folder), f"must be a folder that can be created ({exc.allowed})") from None
+        return folder
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as exc:

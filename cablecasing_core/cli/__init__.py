@@ -208,11 +208,11 @@ def cmd_keys(args):
 
 def _closest_keys(prefix, keys):
     """``did you mean ...?`` with the sections, tables and keys of the model file closest to
-    ``prefix`` (difflib), or the sections when none is close."""
-    import difflib
+    ``prefix`` (errors.closest), or the sections when none is close."""
+    from ..errors import closest
 
     names = sorted({".".join(k.split(".")[:n]) for k in keys for n in range(1, k.count(".") + 2)})
-    close = difflib.get_close_matches(prefix, names, n=3)
+    close = closest(prefix, names, n=3)
     if close:
         return "did you mean " + " or ".join(repr(c) for c in close) + "?"
     return "its sections are " + ", ".join(sorted({k.split(".")[0] for k in keys}))

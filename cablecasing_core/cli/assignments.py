@@ -91,16 +91,27 @@ def with_assignments(model, flag, texts):
     return with_changes(model, {key: (flag, value, shown[key]) for key, value in assignments(flag, texts).items()})
 
 
-def with_changes(model, changes):
+def with_changes(model, changes, check=None):
     """``model`` with ``changes`` ({key: (flag, value)} or (flag, value, the value as typed)) applied
     and validated. A refused value is named by the flag that gave it (``--set casing.E = -1: ...``),
     as typed when it is the value of the key refused; a key the model file gives that the changes
     make invalid (its random band above the Nyquist frequency of a ``--set scenario.dt``) is named
-    as the change that did it, with the model file's value it conflicts with."""
+    as the change that did it, with the model file's value it conflicts with. ``check(model)``, if
+    given, is a check of the changed model beyond its keys' (``ensemble``'s
+    :func:`~cablecasing_core.studies.evaluators.check_model_runs`: a tension above the casing's
+    buckling load): what it refuses is named the same way (the model without changes is checked
+    too, its error as it is)."""
     if not changes:
+        if check is not None:
+            check(model)
         return model
+    checked = False  # (whether the keys passed and the check refused)
     try:
-        return model.with_overrides({key: change[1] for key, change in changes.items()})
+        changed = model.with_overrides({key: change[1] for key, change in changes.items()})
+        if check is not None:
+            checked = True
+            check(changed)
+        return changed
     except ModelError as exc:
         given = next((k for k in changes if _same_key(str(exc.key), k)), None)
         if given is not None:
@@ -108,7 +119,7 @@ def with_changes(model, changes):
             if exc.key == given and exc.value is not NOT_SHOWN:
                 value = _shown(changes[given])
             raise ModelError(f"{changes[given][0]} {exc.key}", value, exc.allowed) from None
-        raise _conflict(model, changes, exc) from None
+        raise _conflict(model, changes, exc, check, checked) from None
 
 
 def _shown(change):
@@ -122,14 +133,23 @@ def _same_key(refused, key):
     return refused == key or refused.startswith((key + ".", key + "[")) or key.startswith(refused + ".")
 
 
-def _conflict(model, changes, exc):
+def _conflict(model, changes, exc, check=None, checked=False):
     """The error ``exc`` of a key of the model that ``changes`` did not set, named as the change(s)
-    that make it fail alone (all of them if none does): the value of the model it conflicts with and
-    what is allowed; for a time step, the largest that the model's excitations allow."""
+    that make it fail alone (all of them if none does; the model's own error, as it is, when it
+    fails ``check`` without them, ``checked``: ``exc`` is the check's): the value of the model it
+    conflicts with and what is allowed; for a time step, the largest that the model's excitations
+    allow."""
+    if checked:
+        try:
+            check(model)
+        except ModelError as own:  # (the model fails without the changes: none of them is to blame)
+            return own
 
     def refused(key):
         try:
-            model.with_overrides({key: changes[key][1]})
+            changed = model.with_overrides({key: changes[key][1]})
+            if checked:
+                check(changed)
         except ModelError:
             return True
         return False

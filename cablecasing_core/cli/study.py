@@ -8,13 +8,20 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ModelError, renamed
+from ..errors import ModelError, closest, renamed
+from ..files import output_folder
 from ..model.limits import MAX_ENSEMBLE_SEED, MAX_SEEDS, MAX_STUDY_SAMPLES, PROGRESS_TIMEOUT
 from ..model.validators import integer, number
 from ..records import unit_of
 from .assignments import add_model_argument, assignments, model_argument, typed, with_changes
 from .helptext import ASSIGNMENT_HELP, add_window_argument, key_help
 from .paths import check_distinct, check_output_path, kept
+
+
+def _count(n, noun):
+    """``"1 parameter"``, ``"2 parameters"``."""
+    return f"{n} {noun}{'' if n == 1 else 's'}"
+
 
 #: --skip of study and ensemble.
 SKIP_HELP = (
@@ -25,8 +32,9 @@ SKIP_HELP = (
 
 def study_bounds(args, model):
     """The study's parameters and bounds from ``--vary`` and ``--vary-file`` (default: the paper's six),
-    checked against the model and the schema (before any run); an error names the option as typed
-    and the key (``--vary casing.E``, ``--vary-file vf.toml: casing.E``)."""
+    checked against the model and the schema (before any run), and the names of their keys as the
+    user gave them (``{"bounds.casing.E": "--vary casing.E"}``, for run_study's errors); an error
+    names the option as typed and the key (``--vary casing.E``, ``--vary-file vf.toml: casing.E``)."""
     from ..studies.sampling import check_bounds, parse_vary, read_vary_file
 
     bounds, given = {}, {}
@@ -43,15 +51,12 @@ def study_bounds(args, model):
             )
         bounds[key] = b
         given[key] = f"--vary {text}"
-    try:  # (--duration takes the place of scenario.duration in every sample: not varied beside it)
-        return check_bounds(bounds or None, model=model, settings={"duration": ("--duration", args.duration)})
-    except ModelError as exc:  # (check_bounds names a key bounds.<key>: here the option and the key the user wrote)
-        key = exc.key[len("bounds.") :] if str(exc.key).startswith("bounds.") else None
-        if key in given:
-            raise ModelError(f"--vary {key}", exc.value, exc.allowed) from None
-        if key in in_file:
-            raise ModelError(f"--vary-file {args.vary_file}: {key}", exc.value, exc.allowed) from None
-        raise
+    names = {f"bounds.{k}": f"--vary {k}" for k in given} | {
+        f"bounds.{k}": f"--vary-file {args.vary_file}: {k}" for k in in_file
+    }
+    # (--duration takes the place of scenario.duration in every sample: not varied beside it)
+    with renamed(names):  # (check_bounds names a key bounds.<key>: here the option and the key the user wrote)
+        return check_bounds(bounds or None, model=model, settings={"duration": ("--duration", args.duration)}), names
 
 
 def study_output(name, model):
@@ -66,9 +71,7 @@ def study_output(name, model):
     if derived:
         check_column_name(name, known, "--output")
     elif name not in known:
-        import difflib
-
-        close = difflib.get_close_matches(str(name), list(known), n=1)
+        close = closest(name, known)
         mean = f" (did you mean {close[0]}?)" if close else ""
         raise ModelError(
             "--output",
@@ -81,34 +84,68 @@ def study_output(name, model):
     return name
 
 
+def _excitation(model, k):
+    """What excitation each sample of a study runs (the plan's line): the model's own random
+    excitation with its seeds (``scenario.excitation.casing_random.seed = 1``), once, or the mean
+    over the ensemble's seeds 1..k (``--excitation-seeds k``)."""
+    from ..studies.ensemble_runs import random_excitations
+
+    names = random_excitations(model)
+    if k is not None:
+        return f"each sample: the mean of {k} runs on the excitation seeds 1..{k} (as ensemble --seeds {k})"
+    if not names:
+        return "each sample: one run (the model has no random excitation)"
+    seeds = ", ".join(f"scenario.excitation.{n}.seed = {model.scenario['excitation'][n]['seed']}" for n in names)
+    return (
+        f"each sample: one run on the model's own random excitation ({seeds}), one draw of a response that "
+        "with contact is chaotic: its scatter over seeds enters r, S1 and ST (docs/studies.md; --excitation-seeds K "
+        "averages K seeds per sample); --seed is the Sobol' sequence's"
+    )
+
+
+def _first_of(res, kinds):
+    """The first run (lowest index) of status ``kinds`` (a status or several) of the study ``res``:
+    ``sample 5 (casing.d_inner = 0.00977, ...): ModelError: ...``."""
+    kinds = (kinds,) if isinstance(kinds, str) else tuple(kinds)
+    j = int(np.flatnonzero(np.isin(np.asarray(res.status), kinds))[0])
+    said = ", ".join(f"{p} = {v:.6g}" for p, v in zip(res.parameters, res.X[j]))
+    return f"sample {int(res.index[j])} ({said}): {res.error[j]}"
+
+
 def cmd_study(args):
     from ..model.load import specimen_names
     from ..studies import DEFAULT_EVALUATE, plot_correlations, plot_sobol, run_study
     from ..studies.octave import WINDOW_NAMES
-    from ..studies.results_store import read_meta
+    from ..studies.results_store import COMMAND_QUANTITY_WHAT, read_meta
     from ..studies.sampling import base_points, group_size
+    from ..studies.sensitivity import sobol_shown
 
     model = model_argument(args.model)
-    bounds = study_bounds(args, model)  # (before anything is written)
+    bounds, bound_names = study_bounds(args, model)  # (before anything is written)
     output = study_output(args.output, model)
     unit = unit_of(output)
     integer("--samples", args.samples, 2, MAX_STUDY_SAMPLES)
     integer("--seed", args.seed, 0)
     progress_timeout = number("--timeout", args.timeout, gt=0, unit="s")
     _check_workers(args)
-    from ..studies.executor import check_packages
+    from ..studies.executor import check_packages, check_scheduler
 
+    with renamed({"scheduler": "--scheduler"}):
+        check_scheduler(args.scheduler)
     check_packages(args.scheduler, key="--scheduler")  # (SALib, and dask unless serial: before anything is made)
     _check_record_settings(args, model)
     out = Path(args.out)  # (created by run_study once every setting is checked and the scheduler answers)
     if out.exists() and not out.is_dir():
         raise ModelError("--out", args.out, "must be a folder (of study.csv and the figures); it is a file")
+    output_folder("--out", out, "study.csv", create=False)  # (before the plan is printed)
     # a file by its absolute path (dask workers run in any folder); a built-in specimen by its name
     model_file = args.model if args.model in (None, *specimen_names()) else str(Path(args.model).resolve())
     kwargs = {"model_file": model_file, "duration": args.duration, "skip": args.skip, "window": args.window}
     if output != "casing.B.Fz":  # (the default's settings stay as earlier versions wrote them: they resume)
         kwargs["output"] = output
-    quantity = {"name": output, "unit": unit, "what": "RMS in the octave bands of Table 3"}
+    if args.excitation_seeds is not None:  # (likewise: only when given)
+        kwargs["excitation_seeds"] = integer("--excitation-seeds", args.excitation_seeds, 2, MAX_SEEDS)
+    quantity = {"name": output, "unit": unit, "what": COMMAND_QUANTITY_WHAT}  # (the command's: results_store)
     with renamed({"path": "--out"}):
         old = read_meta(out / "study.csv")
     _check_resume(args, old, out / "study.csv", bounds, kwargs, model)
@@ -124,8 +161,9 @@ def cmd_study(args):
             )
     else:
         skip = f"after {args.skip:g} s"
+    d = len(bounds)
     print(
-        f"# study of {model.source}: {len(bounds)} parameters, the Table 3 band RMS of {output} ({unit}) {skip} "
+        f"# study of {model.source}: {_count(d, 'parameter')}, the Table 3 band RMS of {output} ({unit}) {skip} "
         f"through the {WINDOW_NAMES[args.window]} window, Saltelli's design on a "
         f"scrambled Sobol' sequence (seed {args.seed}); results in {out / 'study.csv'}"
     )
@@ -138,11 +176,12 @@ def cmd_study(args):
         )
     else:
         print(
-            f"#   {nb * g} runs: {nb} base points x {g} (d + 2 runs per base point for d = {len(bounds)} "
-            f"parameters, at least 2 base points; --samples {args.samples} is rounded up to whole groups)"
+            f"#   {nb * g} runs: {nb} base points x {g} (d + 2 runs per base point for d = {_count(d, 'parameter')}, "
+            f"at least 2 base points; --samples {args.samples} is rounded up to whole groups)"
         )
+    print(f"#   {_excitation(model, args.excitation_seeds)}")
     args.interrupted = f"the rows finished so far are in {out / 'study.csv'}; run the same command again to go on"
-    with renamed({"path": "--out"}):
+    with renamed({"path": "--out", "scheduler": "--scheduler", **bound_names}):
         res = run_study(
             out / "study.csv",
             DEFAULT_EVALUATE,
@@ -157,7 +196,17 @@ def cmd_study(args):
             progress_timeout=progress_timeout,
         )
     n_ok = int(np.sum(res.ok))
-    print(f"{n_ok} of {len(res.status)} runs ok ({res.n_base} base points); results in {out / 'study.csv'}")
+    status = np.asarray(res.status)
+    others = "".join(f", {int(np.sum(status == k))} {k}" for k in ("failed", "infeasible") if np.any(status == k))
+    print(f"{n_ok} of {len(status)} runs ok{others} ({res.n_base} base points); results in {out / 'study.csv'}")
+    if n_ok:  # (a partly failed study: how many, and the first of each kind with its sample)
+        for kind in ("failed", "infeasible"):
+            if np.any(status == kind):
+                print(
+                    f"cablecasing: warning: {int(np.sum(status == kind))} of {len(status)} runs {kind}; the first, "
+                    f"{_first_of(res, kind)} (the column 'error' of {out / 'study.csv'} says why for each)",
+                    file=sys.stderr,
+                )
     n_warned = int(np.sum(res.warned))
     if n_warned:
         print(
@@ -165,11 +214,13 @@ def cmd_study(args):
             f"{out / 'study.csv'} says which and what)",
             file=sys.stderr,
         )
+    if not len(status):  # (nothing was run: a sample left to run was lost, or none was asked for)
+        print(f"cablecasing: error: no run is in {out / 'study.csv'}", file=sys.stderr)
+        return 1
     if n_ok == 0:
-        first = next((e for e in res.error if e), "")
-        kinds = tuple(sorted(set(np.asarray(res.status).tolist())))  # (failed, infeasible or both)
+        kinds = tuple(sorted(set(status.tolist())))  # (failed, infeasible or both)
         what = {("failed",): "failed", ("infeasible",): "was infeasible"}.get(kinds, "failed or was infeasible")
-        print(f"cablecasing: error: every run {what}; the first: {first}", file=sys.stderr)
+        print(f"cablecasing: error: every run {what}; the first: {_first_of(res, kinds)}", file=sys.stderr)
         return 1
     if n_ok < 3:
         print("cablecasing: warning: fewer than 3 ok runs: no correlation", file=sys.stderr)
@@ -177,7 +228,7 @@ def cmd_study(args):
     cors, sob = print_study(res)
     plot_correlations(res, out / "correlations.png", cors=cors)
     print(f"wrote {out / 'correlations.png'}")
-    if sob is not None:
+    if sob is not None and sobol_shown(sob):
         plot_sobol(res, out / "sobol.png", sob=sob)
         print(f"wrote {out / 'sobol.png'}")
     return 0
@@ -203,8 +254,8 @@ def _check_resume(args, old, path, bounds, kwargs, model):
     if isinstance(old.get("evaluate_kwargs"), dict):  # (an output of its own only when not casing.B.Fz;
         # a study begun before the window was a setting took the earlier skip and window)
         earlier = EARLIER_RECORD_SETTINGS if "window" not in old["evaluate_kwargs"] else {}
-        was.update({"output": "casing.B.Fz"} | earlier | old["evaluate_kwargs"])
-    now = {"seed": args.seed, "output": "casing.B.Fz"} | kwargs
+        was.update({"output": "casing.B.Fz", "excitation_seeds": None} | earlier | old["evaluate_kwargs"])
+    now = {"seed": args.seed, "output": "casing.B.Fz", "excitation_seeds": None} | kwargs
     for flag, key, given in (
         ("--seed", "seed", args.seed),
         ("MODEL", "model_file", args.model),
@@ -212,6 +263,7 @@ def _check_resume(args, old, path, bounds, kwargs, model):
         ("--skip", "skip", args.skip),
         ("--window", "window", args.window),
         ("--output", "output", args.output),
+        ("--excitation-seeds", "excitation_seeds", args.excitation_seeds),
     ):
         then = was.get(key, now[key])  # (what the sidecar does not hold is run_study's to check)
         if then != now[key]:
@@ -259,7 +311,7 @@ def print_study(res):
     the Sobol indices (None when the study has too few complete base points)."""
     from ..studies import correlations, size_warnings
     from ..studies.octave import octave_bands
-    from ..studies.sensitivity import complete_groups
+    from ..studies.sensitivity import SOBOL_SHOWN, complete_groups, sobol_shown, widest_interval
 
     edges = {}
     for kind in ("table3", "octave", "third"):
@@ -282,7 +334,14 @@ def print_study(res):
             print(f"  {p:40s}" + "".join(f"{cell:>{w + 1}}" for cell in cells))
         print(f"  ({c.legend()})")
     sob = _sobol_or_none(res)
-    if sob is not None:
+    if sob is not None and not sobol_shown(sob):  # (intervals wider than the indices' range: no table)
+        print(
+            f"cablecasing: warning: Sobol indices from {sob.n_base} complete base points are not shown: their "
+            f"intervals reach +-{widest_interval(sob):.3g} (shown up to +-{SOBOL_SHOWN:g}); a larger study gives them "
+            "(--samples), and sobol_indices(load_results(...)) computes them from the CSV",
+            file=sys.stderr,
+        )
+    elif sob is not None:
         print(
             f"\nSobol indices (-) of the band RMS of {of}, first order S1 and total ST with their "
             f"{sob.conf_level:.0%} intervals, from {sob.n_base} complete base points:"
@@ -299,7 +358,7 @@ def print_study(res):
             f"cablecasing: warning: no Sobol indices: they need 4 complete base points, this study has {n}",
             file=sys.stderr,
         )
-    for w in size_warnings(res, sob):
+    for w in size_warnings(res, sob if sob is not None and sobol_shown(sob) else None):
         print(f"cablecasing: warning: {w}", file=sys.stderr)
     return cors, sob
 
@@ -307,7 +366,7 @@ def print_study(res):
 def cmd_ensemble(args):
     from ..studies import paired_difference, seed_ensemble
     from ..studies.ensemble_runs import seed_keys, seeds_varied
-    from ..studies.evaluators import check_not_overridden
+    from ..studies.evaluators import check_model_runs, check_not_overridden
 
     integer("--seeds", args.seeds, 2, MAX_SEEDS)
     integer(
@@ -319,8 +378,10 @@ def cmd_ensemble(args):
     )
     _check_confidence(args.confidence)
     _check_workers(args)
-    from ..studies.executor import check_packages
+    from ..studies.executor import check_packages, check_scheduler
 
+    with renamed({"scheduler": "--scheduler"}):
+        check_scheduler(args.scheduler)
     check_packages(args.scheduler, salib=False, key="--scheduler", name="ensemble")  # (dask unless serial)
     args.interrupted = "the ensemble was stopped: " + kept(*_check_outputs(args))
     seeds = list(range(args.first_seed, args.first_seed + args.seeds))
@@ -357,12 +418,14 @@ def cmd_ensemble(args):
         if varied & set(given):
             clash = sorted(varied & set(given))
             raise ModelError(flag, clash, seeds_varied(clash))
-    with_changes(
-        model,
-        {k: ("--set", v, shown["--set"][k]) for k, v in base.items()}
-        | {k: ("--against", v, shown["--against"][k]) for k, v in against.items()},
-    )
-    names = {"duration": "--duration", "dt": "--dt", "skip": "--skip", "output": "--output"}
+    # (each ensemble's model checked as the engine sets it up, before the first run of either: a change
+    # that no seed can run, a tension above the casing's buckling load, is refused at once, named)
+    check = lambda m: check_model_runs(m, args.dt)  # noqa: E731
+    sets = {k: ("--set", v, shown["--set"][k]) for k, v in base.items()}
+    with_changes(model, sets, check)
+    if against:
+        with_changes(model, sets | {k: ("--against", v, shown["--against"][k]) for k, v in against.items()}, check)
+    names = {"duration": "--duration", "dt": "--dt", "skip": "--skip", "output": "--output", "scheduler": "--scheduler"}
     for key, given in (("scenario.duration", args.duration), ("scenario.dt", args.dt)):
         if given is not None:  # (else the model's value, named by its key)
             names[key] = f"--{key.split('.')[1]}"
@@ -605,7 +668,20 @@ def add_parser(sub):
         default=300,
         help="runs, rounded up to whole groups of (parameters + 2); a larger number continues a study in --out",
     )
-    p.add_argument("--seed", type=int, default=0, help="seed of the scrambled Sobol' sequence")
+    p.add_argument(
+        "--seed",
+        type=int,
+        default=0,
+        help="seed of the scrambled Sobol' sequence (not of the excitation: each sample runs the model's own)",
+    )
+    p.add_argument(
+        "--excitation-seeds",
+        type=int,
+        default=None,
+        metavar="K",
+        help="each sample the mean of K runs on the excitation seeds 1..K (K >= 2; default: one run on the "
+        "model's own seeds); K times the run time",
+    )
     p.add_argument(
         "--scheduler", default=None, help="dask scheduler address tcp://host:8786, 'serial', or local (default)"
     )

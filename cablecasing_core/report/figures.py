@@ -546,6 +546,7 @@ def study_figures(model, folder: Path, n_samples, duration, skip, progress, say=
         sobol_indices,
     )
     from ..studies.sampling import base_points, check_bounds, group_size
+    from ..studies.sensitivity import sobol_shown, widest_interval
 
     known = model.parameters()
     bounds = {k: b for k, b in PAPER_BOUNDS.items() if k in known}
@@ -591,8 +592,8 @@ def study_figures(model, folder: Path, n_samples, duration, skip, progress, say=
     except ModelError as exc:  # too few complete groups: the page says so
         sob, out["sobol_note"] = None, f"No Sobol indices: {exc.allowed}."
     out["warnings"] = size_warnings(res, sob) if out["ok"] else ["every run failed"]
-    worst = np.nanmax(np.r_[sob.S1_conf.ravel(), sob.ST_conf.ravel()]) if sob is not None else np.nan
-    if sob is not None and worst > SOBOL_SHOWN:
+    if sob is not None and not sobol_shown(sob):
+        worst = widest_interval(sob)
         sob = None
         out["sobol_note"] = (
             f"The Sobol indices of these {res.n_base} base points are not shown: their intervals reach "
@@ -602,8 +603,3 @@ def study_figures(model, folder: Path, n_samples, duration, skip, progress, say=
     if sob is not None:
         plot_sobol(res, folder / "sobol.png", sob=sob)
     return out
-
-
-#: The widest interval (half-width) of a Sobol index the report still shows; beyond it the figure
-#: would be error bars only.
-SOBOL_SHOWN = 0.5

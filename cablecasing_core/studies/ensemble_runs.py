@@ -22,7 +22,7 @@ from ..model.schema import SUPPORT_OUTPUTS, clip_outputs
 from ..model.validators import Choice, integer, seconds
 from ..records import check_column_name
 from .ensemble import Ensemble
-from .evaluators import DEFAULT_EVALUATE, check_not_overridden, check_record_settings
+from .evaluators import DEFAULT_EVALUATE, check_model_runs, check_not_overridden, check_record_settings
 from .executor import execute
 from .octave import WINDOWS, Bands, octave_bands
 
@@ -163,6 +163,7 @@ def seed_ensemble(
     )
     base = model.with_overrides(overrides)  # validates the overrides before any run
     check_record_settings(base, duration, dt, skip, band_set)  # (the skip as given: None, the default)
+    check_model_runs(base, dt)  # (what no seed can run, a tension above the buckling load: refused before the first)
     if skip is None:
         skip = whole_period_skip(base, duration, dt)
     step = base.scenario["dt"] if dt is None else dt

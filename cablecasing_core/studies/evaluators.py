@@ -80,6 +80,7 @@ def default_evaluate(
     bands="table3",
     contact_time=False,
     window="hann",
+    excitation_seeds=None,
     **kwargs,
 ):
     """The per-sample function of Section 4.4: run the time-domain model (the scenario of the model,
@@ -97,15 +98,37 @@ def default_evaluate(
     set of :func:`~cablecasing_core.studies.octave.octave_rms`; contact_time: also return the contact
     time per cable node (s, Fig. 22) as ``"contact_time_<i>"``; window: the window of the band
     levels (``octave_rms``'s: ``"hann"``, or ``"boxcar"`` as the docs' tables before 2026-12-06).
+    excitation_seeds: None runs the model's own random excitation once (its seeds as the model
+    gives them); an integer k >= 2 runs it with the seeds of ensemble members 1..k
+    (:func:`~.ensemble_runs.seed_overrides`) and returns each value's mean over the k runs (a
+    sample's expected band levels, whose scatter over the seeds no longer enters a study's
+    statistics in full; k times the run time).
     """
     from ..model import load_model
-    from ..records import after_skip
     from ..timedomain.scenario import whole_period_skip
-    from ..timedomain.simulation import simulate
 
     model = (load_model(model_file) if model is None else model).with_overrides(overrides)
     if skip is None:
         skip = whole_period_skip(model, duration, dt)
+    if excitation_seeds is None:
+        return _band_levels(model, duration, dt, skip, output, bands, contact_time, window)
+    from .ensemble_runs import seed_overrides
+
+    runs = [
+        _band_levels(
+            model.with_overrides(seed_overrides(model, s)), duration, dt, skip, output, bands, contact_time, window
+        )
+        for s in range(1, int(excitation_seeds) + 1)
+    ]
+    return {k: float(np.mean([r[k] for r in runs])) for k in runs[0]}
+
+
+def _band_levels(model, duration, dt, skip, output, bands, contact_time, window):
+    """The band RMS of ``output`` of one run of ``model`` after ``skip`` s (and the contact time per
+    cable node): :func:`default_evaluate`'s result."""
+    from ..records import after_skip
+    from ..timedomain.simulation import simulate
+
     res = simulate(model, duration=duration, dt=dt)
     keep = after_skip(res.time, skip)
     if keep.sum() < 2:
@@ -163,22 +186,91 @@ def check_record_settings(model, duration=None, dt=None, skip=None, bands="table
     check_time_domain(model, model.scenario["duration"] if duration is None else duration, step)
 
 
-def _check_default_evaluate(kwargs, model=None):
-    """The settings ``kwargs`` of a study of :func:`default_evaluate` checked before anything runs
-    (:func:`check_record_settings` on ``model``, the study's loaded Model: run_study's is that of
-    ``kwargs["model_file"]`` when given; else the model of ``kwargs["model_file"]``, of a path
-    ``model`` or the built-in specimen, loaded here)."""
+def check_model_runs(model, dt=None):
+    """Refuse, before any run, a model that no run of it can start, whatever its excitation seed:
+    what the time-domain engine refuses when it is set up for ``model`` with the time step ``dt``
+    (s; None: ``scenario.dt``), its bodies assembled (a compression at or above the casing's
+    buckling load, structure/buckling.py), the static state of an installed model solved and the
+    friction law checked. It sets the engine up once (:class:`~cablecasing_core.timedomain.engine.Engine`,
+    the rules' one place; about 0.1 s on the installed specimen) and raises what it raises
+    (ModelError naming the key, or SimulationError); the warnings of the set-up are not said here
+    (each run says them)."""
+    from ..timedomain.engine import Engine
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # (warn_once_per_process does not count a message ignored)
+        Engine(model, dt=dt, ledger=False)
+
+
+def _study_model(kwargs, model=None):
+    """The model a study of :func:`default_evaluate` runs: ``model``, the study's loaded Model
+    (run_study's is that of ``kwargs["model_file"]`` when given); else the model of
+    ``kwargs["model_file"]``, of a path ``model`` or the built-in specimen, loaded here."""
     from ..model import Model, load_model
 
-    if not isinstance(model, Model):
-        path = kwargs.get("model_file")
-        model = load_model(path if path is not None else (model if isinstance(model, str) else None))
+    if isinstance(model, Model):
+        return model
+    path = kwargs.get("model_file")
+    return load_model(path if path is not None else (model if isinstance(model, str) else None))
+
+
+def _check_default_samples(kwargs, samples, bounds, model=None):
+    """Refuse (ModelError) a study of :func:`default_evaluate` none of whose samples can run, before
+    the first: ``samples``, the (index, overrides) of its design in order (those its constraints
+    reject left out), are each applied to the study's model (:func:`_study_model`; the keys' rules,
+    ``casing.d_inner`` below ``casing.d_outer``) and set up as a run sets it up
+    (:func:`check_model_runs` with ``kwargs["dt"]``), in order until one passes: one set-up when the
+    first passes (about 0.1 s), every sample's when none does. The error names what every sample
+    fails: a key of the model that no sample varies (``loads.cable_tension``, above the casing's
+    buckling load) by its value, a varied one by its bounds (``bounds.casing.d_inner``), with the
+    first sample that failed."""
+    from ..errors import SimulationError
+
+    base = _study_model(kwargs, model)
+    first, n = None, 0
+    for i, p in samples:
+        n += 1
+        try:
+            check_model_runs(base.with_overrides(p), kwargs.get("dt"))
+            return
+        except (ModelError, SimulationError) as exc:
+            if first is None:
+                first = (i, p, exc)
+    if first is None:  # (no sample left to run)
+        return
+    i, p, exc = first
+    said = ", ".join(f"{k} = {excerpt(v)}" for k, v in p.items())
+    every = (
+        f"every one of the {n} samples of the study over {', '.join(bounds)} fails so before its run (the first, "
+        f"sample {i}: {said}); refused before any run"
+    )
+    key = getattr(exc, "key", None)
+    if key in bounds:
+        raise ModelError(f"bounds.{key}", list(bounds[key]), f"{exc.allowed}: {every}; change the bounds")
+    if isinstance(exc, ModelError):
+        raise ModelError(key, exc.value, f"{exc.allowed}: {every}")
+    raise ModelError("bounds", list(bounds), f"{every}: {type(exc).__name__}: {exc}")
+
+
+def _check_default_evaluate(kwargs, model=None):
+    """The settings ``kwargs`` of a study of :func:`default_evaluate` checked before anything runs
+    (:func:`check_record_settings` on the study's model, :func:`_study_model`)."""
+    model = _study_model(kwargs, model)
     known = {"duration", "skip", "dt", "bands"}
     check_record_settings(model, **{k: v for k, v in kwargs.items() if k in known})
     window_options(kwargs.get("window", "hann"))  # (a bad window refused before any sample)
+    if kwargs.get("excitation_seeds") is not None:  # (each sample the mean over seeds 1..k of the ensemble)
+        from ..model.limits import MAX_SEEDS
+        from ..model.validators import integer
+        from .ensemble_runs import seed_keys
+
+        integer("excitation_seeds", kwargs["excitation_seeds"], 2, MAX_SEEDS, " (None: the model's own seeds, once)")
+        seed_keys(model)  # (a model without a random excitation refused: no seed to vary)
 
 
 default_evaluate.check_settings = _check_default_evaluate
+#: (run_study: the samples that cannot run, all of them, refused before the first)
+default_evaluate.check_samples = _check_default_samples
 #: The settings of default_evaluate that take the place of a model key (run_study refuses bounds on that key).
 default_evaluate.run_settings = ("duration", "dt")
 

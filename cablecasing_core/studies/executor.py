@@ -83,6 +83,66 @@ def check_packages(scheduler=None, salib=True, key="scheduler", name="study"):
     )
 
 
+#: The environment variables that choose the floating-point kernels of a process (OpenBLAS's core
+#: type, numpy's SIMD dispatch, numba's target CPU): :func:`kernel_environment` records them.
+KERNEL_VARIABLES = (
+    "OPENBLAS_CORETYPE",
+    "NPY_DISABLE_CPU_FEATURES",
+    "NPY_ENABLE_CPU_FEATURES",
+    "NUMBA_CPU_NAME",
+    "NUMBA_CPU_FEATURES",
+)
+
+
+def kernel_environment() -> dict:
+    """What decides the floating-point kernels of a sample run in this process (a study's rows are
+    bitwise those of another process only where this is the same; docs/studies.md, "Execution"):
+    the versions of numpy, scipy and numba, the machine (``platform.machine()``) and its CPU model
+    (``/proc/cpuinfo``'s model name, else ``platform.processor()``), and the variables of
+    :data:`KERNEL_VARIABLES` that are set. A dict of str, JSON-serialisable."""
+    import platform
+
+    env = {"machine": platform.machine(), "cpu": _cpu_model()}
+    for name in ("numpy", "scipy", "numba"):
+        try:
+            env[name] = importlib.import_module(name).__version__
+        except ImportError:
+            env[name] = "not installed"
+    env.update({k: os.environ[k] for k in KERNEL_VARIABLES if k in os.environ})
+    return env
+
+
+def _cpu_model():
+    """The CPU's model name (``/proc/cpuinfo``; ``platform.processor()`` where there is none)."""
+    import platform
+
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as fh:
+            for line in fh:
+                if line.lower().startswith(("model name", "cpu model", "hardware")):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown"
+
+
+def kernel_environments(workers) -> list:
+    """The distinct :func:`kernel_environment` of the processes that run the samples on ``workers``
+    (a :class:`Workers`): this process when serial, else every dask worker connected now (none
+    when the scheduler does not answer)."""
+    if workers.client is None:
+        return [kernel_environment()]
+    try:
+        found = workers.client.run(kernel_environment).values()
+    except Exception:  # (a lost scheduler: the run says so)
+        return []
+    out = []
+    for env in found:
+        if env not in out:
+            out.append(env)
+    return out
+
+
 def _serial(scheduler):
     return scheduler == "serial" or getattr(scheduler, "scheduler", None) == "serial"
 
@@ -98,6 +158,16 @@ def check_scheduler(scheduler):
             "scheduler",
             scheduler,
             "must be None, 'serial', 'local', an address 'tcp://host:8786' or a distributed.Client",
+        )
+    if isinstance(scheduler, str) and scheduler not in ("serial", "local") and ":" not in scheduler:
+        from ..errors import closest  # (no port: no address dask connects to, a typo such as 'lcoal')
+
+        close = closest(scheduler, ("serial", "local"))
+        raise ModelError(
+            "scheduler",
+            scheduler,
+            "must be 'serial', 'local' or a scheduler address with its port, such as tcp://host:8786"
+            + (f" (did you mean {close[0]!r}?)" if close else ""),
         )
 
 
@@ -374,9 +444,11 @@ def _diagnose(client):
     return f"{len(threads)} dask workers are connected but none finished a sample (stalled)"
 
 
-def _lost_scheduler(exc):
+def _lost_scheduler(exc, n_lost=0):
+    lost = f"; the {n_lost} samples in flight are lost (no row)" if n_lost else ""
     return InfrastructureError(
-        f"the dask scheduler was lost ({_cause(exc)}); run the same command again to go on (the finished rows are kept)"
+        f"the dask scheduler was lost ({_cause(exc)}){lost}; run the same command again to go on (the finished rows "
+        "are kept)"
     )
 
 
@@ -397,6 +469,16 @@ def _run_dask(todo, evaluate, kwargs, outputs, write, bar, client, max_in_flight
     pending = iter(todo)
     keyed = {}
 
+    def lose_in_flight(cause):
+        """Every sample still in flight passed to ``lost`` with ``cause`` (the run stops: no row of
+        them); returns how many."""
+        n = len(keyed)
+        if lost is not None:
+            for i in keyed.values():
+                lost(i, cause)
+        keyed.clear()
+        return n
+
     def submit_next():
         item = next(pending, None)
         if item is not None:
@@ -404,7 +486,7 @@ def _run_dask(todo, evaluate, kwargs, outputs, write, bar, client, max_in_flight
             try:
                 fut = client.submit(evaluate_sample, evaluate, kwargs, i, p, outputs, pure=False)
             except Exception as exc:
-                raise _lost_scheduler(exc) from None
+                raise _lost_scheduler(exc, lose_in_flight(f"the dask scheduler was lost ({_cause(exc)})")) from None
             keyed[fut] = i
 
     for _ in range(window):
@@ -413,12 +495,14 @@ def _run_dask(todo, evaluate, kwargs, outputs, write, bar, client, max_in_flight
         try:
             done, _ = wait(list(keyed), timeout=timeout, return_when="FIRST_COMPLETED")
         except TimeoutError:
+            why = _diagnose(client)
+            n = lose_in_flight(f"no sample finished within {timeout:g} s: {why}")
             raise InfrastructureError(
-                f"no sample finished within {timeout:g} s: {_diagnose(client)}; {len(keyed)} samples were "
-                "running; run the same command again to go on (the finished rows are kept)"
+                f"no sample finished within {timeout:g} s: {why}; {n} samples were running (lost: no row); run the "
+                "same command again to go on (the finished rows are kept)"
             ) from None
         except (Exception, asyncio.CancelledError) as exc:  # (FuturesCancelledError: the scheduler is gone)
-            raise _lost_scheduler(exc) from None
+            raise _lost_scheduler(exc, lose_in_flight(f"the dask scheduler was lost ({_cause(exc)})")) from None
         for fut in done:
             i = keyed.pop(fut)
             try:
@@ -428,7 +512,8 @@ def _run_dask(todo, evaluate, kwargs, outputs, write, bar, client, max_in_flight
                 if lost is not None:
                     lost(i, _cause(exc))
                 if client.status != "running":  # the scheduler is gone: the rest would wait for nothing
-                    raise _lost_scheduler(exc) from None
+                    n = 1 + lose_in_flight(f"the dask scheduler was lost ({_cause(exc)})")
+                    raise _lost_scheduler(exc, n) from None
             else:
                 write(row)
                 bar.update(1)

@@ -87,20 +87,41 @@ def _meta_path(path):
     return str(path) + ".meta.json"
 
 
-def _header(params, outputs, quantity=None, warnings=False):
+def _header(params, outputs, quantity=None, warnings=False, units=False):
     """The CSV's header: the output columns name the quantity and its unit when the study says
     (``casing.B.Fz oct1 [N]``), else the outputs' names alone (files of earlier versions); the
-    warnings column when the sidecar says ``"warnings": true`` (files since it was added)."""
+    parameter columns their unit when the sidecar says ``"units": true`` (``casing.E [Pa]``, a
+    parameter that is no model key, or has no unit, by its name alone; files since 2026-12), and the
+    warnings column when it says ``"warnings": true`` (files since it was added)."""
     if quantity:
         outputs = [f"{quantity['name']} {o} [{quantity['unit']}]" for o in outputs]
+    if units:
+        params = [f"{p} [{parameter_unit(p)}]" if parameter_unit(p) else p for p in params]
     extra = [WARNINGS_COLUMN] if warnings else []
     return list(META_COLUMNS) + list(params) + list(outputs) + extra + list(TAIL_COLUMNS)
 
 
-def _header_line(header):
+def parameter_unit(key) -> str:
+    """The unit of a study's parameter, the model key ``key`` (the schema's; ``-`` for a
+    dimensionless one), or ``""`` when it is no key of the model file (a study with ``model=False``)."""
+    from ..model.schema import lookup
+
+    try:
+        unit = lookup(key).unit
+    except (ModelError, KeyError, TypeError):
+        return ""
+    return "-" if unit in ("1", "-") else (unit or "")
+
+
+#: The line ending of a study's CSV (LF, as the ensemble files; a study begun with CRLF, the csv
+#: module's default that earlier versions wrote, goes on with its own: :class:`ResultsWriter`).
+LINE_END = "\n"
+
+
+def _header_line(header, line_end=LINE_END):
     """The CSV text of the header line ``header`` (:func:`_header`), as the file holds it."""
     line = io.StringIO(newline="")
-    csv.writer(line).writerow(header)
+    csv.writer(line, lineterminator=line_end).writerow(header)
     return line.getvalue()
 
 
@@ -136,7 +157,7 @@ def load_results(path: str | os.PathLike) -> StudyResults:
     except (OSError, ValueError, KeyError) as exc:
         raise ModelError("path", path, f"must be a study CSV with its {_meta_path(path)} sidecar ({exc})") from None
     has_warnings = meta.get("warnings") is True
-    header = _header(params, outputs, meta.get("quantity"), has_warnings)
+    header = _header(params, outputs, meta.get("quantity"), has_warnings, meta.get("units") is True)
     try:
         with open(path, newline="") as fh:
             text = fh.read()
@@ -191,8 +212,11 @@ class ResultsWriter:
     def __init__(self, path, params, outputs, design, warnings=True):
         self.path, self.params, self.outputs, self.design = path, params, outputs, design
         self.warnings = warnings  # (the file has the warnings column: its sidecar says so)
+        with open(path, "rb") as fh:  # (the line ending of its header: CRLF in a study of earlier versions)
+            first = fh.readline()
+        line_end = "\r\n" if first.endswith(b"\r\n") else LINE_END
         self.fh = open(path, "a", newline="")
-        self.w = csv.writer(self.fh)
+        self.w = csv.writer(self.fh, lineterminator=line_end)
 
     def write(self, row):
         i = row["index"]
@@ -305,15 +329,24 @@ def recover_header(path, params, outputs, quantity=None) -> bool:
         return False
     if b"\n" in head:
         return False
-    headers = [_header(params, outputs, quantity, warnings=True)]
+    # (this study's header, and as versions before the parameters' units wrote it)
+    headers = [_header(params, outputs, quantity, warnings=True, units=units) for units in (True, False)]
     try:
         with open(_meta_path(path)) as fh:
             meta = json.load(fh)
-        headers.append(_header(meta["bounds"], meta["outputs"], meta.get("quantity"), meta.get("warnings") is True))
+        headers.append(
+            _header(
+                meta["bounds"],
+                meta["outputs"],
+                meta.get("quantity"),
+                meta.get("warnings") is True,
+                meta.get("units") is True,
+            )
+        )
     except (OSError, ValueError, KeyError, TypeError):  # (no sidecar, or none of a study)
         pass
     for header in headers:
-        if _header_line(header).encode().startswith(head):
+        if any(_header_line(header, end).encode().startswith(head) for end in (LINE_END, "\r\n")):
             os.remove(path)
             return True
     raise ModelError(
@@ -322,6 +355,29 @@ def recover_header(path, params, outputs, quantity=None) -> bool:
         "exists and is no study's CSV (its content does not begin a study's header); choose a new file to start a "
         "study, or move that one away",
     )
+
+
+#: The ``what`` of the quantity of a study of ``cablecasing study`` (its sidecar's), by which
+#: :func:`_begun_by` tells its studies from run_study's.
+COMMAND_QUANTITY_WHAT = "RMS in the octave bands of Table 3"
+#: How a study begun by each is resumed (:func:`_begun_by`).
+RESUMED_BY = {
+    "`cablecasing study`": "the same `cablecasing study` command",
+    "run_study": "run_study with the arguments it began with",
+}
+
+
+def _begun_by(meta):
+    """Who began the study of the sidecar ``meta``: ``"`cablecasing study`"`` (default_evaluate with
+    a ``model_file`` and the command's quantity) or ``"run_study"`` (any other)."""
+    kwargs = meta.get("evaluate_kwargs") if isinstance(meta.get("evaluate_kwargs"), dict) else {}
+    quantity = meta.get("quantity") if isinstance(meta.get("quantity"), dict) else {}
+    command = (
+        meta.get("evaluate") == DEFAULT_EVALUATE
+        and "model_file" in kwargs
+        and quantity.get("what") == COMMAND_QUANTITY_WHAT
+    )
+    return "`cablecasing study`" if command else "run_study"
 
 
 def prepare_file(path, meta, design, params):
@@ -335,12 +391,16 @@ def prepare_file(path, meta, design, params):
         meta.pop("quantity", None)
     if old is not None and old.get("warnings") is not True:  # (the same: no warnings column)
         meta.pop("warnings", None)
+    if old is not None and old.get("units") is not True:  # (the same: parameter columns without units)
+        meta.pop("units", None)
     if old is not None and "model_fingerprint" not in old and "model_file" in (old.get("evaluate_kwargs") or {}):
         meta.pop("model_fingerprint", None)  # (a study of an earlier version ran it but did not record it)
     if old is not None and old.get("evaluate") == DEFAULT_EVALUATE and isinstance(old.get("evaluate_kwargs"), dict):
         if "window" not in old["evaluate_kwargs"]:  # (its samples took the earlier skip and window)
             old["evaluate_kwargs"] = EARLIER_RECORD_SETTINGS | old["evaluate_kwargs"]
-    header = _header(params, meta["outputs"], meta.get("quantity"), meta.get("warnings") is True)
+    header = _header(
+        params, meta["outputs"], meta.get("quantity"), meta.get("warnings") is True, meta.get("units") is True
+    )
     if old is None:
         d = os.path.dirname(os.path.abspath(path))
         os.makedirs(d, exist_ok=True)
@@ -359,6 +419,16 @@ def prepare_file(path, meta, design, params):
             list(meta["bounds"]),
             f"must name the parameters in the order of the study in {path}, {list(old.get('bounds', {}))} (its "
             "columns and design follow that order), to resume it (or choose a new file)",
+        )
+    begun, now = _begun_by(old), _begun_by(meta)
+    if begun != now and any(old.get(k) != meta.get(k) for k in ("model_fingerprint", *RESUME_KEYS)):
+        raise ModelError(
+            "path",
+            path,
+            f"holds a study begun by {begun}: `cablecasing study` and run_study write other sidecars and headers (the "
+            "command records the model and the output's quantity and unit, run_study only when given model= and "
+            f"quantity=), and neither resumes a study of the other: resume it the way it began ({RESUMED_BY[begun]}), "
+            "or choose a new file",
         )
     if old.get("model_fingerprint") != meta.get("model_fingerprint"):
         named = "model_file" in meta["evaluate_kwargs"]
@@ -379,6 +449,7 @@ def prepare_file(path, meta, design, params):
     for j, i in enumerate(res.index):
         if not (0 <= i < len(design)) or not np.array_equal(res.X[j], design[i]):
             raise ModelError("path", path, f"row of sample {i} does not match the design of this seed and bounds")
-    if old.get("n_base") != meta["n_base"]:  # enlarged: the sidecar records the new size
+    # (enlarged: the sidecar records the new size; or run with other kernels: it records them too)
+    if old.get("n_base") != meta["n_base"] or old.get("kernels") != meta.get("kernels"):
         write_text(_meta_path(path), json.dumps(meta, indent=1))
     return set(int(i) for i in res.index)

@@ -29,7 +29,7 @@ from collections.abc import Iterable, Mapping
 
 import numpy as np
 
-from ..errors import NOT_SHOWN, ModelError
+from ..errors import NOT_SHOWN, ModelError, closest
 from ..model.validators import integer
 
 #: Model key of the amplitude (m) of the cable's longitudinal (axial) excitation, \bar X_jv of Section 4.4.
@@ -92,11 +92,9 @@ def check_bounds(bounds: dict | None = None, model=None, settings=None) -> dict[
             "; vary {key} without {name} (each sample runs its own)",
         )
         if known is not None and key not in known:
-            import difflib
-
             varied = sorted(k for k in known if _float_key(k) and k not in fixed)  # (what a study can vary)
             hint = " (the paper's six parameters are the default; give others, e.g. --vary casing.E=2e9:1e10)"
-            close = difflib.get_close_matches(key, varied, n=1)
+            close = closest(key, varied)
             mean = f" (did you mean {close[0]}?)" if close else ""
             raise ModelError(
                 f"bounds.{key}",

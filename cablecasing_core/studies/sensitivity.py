@@ -40,6 +40,24 @@ from .results_store import StudyResults, load_results
 R_CRIT_LIMIT = 0.3
 #: Above this 95 % half-width a Sobol index is called too uncertain to read.
 SOBOL_CONF_LIMIT = 0.1
+#: The widest interval (half-width) of a Sobol index that is still shown: beyond it the table would
+#: be intervals wider than the indices' range, the figure error bars only (the study command and the
+#: report print the count and the widest interval instead; :func:`sobol_shown`).
+SOBOL_SHOWN = 0.5
+
+
+def widest_interval(sobol) -> float:
+    """The widest half-width of the intervals of ``sobol`` (:class:`SobolIndices`; NaN where every
+    output is constant)."""
+    conf = np.concatenate([sobol.S1_conf.ravel(), sobol.ST_conf.ravel()])
+    return float(np.nanmax(conf)) if np.isfinite(conf).any() else float("nan")
+
+
+def sobol_shown(sobol) -> bool:
+    """Whether the indices ``sobol`` are shown as a table and a figure: none of their intervals is
+    wider than :data:`SOBOL_SHOWN` (the few complete base points of a small study give intervals of
+    ±487 and more)."""
+    return not widest_interval(sobol) > SOBOL_SHOWN
 
 
 @dataclass(frozen=True)

@@ -37,7 +37,16 @@ from ..files import output_folder
 from ..model.limits import MAX_STUDY_SAMPLES
 from ..model.validators import integer
 from .evaluators import DEFAULT_EVALUATE, DEFAULT_OUTPUTS, RECORD_SETTINGS
-from .executor import PROGRESS_TIMEOUT, Workers, check_packages, check_scheduler, execute, resolve_evaluate, spec_name
+from .executor import (
+    PROGRESS_TIMEOUT,
+    Workers,
+    check_packages,
+    check_scheduler,
+    execute,
+    kernel_environments,
+    resolve_evaluate,
+    spec_name,
+)
 from .results_store import (
     FORMAT_VERSION,
     META_COLUMNS,
@@ -177,8 +186,12 @@ def run_study(
     check_packages(scheduler)  # (SALib's design, and dask unless serial: refused before any file)
     path = str(path)
     params = tuple(bounds)
+    check_samples = getattr(fn, "check_samples", None)  # a study none of whose samples can run, refused first
+    if check_samples is not None and the_model is not None:
+        _check_samples(check_samples, path, bounds, n, seed, constraints, {**evaluate_kwargs, **passed}, the_model)
+    folder, name = os.path.split(os.path.abspath(path))
+    output_folder("path", folder, name, create=False)  # (checked before a local cluster starts)
     with Workers(scheduler, n_workers) as workers:  # (an unreachable scheduler is refused before any file)
-        folder, name = os.path.split(os.path.abspath(path))
         output_folder("path", folder, name)
         with study_lock(path):
             recover_header(path, params, outputs, quantity)
@@ -202,10 +215,14 @@ def run_study(
                 "constraints": [spec_name(c) for c in constraints],
                 "sampler": SAMPLER,
                 "warnings": True,  # (the CSV has the warnings column; prepare_file drops it for an older study)
+                "units": True,  # (its parameter columns name their units; the same)
             }
             if fingerprint is not None:  # (the model evaluate runs: a resume must run the same)
                 meta["model_fingerprint"] = fingerprint
+            meta["kernels"], other_kernels = _kernels(path, old, kernel_environments(workers))
             done = prepare_file(path, meta, design, params)
+            if other_kernels:  # (said once the study is resumed, not before a refusal)
+                warnings.warn(other_kernels, ModelWarning, stacklevel=2)
 
             writer = ResultsWriter(path, params, outputs, design, warnings=meta.get("warnings") is True)
             fixed = {} if the_model is None else the_model.parameters()  # (what the constraints see besides)
@@ -261,6 +278,60 @@ def run_study(
             finally:
                 writer.close()
     return load_results(path)
+
+
+def _kernels(path, old, now):
+    """The sidecar's ``kernels``: the :func:`~.executor.kernel_environment` of every process that has
+    run samples of the study (``old``'s list, then those of ``now`` it lacks), and what is warned
+    when this run's processes have kernels the study's earlier rows were not computed with, or
+    differ among themselves (dask workers of mixed machines; None when neither): its rows are not
+    bitwise those the other processes give (docs/studies.md, "Execution")."""
+    before = old.get("kernels") if old is not None and isinstance(old.get("kernels"), list) else []
+    new = [env for env in now if env not in before]
+    kernels = before + new
+    if not new or len(kernels) < 2:
+        return kernels, None
+    then, other = (before[-1], new[0]) if before else (new[0], new[1])
+    differ = sorted({k for k in set(other) | set(then) if other.get(k) != then.get(k)})
+    said = "; ".join(f"{k} {then.get(k, 'not set')!r} then, {other.get(k, 'not set')!r} now" for k in differ)
+    if not before:
+        said = "; ".join(
+            f"{k} {then.get(k, 'not set')!r} on one, {other.get(k, 'not set')!r} on another" for k in differ
+        )
+    what = (
+        f"the study in {path} goes on with other floating-point kernels than its rows so far were computed with"
+        if before
+        else f"the workers of this run of the study in {path} have different floating-point kernels"
+    )
+    note = (
+        f"{what} ({said}): its rows are not bitwise what the other processes give (with contact, another draw of the "
+        'chaotic response); docs/studies.md, "Execution"'
+    )
+    return kernels, note
+
+
+def _check_samples(check_samples, path, bounds, n, seed, constraints, kwargs, model):
+    """``check_samples(kwargs, samples, bounds, model=)`` of evaluate (``default_evaluate``'s: a
+    study none of whose samples can start, refused) on the samples of the design in order, those
+    the constraints reject left out: the design of the study's size (that of a study in ``path``
+    when larger, as the run takes it)."""
+    try:
+        old = read_meta(path)
+    except ModelError:  # (an unreadable sidecar: refused by the run, which names it)
+        old = None
+    n_base = base_points(bounds, n)
+    if old is not None and isinstance(old.get("n_base"), int):
+        n_base = max(n_base, old["n_base"])
+    design = sobol_design(bounds, n_base, seed)
+    fixed = model.parameters()
+
+    def samples():
+        for i, row in enumerate(design):
+            p = {k: float(v) for k, v in zip(bounds, row)}
+            if not any(c({**fixed, **p}) for c in constraints):
+                yield i, p
+
+    check_samples(kwargs, samples(), bounds, model=model)
 
 
 def _study_model(evaluate, fn, model, evaluate_kwargs):

@@ -380,4 +380,6 @@ def test_a_study_whose_every_run_is_infeasible_says_so(tmp_path, capsys):
     argv = ["study", "--vary", "cable.d=0.005:0.01", "--samples", "3", "--duration", "0.2", "--scheduler", "serial"]
     assert main([*argv, "--out", str(tmp_path / "st")]) == 1
     err = capsys.readouterr().err
-    assert "error: every run was infeasible; the first: infeasible: cable.d = " in err, err
+    # (the first with its sample's parameters)
+    assert "error: every run was infeasible; the first: sample 0 (cable.d = " in err, err
+    assert "): infeasible: cable.d = " in err, err

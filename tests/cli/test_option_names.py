@@ -154,7 +154,10 @@ def test_a_study_says_the_size_it_resumes_at(tmp_path, capsys, monkeypatch):
         f"#   304 runs: 38 base points x 8, the size of the study in {tmp_path / 'st' / 'study.csv'}: --samples 2 "
         "asks for 16 runs, and a study is never shrunk"
     ), head
-    assert len(head) == 2
+    # (and what excitation each sample runs: the model's own seed, named)
+    assert len(head) == 3 and head[2].startswith(
+        "#   each sample: one run on the model's own random excitation (scenario.excitation.casing_random.seed = 1)"
+    ), head
 
 
 def test_bands_of_an_ensemble_csv_names_pool(files, capsys):
