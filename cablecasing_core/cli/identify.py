@@ -357,10 +357,14 @@ def cmd_loss_factor(args):
 
 
 def _read_measured(path, modes_arg, channel):
-    """(frequencies Hz, mode numbers, where the mode numbers came from: "file" or "--modes", the FRF's
-    line spacing in Hz or None for a table) from a CSV table ``mode,f_hz`` (the frequency's unit from
-    its header, as an FRF's: ``f [rad/s]``, ``frequency_khz``) or from the peaks of an FRF file."""
-    from ..identification.circlefit import find_resonances
+    """(frequencies Hz, mode numbers, where the mode numbers came from: "file" or "--modes", and for an FRF
+    a dict with ``sd_hz`` (each frequency's uncertainty, Hz), ``df`` (line spacing, Hz), ``how`` ("circle"
+    or "peaks") and ``why`` (for peaks: the reason), None for a table) from a CSV table ``mode,f_hz`` (the
+    frequency's unit from its header, as an FRF's: ``f [rad/s]``, ``frequency_khz``) or from an FRF file:
+    the resonances of the circle fits (``loss_factor_circle``, its ``f_r_uncertainty_hz``) started at the
+    ``len(--modes)`` most prominent peaks of |H|; an FRF without a circle there (a magnitude, too coarse a
+    resolution) gives the peaks themselves, known to half the line spacing at best."""
+    from ..identification.circlefit import find_resonances, loss_factor_circle
     from ..identification.uff_io import frequency_column, is_frequency_header, is_uff, read_frf_kind
     from ..model.validators import integer
 
@@ -403,7 +407,15 @@ def _read_measured(path, modes_arg, channel):
             raise
         allowed = exc.allowed.replace(_PEAKS_HINT, "give fewer --modes, or a table mode,f_hz of the frequencies")
         raise ModelError("--modes", list(modes_arg), allowed) from None
-    return peaks, np.asarray(modes_arg, dtype=int), "--modes", float(np.median(np.diff(f)))
+    modes = np.asarray(modes_arg, dtype=int)
+    df = float(np.median(np.diff(f)))
+    try:
+        fits = loss_factor_circle(f, H, peaks, kind=kind)
+    except ModelError as exc:  # (a magnitude |H|, too few lines per bandwidth: the peaks are all there is)
+        return peaks, modes, "--modes", {"sd_hz": np.full(peaks.size, df / 2), "df": df, "how": "peaks", "why": exc}
+    f_r = np.array([r.f_r_hz for r in fits])
+    sd = np.array([r.extra["f_r_uncertainty_hz"] for r in fits])
+    return f_r, modes, "--modes", {"sd_hz": sd, "df": df, "how": "circle", "why": None}
 
 
 def cmd_modulus(args):
@@ -420,13 +432,34 @@ def cmd_modulus(args):
         if not (args.degree == -1 or args.degree >= 0):
             raise ModelError("--degree", args.degree, "must be -1 (no smoothing) or an integer >= 0")
         n_table = integer("--n-table", args.n_table, 2)
-        f_meas, modes, given_by, df = _read_measured(args.file, args.modes, args.channel)
-        if args.resolution is not None:
-            resolution, said = args.resolution, "--resolution"
-        elif df is not None:  # (an FRF's peak is known to its line spacing)
-            resolution, said = df, "the FRF's line spacing"
+        f_meas, modes, given_by, frf = _read_measured(args.file, args.modes, args.channel)
+        if frf is None:
+            resolution = TABLE_RESOLUTION_HZ if args.resolution is None else args.resolution
+            said = "--resolution" if args.resolution is not None else "the paper's, the default for a table"
+            source = f"a table; f_unc_Hz is half the resolution, {resolution / 2:.4g} Hz, a bound"
+            sd = np.full(f_meas.size, resolution / 2)
+            until = f"{resolution / 2:.4g} Hz (half the resolution {resolution:.4g} Hz, {said})"
         else:
-            resolution, said = TABLE_RESOLUTION_HZ, "the paper's, the default for a table"
+            sd = frf["sd_hz"]
+            if frf["how"] == "circle":
+                source = (
+                    f"the resonances of circle fits (loss-factor's) at the {f_meas.size} most prominent peaks of "
+                    "|H|; f_unc_Hz is their standard deviation for the FRF's noise (not a bias: a viscous mode's "
+                    "f_r lies zeta^2 below f_n)"
+                )
+                # (a tenth of the smallest uncertainty: the adaptive process adds nothing to it)
+                resolution = max(0.2 * float(sd.min()), 2e-9 * float(f_meas.max()))
+                until = f"{resolution / 2:.4g} Hz (a tenth of the smallest f_unc_Hz)"
+            else:
+                source = (
+                    f"the peaks of |H|, no circle fit ({frf['why']}); f_unc_Hz is half the line spacing "
+                    f"{frf['df']:.4g} Hz, a lower bound: noise and a neighbour's tail move a peak further"
+                )
+                resolution = frf["df"]
+                until = f"{resolution / 2:.4g} Hz (half the FRF's line spacing)"
+            if args.resolution is not None:
+                resolution = args.resolution
+                until = f"{resolution / 2:.4g} Hz (half --resolution)"
         names = {"freq_resolution_hz": "--resolution", "degree": "--degree", "body": "--body"}
         names["modes"] = given_by if given_by == "--modes" else f"{args.file}, column mode"
         with renamed(names):
@@ -440,13 +473,18 @@ def cmd_modulus(args):
                 n_table=n_table,
             )
         print(
-            f"# {args.body} of {model.source}: E_start = {model.bodies[args.body].E_ref:.6g} Pa; each mode updated "
-            f"at least once, then until within {resolution / 2:.4g} Hz (half the resolution {resolution:.4g} Hz, "
-            f"{said})"
+            f"# {args.body} of {model.source}: E_start = {model.bodies[args.body].E_ref:.6g} Pa; frequencies from "
+            f"{source}; each mode updated at least once, then until within {until}; E_unc_% is f_unc_Hz "
+            "carried to E through the model (about 2 f_unc / f)"
         )
-        print(f"{'mode':>4} {'f_meas_Hz':>10} {'f_comp_Hz':>10} {'E_Pa':>12} {'steps':>5}")
-        for m, fm, fc, E, h in zip(res.modes, res.f_measured_hz, res.f_computed_hz, res.E_mode, res.history):
-            print(f"{m:>4} {fm:>10.3f} {fc:>10.3f} {E:>12.5g} {len(h) - 1:>5}")
+        E_unc = res.E_uncertainty(sd)
+        print(
+            f"{'mode':>4} {'f_meas_Hz':>10} {'f_unc_Hz':>9} {'f_comp_Hz':>10} {'E_Pa':>12} {'E_unc_%':>8} {'steps':>5}"
+        )
+        for m, fm, u, fc, E, dE, h in zip(
+            res.modes, res.f_measured_hz, sd, res.f_computed_hz, res.E_mode, E_unc, res.history
+        ):
+            print(f"{m:>4} {fm:>10.4f} {u:>9.2g} {fc:>10.4f} {E:>12.5g} {100 * dE / E:>8.2g} {len(h) - 1:>5}")
         toml = parameters_toml(args.body, E=res.table, comment=f"dynamic modulus E(f) identified from {args.file}")
         _emit(args, toml, "plot_modulus", res)
         return 0

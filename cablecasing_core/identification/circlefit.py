@@ -416,6 +416,7 @@ def _fit_one(f, Hd, f0, search, lo_hz, hi_hz, eta_prev, fr_prev, bandwidths, min
         gtol=1e-14,
     )
     phi_r, wr2, eta_fit = (float(v) for v in sol.x)
+    wr2_sd = _resonance_sd(zw, c, R, phi, sol)
     below = np.nonzero(w2 < wr2)[0][::-1]  # nearest first
     above = np.nonzero(w2 > wr2)[0]
     if below.size < min_side or above.size < min_side:
@@ -451,7 +452,30 @@ def _fit_one(f, Hd, f0, search, lo_hz, hi_hz, eta_prev, fr_prev, bandwidths, min
         plane=plane,
         diagonal=diag,
         spread=spread,
+        f_r_sd=float(np.sqrt(wr2) / (2 * np.pi) * wr2_sd / (2.0 * wr2)),
     )
+
+
+def _resonance_sd(z, c, R, phi, sol):
+    """Standard deviation of the fitted omega_r^2 (rad^2/s^2) for noise on the circle's points ``z``: the
+    circle (centre ``c``, radius ``R``) and the angle law (``sol``: phi_r, omega_r^2, eta) taken as one
+    least-squares problem in the points' radial and tangential residuals (each the noise's component
+    along it), ``s^2 (J^T J)^-1`` with ``s^2`` their sum of squares over (2 points - 6 parameters). The
+    centre's error, which the angle law alone does not see, enters through the tangential rows."""
+    d = np.abs(z - c)
+    cs, sn = np.cos(phi), np.sin(phi)
+    n = z.size
+    J = np.zeros((2 * n, 6))
+    J[:n, 0], J[:n, 1], J[:n, 2] = -cs, -sn, -1.0  # radial: |z - c| - R
+    J[n:, 0], J[n:, 1] = R * sn / d, -R * cs / d  # tangential: R (angle(z - c) - law)
+    J[n:, 3:] = -R * sol.jac
+    r = np.concatenate([d - R, -R * sol.fun])
+    dof = 2 * n - 6
+    try:
+        cov = np.linalg.inv(J.T @ J) * (float(r @ r) / dof)
+    except np.linalg.LinAlgError:
+        return np.inf
+    return float(np.sqrt(abs(cov[4, 4])))
 
 
 def loss_factor_circle(
@@ -508,7 +532,9 @@ def loss_factor_circle(
     -------
     list of :class:`CircleFitResult`, ascending in frequency order of ``f_res_hz``.
     ``extra["eta_rel_uncertainty"]`` estimates the loss factor's relative random error,
-    ``2.8 (rms / R) / sqrt(points)``; ``extra["lines_per_bandwidth"]`` is ``eta f_r / df``;
+    ``2.8 (rms / R) / sqrt(points)``; ``extra["f_r_uncertainty_hz"]`` is one standard deviation of
+    ``f_r`` (Hz) for noise on H (circle and angle law as one least-squares problem: :func:`_resonance_sd`);
+    ``extra["lines_per_bandwidth"]`` is ``eta f_r / df``;
     ``extra["unrequested_hz"]`` the resonances fitted and subtracted without being requested.
     A 0 Hz line of ``freqs_hz`` is left out.
 
@@ -590,6 +616,7 @@ def loss_factor_circle(
         if f0 not in requested:
             continue
         spread = r.pop("spread")
+        f_r_sd = r.pop("f_r_sd")
         npts = r["freqs_hz"].size
         ratio = r["rms"] / r["radius"] if r["radius"] > 0 else np.inf
         df = float(np.median(np.diff(r["freqs_hz"])))
@@ -597,6 +624,7 @@ def loss_factor_circle(
         extra = {
             "angle_span": spread,
             "eta_rel_uncertainty": float(2.8 * ratio / np.sqrt(npts)),
+            "f_r_uncertainty_hz": f_r_sd,
             "lines_per_bandwidth": float(lines),
             "unrequested_hz": [r2["f_r_hz"] for g, r2 in zip(f_res, fits) if g not in requested],
         }

@@ -65,6 +65,20 @@ class ModulusResult:
         u = np.log(np.asarray(f_hz, dtype=float) / self.f_ref_hz)
         return np.polynomial.polynomial.polyval(u, self.coefficients)
 
+    def E_uncertainty(self, f_uncertainty_hz):
+        """Uncertainty (Pa) of each mode's modulus ``E_mode`` caused by an uncertainty ``f_uncertainty_hz``
+        (Hz; one per mode, or one for all) of its measured frequency, to first order:
+        ``dE = 2 f df / s`` with ``s`` the slope of ``f^2`` against ``E`` through the adaptive process's
+        last two steps (exact on ``f^2 = a E + b``); ``2 E df / f`` (a homogeneous body, ``f ~ sqrt(E)``)
+        where the steps give no slope."""
+        df = np.broadcast_to(np.asarray(f_uncertainty_hz, dtype=float), self.E_mode.shape)
+        out = np.empty(self.E_mode.size)
+        for i, (steps, f, E) in enumerate(zip(self.history, self.f_measured_hz, self.E_mode)):
+            (E0, f0), (E1, f1) = steps[-2:] if len(steps) > 1 else steps * 2
+            slope = (f1**2 - f0**2) / (E1 - E0) if E1 != E0 else 0.0
+            out[i] = 2.0 * f * df[i] / slope if slope > 0.0 else 2.0 * E * df[i] / f
+        return out
+
 
 def identify_modulus(
     compute_frequencies,
