@@ -82,6 +82,41 @@ def _emit(args, toml, plot_name, res, **plot_kw):
         print(f"wrote {args.plot}")
 
 
+def _max_iter(args):
+    """``--max-iter``, the circle fit's own default (``circlefit.MAX_ITER``) when not given, checked (>= 0)."""
+    from ..identification.circlefit import MAX_ITER
+    from ..model.validators import integer
+
+    args.max_iter = MAX_ITER if args.max_iter is None else integer("--max-iter", args.max_iter, 0)
+    return args.max_iter
+
+
+def _unsettled(args, fits):
+    """What the TOML's comment and the refusal of ``--toml`` say when the circle fits' neighbour correction
+    stopped at ``--max-iter`` sweeps before the loss factors settled (``extra["settled"]``); None when settled."""
+    change = max(r.extra["correction_change"] for r in fits)
+    if change == 0.0:
+        return None
+    return (
+        f"the neighbouring-mode correction did not settle in --max-iter {args.max_iter} sweeps (the loss factors "
+        f"still changed by {change:.2g}, relative, in the last: an error of about that size)"
+    )
+
+
+def _toml_of_unsettled(args, toml, note):
+    """A ModelError naming --toml (after printing the TOML) when the fits did not settle and --toml is given
+    without --allow-unsettled: unsettled values are not written silently."""
+    if note and args.toml and not args.allow_unsettled:
+        print(toml, end="")
+        raise ModelError(
+            "--toml",
+            args.toml,
+            f"not written: {note}; give a larger --max-iter (close modes: 0.75 half-power bandwidths apart settle "
+            "in about 450 sweeps, 0.4 apart in about 4600), or --allow-unsettled to write these values, marked as "
+            "not settled",
+        )
+
+
 def _spectrum_peaks(x, fs, count, path):
     """Frequencies (Hz) of the ``count`` (``--count``) most prominent peaks of the record's amplitude
     spectrum; a :class:`ModelError` naming ``--count`` when the spectrum of the record in ``path`` has
@@ -313,7 +348,7 @@ def cmd_loss_factor(args):
         kind = args.kind or declared or "apparent_mass"
         source = "given" if args.kind else (f"from {where} of the file" if declared else "default")
         names = {"window_tau": "--window-tau", "bandwidths": "--bandwidths", "search": "--search"}
-        names.update({"f_res_hz": "--freqs", "count": "--count"})
+        names.update({"f_res_hz": "--freqs", "count": "--count", "max_iter": "--max-iter"})
         hints = {
             _PEAKS_HINT: "give the resonances themselves (--freqs) or a smaller --count",
             "give a smaller search": "give a smaller --search",
@@ -331,6 +366,7 @@ def cmd_loss_factor(args):
                 bandwidths=args.bandwidths,
                 search=args.search,
                 correct_neighbours=not args.no_correction,
+                max_iter=_max_iter(args),
                 window_tau=args.window_tau,
             )
         win = "" if args.window_tau is None else f"; exponential window tau = {args.window_tau:g} s taken off"
@@ -349,17 +385,21 @@ def cmd_loss_factor(args):
                 f"{r.rms / r.radius:>12.3g} {r.freqs_hz.size:>6}"
             )
         lf = res[0].eta if len(res) == 1 else res
-        toml = parameters_toml(args.body, loss_factor=lf, comment=f"loss factor identified from {args.file}")
+        note = _unsettled(args, res)
+        comment = f"loss factor identified from {args.file}" + (f"\nNOT SETTLED: {note}" if note else "")
+        toml = parameters_toml(args.body, loss_factor=lf, comment=comment)
+        _toml_of_unsettled(args, toml, note)
         _emit(args, toml, "plot_circles", res)
         return 0
     except CableCasingError as exc:
         return _fail(exc)
 
 
-def _read_measured(path, modes_arg, channel):
+def _read_measured(path, modes_arg, channel, max_iter=None):
     """(frequencies Hz, mode numbers, where the mode numbers came from: "file" or "--modes", and for an FRF
     a dict with ``sd_hz`` (each frequency's uncertainty, Hz), ``df`` (line spacing, Hz), ``how`` ("circle"
-    or "peaks") and ``why`` (for peaks: the reason), None for a table) from a CSV table ``mode,f_hz`` (the
+    or "peaks"), ``why`` (for peaks: the reason) and ``fits`` (the circle fits, with at most ``max_iter``
+    correction sweeps; None: the circle fit's default), None for a table) from a CSV table ``mode,f_hz`` (the
     frequency's unit from its header, as an FRF's: ``f [rad/s]``, ``frequency_khz``) or from an FRF file:
     the resonances of the circle fits (``loss_factor_circle``, its ``f_r_uncertainty_hz``) started at the
     ``len(--modes)`` most prominent peaks of |H|; an FRF without a circle there (a magnitude, too coarse a
@@ -410,12 +450,13 @@ def _read_measured(path, modes_arg, channel):
     modes = np.asarray(modes_arg, dtype=int)
     df = float(np.median(np.diff(f)))
     try:
-        fits = loss_factor_circle(f, H, peaks, kind=kind)
+        fits = loss_factor_circle(f, H, peaks, kind=kind, **({} if max_iter is None else {"max_iter": max_iter}))
     except ModelError as exc:  # (a magnitude |H|, too few lines per bandwidth: the peaks are all there is)
-        return peaks, modes, "--modes", {"sd_hz": np.full(peaks.size, df / 2), "df": df, "how": "peaks", "why": exc}
+        info = {"sd_hz": np.full(peaks.size, df / 2), "df": df, "how": "peaks", "why": exc, "fits": []}
+        return peaks, modes, "--modes", info
     f_r = np.array([r.f_r_hz for r in fits])
     sd = np.array([r.extra["f_r_uncertainty_hz"] for r in fits])
-    return f_r, modes, "--modes", {"sd_hz": sd, "df": df, "how": "circle", "why": None}
+    return f_r, modes, "--modes", {"sd_hz": sd, "df": df, "how": "circle", "why": None, "fits": fits}
 
 
 def cmd_modulus(args):
@@ -432,7 +473,7 @@ def cmd_modulus(args):
         if not (args.degree == -1 or args.degree >= 0):
             raise ModelError("--degree", args.degree, "must be -1 (no smoothing) or an integer >= 0")
         n_table = integer("--n-table", args.n_table, 2)
-        f_meas, modes, given_by, frf = _read_measured(args.file, args.modes, args.channel)
+        f_meas, modes, given_by, frf = _read_measured(args.file, args.modes, args.channel, _max_iter(args))
         if frf is None:
             resolution = TABLE_RESOLUTION_HZ if args.resolution is None else args.resolution
             said = "--resolution" if args.resolution is not None else "the paper's, the default for a table"
@@ -485,11 +526,33 @@ def cmd_modulus(args):
             res.modes, res.f_measured_hz, sd, res.f_computed_hz, res.E_mode, E_unc, res.history
         ):
             print(f"{m:>4} {fm:>10.4f} {u:>9.2g} {fc:>10.4f} {E:>12.5g} {100 * dE / E:>8.2g} {len(h) - 1:>5}")
-        toml = parameters_toml(args.body, E=res.table, comment=f"dynamic modulus E(f) identified from {args.file}")
+        note = _unsettled(args, frf["fits"]) if frf and frf["fits"] else None
+        comment = f"dynamic modulus E(f) identified from {args.file}" + (f"\nNOT SETTLED: {note}" if note else "")
+        toml = parameters_toml(args.body, E=res.table, comment=comment)
+        _toml_of_unsettled(args, toml, note)
         _emit(args, toml, "plot_modulus", res)
         return 0
     except CableCasingError as exc:
         return _fail(exc)
+
+
+def _unsettled_options(p, where=""):
+    """``--max-iter`` and ``--allow-unsettled`` of the circle fits' neighbour correction (the default, None, is
+    ``circlefit.MAX_ITER``, set by :func:`_max_iter` when the command runs: the parser imports no identification
+    module)."""
+    p.add_argument(
+        "--max-iter",
+        type=int,
+        default=None,
+        help=f"most neighbouring-mode correction sweeps of the circle fits{where} (default 500, the circle fit's; "
+        "modes under a half-power bandwidth apart may need thousands)",
+    )
+    p.add_argument(
+        "--allow-unsettled",
+        action="store_true",
+        help="write --toml even when the correction did not settle in --max-iter sweeps (marked NOT SETTLED); "
+        "without it such a run writes nothing and exits 2",
+    )
 
 
 def add_parser(subparsers):
@@ -564,6 +627,7 @@ def add_parser(subparsers):
         "halfway to the next; other peaks within it are fitted and subtracted too",
     )
     lf.add_argument("--no-correction", action="store_true", help="skip the neighbouring-mode correction")
+    _unsettled_options(lf)
     lf.add_argument("--body", choices=["casing", "cable"], default="casing", help="TOML section")
     lf.add_argument("--plot", help="PNG: Nyquist circles, loss-factor planes, diagonal ridges (Fig. 13)")
     lf.add_argument("--toml", help="write the loss_factor line to this file")
@@ -589,6 +653,7 @@ def add_parser(subparsers):
         "the paper's, for a table mode,f_hz)",
     )
     m.add_argument("--degree", type=int, default=2, help="degree of the smooth fit in ln f (-1: no smoothing)")
+    _unsettled_options(m, " (an FRF file)")
     m.add_argument("--n-table", type=int, default=12, help="rows of the E(f) table")
     m.add_argument("--plot", help="PNG: adaptive process and E against f (Figs. 8-9)")
     m.add_argument("--toml", help="write the E table line to this file")

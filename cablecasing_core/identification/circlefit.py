@@ -80,6 +80,12 @@ VISCOUS_BIAS = (
     (0.43208, 0.08020, -0.04424),
     (0.58544, 0.17087, -0.07804),
 )
+#: Default limit of neighbour-correction sweeps (``max_iter``). Well separated modes settle in about five
+#: sweeps, so the limit costs nothing there; close modes converge slowly, swinging above and below their
+#: values: two of eta 0.02, 0.75 half-power bandwidths apart (100 and 101.5 Hz), settle in 451 sweeps
+#: (8 s on one core; after 50 their loss factors were 4.7 % off), 0.4 apart (100 and 100.8 Hz, opposite
+#: signs) in 4586 (60 s; after 50, 21 % low): a larger max_iter for those.
+MAX_ITER = 500
 #: Warning bound on the fitted eta: above it, were the damping viscous, eta / 2 would be more than 1 %
 #: above zeta (VISCOUS_BIAS: 0.99 % at eta = 0.1616).
 VISCOUS_ETA_WARN = 0.16
@@ -488,7 +494,7 @@ def loss_factor_circle(
     bandwidths=2.0,
     search=0.1,
     correct_neighbours=True,
-    max_iter=50,
+    max_iter=MAX_ITER,
     min_side=3,
     window_tau=None,
 ):
@@ -515,7 +521,7 @@ def loss_factor_circle(
         Subtract the fitted terms of the other requested modes, and of resonance peaks within
         ``+-search`` of a request that were not requested, and refit (module docstring, step 5).
     max_iter : int
-        Limit of correction sweeps.
+        Limit of correction sweeps (default :data:`MAX_ITER`, 500).
     min_side : int
         Least number of circle points required below and above the resonance.
     window_tau : float or None
@@ -536,7 +542,10 @@ def loss_factor_circle(
     ``2.8 (rms / R) / sqrt(points)``; ``extra["f_r_uncertainty_hz"]`` is one standard deviation of
     ``f_r`` (Hz) for noise on H (circle and angle law as one least-squares problem: :func:`_resonance_sd`);
     ``extra["lines_per_bandwidth"]`` is ``eta f_r / df``;
-    ``extra["unrequested_hz"]`` the resonances fitted and subtracted without being requested.
+    ``extra["unrequested_hz"]`` the resonances fitted and subtracted without being requested;
+    ``extra["settled"]`` is False when the neighbour correction stopped at ``max_iter`` sweeps with the
+    loss factors still changing (a warning says so), ``extra["correction_change"]`` that last sweep's
+    largest relative change of a loss factor (about the error left; 0 when settled).
     A 0 Hz line of ``freqs_hz`` is left out.
 
     Warns
@@ -599,7 +608,7 @@ def loss_factor_circle(
     others = _unrequested_peaks(f, Hd, f_res, search) if correct_neighbours else np.empty(0)
     f_res = np.sort(np.concatenate([f_res, others]))
     try:
-        fits, it = _fit_all(f, Hd, f_res, search, bandwidths, min_side, correct_neighbours, max_iter)
+        fits, it, change = _fit_all(f, Hd, f_res, search, bandwidths, min_side, correct_neighbours, max_iter)
     except ModelError as exc:
         if not others.size:
             raise
@@ -628,6 +637,8 @@ def loss_factor_circle(
             "f_r_uncertainty_hz": f_r_sd,
             "lines_per_bandwidth": float(lines),
             "unrequested_hz": [r2["f_r_hz"] for g, r2 in zip(f_res, fits) if g not in requested],
+            "settled": change == 0.0,
+            "correction_change": change,
         }
         if ratio > RMS_RATIO_WARN:
             warnings.warn(
@@ -695,13 +706,14 @@ def _fit_all(f, Hd, f_res, search, bandwidths, min_side, correct_neighbours, max
     """Every mode of ``f_res`` (ascending) fitted, then refitted with the other modes' fitted terms
     subtracted until the loss factors settle (module docstring, step 5). Each mode's peak and modal
     estimate are sought within +-search of it and no further than halfway to its neighbours in
-    ``f_res``. Returns (fits, correction sweeps)."""
+    ``f_res``. Returns (fits, correction sweeps, the last sweep's largest relative change of a loss factor
+    when the sweeps ran out before the loss factors settled, else 0)."""
     lo, hi = f_res * (1.0 - search), f_res * (1.0 + search)
     mids = 0.5 * (f_res[1:] + f_res[:-1])
     lo[1:], hi[:-1] = np.maximum(lo[1:], mids), np.minimum(hi[:-1], mids)
     fits = [_fit_one(f, Hd, f0, search, a, b, None, None, bandwidths, min_side) for f0, a, b in zip(f_res, lo, hi)]
     it = 0
-    changes = []
+    changes, unsettled = [], 0.0
     if correct_neighbours and len(fits) > 1 and max_iter > 0:
         for it in range(1, max_iter + 1):  # noqa: B007  (it is the count read after the loop)
             terms = [_term(r, f) for r in fits]
@@ -728,10 +740,11 @@ def _fit_all(f, Hd, f_res, search, bandwidths, min_side, correct_neighbours, max
             changes.append(change)
         else:
             _warn_unsettled(changes, max_iter, f_res)
+            unsettled = changes[-1]
     # (checked on the final fits: a first fit next to a strong neighbour, 1.4 bandwidths away, sits near
     # it until the neighbour's term is subtracted)
     _check_distinct(f_res, fits, search)
-    return fits, it
+    return fits, it, unsettled
 
 
 #: Two fitted resonances closer than this share of a half-power bandwidth (eta f_r) are one pole found
@@ -750,7 +763,7 @@ def _warn_unsettled(changes, max_iter, f_res):
     warnings.warn(
         f"the neighbouring-mode correction (modes at {where} Hz) did not settle in max_iter = {max_iter} sweeps: "
         f"the loss factors still changed by {changes[-1]:.2g} (relative) in the last sweep, an error of about "
-        "that size (close modes converge slowly): give a larger max_iter",
+        "that size (close modes converge slowly): give a larger max_iter (the CLI's --max-iter)",
         ModelWarning,
         stacklevel=4,
     )
