@@ -220,7 +220,9 @@ def test_coarse_resolution_warns_with_the_expected_leakage_bias():
         loss_factor_circle(f, receptance(f), F3)
     text = " ".join(str(w.message) for w in rec)
     assert "254.1 Hz spans only 5.69 frequency lines" in text  # 11.38 Hz / 2 Hz
-    assert "about 6.2 % too high" in text  # 2 (df/B)^2 = 2 / 5.69^2; the review measured +6-11 % at 4-5.5 lines
+    # 2 (df/B)^2 at the true B of a Welch estimate whose leakage widened it to 5.69 lines: B / df = x with
+    # x + 2 / x = 5.69, x = 5.32, 2 / x^2 = 7.1 % (review Q 3; the review measured +6-11 % at 4-5.5 lines)
+    assert "about 7.1 % too high" in text and "B is about 10.63 Hz (5.32 lines)" in text
 
 
 def test_count_more_than_the_peaks_is_an_error():
