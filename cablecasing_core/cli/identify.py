@@ -262,29 +262,39 @@ def cmd_damping(args):
             f"{args.gamma:g}; the fit's times on the file's time axis{win}"
         )
         print(
-            f"{'mode':>4} {'f_req_Hz':>10} {'f_ridge_Hz':>11} {'f_n_Hz':>10} {'zeta':>9} {'fit_from_s':>10} "
-            f"{'fit_to_s':>9}"
+            f"{'mode':>4} {'f_req_Hz':>10} {'f_ridge_Hz':>11} {'f_n_Hz':>10} {'zeta':>9} {'zeta_unc_%':>10} "
+            f"{'fit_from_s':>10} {'fit_to_s':>9}"
         )
         for i, r in enumerate(res, 1):
             t0, t1 = r.t_fit
             print(
                 f"{i:>4} {r.f_requested_hz:>10.3f} {r.f_ridge_hz:>11.3f} {r.f_natural_hz:>10.3f} "
-                f"{r.zeta:>9.5f} {t0:>10.4f} {t1:>9.4f}"
+                f"{r.zeta:>9.5f} {100 * r.zeta_sd / r.zeta:>10.2g} {t0:>10.4f} {t1:>9.4f}"
             )
+        print(
+            "# zeta_unc_%: one standard deviation for the record's noise, from the fitted line (it does not cover "
+            "a close mode, a second hit, or a bias where the noise floor ends the window: docs/identification.md)"
+        )
         toml = None
         if len(res) >= 2:
             fn = [r.f_natural_hz for r in res]
             zs = [r.zeta for r in res]
-            fit = rayleigh_fit(fn, zs, nonnegative=args.nonnegative)
+            sd = [r.zeta_sd for r in res]
+            fit = rayleigh_fit(fn, zs, nonnegative=args.nonnegative, zeta_sd=sd)
             if not args.nonnegative and (fit.alpha < 0 or fit.beta < 0):
                 print(
                     f"# least squares gives alpha = {fit.alpha:.6g} 1/s, beta = {fit.beta:.6g} s; the model "
                     "file needs both >= 0, so the nonnegative fit follows"
                 )
-                fit = rayleigh_fit(fn, zs, nonnegative=True)
+                fit = rayleigh_fit(fn, zs, nonnegative=True, zeta_sd=sd)
+
+            def pm(v):
+                return " (at its bound)" if np.isnan(v) else f" +- {v:.2g}"
+
             print(
-                f"Rayleigh (Eq. 44): alpha = {fit.alpha:.6g} 1/s, beta = {fit.beta:.6g} s, "
-                f"rms residual of zeta = {fit.rms_residual:.3g}"
+                f"Rayleigh (Eq. 44): alpha = {fit.alpha:.6g}{pm(fit.alpha_sd)} 1/s, beta = {fit.beta:.6g}"
+                f"{pm(fit.beta_sd)} s (one standard deviation from zeta_unc), rms residual of zeta = "
+                f"{fit.rms_residual:.3g}"
             )
             for f_, z_, zf in zip(fn, zs, fit.zeta_fit):
                 print(f"    {f_:10.3f} Hz: zeta = {z_:.5f}, Rayleigh {zf:.5f}")
@@ -377,13 +387,20 @@ def cmd_loss_factor(args):
             found = ", ".join(f"{v:.6g}" for v in res[0].extra["unrequested_hz"])
             print(f"# also fitted and subtracted, not requested (a peak within --search of a request): {found} Hz")
         print(
-            f"{'mode':>4} {'f_r_Hz':>10} {'eta':>9} {'eta/2':>9} {'diag_spread':>11} {'circle_rms/R':>12} {'points':>6}"
+            f"{'mode':>4} {'f_r_Hz':>10} {'eta':>9} {'eta_unc_%':>9} {'f_unc_Hz':>9} {'eta/2':>9} {'diag_spread':>11} "
+            f"{'circle_rms/R':>12} {'points':>6}"
         )
         for i, r in enumerate(res, 1):
             print(
-                f"{i:>4} {r.f_r_hz:>10.3f} {r.eta:>9.5f} {r.eta / 2:>9.5f} {np.ptp(r.diagonal):>11.3g} "
+                f"{i:>4} {r.f_r_hz:>10.4f} {r.eta:>9.5f} {100 * r.extra['eta_rel_uncertainty']:>9.2g} "
+                f"{r.extra['f_r_uncertainty_hz']:>9.2g} {r.eta / 2:>9.5f} {np.ptp(r.diagonal):>11.3g} "
                 f"{r.rms / r.radius:>12.3g} {r.freqs_hz.size:>6}"
             )
+        print(
+            "# eta_unc_%, f_unc_Hz: one standard deviation for the FRF's noise, not a bias (few lines per bandwidth, "
+            "a close mode hidden in a circle, leakage); diag_spread: the largest minus the smallest loss factor on "
+            "the plane's diagonal, of which eta is the median (near 0: one clean circle)"
+        )
         lf = res[0].eta if len(res) == 1 else res
         note = _unsettled(args, res)
         comment = f"loss factor identified from {args.file}" + (f"\nNOT SETTLED: {note}" if note else "")

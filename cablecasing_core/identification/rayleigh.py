@@ -40,7 +40,9 @@ MAX_CONDITION = 100.0
 class RayleighFit:
     """Rayleigh factors ``alpha`` (1/s) and ``beta`` (s) of Eq. (40), with the data and the fit.
 
-    ``residuals = zeta - zeta_fit`` (dimensionless), one per mode, in the input order.
+    ``residuals = zeta - zeta_fit`` (dimensionless), one per mode, in the input order. ``alpha_sd`` (1/s) and
+    ``beta_sd`` (s) are the factors' standard deviations propagated from the damping ratios' (``zeta_sd`` of
+    :func:`rayleigh_fit`; nan without them, and for a factor the nonnegative fit holds at its bound 0).
     """
 
     alpha: float
@@ -49,6 +51,8 @@ class RayleighFit:
     zeta: np.ndarray
     zeta_fit: np.ndarray
     residuals: np.ndarray
+    alpha_sd: float = float("nan")
+    beta_sd: float = float("nan")
 
     @property
     def rms_residual(self):
@@ -71,7 +75,11 @@ def rayleigh_matrix(freqs_hz: ArrayLike) -> np.ndarray:
 
 
 def rayleigh_fit(
-    freqs_hz: ArrayLike, zetas: ArrayLike, weights: ArrayLike | None = None, nonnegative: bool = False
+    freqs_hz: ArrayLike,
+    zetas: ArrayLike,
+    weights: ArrayLike | None = None,
+    nonnegative: bool = False,
+    zeta_sd: ArrayLike | None = None,
 ) -> RayleighFit:
     """Least-squares Rayleigh factors from identified (natural frequency, damping ratio) pairs.
 
@@ -88,6 +96,11 @@ def rayleigh_fit(
         Optional positive weights of the residuals (e.g. 1 / standard error of each zeta).
     nonnegative : bool
         Constrain ``alpha, beta >= 0`` (what the model file accepts).
+    zeta_sd : array (m,) or None
+        Standard deviations of the damping ratios (e.g. ``RidgeResult.zeta_sd``), independent: propagated
+        linearly to ``alpha_sd``, ``beta_sd`` (the factors are ``P zeta`` with ``P`` the weighted
+        pseudo-inverse, so their covariance is ``P diag(zeta_sd^2) P^T``; a factor the nonnegative fit holds
+        at 0 stays there and the other is the one-column fit's).
 
     Returns
     -------
@@ -131,4 +144,22 @@ def rayleigh_fit(
         c = np.linalg.lstsq(As, b, rcond=None)[0]
     alpha, beta = c / scale
     zfit = rayleigh_zeta(f, alpha, beta)
-    return RayleighFit(alpha=float(alpha), beta=float(beta), freqs_hz=f, zeta=z, zeta_fit=zfit, residuals=z - zfit)
+    sd = [float("nan")] * 2
+    if zeta_sd is not None:
+        u = array_1d("zeta_sd", zeta_sd, min_len=f.size)
+        if u.size != f.size or np.any(u < 0):
+            raise ModelError("zeta_sd", zeta_sd, "must be one standard deviation >= 0 per frequency")
+        free = [k for k in (0, 1) if not (nonnegative and c[k] == 0.0)]  # (a factor at its bound 0 stays there)
+        P = np.linalg.pinv(As[:, free]) * w[None, :] / scale[free, None]  # (factors = P zeta)
+        for k, row in zip(free, P):
+            sd[k] = float(np.sqrt(np.sum((row * u) ** 2)))
+    return RayleighFit(
+        alpha=float(alpha),
+        beta=float(beta),
+        freqs_hz=f,
+        zeta=z,
+        zeta_fit=zfit,
+        residuals=z - zfit,
+        alpha_sd=sd[0],
+        beta_sd=sd[1],
+    )

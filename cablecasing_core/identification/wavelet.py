@@ -215,7 +215,8 @@ class RidgeResult:
     ``|ln|W| - line|`` in the fit window (the linearity check); with an exponential window
     (``window_tau``, s) ``slope`` and ``sigma_observed`` (1/s) are the windowed record's decay and
     ``zeta`` the structure's, ``(sigma_observed - 1/window_tau) / omega_n``. ``valid_from_s`` is the
-    first time past the impulse's (and any clipping's) edge.
+    first time past the impulse's (and any clipping's) edge. ``zeta_sd`` is one standard deviation of ``zeta``
+    for noise on the record, the line's slope's over ``omega_n`` (:func:`_slope_sd`).
     """
 
     f_requested_hz: float
@@ -236,6 +237,7 @@ class RidgeResult:
     window_tau: float | None = None
     sigma_observed: float = float("nan")
     valid_from_s: float = 0.0
+    zeta_sd: float = float("nan")
 
     @property
     def t_fit(self):
@@ -660,6 +662,7 @@ def wavelet_damping(
                 "skip the check (max_departure None, --max-departure off)",
             )
         sigma_obs = sigma
+        slope_sd = _slope_sd(t[fit], log_w[fit], wf, slope, intercept, wavelet_time_spread(f_r, gamma) * fs, floor)
         if window_tau is not None:
             sigma = sigma_obs - 1.0 / window_tau
             if sigma <= 0.0:
@@ -685,6 +688,7 @@ def wavelet_damping(
                 f_damped_hz=float(w_d / (2 * np.pi)),
                 f_natural_hz=float(w_n / (2 * np.pi)),
                 zeta=float(sigma / w_n),
+                zeta_sd=float(slope_sd / w_n),
                 slope=float(slope),
                 intercept=float(intercept),
                 edge_s=float(edge),
@@ -702,6 +706,24 @@ def wavelet_damping(
         )
     _check_distinct_ridges(results)
     return results
+
+
+def _slope_sd(t, y, w, slope, intercept, spread_samples, floor):
+    """Standard deviation (1/s) of the slope of the straight line ``y ~ intercept + slope t`` through ln|W| on
+    the ridge, fitted with weights ``w`` = |W| (residuals times w): ``(X^T W^2 X)^-1`` times the larger of two
+    estimates of the weighted residual's variance, the residuals' own (sum of squares over n - 2) and the
+    noise's, ``floor^2 / 2`` (noise of rms ``floor`` in W scatters ln|W| by ``floor / (|W| sqrt 2)``; the
+    residuals alone under-state it in a window of few wavelet lengths), and times the samples per independent
+    one, ``2 sqrt(pi) sigma_t fs`` (``spread_samples`` = sigma_t fs): the noise in W is correlated over the
+    wavelet's envelope as ``exp(-tau^2 / (4 sigma_t^2))``, whose integral that is."""
+    n = t.size
+    if n < 3:
+        return float("inf")
+    r = w * (y - (intercept + slope * t))
+    X = np.column_stack([t - t.mean(), np.ones_like(t)]) * w[:, None]
+    var = max(float(r @ r) / (n - 2), 0.5 * floor**2)
+    corr = max(1.0, 2.0 * np.sqrt(np.pi) * spread_samples)
+    return float(np.sqrt(abs(np.linalg.pinv(X.T @ X)[0, 0]) * var * corr))
 
 
 def _leakage_late(signed, wf, limit, sigma_t, fs):

@@ -1,6 +1,7 @@
 """The ``identify`` sub-commands end to end on synthetic files (parser built with add_parser only)."""
 
 import argparse
+import re
 import sys
 
 import numpy as np
@@ -141,7 +142,7 @@ def test_counts_channels_and_the_time_axis_as_a_user_gives_them(tmp_path, capsys
     assert "--count = -1: must be an integer >= 1" in capsys.readouterr().err
     assert run(["identify", "damping", str(late), "--freqs", "40", "95", "--t-max", "13.0"]) == 0
     rows = [line.split() for line in capsys.readouterr().out.splitlines() if line[:4].strip().isdigit()]
-    assert [float(r[6]) for r in rows] == [13.0, 13.0] and all(12.5 < float(r[5]) < 12.7 for r in rows)
+    assert [float(r[7]) for r in rows] == [13.0, 13.0] and all(12.5 < float(r[6]) < 12.7 for r in rows)
     np.testing.assert_allclose([float(r[4]) for r in rows], [0.02, 0.01], rtol=0.01)
     assert run(["identify", "damping", str(late), "--freqs", "40", "--t-max", "1.0"]) == 2
     assert "--t-max = 1.0: must be a number > 12.5" in capsys.readouterr().err
@@ -501,3 +502,35 @@ def test_the_max_iter_help_states_the_circle_fit_s_own_default(capsys):
         with pytest.raises(SystemExit):
             run(["identify", command, "--help"])
         assert f"(default {MAX_ITER}, the circle fit's;" in " ".join(capsys.readouterr().out.split())
+
+
+def test_the_tables_print_the_uncertainties(tmp_path, capsys, synth):
+    """Review Q 4: the circle fit's eta uncertainty was not printed (only inside the rms/R warning), and zeta,
+    alpha, beta had none. loss-factor prints eta_unc_% and f_unc_Hz, damping zeta_unc_% and alpha, beta
+    +- their propagated standard deviations: the API's values (extra["eta_rel_uncertainty"],
+    extra["f_r_uncertainty_hz"], RidgeResult.zeta_sd, RayleighFit.alpha_sd, beta_sd), printed to 2 digits
+    (within 5 %)."""
+    from cablecasing_core.identification import loss_factor_circle, rayleigh_fit, wavelet_damping
+
+    f = np.arange(50.0, 150.0, 0.05)
+    H = synth.receptance(f, [100.0], eta=[0.02]) + synth.cnoise(1, f.size, 2e-6)  # (2 % of the peak, 5e-5)
+    path = tmp_path / "frf.csv"
+    identification.write_csv_frf(path, f, H, kind="displacement")
+    assert run(["identify", "loss-factor", str(path), "--freqs", "100"]) == 0
+    out = capsys.readouterr().out
+    (row,) = [line.split() for line in out.splitlines() if line[:4].strip().isdigit()]
+    (r,) = loss_factor_circle(f, H, [100.0])
+    unc = [r.extra["eta_rel_uncertainty"], r.extra["f_r_uncertainty_hz"]]
+    np.testing.assert_allclose([float(row[3]) / 100, float(row[4])], unc, rtol=0.05)
+    assert "diag_spread: the largest minus the smallest loss factor on the plane's diagonal" in out
+    fs, t = 2048.0, np.arange(4096) / 2048.0
+    x = synth.impulse(t, F, ZETA, [1.0, 0.7, 0.5]) + 0.01 * np.random.default_rng(3).standard_normal(t.size)
+    write_csv_time(tmp_path / "imp.csv", x, fs)
+    assert run(["identify", "damping", str(tmp_path / "imp.csv"), "--freqs", *map(str, F)]) == 0
+    out = capsys.readouterr().out
+    rows = [line.split() for line in out.splitlines() if line[:4].strip().isdigit()]
+    res = wavelet_damping(x, fs, F)
+    np.testing.assert_allclose([float(r[5]) / 100 for r in rows], [r.zeta_sd / r.zeta for r in res], rtol=0.05)
+    fit = rayleigh_fit([r.f_natural_hz for r in res], [r.zeta for r in res], zeta_sd=[r.zeta_sd for r in res])
+    a, b = (float(v) for v in re.findall(r"\+- (\S+) ", out))
+    np.testing.assert_allclose([a, b], [fit.alpha_sd, fit.beta_sd], rtol=0.05)

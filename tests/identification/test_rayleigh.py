@@ -126,3 +126,25 @@ def test_a_bool_is_not_a_frequency(freqs):
     # True would read as 1 Hz: damping ratios at a frequency nobody gave.
     with pytest.raises(ModelError, match=r"freqs_hz = .*not True or False"):
         rayleigh_zeta(freqs, 1.0, 1e-4)
+
+
+def test_the_factors_uncertainty_is_the_damping_ratios_carried_through_eq_44():
+    """Review Q: alpha and beta carry the damping ratios' standard deviations linearly. Two modes: the factors
+    are A^-1 zeta (Eq. 42 solved), so their covariance is A^-1 diag(sd^2) A^-T; four modes: the least-squares
+    (A^T A)^-1 A^T in place of A^-1 (both by numpy here); the nonnegative fit with beta at its bound: alpha is
+    the one-column fit a1.zeta / a1.a1 and beta has none (nan). To rounding (1e-9)."""
+    sd = np.array([2e-4, 3e-4, 1e-3, 5e-4])
+    zeta = np.array([0.0359, 0.0263, 0.0216, 0.0190])
+    A = eq42(F)
+    for n in (2, 4):
+        P = np.linalg.solve(A[:n].T @ A[:n], A[:n].T)  # (A^-1 for n = 2)
+        expect = np.sqrt(np.diag(P @ np.diag(sd[:n] ** 2) @ P.T))
+        fit = rayleigh_fit(F[:n], zeta[:n], zeta_sd=sd[:n])
+        np.testing.assert_allclose([fit.alpha_sd, fit.beta_sd], expect, rtol=1e-9)
+    nn = rayleigh_fit(F, [0.04, 0.02, 0.01, 0.005], nonnegative=True, zeta_sd=sd)
+    a1 = A[:, 0]
+    assert nn.beta == 0.0 and np.isnan(nn.beta_sd)
+    assert nn.alpha_sd == pytest.approx(np.sqrt(np.sum((a1 * sd) ** 2)) / (a1 @ a1), rel=1e-9)
+    assert np.isnan(rayleigh_fit(F, zeta).alpha_sd)  # (no zeta_sd given: none)
+    with pytest.raises(ModelError, match=r"zeta_sd = .*one standard deviation >= 0 per frequency"):
+        rayleigh_fit(F, zeta, zeta_sd=[1e-3, -1e-3, 1e-3, 1e-3])

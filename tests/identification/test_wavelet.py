@@ -211,3 +211,30 @@ def test_heavy_damping_outside_the_default_search_names_search():
     assert r.zeta == pytest.approx(z, rel=1e-3)
     assert r.f_ridge_hz == pytest.approx((1 - 2 * z * z) / np.sqrt(1 - z * z) * fn, rel=1e-3)
     assert r.f_natural_hz == pytest.approx(fn, rel=1e-3)
+
+
+def test_the_damping_uncertainty_and_the_rayleigh_factors_are_the_scatter_over_noise_draws(synth):
+    """Review Q: zeta, alpha and beta were printed to 5-6 digits with no uncertainty. Three viscous modes
+    (100.23, 143.7, 260.11 Hz; zeta of alpha = 6 1/s, beta = 2e-5 s: 1.1, 1.2, 1.8 %), 2 s at 2048 Hz, white
+    noise 3 % of the record's peak, 20 draws: the errors of zeta over RidgeResult.zeta_sd, and of alpha and beta
+    over the propagated RayleighFit.alpha_sd, beta_sd, have an rms near 1 (measured over 30 draws: zeta 1.17,
+    1.41, 0.74 per mode, alpha 0.72, beta 0.74). The scatter itself is what the review measured: zeta 1.8, 2.9,
+    10 %, alpha 23 %, beta 13 %."""
+    from cablecasing_core.identification import rayleigh_fit
+
+    f_n, alpha, beta = np.array([100.23, 143.7, 260.11]), 6.0, 2e-5
+    zeta = alpha / (4 * np.pi * f_n) + beta * np.pi * f_n
+    t = np.arange(0, 2.0, 1 / FS)
+    x0 = synth.impulse(t, f_n, zeta, [1.0, 0.7, 0.5])
+    z_norm, ab_norm = [], []
+    for seed in range(20):
+        x = x0 + 0.03 * np.abs(x0).max() * np.random.default_rng(seed).standard_normal(t.size)
+        res = wavelet_damping(x, FS, f_n)
+        z_norm += [(r.zeta - z) / r.zeta_sd for r, z in zip(res, zeta)]
+        fit = rayleigh_fit([r.f_natural_hz for r in res], [r.zeta for r in res], zeta_sd=[r.zeta_sd for r in res])
+        ab_norm += [(fit.alpha - alpha) / fit.alpha_sd, (fit.beta - beta) / fit.beta_sd]
+    # 60 and 40 normalised errors: their rms estimates 1 to +-0.1 (1/sqrt(2 n)); the bounds allow that three
+    # times over and the per-mode spread measured (0.74-1.41: the window's end, where the noise floor stops it,
+    # is itself random and biases zeta low by up to 2 % there)
+    assert 0.6 < np.sqrt(np.mean(np.square(z_norm))) < 1.6, z_norm
+    assert 0.45 < np.sqrt(np.mean(np.square(ab_norm))) < 1.5, ab_norm
