@@ -147,10 +147,14 @@ def _spectrum_peaks(x, fs, count, path):
 
 #: The wavelet's advice in the words of its arguments, in the command line's.
 _DAMPING_HINTS = {
-    "skip the check (max_departure None, --max-departure off)": "skip the check (--max-departure off)",
+    "Skipping the check (max_departure None, --max-departure off)": "Skipping the check (--max-departure off)",
+    "a larger gamma (the CLI's --gamma)": "a larger --gamma",
+    "a larger gamma, the CLI's --gamma,": "a larger --gamma",
     "(allowed: max_departure = ": "(allowed: --max-departure = ",
     "cut the record (t_max)": "cut the record (--t-max)",
-    "(give t0)": "(the file's time must be 0 at the impulse)",
+    "(give t0)": "(give --t0, the first sample's time with the impulse at t = 0)",
+    "pick the response channel (the CLI's --channel)": "pick the response channel with --channel",
+    "give its time axis, t0 = the first sample's time": "give --t0, the first sample's time",
     "a smaller gamma or a noise_floor": "a smaller --gamma or a --noise-floor",
     "(search, the CLI's --search,": "(--search,",
     "(search, the CLI's --search)": "(--search)",
@@ -174,7 +178,7 @@ def _record_named(args, channel, keys=("x",)):
 #: The wavelet's arguments by the options that give them (their errors name the option).
 _DAMPING_OPTIONS = {"gamma": "--gamma", "window_tau": "--window-tau", "max_departure": "--max-departure",
                     "edge_factor": "--edge-factor", "search": "--search", "noise_floor": "--noise-floor",
-                    "t_max": "--t-max", "channel": "--channel"}  # fmt: skip
+                    "t_max": "--t-max", "channel": "--channel", "t0": "--t0"}  # fmt: skip
 
 
 def _max_departure(text):
@@ -214,6 +218,7 @@ def cmd_damping(args):
     try:
         _check_outputs(args)
         from ..identification import parameters_toml, rayleigh_fit, read_time_record_from, wavelet_damping
+        from ..identification.wavelet import refuse_pulse
         from ..model.validators import frequencies, integer, number
 
         with renamed(_DAMPING_OPTIONS):  # (the options' ranges before any work on the record)
@@ -225,8 +230,12 @@ def cmd_damping(args):
                 integer("--count", args.count, 1)
             _check_rayleigh_toml(args)
             x, fs, name, t_start = read_time_record_from(args.file, args.channel)
+            if args.t0 is not None:  # (the first sample's time, the impulse at 0: the file's axis shifted)
+                t_start = number("t0", args.t0, unit="s")
         if args.freqs:  # (each in (0, fs/2): named as the option before any work)
             frequencies("--freqs", args.freqs, fs)
+        with _hint(_DAMPING_HINTS), _record_named(args, name):  # (a force channel: said before its spectrum's peaks)
+            refuse_pulse(x, fs, t_start)
         freqs = args.freqs if args.freqs else _spectrum_peaks(x, fs, args.count, args.file)
         if args.t_max is not None:  # (on the file's time axis, as the fit's times)
             number("--t-max", args.t_max, gt=t_start, unit="s")
@@ -256,6 +265,7 @@ def cmd_damping(args):
                 f"{found} Hz, not given: on a noisy record these may be noise; give --freqs)",
             ) from None
         pre = " (a pre-trigger: the impulse at t = 0)" if t_start < 0 else ""
+        pre += " (--t0)" if args.t0 is not None else ""
         win = "" if args.window_tau is None else f"; exponential window tau = {args.window_tau:g} s taken off"
         print(
             f"# {args.file} ({name}): {x.size} samples at {fs:g} Hz from t = {t_start:g} s{pre}; Morlet gamma = "
@@ -593,10 +603,18 @@ def add_parser(subparsers):
     )
     d.add_argument("--t-max", type=float, default=None, help="latest time used in the fit (s)")
     d.add_argument(
+        "--t0",
+        type=float,
+        default=None,
+        help="time (s) of the record's first sample, the impulse at t = 0 (default: the file's time axis; -0.02 for "
+        "a record whose impulse lies 20 ms after its first sample); --t-max and the printed times are on that axis",
+    )
+    d.add_argument(
         "--max-departure",
         default=None,
         help="largest departure (nepers) of ln|W| from the fitted line before the record is refused as not one "
-        "free decay (default 0.25; 'off' skips the check: a clean record with a close neighbour's leakage)",
+        "free decay (default 0.25; 'off' skips the check: only for a clean record whose slower neighbour leaks "
+        "into the window's end; modes that beat need a larger --gamma)",
     )
     d.add_argument(
         "--window-tau",
