@@ -349,20 +349,27 @@ def _without_dc(f, H):
     return f, H
 
 
+def _nearest_peak(f, A, f0, search):
+    """``(band, j)``: the indices of ``f`` within +-search of f0 (Hz) and the local maximum of ``A`` (|H|) there
+    nearest f0, not the band's largest (a stronger neighbour within the band would take the request of a weaker
+    mode); the band's largest when it has no interior maximum."""
+    band = np.nonzero((f >= f0 * (1.0 - search)) & (f <= f0 * (1.0 + search)))[0]
+    if band.size < 3:
+        return band, None
+    inner = band[1:-1]
+    peaks = inner[(A[inner] >= A[inner - 1]) & (A[inner] >= A[inner + 1])]
+    return band, (peaks[np.argmin(np.abs(f[peaks] - f0))] if peaks.size else band[np.argmax(A[band])])
+
+
 def _fit_one(f, Hd, f0, search, lo_hz, hi_hz, eta_prev, fr_prev, bandwidths, min_side):
     """Circle, resonance and loss-factor plane of the mode near f0 on displacement-form data Hd: its
     peak is the one nearest f0 within +-search, which must lie within lo_hz..hi_hz (no further than
     halfway to a neighbouring request), where its half-power points and one-mode fit are sought."""
     A = np.abs(Hd)
     if fr_prev is None:
-        band = np.nonzero((f >= f0 * (1.0 - search)) & (f <= f0 * (1.0 + search)))[0]
+        band, j = _nearest_peak(f, A, f0, search)
         if band.size < 3:
             raise ModelError("f_res_hz", float(f0), f"fewer than 3 FRF points within +-{100 * search:g} %")
-        # the local maximum of |H| nearest f0, not the window's largest: a stronger neighbour within
-        # the window would take the request of a weaker mode
-        inner = band[1:-1]
-        peaks = inner[(A[inner] >= A[inner - 1]) & (A[inner] >= A[inner + 1])]
-        j = peaks[np.argmin(np.abs(f[peaks] - f0))] if peaks.size else band[np.argmax(A[band])]
         if j == band[0] or j == band[-1]:
             raise ModelError(
                 "f_res_hz",
@@ -371,11 +378,21 @@ def _fit_one(f, Hd, f0, search, lo_hz, hi_hz, eta_prev, fr_prev, bandwidths, min
                 "interior maximum there (give the frequency of a peak)",
             )
         if not lo_hz <= f[j] <= hi_hz:
+            other = 2.0 * (lo_hz if f[j] < lo_hz else hi_hz) - f0  # (the halfway point's other request)
+            if _nearest_peak(f, A, other, search)[1] == j:
+                why = (
+                    f"the requests at {min(f0, other):.6g} and {max(f0, other):.6g} Hz share this one peak: two modes "
+                    "closer than about their half-power bandwidth merge into one (or one mode is requested twice), "
+                    "which no circle fit separates; request one of them (its eta then holds the other's share too, "
+                    "which its uncertainty does not cover: two equal modes 0.4 bandwidths apart gave eta +25 %)"
+                )
+            else:
+                why = "give each mode once, at its own peak"
             raise ModelError(
                 "f_res_hz",
                 float(f0),
-                f"the peak of |H| nearest it, at {f[j]:g} Hz, lies beyond halfway to a neighbouring request "
-                f"({lo_hz:g}..{hi_hz:g} Hz): give each mode once, at its own peak",
+                f"the peak of |H| nearest it, at {f[j]:g} Hz, lies beyond halfway to the neighbouring request at "
+                f"{other:.6g} Hz ({lo_hz:g}..{hi_hz:g} Hz): {why}",
             )
         own = np.nonzero((f >= lo_hz) & (f <= hi_hz))[0]
         eta0 = _half_power_eta(f, A, j, own[0], own[-1])

@@ -15,9 +15,18 @@ from ..model.schema import BODY_NAMES as BODIES
 from ..model.schema import lookup
 from ..model.validators import Choice
 
+#: Significant digits of the numbers written: rounding by at most 5e-10 relative, below the tolerance to which
+#: `identify modulus` iterates a modulus (1e-9 of a frequency at least, 2e-9 in E) and far below what a
+#: measurement resolves (a circle fit's frequency to 1e-6 at best), so the model gives back what was
+#: identified; repr's 17 digits only showed the solvers' last bits (``100.22999999999767``). A table whose
+#: frequencies these digits would make equal keeps repr's.
+DIGITS = 10
 
-def _num(x):
-    return repr(float(x))
+
+def _num(x, digits=DIGITS):
+    """A TOML float of ``x`` to ``digits`` significant digits (``repr`` for None: every bit)."""
+    text = repr(float(x)) if digits is None else f"{float(x):.{digits}g}"
+    return text if any(c in text for c in ".en") else text + ".0"  # ("5000000000" would be a TOML integer)
 
 
 def _checked(body, key, value):
@@ -29,7 +38,9 @@ def _checked(body, key, value):
         except (TypeError, ValueError):
             raise ModelError(key, value, "a table must be rows [f_Hz, value]") from None
         lookup(f"{body}.{key}").check(value, key)
-        return "[" + ", ".join(f"[{_num(a)}, {_num(b)}]" for a, b in value) + "]"
+        short = [float(_num(a)) for a, _ in value]
+        digits = DIGITS if all(p < q for p, q in zip(short, short[1:])) else None
+        return "[" + ", ".join(f"[{_num(a, digits)}, {_num(b, digits)}]" for a, b in value) + "]"
     return _num(lookup(f"{body}.{key}").check(float(value), key))
 
 
@@ -56,7 +67,7 @@ def parameters_toml(
     an existing header. ``loss_factor`` and ``E`` are numbers or tables ``[[f_Hz, value], ...]``
     (``loss_factor`` may also be a list of circle-fit results). Values are checked against what
     the model file accepts (alpha, beta, loss factor >= 0; E > 0; sorted tables) and written
-    with full precision. Units: alpha 1/s, beta s, E Pa, frequencies Hz.
+    with :data:`DIGITS` (10) significant digits. Units: alpha 1/s, beta s, E Pa, frequencies Hz.
     """
     lines = []
     if comment:

@@ -34,6 +34,9 @@ from ..model.validators import array_1d, frequencies, number
 #: Condition number of the scaled least-squares matrix above which alpha and beta are not separated
 #: (module docstring: a 1 % error of the damping ratios may then change them by 100 %).
 MAX_CONDITION = 100.0
+#: Damping ratios above this are warned about: a fraction of critical damping this large is rare in a
+#: structure, and damping given in per cent (1.2 for 1.2 %) makes alpha and beta 100 times too large.
+ZETA_WARN = 0.3
 
 
 @dataclass(frozen=True)
@@ -91,7 +94,8 @@ def rayleigh_fit(
     freqs_hz : array (m,)
         Natural frequencies (Hz), m >= 2, distinct.
     zetas : array (m,)
-        Damping ratios (dimensionless).
+        Damping ratios (dimensionless fractions of critical damping), each in (0, 1); above
+        :data:`ZETA_WARN` (0.3) a warning asks whether they are per cent.
     weights : array (m,) or None
         Optional positive weights of the residuals (e.g. 1 / standard error of each zeta).
     nonnegative : bool
@@ -110,12 +114,27 @@ def rayleigh_fit(
     -----
     ModelWarning
         Frequencies too close to separate ``alpha`` and ``beta`` (the scaled matrix's condition
-        number above :data:`MAX_CONDITION`; module docstring).
+        number above :data:`MAX_CONDITION`; module docstring); a damping ratio above :data:`ZETA_WARN`.
     """
     f = array_1d("freqs_hz", freqs_hz, min_len=2)
     z = array_1d("zetas", zetas, min_len=2)
     if z.size != f.size:
         raise ModelError("zetas", f"{z.size} values", f"must have one damping ratio per frequency ({f.size})")
+    if np.any((z <= 0) | (z >= 1)):
+        k = int(np.argmax((z <= 0) | (z >= 1)))
+        raise ModelError(
+            "zetas",
+            float(z[k]),
+            f"damping ratios are fractions of critical damping, 0 < zeta < 1 (mode {k + 1}, at {f[k]:g} Hz; damping "
+            "in per cent, 1.2 for 1.2 %, is 0.012)",
+        )
+    if np.any(z > ZETA_WARN):
+        warnings.warn(
+            f"zetas: {', '.join(f'{v:g}' for v in z[z > ZETA_WARN])} above {ZETA_WARN:g}: damping ratios are fractions "
+            "of critical damping; if these are per cent, divide them by 100 (alpha and beta scale with them)",
+            ModelWarning,
+            stacklevel=2,
+        )
     if np.any(f <= 0):
         raise ModelError("freqs_hz", float(f[f <= 0][0]), "natural frequencies must be positive (Hz)")
     if np.unique(f).size < 2:

@@ -305,8 +305,15 @@ def write_uff_time(path, x, fs, name="x", t0=0.0, binary=True, **dof):
         write_uff(path, [Record("time", t, x, name, **dof)], binary=binary)
 
 
-def write_uff_frf(path, freqs_hz, H, name="H", binary=True, **dof):
-    """Write one complex FRF (at ``freqs_hz`` Hz) as UFF 58, function type 4."""
+def write_uff_frf(path, freqs_hz, H, name="H", binary=True, kind=None, **dof):
+    """Write one complex FRF (at ``freqs_hz`` Hz) as UFF 58, function type 4. ``kind`` (``circlefit.FRF_KINDS``)
+    sets the header's ordinate and denominator data types and unit labels (:data:`FRF_KIND_TYPES`), which
+    :func:`frf_kind` reads back; None leaves them 0 (unknown) unless ``dof`` gives them."""
+    if kind is not None:
+        from .circlefit import FRF_KINDS
+
+        num, den, unit, den_unit = FRF_KIND_TYPES[Choice(*FRF_KINDS)("kind", kind)]
+        dof = {"data_type": num, "denominator_type": den, "unit": unit, "denominator_unit": den_unit, **dof}
     with renamed({"records[0].x": "freqs_hz", "records[0].data": "H"}):
         write_uff(path, [Record("frf", freqs_hz, H, name, **dof)], binary=binary)
 
@@ -431,6 +438,15 @@ def frequency_units_text() -> str:
 #: FRF kind (circlefit.FRF_KINDS) from the UFF 58 data types of ordinate (numerator) and denominator:
 #: 8 displacement, 9 reaction force, 11 velocity, 12 acceleration, 13 excitation force.
 _FORCE = (9, 13)
+#: What :func:`write_uff_frf` writes for a kind: (ordinate data type, denominator data type, their unit labels);
+#: :func:`frf_kind` reads each back as that kind (apparent mass as the ``trfam`` command writes it, reaction
+#: force over acceleration).
+FRF_KIND_TYPES = {
+    "displacement": (8, 13, "m", "N"),
+    "velocity": (11, 13, "m/s", "N"),
+    "acceleration": (12, 13, "m/s2", "N"),
+    "apparent_mass": (9, 12, "N", "m/s2"),
+}
 
 
 def _abscissa_scale(path, name, kind, label):

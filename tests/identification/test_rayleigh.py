@@ -148,3 +148,16 @@ def test_the_factors_uncertainty_is_the_damping_ratios_carried_through_eq_44():
     assert np.isnan(rayleigh_fit(F, zeta).alpha_sd)  # (no zeta_sd given: none)
     with pytest.raises(ModelError, match=r"zeta_sd = .*one standard deviation >= 0 per frequency"):
         rayleigh_fit(F, zeta, zeta_sd=[1e-3, -1e-3, 1e-3, 1e-3])
+
+
+def test_damping_ratios_outside_0_1_are_refused_and_large_ones_warned():
+    """Review Q: rayleigh_fit took negative damping ratios and ratios >= 1 (damping in per cent gave alpha 100
+    times too large) without a word. A ratio <= 0 or >= 1 is refused naming zetas, the value and the mode;
+    above 0.3 a warning asks whether they are per cent, and the fit is Eq. (42) solved as before."""
+    for zeta, k in (([-0.01, 0.01], 1), ([0.01, 0.0], 2), ([1.0, 0.8], 1)):
+        with pytest.raises(ModelError, match=rf"0 < zeta < 1 \(mode {k}, at .* per cent, 1.2 for 1.2 %") as e:
+            rayleigh_fit(F[:2], zeta)
+        assert e.value.key == "zetas" and e.value.value == zeta[k - 1]
+    with pytest.warns(ModelWarning, match=r"zetas: 0.35 above 0.3: .* if these are per cent, divide them by 100"):
+        fit = rayleigh_fit(F[:2], [0.35, 0.01])
+    np.testing.assert_allclose([fit.alpha, fit.beta], np.linalg.solve(eq42(F[:2]), [0.35, 0.01]), rtol=1e-9)
