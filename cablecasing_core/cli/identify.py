@@ -37,8 +37,8 @@ def _check_outputs(args):
     check_distinct(("file", args.file), ("--model", getattr(args, "model", None)), ("--toml", args.toml))
 
 
-#: ``identify modulus --resolution`` (Hz) for a table ``mode,f_hz`` (the paper's 0.5 Hz); an FRF's is
-#: its line spacing.
+#: ``identify modulus --resolution`` (Hz) for a table ``mode,f_hz`` (the paper's 0.5 Hz); an FRF's frequencies
+#: are iterated to a tenth of their circle fits' uncertainty (to half the line spacing for its peaks).
 TABLE_RESOLUTION_HZ = 0.5
 
 #: find_resonances' advice when an FRF has fewer peaks than asked for, in the words of its arguments.
@@ -684,8 +684,9 @@ def add_parser(subparsers):
         type=float,
         default=None,
         help="frequency resolution of the measurement (Hz): each mode's modulus is updated at least once, then "
-        f"until its frequency is within half of it (default: an FRF's line spacing; {TABLE_RESOLUTION_HZ:g} Hz, "
-        "the paper's, for a table mode,f_hz)",
+        f"until its frequency is within half of it (default: {TABLE_RESOLUTION_HZ:g} Hz, the paper's, for a table "
+        "mode,f_hz; for an FRF a fifth of its circle fits' smallest frequency uncertainty, or its line spacing "
+        "for its peaks)",
     )
     m.add_argument("--degree", type=int, default=2, help="degree of the smooth fit in ln f (-1: no smoothing)")
     _unsettled_options(m, " (an FRF file)")
