@@ -479,6 +479,11 @@ def _run_dask(todo, evaluate, kwargs, outputs, write, bar, client, max_in_flight
         keyed.clear()
         return n
 
+    def scheduler_lost(exc, lost_already=0):
+        """The InfrastructureError of a lost scheduler, the samples in flight passed to ``lost`` first
+        (``lost_already``: those passed before, counted in the message)."""
+        return _lost_scheduler(exc, lost_already + lose_in_flight(f"the dask scheduler was lost ({_cause(exc)})"))
+
     def submit_next():
         item = next(pending, None)
         if item is not None:
@@ -486,7 +491,7 @@ def _run_dask(todo, evaluate, kwargs, outputs, write, bar, client, max_in_flight
             try:
                 fut = client.submit(evaluate_sample, evaluate, kwargs, i, p, outputs, pure=False)
             except Exception as exc:
-                raise _lost_scheduler(exc, lose_in_flight(f"the dask scheduler was lost ({_cause(exc)})")) from None
+                raise scheduler_lost(exc) from None
             keyed[fut] = i
 
     for _ in range(window):
@@ -502,7 +507,7 @@ def _run_dask(todo, evaluate, kwargs, outputs, write, bar, client, max_in_flight
                 "same command again to go on (the finished rows are kept)"
             ) from None
         except (Exception, asyncio.CancelledError) as exc:  # (FuturesCancelledError: the scheduler is gone)
-            raise _lost_scheduler(exc, lose_in_flight(f"the dask scheduler was lost ({_cause(exc)})")) from None
+            raise scheduler_lost(exc) from None
         for fut in done:
             i = keyed.pop(fut)
             try:
@@ -512,8 +517,7 @@ def _run_dask(todo, evaluate, kwargs, outputs, write, bar, client, max_in_flight
                 if lost is not None:
                     lost(i, _cause(exc))
                 if client.status != "running":  # the scheduler is gone: the rest would wait for nothing
-                    n = 1 + lose_in_flight(f"the dask scheduler was lost ({_cause(exc)})")
-                    raise _lost_scheduler(exc, n) from None
+                    raise scheduler_lost(exc, lost_already=1) from None
             else:
                 write(row)
                 bar.update(1)

@@ -196,10 +196,8 @@ def run_study(
         with study_lock(path):
             recover_header(path, params, outputs, quantity)
             # (the design, the file prepared or resumed, the samples not yet done run)
-            n_base = base_points(bounds, n)
             old = read_meta(path)
-            if old is not None and isinstance(old.get("n_base"), int):
-                n_base = max(n_base, old["n_base"])  # a study is never shrunk
+            n_base = _base_points_of(bounds, n, old)
             n = n_base * group_size(bounds)
             design = sobol_design(bounds, n_base, seed)
             meta = {
@@ -228,11 +226,9 @@ def run_study(
             fixed = {} if the_model is None else the_model.parameters()  # (what the constraints see besides)
             try:
                 todo, rejected = [], []
-                for i in range(n):
-                    if i in done:
-                        continue
-                    p = {k: float(v) for k, v in zip(params, design[i])}
-                    reason = next((r for r in (c({**fixed, **p}) for c in constraints) if r), None)
+                for i, p, reason in _samples(
+                    design, params, fixed, constraints, [i for i in range(n) if i not in done]
+                ):
                     if reason:
                         writer.write({"index": i, "status": "infeasible", "error": reason, "elapsed_s": 0.0})
                         done.add(i)
@@ -293,11 +289,8 @@ def _kernels(path, old, now):
         return kernels, None
     then, other = (before[-1], new[0]) if before else (new[0], new[1])
     differ = sorted({k for k in set(other) | set(then) if other.get(k) != then.get(k)})
-    said = "; ".join(f"{k} {then.get(k, 'not set')!r} then, {other.get(k, 'not set')!r} now" for k in differ)
-    if not before:
-        said = "; ".join(
-            f"{k} {then.get(k, 'not set')!r} on one, {other.get(k, 'not set')!r} on another" for k in differ
-        )
+    first, second = ("then", "now") if before else ("on one", "on another")
+    said = "; ".join(f"{k} {then.get(k, 'not set')!r} {first}, {other.get(k, 'not set')!r} {second}" for k in differ)
     what = (
         f"the study in {path} goes on with other floating-point kernels than its rows so far were computed with"
         if before
@@ -319,19 +312,27 @@ def _check_samples(check_samples, path, bounds, n, seed, constraints, kwargs, mo
         old = read_meta(path)
     except ModelError:  # (an unreadable sidecar: refused by the run, which names it)
         old = None
+    design = sobol_design(bounds, _base_points_of(bounds, n, old), seed)
+    every = _samples(design, tuple(bounds), model.parameters(), constraints, range(len(design)))
+    check_samples(kwargs, ((i, p) for i, p, reason in every if not reason), bounds, model=model)
+
+
+def _base_points_of(bounds, n, old):
+    """The base points of a study of ``n`` samples over ``bounds`` whose file's sidecar is ``old``
+    (None: a new study): :func:`base_points`, or the file's when larger (a study is never shrunk)."""
     n_base = base_points(bounds, n)
     if old is not None and isinstance(old.get("n_base"), int):
         n_base = max(n_base, old["n_base"])
-    design = sobol_design(bounds, n_base, seed)
-    fixed = model.parameters()
+    return n_base
 
-    def samples():
-        for i, row in enumerate(design):
-            p = {k: float(v) for k, v in zip(bounds, row)}
-            if not any(c({**fixed, **p}) for c in constraints):
-                yield i, p
 
-    check_samples(kwargs, samples(), bounds, model=model)
+def _samples(design, params, fixed, constraints, indices):
+    """``(i, p, reason)`` for each sample ``i`` of ``indices``: its parameters ``p`` ({key: value}
+    from row i of ``design``) and the first reason a constraint gives to reject it, seeing ``fixed``
+    (the model's values) besides ``p`` (None: feasible)."""
+    for i in indices:
+        p = {k: float(v) for k, v in zip(params, design[i])}
+        yield i, p, next((r for r in (c({**fixed, **p}) for c in constraints) if r), None)
 
 
 def _study_model(evaluate, fn, model, evaluate_kwargs):
