@@ -103,6 +103,18 @@ def _unsettled(args, fits):
     )
 
 
+def _fitted_toml(args, fits, comment, **values):
+    """The TOML (``parameters_toml`` of ``--body``) of ``values`` identified through the circle fits ``fits``
+    (none: nothing to settle), its ``comment`` marked NOT SETTLED when their neighbour correction did not settle
+    (:func:`_unsettled`); then :func:`_toml_of_unsettled`."""
+    from ..identification import parameters_toml
+
+    note = _unsettled(args, fits) if fits else None
+    toml = parameters_toml(args.body, comment=comment + (f"\nNOT SETTLED: {note}" if note else ""), **values)
+    _toml_of_unsettled(args, toml, note)
+    return toml
+
+
 def _toml_of_unsettled(args, toml, note):
     """A ModelError naming --toml (after printing the TOML) when the fits did not settle and --toml is given
     without --allow-unsettled: unsettled values are not written silently."""
@@ -347,7 +359,7 @@ def _peaks_found(args):
 def cmd_loss_factor(args):
     try:
         _check_outputs(args)
-        from ..identification import loss_factor_circle, parameters_toml, read_frf_kind
+        from ..identification import loss_factor_circle, read_frf_kind
         from ..model.validators import frequencies, integer
 
         if args.freqs:
@@ -412,10 +424,7 @@ def cmd_loss_factor(args):
             "the plane's diagonal, of which eta is the median (near 0: one clean circle)"
         )
         lf = res[0].eta if len(res) == 1 else res
-        note = _unsettled(args, res)
-        comment = f"loss factor identified from {args.file}" + (f"\nNOT SETTLED: {note}" if note else "")
-        toml = parameters_toml(args.body, loss_factor=lf, comment=comment)
-        _toml_of_unsettled(args, toml, note)
+        toml = _fitted_toml(args, res, f"loss factor identified from {args.file}", loss_factor=lf)
         _emit(args, toml, "plot_circles", res)
         return 0
     except CableCasingError as exc:
@@ -489,7 +498,7 @@ def _read_measured(path, modes_arg, channel, max_iter=None):
 def cmd_modulus(args):
     try:
         _check_outputs(args)
-        from ..identification import identify_modulus_model, parameters_toml
+        from ..identification import identify_modulus_model
         from ..model import load_model
         from ..model.validators import integer, number
 
@@ -553,10 +562,8 @@ def cmd_modulus(args):
             res.modes, res.f_measured_hz, sd, res.f_computed_hz, res.E_mode, E_unc, res.history
         ):
             print(f"{m:>4} {fm:>10.4f} {u:>9.2g} {fc:>10.4f} {E:>12.5g} {100 * dE / E:>8.2g} {len(h) - 1:>5}")
-        note = _unsettled(args, frf["fits"]) if frf and frf["fits"] else None
-        comment = f"dynamic modulus E(f) identified from {args.file}" + (f"\nNOT SETTLED: {note}" if note else "")
-        toml = parameters_toml(args.body, E=res.table, comment=comment)
-        _toml_of_unsettled(args, toml, note)
+        fits = frf["fits"] if frf else []
+        toml = _fitted_toml(args, fits, f"dynamic modulus E(f) identified from {args.file}", E=res.table)
         _emit(args, toml, "plot_modulus", res)
         return 0
     except CableCasingError as exc:
