@@ -16,7 +16,8 @@ support forces' mean, RMS total and RMS dynamic, N); ``simulation.png`` (time hi
 re 1 N; a band more than :data:`~cablecasing_core.studies.octave.NO_RESPONSE_DB` below its variant's strongest holds no
 response and is left out of the figure and dashed in the table); ``bands_net_B.csv`` (a model with a
 cable: the band levels of the reference records' casing.B.Fz, cable.B.Fz and their sum net.B.Fz, the
-force the transmission at B receives); ``psd.png`` (casing.B.Fz and net.B.Fz, from 2 df, where
+force the transmission at B receives); ``bands_net_B_<variant>.csv`` (net.B.Fz's ensemble, of the same
+runs as ``bands_<variant>.csv``); ``psd.png`` (casing.B.Fz and net.B.Fz, from 2 df, where
 Welch's lines measure); ``apparent_mass.png`` (H1 of a reference record against the TRFAM averaged
 over the estimator's window, what H1 estimates, and the TRFAM as computed); ``study/study.csv``,
 ``study/correlations.png`` (Fig. 23) and ``study/sobol.png``. The page states what the band levels'
@@ -311,6 +312,8 @@ def _write(out, model, duration, n_seeds, study_samples, skip, progress, fmu, co
         run_variant(v, duration, seed_list, skip, progress)
         if v.ensemble is not None:
             v.ensemble.save(out / f"bands_{v.key}.csv")
+        if v.net_ensemble is not None:
+            v.net_ensemble.save(out / f"bands_net_B_{v.key}.csv")
     _say("figures", progress)
     f_min, f_max = figures.SCALOGRAM_HZ[0], figures.SCALOGRAM_HZ[-1]  # (the scalograms' range, Hz)
     harmonics = drive_harmonics(model, f_max)  # all of them up to f_max; the scalogram draws the first few
@@ -338,6 +341,7 @@ def _write(out, model, duration, n_seeds, study_samples, skip, progress, fmu, co
                 "seed_overrides": v.seed_overrides,
                 "record": v.record.relative_to(out).as_posix(),
                 "ensemble": f"bands_{v.key}.csv" if v.ensemble is not None else None,
+                "net_ensemble": f"bands_net_B_{v.key}.csv" if v.net_ensemble is not None else None,
                 "ensemble_first_member_vs_record": v.member_check,
                 "energies": getattr(v.result, "energies", None),
             }

@@ -227,7 +227,16 @@ def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, o
                 _e(v.title),
                 _e(", ".join(f"{k} = {x}" for k, x in v.seed_overrides.items()) or "-"),
                 f"<a href='{v.record.relative_to(out).as_posix()}'>{_e(v.record.relative_to(out).as_posix())}</a>",
-                f"<a href='bands_{v.key}.csv'>bands_{v.key}.csv</a> ({ens.n} seeds)" if ens is not None else "-",
+                (
+                    f"<a href='bands_{v.key}.csv'>bands_{v.key}.csv</a> ({ens.n} seeds)"
+                    + (
+                        f", <a href='bands_net_B_{v.key}.csv'>bands_net_B_{v.key}.csv</a> ({NET_OUTPUT})"
+                        if v.net_ensemble is not None
+                        else ""
+                    )
+                    if ens is not None
+                    else "-"
+                ),
                 _g(v.member_check, 3),
             )
         )
@@ -720,9 +729,66 @@ def _bands(variants, model, info):
 
 
 def net_parts(variants, info):
+    """The band levels of the force into B, net.B.Fz = casing.B.Fz + cable.B.Fz: the ensemble means
+    with their intervals and net.B.Fz against casing.B.Fz paired member by member
+    (``Variant.net_ensemble``, of the same runs as ``Variant.ensemble``; bands_net_B_<variant>.csv),
+    or, when no variant has an ensemble, the reference records' levels (:func:`_net_single_parts`).
+    HTML, or nothing for a model without a cable."""
+    from ..studies.ensemble import paired_difference
+    from ..studies.octave import NO_RESPONSE_DB, no_response
+
+    vs = [v for v in variants if v.net_ensemble is not None]
+    if not vs:
+        return _net_single_parts(variants, info)
+    e0 = vs[0].net_ensemble
+    head = ["band", "Hz"]
+    for v in vs:
+        head += [f"{v.title}: {NET_OUTPUT} mean (N)", "95 % CI (N)", f"re {OUTPUT} (dB)", "95 % CI (dB)"]
+    rows = []
+    for b, lab in enumerate(e0.labels):
+        row = [lab, f"{e0.lower[b]:g}-{e0.upper[b]:g}"]
+        for v in vs:
+            net, casing = v.net_ensemble, v.ensemble
+            pd = paired_difference(net.levels, casing.levels)  # (r = mean net / mean casing - 1, paired)
+            lo_r, hi_r = (x[b] for x in pd.ci(0.95))
+            if no_response(net.mean)[b] or no_response(casing.mean)[b]:
+                row += ["–", "–", "–", "–"]
+                continue
+            lo, hi = (x[b] for x in net.ci(0.95))
+            row += [
+                _g(net.mean[b], 4),
+                f"{_g(lo, 3)} to {_g(hi, 3)}",
+                f"{20 * np.log10(1 + pd.r[b]):+.1f}",
+                f"{_ratio_db(1 + lo_r)} to {_ratio_db(1 + hi_r)}",
+            ]
+        rows.append(row)
+    n = e0.n
+    return [
+        f"<h2>The force into the transmission at B: {NET_OUTPUT} beside {OUTPUT} (Table 3, ensemble means)</h2>",
+        _table(head, rows, numeric=tuple(range(2, len(head)))),
+        f"<p class='note'>At end B the casing's abutment and the cable's end attach to one part, the transmission, "
+        f'so what it receives is their sum, {NET_OUTPUT} = {OUTPUT} + cable.B.Fz (docs/nvh.md, "Net forces and '
+        'paths"; <code>cablecasing bands RECORD --column net.B.Fz</code> gives it from any record). Its band '
+        "levels are those of the summed samples, not the sum of the two bodies' levels: where the cable and the "
+        "casing carry one loop (the cable's drive pulls the part the casing pushes), their forces cancel in part. "
+        f"Means over the same {n} seeds as the ensembles of {OUTPUT} above, from the same runs "
+        "(bands_net_B_&lt;variant&gt;.csv: one row per seed), Student-t 95 % intervals; "
+        f"re {OUTPUT}: the ratio of the two means in dB, its interval from the members paired seed by seed "
+        "(<code>paired_difference</code>, docs/studies.md), which removes the scatter the excitation explains in "
+        f"both. –: no response (more than {NO_RESPONSE_DB:g} dB below the column's strongest band, as above). "
+        "bands_net_B.csv holds the reference records' casing.B.Fz, cable.B.Fz and net.B.Fz.</p>",
+    ]
+
+
+def _ratio_db(x):
+    """A ratio of levels (-) in dB, "-inf" at or below 0 (a paired interval's lower end may reach it)."""
+    return f"{20 * np.log10(x):+.1f}" if x > 0 else "-inf"
+
+
+def _net_single_parts(variants, info):
     """The band levels of the force into B, net.B.Fz = casing.B.Fz + cable.B.Fz, beside casing.B.Fz
     and cable.B.Fz, of each variant's reference record (``Variant.net_bands``; bands_net_B.csv):
-    HTML, or nothing for a model without a cable."""
+    HTML, or nothing for a model without a cable (the page's table when no variant has an ensemble)."""
     from ..studies.octave import NO_RESPONSE_DB, no_response
 
     vs = [v for v in variants if v.net_bands is not None]

@@ -38,9 +38,10 @@ NET_OUTPUT = "net.B.Fz"
 class Variant:
     """One scenario of the report: ``key`` (file names), ``title``, its ``model``, the saved
     reference record ``record`` (path), the reference ``result`` (read back from it), the
-    band-level ``ensemble`` (None without a random excitation) and ``net_bands``, the Table 3 band
-    RMS (``BandRMS``, N) of the reference record's casing.B.Fz, cable.B.Fz and
-    :data:`NET_OUTPUT` ({name: BandRMS}; None for a model without a cable)."""
+    band-level ``ensemble`` of :data:`OUTPUT` (None without a random excitation), ``net_ensemble``,
+    that of :data:`NET_OUTPUT` from the same runs (None also for a model without a cable), and
+    ``net_bands``, the Table 3 band RMS (``BandRMS``, N) of the reference record's casing.B.Fz,
+    cable.B.Fz and :data:`NET_OUTPUT` ({name: BandRMS}; None for a model without a cable)."""
 
     key: str
     title: str
@@ -52,6 +53,7 @@ class Variant:
     member_check: float = float("nan")
     files: list = field(default_factory=list)
     net_bands: dict | None = None
+    net_ensemble: Ensemble | None = None
 
 
 def cable_excitations(model: Model) -> list[str]:
@@ -94,9 +96,10 @@ def variants(model: Model, out: Path, first_seed: int) -> list[Variant]:
 
 def run_variant(var: Variant, duration: float, seeds: list[int], skip: float, progress: bool) -> None:
     """The reference record (saved, then read back), the band-level ensemble of one variant and, for
-    a model with a cable, the reference record's band levels of the force into B (:data:`NET_OUTPUT`)."""
+    a model with a cable, the reference record's band levels of the force into B (:data:`NET_OUTPUT`)
+    and its ensemble from the same runs."""
     from ..records import after_skip
-    from ..studies import random_excitations, seed_ensemble
+    from ..studies import random_excitations, seed_ensembles
     from ..timedomain.simulation import SimulationResult, simulate
 
     model = var.model.with_overrides(var.seed_overrides)
@@ -107,7 +110,9 @@ def run_variant(var: Variant, duration: float, seeds: list[int], skip: float, pr
     if "cable" in var.model.bodies:
         var.net_bands = net_bands(var.result.records(), skip)
     if random_excitations(var.model) and len(seeds) >= 2:
-        var.ensemble = seed_ensemble(var.model, seeds, output=OUTPUT, duration=duration, skip=skip, progress=progress)
+        outputs = (OUTPUT, NET_OUTPUT) if "cable" in var.model.bodies else (OUTPUT,)
+        ens = seed_ensembles(var.model, seeds, outputs=outputs, duration=duration, skip=skip, progress=progress)
+        var.ensemble, var.net_ensemble = ens[OUTPUT], ens.get(NET_OUTPUT)
         from ..studies import octave_rms
 
         r = var.result

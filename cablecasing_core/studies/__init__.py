@@ -18,7 +18,7 @@ Modules: ``octave`` (band RMS), ``sampling`` (bounds, Saltelli's design, constra
 
 from .correlation import GAP, Correlation, correlations
 from .ensemble import Ensemble, PairedDifference, load_ensemble, paired_difference, pool_ensembles
-from .ensemble_runs import random_excitations, seed_ensemble, seed_overrides
+from .ensemble_runs import random_excitations, seed_ensemble, seed_ensembles, seed_overrides
 from .evaluators import DEFAULT_EVALUATE, DEFAULT_OUTPUTS, default_evaluate
 from .executor import execute, resolve_evaluate
 from .octave import TABLE3_LOWER, TABLE3_UPPER, BandRMS, Bands, octave_bands, octave_rms
@@ -77,5 +77,6 @@ __all__ = [
     "resolve_evaluate",
     "run_study",
     "seed_ensemble",
+    "seed_ensembles",
     "seed_overrides",
 ]

@@ -135,6 +135,45 @@ def seed_ensemble(
     ModelError
         For bad input (before any run), and when a member fails (naming its seed and the error).
     """
+    return seed_ensembles(
+        model,
+        seeds,
+        outputs=(output,),
+        bands=bands,
+        duration=duration,
+        dt=dt,
+        skip=skip,
+        window=window,
+        overrides=overrides,
+        excitations=excitations,
+        scheduler=scheduler,
+        n_workers=n_workers,
+        progress=progress,
+    )[output]
+
+
+def seed_ensembles(
+    model: Model | str | os.PathLike | None = None,
+    seeds: int | Sequence[int] = 8,
+    *,
+    outputs: Sequence[str] = ("casing.B.Fz",),
+    bands: str | Bands = "table3",
+    duration: float | None = None,
+    dt: float | None = None,
+    skip: float | None = None,
+    window: str = "hann",
+    overrides: Mapping[str, object] | None = None,
+    excitations: Sequence[str] | None = None,
+    scheduler="serial",
+    n_workers: int | None = None,
+    progress: bool = False,
+) -> dict[str, Ensemble]:
+    """The band levels of several support outputs over one ensemble of excitation seeds, from the
+    same runs: ``{output: Ensemble}``, each as :func:`seed_ensemble` gives it for that output (the
+    same seeds, settings, contact times and warnings), for the cost of one ensemble. The outputs of
+    one member are of one record, so they can be compared member by member (e.g. ``casing.B.Fz``
+    and ``net.B.Fz``, the force into the part end B attaches to). ``outputs``: one or more support
+    outputs (N or N.m), each named once; the other parameters are :func:`seed_ensemble`'s."""
     from ..model import Model, load_model
     from ..timedomain.scenario import whole_period_skip
 
@@ -148,7 +187,10 @@ def seed_ensemble(
     seconds("skip", skip, zero_ok=True, none_ok=True)
     Choice(*WINDOWS)("window", window)
     # (a clip's force too, and a sum of them: net.B.Fz, paths.Fz, a+b, docs/nvh.md "Net forces and paths")
-    check_column_name(output, SUPPORT_OUTPUTS + clip_outputs(model), "output")
+    if isinstance(outputs, str) or not len(outputs) or len(set(outputs)) != len(outputs):
+        raise ModelError("outputs", outputs, "must be a sequence of one or more support outputs, each once")
+    for output in outputs:
+        check_column_name(output, SUPPORT_OUTPUTS + clip_outputs(model), "output")
     band_set = bands if isinstance(bands, Bands) else octave_bands(bands)
     names = _check_excitations(model, excitations)
     overrides = dict(overrides or {})
@@ -172,28 +214,29 @@ def seed_ensemble(
         "dt": dt,
         "skip": skip,
         "model": base,
-        "output": output,
+        "output": tuple(outputs),
         "bands": band_set,
         "contact_time": True,
         "window": window,
     }
     # (contact, and so a contact time per cable node, needs the cable and the casing)
     nodes = base.geometry["n_elements"] + 1 if {"cable", "casing"} <= set(base.bodies) else 0
-    outputs = tuple(band_set.labels) + tuple(f"contact_time_{k}" for k in range(nodes))
+    levels = tuple(f"{o}:{b}" for o in outputs for b in band_set.labels)
+    columns = levels + tuple(f"contact_time_{k}" for k in range(nodes))
     todo = [(i, seed_overrides(base, s, names)) for i, s in enumerate(seeds)]
 
     rows = _Rows()
     bar = _progress_bar(len(todo), progress)
     try:
         label = lambda i: f"seed {seeds[i]}"  # noqa: E731
-        execute(todo, DEFAULT_EVALUATE, kwargs, outputs, rows, bar, scheduler, n_workers, label=label)
+        execute(todo, DEFAULT_EVALUATE, kwargs, columns, rows, bar, scheduler, n_workers, label=label)
     finally:
         bar.close()
     failed = [(seeds[i], r["error"]) for i, r in sorted(rows.rows.items()) if r["status"] != "ok"]
     if failed:
         s, err = failed[0]
         raise ModelError("seeds", s, f"run failed ({err}); {len(failed)} of {len(seeds)} members failed")
-    table = np.array([[rows.rows[i][o] for o in outputs] for i in range(len(seeds))])
+    table = np.array([[rows.rows[i][c] for c in columns] for i in range(len(seeds))])
     nb = len(band_set.labels)
     settings = {
         "duration": float(base.scenario["duration"] if duration is None else duration),
@@ -203,18 +246,22 @@ def seed_ensemble(
         "model": base.fingerprint(),
         "base_model": model.fingerprint(),  # (before the overrides: two ensembles compared must share it)
     }
-    return Ensemble(
-        np.array(seeds),
-        output,
-        tuple(band_set.labels),
-        np.asarray(band_set.lower, float),
-        np.asarray(band_set.upper, float),
-        table[:, :nb],
-        overrides,
-        table[:, nb:],
-        settings,
-        {int(seeds[i]): r["warnings"] for i, r in sorted(rows.rows.items()) if r.get("warnings")},
-    )
+    warned = {int(seeds[i]): r["warnings"] for i, r in sorted(rows.rows.items()) if r.get("warnings")}
+    return {
+        output: Ensemble(
+            np.array(seeds),
+            output,
+            tuple(band_set.labels),
+            np.asarray(band_set.lower, float),
+            np.asarray(band_set.upper, float),
+            table[:, k * nb : (k + 1) * nb],
+            dict(overrides),
+            table[:, len(levels) :].copy(),
+            dict(settings),
+            dict(warned),
+        )
+        for k, output in enumerate(outputs)
+    }
 
 
 class _NoBar:

@@ -94,7 +94,8 @@ def default_evaluate(
     ``scenario.dt``); model_file: a model TOML (default the built-in specimen); model: a
     :class:`~cablecasing_core.model.Model` to use instead of ``model_file``; output: the support
     output whose band levels are returned (N or N.m: a support or isolator output of ``SUPPORT_OUTPUTS``
-    or a clip's, ``casing.clip0.Fz``); bands: the band
+    or a clip's, ``casing.clip0.Fz``; or a tuple of them, whose levels of the one record return
+    as ``"<output>:<band>"``, as :func:`~.ensemble_runs.seed_ensembles` takes them); bands: the band
     set of :func:`~cablecasing_core.studies.octave.octave_rms`; contact_time: also return the contact
     time per cable node (s, Fig. 22) as ``"contact_time_<i>"``; window: the window of the band
     levels (``octave_rms``'s: ``"hann"``, or ``"boxcar"`` as the docs' tables before 2026-12-06).
@@ -135,8 +136,13 @@ def _band_levels(model, duration, dt, skip, output, bands, contact_time, window)
         raise ModelError("skip", skip, f"must leave part of the {res.time[-1]:.6g} s record for the RMS")
     fs = 1.0 / (res.time[1] - res.time[0])
     # (check_record_settings warned before the runs of bands with few lines: not once per run)
-    x = res.support_force(output)[keep]
-    out = octave_rms(x, fs, bands, warn_few_lines=False, **window_options(window)).as_dict()
+    # (several outputs of the one record, as seed_ensembles takes them: keys "<output>:<band>")
+    names = (output,) if isinstance(output, str) else tuple(output)
+    out = {}
+    for name in names:
+        x = res.support_force(name)[keep]
+        levels = octave_rms(x, fs, bands, warn_few_lines=False, **window_options(window)).as_dict()
+        out.update(levels if isinstance(output, str) else {f"{name}:{k}": v for k, v in levels.items()})
     if contact_time:
         out.update({f"contact_time_{i}": float(v) for i, v in enumerate(res.contact_time)})
     return out

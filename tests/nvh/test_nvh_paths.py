@@ -231,3 +231,32 @@ def test_the_report_shows_the_net_force_at_b_as_bands_gives_it(tmp_path, capsys)
     assert cells[1:4] == [page._g(var.net_bands[n].rms[3], 4) for n in var.net_bands]
     assert cells[4] == f"{20 * np.log10(net[3] / casing[3]):+.1f}"
     assert "net.B.Fz = casing.B.Fz + cable.B.Fz" in html
+
+
+@pytest.mark.filterwarnings("ignore:.*fewer than 4 FFT lines")  # (0.2 s records: octaves 1-2 are not the point)
+def test_the_report_gives_the_net_force_at_b_as_an_ensemble_paired_with_casing(tmp_path):
+    """With seeds, the report's net.B.Fz table holds net.B.Fz's ensemble means (of the same runs as
+    casing.B.Fz's ensemble, each member the summed forces of that seed's run) with their intervals,
+    and their ratio to casing.B.Fz's means in dB with the paired interval (paired_difference)."""
+    from cablecasing_core.report import page
+    from cablecasing_core.report.runs import NET_OUTPUT, OUTPUT, run_variant, variants
+    from cablecasing_core.studies import paired_difference, seed_ensemble
+
+    skip, seeds = 0.06, [1, 2, 3]
+    var = variants(cc.load_model(), tmp_path, 1)[1]
+    run_variant(var, 0.2, seeds, skip, progress=False)
+    net, casing = var.net_ensemble, var.ensemble
+    assert net.output == NET_OUTPUT and casing.output == OUTPUT and np.array_equal(net.seeds, seeds)
+    alone = seed_ensemble(var.model, seeds, output=NET_OUTPUT, duration=0.2, skip=skip)  # (runs of their own)
+    np.testing.assert_array_equal(net.levels, alone.levels)  # (the same runs, bit for bit)
+    html = "\n".join(page.net_parts([var], {"skip": skip}))
+    assert "ensemble means" in html and "paired" in html
+    pd = paired_difference(net.levels, casing.levels)
+    lo, hi = net.ci(0.95)
+    for b in (3, 5):  # (oct4, oct6: bands with a response)
+        cells = re.findall(r"<td[^>]*>(.*?)</td>", re.search(rf"<tr><td>oct{b + 1}</td>(.*?)</tr>", html)[1])
+        assert cells[1] == page._g(net.mean[b], 4)
+        assert cells[2] == f"{page._g(lo[b], 3)} to {page._g(hi[b], 3)}"
+        assert cells[3] == f"{20 * np.log10(net.mean[b] / casing.mean[b]):+.1f}"  # (1 + r is the ratio of means)
+        r_lo, r_hi = (x[b] for x in pd.ci(0.95))
+        assert cells[4] == " to ".join(f"{20 * np.log10(1 + r):+.1f}" if r > -1 else "-inf" for r in (r_lo, r_hi))
