@@ -737,9 +737,20 @@ def net_parts(variants, info):
     from ..studies.ensemble import paired_difference
     from ..studies.octave import NO_RESPONSE_DB, no_response
 
-    vs = [v for v in variants if v.net_ensemble is not None]
-    if not vs:
+    withnet = [v for v in variants if v.net_ensemble is not None]
+    if not withnet:
         return _net_single_parts(variants, info)
+    # (a variant whose cable.B.Fz is 0, no drive at B, has net.B.Fz = casing.B.Fz in every member: said, not shown)
+    vs = [v for v in withnet if not np.array_equal(v.net_ensemble.levels, v.ensemble.levels)]
+    same = [_e(v.title) for v in withnet if v not in vs]
+    title = f"<h2>The force into the transmission at B: {NET_OUTPUT} beside {OUTPUT} (Table 3, ensemble means)</h2>"
+    same_note = (
+        f" In the variant {_and(same)} cable.B.Fz is 0 N in every member, so {NET_OUTPUT} is {OUTPUT} (above)."
+        if same
+        else ""
+    )
+    if not vs:
+        return [title, f"<p class='note'>{same_note.strip()}</p>"]
     e0 = vs[0].net_ensemble
     head = ["band", "Hz"]
     for v in vs:
@@ -764,7 +775,7 @@ def net_parts(variants, info):
         rows.append(row)
     n = e0.n
     return [
-        f"<h2>The force into the transmission at B: {NET_OUTPUT} beside {OUTPUT} (Table 3, ensemble means)</h2>",
+        title,
         _table(head, rows, numeric=tuple(range(2, len(head)))),
         f"<p class='note'>At end B the casing's abutment and the cable's end attach to one part, the transmission, "
         f'so what it receives is their sum, {NET_OUTPUT} = {OUTPUT} + cable.B.Fz (docs/nvh.md, "Net forces and '
@@ -776,7 +787,7 @@ def net_parts(variants, info):
         f"re {OUTPUT}: the ratio of the two means in dB, its interval from the members paired seed by seed "
         "(<code>paired_difference</code>, docs/studies.md), which removes the scatter the excitation explains in "
         f"both. –: no response (more than {NO_RESPONSE_DB:g} dB below the column's strongest band, as above). "
-        "bands_net_B.csv holds the reference records' casing.B.Fz, cable.B.Fz and net.B.Fz.</p>",
+        "bands_net_B.csv holds the reference records' casing.B.Fz, cable.B.Fz and net.B.Fz." + same_note + "</p>",
     ]
 
 

@@ -260,3 +260,8 @@ def test_the_report_gives_the_net_force_at_b_as_an_ensemble_paired_with_casing(t
         assert cells[3] == f"{20 * np.log10(net.mean[b] / casing.mean[b]):+.1f}"  # (1 + r is the ratio of means)
         r_lo, r_hi = (x[b] for x in pd.ci(0.95))
         assert cells[4] == " to ".join(f"{20 * np.log10(1 + r):+.1f}" if r > -1 else "-inf" for r in (r_lo, r_hi))
+    bare = variants(cc.load_model(), tmp_path, 1)[0]  # (no drive: cable.B.Fz is 0, net.B.Fz is casing.B.Fz)
+    bare.ensemble = bare.net_ensemble = net
+    html = "\n".join(page.net_parts([bare, var], {"skip": skip}))
+    assert html.count("<tr><td>oct4</td>") == 1 and f"{bare.title}: {NET_OUTPUT}" not in html
+    assert f"In the variant {bare.title} cable.B.Fz is 0 N in every member" in html
