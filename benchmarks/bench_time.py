@@ -95,9 +95,9 @@ from numba import njit
 
 import cablecasing_core as cc
 from cablecasing_core.model.schema import SUPPORT_OUTPUTS
+from cablecasing_core.nvh.bands import window_options
 from cablecasing_core.records import after_skip
 from cablecasing_core.studies import octave_rms, paired_difference
-from cablecasing_core.studies.octave import window_options
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.kernels import block_solve
 from cablecasing_core.timedomain.scenario import scenario_motion

@@ -32,9 +32,9 @@ import numpy as np
 from _record_length import require_band_record
 
 import cablecasing_core as cc
+from cablecasing_core.nvh.bands import window_options
 from cablecasing_core.records import after_skip
 from cablecasing_core.studies import octave_rms
-from cablecasing_core.studies.octave import window_options
 from cablecasing_core.timedomain.static_state import static_state
 
 #: the rectangular window (no detrending) of this script's cached references and of the docs' tables

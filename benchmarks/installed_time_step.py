@@ -37,9 +37,9 @@ import cablecasing_core as cc
 from cablecasing_core.files import write_text
 from cablecasing_core.model.load import toml_value
 from cablecasing_core.model.schema import SUPPORT_OUTPUTS
+from cablecasing_core.nvh.bands import window_options
 from cablecasing_core.records import after_skip
 from cablecasing_core.studies import octave_rms
-from cablecasing_core.studies.octave import window_options
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion
 

@@ -199,9 +199,9 @@ def linear_member(job):
     """(spec, source, n, seed, duration, skip) with the contact off: the band levels of the linear response
     (deterministic: one seed shows the mesh's own error), and the wall time."""
     import cablecasing_core as cc
+    from cablecasing_core.nvh.bands import octave_rms, window_options  # (boxcar: the cached tables')
     from cablecasing_core.records import after_skip
     from cablecasing_core.studies.ensemble_runs import seed_overrides
-    from cablecasing_core.studies.octave import octave_rms, window_options  # (boxcar: the cached tables')
 
     spec, source, n, seed, duration, skip = job
     base = mesh_model(source, n)
@@ -221,9 +221,9 @@ def member(job):
     None: the scenario's; law_length m, 0: the law per node; window of the band levels, "boxcar" for
     the cached tables of benchmarks/mesh_refinement.json)."""
     import cablecasing_core as cc
+    from cablecasing_core.nvh.bands import octave_rms, window_options
     from cablecasing_core.records import after_skip
     from cablecasing_core.studies.ensemble_runs import seed_overrides
-    from cablecasing_core.studies.octave import octave_rms, window_options
 
     spec, source, n, seed, duration, skip, dt, law_length, window = job
     base = mesh_model(source, n, law_length)

@@ -285,8 +285,8 @@ def _beyond_table3_note(terms, top_hz, step):
     at the default step, as such, where it cannot be known; and the 35 elements' mesh resolves fewer
     bending waves (about one element per wavelength of the casing at 20 kHz)."""
     from ..model.schema import lookup
+    from ..nvh.bands import TABLE3_UPPER
     from ..structure.route_summary import newmark_period_error
-    from ..studies.octave import TABLE3_UPPER
 
     if top_hz <= TABLE3_UPPER[-1] or not all(_model_output(t) for t in terms):
         return None
@@ -375,7 +375,7 @@ def _fmin_option(text):
     by ``octave_bands``' f_min (``studies.octave.FMIN_ADVICE``) said as this command's ``--fmin``."""
     import re
 
-    from ..studies.octave import FMIN_ADVICE
+    from ..nvh.bands import FMIN_ADVICE
 
     pattern = re.escape(FMIN_ADVICE).replace(re.escape("{f_min:g}"), r"([^)\s]+)")
     return re.sub(pattern, r"--fmin \1", text)
@@ -386,9 +386,8 @@ def cmd_bands(args):
 
     from ..errors import ModelError, renamed
     from ..files import atomic_path
+    from ..nvh.bands import WINDOW_NAMES, octave_bands, octave_rms, window_options
     from ..nvh.spectra import level_reference
-    from ..studies import octave_rms
-    from ..studies.octave import WINDOW_NAMES, octave_bands, window_options
     from .paths import check_distinct, check_output_path, kept
 
     check_output_path("--out", args.out, (".csv",))
@@ -499,7 +498,7 @@ def trfam_bands(args, f, H):
     from ..errors import renamed
     from ..files import atomic_path
     from ..frequency.trfam import trfam_band_rms
-    from ..studies.octave import octave_bands
+    from ..nvh.bands import octave_bands
 
     every = octave_bands(args.bands)
     with renamed({"freqs_hz": "--fmin/--fmax"}):

@@ -114,8 +114,8 @@ def _first_of(res, kinds):
 
 def cmd_study(args):
     from ..model.load import specimen_names
+    from ..nvh.bands import WINDOW_NAMES
     from ..studies import DEFAULT_EVALUATE, plot_correlations, plot_sobol, run_study
-    from ..studies.octave import WINDOW_NAMES
     from ..studies.results_store import COMMAND_QUANTITY_WHAT, read_meta
     from ..studies.sampling import base_points, group_size
     from ..studies.sensitivity import sobol_shown
@@ -309,8 +309,8 @@ def print_study(res):
     """Correlation (Pearson, Spearman) and Sobol tables of a study, one column per band with its
     edges, and the warnings when it is too small to mean anything; returns the two correlations and
     the Sobol indices (None when the study has too few complete base points)."""
+    from ..nvh.bands import octave_bands
     from ..studies import correlations, size_warnings
-    from ..studies.octave import octave_bands
     from ..studies.sensitivity import SOBOL_SHOWN, complete_groups, sobol_shown, widest_interval
 
     edges = {}
@@ -588,7 +588,7 @@ def _check_confidence(confidence):
 
 
 def _print_ensemble(ens, confidence):
-    from ..studies.octave import WINDOW_NAMES
+    from ..nvh.bands import WINDOW_NAMES
 
     unit = unit_of(ens.output)
     seeds = f"{ens.seeds[0]}..{ens.seeds[-1]}" if np.all(np.diff(ens.seeds) == 1) else "(see the CSV)"
@@ -601,7 +601,7 @@ def _print_ensemble(ens, confidence):
     print("band,f_low_hz,f_high_hz,mean,se,ci_low,ci_high,cv")
     for row in ens.as_rows(confidence):
         print(",".join([row["band"]] + [f"{row[k]:.6g}" for k in list(row)[1:]]))
-    from ..studies.octave import NO_RESPONSE_DB, no_response
+    from ..nvh.bands import NO_RESPONSE_DB, no_response
 
     if (off := no_response(ens.mean)).any():  # (their levels are the window's leakage, not a response)
         gone = ", ".join(lab for lab, o in zip(ens.labels, off) if o)

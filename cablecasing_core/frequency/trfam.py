@@ -307,7 +307,7 @@ def trfam_band_rms(freqs_hz: ArrayLike, H: ArrayLike, bands="table3", *, unit: s
     """Band values of a transfer function ``H`` sampled at ``freqs_hz`` (Hz; the TRFAM of
     :func:`trfam`, kg, or any other): in each band [f_low, f_high] (Hz) of ``bands`` (Table 3's
     octaves by default, the bands of the report's and the studies' levels; ``"octave"``,
-    ``"third"`` or a :class:`~cablecasing_core.studies.octave.Bands`) the RMS of |H| over the band,
+    ``"third"`` or a :class:`~cablecasing_core.nvh.bands.Bands`) the RMS of |H| over the band,
 
         sqrt( 1 / (f_high - f_low) * integral from f_low to f_high of |H(f)|^2 df )      (H's unit),
 
@@ -317,7 +317,7 @@ def trfam_band_rms(freqs_hz: ArrayLike, H: ArrayLike, bands="table3", *, unit: s
     The integral takes each frequency of the grid as standing for the interval halfway to its
     neighbours (the first and the last frequency for the half towards the grid), a frequency
     whose interval straddles a band's edge split in proportion, as the band levels split their FFT
-    bins (:func:`~cablecasing_core.studies.octave.band_sums`): within a band of an even grid whose
+    bins (:func:`~cablecasing_core.nvh.spectra.band_sums`): within a band of an even grid whose
     edges fall on the grid, the trapezoidal rule. A peak narrower than the grid's step is not
     resolved: the step that keeps a peak's height within 11 % (``cablecasing trfam`` warns of a
     coarser one, at most half the narrowest half-power bandwidth) integrates its area within about 1 %.
@@ -328,11 +328,12 @@ def trfam_band_rms(freqs_hz: ArrayLike, H: ArrayLike, bands="table3", *, unit: s
     kept with a nan (``"nan"``) or refused (``"error"``, a :class:`ModelError` naming ``freqs_hz``);
     no band within the grid is refused whatever the rule.
 
-    Returns a :class:`~cablecasing_core.studies.octave.BandRMS`: ``rms`` in H's unit per band,
+    Returns a :class:`~cablecasing_core.nvh.bands.BandRMS`: ``rms`` in H's unit per band,
     ``bins`` the grid's frequencies in each band (fractional), ``n`` the grid's length and ``fs``
     nan (no record)."""
     from ..model.validators import array_1d
-    from ..studies.octave import BandRMS, _bands_of, band_sums
+    from ..nvh.bands import BandRMS, bands_of
+    from ..nvh.spectra import band_sums
 
     f = frequencies("freqs_hz", freqs_hz)
     if f.size < 2 or not np.all(np.diff(f) > 0):
@@ -345,7 +346,7 @@ def trfam_band_rms(freqs_hz: ArrayLike, H: ArrayLike, bands="table3", *, unit: s
     Choice(*OUTSIDE_RULES)("outside", outside)
     if not isinstance(unit, str):
         raise ModelError("unit", unit, "must be a unit as text ('kg', '1'), or '' when it is not known")
-    b = _bands_of(bands)
+    b = bands_of(bands)
     edges = np.concatenate([[f[0]], 0.5 * (f[1:] + f[:-1]), [f[-1]]])  # (each frequency's interval)
     inside = (b.lower >= f[0] * (1 - 1e-12)) & (b.upper <= f[-1] * (1 + 1e-12))
     if not inside.all() and outside == "error" or not inside.any():

@@ -10,12 +10,12 @@ apparent mass and force transmissibility estimated from the support signals with
 >>> bands = octave_rms(rec.column("casing.B.Fz"), rec.fs, "third", unit="N")   # band RMS, N
 >>> bands.level_db()                                  # dB re 1 N (the unit's reference, as the PSD's)
 
-Modules: ``spectra`` (PSD, levels, references), ``transfer`` (apparent mass, transmissibility),
-``plots``; band RMS is :func:`cablecasing_core.studies.octave.octave_rms` (Table 3, IEC 61260-1
-octaves and thirds). See docs/nvh.md.
+Modules: ``spectra`` (PSD, levels, references, sums over bands), ``bands`` (the band sets of Table 3
+and IEC 61260-1, the band levels' windows, band RMS by Parseval: :func:`~cablecasing_core.nvh.bands.octave_rms`),
+``transfer`` (apparent mass, transmissibility), ``plots``. See docs/nvh.md.
 """
 
-from ..studies.octave import octave_rms
+from .bands import octave_rms
 from .spectra import PSD, REFERENCES, level_db, level_unit, psd, reference
 from .transfer import Transfer, apparent_mass, transmissibility
 

@@ -129,7 +129,7 @@ def band_ticks(bands) -> list:
     """Tick labels of bands (``BandRMS``, ``Bands``, an ``Ensemble``: anything with ``labels``,
     ``lower`` and ``upper``) by their nominal mid-band frequency (Hz; IEC 61260-1 names, or the
     octave a Table 3 band stands in for under its own name, ``oct5`` over 250)."""
-    from ..studies.octave import nominal_of
+    from .bands import nominal_of
 
     centre = np.sqrt(np.asarray(bands.lower) * np.asarray(bands.upper))
     ticks = []
@@ -146,7 +146,7 @@ def set_band_ticks(ax, x, bands):
 
 
 def plot_band_levels(bands, path, unit="N", ref=None, labels=None, title=None):
-    """Band RMS (``studies.octave.BandRMS``, one or several) as bars in ``unit`` (log axis) with the
+    """Band RMS (``nvh.bands.BandRMS``, one or several) as bars in ``unit`` (log axis) with the
     level in dB re ``ref`` (default the unit's reference) on the right."""
     bands = list(bands)
     r = reference(unit, ref)

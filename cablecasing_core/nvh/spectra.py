@@ -18,6 +18,9 @@
   ========= ================ ==============================================================
 
   A PSD level is ``10 log10(G / x_ref^2)`` in dB re x_ref^2/Hz (e.g. dB re 1 N^2/Hz).
+* :func:`band_sums` over :func:`bin_edges`: a spectrum's lines summed over bands, a line that
+  straddles a band's edge split in proportion (Parseval); the PSD's :meth:`PSD.mean_square`, the band
+  RMS of :mod:`~cablecasing_core.nvh.bands` and ``frequency.trfam_band_rms`` sum by it.
 """
 
 from __future__ import annotations
@@ -114,6 +117,34 @@ def level_db(x: ArrayLike, ref: float, power: bool = False) -> np.ndarray:
         return 10 * np.log10(x / ref**2) if power else 20 * np.log10(x / ref)
 
 
+def bin_edges(n, fs):
+    """Boundaries (Hz, length n//2 + 2) of the one-sided FFT bins: bin k covers [E_k, E_k+1],
+    i.e. [f_k - df/2, f_k + df/2] clipped to [0, fs/2]."""
+    nb = n // 2 + 1
+    df = fs / n
+    return np.concatenate([[0.0], (np.arange(1, nb) - 0.5) * df, [fs / 2]])
+
+
+def band_sums(P, E, lower, upper):
+    """Sum of P (per bin, e.g. a mean square in unit^2) over each band [lower, upper] (Hz) of bins
+    whose boundaries are ``E`` (Hz, ``P.size + 1``, :func:`bin_edges`), edge bins split
+    proportionally; also the (fractional) number of bins. Direct sums per band (no cumulative sum:
+    no cancellation against a large 0 Hz component)."""
+    ms = np.zeros(lower.size)
+    bins = np.zeros(lower.size)
+    nb = P.size
+    for j, (lo, up) in enumerate(zip(lower, upper)):
+        k0 = max(int(np.searchsorted(E, lo, side="right")) - 1, 0)
+        k1 = min(int(np.searchsorted(E, up, side="left")) - 1, nb - 1)
+        if k1 < k0:
+            continue
+        a, b = E[k0 : k1 + 1], E[k0 + 1 : k1 + 2]
+        frac = np.clip(np.minimum(b, up) - np.maximum(a, lo), 0.0, None) / (b - a)
+        ms[j] = frac @ P[k0 : k1 + 1]
+        bins[j] = frac.sum()
+    return ms, bins
+
+
 @dataclass(frozen=True)
 class PSD:
     """A one-sided power spectral density: ``f_hz`` (Hz), ``density`` (unit^2/Hz), ``unit`` of the
@@ -149,7 +180,7 @@ class PSD:
         """The mean square (unit^2) between ``f_low`` and ``f_high`` (Hz): the PSD integrated over
         the lines, each line standing for ``[f_k - df/2, f_k + df/2]`` and a line that straddles
         an edge split in proportion, as the band levels split their FFT bins
-        (:func:`~cablecasing_core.studies.octave.band_sums`), so that the mean squares of adjacent
+        (:func:`band_sums`), so that the mean squares of adjacent
         ranges add up to that of their union (Parseval). Without ``f_low`` it integrates from 0 Hz,
         and without either limit every line: the mean square of the signal less the mean of each
         segment. A range from below :meth:`covered`'s lower limit (2 df; ``f_low`` below it, or
@@ -159,8 +190,6 @@ class PSD:
         integrates what the lines measure. A limit that is not a number, NaN, negative, or
         ``f_low`` >= ``f_high`` raises :class:`~cablecasing_core.errors.ModelError` naming it
         (``f_high`` may be ``inf``)."""
-        from ..studies.octave import band_sums, bin_edges
-
         f_low, f_high = _limits(0.0 if f_low is None else f_low, f_high, none_low=f_low is None)
         whole = f_low is None and f_high >= self.fs / 2  # (every line: Parseval's total, no warning)
         f_low = 0.0 if f_low is None else f_low

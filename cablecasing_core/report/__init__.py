@@ -13,7 +13,7 @@ the command line, the reference records' energy ledgers, every file of the repor
 support forces' mean, RMS total and RMS dynamic, N); ``simulation.png`` (time histories);
 ``scalograms.png`` (Figs. 20-21); ``routing_contact.png`` and ``contact_histogram.png`` (Fig. 22);
 ``bands_<variant>.csv`` and ``band_levels.png`` (ensemble means with confidence intervals, N and dB
-re 1 N; a band more than :data:`~cablecasing_core.studies.octave.NO_RESPONSE_DB` below its variant's strongest holds no
+re 1 N; a band more than :data:`~cablecasing_core.nvh.bands.NO_RESPONSE_DB` below its variant's strongest holds no
 response and is left out of the figure and dashed in the table); ``bands_net_B.csv`` (a model with a
 cable: the band levels of the reference records' casing.B.Fz, cable.B.Fz and their sum net.B.Fz, the
 force the transmission at B receives); ``bands_net_B_<variant>.csv`` (net.B.Fz's ensemble, of the same

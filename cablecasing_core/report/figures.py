@@ -9,8 +9,8 @@ import numpy as np
 
 from ..errors import ModelError
 from ..files import atomic_path, write_text
+from ..nvh.bands import NO_RESPONSE_DB, no_response
 from ..records import after_skip
-from ..studies.octave import NO_RESPONSE_DB, no_response
 from .runs import NET_OUTPUT, OUTPUT
 
 #: Frequencies of the TRFAM (Hz): Fig. 17's range on a 0.25 Hz grid, to which :func:`trfam_grid` adds
@@ -323,8 +323,8 @@ def psd_figure(variants, path, skip, info=None):
     named as both. Returns the lowest frequency drawn (Hz, 2 df) and the variants whose net.B.Fz is
     their casing.B.Fz (their titles)."""
     from ..nvh import psd
+    from ..nvh.bands import octave_bands
     from ..nvh.plots import plot_psd
-    from ..studies.octave import octave_bands
 
     ps = []
     net, same = False, []

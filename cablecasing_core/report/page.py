@@ -174,7 +174,7 @@ def skip_note(info):
 def record_line(info):
     """The records' length after the skip, their FFT resolution and the lines in octave 1 (item 4 of
     review S): what the band levels of octaves 1-2 rest on."""
-    from ..studies.octave import LINES_PER_BAND
+    from ..nvh.bands import LINES_PER_BAND
 
     few = info["lines_oct1"] < LINES_PER_BAND
     return (
@@ -646,7 +646,7 @@ def accuracy_note(model, info):
 
 
 def _bands(variants, model, info):
-    from ..studies.octave import NO_RESPONSE_DB, no_response
+    from ..nvh.bands import NO_RESPONSE_DB, no_response
 
     ens = [v for v in variants if v.ensemble is not None]
     if not ens:
@@ -734,8 +734,8 @@ def net_parts(variants, info):
     (``Variant.net_ensemble``, of the same runs as ``Variant.ensemble``; bands_net_B_<variant>.csv),
     or, when no variant has an ensemble, the reference records' levels (:func:`_net_single_parts`).
     HTML, or nothing for a model without a cable."""
+    from ..nvh.bands import NO_RESPONSE_DB, no_response
     from ..studies.ensemble import paired_difference
-    from ..studies.octave import NO_RESPONSE_DB, no_response
 
     withnet = [v for v in variants if v.net_ensemble is not None]
     if not withnet:
@@ -800,7 +800,7 @@ def _net_single_parts(variants, info):
     """The band levels of the force into B, net.B.Fz = casing.B.Fz + cable.B.Fz, beside casing.B.Fz
     and cable.B.Fz, of each variant's reference record (``Variant.net_bands``; bands_net_B.csv):
     HTML, or nothing for a model without a cable (the page's table when no variant has an ensemble)."""
-    from ..studies.octave import NO_RESPONSE_DB, no_response
+    from ..nvh.bands import NO_RESPONSE_DB, no_response
 
     vs = [v for v in variants if v.net_bands is not None]
     if not vs:
@@ -857,8 +857,8 @@ def _cv_span(variants):
 
 
 def no_response_of(levels):
-    """:func:`~cablecasing_core.studies.octave.no_response` of ``levels``."""
-    from ..studies.octave import no_response
+    """:func:`~cablecasing_core.nvh.bands.no_response` of ``levels``."""
+    from ..nvh.bands import no_response
 
     return no_response(levels)
 

@@ -113,7 +113,7 @@ def run_variant(var: Variant, duration: float, seeds: list[int], skip: float, pr
         outputs = (OUTPUT, NET_OUTPUT) if "cable" in var.model.bodies else (OUTPUT,)
         ens = seed_ensembles(var.model, seeds, outputs=outputs, duration=duration, skip=skip, progress=progress)
         var.ensemble, var.net_ensemble = ens[OUTPUT], ens.get(NET_OUTPUT)
-        from ..studies import octave_rms
+        from ..nvh.bands import octave_rms
 
         r = var.result
         keep = after_skip(r.time, skip)
@@ -128,8 +128,8 @@ def net_bands(rec, skip: float) -> dict:
     and their sum :data:`NET_OUTPUT` in the record ``rec`` (a run's, from t = 0) after ``skip`` s:
     ``{name: BandRMS}``; the sum's bands are those of the summed samples, as ``cablecasing bands
     --column net.B.Fz`` gives them."""
+    from ..nvh.bands import octave_rms
     from ..records import after_skip
-    from ..studies import octave_rms
 
     keep = after_skip(rec.time, skip, rec.time[0])
     names = (*rec.terms(NET_OUTPUT), NET_OUTPUT)

@@ -10,18 +10,20 @@ Fig. 23) and band levels as ensemble means over excitation seeds.
 >>> ens.mean, ens.se, paired_difference(ens_a, ens_b).r
 >>> ens.save("part1.csv"); pool_ensembles(["part1.csv", "part2.csv"])   # an ensemble run in parts
 
-Modules: ``octave`` (band RMS), ``sampling`` (bounds, Saltelli's design, constraints), ``evaluators``
-(per-sample functions), ``executor`` (serial or dask), ``results_store`` (the resumable CSV),
+Band RMS (``octave_rms``, ``octave_bands``, ``Bands``, ``BandRMS``) is :mod:`cablecasing_core.nvh.bands`'s,
+named here too (``studies.octave``, its earlier home, still imports every name of it). Modules: ``sampling``
+(bounds, Saltelli's design, constraints), ``evaluators`` (per-sample functions), ``executor`` (serial or
+dask), ``results_store`` (the resumable CSV),
 ``study`` (``run_study``), ``correlation``, ``sensitivity`` (Sobol indices, size checks),
 ``ensemble`` (the data), ``ensemble_runs`` (``seed_ensemble``), ``plots``. See docs/studies.md.
 """
 
+from ..nvh.bands import TABLE3_LOWER, TABLE3_UPPER, BandRMS, Bands, octave_bands, octave_rms
 from .correlation import GAP, Correlation, correlations
 from .ensemble import Ensemble, PairedDifference, load_ensemble, paired_difference, pool_ensembles
 from .ensemble_runs import random_excitations, seed_ensemble, seed_ensembles, seed_overrides
 from .evaluators import DEFAULT_EVALUATE, DEFAULT_OUTPUTS, default_evaluate
 from .executor import execute, resolve_evaluate
-from .octave import TABLE3_LOWER, TABLE3_UPPER, BandRMS, Bands, octave_bands, octave_rms
 from .plots import plot_correlations, plot_ensemble, plot_sobol
 from .results_store import StudyResults, load_results
 from .sampling import (

@@ -35,7 +35,7 @@ class Ensemble:
 
     "Level" here is a band's RMS in the output's unit, not a level in dB (the name is kept: the
     saved files and the scripts that read them use it; :attr:`rms` is the same array under the name
-    :class:`~cablecasing_core.studies.octave.BandRMS` gives it). What each attribute holds:
+    :class:`~cablecasing_core.nvh.bands.BandRMS` gives it). What each attribute holds:
 
     * ``seeds`` (n,): the members' excitation seeds; ``output``: the support output (``casing.B.Fz``);
     * ``labels`` (m,), ``lower`` and ``upper`` (m,): the bands' names and edges (Hz; ``BandRMS``

@@ -20,11 +20,11 @@ from ..errors import ModelError
 from ..model.limits import MAX_ENSEMBLE_SEED, MAX_SEEDS
 from ..model.schema import SUPPORT_OUTPUTS, clip_outputs
 from ..model.validators import Choice, integer, seconds
+from ..nvh.bands import WINDOWS, Bands, octave_bands
 from ..records import check_column_name
 from .ensemble import Ensemble
 from .evaluators import DEFAULT_EVALUATE, check_model_runs, check_not_overridden, check_record_settings
 from .executor import execute
-from .octave import WINDOWS, Bands, octave_bands
 
 if TYPE_CHECKING:
     from ..model import Model
@@ -111,7 +111,7 @@ def seed_ensemble(
         (:func:`~cablecasing_core.timedomain.scenario.whole_period_skip` of the model with
         ``overrides``; the ensemble's ``settings["skip"]`` holds the value taken).
     window : {"hann", "boxcar"}
-        The window of the band levels (:func:`~cablecasing_core.studies.octave.octave_rms`; the
+        The window of the band levels (:func:`~cablecasing_core.nvh.bands.octave_rms`; the
         rectangular one as the docs' tables before 2026-12-06); kept in ``settings``.
     overrides : dict, optional
         ``{dotted.key: value}`` applied to every member (e.g. ``{"contact.friction": 0.2}``); not a

@@ -14,7 +14,7 @@ import zlib
 import numpy as np
 
 from ..errors import ModelError, ModelWarning, excerpt
-from .octave import octave_bands, octave_rms, window_options
+from ..nvh.bands import octave_bands, octave_rms, window_options
 from .sampling import AXIAL_AMPLITUDE_KEY
 
 #: Output names of the default study: the Table 3 band labels "oct1" .. "oct9".
@@ -96,7 +96,7 @@ def default_evaluate(
     output whose band levels are returned (N or N.m: a support or isolator output of ``SUPPORT_OUTPUTS``
     or a clip's, ``casing.clip0.Fz``; or a tuple of them, whose levels of the one record return
     as ``"<output>:<band>"``, as :func:`~.ensemble_runs.seed_ensembles` takes them); bands: the band
-    set of :func:`~cablecasing_core.studies.octave.octave_rms`; contact_time: also return the contact
+    set of :func:`~cablecasing_core.nvh.bands.octave_rms`; contact_time: also return the contact
     time per cable node (s, Fig. 22) as ``"contact_time_<i>"``; window: the window of the band
     levels (``octave_rms``'s: ``"hann"``, or ``"boxcar"`` as the docs' tables before 2026-12-06).
     excitation_seeds: None runs the model's own random excitation once (its seeds as the model
@@ -156,11 +156,11 @@ def check_record_settings(model, duration=None, dt=None, skip=None, bands="table
     ``duration``, ``dt``: None takes the model's scenario; ``skip`` None, the model's
     :func:`~cablecasing_core.timedomain.scenario.whole_period_skip`; ``bands``: a band set or its name.
     Records that put fewer than ``LINES_PER_BAND`` FFT lines in a band warn here, once
-    (:func:`~cablecasing_core.studies.octave.few_lines`), and not from each run."""
+    (:func:`~cablecasing_core.nvh.bands.few_lines`), and not from each run."""
     from ..model.limits import check_time_domain
     from ..model.validators import seconds
+    from ..nvh.bands import Bands, few_lines
     from ..timedomain.scenario import whole_period_skip
-    from .octave import Bands, few_lines
 
     seconds("duration", duration, none_ok=True)
     seconds("dt", dt, none_ok=True)
@@ -336,7 +336,7 @@ def cpu_burn_evaluate(overrides, repeats=200, n=2**12, **_):
     record keeps the working set in cache, like the engine's small banded matrices, so the work is
     compute-bound. Returns band RMS (N).
     """
-    from .octave import octave_rms
+    from ..nvh.bands import octave_rms
 
     fs = 16384.0
     t = np.arange(n) / fs

@@ -101,8 +101,8 @@ def _panel(ax, k, parameter, ylim, ylabel):
 def _band_axis(axes, outputs):
     """The shared band axis of a column of panels (Table 3's number over its edges in Hz, else the
     output's name) and the legend in the first panel."""
+    from ..nvh.bands import octave_bands
     from ..nvh.plots import band_ticks
-    from .octave import octave_bands
 
     t3 = octave_bands("table3")
     edges = dict(zip(t3.labels, band_ticks(t3)))

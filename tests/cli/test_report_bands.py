@@ -195,8 +195,8 @@ def test_the_reports_default_records_leave_out_the_drives_start_in_whole_periods
     50 Hz drive, leave out at least 0.25 s (its start transient, docs/nvh.md) then whole periods:
     0.26 s, 37 periods of 20 ms after it, 8.1 FFT lines in octave 1 (the package warns below 4). A
     model without a harmonic excitation leaves out 0.05 s."""
+    from cablecasing_core.nvh.bands import LINES_PER_BAND
     from cablecasing_core.report import HARMONIC_START_SKIP, check_report_settings, report_skip
-    from cablecasing_core.studies.octave import LINES_PER_BAND
 
     model = cc.load_model()
     _, _, _, skip, duration = check_report_settings(model, study_samples=0)

@@ -11,8 +11,8 @@ import pytest
 import cablecasing_core as cc
 from cablecasing_core.cli import main
 from cablecasing_core.nvh import psd
+from cablecasing_core.nvh.bands import iec_nominal, octave_bands
 from cablecasing_core.studies import octave_rms
-from cablecasing_core.studies.octave import iec_nominal, octave_bands
 from cablecasing_core.timedomain.simulation import decimate
 
 

@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from cablecasing_core.cli import main
+from cablecasing_core.nvh.bands import window_options
 from cablecasing_core.records import after_skip, passband_line
 from cablecasing_core.studies import octave_rms
-from cablecasing_core.studies.octave import window_options
 
 DTS = (3.125e-5, 2.5e-5, 2e-5, 1e-5, 5e-6, 1.25e-6, 3.125e-7)
 
@@ -152,7 +152,7 @@ def test_a_band_of_fewer_than_four_lines_warns_and_holds_what_lies_beside_it():
     from 1.1 s (4 lines) it reads under 0.02 N, the tone beyond the main lobe's reach, and no band
     warns."""
     from cablecasing_core.errors import ModelWarning
-    from cablecasing_core.studies.octave import few_lines, octave_bands
+    from cablecasing_core.nvh.bands import few_lines, octave_bands
 
     fs, bands = 1e4, octave_bands("third", 16, 25)
     for length, low, warns in ((0.44, (0.25, 0.41), True), (1.1, (0.0, 0.02), False)):

@@ -89,7 +89,7 @@ def test_a_hann_windowed_tone_on_a_bin_centre_keeps_its_mean_square_to_round_off
     """With the periodic (DFT-even) Hann window the cross term of sin^2 w^2 vanishes for a tone on a
     bin centre, so the band mean square over 0..fs/2 is A^2/2 to round-off (1e-12), for a short record
     as well (64 samples); the symmetric window is 1e-6 off there."""
-    from cablecasing_core.studies.octave import Bands
+    from cablecasing_core.nvh.bands import Bands
 
     n, fs = 64, 64.0
     t = np.arange(n) / fs

@@ -45,8 +45,8 @@ import numpy as np
 import pytest
 
 import cablecasing_core as cc
+from cablecasing_core.nvh.bands import window_options
 from cablecasing_core.studies import octave_rms
-from cablecasing_core.studies.octave import window_options
 
 pytestmark = pytest.mark.slow  # ensembles of 1 s records
 

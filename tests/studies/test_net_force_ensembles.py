@@ -7,9 +7,9 @@ import pytest
 
 import cablecasing_core as cc
 from cablecasing_core.errors import ModelError
+from cablecasing_core.nvh.bands import octave_rms
 from cablecasing_core.records import unit_of
 from cablecasing_core.studies import seed_ensemble, seed_ensembles
-from cablecasing_core.studies.octave import octave_rms
 
 
 def test_support_force_of_a_sum_is_the_sum_of_the_histories():

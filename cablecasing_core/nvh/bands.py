@@ -1,8 +1,17 @@
-"""Octave-band RMS of a sampled signal (the paper's Section 4.4, Table 3, Fig. 23).
+"""Frequency bands and band RMS of a sampled signal (the paper's Section 4.4, Table 3, Fig. 23).
+
+The package's one library of bands: the band sets (:func:`octave_bands`, :class:`Bands`; Table 3
+and IEC 61260-1), the band levels' windows (:data:`WINDOWS`, :func:`window_options`), band RMS by
+Parseval (:func:`octave_rms`, :class:`BandRMS`), the advice on too few FFT lines per band
+(:func:`few_lines`) and the level below which a band holds no response (:func:`no_response`). The
+studies, the report, the command line and ``frequency.trfam_band_rms`` take their bands from here;
+the sum over a band with its edge bins split (``band_sums``, ``bin_edges``) is in
+:mod:`~cablecasing_core.nvh.spectra`, which the PSD's band mean squares share.
+(``cablecasing_core.studies.octave``, this module's earlier name, still imports its names.)
 
 The paper tracks "the RMS value of the time response of the force support in the z direction" in
-the nine octave bands of Table 3. This module computes band RMS values of any sampled signal by
-Parseval's theorem over the FFT bins:
+the nine octave bands of Table 3. :func:`octave_rms` computes band RMS values of any sampled signal
+by Parseval's theorem over the FFT bins:
 
 1. The record ``x`` (n samples at ``fs`` Hz) is detrended (``scipy.signal.detrend``; default
    ``"constant"``: its mean, which no band holds, removed) and windowed (``scipy.signal.get_window``;
@@ -61,6 +70,7 @@ from scipy import signal as _signal
 
 from ..errors import ModelError, ModelWarning
 from ..model.validators import Choice, array_1d, number
+from .spectra import band_sums, bin_edges, level_db, level_reference
 
 #: Table 3 of the paper: lower and upper edges (Hz) of the nine octave bands.
 TABLE3_LOWER = (11.0, 22.0, 44.0, 88.0, 177.0, 355.0, 710.0, 1420.0, 2840.0)
@@ -202,15 +212,11 @@ class BandRMS:
         band levels and the PSD levels of one signal are against one reference; 1 (dB re 1 of the
         signal's unit) when the unit is not known (``unit=""``, :func:`octave_rms` told none). A unit
         without a reference in that table needs ``ref`` (:class:`ModelError` naming ``ref``)."""
-        from ..nvh.spectra import level_db
-
         return level_db(self.rms, self.reference(ref))
 
     def reference(self, ref: float | None = None) -> float:
         """The reference (signal unit) of :meth:`level_db`: ``ref`` when given, else that of
         :attr:`unit`, or 1 when the unit is not known."""
-        from ..nvh.spectra import level_reference
-
         return level_reference(self.unit, ref)
 
 
@@ -269,7 +275,10 @@ def octave_bands(kind: str = "table3", f_min: float | None = None, f_max: float 
     return Bands(lo, up, tuple(labels), tuple(nominal)).select(keep)
 
 
-def _bands_of(bands):
+def bands_of(bands: str | Bands) -> Bands:
+    """The :class:`Bands` (edges in Hz) that ``bands`` names: a :class:`Bands` as given, or a band
+    set's name, one of :data:`BAND_KINDS` (:func:`octave_bands` with its default range); anything
+    else raises :class:`ModelError` naming ``bands``."""
     if isinstance(bands, Bands):
         return bands
     if isinstance(bands, str):
@@ -277,35 +286,9 @@ def _bands_of(bands):
     raise ModelError("bands", bands, "must be 'table3', 'octave', 'third' or a Bands object")
 
 
-def bin_edges(n, fs):
-    """Boundaries (Hz, length n//2 + 2) of the one-sided FFT bins: bin k covers [E_k, E_k+1],
-    i.e. [f_k - df/2, f_k + df/2] clipped to [0, fs/2]."""
-    nb = n // 2 + 1
-    df = fs / n
-    return np.concatenate([[0.0], (np.arange(1, nb) - 0.5) * df, [fs / 2]])
-
-
-def band_sums(P, E, lower, upper):
-    """Sum of P over each band [lower, upper] with edge bins split proportionally; also the
-    (fractional) number of bins. Direct sums per band (no cumulative sum: no cancellation against
-    a large 0 Hz component)."""
-    ms = np.zeros(lower.size)
-    bins = np.zeros(lower.size)
-    nb = P.size
-    for j, (lo, up) in enumerate(zip(lower, upper)):
-        k0 = max(int(np.searchsorted(E, lo, side="right")) - 1, 0)
-        k1 = min(int(np.searchsorted(E, up, side="left")) - 1, nb - 1)
-        if k1 < k0:
-            continue
-        a, b = E[k0 : k1 + 1], E[k0 + 1 : k1 + 2]
-        frac = np.clip(np.minimum(b, up) - np.maximum(a, lo), 0.0, None) / (b - a)
-        ms[j] = frac @ P[k0 : k1 + 1]
-        bins[j] = frac.sum()
-    return ms, bins
-
-
-#: The windows of the band levels a study, an ensemble and ``bands`` offer (``octave_rms``'s default,
-#: and the rectangular window the docs' earlier tables were computed with).
+#: The windows of the band levels a study, an ensemble and ``bands`` offer: Hann's (``octave_rms``'s
+#: default) and the rectangular one, through which Parseval holds exactly and which the docs' tables
+#: whose commands name ``--window boxcar`` and the benchmarks' cached rectangular-window references take.
 WINDOWS = ("hann", "boxcar")
 #: What the commands call them when they say which window their levels took.
 WINDOW_NAMES = {"hann": "Hann", "boxcar": "rectangular"}
@@ -313,8 +296,8 @@ WINDOW_NAMES = {"hann": "Hann", "boxcar": "rectangular"}
 
 def window_options(window: str) -> dict:
     """``octave_rms``'s window and detrending for ``window`` (one of :data:`WINDOWS`): Hann's with the
-    mean removed, or the rectangular window as the tables before 2026-12-06 took it (no detrending:
-    Parseval exact)."""
+    mean removed, or the rectangular window without detrending (Parseval exact), the window of the docs'
+    tables whose commands name ``--window boxcar``."""
     Choice(*WINDOWS)("window", window)
     return {"window": "hann", "detrend": "constant"} if window == "hann" else {"window": "boxcar", "detrend": None}
 
@@ -325,7 +308,7 @@ def few_lines(bands: str | Bands, length: float, fmin_advice: bool = True) -> st
     lowest of them its lines, and (``fmin_advice``) the ``f_min`` that leaves them out; None when
     every band has them. The one rule of :func:`octave_rms`'s warning and of the ensembles' and
     studies' check before their runs (whose band sets have no ``f_min``)."""
-    sel = _bands_of(bands)
+    sel = bands_of(bands)
     df = 1.0 / length
     few = sel.upper - sel.lower < LINES_PER_BAND * df * (1 - 1e-12)
     if not few.any():
@@ -416,7 +399,7 @@ def octave_rms(
         raise ModelError("unit", unit, "must be a unit as text ('N', 'm/s2'), or '' when it is not known")
     if detrend not in (None, "constant", "linear"):
         raise ModelError("detrend", detrend, "must be None, 'constant' or 'linear'")
-    bands = _bands_of(bands)
+    bands = bands_of(bands)
     n = x.size
     nyq = fs / 2
     top = nyq if passband is None else min(number("passband", passband, gt=0, unit="Hz"), nyq)

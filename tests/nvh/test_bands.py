@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from cablecasing_core.errors import ModelError
-from cablecasing_core.studies.octave import TABLE3_LOWER, TABLE3_UPPER, Bands, octave_bands, octave_rms, window_options
+from cablecasing_core.nvh.bands import TABLE3_LOWER, TABLE3_UPPER, Bands, octave_bands, octave_rms, window_options
 
 RECT = window_options("boxcar")  # the rectangular window, no detrending: Parseval exact
 
