@@ -233,3 +233,24 @@ def test_bad_bands():
         Bands(np.array([10.0, 20.0]), np.array([20.0, 15.0]), ("a", "b"))
     with pytest.raises(ModelError):
         Bands(np.array([10.0]), np.array([20.0]), ("a", "b"))
+
+
+def test_the_earlier_module_name_still_imports_every_name_of_the_band_library():
+    # scripts and saved dask task paths may name cablecasing_core.studies.octave (the library's home
+    # before nvh.bands): each public name of nvh.bands, and the bin sums of nvh.spectra, must be
+    # there and be the very same object, so that results through either name are identical
+    import cablecasing_core.nvh.bands as bands
+    import cablecasing_core.studies.octave as old
+    from cablecasing_core.nvh.spectra import band_sums, bin_edges
+
+    public = [
+        n
+        for n, v in vars(bands).items()
+        if not n.startswith("_")
+        and getattr(v, "__module__", bands.__name__) == bands.__name__
+        and not isinstance(v, type(bands))
+    ]
+    assert "octave_rms" in public and "bands_of" in public
+    for n in public:
+        assert getattr(old, n) is getattr(bands, n), n
+    assert old.band_sums is band_sums and old.bin_edges is bin_edges

@@ -1,0 +1,63 @@
+"""The band library's earlier name: every name of :mod:`cablecasing_core.nvh.bands` (band sets,
+windows, band RMS by Parseval), and ``band_sums``/``bin_edges`` of :mod:`cablecasing_core.nvh.spectra`,
+so that scripts and saved dask task paths that name ``cablecasing_core.studies.octave`` still work.
+New code imports from ``cablecasing_core.nvh.bands`` (or ``cablecasing_core.studies``/``.nvh``)."""
+
+from ..nvh.bands import (
+    BAND_KINDS,
+    FMIN_ADVICE,
+    IEC_FR,
+    IEC_G,
+    LINES_PER_BAND,
+    NO_RESPONSE_DB,
+    NYQUIST_RULES,
+    R10,
+    TABLE3_LOWER,
+    TABLE3_NOMINAL,
+    TABLE3_UPPER,
+    WINDOW_NAMES,
+    WINDOWS,
+    BandRMS,
+    Bands,
+    bands_of,
+    few_lines,
+    iec_nominal,
+    no_response,
+    nominal_label,
+    nominal_of,
+    octave_bands,
+    octave_rms,
+    window_options,
+)
+from ..nvh.spectra import band_sums, bin_edges
+
+_bands_of = bands_of  # (its name before it was public)
+
+__all__ = [
+    "BAND_KINDS",
+    "FMIN_ADVICE",
+    "IEC_FR",
+    "IEC_G",
+    "LINES_PER_BAND",
+    "NO_RESPONSE_DB",
+    "NYQUIST_RULES",
+    "R10",
+    "TABLE3_LOWER",
+    "TABLE3_NOMINAL",
+    "TABLE3_UPPER",
+    "WINDOW_NAMES",
+    "WINDOWS",
+    "BandRMS",
+    "Bands",
+    "band_sums",
+    "bands_of",
+    "bin_edges",
+    "few_lines",
+    "iec_nominal",
+    "no_response",
+    "nominal_label",
+    "nominal_of",
+    "octave_bands",
+    "octave_rms",
+    "window_options",
+]
