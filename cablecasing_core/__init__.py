@@ -83,7 +83,7 @@ _LAZY = {
     "SimulationResult": ".timedomain.simulation",
     "StaticState": ".timedomain.static_state",
     "static_state": ".timedomain.static_state",
-    "body_buckling": ".structure.buckling",
+    "body_buckling": ".timedomain.body_storage",
     "Buckling": ".structure.buckling",
     "contact_episodes": ".timedomain.simulation",
     "simulate": ".timedomain.simulation",

@@ -19,6 +19,7 @@ refused.
 **Reading.** :func:`read_csv_table` reads a numeric CSV table with one header line (time records,
 CSV excitations, FRFs, measured frequencies). Its errors name the file, the line and the column,
 never the content of a line: the file need not be a model file and may hold anything.
+:func:`read_excitation_table` reads a CSV excitation's (time, value) table with it.
 """
 
 from __future__ import annotations
@@ -414,6 +415,31 @@ def time_column(key: str, path, header: str, *, named: bool = False) -> float:
             "time [us]; also sec, msec, usec, µs); the unit its header gives that column is not one of time",
         )
     return factor
+
+
+def read_excitation_table(path, key: str) -> tuple[np.ndarray, np.ndarray]:
+    """(t, x) of a CSV excitation (``scenario.excitation.<name>.file``): a table with a header and two
+    columns time_s, <value>, t in s and x in the excitation's unit (m, m/s or m/s2 by its
+    ``quantity``); checked (errors name ``key``, the file and the line, and quote none of its content).
+    The run (``timedomain.scenario``) and the model's load (``model.load``) read it by this one
+    rule. A third column is refused, not ignored: it may be the column that was meant. The first
+    column's header must name the time (:func:`time_column`): ``time_s``, ``time [s]`` (as a
+    record's CSV), ``time`` or ``t`` are in s; ``time_ms``, ``time [ms]``, ``time_us``, ``time [us]`` are converted to
+    s; another unit, or a first column that is not the time, is refused."""
+    names, data = read_csv_table(path, key)
+    if len(names) != 2:
+        raise ModelError(
+            key,
+            str(path),
+            f"must have two columns, time_s and the values; its header line names {len(names)} columns "
+            "(one excitation per file: give each column its own file and excitation)",
+        )
+    to_s = time_column(key, path, names[0], named=True)
+    t, x = data[:, 0] if to_s == 1.0 else data[:, 0] * to_s, data[:, 1]
+    bad = np.nonzero(np.diff(t) <= 0)[0]
+    if bad.size:
+        raise ModelError(key, path, f"time (its first column) must increase strictly; data row {bad[0] + 2} does not")
+    return t, x
 
 
 def memory_available() -> int:

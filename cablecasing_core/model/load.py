@@ -22,6 +22,7 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 from ..errors import ModelError
+from ..files import read_excitation_table
 from .model import Model
 from .validate import derived_keys, validate
 
@@ -84,15 +85,14 @@ def load_model(path: str | Path | None = None) -> Model:
 
 def check_excitation_files(model: Model) -> None:
     """Read and check every CSV file of ``model``'s excitations now, with the reader of the run
-    (``timedomain.scenario``; ModelError naming ``scenario.excitation.<name>.file``, the file and the
-    line): every command that loads a model file (``static`` and ``geometry`` as ``simulate``, the
-    FMU's ``model_file``) refuses a bad table alike, before any work. (A model built from a
-    dictionary reads them when its scenario's motion is built.)"""
-    from ..timedomain.scenario import _read_table
-
+    (:func:`~cablecasing_core.files.read_excitation_table`; ModelError naming
+    ``scenario.excitation.<name>.file``, the file and the line): every command that loads a model
+    file (``static`` and ``geometry`` as ``simulate``, the FMU's ``model_file``) refuses a bad table
+    alike, before any work. (A model built from a dictionary reads them when its scenario's motion
+    is built.)"""
     for name, e in model.scenario.get("excitation", {}).items():
         if e["kind"] == "csv":
-            _read_table(e["file"], f"scenario.excitation.{name}.file")
+            read_excitation_table(e["file"], f"scenario.excitation.{name}.file")
 
 
 def toml_file(path: str | Path, key: str, limit: int, other: str = "") -> dict:

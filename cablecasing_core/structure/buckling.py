@@ -32,7 +32,9 @@ that factor fail on rounding (mounts soft beside the beam), the general QZ solve
 Below P_cr, and only below it, K is positive definite, which is what the check at every assembly
 tests (a banded Cholesky factorisation, ~0.2 ms); the load itself, where its mode is largest and
 the supports assumed, are computed for the refusal's message and for ``cablecasing static`` and
-``cablecasing geometry`` (:func:`buckling`).
+``cablecasing geometry`` (:func:`buckling`). The load of a model's body as the time domain
+assembles it (its modulus at its first natural frequency) is ``cc.body_buckling``
+(``timedomain.body_storage.body_buckling``): this module takes the assembled body.
 """
 
 from __future__ import annotations
@@ -152,35 +154,12 @@ def _free_blocks(system):
     return KE[np.ix_(f, f)], KG[np.ix_(f, f)]
 
 
-def body_buckling(model, body: str = "casing") -> Buckling:
-    """The lowest buckling load of ``body`` ("casing", the default, or "cable") of ``model`` (a
-    :class:`~cablecasing_core.Model`) as the time domain and ``cablecasing static`` assemble it (a
-    frequency-dependent modulus at its first natural frequency), with its real supports, isolators
-    and clips: :func:`buckling` of that body, P_cr in N (``Buckling.load``; inf when no compression
-    buckles it, 0 for a mechanism). The compression the body carries does not enter it: with a
-    constant modulus the load of a casing whose tension exceeds it is given, not refused. A
-    ``model`` that is no Model, or a ``body`` it does not have, raises :class:`ModelError` naming
-    it. ``cc.body_buckling``."""
-    from ..model.validators import Choice, check_model
-    from .assembly import assemble_body
-
-    check_model(model)
-    Choice(*model.bodies)("body", body)
-    spec = model.bodies[body]
-    E = None
-    if spec.frequency_dependent:  # (as timedomain.body_storage.time_domain_system)
-        from ..frequency.modal import natural_frequencies
-
-        E = float(spec.modulus(natural_frequencies(model, body, 1)[0]))
-    return buckling(assemble_body(model, body, E=E, check_buckling=False))
-
-
 def buckling(system) -> Buckling:
     """The lowest buckling load of ``system`` (an assembled
     :class:`~cablecasing_core.structure.assembly.BodySystem`, any prestress) with its real
     supports, isolators and clips: the generalised eigenproblem K_G1 phi = mu K_E phi on the
     constrained structure (module docstring), P_cr = 1 / mu_max (N). Anything else (a
-    :class:`~cablecasing_core.Model`: :func:`body_buckling` takes one) raises :class:`ModelError`
+    :class:`~cablecasing_core.Model`: ``cc.body_buckling`` takes one) raises :class:`ModelError`
     naming ``system``."""
     from .assembly import BodySystem
     from .support_check import free_rigid

@@ -6,6 +6,9 @@ prestressed body) go into diagonal storage; the effective stiffness K + 2/dt C +
 Newmark's average acceleration (Eq. 18, C = alpha M + beta K) over the node blocks that hold the
 free DOFs gets a block LDL^T factor; with contact, the dense effective compliance comes from that
 factor, by the step loop's own solve; with a constant load at rest, the response to it too.
+
+The body as the time domain assembles it (:func:`time_domain_system`: its modulus at its first
+natural frequency) and its buckling load so assembled (:func:`body_buckling`, ``cc.body_buckling``).
 """
 
 from __future__ import annotations
@@ -17,7 +20,9 @@ from scipy.linalg import cho_factor, cho_solve
 
 from ..frequency.modal import natural_frequencies
 from ..model.schema import BODY_NAMES, CHANNELS
+from ..model.validators import Choice, check_model
 from ..structure.assembly import assemble_body
+from ..structure.buckling import Buckling, buckling
 from . import kernels as K
 
 
@@ -107,14 +112,31 @@ class BoundedCache(OrderedDict):
             self.popitem(last=False)
 
 
-def time_domain_system(model, name):
+def time_domain_system(model, name, check_buckling=True):
     """Body ``name`` of ``model`` assembled as the time domain uses it: with its frequency-dependent
-    modulus, if any, at its first natural frequency (one modulus for the whole run)."""
+    modulus, if any, at its first natural frequency (one modulus for the whole run). K in N/m, N/rad
+    and N.m/rad, M in kg and kg.m^2 (:class:`~cablecasing_core.structure.assembly.BodySystem`);
+    ``check_buckling``: refuse a compression at or above its buckling load, as
+    :func:`~cablecasing_core.structure.assembly.assemble_body`."""
     spec = model.bodies[name]
     if spec.frequency_dependent:
         f1 = natural_frequencies(model, name, 1)[0]
-        return assemble_body(model, name, E=float(spec.modulus(f1)))
-    return assemble_body(model, name)
+        return assemble_body(model, name, E=float(spec.modulus(f1)), check_buckling=check_buckling)
+    return assemble_body(model, name, check_buckling=check_buckling)
+
+
+def body_buckling(model, body: str = "casing") -> Buckling:
+    """The lowest buckling load of ``body`` ("casing", the default, or "cable") of ``model`` (a
+    :class:`~cablecasing_core.Model`) as the time domain and ``cablecasing static`` assemble it
+    (:func:`time_domain_system`: a frequency-dependent modulus at its first natural frequency), with
+    its real supports, isolators and clips: :func:`~cablecasing_core.structure.buckling.buckling` of
+    that body, P_cr in N (``Buckling.load``; inf when no compression buckles it, 0 for a mechanism).
+    The compression the body carries does not enter it: with a constant modulus the load of a casing
+    whose tension exceeds it is given, not refused. A ``model`` that is no Model, or a ``body`` it
+    does not have, raises :class:`~cablecasing_core.errors.ModelError` naming it. ``cc.body_buckling``."""
+    check_model(model)
+    Choice(*model.bodies)("body", body)
+    return buckling(time_domain_system(model, body, check_buckling=False))
 
 
 class BodyStorage:

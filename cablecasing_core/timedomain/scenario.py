@@ -52,12 +52,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import ModelError, ModelWarning
-from ..files import read_csv_table, time_column
+from ..files import read_excitation_table
 from ..model.schema import CHANNELS, DIRECTIONS, channels_of
 from ..model.validate import alias
-from ..records import least_skip, skip_for_whole_periods
 from ..structure.geometry import centerline_of
 from .random_record import RandomRecord
+from .start_skip import least_skip, skip_for_whole_periods
 
 if TYPE_CHECKING:
     from ..model import Model
@@ -75,7 +75,7 @@ class _Tabulated:
         # start of every command that builds an engine, and only tabulated excitations need it
         from scipy.interpolate import CubicSpline
 
-        t, x = _read_table(path, key)
+        t, x = read_excitation_table(path, key)
         self.t0, self.t1 = t[0], t[-1]
         if quantity == "displacement":
             self.u = CubicSpline(t, x)
@@ -104,43 +104,20 @@ def _zero_mean(pp, t):
     return pp
 
 
-def _read_table(path, key):
-    """(t, x) of a CSV table with a header and two columns time_s, <value>; checked (errors name
-    ``key``, the file and the line, and quote none of its content). A third column is refused, not
-    ignored: it may be the column that was meant. The first column's header must name the time
-    (:func:`~cablecasing_core.files.time_column`): ``time_s``, ``time [s]`` (as a record's CSV),
-    ``time`` or ``t`` are in s; ``time_ms``, ``time [ms]``, ``time_us``, ``time [us]`` are converted to
-    s; another unit, or a first column that is not the time, is refused."""
-    names, data = read_csv_table(path, key)
-    if len(names) != 2:
-        raise ModelError(
-            key,
-            str(path),
-            f"must have two columns, time_s and the values; its header line names {len(names)} columns "
-            "(one excitation per file: give each column its own file and excitation)",
-        )
-    to_s = time_column(key, path, names[0], named=True)
-    t, x = data[:, 0] if to_s == 1.0 else data[:, 0] * to_s, data[:, 1]
-    bad = np.nonzero(np.diff(t) <= 0)[0]
-    if bad.size:
-        raise ModelError(key, path, f"time (its first column) must increase strictly; data row {bad[0] + 2} does not")
-    return t, x
-
-
 def short_tables(model: Model, duration: float | None = None, key: str = "scenario.duration") -> list[str]:
     """What to warn of ``model``'s CSV excitations whose table ends before the run does (at
     ``duration`` s, default ``scenario.duration``, named ``key`` in the text): after its last time the
     support holds its last displacement at rest, so a support that is still moving there stops
     within one step (a force spike; the energy ledger need not close). One line per such table,
     naming the excitation, the file, its last time and the duration; [] when every table covers the
-    run. A table read here is checked as the run reads it (:func:`_read_table`)."""
+    run. A table read here is checked as the run reads it (:func:`~cablecasing_core.files.read_excitation_table`)."""
     sc = model.scenario
     T = float(sc["duration"] if duration is None else duration)
     said = []
     for name, e in sc.get("excitation", {}).items():
         if e["kind"] != "csv":
             continue
-        t, _ = _read_table(e["file"], f"scenario.excitation.{name}.file")
+        t, _ = read_excitation_table(e["file"], f"scenario.excitation.{name}.file")
         if t[-1] < T * (1 - 1e-9):
             said.append(
                 f"scenario.excitation.{name}.file = {e['file']} ends at t = {t[-1]:.6g} s, before the end of the "
@@ -289,11 +266,11 @@ def whole_period_skip(
     model: Model, duration: float | None = None, dt: float | None = None, least: float = 0.0
 ) -> float:
     """The default start of a record of ``model``'s scenario left out of its band levels (s): the
-    least skip at or above 0.05 s, ``scenario.ramp`` (:func:`~cablecasing_core.records.least_skip`)
+    least skip at or above 0.05 s, ``scenario.ramp`` (:func:`~cablecasing_core.timedomain.start_skip.least_skip`)
     and ``least`` (s; the report's :data:`~cablecasing_core.report.HARMONIC_START_SKIP` with a
     harmonic drive) after which the rest of the record, ``duration`` (s, default
     ``scenario.duration``), holds whole periods of the scenario's harmonic excitations (:func:`harmonic_lines`;
-    :func:`~cablecasing_core.records.skip_for_whole_periods`, on the grid of ``dt``, s, default
+    :func:`~cablecasing_core.timedomain.start_skip.skip_for_whole_periods`, on the grid of ``dt``, s, default
     ``scenario.dt``): 0.06 s of the specimens' 1 s and 0.5 s records with their 50 Hz drive. A run's
     record states the lines and the ramp, so that ``Records.default_skip`` gives the same start."""
     sc = model.scenario

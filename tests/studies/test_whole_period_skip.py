@@ -11,9 +11,10 @@ import cablecasing_core as cc
 from cablecasing_core.cli import main
 from cablecasing_core.errors import ModelError
 from cablecasing_core.nvh.bands import window_options
-from cablecasing_core.records import LEAST_SKIP, after_skip, read_records, skip_for_whole_periods
+from cablecasing_core.records import after_skip, read_records
 from cablecasing_core.studies import octave_rms, seed_ensemble
 from cablecasing_core.timedomain.scenario import whole_period_skip
+from cablecasing_core.timedomain.start_skip import LEAST_SKIP, skip_for_whole_periods
 
 DRIVE = "scenario.excitation.cable_axial"
 
