@@ -286,7 +286,7 @@ def _beyond_table3_note(terms, top_hz, step):
     bending waves (about one element per wavelength of the casing at 20 kHz)."""
     from ..model.schema import lookup
     from ..nvh.bands import TABLE3_UPPER
-    from ..structure.route_summary import newmark_period_error
+    from ..timedomain.accuracy import newmark_period_error
 
     if top_hz <= TABLE3_UPPER[-1] or not all(_model_output(t) for t in terms):
         return None

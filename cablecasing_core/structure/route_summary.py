@@ -15,7 +15,7 @@ two chords, which is the radius of that arc (the total bend counts every corner)
 
 The band advice (:func:`band_advice`) sets the mesh and the time step against the scenario's
 excitation band: each body's bending wavelength at the band's top and the elements on it, and
-Newmark's period error there with ``scenario.dt``.
+Newmark's period error there with ``scenario.dt`` (:mod:`~cablecasing_core.timedomain.accuracy`).
 """
 
 from __future__ import annotations
@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..model.schema import MAX_ELEMENTS
+from ..timedomain.accuracy import newmark_period_error, step_for_period_error
 from .assembly import axial_prestress
 from .geometry import build_centerline, centerline_of, clip_breaks, node_stations, route_of
 from .sections import section_of
@@ -226,25 +227,6 @@ ADVISED_PER_WAVELENGTH = 6.0  # what the warning's n_elements gives
 # has 0.033 %, and the time step's tables (docs/time_domain.md) show their levels converged there.
 MAX_PERIOD_ERROR = 0.01
 ADVISED_PERIOD_ERROR = 0.005
-
-
-def newmark_period_error(f_hz, dt):
-    """Newmark's relative period error at ``f_hz`` (Hz) with the step ``dt`` (s), (2 pi f dt)^2 / 12
-    (dimensionless; 0.01 is 1 %): the average acceleration rule (gamma = 1/2, beta = 1/4, the time
-    domain's) steps an undamped oscillator of angular frequency w at the frequency W of
-    tan(W dt / 2) = w dt / 2, so its period is T (w dt / 2) / arctan(w dt / 2), too long by
-    (w dt)^2 / 12 - (w dt)^4 / 180 + ...: the leading term (docs/time_domain.md), which overstates the
-    error by (w dt)^2 / 15 of itself (0.8 % of a 1 % error). Verified against the average acceleration
-    rule stepped by hand in tests/model/test_mesh_advice.py."""
-    return (2.0 * np.pi * np.asarray(f_hz, dtype=float) * dt) ** 2 / 12.0
-
-
-def step_for_period_error(f_hz, error):
-    """The longest step dt (s) of two significant digits (a value to type) at which
-    :func:`newmark_period_error` at ``f_hz`` (Hz) is at most ``error`` (0.005: 0.5 %)."""
-    dt = float(np.sqrt(12.0 * error) / (2.0 * np.pi * f_hz))
-    e = int(np.floor(np.log10(dt))) - 1
-    return float(f"{int(np.floor(dt / 10.0**e * (1 + 1e-12)))}e{e}")  # (1.9e-05, not 1.8999999999999998e-05)
 
 
 def bending_wavelength(EI, rho_A, P, f_hz):

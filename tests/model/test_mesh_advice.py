@@ -23,9 +23,8 @@ from cablecasing_core.structure.route_summary import (
     band_advice_warnings,
     bending_wavelength,
     excitation_top,
-    newmark_period_error,
-    step_for_period_error,
 )
+from cablecasing_core.timedomain.accuracy import newmark_period_error, step_for_period_error
 
 ROOT = Path(__file__).resolve().parents[2]
 E, RHO, L = 2.1e11, 7850.0, 1.0  # Pa, kg/m3, m: a steel wire
@@ -168,7 +167,7 @@ def _newmark_period(w, dt, periods=400):
 @pytest.mark.parametrize(("f", "dt"), [(1000.0, 1e-5), (2000.0, 1e-5), (5680.0, 1e-5), (2000.0, 2e-5)])
 def test_the_period_error_is_newmark_s_on_a_single_oscillator(f, dt):
     """The oscillator's measured relative period error agrees with (2 pi f dt)^2 / 12 to within the
-    next term of the series, (w dt)^2 / 15 of it (route_summary.newmark_period_error: 0.1 % of itself at
+    next term of the series, (w dt)^2 / 15 of it (timedomain.accuracy.newmark_period_error: 0.1 % of itself at
     2 kHz and 1e-5 s, 0.8 % at 5680 Hz), plus 1e-3 of it for the crossings' timing."""
     w = 2 * np.pi * f
     measured = _newmark_period(w, dt) * f - 1
