@@ -36,6 +36,8 @@ from pathlib import Path
 import numpy as np
 
 from .errors import ModelError
+from .units import TIME_UNITS as TIME_UNITS  # (re-exported: the table's earlier home)
+from .units import time_factor
 
 
 def _target(path, flag="path") -> Path:
@@ -248,13 +250,15 @@ def _refuse_cut_last_row(key, shown, lines, rows):
         )
 
 
-def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: int = 2):
+def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: int = 2, rounding: bool = False):
     """``(names, data)`` of the numeric CSV table in ``path``: one header line of ``,``-separated
     column names (a name in double quotes is read without them), then rows of as many finite
     numbers (in quotes or not; blank lines and lines starting with ``#`` are skipped). A
     :class:`ModelError` names ``key`` (the field or option that gave the path), the file, and the
     line and column that are wrong, and says what is allowed; it quotes no part of the file (which
-    may be any file). ``data`` is (rows, columns), float."""
+    may be any file). ``data`` is (rows, columns), float. With ``rounding``, ``(names, data,
+    rounding)``: how far each row's first number may lie from the value it was printed from, in
+    that column's unit (:func:`printed_rounding`; a record's time column printed with few digits)."""
     shown = str(path)
     p = _target(path, key)
     if not p.exists():
@@ -318,7 +322,46 @@ def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: i
         raise ModelError(
             key, shown, f"line {rows[r][0]}, column {c + 1} is not a finite number of magnitude at most 1e100"
         )
+    if rounding:
+        return names, data, printed_rounding([s.split(",", 1)[0] for _, s in rows], data[:, 0])
     return names, data
+
+
+def _last_digit(text: str) -> float:
+    """The last digit a number printed as ``text`` shows (``"0.0125"``: 1e-4, ``"1.5e-3"``: 1e-4), NaN for
+    a whole number (``"2"``, no point, no exponent); quotes and spaces around it are ignored."""
+    mantissa, _, exponent = text.strip().strip("\"' ").lower().partition("e")
+    point, decimals = mantissa.partition(".")[1:]
+    return float("nan") if not (point or exponent) else 10.0 ** (int(exponent or 0) - len(decimals))
+
+
+def printed_rounding(texts, values) -> np.ndarray:
+    """How far each number of a column may lie from the value it was printed from (in the column's
+    unit): half the last digit each of ``texts`` (the numbers as printed; quotes and spaces around
+    them are ignored) shows, ``values`` being the numbers they read as (for their magnitudes).
+    An analyser's ``%.6g`` time column at 2048 Hz rounds its steps by up to 1 % of themselves.
+
+    A number printed short ("0.5", "-0.02": ``%g`` strips trailing zeros) is no evidence of a coarse
+    resolution, and its own digit would widen the allowance of its row (a CSV with a sample missing
+    was read at 2045.5 Hz): a number's digit counts at most as the larger of the column's median
+    digit (``%.9f``: fixed decimals) and the digit the column's median number of significant digits
+    gives at the number's own magnitude (``%.6g``: 1e-6 from 0.1, 1e-5 from 1, so that a record
+    that crosses 1 s keeps its coarser rows past it). A whole number ("0", "2", no point, no
+    exponent) says nothing of the digits kept and takes the column's median digit; a column of whole
+    numbers only is taken as exact (0)."""
+    values = np.abs(np.asarray(values, dtype=float))
+    digit = np.array([_last_digit(text) for text in texts], dtype=float)  # (a loop: 4x numpy.char's speed)
+    if digit.size == 0 or np.all(np.isnan(digit)):
+        return np.zeros(values.shape)
+    median = float(np.nanmedian(digit))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        lead = np.where(values > 0, np.floor(np.log10(values)), np.nan)  # (the leading digit's exponent)
+        significant = np.round(lead - np.log10(digit)) + 1.0  # (digits printed)
+    if np.all(np.isnan(significant)):
+        cap = np.full(values.shape, median)
+    else:  # (fmax: a 0's nan magnitude gives the median)
+        cap = np.fmax(median, 10.0 ** (lead - float(np.nanmedian(significant)) + 1.0))
+    return 0.5 * np.where(np.isnan(digit), median, np.minimum(digit, cap))
 
 
 #: A statement a comment line of a CSV table makes about it: ``# name = value (what it means)``
@@ -357,36 +400,15 @@ def csv_statements(path, names, key: str = "file") -> dict:
     return found
 
 
-#: The units of time and their factors to s: the one table of a CSV table's time column (its
-#: first; :func:`time_column`) and of a UFF 58 time record's abscissa label
-#: (:mod:`.identification.uff_io`), both read through :func:`time_factor` (case-insensitive).
-TIME_UNITS = {
-    "s": 1.0,
-    "sec": 1.0,
-    "second": 1.0,
-    "seconds": 1.0,
-    "ms": 1e-3,
-    "msec": 1e-3,
-    "us": 1e-6,
-    "usec": 1e-6,
-    "\u00b5s": 1e-6,  # (micro sign)
-    "\u03bcs": 1e-6,  # (Greek mu)
-}
 #: The names of a time column that need no unit (s).
 TIME_NAMES = ("time", "t")
 _BRACKETS = re.compile(r"(.*?)\s*[\[(]\s*([^\])]*?)\s*[\])]")
 
 
-def time_factor(unit: str) -> float | None:
-    """The factor from the time unit ``unit`` to s (:data:`TIME_UNITS`, as given or in lower case:
-    ``ms``, ``MS``, ``sec``, ``µs``), None for a unit that is not one of time."""
-    return TIME_UNITS.get(unit, TIME_UNITS.get(unit.lower()))
-
-
 def time_column(key: str, path, header: str, *, named: bool = False) -> float:
     """The factor (to s) of a table's time column (its first) from its header ``header``: the
     unit in brackets (``time [ms]``, also ``time (ms)``) or, as a record's other columns, the
-    ``<name>_<unit>`` form (``time_ms``) of ``time`` and ``t`` (:data:`TIME_UNITS`: s, ms, us or
+    ``<name>_<unit>`` form (``time_ms``) of ``time`` and ``t`` (:data:`.units.TIME_UNITS`: s, ms, us or
     µs, also sec, msec, usec); 1.0 where the header gives no unit (a record's time is then in s).
     A unit that is not one of time raises a :class:`ModelError` naming ``key`` and the file
     (quoting none of it). ``named``: a header without a unit must be ``time`` or ``t``

@@ -127,14 +127,14 @@ def cmd_trfam(args):
 
         trfam_bands(args, f, H)
     elif args.out and args.out.lower().endswith(".uff"):
-        from ..identification.uff_io import Record, write_uff
         from ..records import uff_dof
+        from ..uff import Record, frf_fields, write_uff
 
         node, d, *_ = uff_dof(args.output)
         ref_node, ref_d, *_ = uff_dof(args.input)
         name = f"TRFAM {args.output}/{args.input} ({args.damping})"
-        # apparent mass: reaction force (UFF type 9, N) over acceleration (type 12, m/s2), in kg
-        rec = Record("frf", f, H, name, node, d, ref_node, ref_d, "N", 9, "m/s2", 12)
+        # apparent mass: reaction force (N) over acceleration (m/s2), in kg
+        rec = Record("frf", f, H, name, node, d, ref_node, ref_d, **frf_fields("apparent_mass"))
         write_uff(args.out, [rec])
         print(f"wrote {args.out} (UFF 58, {name}, kg)")
     else:

@@ -25,7 +25,7 @@ def check_output_path(flag, path, suffixes=None):
         try:
             import pyuff  # noqa: F401
         except ImportError:
-            from ..identification.uff_io import PYUFF_MISSING
+            from ..uff import PYUFF_MISSING
 
             others = [s for s in suffixes or () if s != ".uff"]
             instead = f" (or write {' or '.join(others)})" if others else ""

@@ -7,7 +7,8 @@
   (:func:`loss_factor_circle`, Section 3.2.2, Eq. 45, Figs. 12-13).
 * :mod:`.modulus` - frequency-dependent dynamic modulus (:func:`identify_modulus`, Section 3.1, Figs. 8-9).
 * :mod:`.frf` - H1/H2 FRF estimates, coherence, apparent mass (:func:`frf_estimate`).
-* :mod:`.uff_io` - time records and FRFs as UFF dataset 58 or CSV.
+* :mod:`.uff_io` - a time record's column (any record file, :func:`~cablecasing_core.records.read_records`)
+  and FRFs from CSV or UFF dataset 58 (the format: :mod:`cablecasing_core.uff`).
 * :mod:`.params_toml` - identified parameters in the model file's TOML keys.
 * :mod:`.plots` - figures like the paper's Figs. 9, 11 and 13 (matplotlib, Agg).
 

@@ -50,9 +50,9 @@ def trfam_figure(model, body, out):
     import cablecasing_core as cc
 
     from ..frequency.modal import mode_count
-    from ..identification.uff_io import Record, write_uff
     from ..plotting import plot_trfam_xyz
     from ..records import uff_dof
+    from ..uff import Record, frf_fields, write_uff
 
     freqs = trfam_grid(model, body)
     curves = {}
@@ -74,10 +74,7 @@ def trfam_figure(model, body, out):
                     k,
                     ref,
                     kr,
-                    "N",
-                    9,
-                    "m/s2",
-                    12,
+                    **frf_fields("apparent_mass"),
                 )
             )
         s, v = curves[d]["structural"], curves[d]["viscous"]

@@ -163,9 +163,9 @@ def _pyuff_fails_in_its_second_dataset(monkeypatch, exc):
 def _binary_writer_fails_in_its_second_dataset(monkeypatch, exc):
     """The binary writer (the command line's) writes the first dataset and half the second, then
     ``exc()`` is raised."""
-    from cablecasing_core.identification import uff_io
+    from cablecasing_core import uff
 
-    real, calls = uff_io._write_58b, []
+    real, calls = uff._write_58b, []
 
     def second_fails(fh, d):
         calls.append(1)
@@ -174,7 +174,7 @@ def _binary_writer_fails_in_its_second_dataset(monkeypatch, exc):
             raise exc()
         return real(fh, d)
 
-    monkeypatch.setattr(uff_io, "_write_58b", second_fails)
+    monkeypatch.setattr(uff, "_write_58b", second_fails)
 
 
 @pytest.mark.parametrize("exc,code", [(_full, 1), (KeyboardInterrupt, 130)])

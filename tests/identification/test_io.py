@@ -323,8 +323,9 @@ def test_a_csv_time_in_ms_off_its_grid_is_refused_with_the_departure_in_s(tmp_pa
     np.savetxt(p, np.column_stack([1e3 * t, np.sin(t)]), delimiter=",", header="time [ms],acc", comments="", fmt="%.6g")
     with pytest.raises(ModelError, match=r"no sample missing") as e:
         read_csv_time(p)
-    # half the printing's median digit in s: times of 100 to 999 ms printed %.6g to 1e-3 ms, 5e-7 s (not 0.0005)
-    assert "(typically +-5e-07 s)" in str(e.value)
+    # half the printing's digit in s: times of 100 to 999 ms printed %.6g to 1e-3 ms, 5e-7 s (not 0.0005)
+    assert "the rounding the file kept each time to (5e-07 s there" in str(e.value)
+    assert "sample 1001 of 2047 (t = 0.48877 s) departs from that grid" in str(e.value)  # (the gap, in s)
 
 
 @pytest.mark.parametrize(("unit", "scale"), [("sec", 1.0), ("Seconds", 1.0), ("msec", 1e3), ("usec", 1e6), ("us", 1e6)])

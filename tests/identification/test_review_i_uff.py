@@ -8,7 +8,7 @@ import warnings
 import numpy as np
 import pyuff
 
-from cablecasing_core.identification import uff_io
+from cablecasing_core import uff
 from cablecasing_core.identification.uff_io import Record, read_uff, write_uff
 from cablecasing_core.records import Records, read_records, write_records
 
@@ -40,7 +40,7 @@ def test_saving_a_record_of_38_columns_leaves_no_file_open(tmp_path):
 def test_the_file_written_by_hand_is_what_pyuff_writes(tmp_path):
     functions = _functions()
     write_uff(tmp_path / "mine.uff", functions)
-    sets = [uff_io._dataset(r, True) for r in functions]
+    sets = [uff._dataset(r, True) for r in functions]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ResourceWarning)  # (pyuff's own handles)
         pyuff.UFF(str(tmp_path / "pyuff.uff")).write_sets(sets, mode="add")
