@@ -9,7 +9,7 @@ import pytest
 
 import cablecasing_core.identification as identification
 import cablecasing_core.nvh as nvh
-import cablecasing_core.studies as studies
+import cablecasing_core.nvh.bands as bands
 from cablecasing_core.cli import main
 from cablecasing_core.errors import ModelError
 from cablecasing_core.records import Records, read_records
@@ -57,7 +57,7 @@ def test_a_csv_printed_g6_gives_spectrum_bands_and_identify_one_rate(tmp_path, c
     assert np.ptp(steps) > 1e-2 * steps.mean()  # (the printing's rounding, far beyond exact times' 1e-6)
     seen = []
     _spy(monkeypatch, nvh, "psd", seen)  # spectrum's PSD
-    _spy(monkeypatch, studies, "octave_rms", seen)  # bands' band levels
+    _spy(monkeypatch, bands, "octave_rms", seen)  # bands' band levels
     _spy(monkeypatch, identification, "wavelet_damping", seen)  # identify damping's ridges
     for argv in COMMANDS.values():
         assert main([a.format(path=path) for a in argv]) == 0, capsys.readouterr().err
