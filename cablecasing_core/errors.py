@@ -127,6 +127,37 @@ def _one_line(text) -> str:
     return " ".join(str(text).splitlines())
 
 
+#: The longest excerpt of an unexpected exception's message that :func:`internal_error_text` quotes.
+INTERNAL_EXCERPT = 200
+
+
+def internal_error_text(exc: BaseException, report: str = "", note: str = "") -> str:
+    """What a host shows of an unexpected exception ``exc`` (a bug of this package), in one line:
+    ``Type: message (a bug; please report it<report>; CABLECASING_TRACEBACK=1 shows the traceback)<note>``,
+    the message on one line and cut to :data:`INTERNAL_EXCERPT` characters (:func:`excerpt`); ``report``
+    says what to send with it (the command line's ``" with the command"``), ``note`` what the host adds
+    (an FMU's parameters set). A :class:`MemoryError` is no bug: its line says the run needs more memory
+    than the machine has free. With the environment variable ``CABLECASING_TRACEBACK`` set, the
+    traceback follows on the next lines. The one text of the command line's ``internal error`` and of
+    the FMU's log."""
+    import os
+    import traceback
+
+    if isinstance(exc, MemoryError):
+        text = (
+            "out of memory (MemoryError): the run needs more memory than this machine has free; fewer elements "
+            f"(geometry.n_elements) need less (docs/model_file.md, Limits){note}"
+        )
+    else:
+        text = (
+            f"{type(exc).__name__}: {excerpt(_Plain(str(exc)), INTERNAL_EXCERPT)} (a bug; please report it{report}; "
+            f"CABLECASING_TRACEBACK=1 shows the traceback){note}"
+        )
+    if os.environ.get("CABLECASING_TRACEBACK"):
+        text += "\n" + "".join(traceback.format_exception(type(exc), exc, exc.__traceback__)).rstrip("\n")
+    return text
+
+
 class ModelWarning(UserWarning):
     """A valid value that is physically absurd, or a combination of values whose result may be
     meaningless; the message says why."""
@@ -138,5 +169,6 @@ class SolverWarning(ModelWarning):
     and the message says where and how much. A :class:`ModelWarning`, filterable on its own."""
 
 
-#: The plausibility warnings of a routing (issue 24) are :class:`ModelWarning` under their own name.
+#: The plausibility warnings of a routing (``structure.route_summary.plausibility_warnings``, which
+#: ``load_model`` issues) are :class:`ModelWarning` under their own name.
 PlausibilityWarning = ModelWarning

@@ -19,8 +19,8 @@ Only an adapter over ``cablecasing_core``'s time-domain ``Engine``; there is no 
   override the model (the base model or ``model_file``) through ``Model.with_overrides`` when
   initialisation ends. A ``model_file`` whose channels or outputs are not the FMU's (other excited
   clips, another number of clips) is refused at initialisation, naming them; the FMU built
-  without a model file keeps its 12 channels and accepts clip models as it always did (their
-  excited clips at rest, their clip forces not outputs, with a warning).
+  without a model file keeps its 12 channels and accepts clip models too (their excited clips at
+  rest, their clip forces not outputs, with a warning).
 
 The slave is driven by the FMU's own binary (``native/cablecasing_fmi2.c`` through
 ``cablecasing_fmi2_bridge.py``, Linux) with the ``fmi2_*`` methods, which return the FMI status
@@ -38,7 +38,6 @@ import math
 import os
 import re
 import threading
-import traceback
 import warnings
 
 import numpy as np
@@ -48,12 +47,16 @@ from pythonfmu.enums import Fmi2Status
 # The kernels' numba cache (a per-user folder keyed by the kernels' sources, so it outlives the
 # unpacked FMU) is installed by the bundled package itself: cablecasing_core.timedomain.kernels.
 import cablecasing_core as cc
-from cablecasing_core.errors import renamed
+from cablecasing_core.errors import internal_error_text, renamed
 from cablecasing_core.model import specimen_names
 from cablecasing_core.model.limits import check_time_domain
 from cablecasing_core.model.schema import (
+    BODY_NAMES,
     CHANNELS,
+    DIRECTIONS,
+    INTEGER_OUTPUTS,
     OUTPUTS,
+    SUPPORT_NAMES,
     input_spec,
     inputs_of,
     lookup,
@@ -72,7 +75,6 @@ from cablecasing_core.timedomain.engine import (
 from cablecasing_core.timedomain.scenario import scenario_motion
 from cablecasing_core.timedomain.support_motion import GridMotion, SupportReconstruction
 
-INTEGER_OUTPUTS = ("contact.active",)
 #: the folder (in resources/) of the model file an FMU was built for (build_fmu.py --model)
 MODEL_FOLDER = "model"
 
@@ -139,7 +141,6 @@ INSTANTIATED, INITIALIZATION, STEPPING, TERMINATED = range(4)
 # shares: each FMU (each GUID) imports this file as a module of its own.
 _WARNINGS_LOCK = warnings.__dict__.setdefault("_cablecasing_fmu_lock", threading.RLock())
 SPECIAL = ("contact.enabled", "model_file", "solver.dt", "scenario.drive")
-_TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}
 
 
 def _phase_of(state):
@@ -175,20 +176,6 @@ class ModelFileError(cc.ModelError):
         self.args = (f"model_file = {_path_text(path)}: {allowed}",)
 
 
-def _one_line(exc, note=""):
-    """An unexpected exception in one line, ``Type: message`` (a bug: please report it), then
-    ``note``; its traceback too when ``CABLECASING_TRACEBACK`` is set, as on the command line."""
-    if isinstance(exc, MemoryError):  # (not a bug: the model does not fit in this machine's memory)
-        return (
-            "out of memory (MemoryError): the model is too large for this machine; use fewer elements "
-            "(geometry.n_elements)"
-        )
-    text = f"{type(exc).__name__}: {' '.join(str(exc).split())} (a bug; please report it){note}"
-    if os.environ.get("CABLECASING_TRACEBACK"):
-        text += "\n" + traceback.format_exc()
-    return text
-
-
 class CableCasing(Fmi2Slave):
     """Gear-shift cable in a curved casing, driven at its four supports (see module docstring)."""
 
@@ -222,7 +209,6 @@ class CableCasing(Fmi2Slave):
         self._log_sink = None
         self._tolerance_said = False  # fmi2SetupExperiment's tolerance is said unused once per instance
         self._end_offset_said = False  # the bodies' end supports set apart across the gap: warned once per instance
-        self._ends, self._ends_engine = None, None  # (_end_offsets: its rows, and the engine they are of)
         # the two arrays the FMU's binary reads and writes directly
         self.inputs_buffer = np.zeros(3 * self.nch)  # u (m), v (m/s), a (m/s2) of the channels
         self._finite_inputs = np.zeros(3 * self.nch, dtype=bool)
@@ -321,7 +307,7 @@ class CableCasing(Fmi2Slave):
                 "contact.enabled",
                 causality=Fmi2Causality.parameter,
                 variability=Fmi2Variability.fixed,
-                description="contact between cable and casing on (true) or off (false: two independent linear bodies)",
+                description=parameter_info("contact.enabled")[1],
             ),
             "",
         )
@@ -343,16 +329,16 @@ class CableCasing(Fmi2Slave):
             ),
             "",
         )
+        step = lookup("scenario.dt")  # (solver.dt is the model's step as the FMU's parameter)
         self._add_parameter(
             Real(
                 "solver.dt",
                 causality=Fmi2Causality.parameter,
                 variability=Fmi2Variability.fixed,
-                description="internal Newmark time step (unset: the model's scenario.dt); a "
-                "communication step is split into steps of this size and one "
-                "shorter last step",
+                description=f"{step.description} inside the FMU (unset: the model's scenario.dt); a communication "
+                "step is split into steps of this size and one shorter last step",
             ),
-            "s",
+            step.unit,
         )
         self._add_parameter(
             Boolean(
@@ -731,7 +717,7 @@ class CableCasing(Fmi2Slave):
             return self._block(f"the model cannot be built: {' '.join(str(exc).split())}{self._set_text()}")
         except Exception as exc:  # noqa: BLE001  (never raise into the host)
             self._engine = None
-            return self._block(f"the model cannot be built: {_one_line(exc, self._set_text())}")
+            return self._block(f"the model cannot be built: {internal_error_text(exc, note=self._set_text())}")
         finally:
             self._log_warnings(said)
         problem = self._variables_problem(self._engine)
@@ -815,7 +801,7 @@ class CableCasing(Fmi2Slave):
     def _variables_problem(self, engine):
         """Why the engine's model does not fit this FMU's variables (None if it does). An FMU built
         for a model file has that model's channels and outputs, and refuses a ``model_file`` with
-        others; the FMU of the built-in specimen accepts clip models as it always did: their
+        others; the FMU of the built-in specimen accepts clip models too: their
         excited clips' supports stay at rest (or follow scenario.drive), their forces are no
         outputs, and it warns."""
         channels, outputs = engine.channels, engine.output_names
@@ -986,7 +972,7 @@ class CableCasing(Fmi2Slave):
             msg = self._input_overflow(exc, current_time, step_size)
             if msg is None:
                 msg = f"step from t = {current_time:.9g} s over {step_size:.6g} s discarded (state rolled back): "
-                msg += str(exc) if isinstance(exc, cc.CableCasingError) else _one_line(exc)
+                msg += str(exc) if isinstance(exc, cc.CableCasingError) else internal_error_text(exc)
             self.log(msg, Fmi2Status.discard)
             return self._discard(current_time, step_size)
         # the FMU's clock is the master's: the engine's time (a sum of its steps, which leaves a rest
@@ -996,13 +982,9 @@ class CableCasing(Fmi2Slave):
         if self._discarded is not None:
             self._discarded, self._wants_to_end = None, False
         if not self._end_offset_said:  # (of a step taken: a discarded one has its own message)
-            if self._ends_engine is not eng:
-                self._ends, self._ends_engine = self._end_offsets(eng), eng
-            if self._ends is not None:
-                r = (self._ends[0] @ self._u).tolist()  # (m: the ends' offsets across the route, 2 components each)
-                g2 = self._ends[1]
-                if r[0] * r[0] + r[1] * r[1] > g2 or r[2] * r[2] + r[3] * r[3] > g2:
-                    self._say_end_offset(r, current_time)
+            ends = eng.end_offset_excess(self._u)
+            if ends is not None and (ends.across > ends.gap).any():
+                self._say_end_offset(ends, current_time)
         return OK
 
     def _say_start_offset(self, current_time, step_size):
@@ -1027,62 +1009,31 @@ class CableCasing(Fmi2Slave):
             Fmi2Status.warning,
         )
 
-    def _end_offsets(self, eng):
-        """(rows, gap^2) of the check that the position inputs do not set the casing's and the cable's
-        supports at one end apart across the route by more than the radial gap (:meth:`_say_end_offset`),
-        or None when it cannot matter (contact off, one body). The bodies share their end nodes (one
-        centerline: cable node 0 is casing node 0), and the contact measures the cable node's distance
-        from the casing's axis in the node's normal plane, across the route's tangent t there; an offset
-        along t slides the cable in the casing. rows (4 x channels): for end A then B, two unit vectors
-        normal to t applied to (casing's inputs - cable's inputs) at that end; an end where either body's
-        support is free (its input moves nothing) has zero rows."""
-        if not eng.contact:
-            return None
-        rows = np.zeros((4, self.nch))
-        model = eng.model
-        for k, (end, node) in enumerate((("A", 0), ("B", -1))):
-            if "free" in (model.data[body]["supports"][end] for body in ("casing", "cable")):
-                continue
-            t = eng.Tc[node] / np.linalg.norm(eng.Tc[node])
-            e1 = np.cross(t, np.eye(3)[int(np.argmin(np.abs(t)))])
-            e1 /= np.linalg.norm(e1)
-            e2 = np.cross(t, e1)
-            casing, cable = (CHANNELS.index(f"{body}.{end}.x") for body in ("casing", "cable"))
-            for j, e in enumerate((e1, e2)):
-                rows[2 * k + j, casing : casing + 3] = e
-                rows[2 * k + j, cable : cable + 3] = -e
-        if not rows.any():
-            return None
-        return rows, eng.gap * eng.gap
-
-    def _say_end_offset(self, r, current_time):
+    def _say_end_offset(self, ends, current_time):
         """Warn (once per instance) that the position inputs set the two bodies' supports at an end
-        apart across the route by more than the radial gap: the bodies share their end position, so
-        the cable is pressed into the casing's wall there by the excess (1 mm at a clamped end of the
-        built-in specimen, 0.5 mm past its gap, gives 5.9 kN); said after the step, which was taken as given."""
+        apart across the route by more than the radial gap (``ends``: :meth:`Engine.end_offset_excess`
+        of the inputs): the bodies share their end position, so the cable is pressed into the casing's
+        wall there by the excess; said after the step, which was taken as given."""
         self._end_offset_said = True
-        eng = self._engine
-        for k, end in enumerate("AB"):
-            across = math.hypot(r[2 * k], r[2 * k + 1])
-            if across * across <= self._ends[1]:
+        for k, end in enumerate(SUPPORT_NAMES):
+            across, t = float(ends.across[k]), ends.tangent[k]
+            if not across > ends.gap:
                 continue
             given = []
-            for d in "xyz":
-                a, b = (float(self._u[CHANNELS.index(f"{body}.{end}.{d}")]) for body in ("casing", "cable"))
+            for d in DIRECTIONS:
+                a, b = (float(self._u[CHANNELS.index(f"{body}.{end}.{d}")]) for body in BODY_NAMES)
                 if a != b:
                     given.append(f"casing.{end}.{d} = {a!r} m, cable.{end}.{d} = {b!r} m")
-            t = eng.Tc[0 if end == "A" else -1]
-            t = t / np.linalg.norm(t)
             self.log(
                 f"position inputs at t = {current_time:.9g} s set the casing's and the cable's supports at end {end} "
                 f"{across * 1e3:.4g} mm apart across the route ({'; '.join(given)}: their difference normal to the "
                 f"route's tangent [{t[0]:.4g}, {t[1]:.4g}, {t[2]:.4g}] there), more than the radial gap "
-                f"{eng.gap * 1e3:.4g} mm between cable and casing (contact.enabled, casing.d_inner, cable.d): the two "
+                f"{ends.gap * 1e3:.4g} mm between cable and casing (contact.enabled, casing.d_inner, cable.d): the two "
                 f"bodies share their end position, so the cable is pressed into the casing's wall there by the excess, "
-                f"{(across - eng.gap) * 1e3:.3g} mm, with a contact force that grows steeply with it (0.5 mm at a "
-                "clamped end of the built-in specimen: 5.9 kN); give both bodies' supports at an end the same motion "
-                "across the route (along it the cable slides in the casing), or check how these inputs are "
-                "connected (said once per instance; this step was taken with them)",
+                f"{(across - ends.gap) * 1e3:.3g} mm, with a contact force that grows steeply with it; give both "
+                "bodies' supports at an end the same motion across the route (along it the cable slides in the "
+                "casing), or check how these inputs are connected (said once per instance; this step was taken with "
+                "them)",
                 Fmi2Status.warning,
             )
             return

@@ -35,7 +35,7 @@ import warnings
 
 import numpy as np
 
-from ..errors import CableCasingError, InfrastructureError, ModelError, excerpt, plain, renamed
+from ..errors import CableCasingError, InfrastructureError, ModelError, internal_error_text, renamed
 from . import geometry, identify, nvh, report, simulate, static, study
 from .assignments import add_model_argument, model_argument
 from .paths import check_distinct, check_output_path, emit_table, kept
@@ -427,12 +427,8 @@ def main(argv=None):
     except CableCasingError as exc:
         print(f"cablecasing: error: {exc}", file=sys.stderr)
         return 2
-    except MemoryError:  # (the sizes a run needs are checked before it starts; this is the last resort)
-        print(
-            "cablecasing: error: out of memory: the run needs more memory than the machine has free "
-            "(docs/model_file.md, Limits)",
-            file=sys.stderr,
-        )
+    except MemoryError as exc:  # (the sizes a run needs are checked before it starts; this is the last resort)
+        print(f"cablecasing: error: {internal_error_text(exc)}", file=sys.stderr)
         return 2
     except BrokenPipeError as exc:  # (a pipe of the command's own, not stdout or stderr, which _ReaderGone
         # keeps going): it stopped the work, which is not done, so never status 0
@@ -465,12 +461,7 @@ def main(argv=None):
 
 
 def _internal_error(exc):
-    """A bug: one line, not a traceback (CABLECASING_TRACEBACK=1 shows it); status 1."""
-    if os.environ.get("CABLECASING_TRACEBACK"):
-        raise exc
-    print(
-        f"cablecasing: internal error: {type(exc).__name__}: {excerpt(plain(str(exc)), 200)} (a bug; please report "
-        "it with the command; CABLECASING_TRACEBACK=1 shows the traceback)",
-        file=sys.stderr,
-    )
+    """A bug: one line (:func:`~cablecasing_core.errors.internal_error_text`; CABLECASING_TRACEBACK=1 adds
+    the traceback); status 1."""
+    print(f"cablecasing: internal error: {internal_error_text(exc, report=' with the command')}", file=sys.stderr)
     return 1

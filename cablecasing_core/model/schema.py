@@ -68,6 +68,9 @@ FORCE_NAMES = ("Fx", "Fy", "Fz", "Mx", "My", "Mz")
 #: Force (N) and moment (N.m) each body exerts on each support, in global axes.
 SUPPORT_OUTPUTS = tuple(f"{b}.{s}.{c}" for b in BODY_NAMES for s in SUPPORT_NAMES for c in FORCE_NAMES)
 CONTACT_OUTPUTS = ("contact.active", "contact.max_penetration", "contact.dissipated_energy")
+#: The outputs whose values are whole numbers (``contact.active``, a count of nodes): an FMU declares
+#: them Integer; every other output is a real number (:func:`output_spec`).
+INTEGER_OUTPUTS = ("contact.active",)
 #: Every output of the time domain (``Engine.output_values``, the FMU's outputs), in this order.
 OUTPUTS = SUPPORT_OUTPUTS + CONTACT_OUTPUTS
 #: The support inputs (the FMU's inputs; the columns of a run's record for its driven channels):
@@ -841,7 +844,8 @@ def table(prefix: str) -> list:
 
 
 def output_spec(name: str) -> tuple:
-    """(unit, description) of a time-domain output of :data:`OUTPUTS`."""
+    """(unit, description) of a time-domain output of :data:`OUTPUTS` (or a clip's); its type is an
+    integer for those of :data:`INTEGER_OUTPUTS`, else a real number."""
     if name == "contact.active":
         return "1", "number of cable nodes in contact with the casing (stick or slip)"
     if name == "contact.max_penetration":

@@ -23,13 +23,13 @@ from __future__ import annotations
 import io
 import math
 from collections.abc import Mapping
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ..errors import CableCasingError, ModelError, SimulationError
-from ..model.schema import CHANNELS, CONTACT_LAWS, OUTPUTS, channels_of, lookup, outputs_of
+from ..model.schema import BODY_NAMES, CHANNELS, CONTACT_LAWS, OUTPUTS, SUPPORT_NAMES, channels_of, lookup, outputs_of
 from ..model.validate import check_tolerance_substeps
 from ..model.validators import contact_in_force, seconds
 from . import kernels as K
@@ -140,6 +140,17 @@ def motion_arrays(motion, times, nch=None):
     return u, v, a
 
 
+class EndOffsets(NamedTuple):
+    """What :meth:`Engine.end_offset_excess` returns: the offset of the casing's support against the
+    cable's across the route at ends A and B (m, (2,)), the radial gap (m) and the route's unit
+    tangents at A and B ((2, 3), global axes). The cable is pressed into the wall at an end by
+    ``across - gap`` where that is positive."""
+
+    across: np.ndarray
+    gap: float
+    tangent: np.ndarray
+
+
 class Engine:
     """Newmark stepping engine for a :class:`~cablecasing_core.model.Model`.
 
@@ -217,6 +228,7 @@ class Engine:
         #: contacts are closed (docs/time_domain.md, "Events inside the step"); False recomputes it
         self.reuse_delassus = True
         self._hist = []
+        self._end_rows = None  # (end_offset_excess: its projections and tangents)
         self._snap = None  # roll-back buffer of advance (see snapshot)
         self._ws = K.contact_workspace(len(self.Xc))
         self._allocate_state()
@@ -785,6 +797,47 @@ class Engine:
                 "out", shown, f"must be a writable, C-contiguous 1-D float64 array of at least {len(OUTPUTS)} values"
             )
         return out
+
+    def end_offset_excess(self, u: ArrayLike) -> EndOffsets | None:
+        """How far the support displacements ``u`` set the casing's and the cable's supports at each
+        end apart across the route, against the radial gap; None when that cannot matter (contact
+        off, or one body).
+
+        ``u``: displacement (m, global axes) of each channel of :attr:`channels` (or of the first 12,
+        :data:`CHANNELS`), from the reference position the bodies start from at rest. The two bodies
+        share their end nodes (one centerline: cable node 0 is casing node 0), and the contact measures
+        the cable node's distance from the casing's axis in the node's normal plane, across the
+        route's unit tangent t there: at end A (node 0) and B (the last node), with d = u(casing) -
+        u(cable) at that end, ``across = |d - (d . t) t|`` (m). An offset along t slides the cable in
+        the casing; across the route beyond the gap the cable is pressed into the casing's wall there
+        by ``across - gap`` (m). An end where either body's support is free (its displacement moves
+        nothing) has ``across = 0``.
+
+        Returns :class:`EndOffsets` ``(across, gap, tangent)``: across (2,) m, A then B; gap (m,
+        ``model.radial_gap``); tangent (2, 3), the unit tangents at A and B (global axes).
+        """
+        if not (self.contact and len(self.Tc)):
+            return None
+        if self._end_rows is None:  # (4 x 12: two unit vectors normal to t at each end, on casing - cable)
+            rows = np.zeros((4, len(CHANNELS)))
+            tangent = np.zeros((2, 3))
+            supports = {b: self.model.data[b]["supports"] for b in BODY_NAMES}
+            for k, (end, node) in enumerate(zip(SUPPORT_NAMES, (0, -1))):
+                t = self.Tc[node] / np.linalg.norm(self.Tc[node])
+                tangent[k] = t
+                if any(supports[b][end] == "free" for b in BODY_NAMES):
+                    continue
+                e1 = np.cross(t, np.eye(3)[int(np.argmin(np.abs(t)))])
+                e1 /= np.linalg.norm(e1)
+                e2 = np.cross(t, e1)
+                casing, cable = (CHANNELS.index(f"{b}.{end}.x") for b in BODY_NAMES)
+                for j, e in enumerate((e1, e2)):
+                    rows[2 * k + j, casing : casing + 3] = e
+                    rows[2 * k + j, cable : cable + 3] = -e
+            self._end_rows = rows, tangent
+        rows, tangent = self._end_rows
+        r = rows @ np.asarray(u, dtype=float)[: len(CHANNELS)]
+        return EndOffsets(np.hypot(r[0::2], r[1::2]), float(self.gap), tangent)
 
     def clip_forces(self) -> np.ndarray:
         """(n_clips, 6): the force and moment (N, N.m, global axes) the casing exerts through each

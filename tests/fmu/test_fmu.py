@@ -19,7 +19,7 @@ import pytest
 from scipy.signal import csd, find_peaks, welch
 
 import cablecasing_core as cc
-from cablecasing_core.model.schema import CHANNELS, OUTPUTS
+from cablecasing_core.model.schema import CHANNELS, INTEGER_OUTPUTS, OUTPUTS, lookup
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion
 
@@ -160,6 +160,10 @@ def test_model_description_is_complete(fmu, fmu_driver):
     assert all(causality[n] == "input" for n in fmu_driver.INPUTS)
     assert all(causality[n] == "output" for n in OUTPUTS)
     assert var["contact.active"].type == "Integer" and var["contact.enabled"].type == "Boolean"
+    # the outputs' types and the FMU's own parameters' words are the model schema's
+    assert [n for n in OUTPUTS if var[n].type == "Integer"] == list(INTEGER_OUTPUTS)
+    assert var["contact.enabled"].description == lookup("contact.enabled").description
+    assert var["solver.dt"].description.startswith(lookup("scenario.dt").description + " inside the FMU")
     assert var["model_file"].type == "String" and var["model_file"].start == ""
     params = cc.load_model().parameters()
     for key, value in params.items():  # every numeric model key, same start value

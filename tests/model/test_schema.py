@@ -10,6 +10,7 @@ import pytest
 import cablecasing_core as cc
 from cablecasing_core.model.schema import (
     CHANNELS,
+    INTEGER_OUTPUTS,
     OPTIONAL,
     OUTPUTS,
     REQUIRED,
@@ -128,6 +129,8 @@ def test_channels_and_outputs_with_their_units():
         assert unit == ("N" if name.split(".")[2].startswith("F") else "N.m")
         assert name.split(".")[0] in text and f"support {name.split('.')[1]}" in text
     assert [output_spec(n)[0] for n in OUTPUTS[24:]] == ["1", "m", "J"]
+    # an integer output is a count: an output of every model, without a unit
+    assert INTEGER_OUTPUTS and all(n in OUTPUTS and output_spec(n)[0] == "1" for n in INTEGER_OUTPUTS)
     with pytest.raises(cc.ModelError, match="casing.B.Gz"):
         output_spec("casing.B.Gz")
 
