@@ -487,6 +487,8 @@ def build(out, model_file=None):
     path: its channels, outputs and parameters; see the module docstring). Returns the path."""
     from pythonfmu.builder import FmuBuilder
 
+    from cablecasing_core.files import atomic_path
+
     out = Path(out).resolve()
     out.parent.mkdir(parents=True, exist_ok=True)
     model_file = Path(model_file).resolve() if model_file else None
@@ -545,14 +547,14 @@ def build(out, model_file=None):
         )
         entries.update(compiled_kernels(entries))
         entries["model.png"] = (doc / "geometry.png").read_bytes()
-        part = out.with_name(out.name + ".part")
-        with zipfile.ZipFile(part, "w", zipfile.ZIP_DEFLATED) as dst:
+        # (written to a temporary file of its own beside it, synced and renamed: two builds at once, or one
+        # stopped, never leave a partial FMU)
+        with atomic_path(out) as part, zipfile.ZipFile(part, "w", zipfile.ZIP_DEFLATED) as dst:
             for name in sorted(entries):
                 info = zipfile.ZipInfo(name, date_time=zip_time)
                 info.compress_type = zipfile.ZIP_DEFLATED
                 info.external_attr = (0o755 if name.startswith("binaries/") else 0o644) << 16
                 dst.writestr(info, entries[name])
-        os.replace(part, out)
     return out
 
 

@@ -104,6 +104,12 @@ def missing_packages(requirements):
 
 
 def _user_cache_root():
+    """The per-user cache folder of cablecasing (``.../cablecasing``): the folder of the lasting copy of
+    the FMU's Python code (:func:`_stable_copy`), and the parent of the kernels' numba cache
+    (``kernels/_numba_cache.cache_root``, which adds ``numba`` and yields to ``NUMBA_CACHE_DIR``). Not
+    imported from there: it is needed to place the copy of ``cablecasing_core`` itself, before that
+    package can be imported (loading the module from the unpack folder by its path would put a second
+    copy of it in the process). The same platformdirs rule as cache_root's, kept in step by hand."""
     try:
         from platformdirs import user_cache_dir
 
@@ -115,7 +121,8 @@ def _user_cache_root():
 def _stable_copy(resources, guid, names):
     """The folder holding a copy of ``names`` (files and folders of resources/) that outlives the
     unpack folder: ``<user cache>/cablecasing/fmu/<guid>``; written once, atomically (a temporary
-    folder renamed into place). Returns the folder, or ``resources`` when it cannot be written."""
+    folder renamed into place: a folder, which ``files.atomic_path`` does not write, and before the core
+    can be imported). Returns the folder, or ``resources`` when it cannot be written."""
     root = os.path.join(_user_cache_root(), "fmu")
     dest = os.path.join(root, guid)
     if os.path.isfile(os.path.join(dest, ".complete")):
@@ -141,7 +148,9 @@ def _stable_copy(resources, guid, names):
 
 def _seed_numba_cache(shipped, target):
     """Copy the numba cache built with the FMU (index and data files of one folder) into the
-    kernels' cache folder where a file is missing; returns how many were copied."""
+    kernels' cache folder where a file is missing; returns how many were copied. Each file through a
+    temporary name of its own and a rename, as ``files.atomic_path`` writes, without its fsync and
+    checks: a cache file lost in a crash is compiled again, and this module imports nothing of the core."""
     if not os.path.isdir(shipped):
         return 0
     os.makedirs(target, exist_ok=True)
