@@ -6,7 +6,7 @@
 * :mod:`.circlefit` - loss factors from Nyquist circles, loss-factor plane and diagonal ridge
   (:func:`loss_factor_circle`, Section 3.2.2, Eq. 45, Figs. 12-13).
 * :mod:`.modulus` - frequency-dependent dynamic modulus (:func:`identify_modulus`, Section 3.1, Figs. 8-9).
-* :mod:`.frf` - H1/H2 FRF estimates, coherence, apparent mass (:func:`frf_estimate`).
+* :mod:`.frf` - H1/H2 FRF estimates, coherence (:func:`frf_estimate`).
 * :mod:`.uff_io` - a time record's column (any record file, :func:`~cablecasing_core.records.read_records`)
   and FRFs from CSV or UFF dataset 58 (the format: :mod:`cablecasing_core.uff`).
 * :mod:`.params_toml` - identified parameters in the model file's TOML keys.
@@ -16,7 +16,7 @@ See docs/identification.md. SI units throughout; frequencies in Hz where named `
 """
 
 from .circlefit import FRF_KINDS, CircleFitResult, find_resonances, fit_circle, loss_factor_circle, to_displacement_form
-from .frf import FRFEstimate, apparent_mass, frf_estimate
+from .frf import FRFEstimate, frf_estimate
 from .modulus import ModulusResult, identify_modulus, identify_modulus_model
 from .params_toml import loss_factor_table, parameters_toml
 from .rayleigh import RayleighFit, rayleigh_fit, rayleigh_matrix, rayleigh_zeta
@@ -47,7 +47,6 @@ __all__ = [
     "RayleighFit",
     "Record",
     "RidgeResult",
-    "apparent_mass",
     "cwt_morlet",
     "edge_length",
     "find_resonances",

@@ -1,4 +1,4 @@
-"""FRF estimation from time records: H1, H2, coherence, apparent mass.
+"""FRF estimation from time records: H1, H2, coherence.
 
 Welch-averaged spectral densities (``scipy.signal.welch`` / ``scipy.signal.csd``, same window,
 segment length and overlap for every density) give, for input x and output y,
@@ -7,9 +7,10 @@ segment length and overlap for every density) give, for input x and output y,
     H2 = G_yy / G_yx      (unbiased by noise on the input; biased high by noise on the output)
     gamma^2 = |G_xy|^2 / (G_xx G_yy) = H1 / H2   (ordinary coherence, 0..1)
 
-with ``G_xy = csd(x, y)`` (SciPy's convention ``E[conj(X) Y]``). The apparent mass of the paper's
-validation (TRFAM, Eq. 12, in kg) is the FRF from the support acceleration (input, m/s^2) to the
-support force (output, N).
+with ``G_xy = csd(x, y)`` (SciPy's convention ``E[conj(X) Y]``), of arrays in any units. The apparent
+mass of a run's record in the TRFAM's sign convention (Eq. 12, kg: the recorded support force is the
+force the body exerts on its support, the TRFAM's the negative) is ``nvh.apparent_mass``, which takes
+the record's columns by name; ``frf_estimate(a, F, fs).H1`` is F/a as given.
 """
 
 from __future__ import annotations
@@ -93,23 +94,6 @@ def frf_estimate(
         coh = np.abs(Gxy) ** 2 / (Gxx * Gyy)
     n_avg = welch_averages(x.size, nperseg, noverlap)
     return FRFEstimate(f_hz=f, H1=H1, H2=H2, coherence=np.real(coh), Gxx=Gxx, Gyy=Gyy, Gxy=Gxy, n_averages=int(n_avg))
-
-
-def apparent_mass(acceleration, force, fs, estimator="H1", **kw):
-    """Apparent mass F/a (kg) from a support acceleration (m/s^2) and a support force (N).
-
-    The paper's TRFAM (Eq. 12) as measured: input the driven support's acceleration, output the
-    force at the other support. ``estimator`` is ``"H1"`` (noise on the force) or ``"H2"``
-    (noise on the acceleration); ``kw`` go to :func:`frf_estimate`. Returns
-    ``(f_hz, H, coherence)``; ``f_hz`` starts at 0 Hz (Welch's DC line), where the apparent mass of a
-    structure held by stiffness is infinite and the estimate means nothing: ``loss_factor_circle``
-    and ``find_resonances`` leave that line out (in displacement form, ``-omega^2`` times the
-    apparent mass, i.e. the dynamic stiffness F/x, it has no value there).
-    """
-    if estimator not in ("H1", "H2"):
-        raise ModelError("estimator", estimator, "must be 'H1' or 'H2'")
-    est = frf_estimate(acceleration, force, fs, **kw)
-    return est.f_hz, (est.H1 if estimator == "H1" else est.H2), est.coherence
 
 
 def random_error(coherence: ArrayLike, n_averages: int) -> np.ndarray:
