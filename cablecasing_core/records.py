@@ -410,6 +410,23 @@ class Records:
         length = float(self.time[-1] - self.time[0])
         return skip_for_whole_periods(self.lines_hz, length, 1.0 / self.fs, least_skip(self.ramp_s))
 
+    def run_step(self) -> tuple | None:
+        """What the record says of the time step (s) of the run it holds: ``(dt, "every step")`` for a
+        run's record of every step, which states its Nyquist frequency as its passband (a run's
+        :meth:`~cablecasing_core.timedomain.simulation.SimulationResult.records`), so that its sample
+        interval 1 / fs is the step; ``(dt_max, "decimated")`` for a decimated one, which states less
+        (0.7 of its Nyquist frequency, after the anti-alias filter; a record of a result loaded from
+        such a file keeps it) and holds at least two steps per sample without saying how many, so that
+        the step is at most half its sample interval; None for a record that states no passband (picked
+        samples, a CSV of an FMU's outputs written by its host, a measurement), whose samples say
+        nothing of a step."""
+        if "passband_hz" not in self.extra:
+            return None
+        nyquist = self.fs / 2
+        if abs(float(np.asarray(self.extra["passband_hz"])) - nyquist) <= 1e-6 * nyquist:
+            return 1.0 / self.fs, "every step"
+        return 0.5 / self.fs, "decimated"
+
     def resolve(self, name: str, key: str = "name") -> str:
         """The column called ``name``, its header form ``name [unit]`` or ``name_unit``, or a derived
         column (:func:`derived_terms`, added to the record when first asked for; a name with ``+``

@@ -38,7 +38,8 @@ import numpy as np
 from ..errors import CableCasingError, InfrastructureError, ModelError, internal_error_text, renamed
 from . import geometry, identify, nvh, report, simulate, static, study
 from .assignments import add_model_argument, model_argument
-from .paths import check_distinct, check_output_path, emit_table, kept
+from .helptext import FromApi, choice_argument
+from .paths import PLOT_SUFFIXES, check_distinct, check_output_path, emit_table, kept
 
 
 class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
@@ -113,7 +114,7 @@ def cmd_trfam(args):
     # fmin, fmin + df, ... up to fmax, never beyond it (arange's end overshot by up to df / 2)
     f = args.fmin + args.df * np.arange(int(np.floor((args.fmax - args.fmin) / args.df * (1 + 1e-12))) + 1)
     check_output_path("--out", args.out, (".csv",) if args.bands else (".csv", ".uff"))  # (bands: a CSV table)
-    check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    check_output_path("--plot", args.plot, PLOT_SUFFIXES)
     check_distinct(("--out", args.out), ("--plot", args.plot))
     args.interrupted = "stopped: " + kept(args.out, args.plot)
     with renamed({"input": "--input", "output": "--output"}):
@@ -237,15 +238,17 @@ def build_parser():
     t.add_argument(
         "--df", type=float, default=0.25, help="frequency step, Hz (0.25: the casing's narrowest peak within 11 %%)"
     )
-    t.add_argument(
+    choice_argument(
+        t,
         "--damping",
-        choices=["viscous", "structural", "none"],
+        choices=FromApi("frequency.trfam", "DAMPING_MODELS"),
         default="viscous",
         help="viscous: Rayleigh alpha, beta (as the time domain); structural: the loss factor (Eq. 11)",
     )
-    t.add_argument(
+    choice_argument(
+        t,
         "--bands",
-        choices=["table3", "octave", "third"],
+        choices=FromApi("studies.octave", "BAND_KINDS"),
         default=None,
         help="write the band values instead of the lines: the RMS of |TRFAM| over each band within --fmin..--fmax "
         "(table3: the paper's octaves 11-5680 Hz, the report's bands; octave, third: IEC 61260-1), kg",

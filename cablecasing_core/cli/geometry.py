@@ -9,6 +9,7 @@ import warnings
 import numpy as np
 
 from ..errors import ModelWarning
+from ..model.schema import BODY_NAMES
 from .assignments import add_model_argument, model_argument
 
 
@@ -21,9 +22,9 @@ def cmd_geometry(args):
         geometry_summary,
         plausibility_warnings,
     )
-    from .paths import check_output_path
+    from .paths import PLOT_SUFFIXES, check_output_path
 
-    check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    check_output_path("--plot", args.plot, PLOT_SUFFIXES)
     with warnings.catch_warnings(record=True) as said:  # (the route's are printed below with the figures, not twice)
         warnings.simplefilter("always")
         model = model_argument(args.model, args.set)
@@ -83,7 +84,7 @@ def _compressed_casing(model):
     """The casing as built (structure/assembly.py; its reference modulus) when it carries the
     cable's tension as compression (both bodies), for its buckling load (structure/buckling.py);
     else None."""
-    if not {"casing", "cable"} <= set(model.bodies):
+    if not set(BODY_NAMES) <= set(model.bodies):
         return None
     from ..structure.assembly import assemble_body
 

@@ -1,8 +1,13 @@
-"""Help texts of the command line that the model schema writes: an option that stands for a model
-key says what the key is, its unit and its default (a module of its own, imported by every command
-module)."""
+"""Help texts, choices and defaults of the command line's options that the core writes: an option
+that stands for a model key says what the key is, its unit and its default (the model schema); an
+option whose choices or default are a constant of the API takes it from there (:class:`FromApi`),
+read when first needed, so that building the parser imports no sub-command's modules (a module of
+its own, imported by every command module)."""
 
 from __future__ import annotations
+
+import functools
+import importlib
 
 from ..model.schema import lookup
 
@@ -18,12 +23,65 @@ def key_help(key, what=None):
 ASSIGNMENT_HELP = "KEY=VALUE: a dotted model key (see 'cablecasing keys') and a TOML value, e.g. contact.friction=0.2"
 
 
+class FromApi:
+    """The constant ``name`` of the module ``cablecasing_core.<module>`` (``FromApi("frequency.trfam",
+    "DAMPING_MODELS")``) as an option's choices or default, imported when first used: when the help
+    shows it, a value given is checked against it, or the command runs (:func:`taking_api_defaults`).
+    Building the parser then imports none of those modules, so that a command's start-up loads only
+    what it runs (tests/cli/test_static_cli.py). As choices it is the constant's sequence; as a default
+    the help shows its value (``%(default)s``)."""
+
+    def __init__(self, module, name):
+        self.module, self.name = module, name
+
+    @functools.cached_property
+    def value(self):
+        return getattr(importlib.import_module(f"cablecasing_core.{self.module}"), self.name)
+
+    def __iter__(self):
+        return iter(self.value)
+
+    def __contains__(self, item):
+        return item in self.value
+
+    def __str__(self):
+        return str(self.value)
+
+    def __repr__(self):
+        return f"FromApi({self.module!r}, {self.name!r})"
+
+
+def choice_argument(parser, *flags, choices, **kwargs):
+    """``parser.add_argument(*flags, choices=choices, **kwargs)`` with ``choices`` a :class:`FromApi`
+    that the parser does not read while it is built (argparse lists an option's choices to check a
+    metavar it is not given: the option gets one for that check, then none, so that its help and
+    usage list the choices as argparse's do). Returns the action."""
+    action = parser.add_argument(*flags, choices=choices, metavar="", **kwargs)
+    action.metavar = None
+    return action
+
+
+def taking_api_defaults(command):
+    """The command ``command(args)`` with every argument whose value is a :class:`FromApi` (the
+    default of an option not given) given the constant's value first."""
+
+    @functools.wraps(command)
+    def run(args):
+        for name, value in vars(args).items():
+            if isinstance(value, FromApi):
+                setattr(args, name, value.value)
+        return command(args)
+
+    return run
+
+
 def add_window_argument(parser):
-    """``--window`` of the band levels (``bands``, ``ensemble``, ``study``): Hann's, the default of
-    ``studies.octave_rms``, or the rectangular window of the docs' tables before 2026-12-06."""
-    parser.add_argument(
+    """``--window`` of the band levels (``bands``, ``ensemble``, ``study``): one of the band levels'
+    windows (``studies.octave.WINDOWS``), Hann's by default (``studies.octave_rms``'s)."""
+    choice_argument(
+        parser,
         "--window",
-        choices=["hann", "boxcar"],
+        choices=FromApi("studies.octave", "WINDOWS"),
         default="hann",
         help="window of the band levels: Hann's (mean removed), or the rectangular one, whose leakage biases weak "
         "bands upward (docs/time_domain.md, 'The window of the band levels')",

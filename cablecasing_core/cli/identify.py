@@ -20,6 +20,9 @@ import sys
 import numpy as np
 
 from ..errors import CableCasingError, ModelError, renamed
+from ..model.schema import BODY_NAMES
+from .helptext import FromApi, choice_argument, taking_api_defaults
+from .paths import PLOT_SUFFIXES
 
 
 def _fail(exc):
@@ -33,7 +36,7 @@ def _check_outputs(args):
     from .paths import check_distinct, check_output_path
 
     check_output_path("--toml", args.toml, (".toml",))
-    check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    check_output_path("--plot", args.plot, PLOT_SUFFIXES)
     check_distinct(("file", args.file), ("--model", getattr(args, "model", None)), ("--toml", args.toml))
 
 
@@ -83,11 +86,10 @@ def _emit(args, toml, plot_name, res, **plot_kw):
 
 
 def _max_iter(args):
-    """``--max-iter``, the circle fit's own default (``circlefit.MAX_ITER``) when not given, checked (>= 0)."""
-    from ..identification.circlefit import MAX_ITER
+    """``--max-iter`` (default the circle fit's own, ``circlefit.MAX_ITER``), checked (>= 0)."""
     from ..model.validators import integer
 
-    args.max_iter = MAX_ITER if args.max_iter is None else integer("--max-iter", args.max_iter, 0)
+    args.max_iter = integer("--max-iter", args.max_iter, 0)
     return args.max_iter
 
 
@@ -130,31 +132,22 @@ def _toml_of_unsettled(args, toml, note):
 
 
 def _spectrum_peaks(x, fs, count, path):
-    """Frequencies (Hz) of the ``count`` (``--count``) most prominent peaks of the record's amplitude
-    spectrum; a :class:`ModelError` naming ``--count`` when the spectrum of the record in ``path`` has
-    fewer peaks above its noise."""
-    from ..identification.circlefit import find_resonances
+    """``identification.spectrum_peaks`` of the record read from ``path`` (its ``count``, ``--count``, most
+    prominent peaks), its errors in the command line's words: a record without a peak names the file, a
+    ``--count`` beyond the peaks says how many there are; both ask for the frequencies (``--freqs``)."""
+    from ..identification import spectrum_peaks
 
-    X = np.abs(np.fft.rfft(x * np.hanning(x.size)))
-    f = np.fft.rfftfreq(x.size, 1.0 / fs)
     try:
-        found = find_resonances(f[1:-1], X[1:-1])  # (every peak above the noise, in frequency order)
-    except ModelError as exc:  # (no peak at all: said of the record, not of an FRF)
-        if exc.key != "H":
+        return spectrum_peaks(x, fs, count)
+    except ModelError as exc:
+        if exc.key == "x":
+            raise ModelError("file", str(path), f"{exc.allowed}: give the natural frequencies (--freqs)") from None
+        if exc.key != "count":
             raise
+        allowed = exc.allowed.replace("of the record", f"of {path}")
         raise ModelError(
-            "file",
-            str(path),
-            "has no peak above its noise in its amplitude spectrum: give the natural frequencies (--freqs)",
+            "--count", count, f"{allowed}; give a smaller --count, or the natural frequencies themselves (--freqs)"
         ) from None
-    if found.size < count:
-        raise ModelError(
-            "--count",
-            count,
-            f"must be at most {found.size}: the amplitude spectrum of {path} has {found.size} peak(s) above its "
-            "noise; give a smaller --count, or the natural frequencies themselves (--freqs)",
-        )
-    return find_resonances(f[1:-1], X[1:-1], count=count)
 
 
 #: The wavelet's advice in the words of its arguments, in the command line's.
@@ -196,11 +189,8 @@ _DAMPING_OPTIONS = {"gamma": "--gamma", "window_tau": "--window-tau", "max_depar
 def _max_departure(text):
     """``--max-departure``: None (the check off) for 'off', else a number of nepers > 0 (default the
     wavelet's MAX_DEPARTURE)."""
-    from ..identification.wavelet import MAX_DEPARTURE
     from ..model.validators import number
 
-    if text is None:
-        return MAX_DEPARTURE
     if str(text).strip().lower() == "off":
         return None
     try:
@@ -213,7 +203,7 @@ def _max_departure(text):
 def _check_rayleigh_toml(args):
     """``--toml`` writes the Rayleigh factors, whose fit needs two modes or more: one mode (``--freqs``
     of one frequency, ``--count 1``) with ``--toml`` is a :class:`ModelError` naming --toml before the
-    record is read (it wrote nothing, said nothing and returned 0)."""
+    record is read (there would be nothing to write)."""
     modes = len(args.freqs) if args.freqs else args.count
     if args.toml and modes < 2:
         given = f"--freqs gives one frequency ({args.freqs[0]:g} Hz)" if args.freqs else "--count is 1"
@@ -226,6 +216,7 @@ def _check_rayleigh_toml(args):
         )
 
 
+@taking_api_defaults
 def cmd_damping(args):
     try:
         _check_outputs(args)
@@ -356,6 +347,7 @@ def _peaks_found(args):
         ) from None
 
 
+@taking_api_defaults
 def cmd_loss_factor(args):
     try:
         _check_outputs(args)
@@ -495,6 +487,7 @@ def _read_measured(path, modes_arg, channel, max_iter=None):
     return f_r, modes, "--modes", {"sd_hz": sd, "df": df, "how": "circle", "why": None, "fits": fits}
 
 
+@taking_api_defaults
 def cmd_modulus(args):
     try:
         _check_outputs(args)
@@ -571,15 +564,14 @@ def cmd_modulus(args):
 
 
 def _unsettled_options(p, where=""):
-    """``--max-iter`` and ``--allow-unsettled`` of the circle fits' neighbour correction (the default, None, is
-    ``circlefit.MAX_ITER``, set by :func:`_max_iter` when the command runs: the parser imports no identification
-    module)."""
+    """``--max-iter`` and ``--allow-unsettled`` of the circle fits' neighbour correction (the default is
+    ``circlefit.MAX_ITER``: :class:`~.helptext.FromApi`)."""
     p.add_argument(
         "--max-iter",
         type=int,
-        default=None,
-        help=f"most neighbouring-mode correction sweeps of the circle fits{where} (default 500, the circle fit's; "
-        "modes under a half-power bandwidth apart may need thousands)",
+        default=FromApi("identification.circlefit", "MAX_ITER"),
+        help=f"most neighbouring-mode correction sweeps of the circle fits{where} (default %(default)s, the circle "
+        "fit's; modes under a half-power bandwidth apart may need thousands)",
     )
     p.add_argument(
         "--allow-unsettled",
@@ -602,9 +594,19 @@ def add_parser(subparsers):
         "--freqs", type=float, nargs="+", help="natural frequencies to analyse (Hz); default: spectrum peaks"
     )
     d.add_argument("--count", type=int, default=3, help="number of spectrum peaks when --freqs is not given")
-    d.add_argument("--gamma", type=float, default=12.0, help="Morlet parameter (sigma_t = gamma / (2 pi f))")
-    d.add_argument("--edge-factor", type=float, default=3.0, help="edge length in sigma_t at each end")
-    d.add_argument("--search", type=float, default=0.05, help="relative half-width of the ridge search")
+    wavelet = "identification.wavelet"
+    d.add_argument(
+        "--gamma",
+        type=float,
+        default=FromApi(wavelet, "DEFAULT_GAMMA"),
+        help="Morlet parameter (sigma_t = gamma / (2 pi f))",
+    )
+    d.add_argument(
+        "--edge-factor", type=float, default=FromApi(wavelet, "EDGE_FACTOR"), help="edge length in sigma_t at each end"
+    )
+    d.add_argument(
+        "--search", type=float, default=FromApi(wavelet, "SEARCH"), help="relative half-width of the ridge search"
+    )
     d.add_argument(
         "--noise-floor", type=float, default=None, help="|W| noise level (signal unit); default from the tail"
     )
@@ -618,10 +620,10 @@ def add_parser(subparsers):
     )
     d.add_argument(
         "--max-departure",
-        default=None,
+        default=FromApi(wavelet, "MAX_DEPARTURE"),
         help="largest departure (nepers) of ln|W| from the fitted line before the record is refused as not one "
-        "free decay (default 0.25; 'off' skips the check: only for a clean record whose slower neighbour leaks "
-        "into the window's end; modes that beat need a larger --gamma)",
+        "free decay (default %(default)s; 'off' skips the check: only for a clean record whose slower neighbour "
+        "leaks into the window's end; modes that beat need a larger --gamma)",
     )
     d.add_argument(
         "--window-tau",
@@ -630,7 +632,7 @@ def add_parser(subparsers):
         help="time constant (s) of an exponential window applied to the record; its decay 1/tau is taken off",
     )
     d.add_argument("--nonnegative", action="store_true", help="constrain alpha, beta >= 0")
-    d.add_argument("--body", choices=["casing", "cable"], default="casing", help="TOML section")
+    d.add_argument("--body", choices=BODY_NAMES, default="casing", help="TOML section")
     d.add_argument("--plot", help="PNG: record, scalogram and ridges (Figs. 10-11)")
     d.add_argument("--toml", help="write the alpha, beta lines to this file")
     d.set_defaults(func=cmd_damping)
@@ -640,10 +642,11 @@ def add_parser(subparsers):
     lf.add_argument("--channel", default=None, help="n-th UFF FRF (default first)")
     lf.add_argument("--freqs", type=float, nargs="+", help="approximate resonance frequencies (Hz); default: peaks")
     lf.add_argument("--count", type=int, default=None, help="number of peaks when --freqs is not given")
-    lf.add_argument(
+    choice_argument(
+        lf,
         "--kind",
         default=None,
-        choices=["displacement", "velocity", "acceleration", "apparent_mass"],
+        choices=FromApi("identification.circlefit", "FRF_KINDS"),
         help="FRF type (the paper's TRFAM is apparent_mass, kg); default: the kind the file declares (a UFF "
         "header's data types, a CSV's line '# kind = ...'), else apparent_mass; a kind that contradicts the file's "
         "is refused",
@@ -657,20 +660,20 @@ def add_parser(subparsers):
     lf.add_argument(
         "--bandwidths",
         type=float,
-        default=2.0,
+        default=FromApi("identification.circlefit", "BANDWIDTHS"),
         help="full width (> 0) of each circle's window in half-power bandwidths B = eta f_r: omega^2 within "
         "omega_r^2 (1 +- bandwidths eta), f_r +- (bandwidths/2) B (2: +-B; 1: the half-power points)",
     )
     lf.add_argument(
         "--search",
         type=float,
-        default=0.1,
+        default=FromApi("identification.circlefit", "SEARCH"),
         help="relative half-width (0 < search < 1) around each resonance searched for its peak, no further than "
         "halfway to the next; other peaks within it are fitted and subtracted too",
     )
     lf.add_argument("--no-correction", action="store_true", help="skip the neighbouring-mode correction")
     _unsettled_options(lf)
-    lf.add_argument("--body", choices=["casing", "cable"], default="casing", help="TOML section")
+    lf.add_argument("--body", choices=BODY_NAMES, default="casing", help="TOML section")
     lf.add_argument("--plot", help="PNG: Nyquist circles, loss-factor planes, diagonal ridges (Fig. 13)")
     lf.add_argument("--toml", help="write the loss_factor line to this file")
     lf.set_defaults(func=cmd_loss_factor)
@@ -680,7 +683,7 @@ def add_parser(subparsers):
     m.add_argument("--model", default=None, help="model TOML file (default: built-in specimen)")
     m.add_argument(
         "--body",
-        choices=["casing", "cable"],
+        choices=BODY_NAMES,
         default="casing",
         help="the body of --model whose modes were measured; TOML section",
     )
@@ -695,9 +698,16 @@ def add_parser(subparsers):
         "mode,f_hz; for an FRF a fifth of its circle fits' smallest frequency uncertainty, or its line spacing "
         "for its peaks)",
     )
-    m.add_argument("--degree", type=int, default=2, help="degree of the smooth fit in ln f (-1: no smoothing)")
+    m.add_argument(
+        "--degree",
+        type=int,
+        default=FromApi("identification.modulus", "DEGREE"),
+        help="degree of the smooth fit in ln f (-1: no smoothing)",
+    )
     _unsettled_options(m, " (an FRF file)")
-    m.add_argument("--n-table", type=int, default=12, help="rows of the E(f) table")
+    m.add_argument(
+        "--n-table", type=int, default=FromApi("identification.modulus", "N_TABLE"), help="rows of the E(f) table"
+    )
     m.add_argument("--plot", help="PNG: adaptive process and E against f (Figs. 8-9)")
     m.add_argument("--toml", help="write the E table line to this file")
     m.set_defaults(func=cmd_modulus)

@@ -7,7 +7,7 @@ import os
 
 import numpy as np
 
-from .helptext import add_window_argument
+from .helptext import FromApi, add_window_argument, choice_argument
 
 #: --skip of spectrum and bands.
 SKIP_HELP = (
@@ -132,10 +132,10 @@ def cmd_spectrum(args):
     from ..nvh import apparent_mass, level_unit, psd, transmissibility
     from ..nvh.spectra import level_reference, squared
     from ..nvh.transfer import MIN_AVERAGES
-    from .paths import check_distinct, check_output_path, emit_table, kept
+    from .paths import PLOT_SUFFIXES, check_distinct, check_output_path, emit_table, kept
 
     check_output_path("--out", args.out, (".csv",))
-    check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    check_output_path("--plot", args.plot, PLOT_SUFFIXES)
     check_distinct(("record", args.record), ("--out", args.out), ("--plot", args.plot))
     args.interrupted = "stopped: " + kept(args.out, args.plot)
     rec = _record(args.record)
@@ -240,23 +240,6 @@ def cmd_spectrum(args):
     return 0
 
 
-def _run_step(rec):
-    """What the record ``rec`` says of the time step (s) of the run it holds: ``(dt, "every step")`` for
-    a run's record of every step, which states its Nyquist frequency as its passband
-    (``SimulationResult.records``), so that its sample interval 1 / fs is the step; ``(dt_max,
-    "decimated")`` for a decimated one, which states less (0.7 of its Nyquist frequency, after the
-    anti-alias filter; a record of a result loaded from such a file keeps it) and holds at least two steps
-    per sample without saying how many, so that the step is at most half its sample interval; None for
-    a record that states no passband (picked samples, a CSV of an FMU's outputs written by its host, a
-    measurement), whose samples say nothing of a step."""
-    if "passband_hz" not in rec.extra:
-        return None
-    nyquist = rec.fs / 2
-    if abs(float(np.asarray(rec.extra["passband_hz"])) - nyquist) <= 1e-6 * nyquist:
-        return 1.0 / rec.fs, "every step"
-    return 0.5 / rec.fs, "decimated"
-
-
 def _model_output(name):
     """Whether the column ``name`` is a model output, or the sum of model outputs that a derived
     column's name says it is (``net.B.Fz`` read back from a file written after it was derived:
@@ -279,7 +262,7 @@ def _beyond_table3_note(terms, top_hz, step):
     at 5680 Hz), over which the model's accuracy is shown (docs/time_domain.md); None for other
     columns (a measurement's) or bands within it. ``terms``: the columns the column sums
     (``Records.terms``: ``net.B.Fz`` is a model output's if its terms are); ``step``: what the record says
-    of its run's time step (:func:`_run_step`). Above it Newmark's period error grows as (ω Δt)² / 12
+    of its run's time step (``Records.run_step``). Above it Newmark's period error grows as (ω Δt)² / 12
     (``structure.route_summary.newmark_period_error``: 1.1 % at 5.68 kHz, 13 % at 20 kHz at Δt = 1e-5 s),
     quoted at the run's step where the record tells it, at most at its bound for a decimated record, and
     at the default step, as such, where it cannot be known; and the 35 elements' mesh resolves fewer
@@ -388,10 +371,10 @@ def cmd_bands(args):
     from ..files import atomic_path
     from ..nvh.bands import WINDOW_NAMES, octave_bands, octave_rms, window_options
     from ..nvh.spectra import level_reference
-    from .paths import check_distinct, check_output_path, kept
+    from .paths import PLOT_SUFFIXES, check_distinct, check_output_path, kept
 
     check_output_path("--out", args.out, (".csv",))
-    check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    check_output_path("--plot", args.plot, PLOT_SUFFIXES)
     check_distinct(("record", args.record), ("--out", args.out), ("--plot", args.plot))
     args.interrupted = "stopped: " + kept(args.out, args.plot)
     columns = _columns(args.column, ["casing.B.Fz"])
@@ -454,7 +437,7 @@ def cmd_bands(args):
     )
     if note := _alias_note(rec, args.record, "bands"):
         print(note)
-    if note := _beyond_table3_note(rec.terms(col), bands.upper[-1], _run_step(rec)):
+    if note := _beyond_table3_note(rec.terms(col), bands.upper[-1], rec.run_step()):
         print(note)
     print(
         f"# RMS over the bands, {bands.lower[0]:.4g}-{bands.upper[-1]:.4g} Hz: {total:.6g} {unit} (their mean "
@@ -598,9 +581,10 @@ def add_parser(sub):
         help="record column, e.g. casing.B.Fz, or a sum of columns: net.B.Fz (casing.B.Fz + cable.B.Fz, the force "
         "into the part both ends attach to), paths.Fz (every end and clip), a+b (default: casing.B.Fz)",
     )
-    b.add_argument(
+    choice_argument(
+        b,
         "--kind",
-        choices=["table3", "octave", "third"],
+        choices=FromApi("studies.octave", "BAND_KINDS"),
         default="table3",
         help="table3: the paper's nine octaves 11-5680 Hz (oct1..oct9); octave, third: IEC 61260-1 base-10 bands, "
         "named by their nominal mid-band frequencies (16Hz, 31.5Hz, ...)",

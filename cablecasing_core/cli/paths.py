@@ -7,6 +7,9 @@ from pathlib import Path
 
 from ..errors import ModelError
 
+#: The figures ``--plot`` writes (matplotlib's formats by suffix), checked before the run.
+PLOT_SUFFIXES = (".png", ".pdf", ".svg")
+
 
 def check_output_path(flag, path, suffixes=None):
     """Refuse an output file before a long run rather than after it: with ``suffixes``, its name

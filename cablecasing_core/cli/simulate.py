@@ -15,10 +15,10 @@ OUT_SUFFIXES = (".csv", ".npz", ".uff")
 def cmd_simulate(args):
     from ..errors import renamed
     from ..timedomain.simulation import simulate
-    from .paths import check_distinct, check_output_path, kept
+    from .paths import PLOT_SUFFIXES, check_distinct, check_output_path, kept
 
     check_output_path("--out", args.out, OUT_SUFFIXES)
-    check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    check_output_path("--plot", args.plot, PLOT_SUFFIXES)
     check_distinct(("--out", args.out), ("--plot", args.plot))
     model = model_argument(args.model)
     if args.set:  # (a key that --duration, --dt or --no-contact takes the place of would do nothing: refused)

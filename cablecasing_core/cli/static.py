@@ -7,7 +7,7 @@ import json
 
 import numpy as np
 
-from ..model.schema import SUPPORT_NAMES
+from ..model.schema import BODY_NAMES, SUPPORT_NAMES
 from .assignments import add_model_argument, model_argument, typed
 
 
@@ -15,7 +15,7 @@ def cmd_static(args):
     from ..model.validators import contact_in_force
     from ..timedomain.body_storage import time_domain_system
     from ..timedomain.static_state import solve_static
-    from .paths import check_output_path
+    from .paths import PLOT_SUFFIXES, check_output_path
 
     check_output_path("--plot", args.plot, PLOT_SUFFIXES)
     if args.no_contact:  # (a change of contact.enabled that --no-contact takes the place of would do nothing)
@@ -49,15 +49,11 @@ def cmd_static(args):
     return 0
 
 
-#: The figures ``--plot`` writes (matplotlib's formats by suffix), checked before the run.
-PLOT_SUFFIXES = (".png", ".pdf", ".svg")
-
-
 def _buckling(systems):
     """The casing's buckling load as built (structure/buckling.py), of the bodies as the time domain
     assembles them (``systems``: {body: BodySystem}), when it carries the cable's tension as
     compression (both bodies); else none."""
-    if not {"casing", "cable"} <= set(systems):
+    if not set(BODY_NAMES) <= set(systems):
         return []
     from ..structure.buckling import buckling
 

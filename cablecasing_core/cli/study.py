@@ -14,8 +14,8 @@ from ..model.limits import MAX_ENSEMBLE_SEED, MAX_SEEDS, MAX_STUDY_SAMPLES, PROG
 from ..model.validators import integer, number
 from ..records import unit_of
 from .assignments import add_model_argument, assignments, model_argument, typed, with_changes
-from .helptext import ASSIGNMENT_HELP, add_window_argument, key_help
-from .paths import check_distinct, check_output_path, kept
+from .helptext import ASSIGNMENT_HELP, FromApi, add_window_argument, choice_argument, key_help
+from .paths import PLOT_SUFFIXES, check_distinct, check_output_path, kept
 
 
 def _count(n, noun):
@@ -531,7 +531,7 @@ def _check_outputs(args):
     against = _against_path(args.out) if args.against else None
     check_output_path("--out", args.out, (".csv",))
     check_output_path("--out", against, (".csv",))
-    check_output_path("--plot", args.plot, (".png", ".pdf", ".svg"))
+    check_output_path("--plot", args.plot, PLOT_SUFFIXES)
     check_distinct(("--out", args.out), ("--plot", args.plot))
     return args.out, against, args.plot
 
@@ -726,7 +726,13 @@ def add_parser(sub):
         help=SKIP_HELP,
     )
     e.add_argument("--output", default="casing.B.Fz", help="support output, e.g. casing.B.Fz")
-    e.add_argument("--kind", choices=["table3", "octave", "third"], default="table3", help="band set (docs/studies.md)")
+    choice_argument(
+        e,
+        "--kind",
+        choices=FromApi("studies.octave", "BAND_KINDS"),
+        default="table3",
+        help="band set (docs/studies.md)",
+    )
     e.add_argument(
         "--set", action="append", default=[], metavar="KEY=VALUE", help="model change for every run; " + ASSIGNMENT_HELP
     )

@@ -15,7 +15,15 @@
 See docs/identification.md. SI units throughout; frequencies in Hz where named ``*_hz``.
 """
 
-from .circlefit import FRF_KINDS, CircleFitResult, find_resonances, fit_circle, loss_factor_circle, to_displacement_form
+from .circlefit import (
+    FRF_KINDS,
+    CircleFitResult,
+    find_resonances,
+    fit_circle,
+    loss_factor_circle,
+    spectrum_peaks,
+    to_displacement_form,
+)
 from .frf import FRFEstimate, frf_estimate
 from .modulus import ModulusResult, identify_modulus, identify_modulus_model
 from .params_toml import loss_factor_table, parameters_toml
@@ -60,6 +68,7 @@ __all__ = [
     "rayleigh_fit",
     "rayleigh_matrix",
     "rayleigh_zeta",
+    "spectrum_peaks",
     "read_csv_frf",
     "read_csv_time",
     "frf_kind",

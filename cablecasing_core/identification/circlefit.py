@@ -87,6 +87,12 @@ VISCOUS_BIAS = (
 #: (8 s on one core; after 50 their loss factors were 4.7 % off), 0.4 apart (100 and 100.8 Hz, opposite
 #: signs) in 4586 (60 s; after 50, 21 % low): a larger max_iter for those.
 MAX_ITER = 500
+#: Default full width of each circle's window in half-power bandwidths (:func:`loss_factor_circle`'s
+#: ``bandwidths``: +-B around the resonance).
+BANDWIDTHS = 2.0
+#: Default relative half-width around each resonance searched for its peak (:func:`loss_factor_circle`'s
+#: ``search``).
+SEARCH = 0.1
 #: Warning bound on the fitted eta: above it, were the damping viscous, eta / 2 would be more than 1 %
 #: above zeta (VISCOUS_BIAS: 0.99 % at eta = 0.1616).
 VISCOUS_ETA_WARN = 0.16
@@ -264,6 +270,47 @@ def find_resonances(freqs_hz, H, count=None, kind="displacement"):
             )
         order = order[:count]
     return np.sort(f[peaks[order]])
+
+
+def spectrum_peaks(x, fs, count=None):
+    """Frequencies (Hz, ascending) of the ``count`` most prominent peaks of the amplitude spectrum of
+    the record ``x`` (any unit, sampled at ``fs`` Hz; every peak above the noise when ``count`` is None):
+    start frequencies for :func:`~.wavelet.wavelet_damping` of an impulse response.
+
+    The spectrum is |FFT| of ``x`` through the periodic Hann window (``scipy.signal.get_window``, as
+    the package's PSDs and band levels take it), without its 0 Hz and Nyquist lines; its peaks are
+    :func:`find_resonances`' (noise-aware, ranked by prominence).
+
+    Raises
+    ------
+    ModelError
+        ``x`` whose spectrum has no peak above its noise; a ``count`` larger than the number of
+        peaks it has (naming that number).
+    """
+    from scipy.signal import get_window
+
+    x = array_1d("x", x, min_len=12)  # (the 5 lines find_resonances needs between 0 Hz and Nyquist)
+    fs = number("fs", fs, gt=0, unit="Hz")
+    if count is not None:
+        count = integer("count", count, 1)
+    X = np.abs(np.fft.rfft(x * get_window("hann", x.size)))
+    f = np.fft.rfftfreq(x.size, 1.0 / fs)
+    try:
+        found = find_resonances(f[1:-1], X[1:-1])  # (every peak above the noise, in frequency order)
+    except ModelError as exc:  # (no peak at all: said of the record, not of an FRF)
+        if exc.key != "H":
+            raise
+        raise ModelError("x", plain("the record"), "has no peak above its noise in its amplitude spectrum") from None
+    if count is None:
+        return found
+    if found.size < count:
+        raise ModelError(
+            "count",
+            count,
+            f"must be at most {found.size}: the amplitude spectrum of the record has {found.size} peak(s) above "
+            "its noise",
+        )
+    return find_resonances(f[1:-1], X[1:-1], count=count)
 
 
 def _half_power_eta(f, A, j, lo, hi):
@@ -509,8 +556,8 @@ def loss_factor_circle(
     f_res_hz=None,
     kind="displacement",
     count=None,
-    bandwidths=2.0,
-    search=0.1,
+    bandwidths=BANDWIDTHS,
+    search=SEARCH,
     correct_neighbours=True,
     max_iter=MAX_ITER,
     min_side=3,

@@ -80,15 +80,21 @@ class ModulusResult:
         return out
 
 
+#: Default degree of the smooth curve in ln(f / f_ref) through the identified moduli (``degree``).
+DEGREE = 2
+#: Default number of rows of the E(f) table (``n_table``).
+N_TABLE = 12
+
+
 def identify_modulus(
     compute_frequencies,
     f_measured_hz,
     modes,
     E_start,
     freq_resolution_hz=None,
-    degree=2,
+    degree=DEGREE,
     table_freqs_hz=None,
-    n_table=12,
+    n_table=N_TABLE,
     max_iter=50,
 ) -> ModulusResult:
     """Dynamic modulus per measured mode and a smooth E(f) table (Section 3.1, Figs. 8-9).
@@ -254,7 +260,7 @@ def _next_modulus(steps, f_target):
 
 
 def identify_modulus_model(
-    model, body: str, f_measured_hz, modes, freq_resolution_hz=None, degree=2, count=None, **kw
+    model, body: str, f_measured_hz, modes, freq_resolution_hz=None, degree=DEGREE, count=None, **kw
 ) -> ModulusResult:
     """:func:`identify_modulus` on the package's FE model of ``body`` ("casing" or "cable").
 

@@ -91,6 +91,11 @@ DEPARTURE_NOISE = 10.0
 SCALOGRAM_BYTES = 64e6
 #: Smallest gamma accepted: below it the Gaussian reaches 0 Hz (leak 2 exp(-gamma^2/2) > 0.02).
 MIN_GAMMA = 3.0
+#: Default edge left out at each end of the record and after the impulse, in the wavelet's time
+#: spread sigma_t = gamma / (2 pi f): at 3 sigma_t the Gaussian's weight beyond the edge is 1 %.
+EDGE_FACTOR = 3.0
+#: Default relative half-width of the frequency band searched for each ridge (+-5 %).
+SEARCH = 0.05
 
 
 def wavelet_time_spread(f_hz, gamma=DEFAULT_GAMMA):
@@ -493,8 +498,8 @@ def wavelet_damping(
     fs,
     freqs_hz,
     gamma=DEFAULT_GAMMA,
-    edge_factor=3.0,
-    search=0.05,
+    edge_factor=EDGE_FACTOR,
+    search=SEARCH,
     n_search=41,
     noise_floor=None,
     floor_factor=5.0,

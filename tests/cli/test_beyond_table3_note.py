@@ -75,3 +75,15 @@ def test_a_derived_column_read_back_from_a_file_is_a_model_output_s(records, cap
     assert "net.B.Fy" in read_records(tmp_path / "net.csv").columns
     assert main(["bands", str(tmp_path / "net.csv"), "--column", "net.B.Fy", "--kind", "third", "--fmin", "100"]) == 0
     assert "beyond the paper's Table 3" in capsys.readouterr().out
+
+
+def test_what_a_record_says_of_its_run_s_step(records):
+    """Records.run_step, which the note quotes: the step of the run (DT) for the record of every step,
+    at most half the 2e-5 s interval for the decimated one, nothing for picked samples."""
+    from cablecasing_core.records import read_records
+
+    step, how = read_records(records / "full.csv").run_step()
+    assert how == "every step" and step == pytest.approx(DT, rel=1e-9)  # (fs from 15-digit times)
+    step, how = read_records(records / "dec.npz").run_step()
+    assert how == "decimated" and step == pytest.approx(1e-5, rel=1e-9)
+    assert read_records(records / "pick.csv").run_step() is None

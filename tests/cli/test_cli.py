@@ -1,6 +1,8 @@
 """The command line: modes, trfam, errors (run in-process through cli.main)."""
 
 import json
+import subprocess
+import sys
 import warnings
 
 import numpy as np
@@ -383,3 +385,25 @@ def test_a_study_whose_every_run_is_infeasible_says_so(tmp_path, capsys):
     # (the first with its sample's parameters)
     assert "error: every run was infeasible; the first: sample 0 (cable.d = " in err, err
     assert "): infeasible: cable.d = " in err, err
+
+
+def test_the_options_take_their_choices_and_defaults_from_the_api_when_used(capsys):
+    """The choices and defaults the parser takes from the API (helptext.FromApi) are the API's
+    constants; building the parser imports none of their modules (a fresh process), and a value
+    outside the choices is refused by argparse, listing them."""
+    code = (
+        "import sys\n"
+        "from cablecasing_core.cli import build_parser\n"
+        "build_parser()\n"
+        "print(sorted(m for m in ('cablecasing_core.frequency.trfam', 'cablecasing_core.studies', "
+        "'cablecasing_core.identification') if m in sys.modules))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]", out
+    from cablecasing_core.frequency.trfam import DAMPING_MODELS
+
+    with pytest.raises(SystemExit) as e:
+        main(["trfam", "--damping", "nope"])
+    assert e.value.code == 2
+    shown = ", ".join(map(repr, DAMPING_MODELS))
+    assert f"argument --damping: invalid choice: 'nope' (choose from {shown})" in capsys.readouterr().err

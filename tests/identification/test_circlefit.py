@@ -408,3 +408,27 @@ def test_two_requests_of_merged_modes_are_told_they_share_one_peak(synth):
         warnings.simplefilter("error", ModelWarning)
         (r,) = loss_factor_circle(f, H, [100.0])
     assert 0.2 < r.eta / 0.02 - 1 < 0.3 and r.extra["eta_rel_uncertainty"] < 0.01
+
+
+def test_spectrum_peaks_are_the_modes_of_a_decay_to_a_line():
+    """Three decaying modes (Hz) of an impulse response, 2 s at 2048 Hz (lines 0.5 Hz apart): the
+    amplitude spectrum's peaks lie at the modes' damped frequencies within half a line (the largest
+    line of a peak whose half-power width, 2 zeta f >= 8 Hz, spans many lines), in frequency order,
+    the most prominent when fewer are asked for; asking for more than it has is refused naming how
+    many it has, and a decay without oscillation (a spectrum that falls from 0 Hz) has none."""
+    from cablecasing_core.identification import spectrum_peaks
+
+    fs, n = 2048.0, 4096
+    t = np.arange(n) / fs
+    f_n, zeta, amp = np.array([115.8, 182.0, 254.1]), np.array([0.0359, 0.0263, 0.0216]), [1.0, 0.2, 0.5]
+    f_d = f_n * np.sqrt(1 - zeta**2)
+    x = sum(a * np.exp(-z * 2 * np.pi * f * t) * np.sin(2 * np.pi * fd * t) for a, f, z, fd in zip(amp, f_n, zeta, f_d))
+    found = spectrum_peaks(x, fs)
+    assert found.size == 3 and np.all(np.abs(found - f_d) <= 0.5 * fs / n + 1e-9), (found, f_d)
+    np.testing.assert_array_equal(spectrum_peaks(x, fs, 2), found[[0, 2]])  # (the weakest, 0.2, left out)
+    with pytest.raises(ModelError, match="must be at most 3: the amplitude spectrum of the record has 3 peak") as e:
+        spectrum_peaks(x, fs, 4)
+    assert e.value.key == "count"
+    with pytest.raises(ModelError, match="has no peak above its noise") as e:
+        spectrum_peaks(np.exp(-50.0 * t), fs)
+    assert e.value.key == "x"

@@ -400,7 +400,7 @@ def test_bandwidths_is_the_full_width_of_the_window_in_half_power_bandwidths(tmp
     p = argparse.ArgumentParser(prog="cablecasing")
     add_parser(p.add_subparsers(dest="command"))
     option = next(a for a in _subcommand(p, "loss-factor")._actions if "--bandwidths" in a.option_strings)
-    assert option.default == 2.0 and "half-width" not in option.help
+    assert option.default.value == 2.0 and "half-width" not in option.help  # (the API's default, 2: +-B)
     assert option.help.startswith("full width (> 0) of each circle's window in half-power bandwidths B = eta f_r")
 
 
@@ -494,8 +494,8 @@ def test_loss_factor_of_close_modes_settles_by_default_and_an_unsettled_fit_is_n
 
 
 def test_the_max_iter_help_states_the_circle_fit_s_own_default(capsys):
-    """--max-iter's default is the circle fit's MAX_ITER, taken when the command runs (the parser imports no
-    identification module); its help states that number."""
+    """--max-iter's default is the circle fit's MAX_ITER, read when the help shows it or the command runs (the
+    parser imports no identification module); its help states that number."""
     from cablecasing_core.identification.circlefit import MAX_ITER
 
     for command in ("loss-factor", "modulus"):
