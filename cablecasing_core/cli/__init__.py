@@ -248,7 +248,7 @@ def build_parser():
     choice_argument(
         t,
         "--bands",
-        choices=FromApi("studies.octave", "BAND_KINDS"),
+        choices=FromApi("nvh.bands", "BAND_KINDS"),
         default=None,
         help="write the band values instead of the lines: the RMS of |TRFAM| over each band within --fmin..--fmax "
         "(table3: the paper's octaves 11-5680 Hz, the report's bands; octave, third: IEC 61260-1), kg",

@@ -77,11 +77,11 @@ def taking_api_defaults(command):
 
 def add_window_argument(parser):
     """``--window`` of the band levels (``bands``, ``ensemble``, ``study``): one of the band levels'
-    windows (``studies.octave.WINDOWS``), Hann's by default (``studies.octave_rms``'s)."""
+    windows (``nvh.bands.WINDOWS``), Hann's by default (``nvh.bands.octave_rms``'s)."""
     choice_argument(
         parser,
         "--window",
-        choices=FromApi("studies.octave", "WINDOWS"),
+        choices=FromApi("nvh.bands", "WINDOWS"),
         default="hann",
         help="window of the band levels: Hann's (mean removed), or the rectangular one, whose leakage biases weak "
         "bands upward (docs/time_domain.md, 'The window of the band levels')",

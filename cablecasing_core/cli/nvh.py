@@ -355,7 +355,7 @@ def _nperseg(rec, args, n, averages=1):
 
 def _fmin_option(text):
     """``text`` of ``octave_rms`` (an error or a warning) with its advice to leave out the lowest bands
-    by ``octave_bands``' f_min (``studies.octave.FMIN_ADVICE``) said as this command's ``--fmin``."""
+    by ``octave_bands``' f_min (``nvh.bands.FMIN_ADVICE``) said as this command's ``--fmin``."""
     import re
 
     from ..nvh.bands import FMIN_ADVICE
@@ -584,7 +584,7 @@ def add_parser(sub):
     choice_argument(
         b,
         "--kind",
-        choices=FromApi("studies.octave", "BAND_KINDS"),
+        choices=FromApi("nvh.bands", "BAND_KINDS"),
         default="table3",
         help="table3: the paper's nine octaves 11-5680 Hz (oct1..oct9); octave, third: IEC 61260-1 base-10 bands, "
         "named by their nominal mid-band frequencies (16Hz, 31.5Hz, ...)",

@@ -729,7 +729,7 @@ def add_parser(sub):
     choice_argument(
         e,
         "--kind",
-        choices=FromApi("studies.octave", "BAND_KINDS"),
+        choices=FromApi("nvh.bands", "BAND_KINDS"),
         default="table3",
         help="band set (docs/studies.md)",
     )
