@@ -165,8 +165,9 @@ class ModelWarning(UserWarning):
 
 class SolverWarning(ModelWarning):
     """What a time-domain run's step loop did not achieve (a contact Newton that did not converge,
-    a step whose estimated local error stays above ``contact.event_tolerance``): the run went on,
-    and the message says where and how much. A :class:`ModelWarning`, filterable on its own."""
+    a step whose estimated local error stays above ``contact.event_tolerance``, a contact that made
+    energy): the run went on, and the message says where and how much. A :class:`ModelWarning`,
+    filterable on its own."""
 
 
 #: The plausibility warnings of a routing (``structure.route_summary.plausibility_warnings``, which

@@ -105,6 +105,28 @@ SHORTEST_STEP = 1e-2
 #: 1.5e-4, 1e-3 dt 3.6e-4, 1e-4 dt 9.4e-3 (growing as dt / h below 1e-3 dt).
 SHORTEST_LONE_STEP = 1e-3
 
+#: A run whose contact made more energy than this share of the work supplied (the supports' and the
+#: constant loads' work, |W_sup| + |W_load|) warns (:meth:`Engine.solver_warnings`). Measured on the
+#: built-in specimens (docs/time_domain.md, "Energy ledger"): with their friction the contact's net
+#: dissipation is positive all along (installed, 1 s at 1e-5 and 1/30000 s: at least +0.075 of that
+#: work; default, seeds 1-3 at 1e-5 and 2e-5 s: not below -0.0005); without friction the normal-plane search
+#: on the curved casing makes energy of its own, at most 0.078 of the work supplied at 35 elements
+#: (installed, mu = 0, Hunt-Crossley, sampled every 0.1 ms over 0.1 s, at 0.01 s, where the work
+#: supplied passes through a minimum) and 0.28 at 10 elements (no damper); a step that is too long
+#: for the contact made 500 times it (review T's bar at 1/30000 s with the switch law) and more.
+ENERGY_MADE_SHARE = 0.5
+
+#: Friction does work on the bodies (``friction_dissipation`` < 0) only when the step is too long
+#: for it: on the built-in specimens it is positive, or round-off (within 3e-17 of the work supplied
+#: without friction); review T's runs that blew up had -1e6 times the work supplied. A run warns
+#: beyond this share.
+FRICTION_MADE_SHARE = 0.01
+
+#: What the energy checks ignore, as a share of the energy held at the end (kinetic, strain and
+#: contact energy): an installed specimen left at rest books -1.5e-8 J of contact dissipation, 6.4e-8
+#: of its 0.235 J of static strain energy, as its static state (solved to a tolerance) settles.
+ENERGY_CHECK_FLOOR = 1e-6
+
 
 def whole_steps(h: float, dt: float) -> tuple[int, float]:
     """(n, rest): h (s) = n dt + rest with 0 <= rest < dt (s), rest 0.0 when h is within
@@ -351,7 +373,8 @@ class Engine:
           further, so where the acceleration jumps (an impact, a release) their estimate can stay
           above it (docs/time_domain.md, "A tolerance instead of a bare step");
         - the contact Newton not converged in some steps (``solver_counts[2]``): their forces are
-          its last iterate (docs/time_domain.md, "Contact", item 5)."""
+          its last iterate (docs/time_domain.md, "Contact", item 5);
+        - the contact made energy (:meth:`contact_energy_warnings`)."""
         said = []
         if not self.tolerance_met:
             said.append(
@@ -368,6 +391,43 @@ class Engine:
                 "sub-steps): their contact forces are its last iterate; it happens where the contact law is nearly "
                 "non-smooth, such as a contact.stick_velocity far below the slip speeds or a contact.damping far "
                 "above the specimens' (docs/time_domain.md, Contact, item 5)"
+            )
+        return said + self.contact_energy_warnings()
+
+    def contact_energy_warnings(self) -> list[str]:
+        """A sentence (for a warning) for each sign of a contact that made energy since the start,
+        which the ledger's residual cannot show (it closes by construction, docs/time_domain.md,
+        "Energy ledger"): the contact's net dissipation (``contact_dissipation``, J) below
+        -:data:`ENERGY_MADE_SHARE` times the work supplied (``support_work`` and ``load_work``, J,
+        in absolute value), or the friction's (``friction_dissipation``) below
+        -:data:`FRICTION_MADE_SHARE` times it, each beyond :data:`ENERGY_CHECK_FLOOR` of the
+        energy held (kinetic, strain and contact energy). Empty without contact or when neither."""
+        if not self.contact or self.time == 0.0:
+            return []
+        e = self.energies()
+        supplied = abs(e["support_work"]) + abs(e["load_work"])
+        floor = ENERGY_CHECK_FLOOR * (e["kinetic"] + e["strain"] + e["contact_potential"])
+        remedy = (
+            "a discrete contact that makes energy is the step's error, not the model's: shorten scenario.dt until "
+            'the results stop changing (with contact.friction_law = "regularized" they converge as it shrinks: '
+            "docs/time_domain.md, A friction law whose limit exists; Energy ledger)"
+        )
+        said = []
+        made = -e["contact_dissipation"]
+        if made > ENERGY_MADE_SHARE * supplied + floor:
+            said.append(
+                f"the contact made energy: its net dissipation contact_dissipation = {e['contact_dissipation']:.3g} J "
+                f"(friction_dissipation {e['friction_dissipation']:.3g} J, contact_damping_dissipation "
+                f"{e['contact_damping_dissipation']:.3g} J, contact_normal_dissipation "
+                f"{e['contact_normal_dissipation']:.3g} J) against {supplied:.3g} J of work "
+                f"supplied by the supports and the constant loads (|support_work| + |load_work|), more than "
+                f"{ENERGY_MADE_SHARE:g} of it; {remedy}"
+            )
+        if -e["friction_dissipation"] > FRICTION_MADE_SHARE * supplied + floor:
+            said.append(
+                f"friction did work on the bodies: friction_dissipation = {e['friction_dissipation']:.3g} J against "
+                f"{supplied:.3g} J of work supplied by the supports and the constant loads, where friction can only "
+                f"take energy; {remedy}"
             )
         return said
 

@@ -300,7 +300,7 @@ def simulate(
     without excitations warns (its supports stay at rest), and so does a CSV excitation whose table
     ends before the run (its support then holds its last displacement at rest): both
     :class:`~cablecasing_core.errors.ModelWarning`; what the step loop did not achieve (a contact
-    Newton that did not converge, a step above the event tolerance) warns
+    Newton that did not converge, a step above the event tolerance, a contact that made energy) warns
     :class:`~cablecasing_core.errors.SolverWarning`, a ModelWarning too. The step loop integrates
     Eqs. (14-39) (Newmark, docs/time_domain.md). Returns a :class:`SimulationResult`.
     Raises :class:`~cablecasing_core.errors.SimulationError` on blow-up; an interrupt (Ctrl-C)
