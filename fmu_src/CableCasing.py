@@ -871,8 +871,8 @@ class CableCasing(Fmi2Slave):
             if eng.event_tolerance > 0.0:
                 msg += (
                     f"; {eng.tolerance_steps} steps recomputed in {eng.event_substeps} sub-steps for their estimated "
-                    f"local error (contact.event_tolerance = {eng.event_tolerance!r} m); the largest estimated in a "
-                    f"step kept: {eng.max_local_error:.3g} m"
+                    f"local error (contact.event_tolerance = {eng.event_tolerance!r} m); the largest estimated local "
+                    f"displacement error of a step or sub-step kept: {eng.max_local_error:.3g} m"
                 )
             self.log(msg, Fmi2Status.ok)
             for said in eng.solver_warnings():  # (the run itself is whole: fmi2Terminate still returns fmi2OK)

@@ -239,7 +239,8 @@ def add_parser(sub):
 def _refined(solver: dict) -> str:
     """', N of them recomputed, each in k sub-steps, around stick-slip events' when any were, ', friction
     regularised (no stick-slip events)' with that law, and with contact.event_tolerance how many
-    steps it recomputed and the largest local error estimated (the run's
+    steps it recomputed and the largest local error estimated, an estimate of one step's or sub-step's
+    displacement error, not an accuracy of the outputs (the run's
     ``SimulationResult.solver``; docs/time_domain.md, "Events inside the step", "A friction law
     whose limit exists", "A tolerance instead of a bare step")."""
     tol = solver.get("event_tolerance", 0.0)
@@ -253,9 +254,10 @@ def _refined(solver: dict) -> str:
     else:
         text = ""
     if tol > 0.0:
+        over = "" if solver.get("tolerance_met", True) else ", a sub-step's, above the tolerance"
         text += (
             f", {n_tol} recomputed, each in {solver['event_substeps']} sub-steps, for contact.event_tolerance "
-            f"= {tol:g} m "
-            f"(largest local error estimated in a step kept {solver['max_local_error']:.3g} m)"
+            f"= {tol:g} m (largest estimated local displacement error of a step or sub-step kept "
+            f"{solver['max_local_error']:.3g} m{over})"
         )
     return text

@@ -377,12 +377,13 @@ class Engine:
         - the contact made energy (:meth:`contact_energy_warnings`)."""
         said = []
         if not self.tolerance_met:
+            n = self.event_substeps
             said.append(
                 f"contact.event_tolerance = {self.event_tolerance:g} m was not met: the largest local error "
-                f"estimated in a (sub-)step kept is {self.max_local_error:.3g} m, in the {self.event_substeps} "
-                "sub-steps of a step recomputed for it (they are not refined further); raise "
-                "contact.event_substeps or shorten the time step (docs/time_domain.md, A tolerance instead of a "
-                "bare step)"
+                f"estimated in a sub-step kept is {self.max_local_error:.3g} m (in the {n} sub-steps of dt/{n} of "
+                "a step recomputed for it, which are not refined further; it is an estimate of one sub-step's local "
+                "error in displacement, not an accuracy of the outputs); raise contact.event_substeps or shorten "
+                "the time step (docs/time_domain.md, A tolerance instead of a bare step)"
             )
         failed = int(self.solver_counts[2])
         if failed:

@@ -335,7 +335,8 @@ def test_simulate_says_what_the_event_tolerance_did(capsys):
     assert first == (
         "simulated 0.01 s in 1000 steps, friction regularised (no stick-slip events), "
         f"{n} recomputed, each in 8 sub-steps, for contact.event_tolerance = 1e-09 m "
-        f"(largest local error estimated in a step kept {worst:.3g} m)"
+        f"(largest estimated local displacement error of a step or sub-step kept {worst:.3g} m, a sub-step's, above "
+        "the tolerance)"
     )
     assert main(["simulate", "installed", "--no-progress", "--set", "contact.event_tolerance=-1"]) == 2
     err = capsys.readouterr().err
