@@ -510,7 +510,9 @@ _KEYS = [
         10.0,
         "s/m",
         "damping factor alpha of the Hunt-Crossley law (contact.law = hunt_crossley): N = k g^1.5 (1 + 3/2 alpha "
-        "g_dot); an impact at v_in rebounds with restitution e ~ 1 - alpha v_in",
+        "g_dot); an impact at v_in rebounds with restitution e, the root of -e x - ln(1 - e x) = x - ln(1 + x), x = "
+        "3/2 alpha v_in (timedomain.engine.hunt_crossley_restitution): 1 - alpha v_in for alpha v_in << 1, 0.663 "
+        "at 10 s/m and 0.05 m/s",
         Number(ge=0, le=1e6, unit="s/m"),
     ),
     KeySpec(
