@@ -1,5 +1,6 @@
 """Probes of the contact kernels for the tests: the search, the deformed casing axis, and the
-paper's own form of the intersection (Eq. 39) to check the search against."""
+paper's own form of the intersection (Eq. 39) to check the search against; and a single mass
+rubbing on the casing wall through the engine's own step loop (``mass_on_the_wall``)."""
 
 from types import SimpleNamespace
 
@@ -126,3 +127,93 @@ def energy_samples():
         return E, pot
 
     return run
+
+
+def mass_on_the_wall(dt, t_end, nsub, *, m, k_x, normal_force, mu, anchor, v0=0.0, a0=0.0, v_stick=1.0e-4):
+    """A single mass on a spring along x, pressed on a rigid casing wall at rest and rubbing on it
+    through the switch law (Coulomb, Eq. 17), run by the engine's own step loop
+    (``kernels.run_steps``) so that its events go through the sub-steps and the slow-slip test as a
+    cable's do. Built as a two-node 'cable': node 0 the spring's anchor (prescribed, channel
+    cable.A.x), node 1 the mass m (kg) on six springs to it, k_x (N/m) along x and 1e12 N/m (N.m/rad)
+    in the other five DOFs, stiff enough that the normal force stays normal_force (N) to a part in
+    1e6 and the friction's arm does not turn the mass; the wall's law linear, 1e6 N/m.
+
+    anchor(t) -> (u, v, a), the anchor's displacement (m), velocity (m/s) and acceleration (m/s2)
+    along x at the times t (s, an array). The mass starts at x = 0 (the spring relaxed) with the
+    velocity v0 (m/s) and acceleration a0 (m/s2), the anchor at anchor(0). Steps of dt (s) to t_end
+    (s), with ``contact.event_substeps`` = nsub and the stick band v_stick (m/s). Returns (t, x, v,
+    state, refined): the step-end times, the mass's displacement (m) and velocity (m/s), its contact
+    state (OPEN/STICK/SLIP) and the number of steps recomputed in sub-steps."""
+    import types
+
+    import scipy.sparse as sp
+
+    from cablecasing_core.model.schema import CHANNELS, CONTACT_LAWS
+    from cablecasing_core.timedomain.body_storage import BodyStorage, body_arrays
+    from cablecasing_core.timedomain.support_motion import _coefficient_matrix
+
+    gap, k_lin, k_hold = 1.0e-3, 1.0e6, 1.0e12  # m, N/m, N/m and N.m/rad
+
+    def system(Km, Mm, free, prescribed):
+        return types.SimpleNamespace(
+            f=np.zeros(12), spec=types.SimpleNamespace(alpha=0.0, beta=0.0), K=sp.csr_matrix(Km),
+            M=sp.csr_matrix(Mm), ndof=12, free=np.asarray(free), prescribed=np.asarray(prescribed),
+            support_nodes={"A": 0, "B": 1}, mounts=[],
+        )  # fmt: skip
+
+    Kc = np.zeros((12, 12))
+    for c in range(6):
+        kc = k_x if c == 0 else k_hold
+        Kc[np.ix_([c, 6 + c], [c, 6 + c])] += kc * np.array([[1, -1], [-1, 1]])
+    cable = BodyStorage(None, "cable", system(Kc, np.diag(np.full(12, m)), np.arange(6, 12), np.arange(6)))
+    casing = BodyStorage(None, "casing", system(np.eye(12), np.eye(12), np.arange(0), np.arange(12)))
+    # the mass pressed on the wall at its static deflection: at rest it sits normal_force / k_hold
+    # further out, and its spring pulls it to the penetration normal_force / k_lin
+    z0 = gap + normal_force / k_lin + normal_force / k_hold
+    cable.U[8] = -normal_force / k_hold
+    n = int(round(t_end / dt))
+    t = dt * np.arange(1, n + 1)
+    nch = len(CHANNELS)
+    up, vp, ap = np.zeros((n, nch)), np.zeros((n, nch)), np.zeros((n, nch))
+    ja = CHANNELS.index("cable.A.x")
+    up[:, ja], vp[:, ja], ap[:, ja] = anchor(t)
+    chan = np.zeros((3, nch))
+    start = anchor(np.zeros(1))
+    for q in range(3):
+        chan[q, ja] = start[q][0]
+    cable.U[0], cable.V[0], cable.A[0] = chan[0, ja], chan[1, ja], chan[2, ja]
+    cable.V[6], cable.A[6] = v0, a0
+    Xc = np.array([[-1.0, 0, 0], [0.0, 0, z0]])
+    Tc = np.array([[1.0, 0, 0], [1.0, 0, 0]])
+    Xs = np.array([[-5.0, 0, 0], [5.0, 0, 0]])
+    nn = 2
+    fcs, fcc = np.zeros(12), np.zeros(12)
+    claw = K.ContactLaw(
+        True, gap, gap, 1e-3, CONTACT_LAWS.index("linear"), k_lin, 0.0, 0.0, mu, v_stick, nsub, True, 0.0, 0.0
+    )
+    contact = K.ContactArrays(
+        Xc, Tc, Xs, np.eye(3)[None].copy(), np.array([10.0]), np.zeros(nn, np.int64), np.zeros(nn, np.int64),
+        np.zeros(nn), np.zeros((nn, 3)), np.zeros((nn, 3)), np.zeros(nn), np.zeros(nn), np.zeros(nn), np.zeros(nn),
+        K.contact_workspace(nn), chan, _coefficient_matrix(dt), np.zeros(1, np.int64), np.ones(nn),
+    )  # fmt: skip
+    args = (body_arrays(casing, dt, True, fcs, nsub), body_arrays(cable, dt, True, fcc, nsub), claw, contact)
+    rec = K.Recording(False, np.zeros((1, 24)), np.zeros(2, np.int64), *(np.zeros(1, d) for d in ("i4", "i1")),
+                      np.zeros(1), np.zeros(1), 0)  # fmt: skip
+    x, v, state = np.zeros(n), np.zeros(n), np.zeros(n, np.int64)
+    info = np.zeros(K.INFO_SIZE)
+    scratch = K.step_scratch(args[0], args[1], contact, nch, nsub)
+    for k in range(n):  # one step per call, to read the mass's state at every step
+        status = K.run_steps(
+            k * dt, dt, up[k : k + 1], vp[k : k + 1], ap[k : k + 1], *args, np.zeros(24), np.zeros(K.LEDGER_SIZE),
+            False, scratch, rec, info,
+        )  # fmt: skip
+        assert status == K.OK, status
+        x[k], v[k], state[k] = cable.U[6], cable.V[6], contact.state[1]
+    return t, x, v, state, int(info[K.INFO_REFINED_STEPS])
+
+
+@pytest.fixture(scope="session")
+def wall_mass():
+    """:func:`mass_on_the_wall`, for the stick-slip tests against closed forms and event-driven
+    references."""
+    return mass_on_the_wall

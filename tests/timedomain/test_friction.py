@@ -143,13 +143,14 @@ def test_friction_dissipation_is_mu_n_times_the_slip_path(v_stick, vreg):
     assert dissipated == pytest.approx(MU * N * trapezoid(slip, dt), rel=1e-9 if vreg == 0.0 else 1e-3)
 
 
-def slow_slip_event(turned, v_over_dv=1.5, new=False, dt=1e-5):
+def slow_slip_event(turned, v_over_dv=1.5, new=False, dt=1e-5, was=K.SLIP, flag=K.DIAG_SLOW_SLIP):
     """One contact solve of a node slipping along +x on a rigid wall (normal force N_, kernels'
     contact law), its predicted slip speed v_over_dv times dv = 2/dt W mu N, the speed the friction
     takes off in a step (W the node's compliance along x): slow for v_over_dv < 2 (its end speed
-    below dv). Its force at the last solve (Pn) had the same normal part and its friction turned by
-    ``turned`` rad from -x in the tangent plane (zero with new=True). Returns (DIAG_SLOW_SLIP, the
-    state, the end slip speed over dv)."""
+    below dv). At the last solve it was in the state ``was`` and its force (Pn) had the same normal
+    part and its friction turned by ``turned`` rad from -x in the tangent plane (zero with new=True).
+    Returns (the diag slot ``flag``: DIAG_SLOW_SLIP or DIAG_SLIP_REVERSED, the state, the end slip
+    speed over dv)."""
     gap, g0, k_lin = 1e-3, N_ / 1e6, 1e6
     Xc, Tc = np.array([[0.0, 0, gap + g0]]), np.array([[1.0, 0, 0]])
     Xs, Rs, Ls = np.array([[-5.0, 0, 0], [5.0, 0, 0]]), np.eye(3)[None].copy(), np.array([10.0])
@@ -158,7 +159,7 @@ def slow_slip_event(turned, v_over_dv=1.5, new=False, dt=1e-5):
     dv = 2 / dt * Kc[0, 0] * MU * N_
     Uc, Vc = np.zeros(6), np.zeros(6)
     Vc[0] = v_over_dv * dv
-    state, elem, xi, vrel = np.array([K.SLIP]), np.zeros(1, np.int64), np.zeros(1), np.array([Vc[0]])
+    state, elem, xi, vrel = np.array([was]), np.zeros(1, np.int64), np.zeros(1), np.array([Vc[0]])
     Pn = np.zeros((1, 3)) if new else np.array([[-MU * N_ * np.cos(turned), -MU * N_ * np.sin(turned), N_]])
     Nn, gn, diag, fcc, fcs = np.zeros(1), np.zeros(1), np.zeros(K.DIAG_SIZE), np.zeros(6), np.zeros(12)
     par = (gap, gap + 1e-3, 1, k_lin, 0.0, 0.0, MU, 0.0, dt, False, 1 - np.cos(K.EVENT_TURN), 0.0)
@@ -167,7 +168,7 @@ def slow_slip_event(turned, v_over_dv=1.5, new=False, dt=1e-5):
         Xc, Tc, Uc, Vc, Xs, Rs, Ls, z, z, Kc, Ks, par, state, elem, xi, Pn, np.zeros((1, 3)), vrel, Nn, gn, fcc, fcs,
         diag, K.contact_workspace(1), np.ones(1),
     )  # fmt: skip
-    return diag[K.DIAG_SLOW_SLIP], state[0], vrel[0] / dv
+    return diag[flag], state[0], vrel[0] / dv
 
 
 def test_a_slow_slip_is_an_event_only_when_its_friction_turns():
@@ -182,6 +183,22 @@ def test_a_slow_slip_is_an_event_only_when_its_friction_turns():
     assert slow_slip_event(1.5 * K.EVENT_TURN)[0] == 1.0
     assert slow_slip_event(0.0, new=True)[0] == 1.0
     assert slow_slip_event(1.5 * K.EVENT_TURN, v_over_dv=10.0)[0] == 0.0  # turned, but fast
+
+
+def test_a_slip_whose_friction_reversed_since_the_last_solve_is_an_event():
+    """docs/time_domain.md, "Events inside the step": a contact that slipped at the last solve and
+    slips again with its friction turned by more than pi/2 has reversed its slip within the step
+    (DIAG_SLIP_REVERSED), whatever its speed at the step's end (here 9 dv, far from slow); a turn
+    below pi/2 is not a reversal, nor is the first slip after a stick (a stick-slip switch, an event
+    of its own) or of a new contact."""
+    rev = K.DIAG_SLIP_REVERSED
+    flag, state, end = slow_slip_event(np.pi, v_over_dv=10.0, flag=rev)
+    assert state == K.SLIP and end == pytest.approx(9.0, rel=1e-9) and flag == 1.0
+    assert slow_slip_event(np.pi, v_over_dv=10.0)[0] == 0.0  # (not a slow slip)
+    assert slow_slip_event(0.55 * np.pi, v_over_dv=10.0, flag=rev)[0] == 1.0
+    assert slow_slip_event(0.45 * np.pi, v_over_dv=10.0, flag=rev)[0] == 0.0
+    assert slow_slip_event(np.pi, v_over_dv=10.0, was=K.STICK, flag=rev)[0] == 0.0
+    assert slow_slip_event(0.0, v_over_dv=10.0, new=True, flag=rev)[0] == 0.0
 
 
 def test_a_cable_pulled_round_a_bend_gains_tension_as_the_capstan_at_the_wall():

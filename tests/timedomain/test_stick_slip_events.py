@@ -6,7 +6,7 @@ pressed onto the casing wall and dragged through Coulomb friction (Eq. 17), buil
 slow-slip test) as a cable's.
 
 The casing is rigid and at rest; the anchor moves at -V along x (the classic mass on a belt moving
-at +V, seen from the belt). All other DOFs of the mass are held by springs stiff enough (KR) that
+at +V, seen from the belt). All other DOFs of the mass are held by springs stiff enough (1e12 N/m) that
 the normal force stays N_ to a part in 1e6 and the friction's arm does not turn the mass. From rest
 on the belt the mass slips, sticks at t_s when its speed reaches the belt's, and slips again at t_1
 when the spring holds mu N; the slip after t_1 is a harmonic oscillation that touches the stick
@@ -15,17 +15,10 @@ condition without sticking again (the limit cycle).
 
 from __future__ import annotations
 
-import types
-
 import numpy as np
 import pytest
-import scipy.sparse as sp
 
-from cablecasing_core.model.schema import CHANNELS, CONTACT_LAWS
-from cablecasing_core.timedomain import kernels as K
-from cablecasing_core.timedomain.body_storage import BodyStorage, body_arrays
 from cablecasing_core.timedomain.kernels._step_loop_contract import SLIP, STICK
-from cablecasing_core.timedomain.support_motion import _coefficient_matrix
 
 M_ = 1.0  # kg
 W0 = 2 * np.pi * 50.0  # rad/s, the spring-mass frequency
@@ -34,9 +27,6 @@ V = 0.01  # m/s, belt speed
 MU = 0.3
 XK = 2 * V / W0  # m, mu N / k: the spring's stretch at which the belt lets go (XK w0 = 2 V)
 N_ = K_ * XK / MU  # N, normal force
-GAP = 1.0e-3  # m, radial gap
-K_LIN = 1.0e6  # N/m, linear contact law
-KR = 1.0e12  # N/m and N.m/rad, the springs that hold the mass's other five DOFs
 V_STICK = 1.0e-4  # m/s, the schema's default stick band
 
 
@@ -57,74 +47,20 @@ def belt_closed_form(t):
     return y - V * t, yd - V, ts, t1
 
 
-def _bodies():
-    """(casing, cable) BodyStorage of the rigid casing (all DOFs prescribed) and the mass."""
+def belt_run(wall_mass, dt, t_end, nsub):
+    """Run the belt oscillator by ``kernels.run_steps`` (the conftest's ``mass_on_the_wall``) at step
+    dt (s) to t_end (s) with ``contact.event_substeps`` = nsub: the mass pressed on the wall, moving
+    with the anchor at -V, its acceleration the friction's (the average-acceleration scheme needs a
+    consistent start). Returns (t, x, v, state, refined): the step-end times, the mass's
+    displacement (m) and velocity (m/s), its contact state (OPEN/STICK/SLIP) and the number of steps
+    recomputed in sub-steps."""
 
-    def system(K, M, free, prescribed):
-        return types.SimpleNamespace(
-            f=np.zeros(12), spec=types.SimpleNamespace(alpha=0.0, beta=0.0), K=sp.csr_matrix(K),
-            M=sp.csr_matrix(M), ndof=12, free=np.asarray(free), prescribed=np.asarray(prescribed),
-            support_nodes={"A": 0, "B": 1}, mounts=[],
-        )  # fmt: skip
+    def anchor(t):
+        return -V * t, np.full_like(t, -V), np.zeros_like(t)
 
-    Kc = np.zeros((12, 12))
-    for c in range(6):
-        kc = K_ if c == 0 else KR
-        Kc[np.ix_([c, 6 + c], [c, 6 + c])] += kc * np.array([[1, -1], [-1, 1]])
-    Mc = np.diag(np.full(12, M_))
-    cable = BodyStorage(None, "cable", system(Kc, Mc, np.arange(6, 12), np.arange(6)))
-    casing = BodyStorage(None, "casing", system(np.eye(12), np.eye(12), np.arange(0), np.arange(12)))
-    return casing, cable
-
-
-def belt_run(dt, t_end, nsub):
-    """Run the belt oscillator by ``kernels.run_steps`` at step dt (s) to t_end (s) with
-    ``contact.event_substeps`` = nsub. Returns (t, x, v, state, refined): the step-end times, the
-    mass's displacement (m) and velocity (m/s), its contact state (OPEN/STICK/SLIP) and the number
-    of steps recomputed in sub-steps."""
-    casing, cable = _bodies()
-    # the mass pressed on the wall at its static deflection, moving with the anchor, its
-    # acceleration the friction's (the average-acceleration scheme needs a consistent start)
-    g = N_ / K_LIN
-    z0 = GAP + g + N_ / KR  # at rest the mass sits N_/KR further out; the spring pulls it to penetration g
-    cable.U[8] = -N_ / KR
-    cable.V[6], cable.V[0] = -V, -V
-    cable.A[6] = MU * N_ / M_
-    Xc = np.array([[-1.0, 0, 0], [0.0, 0, z0]])
-    Tc = np.array([[1.0, 0, 0], [1.0, 0, 0]])
-    Xs = np.array([[-5.0, 0, 0], [5.0, 0, 0]])
-    nn = 2
-    fcs, fcc = np.zeros(12), np.zeros(12)
-    claw = K.ContactLaw(
-        True, GAP, GAP, 1e-3, CONTACT_LAWS.index("linear"), K_LIN, 0.0, 0.0, MU, V_STICK, nsub, True, 0.0, 0.0
+    return wall_mass(
+        dt, t_end, nsub, m=M_, k_x=K_, normal_force=N_, mu=MU, anchor=anchor, v0=-V, a0=MU * N_ / M_, v_stick=V_STICK
     )
-    n = int(round(t_end / dt))
-    t = dt * np.arange(1, n + 1)
-    nch = len(CHANNELS)
-    up, vp, ap = np.zeros((n, nch)), np.zeros((n, nch)), np.zeros((n, nch))
-    ja = CHANNELS.index("cable.A.x")
-    up[:, ja], vp[:, ja] = -V * t, -V
-    chan = np.zeros((3, nch))
-    chan[1, ja] = -V
-    contact = K.ContactArrays(
-        Xc, Tc, Xs, np.eye(3)[None].copy(), np.array([10.0]), np.zeros(nn, np.int64), np.zeros(nn, np.int64),
-        np.zeros(nn), np.zeros((nn, 3)), np.zeros((nn, 3)), np.zeros(nn), np.zeros(nn), np.zeros(nn), np.zeros(nn),
-        K.contact_workspace(nn), chan, _coefficient_matrix(dt), np.zeros(1, np.int64), np.ones(nn),
-    )  # fmt: skip
-    args = (body_arrays(casing, dt, True, fcs, nsub), body_arrays(cable, dt, True, fcc, nsub), claw, contact)
-    rec = K.Recording(False, np.zeros((1, 24)), np.zeros(2, np.int64), *(np.zeros(1, d) for d in ("i4", "i1")),
-                      np.zeros(1), np.zeros(1), 0)  # fmt: skip
-    x, v, state = np.zeros(n), np.zeros(n), np.zeros(n, np.int64)
-    info = np.zeros(K.INFO_SIZE)
-    scratch = K.step_scratch(args[0], args[1], contact, nch, nsub)
-    for k in range(n):  # one step per call, to read the mass's state at every step
-        status = K.run_steps(
-            k * dt, dt, up[k : k + 1], vp[k : k + 1], ap[k : k + 1], *args, np.zeros(24), np.zeros(K.LEDGER_SIZE),
-            False, scratch, rec, info,
-        )  # fmt: skip
-        assert status == K.OK, status
-        x[k], v[k], state[k] = cable.U[6], cable.V[6], contact.state[1]
-    return t, x, v, state, int(info[K.INFO_REFINED_STEPS])
 
 
 T_END = 0.03  # s: the stick phase (1.7 to 7.2 ms) and a full period of the slip after it
@@ -138,12 +74,12 @@ def _stick_runs(state):
 
 
 @pytest.mark.parametrize("dt", DTS)
-def test_stick_begins_and_ends_in_the_step_that_holds_the_event(dt):
+def test_stick_begins_and_ends_in_the_step_that_holds_the_event(dt, wall_mass):
     """With 8 sub-steps the stick starts at the end of the step holding the closed form's t_s and
     ends in the step holding t_1 (that step ends in slip): one stick phase, no slip inside it, at
     every step size. A located event can be off by at most one sub-step (dt / 8), and the state is
     read at the step's end, so anything but the exact step is an event misplaced."""
-    t, x, v, state, refined = belt_run(dt, T_END, 8)
+    t, x, v, state, refined = belt_run(wall_mass, dt, T_END, 8)
     _, _, ts, t1 = belt_closed_form(t)
     k_s, k_1 = np.searchsorted(t, ts), np.searchsorted(t, t1)  # the steps (t[k-1], t[k]] holding them
     assert _stick_runs(state) == [(k_s, k_1 - 1)], (_stick_runs(state), k_s, k_1)
@@ -153,19 +89,19 @@ def test_stick_begins_and_ends_in_the_step_that_holds_the_event(dt):
 
 
 @pytest.mark.parametrize("dt", DTS)
-def test_the_plain_step_lets_the_stick_go_early_and_chatters(dt):
+def test_the_plain_step_lets_the_stick_go_early_and_chatters(dt, wall_mass):
     """The discrimination of the test above: with the stick/slip switch decided once per step
     (event_substeps = 1) the trapezoidal rule's acceleration rings at the Nyquist frequency once the
     mass sticks (a_(n+1) = -a_n), the stick force rings with it by ~1.8 N against mu N = 6.3 N, and
     the stick breaks 9 to 51 steps before t_1 into alternating stick and slip steps."""
-    t, x, v, state, refined = belt_run(dt, T_END, 1)
+    t, x, v, state, refined = belt_run(wall_mass, dt, T_END, 1)
     _, _, ts, t1 = belt_closed_form(t)
     runs = _stick_runs(state)
     assert refined == 0 and runs[0][0] == np.searchsorted(t, ts)
     assert runs[0][1] < np.searchsorted(t, t1) - 5 and len(runs) > 3, runs
 
 
-def test_through_stick_and_slip_the_motion_is_second_order_in_the_step():
+def test_through_stick_and_slip_the_motion_is_second_order_in_the_step(wall_mass):
     """Displacement and velocity against the closed form, max over 30 ms, at 1e-4, 5e-5, 2.5e-5 s:
     the average-acceleration rule is second order and, with the events located inside the step,
     stays so through them (measured order 1.98-2.01 in x and v; 1.9 leaves room for the sub-step's
@@ -173,7 +109,7 @@ def test_through_stick_and_slip_the_motion_is_second_order_in_the_step():
     4.8e-4 of V in v (bounds ~2x)."""
     ex, ev = [], []
     for dt in (1e-4, 5e-5, 2.5e-5):
-        t, x, v, state, _ = belt_run(dt, T_END, 8)
+        t, x, v, state, _ = belt_run(wall_mass, dt, T_END, 8)
         xr, vr, _, _ = belt_closed_form(t)
         ex.append(np.abs(x - xr).max() / XK)
         ev.append(np.abs(v - vr).max() / V)

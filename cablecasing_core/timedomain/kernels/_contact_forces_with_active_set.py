@@ -28,6 +28,7 @@ from ._step_loop_contract import (
     DIAG_MAX_PENETRATION,
     DIAG_NEWTON_FAILED,
     DIAG_NEWTON_ITERATIONS,
+    DIAG_SLIP_REVERSED,
     DIAG_SLOW_SLIP,
     OPEN,
     SLIP,
@@ -284,8 +285,9 @@ def solve_contact_forces(
     :func:`contact_workspace`; share (one per cable node, dimensionless): each node's share of the
     law, its stiffness and damper (``engine.contact_shares``). Returns the number of contacts
     examined (penetrating before the solve); the DIAG_* slots of diag (``_step_loop_contract.py``)
-    say the largest penetration, a failed Newton, the damping and friction powers and the
-    iterations and passes taken.
+    say the largest penetration, a failed Newton, the damping and friction powers, the
+    iterations and passes taken, and the events of the switch law's friction: a slow slip whose
+    friction turned (DIAG_SLOW_SLIP) and a slip that reversed (DIAG_SLIP_REVERSED).
 
     At most 30 arguments on purpose: Python compiles a call with more than 30 positional
     arguments as a call with a built tuple (CALL_FUNCTION_EX), and numba then increments and
@@ -395,6 +397,7 @@ def solve_contact_forces(
     diag[DIAG_DAMPING_POWER] = 0.0
     diag[DIAG_FRICTION_POWER] = 0.0
     diag[DIAG_SLOW_SLIP] = 0.0
+    diag[DIAG_SLIP_REVERSED] = 0.0
     if nk == 0:
         held[0] = -1  # (W was not formed: a later solve must not take the one in ws as this one's)
         diag[DIAG_MAX_PENETRATION] = 0.0
@@ -531,18 +534,26 @@ def solve_contact_forces(
         wn = w0 * n0 + w1 * n1 + w2 * n2
         wt0, wt1, wt2 = w0 - wn * n0, w1 - wn * n1, w2 - wn * n2
         vrel[i] = np.sqrt(wt0 * wt0 + wt1 * wt1 + wt2 * wt2)
+        slipped = state[i] == SLIP and mu > 0.0  # (the last solve's mode; without friction, no slip to reverse)
         state[i] = mode[k] if vreg == 0.0 else (STICK if vrel[i] < vreg else SLIP)
-        if mode[k] == SLIP and c2 * wkk[k] * mu * Nout[i] > vrel[i]:
-            # the friction force alone changes the slip velocity by more than it is within the step,
-            # and its direction turned by more than the step allows (1 - cos > turn) since the last
-            # solve, or the contact is new: the slip is slow and not steady
+        slow = c2 * wkk[k] * mu * Nout[i] > vrel[i]
+        if mode[k] == SLIP and (slow or slipped):
+            # the friction's turn since the last solve (1 - cos of the angle between its tangential parts)
             pn = Pn[i, 0] * n0 + Pn[i, 1] * n1 + Pn[i, 2] * n2
             a0, a1, a2 = Pn[i, 0] - pn * n0, Pn[i, 1] - pn * n1, Pn[i, 2] - pn * n2
             pn = P[o] * n0 + P[o + 1] * n1 + P[o + 2] * n2
             b0, b1, b2 = P[o] - pn * n0, P[o + 1] - pn * n1, P[o + 2] - pn * n2
             ab = np.sqrt((a0 * a0 + a1 * a1 + a2 * a2) * (b0 * b0 + b1 * b1 + b2 * b2))
-            if ab == 0.0 or 1.0 - (a0 * b0 + a1 * b1 + a2 * b2) / ab > turn:
+            if slow and (ab == 0.0 or 1.0 - (a0 * b0 + a1 * b1 + a2 * b2) / ab > turn):
+                # the friction force alone changes the slip velocity by more than it is within the step,
+                # and its direction turned by more than the step allows (1 - cos > turn) since the last
+                # solve, or the contact is new: the slip is slow and not steady
                 diag[DIAG_SLOW_SLIP] = 1.0
+            if slipped and a0 * b0 + a1 * b1 + a2 * b2 < 0.0:
+                # a contact that slipped at the last solve slips again with its friction turned by more
+                # than pi/2: its slip reversed within the step (a stick the average-acceleration rule
+                # could not hold, whatever the slip speed at the step's end; docs/time_domain.md)
+                diag[DIAG_SLIP_REVERSED] = 1.0
         diag[DIAG_DAMPING_POWER] += Nd[k] * wn  # damping acts only while compressing
         pn = P[o] * n0 + P[o + 1] * n1 + P[o + 2] * n2
         diag[DIAG_FRICTION_POWER] -= (P[o] - pn * n0) * wt0 + (P[o + 1] - pn * n1) * wt1 + (P[o + 2] - pn * n2) * wt2

@@ -30,6 +30,7 @@ from ._step_loop_contract import (
     DIAG_MAX_PENETRATION,
     DIAG_NEWTON_FAILED,
     DIAG_NEWTON_ITERATIONS,
+    DIAG_SLIP_REVERSED,
     DIAG_SLOW_SLIP,
     ERR_INPUT,
     ERR_NAN,
@@ -237,7 +238,8 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     Events inside the step (docs/time_domain.md): with law.nsub > 1, a step in which a contact that
     is closed at both of its ends switches between stick and slip, or in which a slipping contact's
     friction could reverse its slip while its direction turns by more than EVENT_TURN (the contact
-    solve's DIAG_SLOW_SLIP), is taken back and recomputed as
+    solve's DIAG_SLOW_SLIP), or in which a slip reversed (it slips again with its friction turned by
+    more than pi/2, DIAG_SLIP_REVERSED), is taken back and recomputed as
     law.nsub sub-steps of dt / nsub with the fine factors of the bodies (``BodyArrays.f*``), the
     supports following the quintic Hermite from their state at the step's start (contact.chan) to
     row k; everything else (records, the contact histogram, the ledger) sees the sub-steps as parts
@@ -383,7 +385,9 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
                 )  # fmt: skip
                 event = False
                 if switch_events and (lev == 0 or j == nrep - 1):
-                    event = diag[DIAG_SLOW_SLIP] > 0.0 or _friction_event(state0, state)
+                    event = (
+                        diag[DIAG_SLOW_SLIP] > 0.0 or diag[DIAG_SLIP_REVERSED] > 0.0 or _friction_event(state0, state)
+                    )
                 if lev == 1 and j == nrep - 1:
                     again = event
                 back = lev == 0 and event

@@ -49,7 +49,8 @@ DIAG_FRICTION_POWER = 3  # W, -P_t . w_t
 DIAG_NEWTON_ITERATIONS = 4  # summed over the step's passes
 DIAG_ACTIVE_SET_PASSES = 5
 DIAG_SLOW_SLIP = 6  # 1.0 when a slipping contact's friction could reverse its slip in the step, turning
-DIAG_SIZE = 7
+DIAG_SLIP_REVERSED = 7  # 1.0 when a contact slipping at the last solve slips again with its friction turned > pi/2
+DIAG_SIZE = 8
 #: rad: a slowly slipping contact is an event of the step (DIAG_SLOW_SLIP) only when its friction force
 #: turned by more than this since the last solve (by EVENT_TURN / nsub in a sub-step); a slow slip that
 #: keeps its direction is integrated as well by the step as by its sub-steps (docs/time_domain.md, the
@@ -85,10 +86,11 @@ BodyArrays = namedtuple(
 #: blow-up), law (the index in ``model.schema.CONTACT_LAWS``: 0 Hertz, Eq. 29; 1 linear, Eq. 24;
 #: 2 Hunt-Crossley), k_lin (N/m), k_hertz (N/m^1.5), c_n (kg/s, contact damping, Eq. 16; for
 #: Hunt-Crossley its 3/2 alpha in s/m), mu (Coulomb friction coefficient), v_stick (m/s, stick
-#: band); nsub: a step in which a closed contact switches between stick and slip, or slips so slowly
-#: that its friction could reverse the slip within the step, is recomputed as nsub equal sub-steps
-#: (1: never; ``contact.event_substeps``, docs/time_domain.md "Events inside the step"); reuse: its
-#: sub-steps after the first keep the Delassus matrix while the same contacts are closed.
+#: band); nsub: a step in which a closed contact switches between stick and slip, slips so slowly
+#: that its friction could reverse the slip within the step, or reverses its slip (DIAG_SLIP_REVERSED),
+#: is recomputed as nsub equal sub-steps (1: never; ``contact.event_substeps``, docs/time_domain.md
+#: "Events inside the step"); reuse: its sub-steps after the first keep the Delassus matrix while the
+#: same contacts are closed.
 #: vreg (m/s): 0 for the switch law of Section 2.1; > 0 for Coulomb's law regularised over that
 #: slip speed (``contact.friction_law = "regularized"``, docs/time_domain.md), no stick-slip events.
 #: tol (m): 0, or a step whose estimated local error in displacement, dt^2 / 12 max |a_(n+1) - a_n|
