@@ -4,7 +4,9 @@ and rebound against Hertz's impact theory and against an independent integration
 Hunt-Crossley law and of the linear law with its one-sided damper (scipy's solve_ivp), converging at
 second order with a single contact episode; the energy stored in the contact (kinetic + contact
 energy constant through an elastic impact) and the energy the damper takes (its reported power
-against the reference's loss of kinetic energy).
+against the reference's loss of kinetic energy). With the first touch at several phases inside a
+step, a specimen-like node: Hunt-Crossley and the undamped Hertz law at second order, the paper's
+damped law (its force jumps at the touch) at first order.
 """
 
 import numpy as np
@@ -25,9 +27,10 @@ LINEAR = CONTACT_LAWS.index("linear")
 ONE = np.ones(1)  # a node's whole share of the law (contact.law_length = 0, the paper)
 
 
-def drop(law, c_n, dt, t_end, k_lin=0.0, z0=GAP - 1e-6, a0=0.0, record=None, share=1.0):
-    """The node starts at z0 (default 1 um short of the wall; the wall is at GAP), moving at V_IN
-    along +z (the wall's normal) with acceleration a0, the casing rigid. Returns (time of first
+def drop(law, c_n, dt, t_end, k_lin=0.0, z0=GAP - 1e-6, a0=0.0, record=None, share=1.0, m=M_, k_h=K_H, v_in=V_IN):
+    """The node (mass m, kg; default M_) starts at z0 (default 1 um short of the wall; the wall is at
+    GAP), moving at v_in (m/s, default V_IN) along +z (the wall's normal) with acceleration a0, the
+    casing rigid; k_h (N/m^1.5, default K_H) the law's Hertz constant. Returns (time of first
     touch, time of release, rebound speed, episodes): the first two from the free flights before and
     after (straight lines in t, so their crossing of the wall is exact), the rebound speed of the
     free flight after. ``record``, a list, receives (t, v, N, g, damping power) of every step (s,
@@ -35,7 +38,7 @@ def drop(law, c_n, dt, t_end, k_lin=0.0, z0=GAP - 1e-6, a0=0.0, record=None, sha
     node's share of the law (``engine.contact_shares``; 1 as in the paper)."""
     Xc, Tc = np.array([[0.0, 0, z0]]), np.array([[1.0, 0, 0]])
     Xs, Rs, Ls = np.array([[-5.0, 0, 0], [5.0, 0, 0]]), np.eye(3)[None].copy(), np.array([10.0])
-    Keff = 4 * M_ / dt**2
+    Keff = 4 * m / dt**2
     Kc = np.zeros((6, 6))
     Kc[2, 2] = 1 / Keff  # only z responds
     Ks = np.zeros((12, 12))  # rigid casing
@@ -43,8 +46,8 @@ def drop(law, c_n, dt, t_end, k_lin=0.0, z0=GAP - 1e-6, a0=0.0, record=None, sha
     Pn, Pp, Nn, gn, diag = np.zeros((1, 3)), np.zeros((1, 3)), np.zeros(1), np.zeros(1), np.zeros(K.DIAG_SIZE)
     fcc, fcs = np.zeros(6), np.zeros(12)
     ws = K.contact_workspace(1)
-    par = (GAP, GAP + 1e-3, law, k_lin, K_H, c_n, 0.0, 0.0, dt, False, 0.0, 0.0)  # frictionless
-    u, v, a = 0.0, V_IN, a0
+    par = (GAP, GAP + 1e-3, law, k_lin, k_h, c_n, 0.0, 0.0, dt, False, 0.0, 0.0)  # frictionless
+    u, v, a = 0.0, v_in, a0
     closed, episodes, t_in, t_out, v_out = False, 0, None, None, None
     for n in range(int(round(t_end / dt))):
         t = (n + 1) * dt
@@ -81,20 +84,24 @@ def hertz_theory(k=K_H):
     return 2 * delta / V_IN * integral, -V_IN
 
 
-def hunt_crossley_reference(alpha, n=1.5):
-    """Duration and rebound speed of m g'' = -k g^n (1 + 3/2 alpha g') (N >= 0; n = 1.5 the law's)
-    from g = 0, g' = V_IN, by solve_ivp at rtol 1e-12 with the release (g = 0 going out) as its
-    event (the rebound as a velocity, negative)."""
+def impact_reference(force, m=M_, v_in=V_IN, t_max=1e-2):
+    """Duration (s) and rebound speed (m/s, negative) of m g'' = -force(g, g') (N, zero for g < 0)
+    from g = 0, g' = v_in: solve_ivp (DOP853) at rtol 1e-12 with the release (g = 0 going out) as
+    its terminal event, within t_max (s)."""
 
     def rhs(t, y):
-        g, gd = y
-        N = max(K_H * max(g, 0.0) ** n * (1 + 1.5 * alpha * gd), 0.0)
-        return [gd, -N / M_]
+        return [y[1], -force(y[0], y[1]) / m if y[0] >= 0.0 else 0.0]
 
     out = lambda t, y: y[0] if t > 1e-9 else 1.0  # noqa: E731
     out.terminal, out.direction = True, -1
-    sol = solve_ivp(rhs, (0, 1e-3), [0.0, V_IN], rtol=1e-12, atol=1e-18, events=out, method="DOP853")
+    sol = solve_ivp(rhs, (0, t_max), [0.0, v_in], rtol=1e-12, atol=1e-18, events=out, method="DOP853")
     return sol.t_events[0][0], sol.y_events[0][0][1]
+
+
+def hunt_crossley_reference(alpha, n=1.5):
+    """Duration and rebound speed of m g'' = -k g^n (1 + 3/2 alpha g') (N >= 0; n = 1.5 the law's)
+    from g = 0, g' = V_IN (:func:`impact_reference`)."""
+    return impact_reference(lambda g, gd: max(K_H * g**n * (1 + 1.5 * alpha * gd), 0.0), t_max=1e-3)
 
 
 def errors(law, c_n, dts, T, v_ref):
@@ -207,18 +214,8 @@ K_LIN, C_N = 1.0e6, 10.0  # N/m, kg/s: omega_0 = 3.2e4 1/s, damping ratio 0.158 
 
 def linear_damper_reference(k, c):
     """Duration and rebound speed of m g'' = -(k g + c max(g', 0)) (g >= 0; the damper acts only
-    while compressing, Eqs. 15-17 and 24) from g = 0, g' = V_IN, by solve_ivp at rtol 1e-12 with the
-    release (g = 0 going out) as its event (the rebound as a velocity, negative)."""
-
-    def rhs(t, y):
-        g, gd = y
-        N = k * g + c * max(gd, 0.0) if g >= 0.0 else 0.0
-        return [gd, -N / M_]
-
-    out = lambda t, y: y[0] if t > 1e-9 else 1.0  # noqa: E731
-    out.terminal, out.direction = True, -1
-    sol = solve_ivp(rhs, (0, 1e-2), [0.0, V_IN], rtol=1e-12, atol=1e-18, events=out, method="DOP853")
-    return sol.t_events[0][0], sol.y_events[0][0][1]
+    while compressing, Eqs. 15-17 and 24) from g = 0, g' = V_IN (:func:`impact_reference`)."""
+    return impact_reference(lambda g, gd: k * g + c * max(gd, 0.0))
 
 
 def test_linear_law_with_its_one_sided_damper_against_an_independent_integration():
@@ -291,3 +288,74 @@ def test_a_node_with_a_share_of_the_law_meets_the_wall_of_that_share(share):
         share * whole, rel=1e-10
     )
     assert whole == pytest.approx(sum(quad(lambda x: K_H * x**1.5, 0.0, gi)[0] for gi in g[g > 0]), rel=1e-10)
+
+
+# A node of the built-in specimen's cable (rho pi d^2 / 4 over its 35 elements of 24.3 mm), its Hertz
+# constant (``engine.hertz_constant``) and the specimens' contact damper, dropped on the wall with the
+# first touch at eight phases within a step (not at the wall at a step's start, as the tests above).
+M_NODE = 1.3476e-3  # kg
+C_PAPER = 100.0  # kg/s, contact.damping of both built-in specimens
+ALPHA = 10.0  # s/m, contact.hunt_crossley_alpha's default
+PHASES = np.arange(8) / 8
+
+
+def rebound_over_touch_phases(law, c_n, force, n_per_contact, dt=None, k_lin=0.0):
+    """The relative rebound errors v_out / v_ref - 1 of the specimen-like node dropped at V_IN, the
+    first touch at each of PHASES of a step (the step T / n_per_contact, T the reference's contact
+    duration, or dt, s), against :func:`impact_reference` of the law ``force`` (k_h, g, g') (N; k_lin,
+    N/m, the kernel's linear law); one contact episode each (asserted). Returns the errors (array,
+    one per phase)."""
+    from cablecasing_core.model import load_model
+    from cablecasing_core.timedomain.engine import hertz_constant
+
+    k_h = hertz_constant(load_model())
+    T, v_ref = impact_reference(lambda g, gd: force(k_h, g, gd), m=M_NODE)
+    dt = T / n_per_contact if dt is None else dt
+    out = []
+    for phase in PHASES:
+        z0 = GAP - V_IN * dt * (3 + phase)  # the touch at (3 + phase) dt: in the fourth step
+        _, _, v_out, episodes = drop(law, c_n, dt, (4 + 3 * T / dt) * dt, k_lin=k_lin, z0=z0, m=M_NODE, k_h=k_h)
+        assert episodes == 1, (phase, episodes)
+        out.append(v_out / v_ref - 1)
+    return np.array(out)
+
+
+@pytest.mark.parametrize("law", ["hertz", "linear"])
+def test_the_papers_damped_law_is_first_order_through_an_impact(law):
+    """The paper's normal law (Hertz, Eq. 29, or linear, Eq. 24, k = 1e6 N/m, the specimens'
+    contact.stiffness, with the damper c g' while compressing, Eq. 16; both built-in specimens' law)
+    is first order through an impact: its force jumps from 0 to c v_in at the first touch, which the
+    step does not locate, so the rebound's error depends on where the touch falls in the step and
+    falls only as dt. That is the law's known limit (docs/time_domain.md, the contact law), and this
+    checks the docs' statement of it: the worst error over the touch phases halves with each halving
+    of dt (measured order 1.07, 1.03, 1.02 for Hertz, 1.02, 1.01, 1.01 for the linear law from 10 to
+    80 steps per contact; bounds 0.85-1.25, which second order, 2, or a touch located, would fail),
+    and at the default step of 1e-5 s (v_in = 0.05 m/s; 14 and 9 steps per contact) the rebound
+    lies between -25 % and +48 % (Hertz), -21 % and +39 % (linear) of the reference over the phases
+    (bounds: a spread of more than 50 points; Hunt-Crossley there +0.45 to +0.60 %, the undamped
+    Hertz law within 0.15 %)."""
+    if law == "hertz":
+        args = (HERTZ, C_PAPER, lambda k_h, g, gd: k_h * g**1.5 + C_PAPER * max(gd, 0.0))
+    else:
+        args = (LINEAR, C_PAPER, lambda k_h, g, gd: 1e6 * g + C_PAPER * max(gd, 0.0))
+    k_lin = 1e6 if law == "linear" else 0.0
+    worst = [np.abs(rebound_over_touch_phases(*args, n, k_lin=k_lin)).max() for n in (10, 20, 40, 80)]
+    order = np.log2(np.array(worst[:-1]) / np.array(worst[1:]))
+    assert np.all((order > 0.85) & (order < 1.25)), (worst, order)
+    at_default = rebound_over_touch_phases(*args, None, dt=1e-5, k_lin=k_lin)
+    assert at_default.max() - at_default.min() > 0.5 and at_default.max() > 0.3, at_default
+
+
+@pytest.mark.parametrize("law", ["hunt_crossley", "hertz"])
+def test_a_law_whose_force_is_continuous_at_touch_is_second_order_whatever_the_touch_phase(law):
+    """Hunt-Crossley (alpha = 10 s/m, e = 0.66) and the undamped Hertz law have no force at g = 0,
+    so the touch inside a step costs nothing at first order: the worst rebound error over the touch
+    phases falls at second order (measured 2.03-2.04 and 2.15-2.45 per halving from 10 to 80 steps
+    per contact; bound 1.8)."""
+    if law == "hunt_crossley":
+        args = (HUNT_CROSSLEY, 1.5 * ALPHA, lambda k_h, g, gd: max(k_h * g**1.5 * (1 + 1.5 * ALPHA * gd), 0.0))
+    else:
+        args = (HERTZ, 0.0, lambda k_h, g, gd: k_h * g**1.5)
+    worst = [np.abs(rebound_over_touch_phases(*args, n)).max() for n in (10, 20, 40, 80)]
+    order = np.log2(np.array(worst[:-1]) / np.array(worst[1:]))
+    assert np.all(order > 1.8), (worst, order)
