@@ -82,13 +82,13 @@ def supplied(e):
 
 
 def test_a_contact_that_makes_energy_warns_though_the_ledger_closes():
-    """The switch law with its 8 sub-steps at the real-time step 1/30000 s: the contact made 224
-    times the work supplied over 0.05 s (measured; review T: 500 times over 0.1 s, the cable sliding
-    24 mm where a resolved step slides 4 mm), its friction positive, and the ledger's residual is
-    round-off of it (6e-10 J against 28 J in review T)."""
+    """The switch law with its 8 sub-steps at the real-time step 1/30000 s: the contact made 10
+    times the work supplied over 0.05 s and 168 times over 0.1 s (measured; review T, before a
+    reversed slip was an event: 500 times over 0.1 s, the cable sliding 24 mm where a resolved step
+    slides 4 mm), its friction positive, and the ledger's residual is round-off of it."""
     res, said = run(bar("switch", 8, 1 / 30000), 0.05, casing_along_x)
     e = res.energies
-    assert e["contact_dissipation"] < -100 * supplied(e), e  # (measured -224 times)
+    assert e["contact_dissipation"] < -5 * supplied(e), e  # (measured -10 times; the warning's share is -0.5)
     assert abs(e["residual"]) < 1e-9 * abs(e["contact_dissipation"]), e  # the balance cannot see it
     made = [m for m in said if m.startswith("the contact made energy")]
     assert len(made) == 1 and f"contact_dissipation = {e['contact_dissipation']:.3g} J" in made[0], said
