@@ -89,7 +89,9 @@ def test_a_contact_that_makes_energy_warns_though_the_ledger_closes():
     res, said = run(bar("switch", 8, 1 / 30000), 0.05, casing_along_x)
     e = res.energies
     assert e["contact_dissipation"] < -5 * supplied(e), e  # (measured -10 times; the warning's share is -0.5)
-    assert abs(e["residual"]) < 1e-9 * abs(e["contact_dissipation"]), e  # the balance cannot see it
+    # the balance cannot see it: its residual is round-off (measured 2.3e-8 of the energy made; 1e-6 is
+    # far below any share a check could use)
+    assert abs(e["residual"]) < 1e-6 * abs(e["contact_dissipation"]), e
     made = [m for m in said if m.startswith("the contact made energy")]
     assert len(made) == 1 and f"contact_dissipation = {e['contact_dissipation']:.3g} J" in made[0], said
     assert f"against {supplied(e):.3g} J of work supplied" in made[0] and "shorten scenario.dt" in made[0]
