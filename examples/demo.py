@@ -24,8 +24,8 @@ from pathlib import Path
 import numpy as np
 
 from cablecasing_core.errors import ModelError, renamed
-from cablecasing_core.files import atomic_path, output_folder
-from cablecasing_core.report import check_report_settings
+from cablecasing_core.files import WriteError, atomic_path, output_folder
+from cablecasing_core.report import check_report_folder, check_report_settings
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -106,6 +106,7 @@ def main(argv=None):
         with renamed(names):
             args.duration = check_report_settings(None, args.duration, args.seeds, args.study_samples, args.skip)[4]
         out = output_folder("--out", args.out, "report.html")
+        check_report_folder("--out", out)  # (every file of the report can be moved in)
     except ModelError as exc:
         p.exit(2, f"{p.prog}: error: {exc}\n")
     args.command = "python examples/demo.py " + shlex.join(raw)
@@ -154,6 +155,9 @@ def _run(args, out):
             )
     except FMUFailed as exc:
         print(f"demo.py: error: {exc}", file=sys.stderr)
+        return 1
+    except WriteError as exc:  # (a file that could not be moved into --out: the run is kept, the error says where)
+        print(f"demo.py: error: --out {exc.filename}: could not be written ({exc.strerror})", file=sys.stderr)
         return 1
     print(f"wrote {out}/ (see report.html)")
     return 0

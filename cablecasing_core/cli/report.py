@@ -11,7 +11,7 @@ def cmd_report(args):
     from ..errors import renamed
     from ..files import output_folder
     from ..model.limits import check_time_domain
-    from ..report import check_report_settings, write_report
+    from ..report import check_report_folder, check_report_settings, write_report
 
     # (the settings before the folder: a refused report creates nothing)
     names = {"model": "MODEL", "duration": "--duration", "scenario.duration": "--duration", "seeds": "--seeds"}
@@ -21,6 +21,7 @@ def cmd_report(args):
         )
         check_time_domain(model, duration, model.scenario["dt"])  # (a run too large for the machine)
     output_folder("--out", args.out, "report.html")  # (before the runs)
+    check_report_folder("--out", args.out)  # (every file the report writes can be moved in)
     args.interrupted = (
         "the report was not finished: --out is as it was, an earlier report in it whole (this run's files are "
         "written into a folder of their own and moved in only at the end; interrupted while they were moved in, "

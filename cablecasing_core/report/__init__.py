@@ -30,6 +30,7 @@ from __future__ import annotations
 import contextlib
 import csv
 import datetime
+import errno
 import json
 import os
 import shlex
@@ -159,27 +160,124 @@ def shortest_report_duration(model) -> float:
 PAGE_FILES = ("runs.json", "report.html")
 #: The prefix of the folder in ``out`` that a report's run writes into before its files are moved in.
 STAGE_PREFIX = ".report-run-"
+#: The names (glob patterns, relative to ``out``) of the files a report writes, some only for some
+#: models (tests/cli/test_report_review_s.py checks a report's runs.json ``files`` against them):
+#: :func:`check_report_folder` checks these targets before the runs.
+REPORT_FILES = (
+    *PAGE_FILES,
+    "parameters.csv",
+    "modes.csv",
+    "trfam.uff",
+    "trfam_x.csv",
+    "trfam_y.csv",
+    "trfam_z.csv",
+    "trfam_xyz.png",
+    "records/*.npz",
+    "bands_*.csv",
+    "simulation.png",
+    "scalograms.png",
+    "routing_contact.png",
+    "contact_histogram.png",
+    "band_levels.png",
+    "psd.png",
+    "apparent_mass.png",
+    "rms.csv",
+    "study/study.csv",
+    "study/study.csv.meta.json",
+    "study/model.toml",
+    "study/correlations.png",
+    "study/sobol.png",
+)
+
+
+def check_report_folder(flag: str, out: str | Path) -> None:
+    """Refuse, before the runs, a folder ``out`` into which a report's files (:data:`REPORT_FILES`)
+    could not be moved (a :class:`ModelError` naming ``flag``): a folder where the report writes a file
+    (``psd.png/``), a file where it writes into a folder (``records``), a subfolder on another file
+    system than ``out`` (``records`` a link to another disk: a file is moved, not copied, in) or one
+    that cannot be written in. A folder ``out`` that does not exist yet passes (it is created empty).
+    What a name with a wildcard (``bands_*.csv``) will be is known after the runs: the existing files
+    of that pattern are checked here, :func:`_move_in` checks every target again before the move."""
+    out = Path(out)
+    if not out.is_dir():
+        return
+    dev = os.stat(out).st_dev
+    for pattern in REPORT_FILES:
+        folder = pattern.rsplit("/", 1)[0] if "/" in pattern else ""
+        names = [p.relative_to(out).as_posix() for p in out.glob(pattern)] if "*" in pattern else [pattern]
+        for problem in [_folder_problem(out, folder, dev)] + [_target_problem(out, n, dev) for n in names]:
+            if problem:
+                raise ModelError(
+                    flag, str(out), f"must be a folder into which the report's files can be moved: {problem[1]}"
+                )
+
+
+def _folder_problem(out: Path, folder: str, dev: int) -> tuple[int, str] | None:
+    """Why no file on the device ``dev`` can be moved into the folder ``folder`` (relative to ``out``,
+    '' for ``out`` itself): ``(errno, reason)``, or None. Each part of it that exists must be a folder;
+    the deepest that exists (the move creates the rest in it) must lie on ``dev`` and be writable."""
+    here = out
+    for part in Path(folder).parts:
+        if not os.path.lexists(here / part):
+            break
+        here = here / part
+        if not here.is_dir():
+            return errno.ENOTDIR, f"{here} is a file where the report writes into a folder of that name"
+    if os.stat(here).st_dev != dev:
+        return errno.EXDEV, (
+            f"{here} lies on another file system ({os.path.realpath(here)}) than the report's run, and the "
+            "report's files are moved in (renamed), which cannot cross file systems"
+        )
+    if not os.access(here, os.W_OK | os.X_OK):
+        return errno.EACCES, f"no file can be created in {here} (permission denied)"
+    return None
+
+
+def _target_problem(out: Path, name: str, dev: int) -> tuple[int, str] | None:
+    """Why the file ``name`` (relative to ``out``) of a finished run on the device ``dev`` cannot be
+    moved to ``out / name`` (``os.replace``): ``(errno, reason)``, or None when it can, as far as can
+    be known before the move (:func:`_folder_problem` of its folder; the target not a folder)."""
+    folder = name.rsplit("/", 1)[0] if "/" in name else ""
+    problem = _folder_problem(out, folder, dev)
+    if problem:
+        return problem
+    target = out / name
+    if os.path.lexists(target) and target.is_dir():
+        return errno.EISDIR, f"{target} is a folder where the report writes a file of that name"
+    return None
 
 
 @contextlib.contextmanager
 def staged_report(out: str | Path):
     """A report is a set of files: yield a new empty folder inside ``out`` (created if need be; a
     hidden one, ``.report-run-*``, on the same file system) to write the run into, and, when the block
-    ends without an exception, move its files into ``out`` (:func:`_move_in`): runs.json and
-    report.html of ``out`` are removed first, every other file of the run replaces its namesake (each
-    file whole, ``os.replace``), the files an earlier report listed in its runs.json (``files``) that
-    this run does not write are removed, and runs.json and report.html come last. The staging folder
-    is removed in every case. So an interrupt (Ctrl-C) or an error during the run leaves ``out`` as it
-    was, an earlier report whole; one while the files are moved in (a fraction of a second) leaves no
-    report.html or runs.json, never an earlier page beside this run's files."""
+    ends without an exception, move its files into ``out`` (:func:`_move_in`): each target is checked
+    first (:func:`_target_problem`: not a folder, on the stage's file system, in a folder that can be
+    written), then runs.json and report.html of ``out`` are removed, every other file of the run
+    replaces its namesake (each file whole, ``os.replace``), the files an earlier report listed in its
+    runs.json (``files``; a runs.json of a report, ``"report": true``) that this run does not write
+    are removed, with the folders they leave empty, and runs.json and report.html come last. An
+    interrupt (Ctrl-C) or an error during the run leaves ``out`` as it was, an earlier report whole,
+    and removes the staging folder; one while the files are moved in (a fraction of a second) leaves
+    no report.html or runs.json, never an earlier page beside this run's files. A target that cannot
+    take its file raises :class:`~cablecasing_core.files.WriteError` naming it and keeps the staging
+    folder, the whole finished run, which the error names: found by the check, before anything is
+    removed or moved (``out`` as it was); failing in the move, after the files moved so far were
+    moved back into it (``out`` then holds no report.html or runs.json)."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     stage = Path(tempfile.mkdtemp(prefix=STAGE_PREFIX, dir=out))
+    keep = False
     try:
         yield stage
-        _move_in(stage, out)
+        try:
+            _move_in(stage, out)
+        except OSError:
+            keep = True
+            raise
     finally:
-        shutil.rmtree(stage, ignore_errors=True)
+        if not keep:
+            shutil.rmtree(stage, ignore_errors=True)
 
 
 def _files_under(folder: Path) -> list[str]:
@@ -187,21 +285,30 @@ def _files_under(folder: Path) -> list[str]:
     return sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_file())
 
 
+def is_report_runs(runs) -> bool:
+    """Whether ``runs`` (a runs.json's content) is a report's: marked ``"report": true``, or written by a
+    report before the mark (its ``files``, ``variants``, ``fingerprint`` and ``seeds``)."""
+    if not isinstance(runs, dict):
+        return False
+    return runs.get("report") is True or {"files", "variants", "fingerprint", "seeds"} <= set(runs)
+
+
 def _earlier_files(out: Path) -> list[str]:
     """The files an earlier report in ``out`` wrote: its runs.json's ``files`` (relative paths inside
-    ``out``; anything else is ignored), and the study's files, which a report without that list
-    (before it was written) may have left."""
-    from .figures import STUDY_FILES
-
-    listed = []
+    ``out``; anything else is ignored) when that runs.json is a report's (:func:`is_report_runs`);
+    nothing else, so what a user keeps in ``out`` (a study's ``study/study.csv``) stays."""
     try:
-        listed = json.loads((out / "runs.json").read_text(encoding="utf-8")).get("files") or []
-    except (OSError, ValueError, AttributeError):  # (none, or not a report's: only the study's names)
-        pass
-    names = [f for f in listed if isinstance(f, str)] + [f"study/{n}" for n in STUDY_FILES]
+        runs = json.loads((out / "runs.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):  # (none, or not JSON: not a report's)
+        return []
+    listed = runs.get("files") if is_report_runs(runs) else None
+    if not isinstance(listed, list):
+        return []
     root = out.resolve()
     keep = []
-    for name in names:
+    for name in listed:
+        if not isinstance(name, str):
+            continue
         path = Path(name)
         if path.is_absolute() or ".." in path.parts or not (out / path).resolve().is_relative_to(root):
             continue
@@ -211,17 +318,59 @@ def _earlier_files(out: Path) -> list[str]:
 
 def _move_in(stage: Path, out: Path) -> None:
     """The files of a finished run in ``stage`` moved into ``out`` (see :func:`staged_report`)."""
+    from ..files import WriteError
+
     new = _files_under(stage)
     old = _earlier_files(out)
+    kept = (
+        f"this run's report is kept whole in {stage} (its report.html opens there): move its files into "
+        f"{out} once the cause is fixed, or remove it"
+    )
+    dev = os.stat(stage).st_dev
+    for name in new:  # (every target before anything is removed or moved)
+        problem = _target_problem(out, name, dev)
+        if problem:
+            raise WriteError(
+                problem[0],
+                f"{problem[1]}; nothing was moved or removed: {out} is as it was, and {kept}",
+                str(out / name),
+                os.path.lexists(out / name),
+            )
+    moved = []
+
+    def move(name):
+        try:
+            (out / name).parent.mkdir(parents=True, exist_ok=True)
+            os.replace(stage / name, out / name)
+        except OSError as exc:
+            for done in reversed(moved):  # (back into the stage, which then holds the whole run again)
+                with contextlib.suppress(OSError):
+                    os.replace(out / done, stage / done)
+            raise WriteError(
+                exc.errno,
+                f"{exc.strerror or exc} while the report's files were moved in; {out} holds no report.html or "
+                f"runs.json now (removed first), and {kept}",
+                str(out / name),
+                os.path.lexists(out / name),
+            ) from exc
+        moved.append(name)
+
     for name in PAGE_FILES:
         (out / name).unlink(missing_ok=True)
-    for name in set(old) - set(new):
+    for name in new:
+        if name not in PAGE_FILES:
+            move(name)
+    gone = set(old) - set(new)
+    for name in gone:  # (once the run's files are in, before its page is)
         with contextlib.suppress(IsADirectoryError, PermissionError):
             (out / name).unlink(missing_ok=True)
-    last = [n for n in PAGE_FILES if n in new]
-    for name in [n for n in new if n not in PAGE_FILES] + last:
-        (out / name).parent.mkdir(parents=True, exist_ok=True)
-        os.replace(stage / name, out / name)
+    for folder in sorted({(out / n).parent for n in gone}, key=lambda p: -len(p.parts)):
+        if folder != out and folder.is_dir() and not any(folder.iterdir()):  # (a folder the report left empty)
+            with contextlib.suppress(OSError):
+                folder.rmdir()
+    for name in PAGE_FILES:
+        if name in new:
+            move(name)
 
 
 def write_report(
@@ -251,10 +400,12 @@ def write_report(
     (:func:`staged_report`); False writes into ``out`` itself, which must then be a new folder the
     caller stages (as ``examples/demo.py`` does with its FMU's outputs): every file in it counts as
     the report's (runs.json's ``files``, which a later report in the same place removes when it does
-    not write them).
+    not write them). A folder ``out`` whose files the report's could not replace is refused before
+    the runs (:func:`check_report_folder`).
     """
     model, n_seeds, study_samples, skip, duration = check_report_settings(model, duration, seeds, study_samples, skip)
     if staged:
+        check_report_folder("out", out)
         with staged_report(out) as stage:
             _write(stage, model, duration, n_seeds, study_samples, skip, progress, fmu, command)
         return Path(out) / "report.html"
@@ -278,7 +429,9 @@ def _write(out, model, duration, n_seeds, study_samples, skip, progress, fmu, co
         "model": model.source,
         "fingerprint": model.fingerprint(),
         "version": cc.__version__,
-        "code": code_state(),
+        # (the report's own folder left out of the checkout's status: its earlier output is not a change
+        # of the code; a run written into a stage, .report-run-*, is moved into the stage's folder)
+        "code": code_state(exclude=out.parent if out.name.startswith(STAGE_PREFIX) else out),
         "libraries": library_versions(),
         "command": command if command is not None else shlex.join(sys.argv),
         "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
@@ -332,6 +485,7 @@ def _write(out, model, duration, n_seeds, study_samples, skip, progress, fmu, co
         say = lambda runs: _say(f"a small study of {runs} runs (Fig. 23)", progress)  # noqa: E731
         study = figures.study_figures(model, out / "study", study_samples, duration, skip, progress, say)
     runs = {
+        "report": True,  # (a report's runs.json: a later report removes the files it lists, and only those)
         **info,
         "variants": [
             {
@@ -365,4 +519,11 @@ def _json(o):
     return str(o)
 
 
-__all__ = ["HARMONIC_START_SKIP", "check_report_settings", "report_skip", "staged_report", "write_report"]
+__all__ = [
+    "HARMONIC_START_SKIP",
+    "check_report_folder",
+    "check_report_settings",
+    "report_skip",
+    "staged_report",
+    "write_report",
+]

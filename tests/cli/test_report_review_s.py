@@ -92,6 +92,17 @@ def test_the_report_states_the_settings_it_ran(made):
     assert "The skip given, 0.06 s, is shorter than 0.25 s" in html
 
 
+def test_the_report_files_are_those_it_declares(made):
+    """Every file of a report (runs.json's ``files``) is a name of report.REPORT_FILES, which
+    check_report_folder checks before the runs; runs.json marks itself as a report's."""
+    import fnmatch
+
+    runs = json.loads((made[0] / "runs.json").read_text())
+    assert runs["report"] is True
+    undeclared = [f for f in runs["files"] if not any(fnmatch.fnmatchcase(f, p) for p in report.REPORT_FILES)]
+    assert not undeclared
+
+
 def test_the_figures_carry_their_settings(made):
     """Review S, 5-7: each figure's titles give the seed, the duration and the skip (the band figure
     the seeds and the window); the PSD spans Table 3's bands up to 5680 Hz and names the curve that
@@ -203,22 +214,6 @@ def _snapshot(folder):
         for p in folder.rglob("*")
         if p.is_file()
     }
-
-
-@pytest.fixture
-def stubbed(monkeypatch):
-    """write_report with its time-domain runs and the figures drawn from them stubbed (each stub
-    writes its file, so that the run has files to move in); the modes, parameters and TRFAM real."""
-    from cablecasing_core.files import write_text
-
-    monkeypatch.setattr(report, "run_variant", lambda *a, **k: None)
-    for name in ("time_figure", "scalogram_figure", "contact_figures", "band_figure", "psd_figure"):
-        monkeypatch.setattr(figures, name, lambda *a, **k: None)
-    monkeypatch.setattr(figures, "apparent_mass_figure", lambda *a, **k: None)
-    monkeypatch.setattr(figures, "net_table", lambda vs, path: write_text(path, "stub\n"))
-    monkeypatch.setattr(figures, "rms_table", lambda *a, **k: [])
-    monkeypatch.setattr(page, "render", lambda *a, **k: "<html>the new run</html>")
-    return monkeypatch
 
 
 def test_an_interrupted_report_leaves_the_earlier_one_whole(made, tmp_path, stubbed):
