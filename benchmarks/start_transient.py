@@ -1,5 +1,5 @@
 """The start transient of the built-in specimen's 50 Hz cable drive in its band levels (docs/nvh.md,
-"The start transient of a harmonic drive"; the report's skip, ``report.HARMONIC_START_SKIP``).
+"The start transient of a harmonic drive"; the check of the report's skip, ``report.start_transient``).
 
 Each seed runs the built-in specimen's own scenario (random base excitation at casing.A.z, the
 50 Hz axial drive of the cable, contact; dt = 1e-5 s, 35 elements) from rest, longer than the

@@ -32,6 +32,7 @@ import csv
 import datetime
 import errno
 import json
+import math
 import os
 import shlex
 import shutil
@@ -51,23 +52,77 @@ def _say(text, progress):
         print(f"report: {text}", file=sys.stderr, flush=True)
 
 
-#: The least start (s) the report leaves out of its records when the scenario has a harmonic
-#: excitation: the drive's start sets off a free vibration that lies in the levels until it has
-#: decayed, about 0.25 s on the built-in specimen (docs/nvh.md, "The start transient of a harmonic
-#: drive", measured by benchmarks/start_transient.py: its 0-0.25 s window reads octave 3 +86 % above
-#: the same seeds' level at 1-1.75 s, the later windows within 2 SE but octave 1's in one of three).
-HARMONIC_START_SKIP = 0.25
+def start_transients(model) -> list[dict]:
+    """The start transient of each harmonic excitation of ``model``'s scenario (docs/nvh.md, "The start
+    transient of a harmonic drive"): the drive's start sets off a free vibration that lies in the
+    levels until it has decayed; near the drive's frequency f (Hz) the casing's Rayleigh damping
+    (``casing.alpha``, 1/s, and ``casing.beta``, s: ``identification.rayleigh_zeta``) gives it the
+    damping ratio zeta = alpha / (2 omega) + beta omega / 2 at omega = 2 pi f, so it decays to a tenth of
+    its amplitude in t = ln 10 / (zeta omega) s: 0.30 s at the built-in specimen's 50 Hz (zeta = 0.024),
+    whose measured windows show it gone by then (0-0.25 s off, 0.25-0.5 s within 2 SE).
+
+    The casing's, whatever body the drive acts on: the report's levels are of the casing's support
+    force at B. A cable drive's own free vibration (the cable's Rayleigh damping alone: 0.66 s on the
+    built-in specimen) is given as ``cable_t`` but not counted: it reaches the casing only through the
+    contact, which damps it, and the specimen's casing.B.Fz shows no such tail (docs/nvh.md's table).
+
+    One dict per line of :func:`~cablecasing_core.timedomain.scenario.harmonic_lines`, in the model
+    file's order: ``excitation`` (its name), ``frequency`` (Hz), ``alpha`` (1/s) and ``beta`` (s) of
+    the casing, ``zeta`` (-), ``t`` (s; None for a casing without Rayleigh damping, whose transient
+    does not decay) and, for a drive on the cable, ``cable_zeta`` and ``cable_t``."""
+    from ..identification.rayleigh import rayleigh_zeta
+
+    def decay(body, f):
+        b = model.data[body]
+        zeta = float(rayleigh_zeta([f], b["alpha"], b["beta"])[0])
+        return zeta, (math.log(10.0) / (zeta * 2.0 * math.pi * f) if zeta > 0 else None)
+
+    out = []
+    for name, e in model.scenario["excitation"].items():
+        if not (e["kind"] == "harmonic" and e["amplitude"] != 0 and e["frequency"] > 0):  # (harmonic_lines' rule)
+            continue
+        f = float(e["frequency"])
+        zeta, t = decay("casing", f)
+        casing = model.data["casing"]
+        item = {"excitation": name, "frequency": f, "alpha": casing["alpha"], "beta": casing["beta"]}
+        item.update(zeta=zeta, t=t)
+        if e["target"].startswith("cable.") and "cable" in model.data:
+            item["cable_zeta"], item["cable_t"] = decay("cable", f)
+        out.append(item)
+    return out
+
+
+def start_transient(model) -> float:
+    """The start the report leaves out for its harmonic excitations' start transients (s): the longest
+    finite ``t`` of :func:`start_transients` (0 without a harmonic excitation, or when no transient
+    decays: the page says so)."""
+    return max((d["t"] for d in start_transients(model) if d["t"] is not None), default=0.0)
 
 
 def report_skip(model, duration: float) -> float:
     """The report's default skip (s) of records ``duration`` s long of ``model``: 0.05 s (or the
-    scenario's fade-in), at least :data:`HARMONIC_START_SKIP` when the scenario has a harmonic
-    excitation, lengthened so that the rest holds whole periods of the harmonic excitations
-    (:func:`~cablecasing_core.timedomain.scenario.whole_period_skip`): 0.26 s of the built-in
-    specimen's 1 s with its 50 Hz drive (37 periods after it)."""
-    from ..timedomain.scenario import harmonic_lines, whole_period_skip
+    scenario's fade-in), at least :func:`start_transient` (ln 10 / (zeta omega) of the casing at each
+    harmonic excitation's frequency), lengthened so that the rest holds whole periods of the harmonic
+    excitations (:func:`~cablecasing_core.timedomain.scenario.whole_period_skip`): 0.32 s of the
+    built-in specimen's 1 s with its 50 Hz drive (0.30 s, then 34 periods after it)."""
+    from ..timedomain.scenario import whole_period_skip
 
-    return whole_period_skip(model, duration, least=HARMONIC_START_SKIP if harmonic_lines(model) else 0.0)
+    return whole_period_skip(model, duration, least=start_transient(model))
+
+
+def describe_start_transients(model) -> str:
+    """What :func:`report_skip` leaves out for the start transients, in words (plain text): per harmonic
+    line ``ln 10/(ζω) = 0.30 s at 50 Hz, ζ = 0.024``, or that the model has no harmonic excitation."""
+    items = start_transients(model)
+    if not items:
+        return "no harmonic excitation: no drive's start transient"
+    said = [
+        f"ln 10/(ζω) = {d['t']:.2f} s at {d['frequency']:g} Hz, ζ = {d['zeta']:.2g}"
+        if d["t"] is not None
+        else f"no decay at {d['frequency']:g} Hz (the casing has no Rayleigh damping, ζ = 0)"
+        for d in items
+    ]
+    return "the casing's start transient of the harmonic drive, " + "; ".join(said)
 
 
 def check_report_settings(model=None, duration=None, seeds=6, study_samples=32, skip=None):
@@ -118,13 +173,17 @@ def check_report_settings(model=None, duration=None, seeds=6, study_samples=32, 
                 f"must be at least {skip + bin_:.4g} s: skip = {skip:g} s and one bin of the 11-22 Hz band",
             )
         least = shortest_report_duration(model)
+        if start_transient(model) > 0:
+            why = f"{describe_start_transients(model)}, then whole periods of the drive, which change with the duration"
+        elif start_transients(model):  # (a drive whose transient does not decay: nothing to leave out for it)
+            why = f"the supports' fade-in and the first response; {describe_start_transients(model)}"
+        else:
+            why = "the supports' fade-in and the first response"
         raise ModelError(
             "duration",
             duration,
             f"must be at least {least:.4g} s: one bin of the 11-22 Hz band ({bin_:.4g} s) after the skip, "
-            f"{report_skip(model, least):g} s at that duration (the start left out: the harmonic drive's start "
-            f"transient, at least {HARMONIC_START_SKIP:g} s with one, then whole periods of the drive, which "
-            "change with the duration)",
+            f"{report_skip(model, least):g} s at that duration (the start left out: {why})",
         )
     return model, n_seeds, study_samples, skip, float(duration)
 
@@ -392,8 +451,9 @@ def write_report(
     the built-in specimens); seeds: excitation seeds 1..seeds of the band-level ensembles (>= 2; the
     first seed gives the reference records); study_samples: runs of the small Monte-Carlo study of
     Fig. 23 (0: none); skip (s): start of each record left out of levels and spectra (default
-    :func:`report_skip`: 0.05 s, at least :data:`HARMONIC_START_SKIP` with a harmonic excitation,
-    lengthened to whole periods of it); progress: bars and notes on stderr; fmu: the FMU check of
+    :func:`report_skip`: 0.05 s, at least the casing's start transient ln 10 / (zeta omega) at each
+    harmonic excitation's frequency, lengthened to whole periods of them); progress: bars and notes on
+    stderr; fmu: the FMU check of
     ``examples/demo.py`` (a dict of labels to values, :func:`.runs.fmu_check`'s, shown as it is);
     command: the command line that made the report, stated in it (default: this process's);
     staged: write the run into a folder inside ``out`` and move it in at the end
@@ -416,7 +476,6 @@ def _write(out, model, duration, n_seeds, study_samples, skip, progress, fmu, co
     import cablecasing_core as cc
 
     from ..frequency.modal import frequencies_up_to, mode_count
-    from ..timedomain.scenario import harmonic_lines
     from . import figures, page
     from .provenance import code_state, library_versions
 
@@ -438,7 +497,8 @@ def _write(out, model, duration, n_seeds, study_samples, skip, progress, fmu, co
         "duration": duration,
         "dt": dt,
         "skip": skip,
-        "skip_least": HARMONIC_START_SKIP if harmonic_lines(model) else None,
+        "skip_least": start_transient(model) or None,
+        "start_transients": start_transients(model),
         "window": "hann",
         "record_after_skip": kept * dt,
         "df": 1.0 / (kept * dt),
@@ -520,10 +580,11 @@ def _json(o):
 
 
 __all__ = [
-    "HARMONIC_START_SKIP",
     "check_report_folder",
     "check_report_settings",
     "report_skip",
     "staged_report",
+    "start_transient",
+    "start_transients",
     "write_report",
 ]

@@ -97,7 +97,7 @@ def trfam_figure(model, body, out):
 
 def run_label(info, seed=True) -> str:
     """The settings of the report's runs for a figure's title: ``seed 1, 1 s at dt = 1e-05 s,
-    levels after 0.26 s`` (``info``: :func:`~cablecasing_core.report.write_report`'s; without the
+    levels after 0.32 s`` (``info``: :func:`~cablecasing_core.report.write_report`'s; without the
     seed for a figure of every seed)."""
     if not info:
         return ""
@@ -396,8 +396,8 @@ def input_spectrum(model, target):
 
 #: The apparent mass's range in the report (Hz): the input's band on the built-in specimens.
 AM_RANGE_HZ = (10.0, 1000.0)
-#: The report's H1 resolution asked for (Hz): 6.1 Hz lines (16384 samples at 1e-5 s), 8 averages of
-#: the 0.74 s after the skip of a 1 s run; of the 0.44 s of a 0.5 s run 4, there the finest lines with
+#: The report's H1 resolution asked for (Hz): 6.1 Hz lines (16384 samples at 1e-5 s), 7 averages of
+#: the 0.68 s after the skip of a 1 s run; of the 0.44 s of a 0.5 s run 4, there the finest lines with
 #: at least 3 averages (``nvh.transfer.MIN_AVERAGES``). The casing's modes
 #: below 100 Hz are 1.9-3.9 Hz wide (half power, viscous), so the lines do not resolve them and the
 #: coherence drops by the window's bias: on the built-in specimen's record without the drive (seed

@@ -145,29 +145,59 @@ def _code_rows(info):
 
 def skip_note(info):
     """Why the records' first ``info["skip"]`` s are left out (HTML): the fade-in, and with a harmonic
-    drive its start transient (docs/nvh.md, "The start transient of a harmonic drive"); a warning
-    when a given skip is shorter than the report's least with a drive."""
+    drive its start transient as the report computed it (``info["start_transients"]``,
+    :func:`~cablecasing_core.report.start_transients`: ln 10 / (zeta omega) of the casing at the drive's
+    frequency; docs/nvh.md, "The start transient of a harmonic drive"); a warning when a given skip is
+    shorter than that (``info["skip_least"]``), or when the transient does not decay."""
     least = info.get("skip_least")
+    items = info.get("start_transients") or []
     text = (
         f"Every record's first {info['skip']:g} s are left out of the levels, spectra and tables (shaded or "
         "marked in the figures): the supports' fade-in and the first response"
     )
-    if least:
-        text += (
-            f", and the start transient of the harmonic drive: the free vibration its start sets off lies in "
-            f'the levels until it has decayed, about {least:g} s on the built-in specimen (docs/nvh.md, "The '
-            "start transient of a harmonic drive\": 16 seeds, against the same seeds' level at 1-2 s, the "
-            "window 0.06-0.5 s that the report used read octave 3 +66 ± 29 % and octave 2 −24 ± 10 %, the "
-            "window 0.25-1 s is within 2 SE in every band), then lengthened so that the rest holds whole periods "
-            "of the drive."
+    if not items:
+        return f"<p class='note'>{text}.</p>"
+    said, cable = [], []
+    for d in items:
+        if d["t"] is None:
+            continue
+        said.append(
+            f"ln 10/(ζω) = {d['t']:.2f} s at {d['frequency']:g} Hz, ζ = {d['zeta']:.2g} (casing.alpha = "
+            f"{d['alpha']:g} 1/s, casing.beta = {d['beta']:g} s)"
         )
-        if info["skip"] < least:
-            text += (
-                f"</p><p class='warn'>The skip given, {info['skip']:g} s, is shorter than {least:g} s: the levels "
-                "with the drive hold part of its start transient."
+        if d.get("cable_t") is not None:
+            cable.append(f"{d['cable_t']:.2f} s at {d['frequency']:g} Hz (ζ = {d['cable_zeta']:.2g})")
+    if said:
+        text += (
+            ", and the start transient of the harmonic drive: the free vibration its start sets off lies in the "
+            "levels until it has decayed to a tenth of its amplitude, which takes ln 10/(ζω) at the damping ratio "
+            "ζ = α/(2ω) + βω/2 of the casing's Rayleigh damping at the drive's frequency: "
+            + "; ".join(_e(x) for x in said)
+            + (
+                f"; the cable's own, {_e(', '.join(cable))}, is not counted: it reaches {OUTPUT} through the "
+                "contact, and the built-in specimen's shows no such tail"
+                if cable
+                else ""
             )
+            + '. On the built-in specimen (docs/nvh.md, "The start transient of a harmonic drive": 16 seeds, '
+            "against the same seeds' level at 1-2 s) the window 0.06-0.5 s read octave 3 +66 ± 29 % and octave 2 "
+            "−24 ± 10 %, the window 0.25-1 s is within 2 SE in every band. The skip is that time lengthened so "
+            "that the rest holds whole periods of the drive."
+        )
     else:
         text += "."
+    if least and info["skip"] < least:
+        text += (
+            f"</p><p class='warn'>The skip given, {info['skip']:g} s, is shorter than the drive's start transient, "
+            f"{least:.2f} s: the levels with the drive hold part of it."
+        )
+    lasting = [f"{d['frequency']:g} Hz" for d in items if d["t"] is None]
+    if lasting:
+        text += (
+            f"</p><p class='warn'>The casing has no Rayleigh damping (casing.alpha = casing.beta = 0): the start "
+            f"transient of the drive at {_e(', '.join(lasting))} does not decay in the casing, and the levels with "
+            "the drive hold it whatever the skip."
+        )
     return f"<p class='note'>{text}</p>"
 
 

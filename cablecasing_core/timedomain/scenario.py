@@ -267,7 +267,7 @@ def whole_period_skip(
 ) -> float:
     """The default start of a record of ``model``'s scenario left out of its band levels (s): the
     least skip at or above 0.05 s, ``scenario.ramp`` (:func:`~cablecasing_core.timedomain.start_skip.least_skip`)
-    and ``least`` (s; the report's :data:`~cablecasing_core.report.HARMONIC_START_SKIP` with a
+    and ``least`` (s; the report's :func:`~cablecasing_core.report.start_transient` with a
     harmonic drive) after which the rest of the record, ``duration`` (s, default
     ``scenario.duration``), holds whole periods of the scenario's harmonic excitations (:func:`harmonic_lines`;
     :func:`~cablecasing_core.timedomain.start_skip.skip_for_whole_periods`, on the grid of ``dt``, s, default

@@ -455,8 +455,8 @@ OPTION_ERRORS = [
     (["spectrum", "{record}", "--fmin", "0"], "--fmin = 0.0: must be a number in [1e-06, 1e+06] in Hz"),
     (["bands", "{record}", "--fmin", "30", "--fmax", "20"], "--fmax = 20.0: must be at least --fmin = 30.0 Hz"),
     (["report", "--seeds", "1", "--out", "rep/sub"], "--seeds = 1: must be an integer >= 2"),  # (no folder made)
-    # (0.25 s of the drive's start transient, in whole periods, and one bin of 11-22 Hz: docs/nvh.md)
-    (["report", "--duration", "0.05", "--out", "rep"], "--duration = 0.05: must be at least 0.35 s"),
+    # (the drive's start transient, 0.3015 s, in whole periods, and one bin of 11-22 Hz: docs/nvh.md)
+    (["report", "--duration", "0.05", "--out", "rep"], "--duration = 0.05: must be at least 0.4015 s"),
     (["report", "--duration", "0.2", "--skip", "0.15", "--out", "rep"], "--duration = 0.2: must be at least 0.2409 s"),
     (["report", "--skip", "-1", "--out", "rep"], "--skip = -1.0: must be"),
     (["report", "--study-samples", "1", "--out", "rep"], "--study-samples = 1: must be 0 (no study) or 2 to"),

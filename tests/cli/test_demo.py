@@ -57,7 +57,7 @@ def test_the_demo_report_is_one_set_of_runs_and_the_fmu_is_the_core(tmp_path):
             "--duration",
             "0.15",
             "--skip",
-            "0.05",  # (the default, 0.25 s with the drive, needs 0.35 s)
+            "0.05",  # (the default, the drive's start transient of 0.30 s, needs 0.4015 s)
             "--seeds",
             "3",
             "--study-samples",

@@ -89,7 +89,7 @@ def test_the_report_states_the_settings_it_ran(made):
     assert f"{n * dt:.4g} s after the skip: FFT lines every df = {1 / (n * dt):.3g} Hz" in html
     assert f"{11 * n * dt:.3g} lines in octave 1" in html and "too few" in html  # (1.54 < 4)
     assert "Every record's first 0.06 s are left out" in html and "start transient of the harmonic drive" in html
-    assert "The skip given, 0.06 s, is shorter than 0.25 s" in html
+    assert "The skip given, 0.06 s, is shorter than the drive's start transient, 0.30 s" in html
 
 
 def test_the_report_files_are_those_it_declares(made):

@@ -48,15 +48,15 @@ def test_the_skip_lies_on_the_steps_grid_and_never_before_the_least(specimen, dt
 
 def test_a_study_sample_and_the_report_take_the_default_skip(specimen):
     """default_evaluate (a study's sample) without skip gives the levels after 0.06 s, not after
-    0.05 s; the report's 0.5 s records leave out 0.26 s (at least report.HARMONIC_START_SKIP, 0.25 s,
-    with the drive, then whole periods: 12 of 50 Hz in the 0.24 s left)."""
+    0.05 s; the report's 0.5 s records leave out 0.32 s (at least the drive's start transient,
+    report.start_transient, 0.30 s, then whole periods: 9 of 50 Hz in the 0.18 s left)."""
     from cablecasing_core.report import check_report_settings
     from cablecasing_core.studies.evaluators import default_evaluate
 
     got = default_evaluate({}, duration=0.3, model=specimen)
     assert got == default_evaluate({}, duration=0.3, skip=0.06, model=specimen)
     assert got != default_evaluate({}, duration=0.3, skip=0.05, model=specimen)
-    assert check_report_settings(specimen, 0.5)[3] == 0.26
+    assert check_report_settings(specimen, 0.5)[3] == 0.32
 
 
 def test_the_common_period_of_several_lines_and_when_there_is_none(specimen):
