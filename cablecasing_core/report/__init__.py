@@ -38,6 +38,7 @@ import shlex
 import shutil
 import sys
 import tempfile
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -464,12 +465,33 @@ def write_report(
     the runs (:func:`check_report_folder`).
     """
     model, n_seeds, study_samples, skip, duration = check_report_settings(model, duration, seeds, study_samples, skip)
-    if staged:
-        check_report_folder("out", out)
-        with staged_report(out) as stage:
-            _write(stage, model, duration, n_seeds, study_samples, skip, progress, fmu, command)
-        return Path(out) / "report.html"
-    return _write(Path(out), model, duration, n_seeds, study_samples, skip, progress, fmu, command)
+    with _each_warning_once():  # (the same note from each ensemble's check, from each variant's figures)
+        if staged:
+            check_report_folder("out", out)
+            with staged_report(out) as stage:
+                _write(stage, model, duration, n_seeds, study_samples, skip, progress, fmu, command)
+            return Path(out) / "report.html"
+        return _write(Path(out), model, duration, n_seeds, study_samples, skip, progress, fmu, command)
+
+
+@contextlib.contextmanager
+def _each_warning_once():
+    """Within the block, a warning whose category and text were shown already is not shown again: the
+    report's ensembles each check their records (``studies.evaluators``: "fewer than 4 FFT lines"), and
+    a ``catch_warnings`` between them (each run's) clears Python's own record of what was said."""
+    said = set()
+    show = warnings.showwarning
+
+    def once(message, category, *args, **kwargs):
+        if (category, str(message)) not in said:
+            said.add((category, str(message)))
+            show(message, category, *args, **kwargs)
+
+    warnings.showwarning = once
+    try:
+        yield
+    finally:
+        warnings.showwarning = show
 
 
 def _write(out, model, duration, n_seeds, study_samples, skip, progress, fmu, command) -> Path:

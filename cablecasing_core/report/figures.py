@@ -317,14 +317,17 @@ def psd_figure(variants, path, skip, info=None):
     reference records, and beside it, for a model with a cable, of the force into B, net.B.Fz
     (casing.B.Fz + cable.B.Fz), N^2/Hz and dB re 1 N^2/Hz, over Table 3's bands (11-5680 Hz) from 2
     df on. A variant whose net.B.Fz is its casing.B.Fz (cable.B.Fz zero: no drive) draws one line,
-    named as both. Returns the lowest frequency drawn (Hz, 2 df) and the variants whose net.B.Fz is
-    their casing.B.Fz (their titles)."""
+    named as both. A series that does not vary (:func:`constant`: casing.B.Fz of a model whose
+    excitation does not reach it) has no power to draw on the log axis: it is left out and named in
+    the title (the page says so too, ``page.psd_note``); with none left the figure says so. Returns
+    the lowest frequency drawn (Hz, 2 df; None when nothing is drawn), the variants whose net.B.Fz is
+    their casing.B.Fz (their titles) and the series left out (their names)."""
     from ..nvh import psd
     from ..nvh.bands import octave_bands
     from ..nvh.plots import plot_psd
 
     ps = []
-    net, same = False, []
+    net, same, flat = False, [], []
     for v in variants:
         r = v.result
         keep = after_skip(r.time, skip)
@@ -332,32 +335,65 @@ def psd_figure(variants, path, skip, info=None):
         nper = min(2 ** int(np.round(np.log2(fs / 4.0))), 2 ** int(np.log2(keep.sum() // 4)))
         x = r.support_force(OUTPUT)[keep]
         name = f"{OUTPUT} {v.title}"
+        if constant(x):
+            flat.append(f"{OUTPUT} ({v.title})")
+            x = None
         if v.net_bands is not None:  # (a model with a cable: the record's net.B.Fz, records.derived_terms)
             rec = r.records()
             y = rec.column(NET_OUTPUT)[after_skip(rec.time, skip, rec.time[0])]
             net = True
-            if np.array_equal(x, y):  # (no force of the cable at B: one curve, not one hidden under the other)
+            if x is not None and np.array_equal(x, y):  # (no force of the cable at B: one curve, not two)
                 same.append(v.title)
                 name += f" (= {NET_OUTPUT}: cable.B.Fz is 0 N)"
             else:
-                ps.append(psd(x, fs, nperseg=nper, unit="N", name=name))
-                ps.append(psd(y, fs, nperseg=nper, unit="N", name=f"{NET_OUTPUT} {v.title}"))
+                if x is not None:
+                    ps.append(psd(x, fs, nperseg=nper, unit="N", name=name))
+                if constant(y):
+                    flat.append(f"{NET_OUTPUT} ({v.title})")
+                else:
+                    ps.append(psd(y, fs, nperseg=nper, unit="N", name=f"{NET_OUTPUT} {v.title}"))
                 continue
-        ps.append(psd(x, fs, nperseg=nper, unit="N", name=name))
+        if x is not None:
+            ps.append(psd(x, fs, nperseg=nper, unit="N", name=name))
     shown = f"{OUTPUT} and {NET_OUTPUT} (+ cable.B.Fz)" if net else OUTPUT
     t3 = octave_bands("table3")
     lo, hi = float(t3.lower[0]), float(t3.upper[-1])
+    head = f"PSD of {shown}, reference records\n" + (run_label(info) if info else f"after {skip:g} s")
+    left_out = f"\nnot drawn, constant (no power): {', '.join(flat)}" if flat else ""
+    if not ps:
+        _empty_figure(path, head + left_out, "every series is constant: no power spectral density to draw")
+        return {"from_hz": None, "same": same, "constant": flat}
     first = max(lo, min(p.covered(lo, hi)[0] for p in ps))
     plot_psd(
         ps,
         path,
         f_range=(lo, hi),
-        title=f"PSD of {shown}, reference records\n"
-        + (run_label(info) if info else f"after {skip:g} s")
+        title=head
         + f"; Welch, Hann's window\nTable 3's bands {lo:g}-{hi:g} Hz"
-        + (f" from 2 df = {first:.3g} Hz (below it Welch's lines do not measure)" if first > lo else ""),
+        + (f" from 2 df = {first:.3g} Hz (below it Welch's lines do not measure)" if first > lo else "")
+        + left_out,
     )
-    return {"from_hz": first, "same": same}
+    return {"from_hz": first, "same": same, "constant": flat}
+
+
+def constant(x) -> bool:
+    """Whether the series ``x`` does not vary (every sample equal: zero power after its mean is removed,
+    nothing to draw on a log axis of a PSD)."""
+    x = np.asarray(x)
+    return x.size == 0 or bool(np.all(x == x[0]))
+
+
+def _empty_figure(path, title, text):
+    """A figure without axes that says ``text`` under ``title``, written to ``path``."""
+    import matplotlib.pyplot as plt
+
+    from ..plotting import save_figure
+
+    fig, ax = plt.subplots(figsize=(7.5, 2))
+    ax.set_axis_off()
+    ax.text(0.5, 0.5, text, ha="center", va="center", fontsize=10)
+    ax.set_title(title, fontsize=10)
+    save_figure(fig, path)
 
 
 def net_table(variants, path):

@@ -3,6 +3,7 @@ comes from named beside it."""
 
 from __future__ import annotations
 
+import functools
 import html
 import math
 import re
@@ -359,7 +360,12 @@ def contact_note(contact, info):
 
 def psd_note(variants, info):
     """Under psd.png: the window, the seed, the range and a curve drawn once for two names."""
-    same = [v.title for v in variants if v.net_bands is not None and _net_is_casing(v)]
+    flat = _constant_outputs(variants, info["skip"])
+    same = [
+        v.title
+        for v in variants
+        if v.net_bands is not None and _net_is_casing(v) and f"{OUTPUT} ({v.title})" not in flat
+    ]
     text = (
         f"Welch's estimate, Hann's window, of the reference records (seed {info['seeds'][0]}) after "
         f"{info['skip']:g} s, over Table 3's bands 11-5680 Hz from 2 df (the legend gives df), where Welch's "
@@ -370,7 +376,29 @@ def psd_note(variants, info):
             f" In the variant {_and([_e(t) for t in same])} cable.B.Fz is 0 N, so {NET_OUTPUT} is {OUTPUT}: one "
             "curve, named as both."
         )
+    if flat:
+        text += (
+            f" {_and([_e(n) for n in flat])} {'is' if len(flat) == 1 else 'are'} constant after the skip (no "
+            "power at any frequency: the model's excitation does not reach it), so the log axis has nothing of "
+            f"{'it' if len(flat) == 1 else 'them'} to draw."
+        )
     return f"<p class='note'>{text}</p>"
+
+
+def _constant_outputs(variants, skip):
+    """The series of psd.png (``OUTPUT`` and, with a cable, ``NET_OUTPUT`` of each reference record,
+    '<output> (<variant title>)') that are constant after ``skip`` s (:func:`.figures.constant`)."""
+    from ..records import after_skip
+    from .figures import constant
+
+    flat = []
+    for v in variants:
+        rec = v.result.records()
+        keep = after_skip(rec.time, skip, rec.time[0])
+        for name in (OUTPUT, NET_OUTPUT) if v.net_bands is not None else (OUTPUT,):
+            if constant(rec.column(name)[keep]):
+                flat.append(f"{name} ({v.title})")
+    return flat
 
 
 def _net_is_casing(v):
@@ -465,11 +493,10 @@ def energy_parts(variants, model):
             share = f" ({100 * x / w + 0.0:+.2f} % of the supports' work)" if key != "support_work" and w else ""
             row.append(f"{_g(x, 4)}{share}")
         rows.append(row)
-    n_el = model.data["geometry"]["n_elements"]
     docs = (
         " docs/time_domain.md (\"The mesh\", the normal force's work) gives −2.38 % of the supports' work at "
         "35 elements on the built-in specimen's 1 s records with the drive, −0.07 % at 140."
-        if model.source == "<built-in>" and n_el == 35
+        if builtin_specimen(model) == "<built-in>"
         else ""
     )
     return [
@@ -612,7 +639,8 @@ ACCURACY_SETTINGS = (35, 1e-5)
 
 #: The mesh's bias per Table 3 band of the built-in specimens at :data:`ACCURACY_SETTINGS`, quoted
 #: from docs/time_domain.md, "The mesh" (tests/cli/test_report_bands.py finds each in its table):
-#: {source: {variant key: (what it is measured against, on what, [9 figures in %, as printed])}}.
+#: {specimen: {variant key: (what it is measured against, on what, [9 figures in %, as printed])}};
+#: the records it was measured on are :data:`MESH_BIAS_RECORDS`'.
 MESH_BIAS = {
     "<built-in>": {
         "drive": (
@@ -623,18 +651,78 @@ MESH_BIAS = {
         ),
         "nodrive": (
             "35 against 280 elements, without contact (as this variant, which has none), seed 1, the rectangular "
-            "window",
+            "window, 1 s records after 0.05 s",
             ["+1.5", "+0.3", "−1.5", "−0.6", "−0.6", "−4.1", "−7.4", "−7.0", "−20.4"],
         ),
     },
     "<built-in installed>": {
         "drive": (
-            "35 against 140 elements, the specimen's scenario, 16 seeds, Hann's window (± 2 SE in octaves 1-2; "
-            "octaves 3-9, the drive's response, within 0.2)",
+            "35 against 140 elements, the specimen's scenario, 16 seeds, Hann's window, 1 s records after 0.06 s "
+            "(± 2 SE in octaves 1-2; octaves 3-9, the drive's response, within 0.2)",
             ["+2.4 ± 1.1", "+0.9 ± 2.2", "+1.0", "+10.6", "−7.5", "−0.7", "+16.4", "+7.8", "+27.0"],
         ),
     },
 }  # fmt: skip
+
+
+#: The records :data:`MESH_BIAS` was measured on: {specimen: {variant key: (duration, skip) in s}}
+#: (docs/time_domain.md, "The mesh": 1 s runs, band levels after the CLI's skip then, 0.05 s of the
+#: default specimen's linear runs, 0.06 s with the drive; benchmarks/mesh_refinement.py --skip).
+MESH_BIAS_RECORDS = {
+    "<built-in>": {"drive": (1.0, 0.06), "nodrive": (1.0, 0.05)},
+    "<built-in installed>": {"drive": (1.0, 0.06)},
+}
+
+
+def builtin_specimen(model):
+    """The built-in specimen ``model`` is (``"<built-in>"``, ``"<built-in installed>"``: the keys of
+    :data:`MESH_BIAS` and :data:`ACCURACY_QUOTES`), by its content (``Model.fingerprint``, so
+    ``cablecasing_core/model/specimens/default.toml`` loaded as a file is the built-in specimen), or
+    None for another model."""
+    return _specimens().get(model.fingerprint())
+
+
+@functools.cache
+def _specimens():
+    """{fingerprint: source} of the built-in specimens (their files do not change while the package runs)."""
+    from ..model import load_model, specimen_names
+
+    return {m.fingerprint(): m.source for m in map(load_model, specimen_names())}
+
+
+def _known_bias(model, info):
+    """{variant key: (what, [figures as printed])} of :data:`MESH_BIAS` for a built-in specimen whose
+    report's records are those the figures were measured on (:data:`MESH_BIAS_RECORDS`: ``info``'s
+    duration and skip, to within half a step), else {} (another model's bias, or another record's, is
+    not known)."""
+    spec = builtin_specimen(model)
+    known = {}
+    for key, entry in MESH_BIAS.get(spec, {}).items():
+        duration, skip = MESH_BIAS_RECORDS[spec][key]
+        half = info["dt"] / 2
+        if abs(info["duration"] - duration) < half and abs(info["skip"] - skip) < half:
+            known[key] = entry
+    return known
+
+
+def _unknown_bias(model, info):
+    """The note (HTML) on the mesh bias :data:`MESH_BIAS` holds for this specimen's variants but the
+    report's records are not those it was measured on (:func:`_known_bias`), or ''."""
+    spec = builtin_specimen(model)
+    known = _known_bias(model, info)
+    left = {k: r for k, r in MESH_BIAS_RECORDS.get(spec, {}).items() if k not in known}
+    if not left:
+        return ""
+    on = "; ".join(
+        f"{'with' if k == 'drive' else 'without'} the cable drive: {d:g} s runs after {t:g} s"
+        for k, (d, t) in left.items()
+    )
+    return (
+        "<p class='note'><b>Mesh bias</b> (docs/time_domain.md, \"The mesh\") is not shown beside these levels: it "
+        f"was measured on other records of this specimen ({on}), these are {info['duration']:g} s runs after "
+        f"{info['skip']:g} s, whose levels hold another part of the run. <code>--duration</code> and "
+        "<code>--skip</code> of those records give it; the note below quotes its largest figures.</p>"
+    )
 
 
 def _percent(text):
@@ -643,12 +731,9 @@ def _percent(text):
 
 
 def mesh_bias(model, info):
-    """{variant key: [bias in %, ...]} of :data:`MESH_BIAS` for a built-in specimen at the mesh and
-    step the figures were measured at, else {} (another model's bias is not known)."""
-    n_el, dt = model.data["geometry"]["n_elements"], info["dt"]
-    if (n_el, dt) != ACCURACY_SETTINGS:
-        return {}
-    return {k: [_percent(x) for x in figs] for k, (_, figs) in MESH_BIAS.get(model.source, {}).items()}
+    """{variant key: [bias in %, ...]} of :data:`MESH_BIAS` for a built-in specimen on the records the
+    figures were measured on (:func:`_known_bias`), else {} (another model's bias is not known)."""
+    return {k: [_percent(x) for x in figs] for k, (_, figs) in _known_bias(model, info).items()}
 
 
 def accuracy_note(model, info):
@@ -663,7 +748,7 @@ def accuracy_note(model, info):
         f"{len(info['seeds'])} seeds pin down this model's expected level. They do not cover the model's "
         "numerical error, its distance from the same model converged in the mesh and the step"
     )
-    quotes = ACCURACY_QUOTES.get(model.source)
+    quotes = ACCURACY_QUOTES.get(builtin_specimen(model))
     if quotes and (n_el, dt) == ACCURACY_SETTINGS:
         items = "".join(f'<li>{_e(q)} (docs/time_domain.md, "{_e(sec)}").</li>' for sec, q in quotes)
         return f"{head}, measured on this specimen at these settings on 1 s records:<ul>{items}</ul>"
@@ -682,8 +767,8 @@ def _bands(variants, model, info):
     if not ens:
         return ["<h2>Band levels</h2><p>No random excitation: no ensemble over seeds.</p>"]
     e0 = ens[0].ensemble
-    n_el, dt = model.data["geometry"]["n_elements"], info["dt"]
-    known = MESH_BIAS.get(model.source, {}) if (n_el, dt) == ACCURACY_SETTINGS else {}
+    n_el = model.data["geometry"]["n_elements"]
+    known = _known_bias(model, info)
     head = ["band", "Hz"]
     for v in ens:
         head += [f"{v.title}: mean (N)", "95 % CI (N)", "mean (dB re 1 N)", "95 % CI (dB)", "CV of one record"]
@@ -720,6 +805,7 @@ def _bands(variants, model, info):
         "<p class='note'>Means over the seeds of the ensembles (bands_&lt;variant&gt;.csv: one row per seed); "
         "Student-t 95 % intervals (cut at 0); CV: the seed-to-seed scatter of a single record's level.</p>",
     ]
+    parts.append(_unknown_bias(model, info))
     if known:
         parts.append(
             "<p class='note'><b>Mesh bias</b> (docs/time_domain.md, \"The mesh\"): how far this model's expected "

@@ -108,7 +108,7 @@ def test_the_table_gives_a_dash_for_a_band_without_response_and_the_figure_spans
     band_levels.png those bands are named at the foot instead of drawn, and the axis spans the
     levels drawn (it reached 1e-9 N, 10 decades)."""
     model, vs = _variants(nodrive_like)
-    info = {"dt": 1e-5, "seeds": list(range(1, 7))}
+    info = {"dt": 1e-5, "seeds": list(range(1, 7)), "duration": 1.0, "skip": 0.05}  # (the variant's docs records)
     html = "\n".join(page._bands(vs, model, info))
     for lab in ("oct8", "oct9"):
         cells = _cells(html, lab)
@@ -269,14 +269,23 @@ def _row(text, first_cell):
 def test_the_mesh_bias_beside_the_bands_is_the_docs():
     """Review S, 1: the bias per band the table gives beside the built-in specimens' levels is the
     row of docs/time_domain.md, "The mesh", measured as the page says (Hann's window against 140
-    elements with contact; the linear table against 280 without), figure for figure."""
+    elements with contact; the linear table against 280 without), figure for figure. Review V, D12:
+    given only beside the records it was measured on (1 s after 0.06 s with the drive), for the
+    specimen by its content (its file loaded by path too), not for another mesh."""
     docs = _section((ROOT / "docs" / "time_domain.md").read_text(encoding="utf-8"), "The mesh")
     assert page.MESH_BIAS["<built-in>"]["drive"][1] == _row(docs, "**default, 35** (128)")[:9]
     assert page.MESH_BIAS["<built-in installed>"]["drive"][1] == _row(docs, "**installed, 35** (16)")[:9]
     assert page.MESH_BIAS["<built-in>"]["nodrive"][1] == _row(docs, "35")[:9]
-    info = {"dt": 1e-5, "seeds": [1, 2]}
+    info = {"dt": 1e-5, "seeds": [1, 2], "duration": 1.0, "skip": 0.06}
     assert page.mesh_bias(cc.load_model(), info)["drive"][1] == 50.9
+    assert "nodrive" not in page.mesh_bias(cc.load_model(), info)  # (measured after 0.05 s)
+    by_path = cc.load_model(str(ROOT / "cablecasing_core" / "model" / "specimens" / "default.toml"))
+    assert by_path.source != "<built-in>" and page.mesh_bias(by_path, info)["drive"][1] == 50.9
     assert page.mesh_bias(cc.load_model().with_overrides({"geometry.n_elements": 140}), info) == {}
+    later = {**info, "skip": 0.32}  # (the report's default records: another part of the run)
+    assert page.mesh_bias(cc.load_model(), later) == {}
+    assert "is not shown beside these levels" in page._unknown_bias(cc.load_model(), later)
+    assert page._unknown_bias(cc.load_model().with_overrides({"casing.E": 6e9}), later) == ""
 
 
 def test_the_start_transients_figures_on_the_page_are_the_docs():

@@ -37,7 +37,11 @@ def _titles(fig):
 @pytest.fixture(scope="module")
 def made(tmp_path_factory):
     """One report of the built-in specimen by the command line, in process: its folder, the argv,
-    and each figure's titles (and the PSD's x range and legend) as drawn, before it is saved."""
+    and each figure's titles (and the PSD's x range and legend) as drawn, before it is saved (and
+    under ``"<stderr>"`` what the command printed there)."""
+    import contextlib
+    import io
+
     import cablecasing_core.nvh.plots as nvh_plots
     import cablecasing_core.plotting as plotting
     from cablecasing_core.cli import main
@@ -62,10 +66,13 @@ def made(tmp_path_factory):
     mp = pytest.MonkeyPatch()
     for module in originals:
         mp.setattr(module, "save_figure", keep(module))
+    err = io.StringIO()
     try:
-        assert main(argv) == 0
+        with contextlib.redirect_stderr(err):
+            assert main(argv) == 0
     finally:
         mp.undo()
+    seen["<stderr>"] = err.getvalue()
     return out, argv, seen
 
 
@@ -90,6 +97,14 @@ def test_the_report_states_the_settings_it_ran(made):
     assert f"{11 * n * dt:.3g} lines in octave 1" in html and "too few" in html  # (1.54 < 4)
     assert "Every record's first 0.06 s are left out" in html and "start transient of the harmonic drive" in html
     assert "The skip given, 0.06 s, is shorter than the drive's start transient, 0.30 s" in html
+
+
+def test_a_warning_is_said_once_per_report(made):
+    """Review V, D12: the 0.14 s left of 0.2 s put 1.5 FFT lines in octave 1; each variant's ensemble
+    checks its records and finds it, and the report says it once."""
+    lines = [x for x in made[2]["<stderr>"].splitlines() if x.startswith("cablecasing: warning:")]
+    assert len([x for x in lines if "fewer than 4 FFT lines" in x]) == 1, lines
+    assert len(lines) == len(set(lines)), lines
 
 
 def test_the_report_files_are_those_it_declares(made):
