@@ -198,8 +198,8 @@ def test_the_reports_default_records_leave_out_the_drives_start_in_whole_periods
     warns below 4). A model without a harmonic excitation leaves out 0.05 s."""
     import math
 
-    from cablecasing_core.report import check_report_settings, report_skip, start_transient
     from cablecasing_core.nvh.bands import LINES_PER_BAND
+    from cablecasing_core.report import check_report_settings, report_skip, start_transient
 
     model = cc.load_model()
     w = 2 * math.pi * 50.0
