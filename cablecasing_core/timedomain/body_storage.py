@@ -210,11 +210,19 @@ class BodyStorage:
         cached = self._factors.get(key)
         if cached is None:
             g = slice(self.g0, self.g0 + self.ng)
+            # Keff = K + c1 C + c0 M, C = alpha M + beta K (Eq. 40, the element damping of Eq. 5
+            # assembled), c0 = 4/dt^2 and c1 = 2/dt Newmark's coefficients (Eq. 18). The Rayleigh
+            # factors are rounded as written, 1 + 2 beta/dt and 4/dt**2 + 2 alpha/dt, which for some dt
+            # differ in the last bit from the predictor's ck = 1 + c1 beta and cm = c0 + c1 alpha: the
+            # difference is below the solve's round-off, but a contact run is chaotic, and another
+            # rounding here would change every record (and the figures measured with them) in its
+            # last digits.
+            _, c1 = K.newmark_coefficients(dt)
             Keff = (1 + 2 * self.beta / dt) * self.K_full[g, g] + (4 / dt**2 + 2 * self.alpha / dt) * self.M_full[g, g]
             inner = [j - self.g0 for j in self.pres if self.g0 <= j < self.g0 + self.ng]
             for mt in self.mounts:  # the mounts' springs and dampers on their node blocks
                 j = slice(6 * mt.node - self.g0, 6 * mt.node - self.g0 + 6)
-                Keff[j, j] += mt.K6 + (2.0 / dt) * mt.C6
+                Keff[j, j] += mt.K6 + c1 * mt.C6
             Keff[inner, :] = 0.0
             Keff[:, inner] = 0.0
             Keff[inner, inner] = 1.0

@@ -46,7 +46,12 @@ def hertz_constant(model: Model) -> float:
     """4/3 E* r^1/2 of Eq. (29) in N/m^1.5: E* from both moduli and Poisson ratios (Eq. 28), r from
     the cable radius (convex, r1 = d/2) and the casing's inner radius (concave, r2 = -d_inner/2),
     1/r = 1/r1 + 1/r2 (Eq. 27). Hertz's point-contact law; a wire lying in a tube is closer to a line
-    contact, so the law is a stiffness model for the penalty method, as in the paper (Fig. 19)."""
+    contact, so the law is a stiffness model for the penalty method, as in the paper (Fig. 19).
+
+    Eqs. 25-26 (the largest penetration of an impact from its normal velocity, with the two bodies'
+    effective mass) are not implemented and not needed: the engine applies the force law of Eq. 29
+    at every step to the penetration it computes (``kernels.contact_law``), so an impact's depth
+    comes out of the integration."""
     ca, cb = model.bodies["casing"], model.bodies["cable"]
     Es = 1.0 / ((1 - cb.nu**2) / cb.E_ref + (1 - ca.nu**2) / ca.E_ref)
     r1, r2 = cb.d_outer / 2.0, -ca.d_inner / 2.0

@@ -730,11 +730,8 @@ class _Evaluator:
         tl = np.sqrt(tr @ tr)
         t = tr / tl
         A = self.H[i, :3, :]
-        Hp, Hm = np.zeros((6, 12)), np.zeros((6, 12))
-        dxi = 1e-6
-        K.hermite_matrix(min(xi + dxi, 1.0), self.Ls[e], self.Rs[e], Hp)
-        K.hermite_matrix(max(xi - dxi, 0.0), self.Ls[e], self.Rs[e], Hm)
-        Ap = (Hp[:3] - Hm[:3]) / (min(xi + dxi, 1.0) - max(xi - dxi, 0.0))  # dA/dxi (exact: cubic)
+        Ap = np.zeros((3, 12))
+        K.hermite_matrix_slope(xi, self.Ls[e], self.Rs[e], Ap)  # dA/dxi, the cubics' exact slopes
         q = Us[6 * e : 6 * e + 12]
         Pp = self.Xs[e + 1] - self.Xs[e] + Ap @ q  # dP/dxi (m)
         # local DOFs w = [dx (3), dtheta (3), dq (12)]

@@ -120,6 +120,30 @@ def test_hermite_matrix_is_the_rotated_local_interpolation_and_moves_rigidly():
         np.testing.assert_allclose(H @ q, np.r_[c + np.cross(w, X), w], rtol=0, atol=1e-15)
 
 
+def test_hermite_matrix_slope_is_the_derivative_of_the_displacement_rows():
+    """dA/dxi (``hermite_matrix_slope``) against Richardson's extrapolation of central differences
+    of ``hermite_matrix``'s displacement rows: for a cubic in xi, (4 D(h/2) - D(h)) / 3 is exact, so
+    only rounding is left (entries up to ~L / h^2 eps ~ 1e-10 for h = 1e-3, L = 0.035 m; tolerance
+    1e-9), at the ends too (xi = 0 and 1, where a difference quotient of the clipped kernel is one-sided)."""
+    rng = np.random.default_rng(12)
+    L, h = 0.035, 1e-3
+
+    def rows(x, R):
+        H = np.zeros((6, 12))
+        K.hermite_matrix(x, L, R, H)
+        return H[:3]
+
+    def central(xi, s, R):  # (the cubics extend past [0, 1])
+        return (rows(xi + s, R) - rows(xi - s, R)) / (2 * s)
+
+    for xi in (0.0, 1.0, *rng.random(6)):
+        R, _ = np.linalg.qr(rng.standard_normal((3, 3)))
+        R[2] *= np.sign(np.linalg.det(R))
+        A1 = np.full((3, 12), np.nan)
+        K.hermite_matrix_slope(xi, L, R, A1)
+        np.testing.assert_allclose(A1, (4 * central(xi, h / 2, R) - central(xi, h, R)) / 3, rtol=0, atol=1e-9)
+
+
 def test_contact_forces_balance_force_and_moment(pair_model, kick):
     m = pair_model(friction=0.3)
     eng = Engine(m, dt=2e-5, contact=True)

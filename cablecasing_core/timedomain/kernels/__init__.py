@@ -8,9 +8,10 @@ module                                   what
                                          states, the names of the ledger, info and diag slots
 ``_banded_products_and_block_solve.py``  products in diagonal storage, the block-tridiagonal solve
 ``_hermite_interpolation.py``            the casing axis and the interpolation matrix on an element (Eq. 9)
-``_contact_search_and_law.py``           normal-plane search (Eqs. 36-39; frame Eqs. 32-35), contact law (Eqs. 24, 29)
+``_contact_search_and_law.py``           normal-plane search (Eqs. 36-39; frame Eqs. 32-35), contact law (Eqs. 24, 29;
+                                         its Hertz constant, Eqs. 27-28, is ``engine.hertz_constant``)
 ``_contact_newton_for_fixed_modes.py``   the contact forces for fixed stick/slip modes (Eqs. 15-23)
-``_contact_forces_with_active_set.py``   the implicit contact solve of a step (Eqs. 14-39)
+``_contact_forces_with_active_set.py``   the implicit contact solve of a step (Eqs. 14-24, 29-39)
 ``_newmark_per_body.py``                 one body's predictor, update and reactions (Eqs. 13, 18)
 ``_newmark_step_loop_with_ledger.py``    the step loop over both bodies and the contact, energy ledger
 ``_quintic_support_motion.py``           the support motion inside an FMU communication step
@@ -72,7 +73,8 @@ from ._communication_step_with_quintic_motion import (  # noqa: E402
 )
 from ._contact_forces_with_active_set import contact_workspace, solve_contact_forces  # noqa: E402
 from ._contact_search_and_law import contact_law, contact_potential, search_node  # noqa: E402
-from ._hermite_interpolation import axis_at, element_dofs, hermite_matrix  # noqa: E402
+from ._hermite_interpolation import axis_at, element_dofs, hermite_cubics, hermite_matrix, hermite_matrix_slope  # noqa: E402
+from ._newmark_per_body import newmark_coefficients  # noqa: E402
 from ._newmark_step_loop_with_ledger import run_steps  # noqa: E402
 from ._quintic_support_motion import accept_rows, quintic_coefficients, quintic_values, taylor_rows  # noqa: E402
 from ._static_contact import static_contact  # noqa: E402
@@ -187,8 +189,11 @@ __all__ = [
     "contact_potential",
     "contact_workspace",
     "element_dofs",
+    "hermite_cubics",
     "hermite_matrix",
+    "hermite_matrix_slope",
     "kernels_cache_dir",
+    "newmark_coefficients",
     "quintic_coefficients",
     "quintic_values",
     "run_steps",

@@ -1,4 +1,4 @@
-"""The implicit contact forces of a Newmark step (Eqs. 14-39): every cable node's contact search,
+"""The implicit contact forces of a Newmark step (Eqs. 14-24, 29-39): every cable node's contact search,
 the Delassus matrix of the active contacts from both bodies' effective compliance, the Newton of
 ``_contact_newton_for_fixed_modes.py`` inside passes that switch contacts between stick and slip
 and in and out of the active set, and the generalized forces on both bodies.
@@ -21,6 +21,7 @@ from ._contact_newton_for_fixed_modes import (
 )
 from ._contact_search_and_law import cable_node, far_from_wall, follow_cut, search_node, tangent_basis
 from ._hermite_interpolation import hermite_matrix
+from ._newmark_per_body import newmark_coefficients
 from ._step_loop_contract import (
     DIAG_ACTIVE_SET_PASSES,
     DIAG_DAMPING_POWER,
@@ -266,7 +267,7 @@ def solve_contact_forces(
     share,
 ):
     """Contact of the cable nodes with the casing at the end of a step, from the predicted
-    (contact-free) state (Eqs. 14-39). Writes the generalized contact forces on the cable (fcc, N
+    (contact-free) state (Eqs. 14-24, 29-39). Writes the generalized contact forces on the cable (fcc, N
     and N.m) and the casing (fcs), the per-node state (OPEN/STICK/SLIP: the mode the forces were
     solved in), normal force (Nout, N), penetration (gout, m) and tangential relative speed at the
     end of the step (vrel, m/s: the next step sticks when it lies inside the band +-v_stick,
@@ -334,7 +335,7 @@ def solve_contact_forces(
     ) = ws
     nn = Xc.shape[0]
     nk = 0
-    c2 = 2.0 / dt
+    _, c2 = newmark_coefficients(dt)  # 2/dt (1/s): a velocity change per displacement change (Eq. 18)
     far_from_wall(Xc, Tc, Uc, Xs, Ls, Us, elem, gap, skip)
     for i in range(nn):
         Nout[i] = 0.0

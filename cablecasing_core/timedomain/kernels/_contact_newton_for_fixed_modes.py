@@ -11,6 +11,7 @@ from numba import njit
 
 from ._compile_options import FM
 from ._contact_search_and_law import contact_law
+from ._newmark_per_body import newmark_coefficients
 from ._step_loop_contract import STICK
 
 #: the residual reduction per iteration below which the regularised law's Newton keeps its factors
@@ -223,7 +224,7 @@ def _residual(
     J is the exact Jacobian of R except in the regularised friction rows, whose primal-dual
     linearisation equals it at the solution (tangent: their exact Jacobian too). Returns the norm
     of R (N)."""
-    c2 = 2.0 / dt
+    _, c2 = newmark_coefficients(dt)  # 2/dt (1/s): a velocity change per displacement change (Eq. 18)
     ur = np.uint64(r)  # (the Jacobian's row fills vectorize over unsigned bounds, as in _band_lu_factor)
     matrix_times_vector(Q, x, r, y)
     norm = 0.0

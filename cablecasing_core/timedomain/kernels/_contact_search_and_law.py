@@ -1,6 +1,8 @@
-"""Contact search and contact law (Eqs. 14, 24, 27-39): where the normal plane of a cable node cuts
+"""Contact search and contact law (Eqs. 14, 24, 29-39): where the normal plane of a cable node cuts
 the deformed casing axis, the cheap far-from-wall test that most nodes pass, the penetration's
-normal force (linear, Eq. 24, or Hertz, Eq. 29) and the elastic energy stored in the contacts."""
+normal force (linear, Eq. 24, or Hertz, Eq. 29) and the elastic energy stored in the contacts.
+Hertz's constant 4/3 E* r^1/2 (Eqs. 27-28) comes in as ``k_hertz``, from
+``timedomain.engine.hertz_constant``."""
 
 from __future__ import annotations
 

@@ -10,6 +10,25 @@ from ._compile_options import FM
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def hermite_cubics(xi):
+    """The Hermite cubics of Eq. (9) at xi in [0, 1] (dimensionless) and their derivatives d/dxi,
+    as (n1, n2, n3, n4, d1, d2, d3, d4): a lateral displacement on an element of length L (m) is
+    n1 v_a + L n2 theta_a + n3 v_b + L n4 theta_b, its slope d/ds = (d1 v_a + L d2 theta_a + ...) / L."""
+    x2 = xi * xi
+    x3 = x2 * xi
+    return (
+        1 - 3 * x2 + 2 * x3,
+        xi - 2 * x2 + x3,
+        3 * x2 - 2 * x3,
+        -x2 + x3,
+        -6 * xi + 6 * x2,
+        1 - 4 * xi + 3 * x2,
+        6 * xi - 6 * x2,
+        -2 * xi + 3 * x2,
+    )
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
 def _rot(R, U, o):
     """R @ U[o:o+3] as a tuple (global -> element axes)."""
     return (
@@ -34,10 +53,8 @@ def axis_at(Xs, Rs, Ls, e, xi, q):
     iterations, which vary xi only)."""
     R = Rs[e]
     L = Ls[e]
-    x2 = xi * xi
-    x3 = x2 * xi
-    N1, N2, N3, N4 = 1 - 3 * x2 + 2 * x3, L * (xi - 2 * x2 + x3), 3 * x2 - 2 * x3, L * (-x2 + x3)
-    D1, D2, D3, D4 = -6 * xi + 6 * x2, L * (1 - 4 * xi + 3 * x2), 6 * xi - 6 * x2, L * (-2 * xi + 3 * x2)
+    N1, n2, N3, n4, D1, d2, D3, d4 = hermite_cubics(xi)
+    N2, N4, D2, D4 = L * n2, L * n4, L * d2, L * d4
     l0 = (1 - xi) * q[0] + xi * q[6]
     l1 = N1 * q[1] + N2 * q[5] + N3 * q[7] + N4 * q[11]
     l2 = N1 * q[2] - N2 * q[4] + N3 * q[8] - N4 * q[10]
@@ -63,7 +80,9 @@ def _frame_block(H, r0, c0, a, b, g, e0, e1, e2):
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def hermite_matrix(xi, L, R, H):
-    """Global 6x12 interpolation matrix H of a straight beam element at xi in [0, 1], written into H.
+    """Global 6x12 interpolation matrix H of a straight beam element of length L (m) at xi in
+    [0, 1] (dimensionless), written into H (dimensionless, except m on the rows of displacements
+    from rotations and 1/m on the rows of rotations from displacements).
 
     Maps the element's 12 global DOFs to [ux uy uz rx ry rz] (global) at xi: Hermite cubics for
     the lateral displacements and the bending rotations (their slopes), linear for axial and twist;
@@ -75,10 +94,9 @@ def hermite_matrix(xi, L, R, H):
     Mo at xi is H^T [F; Mo]; it keeps the resultant and the moment of the load, because the shape
     functions reproduce rigid-body motion exactly.
     """
-    x2 = xi * xi
-    x3 = x2 * xi
-    N1, N2, N3, N4 = 1 - 3 * x2 + 2 * x3, L * (xi - 2 * x2 + x3), 3 * x2 - 2 * x3, L * (-x2 + x3)
-    D1, D2, D3, D4 = (-6 * xi + 6 * x2) / L, 1 - 4 * xi + 3 * x2, (6 * xi - 6 * x2) / L, -2 * xi + 3 * x2
+    n1, n2, n3, n4, d1, D2, d3, D4 = hermite_cubics(xi)
+    N1, N2, N3, N4 = n1, L * n2, n3, L * n4
+    D1, D3 = d1 / L, d3 / L  # (slopes along the element: d/ds = d/dxi / L)
     e0, e1, e2 = R[0, 0], R[0, 1], R[0, 2]
     # displacement rows: u = (1-xi) u_a e + N1 u_a,lat - N2 e x th_a + (same for b with N3, N4)
     _frame_block(H, 0, 0, N1, 1 - xi - N1, 0.0, e0, e1, e2)
@@ -90,3 +108,18 @@ def hermite_matrix(xi, L, R, H):
     _frame_block(H, 3, 3, D2, 1 - xi - D2, 0.0, e0, e1, e2)
     _frame_block(H, 3, 6, 0.0, 0.0, D3, e0, e1, e2)
     _frame_block(H, 3, 9, D4, xi - D4, 0.0, e0, e1, e2)
+
+
+@njit(cache=True, fastmath=FM, error_model="numpy")
+def hermite_matrix_slope(xi, L, R, A1):
+    """dA/dxi, the derivative along the element of the displacement rows A = H[:3] of
+    :func:`hermite_matrix` (same arguments: xi in [0, 1], L in m, R the direction cosines), written
+    into A1 (3 x 12; m per unit xi on the rotation columns, dimensionless on the displacement
+    columns): the exact slopes of the cubics of Eq. (9), so that dP/dxi = X_b - X_a + A1 q."""
+    n1, n2, n3, n4, d1, d2, d3, d4 = hermite_cubics(xi)
+    e0, e1, e2 = R[0, 0], R[0, 1], R[0, 2]
+    # the derivatives of hermite_matrix's displacement blocks' coefficients (a, b, g)
+    _frame_block(A1, 0, 0, d1, -1 - d1, 0.0, e0, e1, e2)
+    _frame_block(A1, 0, 3, 0.0, 0.0, -L * d2, e0, e1, e2)
+    _frame_block(A1, 0, 6, d3, 1 - d3, 0.0, e0, e1, e2)
+    _frame_block(A1, 0, 9, 0.0, 0.0, -L * d4, e0, e1, e2)

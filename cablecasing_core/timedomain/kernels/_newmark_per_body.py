@@ -1,7 +1,7 @@
-"""Newmark's average acceleration for one body (Eq. 18 with C = alpha M + beta K, the supports
-prescribed at the new time, Eq. 13): the contact-free predictor, the response to the contact
-forces and to a constant load at rest, the update of acceleration and velocity, and the reactions
-at the prescribed DOFs."""
+"""Newmark's average acceleration for one body (Eq. 18 with the Rayleigh damping C = alpha M + beta K
+of Eq. 40, the element damping of Eq. 5 assembled; the supports prescribed at the new time, Eq. 13):
+the contact-free predictor, the response to the contact forces and to a constant load at rest, the
+update of acceleration and velocity, and the reactions at the prescribed DOFs."""
 
 from __future__ import annotations
 
@@ -13,6 +13,14 @@ from ._compile_options import FM, NO_RT
 TINY = 1e-200  # m, m/s, m/s2: states below this are flushed to zero (see finish)
 
 
+@njit(cache=True, fastmath=FM, error_model="numpy", inline="always")
+def newmark_coefficients(dt):
+    """Newmark's average-acceleration coefficients for a step of dt s (Eq. 18): c0 = 4/dt^2 (1/s^2)
+    and c1 = 2/dt (1/s), as a tuple (c0, c1). With them a = c0 (u - u_old) - 2 c1 v_old - a_old,
+    v = c1 (u - u_old) - v_old, and the effective stiffness is S = K + c1 C + c0 M."""
+    return 4.0 / (dt * dt), 2.0 / dt
+
+
 @njit(**NO_RT)
 def predict(
     Md, Dinv, L, LT, g0, ng, f0, nf, alpha, beta, U, V, A, pres, pchan, cpl_i, cpl_v, up, vp, ap, step, dt, y1, r,
@@ -20,8 +28,10 @@ def predict(
 ):  # fmt: skip
     """Contact-free Newmark predictor: prescribe the supports at t+dt (Eq. 13) and solve
     S_ff u_f = [M (c0 u + 2 c1 v + a) + C (c1 u + v)]_f - (coupling to the prescribed DOFs) for the
-    free DOFs, S = K + c1 C + c0 M = ck K + cm M, C = alpha M + beta K, c0 = 4/dt^2, c1 = 2/dt,
-    ck = 1 + c1 beta, cm = c0 + c1 alpha; U[free] holds the result.
+    free DOFs, S = K + c1 C + c0 M = ck K + cm M, C = alpha M + beta K (Eq. 40; alpha in 1/s, beta
+    in s), c0 = 4/dt^2, c1 = 2/dt (:func:`newmark_coefficients`), ck = 1 + c1 beta, cm = c0 + c1 alpha;
+    U[free] holds the result (m, rad; U, V, A the body's state, m, m/s, m/s2 and rad, rad/s, rad/s2;
+    dt in s).
 
     One matrix product instead of two: with z = beta (c1 u + v) on the free DOFs the stiffness part
     is K z = (S z - cm M z) / ck, so u_f = z_f / ck + S_ff^-1 ([M w]_f - [K_fp (u_p + beta v_p)]),
@@ -38,8 +48,7 @@ def predict(
     support's K6 u_b + C6 v_b at the node, less D6 z / ck (the z/ck split above assumed S = ck K + cm M)."""
     b = (Md.shape[0] - 1) // 2
     n = U.shape[0]
-    c0 = 4.0 / (dt * dt)
-    c1 = 2.0 / dt
+    c0, c1 = newmark_coefficients(dt)
     ck = 1.0 + c1 * beta
     q = (c0 + c1 * alpha) / ck
     z1 = y1[b : b + n]
@@ -115,10 +124,11 @@ def respond_by_block_solve(Dinv, L, LT, g0, ng, f0, nf, pres, fc, r, U):
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def finish(f0, nf, U, V, A, Uo, Vo, Ao, dt):
-    """Newmark update of the free DOFs' acceleration and velocity from the new displacement; states
-    below TINY are flushed to zero."""
-    c0 = 4.0 / (dt * dt)
-    c2 = 4.0 / dt
+    """Newmark update (Eq. 18) of the free DOFs f0 .. f0+nf-1: their acceleration (m/s2, rad/s2)
+    and velocity (m/s, rad/s) from the new displacement U (m, rad), the old state Uo, Vo, Ao and the
+    step dt (s), into V and A; states below TINY are flushed to zero."""
+    c0, c1 = newmark_coefficients(dt)
+    c2 = 2.0 * c1  # 4/dt (1/s), exactly: doubling does not round
     u, v, a = U[f0 : f0 + nf], V[f0 : f0 + nf], A[f0 : f0 + nf]
     uo, vo, ao = Uo[f0 : f0 + nf], Vo[f0 : f0 + nf], Ao[f0 : f0 + nf]
     # Far from the excitation the response decays towards zero through subnormal numbers, where
@@ -136,10 +146,12 @@ def finish(f0, nf, U, V, A, Uo, Vo, Ao, dt):
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def reactions(sup, sup_lo, alpha, beta, U, V, A, fc, pres, pslot, out, off):
-    """Force the body exerts on each support DOF: -(M a + C v + K u - f_contact) at the
-    prescribed DOFs (Eq. 13). sup[q, 0] and sup[q, 1] are the rows of M and K of DOF pres[q] over
-    the columns sup_lo[q] .. sup_lo[q] + w - 1 (its band), contiguous, so each reaction is one
-    short dot product. Written into out[off + pslot[q]]."""
+    """Force the body exerts on each support DOF (N, N.m): -(M a + C v + K u - f_contact) at the
+    prescribed DOFs (Eq. 13), C = alpha M + beta K (Eq. 40; alpha in 1/s, beta in s), from the state
+    U, V, A (m, m/s, m/s2; rad, rad/s, rad/s2) and the contact forces fc (N, N.m). sup[q, 0] and
+    sup[q, 1] are the rows of M and K of DOF pres[q] over the columns sup_lo[q] .. sup_lo[q] + w - 1
+    (its band), contiguous, so each reaction is one short dot product. Written into
+    out[off + pslot[q]]."""
     w = sup.shape[2]
     for q in range(len(pres)):
         j0 = sup_lo[q]
@@ -155,10 +167,12 @@ def reactions(sup, sup_lo, alpha, beta, U, V, A, fc, pres, pslot, out, off):
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
 def predicted_velocity(f0, nf, U, Uo, V, Vo, dt):
-    """Newmark velocity of the free DOFs from the predicted displacement: v = 2/dt (u - u_old) - v_old."""
+    """Newmark velocity (m/s, rad/s) of the free DOFs from the predicted displacement U (m, rad):
+    v = 2/dt (u - u_old) - v_old (Eq. 18; dt in s), into V."""
+    _, c1 = newmark_coefficients(dt)
     u, uo, v, vo = U[f0 : f0 + nf], Uo[f0 : f0 + nf], V[f0 : f0 + nf], Vo[f0 : f0 + nf]
     for i in range(nf):
-        v[i] = 2.0 / dt * (u[i] - uo[i]) - vo[i]
+        v[i] = c1 * (u[i] - uo[i]) - vo[i]
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
