@@ -50,6 +50,7 @@ import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.ndimage import median_filter, uniform_filter1d
 from scipy.optimize import least_squares
 from scipy.signal import find_peaks
 
@@ -63,9 +64,9 @@ FRF_KINDS = ("displacement", "velocity", "acceleration", "apparent_mass")
 #: 2.8 (rms/R) / sqrt(points) is reported as the estimate.
 RMS_RATIO_WARN = 0.05
 #: Warning bound on the expected leakage bias of a Hann-window (Welch) FRF estimate, 2 (df / B)^2 with B
-#: the true half-power bandwidth eta f_r (Hz) and df the line spacing (review's simulation: +6-11 % at 4-5.5
-#: lines per bandwidth, +2-3 % at 8-11; the window's second moment alone gives (4/3)(df / B)^2); B is
-#: solved from the fitted, widened bandwidth (:func:`_leakage_bias`).
+#: the true half-power bandwidth eta f_r (Hz) and df the line spacing (simulated Welch estimates of one mode
+#: give +6-11 % at 4-5.5 lines per bandwidth, +2-3 % at 8-11; the window's second moment alone gives
+#: (4/3)(df / B)^2); B is solved from the fitted, widened bandwidth (:func:`_leakage_bias`).
 LEAKAGE_BIAS_WARN = 0.01
 #: The circle fit of a *viscously* damped mode (receptance ``1 / (omega_n^2 - omega^2 + 2 i zeta omega_n omega)``,
 #: any kind: all go to displacement form) with the default window: rows (fitted eta, eta / (2 zeta) - 1,
@@ -157,6 +158,14 @@ def fit_circle(z):
     return complex(cx, cy) * scale + off, abs(float(R)) * scale, rms
 
 
+def _structural_mode(w2, wr2, eta, sense=1.0, A=1.0):
+    """One structurally damped mode's term of the receptance, A / (omega_r^2 (1 + i s eta) - omega^2)
+    (Eq. 11): w2 = omega^2 and wr2 = omega_r^2 in rad^2/s^2, eta the loss factor, s = ``sense`` = +1
+    or -1 (-1 for the conjugate convention of the data), A the modal constant (the FRF's unit times
+    rad^2/s^2; 1 gives the unit mode)."""
+    return A / (wr2 * (1.0 + 1j * sense * eta) - w2)
+
+
 @dataclass(frozen=True)
 class CircleFitResult:
     """Loss factor of one resonance identified from the Nyquist circle (Section 3.2.2, Fig. 13).
@@ -190,10 +199,11 @@ class CircleFitResult:
     extra: dict = field(default_factory=dict)
 
     def modal_term(self, freqs_hz):
-        """This mode's term ``A / (omega_r^2 (1 + i s eta) - omega^2)`` at ``freqs_hz`` (Hz)."""
+        """This mode's term ``A / (omega_r^2 (1 + i s eta) - omega^2)`` (Eq. 11) at ``freqs_hz`` (Hz),
+        in the unit of the displacement-form FRF."""
         w2 = (2.0 * np.pi * np.asarray(freqs_hz, dtype=float)) ** 2
         wr2 = (2.0 * np.pi * self.f_r_hz) ** 2
-        return self.modal_constant / (wr2 * (1.0 + 1j * self.sense * self.eta) - w2)
+        return _structural_mode(w2, wr2, self.eta, self.sense, self.modal_constant)
 
 
 #: A peak of |H| counts as a resonance when its prominence in ln|H| (after a 5-point running mean)
@@ -201,28 +211,21 @@ class CircleFitResult:
 PEAK_NOISE_FACTOR = 5.0
 
 
-def _running(v, k, how):
-    """Running mean or median of v over k points (k odd), the ends padded with the end values."""
-    h = k // 2
-    p = np.concatenate([np.full(h, v[0]), v, np.full(h, v[-1])])
-    win = np.lib.stride_tricks.sliding_window_view(p, k)
-    return win.mean(axis=1) if how == "mean" else np.median(win, axis=1)
-
-
 def find_resonances(freqs_hz, H, count=None, kind="displacement"):
     """Frequencies (Hz, ascending) of the ``count`` most prominent resonance peaks of ``|H|`` in
     displacement form: starting resonances for Section 3.2.2 (and the measured natural frequencies of
     Section 3.1 when read from an FRF). ``H`` of the given ``kind``.
 
-    Noise-aware: peaks are sought on ``ln|H|`` smoothed by a 5-point running mean, and a peak counts
-    only when its prominence there exceeds ``PEAK_NOISE_FACTOR`` (5) times the local standard
+    Noise-aware: peaks are sought on ``ln|H|`` smoothed by a 5-point running mean (scipy.ndimage, the
+    ends padded with the end values), and a peak counts only when its prominence there exceeds
+    ``PEAK_NOISE_FACTOR`` (5) times the local standard
     deviation of the noise on ``ln|H|`` (from the residual about the running mean, running median of
     its square over 31 points): a single-bin noise spike is averaged down by sqrt(5) and stays below
     that, a resonance spanning several bins does not (a weak mode 10 times below its neighbours, 0.66
     in ln|H|, against noise bumps up to 0.1 at 5 % noise). Peaks are ranked by their prominence in the
     smoothed ``|H|`` (scipy.signal.find_peaks); the frequency returned is that of the largest ``|H|`` within
     two points of the smoothed peak. Without noise (or with fewer than 15 points) every interior
-    maximum of ``|H|`` counts, as before.
+    maximum of ``|H|`` counts.
 
     Raises
     ------
@@ -236,9 +239,9 @@ def find_resonances(freqs_hz, H, count=None, kind="displacement"):
         count = integer("count", count, 1)
     if f.size >= 15 and np.all(Hd > 0.0):
         L = np.log(Hd)
-        Ls = _running(L, 5, "mean")
+        Ls = uniform_filter1d(L, 5, mode="nearest")  # (the ends padded with the end values)
         r = L - Ls
-        sig = np.sqrt(_running(r * r, 31, "median") / 0.455)  # (median of chi^2 with one degree: 0.455)
+        sig = np.sqrt(median_filter(r * r, 31, mode="nearest") / 0.455)  # (median of chi^2 with one degree: 0.455)
         peaks, props = find_peaks(Ls, prominence=0.0)
         keep = props["prominences"] >= PEAK_NOISE_FACTOR * sig[peaks]
         cand = peaks[keep]
@@ -354,7 +357,7 @@ def _modal_estimate(f, Hd, fc, eta0, bandwidths, lo_hz, hi_hz):
         for sg in (1.0, -1.0) if sgn is None else (sgn,):
 
             def res(p, w2=w2, z=z, sg=sg):
-                d = 1.0 / (p[0] * (1.0 + 1j * sg * p[1]) - w2)
+                d = _structural_mode(w2, p[0], p[1], sg)
                 M = np.column_stack([d, np.ones_like(d)])
                 coef = np.linalg.lstsq(M, z, rcond=None)[0]
                 r = M @ coef - z
@@ -803,7 +806,12 @@ def _fit_all(f, Hd, f_res, search, bandwidths, min_side, correct_neighbours, max
     changes, unsettled = [], 0.0
     if correct_neighbours and len(fits) > 1 and max_iter > 0:
         for it in range(1, max_iter + 1):  # noqa: B007  (it is the count read after the loop)
-            terms = [_term(r, f) for r in fits]
+            terms = [
+                _structural_mode(
+                    (2.0 * np.pi * f) ** 2, (2.0 * np.pi * r["f_r_hz"]) ** 2, r["eta"], r["sense"], r["modal_constant"]
+                )
+                for r in fits
+            ]
             total = np.sum(terms, axis=0)
             new = [
                 _fit_one(
@@ -882,9 +890,3 @@ def _check_distinct(f_res, fits, search):
                 f"{SAME_POLE_BANDWIDTHS:g} of a half-power bandwidth, {width:.3g} Hz): request each mode once, at "
                 "its own peak",
             )
-
-
-def _term(r, f):
-    w2 = (2.0 * np.pi * f) ** 2
-    wr2 = (2.0 * np.pi * r["f_r_hz"]) ** 2
-    return r["modal_constant"] / (wr2 * (1.0 + 1j * r["sense"] * r["eta"]) - w2)
