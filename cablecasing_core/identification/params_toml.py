@@ -3,7 +3,8 @@
 Keys of a ``[casing]`` or ``[cable]`` section (the model schema, ``model/schema.py``): ``alpha`` (1/s) and ``beta``
 (s) of Rayleigh damping, Eq. (40); ``loss_factor`` (dimensionless) of Eq. (11), a number or a
 table ``[[f_Hz, eta], ...]``; ``E`` (Pa), a number or a table ``[[f_Hz, E_Pa], ...]`` (Section 3.1).
-Tables are sorted by strictly increasing frequency, as the model file requires.
+Tables are sorted by strictly increasing frequency, as the model file requires. The values are
+written by the model file's own writer (:func:`~cablecasing_core.model.model.toml_text`).
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import ModelError
+from ..model.model import toml_text
 from ..model.schema import BODY_NAMES as BODIES
 from ..model.schema import lookup
 from ..model.validators import Choice
@@ -23,25 +25,25 @@ from ..model.validators import Choice
 DIGITS = 10
 
 
-def _num(x, digits=DIGITS):
-    """A TOML float of ``x`` to ``digits`` significant digits (``repr`` for None: every bit)."""
-    text = repr(float(x)) if digits is None else f"{float(x):.{digits}g}"
-    return text if any(c in text for c in ".en") else text + ".0"  # ("5000000000" would be a TOML integer)
+def _rounded(x, digits=DIGITS):
+    """``x`` rounded to ``digits`` significant digits, a float (None: every bit); written by
+    ``repr`` (:func:`toml_text`), it has at most that many digits."""
+    return float(x) if digits is None else float(f"{float(x):.{digits}g}")
 
 
 def _checked(body, key, value):
-    """``value`` checked by the model file's own rule for ``<body>.<key>`` (the schema); a table
-    (rows [f_Hz, value] of any sequence type) is sorted by frequency first."""
+    """``value`` checked by the model file's own rule for ``<body>.<key>`` (the schema), rounded to
+    :data:`DIGITS`; a table (rows [f_Hz, value] of any sequence type) is sorted by frequency first."""
     if np.ndim(value) > 0:
         try:
             value = sorted(([float(a), float(b)] for a, b in value), key=lambda r: r[0])
         except (TypeError, ValueError):
             raise ModelError(key, value, "a table must be rows [f_Hz, value]") from None
         lookup(f"{body}.{key}").check(value, key)
-        short = [float(_num(a)) for a, _ in value]
+        short = [_rounded(a) for a, _ in value]
         digits = DIGITS if all(p < q for p, q in zip(short, short[1:])) else None
-        return "[" + ", ".join(f"[{_num(a, digits)}, {_num(b, digits)}]" for a, b in value) + "]"
-    return _num(lookup(f"{body}.{key}").check(float(value), key))
+        return [[_rounded(a, digits), _rounded(b, digits)] for a, b in value]
+    return _rounded(lookup(f"{body}.{key}").check(float(value), key))
 
 
 def _negative(v):
@@ -80,7 +82,7 @@ def parameters_toml(
         if v is None:
             continue
         try:
-            lines.append(f"{key} = {_checked(rules, key, v)}")
+            lines.append(f"{key} = {toml_text(_checked(rules, key, v))}")
         except ModelError as exc:
             if not _negative(v):  # (above the bound, not finite, not a number: the schema's own rule)
                 raise
@@ -91,7 +93,7 @@ def parameters_toml(
         lf = loss_factor
         if isinstance(lf, (list, tuple)) and lf and hasattr(lf[0], "eta"):
             lf = loss_factor_table(lf)
-        lines.append(f"loss_factor = {_checked(rules, 'loss_factor', lf)}")
+        lines.append(f"loss_factor = {toml_text(_checked(rules, 'loss_factor', lf))}")
     if E is not None:
-        lines.append(f"E = {_checked(rules, 'E', E)}")
+        lines.append(f"E = {toml_text(_checked(rules, 'E', E))}")
     return "\n".join(lines) + "\n"

@@ -533,6 +533,13 @@ def dotted(data: Mapping) -> dict:
     return out
 
 
+# The package's one TOML writer (the model file of Model.to_toml, and identification.params_toml's
+# lines): written here, not with tomli_w or tomlkit, so that writing needs no dependency beyond the
+# reader (tomllib, tomli before Python 3.11). It writes only what a model holds (tables, inline
+# tables, arrays, strings, booleans, integers, floats); the round trip tomllib.loads(_to_toml(data))
+# == data is tested on awkward keys and strings and on every specimen
+# (tests/model/test_model_file_checks.py).
+
 #: How a TOML basic string writes the characters it cannot hold as they are (TOML 1.0, "String").
 _ESCAPES = {"\\": "\\\\", '"': '\\"', "\b": "\\b", "\t": "\\t", "\n": "\\n", "\f": "\\f", "\r": "\\r"}
 
@@ -558,25 +565,28 @@ def _toml_key(k) -> str:
     return k if BARE_KEY.fullmatch(k) else _toml_string(k)
 
 
+def toml_text(v) -> str:
+    """The TOML text of the value ``v`` (the counterpart of :func:`~.load.toml_value`): a boolean,
+    an integer, a float (``repr``: every bit, and always with a point or an exponent, so that it reads
+    back as a float), an escaped string, an array of lists and tuples, an inline table of dicts."""
+    if isinstance(v, (bool, np.bool_)):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return _toml_string(v)
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(toml_text(x) for x in v) + "]"
+    if isinstance(v, dict):
+        return "{ " + ", ".join(f"{_toml_key(k)} = {toml_text(x)}" for k, x in v.items()) + " }"
+    if isinstance(v, (int, np.integer)):
+        return str(int(v))
+    return repr(float(v))
+
+
 def _to_toml(data, skip=frozenset()):
     """The checked model ``data`` as TOML text: tables as [sections], the supports and the
     segments inline; every key that is not a bare key quoted, every string escaped, so that
     ``tomllib.loads(_to_toml(data)) == data`` for every valid model; the dotted keys ``skip`` (a
     model's derived keys) left out."""
-
-    def fmt(v):
-        if isinstance(v, (bool, np.bool_)):
-            return "true" if v else "false"
-        if isinstance(v, str):
-            return _toml_string(v)
-        if isinstance(v, (list, tuple)):
-            return "[" + ", ".join(fmt(x) for x in v) + "]"
-        if isinstance(v, dict):
-            return "{ " + ", ".join(f"{_toml_key(k)} = {fmt(x)}" for k, x in v.items()) + " }"
-        if isinstance(v, (int, np.integer)):
-            return str(int(v))
-        return repr(float(v))
-
     lines = []
 
     def section(path, node):
@@ -587,7 +597,7 @@ def _to_toml(data, skip=frozenset()):
         }
         subs = {k: v for k, v in node.items() if isinstance(v, dict) and k != "supports"}
         lines.append("[" + ".".join(_toml_key(p) for p in path) + "]")
-        lines.extend(f"{_toml_key(k)} = {fmt(v)}" for k, v in scalars.items())
+        lines.extend(f"{_toml_key(k)} = {toml_text(v)}" for k, v in scalars.items())
         lines.append("")
         for k, v in subs.items():
             section((*path, k), v)
