@@ -34,11 +34,11 @@ from multiprocessing import get_context
 from distributed import Client, LocalCluster
 
 from cablecasing_core.studies import PAPER_BOUNDS, resolve_evaluate, run_study, sobol_design
-from cablecasing_core.studies.evaluators import cpu_burn_evaluate
+from cablecasing_core.studies._stand_ins import cpu_burn_evaluate
 from cablecasing_core.studies.executor import LOCAL_CLUSTER_OPTIONS
 from cablecasing_core.studies.sampling import base_points
 
-BURN = "cablecasing_core.studies.evaluators:cpu_burn_evaluate"
+BURN = "cablecasing_core.studies._stand_ins:cpu_burn_evaluate"
 
 
 def _timed_burn(params, repeats):

@@ -1,8 +1,8 @@
 """Figures of the model (matplotlib, Agg backend): TRFAM (Fig. 17), geometry and contact (Fig. 22),
-time histories, octave bands, scalograms without and with the cable drive (Figs. 20-21). Units on
-every axis. The figures of the studies, of the NVH outputs and of the identification are in their
-packages (``studies/plots.py``, ``nvh/plots.py``, ``identification/plots.py``), written with
-:func:`save_figure`."""
+time histories, scalograms without and with the cable drive (Figs. 20-21). Units on every axis. The
+figures of the studies, of the NVH outputs (band levels: ``plot_band_levels``) and of the
+identification are in their packages (``studies/plots.py``, ``nvh/plots.py``,
+``identification/plots.py``), written with :func:`save_figure`."""
 
 from __future__ import annotations
 
@@ -223,23 +223,6 @@ def save_figure(fig, path):
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110)
     plt.close(fig)
-
-
-def plot_octave_bands(bands, path, ylabel="RMS"):
-    """Bar chart of octave-band RMS values (``studies.octave_rms`` result), Table 3."""
-    fig, ax = plt.subplots(figsize=(7, 3.5))
-    ax.bar(range(1, len(bands.rms) + 1), bands.rms)
-    from .nvh.plots import set_band_ticks
-
-    set_band_ticks(ax, np.arange(1, len(bands.rms) + 1), bands)
-    ax.set_xlabel("band: nominal mid-band frequency (Hz)")
-    ax.set_ylabel(ylabel)
-    save_figure(fig, path)
-
-
-def plot_scalogram(t, freqs_hz, W, path, title="|W|", unit="N"):
-    """Wavelet scalogram |W| (time s x frequency Hz) with a colour bar in ``unit``."""
-    plot_scalograms([(t, W, title)], freqs_hz, path, unit=unit)
 
 
 def plot_scalograms(

@@ -21,6 +21,7 @@ from scipy.optimize import brentq
 
 from ..errors import NOT_SHOWN, ModelError, ModelWarning
 from ..model.limits import check_dense_eigenproblem
+from ..model.model import at_frequency
 from ..model.validators import Choice, check_model, integer, number
 from ..structure.assembly import assemble_body
 
@@ -40,6 +41,8 @@ class ModalBasis:
 
     @property
     def frequencies_hz(self):
+        """The natural frequencies (Hz, ascending), sqrt(lam) / (2 pi); a negative round-off
+        eigenvalue of a rigid-body mode gives 0."""
         return np.sqrt(np.clip(self.lam, 0.0, None)) / (2.0 * np.pi)
 
 
@@ -222,7 +225,7 @@ def _own_frequencies(system, lam_ref, n):
         K0 = K0 + system.blocks(system.K_E)[0]
     for j in tabled:
         t = system.mounts[j].table
-        scale = lambda x, t=t: float(np.interp(x, t[:, 0], t[:, 1]))  # noqa: E731 (as Mount.dynamic_stiffness)
+        scale = lambda x, t=t: float(at_frequency(t, x))  # noqa: E731 (the k_scale of Mount.dynamic_stiffness)
         parts.append((scale, (t[:, 1].min(), t[:, 1].max()), springs([j])))
     c_max = max([1.0] + [hi for _, (_, hi), _ in parts])
     tol_lam = ROUNDOFF * np.finfo(float).eps * max(lam_ref[-1], 0.0) * c_max

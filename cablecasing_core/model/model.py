@@ -91,13 +91,17 @@ def thaw(value):
     return copy.deepcopy(value)
 
 
-def _interp_table(value, f_hz):
-    """Evaluate a scalar-or-table value at frequencies ``f_hz`` (Hz); linear, held at the ends."""
+def at_frequency(value, f_hz: ArrayLike, column: int = 1) -> np.ndarray:
+    """A frequency-dependent value of the model at the frequencies ``f_hz`` (Hz), in the value's
+    unit, shaped as ``f_hz``. ``value`` is a scalar (the same at every frequency) or a table
+    ``[[f_Hz, v1, v2, ...], ...]`` in ascending f (a modulus's ``E``, a loss factor, a mount's
+    ``[f, k_scale, loss]`` rows), read in its column ``column``: linear in f between the rows, held at
+    the first and last rows' values outside them. The one rule of the model's tables."""
     f = np.asarray(f_hz, dtype=float)
-    if isinstance(value, list):
-        t = np.asarray(value, dtype=float)
-        return np.interp(f, t[:, 0], t[:, 1])
-    return np.full(f.shape, float(value))
+    if np.ndim(value) == 0:
+        return np.full(f.shape, float(value))
+    t = np.asarray(value, dtype=float)
+    return np.interp(f, t[:, 0], t[:, column])
 
 
 @dataclass(frozen=True)
@@ -128,11 +132,11 @@ class BodySpec:
 
     def modulus(self, f_hz: ArrayLike) -> np.ndarray:
         """Dynamic modulus E_d(f) in Pa at frequencies ``f_hz`` (Hz)."""
-        return _interp_table(self.E, f_hz)
+        return at_frequency(self.E, f_hz)
 
     def loss(self, f_hz: ArrayLike) -> np.ndarray:
         """Loss factor eta(f) (dimensionless) at frequencies ``f_hz`` (Hz)."""
-        return _interp_table(self.loss_factor, f_hz)
+        return at_frequency(self.loss_factor, f_hz)
 
     def __deepcopy__(self, memo):
         return self  # (read-only, as the model it belongs to)

@@ -1,5 +1,7 @@
 """THE schema of the model file: every key with its type, default, unit, allowed range and a
-one-line description, in one place; and the one list of the support channels and of the outputs.
+one-line description, in one place; the one list of the support channels and of the outputs; the
+paper's study output (:data:`STUDY_OUTPUT`) and the model keys that run settings stand for
+(:data:`SETTING_KEYS`).
 
 The loader (:mod:`.load`) validates a model file with the schema's validators, the FMU takes its
 parameters' units and descriptions from :func:`lookup`, the CLI its help texts, and the key table
@@ -73,6 +75,10 @@ CONTACT_OUTPUTS = ("contact.active", "contact.max_penetration", "contact.dissipa
 INTEGER_OUTPUTS = ("contact.active",)
 #: Every output of the time domain (``Engine.output_values``, the FMU's outputs), in this order.
 OUTPUTS = SUPPORT_OUTPUTS + CONTACT_OUTPUTS
+#: The paper's study output (Section 4, Figs. 20-23): the force (N) the casing exerts on its
+#: support B along global z, where the support force was measured; the default output of the
+#: studies, the ensembles, the transfer functions and the report.
+STUDY_OUTPUT = "casing.B.Fz"
 #: The support inputs (the FMU's inputs; the columns of a run's record for its driven channels):
 #: displacement ``casing.A.x`` (m), velocity ``casing.A.vx`` (m/s), acceleration ``casing.A.ax``
 #: (m/s2) of every channel, in this order (kind-major).
@@ -723,7 +729,7 @@ _KEYS = [
         Text("the path of a CSV file with a header line and columns time_s, <value>"),
         kinds=("csv",),
     ),
-    # issue 25: excitations as users have them (accelerometer and velocity records)
+    # a CSV excitation as users have them: displacement, or accelerometer and velocity records
     KeySpec(
         f"{_EXC}.quantity",
         "str",
@@ -736,7 +742,7 @@ _KEYS = [
     ),
 ]
 
-# ------------------------------------------------------------------ the installed cable (issue 23)
+# ------------------------------------------------------------------ the installed cable
 # Loads and the cable's rest shape: gravity on both bodies (Eq. 7), the cable's static tension with
 # the casing's equal compression (beam-column geometric stiffness and the prestress's own load in
 # the routing), and a cable that is stress-free straight (docs/installed.md).
@@ -776,6 +782,11 @@ _KEYS += [
 
 #: Every key of the model file, in the order of the validated model's tables.
 SCHEMA = {spec.key: spec for spec in _KEYS}
+#: The model key whose value a run setting takes the place of when it is given (not None): the
+#: ``duration`` and ``dt`` (s) of ``studies.default_evaluate``, ``studies.seed_ensemble`` and
+#: ``simulate``, and simulate's ``contact``. A change of that key beside the setting would do nothing
+#: (``studies.evaluators.check_not_overridden`` refuses it).
+SETTING_KEYS = {"duration": "scenario.duration", "dt": "scenario.dt", "contact": "contact.enabled"}
 
 
 def lookup(key: str) -> KeySpec:
@@ -879,12 +890,6 @@ def is_output(name) -> bool:
     except ModelError:
         return False
     return True
-
-
-def input_name(channel: str, quantity: str) -> str:
-    """The input of a support channel: ``("casing.A.z", "acceleration")`` -> ``"casing.A.az"``."""
-    prefix = next(k for k, q, _ in INPUT_KINDS if q == quantity)
-    return f"{channel[:-1]}{prefix}{channel[-1]}"
 
 
 def input_spec(name: str) -> tuple:

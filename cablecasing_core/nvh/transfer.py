@@ -24,6 +24,7 @@ import numpy as np
 
 from ..errors import ModelError, renamed
 from ..identification.frf import frf_estimate, random_error, welch_averages
+from ..model.schema import STUDY_OUTPUT
 from ..model.validators import Choice, array_1d, integer, number, seconds
 from ..records import Records, after_skip
 from .spectra import finest_segment_resolution, segment_for_resolution
@@ -136,7 +137,7 @@ def _estimate(rec, x_name, y_name, sign, kind, unit, estimator, skip, nperseg, r
 def apparent_mass(
     rec: Records,
     input: str = "casing.A.az",
-    output: str = "casing.B.Fz",
+    output: str = STUDY_OUTPUT,
     estimator: str = "H1",
     skip: float | None = None,
     nperseg: int | None = None,
@@ -167,7 +168,7 @@ def apparent_mass(
 def transmissibility(
     rec: Records,
     input: str = "casing.A.Fz",
-    output: str = "casing.B.Fz",
+    output: str = STUDY_OUTPUT,
     estimator: str = "H1",
     skip: float | None = None,
     nperseg: int | None = None,

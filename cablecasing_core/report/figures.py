@@ -417,14 +417,17 @@ def net_table(variants, path):
 
 def input_spectrum(model, target):
     """The PSD ((m/s2)^2/Hz) of the model's random excitations of the support channel ``target``
-    (``casing.A.z``): flat over each one's band, rms^2 / bandwidth; None when it has none."""
+    (``casing.A.z``), a function of f (Hz): the sum of the records' own PSDs
+    (:func:`~cablecasing_core.timedomain.random_record.random_psd`, rms^2 / (K df) over each one's
+    K lines); None when it has none."""
+    from ..timedomain.random_record import random_psd
+
     ex = [e for e in model.scenario["excitation"].values() if e["kind"] == "random" and e["target"] == target]
     if not ex:
         return None
 
     def psd(f):
-        f = np.asarray(f, dtype=float)
-        return sum(((f >= e["band"][0]) & (f <= e["band"][1])) * e["rms"] ** 2 / np.ptp(e["band"]) for e in ex)
+        return sum(random_psd(e["rms"], e["band"], f) for e in ex)
 
     psd.bands = [tuple(e["band"]) for e in ex]
     return psd

@@ -23,11 +23,12 @@ from pathlib import Path
 import numpy as np
 
 from ..model import Model
+from ..model.schema import STUDY_OUTPUT
 from ..studies import Ensemble
 
 #: The output whose band levels, scalograms and spectra the report shows (Section 4.4: the support
-#: force at casing end B in z).
-OUTPUT = "casing.B.Fz"
+#: force at casing end B in z, the schema's study output).
+OUTPUT = STUDY_OUTPUT
 #: What the transmission at B receives, shown beside :data:`OUTPUT` (band levels of the reference
 #: records, their PSD): the casing's and the cable's end forces at B together (``records.derived_terms``;
 #: docs/nvh.md, "Net forces and paths"), of a model with a cable.

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.model import at_frequency
 from ..model.schema import DIRECTIONS
 
 
@@ -59,15 +60,15 @@ class Mount:
 
     def dynamic_stiffness(self, freqs_hz, damped=True):
         """(nf, 6, 6) complex dynamic stiffness (N/m, N.m/rad) at ``freqs_hz`` (Hz): K6 + i omega C6,
-        or with a table K6 k_scale(f) (1 + i loss(f)) (linear in f, held at the ends); without
-        ``damped`` K6 (times k_scale(f) with a table)."""
+        or with a table K6 k_scale(f) (1 + i loss(f)) (:func:`~cablecasing_core.model.model.at_frequency`:
+        linear in f, held at the ends); without ``damped`` K6 (times k_scale(f) with a table)."""
         f = np.asarray(freqs_hz, dtype=float)
         if self.table is None:
             if not damped:
                 return np.broadcast_to(self.K6.astype(complex), (len(f), 6, 6)).copy()
             return self.K6[None] + 1j * (2.0 * np.pi * f)[:, None, None] * self.C6[None]
-        scale = np.interp(f, self.table[:, 0], self.table[:, 1])
-        loss = np.interp(f, self.table[:, 0], self.table[:, 2]) if damped else np.zeros_like(f)
+        scale = at_frequency(self.table, f, 1)
+        loss = at_frequency(self.table, f, 2) if damped else np.zeros_like(f)
         return (scale * (1.0 + 1j * loss))[:, None, None] * self.K6[None]
 
 

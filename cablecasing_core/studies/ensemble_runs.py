@@ -18,7 +18,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..model.limits import MAX_ENSEMBLE_SEED, MAX_SEEDS
-from ..model.schema import SUPPORT_OUTPUTS, clip_outputs
+from ..model.schema import STUDY_OUTPUT, SUPPORT_OUTPUTS, clip_outputs
 from ..model.validators import Choice, integer, seconds
 from ..nvh.bands import WINDOWS, Bands, octave_bands
 from ..records import check_column_name
@@ -77,7 +77,7 @@ def seed_ensemble(
     model: Model | str | os.PathLike | None = None,
     seeds: int | Sequence[int] = 8,
     *,
-    output: str = "casing.B.Fz",
+    output: str = STUDY_OUTPUT,
     bands: str | Bands = "table3",
     duration: float | None = None,
     dt: float | None = None,
@@ -111,8 +111,8 @@ def seed_ensemble(
         (:func:`~cablecasing_core.timedomain.scenario.whole_period_skip` of the model with
         ``overrides``; the ensemble's ``settings["skip"]`` holds the value taken).
     window : {"hann", "boxcar"}
-        The window of the band levels (:func:`~cablecasing_core.nvh.bands.octave_rms`; the
-        rectangular one as the docs' tables before 2026-12-06); kept in ``settings``.
+        The window of the band levels (:func:`~cablecasing_core.nvh.bands.octave_rms`; Hann's by
+        default, the rectangular one to compare with ensembles made with it); kept in ``settings``.
     overrides : dict, optional
         ``{dotted.key: value}`` applied to every member (e.g. ``{"contact.friction": 0.2}``); not a
         key the members set (:func:`seed_keys`: a varied seed, ``scenario.seed``), nor
@@ -156,7 +156,7 @@ def seed_ensembles(
     model: Model | str | os.PathLike | None = None,
     seeds: int | Sequence[int] = 8,
     *,
-    outputs: Sequence[str] = ("casing.B.Fz",),
+    outputs: Sequence[str] = (STUDY_OUTPUT,),
     bands: str | Bands = "table3",
     duration: float | None = None,
     dt: float | None = None,

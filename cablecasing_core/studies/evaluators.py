@@ -2,20 +2,20 @@
 **kwargs) -> dict[str, float]`` (output name -> value).
 
 :func:`default_evaluate` is the time-domain evaluation (engine run, octave-band RMS of a support
-output); :func:`analytic_evaluate`, :func:`faulty_evaluate` and :func:`cpu_burn_evaluate` are
-stand-ins for the tests and the study benchmark (no physics).
+output). The stand-ins for the tests and the study benchmark (no physics) are in
+:mod:`._stand_ins`; they are importable here too, by the paths study files may name
+(``cablecasing_core.studies.evaluators:analytic_evaluate``).
 """
 
 from __future__ import annotations
 
 import warnings
-import zlib
 
 import numpy as np
 
 from ..errors import ModelError, ModelWarning, excerpt
+from ..model.schema import SETTING_KEYS, STUDY_OUTPUT
 from ..nvh.bands import octave_bands, octave_rms, window_options
-from .sampling import AXIAL_AMPLITUDE_KEY
 
 #: Output names of the default study: the Table 3 band labels "oct1" .. "oct9".
 DEFAULT_OUTPUTS = octave_bands("table3").labels
@@ -24,14 +24,10 @@ DEFAULT_EVALUATE = "cablecasing_core.studies.evaluators:default_evaluate"
 #: The record settings of :func:`default_evaluate` a study stores with its arguments: skip None (the
 #: whole periods of ``whole_period_skip``) and Hann's window ...
 RECORD_SETTINGS = {"skip": None, "window": "hann"}
-#: ... and what a study whose stored arguments lack them took (before 2026-12-06): a resume compares
-#: them, so that its samples are not mixed with samples of the present defaults.
+#: ... and what a study whose stored arguments lack them took (study files written before the
+#: settings were stored; CHANGELOG.md): a resume compares them, so that its samples are not mixed
+#: with samples of the present defaults.
 EARLIER_RECORD_SETTINGS = {"skip": 0.05, "window": "boxcar"}
-#: The model key whose value a run setting takes the place of when it is given (not None): the
-#: ``duration`` and ``dt`` (s) of :func:`default_evaluate`, :func:`~.ensemble_runs.seed_ensemble` and
-#: :func:`~cablecasing_core.timedomain.simulation.simulate`, and simulate's ``contact``. A change of
-#: that key beside the setting would do nothing (:func:`check_not_overridden`).
-SETTING_KEYS = {"duration": "scenario.duration", "dt": "scenario.dt", "contact": "contact.enabled"}
 _SETTING_WHAT = {"duration": "the simulated time", "dt": "the time step", "contact": "the contact switch"}
 
 
@@ -76,7 +72,7 @@ def default_evaluate(
     model_file=None,
     *,
     model=None,
-    output="casing.B.Fz",
+    output=STUDY_OUTPUT,
     bands="table3",
     contact_time=False,
     window="hann",
@@ -98,7 +94,7 @@ def default_evaluate(
     as ``"<output>:<band>"``, as :func:`~.ensemble_runs.seed_ensembles` takes them); bands: the band
     set of :func:`~cablecasing_core.nvh.bands.octave_rms`; contact_time: also return the contact
     time per cable node (s, Fig. 22) as ``"contact_time_<i>"``; window: the window of the band
-    levels (``octave_rms``'s: ``"hann"``, or ``"boxcar"`` as the docs' tables before 2026-12-06).
+    levels (``octave_rms``'s: ``"hann"``, or ``"boxcar"``, the rectangular window).
     excitation_seeds: None runs the model's own random excitation once (its seeds as the model
     gives them); an integer k >= 2 runs it with the seeds of ensemble members 1..k
     (:func:`~.ensemble_runs.seed_overrides`) and returns each value's mean over the k runs (a
@@ -281,77 +277,5 @@ default_evaluate.check_samples = _check_default_samples
 default_evaluate.run_settings = ("duration", "dt")
 
 
-def analytic_evaluate(overrides, fail_above=None, **_):
-    """Cheap deterministic closed-form 'band levels' (N) for tests: no physics, Section 4.4 shape only.
-
-    level_j = 1e3 * amplitude * (casing.E / 5e9)^(j/9) * (cable.E / 5.5e10)^0.1 / (1 + 5 friction)
-              * (1 + 100 (gap - 1e-3) (5 - j)),  j = 1..9, gap = casing.d_inner - cable.d (m).
-    Raises ValueError when ``fail_above`` is given and contact.friction exceeds it (deterministic
-    failures for the tests).
-    """
-    p = {k: float(v) for k, v in overrides.items()}
-    fr = p.get("contact.friction", 0.15)
-    if fail_above is not None and fr > fail_above:
-        raise ValueError(f"contact.friction = {fr!r} above the test threshold {fail_above}")
-    amp = p.get(AXIAL_AMPLITUDE_KEY, 5e-4)
-    gap = p.get("casing.d_inner", 0.004) - p.get("cable.d", 0.003)
-    out = {}
-    for j, lab in enumerate(DEFAULT_OUTPUTS, start=1):
-        out[lab] = (
-            1e3
-            * amp
-            * (p.get("casing.E", 5e9) / 5e9) ** (j / 9)
-            * (p.get("cable.E", 5.5e10) / 5.5e10) ** 0.1
-            / (1 + 5 * fr)
-            * (1 + 100 * (gap - 1e-3) * (5 - j))
-        )
-    return out
-
-
-def faulty_evaluate(overrides, trigger=None, action="kill_worker", pid_file=None, **kwargs):
-    """A stand-in for the tests of the study's infrastructure failures (no physics): while the file
-    ``trigger`` exists, ``action`` happens instead of the evaluation: ``"kill_worker"`` kills the
-    process that runs the sample (SIGKILL), ``"kill_scheduler"`` kills the process whose id is in
-    ``pid_file``, ``"stall"`` sleeps for an hour. Otherwise :func:`analytic_evaluate` of
-    ``overrides`` (with ``kwargs``)."""
-    import os
-    import signal
-    import time
-
-    if trigger is not None and os.path.exists(trigger):
-        if action == "kill_worker":
-            os.kill(os.getpid(), signal.SIGKILL)
-        elif action == "kill_scheduler":
-            with open(pid_file) as fh:
-                os.kill(int(fh.read().strip()), signal.SIGKILL)
-        time.sleep(3600.0)
-    return analytic_evaluate(overrides, **kwargs)
-
-
-def cpu_burn_evaluate(overrides, repeats=200, n=2**12, **_):
-    """Benchmark stand-in for the engine: a fixed amount of CPU work per sample (not a fixed time).
-
-    Builds a synthetic 'force' record of ``n`` samples at 16384 Hz from the parameters and computes
-    its Table 3 octave RMS ``repeats`` times (numpy FFTs, single-threaded). The default 4096-sample
-    record keeps the working set in cache, like the engine's small banded matrices, so the work is
-    compute-bound. Returns band RMS (N).
-    """
-    from ..nvh.bands import octave_rms
-
-    fs = 16384.0
-    t = np.arange(n) / fs
-    p = {k: float(v) for k, v in overrides.items()}
-    rng = np.random.default_rng(zlib.crc32(repr(sorted(p.items())).encode()))
-    x = p.get(AXIAL_AMPLITUDE_KEY, 5e-4) * 1e3 * np.sin(2 * np.pi * 50 * t) + rng.standard_normal(n)
-    res = None
-    for _ in range(int(repeats)):
-        res = octave_rms(x, fs)
-    return res.as_dict()
-
-
-def ishigami_evaluate(overrides, a=7.0, b=0.1, **_):
-    """The Ishigami function, a stand-in with closed-form Sobol indices (benchmarks.md, "Sensitivity
-    analysis"): ``f = sin x1 + a sin^2 x2 + b x3^4 sin x1`` of the overrides ``x1``, ``x2``, ``x3``
-    (uniform on [-pi, pi] in the test), returned as the output ``"f"``. No physics."""
-    x1, x2, x3 = (float(overrides[k]) for k in ("x1", "x2", "x3"))
-    return {"f": np.sin(x1) + a * np.sin(x2) ** 2 + b * x3**4 * np.sin(x1)}
+# (the stand-ins, by their paths here too: dask workers import a study's evaluate by its dotted path)
+from ._stand_ins import analytic_evaluate, cpu_burn_evaluate, faulty_evaluate, ishigami_evaluate  # noqa: E402, F401

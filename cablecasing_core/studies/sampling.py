@@ -67,7 +67,8 @@ def check_bounds(bounds: dict | None = None, model=None, settings=None) -> dict[
     bounds that are not two real numbers (text such as ``"2e9"``, True/False), a bound outside the
     allowed range, non-finite bounds or ``low >= high``.
     """
-    from .evaluators import SETTING_KEYS, check_not_overridden
+    from ..model.schema import SETTING_KEYS
+    from .evaluators import check_not_overridden
 
     paper = bounds is None
     bounds = _pairs(PAPER_BOUNDS if paper else bounds)

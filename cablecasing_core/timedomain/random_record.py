@@ -62,6 +62,31 @@ MIN_BLOCK, MAX_BLOCK = 4096, 131072
 KEEP_BLOCKS = 16
 
 
+def _lines(band):
+    """(k_lo, k_hi): the first and last line k of the grid k df (df = :data:`LINE_SPACING`) inside
+    ``band`` [f_low, f_high] (Hz), its ends included to within 1e-9 of a line; a ModelError naming
+    the band when it holds none."""
+    df = LINE_SPACING
+    k_lo = max(1, math.ceil(band[0] / df - 1e-9))
+    k_hi = math.floor(band[1] / df + 1e-9)
+    if k_hi < k_lo:
+        raise ModelError("scenario.excitation.band", band, f"must contain a line of the {df:g} Hz grid")
+    return k_lo, k_hi
+
+
+def random_psd(rms, band, f_hz):
+    """The one-sided PSD ((m/s2)^2/Hz) at ``f_hz`` (Hz) of the random excitation of ``rms`` (m/s2)
+    in ``band`` [f_low, f_high] (Hz), whatever its seed: each of its K lines k df inside the band holds
+    the mean square rms^2 / K, spread over its line spacing df (:data:`LINE_SPACING`), so the PSD is
+    rms^2 / (K df) within df / 2 of the lines, [k_lo df - df / 2, k_hi df + df / 2), and 0 outside;
+    its integral is rms^2."""
+    k_lo, k_hi = _lines(band)
+    df = LINE_SPACING
+    x = np.asarray(f_hz, dtype=float) / df
+    inside = (x >= k_lo - 0.5) & (x < k_hi + 0.5)
+    return np.where(inside, rms**2 / ((k_hi - k_lo + 1) * df), 0.0)
+
+
 class RandomRecord:
     """The random excitation of one channel: ``rms`` (m/s2), ``band`` [f_low, f_high] (Hz),
     ``seed`` (int), evaluated on the grid of time step ``dt`` (s) in blocks. Call it with times t (s)
@@ -69,10 +94,7 @@ class RandomRecord:
 
     def __init__(self, rms, band, seed, dt):
         df = LINE_SPACING
-        k_lo = max(1, math.ceil(band[0] / df - 1e-9))
-        k_hi = math.floor(band[1] / df + 1e-9)
-        if k_hi < k_lo:
-            raise ModelError("scenario.excitation.band", band, f"must contain a line of the {df:g} Hz grid")
+        k_lo, k_hi = _lines(band)
         phases = np.random.default_rng(seed).random(k_hi + 1)[k_lo:]
         self.k_lo, self.n_lines, self.dt = k_lo, k_hi - k_lo + 1, float(dt)
         w = 2 * np.pi * df * np.arange(k_lo, k_hi + 1)

@@ -27,7 +27,7 @@ def test_the_study_and_the_workers_refuse_the_same_schedulers_alike(tmp_path, ba
     with pytest.raises(ModelError) as study:
         run_study(
             str(path),
-            evaluate="cablecasing_core.studies.evaluators:analytic_evaluate",
+            evaluate="cablecasing_core.studies._stand_ins:analytic_evaluate",
             n_samples=24,
             scheduler=bad,
             progress=False,

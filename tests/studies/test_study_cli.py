@@ -251,7 +251,7 @@ def test_a_serial_study_needs_no_dask(tmp_path):
     """A serial study runs without dask installed (SALib only)."""
     code = (
         "from cablecasing_core.studies import run_study\n"
-        "res = run_study('s.csv', 'cablecasing_core.studies.evaluators:analytic_evaluate', n_samples=8, seed=1,\n"
+        "res = run_study('s.csv', 'cablecasing_core.studies._stand_ins:analytic_evaluate', n_samples=8, seed=1,\n"
         "    bounds={'casing.E': (2e9, 1e10), 'contact.friction': (0.05, 0.2)}, scheduler='serial')\n"
         "print(len(res.index), 'dask' in sys.modules and sys.modules['dask'] is not None)"
     )

@@ -14,7 +14,7 @@ import pytest
 from cablecasing_core.errors import InfrastructureError, ModelError
 from cablecasing_core.studies import executor, load_results, run_study
 
-FAULTY = "cablecasing_core.studies.evaluators:faulty_evaluate"
+FAULTY = "cablecasing_core.studies._stand_ins:faulty_evaluate"
 BOUNDS = {"contact.friction": (0.05, 0.2), "casing.E": (2e9, 1e10)}  # groups of 4: 8 samples at n = 8
 
 

@@ -86,6 +86,25 @@ def test_random_record_is_the_sum_of_its_lines_at_any_time_and_grid():
     np.testing.assert_allclose(np.angle(narrow.coef[2]), np.angle(rec.coef[2, j : j + narrow.n_lines]), atol=1e-12)
 
 
+def test_random_psd_is_the_periodogram_of_one_period_of_the_record():
+    """random_psd (the report's input spectrum) against the record itself: over one period, 64 s,
+    every line falls on an FFT bin of spacing 1/64 Hz, so the periodogram's density on a bin, 2 |X_k|^2
+    / (N^2 df), is the line's mean square over df. Tolerance 1e-9: the evaluation's ~1e-12 of the
+    RMS and round-off; outside the band the PSD is 0 and the periodogram ~1e-20 of it."""
+    from cablecasing_core.timedomain.random_record import LINE_SPACING, RandomRecord, random_psd
+
+    rms, band, dt = 2.0, [10.0, 12.5], 1e-2
+    n = int(round(1 / LINE_SPACING / dt))
+    _, _, a = RandomRecord(rms, band, 5, dt)(np.arange(n) * dt)
+    f = np.fft.rfftfreq(n, dt)
+    density = 2 * np.abs(np.fft.rfft(a)) ** 2 / (n * n * LINE_SPACING)
+    G = random_psd(rms, band, f)
+    np.testing.assert_allclose(density, G, rtol=0, atol=1e-9 * G.max())
+    assert np.count_nonzero(G) == 161  # lines 640..800, the band's ends included
+    fine = np.arange(0.0, 20.0, LINE_SPACING / 64)  # its integral is the mean square
+    assert np.sum(random_psd(rms, band, fine)) * LINE_SPACING / 64 == pytest.approx(rms**2, rel=1e-12)
+
+
 @pytest.mark.parametrize("dt", [1e-5, 2e-5, 1 / 30000])
 def test_random_record_between_grid_points_is_the_sum_of_its_lines(dt):
     """A time off the run's grid (a shorter last step: an FMU's communication step of 2.5e-5 s at
