@@ -172,10 +172,11 @@ class FrequencyResponse:
         f = np.asarray(freqs_hz, dtype=float)
         w = 2.0 * np.pi * f
         s = spec.modulus(f) / self.system.E
+        # viscous: C = alpha M + beta K (Eq. 40, Eq. 5 assembled), K + i w C - w^2 M = kappa K - mu M
         if damping == "viscous":
             kappa, alpha = s * (1.0 + 1j * w * spec.beta), spec.alpha
             kappa_g = 1.0 + 1j * w * spec.beta
-        elif damping == "structural":
+        elif damping == "structural":  # K (1 + i eta), Eq. 11
             kappa, alpha = s * (1.0 + 1j * spec.loss(f)), 0.0
             kappa_g = np.ones_like(w, dtype=complex)
         else:

@@ -59,6 +59,7 @@ class RayleighFit:
 
     @property
     def rms_residual(self):
+        """The RMS of ``residuals``, the fit's damping-ratio residuals (dimensionless)."""
         return float(np.sqrt(np.mean(self.residuals**2)))
 
 

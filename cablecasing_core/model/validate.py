@@ -83,7 +83,7 @@ def _body(name, data, geometry):
     return out
 
 
-# ---------------------------------------------------------------- issue 24: isolators, clips, routes
+# ---------------------------------------------------------------- isolators, clips, routes
 def _mounts(name, data, supports, geometry):
     """The isolators of ``name``'s isolator supports and the casing's clips, checked: a table
     [<body>.isolator.<A|B>] for each isolator support and none for another, each clip inside the
@@ -567,7 +567,7 @@ def _loads(data, bodies):
         mine = list(causes)
         if name == "cable":
             mine.append(("cable.rest_shape", b["rest_shape"], b["rest_shape"] != "routing"))
-        held = {"clamped", "isolator"} & set(b["supports"].values()) or b.get("clip")  # (issue 24: mounts hold)
+        held = {"clamped", "isolator"} & set(b["supports"].values()) or b.get("clip")  # (mounts hold it too)
         for key, value, on in mine:
             if on and not held:
                 raise ModelError(

@@ -128,8 +128,8 @@ def _harmonics_note(harmonics):
 
 
 def _code_rows(info):
-    """The header's rows that say what made the report (D3 of review S): the code, the libraries,
-    the command line."""
+    """The header's rows that say what made the report, so that a reader can make it again: the
+    code, the libraries, the command line."""
     from .provenance import describe_code
 
     libs = ", ".join(f"{k} {v}" for k, v in (info.get("libraries") or {}).items())
@@ -203,8 +203,8 @@ def skip_note(info):
 
 
 def record_line(info):
-    """The records' length after the skip, their FFT resolution and the lines in octave 1 (item 4 of
-    review S): what the band levels of octaves 1-2 rest on."""
+    """The records' length after the skip, their FFT resolution and the lines in octave 1: what the
+    band levels of octaves 1-2 rest on."""
     from ..nvh.bands import LINES_PER_BAND
 
     few = info["lines_oct1"] < LINES_PER_BAND
@@ -338,7 +338,7 @@ def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, o
 
 def contact_note(contact, info):
     """Under Fig. 22: what the contact time counts (the whole run, the skip included) and where the
-    most contact is against where the curvature is highest (item 7 of review S)."""
+    most contact is against where the curvature is highest."""
     if not contact:
         return ""
     text = (
@@ -467,7 +467,7 @@ def _rms_parts(rms, info):
 
 
 def energy_parts(variants, model):
-    """The energy ledger (J) of each reference record since t = 0 (item 10 of review S): the supports'
+    """The energy ledger (J) of each reference record since t = 0: the supports'
     work, what Rayleigh damping and the contacts dissipated, the normal force's own work
     (``contact_normal_dissipation``: negative where the normal-plane contact on a mesh of a curved
     casing makes energy, a model-quality indicator) and the balance's residual."""

@@ -134,7 +134,8 @@ class BodySystem:
 
     def blocks(self, A):
         """Dense partitioned blocks (A_ff, A_fp, A_pf, A_pp) of Eq. (13) of an augmented matrix
-        (or of a beam-size one, taken onto the augmented DOFs without mounts)."""
+        (or of a beam-size one, taken onto the augmented DOFs without mounts), in A's units (N/m,
+        N/rad, N.m/rad for a stiffness; kg, kg.m, kg.m^2 for a mass)."""
         A = A.toarray() if sp.issparse(A) else A
         if A.shape[0] != self.n_augmented:
             A = self.augmented(A)
@@ -143,11 +144,12 @@ class BodySystem:
 
     @cached_property
     def K_blocks(self):
-        """K's blocks with the mounts' static stiffness K6."""
+        """K's blocks (N/m, N/rad, N.m/rad; :meth:`blocks`) with the mounts' static stiffness K6."""
         return self.blocks(self.augmented(self.K, [m.K6 for m in self.mounts]))
 
     @cached_property
     def M_blocks(self):
+        """M's blocks (kg, kg.m, kg.m^2; :meth:`blocks`): the consistent mass of Eq. (4)."""
         return self.blocks(self.M)
 
 

@@ -1,5 +1,11 @@
 """The 12-DOF spatial Euler-Bernoulli beam element (Eqs. 4-9).
 
+This is where the bending, torsion and axial equations of the beams (Eqs. 1-3) are discretised:
+their finite-element form is the mass and stiffness of :func:`local_matrices`. The element damping
+C_e of Eq. 5 is not built per element: the bodies' damping is Rayleigh's C = alpha M + beta K of the
+assembled matrices (Eq. 40, Eq. 5 assembled), applied where it acts (``frequency.trfam``,
+``timedomain.body_storage``, the Newmark kernels).
+
 Local DOF order (Eq. 8): ``[u1 v1 w1 gamma1 xi1 zeta1 u2 v2 w2 gamma2 xi2 zeta2]``: axial
 displacement, the two lateral displacements, twist, and the rotations about local y and z.
 Bending uses cubic Hermite polynomials in both planes, axial and torsion linear polynomials.

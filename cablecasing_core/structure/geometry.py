@@ -226,10 +226,10 @@ def build_centerline(points, n_elements, curve="spline", frames=True, breaks=Non
 def corner_tangents(tangents, directions):
     """A polyline's node tangents (unit, one per node) with each interior node between two elements
     of different unit ``directions`` given their bisector, (d_before + d_after) / |...|: the
-    tangent of the polygon of elements there, symmetric in its two sides (a node on a corner took
-    the direction of the span after it, so the cable's normal plane there, Eqs. 36-39, leaned to one
-    side and a tension pulled its two legs unequally: 19.7 and 0.3 N for 10 N round a 90 degree
-    corner). The nodes between parallel elements keep ``tangents`` as they are."""
+    tangent of the polygon of elements there, symmetric in its two sides, so that the cable's normal
+    plane at the corner (Eqs. 36-39) leans to neither side and a tension pulls both legs equally
+    (the direction of one span would make a tension of 10 N round a 90 degree corner pull its legs
+    with 19.7 and 0.3 N). The nodes between parallel elements keep ``tangents`` as they are."""
     out = np.array(tangents, dtype=float)
     if len(directions) < 2:
         return out

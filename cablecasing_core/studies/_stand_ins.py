@@ -91,7 +91,7 @@ def cpu_burn_evaluate(overrides, repeats=200, n=2**12, **_):
     record keeps the working set in cache, like the engine's small banded matrices, so the work is
     compute-bound. Returns band RMS (N).
     """
-    from .octave import octave_rms
+    from ..nvh.bands import octave_rms
 
     fs = 16384.0
     t = np.arange(n) / fs

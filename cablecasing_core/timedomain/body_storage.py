@@ -113,11 +113,10 @@ class BoundedCache(OrderedDict):
 
 
 def time_domain_system(model, name, check_buckling=True):
-    """Body ``name`` of ``model`` assembled as the time domain uses it: with its frequency-dependent
-    modulus, if any, at its first natural frequency (one modulus for the whole run). K in N/m, N/rad
-    and N.m/rad, M in kg and kg.m^2 (:class:`~cablecasing_core.structure.assembly.BodySystem`);
-    ``check_buckling``: refuse a compression at or above its buckling load, as
-    :func:`~cablecasing_core.structure.assembly.assemble_body`."""
+    """Body ``name`` of ``model`` assembled as the time domain uses it (``structure.assembly``'s
+    system: M in kg, K in N/m, f in N, SI throughout): with its frequency-dependent modulus, if any,
+    at its first natural frequency (one modulus, Pa, for the whole run); ``check_buckling``: refuse a
+    compression at or above its buckling load, as :func:`~cablecasing_core.structure.assembly.assemble_body`."""
     spec = model.bodies[name]
     if spec.frequency_dependent:
         f1 = natural_frequencies(model, name, 1)[0]

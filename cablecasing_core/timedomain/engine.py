@@ -543,10 +543,18 @@ class Engine:
     )  # fmt: skip
 
     def get_state(self) -> dict[str, np.ndarray]:
-        """The complete state as ``{name: array}`` (copies): time, U/V/A of each body, contact
-        memory (state, element, forces), last reactions and the energy ledger, and ``model``, the
-        fingerprint of the structure it belongs to (``Model.fingerprint(scenario=False)``: the same
-        bodies, mounts, loads and contact; the scenario may differ)."""
+        """The complete state as ``{name: array}`` (copies): ``time`` (s); ``<body>.U``, ``.V``,
+        ``.A`` of each body (m, m/s, m/s2 and rad, rad/s, rad/s2 by DOF) and, with mounts, ``.mb``
+        (their supports' displacement and velocity, m, m/s) and ``.mF`` (their forces, N, N.m); the
+        contact memory per cable node: ``cstate`` (OPEN/STICK/SLIP), ``celem`` and ``cxi`` (casing
+        element and its coordinate, dimensionless), ``Pn`` and ``Pn_prev`` (contact force now and a
+        step before, N), ``vrel`` (tangential relative speed, m/s), ``Nn`` (normal force, N), ``gn``
+        (penetration, m), ``contact_time`` (s); ``fcs``, ``fcc`` (contact forces on the casing's and
+        the cable's DOFs, N, N.m), ``reac`` (the last support reactions, N, N.m), ``ledger`` (the
+        energy ledger, J), ``chan`` (the support channels' displacement, velocity and acceleration,
+        m, m/s, m/s2), ``crefine`` (1 when the last step ended inside its sub-steps); and ``model``,
+        the fingerprint of the structure it belongs to (``Model.fingerprint(scenario=False)``: the
+        same bodies, mounts, loads and contact; the scenario may differ)."""
         s = {"time": np.array([self.time]), "model": np.array(self._structure)}
         for n, b in self.bodies.items():
             s[f"{n}.U"], s[f"{n}.V"], s[f"{n}.A"] = b.U.copy(), b.V.copy(), b.A.copy()

@@ -280,7 +280,8 @@ def whole_period_skip(
 
 
 def zero_motion(t: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Supports at rest: (u, v, a) all zero, shape (len(t), 12)."""
+    """Supports at rest at the times ``t`` (s): (u, v, a) all zero (m, m/s, m/s2), each of shape
+    (len(t), 12), the 12 support channels."""
     t = np.atleast_1d(t)
     z = np.zeros((len(t), len(CHANNELS)))
     return z, z.copy(), z.copy()

@@ -149,7 +149,8 @@ class QuinticStep:
         return r[0], r[1], r[2]
 
     def end_state(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(u, v, a) at ``t0 + h`` (copies)."""
+        """(u, v, a) at ``t0 + h`` (s): displacement (m), velocity (m/s) and acceleration (m/s2) of
+        every channel (copies)."""
         return tuple(x.copy() for x in self.end)
 
 
