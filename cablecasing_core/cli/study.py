@@ -239,9 +239,13 @@ def _check_resume(args, old, path, bounds, kwargs, model):
     checked before anything is printed, each named by the option that differs (run_study checks
     them again, by the names of its settings)."""
     from ..studies.evaluators import EARLIER_RECORD_SETTINGS
+    from ..studies.results_store import begun_by_other, begun_by_run_study
 
     if old is None:
         return
+    if begun_by_run_study(old):  # (first: none of the command's settings would resume it)
+        with renamed({"path": "--out"}):
+            raise begun_by_other("run_study", str(path))
     if "bounds" in old and list(old["bounds"]) != list(bounds):  # (dicts compare equal in any order)
         flag = "--vary" if args.vary else "--vary-file" if args.vary_file else "--vary (not given: the paper's six)"
         raise ModelError(

@@ -380,6 +380,26 @@ def _begun_by(meta):
     return "`cablecasing study`" if command else "run_study"
 
 
+def begun_by_other(begun, path):
+    """The refusal to resume the study in ``path`` begun by ``begun`` (:func:`_begun_by`) through the
+    other interface (raised by :func:`prepare_file`, and by ``cablecasing study`` before its plan)."""
+    return ModelError(
+        "path",
+        path,
+        f"holds a study begun by {begun}: `cablecasing study` and run_study write other sidecars and headers (the "
+        "command records the model and the output's quantity and unit, run_study only when given model= and "
+        f"quantity=), and neither resumes a study of the other: resume it the way it began ({RESUMED_BY[begun]}), "
+        "or choose a new file",
+    )
+
+
+def begun_by_run_study(old):
+    """Whether ``cablecasing study`` would refuse the study of the sidecar ``old`` as begun by
+    run_study (:func:`prepare_file`'s rule: a sidecar that records a quantity, and is not the command's;
+    one of an earlier version, without a quantity, is judged by its settings alone)."""
+    return "quantity" in old and _begun_by(old) == "run_study"
+
+
 def prepare_file(path, meta, design, params):
     """Create the CSV and sidecar, or check them for a resume (the settings of :data:`RESUME_KEYS`
     equal, every stored row equal to the design's row of its index) and record a larger size.
@@ -422,14 +442,7 @@ def prepare_file(path, meta, design, params):
         )
     begun, now = _begun_by(old), _begun_by(meta)
     if begun != now and any(old.get(k) != meta.get(k) for k in ("model_fingerprint", *RESUME_KEYS)):
-        raise ModelError(
-            "path",
-            path,
-            f"holds a study begun by {begun}: `cablecasing study` and run_study write other sidecars and headers (the "
-            "command records the model and the output's quantity and unit, run_study only when given model= and "
-            f"quantity=), and neither resumes a study of the other: resume it the way it began ({RESUMED_BY[begun]}), "
-            "or choose a new file",
-        )
+        raise begun_by_other(begun, path)
     if old.get("model_fingerprint") != meta.get("model_fingerprint"):
         named = "model_file" in meta["evaluate_kwargs"]
         was = old.get("model_fingerprint") or "none: evaluate was given no model"

@@ -206,6 +206,34 @@ def test_the_command_and_run_study_refuse_each_others_study_saying_so(tmp_path, 
         )
 
 
+def test_a_study_of_run_study_is_refused_as_such_first_whatever_the_commands_settings(tmp_path, capsys):
+    # (review V, D4: a sidecar without a window read as the command's earlier version first asked for
+    # --skip 0.05, then --window boxcar, and printed the plan, before saying who began the study)
+    api = tmp_path / "api"
+    run_study(api / "study.csv", ANALYTIC, n_samples=6, bounds={"casing.E": (4e9, 6e9)}, scheduler="serial")
+    for extra in ([], ["--skip", "0.05", "--window", "boxcar"], ["--vary", "contact.friction=0.05:0.2"]):
+        argv = ["study", "--vary", "casing.E=4e9:6e9", "--samples", "6", "--scheduler", "serial", "--out", str(api)]
+        assert main(argv + extra) == 2
+        out, err = capsys.readouterr()
+        assert out == ""  # (refused before the plan's header)
+        assert err.count("cablecasing: error:") == 1 and "holds a study begun by run_study" in err, (extra, err)
+
+
+@pytest.mark.parametrize("tensions, refused", [("40:70", False), ("100:200", True)])
+def test_the_up_front_sample_check_says_none_of_its_warnings(tensions, refused, tmp_path, capsys, monkeypatch):
+    # (review V, D5: the check of the samples before the runs printed each sample's model warning, a
+    # tension that lays the cable on the wall, unprefixed and twice for a sample, then the runs said them
+    # again with their samples; and it warned about tensions it then refused, above the buckling load)
+    from cablecasing_core.studies import study
+
+    monkeypatch.setattr(study, "execute", lambda *args, **kwargs: None)  # (no run: only the check speaks)
+    argv = ["study", "--vary", f"loads.cable_tension={tensions}", "--samples", "3", *SHORT, "--out", str(tmp_path)]
+    assert main(argv) == (2 if refused else 1)  # (1: no run is in the file, none having run)
+    err = capsys.readouterr().err
+    assert "lays the cable on the wall" not in err, err
+    assert ("must be below the casing's buckling load" in err) == refused
+
+
 # ---- R5: the key hint -----------------------------------------------------------------------------
 
 
