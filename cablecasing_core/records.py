@@ -72,7 +72,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import ModelError, plain, renamed
+from .errors import ModelError, closest, plain, renamed
 from .files import MAX_MAGNITUDE, atomic_path, check_values, csv_statements, read_csv_table, time_column, unreadable
 from .model.schema import (
     BODY_NAMES,
@@ -85,7 +85,6 @@ from .model.schema import (
     inputs_of,
     output_spec,
 )
-from .model.validators import Choice
 from .timedomain.start_skip import LEAST_SKIP, least_skip, skip_for_whole_periods  # noqa: F401 (also records' names)
 from .uff import STATEMENTS, UFF_EXTENSIONS, Record, data_type, function_names, read_uff, write_uff
 
@@ -141,13 +140,24 @@ def check_column_name(name, names, key: str) -> None:
     """Refuse, as :meth:`Records.resolve` would on a record of the columns ``names``, a ``name``
     that is neither one of them nor a derived column of them (:func:`derived_terms`: ``net.B.Fz``,
     ``paths.Fz``, ``a+b`` of one unit): a :class:`ModelError` naming ``key`` (a run's output, checked
-    before the run)."""
+    before the run), with the closest name (``casing.b.fz``: ``casing.B.Fz``; ``net.B.Fq``: ``net.B.Fz``)
+    and the sums it also takes."""
     if name in names:
         return
     with renamed({"name": key}):
         derived = isinstance(name, str) and derived_terms(name, names) is not None
     if not derived:
-        Choice(*names)(key, name)
+        sums = [f"net.{s}.{c}" for s in SUPPORT_NAMES for c in FORCE_NAMES] + [f"paths.{c}" for c in PATH_FORCES]
+        close = closest(name, list(names) + sums)
+        mean = f" (did you mean {close[0]}?)" if close else ""
+        raise ModelError(
+            key,
+            name,
+            f"must be one of the outputs{mean}: "
+            + ", ".join(repr(n) for n in names)
+            + ", or a sum of them: net.<A|B>.<Fx..Mz> (casing + cable at that end), paths.<Fx|Fy|Fz> (every end and "
+            "clip), a+b (outputs of one unit joined by '+'; docs/nvh.md, \"Net forces and paths\")",
+        )
     Records(time=np.zeros(2), columns={n: np.zeros(2) for n in names}, units={n: unit_of(n) for n in names}).resolve(
         name, key
     )

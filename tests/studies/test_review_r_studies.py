@@ -245,6 +245,18 @@ def test_a_key_in_the_wrong_case_is_hinted_as_itself(tmp_path, capsys):
     assert "(did you mean casing.E?)" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("command", ["ensemble", "study"])
+@pytest.mark.parametrize("typed, meant", [("casing.b.fz", "casing.B.Fz"), ("net.B.Fq", "net.B.Fz")])
+def test_an_unknown_output_is_hinted_and_the_sums_the_option_takes_are_named(command, typed, meant, tmp_path, capsys):
+    # (review V, D6: ensemble gave no hint, and neither named net.*, paths.F* or a+b, which --output takes)
+    out = ["--out", str(tmp_path / ("e.csv" if command == "ensemble" else "st"))]
+    assert main([command, "--output", typed, *SHORT, *out]) == 2
+    err = capsys.readouterr().err
+    assert f"--output = '{typed}'" in err and f"(did you mean {meant}?)" in err, err
+    assert all(s in err for s in ("net.<A|B>.<Fx..Mz>", "paths.<Fx|Fy|Fz>", "a+b")), err
+    assert not (tmp_path / "st").exists()  # (refused before anything is made)
+
+
 # ---- R6: the CSV and the messages -------------------------------------------------------------
 
 
