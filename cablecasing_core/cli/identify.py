@@ -320,6 +320,22 @@ def cmd_damping(args):
         return _fail(exc)
 
 
+def _same_resonance(exc, off, fewer):
+    """What a circle fit's refusal ``exc`` of two requests that found the same resonance (``f_res_hz``,
+    a list, Hz) says when the command took them from the peaks of |H| for want of --freqs: the peaks as
+    found (6 digits), and either that the neighbour correction, which separates close modes, was off
+    (``off``: the options that turned it off, ``exc.allowed`` then names the resonances the uncorrected
+    fits found) or to give fewer peaks (``fewer``: the option of their number) or the resonances."""
+    peaks = " and ".join(f"{v:.6g}" for v in exc.value)
+    said = exc.allowed.split(": request each mode once")[0]  # (found the same resonance (..., ... Hz, ...))
+    fix = (
+        f"the neighbouring-mode correction, which separates close modes, was off ({off}): leave it on"
+        if off
+        else f"give fewer peaks ({fewer}) or the resonances themselves (--freqs)"
+    )
+    return f"the peaks of |H| at {peaks} Hz, taken for want of --freqs, {said}: {fix}"
+
+
 @contextlib.contextmanager
 def _peaks_found(args):
     """Without --freqs, a :class:`ModelError` about one of the resonances (``f_res_hz``) names
@@ -328,6 +344,12 @@ def _peaks_found(args):
     try:
         yield
     except ModelError as exc:
+        if not args.freqs and exc.key == "f_res_hz" and isinstance(exc.value, list):  # (two found one resonance)
+            if args.no_correction or args.max_iter == 0:
+                key, value = ("--no-correction", True) if args.no_correction else ("--max-iter", 0)
+            else:
+                key, value = ("file", str(args.file)) if args.count is None else ("--count", args.count)
+            raise ModelError(key, value, _same_resonance(exc, "--no-correction or --max-iter 0", "--count")) from None
         if args.freqs or exc.key != "f_res_hz" or not isinstance(exc.value, float):
             raise
         if args.count is None:  # (every peak above the noise: no option to name, the file's peaks are at fault)
@@ -480,7 +502,10 @@ def _read_measured(path, modes_arg, channel, max_iter=None):
     try:
         fits = loss_factor_circle(f, H, peaks, kind=kind, **({} if max_iter is None else {"max_iter": max_iter}))
     except ModelError as exc:  # (a magnitude |H|, too few lines per bandwidth: the peaks are all there is)
-        info = {"sd_hz": np.full(peaks.size, df / 2), "df": df, "how": "peaks", "why": exc, "fits": []}
+        why = exc
+        if exc.key == "f_res_hz" and isinstance(exc.value, list):  # (two peaks, one resonance: said as found)
+            why = _same_resonance(exc, "--max-iter 0" if max_iter == 0 else None, "--modes")
+        info = {"sd_hz": np.full(peaks.size, df / 2), "df": df, "how": "peaks", "why": why, "fits": []}
         return peaks, modes, "--modes", info
     f_r = np.array([r.f_r_hz for r in fits])
     sd = np.array([r.extra["f_r_uncertainty_hz"] for r in fits])
@@ -571,7 +596,8 @@ def _unsettled_options(p, where=""):
         type=int,
         default=FromApi("identification.circlefit", "MAX_ITER"),
         help=f"most neighbouring-mode correction sweeps of the circle fits{where} (default %(default)s, the circle "
-        "fit's; modes under a half-power bandwidth apart may need thousands)",
+        "fit's; modes under a half-power bandwidth apart may need thousands; 0: no correction, the uncorrected fits, "
+        "which do not tell close modes apart)",
     )
     p.add_argument(
         "--allow-unsettled",

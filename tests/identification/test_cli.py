@@ -493,6 +493,30 @@ def test_loss_factor_of_close_modes_settles_by_default_and_an_unsettled_fit_is_n
     np.testing.assert_allclose(eta, 0.02, rtol=1e-5)
 
 
+@pytest.mark.parametrize("off", [["--max-iter", "0"], ["--no-correction"], ["--no-correction", "--count", "2"]])
+def test_close_modes_fitted_uncorrected_from_found_peaks_are_refused_naming_the_peaks(off, tmp_path, capsys, synth):
+    """Review V, D7: two modes of eta 0.02 at 100 and 101.5 Hz (0.75 half-power bandwidths apart) from the peaks
+    of |H| without --freqs, the neighbour correction off: the uncorrected circles find one resonance, and the
+    refusal blamed --freqs, which nobody gave, with 17 digits. It names the peaks as found (6 digits) and the
+    option that turned the correction off; modulus's '#' line says the same of its peaks."""
+    f = np.arange(50.0, 200.0, 0.05)
+    H = synth.receptance(f, [100.0, 101.5], eta=[0.02] * 2)
+    path = tmp_path / "two_close.csv"
+    identification.write_csv_frf(path, f, H, kind="displacement")
+    a = np.abs(H)
+    k = np.flatnonzero((a[1:-1] > a[:-2]) & (a[1:-1] > a[2:])) + 1  # (the local maxima of |H| on its lines)
+    assert k.size == 2  # (the pair shows two peaks: each is a request)
+    peaks = f"the peaks of |H| at {f[k[0]]:.6g} and {f[k[1]]:.6g} Hz, taken for want of --freqs, found the same"
+    assert run(["identify", "loss-factor", str(path), *off]) == 2
+    err = capsys.readouterr().err
+    assert f"error: {off[0]} = {'0' if off[0] == '--max-iter' else 'True'}: {peaks}" in err, err
+    assert "--freqs =" not in err and "the neighbouring-mode correction, which separates close modes, was off" in err
+    if off == ["--max-iter", "0"]:
+        assert run(["identify", "modulus", str(path), "--modes", "1", "2", "--max-iter", "0"]) == 0
+        out = capsys.readouterr().out
+        assert f"no circle fit ({peaks}" in out and "was off (--max-iter 0)" in out and "f_res_hz =" not in out
+
+
 def test_the_max_iter_help_states_the_circle_fit_s_own_default(capsys):
     """--max-iter's default is the circle fit's MAX_ITER, read when the help shows it or the command runs (the
     parser imports no identification module); its help states that number."""
