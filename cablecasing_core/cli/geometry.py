@@ -20,6 +20,7 @@ def cmd_geometry(args):
         band_advice_lines,
         element_lengths_text,
         geometry_summary,
+        no_band_advice_why,
         plausibility_warnings,
     )
     from .paths import PLOT_SUFFIXES, check_output_path
@@ -41,7 +42,9 @@ def cmd_geometry(args):
     band = band_advice(model, g)
     if args.json:
         loads = {b.body: b.as_dict() for b in buckled}
-        print(json.dumps({**{k: g[k] for k in keys}, "clips": clips, "buckling": loads, "band_advice": band}))
+        why = None if band is not None else no_band_advice_why(model)  # (the text's reason, when there is none)
+        said = {"band_advice": band, "band_advice_why": why}
+        print(json.dumps({**{k: g[k] for k in keys}, "clips": clips, "buckling": loads, **said}))
     else:
         print(f"routing ({g['source']}) of {model.source}")
         print(f"  length            {g['length_m']:.6g} m")
@@ -117,7 +120,8 @@ def add_parser(sub):
         "bends: [{start_m, radius_m, min_radius_m, angle_deg}], "
         "buckling: {casing: {load_N, at_m, supports, mechanism}}, band_advice: {f_top_hz, set_by, dt_s, "
         "period_error, dt_for_advised_s, n_elements, bodies: {casing: {wavelength_m, axial_force_N, "
-        "elements_per_wavelength}}, n_elements_for_advised, not_counted} or null} (arc "
+        "elements_per_wavelength}}, n_elements_for_advised, not_counted} or null, band_advice_why: why it is null, "
+        "or null} (arc "
         "lengths from end A; the buckling load of the casing as built, the most compression, i.e. cable tension, it "
         "carries; the bending wavelength at the excitation's top, Newmark's period error there, 0.01 is 1 %%)",
     )

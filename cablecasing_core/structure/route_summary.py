@@ -355,18 +355,25 @@ def csv_excitations(model) -> list[str]:
     return [f"scenario.excitation.{k}" for k, e in model.scenario.get("excitation", {}).items() if e["kind"] == "csv"]
 
 
+def no_band_advice_why(model=None) -> str:
+    """Why :func:`band_advice` is None for ``model`` (``geometry``'s text and its JSON's
+    ``band_advice_why``): its CSV excitations, named, when those are all it has, else no excitation
+    with a known top frequency."""
+    tables = csv_excitations(model) if model is not None else []
+    if tables:
+        return (
+            f"{', '.join(tables)} (CSV tables) are the scenario's only excitations, and their content is not read; "
+            'check the mesh and the step against the table\'s band by hand (docs/model_file.md, "Your own model")'
+        )
+    return "the scenario has no excitation with a known top frequency"
+
+
 def band_advice_lines(advice, model=None) -> list[str]:
     """The text lines of a :func:`band_advice` as ``cablecasing geometry`` prints them (one that says
-    there is none for None, naming ``model``'s CSV excitations when those are all it has)."""
+    there is none for None, and why: :func:`no_band_advice_why`)."""
     if advice is None:
-        tables = csv_excitations(model) if model is not None else []
-        if tables:
-            return [
-                f"  band advice       none: {', '.join(tables)} (CSV tables) are the scenario's only excitations, "
-                "and their content is not read; check the mesh and the step against the table's band by hand "
-                '(docs/model_file.md, "Your own model")'
-            ]
-        return ["  band advice       none (the scenario has no excitation with a known top frequency)"]
+        why, tables = no_band_advice_why(model), model is not None and csv_excitations(model)
+        return [f"  band advice       none: {why}" if tables else f"  band advice       none ({why})"]
     f = advice["f_top_hz"]
     bodies = ", ".join(
         f"{k} {b['elements_per_wavelength']:.2g} (wavelength {b['wavelength_m']:.4g} m)"

@@ -311,3 +311,12 @@ def test_a_scenario_of_csv_tables_alone_is_named_not_counted_in_geometry(tmp_pat
     assert main(["geometry", str(model)]) == 0
     out = capsys.readouterr().out
     assert "scenario.excitation.table (CSV tables) are the scenario's only excitations" in out, out
+    # (review V, D10: the JSON said null with no reason; it says the text's)
+    assert main(["geometry", str(model), "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)
+    assert got["band_advice"] is None
+    why = "scenario.excitation.table (CSV tables) are the scenario's only excitations"
+    assert got["band_advice_why"].startswith(why)
+    assert main(["geometry", "--json"]) == 0  # (the built-in specimen: an advice, and no reason beside it)
+    got = json.loads(capsys.readouterr().out)
+    assert got["band_advice"]["f_top_hz"] > 0 and got["band_advice_why"] is None
