@@ -608,7 +608,9 @@ def loss_factor_circle(
     list of :class:`CircleFitResult`, ascending in frequency order of ``f_res_hz``.
     ``extra["eta_rel_uncertainty"]`` estimates the loss factor's relative random error,
     ``2.8 (rms / R) / sqrt(points)``; ``extra["f_r_uncertainty_hz"]`` is one standard deviation of
-    ``f_r`` (Hz) for noise on H (circle and angle law as one least-squares problem: :func:`_resonance_sd`);
+    ``f_r`` (Hz) for noise on H (circle and angle law as one least-squares problem: :func:`_resonance_sd`;
+    about 0.95 of the scatter over noise draws alone, 0.68 beside a neighbour 1.5 half-power bandwidths
+    away, whose fit's noise the neighbour correction does not carry into it: docs/identification.md);
     ``extra["lines_per_bandwidth"]`` is ``eta f_r / df``, ``extra["leakage_bias"]`` the relative bias of
     eta a Hann window's leakage would cause, were the FRF a Welch estimate (:func:`_leakage_bias`);
     ``extra["unrequested_hz"]`` the resonances fitted and subtracted without being requested;
