@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import NOT_SHOWN, ModelError, ModelWarning, excerpt
-from .schema import BODY_NAMES, OPTIONAL, SECTIONS, SUPPORT_NAMES, lookup, table
+from .schema import BODY_NAMES, MAX_ELEMENTS, OPTIONAL, SECTIONS, SUPPORT_NAMES, lookup, table
 from .validators import MIN_LENGTH, ExcitationName
 
 
@@ -185,10 +185,13 @@ def _nodes_at_clips(geometry, clips, length):
                 f"geometry.n_elements / 2 = {1e3 * half:.3g} mm): geometry.nodes_at_clips = true puts a node at each "
                 "clip, and that span would hold an element far shorter than the rest; "
                 + (
-                    f"move the clip, or give geometry.n_elements at least {need}, or set "
+                    "two clips at one place hold one node: give one clip"
+                    if not need
+                    else f"move the clip, or give geometry.n_elements at least {need}, or set "
                     "geometry.nodes_at_clips = false"
-                    if need
-                    else "two clips at one place hold one node: give one clip"
+                    if need <= MAX_ELEMENTS
+                    else "move the clip, or set geometry.nodes_at_clips = false (geometry.n_elements would need at "
+                    f"least {need}, above its largest, {MAX_ELEMENTS})"
                 ),
             )
     if n < len(edges) - 1:

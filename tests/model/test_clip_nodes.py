@@ -117,6 +117,24 @@ def test_a_span_shorter_than_half_the_mean_element_and_too_few_elements_are_refu
         clipped("spline", 2, at=[0.3, 0.55])
 
 
+def test_the_span_refusal_advises_only_an_n_elements_the_schema_allows():
+    """Review V, D11: clips 0.1 mm apart asked for geometry.n_elements at least 4178, which the schema
+    refuses (at most MAX_ELEMENTS = 2000); it is then left out of the advice. 10 mm apart the advice is
+    the n that makes half the mean element no longer than the span, ceil(L / 0.02), and that n loads."""
+    from cablecasing_core.model.schema import MAX_ELEMENTS
+
+    length = centerline_of(clipped("spline", 35, at=[])).length
+    with pytest.raises(ModelError) as err:
+        clipped("spline", 35, at=[0.3, 0.3001])
+    text = str(err.value)
+    assert "give geometry.n_elements" not in text and "geometry.nodes_at_clips = false" in text, text
+    assert f"would need at least {int(np.ceil(length / 2e-4))}, above its largest, {MAX_ELEMENTS}" in text, text
+    need = int(np.ceil(length / 0.02))  # (half of length / n at most the 10 mm span)
+    with pytest.raises(ModelError, match=f"give geometry.n_elements at least {need}, or set"):
+        clipped("spline", 35, at=[0.3, 0.31])
+    clipped("spline", need, at=[0.3, 0.31])  # (the advice taken: it loads)
+
+
 def test_a_clip_more_than_a_tenth_of_an_element_off_its_node_warns_and_says_what_to_do():
     """Key false: 35 elements of 24.8 mm on the 0.8665 m route by segments; 0.2137 m lies 9.1 mm
     from its node (more than 2.48 mm), 0.496 m 0.85 mm (less). Key true: no warning at all."""
