@@ -543,8 +543,14 @@ def cmd_modulus(args):
                     "f_r lies zeta^2 below f_n)"
                 )
                 # (a tenth of the smallest uncertainty: the adaptive process adds nothing to it)
-                resolution = max(0.2 * float(sd.min()), 2e-9 * float(f_meas.max()))
-                until = f"{resolution / 2:.4g} Hz (a tenth of the smallest f_unc_Hz)"
+                tenth, least = 0.2 * float(sd.min()), 2e-9 * float(f_meas.max())
+                resolution = max(tenth, least)
+                until = f"{resolution / 2:.4g} Hz (" + (
+                    "a tenth of the smallest f_unc_Hz)"
+                    if tenth >= least
+                    else f"1e-9 of the highest frequency: a tenth of the smallest f_unc_Hz, {tenth / 2:.2g} Hz, is "
+                    "below what the process resolves)"
+                )
             else:
                 source = (
                     f"the peaks of |H|, no circle fit ({frf['why']}); f_unc_Hz is half the line spacing "

@@ -161,9 +161,10 @@ def cmd_study(args):
             "(it resumes at its size)"
         )
     else:
+        rounded = "" if nb * g == args.samples else f"; --samples {args.samples} is rounded up to whole groups"
         print(
             f"#   {nb * g} runs: {nb} base points x {g} (d + 2 runs per base point for d = {_count(d, 'parameter')}, "
-            f"at least 2 base points; --samples {args.samples} is rounded up to whole groups)"
+            f"at least 2 base points{rounded})"
         )
     print(f"#   {_excitation(model, args.excitation_seeds)}")
     args.interrupted = f"the rows finished so far are in {out / 'study.csv'}; run the same command again to go on"

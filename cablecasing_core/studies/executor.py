@@ -441,7 +441,8 @@ def _diagnose(client):
         pool.shutdown(wait=False)
     if not threads:
         return "no dask worker is left (all died or were stopped)"
-    return f"{len(threads)} dask workers are connected but none finished a sample (stalled)"
+    n = len(threads)
+    return f"{n} dask worker{' is' if n == 1 else 's are'} connected but none finished a sample (stalled)"
 
 
 def _lost_scheduler(exc, n_lost=0):
@@ -503,8 +504,9 @@ def _run_dask(todo, evaluate, kwargs, outputs, write, bar, client, max_in_flight
             why = _diagnose(client)
             n = lose_in_flight(f"no sample finished within {timeout:g} s: {why}")
             raise InfrastructureError(
-                f"no sample finished within {timeout:g} s: {why}; {n} samples were running (lost: no row); run the "
-                "same command again to go on (the finished rows are kept)"
+                f"no sample finished within {timeout:g} s: {why}; {n} sample{' was' if n == 1 else 's were'} in flight "
+                "or queued on the workers (lost: no row); run the same command again to go on (the finished rows are "
+                "kept)"
             ) from None
         except (Exception, asyncio.CancelledError) as exc:  # (FuturesCancelledError: the scheduler is gone)
             raise scheduler_lost(exc) from None

@@ -281,9 +281,10 @@ def test_stalled_workers_end_with_a_message_within_the_timeout(tmp_path):
                 _run(p, scheduler=client, evaluate_kwargs=kw, progress_timeout=3.0)
             elapsed = time.perf_counter() - t0
             client.restart()  # (frees the sleeping worker)
-    assert "no sample finished within 3 s: 1 dask workers are connected but none finished a sample (stalled)" in str(
+    assert "no sample finished within 3 s: 1 dask worker is connected but none finished a sample (stalled)" in str(
         err.value
     )
+    assert "samples were in flight or queued on the workers (lost: no row)" in str(err.value)  # (not "running")
     # it did wait the timeout it reports before calling the workers stalled (a lower bound: a slow
     # machine only makes it longer; no upper bound on the wall clock)
     assert elapsed >= 3.0
