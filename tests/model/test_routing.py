@@ -269,6 +269,7 @@ def test_cli_geometry_json_plot_and_warnings(tmp_path, capsys):
         "clips",
         "buckling",
         "band_advice",
+        "band_advice_why",
     }
     assert out["clips"] == []  # (no clip on this route)
     assert out["buckling"]["casing"]["load_N"] > 0 and out["buckling"]["casing"]["supports"] == "A clamped; B clamped"
