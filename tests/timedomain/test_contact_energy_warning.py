@@ -82,13 +82,14 @@ def supplied(e):
 
 
 def test_a_contact_that_makes_energy_warns_though_the_ledger_closes():
-    """The switch law with its 8 sub-steps at the real-time step 1/30000 s: the contact made 10
-    times the work supplied over 0.05 s and 168 times over 0.1 s (measured; review T, before a
-    reversed slip was an event: 500 times over 0.1 s, the cable sliding 24 mm where a resolved step
-    slides 4 mm), its friction positive, and the ledger's residual is round-off of it."""
-    res, said = run(bar("switch", 8, 1 / 30000), 0.05, casing_along_x)
+    """The switch law with its 8 sub-steps at the real-time step 1/30000 s: the contact made 4 to
+    400 times the work supplied over its first 5-10 ms (measured; review T: 500 times over 0.1 s, the
+    cable sliding 24 mm where a resolved step slides 4 mm), its friction positive, and the ledger's
+    residual is round-off of it. A stress model whose step is too long: its run is chaotic, and
+    later it may stop on a penetration beyond the cable's radius, so the test takes its first 10 ms."""
+    res, said = run(bar("switch", 8, 1 / 30000), 0.01, casing_along_x)
     e = res.energies
-    assert e["contact_dissipation"] < -5 * supplied(e), e  # (measured -10 times; the warning's share is -0.5)
+    assert e["contact_dissipation"] < -2 * supplied(e), e  # (measured -401 times; the warning's share is -0.5)
     # the balance cannot see it: its residual is round-off (measured 2.3e-8 of the energy made; 1e-6 is
     # far below any share a check could use)
     assert abs(e["residual"]) < 1e-6 * abs(e["contact_dissipation"]), e
@@ -154,6 +155,6 @@ def test_the_fmu_s_engine_without_the_rayleigh_ledger_warns_the_same():
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", cc.ModelWarning)  # (the switch law with the cable on the wall)
             eng = Engine(model, ledger=ledger)
-        eng.advance(0.05, casing_along_x)
+        eng.advance(0.01, casing_along_x)  # (the first 10 ms, as above)
         said.append(eng.solver_warnings())
     assert said[0] == said[1] and any(m.startswith("the contact made energy") for m in said[1]), said
