@@ -844,6 +844,16 @@ def _bands(variants, model, info):
     return parts
 
 
+#: What net.B.Fz is, the start of the note under either table of it (:func:`net_parts`).
+_NET_SUM_NOTE = (
+    "<p class='note'>At end B the casing's abutment and the cable's end attach to one part, the transmission, "
+    f'so what it receives is their sum, {NET_OUTPUT} = {OUTPUT} + cable.B.Fz (docs/nvh.md, "Net forces and '
+    'paths"; <code>cablecasing bands RECORD --column net.B.Fz</code> gives it from any record). Its band '
+    "levels are those of the summed samples, not the sum of the two bodies' levels: where the cable and the "
+    "casing carry one loop (the cable's drive pulls the part the casing pushes), their forces cancel in part. "
+)
+
+
 def net_parts(variants, info):
     """The band levels of the force into B, net.B.Fz = casing.B.Fz + cable.B.Fz: the ensemble means
     with their intervals and net.B.Fz against casing.B.Fz paired member by member
@@ -893,12 +903,7 @@ def net_parts(variants, info):
     return [
         title,
         _table(head, rows, numeric=tuple(range(2, len(head)))),
-        f"<p class='note'>At end B the casing's abutment and the cable's end attach to one part, the transmission, "
-        f'so what it receives is their sum, {NET_OUTPUT} = {OUTPUT} + cable.B.Fz (docs/nvh.md, "Net forces and '
-        'paths"; <code>cablecasing bands RECORD --column net.B.Fz</code> gives it from any record). Its band '
-        "levels are those of the summed samples, not the sum of the two bodies' levels: where the cable and the "
-        "casing carry one loop (the cable's drive pulls the part the casing pushes), their forces cancel in part. "
-        f"Means over the same {n} seeds as the ensembles of {OUTPUT} above, from the same runs "
+        _NET_SUM_NOTE + f"Means over the same {n} seeds as the ensembles of {OUTPUT} above, from the same runs "
         "(bands_net_B_&lt;variant&gt;.csv: one row per seed), Student-t 95 % intervals; "
         f"re {OUTPUT}: the ratio of the two means in dB, its interval from the members paired seed by seed "
         "(<code>paired_difference</code>, docs/studies.md), which removes the scatter the excitation explains in "
@@ -941,12 +946,8 @@ def _net_single_parts(variants, info):
     return [
         f"<h2>The force into the transmission at B: {NET_OUTPUT} beside {OUTPUT} (Table 3, reference records)</h2>",
         _table(head, rows, numeric=tuple(range(2, len(head)))),
-        f"<p class='note'>At end B the casing's abutment and the cable's end attach to one part, the transmission, "
-        f'so what it receives is their sum, {NET_OUTPUT} = {OUTPUT} + cable.B.Fz (docs/nvh.md, "Net forces and '
-        'paths"; <code>cablecasing bands RECORD --column net.B.Fz</code> gives it from any record). Its band '
-        "levels are those of the summed samples, not the sum of the two bodies' levels: where the cable and the "
-        "casing carry one loop (the cable's drive pulls the part the casing pushes), their forces cancel in part. "
-        f"–: no response (more than {NO_RESPONSE_DB:g} dB below the column's strongest band, as above). "
+        _NET_SUM_NOTE
+        + f"–: no response (more than {NO_RESPONSE_DB:g} dB below the column's strongest band, as above). "
         f"From the reference records after {info['skip']:g} s, through Hann's window, as the ensembles: one "
         f"record each, one draw of the seeds' scatter (the ensemble means above are of {OUTPUT}); files "
         "bands_net_B.csv at full precision.</p>",
