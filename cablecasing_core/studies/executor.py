@@ -269,6 +269,49 @@ LOCAL_CLUSTER_OPTIONS = {
 }
 
 
+class _ShutdownNoise(logging.Filter):
+    """Drops the two records a worker of the package's own LocalCluster logs when the cluster is
+    closed under it (a Ctrl-C, a timeout): its heartbeat finding the scheduler gone (ERROR, with a
+    traceback) and a sample cancelled in flight (WARNING). The caller says what was kept and what was
+    lost (the study's message, ``study.csv.lost.log``), so these are no news; every other record
+    passes."""
+
+    def filter(self, record):
+        text = record.getMessage()
+        return not (
+            text.startswith("Failed to communicate with scheduler during heartbeat")
+            or (text.startswith("Async instruction for") and text.endswith("ended with CancelledError"))
+        )
+
+
+def _quiet_shutdown_class():
+    """:class:`QuietShutdown`, a ``distributed.WorkerPlugin`` (imported only with a cluster)."""
+    from distributed import WorkerPlugin
+
+    class QuietShutdown(WorkerPlugin):
+        """Installs :class:`_ShutdownNoise` on the worker's loggers, in the worker's process."""
+
+        name = "cablecasing-quiet-shutdown"
+
+        def setup(self, worker):
+            for name in ("distributed.worker", "distributed.worker.state_machine"):
+                logger = logging.getLogger(name)
+                if not any(isinstance(f, _ShutdownNoise) for f in logger.filters):
+                    logger.addFilter(_ShutdownNoise())
+
+    QuietShutdown.__module__ = __name__
+    QuietShutdown.__qualname__ = "QuietShutdown"
+    return QuietShutdown
+
+
+def __getattr__(name):  # (QuietShutdown by name, so that a worker unpickles it without importing dask first)
+    if name == "QuietShutdown":
+        cls = _quiet_shutdown_class()
+        globals()["QuietShutdown"] = cls
+        return cls
+    raise AttributeError(name)
+
+
 def _cluster_deaf_to_ctrl_c(LocalCluster, n_workers):
     """A LocalCluster whose processes do not take SIGINT or SIGHUP, started so that a Ctrl-C meanwhile
     still stops this process. A Ctrl-C at the terminal reaches the whole process group: each worker
@@ -339,6 +382,7 @@ class Workers:
             nw = os.cpu_count() if n_workers is None else integer("n_workers", n_workers, 1)
             self._cluster = _cluster_deaf_to_ctrl_c(LocalCluster, nw)
             self.client = self._own = Client(self._cluster)
+            self.client.register_plugin(__getattr__("QuietShutdown")())  # (our own cluster's workers only)
         elif isinstance(scheduler, str):
             try:
                 self.client = self._own = Client(scheduler, timeout=f"{CONNECT_TIMEOUT:g}s")
