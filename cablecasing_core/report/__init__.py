@@ -67,7 +67,7 @@ def start_transients(model) -> list[dict]:
     built-in specimen) is given as ``cable_t`` but not counted: it reaches the casing only through the
     contact, which damps it, and the specimen's casing.B.Fz shows no such tail (docs/nvh.md's table).
 
-    One dict per line of :func:`~cablecasing_core.timedomain.scenario.harmonic_lines`, in the model
+    One dict per excitation of :func:`~cablecasing_core.timedomain.scenario.harmonic_excitations`, in the model
     file's order: ``excitation`` (its name), ``frequency`` (Hz), ``alpha`` (1/s) and ``beta`` (s) of
     the casing, ``zeta`` (-), ``t`` (s; None for a casing without Rayleigh damping, whose transient
     does not decay) and, for a drive on the cable, ``cable_zeta`` and ``cable_t``."""
@@ -78,10 +78,10 @@ def start_transients(model) -> list[dict]:
         zeta = float(rayleigh_zeta([f], b["alpha"], b["beta"])[0])
         return zeta, (math.log(10.0) / (zeta * 2.0 * math.pi * f) if zeta > 0 else None)
 
+    from ..timedomain.scenario import harmonic_excitations
+
     out = []
-    for name, e in model.scenario["excitation"].items():
-        if not (e["kind"] == "harmonic" and e["amplitude"] != 0 and e["frequency"] > 0):  # (harmonic_lines' rule)
-            continue
+    for name, e in harmonic_excitations(model).items():
         f = float(e["frequency"])
         zeta, t = decay("casing", f)
         casing = model.data["casing"]

@@ -252,14 +252,21 @@ def scenario_motion(model: Model, dt: float | None = None) -> ScenarioMotion:
     return ScenarioMotion(model, dt)
 
 
-def harmonic_lines(model: Model) -> tuple[float, ...]:
-    """The frequencies (Hz) of the scenario's harmonic excitations of non-zero amplitude, in the
-    order of the model file (a run's record states them: ``records.Records.lines_hz``)."""
-    return tuple(
-        float(e["frequency"])
-        for e in model.scenario["excitation"].values()
+def harmonic_excitations(model: Model) -> dict[str, dict]:
+    """The scenario's harmonic excitations that put a line in a record: non-zero amplitude and a
+    frequency (Hz) above 0, ``{name: its table}`` in the order of the model file."""
+    return {
+        name: e
+        for name, e in model.scenario["excitation"].items()
         if e["kind"] == "harmonic" and e["amplitude"] != 0 and e["frequency"] > 0
-    )
+    }
+
+
+def harmonic_lines(model: Model) -> tuple[float, ...]:
+    """The frequencies (Hz) of the scenario's harmonic excitations of non-zero amplitude
+    (:func:`harmonic_excitations`), in the order of the model file (a run's record states them:
+    ``records.Records.lines_hz``)."""
+    return tuple(float(e["frequency"]) for e in harmonic_excitations(model).values())
 
 
 def whole_period_skip(
