@@ -881,22 +881,24 @@ def net_parts(variants, info):
     head = ["band", "Hz"]
     for v in vs:
         head += [f"{v.title}: {NET_OUTPUT} mean (N)", "95 % CI (N)", f"re {OUTPUT} (dB)", "95 % CI (dB)"]
+    # per variant, once: the paired ratio (r = mean net / mean casing - 1), its interval, net's interval, no response
+    per = []
+    for v in vs:
+        net, casing = v.net_ensemble, v.ensemble
+        pd = paired_difference(net.levels, casing.levels)
+        per.append((net, pd, pd.ci(0.95), net.ci(0.95), no_response(net.mean) | no_response(casing.mean)))
     rows = []
     for b, lab in enumerate(e0.labels):
         row = [lab, f"{e0.lower[b]:g}-{e0.upper[b]:g}"]
-        for v in vs:
-            net, casing = v.net_ensemble, v.ensemble
-            pd = paired_difference(net.levels, casing.levels)  # (r = mean net / mean casing - 1, paired)
-            lo_r, hi_r = (x[b] for x in pd.ci(0.95))
-            if no_response(net.mean)[b] or no_response(casing.mean)[b]:
+        for net, pd, (lo_r, hi_r), (lo, hi), off in per:
+            if off[b]:
                 row += ["–", "–", "–", "–"]
                 continue
-            lo, hi = (x[b] for x in net.ci(0.95))
             row += [
                 _g(net.mean[b], 4),
-                f"{_g(lo, 3)} to {_g(hi, 3)}",
+                f"{_g(lo[b], 3)} to {_g(hi[b], 3)}",
                 f"{20 * np.log10(1 + pd.r[b]):+.1f}",
-                f"{_ratio_db(1 + lo_r)} to {_ratio_db(1 + hi_r)}",
+                f"{_ratio_db(1 + lo_r[b])} to {_ratio_db(1 + hi_r[b])}",
             ]
         rows.append(row)
     n = e0.n
