@@ -210,7 +210,10 @@ def unreadable(data) -> np.ndarray:
     """Where the array ``data`` holds a value no record or table of this package reads: NaN, an
     infinity or a magnitude above :data:`MAX_MAGNITUDE` (a boolean array of ``data``'s shape). The
     one rule of :func:`check_values`, :func:`read_csv_table` and ``records.check_record_values``."""
-    return ~np.isfinite(data) | (np.abs(data) > MAX_MAGNITUDE)
+    magnitude = np.abs(data)
+    if magnitude.dtype.kind == "f" and magnitude.dtype.itemsize < 8:  # (compared in float64: 1e100 is no float32)
+        magnitude = magnitude.astype(float)
+    return ~np.isfinite(data) | (magnitude > MAX_MAGNITUDE)
 
 
 def check_values(key: str, path, data) -> None:

@@ -269,7 +269,9 @@ class Records:
     ``time_rounding`` (s, one per sample or one for all): how far each time may lie from the time it
     stands for, as its file kept it: half the last digit a CSV printed it with
     (:func:`~cablecasing_core.files.printed_rounding`), the rounding of a UFF abscissa stored point by
-    point; 0 (the default) for exact times (a run's, an NPZ file's). :attr:`fs` allows it.
+    point; 0 (the default) for exact times (a run's, an NPZ file's). :attr:`fs` allows it;
+    a time stored as a float narrower than float64 (float32) is allowed half its spacing at each time
+    besides (``time_rounding`` is then that, or the one given where larger).
     ``time_label``: how a message names the time (``its time column 'time [s]' (the first)``)."""
 
     time: np.ndarray
@@ -289,6 +291,9 @@ class Records:
                 self.time,
                 f"must be a 1-D array of real numbers (s), one per sample; got {time.ndim}-D of dtype {time.dtype}",
             )
+        narrow = time.dtype.kind == "f" and time.dtype.itemsize < 8  # (float32: MATLAB single, many DAQ exports)
+        # the rounding of a narrower float (half its spacing at each time), allowed as a file's rounding is
+        stored = 0.5 * np.abs(np.spacing(time)).astype(float) if narrow else 0.0
         time = time.astype(float, copy=False)
         if not np.all(np.isfinite(time)):
             k = int(np.argmax(~np.isfinite(time)))
@@ -316,6 +321,9 @@ class Records:
             )
         if not np.all(np.isfinite(rounding) & (rounding >= 0)):
             raise ModelError("time_rounding", self.time_rounding, "must hold finite numbers of s, 0 or more")
+        if narrow:
+            self.time_rounding = np.maximum(rounding.astype(float), stored)
+            self.time_label = f"{self.time_label} (stored as {np.asarray(self.time).dtype})"
         self.time, self.columns = time, columns
         self.units = dict(self.units or {})  # (a copy: a derived column's unit is added to it)
 

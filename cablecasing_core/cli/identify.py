@@ -131,13 +131,20 @@ def _toml_of_unsettled(args, toml, note):
         )
 
 
+#: The peaks ``identify damping`` takes without ``--freqs`` or ``--count``: up to this many, the most prominent.
+DAMPING_PEAKS = 3
+
+
 def _spectrum_peaks(x, fs, count, path):
     """``identification.spectrum_peaks`` of the record read from ``path`` (its ``count``, ``--count``, most
-    prominent peaks), its errors in the command line's words: a record without a peak names the file, a
-    ``--count`` beyond the peaks says how many there are; both ask for the frequencies (``--freqs``)."""
+    prominent peaks; None: up to :data:`DAMPING_PEAKS` of them, as many as it has), its errors in the
+    command line's words: a record without a peak names the file, a ``--count`` given beyond the peaks
+    says how many there are; both ask for the frequencies (``--freqs``)."""
     from ..identification import spectrum_peaks
 
     try:
+        if count is None:
+            count = min(DAMPING_PEAKS, spectrum_peaks(x, fs).size)
         return spectrum_peaks(x, fs, count)
     except ModelError as exc:
         if exc.key == "x":
@@ -204,7 +211,7 @@ def _check_rayleigh_toml(args):
     """``--toml`` writes the Rayleigh factors, whose fit needs two modes or more: one mode (``--freqs``
     of one frequency, ``--count 1``) with ``--toml`` is a :class:`ModelError` naming --toml before the
     record is read (there would be nothing to write)."""
-    modes = len(args.freqs) if args.freqs else args.count
+    modes = len(args.freqs) if args.freqs else (DAMPING_PEAKS if args.count is None else args.count)
     if args.toml and modes < 2:
         given = f"--freqs gives one frequency ({args.freqs[0]:g} Hz)" if args.freqs else "--count is 1"
         raise ModelError(
@@ -229,7 +236,7 @@ def cmd_damping(args):
             departure = _max_departure(args.max_departure)
             if args.noise_floor is not None:
                 number("noise_floor", args.noise_floor, gt=0)
-            if not args.freqs:
+            if not args.freqs and args.count is not None:
                 integer("--count", args.count, 1)
             _check_rayleigh_toml(args)
             x, fs, name, t_start = read_time_record_from(args.file, args.channel)
@@ -240,6 +247,14 @@ def cmd_damping(args):
         with _hint(_DAMPING_HINTS), _record_named(args, name):  # (a force channel: said before its spectrum's peaks)
             refuse_pulse(x, fs, t_start)
         freqs = args.freqs if args.freqs else _spectrum_peaks(x, fs, args.count, args.file)
+        if args.toml and len(freqs) < 2:  # (the default count found one peak only)
+            raise ModelError(
+                "--toml",
+                args.toml,
+                f"writes the Rayleigh factors alpha, beta, whose fit needs the damping of two modes or more: the "
+                f"amplitude spectrum of {args.file} has one peak above its noise ({freqs[0]:.6g} Hz); give two "
+                "natural frequencies or more (--freqs), or leave --toml out (the table of zeta is printed)",
+            )
         if args.t_max is not None:  # (on the file's time axis, as the fit's times)
             number("--t-max", args.t_max, gt=t_start, unit="s")
         try:
@@ -270,6 +285,8 @@ def cmd_damping(args):
         pre = " (a pre-trigger: the impulse at t = 0)" if t_start < 0 else ""
         pre += " (--t0)" if args.t0 is not None else ""
         win = "" if args.window_tau is None else f"; exponential window tau = {args.window_tau:g} s taken off"
+        if not args.freqs:
+            win += f"; f_req_Hz: the {len(freqs)} most prominent peaks of its amplitude spectrum"
         print(
             f"# {args.file} ({name}): {x.size} samples at {fs:g} Hz from t = {t_start:g} s{pre}; Morlet gamma = "
             f"{args.gamma:g}; the fit's times on the file's time axis{win}"
@@ -625,7 +642,13 @@ def add_parser(subparsers):
     d.add_argument(
         "--freqs", type=float, nargs="+", help="natural frequencies to analyse (Hz); default: spectrum peaks"
     )
-    d.add_argument("--count", type=int, default=3, help="number of spectrum peaks when --freqs is not given")
+    d.add_argument(
+        "--count",
+        type=int,
+        default=None,
+        help=f"number of spectrum peaks when --freqs is not given (default: the {DAMPING_PEAKS} most prominent, or "
+        "as many as the record has above its noise)",
+    )
     wavelet = "identification.wavelet"
     d.add_argument(
         "--gamma",

@@ -131,7 +131,6 @@ def cmd_spectrum(args):
     from ..errors import ModelError, renamed
     from ..nvh import apparent_mass, level_unit, psd, transmissibility
     from ..nvh.spectra import level_reference, squared
-    from ..nvh.transfer import MIN_AVERAGES
     from .paths import PLOT_SUFFIXES, check_distinct, check_output_path, emit_table, kept
 
     check_output_path("--out", args.out, (".csv",))
@@ -201,7 +200,7 @@ def cmd_spectrum(args):
         _signal(rec, args.record, inp, keep, "--input")
         for c in columns:
             _signal(rec, args.record, c, keep)
-        seg = _nperseg(rec, args, n, averages=MIN_AVERAGES)
+        seg = _nperseg(rec, args, n, transfer=True)
         with renamed({"input": "--input", "output": "--column", "input/output": "--input/--column"}):
             res = [fn(rec, inp, c, args.estimator, args.skip, nperseg=seg) for c in columns]
         sel = (res[0].f_hz >= args.fmin) & (res[0].f_hz <= args.fmax) & (res[0].f_hz > 0)
@@ -339,18 +338,21 @@ def check_frequency_range(fmin, fmax):
         raise ModelError("--fmin/--fmax", (fmin, fmax), "need fmin < fmax (Hz)")
 
 
-def _nperseg(rec, args, n, averages=1):
+def _nperseg(rec, args, n, transfer=False):
     """Samples per Welch segment for ``--resolution`` Hz (a power of two), or None (the default);
-    n: the record's samples after --skip (:func:`_window`); averages: the fewest Welch averages (50 %
-    overlap) the segment must leave (a transfer function's coherence needs 3,
-    ``nvh.transfer.MIN_AVERAGES``)."""
+    n: the record's samples after --skip (:func:`_window`); transfer: for a transfer function,
+    whose segment must leave ``nvh.transfer.MIN_AVERAGES`` Welch averages (50 % overlap; its
+    coherence needs them) and hold ``nvh.transfer.MIN_SEGMENT`` samples, else a PSD's (one
+    segment, ``nvh.spectra.MIN_PSD_SEGMENT`` samples)."""
     if args.resolution is None:
         return None
     from ..model.validators import number
-    from ..nvh.spectra import segment_for_resolution
+    from ..nvh.spectra import MIN_PSD_SEGMENT, segment_for_resolution
+    from ..nvh.transfer import MIN_AVERAGES, MIN_SEGMENT
 
     number("--resolution", args.resolution, gt=0, unit="Hz")
-    return segment_for_resolution("--resolution", args.resolution, rec.fs, n, averages)
+    averages, least = (MIN_AVERAGES, MIN_SEGMENT) if transfer else (1, MIN_PSD_SEGMENT)
+    return segment_for_resolution("--resolution", args.resolution, rec.fs, n, averages, least)
 
 
 def _fmin_option(text):

@@ -42,6 +42,9 @@ MIN_AVERAGES = 7
 #: The fewest lines the default resolution puts within f_min..f_max (``psd(..., f_max=)``).
 LINES_PER_RANGE = 16
 
+#: The fewest samples of a PSD's Welch segment (a resolution of at most fs / 8 Hz).
+MIN_PSD_SEGMENT = 8
+
 #: The lowest frequency, in lines (df), from which the PSD's lines hold a tone's power (:meth:`PSD.covered`).
 COVERED_FROM_DF = 2.0
 
@@ -62,14 +65,25 @@ def finest_segment_resolution(fs: float, n: int, averages: int = 1) -> float:
     return fs / 2 ** int(np.log2(max(2 * n // (averages + 1), 1)))
 
 
-def segment_for_resolution(key: str, resolution_hz: float, fs: float, n: int, averages: int = 1) -> int:
+def segment_for_resolution(
+    key: str, resolution_hz: float, fs: float, n: int, averages: int = 1, least: int = MIN_PSD_SEGMENT
+) -> int:
     """Samples per Welch segment for a resolution of ``resolution_hz`` Hz (the nearest power of two
     of samples at ``fs`` Hz) in a record of ``n`` samples, leaving at least ``averages``
     half-overlapping averages (a transfer function's coherence needs 3: from one it is 1 whatever
     the signals); a finer resolution raises :class:`ModelError` naming ``key`` (``resolution_hz``,
     the command line's ``--resolution``) and the finest the record allows
-    (:func:`finest_segment_resolution`)."""
+    (:func:`finest_segment_resolution`), and so does a coarser one than a segment of ``least``
+    samples allows (fs / least Hz: :data:`MIN_PSD_SEGMENT` for a PSD, ``nvh.transfer.MIN_SEGMENT``
+    for a transfer function)."""
     seg = int(2 ** np.round(np.log2(fs / resolution_hz)))
+    if seg < least:
+        raise ModelError(
+            key,
+            resolution_hz,
+            f"must be at most {fs / least:.4g} Hz at {fs:.6g} Hz sampling (a Welch segment of at least {least} "
+            "samples, a power of two)",
+        )
     if seg > 2 * n // (averages + 1):  # (k averages of half-overlapping segments span (k + 1) / 2 of them)
         what = "one segment" if averages == 1 else f"{averages} averages of half-overlapping segments"
         why = "" if averages == 1 else "; from one the coherence is 1 whatever the signals"
@@ -211,8 +225,9 @@ class PSD:
         return float(ms[0])
 
     def level_db(self, ref: float | None = None) -> np.ndarray:
-        """The PSD in dB re ref^2/Hz (default reference of the unit, :data:`REFERENCES`)."""
-        return level_db(self.density, reference(self.unit, ref), power=True)
+        """The PSD in dB re ref^2/Hz (default: the reference of the unit, :data:`REFERENCES`, or 1 for a
+        PSD without a unit: :func:`level_reference`, as band levels take it)."""
+        return level_db(self.density, level_reference(self.unit, ref), power=True)
 
 
 def _limits(f_low, f_high, none_low=False):
@@ -247,7 +262,8 @@ def psd(
     so at least :data:`MIN_AVERAGES` averages (the measured range then starts between f_min and
     2 f_min where the first line, df, is still at or below f_min); when that cap puts the first line
     above f_min, a warning names where the lines start and the record length that would resolve
-    f_min. Fewer than :data:`MIN_AVERAGES` averages (an nperseg asked for) warn
+    f_min. Lines above fs / 2 do not exist: f_max beyond it counts the lines up to fs / 2. Fewer than
+    :data:`MIN_AVERAGES` averages (an nperseg asked for) warn
     too. window: a ``scipy.signal.get_window`` spec (default Hann); overlap: the segments' overlap
     fraction (0 to < 1). The density is one-sided, unit^2/Hz (``scaling="density"``), so
     ``sum(density) df`` is the mean square of x (less its mean, removed per segment). ``name``
@@ -261,10 +277,13 @@ def psd(
     if nperseg is None:
         want = int(2 ** np.ceil(np.log2(fs / f_min) - 1e-9))  # first line fs / want <= f_min
         lines = int(COVERED_FROM_DF) * want  # (covered from 2 df <= f_min where the record allows)
-        if f_max is not None and number("f_max", f_max, gt=f_min, unit="Hz") < np.inf:
-            lines = max(lines, int(2 ** np.ceil(np.log2(LINES_PER_RANGE * fs / (f_max - f_min)) - 1e-9)))
-        cap = 2 ** int(np.log2(max(x.size // 4, 8)))
-        nperseg = max(8, min(lines, cap))
+        if f_max is not None:
+            # (the lines within f_min..f_max that exist: none lies above fs / 2)
+            top = min(number("f_max", f_max, gt=f_min, unit="Hz"), fs / 2)
+            if top > f_min:
+                lines = max(lines, int(2 ** np.ceil(np.log2(LINES_PER_RANGE * fs / (top - f_min)) - 1e-9)))
+        cap = 2 ** int(np.log2(max(x.size // 4, MIN_PSD_SEGMENT)))
+        nperseg = max(MIN_PSD_SEGMENT, min(lines, cap))
         if nperseg < want:
             warnings.warn(
                 f"{what}: the PSD measures from {COVERED_FROM_DF * fs / nperseg:.4g} Hz (2 lines, df = "
@@ -275,7 +294,7 @@ def psd(
                 ModelWarning,
                 stacklevel=2,
             )
-    nperseg = integer("nperseg", nperseg, 8, x.size, why=f" (the record's length, {x.size} samples)")
+    nperseg = integer("nperseg", nperseg, MIN_PSD_SEGMENT, x.size, why=f" (the record's length, {x.size} samples)")
     noverlap = int(round(overlap * nperseg))
     try:
         f, G = signal.welch(x, fs=fs, window=window, nperseg=nperseg, noverlap=noverlap, detrend="constant")

@@ -105,7 +105,7 @@ def _estimate(rec, x_name, y_name, sign, kind, unit, estimator, skip, nperseg, r
         if resolution_hz is None:
             seg = int(2 ** np.round(np.log2(fs / 1.0)))
         else:  # (refused as spectrum --resolution: one rule)
-            seg = segment_for_resolution("resolution_hz", resolution_hz, fs, n, MIN_AVERAGES)
+            seg = segment_for_resolution("resolution_hz", resolution_hz, fs, n, MIN_AVERAGES, MIN_SEGMENT)
         nperseg = max(MIN_SEGMENT, min(seg, 2 ** int(np.log2(n // share))))
     if welch_averages(n, nperseg) < MIN_AVERAGES:
         raise ModelError(

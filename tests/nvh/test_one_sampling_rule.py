@@ -4,6 +4,8 @@ rate, the true one to the least squares' accuracy; one with a sample missing is 
 with one message naming the time column and what is allowed. (``identify damping`` accepted such a
 file by its own rule, which ``spectrum`` and ``bands`` refused, and computed its rate another way.)"""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -127,3 +129,28 @@ def test_a_time_rounding_that_is_no_rounding_is_refused_by_name():
         with pytest.raises(ModelError, match=r"^time_rounding = "):
             Records(t, {"x": np.zeros(8)}, time_rounding=bad)
     assert Records(t, {"x": np.zeros(8)}, time_rounding=np.full(8, 1e-6)).fs == pytest.approx(8.0, rel=1e-12)
+
+
+@pytest.mark.parametrize("fs, seconds", [(10000.0, 1.0), (25600.0, 2.0)])
+def test_a_float32_time_axis_is_read_within_its_own_rounding(tmp_path, fs, seconds):
+    """Review X D1: a time vector stored as float32 (MATLAB single, DAQ exports) was refused as not
+    evenly sampled, its times off the grid by up to half a float32 spacing (4.6e-8 s at 1 s, 0.00046
+    of a step at 10 kHz), and its magnitude check warned of an overflow. It is read now, without a
+    warning, fs to the float32 times' accuracy (their rounding, 3e-8 s over the record's length,
+    moves the slope by ~1e-10: 1e-9 leaves room); a sample missing is still refused, naming the
+    dtype; a float32 time far from 0, whose spacing does not resolve the step (or merges two times, at
+    25.6 kHz), is refused so."""
+    n = int(fs * seconds)
+    t = (np.arange(n) / fs).astype(np.float32)
+    path = tmp_path / "f32.npz"
+    np.savez(path, time=t, table=np.sin(np.arange(n) / fs * 600.0)[:, None], names=np.array(["acc"]),
+             units=np.array(["m/s2"]))  # fmt: skip
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert read_records(path).fs == pytest.approx(fs, rel=1e-9)
+    gap = np.delete(t, n // 2)
+    with pytest.raises(ModelError, match=r"its time \(stored as float32\) must increase .*\(0.5 of a step\)"):
+        _ = Records(gap, {"x": np.zeros(gap.size)}).fs
+    late = (1000.0 + np.arange(n) / fs).astype(np.float32)  # (spacing 6e-5 s at 1000 s: above a step's 10 %)
+    with pytest.raises(ModelError, match=r"stored as float32.*(too coarse to resolve its step to 10 %|does not come)"):
+        _ = Records(late, {"x": np.zeros(n)}).fs

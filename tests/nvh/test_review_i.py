@@ -42,8 +42,8 @@ def test_the_library_names_its_arguments(tmp_path):
     rec = Records(T, {"casing.B.Fz": A})
     with pytest.raises(ModelError, match=r"^name = 'casing.B.Fy': must be a column of the record: casing.B.Fz"):
         rec.column("casing.B.Fy")
-    with pytest.raises(ModelError, match=r"^ref = None: must be given for a quantity in ''"):
-        psd(A, FS).level_db()
+    with pytest.raises(ModelError, match=r"^ref = None: must be given for a quantity in 'furlong'"):
+        psd(A, FS, unit="furlong").level_db()  # (a unit without a reference; without a unit it is 1, review X D3)
     with pytest.raises(ModelError, match=r"^ref = -1: must be"):
         reference("N", -1)
     with pytest.raises(ModelError) as err:

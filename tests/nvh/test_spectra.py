@@ -96,3 +96,39 @@ def test_a_hann_windowed_tone_on_a_bin_centre_keeps_its_mean_square_to_round_off
     x = 1.7 * np.sin(2 * np.pi * 8 * t + 0.4)
     r = octave_rms(x, fs, Bands([0.0], [fs / 2], ("all",)), window="hann")
     assert r.mean_square[0] == pytest.approx(1.7**2 / 2, rel=1e-12)
+
+
+def test_a_psd_without_a_unit_has_levels_re_1_as_band_levels_do():
+    """Review X D3: ``psd(x, fs).level_db()`` of a signal without a unit raised (a reference asked
+    for), while ``octave_rms(...).level_db()`` of the same signal gives dB re 1 (docs/nvh.md, "Levels
+    and references"): both take the reference 1 now, so the level is 10 log10 of the density."""
+    x = np.sin(2 * np.pi * 100.0 * np.arange(8192) / FS)
+    p = psd(x, FS, nperseg=1024)
+    np.testing.assert_allclose(p.level_db(), 10 * np.log10(p.density), rtol=1e-14)
+    np.testing.assert_allclose(p.level_db(ref=2.0), 10 * np.log10(p.density / 4.0), rtol=1e-14)
+
+
+def test_the_default_resolution_counts_only_the_lines_below_nyquist():
+    """Review X D4: with f_max above fs / 2 (1000-1800 Hz at 2048 Hz) the default segment counted 16
+    lines over 1000-1800 Hz, of which only 1000-1024 Hz exist: one line (df = 32 Hz). The lines above
+    fs / 2 are no longer counted: 16 lines or more within 1000-1024 Hz (df <= 1.5 Hz)."""
+    fs = 2048.0
+    x = np.random.default_rng(1).standard_normal(int(60 * fs))
+    p = psd(x, fs, f_min=1000.0, f_max=1800.0)
+    within = (p.f_hz >= 1000.0) & (p.f_hz <= fs / 2)
+    assert within.sum() >= 16, (fs / p.nperseg, within.sum())
+
+
+def test_a_resolution_coarser_than_the_least_segment_is_refused_by_its_name():
+    """Review X D2: --resolution 1000 at 2048 Hz was refused naming ``nperseg = 2``, and
+    ``apparent_mass(..., resolution_hz=1000)`` at 5 kHz raised the segment to 16 samples without a
+    word. Both refuse it naming the resolution and the coarsest allowed: fs / 8 for a PSD, fs / 16 for
+    a transfer function."""
+    from cablecasing_core.nvh.spectra import segment_for_resolution
+    from cablecasing_core.nvh.transfer import MIN_AVERAGES, MIN_SEGMENT
+
+    with pytest.raises(ModelError, match=r"^--resolution = 1000.0: must be at most 256 Hz at 2048 Hz"):
+        segment_for_resolution("--resolution", 1000.0, 2048.0, 4096)
+    assert segment_for_resolution("--resolution", 256.0, 2048.0, 4096) == 8
+    with pytest.raises(ModelError, match=r"^resolution_hz = 1000.0: must be at most 312.5 Hz at 5000 Hz"):
+        segment_for_resolution("resolution_hz", 1000.0, 5000.0, 5000, MIN_AVERAGES, MIN_SEGMENT)
