@@ -282,6 +282,7 @@ class Instance:
     def __init__(self, name, guid, resources, visible, logging_on, log_addr, handle, python_note, fmi_version):
         self._log_c = _LOG_FN(log_addr)
         self._handle = handle
+        self._in_python_host = python_note.startswith("attached")  # (the C side's note: "attached to the host ...")
         self._keep = []  # strings handed to C by get_string, alive until the next call
         self._name = name
         env = _read_environment(resources)
@@ -298,11 +299,14 @@ class Instance:
             )
         problems = missing_packages(env.get("requirements", "numpy;scipy;numba"))
         if problems:
+            # (the requirements named by a problem: only what is missing or too old is installed)
+            reqs = [r for r in env.get("requirements", "numpy;scipy;numba").split(";") if r]
+            needed = [r for r in reqs if any(p.startswith(r.partition(">=")[0] + " ") for p in problems)]
             self._fail(
                 f"the Python at {sys.executable} cannot run this FMU: "
                 + "; ".join(problems)
-                + f". Install them with '{sys.executable} -m pip install "
-                + " ".join(f'"{r}"' for r in env.get("requirements", "").split(";") if r)
+                + f". Install {'it' if len(needed) == 1 else 'them'} with '{sys.executable} -m pip install "
+                + " ".join(f'"{r}"' for r in needed)
                 + "', or point CABLECASING_PYTHON at a Python that has them"
             )
         with _LOAD_LOCK:
@@ -353,13 +357,12 @@ class Instance:
             sys.path.remove(home)
         here = os.path.dirname(os.path.abspath(module.cc.__file__))
         hosts = os.path.dirname(here) != os.path.abspath(home)
-        if not hosts:
-            self._log(
-                OK,
-                f"cablecasing_core imported from this FMU ({here}): in a Python host, a later "
-                "'import cablecasing_core' in the same process gets this copy; to compare the FMU with "
-                "your own copy of the package, import it before the first FMU is loaded",
+        if not hosts:  # (the advice concerns a Python host only: a C host has no other copy to compare)
+            advice = (
+                ": in a Python host, a later 'import cablecasing_core' in the same process gets this copy; to "
+                "compare the FMU with your own copy of the package, import it before the first FMU is loaded"
             )
+            self._log(OK, f"cablecasing_core imported from this FMU ({here}){advice if self._in_python_host else ''}")
         else:
             own = os.path.join(home, "cablecasing_core")
             same = _sources_digest(here) == _sources_digest(own)
@@ -407,7 +410,8 @@ class Instance:
         self._log_c(self._handle, status, _CATEGORY.get(status, b"logAll"), message, 1 if stderr else 0)
 
     def _fail(self, message):
-        self._log(ERROR, message, stderr=True)
+        """Refuse to start: the C side logs the message once, to the host's logger and to stderr
+        (``fmi2Instantiate``: "CableCasing.fmu cannot be instantiated: ...")."""
         raise FMUStartError(message)
 
     def _guard(self, what, fn, *args):

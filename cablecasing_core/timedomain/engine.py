@@ -536,6 +536,10 @@ class Engine:
                 self.fcs[:] = st.generalized_contact["casing"]
                 self.fcc[:] = st.generalized_contact["cable"]
         self._pot0 = self.contact_potential()
+        # the energy of this state (J), for the ledger's start (:meth:`_begin`): computed here, in a
+        # reset (an FMU's initialisation), not in the first step; dropped when the state is set
+        kin, strain = (sum(x) for x in zip(*(b.energy() for b in self.bodies.values())))
+        self._reset_energy = kin + strain + self._pot0
 
     _ARRAYS = (
         "cstate", "celem", "cxi", "Pn", "Pn_prev", "vrel", "Nn", "gn", "fcs", "fcc", "reac", "ledger", "contact_time",
@@ -584,7 +588,7 @@ class Engine:
         )
         if not ok or not math.isfinite(snap[0]):
             raise ModelError("snap", type(snap).__name__, "must be a snapshot of this engine (Engine.snapshot)")
-        self.time = snap[0]
+        self.time, self._reset_energy = snap[0], None
         np.copyto(self._fbuf, snap[1])
         np.copyto(self._ibuf, snap[2])
 
@@ -624,7 +628,7 @@ class Engine:
                 raise ModelError("state.celem", arr.tolist(), f"must hold casing elements 0 to {n_elem - 1}")
         for dst, arr in new:
             dst[...] = arr
-        self.time = time
+        self.time, self._reset_energy = time, None
 
     # -------------------------------------------------------------------------------- stepping
     def _run(self, dt, up, vp, ap, times):
@@ -780,13 +784,7 @@ class Engine:
         self._snap = snap = self.snapshot(self._snap)
         nhist = len(self._hist)
         try:
-            if self.time == 0.0 and not self.ledger.any():
-                kin, strain = (sum(x) for x in zip(*(b.energy() for b in self.bodies.values())))
-                self.ledger[K.LEDGER_START_ENERGY] = kin + strain + self.contact_potential()
-                # the supports' state at the start: where a recomputed first step's sub-steps begin
-                for row, x in zip(self.chan, motion_arrays(motion, np.array([self.time]))):
-                    x = np.asarray(x, dtype=float).reshape(-1)
-                    row[: min(len(x), len(row))] = x[: len(row)]
+            self._begin(motion)
             for dt, m in segments:
                 t = self.time
                 for j0 in range(0, m, self.CHUNK):
@@ -844,7 +842,7 @@ class Engine:
                 K.LEDGER_MOUNT_DISSIPATION,
             )
         )
-        d_con = -w_con - (pot - self._pot0)
+        d_con = 0.0 - w_con - (pot - self._pot0)  # (+0, not -0, where nothing was dissipated)
         w_ext = self.load_work()
         residual = kin + strain + pot - (e_start + w_sup + w_ext - d_ray - d_con - d_mount)
         return {
@@ -975,6 +973,8 @@ class Engine:
         motion. Errors as :meth:`advance` (the engine and ``recon`` are then as before the call)."""
         law = self._law()
         key = (h, self.dt, self.ledger_on, law)
+        if self.time == 0.0 and not self.record:  # (the run's start, as advance begins it: then one compiled call)
+            self._begin(self._reconstructed_motion(recon.motion(self.time, h, u, v, a), base))
         held = self._cstep_memo  # the last fused call's (key, recon, u, v, a, out, base, m)
         if (
             held is not None
@@ -986,7 +986,6 @@ class Engine:
             and held[5] is out
             and held[6] is base
             and not self.record
-            and self.time != 0.0
         ):
             m, ctx = held[7], self._cstep_context
         else:
@@ -994,10 +993,8 @@ class Engine:
         k0 = base.grid_index(self.time) if base is not None else 0
         if ctx is None or k0 is None:
             self._cstep_memo = None  # recon.motion may change recon's G
-            motion = quintic = recon.motion(self.time, h, u, v, a)
-            if base is not None:
-                motion = lambda t: tuple(self._widen(x) + y for x, y in zip(quintic(t), base(t)))  # noqa: E731
-            self.advance(h, motion)
+            quintic = recon.motion(self.time, h, u, v, a)
+            self.advance(h, self._reconstructed_motion(quintic, base))
             recon.accept(quintic)
             self.output_values(out)
             return
@@ -1019,6 +1016,28 @@ class Engine:
                 self.restore([t0, *self._cstep_scratch[5:]])  # the snapshot the step took of itself
         self.time = self._on_grid(t0 + m * self.dt)
 
+    def _reconstructed_motion(self, quintic, base):
+        """The motion of :meth:`advance_reconstructed`'s step: the quintic, plus ``base`` when given."""
+        if base is None:
+            return quintic
+        return lambda t: tuple(self._widen(x) + y for x, y in zip(quintic(t), base(t)))
+
+    def _begin(self, motion) -> None:
+        """At a run's start (t = 0, the ledger empty), what its first step needs besides its motion:
+        the energy at the start in the ledger (J) and the supports' state at t = 0 in ``chan``
+        (where a recomputed first step's sub-steps begin), from ``motion`` (:data:`Motion`); else
+        nothing."""
+        if self.time != 0.0 or self.ledger.any():
+            return
+        energy = self._reset_energy
+        if energy is None:
+            kin, strain = (sum(x) for x in zip(*(b.energy() for b in self.bodies.values())))
+            energy = kin + strain + self.contact_potential()
+        self.ledger[K.LEDGER_START_ENERGY] = energy
+        for row, x in zip(self.chan, motion_arrays(motion, np.array([self.time]))):
+            x = np.asarray(x, dtype=float).reshape(-1)
+            row[: min(len(x), len(row))] = x[: len(row)]
+
     def _widen(self, x):
         """A motion's (n, 12) array with zero columns for the model's further channels (an excited
         clip's support at rest unless the model's own scenario moves it)."""
@@ -1028,12 +1047,12 @@ class Engine:
     def _fused_context(self, key, recon, u, v, a, out, base):
         """(m, the context of :meth:`advance_reconstructed`) when its step ``key[0]`` (s) is one
         compiled call (a whole number m of steps of ``dt``, at most :attr:`CHUNK`, nothing
-        recorded, not the first step, the step loop's arguments built, an input per channel of
+        recorded, the step loop's arguments built, an input per channel of
         :attr:`channels`), else (m, None); remembered for the next call with the same key and buffers."""
         h, law = key[0], key[3]
         self._checked_out(out)
         m, rest = whole_steps(h, self.dt)
-        if not (0 < m <= self.CHUNK and rest == 0.0 and not self.record and self.time != 0.0):
+        if not (0 < m <= self.CHUNK and rest == 0.0 and not self.record):
             return m, None
         if not (len(u) == len(v) == len(a) == recon.state.shape[1] == len(self.channels)) or len(recon.state) != 5:
             return m, None  # (inputs of the 12 channels alone for a model with excited clips: widened in advance)

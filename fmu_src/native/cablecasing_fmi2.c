@@ -205,8 +205,12 @@ static void logf_to_host(const fmi2CallbackFunctions *cb, const char *name, int 
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
-    log_to_host(cb, name, logging_on, status, status >= fmi2Error ? "logStatusError" : "logAll", msg,
-                also_stderr);
+    /* the categories of the modelDescription, as the Python side's messages take them */
+    const char *category = status >= fmi2Error     ? "logStatusError"
+                           : status == fmi2Discard ? "logStatusDiscard"
+                           : status == fmi2Warning ? "logStatusWarning"
+                                                   : "logAll";
+    log_to_host(cb, name, logging_on, status, category, msg, also_stderr);
 }
 
 #define LOGI(inst, status, ...) logf_to_host(&(inst)->cb, (inst)->name, (inst)->logging_on, status, 0, __VA_ARGS__)

@@ -194,6 +194,20 @@ def test_model_description_is_complete(fmu, fmu_driver):
     assert any("run_steps" in f for f in shipped)
     assert all(name in doc for name in ("casing.A.vx", "cable.B.Mz", "contact.friction", "geometry.png", "N.m"))
     assert "<td>casing.nu</td><td>parameter</td><td>Real</td><td>1</td><td>0.3</td><td>-0.999 .. 0.4999</td>" in doc
+    assert "<td>scenario.drive</td><td>parameter</td><td>Boolean</td><td></td><td>false</td>" in doc
+    # its prose says what docs/fmu.md says (review W W1: it gave the old second-order extrapolation,
+    # "a parameter whose value differs from its start value overrides", and "scenario.dt never")
+    text, docs = " ".join(doc.split()), " ".join((ROOT / "docs" / "fmu.md").read_text().split())
+    for said, in_docs in (
+        ("(u + v h + a h&sup2;/2 + j h&sup3;/6, v + a h + j h&sup2;/2, a + j h)",
+         "(u + v h + a h²/2 + j h³/6, v + a h"),
+        ("0.9&nbsp;% at 800 Hz and 2.1&nbsp;% at 1 kHz", "0.9 % at 800 Hz and 2.1 % at 1 kHz"),
+        ("even when set to its start value", "Setting a parameter to the built-in value overrides"),
+        ("<code>scenario.dt</code>, set without <code>solver.dt</code>, is the internal step",
+         "`scenario.dt`, set without `solver.dt`, is the internal step"),
+    ):  # fmt: skip
+        assert said in text and in_docs in docs, said
+    assert "differs from its start value" not in text and "never:" not in text
 
 
 def test_build_is_reproducible(tmp_path):

@@ -47,7 +47,8 @@ def step_outputs(reac, cstate, gn, ledger, law, k_lin, k_hertz, share, pot0, out
         if i == 0 or gn[i] > g:
             g = gn[i]
     out[25] = g
-    out[26] = -ledger[LEDGER_CONTACT_WORK] - (contact_potential(gn, law, k_lin, k_hertz, share) - pot0)
+    # (0.0 - x: +0 where nothing was dissipated, not -0; the same bits as -x otherwise)
+    out[26] = 0.0 - ledger[LEDGER_CONTACT_WORK] - (contact_potential(gn, law, k_lin, k_hertz, share) - pot0)
 
 
 @njit(cache=True, fastmath=FM, error_model="numpy")
