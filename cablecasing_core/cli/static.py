@@ -33,7 +33,7 @@ def cmd_static(args):
     systems = {n: time_domain_system(model, n) for n in model.bodies}
     contact = contact_in_force(model, False if args.no_contact else None)
     st = solve_static(model, systems, contact)
-    buckled = _buckling(systems)
+    buckled = _buckling(model, systems)
     if args.json:
         out = st.as_dict()
         out["buckling"] = {b.body: b.as_dict() for b in buckled}
@@ -49,12 +49,17 @@ def cmd_static(args):
     return 0
 
 
-def _buckling(systems):
-    """The casing's buckling load as built (structure/buckling.py), of the bodies as the time domain
-    assembles them (``systems``: {body: BodySystem}), when it carries the cable's tension as
-    compression (both bodies); else none."""
+def _buckling(model, systems):
+    """The casing's buckling load as built (``body_buckling``: at its reference modulus, as the
+    refusal of a tension takes it; ``systems``, {body: BodySystem} as the time domain assembles
+    them, serve when the modulus is constant), when it carries the cable's tension as compression
+    (both bodies); else none."""
     if not set(BODY_NAMES) <= set(systems):
         return []
+    if model.bodies["casing"].frequency_dependent:
+        from ..timedomain.body_storage import body_buckling
+
+        return [body_buckling(model, "casing")]
     from ..structure.buckling import buckling
 
     return [buckling(systems["casing"])]

@@ -32,9 +32,9 @@ that factor fail on rounding (mounts soft beside the beam), the general QZ solve
 Below P_cr, and only below it, K is positive definite, which is what the check at every assembly
 tests (a banded Cholesky factorisation, ~0.2 ms); the load itself, where its mode is largest and
 the supports assumed, are computed for the refusal's message and for ``cablecasing static`` and
-``cablecasing geometry`` (:func:`buckling`). The load of a model's body as the time domain
-assembles it (its modulus at its first natural frequency) is ``cc.body_buckling``
-(``timedomain.body_storage.body_buckling``): this module takes the assembled body.
+``cablecasing geometry`` (:func:`buckling`). The load of a model's body (at its reference
+modulus) is ``cc.body_buckling`` (``timedomain.body_storage.body_buckling``): this module takes
+the assembled body.
 """
 
 from __future__ import annotations
@@ -174,12 +174,15 @@ def buckling(system) -> Buckling:
         )
 
     text = supports_text(system)
-    free, Phi = free_rigid(system)  # (Phi orthonormal: the null space of K_E)
+    free, Phi, words = free_rigid(system)  # (Phi orthonormal: the null space of K_E)
     KE, KG = _free_blocks(system)  # (dense: BodySystem.augmented)
     undriven, Q = None, None
     if free is not None:
         if _drives(KG, Phi):
-            return Buckling(system.name, 0.0, None, text, mechanism=f"it is free to move: {free}")
+            # named: the free motion the compression drives most (K_G1's largest response among them),
+            # not the first free one (a translation along the axis, on which it does no work)
+            driven = np.linalg.svd(KG @ Phi)[2][0]
+            return Buckling(system.name, 0.0, None, text, mechanism=f"it is free to move: {words(driven)}")
         # The compression does no work on the free motions (a twist about a straight body's own axis,
         # a translation): K_E and K_G1 both vanish on them, and the pencil is solved on the rest.
         undriven = free

@@ -142,18 +142,25 @@ def free_rigid(system):
     """What the supports and mounts of ``system`` (an assembled BodySystem) leave free, from one
     analysis of its rigid motions: (the rigid motion, in words, or None when a clamped support or
     the mounts hold every one; those motions as displacements of its free DOFs, augmented: the
-    mounts' support nodes stay at rest, n_free x k with orthonormal columns, k = 0 when held)."""
+    mounts' support nodes stay at rest, n_free x k with orthonormal columns Phi, k = 0 when held;
+    ``words(c)``: the rigid motion Phi c in words, as the first)."""
     n = len(system.free)
     if "clamped" in system.spec.supports.values():
-        return None, np.zeros((n, 0))
+        return None, np.zeros((n, 0)), None
     cl = system.centerline
     Z, free, _, _, x0, L = _analysis(cl, system.mounts, False, 0.0, np.zeros(3))
     if not Z.shape[1]:
-        return None, np.zeros((n, 0))
+        return None, np.zeros((n, 0)), None
     U = np.zeros((system.n_augmented, Z.shape[1]))
     for i, x in enumerate(cl.nodes):
         U[6 * i : 6 * i + 6] = _rows(x - x0, L) @ Z
-    return free, np.linalg.qr(U[system.free])[0]
+    Phi, R = np.linalg.qr(U[system.free])
+
+    def words(c):
+        a = Z @ np.linalg.solve(R, c)  # (Phi c = U R^-1 c: the rigid coordinates [t, L w] of Z R^-1 c)
+        return describe(a / np.linalg.norm(a), x0, L)
+
+    return free, Phi, words
 
 
 def axial_stiffness(mounts, end):
@@ -181,14 +188,18 @@ def _check_axial_stretch(name, spec, mounts, T, cl):
         return
     named = " and ".join(f"{name}.isolator.{s} (axial stiffness {k[s]:.4g} N/m)" for s in ends)
     if name == "cable":
-        load, then = "tension", f"the isolators would carry {T / (1.0 + stretch / L):.4g} N instead of {T:g} N"
+        load, verb, then = (
+            "tension",
+            "stretch",
+            f"the isolators would carry {T / (1.0 + stretch / L):.4g} N instead of {T:g} N",
+        )
     else:
-        load, then = "compression", f"the casing's compression of {T:g} N would relax into them"
+        load, verb, then = "compression", "compress", f"the casing's compression of {T:g} N would relax into them"
     k_min = T * len(ends) / (STRETCH * L)
     raise ModelError(
         "loads.cable_tension",
         T,
-        f"is too much for the {name}'s end isolators along its axis: {named} stretch by T (1/k_A + 1/k_B) = "
+        f"is too much for the {name}'s end isolators along its axis: {named} {verb} by T (1/k_A + 1/k_B) = "
         f"{stretch:.4g} m under the {load}, {100 * stretch / L:.3g} % of the {name}'s length {L:.4g} m (at most "
         f"{100 * STRETCH:g} %), and in the linear static state {then}; stiffen the isolators along the axis (to "
         f"at least {k_min:.3g} N/m each), clamp the end or lower the tension",

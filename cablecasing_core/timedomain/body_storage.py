@@ -8,7 +8,7 @@ free DOFs gets a block LDL^T factor; with contact, the dense effective complianc
 factor, by the step loop's own solve; with a constant load at rest, the response to it too.
 
 The body as the time domain assembles it (:func:`time_domain_system`: its modulus at its first
-natural frequency) and its buckling load so assembled (:func:`body_buckling`, ``cc.body_buckling``).
+natural frequency) and its buckling load (:func:`body_buckling`, ``cc.body_buckling``: at its reference modulus).
 """
 
 from __future__ import annotations
@@ -126,16 +126,19 @@ def time_domain_system(model, name, check_buckling=True):
 
 def body_buckling(model, body: str = "casing") -> Buckling:
     """The lowest buckling load of ``body`` ("casing", the default, or "cable") of ``model`` (a
-    :class:`~cablecasing_core.Model`) as the time domain and ``cablecasing static`` assemble it
-    (:func:`time_domain_system`: a frequency-dependent modulus at its first natural frequency), with
-    its real supports, isolators and clips: :func:`~cablecasing_core.structure.buckling.buckling` of
-    that body, P_cr in N (``Buckling.load``; inf when no compression buckles it, 0 for a mechanism).
-    The compression the body carries does not enter it: with a constant modulus the load of a casing
-    whose tension exceeds it is given, not refused. A ``model`` that is no Model, or a ``body`` it
-    does not have, raises :class:`~cablecasing_core.errors.ModelError` naming it. ``cc.body_buckling``."""
+    :class:`~cablecasing_core.Model`) at its reference modulus (Pa: the scalar ``E``, or a
+    frequency-dependent modulus's first row, its quasi-static value, which the refusal of a tension
+    at or above the load takes too: one load per model, whatever the tension), with its real
+    supports, isolators and clips: :func:`~cablecasing_core.structure.buckling.buckling` of that
+    body, P_cr in N (``Buckling.load``; inf when no compression buckles it, 0 for a mechanism). The
+    compression the body carries does not enter it: the load of a casing whose tension exceeds it
+    is given, not refused. (The time domain's single modulus of a frequency-dependent one, at the
+    first natural frequency, :func:`time_domain_system`, falls with the compression, and a load from
+    it would move with the tension.) A ``model`` that is no Model, or a ``body`` it does not have,
+    raises :class:`~cablecasing_core.errors.ModelError` naming it. ``cc.body_buckling``."""
     check_model(model)
     Choice(*model.bodies)("body", body)
-    return buckling(time_domain_system(model, body, check_buckling=False))
+    return buckling(assemble_body(model, body, check_buckling=False))
 
 
 class BodyStorage:

@@ -212,11 +212,19 @@ def solve_static(model: Model, systems: dict, contact: bool, warn_at: int = 1) -
     U = {n: np.zeros(systems[n].ndof) for n in names}
     ev = _Evaluator(model, systems, U, offs) if contact else _NoContact(o)
     problem = _Problem(Kz, fz, p, a, T if pulled else 0.0, ev, _slope_floor(model, fz, T) if contact else 0.0)
-    try:
-        z, sigma, iterations, steps, residual = _continuation(problem, model.data["cable"]["d"] / 2 if contact else 0.0)
-    except np.linalg.LinAlgError:
-        check_stiffness_representable(systems)  # (a body's stiffness underflowed: named; else a bug)
-        raise
+    if not np.any(fz) and not pulled:
+        # nothing loads the bodies: they rest in the routing, with nothing to solve for (a body held
+        # against no rigid motion, free at both ends, would make the tangent singular; unloaded it is
+        # a valid model, which the time domain runs)
+        z, sigma, iterations, steps, residual = np.zeros(o), T, 0, 0, 0.0
+    else:
+        try:
+            z, sigma, iterations, steps, residual = _continuation(
+                problem, model.data["cable"]["d"] / 2 if contact else 0.0
+            )
+        except np.linalg.LinAlgError:
+            check_stiffness_representable(systems)  # (a body's stiffness underflowed: named; else a bug)
+            raise
     _scatter(z, U, systems, offs)
     ev.evaluate(z)
     touching = contact and bool(np.any(ev.N > 0.0))

@@ -5,6 +5,7 @@ the route's turning; ``geometry`` warns of a tension above the buckling load; th
 speaks of its compression."""
 
 import copy
+import json
 import re
 import warnings
 from pathlib import Path
@@ -61,7 +62,8 @@ def test_end_isolators_the_tension_stretches_by_more_than_1_percent_are_refused(
     assert err.value.key == "loads.cable_tension" and err.value.value == T
     for s in "AB":
         assert f"{body}.isolator.{s} (axial stiffness {k:.4g} N/m)" in text, text
-    assert f"stretch by T (1/k_A + 1/k_B) = {2 * T / k:.4g} m" in text
+    verb = "stretch" if body == "cable" else "compress"  # (a compressed casing compresses its isolators)
+    assert f"{verb} by T (1/k_A + 1/k_B) = {2 * T / k:.4g} m" in text
     assert f"{100 * 2 * T / k:.3g} % of the {body}'s length 1 m (at most 1 %)" in text
     assert "stiffen the isolators along the axis (to at least 2e+03 N/m each)" in text
 
@@ -230,3 +232,53 @@ def test_a_casing_with_a_free_end_is_refused_for_its_compression():
         cc.model_from_dict(straight(casing={"supports": {"A": "clamped", "B": "free"}}, loads={"cable_tension": 50.0}))
     text = str(err.value)
     assert text.endswith("along its axis at B and the compression has nowhere to go"), text
+
+
+# ---------------------------------------------------------------- review Y: one buckling load; unloaded free bodies
+def test_a_frequency_dependent_modulus_gives_one_buckling_load_at_its_quasi_static_value(capsys):
+    """Review Y D1: with casing.E a table, `static` printed a load at E(f1), which falls with the
+    compression (23.74 / 23.21 / 22.25 N at T = 0 / 10 / 20 N), while `geometry` and the refusal
+    of a tension took the table's first row (21.89 N). Now all take the first row: the load equals
+    that of the scalar modulus 2e9 Pa, which is the specimen's at 5e9 Pa times 2/5 (the clamped
+    casing's stiffness is proportional to E, G = E / 2(1 + nu): to rounding, 1e-9), whatever the
+    tension, in `static`, `geometry` and the refusal."""
+    table = [[1.0, 2e9], [100.0, 5e9], [1000.0, 1e10]]
+    installed = cc.load_model("installed")
+    scalar = cc.body_buckling(installed).load * 2e9 / installed.bodies["casing"].E_ref
+    for tension in (0.0, 10.0, 20.0):
+        m = installed.with_overrides({"casing.E": table, "loads.cable_tension": tension})
+        assert cc.body_buckling(m).load == pytest.approx(scalar, rel=1e-9)
+    loads = []
+    for cmd in ("static", "geometry"):
+        assert main([cmd, "installed", "--set", f"casing.E={table}", "--json"]) == 0
+        loads.append(json.loads(capsys.readouterr().out)["buckling"]["casing"]["load_N"])
+    assert loads == pytest.approx([scalar, scalar], rel=1e-9)
+    with pytest.raises(cc.ModelError, match=rf"must be below the casing's buckling load {scalar:.4g} N"):
+        assemble_body(installed.with_overrides({"casing.E": table, "loads.cable_tension": 1.01 * scalar}), "casing")
+
+
+def test_an_unloaded_body_free_at_both_ends_rests_in_the_routing():
+    """Review Y D2: `static` of a casing free at both ends with no load stopped on an internal
+    LinAlgError (its tangent is singular); nothing loads it, so it rests where it is routed (a
+    valid model: the time domain runs it). Under gravity the same model is still refused, naming
+    the load and the missing support."""
+    free = {"supports": {"A": "free", "B": "free"}}
+    st = static_state(cc.model_from_dict(straight(casing=free, cable=False)))
+    assert np.all(st.U["casing"] == 0.0) and np.all(st.reactions == 0.0)
+    st = static_state(cc.model_from_dict(straight(casing=free)))  # (with the cable, clamped, unloaded)
+    assert all(np.all(u == 0.0) for u in st.U.values())
+    with pytest.raises(cc.ModelError, match=r"^loads.gravity = .*loads the casing, which has no clamped or isolator"):
+        cc.model_from_dict(straight(casing=free, cable=False, loads={"gravity": [0.0, 0.0, -9.81]}))
+
+
+def test_a_free_casing_s_mechanism_names_the_motion_the_compression_drives():
+    """Review Y D4: a casing free at both ends buckles under any compression (a mechanism, load 0),
+    and its text named an axial translation, on which the compression does no work; it names the
+    rotation about an axis across the body (here through its middle), which it drives."""
+    b = cc.body_buckling(cc.model_from_dict(straight(casing={"supports": {"A": "free", "B": "free"}})))
+    assert b.load == 0.0
+    m = re.search(r"a rotation about \[([^\]]*)\] through \[([^\]]*)\] m", b.mechanism)
+    assert m, b.mechanism
+    axis = np.array([float(x) for x in m.group(1).split(",")])
+    point = np.array([float(x) for x in m.group(2).split(",")])
+    assert abs(axis[0]) < 1e-3 and point[0] == pytest.approx(L / 2, abs=1e-3)  # (across x, through the middle)
