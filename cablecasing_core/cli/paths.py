@@ -56,7 +56,7 @@ def kept(*paths) -> str:
     paths = [str(p) for p in paths if p not in (None, True, False)]
     old = [p for p in paths if Path(p).exists()]
     new = [p for p in paths if p not in old]
-    parts = ([f"the previous {', '.join(old)} kept as it was"] if old else []) + (
+    parts = ([f"the previous {', '.join(old)} kept as {'it was' if len(old) == 1 else 'they were'}"] if old else []) + (
         [f"{', '.join(new)} not written"] if new else []
     )
     return "; ".join(parts) or "nothing was written"

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ModelError, renamed
+from ..errors import ModelError, plain, renamed
 from ..files import output_folder
 from ..model.limits import MAX_ENSEMBLE_SEED, MAX_SEEDS, MAX_STUDY_SAMPLES, PROGRESS_TIMEOUT
 from ..model.validators import integer, number
@@ -241,6 +241,16 @@ def _check_resume(args, old, path, bounds, kwargs, model):
             f"must name the parameters of the study in {path} in its order, {list(old['bounds'])} (its "
             "columns and design follow that order), to resume it; or choose another --out",
         )
+    for key, (lo, hi) in bounds.items():  # (the same parameters: each with the bounds it was run with)
+        then = old.get("bounds", {}).get(key)
+        if isinstance(then, list) and [float(x) for x in then] != [float(lo), float(hi)]:
+            flag = f"--vary {key}" if args.vary else "--vary-file" if args.vary_file else f"--vary {key} (the paper's)"
+            raise ModelError(
+                flag,
+                plain(f"{lo:g}:{hi:g}"),
+                f"must be {then[0]:g}:{then[1]:g}, the bounds the study in {path} was run with, to resume it; or "
+                "choose another --out",
+            )
     was = {"seed": old["seed"]} if "seed" in old else {}
     if isinstance(old.get("evaluate_kwargs"), dict):  # (an output of its own only when not casing.B.Fz;
         # a study begun before the window was a setting took the earlier skip and window)
@@ -408,7 +418,7 @@ def cmd_ensemble(args):
     for flag, given in (("--set", base), ("--against", against)):
         if varied & set(given):
             clash = sorted(varied & set(given))
-            raise ModelError(flag, clash, seeds_varied(clash))
+            raise ModelError(f"{flag} {clash[0]}", given[clash[0]], seeds_varied(clash))  # (the first: fixed, the next)
     # (each ensemble's model checked as the engine sets it up, before the first run of either: a change
     # that no seed can run, a tension above the casing's buckling load, is refused at once, named)
     check = lambda m: check_model_runs(m, args.dt)  # noqa: E731
@@ -433,7 +443,7 @@ def cmd_ensemble(args):
     if other is not None:
         _save(other, args.out, "_against")
         d = paired_difference(other, ens)
-        _print_change(other, d, against, args.confidence)
+        _print_change(ens, other, d, against, args.confidence)
     _plot(ens, other, d, args, (", ".join(args.set) or "model", ", ".join(args.against)))
     return 0
 
@@ -490,7 +500,7 @@ def cmd_pool(args):
     _print_ensemble(ens, args.confidence)
     _save(ens, args.out, "")
     if other is not None:
-        _print_change(other, d, change, args.confidence)
+        _print_change(ens, other, d, change, args.confidence)
         _save(other, args.out, "_against")
     said = _as_assignments(change) if isinstance(change, dict) else "--against model"  # (--other-model: a str)
     _plot(ens, other, d, args, (_as_assignments(ens.overrides) or "model", said))
@@ -609,12 +619,27 @@ def _print_ensemble(ens, confidence):
         )
 
 
-def _print_change(other, d, change, confidence):
+def _print_change(ens, other, d, change, confidence):
+    """The paired change of ``other`` against ``ens`` (``d``): nan in a band where either holds no
+    response (``nvh.bands.no_response``: its level is the window's leakage, as the report shows a
+    dash), and said when the change made no difference in any member."""
+    from ..nvh.bands import no_response
+
     lo, hi = d.ci(confidence)
+    off = no_response(ens.mean) | no_response(other.mean)
     print(f"# relative change of the mean level with {change} (paired on the same seeds)")
     print("band,mean_against,rel_diff,se,ci_low,ci_high,diff_over_se")
-    for lab, m, r, se, a, b in zip(d.labels, other.mean, d.r, d.se, lo, hi):
-        print(f"{lab},{m:.6g},{r:+.4f},{se:.4f},{a:+.4f},{b:+.4f},{r / se if se > 0 else math.nan:+.1f}")
+    for lab, m, r, se, a, b, o in zip(d.labels, other.mean, d.r, d.se, lo, hi, off):
+        if o:
+            print(f"{lab},{m:.6g},nan,nan,nan,nan,nan")
+            continue
+        ratio = r / se if se > 0 else (0.0 if r == 0 else math.nan)
+        print(f"{lab},{m:.6g},{r:+.4f},{se:.4f},{a:+.4f},{b:+.4f},{ratio:+.1f}")
+    if off.any():
+        gone = ", ".join(lab for lab, o in zip(d.labels, off) if o)
+        print(f"# no change given in {gone}: no response there in one of the two (the window's leakage sets a level)")
+    if np.array_equal(ens.levels, other.levels):
+        print("# the change made no difference in any member: the two ensembles' levels are the same to the bit")
 
 
 def _against_path(out, suffix="_against"):

@@ -291,7 +291,29 @@ def _settings_line(shown, text):
     lo, hi = edges
     if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(lo > 0) and np.all(hi > lo)):
         raise bad("has band edges that are not finite with 0 < f_low < f_high")
+    _check_settings(meta["settings"], bad)
     return meta
+
+
+def _check_settings(settings, bad):
+    """The run settings of an ensemble CSV's settings line (what ``seed_ensemble`` writes: duration,
+    dt in s, > 0; skip in s, >= 0; window, a name of ``nvh.bands.WINDOW_NAMES``; the model
+    fingerprints, text): ``bad(what)`` (a :class:`ModelError`) for the first that is not."""
+    from ..nvh.bands import WINDOW_NAMES
+
+    def number(x):
+        return isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+
+    for key, ok, allowed in (
+        ("duration", lambda x: number(x) and x > 0, "a number of s > 0"),
+        ("dt", lambda x: number(x) and x > 0, "a number of s > 0"),
+        ("skip", lambda x: number(x) and x >= 0, "a number of s >= 0"),
+        ("window", lambda x: x in WINDOW_NAMES, "one of " + ", ".join(WINDOW_NAMES)),
+        ("model", lambda x: isinstance(x, str), "text (a model's fingerprint)"),
+        ("base_model", lambda x: isinstance(x, str), "text (a model's fingerprint)"),
+    ):
+        if key in settings and not ok(settings[key]):
+            raise bad(f"has settings {key} = {json.dumps(settings[key])}: must be {allowed}")
 
 
 def pool_ensembles(ensembles: Sequence[Ensemble | str | os.PathLike]) -> Ensemble:
@@ -441,9 +463,11 @@ class PairedDifference:
     n: int
 
     def ci(self, confidence=0.95):
-        """Student-t confidence interval of r per band, ``(low, high)`` (-)."""
+        """Student-t confidence interval of r per band, ``(low, high)`` (-), its lower end at least
+        -1: r = -1 is a mean level of 0, and a level is not negative (as :meth:`Ensemble.ci` cuts
+        at 0; the interval so cut holds r whenever the whole one does)."""
         h = _t_factor(confidence, self.n) * self.se
-        return self.r - h, self.r + h
+        return np.maximum(self.r - h, -1.0), self.r + h
 
 
 def paired_difference(a: Ensemble | np.ndarray, b: Ensemble | np.ndarray) -> PairedDifference:

@@ -196,7 +196,7 @@ def seed_ensembles(
     overrides = dict(overrides or {})
     clash = sorted(set(overrides) & seed_keys(model, names))
     if clash:
-        raise ModelError("overrides", clash, seeds_varied(clash))
+        raise ModelError(f"overrides[{clash[0]!r}]", overrides[clash[0]], seeds_varied(clash))
     check_not_overridden(
         {k: (f"overrides[{k!r}]", v) for k, v in overrides.items()},
         {"duration": ("duration", duration), "dt": ("dt", dt)},
@@ -303,7 +303,10 @@ def _check_seeds(seeds):
         out = [integer("seeds", s, 0, MAX_ENSEMBLE_SEED, why) for s in seeds]
     except TypeError:
         raise ModelError("seeds", seeds, "must be a count n >= 2 or a sequence of non-negative integer seeds") from None
-    if len(out) < 2 or len(out) > MAX_SEEDS or len(set(out)) != len(out):
+    if len(set(out)) != len(out):
+        twice = next(s for i, s in enumerate(out) if s in out[:i])
+        raise ModelError("seeds", seeds, f"must hold each seed once: {twice} is given twice")
+    if len(out) < 2 or len(out) > MAX_SEEDS:
         raise ModelError("seeds", f"{len(out)} seeds", f"must hold 2 to {MAX_SEEDS} seeds, each once")
     return out
 

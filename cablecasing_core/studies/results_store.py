@@ -206,6 +206,20 @@ def load_results(path: str | os.PathLike) -> StudyResults:
     )
 
 
+def _design_mismatch(path, res, j, i, design):
+    """What a row of the study CSV ``path`` that is not the design's says: the line of sample ``i``
+    (row ``j`` of ``res``), its first parameter's column that differs, both values."""
+    with open(path, newline="") as fh:
+        lineno = next((n for n, r in enumerate(csv.reader(fh), start=1) if n > 1 and r and r[0] == str(i)), "?")
+    if not 0 <= i < len(design):
+        return f"line {lineno}: sample {i} is not one of the design's {len(design)} samples (it was edited?)"
+    k = int(np.flatnonzero(res.X[j] != design[i])[0])
+    return (
+        f"line {lineno}, column {res.parameters[k]!r} holds {res.X[j][k]!r} where the design of this seed and bounds "
+        f"has {design[i][k]!r} for sample {i} (it was edited?)"
+    )
+
+
 class ResultsWriter:
     """Append-only CSV writer, one flushed and fsynced row per sample."""
 
@@ -461,7 +475,7 @@ def prepare_file(path, meta, design, params):
     res = load_results(path)
     for j, i in enumerate(res.index):
         if not (0 <= i < len(design)) or not np.array_equal(res.X[j], design[i]):
-            raise ModelError("path", path, f"row of sample {i} does not match the design of this seed and bounds")
+            raise ModelError("path", path, _design_mismatch(path, res, j, i, design))
     # (enlarged: the sidecar records the new size; or run with other kernels: it records them too)
     if old.get("n_base") != meta["n_base"] or old.get("kernels") != meta.get("kernels"):
         write_text(_meta_path(path), json.dumps(meta, indent=1))

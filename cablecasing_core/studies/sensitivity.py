@@ -151,8 +151,8 @@ def sobol_indices(
 
 def critical_correlation(n: int) -> float:
     """The smallest |r| that differs from zero at 95 % with n independent samples (Fisher's z):
-    tanh(1.96 / sqrt(n - 3)); 1 for n <= 4."""
-    return 1.0 if n <= 4 else math.tanh(1.96 / math.sqrt(n - 3))
+    tanh(1.96 / sqrt(n - 3)); 1 for n <= 3, where it is not defined."""
+    return 1.0 if n <= 3 else math.tanh(1.96 / math.sqrt(n - 3))
 
 
 def size_warnings(results: StudyResults, sobol: SobolIndices | None = None) -> list[str]:

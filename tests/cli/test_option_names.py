@@ -89,11 +89,11 @@ CASES = [
     (["ensemble", "--seeds", "2", "--workers", "2"], "--workers = 2: is the number of workers of a local cluster"),
     (
         ["ensemble", "--seeds", "2", "--against", "scenario.excitation.casing_random.seed=3"],
-        "--against = ['scenario.excitation.casing_random.seed']: must not set the seeds that the ensemble varies",
+        "--against scenario.excitation.casing_random.seed = 3: must not set the seeds that the ensemble varies",
     ),
     (
         ["ensemble", "--seeds", "2", "--set", "scenario.excitation.casing_random.seed=3"],
-        "--set = ['scenario.excitation.casing_random.seed']: must not set the seeds",
+        "--set scenario.excitation.casing_random.seed = 3: must not set the seeds",
     ),
     # an ensemble CSV is no time record
     (["bands", "ens.csv"], "file = 'ens.csv': is an ensemble CSV (band levels per seed, written by 'cablecasing "),
@@ -114,7 +114,8 @@ def test_an_error_names_the_option_typed(files, capsys, argv, message):
     assert code == 2 and len(err) == 1, err
     line = err[0].split("error: ", 1)[1]
     assert line.startswith(message), line
-    assert not any(line.startswith(name) or f" {name}" in line for name in INTERNAL), line
+    # (an internal name nowhere, but where the option the user typed is itself spelled so: --set KEY)
+    assert not any((line.startswith(name) or f" {name}" in line) and name not in message for name in INTERNAL), line
     assert out == ""  # (before any work: a study's header is not printed)
     assert sorted(p.name for p in files.iterdir()) == before  # (nothing created)
 

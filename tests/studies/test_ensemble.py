@@ -181,7 +181,7 @@ def test_paired_difference_of_ensembles_checks_the_pairing():
         ({"seeds": "ab"}, "seeds"),
         ({"output": "casing.B.Fq"}, "output"),
         ({"excitations": ["cable_axial"]}, "excitations"),
-        ({"overrides": {SEED_KEY: 3}}, "overrides"),
+        ({"overrides": {SEED_KEY: 3}}, f"overrides[{SEED_KEY!r}]"),
         ({"overrides": {"contact.friction": -1.0}}, "contact.friction"),
         ({"bands": "decade"}, "bands"),
         ({"dt": 0.0}, "dt"),
@@ -557,12 +557,14 @@ def test_ensemble_statistics_of_three_members_by_hand():
 def test_paired_difference_of_three_pairs_by_hand():
     """a = 2, 4, 3 against b = 1, 2, 3: r = (3 - 2) / 2 = 0.5; e_i = (a_i - b_i) - r b_i = 0.5, 1, -1.5,
     sample sd sqrt(3.5 / 2) (ddof 1), SE(r) = sd / (sqrt(3) mean b) = 0.3818813; interval r -/+
-    4.302653 SE (t, 2 dof). Exact (floating point, and the table's 7 digits)."""
+    4.302653 SE (t, 2 dof), its lower end 0.5 - 1.643 = -1.143 cut at -1 (a mean level of 0: a level is
+    not negative). Exact (floating point, and the table's 7 digits)."""
     d = paired_difference(np.array([[2.0], [4.0], [3.0]]), np.array([[1.0], [2.0], [3.0]]))
     se = np.sqrt(1.75) / np.sqrt(3) / 2.0
     assert d.r[0] == pytest.approx(0.5, rel=1e-12) and d.se[0] == pytest.approx(se, rel=1e-12)
     lo, hi = d.ci(0.95)
-    assert (lo[0], hi[0]) == pytest.approx((0.5 - 4.302653 * se, 0.5 + 4.302653 * se), rel=1e-6)
+    assert 0.5 - 4.302653 * se < -1.0
+    assert (lo[0], hi[0]) == pytest.approx((-1.0, 0.5 + 4.302653 * se), rel=1e-6)
 
 
 def test_paired_difference_se_is_the_scatter_of_r_when_a_follows_b_closely():
