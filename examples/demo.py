@@ -44,6 +44,7 @@ def run_fmu(fmu_path, duration, out):
 
     import cablecasing_core as cc
     from cablecasing_core.model.schema import CHANNELS, SUPPORT_OUTPUTS
+    from cablecasing_core.records import csv_header, unit_of
     from cablecasing_core.timedomain.scenario import scenario_motion
 
     h = 1e-4
@@ -64,19 +65,24 @@ def run_fmu(fmu_path, duration, out):
         output=list(SUPPORT_OUTPUTS) + ["contact.active"],
     )
     cols = list(r.dtype.names)
+    header = csv_header(f"{c} [{unit_of(c)}]" if unit_of(c) else c for c in cols)  # (as simulate --out writes it)
     with atomic_path(Path(out) / "fmu_outputs.csv") as tmp:
-        np.savetxt(
-            tmp, np.column_stack([r[c] for c in cols]), delimiter=",", header=",".join(cols), comments="", fmt="%.9g"
-        )
+        np.savetxt(tmp, np.column_stack([r[c] for c in cols]), delimiter=",", header=header, comments="", fmt="%.9g")
     print("ran the default scenario through the FMU (fmu_outputs.csv)")
     return r["time"], r["casing.B.Fz"]
 
 
 def main(argv=None):
+    class Defaults(argparse.ArgumentDefaultsHelpFormatter):
+        """argparse's defaults in the help, but not "(default: None)" beside an option that says its own."""
+
+        def _get_help_string(self, action):
+            return action.help if action.default is None else super()._get_help_string(action)
+
     p = argparse.ArgumentParser(
         description=" ".join(__doc__.split("\n\n")[0].split()),  # the first paragraph, whole
         epilog=" ".join(__doc__.split("\n\n")[-1].split()),
-        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+        formatter_class=Defaults,
     )
     p.add_argument("--out", default="results", help="folder of the report")
     p.add_argument(

@@ -3,12 +3,11 @@
 without the isolators and clips, and what the isolators do to the force transmitted to the gearbox
 bracket (a time-domain ensemble with the cable inside and contact on).
 
-    .venv/bin/python examples/installation.py [--seeds 6] [--duration 1.0] [--out docs/img]
+    .venv/bin/python examples/installation.py [--seeds 6] [--duration 1.0] [--out results/installation]
 
 Prints ``name: value`` lines (the figures quoted in docs/installation.md) and writes
-installation_routing.png, installation_trfam.png and installation_force.png into --out: by default
-docs/img, over the committed figures that docs/installation.md shows (this script makes them; give
---out DIR to keep them).
+installation_routing.png, installation_trfam.png and installation_force.png into --out (default
+results/installation; ``--out docs/img`` remakes the committed figures that docs/installation.md shows).
 """
 
 from __future__ import annotations
@@ -56,8 +55,8 @@ def main(argv=None):
     p.add_argument("--duration", type=float, default=1.0, help="s per member (0.1 s skipped)")
     p.add_argument(
         "--out",
-        default=str(HERE.parent / "docs" / "img"),
-        help="folder of the figures (the default overwrites the committed docs/img/installation_*.png)",
+        default=str(HERE.parent / "results" / "installation"),
+        help="folder of the figures (docs/img remakes the committed docs/img/installation_*.png)",
     )
     args = p.parse_args(argv)
     if args.seeds < 2:

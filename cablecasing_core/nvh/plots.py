@@ -33,7 +33,7 @@ def plot_psd(psds, path, ref=None, log_frequency=True, f_range=None, title=None,
     unit = psds[0].unit
     one_unit = all(p.unit == unit for p in psds)  # (lines of several units share no dB axis)
     r = reference(unit, ref) if one_unit and (unit or ref) else None
-    fig, ax = plt.subplots(figsize=(7.5, 4))
+    fig, ax = plt.subplots(figsize=(7.5, 4 + 0.22 * len(psds)))  # (the legend below the axes: a line each)
     lo, hi = f_range or (0.0, np.inf)
     spans = [p.covered(lo, hi) for p in psds]
     shown = []
@@ -64,7 +64,8 @@ def plot_psd(psds, path, ref=None, log_frequency=True, f_range=None, title=None,
     if r is not None:
         db_axis(ax, r, unit, power=True)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    # (below the axes: inside, its long entries covered the spectra's peaks)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14), frameon=False)
     ax.set_title(title or "power spectral density (Welch)", fontsize=10)
     save_figure(fig, path)
 

@@ -355,7 +355,7 @@ def psd_figure(variants, path, skip, info=None):
                 continue
         if x is not None:
             ps.append(psd(x, fs, nperseg=nper, unit="N", name=name))
-    shown = f"{OUTPUT} and {NET_OUTPUT} (+ cable.B.Fz)" if net else OUTPUT
+    shown = f"{OUTPUT} and {NET_OUTPUT} = {OUTPUT} + cable.B.Fz" if net else OUTPUT
     t3 = octave_bands("table3")
     lo, hi = float(t3.lower[0]), float(t3.upper[-1])
     head = f"PSD of {shown}, reference records\n" + (run_label(info) if info else f"after {skip:g} s")

@@ -53,6 +53,8 @@ class Correlation:
         """What marks the coefficients with p < 0.05 and by which test, e.g. ``"* p < 0.05, two-sided,
         by a permutation test over 38 complete base points"`` (or that there are no p-values)."""
         if np.isfinite(self.pvalue).any():
+            if not np.nanmin(self.pvalue) < 0.05:  # (nothing is marked: say so, not what a mark would mean)
+                return f"none with p < 0.05, two-sided, by {self.pvalue_from}"
             return f"{mark} p < 0.05, two-sided, by {self.pvalue_from}"
         return f"p-values {self.pvalue_from}"
 

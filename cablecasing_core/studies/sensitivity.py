@@ -172,7 +172,7 @@ def size_warnings(results: StudyResults, sobol: SobolIndices | None = None) -> l
         worst = float(np.nanmax(conf)) if np.isfinite(conf).any() else 0.0  # (all NaN: constant outputs)
         if worst > SOBOL_CONF_LIMIT:
             out.append(
-                f"Sobol indices from {sobol.n_base} base points are uncertain by up to +-{worst:.2f} "
+                f"Sobol indices from {sobol.n_base} base points are uncertain by up to +-{worst:.2g} "
                 f"({sobol.conf_level:.0%}); too small: any interval wider than +-{SOBOL_CONF_LIMIT}"
             )
     return out

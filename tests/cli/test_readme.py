@@ -56,3 +56,17 @@ def test_the_readme_python_example_runs_without_a_warning(tmp_path, monkeypatch,
         warnings.simplefilter("error")
         exec(compile(code, "README.md", "exec"), {})
     assert "16Hz" in capsys.readouterr().out
+
+
+def test_the_api_page_s_example_runs(tmp_path, monkeypatch, capsys):
+    """docs/api.md's example runs as written (review AA M1: it called an undefined my_motion), and its
+    own motion moves casing end A along z, as it says: the run's records have casing.A.az."""
+    monkeypatch.chdir(tmp_path)
+    page = (Path(__file__).resolve().parents[2] / "docs" / "api.md").read_text()
+    code = re.findall(r"```python\n(.*?)```", page, re.S)[0]
+    scope = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # (its short runs warn of their few FFT lines, as the page says)
+        exec(compile(code, "docs/api.md", "exec"), scope)
+    rec = scope["own"].records()
+    assert "casing.A.az" in rec.columns and abs(rec.column("casing.A.az")).max() > 0.0

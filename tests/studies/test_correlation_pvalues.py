@@ -114,3 +114,14 @@ def test_with_failed_runs_r_is_taken_over_the_runs_the_p_value_tests():
         assert "(27 ok runs of incomplete base points left out)" in c.pvalue_from
         for a in range(len(NAMES)):
             assert c.r[a, 0] == pytest.approx(fn(res.X[rows, a], res.Y[rows, 0]).statistic, abs=1e-12)
+
+
+def test_the_legend_marks_nothing_where_no_p_value_is_below_5_percent():
+    """Review AA L6: the report's caption defined "* p < 0.05" beside "none can reach 0.05"; where no
+    coefficient is marked the legend says so instead."""
+    from cablecasing_core.studies.correlation import Correlation
+
+    marked = Correlation("pearson", ("a",), ("y",), np.array([[0.9]]), np.array([[0.01]]), 10, "a t test")
+    none = Correlation("pearson", ("a",), ("y",), np.array([[0.9]]), np.array([[0.083]]), 4, "a permutation test")
+    assert marked.legend() == "* p < 0.05, two-sided, by a t test"
+    assert none.legend() == "none with p < 0.05, two-sided, by a permutation test"
