@@ -215,6 +215,33 @@ def record_line(info):
     )
 
 
+def glance_parts(variants, info):
+    """The page's first lines (HTML): for each variant with an ensemble, its strongest Table 3 band of
+    :data:`OUTPUT` (the ensemble's mean, N, and its 95 % interval, as the band table below gives them),
+    and what the levels are: ensemble means over seeds after the skip, at the model's mesh and time
+    step (each with its section below)."""
+    items = []
+    for v in variants:
+        e = v.ensemble
+        if e is None or not np.any(e.mean > 0):
+            continue
+        b = int(np.nanargmax(e.mean))
+        lo, hi = (x[b] for x in e.ci(0.95))
+        items.append(
+            f"<li>{_e(v.title)}: {OUTPUT} is strongest in {_e(e.labels[b])} ({e.lower[b]:.3g}-{e.upper[b]:.3g} Hz), "
+            f"{_g(e.mean[b], 4)} N (95 % interval {_g(lo, 3)} to {_g(hi, 3)} N, {e.n} seeds)</li>"
+        )
+    if not items:
+        return []
+    return [
+        "<h2>At a glance</h2><ul>",
+        *items,
+        f"<li>The levels are means over excitation seeds of records after {info['skip']:g} s: with contact one "
+        'record is one draw of a chaotic response ("Band levels" below). They hold for this model\'s mesh and '
+        "time step, whose errors the intervals do not cover (the band table's notes say how large).</li></ul>",
+    ]
+
+
 def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, out, contact=None):
     """The HTML text of the report (see :func:`cablecasing_core.report.write_report`)."""
     seeds = info["seeds"]
@@ -245,6 +272,7 @@ def render(model, info, modes, freq, variants, rms, am, study, fmu, harmonics, o
                 if r
             ],
         ),
+        *glance_parts(variants, info),
         skip_note(info),
         "<h2>Scenario</h2>",
         _table(["excitation", "target", "kind", "parameters"], _excitations(model)),

@@ -260,6 +260,12 @@ def test_the_report_gives_the_net_force_at_b_as_an_ensemble_paired_with_casing(t
         assert cells[3] == f"{20 * np.log10(net.mean[b] / casing.mean[b]):+.1f}"  # (1 + r is the ratio of means)
         r_lo, r_hi = (x[b] for x in pd.ci(0.95))
         assert cells[4] == " to ".join(f"{20 * np.log10(1 + r):+.1f}" if r > -1 else "-inf" for r in (r_lo, r_hi))
+    # the page's first lines (review AA L15): the strongest band of casing.B.Fz's ensemble, as its table gives it
+    glance = "\n".join(page.glance_parts([var], {"skip": skip}))
+    b = int(np.argmax(casing.mean))
+    lo, hi = (x[b] for x in casing.ci(0.95))
+    assert f"strongest in oct{b + 1} " in glance and f"{page._g(casing.mean[b], 4)} N (95 % interval " in glance
+    assert f"{page._g(lo, 3)} to {page._g(hi, 3)} N, 3 seeds)" in glance and "after 0.06 s" in glance
     bare = variants(cc.load_model(), tmp_path, 1)[0]  # (no drive: cable.B.Fz is 0, net.B.Fz is casing.B.Fz)
     bare.ensemble = bare.net_ensemble = net
     html = "\n".join(page.net_parts([bare, var], {"skip": skip}))
