@@ -134,7 +134,7 @@ def cmd_study(args):
     quantity = {"name": output, "unit": unit, "what": COMMAND_QUANTITY_WHAT}  # (the command's: results_store)
     with renamed({"path": "--out"}):
         old = read_meta(out / "study.csv")
-    _check_resume(args, old, out / "study.csv", bounds, kwargs, model)
+    _check_resume(args, old, out / "study.csv", bounds, kwargs, model, bound_names)
     g = group_size(bounds)
     if args.skip is None:  # (each sample takes whole periods of its own drive: the model's, unless a study varies it)
         from ..timedomain.scenario import whole_period_skip
@@ -221,7 +221,7 @@ def cmd_study(args):
     return 0
 
 
-def _check_resume(args, old, path, bounds, kwargs, model):
+def _check_resume(args, old, path, bounds, kwargs, model, bound_names=None):
     """A study in ``path`` (its sidecar ``old``; None: a new study) resumes only with its settings:
     checked before anything is printed, each named by the option that differs (run_study checks
     them again, by the names of its settings)."""
@@ -244,12 +244,13 @@ def _check_resume(args, old, path, bounds, kwargs, model):
     for key, (lo, hi) in bounds.items():  # (the same parameters: each with the bounds it was run with)
         then = old.get("bounds", {}).get(key)
         if isinstance(then, list) and [float(x) for x in then] != [float(lo), float(hi)]:
-            flag = f"--vary {key}" if args.vary else "--vary-file" if args.vary_file else f"--vary {key} (the paper's)"
+            # (named as the option that gave it; the values as Python writes floats: two that differ read apart)
+            flag = (bound_names or {}).get(f"bounds.{key}", f"--vary {key} (the paper's)")
             raise ModelError(
                 flag,
-                plain(f"{lo:g}:{hi:g}"),
-                f"must be {then[0]:g}:{then[1]:g}, the bounds the study in {path} was run with, to resume it; or "
-                "choose another --out",
+                plain(f"{float(lo)!r}:{float(hi)!r}"),
+                f"must be {float(then[0])!r}:{float(then[1])!r}, the bounds the study in {path} was run with, to "
+                "resume it; or choose another --out",
             )
     was = {"seed": old["seed"]} if "seed" in old else {}
     if isinstance(old.get("evaluate_kwargs"), dict):  # (an output of its own only when not casing.B.Fz;
@@ -626,7 +627,8 @@ def _print_change(ens, other, d, change, confidence):
     from ..nvh.bands import no_response
 
     lo, hi = d.ci(confidence)
-    off = no_response(ens.mean) | no_response(other.mean)
+    silenced = not np.any(other.levels) and np.any(ens.levels)  # (every level 0: a change of -100 %, no leakage)
+    off = no_response(ens.mean) | (False if silenced else no_response(other.mean))
     print(f"# relative change of the mean level with {change} (paired on the same seeds)")
     print("band,mean_against,rel_diff,se,ci_low,ci_high,diff_over_se")
     for lab, m, r, se, a, b, o in zip(d.labels, other.mean, d.r, d.se, lo, hi, off):
@@ -638,6 +640,8 @@ def _print_change(ens, other, d, change, confidence):
     if off.any():
         gone = ", ".join(lab for lab, o in zip(d.labels, off) if o)
         print(f"# no change given in {gone}: no response there in one of the two (the window's leakage sets a level)")
+    if silenced:
+        print(f"# the change silences {other.output}: every level of every member is 0 N (-100 %)")
     if np.array_equal(ens.levels, other.levels):
         print("# the change made no difference in any member: the two ensembles' levels are the same to the bit")
 

@@ -25,6 +25,7 @@
 
 from __future__ import annotations
 
+import math
 import warnings
 from dataclasses import dataclass
 
@@ -76,13 +77,14 @@ def segment_for_resolution(
     (:func:`finest_segment_resolution`), and so does a coarser one than a segment of ``least``
     samples allows (fs / least Hz: :data:`MIN_PSD_SEGMENT` for a PSD, ``nvh.transfer.MIN_SEGMENT``
     for a transfer function)."""
-    seg = int(2 ** np.round(np.log2(fs / resolution_hz)))
+    ratio = fs / resolution_hz  # (samples per segment before rounding; inf for a resolution of 5e-324 Hz)
+    seg = int(2 ** np.round(np.log2(ratio))) if ratio < 2.0**62 else 2**62  # (2**62: longer than any record)
     if seg < least:
         raise ModelError(
             key,
             resolution_hz,
-            f"must be at most {fs / least:.4g} Hz at {fs:.6g} Hz sampling (a Welch segment of at least {least} "
-            "samples, a power of two)",
+            f"must be below {fs / least * math.sqrt(2):.4g} Hz at {fs:.6g} Hz sampling: it is taken as the nearest "
+            f"power of two of samples per Welch segment, at least {least} samples ({fs / least:.4g} Hz)",
         )
     if seg > 2 * n // (averages + 1):  # (k averages of half-overlapping segments span (k + 1) / 2 of them)
         what = "one segment" if averages == 1 else f"{averages} averages of half-overlapping segments"

@@ -303,9 +303,11 @@ def _check_seeds(seeds):
         out = [integer("seeds", s, 0, MAX_ENSEMBLE_SEED, why) for s in seeds]
     except TypeError:
         raise ModelError("seeds", seeds, "must be a count n >= 2 or a sequence of non-negative integer seeds") from None
-    if len(set(out)) != len(out):
-        twice = next(s for i, s in enumerate(out) if s in out[:i])
-        raise ModelError("seeds", seeds, f"must hold each seed once: {twice} is given twice")
+    seen = set()
+    for s in out:  # (one pass: a million seeds are refused at once)
+        if s in seen:
+            raise ModelError("seeds", f"{len(out)} seeds", f"must hold each seed once: {s} is given twice")
+        seen.add(s)
     if len(out) < 2 or len(out) > MAX_SEEDS:
         raise ModelError("seeds", f"{len(out)} seeds", f"must hold 2 to {MAX_SEEDS} seeds, each once")
     return out

@@ -971,10 +971,22 @@ class Engine:
         the ten steps of a 1e-4 s communication step. ``base`` (a
         :class:`~.support_motion.GridMotion` on this engine's dt) is added to the reconstructed
         motion. Errors as :meth:`advance` (the engine and ``recon`` are then as before the call)."""
+        undo = None
+        try:
+            if self.time == 0.0 and not self.record:  # (the run's start, as advance begins it: then one compiled call)
+                undo = (self.chan.copy(), self.ledger.copy())
+                self._begin(self._reconstructed_motion(recon.motion(self.time, h, u, v, a), base))
+            self._step_reconstructed(h, recon, u, v, a, out, base)
+        except BaseException:
+            if undo is not None:  # (a refused first step leaves no start behind: the engine as before the call)
+                np.copyto(self.chan, undo[0])
+                np.copyto(self.ledger, undo[1])
+            raise
+
+    def _step_reconstructed(self, h, recon, u, v, a, out, base):
+        """:meth:`advance_reconstructed`'s step, its run begun."""
         law = self._law()
         key = (h, self.dt, self.ledger_on, law)
-        if self.time == 0.0 and not self.record:  # (the run's start, as advance begins it: then one compiled call)
-            self._begin(self._reconstructed_motion(recon.motion(self.time, h, u, v, a), base))
         held = self._cstep_memo  # the last fused call's (key, recon, u, v, a, out, base, m)
         if (
             held is not None

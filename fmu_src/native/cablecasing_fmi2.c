@@ -642,7 +642,8 @@ FMI2_Export fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuT
         P.Py_DecRef(mod);
         if (!inst->py) {
             take_exception(err, sizeof err);
-            /* the bridge has logged the reason (a missing package, ...) when it raised FMUStartError */
+            /* the reason (a missing package, a wrong GUID, ...): the bridge raised FMUStartError with it
+             * and logs nothing itself, so it is said once, here, to the host and to stderr */
             logf_to_host(functions, name, 1, fmi2Error, 1, "CableCasing.fmu cannot be instantiated: %s", err);
             ok = 0;
         }

@@ -127,8 +127,14 @@ def test_a_resolution_coarser_than_the_least_segment_is_refused_by_its_name():
     from cablecasing_core.nvh.spectra import segment_for_resolution
     from cablecasing_core.nvh.transfer import MIN_AVERAGES, MIN_SEGMENT
 
-    with pytest.raises(ModelError, match=r"^--resolution = 1000.0: must be at most 256 Hz at 2048 Hz"):
+    # (the nearest power of two: 8 samples from fs / 8 sqrt 2 up, so the limit is 256 sqrt 2 = 362 Hz at 2048 Hz)
+    with pytest.raises(ModelError, match=r"^--resolution = 1000.0: must be below 362 Hz at 2048 Hz sampling"):
         segment_for_resolution("--resolution", 1000.0, 2048.0, 4096)
     assert segment_for_resolution("--resolution", 256.0, 2048.0, 4096) == 8
-    with pytest.raises(ModelError, match=r"^resolution_hz = 1000.0: must be at most 312.5 Hz at 5000 Hz"):
+    assert segment_for_resolution("--resolution", 360.0, 2048.0, 4096) == 8
+    with pytest.raises(ModelError, match=r"^--resolution = 363.0: must be below 362 Hz"):
+        segment_for_resolution("--resolution", 363.0, 2048.0, 4096)
+    with pytest.raises(ModelError, match=r"^resolution_hz = 1000.0: must be below 441.9 Hz at 5000 Hz"):
         segment_for_resolution("resolution_hz", 1000.0, 5000.0, 5000, MIN_AVERAGES, MIN_SEGMENT)
+    with pytest.raises(ModelError, match=r"^--resolution = 5e-324: must be at least"):  # (was an OverflowError)
+        segment_for_resolution("--resolution", 5e-324, 2048.0, 4096)

@@ -105,6 +105,13 @@ def test_a_resumed_study_names_the_bounds_and_the_edited_cell(tmp_path, capsys):
     assert main(wider) == 2
     err = capsys.readouterr().err
     assert "--vary contact.friction = 0.05:0.3: must be 0.05:0.2, the bounds the study in" in err, err
+    # from a --vary-file, named as the file's key (review AB AB2), with bounds that differ in the 7th digit apart
+    vf = tmp_path / "vary.toml"
+    vf.write_text('"contact.friction" = [0.05, 0.2000001]\n')
+    by_file = [a for a in argv if a not in ("--vary", "contact.friction=0.05:0.2")] + ["--vary-file", str(vf)]
+    assert main(by_file) == 2
+    err = capsys.readouterr().err
+    assert f"--vary-file {vf}: contact.friction = 0.05:0.2000001: must be 0.05:0.2, the bounds" in err, err
     csv = out / "study.csv"
     lines = csv.read_text().splitlines(keepends=True)
     fields = lines[3].split(",")  # (line 4: sample 2)
@@ -115,3 +122,22 @@ def test_a_resumed_study_names_the_bounds_and_the_edited_cell(tmp_path, capsys):
     err = capsys.readouterr().err
     said = r"line 4, column 'contact.friction' holds .* where the design of this seed and bounds has"
     assert re.search(said, err), err
+
+
+def test_a_change_that_silences_the_output_reads_minus_100_percent(capsys):
+    """Review AB AB5: when every level of the second ensemble is 0 (the change silences the output),
+    the table read nan in every band with "the window's leakage sets a level", though nothing leaks
+    from nothing: it reads -1 (-100 %) and a line says the output is silenced."""
+    from cablecasing_core.cli.study import _print_change
+    from cablecasing_core.studies.ensemble import Ensemble
+
+    seeds, labels = np.array([1, 2, 3]), ("o1", "o2", "o3")
+    lo, hi = np.array([10.0, 20.0, 40.0]), np.array([20.0, 40.0, 80.0])
+    levels = np.array([[1.0, 2.0, 3.0], [1.1, 2.1, 3.2], [0.9, 1.9, 2.8]])
+    ens = Ensemble(seeds, "casing.B.Fz", labels, lo, hi, levels)
+    other = Ensemble(seeds, "casing.B.Fz", labels, lo, hi, np.zeros((3, 3)))
+    _print_change(ens, other, paired_difference(other, ens), "a change", 0.95)
+    out = capsys.readouterr().out
+    assert all(f[1] == "-1.0000" for f in _change_rows(out).values()), out
+    assert "# the change silences casing.B.Fz: every level of every member is 0 N (-100 %)" in out
+    assert "no change given" not in out

@@ -4,6 +4,7 @@ results to the bit; and the contact's dissipated energy reads +0, not -0, before
 dissipated."""
 
 import numpy as np
+import pytest
 
 import cablecasing_core as cc
 from cablecasing_core.model.schema import OUTPUTS
@@ -66,3 +67,29 @@ def test_the_dissipated_energy_reads_plus_zero_before_anything_is_dissipated():
     quiet = Engine(model.with_overrides({"contact.enabled": False}))
     out, _ = _steps(quiet, 3, np.zeros((3, 36)), None)
     assert np.all(out[:, i] == 0.0) and not np.any(np.signbit(out[:, i]))
+
+
+def test_a_refused_first_step_leaves_the_engine_as_it_was():
+    """Review AB AB1: beginning the run (its start energy, the supports' state at t = 0) came before
+    the step's own snapshot, so a refused first step (an input that overflows the reconstruction,
+    1e300 m) left a NaN in the state: get_state could not be set back, and a retry of the
+    installed specimen failed. Now the state is as before the call to the bit, and a sane step
+    after it equals a fresh engine's."""
+    model = cc.load_model()
+    eng, fresh = Engine(model, ledger=True), Engine(model, ledger=True)
+    before = eng.get_state()
+    nch = len(eng.channels)
+    inputs = np.zeros((1, 3 * nch))
+    inputs[0, 6] = 1e300  # (cable.A.x: finite, as the FMU lets through, but its quintic overflows)
+    with pytest.raises(cc.ModelError, match=r"must be finite"):
+        _steps(eng, 1, inputs, None)
+    after = eng.get_state()
+    assert all(np.array_equal(before[k], after[k]) for k in before if k != "model"), [
+        k for k in before if k != "model" and not np.array_equal(before[k], after[k])
+    ]
+    Engine(model).set_state(after)  # (refused before: state.chan held a non-finite value)
+    sane = np.hstack(scenario_motion(model)(H * np.arange(3)))
+    out_a, e_a = _steps(eng, 3, sane, None)
+    out_b, e_b = _steps(fresh, 3, sane, None)
+    np.testing.assert_array_equal(out_a, out_b)
+    assert e_a == e_b
