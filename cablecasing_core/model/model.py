@@ -158,10 +158,13 @@ class Model:
     (:meth:`with_overrides`, :meth:`without_excitations`); :meth:`to_dict` (or
     ``copy.deepcopy(model.data)``) gives a plain mutable copy of the data to edit and validate again
     (:func:`~cablecasing_core.model_from_dict`). A model pickles, deep-copies and hashes (equal
-    models, equal hashes), so it can key a cache."""
+    models, equal hashes), so it can key a cache. Two models are equal when their ``data``, the
+    folder their relative files resolve against (``base_dir``) and their ``derived`` keys are: the
+    same file loaded by a relative and by an absolute path is one model; where a model came from,
+    its ``source`` (a label for messages), is not compared."""
 
     data: dict
-    source: str = "<built-in>"
+    source: str = field(default="<built-in>", compare=False)
     base_dir: str | None = None
     bodies: dict = field(default_factory=dict, compare=False)
     #: the keys whose value came from another key because the file left them out

@@ -195,9 +195,11 @@ class KeySpec:
             return None
         lo, hi, why = self.plausible
         values = [row[1] for row in value] if isinstance(value, list) else [value]
-        if all(lo <= abs(v) <= hi or v == 0 for v in values):
+        bad = [v for v in values if not (lo <= abs(v) <= hi or v == 0)]
+        if not bad:
             return None
-        return f"outside the plausible {self.plausible_text}: {why}"
+        size = " in magnitude" if any(v < 0 for v in bad) else ""  # (the range holds |value|)
+        return f"outside the plausible {self.plausible_text}{size}: {why}"
 
     @property
     def required(self) -> bool:
