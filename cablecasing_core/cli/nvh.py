@@ -129,6 +129,7 @@ def cmd_spectrum(args):
     import warnings
 
     from ..errors import ModelError, renamed
+    from ..model.schema import STUDY_OUTPUT
     from ..nvh import apparent_mass, level_unit, psd, transmissibility
     from ..nvh.spectra import level_reference, squared
     from .paths import PLOT_SUFFIXES, check_distinct, check_output_path, emit_table, kept
@@ -138,7 +139,7 @@ def cmd_spectrum(args):
     check_distinct(("record", args.record), ("--out", args.out), ("--plot", args.plot))
     args.interrupted = "stopped: " + kept(args.out, args.plot)
     rec = _record(args.record)
-    columns = _columns(args.column, ["casing.B.Fz"])
+    columns = _columns(args.column, [STUDY_OUTPUT])
     check_frequency_range(args.fmin, args.fmax)
     f_range = (args.fmin, args.fmax)
     keep = _window(rec, args)
@@ -371,6 +372,7 @@ def cmd_bands(args):
 
     from ..errors import ModelError, renamed
     from ..files import atomic_path
+    from ..model.schema import STUDY_OUTPUT
     from ..nvh.bands import WINDOW_NAMES, octave_bands, octave_rms, window_options
     from ..nvh.spectra import level_reference
     from .paths import PLOT_SUFFIXES, check_distinct, check_output_path, kept
@@ -379,7 +381,7 @@ def cmd_bands(args):
     check_output_path("--plot", args.plot, PLOT_SUFFIXES)
     check_distinct(("record", args.record), ("--out", args.out), ("--plot", args.plot))
     args.interrupted = "stopped: " + kept(args.out, args.plot)
-    columns = _columns(args.column, ["casing.B.Fz"])
+    columns = _columns(args.column, [STUDY_OUTPUT])
     if len(columns) > 1:
         raise ModelError("--column", ", ".join(columns), "bands takes one column: run it once per column")
     with renamed({"f_min": "--fmin", "f_max": "--fmax"}, in_text=True):

@@ -11,6 +11,7 @@ import numpy as np
 from ..errors import ModelError, plain, renamed
 from ..files import output_folder
 from ..model.limits import MAX_ENSEMBLE_SEED, MAX_SEEDS, MAX_STUDY_SAMPLES, PROGRESS_TIMEOUT
+from ..model.schema import STUDY_OUTPUT
 from ..model.validators import integer, number
 from ..records import unit_of
 from .assignments import add_model_argument, assignments, model_argument, typed, with_changes
@@ -127,7 +128,7 @@ def cmd_study(args):
     # a file by its absolute path (dask workers run in any folder); a built-in specimen by its name
     model_file = args.model if args.model in (None, *specimen_names()) else str(Path(args.model).resolve())
     kwargs = {"model_file": model_file, "duration": args.duration, "skip": args.skip, "window": args.window}
-    if output != "casing.B.Fz":  # (the default's settings stay as earlier versions wrote them: they resume)
+    if output != STUDY_OUTPUT:  # (the default's settings stay as earlier versions wrote them: they resume)
         kwargs["output"] = output
     if args.excitation_seeds is not None:  # (likewise: only when given)
         kwargs["excitation_seeds"] = integer("--excitation-seeds", args.excitation_seeds, 2, MAX_SEEDS)
@@ -256,8 +257,8 @@ def _check_resume(args, old, path, bounds, kwargs, model, bound_names=None):
     if isinstance(old.get("evaluate_kwargs"), dict):  # (an output of its own only when not casing.B.Fz;
         # a study begun before the window was a setting took the earlier skip and window)
         earlier = EARLIER_RECORD_SETTINGS if "window" not in old["evaluate_kwargs"] else {}
-        was.update({"output": "casing.B.Fz", "excitation_seeds": None} | earlier | old["evaluate_kwargs"])
-    now = {"seed": args.seed, "output": "casing.B.Fz", "excitation_seeds": None} | kwargs
+        was.update({"output": STUDY_OUTPUT, "excitation_seeds": None} | earlier | old["evaluate_kwargs"])
+    now = {"seed": args.seed, "output": STUDY_OUTPUT, "excitation_seeds": None} | kwargs
     for flag, key, given in (
         ("--seed", "seed", args.seed),
         ("MODEL", "model_file", args.model),
@@ -718,7 +719,7 @@ def add_parser(sub):
     )
     p.add_argument(
         "--output",
-        default="casing.B.Fz",
+        default=STUDY_OUTPUT,
         help="the support, isolator or clip output whose Table 3 band RMS the study records (N or N.m), e.g. "
         "casing.A.Fx, cable.B.Mz, casing.clip0.Fz",
     )
@@ -745,7 +746,7 @@ def add_parser(sub):
         default=None,
         help=SKIP_HELP,
     )
-    e.add_argument("--output", default="casing.B.Fz", help="support output, e.g. casing.B.Fz")
+    e.add_argument("--output", default=STUDY_OUTPUT, help=f"support output, e.g. {STUDY_OUTPUT}")
     choice_argument(
         e,
         "--kind",

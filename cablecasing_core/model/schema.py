@@ -77,7 +77,7 @@ INTEGER_OUTPUTS = ("contact.active",)
 OUTPUTS = SUPPORT_OUTPUTS + CONTACT_OUTPUTS
 #: The paper's study output (Section 4, Figs. 20-23): the force (N) the casing exerts on its
 #: support B along global z, where the support force was measured; the default output of the
-#: studies, the ensembles, the transfer functions and the report.
+#: studies, the ensembles, the transfer functions, the report, and the column `bands` and `spectrum` read.
 STUDY_OUTPUT = "casing.B.Fz"
 #: The support inputs (the FMU's inputs; the columns of a run's record for its driven channels):
 #: displacement ``casing.A.x`` (m), velocity ``casing.A.vx`` (m/s), acceleration ``casing.A.ax``
