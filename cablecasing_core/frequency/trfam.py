@@ -62,9 +62,10 @@ if TYPE_CHECKING:
 DAMPING_MODELS = ("viscous", "structural", "none")
 
 #: The frequencies (Hz) a TRFAM is computed at: the lowest, below which nothing vibrates (a period of
-#: 12 days; the apparent mass there is the static stiffness over omega^2, 1e12 kg and more, and below
-#: about 1e-150 Hz omega^2 underflows to nan and inf), and the highest (the ``trfam`` command's
-#: --fmin/--fmax limit: the model's modes and records lie far below).
+#: 12 days; a transfer between two held ends is there the static stiffness over omega^2, 1e12 kg and
+#: more, and below about 1e-150 Hz omega^2 underflows to nan and inf; a driving point that carries its
+#: body rigidly, a cantilever's, loses its digits to round-off below about 1e-3 Hz: docs/api.md), and
+#: the highest (the ``trfam`` command's --fmin/--fmax limit: the model's modes and records lie far below).
 MIN_FREQUENCY_HZ = 1e-6
 MAX_FREQUENCY_HZ = 1e6
 
