@@ -179,9 +179,13 @@ def _j(x):
 def energy_report(e):
     """The energy ledger (J) as lines that say what each figure is and how they balance."""
     split = e["contact_damping_dissipation"] + e["friction_dissipation"]
-    lines = [
-        "  energy balance (J) since t = 0:",
-        f"    supplied by the supports        {_j(e['support_work'])}",
+    lines = ["  energy balance (J) since t = 0:"]
+    if e.get("start_energy"):  # (an installed model's static state: strain and contact energy at rest)
+        lines.append(f"    stored at t = 0                 {_j(e['start_energy'])}")
+    lines.append(f"    supplied by the supports        {_j(e['support_work'])}")
+    if e.get("load_work"):
+        lines.append(f"    supplied by the constant loads  {_j(e['load_work'])}  (gravity, the tension's pre-stretch)")
+    lines += [
         f"    dissipated by Rayleigh damping  {_j(e['rayleigh_dissipation'])}",
         f"    dissipated in the contacts      {_j(e['contact_dissipation'])}"
         "  (work of the contact forces less the energy they store; the balance uses this)",
@@ -193,6 +197,8 @@ def energy_report(e):
             "      the normal forces' own work (negative: energy made; the normal-plane contact on a mesh of a curved",
             "      casing, falling as its elements shorten: docs/time_domain.md, 'Energy ledger')",
         ]
+    if e.get("mount_dissipation"):
+        lines.append(f"    dissipated in the mounts        {_j(e['mount_dissipation'])}  (their dampers)")
     lines += [
         f"    stored now: kinetic {_j(e['kinetic'])}, strain {_j(e['strain'])}, contact {_j(e['contact_potential'])}",
         f"    residual {_j(e['residual'])} (stored now - stored at t = 0 - supplied + dissipated: the ledger's error)",

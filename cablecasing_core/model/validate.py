@@ -551,7 +551,7 @@ def _installed_friction_law(out):
     ):
         _warn(
             f"loads.cable_tension = {out['loads']['cable_tension']:g} N lays the cable on the wall, where "
-            'contact.friction_law = "switch" (the default) does not converge with the time step (its stick-slip '
+            'contact.friction_law = "switch" (the paper\'s law) does not converge with the time step (its stick-slip '
             "switches multiply as it shrinks) and recomputes most steps: set contact.friction_law = "
             '"regularized", as the built-in installed specimen does (docs/time_domain.md)'
         )

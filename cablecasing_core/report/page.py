@@ -503,20 +503,30 @@ def energy_parts(variants, model):
     if not vs:
         return []
     keys = [
+        ("start_energy", "stored at t = 0 (the static state)"),
         ("support_work", "work of the supports"),
+        ("load_work", "work of the constant loads (gravity, the tension's pre-stretch)"),
         ("rayleigh_dissipation", "dissipated by Rayleigh damping"),
         ("contact_dissipation", "dissipated in the contacts"),
         ("contact_damping_dissipation", "of which contact damping"),
         ("friction_dissipation", "of which friction"),
         ("contact_normal_dissipation", "of which the normal force's own work"),
+        ("mount_dissipation", "dissipated in the mounts' dampers"),
+        ("stored_now", "stored at the end (kinetic, strain and contact energy)"),
         ("residual", "residual of the balance"),
     ]
+    # (the rows that are zero in every record, the specimen's at rest without loads or mounts, left out)
+    optional = {"start_energy", "load_work", "mount_dissipation"}
+    keys = [(k, lab) for k, lab in keys if k not in optional or any(v.result.energies.get(k) for v in vs)]
     rows = []
     for key, label in keys:
         row = [_e(label)]
         for v in vs:
             e = v.result.energies
-            x = float(e.get(key, float("nan")))
+            if key == "stored_now":
+                x = float(e["kinetic"] + e["strain"] + e["contact_potential"])
+            else:
+                x = float(e.get(key, float("nan")))
             w = float(e.get("support_work", float("nan")))
             share = f" ({100 * x / w + 0.0:+.2f} % of the supports' work)" if key != "support_work" and w else ""
             row.append(f"{_g(x, 4)}{share}")

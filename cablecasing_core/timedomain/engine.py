@@ -849,6 +849,7 @@ class Engine:
             "kinetic": kin,
             "strain": strain,
             "contact_potential": pot,
+            "start_energy": e_start,
             "support_work": w_sup,
             "load_work": w_ext,
             "rayleigh_dissipation": d_ray if self.ledger_on else np.nan,

@@ -431,10 +431,10 @@ def end_axial_forces(system, U):
 
 def _frequency_effect(ratio, N0, P_cr):
     """The relative shift of the lowest bending frequency that a K_G off by ``ratio`` P_cr gives a
-    body under the axial force ``N0`` (N, compression negative): f = f0 sqrt(1 - P / P_cr) with P the
-    compression, so f^2 moves by ``ratio`` of f0^2 and f by about ratio / (2 (1 - P / P_cr))."""
-    P = max(-N0, 0.0)
-    return 0.5 * ratio / max(1.0 - P / P_cr, 1e-3) if P_cr > 0.0 else float("inf")
+    body under the axial force ``N0`` (N, compression negative): f = f0 sqrt(1 + N0 / P_cr) (a
+    compression lowers it, a tension raises it), so f^2 moves by ``ratio`` of f0^2 and f by about
+    ratio / (2 (1 + N0 / P_cr))."""
+    return 0.5 * ratio / max(1.0 + N0 / P_cr, 1e-3) if P_cr > 0.0 else float("inf")
 
 
 def check_kept_prestress(systems, U, exclude=(), gravity=(0.0, 0.0, 0.0), contact=False, held=True, stacklevel=3):
@@ -473,8 +473,8 @@ def check_kept_prestress(systems, U, exclude=(), gravity=(0.0, 0.0, 0.0), contac
         # Two tests, both needed. 5 % of |N0|: the given prestress is then visibly not the one the
         # static state carries. 2 % of P_cr: what N0 is used for is K_G (and the buckling check),
         # and K_G's error against the bending stiffness in the lowest mode is about |dN| / P_cr: the
-        # lowest bending frequency goes as f = f0 sqrt(1 - P / P_cr) (P the compression), so f^2
-        # moves by |dN| / P_cr of f0^2 and f by about half of it divided by (1 - P / P_cr); below
+        # lowest bending frequency goes as f = f0 sqrt(1 + N0 / P_cr) (N0 < 0 a compression), so f^2
+        # moves by |dN| / P_cr of f0^2 and f by about half of it divided by (1 + N0 / P_cr); below
         # 2 % that is ~1 % (at most 1.7 %: the second test decides only while 0.05 P < 0.02 P_cr,
         # P < 0.4 P_cr). A small tension on a compliant or clipped casing is not warned of.
         if dN <= KEPT_PRESTRESS * abs(s.N0):
@@ -492,7 +492,7 @@ def check_kept_prestress(systems, U, exclude=(), gravity=(0.0, 0.0, 0.0), contac
             f"{KEPT_PRESTRESS:g} |N0| and {KEPT_PRESTRESS_OF_BUCKLING:g} P_cr), about the error of K_G against its "
             f"bending stiffness in its lowest mode; {_prestress_causes(s, gravity, contact, held)}. So its lowest "
             f"bending frequency may be off by about {_frequency_effect(ratio, s.N0, P_cr):.2g} (relative; f goes "
-            "as sqrt(1 - P / P_cr)); the model keeps N0 as given (a linear prestress), so this is a limit of the "
+            "as sqrt(1 + N0 / P_cr)); the model keeps N0 as given (a linear prestress), so this is a limit of the "
             "model to read the results with, not an input to correct",
             KeptPrestressWarning,
             stacklevel=stacklevel,
