@@ -291,7 +291,8 @@ class Records:
                 self.time,
                 f"must be a 1-D array of real numbers (s), one per sample; got {time.ndim}-D of dtype {time.dtype}",
             )
-        narrow = time.dtype.kind == "f" and time.dtype.itemsize < 8  # (float32: MATLAB single, many DAQ exports)
+        stored_as = time.dtype
+        narrow = stored_as.kind == "f" and stored_as.itemsize < 8  # (float32: MATLAB single, many DAQ exports)
         # the rounding of a narrower float (half its spacing at each time), allowed as a file's rounding is
         stored = 0.5 * np.abs(np.spacing(time)).astype(float) if narrow else 0.0
         time = time.astype(float, copy=False)
@@ -323,7 +324,7 @@ class Records:
             raise ModelError("time_rounding", self.time_rounding, "must hold finite numbers of s, 0 or more")
         if narrow:
             self.time_rounding = np.maximum(rounding.astype(float), stored)
-            self.time_label = f"{self.time_label} (stored as {np.asarray(self.time).dtype})"
+            self.time_label = f"{self.time_label} (stored as {stored_as})"
         self.time, self.columns = time, columns
         self.units = dict(self.units or {})  # (a copy: a derived column's unit is added to it)
 

@@ -297,11 +297,11 @@ class Instance:
                 f"fmuGUID {guid!r} does not match this FMU's {env['guid']!r}: the modelDescription.xml "
                 "the host read belongs to another build of CableCasing.fmu"
             )
-        problems = missing_packages(env.get("requirements", "numpy;scipy;numba"))
+        requirements = env.get("requirements", "numpy;scipy;numba")
+        problems = missing_packages(requirements)
         if problems:
-            # (the requirements named by a problem: only what is missing or too old is installed)
-            reqs = [r for r in env.get("requirements", "numpy;scipy;numba").split(";") if r]
-            needed = [r for r in reqs if any(p.startswith(r.partition(">=")[0] + " ") for p in problems)]
+            # (only what is missing or too old is to be installed: each requirement checked alone)
+            needed = [r.strip() for r in requirements.split(";") if r.strip() and missing_packages(r)]
             self._fail(
                 f"the Python at {sys.executable} cannot run this FMU: "
                 + "; ".join(problems)

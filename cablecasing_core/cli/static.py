@@ -28,12 +28,12 @@ def cmd_static(args):
             "; give one of them",
         )
     model = model_argument(args.model, args.set)
-    # (the bodies as the time domain assembles them, once: the solve, the buckling load and the end
-    # forces of a tension without contact all read these; static_state would assemble its own)
+    # (the bodies as the time domain assembles them, once: the solve and the end forces of a tension
+    # without contact read these; static_state would assemble its own)
     systems = {n: time_domain_system(model, n) for n in model.bodies}
     contact = contact_in_force(model, False if args.no_contact else None)
     st = solve_static(model, systems, contact)
-    buckled = _buckling(model, systems)
+    buckled = _buckling(model)
     if args.json:
         out = st.as_dict()
         out["buckling"] = {b.body: b.as_dict() for b in buckled}
@@ -49,20 +49,15 @@ def cmd_static(args):
     return 0
 
 
-def _buckling(model, systems):
+def _buckling(model):
     """The casing's buckling load as built (``body_buckling``: at its reference modulus, as the
-    refusal of a tension takes it; ``systems``, {body: BodySystem} as the time domain assembles
-    them, serve when the modulus is constant), when it carries the cable's tension as compression
-    (both bodies); else none."""
-    if not set(BODY_NAMES) <= set(systems):
+    refusal of a tension takes it), when it carries the cable's tension as compression (both
+    bodies); else none."""
+    if not set(BODY_NAMES) <= set(model.bodies):
         return []
-    if model.bodies["casing"].frequency_dependent:
-        from ..timedomain.body_storage import body_buckling
+    from ..timedomain.body_storage import body_buckling
 
-        return [body_buckling(model, "casing")]
-    from ..structure.buckling import buckling
-
-    return [buckling(systems["casing"])]
+    return [body_buckling(model, "casing")]
 
 
 def _print(model, st, systems, buckled=()):

@@ -222,10 +222,11 @@ def cmd_study(args):
     return 0
 
 
-def _check_resume(args, old, path, bounds, kwargs, model, bound_names=None):
+def _check_resume(args, old, path, bounds, kwargs, model, bound_names):
     """A study in ``path`` (its sidecar ``old``; None: a new study) resumes only with its settings:
     checked before anything is printed, each named by the option that differs (run_study checks
-    them again, by the names of its settings)."""
+    them again, by the names of its settings); ``bound_names``: {``bounds.<key>``: the option that
+    gave it} (:func:`study_bounds`; the paper's bounds are in none)."""
     from ..studies.evaluators import EARLIER_RECORD_SETTINGS
     from ..studies.results_store import begun_by_other, begun_by_run_study
 
@@ -246,7 +247,7 @@ def _check_resume(args, old, path, bounds, kwargs, model, bound_names=None):
         then = old.get("bounds", {}).get(key)
         if isinstance(then, list) and [float(x) for x in then] != [float(lo), float(hi)]:
             # (named as the option that gave it; the values as Python writes floats: two that differ read apart)
-            flag = (bound_names or {}).get(f"bounds.{key}", f"--vary {key} (the paper's)")
+            flag = bound_names.get(f"bounds.{key}", f"--vary {key} (the paper's)")
             raise ModelError(
                 flag,
                 plain(f"{float(lo)!r}:{float(hi)!r}"),
