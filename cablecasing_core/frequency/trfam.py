@@ -192,11 +192,22 @@ class FrequencyResponse:
         Kin, Min = self.Kin[:, cols], self.Min[:, cols]
         Kout, Mout = self.Kout[rows], self.Mout[rows]
         k, m = kappa[:, None], mu[:, None]
-        inv_d = 1.0 / (k * self.lam[None, :] - m)  # (nf, nm)
+        d = k * self.lam[None, :] - m  # (nf, nm)
+        on_resonance = d == 0.0  # only undamped: a frequency exactly at a natural frequency
+        inv_d = 1.0 / np.where(on_resonance, 1.0, d)
+        inv_d[on_resonance] = 0.0
         load = k[:, :, None] * Kin[None] - m[:, :, None] * Min[None]  # (nf, nm, nj)
         out = k[:, None, :] * Kout[None] - m[:, None, :] * Mout[None]  # (nf, nq, nm)
         F = -np.einsum("fqm,fm,fmj->fqj", out, inv_d, load, optimize=True)
         F += kappa[:, None, None] * self.Kpp[rows][:, cols][None] - mu[:, None, None] * self.Mpp[rows][:, cols][None]
+        for kf, mode in zip(*np.nonzero(on_resonance)):
+            # an undamped mode at its own frequency: the force is unbounded where the mode couples the
+            # two supports, and the mode adds nothing where it does not (a symmetric partner mode), its
+            # coupling there being round-off of the two terms' cancellation (below 1e-8 of their size)
+            size = abs(kappa[kf]) * self.lam[mode]
+            feels = np.abs(out[kf, :, mode]) > 1e-8 * size * np.abs(self.Mout[:, mode]).max()
+            moves = np.abs(load[kf, mode, :]) > 1e-8 * size * np.abs(self.Min[mode, :]).max()
+            F[kf][np.outer(feels, moves)] = np.inf
         return F
 
     BAND = 11  # half-bandwidth of a body's matrices (six DOFs per node, two nodes per element)
