@@ -12,6 +12,8 @@ or an FMU's log in full.
 from __future__ import annotations
 
 import contextlib
+import sys
+import warnings
 
 #: The longest excerpt of a value (characters) that a message quotes.
 EXCERPT = 80
@@ -168,6 +170,55 @@ class SolverWarning(ModelWarning):
     a step whose estimated local error stays above ``contact.event_tolerance``, a contact that made
     energy): the run went on, and the message says where and how much. A :class:`ModelWarning`,
     filterable on its own."""
+
+
+class ModelPropertyWarning(ModelWarning):
+    """A property of the model, not of a run (what its file's values mean, its static state): said
+    once per process for the same words (:func:`warn_once_per_process`), not again by every command
+    that builds the same model, every seed of an ensemble, or an ensemble's ``--against`` model. A
+    :class:`ModelWarning`, filterable on its own."""
+
+
+#: The messages :func:`warn_once_per_process` has said in this process (by their key).
+_SAID_ONCE: set[str] = set()
+
+
+def _filter_action(text, category, frame):
+    """The action the warnings filters give ``text`` of ``category`` warned at ``frame`` (or the
+    default action), matched as warnings.warn matches them: message, category, module, line."""
+    module = frame.f_globals.get("__name__", "<string>") if frame is not None else "sys"
+    lineno = frame.f_lineno if frame is not None else 1
+    for action, msg, cat, mod, ln in warnings.filters:
+        if (
+            (msg is None or msg.match(text))
+            and issubclass(category, cat)
+            and (mod is None or mod.match(module))
+            and (ln == 0 or ln == lineno)
+        ):
+            return action
+    return warnings.defaultaction
+
+
+def warn_once_per_process(text, category=None, stacklevel=2, key=None):
+    """``warnings.warn(text, category, stacklevel)`` unless the message ``key`` (default ``text``)
+    was said before in this process. The warnings filters still decide: under "always" (a test's
+    ``pytest.warns``, a study's sample recording its warnings to say them once itself) or "error"
+    the message is warned every time and not counted as said; under "ignore" it is not said; under
+    the other actions ("default", "module", "once") it is said the first time only, whatever filters
+    other code swapped in meanwhile (``catch_warnings`` resets Python's own record of what was
+    said, so a command that runs the model in several such blocks said it again in each)."""
+    category = ModelPropertyWarning if category is None else category
+    key = text if key is None else key
+    try:
+        frame = sys._getframe(stacklevel)
+    except ValueError:
+        frame = None
+    action = _filter_action(text, category, frame)
+    if action in ("default", "module", "once"):
+        if key in _SAID_ONCE:
+            return
+        _SAID_ONCE.add(key)
+    warnings.warn(text, category, stacklevel=stacklevel + 1)
 
 
 #: The plausibility warnings of a routing (``structure.route_summary.plausibility_warnings``, which

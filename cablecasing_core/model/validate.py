@@ -30,12 +30,11 @@ from __future__ import annotations
 import copy
 import hashlib
 import math
-import warnings
 from pathlib import Path
 
 import numpy as np
 
-from ..errors import NOT_SHOWN, ModelError, ModelWarning, excerpt
+from ..errors import NOT_SHOWN, ModelError, ModelPropertyWarning, excerpt, warn_once_per_process
 from .schema import BODY_NAMES, MAX_ELEMENTS, OPTIONAL, SECTIONS, SUPPORT_NAMES, lookup, table
 from .validators import MIN_LENGTH, ExcitationName
 
@@ -655,7 +654,9 @@ CLIP_OFF_NODE = 0.10
 
 
 def _warn(text):
-    warnings.warn(text, ModelWarning, stacklevel=4)
+    """Warn of what the model's values mean: a property of the model, said once per process for the
+    same words (every command that loads or overrides the same model builds it anew)."""
+    warn_once_per_process(text, ModelPropertyWarning, stacklevel=4)
 
 
 #: Standard gravity (m/s2), and the largest magnitude of loads.gravity that does not warn (3 g: a

@@ -240,17 +240,17 @@ def _say(row, label, said):
     and kept in it as the line ``row["warnings"]``, every message, for the results), each message
     prefixed with ``label(index)``; a message already in the set ``said`` is not said again (several
     samples of one model give its warnings word for word). A message of the model itself, not of
-    the run (a KeptPrestressWarning), is said once per process: not again by the next study of the
-    same model (``ensemble --against``, ``report``) nor after its direct run said it
-    (static_state.warn_once_per_process)."""
-    from ..timedomain.static_state import KeptPrestressWarning, warn_once_per_process
+    the run (a ModelPropertyWarning), is said once per process: not again by the next study of the
+    same model (``ensemble --against``, ``report``) nor after its direct run or its loading said it
+    (errors.warn_once_per_process)."""
+    from ..errors import ModelPropertyWarning, warn_once_per_process
 
     given = row.pop(WARNINGS, ())
     for category, message in given:
         if message not in said:
             said.add(message)
             text = f"{label(row['index'])}: {message}"
-            if issubclass(category, KeptPrestressWarning):
+            if issubclass(category, ModelPropertyWarning):
                 warn_once_per_process(text, category, stacklevel=3, key=message)
             else:
                 warnings.warn(text, category, stacklevel=3)

@@ -497,8 +497,7 @@ class Engine:
         touching = int(np.count_nonzero(st.normal_force > 0.0))
         if not touching:
             return
-        from ..errors import ModelWarning
-        from .static_state import warn_once_per_process
+        from ..errors import ModelPropertyWarning, warn_once_per_process
 
         warn_once_per_process(
             f"{model.source}: the cable rests on the casing's wall at {touching} nodes in its static state (its "
@@ -506,7 +505,7 @@ class Engine:
             "does not converge with the time step (its stick-slip switches multiply as it shrinks) and recomputes "
             'most steps: set contact.friction_law = "regularized", as the built-in installed specimen does '
             '(docs/time_domain.md, "A friction law whose limit exists")',
-            ModelWarning,
+            ModelPropertyWarning,
             stacklevel=5,  # (simulate's caller, through Engine.__init__ and _install)
             key=f"switch law at rest on the wall: {model.fingerprint()}",
         )

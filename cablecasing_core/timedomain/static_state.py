@@ -33,7 +33,6 @@ the rounding of the positions whose difference is its distance; see ``_Problem.t
 
 from __future__ import annotations
 
-import sys
 import warnings
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
@@ -41,7 +40,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from scipy.linalg import solve_banded
 
-from ..errors import ModelWarning, SimulationError
+from ..errors import ModelPropertyWarning, ModelWarning, SimulationError, warn_once_per_process
 from ..model.schema import BODY_NAMES, CONTACT_LAWS, FORCE_NAMES, SUPPORT_NAMES, SUPPORT_OUTPUTS
 from ..model.validators import Choice, check_model, contact_in_force
 from ..structure.loads import gravity_load
@@ -323,52 +322,11 @@ def check_stiffness_representable(systems):
         )
 
 
-class KeptPrestressWarning(ModelWarning):
+class KeptPrestressWarning(ModelPropertyWarning):
     """A body's static state carries another axial force than the prestress its geometric stiffness
     assumes (:func:`check_kept_prestress`). A property of the model, not of a run: said once per
-    process and model (:func:`warn_once_per_process`), not again in every run of a command or every
-    seed of an ensemble; a :class:`ModelWarning`, filterable on its own."""
-
-
-#: The messages :func:`warn_once_per_process` has said in this process (by their key).
-_SAID_ONCE: set[str] = set()
-
-
-def _filter_action(text, category, frame):
-    """The action the warnings filters give ``text`` of ``category`` warned at ``frame`` (or the
-    default action), matched as warnings.warn matches them: message, category, module, line."""
-    module = frame.f_globals.get("__name__", "<string>") if frame is not None else "sys"
-    lineno = frame.f_lineno if frame is not None else 1
-    for action, msg, cat, mod, ln in warnings.filters:
-        if (
-            (msg is None or msg.match(text))
-            and issubclass(category, cat)
-            and (mod is None or mod.match(module))
-            and (ln == 0 or ln == lineno)
-        ):
-            return action
-    return warnings.defaultaction
-
-
-def warn_once_per_process(text, category=KeptPrestressWarning, stacklevel=2, key=None):
-    """``warnings.warn(text, category, stacklevel)`` unless the message ``key`` (default ``text``)
-    was said before in this process. The warnings filters still decide: under "always" (a test's
-    ``pytest.warns``, a study's sample recording its warnings to say them once itself) or "error"
-    the message is warned every time and not counted as said; under "ignore" it is not said; under
-    the other actions ("default", "module", "once") it is said the first time only, whatever filters
-    other code swapped in meanwhile (``catch_warnings`` resets Python's own record of what was
-    said, so a command that runs the model in several such blocks said it again in each)."""
-    key = text if key is None else key
-    try:
-        frame = sys._getframe(stacklevel)
-    except ValueError:
-        frame = None
-    action = _filter_action(text, category, frame)
-    if action in ("default", "module", "once"):
-        if key in _SAID_ONCE:
-            return
-        _SAID_ONCE.add(key)
-    warnings.warn(text, category, stacklevel=stacklevel + 1)
+    process and model (:func:`~cablecasing_core.errors.warn_once_per_process`), not again in every
+    run of a command or every seed of an ensemble; a :class:`ModelWarning`, filterable on its own."""
 
 
 #: The least difference, as a fraction of |N0|, between the axial force a body's end elements

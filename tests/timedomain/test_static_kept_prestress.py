@@ -160,9 +160,9 @@ def _bent_file(tmp_path, extra=""):
 @pytest.fixture
 def said_afresh(monkeypatch):
     """This process as if it had said no kept-prestress warning yet (they are said once per process)."""
-    from cablecasing_core.timedomain import static_state
+    from cablecasing_core import errors
 
-    monkeypatch.setattr(static_state, "_SAID_ONCE", set())
+    monkeypatch.setattr(errors, "_SAID_ONCE", set())
 
 
 @pytest.mark.slow  # (two ensembles of 3 runs of 0.12 s)

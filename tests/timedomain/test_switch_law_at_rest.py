@@ -8,7 +8,7 @@ import warnings
 import numpy as np
 
 import cablecasing_core as cc
-from cablecasing_core.timedomain import static_state as static_state_module
+from cablecasing_core import errors as errors_module
 
 TEXT = "rests on the casing's wall"
 
@@ -17,7 +17,7 @@ def _said(model, runs=2):
     """The warnings of ``runs`` runs of ``model`` that say the cable rests on the wall, in a process
     that has said none (the record of what was said is emptied first: another test may have run
     the same model)."""
-    static_state_module._SAID_ONCE.clear()
+    errors_module._SAID_ONCE.clear()
     with warnings.catch_warnings(record=True) as w:
         warnings.simplefilter("default")
         for _ in range(runs):
