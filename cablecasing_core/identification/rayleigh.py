@@ -87,8 +87,8 @@ def rayleigh_fit(
 ) -> RayleighFit:
     """Least-squares Rayleigh factors from identified (natural frequency, damping ratio) pairs.
 
-    Solves Eq. (42) ``zeta_i = alpha / (2 omega_i) + beta omega_i / 2`` for ``alpha`` (1/s) and
-    ``beta`` (s) by Eq. (44) (pseudo-inverse; exact for two modes or for exactly Rayleigh data).
+    Solves Eq. (41), stacked over the modes (Eq. 42), ``zeta_i = alpha / (2 omega_i) + beta omega_i / 2``
+    for ``alpha`` (1/s) and ``beta`` (s) by Eq. (44) (pseudo-inverse; exact for two modes or for exactly Rayleigh data).
 
     Parameters
     ----------
