@@ -143,6 +143,14 @@ _WARNINGS_LOCK = warnings.__dict__.setdefault("_cablecasing_fmu_lock", threading
 SPECIAL = ("contact.enabled", "model_file", "solver.dt", "scenario.drive")
 
 
+def _not_a_state(data, exc):
+    """Why the bytes ``data`` are not a serialised FMU state (``exc``: what reading them raised).
+    numpy's own words for bytes that are no npz archive advise loading them with allow_pickle, which
+    the FMU never does: that reason is named without them."""
+    why = repr(exc) if bytes(data[:2]) == b"PK" and "pickle" not in str(exc) else "not an npz archive"
+    return f"{len(data)} bytes are not a serialised CableCasing FMU state: {why}"
+
+
 def _phase_of(state):
     """The life-cycle phase an FMU state was saved in (``fmu.phase``, which every state of this FMU
     holds: one without it is of another version, whose support state does not fit either)."""
@@ -1211,6 +1219,11 @@ class CableCasing(Fmi2Slave):
             raise ValueError(str(state["fmu.invalid"]))
         if "fmu.base_model" in state and str(state["fmu.base_model"]) != self._base_fingerprint:
             raise ValueError("it is a state of an FMU built for another model (its parameters and outputs differ)")
+        if str(state.get("fmu.error", "")):  # (FMI 2.0 allows only reset or free after that fmi2Error)
+            raise ValueError(
+                f"it was taken from an instance that did not initialise ({state['fmu.error']}), whose steps are "
+                "all refused"
+            )
         keys = [str(k) for k in np.asarray(state["fmu.set_keys"]).reshape(-1) if str(k)]
         values = np.asarray(state["fmu.set_values"], dtype=float).reshape(-1)
         if len(keys) != len(values) or any(k not in self._start for k in keys):
@@ -1282,11 +1295,7 @@ class CableCasing(Fmi2Slave):
                 raise ValueError("no FMU inputs in it")
             return state
         except Exception as exc:  # noqa: BLE001
-            self.log(
-                f"the FMU state cannot be deserialised ({len(data)} bytes are not a serialised CableCasing FMU "
-                f"state: {exc!r})",
-                Fmi2Status.error,
-            )
+            self.log(f"the FMU state cannot be deserialised ({_not_a_state(data, exc)})", Fmi2Status.error)
             return None
 
     # ------------------------------------------------------------------ pythonfmu's binary (Windows)
@@ -1372,4 +1381,4 @@ class CableCasing(Fmi2Slave):
         try:
             return state_from_bytes(data)
         except Exception as exc:  # noqa: BLE001
-            return {"fmu.invalid": np.array(f"{len(data)} bytes are not a serialised CableCasing FMU state: {exc!r}")}
+            return {"fmu.invalid": np.array(_not_a_state(data, exc))}

@@ -85,30 +85,43 @@ static char g_python_note[2048] = "";   /* which interpreter, and how it was fou
 enum { S_INSTANTIATED, S_INITIALIZATION, S_STEPPING, S_TERMINATED };
 #define MAX_INT_OUTPUTS 8
 
-/* A link of a list of live objects (live_has), the first member of each, so that its address is
- * the object's: a pointer from the host is looked up among the objects this FMU made and has not
- * freed before it is read, and one that is none of them (freed, another FMU's, garbage, or a host
- * that passes a state where fmi2FreeFMUstate takes its address, as fmusim 0.0.39 does when it saves
- * or restores a state file) is told apart without reading the memory it points at. */
+/* A link of a list of live objects (live_find), the first member of each, so that its address is
+ * the object's. The host holds a handle, not the address: a number unique in the process and never
+ * given twice, so that a handle the host kept after freeing its object is refused even when the
+ * allocator has given the same memory to a new object (a stale instance pointer acted on the new
+ * instance with fmi2OK). A handle from the host is looked up among the objects this FMU made and has
+ * not freed before anything is read, and one that is none of them (freed, another FMU's, garbage,
+ * or a host that passes a state where fmi2FreeFMUstate takes its address, as fmusim 0.0.39 does when
+ * it saves or restores a state file) is told apart without reading the memory it points at. The
+ * handles have the address space's top bit set (the kernel's half on x86-64 and AArch64), so a host
+ * that reads through one stops at once instead of reading another object. */
 typedef struct Live {
     struct Live *next;
+    void *handle;                       /* what the host holds */
 } Live;
 
 static pthread_mutex_t live_lock = PTHREAD_MUTEX_INITIALIZER;
+static uintptr_t g_handles = 0;         /* handles given so far (under live_lock) */
+#define HANDLE_BASE ((uintptr_t)1 << (8 * sizeof(void *) - 1))
 
-static int live_has(Live *const *list, const void *p) {
-    int found = 0;
+/* The object of ``list`` whose handle is ``p``, or NULL */
+static Live *live_find(Live *const *list, const void *p) {
+    Live *found = NULL;
     pthread_mutex_lock(&live_lock);
-    for (const Live *l = *list; l && !found; l = l->next) found = (const void *)l == p;
+    for (Live *l = *list; l && !found; l = l->next)
+        if (l->handle == p) found = l;
     pthread_mutex_unlock(&live_lock);
     return found;
 }
 
-static void live_add(Live **list, Live *l) {
+/* Add ``l`` to ``list`` with a new handle, and return the handle */
+static void *live_add(Live **list, Live *l) {
     pthread_mutex_lock(&live_lock);
+    l->handle = (void *)(HANDLE_BASE + (++g_handles << 4));
     l->next = *list;
     *list = l;
     pthread_mutex_unlock(&live_lock);
+    return l->handle;
 }
 
 static void live_remove(Live **list, const Live *l) {
@@ -495,8 +508,8 @@ static fmi2Status call(Instance *inst, const char *method, PyObject **result, in
 #define SIZE(n) P.PyLong_FromSize_t((size_t)(n))
 
 static Instance *checked(fmi2Component c) {
-    Instance *inst = c;
-    return (live_has(&live_instances, c) && inst->magic == INSTANCE_MAGIC) ? inst : NULL;
+    Instance *inst = (Instance *)live_find(&live_instances, c);
+    return (inst && inst->magic == INSTANCE_MAGIC) ? inst : NULL;
 }
 
 /* ------------------------------------------------------------------------------------------------
@@ -681,8 +694,7 @@ FMI2_Export fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuT
         free(inst);
         return NULL;
     }
-    live_add(&live_instances, &inst->live);
-    return inst;
+    return live_add(&live_instances, &inst->live);
 }
 
 FMI2_Export void fmi2FreeInstance(fmi2Component c) {
@@ -924,11 +936,9 @@ FMI2_Export fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference v
  * FMU state
  */
 static State *checked_state(Instance *inst, fmi2FMUstate s) {
-    if (!s || !live_has(&live_states, s)) {
-        LOGI(inst, fmi2Error, "the FMU state %p was not made by this FMU (or was freed)", s);
-        return NULL;
-    }
-    return (State *)s;
+    State *st = s ? (State *)live_find(&live_states, s) : NULL;
+    if (!st) LOGI(inst, fmi2Error, "the FMU state %p was not made by this FMU (or was freed)", s);
+    return st;
 }
 
 static void free_state(State *st) {
@@ -949,8 +959,8 @@ FMI2_Export fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) 
     PyObject *obj = NULL;
     PyGILState_STATE gil = gil_enter();
     fmi2Status s = call(inst, "get_state", &obj, 0);
-    State *st = *FMUstate;
-    if (s == fmi2OK && st && live_has(&live_states, st)) {   /* update the host's earlier state in place */
+    State *st = *FMUstate ? (State *)live_find(&live_states, *FMUstate) : NULL;
+    if (s == fmi2OK && st) {   /* update the host's earlier state in place */
         P.Py_DecRef(st->state);
         if (st->bytes) P.Py_DecRef(st->bytes);
         st->state = obj;
@@ -964,8 +974,7 @@ FMI2_Export fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) 
             st->magic = STATE_MAGIC;
             st->owner = inst;
             st->state = obj;
-            live_add(&live_states, &st->live);
-            *FMUstate = st;
+            *FMUstate = live_add(&live_states, &st->live);
         }
     }
     P.PyGILState_Release(gil);
@@ -993,10 +1002,11 @@ FMI2_Export fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate FMUstate) {
 FMI2_Export fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
     ENTER(c);
     if (!FMUstate) return fmi2OK;
-    if (live_has(&live_states, FMUstate)) {
+    State *itself = (State *)live_find(&live_states, FMUstate);
+    if (itself) {
         /* the state itself where its address belongs (fmusim 0.0.39's state files): it is freed as
-         * asked, and the host's copy of the pointer, which cannot be reached, is left as it is */
-        free_state((State *)FMUstate);
+         * asked, and the host's copy of the handle, which cannot be reached, is left as it is */
+        free_state(itself);
         return fmi2OK;
     }
     if (!*FMUstate) return fmi2OK;
@@ -1072,8 +1082,7 @@ FMI2_Export fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte s
             st->magic = STATE_MAGIC;
             st->owner = inst;
             st->state = obj;
-            live_add(&live_states, &st->live);
-            *FMUstate = st;
+            *FMUstate = live_add(&live_states, &st->live);
         }
     }
     P.PyGILState_Release(gil);

@@ -473,6 +473,8 @@ def careless(fmu, tmp_path_factory, fmu_driver):
         ("nan_start", 3, ["startTime = nan", "finite"]),
         ("nan_clock_restore", 3, ["start time nan s is not a finite number", "unchanged"]),
         ("after_nan_clock_step", 0, []),
+        ("failed_state_restore", 3, ["cannot be restored", "did not initialise", "event_substeps", "unchanged"]),
+        ("after_failed_state_step", 0, []),
         ("short_step", 2, ["h = 5e-09 s refused, nothing computed", "set solver.dt to at most 5e-06 s"]),
         ("rounding_step", 0, []),
         ("get_instantiated", 3, ["fmi2GetReal is not allowed", "instantiated"]),
@@ -486,10 +488,25 @@ def test_careless_master(careless, case, status, words):
         assert w in text, text
 
 
+def test_the_state_of_an_instance_that_did_not_initialise_is_not_restored(careless):
+    """Its initialisation was refused (fmi2Error), so its state would refuse every step of the instance
+    it is set into: the restore is refused as a whole (the instance steps on, case above)."""
+    assert int(careless["failed_init_status"]) == 3
+
+
 def test_a_pointer_that_is_no_instance_is_an_error_not_a_crash(careless):
     """docs/fmu.md: any call with a pointer that is not an instance of this FMU is fmi2Error; the
     pointer is looked up among the live instances before it is read (0xdeadbeef is unmapped)."""
     assert int(careless["bogus_component_status"]) == 3 and int(careless["freed_component_status"]) == 3
+
+
+def test_a_freed_instance_is_refused_even_after_a_new_one_took_its_memory(careless):
+    """docs/fmu.md: the host holds a handle that is never given twice, so a step on a freed
+    instance's pointer is fmi2Error even when the allocator has given its memory to a new instance
+    (the step went to the new instance with fmi2OK when the host held the memory's address)."""
+    stale = careless["stale_component"]
+    assert stale.shape == (20, 2)
+    assert np.all(stale[:, 0] == 3) and not np.any(stale[:, 1])
 
 
 def test_careless_master_leaves_the_instance_usable(careless):
