@@ -59,6 +59,37 @@ def run(tmp_path, scenario, fmu, inputs=None, timeout=600, cwd=None, env=None, *
 
 
 # ------------------------------------------------------------------------------ fmpy instance
+
+
+def pool_host_command(fmu, folder, n, h, reps, values, parameter="contact.friction"):
+    """The command that runs tests/fmu/pool_host.c on ``fmu``: one instance per value of ``values`` of
+    the real ``parameter``, ``n`` steps of ``h`` (s) each, ``reps`` times (compiled and unpacked into
+    ``folder``); None without a C compiler on Linux."""
+    import shutil
+
+    import fmpy
+    from fmpy import extract, read_model_description
+
+    compiler = shutil.which("cc") or shutil.which("gcc")
+    if compiler is None or not sys.platform.startswith("linux"):
+        return None
+    exe = folder / "pool_host"
+    source = Path(__file__).with_name("pool_host.c")
+    inc = Path(fmpy.__file__).parent / "c-code"
+    cmd = [compiler, "-O1", f"-I{inc}", "-o", str(exe), str(source), "-ldl", "-lpthread", "-lm"]
+    subprocess.run(cmd, check=True, capture_output=True)
+    unzip = Path(extract(str(fmu), unzipdir=folder / "unzip"))
+    md = read_model_description(str(fmu))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    ports = ["casing.A.z", "casing.A.vz", "casing.A.az", "casing.B.Fz", parameter]
+    return (
+        [str(exe), str(unzip / "binaries" / "linux64" / "CableCasing.so"), md.guid, (unzip / "resources").as_uri()]
+        + [str(n), repr(h), str(reps)]
+        + [str(vr[p]) for p in ports]
+        + [repr(float(x)) for x in values]
+    )
+
+
 class Instance:
     """One FMU instance through fmpy's FMU2Slave, with the log captured."""
 

@@ -657,6 +657,27 @@ def test_a_c_host_that_calls_from_a_new_thread_each_time_keeps_its_memory(fmu, t
     assert rss[4000] - rss[500] < 2048, rss  # kB
 
 
+def test_instances_stepped_at_once_on_threads_equal_their_serial_runs(fmu, tmp_path, fmu_driver):
+    """A master's thread pool in C, in the plain environment: three instances, two of them alike,
+    the third of another casing.E, stepped at once, a thread each, give the records of the same three
+    stepped one after the other, bit for bit, twice (the step's kernels run outside the interpreter
+    lock, docs/fmu.md "Several instances": nothing they write may be shared, even between instances
+    of one model); and the two moduli give two records (else the test could not tell them apart)."""
+    cmd = fmu_driver.pool_host_command(fmu, tmp_path, 300, H, 2, (5e9, 6e9, 5e9), "casing.E")
+    if cmd is None:
+        pytest.skip("needs a C compiler on Linux")
+    proc = subprocess.run(cmd, capture_output=True, text=True, env=PLAIN, timeout=600)
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    y = {}
+    for line in proc.stdout.splitlines():
+        if line.startswith("y "):
+            _, i, v = line.split()
+            y.setdefault(int(i), []).append(float(v))
+    assert sorted(y) == [0, 1, 2] and all(len(r) == 300 for r in y.values())
+    assert np.max(np.abs(y[0])) > 0 and not np.array_equal(y[0], y[1])
+    assert np.array_equal(y[0], y[2])  # (the same parameters: what two instances could share, they read only)
+
+
 C_THREAD_HOST = r"""
     /* Steps one instance from a new thread per fmi2DoStep; prints "rss STEP kB" at steps 500, 4000. */
     #include <dlfcn.h>

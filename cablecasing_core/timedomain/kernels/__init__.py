@@ -57,6 +57,12 @@ tuple, whose every array numba counts around the call), and :func:`run_steps` un
 (:class:`BodyArrays`, :class:`ContactLaw`, :class:`ContactArrays`, :class:`StepScratch`,
 :class:`Recording`) once, before its loop: a record's array read inside the loop would be counted at
 every step. docs/performance.md has the figures.
+
+The interpreter's lock: the two entry points Python calls for a run's steps, :func:`run_steps` and
+:func:`communication_step_in_context`, are compiled ``nogil``. They touch no Python object and
+write only their engine's arrays (no kernel writes a module-level array: numba freezes those as
+constants), so runs and FMU instances on several threads step in parallel (docs/performance.md, "A
+master's thread pool"). A kernel that kept a buffer of its own between calls would break that.
 """
 
 from ._numba_cache import KERNELS_HASH, install, kernels_cache_dir

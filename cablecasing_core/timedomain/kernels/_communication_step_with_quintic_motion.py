@@ -162,9 +162,11 @@ def new_communication_context(
     )  # fmt: skip
 
 
-@njit(cache=True, fastmath=FM, error_model="numpy")
+@njit(cache=True, fastmath=FM, error_model="numpy", nogil=True)
 def communication_step_in_context(ctx, t0, dt, h, pot0):
-    """:func:`communication_step` with its arrays from ``ctx`` (its steps: ``ctx.times``' length)."""
+    """:func:`communication_step` with its arrays from ``ctx`` (its steps: ``ctx.times``' length).
+    It runs outside the interpreter's lock (``nogil``): it touches no Python object, and every array
+    it writes is its engine's own, so the FMU's instances on a master's threads step in parallel."""
     return communication_step(
         t0, dt, h, pot0, ctx.G, ctx.state, ctx.u, ctx.v, ctx.a, ctx.rows, ctx.coeffs, ctx.times, ctx.motion,
         ctx.base, ctx.use_base, ctx.casing, ctx.cable, ctx.law, ctx.contact, ctx.reac, ctx.ledger, ctx.ledger_on,

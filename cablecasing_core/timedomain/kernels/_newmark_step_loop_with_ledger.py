@@ -218,7 +218,7 @@ def _substep_motion(chan, up, vp, ap, k, G, rows, c, times, motion, dt, hf, nsub
     quintic_values(c, 0.0, dt, times, motion)
 
 
-@njit(**NO_RT)
+@njit(nogil=True, **NO_RT)
 def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, ledger_on, scratch, rec, info):
     """Advance both bodies by len(up) Newmark steps of size dt (s) from time t0 (s). Each step:
     contact-free predictor of both bodies, contact search and implicit contact forces
@@ -254,7 +254,8 @@ def run_steps(t0, dt, up, vp, ap, casing, cable, law, contact, reac, ledger, led
     The records are unpacked once here, outside the loop, and the kernels the loop calls take
     plain arrays. It allocates nothing (its scratch is the engine's) and is compiled without numba's
     runtime (``NO_RT``): no reference counts of the ~100 arrays of its records, at any call (see
-    the package docstring).
+    the package docstring). It runs outside the interpreter's lock (``nogil``): it touches no Python
+    object and writes only its engine's arrays, so runs on several threads step in parallel.
     """
     nsteps = up.shape[0]
     for q, x in enumerate((up, vp, ap)):

@@ -1,0 +1,120 @@
+"""Runs on several threads at once: the FMU on a master's thread pool, and the core's ``simulate``
+on Python threads.
+
+The FMU: instances of the default specimen (one per contact.friction,
+different records), each driven at casing.A.z by a 300 Hz sine with a 1e-4 s communication step,
+stepped one after the other and at once, a thread each, by the C host ``tests/fmu/pool_host.c`` in
+the plain environment (the two orders alternate with the repetitions; the records of the two equal
+bit for bit, or the host fails). Only the steps are timed: the instances are made before the clock
+starts and freed after it stops.
+
+Prints ``name: value`` lines:
+
+* ``pool_instances``, ``cores_available``: the instances stepped at once, and the cores this
+  process may run on (``os.sched_getaffinity``);
+* ``pool_serial_us_per_step`` and ``pool_threads_us_per_step``: wall time per communication step
+  of one instance (the run's wall time over its steps and instances), serial and threaded, the
+  medians over the repetitions;
+* ``pool_threads_over_serial``: the serial run's wall time over the threaded run's, the median of
+  the repetitions' ratios (each ratio from two runs taken back to back): the speed-up a thread pool
+  gets. All instances of a process share one Python interpreter; the step's compiled kernels run
+  outside its lock, the Python of each call inside it, so the ratio stays below the instances'
+  count even on as many free cores;
+* ``simulate_threads_over_serial``: ``cablecasing_core.simulate`` of the default specimen (one per
+  contact.friction, ``--duration`` each) on as many Python threads, against one after the other in
+  the same process, the median of the repetitions' ratios (the orders alternating): the step loop
+  runs outside the interpreter's lock, the Python of a run (its scenario's motion, chunk by chunk;
+  its records) inside it.
+
+The machine's speed drifts: compare the ratio, not the absolute figures, across runs.
+
+Run: .venv/bin/python benchmarks/bench_fmu_pool.py [--duration 0.5] [--reps 6] [--instances 2] [--fmu PATH]
+"""
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "tests" / "fmu"))
+sys.path.insert(0, str(ROOT))
+
+import fmu_driver  # noqa: E402
+
+import build_fmu  # noqa: E402
+import cablecasing_core as cc  # noqa: E402
+
+FMU = ROOT / "dist" / "CableCasing.fmu"
+H = 1e-4  # communication step (s)
+PLAIN = {"HOME": os.environ.get("HOME", "/root"), "PATH": "/usr/bin:/bin"}
+PLAIN |= {k: v for k, v in os.environ.items() if k.startswith("OPENBLAS_")}  # (as tests/fmu/test_hosts.py)
+
+
+def simulate_ratios(models, duration, reps):
+    """The ratios serial / threaded wall time of ``cc.simulate(model, duration)`` for ``models``,
+    one per repetition, the two orders alternating."""
+    for m in models:
+        cc.simulate(m, duration=0.01)  # (the kernels loaded, the caches warm)
+    ratios = []
+    for r in range(reps):
+        took = {}
+        for kind in ("serial", "threads") if r % 2 == 0 else ("threads", "serial"):
+            t0 = time.perf_counter()
+            if kind == "serial":
+                for m in models:
+                    cc.simulate(m, duration=duration)
+            else:
+                threads = [
+                    threading.Thread(target=cc.simulate, args=(m,), kwargs={"duration": duration}) for m in models
+                ]
+                for t in threads:
+                    t.start()
+                for t in threads:
+                    t.join()
+            took[kind] = time.perf_counter() - t0
+        ratios.append(took["serial"] / took["threads"])
+    return ratios
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])  # the first paragraph
+    p.add_argument("--duration", type=float, default=0.5, help="simulated time of each instance's run (s)")
+    p.add_argument("--reps", type=int, default=6, help="repetitions (serial and threaded each)")
+    p.add_argument("--instances", type=int, default=2, help="instances stepped at once")
+    p.add_argument("--fmu", type=Path, default=FMU, help="the FMU (default: dist/CableCasing.fmu, built if stale)")
+    args = p.parse_args()
+    if not (args.duration >= 10 * H and args.reps >= 1 and 1 <= args.instances <= 64):
+        p.error("--duration must be at least 1e-3 s, --reps at least 1, --instances in [1, 64]")
+    if args.fmu == FMU and (
+        not FMU.exists() or FMU.stat().st_mtime < max(q.stat().st_mtime for q in build_fmu.sources())
+    ):
+        subprocess.run([sys.executable, str(ROOT / "build_fmu.py")], check=True)
+    n = int(round(args.duration / H))
+    frictions = [0.15 + 0.05 * i for i in range(args.instances)]
+    with tempfile.TemporaryDirectory() as tmp:
+        cmd = fmu_driver.pool_host_command(args.fmu, Path(tmp), n, H, args.reps, frictions)
+        if cmd is None:
+            sys.exit("needs a C compiler on Linux")
+        proc = subprocess.run(cmd, capture_output=True, text=True, env=PLAIN, timeout=3600)
+    if proc.returncode != 0:
+        sys.exit(f"the pool host failed ({proc.returncode}): {proc.stdout[-2000:]}{proc.stderr[-2000:]}")
+    runs = [tuple(map(float, line.split()[2::2])) for line in proc.stdout.splitlines() if line.startswith("time ")]
+    steps = n * args.instances
+    print(f"pool_instances: {args.instances}")
+    print(f"cores_available: {len(os.sched_getaffinity(0))}")
+    print(f"pool_serial_us_per_step: {statistics.median(s for s, _ in runs) / steps * 1e6:.1f}")
+    print(f"pool_threads_us_per_step: {statistics.median(t for _, t in runs) / steps * 1e6:.1f}")
+    print(f"pool_threads_over_serial: {statistics.median(s / t for s, t in runs):.3f}")
+    base = cc.load_model()
+    models = [base.with_overrides({"contact.friction": f}) for f in frictions]
+    print(f"simulate_threads_over_serial: {statistics.median(simulate_ratios(models, args.duration, args.reps)):.3f}")
+
+
+if __name__ == "__main__":
+    main()
