@@ -94,6 +94,11 @@ def test_energy_conserved_without_dissipation(pair_model, kick, energy_samples):
 
 
 def test_ledger_closes_with_damping_and_friction(pair_model, kick):
+    """A kicked arc with Rayleigh damping, the contact damper and friction on: the ledger closes
+    within 1 %. Its impacts are nearly normal, so friction takes ~5e-10 J of the ~3.2e-5 J the
+    contact dissipates: this weighs the damper and Rayleigh's terms, and only the sign of the
+    friction's; friction's power itself is checked against closed forms in test_friction.py (the
+    belt's limit cycle, mu N |v_rel|, the capstan)."""
     m = pair_model(friction=0.2, damping=50.0, alpha=20.0, beta=2e-5)
     eng = Engine(m, dt=2e-5, contact=True, ledger=True, record=True)
     kick(eng, 0.3)
