@@ -40,6 +40,16 @@ def temporary_files_under_pytests_own_folder(tmp_path_factory):
         os.environ["TMPDIR"] = saved_env
 
 
+@pytest.fixture(autouse=True)
+def a_process_that_said_no_model_warning_yet(monkeypatch):
+    """Each test sees the model's warnings as a fresh process would: a model's own warnings are said
+    once per process (errors.warn_once_per_process), and a test that runs a command in this process
+    would otherwise not hear a warning another test's model said before it."""
+    from cablecasing_core import errors
+
+    monkeypatch.setattr(errors, "_SAID_ONCE", set())
+
+
 @pytest.fixture(scope="session")
 def beam_model():
     """``beam_model(points, n_elements, d=0.01, supports=("clamped", "free"), curve="polyline",
