@@ -116,7 +116,7 @@ def cmd_trfam(args):
     check_output_path("--out", args.out, (".csv",) if args.bands else (".csv", ".uff"))  # (bands: a CSV table)
     check_output_path("--plot", args.plot, PLOT_SUFFIXES)
     check_distinct(("--out", args.out), ("--plot", args.plot))
-    args.interrupted = "stopped: " + kept(args.out, args.plot)
+    args.interrupted = kept("stopped", args.out, args.plot)
     with renamed({"input": "--input", "output": "--output"}):
         body = parse_port("input", args.input, model)[0]
         H = trfam(model, args.input, args.output, f, damping=args.damping)
@@ -442,7 +442,8 @@ def main(argv=None):
         )
         return 1
     except KeyboardInterrupt as exc:
-        hint = getattr(args, "interrupted", "nothing was written; files written before are as they were")
+        # (said now: what the command has written so far, paths.kept)
+        hint = str(getattr(args, "interrupted", "nothing was written; files written before are as they were"))
         if isinstance(exc, Terminated):  # (SIGTERM, SIGHUP: 128 + its number, as a shell reports it)
             with contextlib.suppress(OSError):  # (the terminal of a hang-up may be gone: the status stays)
                 print(f"cablecasing: terminated ({signal.Signals(exc.signum).name}): {hint}", file=sys.stderr)

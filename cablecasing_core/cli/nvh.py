@@ -137,7 +137,7 @@ def cmd_spectrum(args):
     check_output_path("--out", args.out, (".csv",))
     check_output_path("--plot", args.plot, PLOT_SUFFIXES)
     check_distinct(("record", args.record), ("--out", args.out), ("--plot", args.plot))
-    args.interrupted = "stopped: " + kept(args.out, args.plot)
+    args.interrupted = kept("stopped", args.out, args.plot)
     rec = _record(args.record)
     columns = _columns(args.column, [STUDY_OUTPUT])
     check_frequency_range(args.fmin, args.fmax)
@@ -380,7 +380,7 @@ def cmd_bands(args):
     check_output_path("--out", args.out, (".csv",))
     check_output_path("--plot", args.plot, PLOT_SUFFIXES)
     check_distinct(("record", args.record), ("--out", args.out), ("--plot", args.plot))
-    args.interrupted = "stopped: " + kept(args.out, args.plot)
+    args.interrupted = kept("stopped", args.out, args.plot)
     columns = _columns(args.column, [STUDY_OUTPUT])
     if len(columns) > 1:
         raise ModelError("--column", ", ".join(columns), "bands takes one column: run it once per column")

@@ -3,6 +3,7 @@ or printed (a module of its own: every command module imports it, and it imports
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from ..errors import ModelError
@@ -50,16 +51,50 @@ def check_distinct(*named):
         seen[key] = flag
 
 
-def kept(*paths) -> str:
-    """What an interrupt leaves of the output files ``paths`` (None: not asked for): each one that
-    existed is kept as it was (files are written atomically), the others were not written."""
-    paths = [str(p) for p in paths if p not in (None, True, False)]
-    old = [p for p in paths if Path(p).exists()]
-    new = [p for p in paths if p not in old]
-    parts = ([f"the previous {', '.join(old)} kept as {'it was' if len(old) == 1 else 'they were'}"] if old else []) + (
-        [f"{', '.join(new)} not written"] if new else []
-    )
-    return "; ".join(parts) or "nothing was written"
+def _stamp(path):
+    """What identifies the file at ``path`` now (its device, inode, size and modification time,
+    through a symlink), or None when there is none: a file written since, atomically (a new file
+    renamed over it), has another."""
+    try:
+        st = os.stat(path)
+    except OSError:
+        return None
+    return (st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns)
+
+
+class _Kept:
+    """What an interrupt leaves of a command's output files: ``str()`` says it at the moment it is
+    asked (when the interrupt comes), not when the command began. The files (``paths``; None: not
+    asked for) are stamped at construction, before anything is written (:func:`_stamp`); then each
+    one whose stamp has changed was written by this run (files are replaced atomically at the end
+    of their write: one is either as it was or this run's whole), each one unchanged that existed
+    is kept as it was, and the others were not written. ``what``: the line's start (``the run was
+    stopped``)."""
+
+    def __init__(self, what, *paths):
+        self.what = what
+        self.paths = [str(p) for p in paths if p not in (None, True, False)]
+        self.before = {p: _stamp(p) for p in self.paths}
+
+    def __str__(self):
+        now = {p: _stamp(p) for p in self.paths}
+        written = [p for p in self.paths if now[p] is not None and now[p] != self.before[p]]
+        old = [p for p in self.paths if p not in written and now[p] is not None]
+        new = [p for p in self.paths if p not in written and p not in old]
+        parts = (
+            ([f"{', '.join(written)} written by this run"] if written else [])
+            + ([f"the previous {', '.join(old)} kept as {'it was' if len(old) == 1 else 'they were'}"] if old else [])
+            + ([f"{', '.join(new)} not written"] if new else [])
+        )
+        return f"{self.what}: " + ("; ".join(parts) or "nothing was written")
+
+
+def kept(what, *paths) -> _Kept:
+    """What an interrupt leaves of the output files ``paths`` (None: not asked for), said when it
+    comes (:class:`_Kept`): the command sets ``args.interrupted = kept("stopped", out, plot)`` before
+    it writes anything, and the line then names the files it has written, those kept as they were
+    and those not written."""
+    return _Kept(what, *paths)
 
 
 def emit_table(path, fields, table, digits, note="#"):

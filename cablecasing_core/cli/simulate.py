@@ -45,7 +45,7 @@ def cmd_simulate(args):
     plot = args.plot if isinstance(args.plot, str) else ("simulation.png" if args.plot else None)
     if args.plot is True:
         check_output_path("--plot", plot)
-    args.interrupted = "the run was stopped: " + kept(args.out, plot)
+    args.interrupted = kept("the run was stopped", args.out, plot)
     names = {"duration": "--duration", "dt": "--dt"}
     if args.duration is not None:  # (the memory check names the scenario's key: here the option gave it)
         names["scenario.duration"] = "--duration"

@@ -387,7 +387,7 @@ def cmd_ensemble(args):
     with renamed({"scheduler": "--scheduler"}):
         check_scheduler(args.scheduler)
     check_packages(args.scheduler, salib=False, key="--scheduler", name="ensemble")  # (dask unless serial)
-    args.interrupted = "the ensemble was stopped: " + kept(*_check_outputs(args))
+    args.interrupted = kept("the ensemble was stopped", *_check_outputs(args))
     seeds = list(range(args.first_seed, args.first_seed + args.seeds))
     common = dict(
         seeds=seeds,
@@ -459,7 +459,7 @@ def cmd_pool(args):
     _check_confidence(args.confidence)
     outputs = _check_outputs(args)
     _check_not_inputs(args, outputs)
-    args.interrupted = "stopped: " + kept(*outputs)
+    args.interrupted = kept("stopped", *outputs)
     with renamed({"path": "file"}):  # (a part's error names it as the command line does)
         ens = pool_ensembles(args.files)
     other = d = None

@@ -1,0 +1,68 @@
+"""Review AF: the command line driven from scripts and CI. An interrupt names the files this run has
+written as written (not as kept or not written); spectrum's empty RMS range, bands' empty band
+range, an ensemble's too coarse --dt and a missing sub-command are named by the options as typed;
+study --out '' is refused; ensemble and study take --no-progress; a bad MPLBACKEND is refused before
+the run and an output stream that cannot encode a path does not turn a run into an internal error;
+docs/cli.md's exit statuses are those of the command line's docstring."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from cablecasing_core.cli import main
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _record(path, duration=1.0, dt=1e-4):
+    """A time record as 'simulate --out' writes one (time first, a column casing.B.Fz in N): white
+    noise, seed 1, every band level non-zero."""
+    t = np.arange(round(duration / dt) + 1) * dt
+    x = np.random.default_rng(1).normal(size=t.size)
+    np.savetxt(path, np.column_stack([t, x]), delimiter=",", header="time [s],casing.B.Fz [N]", comments="")
+    return str(path)
+
+
+def _interrupt(monkeypatch, module, name):
+    """``module.name`` (the figure's writer) is interrupted (Ctrl-C) before it writes anything."""
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(module, name, interrupted)
+
+
+# --- M1: the interrupt line says what this run has written, at the moment of the interrupt --------
+
+
+@pytest.mark.parametrize("earlier", [True, False])
+def test_an_interrupt_after_out_is_written_says_this_run_wrote_it(tmp_path, capsys, monkeypatch, earlier):
+    from cablecasing_core import plotting
+
+    out, png = tmp_path / "r.csv", tmp_path / "p.png"
+    if earlier:
+        out.write_text("an earlier record\n")
+    _interrupt(monkeypatch, plotting, "plot_time_result")  # (after --out is written, before --plot)
+    argv = ["simulate", "--duration", "0.001", "--no-progress", "--out", str(out), "--plot", str(png)]
+    assert main(argv) == 130
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [f"cablecasing: interrupted: the run was stopped: {out} written by this run; {png} not written"]
+    assert out.read_text().startswith("time [s],")  # (this run's record, not the earlier file)
+    assert not png.exists()
+
+
+def test_the_interrupt_line_of_bands_names_written_kept_and_unwritten_files(tmp_path, capsys, monkeypatch):
+    """One mechanism for every command: bands writes --out, then is stopped drawing --plot, whose
+    earlier file is kept."""
+    from cablecasing_core.nvh import plots
+
+    rec = _record(tmp_path / "r.csv")
+    out, png = tmp_path / "b.csv", tmp_path / "b.png"
+    out.write_text("an earlier table\n")
+    png.write_bytes(b"an earlier figure")
+    _interrupt(monkeypatch, plots, "plot_band_levels")
+    assert main(["bands", rec, "--out", str(out), "--plot", str(png)]) == 130
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err == [f"cablecasing: interrupted: stopped: {out} written by this run; the previous {png} kept as it was"]
+    assert out.read_text().startswith("band,") and png.read_bytes() == b"an earlier figure"
