@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 
 import numpy as np
@@ -125,6 +126,43 @@ def _no_line(path, col, fs, n, fmin, fmax, df=None):
     )
 
 
+def _no_covered_range(rec, args, p, top, n):
+    """The error of a PSD ``p`` whose lines measure (from 2 df, ``PSD.covered``) only above ``top``
+    (Hz: --fmax, or the record's passband or Nyquist frequency below it), so that --fmin..--fmax
+    leaves its RMS no range: named by the option as typed (--resolution when given, else --fmax, else
+    the record), with what would work: a higher --fmax, a finer --resolution (a power of two of
+    samples per segment, at most the ``n`` samples after the skip) or a longer record."""
+    from ..errors import ModelError
+    from ..nvh.spectra import COVERED_FROM_DF
+
+    fs, low = rec.fs, COVERED_FROM_DF * p.df
+    seg = 2 ** (math.floor(math.log2(COVERED_FROM_DF * fs / top)) + 1)  # (the fewest samples with 2 df < top)
+    if top < args.fmax:
+        limit = f"the record's passband, {top:.4g} Hz ({_passband_note(rec, args.record)})"
+        if top >= fs / 2:
+            limit = f"the record's Nyquist frequency, {top:.4g} Hz"
+    else:
+        limit = f"--fmax {args.fmax:g} Hz"
+    how = "--resolution" if args.resolution is not None else "the default resolution for this record"
+    fixes = [f"--fmax above {low:.4g} Hz"] if top == args.fmax and low < min(rec.passband_hz, fs / 2) else []
+    if seg <= n:
+        fixes.append(f"--resolution {fs / seg:.4g} Hz or finer (fewer averages)")
+    else:
+        fixes.append(
+            f"a record that leaves at least {seg / fs:.4g} s after the skip (this one leaves {n / fs:.4g} s) with "
+            f"--resolution {fs / seg:.4g} Hz or finer"
+        )
+    key, value = ("--resolution", args.resolution) if args.resolution is not None else ("--fmax", args.fmax)
+    if args.resolution is None and top < args.fmax:
+        key, value = "record", args.record
+    return ModelError(
+        key,
+        value,
+        f"leaves the PSD's RMS no range: its lines measure from 2 df = {low:.4g} Hz (df = {p.df:.4g} Hz, {how}), "
+        f"above {limit}; give " + ", or ".join(fixes),
+    )
+
+
 def cmd_spectrum(args):
     import warnings
 
@@ -169,6 +207,9 @@ def cmd_spectrum(args):
         sel = (res[0].f_hz >= args.fmin) & (res[0].f_hz <= top) & (res[0].f_hz > 0)
         if not sel.any():
             raise _no_line(args.record, res[0].name, fs, n, args.fmin, args.fmax, res[0].df)
+        lo, hi = res[0].covered(args.fmin, top)
+        if not lo < hi:  # (before anything is printed: the RMS below would have no range)
+            raise _no_covered_range(rec, args, res[0], top, n)
         for w in said:
             warnings.warn(w.message, w.category, stacklevel=1)
         with renamed({"ref": "--ref"}):
@@ -176,7 +217,6 @@ def cmd_spectrum(args):
         names = [f"{r.name} PSD [{squared(r.unit)}/Hz]" for r in res]
         names += [f"{r.name} level [{level_unit(ref, r.unit, power=True)}]" for r, ref in zip(res, refs)]
         table = np.column_stack([res[0].f_hz] + [r.density for r in res] + [r.level_db(f) for r, f in zip(res, refs)])
-        lo, hi = res[0].covered(args.fmin, top)
         first, last = res[0].f_hz[sel][[0, -1]]
         print(
             f"# {args.record}: PSD (Welch, Hann, 50 % overlap), df = {res[0].df:.4g} Hz (lines {first:.4g}-{last:.4g} "

@@ -5,6 +5,7 @@ study --out '' is refused; ensemble and study take --no-progress; a bad MPLBACKE
 the run and an output stream that cannot encode a path does not turn a run into an internal error;
 docs/cli.md's exit statuses are those of the command line's docstring."""
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -66,3 +67,31 @@ def test_the_interrupt_line_of_bands_names_written_kept_and_unwritten_files(tmp_
     err = capsys.readouterr().err.strip().splitlines()
     assert err == [f"cablecasing: interrupted: stopped: {out} written by this run; the previous {png} kept as it was"]
     assert out.read_text().startswith("band,") and png.read_bytes() == b"an earlier figure"
+
+
+# --- M2: spectrum's RMS range left empty by --fmax or --resolution --------------------------------
+
+
+@pytest.mark.parametrize(
+    "argv,key",
+    [
+        (["--fmax", "60"], "--fmax = 60.0"),  # (the default resolution of a 0.2 s record: df = 39 Hz)
+        (["--resolution", "1000"], "--resolution = 1000.0"),  # (df = 1250 Hz: 2 df above the default --fmax)
+        (["--fmax", "100", "--resolution", "100"], "--resolution = 100.0"),
+    ],
+)
+def test_spectrum_whose_lines_start_above_fmax_names_the_option_before_printing(tmp_path, capsys, argv, key):
+    rec = _record(tmp_path / "r.csv", duration=0.2)
+    assert main(["spectrum", rec, *argv]) == 2
+    out, err = capsys.readouterr()
+    assert out == ""  # (refused before the header line)
+    line = err.strip().splitlines()[-1]
+    assert line.startswith(f"cablecasing: error: {key}: leaves the PSD's RMS no range: its lines measure from 2 df = ")
+    assert "f_low" not in err and "f_high" not in err
+    # what it advises works: the finer --resolution it names, or a --fmax above 2 df
+    two_df = float(re.search(r"2 df = ([0-9.]+) Hz", line).group(1))
+    finer = re.search(r"--resolution ([0-9.]+) Hz or finer", line).group(1)
+    fmax = argv[argv.index("--fmax") + 1] if "--fmax" in argv else "2000"
+    resolution = ["--resolution", argv[argv.index("--resolution") + 1]] if "--resolution" in argv else []
+    assert main(["spectrum", rec, "--fmax", fmax, "--resolution", finer]) == 0
+    assert main(["spectrum", rec, "--fmax", f"{two_df * 1.01:g}", *resolution]) == 0  # (1 %: above its 4 digits)
