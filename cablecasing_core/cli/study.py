@@ -124,7 +124,8 @@ def cmd_study(args):
     out = Path(args.out)  # (created by run_study once every setting is checked and the scheduler answers)
     if out.exists() and not out.is_dir():
         raise ModelError("--out", args.out, "must be a folder (of study.csv and the figures); it is a file")
-    output_folder("--out", out, "study.csv", create=False)  # (before the plan is printed)
+    # (the string as given: Path("") would be ".", the current folder, which '' must not name)
+    output_folder("--out", args.out, "study.csv", create=False)  # (before the plan is printed)
     # a file by its absolute path (dask workers run in any folder); a built-in specimen by its name
     model_file = args.model if args.model in (None, *specimen_names()) else str(Path(args.model).resolve())
     kwargs = {"model_file": model_file, "duration": args.duration, "skip": args.skip, "window": args.window}

@@ -95,3 +95,20 @@ def test_spectrum_whose_lines_start_above_fmax_names_the_option_before_printing(
     resolution = ["--resolution", argv[argv.index("--resolution") + 1]] if "--resolution" in argv else []
     assert main(["spectrum", rec, "--fmax", fmax, "--resolution", finer]) == 0
     assert main(["spectrum", rec, "--fmax", f"{two_df * 1.01:g}", *resolution]) == 0  # (1 %: above its 4 digits)
+
+
+# --- M3: study --out '' -----------------------------------------------------------------------------
+
+
+def test_study_refuses_an_empty_out_as_report_does(tmp_path, capsys, monkeypatch):
+    """An unset variable in a script, --out "$OUTDIR", must not write the study into the current folder."""
+    monkeypatch.chdir(tmp_path)
+    said = "--out = '': must name a folder (an empty path would write into the current folder)"
+    for argv in (
+        ["study", "--vary", "casing.E=2e9:1e10", "--samples", "3", "--duration", "0.5", "--scheduler", "serial"],
+        ["report", "--duration", "0.5", "--seeds", "2", "--study-samples", "0"],
+    ):
+        assert main([*argv, "--out", ""]) == 2
+        out, err = capsys.readouterr()
+        assert err.strip().splitlines() == [f"cablecasing: error: {said}"] and out == ""
+    assert list(tmp_path.iterdir()) == []
