@@ -183,6 +183,7 @@ def cmd_study(args):
             quantity=quantity,
             model=model,
             progress_timeout=progress_timeout,
+            progress=args.progress,
         )
     n_ok = int(np.sum(res.ok))
     status = np.asarray(res.status)
@@ -400,7 +401,7 @@ def cmd_ensemble(args):
         window=args.window,
         scheduler=args.scheduler,
         n_workers=args.workers,
-        progress=True,
+        progress=args.progress,
     )
     base = assignments("--set", args.set)
     against = assignments("--against", args.against)
@@ -733,6 +734,12 @@ def add_parser(sub):
         metavar="S",
         help="on dask: stop (exit status 3, resumable) when no sample finishes for S seconds",
     )
+    p.add_argument(
+        "--no-progress",
+        dest="progress",
+        action="store_false",
+        help="no progress bar (default: a bar of the samples done on stderr)",
+    )
     p.set_defaults(func=cmd_study)
 
     e = sub.add_parser("ensemble", help="band levels of a support output as means over excitation seeds")
@@ -776,6 +783,12 @@ def add_parser(sub):
     e.add_argument("--out", default=None, help="CSV of the per-seed band levels")
     e.add_argument(
         "--plot", default=None, metavar="PNG", help="figure: means with confidence intervals (and the change)"
+    )
+    e.add_argument(
+        "--no-progress",
+        dest="progress",
+        action="store_false",
+        help="no progress bar (default: a bar of the runs done on stderr)",
     )
     e.set_defaults(func=cmd_ensemble)
 

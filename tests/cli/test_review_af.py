@@ -112,3 +112,35 @@ def test_study_refuses_an_empty_out_as_report_does(tmp_path, capsys, monkeypatch
         out, err = capsys.readouterr()
         assert err.strip().splitlines() == [f"cablecasing: error: {said}"] and out == ""
     assert list(tmp_path.iterdir()) == []
+
+
+# --- L2: --no-progress of ensemble and study --------------------------------------------------------
+
+
+@pytest.mark.parametrize("quiet", [True, False])
+def test_ensemble_draws_no_bar_with_no_progress(capsys, quiet):
+    """A CI log gets no progress bar with --no-progress (without it, the bar is there: what the check
+    looks for is what tqdm draws)."""
+    assert main(["ensemble", "--seeds", "2", "--duration", "0.5", *(["--no-progress"] if quiet else [])]) == 0
+    assert ("run/s" in capsys.readouterr().err) is not quiet
+
+
+@pytest.mark.slow
+def test_study_draws_no_bar_with_no_progress(tmp_path, capsys):
+    argv = ["study", "--vary", "casing.E=2e9:1e10", "--samples", "3", "--duration", "0.5", "--scheduler", "serial"]
+    assert main([*argv, "--out", str(tmp_path / "st"), "--no-progress"]) == 0
+    err = capsys.readouterr().err
+    assert "sample/s" not in err and "study:" not in err  # (tqdm's rate and its desc)
+
+
+def test_no_progress_is_described_alike_in_help_and_docs():
+    """--no-progress of simulate, report, ensemble and study: in each one's --help and synopsis."""
+    from cablecasing_core.cli import build_parser
+
+    sub = build_parser()._subparsers._group_actions[0].choices
+    synopsis = (ROOT / "docs" / "cli.md").read_text()
+    for name in ("simulate", "report", "ensemble", "study"):
+        help_text = " ".join(sub[name].format_help().split())
+        assert "--no-progress no progress bar" in help_text and "on stderr)" in help_text, name
+        line = re.search(rf"^cablecasing {name} .*?(?=^cablecasing |^```)", synopsis, re.M | re.S).group(0)
+        assert "[--no-progress]" in line, name
