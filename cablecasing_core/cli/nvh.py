@@ -36,12 +36,27 @@ def _record(path):
                 ensemble = f.readline(1 << 16).startswith(_META)
     if ensemble:
         raise ModelError(
-            "file",
+            "RECORD",
             path,
             "is an ensemble CSV (band levels per seed, written by 'cablecasing ensemble --out'), not a time "
             f"record: 'cablecasing pool {path}' prints its statistics",
         )
     return read_records(path)
+
+
+def _names_the_record(cmd):
+    """``cmd`` (spectrum, bands) whose errors about its record (``records.read_records``, ``Records.fs``:
+    named ``file``) name it ``RECORD``, as its --help does."""
+    import functools
+
+    @functools.wraps(cmd)
+    def named(args):
+        from ..errors import renamed
+
+        with renamed({"file": "RECORD"}):
+            return cmd(args)
+
+    return named
 
 
 #: What the total of the band levels weights, by window (``bands``' RMS line): Hann's weights the
@@ -130,7 +145,7 @@ def _no_covered_range(rec, args, p, top, n):
     """The error of a PSD ``p`` whose lines measure (from 2 df, ``PSD.covered``) only above ``top``
     (Hz: --fmax, or the record's passband or Nyquist frequency below it), so that --fmin..--fmax
     leaves its RMS no range: named by the option as typed (--resolution when given, else --fmax, else
-    the record), with what would work: a higher --fmax, a finer --resolution (a power of two of
+    RECORD), with what would work: a higher --fmax, a finer --resolution (a power of two of
     samples per segment, at most the ``n`` samples after the skip) or a longer record."""
     from ..errors import ModelError
     from ..nvh.spectra import COVERED_FROM_DF
@@ -154,7 +169,7 @@ def _no_covered_range(rec, args, p, top, n):
         )
     key, value = ("--resolution", args.resolution) if args.resolution is not None else ("--fmax", args.fmax)
     if args.resolution is None and top < args.fmax:
-        key, value = "record", args.record
+        key, value = "RECORD", args.record
     return ModelError(
         key,
         value,
@@ -163,6 +178,7 @@ def _no_covered_range(rec, args, p, top, n):
     )
 
 
+@_names_the_record
 def cmd_spectrum(args):
     import warnings
 
@@ -174,7 +190,7 @@ def cmd_spectrum(args):
 
     check_output_path("--out", args.out, (".csv",))
     check_output_path("--plot", args.plot, PLOT_SUFFIXES)
-    check_distinct(("record", args.record), ("--out", args.out), ("--plot", args.plot))
+    check_distinct(("RECORD", args.record), ("--out", args.out), ("--plot", args.plot))
     args.interrupted = kept("stopped", args.out, args.plot)
     rec = _record(args.record)
     columns = _columns(args.column, [STUDY_OUTPUT])
@@ -407,6 +423,7 @@ def _fmin_option(text):
     return re.sub(pattern, r"--fmin \1", text)
 
 
+@_names_the_record
 def cmd_bands(args):
     import warnings
 
@@ -419,7 +436,7 @@ def cmd_bands(args):
 
     check_output_path("--out", args.out, (".csv",))
     check_output_path("--plot", args.plot, PLOT_SUFFIXES)
-    check_distinct(("record", args.record), ("--out", args.out), ("--plot", args.plot))
+    check_distinct(("RECORD", args.record), ("--out", args.out), ("--plot", args.plot))
     args.interrupted = kept("stopped", args.out, args.plot)
     columns = _columns(args.column, [STUDY_OUTPUT])
     if len(columns) > 1:
@@ -564,7 +581,7 @@ def trfam_bands(args, f, H):
 
 def add_parser(sub):
     s = sub.add_parser("spectrum", help="PSD (Welch), apparent mass or force transmissibility of a time record")
-    s.add_argument("record", help=RECORD_HELP)
+    s.add_argument("record", metavar="RECORD", help=RECORD_HELP)
     s.add_argument(
         "--kind",
         choices=["psd", "apparent-mass", "transmissibility"],
@@ -617,7 +634,7 @@ def add_parser(sub):
     s.set_defaults(func=cmd_spectrum)
 
     b = sub.add_parser("bands", help="octave or third-octave band RMS and levels (dB) of a record column")
-    b.add_argument("record", help=RECORD_HELP)
+    b.add_argument("record", metavar="RECORD", help=RECORD_HELP)
     b.add_argument(
         "--column",
         action="append",

@@ -394,7 +394,7 @@ def test_bands_refuses_rows_out_of_time_order_and_an_inf_sample(tmp_path, capsys
     shuffled = np.random.default_rng(0).permutation(len(t))
     code, _, err = run(capsys, ["bands", _record(tmp_path, zip(t[shuffled], x[shuffled])), "--skip", "0"])
     assert code == 2 and err == [
-        f"cablecasing: error: file = '{tmp_path / 'r.csv'}': must be evenly sampled: its time column 'time [s]' (the "
+        f"cablecasing: error: RECORD = '{tmp_path / 'r.csv'}': must be evenly sampled: its time column 'time [s]' (the "
         f"first) must increase in equal steps, rows in time order; sample 2 of 4096 (t = {t[shuffled[1]]:.9g} s) does "
         f"not come after sample 1 (t = {t[shuffled[0]]:.9g} s)"
     ]

@@ -96,8 +96,8 @@ CASES = [
         "--set scenario.excitation.casing_random.seed = 3: must not set the seeds",
     ),
     # an ensemble CSV is no time record
-    (["bands", "ens.csv"], "file = 'ens.csv': is an ensemble CSV (band levels per seed, written by 'cablecasing "),
-    (["spectrum", "ens.csv"], "file = 'ens.csv': is an ensemble CSV (band levels per seed, written by 'cablecasing "),
+    (["bands", "ens.csv"], "RECORD = 'ens.csv': is an ensemble CSV (band levels per seed, written by 'cablecasing "),
+    (["spectrum", "ens.csv"], "RECORD = 'ens.csv': is an ensemble CSV (band levels per seed, written by 'cablecasing "),
 ]
 INTERNAL = (
     *("freqs_hz", "f_res_hz", "freq_resolution_hz", "modes =", "count =", "skip =", "duration =", "path ="),

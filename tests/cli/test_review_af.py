@@ -144,3 +144,22 @@ def test_no_progress_is_described_alike_in_help_and_docs():
         assert "--no-progress no progress bar" in help_text and "on stderr)" in help_text, name
         line = re.search(rf"^cablecasing {name} .*?(?=^cablecasing |^```)", synopsis, re.M | re.S).group(0)
         assert "[--no-progress]" in line, name
+
+
+# --- L4: bands and spectrum name their record as --help does --------------------------------------
+
+
+@pytest.mark.parametrize("command", ["bands", "spectrum"])
+def test_bands_and_spectrum_name_their_record_as_help_does(tmp_path, capsys, command):
+    from cablecasing_core.cli import build_parser
+
+    sub = build_parser()._subparsers._group_actions[0].choices
+    usage = sub[command].format_usage().split()
+    assert usage[-1] == "RECORD"  # (the positional, last in the usage line)
+    missing = tmp_path / "nope.csv"
+    assert main([command, str(missing)]) == 2
+    assert capsys.readouterr().err.strip() == f"cablecasing: error: RECORD = '{missing}': does not exist"
+    uneven = tmp_path / "u.csv"  # (an error the record's reader names only once it is read: Records.fs)
+    uneven.write_text("time [s],casing.B.Fz [N]\n" + "".join(f"{t!r},{t}\n" for t in (0.0, 0.1, 0.3, 0.35)))
+    assert main([command, str(uneven), "--skip", "0"]) == 2
+    assert capsys.readouterr().err.strip().startswith(f"cablecasing: error: RECORD = '{uneven}': must be evenly")

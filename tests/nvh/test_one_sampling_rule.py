@@ -79,9 +79,15 @@ def test_a_csv_with_a_sample_missing_is_refused_by_all_three_with_one_message(tm
     for what, argv in COMMANDS.items():
         assert main([a.format(path=path) for a in argv]) == 2
         errors[what] = capsys.readouterr().err.strip().splitlines()
-    assert errors["spectrum"] == errors["bands"] == errors["identify damping"], errors
+    # (one message, the file named as each command's --help names it: RECORD, identify's file)
+    said = [
+        errors["spectrum"],
+        errors["bands"],
+        [e.replace("error: file = ", "error: RECORD = ") for e in errors["identify damping"]],
+    ]
+    assert said[0] == said[1] == said[2], errors
     (line,) = errors["spectrum"]
-    assert line.startswith(f"cablecasing: error: file = '{path}': must be evenly sampled: its time column 'time [s]'")
+    assert line.startswith(f"cablecasing: error: RECORD = '{path}': must be evenly sampled: its time column 'time [s]'")
     # what is allowed: the grid through the first and last time, to 1e-6 of a step plus the printing's
     # rounding (half the last digit, 5e-7 s below 1 s); the sample after the gap, 1001/2048 s, departs most
     assert "no sample missing" in line and "to within 1e-06 of a step (" in line and "plus the rounding" in line
