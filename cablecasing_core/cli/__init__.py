@@ -38,7 +38,7 @@ import numpy as np
 from ..errors import CableCasingError, InfrastructureError, ModelError, internal_error_text, renamed
 from . import geometry, identify, nvh, report, simulate, static, study
 from .assignments import add_model_argument, model_argument
-from .helptext import FromApi, choice_argument
+from .helptext import FromApi, choice_argument, name_by_choices
 from .paths import PLOT_SUFFIXES, check_distinct, check_output_path, emit_table, kept
 
 
@@ -270,6 +270,7 @@ def build_parser():
 
     for module in (geometry, simulate, static, nvh, identify, study, report):
         module.add_parser(sub)
+    name_by_choices(sub)  # (a missing command is named as the usage line names it, not 'command')
     return p
 
 

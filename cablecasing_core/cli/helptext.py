@@ -86,3 +86,10 @@ def add_window_argument(parser):
         help="window of the band levels: Hann's (mean removed), or the rectangular one, whose leakage biases weak "
         "bands upward (docs/time_domain.md, 'The window of the band levels')",
     )
+
+
+def name_by_choices(sub):
+    """Name the sub-command argument ``sub`` (what ``add_subparsers`` returns, its parsers added) by
+    its choices, ``{damping,loss-factor,modulus}``, as its usage line shows it: argparse's error for a
+    missing sub-command names it so, instead of by its ``dest``, an internal name (``identify_command``)."""
+    sub.metavar = "{" + ",".join(sub.choices) + "}"

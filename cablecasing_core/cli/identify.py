@@ -21,7 +21,7 @@ import numpy as np
 
 from ..errors import CableCasingError, ModelError, renamed
 from ..model.schema import BODY_NAMES
-from .helptext import FromApi, choice_argument, taking_api_defaults
+from .helptext import FromApi, choice_argument, name_by_choices, taking_api_defaults
 from .paths import PLOT_SUFFIXES
 
 
@@ -766,4 +766,5 @@ def add_parser(subparsers):
     m.add_argument("--plot", help="PNG: adaptive process and E against f (Figs. 8-9)")
     m.add_argument("--toml", help="write the E table line to this file")
     m.set_defaults(func=cmd_modulus)
+    name_by_choices(sub)  # (a missing sub-command is named as the usage line names it)
     return p

@@ -441,7 +441,7 @@ def cmd_bands(args):
     columns = _columns(args.column, [STUDY_OUTPUT])
     if len(columns) > 1:
         raise ModelError("--column", ", ".join(columns), "bands takes one column: run it once per column")
-    with renamed({"f_min": "--fmin", "f_max": "--fmax"}, in_text=True):
+    with renamed({"f_min": "--fmin", "f_max": "--fmax", "f_min/f_max": "--fmin/--fmax"}, in_text=True):
         band_set = octave_bands(args.kind, args.fmin, args.fmax)
     rec = _record(args.record)
     keep = _window(rec, args)

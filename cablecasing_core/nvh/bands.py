@@ -255,6 +255,8 @@ def octave_bands(kind: str = "table3", f_min: float | None = None, f_max: float 
     if fmax < fmin:  # (equal: the one band of that nominal frequency, the range being closed)
         if f_max is None:  # (the default upper limit: the lower one given is what is wrong)
             raise ModelError("f_min", fmin, f"must be at most f_max, by default {fmax:g} Hz (give f_max too)")
+        if f_min is None:  # (the default lower limit: the upper one given is what is wrong)
+            raise ModelError("f_max", fmax, f"must be at least f_min, by default {fmin:g} Hz (give f_min too)")
         raise ModelError("f_max", fmax, f"must be at least f_min = {fmin} Hz")
     if kind != "table3":
         b = 1 if kind == "octave" else 3
@@ -268,9 +270,13 @@ def octave_bands(kind: str = "table3", f_min: float | None = None, f_max: float 
         labels = [nominal_label(f) for f in nominal]
     nominal = np.asarray(nominal, float)  # (by the names: --fmin 16 keeps the 16 Hz octave, centre 15.85 Hz)
     keep = (nominal >= fmin * (1 - 1e-12)) & (nominal <= fmax * (1 + 1e-12))
-    if not keep.any():
+    if not keep.any():  # (named by the limits given: the other is its default)
+        key, value = {
+            (True, False): ("f_min", fmin),
+            (False, True): ("f_max", fmax),
+        }.get((f_min is not None, f_max is not None), ("f_min/f_max", (fmin, fmax)))
         raise ModelError(
-            "f_min", fmin, f"leaves no {kind} band whose nominal frequency lies in {fmin:g}..{fmax:g} Hz (f_min..f_max)"
+            key, value, f"leaves no {kind} band whose nominal frequency lies in {fmin:g}..{fmax:g} Hz (f_min..f_max)"
         )
     return Bands(lo, up, tuple(labels), tuple(nominal)).select(keep)
 

@@ -165,6 +165,17 @@ def check_record_settings(model, duration=None, dt=None, skip=None, bands="table
     if skip is None:
         skip = whole_period_skip(model, duration, dt)
     band_set = bands if isinstance(bands, Bands) else octave_bands(bands)
+    # the time step first: a step too coarse for the bands is what is wrong, not the duration that its
+    # whole steps of skip leave too short (--dt 1: a skip of one whole 1 s step)
+    step = model.scenario["dt"] if dt is None else dt
+    if not 0.5 / step >= band_set.upper.max():  # (octave_rms's rule, checked before the runs)
+        key, value = ("dt", dt) if dt is not None else ("scenario.dt", step)
+        raise ModelError(
+            key,
+            value,
+            f"must be at most {0.5 / band_set.upper.max():.4g} s so that every band lies "
+            f"below the Nyquist frequency (highest edge {band_set.upper.max():g} Hz)",
+        )
     total = model.scenario["duration"] if duration is None else duration
     narrow = int(np.argmin(band_set.upper - band_set.lower))
     need = 1.0 / (band_set.upper[narrow] - band_set.lower[narrow])
@@ -177,14 +188,6 @@ def check_record_settings(model, duration=None, dt=None, skip=None, bands="table
     if note := few_lines(band_set, total - skip, fmin_advice=False):  # (once here, not from every run)
         # (stacklevel 1: one place, so that a command checking twice, as the study's does, says it once)
         warnings.warn(f"the records after skip = {skip:g} s: {note}", ModelWarning, stacklevel=1)
-    step = model.scenario["dt"] if dt is None else dt
-    if not 0.5 / step >= band_set.upper.max():  # (octave_rms's rule, checked before the runs)
-        raise ModelError(
-            "dt",
-            dt,
-            f"must be at most {0.5 / band_set.upper.max():.4g} s so that every band lies "
-            f"below the Nyquist frequency (highest edge {band_set.upper.max():g} Hz)",
-        )
     check_time_domain(model, model.scenario["duration"] if duration is None else duration, step)
 
 

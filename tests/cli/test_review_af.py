@@ -163,3 +163,47 @@ def test_bands_and_spectrum_name_their_record_as_help_does(tmp_path, capsys, com
     uneven.write_text("time [s],casing.B.Fz [N]\n" + "".join(f"{t!r},{t}\n" for t in (0.0, 0.1, 0.3, 0.35)))
     assert main([command, str(uneven), "--skip", "0"]) == 2
     assert capsys.readouterr().err.strip().startswith(f"cablecasing: error: RECORD = '{uneven}': must be evenly")
+
+
+# --- L5: errors name the option the user gave ---------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "argv,message",
+    [
+        # (table3 from 0 Hz by default: --fmax alone leaves no band)
+        (
+            ["--fmax", "5"],
+            "--fmax = 5.0: leaves no table3 band whose nominal frequency lies in 0..5 Hz (--fmin..--fmax)",
+        ),
+        (["--fmin", "8000"], "--fmin = 8000.0: leaves no table3 band whose nominal frequency lies in 8000..inf Hz"),
+        (["--fmin", "100", "--fmax", "105"], "--fmin/--fmax = (100.0, 105.0): leaves no table3 band whose nominal"),
+        (
+            ["--kind", "octave", "--fmax", "5"],
+            "--fmax = 5.0: must be at least --fmin, by default 10 Hz (give --fmin too)",
+        ),
+    ],
+)
+def test_bands_names_the_limit_that_leaves_no_band(tmp_path, capsys, argv, message):
+    assert main(["bands", _record(tmp_path / "r.csv", duration=0.2), *argv]) == 2
+    assert capsys.readouterr().err.strip().startswith(f"cablecasing: error: {message}")
+
+
+def test_an_ensemble_whose_dt_is_too_coarse_names_dt_not_the_duration(capsys):
+    """--dt 1 makes the skip one whole step of 1 s, longer than the duration; the step is what is wrong
+    (0.5 / 5680 Hz, the top edge of Table 3's bands, is the largest step allowed)."""
+    assert main(["ensemble", "--seeds", "2", "--duration", "0.5", "--dt", "1"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"cablecasing: error: --dt = 1.0: must be at most {0.5 / 5680:.4g} s so that every band lies")
+
+
+@pytest.mark.parametrize(
+    "argv,choices",
+    [(["identify"], "{damping,loss-factor,modulus}"), ([], "{modes,trfam,keys,geometry,simulate,static,")],
+)
+def test_a_missing_sub_command_is_named_by_its_choices(capsys, argv, choices):
+    with pytest.raises(SystemExit) as stop:
+        main(argv)
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert f"error: the following arguments are required: {choices}" in err and "_command" not in err
