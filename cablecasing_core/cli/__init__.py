@@ -39,7 +39,7 @@ from ..errors import CableCasingError, InfrastructureError, ModelError, internal
 from . import geometry, identify, nvh, report, simulate, static, study
 from .assignments import add_model_argument, model_argument
 from .helptext import FromApi, choice_argument, name_by_choices
-from .paths import PLOT_SUFFIXES, check_distinct, check_output_path, emit_table, kept
+from .paths import PLOT_SUFFIXES, check_distinct, check_output_path, check_plotting, emit_table, kept
 
 
 class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
@@ -380,7 +380,8 @@ class _ReaderGone:
     descriptor is then pointed at /dev/null (Python flushes the stream again at exit; the Python
     docs' "Note on SIGPIPE"). Everything else is the wrapped stream's. A stream that is not there
     (``sys.stderr`` is None when the command starts with it closed, ``2>&-``) is /dev/null: the text
-    is dropped, the command runs and its status says how it ended."""
+    is dropped, the command runs and its status says how it ended. Text the stream's encoding cannot
+    spell (a path in ``PYTHONIOENCODING=ascii``) is written escaped (``\\xfc``), not raised."""
 
     def __init__(self, stream):
         if stream is None:
@@ -391,7 +392,12 @@ class _ReaderGone:
     def write(self, text):
         if not self.gone:
             try:
-                return self._stream.write(text)
+                try:
+                    return self._stream.write(text)
+                except UnicodeEncodeError:  # (a path its encoding cannot spell, PYTHONIOENCODING=ascii:
+                    # escaped, \xfc, rather than a done run turned into an internal error)
+                    encoding = getattr(self._stream, "encoding", None) or "ascii"
+                    self._stream.write(text.encode(encoding, "backslashreplace").decode(encoding))
             except BrokenPipeError:
                 self._left()
         return len(text)
@@ -459,6 +465,12 @@ def main(argv=None):
         print(f"cablecasing: error: {_write_failed(args, exc)}", file=sys.stderr)
         return 1
     except Exception as exc:
+        if isinstance(exc, ValueError) and os.environ.get("MPLBACKEND"):  # (an import of matplotlib that the
+            try:  # environment failed, in a command drawing no figure: not a bug)
+                check_plotting()
+            except ModelError as bad:
+                print(f"cablecasing: error: {bad}", file=sys.stderr)
+                return 2
         return _internal_error(exc)
     finally:
         warnings.showwarning = shown

@@ -17,7 +17,8 @@ def check_output_path(flag, path, suffixes=None):
     must end in one of them, the optional package that writes its suffix must be installed (pyuff
     for ``.uff``), and a file must be writable there (:func:`~cablecasing_core.files.check_writable`:
     an existing folder, a regular file or none yet, a byte written and synced to a temporary file in
-    the folder). ``None`` (no output asked for) passes."""
+    the folder); a figure (:data:`PLOT_SUFFIXES`) needs matplotlib to start (:func:`check_plotting`).
+    ``None`` (no output asked for) passes."""
     from ..files import check_writable
 
     if path is None or path is True:
@@ -35,6 +36,27 @@ def check_output_path(flag, path, suffixes=None):
             instead = f" (or write {' or '.join(others)})" if others else ""
             raise ModelError(flag, path, f"writing UFF {PYUFF_MISSING}{instead}") from None
     check_writable(flag, path)
+    if suffix in PLOT_SUFFIXES:  # (a figure: matplotlib must start, before the run rather than after it)
+        check_plotting()
+
+
+def check_plotting():
+    """Refuse an environment in which matplotlib, which draws every figure (with Agg, whatever the
+    environment names), cannot start: an ``MPLBACKEND`` it does not know makes its import fail. A
+    :class:`ModelError` naming MPLBACKEND; called before a run that draws a figure, and by the
+    command line's ``main`` to tell this cause of a failed import from a bug."""
+    try:
+        import matplotlib  # noqa: F401
+    except ValueError:
+        backend = os.environ.get("MPLBACKEND")
+        if not backend:
+            raise
+        raise ModelError(
+            "MPLBACKEND",
+            backend,
+            "must name a backend matplotlib knows (e.g. Agg) or be unset: matplotlib, which draws the figures "
+            "(with Agg, whatever it names), does not start with it",
+        ) from None
 
 
 def check_distinct(*named):

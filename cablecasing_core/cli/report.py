@@ -12,6 +12,7 @@ def cmd_report(args):
     from ..files import output_folder
     from ..model.limits import check_time_domain
     from ..report import check_report_folder, check_report_settings, write_report
+    from .paths import check_plotting
 
     # (the settings before the folder: a refused report creates nothing)
     names = {"model": "MODEL", "duration": "--duration", "scenario.duration": "--duration", "seeds": "--seeds"}
@@ -20,6 +21,7 @@ def cmd_report(args):
             model_argument(args.model), args.duration, args.seeds, args.study_samples, args.skip
         )
         check_time_domain(model, duration, model.scenario["dt"])  # (a run too large for the machine)
+    check_plotting()  # (its figures: matplotlib must start, before the runs and the folder is made)
     output_folder("--out", args.out, "report.html")  # (before the runs)
     check_report_folder("--out", args.out)  # (every file the report writes can be moved in)
     args.interrupted = (

@@ -16,7 +16,7 @@ from ..model.validators import integer, number
 from ..records import unit_of
 from .assignments import add_model_argument, assignments, model_argument, typed, with_changes
 from .helptext import ASSIGNMENT_HELP, FromApi, add_window_argument, choice_argument, key_help
-from .paths import PLOT_SUFFIXES, check_distinct, check_output_path, kept
+from .paths import PLOT_SUFFIXES, check_distinct, check_output_path, check_plotting, kept
 
 
 def _count(n, noun):
@@ -126,6 +126,7 @@ def cmd_study(args):
         raise ModelError("--out", args.out, "must be a folder (of study.csv and the figures); it is a file")
     # (the string as given: Path("") would be ".", the current folder, which '' must not name)
     output_folder("--out", args.out, "study.csv", create=False)  # (before the plan is printed)
+    check_plotting()  # (its figures: matplotlib must start, before the runs)
     # a file by its absolute path (dask workers run in any folder); a built-in specimen by its name
     model_file = args.model if args.model in (None, *specimen_names()) else str(Path(args.model).resolve())
     kwargs = {"model_file": model_file, "duration": args.duration, "skip": args.skip, "window": args.window}

@@ -5,15 +5,22 @@ study --out '' is refused; ensemble and study take --no-progress; a bad MPLBACKE
 the run and an output stream that cannot encode a path does not turn a run into an internal error;
 docs/cli.md's exit statuses are those of the command line's docstring."""
 
+import io
+import os
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+import cablecasing_core
 from cablecasing_core.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]
+#: Where the cablecasing_core this test imports lies (a process of its own imports the same).
+PACKAGE_ROOT = str(Path(cablecasing_core.__file__).resolve().parents[1])
 
 
 def _record(path, duration=1.0, dt=1e-4):
@@ -207,3 +214,42 @@ def test_a_missing_sub_command_is_named_by_its_choices(capsys, argv, choices):
     assert stop.value.code == 2
     err = capsys.readouterr().err
     assert f"error: the following arguments are required: {choices}" in err and "_command" not in err
+
+
+# --- L6: the environment: an unknown MPLBACKEND, a stdout that cannot spell a path --------------------
+
+
+@pytest.mark.parametrize("argv", [["simulate", "--duration", "0.001", "--out", "x.csv", "--plot", "p.png"], ["bands"]])
+def test_an_unknown_mplbackend_is_named_before_the_run(tmp_path, argv):
+    """In a process of its own (matplotlib is imported in this one already): status 2 and one line naming
+    MPLBACKEND, before the run (no --out written); also where a command imports matplotlib without --plot."""
+    if argv == ["bands"]:
+        argv = ["bands", _record(tmp_path / "r.csv", duration=0.2)]
+    env = {
+        **os.environ,
+        "MPLBACKEND": "nonsense",
+        "PYTHONPATH": os.pathsep.join([PACKAGE_ROOT, os.environ.get("PYTHONPATH", "")]),
+    }
+    run = subprocess.run(
+        [sys.executable, "-m", "cablecasing_core", *argv], cwd=tmp_path, env=env, capture_output=True, text=True
+    )
+    assert run.returncode == 2, run.stderr
+    assert run.stderr.strip().splitlines() == [
+        "cablecasing: error: MPLBACKEND = 'nonsense': must name a backend matplotlib knows (e.g. Agg) or be unset: "
+        "matplotlib, which draws the figures (with Agg, whatever it names), does not start with it"
+    ]
+    assert not (tmp_path / "x.csv").exists()
+
+
+def test_a_path_stdout_cannot_encode_leaves_a_done_run_done(tmp_path, monkeypatch):
+    """PYTHONIOENCODING=ascii and an output path in unicode: the file is written and the line that says so
+    is escaped, status 0 (it was 'internal error: UnicodeEncodeError', status 1, after the file was written)."""
+    raw = io.BytesIO()
+    monkeypatch.setattr(sys, "stdout", io.TextIOWrapper(raw, encoding="ascii"))
+    out = tmp_path / "\u00fcn\u00ef" / "x.csv"
+    out.parent.mkdir()
+    assert main(["simulate", "--duration", "0.001", "--no-progress", "--out", str(out)]) == 0
+    sys.stdout.flush()
+    assert out.read_text().startswith("time [s],")
+    escaped = str(out).encode("ascii", "backslashreplace").decode("ascii")
+    assert f"wrote {escaped}, t = 0 and every step" in raw.getvalue().decode("ascii")
