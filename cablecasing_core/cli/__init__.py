@@ -18,7 +18,8 @@ one line and exits with status 3 (the same command resumes). Anything else is a 
 
 Exit statuses: 0 done, 1 every run of a study failed, an output could not be written or an internal
 error, 2 bad input (or a run that cannot work: too large for the machine, a blow-up), 3
-infrastructure, 130 interrupted (Ctrl-C), 143 and 129 stopped by SIGTERM and SIGHUP.
+infrastructure, 130 interrupted (Ctrl-C), 143 and 129 stopped by SIGTERM and SIGHUP (docs/cli.md,
+"Exit status", tabulates the same).
 """
 
 from __future__ import annotations

@@ -253,3 +253,32 @@ def test_a_path_stdout_cannot_encode_leaves_a_done_run_done(tmp_path, monkeypatc
     assert out.read_text().startswith("time [s],")
     escaped = str(out).encode("ascii", "backslashreplace").decode("ascii")
     assert f"wrote {escaped}, t = 0 and every step" in raw.getvalue().decode("ascii")
+
+
+# --- L8: one table of exit statuses, in step with the docstring and the code ---------------------------
+
+
+def _numbers(text):
+    """The whole numbers in ``text`` that stand alone (not in 'SIGTERM', '1.5' or 'L8')."""
+    return {int(n) for n in re.findall(r"(?<![\w.])(\d+)(?![\w.])", text)}
+
+
+def test_docs_cli_md_tabulates_the_exit_statuses_of_the_docstring_and_the_code():
+    import ast
+    import signal
+
+    import cablecasing_core.cli as cli
+
+    said = _numbers(cli.__doc__.split("Exit statuses:")[1].split("(docs/cli.md")[0])
+    section = (ROOT / "docs" / "cli.md").read_text().split("### Exit status\n")[1].split("\n#")[0]
+    rows = [line.split("|")[1] for line in section.splitlines() if re.match(r"\| \d", line)]
+    table = set().union(*(_numbers(r) for r in rows))
+    # the code: every `return <status>` of the command line's modules, and 128 + the signals that stop it
+    # (main returns 128 + signum for SIGTERM and SIGHUP, _STOP_SIGNALS)
+    returned = set()
+    for module in Path(cli.__file__).parent.glob("*.py"):
+        for node in ast.walk(ast.parse(module.read_text())):
+            if isinstance(node, ast.Return) and isinstance(node.value, ast.Constant) and type(node.value.value) is int:
+                returned.add(node.value.value)
+    returned |= {128 + s for s in cli._STOP_SIGNALS}
+    assert table == said == returned == {0, 1, 2, 3, 130, 128 + signal.SIGTERM, 128 + signal.SIGHUP}
