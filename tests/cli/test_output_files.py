@@ -178,7 +178,7 @@ def test_an_output_over_its_input_is_refused_and_upper_case_npz_and_a_byte_order
     assert [p.name for p in tmp_path.iterdir()] == ["r.NPZ"]
     res.save(tmp_path / "in.csv")
     assert main(["spectrum", str(tmp_path / "in.csv"), "--out", str(tmp_path / "in.csv")]) == 2
-    assert "must be another file than record's" in capsys.readouterr().err
+    assert "must be another file than RECORD's" in capsys.readouterr().err
     (tmp_path / "bom.csv").write_bytes(b"\xef\xbb\xbfmode,f_hz\n1,10.0\n2,30.0\n")
     assert read_csv_table(tmp_path / "bom.csv", "file")[0] == ["mode", "f_hz"]
     (tmp_path / "m.toml").write_bytes(b"\xef\xbb\xbf" + cc.load_model().to_toml().encode())
