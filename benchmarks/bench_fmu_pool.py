@@ -1,5 +1,5 @@
-"""Runs on several threads at once: the FMU on a master's thread pool, and the core's ``simulate``
-on Python threads.
+"""Runs on several threads at once: the FMU on a master's thread pool, the core's ``simulate`` on
+Python threads, and a seed ensemble on the studies' ``threads`` scheduler.
 
 The FMU: instances of the default specimen (one per contact.friction,
 different records), each driven at casing.A.z by a 300 Hz sine with a 1e-4 s communication step,
@@ -24,7 +24,13 @@ Prints ``name: value`` lines:
   contact.friction, ``--duration`` each) on as many Python threads, against one after the other in
   the same process, the median of the repetitions' ratios (the orders alternating): the step loop
   runs outside the interpreter's lock, the Python of a run (its scenario's motion, chunk by chunk;
-  its records) inside it.
+  its records) inside it;
+* ``ensemble_serial_s``, ``ensemble_threads_s`` and ``ensemble_threads_over_serial``: a seed
+  ensemble of the default specimen (``--seeds`` members of ``--duration``, ``seed_ensemble``) with
+  ``scheduler="serial"`` and ``"threads"`` (one thread per core), the whole call as a user waits
+  for it, the medians over the repetitions (alternating), and their ratio; with ``--dask`` also
+  ``ensemble_local_s`` on a LocalCluster of one worker per core, started inside the call as the
+  command line's ``--scheduler local`` does.
 
 The machine's speed drifts: compare the ratio, not the absolute figures, across runs.
 
@@ -82,12 +88,30 @@ def simulate_ratios(models, duration, reps):
     return ratios
 
 
+def ensemble_times(model, seeds, duration, reps, dask):
+    """Wall times (s) of ``seed_ensemble(model, seeds, duration)`` per scheduler, ``reps`` each, the
+    schedulers' order turning with the repetitions."""
+    from cablecasing_core.studies import seed_ensemble
+
+    kinds = ["serial", "threads"] + (["local"] if dask else [])
+    seed_ensemble(model, 2, duration=duration)  # (the kernels loaded)
+    took = {k: [] for k in kinds}
+    for r in range(reps):
+        for kind in kinds[r % len(kinds) :] + kinds[: r % len(kinds)]:
+            t0 = time.perf_counter()
+            seed_ensemble(model, seeds, duration=duration, scheduler=kind, progress=False)
+            took[kind].append(time.perf_counter() - t0)
+    return took
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])  # the first paragraph
     p.add_argument("--duration", type=float, default=0.5, help="simulated time of each instance's run (s)")
     p.add_argument("--reps", type=int, default=6, help="repetitions (serial and threaded each)")
     p.add_argument("--instances", type=int, default=2, help="instances stepped at once")
     p.add_argument("--fmu", type=Path, default=FMU, help="the FMU (default: dist/CableCasing.fmu, built if stale)")
+    p.add_argument("--seeds", type=int, default=4, help="members of the seed ensemble")
+    p.add_argument("--dask", action="store_true", help="also the ensemble on a local dask cluster")
     args = p.parse_args()
     if not (args.duration >= 10 * H and args.reps >= 1 and 1 <= args.instances <= 64):
         p.error("--duration must be at least 1e-3 s, --reps at least 1, --instances in [1, 64]")
@@ -114,6 +138,13 @@ def main():
     base = cc.load_model()
     models = [base.with_overrides({"contact.friction": f}) for f in frictions]
     print(f"simulate_threads_over_serial: {statistics.median(simulate_ratios(models, args.duration, args.reps)):.3f}")
+    took = ensemble_times(base, args.seeds, max(args.duration, 0.16), args.reps, args.dask)
+    serial, threads = statistics.median(took["serial"]), statistics.median(took["threads"])
+    print(f"ensemble_serial_s: {serial:.2f}")
+    print(f"ensemble_threads_s: {threads:.2f}")
+    print(f"ensemble_threads_over_serial: {serial / threads:.3f}")
+    if args.dask:
+        print(f"ensemble_local_s: {statistics.median(took['local']):.2f}")
 
 
 if __name__ == "__main__":

@@ -183,12 +183,13 @@ class ModelPropertyWarning(ModelWarning):
 _SAID_ONCE: set[str] = set()
 
 
-def _filter_action(text, category, frame):
-    """The action the warnings filters give ``text`` of ``category`` warned at ``frame`` (or the
-    default action), matched as warnings.warn matches them: message, category, module, line."""
+def _filter_action(text, category, frame, filters=None):
+    """The action the warnings filters (``filters``, default the process's) give ``text`` of
+    ``category`` warned at ``frame`` (or the default action), matched as warnings.warn matches them:
+    message, category, module, line."""
     module = frame.f_globals.get("__name__", "<string>") if frame is not None else "sys"
     lineno = frame.f_lineno if frame is not None else 1
-    for action, msg, cat, mod, ln in warnings.filters:
+    for action, msg, cat, mod, ln in warnings.filters if filters is None else filters:
         if (
             (msg is None or msg.match(text))
             and issubclass(category, cat)
@@ -199,7 +200,7 @@ def _filter_action(text, category, frame):
     return warnings.defaultaction
 
 
-def warn_once_per_process(text, category=None, stacklevel=2, key=None):
+def warn_once_per_process(text, category=None, stacklevel=2, key=None, filters=None):
     """``warnings.warn(text, category, stacklevel)`` unless the message ``key`` (default ``text``)
     was said before in this process. The warnings filters still decide: under "always" (a test's
     ``pytest.warns``, a study's sample recording its warnings to say them once itself) or "error"
@@ -213,7 +214,7 @@ def warn_once_per_process(text, category=None, stacklevel=2, key=None):
         frame = sys._getframe(stacklevel)
     except ValueError:
         frame = None
-    action = _filter_action(text, category, frame)
+    action = _filter_action(text, category, frame, filters)
     if action in ("default", "module", "once"):
         if key in _SAID_ONCE:
             return

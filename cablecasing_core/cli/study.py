@@ -576,17 +576,18 @@ def _as_assignments(overrides):
 
 
 def _check_workers(args):
-    """--workers: a whole number >= 1, and only where a local cluster is started (the serial runs and
-    a cluster of one's own, --scheduler tcp://..., have no workers of the command's)."""
+    """--workers: a whole number >= 1, and only where the command starts its workers (a local
+    cluster's processes, or the threads of --scheduler threads; the serial runs and a cluster of
+    one's own, --scheduler tcp://..., have none of the command's)."""
     if args.workers is None:
         return
     integer("--workers", args.workers, 1)
-    if args.scheduler not in (None, "local"):
+    if args.scheduler not in (None, "local", "threads"):
         raise ModelError(
             "--workers",
             args.workers,
-            f"is the number of workers of a local cluster; with --scheduler {args.scheduler} there is none to size "
-            "(leave --workers out, or give --scheduler local)",
+            f"is the number of workers of a local cluster or of --scheduler threads; with --scheduler "
+            f"{args.scheduler} there is none to size (leave --workers out, or give --scheduler threads or local)",
         )
 
 
@@ -708,9 +709,12 @@ def add_parser(sub):
         "model's own seeds); K times the run time",
     )
     p.add_argument(
-        "--scheduler", default=None, help="dask scheduler address tcp://host:8786, 'serial', or local (default)"
+        "--scheduler",
+        default=None,
+        help="where the samples run: 'serial' (this process), 'threads' (this process, one thread per core), "
+        "local (default: a dask cluster, one process per core) or a dask scheduler address tcp://host:8786",
     )
-    p.add_argument("--workers", type=int, default=None, help="local cluster workers (default: one per core)")
+    p.add_argument("--workers", type=int, default=None, help="threads or local cluster workers (default: one per core)")
     p.add_argument(
         "--duration", type=float, default=None, help=key_help("scenario.duration", "simulated time per sample")
     )
@@ -778,9 +782,10 @@ def add_parser(sub):
     e.add_argument(
         "--scheduler",
         default="serial",
-        help="'serial' (default), 'local' (dask, one worker per core) or tcp://host:8786",
+        help="'serial' (default), 'threads' (this process, one thread per core), 'local' (dask, one worker per "
+        "core) or tcp://host:8786",
     )
-    e.add_argument("--workers", type=int, default=None, help="local cluster workers (default: one per core)")
+    e.add_argument("--workers", type=int, default=None, help="threads or local cluster workers (default: one per core)")
     e.add_argument("--out", default=None, help="CSV of the per-seed band levels")
     e.add_argument(
         "--plot", default=None, metavar="PNG", help="figure: means with confidence intervals (and the change)"

@@ -120,9 +120,10 @@ def seed_ensemble(
         would win: the change would do nothing).
     excitations : sequence of str, optional
         Random excitations whose seed is varied (default all; :func:`seed_overrides`).
-    scheduler : "serial", None, "local", address or distributed.Client
+    scheduler : "serial", "threads", None, "local", address or distributed.Client
         As :func:`~cablecasing_core.studies.study.run_study`; default ``"serial"``: members one
-        after the other in this process (no dask needed).
+        after the other in this process (no dask needed); ``"threads"``: at once on threads of this
+        process.
     progress : bool
         Show a tqdm bar of the members done.
 

@@ -1,6 +1,14 @@
 """The executor of the studies: one sample in this process or on a dask.distributed worker, and the
-loop over all samples, serial or on dask (the Monte-Carlo study and the seed ensemble both run
-through :func:`execute`).
+loop over all samples, serial, on threads of this process or on dask (the Monte-Carlo study and the
+seed ensemble both run through :func:`execute`).
+
+On threads (``scheduler="threads"``) the samples run at once in this process, one per thread: the
+time domain's step loop runs outside the interpreter's lock, so they overlap as far as the runs'
+Python (their motion's chunks, their records, the band levels) leaves them (docs/studies.md, "Where
+the samples run"). Python's warning filters are the process's, so a sample on a thread does not swap
+them (``warnings.catch_warnings`` in two threads at once restores each other's): the loop sets them
+once for all its samples and gives each warning to the sample whose thread warned it
+(:func:`_warnings_by_thread`). An ``evaluate`` of the user's own must not change the filters then.
 
 Failures are told apart by where they happen. A sample whose evaluation raises is a *model* failure:
 :func:`evaluate_sample` catches it and returns a row of status ``failed`` with the exception. Any
@@ -25,10 +33,12 @@ from __future__ import annotations
 
 import asyncio
 import concurrent.futures
+import contextlib
 import importlib
 import logging
 import math
 import os
+import threading
 import time
 import warnings
 
@@ -46,9 +56,10 @@ STUDY_EXTRA = "pip install 'cablecasing[study]'"
 def missing_packages(scheduler=None, salib=True):
     """The optional packages that a study (``salib``: its Saltelli design and Sobol' indices need
     SALib) or an ensemble (``salib=False``) on ``scheduler`` needs and that cannot be imported: SALib,
-    and dask's distributed unless ``scheduler`` is ``"serial"`` (a serial run needs no dask)."""
+    and dask's distributed unless ``scheduler`` is ``"serial"`` or ``"threads"`` (a run in this
+    process needs no dask)."""
     wanted = ([("SALib", "SALib")] if salib else []) + (
-        [] if _serial(scheduler) else [("distributed", "dask[distributed]")]
+        [] if _in_process(scheduler) else [("distributed", "dask[distributed]")]
     )
     missing = []
     for module, name in wanted:
@@ -143,30 +154,41 @@ def kernel_environments(workers) -> list:
     return out
 
 
-def _serial(scheduler):
-    return scheduler == "serial" or getattr(scheduler, "scheduler", None) == "serial"
+#: The schedulers that run the samples in this process: one after the other, or on threads.
+IN_PROCESS = ("serial", "threads")
+
+
+def _kind(scheduler):
+    """``"serial"``, ``"threads"`` (this process) or None (dask), of a scheduler or a :class:`Workers`."""
+    name = getattr(scheduler, "scheduler", scheduler)
+    return name if isinstance(name, str) and name in IN_PROCESS else None
+
+
+def _in_process(scheduler):
+    return _kind(scheduler) is not None
 
 
 def check_scheduler(scheduler):
     """Refuse, with a ModelError naming ``scheduler``, what :class:`Workers` cannot run samples on:
-    anything but None, ``"serial"``, ``"local"``, an address (a str) or a ``distributed.Client``
-    (its class or a subclass, told by the class's name and module, so that distributed, which a
-    serial run does without, is not imported for it)."""
+    anything but None, ``"serial"``, ``"threads"``, ``"local"``, an address (a str) or a
+    ``distributed.Client`` (its class or a subclass, told by the class's name and module, so that
+    distributed, which a run in this process does without, is not imported for it)."""
     client = any(c.__name__ == "Client" and c.__module__.startswith("distributed.") for c in type(scheduler).__mro__)
     if not (scheduler is None or isinstance(scheduler, str) or client):
         raise ModelError(
             "scheduler",
             scheduler,
-            "must be None, 'serial', 'local', an address 'tcp://host:8786' or a distributed.Client",
+            "must be None, 'serial', 'threads', 'local', an address 'tcp://host:8786' or a distributed.Client",
         )
-    if isinstance(scheduler, str) and scheduler not in ("serial", "local") and ":" not in scheduler:
+    named = (*IN_PROCESS, "local")
+    if isinstance(scheduler, str) and scheduler not in named and ":" not in scheduler:
         from ..errors import closest  # (no port: no address dask connects to, a typo such as 'lcoal')
 
-        close = closest(scheduler, ("serial", "local"))
+        close = closest(scheduler, named)
         raise ModelError(
             "scheduler",
             scheduler,
-            "must be 'serial', 'local' or a scheduler address with its port, such as tcp://host:8786"
+            "must be 'serial', 'threads', 'local' or a scheduler address with its port, such as tcp://host:8786"
             + (f" (did you mean {close[0]!r}?)" if close else ""),
         )
 
@@ -207,8 +229,7 @@ def evaluate_sample(spec, kwargs, index, overrides, outputs):
     row = {"index": index, "status": "ok", "error": ""}
     said = []
     try:
-        with warnings.catch_warnings(record=True) as said:  # (said again by the executor: _say)
-            warnings.simplefilter("always")
+        with _recorded() as said:  # (said again by the executor: _say)
             res = resolve_evaluate(spec)(dict(overrides), **kwargs)
         if not isinstance(res, dict):
             raise TypeError(f"evaluate returned {type(res).__name__}, expected dict of output name -> float")
@@ -226,6 +247,57 @@ def evaluate_sample(spec, kwargs, index, overrides, outputs):
     return row
 
 
+#: What a thread of the threads scheduler knows: ``on`` (it runs samples) and ``said`` (the warnings
+#: of its sample in progress, or None).
+_THREAD = threading.local()
+
+
+@contextlib.contextmanager
+def _recorded():
+    """The warnings given inside the block, as a list of ``warnings.WarningMessage``, all of them
+    (``"always"``): on a thread of the threads scheduler, those its own thread warns
+    (:func:`_warnings_by_thread` hands them over); elsewhere by ``warnings.catch_warnings``."""
+    if getattr(_THREAD, "on", False):
+        said = _THREAD.said = []
+        try:
+            yield said
+        finally:
+            _THREAD.said = None
+    else:
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            yield said
+
+
+@contextlib.contextmanager
+def _warnings_by_thread():
+    """For samples on threads: the process's warning filters set to ``"always"`` for the block, and
+    each warning shown while a thread's sample is in progress given to that sample's list (the
+    others shown as before); yields the filters in force before, which say whether a model's own
+    warning is said once (:func:`_say`). Python's own ``catch_warnings`` swaps process-wide state, which two
+    threads' blocks would restore in each other's stead (Python 3.14's context-aware warnings would
+    make this per thread by itself)."""
+    with warnings.catch_warnings():
+        outer = list(warnings.filters)
+        warnings.simplefilter("always")
+        shown = warnings.showwarning
+
+        def show(message, category, filename, lineno, file=None, line=None):
+            said = getattr(_THREAD, "said", None)
+            if said is None:
+                shown(message, category, filename, lineno, file, line)
+            else:
+                said.append(warnings.WarningMessage(message, category, filename, lineno, file, line))
+
+        warnings.showwarning = show
+        yield outer
+
+
+def _sample_thread():
+    """The initializer of the threads scheduler's threads."""
+    _THREAD.on = True
+
+
 #: The key of a row from :func:`evaluate_sample` that holds its warnings, (category, message) each;
 #: taken out of the row before it is written.
 WARNINGS = "_warnings"
@@ -235,14 +307,14 @@ WARNINGS = "_warnings"
 WARNING_SEPARATOR = " | "
 
 
-def _say(row, label, said):
+def _say(row, label, said, filters=None):
     """Warn, in this process, what the sample of ``row`` gave (its WARNINGS, taken out of the row
     and kept in it as the line ``row["warnings"]``, every message, for the results), each message
     prefixed with ``label(index)``; a message already in the set ``said`` is not said again (several
     samples of one model give its warnings word for word). A message of the model itself, not of
     the run (a ModelPropertyWarning), is said once per process: not again by the next study of the
     same model (``ensemble --against``, ``report``) nor after its direct run or its loading said it
-    (errors.warn_once_per_process)."""
+    (errors.warn_once_per_process), as ``filters`` (default the process's warning filters) decide."""
     from ..errors import ModelPropertyWarning, warn_once_per_process
 
     given = row.pop(WARNINGS, ())
@@ -251,7 +323,7 @@ def _say(row, label, said):
             said.add(message)
             text = f"{label(row['index'])}: {message}"
             if issubclass(category, ModelPropertyWarning):
-                warn_once_per_process(text, category, stacklevel=3, key=message)
+                warn_once_per_process(text, category, stacklevel=3, key=message, filters=filters)
             else:
                 warnings.warn(text, category, stacklevel=3)
     row["warnings"] = WARNING_SEPARATOR.join(" ".join(str(m).split()) for _, m in given)
@@ -364,15 +436,17 @@ def _cluster_deaf_to_ctrl_c(LocalCluster, n_workers):
 
 
 class Workers:
-    """Where the samples run: ``"serial"`` (this process), ``None``/``"local"`` (a LocalCluster of
+    """Where the samples run: ``"serial"`` (this process, one after the other), ``"threads"`` (this
+    process, ``n_workers`` threads, default one per core), ``None``/``"local"`` (a LocalCluster of
     ``n_workers`` processes, default one per core), an address ``"tcp://host:8786"`` (reached within
     :data:`CONNECT_TIMEOUT` s, or a :class:`ModelError`) or a ``distributed.Client`` (used, left open).
     A context manager: a cluster or client it made is closed at the end."""
 
     def __init__(self, scheduler=None, n_workers=None):
         self.scheduler, self.client, self._own, self._cluster = scheduler, None, None, None
+        self.n_workers = None if n_workers is None else integer("n_workers", n_workers, 1)
         check_scheduler(scheduler)
-        if scheduler == "serial":
+        if _in_process(scheduler):
             return
         if isinstance(scheduler, str) or scheduler is None:  # (a Client passed in: distributed is there)
             check_packages(scheduler, salib=False)
@@ -390,8 +464,8 @@ class Workers:
                 raise ModelError(
                     "scheduler",
                     scheduler,
-                    "must be 'serial', 'local' or a scheduler address such as tcp://host:8786 that answers within "
-                    f"{CONNECT_TIMEOUT:g} s ({type(exc).__name__})",
+                    "must be 'serial', 'threads', 'local' or a scheduler address such as tcp://host:8786 that answers "
+                    f"within {CONNECT_TIMEOUT:g} s ({type(exc).__name__})",
                 ) from None
         else:  # (a distributed.Client: check_scheduler)
             self.client = scheduler
@@ -439,8 +513,9 @@ def execute(
     label=None,
 ):
     """Evaluate the samples ``todo`` = [(index, overrides), ...] with ``evaluate(overrides, **kwargs)``
-    in this process (``scheduler="serial"``) or on dask (``scheduler``: as :class:`Workers` takes
-    it, or a :class:`Workers`), passing each row to ``writer.write`` as it completes and counting it
+    in this process (``scheduler="serial"``, or ``"threads"``: ``n_workers`` threads, default one
+    per core) or on dask (``scheduler``: as :class:`Workers` takes it, or a :class:`Workers`),
+    passing each row to ``writer.write`` as it completes and counting it
     on ``bar``. A sample whose evaluation fails is a row with status "failed"; one lost to the
     infrastructure is passed to ``lost(index, cause)`` and no row is written (module docstring).
     The samples' warnings are said here, each prefixed with ``label(index)`` (default
@@ -448,20 +523,53 @@ def execute(
     said = set()
     label = label or (lambda i: f"sample {i}")
 
-    def write(row):
-        _say(row, label, said)
+    def write(row, filters=None):
+        _say(row, label, said, filters)
         writer.write(row)
 
-    if _serial(scheduler):
+    if _kind(scheduler) == "serial":
         for i, p in todo:
             write(evaluate_sample(evaluate, kwargs, i, p, outputs))
             bar.update(1)
+        return
+    if _kind(scheduler) == "threads":
+        threads = getattr(scheduler, "n_workers", None) or n_workers
+        _run_threads(todo, evaluate, kwargs, outputs, write, bar, os.cpu_count() if threads is None else threads)
         return
     if isinstance(scheduler, Workers):
         _run_dask(todo, evaluate, kwargs, outputs, write, bar, scheduler.client, max_in_flight, progress_timeout, lost)
         return
     with Workers(scheduler, n_workers) as workers:
         _run_dask(todo, evaluate, kwargs, outputs, write, bar, workers.client, max_in_flight, progress_timeout, lost)
+
+
+def _run_threads(todo, evaluate, kwargs, outputs, write, bar, n_threads):
+    """The samples on ``n_threads`` threads of this process (at most that many in flight), each row
+    written here, in the calling thread, as it completes. Ctrl-C cancels the samples not begun; the
+    ones in progress end on their own (a thread cannot be stopped), and their rows are dropped."""
+    n_threads = integer("n_workers", n_threads, 1)
+    pending = iter(todo)
+    pool = concurrent.futures.ThreadPoolExecutor(n_threads, "cablecasing-sample", initializer=_sample_thread)
+    running = set()
+
+    def submit_next():
+        item = next(pending, None)
+        if item is not None:
+            running.add(pool.submit(evaluate_sample, evaluate, kwargs, item[0], item[1], outputs))
+
+    try:
+        with _warnings_by_thread() as outer:
+            for _ in range(n_threads):
+                submit_next()
+            while running:
+                done, _ = concurrent.futures.wait(running, return_when=concurrent.futures.FIRST_COMPLETED)
+                for fut in sorted(done, key=lambda f: f.result()["index"]):
+                    running.discard(fut)
+                    write(fut.result(), outer)  # (evaluate_sample never raises)
+                    bar.update(1)
+                    submit_next()
+    finally:
+        pool.shutdown(wait=False, cancel_futures=True)
 
 
 def _cause(exc):

@@ -112,10 +112,11 @@ def run_study(
         figures.
     evaluate_kwargs : dict, optional
         Extra keyword arguments of evaluate (JSON-serialisable; stored in the sidecar).
-    scheduler : None, "serial", "local", str address or distributed.Client
+    scheduler : None, "serial", "threads", "local", str address or distributed.Client
         ``None``/``"local"``: a LocalCluster with ``n_workers`` (default: one per core) worker
-        processes of one thread each; ``"serial"``: in this process, no dask; ``"tcp://host:8786"``:
-        an existing cluster; a Client: use it (left open).
+        processes of one thread each; ``"serial"``: in this process, no dask; ``"threads"``: in this
+        process on ``n_workers`` threads (default: one per core), no dask (docs/studies.md, "Where
+        the samples run"); ``"tcp://host:8786"``: an existing cluster; a Client: use it (left open).
     max_samples : int, optional
         Evaluate at most this many new samples in this call (the rest on a later resume).
     constraints : sequence of callables

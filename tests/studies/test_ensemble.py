@@ -402,6 +402,22 @@ def test_a_seed_gives_the_same_record_at_every_time_step():
         assert np.abs(c - f).max() < 1e-11 * np.sqrt(np.mean(c**2))
 
 
+def test_members_on_threads_equal_the_serial_ones():
+    """scheduler="threads": the members at once on threads of this process (their step loops outside
+    the interpreter's lock) give the serial members' levels and warnings, bit for bit, whatever order
+    they finish in; and a warning filter of the caller's that turns warnings into errors does not
+    fail them (as it does not in serial: a member records its warnings)."""
+    import warnings
+
+    model = cc.load_model().with_overrides({"contact.damping": 1e5})  # (its members warn: the test below)
+    serial = seed_ensemble(model, [1, 2, 3], duration=T)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", cc.SolverWarning)
+        threads = seed_ensemble(model, [1, 2, 3], duration=T, scheduler="threads", n_workers=2)
+    np.testing.assert_array_equal(threads.levels, serial.levels)
+    assert threads.warnings == serial.warnings and sorted(serial.warnings) == [1, 2, 3]
+
+
 @pytest.mark.slow  # a dask cluster
 def test_members_on_dask_workers_equal_the_serial_ones():
     # workers run one BLAS thread; a record does not depend on that (the compliance comes from the
@@ -416,20 +432,20 @@ def test_members_on_dask_workers_equal_the_serial_ones():
 def test_a_members_warnings_are_said_with_its_seed_in_this_process_and_from_workers():
     """A member whose run warns (here the built-in specimen with contact.damping = 1e5 kg/s, where
     the contact Newton does not converge in a few steps: docs/time_domain.md, "Contact", item 5) is
-    named by its seed, the same whether it ran here or on a dask worker, whose warnings would
-    otherwise go to the worker's stderr without the seed."""
+    named by its seed, the same whether it ran here, on a thread here or on a dask worker, whose
+    warnings would otherwise go to the worker's stderr without the seed."""
     import warnings
 
     import distributed  # noqa: F401  (required by the [test] extra: a missing one fails the test, not skips it)
 
     model = cc.load_model().with_overrides({"contact.damping": 1e5})
     said, kept = {}, {}
-    for scheduler in ("serial", "local"):
+    for scheduler in ("serial", "threads", "local"):
         with warnings.catch_warnings(record=True) as got:
             warnings.simplefilter("always")
             kept[scheduler] = seed_ensemble(model, [1, 2], duration=T, scheduler=scheduler, n_workers=2).warnings
         said[scheduler] = sorted(str(w.message) for w in got if w.category is cc.SolverWarning)
-    assert kept["serial"] == kept["local"] and sorted(kept["serial"]) == [1, 2]
+    assert kept["serial"] == kept["threads"] == kept["local"] and sorted(kept["serial"]) == [1, 2]
     assert all("the contact Newton did not converge in" in m for m in kept["serial"].values()), kept
     # each distinct message is said once, prefixed with a seed that gave it (two members whose
     # messages are word for word the same are said once, by whichever finished first; the ensemble

@@ -297,8 +297,12 @@ def test_scheduler_and_output_folder_errors_come_before_the_plan(tmp_path, capsy
     base = ["study", "--vary", "casing.E=2e9:1e10", "--samples", "3", "--duration", "0.1", "--skip", "0"]
     assert main([*base, "--scheduler", "lcoal", "--out", str(tmp_path / "a")]) == 2
     text = capsys.readouterr()
-    assert "--scheduler = 'lcoal': must be 'serial', 'local' or a scheduler address" in text.err
+    assert "--scheduler = 'lcoal': must be 'serial', 'threads', 'local' or a scheduler address" in text.err
     assert "(did you mean 'local'?)" in text.err and text.out == ""
+    assert main([*base, "--scheduler", "thread", "--out", str(tmp_path / "a")]) == 2
+    assert "(did you mean 'threads'?)" in capsys.readouterr().err
+    assert main([*base, "--scheduler", "serial", "--workers", "2", "--out", str(tmp_path / "a")]) == 2
+    assert "give --scheduler threads or local" in capsys.readouterr().err
     (tmp_path / "afile").write_text("x")
     assert main([*base, "--scheduler", "serial", "--out", str(tmp_path / "afile" / "x")]) == 2
     text = capsys.readouterr()
