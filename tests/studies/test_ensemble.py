@@ -418,6 +418,22 @@ def test_members_on_threads_equal_the_serial_ones():
     assert threads.warnings == serial.warnings and sorted(serial.warnings) == [1, 2, 3]
 
 
+def test_the_command_on_threads_prints_and_writes_what_it_does_serially(tmp_path, capsys):
+    """`ensemble --scheduler threads --workers 2`: the same table and the same per-seed file as
+    `--scheduler serial`, to the byte, with --against too; --workers with serial is refused."""
+    base = ["ensemble", "--seeds", "3", "--duration", str(T), "--skip", "0.05", "--no-progress"]
+    base += ["--against", "contact.friction=0.3"]
+    said = {}
+    for scheduler in ("serial", "threads"):
+        extra = ["--workers", "2"] if scheduler == "threads" else []
+        out = tmp_path / f"{scheduler}.csv"
+        assert cli_main([*base, "--scheduler", scheduler, *extra, "--out", str(out)]) == 0
+        said[scheduler] = capsys.readouterr().out.replace(str(tmp_path / scheduler), "OUT")
+        said[scheduler + " file"] = out.read_bytes()
+    assert said["serial"] == said["threads"] and said["serial file"] == said["threads file"]
+    assert cli_main([*base, "--scheduler", "serial", "--workers", "2"]) == 2
+
+
 @pytest.mark.slow  # a dask cluster
 def test_members_on_dask_workers_equal_the_serial_ones():
     # workers run one BLAS thread; a record does not depend on that (the compliance comes from the
