@@ -38,6 +38,7 @@ def cmd_report(args):
         skip=args.skip,
         progress=args.progress,
         command="cablecasing " + shlex.join(getattr(args, "argv", [])),
+        scheduler=args.scheduler,
     )
     print(f"wrote {html}")
     return 0
@@ -71,6 +72,13 @@ def add_parser(sub):
         type=int,
         default=32,
         help="runs of the small study of Fig. 23, rounded up to whole base points of d + 2 runs (0: no study)",
+    )
+    r.add_argument(
+        "--scheduler",
+        choices=("threads", "serial"),
+        default="threads",
+        help="the ensembles' and the study's runs at once on threads of this process, one per core (threads, the "
+        "default), or one after the other (serial); the same report either way",
     )
     r.add_argument(
         "--no-progress", dest="progress", action="store_false", help="no progress bars (default: bars on stderr)"

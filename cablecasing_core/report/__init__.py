@@ -444,6 +444,7 @@ def write_report(
     fmu: dict | None = None,
     command: str | None = None,
     staged: bool = True,
+    scheduler: str = "threads",
 ) -> Path:
     """Run ``model`` (a Model, a TOML path, or None for the built-in specimen) and write its report
     into the folder ``out``; returns the path of report.html.
@@ -462,16 +463,21 @@ def write_report(
     caller stages (as ``examples/demo.py`` does with its FMU's outputs): every file in it counts as
     the report's (runs.json's ``files``, which a later report in the same place removes when it does
     not write them). A folder ``out`` whose files the report's could not replace is refused before
-    the runs (:func:`check_report_folder`).
+    the runs (:func:`check_report_folder`). scheduler: where the ensembles' and the study's runs go,
+    ``"threads"`` (default: at once, one per core, in this process) or ``"serial"`` (one after the
+    other); the page is the same to the bit (docs/studies.md, "Where the samples run").
     """
+    from ..model.validators import Choice
+
+    Choice("serial", "threads")("scheduler", scheduler)
     model, n_seeds, study_samples, skip, duration = check_report_settings(model, duration, seeds, study_samples, skip)
     with _each_warning_once():  # (the same note from each ensemble's check, from each variant's figures)
         if staged:
             check_report_folder("out", out)
             with staged_report(out) as stage:
-                _write(stage, model, duration, n_seeds, study_samples, skip, progress, fmu, command)
+                _write(stage, model, duration, n_seeds, study_samples, skip, progress, fmu, command, scheduler)
             return Path(out) / "report.html"
-        return _write(Path(out), model, duration, n_seeds, study_samples, skip, progress, fmu, command)
+        return _write(Path(out), model, duration, n_seeds, study_samples, skip, progress, fmu, command, scheduler)
 
 
 @contextlib.contextmanager
@@ -494,7 +500,7 @@ def _each_warning_once():
         warnings.showwarning = show
 
 
-def _write(out, model, duration, n_seeds, study_samples, skip, progress, fmu, command) -> Path:
+def _write(out, model, duration, n_seeds, study_samples, skip, progress, fmu, command, scheduler) -> Path:
     import cablecasing_core as cc
 
     from ..frequency.modal import frequencies_up_to, mode_count
@@ -544,7 +550,7 @@ def _write(out, model, duration, n_seeds, study_samples, skip, progress, fmu, co
     vs = variants(model, out, seed_list[0])
     for v in vs:
         _say(f"runs {v.title}: the reference record (seed {seed_list[0]}) and {n_seeds} seeds", progress)
-        run_variant(v, duration, seed_list, skip, progress)
+        run_variant(v, duration, seed_list, skip, progress, scheduler)
         if v.ensemble is not None:
             v.ensemble.save(out / f"bands_{v.key}.csv")
         if v.net_ensemble is not None:
@@ -565,7 +571,7 @@ def _write(out, model, duration, n_seeds, study_samples, skip, progress, fmu, co
     figures.clear_study(out / "study")  # (a report's study starts afresh; none leaves none)
     if study_samples:
         say = lambda runs: _say(f"a small study of {runs} runs (Fig. 23)", progress)  # noqa: E731
-        study = figures.study_figures(model, out / "study", study_samples, duration, skip, progress, say)
+        study = figures.study_figures(model, out / "study", study_samples, duration, skip, progress, say, scheduler)
     runs = {
         "report": True,  # (a report's runs.json: a later report removes the files it lists, and only those)
         **info,

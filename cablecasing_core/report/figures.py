@@ -566,11 +566,12 @@ def clear_study(folder: Path):
         (folder / name).unlink(missing_ok=True)
 
 
-def study_figures(model, folder: Path, n_samples, duration, skip, progress, say=lambda runs: None):
+def study_figures(model, folder: Path, n_samples, duration, skip, progress, say=lambda runs: None, scheduler="serial"):
     """A small study (Fig. 23) over the paper's parameters that the model has (every run the model's
     scenario for ``duration`` s; ``n_samples`` rounded up to whole base points, whose number of runs
     is passed to ``say`` before they run): study.csv, correlations.png and, with enough complete
-    groups, sobol.png. Returns a summary dict, or None when the model has none of those parameters."""
+    groups, sobol.png, its runs on ``scheduler`` ("serial" or "threads"). Returns a summary dict, or None
+    when the model has none of those parameters."""
     from ..studies import (
         DEFAULT_EVALUATE,
         PAPER_BOUNDS,
@@ -605,7 +606,7 @@ def study_figures(model, folder: Path, n_samples, duration, skip, progress, say=
         bounds=bounds,
         n_samples=n_samples,
         seed=0,
-        scheduler="serial",
+        scheduler=scheduler,
         evaluate_kwargs=kwargs,
         quantity={"name": OUTPUT, "unit": "N", "what": "RMS in the octave bands of Table 3"},
         model=model,

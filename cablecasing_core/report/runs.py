@@ -95,10 +95,12 @@ def variants(model: Model, out: Path, first_seed: int) -> list[Variant]:
     return v
 
 
-def run_variant(var: Variant, duration: float, seeds: list[int], skip: float, progress: bool) -> None:
+def run_variant(
+    var: Variant, duration: float, seeds: list[int], skip: float, progress: bool, scheduler: str = "serial"
+) -> None:
     """The reference record (saved, then read back), the band-level ensemble of one variant and, for
     a model with a cable, the reference record's band levels of the force into B (:data:`NET_OUTPUT`)
-    and its ensemble from the same runs."""
+    and its ensemble from the same runs (on ``scheduler``: ``"serial"`` or ``"threads"``)."""
     from ..records import after_skip
     from ..studies import random_excitations, seed_ensembles
     from ..timedomain.simulation import SimulationResult, simulate
@@ -112,7 +114,9 @@ def run_variant(var: Variant, duration: float, seeds: list[int], skip: float, pr
         var.net_bands = net_bands(var.result.records(), skip)
     if random_excitations(var.model) and len(seeds) >= 2:
         outputs = (OUTPUT, NET_OUTPUT) if "cable" in var.model.bodies else (OUTPUT,)
-        ens = seed_ensembles(var.model, seeds, outputs=outputs, duration=duration, skip=skip, progress=progress)
+        ens = seed_ensembles(
+            var.model, seeds, outputs=outputs, duration=duration, skip=skip, progress=progress, scheduler=scheduler
+        )
         var.ensemble, var.net_ensemble = ens[OUTPUT], ens.get(NET_OUTPUT)
         from ..nvh.bands import octave_rms
 

@@ -275,3 +275,32 @@ def test_the_report_gives_its_own_folder_to_the_provenance(tmp_path, quick):
     out = tmp_path / "rep"
     report.write_report(out, model=cc.load_model(), **SHORT)
     assert given == [out]
+
+
+def test_a_report_on_threads_is_the_serial_report(tmp_path):
+    """write_report(scheduler="threads"), the default, runs the ensembles and the study at once on
+    threads: every table it writes equals the serial report's to the byte (the study's rows but for
+    their wall time), the page but for the command line it states."""
+    import csv
+
+    settings = dict(SHORT, seeds=3, study_samples=8)
+    pages = {}
+    for scheduler in ("serial", "threads"):
+        out = tmp_path / scheduler
+        report.write_report(out, model=cc.load_model(), scheduler=scheduler, command="cablecasing report", **settings)
+        pages[scheduler] = out
+    tables = sorted(p.relative_to(pages["serial"]) for p in pages["serial"].rglob("*.csv"))
+    assert any(str(t).startswith("bands_") for t in tables) and Path("study/study.csv") in tables
+    for name in tables:
+        a, b = (pages[s] / name for s in ("serial", "threads"))
+        if name == Path("study/study.csv"):
+            # (rows in the order they completed: on threads not the index order)
+            rows = [
+                sorted(({k: v for k, v in r.items() if k != "elapsed_s"} for r in csv.DictReader(open(p))), key=str)
+                for p in (a, b)
+            ]
+            assert rows[0] == rows[1] and len(rows[0]) >= 8
+        else:
+            assert a.read_bytes() == b.read_bytes(), name
+    with pytest.raises(cc.ModelError, match="scheduler"):
+        report.write_report(tmp_path / "x", model=cc.load_model(), scheduler="local", **settings)
