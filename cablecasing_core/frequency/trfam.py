@@ -200,14 +200,17 @@ class FrequencyResponse:
         out = k[:, None, :] * Kout[None] - m[:, None, :] * Mout[None]  # (nf, nq, nm)
         F = -np.einsum("fqm,fm,fmj->fqj", out, inv_d, load, optimize=True)
         F += kappa[:, None, None] * self.Kpp[rows][:, cols][None] - mu[:, None, None] * self.Mpp[rows][:, cols][None]
-        for kf, mode in zip(*np.nonzero(on_resonance)):
-            # an undamped mode at its own frequency: the force is unbounded where the mode couples the
-            # two supports, and the mode adds nothing where it does not (a symmetric partner mode), its
-            # coupling there being round-off of the two terms' cancellation (below 1e-8 of their size)
-            size = abs(kappa[kf]) * self.lam[mode]
-            feels = np.abs(out[kf, :, mode]) > 1e-8 * size * np.abs(self.Mout[:, mode]).max()
-            moves = np.abs(load[kf, mode, :]) > 1e-8 * size * np.abs(self.Min[mode, :]).max()
-            F[kf][np.outer(feels, moves)] = np.inf
+        for kf in np.nonzero(on_resonance.any(axis=1))[0]:
+            # undamped modes at their own frequency: the force is unbounded where their residue, summed
+            # over them (a degenerate pair's shapes are any rotation of each other, so only their sum
+            # means anything), couples the two supports, and they add nothing where it does not: there
+            # it is round-off of its terms' cancellation, below 1e-8 of their size, (|kappa| lambda)^2
+            # times the modes' largest mass couplings to any support
+            modes = np.nonzero(on_resonance[kf])[0]
+            residue = out[kf][:, modes] @ load[kf][modes, :]
+            size = (abs(kappa[kf]) * self.lam[modes].max()) ** 2
+            size *= np.abs(self.Mout[:, modes]).max() * np.abs(self.Min[modes, :]).max()
+            F[kf][np.abs(residue) > 1e-8 * size] = np.inf
         return F
 
     BAND = 11  # half-bandwidth of a body's matrices (six DOFs per node, two nodes per element)

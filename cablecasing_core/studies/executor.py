@@ -107,7 +107,7 @@ KERNEL_VARIABLES = (
 
 def kernel_environment() -> dict:
     """What decides the floating-point kernels of a sample run in this process (a study's rows are
-    bitwise those of another process only where this is the same; docs/studies.md, "Execution"):
+    bitwise those of another process only where this is the same; docs/studies.md, "Where the samples run"):
     the versions of numpy, scipy and numba, the machine (``platform.machine()``) and its CPU model
     (``/proc/cpuinfo``'s model name, else ``platform.processor()``), and the variables of
     :data:`KERNEL_VARIABLES` that are set. A dict of str, JSON-serialisable."""
@@ -258,11 +258,12 @@ def _recorded():
     (``"always"``): on a thread of the threads scheduler, those its own thread warns
     (:func:`_warnings_by_thread` hands them over); elsewhere by ``warnings.catch_warnings``."""
     if getattr(_THREAD, "on", False):
-        said = _THREAD.said = []
+        outer, said = getattr(_THREAD, "said", None), []  # (a study inside a sample: the outer one's list back after)
+        _THREAD.said = said
         try:
             yield said
         finally:
-            _THREAD.said = None
+            _THREAD.said = outer
     else:
         with warnings.catch_warnings(record=True) as said:
             warnings.simplefilter("always")
@@ -314,14 +315,21 @@ def _say(row, label, said, filters=None):
     samples of one model give its warnings word for word). A message of the model itself, not of
     the run (a ModelPropertyWarning), is said once per process: not again by the next study of the
     same model (``ensemble --against``, ``report``) nor after its direct run or its loading said it
-    (errors.warn_once_per_process), as ``filters`` (default the process's warning filters) decide."""
-    from ..errors import ModelPropertyWarning, warn_once_per_process
+    (errors.warn_once_per_process). ``filters``: the caller's warning filters, when the process's are
+    not theirs (the threads scheduler's "always" block): a message they ignore is not said, one they
+    make an error raises, as the process's filters do in serial."""
+    from ..errors import ModelPropertyWarning, _filter_action, warn_once_per_process
 
     given = row.pop(WARNINGS, ())
     for category, message in given:
         if message not in said:
             said.add(message)
             text = f"{label(row['index'])}: {message}"
+            action = None if filters is None else _filter_action(text, category, None, filters)
+            if action == "ignore":
+                continue
+            if action == "error":
+                raise category(text)
             if issubclass(category, ModelPropertyWarning):
                 warn_once_per_process(text, category, stacklevel=3, key=message, filters=filters)
             else:
@@ -534,7 +542,7 @@ def execute(
         return
     if _kind(scheduler) == "threads":
         threads = getattr(scheduler, "n_workers", None) or n_workers
-        _run_threads(todo, evaluate, kwargs, outputs, write, bar, os.cpu_count() if threads is None else threads)
+        _run_threads(todo, evaluate, kwargs, outputs, write, bar, (os.cpu_count() or 1) if threads is None else threads)
         return
     if isinstance(scheduler, Workers):
         _run_dask(todo, evaluate, kwargs, outputs, write, bar, scheduler.client, max_in_flight, progress_timeout, lost)
@@ -546,7 +554,9 @@ def execute(
 def _run_threads(todo, evaluate, kwargs, outputs, write, bar, n_threads):
     """The samples on ``n_threads`` threads of this process (at most that many in flight), each row
     written here, in the calling thread, as it completes. Ctrl-C cancels the samples not begun; the
-    ones in progress end on their own (a thread cannot be stopped), and their rows are dropped."""
+    ones in progress end on their own (a thread cannot be stopped: the process waits for them before
+    it exits), and their rows are dropped. No progress timeout: a sample that never ends holds the
+    command (dask's ``progress_timeout`` is for lost workers, which a thread cannot be)."""
     n_threads = integer("n_workers", n_threads, 1)
     pending = iter(todo)
     pool = concurrent.futures.ThreadPoolExecutor(n_threads, "cablecasing-sample", initializer=_sample_thread)

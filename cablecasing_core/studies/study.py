@@ -282,7 +282,7 @@ def _kernels(path, old, now):
     run samples of the study (``old``'s list, then those of ``now`` it lacks), and what is warned
     when this run's processes have kernels the study's earlier rows were not computed with, or
     differ among themselves (dask workers of mixed machines; None when neither): its rows are not
-    bitwise those the other processes give (docs/studies.md, "Execution")."""
+    bitwise those the other processes give (docs/studies.md, "Where the samples run")."""
     before = old.get("kernels") if old is not None and isinstance(old.get("kernels"), list) else []
     new = [env for env in now if env not in before]
     kernels = before + new
@@ -299,7 +299,7 @@ def _kernels(path, old, now):
     )
     note = (
         f"{what} ({said}): its rows are not bitwise what the other processes give (with contact, another draw of the "
-        'chaotic response); docs/studies.md, "Execution"'
+        'chaotic response); docs/studies.md, "Where the samples run"'
     )
     return kernels, note
 

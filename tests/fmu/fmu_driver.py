@@ -603,6 +603,26 @@ def scenario_careless(job, table):
     record("failed_state_restore", good, Instance.call(good.fmu.setFMUstate, failed_state))
     record("after_failed_state_step", good, good.step(table[0], h))
     failed.fmu.freeFMUstate(failed_state)
+    # fmusim's convention for fmi2FreeFMUstate (the state where its address belongs), twice: the second
+    # time it is a freed handle, refused without being read through (it crashed the host)
+    state = good.fmu.getFMUstate()
+    free_state = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p)(
+        ctypes.cast(good.fmu.dll.fmi2FreeFMUstate, ctypes.c_void_p).value
+    )
+    res["quirk_free"] = np.array([free_state(good.fmu.component, state.value) for _ in range(2)])
+    # a second copy of the binary (as a second FMU, or the same unpacked twice): its handles are its
+    # own, and it refuses this copy's
+    import shutil
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as folder:
+        copy = Path(folder) / "copy.so"
+        shutil.copy(good.fmu.dll._name, copy)
+        other = ctypes.CDLL(str(copy))
+        setup = ctypes.CFUNCTYPE(
+            ctypes.c_int, ctypes.c_void_p, ctypes.c_int, ctypes.c_double, ctypes.c_double, ctypes.c_int, ctypes.c_double
+        )(ctypes.cast(other.fmi2SetupExperiment, ctypes.c_void_p).value)
+        res["other_copy_status"] = np.array(setup(good.fmu.component, 0, 0.0, 0.0, 0, 0.0))
     good.fmu.freeInstance()
     failed.fmu.freeInstance()
     return res

@@ -500,6 +500,16 @@ def test_a_pointer_that_is_no_instance_is_an_error_not_a_crash(careless):
     assert int(careless["bogus_component_status"]) == 3 and int(careless["freed_component_status"]) == 3
 
 
+def test_a_freed_state_passed_where_its_address_belongs_and_another_copys_instance_are_refused(careless):
+    """fmusim's calling convention of fmi2FreeFMUstate (the state itself where the address of one
+    belongs) frees the state once and refuses the freed handle the second time, without reading
+    through it (a host's double free crashed it); and a second copy of the binary in the process (a
+    second FMU, or this one unpacked twice) refuses this copy's instance: each copy's handles are its
+    own (they were the same numbers)."""
+    assert list(careless["quirk_free"]) == [0, 3]
+    assert int(careless["other_copy_status"]) == 3
+
+
 def test_a_freed_instance_is_refused_even_after_a_new_one_took_its_memory(careless):
     """docs/fmu.md: the host holds a handle that is never given twice, so a step on a freed
     instance's pointer is fmi2Error even when the allocator has given its memory to a new instance

@@ -405,17 +405,24 @@ def test_a_seed_gives_the_same_record_at_every_time_step():
 def test_members_on_threads_equal_the_serial_ones():
     """scheduler="threads": the members at once on threads of this process (their step loops outside
     the interpreter's lock) give the serial members' levels and warnings, bit for bit, whatever order
-    they finish in; and a warning filter of the caller's that turns warnings into errors does not
-    fail them (as it does not in serial: a member records its warnings)."""
+    they finish in; and the caller's warning filters act as in serial, where each member records its
+    warnings and the ensemble says them again under the caller's filters: "ignore" says none, "error"
+    raises the first, naming its seed."""
     import warnings
 
     model = cc.load_model().with_overrides({"contact.damping": 1e5})  # (its members warn: the test below)
     serial = seed_ensemble(model, [1, 2, 3], duration=T)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", cc.SolverWarning)
-        threads = seed_ensemble(model, [1, 2, 3], duration=T, scheduler="threads", n_workers=2)
+    threads = seed_ensemble(model, [1, 2, 3], duration=T, scheduler="threads", n_workers=2)
     np.testing.assert_array_equal(threads.levels, serial.levels)
     assert threads.warnings == serial.warnings and sorted(serial.warnings) == [1, 2, 3]
+    for scheduler in ("serial", "threads"):
+        with warnings.catch_warnings(record=True) as got:
+            warnings.simplefilter("ignore", cc.SolverWarning)
+            seed_ensemble(model, [1, 2], duration=T, scheduler=scheduler, n_workers=2)
+        assert not [w for w in got if w.category is cc.SolverWarning], scheduler
+        with warnings.catch_warnings(), pytest.raises(cc.SolverWarning, match=r"^seed \d: "):
+            warnings.simplefilter("error", cc.SolverWarning)
+            seed_ensemble(model, [1, 2], duration=T, scheduler=scheduler, n_workers=2)
 
 
 def test_the_command_on_threads_prints_and_writes_what_it_does_serially(tmp_path, capsys):
