@@ -204,13 +204,13 @@ class FrequencyResponse:
             # undamped modes at their own frequency: the force is unbounded where their residue, summed
             # over them (a degenerate pair's shapes are any rotation of each other, so only their sum
             # means anything), couples the two supports, and they add nothing where it does not: there
-            # it is round-off of its terms' cancellation, below 1e-8 of their size, (|kappa| lambda)^2
-            # times the modes' largest mass couplings to any support
+            # it is round-off of its terms' cancellation, below 1e-8 of their largest coupling to any
+            # support (of all the prescribed DOFs, whichever rows and columns are asked for)
             modes = np.nonzero(on_resonance[kf])[0]
             residue = out[kf][:, modes] @ load[kf][modes, :]
-            size = (abs(kappa[kf]) * self.lam[modes].max()) ** 2
-            size *= np.abs(self.Mout[:, modes]).max() * np.abs(self.Min[modes, :]).max()
-            F[kf][np.abs(residue) > 1e-8 * size] = np.inf
+            reach = kappa[kf] * self.Kout[:, modes] - mu[kf] * self.Mout[:, modes]
+            drive = kappa[kf] * self.Kin[modes, :] - mu[kf] * self.Min[modes, :]
+            F[kf][np.abs(residue) > 1e-8 * np.abs(reach).max() * np.abs(drive).max()] = np.inf
         return F
 
     BAND = 11  # half-bandwidth of a body's matrices (six DOFs per node, two nodes per element)

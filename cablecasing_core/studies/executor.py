@@ -38,6 +38,7 @@ import importlib
 import logging
 import math
 import os
+import sys
 import threading
 import time
 import warnings
@@ -325,7 +326,8 @@ def _say(row, label, said, filters=None):
         if message not in said:
             said.add(message)
             text = f"{label(row['index'])}: {message}"
-            action = None if filters is None else _filter_action(text, category, None, filters)
+            # (the frame warnings.warn's stacklevel=3 names below: a filter by module matches as there)
+            action = None if filters is None else _filter_action(text, category, sys._getframe(2), filters)
             if action == "ignore":
                 continue
             if action == "error":
@@ -542,13 +544,22 @@ def execute(
         return
     if _kind(scheduler) == "threads":
         threads = getattr(scheduler, "n_workers", None) or n_workers
-        _run_threads(todo, evaluate, kwargs, outputs, write, bar, (os.cpu_count() or 1) if threads is None else threads)
+        _run_threads(todo, evaluate, kwargs, outputs, write, bar, _cores() if threads is None else threads)
         return
     if isinstance(scheduler, Workers):
         _run_dask(todo, evaluate, kwargs, outputs, write, bar, scheduler.client, max_in_flight, progress_timeout, lost)
         return
     with Workers(scheduler, n_workers) as workers:
         _run_dask(todo, evaluate, kwargs, outputs, write, bar, workers.client, max_in_flight, progress_timeout, lost)
+
+
+def _cores():
+    """The cores this process may run on (its CPU affinity, which a container or ``taskset`` limits;
+    else the machine's)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):  # (not on every platform)
+        return os.cpu_count() or 1
 
 
 def _run_threads(todo, evaluate, kwargs, outputs, write, bar, n_threads):
@@ -567,8 +578,9 @@ def _run_threads(todo, evaluate, kwargs, outputs, write, bar, n_threads):
         if item is not None:
             running.add(pool.submit(evaluate_sample, evaluate, kwargs, item[0], item[1], outputs))
 
-    try:
-        with _warnings_by_thread() as outer:
+    interrupted = False
+    with _warnings_by_thread() as outer:
+        try:
             for _ in range(n_threads):
                 submit_next()
             while running:
@@ -578,8 +590,13 @@ def _run_threads(todo, evaluate, kwargs, outputs, write, bar, n_threads):
                     write(fut.result(), outer)  # (evaluate_sample never raises)
                     bar.update(1)
                     submit_next()
-    finally:
-        pool.shutdown(wait=False, cancel_futures=True)
+        except KeyboardInterrupt:
+            interrupted = True
+            raise
+        finally:
+            # the samples in progress: waited for here, their warnings still theirs, when the loop ended
+            # by an error (a warning the caller's filters make one); not after Ctrl-C
+            pool.shutdown(wait=not interrupted, cancel_futures=True)
 
 
 def _cause(exc):

@@ -96,8 +96,9 @@ enum { S_INSTANTIATED, S_INITIALIZATION, S_STEPPING, S_TERMINATED };
  * handles have the address space's top bit set (the kernel's half on x86-64 and AArch64), so a host
  * that reads through one stops at once instead of reading another object, and a value with that bit
  * is never read as a pointer here either. Their bits 44-58 are a salt of this copy of the binary
- * (its load address and start time): two FMUs, or two unpacked copies of one, loaded in one process
- * do not give the same handles, so each refuses the other's. */
+ * (its load address and the time of its first handle; 2^-15 odds that two copies draw the same):
+ * two FMUs, or two unpacked copies of one, loaded in one process do not give the same handles, so
+ * each refuses the other's. */
 typedef struct Live {
     struct Live *next;
     void *handle;                       /* what the host holds */
@@ -105,7 +106,8 @@ typedef struct Live {
 
 static pthread_mutex_t live_lock = PTHREAD_MUTEX_INITIALIZER;
 static uintptr_t g_handles = 0;         /* handles given so far (under live_lock) */
-static uintptr_t g_salt = 0;            /* this copy's salt, made at its first handle (under live_lock) */
+static uintptr_t g_salt = 0;            /* this copy's salt (under live_lock) */
+static int g_salted = 0;                /* made (at the first handle) */
 #define HANDLE_BASE ((uintptr_t)1 << (8 * sizeof(void *) - 1))
 
 /* A value with the top bit set: one of the FMU's handles, never a host's pointer to read through */
@@ -114,7 +116,7 @@ static int is_handle(const void *p) { return ((uintptr_t)p & HANDLE_BASE) != 0; 
 static uintptr_t handle_salt(void) {
     if (sizeof(void *) < 8) return 0;   /* (32-bit: no room; only linux64 is built) */
     uint64_t copy = ((uint64_t)(uintptr_t)&g_handles >> 12) ^ (uint64_t)time(NULL);
-    return (uintptr_t)(((copy & 0x7FFF) | 1) << 44);
+    return (uintptr_t)((copy & 0x7FFF) << 44);
 }
 
 /* The object of ``list`` whose handle is ``p``, or NULL */
@@ -130,7 +132,7 @@ static Live *live_find(Live *const *list, const void *p) {
 /* Add ``l`` to ``list`` with a new handle, and return the handle */
 static void *live_add(Live **list, Live *l) {
     pthread_mutex_lock(&live_lock);
-    if (!g_salt) g_salt = handle_salt();
+    if (!g_salted) g_salt = handle_salt(), g_salted = 1;
     l->handle = (void *)(HANDLE_BASE | g_salt | (++g_handles << 4));
     l->next = *list;
     *list = l;
@@ -970,7 +972,11 @@ static fmi2Status query(Instance *inst, const char *method, fmi2Real *number, fm
 FMI2_Export fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
     ENTER(c);
     if (!FMUstate) return refuse(inst, "fmi2GetFMUstate with a NULL pointer");
-    if (is_handle(FMUstate)) return refuse(inst, "fmi2GetFMUstate with a state where the address of one belongs");
+    if (is_handle(FMUstate)) {
+        LOGI(inst, fmi2Error, "fmi2GetFMUstate: its FMUstate argument is a state (%p), where the address of the "
+             "host's fmi2FMUstate variable belongs", (void *)FMUstate);
+        return fmi2Error;
+    }
     PyObject *obj = NULL;
     PyGILState_STATE gil = gil_enter();
     fmi2Status s = call(inst, "get_state", &obj, 0);
@@ -1082,8 +1088,11 @@ FMI2_Export fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte s
                                                fmi2FMUstate *FMUstate) {
     ENTER(c);
     if (!FMUstate || (!serializedState && size)) return refuse(inst, "fmi2DeSerializeFMUstate with a NULL pointer");
-    if (is_handle(FMUstate))
-        return refuse(inst, "fmi2DeSerializeFMUstate with a state where the address of one belongs");
+    if (is_handle(FMUstate)) {
+        LOGI(inst, fmi2Error, "fmi2DeSerializeFMUstate: its FMUstate argument is a state (%p), where the address "
+             "of the host's fmi2FMUstate variable belongs", (void *)FMUstate);
+        return fmi2Error;
+    }
     PyObject *obj = NULL;
     PyGILState_STATE gil = gil_enter();
     fmi2Status s = call(inst, "deserialize_state", &obj, 1,

@@ -279,8 +279,8 @@ def test_the_report_gives_its_own_folder_to_the_provenance(tmp_path, quick):
 
 def test_a_report_on_threads_is_the_serial_report(tmp_path):
     """write_report(scheduler="threads"), the default, runs the ensembles and the study at once on
-    threads: every table it writes equals the serial report's to the byte (the study's rows but for
-    their wall time), the page but for the command line it states."""
+    threads: the page and every table it writes equal the serial report's to the byte (the study's
+    rows but for their order, as they completed, and their wall time)."""
     import csv
 
     settings = dict(SHORT, seeds=3, study_samples=8)
@@ -302,5 +302,6 @@ def test_a_report_on_threads_is_the_serial_report(tmp_path):
             assert rows[0] == rows[1] and len(rows[0]) >= 8
         else:
             assert a.read_bytes() == b.read_bytes(), name
+    assert (pages["serial"] / "report.html").read_bytes() == (pages["threads"] / "report.html").read_bytes()
     with pytest.raises(cc.ModelError, match="scheduler"):
         report.write_report(tmp_path / "x", model=cc.load_model(), scheduler="local", **settings)

@@ -610,19 +610,30 @@ def scenario_careless(job, table):
         ctypes.cast(good.fmu.dll.fmi2FreeFMUstate, ctypes.c_void_p).value
     )
     res["quirk_free"] = np.array([free_state(good.fmu.component, state.value) for _ in range(2)])
-    # a second copy of the binary (as a second FMU, or the same unpacked twice): its handles are its
-    # own, and it refuses this copy's
+    # two more copies of the binary (as two FMUs, or one unpacked twice), each with its first instance:
+    # the two instances' handles differ, and each copy refuses the other's
     import shutil
     import tempfile
 
-    with tempfile.TemporaryDirectory() as folder:
-        copy = Path(folder) / "copy.so"
-        shutil.copy(good.fmu.dll._name, copy)
-        other = ctypes.CDLL(str(copy))
+    from fmpy import extract
+
+    folders = [tempfile.mkdtemp() for _ in range(2)]
+    try:
+        twins = [
+            Instance(job["fmu"], name=f"twin{k}", unzip=extract(job["fmu"], unzipdir=f)) for k, f in enumerate(folders)
+        ]
         setup = ctypes.CFUNCTYPE(
             ctypes.c_int, ctypes.c_void_p, ctypes.c_int, ctypes.c_double, ctypes.c_double, ctypes.c_int, ctypes.c_double
-        )(ctypes.cast(other.fmi2SetupExperiment, ctypes.c_void_p).value)
-        res["other_copy_status"] = np.array(setup(good.fmu.component, 0, 0.0, 0.0, 0, 0.0))
+        )
+        one, two = (setup(ctypes.cast(t.fmu.dll.fmi2SetupExperiment, ctypes.c_void_p).value) for t in twins)
+        res["twin_handles_differ"] = np.array(twins[0].fmu.component != twins[1].fmu.component)
+        res["other_copy_status"] = np.array([two(twins[0].fmu.component, 0, 0.0, 0.0, 0, 0.0),
+                                             one(twins[1].fmu.component, 0, 0.0, 0.0, 0, 0.0)])  # fmt: skip
+        for t in twins:
+            t.fmu.freeInstance()
+    finally:
+        for f in folders:
+            shutil.rmtree(f, ignore_errors=True)
     good.fmu.freeInstance()
     failed.fmu.freeInstance()
     return res
