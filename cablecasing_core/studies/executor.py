@@ -463,7 +463,7 @@ class Workers:
         from distributed import Client, LocalCluster
 
         if scheduler is None or scheduler == "local":
-            nw = os.cpu_count() if n_workers is None else integer("n_workers", n_workers, 1)
+            nw = os.cpu_count() if self.n_workers is None else self.n_workers
             self._cluster = _cluster_deaf_to_ctrl_c(LocalCluster, nw)
             self.client = self._own = Client(self._cluster)
             self.client.register_plugin(__getattr__("QuietShutdown")())  # (our own cluster's workers only)
