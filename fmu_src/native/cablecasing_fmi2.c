@@ -967,16 +967,36 @@ static void free_state(State *st) {
     free(st);
 }
 
+/* A new FMU state of ``inst`` holding the Python state ``obj`` (its reference taken), its handle put
+ * into *FMUstate; with the GIL held. fmi2Error, ``obj`` released, when it cannot be allocated. */
+static fmi2Status new_state(Instance *inst, PyObject *obj, fmi2FMUstate *FMUstate) {
+    State *st = calloc(1, sizeof *st);
+    if (!st) {
+        P.Py_DecRef(obj);
+        return fmi2Error;
+    }
+    st->magic = STATE_MAGIC;
+    st->owner = inst;
+    st->state = obj;
+    *FMUstate = live_add(&live_states, &st->live);
+    return fmi2OK;
+}
+
+/* Whether ``call``'s FMUstate argument, where the address of the host's fmi2FMUstate variable
+ * belongs, is a state (one of the FMU's handles): refused with a log line, never read through */
+static int state_where_its_address_belongs(Instance *inst, const char *call, const void *FMUstate) {
+    if (!is_handle(FMUstate)) return 0;
+    LOGI(inst, fmi2Error, "%s: its FMUstate argument is a state (%p), where the address of the host's "
+         "fmi2FMUstate variable belongs", call, FMUstate);
+    return 1;
+}
+
 static fmi2Status query(Instance *inst, const char *method, fmi2Real *number, fmi2Boolean *truth);
 
 FMI2_Export fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
     ENTER(c);
     if (!FMUstate) return refuse(inst, "fmi2GetFMUstate with a NULL pointer");
-    if (is_handle(FMUstate)) {
-        LOGI(inst, fmi2Error, "fmi2GetFMUstate: its FMUstate argument is a state (%p), where the address of the "
-             "host's fmi2FMUstate variable belongs", (void *)FMUstate);
-        return fmi2Error;
-    }
+    if (state_where_its_address_belongs(inst, "fmi2GetFMUstate", FMUstate)) return fmi2Error;
     PyObject *obj = NULL;
     PyGILState_STATE gil = gil_enter();
     fmi2Status s = call(inst, "get_state", &obj, 0);
@@ -987,16 +1007,7 @@ FMI2_Export fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) 
         st->state = obj;
         st->bytes = NULL;
     } else if (s == fmi2OK) {
-        st = calloc(1, sizeof *st);
-        if (!st) {
-            P.Py_DecRef(obj);
-            s = fmi2Error;
-        } else {
-            st->magic = STATE_MAGIC;
-            st->owner = inst;
-            st->state = obj;
-            *FMUstate = live_add(&live_states, &st->live);
-        }
+        s = new_state(inst, obj, FMUstate);
     }
     P.PyGILState_Release(gil);
     return s;
@@ -1088,11 +1099,7 @@ FMI2_Export fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte s
                                                fmi2FMUstate *FMUstate) {
     ENTER(c);
     if (!FMUstate || (!serializedState && size)) return refuse(inst, "fmi2DeSerializeFMUstate with a NULL pointer");
-    if (is_handle(FMUstate)) {
-        LOGI(inst, fmi2Error, "fmi2DeSerializeFMUstate: its FMUstate argument is a state (%p), where the address "
-             "of the host's fmi2FMUstate variable belongs", (void *)FMUstate);
-        return fmi2Error;
-    }
+    if (state_where_its_address_belongs(inst, "fmi2DeSerializeFMUstate", FMUstate)) return fmi2Error;
     PyObject *obj = NULL;
     PyGILState_STATE gil = gil_enter();
     fmi2Status s = call(inst, "deserialize_state", &obj, 1,
@@ -1105,16 +1112,7 @@ FMI2_Export fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte s
         P.Py_DecRef(obj);
         s = fmi2Error;
     } else {
-        State *st = calloc(1, sizeof *st);
-        if (!st) {
-            P.Py_DecRef(obj);
-            s = fmi2Error;
-        } else {
-            st->magic = STATE_MAGIC;
-            st->owner = inst;
-            st->state = obj;
-            *FMUstate = live_add(&live_states, &st->live);
-        }
+        s = new_state(inst, obj, FMUstate);
     }
     P.PyGILState_Release(gil);
     return s;
