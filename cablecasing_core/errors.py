@@ -119,6 +119,13 @@ class SimulationError(CableCasingError, RuntimeError):
     """
 
 
+class RunStopped(BaseException):
+    """A time-domain run stopped from outside, between two chunks of its steps
+    (:func:`~cablecasing_core.timedomain.engine.stop_runs_on`): the engine is as it was before the
+    call. Not an ``Exception``, as ``KeyboardInterrupt`` is not: a study does not record the sample as
+    failed, it was stopped with the whole study."""
+
+
 class InfrastructureError(CableCasingError, RuntimeError):
     """The computing infrastructure failed, not the model: a dask scheduler lost, every worker
     gone, no progress within the timeout. Nothing of the model is wrong; the same command resumes

@@ -46,6 +46,7 @@ import warnings
 from ..errors import NOT_SHOWN, InfrastructureError, ModelError
 from ..model.limits import PROGRESS_TIMEOUT
 from ..model.validators import integer
+from ..timedomain.engine import stop_runs_on
 
 #: Seconds to reach a scheduler address.
 CONNECT_TIMEOUT = 10.0
@@ -295,9 +296,10 @@ def _warnings_by_thread():
         yield outer
 
 
-def _sample_thread():
-    """The initializer of the threads scheduler's threads."""
+def _sample_thread(stop):
+    """The initializer of the threads scheduler's threads: their runs end when ``stop`` is set."""
     _THREAD.on = True
+    stop_runs_on(stop)
 
 
 #: The key of a row from :func:`evaluate_sample` that holds its warnings, (category, message) each;
@@ -564,13 +566,18 @@ def _cores():
 
 def _run_threads(todo, evaluate, kwargs, outputs, write, bar, n_threads):
     """The samples on ``n_threads`` threads of this process (at most that many in flight), each row
-    written here, in the calling thread, as it completes. Ctrl-C cancels the samples not begun; the
-    ones in progress end on their own (a thread cannot be stopped: the process waits for them before
-    it exits), and their rows are dropped. No progress timeout: a sample that never ends holds the
-    command (dask's ``progress_timeout`` is for lost workers, which a thread cannot be)."""
+    written here, in the calling thread, as it completes. Ctrl-C (or an error that ends the loop)
+    cancels the samples not begun and stops those in progress at their run's next chunk of steps
+    (:func:`~cablecasing_core.timedomain.engine.stop_runs_on`; an ``evaluate`` that runs no engine
+    ends on its own, and the process waits for it before it exits); their rows are dropped. No
+    progress timeout: a sample that never ends holds the command (dask's ``progress_timeout`` is for
+    lost workers, which a thread cannot be)."""
     n_threads = integer("n_workers", n_threads, 1)
     pending = iter(todo)
-    pool = concurrent.futures.ThreadPoolExecutor(n_threads, "cablecasing-sample", initializer=_sample_thread)
+    stop = threading.Event()
+    pool = concurrent.futures.ThreadPoolExecutor(
+        n_threads, "cablecasing-sample", initializer=_sample_thread, initargs=(stop,)
+    )
     running = set()
 
     def submit_next():
@@ -594,8 +601,9 @@ def _run_threads(todo, evaluate, kwargs, outputs, write, bar, n_threads):
             interrupted = True
             raise
         finally:
-            # the samples in progress: waited for here, their warnings still theirs, when the loop ended
-            # by an error (a warning the caller's filters make one); not after Ctrl-C
+            # the samples in progress stopped, and waited for here, their warnings still theirs, when the
+            # loop ended by an error (a warning the caller's filters make one); not after Ctrl-C
+            stop.set()
             pool.shutdown(wait=not interrupted, cancel_futures=True)
 
 

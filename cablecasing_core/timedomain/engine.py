@@ -22,13 +22,14 @@ from __future__ import annotations
 
 import io
 import math
+import threading
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..errors import CableCasingError, ModelError, SimulationError
+from ..errors import CableCasingError, ModelError, RunStopped, SimulationError
 from ..model.schema import BODY_NAMES, CHANNELS, CONTACT_LAWS, OUTPUTS, SUPPORT_NAMES, channels_of, lookup, outputs_of
 from ..model.validate import check_tolerance_substeps
 from ..model.validators import contact_in_force, seconds
@@ -40,6 +41,21 @@ if TYPE_CHECKING:
     from ..model import Model
     from .scenario import Motion
     from .support_motion import GridMotion, SupportReconstruction
+
+
+#: What stops this thread's runs (``stop``: a ``threading.Event`` or None): :func:`stop_runs_on`.
+_THIS_THREAD = threading.local()
+
+
+def stop_runs_on(event: threading.Event | None) -> None:
+    """Make every :meth:`Engine.advance` in the calling thread end at its next chunk of
+    :attr:`Engine.CHUNK` steps once ``event`` is set (None: never), by raising
+    :class:`~cablecasing_core.errors.RunStopped` with the engine as it was before that call.
+
+    The threads scheduler of studies sets it on its threads, so that Ctrl-C ends the samples in
+    progress within a chunk (tens of ms) instead of at their end: a thread cannot be interrupted from
+    outside, and the step kernels run without the interpreter's lock."""
+    _THIS_THREAD.stop = event
 
 
 def hertz_constant(model: Model) -> float:
@@ -756,7 +772,8 @@ class Engine:
         later chunk's error restores the state (:meth:`snapshot`) and drops that call's recorded
         history. So does a blow-up (:class:`SimulationError`, whose message says when, where and
         what): the engine is then as it was before the call, and can be advanced again (e.g. by
-        a smaller step, or after :meth:`set_state`)."""
+        a smaller step, or after :meth:`set_state`). So does a stop from another thread
+        (:func:`stop_runs_on`), checked before each chunk."""
         seconds("h", h)
         n, rest = whole_steps(h, self.dt)
         segments = []
@@ -782,11 +799,14 @@ class Engine:
         # chunk of its own); the snapshot buffer is reused (two buffer copies per call)
         self._snap = snap = self.snapshot(self._snap)
         nhist = len(self._hist)
+        stop = getattr(_THIS_THREAD, "stop", None)
         try:
             self._begin(motion)
             for dt, m in segments:
                 t = self.time
                 for j0 in range(0, m, self.CHUNK):
+                    if stop is not None and stop.is_set():
+                        raise RunStopped(f"stopped at t = {t + j0 * dt:.6g} s")
                     j1 = min(m, j0 + self.CHUNK)
                     times = t + dt * np.arange(j0 + 1, j1 + 1)  # as if evaluated in one piece
                     nch = len(self.channels)
