@@ -105,6 +105,13 @@ def main(argv=None):
         default=32,
         help="runs of the report's small study, rounded up to whole base points of d + 2 runs (0: none)",
     )
+    p.add_argument(
+        "--scheduler",
+        choices=("threads", "serial"),
+        default="threads",
+        help="the report's ensembles and study at once on threads of this process, one per core, or one after the "
+        "other (serial), as `cablecasing report --scheduler`; the same report either way",
+    )
     raw = list(sys.argv[1:] if argv is None else argv)
     args = p.parse_args(raw)
     try:  # (the settings and the folder before the FMU is built: a refused demo creates nothing)
@@ -158,6 +165,7 @@ def _run(args, out):
                 fmu=check,
                 command=args.command,
                 staged=False,
+                scheduler=args.scheduler,
             )
     except FMUFailed as exc:
         print(f"demo.py: error: {exc}", file=sys.stderr)

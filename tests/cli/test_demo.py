@@ -30,6 +30,7 @@ def _run(args, cwd, **kw):
         (["--seeds", "1"], "--seeds = 1: must be an integer >= 2"),
         (["--duration", "-1"], "--duration = -1.0: must be a positive number"),
         (["--out", "{file}"], "is an existing file, not a folder"),
+        (["--scheduler", "dask"], "argument --scheduler: invalid choice: 'dask' (choose from"),
     ],
 )
 def test_the_demo_refuses_bad_settings_before_it_builds_anything(tmp_path, args, said):
