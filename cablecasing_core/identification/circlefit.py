@@ -225,7 +225,8 @@ def find_resonances(freqs_hz, H, count=None, kind="displacement"):
     in ln|H|, against noise bumps up to 0.1 at 5 % noise). Peaks are ranked by their prominence in the
     smoothed ``|H|`` (scipy.signal.find_peaks); the frequency returned is that of the largest ``|H|`` within
     two points of the smoothed peak. Without noise (or with fewer than 15 points) every interior
-    maximum of ``|H|`` counts.
+    maximum of ``|H|`` counts. Lines where ``H`` is exactly 0 (a dropout or a line the exporter masked:
+    noise alone never gives an exact 0) are left out, as missing (:func:`without_zero_lines`).
 
     Raises
     ------
@@ -233,11 +234,13 @@ def find_resonances(freqs_hz, H, count=None, kind="displacement"):
         No resonance; fewer significant peaks than ``count`` (naming those found): two modes
         closer than their bandwidth show as one peak, a weak mode may sink into the noise.
     """
-    f, H = _without_dc(array_1d("freqs_hz", freqs_hz, min_len=5), H)
+    f, H = without_zero_lines(*_without_dc(array_1d("freqs_hz", freqs_hz, min_len=5), H))
     Hd = np.abs(to_displacement_form(f, H, kind))
     if count is not None:
         count = integer("count", count, 1)
-    if f.size >= 15 and np.all(Hd > 0.0):
+    if f.size < 3:  # (all but a line or two missing: no interior maximum)
+        peaks, prominences, noted = np.empty(0, int), np.empty(0), ""
+    elif f.size >= 15 and np.all(Hd > 0.0):
         L = np.log(Hd)
         Ls = uniform_filter1d(L, 5, mode="nearest")  # (the ends padded with the end values)
         r = L - Ls
@@ -397,6 +400,20 @@ def _without_dc(f, H):
     if f[0] == 0.0 and H.ndim == 1 and H.size == f.size:
         return f[1:], H[1:]
     return f, H
+
+
+def without_zero_lines(f, H):
+    """``f`` and ``H`` without the lines where ``H`` is exactly 0 (0 + 0i): a dropout, or a line the exporter
+    masked (overload rejection, a band cut off). Noise alone never gives an exact 0, so such a line is no
+    measurement; as a point of the FRF it would be one at the origin (a circle's outlier) and a hole of
+    ``ln|H|`` (one made the peak search count every noise wiggle as a resonance). The fits leave these
+    lines out, as missing; the readers name them (``uff_io``). ``H`` of another length than ``f`` is
+    returned as it is (the caller refuses it)."""
+    H = np.asarray(H)
+    if H.ndim != 1 or H.size != np.size(f):
+        return f, H
+    kept = H != 0
+    return (f, H) if kept.all() else (f[kept], H[kept])
 
 
 def _nearest_peak(f, A, f0, search):
@@ -617,7 +634,8 @@ def loss_factor_circle(
     ``extra["settled"]`` is False when the neighbour correction stopped at ``max_iter`` sweeps with the
     loss factors still changing (a warning says so), ``extra["correction_change"]`` that last sweep's
     largest relative change of a loss factor (about the error left; 0 when settled).
-    A 0 Hz line of ``freqs_hz`` is left out.
+    A 0 Hz line of ``freqs_hz`` is left out, and so are lines where ``H`` is exactly 0 (a dropout or a masked
+    line: :func:`without_zero_lines`).
 
     Warns
     -----
@@ -663,6 +681,7 @@ def loss_factor_circle(
             f"{float(f[k])!r} then {float(f[k + 1])!r} at index {k + 1}",
             "frequencies must be strictly increasing (no repeats)",
         )
+    f, Hc = without_zero_lines(f, Hc)  # (a dropout's or a masked line's exact 0: missing, not a point at 0)
     Hd = to_displacement_form(f, Hc, kind)
     if f_res_hz is None:
         f_res = find_resonances(f, Hd, count=count)

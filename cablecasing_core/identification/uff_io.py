@@ -18,10 +18,11 @@ Units are SI: s, Hz, and the unit of the quantity.
 from __future__ import annotations
 
 import re
+import warnings
 
 import numpy as np
 
-from ..errors import ModelError, excerpt
+from ..errors import ModelError, ModelWarning, excerpt
 from ..files import atomic_path, csv_statements, read_csv_table
 from ..model.validators import Choice, array_1d, number
 from ..records import derived_terms, read_records
@@ -251,7 +252,27 @@ def read_csv_frf(path):
     if re_i is None or im_i is None:
         raise ModelError("file", str(path), "an FRF CSV needs columns frequency_hz,re_<name>,im_<name>")
     f = data[:, 0] if to_hz == 1.0 else data[:, 0] * to_hz
-    return f, data[:, re_i] + 1j * data[:, im_i]
+    H = data[:, re_i] + 1j * data[:, im_i]
+    warn_zero_lines(f"{path} ({names[re_i]}, {names[im_i]})", f, H)
+    return f, H
+
+
+def warn_zero_lines(where, f, H):
+    """A ModelWarning naming the lines above 0 Hz of a measured FRF (``f`` Hz, ``H``) where ``H`` is exactly 0
+    (``where``: the file and function): a dropout or a line the exporter masked, which the fits leave out as
+    missing (``circlefit.without_zero_lines``). A nan line is refused instead (an invalid value: an overload)
+    and a 0 Hz line of 0 (the DC line an export zeroes) is not named: no resonance uses it."""
+    zero = (H == 0) & (f > 0)
+    if not zero.any():
+        return
+    k, more = int(np.argmax(zero)), int(zero.sum()) - 1
+    warnings.warn(
+        f"{where}: H is exactly 0 at {f[k]:.6g} Hz (point {k + 1} of {f.size}"
+        f"{f', and {more} more' if more else ''}): a dropout or a line the exporter masked (noise alone never "
+        "gives an exact 0); the peak search and the circle fits leave these lines out, as missing",
+        ModelWarning,
+        stacklevel=3,
+    )
 
 
 # ------------------------------------------------------------------------------------------- UFF FRFs
@@ -291,6 +312,7 @@ def _uff_frf(path, channel):
             f"{r.x.size}{', and ' + str(int(bad.sum()) - 1) + ' more' if bad.sum() > 1 else ''}): an overloaded or "
             "missing measurement; measure again, or cut the function before it",
         )
+    warn_zero_lines(f"{path} ({names[j]})", r.x, r.data)
     return r
 
 
