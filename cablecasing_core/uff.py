@@ -321,7 +321,10 @@ def write_uff_frf(path, freqs_hz, H, name="H", binary=True, kind=None, **dof):
 
 
 def read_uff(path):
-    """All dataset-58 functions of a UFF file as a list of :class:`Record` (type 1 -> "time", else "frf")."""
+    """All dataset-58 functions of a UFF file as a list of :class:`Record` (type 1 -> "time", 4 -> "frf", else
+    "other"). A dataset whose values are not as many as its header's point count (cut and closed, stray bytes,
+    a 58b whose line ends became CRLF), or a dataset 58 without its end line (a cut file), is a ModelError
+    naming the file and the dataset (:func:`_check_count`, :func:`_refuse_truncated`)."""
     pyuff = _pyuff(path, "reading")
     if not os.path.exists(path):
         raise ModelError("file", str(path), "does not exist")
@@ -332,9 +335,11 @@ def read_uff(path):
         u = pyuff.UFF(str(path))
         types = list(u.get_set_types())
         idx = [i for i, ty in enumerate(types) if int(ty) == 58]
+        _refuse_truncated(path, len(idx))
         if not idx:
             raise ModelError("file", str(path), "contains no UFF dataset 58 (function at nodal DOF)")
-        sets = u.read_sets(idx)
+        with np.errstate(all="ignore"):  # (a corrupted binary's garbage values: _check_count names the dataset)
+            sets = u.read_sets(idx)
     except ModelError:
         raise
     except Exception as exc:
@@ -343,7 +348,8 @@ def read_uff(path):
     if isinstance(sets, dict):
         sets = [sets]
     out = []
-    for s in sets:
+    for i, s in enumerate(sets):
+        _check_count(path, i, s)
         x = _abscissa(path, s)
         func_type = int(s.get("func_type", 0))
         kind = {1: "time", 4: "frf"}.get(func_type, "other")
@@ -374,6 +380,78 @@ def read_uff(path):
             )
         )
     return out
+
+
+#: A dataset 58's first two lines: its start line ``    -1`` and its number, ``    58`` (ASCII) or ``    58b``
+#: (binary), each in a field of 6 characters; then ID line 1 (``id1``, the function's name).
+_START_58 = re.compile(rb"(?m)^ {4}-1[ \t]*\r?\n {4}58(?:b[^\n]*)?[ \t]*\r?\n([^\r\n]{0,80})")
+
+
+def _refuse_truncated(path, complete):
+    """A ModelError naming the file when it holds more dataset-58 headers than the ``complete`` datasets 58
+    pyuff found (a dataset's end is the next ``    -1`` line; pyuff drops one without it, or says there is
+    none): the file was cut (a copy or a write interrupted); the message names the cut dataset's id1."""
+    import mmap
+
+    with open(path, "rb") as fh:
+        size = fh.seek(0, os.SEEK_END)
+        fh.seek(max(0, size - 64))
+        if size == 0 or fh.read().rstrip().endswith(b"\n    -1"):  # (ends with an end line: nothing cut off)
+            return
+        with mmap.mmap(fh.fileno(), 0, access=mmap.ACCESS_READ) as raw:  # (searched in place, not copied)
+            found = [(m.start(), m.group(1)) for m in _START_58.finditer(raw)]
+    if len(found) <= complete:
+        return
+    at, id1 = found[complete]
+    name = id1.decode("utf-8", errors="replace").strip() or "function"
+    raise ModelError(
+        "file",
+        str(path),
+        f"is truncated: its dataset 58 number {complete + 1}, '{name}' (at byte {at}), has no end line "
+        f"'    -1' ({len(found)} dataset 58 header(s), {complete} complete): the file was cut while it was copied "
+        "or written; export it again",
+    )
+
+
+def _values_per_point(dataset):
+    """The numbers a dataset 58 stores per point: 1 (real) or 2 (complex), and one more for an uneven abscissa."""
+    complex_ = int(dataset.get("ord_data_type", 4)) in (5, 6)
+    return (2 if complex_ else 1) + (0 if int(dataset.get("abscissa_spacing", 1)) == 1 else 1)
+
+
+def _check_count(path, i, dataset):
+    """A ModelError naming the file, the dataset (its place ``i`` among the datasets 58, its id1) and the
+    counts when the number of points its header declares (``num_pts``) is not the number of values read
+    (and of abscissa values): a dataset cut and closed, stray bytes, or a binary 58b whose line ends a
+    copy in text mode changed (LF -> CRLF: a byte added after every 0x0a of its values, pyuff issue 61)."""
+    declared = int(dataset.get("num_pts", -1))
+    data, x = dataset.get("data"), dataset.get("x")
+    n_data = 0 if data is None else len(data)
+    n_x = 0 if x is None else len(x)
+    if declared == n_data == n_x:
+        return
+    binary = bool(int(dataset.get("binary", 0)))
+    name = str(dataset.get("id1", "")).strip() or "function"
+    held = f"{n_data} values" + ("" if n_x == n_data else f" and {n_x} abscissa values")
+    if binary:
+        n_bytes = int(dataset.get("n_bytes", 0) or 0)
+        per = 4 if int(dataset.get("ord_data_type", 4)) in (2, 5) else 8
+        expected = declared * per * _values_per_point(dataset)
+        stated = "" if n_bytes == expected else f"; its header's byte count, {n_bytes}, is not {expected} either"
+        why = (
+            "truncated or corrupted: a dataset cut and closed, stray bytes in its values, or a binary 58b whose "
+            "line ends were converted (LF -> CRLF) by a copy or transfer in text mode; copy the file in binary "
+            "mode, or export it again"
+        )
+    else:
+        stated = ""
+        why = "truncated or corrupted: a dataset cut and closed, or lines lost or added; export it again"
+    raise ModelError(
+        "file",
+        str(path),
+        f"its dataset 58 number {i + 1}, '{name}', declares {declared} points in its header and holds {held}"
+        f"{stated}: {why}",
+    )
 
 
 #: Relative rounding of the header's abscissa start and increment, E13.5 (six significant digits):

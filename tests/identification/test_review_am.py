@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from cablecasing_core.cli.identify import add_parser
-from cablecasing_core.errors import ModelWarning
+from cablecasing_core.errors import ModelError, ModelWarning
 from cablecasing_core.identification import find_resonances, loss_factor_circle, read_frf, write_uff_frf
 from cablecasing_core.identification.uff_io import write_csv_frf
 
@@ -125,3 +125,84 @@ def test_modulus_of_an_frf_with_a_zero_line_is_that_of_the_frf_without_it(tmp_pa
     np.testing.assert_allclose(a[:, 0], F, atol=0.01)  # (the circle fits' f_r: f_unc is 0.0005..0.002 Hz)
     # (E within one printed E_unc_% of the run without the zero; the 200 Hz line is in no circle's window)
     assert np.all(np.abs(b[:, 3] / a[:, 3] - 1) <= a[:, 4] / 100), (a, b)
+
+
+# ------------------------------------------------------------------ M1: the header's point count
+
+
+def _frf_file(tmp_path, synth, binary=True, name="FRF 4:+Z"):
+    p = tmp_path / ("b.uff" if binary else "a.uff")
+    write_uff_frf(p, FREQ, accelerance(synth), name=name, binary=binary, kind="acceleration")
+    return p, p.read_bytes()
+
+
+def _data_start(raw):
+    """Where a 58b dataset's values start: after its 13 header lines (the start line ``    -1`` first)."""
+    k = -1
+    for _ in range(13):
+        k = raw.index(b"\n", k + 1)
+    return k + 1
+
+
+def _refused(p, *said):
+    with pytest.raises(ModelError) as e:
+        read_frf(p)
+    text = f"{e.value.key} = {e.value.value}: {e.value.allowed}"
+    assert e.value.key == "file" and str(p) in str(e.value.value), text
+    for s in said:
+        assert s in text, (s, text)
+    return text
+
+
+def test_a_binary_frf_cut_and_closed_is_refused_naming_the_counts(tmp_path, synth):
+    """A 58b cut at 60 % of its values and closed with an end line: an odd number of doubles crashed the reader
+    (internal error, broadcast), an even number was read as a shorter FRF without a word."""
+    p, raw = _frf_file(tmp_path, synth)
+    start = _data_start(raw)
+    data = raw[start:-7]  # (the values, without the end line)
+    n8 = int(0.6 * len(data)) // 8
+    for cut in (8 * (n8 | 1), 8 * (n8 // 2 * 2)):  # (an odd and an even number of doubles)
+        q = tmp_path / f"cut{cut}.uff"
+        q.write_bytes(raw[:start] + data[:cut] + b"\n    -1\n")
+        _refused(q, "FRF 4:+Z", f"declares {FREQ.size} points", f"holds {cut // 16}", "truncated or corrupted")
+
+
+def test_a_binary_file_whose_line_ends_became_crlf_is_refused_naming_the_conversion(tmp_path, synth):
+    """pyuff issue 61: a 58b copied in text mode (LF -> CRLF) adds a byte after every 0x0a of its values."""
+    p, raw = _frf_file(tmp_path, synth)
+    assert raw.count(b"\n") > 40  # (the values hold line-feed bytes: the conversion changes them)
+    p.write_bytes(raw.replace(b"\n", b"\r\n"))
+    _refused(p, "FRF 4:+Z", f"declares {FREQ.size} points", "CRLF")
+
+
+def test_stray_bytes_in_the_values_are_refused_not_read_as_a_shifted_frf(tmp_path, synth):
+    """16 stray bytes inside the values made 4098 points of a 4097-point header: the FRF above them moved by a
+    line (a mode 2.7 f_unc off, no message)."""
+    p, raw = _frf_file(tmp_path, synth)
+    k = _data_start(raw) + 16 * 2000
+    p.write_bytes(raw[:k] + bytes(16) + raw[k:])
+    _refused(p, f"declares {FREQ.size} points", f"holds {FREQ.size + 1}")
+
+
+def test_an_ascii_time_record_cut_at_a_line_and_closed_is_refused(tmp_path):
+    """An ASCII time record cut at half its lines and closed was read as a shorter record without a word."""
+    from cablecasing_core.identification import read_time_record, write_uff_time
+
+    p = tmp_path / "t.uff"
+    write_uff_time(p, np.sin(np.arange(4096) / 10.0), 1024.0, name="acc", binary=False)
+    lines = p.read_text().splitlines()
+    p.write_text("\n".join(lines[: 13 + 500] + ["    -1"]) + "\n")
+    with pytest.raises(ModelError) as e:
+        read_time_record(p)
+    assert "declares 4096 points" in e.value.allowed and "acc" in e.value.allowed, e.value.allowed
+
+
+@pytest.mark.parametrize("binary", [True, False])
+def test_a_file_cut_without_its_end_line_is_said_to_be_truncated(tmp_path, synth, binary):
+    """A file cut mid-values (no end line): 'contains no UFF dataset 58' was said, though it holds one's header."""
+    p, raw = _frf_file(tmp_path, synth, binary=binary)
+    p.write_bytes(raw[: int(0.6 * len(raw))])
+    _refused(p, "truncated", "FRF 4:+Z")
+    # a complete FRF followed by a cut one: the cut one is named, not dropped without a word
+    p.write_bytes(raw + raw[: int(0.6 * len(raw))].replace(b"FRF 4:+Z", b"FRF 5:+Z"))
+    _refused(p, "truncated", "FRF 5:+Z")
