@@ -897,7 +897,7 @@ def _read_uff(path):
                 "file",
                 path,
                 f"time function {i} repeats the name of an earlier one, {name} (its id1, and its node and "
-                "direction where the id1 repeats): names must be unique",
+                "direction where the id1 repeats, and its reference where those do): names must be unique",
             )
         if r.stated != funcs[0].stated:  # (one record: every function states the same)
             raise ModelError(

@@ -603,18 +603,26 @@ def is_uff(path) -> bool:
 _DIRECTIONS = {0: "", 1: "x", 2: "y", 3: "z", 4: "rx", 5: "ry", 6: "rz"}
 
 
+def dof_name(node, direction) -> str:
+    """A UFF node and direction as a function's name gives them: ``10z``, ``12-x`` (a minus for a negative
+    direction; x, y, z; rx, ry, rz for the rotations 4-6; none for 0, a scalar)."""
+    d = int(direction)
+    return f"{int(node)}{'-' if d < 0 else ''}{_DIRECTIONS.get(abs(d), str(abs(d)))}"
+
+
 def function_names(records, names=None):
     """The names a reader gives the UFF functions ``records``: each its ``id1`` (or ``names``, one
     per record), except where that repeats among them (an analyser's export names every function
-    "Response" and tells them apart by node and direction): those are named
-    ``<id1>@<node><direction>``, the response node and direction (x, y, z; rx, ry, rz for the
-    rotations 4-6; a minus for a negative direction), ``Response@2z``. A name may still repeat (two
-    functions of one node and direction); the caller refuses it."""
+    "Response" or "FRF" and tells them apart by node and direction): those are named
+    ``<id1>@<node><direction>``, the response node and direction (:func:`dof_name`: x, y, z; rx, ry, rz
+    for the rotations 4-6; a minus for a negative direction), ``Response@2z``; where that still
+    repeats and the function has a reference (an FRF matrix: one response against several
+    references), ``<id1>@<response>/<reference>``, ``FRF@10z/2z``. A name may still repeat (two
+    functions of one id1, response and reference); the caller refuses it."""
     names = [r.name for r in records] if names is None else list(names)
-    out = []
-    for r, name in zip(records, names):
-        if names.count(name) > 1:
-            d = int(r.rsp_dir)
-            name = f"{name}@{int(r.rsp_node)}{'-' if d < 0 else ''}{_DIRECTIONS.get(abs(d), str(abs(d)))}"
-        out.append(name)
-    return out
+    placed = [names.count(name) > 1 for name in names]
+    out = [f"{n}@{dof_name(r.rsp_node, r.rsp_dir)}" if at else n for r, n, at in zip(records, names, placed)]
+    return [
+        f"{n}/{dof_name(r.ref_node, r.ref_dir)}" if at and r.ref_node and out.count(n) > 1 else n
+        for r, n, at in zip(records, out, placed)
+    ]

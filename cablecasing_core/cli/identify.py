@@ -390,14 +390,15 @@ def _peaks_found(args):
 def cmd_loss_factor(args):
     try:
         _check_outputs(args)
-        from ..identification import loss_factor_circle, read_frf_kind
+        from ..identification import loss_factor_circle, read_frf_function
         from ..model.validators import frequencies, integer
 
         if args.freqs:
             frequencies("--freqs", args.freqs)
         count = None if args.count is None else integer("--count", args.count, 1)
         with renamed({"channel": "--channel"}):
-            f, H, declared = read_frf_kind(args.file, args.channel, strict=args.kind is None)
+            measured = read_frf_function(args.file, args.channel, strict=args.kind is None)
+        f, H, declared = measured.freqs_hz, measured.H, measured.kind
         from ..identification.uff_io import is_uff
 
         where = "the header" if is_uff(args.file) else "the line '# kind = ...'"
@@ -433,7 +434,8 @@ def cmd_loss_factor(args):
                 window_tau=args.window_tau,
             )
         win = "" if args.window_tau is None else f"; exponential window tau = {args.window_tau:g} s taken off"
-        print(f"# {args.file}: {f.size} points, {f[0]:g}..{f[-1]:g} Hz, kind {kind} ({source}){win}")
+        used = f" ({measured.described})" if measured.described else ""
+        print(f"# {args.file}{used}: {f.size} points, {f[0]:g}..{f[-1]:g} Hz, kind {kind} ({source}){win}")
         if f[0] == 0.0:
             print("# the 0 Hz line is left out (no resonance uses it)")
         if res[0].extra["unrequested_hz"]:
@@ -472,7 +474,7 @@ def _read_measured(path, modes_arg, channel, max_iter=None):
     ``len(--modes)`` most prominent peaks of |H|; an FRF without a circle there (a magnitude, too coarse a
     resolution) gives the peaks themselves, known to half the line spacing at best."""
     from ..identification.circlefit import find_resonances, loss_factor_circle
-    from ..identification.uff_io import frequency_column, is_frequency_header, is_uff, read_frf_kind
+    from ..identification.uff_io import frequency_column, is_frequency_header, is_uff, read_frf_function
     from ..model.validators import integer
 
     if not is_uff(path):
@@ -505,7 +507,9 @@ def _read_measured(path, modes_arg, channel, max_iter=None):
     for m in modes_arg:  # (the range of a table's column mode)
         integer("--modes", m, 1, 1000, " (mode numbers: 1 = the lowest)")
     with renamed({"channel": "--channel"}):
-        f, H, declared = read_frf_kind(path, channel, strict=False)
+        measured = read_frf_function(path, channel, strict=False)
+    f, H, declared = measured.freqs_hz, measured.H, measured.kind
+    used = f"{path} ({measured.described})" if measured.described else str(path)
     kind = declared or "displacement"  # (the peaks of |H| in displacement form; a CSV's |H| as it is)
     try:  # (as many peaks as --modes gives mode numbers)
         peaks = find_resonances(f, H, count=len(modes_arg), kind=kind)
@@ -522,11 +526,11 @@ def _read_measured(path, modes_arg, channel, max_iter=None):
         why = exc
         if exc.key == "f_res_hz" and isinstance(exc.value, list):  # (two peaks, one resonance: said as found)
             why = _same_resonance(exc, "--max-iter 0" if max_iter == 0 else None, "--modes")
-        info = {"sd_hz": np.full(peaks.size, df / 2), "df": df, "how": "peaks", "why": why, "fits": []}
+        info = {"sd_hz": np.full(peaks.size, df / 2), "df": df, "how": "peaks", "why": why, "fits": [], "used": used}
         return peaks, modes, "--modes", info
     f_r = np.array([r.f_r_hz for r in fits])
     sd = np.array([r.extra["f_r_uncertainty_hz"] for r in fits])
-    return f_r, modes, "--modes", {"sd_hz": sd, "df": df, "how": "circle", "why": None, "fits": fits}
+    return f_r, modes, "--modes", {"sd_hz": sd, "df": df, "how": "circle", "why": None, "fits": fits, "used": used}
 
 
 @taking_api_defaults
@@ -556,8 +560,8 @@ def cmd_modulus(args):
             if frf["how"] == "circle":
                 source = (
                     f"the resonances of circle fits (loss-factor's) at the {f_meas.size} most prominent peaks of "
-                    "|H|; f_unc_Hz is their standard deviation for the FRF's noise (not a bias: a viscous mode's "
-                    "f_r lies zeta^2 below f_n)"
+                    f"|H| of {frf['used']}; f_unc_Hz is their standard deviation for the FRF's noise (not a bias: "
+                    "a viscous mode's f_r lies zeta^2 below f_n)"
                 )
                 # (a tenth of the smallest uncertainty: the adaptive process adds nothing to it)
                 tenth, least = 0.2 * float(sd.min()), 2e-9 * float(f_meas.max())
@@ -570,8 +574,8 @@ def cmd_modulus(args):
                 )
             else:
                 source = (
-                    f"the peaks of |H|, no circle fit ({frf['why']}); f_unc_Hz is half the line spacing "
-                    f"{frf['df']:.4g} Hz, a lower bound: noise and a neighbour's tail move a peak further"
+                    f"the peaks of |H| of {frf['used']}, no circle fit ({frf['why']}); f_unc_Hz is half the line "
+                    f"spacing {frf['df']:.4g} Hz, a lower bound: noise and a neighbour's tail move a peak further"
                 )
                 resolution = frf["df"]
                 until = f"{resolution / 2:.4g} Hz (half the FRF's line spacing)"

@@ -29,11 +29,13 @@ from .modulus import ModulusResult, identify_modulus, identify_modulus_model
 from .params_toml import loss_factor_table, parameters_toml
 from .rayleigh import RayleighFit, rayleigh_fit, rayleigh_matrix, rayleigh_zeta
 from .uff_io import (
+    MeasuredFRF,
     Record,
     frf_kind,
     read_csv_frf,
     read_csv_time,
     read_frf,
+    read_frf_function,
     read_frf_kind,
     read_time_record,
     read_time_record_from,
@@ -51,6 +53,7 @@ __all__ = [
     "FRF_KINDS",
     "CircleFitResult",
     "FRFEstimate",
+    "MeasuredFRF",
     "ModulusResult",
     "RayleighFit",
     "Record",
@@ -73,6 +76,7 @@ __all__ = [
     "read_csv_time",
     "frf_kind",
     "read_frf",
+    "read_frf_function",
     "read_frf_kind",
     "read_time_record",
     "read_time_record_from",

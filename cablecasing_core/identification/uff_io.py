@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import re
 import warnings
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -34,6 +35,7 @@ from ..uff import (
     UFF_EXTENSIONS,
     Record,
     check_function,
+    dof_name,
     frf_kind,
     function_names,
     is_uff,
@@ -52,6 +54,7 @@ __all__ = [
     "PYUFF_MISSING",
     "STATEMENTS",
     "UFF_EXTENSIONS",
+    "MeasuredFRF",
     "Record",
     "frequency_column",
     "frequency_factor",
@@ -63,6 +66,7 @@ __all__ = [
     "read_csv_frf",
     "read_csv_time",
     "read_frf",
+    "read_frf_function",
     "read_frf_kind",
     "read_time_record",
     "read_time_record_from",
@@ -279,8 +283,11 @@ def warn_zero_lines(where, f, H):
 
 
 def _uff_frf(path, channel):
-    """The ``channel``-th FRF (UFF 58 function type 4; default the first) of a UFF file, or the one of
-    that name (its ``id1``, or ``<id1>@<node><direction>`` where the id1 repeats)."""
+    """``(record, name, described)``: the ``channel``-th FRF (UFF 58 function type 4; default the first) of a UFF
+    file, or the one of that name (:func:`function_names`: its ``id1``, ``<id1>@<node><direction>`` where the
+    id1 repeats, ``<id1>@<response>/<reference>`` where that does too), its name, and a text naming it
+    (:attr:`MeasuredFRF.described`). A name of two functions (one id1, response and reference twice) is a
+    ModelError naming both; the default, the first, with a ModelWarning when another has its name."""
     every = read_uff(path)
     recs = [r for r in every if r.kind == "frf"]
     if not recs:
@@ -296,11 +303,28 @@ def _uff_frf(path, channel):
         j = 0
     elif isinstance(channel, str) and not channel.strip().isdigit():  # a function's name (its id1)
         bare = channel.split(" [")[0]
-        j = names.index(bare) if bare in names else -1
+        matches = [i for i, n in enumerate(names) if n == bare]
+        if len(matches) > 1:
+            raise ModelError(
+                "channel",
+                channel,
+                f"names {len(matches)} FRFs of {path}, {_places(matches)} (the same id1, response and reference: "
+                f"an export that repeats a function); give the place of one instead ({', '.join(map(str, matches))})",
+            )
+        j = matches[0] if matches else -1
     else:
         j = int(channel)
     if not 0 <= j < len(recs):
         raise ModelError("channel", channel, f"must be 0..{len(recs) - 1} or a name in the file: " + ", ".join(names))
+    same = [i for i, n in enumerate(names) if n == names[j]]
+    if channel is None and len(same) > 1:
+        warnings.warn(
+            f"{path}: {_places(same)} have the same name, {names[j]} (the same id1, response and reference: an "
+            f"export that repeats a function); FRF {j}, the first, is read; give the place of another "
+            f"({', '.join(map(str, same[1:]))}) as the channel to read it",
+            ModelWarning,
+            stacklevel=4,
+        )
     r = recs[j]
     bad = ~(np.isfinite(r.x) & np.isfinite(r.data))
     if bad.any():
@@ -313,7 +337,31 @@ def _uff_frf(path, channel):
             "missing measurement; measure again, or cut the function before it",
         )
     warn_zero_lines(f"{path} ({names[j]})", r.x, r.data)
-    return r
+    reference = dof_name(r.ref_node, r.ref_dir) if r.ref_node else "none"
+    dofs = f"id1 {r.name!r}, response {dof_name(r.rsp_node, r.rsp_dir)}, reference {reference}"
+    described = f"{names[j]} ({dofs})" if len(recs) == 1 else f"FRF {j} of 0..{len(recs) - 1}, {names[j]} ({dofs})"
+    return r, names[j], described
+
+
+def _places(found):
+    """``FRF 0 and FRF 3``, ``FRF 0, FRF 2 and FRF 5``: FRFs by their places among a file's FRFs."""
+    said = [f"FRF {i}" for i in found]
+    return ", ".join(said[:-1]) + " and " + said[-1]
+
+
+@dataclass(frozen=True)
+class MeasuredFRF:
+    """An FRF read from a file (:func:`read_frf_function`): ``freqs_hz`` (Hz), ``H`` (complex, in the file's
+    unit), ``kind`` (the kind the file declares, or None), ``name`` (a UFF function's name,
+    :func:`function_names`, or a CSV's ``re_``/``im_`` pair's) and ``described``, a text naming it for a
+    table's header: a UFF function's place among the file's FRFs, name, id1, response and reference DOF
+    (``FRF 4 of 0..5, FRF@12-x/2z (id1 'FRF', response 12-x, reference 2z)``), a CSV's columns."""
+
+    freqs_hz: np.ndarray
+    H: np.ndarray
+    kind: str | None
+    name: str
+    described: str
 
 
 def read_frf(path, channel=None):
@@ -328,12 +376,19 @@ def read_frf_kind(path, channel=None, strict=True):
     (:func:`frf_kind`; None when it does not say; a ratio the circle fit does not take is a ModelError
     naming the file, or None when not ``strict``), a CSV's line ``# kind = <kind>`` before its first
     row of numbers (:func:`write_csv_frf` writes it; None without one; an unknown kind as a UFF's)."""
+    m = read_frf_function(path, channel, strict)
+    return m.freqs_hz, m.H, m.kind
+
+
+def read_frf_function(path, channel=None, strict=True) -> MeasuredFRF:
+    """:func:`read_frf_kind` as a :class:`MeasuredFRF`, with the name of the function read and a text naming it
+    (its place, id1, response and reference: what a table's header says it was fitted to)."""
     if not is_uff(path):
         f, H = read_csv_frf(path)
-        return f, H, _csv_frf_kind(path, strict)
-    r = _uff_frf(path, channel)
+        return MeasuredFRF(f, H, _csv_frf_kind(path, strict), "", "")
+    r, name, described = _uff_frf(path, channel)
     try:
         kind = frf_kind(r, strict)
     except ModelError as exc:
         raise ModelError(exc.key, f"{path}: {exc.value}", exc.allowed) from None
-    return r.x, np.asarray(r.data, dtype=complex), kind
+    return MeasuredFRF(r.x, np.asarray(r.data, dtype=complex), kind, name, described)

@@ -206,3 +206,73 @@ def test_a_file_cut_without_its_end_line_is_said_to_be_truncated(tmp_path, synth
     # a complete FRF followed by a cut one: the cut one is named, not dropped without a word
     p.write_bytes(raw + raw[: int(0.6 * len(raw))].replace(b"FRF 4:+Z", b"FRF 5:+Z"))
     _refused(p, "truncated", "FRF 5:+Z")
+
+
+# ------------------------------------------------------------------ M2: repeated FRF names
+
+
+def _matrix_file(tmp_path, synth, dup=False):
+    """An m+p / PULSE-like matrix: responses 10z, 11z, 12-x against references 1z and 2z, every FRF named 'FRF';
+    reference 2's modes 5 % higher (so a test can tell which was read). ``dup``: two FRFs of one id1, response
+    and reference (an export that repeats a function), the second's modes 5 % higher."""
+    from cablecasing_core.uff import Record, frf_fields, write_uff
+
+    recs = []
+    refs = [(1, 3)] if dup else [(1, 3), (2, 3)]
+    rsps = [(4, 3), (4, 3)] if dup else [(10, 3), (11, 3), (12, -1)]
+    for j, ref in enumerate(refs):
+        for k, rsp in enumerate(rsps):
+            higher = (k if dup else j) == 1
+            H = accelerance(synth, seed=40 + 3 * j + k, f_n=F * (1.05 if higher else 1.0))
+            dof = dict(rsp_node=rsp[0], rsp_dir=rsp[1], ref_node=ref[0], ref_dir=ref[1])
+            recs.append(Record("frf", FREQ, H, "H1 Resp/Ref" if dup else "FRF", **dof, **frf_fields("acceleration")))
+    p = tmp_path / ("dup.uff" if dup else "matrix.uff")
+    write_uff(p, recs)
+    return p
+
+
+def test_frfs_of_one_response_and_several_references_are_named_by_their_reference(tmp_path, synth):
+    """The names were FRF@10z, FRF@11z, FRF@12-x twice (reference 2 reachable by index only; --channel FRF@10z took
+    reference 1 without a word); now the reference follows the response where the response repeats."""
+    from cablecasing_core.uff import function_names, read_uff
+
+    p = _matrix_file(tmp_path, synth)
+    names = function_names(read_uff(p))
+    assert names == [f"FRF@{r}/{ref}" for ref in ("1z", "2z") for r in ("10z", "11z", "12-x")], names
+    for channel, higher in (("FRF@11z/1z", False), ("FRF@11z/2z", True), ("4", True)):
+        f, H = read_frf(p, channel)
+        peaks = find_resonances(f, H, count=3, kind="acceleration")
+        # (the modes of that reference, not of the other: within half the 5 % between them)
+        assert np.all(np.abs(peaks / (F * (1.05 if higher else 1.0)) - 1) < 0.025), (channel, peaks)
+    with pytest.raises(ModelError) as e:
+        read_frf(p, "FRF@10z")  # (names two functions: no longer a name, the names listed)
+    assert e.value.key == "channel" and "FRF@10z/1z" in e.value.allowed and "FRF@10z/2z" in e.value.allowed
+
+
+def test_a_name_of_two_functions_is_refused_naming_both(tmp_path, synth):
+    """Two FRFs of one id1, response and reference: the name took the first without a word; now it is refused
+    naming both functions and their places, as the time path refuses a repeated name."""
+    p = _matrix_file(tmp_path, synth, dup=True)
+    with pytest.raises(ModelError) as e:
+        read_frf(p, "H1 Resp/Ref@4z/1z")
+    assert e.value.key == "channel", e.value
+    assert "FRF 0" in e.value.allowed and "FRF 1" in e.value.allowed, e.value.allowed
+    # by its place, each is read (its own modes)
+    f, H = read_frf(p, 1)
+    assert np.all(np.abs(find_resonances(f, H, count=3, kind="acceleration") / (F * 1.05) - 1) < 0.025)
+    # the default (the first) says that another function has its name
+    with pytest.warns(ModelWarning, match=r"FRF 0 and FRF 1 .*same name"):
+        read_frf(p)
+
+
+@pytest.mark.parametrize("command", ["loss-factor", "modulus"])
+def test_the_header_line_names_the_frf_used(tmp_path, synth, capsys, command):
+    """The '#' line of loss-factor and modulus did not say which function of the file it fitted."""
+    p = _matrix_file(tmp_path, synth)
+    argv = ["identify", command, str(p), "--channel", "FRF@12-x/2z"]
+    argv += ["--count", "3"] if command == "loss-factor" else ["--modes", "1", "3", "5", "--model", str(MODEL)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        assert run(argv) == 0
+    head = capsys.readouterr().out.splitlines()[0]
+    assert "FRF 5 of 0..5, FRF@12-x/2z (id1 'FRF', response 12-x, reference 2z)" in head, head
