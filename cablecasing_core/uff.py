@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import ModelError, ModelWarning, renamed
-from .files import atomic_path
+from .files import atomic_path, memory_available
 from .model.validators import Choice, array_1d, number
 from .units import frequency_factor, frequency_units_text, time_factor, time_units_text
 
@@ -331,6 +331,7 @@ def read_uff(path):
     if not os.path.isfile(path):
         what = "a folder" if os.path.isdir(path) else "a device or another special file"
         raise ModelError("file", str(path), f"is {what}, not a UFF file: a UFF file is a regular file")
+    _check_memory(path)
     try:
         u = pyuff.UFF(str(path))
         types = list(u.get_set_types())
@@ -380,6 +381,53 @@ def read_uff(path):
             )
         )
     return out
+
+
+#: The memory reading a UFF file takes, in times its size (pyuff reads the whole file, splits it into
+#: lines and ``struct.unpack``\ s the values into Python floats, 32 bytes each with the tuple's pointer, before
+#: numpy's copy): measured peak RSS over the file's size, 12.5 M samples, 5.2x ASCII 4E20.12, 6.3x ASCII
+#: 6E13.5, 8.1x binary double, 14.8x binary single precision; rounded up (docs/identification.md section 6).
+MEMORY_FACTOR = {"ascii": 7, "binary double": 9, "binary single": 16}
+_FORMATS = {
+    "ascii": "an ASCII UFF file",
+    "binary double": "a binary (58b) double-precision file",
+    "binary single": "a binary (58b) single-precision file",
+}
+_SNIFF = 1 << 20  # (the bytes searched for the first dataset 58's header: past 151/164 headers)
+
+
+def _memory_factor(path) -> tuple:
+    """``(factor, format)`` of :data:`MEMORY_FACTOR` for the file ``path``, by its first dataset 58's header
+    (binary or ASCII, its ordinate's precision) in its first MB; the largest factor without one there."""
+    with open(path, "rb") as fh:
+        head = fh.read(_SNIFF)
+    m = re.search(rb"(?m)^ {4}58(b?)[^\n]*\n(?:[^\n]*\n){6}([ \d]{10})", head)
+    if m is None:
+        return MEMORY_FACTOR["binary single"], "binary single"
+    if not m.group(1):
+        return MEMORY_FACTOR["ascii"], "ascii"
+    single = m.group(2).strip() in (b"2", b"5")
+    kind = "binary single" if single else "binary double"
+    return MEMORY_FACTOR[kind], kind
+
+
+def _check_memory(path):
+    """A ModelError naming the file, its size and the limit when reading it would take more than the memory
+    free (:func:`~cablecasing_core.files.memory_available`): :data:`MEMORY_FACTOR` times its size (a process
+    killed for want of memory says nothing)."""
+    size = os.path.getsize(path)
+    factor, kind = _memory_factor(path)
+    free = memory_available()
+    if size * factor <= free:
+        return
+    raise ModelError(
+        "file",
+        str(path),
+        f"is {size / 1e6:.3g} MB: reading it takes about {factor} times that ({size * factor / 1e9:.3g} GB; "
+        f"{_FORMATS[kind]} is read whole into Python numbers), more than the {free / 1e9:.3g} GB of memory "
+        f"free (the limit: {free / factor / 1e6:.3g} MB for such a file); export fewer functions or a shorter "
+        "record per file, or free memory",
+    )
 
 
 #: A dataset 58's first two lines: its start line ``    -1`` and its number, ``    58`` (ASCII) or ``    58b``

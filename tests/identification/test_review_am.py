@@ -276,3 +276,43 @@ def test_the_header_line_names_the_frf_used(tmp_path, synth, capsys, command):
         assert run(argv) == 0
     head = capsys.readouterr().out.splitlines()[0]
     assert "FRF 5 of 0..5, FRF@12-x/2z (id1 'FRF', response 12-x, reference 2z)" in head, head
+
+
+# ------------------------------------------------------------------ M3: the memory a UFF file takes to read
+
+
+def _single_precision(raw):
+    """A 58b of complex doubles (the package's writer) as the same dataset in single precision: the header's
+    record 1 byte count and record 7 ordinate data type (6 -> 5), the values as float32."""
+    start = _data_start(raw)
+    lines = raw[:start].decode().split("\n")
+    values = np.frombuffer(raw[start:-7], "<f8").astype("<f4")
+    lines[1] = lines[1][:31] + f"{values.nbytes:12d}" + lines[1][43:]
+    assert lines[8][:10] == f"{6:10d}"
+    lines[8] = f"{5:10d}" + lines[8][10:]
+    return "\n".join(lines).encode() + values.tobytes() + b"\n    -1\n"
+
+
+def test_a_uff_file_too_large_for_the_memory_free_is_refused_naming_its_size(tmp_path, synth, monkeypatch):
+    """pyuff reads a whole file into Python numbers: measured 8x a binary double file's size, 15x a single
+    precision one's, 5-6x ASCII (docs/identification.md section 6). A file needing more than the memory free was
+    OOM-killed without a message; it is refused now, naming the file, its size and the limit."""
+    import cablecasing_core.uff as uff
+
+    p, raw = _frf_file(tmp_path, synth)
+    q = tmp_path / "single.uff"
+    q.write_bytes(_single_precision(raw))
+    f, H = read_frf(q)  # (the single-precision file reads: the same FRF to float32's rounding)
+    np.testing.assert_allclose(H, accelerance(synth), rtol=2e-7 * 4)  # (float32: 2**-24 relative, per part)
+    size, size_q = p.stat().st_size, q.stat().st_size
+    # memory for 10 times the file: the double file (9x) reads, the single one (16x) is refused
+    monkeypatch.setattr(uff, "memory_available", lambda: 10 * size_q)
+    with pytest.raises(ModelError) as e:
+        read_frf(q)
+    assert e.value.key == "file" and str(q) in str(e.value.value)
+    assert f"{size_q / 1e6:.3g} MB" in e.value.allowed and "16 times" in e.value.allowed, e.value.allowed
+    monkeypatch.setattr(uff, "memory_available", lambda: 10 * size)
+    read_frf(p)
+    monkeypatch.setattr(uff, "memory_available", lambda: 8 * size)
+    with pytest.raises(ModelError, match="9 times"):
+        read_frf(p)
