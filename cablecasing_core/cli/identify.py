@@ -698,7 +698,12 @@ def add_parser(subparsers):
 
     lf = sub.add_parser("loss-factor", help="loss factors from Nyquist circles of an FRF (Eq. 45)")
     lf.add_argument("file", help="FRF: CSV (frequency_hz,re_*,im_*) or UFF 58 FRF")
-    lf.add_argument("--channel", default=None, help="n-th UFF FRF (default first)")
+    lf.add_argument(
+        "--channel",
+        default=None,
+        help="the FRF of a file holding several: a UFF FRF's name or place, a CSV's re_/im_ pair's name (H21, re_H21) "
+        "or place (default the first)",
+    )
     lf.add_argument("--freqs", type=float, nargs="+", help="approximate resonance frequencies (Hz); default: peaks")
     lf.add_argument("--count", type=int, default=None, help="number of peaks when --freqs is not given")
     choice_argument(
@@ -747,7 +752,9 @@ def add_parser(subparsers):
         help="the body of --model whose modes were measured; TOML section",
     )
     m.add_argument("--modes", type=int, nargs="+", help="mode number of each measured frequency (1 = lowest)")
-    m.add_argument("--channel", default=None, help="n-th UFF FRF (default first)")
+    m.add_argument(
+        "--channel", default=None, help="the FRF of a file holding several, as for loss-factor (default the first)"
+    )
     m.add_argument(
         "--resolution",
         type=float,

@@ -8,7 +8,7 @@ The UFF 58 format itself (:class:`Record`, :func:`read_uff`, :func:`write_uff`, 
 are importable from here as well.
 
 CSV time records have one header line, ``time_s,<channel>,...`` (:func:`write_csv_time`). CSV FRFs:
-``frequency_hz,re_<name>,im_<name>[,...]`` (the first ``re_``/``im_`` pair is read; the ``trfam``
+``frequency_hz,re_<name>,im_<name>[,...]`` (the first ``re_``/``im_`` pair, or the one ``channel`` names; the ``trfam``
 CLI's ``frequency_hz,re_kg,im_kg,magnitude_kg,phase_deg`` files are accepted as they are), after an
 optional line ``# kind = <kind>`` (displacement, velocity, acceleration, apparent_mass) that
 :func:`write_csv_frf` writes when given the kind and :func:`read_frf_kind` reads back.
@@ -245,20 +245,64 @@ def frequency_column(path, names, key="file"):
     return factor
 
 
-def read_csv_frf(path):
+def _csv_pairs(names):
+    """The ``re_``/``im_`` column pairs of a CSV FRF's header ``names``: ``[(name, re column, im column)]``,
+    ``name`` what follows ``re``/``im`` (and ``_``), ``re_H21``/``im_H21`` -> ``H21``, matched in any case, in
+    the order of their ``re`` columns; without a matched pair, the first column starting ``re`` with the first
+    starting ``im`` (another tool's ``Real``, ``Imag``), named by the first."""
+
+    def suffix(name):
+        return name[2:].lstrip("_ ").lower()
+
+    re_cols = [i for i, n in enumerate(names) if i and n.lower().startswith("re")]
+    im_cols = [i for i, n in enumerate(names) if i and n.lower().startswith("im")]
+    pairs = []
+    for i in re_cols:
+        j = next((j for j in im_cols if suffix(names[j]) == suffix(names[i])), None)
+        if j is not None:
+            pairs.append((names[i][2:].lstrip("_ ") or names[i], i, j))
+    if not pairs and re_cols and im_cols:
+        pairs.append((names[re_cols[0]], re_cols[0], im_cols[0]))
+    return pairs
+
+
+def read_csv_frf(path, channel=None):
     """A complex FRF from CSV: returns ``(freqs_hz, H)`` from the first column, the frequency (its unit
     from its header, :func:`frequency_column`: ``frequency [rad/s]``, ``frequency_khz`` converted to Hz),
-    and the first ``re_*``/``im_*`` column pair."""
+    and a ``re_*``/``im_*`` column pair: ``channel`` None the first, else the pair of that name (``H21``,
+    or either column's, ``re_H21``, ``im_H21``) or place among the pairs (0 the first); another is a
+    ModelError naming ``channel`` and listing the pairs."""
+    return _read_csv_frf(path, channel)[:2]
+
+
+def _read_csv_frf(path, channel=None):
+    """``(freqs_hz, H, pair name, text naming its columns)`` of :func:`read_csv_frf`."""
     names, data = read_csv_table(path, "file", min_rows=3, min_columns=3)
     to_hz = frequency_column(path, names)
-    re_i = next((i for i, n in enumerate(names) if i and n.lower().startswith("re")), None)
-    im_i = next((i for i, n in enumerate(names) if i and n.lower().startswith("im")), None)
-    if re_i is None or im_i is None:
+    pairs = _csv_pairs(names)
+    if not pairs:
         raise ModelError("file", str(path), "an FRF CSV needs columns frequency_hz,re_<name>,im_<name>")
+    if channel is None:
+        k = 0
+    elif isinstance(channel, str) and not channel.strip().isdigit():
+        given = channel.strip().lower()
+        k = next(
+            (k for k, (n, i, j) in enumerate(pairs) if given in (n.lower(), names[i].lower(), names[j].lower())), -1
+        )
+    else:
+        k = int(channel)
+    if not 0 <= k < len(pairs):
+        listed = ", ".join(f"{n} ({names[i]}, {names[j]})" for n, i, j in pairs)
+        raise ModelError(
+            "channel",
+            channel,
+            f"must be 0..{len(pairs) - 1} or the name of a re_/im_ column pair of {path}: {listed}",
+        )
+    name, i, j = pairs[k]
     f = data[:, 0] if to_hz == 1.0 else data[:, 0] * to_hz
-    H = data[:, re_i] + 1j * data[:, im_i]
-    warn_zero_lines(f"{path} ({names[re_i]}, {names[im_i]})", f, H)
-    return f, H
+    H = data[:, i] + 1j * data[:, j]
+    warn_zero_lines(f"{path} ({names[i]}, {names[j]})", f, H)
+    return f, H, name, f"columns {names[i]}, {names[j]}"
 
 
 def warn_zero_lines(where, f, H):
@@ -384,8 +428,8 @@ def read_frf_function(path, channel=None, strict=True) -> MeasuredFRF:
     """:func:`read_frf_kind` as a :class:`MeasuredFRF`, with the name of the function read and a text naming it
     (its place, id1, response and reference: what a table's header says it was fitted to)."""
     if not is_uff(path):
-        f, H = read_csv_frf(path)
-        return MeasuredFRF(f, H, _csv_frf_kind(path, strict), "", "")
+        f, H, name, described = _read_csv_frf(path, channel)
+        return MeasuredFRF(f, H, _csv_frf_kind(path, strict), name, described)
     r, name, described = _uff_frf(path, channel)
     try:
         kind = frf_kind(r, strict)

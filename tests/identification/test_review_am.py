@@ -316,3 +316,41 @@ def test_a_uff_file_too_large_for_the_memory_free_is_refused_naming_its_size(tmp
     monkeypatch.setattr(uff, "memory_available", lambda: 8 * size)
     with pytest.raises(ModelError, match="9 times"):
         read_frf(p)
+
+
+# ------------------------------------------------------------------ M4: --channel of a CSV of several FRFs
+
+
+def _two_frf_csv(tmp_path, synth):
+    """frequency_hz,re_H11,im_H11,re_H21,im_H21: H21's modes 5 % higher than H11's."""
+    H11, H21 = accelerance(synth, seed=1), accelerance(synth, seed=2, f_n=F * 1.05)
+    p = tmp_path / "two_frf.csv"
+    table = np.column_stack([FREQ[1:], H11.real[1:], H11.imag[1:], H21.real[1:], H21.imag[1:]])
+    np.savetxt(p, table, delimiter=",", header="frequency_hz,re_H11,im_H11,re_H21,im_H21", comments="")
+    return p, H11[1:], H21[1:]
+
+
+def test_the_channel_of_a_csv_of_several_frfs_picks_the_pair(tmp_path, synth):
+    """--channel was ignored for a CSV: re_H21 and 1 both fitted H11. Now it picks the re_/im_ pair by its name
+    (H21, re_H21 or im_H21) or its place among the pairs (0 the first), and any other is refused naming it."""
+    p, H11, H21 = _two_frf_csv(tmp_path, synth)
+    np.testing.assert_array_equal(read_frf(p)[1], H11)  # (the default: the first pair, as before)
+    for channel in ("H21", "re_H21", "im_H21", 1, "1"):
+        np.testing.assert_array_equal(read_frf(p, channel)[1], H21)
+    np.testing.assert_array_equal(read_frf(p, "H11")[1], H11)
+    for bad in ("H31", 2, "frequency_hz"):
+        with pytest.raises(ModelError) as e:
+            read_frf(p, bad)
+        assert e.value.key == "channel" and "H11" in e.value.allowed and "H21" in e.value.allowed, e.value
+
+
+def test_identify_loss_factor_fits_the_csv_pair_given(tmp_path, synth, capsys):
+    p, _, _ = _two_frf_csv(tmp_path, synth)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        argv = ["identify", "loss-factor", str(p), "--kind", "acceleration", "--channel", "re_H21", "--count", "3"]
+        assert run(argv) == 0
+    out = capsys.readouterr().out
+    assert "(columns re_H21, im_H21)" in out.splitlines()[0], out
+    f_r = np.array([float(r[1]) for r in rows(out)])
+    assert np.all(np.abs(f_r / (F * 1.05) - 1) < 0.01), f_r  # (H21's modes, not H11's 5 % lower)
