@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import contextlib
 import sys
+import warnings
 
 import numpy as np
 
@@ -310,21 +311,29 @@ def cmd_damping(args):
             fn = [r.f_natural_hz for r in res]
             zs = [r.zeta for r in res]
             sd = [r.zeta_sd for r in res]
-            fit = rayleigh_fit(fn, zs, nonnegative=args.nonnegative, zeta_sd=sd)
+            with warnings.catch_warnings(record=True) as said:  # (said of the fit used: this, or the nonnegative)
+                warnings.simplefilter("always")
+                fit = rayleigh_fit(fn, zs, nonnegative=args.nonnegative, zeta_sd=sd)
             if not args.nonnegative and (fit.alpha < 0 or fit.beta < 0):
                 print(
                     f"# least squares gives alpha = {fit.alpha:.6g} 1/s, beta = {fit.beta:.6g} s; the model "
                     "file needs both >= 0, so the nonnegative fit follows"
                 )
                 fit = rayleigh_fit(fn, zs, nonnegative=True, zeta_sd=sd)
+            else:
+                for w in said:
+                    warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
 
             def pm(v):
                 return " (at its bound)" if np.isnan(v) else f" +- {v:.2g}"
 
+            misfit = (
+                "" if np.isnan(fit.reduced_chi2) else f", reduced chi-square {fit.reduced_chi2:.3g} against zeta_unc"
+            )
             print(
                 f"Rayleigh (Eq. 44): alpha = {fit.alpha:.6g}{pm(fit.alpha_sd)} 1/s, beta = {fit.beta:.6g}"
                 f"{pm(fit.beta_sd)} s (one standard deviation from zeta_unc), rms residual of zeta = "
-                f"{fit.rms_residual:.3g}"
+                f"{fit.rms_residual:.3g}{misfit}"
             )
             for f_, z_, zf in zip(fn, zs, fit.zeta_fit):
                 print(f"    {f_:10.3f} Hz: zeta = {z_:.5f}, Rayleigh {zf:.5f}")

@@ -354,3 +354,50 @@ def test_identify_loss_factor_fits_the_csv_pair_given(tmp_path, synth, capsys):
     assert "(columns re_H21, im_H21)" in out.splitlines()[0], out
     f_r = np.array([float(r[1]) for r in rows(out)])
     assert np.all(np.abs(f_r / (F * 1.05) - 1) < 0.01), f_r  # (H21's modes, not H11's 5 % lower)
+
+
+# ------------------------------------------------------------------ L1: damping that is not of Rayleigh form
+
+
+def test_rayleigh_fit_warns_when_the_residuals_exceed_their_standard_deviations():
+    """Three modes with equal zeta_sd: the residual of the fit lies along the null vector u of Eq. (42)'s matrix,
+    so zeta = A c + t u gives chi-square (t / sd)^2 on one degree of freedom. Below its 99th percentile (6.63) no
+    word; above it a warning that the damping is not of Rayleigh form, with the reduced chi-square."""
+    from scipy.stats import chi2
+
+    from cablecasing_core.identification import rayleigh_fit, rayleigh_matrix
+
+    f = np.array([23.7, 61.3, 142.9])
+    A = rayleigh_matrix(f)
+    u = np.linalg.svd(A)[0][:, 2]  # (the unit vector A's columns do not reach)
+    base, sd = A @ np.array([2.0, 3e-5]), 1e-4
+    limit = chi2.ppf(0.99, 1)
+    for chi_square, warned in ((0.0, False), (0.9 * limit, False), (1.1 * limit, True)):
+        zeta = base + np.sqrt(chi_square) * sd * u
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            fit = rayleigh_fit(f, zeta, zeta_sd=np.full(3, sd))
+        said = [str(w.message) for w in caught if "Rayleigh form" in str(w.message)]
+        assert bool(said) == warned, (chi_square, said)
+        np.testing.assert_allclose(fit.reduced_chi2, chi_square, rtol=1e-6, atol=1e-12)
+        if warned:
+            assert issubclass(caught[0].category, ModelWarning) and f"{chi_square:.3g}" in said[0], said
+    # two modes: the fit is exact, nothing to judge (reduced chi-square undefined)
+    assert np.isnan(rayleigh_fit(f[:2], base[:2], zeta_sd=[sd, sd]).reduced_chi2)
+
+
+def test_identify_damping_prints_the_rayleigh_misfit(tmp_path, capsys):
+    """The review's record: zeta 0.012, 0.020, 0.008 (not of Rayleigh form; the Rayleigh zeta are 28 %, -53 %,
+    49 % off) gave alpha and beta with a 0.1 % +- and no word. The command line now warns."""
+    from cablecasing_core import cli
+    from cablecasing_core.identification import write_csv_time
+
+    fs, zeta = 1024.0, np.array([0.012, 0.020, 0.008])
+    t = np.arange(int(4 * fs)) / fs
+    x = sum(a * np.exp(-z * 2 * np.pi * f * t) * np.sin(2 * np.pi * f * t) for f, z, a in zip(F, zeta, AMP))
+    x = x + 1e-4 * np.random.default_rng(3).standard_normal(t.size)
+    p = tmp_path / "impulse.csv"
+    write_csv_time(p, x, fs, names=["acc"])
+    assert cli.main(["identify", "damping", str(p), "--freqs", *map(str, F)]) == 0
+    err = capsys.readouterr().err
+    assert "cablecasing: warning:" in err and "not of Rayleigh form" in err, err
