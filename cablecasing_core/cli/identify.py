@@ -165,6 +165,7 @@ _DAMPING_HINTS = {
     "a larger gamma, the CLI's --gamma,": "a larger --gamma",
     "(allowed: max_departure = ": "(allowed: --max-departure = ",
     "cut the record (t_max)": "cut the record (--t-max)",
+    "give t_max (the CLI's --t-max)": "give --t-max",
     "(give t0)": "(give --t0, the first sample's time with the impulse at t = 0)",
     "pick the response channel (the CLI's --channel)": "pick the response channel with --channel",
     "give its time axis, t0 = the first sample's time": "give --t0, the first sample's time",
@@ -247,7 +248,11 @@ def cmd_damping(args):
             frequencies("--freqs", args.freqs, fs)
         with _hint(_DAMPING_HINTS), _record_named(args, name):  # (a force channel: said before its spectrum's peaks)
             refuse_pulse(x, fs, t_start)
-        freqs = args.freqs if args.freqs else _spectrum_peaks(x, fs, args.count, args.file)
+        if not args.freqs:  # (the peaks of the record before a padding of zeros: the fit ends before it too)
+            from ..identification.wavelet import trailing_padding
+
+            pad = trailing_padding(x)
+        freqs = args.freqs if args.freqs else _spectrum_peaks(x[:pad] if pad else x, fs, args.count, args.file)
         if args.toml and len(freqs) < 2:  # (the default count found one peak only)
             raise ModelError(
                 "--toml",

@@ -493,6 +493,36 @@ def _quantisation_floor(q, f0, fs, gamma):
     return q / np.sqrt(12.0) * 2.0 * np.pi**0.25 * np.sqrt(f0 / (gamma * fs))
 
 
+def _floor3(v):
+    """``v`` rounded down to 3 significant digits, as text (a time suggested as a bound)."""
+    if v <= 0:
+        return f"{v:.3g}"
+    e = 10.0 ** (np.floor(np.log10(v)) - 2)
+    return f"{np.floor(v / e) * e:.3g}"
+
+
+#: Least number of exact zeros ending a record that :func:`trailing_padding` takes for padding.
+PAD_MIN_SAMPLES = 8
+
+
+def trailing_padding(x, q=None):
+    """The index of the first of the exact zeros that end the record ``x`` when they are padding (a capture
+    zero-filled to its length, a power of two), else None: at least :data:`PAD_MIN_SAMPLES` of them, after
+    samples that are not a decay rounding to zero (the record is not quantised, its step ``q`` 0, or the 64
+    samples before the zeros reach beyond 4 of its steps q: a clean decay below the ADC's step rounds to 0
+    from +-1 or 2 steps, and that tail is fitted, :func:`_quantisation_floor`). ``q`` None: the record's
+    own step (:func:`_quantisation_step`)."""
+    x = np.asarray(x, dtype=float)
+    q = _quantisation_step(x) if q is None else q
+    nonzero = np.flatnonzero(x)
+    k = int(nonzero[-1]) + 1 if nonzero.size else 0
+    if x.size - k < PAD_MIN_SAMPLES or k == 0:
+        return None
+    if q > 0.0 and np.max(np.abs(x[max(0, k - 64) : k])) <= 4.0 * q:
+        return None
+    return k
+
+
 def wavelet_damping(
     x,
     fs,
@@ -541,7 +571,10 @@ def wavelet_damping(
         The fit stops where ``|W|`` first falls below ``floor_factor * noise_floor``.
     t_max : float or None
         Optional latest time (s, on the record's time axis) used in the fit (a ModelError naming
-        ``t_max`` when it leaves fewer than ``min_cycles`` periods after the edge).
+        ``t_max`` when it leaves fewer than ``min_cycles`` periods after the edge). A record ending in a
+        padding of exact zeros (:func:`trailing_padding`) needs it (a ModelError naming the padding's
+        start and the ``t_max`` an edge before it otherwise); the padding's start then counts as the
+        record's end, the fit ending an edge before it whatever ``t_max``.
     min_cycles : float
         Least number of periods that must remain between the edges (and above the noise floor).
     t0 : float
@@ -578,7 +611,8 @@ def wavelet_damping(
         6 % at zeta = 0.2; the message then suggests a wider ``search``), a mode that sinks into the noise
         floor before the edge effect ends, a response that grows, ``ln|W|`` departing from the
         fitted line by more than ``max_departure`` (not a single free decay: a double hit, a
-        pre-trigger, a close mode), a window time constant that leaves no damping.
+        pre-trigger, a close mode), a window time constant that leaves no damping, a record ending in
+        a padding of exact zeros without ``t_max`` (naming where the zeros start and the ``t_max`` to give).
 
     Warns
     -----
@@ -620,6 +654,20 @@ def wavelet_damping(
         )
         t_impulse = max(t_impulse, t_clip)
     q = _quantisation_step(x)  # (the record's, once for all its modes)
+    t_last = t0 + T  # (where the record ends: its padding's start, if padded)
+    pad = trailing_padding(x, q)
+    if pad is not None:
+        t_last = t0 + pad / fs
+        if t_max is None:
+            edge0 = edge_factor * wavelet_time_spread(float(np.min(f_req)) * (1.0 - search), gamma)
+            raise ModelError(
+                "x",
+                f"{n} samples ({T:g} s from t = {t0:g} s)",
+                f"exactly 0 from t = {t_last:.6g} s to its end ({n - pad} samples, {100 * (n - pad) / n:.3g} % of "
+                "the record): padding (a capture zero-filled to its length), not part of the decay, where the "
+                f"ridges would fall off a cliff; give t_max (the CLI's --t-max) = {_floor3(t_last - edge0)} s, "
+                f"the wavelet's edge ({edge0:.3g} s at {float(np.min(f_req)):g} Hz) before it, or less",
+            )
     results = []
     for f0 in f_req:
         f_hi = f0 * (1.0 + search)
@@ -641,9 +689,9 @@ def wavelet_damping(
         for _ in range(5):  # the edge depends on the decay rate: edge_factor sigma_t + sigma sigma_t^2
             edge = edge_factor * sigma_t + max(sigma, 0.0) * sigma_t**2
             t_begin = t_impulse + edge
-            t_end = t0 + T - edge if t_max is None else min(t0 + T - edge, float(t_max))
+            t_end = t_last - edge if t_max is None else min(t_last - edge, float(t_max))
             need = min_cycles / f0
-            if t_end - t_begin < need and t_max is not None and t0 + T - edge - t_begin >= need:
+            if t_end - t_begin < need and t_max is not None and t_last - edge - t_begin >= need:
                 raise ModelError(
                     "t_max",
                     float(t_max),

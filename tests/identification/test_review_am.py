@@ -3,6 +3,7 @@ a CSV's --channel, the Rayleigh misfit, zero padding, unit labels). The measurem
 and noise, written by the package's writers or by hand (pyuff's dict writer) where a file must be broken."""
 
 import argparse
+import re
 import warnings
 from pathlib import Path
 
@@ -401,3 +402,70 @@ def test_identify_damping_prints_the_rayleigh_misfit(tmp_path, capsys):
     assert cli.main(["identify", "damping", str(p), "--freqs", *map(str, F)]) == 0
     err = capsys.readouterr().err
     assert "cablecasing: warning:" in err and "not of Rayleigh form" in err, err
+
+
+# ------------------------------------------------------------------ L2: a record padded with zeros
+
+
+ZETA_T = np.array([0.012, 0.020, 0.008])  # (the review's time records: zeta = eta / 2)
+
+
+def _padded(synth, fs=1024.0):
+    """4 s of a noisy decay, then 4 s of exact zeros (a capture zero-filled to a power of two)."""
+    t = np.arange(int(8 * fs)) / fs
+    x = synth.impulse(t, F, ZETA_T, AMP) + 1e-4 * np.random.default_rng(5).standard_normal(t.size)
+    x[t >= 4.0] = 0.0
+    return x, fs
+
+
+def test_a_zero_padded_record_is_named_as_padding_and_t_max_fits_it(synth):
+    """The review's record was diagnosed as a second impact (27.75 nepers at t = 4.574 s); it is named as padding
+    now, with the t_max that ends the fit an edge before it, which gives the zeta back."""
+    from cablecasing_core.identification import wavelet_damping
+
+    x, fs = _padded(synth)
+    with pytest.raises(ModelError) as e:
+        wavelet_damping(x, fs, F)
+    said = e.value.allowed
+    assert e.value.key == "x" and "exactly 0 from t = 4 s" in said and "padding" in said, said
+    assert "second impact" not in said
+    t_max = float(re.search(r"give t_max \(the CLI's --t-max\) = ([0-9.]+) s", said).group(1))
+    assert 3.5 < t_max < 4.0, t_max  # (an edge before 4 s: 3 sigma_t of 21.3 Hz, 0.27 s)
+    res = wavelet_damping(x, fs, F, t_max=t_max)
+    # (the unpadded record's accuracy: within 2 % of zeta, the noise's few zeta_sd and the wavelet's bias)
+    np.testing.assert_allclose([r.zeta for r in res], ZETA_T, rtol=0.02)
+    # a t_max beyond the padding's start is held an edge before it, as the record's end is
+    res2 = wavelet_damping(x, fs, F, t_max=6.0)
+    np.testing.assert_allclose([r.zeta for r in res2], [r.zeta for r in res], rtol=0.02)
+
+
+def test_a_quantised_decay_whose_tail_rounds_to_zero_is_no_padding(synth):
+    """A clean record quantised in steps q whose tail rounds to 0 is a decay below the ADC's step, fitted as
+    before (the quantisation floor), not refused as padding."""
+    from cablecasing_core.identification import wavelet_damping
+
+    fs = 1024.0
+    t = np.arange(int(8 * fs)) / fs
+    x = synth.impulse(t, F, ZETA_T, AMP)
+    q = np.abs(x).max() / 2**11  # (a 12-bit ADC)
+    xq = np.round(x / q) * q
+    assert np.all(xq[-200:] == 0.0)  # (its tail is zeros)
+    res = wavelet_damping(xq, fs, F)
+    np.testing.assert_allclose([r.zeta for r in res], ZETA_T, rtol=0.02)
+
+
+def test_identify_damping_names_padding_and_the_option(tmp_path, synth, capsys):
+    from cablecasing_core import cli
+    from cablecasing_core.identification import write_csv_time
+
+    x, fs = _padded(synth)
+    p = tmp_path / "zeropad.csv"
+    write_csv_time(p, x, fs, names=["acc"])
+    assert cli.main(["identify", "damping", str(p)]) == 2
+    err = capsys.readouterr().err
+    assert "exactly 0 from t = 4 s" in err and "give --t-max = " in err and "second impact" not in err, err
+    t_max = re.search(r"give --t-max = ([0-9.]+) s", err).group(1)
+    # the suggested --t-max runs, the spectrum's peaks taken before the padding (the zeros made noise peaks)
+    assert cli.main(["identify", "damping", str(p), "--t-max", t_max]) == 0
+    zeta = np.array([float(r[4]) for r in rows(capsys.readouterr().out)])
+    np.testing.assert_allclose(zeta, ZETA_T, rtol=0.02)  # (as the API's, above)
