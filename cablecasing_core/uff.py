@@ -561,12 +561,14 @@ def frf_kind(record, strict=True):
     """The FRF kind (:data:`FRF_KIND_TYPES`, ``circlefit.FRF_KINDS``) a UFF record's header declares,
     from its ordinate and denominator data types (:data:`DATA_TYPES`): a motion over a force
     (either force type) is that motion's kind, a force over an acceleration apparent mass, a force
-    over a displacement (dynamic stiffness) the displacement form as it is; None when they do not
-    say (a type 0); for a ratio the circle fit does not take (F/v, a/a, ...) a ModelError, or None
-    when not ``strict`` (the caller then says which kind to fit it as)."""
+    over a displacement (dynamic stiffness) the displacement form as it is; when a data type is 0
+    (unknown: pyuff-based and older exporters write 0) the kind its unit labels say
+    (:func:`frf_kind_of_labels`: ``g`` over ``N`` an accelerance), None when they do not say either;
+    for a ratio the circle fit does not take (F/v, a/a, ...) a ModelError, or None when not ``strict``
+    (the caller then says which kind to fit it as)."""
     num, den = int(record.data_type), int(record.denominator_type)
     if num == 0 or den == 0:
-        return None
+        return frf_kind_of_labels(record)
     motion = {code: quantity for code, (quantity, _) in DATA_TYPES.items() if code not in FORCE_TYPES}
     if den in FORCE_TYPES:
         kind = motion.get(num)
@@ -586,6 +588,39 @@ def frf_kind(record, strict=True):
             "of them anyway, give its kind (--kind)",
         )
     return kind
+
+
+#: Unit labels of an FRF's ordinate (a motion) by the kind they make over a force, and the labels of a force:
+#: what :func:`frf_kind_of_labels` reads when the header's data types are 0. Compared in lower case without
+#: spaces, brackets, ``^``, ``**`` (``m/s^2``, ``m/s**2`` and ``m/s²`` are ``m/s2``).
+MOTION_LABELS = {
+    "acceleration": ("g", "gn", "m/s2", "mm/s2", "in/s2", "ft/s2", "m/s/s", "ms-2"),
+    "velocity": ("m/s", "mm/s", "in/s", "ft/s", "ips", "ms-1"),
+    "displacement": ("m", "mm", "um", "µm", "μm", "in", "mil", "ft"),
+}
+FORCE_LABELS = ("n", "kn", "lbf", "lb", "kgf")
+
+
+def _unit_key(label: str) -> str:
+    """A unit label in the form :data:`MOTION_LABELS` compares: lower case, no spaces, brackets, ``^``, ``**``."""
+    key = label.strip().lower().replace("²", "2").replace("**", "").replace("^", "")
+    return "".join(c for c in key if c not in " ()[]")
+
+
+def frf_kind_of_labels(record):
+    """The FRF kind (``circlefit.FRF_KINDS``) a UFF record's unit labels say (:data:`MOTION_LABELS` over
+    :data:`FORCE_LABELS`: that motion's kind; a force over an acceleration: apparent mass; over a displacement:
+    the displacement form), the ordinate's label alone when it holds the ratio (``g/N``, the denominator's
+    empty); None when they say none of these (``V`` / ``V``, no labels)."""
+    num, den = _unit_key(record.unit), _unit_key(record.denominator_unit)
+    if not den and "/" in num:
+        num, den = num.rsplit("/", 1)
+    motion = {label: kind for kind, labels in MOTION_LABELS.items() for label in labels}
+    if den in FORCE_LABELS:
+        return motion.get(num)
+    if num in FORCE_LABELS:
+        return {"acceleration": "apparent_mass", "displacement": "displacement"}.get(motion.get(den))
+    return None
 
 
 def _label(dataset, key):

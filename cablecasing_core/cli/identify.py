@@ -413,18 +413,16 @@ def cmd_loss_factor(args):
         with renamed({"channel": "--channel"}):
             measured = read_frf_function(args.file, args.channel, strict=args.kind is None)
         f, H, declared = measured.freqs_hz, measured.H, measured.kind
-        from ..identification.uff_io import is_uff
 
-        where = "the header" if is_uff(args.file) else "the line '# kind = ...'"
         if args.kind is not None and declared is not None and args.kind != declared:
             raise ModelError(
                 "--kind",
                 args.kind,
-                f"{where} of {args.file} declares the FRF as {declared!r}: give --kind {declared} or leave "
-                "--kind out (the file's kind is taken)",
+                f"the FRF's kind by {measured.kind_from.replace('the file', str(args.file))} is {declared!r}: give "
+                f"--kind {declared} or leave --kind out (the file's kind is taken)",
             )
         kind = args.kind or declared or "apparent_mass"
-        source = "given" if args.kind else (f"from {where} of the file" if declared else "default")
+        source = "given" if args.kind else (f"from {measured.kind_from}" if declared else "default")
         names = {"window_tau": "--window-tau", "bandwidths": "--bandwidths", "search": "--search"}
         names.update({"f_res_hz": "--freqs", "count": "--count", "max_iter": "--max-iter"})
         hints = {

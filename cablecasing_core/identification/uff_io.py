@@ -399,13 +399,16 @@ class MeasuredFRF:
     unit), ``kind`` (the kind the file declares, or None), ``name`` (a UFF function's name,
     :func:`function_names`, or a CSV's ``re_``/``im_`` pair's) and ``described``, a text naming it for a
     table's header: a UFF function's place among the file's FRFs, name, id1, response and reference DOF
-    (``FRF 4 of 0..5, FRF@12-x/2z (id1 'FRF', response 12-x, reference 2z)``), a CSV's columns."""
+    (``FRF 4 of 0..5, FRF@12-x/2z (id1 'FRF', response 12-x, reference 2z)``), a CSV's columns; ``kind_from``
+    says what declared ``kind`` ("" when None): a UFF header's data types or, when they are 0, its unit
+    labels (:func:`~cablecasing_core.uff.frf_kind_of_labels`), a CSV's line ``# kind = ...``."""
 
     freqs_hz: np.ndarray
     H: np.ndarray
     kind: str | None
     name: str
     described: str
+    kind_from: str = ""
 
 
 def read_frf(path, channel=None):
@@ -429,10 +432,19 @@ def read_frf_function(path, channel=None, strict=True) -> MeasuredFRF:
     (its place, id1, response and reference: what a table's header says it was fitted to)."""
     if not is_uff(path):
         f, H, name, described = _read_csv_frf(path, channel)
-        return MeasuredFRF(f, H, _csv_frf_kind(path, strict), name, described)
+        kind = _csv_frf_kind(path, strict)
+        return MeasuredFRF(f, H, kind, name, described, "the line '# kind = ...' of the file" if kind else "")
     r, name, described = _uff_frf(path, channel)
     try:
         kind = frf_kind(r, strict)
     except ModelError as exc:
         raise ModelError(exc.key, f"{path}: {exc.value}", exc.allowed) from None
-    return MeasuredFRF(r.x, np.asarray(r.data, dtype=complex), kind, name, described)
+    if kind is None:
+        kind_from = ""
+    elif r.data_type and r.denominator_type:
+        kind_from = "the header of the file"
+    else:
+        kind_from = (
+            f"the unit labels {r.unit} / {r.denominator_unit or '-'} of the header of the file, its data types being 0"
+        )
+    return MeasuredFRF(r.x, np.asarray(r.data, dtype=complex), kind, name, described, kind_from)

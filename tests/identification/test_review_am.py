@@ -469,3 +469,48 @@ def test_identify_damping_names_padding_and_the_option(tmp_path, synth, capsys):
     assert cli.main(["identify", "damping", str(p), "--t-max", t_max]) == 0
     zeta = np.array([float(r[4]) for r in rows(capsys.readouterr().out)])
     np.testing.assert_allclose(zeta, ZETA_T, rtol=0.02)  # (as the API's, above)
+
+
+# ------------------------------------------------------------------ L3: data types 0, unit labels that say the kind
+
+
+@pytest.mark.parametrize(
+    "unit, den_unit, kind",
+    [
+        ("g", "N", "acceleration"),
+        ("m/s^2", "N", "acceleration"),
+        ("m/s2", "lbf", "acceleration"),
+        ("in/s", "lbf", "velocity"),
+        ("mm/s", "N", "velocity"),
+        ("mm", "N", "displacement"),
+        ("g/N", "", "acceleration"),  # (the ratio in the ordinate's label, as some exporters write it)
+        ("N", "m/s2", "apparent_mass"),
+        ("V", "V", None),
+        ("", "", None),
+    ],
+)
+def test_frf_kind_reads_the_unit_labels_when_the_data_types_are_0(unit, den_unit, kind):
+    from cablecasing_core.uff import Record, frf_kind
+
+    rec = Record("frf", FREQ[1:4], np.ones(3, complex), unit=unit, denominator_unit=den_unit)
+    assert frf_kind(rec) == kind
+    # data types that say a kind win over the labels
+    typed = Record("frf", FREQ[1:4], np.ones(3, complex), unit=unit, denominator_unit=den_unit, data_type=8,
+                   denominator_type=13)  # fmt: skip
+    assert frf_kind(typed) == "displacement"
+
+
+def test_an_frf_of_data_types_0_labelled_g_over_n_is_fitted_as_an_accelerance(tmp_path, synth, capsys):
+    """The review's file (pyuff-based and older exporters write data types 0) was fitted as apparent mass:
+    eta_2 0.4 % low, 85 times its printed eta_unc. The labels g / N now give its kind, and the '#' line says so."""
+    H = accelerance(synth, noise=0.0) / 9.80665  # (in g/N)
+    p = tmp_path / "g_N.uff"
+    write_uff_frf(p, FREQ, H, name="FRF", unit="g", denominator_unit="N")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        assert run(["identify", "loss-factor", str(p), "--freqs", *map(str, F)]) == 0
+    out = capsys.readouterr().out
+    said = "kind acceleration (from the unit labels g / N of the header of the file, its data types being 0)"
+    assert said in out, out
+    eta = np.array([float(r[2]) for r in rows(out)])
+    np.testing.assert_allclose(eta, ETA, rtol=1e-3)  # (noise-free, the right kind: exact to the printed digits)
