@@ -25,6 +25,16 @@ from ..model.validators import Choice
 DIGITS = 10
 
 
+#: The units of the keys written, as the comment line of a section states them (the model file's, model/schema.py):
+#: key -> (of a number, of a table).
+UNITS = {
+    "alpha": ("alpha 1/s",) * 2,
+    "beta": ("beta s",) * 2,
+    "loss_factor": ("loss_factor dimensionless", "loss_factor [[f_Hz, eta]], eta dimensionless"),
+    "E": ("E Pa", "E [[f_Hz, Pa]]"),
+}
+
+
 def _rounded(x, digits=DIGITS):
     """``x`` rounded to ``digits`` significant digits, a float (None: every bit); written by
     ``repr`` (:func:`toml_text`), it has at most that many digits."""
@@ -69,13 +79,27 @@ def parameters_toml(
     an existing header. ``loss_factor`` and ``E`` are numbers or tables ``[[f_Hz, value], ...]``
     (``loss_factor`` may also be a list of circle-fit results). Values are checked against what
     the model file accepts (alpha, beta, loss factor >= 0; E > 0; sorted tables) and written
-    with :data:`DIGITS` (10) significant digits. Units: alpha 1/s, beta s, E Pa, frequencies Hz.
+    with :data:`DIGITS` (10) significant digits. Units: alpha 1/s, beta s, E Pa, frequencies Hz; a section
+    (``body`` given) states those of its keys in a comment line before its header (:data:`UNITS`,
+    ``# units: alpha 1/s, beta s``).
     """
     lines = []
     if comment:
         lines += [f"# {c}" for c in str(comment).splitlines()]
     if body is not None:
         Choice(*BODIES)("body", body)
+        given = {"alpha": alpha, "beta": beta, "loss_factor": loss_factor, "E": E}
+        units = "; ".join(
+            ", ".join(
+                UNITS[k][np.ndim(given[k]) > 0 or isinstance(given[k], (list, tuple))]
+                for k in keys
+                if given[k] is not None
+            )
+            for keys in (("alpha", "beta"), ("loss_factor",), ("E",))
+            if any(given[k] is not None for k in keys)
+        )
+        if units:
+            lines.append(f"# units: {units}")
         lines.append(f"[{body}]")
     rules = body or BODIES[0]  # (both bodies take the same values)
     for key, v in (("alpha", alpha), ("beta", beta)):

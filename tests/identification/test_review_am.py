@@ -514,3 +514,33 @@ def test_an_frf_of_data_types_0_labelled_g_over_n_is_fitted_as_an_accelerance(tm
     assert said in out, out
     eta = np.array([float(r[2]) for r in rows(out)])
     np.testing.assert_allclose(eta, ETA, rtol=1e-3)  # (noise-free, the right kind: exact to the printed digits)
+
+
+# ------------------------------------------------------------------ L5: units in the --toml files
+
+
+def test_a_toml_section_states_the_units_of_its_keys(tmp_path, synth, capsys):
+    """The --toml files carried no units; a section now has one comment line naming those of the keys it holds
+    (the model file's: alpha 1/s, beta s, loss_factor [[f_Hz, eta]], E [[f_Hz, Pa]])."""
+    try:
+        import tomllib
+    except ImportError:  # pragma: no cover (Python 3.10)
+        import tomli as tomllib
+
+    from cablecasing_core.identification import parameters_toml
+
+    text = parameters_toml("casing", alpha=2.0, beta=3e-5, comment="from a test")
+    assert "# units: alpha 1/s, beta s\n[casing]\n" in text, text
+    text = parameters_toml("cable", loss_factor=[[10.0, 0.02], [20.0, 0.03]], E=[[10.0, 5e9], [20.0, 6e9]])
+    assert text.startswith("# units: loss_factor [[f_Hz, eta]], eta dimensionless; E [[f_Hz, Pa]]\n"), text
+    assert tomllib.loads(text)["cable"]["E"] == [[10.0, 5e9], [20.0, 6e9]]
+    assert "# units: loss_factor dimensionless; E Pa\n" in parameters_toml("casing", loss_factor=0.02, E=5e9)
+    # the lines to paste (no section) stay bare
+    assert parameters_toml(loss_factor=0.02) == "loss_factor = 0.02\n"
+    # and the command line's --toml file carries it
+    p, toml = tmp_path / "frf.uff", tmp_path / "eta.toml"
+    write_uff_frf(p, FREQ, accelerance(synth), kind="acceleration")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        assert run(["identify", "loss-factor", str(p), "--count", "3", "--toml", str(toml)]) == 0
+    assert "# units: loss_factor [[f_Hz, eta]], eta dimensionless\n" in toml.read_text()
