@@ -339,15 +339,18 @@ def read_uff(path):
         _refuse_truncated(path, len(idx))
         if not idx:
             raise ModelError("file", str(path), "contains no UFF dataset 58 (function at nodal DOF)")
-        with np.errstate(all="ignore"):  # (a corrupted binary's garbage values: _check_count names the dataset)
-            sets = u.read_sets(idx)
     except ModelError:
         raise
     except Exception as exc:
         # (the reader's message may quote the file's lines: only its kind is shown)
         raise ModelError("file", str(path), f"is not a readable UFF file ({type(exc).__name__})") from None
-    if isinstance(sets, dict):
-        sets = [sets]
+    sets = []
+    for k, i in enumerate(idx):  # (one by one: a malformed one is named)
+        try:
+            with np.errstate(all="ignore"):  # (a corrupted binary's garbage values: _check_count names the dataset)
+                sets.append(u.read_sets(i))
+        except Exception as exc:
+            raise ModelError("file", str(path), _unreadable_dataset(path, u, k, i, exc)) from None
     out = []
     for i, s in enumerate(sets):
         _check_count(path, i, s)
@@ -458,6 +461,25 @@ def _refuse_truncated(path, complete):
         f"is truncated: its dataset 58 number {complete + 1}, '{name}' (at byte {at}), has no end line "
         f"'    -1' ({len(found)} dataset 58 header(s), {complete} complete): the file was cut while it was copied "
         "or written; export it again",
+    )
+
+
+def _unreadable_dataset(path, u, k, i, exc):
+    """What a refusal of the file ``path`` says of its dataset 58 number ``k + 1`` (the ``i``-th dataset of the
+    pyuff reader ``u``) that pyuff could not read (``exc``): its id1 and byte offset from the file itself."""
+    at = int(u._block_ind[i][0]) if len(getattr(u, "_block_ind", ())) > i else None
+    name = "?"
+    if at is not None:
+        with open(path, "rb") as fh:
+            fh.seek(at)
+            m = _START_58.match(fh.read(400))
+        if m:
+            name = m.group(1).decode("utf-8", errors="replace").strip() or name
+    where = "" if at is None else f" (at byte {at})"
+    return (
+        f"its dataset 58 number {k + 1}, '{name}'{where}, is not readable ({type(exc).__name__}: a header line "
+        "damaged, or values of another format than its header declares): the file is refused as a whole; "
+        "export it again"
     )
 
 

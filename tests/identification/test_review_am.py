@@ -544,3 +544,27 @@ def test_a_toml_section_states_the_units_of_its_keys(tmp_path, synth, capsys):
         warnings.simplefilter("ignore", ModelWarning)
         assert run(["identify", "loss-factor", str(p), "--count", "3", "--toml", str(toml)]) == 0
     assert "# units: loss_factor [[f_Hz, eta]], eta dimensionless\n" in toml.read_text()
+
+
+# ------------------------------------------------------------------ L4: one malformed dataset among several
+
+
+def test_a_malformed_dataset_is_named_by_place_id1_and_offset(tmp_path, synth):
+    """A file of several FRFs whose second dataset's record 6 (its data characteristics) is damaged was refused
+    as 'not a readable UFF file (Exception)', not saying which dataset."""
+    from cablecasing_core.uff import Record, frf_fields, write_uff
+
+    recs = [Record("frf", FREQ, accelerance(synth, seed=k), f"FRF {k}", **frf_fields("acceleration")) for k in (1, 2)]
+    p = tmp_path / "two.uff"
+    write_uff(p, recs)
+    raw = p.read_bytes()
+    at = raw.index(b"    -1\n    58b", 10)  # (the second dataset's start)
+    line = raw.index(b"\n", raw.index(b"FRF 2", at))  # (after ID line 1: ID lines 2-5, record 6, record 7 follow)
+    for _ in range(5):
+        line = raw.index(b"\n", line + 1)
+    end = raw.index(b"\n", line + 1)
+    p.write_bytes(raw[: line + 1] + b"x" * (end - line - 1) + raw[end:])
+    with pytest.raises(ModelError) as e:
+        read_frf(p, 0)
+    said = e.value.allowed
+    assert "dataset 58 number 2, 'FRF 2'" in said and f"byte {at}" in said, said
