@@ -52,9 +52,10 @@ class RayleighFit:
     ``residuals = zeta - zeta_fit`` (dimensionless), one per mode, in the input order. ``alpha_sd`` (1/s) and
     ``beta_sd`` (s) are the factors' standard deviations propagated from the damping ratios' (``zeta_sd`` of
     :func:`rayleigh_fit`; nan without them, and for a factor the nonnegative fit holds at its bound 0).
-    ``reduced_chi2`` is ``sum((residuals / zeta_sd)^2) / (n - 2)``: about 1 when the damping is of Rayleigh
-    form within the damping ratios' noise, far above when it is not (nan without ``zeta_sd``, or for two modes,
-    which any alpha and beta fit exactly).
+    ``reduced_chi2`` is the least ``sum(((zeta - zeta_R) / zeta_sd)^2) / (n - 2)`` any Rayleigh damping
+    ``zeta_R`` leaves (the zeta_sd-weighted fit's): about 1 when the damping is of Rayleigh form within the
+    damping ratios' noise, far above when it is not (nan without ``zeta_sd``, or for two modes, which any
+    alpha and beta fit exactly).
     """
 
     alpha: float
@@ -203,14 +204,21 @@ def rayleigh_fit(
 
 
 def _warn_misfit(f, z, zfit, zeta_sd, sd):
-    """The reduced chi-square of the Rayleigh fit's residuals against ``zeta_sd`` (n > 2 modes), with a
-    ModelWarning when the chi-square's upper-tail probability is below :data:`MISFIT_PROBABILITY`: the damping
-    is not of Rayleigh form (or the damping ratios err beyond their noise), and alpha, beta are a compromise
-    whose +- (``sd``: alpha's, beta's, for noise alone) understates it."""
+    """The reduced chi-square of the damping ratios ``z`` against Rayleigh damping (n > 2 modes): the least any
+    alpha, beta leave, ``min sum(((z - zeta_R) / zeta_sd)^2) / (n - 2)``, the zeta_sd-weighted fit's (whatever
+    fit the caller asked for: the statistic of whether the form fits at all, chi-square on n - 2 degrees of
+    freedom for Rayleigh damping with honest zeta_sd), with a ModelWarning when its upper-tail probability is
+    below :data:`MISFIT_PROBABILITY`: the damping is not of Rayleigh form (or the damping ratios err beyond
+    their noise), and alpha, beta (``zfit`` their damping ratios) are a compromise whose +- (``sd``: alpha's,
+    beta's, for noise alone) understates it. (The residuals of the unweighted fit against zeta_sd warned of an
+    exactly Rayleigh record at 3 % noise in 5-20 % of 40 draws, the weighted fit's in none: largest 5.1.)"""
     from scipy.stats import chi2
 
     dof = f.size - 2
-    chi_square = float(np.sum(((z - zfit) / zeta_sd) ** 2))
+    Aw = rayleigh_matrix(f) / zeta_sd[:, None]
+    Aw_scale = np.linalg.norm(Aw, axis=0)
+    best = np.linalg.lstsq(Aw / Aw_scale, z / zeta_sd, rcond=None)[0]
+    chi_square = float(np.sum((z / zeta_sd - (Aw / Aw_scale) @ best) ** 2))
     reduced = chi_square / dof
     if chi2.sf(chi_square, dof) >= MISFIT_PROBABILITY:
         return reduced
@@ -221,8 +229,9 @@ def _warn_misfit(f, z, zfit, zeta_sd, sd):
     limit = chi2.isf(MISFIT_PROBABILITY, dof) / dof
     warnings.warn(
         f"zetas: the damping is not of Rayleigh form: the Rayleigh damping ratios at {at} Hz are off the measured "
-        f"ones by {off}, far beyond their standard deviations (zeta_sd): the residuals' reduced chi-square is "
-        f"{reduced:.3g} on {dof} degree(s) of freedom, where Rayleigh damping would give about 1 (above "
+        f"ones by {off}, and no alpha, beta fit them within their standard deviations (zeta_sd): the least "
+        f"reduced chi-square any leave is {reduced:.3g} on {dof} degree(s) of freedom, where Rayleigh damping "
+        f"would give about 1 (above "
         f"{limit:.3g} in {100 * MISFIT_PROBABILITY:g} % of records); alpha and beta describe a compromise, and "
         "their +- covers the noise only"
         + (f" (scaled by sqrt of the reduced chi-square: {widened})" if widened else "")
