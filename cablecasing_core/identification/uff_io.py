@@ -382,7 +382,8 @@ def _uff_frf(path, channel):
         )
     warn_zero_lines(f"{path} ({names[j]})", r.x, r.data)
     reference = dof_name(r.ref_node, r.ref_dir) if r.ref_node else "none"
-    dofs = f"id1 {r.name!r}, response {dof_name(r.rsp_node, r.rsp_dir)}, reference {reference}"
+    dofs = f"response {dof_name(r.rsp_node, r.rsp_dir)}, reference {reference}"
+    dofs = dofs if names[j] == r.name else f"id1 {r.name!r}, {dofs}"  # (the id1 where the name is not it)
     described = f"{names[j]} ({dofs})" if len(recs) == 1 else f"FRF {j} of 0..{len(recs) - 1}, {names[j]} ({dofs})"
     return r, names[j], described
 
