@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import ModelError, ModelWarning, renamed
+from .extras import install_hint
 from .files import atomic_path, memory_available
 from .model.validators import Choice, array_1d, number
 from .units import frequency_factor, frequency_units_text, time_factor, time_units_text
@@ -77,7 +78,7 @@ class Record:
 
 #: What reading or writing a UFF file needs when pyuff is missing (the command line checks an output's
 #: suffix with it before a run, cli/paths.py).
-PYUFF_MISSING = "needs the optional package pyuff, which is not installed: pip install 'cablecasing[identify]'"
+PYUFF_MISSING = "needs the optional package pyuff, which is not installed: " + install_hint("identify", ["pyuff"])
 
 
 def _pyuff(path=None, doing="reading/writing"):

@@ -156,14 +156,15 @@ def check_report_settings(model=None, duration=None, seeds=6, study_samples=32, 
     if study_samples == 1:
         raise ModelError("study_samples", 1, f"must be 0 (no study) or 2 to {MAX_STUDY_SAMPLES} (a study's runs)")
     if study_samples:
-        from ..studies.executor import STUDY_EXTRA, missing_packages
+        from ..extras import install_hint
+        from ..studies.executor import missing_packages
 
         if missing_packages("serial"):  # (a serial study: SALib's design and Sobol' indices, no dask)
             raise ModelError(
                 "study_samples",
                 study_samples,
                 "must be 0 (no study): a study needs the optional package SALib, which is not installed: "
-                + STUDY_EXTRA,
+                + install_hint("study", ["SALib"]),
             )
     bin_ = 1.0 / (22.0 - 11.0)  # one FFT bin in the narrowest band of Table 3 (octave_rms's rule)
     if duration < skip + bin_:

@@ -44,15 +44,13 @@ import time
 import warnings
 
 from ..errors import NOT_SHOWN, InfrastructureError, ModelError
+from ..extras import install_hint
 from ..model.limits import PROGRESS_TIMEOUT
 from ..model.validators import integer
 from ..timedomain.engine import stop_runs_on
 
 #: Seconds to reach a scheduler address.
 CONNECT_TIMEOUT = 10.0
-
-#: How to install the optional packages of studies and ensembles (pyproject.toml's extra ``study``).
-STUDY_EXTRA = "pip install 'cablecasing[study]'"
 
 
 def missing_packages(scheduler=None, salib=True):
@@ -76,7 +74,7 @@ def check_packages(scheduler=None, salib=True, key="scheduler", name="study"):
     """Refuse, before anything is created, a study (``salib``) or an ensemble (not ``salib``) whose
     optional packages are not installed (:func:`missing_packages`): a ModelError naming ``key`` (the
     option or argument of the scheduler) and its value when dask is missing, else ``name`` (what
-    needs SALib), with the packages and the extra to install."""
+    needs SALib), with the packages and the extra to install (:func:`~cablecasing_core.extras.install_hint`)."""
     missing = missing_packages(scheduler, salib)
     if not missing:
         return
@@ -86,13 +84,13 @@ def check_packages(scheduler=None, salib=True, key="scheduler", name="study"):
         f"the optional package{'' if len(missing) == 1 else 's'} {pkgs}, which {'is' if len(missing) == 1 else 'are'}"
     )
     if "dask[distributed]" not in missing:  # (SALib alone: its design and Sobol' indices, whatever the scheduler)
-        raise ModelError(name, NOT_SHOWN, f"needs {packages} not installed: {STUDY_EXTRA}")
+        raise ModelError(name, NOT_SHOWN, f"needs {packages} not installed: {install_hint('study', missing)}")
     where = "a local dask cluster" if scheduler in (None, "local") else "a dask scheduler"
     serial = f"; or {key} serial, which needs {'SALib only' if salib else 'no dask'}" if len(missing) == 1 else ""
     raise ModelError(
         key,
         "local" if scheduler is None else scheduler,
-        f"{what} on {where} needs {packages} not installed: {STUDY_EXTRA}{serial}",
+        f"{what} on {where} needs {packages} not installed: {install_hint('study', missing)}{serial}",
     )
 
 

@@ -212,6 +212,6 @@ def test_a_uff_output_without_pyuff_is_refused_before_the_run(tmp_path, argv, in
     assert code == 2 and out == "", out
     assert err == [
         "cablecasing: error: --out = 'x.uff': writing UFF needs the optional package pyuff, which is not installed: "
-        f"pip install 'cablecasing[identify]' {instead}"
+        f"pip install 'pyuff>=2.4' (from a checkout: pip install '.[identify]') {instead}"
     ]
     assert list(tmp_path.iterdir()) == []

@@ -205,7 +205,10 @@ def _without(modules, code, args, cwd):
 CLI = "from cablecasing_core.cli import main\nsys.exit(main(sys.argv[1:]))"
 DASK = ("dask", "distributed")
 STUDY = ["study", "--samples", "3", "--vary", "casing.E=2e9:1e10", "--duration", "0.16", "--out", "st"]
-EXTRA = "which is not installed: pip install 'cablecasing[study]'"
+# (the packages with pyproject.toml's version ranges: the distribution cablecasing is not on the package index)
+CHECKOUT = "(from a checkout: pip install '.[study]')"
+EXTRA = f"which is not installed: pip install 'SALib>=1.5' {CHECKOUT}"
+DASK_EXTRA = f"which is not installed: pip install 'dask[distributed]>=2024.1' {CHECKOUT}"
 
 
 @pytest.mark.parametrize(
@@ -215,20 +218,21 @@ EXTRA = "which is not installed: pip install 'cablecasing[study]'"
             ("SALib", *DASK),
             STUDY,
             "--scheduler = 'local': a study on a local dask cluster needs the optional packages SALib and "
-            "dask[distributed], which are not installed: pip install 'cablecasing[study]'",
+            "dask[distributed], which are not installed: pip install 'SALib>=1.5' 'dask[distributed]>=2024.1' "
+            + CHECKOUT,
         ),
         (
             DASK,
             STUDY,
             f"--scheduler = 'local': a study on a local dask cluster needs the optional package "
-            f"dask[distributed], {EXTRA}; or --scheduler serial, which needs SALib only",
+            f"dask[distributed], {DASK_EXTRA}; or --scheduler serial, which needs SALib only",
         ),
         (("SALib",), [*STUDY, "--scheduler", "serial"], f"study: needs the optional package SALib, {EXTRA}"),
         (
             DASK,
             ["ensemble", "--seeds", "2", "--duration", "0.16", "--scheduler", "local", "--out", "e.csv"],
             f"--scheduler = 'local': an ensemble on a local dask cluster needs the optional package dask[distributed], "
-            f"{EXTRA}; or --scheduler serial, which needs no dask",
+            f"{DASK_EXTRA}; or --scheduler serial, which needs no dask",
         ),
         (
             ("SALib",),
