@@ -28,13 +28,20 @@ def _package(requirement: str) -> str:
     return re.split(r"[<>=!~;\s]", requirement, maxsplit=1)[0].lower()
 
 
-def install_hint(extra: str, packages=None) -> str:
+def install_hint(extra, packages=None) -> str:
     """How to install ``packages`` (names as a requirement of the extra ``extra`` gives them, e.g.
     ``SALib``, ``dask[distributed]``; default: the whole extra): ``pip install 'SALib>=1.5'
-    'dask[distributed]>=2024.1' (from a checkout: pip install '.[study]')``. A name the extra does
-    not list is a ``KeyError`` (a message naming a package that its extra lost)."""
-    wanted = EXTRAS[extra]
-    if packages is not None:
-        by_name = {_package(r): r for r in wanted}
-        wanted = [by_name[p.lower()] for p in packages]
-    return "pip install " + " ".join(f"'{r}'" for r in wanted) + f" (from a checkout: pip install '.[{extra}]')"
+    'dask[distributed]>=2024.1' (from a checkout: pip install '.[study]')``. ``extra`` may also be a
+    dict ``{extra: packages or None}``, for packages of several extras in one command (``pip install
+    'pyuff>=2.4' 'SALib>=1.5' (from a checkout: pip install '.[identify,study]')``). A name the extra
+    does not list is a ``KeyError`` (a message naming a package that its extra lost)."""
+    wants = extra if isinstance(extra, dict) else {extra: packages}
+    named = []
+    for name, pkgs in wants.items():
+        reqs = EXTRAS[name]
+        if pkgs is not None:
+            by_name = {_package(r): r for r in reqs}
+            reqs = [by_name[p.lower()] for p in pkgs]
+        named += reqs
+    checkout = ",".join(wants)
+    return "pip install " + " ".join(f"'{r}'" for r in named) + f" (from a checkout: pip install '.[{checkout}]')"

@@ -43,7 +43,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import NOT_SHOWN, ModelError
 from ..files import atomic_path, write_text
 from .runs import OUTPUT, drive_harmonics, run_variant, variants
 
@@ -155,17 +155,7 @@ def check_report_settings(model=None, duration=None, seeds=6, study_samples=32, 
     study_samples = integer("study_samples", study_samples, 0, MAX_STUDY_SAMPLES)
     if study_samples == 1:
         raise ModelError("study_samples", 1, f"must be 0 (no study) or 2 to {MAX_STUDY_SAMPLES} (a study's runs)")
-    if study_samples:
-        from ..extras import install_hint
-        from ..studies.executor import missing_packages
-
-        if missing_packages("serial"):  # (a serial study: SALib's design and Sobol' indices, no dask)
-            raise ModelError(
-                "study_samples",
-                study_samples,
-                "must be 0 (no study): a study needs the optional package SALib, which is not installed: "
-                + install_hint("study", ["SALib"]),
-            )
+    _check_report_packages(study_samples)
     bin_ = 1.0 / (22.0 - 11.0)  # one FFT bin in the narrowest band of Table 3 (octave_rms's rule)
     if duration < skip + bin_:
         if given_skip is not None:
@@ -188,6 +178,43 @@ def check_report_settings(model=None, duration=None, seeds=6, study_samples=32, 
             f"{report_skip(model, least):g} s at that duration (the start left out: {why})",
         )
     return model, n_seeds, study_samples, skip, float(duration)
+
+
+def _check_report_packages(study_samples):
+    """Refuse, in one line before anything runs or is made, a report whose optional packages are not
+    installed: pyuff, which writes its trfam.uff (the extra ``identify``), and with ``study_samples`` > 0
+    SALib, its study's design and Sobol' indices (the extra ``study``; its runs need no dask)."""
+    from ..extras import install_hint
+    from ..studies.executor import missing_packages
+
+    try:
+        import pyuff  # noqa: F401
+    except ImportError:
+        pyuff_missing = True
+    else:
+        pyuff_missing = False
+    salib_missing = bool(study_samples) and bool(missing_packages("serial"))
+    if pyuff_missing and salib_missing:  # (both in one line: one install, not two tries)
+        raise ModelError(
+            "report",
+            NOT_SHOWN,
+            "needs the optional packages pyuff (for its trfam.uff) and SALib (for its study), which are not "
+            "installed: " + install_hint({"identify": ["pyuff"], "study": ["SALib"]}),
+        )
+    if pyuff_missing:
+        raise ModelError(
+            "report",
+            NOT_SHOWN,
+            "needs the optional package pyuff (for its trfam.uff), which is not installed: "
+            + install_hint("identify", ["pyuff"]),
+        )
+    if salib_missing:
+        raise ModelError(
+            "study_samples",
+            study_samples,
+            "must be 0 (no study): a study needs the optional package SALib, which is not installed: "
+            + install_hint("study", ["SALib"]),
+        )
 
 
 def shortest_report_duration(model) -> float:

@@ -215,3 +215,49 @@ def test_a_uff_output_without_pyuff_is_refused_before_the_run(tmp_path, argv, in
         f"pip install 'pyuff>=2.4' (from a checkout: pip install '.[identify]') {instead}"
     ]
     assert list(tmp_path.iterdir()) == []
+
+
+REPORT = ["report", "--duration", "0.5", "--seeds", "2", "--out", "r\u00e9p ort"]
+NO_PYUFF = (
+    "needs the optional package pyuff (for its trfam.uff), which is not installed: pip install 'pyuff>=2.4' "
+    "(from a checkout: pip install '.[identify]')"
+)
+
+
+@pytest.mark.parametrize(
+    "hidden,argv,message",
+    [
+        (["pyuff"], [*REPORT, "--study-samples", "0"], NO_PYUFF),
+        (["pyuff"], REPORT, NO_PYUFF),
+        (
+            ["pyuff", "SALib"],
+            REPORT,
+            "needs the optional packages pyuff (for its trfam.uff) and SALib (for its study), which are not "
+            "installed: pip install 'pyuff>=2.4' 'SALib>=1.5' (from a checkout: pip install '.[identify,study]')",
+        ),
+    ],
+    ids=["no-study", "study", "both-missing"],
+)
+def test_a_report_without_pyuff_is_one_line_before_anything_is_made(tmp_path, hidden, argv, message):
+    """The report writes trfam.uff through pyuff (the extra 'identify'): without it the report stopped
+    after its first runs with `file = '.../trfam.uff': writing UFF needs ...`, leaving its --out folder
+    behind; without SALib too, it named SALib first and pyuff only at the second try (review AL M4)."""
+    code, out, err = _without(hidden, argv, tmp_path)
+    assert (code, out, err) == (2, "", [f"cablecasing: error: report: {message}"])
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_the_demo_without_pyuff_says_so_before_it_builds_the_fmu(tmp_path):
+    """examples/demo.py (make demo) writes the report: its settings check refuses a missing pyuff
+    before the FMU is built or the folder made."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    demo = Path(__file__).resolve().parents[2] / "examples" / "demo.py"
+    code = f"import runpy, sys\nsys.modules['pyuff'] = None\nsys.argv = {[str(demo), '--out', 'res']!r}\n"
+    code += f"runpy.run_path({str(demo)!r}, run_name='__main__')"
+    proc = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2, proc.stderr
+    assert proc.stderr.strip().splitlines() == [f"demo.py: error: report: {NO_PYUFF}"]
+    assert list(tmp_path.iterdir()) == []
