@@ -9,7 +9,9 @@ defaults. Every error in the input prints one line naming the key, the value and
 allowed, and exits with status 2; an interrupt (Ctrl-C) prints one line and exits with status
 130, leaving earlier output files intact (they are written atomically, at the end); SIGTERM (a
 ``kill``) and SIGHUP (a terminal closed) take the same way out (:class:`Terminated`) with status
-128 + the signal's number, 143 and 129; a warning prints one line ``cablecasing: warning: ...``. An
+128 + the signal's number, 143 and 129; a warning prints one line ``cablecasing: warning: ...`` (a warning
+that ``-W error`` or ``PYTHONWARNINGS=error`` makes an exception stops the command: one line
+``cablecasing: error: (a warning made an error by -W error / PYTHONWARNINGS): ...``, status 2). An
 output the system fails to write (a full disk: :class:`~cablecasing_core.files.WriteError`) prints
 one line naming the option, the file and the cause, and exits with status 1. A failure of the
 computing infrastructure (a study's dask scheduler lost, no worker left or making progress) prints
@@ -17,9 +19,9 @@ one line and exits with status 3 (the same command resumes). Anything else is a 
 ``cablecasing: internal error: ...`` and status 1 (``CABLECASING_TRACEBACK=1`` shows the traceback).
 
 Exit statuses: 0 done, 1 every run of a study failed, an output could not be written or an internal
-error, 2 bad input (or a run that cannot work: too large for the machine, a blow-up), 3
-infrastructure, 130 interrupted (Ctrl-C), 143 and 129 stopped by SIGTERM and SIGHUP (docs/cli.md,
-"Exit status", tabulates the same).
+error, 2 bad input (or a run that cannot work: too large for the machine, a blow-up; or a warning made
+an error by -W error / PYTHONWARNINGS), 3 infrastructure, 130 interrupted (Ctrl-C), 143 and 129
+stopped by SIGTERM and SIGHUP (docs/cli.md, "Exit status", tabulates the same).
 """
 
 from __future__ import annotations
@@ -465,6 +467,13 @@ def main(argv=None):
             return _internal_error(exc)
         print(f"cablecasing: error: {_write_failed(args, exc)}", file=sys.stderr)
         return 1
+    except Warning as exc:  # (-W error, PYTHONWARNINGS=error: a warning raised as an exception, not a bug)
+        text = " ".join(str(exc).split())
+        print(
+            f"cablecasing: error: (a warning made an error by -W error / PYTHONWARNINGS): {type(exc).__name__}: {text}",
+            file=sys.stderr,
+        )
+        return 2
     except Exception as exc:
         if isinstance(exc, ValueError) and os.environ.get("MPLBACKEND"):  # (an import of matplotlib that the
             try:  # environment failed, in a command drawing no figure: not a bug)

@@ -68,3 +68,40 @@ def test_out_of_memory_in_a_command_is_one_line_and_status_2(capsys, monkeypatch
     assert main(["modes"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert err == [f"cablecasing: error: {internal_error_text(MemoryError())}"], err
+
+
+WARNING_MADE_AN_ERROR = "cablecasing: error: (a warning made an error by -W error / PYTHONWARNINGS): "
+
+
+@pytest.mark.parametrize(
+    "python_options,env,argv,said",
+    [
+        (["-W", "error"], {}, ["trfam", "--df", "5", "--out", "t.csv"], "UserWarning: --df = 5 Hz is wider than half"),
+        (
+            [],
+            {"PYTHONWARNINGS": "error"},
+            ["modes", "--set", "geometry.n_elements=3"],
+            "ModelPropertyWarning: geometry.n_elements = 3: the contact is sought at the cable's 4 nodes",
+        ),
+    ],
+    ids=["-W error", "PYTHONWARNINGS"],
+)
+def test_a_warning_made_an_error_is_one_line_and_status_2_not_a_bug(tmp_path, python_options, env, argv, said):
+    """Under -W error or PYTHONWARNINGS=error the command's own warnings (here a coarse TRFAM grid, a
+    mesh too coarse for the contact) become exceptions: they stop the command as bad input does, one
+    line naming the warning, status 2, nothing written; they were 'internal error ... (a bug; please
+    report it ...)', status 1 (review AL L1). Without the setting the same command warns and runs."""
+    import os
+    import subprocess
+    import sys
+
+    def run(options, extra):
+        cmd = [sys.executable, *options, "-m", "cablecasing_core", *argv]
+        proc = subprocess.run(cmd, cwd=tmp_path, env={**os.environ, **extra}, capture_output=True, text=True)
+        return proc.returncode, proc.stderr.strip().splitlines()
+
+    code, err = run(python_options, env)
+    assert code == 2 and len(err) == 1 and err[0].startswith(WARNING_MADE_AN_ERROR + said), err
+    assert "a bug" not in err[0] and list(tmp_path.iterdir()) == []
+    code, err = run([], {})
+    assert code == 0 and any(line.startswith("cablecasing: warning: " + said.split(": ", 1)[1]) for line in err), err

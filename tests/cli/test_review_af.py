@@ -282,3 +282,48 @@ def test_docs_cli_md_tabulates_the_exit_statuses_of_the_docstring_and_the_code()
                 returned.add(node.value.value)
     returned |= {128 + s for s in cli._STOP_SIGNALS}
     assert table == said == returned == {0, 1, 2, 3, 130, 128 + signal.SIGTERM, 128 + signal.SIGHUP}
+
+
+def test_each_line_main_prints_on_its_way_out_is_in_its_status_s_row_of_the_table():
+    """Every line that main()'s exception handlers print (its literal head, up to the first value
+    filled in) stands in docs/cli.md's row of the status the handler returns after printing it: a new
+    way out (review AL L1: a warning made an error by -W error, status 2) is tabulated with its line."""
+    import ast
+    import signal
+
+    import cablecasing_core.cli as cli
+
+    section = (ROOT / "docs" / "cli.md").read_text().split("### Exit status\n")[1].split("\n#")[0]
+    rows = {}
+    for line in section.splitlines():
+        if re.match(r"\| \d", line):
+            for status in _numbers(line.split("|")[1]):
+                rows[status] = line
+    main_def = next(
+        n for n in ast.parse(Path(cli.__file__).read_text()).body if isinstance(n, ast.FunctionDef) and n.name == "main"
+    )
+    handlers = [h for t in ast.walk(main_def) if isinstance(t, ast.Try) for h in t.handlers]
+    pairs = []
+    for handler in handlers:
+        events = []  # (line, "print", head) and (line, "return", statuses), in source order
+        for node in ast.walk(handler):
+            if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "print" and node.args:
+                first = node.args[0]
+                parts = first.values if isinstance(first, ast.JoinedStr) else [first]
+                head = parts[0].value if isinstance(parts[0], ast.Constant) else ""
+                if head.strip().startswith("cablecasing:"):
+                    events.append((node.lineno, "print", head.lstrip()))
+            elif isinstance(node, ast.Return) and isinstance(node.value, ast.Constant):
+                events.append((node.lineno, "return", {node.value.value}))
+            elif isinstance(node, ast.Return) and isinstance(node.value, ast.BinOp):  # 128 + signum
+                events.append((node.lineno, "return", {128 + s for s in cli._STOP_SIGNALS}))
+        events.sort(key=lambda e: e[0])
+        for i, (_, kind, head) in enumerate(events):
+            if kind == "print":
+                statuses = next(e[2] for e in events[i + 1 :] if e[1] == "return")
+                pairs += [(status, head) for status in statuses]
+    assert len(pairs) >= 8  # (the handlers were found: 3, 2, 2, 1, 130, 143, 129, 1, 2, 2)
+    assert (2, "cablecasing: error: (a warning made an error by -W error / PYTHONWARNINGS): ") in pairs
+    assert 128 + signal.SIGTERM in {s for s, _ in pairs}
+    missing = [(status, head) for status, head in pairs if head not in rows[status]]
+    assert not missing, f"docs/cli.md's exit-status rows do not show these lines: {missing}"
