@@ -1,13 +1,13 @@
-"""The worked example of docs/installation.md: a gear-shift cable as installed
+"""The worked example of docs/mounted_example.md: a gear-shift cable as installed
 (examples/installation.toml: segment routing, isolated ends, two clips), its routing, its TRFAM with and
 without the isolators and clips, and what the isolators do to the force transmitted to the gearbox
 bracket (a time-domain ensemble with the cable inside and contact on).
 
     .venv/bin/python examples/installation.py [--seeds 6] [--duration 1.0] [--out results/installation]
 
-Prints ``name: value`` lines (the figures quoted in docs/installation.md) and writes
+Prints ``name: value`` lines (the figures quoted in docs/mounted_example.md) and writes
 installation_routing.png, installation_trfam.png and installation_force.png into --out (default
-results/installation; ``--out docs/img`` remakes the committed figures that docs/installation.md shows).
+results/installation; ``--out docs/img`` remakes the committed figures that docs/mounted_example.md shows).
 """
 
 from __future__ import annotations
@@ -88,7 +88,7 @@ def main(argv=None):
     ax.legend(fontsize=8)
     save_figure(fig, out / "installation_trfam.png")
     # the RMS of |TRFAM| over each band (trfam_band_rms: sqrt of the integral of |TRFAM|^2 over the band
-    # / its width), relative to the clamped casing with its clips: docs/installation.md's bands, then
+    # / its width), relative to the clamped casing with its clips: docs/mounted_example.md's bands, then
     # Table 3's octaves (`cablecasing trfam --bands table3`, the report's bands) within the grid
     edges = ((10, 50), (50, 100), (100, 200), (200, 500), (500, 1000))
     own = Bands([lo for lo, _ in edges], [hi for _, hi in edges], [f"{lo}-{hi} Hz" for lo, hi in edges])

@@ -33,6 +33,11 @@ def test_the_readme_says_how_to_install_with_every_extra():
     assert re.search(r"^pip install \.\s", install, re.M)
     assert set(re.search(r"pip install '\.\[([a-z,]+)\]'", install).group(1).split(",")) == extras
     assert all(f"`{e}`:" in README for e in extras) and "make venv" in README
+    # (in a section "Installing", which states the oldest Python that pyproject.toml's requires-python admits)
+    section = README.split("\n## Installing\n")[1].split("\n## ")[0]
+    assert install in section
+    oldest = re.fullmatch(r">=\s*(3\.\d+)", pyproject["project"]["requires-python"]).group(1)
+    assert f"Python {oldest} or newer" in " ".join(section.split())
 
 
 def test_the_readme_command_line_example_runs_without_a_warning(tmp_path, monkeypatch, capsys):

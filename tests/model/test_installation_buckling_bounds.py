@@ -1,4 +1,4 @@
-"""docs/installation.md's buckling load of examples/installation.toml and the two it lies between
+"""docs/mounted_example.md's buckling load of examples/installation.toml and the two it lies between
 (review M, D5): the casing on its isolators without clips and clamped at both ends with its clips."""
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ def _clamped(c):
 def test_the_installations_buckling_load_lies_between_the_bounds_the_doc_names():
     """The doc's figures to the 4 digits it prints, the clips at their at (geometry.nodes_at_clips, true
     by default)."""
-    text = " ".join((ROOT / "docs" / "installation.md").read_text().split())
+    text = " ".join((ROOT / "docs" / "mounted_example.md").read_text().split())
     cases = {  # phrase of the doc: (its figure, N; the edit of the casing)
         "built": ("**119.1 N**", 119.1, lambda c: None),
         "low": ("on its isolators without the clips (25.70 N)", 25.70, lambda c: c.pop("clip")),

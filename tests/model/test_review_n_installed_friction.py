@@ -1,4 +1,4 @@
-"""Review N, N1: an installed model written from docs/installation.md's recipe (examples/installation.toml
+"""Review N, N1: an installed model written from docs/mounted_example.md's recipe (examples/installation.toml
 with `[loads]`) gets Coulomb's regularised friction law, as the built-in `installed` specimen has: with
 the default switch law a cable on the wall recomputed 81 % of its steps and its levels do not converge
 with the time step. The recipe's lines are taken from the doc as a reader copies them."""
@@ -17,7 +17,7 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_the_installation_docs_mounted_model_has_the_regularized_law(tmp_path):
-    doc = (ROOT / "docs" / "installation.md").read_text()
+    doc = (ROOT / "docs" / "mounted_example.md").read_text()
     appended = re.search(r"printf '(.*?)' \| cat examples/installation\.toml - > mounted\.toml", doc).group(1)
     path = tmp_path / "mounted.toml"
     path.write_text((ROOT / "examples" / "installation.toml").read_text() + appended.replace("\\n", "\n"))
