@@ -222,8 +222,79 @@ def _closest_keys(prefix, keys):
     return "its sections are " + ", ".join(sorted({k.split(".")[0] for k in keys}))
 
 
+def _installed_package(dist):
+    """The folder of the package ``cablecasing_core`` that the installed distribution ``dist`` holds: an
+    editable install's source folder (its ``direct_url.json``), else where its files lie; None when it
+    cannot be told."""
+    from pathlib import Path
+    from urllib.parse import unquote, urlparse
+
+    try:
+        direct = json.loads(dist.read_text("direct_url.json") or "null")
+    except ValueError:
+        direct = None
+    if isinstance(direct, dict) and direct.get("dir_info", {}).get("editable"):
+        url = urlparse(str(direct.get("url", "")))
+        return Path(unquote(url.path)).resolve() / "cablecasing_core" if url.scheme == "file" else None
+    init = Path(dist.locate_file("cablecasing_core/__init__.py"))
+    return init.resolve().parent if init.exists() else None
+
+
+def version_text() -> str:
+    """What ``cablecasing --version`` prints: the installed distribution's version (its metadata), the
+    folder the package runs from and the Python, ``cablecasing 0.3.0 (cablecasing_core from /.../cablecasing_core;
+    Python 3.11.7)``. A copy that is not the installed one (a checkout on ``PYTHONPATH``) or not
+    installed at all says so, with the version its checkout's pyproject.toml states."""
+    import importlib.metadata
+    import platform
+    from pathlib import Path
+
+    here = Path(__file__).resolve().parents[1]  # (the folder cablecasing_core)
+    python = f"Python {platform.python_version()}"
+    try:
+        dist = importlib.metadata.distribution("cablecasing")
+    except importlib.metadata.PackageNotFoundError:
+        dist = None
+    installed = None if dist is None else _installed_package(dist)
+    if dist is not None and installed in (None, here):
+        return f"cablecasing {dist.version} (cablecasing_core from {here}; {python})"
+    stated = ""
+    try:
+        try:
+            import tomllib
+        except ModuleNotFoundError:  # (Python 3.10: tomli, a dependency there)
+            import tomli as tomllib
+        project = tomllib.loads((here.parent / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+        if project.get("name") == "cablecasing":
+            stated = f"; its checkout's pyproject.toml states version {project['version']}"
+    except (OSError, ValueError, KeyError):  # (no checkout beside it, or not this project's)
+        pass
+    if dist is not None:  # (another copy is installed; this one runs from a folder on sys.path)
+        return (
+            f"cablecasing: this cablecasing_core, from {here}, is not the installed one (cablecasing {dist.version}, "
+            f"from {installed}){stated}; {python}"
+        )
+    return (
+        f"cablecasing: not installed (no package metadata): cablecasing_core runs from {here}{stated}; {python}; "
+        "pip install . in the checkout installs it"
+    )
+
+
+class _Version(argparse.Action):
+    """``--version``: prints :func:`version_text` on one line (argparse's own version action re-wraps
+    it to the terminal's width) and exits with status 0."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS, help=None):
+        super().__init__(option_strings=option_strings, dest=dest, default=default, nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(version_text())
+        parser.exit(0)
+
+
 def build_parser():
     p = Parser(prog="cablecasing", description="Cable-in-casing vibration model (SI units).")
+    p.add_argument("--version", action=_Version, help="the version, where the package runs from and the Python")
     sub = p.add_subparsers(dest="command", required=True)
 
     m = sub.add_parser("modes", help="natural frequencies of each body (Hz)")
