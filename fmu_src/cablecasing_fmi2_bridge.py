@@ -12,13 +12,17 @@ What happens once per process and FMU (keyed by the FMU's GUID):
   versions recorded at build time; a missing or old package stops the instantiation with one
   message, to the host's logger and to stderr;
 * the bundled Python tree (``cablecasing_core``, the slave, pythonfmu's runtime) is copied from
-  ``resources/`` to a per-user folder named by the GUID and imported from there, so a host that
-  deletes the unpack folder after a run (fmpy's ``simulate_fmu``) can load the FMU again in the
-  same process: the modules stay imported and every file they read later is still there;
-* the numba cache shipped in ``resources/numba_cache`` seeds the kernels' cache folder, so a first
-  start does not compile; if the machine code does not fit (another CPU, Python or numba), numba
-  compiles and this module says so in the log while it happens: once per process (whichever
-  CableCasing FMUs it holds), in the log of the instance whose call compiles (:class:`_CompileNotice`).
+  ``resources/`` to a per-user folder named by the GUID (``<cache>/fmu/<GUID>``, the cache folder
+  the core's rule gives: the per-user cache folder, else this user's folder in the temporary folder)
+  and imported from there, so a host that deletes the unpack folder after a run (fmpy's
+  ``simulate_fmu``) can load the FMU again in the same process: the modules stay imported and every
+  file they read later is still there;
+* the numba cache shipped in ``resources/numba_cache`` seeds the kernels' cache folder (the core
+  chooses it: ``kernels/_numba_cache.py``; a fallback is logged as a warning naming the folders that
+  cannot be written), so a first start does not compile; if the machine code does not fit (another
+  CPU, Python or numba), numba compiles and this module says so in the log while it happens: once
+  per process (whichever CableCasing FMUs it holds), in the log of the instance whose call compiles
+  (:class:`_CompileNotice`).
 """
 
 from __future__ import annotations
@@ -33,6 +37,7 @@ import threading
 import time
 import traceback
 import types
+import warnings
 
 OK, WARNING, DISCARD, ERROR = 0, 1, 2, 3
 _LOG_FN = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_char_p, ctypes.c_int)
@@ -41,6 +46,12 @@ _LOADED = {}  # GUID -> the slave module of that FMU, imported once per process
 # Held while an FMU's code is looked up or loaded: a master that instantiates on several threads at
 # once (a thread pool on a cold cache) loads it once, the others wait and take that module.
 _LOAD_LOCK = threading.Lock()
+# The slave's lock of the process's warning filters (CableCasing.py: catch_warnings swaps them for the
+# whole process), shared by every FMU of the process on the warnings module.
+_WARNINGS_LOCK = warnings.__dict__.setdefault("_cablecasing_fmu_lock", threading.RLock())
+# The beginning of the kernels' warning that their cache folder is not the preferred one
+# (_numba_cache.CacheChoice.note): the FMU logs that itself, with what it means for the FMU.
+_CACHE_WARNING = "(the model's compiled kernels are cached in|no folder for the model's compiled kernels)"
 
 
 def _sources_digest(package):
@@ -103,47 +114,56 @@ def missing_packages(requirements):
     return problems
 
 
-def _user_cache_root():
-    """The per-user cache folder of cablecasing (``.../cablecasing``): the folder of the lasting copy of
-    the FMU's Python code (:func:`_stable_copy`), and the parent of the kernels' numba cache
-    (``kernels/_numba_cache.cache_root``, which adds ``numba`` and yields to ``NUMBA_CACHE_DIR``). Not
-    imported from there: it is needed to place the copy of ``cablecasing_core`` itself, before that
-    package can be imported (loading the module from the unpack folder by its path would put a second
-    copy of it in the process). The same platformdirs rule as cache_root's, kept in step by hand."""
-    try:
-        from platformdirs import user_cache_dir
+def _cache_module(resources):
+    """The FMU's own ``cablecasing_core/timedomain/kernels/_numba_cache.py``, loaded by its path as a
+    private module (not in ``sys.modules``), for the rule of where cablecasing's caches go
+    (``cache_bases``: the per-user cache folder, else this user's folder in the temporary folder).
+    It is needed to place the lasting copy of the code (:func:`_stable_copy`) before that package
+    can be imported; only its functions are used (this private copy installs no locator: the
+    kernels' is the imported package's), so the rule has one implementation."""
+    path = os.path.join(resources, "cablecasing_core", "timedomain", "kernels", "_numba_cache.py")
+    spec = importlib.util.spec_from_file_location("_cablecasing_fmu_cache_rule", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
-        return user_cache_dir("cablecasing", appauthor=False)
-    except ImportError:
-        return os.path.join(os.path.expanduser("~"), ".cache", "cablecasing")
 
-
-def _stable_copy(resources, guid, names):
+def _stable_copy(resources, guid, names, bases):
     """The folder holding a copy of ``names`` (files and folders of resources/) that outlives the
-    unpack folder: ``<user cache>/cablecasing/fmu/<guid>``; written once, atomically (a temporary
-    folder renamed into place: a folder, which ``files.atomic_path`` does not write, and before the core
-    can be imported). Returns the folder, or ``resources`` when it cannot be written."""
-    root = os.path.join(_user_cache_root(), "fmu")
-    dest = os.path.join(root, guid)
-    if os.path.isfile(os.path.join(dest, ".complete")):
-        return dest
-    try:
-        os.makedirs(root, exist_ok=True)
-        tmp = tempfile.mkdtemp(prefix=f".{guid}.", suffix=".tmp", dir=root)  # (unique in any process)
-        for name in names:
-            src = os.path.join(resources, name)
-            if os.path.isdir(src):
-                shutil.copytree(src, os.path.join(tmp, name), ignore=shutil.ignore_patterns("__pycache__"))
-            elif os.path.isfile(src):
-                shutil.copy2(src, os.path.join(tmp, name))
-        open(os.path.join(tmp, ".complete"), "w").close()
+    unpack folder: ``<base>/fmu/<guid>`` for the first of ``bases`` (``[(folder, reason it cannot be
+    had, or None)]``, the core's ``cache_bases()``) where it is or can be written; written once,
+    atomically (a temporary folder renamed into place: a folder, which ``files.atomic_path`` does
+    not write, and before the core can be imported). Returns (the folder, or ``resources`` when
+    none can be written; ``[(root, reason)]`` of the roots that failed)."""
+    tried = []
+    for base, why in bases:
+        root = os.path.join(base, "fmu")
+        if why is not None:
+            tried.append((base, why))
+            continue
+        dest = os.path.join(root, guid)
+        if os.path.isfile(os.path.join(dest, ".complete")):
+            return dest, tried
         try:
-            os.rename(tmp, dest)
-        except OSError:  # another process was first: use its copy
-            shutil.rmtree(tmp, ignore_errors=True)
-        return dest if os.path.isfile(os.path.join(dest, ".complete")) else resources
-    except OSError:
-        return resources
+            os.makedirs(root, exist_ok=True)
+            tmp = tempfile.mkdtemp(prefix=f".{guid}.", suffix=".tmp", dir=root)  # (unique in any process)
+            for name in names:
+                src = os.path.join(resources, name)
+                if os.path.isdir(src):
+                    shutil.copytree(src, os.path.join(tmp, name), ignore=shutil.ignore_patterns("__pycache__"))
+                elif os.path.isfile(src):
+                    shutil.copy2(src, os.path.join(tmp, name))
+            open(os.path.join(tmp, ".complete"), "w").close()
+            try:
+                os.rename(tmp, dest)
+            except OSError:  # another process was first: use its copy
+                shutil.rmtree(tmp, ignore_errors=True)
+            if os.path.isfile(os.path.join(dest, ".complete")):
+                return dest, tried
+            tried.append((root, "its copy is incomplete"))
+        except OSError as exc:
+            tried.append((root, exc.strerror or str(exc)))
+    return resources, tried
 
 
 def _seed_numba_cache(shipped, target):
@@ -314,7 +334,7 @@ class Instance:
             if module is None:
                 module = self._load(resources, guid)
         self._module = module
-        self._cache_text = ", ".join(module.numba_cache_dirs) or "(no cache folder)"
+        self._cache_text = ", ".join(module.numba_cache_dirs) or "any folder (none can be written or read)"
         self._compile_told = False  # (told of numba compiling: _CompileNotice, once per instance at most)
         self._slave = None
         _CompileNotice.join(self)
@@ -334,14 +354,18 @@ class Instance:
 
     # ---------------------------------------------------------------------------------- start-up
     def _load(self, resources, guid):
+        try:
+            rule = _cache_module(resources)
+        except (OSError, ImportError, SyntaxError) as exc:
+            self._fail(f"the model's Python code in {resources} is incomplete or unreadable: {exc}")
         names = [n for n in os.listdir(resources) if n != "numba_cache"]
-        home = _stable_copy(resources, guid, names)
+        home, tried = _stable_copy(resources, guid, names, rule.cache_bases())
         if home == resources:
+            failed = "; ".join(f"{root}: {why}" for root, why in tried)
             self._log(
                 WARNING,
-                f"cannot write a lasting copy of the model's Python code under {_user_cache_root()}: "
-                "it is imported from the unpack folder, so loading this FMU again in this process "
-                "after that folder is deleted may fail",
+                f"cannot write a lasting copy of the model's Python code ({failed}): it is imported from the "
+                "unpack folder, so loading this FMU again in this process after that folder is deleted may fail",
             )
         t0 = time.perf_counter()
         spec = importlib.util.spec_from_file_location(
@@ -350,7 +374,10 @@ class Instance:
         module = importlib.util.module_from_spec(spec)
         sys.path.insert(0, home)  # the slave imports cablecasing_core and pythonfmu from there
         try:
-            spec.loader.exec_module(module)
+            # (the kernels' import warns where their cache folder is not the preferred one: said below, in the log)
+            with _WARNINGS_LOCK, warnings.catch_warnings():
+                warnings.filterwarnings("ignore", message=_CACHE_WARNING)
+                spec.loader.exec_module(module)
         except ImportError as exc:
             self._fail(f"the model's Python code cannot be imported from {home}: {exc}")
         finally:
@@ -375,12 +402,16 @@ class Instance:
                     else f"that copy is used, not the FMU's own (in {home}), and its sources differ"
                 ),
             )
+        # where the kernels' machine code is cached in this process (the imported package's choice)
+        used = sys.modules.get("cablecasing_core.timedomain.kernels._numba_cache")
+        choice = used.cache_choice() if hasattr(used, "cache_choice") else None
         caches, seeded = kernel_cache_dirs(), 0
-        for cache in caches:
-            try:
-                seeded += _seed_numba_cache(os.path.join(resources, "numba_cache", os.path.basename(cache)), cache)
-            except OSError as exc:
-                self._log(WARNING, f"cannot copy the shipped numba cache to {cache}: {exc}")
+        if choice is None or choice.mode == "write":
+            for cache in caches:
+                try:
+                    seeded += _seed_numba_cache(os.path.join(resources, "numba_cache", os.path.basename(cache)), cache)
+                except OSError as exc:
+                    self._log(WARNING, f"cannot copy the shipped numba cache to {cache}: {exc}")
         module.numba_cache_dirs = caches
         _LOADED[guid] = module
         self._log(
@@ -388,8 +419,10 @@ class Instance:
             f"slave code imported from {home}"
             + (f", model code the host's cablecasing_core ({here})" if hosts else "")
             + f" in {time.perf_counter() - t0:.2f} s; numba cache "
-            f"{', '.join(caches)} ({seeded} files copied from the FMU)",
+            f"{', '.join(caches) or '(none)'} ({seeded} files copied from the FMU)",
         )
+        if choice is not None and choice.note():
+            self._log(WARNING, choice.note())
         return module
 
     def _bind(self):

@@ -7,6 +7,7 @@ processes (the FMU, dask clusters, the demo), are marked ``slow``; ``make test-f
 """
 
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -38,6 +39,43 @@ def temporary_files_under_pytests_own_folder(tmp_path_factory):
         os.environ.pop("TMPDIR", None)
     else:
         os.environ["TMPDIR"] = saved_env
+
+
+@pytest.fixture
+def unprivileged():
+    """The command prefix that starts a process for which a folder made read-only (``chmod a-w``)
+    is read-only: [] for an ordinary user; for root (who writes anywhere), setpriv without the
+    capabilities that override file permissions. The test is skipped when root has no setpriv."""
+    if not hasattr(os, "geteuid") or os.geteuid() != 0:
+        return []
+    setpriv = shutil.which("setpriv")
+    if setpriv is None:
+        pytest.skip("running as root without setpriv: a read-only folder would still be writable to the process")
+    return [setpriv, "--bounding-set=-dac_override,-dac_read_search", "--"]
+
+
+@pytest.fixture
+def read_only():
+    """``read_only(*paths)``: the folders (and all below them) made read-only (``chmod a-w``); made
+    writable for their owner again after the test, so that pytest can remove them."""
+    done = []
+
+    def chmod(*paths):
+        for path in paths:
+            walked = list(os.walk(path))
+            for root, _, files in walked:
+                for name in files:
+                    os.chmod(os.path.join(root, name), os.stat(os.path.join(root, name)).st_mode & ~0o222)
+            for root, _, _ in reversed(walked):  # (a folder after what is in it)
+                os.chmod(root, os.stat(root).st_mode & ~0o222)
+            done.append(path)
+
+    yield chmod
+    for path in done:
+        for root, _, files in os.walk(path):
+            os.chmod(root, os.stat(root).st_mode | 0o200)
+            for name in files:
+                os.chmod(os.path.join(root, name), os.stat(os.path.join(root, name)).st_mode | 0o200)
 
 
 @pytest.fixture(autouse=True)

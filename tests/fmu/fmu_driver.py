@@ -31,11 +31,12 @@ STATUS = {0: "ok", 1: "warning", 2: "discard", 3: "error", 4: "fatal"}
 
 
 # ------------------------------------------------------------------------------ called by the tests
-def run(tmp_path, scenario, fmu, inputs=None, timeout=600, cwd=None, env=None, **args):
+def run(tmp_path, scenario, fmu, inputs=None, timeout=600, cwd=None, env=None, prefix=(), **args):
     """Run ``scenario`` of this driver in a fresh process; returns the npz content as a dict.
 
     ``inputs``: array (n, 36) in the order of :data:`INPUTS` (m, m/s, m/s2) at t = k h, or in the
-    order of ``input_names`` (a job argument: an FMU built for a model file has more inputs)."""
+    order of ``input_names`` (a job argument: an FMU built for a model file has more inputs).
+    ``prefix``: the command that starts the process (the ``unprivileged`` fixture's)."""
     tmp_path = Path(tmp_path)
     n = len(list(tmp_path.glob("job*.json")))
     job = dict(args, fmu=str(fmu), out=str(tmp_path / f"out{n}.npz"))
@@ -45,7 +46,7 @@ def run(tmp_path, scenario, fmu, inputs=None, timeout=600, cwd=None, env=None, *
     path = tmp_path / f"job{n}.json"
     path.write_text(json.dumps(job))
     proc = subprocess.run(
-        [sys.executable, str(Path(__file__)), scenario, str(path)],
+        [*prefix, sys.executable, str(Path(__file__)), scenario, str(path)],
         capture_output=True,
         text=True,
         timeout=timeout,
@@ -459,11 +460,22 @@ def scenario_cache(job, table):
     hits and misses (compilations) of every kernel of the FMU's own package, where the cache and
     the package live, and the FMU's log. With an input table (and ``params``, ``outputs``), the
     first step is the table's first row and the outputs after each of its rows are returned too
-    (``out``), computed by the kernels as this process got them (compiled or loaded)."""
+    (``out``), computed by the kernels as this process got them (compiled or loaded). With
+    ``read_only_unpack``, the unpack folder is made read-only before the FMU is loaded; with
+    ``tempdir``, the process's temporary folder is that one from then on."""
+    import os
+    import tempfile
+
     from fmpy import extract
     from numba.core.registry import CPUDispatcher
 
     unzip = extract(job["fmu"])
+    if job.get("read_only_unpack"):
+        for root, _, files in os.walk(unzip, topdown=False):
+            for path in [os.path.join(root, name) for name in files] + [root]:
+                os.chmod(path, os.stat(path).st_mode & ~0o222)
+    if job.get("tempdir"):
+        tempfile.tempdir = job["tempdir"]
     inst = Instance(job["fmu"], unzip=unzip, params=job.get("params"))
     rows = table if len(table) else np.zeros((1, len(INPUTS)))
     status = inst.step(rows[0], job["h"])

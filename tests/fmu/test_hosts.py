@@ -432,6 +432,31 @@ def test_the_hosts_python_variables_do_not_disturb_it(fmu, tmp_path):
     assert len((tmp_path / "out.csv").read_text().splitlines()) == 22  # header, t = 0 and 20 steps
 
 
+@needs_hosts
+def test_fmusim_with_a_read_only_home_runs_on_the_kernels_the_fmu_ships(fmu, tmp_path, unprivileged, read_only):
+    """fmusim in the plain environment of a user whose HOME cannot be written (review AL, M1/M2: it
+    compiled every kernel, 170 s, and blamed the CPU): the FMU takes a folder of the user's own in
+    the temporary folder, seeds it with the machine code it ships (nothing is compiled), says why
+    in the log, and exits 0 with every step."""
+    home, tmp = tmp_path / "home", tmp_path / "tmp"
+    home.mkdir()
+    tmp.mkdir()
+    read_only(home)
+    out, log = tmp_path / "out.csv", tmp_path / "log.txt"
+    proc = subprocess.run(
+        [*unprivileged, str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", "0.002", "--output-interval",
+         repr(H), "--output-file", str(out), "--log-file", str(log), "--logging-on", str(fmu)],
+        env=dict(PLAIN, HOME=str(home), TMPDIR=str(tmp)), capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    text = log.read_text()
+    assert proc.returncode == 0, f"exit {proc.returncode}\n{proc.stderr}\n{text[-3000:]}"
+    assert len(out.read_text().splitlines()) == 22  # header, t = 0 and 20 steps
+    base = tmp / f"cablecasing-{os.getuid()}"
+    assert f"cached in {base}/numba/kernels-" in text and f"{home}/.cache/cablecasing/numba (Permission denied)" in text
+    assert "files copied from the FMU" in text and "(0 files copied" not in text
+    assert "compiling the model's numba kernels" not in text, text[-3000:]
+
+
 def test_the_bridge_names_old_and_missing_packages():
     import importlib.util
 

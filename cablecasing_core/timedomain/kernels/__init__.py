@@ -26,8 +26,9 @@ not invalidate that cache when a function it calls or inlines changes in *anothe
 loop would go on running the machine code of an old contact solve. So the package is one unit:
 :mod:`._numba_cache` is installed here, before any kernel is decorated, and keys the cache of every
 kernel on a hash of all the package's source files (:data:`KERNELS_HASH`); any edit to any file of
-the package recompiles all of it, into a new folder (:func:`kernels_cache_dir`). Keep every numba
-kernel of cablecasing_core in this package, and nothing else.
+the package recompiles all of it, into a new folder (:func:`kernels_cache_dir`; a fallback folder,
+or no cache, when the usual one cannot be written, said in a warning). Keep every numba kernel of
+cablecasing_core in this package, and nothing else.
 
 All kernels are plain functions over arrays. The orchestration (building matrices, factorising,
 evaluating the support motion, packing results) stays in plain Python in ``timedomain/engine.py``
@@ -65,7 +66,7 @@ constants), so runs and FMU instances on several threads step in parallel (docs/
 master's thread pool"). A kernel that kept a buffer of its own between calls would break that.
 """
 
-from ._numba_cache import KERNELS_HASH, install, kernels_cache_dir
+from ._numba_cache import KERNELS_HASH, install, kernels_cache_dir, settle
 
 install()  # before any cache=True kernel below is decorated
 
@@ -133,6 +134,8 @@ from ._step_loop_contract import (  # noqa: E402
     StepScratch,
     step_scratch,
 )
+
+settle()  # after every kernel is decorated, before any is called (a cache folder that cannot be written)
 
 __all__ = [
     "clip_force_outputs",
