@@ -19,10 +19,11 @@ What happens once per process and FMU (keyed by the FMU's GUID):
   file they read later is still there;
 * the numba cache shipped in ``resources/numba_cache`` seeds the kernels' cache folder (the core
   chooses it: ``kernels/_numba_cache.py``; a fallback is logged as a warning naming the folders that
-  cannot be written), so a first start does not compile; if the machine code does not fit (another
-  CPU, Python or numba), numba compiles and this module says so in the log while it happens: once
-  per process (whichever CableCasing FMUs it holds), in the log of the instance whose call compiles
-  (:class:`_CompileNotice`).
+  cannot be written), so a first start does not compile; where no folder can be written the kernels
+  load the shipped machine code from the unpack folder itself. If it does not fit (another CPU,
+  Python or numba), numba compiles and this module says so in the log while it happens, and whether
+  later starts will load it: once per process (whichever CableCasing FMUs it holds), in the log of
+  the instance whose call compiles (:class:`_CompileNotice`).
 """
 
 from __future__ import annotations
@@ -171,7 +172,7 @@ def _seed_numba_cache(shipped, target):
     kernels' cache folder where a file is missing; returns how many were copied. Each file through a
     temporary name of its own and a rename, as ``files.atomic_path`` writes, without its fsync and
     checks: a cache file lost in a crash is compiled again, and this module imports nothing of the core."""
-    if not os.path.isdir(shipped):
+    if not os.path.isdir(shipped) or os.path.realpath(shipped) == os.path.realpath(target):
         return 0
     os.makedirs(target, exist_ok=True)
     copied = 0
@@ -188,6 +189,30 @@ def _seed_numba_cache(shipped, target):
                 raise
             copied += 1
     return copied
+
+
+def _compile_fate(choice, caches, resources):
+    """What becomes of kernels compiled in this process, for the compile notice: whether later starts
+    load them, and if not, why (the folders that cannot be written) and what to set. ``choice``: the
+    imported package's ``cache_choice()`` (None from a host's copy of the package too old to have it)."""
+    if choice is None:
+        return f"and later starts load them from {', '.join(caches) or 'nowhere'}"
+    hint = "set NUMBA_CACHE_DIR to a writable folder"
+    if choice.mode != "write":
+        failed = choice.failed()
+        return f"and every start compiles them again: nothing can be saved ({failed} cannot be written); {hint}"
+    if os.path.realpath(choice.folder).startswith(os.path.join(os.path.realpath(resources), "")):
+        return (
+            f"and they are saved in the unpack folder ({choice.folder}) because {choice.failed()} cannot be "
+            f"written: a host that deletes that folder after the run (fmusim does) compiles them again at every "
+            f"start; {hint}"
+        )
+    if not choice.preferred:
+        return (
+            f"and later starts load them from {choice.folder} while it lasts (a fallback: {choice.failed()} cannot "
+            "be written)"
+        )
+    return f"and later starts load them from {choice.folder}"
 
 
 def kernel_cache_dirs():
@@ -281,8 +306,8 @@ class _CompileNotice:
                 WARNING,
                 "compiling the model's numba kernels for this machine (no cached machine code in "
                 f"{instance._cache_text} fits this model's kernels on this CPU, Python and numba: the FMU ships "
-                "those of its base model, the installed specimen and gravity); this takes 30-60 s once, later "
-                f"starts load them from there (first kernel: {name}; said once per process)",
+                f"those of its base model, the installed specimen and gravity); this takes 30-60 s, "
+                f"{instance._module.numba_cache_fate} (first kernel: {name}; said once per process)",
             )
         else:
             instance._log(
@@ -413,6 +438,7 @@ class Instance:
                 except OSError as exc:
                     self._log(WARNING, f"cannot copy the shipped numba cache to {cache}: {exc}")
         module.numba_cache_dirs = caches
+        module.numba_cache_fate = _compile_fate(choice, caches, resources)
         _LOADED[guid] = module
         self._log(
             OK,

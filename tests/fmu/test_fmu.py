@@ -564,7 +564,10 @@ def test_a_first_start_that_must_compile_says_so(fmu, tmp_path, run):
     job = dict(inputs=rows, params={"model_file": "installed"}, outputs=["casing.B.Fz", "casing.A.Fy"])
     res = run(tmp_path, "cache", stripped, env=env, **job)
     assert res["status"] == 0 and res["misses"] >= 1
-    assert any("compiling the model's numba kernels for this machine" in line for line in res["log"]), res["log"]
+    said = [line for line in res["log"] if "compiling the model's numba kernels for this machine" in line]
+    assert len(said) == 1, res["log"]
+    # (and where they go: the per-user folder, which later starts load them from)
+    assert f"this takes 30-60 s, and later starts load them from {tmp_path / 'empty-cache'}" in said[0]
     run(tmp_path, "cache", fmu, **job)  # compiles what the shipped cache lacks for this specimen, if anything
     loaded = run(tmp_path, "cache", fmu, **job)
     assert loaded["status"] == 0 and loaded["misses"] == 0

@@ -1,9 +1,17 @@
-"""The FMU where the usual cache folder cannot be written (review AL, M1): a read-only HOME (a
-service account, a container user). The FMU starts, loads the machine code it ships, and says in
-its log which folder cannot be written and what to set; with HOME read-only it returned NULL from
-fmi2Instantiate with numba's "no locator available", or compiled every kernel."""
+"""The FMU where the usual cache folder cannot be written (review AL, M1 and M2): a read-only HOME
+(a service account, a container user), a read-only unpack folder, no writable folder at all. The
+FMU starts, loads the machine code it ships instead of compiling it again (170 s in the review),
+and says in its log which folder cannot be written and what to set; with HOME read-only it
+returned NULL from fmi2Instantiate with numba's "no locator available", or compiled and blamed
+"this CPU, Python and numba"."""
 
+import importlib.util
 import os
+from pathlib import Path
+
+from cablecasing_core.timedomain.kernels._numba_cache import CacheChoice
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def host_env(home):
@@ -33,3 +41,56 @@ def test_a_read_only_home_caches_in_a_folder_of_the_users_own_seeded_from_the_fm
     assert len(said) == 1 and said[0].startswith("warning: "), res["log"]
     assert f"{home}/.cache/cablecasing/numba (Permission denied) cannot be written" in said[0]
     assert "NUMBA_CACHE_DIR" in said[0]
+
+
+def test_a_read_only_unpack_folder_with_nothing_writable_runs_the_kernels_it_ships(
+    fmu, tmp_path, fmu_driver, unprivileged, read_only
+):
+    """HOME, the temporary folder and the unpack folder read-only: the FMU imports its code from
+    the unpack folder and loads the shipped machine code from there, read only (nothing compiled);
+    both are said, with the folders that cannot be written."""
+    home, tmp = tmp_path / "home", tmp_path / "tmp"
+    home.mkdir()
+    tmp.mkdir()
+    read_only(home, tmp)
+    res = fmu_driver.run(
+        tmp_path, "cache", fmu, h=1e-4, env=host_env(home), prefix=unprivileged, read_only_unpack=True, tempdir=str(tmp)
+    )
+    assert res["status"] == 0
+    assert res["misses"] == 0 and res["run_steps_hits"] >= 1, res["log"]
+    shipped = os.path.join(str(res["unzip"]), "resources", "numba_cache", "kernels-")
+    assert str(res["cache_path"]).startswith(shipped)
+    copy = [m for m in res["log"] if "cannot write a lasting copy" in m]
+    assert len(copy) == 1 and f"{home}/.cache/cablecasing/fmu: Permission denied" in copy[0], res["log"]
+    said = [m for m in res["log"] if "compiled kernels" in m]
+    assert len(said) == 1 and said[0].startswith("warning: no folder for the model's compiled kernels"), res["log"]
+    assert f"the machine code in {res['cache_path']} is loaded" in said[0] and "NUMBA_CACHE_DIR" in said[0]
+
+
+def test_the_compile_notice_says_whether_later_starts_load_what_it_compiles():
+    """The notice that the kernels compile ends with what becomes of them: loaded by later starts
+    from the per-user folder; from a fallback while it lasts, naming the folder that cannot be
+    written; lost with the unpack folder (fmusim deletes it); or never saved. It said "this takes
+    30-60 s once, later starts load them" in every case, and blamed only the CPU, Python and numba."""
+    spec = importlib.util.spec_from_file_location("bridge", ROOT / "fmu_src" / "cablecasing_fmi2_bridge.py")
+    bridge = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bridge)
+    ro = [("/home/u/.cache/cablecasing/numba", "Permission denied")]
+    resources = "/tmp/fmu/resources"
+
+    def fate(folder, mode, preferred, tried):
+        return bridge._compile_fate(CacheChoice(folder, mode, preferred, tried), [folder or ""], resources)
+
+    assert fate("/home/u/.cache/cablecasing/numba/kernels-1", "write", True, []) == (
+        "and later starts load them from /home/u/.cache/cablecasing/numba/kernels-1"
+    )
+    fallback = fate("/tmp/cablecasing-1/numba/kernels-1", "write", False, ro)
+    assert "later starts load them from /tmp/cablecasing-1/numba/kernels-1 while it lasts" in fallback
+    assert "/home/u/.cache/cablecasing/numba (Permission denied) cannot be written" in fallback
+    unpacked = fate(resources + "/numba_cache/kernels-1", "write", False, ro)
+    assert "saved in the unpack folder" in unpacked and "compiles them again at every start" in unpacked
+    assert "(Permission denied)" in unpacked and "NUMBA_CACHE_DIR" in unpacked
+    for mode, folder in (("read", resources + "/numba_cache/kernels-1"), ("none", None)):
+        never = fate(folder, mode, False, ro)
+        assert "every start compiles them again: nothing can be saved" in never, mode
+        assert "(Permission denied) cannot be written" in never and "NUMBA_CACHE_DIR" in never

@@ -23,12 +23,14 @@ cache. The root is the first of these whose ``kernels-<KERNELS_HASH>`` folder ca
    where platformdirs is installed, else ``~/.cache/cablecasing``;
 3. a folder of this user's in the temporary folder, ``<tempfile.gettempdir()>/cablecasing-<uid>/numba``
    (created 0700; used only while it is this user's and no one else can write it: the machine code
-   is loaded with pickle, so a folder another user can write would run their code here).
+   is loaded with pickle, so a folder another user can write would run their code here);
+4. ``numba_cache`` beside the package, where a copy ships one (the FMU's ``resources/numba_cache``
+   when the FMU imports the package from its unpack folder).
 
 When the first is not the one used, the import warns once (:class:`CacheFolderWarning`) naming the
 folders that could not be written and why. When none can be written, nothing is saved: the machine
 code is loaded from the first of those folders that holds some (read-only: a full cache in a
-read-only ``NUMBA_CACHE_DIR``), and what is not there is compiled
+read-only ``NUMBA_CACHE_DIR``, the FMU's read-only unpack folder), and what is not there is compiled
 in every process; without any, every kernel is compiled in every process (:func:`settle`). numba's
 own locators never serve these kernels (they would key them by file: the stale callee above).
 
@@ -50,6 +52,8 @@ import tempfile
 import warnings
 
 PACKAGE_DIR = os.path.dirname(os.path.realpath(__file__))
+#: ``numba_cache`` beside the package (``<folder of cablecasing_core>/numba_cache``): the FMU's resources/numba_cache
+SHIPPED_ROOT = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(PACKAGE_DIR))), "numba_cache")
 
 
 def _package_hash(folder):
@@ -134,6 +138,8 @@ def cache_roots():
     None, or the reason a root cannot be had (see the module docstring for the order)."""
     roots = [(os.environ["NUMBA_CACHE_DIR"], None)] if os.environ.get("NUMBA_CACHE_DIR") else []
     roots += [(base if why else os.path.join(base, "numba"), why) for base, why in cache_bases()]
+    if os.path.isdir(SHIPPED_ROOT):
+        roots.append((SHIPPED_ROOT, None))
     return roots
 
 
