@@ -150,6 +150,32 @@ def test_with_no_folder_at_all_the_kernels_compile_uncached(installed, read_only
     assert f"{home}/.cache/cablecasing/numba (Permission denied)" in line and "compiled in every process" in line
 
 
+def test_the_users_cache_folder_follows_xdg_cache_home_with_or_without_platformdirs(monkeypatch, tmp_path):
+    """XDG_CACHE_HOME places the caches whether platformdirs is installed or not (without it, it was
+    ignored: review AL, L4); with it, the folder is platformdirs' own. The FMU's bridge takes the
+    rule from this same file (its cache_bases), so the two agree by construction."""
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    monkeypatch.setitem(sys.modules, "platformdirs", None)  # (import platformdirs raises ImportError)
+    assert _numba_cache.user_cache_base() == str(tmp_path / "xdg" / "cablecasing")
+    monkeypatch.setenv("XDG_CACHE_HOME", "  ")  # (blank: as unset, platformdirs' rule)
+    assert _numba_cache.user_cache_base() == os.path.join(os.path.expanduser("~"), ".cache", "cablecasing")
+    monkeypatch.delitem(sys.modules, "platformdirs")
+    platformdirs = pytest.importorskip("platformdirs")
+    if sys.platform.startswith("linux"):
+        for value in (str(tmp_path / "xdg"), ""):
+            monkeypatch.setenv("XDG_CACHE_HOME", value)
+            assert _numba_cache.user_cache_base() == platformdirs.user_cache_dir("cablecasing", appauthor=False)
+
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("bridge", ROOT / "fmu_src" / "cablecasing_fmi2_bridge.py")
+    bridge = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bridge)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    monkeypatch.setitem(sys.modules, "platformdirs", None)
+    assert bridge._cache_module(str(ROOT)).cache_bases()[0] == (str(tmp_path / "xdg" / "cablecasing"), None)
+
+
 def test_the_temporary_fallback_is_used_only_when_it_is_the_users_own(monkeypatch, tmp_path):
     """<temp>/cablecasing-<uid> is created 0700; one that others may write, or a link, is refused
     with its reason (numba loads its machine code with pickle: a folder another user can write

@@ -20,7 +20,8 @@ cache. The root is the first of these whose ``kernels-<KERNELS_HASH>`` folder ca
 
 1. ``NUMBA_CACHE_DIR``, if set;
 2. the per-user cache folder ``<user_cache_base()>/numba``: ``platformdirs.user_cache_dir("cablecasing")``
-   where platformdirs is installed, else ``~/.cache/cablecasing``;
+   where platformdirs is installed, else ``$XDG_CACHE_HOME/cablecasing``, else ``~/.cache/cablecasing``
+   (on Linux these are the same folder);
 3. a folder of this user's in the temporary folder, ``<tempfile.gettempdir()>/cablecasing-<uid>/numba``
    (created 0700; used only while it is this user's and no one else can write it: the machine code
    is loaded with pickle, so a folder another user can write would run their code here);
@@ -77,13 +78,16 @@ class CacheFolderWarning(UserWarning):
 
 def user_cache_base() -> str:
     """The per-user cache folder of cablecasing: ``platformdirs.user_cache_dir("cablecasing")``
-    where platformdirs is installed, else ``~/.cache/cablecasing``."""
+    where platformdirs is installed, else ``$XDG_CACHE_HOME/cablecasing`` (platformdirs' rule on
+    Linux, so the two give the same folder there), else ``~/.cache/cablecasing``."""
     try:
         from platformdirs import user_cache_dir
 
         return user_cache_dir("cablecasing", appauthor=False)
     except ImportError:
-        return os.path.join(os.path.expanduser("~"), ".cache", "cablecasing")
+        pass
+    xdg = os.environ.get("XDG_CACHE_HOME", "")
+    return os.path.join(xdg if xdg.strip() else os.path.join(os.path.expanduser("~"), ".cache"), "cablecasing")
 
 
 def _temp_base_path():
