@@ -307,7 +307,10 @@ macOS: no binary is provided.
 On the first start the FMU copies its Python code to the per-user cache folder
 (~/.cache/cablecasing/fmu/<GUID>) and the numba machine code compiled when it was built to
 ~/.cache/cablecasing/numba (or NUMBA_CACHE_DIR); a CPU, Python or numba that does not fit the
-shipped code is compiled there once (30-60 s, logged while it happens).
+shipped code is compiled there once (30-60 s, logged while it happens). Where that folder cannot
+be written (a read-only HOME), it uses <TMPDIR or /tmp>/cablecasing-<uid> instead, and says so in
+its log. Copies of the code unused for 14 days are deleted; the whole folder may be deleted
+whenever no FMU is running (docs/fmu.md, "Caches").
 """)
 
 

@@ -16,7 +16,8 @@ What happens once per process and FMU (keyed by the FMU's GUID):
   the core's rule gives: the per-user cache folder, else this user's folder in the temporary folder)
   and imported from there, so a host that deletes the unpack folder after a run (fmpy's
   ``simulate_fmu``) can load the FMU again in the same process: the modules stay imported and every
-  file they read later is still there;
+  file they read later is still there. Copies no process has used for :data:`PRUNE_AFTER_DAYS` are
+  deleted (never one a process holds: :func:`_hold`);
 * the numba cache shipped in ``resources/numba_cache`` seeds the kernels' cache folder (the core
   chooses it: ``kernels/_numba_cache.py``; a fallback is logged as a warning naming the folders that
   cannot be written), so a first start does not compile; where no folder can be written the kernels
@@ -129,13 +130,93 @@ def _cache_module(resources):
     return module
 
 
+#: A copy of the FMU's code not used for this long (its ``.complete`` marker's mtime, renewed at each
+#: load) is deleted by the next load of any CableCasing FMU (:func:`_prune_copies`), unless in use.
+PRUNE_AFTER_DAYS = 14
+_HELD = []  # open .complete markers of the copies this process uses, each under a shared lock (flock)
+
+
+def _hold(dest):
+    """Take a shared lock on ``dest/.complete`` for the rest of the process (the copy is in use: no
+    prune deletes it), and mark its last use (the marker's mtime). Returns False when ``dest`` went
+    away meanwhile (a prune of another process renamed it just now), True otherwise (also where
+    there are no locks: not POSIX)."""
+    marker = os.path.join(dest, ".complete")
+    try:
+        import fcntl
+    except ImportError:
+        return os.path.isfile(marker)
+    try:
+        fd = os.open(marker, os.O_RDONLY)
+    except OSError:
+        return False
+    for _ in range(200):  # (a prune holds its exclusive lock only while it renames the folder)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
+            break
+        except OSError:
+            time.sleep(0.01)
+    try:
+        if os.stat(marker).st_ino != os.fstat(fd).st_ino:
+            os.close(fd)
+            return False
+    except OSError:
+        os.close(fd)
+        return False
+    try:
+        os.utime(marker)
+    except OSError:  # (a copy in a folder that is no longer writable: still used, not marked)
+        pass
+    _HELD.append(fd)
+    return True
+
+
+def _prune_copies(root, keep):
+    """Delete the copies of FMU code under ``root`` (``.../cablecasing/fmu``) not used for
+    :data:`PRUNE_AFTER_DAYS` and not in use (no process holds their marker's lock: :func:`_hold`),
+    and temporary folders of copies that were stopped half-way a day ago; never ``keep``. Each is
+    renamed under an exclusive lock first, then removed. Best effort: anything that fails is kept."""
+    try:
+        import fcntl
+    except ImportError:
+        return
+    now = time.time()
+    try:
+        names = os.listdir(root)
+    except OSError:
+        return
+    for name in names:
+        path = os.path.join(root, name)
+        if name == keep:
+            continue
+        try:
+            if name.startswith(".") and name.endswith((".tmp", ".old")):
+                if now - os.lstat(path).st_mtime > 86400:
+                    shutil.rmtree(path, ignore_errors=True)
+                continue
+            marker = os.path.join(path, ".complete")
+            if name.startswith(".") or now - os.stat(marker).st_mtime < PRUNE_AFTER_DAYS * 86400:
+                continue
+            fd = os.open(marker, os.O_RDONLY)
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)  # (fails while a process holds it: in use)
+                gone = os.path.join(root, f".{name}.{os.getpid()}.old")
+                os.rename(path, gone)
+            finally:
+                os.close(fd)
+            shutil.rmtree(gone, ignore_errors=True)
+        except OSError:
+            continue
+
+
 def _stable_copy(resources, guid, names, bases):
     """The folder holding a copy of ``names`` (files and folders of resources/) that outlives the
     unpack folder: ``<base>/fmu/<guid>`` for the first of ``bases`` (``[(folder, reason it cannot be
     had, or None)]``, the core's ``cache_bases()``) where it is or can be written; written once,
     atomically (a temporary folder renamed into place: a folder, which ``files.atomic_path`` does
-    not write, and before the core can be imported). Returns (the folder, or ``resources`` when
-    none can be written; ``[(root, reason)]`` of the roots that failed)."""
+    not write, and before the core can be imported); held by this process (:func:`_hold`), and old
+    unused copies beside it pruned (:func:`_prune_copies`). Returns (the folder, or ``resources``
+    when none can be written; ``[(root, reason)]`` of the roots that failed)."""
     tried = []
     for base, why in bases:
         root = os.path.join(base, "fmu")
@@ -143,25 +224,26 @@ def _stable_copy(resources, guid, names, bases):
             tried.append((base, why))
             continue
         dest = os.path.join(root, guid)
-        if os.path.isfile(os.path.join(dest, ".complete")):
-            return dest, tried
         try:
-            os.makedirs(root, exist_ok=True)
-            tmp = tempfile.mkdtemp(prefix=f".{guid}.", suffix=".tmp", dir=root)  # (unique in any process)
-            for name in names:
-                src = os.path.join(resources, name)
-                if os.path.isdir(src):
-                    shutil.copytree(src, os.path.join(tmp, name), ignore=shutil.ignore_patterns("__pycache__"))
-                elif os.path.isfile(src):
-                    shutil.copy2(src, os.path.join(tmp, name))
-            open(os.path.join(tmp, ".complete"), "w").close()
-            try:
-                os.rename(tmp, dest)
-            except OSError:  # another process was first: use its copy
-                shutil.rmtree(tmp, ignore_errors=True)
-            if os.path.isfile(os.path.join(dest, ".complete")):
-                return dest, tried
-            tried.append((root, "its copy is incomplete"))
+            for _attempt in range(2):  # (again once if a prune took the copy between the check and the hold)
+                if not os.path.isfile(os.path.join(dest, ".complete")):
+                    os.makedirs(root, exist_ok=True)
+                    tmp = tempfile.mkdtemp(prefix=f".{guid}.", suffix=".tmp", dir=root)  # (unique in any process)
+                    for name in names:
+                        src = os.path.join(resources, name)
+                        if os.path.isdir(src):
+                            shutil.copytree(src, os.path.join(tmp, name), ignore=shutil.ignore_patterns("__pycache__"))
+                        elif os.path.isfile(src):
+                            shutil.copy2(src, os.path.join(tmp, name))
+                    open(os.path.join(tmp, ".complete"), "w").close()
+                    try:
+                        os.rename(tmp, dest)
+                    except OSError:  # another process was first: use its copy
+                        shutil.rmtree(tmp, ignore_errors=True)
+                if _hold(dest):
+                    _prune_copies(root, guid)
+                    return dest, tried
+            tried.append((root, "its copy was deleted while it was being loaded"))
         except OSError as exc:
             tried.append((root, exc.strerror or str(exc)))
     return resources, tried

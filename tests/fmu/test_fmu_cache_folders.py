@@ -7,6 +7,7 @@ returned NULL from fmi2Instantiate with numba's "no locator available", or compi
 
 import importlib.util
 import os
+import time
 from pathlib import Path
 
 from cablecasing_core.timedomain.kernels._numba_cache import CacheChoice
@@ -94,3 +95,31 @@ def test_the_compile_notice_says_whether_later_starts_load_what_it_compiles():
         never = fate(folder, mode, False, ro)
         assert "every start compiles them again: nothing can be saved" in never, mode
         assert "(Permission denied) cannot be written" in never and "NUMBA_CACHE_DIR" in never
+
+
+def test_copies_of_the_fmus_code_unused_for_weeks_are_deleted_but_never_one_in_use(tmp_path):
+    """<cache>/fmu holds one copy of the FMU's code per GUID (review AL, L5: 224 copies, 487 MB on
+    the project's machine). A load deletes the copies whose last use (their marker's mtime, renewed
+    at each load) is older than PRUNE_AFTER_DAYS, unless a process holds them (a shared lock on the
+    marker for as long as it has the FMU loaded), and copies stopped half-way more than a day ago."""
+    spec = importlib.util.spec_from_file_location("bridge", ROOT / "fmu_src" / "cablecasing_fmi2_bridge.py")
+    bridge = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bridge)
+    root = tmp_path / "fmu"
+    old = time.time() - (bridge.PRUNE_AFTER_DAYS + 1) * 86400
+    for name in ("unused", "recent", "held", "mine"):
+        (root / name / "cablecasing_core").mkdir(parents=True)
+        (root / name / ".complete").touch()
+        if name != "recent":
+            os.utime(root / name / ".complete", (old, old))
+    (root / ".half.abc.tmp").mkdir()
+    os.utime(root / ".half.abc.tmp", (old, old))
+    assert bridge._hold(str(root / "held"))  # (as another process that has that FMU loaded)
+    assert time.time() - (root / "held" / ".complete").stat().st_mtime < 60  # (its last use: now)
+    os.utime(root / "held" / ".complete", (old, old))
+    try:
+        bridge._prune_copies(str(root), "mine")
+        assert sorted(p.name for p in root.iterdir()) == ["held", "mine", "recent"]
+    finally:
+        for fd in bridge._HELD:
+            os.close(fd)
