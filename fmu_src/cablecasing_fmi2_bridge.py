@@ -116,6 +116,41 @@ def missing_packages(requirements):
     return problems
 
 
+def externally_managed():
+    """Whether this Python's packages are managed by the system (PEP 668: an ``EXTERNALLY-MANAGED``
+    file in its standard library's folder, outside a virtual environment), where pip refuses to
+    install (Debian's and Ubuntu's /usr/bin/python3)."""
+    import sysconfig
+
+    if sys.prefix != sys.base_prefix:  # (a virtual environment: pip installs into it)
+        return False
+    return os.path.isfile(os.path.join(sysconfig.get_path("stdlib"), "EXTERNALLY-MANAGED"))
+
+
+def install_advice(needed, requirements, python_host):
+    """How to get the packages ``needed`` (requirement texts such as 'numba>=0.59'), in a sentence:
+    pip into this Python; where the system manages its packages (PEP 668, :func:`externally_managed`),
+    a virtual environment with every package of ``requirements`` instead, which a C host then runs
+    through CABLECASING_PYTHON (a Python host runs the FMU in its own interpreter: it is the host that
+    must run from the environment)."""
+    quoted = " ".join(f'"{r}"' for r in needed)
+    if not externally_managed():
+        return f"Install {'it' if len(needed) == 1 else 'them'} with '{sys.executable} -m pip install {quoted}'" + (
+            "" if python_host else ", or point CABLECASING_PYTHON at a Python that has them"
+        )
+    every = " ".join(f'"{r.strip()}"' for r in requirements.split(";") if r.strip())
+    venv = f"'{sys.executable} -m venv ENV && ENV/bin/python -m pip install {every}'"
+    if python_host:
+        return (
+            f"This Python's packages are managed by the system (PEP 668: pip refuses to install into it): make a "
+            f"virtual environment with them, {venv}, and run the host with ENV/bin/python"
+        )
+    return (
+        f"This Python's packages are managed by the system (PEP 668: pip refuses to install into it): make a "
+        f"virtual environment with them, {venv}, and set CABLECASING_PYTHON to the full path of ENV/bin/python"
+    )
+
+
 def _cache_module(resources):
     """The FMU's own ``cablecasing_core/timedomain/kernels/_numba_cache.py``, loaded by its path as a
     private module (not in ``sys.modules``), for the rule of where cablecasing's caches go
@@ -432,9 +467,8 @@ class Instance:
             self._fail(
                 f"the Python at {sys.executable} cannot run this FMU: "
                 + "; ".join(problems)
-                + f". Install {'it' if len(needed) == 1 else 'them'} with '{sys.executable} -m pip install "
-                + " ".join(f'"{r}"' for r in needed)
-                + "', or point CABLECASING_PYTHON at a Python that has them"
+                + ". "
+                + install_advice(needed, requirements, self._in_python_host)
             )
         with _LOAD_LOCK:
             module = _LOADED.get(guid)

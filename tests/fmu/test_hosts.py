@@ -457,6 +457,54 @@ def test_fmusim_with_a_read_only_home_runs_on_the_kernels_the_fmu_ships(fmu, tmp
     assert "compiling the model's numba kernels" not in text, text[-3000:]
 
 
+def test_the_advice_for_a_missing_package_fits_an_externally_managed_python(monkeypatch):
+    """A Python whose packages the system manages (PEP 668: Debian's /usr/bin/python3) refuses
+    'pip install' (review AL, L6): the advice is then a virtual environment with every package,
+    and, in a C host, CABLECASING_PYTHON at its interpreter (a Python host runs the FMU in its own
+    interpreter, so the host must run from the environment); elsewhere pip into that Python."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("bridge", ROOT / "fmu_src" / "cablecasing_fmi2_bridge.py")
+    bridge = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bridge)
+    requirements = "numpy>=1.24;scipy>=1.11;numba>=0.59"
+    monkeypatch.setattr(bridge, "externally_managed", lambda: True)
+    c_host = bridge.install_advice(["numba>=0.59"], requirements, python_host=False)
+    assert "PEP 668" in c_host and f"'{sys.executable} -m venv ENV && ENV/bin/python -m pip install " in c_host
+    assert '"numpy>=1.24" "scipy>=1.11" "numba>=0.59"' in c_host and "CABLECASING_PYTHON" in c_host
+    python_host = bridge.install_advice(["numba>=0.59"], requirements, python_host=True)
+    assert "-m venv ENV" in python_host and "run the host with ENV/bin/python" in python_host
+    assert "CABLECASING_PYTHON" not in python_host
+    monkeypatch.setattr(bridge, "externally_managed", lambda: False)
+    assert bridge.install_advice(["numba>=0.59"], requirements, python_host=False) == (
+        f"Install it with '{sys.executable} -m pip install \"numba>=0.59\"', or point CABLECASING_PYTHON at a "
+        "Python that has them"
+    )
+
+
+@needs_hosts
+def test_fmusim_with_the_systems_python_advises_a_virtual_environment(fmu):
+    """CABLECASING_PYTHON at the system's own Python, externally managed and without the packages
+    (here /usr/bin/python3.11 of Debian): the one message says to make a virtual environment and
+    point CABLECASING_PYTHON at it, not to pip install into that Python, which refuses."""
+    python = Path(f"/usr/bin/python{sys.version_info.major}.{sys.version_info.minor}")
+    ask = "import os, sys, sysconfig; print(sys.prefix == sys.base_prefix and os.path.isfile(os.path.join("
+    ask += "sysconfig.get_path('stdlib'), 'EXTERNALLY-MANAGED')))"
+    marker = subprocess.run([str(python), "-c", ask], capture_output=True, text=True) if python.exists() else None
+    if marker is None or marker.stdout.strip() != "True":
+        pytest.skip(f"{python} is not an externally managed Python (PEP 668) here")
+    proc = subprocess.run(
+        [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", "0.001", str(fmu)],
+        env=dict(PLAIN, CABLECASING_PYTHON=str(python)), capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    if "cannot run this FMU" not in proc.stderr:
+        pytest.skip(f"{python} has the packages (or cannot be started): {proc.stderr[-500:]}")
+    assert proc.returncode > 0, (proc.returncode, proc.stderr)  # failed, but not killed by a signal
+    assert f"'{python} -m venv ENV && ENV/bin/python -m pip install" in proc.stderr, proc.stderr
+    assert "set CABLECASING_PYTHON to the full path of ENV/bin/python" in proc.stderr
+    assert f"'{python} -m pip install" not in proc.stderr
+
+
 def test_the_bridge_names_old_and_missing_packages():
     import importlib.util
 
