@@ -395,6 +395,14 @@ sys.path.insert(0, stage)
 spec = importlib.util.spec_from_file_location("_cablecasing_warm_slave", os.path.join(stage, "CableCasing.py"))
 mod = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(mod)
+
+
+def check(status, what):
+    # (explicit, not assert: python -O would drop the call itself and ship no compiled kernels)
+    if status != 0:
+        raise SystemExit(f"the bundled slave's {what} returned status {status}, not 0 (fmi2OK)")
+
+
 # the kernels' variants of the base model, of the base model with gravity and, for the FMU of the
 # built-in specimen, of the installed specimen (gravity, tension, regularised friction; an FMU built
 # for a model file takes only model files with its own channels): a first start with any of these
@@ -406,15 +414,17 @@ for kind, key, value in variants:
     slave = mod.CableCasing(instance_name="warm-up", resources=stage)
     if key is not None:
         vr = next(vr for vr, (k, _) in slave._param.items() if k == key)
-        assert slave.fmi2_set(kind, [vr], [value]) == 0
-    assert slave.fmi2_exit_initialization_mode() == 0
+        check(slave.fmi2_set(kind, [vr], [value]), f"fmi2Set{kind} of {key}")
+    check(slave.fmi2_exit_initialization_mode(), "fmi2ExitInitializationMode")
     slave.inputs_buffer[2] = 1e-4
     t = 0.0
     for h in (1e-4, 1e-4, 3.7e-5):
-        assert slave.fmi2_do_step(t, h) == 0
+        check(slave.fmi2_do_step(t, h), f"fmi2DoStep at t = {t!r} s")
         t += h
 import cablecasing_fmi2_bridge
-print(json.dumps(cablecasing_fmi2_bridge.kernel_cache_dirs()))
+
+choice = sys.modules["cablecasing_core.timedomain.kernels._numba_cache"].cache_choice()
+print(json.dumps({"folders": cablecasing_fmi2_bridge.kernel_cache_dirs(), "mode": choice.mode, "note": choice.note()}))
 """
 
 
@@ -422,21 +432,35 @@ def compiled_kernels(entries):
     """The numba cache of the kernels the FMU runs, as resources/numba_cache/<folder>/<file>
     entries: the slave is unpacked from ``entries`` into a folder and steps a few times in a
     subprocess (compiling, or loading what this user's cache already holds); the cache folders of
-    the bundled package's kernels are shipped, so that a first start elsewhere loads them."""
+    the bundled package's kernels are shipped, so that a first start elsewhere loads them. The
+    subprocess runs without PYTHONOPTIMIZE (numba keys its cache on the bytecode: kernels compiled
+    under -O would not fit a host's ordinary Python). Stops the build (SystemExit) when the slave
+    does not run, cannot save what it compiles (no writable cache folder: the kernels' warning names
+    the folders, NUMBA_CACHE_DIR), or saved no kernel's machine code (no index file, ``.nbi``)."""
     out = {}
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONOPTIMIZE"}
     with tempfile.TemporaryDirectory(prefix="cablecasing_warm_") as stage:
         for name, data in entries.items():
             if name.startswith("resources/"):
                 path = Path(stage) / name[len("resources/") :]
                 path.parent.mkdir(parents=True, exist_ok=True)
                 path.write_bytes(data)
-        res = subprocess.run([sys.executable, "-c", WARM_UP, stage], capture_output=True, text=True)
+        res = subprocess.run([sys.executable, "-c", WARM_UP, stage], capture_output=True, text=True, env=env)
         if res.returncode != 0:
             raise SystemExit(f"the bundled slave does not run (warm-up of the numba cache failed):\n{res.stderr}")
-        for folder in json.loads(res.stdout.strip().splitlines()[-1]):
+        said = json.loads(res.stdout.strip().splitlines()[-1])
+        folders = said["folders"]
+        if said["mode"] != "write":  # (what it compiled is not saved, and a read-only cache may lack some)
+            raise SystemExit(f"the warm-up cannot save the compiled kernels: {said['note']}")
+        for folder in folders:
             for f in sorted(Path(folder).iterdir()):
                 if f.suffix in (".nbi", ".nbc"):
                     out[f"resources/numba_cache/{Path(folder).name}/{f.name}"] = f.read_bytes()
+    if not any(name.endswith(".nbi") for name in out):
+        raise SystemExit(
+            f"the warm-up saved no compiled kernels (no .nbi file in {', '.join(folders) or 'any cache folder'}): "
+            "the FMU would compile them at every first start"
+        )
     return out
 
 
@@ -569,7 +593,8 @@ def build(out, model_file=None):
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    # (python -OO strips docstrings: __doc__ is None then)
+    p = argparse.ArgumentParser(description=(__doc__ or "Build dist/CableCasing.fmu").splitlines()[0])
     p.add_argument(
         "--model",
         metavar="FILE.toml",

@@ -159,3 +159,63 @@ def test_build_takes_a_model_with_two_random_excitations(tmp_path):
 
     seed = cc.load_model(two).scenario["excitation"]["shaker2"]["seed"]
     assert 0 <= seed <= 2**31 - 1 and seed != 1  # (an Integer, and not the first shaker's)
+
+
+def test_build_under_python_optimize_ships_the_compiled_kernels(tmp_path):
+    """PYTHONOPTIMIZE=1 (review AL, M3): the warm-up stepped the slave inside assert statements, so
+    the FMU shipped only what the builder's cache already held (none of it from an empty cache:
+    every user's first start compiled for minutes) and the build said it wrote it. Now the warm-up
+    checks each status explicitly and runs without PYTHONOPTIMIZE. Here the build's cache is this
+    process's cache without the kernel that makes an FMU's communication context
+    (new_communication_context, which only stepping the slave compiles): the FMU ships it. And
+    ``python -OO`` (no docstrings) builds too."""
+    import os
+    import shutil
+
+    from cablecasing_core.timedomain.kernels import kernels_cache_dir
+
+    cache = tmp_path / "numba" / Path(kernels_cache_dir()).name
+    shutil.copytree(kernels_cache_dir(), cache, ignore=shutil.ignore_patterns("*new_communication_context*"))
+    out = tmp_path / "optimized.fmu"
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "build_fmu.py"), "--output", str(out)],
+        env=dict(os.environ, PYTHONOPTIMIZE="1", NUMBA_CACHE_DIR=str(tmp_path / "numba")),
+        capture_output=True, text=True, cwd=ROOT,
+    )  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    with zipfile.ZipFile(out) as z:
+        shipped = [n for n in z.namelist() if n.startswith("resources/numba_cache/") and n.endswith(".nbi")]
+    assert any("new_communication_context" in n for n in shipped), shipped
+    assert any("run_steps" in n for n in shipped), shipped
+    proc = subprocess.run(
+        [sys.executable, "-OO", str(ROOT / "build_fmu.py"), "--output", str(tmp_path / "x.txt")],
+        capture_output=True, text=True, cwd=ROOT,
+    )  # fmt: skip
+    assert proc.returncode == 2 and proc.stderr.startswith("build_fmu.py: error: --output"), proc.stderr
+
+
+def test_build_stops_when_the_warm_up_cannot_save_compiled_kernels(monkeypatch, tmp_path):
+    """The build stops with a message, instead of shipping an FMU without machine code, when the
+    warm-up's kernels cannot be saved (no writable cache folder: their warning says why) or left no
+    index file (.nbi) in their cache folder. (The warm-up's answer is given here: a process without
+    any writable folder is not something a test can make.)"""
+    sys.path.insert(0, str(ROOT))
+    try:
+        import build_fmu
+    finally:
+        sys.path.remove(str(ROOT))
+    empty = tmp_path / "kernels-0"
+    empty.mkdir()
+
+    def warm_up(answer):
+        stdout = json.dumps(answer) + "\n"
+        monkeypatch.setattr(build_fmu.subprocess, "run", lambda *a, **k: subprocess.CompletedProcess(a, 0, stdout, ""))
+        with pytest.raises(SystemExit) as stop:
+            build_fmu.compiled_kernels({})
+        return str(stop.value)
+
+    note = "no folder for the model's compiled kernels can be written (...)"
+    said = warm_up({"folders": [], "mode": "none", "note": note})
+    assert said == f"the warm-up cannot save the compiled kernels: {note}"
+    said = warm_up({"folders": [str(empty)], "mode": "write", "note": ""})
+    assert said.startswith(f"the warm-up saved no compiled kernels (no .nbi file in {empty})")
