@@ -9,13 +9,16 @@ give 0.97-1.03, the resolution of the method; run both load orders. The numba ca
 trees is kept apart from their normal one (see NUMBA_CACHE_DIR below), so each run first
 compiles both (~1.5 min).
 
+Prints ``name: value`` lines: us_per_step_median_A, us_per_step_median_B (µs per step, the medians
+of the chunks), ratio_B_over_A_median, ratio_B_over_A_quartiles (two numbers) and
+ratio_B_over_A_total (B's whole time over A's).
+
 Run:  git archive HEAD cablecasing_core | tar -x -C /tmp/A    (and the change into /tmp/B)
       .venv/bin/python benchmarks/ab_kernels.py /tmp/A /tmp/B [--duration 1.0] [--no-contact] [--no-record]
                                                [--model installed] [--dt 1e-5]
                                                [--step 1e-4]   (FMU-like calls: per-call costs)
 """
 
-import argparse
 import atexit
 import importlib
 import importlib.util
@@ -35,6 +38,10 @@ atexit.register(shutil.rmtree, _CACHE, True)
 
 import numpy as np  # noqa: E402
 from _alternating import alternate  # noqa: E402
+from _options import checked, parser, seconds, time_step  # noqa: E402
+
+from cablecasing_core.errors import ModelError  # noqa: E402
+from cablecasing_core.model.validators import number  # noqa: E402
 
 
 def load(root, name):
@@ -76,13 +83,13 @@ def module(name, new, old):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("a")
-    p.add_argument("b")
+    p = parser(__doc__)
+    p.add_argument("a", help="tree A: a folder holding cablecasing_core/")
+    p.add_argument("b", help="tree B: a folder holding cablecasing_core/")
     p.add_argument("--duration", type=float, default=1.0, help="simulated time per tree (s)")
     p.add_argument("--dt", type=float, default=1e-5, help="time step of both trees (s)")
-    p.add_argument("--no-contact", action="store_true")
-    p.add_argument("--no-record", action="store_true")
+    p.add_argument("--no-contact", action="store_true", help="both engines without contact")
+    p.add_argument("--no-record", action="store_true", help="both engines without their records")
     p.add_argument(
         "--model",
         default="default",
@@ -97,6 +104,16 @@ def main():
         "call per chunk",
     )
     args = p.parse_args()
+    with checked(p):
+        for option, root in (("a", args.a), ("b", args.b)):
+            if not os.path.isfile(f"{root}/cablecasing_core/__init__.py"):
+                raise ModelError(option, root, "must be a folder holding a tree's cablecasing_core/ (git archive)")
+        number("--duration", args.duration, ge=0.01, unit="s")  # (at least one chunk)
+        time_step("--dt", args.dt)
+        if args.step is not None:
+            seconds("--step", args.step)
+        if args.model not in ("default", "installed"):
+            raise ModelError("--model", args.model, "must be a built-in specimen: default or installed")
     dt, chunk = args.dt, 0.01
     runs = []
     for root, name in ((args.a, "ccA"), (args.b, "ccB")):

@@ -29,13 +29,14 @@ one-at-a-time ensemble of docs/studies.md reads through each.
 
 from __future__ import annotations
 
-import argparse
 import datetime
 import time
 
 import numpy as np
+from _options import checked, model, parser, seconds, seeds, time_step
 
 import cablecasing_core as cc
+from cablecasing_core.errors import ModelError
 from cablecasing_core.model.load import toml_value
 from cablecasing_core.records import after_skip
 from cablecasing_core.studies import octave_rms
@@ -43,14 +44,14 @@ from cablecasing_core.studies import octave_rms
 SEED_KEY = "scenario.excitation.casing_random.seed"
 WINDOWS = ("boxcar", "hann")
 
-p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+p = parser(__doc__)
 p.add_argument("--bias", action="store_true", help="the windows' bias against a long record")
 p.add_argument("--time-step", action="store_true", help="the installed specimen's time-step error by window")
-p.add_argument("--spec", default="default", help="specimen of --bias (default, installed)")
-p.add_argument("--seeds", type=int, nargs="+", default=[1, 2])
+p.add_argument("--spec", default="default", help="specimen of --bias and --ratio (default, installed, a model file)")
+p.add_argument("--seeds", type=int, nargs="+", default=[1, 2], help="seeds of the casing's random excitation")
 p.add_argument("--long", type=float, default=16.0, help="s of each --bias run after its 0.06 s")
-p.add_argument("--dts", type=float, nargs="+", default=[1e-5, 1 / 30000])
-p.add_argument("--ref-dt", type=float, default=6.25e-7)
+p.add_argument("--dts", type=float, nargs="+", default=[1e-5, 1 / 30000], help="time steps of --time-step (s)")
+p.add_argument("--ref-dt", type=float, default=6.25e-7, help="the reference time step of --time-step (s)")
 p.add_argument(
     "--ratio",
     nargs="+",
@@ -59,6 +60,29 @@ p.add_argument(
     help="paired ratios of the mean levels (HI / LO) of --spec over --seeds (1 s, after 0.06 s) through both windows",
 )
 args = p.parse_args()
+if not (args.bias or args.time_step or args.ratio):
+    p.error("nothing to measure: give --bias, --time-step or --ratio KEY=LO:HI (or more than one)")
+ratios = []
+with checked(p):
+    seeds("--seeds", args.seeds)
+    seconds("--long", args.long)
+    for dt in [*args.dts, args.ref_dt]:
+        time_step("--dts" if dt in args.dts else "--ref-dt", dt)
+    spec = model("--spec", args.spec) if args.bias or args.ratio else None
+    for text in args.ratio:
+        key, _, bounds = text.partition("=")
+        values = bounds.split(":")
+        if not key or len(values) != 2:
+            raise ModelError("--ratio", text, "must be KEY=LO:HI, e.g. contact.friction=0.05:0.2")
+        lo, hi = (toml_value(v) for v in values)  # (as --set reads a value: 140 an integer)
+        for v in (lo, hi):  # (the model takes both values: checked before the runs)
+            try:
+                spec.with_overrides({key: v})
+            except ModelError as exc:
+                raise ModelError("--ratio", text, str(exc)) from None
+        ratios.append((key, lo, hi))
+    if args.ratio and len(args.seeds) < 2:
+        raise ModelError("--seeds", args.seeds, "must name at least 2 seeds with --ratio (its standard error)")
 if args.bias and args.long < 4.0:
     p.error(f"--long = {args.long:g}: must be at least 4 s with --bias (the records are cut into 0.44, 1 and 4 s)")
 print(f"date: {datetime.datetime.now():%Y-%m-%d %H:%M}")
@@ -70,12 +94,11 @@ def levels(F, fs, window):
 
 if args.bias:
     start = time.perf_counter()
-    model = cc.load_model(args.spec)
-    fs = 1.0 / model.scenario["dt"]
+    fs = 1.0 / spec.scenario["dt"]
     cuts = (0.44, 1.0, 4.0, args.long)
     got = {}
     for seed in args.seeds:
-        run = cc.simulate(model.with_overrides({SEED_KEY: seed}), duration=args.long + 0.06)
+        run = cc.simulate(spec.with_overrides({SEED_KEY: seed}), duration=args.long + 0.06)
         F = run.support_force("casing.B.Fz")[after_skip(run.time, 0.06)]
         for T in cuts:
             n = int(round(T * fs))
@@ -99,9 +122,9 @@ if args.bias:
 
 if args.time_step:
     start = time.perf_counter()
-    model = cc.load_model("installed")
+    installed = cc.load_model("installed")
     for seed in args.seeds:
-        m = model.with_overrides({SEED_KEY: seed})
+        m = installed.with_overrides({SEED_KEY: seed})
         lv = {}
         for dt in [args.ref_dt, *args.dts]:
             run = cc.simulate(m, duration=1.0, dt=dt)
@@ -118,15 +141,12 @@ if args.time_step:
         print(f"time_step_levels_ref_seed{seed}_hann_N: " + " ".join(f"{x:.4g}" for x in lv[args.ref_dt]["hann"]))
     print(f"time_step_wall_s: {time.perf_counter() - start:.0f}")
 
-for spec in args.ratio:
+for key, lo, hi in ratios:
     start = time.perf_counter()
-    key, _, bounds = spec.partition("=")
-    lo, hi = (toml_value(v) for v in bounds.split(":"))  # (as --set reads a value: 140 an integer)
-    model = cc.load_model(args.spec)
     lv = {(w, v): [] for w in WINDOWS for v in (lo, hi)}
     for seed in args.seeds:
         for v in (lo, hi):
-            run = cc.simulate(model.with_overrides({SEED_KEY: seed, key: v}), duration=1.0)
+            run = cc.simulate(spec.with_overrides({SEED_KEY: seed, key: v}), duration=1.0)
             F = run.support_force("casing.B.Fz")[after_skip(run.time, 0.06)]
             for w in WINDOWS:
                 lv[(w, v)].append(levels(F, 1.0 / (run.time[1] - run.time[0]), w))

@@ -57,9 +57,9 @@ Prints ``name: value`` lines:
 The machine is shared: each figure is the fastest of ``--repeat`` runs, taken alternately.
 
 Run: .venv/bin/python benchmarks/bench_fmu.py [--duration 1.0] [--repeat 3]
+(docs/performance.md: ``--duration 1.0 --repeat 3``)
 """
 
-import argparse
 import os
 import re
 import subprocess
@@ -69,6 +69,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _options import checked, integer, parser, seconds, time_step
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tests" / "fmu"))
@@ -210,14 +211,19 @@ def late_figures(runs):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])  # the first paragraph
+    p = parser(__doc__)
     p.add_argument("--duration", type=float, default=1.0, help="simulated time of the long runs (s)")
     p.add_argument("--repeat", type=int, default=3, help="runs of each kind; the fastest counts (shared machine)")
     p.add_argument("--step", type=float, default=1e-4, help="communication step (s)")
     p.add_argument("--realtime-dt", type=float, default=2e-5, help="solver.dt of the real-time fmusim run (s)")
     args = p.parse_args()
     h = args.step
-    if not (h > 0 and args.duration >= 20 * h):
+    with checked(p):
+        seconds("--duration", args.duration)
+        integer("--repeat", args.repeat, 1)
+        seconds("--step", h)
+        time_step("--realtime-dt", args.realtime_dt)
+    if not args.duration >= 20 * h:
         p.error(f"--step {h!r}: must be positive and at most a twentieth of --duration ({args.duration!r} s)")
 
     model = cc.load_model()

@@ -35,9 +35,9 @@ Prints ``name: value`` lines:
 The machine's speed drifts: compare the ratio, not the absolute figures, across runs.
 
 Run: .venv/bin/python benchmarks/bench_fmu_pool.py [--duration 0.5] [--reps 6] [--instances 2] [--fmu PATH]
+(docs/performance.md: ``--duration 0.3 --reps 6``)
 """
 
-import argparse
 import os
 import statistics
 import subprocess
@@ -47,6 +47,8 @@ import threading
 import time
 from pathlib import Path
 
+from _options import checked, integer, parser
+
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tests" / "fmu"))
 sys.path.insert(0, str(ROOT))
@@ -55,6 +57,8 @@ import fmu_driver  # noqa: E402
 
 import build_fmu  # noqa: E402
 import cablecasing_core as cc  # noqa: E402
+from cablecasing_core.errors import ModelError  # noqa: E402
+from cablecasing_core.model.validators import number  # noqa: E402
 
 FMU = ROOT / "dist" / "CableCasing.fmu"
 H = 1e-4  # communication step (s)
@@ -105,7 +109,7 @@ def ensemble_times(model, seeds, duration, reps, dask):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])  # the first paragraph
+    p = parser(__doc__)
     p.add_argument("--duration", type=float, default=0.5, help="simulated time of each instance's run (s)")
     p.add_argument("--reps", type=int, default=6, help="repetitions (serial and threaded each)")
     p.add_argument("--instances", type=int, default=2, help="instances stepped at once")
@@ -113,8 +117,13 @@ def main():
     p.add_argument("--seeds", type=int, default=4, help="members of the seed ensemble")
     p.add_argument("--dask", action="store_true", help="also the ensemble on a local dask cluster")
     args = p.parse_args()
-    if not (args.duration >= 10 * H and args.reps >= 1 and 1 <= args.instances <= 64):
-        p.error("--duration must be at least 1e-3 s, --reps at least 1, --instances in [1, 64]")
+    with checked(p):
+        number("--duration", args.duration, ge=10 * H, unit="s")  # (ten communication steps)
+        integer("--reps", args.reps, 1)
+        integer("--instances", args.instances, 1, 64)
+        integer("--seeds", args.seeds, 2)  # (seed_ensemble's least)
+        if args.fmu != FMU and not args.fmu.is_file():  # (the default one is built below when missing)
+            raise ModelError("--fmu", str(args.fmu), "must be an FMU file")
     if args.fmu == FMU and (
         not FMU.exists() or FMU.stat().st_mtime < max(q.stat().st_mtime for q in build_fmu.sources())
     ):

@@ -1,6 +1,10 @@
 """Speed of the frequency domain: full 3x3 TRFAM of the default model at 2000 lines.
 
-Run: .venv/bin/python benchmarks/bench_frequency.py   (prints name: value lines)
+Prints ``name: value`` lines: trfam_3x3_2000_lines_s (``cc.trfam_matrix`` of the casing, A to B,
+2000 frequencies from 10 to 1000 Hz, viscous damping, the mean of 5 calls after a warm-up),
+assembly_s (the casing's matrices), modal_basis_s (its modal basis, ``FrequencyResponse``) and dofs.
+
+Run: .venv/bin/python benchmarks/bench_frequency.py   (no options; a few seconds)
 
 BLAS runs on one thread (OPENBLAS_NUM_THREADS, OMP_NUM_THREADS, MKL_NUM_THREADS = 1, set before numpy
 is imported unless the environment sets them): on the shared 2-core machine OpenBLAS's default of one
@@ -15,11 +19,13 @@ for _v in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
 import time  # noqa: E402
 
 import numpy as np  # noqa: E402
+from _options import parser  # noqa: E402
 
 import cablecasing_core as cc  # noqa: E402
 from cablecasing_core.frequency.trfam import FrequencyResponse  # noqa: E402
 from cablecasing_core.structure.assembly import assemble_body  # noqa: E402
 
+parser(__doc__).parse_args()  # (no options: --help shows the above, a typo is refused)
 model = cc.load_model()
 f = np.linspace(10.0, 1000.0, 2000)
 cc.trfam_matrix(model, "casing", "A", "B", f[:10])  # warm-up (imports, BLAS)

@@ -4,8 +4,10 @@ The built-in specimen's scenario (contact on) on its own routing with the ends c
 the same with both casing ends on isolators and two clips (examples/installation.toml's mounts),
 alternated in one process so that the shared machine's load affects both alike; and the casing's
 TRFAM casing.A.z -> casing.B.z on 1981 frequencies (10-1000 Hz) by the modal sum (clamped) and by
-the banded direct solve (mounts).
-Run: .venv/bin/python benchmarks/bench_mounts.py [--duration 0.2] [--repeat 3]   (prints name: value)
+the banded direct solve (mounts). Prints ``name: value`` lines: us_per_step_clamped,
+us_per_step_mounted (µs per step, the fastest of the runs), step_cost_ratio_mounted_over_clamped,
+trfam_1981_frequencies_s_clamped and trfam_1981_frequencies_s_mounted (s).
+Run: .venv/bin/python benchmarks/bench_mounts.py [--duration 0.2] [--repeat 3]   (docs/performance.md's command)
 
 BLAS runs on one thread (OPENBLAS_NUM_THREADS, OMP_NUM_THREADS, MKL_NUM_THREADS = 1, set before numpy
 is imported unless the environment sets them), as benchmarks/bench_frequency.py: with OpenBLAS's
@@ -19,11 +21,11 @@ import os
 for _v in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_v, "1")  # (before numpy: BLAS reads it when it loads)
 
-import argparse  # noqa: E402
 import copy  # noqa: E402
 import time  # noqa: E402
 
 import numpy as np  # noqa: E402
+from _options import checked, integer, parser, seconds  # noqa: E402
 
 import cablecasing_core as cc  # noqa: E402
 from cablecasing_core.timedomain.engine import Engine  # noqa: E402
@@ -42,10 +44,13 @@ def mounted():
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--duration", type=float, default=0.2, help="model time per timed run, s (default 0.2)")
-    p.add_argument("--repeat", type=int, default=3, help="alternations of the two models, fastest kept (default 3)")
+    p = parser(__doc__)
+    p.add_argument("--duration", type=float, default=0.2, help="model time per timed run, s")
+    p.add_argument("--repeat", type=int, default=3, help="alternations of the two models, fastest kept")
     args = p.parse_args()
+    with checked(p):
+        seconds("--duration", args.duration)
+        integer("--repeat", args.repeat, 1)
     models = {"clamped": cc.load_model(), "mounted": mounted()}
     best = {}
     for _ in range(args.repeat):

@@ -1,7 +1,8 @@
 """Cost of the random excitation record (timedomain/random_record.py): its blocks on the run's grid,
 the whole support motion of a 1 s run, and its share of a run.
 
-Run: .venv/bin/python benchmarks/bench_record.py [--duration 1.0] [--repeat 3]   (prints name: value lines)
+Run: .venv/bin/python benchmarks/bench_record.py [--duration 1.0] [--repeat 3]   (docs/performance.md's command)
+Prints ``name: value`` lines:
 
 * record_lines, record_block_samples: lines of the default random excitation (10-1000 Hz at 1/64 Hz)
   and samples per block at dt = 1e-5 s;
@@ -16,21 +17,25 @@ Run: .venv/bin/python benchmarks/bench_record.py [--duration 1.0] [--repeat 3]  
 
 from __future__ import annotations
 
-import argparse
 import time
 
 import numpy as np
+from _options import checked, integer, parser
 
 import cablecasing_core as cc
+from cablecasing_core.model.validators import number
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.random_record import RandomRecord
 from cablecasing_core.timedomain.scenario import scenario_motion
 
-p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])  # the first paragraph
+DT = 1e-5
+p = parser(__doc__)
 p.add_argument("--duration", type=float, default=1.0, help="s simulated by the motion and the simulate run")
 p.add_argument("--repeat", type=int, default=3, help="runs of each kind; the fastest counts (shared machine)")
 args = p.parse_args()
-DT = 1e-5
+with checked(p):
+    number("--duration", args.duration, ge=DT, unit="s")  # (one step at least)
+    integer("--repeat", args.repeat, 1)
 model = cc.load_model()
 cc.simulate(model, duration=0.01)  # compile or load the kernels
 

@@ -3,7 +3,7 @@
 Default model (35 + 35 elements), contact with friction, random excitation 10-1000 Hz at 5 m/s2 RMS at
 casing end A plus the cable's 50 Hz axial excitation, dt = 1e-5 s, on one core.
 Run: .venv/bin/python benchmarks/bench_time.py [--duration 1.0] [--repeat 3] [--model installed] [--speed-only]
-(prints name: value lines)
+(prints name: value lines; docs/performance.md's figures: ``--duration 1.0 --repeat 1``)
 
 The installed specimen (docs/installed.md; the same scenario from the static state, the cable on
 the wall in the bends): rtf_installed, us_per_step_installed, mean_active_contacts_installed (and
@@ -83,13 +83,14 @@ Run: .venv/bin/python benchmarks/bench_time.py --duration 1.0 --ensemble 16   (1
 2-core machine, 14.3 of them the ensemble; see docs/time_domain.md for the figures)
 """
 
-import argparse
 import json
 import time
 from multiprocessing import get_context
 from pathlib import Path
 
 import numpy as np
+from _options import checked, integer, parser, seconds
+from _options import model as model_option
 from _record_length import require_band_record
 from numba import njit
 
@@ -122,8 +123,8 @@ def block_solves_us(factors, n=20000):
     return total * 1e6
 
 
-p = argparse.ArgumentParser()
-p.add_argument("--duration", type=float, default=1.0)
+p = parser(__doc__)
+p.add_argument("--duration", type=float, default=1.0, help="s simulated per run")
 p.add_argument(
     "--model",
     default="default",
@@ -138,8 +139,8 @@ p.add_argument(
     "1 s records: the rest then holds 47 whole periods of the 50 Hz drive, whose strong line would otherwise "
     "leak into the bands beside it)",
 )
-p.add_argument("--repeat", type=int, default=3)
-p.add_argument("--ensemble", type=int, default=0, help="seeds of the ensemble accuracy check (0: skip it)")
+p.add_argument("--repeat", type=int, default=3, help="timed runs of each kind; the fastest counts (shared machine)")
+p.add_argument("--ensemble", type=int, default=0, help="seeds of the ensemble accuracy check (0: skip it; else >= 2)")
 p.add_argument("--workers", type=int, default=2, help="processes of the ensemble runs")
 p.add_argument("--ensemble-save", default=None, help="write the ensemble's band levels to this .npz")
 p.add_argument(
@@ -150,6 +151,16 @@ p.add_argument(
     "the contacts' rattle, docs/time_domain.md)",
 )
 args = p.parse_args()
+with checked(p):
+    seconds("--duration", args.duration)
+    seconds("--skip", args.skip, zero_ok=True)
+    integer("--repeat", args.repeat, 1)
+    integer("--workers", args.workers, 1)
+    if args.ensemble != 0:
+        integer("--ensemble", args.ensemble, 2)  # (a standard error needs two seeds)
+    if args.speed_only and args.ensemble:
+        p.error(f"--ensemble = {args.ensemble} with --speed-only: the ensemble is an accuracy check; leave one out")
+    model_option("--model", args.model)
 if not 1e-8 <= args.ensemble_reference_dt < 1e-5:
     p.error(f"--ensemble-reference-dt {args.ensemble_reference_dt}: must lie in [1e-8 s, 1e-5 s)")
 if not args.speed_only:  # the accuracy checks take band levels of the records

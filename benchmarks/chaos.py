@@ -10,7 +10,7 @@ casing.B.Fz history is compared with the record at dt = 1e-5 s:
 * contact_off_eps_1e-09, contact_off_dt_2.5e-06: the same two comparisons without contact.
 
 Separation s(t): the RMS of the difference over windows of ``--window`` s, over the RMS of the
-reference after 0.05 s. Printed per variant:
+reference after 0.05 s. Printed per variant, as ``name: value`` lines:
 * <variant>_initial_separation: s in the window ending at 0.02 s (after the 0.01 s fade-in);
 * <variant>_crossing_s: the first time s exceeds 1e-10, 1e-9, ..., 1e-1 (nan: never);
 * <variant>_efold_s: the e-folding time of s, the least-squares slope of those crossing times
@@ -26,13 +26,13 @@ Run: .venv/bin/python benchmarks/chaos.py [--duration 0.5] [--window 0.002] [--p
 on the shared 2-core machine, one core).
 """
 
-import argparse
-
 import numpy as np
+from _options import checked, parser
 
 import cablecasing_core as cc
+from cablecasing_core.errors import ModelError
 
-p = argparse.ArgumentParser()
+p = parser(__doc__)
 p.add_argument("--duration", type=float, default=0.5, help="s simulated per run")
 p.add_argument("--window", type=float, default=0.002, help="s per window of the separation")
 p.add_argument("--plot", default=None, help="write the separation histories to this PNG")
@@ -59,7 +59,11 @@ for kv in args.set:
         overrides[key] = float(value)
     except ValueError:
         p.error(f"--set {kv!r}: expected KEY=NUMBER, e.g. contact.damping=0")
-model = model.with_overrides(overrides) if overrides else model  # with_overrides checks the keys
+with checked(p):
+    try:
+        model = model.with_overrides(overrides) if overrides else model  # with_overrides checks the keys
+    except ModelError as exc:
+        raise ModelError("--set", args.set, str(exc)) from None
 rms0 = model.scenario["excitation"]["casing_random"]["rms"]
 
 

@@ -11,8 +11,8 @@ is banded with a half-bandwidth of 23 DOFs (cable node i's last DOF to casing no
 each iteration factors that band anew: its cost is a floor of the design's step, before the search,
 the law and the response are counted.
 
-Printed: us_per_step_installed (the engine's installed step at 1e-5 s over ``--duration`` s of its
-scenario, the fastest of ``--repeat`` runs), us_band_factorization (the package's band LU,
+Printed as ``name: value`` lines: us_per_step_installed (the engine's installed step at 1e-5 s over
+``--duration`` s of its scenario, the fastest of ``--repeat`` runs), us_band_factorization (the package's band LU,
 ``_band_lu_factor`` of the contact Newton, on that band: the fastest of ``--repeat`` rounds of 200,
 alternating with the runs, less the copy of the matrix that each takes), newton_iterations_per_step (the engine's), and
 condensed_floor_over_step: the factorizations of one step (one per Newton iteration) over the whole
@@ -21,22 +21,25 @@ Run: .venv/bin/python benchmarks/condensed_contact_bound.py [--duration 0.05] [-
 (about 10 s on one core).
 """
 
-import argparse
 import time
 
 import numpy as np
+from _options import checked, integer, parser
 
 import cablecasing_core as cc
+from cablecasing_core.model.validators import number
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.kernels._contact_newton_for_fixed_modes import _band_lu_factor
 from cablecasing_core.timedomain.scenario import scenario_motion
 
-p = argparse.ArgumentParser()
-p.add_argument("--duration", type=float, default=0.05)
-p.add_argument("--repeat", type=int, default=5)
-args = p.parse_args()
-
 DT = 1e-5
+p = parser(__doc__)
+p.add_argument("--duration", type=float, default=0.05, help="s of the installed scenario per timed run")
+p.add_argument("--repeat", type=int, default=5, help="timed runs (and rounds of factorizations); the fastest counts")
+args = p.parse_args()
+with checked(p):
+    number("--duration", args.duration, ge=DT, unit="s")  # (one step at least)
+    integer("--repeat", args.repeat, 1)
 model = cc.load_model("installed")
 n_nodes = model.geometry["n_elements"] + 1
 m, band = 12 * n_nodes, 23  # (12 DOFs a station; cable node i to casing node i - 1: 12 + 11)

@@ -24,12 +24,14 @@ Run (2026-12-06, one core, 1.7 min of runs; docs/time_domain.md "The mesh" has i
   .venv/bin/python benchmarks/contact_between_nodes.py
 """
 
-import argparse
 import time
 
 import numpy as np
+from _options import checked, parser, seconds
 
 import cablecasing_core as cc
+from cablecasing_core.model.schema import lookup
+from cablecasing_core.model.validators import number
 from cablecasing_core.timedomain import kernels as K
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion
@@ -91,14 +93,19 @@ def measure(spec, n, duration, every):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--specimen", nargs="+", default=["default", "installed"], choices=["default", "installed"])
-    ap.add_argument("--elements", nargs="+", type=int, default=[35, 70, 140, 280])
+    ap = parser(__doc__)
+    ap.add_argument(
+        "--specimen", nargs="+", default=["default", "installed"], choices=["default", "installed"], help="specimens"
+    )
+    ap.add_argument("--elements", nargs="+", type=int, default=[35, 70, 140, 280], help="meshes (elements per body)")
     ap.add_argument("--duration", type=float, default=0.3, help="s simulated per run")
     ap.add_argument("--every", type=float, default=5e-4, help="s between samples")
     args = ap.parse_args()
-    if args.duration <= SETTLE or args.every <= 0:
-        ap.error(f"--duration must exceed {SETTLE} s and --every be > 0 s")
+    with checked(ap):
+        number("--duration", args.duration, gt=SETTLE, unit="s")  # (samples are taken after SETTLE s)
+        seconds("--every", args.every)
+        for n in args.elements:
+            lookup("geometry.n_elements").check(n, "--elements")
     print(f"date: {time.strftime('%Y-%m-%d %H:%M')}")
     for spec in args.specimen:
         for n in args.elements:

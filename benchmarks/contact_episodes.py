@@ -19,13 +19,12 @@ it converges (docs/time_domain.md, Known limits).
 Run: .venv/bin/python benchmarks/contact_episodes.py [--duration 0.5]   (about 30 s, one core)
 """
 
-import argparse
-
 import numpy as np
+from _options import parser
 
 import cablecasing_core as cc
 
-p = argparse.ArgumentParser()
+p = parser(__doc__)
 p.add_argument("--duration", type=float, default=0.5, help="s simulated per run")
 args = p.parse_args()
 if not args.duration >= 0.1:

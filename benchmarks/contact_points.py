@@ -23,13 +23,14 @@ Run (2026-12-06, 2 workers):
   .venv/bin/python benchmarks/contact_points.py --specimen default --seeds 64
 """
 
-import argparse
 import time
 from multiprocessing import get_context
 
 import numpy as np
+from _options import checked, integer, parser
 from mesh_refinement import DEFAULT_SKIP, member, paper_law_length
 
+from cablecasing_core.errors import ModelError
 from cablecasing_core.timedomain import engine
 from cablecasing_core.timedomain.engine import contact_shares
 
@@ -58,13 +59,27 @@ def run(job):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--specimen", default="installed", choices=["default", "installed"])
-    ap.add_argument("--variants", nargs="+", default=["35/1", "70/1", "70/2", "140/1", "140/2", "140/4"])
-    ap.add_argument("--seeds", type=int, default=2)
-    ap.add_argument("--workers", type=int, default=2)
+    ap = parser(__doc__)
+    ap.add_argument("--specimen", default="installed", choices=["default", "installed"], help="the specimen")
+    ap.add_argument(
+        "--variants",
+        nargs="+",
+        default=["35/1", "70/1", "70/2", "140/1", "140/2", "140/4"],
+        metavar="N/S",
+        help="meshes N with the contact at every S-th cable node (S divides N)",
+    )
+    ap.add_argument("--seeds", type=int, default=2, help="seeds 1..N of the casing's random excitation")
+    ap.add_argument("--workers", type=int, default=2, help="processes")
     args = ap.parse_args()
-    variants = [tuple(int(x) for x in v.split("/")) for v in args.variants]
+    variants = []
+    with checked(ap):
+        integer("--seeds", args.seeds, 2)  # (a standard error needs two seeds)
+        integer("--workers", args.workers, 1)
+        for v in args.variants:
+            n, _, k = v.partition("/")
+            if not (n.isdigit() and k.isdigit() and int(n) >= 1 and int(k) >= 1 and int(n) % int(k) == 0):
+                raise ModelError("--variants", v, "must be N/S, two whole numbers >= 1, S dividing N (e.g. 70/2)")
+            variants.append((int(n), int(k)))
     spec = args.specimen
     law_length = paper_law_length(spec)
     jobs = [(spec, n, k, s, DEFAULT_SKIP[spec], law_length) for s in range(1, args.seeds + 1) for n, k in variants]

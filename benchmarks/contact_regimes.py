@@ -3,11 +3,12 @@ where the cable lies along the wall (~5.5 contacts per step instead of ~2, docs/
 
 For seeds 1..N of ``scenario.excitation.casing_random.seed`` (everything else default), a record of
 ``--duration`` s at dt = 1e-5 s; prints per seed the mean contacts per step in each tenth of the
-record, the wall time per step (µs) and HIGH when a tenth exceeds 4 contacts per step; then the share
-of such records and the speed read over seeds: the median and quartiles of the wall time per step,
-rtf_median_over_seeds (simulated seconds per wall second at the median) and the median of each
-regime. With ``--workers 1`` the records run one after another on one core, as bench_time.py's;
-with 2 the two processes share the machine and the times are indicative only.
+record, the wall time per step (µs) and HIGH when a tenth exceeds 4 contacts per step; then (as
+``name: value`` lines) the share of such records and the speed read over seeds: the median and
+quartiles of the wall time per step, rtf_median_over_seeds (simulated seconds per wall second at
+the median) and the median of each regime. With
+``--workers 1`` the records run one after another on one core, as bench_time.py's; with 2 the two
+processes share the machine and the times are indicative only.
 
 Cost per contact: every record is also timed chunk by chunk (the engine evaluates the support
 motion once per ``Engine.CHUNK`` steps; the wall time between the end of one evaluation and the
@@ -17,16 +18,18 @@ per step (µs) = a + b x (contacts per step in that chunk), so an FMU user can b
 contacts. ``--rms`` repeats the seeds at other RMS accelerations of the casing's random excitation
 (m/s2), which spreads the contact counts the fit is read over.
 Run: .venv/bin/python benchmarks/contact_regimes.py [--seeds 24] [--duration 1.0] [--workers 2]
-     [--rms 5 10 20]
+     [--rms 5 10 20]   (docs/performance.md: ``--seeds 8 --duration 1.0 --workers 1 --rms 5 20``)
 """
 
-import argparse
 import time
 from multiprocessing import get_context
 
 import numpy as np
+from _options import checked, integer, parser
 
 import cablecasing_core as cc
+from cablecasing_core.model.schema import lookup
+from cablecasing_core.model.validators import number
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion
 
@@ -65,10 +68,10 @@ def run(job):
 
 
 if __name__ == "__main__":
-    p = argparse.ArgumentParser()
-    p.add_argument("--seeds", type=int, default=24)
-    p.add_argument("--duration", type=float, default=1.0)
-    p.add_argument("--workers", type=int, default=2)
+    p = parser(__doc__)
+    p.add_argument("--seeds", type=int, default=24, help="seeds 1..N of the casing's random excitation")
+    p.add_argument("--duration", type=float, default=1.0, help="s simulated per record")
+    p.add_argument("--workers", type=int, default=2, help="processes")
     p.add_argument(
         "--rms",
         type=float,
@@ -77,6 +80,13 @@ if __name__ == "__main__":
         help="RMS accelerations (m/s2) of the casing's random excitation; 5 is the reference case",
     )
     args = p.parse_args()
+    with checked(p):
+        integer("--seeds", args.seeds, 1)
+        # (the cost model leaves out each record's first chunk: two chunks at least)
+        number("--duration", args.duration, ge=2 * Engine.CHUNK * 1e-5, unit="s")
+        integer("--workers", args.workers, 1)
+        for rms in args.rms:
+            lookup("scenario.excitation.casing_random.rms").check(rms, "--rms")
     run((1, args.rms[0], 0.01))  # numba cache
     walls = {False: [], True: []}
     chunks = []

@@ -8,8 +8,9 @@ in turn by 0.01 s chunks (``_alternating.alternate``) after a 2 ms warm-up:
   and no contact closes: the step plus the contact's bookkeeping (the far test, the zeroed
   forces, the ledger's contact work, the copies of the contact memory);
 * full: the default step.
-Printed (medians over the chunks, µs per step): us_per_step_contact_free, us_per_step_all_far,
-us_per_step_full, contacts_per_step (closed contacts per step of the full engine, warm-up included),
+Printed as ``name: value`` lines (medians over the chunks, µs per step): us_per_step_contact_free,
+us_per_step_all_far, us_per_step_full, contacts_per_step (closed contacts per step of the full
+engine, warm-up included),
 contact_bookkeeping_us_per_step (all_far - contact_free), contact_work_us_per_contact
 ((full - all_far) / contacts_per_step), and rtf_coupled_from_full_median.
 What the parts are, and what was tried on each: docs/performance.md, "What bounds `rtf_coupled` at
@@ -18,20 +19,23 @@ Run: .venv/bin/python benchmarks/default_step_parts.py [--rounds 100] [--dt 1e-5
 (about 10 s on one core at the defaults).
 """
 
-import argparse
-
 import numpy as np
 from _alternating import alternate
+from _options import checked, divides, integer, parser, time_step
 
 import cablecasing_core as cc
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion
 
-p = argparse.ArgumentParser()
-p.add_argument("--rounds", type=int, default=100, help="0.01 s chunks per engine")
-p.add_argument("--dt", type=float, default=1e-5, help="time step (s)")
-args = p.parse_args()
 CHUNK = 0.01
+p = parser(__doc__)
+p.add_argument("--rounds", type=int, default=100, help="0.01 s chunks per engine")
+p.add_argument("--dt", type=float, default=1e-5, help="time step (s); it divides the 0.01 s chunk")
+args = p.parse_args()
+with checked(p):
+    integer("--rounds", args.rounds, 1)
+    time_step("--dt", args.dt)
+    divides("--dt", args.dt, "the chunk", CHUNK)
 model = cc.load_model()
 motion = scenario_motion(model, dt=args.dt)
 engines = {

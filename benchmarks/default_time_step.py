@@ -2,8 +2,8 @@
 
 One engine per time step (the built-in model, its scenario, records on, ledger off, as
 ``cc.simulate`` runs it), advanced in turn by ``--chunk`` s (0.02 by default;
-``_alternating.alternate``), ``--duration`` s each after a 2 ms warm-up. Printed per step
-(``<dt>`` to four digits, 1.333e-05 for 1/75000 s):
+``_alternating.alternate``), ``--duration`` s each after a 2 ms warm-up. Printed per step as
+``name: value`` lines (``<dt>`` to four digits, 1.333e-05 for 1/75000 s):
 * rtf_coupled_dt<dt>: simulated over wall-clock time;
 * us_per_step_dt<dt>: wall-clock µs per step;
 * contacts_per_step_dt<dt>: closed contacts per recorded step (mean);
@@ -14,16 +14,16 @@ Run: .venv/bin/python benchmarks/default_time_step.py [--dt 1e-5,1.3333333333333
 [--duration 2.0] (about 10 s on one core at the defaults).
 """
 
-import argparse
-
 import numpy as np
 from _alternating import alternate
+from _options import checked, divides, parser, seconds, time_step
 
 import cablecasing_core as cc
+from cablecasing_core.errors import ModelError
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion
 
-p = argparse.ArgumentParser()
+p = parser(__doc__)
 p.add_argument(
     "--dt",
     default="1e-5,1.3333333333333333e-5,1.6666666666666667e-5,2e-5",
@@ -32,7 +32,18 @@ p.add_argument(
 p.add_argument("--duration", type=float, default=2.0, help="s simulated per time step")
 p.add_argument("--chunk", type=float, default=0.02, help="s simulated per turn")
 args = p.parse_args()
-dts = [float(x) for x in args.dt.split(",")]
+with checked(p):
+    seconds("--chunk", args.chunk)
+    if not args.duration >= args.chunk:
+        raise ModelError("--duration", args.duration, f"must be at least --chunk = {args.chunk:g} s")
+    dts = []
+    for text in args.dt.split(","):
+        try:
+            dts.append(float(text))
+        except ValueError:
+            raise ModelError("--dt", text, "must be comma-separated time steps in s, e.g. 1e-5,2e-5") from None
+        time_step("--dt", dts[-1])
+        divides("--dt", dts[-1], "--chunk", args.chunk)
 names = [f"{dt:.4g}" for dt in dts]
 model = cc.load_model()
 engines = [Engine(model, dt=dt, ledger=False, record=True) for dt in dts]

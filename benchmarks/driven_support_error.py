@@ -14,12 +14,13 @@ bit (tests/fmu), so these are the FMU's figures; they do not depend on the machi
     .venv/bin/python benchmarks/driven_support_error.py [--frequencies 100 300 600 1000] [--steps 1e-4 5e-5 2e-5]
 """
 
-import argparse
-
 import numpy as np
+from _options import checked, parser
 
 import cablecasing_core as cc
+from cablecasing_core.errors import renamed
 from cablecasing_core.model.schema import CHANNELS
+from cablecasing_core.model.validators import number
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion
 from cablecasing_core.timedomain.support_motion import SupportReconstruction
@@ -44,25 +45,29 @@ def force(model, h, exact):
 
 
 def main():
-    parser = argparse.ArgumentParser(
-        description=__doc__.split("\n\n")[0], formatter_class=argparse.RawTextHelpFormatter
-    )
-    parser.add_argument("--frequencies", type=float, nargs="+", default=[100.0, 300.0, 600.0, 1000.0], help="Hz")
-    parser.add_argument("--steps", type=float, nargs="+", default=[1e-4, 5e-5, 2e-5], help="communication steps h, s")
-    args = parser.parse_args()
+    p = parser(__doc__)
+    p.add_argument("--frequencies", type=float, nargs="+", default=[100.0, 300.0, 600.0, 1000.0], help="Hz")
+    p.add_argument("--steps", type=float, nargs="+", default=[1e-4, 5e-5, 2e-5], help="communication steps h, s")
+    args = p.parse_args()
     assert "casing.A.y" in CHANNELS
     base = (
         cc.load_model().without_excitations(["casing_random", "cable_axial"]).with_overrides({"contact.enabled": False})
     )
-    for f in args.frequencies:
-        model = base.with_overrides(
-            {
-                "scenario.excitation.tone.kind": "harmonic",
-                "scenario.excitation.tone.target": "casing.A.y",
-                "scenario.excitation.tone.frequency": f,
-                "scenario.excitation.tone.amplitude": AMPLITUDE,
-            }
-        )
+    models = {}
+    with checked(p):
+        for h in args.steps:
+            number("--steps", h, gt=0, le=DURATION / 2, unit="s")  # (two steps of the run at least)
+        with renamed({"scenario.excitation.tone.frequency": "--frequencies"}):
+            for f in args.frequencies:
+                models[f] = base.with_overrides(
+                    {
+                        "scenario.excitation.tone.kind": "harmonic",
+                        "scenario.excitation.tone.target": "casing.A.y",
+                        "scenario.excitation.tone.frequency": f,
+                        "scenario.excitation.tone.amplitude": AMPLITUDE,
+                    }
+                )
+    for f, model in models.items():
         for h in args.steps:
             ref, got = force(model, h, True), force(model, h, False)
             err = float(np.sqrt(np.mean((got - ref) ** 2) / np.mean(ref**2)))

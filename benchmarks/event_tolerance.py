@@ -7,29 +7,36 @@ before the contact response decorrelates), refined_share_<name> (steps recompute
 and cost_<name> (the engine's wall time over the plain 1e-5 s step's, median of 0.01 s chunks over
 --duration s, every setting alternating in one process, so robust to the machine's drift; with the
 quartiles).
+Prints ``name: value`` lines.
 Run: .venv/bin/python benchmarks/event_tolerance.py [--model installed] [--duration 0.4] [--early 0.05]
+(docs/time_domain.md: the command as it is, and ``--model default``)
 """
 
-import argparse
 import time
 
 import numpy as np
+from _options import checked, divides, model, parser, time_step, whole_steps
 
-import cablecasing_core as cc
 from cablecasing_core.model.schema import SUPPORT_OUTPUTS
+from cablecasing_core.model.validators import number
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion
 
-p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])  # the first paragraph
+DT = 1e-5
+p = parser(__doc__)
 p.add_argument("--model", default="installed", help="a built-in specimen (installed, default) or a model file")
 p.add_argument("--duration", type=float, default=0.4, help="s of the cost comparison")
 p.add_argument("--early", type=float, default=0.05, help="s of the record compared with the reference")
 p.add_argument("--reference-dt", type=float, default=3.125e-7, help="s: the uniform step of the reference")
 args = p.parse_args()
+with checked(p):
+    specimen = model("--model", args.model)
+    number("--duration", args.duration, ge=0.01, unit="s")  # (one 0.01 s chunk at least)
+    whole_steps("--early", args.early, DT)  # (compared on the 1e-5 s grid)
+    time_step("--reference-dt", args.reference_dt)
+    divides("--reference-dt", args.reference_dt, "the grid's step", DT)
 
-DT = 1e-5
 FZ = SUPPORT_OUTPUTS.index("casing.B.Fz")
-specimen = cc.load_model(args.model)
 # name: (time step s, contact.event_tolerance m)
 SETTINGS = {
     "plain": (DT, 0.0),

@@ -11,17 +11,17 @@ machine's drift falls on both alike (docs/performance.md). Prints name: value li
 Run: .venv/bin/python benchmarks/friction_laws.py [--duration 0.3] [--chunk 0.01]   (about 1 min)
 """
 
-import argparse
 import time
 
 import numpy as np
+from _options import parser
 
 import cablecasing_core as cc
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion
 
 DT = 1e-5
-p = argparse.ArgumentParser()
+p = parser(__doc__)
 p.add_argument("--duration", type=float, default=0.3, help="s simulated by each engine")
 p.add_argument("--chunk", type=float, default=0.01, help="s per alternating chunk")
 args = p.parse_args()

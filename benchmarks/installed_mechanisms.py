@@ -26,12 +26,12 @@ Run: .venv/bin/python benchmarks/installed_mechanisms.py [--seeds 2] [--duration
 (prints name: value lines; about 20 s per record on the shared 2-core machine)
 """
 
-import argparse
-
 import numpy as np
+from _options import checked, integer, parser, seconds
 from _record_length import require_band_record
 
 import cablecasing_core as cc
+from cablecasing_core.errors import ModelError
 from cablecasing_core.nvh.bands import window_options
 from cablecasing_core.records import after_skip
 from cablecasing_core.studies import octave_rms
@@ -49,16 +49,47 @@ INSTALLATIONS = {
 }
 SEED_KEY = "scenario.excitation.casing_random.seed"
 
-p = argparse.ArgumentParser()
-p.add_argument("--seeds", type=int, default=2)
-p.add_argument("--duration", type=float, default=1.0)
+p = parser(__doc__)
+p.add_argument("--seeds", type=int, default=2, help="seeds 1..N of the casing's random excitation per record")
+p.add_argument("--duration", type=float, default=1.0, help="s per record")
 p.add_argument("--skip", type=float, default=0.06, help="s of each record left out (the fade-in, the transient)")
-p.add_argument("--only", nargs="*", default=list(INSTALLATIONS), help="installations to run")
+p.add_argument(
+    "--only", nargs="*", default=list(INSTALLATIONS), choices=list(INSTALLATIONS), help="installations to run"
+)
 p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="another override for every run")
-p.add_argument("--vary", nargs=3, default=["contact.friction", "0.05", "0.2"], metavar=("KEY", "LOW", "HIGH"))
+p.add_argument(
+    "--vary",
+    nargs=3,
+    default=["contact.friction", "0.05", "0.2"],
+    metavar=("KEY", "LOW", "HIGH"),
+    help="the parameter varied and its two values",
+)
 args = p.parse_args()
+EXTRA = {}
+with checked(p):
+    integer("--seeds", args.seeds, 1)
+    seconds("--duration", args.duration)
+    seconds("--skip", args.skip, zero_ok=True)
+    for kv in args.set:
+        k, eq, v = kv.partition("=")
+        try:
+            EXTRA[k] = float(v)
+        except ValueError:
+            raise ModelError("--set", kv, "must be KEY=NUMBER, e.g. casing.d_inner=0.004") from None
+        if not eq:
+            raise ModelError("--set", kv, "must be KEY=NUMBER, e.g. casing.d_inner=0.004")
+    try:
+        VALUES = (float(args.vary[1]), float(args.vary[2]))
+    except ValueError:
+        raise ModelError("--vary", " ".join(args.vary), "must be KEY LOW HIGH, two numbers") from None
+    for name in args.only:  # (every model the runs make, made once before them: a key or value refused now)
+        spec, over = INSTALLATIONS[name]
+        for value in VALUES:
+            try:
+                cc.load_model(spec).with_overrides({**over, **EXTRA, args.vary[0]: value})
+            except ModelError as exc:
+                raise ModelError("--set/--vary", [*args.set, *args.vary], f"{name}: {exc}") from None
 require_band_record(p, args.duration, args.skip)
-EXTRA = {k: float(v) for k, v in (kv.split("=", 1) for kv in args.set)}
 
 
 def transitions(first, second, nodes, reach=3):
@@ -77,7 +108,7 @@ def bends(curvature):
 for name in args.only:
     spec, over = INSTALLATIONS[name]
     key = args.vary[0]
-    for value in (float(args.vary[1]), float(args.vary[2])):
+    for value in VALUES:
         rows, levels = [], []
         for seed in range(1, args.seeds + 1):
             m = cc.load_model(spec).with_overrides({**over, **EXTRA, key: value, SEED_KEY: seed})

@@ -4,8 +4,8 @@ On the installed specimen the drive's response dominates octaves 3-9 and is hard
 (a 1e-9 change of the input moves those bands by under 0.3 %; ``benchmarks/bench_time.py --model
 installed``), so one record per time step shows the discretisation error of those bands directly,
 without an ensemble. Runs the default scenario of a model (default: ``installed``) for
-``--duration`` s at each of ``--dts`` and prints, per time step, the nine Table 3 band levels of
-casing.B.Fz after ``--skip`` s (N), their relative difference from the finest step, the contacts
+``--duration`` s at each of ``--dts`` and prints as ``name: value`` lines, per time step, the nine
+Table 3 band levels of casing.B.Fz after ``--skip`` s (N), their relative difference from the finest step, the contacts
 per step, the stick share of the closed contacts and the contact Newton iterations per step.
 
 A run is ``DT`` or ``DT:SUBSTEPS`` (``contact.event_substeps``: the steps in which a contact
@@ -26,14 +26,15 @@ Run: .venv/bin/python benchmarks/installed_time_step.py [--dts 1e-5 1e-5:8 2.5e-
 shared machine)
 """
 
-import argparse
 import json
 import time
 
 import numpy as np
+from _options import checked, parser, seconds, seeds, step_runs
+from _options import model as model_option
 from _record_length import require_band_record
 
-import cablecasing_core as cc
+from cablecasing_core.errors import ModelError
 from cablecasing_core.files import write_text
 from cablecasing_core.model.load import toml_value
 from cablecasing_core.model.schema import SUPPORT_OUTPUTS
@@ -43,13 +44,13 @@ from cablecasing_core.studies import octave_rms
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion
 
-p = argparse.ArgumentParser()
-p.add_argument("--model", default="installed")
+p = parser(__doc__)
+p.add_argument("--model", default="installed", help="a built-in specimen (installed, default) or a model file")
 p.add_argument("--dts", nargs="+", default=["1e-5", "5e-6", "2.5e-6", "1.25e-6"], help="DT or DT:SUBSTEPS (s, 1)")
-p.add_argument("--seed", type=int, default=1)
-p.add_argument("--duration", type=float, default=1.0)
+p.add_argument("--seed", type=int, default=1, help="seed of the casing's random excitation")
+p.add_argument("--duration", type=float, default=1.0, help="s per run")
 p.add_argument("--skip", type=float, default=0.06, help="s left out (0.06: whole periods of the 50 Hz drive)")
-p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="a model override for every run")
 p.add_argument(
     "--window",
     choices=("boxcar", "hann"),
@@ -61,13 +62,25 @@ p.add_argument(
     "--json", help="write the band levels of every run to this file (bench_time.py reads it as the reference)"
 )
 args = p.parse_args()
+with checked(p):
+    seeds("--seed", args.seed)
+    seconds("--duration", args.duration)
+    seconds("--skip", args.skip, zero_ok=True)
+    over = {}
+    for kv in args.set:
+        k, eq, v = kv.partition("=")
+        if not (k and eq):
+            raise ModelError("--set", kv, "must be KEY=VALUE, e.g. contact.damping=0")
+        over[k] = toml_value(v)
+    own = model_option("--model", args.model)
+    try:
+        model = own.with_overrides({**over, "scenario.excitation.casing_random.seed": args.seed})
+    except ModelError as exc:
+        raise ModelError("--set", args.set, str(exc)) from None
+    runs = step_runs("--dts", args.dts, model)
 require_band_record(p, args.duration, args.skip)
-over = {k: toml_value(v) for k, v in (kv.split("=", 1) for kv in args.set)}
-model = cc.load_model(args.model).with_overrides({**over, "scenario.excitation.casing_random.seed": args.seed})
 col = SUPPORT_OUTPUTS.index("casing.B.Fz")
-runs = sorted(
-    ((float(d), int(n or 1)) for d, _, n in (x.partition(":") for x in args.dts)), key=lambda r: (-r[0], r[1])
-)
+runs.sort(key=lambda r: (-r[0], r[1]))
 levels = {}
 for dt, nsub in runs:
     eng = Engine(model.with_overrides({"contact.event_substeps": nsub}), dt=dt, ledger=False, record=True)

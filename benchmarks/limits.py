@@ -2,13 +2,18 @@
 memory of the frequency domain's dense eigenproblem and of a short time-domain run against the
 number of elements, each in a fresh process (peak memory is per process).
 
-Run: .venv/bin/python benchmarks/limits.py   (prints name: value lines; about 2 minutes, and at its
-largest sizes several GB of memory per process)
+Prints ``name: value`` lines: ``modes_<n>_elements_s`` (one body's modes), ``simulate_<n>_elements_s``
+(20 steps of two bodies, with the engine's set-up), each with ``..._peak_GB``, or
+``<what>_<n>_elements: refused`` and the refusal (after ``#``).
+
+Run: .venv/bin/python benchmarks/limits.py   (about 2 minutes, and at its largest sizes several GB
+of memory per process; docs/performance.md's command)
 """
 
-import argparse
 import subprocess
 import sys
+
+from _options import checked, integer, parser
 
 CHILD = r"""
 import resource, sys, time
@@ -25,7 +30,7 @@ print(time.perf_counter() - t0, resource.getrusage(resource.RUSAGE_SELF).ru_maxr
 
 
 def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = parser(__doc__)
     # 600 elements lies beyond the frequency domain's limit (MAX_DENSE_ELEMENTS = 500): its line shows the
     # refusal, which costs nothing, where a run would have taken a minute
     p.add_argument(
@@ -45,6 +50,10 @@ def main(argv=None):
         help="elements of the 20-step runs timed (default: 35 200 500 1000)",
     )
     args = p.parse_args(argv)
+    with checked(p):
+        for option, sizes in (("--modes", args.modes), ("--simulate", args.simulate)):
+            for n in sizes:
+                integer(option, n, 1)
     for what, sizes in (("modes", args.modes), ("simulate", args.simulate)):
         for n in sizes:
             out = subprocess.run([sys.executable, "-c", CHILD, str(n), what], capture_output=True, text=True)

@@ -83,7 +83,6 @@ Run (the cached run, docs/time_domain.md "The mesh"; 27.6 min of runs on the sha
 (``--seeds 4`` first measures the members' cost: ``wall_s_per_member_*``)
 """
 
-import argparse
 import datetime
 import hashlib
 import json
@@ -95,6 +94,7 @@ from multiprocessing import get_context
 from pathlib import Path
 
 import numpy as np
+from _options import parser
 from _record_length import require_band_record
 
 HERE = Path(__file__).resolve().parent
@@ -467,7 +467,7 @@ def model_label(arg):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p = parser(__doc__)
     which = p.add_mutually_exclusive_group()
     which.add_argument("--specimen", nargs="+", choices=SPECIMENS, help="built-in specimens (default: both)")
     which.add_argument(
@@ -553,8 +553,14 @@ def main():
     if args.json is None:
         args.json = str(HERE / "mesh_refinement.json")
     specs = list(sources)
-    seeds = {k: int(v) for k, v in parse_per_spec(args.seeds, "--seeds", default_seeds, specs).items()}
-    skips = {k: float(v) for k, v in parse_per_spec(args.skip, "--skip", default_skip, specs).items()}
+    try:
+        seeds = {k: int(v) for k, v in parse_per_spec(args.seeds, "--seeds", default_seeds, specs).items()}
+    except ValueError:
+        p.error(f"--seeds = {' '.join(args.seeds)}: must be N or SPEC=N, N a whole number")
+    try:
+        skips = {k: float(v) for k, v in parse_per_spec(args.skip, "--skip", default_skip, specs).items()}
+    except ValueError:
+        p.error(f"--skip = {' '.join(args.skip)}: must be S or SPEC=S, S in s")
     if any(v < 2 for v in seeds.values()):
         p.error("--seeds: at least 2 per specimen")
     if args.workers < 1:

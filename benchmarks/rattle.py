@@ -22,13 +22,13 @@ Run: .venv/bin/python benchmarks/rattle.py [--node 8 --start 0.06049 --window 5e
 (about 10 s; the default node and start are a rattle of the reference record, seed 1, of the records of issue 25)
 """
 
-import argparse
+from _options import parser
 
 import cablecasing_core as cc
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion
 
-p = argparse.ArgumentParser()
+p = parser(__doc__)
 p.add_argument("--node", type=int, default=8, help="cable node to follow")
 p.add_argument("--start", type=float, default=0.06049, help="s: where the continuations start")
 p.add_argument("--window", type=float, default=5e-4, help="s simulated from --start")

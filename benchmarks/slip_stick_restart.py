@@ -16,17 +16,20 @@ within mu N, else slip with the friction against v1). The designs:
   right-hand limit at the event (zero when the spring's force is within mu N, so that the mass
   sticks; else the reversed slip's), not from the slip's acceleration the step carries.
 
-For each design and step: x_err_<design>_<dt>, v_err_<design>_<dt> (largest errors over 0.1 s,
-m and m/s), and order_x_<design>, order_v_<design> (log2 of the error ratio per halving, from
-5e-5 to 1.5625e-6 s, min-max). Seconds on one core; nothing here depends on the machine's speed.
-Run: .venv/bin/python benchmarks/slip_stick_restart.py
+Printed as ``name: value`` lines, for each design and step: x_err_<design>_<dt>,
+v_err_<design>_<dt> (largest errors over 0.1 s, m and m/s), and order_x_<design>, order_v_<design>
+(log2 of the error ratio per halving, from 5e-5 to 1.5625e-6 s, min-max). Seconds on one core;
+nothing here depends on the machine's speed.
+Run: .venv/bin/python benchmarks/slip_stick_restart.py   (no options)
 """
 
 import importlib.util
 from pathlib import Path
 
 import numpy as np
+from _options import parser
 
+parser(__doc__).parse_args()  # (no options: --help shows the above, a typo is refused)
 # the event-driven reference and the block's data, from the test that holds them (one copy)
 _spec = importlib.util.spec_from_file_location(
     "slip_reversal_reference", Path(__file__).parents[1] / "tests" / "timedomain" / "test_slip_reversal_events.py"

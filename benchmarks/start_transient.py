@@ -23,12 +23,13 @@ Run: .venv/bin/python benchmarks/start_transient.py [--parts long short] [--no-d
 on the shared 2-core machine, one core).
 """
 
-import argparse
 import warnings
 
 import numpy as np
+from _options import checked, parser, seeds
 
 import cablecasing_core as cc
+from cablecasing_core.errors import ModelError
 from cablecasing_core.studies import octave_rms
 from cablecasing_core.timedomain.simulation import simulate
 
@@ -38,12 +39,21 @@ PARTS = {
     "short": (1.75, [(0.0, 0.25), (0.25, 0.5), (0.5, 0.75), (0.75, 1.0)], (1.0, 1.75)),
 }
 
-p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-p.add_argument("--parts", nargs="+", choices=list(PARTS), default=list(PARTS))
-p.add_argument("--long-seeds", type=int, nargs=2, default=(401, 416), metavar=("FIRST", "LAST"))
-p.add_argument("--short-seeds", type=int, nargs=2, default=(301, 312), metavar=("FIRST", "LAST"))
+p = parser(__doc__)
+p.add_argument("--parts", nargs="+", choices=list(PARTS), default=list(PARTS), help="the parts to run")
+p.add_argument(
+    "--long-seeds", type=int, nargs=2, default=(401, 416), metavar=("FIRST", "LAST"), help="seeds of the long part"
+)
+p.add_argument(
+    "--short-seeds", type=int, nargs=2, default=(301, 312), metavar=("FIRST", "LAST"), help="seeds of the short part"
+)
 p.add_argument("--no-drive", action="store_true", help="the specimen without its cable drive (the control)")
 args = p.parse_args()
+with checked(p):
+    for option, (first, last) in (("--long-seeds", args.long_seeds), ("--short-seeds", args.short_seeds)):
+        seeds(option, [first, last])
+        if not first < last:  # (the mean's standard error needs two seeds)
+            raise ModelError(option, [first, last], "must be FIRST LAST with FIRST < LAST: two seeds at least")
 
 model = cc.load_model()
 if args.no_drive:

@@ -20,10 +20,10 @@ Run: .venv/bin/python benchmarks/stick_slip_switches.py [--dts 1e-5:8 6.25e-7 3.
 [--duration 0.06]   (about 4 min for the default runs on one core)
 """
 
-import argparse
 import time
 
 import numpy as np
+from _options import checked, parser, seconds, seeds, step_runs
 
 import cablecasing_core as cc
 from cablecasing_core.timedomain.engine import Engine
@@ -32,25 +32,27 @@ from cablecasing_core.timedomain.scenario import scenario_motion
 STICK, SLIP = 1, 2
 DRIVE_RATE = 400.0  # switches per second per node that the 50 Hz drive's reversals allow (1/s)
 
-p = argparse.ArgumentParser()
+p = parser(__doc__)
 p.add_argument(
     "--dts",
     nargs="+",
     default=["1e-5:8", "6.25e-7", "3.125e-7", "1.5625e-7", "7.8125e-8"],
     help="DT or DT:SUBSTEPS (s, 1)",
 )
-p.add_argument("--seed", type=int, default=1)
+p.add_argument("--seed", type=int, default=1, help="seed of the casing's random excitation")
 p.add_argument("--duration", type=float, default=0.06, help="s simulated per run")
 p.add_argument("--skip", type=float, default=0.02, help="s left out at the start")
 args = p.parse_args()
 if not args.duration > args.skip >= 0:
     p.error(f"--duration {args.duration}, --skip {args.skip}: need duration > skip >= 0 (s)")
-# the paper's switch law (the specimen's own friction is regularised and has no switches to count)
-switch = {"contact.friction_law": "switch", "scenario.excitation.casing_random.seed": args.seed}
-model = cc.load_model("installed").with_overrides(switch)
-for run in args.dts:
-    d, _, n = run.partition(":")
-    dt, nsub = float(d), int(n or 1)
+with checked(p):
+    seeds("--seed", args.seed)
+    seconds("--duration", args.duration)
+    # the paper's switch law (the specimen's own friction is regularised and has no switches to count)
+    switch = {"contact.friction_law": "switch", "scenario.excitation.casing_random.seed": args.seed}
+    model = cc.load_model("installed").with_overrides(switch)
+    runs = step_runs("--dts", args.dts, model)
+for dt, nsub in runs:
     eng = Engine(model.with_overrides({"contact.event_substeps": nsub}), dt=dt, ledger=False, record=True)
     wall = time.perf_counter()
     eng.advance(args.duration, scenario_motion(model, dt=dt))

@@ -2,7 +2,7 @@
 
 Tests take what they share from here as fixtures (no module of the tests imports another: pytest
 runs with ``--import-mode=importlib``). Areas: model/, frequency/, timedomain/, identification/, docs/,
-studies/, fmu/, cli/. Tests that take more than a few seconds on a warm numba cache, or start
+studies/, fmu/, cli/, benchmarks/. Tests that take more than a few seconds on a warm numba cache, or start
 processes (the FMU, dask clusters, the demo), are marked ``slow``; ``make test-fast`` leaves them out.
 """
 
