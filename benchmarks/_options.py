@@ -29,6 +29,7 @@ __all__ = [
     "divides",
     "integer",
     "model",
+    "output_file",
     "parser",
     "seconds",
     "seeds",
@@ -127,3 +128,14 @@ def model(option: str, source):
     except ModelError as exc:
         why = exc.allowed if exc.key == "model_file" else str(exc)
         raise ModelError(option, source, why) from None
+
+
+def output_file(option: str, path, suffixes) -> None:
+    """An output file checked before the runs: a name ending in one of ``suffixes`` (say ``.npz``:
+    the name is written as given, nothing appended), in an existing folder where a file can be
+    written (and matplotlib able to start, for a figure). None (no output asked for) passes. Write
+    it with :func:`cablecasing_core.files.atomic_path` or
+    :func:`cablecasing_core.plotting.save_figure` (atomically)."""
+    from cablecasing_core.cli.paths import check_output_path
+
+    check_output_path(option, path, suffixes)

@@ -76,7 +76,8 @@ too uncertain to read |r| / SE; records shorter than about 0.5 s have not fully 
 * octave_rms_single_record_max_rel_diff_median_over_seeds: what one record of each would show;
 * ensemble_seeds, ensemble_wall_s, ensemble_reference_dt, octave_rms_ensemble_mean_dt<ref> (band
   levels, N); ``--ensemble-save FILE.npz`` keeps the per-seed band levels (dt1e5, reference,
-  dt1e5_perturbed);
+  dt1e5_perturbed; the name must end in .npz, the file is checked before the runs and written
+  atomically after them);
 * perturbation_ensemble_*: the same for the chaos baseline, whose true value is 0: it shrinks like
   1 / sqrt(N), and so does every band where the dt comparison is chaos scatter rather than bias.
 Run: .venv/bin/python benchmarks/bench_time.py --duration 1.0 --ensemble 16   (17.5 min on the shared
@@ -89,12 +90,13 @@ from multiprocessing import get_context
 from pathlib import Path
 
 import numpy as np
-from _options import checked, integer, parser, seconds
+from _options import checked, integer, output_file, parser, seconds
 from _options import model as model_option
 from _record_length import require_band_record
 from numba import njit
 
 import cablecasing_core as cc
+from cablecasing_core.files import atomic_path
 from cablecasing_core.model.schema import SUPPORT_OUTPUTS
 from cablecasing_core.nvh.bands import window_options
 from cablecasing_core.records import after_skip
@@ -142,7 +144,12 @@ p.add_argument(
 p.add_argument("--repeat", type=int, default=3, help="timed runs of each kind; the fastest counts (shared machine)")
 p.add_argument("--ensemble", type=int, default=0, help="seeds of the ensemble accuracy check (0: skip it; else >= 2)")
 p.add_argument("--workers", type=int, default=2, help="processes of the ensemble runs")
-p.add_argument("--ensemble-save", default=None, help="write the ensemble's band levels to this .npz")
+p.add_argument(
+    "--ensemble-save",
+    default=None,
+    metavar="FILE.npz",
+    help="write the ensemble's band levels to this file (its name ends in .npz; written atomically)",
+)
 p.add_argument(
     "--ensemble-reference-dt",
     type=float,
@@ -160,6 +167,9 @@ with checked(p):
         integer("--ensemble", args.ensemble, 2)  # (a standard error needs two seeds)
     if args.speed_only and args.ensemble:
         p.error(f"--ensemble = {args.ensemble} with --speed-only: the ensemble is an accuracy check; leave one out")
+    if args.ensemble_save is not None and not args.ensemble:
+        p.error(f"--ensemble-save = {args.ensemble_save!r}: needs --ensemble N (the levels it writes)")
+    output_file("--ensemble-save", args.ensemble_save, (".npz",))
     model_option("--model", args.model)
 if not 1e-8 <= args.ensemble_reference_dt < 1e-5:
     p.error(f"--ensemble-reference-dt {args.ensemble_reference_dt}: must lie in [1e-8 s, 1e-5 s)")
@@ -543,12 +553,13 @@ if args.ensemble > 0:
     report("octave_rms", L[(1e-5, 1.0)], L[(REF, 1.0)])
     report("perturbation", L[(1e-5, 1 + 1e-9)], L[(1e-5, 1.0)])
     if args.ensemble_save:
-        np.savez(
-            args.ensemble_save,
-            seeds=np.array(list(seeds)),
-            duration=args.duration,
-            dt1e5=L[(1e-5, 1.0)],
-            reference=L[(REF, 1.0)],
-            reference_dt=REF,
-            dt1e5_perturbed=L[(1e-5, 1 + 1e-9)],
-        )
+        with atomic_path(args.ensemble_save) as tmp:
+            np.savez(
+                tmp,
+                seeds=np.array(list(seeds)),
+                duration=args.duration,
+                dt1e5=L[(1e-5, 1.0)],
+                reference=L[(REF, 1.0)],
+                reference_dt=REF,
+                dt1e5_perturbed=L[(1e-5, 1 + 1e-9)],
+            )

@@ -27,15 +27,16 @@ on the shared 2-core machine, one core).
 """
 
 import numpy as np
-from _options import checked, parser
+from _options import checked, output_file, parser
 
 import cablecasing_core as cc
+from cablecasing_core.cli.paths import PLOT_SUFFIXES
 from cablecasing_core.errors import ModelError
 
 p = parser(__doc__)
 p.add_argument("--duration", type=float, default=0.5, help="s simulated per run")
 p.add_argument("--window", type=float, default=0.002, help="s per window of the separation")
-p.add_argument("--plot", default=None, help="write the separation histories to this PNG")
+p.add_argument("--plot", default=None, help="write the separation histories to this figure (.png, .pdf, .svg)")
 p.add_argument(
     "--set",
     action="append",
@@ -64,6 +65,7 @@ with checked(p):
         model = model.with_overrides(overrides) if overrides else model  # with_overrides checks the keys
     except ModelError as exc:
         raise ModelError("--set", args.set, str(exc)) from None
+    output_file("--plot", args.plot, PLOT_SUFFIXES)  # (before the runs, not after them)
 rms0 = model.scenario["excitation"]["casing_random"]["rms"]
 
 
@@ -116,10 +118,7 @@ for name, ((tv, F), Fref) in variants.items():
     print(f"{name}_final_separation: {np.sqrt(np.mean(s[-max(len(s) // 10, 1) :] ** 2)):.3f}")
 
 if args.plot:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from cablecasing_core.plotting import plt, save_figure  # (matplotlib with Agg)
 
     fig, ax = plt.subplots(figsize=(8, 4.5))
     for name, (tw, s) in curves.items():
@@ -133,6 +132,5 @@ if args.plot:
     )
     ax.grid(True, which="major", alpha=0.4)
     ax.legend(fontsize=8, ncol=2)
-    fig.tight_layout()
-    fig.savefig(args.plot, dpi=110)
+    save_figure(fig, args.plot)  # (laid out, 110 dpi, written atomically)
     print(f"plot: {args.plot}")

@@ -30,7 +30,7 @@ import json
 import time
 
 import numpy as np
-from _options import checked, parser, seconds, seeds, step_runs
+from _options import checked, output_file, parser, seconds, seeds, step_runs
 from _options import model as model_option
 from _record_length import require_band_record
 
@@ -78,6 +78,7 @@ with checked(p):
     except ModelError as exc:
         raise ModelError("--set", args.set, str(exc)) from None
     runs = step_runs("--dts", args.dts, model)
+    output_file("--json", args.json, (".json",))
 require_band_record(p, args.duration, args.skip)
 col = SUPPORT_OUTPUTS.index("casing.B.Fz")
 runs.sort(key=lambda r: (-r[0], r[1]))

@@ -94,7 +94,7 @@ from multiprocessing import get_context
 from pathlib import Path
 
 import numpy as np
-from _options import parser
+from _options import checked, output_file, parser
 from _record_length import require_band_record
 
 HERE = Path(__file__).resolve().parent
@@ -577,6 +577,9 @@ def main():
             cap[int(n)] = int(k)
         except ValueError:
             p.error(f"--mesh-seeds {v!r}: N=K, two integers")
+    if not args.report:  # (the cache written during the runs: its folder checked before them)
+        with checked(p):
+            output_file("--json", args.json, (".json",))
     path = Path(args.json)
 
     code = source_hash()

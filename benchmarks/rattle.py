@@ -22,9 +22,10 @@ Run: .venv/bin/python benchmarks/rattle.py [--node 8 --start 0.06049 --window 5e
 (about 10 s; the default node and start are a rattle of the reference record, seed 1, of the records of issue 25)
 """
 
-from _options import parser
+from _options import checked, output_file, parser
 
 import cablecasing_core as cc
+from cablecasing_core.cli.paths import PLOT_SUFFIXES
 from cablecasing_core.timedomain.engine import Engine
 from cablecasing_core.timedomain.scenario import scenario_motion
 
@@ -33,7 +34,7 @@ p.add_argument("--node", type=int, default=8, help="cable node to follow")
 p.add_argument("--start", type=float, default=0.06049, help="s: where the continuations start")
 p.add_argument("--window", type=float, default=5e-4, help="s simulated from --start")
 p.add_argument("--levels", type=int, default=9, help="time steps 1e-5 / 2^k, k = 0 .. levels - 1")
-p.add_argument("--plot", default=None, help="write the contact-over-time figure here")
+p.add_argument("--plot", default=None, help="write the contact-over-time figure here (.png, .pdf, .svg)")
 args = p.parse_args()
 model = cc.load_model()
 DT0 = 1e-5
@@ -46,6 +47,8 @@ if not 1e-5 <= args.window <= 1e-2:
     p.error(f"--window {args.window}: must lie between 1e-5 s and 1e-2 s")
 if not 1 <= args.levels <= 12:
     p.error(f"--levels {args.levels}: must lie between 1 and 12")
+with checked(p):
+    output_file("--plot", args.plot, PLOT_SUFFIXES)  # (before the runs, not after them)
 
 motion = scenario_motion(model, dt=DT0)
 eng = Engine(model, dt=DT0, ledger=False)
@@ -74,10 +77,8 @@ for c_n in (model.contact["damping"], 0.0):
             bars[dt] = list(zip(t0, dur))
 
 if args.plot:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from cablecasing_core.files import atomic_path
+    from cablecasing_core.plotting import plt  # (matplotlib with Agg)
 
     fig, ax = plt.subplots(figsize=(8, 0.35 * len(dts) + 1.2))
     for row, dt in enumerate(dts):
@@ -89,5 +90,6 @@ if args.plot:
     ax.set_xlim(0, args.window * 1e6)
     ax.set_title(f"cable node {args.node} in contact (c_n = {model.contact['damping']:g} kg/s), one start state")
     fig.tight_layout()
-    fig.savefig(args.plot, dpi=120)
+    with atomic_path(args.plot) as tmp:  # (written whole or not at all)
+        fig.savefig(tmp, dpi=120)
     print(f"figure: {args.plot}")
