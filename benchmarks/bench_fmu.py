@@ -17,8 +17,11 @@ Prints ``name: value`` lines:
 * ``fmpy_driver_us_per_step`` and ``fmu_overhead_fmpy_driver``: the test driver's loop
   (``tests/fmu/fmu_driver.py``, a fresh process, the FMU's own bundled code; the driver's Python
   per step included: outputs by name, statuses);
-* ``fmusim_us_per_step`` and ``fmu_overhead_fmusim``: the same through fmusim (Reference FMUs,
-  ``../shared/hosts``) in the plain environment: the wall time from the first ``fmi2DoStep`` to
+* ``fmusim_us_per_step`` and ``fmu_overhead_fmusim``: the same through fmusim (Reference FMUs, in
+  the folder of the C hosts: ``--hosts``, else the environment variable ``CABLECASING_HOSTS``, else
+  ``../shared/hosts`` beside the repository; where it finds no fmusim it prints a line
+  ``# fmusim: not found at PATH ...`` instead of every ``fmusim_*`` and ``rtf_fmusim*`` line) in the
+  plain environment: the wall time from the first ``fmi2DoStep`` to
   ``fmi2Terminate`` over the calls, from the FMU's own log line at ``fmi2Terminate`` (so process
   start, Python start and instantiation are left out), and its ratio to the engine;
 * ``fmusim_host_us_per_step``: the part of it spent outside ``fmi2DoStep`` (fmusim's own work and
@@ -54,9 +57,11 @@ Prints ``name: value`` lines:
   ``examples/clipped_specimen.toml`` (``build_fmu.py --model``: 45 inputs, 39 outputs, the excited
   clip driven by its own scenario's 150 Hz) and its engine.
 
-The machine is shared: each figure is the fastest of ``--repeat`` runs, taken alternately.
+The machine is shared: each figure is the fastest of ``--repeat`` runs, taken alternately. The FMU
+timed is dist/CableCasing.fmu, built again (``build_fmu.py``, written over the one there) when it is
+older than its sources.
 
-Run: .venv/bin/python benchmarks/bench_fmu.py [--duration 1.0] [--repeat 3]
+Run: .venv/bin/python benchmarks/bench_fmu.py [--duration 1.0] [--repeat 3] [--hosts DIR]
 (docs/performance.md: ``--duration 1.0 --repeat 3``)
 """
 
@@ -86,7 +91,9 @@ from cablecasing_core.timedomain.support_motion import GridMotion, SupportRecons
 
 FMU = ROOT / "dist" / "CableCasing.fmu"
 CLIPPED = ROOT / "examples" / "clipped_specimen.toml"  # the model of the FMU built with --model
-FMUSIM = ROOT.parent / "shared" / "hosts" / "fmusim"
+#: The folder of the C hosts (fmusim) when neither --hosts nor CABLECASING_HOSTS names one.
+HOSTS = ROOT.parent / "shared" / "hosts"
+FMUSIM = HOSTS / "fmusim"  # (set by main from --hosts)
 NCH = len(CHANNELS)
 PLAIN = {"HOME": os.environ.get("HOME", "/root"), "PATH": "/usr/bin:/bin"}
 PLAIN |= {k: v for k, v in os.environ.items() if k.startswith("OPENBLAS_")}  # (as tests/fmu/test_hosts.py)
@@ -211,11 +218,17 @@ def late_figures(runs):
 
 
 def main():
+    global FMUSIM
     p = parser(__doc__)
     p.add_argument("--duration", type=float, default=1.0, help="simulated time of the long runs (s)")
     p.add_argument("--repeat", type=int, default=3, help="runs of each kind; the fastest counts (shared machine)")
     p.add_argument("--step", type=float, default=1e-4, help="communication step (s)")
     p.add_argument("--realtime-dt", type=float, default=2e-5, help="solver.dt of the real-time fmusim run (s)")
+    p.add_argument(
+        "--hosts",
+        default=None,
+        help=f"folder of the C hosts, holding fmusim (default: $CABLECASING_HOSTS, else {HOSTS})",
+    )
     args = p.parse_args()
     h = args.step
     with checked(p):
@@ -225,6 +238,10 @@ def main():
         time_step("--realtime-dt", args.realtime_dt)
     if not args.duration >= 20 * h:
         p.error(f"--step {h!r}: must be positive and at most a twentieth of --duration ({args.duration!r} s)")
+    hosts = Path(args.hosts or os.environ.get("CABLECASING_HOSTS") or HOSTS)
+    FMUSIM = hosts / "fmusim"
+    if args.hosts is not None and not FMUSIM.is_file():
+        p.error(f"--hosts = {args.hosts!r}: must be a folder holding fmusim ({FMUSIM} is not a file)")
 
     model = cc.load_model()
     n = int(round(args.duration / h))
@@ -314,6 +331,12 @@ def main():
         longest, late = late_figures(installed_long)
         print(f"fmusim_installed_realtime_longest_call_ms: {longest}")
         print(f"fmusim_installed_realtime_late_calls: {late} of {n}")
+    else:
+        where = "--hosts" if args.hosts else "CABLECASING_HOSTS" if os.environ.get("CABLECASING_HOSTS") else "default"
+        print(
+            f"# fmusim: not found at {FMUSIM} ({where}): no fmusim_* and rtf_fmusim* lines; "
+            "--hosts DIR or CABLECASING_HOSTS=DIR names the folder of the C hosts"
+        )
     print(f"rtf_engine: {h / engine:.3f}")
     print(f"instantiate_cold_s: {min(cold):.2f}")
     print(f"instantiate_warm_s: {min(warm):.2f}")

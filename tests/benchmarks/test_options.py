@@ -62,6 +62,7 @@ BAD = [
     ("band_window.py", ["--ratio", "casing.E=2e9:1e10", "--seeds", "1"], "--seeds = [1]: must name at least 2"),
     ("band_window.py", ["--ratio", "casing.E"], "--ratio = 'casing.E': must be KEY=LO:HI"),
     ("bench_fmu.py", ["--repeat", "0"], "--repeat = 0: must be an integer >= 1"),
+    ("bench_fmu.py", ["--hosts", "/nonexistent"], "--hosts = '/nonexistent': must be a folder holding fmusim"),
     ("bench_fmu_pool.py", ["--seeds", "1"], "--seeds = 1: must be an integer >= 2"),
     ("bench_mounts.py", ["--duration", "0"], "--duration = 0.0: must be a positive number of seconds"),
     ("bench_record.py", ["--repeat", "0"], "--repeat = 0: must be an integer >= 1"),
