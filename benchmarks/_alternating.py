@@ -18,3 +18,12 @@ def alternate(chunk_calls, rounds):
             chunk_calls[j]()
             walls[k, j] = time.perf_counter() - t0
     return walls
+
+
+def ratio_quartiles(numerator, denominator, skip=0):
+    """The quartiles (25, 50 and 75 %) of the chunk-by-chunk ratio of two runs' wall times from the
+    same rounds of :func:`alternate` (what one costs over the other, robust to the machine's drift),
+    leaving out the first ``skip`` rounds (at most half of them: a run's start, while its contacts
+    build up)."""
+    r = np.asarray(numerator, float) / np.asarray(denominator, float)
+    return np.percentile(r[min(skip, len(r) // 2) :], [25, 50, 75])

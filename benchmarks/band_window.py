@@ -107,17 +107,20 @@ if args.bias:
                     got.setdefault((T, w), []).append(levels(F[c * n : (c + 1) * n], fs, w))
     ref = np.mean(got[(args.long, "hann")], axis=0)
     print(f"bias_spec: {args.spec}; seeds {args.seeds}; {args.long:g} s each after 0.06 s")
-    print("bias_reference_levels_N (Hann over the whole record): " + " ".join(f"{x:.4g}" for x in ref))
+    print("# bias_reference_levels_N: Hann's window over the whole record")
+    print("bias_reference_levels_N: " + " ".join(f"{x:.4g}" for x in ref))
     for (T, w), v in sorted(got.items()):
         rel = np.array(v) / ref - 1
         se = rel.std(axis=0, ddof=1) / np.sqrt(len(rel)) if len(rel) > 1 else np.full(rel.shape[1], np.nan)
-        print(f"bias_{w}_{T:g}s (n={len(rel)}): " + " ".join(f"{x:+.3f}" for x in rel.mean(axis=0)))
+        print(f"bias_{w}_{T:g}s: " + " ".join(f"{x:+.3f}" for x in rel.mean(axis=0)))
         print(f"bias_{w}_{T:g}s_se: " + " ".join(f"{x:.3f}" for x in se))
+        print(f"bias_{w}_{T:g}s_records: {len(rel)}")
     for T in cuts:  # the two windows on the same records: the rectangular one's bias, paired
         ratio = np.array(got[(T, "boxcar")]) / np.array(got[(T, "hann")]) - 1
         se = ratio.std(axis=0, ddof=1) / np.sqrt(len(ratio)) if len(ratio) > 1 else np.full(ratio.shape[1], np.nan)
-        print(f"boxcar_over_hann_{T:g}s (n={len(ratio)}): " + " ".join(f"{x:+.3f}" for x in ratio.mean(axis=0)))
+        print(f"boxcar_over_hann_{T:g}s: " + " ".join(f"{x:+.3f}" for x in ratio.mean(axis=0)))
         print(f"boxcar_over_hann_{T:g}s_se: " + " ".join(f"{x:.3f}" for x in se))
+        print(f"boxcar_over_hann_{T:g}s_records: {len(ratio)}")
     print(f"bias_wall_s: {time.perf_counter() - start:.0f}")
 
 if args.time_step:

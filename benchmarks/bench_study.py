@@ -9,6 +9,7 @@ LocalCluster of 1 worker and of 2 workers (processes, 1 thread each) and prints 
                               (multiprocessing, no dask): what the machine itself allows
     scaling_efficiency_vs_raw = scaling_efficiency / raw_scaling_efficiency (dask's own losses)
     seconds_per_sample (1 worker, s), cpu_count
+    burn_evaluate_repeats     the repetitions per sample the 'burn' evaluate was calibrated to
 
 The clock runs from the first submission to the last row written (cluster start-up and the workers'
 first import are excluded: each worker imports the evaluate function before timing). Each rate is the
@@ -125,7 +126,7 @@ def main():
             if workers == 1:
                 seconds_per_sample = 60.0 / best
     if spec == BURN:
-        print(f"# burn evaluate: repeats = {kwargs['repeats']}")
+        print(f"burn_evaluate_repeats: {kwargs['repeats']}")
     eff = rates[2] / (2 * rates[1])
     print(f"samples_per_minute_1worker: {rates[1]:.2f}")
     print(f"samples_per_minute_2workers: {rates[2]:.2f}")

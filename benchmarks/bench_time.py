@@ -90,6 +90,7 @@ from multiprocessing import get_context
 from pathlib import Path
 
 import numpy as np
+from _alternating import alternate, ratio_quartiles
 from _options import checked, integer, output_file, parser, seconds
 from _options import model as model_option
 from _record_length import require_band_record
@@ -399,15 +400,10 @@ print(f"cli_help_wall_s: {help_wall:.2f} (cablecasing --help, a fresh process: t
 # engines advance alternately in 0.01 s chunks in this process, and the ratio is taken chunk by chunk.
 engines = {name: Engine(m, dt=DT, ledger=False) for name, m in (("default", model), ("installed", installed))}
 motions = {"default": scenario_motion(model, dt=DT), "installed": scenario_motion(installed, dt=DT)}
-chunk, ratios = 0.01, []
-for k in range(int(round(args.duration / chunk))):
-    walls = {}
-    for name in ("default", "installed") if k % 2 == 0 else ("installed", "default"):
-        t0 = time.perf_counter()
-        engines[name].advance(chunk, motions[name])
-        walls[name] = time.perf_counter() - t0
-    ratios.append(walls["installed"] / walls["default"])
-q = np.percentile(ratios[min(10, len(ratios) // 2) :], [25, 50, 75])  # without the first 0.1 s: contacts build up
+chunk = 0.01
+calls = [lambda name=name: engines[name].advance(chunk, motions[name]) for name in ("default", "installed")]
+w_default, w_installed = alternate(calls, int(round(args.duration / chunk))).T
+q = ratio_quartiles(w_installed, w_default, skip=10)  # without the first 0.1 s: contacts build up
 print(f"installed_over_default_step_cost: {q[1]:.2f} (quartiles {q[0]:.2f}-{q[2]:.2f}, per 0.01 s chunk, alternating)")
 
 # The default settings of the installed specimen (1e-5 s, friction regularised: no events) against
@@ -421,21 +417,15 @@ variants = {
     "switch_plain": Engine(switch.with_overrides({"contact.event_substeps": 1}), dt=DT, ledger=False),
     "tolerance": Engine(installed.with_overrides({"contact.event_tolerance": TOLERANCE}), dt=DT, ledger=False),
 }
-cost = {"switch": [], "switch_plain": [], "tolerance": []}
-for k in range(int(round(min(args.duration, 0.3) / chunk))):
-    walls = {}
-    for name in list(variants) if k % 2 == 0 else list(variants)[::-1]:
-        t0 = time.perf_counter()
-        variants[name].advance(chunk, motions["installed"])
-        walls[name] = time.perf_counter() - t0
-    for name in cost:
-        cost[name].append(walls["default"] / walls[name])
+calls = [lambda e=eng: e.advance(chunk, motions["installed"]) for eng in variants.values()]
+walls = dict(zip(variants, alternate(calls, int(round(min(args.duration, 0.3) / chunk))).T))
 for name, what in (
     ("switch", "the switch law with its sub-steps"),
     ("switch_plain", "the switch law's 1e-5 s without sub-steps"),
     ("tolerance", "its own law with contact.event_tolerance = 1e-9 m"),
 ):
-    q = np.percentile(cost[name][min(5, len(cost[name]) // 2) :], [25, 50, 75])  # without the first 0.05 s
+    # (friction_laws.py's regularized_over_switch_step_cost is the first of these, alone)
+    q = ratio_quartiles(walls["default"], walls[name], skip=5)  # without the first 0.05 s
     print(f"installed_default_over_{name}_cost: {q[1]:.2f} (quartiles {q[0]:.2f}-{q[2]:.2f}; against {what})")
 if args.speed_only:
     raise SystemExit(0)

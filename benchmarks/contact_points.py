@@ -13,9 +13,10 @@ state and the engine both take the shares from it); nothing else changes.
 Per variant ``N/S`` (``--variants``, default 35/1 70/1 70/2 140/1 140/2 140/4) it runs the band
 members of ``benchmarks/mesh_refinement.py`` (the specimen's scenario, 1 s, its own Δt, Table 3
 band levels of casing.B.Fz after the skip) on seeds 1..``--seeds`` and prints ``name: value``
-lines: the mean levels per variant (N), and each variant's relative difference from every other
-variant with the same contact points and from every other with the same mesh (paired over the
-seeds, with 2 SE). On the installed specimen octaves 3-9 are the drive's response (CV <= 0.2 %),
+lines: the mean levels per variant (``levels_N_N/S``, N), and each variant's relative difference
+from every other variant with the same contact points and from every other with the same mesh
+(``rel_diff_N/S_vs_M/T_same_points``, ``..._same_mesh``: % ± 2 SE per band, paired over the seeds).
+On the installed specimen octaves 3-9 are the drive's response (CV <= 0.2 %),
 so 2 seeds resolve them; the built-in specimen's levels need ~128.
 
 Run (2026-12-06, 2 workers):
@@ -109,9 +110,9 @@ def main():
             r = A.mean(0) / B.mean(0) - 1
             d = A - B * (A.mean(0) / B.mean(0))  # (the ratio's paired deviations, delta method)
             se = d.std(0, ddof=1) / np.sqrt(len(seeds)) / B.mean(0)
-            what = "same points" if points_a == points_b else "same mesh"
+            what = "same_points" if points_a == points_b else "same_mesh"
             print(
-                f"rel_diff_{a[0]}/{a[1]}_vs_{b[0]}/{b[1]} ({what}): "
+                f"rel_diff_{a[0]}/{a[1]}_vs_{b[0]}/{b[1]}_{what}: "
                 + " ".join(f"{100 * x:+.1f}±{200 * e:.1f}" for x, e in zip(r, se))
             )
 

@@ -2,11 +2,12 @@
 where the cable lies along the wall (~5.5 contacts per step instead of ~2, docs/performance.md).
 
 For seeds 1..N of ``scenario.excitation.casing_random.seed`` (everything else default), a record of
-``--duration`` s at dt = 1e-5 s; prints per seed the mean contacts per step in each tenth of the
-record, the wall time per step (µs) and HIGH when a tenth exceeds 4 contacts per step; then (as
-``name: value`` lines) the share of such records and the speed read over seeds: the median and
-quartiles of the wall time per step, rtf_median_over_seeds (simulated seconds per wall second at
-the median) and the median of each regime. With
+``--duration`` s at dt = 1e-5 s; prints (as ``name: value`` lines) per seed and RMS the mean
+contacts per step in each tenth of the record (``rms<R>_seed<S>_contacts_by_tenth``), the wall
+time per step (``rms<R>_seed<S>_us_per_step``, µs) and its regime (``rms<R>_seed<S>_regime``:
+``many_contacts`` when a tenth exceeds 4 contacts per step, else ``usual``); then the share of
+such records and the speed read over seeds: the median and quartiles of the wall time per step, rtf_median_over_seeds
+(simulated seconds per wall second at the median) and the median of each regime. With
 ``--workers 1`` the records run one after another on one core, as bench_time.py's; with 2 the two
 processes share the machine and the times are indicative only.
 
@@ -97,10 +98,9 @@ if __name__ == "__main__":
             if rms == 5.0:  # the reference case's figures
                 walls[flag].append(us)
             chunks.append(np.column_stack([chunk_nc, chunk_us])[1:])  # (the first chunk pays the first touch)
-            print(
-                f"rms {rms:g} seed {seed}: contacts by tenth {' '.join(f'{x:.2f}' for x in tenths)}  "
-                f"us_per_step {us:.1f}" + ("  HIGH" if flag else "")
-            )
+            print(f"rms{rms:g}_seed{seed}_contacts_by_tenth: {' '.join(f'{x:.2f}' for x in tenths)}")
+            print(f"rms{rms:g}_seed{seed}_us_per_step: {us:.1f}")
+            print(f"rms{rms:g}_seed{seed}_regime: {'many_contacts' if flag else 'usual'}")
     chunks = np.concatenate(chunks)
     (b, a), *_ = np.linalg.lstsq(np.column_stack([chunks[:, 0], np.ones(len(chunks))]), chunks[:, 1], rcond=None)
     resid = chunks[:, 1] - (a + b * chunks[:, 0])

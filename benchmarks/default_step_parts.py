@@ -12,7 +12,8 @@ Printed as ``name: value`` lines (medians over the chunks, µs per step): us_per
 us_per_step_all_far, us_per_step_full, contacts_per_step (closed contacts per step of the full
 engine, warm-up included),
 contact_bookkeeping_us_per_step (all_far - contact_free), contact_work_us_per_contact
-((full - all_far) / contacts_per_step), and rtf_coupled_from_full_median.
+((full - all_far) / contacts_per_step; left out, with a ``#`` line, when no contact closed), and
+rtf_coupled_from_full_median.
 What the parts are, and what was tried on each: docs/performance.md, "What bounds `rtf_coupled` at
 1e-5 s".
 Run: .venv/bin/python benchmarks/default_step_parts.py [--rounds 100] [--dt 1e-5]
@@ -56,6 +57,8 @@ for name, value in us.items():
     print(f"us_per_step_{name}: {value:.3f}")
 print(f"contacts_per_step: {closed:.3f}")
 print(f"contact_bookkeeping_us_per_step: {us['all_far'] - us['contact_free']:.3f}")
-work = (us["full"] - us["all_far"]) / closed if closed else float("nan")  # nan: no contact closed yet
-print(f"contact_work_us_per_contact: {work:.3f}")
+if closed:
+    print(f"contact_work_us_per_contact: {(us['full'] - us['all_far']) / closed:.3f}")
+else:  # (a short run: no contact closed yet, so no cost per contact)
+    print("# no contact closed in the full engine's run: no contact_work_us_per_contact")
 print(f"rtf_coupled_from_full_median: {args.dt / (us['full'] * 1e-6):.4f}")

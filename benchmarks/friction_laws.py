@@ -2,18 +2,19 @@
 
 Both engines (``contact.friction_law`` "switch" at its default settings, with the sub-steps around
 stick-slip events, and "regularized", which has no events) advance the installed specimen's
-scenario at Δt = 1e-5 s in alternating chunks of ``--chunk`` s within one process, so that the
-machine's drift falls on both alike (docs/performance.md). Prints name: value lines:
+scenario at Δt = 1e-5 s in alternating chunks of ``--chunk`` s within one process
+(``_alternating.alternate``: the order reversed every other round), so that the machine's drift
+falls on both alike (docs/performance.md). Prints name: value lines:
 * us_per_step_switch, us_per_step_regularized: the sum of each engine's chunk walls over its steps;
-* regularized_over_switch_step_cost: the median of the chunk-by-chunk ratios, with the quartiles;
+* regularized_over_switch_step_cost: the median of the chunk-by-chunk ratios, with the quartiles
+  (``_alternating.ratio_quartiles``; the same figure as bench_time.py's
+  ``installed_default_over_switch_cost``, whose inverse it is, there among other variants);
 * contact_newton_iterations_per_step_<law>, refined_share_<law>, unconverged_steps_<law> (steps whose
   contact Newton stopped at its iteration cap).
 Run: .venv/bin/python benchmarks/friction_laws.py [--duration 0.3] [--chunk 0.01]   (about 1 min)
 """
 
-import time
-
-import numpy as np
+from _alternating import alternate, ratio_quartiles
 from _options import parser
 
 import cablecasing_core as cc
@@ -33,12 +34,8 @@ engines = {law: Engine(model.with_overrides({"contact.friction_law": law}), dt=D
 motion = scenario_motion(model, dt=DT)
 for eng in engines.values():  # compile (or load the cache) outside the timing
     eng.advance(DT, motion)
-walls = {law: [] for law in laws}
-for _ in range(int(round(args.duration / args.chunk))):
-    for law in laws:
-        w = time.perf_counter()
-        engines[law].advance(args.chunk, motion)
-        walls[law].append(time.perf_counter() - w)
+rounds = int(round(args.duration / args.chunk))
+walls = dict(zip(laws, alternate([lambda e=engines[law]: e.advance(args.chunk, motion) for law in laws], rounds).T))
 steps = args.chunk / DT
 for law in laws:
     eng = engines[law]
@@ -47,6 +44,5 @@ for law in laws:
     print(f"contact_newton_iterations_per_step_{law}: {eng.solver_counts[0] / total:.2f}")
     print(f"refined_share_{law}: {eng.refined_steps / total:.3f}")
     print(f"unconverged_steps_{law}: {int(eng.solver_counts[2])} of {int(round(total))}")
-r = np.array(walls["regularized"]) / np.array(walls["switch"])
-q1, med, q3 = np.percentile(r, [25, 50, 75])
+q1, med, q3 = ratio_quartiles(walls["regularized"], walls["switch"])
 print(f"regularized_over_switch_step_cost: {med:.3f} (quartiles {q1:.3f}-{q3:.3f})")

@@ -4,7 +4,7 @@ number of elements, each in a fresh process (peak memory is per process).
 
 Prints ``name: value`` lines: ``modes_<n>_elements_s`` (one body's modes), ``simulate_<n>_elements_s``
 (20 steps of two bodies, with the engine's set-up), each with ``..._peak_GB``, or
-``<what>_<n>_elements: refused`` and the refusal (after ``#``).
+``<what>_<n>_elements: refused`` followed by the refusal on a ``#`` line.
 
 Run: .venv/bin/python benchmarks/limits.py   (about 2 minutes, and at its largest sizes several GB
 of memory per process; docs/performance.md's command)
@@ -54,6 +54,10 @@ def main(argv=None):
         for option, sizes in (("--modes", args.modes), ("--simulate", args.simulate)):
             for n in sizes:
                 integer(option, n, 1)
+    print(
+        "# modes_<n>_elements_s: one body's modes; "
+        "simulate_<n>_elements_s: 20 steps of two bodies, with the engine's set-up"
+    )
     for what, sizes in (("modes", args.modes), ("simulate", args.simulate)):
         for n in sizes:
             out = subprocess.run([sys.executable, "-c", CHILD, str(n), what], capture_output=True, text=True)
@@ -61,11 +65,11 @@ def main(argv=None):
                 last = (out.stderr.strip().splitlines() or ["(no message)"])[-1]
                 if "ModelError" not in last:
                     raise SystemExit(f"{what} at {n} elements failed: {out.stderr}")
-                print(f"{what}_{n}_elements: refused  # {last}")
+                print(f"{what}_{n}_elements: refused")
+                print(f"# {last}")
                 continue
             seconds, gb = map(float, out.stdout.split())
-            label = "one body's modes" if what == "modes" else "20 steps of two bodies"
-            print(f"{what}_{n}_elements_s: {seconds:.3g}  # {label}")
+            print(f"{what}_{n}_elements_s: {seconds:.3g}")
             print(f"{what}_{n}_elements_peak_GB: {gb:.3g}")
 
 

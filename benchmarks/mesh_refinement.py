@@ -329,7 +329,11 @@ def print_modal(modal):
                     if k.startswith("order_")
                 )
                 band = row["band"].replace(" ", "")
-                print(f"freq_change_{key}_{band}: modes {row['modes']} max |df/f| {ch} order {orders}")
+                # (the observed order needs three meshes: none with two)
+                print(
+                    f"freq_change_{key}_{band}: modes {row['modes']} max |df/f| {ch}"
+                    + (f" order {orders}" * bool(orders))
+                )
 
 
 # ---------------------------------------------------------------- the band part
@@ -418,7 +422,8 @@ def print_bands(spec, s):
             if not vs.startswith("vs_") or p is None:
                 continue
             r, sp, si = (np.array(p[x]) for x in ("rel_diff", "se_paired", "se_indep"))
-            print(f"band_rel_diff_{k}_{vs} ({p['seeds']} seeds): " + " ".join(f"{x:+.4f}" for x in r))
+            print(f"band_rel_diff_{k}_{vs}: " + " ".join(f"{x:+.4f}" for x in r))
+            print(f"band_rel_diff_seeds_{k}_{vs}: {p['seeds']}")
             print(f"band_rel_diff_se_paired_{k}_{vs}: " + " ".join(f"{x:.4f}" for x in sp))
             print(f"band_rel_diff_se_indep_{k}_{vs}: " + " ".join(f"{x:.4f}" for x in si))
             with np.errstate(divide="ignore"):

@@ -15,7 +15,8 @@ Prints ``name: value`` lines, per damper c and time step dt (labels ``c<c_n>_dt<
 * ``_episodes``: the node's contact episodes in the window;
 * ``_contact_time_us``: the time it spends in contact (stick or slip), µs;
 * ``_last_contact_end_us``: when its last episode ends, µs after ``--start``;
-* ``_first_episodes_us``: the first eight episodes as start+duration, µs after ``--start``.
+* ``_first_episodes_us``: the first eight episodes as start+duration, µs after ``--start`` (``none``: no
+  episode).
 ``--plot PATH`` draws the node's contact over the window for each dt (damper on).
 
 Run: .venv/bin/python benchmarks/rattle.py [--node 8 --start 0.06049 --window 5e-4] [--plot f.png]
@@ -72,7 +73,8 @@ for c_n in (model.contact["damping"], 0.0):
         print(f"{label}_episodes: {mine.sum()}")
         print(f"{label}_contact_time_us: {dur.sum():.2f}")
         print(f"{label}_last_contact_end_us: {(t0 + dur).max() if mine.any() else 0.0:.2f}")
-        print(f"{label}_first_episodes_us: " + " ".join(f"{a:.2f}+{b:.2f}" for a, b in zip(t0[:8], dur[:8])))
+        first = " ".join(f"{a:.2f}+{b:.2f}" for a, b in zip(t0[:8], dur[:8]))
+        print(f"{label}_first_episodes_us: {first or 'none'}")
         if c_n > 0:
             bars[dt] = list(zip(t0, dur))
 

@@ -6,7 +6,7 @@ a switch and its return inside one step are not counted). For each run ``DT`` or
 ``DT:SUBSTEPS`` (``contact.event_substeps``) the installed specimen's scenario (seed ``--seed``)
 runs for ``--duration`` s, and this prints name: value lines counted after ``--skip`` s:
 * switches_per_s_<run>: all switches per simulated second, and stick_to_slip_per_s_<run>;
-* switches_per_s_per_node_<run>: the same for each cable node that switches (node:count);
+* switches_per_s_per_node_<run>: the same for each cable node that switches (node:count; ``none``);
 * nodes_at_drive_rate_<run>: how many of the closed nodes switch at most 4 times per period of
   the 50 Hz drive (400 /s: a stick at each of its two reversals and the slip after it);
 * stick_share_<run>: the share of the closed contacts that stick; wall_s_<run>.
@@ -66,7 +66,8 @@ for dt, nsub in runs:
     name = f"dt{dt:g}" + (f"_sub{nsub}" if nsub > 1 else "")
     print(f"switches_per_s_{name}: {switch.sum() / span:.0f}")
     print(f"stick_to_slip_per_s_{name}: {np.count_nonzero((a == STICK) & (b == SLIP)) / span:.0f}")
-    print(f"switches_per_s_per_node_{name}: " + " ".join(f"{i}:{x:.0f}" for i, x in enumerate(per_node) if x > 0))
+    nodes = " ".join(f"{i}:{x:.0f}" for i, x in enumerate(per_node) if x > 0)
+    print(f"switches_per_s_per_node_{name}: {nodes or 'none'}")
     calm = np.count_nonzero(np.round(per_node[closed]) <= DRIVE_RATE)  # (counts / span: 400.0000001)
     print(f"nodes_at_drive_rate_{name}: {calm} of {np.count_nonzero(closed)}")
     print(f"stick_share_{name}: {np.count_nonzero(S == STICK) / max(np.count_nonzero(S), 1):.4f}")
