@@ -86,11 +86,22 @@ def cmd_modes(args):
     if args.json:
         print(json.dumps(res))
     else:
+        _print_scope(model)
         for b, f in res.items():
             print(f"{b}: natural frequencies (Hz)")
             for i, v in enumerate(f, 1):
                 print(f"  {i:3d}  {v:12.4f}")
     return 0
+
+
+def _print_scope(model):
+    """The line ``# each body alone ...`` of ``modes`` and ``trfam`` for a model whose cable is in
+    contact or installed (frequency.modal.frequency_domain_scope): what the frequency domain leaves out."""
+    from ..frequency.modal import frequency_domain_scope
+
+    scope = frequency_domain_scope(model)
+    if scope:
+        print(f"# {scope}")
 
 
 def cmd_trfam(args):
@@ -124,6 +135,7 @@ def cmd_trfam(args):
         body = parse_port("input", args.input, model)[0]
         H = trfam(model, args.input, args.output, f, damping=args.damping)
     _warn_coarse_grid(model, body, args)
+    _print_scope(model)
     table = np.column_stack([f, H.real, H.imag, np.abs(H), np.degrees(np.angle(H))])
     header = ["frequency_hz", "re_kg", "im_kg", "magnitude_kg", "phase_deg"]
     if args.bands:
@@ -297,13 +309,27 @@ def build_parser():
     p.add_argument("--version", action=_Version, help="the version, where the package runs from and the Python")
     sub = p.add_subparsers(dest="command", required=True)
 
-    m = sub.add_parser("modes", help="natural frequencies of each body (Hz)")
+    alone = (
+        "Each body alone on its supports and mounts: the frequency domain has no contact between the cable and "
+        "the casing (the time domain has). An installed model's bodies carry the axial prestress of "
+        "loads.cable_tension (the cable stiffened by its tension, the casing softened by its compression) about "
+        "their route, not the static state: gravity's sag, a straight cable's bending into the route and the "
+        "contact forces that `cablecasing static` shows are not in it. For such a model (a cable in contact, or "
+        "installed) the output's first line, '# each body alone ...', says so."
+    )
+    m = sub.add_parser(
+        "modes", help="natural frequencies of each body (Hz)", description="Natural frequencies (Hz). " + alone
+    )
     add_model_argument(m, settable=True)
     m.add_argument("--count", type=int, default=10, help="number of modes per body")
     m.add_argument("--json", action="store_true", help="print JSON {body: [Hz, ...]}")
     m.set_defaults(func=cmd_modes)
 
-    t = sub.add_parser("trfam", help="apparent-mass transfer function (kg), Eq. (12)")
+    t = sub.add_parser(
+        "trfam",
+        help="apparent-mass transfer function (kg), Eq. (12)",
+        description="The apparent-mass transfer function TRFAM (kg, Eq. 12) between two supports of a body. " + alone,
+    )
     add_model_argument(t, settable=True)
     t.add_argument("--input", default="casing.A.x", help="driven support DOF, e.g. casing.A.x")
     t.add_argument("--output", default="casing.B.x", help="support DOF whose force is the output")

@@ -7,6 +7,12 @@ stiffness K_E + K_G of a prestressed body (an installed model: the cable's tensi
 casing's compression softens it; structure/assembly.py), with the springs K6 of its isolators and
 clips. A frequency-dependent modulus E(f) or mount stiffness k_scale(f) makes K depend on the
 frequency: each mode then solves its own frequency (:func:`natural_frequencies`).
+
+The frequency domain (these modes and the TRFAM) is of each body alone on its supports and mounts:
+the contact between the cable and the casing belongs to the time domain. An installed model's
+bodies carry the axial prestress of ``loads.cable_tension`` (K_G) about their route, not its static
+state: gravity's sag, a straight cable's bending into the route and the contact forces on the wall
+(``static_state``) are not in it. :func:`frequency_domain_scope` says so in one line for a model.
 """
 
 from __future__ import annotations
@@ -22,7 +28,7 @@ from scipy.optimize import brentq
 from ..errors import NOT_SHOWN, ModelError, ModelWarning
 from ..model.limits import check_dense_eigenproblem
 from ..model.model import at_frequency
-from ..model.validators import Choice, check_model, integer, number
+from ..model.validators import Choice, check_model, contact_in_force, integer, number
 from ..structure.assembly import assemble_body
 
 if TYPE_CHECKING:
@@ -72,10 +78,37 @@ def modal_basis(system: BodySystem) -> ModalBasis:
     return ModalBasis(system=system, lam=1.0 / mu - SHIFT, phi=psi / np.sqrt(mu))
 
 
+def frequency_domain_scope(model: Model) -> str | None:
+    """One line on what the frequency domain (modes, TRFAM) leaves out of ``model``, or None when it
+    leaves out nothing the model has: the contact between the cable and the casing (a model with
+    both bodies and ``contact.enabled``: each body is alone on its supports and mounts), and an
+    installed model's static state (its bodies carry the axial prestress of ``loads.cable_tension``
+    about their route; the static deflection and contact forces are not in it)."""
+    check_model(model)
+    contact = contact_in_force(model)
+    installed = model.installed and "cable" in model.bodies
+    if not (contact or installed):
+        return None
+    text = "each body alone on its supports and mounts" + (": no contact between the cable and the casing" * contact)
+    if installed:
+        T = model.loads["cable_tension"]
+        text += (
+            f"; with the prestress of loads.cable_tension = {T:g} N about the route" if T > 0 else "; about the route"
+        )
+        text += f", not the static state's deflection{' and contact forces' * contact} (cablecasing static)"
+    return text
+
+
 def natural_frequencies(model: Model, body: str, count: int | None = None) -> np.ndarray:
     """Natural frequencies (Hz, ascending) of ``body`` ("casing" or "cable") of ``model`` (a
     :class:`~cablecasing_core.Model`; anything else, a dict or a file's name, raises a ModelError
     naming ``model``) with its supports: the undamped eigenproblem of Eq. (13) on the free DOFs.
+
+    The body alone: no contact with the other body (that is the time domain's). An installed
+    model's body carries the axial prestress of ``loads.cable_tension`` (K = K_E + K_G: the cable
+    stiffened by its tension, the casing softened by its compression) about its route; gravity's
+    sag, a straight cable's bending into the route and the static state's contact forces are not
+    in it (:func:`frequency_domain_scope`).
 
     ``count`` (None: all) is the number of modes wanted; a body has one mode per free degree of
     freedom (:func:`mode_count`), and a larger ``count`` returns all of them with a

@@ -264,6 +264,11 @@ class FrequencyResponse:
 def trfam(model: Model, input: str, output: str, freqs_hz: ArrayLike, damping: str = "viscous") -> np.ndarray:
     """Apparent-mass transfer function TRFAM (Eq. 12) in kg: complex, one value per frequency.
 
+    Of one body alone on its supports and mounts: no contact with the other body (the time
+    domain's); an installed model's body with the axial prestress of ``loads.cable_tension`` (K_G)
+    about its route, not its static state (no sag, no contact forces;
+    :func:`~cablecasing_core.frequency.modal.frequency_domain_scope`).
+
     Parameters
     ----------
     model : Model (a :class:`~cablecasing_core.Model`; anything else raises a ModelError naming ``model``)
@@ -298,7 +303,8 @@ def trfam_matrix(
 ) -> np.ndarray:
     """The 3x3 TRFAM block (kg, Eq. 12), shape (nf, 3 outputs x/y/z, 3 inputs x/y/z), between two
     supports of one body at ``freqs_hz`` (Hz): the force at ``output_support`` over the acceleration
-    of ``input_support`` ("A" or "B"); ``freqs_hz`` and ``damping`` as :func:`trfam`'s."""
+    of ``input_support`` ("A" or "B"); ``freqs_hz`` and ``damping`` as :func:`trfam`'s (the body
+    alone, as there)."""
     check_model(model)
     f = trfam_frequencies("freqs_hz", freqs_hz)
     if body not in model.bodies:
