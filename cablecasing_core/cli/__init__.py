@@ -83,6 +83,7 @@ def cmd_modes(args):
                 f"freedom of its {model.geometry['n_elements']} elements); all {len(f)} are printed",
                 stacklevel=1,
             )
+    _warn_free_motions(model)
     if args.json:
         print(json.dumps(res))
     else:
@@ -92,6 +93,32 @@ def cmd_modes(args):
             for i, v in enumerate(f, 1):
                 print(f"  {i:3d}  {v:12.4f}")
     return 0
+
+
+def _warn_free_motions(model):
+    """Warn, per body, of the rigid motions its supports and mounts leave free (its first modes are
+    0 Hz, to rounding): the motions that the loads check (structure/support_check.py) would refuse
+    under gravity or a tension, named as it names them."""
+    from ..structure.assembly import assemble_body
+    from ..structure.support_check import free_motions
+
+    for b in model.bodies:
+        motions = free_motions(assemble_body(model, b, check_buckling=False))
+        if not motions:
+            continue
+        k = len(motions)
+        which = (
+            "all six rigid motions (no support or mount holds it)"
+            if k == 6
+            else f"{k} rigid motion{'s' * (k > 1)}: " + "; ".join(motions)
+        )
+        warnings.warn(
+            f"the {b} of {model.source}: its supports leave it free in {which}, so "
+            f"{f'its first {k} modes are' if k > 1 else 'its first mode is'} rigid at 0 Hz (to rounding); under a "
+            "load (gravity, a tension) the model "
+            "would be refused: clamp a support or give the isolators or clips a stiffness in that direction",
+            stacklevel=1,
+        )
 
 
 def _print_scope(model):
