@@ -64,12 +64,11 @@ def _print(model, st, systems, buckled=()):
     from ..structure.mount_element import clip_positions
 
     g, T = model.loads["gravity"], model.loads["cable_tension"]
-    shape = model.bodies["cable"].rest_shape if "cable" in model.bodies else "-"
-    print(f"static state of {model.source}: gravity {g} m/s2, cable tension {T:g} N, cable rest shape {shape}")
-    print(
-        f"  {st.contact_nodes} cable nodes in contact, max penetration {st.max_penetration:.4g} m; "
-        f"Newton {st.iterations} iterations in {st.load_steps} load steps, |R| = {st.residual:.2g} N"
-    )
+    cable = "cable" in model.bodies  # (a model without one: no tension, rest shape or contact to show)
+    what = f", cable tension {T:g} N, cable rest shape {model.bodies['cable'].rest_shape}" if cable else " (no cable)"
+    print(f"static state of {model.source}: gravity {g} m/s2{what}")
+    touching = f"{st.contact_nodes} cable nodes in contact, max penetration {st.max_penetration:.4g} m; " * cable
+    print(f"  {touching}Newton {st.iterations} iterations in {st.load_steps} load steps, |R| = {st.residual:.2g} N")
     if T > 0.0 and st.pulled:
         print(
             f"  cable pre-stretch force {st.prestretch_force:.4g} N (its axial force at rest in the routing "
@@ -77,9 +76,13 @@ def _print(model, st, systems, buckled=()):
         )
     elif T > 0.0:
         print(f"  contact off: {_unheld(st, systems, T)}")
-    print("  contact force of the casing on each cable node (N, global axes):")
-    print("    node    s (m)   kappa (1/m)        Fx          Fy          Fz         |F|   penetration (m)")
-    for i in np.flatnonzero(st.normal_force > 0.0):
+    nodes = np.flatnonzero(st.normal_force > 0.0) if cable else []
+    if cable and not len(nodes):
+        print("  contact force of the casing on each cable node: none (no cable node in contact)")
+    elif cable:
+        print("  contact force of the casing on each cable node (N, global axes):")
+        print("    node    s (m)   kappa (1/m)        Fx          Fy          Fz         |F|   penetration (m)")
+    for i in nodes:
         F = st.contact_force[i]
         print(
             f"    {i:4d} {st.arc_length[i]:8.4f} {st.curvature[i]:10.4f}  {F[0]:10.4f}  {F[1]:10.4f}  {F[2]:10.4f}  "

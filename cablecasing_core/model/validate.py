@@ -470,9 +470,9 @@ def validate(data: dict, base_dir: str | None = None) -> dict:
     try:
         bodies = {n: _body(n, data[n], out["geometry"]) for n in BODY_NAMES if n in data}
     except ModelError as exc:  # a clip placed on a route whose length is likely in the wrong unit: say so
-        from ..structure.route_summary import length_warning
+        from ..structure.route_summary import length_warning, route_numbers
 
-        hint = length_warning(_route_length(out["geometry"]))
+        hint = length_warning(_route_length(out["geometry"]), given_by=route_numbers(out["geometry"]))
         if hint and str(exc.key).startswith("casing.clip"):
             raise ModelError(exc.key, exc.value, f"{hint} ({exc.allowed})") from None
         raise

@@ -203,13 +203,20 @@ def geometry_summary(model) -> dict:
     }
 
 
-def length_warning(length, long_only=False):
+def route_numbers(geometry) -> str:
+    """What gives the lengths of the route of ``geometry`` (a model's [geometry] table), for a
+    warning that they may be in the wrong unit: its points, or its segments' lengths and radii."""
+    return "the points" if geometry.get("points") else "the segments' lengths and radii"
+
+
+def length_warning(length, long_only=False, given_by="the points"):
     """The warning of a route of ``length`` (m) that is likely in the wrong unit (longer than 10 m,
-    or shorter than 1 cm unless ``long_only``), or None."""
+    or shorter than 1 cm unless ``long_only``), or None; ``given_by``: what gives its lengths
+    (:func:`route_numbers`)."""
     if length > 10.0:
-        return f"the route is {length:.4g} m long, more than 10 m: are the points in mm?"
+        return f"the route is {length:.4g} m long, more than 10 m: are {given_by} in mm?"
     if length < 0.01 and not long_only:
-        return f"the route is {length:.3g} m long, less than 1 cm: are the points in m?"
+        return f"the route is {length:.3g} m long, less than 1 cm: are {given_by} in m?"
     return None
 
 
@@ -443,8 +450,9 @@ def plausibility_warnings(model, summary=None, advice=True) -> list[str]:
     g = summary or geometry_summary(model)
     out = []
     length = g["length_m"]
-    if length_warning(length, long_only=True):
-        out.append(length_warning(length, long_only=True))
+    given_by = route_numbers(model.geometry)
+    if length_warning(length, long_only=True, given_by=given_by):
+        out.append(length_warning(length, long_only=True, given_by=given_by))
     diameters = [model.data[b][k] for b, k in (("casing", "d_outer"), ("cable", "d")) if b in model.data]
     short = []
     if diameters and length < 10 * max(diameters):
@@ -453,7 +461,7 @@ def plausibility_warnings(model, summary=None, advice=True) -> list[str]:
             "Euler-Bernoulli elements (which neglect shear) do not describe it"
         )
     if length < 0.01:
-        short.append("less than 1 cm: are the points in m?")  # (length_warning's)
+        short.append(f"less than 1 cm: are {given_by} in m?")  # (length_warning's)
     if short:
         out.append(f"the route is {length:.3g} m long, " + "; ".join(short))
     points = model.geometry.get("points") or []

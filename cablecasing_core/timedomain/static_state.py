@@ -442,16 +442,14 @@ def check_kept_prestress(systems, U, exclude=(), gravity=(0.0, 0.0, 0.0), contac
         if ratio <= KEPT_PRESTRESS_OF_BUCKLING:
             continue
         word = "compression" if s.N0 < 0.0 else "tension"
+        # (one line of three sentences: what it found, what it moves, why; docs/installed.md says the rest)
         warn_once_per_process(
             f"{name}: the static state leaves an axial force of {N[0]:.4g} N at end A and {N[1]:.4g} N at end B "
-            f"(its end elements, tension positive), not the given {word} N0 = {s.N0:.4g} N of loads.cable_tension, "
-            f"which its geometric stiffness K_G and the buckling check assume: |N - N0| = {dN:.4g} N is "
-            f"{ratio:.3g} of its buckling load as built P_cr = {P_cr:.4g} N (warned above both "
-            f"{KEPT_PRESTRESS:g} |N0| and {KEPT_PRESTRESS_OF_BUCKLING:g} P_cr), about the error of K_G against its "
-            f"bending stiffness in its lowest mode; {_prestress_causes(s, gravity, contact, held)}. So its lowest "
-            f"bending frequency may be off by about {_frequency_effect(ratio, s.N0, P_cr):.2g} (relative; f goes "
-            "as sqrt(1 + N0 / P_cr)); the model keeps N0 as given (a linear prestress), so this is a limit of the "
-            "model to read the results with, not an input to correct",
+            f"(tension positive), not the given {word} N0 = {s.N0:.4g} N of loads.cable_tension that its K_G and "
+            f"the buckling check assume: |N - N0| = {dN:.4g} N is {ratio:.3g} of its buckling load as built P_cr = "
+            f"{P_cr:.4g} N, so its lowest bending frequency may be off by about "
+            f"{_frequency_effect(ratio, s.N0, P_cr):.2g} (relative). {_prestress_causes(s, gravity, contact, held)}. "
+            "The model keeps N0 as given: read the results with this limit (docs/installed.md)",
             KeptPrestressWarning,
             stacklevel=stacklevel,
         )
@@ -477,17 +475,14 @@ def _prestress_causes(system, gravity, contact, held=True):
     causes = []
     if 1.0 - kept > 0.1 * KEPT_PRESTRESS:  # (1e12 N/m isolators keep all of N0: not a cause)
         causes.append(
-            f"its isolators give way along its axis, so its own axial stiffness carries part of its end loads (a "
-            f"straight {system.name} between these isolators, without clips, keeps about k_s/(k_s + EA/L) = "
-            f"{kept:.3g} of N0, k_s = {k:.3g} N/m their axial stiffnesses in series, EA/L = {EA_L:.3g} N/m; "
-            f"k/(k + 2EA/L) for two of k)"
+            f"its isolators give way along its axis (between them a straight {system.name} keeps about "
+            f"k_s/(k_s + EA/L) = {kept:.3g} of N0, k_s = {k:.3g} N/m in series, EA/L = {EA_L:.3g} N/m)"
         )
     kappa = float(np.max(system.centerline.curvature, initial=0.0))
     if not held and kappa > 0.0:
         causes.append(
-            f"it is curved (radius down to {1.0 / kappa:.3g} m) and with contact off nothing holds it in its bends: a "
-            f"fixed prestress there moves it by about |N0| R/EA and relaxes, so its ends (and support reactions) "
-            f"see little of N0; with contact the tension pulls the cable against the walls and is kept"
+            f"it is curved (radius down to {1.0 / kappa:.3g} m) and with contact off nothing holds it in its bends, "
+            "where a fixed prestress relaxes (with contact the tension pulls the cable against the walls)"
         )
     g = np.asarray(gravity, dtype=float)
     if np.abs(system.centerline.frames[:, 0] @ g).max() > 1e-9 * np.linalg.norm(g):  # (a share along its axis)
@@ -498,9 +493,9 @@ def _prestress_causes(system, gravity, contact, held=True):
     if contact:
         causes.append("the cable's contact load on it")
     if not causes:
-        return "none of the causes the model knows (isolators, bends without contact, weight, clips, contact)"
-    head = "what the model has that moves it from N0 (not weighed against each other here): "
-    return head + "; ".join(causes) if len(causes) > 1 else "what the model has that moves it from N0: " + causes[0]
+        return "Causes: none of those the model knows (isolators, bends without contact, weight, clips, contact)"
+    head = "Causes (not weighed against each other): " if len(causes) > 1 else "Cause: "
+    return head + "; ".join(causes)
 
 
 def _resultant(f):

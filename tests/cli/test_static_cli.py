@@ -3,6 +3,7 @@
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -43,7 +44,16 @@ def test_static_table_and_errors(capsys):
     text = capsys.readouterr().out
     assert "cable nodes in contact" in text and "casing.A" in text and "pre-stretch force" in text
     assert main(["static"]) == 0  # the paper's specimen: nothing loads it
-    assert "0 cable nodes in contact" in capsys.readouterr().out
+    text = capsys.readouterr().out
+    assert "0 cable nodes in contact" in text
+    # no cable node touches: said in one line, not a table's header without rows (review AN, B3)
+    assert "  contact force of the casing on each cable node: none (no cable node in contact)\n" in text
+    assert "penetration (m)" not in text
+    straight = Path(__file__).resolve().parents[2] / "examples" / "straight_casing.toml"  # (a casing alone)
+    assert main(["static", str(straight)]) == 0
+    text = capsys.readouterr().out
+    assert text.splitlines()[0].endswith(": gravity [0.0, 0.0, 0.0] m/s2 (no cable)")
+    assert "cable" not in "\n".join(text.splitlines()[1:]), text  # (no tension, rest shape, contact)
     assert main(["static", "no_such_model.toml"]) == 2
     assert "MODEL = 'no_such_model.toml': must be a readable TOML file" in capsys.readouterr().err
 

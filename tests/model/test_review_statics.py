@@ -173,6 +173,12 @@ def test_the_installation_example_near_its_buckling_load_is_warned_of_with_its_c
     for cause in ("isolators give way along its axis", "weight along its axis", "its 2 clips", "contact load"):
         assert cause in text, text
     assert "agree when" not in text
+    # readable on one line (review AN: 1100 characters with four causes): what it found and what that
+    # moves, the causes, what to do with it; under 800 characters with every cause the model knows but one
+    sentences = text.split(". ")
+    assert len(sentences) == 3 and sentences[1].startswith("Causes (not weighed against each other): "), text
+    assert sentences[2] == "The model keeps N0 as given: read the results with this limit (docs/installed.md)"
+    assert len(text) < 800, len(text)
 
 
 @pytest.mark.parametrize("casing", [{}, on_isolators(1e10)])

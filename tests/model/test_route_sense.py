@@ -133,8 +133,8 @@ def test_a_route_in_mm_is_named_before_the_clip_it_misplaces():
         cc.model_from_dict(raw)
     assert err.value.key == "casing.clip[0].at"
     assert str(err.value).startswith(
-        "casing.clip[0].at = 0.51: the route is 200.8 m long, more than 10 m: are the points in mm? (is 510 mm from "
-        "end A (s = 0), less than half the mean element"
+        "casing.clip[0].at = 0.51: the route is 200.8 m long, more than 10 m: are the segments' lengths and radii in "
+        "mm? (is 510 mm from end A (s = 0), less than half the mean element"
     )
 
 

@@ -293,6 +293,13 @@ def test_loading_a_file_warns_of_a_likely_mistake(tmp_path):
     mm = routed([{"straight": 600.0}, {"bend": {"radius": 150.0, "angle_deg": 90, "toward": [0, 1, 0]}}], n=40)
     p = tmp_path / "mm.toml"
     p.write_text(mm.to_toml())
+    with pytest.warns(PlausibilityWarning, match="more than 10 m: are the segments' lengths and radii in mm"):
+        load_model(p)
+    # the same route by its points (a polyline): the points are named (review AN: a file of segments
+    # was asked about its points, which it has none of)
+    points = [[0.0, 0.0, 0.0], [600.0, 0.0, 0.0], [600.0, 150.0, 0.0]]
+    mm_points = model_from_dict({**copy.deepcopy(load_model().data), "geometry": {"n_elements": 40, "points": points}})
+    p.write_text(mm_points.to_toml())
     with pytest.warns(PlausibilityWarning, match="more than 10 m: are the points in mm"):
         load_model(p)
     coarse = tmp_path / "coarse.toml"  # the element-length advice is cablecasing geometry's, not the loader's
