@@ -81,12 +81,14 @@ def test_the_casings_band_values_are_an_adaptive_quadrature_of_its_trfam(damping
 
 def test_the_command_prints_the_band_values_the_function_gives(tmp_path, capsys):
     """``trfam --bands table3`` prints (or writes to --out) the table of trfam_band_rms on its grid,
-    after a line saying what it is and one naming the bands its grid leaves out and what holds them;
+    after the line saying it is of each body alone (no contact), a line saying what it is and one naming
+    the bands its grid leaves out and what holds them;
     a .uff --out (an FRF's lines) is refused with --bands, and a grid that holds no band names
     --fmin/--fmax."""
     args = ["trfam", "--input", "casing.A.z", "--output", "casing.B.z", "--bands", "table3"]
     assert main(args) == 0
-    out = capsys.readouterr().out.splitlines()
+    scope, *out = capsys.readouterr().out.splitlines()
+    assert scope.startswith("# each body alone on its supports and mounts: no contact")  # (the cable lies on the wall)
     assert out[0].startswith("# TRFAM casing.B.z / casing.A.z (viscous damping), kg: the RMS of |TRFAM| over each")
     assert out[1] == (
         "# the grid leaves out band(s) oct7, oct8, oct9, which reach beyond it: they need frequencies up to "

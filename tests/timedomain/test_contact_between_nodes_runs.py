@@ -18,7 +18,7 @@ def test_the_contact_between_nodes_prints_its_figures():
     assert float(values["installed_35_node_penetration_m"].split()[0]) > 0
 
 
-def test_the_middles_are_the_cubic_hermite_middles_of_the_elements():
+def test_the_middles_are_the_cubic_hermite_middles_of_the_elements(monkeypatch):
     """The points the script measures are the elements' middles: for any nodal displacements u and
     rotations theta, the middle of a straight Hermite beam of length L and unit tangent t moves by
     (u_a + u_b) / 2 + L / 8 (theta_a - theta_b) x t (the cubic shape functions at 1/2: 1/2, L/8,
@@ -31,6 +31,7 @@ def test_the_middles_are_the_cubic_hermite_middles_of_the_elements():
     import cablecasing_core as cc
     from cablecasing_core.timedomain.engine import Engine
 
+    monkeypatch.syspath_prepend(str(BENCH.parent))  # (its own imports: _options, as when run as a script)
     spec = importlib.util.spec_from_file_location("contact_between_nodes", BENCH)
     bench = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(bench)
