@@ -414,7 +414,11 @@ def cmd_loss_factor(args):
             measured = read_frf_function(args.file, args.channel, strict=args.kind is None)
         f, H, declared = measured.freqs_hz, measured.H, measured.kind
 
-        if args.kind is not None and declared is not None and args.kind != declared:
+        overridden = ""
+        if args.kind is not None and declared is not None and args.kind != declared and measured.kind_by_labels:
+            # (unit labels are free text: the user's stated kind is taken, the labels' said in the '#' line)
+            overridden = f", against {declared!r} from {measured.kind_from}"
+        elif args.kind is not None and declared is not None and args.kind != declared:
             raise ModelError(
                 "--kind",
                 args.kind,
@@ -423,6 +427,7 @@ def cmd_loss_factor(args):
             )
         kind = args.kind or declared or "apparent_mass"
         source = "given" if args.kind else (f"from {measured.kind_from}" if declared else "default")
+        source += overridden
         names = {"window_tau": "--window-tau", "bandwidths": "--bandwidths", "search": "--search"}
         names.update({"f_res_hz": "--freqs", "count": "--count", "max_iter": "--max-iter"})
         hints = {
@@ -512,6 +517,13 @@ def _read_measured(path, modes_arg, channel, max_iter=None):
                     list(modes_arg),
                     f"contradicts the column mode of {path} ({', '.join(str(int(m)) for m in modes)}): a table "
                     "mode,f_hz gives its own mode numbers; leave --modes out (it is for an FRF file)",
+                )
+            if channel is not None:  # (a table has one column of frequencies: no channel to choose)
+                raise ModelError(
+                    "--channel",
+                    channel,
+                    f"{path} is a table mode,f_hz of measured frequencies, with no channels to choose from; leave "
+                    "--channel out (it picks the FRF of an FRF file)",
                 )
             return data[:, fcol] * to_hz, modes.astype(int), "file", None
     if not modes_arg:

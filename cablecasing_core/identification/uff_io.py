@@ -402,7 +402,8 @@ class MeasuredFRF:
     table's header: a UFF function's place among the file's FRFs, name, id1, response and reference DOF
     (``FRF 4 of 0..5, FRF@12-x/2z (id1 'FRF', response 12-x, reference 2z)``), a CSV's columns; ``kind_from``
     says what declared ``kind`` ("" when None): a UFF header's data types or, when they are 0, its unit
-    labels (:func:`~cablecasing_core.uff.frf_kind_of_labels`), a CSV's line ``# kind = ...``."""
+    labels (:func:`~cablecasing_core.uff.frf_kind_of_labels`), a CSV's line ``# kind = ...``; ``kind_by_labels``
+    is True when the unit labels (a heuristic on free text, which a user's stated kind overrides) said it."""
 
     freqs_hz: np.ndarray
     H: np.ndarray
@@ -410,6 +411,7 @@ class MeasuredFRF:
     name: str
     described: str
     kind_from: str = ""
+    kind_by_labels: bool = False
 
 
 def read_frf(path, channel=None):
@@ -448,4 +450,5 @@ def read_frf_function(path, channel=None, strict=True) -> MeasuredFRF:
         kind_from = (
             f"the unit labels {r.unit} / {r.denominator_unit or '-'} of the header of the file, its data types being 0"
         )
-    return MeasuredFRF(r.x, np.asarray(r.data, dtype=complex), kind, name, described, kind_from)
+    by_labels = kind is not None and not (r.data_type and r.denominator_type)
+    return MeasuredFRF(r.x, np.asarray(r.data, dtype=complex), kind, name, described, kind_from, by_labels)

@@ -571,10 +571,10 @@ def wavelet_damping(
         The fit stops where ``|W|`` first falls below ``floor_factor * noise_floor``.
     t_max : float or None
         Optional latest time (s, on the record's time axis) used in the fit (a ModelError naming
-        ``t_max`` when it leaves fewer than ``min_cycles`` periods after the edge). A record ending in a
-        padding of exact zeros (:func:`trailing_padding`) needs it (a ModelError naming the padding's
-        start and the ``t_max`` an edge before it otherwise); the padding's start then counts as the
-        record's end, the fit ending an edge before it whatever ``t_max``.
+        ``t_max`` when it leaves fewer than ``min_cycles`` periods after the edge). In a record ending in a
+        padding of exact zeros (:func:`trailing_padding`) the padding's start counts as the record's end,
+        the fit ending an edge before it whatever ``t_max`` (a ModelWarning naming the padding when it,
+        not ``t_max``, ends the fit).
     min_cycles : float
         Least number of periods that must remain between the edges (and above the noise floor).
     t0 : float
@@ -611,14 +611,13 @@ def wavelet_damping(
         6 % at zeta = 0.2; the message then suggests a wider ``search``), a mode that sinks into the noise
         floor before the edge effect ends, a response that grows, ``ln|W|`` departing from the
         fitted line by more than ``max_departure`` (not a single free decay: a double hit, a
-        pre-trigger, a close mode), a window time constant that leaves no damping, a record ending in
-        a padding of exact zeros without ``t_max`` (naming where the zeros start and the ``t_max`` to give).
+        pre-trigger, a close mode), a window time constant that leaves no damping.
 
     Warns
     -----
     ModelWarning
         Samples stuck at the record's extreme values (clipping): the fit then starts an edge
-        after the last of them.
+        after the last of them. A padding of exact zeros that ends the fit (naming where it starts).
     """
     x = array_1d("x", x, min_len=8)
     fs = number("fs", fs, gt=0, unit="Hz")
@@ -627,6 +626,8 @@ def wavelet_damping(
     floor_factor = number("floor_factor", floor_factor, gt=0)
     search = number("search", search, gt=0)
     t0 = number("t0", t0, unit="s")
+    if t_max is not None:
+        t_max = number("t_max", t_max, unit="s")
     if window_tau is not None:
         window_tau = number("window_tau", window_tau, gt=0, unit="s")
     if max_departure is not None:
@@ -658,15 +659,16 @@ def wavelet_damping(
     pad = trailing_padding(x, q)
     if pad is not None:
         t_last = t0 + pad / fs
-        if t_max is None:
-            edge0 = edge_factor * wavelet_time_spread(float(np.min(f_req)) * (1.0 - search), gamma)
-            raise ModelError(
-                "x",
-                f"{n} samples ({T:g} s from t = {t0:g} s)",
-                f"exactly 0 from t = {t_last:.6g} s to its end ({n - pad} samples, {100 * (n - pad) / n:.3g} % of "
-                "the record): padding (a capture zero-filled to its length), not part of the decay, where the "
-                f"ridges would fall off a cliff; give t_max (the CLI's --t-max) = {_floor3(t_last - edge0)} s, "
-                f"the wavelet's edge ({edge0:.3g} s at {float(np.min(f_req)):g} Hz) before it, or less",
+        edge0 = edge_factor * wavelet_time_spread(float(np.min(f_req)) * (1.0 - search), gamma)
+        if t_max is None or float(t_max) > t_last - edge0:  # (the padding, not t_max, ends the fit: said)
+            asked = "" if t_max is None else f" (t_max = {float(t_max):g} s reaches beyond that)"
+            warnings.warn(
+                f"x: exactly 0 from t = {t_last:.6g} s to its end ({n - pad} samples, {100 * (n - pad) / n:.3g} % "
+                "of the record): padding (a capture zero-filled to its length), not part of the decay; the fit "
+                f"ends an edge before it, at t = {_floor3(t_last - edge0)} s or earlier (the wavelet's edge, "
+                f"{edge0:.3g} s at {float(np.min(f_req)):g} Hz){asked}",
+                ModelWarning,
+                stacklevel=2,
             )
     results = []
     for f0 in f_req:

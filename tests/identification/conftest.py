@@ -1,6 +1,8 @@
 """Independent 'measurements' for the identification tests: modal sums, complex noise, impulse responses and a
-randomly excited response, made with numpy/scipy alone (no package code), after review Q's generators."""
+randomly excited response, made with numpy/scipy alone (no package code), after review Q's generators; and the
+``identify`` sub-commands' runner the CLI tests share."""
 
+import argparse
 from types import SimpleNamespace
 
 import numpy as np
@@ -53,3 +55,19 @@ def synth():
     """``receptance(f_hz, f_n, eta=|zeta=, A=)``, ``cnoise(seed, n, level)``, ``impulse(t, f_n, zeta, amp)``,
     ``random_response(force, fs, f_n, zeta, A)``: the tests' own modal sums and noise."""
     return SimpleNamespace(receptance=_receptance, cnoise=_cnoise, impulse=_impulse, random_response=_random_response)
+
+
+@pytest.fixture(scope="session")
+def identify_cli():
+    """``identify_cli(argv)``: the exit status of ``cablecasing identify ...`` run on a parser built with
+    :func:`~cablecasing_core.cli.identify.add_parser` alone (its sub-commands' own handling of errors)."""
+    from cablecasing_core.cli.identify import add_parser
+
+    def run(argv):
+        p = argparse.ArgumentParser(prog="cablecasing")
+        sub = p.add_subparsers(dest="command", required=True)
+        add_parser(sub)
+        args = p.parse_args(argv)
+        return args.func(args)
+
+    return run

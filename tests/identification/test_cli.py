@@ -22,15 +22,7 @@ ZETA = np.array([0.0359, 0.0263, 0.0216])
 ETA = np.array([0.0764, 0.046, 0.0448])
 
 
-def run(argv):
-    p = argparse.ArgumentParser(prog="cablecasing")
-    sub = p.add_subparsers(dest="command", required=True)
-    add_parser(sub)
-    args = p.parse_args(argv)
-    return args.func(args)
-
-
-def test_damping_end_to_end(tmp_path, capsys):
+def test_damping_end_to_end(identify_cli, tmp_path, capsys):
     fs = 2048.0
     t = np.arange(2048) / fs
     x = sum(np.exp(-z * 2 * np.pi * f * t) * np.sin(2 * np.pi * f * np.sqrt(1 - z * z) * t) for f, z in zip(F, ZETA))
@@ -38,7 +30,7 @@ def test_damping_end_to_end(tmp_path, capsys):
     write_csv_time(path, x, fs, names=["force_N"])
     png, toml = tmp_path / "ridges.png", tmp_path / "rayleigh.toml"
     assert (
-        run(["identify", "damping", str(path), "--plot", str(png), "--toml", str(toml)]) == 0
+        identify_cli(["identify", "damping", str(path), "--plot", str(png), "--toml", str(toml)]) == 0
     )  # peaks found automatically
     out = capsys.readouterr().out
     rows = [line.split() for line in out.splitlines() if line[:4].strip().isdigit()]
@@ -62,7 +54,7 @@ def test_damping_end_to_end(tmp_path, capsys):
     assert png.stat().st_size > 10000
 
 
-def test_loss_factor_end_to_end_uff(tmp_path, capsys):
+def test_loss_factor_end_to_end_uff(identify_cli, tmp_path, capsys):
     f = np.arange(0.5, 400.0, 0.5)
     w2 = (2 * np.pi * f) ** 2
     Hd = sum(1.0 / ((2 * np.pi * fk) ** 2 * (1 + 1j * e) - w2) for fk, e in zip(F, ETA))
@@ -70,7 +62,7 @@ def test_loss_factor_end_to_end_uff(tmp_path, capsys):
     write_uff_frf(path, f, Hd / (-w2), name="apparent mass")  # an apparent-mass-like FRF (F/a)
     png, toml = tmp_path / "circles.png", tmp_path / "eta.toml"
     assert (
-        run(
+        identify_cli(
             [
                 "identify",
                 "loss-factor",
@@ -95,25 +87,30 @@ def test_loss_factor_end_to_end_uff(tmp_path, capsys):
     assert "loss_factor = [[" in capsys.readouterr().out
 
 
-def test_modulus_end_to_end(tmp_path, capsys):
+def test_modulus_end_to_end(identify_cli, tmp_path, capsys):
     model = load_model()
     f_all = natural_frequencies(model.with_overrides({"casing.E": 6.0e9}), "casing", 4)
     path = tmp_path / "measured.csv"
     path.write_text("mode,f_hz\n" + "".join(f"{m},{float(f_all[m - 1])!r}\n" for m in (1, 2, 4)))
     png, toml = tmp_path / "E.png", tmp_path / "E.toml"
-    assert run(["identify", "modulus", str(path), "--plot", str(png), "--toml", str(toml), "--resolution", "0.01"]) == 0
+    assert (
+        identify_cli(
+            ["identify", "modulus", str(path), "--plot", str(png), "--toml", str(toml), "--resolution", "0.01"]
+        )
+        == 0
+    )
     E = np.array(tomllib.loads(toml.read_text())["casing"]["E"])
     np.testing.assert_allclose(E[:, 1], 6.0e9, rtol=1e-6)  # constant modulus recovered (FE stiffness ~ E)
     assert png.stat().st_size > 10000
 
 
-def test_cli_errors_return_2(tmp_path, capsys):
+def test_cli_errors_return_2(identify_cli, tmp_path, capsys):
     path = tmp_path / "x.csv"
     write_csv_time(path, np.random.default_rng(0).standard_normal(512), 512.0)
-    assert run(["identify", "damping", str(path), "--freqs", "300"]) == 2  # above fs/2 = 256 Hz
+    assert identify_cli(["identify", "damping", str(path), "--freqs", "300"]) == 2  # above fs/2 = 256 Hz
     err = capsys.readouterr().err
     assert "--freqs" in err and "fs/2" in err
-    assert run(["identify", "loss-factor", str(tmp_path / "missing.uff")]) == 2
+    assert identify_cli(["identify", "loss-factor", str(tmp_path / "missing.uff")]) == 2
     assert "does not exist" in capsys.readouterr().err
 
 
@@ -126,7 +123,7 @@ def test_registered_in_main_cli(tmp_path, capsys):
     assert "100.0" in capsys.readouterr().out
 
 
-def test_counts_channels_and_the_time_axis_as_a_user_gives_them(tmp_path, capsys):
+def test_counts_channels_and_the_time_axis_as_a_user_gives_them(identify_cli, tmp_path, capsys):
     """--count and --n-table below their least refused by name (a negative count dropped a peak, at
     rc 0); a UFF time record chosen by its name, as `simulate` names its columns (an internal error
     before); --t-max and the fit's times on the file's own time axis (a record from t = 12.5 s: the
@@ -138,27 +135,27 @@ def test_counts_channels_and_the_time_axis_as_a_user_gives_them(tmp_path, capsys
     x = sum(np.exp(-z * 2 * np.pi * f * t) * np.sin(2 * np.pi * f * t) for f, z in ((40.0, 0.02), (95.0, 0.01)))
     late = tmp_path / "late.csv"
     write_csv_time(late, x, fs, names=["acc"], t0=12.5)
-    assert run(["identify", "damping", str(late), "--count", "-1"]) == 2
+    assert identify_cli(["identify", "damping", str(late), "--count", "-1"]) == 2
     assert "--count = -1: must be an integer >= 1" in capsys.readouterr().err
-    assert run(["identify", "damping", str(late), "--freqs", "40", "95", "--t-max", "13.0"]) == 0
+    assert identify_cli(["identify", "damping", str(late), "--freqs", "40", "95", "--t-max", "13.0"]) == 0
     rows = [line.split() for line in capsys.readouterr().out.splitlines() if line[:4].strip().isdigit()]
     assert [float(r[7]) for r in rows] == [13.0, 13.0] and all(12.5 < float(r[6]) < 12.7 for r in rows)
     np.testing.assert_allclose([float(r[4]) for r in rows], [0.02, 0.01], rtol=0.01)
-    assert run(["identify", "damping", str(late), "--freqs", "40", "--t-max", "1.0"]) == 2
+    assert identify_cli(["identify", "damping", str(late), "--freqs", "40", "--t-max", "1.0"]) == 2
     assert "--t-max = 1.0: must be a number > 12.5" in capsys.readouterr().err
     named = tmp_path / "named.uff"
     write_uff_time(named, x, fs, name="casing.B.Fz")
-    assert run(["identify", "damping", str(named), "--channel", "casing.B.Fz", "--freqs", "40"]) == 0
+    assert identify_cli(["identify", "damping", str(named), "--channel", "casing.B.Fz", "--freqs", "40"]) == 0
     assert "(casing.B.Fz)" in capsys.readouterr().out
-    assert run(["identify", "damping", str(named), "--channel", "abc", "--freqs", "40"]) == 2
+    assert identify_cli(["identify", "damping", str(named), "--channel", "abc", "--freqs", "40"]) == 2
     assert "channel = 'abc': must be 0..0 or a name in the file: casing.B.Fz" in capsys.readouterr().err
     measured = tmp_path / "measured.csv"
     measured.write_text("mode,f_hz\n1,100.0\n2,300.0\n")
-    assert run(["identify", "modulus", str(measured), "--n-table", "0"]) == 2
+    assert identify_cli(["identify", "modulus", str(measured), "--n-table", "0"]) == 2
     assert "--n-table = 0: must be an integer >= 2" in capsys.readouterr().err
 
 
-def test_loss_factor_takes_a_0_hz_line_and_checks_search_and_bandwidths(tmp_path, capsys):
+def test_loss_factor_takes_a_0_hz_line_and_checks_search_and_bandwidths(identify_cli, tmp_path, capsys):
     """An analyser's apparent mass (F/a, infinite at 0 Hz, written as 0 there) from 0 Hz was refused
     ("0 Hz cannot be converted ...; leave it out") with no option to leave it out: the line is left
     out and the modal sum's loss factors come out exact (1e-5, as the same file without the line).
@@ -173,14 +170,14 @@ def test_loss_factor_takes_a_0_hz_line_and_checks_search_and_bandwidths(tmp_path
     write_uff_frf(path, f, mass, name="TRFAM")
     for request in (["--count", "2"], ["--freqs", "115.8", "254.1"]):
         toml = tmp_path / "eta.toml"
-        assert run(["identify", "loss-factor", str(path), *request, "--toml", str(toml)]) == 0
+        assert identify_cli(["identify", "loss-factor", str(path), *request, "--toml", str(toml)]) == 0
         assert "the 0 Hz line is left out" in capsys.readouterr().out
         table = np.array(tomllib.loads(toml.read_text())["casing"]["loss_factor"])
         np.testing.assert_allclose(table, np.column_stack([F[[0, 2]], ETA[[0, 2]]]), rtol=1e-5)
-    assert run(["identify", "loss-factor", str(path), "--freqs", "108"]) == 0
+    assert identify_cli(["identify", "loss-factor", str(path), "--freqs", "108"]) == 0
     (row,) = [line.split() for line in capsys.readouterr().out.splitlines() if line[:4].strip().isdigit()]
     assert float(row[1]) == pytest.approx(115.8, rel=1e-3)  # (the 254.1 Hz mode's slope, uncorrected: 1e-4)
-    assert run(["identify", "loss-factor", str(path), "--freqs", "108", "--search", "0.05"]) == 2
+    assert identify_cli(["identify", "loss-factor", str(path), "--freqs", "108", "--search", "0.05"]) == 2
     assert "--freqs = 108.0: no resonance in the window" in capsys.readouterr().err
     for option, value, allowed in (
         ("--search", "1.5", "must be a number in (0, 1)"),
@@ -189,11 +186,11 @@ def test_loss_factor_takes_a_0_hz_line_and_checks_search_and_bandwidths(tmp_path
         ("--bandwidths", "nan", "must be a finite number"),
         ("--bandwidths", "-1", "must be a positive number"),
     ):
-        assert run(["identify", "loss-factor", str(path), "--count", "2", option, value]) == 2
+        assert identify_cli(["identify", "loss-factor", str(path), "--count", "2", option, value]) == 2
         assert f"{option} = {float(value)}: {allowed}" in capsys.readouterr().err
 
 
-def test_loss_factor_names_the_unrequested_neighbour_it_subtracts(tmp_path, capsys):
+def test_loss_factor_names_the_unrequested_neighbour_it_subtracts(identify_cli, tmp_path, capsys):
     """100 Hz requested alone beside a mode of opposite sign at 110 Hz (eta 0.05 and 0.03): f_r was
     106.99 Hz and eta +68 %. The 110 Hz peak lies within --search: it is fitted and subtracted, a #
     line names it, and f_r and eta are exact to their printed digits (the FRF is the two modal terms)."""
@@ -202,24 +199,24 @@ def test_loss_factor_names_the_unrequested_neighbour_it_subtracts(tmp_path, caps
     H = 1 / ((2 * np.pi * 100) ** 2 * (1 + 0.05j) - w2) - 1 / ((2 * np.pi * 110) ** 2 * (1 + 0.03j) - w2)
     path = tmp_path / "pair.uff"
     write_uff_frf(path, f, H, name="H")
-    assert run(["identify", "loss-factor", str(path), "--kind", "displacement", "--freqs", "100"]) == 0
+    assert identify_cli(["identify", "loss-factor", str(path), "--kind", "displacement", "--freqs", "100"]) == 0
     out = capsys.readouterr().out
     assert "# also fitted and subtracted, not requested (a peak within --search of a request): 110 Hz" in out
     (row,) = [line.split() for line in out.splitlines() if line[:4].strip().isdigit()]
     assert float(row[1]) == pytest.approx(100.0, abs=5e-4) and float(row[2]) == pytest.approx(0.05, abs=5e-6)
 
 
-def test_errors_name_the_file_and_the_options_not_the_functions_arguments(tmp_path, capsys, monkeypatch):
+def test_errors_name_the_file_and_the_options_not_the_functions_arguments(identify_cli, tmp_path, capsys, monkeypatch):
     """The command's errors name what the user gave: --model, the record's file and channel (not the
     wavelet's argument x, nor its advice in the API's words), --count for peaks found, not given."""
-    assert run(["identify", "modulus", str(tmp_path / "f.csv"), "--model", str(tmp_path / "nope.toml")]) == 2
+    assert identify_cli(["identify", "modulus", str(tmp_path / "f.csv"), "--model", str(tmp_path / "nope.toml")]) == 2
     assert "error: --model = " in capsys.readouterr().err
     # a decay that grows: no free decay, said of the file and its channel, with the CLI's options
     fs = 2048.0
     t = np.arange(4096) / fs
     path = tmp_path / "growing.csv"
     write_csv_time(path, np.exp(3.0 * t) * np.sin(2 * np.pi * 100.0 * t), fs, names=["force_N"])
-    assert run(["identify", "damping", str(path), "--freqs", "100"]) == 2
+    assert identify_cli(["identify", "damping", str(path), "--freqs", "100"]) == 2
     err = capsys.readouterr().err
     assert "error: file = '" in err and "growing.csv': channel force_N, record at 100 Hz: ln|W| grows" in err, err
     assert "max_departure" not in err and " x = " not in err
@@ -228,7 +225,7 @@ def test_errors_name_the_file_and_the_options_not_the_functions_arguments(tmp_pa
     f = np.linspace(50.0, 150.0, 401)
     frf = tmp_path / "frf.uff"
     write_uff_frf(frf, f, 1.0 / (100.0**2 * (1 + 0.0002j) - f**2))
-    assert run(["identify", "loss-factor", str(frf), "--count", "1", "--kind", "displacement"]) == 2
+    assert identify_cli(["identify", "loss-factor", str(frf), "--count", "1", "--kind", "displacement"]) == 2
     err = capsys.readouterr().err
     assert "error: file = '" in err and "frf.uff': 4 points near 100 Hz: too coarse a resolution" in err, err
 
@@ -236,17 +233,17 @@ def test_errors_name_the_file_and_the_options_not_the_functions_arguments(tmp_pa
         raise ModelError("f_res_hz", 743.5, "no resonance in the window 700..780 Hz")
 
     monkeypatch.setattr(identification, "loss_factor_circle", unfit)
-    assert run(["identify", "loss-factor", str(frf), "--count", "1", "--kind", "displacement"]) == 2
+    assert identify_cli(["identify", "loss-factor", str(frf), "--count", "1", "--kind", "displacement"]) == 2
     err = capsys.readouterr().err
     assert "error: --count = 1: the resonance near 743.5 Hz, one of the peaks of |H| taken for want of --freqs" in err
-    assert run(["identify", "loss-factor", str(frf), "--freqs", "743.5", "--kind", "displacement"]) == 2
+    assert identify_cli(["identify", "loss-factor", str(frf), "--freqs", "743.5", "--kind", "displacement"]) == 2
     assert "error: --freqs = 743.5: no resonance in the window" in capsys.readouterr().err
 
 
 # ------------------------------------------------------------------------- review B
 
 
-def test_modulus_under_the_cli_defaults_updates_every_mode(tmp_path, capsys):
+def test_modulus_under_the_cli_defaults_updates_every_mode(identify_cli, tmp_path, capsys):
     """Review B 1: with the CLI's --resolution 0.5 Hz, mode 1 of the built-in casing at E = 5.2e9 Pa
     (10.19 Hz) lies 0.2 Hz from the start's (5e9 Pa): it was reported with 0 steps and E = 5e9. Every
     mode now gives 5.2e9. The built-in casing's frequencies scale as sqrt(E) to 2e-12 (its stiffness
@@ -257,7 +254,7 @@ def test_modulus_under_the_cli_defaults_updates_every_mode(tmp_path, capsys):
     path = tmp_path / "meas52.csv"
     path.write_text("mode,f_hz\n" + "".join(f"{m},{float(f_all[m - 1])!r}\n" for m in modes))
     toml = tmp_path / "E.toml"
-    assert run(["identify", "modulus", str(path), "--toml", str(toml)]) == 0
+    assert identify_cli(["identify", "modulus", str(path), "--toml", str(toml)]) == 0
     out = capsys.readouterr().out
     assert "then until within 0.25 Hz (half the resolution 0.5 Hz, the paper's, the default for a table)" in out
     rows = [line.split() for line in out.splitlines() if line[:4].strip().isdigit()]
@@ -267,7 +264,7 @@ def test_modulus_under_the_cli_defaults_updates_every_mode(tmp_path, capsys):
     np.testing.assert_allclose(E[:, 1], 5.2e9, rtol=1e-9)
 
 
-def test_modulus_from_an_exact_frf_is_exact(tmp_path, capsys):
+def test_modulus_from_an_exact_frf_is_exact(identify_cli, tmp_path, capsys):
     """An FRF's natural frequencies are the circle fits' resonances (review Q 1: the peaks of |H| were
     used, judged to half the line spacing): a modal sum at the built-in casing's frequencies at 5.2e9 Pa
     gives them to the circle fit's solver tolerance (1e-6, as loss-factor's) and E to twice that
@@ -280,7 +277,7 @@ def test_modulus_from_an_exact_frf_is_exact(tmp_path, capsys):
     path = tmp_path / "frf.csv"
     identification.write_csv_frf(path, f, H, kind="displacement")
     with pytest.warns(Warning, match="spans only 5.1 frequency lines"):  # (about eta: 0.01 at 0.02 Hz lines)
-        assert run(["identify", "modulus", str(path), "--modes", "1", "4", "--degree", "-1"]) == 0
+        assert identify_cli(["identify", "modulus", str(path), "--modes", "1", "4", "--degree", "-1"]) == 0
     out = capsys.readouterr().out
     assert "frequencies from the resonances of circle fits" in out
     # (noise-free: a tenth of f_unc_Hz, < 1e-7 Hz, is below 1e-9 of the highest frequency, which the process takes
@@ -306,7 +303,7 @@ def _clamped_clamped_measurement(E_of_f, modes=4):
     return np.array([brentq(lambda f, kk=kk: f - kk * np.sqrt(E_of_f(f)), 1.0, 1e3) for kk in k])
 
 
-def test_modulus_from_a_noisy_frf_within_its_printed_uncertainty(tmp_path, capsys, synth):
+def test_modulus_from_a_noisy_frf_within_its_printed_uncertainty(identify_cli, tmp_path, capsys, synth):
     """Review Q 1: 4 modes of the straight casing with E(f) = 5e9 (f / 30 Hz)^0.1 Pa (closed form), receptance
     with eta 0.05 at 0.05 Hz lines and complex noise 1 % of max|H|. The peaks of |H| gave 10.250, 29.750,
     60.400, 102.350 Hz "within 0.025 Hz" and E 0.4-0.85 % low; the circle fits give each frequency within
@@ -322,7 +319,7 @@ def test_modulus_from_a_noisy_frf_within_its_printed_uncertainty(tmp_path, capsy
     identification.write_csv_frf(path, f, H, kind="displacement")
     model = Path(__file__).resolve().parents[2] / "examples" / "straight_casing.toml"
     with pytest.warns(Warning):  # (the circles' scatter, rms/R 0.06-0.07 at modes 5 and 7: about eta)
-        code = run(["identify", "modulus", str(path), "--model", str(model), "--modes", "1", "3", "5", "7"])
+        code = identify_cli(["identify", "modulus", str(path), "--model", str(model), "--modes", "1", "3", "5", "7"])
     assert code == 0
     out = capsys.readouterr().out
     rows = np.array([[float(v) for v in line.split()] for line in out.splitlines() if line[:4].strip().isdigit()])
@@ -337,7 +334,7 @@ def test_modulus_from_a_noisy_frf_within_its_printed_uncertainty(tmp_path, capsy
     assert np.all(E_unc < 1e-3)
 
 
-def test_damping_with_one_mode_and_toml_is_refused_before_anything_is_printed(tmp_path, capsys):
+def test_damping_with_one_mode_and_toml_is_refused_before_anything_is_printed(identify_cli, tmp_path, capsys):
     """Review B 5: --toml writes the Rayleigh factors, whose fit needs two modes: one mode wrote no
     file, said nothing and returned 0."""
     fs = 2048.0
@@ -349,12 +346,12 @@ def test_damping_with_one_mode_and_toml_is_refused_before_anything_is_printed(tm
         (["--freqs", "50"], "--freqs gives one frequency (50 Hz)"),
         (["--count", "1"], "--count is 1"),
     ):
-        assert run(["identify", "damping", str(path), *request, "--toml", str(toml)]) == 2
+        assert identify_cli(["identify", "damping", str(path), *request, "--toml", str(toml)]) == 2
         out, err = capsys.readouterr()
         assert out == "" and not toml.exists()
         assert f"--toml = '{toml}': writes the Rayleigh factors alpha, beta, whose fit needs the damping of two" in err
         assert given in err
-    assert run(["identify", "damping", str(path), "--freqs", "50"]) == 0  # (the table alone: as before)
+    assert identify_cli(["identify", "damping", str(path), "--freqs", "50"]) == 0  # (the table alone: as before)
 
 
 def _hump_frf(path):
@@ -367,22 +364,22 @@ def _hump_frf(path):
     return path
 
 
-def test_loss_factor_without_count_names_no_option_the_user_did_not_give(tmp_path, capsys):
+def test_loss_factor_without_count_names_no_option_the_user_did_not_give(identify_cli, tmp_path, capsys):
     """Review B 6: the hump was fitted as a peak and the error blamed '--count = None'. It names the
     file and asks for --count N or --freqs; --count 2 gives both loss factors (exact modal sum: 1e-6)."""
     path = _hump_frf(tmp_path / "rec.csv")
-    assert run(["identify", "loss-factor", str(path)]) == 2
+    assert identify_cli(["identify", "loss-factor", str(path)]) == 2
     out, err = capsys.readouterr()
     assert out == "" and "--count = None" not in err and "None" not in err
     assert f"error: file = '{path}': the resonance near 394.5 Hz, one of the peaks of |H| above its noise" in err
     assert "give the number of resonances to fit, the most prominent peaks (--count N), or the resonances" in err
     toml = tmp_path / "eta.toml"
-    assert run(["identify", "loss-factor", str(path), "--count", "2", "--toml", str(toml)]) == 0
+    assert identify_cli(["identify", "loss-factor", str(path), "--count", "2", "--toml", str(toml)]) == 0
     table = np.array(tomllib.loads(toml.read_text())["casing"]["loss_factor"])
     np.testing.assert_allclose(table, [[100.0, 0.03], [230.0, 0.05]], rtol=1e-6)
 
 
-def test_bandwidths_is_the_full_width_of_the_window_in_half_power_bandwidths(tmp_path, capsys):
+def test_bandwidths_is_the_full_width_of_the_window_in_half_power_bandwidths(identify_cli, tmp_path, capsys):
     """Review B 7: the window is omega^2 within omega_r^2 (1 +- bandwidths eta), i.e. f_r +- (bandwidths / 2)
     eta f_r: its full width is `bandwidths` half-power bandwidths B = eta f_r (it was called the
     half-width). The message's interval is `bandwidths` times eta f_r wide to 1 %: its printed rounding
@@ -393,7 +390,7 @@ def test_bandwidths_is_the_full_width_of_the_window_in_half_power_bandwidths(tmp
     write_uff_frf(frf, f, 1.0 / (100.0**2 * (1 + 0.0002j) - f**2))
     for bw in (2.0, 4.0):
         argv = ["identify", "loss-factor", str(frf), "--count", "1", "--kind", "displacement", "--bandwidths", str(bw)]
-        assert run(argv) == 2
+        assert identify_cli(argv) == 2
         err = capsys.readouterr().err
         assert f"(a window {bw:g} half-power bandwidths eta f_r wide, f_r +-{bw / 2:g} eta f_r, of the one-mode" in err
         assert "give a larger --bandwidths" in err
@@ -412,7 +409,7 @@ def _subcommand(parser, name):
     return identify._subparsers._group_actions[0].choices[name]
 
 
-def test_modulus_body_not_in_the_model_is_named_as_the_option(tmp_path, capsys):
+def test_modulus_body_not_in_the_model_is_named_as_the_option(identify_cli, tmp_path, capsys):
     """Review B 8: a model without a cable and --body cable said "body = 'cable'"."""
     m = load_model()
     data = {
@@ -426,12 +423,12 @@ def test_modulus_body_not_in_the_model_is_named_as_the_option(tmp_path, capsys):
     model_file.write_text(model_from_dict(data).to_toml())
     meas = tmp_path / "meas.csv"
     meas.write_text("mode,f_hz\n1,11.0\n")
-    assert run(["identify", "modulus", str(meas), "--model", str(model_file), "--body", "cable"]) == 2
+    assert identify_cli(["identify", "modulus", str(meas), "--model", str(model_file), "--body", "cable"]) == 2
     err = capsys.readouterr().err
     assert f"error: --body = 'cable': must be a body of the model {model_file}: 'casing'" in err, err
 
 
-def test_a_magnitude_only_uff_frf_is_said_to_need_the_complex_frf(tmp_path, capsys):
+def test_a_magnitude_only_uff_frf_is_said_to_need_the_complex_frf(identify_cli, tmp_path, capsys):
     """Review B 10: a UFF 58 FRF of real values (|H|, as some tools export; 8/13 receptance) got "no
     resonance in the window"; it is said to hold real values only. Its peaks still give the modulus."""
     import pyuff
@@ -446,11 +443,11 @@ def test_a_magnitude_only_uff_frf_is_said_to_need_the_complex_frf(tmp_path, caps
     )  # fmt: skip
     path = tmp_path / "mag.uff"
     pyuff.UFF(str(path)).write_sets(d, mode="overwrite")
-    assert run(["identify", "loss-factor", str(path), "--count", "2"]) == 2
+    assert identify_cli(["identify", "loss-factor", str(path), "--count", "2"]) == 2
     err = capsys.readouterr().err
     assert f"error: file = '{path}': an FRF of real values only (its imaginary part 0 at every frequency)" in err
     assert "a circle fit needs the complex FRF" in err and "no resonance" not in err
-    assert run(["identify", "modulus", str(path), "--modes", "1", "2"]) == 0
+    assert identify_cli(["identify", "modulus", str(path), "--modes", "1", "2"]) == 0
     rows = [line.split() for line in capsys.readouterr().out.splitlines() if line[:4].strip().isdigit()]
     np.testing.assert_allclose([float(r[1]) for r in rows], [100.0, 230.0], atol=0.25)  # (the peaks, to df)
 
@@ -470,7 +467,9 @@ def test_a_measured_frequency_table_is_read_in_its_unit(tmp_path):
 
 
 @pytest.mark.slow  # ~500 correction sweeps of two close modes (~10 s)
-def test_loss_factor_of_close_modes_settles_by_default_and_an_unsettled_fit_is_not_written(tmp_path, capsys, synth):
+def test_loss_factor_of_close_modes_settles_by_default_and_an_unsettled_fit_is_not_written(
+    identify_cli, tmp_path, capsys, synth
+):
     """Review Q 2: the warning asked for a larger max_iter the CLI did not offer, and the unsettled loss factors
     went into --toml. Two modes of eta 0.02, 0.75 half-power bandwidths apart (100 and 101.5 Hz, an exact modal
     sum): after 50 sweeps eta is 4.6 % and 4.9 % off; --max-iter 50 --toml writes nothing and exits 2 naming
@@ -481,23 +480,25 @@ def test_loss_factor_of_close_modes_settles_by_default_and_an_unsettled_fit_is_n
     identification.write_csv_frf(path, f, synth.receptance(f, [100.0, 101.5], eta=[0.02] * 2), kind="displacement")
     args = ["identify", "loss-factor", str(path), "--freqs", "100", "101.5", "--toml", str(toml)]
     with pytest.warns(ModelWarning, match="did not settle in max_iter = 50 sweeps"):
-        assert run([*args, "--max-iter", "50"]) == 2
+        assert identify_cli([*args, "--max-iter", "50"]) == 2
     err = capsys.readouterr().err
     assert f"--toml = '{toml}': not written: the neighbouring-mode correction did not settle in --max-iter 50" in err
     assert "give a larger --max-iter" in err and "--allow-unsettled" in err and not toml.exists()
     with pytest.warns(ModelWarning, match="did not settle"):
-        assert run([*args, "--max-iter", "50", "--allow-unsettled"]) == 0
+        assert identify_cli([*args, "--max-iter", "50", "--allow-unsettled"]) == 0
     assert "# NOT SETTLED: the neighbouring-mode correction did not settle" in toml.read_text()
     eta = np.array(tomllib.loads(toml.read_text())["casing"]["loss_factor"])[:, 1]
     assert np.all(np.abs(eta / 0.02 - 1) > 0.03)  # (what is written is the unsettled fit: 4.6 and 4.9 % off)
-    assert run(args) == 0
+    assert identify_cli(args) == 0
     assert "NOT SETTLED" not in toml.read_text()
     eta = np.array(tomllib.loads(toml.read_text())["casing"]["loss_factor"])[:, 1]
     np.testing.assert_allclose(eta, 0.02, rtol=1e-5)
 
 
 @pytest.mark.parametrize("off", [["--max-iter", "0"], ["--no-correction"], ["--no-correction", "--count", "2"]])
-def test_close_modes_fitted_uncorrected_from_found_peaks_are_refused_naming_the_peaks(off, tmp_path, capsys, synth):
+def test_close_modes_fitted_uncorrected_from_found_peaks_are_refused_naming_the_peaks(
+    identify_cli, off, tmp_path, capsys, synth
+):
     """Review V, D7: two modes of eta 0.02 at 100 and 101.5 Hz (0.75 half-power bandwidths apart) from the peaks
     of |H| without --freqs, the neighbour correction off: the uncorrected circles find one resonance, and the
     refusal blamed --freqs, which nobody gave, with 17 digits. It names the peaks as found (6 digits) and the
@@ -510,28 +511,28 @@ def test_close_modes_fitted_uncorrected_from_found_peaks_are_refused_naming_the_
     k = np.flatnonzero((a[1:-1] > a[:-2]) & (a[1:-1] > a[2:])) + 1  # (the local maxima of |H| on its lines)
     assert k.size == 2  # (the pair shows two peaks: each is a request)
     peaks = f"the peaks of |H| at {f[k[0]]:.6g} and {f[k[1]]:.6g} Hz, taken for want of --freqs, found the same"
-    assert run(["identify", "loss-factor", str(path), *off]) == 2
+    assert identify_cli(["identify", "loss-factor", str(path), *off]) == 2
     err = capsys.readouterr().err
     assert f"error: {off[0]} = {'0' if off[0] == '--max-iter' else 'True'}: {peaks}" in err, err
     assert "--freqs =" not in err and "the neighbouring-mode correction, which separates close modes, was off" in err
     if off == ["--max-iter", "0"]:
-        assert run(["identify", "modulus", str(path), "--modes", "1", "2", "--max-iter", "0"]) == 0
+        assert identify_cli(["identify", "modulus", str(path), "--modes", "1", "2", "--max-iter", "0"]) == 0
         out = capsys.readouterr().out
         assert f"no circle fit ({peaks}" in out and "was off (--max-iter 0)" in out and "f_res_hz =" not in out
 
 
-def test_the_max_iter_help_states_the_circle_fit_s_own_default(capsys):
+def test_the_max_iter_help_states_the_circle_fit_s_own_default(identify_cli, capsys):
     """--max-iter's default is the circle fit's MAX_ITER, read when the help shows it or the command runs (the
     parser imports no identification module); its help states that number."""
     from cablecasing_core.identification.circlefit import MAX_ITER
 
     for command in ("loss-factor", "modulus"):
         with pytest.raises(SystemExit):
-            run(["identify", command, "--help"])
+            identify_cli(["identify", command, "--help"])
         assert f"(default {MAX_ITER}, the circle fit's;" in " ".join(capsys.readouterr().out.split())
 
 
-def test_the_tables_print_the_uncertainties(tmp_path, capsys, synth):
+def test_the_tables_print_the_uncertainties(identify_cli, tmp_path, capsys, synth):
     """Review Q 4: the circle fit's eta uncertainty was not printed (only inside the rms/R warning), and zeta,
     alpha, beta had none. loss-factor prints eta_unc_% and f_unc_Hz, damping zeta_unc_% and alpha, beta
     +- their propagated standard deviations: the API's values (extra["eta_rel_uncertainty"],
@@ -543,7 +544,7 @@ def test_the_tables_print_the_uncertainties(tmp_path, capsys, synth):
     H = synth.receptance(f, [100.0], eta=[0.02]) + synth.cnoise(1, f.size, 2e-6)  # (2 % of the peak, 5e-5)
     path = tmp_path / "frf.csv"
     identification.write_csv_frf(path, f, H, kind="displacement")
-    assert run(["identify", "loss-factor", str(path), "--freqs", "100"]) == 0
+    assert identify_cli(["identify", "loss-factor", str(path), "--freqs", "100"]) == 0
     out = capsys.readouterr().out
     (row,) = [line.split() for line in out.splitlines() if line[:4].strip().isdigit()]
     (r,) = loss_factor_circle(f, H, [100.0])
@@ -553,7 +554,7 @@ def test_the_tables_print_the_uncertainties(tmp_path, capsys, synth):
     fs, t = 2048.0, np.arange(4096) / 2048.0
     x = synth.impulse(t, F, ZETA, [1.0, 0.7, 0.5]) + 0.01 * np.random.default_rng(3).standard_normal(t.size)
     write_csv_time(tmp_path / "imp.csv", x, fs)
-    assert run(["identify", "damping", str(tmp_path / "imp.csv"), "--freqs", *map(str, F)]) == 0
+    assert identify_cli(["identify", "damping", str(tmp_path / "imp.csv"), "--freqs", *map(str, F)]) == 0
     out = capsys.readouterr().out
     rows = [line.split() for line in out.splitlines() if line[:4].strip().isdigit()]
     res = wavelet_damping(x, fs, F)
@@ -563,7 +564,7 @@ def test_the_tables_print_the_uncertainties(tmp_path, capsys, synth):
     np.testing.assert_allclose([a, b], [fit.alpha_sd, fit.beta_sd], rtol=0.05)
 
 
-def test_damping_takes_the_trigger_time_and_refuses_a_force_channel(tmp_path, capsys, synth):
+def test_damping_takes_the_trigger_time_and_refuses_a_force_channel(identify_cli, tmp_path, capsys, synth):
     """Review Q: a record whose time starts at 0 with the impulse 20 ms in was refused ("the file's time must be 0
     at the impulse") with no option to say so; --t0 -0.02 (the first sample's time, the API's t0) gives zeta
     within 0.5 % (the noisy pre-trigger case of section 1: measured 0.1 %). An impact UFF whose first function is
@@ -575,12 +576,12 @@ def test_damping_takes_the_trigger_time_and_refuses_a_force_channel(tmp_path, ca
     path = tmp_path / "pretrig0.csv"
     write_csv_time(path, y, fs, names=["acc"])
     args = ["identify", "damping", str(path), "--freqs", *map(str, f_n)]
-    assert run(args) == 2
+    assert identify_cli(args) == 2
     assert "(give --t0, the first sample's time with the impulse at t = 0)" in capsys.readouterr().err
-    assert run([*args, "--t0", "-0.02"]) == 0
+    assert identify_cli([*args, "--t0", "-0.02"]) == 0
     rows = [line.split() for line in capsys.readouterr().out.splitlines() if line[:4].strip().isdigit()]
     np.testing.assert_allclose([float(r[4]) for r in rows], zeta, rtol=5e-3)
-    assert run([*args, "--t0", "nan"]) == 2 and "--t0 = nan" in capsys.readouterr().err
+    assert identify_cli([*args, "--t0", "nan"]) == 2 and "--t0 = nan" in capsys.readouterr().err
     from cablecasing_core.identification.uff_io import Record, write_uff
 
     t = np.arange(-0.02, 2.0, 1 / fs)
@@ -588,14 +589,14 @@ def test_damping_takes_the_trigger_time_and_refuses_a_force_channel(tmp_path, ca
     y = synth.impulse(t, f_n, zeta, [1, 0.7, 0.5])
     path = tmp_path / "impact.uff"
     write_uff(path, [Record("time", t, force, "force"), Record("time", t, y, "response")])
-    assert run(["identify", "damping", str(path)]) == 2
+    assert identify_cli(["identify", "damping", str(path)]) == 2
     err = capsys.readouterr().err
     assert "channel force, " in err and "not a decay" in err and "pick the response channel with --channel" in err
     assert "clipped" not in err
-    assert run(["identify", "damping", str(path), "--channel", "1", "--freqs", *map(str, f_n)]) == 0
+    assert identify_cli(["identify", "damping", str(path), "--channel", "1", "--freqs", *map(str, f_n)]) == 0
 
 
-def test_damping_without_count_takes_the_peaks_the_record_has(tmp_path, capsys):
+def test_damping_without_count_takes_the_peaks_the_record_has(identify_cli, tmp_path, capsys):
     """Review X D5: a two-mode decay without --count was refused naming "--count = 3", an option the
     user never gave. Without --count it takes up to three peaks, as many as the record has; the
     zeta found are the file's (1 %, as test_damping_end_to_end); --toml with one peak found is
@@ -606,16 +607,16 @@ def test_damping_without_count_takes_the_peaks_the_record_has(tmp_path, capsys):
     x = sum(np.exp(-z * 2 * np.pi * f * t) * np.sin(2 * np.pi * f * np.sqrt(1 - z * z) * t) for f, z in two)
     path = tmp_path / "two.csv"
     write_csv_time(path, x, fs)
-    assert run(["identify", "damping", str(path)]) == 0
+    assert identify_cli(["identify", "damping", str(path)]) == 0
     out = capsys.readouterr().out
     rows = [line.split() for line in out.splitlines() if line[:4].strip().isdigit()]
     np.testing.assert_allclose([float(r[4]) for r in rows], [z for _, z in two], rtol=0.01)
     assert "the 2 most prominent peaks of its amplitude spectrum" in out
-    assert run(["identify", "damping", str(path), "--count", "3"]) == 2
+    assert identify_cli(["identify", "damping", str(path), "--count", "3"]) == 2
     assert "--count = 3: must be at most 2" in capsys.readouterr().err
     one = tmp_path / "one.csv"
     write_csv_time(one, np.exp(-0.02 * 2 * np.pi * 50 * t) * np.sin(2 * np.pi * 50 * t), fs)
     toml = tmp_path / "r.toml"
-    assert run(["identify", "damping", str(one), "--toml", str(toml)]) == 2
+    assert identify_cli(["identify", "damping", str(one), "--toml", str(toml)]) == 2
     err = capsys.readouterr().err
     assert f"--toml = '{toml}'" in err and "has one peak above its noise (50" in err and not toml.exists()

@@ -2,7 +2,6 @@
 a CSV's --channel, the Rayleigh misfit, zero padding, unit labels). The measurements are the conftest's modal sums
 and noise, written by the package's writers or by hand (pyuff's dict writer) where a file must be broken."""
 
-import argparse
 import re
 import warnings
 from pathlib import Path
@@ -10,7 +9,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cablecasing_core.cli.identify import add_parser
 from cablecasing_core.errors import ModelError, ModelWarning
 from cablecasing_core.identification import find_resonances, loss_factor_circle, read_frf, write_uff_frf
 from cablecasing_core.identification.uff_io import write_csv_frf
@@ -20,14 +18,6 @@ ETA = np.array([0.024, 0.040, 0.016])
 AMP = np.array([1.0, -0.6, 0.35])
 FREQ = np.arange(0.0, 256.0 + 1e-9, 0.0625)  # 4097 lines, 0 Hz first (an analyser's export)
 MODEL = Path(__file__).resolve().parents[2] / "examples" / "straight_casing.toml"
-
-
-def run(argv):
-    p = argparse.ArgumentParser(prog="cablecasing")
-    sub = p.add_subparsers(dest="command", required=True)
-    add_parser(sub)
-    args = p.parse_args(argv)
-    return args.func(args)
 
 
 def accelerance(synth, seed=30, noise=0.002, f_n=F):
@@ -103,18 +93,18 @@ def test_the_readers_name_zero_lines(tmp_path, synth, suffix):
         read_frf(q)
 
 
-def _modulus(path, capsys):
+def _modulus(identify_cli, path, capsys):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ModelWarning)
         argv = ["identify", "modulus", str(path), "--modes", "1", "3", "5", "--model", str(MODEL), "--degree", "-1"]
-        code = run(argv)
+        code = identify_cli(argv)
     out = capsys.readouterr()
     assert code == 0, out.err
     r = rows(out.out)
     return np.array([[float(x) for x in row[1:6]] for row in r])  # f_meas, f_unc, f_comp, E, E_unc_%
 
 
-def test_modulus_of_an_frf_with_a_zero_line_is_that_of_the_frf_without_it(tmp_path, synth, capsys):
+def test_modulus_of_an_frf_with_a_zero_line_is_that_of_the_frf_without_it(identify_cli, tmp_path, synth, capsys):
     """The review's repro: identify modulus took 0.25 and 1.125 Hz as modes 1 and 3 (E 1000 times too low,
     exit 0) for one zero line at 200 Hz. Now E equals the E without the zero within its printed uncertainty."""
     H = accelerance(synth)
@@ -122,7 +112,7 @@ def test_modulus_of_an_frf_with_a_zero_line_is_that_of_the_frf_without_it(tmp_pa
     write_uff_frf(clean, FREQ, H, kind="acceleration")
     H[FREQ == 200.0] = 0.0
     write_uff_frf(zero, FREQ, H, kind="acceleration")
-    a, b = _modulus(clean, capsys), _modulus(zero, capsys)
+    a, b = _modulus(identify_cli, clean, capsys), _modulus(identify_cli, zero, capsys)
     np.testing.assert_allclose(a[:, 0], F, atol=0.01)  # (the circle fits' f_r: f_unc is 0.0005..0.002 Hz)
     # (E within one printed E_unc_% of the run without the zero; the 200 Hz line is in no circle's window)
     assert np.all(np.abs(b[:, 3] / a[:, 3] - 1) <= a[:, 4] / 100), (a, b)
@@ -267,14 +257,14 @@ def test_a_name_of_two_functions_is_refused_naming_both(tmp_path, synth):
 
 
 @pytest.mark.parametrize("command", ["loss-factor", "modulus"])
-def test_the_header_line_names_the_frf_used(tmp_path, synth, capsys, command):
+def test_the_header_line_names_the_frf_used(identify_cli, tmp_path, synth, capsys, command):
     """The '#' line of loss-factor and modulus did not say which function of the file it fitted."""
     p = _matrix_file(tmp_path, synth)
     argv = ["identify", command, str(p), "--channel", "FRF@12-x/2z"]
     argv += ["--count", "3"] if command == "loss-factor" else ["--modes", "1", "3", "5", "--model", str(MODEL)]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ModelWarning)
-        assert run(argv) == 0
+        assert identify_cli(argv) == 0
     head = capsys.readouterr().out.splitlines()[0]
     assert "FRF 5 of 0..5, FRF@12-x/2z (id1 'FRF', response 12-x, reference 2z)" in head, head
 
@@ -345,12 +335,12 @@ def test_the_channel_of_a_csv_of_several_frfs_picks_the_pair(tmp_path, synth):
         assert e.value.key == "channel" and "H11" in e.value.allowed and "H21" in e.value.allowed, e.value
 
 
-def test_identify_loss_factor_fits_the_csv_pair_given(tmp_path, synth, capsys):
+def test_identify_loss_factor_fits_the_csv_pair_given(identify_cli, tmp_path, synth, capsys):
     p, _, _ = _two_frf_csv(tmp_path, synth)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ModelWarning)
         argv = ["identify", "loss-factor", str(p), "--kind", "acceleration", "--channel", "re_H21", "--count", "3"]
-        assert run(argv) == 0
+        assert identify_cli(argv) == 0
     out = capsys.readouterr().out
     assert "(columns re_H21, im_H21)" in out.splitlines()[0], out
     f_r = np.array([float(r[1]) for r in rows(out)])
@@ -438,25 +428,29 @@ def _padded(synth, fs=1024.0):
     return x, fs
 
 
-def test_a_zero_padded_record_is_named_as_padding_and_t_max_fits_it(synth):
+def test_a_zero_padded_record_is_named_as_padding_and_the_fit_ends_before_it(synth):
     """The review's record was diagnosed as a second impact (27.75 nepers at t = 4.574 s); it is named as padding
-    now, with the t_max that ends the fit an edge before it, which gives the zeta back."""
+    now (a ModelWarning), the fit ending an edge before it, which gives the zeta back; any t_max beyond the
+    padding's start gives the same fit (review AO L3: the padding, not t_max, ends it)."""
     from cablecasing_core.identification import wavelet_damping
 
     x, fs = _padded(synth)
-    with pytest.raises(ModelError) as e:
-        wavelet_damping(x, fs, F)
-    said = e.value.allowed
-    assert e.value.key == "x" and "exactly 0 from t = 4 s" in said and "padding" in said, said
-    assert "second impact" not in said
-    t_max = float(re.search(r"give t_max \(the CLI's --t-max\) = ([0-9.]+) s", said).group(1))
-    assert 3.5 < t_max < 4.0, t_max  # (an edge before 4 s: 3 sigma_t of 21.3 Hz, 0.27 s)
-    res = wavelet_damping(x, fs, F, t_max=t_max)
+    with pytest.warns(ModelWarning, match=r"exactly 0 from t = 4 s") as said:
+        res = wavelet_damping(x, fs, F)
+    text = str(said[0].message)
+    assert "padding" in text and "second impact" not in text, text
+    t_end = float(re.search(r"the fit ends an edge before it, at t = ([0-9.]+) s", text).group(1))
+    assert 3.5 < t_end < 4.0, t_end  # (an edge before 4 s: 3 sigma_t of 21.3 Hz, 0.27 s)
     # (the unpadded record's accuracy: within 2 % of zeta, the noise's few zeta_sd and the wavelet's bias)
     np.testing.assert_allclose([r.zeta for r in res], ZETA_T, rtol=0.02)
-    # a t_max beyond the padding's start is held an edge before it, as the record's end is
-    res2 = wavelet_damping(x, fs, F, t_max=6.0)
-    np.testing.assert_allclose([r.zeta for r in res2], [r.zeta for r in res], rtol=0.02)
+    assert max(r.t[r.fit_mask].max() for r in res) <= t_end + 1 / fs  # (no window reaches into the zeros)
+    for t_max in (6.0, 100.0):  # (beyond the padding's start, beyond the record: the same fit, said)
+        with pytest.warns(ModelWarning, match=rf"t_max = {t_max:g} s reaches beyond"):
+            res2 = wavelet_damping(x, fs, F, t_max=t_max)
+        np.testing.assert_array_equal([r.zeta for r in res2], [r.zeta for r in res])
+    with warnings.catch_warnings():  # a t_max an edge before the zeros: they do not end the fit, nothing said
+        warnings.simplefilter("error")
+        wavelet_damping(x, fs, F, t_max=t_end)
 
 
 def test_a_quantised_decay_whose_tail_rounds_to_zero_is_no_padding(synth):
@@ -474,20 +468,19 @@ def test_a_quantised_decay_whose_tail_rounds_to_zero_is_no_padding(synth):
     np.testing.assert_allclose([r.zeta for r in res], ZETA_T, rtol=0.02)
 
 
-def test_identify_damping_names_padding_and_the_option(tmp_path, synth, capsys):
+def test_identify_damping_names_padding_and_fits_before_it(tmp_path, synth, capsys):
     from cablecasing_core import cli
     from cablecasing_core.identification import write_csv_time
 
     x, fs = _padded(synth)
     p = tmp_path / "zeropad.csv"
     write_csv_time(p, x, fs, names=["acc"])
-    assert cli.main(["identify", "damping", str(p)]) == 2
-    err = capsys.readouterr().err
-    assert "exactly 0 from t = 4 s" in err and "give --t-max = " in err and "second impact" not in err, err
-    t_max = re.search(r"give --t-max = ([0-9.]+) s", err).group(1)
-    # the suggested --t-max runs, the spectrum's peaks taken before the padding (the zeros made noise peaks)
-    assert cli.main(["identify", "damping", str(p), "--t-max", t_max]) == 0
-    zeta = np.array([float(r[4]) for r in rows(capsys.readouterr().out)])
+    # no refusal: the fit ends before the padding (said), the spectrum's peaks taken before it (the zeros made
+    # noise peaks)
+    assert cli.main(["identify", "damping", str(p)]) == 0
+    got = capsys.readouterr()
+    assert "exactly 0 from t = 4 s" in got.err and "padding" in got.err and "second impact" not in got.err, got.err
+    zeta = np.array([float(r[4]) for r in rows(got.out)])
     np.testing.assert_allclose(zeta, ZETA_T, rtol=0.02)  # (as the API's, above)
 
 
@@ -520,7 +513,7 @@ def test_frf_kind_reads_the_unit_labels_when_the_data_types_are_0(unit, den_unit
     assert frf_kind(typed) == "displacement"
 
 
-def test_an_frf_of_data_types_0_labelled_g_over_n_is_fitted_as_an_accelerance(tmp_path, synth, capsys):
+def test_an_frf_of_data_types_0_labelled_g_over_n_is_fitted_as_an_accelerance(identify_cli, tmp_path, synth, capsys):
     """The review's file (pyuff-based and older exporters write data types 0) was fitted as apparent mass:
     eta_2 0.4 % low, 85 times its printed eta_unc. The labels g / N now give its kind, and the '#' line says so."""
     H = accelerance(synth, noise=0.0) / 9.80665  # (in g/N)
@@ -528,7 +521,7 @@ def test_an_frf_of_data_types_0_labelled_g_over_n_is_fitted_as_an_accelerance(tm
     write_uff_frf(p, FREQ, H, name="FRF", unit="g", denominator_unit="N")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ModelWarning)
-        assert run(["identify", "loss-factor", str(p), "--freqs", *map(str, F)]) == 0
+        assert identify_cli(["identify", "loss-factor", str(p), "--freqs", *map(str, F)]) == 0
     out = capsys.readouterr().out
     said = "kind acceleration (from the unit labels g / N of the header of the file, its data types being 0)"
     assert said in out, out
@@ -536,10 +529,42 @@ def test_an_frf_of_data_types_0_labelled_g_over_n_is_fitted_as_an_accelerance(tm
     np.testing.assert_allclose(eta, ETA, rtol=1e-3)  # (noise-free, the right kind: exact to the printed digits)
 
 
+def test_a_given_kind_overrides_the_unit_labels_and_the_hash_line_says_so(identify_cli, tmp_path, synth, capsys):
+    """Review AO L4: a receptance whose header (data types 0) is mislabelled g / N was refused with --kind
+    displacement (the labels, free text, said acceleration) and no override was left. The stated kind is taken
+    now, the '#' line saying what the labels said; the header's data types still refuse (test_measured_data)."""
+    H = synth.receptance(FREQ, F, eta=ETA, A=AMP)  # (m/N: a receptance, whatever the labels say)
+    p = tmp_path / "mislabelled.uff"
+    write_uff_frf(p, FREQ, H, name="FRF", unit="g", denominator_unit="N")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        code = identify_cli(["identify", "loss-factor", str(p), "--kind", "displacement", "--freqs", *map(str, F)])
+    out = capsys.readouterr().out
+    assert code == 0
+    said = "kind displacement (given, against 'acceleration' from the unit labels g / N of the header of the file"
+    assert said in out, out
+    eta = np.array([float(r[2]) for r in rows(out)])
+    np.testing.assert_allclose(eta, ETA, rtol=1e-3)  # (noise-free, the stated and true kind: exact to the digits)
+
+
+def test_modulus_of_a_mode_table_refuses_a_channel_naming_it(identify_cli, tmp_path, capsys):
+    """Review AO L5: --channel was silently ignored for a table mode,f_hz (a user who meant an FRF file's channel
+    got the table's frequencies without a word); it is refused now, naming the option and its value."""
+    p = tmp_path / "modes.csv"
+    p.write_text("mode,f_hz\n1,23.7\n3,61.3\n")
+    argv = ["identify", "modulus", str(p), "--model", str(MODEL), "--degree", "0"]
+    assert identify_cli([*argv, "--channel", "H21"]) == 2
+    err = capsys.readouterr().err
+    assert "--channel = 'H21'" in err and "mode,f_hz" in err and "leave --channel out" in err, err
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)
+        assert identify_cli(argv) == 0  # (the same table without it runs)
+
+
 # ------------------------------------------------------------------ L5: units in the --toml files
 
 
-def test_a_toml_section_states_the_units_of_its_keys(tmp_path, synth, capsys):
+def test_a_toml_section_states_the_units_of_its_keys(identify_cli, tmp_path, synth, capsys):
     """The --toml files carried no units; a section now has one comment line naming those of the keys it holds
     (the model file's: alpha 1/s, beta s, loss_factor [[f_Hz, eta]], E [[f_Hz, Pa]])."""
     try:
@@ -562,7 +587,7 @@ def test_a_toml_section_states_the_units_of_its_keys(tmp_path, synth, capsys):
     write_uff_frf(p, FREQ, accelerance(synth), kind="acceleration")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ModelWarning)
-        assert run(["identify", "loss-factor", str(p), "--count", "3", "--toml", str(toml)]) == 0
+        assert identify_cli(["identify", "loss-factor", str(p), "--count", "3", "--toml", str(toml)]) == 0
     assert "# units: loss_factor [[f_Hz, eta]], eta dimensionless\n" in toml.read_text()
 
 
