@@ -467,14 +467,59 @@ def read_excitation_table(path, key: str) -> tuple[np.ndarray, np.ndarray]:
     return t, x
 
 
+def _read_line(path):
+    """The first line of the text file ``path``, stripped; None when it cannot be read (the cgroup files'
+    reader, replaced in tests)."""
+    with contextlib.suppress(OSError, UnicodeDecodeError):
+        with open(path) as fh:
+            return fh.readline().strip()
+    return None
+
+
+#: cgroup v1's "no limit" (a page-rounded 2**63 - 1): limits at or above it are none.
+_CGROUP_V1_NONE = 1 << 62
+
+
+def cgroup_memory_free():
+    """Bytes the process's cgroup still allows (its limit less its current usage), or None without a limit:
+    cgroup v2's ``memory.max`` (``max``: none) less ``memory.current`` (at /sys/fs/cgroup, the usual place in a
+    container, else the folder /proc/self/cgroup names), or cgroup v1's ``memory/memory.limit_in_bytes``
+    (2**63 rounded: none) less ``memory.usage_in_bytes``."""
+    folders = ["/sys/fs/cgroup"]
+    own = None
+    with contextlib.suppress(OSError, UnicodeDecodeError):
+        with open("/proc/self/cgroup") as fh:
+            own = next((line.strip()[3:] for line in fh if line.startswith("0::")), None)
+    if own and own != "/":
+        folders.insert(0, "/sys/fs/cgroup" + own)
+    for folder, limit_name, usage_name in [(d, "memory.max", "memory.current") for d in folders] + [
+        ("/sys/fs/cgroup/memory", "memory.limit_in_bytes", "memory.usage_in_bytes")
+    ]:
+        limit = _read_line(os.path.join(folder, limit_name))
+        if limit is None:
+            continue
+        if limit == "max" or not limit.isdigit() or int(limit) >= _CGROUP_V1_NONE:
+            return None
+        usage = _read_line(os.path.join(folder, usage_name))
+        return max(int(limit) - (int(usage) if usage and usage.isdigit() else 0), 0)
+    return None
+
+
 def memory_available() -> int:
-    """Bytes of memory free for a new allocation (MemAvailable of /proc/meminfo; elsewhere the
-    physical memory)."""
+    """Bytes of memory free for a new allocation: MemAvailable of /proc/meminfo (elsewhere the physical
+    memory), or what the process's cgroup still allows (:func:`cgroup_memory_free`: a container's limit less
+    its usage) when that is less (a container past its limit is killed, whatever the host has free)."""
+    free = None
     with contextlib.suppress(OSError, ValueError):
         with open("/proc/meminfo") as fh:
             for line in fh:
                 if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    with contextlib.suppress(ValueError, OSError, AttributeError):
-        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
-    return 1 << 34  # pragma: no cover
+                    free = int(line.split()[1]) * 1024
+                    break
+    if free is None:
+        with contextlib.suppress(ValueError, OSError, AttributeError):
+            free = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    if free is None:
+        free = 1 << 34  # pragma: no cover
+    cgroup = cgroup_memory_free()
+    return free if cgroup is None else min(free, cgroup)
