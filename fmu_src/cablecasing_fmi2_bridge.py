@@ -17,7 +17,8 @@ What happens once per process and FMU (keyed by the FMU's GUID):
   and imported from there, so a host that deletes the unpack folder after a run (fmpy's
   ``simulate_fmu``) can load the FMU again in the same process: the modules stay imported and every
   file they read later is still there. Copies no process has used for :data:`PRUNE_AFTER_DAYS` are
-  deleted (never one a process holds: :func:`_hold`);
+  deleted (never one a process holds: :func:`_hold`; never one made by an FMU built before the
+  copies were locked: :data:`LOCKED_MARK`);
 * the numba cache shipped in ``resources/numba_cache`` seeds the kernels' cache folder (the core
   chooses it: ``kernels/_numba_cache.py``; a fallback is logged as a warning naming the folders that
   cannot be written), so a first start does not compile; where no folder can be written the kernels
@@ -30,6 +31,7 @@ What happens once per process and FMU (keyed by the FMU's GUID):
 from __future__ import annotations
 
 import ctypes
+import errno
 import importlib.util
 import os
 import shutil
@@ -156,8 +158,9 @@ def _cache_module(resources):
     private module (not in ``sys.modules``), for the rule of where cablecasing's caches go
     (``cache_bases``: the per-user cache folder, else this user's folder in the temporary folder).
     It is needed to place the lasting copy of the code (:func:`_stable_copy`) before that package
-    can be imported; only its functions are used (this private copy installs no locator: the
-    kernels' is the imported package's), so the rule has one implementation."""
+    can be imported, and seeds the kernels' cache folder with the shipped machine code
+    (``seed_cache``); only its functions are used (this private copy installs no locator: the
+    kernels' is the imported package's), so the rule and the seeding have one implementation."""
     path = os.path.join(resources, "cablecasing_core", "timedomain", "kernels", "_numba_cache.py")
     spec = importlib.util.spec_from_file_location("_cablecasing_fmu_cache_rule", path)
     module = importlib.util.module_from_spec(spec)
@@ -168,6 +171,10 @@ def _cache_module(resources):
 #: A copy of the FMU's code not used for this long (its ``.complete`` marker's mtime, renewed at each
 #: load) is deleted by the next load of any CableCasing FMU (:func:`_prune_copies`), unless in use.
 PRUNE_AFTER_DAYS = 14
+#: What this bridge writes in a copy's ``.complete``: the copy is held under a lock while in use
+#: (:func:`_hold`). Copies without it (made by FMUs built before the bridge locked them, which may
+#: be in use unlocked by a running host) are never pruned.
+LOCKED_MARK = b"cablecasing fmu copy, held under flock while in use\n"
 _HELD = []  # open .complete markers of the copies this process uses, each under a shared lock (flock)
 
 
@@ -189,7 +196,9 @@ def _hold(dest):
         try:
             fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
             break
-        except OSError:
+        except OSError as exc:
+            if exc.errno not in (errno.EWOULDBLOCK, errno.EAGAIN):
+                break  # (no locks on this filesystem, ENOLCK or EOPNOTSUPP: used unlocked; no prune locks it either)
             time.sleep(0.01)
     try:
         if os.stat(marker).st_ino != os.fstat(fd).st_ino:
@@ -209,7 +218,8 @@ def _hold(dest):
 def _prune_copies(root, keep):
     """Delete the copies of FMU code under ``root`` (``.../cablecasing/fmu``) not used for
     :data:`PRUNE_AFTER_DAYS` and not in use (no process holds their marker's lock: :func:`_hold`),
-    and temporary folders of copies that were stopped half-way a day ago; never ``keep``. Each is
+    and temporary folders of copies that were stopped half-way a day ago; never ``keep``, nor a copy
+    whose marker does not hold :data:`LOCKED_MARK` (made by an older bridge that does not lock it). Each is
     renamed under an exclusive lock first, then removed. Best effort: anything that fails is kept."""
     try:
         import fcntl
@@ -234,6 +244,8 @@ def _prune_copies(root, keep):
                 continue
             fd = os.open(marker, os.O_RDONLY)
             try:
+                if os.read(fd, len(LOCKED_MARK) + 1) != LOCKED_MARK:
+                    continue  # (an older bridge's copy: it may be in use without a lock)
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)  # (fails while a process holds it: in use)
                 gone = os.path.join(root, f".{name}.{os.getpid()}.old")
                 os.rename(path, gone)
@@ -270,7 +282,8 @@ def _stable_copy(resources, guid, names, bases):
                             shutil.copytree(src, os.path.join(tmp, name), ignore=shutil.ignore_patterns("__pycache__"))
                         elif os.path.isfile(src):
                             shutil.copy2(src, os.path.join(tmp, name))
-                    open(os.path.join(tmp, ".complete"), "w").close()
+                    with open(os.path.join(tmp, ".complete"), "wb") as f:
+                        f.write(LOCKED_MARK)
                     try:
                         os.rename(tmp, dest)
                     except OSError:  # another process was first: use its copy
@@ -282,30 +295,6 @@ def _stable_copy(resources, guid, names, bases):
         except OSError as exc:
             tried.append((root, exc.strerror or str(exc)))
     return resources, tried
-
-
-def _seed_numba_cache(shipped, target):
-    """Copy the numba cache built with the FMU (index and data files of one folder) into the
-    kernels' cache folder where a file is missing; returns how many were copied. Each file through a
-    temporary name of its own and a rename, as ``files.atomic_path`` writes, without its fsync and
-    checks: a cache file lost in a crash is compiled again, and this module imports nothing of the core."""
-    if not os.path.isdir(shipped) or os.path.realpath(shipped) == os.path.realpath(target):
-        return 0
-    os.makedirs(target, exist_ok=True)
-    copied = 0
-    for name in os.listdir(shipped):
-        dst = os.path.join(target, name)
-        if not os.path.exists(dst):
-            fd, tmp = tempfile.mkstemp(prefix=f".{name}.", suffix=".tmp", dir=target)  # (unique in any process)
-            os.close(fd)
-            try:
-                shutil.copy2(os.path.join(shipped, name), tmp)
-                os.replace(tmp, dst)
-            except BaseException:
-                os.unlink(tmp)
-                raise
-            copied += 1
-    return copied
 
 
 def _compile_fate(choice, caches, resources):
@@ -550,7 +539,7 @@ class Instance:
         if choice is None or choice.mode == "write":
             for cache in caches:
                 try:
-                    seeded += _seed_numba_cache(os.path.join(resources, "numba_cache", os.path.basename(cache)), cache)
+                    seeded += rule.seed_cache(os.path.join(resources, "numba_cache", os.path.basename(cache)), cache)
                 except OSError as exc:
                     self._log(WARNING, f"cannot copy the shipped numba cache to {cache}: {exc}")
         module.numba_cache_dirs = caches

@@ -107,9 +107,10 @@ def test_copies_of_the_fmus_code_unused_for_weeks_are_deleted_but_never_one_in_u
     spec.loader.exec_module(bridge)
     root = tmp_path / "fmu"
     old = time.time() - (bridge.PRUNE_AFTER_DAYS + 1) * 86400
-    for name in ("unused", "recent", "held", "mine"):
+    for name in ("unused", "recent", "held", "mine", "older_fmu"):
         (root / name / "cablecasing_core").mkdir(parents=True)
-        (root / name / ".complete").touch()
+        # (an FMU built before the copies were locked wrote an empty marker: it may be in use unlocked)
+        (root / name / ".complete").write_bytes(b"" if name == "older_fmu" else bridge.LOCKED_MARK)
         if name != "recent":
             os.utime(root / name / ".complete", (old, old))
     (root / ".half.abc.tmp").mkdir()
@@ -119,7 +120,40 @@ def test_copies_of_the_fmus_code_unused_for_weeks_are_deleted_but_never_one_in_u
     os.utime(root / "held" / ".complete", (old, old))
     try:
         bridge._prune_copies(str(root), "mine")
-        assert sorted(p.name for p in root.iterdir()) == ["held", "mine", "recent"]
+        assert sorted(p.name for p in root.iterdir()) == ["held", "mine", "older_fmu", "recent"]
+    finally:
+        for fd in bridge._HELD:
+            os.close(fd)
+
+
+def test_a_copy_is_written_with_the_lock_aware_marker_and_a_filesystem_without_locks_is_not_waited_on(
+    tmp_path, monkeypatch
+):
+    """A copy the bridge writes carries LOCKED_MARK (the prune takes only such copies); _hold retries
+    the shared lock only while a prune holds its exclusive one (EWOULDBLOCK): on a filesystem without
+    flock (ENOLCK, EOPNOTSUPP: some FUSE mounts) it tried 200 times, 2 s, at every first start."""
+    import errno
+    import fcntl
+
+    spec = importlib.util.spec_from_file_location("bridge", ROOT / "fmu_src" / "cablecasing_fmi2_bridge.py")
+    bridge = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bridge)
+    resources = tmp_path / "resources"
+    (resources / "pkg").mkdir(parents=True)
+    (resources / "pkg" / "a.py").write_text("x = 1\n")
+    calls = []
+
+    def no_locks(fd, op):
+        calls.append(op)
+        raise OSError(errno.ENOLCK, "No locks available")
+
+    monkeypatch.setattr(fcntl, "flock", no_locks)
+    try:
+        dest, tried = bridge._stable_copy(str(resources), "guid", ["pkg"], iter([(str(tmp_path / "base"), None)]))
+        assert dest == str(tmp_path / "base" / "fmu" / "guid") and tried == []
+        assert (Path(dest) / ".complete").read_bytes() == bridge.LOCKED_MARK
+        assert (Path(dest) / "pkg" / "a.py").read_text() == "x = 1\n"
+        assert calls == [fcntl.LOCK_SH | fcntl.LOCK_NB]  # (one try: no retry on ENOLCK)
     finally:
         for fd in bridge._HELD:
             os.close(fd)

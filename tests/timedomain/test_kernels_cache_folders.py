@@ -173,7 +173,7 @@ def test_the_users_cache_folder_follows_xdg_cache_home_with_or_without_platformd
     spec.loader.exec_module(bridge)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
     monkeypatch.setitem(sys.modules, "platformdirs", None)
-    assert bridge._cache_module(str(ROOT)).cache_bases()[0] == (str(tmp_path / "xdg" / "cablecasing"), None)
+    assert next(bridge._cache_module(str(ROOT)).cache_bases()) == (str(tmp_path / "xdg" / "cablecasing"), None)
 
 
 def test_the_temporary_fallback_is_used_only_when_it_is_the_users_own(monkeypatch, tmp_path):
@@ -182,12 +182,89 @@ def test_the_temporary_fallback_is_used_only_when_it_is_the_users_own(monkeypatc
     would run their code)."""
     monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
     base = tmp_path / f"cablecasing-{os.getuid()}"
-    assert _numba_cache.cache_bases()[1] == (str(base), None)
+    assert list(_numba_cache.cache_bases())[1] == (str(base), None)
     assert base.stat().st_mode & 0o777 == 0o700
     base.chmod(0o777)
-    where, why = _numba_cache.cache_bases()[1]
+    where, why = list(_numba_cache.cache_bases())[1]
     assert where == str(base) and "not this user's own" in why
     base.rmdir()
     (tmp_path / "elsewhere").mkdir()
     base.symlink_to(tmp_path / "elsewhere")
-    assert "is not a folder" in _numba_cache.cache_bases()[1][1]
+    assert "is not a folder" in list(_numba_cache.cache_bases())[1][1]
+
+
+def test_the_temporary_fallback_is_never_the_working_folder_nor_in_a_folder_others_may_rename_it_from(
+    monkeypatch, tmp_path
+):
+    """Review AO, M2: with no usable temporary folder, tempfile.gettempdir() gives the working
+    folder, and the caches (pickled machine code, the FMU's imported copy of its code) went to
+    <cwd>/cablecasing-<uid>. And in a temporary folder others may write without the sticky bit,
+    another user can rename this user's checked folder away and put their own in its place. Both
+    are refused, with the reason; a sticky folder, or one only its owner may write, is taken."""
+    uid = os.getuid()
+    for name in ("TMPDIR", "TEMP", "TMP"):
+        monkeypatch.delenv(name, raising=False)
+    work = tmp_path / "work"
+    work.mkdir()
+    monkeypatch.chdir(work)
+    monkeypatch.setattr(tempfile, "tempdir", str(work))  # (what gettempdir() gives when no temp folder works)
+    where, why = list(_numba_cache.cache_bases())[1]
+    assert where == str(work / f"cablecasing-{uid}") and "is the working folder" in why
+    assert not (work / f"cablecasing-{uid}").exists()
+    shared = tmp_path / "shared"
+    shared.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(shared))
+    for mode, refused in ((0o777, True), (0o775, True), (0o1777, False), (0o755, False)):
+        shared.chmod(mode)
+        where, why = list(_numba_cache.cache_bases())[1]
+        assert where == str(shared / f"cablecasing-{uid}"), mode
+        assert (why is not None and "neither sticky nor writable by its owner alone" in why) == refused, (mode, why)
+        assert (shared / f"cablecasing-{uid}").is_dir() != refused, mode
+        if not refused:
+            (shared / f"cablecasing-{uid}").rmdir()
+    if uid == 0:  # (a folder of another user's, only its owner may write: that user could rename ours away)
+        os.chown(shared, 65534, 65534)
+        why = list(_numba_cache.cache_bases())[1][1]
+        assert why is not None and "neither sticky nor writable by its owner alone" in why
+
+
+def test_the_temporary_folder_is_created_only_when_the_folders_before_it_fail(monkeypatch, tmp_path):
+    """Review AO, L1: every process created <temp>/cablecasing-<uid> (empty), even with a writable
+    per-user cache folder or NUMBA_CACHE_DIR. The folders are offered one at a time, the temporary
+    one checked and created only when asked for."""
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    monkeypatch.setitem(sys.modules, "platformdirs", None)
+    base = tmp_path / f"cablecasing-{os.getuid()}"
+    bases = _numba_cache.cache_bases()
+    assert next(bases) == (str(tmp_path / "xdg" / "cablecasing"), None) and not base.exists()
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "numba"))
+    roots = _numba_cache.cache_roots()
+    assert next(roots) == (str(tmp_path / "numba"), None) and next(roots)[0] == str(
+        tmp_path / "xdg" / "cablecasing" / "numba"
+    )
+    assert not base.exists()
+    assert next(roots) == (str(base / "numba"), None) and base.is_dir()
+
+
+def test_a_read_only_cache_of_the_kernels_seeds_the_writable_folder_used_after_it(
+    installed, warm_kernels, read_only, unprivileged, tmp_path
+):
+    """Review AO, M1: a read-only HOME holding a full cache (a container image warmed in advance)
+    and a writable, empty temporary folder: the machine code was compiled again into the temporary
+    folder (54 s), the baked one ignored. Now the temporary folder is seeded from it: nothing is
+    compiled, and what is compiled later is saved there."""
+    site, home, cwd = installed
+    baked = home / ".cache" / "cablecasing" / "numba" / warm_kernels.name
+    shutil.copytree(warm_kernels, baked, ignore=shutil.ignore_patterns("_hermite_interpolation.hermite_cubics*"))
+    tmp = tmp_path / "tmp"
+    tmp.mkdir()
+    read_only(site, home)
+    said, stderr = run(unprivileged, site, home, cwd, None, SIMULATE, env={"TMPDIR": str(tmp)})
+    folder = tmp / f"cablecasing-{os.getuid()}" / "numba" / warm_kernels.name
+    assert said["status"] == 0 and said["mode"] == "write" and said["folder"] == str(folder)
+    assert said["run_steps_hits"] >= 1 and said["run_steps_misses"] == 0  # (the baked machine code, copied)
+    assert said["cubics_misses"] == 1 and said["cubics_path"] == str(folder)  # (not baked: compiled, saved here)
+    assert {p.name for p in baked.iterdir()} <= {p.name for p in folder.iterdir()}
+    (line,) = warnings_of(stderr)
+    assert f"cached in {folder}" in line

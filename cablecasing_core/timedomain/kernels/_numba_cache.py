@@ -23,30 +23,38 @@ cache. The root is the first of these whose ``kernels-<KERNELS_HASH>`` folder ca
    where platformdirs is installed, else ``$XDG_CACHE_HOME/cablecasing``, else ``~/.cache/cablecasing``
    (on Linux these are the same folder);
 3. a folder of this user's in the temporary folder, ``<tempfile.gettempdir()>/cablecasing-<uid>/numba``
-   (created 0700; used only while it is this user's and no one else can write it: the machine code
-   is loaded with pickle, so a folder another user can write would run their code here);
+   (created 0700, only when the folders before it fail; used only while it is this user's and no one
+   else can write it, and only in a temporary folder that is sticky or writable by its owner alone,
+   this user or root, never the working folder ``tempfile`` falls back to: the machine code is
+   loaded with pickle, so a folder another user can write, or rename and replace, would run their
+   code here);
 4. ``numba_cache`` beside the package, where a copy ships one (the FMU's ``resources/numba_cache``
    when the FMU imports the package from its unpack folder).
 
-When the first is not the one used, the import warns once (:class:`CacheFolderWarning`) naming the
-folders that could not be written and why. When none can be written, nothing is saved: the machine
-code is loaded from the first of those folders that holds some (read-only: a full cache in a
-read-only ``NUMBA_CACHE_DIR``, the FMU's read-only unpack folder), and what is not there is compiled
-in every process; without any, every kernel is compiled in every process (:func:`settle`). numba's
-own locators never serve these kernels (they would key them by file: the stale callee above).
+When a root is used after one that cannot be written but holds machine code (a read-only cache
+prepared in advance: a container image), the files it lacks are copied from there first
+(:func:`seed_cache`), so nothing is compiled again. When the first is not the one used, the import
+warns once (:class:`CacheFolderWarning`) naming the folders that could not be written and why. When
+none can be written, nothing is saved: the machine code is loaded from the first of those folders
+that holds some (read-only: a full cache in a read-only ``NUMBA_CACHE_DIR``, the FMU's read-only
+unpack folder), and what is not there is compiled in every process; without any, every kernel is
+compiled in every process (:func:`settle`). numba's own locators never serve these kernels (they
+would key them by file: the stale callee above).
 
 :func:`install` puts the locator first in numba's list, before any kernel is decorated (the locator
 is chosen at decoration; nothing is compiled before a kernel's first call); :func:`settle`, after
 they are, turns off saving where nothing can be written.
 
 Importing this module compiles nothing (and does not import numba until :func:`install`); the FMU's
-bridge loads this file by its path for :func:`cache_bases` (before the package can be imported).
+bridge loads this file by its path for :func:`cache_bases` and :func:`seed_cache` (before the
+package can be imported).
 """
 
 from __future__ import annotations
 
 import hashlib
 import os
+import shutil
 import stat
 import sys
 import tempfile
@@ -95,13 +103,38 @@ def _temp_base_path():
     return os.path.join(tempfile.gettempdir(), f"cablecasing-{user}")
 
 
+def _named_temp_folders():
+    """The temporary folders a user or the system names: ``TMPDIR``, ``TEMP``, ``TMP`` and the usual
+    ones (``/tmp``, ``/var/tmp``, ``/usr/tmp``), as real paths."""
+    named = [os.environ.get(name) for name in ("TMPDIR", "TEMP", "TMP")]
+    return {os.path.realpath(p) for p in named + ["/tmp", "/var/tmp", "/usr/tmp"] if p}
+
+
+def _check_temp_parent(parent):
+    """Raise PermissionError unless ``parent`` may hold this user's temporary cache folder: not the
+    working folder that ``tempfile.gettempdir()`` falls back to when no temporary folder is usable,
+    and sticky or writable by its owner alone (this user or root). Elsewhere another user could
+    rename this user's checked folder away and put their own in its place (its machine code is
+    loaded with pickle, the FMU's copy of the code imported)."""
+    real = os.path.realpath(parent)
+    if real == os.path.realpath(os.getcwd()) and real not in _named_temp_folders():
+        raise PermissionError(f"{parent} is the working folder (there is no usable temporary folder)")
+    if not hasattr(os, "getuid"):
+        return
+    st = os.stat(parent)
+    if not st.st_mode & stat.S_ISVTX and (st.st_mode & 0o022 or st.st_uid not in (os.getuid(), 0)):
+        raise PermissionError(f"{parent} is neither sticky nor writable by its owner alone (this user or root)")
+
+
 def temp_cache_base() -> str:
     """This user's folder in the temporary folder, ``<tempfile.gettempdir()>/cablecasing-<uid>``,
     created 0700 when missing. Raises OSError (with a reason) when there is no usable temporary
-    folder, or the folder is not this user's own: not a folder, another user's, or writable by
-    others (its machine code is loaded with pickle: a folder another user can write would run their
-    code in this process)."""
+    folder (``tempfile`` would give the working folder), when the temporary folder is neither sticky
+    nor writable by its owner alone (this user or root), or when the folder is not this user's own:
+    not a folder, another user's, or writable by others (its machine code is loaded with pickle: a
+    folder another user can write, or rename, would run their code in this process)."""
     base = _temp_base_path()
+    _check_temp_parent(os.path.dirname(base))
     try:
         os.mkdir(base, 0o700)
     except FileExistsError:
@@ -115,20 +148,23 @@ def temp_cache_base() -> str:
 
 
 def cache_bases():
-    """The per-user folders of cablecasing's caches, in order of preference: ``[(folder, None)]`` for
-    :func:`user_cache_base` and :func:`temp_cache_base`, ``(folder, reason)`` for one that cannot be
-    had (no usable temporary folder, a folder that is not this user's). The kernels' root is
-    ``<one of them>/numba``; the FMU's copy of its code goes to ``<one of them>/fmu``."""
-    out = [(user_cache_base(), None)]
+    """The per-user folders of cablecasing's caches, in order of preference, one at a time (an
+    iterator: the temporary folder is checked and created only when asked for, after the first
+    failed): ``(folder, None)`` for :func:`user_cache_base` and :func:`temp_cache_base`, ``(folder,
+    reason)`` for one that cannot be had (no usable temporary folder, a folder that is not this
+    user's). The kernels' root is ``<one of them>/numba``; the FMU's copy of its code goes to
+    ``<one of them>/fmu``."""
+    yield user_cache_base(), None
     try:
-        out.append((temp_cache_base(), None))
+        base = temp_cache_base()
     except OSError as exc:
         try:
             where = _temp_base_path()
         except OSError:  # (no usable temporary folder at all)
             where = "the temporary folder"
-        out.append((where, _reason(exc)))
-    return out
+        yield where, _reason(exc)
+    else:
+        yield base, None
 
 
 def cache_root() -> str:
@@ -138,19 +174,46 @@ def cache_root() -> str:
 
 
 def cache_roots():
-    """The roots the kernels' cache may use, in order of preference: ``[(root, why)]`` with ``why``
-    None, or the reason a root cannot be had (see the module docstring for the order)."""
-    roots = [(os.environ["NUMBA_CACHE_DIR"], None)] if os.environ.get("NUMBA_CACHE_DIR") else []
-    roots += [(base if why else os.path.join(base, "numba"), why) for base, why in cache_bases()]
+    """The roots the kernels' cache may use, in order of preference, one at a time (an iterator, as
+    :func:`cache_bases`): ``(root, why)`` with ``why`` None, or the reason a root cannot be had (see
+    the module docstring for the order)."""
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        yield os.environ["NUMBA_CACHE_DIR"], None
+    for base, why in cache_bases():
+        yield (base if why else os.path.join(base, "numba")), why
     if os.path.isdir(SHIPPED_ROOT):
-        roots.append((SHIPPED_ROOT, None))
-    return roots
+        yield SHIPPED_ROOT, None
 
 
 def _reason(exc):
     """An OSError's reason in a few words: its strerror (Permission denied, Read-only file system),
     else its text."""
     return (exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)) or type(exc).__name__
+
+
+def seed_cache(source, target):
+    """Copy the numba cache files (index and data) of the folder ``source`` into ``target`` where a
+    file is missing; returns how many were copied. Each file through a temporary name of its own and
+    a rename, as ``files.atomic_path`` writes, without its fsync and checks: a cache file lost in a
+    crash is compiled again (this module imports nothing of the package: the FMU's bridge loads it
+    by its path and seeds with it too)."""
+    if not os.path.isdir(source) or os.path.realpath(source) == os.path.realpath(target):
+        return 0
+    os.makedirs(target, exist_ok=True)
+    copied = 0
+    for name in os.listdir(source):
+        dst = os.path.join(target, name)
+        if name.endswith((".nbi", ".nbc")) and not os.path.exists(dst):
+            fd, tmp = tempfile.mkstemp(prefix=f".{name}.", suffix=".tmp", dir=target)  # (unique in any process)
+            os.close(fd)
+            try:
+                shutil.copy2(os.path.join(source, name), tmp)
+                os.replace(tmp, dst)
+            except BaseException:
+                os.unlink(tmp)
+                raise
+            copied += 1
+    return copied
 
 
 def writable_folder(folder):
@@ -227,6 +290,11 @@ def cache_choice() -> CacheChoice:
                 folder = os.path.join(root, f"kernels-{KERNELS_HASH}")
                 try:
                     writable_folder(folder)
+                    if readable is not None:
+                        try:
+                            seed_cache(readable, folder)
+                        except OSError:  # (best effort: what is not copied is compiled, and saved)
+                            pass
                     _CHOICE = CacheChoice(folder, "write", k == 0, tried)
                     break
                 except OSError as exc:
