@@ -99,11 +99,10 @@ def _warn_free_motions(model):
     """Warn, per body, of the rigid motions its supports and mounts leave free (its first modes are
     0 Hz, to rounding): the motions that the loads check (structure/support_check.py) would refuse
     under gravity or a tension, named as it names them."""
-    from ..structure.assembly import assemble_body
     from ..structure.support_check import free_motions
 
     for b in model.bodies:
-        motions = free_motions(assemble_body(model, b, check_buckling=False))
+        motions = free_motions(model, b)
         if not motions:
             continue
         k = len(motions)

@@ -163,15 +163,20 @@ def free_rigid(system):
     return free, Phi, words
 
 
-def free_motions(system) -> list[str]:
-    """The rigid motions that the supports and mounts of ``system`` (an assembled BodySystem) leave
-    free, in words: a basis of them (translations along and rotations about the axes of the mounts'
-    rigid stiffness S, each signed so that its largest coordinate is positive), empty when a clamped
+def free_motions(model, name) -> list[str]:
+    """The rigid motions that the supports and mounts of body ``name`` of ``model`` leave free, in
+    words: a basis of them (translations along and rotations about the axes of the mounts' rigid
+    stiffness S, each signed so that its largest coordinate is positive), empty when a clamped
     support or the mounts hold every one. Without a load these are the body's 0 Hz modes; under one
-    :func:`check_supported` refuses the model (the same analysis)."""
-    if "clamped" in system.spec.supports.values():
+    :func:`check_supported` refuses the model (the same analysis, from the same route and mounts:
+    no assembly)."""
+    from .geometry import centerline_of
+    from .mount_element import mounts_of
+
+    if "clamped" in model.bodies[name].supports.values():
         return []
-    Z, _, _, _, x0, L = _analysis(system.centerline, system.mounts, False, 0.0, np.zeros(3))
+    cl = centerline_of(model)
+    Z, _, _, _, x0, L = _analysis(cl, mounts_of(model, name, cl), False, 0.0, np.zeros(3))
     return [describe(a * np.sign(a[np.argmax(np.abs(a))]), x0, L) for a in Z.T]
 
 
