@@ -19,6 +19,12 @@ import warnings
 EXCERPT = 80
 
 
+def and_joined(items) -> str:
+    """Words of a message joined as a sentence lists them: 'a', 'a and b', 'a, b and c'."""
+    items = list(items)
+    return " and ".join([", ".join(items[:-1]), items[-1]] if len(items) > 1 else items)
+
+
 def excerpt(value, limit: int = EXCERPT) -> str:
     """``repr(value)`` on one line and cut to ``limit`` characters (``...`` and the full length
     mark a cut); numpy scalars and arrays are shown as the plain numbers they hold (``nan``, not

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ModelError, ModelWarning, excerpt
+from ..errors import ModelError, ModelWarning, and_joined, excerpt
 from ..files import atomic_path, csv_statements, read_csv_table
 from ..model.validators import Choice, array_1d, number
 from ..records import derived_terms, read_records
@@ -390,8 +390,7 @@ def _uff_frf(path, channel):
 
 def _places(found):
     """``FRF 0 and FRF 3``, ``FRF 0, FRF 2 and FRF 5``: FRFs by their places among a file's FRFs."""
-    said = [f"FRF {i}" for i in found]
-    return ", ".join(said[:-1]) + " and " + said[-1]
+    return and_joined(f"FRF {i}" for i in found)
 
 
 @dataclass(frozen=True)

@@ -10,7 +10,7 @@ import re
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, and_joined
 from ..model.schema import lookup
 from .runs import NET_OUTPUT, OUTPUT
 
@@ -401,12 +401,12 @@ def psd_note(variants, info):
     )
     if same:
         text += (
-            f" In the variant {_and([_e(t) for t in same])} cable.B.Fz is 0 N, so {NET_OUTPUT} is {OUTPUT}: one "
+            f" In the variant {and_joined([_e(t) for t in same])} cable.B.Fz is 0 N, so {NET_OUTPUT} is {OUTPUT}: one "
             "curve, named as both."
         )
     if flat:
         text += (
-            f" {_and([_e(n) for n in flat])} {'is' if len(flat) == 1 else 'are'} constant after the skip (no "
+            f" {and_joined([_e(n) for n in flat])} {'is' if len(flat) == 1 else 'are'} constant after the skip (no "
             "power at any frequency: the model's excitation does not reach it), so the log axis has nothing of "
             f"{'it' if len(flat) == 1 else 'them'} to draw."
         )
@@ -595,7 +595,7 @@ def apparent_mass_note(am, title):
             )
     others = am.get("other_inputs") or []
     also = (
-        f"The casing is driven at {_and([_e(t) for t in others])} too, which the input does not explain: that "
+        f"The casing is driven at {and_joined([_e(t) for t in others])} too, which the input does not explain: that "
         "lowers the coherence besides the window's bias. "
         if others
         else ""
@@ -607,7 +607,8 @@ def apparent_mass_note(am, title):
             "leaves. " + also + why + "The band of &plusmn;2 random errors covers the random error only."
         )
     bands = am.get("input_bands") or []
-    flat = f"the input is the scenario's random excitation, flat over {_and([f'{lo:g}-{hi:g}' for lo, hi in bands])} Hz"
+    spans = and_joined([f"{lo:g}-{hi:g}" for lo, hi in bands])
+    flat = f"the input is the scenario's random excitation, flat over {spans} Hz"
     if others:
         cause = (
             "The record has no contact, so the system is linear. "
@@ -862,7 +863,7 @@ def _bands(variants, model, info):
         if gone:
             top = 20 * np.log10(np.max(v.ensemble.mean))
             parts.append(
-                f"<p class='note'>–: no response. In the variant {_e(v.title)}, {_and([_e(g) for g in gone])} "
+                f"<p class='note'>–: no response. In the variant {_e(v.title)}, {and_joined([_e(g) for g in gone])} "
                 f"{'lies' if len(gone) == 1 else 'lie'} more than {NO_RESPONSE_DB:g} dB below its strongest band "
                 f"({top:.1f} dB re 1 N): below the level that Hann's window leaks from content 32 lines away, so "
                 "the window, not a response, sets such a level, and it is neither drawn nor given an interval "
@@ -909,7 +910,7 @@ def net_parts(variants, info):
     same = [_e(v.title) for v in withnet if v not in vs]
     title = f"<h2>The force into the transmission at B: {NET_OUTPUT} beside {OUTPUT} (Table 3, ensemble means)</h2>"
     same_note = (
-        f" In the variant {_and(same)} cable.B.Fz is 0 N in every member, so {NET_OUTPUT} is {OUTPUT} (above)."
+        f" In the variant {and_joined(same)} cable.B.Fz is 0 N in every member, so {NET_OUTPUT} is {OUTPUT} (above)."
         if same
         else ""
     )
@@ -1018,11 +1019,6 @@ def no_response_of(levels):
     from ..nvh.bands import no_response
 
     return no_response(levels)
-
-
-def _and(items):
-    """'a', 'a and b', 'a, b and c'."""
-    return " and ".join([", ".join(items[:-1]), items[-1]] if len(items) > 1 else items)
 
 
 def _random(model):

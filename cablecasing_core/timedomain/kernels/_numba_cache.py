@@ -236,7 +236,8 @@ class CacheChoice:
         self.folder, self.mode, self.preferred, self.tried = folder, mode, preferred, tried
 
     def failed(self) -> str:
-        """The roots that could not be used, with why: ``A (Permission denied) and B (...)``."""
+        """The roots that could not be used, with why: ``A (Permission denied) and B (...)`` (as
+        ``errors.and_joined`` joins them: this module imports nothing of the package)."""
         said = [f"{root} ({why})" for root, why in self.tried]
         return ", ".join(said[:-1]) + (" and " if len(said) > 1 else "") + (said[-1] if said else "")
 
