@@ -121,8 +121,9 @@ def _warn_free_motions(model):
 
 
 def _print_scope(model):
-    """The line ``# each body alone ...`` of ``modes`` and ``trfam`` for a model whose cable is in
-    contact or installed (frequency.modal.frequency_domain_scope): what the frequency domain leaves out."""
+    """The line ``# each body alone ...`` of ``modes`` and ``trfam`` for a model with both bodies and
+    contact enabled, or installed (frequency.modal.frequency_domain_scope): what the frequency domain
+    leaves out."""
     from ..frequency.modal import frequency_domain_scope
 
     scope = frequency_domain_scope(model)
@@ -340,8 +341,8 @@ def build_parser():
         "the casing (the time domain has). An installed model's bodies carry the axial prestress of "
         "loads.cable_tension (the cable stiffened by its tension, the casing softened by its compression) about "
         "their route, not the static state: gravity's sag, a straight cable's bending into the route and the "
-        "contact forces that `cablecasing static` shows are not in it. For such a model (a cable in contact, or "
-        "installed) the output's first line, '# each body alone ...', says so."
+        "contact forces that `cablecasing static` shows are not in it. For such a model (both bodies with "
+        "contact.enabled, or installed) the output's first line, '# each body alone ...', says so."
     )
     m = sub.add_parser(
         "modes", help="natural frequencies of each body (Hz)", description="Natural frequencies (Hz). " + alone
