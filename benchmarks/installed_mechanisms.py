@@ -11,7 +11,8 @@ e.g. ``--vary casing.d_inner 0.0034 0.0046``; the tags then carry the value):
 * bends_share, transitions_share, first_bend_share, second_bend_share: the shares of the contact
   time in the bends (the runs of nodes whose routing curvature exceeds 0.3 of the maximum, as
   tests/studies/test_findings.py), within three elements outside them (where a bend begins and
-  ends), and in each bend (the first is the tightest, R = 0.136 m);
+  ends), and in each bend (the first is the tightest: smallest radius 0.128 m on the route,
+  `cablecasing geometry`, and 0.136 m at the 35-element mesh's nodes, whose curvature these runs use);
 * normal_force_first_bend_N, normal_force_second_bend_N, normal_force_straight_N: the mean total
   normal force per bend and off the bends (N, the static part included);
 * dyn_normal_force_first_bend_N, ..._second_bend_N: the RMS of the normal force's fluctuation about
