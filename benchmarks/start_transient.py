@@ -19,8 +19,8 @@ and r is averaged over the seeds: mean ± 2 SE (paired: the same seed's record i
 Printed as ``name: value`` lines: ``<part>_<window>_oct<k>: mean ± 2SE %`` with ``*`` where |mean|
 > 2 SE, and ``<part>_<window>_beyond_2se: oct...`` naming those bands. ``--no-drive`` runs the same
 without the cable drive (the linear control: no contact, no start transient of the drive).
-Run: .venv/bin/python benchmarks/start_transient.py [--parts long short] [--no-drive] (about 2.5 min
-on the shared 2-core machine, one core).
+Run: .venv/bin/python benchmarks/start_transient.py [--parts long short] [--no-drive] (53 s of
+simulated time: 1.6-2.8 min on one core of the shared 2-core machine, depending on its load).
 """
 
 import warnings
