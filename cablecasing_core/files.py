@@ -467,13 +467,29 @@ def read_excitation_table(path, key: str) -> tuple[np.ndarray, np.ndarray]:
     return t, x
 
 
-def _read_line(path):
-    """The first line of the text file ``path``, stripped; None when it cannot be read (the cgroup files'
-    reader, replaced in tests)."""
+def _read_text(path):
+    """The text of the small file ``path``; None when it cannot be read (the cgroup files' reader, replaced
+    in tests)."""
     with contextlib.suppress(OSError, UnicodeDecodeError):
         with open(path) as fh:
-            return fh.readline().strip()
+            return fh.read()
     return None
+
+
+def _read_line(path):
+    """The first line of the text file ``path``, stripped; None when it cannot be read."""
+    text = _read_text(path)
+    return None if text is None else (text.splitlines() or [""])[0].strip()
+
+
+def _stat_value(path, key):
+    """The number after ``key`` in the ``key value`` lines of the cgroup file ``path`` (memory.stat); 0
+    when the file or the key is missing."""
+    for line in (_read_text(path) or "").splitlines():
+        name, _, value = line.partition(" ")
+        if name == key and value.strip().isdigit():
+            return int(value)
+    return 0
 
 
 #: cgroup v1's "no limit" (a page-rounded 2**63 - 1): limits at or above it are none.
@@ -481,10 +497,12 @@ _CGROUP_V1_NONE = 1 << 62
 
 
 def cgroup_memory_free():
-    """Bytes the process's cgroup still allows (its limit less its current usage), or None without a limit:
-    cgroup v2's ``memory.max`` (``max``: none) less ``memory.current`` (at /sys/fs/cgroup, the usual place in a
-    container, else the folder /proc/self/cgroup names), or cgroup v1's ``memory/memory.limit_in_bytes``
-    (2**63 rounded: none) less ``memory.usage_in_bytes``."""
+    """Bytes the process's cgroup still allows, or None without a limit: its limit less its usage, the usage
+    without the page cache the kernel reclaims before it kills (``inactive_file`` of ``memory.stat``, as
+    docker and the kubelet count a container's working set). cgroup v2's ``memory.max`` (``max``: none)
+    less ``memory.current`` (at /sys/fs/cgroup, the usual place in a container, else the folder
+    /proc/self/cgroup names), or cgroup v1's ``memory/memory.limit_in_bytes`` (2**63 rounded: none) less
+    ``memory.usage_in_bytes`` (and ``total_inactive_file``)."""
     folders = ["/sys/fs/cgroup"]
     own = None
     with contextlib.suppress(OSError, UnicodeDecodeError):
@@ -492,23 +510,26 @@ def cgroup_memory_free():
             own = next((line.strip()[3:] for line in fh if line.startswith("0::")), None)
     if own and own != "/":
         folders.insert(0, "/sys/fs/cgroup" + own)
-    for folder, limit_name, usage_name in [(d, "memory.max", "memory.current") for d in folders] + [
-        ("/sys/fs/cgroup/memory", "memory.limit_in_bytes", "memory.usage_in_bytes")
-    ]:
+    for folder, limit_name, usage_name, cache_name in [
+        (d, "memory.max", "memory.current", "inactive_file") for d in folders
+    ] + [("/sys/fs/cgroup/memory", "memory.limit_in_bytes", "memory.usage_in_bytes", "total_inactive_file")]:
         limit = _read_line(os.path.join(folder, limit_name))
         if limit is None:
             continue
         if limit == "max" or not limit.isdigit() or int(limit) >= _CGROUP_V1_NONE:
             return None
         usage = _read_line(os.path.join(folder, usage_name))
-        return max(int(limit) - (int(usage) if usage and usage.isdigit() else 0), 0)
+        usage = int(usage) if usage and usage.isdigit() else 0
+        cache = min(_stat_value(os.path.join(folder, "memory.stat"), cache_name), usage)
+        return max(int(limit) - (usage - cache), 0)
     return None
 
 
 def memory_available() -> int:
     """Bytes of memory free for a new allocation: MemAvailable of /proc/meminfo (elsewhere the physical
     memory), or what the process's cgroup still allows (:func:`cgroup_memory_free`: a container's limit less
-    its usage) when that is less (a container past its limit is killed, whatever the host has free)."""
+    its usage, reclaimable page cache not counted) when that is less (a container past its limit is killed,
+    whatever the host has free)."""
     free = None
     with contextlib.suppress(OSError, ValueError):
         with open("/proc/meminfo") as fh:

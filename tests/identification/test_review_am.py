@@ -353,8 +353,22 @@ def _meminfo_available():
     "files_said, free",
     [
         ({"memory.max": "500000", "memory.current": "300000"}, 200_000),  # cgroup v2: limit less usage
+        # the usage less its reclaimable page cache (500000 - (300000 - 120000))
+        (
+            {"memory.max": "500000", "memory.current": "300000", "memory.stat": "anon 1\ninactive_file 120000\n"},
+            320_000,
+        ),
         ({"memory.max": "max", "memory.current": "3000000"}, None),  # v2 without a limit
         ({"memory.limit_in_bytes": "400000", "memory.usage_in_bytes": "100000"}, 300_000),  # v1
+        # v1's page cache: its total_inactive_file (its own inactive_file is the cgroup's alone, not counted)
+        (
+            {
+                "memory.limit_in_bytes": "400000",
+                "memory.usage_in_bytes": "100000",
+                "memory.stat": "inactive_file 5\ntotal_inactive_file 60000\n",
+            },
+            360_000,
+        ),
         ({"memory.limit_in_bytes": "9223372036854771712", "memory.usage_in_bytes": "1"}, None),  # v1's "none"
         ({}, None),  # no cgroup files
     ],
@@ -362,21 +376,23 @@ def _meminfo_available():
 def test_memory_available_honours_a_cgroup_limit(monkeypatch, tmp_path, synth, files_said, free):
     """Review AO L7: memory_available read /proc/meminfo only, so in a container limited below the host's free
     memory the UFF guard passed a file and the process was OOM-killed. The cgroup's limit less its usage now
-    counts when smaller (v2 memory.max 'max' and v1's 2**63: no limit)."""
+    counts when smaller (v2 memory.max 'max' and v1's 2**63: no limit); the usage without its reclaimable page
+    cache (memory.stat's inactive_file, v1's total_inactive_file), which the kernel frees before it kills."""
     from cablecasing_core import files
 
     host = _meminfo_available()
     if host is None:
         pytest.skip("no /proc/meminfo")
     v1 = {"memory.limit_in_bytes", "memory.usage_in_bytes"}
+    v1_said = bool(v1 & set(files_said))
 
     def reader(path):  # (v2 names anywhere under /sys/fs/cgroup, v1 names in its memory folder)
         name = Path(path).name
-        if name in v1 and Path(path).parent.name != "memory":
+        if (name in v1 or (name == "memory.stat" and v1_said)) and Path(path).parent.name != "memory":
             return None
         return files_said.get(name)
 
-    monkeypatch.setattr(files, "_read_line", reader)
+    monkeypatch.setattr(files, "_read_text", reader)
     assert files.cgroup_memory_free() == free
     got = files.memory_available()
     if free is None:  # (MemAvailable moves between two reads: within 5 % of it)
