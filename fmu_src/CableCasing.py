@@ -229,6 +229,9 @@ class CableCasing(Fmi2Slave):
         self._input_vr, self._output_vr, self._param = {}, {}, {}  # value reference -> index, (key, type)
         self._register_variables()
         self._recon = SupportReconstruction(self.nch)
+        # doStep calls that only moved the clock (a step within its rounding: no step taken), for the binary's
+        # timing report, which counts the steps taken; never reset (the binary counts its changes)
+        self.clock_only_calls = 0
         self._clear()
 
     def _clear(self):
@@ -957,6 +960,7 @@ class CableCasing(Fmi2Slave):
             # moves with the master's and the state stays, within 1e-6 solver.dt; a step taken
             self._start_time += step_size
             self._discarded, self._wants_to_end = None, False
+            self.clock_only_calls += 1
             return OK
         if n == 0 and rest < SHORTEST_LONE_STEP * eng.dt:
             self.log(self._too_short(current_time, step_size, eng.dt, self._dt_source()), Fmi2Status.discard)

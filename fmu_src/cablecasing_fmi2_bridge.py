@@ -175,6 +175,7 @@ PRUNE_AFTER_DAYS = 14
 #: (:func:`_hold`). Copies without it (made by FMUs built before the bridge locked them, which may
 #: be in use unlocked by a running host) are never pruned.
 LOCKED_MARK = b"cablecasing fmu copy, held under flock while in use\n"
+_INTERRUPTED = {}  # GUID (the copy's folder name) -> the exception that interrupted its import in this process
 _HELD = []  # open .complete markers of the copies this process uses, each under a shared lock (flock)
 
 
@@ -256,14 +257,84 @@ def _prune_copies(root, keep):
             continue
 
 
-def _stable_copy(resources, guid, names, bases):
+#: The file in a copy of the FMU's code that lists what makes it whole: each file copied (its path
+#: relative to the copy, tab, its size in bytes), written before the copy is renamed into place. (Not in
+#: ``.complete``, whose content the prune compares with :data:`LOCKED_MARK` as a whole.)
+CONTENTS = ".contents"
+
+
+def _list_contents(folder):
+    """``CONTENTS``'s text for ``folder``: every file below it but the markers and ``__pycache__``."""
+    lines = []
+    for root, dirs, files in os.walk(folder):
+        dirs[:] = sorted(d for d in dirs if d != "__pycache__")
+        for name in sorted(files):
+            path = os.path.join(root, name)
+            rel = os.path.relpath(path, folder)
+            if rel not in (".complete", CONTENTS):
+                lines.append(f"{rel}\t{os.path.getsize(path)}")
+    return "\n".join(lines) + "\n"
+
+
+def _damage(dest):
+    """Why the copy ``dest`` cannot be used as it is (None when whole): no ``.complete`` marker (a copy
+    is renamed into place with it, so a folder without it lost it), no :data:`CONTENTS`, or a file it
+    lists that is missing or of another size (a cleaner of old files in the temporary folder, a hand).
+    One ``stat`` per file (~150): cheap beside the import it precedes."""
+    if not os.path.isfile(os.path.join(dest, ".complete")):
+        return "it has no .complete marker"
+    try:
+        with open(os.path.join(dest, CONTENTS), encoding="utf-8") as f:
+            listed = [line.rsplit("\t", 1) for line in f.read().splitlines() if line]
+    except OSError:
+        return f"it has no {CONTENTS} list of its files"
+    for rel, size in listed:
+        try:
+            have = os.path.getsize(os.path.join(dest, rel))
+        except OSError:
+            return f"{rel} is missing"
+        if str(have) != size:
+            return f"{rel} has {have} bytes, not {size}"
+    return None
+
+
+def _set_aside(root, guid, dest):
+    """Remove the damaged copy ``dest``: renamed away under an exclusive lock of ``root`` (so that of
+    processes that find it damaged at once, one renames it and the others then find the new copy
+    whole), then deleted. A process that holds it keeps the modules it imported. Returns why it was
+    set aside, or None when another process has put a whole copy there meanwhile."""
+    try:
+        import fcntl
+    except ImportError:
+        fcntl = None
+    fd = os.open(root, os.O_RDONLY)
+    try:
+        if fcntl is not None:
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX)
+            except OSError:  # (no locks on this filesystem: renamed unlocked)
+                pass
+        why = _damage(dest) if os.path.isdir(dest) else None
+        if why is None:
+            return None
+        gone = os.path.join(root, f".{guid}.{os.getpid()}.damaged.old")
+        os.rename(dest, gone)
+    finally:
+        os.close(fd)
+    shutil.rmtree(gone, ignore_errors=True)
+    return why
+
+
+def _stable_copy(resources, guid, names, bases, say=None):
     """The folder holding a copy of ``names`` (files and folders of resources/) that outlives the
     unpack folder: ``<base>/fmu/<guid>`` for the first of ``bases`` (``[(folder, reason it cannot be
     had, or None)]``, the core's ``cache_bases()``) where it is or can be written; written once,
     atomically (a temporary folder renamed into place: a folder, which ``files.atomic_path`` does
-    not write, and before the core can be imported); held by this process (:func:`_hold`), and old
-    unused copies beside it pruned (:func:`_prune_copies`). Returns (the folder, or ``resources``
-    when none can be written; ``[(root, reason)]`` of the roots that failed)."""
+    not write, and before the core can be imported), with the list of its files (:data:`CONTENTS`);
+    checked against that list at each use, and a damaged copy (:func:`_damage`) replaced by a new one,
+    ``say`` (a function of one text) told why; held by this process (:func:`_hold`), and old unused
+    copies beside it pruned (:func:`_prune_copies`). Returns (the folder, or ``resources`` when none
+    can be written; ``[(root, reason)]`` of the roots that failed)."""
     tried = []
     for base, why in bases:
         root = os.path.join(base, "fmu")
@@ -273,6 +344,14 @@ def _stable_copy(resources, guid, names, bases):
         dest = os.path.join(root, guid)
         try:
             for _attempt in range(2):  # (again once if a prune took the copy between the check and the hold)
+                damage = _damage(dest) if os.path.isdir(dest) else None
+                if damage is not None:
+                    damage = _set_aside(root, guid, dest)
+                    if damage is not None and say is not None:
+                        say(
+                            f"the copy of the model's Python code in {dest} was damaged ({damage}): it was "
+                            "deleted and is copied again from the FMU"
+                        )
                 if not os.path.isfile(os.path.join(dest, ".complete")):
                     os.makedirs(root, exist_ok=True)
                     tmp = tempfile.mkdtemp(prefix=f".{guid}.", suffix=".tmp", dir=root)  # (unique in any process)
@@ -282,6 +361,8 @@ def _stable_copy(resources, guid, names, bases):
                             shutil.copytree(src, os.path.join(tmp, name), ignore=shutil.ignore_patterns("__pycache__"))
                         elif os.path.isfile(src):
                             shutil.copy2(src, os.path.join(tmp, name))
+                    with open(os.path.join(tmp, CONTENTS), "w", encoding="utf-8") as f:
+                        f.write(_list_contents(tmp))
                     with open(os.path.join(tmp, ".complete"), "wb") as f:
                         f.write(LOCKED_MARK)
                     try:
@@ -423,6 +504,25 @@ class _CompileNotice:
             )
 
 
+class LiveState:
+    """The slave's state that an FMU state of the binary holds (one per fmi2GetFMUstate or
+    fmi2DeSerializeFMUstate, released by fmi2FreeFMUstate or with its instance by fmi2FreeInstance);
+    :attr:`live` counts those not released in this process (of this FMU build), for tests."""
+
+    __slots__ = ("value",)
+    live = 0
+    _lock = threading.Lock()
+
+    def __init__(self, value):
+        self.value = value
+        with LiveState._lock:
+            LiveState.live += 1
+
+    def __del__(self):
+        with LiveState._lock:
+            LiveState.live -= 1
+
+
 def _c_strings(addr, n):
     return (ctypes.c_void_p * n).from_address(addr)
 
@@ -433,6 +533,12 @@ class Instance:
     def __init__(self, name, guid, resources, visible, logging_on, log_addr, handle, python_note, fmi_version):
         self._log_c = _LOG_FN(log_addr)
         self._handle = handle
+        if python_note.startswith("attached") and getattr(sys, "_cablecasing_started_by_fmu", False):
+            # (the C side found an interpreter running: the one a CableCasing binary started before it was
+            # unloaded and loaded again, not a Python host's; that binary marked it)
+            python_note = python_note.replace("attached to the host process's Python", "uses the Python") + (
+                " that CableCasing.fmu started earlier in this process (its binary was unloaded and loaded again)"
+            )
         self._in_python_host = python_note.startswith("attached")  # (the C side's note: "attached to the host ...")
         self._keep = []  # strings handed to C by get_string, alive until the next call
         self._name = name
@@ -489,7 +595,7 @@ class Instance:
         except (OSError, ImportError, SyntaxError) as exc:
             self._fail(f"the model's Python code in {resources} is incomplete or unreadable: {exc}")
         names = [n for n in os.listdir(resources) if n != "numba_cache"]
-        home, tried = _stable_copy(resources, guid, names, rule.cache_bases())
+        home, tried = _stable_copy(resources, guid, names, rule.cache_bases(), lambda text: self._log(WARNING, text))
         if home == resources:
             failed = "; ".join(f"{root}: {why}" for root, why in tried)
             self._log(
@@ -502,16 +608,18 @@ class Instance:
             f"_cablecasing_slave_{guid.replace('-', '_')}", os.path.join(home, "CableCasing.py")
         )
         module = importlib.util.module_from_spec(spec)
+        before = set(sys.modules)
         sys.path.insert(0, home)  # the slave imports cablecasing_core and pythonfmu from there
         try:
             # (the kernels' import warns where their cache folder is not the preferred one: said below, in the log)
             with _WARNINGS_LOCK, warnings.catch_warnings():
                 warnings.filterwarnings("ignore", message=_CACHE_WARNING)
                 spec.loader.exec_module(module)
-        except ImportError as exc:
-            self._fail(f"the model's Python code cannot be imported from {home}: {exc}")
+        except BaseException as exc:  # noqa: BLE001  (KeyboardInterrupt too: the import is undone, then it is said)
+            self._fail(self._import_failed(home, resources, exc, before))
         finally:
             sys.path.remove(home)
+        _INTERRUPTED.pop(guid, None)
         here = os.path.dirname(os.path.abspath(module.cc.__file__))
         hosts = os.path.dirname(here) != os.path.abspath(home)
         if not hosts:  # (the advice concerns a Python host only: a C host has no other copy to compare)
@@ -555,6 +663,33 @@ class Instance:
         if choice is not None and choice.note():
             self._log(WARNING, choice.note())
         return module
+
+    def _import_failed(self, home, resources, exc, before):
+        """The message of an import of the model's code from ``home`` that raised ``exc``, after undoing
+        it: the modules it added to ``sys.modules`` (``before``: the names there before) are removed, so
+        that the next fmi2Instantiate imports them afresh; an interruption (KeyboardInterrupt in a Python
+        host's main thread: a Ctrl-C) otherwise left numba half-imported, and every later instantiation
+        failed with "partially initialized module". The signal modules stay (their import is done once)."""
+        for name in set(sys.modules) - before:
+            if name not in ("signal", "_signal"):
+                sys.modules.pop(name, None)
+        text = str(exc) or type(exc).__name__
+        guid = os.path.basename(home) if home != resources else ""
+        if not isinstance(exc, Exception):  # (KeyboardInterrupt, SystemExit)
+            _INTERRUPTED[guid] = type(exc).__name__
+            return (
+                f"the import of the model's Python code from {home} was interrupted ({type(exc).__name__}); "
+                "what it had imported was unloaded, so the next fmi2Instantiate imports it again"
+            )
+        hint = ""
+        if guid in _INTERRUPTED:
+            hint += (
+                f" (an earlier import in this process was interrupted ({_INTERRUPTED[guid]}): if this persists, "
+                "start the host again)"
+            )
+        if home != resources:
+            hint += f"; if that folder was damaged, delete it: the next start copies it again from {resources}"
+        return f"the model's Python code cannot be imported from {home}: {type(exc).__name__}: {text}{hint}"
 
     def _bind(self):
         s = self._slave
@@ -694,14 +829,14 @@ class Instance:
 
     # ---------------------------------------------------------------------------------- FMU state
     def get_state(self):
-        return self._slave.fmi2_get_state()
+        return LiveState(self._slave.fmi2_get_state())
 
     def set_state(self, state):
-        return self._guard("fmi2SetFMUstate", self._slave.fmi2_set_state, state)
+        return self._guard("fmi2SetFMUstate", self._slave.fmi2_set_state, state.value)
 
     def serialize_state(self, state):
-        return self._slave.serialize_state(state)
+        return self._slave.serialize_state(state.value)
 
     def deserialize_state(self, data):
         state = self._slave.deserialize_state(data)
-        return state if state is not None else False
+        return LiveState(state) if state is not None else False

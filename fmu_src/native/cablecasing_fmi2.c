@@ -10,7 +10,7 @@
  *    CABLECASING_PYTHON, loads its libpython with RTLD_GLOBAL and starts it with an isolated
  *    configuration (PYTHONHOME/PYTHONPATH of the host's environment are ignored) in UTF-8 mode
  *    (paths with non-ASCII characters work under the "C" locale), so a plain environment is enough. Every Python function is called through a pointer from dlsym, so no
- *    Python symbol is left for the dynamic loader to resolve.
+ *    Python symbol is left for the dynamic loader to resolve. SIGINT stays the host's (start_python).
  *  - It never finalises the interpreter. Py_Finalize with numpy/scipy/numba loaded crashes at
  *    exit (the C host's SIGSEGV of pythonfmu's worker thread); the process's own exit reclaims
  *    everything. No thread, atexit handler or static destructor of this library outlives
@@ -39,6 +39,7 @@
 #include <errno.h>
 #include <limits.h>
 #include <pthread.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -68,7 +69,8 @@
     X(PyFloat_FromDouble) X(PyFloat_AsDouble) X(PyUnicode_FromString) X(PyUnicode_AsUTF8)             \
     X(PyBytes_FromStringAndSize) X(PyErr_Occurred) X(PyErr_Fetch) X(PyErr_NormalizeException)         \
     X(PyErr_Clear) X(Py_DecRef) X(Py_IncRef) X(PyBool_FromLong) X(PyBytes_Size) X(PyBytes_AsString)     \
-    X(PyObject_IsTrue) X(PyStatus_Exception) X(PyPreConfig_InitIsolatedConfig) X(Py_PreInitialize)
+    X(PyObject_IsTrue) X(PyStatus_Exception) X(PyPreConfig_InitIsolatedConfig) X(Py_PreInitialize)     \
+    X(PyImport_ImportModule) X(PySys_SetObject)
 
 #define PYAPI_MEMBER(name) __typeof__(&name) name;
 static struct { PYAPI(PYAPI_MEMBER) } P;
@@ -160,6 +162,8 @@ typedef struct {
     int state;
     PyObject *py;                       /* the bridge's Instance */
     PyObject *m_do_step;                /* its bound do_step, called every step */
+    PyObject *slave;                    /* the object do_step is bound to (its clock_only_calls) */
+    long clock_only_seen;               /* the slave's clock_only_calls after the last counted call */
     double *inputs;                     /* owned by py: support inputs (fast path) */
     double *outputs;                    /* owned by py: outputs after the last step */
     fmi2ValueReference in0, nin, out0, nout;
@@ -167,7 +171,8 @@ typedef struct {
     size_t int_idx[MAX_INT_OUTPUTS];
     size_t nint;
     long step_calls;                    /* fmi2DoStep calls that took their step (status OK or Warning)
-                                           since instantiation or reset; refused calls are not counted */
+                                           since instantiation or reset; refused calls and those that only
+                                           moved the clock (a step within its rounding) are not counted */
     double step_seconds;                /* wall time spent inside them (s) */
     double first_step_at;               /* monotonic clock at the first of them (s) */
     double longest_step;                /* wall time of the longest of them (s) */
@@ -187,7 +192,8 @@ static double monotonic_seconds(void) {
 typedef struct State {
     Live live;                          /* first: the list of live states (live_states) */
     unsigned magic;
-    Instance *owner;
+    Instance *owner;                    /* the instance whose fmi2GetFMUstate or fmi2DeSerializeFMUstate made
+                                           it (or last filled it in place): fmi2FreeInstance frees it */
     PyObject *state;                    /* the bridge's state object */
     PyObject *bytes;                    /* its serialisation, while the host asks for size then data */
 } State;
@@ -212,7 +218,8 @@ static void escape_for_logger(const char *msg, char *out, size_t size) {
 
 static void log_to_host(const fmi2CallbackFunctions *cb, const char *name, int logging_on, fmi2Status status,
                         const char *category, const char *msg, int also_stderr) {
-    if (also_stderr || !cb || !cb->logger) {
+    if (also_stderr || ((!cb || !cb->logger) && (logging_on || status >= fmi2Warning))) {
+        /* (no logger, which FMI 2.0 does not allow: what the host would have been told goes to stderr) */
         static const char *labels[] = {"OK", "WARNING", "DISCARD", "ERROR", "FATAL", "PENDING"};
         fprintf(stderr, "[CableCasing %s] %s\n", labels[status <= 5 ? status : 3], msg);
         fflush(stderr);
@@ -377,7 +384,30 @@ static int find_interpreter(const char *resources, char *exe, char *lib, char *h
     return 1;
 }
 
+/* The attribute of the sys module that says this FMU's binary started the process's Python (its value:
+ * the note of how), so that a binary loaded again after dlclose (libpython stays loaded, the interpreter
+ * running) does not take that interpreter for a Python host's. */
+#define STARTED_MARK "_cablecasing_started_by_fmu"
+
+/* SIGINT stays the host's. CPython installs its own SIGINT handler (which raises KeyboardInterrupt in
+ * Python's main thread, and never stops a C host) where SIGINT is at SIG_DFL when its _signal module is
+ * first imported, whatever config.install_signal_handlers says (numba imports it, so every start would
+ * take Ctrl-C away from the host). That happens once per process: the module's initialisation runs at
+ * its first import only (later imports, of signal too, find it in sys.modules), so it is imported here,
+ * at once, and the host's disposition put back; no later import can install the handler again. */
+static void import_signal_keep_hosts_sigint(const struct sigaction *host, int have_host) {
+    PyObject *m = P.PyImport_ImportModule("_signal");
+    if (m) P.Py_DecRef(m);
+    else P.PyErr_Clear();
+    struct sigaction now;
+    if (have_host && sigaction(SIGINT, NULL, &now) == 0 &&
+        (now.sa_handler != host->sa_handler || now.sa_flags != host->sa_flags))
+        sigaction(SIGINT, host, NULL);
+}
+
 static int start_python(const char *exe, char *err, size_t errsize) {
+    struct sigaction host_sigint;
+    int have_host_sigint = sigaction(SIGINT, NULL, &host_sigint) == 0;
     /* UTF-8 mode: the isolated pre-configuration leaves it off and the locale alone, so in a host
        that never calls setlocale (the "C" locale: fmusim, fmuCheck) the filesystem encoding would
        be ASCII, and a path with "ü" in it (the unpack folder, a model_file) could not be opened.
@@ -393,7 +423,7 @@ static int start_python(const char *exe, char *err, size_t errsize) {
     }
     PyConfig config;
     P.PyConfig_InitIsolatedConfig(&config);
-    config.install_signal_handlers = 0;      /* SIGINT and friends stay the host's */
+    config.install_signal_handlers = 0;      /* no SIGPIPE/SIGXFSZ changes; SIGINT: see below */
     /* the interpreter as if that executable ran it: a virtual environment's pyvenv.cfg is honoured */
     PyStatus st = P.PyConfig_SetBytesString(&config, &config.program_name, exe);
     if (!P.PyStatus_Exception(st)) st = P.PyConfig_SetBytesString(&config, &config.executable, exe);
@@ -404,6 +434,10 @@ static int start_python(const char *exe, char *err, size_t errsize) {
                  st.func ? ": " : "", st.err_msg ? st.err_msg : "unknown error");
         return 0;
     }
+    import_signal_keep_hosts_sigint(&host_sigint, have_host_sigint);
+    PyObject *mark = P.PyBool_FromLong(1);
+    if (P.PySys_SetObject(STARTED_MARK, mark) != 0) P.PyErr_Clear();
+    P.Py_DecRef(mark);
     P.PyEval_SaveThread();                   /* release the GIL; the main thread state stays */
     return 1;
 }
@@ -417,6 +451,8 @@ static int ensure_python(const char *resources, char *err, size_t errsize) {
     if (in_process && ((int (*)(void))in_process)()) {
         if (!resolve_api(RTLD_DEFAULT, err, errsize)) goto done;
         const char *ver = P.Py_GetVersion();  /* "3.11.7 (main, ...) [GCC ...]": its first word */
+        /* (or to the one this binary started before it was unloaded: the bridge tells them apart by
+           STARTED_MARK) */
         snprintf(g_python_note, sizeof g_python_note, "attached to the host process's Python %.*s",
                  (int)strcspn(ver, " "), ver);
         ok = g_python_ready = 1;
@@ -474,11 +510,18 @@ static void take_exception(char *out, size_t size) {
     PyObject *type = NULL, *value = NULL, *tb = NULL;
     P.PyErr_Fetch(&type, &value, &tb);
     P.PyErr_NormalizeException(&type, &value, &tb);
-    const char *text = NULL;
+    const char *text = NULL, *kind = NULL;
     PyObject *s = value ? P.PyObject_Str(value) : NULL;
     if (s) text = P.PyUnicode_AsUTF8(s);
-    snprintf(out, size, "%s", text ? text : "unknown Python error");
     if (!text) P.PyErr_Clear();
+    /* the exception's type when its text says nothing (KeyboardInterrupt(), an assert without text) */
+    PyObject *k = (!text || !text[0]) && type ? P.PyObject_GetAttrString(type, "__name__") : NULL;
+    if (k) kind = P.PyUnicode_AsUTF8(k);
+    if (!kind) P.PyErr_Clear();
+    if (kind && text) snprintf(out, size, "%s (an exception without a message)", kind);
+    else if (kind) snprintf(out, size, "%s", kind);
+    else snprintf(out, size, "%s", text && text[0] ? text : "unknown Python error");
+    if (k) P.Py_DecRef(k);
     if (s) P.Py_DecRef(s);
     if (type) P.Py_DecRef(type);
     if (value) P.Py_DecRef(value);
@@ -693,13 +736,16 @@ FMI2_Export fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuT
             inst->int_idx[k] = inst->int_vr[k] - inst->out0;
         }
         inst->m_do_step = P.PyObject_GetAttrString(inst->py, "do_step");
-        if (!ok || !inst->m_do_step) {
+        inst->slave = inst->m_do_step ? P.PyObject_GetAttrString(inst->m_do_step, "__self__") : NULL;
+        if (inst->slave) inst->clock_only_seen = attr_long(inst->slave, "clock_only_calls", &ok);
+        if (!ok || !inst->m_do_step || !inst->slave) {
             take_exception(err, sizeof err);
             logf_to_host(functions, name, 1, fmi2Error, 1, "CableCasing.fmu: the bridge is incomplete (%s)", err);
             ok = 0;
         }
     }
     if (!ok) {
+        if (inst->slave) P.Py_DecRef(inst->slave);
         if (inst->m_do_step) P.Py_DecRef(inst->m_do_step);
         if (inst->py) P.Py_DecRef(inst->py);
     }
@@ -713,13 +759,17 @@ FMI2_Export fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuT
     return live_add(&live_instances, &inst->live);
 }
 
+static void free_states_of(const Instance *inst);
+
 FMI2_Export void fmi2FreeInstance(fmi2Component c) {
     Instance *inst = checked(c);
     if (!inst) return;
     live_remove(&live_instances, &inst->live);
+    free_states_of(inst);   /* FMI 2.0, fmi2FreeInstance: all memory its functions allocated, its states too */
     PyGILState_STATE gil = gil_enter();
     call(inst, "free", NULL, 0);
     P.Py_DecRef(inst->m_do_step);
+    if (inst->slave) P.Py_DecRef(inst->slave);
     P.Py_DecRef(inst->py);
     P.PyGILState_Release(gil);
     inst->magic = 0;
@@ -953,7 +1003,9 @@ FMI2_Export fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference v
  */
 static State *checked_state(Instance *inst, fmi2FMUstate s) {
     State *st = s ? (State *)live_find(&live_states, s) : NULL;
-    if (!st) LOGI(inst, fmi2Error, "the FMU state %p was not made by this FMU (or was freed)", s);
+    if (!st)
+        LOGI(inst, fmi2Error,
+             "the FMU state %p was not made by this FMU (or was freed, by fmi2FreeFMUstate or with its instance)", s);
     return st;
 }
 
@@ -965,6 +1017,25 @@ static void free_state(State *st) {
     P.PyGILState_Release(gil);
     st->magic = 0;
     free(st);
+}
+
+/* Free every state ``inst`` owns (fmi2FreeInstance): their handles are refused from then on, as freed
+ * states' are. A state of another instance set into ``inst`` stays its maker's. */
+static void free_states_of(const Instance *inst) {
+    for (;;) {
+        State *mine = NULL;
+        pthread_mutex_lock(&live_lock);   /* (unlinked here: no other call finds it from now on) */
+        for (Live **q = &live_states; *q; q = &(*q)->next) {
+            if (((State *)*q)->owner == inst) {
+                mine = (State *)*q;
+                *q = mine->live.next;
+                break;
+            }
+        }
+        pthread_mutex_unlock(&live_lock);
+        if (!mine) return;
+        free_state(mine);
+    }
 }
 
 /* A new FMU state of ``inst`` holding the Python state ``obj`` (its reference taken), its handle put
@@ -1001,11 +1072,12 @@ FMI2_Export fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) 
     PyGILState_STATE gil = gil_enter();
     fmi2Status s = call(inst, "get_state", &obj, 0);
     State *st = *FMUstate ? (State *)live_find(&live_states, *FMUstate) : NULL;
-    if (s == fmi2OK && st) {   /* update the host's earlier state in place */
+    if (s == fmi2OK && st) {   /* update the host's earlier state in place: now this instance's */
         P.Py_DecRef(st->state);
         if (st->bytes) P.Py_DecRef(st->bytes);
         st->state = obj;
         st->bytes = NULL;
+        st->owner = inst;
     } else if (s == fmi2OK) {
         s = new_state(inst, obj, FMUstate);
     }
@@ -1042,7 +1114,9 @@ FMI2_Export fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
         return fmi2OK;
     }
     if (is_handle(FMUstate)) {   /* a handle of a state freed before, or another FMU's: not read */
-        LOGI(inst, fmi2Error, "fmi2FreeFMUstate: the FMU state %p was not made by this FMU (or was freed)",
+        LOGI(inst, fmi2Error,
+             "fmi2FreeFMUstate: the FMU state %p was not made by this FMU (or was freed, by fmi2FreeFMUstate or "
+             "with its instance)",
              (void *)FMUstate);
         return fmi2Error;
     }
@@ -1163,6 +1237,7 @@ FMI2_Export fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunication
     PyObject *ret = P.PyObject_CallObject(inst->m_do_step, tuple);
     P.Py_DecRef(tuple);
     fmi2Status s;
+    int clock_only = 0;
     if (!ret) {
         char msg[2048];
         take_exception(msg, sizeof msg);
@@ -1172,12 +1247,19 @@ FMI2_Export fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunication
         long v = P.PyLong_AsLong(ret);
         P.Py_DecRef(ret);
         s = (v >= fmi2OK && v <= fmi2Error) ? (fmi2Status)v : fmi2Error;
+        if (s <= fmi2Warning) {   /* a step within the rounding of a clock: the slave counts those */
+            int ok = 1;
+            long n = attr_long(inst->slave, "clock_only_calls", &ok);
+            if (!ok) P.PyErr_Clear();
+            clock_only = ok && n != inst->clock_only_seen;
+            if (ok) inst->clock_only_seen = n;
+        }
     }
     P.PyGILState_Release(gil);
     /* the timing and real-time report counts the steps taken, not the calls refused (a step of 0 or
-     * less, at the wrong time, past stopTime, discarded): their wall time is no step's, and any of it
-     * exceeds a step <= 0 */
-    if (s <= fmi2Warning) {
+     * less, at the wrong time, past stopTime, discarded) nor those that only moved the clock (a step
+     * within 1e-6 solver.dt: no step): their wall time is no step's, and any of it exceeds such a step */
+    if (s <= fmi2Warning && !clock_only) {
         double took = monotonic_seconds() - t_enter;
         if (inst->step_calls == 0) inst->first_step_at = t_enter;
         inst->step_calls += 1;

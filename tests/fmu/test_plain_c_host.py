@@ -1,0 +1,248 @@
+"""The FMU in a plain C host of our own (tests/fmu/plain_c_host.c: no Python of its own, HOME and PATH
+only) for what only such a host shows (review AR): SIGINT stays the host's, the timing report leaves
+a clock's rounding steps out, a reload names the interpreter it finds, a host without a logger is
+not written to when logging is off; and, through fmpy in fresh processes, FMU states freed with their
+instance, a Ctrl-C during the first import that the next instantiation recovers from, an exception
+without a message named by its type. Also the per-user copy of the FMU's code repaired when damaged."""
+
+import importlib.util
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+pytestmark = pytest.mark.slow  # every test starts processes that load the FMU
+
+ROOT = Path(__file__).resolve().parents[2]
+PLAIN = {"HOME": os.environ.get("HOME", "/root"), "PATH": "/usr/bin:/bin"}
+PLAIN |= {k: v for k, v in os.environ.items() if k.startswith("OPENBLAS_")}
+
+
+@pytest.fixture(scope="module")
+def host(fmu, tmp_path_factory):
+    """``run(mode, *args)``: plain_c_host.c, compiled, on the FMU unpacked, in the plain environment;
+    the CompletedProcess."""
+    compiler = shutil.which("cc") or shutil.which("gcc")
+    if compiler is None or not sys.platform.startswith("linux"):
+        pytest.skip("needs a C compiler on Linux")
+    import fmpy
+    from fmpy import extract, read_model_description
+
+    folder = tmp_path_factory.mktemp("plain_c_host")
+    exe = folder / "plain_c_host"
+    inc = Path(fmpy.__file__).parent / "c-code"
+    source = Path(__file__).with_name("plain_c_host.c")
+    subprocess.run([compiler, "-O1", f"-I{inc}", "-o", str(exe), str(source), "-ldl", "-lpthread"], check=True)
+    unzip = Path(extract(str(fmu), unzipdir=folder / "unzip"))
+    head = [str(exe), str(unzip / "binaries" / "linux64" / "CableCasing.so"), read_model_description(str(fmu)).guid]
+    head.append((unzip / "resources").as_uri())
+
+    def run(*args):
+        return subprocess.run(head + list(args), capture_output=True, text=True, env=PLAIN, timeout=600)
+
+    return run
+
+
+def test_ctrl_c_stops_a_c_host_that_leaves_sigint_at_its_default(host):
+    """A host with SIGINT at SIG_DFL (fmusim, most C simulators): the FMU's start leaves it there
+    (CPython's signal module installed its handler at its first import, and numba imports it), and a
+    SIGINT 0.3 s into a doStep of 1 s (~2 s of work) kills the process, as it does with a C FMU: the
+    doStep does not return (it returned fmi2Error 'internal error in doStep: ' and the host went on)."""
+    proc = host("signal", "default")
+    assert "sigint before default after default" in proc.stdout, proc.stdout + proc.stderr
+    assert proc.returncode == -signal.SIGINT, (proc.returncode, proc.stdout[-2000:], proc.stderr[-2000:])
+    assert "doStep" not in proc.stdout
+
+
+def test_a_c_hosts_own_sigint_handler_is_kept_and_called(host):
+    """A host that handles SIGINT itself keeps its handler, which is called, and the step is taken."""
+    proc = host("signal", "handler")
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    assert "sigint before host after host" in proc.stdout and "doStep 0 handler 2" in proc.stdout, proc.stdout
+
+
+def test_the_timing_report_counts_steps_taken_not_a_clocks_rounding(host):
+    """Three steps of 1e-4 s and two of 1e-12 s (<= 1e-6 solver.dt: fmi2OK, the clock moves, no step):
+    the report counts three calls (it counted five, and every rounding step as a missed deadline)."""
+    proc = host("steps")
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    assert proc.stdout.count("-> 0") == 5, proc.stdout
+    assert "3 doStep calls took" in proc.stdout and " of 3 calls took longer" in proc.stdout, proc.stdout
+
+
+def test_a_reloaded_binary_names_the_python_it_started_before(host):
+    """After dlclose and dlopen the interpreter the FMU started is still running: the first line says
+    so, not that a Python host's interpreter was found."""
+    proc = host("reload")
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    first = [line for line in proc.stdout.splitlines() if "(FMI 2.0)" in line]
+    assert len(first) == 2 and "started Python" in first[0], first
+    assert "that CableCasing.fmu started earlier in this process" in first[1] and "attached" not in first[1], first
+
+
+def test_a_host_without_a_logger_is_not_written_to_when_logging_is_off(host):
+    """No logger (FMI 2.0 does not allow it): with logging off nothing reaches stderr; with logging on
+    the informational lines do (so the first check can fail)."""
+    off, on = host("nulllogger", "off"), host("nulllogger", "on")
+    assert off.returncode == 0 and on.returncode == 0, off.stdout + off.stderr + on.stdout + on.stderr
+    assert "step -> 0" in off.stdout and off.stderr == "", off.stderr
+    assert "[CableCasing OK] CableCasing.fmu" in on.stderr, on.stderr
+
+
+FMPY_SCRIPT = """
+import gc, sys
+from fmpy import extract, read_model_description
+from fmpy.fmi2 import FMU2Slave
+fmu, mode = sys.argv[1], sys.argv[2]
+md = read_model_description(fmu)
+unzip = extract(fmu)
+from ctypes import byref
+from fmpy import calloc, free
+from fmpy.fmi2 import (fmi2CallbackFunctions, fmi2CallbackLoggerTYPE, fmi2CallbackAllocateMemoryTYPE,
+                       fmi2CallbackFreeMemoryTYPE)
+from fmpy.logging import addLoggerProxy
+log = []
+def logger(env, name, status, category, message):
+    log.append(message.decode())
+cb = fmi2CallbackFunctions()
+cb.logger = fmi2CallbackLoggerTYPE(logger)
+cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+addLoggerProxy(byref(cb))
+def make(name):
+    s = FMU2Slave(guid=md.guid, unzipDirectory=unzip, modelIdentifier=md.coSimulation.modelIdentifier,
+                  instanceName=name)
+    s.instantiate(callbacks=cb, loggingOn=True)
+    return s
+def bridge():
+    return next(m for k, m in sys.modules.items() if k.startswith("_cablecasing_fmi2_bridge_"))
+if mode == "states":
+    counts = []
+    for i in range(20):
+        s = make(f"i{i}")
+        s.setupExperiment(startTime=0.0); s.enterInitializationMode(); s.exitInitializationMode()
+        s.doStep(0.0, 1e-4)
+        for _ in range(10):
+            s.getFMUstate()
+        counts.append(bridge().LiveState.live)
+        s.terminate(); s.freeInstance()
+    gc.collect()
+    print("live", counts[0], counts[-1], bridge().LiveState.live)
+elif mode == "interrupt":
+    class Interrupt:
+        def find_spec(self, name, path=None, target=None):
+            if name == "numba.core.caching":
+                sys.meta_path.remove(self)
+                raise KeyboardInterrupt
+    sys.meta_path.insert(0, Interrupt())
+    try:
+        make("first")
+        print("first instantiated")
+    except Exception:
+        print("first failed")
+    s = make("second")
+    s.setupExperiment(startTime=0.0); s.enterInitializationMode(); s.exitInitializationMode()
+    s.doStep(0.0, 1e-4)
+    print("second step ok")
+    s.terminate(); s.freeInstance()
+elif mode == "empty":
+    s = make("e")
+    s.setupExperiment(startTime=0.0); s.enterInitializationMode(); s.exitInitializationMode()
+    inst = next(o for o in gc.get_objects() if type(o).__name__ == "Instance" and hasattr(o, "_slave"))
+    def boom():
+        raise KeyboardInterrupt
+    inst._slave.fmi2_get_state = boom
+    try:
+        s.getFMUstate()
+    except Exception:
+        print("get state failed")
+for line in log:
+    print("LOG", line)
+"""
+
+
+def _fmpy(fmu, mode, tmp_path):
+    script = tmp_path / "script.py"
+    script.write_text(textwrap.dedent(FMPY_SCRIPT))
+    env = dict(os.environ, HOME=str(tmp_path / "home"))
+    env.pop("NUMBA_CACHE_DIR", None)
+    proc = subprocess.run(
+        [sys.executable, str(script), str(fmu), mode], capture_output=True, text=True, env=env, timeout=600
+    )
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    return proc.stdout
+
+
+def test_fmu_states_are_freed_with_their_instance(fmu, tmp_path):
+    """FMI 2.0, fmi2FreeInstance frees all memory the FMU's functions allocated: 20 instances that each
+    take 10 states (~30 kB each) and are freed without freeing them leave none (they were all kept:
+    RSS grew ~30 MB per 100 instances of 10). While an instance lives its 10 states are counted."""
+    out = _fmpy(fmu, "states", tmp_path)
+    assert "live 10 10 0" in out, out
+
+
+def test_an_interrupted_first_import_is_undone_and_the_next_instantiation_works(fmu, tmp_path):
+    """A KeyboardInterrupt (Ctrl-C in a Python host's main thread) in the middle of numba's import
+    during the first fmi2Instantiate: that one fails, saying so by name, and the next imports afresh
+    and steps (every later one failed: 'partially initialized module')."""
+    out = _fmpy(fmu, "interrupt", tmp_path)
+    assert "first failed" in out and "second step ok" in out, out
+    assert "was interrupted (KeyboardInterrupt)" in out, out
+
+
+def test_an_exception_without_a_message_is_logged_by_its_type(fmu, tmp_path):
+    """An exception whose text is empty (KeyboardInterrupt()) is logged by its type name (the log said
+    'internal error in doStep: ' and nothing after)."""
+    out = _fmpy(fmu, "empty", tmp_path)
+    assert "get state failed" in out and "internal error in get_state: KeyboardInterrupt" in out, out
+
+
+# ------------------------------------------------------------------ the per-user copy of the code
+
+
+@pytest.fixture
+def bridge():
+    spec = importlib.util.spec_from_file_location("bridge", ROOT / "fmu_src" / "cablecasing_fmi2_bridge.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    yield module
+    for fd in module._HELD:
+        os.close(fd)
+
+
+@pytest.mark.parametrize("damage", ["a file missing", "a file cut short", "no .complete"])
+def test_a_damaged_copy_of_the_code_is_copied_again_and_said(bridge, tmp_path, damage):
+    """A copy in the per-user cache with a file missing or shorter (a cleaner of old files, a hand) was
+    trusted for ever (every instantiation failed: 'No module named ...'); one without .complete was
+    passed over at each start for the temporary folder, silently. Now it is copied again where it
+    was, with one warning naming what was wrong."""
+    resources = tmp_path / "resources"
+    (resources / "pkg" / "sub").mkdir(parents=True)
+    (resources / "pkg" / "sub" / "engine.py").write_text("x = 1\n" * 10)
+    (resources / "top.py").write_text("y = 2\n")
+    base = [(str(tmp_path / "base"), None), (str(tmp_path / "fallback"), None)]
+    dest, _ = bridge._stable_copy(str(resources), "guid", ["pkg", "top.py"], iter(base))
+    copy = Path(dest)
+    assert copy == tmp_path / "base" / "fmu" / "guid"
+    said = []
+    assert bridge._stable_copy(str(resources), "guid", ["pkg", "top.py"], iter(base), said.append)[0] == dest
+    assert said == []  # (a whole copy is used as it is)
+    if damage == "a file missing":
+        (copy / "pkg" / "sub" / "engine.py").unlink()
+    elif damage == "a file cut short":
+        (copy / "pkg" / "sub" / "engine.py").write_text("x = 1\n")
+    else:
+        (copy / ".complete").unlink()
+    again, tried = bridge._stable_copy(str(resources), "guid", ["pkg", "top.py"], iter(base), said.append)
+    assert again == dest and tried == []
+    assert (copy / "pkg" / "sub" / "engine.py").read_text() == "x = 1\n" * 10
+    assert (copy / ".complete").read_bytes() == bridge.LOCKED_MARK
+    assert len(said) == 1 and f"in {dest} was damaged" in said[0], said
+    words = {"a file missing": "engine.py is missing", "a file cut short": "has 6 bytes, not 60"}
+    assert words.get(damage, "no .complete marker") in said[0], said
+    assert sorted(p.name for p in (tmp_path / "base" / "fmu").iterdir()) == ["guid"]  # (nothing left aside)
