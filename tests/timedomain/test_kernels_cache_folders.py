@@ -177,16 +177,19 @@ def test_the_users_cache_folder_follows_xdg_cache_home_with_or_without_platformd
 
 
 def test_the_temporary_fallback_is_used_only_when_it_is_the_users_own(monkeypatch, tmp_path):
-    """<temp>/cablecasing-<uid> is created 0700; one that others may write, or a link, is refused
+    """<temp>/cablecasing-<uid> is created 0700; one that others or its group may write, or a link, is refused
     with its reason (numba loads its machine code with pickle: a folder another user can write
     would run their code)."""
     monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
     base = tmp_path / f"cablecasing-{os.getuid()}"
     assert list(_numba_cache.cache_bases())[1] == (str(base), None)
     assert base.stat().st_mode & 0o777 == 0o700
-    base.chmod(0o777)
-    where, why = list(_numba_cache.cache_bases())[1]
-    assert where == str(base) and "not this user's own" in why
+    for mode in (0o777, 0o775, 0o770, 0o720):  # (others, or the group alone, may write: refused alike)
+        base.chmod(mode)
+        where, why = list(_numba_cache.cache_bases())[1]
+        assert where == str(base) and why is not None and "not this user's own" in why, oct(mode)
+    base.chmod(0o755)  # (others may read it, not write it: taken)
+    assert list(_numba_cache.cache_bases())[1] == (str(base), None)
     base.rmdir()
     (tmp_path / "elsewhere").mkdir()
     base.symlink_to(tmp_path / "elsewhere")
@@ -268,3 +271,28 @@ def test_a_read_only_cache_of_the_kernels_seeds_the_writable_folder_used_after_i
     assert {p.name for p in baked.iterdir()} <= {p.name for p in folder.iterdir()}
     (line,) = warnings_of(stderr)
     assert f"cached in {folder}" in line
+
+
+def test_seeding_never_pairs_a_cache_index_with_another_caches_machine_code(tmp_path):
+    """Review AP, N3: numba's data files (.nbc) hold no key: its index (.nbi) says which file holds the machine
+    code of which signature, numbered in the order they were compiled. So a seed copies a function's index together
+    with its data files, the index last, and only where the target has no index of that function: an index of the
+    target's own (newer kernels compiled since) is kept, and a data file it lacks (a save cut between index and
+    data) is not filled with another cache's code of that number; data files with no index (orphans) are replaced."""
+    src, dst = tmp_path / "src", tmp_path / "dst"
+    src.mkdir()
+    dst.mkdir()
+    for name in ("k.nbi", "k.1.nbc", "k.2.nbc", "m.nbi", "m.1.nbc", "other.txt"):
+        (src / name).write_bytes(b"shipped " + name.encode())
+    (dst / "k.nbi").write_bytes(b"own index")  # (refers to k.1.nbc, k.2.nbc and a k.3.nbc the seed lacks)
+    (dst / "k.1.nbc").write_bytes(b"own code")
+    (dst / "m.1.nbc").write_bytes(b"orphan")  # (no index refers to it)
+    assert _numba_cache.seed_cache(str(src), str(dst)) == 2  # (m.nbi and m.1.nbc)
+    got = {p.name: p.read_bytes() for p in dst.iterdir()}
+    assert got == {
+        "k.nbi": b"own index",
+        "k.1.nbc": b"own code",
+        "m.nbi": b"shipped m.nbi",
+        "m.1.nbc": b"shipped m.1.nbc",
+    }, got
+    assert _numba_cache.seed_cache(str(src), str(dst)) == 0  # (seeded: nothing more to copy)

@@ -32,7 +32,7 @@ cache. The root is the first of these whose ``kernels-<KERNELS_HASH>`` folder ca
    when the FMU imports the package from its unpack folder).
 
 When a root is used after one that cannot be written but holds machine code (a read-only cache
-prepared in advance: a container image), the files it lacks are copied from there first
+prepared in advance: a container image), the functions it lacks are copied from there first
 (:func:`seed_cache`), so nothing is compiled again. When the first is not the one used, the import
 warns once (:class:`CacheFolderWarning`) naming the folders that could not be written and why. When
 none can be written, nothing is saved: the machine code is loaded from the first of those folders
@@ -192,23 +192,32 @@ def _reason(exc):
 
 
 def seed_cache(source, target):
-    """Copy the numba cache files (index and data) of the folder ``source`` into ``target`` where a
-    file is missing; returns how many were copied. Each file through a temporary name of its own and
-    a rename, as ``files.atomic_path`` writes, without its fsync and checks: a cache file lost in a
-    crash is compiled again (this module imports nothing of the package: the FMU's bridge loads it
-    by its path and seeds with it too)."""
+    """Copy the numba cache of the folder ``source`` into ``target``, function by function: a function's
+    index (``<base>.nbi``) with its data files (``<base>.<n>.nbc``), the index last, only where ``target``
+    has no index of that function. Returns how many files were copied. numba's data files hold no key (the
+    index says which numbered file holds the machine code of which signature, numbered in the order they
+    were compiled), so an index of the target's own (kernels compiled there since) is kept with its own data
+    files, never paired with another cache's file of the same number (one a save cut between index and data
+    left missing); a data file no index of the target refers to is replaced. Each file through a temporary
+    name of its own and a rename, as ``files.atomic_path`` writes, without its fsync and checks: a cache
+    file lost in a crash is compiled again (this module imports nothing of the package: the FMU's bridge
+    loads it by its path and seeds with it too)."""
     if not os.path.isdir(source) or os.path.realpath(source) == os.path.realpath(target):
         return 0
     os.makedirs(target, exist_ok=True)
+    names = os.listdir(source)
     copied = 0
-    for name in os.listdir(source):
-        dst = os.path.join(target, name)
-        if name.endswith((".nbi", ".nbc")) and not os.path.exists(dst):
+    for index in names:
+        if not index.endswith(".nbi") or os.path.exists(os.path.join(target, index)):
+            continue
+        base = index[: -len(".nbi")]
+        data = [n for n in names if n.startswith(base + ".") and n.endswith(".nbc") and n[len(base) + 1 : -4].isdigit()]
+        for name in data + [index]:  # (the index last: it never names a data file not yet there)
             fd, tmp = tempfile.mkstemp(prefix=f".{name}.", suffix=".tmp", dir=target)  # (unique in any process)
             os.close(fd)
             try:
                 shutil.copy2(os.path.join(source, name), tmp)
-                os.replace(tmp, dst)
+                os.replace(tmp, os.path.join(target, name))
             except BaseException:
                 os.unlink(tmp)
                 raise
