@@ -496,33 +496,53 @@ def _stat_value(path, key):
 _CGROUP_V1_NONE = 1 << 62
 
 
+def _own_cgroups():
+    """This process's cgroup paths from /proc/self/cgroup: ``(v2, v1)``, the unified hierarchy's (line
+    ``0::<path>``) and the v1 memory controller's (line ``<n>:memory:<path>``, or with other controllers
+    joined by commas), each None when not named."""
+    v2 = v1 = None
+    for line in (_read_text("/proc/self/cgroup") or "").splitlines():
+        number, _, rest = line.partition(":")
+        controllers, _, path = rest.partition(":")
+        if number == "0" and controllers == "":
+            v2 = path.strip()
+        elif "memory" in controllers.split(","):
+            v1 = path.strip()
+    return v2, v1
+
+
+def _and_parents(root, own):
+    """The folder of the cgroup ``own`` (a path from /proc/self/cgroup) under the hierarchy's mount ``root``
+    and each of its parents up to ``root``, innermost first (``root`` alone when ``own`` is None or /)."""
+    parts = [p for p in (own or "").split("/") if p]
+    return [os.path.join(root, *parts[:k]) for k in range(len(parts), 0, -1)] + [root]
+
+
 def cgroup_memory_free():
-    """Bytes the process's cgroup still allows, or None without a limit: its limit less its usage, the usage
-    without the page cache the kernel reclaims before it kills (``inactive_file`` of ``memory.stat``, as
-    docker and the kubelet count a container's working set). cgroup v2's ``memory.max`` (``max``: none)
-    less ``memory.current`` (at /sys/fs/cgroup, the usual place in a container, else the folder
-    /proc/self/cgroup names), or cgroup v1's ``memory/memory.limit_in_bytes`` (2**63 rounded: none) less
-    ``memory.usage_in_bytes`` (and ``total_inactive_file``)."""
-    folders = ["/sys/fs/cgroup"]
-    own = None
-    with contextlib.suppress(OSError, UnicodeDecodeError):
-        with open("/proc/self/cgroup") as fh:
-            own = next((line.strip()[3:] for line in fh if line.startswith("0::")), None)
-    if own and own != "/":
-        folders.insert(0, "/sys/fs/cgroup" + own)
-    for folder, limit_name, usage_name, cache_name in [
-        (d, "memory.max", "memory.current", "inactive_file") for d in folders
-    ] + [("/sys/fs/cgroup/memory", "memory.limit_in_bytes", "memory.usage_in_bytes", "total_inactive_file")]:
+    """Bytes the process's cgroups still allow, or None without a limit: the least, over its own cgroup and
+    its parents, of a limit less its usage, the usage without the page cache the kernel reclaims before it
+    kills (``inactive_file`` of ``memory.stat``, as docker and the kubelet count a container's working set).
+    cgroup v2's ``memory.max`` (``max``: none) less ``memory.current``, in the folder /proc/self/cgroup names
+    under /sys/fs/cgroup and its parents up to /sys/fs/cgroup itself (a container's own, usually: in a cgroup
+    namespace the process's path is /); cgroup v1's ``memory.limit_in_bytes`` (2**63 rounded: none) less
+    ``memory.usage_in_bytes`` (and ``total_inactive_file``), the same way under /sys/fs/cgroup/memory."""
+    v2, v1 = _own_cgroups()
+    folders = [(d, "memory.max", "memory.current", "inactive_file") for d in _and_parents("/sys/fs/cgroup", v2)]
+    folders += [
+        (d, "memory.limit_in_bytes", "memory.usage_in_bytes", "total_inactive_file")
+        for d in _and_parents("/sys/fs/cgroup/memory", v1)
+    ]
+    free = None
+    for folder, limit_name, usage_name, cache_name in folders:
         limit = _read_line(os.path.join(folder, limit_name))
-        if limit is None:
+        if limit is None or not limit.isdigit() or int(limit) >= _CGROUP_V1_NONE:  # (none here: "max", v1's 2**63)
             continue
-        if limit == "max" or not limit.isdigit() or int(limit) >= _CGROUP_V1_NONE:
-            return None
         usage = _read_line(os.path.join(folder, usage_name))
         usage = int(usage) if usage and usage.isdigit() else 0
         cache = min(_stat_value(os.path.join(folder, "memory.stat"), cache_name), usage)
-        return max(int(limit) - (usage - cache), 0)
-    return None
+        here = max(int(limit) - (usage - cache), 0)
+        free = here if free is None else min(free, here)
+    return free
 
 
 def memory_available() -> int:

@@ -215,7 +215,41 @@ def test_a_binary_frf_cut_and_closed_is_refused_naming_the_counts(tmp_path, synt
     for cut in (8 * (n8 | 1), 8 * (n8 // 2 * 2)):  # (an odd and an even number of doubles)
         q = tmp_path / f"cut{cut}.uff"
         q.write_bytes(raw[:start] + data[:cut] + b"\n    -1\n")
-        _refused(q, "FRF 4:+Z", f"declares {FREQ.size} points", f"holds {cut // 16}", "truncated or corrupted")
+        text = _refused(q, "FRF 4:+Z", f"declares {FREQ.size} points", f"holds {cut // 16}", "truncated or corrupted")
+        # (the header is whole: pyuff, the package's writer, puts num_pts x 8 as a complex double's byte count)
+        assert "byte count" not in text, text
+
+
+def _with_byte_count(raw, n_bytes):
+    """A 58b with its header's record 1 byte count replaced by ``n_bytes``."""
+    start = _data_start(raw)
+    lines = raw[:start].decode().split("\n")
+    lines[1] = lines[1][:31] + f"{n_bytes:12d}" + lines[1][43:]
+    return "\n".join(lines).encode() + raw[start:]
+
+
+def test_a_cut_58b_says_its_byte_count_is_wrong_only_when_it_is(tmp_path, synth):
+    """Review AP, U6: a 58b cut and closed is refused; its header's byte count is called wrong only when it is
+    neither that of all the values (4097 complex points x 2 x 4 or 8 bytes) nor pyuff's num_pts x bytes per
+    value (4097 x 4 or 8), the counts computed here from the precision and the point count."""
+    p, raw = _frf_file(tmp_path, synth)
+    single = _single_precision(raw)  # (its byte count: all the values', 4097 x 2 x 4)
+    n = FREQ.size
+    cases = [
+        (single, 4, 2 * 4 * n, False),
+        (_with_byte_count(single, 4 * n), 4, 4 * n, False),  # (as pyuff writes a complex single)
+        (_with_byte_count(raw, 2 * 8 * n), 8, 2 * 8 * n, False),
+        (_with_byte_count(single, 2 * 8 * n), 4, 2 * 8 * n, True),  # (a complex double's count in a single's header)
+        (_with_byte_count(raw, 12345), 8, 12345, True),
+    ]
+    for k, (whole, per, n_bytes, wrong) in enumerate(cases):
+        start = _data_start(whole)
+        cut = 2 * per * 1000  # (1000 whole points)
+        q = tmp_path / f"cut{k}.uff"
+        q.write_bytes(whole[: start + cut] + b"\n    -1\n")
+        text = _refused(q, f"declares {n} points", "holds 1000 values", "truncated or corrupted")
+        said = f"its header's byte count, {n_bytes}, is not {2 * per * n} (nor {per * n}, pyuff's"
+        assert (said in text) == wrong, (k, text)
 
 
 def test_a_binary_file_whose_line_ends_became_crlf_is_refused_naming_the_conversion(tmp_path, synth):
@@ -233,6 +267,11 @@ def test_stray_bytes_in_the_values_are_refused_not_read_as_a_shifted_frf(tmp_pat
     k = _data_start(raw) + 16 * 2000
     p.write_bytes(raw[:k] + bytes(16) + raw[k:])
     _refused(p, f"declares {FREQ.size} points", f"holds {FREQ.size + 1}")
+    # 8 stray bytes, half a complex point: 8197 doubles, which pyuff reads as 4097 values (the odd one dropped)
+    # over 4098 abscissa values; that crashed with an internal ValueError (broadcast) when only the values were
+    # counted (review AP, U3)
+    p.write_bytes(raw[:k] + bytes(8) + raw[k:])
+    _refused(p, "FRF 4:+Z", f"declares {FREQ.size} points", f"holds {FREQ.size} values and {FREQ.size + 1} abscissa")
 
 
 def test_an_ascii_time_record_cut_at_a_line_and_closed_is_refused(tmp_path):
@@ -434,6 +473,76 @@ def test_memory_available_honours_a_cgroup_limit(monkeypatch, tmp_path, synth, f
         write_uff_frf(p, FREQ, accelerance(synth), kind="acceleration")
         with pytest.raises(ModelError, match=f"of the {free / 1e9:.3g} GB of memory free"):
             read_frf(p)
+
+
+JOB = "/sys/fs/cgroup/job.slice"  # (a v2 cgroup below the hierarchy's root: a batch job's slice, its scope below)
+V1 = "/sys/fs/cgroup/memory"
+
+
+@pytest.mark.parametrize(
+    "proc, files_said, free",
+    [
+        # v2, no cgroup namespace: the limit only in the process's own folder (the root has no memory.max)
+        ("0::/job.slice/x.scope\n", {f"{JOB}/x.scope/memory.max": "5000", f"{JOB}/x.scope/memory.current": "1"}, 4_999),
+        # its own and the root's: the least, whichever of the two (500000 - 100000 before 2000000 - 100000)
+        (
+            "0::/job.slice/x.scope\n",
+            {
+                f"{JOB}/x.scope/memory.max": "500000",
+                f"{JOB}/x.scope/memory.current": "100000",
+                "/sys/fs/cgroup/memory.max": "2000000",
+                "/sys/fs/cgroup/memory.current": "100000",
+            },
+            400_000,
+        ),
+        # the limit on the slice, none on the scope ("max"): the slice's (300000 - 100000)
+        (
+            "0::/job.slice/x.scope\n",
+            {
+                f"{JOB}/x.scope/memory.max": "max",
+                f"{JOB}/x.scope/memory.current": "50000",
+                f"{JOB}/memory.max": "300000",
+                f"{JOB}/memory.current": "100000",
+            },
+            200_000,
+        ),
+        # a limit on the scope too, larger than the slice's: still the slice's (900000 - 50000 > 300000 - 100000)
+        (
+            "0::/job.slice/x.scope\n",
+            {
+                f"{JOB}/x.scope/memory.max": "900000",
+                f"{JOB}/x.scope/memory.current": "50000",
+                f"{JOB}/memory.max": "300000",
+                f"{JOB}/memory.current": "100000",
+            },
+            200_000,
+        ),
+        # a container in a cgroup namespace: its own path is /, its limit at the root
+        ("0::/\n", {"/sys/fs/cgroup/memory.max": "700000", "/sys/fs/cgroup/memory.current": "200000"}, 500_000),
+        # v1 (this machine's kind: "4:memory:/process_api/..."): the own memory cgroup, the root's "none"
+        (
+            "5:cpu,cpuacct:/other\n4:memory:/process_api/x\n1:name=systemd:/\n",
+            {
+                f"{V1}/process_api/x/memory.limit_in_bytes": "400000",
+                f"{V1}/process_api/x/memory.usage_in_bytes": "100000",
+                f"{V1}/memory.limit_in_bytes": "9223372036854771712",
+                f"{V1}/memory.usage_in_bytes": "5000000",
+            },
+            300_000,
+        ),
+        # another process's folder (a namespace hides the host path: /docker/... not under the container's mount)
+        ("0::/docker/abc\n", {"/sys/fs/cgroup/memory.max": "800000", "/sys/fs/cgroup/memory.current": "0"}, 800_000),
+    ],
+)
+def test_the_processs_own_cgroup_and_its_parents_are_read(monkeypatch, proc, files_said, free):
+    """Review AP, F3: /proc/self/cgroup was read past the replaceable reader, so no test placed the process in a
+    cgroup of its own; and cgroup v1 was read at its hierarchy's root only. Every file here is named by its full
+    path (the reader answers nothing else), the expected figures worked by hand: limit less usage, the least."""
+    from cablecasing_core import files
+
+    said = {"/proc/self/cgroup": proc, **files_said}
+    monkeypatch.setattr(files, "_read_text", lambda path: said.get(str(path)))
+    assert files.cgroup_memory_free() == free
 
 
 # ------------------------------------------------------------------ M4: --channel of a CSV of several FRFs
