@@ -87,15 +87,21 @@ def divides(option: str, dt: float, whole_option: str, whole: float) -> None:
     """The step ``dt`` (s, the option named) divides ``whole`` (s) into a whole number of steps: a
     run of ``whole`` s at ``dt`` ends on its grid."""
     if not _whole(whole / dt):
+        least = ", at least one" if whole / dt < 0.5 else ""
         raise ModelError(
-            option, dt, f"must divide {whole_option} = {whole:g} s into whole steps (it gives {whole / dt:.6g} steps)"
+            option,
+            dt,
+            f"must divide {whole_option} = {whole:g} s into whole steps{least} (it gives {whole / dt:.6g} steps)",
         )
 
 
 def whole_steps(option: str, duration: float, dt: float) -> None:
     """The time ``duration`` (s, the option named) is a whole number of steps of ``dt`` s."""
     if not _whole(duration / dt):
-        raise ModelError(option, duration, f"must be a whole number of {dt:g} s steps (it is {duration / dt:.6g})")
+        least = ", at least one" if duration / dt < 0.5 else ""  # (0 is whole, but a run of no step compares nothing)
+        raise ModelError(
+            option, duration, f"must be a whole number of {dt:g} s steps{least} (it is {duration / dt:.6g})"
+        )
 
 
 def step_runs(option: str, texts, on) -> list[tuple[float, int]]:

@@ -237,6 +237,9 @@ def _prune_copies(root, keep):
             continue
         try:
             if name.startswith(".") and name.endswith((".tmp", ".old")):
+                # (no lock guards a copy being written: another process may be writing this one now. Its
+                # folder's mtime is renewed by each entry it adds, .complete the last, so a day's age is
+                # one that was stopped, never one in progress)
                 if now - os.lstat(path).st_mtime > 86400:
                     shutil.rmtree(path, ignore_errors=True)
                 continue

@@ -90,6 +90,8 @@ BAD = [
     ("default_time_step.py", ["--dt", "3e-5", "--duration", "0.02"], "--dt = 3e-05: must divide --chunk = 0.02 s"),
     ("driven_support_error.py", ["--frequencies", "-100"], "--frequencies = -100.0: must be a number in (0,"),
     ("event_tolerance.py", ["--model", "nope"], "--model = 'nope': must be a readable TOML file"),
+    ("event_tolerance.py", ["--early", "0"], "--early = 0.0: must be a whole number of 1e-05 s steps, at least one"),
+    ("event_tolerance.py", ["--early", "1.5e-5"], "--early = 1.5e-05: must be a whole number of 1e-05 s steps (it"),
     ("friction_laws.py", ["--duration", "-1"], "--duration -1.0, --chunk 0.01: need duration >= chunk > 0"),
     ("installed_mechanisms.py", ["--only", "nosuch"], "argument --only: invalid choice: 'nosuch'"),
     ("installed_mechanisms.py", ["--seeds", "0"], "--seeds = 0: must be an integer >= 1"),

@@ -413,6 +413,15 @@ def test_messages_show_numpy_scalars_as_numbers():
     )
 
 
+def test_a_list_in_a_message_is_joined_as_a_sentence_lists_it():
+    """errors.and_joined (review AP, J1: no test gave it three items): commas, "and" before the last only."""
+    from cablecasing_core.errors import and_joined
+
+    assert [and_joined([]), and_joined(["a"]), and_joined(["a", "b"])] == ["", "a", "a and b"]
+    assert and_joined(["a", "b", "c"]) == "a, b and c"
+    assert and_joined(f"FRF {i}" for i in (0, 2, 5, 7)) == "FRF 0, FRF 2, FRF 5 and FRF 7"  # (any iterable)
+
+
 def test_identify_refuses_bad_measured_frequencies_in_one_line(tmp_path, capsys):
     p = tmp_path / "f.csv"
     p.write_text("mode,f_hz\n1.5,20\n2,30\n")

@@ -113,14 +113,18 @@ def test_copies_of_the_fmus_code_unused_for_weeks_are_deleted_but_never_one_in_u
         (root / name / ".complete").write_bytes(b"" if name == "older_fmu" else bridge.LOCKED_MARK)
         if name != "recent":
             os.utime(root / name / ".complete", (old, old))
-    (root / ".half.abc.tmp").mkdir()
-    os.utime(root / ".half.abc.tmp", (old, old))
+    # copies stopped half-way (or a prune's renamed copy) two days ago go; one another process is writing now (its
+    # folder's mtime renewed by each entry it adds, .complete the last) stays: the age, not a lock, guards it
+    for name, when in ((".half.abc.tmp", old), (".g.456.old", time.time() - 2 * 86400), (".g.123.tmp", None)):
+        (root / name / "cablecasing_core").mkdir(parents=True)
+        if when is not None:
+            os.utime(root / name, (when, when))
     assert bridge._hold(str(root / "held"))  # (as another process that has that FMU loaded)
     assert time.time() - (root / "held" / ".complete").stat().st_mtime < 60  # (its last use: now)
     os.utime(root / "held" / ".complete", (old, old))
     try:
         bridge._prune_copies(str(root), "mine")
-        assert sorted(p.name for p in root.iterdir()) == ["held", "mine", "older_fmu", "recent"]
+        assert sorted(p.name for p in root.iterdir()) == [".g.123.tmp", "held", "mine", "older_fmu", "recent"]
     finally:
         for fd in bridge._HELD:
             os.close(fd)

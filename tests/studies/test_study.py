@@ -3,6 +3,7 @@ serial, Fig. 23; a study over other parameters of another model."""
 
 import json
 import os
+import re
 from pathlib import Path
 
 import numpy as np
@@ -154,7 +155,15 @@ def test_default_evaluate_runs_the_model(tmp_path):
         max_samples=2,
     )  # oct1 (11 Hz) needs 0.09 s
     assert list(res.status) == ["ok", "ok"]
-    assert np.all(np.isfinite(res.Y)) and np.all(res.Y >= 0)
+    assert np.all(np.isfinite(res.Y)) and np.all(res.Y > 0)  # (RMS levels; the excitation drives every band)
+    # each row is its own sample's run: the model with that row's parameters, run again here outside the study,
+    # gives its levels (exactly: the same deterministic run), and the two samples' levels differ
+    from cablecasing_core.studies.evaluators import default_evaluate
+
+    for x, y in zip(res.X, res.Y):
+        again = default_evaluate(dict(zip(res.parameters, x.tolist())), duration=0.12, skip=0.01)
+        np.testing.assert_array_equal([again[o] for o in res.outputs], y)
+    assert not np.array_equal(res.Y[0], res.Y[1])
 
 
 def test_evaluate_errors_are_recorded_per_sample(tmp_path):
@@ -208,6 +217,33 @@ def test_a_samples_warnings_are_said_with_its_index_and_a_shared_one_once(tmp_pa
         assert parts[0] == "the same for every sample", text
         assert len(parts) == (2 if i in big else 1) and (i not in big or parts[1].startswith("at [('cable.E'")), text
     assert again.warned.all()
+
+
+@pytest.mark.parametrize("scheduler", ["serial", "threads"])
+def test_a_models_property_warning_is_said_once_per_process_on_either_scheduler(tmp_path, scheduler):
+    """Review AP, W1: a model's property warning (a ModelPropertyWarning, warn_once_per_process) that its
+    loading said already is not said again by the samples that build the model, and one not said yet is said
+    once, for one sample: on threads as in serial, although the threads scheduler's own block is "always"
+    (the caller's filters decide, here "default")."""
+    import warnings
+
+    from cablecasing_core.errors import warn_once_per_process
+
+    before, new = "a property the model's loading said", "a property only the samples say"
+
+    def evaluate(overrides):
+        warn_once_per_process(before)  # (as each sample's build of the model says its properties)
+        warn_once_per_process(new)
+        return _stand_ins.analytic_evaluate(overrides)
+
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("default")
+        warn_once_per_process(before)
+        _run(tmp_path / "s.csv", evaluate=evaluate, n_samples=4, scheduler=scheduler)
+    texts = [str(w.message) for w in said]
+    assert [t for t in texts if before in t] == [before], texts
+    (once,) = [t for t in texts if new in t]
+    assert re.fullmatch(rf"sample [0-3]: {new}", once), once
 
 
 def test_a_study_begun_without_the_warnings_column_resumes_with_its_header(tmp_path):

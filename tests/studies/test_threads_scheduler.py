@@ -92,7 +92,10 @@ def test_ctrl_c_stops_the_samples_in_progress_on_threads():
     def evaluate(overrides, **_):
         begun.append(overrides["i"])
         if overrides["i"] == 0:
-            running.wait(timeout=300)  # (its row, the interrupt's, once sample 1 is under way)
+            # (its row, the interrupt's, once sample 1 is under way: sample 1 sets it first thing, before any run,
+            # so only a thread's start is waited for, well under 30 s on a loaded machine; a scheduler that keeps
+            # one sample in flight never begins sample 1, and the test fails after those 30 s)
+            running.wait(timeout=30)
             return {"y": 1.0}
         running.set()
         while not given_up.is_set():  # (never returns while the test waits: only the stop ends it)
