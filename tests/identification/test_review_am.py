@@ -229,9 +229,10 @@ def _with_byte_count(raw, n_bytes):
 
 
 def test_a_cut_58b_says_its_byte_count_is_wrong_only_when_it_is(tmp_path, synth):
-    """Review AP, U6: a 58b cut and closed is refused; its header's byte count is called wrong only when it is
+    """Review AP, U5, U6: a 58b cut and closed is refused; its header's byte count is called wrong only when it is
     neither that of all the values (4097 complex points x 2 x 4 or 8 bytes) nor pyuff's num_pts x bytes per
-    value (4097 x 4 or 8), the counts computed here from the precision and the point count."""
+    value (4097 x 4 or 8; with an uneven abscissa, 3 numbers a point), the counts computed here from the precision
+    and the point count."""
     p, raw = _frf_file(tmp_path, synth)
     single = _single_precision(raw)  # (its byte count: all the values', 4097 x 2 x 4)
     n = FREQ.size
@@ -250,6 +251,19 @@ def test_a_cut_58b_says_its_byte_count_is_wrong_only_when_it_is(tmp_path, synth)
         text = _refused(q, f"declares {n} points", "holds 1000 values", "truncated or corrupted")
         said = f"its header's byte count, {n_bytes}, is not {2 * per * n} (nor {per * n}, pyuff's"
         assert (said in text) == wrong, (k, text)
+    # an uneven abscissa (U5): each point's abscissa value stored too, 3 doubles per complex point
+    from cablecasing_core.uff import Record, frf_fields, write_uff
+
+    u = tmp_path / "uneven.uff"
+    f_u = np.sort(np.random.default_rng(3).uniform(1.0, 256.0, 500))
+    write_uff(u, [Record("frf", f_u, accelerance(synth)[1:501], "FRF u", **frf_fields("acceleration"))])
+    raw_u = u.read_bytes()
+    for n_bytes, wrong in ((500 * 8, False), (500 * 3 * 8, False), (500 * 2 * 8, True)):  # (pyuff's, all, even's)
+        whole = _with_byte_count(raw_u, n_bytes)
+        q = tmp_path / f"uneven{n_bytes}.uff"
+        q.write_bytes(whole[: _data_start(whole) + 3 * 8 * 300] + b"\n    -1\n")  # (300 whole points)
+        text = _refused(q, "declares 500 points", "holds 300 values", "truncated or corrupted")
+        assert (f"its header's byte count, {n_bytes}, is not {3 * 8 * 500} (nor {8 * 500}, pyuff's" in text) == wrong
 
 
 def test_a_binary_file_whose_line_ends_became_crlf_is_refused_naming_the_conversion(tmp_path, synth):
