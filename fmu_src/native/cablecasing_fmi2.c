@@ -394,11 +394,32 @@ static int find_interpreter(const char *resources, char *exe, char *lib, char *h
  * first imported, whatever config.install_signal_handlers says (numba imports it, so every start would
  * take Ctrl-C away from the host). That happens once per process: the module's initialisation runs at
  * its first import only (later imports, of signal too, find it in sys.modules), so it is imported here,
- * at once, and the host's disposition put back; no later import can install the handler again. */
+ * at once (in the thread that started Python: Python's main thread), and the host's disposition put back.
+ * - SIG_DFL: put back through Python (signal.signal(SIGINT, SIG_DFL)), so that Python's own record says
+ *   SIG_DFL too. Put back behind its back, Python still records its handler, and Python code that saves
+ *   and restores SIGINT (old = signal.signal(SIGINT, h); ...; signal.signal(SIGINT, old)), or asyncio.run
+ *   (3.11 and later), would install it again.
+ * - SIG_IGN: Python records SIG_IGN and installs nothing; nothing to do.
+ * - A handler of the host's: Python records None ("not set from Python") and installs nothing. It cannot
+ *   represent a C handler, so the check below, with the raw sigaction, is the only way to put one back.
+ * The raw sigaction then restores the host's exact flags whatever happened (Python sets SA_ONSTACK). */
 static void import_signal_keep_hosts_sigint(const struct sigaction *host, int have_host) {
     PyObject *m = P.PyImport_ImportModule("_signal");
     if (m) P.Py_DecRef(m);
     else P.PyErr_Clear();
+    if (have_host && !(host->sa_flags & SA_SIGINFO) && host->sa_handler == SIG_DFL) {
+        PyObject *globals = P.PyDict_New();
+        if (globals) {
+            P.PyDict_SetItemString(globals, "__builtins__", P.PyEval_GetBuiltins());
+            PyObject *r = P.PyRun_StringFlags("import signal\nsignal.signal(signal.SIGINT, signal.SIG_DFL)\n",
+                                              Py_file_input, globals, globals, NULL);
+            if (r) P.Py_DecRef(r);
+            else P.PyErr_Clear();
+            P.Py_DecRef(globals);
+        } else {
+            P.PyErr_Clear();
+        }
+    }
     struct sigaction now;
     if (have_host && sigaction(SIGINT, NULL, &now) == 0 &&
         (now.sa_handler != host->sa_handler || now.sa_flags != host->sa_flags))
@@ -765,8 +786,8 @@ FMI2_Export void fmi2FreeInstance(fmi2Component c) {
     Instance *inst = checked(c);
     if (!inst) return;
     live_remove(&live_instances, &inst->live);
-    free_states_of(inst);   /* FMI 2.0, fmi2FreeInstance: all memory its functions allocated, its states too */
     PyGILState_STATE gil = gil_enter();
+    free_states_of(inst);   /* FMI 2.0, fmi2FreeInstance: all memory its functions allocated, its states too */
     call(inst, "free", NULL, 0);
     P.Py_DecRef(inst->m_do_step);
     if (inst->slave) P.Py_DecRef(inst->slave);
@@ -1001,6 +1022,13 @@ FMI2_Export fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference v
 /* ------------------------------------------------------------------------------------------------
  * FMU state
  */
+/* States and the GIL: a state is looked up, and unlinked and freed, only with the GIL held, so one that a
+ * call found stays valid while that call holds the GIL (another thread's fmi2FreeInstance of its maker,
+ * or fmi2FreeFMUstate, waits for the GIL to free it). A call into Python (call()) may release the GIL in
+ * between: what is needed of a state is taken before (a reference to its Python object), and the state
+ * is looked up again after, never used through the pointer found before. */
+
+/* The state whose handle is ``s``, or NULL (logged); with the GIL held */
 static State *checked_state(Instance *inst, fmi2FMUstate s) {
     State *st = s ? (State *)live_find(&live_states, s) : NULL;
     if (!st)
@@ -1009,29 +1037,24 @@ static State *checked_state(Instance *inst, fmi2FMUstate s) {
     return st;
 }
 
+/* Unlink and free ``st``; with the GIL held. Unlinked first: no other call finds it from then on (the
+ * decrefs may run Python code, which may let another thread run). */
 static void free_state(State *st) {
     live_remove(&live_states, &st->live);
-    PyGILState_STATE gil = gil_enter();
     P.Py_DecRef(st->state);
     if (st->bytes) P.Py_DecRef(st->bytes);
-    P.PyGILState_Release(gil);
     st->magic = 0;
     free(st);
 }
 
-/* Free every state ``inst`` owns (fmi2FreeInstance): their handles are refused from then on, as freed
- * states' are. A state of another instance set into ``inst`` stays its maker's. */
+/* Free every state ``inst`` owns (fmi2FreeInstance), with the GIL held: their handles are refused from
+ * then on, as freed states' are. A state of another instance set into ``inst`` stays its maker's. */
 static void free_states_of(const Instance *inst) {
     for (;;) {
         State *mine = NULL;
-        pthread_mutex_lock(&live_lock);   /* (unlinked here: no other call finds it from now on) */
-        for (Live **q = &live_states; *q; q = &(*q)->next) {
-            if (((State *)*q)->owner == inst) {
-                mine = (State *)*q;
-                *q = mine->live.next;
-                break;
-            }
-        }
+        pthread_mutex_lock(&live_lock);
+        for (Live *l = live_states; l && !mine; l = l->next)
+            if (((State *)l)->owner == inst) mine = (State *)l;
         pthread_mutex_unlock(&live_lock);
         if (!mine) return;
         free_state(mine);
@@ -1073,11 +1096,12 @@ FMI2_Export fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) 
     fmi2Status s = call(inst, "get_state", &obj, 0);
     State *st = *FMUstate ? (State *)live_find(&live_states, *FMUstate) : NULL;
     if (s == fmi2OK && st) {   /* update the host's earlier state in place: now this instance's */
-        P.Py_DecRef(st->state);
-        if (st->bytes) P.Py_DecRef(st->bytes);
-        st->state = obj;
+        PyObject *old = st->state, *old_bytes = st->bytes;
+        st->state = obj;           /* (before the decrefs, which may run Python code: see free_state) */
         st->bytes = NULL;
         st->owner = inst;
+        P.Py_DecRef(old);
+        if (old_bytes) P.Py_DecRef(old_bytes);
     } else if (s == fmi2OK) {
         s = new_state(inst, obj, FMUstate);
     }
@@ -1087,10 +1111,13 @@ FMI2_Export fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) 
 
 FMI2_Export fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate FMUstate) {
     ENTER(c);
-    State *st = checked_state(inst, FMUstate);
-    if (!st) return fmi2Error;
     PyGILState_STATE gil = gil_enter();
-    P.Py_IncRef(st->state);
+    State *st = checked_state(inst, FMUstate);
+    if (!st) {
+        P.PyGILState_Release(gil);
+        return fmi2Error;
+    }
+    P.Py_IncRef(st->state);   /* (the call's own reference: the state may be freed while it runs) */
     fmi2Status s = call(inst, "set_state", NULL, 1, st->state);
     P.PyGILState_Release(gil);
     if (s <= fmi2Warning) {   /* the phase the state was saved in (FMI 2.0, 2.1.8): the slave's */
@@ -1103,8 +1130,7 @@ FMI2_Export fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate FMUstate) {
     return s;
 }
 
-FMI2_Export fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
-    ENTER(c);
+static fmi2Status free_fmu_state(Instance *inst, fmi2FMUstate *FMUstate) {
     if (!FMUstate) return fmi2OK;
     State *itself = (State *)live_find(&live_states, FMUstate);
     if (itself) {
@@ -1128,42 +1154,69 @@ FMI2_Export fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
     return fmi2OK;
 }
 
-static fmi2Status state_bytes(Instance *inst, State *st) {
-    if (st->bytes) return fmi2OK;
-    PyGILState_STATE gil = gil_enter();
-    P.Py_IncRef(st->state);
-    fmi2Status s = call(inst, "serialize_state", &st->bytes, 1, st->state);
+FMI2_Export fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
+    ENTER(c);
+    PyGILState_STATE gil = gil_enter();   /* (looked up and freed under it: see checked_state) */
+    fmi2Status s = free_fmu_state(inst, FMUstate);
     P.PyGILState_Release(gil);
     return s;
 }
 
+/* The serialization of the state whose handle is ``FMUstate`` (a new reference), or NULL with *status
+ * not fmi2OK (logged); with the GIL held. Kept with the state while the host asks for size then data. */
+static PyObject *state_bytes(Instance *inst, fmi2FMUstate FMUstate, fmi2Status *status) {
+    State *st = checked_state(inst, FMUstate);
+    *status = st ? fmi2OK : fmi2Error;
+    if (!st) return NULL;
+    if (st->bytes) {
+        P.Py_IncRef(st->bytes);
+        return st->bytes;
+    }
+    PyObject *obj = st->state, *bytes = NULL;
+    P.Py_IncRef(obj);   /* (ours, compared below) */
+    P.Py_IncRef(obj);   /* (the call's) */
+    *status = call(inst, "serialize_state", &bytes, 1, obj);
+    /* the call may have let another thread free or update the state: it is looked up again */
+    st = *status == fmi2OK ? (State *)live_find(&live_states, FMUstate) : NULL;
+    if (st && !st->bytes && st->state == obj) {
+        P.Py_IncRef(bytes);
+        st->bytes = bytes;
+    }
+    P.Py_DecRef(obj);
+    return *status == fmi2OK ? bytes : NULL;
+}
+
 FMI2_Export fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate FMUstate, size_t *size) {
     ENTER(c);
-    State *st = checked_state(inst, FMUstate);
-    if (!st || !size) return fmi2Error;
-    fmi2Status s = state_bytes(inst, st);
-    if (s != fmi2OK) return s;
+    if (!size) return fmi2Error;
+    fmi2Status s;
     PyGILState_STATE gil = gil_enter();
-    *size = (size_t)P.PyBytes_Size(st->bytes);
+    PyObject *bytes = state_bytes(inst, FMUstate, &s);
+    if (bytes) {
+        *size = (size_t)P.PyBytes_Size(bytes);
+        P.Py_DecRef(bytes);
+    }
     P.PyGILState_Release(gil);
-    return fmi2OK;
+    return s;
 }
 
 FMI2_Export fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate FMUstate, fmi2Byte serializedState[],
                                              size_t size) {
     ENTER(c);
-    State *st = checked_state(inst, FMUstate);
-    if (!st || !serializedState) return fmi2Error;
-    fmi2Status s = state_bytes(inst, st);
-    if (s != fmi2OK) return s;
+    if (!serializedState) return fmi2Error;
+    fmi2Status s;
     PyGILState_STATE gil = gil_enter();
-    size_t n = (size_t)P.PyBytes_Size(st->bytes);
-    if (size < n) {
-        LOGI(inst, fmi2Error, "fmi2SerializeFMUstate: the buffer holds %zu bytes, the state needs %zu "
-             "(ask fmi2SerializedFMUstateSize)", size, n);
-        s = fmi2Error;
-    } else {
-        memcpy(serializedState, P.PyBytes_AsString(st->bytes), n);
+    PyObject *bytes = state_bytes(inst, FMUstate, &s);
+    if (bytes) {
+        size_t n = (size_t)P.PyBytes_Size(bytes);
+        if (size < n) {
+            LOGI(inst, fmi2Error, "fmi2SerializeFMUstate: the buffer holds %zu bytes, the state needs %zu "
+                 "(ask fmi2SerializedFMUstateSize)", size, n);
+            s = fmi2Error;
+        } else {
+            memcpy(serializedState, P.PyBytes_AsString(bytes), n);
+        }
+        P.Py_DecRef(bytes);
     }
     P.PyGILState_Release(gil);
     return s;

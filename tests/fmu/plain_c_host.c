@@ -2,8 +2,14 @@
    usage: plain_c_host so guid resources_uri MODE
    signal default|handler  SIGINT left at SIG_DFL or given a handler of the host's before loading; prints its
                            disposition before and after fmi2Instantiate ("sigint before D after D"), then a
-                           thread sends SIGINT 0.3 s into a doStep of 1 s: with SIG_DFL the process dies of it
-                           (as with any C FMU), with the host's handler "doStep S handler N" is printed
+                           thread sends SIGINT 0.3 s after "step starts" is printed, into a doStep of 1 s
+                           (~2 s of work): with SIG_DFL the process dies of it (as with any C FMU) before
+                           "doStep returned"; with the host's handler "doStep S handler N" is printed
+   python                  SIGINT at SIG_DFL: after fmi2Instantiate (which started Python), runs in Python's
+                           main thread what Python code does with SIGINT: the save/restore idiom
+                           (old = signal.signal(SIGINT, h); signal.signal(SIGINT, old)) and asyncio.run; prints
+                           Python's record ("python: getsignal G") and the kernel's disposition after
+                           ("python: rc R sigint D")
    steps                   logging on: 2 steps of 1e-12 s (a clock's rounding), 3 of 1e-4 s, fmi2Terminate;
                            prints the log
    reload                  instantiate (logging on), free, dlclose, dlopen, instantiate again: prints the log
@@ -94,11 +100,34 @@ int main(int argc, char **argv) {
         const char *before = disposition();
         fmi2Component c = make(&cb, 0);
         printf("sigint before %s after %s\n", before, disposition());
+        printf("step starts\n");
         pthread_t th;
         pthread_create(&th, NULL, killer, NULL);
         fmi2Status s = do_step(c, 0.0, 1.0, fmi2True);
+        printf("doStep returned\n");
         pthread_join(th, NULL);
         printf("doStep %d handler %d\n", s, (int)got);
+        free_instance(c);
+    } else if (!strcmp(mode, "python")) {
+        fmi2Component c = make(&cb, 0);
+        /* libpython is loaded with global symbols by the FMU, which started Python in this thread */
+        int (*ensure)(void) = (int (*)(void))dlsym(RTLD_DEFAULT, "PyGILState_Ensure");
+        void (*release)(int) = (void (*)(int))dlsym(RTLD_DEFAULT, "PyGILState_Release");
+        int (*run)(const char *) = (int (*)(const char *))dlsym(RTLD_DEFAULT, "PyRun_SimpleString");
+        if (!ensure || !release || !run) {
+            printf("no Python symbols\n");
+            return 5;
+        }
+        int g = ensure();
+        int rc = run("import asyncio, signal\n"
+                     "old = signal.signal(signal.SIGINT, lambda s, f: None)\n"
+                     "signal.signal(signal.SIGINT, old)\n"
+                     "async def nothing():\n"
+                     "    pass\n"
+                     "asyncio.run(nothing())\n"
+                     "print('python: getsignal', repr(signal.getsignal(signal.SIGINT)), flush=True)\n");
+        release(g);
+        printf("python: rc %d sigint %s\n", rc, disposition());
         free_instance(c);
     } else if (!strcmp(mode, "steps")) {
         fmi2Component c = make(&cb, 1);

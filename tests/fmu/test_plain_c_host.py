@@ -52,11 +52,24 @@ def test_ctrl_c_stops_a_c_host_that_leaves_sigint_at_its_default(host):
     """A host with SIGINT at SIG_DFL (fmusim, most C simulators): the FMU's start leaves it there
     (CPython's signal module installed its handler at its first import, and numba imports it), and a
     SIGINT 0.3 s into a doStep of 1 s (~2 s of work) kills the process, as it does with a C FMU: the
-    doStep does not return (it returned fmi2Error 'internal error in doStep: ' and the host went on)."""
+    doStep does not return (it returned fmi2Error 'internal error in doStep: ' and the host went on).
+    The host says when the step starts and when it returns: the signal came during the step."""
     proc = host("signal", "default")
     assert "sigint before default after default" in proc.stdout, proc.stdout + proc.stderr
     assert proc.returncode == -signal.SIGINT, (proc.returncode, proc.stdout[-2000:], proc.stderr[-2000:])
-    assert "doStep" not in proc.stdout
+    assert "step starts" in proc.stdout and "doStep returned" not in proc.stdout, proc.stdout
+
+
+def test_python_code_that_saves_and_restores_sigint_leaves_a_c_hosts_default(host):
+    """Python code run in the interpreter the FMU started (a model's plug-in, a later dependency) that
+    does what Python code does with SIGINT, old = signal.signal(SIGINT, h) ... signal.signal(SIGINT,
+    old), and asyncio.run: SIGINT stays at the host's SIG_DFL, and Python's record says SIG_DFL. The
+    default was put back behind Python's back, so Python still recorded its own handler and both
+    installed it again (Ctrl-C no longer stopped the host)."""
+    proc = host("python")
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    assert "python: getsignal <Handlers.SIG_DFL: 0>" in proc.stdout, proc.stdout + proc.stderr
+    assert "python: rc 0 sigint default" in proc.stdout, proc.stdout + proc.stderr
 
 
 def test_a_c_hosts_own_sigint_handler_is_kept_and_called(host):
