@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import ctypes
 import errno
+import importlib.machinery
 import importlib.util
 import os
 import shutil
@@ -177,6 +178,38 @@ PRUNE_AFTER_DAYS = 14
 LOCKED_MARK = b"cablecasing fmu copy, held under flock while in use\n"
 _INTERRUPTED = {}  # GUID (the copy's folder name) -> the exception that interrupted its import in this process
 _HELD = []  # open .complete markers of the copies this process uses, each under a shared lock (flock)
+
+
+def _undo_interrupted_import(before):
+    """Remove from ``sys.modules`` what an interrupted import left half-done (``before``: the names there
+    before it), so that the next import runs afresh: the pure-Python modules added since ``before`` whose
+    enclosing package is no longer in ``sys.modules``. Python itself removes each module whose code raised
+    (a package whose ``__init__`` was running when the interruption came: ``numba``), but keeps the
+    submodules that package had completed; a new import of the package then finds them, in an order its
+    own import never produces, and fails ("partially initialized module 'numba.core.caching'").
+
+    Kept: the modules whose packages all completed (as after any failed import in Python: a later
+    import of what failed goes on from them; numpy and scipy when a later module was interrupted), and
+    every extension module (compiled). An extension module cannot be taken back: numpy's refuse a second
+    load in a process ("cannot load module more than once per process"), and others keep what their first
+    initialisation took from Python modules. No complete package is removed either: one kept holds
+    references to the classes of the packages it imported (numba to llvmlite's), which fresh copies of
+    those would not match. What remains possible: an interruption inside numpy's own first import (a
+    Python host that had not imported numpy) cannot be undone, since numpy's compiled core then holds
+    the first copies of numpy's Python modules: the next import fails and says so (start the host again).
+    Checked by interrupting the slave's import at numba's, scipy's, numpy's, llvmlite's, pythonfmu's and
+    cablecasing_core's modules (``tests/fmu/test_plain_c_host.py`` holds three)."""
+    for name in set(sys.modules) - before:
+        parts = name.split(".")
+        orphan = any(".".join(parts[:k]) not in sys.modules for k in range(1, len(parts)))
+        if orphan and not _is_extension(sys.modules.get(name)):
+            sys.modules.pop(name, None)
+
+
+def _is_extension(module):
+    """Whether ``module`` is an extension module (compiled, loaded from a shared library)."""
+    spec = getattr(module, "__spec__", None)
+    return isinstance(getattr(spec, "loader", None), importlib.machinery.ExtensionFileLoader)
 
 
 def _hold(dest):
@@ -618,7 +651,7 @@ class Instance:
             with _WARNINGS_LOCK, warnings.catch_warnings():
                 warnings.filterwarnings("ignore", message=_CACHE_WARNING)
                 spec.loader.exec_module(module)
-        except BaseException as exc:  # noqa: BLE001  (KeyboardInterrupt too: the import is undone, then it is said)
+        except BaseException as exc:  # noqa: BLE001  (KeyboardInterrupt too: undone, then said: _import_failed)
             self._fail(self._import_failed(home, resources, exc, before))
         finally:
             sys.path.remove(home)
@@ -668,30 +701,36 @@ class Instance:
         return module
 
     def _import_failed(self, home, resources, exc, before):
-        """The message of an import of the model's code from ``home`` that raised ``exc``, after undoing
-        it: the modules it added to ``sys.modules`` (``before``: the names there before) are removed, so
-        that the next fmi2Instantiate imports them afresh; an interruption (KeyboardInterrupt in a Python
-        host's main thread: a Ctrl-C) otherwise left numba half-imported, and every later instantiation
-        failed with "partially initialized module". The signal modules stay (their import is done once)."""
-        for name in set(sys.modules) - before:
-            if name not in ("signal", "_signal"):
-                sys.modules.pop(name, None)
+        """The message of an import of the model's code from ``home`` that raised ``exc``. An interruption
+        (KeyboardInterrupt: a Ctrl-C in a Python host's main thread; SystemExit) is undone first, as far as
+        it can be (:func:`_undo_interrupted_import`; ``before``: the names in ``sys.modules`` before), so
+        that the next fmi2Instantiate imports afresh: a half-imported numba otherwise made every later
+        instantiation fail with "partially initialized module". An ordinary exception (a SyntaxError, a
+        missing module) is not undone: importing again would raise it again, and it is reported as itself
+        at every instantiation."""
         text = str(exc) or type(exc).__name__
         guid = os.path.basename(home) if home != resources else ""
         if not isinstance(exc, Exception):  # (KeyboardInterrupt, SystemExit)
+            _undo_interrupted_import(before)
             _INTERRUPTED[guid] = type(exc).__name__
             return (
                 f"the import of the model's Python code from {home} was interrupted ({type(exc).__name__}); "
-                "what it had imported was unloaded, so the next fmi2Instantiate imports it again"
+                "the modules it had left half-imported were unloaded, so the next fmi2Instantiate imports them again"
             )
-        hint = ""
-        if guid in _INTERRUPTED:
-            hint += (
-                f" (an earlier import in this process was interrupted ({_INTERRUPTED[guid]}): if this persists, "
-                "start the host again)"
+        if guid in _INTERRUPTED:  # (what the interruption left may be the cause: a new process is the remedy)
+            hint = (
+                f"; an earlier import of it in this process was interrupted ({_INTERRUPTED[guid]}), which may have "
+                "left this: start the host again"
+                + (
+                    f", and if it fails the same way then, delete {home} (the next start copies it again)"
+                    if home != resources
+                    else ""
+                )
             )
-        if home != resources:
-            hint += f"; if that folder was damaged, delete it: the next start copies it again from {resources}"
+        elif home != resources:
+            hint = f"; if that folder was damaged, delete it: the next start copies it again from {resources}"
+        else:
+            hint = ""
         return f"the model's Python code cannot be imported from {home}: {type(exc).__name__}: {text}{hint}"
 
     def _bind(self):

@@ -111,7 +111,7 @@ FMPY_SCRIPT = """
 import gc, sys
 from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
-fmu, mode = sys.argv[1], sys.argv[2]
+fmu, mode, at = sys.argv[1], sys.argv[2], sys.argv[3:4]
 md = read_model_description(fmu)
 unzip = extract(fmu)
 from ctypes import byref
@@ -147,9 +147,9 @@ if mode == "states":
     gc.collect()
     print("live", counts[0], counts[-1], bridge().LiveState.live)
 elif mode == "interrupt":
-    class Interrupt:
+    class Interrupt:  # (at the first look-up of that module: Ctrl-C once)
         def find_spec(self, name, path=None, target=None):
-            if name == "numba.core.caching":
+            if [name] == at:
                 sys.meta_path.remove(self)
                 raise KeyboardInterrupt
     sys.meta_path.insert(0, Interrupt())
@@ -163,6 +163,18 @@ elif mode == "interrupt":
     s.doStep(0.0, 1e-4)
     print("second step ok")
     s.terminate(); s.freeInstance()
+elif mode == "error":
+    class Broken:  # (at every look-up of that module: a module of the copy that does not compile)
+        def find_spec(self, name, path=None, target=None):
+            if [name] == at:
+                raise SyntaxError("invalid syntax planted by the test")
+    sys.meta_path.insert(0, Broken())
+    for name in ("first", "second"):
+        try:
+            make(name)
+            print(name, "instantiated")
+        except Exception:
+            print(name, "failed")
 elif mode == "empty":
     s = make("e")
     s.setupExperiment(startTime=0.0); s.enterInitializationMode(); s.exitInitializationMode()
@@ -179,13 +191,13 @@ for line in log:
 """
 
 
-def _fmpy(fmu, mode, tmp_path):
+def _fmpy(fmu, mode, tmp_path, *args):
     script = tmp_path / "script.py"
     script.write_text(textwrap.dedent(FMPY_SCRIPT))
     env = dict(os.environ, HOME=str(tmp_path / "home"))
     env.pop("NUMBA_CACHE_DIR", None)
     proc = subprocess.run(
-        [sys.executable, str(script), str(fmu), mode], capture_output=True, text=True, env=env, timeout=600
+        [sys.executable, str(script), str(fmu), mode, *args], capture_output=True, text=True, env=env, timeout=600
     )
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     return proc.stdout
@@ -199,13 +211,31 @@ def test_fmu_states_are_freed_with_their_instance(fmu, tmp_path):
     assert "live 10 10 0" in out, out
 
 
-def test_an_interrupted_first_import_is_undone_and_the_next_instantiation_works(fmu, tmp_path):
-    """A KeyboardInterrupt (Ctrl-C in a Python host's main thread) in the middle of numba's import
-    during the first fmi2Instantiate: that one fails, saying so by name, and the next imports afresh
-    and steps (every later one failed: 'partially initialized module')."""
-    out = _fmpy(fmu, "interrupt", tmp_path)
+# (in numba's own import; in scipy's, after numpy's new modules (numpy.random, ...) and numba; in the
+# model's package, after all of them)
+@pytest.mark.parametrize("at", ["numba.core.caching", "scipy.sparse", "cablecasing_core.timedomain.scenario"])
+def test_an_interrupted_first_import_is_undone_and_the_next_instantiation_works(fmu, tmp_path, at):
+    """A KeyboardInterrupt (Ctrl-C in a Python host's main thread) in the middle of the first
+    fmi2Instantiate's import of the model's code: that one fails, saying so by name, and the next
+    imports afresh and steps. Every later one failed: 'partially initialized module' when nothing was
+    undone, and 'cannot load module more than once per process' when numpy's new modules were unloaded
+    with the rest (an interruption after them: scipy.sparse, the model's package)."""
+    out = _fmpy(fmu, "interrupt", tmp_path, at)
     assert "first failed" in out and "second step ok" in out, out
     assert "was interrupted (KeyboardInterrupt)" in out, out
+
+
+def test_an_import_error_is_reported_as_itself_at_each_instantiation(fmu, tmp_path):
+    """A module of the model's code that raises an ordinary exception (a SyntaxError: a same-size edit
+    of the per-user copy, which its size check cannot see) fails each fmi2Instantiate with that
+    exception. The second said 'ImportError: cannot load module more than once per process' (the first
+    had unloaded numpy's new modules), and the hints did not fit it."""
+    out = _fmpy(fmu, "error", tmp_path, "cablecasing_core.timedomain.scenario")
+    assert "first failed" in out and "second failed" in out, out
+    said = [line for line in out.splitlines() if "cannot be instantiated" in line]
+    assert len(said) == 2 and all("SyntaxError: invalid syntax planted by the test" in line for line in said), said
+    assert said[0] == said[1] and "if that folder was damaged, delete it" in said[0], said
+    assert "interrupted" not in out and "more than once" not in out, out
 
 
 def test_an_exception_without_a_message_is_logged_by_its_type(fmu, tmp_path):
