@@ -5,6 +5,7 @@ host of FMUs in a process of its own that a test sends requests to (``fmu_probe`
 
 import importlib.util
 import json
+import os
 import select
 import subprocess
 import sys
@@ -142,3 +143,13 @@ def fmu_probe(tmp_path):
     yield start
     codes = [h.close() for h in hosts]
     assert codes == [0] * len(codes), codes
+
+
+@pytest.fixture(scope="session")
+def plain_env(tmp_path_factory):
+    """The plain environment of a host an engineer runs (HOME and PATH=/usr/bin:/bin, no venv, no
+    LD_PRELOAD, and the machine's own OpenBLAS settings where it has them), with a HOME of this test
+    session's own: the FMU's per-user copies of its code and the kernels' numba cache land there, once
+    a session (they went to the real HOME, ~3 MB for each FMU build, kept for 14 days)."""
+    env = {"HOME": str(tmp_path_factory.mktemp("plain_home")), "PATH": "/usr/bin:/bin"}
+    return env | {k: v for k, v in os.environ.items() if k.startswith("OPENBLAS_")}

@@ -33,8 +33,6 @@ NCH = len(CHANNELS)
 # (OPENBLAS_CORETYPE, OPENBLAS_L2_SIZE: set machine-wide on some processors, so an engineer's shell
 # has them too). They choose OpenBLAS's kernels, which round LAPACK's small factors differently, and
 # the contact response is chaotic: a host without them computes another, equally valid, record.
-PLAIN = {"HOME": os.environ.get("HOME", "/root"), "PATH": "/usr/bin:/bin"}
-PLAIN |= {k: v for k, v in os.environ.items() if k.startswith("OPENBLAS_")}
 
 needs_hosts = pytest.mark.skipif(not (HOSTS / "fmusim").exists(), reason=f"the C hosts are not in {HOSTS}")
 
@@ -68,7 +66,7 @@ def scenario_csv(tmp_path_factory):
 
 
 @needs_hosts
-def test_fmusim_plain_environment_equals_fmpy(fmu, scenario_csv, fmu_driver):
+def test_fmusim_plain_environment_equals_fmpy(fmu, scenario_csv, fmu_driver, plain_env):
     """Five fresh fmusim processes in the plain environment: exit 0 each, and casing.B.Fz equal to
     fmpy's given the same calls: the same inputs and fmusim's steps, doStep(t_k, t_(k+1) - t_k) with
     t_k = k h in double (which differ from h in the last bits, and the contact response is chaotic,
@@ -96,7 +94,7 @@ def test_fmusim_plain_environment_equals_fmpy(fmu, scenario_csv, fmu_driver):
                 "--logging-on",
                 str(fmu),
             ],
-            env=PLAIN,
+            env=plain_env,
             capture_output=True,
             text=True,
             timeout=300,
@@ -116,7 +114,7 @@ def test_fmusim_plain_environment_equals_fmpy(fmu, scenario_csv, fmu_driver):
 
 
 @needs_hosts
-def test_fmusim_runs_the_real_time_setting_as_the_core(fmu, tmp_path):
+def test_fmusim_runs_the_real_time_setting_as_the_core(fmu, tmp_path, plain_env):
     """The real-time setting of docs/fmu.md in fmusim, plain environment, no input file: the FMU
     drives its supports with the default scenario (scenario.drive) at solver.dt = 2e-5 s, five
     Newmark steps per 1e-4 s call. Exit 0, and casing.B.Fz after each call equals the core's run of
@@ -133,7 +131,7 @@ def test_fmusim_runs_the_real_time_setting_as_the_core(fmu, tmp_path):
         [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", repr(n * H), "--output-interval", repr(H),
          "--start-value", "scenario.drive", "true", "--start-value", "solver.dt", "2e-5",
          "--output-file", str(out), "--log-file", str(log), "--logging-on", str(fmu)],
-        env=PLAIN, capture_output=True, text=True, timeout=300,
+        env=plain_env, capture_output=True, text=True, timeout=300,
     )  # fmt: skip
     assert proc.returncode == 0, f"exit {proc.returncode}\n{proc.stderr}\n{log.read_text()[-3000:]}"
     names, data = read_csv(out)
@@ -149,7 +147,7 @@ def test_fmusim_runs_the_real_time_setting_as_the_core(fmu, tmp_path):
 
 
 @needs_hosts
-def test_fmusim_saves_and_restores_a_state_file(fmu, tmp_path):
+def test_fmusim_saves_and_restores_a_state_file(fmu, tmp_path, plain_env):
     """fmusim's --final-fmu-state-file and --initial-fmu-state-file, plain environment: fmusim 0.0.39
     passes the state itself to fmi2FreeFMUstate, which takes its address; the FMU tells the two apart
     (it crashed fmusim with SIGSEGV). A run to 1 ms saved and continued to 2 ms from the file gives
@@ -166,7 +164,7 @@ def test_fmusim_saves_and_restores_a_state_file(fmu, tmp_path):
         log = tmp_path / f"{name}.log"
         proc = subprocess.run(
             fmusim + drive + args + ["--output-file", str(tmp_path / f"{name}.csv"), "--log-file", str(log), str(fmu)],
-            env=PLAIN, capture_output=True, text=True, timeout=300,
+            env=plain_env, capture_output=True, text=True, timeout=300,
         )  # fmt: skip
         assert proc.returncode == 0, f"{name}: exit {proc.returncode}\n{proc.stderr}\n{log.read_text()[-3000:]}"
         assert state.stat().st_size > 1000
@@ -178,7 +176,7 @@ def test_fmusim_saves_and_restores_a_state_file(fmu, tmp_path):
 
 
 @needs_hosts
-def test_fmusim_ends_at_an_input_it_cannot_take_instead_of_retrying_it_for_ever(fmu, tmp_path):
+def test_fmusim_ends_at_an_input_it_cannot_take_instead_of_retrying_it_for_ever(fmu, tmp_path, plain_env):
     """A NaN in fmusim's input file: the step is discarded, fmusim repeats it from
     fmi2LastSuccessfulTime with the same input, and the FMU, asked for the same step again, asks to
     end the simulation (fmi2Terminated); fmusim stops there, exit 0, with the reasons in its log. (It
@@ -189,7 +187,7 @@ def test_fmusim_ends_at_an_input_it_cannot_take_instead_of_retrying_it_for_ever(
     proc = subprocess.run(
         [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", "0.01", "--output-interval", repr(H),
          "--input-file", str(inp), "--output-file", str(out), "--log-file", str(log), str(fmu)],
-        env=PLAIN, capture_output=True, text=True, timeout=120,
+        env=plain_env, capture_output=True, text=True, timeout=120,
     )  # fmt: skip
     text = log.read_text()
     assert proc.returncode == 0, f"exit {proc.returncode}\n{proc.stderr}\n{text[-3000:]}"
@@ -208,7 +206,7 @@ def real_time_line(log):
 
 
 @needs_hosts
-def test_fmusim_hears_of_every_call_that_took_longer_than_its_step(fmu, tmp_path):
+def test_fmusim_hears_of_every_call_that_took_longer_than_its_step(fmu, tmp_path, plain_env):
     """A master that asks for communication steps of 1e-6 s (solver.dt 1e-6 s: one Newmark step per
     call) cannot be served in real time: no call into Python and a Newmark step with contact take
     less than 1 us, so every call of the run (fmusim makes ~90 over its 1e-4 s) is reported as late,
@@ -218,7 +216,7 @@ def test_fmusim_hears_of_every_call_that_took_longer_than_its_step(fmu, tmp_path
         [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", "1e-4", "--output-interval", "1e-6",
          "--start-value", "solver.dt", "1e-6", "--output-file", str(tmp_path / "late.csv"),
          "--log-file", str(log), "--logging-on", str(fmu)],
-        env=PLAIN, capture_output=True, text=True, timeout=300,
+        env=plain_env, capture_output=True, text=True, timeout=300,
     )  # fmt: skip
     assert proc.returncode == 0, f"exit {proc.returncode}\n{proc.stderr}\n{log.read_text()[-3000:]}"
     longest, late, calls = real_time_line(log.read_text())
@@ -226,7 +224,7 @@ def test_fmusim_hears_of_every_call_that_took_longer_than_its_step(fmu, tmp_path
 
 
 @needs_hosts
-def test_compliance_checker_plain_environment(fmu, scenario_csv):
+def test_compliance_checker_plain_environment(fmu, scenario_csv, plain_env):
     """The FMU Compliance Checker (FMI Library) imports, validates and simulates the FMU: exit 0 in
     five fresh processes, no error in its report, and outputs with contact."""
     folder, _ = scenario_csv
@@ -249,7 +247,7 @@ def test_compliance_checker_plain_environment(fmu, scenario_csv):
                 str(log),
                 str(fmu),
             ],
-            env=PLAIN,
+            env=plain_env,
             capture_output=True,
             text=True,
             timeout=300,
@@ -263,7 +261,7 @@ def test_compliance_checker_plain_environment(fmu, scenario_csv):
 
 
 @needs_hosts
-def test_the_fmu_for_a_model_file_runs_in_fmusim_and_the_checker(model_fmu, tmp_path, fmu_driver):
+def test_the_fmu_for_a_model_file_runs_in_fmusim_and_the_checker(model_fmu, tmp_path, fmu_driver, plain_env):
     """The FMU built for the clipped specimen's model file in both C hosts, plain environment: its
     scenario (random casing A z, the cable's axial drive, dash.y on the excited clip) as fmusim's
     input file, which names dash.y, dash.vy, dash.ay among its columns; both exit with 0, the
@@ -277,7 +275,7 @@ def test_the_fmu_for_a_model_file_runs_in_fmusim_and_the_checker(model_fmu, tmp_
         [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", repr(200 * H), "--output-interval", repr(H),
          "--input-file", str(tmp_path / "inputs.csv"), "--output-file", str(out), "--log-file", str(log),
          "--logging-on", str(path)],
-        env=PLAIN, capture_output=True, text=True, timeout=300,
+        env=plain_env, capture_output=True, text=True, timeout=300,
     )  # fmt: skip
     assert proc.returncode == 0, f"exit {proc.returncode}\n{proc.stderr}\n{log.read_text()[-3000:]}"
     names, data = read_csv(out)
@@ -297,7 +295,7 @@ def test_the_fmu_for_a_model_file_runs_in_fmusim_and_the_checker(model_fmu, tmp_
     proc = subprocess.run(
         [str(HOSTS / "fmuCheck.linux64"), "-h", repr(H), "-s", "0.02", "-i", str(tmp_path / "inputs.csv"),
          "-o", str(check), "-l", "4", "-e", str(clog), str(path)],
-        env=PLAIN, capture_output=True, text=True, timeout=300,
+        env=plain_env, capture_output=True, text=True, timeout=300,
     )  # fmt: skip
     assert proc.returncode == 0, f"exit {proc.returncode}\n{proc.stdout[-2000:]}\n{clog.read_text()[-3000:]}"
     assert "0 Error(s)" in clog.read_text()
@@ -381,10 +379,10 @@ def test_fmpy_command_line_exits_cleanly(fmu, tmp_path):
 
 @needs_hosts
 @pytest.mark.parametrize("case", ["empty_venv", "missing", "other_version"])
-def test_a_host_without_the_packages_gets_one_message(fmu, tmp_path, case):
+def test_a_host_without_the_packages_gets_one_message(fmu, tmp_path, case, plain_env):
     """fmusim with logging off and a Python that cannot run the model: one message on stderr that
     names what is missing and how to fix it, and fmusim ends normally (an error status, no signal)."""
-    env = dict(PLAIN)
+    env = dict(plain_env)
     if case == "empty_venv":
         subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(tmp_path / "venv")], check=True)
         env["CABLECASING_PYTHON"] = str(tmp_path / "venv" / "bin" / "python")
@@ -418,11 +416,11 @@ def test_a_host_without_the_packages_gets_one_message(fmu, tmp_path, case):
 
 
 @needs_hosts
-def test_the_hosts_python_variables_do_not_disturb_it(fmu, tmp_path):
+def test_the_hosts_python_variables_do_not_disturb_it(fmu, tmp_path, plain_env):
     """PYTHONHOME at a virtual environment (which kills an embedded CPython in init_fs_encoding)
     and a PYTHONPATH full of nothing: the FMU starts its interpreter isolated from them, so fmusim
     runs and exits with 0."""
-    env = dict(PLAIN, PYTHONHOME=str(Path(sys.executable).parent.parent), PYTHONPATH="/nonexistent:/tmp")
+    env = dict(plain_env, PYTHONHOME=str(Path(sys.executable).parent.parent), PYTHONPATH="/nonexistent:/tmp")
     proc = subprocess.run(
         [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", "0.002", "--output-file",
          str(tmp_path / "out.csv"), str(fmu)],
@@ -433,7 +431,9 @@ def test_the_hosts_python_variables_do_not_disturb_it(fmu, tmp_path):
 
 
 @needs_hosts
-def test_fmusim_with_a_read_only_home_runs_on_the_kernels_the_fmu_ships(fmu, tmp_path, unprivileged, read_only):
+def test_fmusim_with_a_read_only_home_runs_on_the_kernels_the_fmu_ships(
+    fmu, tmp_path, unprivileged, read_only, plain_env
+):
     """fmusim in the plain environment of a user whose HOME cannot be written (review AL, M1/M2: it
     compiled every kernel, 170 s, and blamed the CPU): the FMU takes a folder of the user's own in
     the temporary folder, seeds it with the machine code it ships (nothing is compiled), says why
@@ -446,7 +446,7 @@ def test_fmusim_with_a_read_only_home_runs_on_the_kernels_the_fmu_ships(fmu, tmp
     proc = subprocess.run(
         [*unprivileged, str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", "0.002", "--output-interval",
          repr(H), "--output-file", str(out), "--log-file", str(log), "--logging-on", str(fmu)],
-        env=dict(PLAIN, HOME=str(home), TMPDIR=str(tmp)), capture_output=True, text=True, timeout=600,
+        env=dict(plain_env, HOME=str(home), TMPDIR=str(tmp)), capture_output=True, text=True, timeout=600,
     )  # fmt: skip
     text = log.read_text()
     assert proc.returncode == 0, f"exit {proc.returncode}\n{proc.stderr}\n{text[-3000:]}"
@@ -483,7 +483,7 @@ def test_the_advice_for_a_missing_package_fits_an_externally_managed_python(monk
 
 
 @needs_hosts
-def test_fmusim_with_the_systems_python_advises_a_virtual_environment(fmu):
+def test_fmusim_with_the_systems_python_advises_a_virtual_environment(fmu, plain_env):
     """CABLECASING_PYTHON at the system's own Python, externally managed and without the packages
     (here /usr/bin/python3.11 of Debian): the one message says to make a virtual environment and
     point CABLECASING_PYTHON at it, not to pip install into that Python, which refuses."""
@@ -495,7 +495,7 @@ def test_fmusim_with_the_systems_python_advises_a_virtual_environment(fmu):
         pytest.skip(f"{python} is not an externally managed Python (PEP 668) here")
     proc = subprocess.run(
         [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", "0.001", str(fmu)],
-        env=dict(PLAIN, CABLECASING_PYTHON=str(python)), capture_output=True, text=True, timeout=300,
+        env=dict(plain_env, CABLECASING_PYTHON=str(python)), capture_output=True, text=True, timeout=300,
     )  # fmt: skip
     if "cannot run this FMU" not in proc.stderr:
         pytest.skip(f"{python} has the packages (or cannot be started): {proc.stderr[-500:]}")
@@ -660,7 +660,7 @@ def test_no_test_or_driver_leaves_with_os_exit():
     assert not offenders, offenders
 
 
-def test_a_c_host_of_our_own_in_the_plain_environment(fmu, tmp_path, fmu_driver):
+def test_a_c_host_of_our_own_in_the_plain_environment(fmu, tmp_path, fmu_driver, plain_env):
     """A 60-line C host (dlopen, instantiate, step, free, dlclose, return from main: every library
     destructor runs) without Python of its own and without any environment variable but HOME and
     PATH: exit 0 and the same outputs as through fmpy, bit for bit."""
@@ -701,7 +701,7 @@ def test_a_c_host_of_our_own_in_the_plain_environment(fmu, tmp_path, fmu_driver)
         ],
         capture_output=True,
         text=True,
-        env=PLAIN,
+        env=plain_env,
         timeout=600,
     )
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
@@ -714,7 +714,7 @@ def test_a_c_host_of_our_own_in_the_plain_environment(fmu, tmp_path, fmu_driver)
     assert np.max(np.abs(y)) > 0
 
 
-def test_a_c_host_that_calls_from_a_new_thread_each_time_keeps_its_memory(fmu, tmp_path):
+def test_a_c_host_that_calls_from_a_new_thread_each_time_keeps_its_memory(fmu, tmp_path, plain_env):
     """A C host that calls fmi2DoStep from a new native thread every step (std::async, a thread per
     task), in the plain environment: every step fmi2OK, and the resident memory from step 500 to
     step 4000 grows by under 2 MB (a Python thread state kept for every new thread, as before, is
@@ -735,13 +735,13 @@ def test_a_c_host_that_calls_from_a_new_thread_each_time_keeps_its_memory(fmu, t
     so = unzip / "binaries" / "linux64" / "CableCasing.so"
     guid = read_model_description(str(fmu)).guid
     args = [str(exe), str(so), guid, (unzip / "resources").as_uri(), "4000"]
-    proc = subprocess.run(args, capture_output=True, text=True, env=PLAIN, timeout=600)
+    proc = subprocess.run(args, capture_output=True, text=True, env=plain_env, timeout=600)
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     rss = {int(w[1]): int(w[2]) for w in (line.split() for line in proc.stdout.splitlines()) if w[0] == "rss"}
     assert rss[4000] - rss[500] < 2048, rss  # kB
 
 
-def test_instances_stepped_at_once_on_threads_equal_their_serial_runs(fmu, tmp_path, fmu_driver):
+def test_instances_stepped_at_once_on_threads_equal_their_serial_runs(fmu, tmp_path, fmu_driver, plain_env):
     """A master's thread pool in C, in the plain environment: three instances, two of them alike,
     the third of another casing.E, stepped at once, a thread each, give the records of the same three
     stepped one after the other, bit for bit, twice (the step's kernels run outside the interpreter
@@ -750,7 +750,7 @@ def test_instances_stepped_at_once_on_threads_equal_their_serial_runs(fmu, tmp_p
     cmd = fmu_driver.pool_host_command(fmu, tmp_path, 300, H, 2, (5e9, 6e9, 5e9), "casing.E")
     if cmd is None:
         pytest.skip("needs a C compiler on Linux")
-    proc = subprocess.run(cmd, capture_output=True, text=True, env=PLAIN, timeout=600)
+    proc = subprocess.run(cmd, capture_output=True, text=True, env=plain_env, timeout=600)
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     y = {}
     for line in proc.stdout.splitlines():

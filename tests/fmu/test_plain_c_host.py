@@ -19,12 +19,10 @@ import pytest
 pytestmark = pytest.mark.slow  # every test starts processes that load the FMU
 
 ROOT = Path(__file__).resolve().parents[2]
-PLAIN = {"HOME": os.environ.get("HOME", "/root"), "PATH": "/usr/bin:/bin"}
-PLAIN |= {k: v for k, v in os.environ.items() if k.startswith("OPENBLAS_")}
 
 
 @pytest.fixture(scope="module")
-def host(fmu, tmp_path_factory):
+def host(fmu, tmp_path_factory, plain_env):
     """``run(mode, *args)``: plain_c_host.c, compiled, on the FMU unpacked, in the plain environment;
     the CompletedProcess."""
     compiler = shutil.which("cc") or shutil.which("gcc")
@@ -43,7 +41,7 @@ def host(fmu, tmp_path_factory):
     head.append((unzip / "resources").as_uri())
 
     def run(*args):
-        return subprocess.run(head + list(args), capture_output=True, text=True, env=PLAIN, timeout=600)
+        return subprocess.run(head + list(args), capture_output=True, text=True, env=plain_env, timeout=600)
 
     return run
 
