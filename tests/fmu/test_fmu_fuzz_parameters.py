@@ -257,8 +257,6 @@ def test_what_the_fuzz_found_is_named(fmu, fmu_probe):
 
 # ------------------------------------------------------------------------------ a C host
 needs_hosts = pytest.mark.skipif(not (HOSTS / "fmusim").exists(), reason=f"the C hosts are not in {HOSTS}")
-PLAIN = {"HOME": os.environ.get("HOME", "/root"), "PATH": "/usr/bin:/bin"}
-PLAIN |= {k: v for k, v in os.environ.items() if k.startswith("OPENBLAS_")}
 
 
 @needs_hosts
@@ -279,7 +277,7 @@ PLAIN |= {k: v for k, v in os.environ.items() if k.startswith("OPENBLAS_")}
         ("model_file", "/nonexistent/model.toml", "model_file = '/nonexistent/model.toml': must be a readable TOML"),
     ],
 )
-def test_fmusim_in_the_plain_environment_refuses_them_by_name(fmu, tmp_path, name, value, said):
+def test_fmusim_in_the_plain_environment_refuses_them_by_name(fmu, tmp_path, plain_env, name, value, said):
     """fmusim (a C host, the FMU starting Python itself) with one bad start value: it stops with its
     own exit status for a failed FMI call (not killed by a signal, no core), and its log holds the
     FMU's message naming the variable, the value and what is allowed."""
@@ -288,7 +286,7 @@ def test_fmusim_in_the_plain_environment_refuses_them_by_name(fmu, tmp_path, nam
         [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", "0.001", "--output-interval", "1e-4",
          "--start-value", name, value, "--log-file", str(log), "--output-file", str(tmp_path / "out.csv"),
          str(fmu)],
-        env=PLAIN, capture_output=True, text=True, timeout=300, cwd=tmp_path,
+        env=plain_env, capture_output=True, text=True, timeout=300, cwd=tmp_path,
     )  # fmt: skip
     assert proc.returncode > 0 and proc.returncode < 128, (proc.returncode, proc.stderr[-2000:])
     text = log.read_text()

@@ -9,7 +9,6 @@ The fmpy cases run in one fresh process (tests/fmu/fmu_driver.py's Instance, the
 the C hosts (fmusim, the FMU Compliance Checker) in the plain environment (test_hosts.py)."""
 
 import json
-import os
 import shutil
 import subprocess
 import sys
@@ -23,9 +22,6 @@ pytestmark = pytest.mark.slow  # the FMU in fresh processes
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
 HOSTS = ROOT.parent / "shared" / "hosts"
-# the plain environment of test_hosts.py: HOME, PATH and the machine's own OpenBLAS settings
-PLAIN = {"HOME": os.environ.get("HOME", "/root"), "PATH": "/usr/bin:/bin"}
-PLAIN |= {k: v for k, v in os.environ.items() if k.startswith("OPENBLAS_")}
 needs_hosts = pytest.mark.skipif(not (HOSTS / "fmusim").exists(), reason=f"the C hosts are not in {HOSTS}")
 
 
@@ -284,7 +280,7 @@ def test_null_and_non_utf8_word_parameters_give_the_word_hints(host):
 
 # ---------------------------------------------------------------------------------- C hosts
 @needs_hosts
-def test_fmusim_runs_a_model_file_under_a_non_ascii_path(fmu, tmp_path):
+def test_fmusim_runs_a_model_file_under_a_non_ascii_path(fmu, tmp_path, plain_env):
     """fmusim in the plain environment (the "C" locale) with model_file "ünï/mödel file.toml" (a copy
     of examples/installation.toml, driven by its scenario), relative to its working folder: it runs
     and exits with 0, and the log names the file (it was an internal error, 'ascii' codec, with a traceback, exit 3)."""
@@ -298,7 +294,7 @@ def test_fmusim_runs_a_model_file_under_a_non_ascii_path(fmu, tmp_path):
          "--start-value", "model_file", "\u00fcn\u00ef/m\u00f6del file.toml",
          "--start-value", "scenario.drive", "true", "--logging-on",
          "--log-file", str(log), "--output-file", str(out), str(fmu)],
-        env=PLAIN, cwd=tmp_path, capture_output=True, timeout=300,
+        env=plain_env, cwd=tmp_path, capture_output=True, timeout=300,
     )  # fmt: skip
     text = log.read_bytes().decode("utf-8", "replace")
     assert proc.returncode == 0, f"exit {proc.returncode}\n{proc.stderr[-2000:]}\n{text[-3000:]}"
@@ -309,7 +305,7 @@ def test_fmusim_runs_a_model_file_under_a_non_ascii_path(fmu, tmp_path):
 
 
 @needs_hosts
-def test_the_compliance_checker_unpacks_into_a_non_ascii_folder(fmu, tmp_path):
+def test_the_compliance_checker_unpacks_into_a_non_ascii_folder(fmu, tmp_path, plain_env):
     """fmuCheck -t with an unpack folder "tmp ünï" in the plain environment: the FMU instantiates
     and simulates, 0 errors (fmi2Instantiate returned NULL: 'ascii' codec can't encode '\\xfc')."""
     unpack = tmp_path / "tmp \u00fcn\u00ef"
@@ -318,7 +314,7 @@ def test_the_compliance_checker_unpacks_into_a_non_ascii_folder(fmu, tmp_path):
     proc = subprocess.run(
         [str(HOSTS / "fmuCheck.linux64"), "-h", "1e-4", "-s", "0.002", "-l", "3", "-t", str(unpack),
          "-o", str(tmp_path / "chk.csv"), "-e", str(log), str(fmu)],
-        env=PLAIN, capture_output=True, timeout=300,
+        env=plain_env, capture_output=True, timeout=300,
     )  # fmt: skip
     text = log.read_bytes().decode("utf-8", "replace")
     assert proc.returncode == 0, f"exit {proc.returncode}\n{text[-3000:]}"
