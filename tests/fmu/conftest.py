@@ -146,6 +146,20 @@ def fmu_probe(tmp_path):
 
 
 @pytest.fixture(scope="session")
+def c_hosts():
+    """The folder of the C hosts (fmusim, the FMU Compliance Checker; built from their public sources, see
+    its README): the environment variable ``CABLECASING_HOSTS``, as ``benchmarks/bench_fmu.py`` reads it,
+    else ``../shared/hosts`` beside the repository. A test that runs them is skipped, saying where it
+    looked, when that folder has no fmusim."""
+    folder = Path(
+        os.environ.get("CABLECASING_HOSTS") or Path(__file__).resolve().parents[2].parent / "shared" / "hosts"
+    )
+    if not (folder / "fmusim").exists():
+        pytest.skip(f"the C hosts are not in {folder} (set CABLECASING_HOSTS to their folder)")
+    return folder
+
+
+@pytest.fixture(scope="session")
 def plain_env(tmp_path_factory):
     """The plain environment of a host an engineer runs (HOME and PATH=/usr/bin:/bin, no venv, no
     LD_PRELOAD, and the machine's own OpenBLAS settings where it has them), with a HOME of this test

@@ -20,7 +20,6 @@ from hypothesis import strategies as st
 
 pytestmark = pytest.mark.slow  # the FMU in processes of its own
 
-HOSTS = Path(__file__).resolve().parents[2].parent / "shared" / "hosts"
 INT_MIN, INT_MAX = -(2**31), 2**31 - 1
 FATAL = 4
 # What a refusal says besides the variable and the value: what is allowed (the model schema's
@@ -256,10 +255,8 @@ def test_what_the_fuzz_found_is_named(fmu, fmu_probe):
 
 
 # ------------------------------------------------------------------------------ a C host
-needs_hosts = pytest.mark.skipif(not (HOSTS / "fmusim").exists(), reason=f"the C hosts are not in {HOSTS}")
 
 
-@needs_hosts
 @pytest.mark.parametrize(
     "name, value, said",
     [
@@ -277,13 +274,13 @@ needs_hosts = pytest.mark.skipif(not (HOSTS / "fmusim").exists(), reason=f"the C
         ("model_file", "/nonexistent/model.toml", "model_file = '/nonexistent/model.toml': must be a readable TOML"),
     ],
 )
-def test_fmusim_in_the_plain_environment_refuses_them_by_name(fmu, tmp_path, plain_env, name, value, said):
+def test_fmusim_in_the_plain_environment_refuses_them_by_name(c_hosts, fmu, tmp_path, plain_env, name, value, said):
     """fmusim (a C host, the FMU starting Python itself) with one bad start value: it stops with its
     own exit status for a failed FMI call (not killed by a signal, no core), and its log holds the
     FMU's message naming the variable, the value and what is allowed."""
     log = tmp_path / "log.txt"
     proc = subprocess.run(
-        [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", "0.001", "--output-interval", "1e-4",
+        [str(c_hosts / "fmusim"), "--interface-type", "cs", "--stop-time", "0.001", "--output-interval", "1e-4",
          "--start-value", name, value, "--log-file", str(log), "--output-file", str(tmp_path / "out.csv"),
          str(fmu)],
         env=plain_env, capture_output=True, text=True, timeout=300, cwd=tmp_path,

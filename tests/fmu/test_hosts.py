@@ -3,7 +3,7 @@ Checker) in the plain environment an engineer has (HOME and PATH=/usr/bin:/bin, 
 LD_PRELOAD), plain fmpy scripts and the fmpy command line, each in fresh processes; every run must
 exit with status 0. Also what a careless master does, and a host without the Python packages.
 
-The C hosts are the ones in ../shared/hosts (see its README), built from their public sources.
+The C hosts are the ones in $CABLECASING_HOSTS, else ../shared/hosts (see its README), built from their public sources.
 """
 
 import os
@@ -26,15 +26,12 @@ from cablecasing_core.timedomain.support_motion import SupportReconstruction
 pytestmark = pytest.mark.slow  # every test starts processes that load the FMU
 
 ROOT = Path(__file__).resolve().parents[2]
-HOSTS = ROOT.parent / "shared" / "hosts"
 H = 1e-4
 NCH = len(CHANNELS)
 # The plain environment: HOME and PATH, and the machine's own OpenBLAS settings where it has them
 # (OPENBLAS_CORETYPE, OPENBLAS_L2_SIZE: set machine-wide on some processors, so an engineer's shell
 # has them too). They choose OpenBLAS's kernels, which round LAPACK's small factors differently, and
 # the contact response is chaotic: a host without them computes another, equally valid, record.
-
-needs_hosts = pytest.mark.skipif(not (HOSTS / "fmusim").exists(), reason=f"the C hosts are not in {HOSTS}")
 
 
 def fmusim_inputs(path, model, n):
@@ -65,8 +62,7 @@ def scenario_csv(tmp_path_factory):
     return folder, table
 
 
-@needs_hosts
-def test_fmusim_plain_environment_equals_fmpy(fmu, scenario_csv, fmu_driver, plain_env):
+def test_fmusim_plain_environment_equals_fmpy(c_hosts, fmu, scenario_csv, fmu_driver, plain_env):
     """Five fresh fmusim processes in the plain environment: exit 0 each, and casing.B.Fz equal to
     fmpy's given the same calls: the same inputs and fmusim's steps, doStep(t_k, t_(k+1) - t_k) with
     t_k = k h in double (which differ from h in the last bits, and the contact response is chaotic,
@@ -78,7 +74,7 @@ def test_fmusim_plain_environment_equals_fmpy(fmu, scenario_csv, fmu_driver, pla
         out, log = folder / f"fmusim{k}.csv", folder / f"fmusim{k}.log"
         proc = subprocess.run(
             [
-                str(HOSTS / "fmusim"),
+                str(c_hosts / "fmusim"),
                 "--interface-type",
                 "cs",
                 "--stop-time",
@@ -113,8 +109,7 @@ def test_fmusim_plain_environment_equals_fmpy(fmu, scenario_csv, fmu_driver, pla
     assert np.max(np.abs(fz - ref)) <= 1e-12 * np.max(np.abs(ref))
 
 
-@needs_hosts
-def test_fmusim_runs_the_real_time_setting_as_the_core(fmu, tmp_path, plain_env):
+def test_fmusim_runs_the_real_time_setting_as_the_core(c_hosts, fmu, tmp_path, plain_env):
     """The real-time setting of docs/fmu.md in fmusim, plain environment, no input file: the FMU
     drives its supports with the default scenario (scenario.drive) at solver.dt = 2e-5 s, five
     Newmark steps per 1e-4 s call. Exit 0, and casing.B.Fz after each call equals the core's run of
@@ -128,7 +123,7 @@ def test_fmusim_runs_the_real_time_setting_as_the_core(fmu, tmp_path, plain_env)
     n = 400
     out, log = tmp_path / "rt.csv", tmp_path / "rt.log"
     proc = subprocess.run(
-        [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", repr(n * H), "--output-interval", repr(H),
+        [str(c_hosts / "fmusim"), "--interface-type", "cs", "--stop-time", repr(n * H), "--output-interval", repr(H),
          "--start-value", "scenario.drive", "true", "--start-value", "solver.dt", "2e-5",
          "--output-file", str(out), "--log-file", str(log), "--logging-on", str(fmu)],
         env=plain_env, capture_output=True, text=True, timeout=300,
@@ -146,13 +141,12 @@ def test_fmusim_runs_the_real_time_setting_as_the_core(fmu, tmp_path, plain_env)
     assert 0 < longest and 0 <= late <= calls == n
 
 
-@needs_hosts
-def test_fmusim_saves_and_restores_a_state_file(fmu, tmp_path, plain_env):
+def test_fmusim_saves_and_restores_a_state_file(c_hosts, fmu, tmp_path, plain_env):
     """fmusim's --final-fmu-state-file and --initial-fmu-state-file, plain environment: fmusim 0.0.39
     passes the state itself to fmi2FreeFMUstate, which takes its address; the FMU tells the two apart
     (it crashed fmusim with SIGSEGV). A run to 1 ms saved and continued to 2 ms from the file gives
     the outputs of one run to 2 ms, to the bit (fmusim writes 16 digits of the same doubles)."""
-    fmusim = [str(HOSTS / "fmusim"), "--interface-type", "cs", "--output-interval", repr(H)]
+    fmusim = [str(c_hosts / "fmusim"), "--interface-type", "cs", "--output-interval", repr(H)]
     drive = ["--start-value", "scenario.drive", "true"]
     state = tmp_path / "state.bin"
     runs = {
@@ -175,8 +169,7 @@ def test_fmusim_saves_and_restores_a_state_file(fmu, tmp_path, plain_env):
     np.testing.assert_array_equal(rest[:, j], whole[-11:, j])
 
 
-@needs_hosts
-def test_fmusim_ends_at_an_input_it_cannot_take_instead_of_retrying_it_for_ever(fmu, tmp_path, plain_env):
+def test_fmusim_ends_at_an_input_it_cannot_take_instead_of_retrying_it_for_ever(c_hosts, fmu, tmp_path, plain_env):
     """A NaN in fmusim's input file: the step is discarded, fmusim repeats it from
     fmi2LastSuccessfulTime with the same input, and the FMU, asked for the same step again, asks to
     end the simulation (fmi2Terminated); fmusim stops there, exit 0, with the reasons in its log. (It
@@ -185,7 +178,7 @@ def test_fmusim_ends_at_an_input_it_cannot_take_instead_of_retrying_it_for_ever(
     rows = [f"{k * H!r},{'nan' if 48 <= k <= 50 else repr(1e-6 * k)}" for k in range(101)]
     inp.write_text('"time","casing.A.z"\n' + "\n".join(rows) + "\n")
     proc = subprocess.run(
-        [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", "0.01", "--output-interval", repr(H),
+        [str(c_hosts / "fmusim"), "--interface-type", "cs", "--stop-time", "0.01", "--output-interval", repr(H),
          "--input-file", str(inp), "--output-file", str(out), "--log-file", str(log), str(fmu)],
         env=plain_env, capture_output=True, text=True, timeout=120,
     )  # fmt: skip
@@ -205,15 +198,14 @@ def real_time_line(log):
     return 1e-3 * float(m.group(1)), int(m.group(2)), int(m.group(3))
 
 
-@needs_hosts
-def test_fmusim_hears_of_every_call_that_took_longer_than_its_step(fmu, tmp_path, plain_env):
+def test_fmusim_hears_of_every_call_that_took_longer_than_its_step(c_hosts, fmu, tmp_path, plain_env):
     """A master that asks for communication steps of 1e-6 s (solver.dt 1e-6 s: one Newmark step per
     call) cannot be served in real time: no call into Python and a Newmark step with contact take
     less than 1 us, so every call of the run (fmusim makes ~90 over its 1e-4 s) is reported as late,
     and the longest took at least 1 us."""
     log = tmp_path / "late.log"
     proc = subprocess.run(
-        [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", "1e-4", "--output-interval", "1e-6",
+        [str(c_hosts / "fmusim"), "--interface-type", "cs", "--stop-time", "1e-4", "--output-interval", "1e-6",
          "--start-value", "solver.dt", "1e-6", "--output-file", str(tmp_path / "late.csv"),
          "--log-file", str(log), "--logging-on", str(fmu)],
         env=plain_env, capture_output=True, text=True, timeout=300,
@@ -223,8 +215,7 @@ def test_fmusim_hears_of_every_call_that_took_longer_than_its_step(fmu, tmp_path
     assert calls >= 90 and late == calls and longest >= 1e-6
 
 
-@needs_hosts
-def test_compliance_checker_plain_environment(fmu, scenario_csv, plain_env):
+def test_compliance_checker_plain_environment(c_hosts, fmu, scenario_csv, plain_env):
     """The FMU Compliance Checker (FMI Library) imports, validates and simulates the FMU: exit 0 in
     five fresh processes, no error in its report, and outputs with contact."""
     folder, _ = scenario_csv
@@ -232,7 +223,7 @@ def test_compliance_checker_plain_environment(fmu, scenario_csv, plain_env):
         out, log = folder / f"check{k}.csv", folder / f"check{k}.log"
         proc = subprocess.run(
             [
-                str(HOSTS / "fmuCheck.linux64"),
+                str(c_hosts / "fmuCheck.linux64"),
                 "-h",
                 repr(H),
                 "-s",
@@ -260,8 +251,7 @@ def test_compliance_checker_plain_environment(fmu, scenario_csv, plain_env):
     assert data[:, names.index("contact.active")].max() >= 1
 
 
-@needs_hosts
-def test_the_fmu_for_a_model_file_runs_in_fmusim_and_the_checker(model_fmu, tmp_path, fmu_driver, plain_env):
+def test_the_fmu_for_a_model_file_runs_in_fmusim_and_the_checker(c_hosts, model_fmu, tmp_path, fmu_driver, plain_env):
     """The FMU built for the clipped specimen's model file in both C hosts, plain environment: its
     scenario (random casing A z, the cable's axial drive, dash.y on the excited clip) as fmusim's
     input file, which names dash.y, dash.vy, dash.ay among its columns; both exit with 0, the
@@ -272,7 +262,7 @@ def test_the_fmu_for_a_model_file_runs_in_fmusim_and_the_checker(model_fmu, tmp_
     assert '"dash.ay"' in (tmp_path / "inputs.csv").read_text().splitlines()[0]
     out, log = tmp_path / "fmusim.csv", tmp_path / "fmusim.log"
     proc = subprocess.run(
-        [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", repr(200 * H), "--output-interval", repr(H),
+        [str(c_hosts / "fmusim"), "--interface-type", "cs", "--stop-time", repr(200 * H), "--output-interval", repr(H),
          "--input-file", str(tmp_path / "inputs.csv"), "--output-file", str(out), "--log-file", str(log),
          "--logging-on", str(path)],
         env=plain_env, capture_output=True, text=True, timeout=300,
@@ -293,7 +283,7 @@ def test_the_fmu_for_a_model_file_runs_in_fmusim_and_the_checker(model_fmu, tmp_
     assert set(outputs_of(model)) <= set(names)  # fmusim writes every output, the clips' forces too
     check, clog = tmp_path / "check.csv", tmp_path / "check.log"
     proc = subprocess.run(
-        [str(HOSTS / "fmuCheck.linux64"), "-h", repr(H), "-s", "0.02", "-i", str(tmp_path / "inputs.csv"),
+        [str(c_hosts / "fmuCheck.linux64"), "-h", repr(H), "-s", "0.02", "-i", str(tmp_path / "inputs.csv"),
          "-o", str(check), "-l", "4", "-e", str(clog), str(path)],
         env=plain_env, capture_output=True, text=True, timeout=300,
     )  # fmt: skip
@@ -377,9 +367,8 @@ def test_fmpy_command_line_exits_cleanly(fmu, tmp_path):
         assert (tmp_path / f"out{k}.csv").stat().st_size > 0
 
 
-@needs_hosts
 @pytest.mark.parametrize("case", ["empty_venv", "missing", "other_version"])
-def test_a_host_without_the_packages_gets_one_message(fmu, tmp_path, case, plain_env):
+def test_a_host_without_the_packages_gets_one_message(c_hosts, fmu, tmp_path, case, plain_env):
     """fmusim with logging off and a Python that cannot run the model: one message on stderr that
     names what is missing and how to fix it, and fmusim ends normally (an error status, no signal)."""
     env = dict(plain_env)
@@ -402,7 +391,7 @@ def test_a_host_without_the_packages_gets_one_message(fmu, tmp_path, case, plain
         env["CABLECASING_PYTHON"] = other
         expected = ["but this FMU was built for CPython"]
     proc = subprocess.run(
-        [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", "0.001", str(fmu)],
+        [str(c_hosts / "fmusim"), "--interface-type", "cs", "--stop-time", "0.001", str(fmu)],
         env=env,
         capture_output=True,
         text=True,
@@ -415,14 +404,13 @@ def test_a_host_without_the_packages_gets_one_message(fmu, tmp_path, case, plain
     assert proc.stderr.count(expected[0]) == 1, proc.stderr
 
 
-@needs_hosts
-def test_the_hosts_python_variables_do_not_disturb_it(fmu, tmp_path, plain_env):
+def test_the_hosts_python_variables_do_not_disturb_it(c_hosts, fmu, tmp_path, plain_env):
     """PYTHONHOME at a virtual environment (which kills an embedded CPython in init_fs_encoding)
     and a PYTHONPATH full of nothing: the FMU starts its interpreter isolated from them, so fmusim
     runs and exits with 0."""
     env = dict(plain_env, PYTHONHOME=str(Path(sys.executable).parent.parent), PYTHONPATH="/nonexistent:/tmp")
     proc = subprocess.run(
-        [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", "0.002", "--output-file",
+        [str(c_hosts / "fmusim"), "--interface-type", "cs", "--stop-time", "0.002", "--output-file",
          str(tmp_path / "out.csv"), str(fmu)],
         env=env, capture_output=True, text=True, timeout=300,
     )  # fmt: skip
@@ -430,9 +418,8 @@ def test_the_hosts_python_variables_do_not_disturb_it(fmu, tmp_path, plain_env):
     assert len((tmp_path / "out.csv").read_text().splitlines()) == 22  # header, t = 0 and 20 steps
 
 
-@needs_hosts
 def test_fmusim_with_a_read_only_home_runs_on_the_kernels_the_fmu_ships(
-    fmu, tmp_path, unprivileged, read_only, plain_env
+    c_hosts, fmu, tmp_path, unprivileged, read_only, plain_env
 ):
     """fmusim in the plain environment of a user whose HOME cannot be written (review AL, M1/M2: it
     compiled every kernel, 170 s, and blamed the CPU): the FMU takes a folder of the user's own in
@@ -444,7 +431,7 @@ def test_fmusim_with_a_read_only_home_runs_on_the_kernels_the_fmu_ships(
     read_only(home)
     out, log = tmp_path / "out.csv", tmp_path / "log.txt"
     proc = subprocess.run(
-        [*unprivileged, str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", "0.002", "--output-interval",
+        [*unprivileged, str(c_hosts / "fmusim"), "--interface-type", "cs", "--stop-time", "0.002", "--output-interval",
          repr(H), "--output-file", str(out), "--log-file", str(log), "--logging-on", str(fmu)],
         env=dict(plain_env, HOME=str(home), TMPDIR=str(tmp)), capture_output=True, text=True, timeout=600,
     )  # fmt: skip
@@ -482,8 +469,7 @@ def test_the_advice_for_a_missing_package_fits_an_externally_managed_python(monk
     )
 
 
-@needs_hosts
-def test_fmusim_with_the_systems_python_advises_a_virtual_environment(fmu, plain_env):
+def test_fmusim_with_the_systems_python_advises_a_virtual_environment(c_hosts, fmu, plain_env):
     """CABLECASING_PYTHON at the system's own Python, externally managed and without the packages
     (here /usr/bin/python3.11 of Debian): the one message says to make a virtual environment and
     point CABLECASING_PYTHON at it, not to pip install into that Python, which refuses."""
@@ -494,7 +480,7 @@ def test_fmusim_with_the_systems_python_advises_a_virtual_environment(fmu, plain
     if marker is None or marker.stdout.strip() != "True":
         pytest.skip(f"{python} is not an externally managed Python (PEP 668) here")
     proc = subprocess.run(
-        [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", "0.001", str(fmu)],
+        [str(c_hosts / "fmusim"), "--interface-type", "cs", "--stop-time", "0.001", str(fmu)],
         env=dict(plain_env, CABLECASING_PYTHON=str(python)), capture_output=True, text=True, timeout=300,
     )  # fmt: skip
     if "cannot run this FMU" not in proc.stderr:

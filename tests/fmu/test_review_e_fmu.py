@@ -21,8 +21,6 @@ pytestmark = pytest.mark.slow  # the FMU in fresh processes
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
-HOSTS = ROOT.parent / "shared" / "hosts"
-needs_hosts = pytest.mark.skipif(not (HOSTS / "fmusim").exists(), reason=f"the C hosts are not in {HOSTS}")
 
 
 def read_csv(path):
@@ -279,8 +277,7 @@ def test_null_and_non_utf8_word_parameters_give_the_word_hints(host):
 
 
 # ---------------------------------------------------------------------------------- C hosts
-@needs_hosts
-def test_fmusim_runs_a_model_file_under_a_non_ascii_path(fmu, tmp_path, plain_env):
+def test_fmusim_runs_a_model_file_under_a_non_ascii_path(c_hosts, fmu, tmp_path, plain_env):
     """fmusim in the plain environment (the "C" locale) with model_file "ünï/mödel file.toml" (a copy
     of examples/installation.toml, driven by its scenario), relative to its working folder: it runs
     and exits with 0, and the log names the file (it was an internal error, 'ascii' codec, with a traceback, exit 3)."""
@@ -290,7 +287,7 @@ def test_fmusim_runs_a_model_file_under_a_non_ascii_path(fmu, tmp_path, plain_en
     shutil.copy(ROOT / "examples" / "installation.toml", model)
     log, out = tmp_path / "fs.log", tmp_path / "out.csv"
     proc = subprocess.run(
-        [str(HOSTS / "fmusim"), "--interface-type", "cs", "--stop-time", "0.002", "--output-interval", "1e-4",
+        [str(c_hosts / "fmusim"), "--interface-type", "cs", "--stop-time", "0.002", "--output-interval", "1e-4",
          "--start-value", "model_file", "\u00fcn\u00ef/m\u00f6del file.toml",
          "--start-value", "scenario.drive", "true", "--logging-on",
          "--log-file", str(log), "--output-file", str(out), str(fmu)],
@@ -304,15 +301,14 @@ def test_fmusim_runs_a_model_file_under_a_non_ascii_path(fmu, tmp_path, plain_en
     assert len(data) == 21 and abs(data[-1, names.index("casing.B.Fz")]) > 0
 
 
-@needs_hosts
-def test_the_compliance_checker_unpacks_into_a_non_ascii_folder(fmu, tmp_path, plain_env):
+def test_the_compliance_checker_unpacks_into_a_non_ascii_folder(c_hosts, fmu, tmp_path, plain_env):
     """fmuCheck -t with an unpack folder "tmp ünï" in the plain environment: the FMU instantiates
     and simulates, 0 errors (fmi2Instantiate returned NULL: 'ascii' codec can't encode '\\xfc')."""
     unpack = tmp_path / "tmp \u00fcn\u00ef"
     unpack.mkdir()
     log = tmp_path / "chk.log"
     proc = subprocess.run(
-        [str(HOSTS / "fmuCheck.linux64"), "-h", "1e-4", "-s", "0.002", "-l", "3", "-t", str(unpack),
+        [str(c_hosts / "fmuCheck.linux64"), "-h", "1e-4", "-s", "0.002", "-l", "3", "-t", str(unpack),
          "-o", str(tmp_path / "chk.csv"), "-e", str(log), str(fmu)],
         env=plain_env, capture_output=True, timeout=300,
     )  # fmt: skip
