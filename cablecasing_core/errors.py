@@ -12,11 +12,15 @@ or an FMU's log in full.
 from __future__ import annotations
 
 import contextlib
+import os
 import sys
 import warnings
 
 #: The longest excerpt of a value (characters) that a message quotes.
 EXCERPT = 80
+#: The longest path a message quotes whole (characters): a file's path is the value a user needs in full
+#: (its end names the file), and real folders are often longer than :data:`EXCERPT`.
+PATH_EXCERPT = 1024
 
 
 def and_joined(items) -> str:
@@ -27,7 +31,8 @@ def and_joined(items) -> str:
 
 def excerpt(value, limit: int = EXCERPT) -> str:
     """``repr(value)`` on one line and cut to ``limit`` characters (``...`` and the full length
-    mark a cut); numpy scalars and arrays are shown as the plain numbers they hold (``nan``, not
+    mark a cut; a path, a ``PathLike`` or a one-line string with the path separator, to no fewer than
+    :data:`PATH_EXCERPT`); numpy scalars and arrays are shown as the plain numbers they hold (``nan``, not
     ``np.float64(nan)``; ``[]``, not ``array([], dtype=float64)``)."""
     item = getattr(value, "item", None)
     if item is not None and getattr(value, "shape", None) == ():
@@ -39,6 +44,8 @@ def excerpt(value, limit: int = EXCERPT) -> str:
             value = _Plain(f"{value.size} numbers {repr(value.ravel()[:5].tolist())[:-1]}, ...]")
     text = value if isinstance(value, _Plain) else repr(value)
     text = " ".join(str(text).split("\n")).replace("\r", " ")
+    if isinstance(value, os.PathLike) or (isinstance(value, str) and os.sep in value and "\n" not in value):
+        limit = max(limit, PATH_EXCERPT)  # (a path: quoted whole up to PATH_EXCERPT)
     if len(text) > limit:
         text = f"{text[: limit - 25]}... ({len(text)} characters)"
     return text

@@ -261,3 +261,28 @@ def test_the_demo_without_pyuff_says_so_before_it_builds_the_fmu(tmp_path):
     assert proc.returncode == 2, proc.stderr
     assert proc.stderr.strip().splitlines() == [f"demo.py: error: report: {NO_PYUFF}"]
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_long_path_is_quoted_whole_in_the_message(tmp_path, capsys, monkeypatch):
+    """A path is quoted whole, not cut to the 80 characters of other values: its end names the file
+    (a folder 150 characters deep, as a project's results often are, lost the file's name before)."""
+    _no_run(monkeypatch)
+    deep = tmp_path / ("results_of_the_cable_routing_study_" * 4) / "missing"
+    target = deep / "run_with_isolators.csv"
+    assert len(str(target)) > 150
+    assert main(["simulate", "--duration", "0.001", "--no-progress", "--out", str(target)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"cablecasing: error: --out = '{target}': "), err
+
+
+def test_a_value_is_still_cut_unless_it_is_a_path():
+    """Other values keep their 80-character excerpt, and a path's limit is PATH_EXCERPT (a huge string
+    with a separator is still cut)."""
+    from cablecasing_core.errors import EXCERPT, PATH_EXCERPT, excerpt
+
+    word = "x" * 500
+    assert len(excerpt(word)) <= EXCERPT and excerpt(word).endswith("(502 characters)")
+    path = "/" + "d" * 300 + "/f.csv"
+    assert excerpt(path) == repr(path)
+    huge = "/" + "d" * 5000
+    assert len(excerpt(huge)) <= PATH_EXCERPT and "characters)" in excerpt(huge)
