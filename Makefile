@@ -2,7 +2,9 @@
 #   make demo   builds the FMU and runs the default scenario, writing results/
 #   make test   lint (ruff check, ruff format --check) and the whole test suite (what .ci/run calls)
 # and make test-fast: the same without the tests marked slow.
+# The suite runs on WORKERS processes (pytest-xdist; make test WORKERS=0 runs it in the one process of pytest).
 PYTHON ?= python3
+WORKERS ?= 2
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
@@ -28,10 +30,10 @@ lint: $(STAMP)
 	$(PY) -m ruff format --check .
 
 test: lint
-	$(PY) -m pytest -q -ra --durations=15
+	$(PY) -m pytest -q -ra --durations=15 -n $(WORKERS)
 
 test-fast: lint
-	$(PY) -m pytest -q -ra --durations=15 -m "not slow"
+	$(PY) -m pytest -q -ra --durations=15 -n $(WORKERS) -m "not slow"
 
 bench: $(STAMP)
 	$(PY) benchmarks/bench_frequency.py

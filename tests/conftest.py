@@ -6,6 +6,7 @@ studies/, fmu/, cli/, benchmarks/. Tests that take more than a few seconds on a 
 processes (the FMU, dask clusters, the demo), are marked ``slow``; ``make test-fast`` leaves them out.
 """
 
+import fcntl
 import os
 import shutil
 import subprocess
@@ -186,8 +187,13 @@ def fmu():
     finally:
         sys.path.remove(str(ROOT))
     newest = max(p.stat().st_mtime for p in build_fmu.sources())
-    if not path.exists() or path.stat().st_mtime < newest:
-        subprocess.run([sys.executable, str(ROOT / "build_fmu.py")], check=True, cwd=ROOT)
+    path.parent.mkdir(exist_ok=True)
+    # make test's workers (pytest-xdist) ask for it at once: one builds while the others wait on the
+    # lock, then find it up to date. (fcntl's flock, not the filelock package: the FMU is linux64 only.)
+    with open(path.parent / ".CableCasing.fmu.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not path.exists() or path.stat().st_mtime < newest:
+            subprocess.run([sys.executable, str(ROOT / "build_fmu.py")], check=True, cwd=ROOT)
     return path
 
 

@@ -380,6 +380,7 @@ def test_a_closed_pipe_on_standard_output_leaves_no_message_and_the_file_written
         stderr=subprocess.PIPE,
     )
     proc.stdout.close()
-    err = proc.stderr.read().decode()
+    with proc.stderr:
+        err = proc.stderr.read().decode()
     assert proc.wait(timeout=300) == 0, err
     assert err == "" and (tmp_path / "t.csv").stat().st_size > 0

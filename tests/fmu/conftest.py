@@ -3,6 +3,7 @@ process (it is a script; the test process only prepares inputs and reads the res
 run of an FMU's input table; the FMU built for a model file with clips; tests/fmu/fmu_probe.py, a
 host of FMUs in a process of its own that a test sends requests to (``fmu_probe``)."""
 
+import contextlib
 import importlib.util
 import json
 import os
@@ -119,12 +120,16 @@ class ProbeHost:
         return answer
 
     def close(self):
-        if self.proc.poll() is None:
+        """Ends the host (its stdin closed: it exits; killed past 30 s) and closes every pipe to it, so
+        no handle is left for the garbage collector to warn of in a later test."""
+        with contextlib.suppress(BrokenPipeError):  # (a host that died: nothing is left to flush)
             self.proc.stdin.close()
-            try:
-                self.proc.wait(30)
-            except subprocess.TimeoutExpired:
-                self.proc.kill()
+        try:
+            self.proc.wait(30)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            self.proc.wait()
+        self.proc.stdout.close()
         self.err.close()
         return self.proc.returncode
 

@@ -98,15 +98,55 @@ def test_a_contact_that_makes_energy_warns_though_the_ledger_closes():
     assert f"against {supplied(e):.3g} J of work supplied" in made[0] and "shorten scenario.dt" in made[0]
 
 
-def test_friction_that_does_work_warns():
-    """The regularised law at 1e-4 s, ten times its limit on this bar (it is clean at 5e-6 s): the
-    average-acceleration rule's velocity rings, the friction's trapezoidal power turns negative and
-    the bar is thrown about: friction_dissipation -1.7e6 times the work supplied over 0.02 s
-    (measured), where friction can only take energy."""
+def friction_warned(said):
+    return any(m.startswith("friction did work on the bodies") for m in said)
+
+
+@pytest.mark.parametrize(
+    ("field", "share", "opening"),
+    [
+        ("friction_dissipation", "FRICTION_MADE_SHARE", "friction did work on the bodies"),
+        ("contact_dissipation", "ENERGY_MADE_SHARE", "the contact made energy"),
+    ],
+)
+def test_each_energy_warning_is_said_exactly_past_its_share(field, share, opening):
+    """The rules themselves, on a sound run's ledger (the bar at 5e-6 s, 2 ms) with the friction's
+    or the contact's net dissipation set on either side of its warning's threshold, its share of
+    the work supplied plus ENERGY_CHECK_FLOOR of the energy held: 1 % inside it is silent, 1 %
+    beyond it warns, with the figures the ledger holds."""
+    from cablecasing_core.timedomain import engine
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", cc.ModelWarning)
+        eng = engine.Engine(bar("regularized", 1, 5e-6))
+    eng.advance(0.002, casing_along_x)
+    ledger = eng.energies()
+    held = ledger["kinetic"] + ledger["strain"] + ledger["contact_potential"]
+    threshold = getattr(engine, share) * supplied(ledger) + engine.ENERGY_CHECK_FLOOR * held
+    assert supplied(ledger) > 0 and held > 0 and eng.solver_warnings() == [], ledger
+    for factor, warns in ((0.99, False), (1.01, True)):
+        made = dict(ledger, **{field: -factor * threshold})
+        eng.energies = lambda made=made: made
+        said = eng.solver_warnings()
+        assert [m.startswith(opening) for m in said] == ([True] if warns else []), (factor, said)
+        if warns:
+            assert f"{field} = {made[field]:.3g} J" in said[0], said
+            assert f"against {supplied(made):.3g} J of work supplied" in said[0] and "shorten scenario.dt" in said[0]
+
+
+def test_a_run_whose_friction_does_work_warns_and_one_whose_friction_dissipates_does_not():
+    """The regularised law at 1e-4 s, twenty times the step at which it is clean on this bar
+    (5e-6 s): the average-acceleration rule's velocity rings and the bar is thrown about. The run is
+    chaotic, so whether its friction ends with negative work depends on the machine's rounding
+    (-1.7e6 times the work supplied over 0.02 s on one machine, +1.7 on another, measured); whichever
+    it is, the run warns exactly when its ledger's friction_dissipation is past the threshold."""
+    from cablecasing_core.timedomain.engine import ENERGY_CHECK_FLOOR, FRICTION_MADE_SHARE
+
     res, said = run(bar("regularized", 1, 1e-4), 0.02, casing_along_x)
     e = res.energies
-    assert e["friction_dissipation"] < -1e3 * supplied(e), e
-    assert any(m.startswith("friction did work on the bodies") for m in said), said
+    held = e["kinetic"] + e["strain"] + e["contact_potential"]
+    past = -e["friction_dissipation"] > FRICTION_MADE_SHARE * supplied(e) + ENERGY_CHECK_FLOOR * held
+    assert friction_warned(said) is past, (e, said)
 
 
 def test_a_sound_contact_does_not_warn():
