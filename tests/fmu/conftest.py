@@ -172,3 +172,28 @@ def plain_env(tmp_path_factory):
     a session (they went to the real HOME, ~3 MB for each FMU build, kept for 14 days)."""
     env = {"HOME": str(tmp_path_factory.mktemp("plain_home")), "PATH": "/usr/bin:/bin"}
     return env | {k: v for k, v in os.environ.items() if k.startswith("OPENBLAS_")}
+
+
+@pytest.fixture
+def kernels_cache_copy(tmp_path):
+    """``copy(leave_out="")``: a NUMBA_CACHE_DIR of the test's own (under ``tmp_path``) holding a copy
+    of this user's kernels' cache folder, numba's files only (``*.nbi``, ``*.nbc``; not the temporary
+    file of one another process is writing) and without those whose names contain ``leave_out`` if
+    given; empty when this user has none yet. Builds that read it see no kernel another process (a
+    test worker) compiles meanwhile."""
+    import shutil
+
+    from cablecasing_core.timedomain.kernels import kernels_cache_dir
+
+    def copy(leave_out=""):
+        root, folder = tmp_path / "numba", kernels_cache_dir()
+        root.mkdir(exist_ok=True)
+        if folder and os.path.isdir(folder):
+
+            def others(_, names):
+                return [n for n in names if not n.endswith((".nbi", ".nbc")) or (leave_out and leave_out in n)]
+
+            shutil.copytree(folder, root / Path(folder).name, ignore=others)
+        return root
+
+    return copy

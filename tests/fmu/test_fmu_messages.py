@@ -161,7 +161,7 @@ def test_build_takes_a_model_with_two_random_excitations(tmp_path):
     assert 0 <= seed <= 2**31 - 1 and seed != 1  # (an Integer, and not the first shaker's)
 
 
-def test_build_under_python_optimize_ships_the_compiled_kernels(tmp_path):
+def test_build_under_python_optimize_ships_the_compiled_kernels(tmp_path, kernels_cache_copy):
     """PYTHONOPTIMIZE=1 (review AL, M3): the warm-up stepped the slave inside assert statements, so
     the FMU shipped only what the builder's cache already held (none of it from an empty cache:
     every user's first start compiled for minutes) and the build said it wrote it. Now the warm-up
@@ -170,12 +170,8 @@ def test_build_under_python_optimize_ships_the_compiled_kernels(tmp_path):
     (new_communication_context, which only stepping the slave compiles): the FMU ships it. And
     ``python -OO`` (no docstrings) builds the same FMU (review AO, L8: the test stopped at argparse)."""
     import os
-    import shutil
 
-    from cablecasing_core.timedomain.kernels import kernels_cache_dir
-
-    cache = tmp_path / "numba" / Path(kernels_cache_dir()).name
-    shutil.copytree(kernels_cache_dir(), cache, ignore=shutil.ignore_patterns("*new_communication_context*"))
+    kernels_cache_copy(leave_out="new_communication_context")
     out = tmp_path / "optimized.fmu"
     proc = subprocess.run(
         [sys.executable, str(ROOT / "build_fmu.py"), "--output", str(out)],
