@@ -235,8 +235,12 @@ def cmd_spectrum(args):
         table = np.column_stack([res[0].f_hz] + [r.density for r in res] + [r.level_db(f) for r, f in zip(res, refs)])
         first, last = res[0].f_hz[sel][[0, -1]]
         print(
-            f"# {args.record}: PSD (Welch, Hann, 50 % overlap), df = {res[0].df:.4g} Hz (lines {first:.4g}-{last:.4g} "
-            f"Hz written), {res[0].n_averages} averages, after {args.skip:g} s"
+            f"# {args.record}: PSD (Welch, Hann, segments overlapping by {res[0].noverlap / res[0].nperseg:.1%}, at "
+            "least 50 %, so that they span the record after the skip to within "
+            f"{n - ((res[0].n_averages - 1) * (res[0].nperseg - res[0].noverlap) + res[0].nperseg)} samples of its "
+            "end), df = "
+            f"{res[0].df:.4g} Hz (lines {first:.4g}-{last:.4g} Hz written), {res[0].n_averages} averages, after "
+            f"{args.skip:g} s"
         )
         if top < args.fmax and rec.passband_hz < fs / 2:
             print(f"# {_passband_note(rec, args.record)}: lines and RMS end there")
@@ -247,8 +251,11 @@ def cmd_spectrum(args):
             print(
                 f"# {r.name}: RMS {rms:.6g} {r.unit} in {lo:.4g}-{hi:.4g} Hz (the PSD integrated over its lines, each "
                 "df wide, split at the edges, from 2 df: lines below hold a tone's power only in part, or more; its "
-                "averages weight the record evenly, as 'bands --window boxcar' over the same range does, whose levels "
-                "add up to it within the estimates' scatter; 'bands' through Hann's window weights the middle)"
+                "segments span the record and weight it evenly but for its first and last half segment, which weigh "
+                "less (the first window rises from 0 over it, the last falls to 0), as 'bands "
+                "--window boxcar' over the same range weights it evenly, whose levels add up to it within the "
+                "estimates' scatter; 'bands' through Hann's window weights the "
+                "middle)"
             )
         table = table[sel]
     else:
@@ -274,7 +281,7 @@ def cmd_spectrum(args):
         names = []
         cols = [res[0].f_hz]
         for r in res:
-            tag = f"{r.output}/{r.input}"
+            tag = r.ratio
             names += [f"re {tag} [{r.unit}]", f"im {tag} [{r.unit}]", f"coherence {tag} [1]", f"random error {tag} [1]"]
             cols += [r.H.real, r.H.imag, r.coherence, r.error]
         table = np.column_stack(cols)[sel]
@@ -282,6 +289,11 @@ def cmd_spectrum(args):
             f"# {args.record}: {res[0].kind} ({args.estimator}), df = {res[0].f_hz[1]:.4g} Hz, "
             f"{res[0].n_averages} averages, after {args.skip:g} s"
         )
+        if args.kind == "apparent-mass":
+            print(
+                f"# {res[0].ratio}: the TRFAM's sign convention, the force the support applies to the body, "
+                "the recorded force negated (docs/nvh.md)"
+            )
         if note := _alias_note(rec, args.record, "lines"):
             print(note)
     emit_table(args.out, ["frequency [Hz]", *names], table, 9)

@@ -1,7 +1,8 @@
 """FRF estimation from time records: H1, H2, coherence.
 
 Welch-averaged spectral densities (``scipy.signal.welch`` / ``scipy.signal.csd``, same window,
-segment length and overlap for every density) give, for input x and output y,
+segment length and overlap for every density; the overlap at least half a segment, raised by
+:func:`welch_overlap` so that the segments span the record) give, for input x and output y,
 
     H1 = G_xy / G_xx      (unbiased by noise on the output; biased low by noise on the input)
     H2 = G_yy / G_yx      (unbiased by noise on the input; biased high by noise on the output)
@@ -40,10 +41,30 @@ class FRFEstimate:
     n_averages: int
 
 
+def welch_overlap(n: int, nperseg: int, least: int | None = None) -> int:
+    """The overlap (samples) of Welch segments of ``nperseg`` samples that span a record of ``n``
+    samples: the first segment starts at its first sample and the last ends within
+    ``welch_averages(n, nperseg) - 1`` samples of its last (6 of 44000 at nperseg 8192),
+    overlapping by at least ``least`` samples (default half a segment). Welch's method
+    (``scipy.signal.welch``) takes segments every ``nperseg - noverlap`` samples and leaves out the
+    samples after the last whole one, up to a step less one (3040 of 44000 at 50 %); this raises the
+    overlap just enough (one segment more, the step shortened to ``(n - nperseg) // (segments - 1)``)
+    that no more than those few are left. A record of at most one segment gives ``least``."""
+    least = nperseg // 2 if least is None else int(least)
+    if not 0 <= least < nperseg:
+        raise ModelError("noverlap", least, f"must be 0 to nperseg - 1 ({nperseg - 1}) samples")
+    span = n - nperseg
+    if span <= 0:
+        return least
+    gaps = -(-span // (nperseg - least))  # (the fewest steps of at most nperseg - least that reach the end)
+    return nperseg - span // gaps
+
+
 def welch_averages(n: int, nperseg: int, noverlap: int | None = None) -> int:
     """The number of segments Welch's method averages over ``n`` samples: segments of ``nperseg``
-    overlapping by ``noverlap`` samples (default half of them), as ``scipy.signal.welch`` takes them."""
-    noverlap = nperseg // 2 if noverlap is None else noverlap
+    overlapping by ``noverlap`` samples (default :func:`welch_overlap`'s, which span the record), as
+    ``scipy.signal.welch`` takes them."""
+    noverlap = welch_overlap(n, nperseg) if noverlap is None else noverlap
     return 1 + (n - nperseg) // (nperseg - noverlap)
 
 
@@ -62,8 +83,11 @@ def frf_estimate(
     nperseg : int or None
         Segment length (samples; default n // 8, i.e. about 15 averages with 50 % overlap).
         Frequency resolution ``fs / nperseg`` Hz.
-    window, noverlap, detrend :
-        As in ``scipy.signal.welch`` (default Hann, 50 % overlap, mean removed per segment).
+    window, detrend :
+        As in ``scipy.signal.welch`` (default Hann, mean removed per segment).
+    noverlap : int or None
+        The least overlap of the segments (samples; default half a segment), raised by
+        :func:`welch_overlap` so that the segments span the record to its last few samples.
 
     Returns
     -------
@@ -82,8 +106,7 @@ def frf_estimate(
         raise ModelError("nperseg", nperseg, f"must be between 8 and the record length ({x.size})")
     if np.ptp(x) == 0.0:  # (Gxx = 0 at every line: H1 and the coherence would be 0/0)
         raise ModelError("x", "a constant signal", "must vary: an FRF needs an input with power")
-    if noverlap is None:
-        noverlap = nperseg // 2
+    noverlap = welch_overlap(x.size, nperseg, noverlap)
     kw = dict(fs=fs, window=window, nperseg=nperseg, noverlap=noverlap, detrend=detrend)
     f, Gxx = signal.welch(x, **kw)
     _, Gyy = signal.welch(y, **kw)

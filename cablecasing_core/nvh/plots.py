@@ -122,7 +122,7 @@ def plot_transfer(
     am.legend(fontsize=7 if reference_curves else 8)
     if reference_coherence:
         ac.legend(fontsize=7, loc="lower right")
-    am.set_title(title or f"{tr.kind}: {tr.output} / {tr.input}", fontsize=10)
+    am.set_title(title or f"{tr.kind}: {tr.ratio}", fontsize=10)
     save_figure(fig, path)
 
 

@@ -1,7 +1,8 @@
 """Spectra and levels of a time record: power spectral density (Welch) and levels in decibels.
 
 * :func:`psd`: one-sided power spectral density by Welch's method (``scipy.signal.welch``: Hann
-  window, 50 % overlap, mean removed per segment), in unit^2/Hz, so that integrating it over
+  window, overlap of at least 50 % raised so that the segments span the record, mean removed per
+  segment), in unit^2/Hz, so that integrating it over
   frequency gives the mean square (Parseval; the tests check it for sums of sines and white noise).
 * :func:`level_db`: a level ``20 log10(x / x_ref)`` dB of an amplitude (RMS) or ``10 log10(G / G_ref)``
   of a power quantity, with the reference of the quantity's unit from :data:`REFERENCES`:
@@ -34,7 +35,7 @@ from numpy.typing import ArrayLike
 from scipy import signal
 
 from ..errors import ModelError, ModelWarning
-from ..identification.frf import welch_averages
+from ..identification.frf import welch_averages, welch_overlap
 from ..model.validators import array_1d, integer, number
 
 #: The fewest Welch averages the default resolution keeps, and below which psd() warns: the
@@ -165,7 +166,8 @@ def band_sums(P, E, lower, upper):
 class PSD:
     """A one-sided power spectral density: ``f_hz`` (Hz), ``density`` (unit^2/Hz), ``unit`` of the
     signal, ``name``, ``fs`` (Hz), ``nperseg`` (samples per segment; resolution fs / nperseg Hz),
-    ``n_averages`` (segments) and ``enbw`` (Hz, the window's equivalent noise bandwidth)."""
+    ``n_averages`` (segments), ``enbw`` (Hz, the window's equivalent noise bandwidth) and ``noverlap``
+    (samples the segments overlap by, at least half a segment by default: ``psd``'s overlap)."""
 
     f_hz: np.ndarray
     density: np.ndarray
@@ -175,6 +177,7 @@ class PSD:
     nperseg: int
     n_averages: int
     enbw: float
+    noverlap: int = 0
 
     @property
     def df(self) -> float:
@@ -266,8 +269,11 @@ def psd(
     above f_min, a warning names where the lines start and the record length that would resolve
     f_min. Lines above fs / 2 do not exist: f_max beyond it counts the lines up to fs / 2. Fewer than
     :data:`MIN_AVERAGES` averages (an nperseg asked for) warn
-    too. window: a ``scipy.signal.get_window`` spec (default Hann); overlap: the segments' overlap
-    fraction (0 to < 1). The density is one-sided, unit^2/Hz (``scaling="density"``), so
+    too. window: a ``scipy.signal.get_window`` spec (default Hann); overlap: the segments' least
+    overlap fraction (0 to < 1), raised just enough that the segments span the record, from its first
+    sample to within a few of its last (``identification.frf.welch_overlap``: 44000 samples in
+    segments of 8192 overlap by 51.4 %, 10 averages, and leave out 6 samples; at exactly 50 % the
+    last 3040 would be left out). The density is one-sided, unit^2/Hz (``scaling="density"``), so
     ``sum(density) df`` is the mean square of x (less its mean, removed per segment). ``name``
     (the record's column) names the signal in every message.
     """
@@ -297,7 +303,7 @@ def psd(
                 stacklevel=2,
             )
     nperseg = integer("nperseg", nperseg, MIN_PSD_SEGMENT, x.size, why=f" (the record's length, {x.size} samples)")
-    noverlap = int(round(overlap * nperseg))
+    noverlap = welch_overlap(x.size, nperseg, min(int(round(overlap * nperseg)), nperseg - 1))
     try:
         f, G = signal.welch(x, fs=fs, window=window, nperseg=nperseg, noverlap=noverlap, detrend="constant")
         w = signal.get_window(window, nperseg)
@@ -305,11 +311,13 @@ def psd(
         raise ModelError("window", window, f"must be a scipy.signal.get_window spec ({exc})") from None
     n_avg = welch_averages(x.size, nperseg, noverlap)
     if n_avg < MIN_AVERAGES:
+        more = f" or more: they overlap by {noverlap / nperseg:.0%}" if n_avg > 1 and noverlap > nperseg // 2 else ""
         warnings.warn(
             f"{what}: the PSD averages only {n_avg} segment(s) of {nperseg / fs:.4g} s: each line's random error is "
-            f"about {1 / np.sqrt(n_avg):.0%} (1/sqrt(averages)); a coarser resolution or a longer record gives more",
+            f"about {1 / np.sqrt(n_avg):.0%} (1/sqrt(averages){more}); a coarser resolution or a longer record gives "
+            "more",
             ModelWarning,
             stacklevel=2,
         )
     enbw = fs * np.sum(w**2) / np.sum(w) ** 2
-    return PSD(f, G, unit, name, fs, nperseg, int(n_avg), float(enbw))
+    return PSD(f, G, unit, name, fs, nperseg, int(n_avg), float(enbw), int(noverlap))

@@ -56,6 +56,15 @@ class Transfer:
     output: str
     estimator: str
 
+    @property
+    def ratio(self) -> str:
+        """What ``H`` is the ratio of, by the record's columns: ``casing.B.Fz/casing.A.Fz`` for a
+        transmissibility (the recorded forces), ``(-casing.B.Fz)/casing.A.az`` for an apparent mass,
+        which takes the recorded force negated (the TRFAM's convention): ``spectrum --kind``'s column
+        names and the plot's title, so that a file read without the docs says the sign."""
+        out = f"(-{self.output})" if self.kind == "apparent mass" else self.output
+        return f"{out}/{self.input}"
+
 
 def _units(units):
     """The units read of a transfer function's input and output, for a message: 'm/s^2' and 'N'."""
@@ -107,7 +116,7 @@ def _estimate(rec, x_name, y_name, sign, kind, unit, estimator, skip, nperseg, r
         else:  # (refused as spectrum --resolution: one rule)
             seg = segment_for_resolution("resolution_hz", resolution_hz, fs, n, MIN_AVERAGES, MIN_SEGMENT)
         nperseg = max(MIN_SEGMENT, min(seg, 2 ** int(np.log2(n // share))))
-    if welch_averages(n, nperseg) < MIN_AVERAGES:
+    if welch_averages(n, nperseg, nperseg // 2) < MIN_AVERAGES:  # (counted at 50 %: frf_estimate's span more)
         raise ModelError(
             "nperseg",
             nperseg,

@@ -548,6 +548,25 @@ def energy_parts(variants, model):
     ]
 
 
+def _median(medians, lines, key, bare=False):
+    """The coherence's median over the range ``key`` ("10-100", Hz) as the page says it: "median 0.54
+    over 10-100 Hz (15 lines)", or, over fewer than ``figures.MIN_MEDIAN_LINES`` lines, that it has
+    no meaningful median there and how many lines it holds; ``bare``: the median alone ("0.50"), or
+    "no figure" (the range's line count is said beside the measured median)."""
+    from .figures import MIN_MEDIAN_LINES
+
+    value, count = medians.get(key, float("nan")), lines.get(key)
+    few = count is not None and count < MIN_MEDIAN_LINES
+    if bare:
+        return "no figure" if few else f"{value:.2f}"
+    if few:
+        return (
+            f"no meaningful median over {key} Hz, which holds {count} line{'s' if count != 1 else ''} (a median "
+            f"needs at least {MIN_MEDIAN_LINES})"
+        )
+    return f"median {value:.2f} over {key} Hz" + (f" ({count} lines)" if count is not None else "")
+
+
 def apparent_mass_note(am, title):
     """The note under apparent_mass.png (HTML): what the estimate is compared with and why its
     coherence drops, from :func:`.figures.apparent_mass_figure`'s summary ``am``."""
@@ -559,11 +578,12 @@ def apparent_mass_note(am, title):
         "averaged over the window's spectral window (dashed; Bendat &amp; Piersol 11.4, as docs/nvh.md, "
         '"Against the TRFAM", compares them), with the TRFAM as computed for reference (dotted). '
     )
+    k = am.get("median_lines", {})
     coh = (
-        f"The coherence has median {m.get('10-100', float('nan')):.2f} over 10-100 Hz and {m['10-1000']:.2f} over "
-        f"10-1000 Hz; the window's smoothing alone leaves {x.get('10-100', float('nan')):.2f} and "
-        f"{x['10-1000']:.2f} of the noise-free TRFAM (dashed, lower panel; with {n} averages a low coherence "
-        f"reads higher, by about (1 - &gamma;&sup2;)&sup2;/{n}). "
+        f"The coherence has {_median(m, k, '10-100')} and {_median(m, k, '10-1000')}; the window's smoothing "
+        f"alone leaves {_median(x, k, '10-100', bare=True)} and {_median(x, k, '10-1000', bare=True)} of the "
+        f"noise-free TRFAM (dashed, lower panel; with {n} averages a low coherence reads higher, by about (1 - "
+        f"&gamma;&sup2;)&sup2;/{n}). "
     )
     narrow = am.get("narrow_modes") or []
     why = ""
@@ -584,8 +604,9 @@ def apparent_mass_note(am, title):
         worse = cm["10-1000"] < m["10-1000"]
         more = (
             ("More averages at coarser lines make it worse, not better: at " if worse else "At ")
-            + f"{c['df']:.3g} Hz lines ({c['n_averages']} averages) the median coherence is "
-            f"{cm.get('10-100', float('nan')):.2f} over 10-100 Hz and {cm['10-1000']:.2f} over 10-1000 Hz. "
+            + f"{c['df']:.3g} Hz lines ({c['n_averages']} averages) the coherence has "
+            f"{_median(cm, c.get('median_lines', {}), '10-100')} and "
+            f"{_median(cm, c.get('median_lines', {}), '10-1000')}. "
         )
         if narrow:
             half = min(b) / 2

@@ -8,6 +8,7 @@ from scipy import signal
 
 from cablecasing_core import ModelError
 from cablecasing_core.cli import main
+from cablecasing_core.identification.frf import welch_overlap
 from cablecasing_core.nvh import apparent_mass, psd
 from cablecasing_core.records import Records, read_records, write_records
 from cablecasing_core.timedomain.simulation import decimate
@@ -92,7 +93,8 @@ def test_a_one_row_record_is_refused_naming_its_rows():
 
 def test_spectrum_of_a_column_without_a_unit_takes_the_reference_1(tmp_path, capsys):
     """As 'bands' does: the level column is 10 log10(PSD / 1^2), the PSD scipy.signal.welch's
-    (same segment, Hann, 50 % overlap; to the 9 digits written, 1e-7 relative)."""
+    (same segment, Hann, the overlap of at least 50 % that spans the record, identification.frf.welch_overlap;
+    to the 9 digits written, 1e-7 relative)."""
     fs = 1000.0
     t = np.arange(2001) / fs
     x = np.sin(2 * np.pi * 50 * t)
@@ -102,7 +104,8 @@ def test_spectrum_of_a_column_without_a_unit_takes_the_reference_1(tmp_path, cap
     assert main(["spectrum", str(path), "--column", "foo", "--fmin", "10", "--fmax", "200", "--out", str(out_csv)]) == 0
     table = np.loadtxt(out_csv, delimiter=",", skiprows=1)
     nperseg = round(fs / (table[1, 0] - table[0, 0]))  # (the default segment, from the lines written)
-    f, G = signal.welch(x[t > 0.05 + 1e-9], fs=fs, nperseg=nperseg, noverlap=nperseg // 2)
+    kept = x[t > 0.05 + 1e-9]
+    f, G = signal.welch(kept, fs=fs, nperseg=nperseg, noverlap=welch_overlap(kept.size, nperseg))
     np.testing.assert_allclose(table[:, 1], np.interp(table[:, 0], f, G), rtol=1e-7)
     np.testing.assert_allclose(table[:, 2], 10 * np.log10(table[:, 1]), atol=1e-6)
 
@@ -183,4 +186,5 @@ def test_a_record_too_short_for_the_default_segment_is_refused_naming_its_length
     )
     with pytest.raises(ModelError, match=r"^record = '100 samples after skip \(0.01 s\)': must hold at least 128"):
         apparent_mass(rec, skip=0)
-    assert apparent_mass(rec, skip=0, nperseg=32).n_averages == 5  # a segment given: fewer averages
+    # a segment given: fewer averages (6: 50 % overlap raised to 59 % so that they span the 100 samples)
+    assert apparent_mass(rec, skip=0, nperseg=32).n_averages == 6
