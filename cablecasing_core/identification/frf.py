@@ -29,7 +29,9 @@ from ..model.validators import array_1d, number
 @dataclass(frozen=True)
 class FRFEstimate:
     """Frequencies ``f_hz`` (Hz), the estimators ``H1``, ``H2`` (unit of y / unit of x), the
-    coherence (dimensionless) and the auto spectral densities ``Gxx``, ``Gyy`` (unit^2/Hz)."""
+    coherence (dimensionless), the auto spectral densities ``Gxx``, ``Gyy`` and the cross density ``Gxy``
+    (unit^2/Hz), the segments averaged, ``n_averages``, and the independent averages they are worth,
+    ``n_effective`` (fewer: they overlap)."""
 
     f_hz: np.ndarray
     H1: np.ndarray
@@ -39,6 +41,8 @@ class FRFEstimate:
     Gyy: np.ndarray
     Gxy: np.ndarray
     n_averages: int
+    #: the independent averages the overlapping segments are worth (:func:`welch_effective_averages`)
+    n_effective: float = 0.0
 
 
 def welch_overlap(n: int, nperseg: int, least: int | None = None) -> int:
@@ -58,6 +62,23 @@ def welch_overlap(n: int, nperseg: int, least: int | None = None) -> int:
         return least
     gaps = -(-span // (nperseg - least))  # (the fewest steps of at most nperseg - least that reach the end)
     return nperseg - span // gaps
+
+
+def welch_effective_averages(nperseg: int, noverlap: int, n_averages: int, window="hann") -> float:
+    """The number of independent averages whose mean has the variance of a Welch estimate from
+    ``n_averages`` segments of ``nperseg`` samples overlapping by ``noverlap`` (Welch 1967, Eq. 18;
+    Percival & Walden 1993, Eq. 292b, away from 0 Hz and fs / 2, for a Gaussian record):
+    ``K / (1 + 2 sum_{j=1}^{K-1} (1 - j/K) rho(j))`` with ``rho(j) = [sum_n w(n) w(n + j S)]^2 /
+    [sum_n w(n)^2]^2`` of the window ``w`` (a ``scipy.signal.get_window`` spec) and the step ``S =
+    nperseg - noverlap``. Hann's window at 50 % overlap: 0.95 K for many segments; at 75 % 0.52 K.
+    (Written here: scipy gives the window, not this sum.)"""
+    w = signal.get_window(window, nperseg)
+    step, k = nperseg - noverlap, int(n_averages)
+    norm = np.sum(w * w) ** 2
+    total = 1.0
+    for j in range(1, min(k, -(-nperseg // step))):  # (segments j steps apart overlap while j S < nperseg)
+        total += 2.0 * (1.0 - j / k) * np.sum(w[: nperseg - j * step] * w[j * step :]) ** 2 / norm
+    return k / total
 
 
 def welch_averages(n: int, nperseg: int, noverlap: int | None = None) -> int:
@@ -116,13 +137,25 @@ def frf_estimate(
         H2 = Gyy / np.conj(Gxy)
         coh = np.abs(Gxy) ** 2 / (Gxx * Gyy)
     n_avg = welch_averages(x.size, nperseg, noverlap)
-    return FRFEstimate(f_hz=f, H1=H1, H2=H2, coherence=np.real(coh), Gxx=Gxx, Gyy=Gyy, Gxy=Gxy, n_averages=int(n_avg))
+    n_eff = welch_effective_averages(nperseg, noverlap, n_avg, window)
+    return FRFEstimate(
+        f_hz=f,
+        H1=H1,
+        H2=H2,
+        coherence=np.real(coh),
+        Gxx=Gxx,
+        Gyy=Gyy,
+        Gxy=Gxy,
+        n_averages=int(n_avg),
+        n_effective=n_eff,
+    )
 
 
-def random_error(coherence: ArrayLike, n_averages: int) -> np.ndarray:
+def random_error(coherence: ArrayLike, n_averages: float) -> np.ndarray:
     """Normalized random error of an H1 magnitude estimate (dimensionless), Bendat & Piersol,
     *Random Data* (4th ed.), Eq. (9.90): ``eps = sqrt(1 - gamma^2) / (|gamma| sqrt(2 n_d))`` with the
-    ordinary coherence gamma^2 and ``n_d`` averages; the standard deviation of |H1| / |H| - 1 (and of
+    ordinary coherence gamma^2 and ``n_d`` independent averages (of overlapping segments, the number
+    they are worth: ``FRFEstimate.n_effective``); the standard deviation of |H1| / |H| - 1 (and of
     the phase, in rad) where the output's incoherent part is random noise."""
     g2 = np.clip(np.asarray(coherence, float), 1e-12, 1.0)
     return np.sqrt(1.0 - g2) / (np.sqrt(g2) * np.sqrt(2.0 * n_averages))

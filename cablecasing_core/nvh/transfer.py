@@ -133,7 +133,7 @@ def _estimate(rec, x_name, y_name, sign, kind, unit, estimator, skip, nperseg, r
         est.H1,
         est.H2,
         est.coherence,
-        random_error(est.coherence, est.n_averages),
+        random_error(est.coherence, est.n_effective),
         est.n_averages,
         kind,
         unit,

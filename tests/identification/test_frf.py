@@ -54,6 +54,47 @@ def test_h1_with_output_noise_and_h2_bias():
     assert est.n_averages == 129
 
 
+def test_the_averages_overlapping_segments_are_worth_are_welchs():
+    """Welch's variance of a PSD from overlapping segments (Welch 1967): 4000 white-noise records of 16
+    Hann segments of 64 samples; the variance over the records of each line's estimate, relative to
+    its mean squared, is 1 / n_effective (a chi-square of 2 n_effective degrees of freedom). Measured
+    over 24 lines: within 3 % at 75 % overlap (8.6 averages, where counting the 16 segments would be
+    86 % off) and at 50 % (15.2); the pooled estimate's scatter is about 1 %."""
+    from cablecasing_core.identification.frf import welch_effective_averages
+
+    rng = np.random.default_rng(1)
+    for noverlap in (48, 32):
+        n = 64 + 15 * (64 - noverlap)
+        _, P = signal.welch(rng.standard_normal((4000, n)), nperseg=64, noverlap=noverlap, axis=-1)
+        lines = P[:, 4:-4]  # (away from 0 Hz and fs / 2, where a line is a chi-square of 1 degree)
+        measured = 1.0 / np.mean(lines.var(axis=0) / lines.mean(axis=0) ** 2)
+        assert measured == pytest.approx(welch_effective_averages(64, noverlap, 16), rel=0.03), noverlap
+    assert welch_effective_averages(64, 48, 16) < 0.55 * 16
+
+
+def test_h1_scatter_from_overlapping_segments_is_the_random_error_of_the_averages_they_are_worth():
+    """The same SDOF with output noise as above, its segments overlapping by 75 %: H1's scatter is
+    Bendat & Piersol's random error with the independent averages the segments are worth
+    (n_effective, 0.52 of the 257 segments), where with the segments' count it would read 1.4 times
+    too small; the nvh layer's random error takes the same."""
+    from cablecasing_core.identification.frf import random_error
+
+    b, a = sdof()
+    rng = np.random.default_rng(5)
+    u = rng.standard_normal(N)
+    v = signal.lfilter(b, a, u)
+    y = v + 0.3 * np.std(v) * rng.standard_normal(N)
+    est = frf_estimate(u, y, FS, nperseg=NPERSEG, noverlap=3 * NPERSEG // 4)
+    _, H = signal.freqz(b, a, worN=est.f_hz, fs=FS)
+    bias = (0.3 * np.std(v)) ** 2 / np.abs(H) ** 2
+    sel = band(est.f_hz) & (bias < 1.0)
+    eps = random_error(1 / (1 + bias[sel]), est.n_effective)
+    e = np.abs(est.H1[sel] / H[sel] - 1)
+    # (the same bound as above: ~100 bins estimate the rms to +-7 %)
+    assert 0.85 < np.sqrt(np.mean((e / (np.sqrt(2) * eps)) ** 2)) < 1.15
+    assert est.n_averages == 257 and 0.5 * 257 < est.n_effective < 0.55 * 257
+
+
 def test_h2_with_input_noise_and_h1_bias():
     b, a = sdof()
     rng = np.random.default_rng(6)

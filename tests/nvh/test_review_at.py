@@ -158,3 +158,21 @@ def test_the_report_gives_the_lines_of_each_median_and_no_median_of_too_few():
     assert "leaves no figure and 0.85" in text
     text = apparent_mass_note(_am(15, 163, 4, 41), "without the cable drive")
     assert "median 0.37 over 10-100 Hz (15 lines)" in text and "leaves 0.30 and 0.85" in text
+
+
+def test_the_transfer_s_random_error_counts_the_independent_averages_of_its_overlapping_segments():
+    """Transfer.error is Bendat & Piersol's random error with the averages its segments are worth
+    (FRFEstimate.n_effective: they overlap by at least 50 %, so fewer than the segments), as
+    identification.frf's test of H1's scatter measures it; with the segments' count it would be
+    smaller by sqrt(n_effective / n_averages)."""
+    from cablecasing_core.identification.frf import random_error
+    from cablecasing_core.nvh import transmissibility
+
+    rng = np.random.default_rng(3)
+    t = np.arange(40_000) / 10_000.0  # s, at 10 kHz
+    a = rng.standard_normal(t.size)
+    rec = Records(t, {"casing.A.Fz": a, "casing.B.Fz": a + 0.5 * rng.standard_normal(t.size)}, {})
+    tr = transmissibility(rec, skip=0.0, nperseg=2048)
+    est = frf_estimate(a, rec.column("casing.B.Fz"), 10_000.0, nperseg=2048)
+    assert tr.n_averages == est.n_averages and est.n_effective < 0.96 * est.n_averages
+    np.testing.assert_allclose(tr.error, random_error(tr.coherence, est.n_effective), rtol=1e-12)
