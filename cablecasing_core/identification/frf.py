@@ -42,7 +42,7 @@ class FRFEstimate:
     Gxy: np.ndarray
     n_averages: int
     #: the independent averages the overlapping segments are worth (:func:`welch_effective_averages`)
-    n_effective: float = 0.0
+    n_effective: float
 
 
 def welch_overlap(n: int, nperseg: int, least: int | None = None) -> int:

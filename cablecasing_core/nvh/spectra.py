@@ -177,7 +177,7 @@ class PSD:
     nperseg: int
     n_averages: int
     enbw: float
-    noverlap: int = 0
+    noverlap: int
 
     @property
     def df(self) -> float:
