@@ -40,7 +40,9 @@ MIN_SEGMENT = 16
 class Transfer:
     """An estimated transfer function: ``f_hz`` (Hz), ``H`` (the chosen estimator), ``H1``, ``H2``,
     ``coherence`` (0..1), ``error`` (normalized random error of |H1|, Bendat & Piersol Eq. 9.90),
-    ``n_averages``, ``kind`` ("apparent mass" or "transmissibility"), ``unit`` ("kg" or "1"),
+    ``n_averages`` (Welch segments) and ``n_effective`` (the independent averages they are worth, as
+    they overlap: the n of the error and of the coherence's bias), ``kind`` ("apparent mass" or
+    "transmissibility"), ``unit`` ("kg" or "1"),
     ``input`` and ``output`` (record columns), ``estimator`` ("H1" or "H2")."""
 
     f_hz: np.ndarray
@@ -50,6 +52,7 @@ class Transfer:
     coherence: np.ndarray
     error: np.ndarray
     n_averages: int
+    n_effective: float
     kind: str
     unit: str
     input: str
@@ -135,6 +138,7 @@ def _estimate(rec, x_name, y_name, sign, kind, unit, estimator, skip, nperseg, r
         est.coherence,
         random_error(est.coherence, est.n_effective),
         est.n_averages,
+        est.n_effective,
         kind,
         unit,
         rec.resolve(x_name),

@@ -514,6 +514,7 @@ def apparent_mass_figure(model, var, path, skip):
     out = {
         "input": inp,
         "n_averages": tr.n_averages,
+        "n_effective": tr.n_effective,
         "df": df,
         "median_coherence": medians(tr.f_hz, tr.coherence),
         "median_lines": lines(tr.f_hz),

@@ -570,7 +570,7 @@ def _median(medians, lines, key, bare=False):
 def apparent_mass_note(am, title):
     """The note under apparent_mass.png (HTML): what the estimate is compared with and why its
     coherence drops, from :func:`.figures.apparent_mass_figure`'s summary ``am``."""
-    n, df = am["n_averages"], am["df"]
+    n, ne, df = am["n_averages"], am["n_effective"], am["df"]
     m, x = am["median_coherence"], am["expected_coherence"]
     head = (
         f"H1 from {_e(am['input'])} to {OUTPUT} of the reference record {_e(title)} ({n} averages of {df:.3g} Hz "
@@ -582,8 +582,8 @@ def apparent_mass_note(am, title):
     coh = (
         f"The coherence has {_median(m, k, '10-100')} and {_median(m, k, '10-1000')}; the window's smoothing "
         f"alone leaves {_median(x, k, '10-100', bare=True)} and {_median(x, k, '10-1000', bare=True)} of the "
-        f"noise-free TRFAM (dashed, lower panel; with {n} averages a low coherence reads higher, by about (1 - "
-        f"&gamma;&sup2;)&sup2;/{n}). "
+        f"noise-free TRFAM (dashed, lower panel; with {n} averages, worth {ne:.2g} independent ones as they overlap, "
+        f"a low coherence reads higher, by about (1 - &gamma;&sup2;)&sup2;/{ne:.2g}). "
     )
     narrow = am.get("narrow_modes") or []
     why = ""

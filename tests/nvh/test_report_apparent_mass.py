@@ -83,8 +83,8 @@ def test_the_reports_apparent_mass_coherence_dips_are_the_windows_bias(nodrive_r
     overlap by 58 % to span the record; 0.54 from the 4 of 50 % before review AT), 0.27 and 0.81 at
     24.4 Hz lines (21 averages; 0.22 and 0.84 from 20): more averages at coarser lines lower it, which
     random error cannot explain. The window's smoothing of the TRFAM alone predicts 0.50 and 0.99;
-    with 5 averages overlapping by 58 % (about 4 independent ones) a coherence of 0.5 reads high by
-    about (1 - 0.5)^2 / 4 = 0.06 (Bendat & Piersol's bias), and a median over 15 lines scatters by a
+    with 5 averages overlapping by 58 % (4.4 independent ones) a coherence of 0.5 reads high by
+    about (1 - 0.5)^2 / 4.4 = 0.06 (Bendat & Piersol's bias), and a median over 15 lines scatters by a
     few hundredths, 0.05: 0.12 over 10-100 Hz,
     0.02 over 10-1000 Hz where the coherence is near 1 (bias and random error below 0.01). The
     input is flat over 10-1000 Hz (its RMS measured, 5 m/s^2). The casing's modes at 18.75,
@@ -97,6 +97,14 @@ def test_the_reports_apparent_mass_coherence_dips_are_the_windows_bias(nodrive_r
     model = cc.load_model()
     am = apparent_mass_figure(model, var, tmp_path / "am.png", 0.06)
     assert not am["contact"] and am["n_averages"] == 5 and am["df"] == pytest.approx(1e5 / 16384)
+    # the 5 segments overlap (to span the 44000 samples after the skip: a step of (44000 - 16384) // 4
+    # = 6904 samples, 58 %), so they are worth fewer independent averages (Welch 1967, whose count
+    # tests/identification checks against the estimates' variance): the n of the coherence's bias
+    # (1 - g^2)^2 / n that the page states
+    from cablecasing_core.identification.frf import welch_effective_averages
+
+    assert am["n_effective"] == pytest.approx(welch_effective_averages(16384, 16384 - 6904, 5), rel=1e-12)
+    assert 4.3 < am["n_effective"] < 4.5  # (Hann's rho(1) = 0.085 at this overlap: 5 / (1 + 8/5 rho(1)) = 4.40)
     m, x, c = am["median_coherence"], am["expected_coherence"], am["coarser"]["median_coherence"]
     # the lines each median is taken over: k df within the range (k >= 1), counted here from df alone
     for got, df in ((am["median_lines"], am["df"]), (am["coarser"]["median_lines"], am["coarser"]["df"])):
@@ -157,3 +165,5 @@ def test_the_reports_apparent_mass_coherence_dips_are_the_windows_bias(nodrive_r
     assert "the resolution's bias, not random error" in text and "barely excites" not in text
     assert "flat over 10-1000 Hz" in text and "18.8, 22.3, 49.3, 51.7" in text
     assert f"{m['10-100']:.2f} over 10-100 Hz" in text and f"leaves {x['10-100']:.2f}" in text
+    ne = f"{am['n_effective']:.2g}"
+    assert f"worth {ne} independent ones" in text and f"&sup2;/{ne})" in text

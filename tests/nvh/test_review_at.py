@@ -125,6 +125,7 @@ def _am(lines_100, lines_1000, coarse_100, coarse_1000):
     return {
         "input": "casing.A.az",
         "n_averages": 5,
+        "n_effective": 4.24,
         "df": 24.41,
         "median_coherence": {"10-100": 0.371, "10-1000": 0.861},
         "median_lines": {"10-100": lines_100, "10-1000": lines_1000},
