@@ -239,9 +239,14 @@ def write_uff(path, records, binary=True):
 
 def _write_58b(fh, d):
     """Write the dataset ``d`` (a dict of ``pyuff.prepare_58``, checked by :func:`_dataset`) as UFF 58b
-    (binary, double precision) to the open binary file ``fh``: byte for byte what pyuff 2.5's
-    ``UFF.write_sets`` writes (``tests/identification/test_review_i_uff.py`` compares them), the header
-    lines as in its ``_write58``, then the values in the machine's byte order, then the end line.
+    (binary, double precision) to the open binary file ``fh``: what pyuff 2.5's ``UFF.write_sets``
+    writes (``tests/identification/test_review_i_uff.py`` compares them), the header lines as in its
+    ``_write58``, then the values in the machine's byte order, then the end line, but for the ID line's
+    byte count (field 6, "number of bytes following ASCII lines" in the 58b definition): the bytes of
+    all the values, 8 x the numbers per point (1 real, 2 complex, one more for an uneven abscissa) x
+    the points, where pyuff writes 8 x the points whatever the numbers per point (half the true
+    count for a complex FRF; pyuff and this package's reader count the values from the point count
+    and read both).
 
     Written by hand because pyuff's writer of a binary dataset 58 leaves a file open per dataset:
     ``_write58`` closes the handle it is given, opens the file again in binary to append the values,
@@ -266,9 +271,13 @@ def _write_58b(fh, d):
         return int(g(key))
 
     dx = even * (x[1] - x[0])
+    columns = [data] if real else [data.real, data.imag]
+    if not even:  # (an uneven abscissa is stored point by point beside the values)
+        columns.insert(0, x)
+    values = np.column_stack(columns).ravel()  # (x0, y0, x1, y1, ... or re0, im0, ...)
     lines = [
         f"{-1:6d}",
-        f"{58:6d}b{1 if little else 2:6d}{2:6d}{11:12d}{n * 8:12d}{0:6d}{0:6d}{0:12d}{0:12d}",
+        f"{58:6d}b{1 if little else 2:6d}{2:6d}{11:12d}{values.size * 8:12d}{0:6d}{0:6d}{0:12d}{0:12d}",
         *(f"{g(f'id{k}', 'NONE'):<80}" for k in range(1, 6)),
         f"{i('func_type'):5d}{i('func_id'):10d}{i('ver_num'):5d}{i('load_case_id'):10d} "
         f"{g('rsp_ent_name', 'NONE'):>10}{i('rsp_node'):10d}{i('rsp_dir'):4d} "
@@ -280,10 +289,6 @@ def _write_58b(fh, d):
             for a in ("abscissa", "ordinate", "orddenom", "z_axis")
         ),
     ]
-    columns = [data] if real else [data.real, data.imag]
-    if not even:  # (an uneven abscissa is stored point by point beside the values)
-        columns.insert(0, x)
-    values = np.column_stack(columns).ravel()  # (x0, y0, x1, y1, ... or re0, im0, ...)
     fh.write(("\n".join(lines) + "\n").encode("utf-8"))
     fh.write(values.astype("<f8" if little else ">f8").tobytes())
     fh.write(f"{-1:6d}\n".encode())
@@ -516,8 +521,9 @@ def _check_count(path, i, dataset):
     if binary:
         n_bytes = int(dataset.get("n_bytes", 0) or 0)
         per = 4 if int(dataset.get("ord_data_type", 4)) in (2, 5) else 8
-        # (the byte count of all the values; pyuff, the package's writer, puts num_pts x bytes per value there for
-        # complex data and an uneven abscissa too: its files' headers are not damaged by that)
+        # (the byte count of all the values, as the package writes it; pyuff, and the package's writer before
+        # review AY, put num_pts x bytes per value there for complex data and an uneven abscissa too: such files'
+        # headers are not damaged by that, and they are read)
         expected, pyuffs = declared * per * _values_per_point(dataset), declared * per
         also = "" if pyuffs == expected else f" (nor {pyuffs}, pyuff's num_pts x bytes per value)"
         stated = f"; its header's byte count, {n_bytes}, is not {expected}{also} either"
