@@ -253,7 +253,15 @@ def _refuse_cut_last_row(key, shown, lines, rows):
         )
 
 
-def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: int = 2, rounding: bool = False):
+def read_csv_table(
+    path,
+    key: str = "file",
+    *,
+    min_rows: int = 2,
+    min_columns: int = 2,
+    rounding: bool = False,
+    zero_row_free: bool = False,
+):
     """``(names, data)`` of the numeric CSV table in ``path``: one header line of ``,``-separated
     column names (a name in double quotes is read without them), then rows of as many finite
     numbers (in quotes or not; blank lines and lines starting with ``#`` are skipped). A
@@ -261,7 +269,11 @@ def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: i
     line and column that are wrong, and says what is allowed; it quotes no part of the file (which
     may be any file). ``data`` is (rows, columns), float. With ``rounding``, ``(names, data,
     rounding)``: how far each row's first number may lie from the value it was printed from, in
-    that column's unit (:func:`printed_rounding`; a record's time column printed with few digits)."""
+    that column's unit (:func:`printed_rounding`; a record's time column printed with few digits).
+    With ``zero_row_free`` (an FRF's reader: its 0 Hz line is left out by every fit), a first row
+    whose first number is exactly 0 may hold NaN, an infinity or a magnitude above
+    :data:`MAX_MAGNITUDE` in its other columns (an apparent mass, infinite at 0 Hz), returned as
+    read; elsewhere they are refused as without it."""
     shown = str(path)
     p = _target(path, key)
     if not p.exists():
@@ -319,11 +331,15 @@ def read_csv_table(path, key: str = "file", *, min_rows: int = 2, min_columns: i
                 if not is_number(f):
                     raise ModelError(key, shown, f"line {lineno}, column {j + 1} is not a number")
         raise ModelError(key, shown, f"must be {need}")  # pragma: no cover - loadtxt agrees with the scan
-    bad = np.argwhere(unreadable(data))
+    flagged = unreadable(data)
+    if zero_row_free and data[0, 0] == 0.0:
+        flagged[0, 1:] = False
+    bad = np.argwhere(flagged)
     if bad.size:
         r, c = bad[0]
+        only = " (only the 0 Hz line, which the fits leave out, may hold another value)" if zero_row_free else ""
         raise ModelError(
-            key, shown, f"line {rows[r][0]}, column {c + 1} is not a finite number of magnitude at most 1e100"
+            key, shown, f"line {rows[r][0]}, column {c + 1} is not a finite number of magnitude at most 1e100{only}"
         )
     if rounding:
         return names, data, printed_rounding([s.split(",", 1)[0] for _, s in rows], data[:, 0])

@@ -495,11 +495,13 @@ def _read_measured(path, modes_arg, channel, max_iter=None):
     from ..model.validators import integer
 
     if not is_uff(path):
-        from ..files import read_csv_table
+        from ..files import read_csv_table, unreadable
 
-        names, data = read_csv_table(path, "file", min_rows=1)
+        names, data = read_csv_table(path, "file", min_rows=1, zero_row_free=True)  # (an FRF's 0 Hz line)
         header = [h.strip().lower() for h in names]
         if "mode" in header:
+            if unreadable(data).any():  # (a table has no 0 Hz line)
+                read_csv_table(path, "file", min_rows=1)  # (its refusal, naming the line and column)
             fcol = next((i for i, h in enumerate(names) if header[i] != "mode" and is_frequency_header(h)), None)
             if fcol is None:
                 raise ModelError(

@@ -277,7 +277,7 @@ def read_csv_frf(path, channel=None):
 
 def _read_csv_frf(path, channel=None):
     """``(freqs_hz, H, pair name, text naming its columns)`` of :func:`read_csv_frf`."""
-    names, data = read_csv_table(path, "file", min_rows=3, min_columns=3)
+    names, data = read_csv_table(path, "file", min_rows=3, min_columns=3, zero_row_free=True)
     to_hz = frequency_column(path, names)
     pairs = _csv_pairs(names)
     if not pairs:
@@ -303,6 +303,32 @@ def _read_csv_frf(path, channel=None):
     H = data[:, i] + 1j * data[:, j]
     warn_zero_lines(f"{path} ({names[i]}, {names[j]})", f, H)
     return f, H, name, f"columns {names[i]}, {names[j]}"
+
+
+def refuse_nonfinite_lines(where, f, H):
+    """A ModelError naming ``where`` (the file and function) when a measured FRF (``f`` Hz, ``H``) holds a value
+    that is not a finite number (nan or inf: an overloaded or missing measurement) at a line other than 0 Hz:
+    the first such line's frequency and point, how many more, and which whole lines around them could be kept.
+    On a 0 Hz line (the first, ``f[0] == 0``) it is allowed and returned as read: the fits leave that line out
+    (``circlefit._without_dc``), and an apparent mass is infinite there (review AY2)."""
+    bad = ~(np.isfinite(f) & np.isfinite(H))
+    if f.size and f[0] == 0.0:
+        bad[0] = False
+    if not bad.any():
+        return
+    at = np.flatnonzero(bad)
+    first, last, n = int(at[0]), int(at[-1]), f.size
+    keep = [f"the lines before it (points 1 to {first})"] if first > 0 else []
+    if last < n - 1:
+        keep.append(f"the lines after {'it' if first == last else 'the last'} (points {last + 2} to {n})")
+    raise ModelError(
+        "file",
+        where,
+        f"holds a value that is not a finite number (nan or inf) at {f[first]:.6g} Hz (point {first + 1} of {n}"
+        f"{f', and {at.size - 1} more, the last at point {last + 1}' if at.size > 1 else ''}): an overloaded or "
+        "missing measurement; only a 0 Hz line, which the fits leave out, may hold one; measure again"
+        + (f", or export only {' or '.join(keep)}" if keep else ""),
+    )
 
 
 def warn_zero_lines(where, f, H):
@@ -370,16 +396,7 @@ def _uff_frf(path, channel):
             stacklevel=4,
         )
     r = recs[j]
-    bad = ~(np.isfinite(r.x) & np.isfinite(r.data))
-    if bad.any():
-        k = int(np.argmax(bad))
-        raise ModelError(
-            "file",
-            f"{path} ({names[j]})",
-            f"holds a value that is not a finite number (nan or inf) at {r.x[k]:.6g} Hz (point {k + 1} of "
-            f"{r.x.size}{', and ' + str(int(bad.sum()) - 1) + ' more' if bad.sum() > 1 else ''}): an overloaded or "
-            "missing measurement; measure again, or cut the function before it",
-        )
+    refuse_nonfinite_lines(f"{path} ({names[j]})", r.x, r.data)
     warn_zero_lines(f"{path} ({names[j]})", r.x, r.data)
     reference = dof_name(r.ref_node, r.ref_dir) if r.ref_node else "none"
     dofs = f"response {dof_name(r.rsp_node, r.rsp_dir)}, reference {reference}"
@@ -416,7 +433,8 @@ class MeasuredFRF:
 def read_frf(path, channel=None):
     """``(freqs_hz, H)`` from a CSV or UFF file (the n-th FRF of a UFF file, default the first; only
     function type 4 counts: a coherence or spectrum stored with it is skipped; an abscissa in rad/s,
-    rpm, kHz is converted to Hz)."""
+    rpm, kHz is converted to Hz). A value that is not finite is refused but on a 0 Hz line, which is
+    returned as read (the fits leave that line out: :func:`refuse_nonfinite_lines`)."""
     return read_frf_kind(path, channel, strict=False)[:2]
 
 

@@ -11,6 +11,8 @@ import numpy as np
 import pytest
 import pyuff
 
+from cablecasing_core.errors import ModelError, ModelWarning
+from cablecasing_core.identification import loss_factor_circle, read_frf, read_frf_kind, write_uff_frf
 from cablecasing_core.uff import Record, frf_fields, read_uff, write_uff
 
 F0 = 1.0 + 0.25 * np.arange(301)  # Hz, even
@@ -139,3 +141,137 @@ def test_pyuffs_binary_writer_in_add_mode_writes_whole_files_and_overwrite_seven
     assert held == 100 * 8 * (2 if complex_ else 1) and declared == 100 * 8  # (pyuff's count, AY1)
     np.testing.assert_array_equal(_pyuff_sets(add)[0]["data"], data)
     np.testing.assert_array_equal(read_uff(add)[0].data, data)
+
+
+# ------------------------------------------------------------------ AY2: a non-finite value on the 0 Hz line alone
+
+F_N = np.array([22.39861, 62.75950, 90.69011])  # Hz, the review's modes
+ETA = np.array([0.02, 0.03, 0.05])
+F_DC = 0.05 * np.arange(3001)  # Hz, from 0 Hz (an analyser's export)
+
+
+def _accelerance(synth):
+    """An exact accelerance of structural modes (m/s2/N): each mode an exact circle, so the fits give ETA."""
+    return -((2 * np.pi * F_DC) ** 2) * synth.receptance(F_DC, F_N, eta=ETA, A=np.array([1.0, -0.6, 0.35]))
+
+
+def _with_dc(path, value):
+    """The package's binary 58b FRF at ``path`` with its first (0 Hz) value replaced by ``value``, as another
+    tool writes it (the package's writer refuses a value that is not finite): a copy next to it."""
+    raw = path.read_bytes()
+    start = raw.index(b"    58b")
+    order = "<" if int(raw[start + 7 : start + 13]) == 1 else ">"  # (field 3: 1 little endian, 2 big)
+    for _ in range(12):
+        start = raw.index(b"\n", start) + 1
+    q = path.with_name(f"dc_{path.name}")
+    q.write_bytes(raw[:start] + np.array([value.real, value.imag], order + "f8").tobytes() + raw[start + 16 :])
+    return q
+
+
+def _csv_with_dc(path, f, H, re_dc, im_dc, kind):
+    """An FRF CSV as a third-party tool writes it, its 0 Hz line ``re_dc,im_dc`` as text (``nan``, ``inf``)."""
+    lines = [f"# kind = {kind}", "frequency_hz,re_H,im_H", f"0,{re_dc},{im_dc}"]
+    lines += [f"{a!r},{b.real!r},{b.imag!r}" for a, b in zip(f[1:].tolist(), H[1:].tolist())]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def _loss_factor(identify_cli, capsys, path):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelWarning)  # (lines per bandwidth: an exact FRF has no leakage)
+        code = identify_cli(["identify", "loss-factor", str(path), "--count", "3"])
+    out = capsys.readouterr()
+    assert code == 0, out.err
+    table = [line.split() for line in out.out.splitlines() if line[:4].strip().isdigit()]
+    return out.out, np.array([[float(v) for v in row[1:3]] for row in table])
+
+
+@pytest.mark.parametrize("dc", [complex(np.nan, 0.0), complex(np.inf, np.nan), complex(-np.inf, 0.0)])
+def test_a_non_finite_value_on_the_0_hz_line_is_left_out_with_the_line(identify_cli, capsys, tmp_path, synth, dc):
+    """AY2: an accelerance whose 0 Hz line is nan (an H1 with no force at DC) or inf (another tool's 1/(F/a)) was
+    refused, UFF and CSV; it is left out like the line itself, the '#' line says so, and the fit is that of the
+    same FRF with a 0 at 0 Hz: f_r and eta of the exact modes (printed to 4 and 5 decimals)."""
+    H = _accelerance(synth)
+    clean = tmp_path / "clean.uff"
+    write_uff_frf(clean, F_DC, H, kind="acceleration")
+    reference, fits = _loss_factor(identify_cli, capsys, clean)
+    np.testing.assert_allclose(fits[:, 0], F_N, atol=1e-4)  # (exact circles: f_r to its 4 printed decimals)
+    np.testing.assert_allclose(fits[:, 1], ETA, atol=1e-5)  # (eta to its 5 printed decimals)
+    csv = _csv_with_dc(tmp_path / "dc.csv", F_DC, H, dc.real, dc.imag, "acceleration")
+    for p in (_with_dc(clean, dc), csv):
+        f, H_read, kind = read_frf_kind(p)
+        assert kind == "acceleration" and f[0] == 0.0 and not np.isfinite(H_read[0])  # (returned as read)
+        np.testing.assert_array_equal(H_read[1:], H[1:])
+        out, got = _loss_factor(identify_cli, capsys, p)
+        assert "# the 0 Hz line is left out (no resonance uses it)" in out
+        np.testing.assert_array_equal(got, fits)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ModelWarning)
+            np.testing.assert_array_equal(
+                [r.eta for r in loss_factor_circle(f, H_read, count=3, kind="acceleration")],
+                [r.eta for r in loss_factor_circle(F_DC, H, count=3, kind="acceleration")],
+            )
+
+
+def test_an_apparent_mass_infinite_at_0_hz_is_read(tmp_path, synth):
+    """AY2: an apparent mass F/a computed as 1/(a/F) from 0 Hz is inf + nan i there (by definition infinite)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        am = 1.0 / _accelerance(synth)
+    assert not np.isfinite(am[0])
+    p = tmp_path / "am0.uff"
+    write_uff_frf(p, F_DC, np.where(np.isfinite(am), am, 0), kind="apparent_mass")  # (its writer refuses an inf)
+    for q in (_with_dc(p, am[0]), _csv_with_dc(tmp_path / "am.csv", F_DC, am, "inf", "nan", "apparent_mass")):
+        f, H_read, kind = read_frf_kind(q)
+        assert kind == "apparent_mass" and f.size == 3001 and not np.isfinite(H_read[0])
+        np.testing.assert_array_equal(H_read[1:], am[1:])
+
+
+def test_a_non_finite_value_elsewhere_is_refused_with_advice_that_can_be_followed(tmp_path, synth):
+    """AY2: a nan at the first line of an FRF that starts above 0 Hz, or at 55 Hz beside a nan 0 Hz line, is still
+    refused, naming its point, and the lines that could be kept are whole lines of the function: 'cut the function
+    before it' at point 1 left nothing."""
+    H = _accelerance(synth)[1:]
+    f = F_DC[1:]
+    p = tmp_path / "from_005.uff"
+    write_uff_frf(p, f, H, kind="acceleration")
+    with pytest.raises(ModelError) as e:
+        read_frf(_with_dc(p, complex(np.nan, np.nan)))  # (its first line, 0.05 Hz)
+    text = e.value.allowed
+    assert "at 0.05 Hz (point 1 of 3000)" in text and "only a 0 Hz line" in text, text
+    assert "before it" not in text and "the lines after it (points 2 to 3000)" in text, text
+    # a nan at 0 Hz and at 55 Hz: the 55 Hz one is named, the lines on either side of it
+    H0 = _accelerance(synth)
+    H0[F_DC == 55.0] = np.nan
+    csv = _csv_with_dc(tmp_path / "two.csv", F_DC, H0, "nan", "nan", "acceleration")
+    with pytest.raises(ModelError) as e:
+        read_frf(csv)
+    assert "line 1103, column 2 is not a finite number" in e.value.allowed, e.value.allowed  # (2 + 1100 + 1)
+    assert "only the 0 Hz line, which the fits leave out, may hold another value" in e.value.allowed
+    q = tmp_path / "two.uff"
+    write_uff_frf(q, F_DC, np.where(F_DC == 55.0, 0, H0), kind="acceleration")
+    raw = bytearray(_with_dc(q, complex(np.nan, 0)).read_bytes())
+    at = raw.index(np.array([H0[1].real, H0[1].imag]).tobytes()) + 16 * 1099  # (line 1101, 55 Hz)
+    raw[at : at + 16] = np.array([np.nan, np.nan]).tobytes()
+    q.write_bytes(bytes(raw))
+    with pytest.raises(ModelError) as e:
+        read_frf(q)
+    text = e.value.allowed
+    assert "at 55 Hz (point 1101 of 3001):" in text, text  # (the 0 Hz line's nan not counted as another)
+    assert "points 1 to 1100" in text and "points 1102 to 3001" in text, text
+
+
+def test_the_0_hz_exception_is_an_frfs_alone(tmp_path, identify_cli, capsys):
+    """AY2: a time record's CSV whose first sample (t = 0) is nan, and a table mode,f_hz with a nan, are refused as
+    before: only an FRF's reader leaves a 0 Hz line out."""
+    from cablecasing_core.records import read_records
+
+    p = tmp_path / "t.csv"
+    p.write_text("time_s,x\n0,nan\n0.001,1\n0.002,2\n0.003,1\n")
+    with pytest.raises(ModelError, match="line 2, column 2 is not a finite number of magnitude at most 1e100$"):
+        read_records(p)
+    q = tmp_path / "modes.csv"
+    q.write_text("f_hz,mode\n0,nan\n22.4,1\n")
+    model = os.path.join(os.path.dirname(__file__), "..", "..", "examples", "straight_casing.toml")
+    assert identify_cli(["identify", "modulus", str(q), "--model", model]) == 2
+    err = capsys.readouterr().err
+    assert "line 2, column 2 is not a finite number of magnitude at most 1e100\n" in err, err
