@@ -643,8 +643,10 @@ MOTION_LABELS = {
 FORCE_LABELS = ("n", "kn", "lbf", "lb", "kgf")
 
 
-def _unit_key(label: str) -> str:
-    """A unit label in the form :data:`MOTION_LABELS` compares: lower case, no spaces, brackets, ``^``, ``**``."""
+def unit_key(label: str) -> str:
+    """A unit label in the form :data:`MOTION_LABELS` compares: lower case, no spaces, brackets, ``^``, ``**``
+    (``m/s^2``, ``m/s**2``, ``m/s²``, ``[m/s2]`` are ``m/s2``). The package's one rule of unit spellings: the
+    FRF kind by labels and the units the transfer functions need (``nvh.transfer``) compare by it."""
     key = label.strip().lower().replace("²", "2").replace("**", "").replace("^", "")
     return "".join(c for c in key if c not in " ()[]")
 
@@ -654,7 +656,7 @@ def frf_kind_of_labels(record):
     :data:`FORCE_LABELS`: that motion's kind; a force over an acceleration: apparent mass; over a displacement:
     the displacement form), the ordinate's label alone when it holds the ratio (``g/N``, the denominator's
     empty); None when they say none of these (``V`` / ``V``, no labels)."""
-    num, den = _unit_key(record.unit), _unit_key(record.denominator_unit)
+    num, den = unit_key(record.unit), unit_key(record.denominator_unit)
     if not den and "/" in num:
         num, den = num.rsplit("/", 1)
     motion = {label: kind for kind, labels in MOTION_LABELS.items() for label in labels}

@@ -27,6 +27,7 @@ from ..identification.frf import frf_estimate, random_error, welch_averages
 from ..model.schema import STUDY_OUTPUT
 from ..model.validators import Choice, array_1d, integer, number, seconds
 from ..records import Records, after_skip
+from ..uff import unit_key
 from .spectra import finest_segment_resolution, segment_for_resolution
 
 #: The fewest Welch averages a transfer estimate takes: with one, the coherence is 1 by construction.
@@ -70,7 +71,7 @@ class Transfer:
 
 
 def _units(units):
-    """The units read of a transfer function's input and output, for a message: 'm/s^2' and 'N'."""
+    """The units read of a transfer function's input and output, for a message: 'g' and 'N'."""
     return " and ".join(f"'{u}'" for u in units)
 
 
@@ -169,11 +170,12 @@ def apparent_mass(
     the record, so at least 15 averages; the default segment is at least 16 samples, so a record of
     fewer than 128 samples after skip is refused naming its length."""
     units = rec.unit(input, "input"), rec.unit(output, "output")
-    if units != ("m/s2", "N"):
+    if (unit_key(units[0]), unit_key(units[1])) != (unit_key("m/s2"), unit_key("N")):  # (spellings: uff.unit_key)
         raise ModelError(
             "input/output",
             (input, output),
-            f"the apparent mass needs an acceleration (m/s2) and a force (N); their units read: {_units(units)}",
+            "the apparent mass needs an acceleration in m/s2 (m/s^2, m/s**2, m/s² alike) and a force in N; their "
+            f"units read: {_units(units)}",
         )
     return _estimate(rec, input, output, -1.0, "apparent mass", "kg", estimator, skip, nperseg, resolution_hz)
 
@@ -190,11 +192,12 @@ def transmissibility(
     """The force transmissibility (dimensionless) from the support force ``input`` (N, the driven
     end) to the support force ``output`` (N) of the record ``rec`` (arguments as :func:`apparent_mass`)."""
     units = rec.unit(input, "input"), rec.unit(output, "output")
-    if units[0] != units[1]:
+    if unit_key(units[0]) != unit_key(units[1]):  # (m/s^2 and m/s2 are one unit: uff.unit_key)
         raise ModelError(
             "input/output",
             (input, output),
-            f"a transmissibility needs two signals of one unit; their units read: {_units(units)}",
+            f"a transmissibility needs two signals of one unit (spelled alike but for case, spaces, brackets, ^ "
+            f"and **); their units read: {_units(units)}",
         )
     return _estimate(rec, input, output, 1.0, "transmissibility", "1", estimator, skip, nperseg, resolution_hz)
 

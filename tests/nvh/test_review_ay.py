@@ -1,0 +1,58 @@
+"""Review AY: a third-party record's unit labels in the transfer functions (AY3) and a record too short for any
+skip (AY5)."""
+
+import numpy as np
+import pytest
+
+from cablecasing_core import ModelError
+from cablecasing_core.cli import main
+from cablecasing_core.nvh import apparent_mass, transmissibility
+from cablecasing_core.records import Records
+from cablecasing_core.uff import Record, write_uff
+
+FS = 1000.0
+T = np.arange(4096) / FS
+A = np.random.default_rng(7).normal(size=T.size)  # m/s2, white noise
+M = 2.5  # kg: the recorded force of a rigid mass is -M a, so the apparent mass (-F/a, the TRFAM's sign) is M
+
+
+@pytest.mark.parametrize("spelled", ["m/s^2", "m/s**2", "m/s²", "M/S2", "[m/s2]", " m/s 2"])
+def test_the_apparent_mass_takes_an_acceleration_however_its_unit_is_spelled(spelled):
+    """AY3: the UFF reader takes m/s^2, m/s**2 and m/s² for m/s2 (``uff.unit_key``); the apparent mass compared the
+    unit as a string and refused them. A rigid mass of 2.5 kg: H1 = 2.5 at every line (one linear map, no noise:
+    to rounding, 1e-12)."""
+    rec = Records(T, {"acc": A, "force": -M * A}, {"acc": spelled, "force": "N"})
+    tr = apparent_mass(rec, input="acc", output="force", skip=0.0)
+    np.testing.assert_allclose(tr.H, M, rtol=1e-12)
+    assert tr.unit == "kg"
+    tt = transmissibility(Records(T, {"a": A, "b": 3 * A}, {"a": spelled, "b": "m/s2"}), "a", "b", skip=0.0)
+    np.testing.assert_allclose(tt.H, 3.0, rtol=1e-12)
+
+
+@pytest.mark.parametrize("units", [("g", "N"), ("m/s2", "kN"), ("m/s", "N"), ("", "N")])
+def test_other_units_are_still_refused(units):
+    """AY3: an acceleration in g (the apparent mass would not be in kg), a force in kN, a velocity, no unit."""
+    rec = Records(T, {"acc": A, "force": -M * A}, dict(zip(("acc", "force"), units)))
+    with pytest.raises(ModelError, match=r"needs an acceleration in m/s2 \(m/s\^2, m/s\*\*2, m/s² alike\)"):
+        apparent_mass(rec, input="acc", output="force", skip=0.0)
+    with pytest.raises(ModelError, match="a transmissibility needs two signals of one unit"):
+        transmissibility(Records(T, {"a": A, "b": A}, {"a": "m/s^2", "b": "m/s"}), "a", "b", skip=0.0)
+
+
+def test_spectrum_apparent_mass_of_a_uff_labelled_m_s_caret_2(tmp_path, capsys):
+    """AY3, the review's command: a force (N) and a response labelled m/s^2 (data type 12) written to UFF, as
+    pyuff writes them; `spectrum --kind apparent-mass` refused them."""
+    p = tmp_path / "noise_FA.uff"
+    write_uff(
+        p,
+        [
+            Record("time", T, -M * A, "Force", 3, 3, unit="N", data_type=13),
+            Record("time", T, A, "Response", 1, 3, unit="m/s^2", data_type=12),
+        ],
+    )
+    out = tmp_path / "am.csv"
+    argv = ["spectrum", str(p), "--kind", "apparent-mass", "--input", "Response", "--column", "Force", "--skip", "0"]
+    assert main([*argv, "--out", str(out)]) == 0, capsys.readouterr().err
+    table = np.genfromtxt(out, delimiter=",", names=True)
+    re_col = next(n for n in table.dtype.names if n.startswith("re_"))
+    np.testing.assert_allclose(table[re_col], M, rtol=1e-12)  # (H1 of the rigid mass, to rounding)
