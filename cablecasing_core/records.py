@@ -652,9 +652,12 @@ def uff_dof(name: str) -> tuple:
     return node, direction, 0, 0
 
 
-def read_records(path: str | os.PathLike) -> Records:
+def read_records(path: str | os.PathLike, channel: str | int | None = None) -> Records:
     """The record in ``path`` (``.csv``, ``.npz`` or ``.uff``/``.unv``, by suffix; see the module
-    docstring). Raises :class:`ModelError` naming the file and what is wrong."""
+    docstring). Raises :class:`ModelError` naming the file and what is wrong. ``channel`` (a column's
+    name or place, as the caller's ``--channel``) changes no value read: a UFF file's refusal for
+    another time function says that the one asked for is not concerned (the file is read, and
+    refused, as a whole: its functions are one record)."""
     path = str(path)
     suffix = os.path.splitext(path)[1].lower()
     if not os.path.exists(path):
@@ -664,7 +667,7 @@ def read_records(path: str | os.PathLike) -> Records:
     if suffix == ".npz":
         rec = _read_npz(path)
     elif suffix in UFF_EXTENSIONS:
-        rec = _read_uff(path)
+        rec = _read_uff(path, channel)
     elif suffix not in (".csv", ".txt"):
         raise ModelError("file", path, "must end in .csv, .npz or .uff (the record's format goes by its suffix)")
     else:
@@ -874,7 +877,25 @@ def _read_npz(path):
     raise ModelError("file", path, "must hold the arrays time, table, names (as 'cablecasing simulate --out' writes)")
 
 
-def _read_uff(path):
+def _axis_text(t) -> str:
+    """A time axis for a message: its samples, start and (mean) step, ``3000 samples from 0 s every 0.001 s``."""
+    step = (t[-1] - t[0]) / (t.size - 1) if t.size > 1 else float("nan")
+    return f"{t.size} samples from {t[0]:.6g} s every {step:.6g} s"
+
+
+def _asked(names, channel):
+    """The name among ``names`` (a UFF file's time functions) that ``channel`` gives (a name, its header form
+    ``Response [m/s2]``, or a place), or None when it gives none of them (a derived column) or is None."""
+    if channel is None:
+        return None
+    if isinstance(channel, str) and not channel.strip().isdigit():
+        bare = channel.split(" [")[0].strip()
+        return bare if bare in names else None
+    j = int(channel)
+    return names[j] if 0 <= j < len(names) else None
+
+
+def _read_uff(path, channel=None):
     every = read_uff(path)
     funcs = [r for r in every if r.kind == "time"]
     if not funcs:
@@ -889,9 +910,25 @@ def _read_uff(path):
     cols, units = {}, {}
     # (each column its id1; an id1 that repeats, as an analyser's "Response", <id1>@<node><direction>)
     names = function_names(funcs, [r.name or f"x{i + 1}" for i, r in enumerate(funcs)])
+    asked = _asked(names, channel)
+
+    def as_a_whole(name):  # (why another function's fault refuses the file: said when a channel was asked)
+        fine = f"the channel asked for, {asked}, is not concerned, but " if asked not in (None, name) else ""
+        return (
+            f"{fine}a file's time functions are read as one record (spectrum, bands and the derived columns use them "
+            "together), so the file is refused as a whole"
+        )
+
     for i, (r, name) in enumerate(zip(funcs, names)):
         if r.x.shape != t.shape or not np.allclose(r.x, t, rtol=0, atol=1e-9 * max(1.0, abs(t[-1]))):
-            raise ModelError("file", path, f"time function {i} ({r.name}) has another time axis than the first")
+            raise ModelError(
+                "file",
+                path,
+                f"time function {i} ({name}) has another time axis than the first ({names[0]}): "
+                f"{_axis_text(r.x)}, against {_axis_text(t)}; the time functions of one file must share one time "
+                f"axis (the same start, step and number of samples): {as_a_whole(name)}; export them on one axis "
+                f"(cut to the shorter), or {name} to a file of its own",
+            )
         if name in cols:
             raise ModelError(
                 "file",
@@ -908,13 +945,22 @@ def _read_uff(path):
             )
         bad = unreadable(np.asarray(r.data, float))
         if bad.any():  # (named by the function and its time, as the file's reader knows them)
-            k = int(np.argmax(bad))
+            at = np.flatnonzero(bad)
+            k, last, n = int(at[0]), int(at[-1]), t.size
+            keep = [f"the record up to {t[k - 1]:.6g} s (points 1 to {k})"] if k > 0 else []
+            if last < n - 1:
+                keep.append(f"the record from {t[last + 1]:.6g} s (points {last + 2} to {n})")
+            if len(funcs) > 1:
+                keep.append(f"the other functions without {name}")
             raise ModelError(
                 "file",
                 f"{path} ({name})",
                 f"holds a value that is not a finite number of magnitude at most {MAX_MAGNITUDE:g} at {t[k]:.6g} s "
-                f"(point {k + 1} of {t.size}{', and ' + str(int(bad.sum()) - 1) + ' more' if bad.sum() > 1 else ''}): "
-                "an overloaded or missing measurement; measure again, or cut the function before it",
+                f"(point {k + 1} of {n}{f', and {at.size - 1} more' if at.size > 1 else ''}): an overloaded or "
+                f"missing measurement"
+                + (f"; {as_a_whole(name)}" if len(funcs) > 1 else "")
+                + "; measure again"
+                + (f", or export only {' or '.join(keep)}" if keep else ""),
             )
         cols[name] = np.asarray(r.data, float)
         units[name] = r.unit or unit_of(name)

@@ -156,7 +156,7 @@ def read_csv_time(path, channel=None):
 def read_time_record_from(path, channel=None):
     """``(x, fs, name, t0)``: :func:`read_time_record` and the time of its first sample (s), which
     the wavelet analysis counts its times from."""
-    rec = read_records(path)
+    rec = read_records(path, 0 if channel is None else channel)  # (named in a refusal for another function)
     name = _channel(rec, channel)
     return np.asarray(rec.columns[name], dtype=float), rec.fs, name, float(rec.time[0])
 

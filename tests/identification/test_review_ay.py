@@ -12,7 +12,14 @@ import pytest
 import pyuff
 
 from cablecasing_core.errors import ModelError, ModelWarning
-from cablecasing_core.identification import loss_factor_circle, read_frf, read_frf_kind, write_uff_frf
+from cablecasing_core.identification import (
+    loss_factor_circle,
+    read_frf,
+    read_frf_kind,
+    read_time_record,
+    write_uff_frf,
+)
+from cablecasing_core.records import read_records
 from cablecasing_core.uff import Record, frf_fields, read_uff, write_uff
 
 F0 = 1.0 + 0.25 * np.arange(301)  # Hz, even
@@ -275,3 +282,88 @@ def test_the_0_hz_exception_is_an_frfs_alone(tmp_path, identify_cli, capsys):
     assert identify_cli(["identify", "modulus", str(q), "--model", model]) == 2
     err = capsys.readouterr().err
     assert "line 2, column 2 is not a finite number of magnitude at most 1e100\n" in err, err
+
+
+# ------------------------------------------------------------------ AY4: one bad time function of a file
+
+
+T3 = np.arange(3000) * 1e-3  # s, 1 kHz
+
+
+def _two_functions(tmp_path, force, response, name="two.uff"):
+    """A force and a response record in one UFF file (``force``, ``response``: (time, values)), as an analyser
+    exports them; a value that is not finite put in afterwards (the package's writer refuses one)."""
+    p = tmp_path / name
+    write_uff(
+        p,
+        [
+            Record("time", force[0], np.nan_to_num(force[1]), "Force", 3, 3, unit="N", data_type=13),
+            Record("time", response[0], response[1], "Response", 1, 3, unit="m/s2", data_type=12),
+        ],
+    )
+    bad = np.flatnonzero(~np.isfinite(force[1]))
+    if bad.size:  # (the first dataset's values: after its 11 ASCII lines, 8 bytes each, the machine's order)
+        raw = bytearray(p.read_bytes())
+        start = raw.index(b"    58b")
+        for _ in range(12):
+            start = raw.index(b"\n", start) + 1
+        for k in bad:
+            raw[start + 8 * k : start + 8 * k + 8] = np.array([force[1][k]]).tobytes()
+        p.write_bytes(bytes(raw))
+    return p
+
+
+def test_a_nan_in_another_channel_names_it_and_says_why_the_file_is_refused(tmp_path):
+    """AY4: a nan in Force at 2.5 s refused `--channel Response` saying only "cut the function before it". The
+    file is still refused as a whole (its functions are one record), and the message now says so, that the
+    channel asked for is not concerned, and which whole parts could be exported."""
+    force = np.zeros(T3.size)
+    force[1], force[2500] = 1.0, np.nan
+    p = _two_functions(tmp_path, (T3, force), (T3, np.sin(2 * np.pi * 20 * T3)))
+    with pytest.raises(ModelError) as e:
+        read_time_record(p, "Response")
+    assert e.value.value == f"{p} (Force)"
+    text = e.value.allowed
+    assert "at 2.5 s (point 2501 of 3000)" in text, text
+    assert "the channel asked for, Response, is not concerned, but" in text and "refused as a whole" in text, text
+    assert "points 1 to 2500" in text and "points 2502 to 3000" in text and "without Force" in text, text
+    with pytest.raises(ModelError) as e:  # (Force itself, or no channel: not said to be unconcerned)
+        read_time_record(p, "Force")
+    assert "not concerned" not in e.value.allowed and "refused as a whole" in e.value.allowed
+    with pytest.raises(ModelError) as e:
+        read_records(p)
+    assert "not concerned" not in e.value.allowed
+
+
+def test_time_axes_of_another_length_are_named_with_their_samples_start_and_step(tmp_path):
+    """AY4: "has another time axis than the first" gave neither axis nor what is allowed."""
+    a = np.sin(2 * np.pi * 20 * T3)
+    p = _two_functions(tmp_path, (T3, a), (T3[:2990], a[:2990]))
+    with pytest.raises(ModelError) as e:
+        read_time_record(p, "Force")
+    text = e.value.allowed
+    assert (
+        "time function 1 (Response) has another time axis than the first (Force): 2990 samples from 0 s every "
+        "0.001 s, against 3000 samples from 0 s every 0.001 s" in text
+    ), text
+    assert "the same start, step and number of samples" in text, text
+    assert "the channel asked for, Force, is not concerned" in text and "cut to the shorter" in text, text
+
+
+def test_a_nan_at_a_records_first_sample_is_not_told_to_cut_before_it(tmp_path):
+    """AY4/AY2: the advice is one that can be followed: at point 1 the record from the next sample."""
+    x = np.sin(2 * np.pi * 20 * T3)
+    x[0] = np.nan
+    p = tmp_path / "one.uff"
+    write_uff(p, [Record("time", T3, np.nan_to_num(x), "Response", 1, 3, unit="m/s2", data_type=12)])
+    raw = bytearray(p.read_bytes())
+    start = raw.index(b"    58b")
+    for _ in range(12):
+        start = raw.index(b"\n", start) + 1
+    raw[start : start + 8] = np.array([np.nan]).tobytes()
+    p.write_bytes(bytes(raw))
+    with pytest.raises(ModelError) as e:
+        read_time_record(p)
+    text = e.value.allowed
+    assert "(point 1 of 3000)" in text and "up to" not in text and "the record from 0.001 s (points 2 to 3000)" in text
+    assert "refused as a whole" not in text, text  # (one function: nothing else to refuse)
