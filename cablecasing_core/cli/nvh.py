@@ -71,10 +71,11 @@ _WEIGHTS = {
 }
 
 
-def _window(rec, args):
+def _window(rec, args, columns):
     """The samples after ``args.skip`` (s; None takes the record's
     :meth:`~cablecasing_core.records.Records.default_skip`, stored back in ``args.skip`` for what the
-    command prints)."""
+    command prints). A record too short for any skip (fewer than 16 samples even with ``--skip 0``)
+    is refused naming the file, the ``columns`` asked for, its length and the minimum."""
     from ..errors import ModelError
     from ..model.validators import seconds
     from ..records import after_skip
@@ -89,6 +90,14 @@ def _window(rec, args):
     keep = after_skip(rec.time, skip, rec.time[0])
     ramp = f", or the fade-in the record states (# ramp_s = {rec.ramp_s:g} s) if longer" if rec.ramp_s > 0 else ""
     lines = ", lengthened to whole periods of the lines it states" if rec.lines_hz else ""
+    whole = int(after_skip(rec.time, 0.0, rec.time[0]).sum())
+    if keep.sum() < 16 and whole < 16:  # (no skip helps: the record itself is too short)
+        raise ModelError(
+            "file",
+            f"{rec.source} ({', '.join(columns)})",
+            f"holds {whole} samples ({rec.time[-1] - rec.time[0]:.6g} s at dt = {dt:.4g} s): at least 16 samples are "
+            "needed after the skip, more than the whole record (--skip 0) holds; record a longer one",
+        )
     if keep.sum() < 16:
         raise ModelError(
             "--skip",
@@ -196,7 +205,7 @@ def cmd_spectrum(args):
     columns = _columns(args.column, [STUDY_OUTPUT])
     check_frequency_range(args.fmin, args.fmax)
     f_range = (args.fmin, args.fmax)
-    keep = _window(rec, args)
+    keep = _window(rec, args, columns)
     fs, n = rec.fs, int(keep.sum())
     if fs / 2 <= args.fmin:
         raise _no_line(args.record, rec.resolve(columns[0], "--column"), fs, n, args.fmin, args.fmax)
@@ -456,7 +465,7 @@ def cmd_bands(args):
     with renamed({"f_min": "--fmin", "f_max": "--fmax", "f_min/f_max": "--fmin/--fmax"}, in_text=True):
         band_set = octave_bands(args.kind, args.fmin, args.fmax)
     rec = _record(args.record)
-    keep = _window(rec, args)
+    keep = _window(rec, args, columns)
     col = rec.resolve(columns[0], "--column")
     unit = rec.unit(col)
     with renamed({"ref": "--ref"}):  # (BandRMS.level_db's rule: the unit's reference, 1 where none is known)

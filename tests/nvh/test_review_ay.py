@@ -56,3 +56,27 @@ def test_spectrum_apparent_mass_of_a_uff_labelled_m_s_caret_2(tmp_path, capsys):
     table = np.genfromtxt(out, delimiter=",", names=True)
     re_col = next(n for n in table.dtype.names if n.startswith("re_"))
     np.testing.assert_allclose(table[re_col], M, rtol=1e-12)  # (H1 of the rigid mass, to rounding)
+
+
+@pytest.mark.parametrize("command", ["spectrum", "bands"])
+@pytest.mark.parametrize("skip", [[], ["--skip", "0"]])
+def test_a_record_too_short_for_any_skip_names_the_file_its_length_and_the_minimum(tmp_path, capsys, command, skip):
+    """AY5: a record of 2 samples was told to give a shorter --skip, even at --skip 0."""
+    p = tmp_path / "short.csv"
+    p.write_text("time [s],Response [m/s2]\n0,0.1\n0.001,-0.2\n")
+    assert main([command, str(p), "--column", "Response", *skip]) == 2
+    err = capsys.readouterr().err
+    assert f"RECORD = '{p} (Response)': holds 2 samples (0.001 s at dt = 0.001 s): at least 16 samples" in err, err
+    assert "--skip =" not in err and "shorter" not in err, err
+
+
+def test_a_skip_that_leaves_too_few_of_a_long_enough_record_is_still_named(tmp_path, capsys):
+    """AY5: 20 samples hold 16 with --skip 0; --skip 0.01 leaves 10: that one is the option to change."""
+    p = tmp_path / "twenty.csv"
+    t = np.arange(20) / FS
+    p.write_text(
+        "time [s],Response [m/s2]\n" + "".join(f"{a!r},{b!r}\n" for a, b in zip(t.tolist(), np.sin(300 * t).tolist()))
+    )
+    assert main(["spectrum", str(p), "--column", "Response", "--skip", "0.01"]) == 2
+    err = capsys.readouterr().err
+    assert "--skip = 0.01: must leave at least 16 samples" in err, err
