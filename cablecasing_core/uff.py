@@ -643,11 +643,14 @@ MOTION_LABELS = {
 FORCE_LABELS = ("n", "kn", "lbf", "lb", "kgf")
 
 
-def unit_key(label: str) -> str:
-    """A unit label in the form :data:`MOTION_LABELS` compares: lower case, no spaces, brackets, ``^``, ``**``
-    (``m/s^2``, ``m/s**2``, ``m/s²``, ``[m/s2]`` are ``m/s2``). The package's one rule of unit spellings: the
-    FRF kind by labels and the units the transfer functions need (``nvh.transfer``) compare by it."""
-    key = label.strip().lower().replace("²", "2").replace("**", "").replace("^", "")
+def unit_key(label: str, fold_case: bool = True) -> str:
+    """A unit label in the form :data:`MOTION_LABELS` compares: no spaces, brackets, ``^``, ``**`` (``m/s^2``,
+    ``m/s**2``, ``m/s²``, ``[m/s2]`` are ``m/s2``), and lower case unless ``fold_case`` is False. The package's
+    one rule of unit spellings: the FRF kind by labels compares with the case folded (vendors write ``G``,
+    ``M/S^2``); the units the transfer functions need (``nvh.transfer``) compare with it kept, since case
+    carries a prefix's factor there (``mN`` and ``MN`` differ by 1e9)."""
+    key = label.strip()
+    key = (key.lower() if fold_case else key).replace("²", "2").replace("**", "").replace("^", "")
     return "".join(c for c in key if c not in " ()[]")
 
 

@@ -170,7 +170,7 @@ def apparent_mass(
     the record, so at least 15 averages; the default segment is at least 16 samples, so a record of
     fewer than 128 samples after skip is refused naming its length."""
     units = rec.unit(input, "input"), rec.unit(output, "output")
-    if (unit_key(units[0]), unit_key(units[1])) != (unit_key("m/s2"), unit_key("N")):  # (spellings: uff.unit_key)
+    if (unit_key(units[0], False), unit_key(units[1], False)) != ("m/s2", "N"):  # (spellings: uff.unit_key)
         raise ModelError(
             "input/output",
             (input, output),
@@ -192,12 +192,12 @@ def transmissibility(
     """The force transmissibility (dimensionless) from the support force ``input`` (N, the driven
     end) to the support force ``output`` (N) of the record ``rec`` (arguments as :func:`apparent_mass`)."""
     units = rec.unit(input, "input"), rec.unit(output, "output")
-    if unit_key(units[0]) != unit_key(units[1]):  # (m/s^2 and m/s2 are one unit: uff.unit_key)
+    if unit_key(units[0], False) != unit_key(units[1], False):  # (m/s^2 and m/s2 are one unit: uff.unit_key)
         raise ModelError(
             "input/output",
             (input, output),
-            f"a transmissibility needs two signals of one unit (spelled alike but for case, spaces, brackets, ^ "
-            f"and **); their units read: {_units(units)}",
+            f"a transmissibility needs two signals of one unit (spelled alike but for spaces, brackets, ^ and "
+            f"**; case counts: mN is not MN); their units read: {_units(units)}",
         )
     return _estimate(rec, input, output, 1.0, "transmissibility", "1", estimator, skip, nperseg, resolution_hz)
 

@@ -16,7 +16,7 @@ A = np.random.default_rng(7).normal(size=T.size)  # m/s2, white noise
 M = 2.5  # kg: the recorded force of a rigid mass is -M a, so the apparent mass (-F/a, the TRFAM's sign) is M
 
 
-@pytest.mark.parametrize("spelled", ["m/s^2", "m/s**2", "m/s²", "M/S2", "[m/s2]", " m/s 2"])
+@pytest.mark.parametrize("spelled", ["m/s^2", "m/s**2", "m/s²", "[m/s2]", " m/s 2"])
 def test_the_apparent_mass_takes_an_acceleration_however_its_unit_is_spelled(spelled):
     """AY3: the UFF reader takes m/s^2, m/s**2 and m/s² for m/s2 (``uff.unit_key``); the apparent mass compared the
     unit as a string and refused them. A rigid mass of 2.5 kg: H1 = 2.5 at every line (one linear map, no noise:
@@ -29,9 +29,10 @@ def test_the_apparent_mass_takes_an_acceleration_however_its_unit_is_spelled(spe
     np.testing.assert_allclose(tt.H, 3.0, rtol=1e-12)
 
 
-@pytest.mark.parametrize("units", [("g", "N"), ("m/s2", "kN"), ("m/s", "N"), ("", "N")])
+@pytest.mark.parametrize("units", [("g", "N"), ("m/s2", "kN"), ("m/s", "N"), ("", "N"), ("M/S2", "N"), ("m/s2", "n")])
 def test_other_units_are_still_refused(units):
-    """AY3: an acceleration in g (the apparent mass would not be in kg), a force in kN, a velocity, no unit."""
+    """AY3: an acceleration in g (the apparent mass would not be in kg), a force in kN, a velocity, no unit; case
+    counts (M/S2 is megametres per square second, n no force unit)."""
     rec = Records(T, {"acc": A, "force": -M * A}, dict(zip(("acc", "force"), units)))
     with pytest.raises(ModelError, match=r"needs an acceleration in m/s2 \(m/s\^2, m/s\*\*2, m/s² alike\)"):
         apparent_mass(rec, input="acc", output="force", skip=0.0)
@@ -80,3 +81,13 @@ def test_a_skip_that_leaves_too_few_of_a_long_enough_record_is_still_named(tmp_p
     assert main(["spectrum", str(p), "--column", "Response", "--skip", "0.01"]) == 2
     err = capsys.readouterr().err
     assert "--skip = 0.01: must leave at least 16 samples" in err, err
+
+
+def test_a_transmissibility_keeps_the_case_of_a_prefix():
+    """A prefix's case is its factor: forces in mN and MN differ by 1e9, so their ratio is not a transmissibility;
+    N and N, kN and kN, m/s^2 and m/s2 are one unit each."""
+    with pytest.raises(ModelError, match="case counts: mN is not MN"):
+        transmissibility(Records(T, {"a": A, "b": A}, {"a": "mN", "b": "MN"}), "a", "b", skip=0.0)
+    for a, b in (("N", "N"), ("kN", "[kN]"), ("m/s^2", "m/s2")):
+        tt = transmissibility(Records(T, {"a": A, "b": 2 * A}, {"a": a, "b": b}), "a", "b", skip=0.0)
+        np.testing.assert_allclose(tt.H, 2.0, rtol=1e-12)
