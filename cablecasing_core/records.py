@@ -87,6 +87,7 @@ from .model.schema import (
 )
 from .timedomain.start_skip import LEAST_SKIP, least_skip, skip_for_whole_periods  # noqa: F401 (also records' names)
 from .uff import STATEMENTS, UFF_EXTENSIONS, Record, data_type, function_names, read_uff, write_uff
+from .units import unit_key
 
 SUFFIXES = (".csv", ".npz", ".uff")
 _NODES = {"casing.A": 1, "casing.B": 2, "cable.A": 3, "cable.B": 4}
@@ -488,7 +489,7 @@ class Records:
         if twice:
             raise ModelError(key, name, f"names {twice[0]} twice: give each term of a sum once")
         units = [self.units.get(c, "") for c in cols]
-        if len(set(units)) > 1:
+        if len({unit_key(u, False) for u in units}) > 1:  # (m/s^2 and m/s2 are one unit: units.unit_key)
             shown = ", ".join(f"{c} [{u or 'no unit'}]" for c, u in zip(cols, units))
             raise ModelError(key, name, f"adds columns of different units ({shown}): the terms of a sum need one unit")
         canon = "+".join(cols) if "+" in name else name

@@ -30,7 +30,7 @@ from .errors import ModelError, ModelWarning, renamed
 from .extras import install_hint
 from .files import atomic_path, memory_available
 from .model.validators import Choice, array_1d, number
-from .units import frequency_factor, frequency_units_text, time_factor, time_units_text
+from .units import frequency_factor, frequency_units_text, time_factor, time_units_text, unit_key
 
 _TAG = re.compile(r"cablecasing x0=(\S+) dx=(\S+)")
 UFF_EXTENSIONS = (".uff", ".unv", ".uf")
@@ -641,17 +641,6 @@ MOTION_LABELS = {
     "displacement": ("m", "mm", "um", "µm", "μm", "in", "mil", "ft"),
 }
 FORCE_LABELS = ("n", "kn", "lbf", "lb", "kgf")
-
-
-def unit_key(label: str, fold_case: bool = True) -> str:
-    """A unit label in the form :data:`MOTION_LABELS` compares: no spaces, brackets, ``^``, ``**`` (``m/s^2``,
-    ``m/s**2``, ``m/s²``, ``[m/s2]`` are ``m/s2``), and lower case unless ``fold_case`` is False. The package's
-    one rule of unit spellings: the FRF kind by labels compares with the case folded (vendors write ``G``,
-    ``M/S^2``); the units the transfer functions need (``nvh.transfer``) compare with it kept, since case
-    carries a prefix's factor there (``mN`` and ``MN`` differ by 1e9)."""
-    key = label.strip()
-    key = (key.lower() if fold_case else key).replace("²", "2").replace("**", "").replace("^", "")
-    return "".join(c for c in key if c not in " ()[]")
 
 
 def frf_kind_of_labels(record):

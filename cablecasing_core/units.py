@@ -4,7 +4,7 @@ The one table of each: a CSV record's time column (``time [ms]``, ``time_ms``; :
 and a UFF 58 time record's abscissa label are read through :func:`time_factor`; a CSV FRF's frequency
 column (``frequency [rad/s]``; ``identification.uff_io.frequency_column``) and a UFF 58 FRF's abscissa
 label through :func:`frequency_factor`. The package computes in s and Hz; these only convert what a file
-states.
+states. How a unit's spellings compare (``m/s^2`` is ``m/s2``): :func:`unit_key`.
 """
 
 from __future__ import annotations
@@ -65,3 +65,16 @@ def frequency_factor(unit: str) -> float | None:
 def frequency_units_text() -> str:
     """The units :func:`frequency_factor` converts, for a message: ``'Hz', '1/s', ...``."""
     return ", ".join(repr(k) for k in FREQUENCY_UNITS)
+
+
+def unit_key(label: str, fold_case: bool = True) -> str:
+    """``label`` (a unit as a file or a record states it) in the form unit labels compare in: no spaces,
+    brackets, ``^`` or ``**``, ``²`` as 2 (``m/s^2``, ``m/s**2``, ``m/s²``, ``[m/s2]`` are ``m/s2``), and in
+    lower case unless ``fold_case`` is False. The package's one rule of unit spellings: the FRF kind by a UFF
+    record's labels (``uff.MOTION_LABELS``) compares with the case folded (vendors write ``G``, ``M/S^2``);
+    the units the transfer functions need (``nvh.transfer``), the units of the dB references
+    (``nvh.spectra.reference``) and the terms of a summed column (``Records``) compare with it kept, since
+    the case carries a prefix's factor there (``mN`` and ``MN`` differ by 1e9)."""
+    key = label.strip()
+    key = (key.lower() if fold_case else key).replace("²", "2").replace("**", "").replace("^", "")
+    return "".join(c for c in key if c not in " ()[]")

@@ -37,6 +37,7 @@ from scipy import signal
 from ..errors import ModelError, ModelWarning
 from ..identification.frf import welch_averages, welch_overlap
 from ..model.validators import array_1d, integer, number
+from ..units import unit_key
 
 #: The fewest Welch averages the default resolution keeps, and below which psd() warns: the
 #: normalized random error of a PSD line is about 1/sqrt(averages) (Bendat & Piersol 11.5), 38 % at 7.
@@ -100,14 +101,16 @@ def segment_for_resolution(
 
 
 def reference(unit: str, ref: float | None = None) -> float:
-    """The reference value of levels of a quantity in ``unit`` (:data:`REFERENCES`), or ``ref``
+    """The reference value of levels of a quantity in ``unit`` (:data:`REFERENCES`, its spellings alike:
+    ``m/s^2`` is ``m/s2``, :func:`..units.unit_key`), or ``ref``
     when given (a positive number in that unit). A :class:`ModelError` names ``ref`` (the command
     line renames it ``--ref``)."""
     if ref is not None:
         return number("ref", ref, gt=0, unit=unit)
-    if unit not in REFERENCES:
+    known = {unit_key(k, False): v for k, v in REFERENCES.items()}  # (m/s^2 is m/s2: units.unit_key)
+    if unit_key(unit, False) not in known:
         raise ModelError("ref", None, f"must be given for a quantity in '{unit}' (known: {', '.join(REFERENCES)})")
-    return REFERENCES[unit]
+    return known[unit_key(unit, False)]
 
 
 def squared(unit: str) -> str:

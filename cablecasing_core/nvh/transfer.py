@@ -27,7 +27,7 @@ from ..identification.frf import frf_estimate, random_error, welch_averages
 from ..model.schema import STUDY_OUTPUT
 from ..model.validators import Choice, array_1d, integer, number, seconds
 from ..records import Records, after_skip
-from ..uff import unit_key
+from ..units import unit_key
 from .spectra import finest_segment_resolution, segment_for_resolution
 
 #: The fewest Welch averages a transfer estimate takes: with one, the coherence is 1 by construction.
@@ -170,7 +170,7 @@ def apparent_mass(
     the record, so at least 15 averages; the default segment is at least 16 samples, so a record of
     fewer than 128 samples after skip is refused naming its length."""
     units = rec.unit(input, "input"), rec.unit(output, "output")
-    if (unit_key(units[0], False), unit_key(units[1], False)) != ("m/s2", "N"):  # (spellings: uff.unit_key)
+    if (unit_key(units[0], False), unit_key(units[1], False)) != ("m/s2", "N"):  # (spellings: units.unit_key)
         raise ModelError(
             "input/output",
             (input, output),
@@ -192,7 +192,7 @@ def transmissibility(
     """The force transmissibility (dimensionless) from the support force ``input`` (N, the driven
     end) to the support force ``output`` (N) of the record ``rec`` (arguments as :func:`apparent_mass`)."""
     units = rec.unit(input, "input"), rec.unit(output, "output")
-    if unit_key(units[0], False) != unit_key(units[1], False):  # (m/s^2 and m/s2 are one unit: uff.unit_key)
+    if unit_key(units[0], False) != unit_key(units[1], False):  # (m/s^2 and m/s2 are one unit: units.unit_key)
         raise ModelError(
             "input/output",
             (input, output),

@@ -18,7 +18,7 @@ M = 2.5  # kg: the recorded force of a rigid mass is -M a, so the apparent mass 
 
 @pytest.mark.parametrize("spelled", ["m/s^2", "m/s**2", "m/s²", "[m/s2]", " m/s 2"])
 def test_the_apparent_mass_takes_an_acceleration_however_its_unit_is_spelled(spelled):
-    """AY3: the UFF reader takes m/s^2, m/s**2 and m/s² for m/s2 (``uff.unit_key``); the apparent mass compared the
+    """AY3: the UFF reader takes m/s^2, m/s**2 and m/s² for m/s2 (``units.unit_key``); the apparent mass compared the
     unit as a string and refused them. A rigid mass of 2.5 kg: H1 = 2.5 at every line (one linear map, no noise:
     to rounding, 1e-12)."""
     rec = Records(T, {"acc": A, "force": -M * A}, {"acc": spelled, "force": "N"})
@@ -91,3 +91,18 @@ def test_a_transmissibility_keeps_the_case_of_a_prefix():
     for a, b in (("N", "N"), ("kN", "[kN]"), ("m/s^2", "m/s2")):
         tt = transmissibility(Records(T, {"a": A, "b": 2 * A}, {"a": a, "b": b}), "a", "b", skip=0.0)
         np.testing.assert_allclose(tt.H, 2.0, rtol=1e-12)
+
+
+def test_db_references_and_summed_columns_take_a_units_spellings_alike():
+    """The one rule of unit spellings (units.unit_key) in the dB references (an acceleration in m/s^2 is
+    referred to 1e-6 m/s2, ISO 1683, as one in m/s2) and in a summed column (m/s^2 + m/s2 is one unit);
+    the case still counts (mN + MN is refused; no reference is known for M/S2)."""
+    from cablecasing_core.nvh.spectra import reference
+
+    assert reference("m/s^2") == reference("m/s2") == 1e-6 and reference("[N]") == 1.0
+    with pytest.raises(ModelError, match="must be given for a quantity in 'M/S2'"):
+        reference("M/S2")
+    rec = Records(T, {"a": A, "b": 2 * A}, {"a": "m/s^2", "b": "m/s2"})
+    np.testing.assert_allclose(rec.column("a+b"), 3 * A, rtol=1e-15)
+    with pytest.raises(ModelError, match="adds columns of different units"):
+        Records(T, {"a": A, "b": A}, {"a": "mN", "b": "MN"}).column("a+b")
