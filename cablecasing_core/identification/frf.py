@@ -49,18 +49,24 @@ def welch_overlap(n: int, nperseg: int, least: int | None = None) -> int:
     """The overlap (samples) of Welch segments of ``nperseg`` samples that span a record of ``n``
     samples: the first segment starts at its first sample and the last ends within
     ``welch_averages(n, nperseg) - 1`` samples of its last (6 of 44000 at nperseg 8192),
-    overlapping by at least ``least`` samples (default half a segment). Welch's method
-    (``scipy.signal.welch``) takes segments every ``nperseg - noverlap`` samples and leaves out the
-    samples after the last whole one, up to a step less one (3040 of 44000 at 50 %); this raises the
-    overlap just enough (one segment more, the step shortened to ``(n - nperseg) // (segments - 1)``)
-    that no more than those few are left. A record of at most one segment gives ``least``."""
-    least = nperseg // 2 if least is None else int(least)
+    overlapping by at least ``least`` samples (default half a segment, rounded up: at least 50 %).
+    Welch's method (``scipy.signal.welch``) takes segments every ``nperseg - noverlap`` samples and
+    leaves out the samples after the last whole one, up to a step less one (3040 of 44000 at 50 %).
+    This returns the smallest overlap of at least ``least`` that leaves no more than those few:
+    ``least`` itself when the segments at ``least`` already leave at most their number less one,
+    else one segment more, the step shortened to ``(n - nperseg) // (segments - 1)`` (no overlap
+    between these two leaves so few: they all take the segments of ``least``, and leave more
+    than it does). A record of at most one segment gives ``least``."""
+    least = -(-nperseg // 2) if least is None else int(least)
     if not 0 <= least < nperseg:
         raise ModelError("noverlap", least, f"must be 0 to nperseg - 1 ({nperseg - 1}) samples")
     span = n - nperseg
     if span <= 0:
         return least
-    gaps = -(-span // (nperseg - least))  # (the fewest steps of at most nperseg - least that reach the end)
+    step = nperseg - least
+    if span % step <= span // step:  # (the tail at least is within the segments' number less one)
+        return least
+    gaps = -(-span // step)  # (the fewest steps of at most nperseg - least that reach the end)
     return nperseg - span // gaps
 
 

@@ -273,8 +273,8 @@ def psd(
     f_min. Lines above fs / 2 do not exist: f_max beyond it counts the lines up to fs / 2. Fewer than
     :data:`MIN_AVERAGES` averages (an nperseg asked for) warn
     too. window: a ``scipy.signal.get_window`` spec (default Hann); overlap: the segments' least
-    overlap fraction (0 to < 1), raised just enough that the segments span the record, from its first
-    sample to within a few of its last (``identification.frf.welch_overlap``: 44000 samples in
+    overlap fraction (0 to < 1; in samples, rounded up), raised just enough that the segments span the
+    record, from its first sample to within a few of its last (``identification.frf.welch_overlap``: 44000 samples in
     segments of 8192 overlap by 51.4 %, 10 averages, and leave out 6 samples; at exactly 50 % the
     last 3040 would be left out). The density is one-sided, unit^2/Hz (``scaling="density"``), so
     ``sum(density) df`` is the mean square of x (less its mean, removed per segment). ``name``
@@ -306,7 +306,10 @@ def psd(
                 stacklevel=2,
             )
     nperseg = integer("nperseg", nperseg, MIN_PSD_SEGMENT, x.size, why=f" (the record's length, {x.size} samples)")
-    noverlap = welch_overlap(x.size, nperseg, min(int(round(overlap * nperseg)), nperseg - 1))
+    # (the least overlap rounded up, at least the fraction asked for: 4 of 9 samples would be 44 %; the factor keeps a
+    # product whole but for its last bit, 0.55 * 100 = 55.00000000000001, from rounding up to 56)
+    least = min(int(np.ceil(overlap * nperseg * (1 - 1e-12))), nperseg - 1)
+    noverlap = welch_overlap(x.size, nperseg, least)
     try:
         f, G = signal.welch(x, fs=fs, window=window, nperseg=nperseg, noverlap=noverlap, detrend="constant")
         w = signal.get_window(window, nperseg)

@@ -149,3 +149,55 @@ def test_frf_errors():
     with pytest.raises(ModelError) as e:
         frf_estimate(np.ones(100), np.ones(100), 0.0)
     assert e.value.key == "fs"
+
+
+def _tail(n, nperseg, noverlap):
+    """(samples after scipy's last segment, segments) at this overlap: segments every nperseg - noverlap samples
+    from sample 0 while a whole one fits (``scipy.signal.welch``'s rule, checked below against its own output)."""
+    step = nperseg - noverlap
+    k = 1 + (n - nperseg) // step
+    return n - ((k - 1) * step + nperseg), k
+
+
+def test_welch_overlap_is_the_least_overlap_whose_segments_span_the_record():
+    """Review AX3: welch_overlap(n, nperseg, least) is the smallest overlap of at least ``least`` whose segments leave
+    at most their number less one samples after the last (its guarantee), found here by trying every overlap from
+    ``least`` up; over segment lengths odd and even, records of one to 12 segments and ``least`` from 0 to
+    nperseg - 1. It added a segment whenever the tail at ``least`` was not 0: 45057 samples at 8192 leave 1 sample
+    at 50 %, where it took 55 % and left 5; 17409 at 1024 with no overlap leave 1, where it took 61 samples and left
+    14. The default least is half a segment rounded up: at least 50 % (4 of 9 samples would be 44 %)."""
+    from cablecasing_core.identification.frf import welch_overlap
+
+    for nper in [*range(8, 41), 63, 64, 127, 128]:
+        for n in range(nper, 12 * nper + 3, max(1, nper // 16)):
+            for least in sorted({0, nper // 3, nper // 2, -(-nper // 2), (3 * nper) // 4, nper - 1}):
+                want = next(o for o in range(least, nper) if _tail(n, nper, o)[0] <= _tail(n, nper, o)[1] - 1)
+                assert welch_overlap(n, nper, least) == want, (n, nper, least)
+            assert welch_overlap(n, nper) == welch_overlap(n, nper, -(-nper // 2)) >= nper / 2
+    assert welch_overlap(45057, 8192) == 4096 and _tail(45057, 8192, 4096) == (1, 10)  # (kept at 50 %)
+    assert welch_overlap(17409, 1024, 0) == 0 and _tail(17409, 1024, 0) == (1, 17)
+    assert welch_overlap(44000, 8192) == 4214 and _tail(44000, 8192, 4214) == (6, 10)  # (raised: 3040 left at 50 %)
+    assert welch_overlap(44000, 16384) == 9480 and _tail(44000, 16384, 9480) == (0, 5)  # (the report's 58 %)
+
+
+@pytest.mark.parametrize(
+    ("n", "nperseg", "least"),
+    [(45057, 8192, None), (44000, 8192, None), (17409, 1024, 0), (1000, 9, None), (5003, 127, 40)],
+)
+def test_welch_overlap_segments_as_scipy_takes_them(n, nperseg, least):
+    """The segments scipy itself takes at welch_overlap's overlap (scipy.signal.spectrogram, Welch's segmenting with
+    each segment's spectrum kept: its segment times are their centres): as many as welch_averages counts, the
+    first from sample 0, the last ending within their number less one samples of the record's end; and welch's
+    density is the mean of those segments' (to round-off, 1e-12)."""
+    from cablecasing_core.identification.frf import welch_averages, welch_overlap
+
+    nov = welch_overlap(n, nperseg, least)
+    x = np.random.default_rng(0).standard_normal(n)
+    kw = dict(fs=1.0, window="hann", nperseg=nperseg, noverlap=nov)  # (spectrogram's default window is not welch's)
+    _, t, S = signal.spectrogram(x, **kw)
+    starts = t - nperseg / 2  # (samples, at fs = 1 Hz)
+    assert starts[0] == 0 and t.size == welch_averages(n, nperseg, nov)
+    assert 0 <= n - (starts[-1] + nperseg) <= t.size - 1 and n - (starts[-1] + nperseg) == _tail(n, nperseg, nov)[0]
+    _, G = signal.welch(x, **kw)
+    np.testing.assert_allclose(G, S.mean(axis=-1), rtol=1e-12)
+    assert nov >= (nperseg / 2 if least is None else least)
