@@ -442,7 +442,8 @@ AM_RANGE_HZ = (10.0, 1000.0)
 #: below 100 Hz are 1.9-3.9 Hz wide (half power, viscous), so the lines do not resolve them and the
 #: coherence drops by the window's bias: on the built-in specimen's record without the drive (seed
 #: 1, 0.5 s, no contact) its median is 0.60 over 10-100 Hz and 0.99 over 10-1000 Hz, the window
-#: alone predicts 0.50 and 0.99, and at 24.4 Hz lines (21 averages) it falls to 0.27 and 0.81
+#: alone predicts 0.50 and 0.99, and at 24.4 Hz lines (21 averages) it falls to 0.81 over 10-1000 Hz
+#: (40 lines; over 10-100 Hz they are 4, no meaningful median: MIN_MEDIAN_LINES)
 #: (tests/nvh/test_report_apparent_mass.py). A shorter record takes the finest it allows
 #: (``nvh.transfer.finest_resolution``).
 AM_RESOLUTION_HZ = 8.0

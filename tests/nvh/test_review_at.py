@@ -2,12 +2,14 @@
 (AT2), and the report says how many lines its median coherence is taken over (AT4)."""
 
 import csv
+import re
 
 import numpy as np
 import pytest
 from scipy import signal
 
 from cablecasing_core.cli import main
+from cablecasing_core.errors import ModelWarning
 from cablecasing_core.identification.frf import frf_estimate, welch_averages, welch_overlap
 from cablecasing_core.nvh import psd
 from cablecasing_core.records import Records, write_records
@@ -53,25 +55,80 @@ def test_the_apparent_mass_csv_header_names_the_negated_force_its_values_hold(tm
 # ---------------------------------------------------------------- AT2: segments that span the record
 
 
+def scipy_segments(n, nperseg, noverlap):
+    """(segments, samples after the last one) of Welch's segmenting as scipy takes it, read from scipy itself:
+    scipy.signal.spectrogram segments a record as welch does (its densities are welch's segment for segment, checked
+    in tests/identification/test_frf.py) and returns each segment's centre, (start + nperseg / 2) / fs."""
+    _, t, _ = signal.spectrogram(np.zeros(n), fs=1.0, window="hann", nperseg=nperseg, noverlap=noverlap)
+    assert t[0] == nperseg / 2  # (the first starts at sample 0)
+    return t.size, n - round(t[-1] + nperseg / 2)
+
+
 @pytest.mark.parametrize("least", [0.5, 0.0, 0.75])
 def test_welch_segments_span_the_record_to_its_last_few_samples(least):
     """For segment lengths 8 to 8192 and records of one to 40 segments: the overlap is at least the
-    one asked for, the first segment starts at sample 0 and scipy's last one (counted as
-    scipy.signal.welch counts them, 1 + (n - nperseg) // step) ends fewer than ``averages`` samples
-    before the record's end; at 50 % Welch's own tail (n - nperseg) % (nperseg / 2) may reach half a
-    segment less one."""
+    one asked for, scipy's segments at it (counted by scipy.signal.spectrogram, not by the code's own
+    formula) are as many as welch_averages says, the first starts at sample 0 and the last ends fewer
+    than ``averages`` samples before the record's end; at 50 % Welch's own tail (n - nperseg) % (nperseg / 2)
+    may reach half a segment less one. (800 records each: scipy's count costs an FFT a segment.)"""
     rng = np.random.default_rng(0)
-    for _ in range(3000):
+    for _ in range(800):
         nper = int(2 ** rng.integers(3, 14))
         n = int(rng.integers(nper, 40 * nper))
         want = int(round(least * nper))
         nov = welch_overlap(n, nper, want)
-        step = nper - nov
-        k = 1 + (n - nper) // step
-        assert nov >= want and k == welch_averages(n, nper, nov)
-        end = (k - 1) * step + nper
-        assert end <= n and n - end <= max(k - 1, 0), (n, nper, nov, k)
+        k, tail = scipy_segments(n, nper, nov)
+        assert nov >= want and k == welch_averages(n, nper, nov), (n, nper, nov, k)
+        assert 0 <= tail <= k - 1, (n, nper, nov, k, tail)
     assert welch_overlap(44000, 8192) == 4214 and welch_averages(44000, 8192) == 10  # (the 0.44 s of a 0.5 s run)
+    assert scipy_segments(44000, 8192, 4214) == (10, 6) and scipy_segments(44000, 8192, 4096) == (9, 3040)
+
+
+def test_the_least_overlap_is_at_least_the_fraction_asked_for():
+    """Review AX3: the least overlap in samples is the fraction asked for rounded up (a record of one
+    segment keeps it: no segment to add): an odd segment overlaps by at least 50 % (513 of 1025, not
+    512; welch_overlap's default alike), and a product whole but for its last bit is not rounded
+    up (0.55 * 100 = 55.00000000000001: 55)."""
+    x = np.random.default_rng(2).standard_normal(1025)
+    with pytest.warns(ModelWarning, match="averages only 1 segment"):
+        assert psd(x, 1.0, nperseg=1025).noverlap == 513 == welch_overlap(1025, 1025)
+    with pytest.warns(ModelWarning, match="averages only 1 segment"):
+        assert psd(x[:100], 1.0, nperseg=100, overlap=0.55).noverlap == 55
+
+
+def test_spectrum_s_psd_header_says_the_overlap_and_tail_of_scipys_segments(tmp_path, capsys):
+    """Review AX5: the PSD's header line states the segments' overlap and the samples after the last
+    one; read here from scipy on a record of 44000 samples (0.44 s at 100 kHz, the docs' example:
+    51.4 %, 10 averages, 6 samples left). The overlap the header's rounded percentage allows (0.1 %
+    of 8192: a few samples) that reproduces the written PSD with scipy.signal.welch, to the 9 digits
+    written (1e-7 relative; white noise: another overlap changes the lines by up to percents), is the
+    one used; scipy's own segmenting at it (scipy.signal.spectrogram) gives the averages and the
+    tail the header states."""
+    fs, n = 1e5, 44000
+    x = np.random.default_rng(5).standard_normal(n)
+    rec = Records(np.arange(n) / fs, {"casing.B.Fz": x})
+    rec.units["casing.B.Fz"] = "N"
+    write_records(tmp_path / "r.npz", rec)
+    out_csv = tmp_path / "s.csv"
+    assert main(["spectrum", str(tmp_path / "r.npz"), "--skip", "0", "--out", str(out_csv)]) == 0
+    head = next(line for line in capsys.readouterr().out.splitlines() if "PSD (Welch" in line)
+    said = re.search(
+        r"overlapping by ([0-9.]+)%, at least 50 %.* to within (\d+) samples of its end\).*, (\d+) averages", head
+    )
+    assert said, head
+    percent, tail, averages = float(said[1]), int(said[2]), int(said[3])
+    table = np.loadtxt(out_csv, delimiter=",", skiprows=1)
+    nperseg = round(fs / (table[1, 0] - table[0, 0]))  # (the default segment, from the lines written)
+    line = np.round(table[:, 0] * nperseg / fs).astype(int)  # (the lines written, k df)
+    fits = []
+    for nov in range(nperseg // 2, nperseg):
+        if round(100 * nov / nperseg, 1) == percent:
+            _, G = signal.welch(x, fs=fs, nperseg=nperseg, noverlap=nov)
+            if np.allclose(table[:, 1], G[line], rtol=1e-7, atol=0):
+                fits.append(nov)
+    assert len(fits) == 1, (percent, fits)
+    assert scipy_segments(n, nperseg, fits[0]) == (averages, tail)
+    assert (nperseg, percent, averages, tail) == (8192, 51.4, 10, 6)  # (docs/nvh.md's figures)
 
 
 def test_the_psd_weighs_a_tone_in_the_last_7_percent_of_the_record_as_one_in_the_first():
@@ -159,6 +216,21 @@ def test_the_report_gives_the_lines_of_each_median_and_no_median_of_too_few():
     assert "leaves no figure and 0.85" in text
     text = apparent_mass_note(_am(15, 163, 4, 41), "without the cable drive")
     assert "median 0.37 over 10-100 Hz (15 lines)" in text and "leaves 0.30 and 0.85" in text
+
+
+def test_a_median_over_exactly_min_median_lines_is_given_and_one_line_fewer_is_not():
+    """Review AX5: the boundary itself, MIN_MEDIAN_LINES (5: the middle line of at least 2 below and
+    2 above) lines give a median, 4 do not; in the sentence and in the bare figure."""
+    from cablecasing_core.report.figures import MIN_MEDIAN_LINES
+    from cablecasing_core.report.page import apparent_mass_note
+
+    assert MIN_MEDIAN_LINES == 5
+    text = apparent_mass_note(_am(5, 41, 4, 10), "without the cable drive")
+    assert "median 0.37 over 10-100 Hz (5 lines)" in text and "leaves 0.30 and 0.85" in text
+    assert "no meaningful median over 10-100 Hz, which holds 4 lines (a median needs at least 5)" in text
+    text = apparent_mass_note(_am(4, 41, 5, 10), "without the cable drive")
+    assert "no meaningful median over 10-100 Hz, which holds 4 lines (" in text and "leaves no figure and 0.85" in text
+    assert "median 0.11 over 10-100 Hz (5 lines)" in text
 
 
 def test_the_transfer_s_random_error_counts_the_independent_averages_of_its_overlapping_segments():
