@@ -29,6 +29,7 @@ stderr and exit status 2, as on the command line, before any folder or file is c
 from __future__ import annotations
 
 import argparse
+import contextlib
 import datetime
 import hashlib
 import html
@@ -87,6 +88,26 @@ def sources():
         if p.is_file() and p.suffix in (".py", ".toml", ".csv") and "__pycache__" not in p.parts
     ]
     return sorted(files + [SLAVE, NATIVE, *EXTRA_RESOURCES, ROOT / "pyproject.toml", Path(__file__).resolve()])
+
+
+#: The FMU ``make fmu``, the demo and the tests share: the default output.
+DEFAULT_FMU = ROOT / "dist" / "CableCasing.fmu"
+
+
+@contextlib.contextmanager
+def default_fmu_lock():
+    """Hold the lock on :data:`DEFAULT_FMU` (``dist/.CableCasing.fmu.lock``, made with its folder)
+    while the block runs: whoever rebuilds or reads that file under it (the tests' ``fmu`` fixture,
+    examples/demo.py) sees no other such process replace it meanwhile (pytest-xdist's workers: the
+    demo's test compares the checksum the demo recorded with the file). A process that ends
+    releases it. (fcntl's flock, not the filelock package: the FMU is linux64 only; a build that
+    does not take it, such as ``python build_fmu.py`` itself, is not held back.)"""
+    import fcntl
+
+    DEFAULT_FMU.parent.mkdir(exist_ok=True)
+    with open(DEFAULT_FMU.parent / f".{DEFAULT_FMU.name}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        yield DEFAULT_FMU
 
 
 def load_slave():

@@ -7,7 +7,8 @@ FMU's run checked against the core driven by the same sampled record.
 Writes fmu_outputs.csv (the default scenario through the FMU) besides the report's files (see
 ``cablecasing_core.report``: report.html, the figures, the records and tables of its runs), and
 the FMU it builds to dist/CableCasing.fmu in the repository (``make fmu``'s file), whatever
-``--out`` is. The run is written into a folder of its own inside --out and moved in at the end
+``--out`` is, under the lock the tests' FMU takes (``build_fmu.default_fmu_lock``), held until that
+FMU has run and its checksum is taken. The run is written into a folder of its own inside --out and moved in at the end
 (``report.staged_report``): stopped or failed before, it leaves --out as it was. A deviation of the
 FMU from the core beyond 1e-8 of an output's largest value stops it with exit status 1 before the
 report.
@@ -16,6 +17,7 @@ report.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import shlex
 import subprocess
 import sys
@@ -136,6 +138,20 @@ def main(argv=None):
 
 
 def _run(args, out):
+    with contextlib.ExitStack() as held:
+        return _run_holding(args, out, held)
+
+
+def _run_holding(args, out, held):
+    """The demo, holding build_fmu's lock on dist/CableCasing.fmu (``held``, an ExitStack) from its
+    build until its checksum is taken: no other process that takes the lock (a test worker's ``fmu``
+    fixture) replaces the FMU in between, so the checksum is that of the FMU that ran."""
+    sys.path.insert(0, str(ROOT))
+    try:
+        import build_fmu
+    finally:
+        sys.path.remove(str(ROOT))
+    fmu = held.enter_context(build_fmu.default_fmu_lock())
     r = subprocess.run([sys.executable, str(ROOT / "build_fmu.py")], cwd=ROOT)
     if r.returncode != 0:
         print(f"FMU build failed ({r.returncode})", file=sys.stderr)
@@ -144,7 +160,6 @@ def _run(args, out):
     from cablecasing_core.report.provenance import sha256_of
     from cablecasing_core.report.runs import fmu_check
 
-    fmu = ROOT / "dist" / "CableCasing.fmu"
     try:
         with staged_report(out) as stage:  # (moved into out at the end, with the report)
             run_fmu(fmu, args.duration, stage)
@@ -152,6 +167,7 @@ def _run(args, out):
                 "FMU": "dist/CableCasing.fmu (built by build_fmu.py), run with fmpy",
                 "FMU SHA-256": sha256_of(fmu),
             }
+            held.close()  # (the FMU ran and its checksum is taken: the lock is released for the report's runs)
             check.update(fmu_check(stage / "fmu_outputs.csv", 1e-4, args.duration))
             failed = fmu_failure(check)
             if failed:

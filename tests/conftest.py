@@ -6,7 +6,6 @@ studies/, fmu/, cli/, benchmarks/. Tests that take more than a few seconds on a 
 processes (the FMU, dask clusters, the demo), are marked ``slow``; ``make test-fast`` leaves them out.
 """
 
-import fcntl
 import os
 import shutil
 import subprocess
@@ -180,18 +179,15 @@ def clipped_specimen():
 @pytest.fixture(scope="session")
 def fmu():
     """dist/CableCasing.fmu, built (in a separate process) if missing or older than any of its sources."""
-    path = ROOT / "dist" / "CableCasing.fmu"
     sys.path.insert(0, str(ROOT))
     try:
         import build_fmu
     finally:
         sys.path.remove(str(ROOT))
     newest = max(p.stat().st_mtime for p in build_fmu.sources())
-    path.parent.mkdir(exist_ok=True)
     # make test's workers (pytest-xdist) ask for it at once: one builds while the others wait on the
-    # lock, then find it up to date. (fcntl's flock, not the filelock package: the FMU is linux64 only.)
-    with open(path.parent / ".CableCasing.fmu.lock", "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
+    # lock, then find it up to date; the demo (tests/cli/test_demo.py) builds it under the same lock
+    with build_fmu.default_fmu_lock() as path:
         if not path.exists() or path.stat().st_mtime < newest:
             subprocess.run([sys.executable, str(ROOT / "build_fmu.py")], check=True, cwd=ROOT)
     return path

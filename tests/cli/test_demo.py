@@ -45,6 +45,37 @@ def test_the_demo_refuses_bad_settings_before_it_builds_anything(tmp_path, args,
     assert sorted(p.name for p in tmp_path.iterdir()) == ["afile"]
 
 
+def test_the_demo_builds_the_fmu_under_the_lock_the_tests_fmu_takes(monkeypatch, tmp_path):
+    """Review AX4: the demo rebuilt dist/CableCasing.fmu without the lock the ``fmu`` fixture takes,
+    so under pytest-xdist another worker's build could replace it between the demo's build and its
+    checksum (the test above compares the two). Its build (here a stand-in that fails, so that the
+    demo stops there) runs while the lock is held: a second open description of the lock file cannot
+    take it; and the demo lets it go when it stops."""
+    import fcntl
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("demo_under_test", ROOT / "examples" / "demo.py")
+    demo = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(demo)
+    lock_file = ROOT / "dist" / ".CableCasing.fmu.lock"
+    held = []
+
+    def build(cmd, **kw):
+        with open(lock_file) as other:
+            try:
+                fcntl.flock(other, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                held.append(False)
+            except BlockingIOError:
+                held.append(True)
+        return subprocess.CompletedProcess(cmd, 3)
+
+    monkeypatch.setattr(demo.subprocess, "run", build)
+    assert demo._run(None, tmp_path / "results") == 3 and held == [True]
+    with open(lock_file) as other:
+        fcntl.flock(other, fcntl.LOCK_EX)  # (released: this returns, once any other worker's build is done)
+    assert not (tmp_path / "results").exists()
+
+
 def test_the_demo_report_is_one_set_of_runs_and_the_fmu_is_the_core(tmp_path):
     from cablecasing_core.records import after_skip
     from cablecasing_core.timedomain.simulation import SimulationResult
