@@ -40,6 +40,13 @@ class Number:
     def __init__(self, *, gt=None, ge=None, lt=None, le=None, integer=False, unit=None):
         self.gt, self.ge, self.lt, self.le, self.integer, self.unit = gt, ge, lt, le, integer, unit
         kind = "whole number" if integer else "number"
+        self.allowed = self._text(kind)
+        # what a NaN or an infinity is told: the same range, the number said finite
+        self.finite = self._text("finite number")
+
+    def _text(self, kind):
+        """What is allowed, in words, of a ``kind`` ("number", "whole number", "finite number")."""
+        gt, ge, lt, le = self.gt, self.ge, self.lt, self.le
         lo = (">", gt) if gt is not None else (">=", ge) if ge is not None else None
         hi = ("<", lt) if lt is not None else ("<=", le) if le is not None else None
         if lo == (">", 0) and hi is None:
@@ -55,7 +62,7 @@ class Number:
             text = f"a {kind} {op} {_fmt(bound)}"
         else:
             text = f"a {kind}"
-        self.allowed = text + _unit_phrase(unit)
+        return text + _unit_phrase(self.unit)
 
     def __call__(self, key, value):
         kind = type(value)
@@ -76,7 +83,7 @@ class Number:
             except OverflowError:  # an integer beyond any float
                 raise ModelError(key, value, "must be " + self.allowed) from None
             if not math.isfinite(v):
-                raise ModelError(key, value, "must be a finite number" + _unit_phrase(self.unit))
+                raise ModelError(key, value, "must be " + self.finite)
         if (
             (self.gt is not None and not v > self.gt)
             or (self.ge is not None and not v >= self.ge)

@@ -482,7 +482,7 @@ OPTION_ERRORS = [
         "--samples = 1000000000000: must be an integer from",
     ),
     (["identify", "damping", "{record}", "--gamma", "1e300"], "gamma = 1e+300: must be a number in (0, 1000]"),
-    (["spectrum", "{record}", "--fmin", "nan"], "--fmin = nan: must be a finite number in Hz"),
+    (["spectrum", "{record}", "--fmin", "nan"], "--fmin = nan: must be a finite number in [1e-06, 1e+06] in Hz"),
 ]
 
 

@@ -182,8 +182,8 @@ def test_loss_factor_takes_a_0_hz_line_and_checks_search_and_bandwidths(identify
     for option, value, allowed in (
         ("--search", "1.5", "must be a number in (0, 1)"),
         ("--search", "0", "must be a number in (0, 1)"),
-        ("--search", "nan", "must be a finite number"),
-        ("--bandwidths", "nan", "must be a finite number"),
+        ("--search", "nan", "must be a finite number in (0, 1)"),
+        ("--bandwidths", "nan", "must be a positive finite number"),
         ("--bandwidths", "-1", "must be a positive number"),
     ):
         assert identify_cli(["identify", "loss-factor", str(path), "--count", "2", option, value]) == 2

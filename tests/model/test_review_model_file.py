@@ -277,7 +277,7 @@ def test_a_key_given_twice_in_a_file_is_named_without_its_value(tmp_path):
     [
         ({"alpha": 2e9}, "must be a number in [0, 1e+09] in 1/s"),
         ({"beta": 5.0}, "must be a number in [0, 1] of seconds"),
-        ({"beta": float("nan")}, "must be a finite number"),
+        ({"beta": float("nan")}, "must be a finite number in [0, 1] of seconds"),
         ({"alpha": -1.0}, "refit with nonnegative=True"),
     ],
 )
