@@ -3,11 +3,14 @@
 ``geometry`` and ``static``, ``--against`` of ``ensemble``): a dotted model key of the schema and a
 TOML value. A table (``contact``) is refused,
 naming it (its keys are set one by one: ``Model.with_overrides``), and so is a key given twice. An
-error echoes a value as it was typed (``true``, ``{stiffness=1e5}``), not in Python's spelling."""
+error echoes a value as it was typed (``true``, ``{stiffness=1e5}``), not in Python's spelling; whose
+fault a refusal is (the change, or the model's key it conflicts with) is the core's rule
+(:func:`~cablecasing_core.model.changes.with_changes`), which the FMU's parameters share."""
 
 from __future__ import annotations
 
 from ..errors import NOT_SHOWN, ModelError, excerpt, plain, renamed
+from ..model.changes import with_changes
 
 
 def add_model_argument(parser, settable=False):
@@ -91,88 +94,12 @@ def with_assignments(model, flag, texts):
     return with_changes(model, {key: (flag, value, shown[key]) for key, value in assignments(flag, texts).items()})
 
 
-def with_changes(model, changes, check=None):
-    """``model`` with ``changes`` ({key: (flag, value)} or (flag, value, the value as typed)) applied
-    and validated. A refused value is named by the flag that gave it (``--set casing.E = -1: ...``),
-    as typed when it is the value of the key refused; a key the model file gives that the changes
-    make invalid (its random band above the Nyquist frequency of a ``--set scenario.dt``) is named
-    as the change that did it, with the model file's value it conflicts with. ``check(model)``, if
-    given, is a check of the changed model beyond its keys' (``ensemble``'s
-    :func:`~cablecasing_core.studies.evaluators.check_model_runs`: a tension above the casing's
-    buckling load): what it refuses is named the same way (the model without changes is checked
-    too, its error as it is)."""
-    if not changes:
-        if check is not None:
-            check(model)
-        return model
-    checked = False  # (whether the keys passed and the check refused)
-    try:
-        changed = model.with_overrides({key: change[1] for key, change in changes.items()})
-        if check is not None:
-            checked = True
-            check(changed)
-        return changed
-    except ModelError as exc:
-        given = next((k for k in changes if _same_key(str(exc.key), k)), None)
-        if given is not None:
-            value = exc.value
-            if exc.key == given and exc.value is not NOT_SHOWN:
-                value = _shown(changes[given])
-            raise ModelError(f"{changes[given][0]} {exc.key}", value, exc.allowed) from None
-        raise _conflict(model, changes, exc, check, checked) from None
-
-
-def _shown(change):
-    """The value of a change (flag, value[, typed]) as it is echoed: as typed when known."""
-    return change[2] if len(change) > 2 else change[1]
-
-
-def _same_key(refused, key):
-    """Whether the refused key is the changed ``key``, a component of it (``band[1]``) or the vector
-    it is a component of (``loads.gravity`` of ``loads.gravity.z``)."""
-    return refused == key or refused.startswith((key + ".", key + "[")) or key.startswith(refused + ".")
-
-
-def _conflict(model, changes, exc, check=None, checked=False):
-    """The error ``exc`` of a key of the model that ``changes`` did not set, named as the change(s)
-    that make it fail alone (all of them if none does; the model's own error, as it is, when it
-    fails ``check`` without them, ``checked``: ``exc`` is the check's): the value of the model it
-    conflicts with and what is allowed; for a time step, the largest that the model's excitations
-    allow."""
-    if checked:
-        try:
-            check(model)
-        except ModelError as own:  # (the model fails without the changes: none of them is to blame)
-            return own
-
-    def refused(key):
-        try:
-            changed = model.with_overrides({key: changes[key][1]})
-            if checked:
-                check(changed)
-        except ModelError:
-            return True
-        return False
-
-    culprits = [k for k in changes if refused(k)] or list(changes)
-    allowed = exc.allowed
-    if culprits == ["scenario.dt"]:
-        allowed = _step_rule(model, changes["scenario.dt"][1]) or allowed
-    shown = "" if exc.value is NOT_SHOWN else f" = {excerpt(exc.value)}"
-    what = f"conflicts with {exc.key}{shown} of the model {model.source}: {allowed}"
-    if len(culprits) == 1:
-        return ModelError(f"{changes[culprits[0]][0]} {culprits[0]}", _shown(changes[culprits[0]]), what)
-    named = ", ".join(f"{changes[k][0]} {k}={excerpt(_shown(changes[k]))}" for k in culprits)
-    return ModelError(named, NOT_SHOWN, what)
-
-
-def _step_rule(model, dt):
-    """What the excitations of ``model`` allow of a time step ``dt`` (s) that they refuse (the
-    message ``--dt`` gives: the largest step allowed), or None."""
-    from ..timedomain.scenario import ScenarioMotion
-
-    try:
-        ScenarioMotion(model, dt)
-    except ModelError as exc:
-        return exc.allowed if exc.key == "dt" else None
-    return None
+__all__ = [
+    "add_model_argument",
+    "assignment",
+    "assignments",
+    "model_argument",
+    "typed",
+    "with_assignments",
+    "with_changes",
+]
