@@ -121,10 +121,25 @@ def load_slave():
 
 
 # ------------------------------------------------------------------------------------ model description
-def complete_description(xml_bytes, units, guid, date, model_name=None, ranges=None):
+def real_starts(slave):
+    """{name: start} of every Real variable of the slave instance ``slave`` that has a start value
+    (inputs and parameters): the values its getters give, which pythonfmu writes as the start."""
+    from pythonfmu import Real
+
+    return {
+        v.name: float(v.getter())
+        for v in slave.vars.values()
+        if isinstance(v, Real) and v.causality.name in ("input", "parameter")
+    }
+
+
+def complete_description(xml_bytes, units, guid, date, model_name=None, ranges=None, starts=None):
     """The modelDescription.xml with units, the parameters' min and max (``ranges``: name -> (min,
-    max), the model schema's allowed values), UnitDefinitions, ModelStructure, GUID and date (and,
-    for an FMU built for a model file, its name in the description)."""
+    max), the model schema's allowed values), every Real's start (``starts``: name -> value,
+    :func:`real_starts`), UnitDefinitions, ModelStructure, GUID and date (and, for an FMU built for a
+    model file, its name in the description). Real numbers are written by ``repr``, the shortest
+    text that reads back as the same double: pythonfmu writes a start with 16 significant digits,
+    which is another double for a value that needs 17 (a model file's ``scenario.dt = 1/30000``)."""
     root = ET.fromstring(xml_bytes)
     root.set("guid", guid)
     if model_name:
@@ -140,6 +155,10 @@ def complete_description(xml_bytes, units, guid, date, model_name=None, ranges=N
             real.set("unit", unit)
             used.add(unit)
         number = real if real is not None else sv.find("Integer")
+        if real is not None and real.get("start") is not None and starts is not None:
+            if sv.get("name") not in starts:
+                raise SystemExit(f"variable {sv.get('name')}: no start value to write")
+            real.set("start", repr(float(starts[sv.get("name")])))  # (repr, as min and max below)
         for attr, bound in zip(("min", "max"), (ranges or {}).get(sv.get("name"), (None, None))):
             if bound is not None:  # (repr: the shortest text that reads back as the same double)
                 number.set(attr, repr(float(bound)) if real is not None else str(int(bound)))
@@ -275,10 +294,13 @@ and 2.1&nbsp;% at 1 kHz with h = 1e-4 s. Any step size works: the engine takes s
 <p>Every numeric key of the model is a parameter under its dotted name. Every parameter the master
 sets overrides the model (the built-in one, or the TOML file named by <code>model_file</code>), even
 when set to its start value: with a model file, set only what you change (a master that writes every
-start value replaces the model file's values with the built-in specimen's). A getter returns the value
-in force. <code>scenario.*</code> keys describe the model's own excitation: they act when
-<code>scenario.drive</code> is true (the FMU then drives its supports with it), and not otherwise;
-<code>scenario.dt</code>, set without <code>solver.dt</code>, is the internal step.
+start value replaces the model file's values with the built-in specimen's). A derived parameter,
+<code>solver.dt</code> (from <code>scenario.dt</code>) or a random excitation's seed that the model
+leaves to <code>scenario.seed</code>, written with exactly its start value follows its source instead:
+only another value overrides it, so writing every start value and <code>scenario.seed = 7</code> runs
+seed 7. A getter returns the value in force. <code>scenario.*</code> keys describe the model's own
+excitation: they act when <code>scenario.drive</code> is true (the FMU then drives its supports with
+it), and not otherwise; <code>scenario.dt</code>, set without <code>solver.dt</code>, is the internal step.
 Parameters are fixed: set them before
 <code>fmi2ExitInitializationMode</code>.</p>
 
@@ -594,6 +616,7 @@ def build(out, model_file=None):
             date,
             model_file.name if model_file else None,
             described.ranges,
+            real_starts(described),
         )
         if compile_native(tmp / "CableCasing.so"):
             entries["binaries/linux64/CableCasing.so"] = (tmp / "CableCasing.so").read_bytes()

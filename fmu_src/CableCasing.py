@@ -47,8 +47,9 @@ from pythonfmu.enums import Fmi2Status
 # The kernels' numba cache (a per-user folder keyed by the kernels' sources, so it outlives the
 # unpacked FMU) is installed by the bundled package itself: cablecasing_core.timedomain.kernels.
 import cablecasing_core as cc
-from cablecasing_core.errors import internal_error_text, renamed
+from cablecasing_core.errors import NOT_SHOWN, internal_error_text, renamed
 from cablecasing_core.model import specimen_names
+from cablecasing_core.model.changes import with_changes
 from cablecasing_core.model.limits import check_time_domain
 from cablecasing_core.model.schema import (
     BODY_NAMES,
@@ -214,6 +215,15 @@ class CableCasing(Fmi2Slave):
         self._start["model_file"] = ""
         self._start["solver.dt"] = float(self._base.scenario["dt"])
         self._start["scenario.drive"] = False
+        # The parameters whose value the base model takes from another parameter, {key: source}: a
+        # random excitation's seed that the model leaves to scenario.seed (Model.derived) and
+        # solver.dt (the model's scenario.dt). Written with exactly its start value (what its
+        # source's start derives) such a parameter is not an override: it follows its source, so a
+        # master that writes every start value and changes the source gets the run of that change
+        # alone, as the command line's --set (docs/fmu.md, "Parameters in force").
+        self._derived = {k: lookup(k).default_from for k in sorted(self._base.derived) if k in self._start}
+        self._derived["solver.dt"] = "scenario.dt"
+        self._derived_cache = {}  # (model file, key, source value) -> the derived value in force
         self._log_sink = None
         self._tolerance_said = False  # fmi2SetupExperiment's tolerance is said unused once per instance
         self._end_offset_said = False  # the bodies' end supports set apart across the gap: warned once per instance
@@ -224,7 +234,7 @@ class CableCasing(Fmi2Slave):
         n = self.nch
         self._u, self._v, self._a = (self.inputs_buffer[k * n : (k + 1) * n] for k in range(3))  # views
         self._set = {}  # parameters the master set: key -> value
-        self._file_cache = (None, None)  # (model file path, its values or None)
+        self._file_cache = (None, None, None)  # (model file path, its values or None, its Model or None)
         self._set_plans, self._get_plans = {}, {}  # pythonfmu's path: references -> index arrays
         self._input_vr, self._output_vr, self._param = {}, {}, {}  # value reference -> index, (key, type)
         self._register_variables()
@@ -383,13 +393,19 @@ class CableCasing(Fmi2Slave):
     def _value(self, key):
         """The value in force: the master's, else the model file's (when one is set), else the
         base model's (the built-in specimen, or the model file the FMU was built for); for
-        ``solver.dt`` unset, the model's ``scenario.dt``, the master's if it set that."""
+        ``solver.dt`` unset, the model's ``scenario.dt``, the master's if it set that; for a seed
+        the model derives from ``scenario.seed``, unset, the seed derived from the master's
+        ``scenario.seed`` if it set that."""
         if key in self._set:
             return self._set[key]
         if key == "solver.dt" and "scenario.dt" in self._set:  # (the model's step, as the master set it)
             return self._set["scenario.dt"]
         if key == "model_file":
             return ""
+        if key in self._derived and self._derived[key] in self._set:
+            value = self._derived_value(key)
+            if value is not None:
+                return value
         path = self._set.get("model_file")
         if path:
             values = self._file_values(path)
@@ -397,10 +413,46 @@ class CableCasing(Fmi2Slave):
                 return values[key]
         return self._start[key]
 
+    def _derived_value(self, key):
+        """The value of the derived parameter ``key`` (a random excitation's seed) that the model in
+        force (``model_file``'s, else the base model) derives from the master's value of its source
+        (``scenario.seed``), as ``Model.with_overrides`` derives it; None when that model gives the
+        key itself (its value is then the model's) or the source's value makes no model (refused
+        when initialisation ends)."""
+        source = self._derived[key]
+        path = self._set.get("model_file")
+        model = self._file_model(path) if path else self._base
+        cache = (path, key, self._set[source])
+        if cache not in self._derived_cache:
+            value = None
+            if model is not None and key in model.derived:
+                try:
+                    with _WARNINGS_LOCK, warnings.catch_warnings():  # (the model's warnings are logged when built)
+                        warnings.simplefilter("ignore")
+                        value = model.with_overrides({source: self._set[source]}).parameters().get(key)
+                except cc.CableCasingError:
+                    value = None
+            if len(self._derived_cache) > 64:
+                self._derived_cache.clear()
+            self._derived_cache[cache] = value
+        return self._derived_cache[cache]
+
+    def _file_model(self, path):
+        """The Model of a model file (None if it cannot be read), read once per path."""
+        self._file_values(path)
+        return self._file_cache[2]
+
+    def _follows(self, key, value):
+        """Whether ``value`` of the parameter ``key`` leaves it to follow its source: a derived
+        parameter (``self._derived``) written with exactly its start value, of its type."""
+        start = self._start.get(key)
+        return key in self._derived and type(value) is type(start) and value == start
+
     def _file_values(self, path):
         """The parameter values of a model file (None if it cannot be read: the error is reported
         when initialisation ends), read once per path."""
         if self._file_cache[0] != path:
+            model = None
             try:
                 with _WARNINGS_LOCK, warnings.catch_warnings():  # (the model's warnings are logged when built: _build)
                     warnings.simplefilter("ignore")
@@ -410,8 +462,8 @@ class CableCasing(Fmi2Slave):
                 values["contact.enabled"] = bool(model.contact["enabled"])
                 values["solver.dt"] = float(model.scenario["dt"])
             except Exception:  # noqa: BLE001  (any failure, named with the path when initialisation ends: _load_file)
-                values = None
-            self._file_cache = (path, values)
+                values, model = None, None
+            self._file_cache = (path, values, model)
         return self._file_cache[1]
 
     def _set_parameter(self, key, kind, value):
@@ -448,8 +500,9 @@ class CableCasing(Fmi2Slave):
             return ERROR
         else:
             value = {"Real": float, "Integer": int, "Boolean": bool}[kind](value)
+        follows = self._follows(key, value)  # (its start value: it follows its source, no override)
         if self._initialized:
-            if value == self._value(key):
+            if (follows and key not in self._set) or (not follows and value == self._value(key)):
                 return OK
             self.log(
                 f"parameter {key} = {value!r} refused: parameters are fixed after initialisation (it is "
@@ -457,6 +510,9 @@ class CableCasing(Fmi2Slave):
                 Fmi2Status.error,
             )
             return ERROR
+        if follows:
+            self._set.pop(key, None)
+            return OK
         self._set[key] = value
         if key == "model_file" and value:
             self.log(f"model_file: {value}", Fmi2Status.ok)
@@ -600,7 +656,10 @@ class CableCasing(Fmi2Slave):
         model = self._load_file(model_file) if model_file else self._base
         model, over = self._undriven(model, over, drive, model_file)
         if over:
-            model = model.with_overrides(over)
+            try:
+                model = model.with_overrides(over)
+            except cc.ModelError as exc:
+                raise self._attributed(model, over, exc) from None
         values = model.parameters()
         for key, start in self._start.items():  # (a model file's seeds, read back through fmi2GetInteger)
             if isinstance(start, int) and not isinstance(start, bool) and key in values:
@@ -681,6 +740,30 @@ class CableCasing(Fmi2Slave):
             model = model.without_excitations(unused)
         return model, {k: v for k, v in over.items() if k not in left_out}
 
+    def _attributed(self, model, over, exc):
+        """The error ``exc`` of ``model.with_overrides(over)`` named as the core names a refused
+        change (``model.changes.with_changes``, the command line's rule too): the parameter the
+        master set, and the model's key it conflicts with when the refused key is not one the master
+        set (``casing.d_outer = 0.0035: conflicts with casing.d_inner = 0.004 of the model ...``;
+        ``scenario.dt = 0.001: conflicts with scenario.excitation.casing_random.band = ...``: a key
+        that is no parameter is never called the invalid one). An isolator support without its
+        table stays as it is (:meth:`_fmu_message` words it)."""
+        if self._isolator_without_table(exc):
+            return exc
+        try:
+            with_changes(model, {key: ("", value) for key, value in over.items()})
+        except cc.ModelError as named:
+            return named
+        return exc  # (not reached: the same overrides fail the same way)
+
+    def _isolator_without_table(self, exc):
+        """(body, support) when ``exc`` says the isolator table of a support the master set
+        ``isolator`` is missing (no FMU parameter gives it), else None."""
+        m = re.fullmatch(r"(casing|cable)\.isolator\.([AB])", str(exc.key))
+        if m and "required" in str(exc.allowed) and self._set.get(f"{m[1]}.supports.{m[2]}") == "isolator":
+            return m.groups()
+        return None
+
     def _whose(self, model_file):
         """Whose [scenario] the model runs, in words: "the built-in specimen's scenario", ..."""
         if model_file in specimen_names():
@@ -696,10 +779,9 @@ class CableCasing(Fmi2Slave):
         modelDescription's variables): an isolator support's stiffness table, which is no FMU
         parameter, and the range of an Integer the master set as the modelDescription declares it (a
         model file's value keeps the core's range, or fmi_integer's message)."""
-        m = re.fullmatch(r"(casing|cable)\.isolator\.([AB])", str(exc.key))
-        body, s = m.groups() if m else ("", "")
-        # (the whole table is missing, not one of its keys, for a support the master set isolator)
-        if m and "required" in str(exc.allowed) and self._set.get(f"{body}.supports.{s}") == "isolator":
+        isolator = self._isolator_without_table(exc)
+        if isolator:  # (the whole table is missing, not one of its keys, for a support the master set isolator)
+            body, s = isolator
             return (
                 f"{body}.supports.{s} = 'isolator': an isolator support needs the isolator's table "
                 f"[{body}.isolator.{s}] (its stiffness), which is not a parameter of this FMU: it comes from a model "
@@ -722,7 +804,8 @@ class CableCasing(Fmi2Slave):
                 drive = self._drive_motion(self._engine)
         except cc.ModelError as exc:
             self._engine = None
-            return self._block(f"invalid parameter {self._fmu_message(exc)}")
+            several = exc.value is NOT_SHOWN and "=" in str(exc.key)  # (changes that conflict only together)
+            return self._block(f"invalid parameter{'s' if several else ''} {self._fmu_message(exc)}")
         except cc.CableCasingError as exc:  # (the model's own failure, a static state that does not converge)
             self._engine = None
             return self._block(f"the model cannot be built: {' '.join(str(exc).split())}{self._set_text()}")
