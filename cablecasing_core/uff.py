@@ -650,7 +650,7 @@ def frf_kind_of_labels(record):
     empty); None when they say none of these (``V`` / ``V``, no labels)."""
     num, den = unit_key(record.unit), unit_key(record.denominator_unit)
     if not den and "/" in num:
-        num, den = num.rsplit("/", 1)
+        num, den = (unit_key(part) for part in num.rsplit("/", 1))  # (each in its brackets: (m/s^2)/N)
     motion = {label: kind for kind, labels in MOTION_LABELS.items() for label in labels}
     if den in FORCE_LABELS:
         return motion.get(num)

@@ -69,12 +69,15 @@ def frequency_units_text() -> str:
 
 def unit_key(label: str, fold_case: bool = True) -> str:
     """``label`` (a unit as a file or a record states it) in the form unit labels compare in: no spaces,
-    brackets, ``^`` or ``**``, ``²`` as 2 (``m/s^2``, ``m/s**2``, ``m/s²``, ``[m/s2]`` are ``m/s2``), and in
+    no brackets around the whole label, no ``^`` or ``**``, ``²`` as 2 (``m/s^2``, ``m/s**2``, ``m/s²``,
+    ``[m/s2]`` are ``m/s2``; ``(m/s)^2``, a squared velocity, stays ``(m/s)2``), and in
     lower case unless ``fold_case`` is False. The package's one rule of unit spellings: the FRF kind by a UFF
     record's labels (``uff.MOTION_LABELS``) compares with the case folded (vendors write ``G``, ``M/S^2``);
     the units the transfer functions need (``nvh.transfer``), the units of the dB references
     (``nvh.spectra.reference``) and the terms of a summed column (``Records``) compare with it kept, since
     the case carries a prefix's factor there (``mN`` and ``MN`` differ by 1e9)."""
     key = label.strip()
+    if len(key) > 1 and key[0] + key[-1] in ("[]", "()") and not any(c in key[1:-1] for c in "()[]"):
+        key = key[1:-1]  # (only brackets around the whole label: (m/s)^2 is a squared velocity, not m/s2)
     key = (key.lower() if fold_case else key).replace("²", "2").replace("**", "").replace("^", "")
-    return "".join(c for c in key if c not in " ()[]")
+    return key.replace(" ", "")

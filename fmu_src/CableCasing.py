@@ -185,6 +185,17 @@ class ModelFileError(cc.ModelError):
         self.args = (f"model_file = {_path_text(path)}: {allowed}",)
 
 
+def _file_signature(path):
+    """(modification time in ns, size in bytes) of the model file ``path``, None where it is no file
+    (a built-in specimen's name, a path that cannot be read): what keys the slave's copies of a model
+    file's values, so that a file rewritten under its name is read again."""
+    try:
+        st = os.stat(path)
+    except (OSError, ValueError):
+        return None
+    return (st.st_mtime_ns, st.st_size)
+
+
 class CableCasing(Fmi2Slave):
     """Gear-shift cable in a curved casing, driven at its four supports (see module docstring)."""
 
@@ -234,7 +245,7 @@ class CableCasing(Fmi2Slave):
         n = self.nch
         self._u, self._v, self._a = (self.inputs_buffer[k * n : (k + 1) * n] for k in range(3))  # views
         self._set = {}  # parameters the master set: key -> value
-        self._file_cache = (None, None, None)  # (model file path, its values or None, its Model or None)
+        self._file_cache = (None, None, None)  # ((path, _file_signature), its values or None, its Model or None)
         self._set_plans, self._get_plans = {}, {}  # pythonfmu's path: references -> index arrays
         self._input_vr, self._output_vr, self._param = {}, {}, {}  # value reference -> index, (key, type)
         self._register_variables()
@@ -422,7 +433,7 @@ class CableCasing(Fmi2Slave):
         source = self._derived[key]
         path = self._set.get("model_file")
         model = self._file_model(path) if path else self._base
-        cache = (path, key, self._set[source])
+        cache = (path, _file_signature(path), key, self._set[source])
         if cache not in self._derived_cache:
             value = None
             if model is not None and key in model.derived:
@@ -438,7 +449,7 @@ class CableCasing(Fmi2Slave):
         return self._derived_cache[cache]
 
     def _file_model(self, path):
-        """The Model of a model file (None if it cannot be read), read once per path."""
+        """The Model of a model file (None if it cannot be read), read once per path and content."""
         self._file_values(path)
         return self._file_cache[2]
 
@@ -450,8 +461,10 @@ class CableCasing(Fmi2Slave):
 
     def _file_values(self, path):
         """The parameter values of a model file (None if it cannot be read: the error is reported
-        when initialisation ends), read once per path."""
-        if self._file_cache[0] != path:
+        when initialisation ends), read once per path and content: a file rewritten under the same
+        name (a study that writes its next model file between runs, fmi2Reset) is read again, as the
+        engine reads it (review BA2)."""
+        if self._file_cache[0] != (path, _file_signature(path)):
             model = None
             try:
                 with _WARNINGS_LOCK, warnings.catch_warnings():  # (the model's warnings are logged when built: _build)
@@ -463,7 +476,7 @@ class CableCasing(Fmi2Slave):
                 values["solver.dt"] = float(model.scenario["dt"])
             except Exception:  # noqa: BLE001  (any failure, named with the path when initialisation ends: _load_file)
                 values, model = None, None
-            self._file_cache = (path, values, model)
+            self._file_cache = ((path, _file_signature(path)), values, model)
         return self._file_cache[1]
 
     def _set_parameter(self, key, kind, value):

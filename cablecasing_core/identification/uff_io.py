@@ -300,7 +300,8 @@ def _read_csv_frf(path, channel=None):
         )
     name, i, j = pairs[k]
     f = data[:, 0] if to_hz == 1.0 else data[:, 0] * to_hz
-    H = data[:, i] + 1j * data[:, j]
+    with np.errstate(invalid="ignore"):  # (inf on a 0 Hz line, which is read as it is: 1j * inf is nan + inf j)
+        H = data[:, i] + 1j * data[:, j]
     warn_zero_lines(f"{path} ({names[i]}, {names[j]})", f, H)
     return f, H, name, f"columns {names[i]}, {names[j]}"
 

@@ -8,7 +8,8 @@ core (docs/fmu.md, "Parameters in force", "Messages you may see", "The FMU file"
 * AZ2: every Real start in the modelDescription reads back as the model file's double (repr, not
   pythonfmu's 16 digits): scenario.dt = 1/30000;
 * AZ3: a conflict between keys names the parameter the master set and the model's key it conflicts
-  with, as the command line does (the core's model.changes.with_changes).
+  with, as the command line does (the core's model.changes.with_changes);
+* BA2: a model file rewritten under its name between runs (fmi2Reset) is read again by the getters.
 
 The FMU runs in a fresh process (tests/fmu/fmu_driver.py's Instance and fmpy's simulate_fmu), which
 does not import cablecasing_core first, so it runs its own bundled copy."""
@@ -89,6 +90,23 @@ for name, change in {
     inst = Instance(fmu, name=name, params=change, unzip=unzip)
     res[name] = [inst.status_init, [m for s, m in inst.log if s >= 2]]
     inst.free()
+# a model file rewritten under its name between two runs of one instance (fmi2Reset), as a study that
+# writes its next model file does: the getters read the new file, as the engine does (review BA2)
+moving = sys.argv[4] + "/moving.toml"
+inst = Instance(fmu, name="moving", initialize=False, unzip=unzip)
+res["moving"] = []
+for text in (open(sys.argv[4] + "/seed3.toml").read(), open(sys.argv[4] + "/seed41.toml").read()):
+    with open(moving, "w") as f:
+        f.write(text)
+    inst.fmu.setupExperiment(startTime=0.0)
+    inst.fmu.enterInitializationMode()
+    inst.set({"model_file": moving})
+    vr = [inst.var[k].valueReference for k in (SEED, "scenario.seed")]
+    got = [inst.fmu.getInteger(vr), Instance.call(inst.fmu.exitInitializationMode), inst.fmu.getInteger(vr)]
+    res["moving"].append(got)
+    inst.fmu.terminate()
+    inst.fmu.reset()
+inst.fmu.freeInstance()
 np.savez(out, **runs)
 print(json.dumps(res))
 """
@@ -101,8 +119,14 @@ def host(fmu, tmp_path_factory):
     out = folder / "runs.npz"
     script = folder / "host.py"
     script.write_text(HOST)
+    for seed in (3, 41):  # (the model files the host writes in turn under one name)
+        text = cc.load_model().with_overrides({"scenario.seed": seed}).to_toml()
+        (folder / f"seed{seed}.toml").write_text(text)
     done = subprocess.run(
-        [sys.executable, str(script), str(fmu), str(out), str(HERE)], capture_output=True, text=True, timeout=900
+        [sys.executable, str(script), str(fmu), str(out), str(HERE), str(folder)],
+        capture_output=True,
+        text=True,
+        timeout=900,
     )
     assert done.returncode == 0, done.stderr[-3000:]
     return json.loads(done.stdout.strip().splitlines()[-1]), dict(np.load(out))
@@ -149,6 +173,15 @@ def test_the_getter_of_a_derived_seed_returns_the_value_in_force(host):
         assert res[case]["write_other_after"] == 3, res[case]
     assert res["get_seed7"]["write_start_after"] == 0  # (it follows scenario.seed: no change)
     assert res["get_seed7_explicit3"]["write_start_after"] == 3  # (it would undo the explicit 3)
+
+
+@pytest.mark.slow
+def test_a_model_file_rewritten_under_its_name_is_read_again_after_a_reset(host):
+    """Review BA2: the slave kept its copy of a model file's values by path, so after fmi2Reset and the
+    file rewritten (seed 3 -> 41) its getters still said 3 while the engine ran 41. [casing_random.seed,
+    scenario.seed] in Initialization Mode, fmi2ExitInitializationMode's status, the same after."""
+    res, _ = host
+    assert res["moving"] == [[[3, 3], 0, [3, 3]], [[41, 41], 0, [41, 41]]], res["moving"]
 
 
 def _cli_message(capsys, sets):

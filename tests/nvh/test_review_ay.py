@@ -106,3 +106,25 @@ def test_db_references_and_summed_columns_take_a_units_spellings_alike():
     np.testing.assert_allclose(rec.column("a+b"), 3 * A, rtol=1e-15)
     with pytest.raises(ModelError, match="adds columns of different units"):
         Records(T, {"a": A, "b": A}, {"a": "mN", "b": "MN"}).column("a+b")
+
+
+def test_a_squared_velocity_is_no_acceleration():
+    """Review BA1: the spelling rule took the brackets out of (m/s)^2, a squared velocity (nvh.spectra.squared's
+    own spelling), and read it as m/s2: an apparent mass over it, the acceleration's dB reference and a sum with an
+    acceleration were accepted. Only brackets around the whole label go ([m/s2], (N)); a ratio label's parts are
+    read each in its own ((m/s^2)/N is an accelerance)."""
+    from cablecasing_core.nvh.spectra import reference, squared
+    from cablecasing_core.uff import frf_kind_of_labels
+    from cablecasing_core.units import unit_key
+
+    assert squared("m/s") == "(m/s)^2" and unit_key("(m/s)^2") != unit_key("m/s2")
+    rec = Records(T, {"v2": A * A, "force": -M * A}, {"v2": "(m/s)^2", "force": "N"})
+    with pytest.raises(ModelError, match="needs an acceleration in m/s2"):
+        apparent_mass(rec, input="v2", output="force", skip=0.0)
+    with pytest.raises(ModelError, match=r"must be given for a quantity in '\(m/s\)\^2'"):
+        reference("(m/s)^2")
+    with pytest.raises(ModelError, match="adds columns of different units"):
+        Records(T, {"a": A, "b": A}, {"a": "(m/s)^2", "b": "m/s2"}).column("a+b")
+    labels = [("(m/s^2)/N", ""), ("[g]/[N]", ""), ("N", "[m/s^2]"), ("(m/s)^2", "N")]
+    kinds = [frf_kind_of_labels(Record("frf", T[:2], A[:2] + 0j, unit=u, denominator_unit=d)) for u, d in labels]
+    assert kinds == ["acceleration", "acceleration", "apparent_mass", None]
