@@ -65,26 +65,31 @@ def _same_key(refused, key):
 
 def _conflict(model, changes, exc, check=None, checked=False):
     """The error ``exc`` of a key of the model that ``changes`` did not set, named as the change(s)
-    that make it fail alone (all of them if none does; the model's own error, as it is, when it
-    fails ``check`` without them, ``checked``: ``exc`` is the check's): the value of the model it
-    conflicts with and what is allowed; for a time step, the largest that the model's excitations
-    allow."""
+    that make that key fail alone (else those that fail alone for other keys; all of them if none
+    does; the model's own error, as it is, when it fails ``check`` without them, ``checked``: ``exc``
+    is the check's): the value of the model it conflicts with and what is allowed; for a time step,
+    the largest that the model's excitations allow."""
     if checked:
         try:
             check(model)
         except ModelError as own:  # (the model fails without the changes: none of them is to blame)
             return own
 
-    def refused(key):
+    def refused(key):  # (the error of the change alone, or None)
         try:
             changed = model.with_overrides({key: changes[key][1]})
             if checked:
                 check(changed)
-        except ModelError:
-            return True
-        return False
+        except ModelError as alone:
+            return alone
+        return None
 
-    culprits = [k for k in changes if refused(k)] or list(changes)
+    alone = {k: refused(k) for k in changes}
+    failing = [k for k in changes if alone[k] is not None]
+    # the changes that fail alone on the key refused, not those failing for a reason of their own (a
+    # cable.d beyond the bore and a scenario.dt beyond the band's Nyquist: the bore's error is
+    # cable.d's alone; the step's is said once cable.d is mended), else all that fail, else all
+    culprits = [k for k in failing if str(alone[k].key) == str(exc.key)] or failing or list(changes)
     allowed = exc.allowed
     if culprits == ["scenario.dt"]:
         allowed = _step_rule(model, changes["scenario.dt"][1]) or allowed

@@ -65,3 +65,20 @@ def test_a_conflict_is_named_by_the_change_with_or_without_a_flag():
     assert (
         str(err.value) == "casing.d_inner = 0.0036: must be larger than cable.d = 0.0038 m (there must be a radial gap)"
     )
+
+
+def test_a_change_that_fails_alone_for_another_key_is_not_blamed_for_this_one():
+    """Review BA3: cable.d = 0.0045 (beyond the bore, d_inner = 0.004 m) with scenario.dt = 1e-3 (the random
+    band's 1000 Hz above its Nyquist frequency, 500 Hz) each fail alone, on different keys; the bore's error is
+    cable.d's alone. Two changes that each make d_inner fail (d_outer 0.0035 below it, cable.d 0.0045 above it)
+    are named together."""
+    base = cc.load_model()
+    with pytest.raises(ModelError) as err:
+        with_changes(base, {"cable.d": ("", 0.0045), "scenario.dt": ("", 1e-3)})
+    assert err.value.key == "cable.d" and err.value.value == 0.0045, str(err.value)
+    assert str(err.value.allowed).startswith("conflicts with casing.d_inner = 0.004 of the model <built-in>: ")
+    with pytest.raises(ModelError) as err:
+        with_changes(base, {"casing.d_outer": ("", 0.0035), "cable.d": ("", 0.0045), "scenario.dt": ("", 1e-3)})
+    assert str(err.value).startswith("casing.d_outer=0.0035, cable.d=0.0045: conflicts with casing.d_inner"), str(
+        err.value
+    )
