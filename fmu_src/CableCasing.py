@@ -433,7 +433,7 @@ class CableCasing(Fmi2Slave):
         source = self._derived[key]
         path = self._set.get("model_file")
         model = self._file_model(path) if path else self._base
-        cache = (path, _file_signature(path), key, self._set[source])
+        cache = (self._file_cache[0] if path else None, key, self._set[source])  # (the file's (path, signature))
         if cache not in self._derived_cache:
             value = None
             if model is not None and key in model.derived:
@@ -464,7 +464,8 @@ class CableCasing(Fmi2Slave):
         when initialisation ends), read once per path and content: a file rewritten under the same
         name (a study that writes its next model file between runs, fmi2Reset) is read again, as the
         engine reads it (review BA2)."""
-        if self._file_cache[0] != (path, _file_signature(path)):
+        read = (path, _file_signature(path))
+        if self._file_cache[0] != read:
             model = None
             try:
                 with _WARNINGS_LOCK, warnings.catch_warnings():  # (the model's warnings are logged when built: _build)
@@ -476,7 +477,7 @@ class CableCasing(Fmi2Slave):
                 values["solver.dt"] = float(model.scenario["dt"])
             except Exception:  # noqa: BLE001  (any failure, named with the path when initialisation ends: _load_file)
                 values, model = None, None
-            self._file_cache = ((path, _file_signature(path)), values, model)
+            self._file_cache = (read, values, model)
         return self._file_cache[1]
 
     def _set_parameter(self, key, kind, value):

@@ -92,14 +92,3 @@ def with_assignments(model, flag, texts):
     twice is refused, :func:`assignments`)."""
     shown = typed(texts)
     return with_changes(model, {key: (flag, value, shown[key]) for key, value in assignments(flag, texts).items()})
-
-
-__all__ = [
-    "add_model_argument",
-    "assignment",
-    "assignments",
-    "model_argument",
-    "typed",
-    "with_assignments",
-    "with_changes",
-]

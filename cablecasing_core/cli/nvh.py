@@ -90,7 +90,7 @@ def _window(rec, args, columns):
     keep = after_skip(rec.time, skip, rec.time[0])
     ramp = f", or the fade-in the record states (# ramp_s = {rec.ramp_s:g} s) if longer" if rec.ramp_s > 0 else ""
     lines = ", lengthened to whole periods of the lines it states" if rec.lines_hz else ""
-    whole = int(after_skip(rec.time, 0.0, rec.time[0]).sum())
+    whole = rec.time.size  # (what --skip 0 keeps: after_skip keeps every sample)
     if keep.sum() < 16 and whole < 16:  # (no skip helps: the record itself is too short)
         raise ModelError(
             "file",

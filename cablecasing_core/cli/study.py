@@ -10,11 +10,12 @@ import numpy as np
 
 from ..errors import ModelError, plain, renamed
 from ..files import output_folder
+from ..model.changes import with_changes
 from ..model.limits import MAX_ENSEMBLE_SEED, MAX_SEEDS, MAX_STUDY_SAMPLES, PROGRESS_TIMEOUT
 from ..model.schema import STUDY_OUTPUT
 from ..model.validators import integer, number
 from ..records import unit_of
-from .assignments import add_model_argument, assignments, model_argument, typed, with_changes
+from .assignments import add_model_argument, assignments, model_argument, typed
 from .helptext import ASSIGNMENT_HELP, FromApi, add_window_argument, choice_argument, key_help
 from .paths import PLOT_SUFFIXES, check_distinct, check_output_path, check_plotting, kept
 

@@ -53,6 +53,8 @@ COVERED_FROM_DF = 2.0
 
 #: Reference values (in the unit itself) of levels in dB, by unit (module docstring).
 REFERENCES = {"N": 1.0, "N.m": 1.0, "m/s2": 1e-6, "m/s": 1e-9, "m": 1e-12, "1": 1.0}
+#: REFERENCES by :func:`..units.unit_key` (the case kept), as :func:`reference` looks a unit up
+_REFERENCE_KEYS = {unit_key(k, False): v for k, v in REFERENCES.items()}
 
 
 def level_reference(unit: str, ref: float | None = None) -> float:
@@ -107,10 +109,10 @@ def reference(unit: str, ref: float | None = None) -> float:
     line renames it ``--ref``)."""
     if ref is not None:
         return number("ref", ref, gt=0, unit=unit)
-    known = {unit_key(k, False): v for k, v in REFERENCES.items()}  # (m/s^2 is m/s2: units.unit_key)
-    if unit_key(unit, False) not in known:
+    key = unit_key(unit, False)  # (m/s^2 is m/s2: units.unit_key)
+    if key not in _REFERENCE_KEYS:
         raise ModelError("ref", None, f"must be given for a quantity in '{unit}' (known: {', '.join(REFERENCES)})")
-    return known[unit_key(unit, False)]
+    return _REFERENCE_KEYS[key]
 
 
 def squared(unit: str) -> str:

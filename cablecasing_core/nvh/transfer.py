@@ -196,8 +196,8 @@ def transmissibility(
         raise ModelError(
             "input/output",
             (input, output),
-            f"a transmissibility needs two signals of one unit (spelled alike but for spaces, brackets, ^ and "
-            f"**; case counts: mN is not MN); their units read: {_units(units)}",
+            f"a transmissibility needs two signals of one unit (spelled alike but for spaces, brackets around "
+            f"it, ^ and **; case counts: mN is not MN); their units read: {_units(units)}",
         )
     return _estimate(rec, input, output, 1.0, "transmissibility", "1", estimator, skip, nperseg, resolution_hz)
 
