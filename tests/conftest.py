@@ -177,13 +177,19 @@ def clipped_specimen():
 
 
 @pytest.fixture(scope="session")
-def fmu():
-    """dist/CableCasing.fmu, built (in a separate process) if missing or older than any of its sources."""
+def build_fmu():
+    """The module build_fmu.py, imported from the checkout's root (it is not installed)."""
     sys.path.insert(0, str(ROOT))
     try:
         import build_fmu
     finally:
         sys.path.remove(str(ROOT))
+    return build_fmu
+
+
+@pytest.fixture(scope="session")
+def fmu(build_fmu):
+    """dist/CableCasing.fmu, built (in a separate process) if missing or older than any of its sources."""
     newest = max(p.stat().st_mtime for p in build_fmu.sources())
     # make test's workers (pytest-xdist) ask for it at once: one builds while the others wait on the
     # lock, then find it up to date; the demo (tests/cli/test_demo.py) builds it under the same lock

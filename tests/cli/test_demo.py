@@ -160,22 +160,12 @@ def _tree(root):
     return out
 
 
-def test_report_writes_only_under_out(tmp_path):
+def test_report_writes_only_under_out(tmp_path, build_fmu):
     """The report writes nothing in the source tree but under --out. The tree is compared before and after under
     the lock on dist/CableCasing.fmu (build_fmu.default_fmu_lock), so that another pytest-xdist worker's build of
     the session FMU (the fmu fixture, the demo) cannot change dist/ in between."""
-    with _fmu_lock():
+    with build_fmu.default_fmu_lock():
         _report_writes_only_under_out(tmp_path)
-
-
-def _fmu_lock():
-    """build_fmu.default_fmu_lock, imported from the checkout's root (build_fmu.py is not installed)."""
-    sys.path.insert(0, str(ROOT))
-    try:
-        import build_fmu
-    finally:
-        sys.path.remove(str(ROOT))
-    return build_fmu.default_fmu_lock()
 
 
 def _report_writes_only_under_out(tmp_path):

@@ -208,16 +208,11 @@ def test_build_under_python_optimize_ships_the_compiled_kernels(tmp_path, kernel
         ]
 
 
-def test_build_stops_when_the_warm_up_cannot_save_compiled_kernels(monkeypatch, tmp_path):
+def test_build_stops_when_the_warm_up_cannot_save_compiled_kernels(monkeypatch, tmp_path, build_fmu):
     """The build stops with a message, instead of shipping an FMU without machine code, when the
     warm-up's kernels cannot be saved (no writable cache folder: their warning says why) or left no
     index file (.nbi) in their cache folder. (The warm-up's answer is given here: a process without
     any writable folder is not something a test can make.)"""
-    sys.path.insert(0, str(ROOT))
-    try:
-        import build_fmu
-    finally:
-        sys.path.remove(str(ROOT))
     empty = tmp_path / "kernels-0"
     empty.mkdir()
 

@@ -216,15 +216,10 @@ def test_a_conflict_names_the_parameter_set_as_the_command_line_does(host, capsy
 
 
 # ------------------------------------------------------------------ AZ2: Real starts that need 17 digits
-def test_every_real_start_reads_back_as_the_model_files_double(tmp_path):
+def test_every_real_start_reads_back_as_the_model_files_double(tmp_path, build_fmu):
     """The modelDescription of an FMU built for a model file (build_fmu.py's own steps: the slave for
     that base model, pythonfmu's XML of it, complete_description), without the archive and its
     compiled kernels: every Real start is the model's value as the same double."""
-    sys.path.insert(0, str(ROOT))
-    try:
-        import build_fmu
-    finally:
-        sys.path.remove(str(ROOT))
     odd = {"scenario.dt": 1 / 30000, "contact.friction": 0.1 + 0.2}  # (17 significant digits each)
     assert all(float(f"{v:.16g}") != v for v in odd.values())  # (pythonfmu's text is another double)
     model = cc.load_model().with_overrides(odd)
