@@ -216,6 +216,22 @@ def unreadable(data) -> np.ndarray:
     return ~np.isfinite(data) | (magnitude > MAX_MAGNITUDE)
 
 
+def runs_to_keep(bad, before, after) -> list[str]:
+    """The whole runs of points a file could be exported with instead, around the points that are
+    ``bad`` (indices, ascending, into points 0 .. n - 1; n = ``bad``'s length if boolean): the run
+    before the first, named ``before(k)`` for points 1 to k, and the run after the last,
+    ``after(j)`` for points j + 1 to n (j its first index), each with its point numbers (1-based).
+    Empty when the bad points reach both ends. The one wording of the FRF readers' and the UFF
+    time records' refusals of a non-finite value."""
+    bad = np.asarray(bad)
+    at = np.flatnonzero(bad)
+    first, last, n = int(at[0]), int(at[-1]), bad.size
+    keep = [f"{before(first)} (points 1 to {first})"] if first > 0 else []
+    if last < n - 1:
+        keep.append(f"{after(last + 1)} (points {last + 2} to {n})")
+    return keep
+
+
 def check_values(key: str, path, data) -> None:
     """Every value of the array ``data`` (samples, or rows x columns) read from ``path`` must be
     finite and at most :data:`MAX_MAGNITUDE` in magnitude; the :class:`ModelError` names the row

@@ -73,7 +73,16 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import ModelError, closest, plain, renamed
-from .files import MAX_MAGNITUDE, atomic_path, check_values, csv_statements, read_csv_table, time_column, unreadable
+from .files import (
+    MAX_MAGNITUDE,
+    atomic_path,
+    check_values,
+    csv_statements,
+    read_csv_table,
+    runs_to_keep,
+    time_column,
+    unreadable,
+)
 from .model.schema import (
     BODY_NAMES,
     FORCE_NAMES,
@@ -947,10 +956,10 @@ def _read_uff(path, channel=None):
         bad = unreadable(np.asarray(r.data, float))
         if bad.any():  # (named by the function and its time, as the file's reader knows them)
             at = np.flatnonzero(bad)
-            k, last, n = int(at[0]), int(at[-1]), t.size
-            keep = [f"the record up to {t[k - 1]:.6g} s (points 1 to {k})"] if k > 0 else []
-            if last < n - 1:
-                keep.append(f"the record from {t[last + 1]:.6g} s (points {last + 2} to {n})")
+            k, n = int(at[0]), t.size
+            keep = runs_to_keep(
+                bad, lambda i: f"the record up to {t[i - 1]:.6g} s", lambda j: f"the record from {t[j]:.6g} s"
+            )
             if len(funcs) > 1:
                 keep.append(f"the other functions without {name}")
             raise ModelError(

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelError, ModelWarning, and_joined, excerpt
-from ..files import atomic_path, csv_statements, read_csv_table
+from ..files import atomic_path, csv_statements, read_csv_table, runs_to_keep
 from ..model.validators import Choice, array_1d, number
 from ..records import derived_terms, read_records
 from ..uff import (
@@ -319,9 +319,9 @@ def refuse_nonfinite_lines(where, f, H):
         return
     at = np.flatnonzero(bad)
     first, last, n = int(at[0]), int(at[-1]), f.size
-    keep = [f"the lines before it (points 1 to {first})"] if first > 0 else []
-    if last < n - 1:
-        keep.append(f"the lines after {'it' if first == last else 'the last'} (points {last + 2} to {n})")
+    keep = runs_to_keep(
+        bad, lambda k: "the lines before it", lambda j: f"the lines after {'it' if first == last else 'the last'}"
+    )
     raise ModelError(
         "file",
         where,
