@@ -32,7 +32,11 @@ supports and the direction) when:
   T / (1 + stretch / L) instead of T (k = 1e3 N/m, T = 10 N, L = 1 m: 9.80 N; k = 1e-3: 0.0005 N);
 * a loaded body (gravity, a tension, a straight cable's rest shape) has a rigid motion that its
   mounts do not hold (eigenvalue of S below :data:`NULL` times its largest: rounding): the static state would
-  be singular, however fine the mesh;
+  be singular, however fine the mesh. The message says whether the mounts give that motion no
+  stiffness, or one that counts as none, below the threshold (0.02 N.m/rad of torsion beside
+  isolators of 1e12 N/m, whose threshold is 0.0284 N.m/rad on a metre's casing): then with that
+  stiffness, the mounts giving it, the largest stiffness and the threshold on the motion (SI units),
+  which a stiffness there must exceed;
 * its mounts hold it, but so softly that its weight would move it rigidly by more than its length
   (S^-1 F): the linear static state means nothing there.
 
@@ -117,25 +121,95 @@ def _vec(v, scale=0.0):
 
 def _analysis(centerline, mounts, clamped, mass_per_length, gravity):
     """(null basis (6 x k), description of the free motion most loaded or None, rigid displacement
-    of the weight at its worst node (m), F, x0, L)."""
+    of the weight at its worst node (m), F, x0, L, that free motion as unit coordinates [t, L w] or
+    None, the largest eigenvalue of S (N/m))."""
     L = centerline.length
     x0 = centre_of_mass(centerline)
     S = rigid_stiffness(centerline.nodes, mounts, L, x0)
     F = rigid_load(centerline, mass_per_length, gravity, x0, L)
     if clamped:
-        return np.zeros((6, 0)), None, 0.0, F, x0, L
+        return np.zeros((6, 0)), None, 0.0, F, x0, L, None, np.inf
     w, V = np.linalg.eigh(S)
-    null = w <= NULL * max(w.max(), 0.0) if w.max() > 0.0 else np.ones(6, bool)
+    top = max(float(w.max()), 0.0)
+    null = w <= NULL * top if top > 0.0 else np.ones(6, bool)
     Z = V[:, null]
-    free = None
     if Z.shape[1]:
         v = Z @ (Z.T @ F)  # (the free motion the loads drive; else the first one)
         a = v if np.linalg.norm(v) > 1e-9 * max(np.linalg.norm(F), 1e-300) else Z[:, 0]
-        free = describe(a / np.linalg.norm(a), x0, L)
-        return Z, free, np.inf, F, x0, L
+        a = a / np.linalg.norm(a)
+        return Z, describe(a, x0, L), np.inf, F, x0, L, a, top
     a = V @ ((V.T @ F) / w)
     u = max(np.linalg.norm((_rows(x - x0, L) @ a)[:3]) for x in centerline.nodes[[0, -1]])
-    return Z, None, float(u), F, x0, L
+    return Z, None, float(u), F, x0, L, None, top
+
+
+def _unresolved(a, nodes, mounts, given, x0, L, top):
+    """What the mounts give the free rigid motion ``a`` (unit coordinates [t, L w]) that the rule
+    takes for no stiffness, S's eigenvalue there being at most :data:`NULL` of its largest ``top``
+    (N/m): (stiffness, threshold, unit, the mounts that give it), per metre of the motion (N/m) for
+    a translation, per radian (N.m/rad) for a rotation; stiffness 0.0 when the mounts give it none.
+    ``given``: each mount's stiffness as the model gives it, (translational N/m, rotational N.m/rad)
+    in its local axes (not K6's diagonal turned back, which rounds 1e-3 beside 1e12 to 0). Summed
+    over the mounts' stiffness components (k_j along local axis j, translation or rotation),
+    each k_j (v_j . a)^2 with v_j its row of S's coordinates (S = sum k_j v_j v_j^T), from those
+    below the threshold alone, k_j |v_j|^2 <= NULL top, and only where the motion moves them by
+    more than 1e-6 of its unit: a stiff component's share on a null motion is the rounding of the
+    eigenvector (~ eps), which k_j (v_j . a)^2 would count as 1e12 * 1e-32 N/m."""
+    floor, total, who = NULL * top, 0.0, []
+    for m, stiffness in zip(mounts, given):
+        Q = _rows(nodes[m.node] - x0, L)
+        part = 0.0
+        for k, rows in zip(stiffness, (slice(0, 3), slice(3, 6))):
+            for j in range(3):
+                e = np.zeros(6)
+                e[rows] = m.axes[j]
+                v = Q.T @ e
+                va = float(v @ a)
+                if 0.0 < k[j] * (v @ v) <= floor and va * va > 1e-12 * (v @ v):
+                    part += k[j] * va * va
+        if part > 0.0:
+            total += part
+            who.append(m)
+    scale, unit, _ = _per_unit(a, L)
+    return total / scale, floor / scale, unit, who
+
+
+def _per_unit(a, L):
+    """(|a|^2 per unit of the motion, its unit, its kind) of a rigid motion ``a`` = [t, L w]: per
+    metre (N/m) of a translation (as :func:`describe` tells it), per radian (N.m/rad) of a rotation,
+    so that a^T S a / scale is its stiffness in SI units."""
+    w = a[3:] / L
+    if np.linalg.norm(w) * L <= 1e-6 * np.linalg.norm(a):
+        return float(a[:3] @ a[:3]), "N/m", "a translation"
+    return float(w @ w), "N.m/rad", "a rotation"
+
+
+def _mount_name(body, m):
+    """The model file's key of mount ``m`` of ``body``: ``<body>.isolator.A``, ``casing.clip[0]``."""
+    return f"{body}.isolator.{m.support}" if m.support else f"{body}.clip[{m.label[4:]}]"
+
+
+def _no_stiffness(name, data, mounts, nodes, a, x0, L, top):
+    """Why the mounts leave the free motion ``a`` free, in words, and what would hold it: (reason,
+    remedy; ``data``: the body's table of the model file, for its mounts' stiffness as given). They
+    give it none (reason "the mounts have no stiffness there", remedy None), or a stiffness that
+    the rule takes for none (:func:`_unresolved`): then the reason gives it, the mounts that give
+    it, the threshold and the largest stiffness it is relative to (SI units), and the remedy a
+    stiffness above the threshold."""
+    keys = [data["isolator"][m.support] if m.support else data["clip"][int(m.label[4:])] for m in mounts]
+    k = [(np.asarray(c["stiffness"], float), np.asarray(c["rotational_stiffness"], float)) for c in keys]
+    given, threshold, unit, who = _unresolved(a, nodes, mounts, k, x0, L, top)
+    if given <= 0.0:
+        return "the mounts have no stiffness there", None
+    w, V = np.linalg.eigh(rigid_stiffness(nodes, mounts, L, x0))
+    scale, per, kind = _per_unit(V[:, -1], L)
+    reason = (
+        f"the mounts' stiffness there, {given:.3g} {unit} from {' and '.join(_mount_name(name, m) for m in who)}, "
+        f"counts as none: it is below {NULL:.3g} (64 rounding units) of their largest stiffness on a rigid motion, "
+        f"{top / scale:.3g} {per} ({kind}), {threshold:.3g} {unit} on this motion, under which double precision "
+        "cannot tell it from none"
+    )
+    return reason, f"a stiffness above {threshold:.3g} {unit} in all in that direction"
 
 
 def free_rigid(system):
@@ -148,7 +222,7 @@ def free_rigid(system):
     if "clamped" in system.spec.supports.values():
         return None, np.zeros((n, 0)), None
     cl = system.centerline
-    Z, free, _, _, x0, L = _analysis(cl, system.mounts, False, 0.0, np.zeros(3))
+    Z, free, _, _, x0, L, _, _ = _analysis(cl, system.mounts, False, 0.0, np.zeros(3))
     if not Z.shape[1]:
         return None, np.zeros((n, 0)), None
     U = np.zeros((system.n_augmented, Z.shape[1]))
@@ -176,7 +250,7 @@ def free_motions(model, name) -> list[str]:
     if "clamped" in model.bodies[name].supports.values():
         return []
     cl = centerline_of(model)
-    Z, _, _, _, x0, L = _analysis(cl, mounts_of(model, name, cl), False, 0.0, np.zeros(3))
+    Z, _, _, _, x0, L, _, _ = _analysis(cl, mounts_of(model, name, cl), False, 0.0, np.zeros(3))
     return [describe(a * np.sign(a[np.argmax(np.abs(a))]), x0, L) for a in Z.T]
 
 
@@ -273,7 +347,7 @@ def check_supported(model) -> None:
         if clamped:
             continue
         mass = spec.rho * section_of(spec).A
-        Z, free, u, F, x0, L = _analysis(cl, mounts, clamped, mass, g)
+        Z, free, u, F, x0, L, a, top = _analysis(cl, mounts, clamped, mass, g)
         held = _supports(name, spec.supports, mounts)
         key, value, what = causes[0]
         # (a cable lying in its casing looks carried to its author: say why the contact does not count)
@@ -284,13 +358,16 @@ def check_supported(model) -> None:
             else ""
         )
         pushed = free is not None and np.linalg.norm(Z @ (Z.T @ F)) > 1e-9 * max(np.linalg.norm(F), 1e-300)
+        if free is not None:
+            # (none given there, or one too small beside the others to count: say which, with the numbers)
+            reason, remedy = _no_stiffness(name, model.data[name], mounts, cl.nodes, a, x0, L, top)
         if free is not None and not pushed:
             # (the motion is free, not loaded: the static solve and the time domain need it held all
             # the same, their stiffness singular on it; the loads are not what is wrong)
             hint = (
                 " (for a rotation, a rotational stiffness about its axis: a twist about the body's own axis needs "
                 "a torsional stiffness, which may be far below the others)"
-                if free.startswith("a rotation")
+                if free.startswith("a rotation") and remedy is None
                 else ""
             )
             pushes = "its weight does not push it there" if any(g) else "its loads have no resultant on it"
@@ -298,18 +375,17 @@ def check_supported(model) -> None:
                 key,
                 value,
                 f"needs the {name} held against every rigid motion, but its supports ({held}) leave it free in {free} "
-                f"(the mounts have no stiffness there): {pushes}, yet the static state and the time domain of a "
-                f"loaded body are singular on a free motion{besides}; give the isolators or clips a stiffness in "
-                f"that direction, however small{hint}, or clamp a support",
+                f"({reason}): {pushes}, yet the static state and the time domain of a "
+                f"loaded body are singular on a free motion{besides}; give the isolators or clips "
+                f"{remedy or 'a stiffness in that direction, however small'}{hint}, or clamp a support",
             )
         if free is not None:
             raise ModelError(
                 key,
                 value,
-                f"cannot be carried by the {name}: its supports ({held}) leave it free in {free} (a mechanism: the "
-                "mounts have no stiffness there), and a loaded body must be held against every rigid motion"
-                f"{besides}; clamp "
-                "a support or give the isolators or clips stiffness in that direction",
+                f"cannot be carried by the {name}: its supports ({held}) leave it free in {free} (a mechanism: "
+                f"{reason}), and a loaded body must be held against every rigid motion{besides}; clamp a support or "
+                f"give the isolators or clips {remedy or 'stiffness in that direction'}",
             )
         if u > L:
             raise ModelError(

@@ -114,3 +114,51 @@ def test_a_free_motion_the_loads_do_not_push_is_named_as_the_problem(model, stif
     assert "however small" in text
     if free.startswith("a rotation"):
         assert "torsional stiffness" in text
+
+
+def _straight_on_stiff_isolators(k, torsion):
+    """A straight casing of 1 m along x (Table 2's section), 16 elements, on isolators of ``k``
+    (N/m) with the torsional stiffness ``torsion`` (N.m/rad) alone, under its weight along -z."""
+    iso = {"stiffness": k, "rotational_stiffness": [torsion, 0.0, 0.0]}
+    return {
+        "geometry": {"n_elements": 16, "start": [0.0, 0.0, 0.0], "direction": [1.0, 0.0, 0.0],
+                     "segments": [{"straight": 1.0}]},
+        "casing": {"E": 5e9, "rho": 4850.0, "d_outer": 0.0095, "d_inner": 0.004, "I": 2.7261e-10,
+                   "supports": {"A": "isolator", "B": "isolator"}, "isolator": {"A": iso, "B": iso}},
+        "loads": {"gravity": [0.0, 0.0, -9.81]},
+    }  # fmt: skip
+
+
+def test_a_torsion_too_small_beside_the_isolators_is_refused_with_its_numbers():
+    """Review BD1: 0.01 N.m/rad of torsion at each end beside isolators of 1e12 N/m. The twist is
+    held by 2 x 0.01 = 0.02 N.m/rad; the rigid stiffness's largest eigenvalue is the isolators'
+    translation, 2 x 1e12 N/m, and the threshold 64 eps of it is 64 * 2.22e-16 * 2e12 = 0.0284
+    N/m, which on a twist of the 1 m casing about its axis (coordinates [t, L w]) is 0.0284
+    N.m/rad: the stiffness is refused as counting as none, with these numbers, not as absent. 0.1
+    N.m/rad each (0.2 in all) is above it and accepted; beside 1e6 N/m isolators (threshold
+    2.8e-8 N.m/rad) 0.01 is too."""
+    with pytest.raises(cc.ModelError) as err:
+        cc.model_from_dict(_straight_on_stiff_isolators(1e12, 0.01))
+    text = str(err.value)
+    threshold = 64 * np.finfo(float).eps * 2e12  # (N/m on [t, L w], N.m/rad on the twist: L = 1 m)
+    assert "have no stiffness there" not in text and "however small" not in text
+    assert "the mounts' stiffness there, 0.02 N.m/rad from casing.isolator.A and casing.isolator.B" in text
+    assert "2e+12 N/m (a translation)" in text and f"{threshold:.3g} N.m/rad on this motion" in text
+    assert f"a stiffness above {threshold:.3g} N.m/rad in all in that direction" in text
+    cc.model_from_dict(_straight_on_stiff_isolators(1e12, 0.1))
+    cc.model_from_dict(_straight_on_stiff_isolators(1e6, 0.01))
+    with pytest.raises(cc.ModelError, match="the mounts have no stiffness there"):  # (none given: said so)
+        cc.model_from_dict(_straight_on_stiff_isolators(1e12, 0.0))
+
+
+def test_a_lateral_stiffness_too_small_beside_the_axial_one_is_refused_with_its_numbers():
+    """The weight along -z on isolators [1e12, 1e-3, 1e-3] N/m: the vertical translation is held by
+    2e-3 N/m, below 64 eps of the axial 2e12 N/m (0.0284 N/m), and the weight drives it: refused as a
+    mechanism whose stiffness counts as none, naming it (the mount's K6 in global axes rounds 1e-3
+    beside 1e12 to nothing, so the stiffness is read from the model as given)."""
+    d = _straight_on_stiff_isolators([1e12, 1e-3, 1e-3], 1.0)
+    with pytest.raises(cc.ModelError) as err:
+        cc.model_from_dict(d)
+    text = str(err.value)
+    assert "a translation along [0, 0, -1] (a mechanism: the mounts' stiffness there, 0.002 N/m from" in text
+    assert "0.0284 N/m on this motion" in text and "a stiffness above 0.0284 N/m in all" in text
