@@ -23,7 +23,7 @@ rigid motions (structure/support_check.py). When the compression does work on on
 compression moves it, reported as one. When it does none (K_G1 Phi = 0 to rounding, UNDRIVEN: a
 twist about a straight body's own axis, a translation) both K_E and K_G1 vanish on Phi and the
 pencil is solved on the complement of Phi (Q^T K_E Q, Q^T K_G1 Q, Q an orthonormal basis of it),
-where K_E is positive definite: the load of the other motions, the free one named beside it. Then
+where K_E is positive definite: the load of the other motions, every free one named beside it. Then
 LAPACK's
 symmetric-definite solver (scipy.linalg.eigh, a Cholesky factor of K_E) gives the pencil; should
 that factor fail on rounding (mounts soft beside the beam), the general QZ solver
@@ -58,9 +58,12 @@ class Buckling:
     buckles it, 0 for a mechanism that any compression moves); at: the arc length (m from end A)
     where the buckling mode's lateral displacement is largest (None without a mode); supports: the
     supports, isolators and clips assumed, in words; mechanism: the rigid motion the supports leave
-    free and the compression drives, in words, or None; undriven: a rigid motion the supports
-    leave free that the compression does not drive (a twist about a straight body's own axis), in
-    words, or None (the load is then that of the other motions)."""
+    free and the compression drives, in words, or None; undriven: the rigid motions the supports
+    leave free when the compression drives none of them (a twist about a straight body's own axis;
+    the three translations of rotation-only isolators), every one in words (the basis
+    ``support_check.free_motions`` names, joined: "a translation along [1, 0, 0], a translation
+    along [0, 1, 0] and a translation along [0, 0, 1]"), or None (the load is then that of the
+    other motions)."""
 
     body: str
     load: float
@@ -71,8 +74,8 @@ class Buckling:
 
     def as_dict(self) -> dict:
         """The JSON form: ``load_N`` (None for inf, 0 for a mechanism), ``at_m``, ``supports``,
-        ``mechanism``, and ``free_motion`` (a rigid motion left free that the compression does not
-        drive, in words) only when there is one."""
+        ``mechanism``, and ``free_motion`` (the rigid motions left free that the compression does not
+        drive, every one in words, as ``undriven``) only when there are some."""
         load = None if not np.isfinite(self.load) else float(self.load)
         out = {"load_N": load, "at_m": self.at, "supports": self.supports, "mechanism": self.mechanism}
         if self.undriven:
@@ -87,7 +90,7 @@ class Buckling:
                 f"(supports: {self.supports})"
             )
         free = (
-            f"; free in {self.undriven}, which the compression does not drive (the load is that of the other motions)"
+            f"; free in {self.undriven}, on which the compression does no work (the load is that of the other motions)"
             if self.undriven
             else ""
         )
@@ -273,8 +276,8 @@ def check_compression(system) -> None:
         )
     elif b.undriven and P < b.load:  # (refused before by check_supported; a system assembled by hand)
         allowed = (
-            f"needs the {name} held against every rigid motion: it is free in {b.undriven}, which the compression "
-            f"does not drive (its buckling load {b.load:.4g} N is that of the other motions), but its tangent "
+            f"needs the {name} held against every rigid motion: it is free in {b.undriven}, on which the compression "
+            f"does no work (its buckling load {b.load:.4g} N is that of the other motions), but its tangent "
             f"stiffness is singular there; give the isolators a stiffness in that direction, however small "
             f"(supports: {b.supports})"
         )

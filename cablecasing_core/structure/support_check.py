@@ -214,17 +214,19 @@ def _no_stiffness(name, data, mounts, nodes, a, x0, L, top):
 
 def free_rigid(system):
     """What the supports and mounts of ``system`` (an assembled BodySystem) leave free, from one
-    analysis of its rigid motions: (the rigid motion, in words, or None when a clamped support or
-    the mounts hold every one; those motions as displacements of its free DOFs, augmented: the
-    mounts' support nodes stay at rest, n_free x k with orthonormal columns Phi, k = 0 when held;
-    ``words(c)``: the rigid motion Phi c in words, as the first)."""
+    analysis of its rigid motions: (every one of them, in words: the basis :func:`free_motions`
+    names, joined, "a translation along [1, 0, 0], a translation along [0, 1, 0] and a translation
+    along [0, 0, 1]", or None when a clamped support or the mounts hold every one; those motions as
+    displacements of its free DOFs, augmented: the mounts' support nodes stay at rest, n_free x k
+    with orthonormal columns Phi, k = 0 when held; ``words(c)``: the rigid motion Phi c in words)."""
     n = len(system.free)
     if "clamped" in system.spec.supports.values():
         return None, np.zeros((n, 0)), None
     cl = system.centerline
-    Z, free, _, _, x0, L, _, _ = _analysis(cl, system.mounts, False, 0.0, np.zeros(3))
+    Z, _, _, _, x0, L, _, _ = _analysis(cl, system.mounts, False, 0.0, np.zeros(3))
     if not Z.shape[1]:
         return None, np.zeros((n, 0)), None
+    free = _joined(_named(Z, x0, L))
     U = np.zeros((system.n_augmented, Z.shape[1]))
     for i, x in enumerate(cl.nodes):
         U[6 * i : 6 * i + 6] = _rows(x - x0, L) @ Z
@@ -251,7 +253,18 @@ def free_motions(model, name) -> list[str]:
         return []
     cl = centerline_of(model)
     Z, _, _, _, x0, L, _, _ = _analysis(cl, mounts_of(model, name, cl), False, 0.0, np.zeros(3))
+    return _named(Z, x0, L)
+
+
+def _named(Z, x0, L):
+    """The free rigid motions Z (6 x k, orthonormal columns [t, L w] about x0, m) in words, one a
+    column, each signed so that its largest coordinate is positive."""
     return [describe(a * np.sign(a[np.argmax(np.abs(a))]), x0, L) for a in Z.T]
+
+
+def _joined(words):
+    """["a", "b", "c"] as "a, b and c"."""
+    return words[0] if len(words) == 1 else ", ".join(words[:-1]) + " and " + words[-1]
 
 
 def axial_stiffness(mounts, end):

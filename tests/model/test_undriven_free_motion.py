@@ -162,3 +162,24 @@ def test_a_lateral_stiffness_too_small_beside_the_axial_one_is_refused_with_its_
     text = str(err.value)
     assert "a translation along [0, 0, -1] (a mechanism: the mounts' stiffness there, 0.002 N/m from" in text
     assert "0.0284 N/m on this motion" in text and "a stiffness above 0.0284 N/m in all" in text
+
+
+def test_every_free_motion_is_named_beside_the_buckling_load():
+    """Review BD3: isolators holding only rotations (k = 0, k_rot = 10 N.m/rad) leave all three
+    translations free, and the compression drives none; the text and JSON name all three, as
+    free_motions does, not the first. The load is the sway of x tan x = C L / (2 EI), x = lambda L / 2
+    (8.4357 N on 1 m; to 1e-6, the FE's h^4 error at 16 elements being 5e-7)."""
+    from cablecasing_core.structure.support_check import free_motions
+
+    d = _straight_on_stiff_isolators(0.0, 0.0)
+    d["casing"]["isolator"] = {s: {"stiffness": 0.0, "rotational_stiffness": 10.0} for s in "AB"}
+    del d["loads"]
+    model = cc.model_from_dict(d)
+    b = cc.body_buckling(model, "casing")
+    free = free_motions(model, "casing")
+    assert free == [f"a translation along {v}" for v in ("[1, 0, 0]", "[0, 1, 0]", "[0, 0, 1]")]
+    named = f"{free[0]}, {free[1]} and {free[2]}"
+    assert b.undriven == named and b.as_dict()["free_motion"] == named
+    assert f"; free in {named}, on which the compression does no work" in b.text()
+    x = brentq(lambda x: x * np.tan(x) - 10.0 / (2 * 5e9 * 2.7261e-10), 1e-9, np.pi / 2 - 1e-9, xtol=1e-15)
+    assert b.load == pytest.approx(5e9 * 2.7261e-10 * (2 * x) ** 2, rel=1e-6)
