@@ -206,6 +206,19 @@ class CableCasing(Fmi2Slave):
     )
     version = cc.__version__
     default_experiment = DefaultExperiment(start_time=0.0, stop_time=1.0, step_size=1e-4)
+    # The modelDescription's <LogCategories>, as the binary switches them (fmi2SetDebugLogging in
+    # fmu_src/native/cablecasing_fmi2.c; docs/fmu.md, "Messages you may see"): pythonfmu's names, with
+    # what each does here (its "Log all messages." for logAll is not what logAll switches)
+    log_categories = {
+        "logStatusWarning": "Warnings (fmi2Warning): shown whatever loggingOn; fmi2SetDebugLogging with this "
+        "category switches them off and on",
+        "logStatusDiscard": "Why a step or a status was discarded (fmi2Discard): shown whatever loggingOn; "
+        "fmi2SetDebugLogging with this category switches them off and on",
+        "logStatusError": "Errors (fmi2Error): always shown, cannot be switched off",
+        "logStatusFatal": "Fatal errors (fmi2Fatal, which this FMU never returns): always shown",
+        "logAll": "Informational messages (fmi2OK): shown with loggingOn = fmi2True; fmi2SetDebugLogging with "
+        "this category, or with none, switches them off and on",
+    }
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)

@@ -158,7 +158,7 @@ typedef struct {
     unsigned magic;
     fmi2CallbackFunctions cb;
     char name[256];
-    int logging_on;
+    unsigned log_shown;                 /* the statuses whose messages reach the logger (log_shown) */
     int state;
     PyObject *py;                       /* the bridge's Instance */
     PyObject *m_do_step;                /* its bound do_step, called every step */
@@ -203,9 +203,21 @@ static Live *live_states = NULL;
 static Live *live_instances = NULL;
 
 /* ------------------------------------------------------------------------------------------------
- * Logging: to the host's logger (errors and warnings always, the rest when logging is on) and,
- * for problems that keep the FMU from starting, also to stderr.
+ * Logging: to the host's logger and, for problems that keep the FMU from starting, also to stderr.
+ * Which messages reach the logger is an instance's set of statuses (log_shown), switched per category
+ * by fmi2SetDebugLogging: informational ones (logAll) when logging is on, warnings (logStatusWarning)
+ * and discards (logStatusDiscard) unless switched off, errors and fatal messages always.
  */
+#define SHOW_INFO (1u << fmi2OK)
+#define SHOW_WARNING (1u << fmi2Warning)
+#define SHOW_DISCARD (1u << fmi2Discard)
+#define SHOW_ALL (SHOW_INFO | SHOW_WARNING | SHOW_DISCARD)
+
+/* Whether a message of ``status`` reaches the logger when ``shown`` is the set of statuses shown */
+static int log_shown(unsigned shown, fmi2Status status) {
+    return status >= fmi2Error || (shown & (1u << status)) != 0;
+}
+
 static void escape_for_logger(const char *msg, char *out, size_t size) {
     /* the logger's message is a printf format in which '#' starts a value reference: '%%', '##' */
     size_t j = 0;
@@ -216,15 +228,15 @@ static void escape_for_logger(const char *msg, char *out, size_t size) {
     out[j] = 0;
 }
 
-static void log_to_host(const fmi2CallbackFunctions *cb, const char *name, int logging_on, fmi2Status status,
+static void log_to_host(const fmi2CallbackFunctions *cb, const char *name, unsigned shown, fmi2Status status,
                         const char *category, const char *msg, int also_stderr) {
-    if (also_stderr || ((!cb || !cb->logger) && (logging_on || status >= fmi2Warning))) {
+    if (also_stderr || ((!cb || !cb->logger) && log_shown(shown, status))) {
         /* (no logger, which FMI 2.0 does not allow: what the host would have been told goes to stderr) */
         static const char *labels[] = {"OK", "WARNING", "DISCARD", "ERROR", "FATAL", "PENDING"};
         fprintf(stderr, "[CableCasing %s] %s\n", labels[status <= 5 ? status : 3], msg);
         fflush(stderr);
     }
-    if (cb && cb->logger && (logging_on || status >= fmi2Warning)) {
+    if (cb && cb->logger && log_shown(shown, status)) {
         size_t size = 2 * strlen(msg) + 4;
         char *buf = malloc(size);
         if (!buf) return;
@@ -234,7 +246,7 @@ static void log_to_host(const fmi2CallbackFunctions *cb, const char *name, int l
     }
 }
 
-static void logf_to_host(const fmi2CallbackFunctions *cb, const char *name, int logging_on, fmi2Status status,
+static void logf_to_host(const fmi2CallbackFunctions *cb, const char *name, unsigned shown, fmi2Status status,
                          int also_stderr, const char *fmt, ...) {
     char msg[4096];
     va_list ap;
@@ -246,15 +258,15 @@ static void logf_to_host(const fmi2CallbackFunctions *cb, const char *name, int 
                            : status == fmi2Discard ? "logStatusDiscard"
                            : status == fmi2Warning ? "logStatusWarning"
                                                    : "logAll";
-    log_to_host(cb, name, logging_on, status, category, msg, also_stderr);
+    log_to_host(cb, name, shown, status, category, msg, also_stderr);
 }
 
-#define LOGI(inst, status, ...) logf_to_host(&(inst)->cb, (inst)->name, (inst)->logging_on, status, 0, __VA_ARGS__)
+#define LOGI(inst, status, ...) logf_to_host(&(inst)->cb, (inst)->name, (inst)->log_shown, status, 0, __VA_ARGS__)
 
 /* called by the Python side (through ctypes, without the GIL) for every message */
 static void bridge_log(void *handle, int status, const char *category, const char *message, int also_stderr) {
     Instance *inst = handle;
-    log_to_host(&inst->cb, inst->name, inst->logging_on, (fmi2Status)status, category ? category : "logAll",
+    log_to_host(&inst->cb, inst->name, inst->log_shown, (fmi2Status)status, category ? category : "logAll",
                 message ? message : "", also_stderr);
 }
 
@@ -675,19 +687,19 @@ FMI2_Export fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuT
         return NULL;
     }
     if (fmuType != fmi2CoSimulation) {
-        logf_to_host(functions, name, 1, fmi2Error, 0,
+        logf_to_host(functions, name, SHOW_ALL, fmi2Error, 0,
                      "fmi2Instantiate: CableCasing is a co-simulation FMU (fmi2CoSimulation); model exchange "
                      "is not provided");
         return NULL;
     }
     if (!uri_to_path(fmuResourceLocation, resources, sizeof resources)) {
-        logf_to_host(functions, name, 1, fmi2Error, 1,
+        logf_to_host(functions, name, SHOW_ALL, fmi2Error, 1,
                      "fmi2Instantiate: fmuResourceLocation %s is not a file: URI of the FMU's resources folder",
                      fmuResourceLocation ? fmuResourceLocation : "(NULL)");
         return NULL;
     }
     if (!ensure_python(resources, err, sizeof err)) {
-        logf_to_host(functions, name, 1, fmi2Error, 1, "CableCasing.fmu cannot start Python: %s", err);
+        logf_to_host(functions, name, SHOW_ALL, fmi2Error, 1, "CableCasing.fmu cannot start Python: %s", err);
         return NULL;
     }
     Instance *inst = calloc(1, sizeof *inst);
@@ -695,7 +707,9 @@ FMI2_Export fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuT
     inst->magic = INSTANCE_MAGIC;
     inst->cb = *functions;
     snprintf(inst->name, sizeof inst->name, "%s", name);
-    inst->logging_on = loggingOn ? 1 : 0;
+    /* warnings and discards whatever loggingOn: a user must see why a step was discarded (docs/fmu.md,
+       "Messages you may see"); fmi2SetDebugLogging switches them off by their categories */
+    inst->log_shown = SHOW_WARNING | SHOW_DISCARD | (loggingOn ? SHOW_INFO : 0u);
     inst->state = S_INSTANTIATED;
 
     PyGILState_STATE gil = gil_enter();
@@ -714,7 +728,7 @@ FMI2_Export fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuT
     }
     if (!mod) {
         take_exception(err, sizeof err);
-        logf_to_host(functions, name, 1, fmi2Error, 1, "CableCasing.fmu cannot load its bridge from %s: %s",
+        logf_to_host(functions, name, SHOW_ALL, fmi2Error, 1, "CableCasing.fmu cannot load its bridge from %s: %s",
                      resources, err);
         ok = 0;
     } else {
@@ -737,7 +751,7 @@ FMI2_Export fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuT
             take_exception(err, sizeof err);
             /* the reason (a missing package, a wrong GUID, ...): the bridge raised FMUStartError with it
              * and logs nothing itself, so it is said once, here, to the host and to stderr */
-            logf_to_host(functions, name, 1, fmi2Error, 1, "CableCasing.fmu cannot be instantiated: %s", err);
+            logf_to_host(functions, name, SHOW_ALL, fmi2Error, 1, "CableCasing.fmu cannot be instantiated: %s", err);
             ok = 0;
         }
     }
@@ -761,7 +775,7 @@ FMI2_Export fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuT
         if (inst->slave) inst->clock_only_seen = attr_long(inst->slave, "clock_only_calls", &ok);
         if (!ok || !inst->m_do_step || !inst->slave) {
             take_exception(err, sizeof err);
-            logf_to_host(functions, name, 1, fmi2Error, 1, "CableCasing.fmu: the bridge is incomplete (%s)", err);
+            logf_to_host(functions, name, SHOW_ALL, fmi2Error, 1, "CableCasing.fmu: the bridge is incomplete (%s)", err);
             ok = 0;
         }
     }
@@ -808,6 +822,24 @@ static fmi2Status call0(Instance *inst, const char *method) {
     return s;
 }
 
+/* A NULL where the host's variable or buffer belongs (``what``): fmi2Error with a message naming the call
+ * and the argument, in every state of the life cycle, and nothing read or written */
+static fmi2Status null_argument(Instance *inst, const char *call, const char *argument, const char *what) {
+    LOGI(inst, fmi2Error, "%s: the argument %s is NULL, where %s belongs; nothing done", call, argument, what);
+    return fmi2Error;
+}
+
+/* Whether ``call``'s arrays of ``nvr`` value references and values are refused for a NULL (logged) */
+static int null_arrays(Instance *inst, const char *call, const fmi2ValueReference vr[], size_t nvr,
+                       const void *value) {
+    if (nvr == 0 || (vr && value)) return 0;
+    int both = !vr && !value;
+    LOGI(inst, fmi2Error, "%s: the argument%s NULL, where the array%s of nvr = %zu %s belong%s; nothing done", call,
+         both ? "s vr and value are" : !vr ? " vr is" : " value is", both ? "s" : "", nvr,
+         both ? "value references and values" : !vr ? "value references" : "values", both ? "" : "s");
+    return 1;
+}
+
 /* a call that the life cycle does not allow: fmi2Error with a message */
 static fmi2Status refuse(Instance *inst, const char *what) {
     static const char *states[] = {"instantiated (before fmi2EnterInitializationMode)", "in initialization mode",
@@ -819,34 +851,39 @@ static fmi2Status refuse(Instance *inst, const char *what) {
 FMI2_Export fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nCategories,
                                            const fmi2String categories[]) {
     ENTER(c);
-    /* The modelDescription's <LogCategories>. Warnings, discards and errors reach the host's logger
-     * whatever the setting (docs/fmu.md, "Messages you may see"), so of the listed categories only
-     * logAll (the informational messages) changes what is logged; with no category loggingOn
-     * applies to all of them (FMI 2.0, 2.1.5). An unknown category is an error, naming it, and
-     * changes nothing. */
-    static const char *known[] = {"logStatusWarning", "logStatusDiscard", "logStatusError", "logStatusFatal",
-                                  "logAll", NULL};
+    /* The modelDescription's <LogCategories>, each the messages of one status (docs/fmu.md, "Messages
+     * you may see"): loggingOn switches the listed categories on or off, and leaves the others as they
+     * are (as the FMU SDK and the Reference FMUs do). logStatusError and logStatusFatal are accepted but
+     * change nothing: errors are always logged (FMI 2.0, 2.1.3: "logger was called" for every fmi2Error).
+     * With no category loggingOn switches logAll, the informational messages, only: warnings and
+     * discards stay as they are, so that a host that turns "debug logging" off still sees why a step
+     * was discarded (FMI 2.0.x, 2.1.5, says all categories: a deviation, documented). An unknown or
+     * NULL category is an error, naming it, and changes nothing. */
+    static const char *known[] = {"logAll", "logStatusWarning", "logStatusDiscard", "logStatusError",
+                                  "logStatusFatal", NULL};
+    static const unsigned shows[] = {SHOW_INFO, SHOW_WARNING, SHOW_DISCARD, 0u, 0u};
     if (nCategories > 0 && !categories) {
         LOGI(inst, fmi2Error, "fmi2SetDebugLogging: nCategories = %zu but categories = NULL; logging unchanged",
              nCategories);
         return fmi2Error;
     }
-    int all = nCategories == 0;
+    unsigned switched = nCategories == 0 ? SHOW_INFO : 0u;
     for (size_t i = 0; i < nCategories; i++) {
         const char *name = categories[i];
-        int found = 0;
-        for (int k = 0; known[k] && !found; k++) found = name && strcmp(name, known[k]) == 0;
-        if (!found) {
+        int k = 0;
+        while (known[k] && !(name && strcmp(name, known[k]) == 0)) k++;
+        if (!known[k]) {
             LOGI(inst, fmi2Error,
-                 "fmi2SetDebugLogging: category %s%.200s%s is not one of this FMU's (logStatusWarning, "
-                 "logStatusDiscard, logStatusError, logStatusFatal, logAll: the modelDescription's "
-                 "LogCategories); logging unchanged",
+                 "fmi2SetDebugLogging: category %s%.200s%s is not one of this FMU's (logAll, logStatusWarning, "
+                 "logStatusDiscard, logStatusError, logStatusFatal: the modelDescription's LogCategories); "
+                 "logging unchanged",
                  name ? "'" : "", name ? name : "NULL", name ? "'" : "");
             return fmi2Error;
         }
-        all = all || strcmp(name, "logAll") == 0;
+        switched |= shows[k];
     }
-    if (all) inst->logging_on = loggingOn ? 1 : 0;
+    if (loggingOn) inst->log_shown |= switched;
+    else inst->log_shown &= ~switched;
     return fmi2OK;
 }
 
@@ -916,11 +953,7 @@ FMI2_Export fmi2Status fmi2Reset(fmi2Component c) {
 
 static fmi2Status slow_access(Instance *inst, const char *method, const fmi2ValueReference vr[], size_t nvr,
                               const void *values) {
-    if (nvr == 0) return fmi2OK;
-    if (!vr || !values) {
-        LOGI(inst, fmi2Error, "%s: NULL value references or values for %zu variables", method, nvr);
-        return fmi2Error;
-    }
+    if (nvr == 0) return fmi2OK;   /* (a NULL array with nvr > 0 is refused before: null_arrays) */
     PyGILState_STATE gil = gil_enter();
     fmi2Status s = call(inst, method, NULL, 3, VR_ARGS(vr, nvr, values));
     P.PyGILState_Release(gil);
@@ -935,9 +968,10 @@ static int getters_allowed(Instance *inst) { return inst->state != S_INSTANTIATE
 /* In Initialization Mode the outputs are computed from the parameters set so far: through Python */
 FMI2_Export fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, fmi2Real value[]) {
     ENTER(c);
+    if (null_arrays(inst, "fmi2GetReal", vr, nvr, value)) return fmi2Error;
     if (!getters_allowed(inst)) return refuse(inst, "fmi2GetReal");
     size_t i = 0;
-    if ((nvr && (!vr || !value)) || inst->state == S_INITIALIZATION)
+    if (inst->state == S_INITIALIZATION)
         return slow_access(inst, "get_real", vr, nvr, value);
     for (; i < nvr; i++) {
         fmi2ValueReference r = vr[i];
@@ -959,9 +993,9 @@ FMI2_Export fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[
 FMI2_Export fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                    const fmi2Real value[]) {
     ENTER(c);
+    if (null_arrays(inst, "fmi2SetReal", vr, nvr, value)) return fmi2Error;
     if (!setters_allowed(inst)) return refuse(inst, "fmi2SetReal");
     size_t i = 0;
-    if (nvr && (!vr || !value)) return slow_access(inst, "set_real", vr, nvr, value);
     for (; i < nvr && vr[i] - inst->in0 < inst->nin; i++) inst->inputs[vr[i] - inst->in0] = value[i];
     if (i == nvr) return fmi2OK;
     return slow_access(inst, "set_real", vr, nvr, value);
@@ -970,9 +1004,10 @@ FMI2_Export fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[
 FMI2_Export fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                       fmi2Integer value[]) {
     ENTER(c);
+    if (null_arrays(inst, "fmi2GetInteger", vr, nvr, value)) return fmi2Error;
     if (!getters_allowed(inst)) return refuse(inst, "fmi2GetInteger");
     size_t i = 0;
-    if ((nvr && (!vr || !value)) || inst->state == S_INITIALIZATION)
+    if (inst->state == S_INITIALIZATION)
         return slow_access(inst, "get_integer", vr, nvr, value);
     for (; i < nvr; i++) {
         size_t k = 0;
@@ -987,6 +1022,7 @@ FMI2_Export fmi2Status fmi2GetInteger(fmi2Component c, const fmi2ValueReference 
 FMI2_Export fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                       const fmi2Integer value[]) {
     ENTER(c);
+    if (null_arrays(inst, "fmi2SetInteger", vr, nvr, value)) return fmi2Error;
     if (!setters_allowed(inst)) return refuse(inst, "fmi2SetInteger");
     return slow_access(inst, "set_integer", vr, nvr, value);
 }
@@ -994,6 +1030,7 @@ FMI2_Export fmi2Status fmi2SetInteger(fmi2Component c, const fmi2ValueReference 
 FMI2_Export fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                       fmi2Boolean value[]) {
     ENTER(c);
+    if (null_arrays(inst, "fmi2GetBoolean", vr, nvr, value)) return fmi2Error;
     if (!getters_allowed(inst)) return refuse(inst, "fmi2GetBoolean");
     return slow_access(inst, "get_boolean", vr, nvr, value);
 }
@@ -1001,6 +1038,7 @@ FMI2_Export fmi2Status fmi2GetBoolean(fmi2Component c, const fmi2ValueReference 
 FMI2_Export fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                       const fmi2Boolean value[]) {
     ENTER(c);
+    if (null_arrays(inst, "fmi2SetBoolean", vr, nvr, value)) return fmi2Error;
     if (!setters_allowed(inst)) return refuse(inst, "fmi2SetBoolean");
     return slow_access(inst, "set_boolean", vr, nvr, value);
 }
@@ -1008,6 +1046,7 @@ FMI2_Export fmi2Status fmi2SetBoolean(fmi2Component c, const fmi2ValueReference 
 FMI2_Export fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                      fmi2String value[]) {
     ENTER(c);
+    if (null_arrays(inst, "fmi2GetString", vr, nvr, value)) return fmi2Error;
     if (!getters_allowed(inst)) return refuse(inst, "fmi2GetString");
     return slow_access(inst, "get_string", vr, nvr, value);
 }
@@ -1015,6 +1054,7 @@ FMI2_Export fmi2Status fmi2GetString(fmi2Component c, const fmi2ValueReference v
 FMI2_Export fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
                                      const fmi2String value[]) {
     ENTER(c);
+    if (null_arrays(inst, "fmi2SetString", vr, nvr, value)) return fmi2Error;
     if (!setters_allowed(inst)) return refuse(inst, "fmi2SetString");
     return slow_access(inst, "set_string", vr, nvr, value);
 }
@@ -1089,7 +1129,8 @@ static fmi2Status query(Instance *inst, const char *method, fmi2Real *number, fm
 
 FMI2_Export fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) {
     ENTER(c);
-    if (!FMUstate) return refuse(inst, "fmi2GetFMUstate with a NULL pointer");
+    if (!FMUstate)
+        return null_argument(inst, "fmi2GetFMUstate", "FMUstate", "the address of the host's fmi2FMUstate variable");
     if (state_where_its_address_belongs(inst, "fmi2GetFMUstate", FMUstate)) return fmi2Error;
     PyObject *obj = NULL;
     PyGILState_STATE gil = gil_enter();
@@ -1188,7 +1229,7 @@ static PyObject *state_bytes(Instance *inst, fmi2FMUstate FMUstate, fmi2Status *
 
 FMI2_Export fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate FMUstate, size_t *size) {
     ENTER(c);
-    if (!size) return fmi2Error;
+    if (!size) return null_argument(inst, "fmi2SerializedFMUstateSize", "size", "the address of the host's size_t variable");
     fmi2Status s;
     PyGILState_STATE gil = gil_enter();
     PyObject *bytes = state_bytes(inst, FMUstate, &s);
@@ -1203,7 +1244,9 @@ FMI2_Export fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate 
 FMI2_Export fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate FMUstate, fmi2Byte serializedState[],
                                              size_t size) {
     ENTER(c);
-    if (!serializedState) return fmi2Error;
+    if (!serializedState)
+        return null_argument(inst, "fmi2SerializeFMUstate", "serializedState",
+                             "a buffer of the fmi2SerializedFMUstateSize bytes");
     fmi2Status s;
     PyGILState_STATE gil = gil_enter();
     PyObject *bytes = state_bytes(inst, FMUstate, &s);
@@ -1225,7 +1268,11 @@ FMI2_Export fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate FMUst
 FMI2_Export fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedState[], size_t size,
                                                fmi2FMUstate *FMUstate) {
     ENTER(c);
-    if (!FMUstate || (!serializedState && size)) return refuse(inst, "fmi2DeSerializeFMUstate with a NULL pointer");
+    if (!serializedState && size)
+        return null_argument(inst, "fmi2DeSerializeFMUstate", "serializedState",
+                             "a buffer of the serialised state's size bytes");
+    if (!FMUstate)
+        return null_argument(inst, "fmi2DeSerializeFMUstate", "FMUstate", "the address of the host's fmi2FMUstate variable");
     if (state_where_its_address_belongs(inst, "fmi2DeSerializeFMUstate", FMUstate)) return fmi2Error;
     PyObject *obj = NULL;
     PyGILState_STATE gil = gil_enter();
@@ -1332,13 +1379,22 @@ FMI2_Export fmi2Status fmi2CancelStep(fmi2Component c) {
     return fmi2Error;
 }
 
+/* The status functions answer in every state after fmi2Instantiate, where FMI 2.0.x, 4.2.4, allows them only
+ * after initialisation (stepComplete, stepFailed, terminated): the answers are true of an instance that has
+ * not stepped (no step pending; fmi2LastSuccessfulTime the startTime set so far, 0 before
+ * fmi2SetupExperiment; not terminated), so a master that asks early is answered, not refused
+ * (docs/fmu.md, "Statuses for careless masters"). A NULL value is refused first, in every state. */
+#define STATUS_VALUE(call, type)                                                                       \
+    if (!value) return null_argument(inst, call, "value", "the address of the host's " type " variable")
+
 FMI2_Export fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *value) {
     ENTER(c);
-    if (s == fmi2DoStepStatus && value) {
+    STATUS_VALUE("fmi2GetStatus", "fmi2Status");
+    if (s == fmi2DoStepStatus) {
         *value = fmi2OK;   /* doStep is synchronous: never pending */
         return fmi2OK;
     }
-    LOGI(inst, fmi2Discard, "fmi2GetStatus: status kind %d is not available", (int)s);
+    LOGI(inst, fmi2Discard, "fmi2GetStatus: status kind %d is not available (only fmi2DoStepStatus)", (int)s);
     return fmi2Discard;
 }
 
@@ -1358,8 +1414,10 @@ static fmi2Status query(Instance *inst, const char *method, fmi2Real *number, fm
 
 FMI2_Export fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value) {
     ENTER(c);
-    if (s != fmi2LastSuccessfulTime || !value) {
-        LOGI(inst, fmi2Discard, "fmi2GetRealStatus: only fmi2LastSuccessfulTime is available");
+    STATUS_VALUE("fmi2GetRealStatus", "fmi2Real");
+    if (s != fmi2LastSuccessfulTime) {
+        LOGI(inst, fmi2Discard, "fmi2GetRealStatus: status kind %d is not available (only fmi2LastSuccessfulTime)",
+             (int)s);
         return fmi2Discard;
     }
     return query(inst, "last_successful_time", value, NULL);
@@ -1367,24 +1425,27 @@ FMI2_Export fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s
 
 FMI2_Export fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Integer *value) {
     ENTER(c);
-    (void)s, (void)value;
+    STATUS_VALUE("fmi2GetIntegerStatus", "fmi2Integer");
+    (void)s;
     LOGI(inst, fmi2Discard, "fmi2GetIntegerStatus: no integer status is available");
     return fmi2Discard;
 }
 
 FMI2_Export fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *value) {
     ENTER(c);
-    if (s == fmi2Terminated && value) {
+    STATUS_VALUE("fmi2GetBooleanStatus", "fmi2Boolean");
+    if (s == fmi2Terminated) {
         /* true once a discarded step was asked for again with the same inputs (CableCasing._discard) */
         return query(inst, "terminated", NULL, value);
     }
-    LOGI(inst, fmi2Discard, "fmi2GetBooleanStatus: only fmi2Terminated is available");
+    LOGI(inst, fmi2Discard, "fmi2GetBooleanStatus: status kind %d is not available (only fmi2Terminated)", (int)s);
     return fmi2Discard;
 }
 
 FMI2_Export fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2String *value) {
     ENTER(c);
-    (void)s, (void)value;
+    STATUS_VALUE("fmi2GetStringStatus", "fmi2String");
+    (void)s;
     LOGI(inst, fmi2Discard, "fmi2GetStringStatus: no string status is available (doStep is synchronous)");
     return fmi2Discard;
 }
