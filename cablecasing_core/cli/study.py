@@ -637,13 +637,17 @@ def _print_change(ens, other, d, change, confidence):
     silenced = not np.any(other.levels) and np.any(ens.levels)  # (every level 0: a change of -100 %, no leakage)
     off = no_response(ens.mean) | (False if silenced else no_response(other.mean))
     print(f"# relative change of the mean level with {change} (paired on the same seeds)")
-    print("band,mean_against,rel_diff,se,ci_low,ci_high,diff_over_se")
-    for lab, m, r, se, a, b, o in zip(d.labels, other.mean, d.r, d.se, lo, hi, off):
+    print(
+        "# is there a change: p, the paired t test of no change (two-sided); how large: rel_diff, its se and "
+        f"{confidence:.4g} interval (diff_over_se is no test: its se is taken at rel_diff, not at 0)"
+    )
+    print("band,mean_against,rel_diff,se,ci_low,ci_high,diff_over_se,p")
+    for lab, m, r, se, a, b, o, p in zip(d.labels, other.mean, d.r, d.se, lo, hi, off, d.p):
         if o:
-            print(f"{lab},{m:.6g},nan,nan,nan,nan,nan")
+            print(f"{lab},{m:.6g},nan,nan,nan,nan,nan,nan")
             continue
         ratio = r / se if se > 0 else (0.0 if r == 0 else math.nan)
-        print(f"{lab},{m:.6g},{r:+.4f},{se:.4f},{a:+.4f},{b:+.4f},{ratio:+.1f}")
+        print(f"{lab},{m:.6g},{r:+.4f},{se:.4f},{a:+.4f},{b:+.4f},{ratio:+.1f},{p:.3g}")
     if off.any():
         gone = ", ".join(lab for lab, o in zip(d.labels, off) if o)
         print(f"# no change given in {gone}: no response there in one of the two (the window's leakage sets a level)")

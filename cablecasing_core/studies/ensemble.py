@@ -454,13 +454,19 @@ class PairedDifference:
     """Relative difference of two ensembles' mean band levels on the same seeds (-), per band.
 
     ``r = (mean a - mean b) / mean b``; ``se`` is its standard error from the paired members
-    (ratio-estimator linearisation, see :func:`paired_difference`).
+    (ratio-estimator linearisation, see :func:`paired_difference`): r, se and :meth:`ci` say how
+    large the change is. ``p`` (-) is the two-sided p-value of the paired t test of no change
+    (H0: mean a = mean b, r = 0) on the per-seed levels: whether there is a change is read from p,
+    not from r / se or whether the interval holds 0 (their standard error is taken at the estimated
+    r, not at r = 0, and rejects a true "no change" more often than it says: 6-8 % at a nominal 5 %
+    for skewed levels of 6 seeds; the t test's p is exact for normal differences a_i - b_i).
     """
 
     labels: tuple
     r: np.ndarray
     se: np.ndarray
     n: int
+    p: np.ndarray
 
     def ci(self, confidence=0.95):
         """Student-t confidence interval of r per band, ``(low, high)`` (-), its lower end at least
@@ -483,6 +489,12 @@ def paired_difference(a: Ensemble | np.ndarray, b: Ensemble | np.ndarray) -> Pai
     error comes from the linearisation of the ratio estimator, ``e_i = (a_i - b_i) - r b_i``,
     ``SE(r) = sd(e) / (sqrt(n) mean b)``; pairing removes the part of the scatter that the excitation
     record explains in both.
+
+    ``p`` is the two-sided p-value of the paired t test of no change, ``scipy.stats.ttest_rel(a, b)``
+    per band (H0: mean a = mean b, the test on the differences a_i - b_i, n - 1 degrees of freedom):
+    the answer to "is there a change", where r and its interval say how large it is. It is NaN for
+    one pair, and in a band where a_i - b_i is the same in every member (zero variance, the t
+    statistic 0/0 or x/0: r and se still say the change).
 
     Not the mean of the per-seed ratios ``mean(a_i / b_i) - 1``: that estimates E[a/b] - 1, which is
     positive even for two runs of the same distribution (E[1/b] > 1/E[b]) when chaos leaves them
@@ -520,7 +532,12 @@ def paired_difference(a: Ensemble | np.ndarray, b: Ensemble | np.ndarray) -> Pai
     with np.errstate(divide="ignore", invalid="ignore"):  # (a band b never reaches: NaN, docstring)
         r = np.where(mb > 0, (a.mean(axis=0) - mb) / mb, np.nan)
         se = np.std((a - b) - r * b, axis=0, ddof=1) / math.sqrt(n) / mb if n > 1 else np.full_like(r, np.nan)
-    return PairedDifference(tuple(labels or (f"band{i + 1}" for i in range(a.shape[1]))), r, se, n)
+    p = np.full_like(r, np.nan)
+    d = a - b
+    defined = np.ptp(d, axis=0) > 0 if n > 1 else np.zeros(len(r), bool)  # (else the t statistic is 0/0 or x/0)
+    if defined.any():
+        p[defined] = stats.ttest_rel(a[:, defined], b[:, defined], axis=0).pvalue
+    return PairedDifference(tuple(labels or (f"band{i + 1}" for i in range(a.shape[1]))), r, se, n, p)
 
 
 def _t_factor(confidence, n):

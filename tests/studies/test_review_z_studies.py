@@ -16,7 +16,7 @@ from cablecasing_core.studies import critical_correlation, load_ensemble, paired
 
 def _change_rows(out):
     """{band: the change table's fields} of an ensemble command's output."""
-    text = out.split("band,mean_against,rel_diff,se,ci_low,ci_high,diff_over_se\n", 1)[1]
+    text = out.split("band,mean_against,rel_diff,se,ci_low,ci_high,diff_over_se,p\n", 1)[1]
     return {line.split(",")[0]: line.split(",")[1:] for line in text.splitlines() if not line.startswith("#")}
 
 
@@ -39,13 +39,14 @@ def test_the_change_table_gives_no_ratio_where_nothing_responds(capsys):
 
 def test_a_change_that_makes_no_difference_is_said_not_nan(capsys):
     """Review Z D4: --against with the model's own value gives the same records; the table read
-    "+0.0000 0.0000 ... +nan". diff_over_se reads +0.0 and a line says the levels are the same."""
+    "+0.0000 0.0000 ... +nan". diff_over_se reads +0.0 and a line says the levels are the same (the
+    paired t test's p is nan: a_i - b_i = 0 in every member, its t statistic 0/0; review BE)."""
     friction = cc.load_model().data["contact"]["friction"]
     argv = ["ensemble", "--seeds", "2", "--duration", "0.2", "--scheduler", "serial",
             "--against", f"contact.friction={friction}"]  # fmt: skip
     assert main(argv) == 0
     out = capsys.readouterr().out
-    assert all(f[1] == "+0.0000" and f[-1] == "+0.0" for f in _change_rows(out).values())
+    assert all(f[1] == "+0.0000" and f[-2:] == ["+0.0", "nan"] for f in _change_rows(out).values())
     assert "# the change made no difference in any member: the two ensembles' levels are the same to the bit" in out
 
 
