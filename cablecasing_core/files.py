@@ -217,13 +217,15 @@ def unreadable(data) -> np.ndarray:
 
 
 def runs_to_keep(bad, before, after) -> list[str]:
-    """The whole runs of points a file could be exported with instead, around the points that are
-    ``bad`` (indices, ascending, into points 0 .. n - 1; n = ``bad``'s length if boolean): the run
-    before the first, named ``before(k)`` for points 1 to k, and the run after the last,
-    ``after(j)`` for points j + 1 to n (j its first index), each with its point numbers (1-based).
-    Empty when the bad points reach both ends. The one wording of the FRF readers' and the UFF
-    time records' refusals of a non-finite value."""
-    bad = np.asarray(bad)
+    """The whole runs of points a file could be exported with instead, around the points where the
+    boolean mask ``bad`` (one entry per point, n of them, at least one True) is True: the run before
+    the first, named ``before(k)`` for points 1 to k (k the first bad index), and the run after the
+    last, ``after(j)`` for points j + 1 to n (j the index after the last bad one), each with its
+    point numbers (1-based). Empty when the bad points reach both ends. The one wording of the FRF
+    readers' and the UFF time records' refusals of a non-finite value."""
+    bad = np.asarray(bad, dtype=bool)
+    if bad.ndim != 1:
+        raise ValueError(f"bad must be a 1-D boolean mask, not of shape {bad.shape}")
     at = np.flatnonzero(bad)
     first, last, n = int(at[0]), int(at[-1]), bad.size
     keep = [f"{before(first)} (points 1 to {first})"] if first > 0 else []

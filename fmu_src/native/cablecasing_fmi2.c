@@ -1069,11 +1069,17 @@ FMI2_Export fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference v
  * is looked up again after, never used through the pointer found before. */
 
 /* The state whose handle is ``s``, or NULL (logged); with the GIL held */
-static State *checked_state(Instance *inst, fmi2FMUstate s) {
-    State *st = s ? (State *)live_find(&live_states, s) : NULL;
+static State *checked_state(Instance *inst, const char *what, fmi2FMUstate s) {
+    if (!s) {   /* (review BF4: the argument named, not a handle "(nil)" said to be another FMU's) */
+        LOGI(inst, fmi2Error, "%s: the argument FMUstate is NULL, where a state fmi2GetFMUstate made belongs; "
+             "nothing done", what);
+        return NULL;
+    }
+    State *st = (State *)live_find(&live_states, s);
     if (!st)
         LOGI(inst, fmi2Error,
-             "the FMU state %p was not made by this FMU (or was freed, by fmi2FreeFMUstate or with its instance)", s);
+             "%s: the FMU state %p was not made by this FMU (or was freed, by fmi2FreeFMUstate or with its instance)",
+             what, s);
     return st;
 }
 
@@ -1153,7 +1159,7 @@ FMI2_Export fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *FMUstate) 
 FMI2_Export fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate FMUstate) {
     ENTER(c);
     PyGILState_STATE gil = gil_enter();
-    State *st = checked_state(inst, FMUstate);
+    State *st = checked_state(inst, "fmi2SetFMUstate", FMUstate);
     if (!st) {
         P.PyGILState_Release(gil);
         return fmi2Error;
@@ -1188,7 +1194,7 @@ static fmi2Status free_fmu_state(Instance *inst, fmi2FMUstate *FMUstate) {
         return fmi2Error;
     }
     if (!*FMUstate) return fmi2OK;
-    State *st = checked_state(inst, *FMUstate);
+    State *st = checked_state(inst, "fmi2FreeFMUstate", *FMUstate);
     if (!st) return fmi2Error;
     free_state(st);
     *FMUstate = NULL;
@@ -1205,8 +1211,8 @@ FMI2_Export fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *FMUstate)
 
 /* The serialization of the state whose handle is ``FMUstate`` (a new reference), or NULL with *status
  * not fmi2OK (logged); with the GIL held. Kept with the state while the host asks for size then data. */
-static PyObject *state_bytes(Instance *inst, fmi2FMUstate FMUstate, fmi2Status *status) {
-    State *st = checked_state(inst, FMUstate);
+static PyObject *state_bytes(Instance *inst, const char *what, fmi2FMUstate FMUstate, fmi2Status *status) {
+    State *st = checked_state(inst, what, FMUstate);
     *status = st ? fmi2OK : fmi2Error;
     if (!st) return NULL;
     if (st->bytes) {
@@ -1232,7 +1238,7 @@ FMI2_Export fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate 
     if (!size) return null_argument(inst, "fmi2SerializedFMUstateSize", "size", "the address of the host's size_t variable");
     fmi2Status s;
     PyGILState_STATE gil = gil_enter();
-    PyObject *bytes = state_bytes(inst, FMUstate, &s);
+    PyObject *bytes = state_bytes(inst, "fmi2SerializedFMUstateSize", FMUstate, &s);
     if (bytes) {
         *size = (size_t)P.PyBytes_Size(bytes);
         P.Py_DecRef(bytes);
@@ -1249,7 +1255,7 @@ FMI2_Export fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate FMUst
                              "a buffer of the fmi2SerializedFMUstateSize bytes");
     fmi2Status s;
     PyGILState_STATE gil = gil_enter();
-    PyObject *bytes = state_bytes(inst, FMUstate, &s);
+    PyObject *bytes = state_bytes(inst, "fmi2SerializeFMUstate", FMUstate, &s);
     if (bytes) {
         size_t n = (size_t)P.PyBytes_Size(bytes);
         if (size < n) {

@@ -31,7 +31,7 @@ static char last[4096];
     X(ExitInitializationMode) X(Terminate) X(DoStep) X(GetReal) X(GetInteger) X(GetBoolean) X(GetString) \
     X(SetReal) X(SetInteger) X(SetBoolean) X(SetString) X(GetStatus) X(GetRealStatus) X(GetIntegerStatus) \
     X(GetBooleanStatus) X(GetStringStatus) X(GetFMUstate) X(FreeFMUstate) X(SerializedFMUstateSize)     \
-    X(SerializeFMUstate) X(DeSerializeFMUstate)
+    X(SerializeFMUstate) X(DeSerializeFMUstate) X(SetFMUstate)
 FNS(FN)
 
 static void logger(fmi2ComponentEnvironment e, fmi2String n, fmi2Status s, fmi2String c, fmi2String m, ...) {
@@ -165,6 +165,9 @@ static void null_calls(fmi2Component c, const char *state) {
     NULLCALL(SerializeFMUstate(c, st, NULL, size));
     NULLCALL(DeSerializeFMUstate(c, NULL, size, &st2));
     NULLCALL(DeSerializeFMUstate(c, bytes, size, NULL));
+    NULLCALL(SetFMUstate(c, NULL));
+    NULLCALL(SerializedFMUstateSize(c, NULL, &size));
+    NULLCALL(SerializeFMUstate(c, NULL, bytes, size));
     (void)b, (void)str;
     free(bytes);
     FreeFMUstate(c, &st);

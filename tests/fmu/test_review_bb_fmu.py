@@ -106,6 +106,9 @@ NULL_ARGUMENT = {
     "SerializeFMUstate(c, st, NULL, size)": "serializedState",
     "DeSerializeFMUstate(c, NULL, size, &st2)": "serializedState",
     "DeSerializeFMUstate(c, bytes, size, NULL)": "FMUstate",
+    "SetFMUstate(c, NULL)": "FMUstate",  # (the state handles: input, BF4)
+    "SerializedFMUstateSize(c, NULL, &size)": "FMUstate",
+    "SerializeFMUstate(c, NULL, bytes, size)": "FMUstate",
 }
 
 

@@ -371,3 +371,47 @@ def test_a_nan_at_a_records_first_sample_is_not_told_to_cut_before_it(tmp_path):
     text = e.value.allowed
     assert "(point 1 of 3000)" in text and "up to" not in text and "the record from 0.001 s (points 2 to 3000)" in text
     assert "refused as a whole" not in text, text  # (one function: nothing else to refuse)
+
+
+def _uff_with_nan_at(tmp_path, points):
+    """A one-function UFF time record on T3 whose samples at ``points`` (0-based) are NaN (written as
+    finite and set to NaN in the file's bytes, as an overloaded channel's export)."""
+    x = np.sin(2 * np.pi * 20 * T3)
+    p = tmp_path / "nan.uff"
+    write_uff(p, [Record("time", T3, x, "Response", 1, 3, unit="m/s2", data_type=12)])
+    raw = bytearray(p.read_bytes())
+    start = raw.index(b"    58b")
+    for _ in range(12):
+        start = raw.index(b"\n", start) + 1
+    for k in points:  # (data type 12 binary: 8 bytes per sample, the abscissa even)
+        raw[start + 8 * k : start + 8 * k + 8] = np.array([np.nan]).tobytes()
+    p.write_bytes(bytes(raw))
+    return p
+
+
+def test_the_runs_named_around_a_nan_are_the_samples_on_each_side(tmp_path):
+    """Review BF2: NaN at samples 101-103 of 3000 (0-based 100-102, 1 ms apart): the record up to
+    the last good sample, 0.099 s (points 1 to 100), or from the first good one after, 0.103 s
+    (points 104 to 3000): the times are those of the kept samples themselves."""
+    with pytest.raises(ModelError) as e:
+        read_time_record(_uff_with_nan_at(tmp_path, [100, 101, 102]))
+    text = e.value.allowed
+    assert "the record up to 0.099 s (points 1 to 100) or the record from 0.103 s (points 104 to 3000)" in text, text
+
+
+def test_runs_to_keep_names_the_points_on_each_side_of_the_bad_ones():
+    """files.runs_to_keep on a mask of 10 points, from its definition: the run before the first bad
+    point and the one after the last, 1-based, none where the bad points reach an end."""
+    from cablecasing_core.files import runs_to_keep
+
+    def runs(bad_at):
+        mask = np.zeros(10, bool)
+        mask[bad_at] = True
+        return runs_to_keep(mask, lambda k: f"before {k}", lambda j: f"after {j}")
+
+    assert runs([3]) == ["before 3 (points 1 to 3)", "after 4 (points 5 to 10)"]
+    assert runs([2, 3, 4, 5]) == ["before 2 (points 1 to 2)", "after 6 (points 7 to 10)"]
+    assert runs([0]) == ["after 1 (points 2 to 10)"]
+    assert runs([9]) == ["before 9 (points 1 to 9)"]
+    assert runs([8]) == ["before 8 (points 1 to 8)", "after 9 (points 10 to 10)"]
+    assert runs([0, 9]) == []

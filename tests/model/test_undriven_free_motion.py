@@ -5,6 +5,8 @@ refused naming the free motion, not the load."""
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 from scipy.optimize import brentq
@@ -116,13 +118,14 @@ def test_a_free_motion_the_loads_do_not_push_is_named_as_the_problem(model, stif
         assert "torsional stiffness" in text
 
 
-def _straight_on_stiff_isolators(k, torsion):
-    """A straight casing of 1 m along x (Table 2's section), 16 elements, on isolators of ``k``
-    (N/m) with the torsional stiffness ``torsion`` (N.m/rad) alone, under its weight along -z."""
+def _straight_on_stiff_isolators(k, torsion, segments=({"straight": 1.0},)):
+    """A straight casing of 1 m along x (Table 2's section; ``segments``: another route from the
+    origin along x), 16 elements, on isolators of ``k`` (N/m) with the torsional stiffness
+    ``torsion`` (N.m/rad) alone, under its weight along -z."""
     iso = {"stiffness": k, "rotational_stiffness": [torsion, 0.0, 0.0]}
     return {
         "geometry": {"n_elements": 16, "start": [0.0, 0.0, 0.0], "direction": [1.0, 0.0, 0.0],
-                     "segments": [{"straight": 1.0}]},
+                     "segments": list(segments)},
         "casing": {"E": 5e9, "rho": 4850.0, "d_outer": 0.0095, "d_inner": 0.004, "I": 2.7261e-10,
                    "supports": {"A": "isolator", "B": "isolator"}, "isolator": {"A": iso, "B": iso}},
         "loads": {"gravity": [0.0, 0.0, -9.81]},
@@ -145,6 +148,7 @@ def test_a_torsion_too_small_beside_the_isolators_is_refused_with_its_numbers():
     assert "the mounts' stiffness there, 0.02 N.m/rad from casing.isolator.A and casing.isolator.B" in text
     assert "2e+12 N/m (a translation)" in text and f"{threshold:.3g} N.m/rad on this motion" in text
     assert f"a stiffness above {threshold:.3g} N.m/rad in all in that direction" in text
+    assert "which may be far below the others" not in text  # (the hint for a torsion not given at all)
     cc.model_from_dict(_straight_on_stiff_isolators(1e12, 0.1))
     cc.model_from_dict(_straight_on_stiff_isolators(1e6, 0.01))
     with pytest.raises(cc.ModelError, match="the mounts have no stiffness there"):  # (none given: said so)
@@ -183,3 +187,43 @@ def test_every_free_motion_is_named_beside_the_buckling_load():
     assert f"; free in {named}, on which the compression does no work" in b.text()
     x = brentq(lambda x: x * np.tan(x) - 10.0 / (2 * 5e9 * 2.7261e-10), 1e-9, np.pi / 2 - 1e-9, xtol=1e-15)
     assert b.load == pytest.approx(5e9 * 2.7261e-10 * (2 * x) ** 2, rel=1e-6)
+
+
+def test_the_threshold_on_a_twist_scales_with_the_casings_length_squared():
+    """Review BF2: on a casing of 2 m the twist's coordinate is L w, so the threshold 64 eps x 2e12
+    N/m on [t, L w] is 0.0284 x L^2 = 0.114 N.m/rad on the twist: 0.05 N.m/rad at each end (0.1 in
+    all) is refused with these numbers (on 1 m it would pass, above 0.0284)."""
+    with pytest.raises(cc.ModelError) as err:
+        cc.model_from_dict(_straight_on_stiff_isolators(1e12, 0.05, [{"straight": 2.0}]))
+    text = str(err.value)
+    threshold = 64 * np.finfo(float).eps * 2e12 * 2.0**2
+    assert "the mounts' stiffness there, 0.1 N.m/rad from casing.isolator.A and casing.isolator.B" in text, text
+    assert f"{threshold:.3g} N.m/rad on this motion" in text, text
+
+
+@pytest.mark.parametrize("torsion", [1.0, 1.5])
+def test_a_torsion_that_holds_a_bent_casing_only_by_its_small_share_is_named(torsion):
+    """Review BF1: a 1 m arc of 170 degrees on isolators of 1e12 N/m with the torsion ``torsion``
+    about each end's tangent. The ends stay put under a rotation about the chord, so only the
+    torsions hold it, each by torsion cos^2 85 deg (the tangents at 85 degrees from the chord): 2
+    torsion cos^2 85 deg = 0.0152 / 0.0228 N.m/rad, below the threshold 0.0297 (64 eps of the largest
+    eigenvalue 2.087e12 N/m), so the weight's rotation counts as free. The torsions given are not
+    small, but their share is, and it is named: at most the chord rotation's Rayleigh quotient (the
+    free motion is the least stiff one; the eigenvector departs from the chord rotation by the
+    coupling with the isolators' translations, which moved it 4 % in the review), at least 0.9 of it."""
+    angle = 170.0
+    radius = 1.0 / np.deg2rad(angle)
+    d = _straight_on_stiff_isolators(
+        1e12, torsion, [{"bend": {"radius": radius, "angle_deg": angle, "toward": [0, 1, 0]}}]
+    )
+    with pytest.raises(cc.ModelError) as err:
+        cc.model_from_dict(d)
+    text = str(err.value)
+    assert "have no stiffness there" not in text, text
+    given = float(
+        re.search(
+            r"the mounts' stiffness there, ([0-9.e+-]+) N.m/rad from casing.isolator.A and casing.isolator.B", text
+        )[1]
+    )
+    chord = 2 * torsion * np.cos(np.deg2rad(angle / 2)) ** 2
+    assert 0.9 * chord <= given <= chord * (1 + 1e-3), (given, chord)  # (1e-3: the message's 3 digits)
