@@ -75,6 +75,13 @@ def test_the_api_page_s_example_runs(tmp_path, monkeypatch, capsys):
         exec(compile(code, "docs/api.md", "exec"), scope)
     rec = scope["own"].records()
     assert "casing.A.az" in rec.columns and abs(rec.column("casing.A.az")).max() > 0.0
+    # its files have names of their own: a reader who ran README's 1 s `run.csv` first keeps it for
+    # docs/nvh.md's apparent mass, which needs more than this 0.1 s run (review BC6)
+    assert not (tmp_path / "run.csv").exists() and not (tmp_path / "run.npz").exists()
+    assert (tmp_path / "api_run.csv").exists() and (tmp_path / "api_run.npz").exists()
+    # the PSD's averages the comment states are those of the run it describes (review BC1)
+    said = re.search(r"0\.1 s holds\s*#\s*(\d+) averages", page)
+    assert said and int(said[1]) == scope["p"].n_averages, (said and said[1], scope["p"].n_averages)
 
 
 def test_the_architecture_page_s_api_blocks_run(tmp_path, monkeypatch):
