@@ -35,7 +35,7 @@ def _run(line, folder):
 def test_the_identification_examples_run_as_written(tmp_path, monkeypatch, capsys):
     import pyuff  # noqa: F401  (required by the [test] extra: a missing one fails the test, not skips it)
 
-    commands, recipes = _section_7_blocks()[:2]
+    recipes, commands = _section_7_blocks()[:2]  # (the inputs are made first, as the page orders them)
     monkeypatch.chdir(tmp_path)
     for line in recipes + commands:
         assert _run(line, tmp_path) == 0, (line, capsys.readouterr().err)
