@@ -2,7 +2,7 @@
 
 In the reference case a cable node that has been pressed onto the casing wall does not simply lift
 off: with the contact damper on (c_n = 100 kg/s), it leaves and touches again in a sequence of ever
-shorter bounces that lasts about 0.2 ms. At dt = 1e-5 s the bounces show as contact episodes of one
+shorter bounces that lasts about 0.35 ms. At dt = 1e-5 s the bounces show as contact episodes of one
 or two steps, which look like chatter at the scale of the time step. This script shows they are
 the model's own motion: from one state it runs the same 0.5 ms at dt = 1e-5 / 2^k and prints the
 node's episodes, which converge as dt shrinks.

@@ -362,7 +362,7 @@ def test_contact_episodes_are_the_runs_of_contact_per_node():
 @pytest.mark.slow  # steps down to 1e-8 s
 def test_rattle_after_lift_off_is_the_models_motion_and_converges():
     """With the contact damper on, cable node 8 of the reference record (seed 1) lets go of the wall
-    at t = 0.06049 s + 56 µs and then leaves and touches again in ever shorter bounces
+    at t = 0.06049 s + 47 µs and then leaves and touches again in ever shorter bounces
     (docs/time_domain.md, Known limits; benchmarks/rattle.py). At dt = 1e-5 these show as contact
     episodes of one or two steps, like chatter of the time step; they are not: continued from one
     state at dt = 2.0e-8 and 9.8e-9 s, the bounces last hundreds of steps and land at the same times."""
@@ -386,7 +386,7 @@ def test_rattle_after_lift_off_is_the_models_motion_and_converges():
     assert n1[1] > 100 and n2[1] > 100  # the first bounce: hundreds of steps, not one or two
     # an event is located to one step (0.02 µs) and each bounce inherits the timing error of the
     # ones before; 0.25 µs (3 % of the first bounce, 6 % of the second) bounds the lift-off and the
-    # first two bounces (0.15 µs measured), and a sequence set by the time step would move by whole
+    # first two bounces (0.05 µs measured), and a sequence set by the time step would move by whole
     # bounces (µs) when dt halves
     np.testing.assert_allclose(s1[:3], s2[:3], atol=0.25e-6)
     np.testing.assert_allclose(e1[:3], e2[:3], atol=0.25e-6)
