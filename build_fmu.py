@@ -55,7 +55,8 @@ RUNTIME_PACKAGES = ("numpy", "scipy", "numba")
 PACKAGE = ROOT / "cablecasing_core"
 IGNORE = shutil.ignore_patterns("__pycache__", "*.pyc", "*.nbi", "*.nbc", ".*")
 
-# unit -> exponents of the SI base units (FMI 2.0 BaseUnit attributes)
+# unit -> exponents of the SI base units (FMI 2.0 BaseUnit attributes); every unit the model schema uses
+# must be here (tests/fmu/test_unit_definitions.py)
 UNITS = {
     "1": {},
     "m": {"m": 1},

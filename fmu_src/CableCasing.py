@@ -111,6 +111,13 @@ def parameter_info(key):
     return spec.unit, spec.description + note
 
 
+#: The communication step (s) the modelDescription's DefaultExperiment suggests (``stepSize``), also
+#: the warm-up's: ten steps of the default ``scenario.dt`` = 1e-5 s per doStep. The FMU's own choice of
+#: how often a master exchanges the inputs, not a fact of the model (the model's step is
+#: ``scenario.dt``, or ``solver.dt``); the DefaultExperiment's stop time is the model's
+#: ``scenario.duration`` (``CableCasing.__init__``).
+COMMUNICATION_STEP = 1e-4
+
 #: FMI 2.0's Integer: a 32-bit signed int (the model schema's seeds go further)
 FMI_INTEGER = (-(2**31), 2**31 - 1)
 
@@ -205,7 +212,8 @@ class CableCasing(Fmi2Slave):
         "beams with frictional penalty contact, driven by support motion (SI units)"
     )
     version = cc.__version__
-    default_experiment = DefaultExperiment(start_time=0.0, stop_time=1.0, step_size=1e-4)
+    # (no class-level default_experiment: pythonfmu would prefer it to the instance's, which takes its
+    # stop time from the base model, __init__)
     # The modelDescription's <LogCategories>, as the binary switches them (fmi2SetDebugLogging in
     # fmu_src/native/cablecasing_fmi2.c; docs/fmu.md, "Messages you may see"): pythonfmu's names, with
     # what each does here (its "Log all messages." for logAll is not what logAll switches)
@@ -229,6 +237,11 @@ class CableCasing(Fmi2Slave):
         self._base_warnings = [str(w.message) for w in said]
         self.input_names, self.output_names = inputs_of(self._base), outputs_of(self._base)
         self._base_fingerprint = self._base.fingerprint()  # (a state names the model its FMU was built for)
+        # the modelDescription's DefaultExperiment: 0 s to the base model's own scenario.duration (s),
+        # in communication steps of COMMUNICATION_STEP
+        self.default_experiment = DefaultExperiment(
+            start_time=0.0, stop_time=float(self._base.scenario["duration"]), step_size=COMMUNICATION_STEP
+        )
         self.nch = len(self.input_names) // 3  # support channels: 12, and 3 per excited clip
         self.units = {}  # variable name -> unit (read by build_fmu.py)
         self.ranges = {}  # parameter name -> (min, max), None for a side without a bound (build_fmu.py)
@@ -888,7 +901,7 @@ class CableCasing(Fmi2Slave):
 
     # The communication step of the warm-up (s): the default experiment's; another h later costs
     # only its quintic matrix (the kernels are the same).
-    WARM_UP_STEP = 1e-4
+    WARM_UP_STEP = COMMUNICATION_STEP
 
     def _warm_up(self):
         """Load the step kernels now, in initialisation, not in the first two doSteps: the first

@@ -41,7 +41,7 @@ import numpy as np
 from ..errors import CableCasingError, InfrastructureError, ModelError, internal_error_text, renamed
 from . import geometry, identify, nvh, report, simulate, static, study
 from .assignments import add_model_argument, model_argument
-from .helptext import FromApi, choice_argument, name_by_choices
+from .helptext import FromApi, choice_argument, expand_api_texts, name_by_choices
 from .paths import PLOT_SUFFIXES, check_distinct, check_output_path, check_plotting, emit_table, kept
 
 
@@ -57,6 +57,9 @@ class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
         if not action.option_strings and action.nargs not in ("?", "*"):
             return text
         return text + " (default: %(default)s)"
+
+    def _expand_help(self, action):
+        return expand_api_texts(super()._expand_help(action))
 
 
 class Parser(argparse.ArgumentParser):
@@ -198,7 +201,7 @@ def _warn_coarse_grid(model, body, args):
     1/sqrt(1 + (df/b)^2) of the peak's height (a single mode's resonance): the criterion is df <= b/2,
     which keeps each peak within 11 % (1/sqrt(1.25) = 0.894). Undamped (b = 0), no grid resolves a
     peak, which is infinite."""
-    from ..frequency.trfam import half_power_bandwidths
+    from ..frequency.trfam import PEAK_GRID_SHARE, grid_peak_height, half_power_bandwidths
 
     fn, bw = half_power_bandwidths(model, body, args.damping, args.fmin, args.fmax)
     if not len(fn):
@@ -218,19 +221,21 @@ def _warn_coarse_grid(model, body, args):
             stacklevel=1,
         )
         return
-    coarse = args.df > bw / 2.0
+    coarse = args.df > PEAK_GRID_SHARE * bw
     if not np.any(coarse):
         return
     k = int(np.argmin(bw))
-    low = 1.0 / np.sqrt(1.0 + (args.df / bw[k]) ** 2)
-    unit = 10.0 ** (np.floor(np.log10(bw[k] / 2.0)) - 2)  # (three digits, rounded down: a step that resolves)
-    fine = float(f"{np.floor(bw[k] / 2.0 / unit) * unit:.3g}")
+    low = grid_peak_height(args.df, bw[k])
+    most = PEAK_GRID_SHARE * bw[k]
+    unit = 10.0 ** (np.floor(np.log10(most)) - 2)  # (three digits, rounded down: a step that resolves)
+    fine = float(f"{np.floor(most / unit) * unit:.3g}")
+    kept = 100 * (1 - grid_peak_height(PEAK_GRID_SHARE, 1.0))
     warnings.warn(
         f"--df = {args.df:g} Hz is wider than half the half-power bandwidth of {int(coarse.sum())} of the "
         f"{len(fn)} mode(s) of the {body} {where} ({args.damping} damping): the narrowest, at {fn[k]:.6g} Hz, is "
         f"{bw[k]:.4g} Hz wide, and a grid of step df may miss its peak by df/2, where |TRFAM| is down to "
         f"1/sqrt(1 + (df/bandwidth)^2) = {100 * low:.0f} % of it; --df {fine:g} or less keeps every peak "
-        "within 11 %",
+        f"within {kept:.0f} %",
         stacklevel=1,
     )
 
@@ -378,7 +383,7 @@ def build_parser():
         choices=FromApi("nvh.bands", "BAND_KINDS"),
         default=None,
         help="write the band values instead of the lines: the RMS of |TRFAM| over each band within --fmin..--fmax "
-        "(table3: the paper's octaves 11-5680 Hz, the report's bands; octave, third: IEC 61260-1), kg",
+        "(table3: the paper's octaves [TABLE3_RANGE], the report's bands; octave, third: IEC 61260-1), kg",
     )
     t.add_argument(
         "--out",

@@ -51,6 +51,42 @@ class FromApi:
         return f"FromApi({self.module!r}, {self.name!r})"
 
 
+class ApiText(FromApi):
+    """A text written from the module ``cablecasing_core.<module>`` (``text(module)``), read when the
+    help that holds it is shown (:data:`API_TEXTS`), as :class:`FromApi`'s constants."""
+
+    def __init__(self, module, text):
+        self.module, self.name, self.text = module, text.__name__, text
+
+    @functools.cached_property
+    def value(self):
+        return self.text(importlib.import_module(f"cablecasing_core.{self.module}"))
+
+
+def _references(m):
+    return ", ".join(f"{ref:g} {unit}" for unit, ref in m.REFERENCES.items() if unit != "1")
+
+
+#: Placeholders a help text may hold, ``[NAME]``, each a fact of the API that the help restates (a
+#: default the core applies, a range of its tables): the command line's help formatter writes it in
+#: when the help is shown (:func:`expand_api_texts`), so the help says what the core does.
+API_TEXTS = {
+    "[LEAST_SKIP]": ApiText("timedomain.start_skip", lambda m: f"{m.LEAST_SKIP:g} s"),
+    "[REFERENCES]": ApiText("nvh.spectra", _references),
+    "[TABLE3_RANGE]": ApiText("nvh.bands", lambda m: f"{m.TABLE3_LOWER[0]:g}-{m.TABLE3_UPPER[-1]:g} Hz"),
+    "[IEC_F_MIN]": ApiText("nvh.bands", lambda m: f"{m.IEC_F_MIN:g} Hz"),
+    "[IEC_F_MAX]": ApiText("nvh.bands", lambda m: f"{m.IEC_F_MAX:g} Hz"),
+}
+
+
+def expand_api_texts(text):
+    """``text`` with each placeholder of :data:`API_TEXTS` it holds written out."""
+    for mark, value in API_TEXTS.items():
+        if mark in text:
+            text = text.replace(mark, str(value))
+    return text
+
+
 def choice_argument(parser, *flags, choices, **kwargs):
     """``parser.add_argument(*flags, choices=choices, **kwargs)`` with ``choices`` a :class:`FromApi`
     that the parser does not read while it is built (argparse lists an option's choices to check a

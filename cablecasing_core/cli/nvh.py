@@ -12,7 +12,7 @@ from .helptext import FromApi, add_window_argument, choice_argument
 
 #: --skip of spectrum and bands.
 SKIP_HELP = (
-    "start of the record left out, s (default: 0.05 s, or the fade-in a run's record states if longer, # ramp_s, "
+    "start of the record left out, s (default: [LEAST_SKIP], or the fade-in a run's record states if longer, # ramp_s, "
     "lengthened so that the rest holds whole periods of the lines it states, # lines_hz: 0.06 s of 1 s with a "
     "50 Hz drive)"
 )
@@ -79,6 +79,7 @@ def _window(rec, args, columns):
     from ..errors import ModelError
     from ..model.validators import seconds
     from ..records import after_skip
+    from ..timedomain.start_skip import LEAST_SKIP
 
     seconds("--skip", args.skip, zero_ok=True, none_ok=True)
     dt = 1.0 / rec.fs  # (refuses an unevenly sampled record first)
@@ -104,7 +105,7 @@ def _window(rec, args, columns):
             skip,
             f"must leave at least 16 samples of the {rec.time[-1] - rec.time[0]:.6g} s record {rec.source} "
             f"({rec.time.size} samples at dt = {dt:.4g} s)"
-            + (f"; it is the default (0.05 s{ramp}{lines}): give a shorter one" if default else ""),
+            + (f"; it is the default ({LEAST_SKIP:g} s{ramp}{lines}): give a shorter one" if default else ""),
         )
     return keep
 
@@ -646,8 +647,7 @@ def add_parser(sub):
         "--ref",
         type=float,
         default=None,
-        help="reference of the dB levels in the column's unit (default: by unit, "
-        "1 N, 1 N.m, 1e-6 m/s2, 1e-9 m/s, 1e-12 m; docs/nvh.md)",
+        help="reference of the dB levels in the column's unit (default: by unit, [REFERENCES]; docs/nvh.md)",
     )
     s.add_argument("--out", default=None, help="CSV to write (default: print the table)")
     s.add_argument("--plot", default=None, metavar="PNG", help="figure to write")
@@ -668,18 +668,18 @@ def add_parser(sub):
         "--kind",
         choices=FromApi("nvh.bands", "BAND_KINDS"),
         default="table3",
-        help="table3: the paper's nine octaves 11-5680 Hz (oct1..oct9); octave, third: IEC 61260-1 base-10 bands, "
+        help="table3: the paper's nine octaves [TABLE3_RANGE] (oct1..oct9); octave, third: IEC 61260-1 base-10 bands, "
         "named by their nominal mid-band frequencies (16Hz, 31.5Hz, ...)",
     )
     b.add_argument(
         "--fmin",
         type=float,
         default=None,
-        help="lowest mid-band frequency kept, Hz (default: all of table3; 10 Hz for octave and third): leaves out "
-        "bands the record is too short to resolve",
+        help="lowest mid-band frequency kept, Hz (default: all of table3; [IEC_F_MIN] for octave and third): "
+        "leaves out bands the record is too short to resolve",
     )
     b.add_argument(
-        "--fmax", type=float, default=None, help="highest mid-band frequency kept, Hz (default: all; 20000 Hz)"
+        "--fmax", type=float, default=None, help="highest mid-band frequency kept, Hz (default: all; [IEC_F_MAX])"
     )
     add_window_argument(b)
     b.add_argument(

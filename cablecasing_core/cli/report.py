@@ -62,7 +62,7 @@ def add_parser(sub):
         "--skip",
         type=float,
         default=None,
-        help="start of every record left out of levels and spectra, s (default: 0.05 s, at least the start "
+        help="start of every record left out of levels and spectra, s (default: [LEAST_SKIP], at least the start "
         "transient of each harmonic excitation, ln 10/(zeta omega) of the casing's Rayleigh damping at its "
         "frequency, then whole periods of them: 0.32 s of the built-in specimen's 1 s, 0.30 s at its 50 Hz drive)",
     )

@@ -27,7 +27,7 @@ def _count(n, noun):
 
 #: --skip of study and ensemble.
 SKIP_HELP = (
-    "start of each record left out, s (default: 0.05 s lengthened so that the rest of the record holds whole "
+    "start of each record left out, s (default: [LEAST_SKIP] lengthened so that the rest of the record holds whole "
     "periods of the model's harmonic excitations: 0.06 s of 1 s with a 50 Hz drive; docs/studies.md)"
 )
 

@@ -94,7 +94,8 @@ def half_power_bandwidths(model: Model, body: str, damping: str, f_lo: float, f_
 
     * structural: eta(f_n) r_E f_n, eta the loss factor at f_n,
     * viscous: 2 zeta_n f_n = (alpha + beta omega_n^2 r_T) / (2 pi), i.e. zeta = alpha / (2 omega) +
-      beta omega / 2 (Rayleigh),
+      beta omega / 2 (Rayleigh damping's modal ratio, the paper's Eq. 41, which
+      :func:`~cablecasing_core.identification.rayleigh.rayleigh_zeta` computes; this is it for r_T = 1),
     * none: 0 (the peak is infinite),
 
     with r_E = s(f_n) phi^T K_E phi / omega_n^2 and r_T = phi^T (s K_E + K_G) phi / omega_n^2 the
@@ -114,7 +115,26 @@ def half_power_bandwidths(model: Model, body: str, damping: str, f_lo: float, f_
     if damping == "structural":
         return f, np.asarray(spec.loss(f), dtype=float) * e_part * f
     g_part = np.einsum("im,im->m", shapes, system.K_G @ shapes) / w2 if system.prestressed else 0.0
+    # Eq. 41 (2 zeta omega = alpha + beta omega^2, beta's share r_T), in Hz
     return f, (spec.alpha + spec.beta * w2 * (e_part + g_part)) / (2.0 * np.pi)
+
+
+#: The largest frequency step, as a share of a mode's half-power bandwidth, that the command line's
+#: ``trfam`` takes without a warning: it shows every peak within 11 % of its height
+#: (:func:`grid_peak_height` = 0.894).
+PEAK_GRID_SHARE = 0.5
+
+
+def grid_peak_height(df, bandwidth):
+    """The least fraction (-) of a resonance peak's |TRFAM| that a frequency grid of step ``df`` (Hz)
+    shows, on a mode of half-power ``bandwidth`` (Hz, :func:`half_power_bandwidths`): near a
+    separated mode |H| / |H|max = 1 / sqrt(1 + (2 (f - f_n) / bandwidth)^2) (the half-power
+    bandwidth of Eq. 41 being where it is 1/sqrt(2)), and a grid point may lie df/2 from f_n, so
+    1 / sqrt(1 + (df / bandwidth)^2): 0.894 (within 11 %) at df = bandwidth / 2. Arrays broadcast;
+    a bandwidth of 0 (an undamped, infinite peak) gives 0."""
+    df, bw = np.asarray(df, dtype=float), np.asarray(bandwidth, dtype=float)
+    with np.errstate(divide="ignore"):
+        return 1.0 / np.sqrt(1.0 + (df / bw) ** 2)
 
 
 def parse_port(key, value, model):

@@ -84,6 +84,8 @@ R10 = (1.0, 1.25, 1.6, 2.0, 2.5, 3.15, 4.0, 5.0, 6.3, 8.0)
 #: Table 3's nine octaves by the nominal octave whose centre each lies next to (Hz).
 TABLE3_NOMINAL = (16.0, 31.5, 63.0, 125.0, 250.0, 500.0, 1000.0, 2000.0, 4000.0)
 BAND_KINDS = ("table3", "octave", "third")
+#: The nominal mid-band frequencies (Hz) the IEC band sets keep by default (:func:`octave_bands`).
+IEC_F_MIN, IEC_F_MAX = 10.0, 20000.0
 #: The fewest FFT lines a band holds without a warning. Through Hann's window a tone's content
 #: spreads over the lines within 2 of its own (on a line: 1/6 of its power on each neighbour; off a
 #: line: a main lobe 4 lines wide, then side lobes below -31 dB), so a band narrower than 4 lines
@@ -231,8 +233,8 @@ def octave_bands(kind: str = "table3", f_min: float | None = None, f_max: float 
         reference 1000 Hz.
     f_min, f_max : float, optional
         Hz. Keep the bands whose nominal mid-band frequency (their name) lies in ``[f_min, f_max]``. Defaults: all of
-        Table 3; 10 Hz and 20 kHz for the IEC sets (octaves 16 Hz .. 16 kHz, third-octaves
-        10 Hz .. 20 kHz by their nominal names).
+        Table 3; 10 Hz and 20 kHz for the IEC sets (:data:`IEC_F_MIN`, :data:`IEC_F_MAX`: octaves
+        16 Hz .. 16 kHz, third-octaves 10 Hz .. 20 kHz by their nominal names).
 
     Returns
     -------
@@ -247,8 +249,8 @@ def octave_bands(kind: str = "table3", f_min: float | None = None, f_max: float 
         fmin = 0.0 if f_min is None else f_min
         fmax = np.inf if f_max is None else f_max
     else:
-        fmin = 10.0 if f_min is None else f_min
-        fmax = 20000.0 if f_max is None else f_max
+        fmin = IEC_F_MIN if f_min is None else f_min
+        fmax = IEC_F_MAX if f_max is None else f_max
     for key, v in (("f_min", fmin), ("f_max", fmax)):
         if v != np.inf:  # (inf: no upper limit)
             number(key, v, ge=0, unit="Hz")

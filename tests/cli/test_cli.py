@@ -188,6 +188,50 @@ def test_every_help_shows_the_defaults(capsys):
     assert n > 40
 
 
+def test_the_helps_restate_the_cores_constants_from_the_core(monkeypatch):
+    """The helps that restate a fact of the core (the least skip, the dB references, Table 3's range,
+    the IEC bands' default range) write it from the core's constant when shown
+    (``helptext.API_TEXTS``): no placeholder is left in any help, each help shows the constant's
+    value, and a changed constant changes the help (a literal in the help would not follow)."""
+    from cablecasing_core.cli import build_parser
+    from cablecasing_core.cli.helptext import API_TEXTS
+    from cablecasing_core.nvh import bands, spectra
+    from cablecasing_core.timedomain import start_skip
+
+    def helps():
+        def parsers(p):
+            yield p
+            for a in p._actions:
+                if a.__class__.__name__ == "_SubParsersAction":
+                    for sp in a.choices.values():
+                        yield from parsers(sp)
+
+        return {id(p): " ".join(p.format_help().split()) for p in parsers(build_parser())}
+
+    def fresh():  # (each text is read once per process, when first shown)
+        for text in API_TEXTS.values():
+            text.__dict__.pop("value", None)
+
+    fresh()
+    texts = " ".join(helps().values())
+    assert not any(mark in texts for mark in API_TEXTS), [m for m in API_TEXTS if m in texts]
+    assert "(default: 0.05 s, or" in texts and "default: 0.05 s lengthened" in texts
+    assert "1 N, 1 N.m, 1e-06 m/s2, 1e-09 m/s, 1e-12 m" in texts and "octaves 11-5680 Hz" in texts
+    assert "10 Hz for octave and third" in texts and "all; 20000 Hz" in texts
+    monkeypatch.setattr(start_skip, "LEAST_SKIP", 0.125)
+    monkeypatch.setattr(spectra, "REFERENCES", {"N": 2.0, "1": 1.0})
+    monkeypatch.setattr(bands, "TABLE3_UPPER", (*bands.TABLE3_UPPER[:-1], 6000.0))
+    monkeypatch.setattr(bands, "IEC_F_MIN", 12.5)
+    fresh()
+    try:
+        texts = " ".join(helps().values())
+    finally:
+        fresh()
+    assert "(default: 0.125 s, or" in texts and "default: 0.125 s lengthened" in texts and "0.05 s" not in texts
+    assert "default: by unit, 2 N; docs/nvh.md" in texts and "octaves 11-6000 Hz" in texts
+    assert "12.5 Hz for octave and third" in texts
+
+
 def test_an_interrupt_prints_one_line_and_leaves_the_earlier_file(tmp_path, capsys, monkeypatch):
     from cablecasing_core.timedomain.engine import Engine
 

@@ -122,7 +122,9 @@ def test_model_description_is_complete(fmu, fmu_driver):
 
     md = read_model_description(str(fmu))
     de = md.defaultExperiment
-    assert (float(de.startTime), float(de.stopTime), float(de.stepSize)) == (0.0, 1.0, 1e-4)
+    # 0 s to the built-in specimen's own scenario.duration (1 s), in communication steps of 1e-4 s
+    duration = float(cc.load_model().scenario["duration"])
+    assert (float(de.startTime), float(de.stopTime), float(de.stepSize)) == (0.0, duration, 1e-4)
     cs = md.coSimulation
     assert cs.canGetAndSetFMUstate and cs.canSerializeFMUstate and cs.canHandleVariableCommunicationStepSize
     assert not cs.canBeInstantiatedOnlyOncePerProcess

@@ -158,6 +158,34 @@ def test_the_installation_example_builds_and_its_mount_keys_are_parameters(tmp_p
     assert {u.name for u in md.unitDefinitions} >= set(units.values())
 
 
+def test_the_default_experiment_runs_the_models_own_duration(tmp_path):
+    """The DefaultExperiment of an FMU built for a model file ends at that model's
+    ``scenario.duration`` (examples/installation.toml with ``duration = 0.375`` s, not the schema's
+    default 1 s), from 0 s, in the FMU's communication step (fmu_src/CableCasing.py's
+    ``COMMUNICATION_STEP``, 1e-4 s). Exact equality: 0.375 is a double the build writes as is."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from fmpy import read_model_description
+
+    from cablecasing_core.model.schema import lookup
+
+    root = Path(__file__).resolve().parents[2]
+    text = (root / "examples" / "installation.toml").read_text()
+    assert "\nduration = 1.0\n" in text
+    toml, path = tmp_path / "short.toml", tmp_path / "short.fmu"
+    toml.write_text(text.replace("\nduration = 1.0\n", "\nduration = 0.375\n", 1))
+    duration = float(cc.load_model(toml).scenario["duration"])
+    assert duration == 0.375 != lookup("scenario.duration").default  # (else this test could not tell)
+    subprocess.run(
+        [sys.executable, str(root / "build_fmu.py"), "--model", str(toml), "--output", str(path)],
+        check=True, capture_output=True, cwd=root,
+    )  # fmt: skip
+    de = read_model_description(str(path)).defaultExperiment
+    assert (float(de.startTime), float(de.stopTime), float(de.stepSize)) == (0.0, duration, 1e-4)
+
+
 def test_a_model_file_that_does_not_load_is_refused_at_build(tmp_path):
     """``build_fmu.py --model`` with a bad file stops before it builds anything, naming the key."""
     import subprocess

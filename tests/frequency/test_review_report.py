@@ -107,8 +107,8 @@ def test_the_bandwidths_are_the_closed_forms():
 def test_a_grid_wider_than_half_the_bandwidth_misses_the_peak_by_the_closed_form():
     """Near a resonance of half-power bandwidth b, |H| = peak / sqrt(1 + (2 (f - f_n) / b)^2); a grid
     of step df lands at worst df/2 from the peak: 1/sqrt(1 + (df/b)^2) of it. The cable's mode at
-    20.15 Hz (eta = 0.02, b = 0.403 Hz), every offset of the grid tried."""
-    from cablecasing_core.frequency.trfam import FrequencyResponse
+    20.15 Hz (eta = 0.02, b = 0.403 Hz), every offset of the grid tried: ``grid_peak_height``."""
+    from cablecasing_core.frequency.trfam import PEAK_GRID_SHARE, FrequencyResponse, grid_peak_height
     from cablecasing_core.structure.assembly import assemble_body
 
     m = cc.load_model()
@@ -126,9 +126,11 @@ def test_a_grid_wider_than_half_the_bandwidth_misses_the_peak_by_the_closed_form
     assert above[-1] - above[0] == pytest.approx(b, rel=0.06)  # (the other modes' background: 4 %)
     for df in (b / 2, 0.5, 1.0):
         worst = min(np.abs(trfam_y(np.arange(19.0 + o, 21.5, df))).max() for o in np.linspace(0.0, df, 21))
-        bound = 1 / np.sqrt(1 + (df / b) ** 2)
+        bound = grid_peak_height(df, b)
         assert bound <= worst / H.max() <= bound + 0.05  # (the bound of one mode; the background adds < 5 %)
     # so df <= b/2 keeps every peak within 1 - 1/sqrt(1 + 0.5^2) = 11 %
+    assert 1 - grid_peak_height(PEAK_GRID_SHARE * b, b) == pytest.approx(1 - 1 / np.sqrt(1.25), rel=1e-12)
+    assert grid_peak_height(0.1, 0.0) == 0.0  # (an undamped mode's infinite peak)
 
 
 def run_trfam(tmp_path, capsys, *extra):
