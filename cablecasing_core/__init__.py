@@ -3,10 +3,11 @@ Boltezar): two spatially curved 3D Euler-Bernoulli beams on one centerline, coup
 contact across the radial gap. SI units throughout (m, kg, s, N, Pa, rad; frequencies in Hz).
 
 The package follows the paper: ``model`` (the model file, its schema and the built-in specimen),
-``structure`` (centerline, sections, the beam element, assembly: Eqs. 4-9, 13, 32-35),
-``frequency`` (modes and the apparent mass TRFAM: Eqs. 10-13), ``timedomain`` (the Newmark engine
-with contact: Eqs. 14-39), ``identification`` (Section 3), ``studies`` (Section 4), ``nvh`` (PSD,
-levels, transfer functions of any record), ``records`` (record files by suffix), ``report``, ``cli``.
+``structure`` (centerline, sections, the beam element, assembly: Eqs. 1-9, 13, 32-34; Eq. 35 not
+needed), ``frequency`` (modes and the apparent mass TRFAM: Eqs. 10-13), ``timedomain`` (the Newmark
+engine with contact: Eqs. 14-24, 27-34, 36-39; 25-26 not implemented), ``identification`` (Section
+3), ``studies`` (Section 4), ``nvh`` (PSD, levels, transfer functions of any record), ``records``
+(record files by suffix), ``report``, ``cli``.
 
 A tutorial (it runs as a doctest: ``python -m pytest --doctest-modules cablecasing_core/__init__.py``,
 or ``python -c "import doctest, cablecasing_core as cc; doctest.testmod(cc)"``). Load the built-in

@@ -314,8 +314,7 @@ def trfam(model: Model, input: str, output: str, freqs_hz: ArrayLike, damping: s
     fr = FrequencyResponse(system)
     j = system.prescribed_index(si, di)
     q = system.prescribed_index(so, do)
-    F = fr.support_forces(f, damping, rows=[q], cols=[j])[:, 0, 0]
-    return F / (-((2.0 * np.pi * f) ** 2))
+    return apparent_mass_of(fr.support_forces(f, damping, rows=[q], cols=[j])[:, 0, 0], f)
 
 
 def trfam_matrix(
@@ -338,7 +337,15 @@ def trfam_matrix(
     fr = FrequencyResponse(system)
     cols = [system.prescribed_index(input_support, d) for d in range(3)]
     rows = [system.prescribed_index(output_support, d) for d in range(3)]
-    return fr.support_forces(f, damping, rows=rows, cols=cols) / (-((2.0 * np.pi * f) ** 2))[:, None, None]
+    return apparent_mass_of(fr.support_forces(f, damping, rows=rows, cols=cols), f)
+
+
+def apparent_mass_of(forces, f):
+    """Eq. 12's last step, the one place of it: the TRFAM (kg) from the support forces (N) of a unit
+    displacement of the driven support, ``forces`` with the frequency ``f`` (Hz) along its first
+    axis, over that displacement's acceleration -(2 pi f)^2 (m/s2)."""
+    f = np.asarray(f, dtype=float)
+    return forces / (-((2.0 * np.pi * f) ** 2)).reshape((-1,) + (1,) * (np.ndim(forces) - 1))
 
 
 #: What :func:`trfam_band_rms` does with a band that reaches beyond the grid's frequencies.

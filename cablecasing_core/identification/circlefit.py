@@ -466,9 +466,10 @@ def _nearest_peak(f, A, f0, search):
 def _fit_one(f, Hd, f0, search, lo_hz, hi_hz, eta_prev, fr_prev, bandwidths, min_side, missing=()):
     """Circle, resonance and loss-factor plane of the mode near f0 on displacement-form data Hd: its
     peak is the one nearest f0 within +-search, which must lie within lo_hz..hi_hz (no further than
-    halfway to a neighbouring request), where its half-power points and one-mode fit are sought.
-    ``missing``: the frequencies (Hz) of the lines left out as exact zeros (:func:`without_zero_lines`),
-    named in a refusal for too few points when the window lost some."""
+    halfway to a neighbouring request), where its half-power points and one-mode fit are sought; the
+    loss factor by Eq. 45 (the module docstring's step 4). ``missing``: the frequencies (Hz) of the
+    lines left out as exact zeros (:func:`without_zero_lines`), named in a refusal for too few points
+    when the window lost some."""
     A = np.abs(Hd)
     if fr_prev is None:
         band, j = _nearest_peak(f, A, f0, search)
@@ -566,6 +567,7 @@ def _fit_one(f, Hd, f0, search, lo_hz, hi_hz, eta_prev, fr_prev, bandwidths, min
             f"no resonance in the window {fw[0]:g}..{fw[-1]:g} Hz: the angle on the fitted circle sweeps fastest "
             f"at {np.sqrt(wr2) / (2 * np.pi):g} Hz, with fewer than {min_side} circle points on one side",
         )
+    # The paper's Eq. 45, in Ewins' half-angle form (module docstring, step 4): the loss-factor plane
     tb = np.tan(np.abs(phi[below] - phi_r) / 2.0)
     ta = np.tan(np.abs(phi[above] - phi_r) / 2.0)
     plane = (w2[above][None, :] - w2[below][:, None]) / (wr2 * (ta[None, :] + tb[:, None]))

@@ -146,6 +146,13 @@ class BodySpec:
         return isinstance(self.E, list)
 
 
+def radial_gap(data: Mapping) -> float:
+    """The radial gap e = (casing.d_inner - cable.d) / 2 (m) between the casing's bore and the cable
+    (Eqs. 30-31) of a model's tables ``data`` (both bodies there, diameters in m): the one place it is
+    computed (:attr:`Model.radial_gap`; the validation's warning of a gap below the roughness)."""
+    return 0.5 * (data["casing"]["d_inner"] - data["cable"]["d"])
+
+
 @dataclass(frozen=True)
 class Model:
     """A validated model (SI units). Build it with :func:`~cablecasing_core.load_model` or
@@ -235,8 +242,8 @@ class Model:
 
     @property
     def radial_gap(self) -> float:
-        """Radial gap e = (casing.d_inner - cable.d) / 2 in m (Eqs. 30-31); needs both bodies (a
-        :class:`ModelError` names the one missing)."""
+        """Radial gap e = (casing.d_inner - cable.d) / 2 in m (Eqs. 30-31, :func:`radial_gap`); needs
+        both bodies (a :class:`ModelError` names the one missing)."""
         for body in BODY_NAMES:
             if body not in self.data:
                 raise ModelError(
@@ -245,7 +252,7 @@ class Model:
                     f"needs a [{body}]: the radial gap lies between the "
                     "casing and the cable, and this model has only one body",
                 )
-        return 0.5 * (self.data["casing"]["d_inner"] - self.data["cable"]["d"])
+        return radial_gap(self.data)
 
     def parameters(self) -> dict[str, float]:
         """Every numeric scalar of the model as ``{dotted.key: value}`` (SI units).

@@ -417,7 +417,7 @@ _KEYS = [
         "str",
         "spline",
         "",
-        "the centerline through the points: a cubic spline by arc length, or the polyline (Eqs. 32-35)",
+        "the centerline through the points: a cubic spline by arc length, or the polyline (Eqs. 32-34)",
         Choice("spline", "polyline"),
         note="only with geometry.points",
     ),

@@ -689,7 +689,9 @@ def plausibility(out: dict) -> list[str]:
     bodies = [b for b in BODY_NAMES if b in out]
     both = len(bodies) == 2
     if both:
-        gap = 0.5 * (out["casing"]["d_inner"] - out["cable"]["d"])
+        from .model import radial_gap  # (model.py imports this module)
+
+        gap = radial_gap(out)
         if gap < ROUGHNESS:
             warn(
                 f"the radial gap (casing.d_inner - cable.d) / 2 = {gap:.3g} m is below the {ROUGHNESS:g} m "

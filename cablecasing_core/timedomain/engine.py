@@ -1,5 +1,6 @@
 """The single time-stepping engine: Newmark average acceleration of casing and cable coupled by
-frictional contact (Section 2.1, Eqs. 14-39). Used by :func:`simulate`, the CLI and the FMU.
+frictional contact (Section 2.1, Eqs. 14-24, 27-34, 36-39;
+Eqs. 25-26 are not implemented: :func:`hertz_constant`). Used by :func:`simulate`, the CLI and the FMU.
 
 Each step (gamma = 1/2, beta = 1/4, Eq. 18 with C = alpha M + beta K) first predicts both bodies
 without contact forces (the supports prescribed at the new time, Eq. 13), then searches every cable

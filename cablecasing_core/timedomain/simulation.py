@@ -302,7 +302,8 @@ def simulate(
     :class:`~cablecasing_core.errors.ModelWarning`; what the step loop did not achieve (a contact
     Newton that did not converge, a step above the event tolerance, a contact that made energy) warns
     :class:`~cablecasing_core.errors.SolverWarning`, a ModelWarning too. The step loop integrates
-    Eqs. (14-39) (Newmark, docs/time_domain.md). Returns a :class:`SimulationResult`.
+    Eqs. (14-24, 27-34, 36-39; 25-26 are not implemented: ``engine.hertz_constant``) (Newmark,
+    docs/time_domain.md). Returns a :class:`SimulationResult`.
     Raises :class:`~cablecasing_core.errors.SimulationError` on blow-up; an interrupt (Ctrl-C)
     propagates as KeyboardInterrupt.
     """

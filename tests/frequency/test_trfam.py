@@ -80,6 +80,20 @@ def test_reciprocity_on_curved_casing():
         np.testing.assert_allclose(H, np.transpose(Ht, (0, 2, 1)), rtol=1e-8, atol=1e-12 * np.abs(H).max())
 
 
+def test_trfam_and_its_matrix_share_eq_12s_last_step(monkeypatch):
+    """The force over the acceleration (Eq. 12's last step) has one place, ``apparent_mass_of``:
+    ``trfam`` is ``trfam_matrix``'s element (to 1e-12: the forces of one column and of three come
+    from products of other shapes, which round differently), and a change of that step changes both."""
+    from cablecasing_core.frequency import trfam as module
+
+    m, f = load_model(), np.array([0.1, 37.0, 850.0])
+    H = trfam_matrix(m, "casing", "A", "B", f, "viscous")
+    np.testing.assert_allclose(trfam(m, "casing.A.y", "casing.B.z", f, "viscous"), H[:, 2, 1], rtol=1e-12)
+    monkeypatch.setattr(module, "apparent_mass_of", lambda forces, f: 0 * forces + 7.0)
+    assert np.all(trfam(m, "casing.A.y", "casing.B.z", f) == 7.0)
+    assert np.all(trfam_matrix(m, "casing", "A", "B", f) == 7.0)
+
+
 def test_peaks_at_natural_frequencies():
     m = load_model().with_overrides({"casing.alpha": 0.5, "casing.beta": 1e-7})
     fn = natural_frequencies(m, "casing", 40)

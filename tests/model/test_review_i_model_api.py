@@ -152,3 +152,17 @@ def test_the_top_level_names_the_warnings_and_the_statics():
     assert cc.PlausibilityWarning is cc.ModelWarning
     for name in ("ModelWarning", "SolverWarning", "static_state", "StaticState", "body_buckling", "Buckling"):
         assert name in cc.__all__ and getattr(cc, name) is not None
+
+
+def test_the_radial_gap_is_computed_in_one_place(model, monkeypatch):
+    """Eqs. 30-31's gap has one definition, ``model.model.radial_gap``: the property and the
+    validation's warning of a gap below the roughness both read it (a gap function that says 1e-9 m
+    makes the valid specimen warn, and the property give it), and it is (d_inner - d) / 2 of the
+    model's diameters."""
+    from cablecasing_core.model import model as model_module
+
+    assert model_module.radial_gap(model.data) == 0.5 * (model.data["casing"]["d_inner"] - model.data["cable"]["d"])
+    monkeypatch.setattr(model_module, "radial_gap", lambda data: 1e-9)
+    with pytest.warns(cc.ModelWarning, match=r"radial gap .* = 1e-09 m is below"):
+        again = cc.model_from_dict(model.to_dict())
+    assert again.radial_gap == 1e-9
