@@ -137,9 +137,10 @@ def natural_frequencies(model: Model, body: str, count: int | None = None) -> np
 def modes(model: Model, body: str, count: int | None = None) -> tuple[np.ndarray, np.ndarray]:
     """(frequencies in Hz, as :func:`natural_frequencies`, and mode shapes) of ``body`` (Eq. 13's
     free DOFs; ``model`` a :class:`~cablecasing_core.Model`, else a ModelError naming it); shapes are
-    (ndof, count) arrays over all DOFs (zero at prescribed DOFs), the mass-normalised modes of the
-    reference stiffness (the reference modulus E_ref, the mounts' ``stiffness`` K6). A ``count``
-    beyond the body's modes returns all of them and warns (:class:`ModelWarning`)."""
+    (ndof, count) arrays over all DOFs (zero at prescribed DOFs), the mass-normalised modes (phi^T M
+    phi = 1: m kg^-1/2 at a translation DOF, rad kg^-1/2 at a rotation DOF) of the reference
+    stiffness (the reference modulus E_ref, the mounts' ``stiffness`` K6). A ``count`` beyond the
+    body's modes returns all of them and warns (:class:`ModelWarning`)."""
     return _modes(model, body, count)
 
 

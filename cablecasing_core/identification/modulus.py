@@ -267,7 +267,9 @@ def identify_modulus_model(
     ``compute_frequencies(E) = cablecasing_core.natural_frequencies(model.with_overrides({f"{body}.E": E}),
     body, count)`` with ``count`` defaulting to the highest mode number; the start is the model's
     reference modulus. The identified table is put into a model by
-    ``model.with_overrides({f"{body}.E": result.table})``.
+    ``model.with_overrides({f"{body}.E": result.table})``. ``f_measured_hz`` and
+    ``freq_resolution_hz`` in Hz, as :func:`identify_modulus`'s; the result's table is
+    ``[[f_Hz, E_Pa], ...]`` (Hz, Pa: :class:`ModulusResult`).
     """
     import cablecasing_core as cc
 

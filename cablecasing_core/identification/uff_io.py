@@ -81,7 +81,8 @@ __all__ = [
 
 def write_csv_time(path, x, fs, names=None, t0=0.0):
     """Time record(s) to CSV: columns ``time_s`` and one per channel (``x`` of shape (n,) or (n, k),
-    real and finite: checked before anything is written)."""
+    real and finite, in the channels' own units: checked before anything is written); ``fs`` the
+    sampling rate (Hz), ``t0`` the first sample's time (s), ``names`` the channels' column names."""
     a = np.asarray(x)
     if a.ndim not in (1, 2):
         raise ModelError("x", f"array of shape {a.shape}", "must be samples (n,) or channels of samples (n, k)")

@@ -106,10 +106,15 @@ def at_frequency(value, f_hz: ArrayLike, column: int = 1) -> np.ndarray:
 
 @dataclass(frozen=True)
 class BodySpec:
-    """Material, section and support data of one body (SI units).
+    """Material, section and support data of one body (SI units): ``E`` Young's modulus (Pa),
+    ``nu`` Poisson's ratio (-), ``rho`` density (kg/m3), ``alpha`` (1/s) and ``beta`` (s) Rayleigh's
+    damping coefficients (Eq. 40), ``loss_factor`` eta (-), ``supports`` {"A", "B": support type},
+    ``d_outer`` and ``d_inner`` the section's outer and bore diameters (m; the cable's d is
+    ``d_outer``, its ``d_inner`` 0), ``I_override`` a given second moment of area (m4) or None,
+    ``rest_shape`` the cable's shape at rest (a word of the schema). docs/model_file.md lists each key.
 
-    ``E`` and ``loss_factor`` may be tables ``[[f_Hz, value], ...]``; use :meth:`modulus` and
-    :meth:`loss` to evaluate them at a frequency.
+    ``E`` and ``loss_factor`` may be tables ``[[f_Hz, value], ...]`` (Hz; Pa, -); use :meth:`modulus`
+    and :meth:`loss` to evaluate them at a frequency.
     """
 
     name: str
@@ -216,14 +221,21 @@ class Model:
 
     @property
     def geometry(self) -> dict:
+        """The [geometry] table: the route (``points`` in m, or ``start`` (m), ``direction`` and
+        ``segments``: lengths and radii in m, angles in degrees, ``angle_deg``), ``n_elements``;
+        units per key in docs/model_file.md."""
         return self.data["geometry"]
 
     @property
     def contact(self) -> dict:
+        """The [contact] table: ``enabled``, ``law``, ``stiffness`` (N/m), ``damping`` (kg/s),
+        ``friction`` (-), ``stick_velocity`` (m/s), ...; units per key in docs/model_file.md."""
         return self.data["contact"]
 
     @property
     def scenario(self) -> dict:
+        """The [scenario] table: ``duration`` and ``dt`` (s), ``ramp`` (s), ``seed``, the excitations
+        (amplitudes in m, m/s or m/s2, frequencies in Hz); units per key in docs/model_file.md."""
         return self.data["scenario"]
 
     @property

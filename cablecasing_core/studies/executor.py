@@ -529,7 +529,9 @@ def execute(
     on ``bar``. A sample whose evaluation fails is a row with status "failed"; one lost to the
     infrastructure is passed to ``lost(index, cause)`` and no row is written (module docstring).
     The samples' warnings are said here, each prefixed with ``label(index)`` (default
-    ``"sample <index>"``), a message several samples give once."""
+    ``"sample <index>"``), a message several samples give once. ``progress_timeout`` (s): how long
+    dask's workers may go without finishing a sample before the loop ends (module docstring;
+    default :data:`PROGRESS_TIMEOUT`)."""
     said = set()
     label = label or (lambda i: f"sample {i}")
 
