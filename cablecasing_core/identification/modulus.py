@@ -271,7 +271,7 @@ def identify_modulus_model(
     ``freq_resolution_hz`` in Hz, as :func:`identify_modulus`'s; the result's table is
     ``[[f_Hz, E_Pa], ...]`` (Hz, Pa: :class:`ModulusResult`).
     """
-    import cablecasing_core as cc
+    from ..frequency.modal import natural_frequencies
 
     if body not in model.bodies:
         raise ModelError(
@@ -281,7 +281,7 @@ def identify_modulus_model(
     n = int(count) if count is not None else int(np.max(md))
 
     def compute(E):
-        return cc.natural_frequencies(model.with_overrides({f"{body}.E": float(E)}), body, n)
+        return natural_frequencies(model.with_overrides({f"{body}.E": float(E)}), body, n)
 
     return identify_modulus(
         compute,
