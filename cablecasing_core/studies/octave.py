@@ -6,6 +6,8 @@ New code imports from ``cablecasing_core.nvh.bands`` (or ``cablecasing_core.stud
 from ..nvh.bands import (
     BAND_KINDS,
     FMIN_ADVICE,
+    IEC_F_MAX,
+    IEC_F_MIN,
     IEC_FR,
     IEC_G,
     LINES_PER_BAND,
@@ -36,6 +38,8 @@ _bands_of = bands_of  # (its name before it was public)
 __all__ = [
     "BAND_KINDS",
     "FMIN_ADVICE",
+    "IEC_F_MAX",
+    "IEC_F_MIN",
     "IEC_FR",
     "IEC_G",
     "LINES_PER_BAND",
