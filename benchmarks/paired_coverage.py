@@ -9,8 +9,8 @@ most (lognormal of CV 0.5-0.7 in the outer octaves), and neither is exact there.
 Each case draws ``--draws`` ensembles of n seeds whose members a_i, b_i are lognormal of the given
 CV, correlated ``rho`` per seed on the log scale (the pairing), and a_i scaled by 1 + r_true (the
 true relative change of the mean level). Every ensemble is one column of the (n, draws) arrays
-handed to the package's ``paired_difference``, so its own formulas are measured. Lines printed,
-per case ``n<n>_cv<cv>_rho<rho>_r<r_true>``:
+handed to the package's ``paired_difference``, so its own formulas are measured. It prints
+``name: value`` lines, per case ``n<n>_cv<cv>_rho<rho>_r<r_true>``:
 
 * ``coverage_...``: the share of 95 % intervals ``ci(0.95)`` that hold r_true (nominal 0.95; the
   binomial SE over 100 000 draws is 0.0007);
@@ -19,7 +19,7 @@ per case ``n<n>_cv<cv>_rho<rho>_r<r_true>``:
 * ``reject_ci_...`` (r_true = 0 only): the share of intervals that exclude 0, what reading the
   interval (or |r| / SE > t) as the test would reject.
 
-Run (2026-12-07, 100 000 draws per case, about 10 s):
+Run (2026-12-08, 100 000 draws per case, about 10 s):
   .venv/bin/python benchmarks/paired_coverage.py
 """
 
