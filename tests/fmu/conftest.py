@@ -197,3 +197,32 @@ def kernels_cache_copy(tmp_path):
         return root
 
     return copy
+
+
+@pytest.fixture(scope="session")
+def compiled_c_host():
+    """:func:`_compiled_c_host`, for the tests' C hosts (a fixture: test modules do not import conftest)."""
+    return _compiled_c_host
+
+
+def _compiled_c_host(fmu, folder, source, flags=()):
+    """A C host of the FMU for the tests that drive its binary by hand: ``source`` (a .c file)
+    compiled with the FMI 2.0 headers fmpy ships (``-O1``, ``flags``, linked with -ldl) into
+    ``folder``, and the FMU unpacked there. Returns ``(the head of its command line: the executable,
+    the binary, the GUID and the resources' URI; the model description)``; skips where there is no C
+    compiler or the platform is not Linux (the binary is linux64's)."""
+    import shutil
+
+    compiler = shutil.which("cc") or shutil.which("gcc")
+    if compiler is None or not sys.platform.startswith("linux"):
+        pytest.skip("needs a C compiler on Linux")
+    import fmpy
+    from fmpy import extract, read_model_description
+
+    exe = Path(folder) / Path(source).stem
+    inc = Path(fmpy.__file__).parent / "c-code"
+    subprocess.run([compiler, "-O1", *flags, f"-I{inc}", "-o", str(exe), str(source), "-ldl"], check=True)
+    unzip = Path(extract(str(fmu), unzipdir=Path(folder) / "unzip"))
+    md = read_model_description(str(fmu))
+    head = [str(exe), str(unzip / "binaries" / "linux64" / "CableCasing.so"), md.guid, (unzip / "resources").as_uri()]
+    return head, md

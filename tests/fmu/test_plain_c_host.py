@@ -7,7 +7,6 @@ without a message named by its type. Also the per-user copy of the FMU's code re
 
 import importlib.util
 import os
-import shutil
 import signal
 import subprocess
 import sys
@@ -22,23 +21,11 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")
-def host(fmu, tmp_path_factory, plain_env):
+def host(fmu, tmp_path_factory, plain_env, compiled_c_host):
     """``run(mode, *args)``: plain_c_host.c, compiled, on the FMU unpacked, in the plain environment;
     the CompletedProcess."""
-    compiler = shutil.which("cc") or shutil.which("gcc")
-    if compiler is None or not sys.platform.startswith("linux"):
-        pytest.skip("needs a C compiler on Linux")
-    import fmpy
-    from fmpy import extract, read_model_description
-
-    folder = tmp_path_factory.mktemp("plain_c_host")
-    exe = folder / "plain_c_host"
-    inc = Path(fmpy.__file__).parent / "c-code"
     source = Path(__file__).with_name("plain_c_host.c")
-    subprocess.run([compiler, "-O1", f"-I{inc}", "-o", str(exe), str(source), "-ldl", "-lpthread"], check=True)
-    unzip = Path(extract(str(fmu), unzipdir=folder / "unzip"))
-    head = [str(exe), str(unzip / "binaries" / "linux64" / "CableCasing.so"), read_model_description(str(fmu)).guid]
-    head.append((unzip / "resources").as_uri())
+    head, _ = compiled_c_host(fmu, tmp_path_factory.mktemp("plain_c_host"), source, ["-lpthread"])
 
     def run(*args):
         return subprocess.run(head + list(args), capture_output=True, text=True, env=plain_env, timeout=600)

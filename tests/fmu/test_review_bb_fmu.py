@@ -7,9 +7,7 @@ Through tests/fmu/status_args_host.c, compiled here, run on the FMU unpacked, in
 environment of an engineer's C host (HOME and PATH only), as tests/fmu/test_plain_c_host.py does."""
 
 import re
-import shutil
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -20,24 +18,11 @@ HERE = Path(__file__).resolve().parent
 
 
 @pytest.fixture(scope="module")
-def host(fmu, tmp_path_factory, plain_env):
+def host(fmu, tmp_path_factory, plain_env, compiled_c_host):
     """``run(mode)``: status_args_host.c, compiled, on the FMU unpacked, in the plain environment;
     its stdout (the process must end with status 0: no crash)."""
-    compiler = shutil.which("cc") or shutil.which("gcc")
-    if compiler is None or not sys.platform.startswith("linux"):
-        pytest.skip("needs a C compiler on Linux")
-    import fmpy
-    from fmpy import extract, read_model_description
-
-    folder = tmp_path_factory.mktemp("status_args_host")
-    exe = folder / "status_args_host"
-    inc = Path(fmpy.__file__).parent / "c-code"
-    source = HERE / "status_args_host.c"
-    subprocess.run([compiler, "-O1", "-Wall", f"-I{inc}", "-o", str(exe), str(source), "-ldl"], check=True)
-    unzip = Path(extract(str(fmu), unzipdir=folder / "unzip"))
-    md = read_model_description(str(fmu))
+    head, md = compiled_c_host(fmu, tmp_path_factory.mktemp("status_args_host"), HERE / "status_args_host.c", ["-Wall"])
     vr = {v.name: v.valueReference for v in md.modelVariables}
-    head = [str(exe), str(unzip / "binaries" / "linux64" / "CableCasing.so"), md.guid, (unzip / "resources").as_uri()]
     names = ["casing.A.z", "casing.B.Fz", "contact.active", "contact.enabled", "model_file"]
 
     def run(mode):
